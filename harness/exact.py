@@ -1,0 +1,189 @@
+"""Exact geometric predicates on float64 input.
+
+Floats are dyadic rationals, so the sign of an edge function is computable exactly. Two
+tiers run in compiled code:
+
+1. a float filter (Shewchuk's ``orient2d`` error bound ``ccwerrboundA``): the float
+   determinant's sign is certain whenever its magnitude exceeds the bound;
+2. otherwise the determinant is summed exactly as a floating-point expansion
+   (error-free products and sums, Shewchuk 1997), whose largest component has its sign.
+
+Expansions are exact while no product overflows or underflows. :data:`SAFE_MAX` and
+:data:`SAFE_MIN` bound the magnitudes for which that holds; :func:`in_safe_range` tells
+callers when to take the third tier, exact rational arithmetic in Python
+(:func:`orient2d_fraction`), which works for every finite float.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "SAFE_MAX",
+    "SAFE_MIN",
+    "orient2d_sign",
+    "orient2d_fraction",
+    "in_safe_range",
+    "orientation",
+]
+
+# Shewchuk's error bound for the float orient2d: |det - exact| <= CCW_ERRBOUND_A * detsum.
+_EPSILON = 2.0**-53
+CCW_ERRBOUND_A = (3.0 + 16.0 * _EPSILON) * _EPSILON
+# Dekker's splitter for 53-bit mantissas: 2**27 + 1.
+_SPLITTER = 134217729.0
+# Bounds for exact expansions: products of two coordinates stay below 2**900 (no overflow,
+# splitting needs |a| < 2**996), and the smallest nonzero partial product stays above
+# 2**(-450-450-104) = 2**-1004, a normal float (no underflow).
+SAFE_MAX = 2.0**450
+SAFE_MIN = 2.0**-450
+
+
+@numba.njit(cache=True, inline="always")
+def _two_sum(a: float, b: float) -> tuple[float, float]:
+    x = a + b
+    bv = x - a
+    av = x - bv
+    return x, (a - av) + (b - bv)
+
+
+@numba.njit(cache=True, inline="always")
+def _split(a: float) -> tuple[float, float]:
+    c = _SPLITTER * a
+    big = c - a
+    hi = c - big
+    return hi, a - hi
+
+
+@numba.njit(cache=True, inline="always")
+def _two_product(a: float, b: float) -> tuple[float, float]:
+    x = a * b
+    ahi, alo = _split(a)
+    bhi, blo = _split(b)
+    err = x - ahi * bhi
+    err = err - alo * bhi
+    err = err - ahi * blo
+    return x, alo * blo - err
+
+
+@numba.njit(cache=True)
+def _orient2d_exact_sign(ax: float, ay: float, bx: float, by: float, cx: float, cy: float) -> int:
+    # det = ax*by - ay*bx + bx*cy - by*cx + cx*ay - cy*ax, summed as an exact expansion.
+    terms = np.empty(12)
+    terms[0], terms[1] = _two_product(ax, by)
+    terms[2], terms[3] = _two_product(-ay, bx)
+    terms[4], terms[5] = _two_product(bx, cy)
+    terms[6], terms[7] = _two_product(-by, cx)
+    terms[8], terms[9] = _two_product(cx, ay)
+    terms[10], terms[11] = _two_product(-cy, ax)
+    h = np.empty(12)
+    length = 0
+    for t in range(12):
+        # grow_expansion_zeroelim: h stays nonoverlapping, increasing in magnitude.
+        q = terms[t]
+        k = 0
+        for i in range(length):
+            q, err = _two_sum(q, h[i])
+            if err != 0.0:
+                h[k] = err
+                k += 1
+        if q != 0.0:
+            h[k] = q
+            k += 1
+        length = k
+    if length == 0:
+        return 0
+    return 1 if h[length - 1] > 0.0 else -1
+
+
+@numba.njit(cache=True)
+def orient2d_sign(ax: float, ay: float, bx: float, by: float, cx: float, cy: float) -> int:
+    """Exact sign of ``E_ab(c) = (bx-ax)*(cy-ay) - (by-ay)*(cx-ax)``: -1, 0 or +1.
+
+    Valid when every coordinate is zero or has magnitude in [SAFE_MIN, SAFE_MAX].
+    """
+    detleft = (ax - cx) * (by - cy)
+    detright = (ay - cy) * (bx - cx)
+    det = detleft - detright
+    # Signs of differences and of their products are exact: a certain sign needs no bound.
+    if detleft > 0.0:
+        if detright <= 0.0:
+            return 1 if det > 0.0 else (-1 if det < 0.0 else 0)
+        detsum = detleft + detright
+    elif detleft < 0.0:
+        if detright >= 0.0:
+            return 1 if det > 0.0 else (-1 if det < 0.0 else 0)
+        detsum = -detleft - detright
+    else:
+        return 1 if det > 0.0 else (-1 if det < 0.0 else 0)
+    bound = CCW_ERRBOUND_A * detsum
+    if det > bound:
+        return 1
+    if -det > bound:
+        return -1
+    return _orient2d_exact_sign(ax, ay, bx, by, cx, cy)
+
+
+def orient2d_fraction(ax: float, ay: float, bx: float, by: float, cx: float, cy: float) -> int:
+    """Exact sign of the same determinant in rational arithmetic: any finite floats.
+
+    >>> orient2d_fraction(0.0, 0.0, 1e308, 1e308, -1e308, -1e308)
+    0
+    >>> orient2d_fraction(0.0, 0.0, 1.0, 0.0, 0.5, 1e-320)
+    1
+    """
+    fa = Fraction(ax), Fraction(ay)
+    fb = Fraction(bx), Fraction(by)
+    fc = Fraction(cx), Fraction(cy)
+    det = (fb[0] - fa[0]) * (fc[1] - fa[1]) - (fb[1] - fa[1]) * (fc[0] - fa[0])
+    return (det > 0) - (det < 0)
+
+
+def in_safe_range(values: NDArray[np.float64], axis: int | tuple[int, ...] = -1) -> NDArray[np.bool_]:
+    """True where every value along ``axis`` is zero or of magnitude in [SAFE_MIN, SAFE_MAX]."""
+    magnitude = np.abs(values)
+    ok = (magnitude == 0.0) | ((magnitude >= SAFE_MIN) & (magnitude <= SAFE_MAX))
+    return np.all(ok, axis=axis)
+
+
+@numba.njit(cache=True)
+def _orientation_kernel(positions: NDArray[np.float64], out: NDArray[np.int8]) -> None:
+    for t in range(positions.shape[0]):
+        p = positions[t]
+        out[t] = orient2d_sign(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1])
+
+
+def orientation(positions: NDArray[np.float64]) -> NDArray[np.int8]:
+    """Exact sign of each triangle's signed area A; 0 for non-finite triangles.
+
+    Parameters
+    ----------
+    positions : (N, 3, 2) float64
+
+    Returns
+    -------
+    (N,) int8
+        +1 clockwise on screen (y down), -1 counter-clockwise, 0 degenerate or non-finite.
+
+    Examples
+    --------
+    >>> orientation(np.array([[[0, 0], [4, 0], [0, 4]], [[0, 0], [0, 4], [4, 0]],
+    ...                       [[0, 0], [1, 1], [1e300, 1e300]]], dtype=float))
+    array([ 1, -1,  0], dtype=int8)
+    """
+    positions = np.ascontiguousarray(positions, dtype=np.float64).reshape(-1, 3, 2)
+    out = np.zeros(positions.shape[0], dtype=np.int8)
+    finite = np.all(np.isfinite(positions), axis=(1, 2))
+    safe = finite & in_safe_range(positions, axis=(1, 2))
+    if safe.any():
+        fast = np.zeros(int(safe.sum()), dtype=np.int8)
+        _orientation_kernel(positions[safe], fast)
+        out[safe] = fast
+    for t in np.flatnonzero(finite & ~safe):
+        p = positions[t]
+        out[t] = orient2d_fraction(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1])
+    return out
