@@ -58,8 +58,8 @@ def _setup(p, sign):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _edge(e, px, py):  # type: ignore[no-untyped-def]
-    return e[4] * (e[2] * (py - e[1]) - e[3] * (px - e[0]))
+def _edge(ax, ay, dx, dy, s, px, py):  # type: ignore[no-untyped-def]
+    return s * (dx * (py - ay) - dy * (px - ax))
 
 
 @numba.njit(cache=True, inline="always")
@@ -68,19 +68,19 @@ def _passes(value, top_left):  # type: ignore[no-untyped-def]
     return value > 0.0 or (value == 0.0 and top_left > 0.0)
 
 
-@numba.njit(cache=True)
-def _tile_state(e, x_lo, x_hi, y_lo, y_hi):  # type: ignore[no-untyped-def]
+@numba.njit(cache=True, inline="always")
+def _tile_state(ax, ay, dx, dy, s, x_lo, x_hi, y_lo, y_hi):  # type: ignore[no-untyped-def]
     """+1 surely inside over the tile, -1 surely outside, 0 undecided."""
-    lo = np.inf
-    hi = -np.inf
-    for px in (x_lo + 0.5, x_hi + 0.5):
-        for py in (y_lo + 0.5, y_hi + 0.5):
-            v = _edge(e, px, py)
-            lo = min(lo, v)
-            hi = max(hi, v)
-    reach_y = max(abs(y_lo + 0.5 - e[1]), abs(y_hi + 0.5 - e[1]))
-    reach_x = max(abs(x_lo + 0.5 - e[0]), abs(x_hi + 0.5 - e[0]))
-    margin = 2.0 * _ERROR * (abs(e[2]) * reach_y + abs(e[3]) * reach_x)
+    x_a, x_b, y_a, y_b = x_lo + 0.5, x_hi + 0.5, y_lo + 0.5, y_hi + 0.5
+    v0 = _edge(ax, ay, dx, dy, s, x_a, y_a)
+    v1 = _edge(ax, ay, dx, dy, s, x_b, y_a)
+    v2 = _edge(ax, ay, dx, dy, s, x_a, y_b)
+    v3 = _edge(ax, ay, dx, dy, s, x_b, y_b)
+    lo = min(min(v0, v1), min(v2, v3))
+    hi = max(max(v0, v1), max(v2, v3))
+    reach_y = max(abs(y_a - ay), abs(y_b - ay))
+    reach_x = max(abs(x_a - ax), abs(x_b - ax))
+    margin = 2.0 * _ERROR * (abs(dx) * reach_y + abs(dy) * reach_x)
     if lo > margin:
         return 1
     if hi < -margin:
@@ -88,18 +88,13 @@ def _tile_state(e, x_lo, x_hi, y_lo, y_hi):  # type: ignore[no-untyped-def]
     return 0
 
 
-@numba.njit(cache=True)
-def _emit(run_x0, run_x1, row, x0, x1, y, t, out_t, out_y, out_x0, out_x1, n):  # type: ignore[no-untyped-def]
-    """Extend the row's open run with [x0, x1), or flush it and start a new one."""
-    if run_x1[row] == x0:
-        run_x1[row] = x1
-        return n
-    if run_x1[row] > run_x0[row]:
-        out_t[n], out_y[n], out_x0[n], out_x1[n] = t, y, run_x0[row], run_x1[row]
-        n += 1
-    run_x0[row] = x0
-    run_x1[row] = x1
-    return n
+@numba.njit(cache=True, inline="always")
+def _extend(run_x0, run_x1, x0, x1):  # type: ignore[no-untyped-def]
+    """Extend the open run [run_x0, run_x1) with [x0, x1) when they touch; otherwise the
+    open run is finished. Returns (new run, finished run); scalars only, no arrays."""
+    if run_x1 == x0:
+        return run_x0, x1, 0, 0
+    return x0, x1, run_x0, run_x1
 
 
 @numba.njit(cache=True)
@@ -111,7 +106,10 @@ def _kernel(positions, sign, width, height, out_t, out_y, out_x0, out_x1):  # ty
         if sign[t] == 0:
             continue
         p = positions[t]
-        edges = _setup(p, sign[t])
+        e = _setup(p, sign[t])
+        a0x, a0y, d0x, d0y, s0, tl0 = e[0, 0], e[0, 1], e[0, 2], e[0, 3], e[0, 4], e[0, 5]
+        a1x, a1y, d1x, d1y, s1, tl1 = e[1, 0], e[1, 1], e[1, 2], e[1, 3], e[1, 4], e[1, 5]
+        a2x, a2y, d2x, d2y, s2, tl2 = e[2, 0], e[2, 1], e[2, 2], e[2, 3], e[2, 4], e[2, 5]
         # Bounding box of the pixel centres inside the triangle's box, clipped to the screen.
         bx0 = max(int(np.floor(min(p[0, 0], p[1, 0], p[2, 0]) - 0.5)), 0)
         bx1 = min(int(np.ceil(max(p[0, 0], p[1, 0], p[2, 0]) - 0.5)), width - 1)
@@ -125,31 +123,38 @@ def _kernel(positions, sign, width, height, out_t, out_y, out_x0, out_x1):  # ty
             run_x1[:] = 0
             for tx in range((bx0 // TILE) * TILE, bx1 + 1, TILE):
                 x_lo, x_hi = max(tx, bx0), min(tx + TILE - 1, bx1)
-                accept = True
-                reject = False
-                for k in range(3):
-                    state = _tile_state(edges[k], x_lo, x_hi, y_lo, y_hi)
-                    if state < 0:
-                        reject = True
-                        break
-                    if state == 0:
-                        accept = False
-                if reject:
-                    continue
+                state0 = _tile_state(a0x, a0y, d0x, d0y, s0, x_lo, x_hi, y_lo, y_hi)
+                state1 = _tile_state(a1x, a1y, d1x, d1y, s1, x_lo, x_hi, y_lo, y_hi)
+                state2 = _tile_state(a2x, a2y, d2x, d2y, s2, x_lo, x_hi, y_lo, y_hi)
+                if state0 < 0 or state1 < 0 or state2 < 0:
+                    continue  # trivial reject: one edge is surely negative over the tile
+                accept = state0 > 0 and state1 > 0 and state2 > 0
                 for y in range(y_lo, y_hi + 1):
                     row = y - ty
                     if accept:
-                        n = _emit(run_x0, run_x1, row, x_lo, x_hi + 1, y, t, out_t, out_y, out_x0, out_x1, n)
+                        run_x0[row], run_x1[row], f0, f1 = _extend(run_x0[row], run_x1[row], x_lo, x_hi + 1)
+                        if f1 > f0:
+                            out_t[n], out_y[n], out_x0[n], out_x1[n] = t, y, f0, f1
+                            n += 1
                         continue
                     py = y + 0.5
-                    for x in range(x_lo, x_hi + 1):
+                    start = -1
+                    for x in range(x_lo, x_hi + 2):
                         px = x + 0.5
-                        if (
-                            _passes(_edge(edges[0], px, py), edges[0, 5])
-                            and _passes(_edge(edges[1], px, py), edges[1, 5])
-                            and _passes(_edge(edges[2], px, py), edges[2, 5])
-                        ):
-                            n = _emit(run_x0, run_x1, row, x, x + 1, y, t, out_t, out_y, out_x0, out_x1, n)
+                        inside = (
+                            x <= x_hi
+                            and _passes(_edge(a0x, a0y, d0x, d0y, s0, px, py), tl0)
+                            and _passes(_edge(a1x, a1y, d1x, d1y, s1, px, py), tl1)
+                            and _passes(_edge(a2x, a2y, d2x, d2y, s2, px, py), tl2)
+                        )
+                        if inside and start < 0:
+                            start = x
+                        elif not inside and start >= 0:
+                            run_x0[row], run_x1[row], f0, f1 = _extend(run_x0[row], run_x1[row], start, x)
+                            if f1 > f0:
+                                out_t[n], out_y[n], out_x0[n], out_x1[n] = t, y, f0, f1
+                                n += 1
+                            start = -1
             for row in range(TILE):
                 if run_x1[row] > run_x0[row]:
                     out_t[n], out_y[n], out_x0[n], out_x1[n] = t, ty + row, run_x0[row], run_x1[row]

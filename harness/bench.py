@@ -1,0 +1,135 @@
+"""``rastercheck bench``: throughput of the oracle and the built-ins against Pillow, side by side.
+
+Workloads (fixed seeds, 1024 x 1024):
+
+- W1: 10,000 random triangles of mean area about 50 px;
+- W2: 100 triangles of about 100,000 px each.
+
+Pillow's ``ImageDraw.polygon``, one call per triangle, is the in-run yardstick: every
+figure is reported as a ratio to it, measured in the same process, so the numbers compare
+across machines. Cold start (numba compilation or cache load) is timed separately.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+from PIL import Image, ImageDraw
+
+from harness.api import Scene
+from harness.conventions import Convention
+from harness.oracle import exact_coverage
+from harness.registry import available, load
+from cases.scenes import random_triangles
+
+__all__ = ["Workload", "workloads", "run_bench", "format_table"]
+
+SIZE = 1024
+
+
+@dataclass(frozen=True, slots=True)
+class Workload:
+    name: str
+    description: str
+    scene: Scene
+    mean_area: float
+
+
+@dataclass(frozen=True, slots=True)
+class Measurement:
+    workload: str
+    contender: str
+    cold_seconds: float
+    seconds: float
+    triangles_per_second: float
+    ratio_to_pillow: float
+    pixels: int
+
+
+def workloads(scale: float = 1.0) -> list[Workload]:
+    """W1 and W2; ``scale`` < 1 shrinks the triangle counts (for smoke tests)."""
+    out = []
+    for name, count, area, seed in (("W1", 10_000, 50.0, 1), ("W2", 100, 100_000.0, 2)):
+        n = max(1, int(count * scale))
+        positions = random_triangles(n, area, SIZE, seed)
+        p = positions
+        areas = 0.5 * np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
+        out.append(Workload(name, f"{n} triangles, mean area {areas.mean():,.0f} px", Scene(SIZE, SIZE, positions), float(areas.mean())))
+    return out
+
+
+def _pillow(scene: Scene) -> int:
+    image = Image.new("L", (scene.width, scene.height), 0)
+    draw = ImageDraw.Draw(image)
+    # Pillow puts pixel centres at integers: shift by half a pixel to draw the same triangles.
+    for tri in (scene.positions - 0.5).tolist():
+        draw.polygon([tuple(v) for v in tri], fill=255)
+    return int(np.count_nonzero(np.asarray(image)))
+
+
+def _time(fn: Callable[[], int], budget: float) -> tuple[float, float, int]:
+    start = time.perf_counter()
+    pixels = fn()
+    cold = time.perf_counter() - start
+    best = float("inf")
+    runs = 0
+    deadline = time.perf_counter() + budget
+    while runs < 3 or (time.perf_counter() < deadline and runs < 50):
+        start = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - start)
+        runs += 1
+    return cold, best, pixels
+
+
+def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float = 1.0) -> list[Measurement]:
+    """Measure Pillow, the oracle and each rasterizer on W1 and W2 in this process."""
+    names = names if names is not None else available()
+    rasterizers = [load(n) for n in names]
+    oracle_convention = Convention()
+    results = []
+    for work in workloads(scale):
+        contenders: list[tuple[str, Callable[[], int]]] = [("pillow", lambda s=work.scene: _pillow(s))]
+        contenders.append(("oracle", lambda s=work.scene: exact_coverage(s, oracle_convention).n_pixels))
+        for r in rasterizers:
+            contenders.append((r.name, lambda s=work.scene, r=r: r.rasterize(s).n_pixels))
+        pillow_rate = None
+        for label, fn in contenders:
+            cold, seconds, pixels = _time(fn, budget)
+            rate = len(work.scene) / seconds
+            if pillow_rate is None:
+                pillow_rate = rate
+            results.append(Measurement(work.name, label, cold, seconds, rate, rate / pillow_rate, pixels))
+    return results
+
+
+def format_table(results: list[Measurement], descriptions: dict[str, str]) -> str:
+    lines = []
+    for work in dict.fromkeys(m.workload for m in results):
+        lines.append(f"{work}: {descriptions.get(work, '')}")
+        lines.append(f"  {'contender':<18}{'triangles/s':>14}{'x Pillow':>10}{'best ms':>10}{'cold s':>9}{'pixels':>11}")
+        for m in (m for m in results if m.workload == work):
+            lines.append(
+                f"  {m.contender:<18}{m.triangles_per_second:>14,.0f}{m.ratio_to_pillow:>10.2f}"
+                f"{m.seconds * 1e3:>10.2f}{m.cold_seconds:>9.2f}{m.pixels:>11,}"
+            )
+    return "\n".join(lines)
+
+
+def write_json(results: list[Measurement], path: Path) -> None:
+    from harness.files import atomic_write_text
+
+    payload = {
+        "schema": 1,
+        "machine": {"platform": platform.platform(), "python": platform.python_version(), "cpus": os.cpu_count()},
+        "date": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+        "results": [asdict(m) for m in results],
+    }
+    atomic_write_text(path, json.dumps(payload, indent=2))

@@ -1,0 +1,137 @@
+"""Finding rasterizers: built-in names, entry points, ``module:attr`` and ``file.py:attr``.
+
+Built-ins register through the entry-point group ``rastercheck.rasterizers`` exactly as
+third-party plugins do. ``RASTERCHECK_NO_PLUGINS=1`` keeps only the built-ins.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import os
+import sys
+import warnings
+from importlib.metadata import EntryPoint, entry_points
+from pathlib import Path
+from typing import Any
+
+from harness.api import Rasterizer
+from harness.conventions import Convention
+
+__all__ = ["GROUP", "available", "load", "as_rasterizer", "BUILTIN_MODULE"]
+
+GROUP = "rastercheck.rasterizers"
+BUILTIN_MODULE = "rasterizers"
+
+
+def _plugins_enabled() -> bool:
+    return os.environ.get("RASTERCHECK_NO_PLUGINS", "").strip() not in ("1", "true", "yes")
+
+
+def _entry_points() -> dict[str, EntryPoint]:
+    found: dict[str, EntryPoint] = {}
+    for ep in sorted(entry_points(group=GROUP), key=lambda e: (e.name, e.value)):
+        builtin = ep.value.split(":")[0].split(".")[0] == BUILTIN_MODULE
+        if not builtin and not _plugins_enabled():
+            continue
+        if ep.name in found:
+            if found[ep.name].value != ep.value:
+                warnings.warn(
+                    f"rasterizer name {ep.name!r} is registered twice ({found[ep.name].value} and "
+                    f"{ep.value}); keeping the first",
+                    stacklevel=2,
+                )
+            continue
+        found[ep.name] = ep
+    return found
+
+
+def available() -> list[str]:
+    """Names of the registered rasterizers, sorted: built-ins and enabled plugins."""
+    return sorted(_entry_points())
+
+
+def as_rasterizer(obj: Any, spec: str) -> Rasterizer:
+    """Turn what a spec names into a ready rasterizer: an object is used as is, a class or
+    a zero-argument factory is called. Raises ValueError naming the spec otherwise."""
+    candidate = obj
+    if isinstance(candidate, type) or (not hasattr(candidate, "rasterize") and callable(candidate)):
+        try:
+            candidate = candidate()
+        except Exception as exc:
+            raise ValueError(f"{spec}: calling {obj!r} with no arguments failed: {exc}") from exc
+    problems = []
+    if not isinstance(getattr(candidate, "name", None), str):
+        problems.append("a str `name`")
+    convention = getattr(candidate, "convention", "missing")
+    if convention is not None and not isinstance(convention, Convention):
+        problems.append("a `convention` that is a harness.Convention or None")
+    if not callable(getattr(candidate, "rasterize", None)):
+        problems.append("a `rasterize(scene)` method")
+    if problems:
+        raise ValueError(f"{spec}: {candidate!r} is not a rasterizer: it lacks {', '.join(problems)}")
+    return candidate  # type: ignore[no-any-return]
+
+
+def _import_file(path: Path) -> Any:
+    if not path.is_file():
+        raise ValueError(f"{path}: no such file")
+    module_name = f"rastercheck_user_{abs(hash(str(path.resolve())))}"
+    spec = importlib.util.spec_from_file_location(module_name, path)
+    if spec is None or spec.loader is None:
+        raise ValueError(f"{path}: cannot be imported as Python")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[module_name] = module
+    try:
+        spec.loader.exec_module(module)
+    except Exception as exc:
+        del sys.modules[module_name]
+        raise ValueError(f"{path}: importing it failed: {type(exc).__name__}: {exc}") from exc
+    return module
+
+
+def load(spec: str) -> Rasterizer:
+    """A ready rasterizer for ``spec``.
+
+    Parameters
+    ----------
+    spec : str
+        A registered name (``centre_scanline``), ``package.module:attr``, or
+        ``path/to/file.py:attr``. ``attr`` may be a rasterizer object, a class, or a
+        zero-argument factory.
+
+    Raises
+    ------
+    ValueError
+        Naming the spec, when it cannot be found, imported or used.
+
+    Examples
+    --------
+    >>> load("centre_scanline").convention
+    Convention(sample=(0.5, 0.5), tie='top-left', subpixel_bits=None, cull='none')
+    """
+    registered = _entry_points()
+    if spec in registered:
+        try:
+            obj = registered[spec].load()
+        except Exception as exc:
+            raise ValueError(f"{spec}: plugin failed to load: {type(exc).__name__}: {exc}") from exc
+        return as_rasterizer(obj, spec)
+    where, sep, attr = spec.rpartition(":")
+    if not sep or not where or not attr:
+        known = ", ".join(sorted(registered)) or "none"
+        raise ValueError(
+            f"{spec}: not a registered rasterizer (known: {known}) nor module:attr or file.py:attr"
+        )
+    if where.endswith(".py") or os.sep in where or "/" in where:
+        module = _import_file(Path(where))
+    else:
+        try:
+            module = importlib.import_module(where)
+        except Exception as exc:
+            raise ValueError(f"{spec}: importing {where} failed: {type(exc).__name__}: {exc}") from exc
+    try:
+        obj = getattr(module, attr)
+    except AttributeError:
+        raise ValueError(f"{spec}: {where} has no attribute {attr!r}") from None
+    return as_rasterizer(obj, spec)
