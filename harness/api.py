@@ -176,7 +176,7 @@ class Coverage:
     --------
     >>> cov = Coverage.from_pixels([0, 0, 0, 1], [2, 3, 1, 0], [5, 5, 6, 5])
     >>> cov.triangle, cov.y, cov.x0, cov.x1
-    (array([0, 1, 0]), array([5, 5, 6]), array([2, 0, 1]), array([4, 1, 2]))
+    (array([0, 0, 1]), array([5, 6, 5]), array([2, 1, 0]), array([4, 2, 1]))
     >>> cov.counts(4, 7)[5:]
     array([[1, 0, 1, 1],
            [0, 1, 0, 0]], dtype=int32)

@@ -180,7 +180,7 @@ def snap(positions: NDArray[np.float64], subpixel_bits: int | None) -> NDArray[n
     Examples
     --------
     >>> snap(np.array([0.125, 0.375, 1.0 / 3.0, -0.375]), 2)
-    array([ 0. ,  0.5,  0.25, -0.5])
+    array([ 0.  ,  0.5 ,  0.25, -0.5 ])
     """
     positions = np.asarray(positions, dtype=np.float64)
     if subpixel_bits is None:

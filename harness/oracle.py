@@ -64,16 +64,16 @@ class PreparedTriangles:
         self.positions = np.ascontiguousarray(
             np.take_along_axis(snapped[self.index], order[:, :, None], axis=1)
         )
-        d = np.roll(self.positions, -1, axis=1) - self.positions  # edge k: v[k] -> v[k+1]
-        dx, dy = d[..., 0], d[..., 1]
+        a = self.positions
+        b = np.roll(self.positions, -1, axis=1)  # edge k: v[k] -> v[k+1]
         # With A > 0 the interior lies on the side of (-dy, dx): a horizontal edge with
         # dx > 0 has the interior below it (top edge); a non-horizontal edge with dy < 0
-        # has it to its right (left edge).
-        horizontal = dy == 0.0
-        top = horizontal & (dx > 0.0)
-        bottom = horizontal & (dx < 0.0)
-        left = ~horizontal & (dy < 0.0)
-        right = ~horizontal & (dy > 0.0)
+        # has it to its right (left edge). Comparisons, not differences: no overflow.
+        horizontal = b[..., 1] == a[..., 1]
+        top = horizontal & (b[..., 0] > a[..., 0])
+        bottom = horizontal & (b[..., 0] < a[..., 0])
+        left = b[..., 1] < a[..., 1]
+        right = b[..., 1] > a[..., 1]
         vertical_owner = top if convention.owns_top else bottom
         side_owner = left if convention.owns_left else right
         self.owned = np.ascontiguousarray(vertical_owner | side_owner)

@@ -1,0 +1,58 @@
+"""Hypothesis strategies for scenes, public for users' own property tests.
+
+Vertices are drawn as integers on a sub-pixel lattice and mapped to floats: exact, they
+shrink well, and they hit ties on purpose (vertices on sample points, edges through them).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import strategies as st
+
+from harness.api import Scene
+from harness.conventions import TIE_RULES, Convention
+
+__all__ = ["conventions", "lattice_scenes", "float_scenes", "thin_scenes"]
+
+
+@st.composite
+def conventions(draw, snapping: bool = True):  # type: ignore[no-untyped-def]
+    """Any convention: dyadic sample offsets, four tie rules, snapping 0..16, culling."""
+    sample = tuple(draw(st.integers(0, 8)) / 8 for _ in range(2))
+    bits = draw(st.one_of(st.none(), st.integers(0, 16))) if snapping else None
+    return Convention(sample=sample, tie=draw(st.sampled_from(TIE_RULES)), subpixel_bits=bits, cull=draw(st.sampled_from(["none", "cw", "ccw"])))
+
+
+@st.composite
+def lattice_scenes(draw, max_bits: int = 4, size: int = 12, max_triangles: int = 4):  # type: ignore[no-untyped-def]
+    """Triangles on the 2**-bits lattice (bits 0..max_bits), slightly beyond the viewport."""
+    bits = draw(st.integers(0, max_bits))
+    scale = 2**bits
+    n = draw(st.integers(1, max_triangles))
+    coord = st.integers(-2 * scale, (size + 2) * scale)
+    ints = draw(st.lists(st.tuples(*[coord] * 6), min_size=n, max_size=n))
+    positions = np.array(ints, dtype=np.float64).reshape(n, 3, 2) / scale
+    return Scene(size, size, positions)
+
+
+@st.composite
+def float_scenes(draw, size: int = 12, max_triangles: int = 4):  # type: ignore[no-untyped-def]
+    """Unconstrained float coordinates around the viewport."""
+    n = draw(st.integers(1, max_triangles))
+    coord = st.floats(-4.0, size + 4.0, allow_nan=False, allow_infinity=False)
+    values = draw(st.lists(coord, min_size=6 * n, max_size=6 * n))
+    return Scene(size, size, np.array(values).reshape(n, 3, 2))
+
+
+@st.composite
+def thin_scenes(draw, size: int = 12):  # type: ignore[no-untyped-def]
+    """Near-zero heights or widths: a lattice edge plus a third vertex a tiny step off it."""
+    scale = 4
+    a = np.array([draw(st.integers(0, size * scale)) for _ in range(4)], dtype=np.float64).reshape(2, 2) / scale
+    t = draw(st.sampled_from([0.0, 0.25, 0.5, 1.0]))
+    off = draw(st.sampled_from([1e-8, 1e-12, 2.0**-52, 5e-324, -1e-12]))
+    mid = a[0] + t * (a[1] - a[0])
+    axis = draw(st.integers(0, 1))
+    c = mid.copy()
+    c[axis] += off
+    return Scene(size, size, np.array([[a[0], a[1], c]]))

@@ -1,0 +1,88 @@
+import numpy as np
+import pytest
+from hypothesis import given, strategies as st
+
+from harness import Convention, Coverage, Rasterizer, Scene
+
+
+def test_public_imports():
+    from harness.oracle import exact_coverage  # noqa: F401
+
+    assert Rasterizer and Convention
+
+
+@pytest.mark.parametrize(
+    "kwargs, field",
+    [
+        (dict(width=0, height=4, positions=np.zeros((1, 3, 2))), "width"),
+        (dict(width=4, height=2.5, positions=np.zeros((1, 3, 2))), "height"),
+        (dict(width=4, height=4, positions=np.zeros((1, 2, 2))), "positions"),
+        (dict(width=4, height=4, positions=np.array([[["a", "b"]] * 3])), "positions"),
+        (dict(width=4, height=4, positions=np.zeros((1, 3, 2)), attributes=np.zeros((2, 3, 1))), "attributes"),
+        (dict(width=4, height=4, positions=np.zeros((1, 3, 2)), w=np.zeros((1, 2))), "w"),
+        (dict(width=4, height=4, positions=np.zeros((1, 3, 2)), w=np.array([[1.0, -1.0, 1.0]])), "w"),
+    ],
+)
+def test_scene_validation_names_the_field(kwargs, field):
+    with pytest.raises(ValueError, match=f"Scene.{field}"):
+        Scene(**kwargs)
+
+
+def test_scene_allows_non_finite_and_is_read_only():
+    scene = Scene(4, 4, [[[np.nan, 0], [np.inf, 1], [0, 2]]])
+    assert not scene.positions.flags.writeable
+    assert np.isnan(scene.positions[0, 0, 0])
+
+
+def test_coverage_validation():
+    with pytest.raises(ValueError, match="equal lengths"):
+        Coverage([0], [0, 1], [0], [1])
+    with pytest.raises(ValueError, match="Coverage.x0 must hold integers"):
+        Coverage([0], [0], [0.5], [1])
+    with pytest.raises(ValueError, match="Coverage.attributes"):
+        Coverage([0], [0], [0], [1], np.zeros(3))
+
+
+pixel_lists = st.lists(st.tuples(st.integers(0, 3), st.integers(0, 9), st.integers(0, 7)), max_size=60)
+
+
+@given(pixel_lists)
+def test_from_pixels_round_trip_and_counts(pixels):
+    arr = np.array(pixels, dtype=np.int64).reshape(-1, 3)
+    cov = Coverage.from_pixels(arr[:, 0], arr[:, 1], arr[:, 2], attributes=arr[:, :1].astype(float))
+    tri, x, y = cov.pixels()
+    assert sorted(zip(tri.tolist(), x.tolist(), y.tolist())) == sorted(map(tuple, arr.tolist()))
+    # attributes follow their pixels
+    assert np.array_equal(cov.attributes[:, 0], tri)
+    expected = np.zeros((8, 10), dtype=np.int32)
+    np.add.at(expected, (arr[:, 2], arr[:, 1]), 1)
+    assert np.array_equal(cov.counts(10, 8), expected)
+    assert cov == Coverage.from_pixels(arr[::-1, 0], arr[::-1, 1], arr[::-1, 2], attributes=arr[::-1, :1].astype(float))
+
+
+@given(pixel_lists)
+def test_canonical_merges_and_keeps_duplicates(pixels):
+    arr = np.array(pixels, dtype=np.int64).reshape(-1, 3)
+    # one span per pixel, shuffled: canonical form merges touching spans only
+    cov = Coverage(arr[:, 0], arr[:, 2], arr[:, 1], arr[:, 1] + 1)
+    canon = cov.canonical()
+    assert canon.n_pixels == len(pixels)
+    assert cov == canon
+    assert np.array_equal(canon.counts(10, 8), cov.counts(10, 8))
+
+
+def test_from_mask_and_counts_clip():
+    mask = np.array([[0, 1, 1, 0], [1, 1, 1, 1]], dtype=bool)
+    cov = Coverage.from_mask(5, mask)
+    assert cov.triangle.tolist() == [5, 5] and cov.x0.tolist() == [1, 0] and cov.x1.tolist() == [3, 4]
+    assert np.array_equal(cov.counts(4, 2), mask.astype(np.int32))
+    outside = Coverage([0, 0], [-1, 0], [-5, 2], [2, 9])
+    assert outside.counts(4, 2).tolist() == [[0, 0, 1, 1], [0, 0, 0, 0]]
+
+
+def test_equality_distinguishes():
+    a = Coverage([0], [1], [2], [5])
+    assert a == Coverage([0, 0], [1, 1], [3, 2], [5, 3])
+    assert a != Coverage([0], [1], [2], [6])
+    assert a != Coverage([1], [1], [2], [5])
+    assert Coverage([0], [0], [0], [1], np.zeros((1, 1))) != Coverage([0], [0], [0], [1], np.ones((1, 1)))

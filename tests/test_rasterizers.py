@@ -1,0 +1,129 @@
+"""The four reference rasterizers against the oracle of their declared conventions."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+
+from cases.scenes import fan_mesh, grid_mesh, random_triangles
+from cases.strategies import float_scenes, lattice_scenes
+from harness.api import Rasterizer, Scene
+from harness.conformance import NEAR_TIE, deviations, edge_distance
+from harness.conventions import snap
+from harness.oracle import exact_coverage
+from rasterizers.centre_scanline import CentreScanline
+from rasterizers.fixed_point import FixedPoint, MAX_FIXED
+from rasterizers.floor_scanline import FloorScanline
+from rasterizers.pineda_topleft import PinedaTopLeft
+
+BUILTINS = [FloorScanline(), CentreScanline(), PinedaTopLeft(), FixedPoint()]
+ids = [r.name for r in BUILTINS]
+
+
+def test_each_builtin_satisfies_the_protocol():
+    for r in BUILTINS + [FixedPoint(4), FixedPoint(16)]:
+        typed: Rasterizer = r  # the static assignment a type checker verifies
+        assert isinstance(typed, Rasterizer)
+
+
+@pytest.mark.parametrize("rasterizer", BUILTINS + [FixedPoint(4), FixedPoint(16)], ids=ids + ["fixed4", "fixed16"])
+@given(scene=lattice_scenes(max_bits=4, size=24, max_triangles=6))
+def test_pixel_exact_on_lattice_scenes(rasterizer, scene):
+    assert rasterizer.rasterize(scene) == exact_coverage(scene, rasterizer.convention)
+
+
+@pytest.mark.parametrize("rasterizer", [FixedPoint(4), FixedPoint(), FixedPoint(16)], ids=["4", "8", "16"])
+@given(scene=float_scenes(size=24, max_triangles=6))
+def test_fixed_point_is_exact_on_any_float(rasterizer, scene):
+    assert rasterizer.rasterize(scene) == exact_coverage(scene, rasterizer.convention)
+
+
+@pytest.mark.parametrize("rasterizer", BUILTINS, ids=ids)
+def test_float_deviations_are_near_ties_only(rasterizer):
+    rng = np.random.default_rng(7)
+    worst = 0.0
+    for seed in range(20):
+        positions = random_triangles(300, 40.0, 200, seed)
+        # make edges pass within float rounding of samples: grids of non-dyadic spacing
+        positions = np.concatenate([positions, grid_mesh(10, 200, 0.0, seed)])
+        positions = positions + rng.uniform(-1, 1) * 1e-3
+        scene = Scene(200, 200, positions)
+        cov = rasterizer.rasterize(scene)
+        missing, extra = deviations(cov, exact_coverage(scene, rasterizer.convention), 200, 200)
+        frags = np.concatenate([missing, extra], axis=1)
+        d = edge_distance(snap(scene.positions, rasterizer.convention.subpixel_bits), frags, rasterizer.convention.sample)
+        if d.size:
+            worst = max(worst, float(d.max()))
+    assert worst <= NEAR_TIE, worst
+    print(f"{rasterizer.name}: largest relative distance of a deviating sample {worst:.3g}")
+
+
+MESHES = {
+    "grid-lattice": grid_mesh(8, 64, 0.0, 1),
+    "grid-float": grid_mesh(8, 64, 0.4, 2, "anti"),
+    "fan-centre": fan_mesh(32, (32.5, 32.5), 28.0, 3),
+    "fan-corner": fan_mesh(16, (32.0, 32.0), 28.0, 4),
+    "fan-random": fan_mesh(64, (31.37, 30.91), 28.0, 5),
+}
+
+
+@pytest.mark.parametrize("rasterizer", BUILTINS, ids=ids)
+@pytest.mark.parametrize("mesh", MESHES, ids=list(MESHES))
+def test_meshes_have_no_cracks_or_double_hits(rasterizer, mesh):
+    scene = Scene(64, 64, MESHES[mesh])
+    counts = rasterizer.rasterize(scene).counts(64, 64)
+    assert counts.max() <= 1
+    # the oracle of the same convention fills the same region: pixels whose sample lies
+    # inside the union; on a partition its hole count is the rasterizer's
+    oracle_counts = exact_coverage(scene, rasterizer.convention).counts(64, 64)
+    assert (counts == 0).sum() == (oracle_counts == 0).sum()
+
+
+@pytest.mark.parametrize("rasterizer", BUILTINS, ids=ids)
+def test_non_finite_triangles_cover_nothing_and_the_rest_is_right(rasterizer):
+    tris = np.array([[[1, 1], [9, 1], [1, 9]], [[np.nan, 1], [9, 1], [1, 9]], [[2, 2], [np.inf, 3], [2, 9]]], dtype=float)
+    scene = Scene(12, 12, tris)
+    cov = rasterizer.rasterize(scene)
+    assert set(cov.triangle.tolist()) == {0}
+    assert cov == exact_coverage(Scene(12, 12, tris[:1]), rasterizer.convention)
+
+
+@pytest.mark.parametrize("rasterizer", BUILTINS, ids=ids)
+def test_out_of_range_coordinates_raise_naming_the_triangle(rasterizer):
+    tris = np.array([[[1, 1], [9, 1], [1, 9]], [[1, 1], [1e30, 1], [1, 9]]])
+    with pytest.raises(ValueError, match=f"{rasterizer.name}: triangle 1 "):
+        rasterizer.rasterize(Scene(12, 12, tris))
+
+
+def test_fixed_point_overflow_bound():
+    # the bound: 8 * MAX_FIXED**2 fits int64 while 8 * (MAX_FIXED + 1)**2 does not
+    assert 8 * MAX_FIXED**2 < 2**63 <= 8 * (MAX_FIXED + 1) ** 2
+    for bits in (4, 8, 16):
+        r = FixedPoint(bits)
+        edge = r.max_coordinate - 2.0**-bits
+        tris = np.array([[[-edge, -edge], [edge, -edge], [-edge, edge]], [[edge, -edge], [edge, edge], [-edge, edge]]])
+        scene = Scene(16, 16, tris)
+        counts = r.rasterize(scene).counts(16, 16)
+        assert (counts == 1).all()
+        assert r.rasterize(scene) == exact_coverage(scene, r.convention)
+    with pytest.raises(ValueError, match="subpixel_bits"):
+        FixedPoint(3)
+
+
+@pytest.mark.parametrize("rasterizer", BUILTINS, ids=ids)
+@pytest.mark.parametrize("perspective", [False, True])
+def test_attributes_match_the_oracle(rasterizer, perspective):
+    rng = np.random.default_rng(3)
+    positions = random_triangles(20, 300.0, 64, 11)
+    values = rng.uniform(-5, 5, size=(20, 3, 2))
+    w = rng.uniform(0.5, 4.0, size=(20, 3)) if perspective else None
+    scene = Scene(64, 64, positions, attributes=values, w=w)
+    cov = rasterizer.rasterize(scene).canonical()
+    ref = exact_coverage(scene, rasterizer.convention).canonical()
+    assert cov.attributes.shape == (cov.n_pixels, 2)
+    if cov == ref or cov.n_pixels != ref.n_pixels:
+        pass
+    same = np.array_equal(np.stack(cov.pixels()), np.stack(ref.pixels()))
+    assert same
+    # fixed point interpolates from snapped vertices: allow the 1/256 px snap's effect
+    tol = 0.2 if isinstance(rasterizer, FixedPoint) else 1e-9
+    assert np.max(np.abs(cov.attributes - ref.attributes)) <= tol
