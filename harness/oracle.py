@@ -207,7 +207,7 @@ def _span_kernel(positions, owned, sx, sy, width, height, out_t, out_y, out_x0, 
 
 
 @numba.njit(cache=True)
-def _interpolate_kernel(positions, values, inv_w, perspective, span_t, span_y, span_x0, span_x1, sx, sy, out):  # type: ignore[no-untyped-def]
+def interpolate_kernel(positions, values, inv_w, perspective, span_t, span_y, span_x0, span_x1, sx, sy, out):  # type: ignore[no-untyped-def]
     """Barycentric interpolation at each sample: l_i = E_i / (E_0 + E_1 + E_2)."""
     k_count = values.shape[2]
     row = 0
@@ -379,7 +379,7 @@ def exact_coverage(scene: Scene, convention: Convention) -> Coverage:
         values, inv_w = _vertex_values(scene, prepared)
         attributes = np.empty((int((span_x1 - span_x0).sum()), scene.n_attributes))
         if n:
-            _interpolate_kernel(
+            interpolate_kernel(
                 pos_fast,
                 values[fast],
                 inv_w[fast] if inv_w is not None else np.ones((fast.size, 3)),

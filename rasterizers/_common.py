@@ -7,6 +7,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene
+from harness.oracle import interpolate_kernel as barycentric_kernel
 
 __all__ = ["check_coordinates", "finite_triangles", "interpolate_planes", "interpolate_barycentric", "build_coverage"]
 
@@ -98,29 +99,6 @@ def interpolate_planes(
     return out
 
 
-@numba.njit(cache=True)
-def _barycentric_kernel(positions, values, inv_w, perspective, span_t, span_y, span_x0, span_x1, sx, sy, out):  # type: ignore[no-untyped-def]
-    k_count = values.shape[2]
-    row = 0
-    for s in range(span_t.size):
-        t = span_t[s]
-        p = positions[t]
-        ys = span_y[s] + sy
-        for i in range(span_x0[s], span_x1[s]):
-            xs = i + sx
-            w0 = (p[2, 0] - p[1, 0]) * (ys - p[1, 1]) - (p[2, 1] - p[1, 1]) * (xs - p[1, 0])
-            w1 = (p[0, 0] - p[2, 0]) * (ys - p[2, 1]) - (p[0, 1] - p[2, 1]) * (xs - p[2, 0])
-            w2 = (p[1, 0] - p[0, 0]) * (ys - p[0, 1]) - (p[1, 1] - p[0, 1]) * (xs - p[0, 0])
-            if perspective:
-                w0 *= inv_w[t, 0]
-                w1 *= inv_w[t, 1]
-                w2 *= inv_w[t, 2]
-            total = w0 + w1 + w2
-            for k in range(k_count):
-                out[row, k] = (w0 * values[t, 0, k] + w1 * values[t, 1, k] + w2 * values[t, 2, k]) / total
-            row += 1
-
-
 def interpolate_barycentric(
     scene: Scene, positions: NDArray[np.float64], spans: tuple[NDArray, ...], n: int, sample: tuple[float, float]
 ) -> NDArray[np.float64] | None:
@@ -131,5 +109,5 @@ def interpolate_barycentric(
     t, y, x0, x1 = (a[:n] for a in spans)
     values, inv_w, perspective = _values_and_inverse_w(scene)
     out = np.empty((int((x1 - x0).sum()), scene.n_attributes))
-    _barycentric_kernel(positions, values, inv_w, perspective, t, y, x0, x1, sample[0], sample[1], out)
+    barycentric_kernel(positions, values, inv_w, perspective, t, y, x0, x1, sample[0], sample[1], out)
     return out
