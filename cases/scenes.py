@@ -93,6 +93,10 @@ def default_cases(seed: int = 0) -> list[Case]:
     cases = []
     for bits in (0, 2, 4, 8):
         cases.append(Case(f"lattice/bits-{bits}", Scene(64, 64, lattice_triangles(200, 64, bits, seed + bits)), lattice=True))
+    rng = np.random.default_rng(seed + 5)
+    centres = np.floor(rng.uniform(1, 31, size=(300, 1, 2))) + 0.5
+    small = centres + rng.integers(-12, 13, size=(300, 3, 2)) / 16  # areas below a pixel
+    cases.append(Case("lattice/sub-pixel-triangles", Scene(32, 32, small), lattice=True))
     cases.append(Case("float/random-50px", Scene(128, 128, random_triangles(400, 50.0, 128, seed))))
     cases.append(Case("float/random-2000px", Scene(128, 128, random_triangles(40, 2000.0, 128, seed + 1))))
     for jitter, label in ((0.0, "no-jitter"), (0.37, "float-jitter")):
