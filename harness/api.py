@@ -110,6 +110,10 @@ def _int_array(value: ArrayLike, field: str) -> NDArray[np.int64]:
     array = np.asarray(value)
     if array.ndim != 1:
         raise ValueError(f"Coverage.{field} must be one-dimensional, not shape {array.shape}")
+    if array.dtype == np.int64:
+        # Taken as given, without a copy: kernels hand over arrays they no longer use.
+        # The read-only flag below is set on this view, not on the caller's array.
+        return array.view()
     if array.dtype.kind in "biu":
         return array.astype(np.int64)
     if array.dtype.kind == "f":
@@ -166,6 +170,8 @@ class Coverage:
 
     The constructor checks structure only (1-D integer arrays of one length, a 2-D
     float attribute array); whether spans are sensible is for the hygiene checks to say.
+    int64 span arrays are kept without a copy (as read-only views): do not modify them
+    afterwards through another reference.
 
     Parameters
     ----------

@@ -24,59 +24,108 @@ from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene, _expand, _span_pixel_offsets
 from harness.conventions import Convention, snap
-from harness.exact import in_safe_range, orient2d_sign, orientation
+from harness.exact import SAFE_MAX, SAFE_MIN, orient2d_fraction, orient2d_sign
 
 __all__ = ["exact_coverage", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
 
 
+_CULL_CODES = {"none": 0, "cw": 1, "ccw": -1}
+
+
+@numba.njit(cache=True)
+def _sign_kernel(positions, sign, safe):  # type: ignore[no-untyped-def]
+    """Exact area sign of every finite triangle within the expansions' safe range; 0 for
+    non-finite ones; 2 marks finite ones outside the range (left for rationals)."""
+    for t in range(positions.shape[0]):
+        p = positions[t]
+        finite = True
+        in_range = True
+        for v in range(3):
+            for c in range(2):
+                value = p[v, c]
+                if not np.isfinite(value):
+                    finite = False
+                magnitude = abs(value)
+                if magnitude != 0.0 and (magnitude < SAFE_MIN or magnitude > SAFE_MAX):
+                    in_range = False
+        safe[t] = finite and in_range
+        if not finite:
+            sign[t] = 0
+        elif not in_range:
+            sign[t] = 2
+        else:
+            sign[t] = orient2d_sign(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1])
+
+
+@numba.njit(cache=True)
+def _orient_kernel(positions, sign, cull, owns_top, owns_left, out_pos, out_order, out_owned, out_active):  # type: ignore[no-untyped-def]
+    for t in range(positions.shape[0]):
+        s = sign[t]
+        # Zero-area and non-finite triangles cover nothing; cull 1 removes A > 0 (cw).
+        out_active[t] = s != 0 and s != cull
+        # Orient every triangle clockwise on screen (A > 0): the interior is where all
+        # three edge functions are positive.
+        order = (0, 2, 1) if s < 0 else (0, 1, 2)
+        for v in range(3):
+            out_order[t, v] = order[v]
+            out_pos[t, v, 0] = positions[t, order[v], 0]
+            out_pos[t, v, 1] = positions[t, order[v], 1]
+        for k in range(3):
+            ax, ay = out_pos[t, k, 0], out_pos[t, k, 1]
+            bx, by = out_pos[t, (k + 1) % 3, 0], out_pos[t, (k + 1) % 3, 1]
+            # With A > 0 the interior lies on the side of (-dy, dx): a horizontal edge
+            # with dx > 0 has the interior below it (top edge); a non-horizontal edge with
+            # dy < 0 has it to its right (left edge). Comparisons, not differences: no
+            # overflow.
+            if ay == by:
+                out_owned[t, k] = (bx > ax) if owns_top else (bx < ax)
+            else:
+                out_owned[t, k] = (by < ay) if owns_left else (by > ay)
+
+
 class PreparedTriangles:
-    """Triangles after snapping, culling and orienting, ready for a coverage kernel.
+    """A scene's triangles after snapping, culling and orienting, ready for a kernel.
+
+    Every array has one row per scene triangle.
 
     Attributes
     ----------
-    index : (M,) int64
-        Scene index of each surviving triangle.
-    positions : (M, 3, 2) float64
+    positions : (N, 3, 2) float64
         Snapped vertices, reordered so that the signed area is positive.
-    vertex_order : (M, 3) int64
+    vertex_order : (N, 3) int64
         Which scene vertex each row of ``positions`` came from.
-    owned : (M, 3) bool
+    owned : (N, 3) bool
         Whether edge k (vertex k to vertex k+1) owns samples lying exactly on it.
+    active : (N,) bool
+        Finite, nonzero area, not culled: the triangles that may cover anything.
+    safe : (N,) bool
+        Coordinates within the range of exact expansion arithmetic (else rationals).
     """
 
-    __slots__ = ("index", "positions", "vertex_order", "owned")
+    __slots__ = ("positions", "vertex_order", "owned", "active", "safe")
 
     def __init__(self, scene: Scene, convention: Convention) -> None:
-        snapped = snap(scene.positions, convention.subpixel_bits)
-        sign = orientation(snapped)  # 0 for non-finite and zero-area triangles
-        keep = sign != 0
-        if convention.cull == "cw":
-            keep &= sign < 0
-        elif convention.cull == "ccw":
-            keep &= sign > 0
-        self.index = np.flatnonzero(keep).astype(np.int64)
-        order = np.tile(np.arange(3, dtype=np.int64), (self.index.size, 1))
-        # Orient every triangle clockwise on screen (A > 0): the interior is where all
-        # three edge functions are positive.
-        flip = sign[self.index] < 0
-        order[flip] = (0, 2, 1)
-        self.vertex_order = order
-        self.positions = np.ascontiguousarray(
-            np.take_along_axis(snapped[self.index], order[:, :, None], axis=1)
+        snapped = np.ascontiguousarray(snap(scene.positions, convention.subpixel_bits))
+        n = snapped.shape[0]
+        sign = np.empty(n, dtype=np.int8)
+        self.safe = np.empty(n, dtype=np.bool_)
+        _sign_kernel(snapped, sign, self.safe)
+        for t in np.flatnonzero(sign == 2):  # beyond the expansions: exact rationals
+            p = snapped[t]
+            sign[t] = orient2d_fraction(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1])
+        self.positions = np.empty_like(snapped)
+        self.vertex_order = np.empty((n, 3), dtype=np.int64)
+        self.owned = np.empty((n, 3), dtype=np.bool_)
+        self.active = np.empty(n, dtype=np.bool_)
+        _orient_kernel(
+            snapped, sign, _CULL_CODES[convention.cull], convention.owns_top, convention.owns_left,
+            self.positions, self.vertex_order, self.owned, self.active,
         )
-        a = self.positions
-        b = np.roll(self.positions, -1, axis=1)  # edge k: v[k] -> v[k+1]
-        # With A > 0 the interior lies on the side of (-dy, dx): a horizontal edge with
-        # dx > 0 has the interior below it (top edge); a non-horizontal edge with dy < 0
-        # has it to its right (left edge). Comparisons, not differences: no overflow.
-        horizontal = b[..., 1] == a[..., 1]
-        top = horizontal & (b[..., 0] > a[..., 0])
-        bottom = horizontal & (b[..., 0] < a[..., 0])
-        left = b[..., 1] < a[..., 1]
-        right = b[..., 1] > a[..., 1]
-        vertical_owner = top if convention.owns_top else bottom
-        side_owner = left if convention.owns_left else right
-        self.owned = np.ascontiguousarray(vertical_owner | side_owner)
+
+    @property
+    def index(self) -> NDArray[np.int64]:
+        """Scene indices of the active triangles."""
+        return np.flatnonzero(self.active)
 
 
 def prepare_triangles(scene: Scene, convention: Convention) -> PreparedTriangles:
@@ -154,9 +203,11 @@ def _row_range(ymin, ymax, sy, height):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _capacity(positions, sy, height):  # type: ignore[no-untyped-def]
+def _capacity(positions, use, sy, height):  # type: ignore[no-untyped-def]
     total = 0
     for t in range(positions.shape[0]):
+        if not use[t]:
+            continue
         p = positions[t]
         ymin = min(p[0, 1], p[1, 1], p[2, 1])
         ymax = max(p[0, 1], p[1, 1], p[2, 1])
@@ -165,38 +216,81 @@ def _capacity(positions, sy, height):  # type: ignore[no-untyped-def]
     return total
 
 
-@numba.njit(cache=True)
-def _span_kernel(positions, owned, sx, sy, width, height, out_t, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+# Bound on |fl(ax + fl(slope * fl(ys - ay))) - exact crossing|, with the roundings of the
+# filter's own interval ends: about 9 roundings of relative size 2**-53 each on
+# |ax| + |slope * (ys - ay)| + |sx|; 2**-48 (32 units) leaves room to spare, and the "+ 1"
+# in the scale keeps the bound above any underflow.
+_CROSSING_ERROR = 2.0**-48
+
+
+@numba.njit(cache=True, inline="always")
+def _bound(ax, ay, bx, by, slope, owned, sx, ys, width, lower):  # type: ignore[no-untyped-def]
+    """The column where edge a-b's test flips on row ys, clamped to [0, width]: the first
+    inside column for a lower bound, the first outside one for an upper bound.
+
+    Fast path: the float crossing with its error bound. When no column boundary lies
+    within the bound the crossing is not a tie and both rules give floor(lo) + 1.
+    Otherwise the exact predicate settles it."""
+    prod = slope * (ys - ay)
+    xc = ax + prod
+    delta = _CROSSING_ERROR * (abs(ax) + abs(prod) + 1.0)
+    lo = xc - delta - sx
+    hi = xc + delta - sx
+    if lo >= width:
+        return width
+    if hi < 0.0:
+        return 0
+    if lo > -1.0 and hi < width + 1.0:
+        f = math.floor(lo)
+        if hi < f + 1.0:
+            return min(int(f) + 1, width)
+    est = _estimate_column(ax, ay, bx, by, sx, ys, width)
+    return _settle(ax, ay, bx, by, owned, sx, ys, width, est, lower)
+
+
+@numba.njit(cache=True, inline="always")
+def _apply_edge(ax, ay, bx, by, slope, owned, sx, ys, width, left, right):  # type: ignore[no-untyped-def]
+    """Narrow the row's run [left, right) by edge a-b, if its segment reaches height ys.
+
+    An edge whose segment lies wholly above or below the row is skipped: on a row within
+    the triangle's height the two edges that reach it bound the section exactly (their
+    wedge meets the row inside the triangle), so the third line adds nothing."""
+    if ys < min(ay, by) or ys > max(ay, by):
+        return left, right
+    if ay == by:
+        # Horizontal edge on this very row: its samples are inside only if it owns them.
+        if not owned:
+            return left, 0
+        return left, right
+    if by < ay:  # E grows with x: this edge bounds the run from the left
+        return max(left, _bound(ax, ay, bx, by, slope, owned, sx, ys, width, True)), right
+    return left, min(right, _bound(ax, ay, bx, by, slope, owned, sx, ys, width, False))
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _span_kernel(positions, owned, use, sx, sy, width, height, out_t, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
     n = 0
     for t in range(positions.shape[0]):
-        p = positions[t]
-        ymin = min(p[0, 1], p[1, 1], p[2, 1])
-        ymax = max(p[0, 1], p[1, 1], p[2, 1])
+        if not use[t]:
+            continue
+        x0, y0 = positions[t, 0, 0], positions[t, 0, 1]
+        x1, y1 = positions[t, 1, 0], positions[t, 1, 1]
+        x2, y2 = positions[t, 2, 0], positions[t, 2, 1]
+        o0, o1, o2 = owned[t, 0], owned[t, 1], owned[t, 2]
+        # Edge slopes dx/dy, for the float estimate only (0 for horizontal edges).
+        s0 = (x1 - x0) / (y1 - y0) if y1 != y0 else 0.0
+        s1 = (x2 - x1) / (y2 - y1) if y2 != y1 else 0.0
+        s2 = (x0 - x2) / (y0 - y2) if y0 != y2 else 0.0
+        ymin = min(y0, y1, y2)
+        ymax = max(y0, y1, y2)
         first, last = _row_range(ymin, ymax, sy, height)
         for j in range(first, last + 1):
             ys = j + sy
-            left = 0
-            right = width
-            for k in range(3):
-                ax, ay = p[k, 0], p[k, 1]
-                bx, by = p[(k + 1) % 3, 0], p[(k + 1) % 3, 1]
-                if ay == by:
-                    # Horizontal edge: E = (bx - ax) * (ys - ay), its sign from comparisons.
-                    if ys == ay:
-                        inside = owned[t, k]
-                    else:
-                        inside = (bx > ax) == (ys > ay)
-                    if not inside:
-                        right = 0
-                        break
-                    continue
-                est = _estimate_column(ax, ay, bx, by, sx, ys, width)
-                if by < ay:  # E grows with x: this edge bounds the run from the left
-                    left = max(left, _settle(ax, ay, bx, by, owned[t, k], sx, ys, width, est, True))
-                else:
-                    right = min(right, _settle(ax, ay, bx, by, owned[t, k], sx, ys, width, est, False))
-                if left >= right:
-                    break
+            if ys < ymin or ys > ymax:
+                continue  # the conservative row range may overshoot by a row
+            left, right = _apply_edge(x0, y0, x1, y1, s0, o0, sx, ys, width, 0, width)
+            left, right = _apply_edge(x1, y1, x2, y2, s1, o1, sx, ys, width, left, right)
+            left, right = _apply_edge(x2, y2, x0, y0, s2, o2, sx, ys, width, left, right)
             if left < right:
                 out_t[n] = t
                 out_y[n] = j
@@ -296,33 +390,14 @@ def _interpolate_python(
 # -- public entry points ------------------------------------------------------------------
 
 
-def _assemble(
-    scene: Scene,
-    prepared: PreparedTriangles,
-    local_t: NDArray[np.int64],
-    y: NDArray[np.int64],
-    x0: NDArray[np.int64],
-    x1: NDArray[np.int64],
-    attributes: NDArray[np.float64] | None,
-) -> Coverage:
-    triangle = prepared.index[local_t]
-    order = np.argsort(triangle, kind="stable")
-    if not np.array_equal(order, np.arange(order.size)):
-        if attributes is not None:
-            offsets = _span_pixel_offsets(x0, x1)
-            attributes = attributes[_expand(offsets[order], (x1 - x0)[order])]
-        triangle, y, x0, x1 = triangle[order], y[order], x0[order], x1[order]
-    return Coverage(triangle, y, x0, x1, attributes)
-
-
-def _vertex_values(scene: Scene, prepared: PreparedTriangles) -> tuple[NDArray, NDArray | None]:
+def _vertex_values(scene: Scene, prepared: PreparedTriangles) -> tuple[NDArray, NDArray]:
+    """Per-vertex values and 1/w in each triangle's oriented vertex order (1/w = 1 affine)."""
     assert scene.attributes is not None
-    values = np.take_along_axis(
-        scene.attributes[prepared.index], prepared.vertex_order[:, :, None], axis=1
-    )
-    inv_w = None
-    if scene.w is not None:
-        inv_w = 1.0 / np.take_along_axis(scene.w[prepared.index], prepared.vertex_order, axis=1)
+    values = np.take_along_axis(scene.attributes, prepared.vertex_order[:, :, None], axis=1)
+    if scene.w is None:
+        return np.ascontiguousarray(values), np.ones((len(scene), 3))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv_w = 1.0 / np.take_along_axis(scene.w, prepared.vertex_order, axis=1)
     return np.ascontiguousarray(values), inv_w
 
 
@@ -362,60 +437,44 @@ def exact_coverage(scene: Scene, convention: Convention) -> Coverage:
     """
     prepared = PreparedTriangles(scene, convention)
     sx, sy = convention.sample
-    safe = in_safe_range(prepared.positions, axis=(1, 2))
-    fast = np.flatnonzero(safe)
-    slow = np.flatnonzero(~safe)
-
-    pos_fast = np.ascontiguousarray(prepared.positions[fast])
-    owned_fast = np.ascontiguousarray(prepared.owned[fast])
-    capacity = int(_capacity(pos_fast, sy, scene.height)) if fast.size else 0
+    fast = prepared.active & prepared.safe
+    capacity = int(_capacity(prepared.positions, fast, sy, scene.height))
     out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
-    n = int(_span_kernel(pos_fast, owned_fast, sx, sy, scene.width, scene.height, *out)) if fast.size else 0
-    span_t, span_y, span_x0, span_x1 = (a[:n] for a in out)
+    n = int(_span_kernel(prepared.positions, prepared.owned, fast, sx, sy, scene.width, scene.height, *out))
+    triangle, y, x0, x1 = (a[:n] for a in out)
 
     attributes = None
-    values = inv_w = None
     if scene.attributes is not None:
         values, inv_w = _vertex_values(scene, prepared)
-        attributes = np.empty((int((span_x1 - span_x0).sum()), scene.n_attributes))
-        if n:
-            interpolate_kernel(
-                pos_fast,
-                values[fast],
-                inv_w[fast] if inv_w is not None else np.ones((fast.size, 3)),
-                inv_w is not None,
-                span_t,
-                span_y,
-                span_x0,
-                span_x1,
-                sx,
-                sy,
-                attributes,
-            )
-    local_t = fast[span_t]
+        attributes = np.empty((int((x1 - x0).sum()), scene.n_attributes))
+        interpolate_kernel(
+            prepared.positions, values, inv_w, scene.w is not None, triangle, y, x0, x1, sx, sy, attributes
+        )
 
-    if slow.size:
-        extra: list[tuple[int, int, int, int]] = []
-        extra_values = []
-        for m in slow:
-            runs = _rows_python(prepared.positions[m], prepared.owned[m], sx, sy, scene.width, scene.height)
-            extra.extend((m, j, a, b) for j, a, b in runs)
-            if values is not None and runs:
-                cols = np.concatenate([np.arange(a, b) for _, a, b in runs]) + sx
-                rows = np.concatenate([np.full(b - a, j) for j, a, b in runs]) + sy
-                planes = _barycentric_planes(prepared.positions[m])
-                extra_values.append(
-                    _interpolate_python(planes, values[m], None if inv_w is None else inv_w[m], cols, rows)
-                )
-        if extra:
-            e = np.array(extra, dtype=np.int64)
-            local_t = np.concatenate([local_t, e[:, 0]])
-            span_y = np.concatenate([span_y, e[:, 1]])
-            span_x0 = np.concatenate([span_x0, e[:, 2]])
-            span_x1 = np.concatenate([span_x1, e[:, 3]])
-            if attributes is not None:
-                attributes = np.concatenate([attributes, *extra_values])
-    return _assemble(scene, prepared, local_t, span_y, span_x0, span_x1, attributes)
+    slow = np.flatnonzero(prepared.active & ~prepared.safe)
+    extra: list[tuple[int, int, int, int]] = []
+    extra_values = []
+    for m in slow:
+        runs = _rows_python(prepared.positions[m], prepared.owned[m], sx, sy, scene.width, scene.height)
+        extra.extend((m, j, a, b) for j, a, b in runs)
+        if attributes is not None and runs:
+            cols = np.concatenate([np.arange(a, b) for _, a, b in runs]) + sx
+            rows = np.concatenate([np.full(b - a, j) for j, a, b in runs]) + sy
+            planes = _barycentric_planes(prepared.positions[m])
+            inv = inv_w[m] if scene.w is not None else None
+            extra_values.append(_interpolate_python(planes, values[m], inv, cols, rows))
+    if extra:
+        e = np.array(extra, dtype=np.int64)
+        triangle = np.concatenate([triangle, e[:, 0]])
+        y = np.concatenate([y, e[:, 1]])
+        x0 = np.concatenate([x0, e[:, 2]])
+        x1 = np.concatenate([x1, e[:, 3]])
+        order = np.argsort(triangle, kind="stable")  # back into triangle order
+        if attributes is not None:
+            attributes = np.concatenate([attributes, *extra_values])
+            attributes = attributes[_expand(_span_pixel_offsets(x0, x1)[order], (x1 - x0)[order])]
+        triangle, y, x0, x1 = triangle[order], y[order], x0[order], x1[order]
+    return Coverage(triangle, y, x0, x1, attributes)
 
 
 def exact_coverage_python(scene: Scene, convention: Convention) -> Coverage:
@@ -426,8 +485,8 @@ def exact_coverage_python(scene: Scene, convention: Convention) -> Coverage:
     prepared = PreparedTriangles(scene, convention)
     sx, sy = convention.sample
     spans = [
-        (int(prepared.index[m]), j, a, b)
-        for m in range(prepared.index.size)
+        (int(m), j, a, b)
+        for m in prepared.index
         for j, a, b in _rows_python(
             prepared.positions[m], prepared.owned[m], sx, sy, scene.width, scene.height
         )
