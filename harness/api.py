@@ -144,6 +144,16 @@ def _run_tails(heads: NDArray[np.int64], size: int) -> NDArray[np.int64]:
     return tails
 
 
+def span_buffers(capacity: int) -> tuple[NDArray[np.int64], ...]:
+    """Four int64 arrays (triangle, y, x0, x1) of ``capacity`` for a span kernel to fill.
+
+    They are rows of one block: a single large allocation is much cheaper than four
+    (one mapping, and huge pages where the system offers them), and the spans a kernel
+    writes end up side by side in memory."""
+    block = np.empty((4, capacity), dtype=np.int64)
+    return block[0], block[1], block[2], block[3]
+
+
 def _expand(starts: NDArray[np.int64], lengths: NDArray[np.int64]) -> NDArray[np.int64]:
     """Concatenate ``arange(s, s + n)`` for each (s, n), without a Python loop."""
     total = int(lengths.sum())

@@ -151,18 +151,41 @@ def in_safe_range(values: NDArray[np.float64], axis: int | tuple[int, ...] = -1)
 
 
 @numba.njit(cache=True)
-def _orientation_kernel(positions: NDArray[np.float64], out: NDArray[np.int8]) -> None:
+def sign_kernel(positions, sign, safe):  # type: ignore[no-untyped-def]
+    """Exact area sign of every finite triangle whose coordinates are within the
+    expansions' safe range; 0 for non-finite ones; 2 marks finite ones outside the range
+    (for :func:`orient2d_fraction`). ``safe`` records which are within it."""
     for t in range(positions.shape[0]):
         p = positions[t]
-        out[t] = orient2d_sign(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1])
+        finite = True
+        in_range = True
+        for v in range(3):
+            for c in range(2):
+                value = p[v, c]
+                if not np.isfinite(value):
+                    finite = False
+                magnitude = abs(value)
+                if magnitude != 0.0 and (magnitude < SAFE_MIN or magnitude > SAFE_MAX):
+                    in_range = False
+        safe[t] = finite and in_range
+        if not finite:
+            sign[t] = 0
+        elif not in_range:
+            sign[t] = 2
+        else:
+            sign[t] = orient2d_sign(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1])
 
 
-def orientation(positions: NDArray[np.float64]) -> NDArray[np.int8]:
+def orientation(
+    positions: NDArray[np.float64], safe: NDArray[np.bool_] | None = None
+) -> NDArray[np.int8]:
     """Exact sign of each triangle's signed area A; 0 for non-finite triangles.
 
     Parameters
     ----------
     positions : (N, 3, 2) float64
+    safe : (N,) bool, optional
+        Filled with whether each triangle lies within the expansions' safe range.
 
     Returns
     -------
@@ -176,14 +199,11 @@ def orientation(positions: NDArray[np.float64]) -> NDArray[np.int8]:
     array([ 1, -1,  0], dtype=int8)
     """
     positions = np.ascontiguousarray(positions, dtype=np.float64).reshape(-1, 3, 2)
-    out = np.zeros(positions.shape[0], dtype=np.int8)
-    finite = np.all(np.isfinite(positions), axis=(1, 2))
-    safe = finite & in_safe_range(positions, axis=(1, 2))
-    if safe.any():
-        fast = np.zeros(int(safe.sum()), dtype=np.int8)
-        _orientation_kernel(positions[safe], fast)
-        out[safe] = fast
-    for t in np.flatnonzero(finite & ~safe):
+    sign = np.empty(positions.shape[0], dtype=np.int8)
+    if safe is None:
+        safe = np.empty(positions.shape[0], dtype=np.bool_)
+    sign_kernel(positions, sign, safe)
+    for t in np.flatnonzero(sign == 2):  # beyond the expansions: exact rationals
         p = positions[t]
-        out[t] = orient2d_fraction(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1])
-    return out
+        sign[t] = orient2d_fraction(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1])
+    return sign

@@ -22,9 +22,9 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene, _expand, _span_pixel_offsets
+from harness.api import Coverage, Scene, _expand, _span_pixel_offsets, span_buffers
 from harness.conventions import Convention, snap
-from harness.exact import SAFE_MAX, SAFE_MIN, orient2d_fraction, orient2d_sign
+from harness.exact import orient2d_sign, orientation
 
 __all__ = ["exact_coverage", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
 
@@ -33,46 +33,25 @@ _CULL_CODES = {"none": 0, "cw": 1, "ccw": -1}
 
 
 @numba.njit(cache=True)
-def _sign_kernel(positions, sign, safe):  # type: ignore[no-untyped-def]
-    """Exact area sign of every finite triangle within the expansions' safe range; 0 for
-    non-finite ones; 2 marks finite ones outside the range (left for rationals)."""
-    for t in range(positions.shape[0]):
-        p = positions[t]
-        finite = True
-        in_range = True
-        for v in range(3):
-            for c in range(2):
-                value = p[v, c]
-                if not np.isfinite(value):
-                    finite = False
-                magnitude = abs(value)
-                if magnitude != 0.0 and (magnitude < SAFE_MIN or magnitude > SAFE_MAX):
-                    in_range = False
-        safe[t] = finite and in_range
-        if not finite:
-            sign[t] = 0
-        elif not in_range:
-            sign[t] = 2
-        else:
-            sign[t] = orient2d_sign(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1])
-
-
-@numba.njit(cache=True)
-def _orient_kernel(positions, sign, cull, owns_top, owns_left, out_pos, out_order, out_owned, out_active):  # type: ignore[no-untyped-def]
+def _orient_kernel(positions, sign, cull, owns_top, owns_left, sy, height, out_owned, out_active):  # type: ignore[no-untyped-def]
+    """Activity and edge ownership of each triangle, taken with its vertices in oriented
+    order (0, 1, 2) when A > 0 and (0, 2, 1) when A < 0; returns an upper bound on the
+    rows the active ones span (the span buffers' capacity)."""
+    rows = 0
     for t in range(positions.shape[0]):
         s = sign[t]
         # Zero-area and non-finite triangles cover nothing; cull 1 removes A > 0 (cw).
-        out_active[t] = s != 0 and s != cull
+        active = s != 0 and s != cull
+        out_active[t] = active
+        if not active:
+            continue
         # Orient every triangle clockwise on screen (A > 0): the interior is where all
         # three edge functions are positive.
         order = (0, 2, 1) if s < 0 else (0, 1, 2)
-        for v in range(3):
-            out_order[t, v] = order[v]
-            out_pos[t, v, 0] = positions[t, order[v], 0]
-            out_pos[t, v, 1] = positions[t, order[v], 1]
         for k in range(3):
-            ax, ay = out_pos[t, k, 0], out_pos[t, k, 1]
-            bx, by = out_pos[t, (k + 1) % 3, 0], out_pos[t, (k + 1) % 3, 1]
+            a, b = order[k], order[(k + 1) % 3]
+            ax, ay = positions[t, a, 0], positions[t, a, 1]
+            bx, by = positions[t, b, 0], positions[t, b, 1]
             # With A > 0 the interior lies on the side of (-dy, dx): a horizontal edge
             # with dx > 0 has the interior below it (top edge); a non-horizontal edge with
             # dy < 0 has it to its right (left edge). Comparisons, not differences: no
@@ -81,6 +60,14 @@ def _orient_kernel(positions, sign, cull, owns_top, owns_left, out_pos, out_orde
                 out_owned[t, k] = (bx > ax) if owns_top else (bx < ax)
             else:
                 out_owned[t, k] = (by < ay) if owns_left else (by > ay)
+        first, last = _row_range(
+            min(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1]),
+            max(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1]),
+            sy,
+            height,
+        )
+        rows += max(last - first + 1, 0)
+    return rows
 
 
 class PreparedTriangles:
@@ -90,37 +77,50 @@ class PreparedTriangles:
 
     Attributes
     ----------
-    positions : (N, 3, 2) float64
-        Snapped vertices, reordered so that the signed area is positive.
-    vertex_order : (N, 3) int64
-        Which scene vertex each row of ``positions`` came from.
+    snapped : (N, 3, 2) float64
+        Snapped vertices, in scene order.
+    sign : (N,) int8
+        Exact sign of the snapped signed area (0: non-finite or degenerate).
     owned : (N, 3) bool
         Whether edge k (vertex k to vertex k+1) owns samples lying exactly on it.
     active : (N,) bool
         Finite, nonzero area, not culled: the triangles that may cover anything.
     safe : (N,) bool
         Coordinates within the range of exact expansion arithmetic (else rationals).
+    rows : int
+        An upper bound on the rows the active triangles span.
     """
 
-    __slots__ = ("positions", "vertex_order", "owned", "active", "safe")
+    __slots__ = ("snapped", "sign", "owned", "active", "safe", "rows", "_oriented")
 
     def __init__(self, scene: Scene, convention: Convention) -> None:
-        snapped = np.ascontiguousarray(snap(scene.positions, convention.subpixel_bits))
-        n = snapped.shape[0]
-        sign = np.empty(n, dtype=np.int8)
+        self.snapped = np.ascontiguousarray(snap(scene.positions, convention.subpixel_bits))
+        n = self.snapped.shape[0]
         self.safe = np.empty(n, dtype=np.bool_)
-        _sign_kernel(snapped, sign, self.safe)
-        for t in np.flatnonzero(sign == 2):  # beyond the expansions: exact rationals
-            p = snapped[t]
-            sign[t] = orient2d_fraction(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1])
-        self.positions = np.empty_like(snapped)
-        self.vertex_order = np.empty((n, 3), dtype=np.int64)
+        self.sign = orientation(self.snapped, self.safe)
         self.owned = np.empty((n, 3), dtype=np.bool_)
         self.active = np.empty(n, dtype=np.bool_)
-        _orient_kernel(
-            snapped, sign, _CULL_CODES[convention.cull], convention.owns_top, convention.owns_left,
-            self.positions, self.vertex_order, self.owned, self.active,
+        self.rows = int(
+            _orient_kernel(
+                self.snapped, self.sign, _CULL_CODES[convention.cull], convention.owns_top,
+                convention.owns_left, convention.sample[1], scene.height, self.owned, self.active,
+            )
         )
+        self._oriented: NDArray[np.float64] | None = None
+
+    @property
+    def positions(self) -> NDArray[np.float64]:
+        """(N, 3, 2) float64: snapped vertices, reordered so that the signed area is positive."""
+        if self._oriented is None:
+            self._oriented = np.ascontiguousarray(
+                np.take_along_axis(self.snapped, self.vertex_order[:, :, None], axis=1)
+            )
+        return self._oriented
+
+    @property
+    def vertex_order(self) -> NDArray[np.int64]:
+        """(N, 3) int64: which scene vertex each row of ``positions`` came from."""
+        return np.where((self.sign < 0)[:, None], np.array([0, 2, 1]), np.array([0, 1, 2]))
 
     @property
     def index(self) -> NDArray[np.int64]:
@@ -191,49 +191,35 @@ def _estimate_column(ax, ay, bx, by, sx, ys, width):  # type: ignore[no-untyped-
 
 @numba.njit(cache=True)
 def _row_range(ymin, ymax, sy, height):  # type: ignore[no-untyped-def]
-    # floor(fl(ymin - sy)) <= the first exact row and ceil(fl(ymax - sy)) >= the last:
-    # rounding is monotone and integers are representable, so the range is conservative.
+    # Rows j with ymin <= j + sy <= ymax. ceil(fl(ymin - sy)) <= ceil(ymin - sy) and
+    # floor(fl(ymax - sy)) >= floor(ymax - sy): rounding is monotone and integers are
+    # representable, so no row is lost; a rare extra one is skipped by the caller.
     lo = ymin - sy
     hi = ymax - sy
     if hi < 0.0 or lo > height - 1:
         return 0, -1
-    first = 0 if lo < 0.0 else int(math.floor(lo))
-    last = height - 1 if hi > height - 1 else int(math.ceil(hi))
+    first = 0 if lo < 0.0 else int(math.ceil(lo))
+    last = height - 1 if hi > height - 1 else int(math.floor(hi))
     return first, last
-
-
-@numba.njit(cache=True)
-def _capacity(positions, use, sy, height):  # type: ignore[no-untyped-def]
-    total = 0
-    for t in range(positions.shape[0]):
-        if not use[t]:
-            continue
-        p = positions[t]
-        ymin = min(p[0, 1], p[1, 1], p[2, 1])
-        ymax = max(p[0, 1], p[1, 1], p[2, 1])
-        first, last = _row_range(ymin, ymax, sy, height)
-        total += max(last - first + 1, 0)
-    return total
 
 
 # Bound on |fl(ax + fl(slope * fl(ys - ay))) - exact crossing|, with the roundings of the
 # filter's own interval ends: about 9 roundings of relative size 2**-53 each on
 # |ax| + |slope * (ys - ay)| + |sx|; 2**-48 (32 units) leaves room to spare, and the "+ 1"
-# in the scale keeps the bound above any underflow.
+# in the scale keeps the bound above any underflow. It is taken over a triangle's rows
+# once, with the largest |ys - ay| among them.
 _CROSSING_ERROR = 2.0**-48
 
 
 @numba.njit(cache=True, inline="always")
-def _bound(ax, ay, bx, by, slope, owned, sx, ys, width, lower):  # type: ignore[no-untyped-def]
+def _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, lower):  # type: ignore[no-untyped-def]
     """The column where edge a-b's test flips on row ys, clamped to [0, width]: the first
     inside column for a lower bound, the first outside one for an upper bound.
 
-    Fast path: the float crossing with its error bound. When no column boundary lies
-    within the bound the crossing is not a tie and both rules give floor(lo) + 1.
-    Otherwise the exact predicate settles it."""
-    prod = slope * (ys - ay)
-    xc = ax + prod
-    delta = _CROSSING_ERROR * (abs(ax) + abs(prod) + 1.0)
+    Fast path: the float crossing with its error bound ``delta``. When no column
+    boundary lies within the bound the crossing is not a tie and both rules give
+    floor(lo) + 1. Otherwise the exact predicate settles it."""
+    xc = ax + slope * (ys - ay)
     lo = xc - delta - sx
     hi = xc + delta - sx
     if lo >= width:
@@ -249,13 +235,23 @@ def _bound(ax, ay, bx, by, slope, owned, sx, ys, width, lower):  # type: ignore[
 
 
 @numba.njit(cache=True, inline="always")
-def _apply_edge(ax, ay, bx, by, slope, owned, sx, ys, width, left, right):  # type: ignore[no-untyped-def]
+def _edge_setup(ax, ay, bx, by, y_first, y_last):  # type: ignore[no-untyped-def]
+    """Per-edge constants: y extent, slope dx/dy (for the float estimate only; 0 when
+    horizontal) and the crossing's error bound over rows y_first..y_last."""
+    slope = (bx - ax) / (by - ay) if by != ay else 0.0
+    reach = max(abs(y_first - ay), abs(y_last - ay))
+    delta = _CROSSING_ERROR * (abs(ax) + abs(slope) * reach + 1.0)
+    return min(ay, by), max(ay, by), slope, delta
+
+
+@numba.njit(cache=True, inline="always")
+def _apply_edge(ax, ay, bx, by, y_lo, y_hi, slope, delta, owned, sx, ys, width, left, right):  # type: ignore[no-untyped-def]
     """Narrow the row's run [left, right) by edge a-b, if its segment reaches height ys.
 
     An edge whose segment lies wholly above or below the row is skipped: on a row within
     the triangle's height the two edges that reach it bound the section exactly (their
     wedge meets the row inside the triangle), so the third line adds nothing."""
-    if ys < min(ay, by) or ys > max(ay, by):
+    if ys < y_lo or ys > y_hi:
         return left, right
     if ay == by:
         # Horizontal edge on this very row: its samples are inside only if it owns them.
@@ -263,34 +259,38 @@ def _apply_edge(ax, ay, bx, by, slope, owned, sx, ys, width, left, right):  # ty
             return left, 0
         return left, right
     if by < ay:  # E grows with x: this edge bounds the run from the left
-        return max(left, _bound(ax, ay, bx, by, slope, owned, sx, ys, width, True)), right
-    return left, min(right, _bound(ax, ay, bx, by, slope, owned, sx, ys, width, False))
+        return max(left, _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, True)), right
+    return left, min(right, _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, False))
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _span_kernel(positions, owned, use, sx, sy, width, height, out_t, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+def _span_kernel(positions, sign, owned, use, sx, sy, width, height, out_t, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
     n = 0
     for t in range(positions.shape[0]):
         if not use[t]:
             continue
+        # Vertices in oriented order (A > 0): swap the last two when A < 0.
+        v1, v2 = (1, 2) if sign[t] > 0 else (2, 1)
         x0, y0 = positions[t, 0, 0], positions[t, 0, 1]
-        x1, y1 = positions[t, 1, 0], positions[t, 1, 1]
-        x2, y2 = positions[t, 2, 0], positions[t, 2, 1]
+        x1, y1 = positions[t, v1, 0], positions[t, v1, 1]
+        x2, y2 = positions[t, v2, 0], positions[t, v2, 1]
         o0, o1, o2 = owned[t, 0], owned[t, 1], owned[t, 2]
-        # Edge slopes dx/dy, for the float estimate only (0 for horizontal edges).
-        s0 = (x1 - x0) / (y1 - y0) if y1 != y0 else 0.0
-        s1 = (x2 - x1) / (y2 - y1) if y2 != y1 else 0.0
-        s2 = (x0 - x2) / (y0 - y2) if y0 != y2 else 0.0
         ymin = min(y0, y1, y2)
         ymax = max(y0, y1, y2)
         first, last = _row_range(ymin, ymax, sy, height)
+        if first > last:
+            continue
+        y_first, y_last = first + sy, last + sy
+        lo0, hi0, s0, d0 = _edge_setup(x0, y0, x1, y1, y_first, y_last)
+        lo1, hi1, s1, d1 = _edge_setup(x1, y1, x2, y2, y_first, y_last)
+        lo2, hi2, s2, d2 = _edge_setup(x2, y2, x0, y0, y_first, y_last)
         for j in range(first, last + 1):
             ys = j + sy
             if ys < ymin or ys > ymax:
                 continue  # the conservative row range may overshoot by a row
-            left, right = _apply_edge(x0, y0, x1, y1, s0, o0, sx, ys, width, 0, width)
-            left, right = _apply_edge(x1, y1, x2, y2, s1, o1, sx, ys, width, left, right)
-            left, right = _apply_edge(x2, y2, x0, y0, s2, o2, sx, ys, width, left, right)
+            left, right = _apply_edge(x0, y0, x1, y1, lo0, hi0, s0, d0, o0, sx, ys, width, 0, width)
+            left, right = _apply_edge(x1, y1, x2, y2, lo1, hi1, s1, d1, o1, sx, ys, width, left, right)
+            left, right = _apply_edge(x2, y2, x0, y0, lo2, hi2, s2, d2, o2, sx, ys, width, left, right)
             if left < right:
                 out_t[n] = t
                 out_y[n] = j
@@ -438,9 +438,8 @@ def exact_coverage(scene: Scene, convention: Convention) -> Coverage:
     prepared = PreparedTriangles(scene, convention)
     sx, sy = convention.sample
     fast = prepared.active & prepared.safe
-    capacity = int(_capacity(prepared.positions, fast, sy, scene.height))
-    out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
-    n = int(_span_kernel(prepared.positions, prepared.owned, fast, sx, sy, scene.width, scene.height, *out))
+    out = span_buffers(prepared.rows)
+    n = int(_span_kernel(prepared.snapped, prepared.sign, prepared.owned, fast, sx, sy, scene.width, scene.height, *out))
     triangle, y, x0, x1 = (a[:n] for a in out)
 
     attributes = None

@@ -7,30 +7,60 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene
+from harness.exact import orientation
 from harness.oracle import interpolate_kernel as barycentric_kernel
 
-__all__ = ["check_coordinates", "finite_triangles", "interpolate_planes", "interpolate_barycentric", "build_coverage"]
+__all__ = ["check_range", "screen_triangles", "row_capacity", "interpolate_planes", "interpolate_barycentric", "build_coverage"]
 
 
-def finite_triangles(scene: Scene) -> NDArray[np.bool_]:
-    """(N,) bool: triangles whose six coordinates are all finite."""
-    return np.all(np.isfinite(scene.positions), axis=(1, 2))
+@numba.njit(cache=True)
+def _first_beyond(positions, limit):  # type: ignore[no-untyped-def]
+    """Index of the first finite triangle with a coordinate beyond +/-limit, or -1."""
+    for t in range(positions.shape[0]):
+        finite = True
+        big = False
+        for v in range(3):
+            for c in range(2):
+                value = positions[t, v, c]
+                if not np.isfinite(value):
+                    finite = False
+                elif abs(value) > limit:
+                    big = True
+        if finite and big:
+            return t
+    return -1
 
 
-def check_coordinates(scene: Scene, limit: float, rasterizer: str, why: str) -> NDArray[np.bool_]:
-    """Raise ValueError naming the first finite triangle with a coordinate beyond ``limit``.
-
-    Non-finite triangles are not an error: they cover nothing. Returns the finite mask.
-    """
-    finite = finite_triangles(scene)
-    too_big = finite & np.any(np.abs(scene.positions) > limit, axis=(1, 2))
-    if too_big.any():
-        t = int(np.flatnonzero(too_big)[0])
+def check_range(scene: Scene, limit: float, rasterizer: str, why: str) -> None:
+    """Raise ValueError naming the first finite triangle with a coordinate beyond
+    ``limit``: the rasterizer cannot draw it right, so it refuses rather than guesses.
+    Non-finite triangles are not an error: they cover nothing."""
+    t = int(_first_beyond(scene.positions, limit))
+    if t >= 0:
         raise ValueError(
             f"{rasterizer}: triangle {t} has a coordinate beyond +/-{limit:g} px "
             f"({scene.positions[t].tolist()}); {why}"
         )
-    return finite
+
+
+def screen_triangles(scene: Scene, limit: float, rasterizer: str, why: str) -> NDArray[np.int8]:
+    """:func:`check_range`, then the exact area sign of each triangle (0: non-finite or
+    zero area, drawn as nothing)."""
+    check_range(scene, limit, rasterizer, why)
+    return orientation(scene.positions)
+
+
+@numba.njit(cache=True)
+def row_capacity(positions, sign, height):  # type: ignore[no-untyped-def]
+    """An upper bound on the spans a one-run-per-row rasterizer emits."""
+    total = 0
+    for t in range(positions.shape[0]):
+        if sign[t] == 0:
+            continue
+        ymin = min(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1])
+        ymax = max(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1])
+        total += min(int(np.ceil(ymax) - np.floor(ymin)) + 2, height)
+    return total
 
 
 def build_coverage(scene: Scene, spans: tuple[NDArray, ...], n: int, attributes: NDArray | None) -> Coverage:

@@ -96,18 +96,14 @@ def scanline_kernel(positions, orient, active, centre, width, height, out_t, out
 
 def scanline(scene, centre: bool, name: str):  # type: ignore[no-untyped-def]
     """Run the kernel over a scene: spans, the left edge x of each, and span count."""
-    from harness.exact import orientation
-    from rasterizers._common import check_coordinates
+    from harness.api import span_buffers
+    from rasterizers._common import row_capacity, screen_triangles
 
-    finite = check_coordinates(
+    sign = screen_triangles(  # zero-area and non-finite triangles draw nothing
         scene, MAX_COORDINATE, name, "float scanline arithmetic is not accurate that far out"
     )
-    sign = orientation(np.where(finite[:, None, None], scene.positions, 0.0))
-    active = finite & (sign != 0)  # zero-area triangles draw nothing
-    y = scene.positions[active, :, 1]
-    rows = np.floor(y.max(axis=1)) - np.floor(y.min(axis=1)) + 2
-    capacity = int(np.clip(rows, 0, scene.height).sum())
-    spans = tuple(np.empty(capacity, dtype=np.int64) for _ in range(4))
+    capacity = row_capacity(scene.positions, sign, scene.height)
+    spans = span_buffers(capacity)
     edge_x: NDArray[np.float64] = np.empty(capacity)
-    n = scanline_kernel(scene.positions, sign, active, centre, scene.width, scene.height, *spans, edge_x)
+    n = scanline_kernel(scene.positions, sign, sign != 0, centre, scene.width, scene.height, *spans, edge_x)
     return spans, n, edge_x

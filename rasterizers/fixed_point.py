@@ -22,9 +22,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from harness.api import Coverage, Scene
+from harness.api import Coverage, Scene, span_buffers
 from harness.conventions import Convention, snap
-from rasterizers._common import build_coverage, check_coordinates, interpolate_barycentric
+from rasterizers._common import build_coverage, check_range, interpolate_barycentric
 
 __all__ = ["FixedPoint", "MAX_FIXED"]
 
@@ -120,15 +120,16 @@ class FixedPoint:
                 f"{self.name}: a {scene.width}x{scene.height} viewport exceeds the "
                 f"{limit:g} px that {bits} sub-pixel bits allow"
             )
-        finite = check_coordinates(
+        check_range(
             scene, limit, self.name,
             f"{bits} sub-pixel bits keep int64 edge functions exact only within +/-2**{30 - bits} px",
         )
+        finite = np.all(np.isfinite(scene.positions), axis=(1, 2))  # others draw nothing
         snapped = snap(np.where(finite[:, None, None], scene.positions, 0.0), bits)
         fixed = (snapped * 2.0**bits).astype(np.int64)  # exact: snapped values are on the grid
         rows = (fixed[..., 1].max(axis=1) - fixed[..., 1].min(axis=1)) // (1 << bits) + 2
         capacity = int(np.clip(rows, 0, scene.height).sum())
-        spans = tuple(np.empty(capacity, dtype=np.int64) for _ in range(4))
+        spans = span_buffers(capacity)
         n = _kernel(fixed, 1 << (bits - 1), 1 << bits, scene.width, scene.height, *spans)
         attributes = interpolate_barycentric(scene, snapped, spans, n, self.convention.sample)
         return build_coverage(scene, spans, n, attributes)
