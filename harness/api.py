@@ -394,8 +394,13 @@ class Rasterizer(Protocol):
         The fill convention it claims to follow; None when it declares none.
     """
 
-    name: str
-    convention: Convention | None
+    # Read-only members: a plain class attribute or instance attribute of a narrower
+    # type (say ``convention = Convention()``) satisfies them.
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def convention(self) -> Convention | None: ...
 
     def rasterize(self, scene: Scene) -> Coverage:
         """Cover the scene's triangles; attributes interpolated when the scene has them."""
