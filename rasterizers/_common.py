@@ -106,7 +106,7 @@ def _plane_kernel(positions, values, inv_w, perspective, span_t, span_y, span_x0
             # by the x error between the edge and the first sample (subtexel correction).
             at_edge = v0 + dqdx[k] * (xl - x0) + dqdy[k] * (ys - y0)
             q[k] = at_edge + dqdx[k] * (span_x0[s] + sx - xl)
-        for i in range(span_x0[s], span_x1[s]):
+        for _ in range(span_x0[s], span_x1[s]):
             w_here = q[k_count] if perspective else 1.0
             for k in range(k_count):
                 out[row, k] = q[k] / w_here

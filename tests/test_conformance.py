@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from cases.scenes import default_cases
-from harness.api import Coverage, Scene
+from harness.api import Coverage
 from harness.conformance import deviations, edge_distance, run_conformance
 from harness.registry import load
 from tests.known_bad.simple import (
