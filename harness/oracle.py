@@ -1,11 +1,13 @@
 """The exact oracle: what any declared convention says a scene must cover.
 
-For each triangle and each row, every edge bounds the covered sample columns from one
-side (a triangle is the intersection of three half-planes, so a row's covered samples
-form one run). The bound is first estimated in float, then settled exactly at the
+For each triangle and each row, the edges that reach the row bound the covered sample
+columns from either side (a triangle is the intersection of three half-planes, so a
+row's covered samples form one run). Each bound comes from the edge's float crossing
+with a rigorous error bound: when no column boundary lies within that bound, the crossing
+is certainly not a tie and the column follows. Otherwise it is settled exactly at the
 boundary pixel with :func:`harness.exact.orient2d_sign` -- a float filter with an exact
 expansion fallback -- stepping or bisecting until the exact predicate agrees. No epsilon
-is involved anywhere. Triangles with coordinates beyond the expansions' safe range
+decides anything: the error bound only chooses between two exact answers' routes. Triangles with coordinates beyond the expansions' safe range
 (|c| > 2**450, or nonzero |c| < 2**-450) take an exact rational path in Python.
 
 Attributes are interpolated at each covered pixel's sample point from the snapped
