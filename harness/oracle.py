@@ -6,7 +6,7 @@ row's covered samples form one run). Each bound comes from the edge's float cros
 with a rigorous error bound: when no column boundary lies within that bound, the crossing
 is certainly not a tie and the column follows. Otherwise it is settled exactly at the
 boundary pixel with :func:`harness.exact.orient2d_sign` -- a float filter with an exact
-expansion fallback -- stepping or bisecting until the exact predicate agrees. No epsilon
+expansion fallback -- stepping or bisecting until the exact predicate agrees. The error
 decides anything: the error bound only chooses between two exact answers' routes. Triangles with coordinates beyond the expansions' safe range
 (|c| > 2**450, or nonzero |c| < 2**-450) take an exact rational path in Python.
 
