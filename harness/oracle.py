@@ -7,8 +7,9 @@ with a rigorous error bound: when no column boundary lies within that bound, the
 is certainly not a tie and the column follows. Otherwise it is settled exactly at the
 boundary pixel with :func:`harness.exact.orient2d_sign` -- a float filter with an exact
 expansion fallback -- stepping or bisecting until the exact predicate agrees. The error
-decides anything: the error bound only chooses between two exact answers' routes. Triangles with coordinates beyond the expansions' safe range
-(|c| > 2**450, or nonzero |c| < 2**-450) take an exact rational path in Python.
+bound only tells when the float answer is already certain; it never changes an answer.
+Triangles with coordinates beyond the expansions' safe range (|c| > 2**450, or nonzero
+|c| < 2**-450) take an exact rational path in Python.
 
 Attributes are interpolated at each covered pixel's sample point from the snapped
 positions: affine, or perspective-correct ``sum(l_i a_i / w_i) / sum(l_i / w_i)`` when
