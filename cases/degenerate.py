@@ -1,0 +1,74 @@
+"""The degenerate and epsilon catalogue: zero areas, near-zero heights and widths, slivers,
+vertices on samples, huge and negative coordinates, off-screen and non-finite triangles.
+
+Each scene also holds ordinary triangles, so a rasterizer that mishandles one bad
+triangle cannot hide it by drawing nothing at all.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cases.records import Case
+from harness.api import Scene
+
+__all__ = ["degenerate_cases"]
+
+SIZE = 32
+ULP = np.spacing(10.5)
+BIG = np.finfo(np.float64).max
+
+# Two ordinary triangles that every degenerate scene carries (indices 0 and 1).
+_ANCHORS = np.array([[[1.25, 1.25], [9.75, 2.5], [3.5, 9.0]], [[22.0, 22.0], [30.0, 23.5], [24.5, 30.5]]])
+
+
+def _scene(*triangles) -> Scene:  # type: ignore[no-untyped-def]
+    return Scene(SIZE, SIZE, np.concatenate([_ANCHORS, np.array(triangles, dtype=float).reshape(-1, 3, 2)]))
+
+
+def degenerate_cases(seed: int, full: bool = False) -> list[Case]:
+    """``degenerate/<kind>/<detail>``."""
+    rng = np.random.default_rng(seed)
+    cases: list[Case] = []
+
+    def add(name: str, scene: Scene, lattice: bool = False, refusable: tuple[int, ...] = ()) -> None:
+        cases.append(Case(f"degenerate/{name}", scene, lattice=lattice, refusable=refusable))
+
+    # zero area: nothing, always
+    add("zero-area/collinear", _scene([[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[3, 20], [20, 3], [11.5, 11.5]]), lattice=True)
+    add("zero-area/repeated-vertex", _scene([[4.5, 4.5], [4.5, 4.5], [20.5, 14.5]], [[10, 10], [20, 10], [20, 10]]), lattice=True)
+    add("zero-area/single-point", _scene([[15.5, 15.5]] * 3, [[16, 16]] * 3), lattice=True)
+    add("zero-area/horizontal-line", _scene([[2.5, 15.5], [12.5, 15.5], [28.5, 15.5]], [[2, 16], [30, 16], [9, 16]]), lattice=True)
+    add("zero-area/vertical-line", _scene([[15.5, 2.5], [15.5, 12.5], [15.5, 28.5]], [[16, 2], [16, 30], [16, 9]]), lattice=True)
+    # epsilon heights and widths: a long edge through sample points, the third vertex a
+    # tiny step off it, on either side
+    for label, eps in (("1e-8", 1e-8), ("1e-12", 1e-12), ("1ulp", ULP)):
+        for side in (1, -1):
+            tag = "below" if side > 0 else "above"
+            add(f"epsilon/height-{label}-{tag}", _scene([[2.5, 10.5], [29.5, 10.5], [16.0, 10.5 + side * eps]]))
+            add(f"epsilon/width-{label}-{tag}", _scene([[10.5, 2.5], [10.5, 29.5], [10.5 + side * eps, 16.0]]))
+    add("epsilon/diagonal-1e-12", _scene([[2.5, 2.5], [29.5, 29.5], [16.0 + 1e-12, 16.0 - 1e-12]]))
+    # slivers and samples on vertices
+    slivers = [[[rng.uniform(1, 31), rng.uniform(1, 31)]] * 3 for _ in range(12)]
+    for s in slivers:
+        s[1] = [s[0][0] + rng.uniform(-20, 20), s[0][1] + rng.uniform(-20, 20)]
+        s[2] = [s[0][0] + (s[1][0] - s[0][0]) * 0.5 + 1e-3, s[0][1] + (s[1][1] - s[0][1]) * 0.5]
+    add("sliver/random-12", _scene(*slivers))
+    on_samples = np.floor(rng.uniform(1, 31, size=(12, 3, 2))) + 0.5
+    add("on-samples/centres-12", _scene(*on_samples), lattice=True)
+    add("on-samples/corners-12", _scene(*np.floor(rng.uniform(1, 31, size=(12, 3, 2)))), lattice=True)
+    # huge coordinates: screen-covering pairs, and a sliver from far away
+    for label, big in (("1e6", 1e6), ("1e9", 1e9), ("1e30", 1e30), ("max-float", BIG)):
+        pair = [[[-big, -big], [big, -big], [-big, big]], [[big, -big], [big, big], [-big, big]]]
+        scene = Scene(SIZE, SIZE, np.array(pair, dtype=float))
+        add(f"huge/cover-{label}", scene, refusable=(0, 1))
+        add(f"huge/sliver-{label}", _scene([[-big, 14.25], [big, 17.75], [16.5, 16.0]]), refusable=(2,))
+    # off-screen and negative coordinates
+    add("offscreen/partly", _scene([[-10.5, -4.25], [20.0, 5.5], [6.5, 40.75]], [[25.0, 10.0], [50.0, 14.0], [28.0, 60.0]]))
+    add("offscreen/fully", _scene([[-40, -40], [-10, -35], [-30, -5]], [[40, 40], [60, 45], [50, 70]], [[5, -20], [25, -20], [15, -1]]))
+    add("offscreen/negative", _scene([[-3.5, -3.5], [12.5, -1.5], [-2.5, 14.5]]), lattice=True)
+    # non-finite triangles among finite ones: nothing from them, the rest still right
+    nan, inf = np.nan, np.inf
+    add("non-finite/mixed", _scene([[nan, 4], [10, 10], [4, 20]], [[4, 4], [inf, 10], [4, 20]], [[4, 4], [10, 10], [4, -inf]],
+                                    [[nan, nan], [nan, nan], [nan, nan]], [[12.5, 12.5], [20.5, 12.5], [12.5, 20.5]]))
+    return cases

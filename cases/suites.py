@@ -1,0 +1,50 @@
+"""Suites: ``quick`` (the four built-ins in well under a minute) and ``full``."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cases.degenerate import degenerate_cases
+from cases.meshes import mesh_cases
+from cases.partitions import partition_cases
+from cases.records import Case
+from cases.scenes import lattice_triangles, random_triangles
+from harness.api import Scene
+
+__all__ = ["SUITES", "suite", "conformance_cases"]
+
+SUITES = ("quick", "full")
+
+
+def conformance_cases(seed: int, full: bool = False) -> list[Case]:
+    """``lattice/...`` (ties on purpose, exact arithmetic) and ``float/...`` scenes."""
+    count = 400 if full else 150
+    cases = [
+        Case(f"lattice/bits-{bits}", Scene(64, 64, lattice_triangles(count, 64, bits, seed + bits)), lattice=True)
+        for bits in (0, 2, 4, 8)
+    ]
+    rng = np.random.default_rng(seed + 5)
+    centres = np.floor(rng.uniform(1, 31, size=(300, 1, 2))) + 0.5
+    small = centres + rng.integers(-12, 13, size=(300, 3, 2)) / 16  # areas below a pixel
+    cases.append(Case("lattice/sub-pixel-triangles", Scene(32, 32, small), lattice=True))
+    cases.append(Case("float/random-50px", Scene(128, 128, random_triangles(count * 2, 50.0, 128, seed))))
+    cases.append(Case("float/random-2000px", Scene(128, 128, random_triangles(count // 10, 2000.0, 128, seed + 1))))
+    return cases
+
+
+def suite(name: str, seed: int = 0) -> list[Case]:
+    """Every case of a suite, deterministic for the seed.
+
+    >>> ids = [c.id for c in suite("quick")]
+    >>> len(ids) == len(set(ids)), ids[0]
+    (True, 'lattice/bits-0')
+    """
+    if name not in SUITES:
+        raise ValueError(f"unknown suite {name!r}: choose one of {', '.join(SUITES)}")
+    full = name == "full"
+    return [
+        *conformance_cases(seed, full),
+        *partition_cases(seed, full),
+        *mesh_cases(seed, full),
+        *degenerate_cases(seed, full),
+    ]

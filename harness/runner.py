@@ -1,0 +1,197 @@
+"""The runner: every rasterizer on every case of a suite, each call isolated.
+
+Each rasterizer runs in a worker process of its own. An exception becomes an ``error``
+result carrying the traceback; a call that outlives the per-case time limit becomes a
+``timeout`` error, the worker is replaced, and the run goes on. Results already computed
+are never lost: ``on_result`` sees each one as soon as it exists.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import time
+import traceback
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, replace
+from typing import Any
+
+from cases.records import Case
+from cases.suites import suite as suite_cases
+from harness import checks
+from harness.api import Coverage, Rasterizer, Scene
+from harness.checks import Result, Tolerance
+from harness.oracle import exact_coverage
+from harness.registry import load
+
+__all__ = ["run_suite", "Worker", "Outcome"]
+
+
+@dataclass(frozen=True, slots=True)
+class Outcome:
+    """What one rasterize call gave: a coverage, or an error (with its traceback)."""
+
+    coverage: Coverage | None
+    error: BaseException | None = None
+    traceback: str = ""
+    seconds: float = 0.0
+    timed_out: bool = False
+
+
+def _call(rasterizer: Rasterizer, scene: Scene) -> Outcome:
+    start = time.perf_counter()
+    try:
+        coverage = rasterizer.rasterize(scene)
+        if not isinstance(coverage, Coverage):
+            raise TypeError(f"rasterize returned {type(coverage).__name__}, not a harness.Coverage")
+    except Exception as exc:
+        return Outcome(None, exc, traceback.format_exc(), time.perf_counter() - start)
+    return Outcome(coverage, seconds=time.perf_counter() - start)
+
+
+def _serve(rasterizer: Rasterizer, conn: Any) -> None:  # pragma: no cover - runs in the child
+    while True:
+        try:
+            scene = conn.recv()
+        except EOFError:
+            return
+        outcome = _call(rasterizer, scene)
+        try:
+            conn.send(outcome)
+        except Exception as exc:  # an unpicklable exception: send its text instead
+            conn.send(Outcome(None, RuntimeError(f"{type(outcome.error).__name__}: {outcome.error}"), outcome.traceback, outcome.seconds))
+            del exc
+
+
+class Worker:
+    """A rasterizer in a forked process of its own, called with a time limit."""
+
+    def __init__(self, rasterizer: Rasterizer) -> None:
+        self.rasterizer = rasterizer
+        self._context = multiprocessing.get_context("fork")
+        self._start()
+
+    def _start(self) -> None:
+        self._conn, child = self._context.Pipe()
+        self._process = self._context.Process(target=_serve, args=(self.rasterizer, child), daemon=True)
+        self._process.start()
+        child.close()
+
+    def rasterize(self, scene: Scene, timeout: float) -> Outcome:
+        start = time.perf_counter()
+        try:
+            self._conn.send(scene)
+            if self._conn.poll(timeout):
+                return self._conn.recv()
+        except (EOFError, BrokenPipeError, ConnectionResetError):
+            self._process.join(1)
+            code = self._process.exitcode
+            self._start()
+            return Outcome(None, RuntimeError(f"the rasterizer's worker process died (exit code {code})"), "", time.perf_counter() - start)
+        self.close()
+        self._start()
+        return Outcome(None, TimeoutError(f"no answer within {timeout:g} s"), "", timeout, timed_out=True)
+
+    def close(self) -> None:
+        if self._process.is_alive():
+            self._process.kill()
+        self._process.join(5)
+        self._conn.close()
+
+
+def _error(case: Case, rasterizer: str, outcome: Outcome, check: str = "run") -> Result:
+    kind = "timeout" if outcome.timed_out else type(outcome.error).__name__
+    return Result(rasterizer, case.id, check, "error", f"{kind}: {outcome.error}",
+                  {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
+
+
+def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
+               tolerance: Tolerance = Tolerance(), invariance: bool = True) -> list[Result]:
+    """All applicable checks of one rasterizer on one case."""
+    name = rasterizer.name
+    convention = rasterizer.convention
+    outcome = call(case.scene)
+    if outcome.coverage is None:
+        refused = checks.refusal(case, outcome.error) if outcome.error is not None else None
+        if refused is not None:
+            return [replace(refused, rasterizer=name)]
+        return [_error(case, name, outcome)]
+    coverage = outcome.coverage
+    results = [checks.hygiene(case, coverage)]
+    if convention is not None:
+        oracle = exact_coverage(case.scene, convention)
+        results.append(checks.conformance(case, coverage, oracle, convention, tolerance))
+    else:
+        results.append(checks.skip(case, "conformance", "the rasterizer declares no convention"))
+    if case.region is not None:
+        results.append(checks.watertight(case, coverage))
+    if case.closed:
+        results.append(checks.closed_balance(case, coverage, convention))
+    if case.family == "degenerate":
+        results.append(checks.degenerate(case, coverage, convention))
+    if invariance and case.family in ("lattice", "float", "watertight"):
+        variants = []
+        for label, scene, index in checks.invariance_variants(case):
+            result = call(scene)
+            if result.coverage is None:
+                results.append(_error(case, name, result, "invariance"))
+                break
+            variants.append((label, index, result.coverage))
+        else:
+            sample = convention.sample if convention is not None else (0.5, 0.5)
+            results.append(checks.invariance(case, coverage, variants, tolerance=tolerance, sample=sample))
+    for i, r in enumerate(results):
+        results[i] = replace(r, rasterizer=name, metrics={**r.metrics, "seconds": outcome.seconds})
+    return results
+
+
+def run_suite(
+    rasterizers: Iterable[Rasterizer | str],
+    suite: str = "quick",
+    seed: int = 0,
+    *,
+    cases: list[Case] | None = None,
+    tolerance: Tolerance = Tolerance(),
+    timeout: float = 60.0,
+    isolate: bool = True,
+    on_result: Callable[[Result], None] | None = None,
+) -> list[Result]:
+    """Run a suite's checks on each rasterizer.
+
+    Parameters
+    ----------
+    rasterizers : rasterizer objects or specs (see :func:`harness.registry.load`)
+    suite : {"quick", "full"}
+    seed : int
+    cases : list of Case, optional
+        Run these instead of the suite's.
+    tolerance : Tolerance
+    timeout : float
+        Seconds one rasterize call may take before it counts as hung.
+    isolate : bool
+        Run each rasterizer in a worker process (default); False calls it in-process
+        (no time limit), for debugging.
+    on_result : callable, optional
+        Called with each result as soon as it exists.
+
+    Returns
+    -------
+    list of Result
+        Records with ``rasterizer``, ``case``, ``check``, ``status``, ``message``,
+        ``metrics`` and ``evidence``.
+    """
+    selected = cases if cases is not None else suite_cases(suite, seed)
+    results: list[Result] = []
+    for spec in rasterizers:
+        rasterizer = load(spec) if isinstance(spec, str) else spec
+        worker = Worker(rasterizer) if isolate else None
+        call = (lambda scene, w=worker: w.rasterize(scene, timeout)) if worker else (lambda scene, r=rasterizer: _call(r, scene))
+        try:
+            for case in selected:
+                for result in check_case(case, rasterizer, call, tolerance):
+                    results.append(result)
+                    if on_result is not None:
+                        on_result(result)
+        finally:
+            if worker is not None:
+                worker.close()
+    return results
