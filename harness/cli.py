@@ -31,26 +31,28 @@ def _load_all(specs: list[str] | None):  # type: ignore[no-untyped-def]
 
 
 def _run(args: argparse.Namespace) -> int:
-    from cases.scenes import default_cases
-    from harness.conformance import run_conformance
+    import time
+
     from harness.files import atomic_write_text
     from harness.report import write_report
+    from harness.runner import run_suite
 
     rasterizers, problems = _load_all(args.rasterizer)
     for problem in problems:
         print(f"skipped: {problem}", file=sys.stderr)
-    cases = default_cases(args.seed)
+    start = time.perf_counter()
     results = []
     for r in rasterizers:
-        mine = run_conformance(r, cases)
+        mine = run_suite([r], suite=args.suite, seed=args.seed, timeout=args.timeout)
         results.extend(mine)
         bad = [x for x in mine if x.status in ("fail", "error")]
-        print(f"{r.name:<20} {len(mine) - len(bad)}/{len(mine)} cases pass" + (f", {len(bad)} failing" if bad else ""))
+        print(f"{r.name:<20} {len(mine) - len(bad)}/{len(mine)} results pass or skip" + (f", {len(bad)} failing" if bad else ""))
+    seconds = time.perf_counter() - start
     conventions = {r.name: (r.convention.describe() if r.convention else "none declared") for r in rasterizers}
-    path = write_report(Path(args.out), conventions, results, args.seed)
+    path = write_report(Path(args.out), conventions, results, args.seed, args.suite, seconds)
     print(f"report: {path}")
     if args.json:
-        payload = {"schema": 1, "seed": args.seed, "results": [asdict(x) for x in results]}
+        payload = {"schema": 1, "suite": args.suite, "seed": args.seed, "results": [asdict(x) for x in results]}
         atomic_write_text(Path(args.json), json.dumps(payload, indent=2, default=str))
     return 1 if any(x.status in ("fail", "error") for x in results) else 0
 
@@ -86,6 +88,8 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("--out", default="reports", help="report directory (default reports/)")
     run.add_argument("--json", metavar="FILE", help="also write results as JSON")
     run.add_argument("--seed", type=int, default=0)
+    run.add_argument("--suite", choices=["quick", "full"], default="quick")
+    run.add_argument("--timeout", type=float, default=60.0, help="seconds one rasterize call may take")
     run.set_defaults(func=_run)
     bench = sub.add_parser("bench", help="throughput against Pillow, as ratios measured in one run")
     bench.add_argument("--rasterizer", action="append", metavar="SPEC")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import platform
 import time
@@ -10,7 +11,7 @@ from pathlib import Path
 from jinja2 import Environment, PackageLoader, select_autoescape
 
 import harness
-from harness.conformance import ConformanceResult
+from harness.checks import CHECKS, Result
 from harness.files import atomic_write_text
 
 __all__ = ["write_report"]
@@ -20,43 +21,37 @@ def _environment() -> Environment:
     return Environment(loader=PackageLoader("harness", "templates"), autoescape=select_autoescape(["html"]))
 
 
-def write_report(
-    out_dir: Path, conventions: dict[str, str], results: list[ConformanceResult], seed: int
-) -> Path:
+def _cell(results: list[Result]) -> dict[str, str]:
+    counts = {s: sum(r.status == s for r in results) for s in ("pass", "fail", "error", "skip")}
+    if not results:
+        return {"status": "skip", "text": "—"}
+    status = "error" if counts["error"] else "fail" if counts["fail"] else "pass" if counts["pass"] else "skip"
+    return {"status": status, "text": " / ".join(str(counts[s]) for s in ("pass", "fail", "error", "skip"))}
+
+
+def write_report(out_dir: Path, conventions: dict[str, str], results: list[Result], seed: int,
+                 suite: str = "quick", seconds: float = 0.0) -> Path:
     """Write ``index.html`` into ``out_dir`` atomically; return its path."""
-    summary = []
+    checks = [c for c in ("run", *CHECKS) if any(r.check == c for r in results)]
+    rows = []
     for name, convention in conventions.items():
         mine = [r for r in results if r.rasterizer == name]
-        status = "pass"
-        if any(r.status == "error" for r in mine):
-            status = "error"
-        elif any(r.status == "fail" for r in mine):
-            status = "fail"
-        elif mine and all(r.status == "skip" for r in mine):
-            status = "skip"
-        summary.append(
-            {
-                "name": name,
-                "convention": convention,
-                "status": status,
-                "cases": len(mine),
-                "passed": sum(r.status == "pass" for r in mine),
-                "pixels": sum(r.expected_pixels for r in mine),
-                "missing": sum(r.missing for r in mine),
-                "extra": sum(r.extra for r in mine),
-                "double_hits": sum(r.double_hits for r in mine),
-                "errors": sum(r.status == "error" for r in mine),
-                "results": mine,
-            }
-        )
+        problems = [
+            {**{k: getattr(r, k) for k in ("case", "check", "status", "message", "evidence")},
+             "evidence_text": json.dumps({k: v for k, v in r.evidence.items() if k != "traceback"}, default=str)[:2000]
+             + ("\n" + r.evidence["traceback"] if "traceback" in r.evidence else "")}
+            for r in mine if r.status != "pass"
+        ]
+        rows.append({
+            "name": name, "convention": convention, "total": len(mine), "problems": problems,
+            "cells": [_cell([r for r in mine if r.check == c]) for c in checks],
+        })
     meta = {
-        "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"),
-        "version": harness.__version__,
-        "seed": seed,
-        "python": platform.python_version(),
+        "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "version": harness.__version__, "seed": seed,
+        "suite": suite, "seconds": f"{seconds:.1f}", "python": platform.python_version(),
         "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, {platform.system()}",
     }
-    html = _environment().get_template("index.html").render(summary=summary, meta=meta)
+    html = _environment().get_template("index.html").render(rows=rows, checks=checks, meta=meta)
     path = Path(out_dir) / "index.html"
     atomic_write_text(path, html)
     return path

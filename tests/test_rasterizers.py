@@ -7,7 +7,7 @@ from hypothesis import given
 from cases.scenes import fan_mesh, grid_mesh, random_triangles
 from cases.strategies import float_scenes, lattice_scenes
 from harness.api import Rasterizer, Scene
-from harness.conformance import NEAR_TIE, deviations, edge_distance
+from harness.checks import NEAR_TIE, deviations, edge_distance
 from harness.conventions import snap
 from harness.oracle import exact_coverage
 from rasterizers.centre_scanline import CentreScanline

@@ -1,0 +1,122 @@
+"""Known-bad rasterizers that break the contract rather than a convention."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from harness.api import Coverage, Scene
+from harness.conventions import Convention
+from rasterizers.centre_scanline import CentreScanline
+
+__all__ = ["WrongTieClaim", "Raises", "ReturnsGarbage", "HangsOnEpsilon", "Int32FixedPoint", "NaNAttributes"]
+
+
+class WrongTieClaim:
+    """A correct top-left rasterizer that declares bottom-right."""
+
+    name = "bad_wrong_tie_claim"
+    convention = Convention(tie="bottom-right")
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return CentreScanline().rasterize(scene)
+
+
+class Raises:
+    """Crashes on every scene."""
+
+    name = "bad_raises"
+    convention = Convention()
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        raise RuntimeError("rasterizer exploded")
+
+
+class ReturnsGarbage:
+    """Returns something that is not a Coverage."""
+
+    name = "bad_returns_garbage"
+    convention = Convention()
+
+    def rasterize(self, scene: Scene):  # type: ignore[no-untyped-def]
+        return [[1, 2, 3]]
+
+
+class HangsOnEpsilon:
+    """Loops forever on a triangle thinner than a micro-pixel (a runaway DDA)."""
+
+    name = "bad_hangs_on_epsilon"
+    convention = Convention()
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        p = scene.positions
+        with np.errstate(all="ignore"):
+            height = p[..., 1].max(axis=1) - p[..., 1].min(axis=1)
+        if np.any((height > 0) & (height < 1e-6)):
+            while True:
+                time.sleep(0.05)
+        return CentreScanline().rasterize(scene)
+
+
+class Int32FixedPoint:
+    """Fixed point (8 bits) whose edge functions are computed in int32: they wrap around
+    for coordinates beyond a few hundred pixels."""
+
+    name = "bad_int32_fixed_point"
+    convention = Convention(subpixel_bits=8)
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        from harness.conventions import snap
+
+        finite = np.all(np.isfinite(scene.positions), axis=(1, 2))
+        small = finite & np.all(np.abs(scene.positions) < 2.0**22, axis=(1, 2))
+        fixed = np.zeros(scene.positions.shape, dtype=np.int64)
+        fixed[small] = (snap(scene.positions[small], 8) * 256).astype(np.int64)
+        tris, out_x, out_y = [], [], []
+        for t in np.flatnonzero(small):
+            x0 = int(np.clip(fixed[t, :, 0].min() // 256, 0, scene.width))
+            x1 = int(np.clip(fixed[t, :, 0].max() // 256 + 1, 0, scene.width))
+            y0 = int(np.clip(fixed[t, :, 1].min() // 256, 0, scene.height))
+            y1 = int(np.clip(fixed[t, :, 1].max() // 256 + 1, 0, scene.height))
+            ys, xs = np.mgrid[y0:y1, x0:x1]
+            px = (xs * 256 + 128).astype(np.int32)
+            py = (ys * 256 + 128).astype(np.int32)
+            q = fixed[t].astype(np.int32)
+            with np.errstate(over="ignore"):
+                area = (q[1, 0] - q[0, 0]) * (q[2, 1] - q[0, 1]) - (q[1, 1] - q[0, 1]) * (q[2, 0] - q[0, 0])
+                if area == 0:
+                    continue
+                if area < 0:
+                    q = q[[0, 2, 1]]
+                inside = np.ones(px.shape, dtype=bool)
+                for k in range(3):
+                    a, b = q[k], q[(k + 1) % 3]
+                    dx, dy = b[0] - a[0], b[1] - a[1]
+                    e = dx * (py - a[1]) - dy * (px - a[0])  # int32: wraps around
+                    bias = 0 if ((dy == 0 and dx > 0) or dy < 0) else -1
+                    inside &= (e + bias) >= 0
+            y, x = np.nonzero(inside)
+            tris.append(np.full(x.size, t))
+            out_x.append(x + x0)
+            out_y.append(y + y0)
+        if not tris:
+            return Coverage.empty()
+        return Coverage.from_pixels(np.concatenate(tris), np.concatenate(out_x), np.concatenate(out_y))
+
+
+class NaNAttributes:
+    """Correct coverage, but attributes divided by a zero area for thin triangles."""
+
+    name = "bad_nan_attributes"
+    convention = Convention()
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        cov = CentreScanline().rasterize(scene)
+        values = np.zeros((cov.n_pixels, 1))
+        p = scene.positions
+        with np.errstate(all="ignore"):
+            area = np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
+        tri, _, _ = cov.pixels()
+        values[area[tri] < 1.0] = np.nan
+        return Coverage(cov.triangle, cov.y, cov.x0, cov.x1, values)

@@ -1,0 +1,70 @@
+"""Every check fails on at least one deliberately broken rasterizer, for the reason the
+table says, and passes on all four built-ins (tests/test_runner.py)."""
+
+import pytest
+
+from harness import run_suite
+from harness.checks import CHECKS
+from tests.known_bad.edge_functions import EdgeFunctionBug
+from tests.known_bad.misc import HangsOnEpsilon, Int32FixedPoint, NaNAttributes, Raises, ReturnsGarbage, WrongTieClaim
+from tests.known_bad.scanlines import ScanlineBug
+
+# known-bad rasterizer -> the checks that must flag it ("run": an error or timeout result)
+TABLE = {
+    EdgeFunctionBug("inclusive"): {"conformance", "watertight", "degenerate"},
+    EdgeFunctionBug("exclusive"): {"conformance", "watertight"},
+    EdgeFunctionBug("float32"): {"conformance", "watertight"},
+    EdgeFunctionBug("endpoint-order"): {"watertight"},
+    EdgeFunctionBug("vertex-order-ties"): {"conformance", "invariance", "watertight"},
+    EdgeFunctionBug("min-area"): {"conformance", "watertight", "closed"},
+    EdgeFunctionBug("one-winding"): {"conformance", "invariance", "watertight", "closed"},
+    EdgeFunctionBug("nan-to-num"): {"degenerate"},
+    ScanlineBug("no-prestep"): {"conformance"},
+    ScanlineBug("rows-plus-one"): {"conformance", "watertight"},
+    ScanlineBug("ceil-left"): {"conformance", "watertight"},
+    ScanlineBug("round-ends"): {"conformance", "invariance"},
+    ScanlineBug("top-edge-eval"): {"conformance"},
+    ScanlineBug("no-clip"): {"hygiene"},
+    WrongTieClaim(): {"conformance"},
+    Int32FixedPoint(): {"conformance"},
+    NaNAttributes(): {"degenerate"},
+    Raises(): {"run"},
+    ReturnsGarbage(): {"run"},
+    HangsOnEpsilon(): {"run"},
+}
+
+
+@pytest.fixture(scope="module")
+def flagged():
+    """known-bad name -> {check: [failing or erroring results]} over the quick suite."""
+    out = {}
+    for bad in TABLE:
+        results = run_suite([bad], suite="quick", timeout=1.0)
+        out[bad.name] = {}
+        for r in results:
+            if r.status in ("fail", "error"):
+                out[bad.name].setdefault(r.check, []).append(r)
+    return out
+
+
+@pytest.mark.parametrize("bad", list(TABLE), ids=lambda b: b.name)
+def test_known_bad_is_flagged_by_its_checks(bad, flagged):
+    missing = TABLE[bad] - set(flagged[bad.name])
+    assert not missing, f"{bad.name} was not flagged by {sorted(missing)}"
+
+
+def test_every_check_fails_on_some_known_bad():
+    caught = set().union(*TABLE.values())
+    assert set(CHECKS) | {"run"} <= caught
+
+
+def test_failures_carry_evidence(flagged):
+    watertight = flagged["bad_inclusive"]["watertight"][0]
+    blame = watertight.evidence["blame"][0]
+    assert blame["kind"] == "double" and len(blame["triangles"]) == 2 and blame["edge"] is not None
+    conformance = flagged["bad_wrong_tie_claim"]["conformance"][0]
+    assert conformance.evidence["pixels"][0]["near_tie"] is False
+    timeout = flagged["bad_hangs_on_epsilon"]["run"][0]
+    assert timeout.message.startswith("timeout")
+    crash = flagged["bad_raises"]["run"][0]
+    assert "RuntimeError: rasterizer exploded" in crash.message and "Traceback" in crash.evidence["traceback"]

@@ -1,0 +1,50 @@
+"""The runner over the built-ins: the quick suite passes; isolation keeps results."""
+
+import collections
+
+import pytest
+
+from cases.suites import suite
+from harness import run_suite
+from harness.checks import CHECKS
+
+BUILTINS = ["floor_scanline", "centre_scanline", "pineda_topleft", "fixed_point"]
+
+
+@pytest.fixture(scope="module")
+def quick_results():
+    return run_suite(BUILTINS, suite="quick", seed=0)
+
+
+def test_builtins_pass_the_quick_suite(quick_results):
+    bad = [(r.rasterizer, r.case, r.check, r.message) for r in quick_results if r.status in ("fail", "error")]
+    assert not bad, bad[:10]
+    # skips are only refusals of huge coordinates, with their reason
+    assert all(r.case.startswith("degenerate/huge/") and "declined" in r.message for r in quick_results if r.status == "skip")
+
+
+def test_every_check_ran_on_every_builtin(quick_results):
+    ran = collections.defaultdict(set)
+    for r in quick_results:
+        ran[r.rasterizer].add(r.check)
+    for name in BUILTINS:
+        assert set(CHECKS) <= ran[name], name
+
+
+def test_records_have_the_promised_fields(quick_results):
+    r = quick_results[0]
+    assert {"rasterizer", "case", "check", "status", "message", "metrics", "evidence"} <= set(r.__dataclass_fields__)
+
+
+def test_suites_are_deterministic_and_ids_unique():
+    for name in ("quick", "full"):
+        a, b = suite(name, seed=3), suite(name, seed=3)
+        assert [c.id for c in a] == [c.id for c in b]
+        assert len({c.id for c in a}) == len(a)
+        assert all((x.scene.positions == y.scene.positions).all() or x.family == "degenerate" for x, y in zip(a, b))
+
+
+def test_results_stream_as_they_come():
+    seen = []
+    results = run_suite(["centre_scanline"], cases=suite("quick")[:3], on_result=seen.append)
+    assert seen == results
