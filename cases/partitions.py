@@ -51,7 +51,7 @@ def grid(cells: int, lo: float, hi: float, jitter: str, diagonal: str, rng: np.r
 def fan(count: int, centre: NDArray[np.float64], radius: float, rng: np.random.Generator) -> tuple[NDArray, NDArray]:
     """``count`` triangles around ``centre``; the rim points lie on a circle at sorted
     angles no more than a half-turn apart, so the union is the convex rim polygon."""
-    gaps = rng.uniform(0.5, 1.5, size=count)
+    gaps = rng.uniform(0.8, 1.2, size=count)  # each gap under 0.43 of a turn for count >= 3
     angles = np.cumsum(gaps) / gaps.sum() * 2 * np.pi + rng.uniform(0, 2 * np.pi)
     rim = centre + radius * np.stack([np.cos(angles), np.sin(angles)], axis=-1)
     tris = np.array([(centre, rim[k], rim[(k + 1) % count]) for k in range(count)])

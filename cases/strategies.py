@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from harness.api import Scene
 from harness.conventions import TIE_RULES, Convention
 
-__all__ = ["conventions", "lattice_scenes", "float_scenes", "thin_scenes"]
+__all__ = ["conventions", "lattice_scenes", "float_scenes", "thin_scenes", "grid_scenes", "fan_scenes"]
 
 
 @st.composite
@@ -56,3 +56,38 @@ def thin_scenes(draw, size: int = 12):  # type: ignore[no-untyped-def]
     c = mid.copy()
     c[axis] += off
     return Scene(size, size, np.array([[a[0], a[1], c]]))
+
+
+@st.composite
+def grid_scenes(draw, size: int = 24):  # type: ignore[no-untyped-def]
+    """Planar partitions: a grid on a sub-pixel lattice, split on random diagonals, with
+    lattice jitter and mixed windings (cases with their exact region)."""
+    from cases.partitions import grid
+    from cases.records import Case
+
+    bits = draw(st.integers(0, 4))
+    scale = 2**bits
+    cells = draw(st.integers(1, 4))
+    lo = draw(st.integers(0, 4 * scale)) / scale
+    step = draw(st.integers(scale, 5 * scale)) / scale
+    seed = draw(st.integers(0, 2**16))
+    rng = np.random.default_rng(seed)
+    hi = lo + cells * step
+    tris = grid(cells, lo, hi, draw(st.sampled_from(["none", "lattice"])), draw(st.sampled_from(["main", "anti", "mixed"])), rng)
+    flip = rng.random(len(tris)) < 0.5
+    tris[flip] = tris[flip][:, ::-1]
+    region = np.array([[lo, lo], [hi, lo], [hi, hi], [lo, hi]])
+    return Case("watertight/strategy-grid", Scene(size, size, tris), lattice=bits <= 4, region=region)
+
+
+@st.composite
+def fan_scenes(draw, size: int = 24):  # type: ignore[no-untyped-def]
+    """Fans of 3..16 triangles around a pixel centre, a corner or a lattice point."""
+    from cases.partitions import fan
+    from cases.records import Case
+
+    count = draw(st.integers(3, 16))
+    centre = np.array([draw(st.integers(16, 32 * 4 - 16)), draw(st.integers(16, 32 * 4 - 16))]) / 8 * size / 32
+    rng = np.random.default_rng(draw(st.integers(0, 2**16)))
+    tris, rim = fan(count, centre, size / 3, rng)
+    return Case("watertight/strategy-fan", Scene(size, size, tris), region=rim)

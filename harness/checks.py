@@ -34,6 +34,7 @@ __all__ = [
     "invariance",
     "invariance_variants",
     "blame",
+    "overdraw",
 ]
 
 # float64 evaluations of edge crossings err by a few units in the last place of the
@@ -278,6 +279,16 @@ def watertight(case: Case, coverage: Coverage) -> Result:
     ok = not (len(holes) or len(doubles) or len(strays))
     message = "every inside pixel hit exactly once" if ok else f"{len(holes)} holes, {len(doubles)} double hits, {len(strays)} stray hits outside"
     return _result(case, "watertight", ok, message, metrics, evidence)
+
+
+def overdraw(case: Case, coverage: Coverage) -> Result:
+    """No pixel hit twice: for triangles that tile a region without overlapping, or any
+    subset of them (the form of ``watertight`` that survives shrinking)."""
+    counts = coverage.counts(case.scene.width, case.scene.height)
+    doubles = np.argwhere(counts > 1)
+    evidence = {"pixels": [[int(x), int(y)] for y, x in doubles[:EVIDENCE_LIMIT]]} if len(doubles) else {}
+    return _result(case, "overdraw", not len(doubles), f"{len(doubles)} double hits" if len(doubles) else "no double hits",
+                   {"double_hits": float(len(doubles))}, evidence)
 
 
 def _shared_edges(positions: NDArray, a: int, b: int) -> list[list[list[float]]]:

@@ -17,7 +17,7 @@ from typing import Any
 
 from cases.records import Case
 from cases.suites import suite as suite_cases
-from harness import checks
+from harness import checks, repro
 from harness.api import Coverage, Rasterizer, Scene
 from harness.checks import Result, Tolerance
 from harness.oracle import exact_coverage
@@ -105,8 +105,10 @@ def _error(case: Case, rasterizer: str, outcome: Outcome, check: str = "run") ->
 
 
 def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
-               tolerance: Tolerance = Tolerance(), invariance: bool = True) -> list[Result]:
-    """All applicable checks of one rasterizer on one case."""
+               tolerance: Tolerance = Tolerance(), invariance: bool = True,
+               only: set[str] | None = None) -> list[Result]:
+    """All applicable checks of one rasterizer on one case (or those named in ``only``)."""
+    wanted = (lambda check: only is None or check in only)  # noqa: E731
     name = rasterizer.name
     convention = rasterizer.convention
     outcome = call(case.scene)
@@ -116,19 +118,22 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
             return [replace(refused, rasterizer=name)]
         return [_error(case, name, outcome)]
     coverage = outcome.coverage
-    results = [checks.hygiene(case, coverage)]
-    if convention is not None:
-        oracle = exact_coverage(case.scene, convention)
-        results.append(checks.conformance(case, coverage, oracle, convention, tolerance))
-    else:
-        results.append(checks.skip(case, "conformance", "the rasterizer declares no convention"))
-    if case.region is not None:
+    results = [checks.hygiene(case, coverage)] if wanted("hygiene") else []
+    if wanted("conformance"):
+        if convention is not None:
+            oracle = exact_coverage(case.scene, convention)
+            results.append(checks.conformance(case, coverage, oracle, convention, tolerance))
+        else:
+            results.append(checks.skip(case, "conformance", "the rasterizer declares no convention"))
+    if case.region is not None and wanted("watertight"):
         results.append(checks.watertight(case, coverage))
-    if case.closed:
+    if only is not None and "overdraw" in only:  # asked for by name only (when shrinking)
+        results.append(checks.overdraw(case, coverage))
+    if case.closed and wanted("closed"):
         results.append(checks.closed_balance(case, coverage, convention))
-    if case.family == "degenerate":
+    if case.family == "degenerate" and wanted("degenerate"):
         results.append(checks.degenerate(case, coverage, convention))
-    if invariance and case.family in ("lattice", "float", "watertight"):
+    if invariance and case.family in ("lattice", "float", "watertight") and wanted("invariance"):
         variants = []
         for label, scene, index in checks.invariance_variants(case):
             result = call(scene)
@@ -144,6 +149,26 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
     return results
 
 
+def attach_repro(result: Result, case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
+                 tolerance: Tolerance, budget: int = 60, seconds: float = 10.0) -> Result:
+    """Shrink the case to a minimal one that still fails the same check and attach it, as
+    replayable JSON, to the result's evidence."""
+    check = result.check
+    if check == "watertight" and result.metrics.get("double_hits", 0) > 0:
+        check = "overdraw"  # double hits stay double hits in any subset of the triangles
+    if check not in repro.SHRINKABLE:
+        minimal = case  # holes and closed meshes need the whole case: no smaller one is valid
+    else:
+        def fails(candidate: Case) -> bool:
+            found = check_case(candidate, rasterizer, call, tolerance, only={check})
+            return any(r.check == check and r.status == "fail" for r in found)
+
+        minimal = repro.shrink(case, fails, budget=budget, seconds=seconds)
+    payload = repro.case_to_json(minimal, check=check, rasterizer=rasterizer.name, message=result.message,
+                                 original_case=case.id, original_triangles=len(case.scene))
+    return replace(result, evidence={**result.evidence, "repro": payload})
+
+
 def run_suite(
     rasterizers: Iterable[Rasterizer | str],
     suite: str = "quick",
@@ -153,6 +178,7 @@ def run_suite(
     tolerance: Tolerance = Tolerance(),
     timeout: float = 60.0,
     isolate: bool = True,
+    repros: bool = True,
     on_result: Callable[[Result], None] | None = None,
 ) -> list[Result]:
     """Run a suite's checks on each rasterizer.
@@ -170,6 +196,8 @@ def run_suite(
     isolate : bool
         Run each rasterizer in a worker process (default); False calls it in-process
         (no time limit), for debugging.
+    repros : bool
+        Shrink each failing case to a minimal replayable one (evidence ``repro``).
     on_result : callable, optional
         Called with each result as soon as it exists.
 
@@ -188,6 +216,8 @@ def run_suite(
         try:
             for case in selected:
                 for result in check_case(case, rasterizer, call, tolerance):
+                    if repros and result.status == "fail":
+                        result = attach_repro(result, case, rasterizer, call, tolerance)
                     results.append(result)
                     if on_result is not None:
                         on_result(result)
