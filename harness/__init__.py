@@ -9,7 +9,7 @@ from typing import Any
 
 from harness.api import Convention, Coverage, Rasterizer, Scene
 
-__all__ = ["Scene", "Coverage", "Convention", "Rasterizer", "run_suite"]
+__all__ = ["Scene", "Coverage", "Convention", "Rasterizer", "run_suite", "replay"]
 __version__ = "0.1.0"
 
 
@@ -18,3 +18,10 @@ def run_suite(*args: Any, **kwargs: Any) -> Any:
     from harness.runner import run_suite as run
 
     return run(*args, **kwargs)
+
+
+def replay(path: Any, rasterizer: Any, isolate: bool = False) -> Any:
+    """Run the checks of a saved case on a rasterizer; see :func:`harness.repro.replay`."""
+    from harness.repro import replay as run
+
+    return run(path, rasterizer, isolate=isolate)

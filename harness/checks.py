@@ -359,9 +359,23 @@ def closed_balance(case: Case, coverage: Coverage, convention: Convention | None
 # -- degenerate ----------------------------------------------------------------------------
 
 
-def degenerate(case: Case, coverage: Coverage, convention: Convention | None) -> Result:
+def control_scene(case: Case) -> Scene:
+    """The work yardstick for a degenerate case: each finite triangle replaced by a plain
+    right triangle over its bounding box, each side at least one pixel long."""
+    p = case.scene.positions
+    finite = np.all(np.isfinite(p), axis=(1, 2))
+    lo = p[finite].min(axis=1)
+    hi = np.maximum(p[finite].max(axis=1), lo + 1.0)
+    tris = np.stack([lo, np.stack([hi[:, 0], lo[:, 1]], axis=-1), np.stack([lo[:, 0], hi[:, 1]], axis=-1)], axis=1)
+    return Scene(case.scene.width, case.scene.height, tris)
+
+
+def degenerate(case: Case, coverage: Coverage, convention: Convention | None,
+               work: tuple[float, float] | None = None, tolerance: Tolerance = Tolerance()) -> Result:
     """Zero-area triangles (after the declared snapping) draw nothing, non-finite ones draw
-    nothing, and no attribute is NaN."""
+    nothing, no attribute is NaN, and the work stays bounded: ``work`` is (seconds for the
+    case, seconds for :func:`control_scene`), whose ratio may not exceed
+    ``tolerance.work_ratio``."""
     scene = case.scene
     bits = convention.subpixel_bits if convention is not None else None
     sign = orientation(snap(scene.positions, bits))
@@ -380,6 +394,11 @@ def degenerate(case: Case, coverage: Coverage, convention: Convention | None) ->
         parts.append(f"triangles {_first(offenders, 10)} have zero area or non-finite coordinates but drew pixels")
     if nan_rows:
         parts.append(f"{nan_rows} pixels with NaN attributes")
+    if work is not None:
+        ratio = work[0] / max(work[1], 1e-9)
+        metrics["work_ratio"] = ratio
+        if ratio > tolerance.work_ratio:
+            parts.append(f"took {ratio:.0f}x the time of plain triangles with the same bounding boxes (limit {tolerance.work_ratio:g}x)")
     evidence = {"triangles": _first(offenders)} if offenders.size else {}
     return _result(case, "degenerate", not parts, "; ".join(parts) or "degenerate triangles draw nothing", metrics, evidence)
 

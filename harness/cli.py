@@ -48,6 +48,9 @@ def _run(args: argparse.Namespace) -> int:
         bad = [x for x in mine if x.status in ("fail", "error")]
         print(f"{r.name:<20} {len(mine) - len(bad)}/{len(mine)} results pass or skip" + (f", {len(bad)} failing" if bad else ""))
     seconds = time.perf_counter() - start
+    written = _write_repros(Path(args.out), results)
+    if written:
+        print(f"repros: {written} minimal failing cases in {Path(args.out) / 'repros'}")
     conventions = {r.name: (r.convention.describe() if r.convention else "none declared") for r in rasterizers}
     path = write_report(Path(args.out), conventions, results, args.seed, args.suite, seconds)
     print(f"report: {path}")
@@ -55,6 +58,38 @@ def _run(args: argparse.Namespace) -> int:
         payload = {"schema": 1, "suite": args.suite, "seed": args.seed, "results": [asdict(x) for x in results]}
         atomic_write_text(Path(args.json), json.dumps(payload, indent=2, default=str))
     return 1 if any(x.status in ("fail", "error") for x in results) else 0
+
+
+def _write_repros(out: Path, results: list) -> int:  # type: ignore[type-arg]
+    """Save each attached minimal repro as reports/repros/<rasterizer>/<case>--<check>.json."""
+    from harness.files import atomic_write_text
+
+    count = 0
+    for r in results:
+        payload = r.evidence.get("repro")
+        if payload is None:
+            continue
+        name = f"{r.case.replace('/', '_')}--{r.check}.json"
+        path = out / "repros" / r.rasterizer / name
+        atomic_write_text(path, json.dumps(payload, indent=1))
+        r.evidence["repro_path"] = str(path.relative_to(out))
+        count += 1
+    return count
+
+
+def _replay(args: argparse.Namespace) -> int:
+    from harness.repro import load_case
+    from harness.runner import run_suite
+
+    try:
+        case = load_case(args.case)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    rasterizers, _ = _load_all([args.rasterizer])
+    results = run_suite(rasterizers, cases=[case], timeout=args.timeout, repros=False)
+    for r in results:
+        print(f"{r.status:<6} {r.check:<12} {r.message}")
+    return 1 if any(r.status in ("fail", "error") for r in results) else 0
 
 
 def _bench(args: argparse.Namespace) -> int:
@@ -97,6 +132,11 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--scale", type=float, default=1.0, help="shrink the workloads (smoke tests)")
     bench.add_argument("--budget", type=float, default=1.0, help="seconds of repeats per contender")
     bench.set_defaults(func=_bench)
+    rep = sub.add_parser("replay", help="run the checks of a saved case (a minimal repro) on a rasterizer")
+    rep.add_argument("case", help="a case JSON file, as written under reports/repros/")
+    rep.add_argument("--rasterizer", required=True, metavar="SPEC")
+    rep.add_argument("--timeout", type=float, default=60.0)
+    rep.set_defaults(func=_replay)
     lst = sub.add_parser("list", help="registered rasterizers and their conventions")
     lst.set_defaults(func=_list)
     return parser

@@ -38,7 +38,9 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
         mine = [r for r in results if r.rasterizer == name]
         problems = [
             {**{k: getattr(r, k) for k in ("case", "check", "status", "message", "evidence")},
-             "evidence_text": json.dumps({k: v for k, v in r.evidence.items() if k != "traceback"}, default=str)[:2000]
+             "repro_path": r.evidence.get("repro_path"),
+             "repro_size": len(r.evidence.get("repro", {}).get("positions", [])),
+             "evidence_text": json.dumps({k: v for k, v in r.evidence.items() if k not in ("traceback", "repro", "repro_path")}, default=str)[:2000]
              + ("\n" + r.evidence["traceback"] if "traceback" in r.evidence else "")}
             for r in mine if r.status != "pass"
         ]

@@ -6,7 +6,7 @@ import pytest
 from harness import run_suite
 from harness.checks import CHECKS
 from tests.known_bad.edge_functions import EdgeFunctionBug
-from tests.known_bad.misc import HangsOnEpsilon, Int32FixedPoint, NaNAttributes, Raises, ReturnsGarbage, WrongTieClaim
+from tests.known_bad.misc import HangsOnEpsilon, SlowOnEpsilon, Int32FixedPoint, NaNAttributes, Raises, ReturnsGarbage, WrongTieClaim
 from tests.known_bad.scanlines import ScanlineBug
 
 # known-bad rasterizer -> the checks that must flag it ("run": an error or timeout result)
@@ -28,6 +28,7 @@ TABLE = {
     WrongTieClaim(): {"conformance"},
     Int32FixedPoint(): {"conformance"},
     NaNAttributes(): {"degenerate"},
+    SlowOnEpsilon(): {"degenerate"},
     Raises(): {"run"},
     ReturnsGarbage(): {"run"},
     HangsOnEpsilon(): {"run"},
@@ -66,5 +67,7 @@ def test_failures_carry_evidence(flagged):
     assert conformance.evidence["pixels"][0]["near_tie"] is False
     timeout = flagged["bad_hangs_on_epsilon"]["run"][0]
     assert timeout.message.startswith("timeout")
+    slow = flagged["bad_slow_on_epsilon"]["degenerate"][0]
+    assert slow.metrics["work_ratio"] > 50 and "the time of plain triangles" in slow.message
     crash = flagged["bad_raises"]["run"][0]
     assert "RuntimeError: rasterizer exploded" in crash.message and "Traceback" in crash.evidence["traceback"]

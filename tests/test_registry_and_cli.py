@@ -96,3 +96,47 @@ def test_cli_list_and_bench(tmp_path, capsys):
 def test_console_script_entry_point():
     result = subprocess.run([sys.executable, "-m", "harness.cli", "list"], capture_output=True, text=True)
     assert result.returncode == 0 and "pineda_topleft" in result.stdout
+
+
+OUTSIDE_RASTERIZER = '''
+"""Written outside rastercheck: a bounding-box rasterizer whose author thought "<= 0"
+was the top-left rule and forgot that culling is not part of his convention."""
+import numpy as np
+from harness import Convention, Coverage
+
+
+class Hobby:
+    name = "hobby"
+    convention = Convention()
+
+    def rasterize(self, scene):
+        parts = []
+        ys, xs = np.mgrid[0:scene.height, 0:scene.width] + 0.5
+        for t, p in enumerate(scene.positions):
+            if not np.isfinite(p).all():
+                continue
+            w = [(p[(k + 1) % 3, 0] - p[k, 0]) * (ys - p[k, 1]) - (p[(k + 1) % 3, 1] - p[k, 1]) * (xs - p[k, 0]) for k in range(3)]
+            mask = (w[0] >= 0) & (w[1] >= 0) & (w[2] >= 0)   # one winding, every edge inclusive
+            parts.append(Coverage.from_mask(t, mask))
+        if not parts:
+            return Coverage.empty()
+        return Coverage(*(np.concatenate([getattr(c, f) for c in parts]) for f in ("triangle", "y", "x0", "x1")))
+'''
+
+
+def test_an_outside_rasterizer_is_flagged_with_repros(tmp_path, capsys):
+    path = tmp_path / "hobby.py"
+    path.write_text(OUTSIDE_RASTERIZER)
+    out = tmp_path / "rep"
+    code = main(["run", "--rasterizer", f"{path}:Hobby", "--out", str(out), "--json", str(tmp_path / "r.json")])
+    assert code == 1
+    data = json.loads((tmp_path / "r.json").read_text())
+    failed = {r["check"] for r in data["results"] if r["status"] == "fail"}
+    assert {"conformance", "watertight", "closed", "invariance"} <= failed
+    repros = list((out / "repros" / "hobby").glob("*.json"))
+    assert repros
+    html = (out / "index.html").read_text()
+    assert "minimal repro" in html
+    assert main(["replay", str(repros[0]), "--rasterizer", f"{path}:Hobby"]) == 1
+    assert all(main(["replay", str(r), "--rasterizer", "centre_scanline"]) == 0 for r in repros)
+    assert main(["replay", str(tmp_path / "missing.json"), "--rasterizer", "centre_scanline"]) == 2

@@ -10,7 +10,7 @@ from harness.api import Coverage, Scene
 from harness.conventions import Convention
 from rasterizers.centre_scanline import CentreScanline
 
-__all__ = ["WrongTieClaim", "Raises", "ReturnsGarbage", "HangsOnEpsilon", "Int32FixedPoint", "NaNAttributes"]
+__all__ = ["SlowOnEpsilon", "WrongTieClaim", "Raises", "ReturnsGarbage", "HangsOnEpsilon", "Int32FixedPoint", "NaNAttributes"]
 
 
 class WrongTieClaim:
@@ -120,3 +120,20 @@ class NaNAttributes:
         tri, _, _ = cov.pixels()
         values[area[tri] < 1.0] = np.nan
         return Coverage(cov.triangle, cov.y, cov.x0, cov.x1, values)
+
+
+class SlowOnEpsilon:
+    """Correct, but its work explodes on triangles thinner than a micro-pixel (a DDA that
+    steps by the height): about 0.1 s for each, where a plain triangle takes microseconds."""
+
+    name = "bad_slow_on_epsilon"
+    convention = Convention()
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        p = scene.positions
+        with np.errstate(all="ignore"):
+            height = p[..., 1].max(axis=1) - p[..., 1].min(axis=1)
+            width = p[..., 0].max(axis=1) - p[..., 0].min(axis=1)
+        thin = ((height > 0) & (height < 1e-6)) | ((width > 0) & (width < 1e-6))
+        time.sleep(0.1 * int(thin.sum()))
+        return CentreScanline().rasterize(scene)
