@@ -48,3 +48,25 @@ def test_results_stream_as_they_come():
     seen = []
     results = run_suite(["centre_scanline"], cases=suite("quick")[:3], on_result=seen.append)
     assert seen == results
+
+
+def test_strict_mode_allows_no_rounding_default_allows_near_ties():
+    from harness.checks import Tolerance
+
+    cases = [c for c in suite("quick") if c.id.endswith("/non-dyadic")]
+    default = run_suite(["centre_scanline"], cases=cases, repros=False)
+    strict = run_suite(["centre_scanline"], cases=cases, tolerance=Tolerance(mode="strict"), repros=False)
+    conf_default = [r for r in default if r.check == "conformance"]
+    conf_strict = [r for r in strict if r.check == "conformance"]
+    assert all(r.status == "pass" for r in conf_default)
+    assert any(r.metrics["near_tie"] > 0 for r in conf_default)  # there is rounding to excuse
+    assert any(r.status == "fail" for r in conf_strict)
+
+
+def test_a_hang_becomes_a_timeout_and_the_run_goes_on():
+    from tests.known_bad.misc import HangsOnEpsilon
+
+    cases = [c for c in suite("quick") if c.family == "degenerate"][:12]
+    results = run_suite([HangsOnEpsilon()], cases=cases, timeout=0.5, repros=False)
+    timeouts = [r for r in results if r.status == "error" and r.message.startswith("timeout")]
+    assert timeouts and len({r.case for r in results}) == len(cases)  # every case has results
