@@ -128,7 +128,7 @@ def test_attributes_match_the_oracle(rasterizer, perspective):
 def pineda_per_pixel(scene):
     """The Pineda test at every pixel of the screen, in numpy: the reference the edge
     walk must reproduce exactly (same float expression, same canonical edges)."""
-    from harness.api import Coverage
+    from tests.known_bad import coverage_from_parts
     from harness.exact import orientation
     from rasterizers.pineda_topleft import edge_setup
 
@@ -148,9 +148,7 @@ def pineda_per_pixel(scene):
         tri.append(np.full(x.size, t))
         px.append(x)
         py.append(y)
-    if not tri:
-        return Coverage.empty()
-    return Coverage.from_pixels(np.concatenate(tri), np.concatenate(px), np.concatenate(py))
+    return coverage_from_parts(tri, px, py)
 
 
 @given(scene=float_scenes(size=24, max_triangles=6))

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from harness.api import Coverage, Scene
+from tests.known_bad import coverage_from_parts
 from harness.conventions import Convention
 
 __all__ = ["EdgeFunctionBug"]
@@ -79,6 +80,4 @@ class EdgeFunctionBug:
             tris.append(np.full(x.size, t))
             xs.append(x + x0)
             ys.append(y + y0)
-        if not tris:
-            return Coverage.empty()
-        return Coverage.from_pixels(np.concatenate(tris), np.concatenate(xs), np.concatenate(ys))
+        return coverage_from_parts(tris, xs, ys)

@@ -7,6 +7,7 @@ import time
 import numpy as np
 
 from harness.api import Coverage, Scene
+from tests.known_bad import coverage_from_parts
 from harness.conventions import Convention
 from rasterizers.centre_scanline import CentreScanline
 
@@ -100,9 +101,7 @@ class Int32FixedPoint:
             tris.append(np.full(x.size, t))
             out_x.append(x + x0)
             out_y.append(y + y0)
-        if not tris:
-            return Coverage.empty()
-        return Coverage.from_pixels(np.concatenate(tris), np.concatenate(out_x), np.concatenate(out_y))
+        return coverage_from_parts(tris, out_x, out_y)
 
 
 class NaNAttributes:

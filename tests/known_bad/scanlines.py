@@ -69,7 +69,7 @@ class ScanlineBug:
                 if first_row is None:
                     first_row = j
 
-                def edge_x(ax: float, ay: float, bx: float, by: float) -> float:
+                def edge_x(ax: float, ay: float, bx: float, by: float, j: int = j, sample: float = sample) -> float:
                     if by == ay:
                         return ax
                     if self.bug == "no-prestep":  # x from the top vertex, stepped per row
