@@ -6,6 +6,7 @@ import numpy as np
 
 from cases.degenerate import degenerate_cases
 from cases.meshes import mesh_cases
+from cases.motion import MotionCase, motion_cases
 from cases.partitions import partition_cases
 from cases.records import Case
 from cases.scenes import lattice_triangles, random_triangles
@@ -36,7 +37,7 @@ def conformance_cases(seed: int, full: bool = False) -> list[Case]:
     return cases
 
 
-def suite(name: str, seed: int = 0) -> list[Case]:
+def suite(name: str, seed: int = 0) -> list[Case | MotionCase]:
     """Every case of a suite, deterministic for the seed.
 
     >>> ids = [c.id for c in suite("quick")]
@@ -51,4 +52,5 @@ def suite(name: str, seed: int = 0) -> list[Case]:
         *partition_cases(seed, full),
         *mesh_cases(seed, full),
         *degenerate_cases(seed, full),
+        *motion_cases(seed, full),
     ]

@@ -43,7 +43,7 @@ __all__ = [
 NEAR_TIE = 2.0**-40
 EVIDENCE_LIMIT = 50
 
-CHECKS = ("hygiene", "conformance", "watertight", "closed", "degenerate", "invariance")
+CHECKS = ("hygiene", "conformance", "watertight", "closed", "degenerate", "invariance", "jaggy", "texel", "perspective")
 
 
 @dataclass(frozen=True, slots=True)
@@ -57,11 +57,14 @@ class Tolerance:
         Relative distance of a sample from an edge below which a deviation is rounding.
     work_ratio : float
         Largest allowed time ratio of an epsilon scene to its control scene.
+    uv_error : float
+        Largest allowed error of interpolated (u, v) against the exact values, in texels.
     """
 
     mode: str = "default"
     near_tie: float = NEAR_TIE
     work_ratio: float = 50.0
+    uv_error: float = 1e-6
 
     def __post_init__(self) -> None:
         if self.mode not in ("default", "strict"):

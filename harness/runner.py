@@ -17,7 +17,8 @@ from typing import Any
 
 from cases.records import Case
 from cases.suites import suite as suite_cases
-from harness import checks, repro
+from cases.motion import MotionCase
+from harness import checks, motion, pictures, repro
 from harness.api import Coverage, Rasterizer, Scene
 from harness.checks import Result, Tolerance
 from harness.oracle import exact_coverage
@@ -165,6 +166,39 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
     return results
 
 
+def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
+                 tolerance: Tolerance = Tolerance()) -> list[Result]:
+    """The motion checks of one rasterizer on one frame sequence."""
+    name = rasterizer.name
+    convention = rasterizer.convention
+    coverages = []
+    seconds = 0.0
+    for f, scene in enumerate(case.frames):
+        outcome = call(scene)
+        if outcome.coverage is None:
+            failed = _error(Case(case.id, scene), name, outcome)
+            return [replace(failed, message=f"frame {f}: {failed.message}")]
+        coverages.append(outcome.coverage)
+        seconds += outcome.seconds
+    if convention is None:
+        return [Result(name, case.id, "jaggy", "skip", "the rasterizer declares no convention: no exact motion to compare with")]
+    oracles = [exact_coverage(scene, convention) for scene in case.frames]
+    first = case.frames[0]
+    results = [motion.jaggy(case.id, coverages, oracles, len(first), first.width, first.height)]
+    if case.texels:
+        results.append(motion.texel_swimming(case.id, coverages, oracles, case.texels))
+    if case.perspective:
+        results.append(motion.perspective(case.id, coverages, oracles, case.texels or 1, tolerance))
+    out = []
+    for r in results:
+        evidence = r.evidence
+        if r.status == "fail":
+            marks = [*evidence.get("backward_jumps", []), *evidence.get("mismatches", []), *evidence.get("backward_steps", [])]
+            evidence = {**evidence, "animation": pictures.motion_animation(coverages, oracles, first.width, first.height, marks, case.texels)}
+        out.append(replace(r, rasterizer=name, evidence=evidence, metrics={**r.metrics, "seconds": seconds}))
+    return out
+
+
 def attach_repro(result: Result, case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
                  tolerance: Tolerance, budget: int = 60, seconds: float = 10.0) -> Result:
     """Shrink the case to a minimal one that still fails the same check and attach it, as
@@ -190,7 +224,7 @@ def run_suite(
     suite: str = "quick",
     seed: int = 0,
     *,
-    cases: list[Case] | None = None,
+    cases: list[Case | MotionCase] | None = None,
     tolerance: Tolerance = Tolerance(),
     timeout: float = 60.0,
     isolate: bool = True,
@@ -231,6 +265,12 @@ def run_suite(
         call = (lambda scene, w=worker: w.rasterize(scene, timeout)) if worker else (lambda scene, r=rasterizer: _call(r, scene))
         try:
             for case in selected:
+                if isinstance(case, MotionCase):
+                    for result in check_motion(case, rasterizer, call, tolerance):
+                        results.append(result)
+                        if on_result is not None:
+                            on_result(result)
+                    continue
                 for result in check_case(case, rasterizer, call, tolerance):
                     if repros and result.status == "fail":
                         result = attach_repro(result, case, rasterizer, call, tolerance)

@@ -111,13 +111,16 @@ class Hobby:
 
     def rasterize(self, scene):
         parts = []
-        ys, xs = np.mgrid[0:scene.height, 0:scene.width] + 0.5
         for t, p in enumerate(scene.positions):
-            if not np.isfinite(p).all():
+            if not np.isfinite(p).all() or np.abs(p).max() > 1e7:
                 continue
+            x0, y0 = np.clip(np.floor(p.min(axis=0)).astype(int), 0, [scene.width, scene.height])
+            x1, y1 = np.clip(np.ceil(p.max(axis=0)).astype(int) + 1, 0, [scene.width, scene.height])
+            ys, xs = np.mgrid[y0:y1, x0:x1] + 0.5
             w = [(p[(k + 1) % 3, 0] - p[k, 0]) * (ys - p[k, 1]) - (p[(k + 1) % 3, 1] - p[k, 1]) * (xs - p[k, 0]) for k in range(3)]
             mask = (w[0] >= 0) & (w[1] >= 0) & (w[2] >= 0)   # one winding, every edge inclusive
-            parts.append(Coverage.from_mask(t, mask))
+            y, x = np.nonzero(mask)
+            parts.append(Coverage.from_pixels(np.full(x.size, t), x + x0, y + y0))
         if not parts:
             return Coverage.empty()
         return Coverage(*(np.concatenate([getattr(c, f) for c in parts]) for f in ("triangle", "y", "x0", "x1")))

@@ -1,0 +1,234 @@
+"""Motion checks: jaggy monotonicity, texel swimming and perspective accuracy.
+
+Pure functions over a sequence's coverages and the oracle's coverages of the same frames;
+each returns a :class:`harness.checks.Result` whose metrics hold totals and whose evidence
+holds per-frame series (ready to plot) and the offending frames, rows and columns.
+
+Directions come from the oracle: under a monotone motion the exact boundary of each
+triangle's span on each row moves one way (or stays); when the rasterizer's boundary
+moves the other way, that is a backward jump. Where the oracle does not move at a step,
+the direction of its most recent move (or of its next one) stands in.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from harness.api import Coverage
+from harness.checks import EVIDENCE_LIMIT, Result, Tolerance
+
+__all__ = ["jaggy", "texel_swimming", "perspective", "boundary_series", "filled_direction", "TIE"]
+
+# A texel coordinate u*T within this (relative) distance of an integer sits on a texel
+# edge: which side it falls on is float rounding, not swimming.
+TIE = 1e-9
+
+
+def _result(case_id: str, check: str, ok: bool, message: str, metrics: dict, evidence: dict) -> Result:
+    return Result("", case_id, check, "pass" if ok else "fail", message, metrics, evidence)
+
+
+def boundary_series(coverages: list[Coverage], n_triangles: int, height: int) -> tuple[NDArray, NDArray]:
+    """Left and right span ends per frame, triangle and row: (F, N, H) float, NaN where the
+    triangle covers nothing on that row (several runs on a row count from the outermost)."""
+    frames = len(coverages)
+    left = np.full((frames, n_triangles, height), np.nan)
+    right = np.full((frames, n_triangles, height), np.nan)
+    for f, cov in enumerate(coverages):
+        ok = (cov.triangle >= 0) & (cov.triangle < n_triangles) & (cov.y >= 0) & (cov.y < height) & (cov.x1 > cov.x0)
+        t, y, x0, x1 = cov.triangle[ok], cov.y[ok], cov.x0[ok].astype(float), cov.x1[ok].astype(float)
+        lo = np.full((n_triangles, height), np.inf)
+        hi = np.full((n_triangles, height), -np.inf)
+        np.minimum.at(lo, (t, y), x0)
+        np.maximum.at(hi, (t, y), x1)
+        left[f] = np.where(np.isfinite(lo), lo, np.nan)
+        right[f] = np.where(np.isfinite(hi), hi, np.nan)
+    return left, right
+
+
+def filled_direction(steps: NDArray) -> NDArray:
+    """Signs of ``steps`` along axis 0 with zeros (and NaN) replaced by the most recent
+    nonzero sign, or the next one where there is none before.
+
+    >>> filled_direction(np.array([0.0, 1.0, 0.0, np.nan, -2.0, 0.0]))
+    array([ 1.,  1.,  1.,  1., -1., -1.])
+    """
+    sign = np.nan_to_num(np.sign(steps))
+    n = sign.shape[0]
+    index = np.arange(n).reshape((n,) + (1,) * (sign.ndim - 1))
+    nonzero = sign != 0
+    last = np.maximum.accumulate(np.where(nonzero, index, -1), axis=0)
+    forward = np.where(last >= 0, np.take_along_axis(sign, np.maximum(last, 0), axis=0), 0.0)
+    reverse = nonzero[::-1]
+    nxt = np.maximum.accumulate(np.where(reverse, index, -1), axis=0)
+    backward = np.where(nxt >= 0, np.take_along_axis(sign[::-1], np.maximum(nxt, 0), axis=0), 0.0)[::-1]
+    return np.where(forward != 0, forward, backward)
+
+
+def _backward_jumps(series: NDArray, oracle: NDArray) -> NDArray:
+    """(F-1, ...) bool: steps where the rasterizer's series moves against the oracle's."""
+    step = np.diff(series, axis=0)
+    direction = filled_direction(np.diff(oracle, axis=0))
+    return np.isfinite(step) & (step != 0) & (np.sign(step) == -direction) & (direction != 0)
+
+
+def _window(coverages: list[Coverage], width: int, height: int) -> tuple[int, int, int, int]:
+    """The smallest rectangle (x0, y0, x1, y1) of the viewport holding every span."""
+    x0s, x1s, ys = [], [], []
+    for c in coverages:
+        ok = (c.x1 > c.x0) & (c.y >= 0) & (c.y < height)
+        if ok.any():
+            x0s.append(max(int(c.x0[ok].min()), 0))
+            x1s.append(min(int(c.x1[ok].max()), width))
+            ys.extend([int(c.y[ok].min()), int(c.y[ok].max())])
+    if not x0s:
+        return 0, 0, 1, 1
+    return min(x0s), min(ys), max(max(x1s), min(x0s) + 1), max(ys) + 1
+
+
+def _masks(coverages: list[Coverage], window: tuple[int, int, int, int]) -> NDArray:
+    """(F, h, w) bool coverage masks of the frames, cropped to ``window``."""
+    x0, y0, x1, y1 = window
+    out = []
+    for c in coverages:
+        shifted = Coverage(c.triangle, c.y - y0, np.clip(c.x0, x0, x1) - x0, np.clip(c.x1, x0, x1) - x0)
+        out.append(shifted.counts(x1 - x0, y1 - y0) > 0)
+    return np.stack(out)
+
+
+def jaggy(case_id: str, coverages: list[Coverage], oracles: list[Coverage], n_triangles: int,
+          width: int, height: int) -> Result:
+    """Per pixel, coverage may change no more often over the sequence than the oracle's
+    (the excess is flicker); per triangle and row, each span end moves only the way the
+    exact one does (a backward jump is counted with its frame, row and column)."""
+    window = _window([*coverages, *oracles], width, height)
+    got, want = _masks(coverages, window), _masks(oracles, window)
+    changes_got = (got[1:] != got[:-1]).sum(axis=0)
+    changes_want = (want[1:] != want[:-1]).sum(axis=0)
+    excess = np.clip(changes_got - changes_want, 0, None)
+    left, right = boundary_series(coverages, n_triangles, height)
+    left_o, right_o = boundary_series(oracles, n_triangles, height)
+    back_left = _backward_jumps(left, left_o)
+    back_right = _backward_jumps(right, right_o)
+    jumps = []
+    for side, back, series in (("left", back_left, left), ("right", back_right, right)):
+        for f, t, y in np.argwhere(back):
+            jumps.append({"frame": int(f + 1), "triangle": int(t), "row": int(y), "side": side,
+                          "column": int(series[f + 1, t, y]), "previous": int(series[f, t, y])})
+    jumps.sort(key=lambda j: j["frame"])
+    per_frame = {
+        "changed_pixels": [0] + (got[1:] != got[:-1]).sum(axis=(1, 2)).tolist(),
+        "oracle_changed_pixels": [0] + (want[1:] != want[:-1]).sum(axis=(1, 2)).tolist(),
+        "backward_jumps": [0] + (back_left.sum(axis=(1, 2)) + back_right.sum(axis=(1, 2))).tolist(),
+    }
+    flicker = np.argwhere(excess > 0)
+    metrics = {"flicker": float(excess.sum()), "flicker_pixels": float(len(flicker)), "backward_jumps": float(len(jumps)),
+               "frames": float(len(coverages))}
+    evidence: dict[str, Any] = {"series": per_frame}
+    if len(flicker):
+        evidence["flicker"] = [[int(x + window[0]), int(y + window[1]), int(changes_got[y, x]), int(changes_want[y, x])]
+                               for y, x in flicker[:EVIDENCE_LIMIT]]
+    if jumps:
+        evidence["backward_jumps"] = jumps[:EVIDENCE_LIMIT]
+    ok = not len(flicker) and not jumps
+    message = ("monotone: no flicker, no backward jump" if ok
+               else f"{int(excess.sum())} extra changes at {len(flicker)} pixels (flicker), {len(jumps)} backward jumps")
+    return _result(case_id, "jaggy", ok, message, metrics, evidence)
+
+
+def _matched(cov: Coverage, oracle: Coverage) -> tuple[NDArray, NDArray, NDArray]:
+    """Attribute rows of the fragments both have, as (keys (t, x, y), got rows, oracle rows)."""
+    if cov.attributes is None or oracle.attributes is None or cov.attributes.shape[0] != cov.n_pixels:
+        return np.zeros((0, 3), dtype=np.int64), np.zeros((0, 2)), np.zeros((0, 2))
+    t, x, y = cov.pixels()
+    ot, ox, oy = oracle.pixels()
+    big = np.int64(1) << 20
+    keys = (t * big + y) * big + x
+    okeys = (ot * big + oy) * big + ox
+    common, i, j = np.intersect1d(keys, okeys, return_indices=True)
+    return np.stack([t[i], x[i], y[i]], axis=1), cov.attributes[i], oracle.attributes[j]
+
+
+def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Coverage], texels: int) -> Result:
+    """The nearest texel (floor(u*T), floor(v*T)) at each covered pixel against the
+    oracle's, mismatches at exact texel edges excused; at a fixed pixel, the texel index
+    moves only the way the oracle's does (backward steps counted); the largest u, v error
+    in texels."""
+    mismatches = 0
+    worst = 0.0
+    per_frame_mismatch = []
+    per_frame_error = []
+    examples: list[dict[str, Any]] = []
+    tracks: dict[tuple[int, int, int], list[tuple[int, int, int, int, int]]] = {}
+    for f, (cov, oracle) in enumerate(zip(coverages, oracles)):
+        keys, got, want = _matched(cov, oracle)
+        if not len(keys):
+            per_frame_mismatch.append(0)
+            per_frame_error.append(0.0)
+            continue
+        scaled_got, scaled_want = got[:, :2] * texels, want[:, :2] * texels
+        error = np.abs(scaled_got - scaled_want)
+        finite = np.isfinite(error).all(axis=1)
+        frame_error = float(error[finite].max()) if finite.any() else float("inf")
+        texel_got, texel_want = np.floor(scaled_got), np.floor(scaled_want)
+        tie = np.abs(scaled_want - np.round(scaled_want)) <= TIE * np.maximum(1.0, np.abs(scaled_want))
+        bad = ((texel_got != texel_want) & ~tie).any(axis=1) | ~finite
+        mismatches += int(bad.sum())
+        worst = max(worst, frame_error if finite.all() else float("inf"))
+        per_frame_mismatch.append(int(bad.sum()))
+        per_frame_error.append(frame_error)
+        for k in np.flatnonzero(bad)[: max(0, EVIDENCE_LIMIT - len(examples))]:
+            examples.append({"frame": f, "triangle": int(keys[k, 0]), "x": int(keys[k, 1]), "y": int(keys[k, 2]),
+                             "texel": texel_got[k].tolist(), "exact": texel_want[k].tolist()})
+        for k in range(len(keys)):
+            tracks.setdefault((int(keys[k, 0]), int(keys[k, 1]), int(keys[k, 2])), []).append(
+                (f, int(texel_got[k, 0]), int(texel_got[k, 1]), int(texel_want[k, 0]), int(texel_want[k, 1])))
+    backward = []
+    for (t, x, y), track in tracks.items():
+        if len(track) < 2:
+            continue
+        arr = np.array(track, dtype=float)
+        contiguous = np.diff(arr[:, 0]) == 1
+        for axis in (0, 1):
+            got_steps = np.where(contiguous, np.diff(arr[:, 1 + axis]), np.nan)
+            want_steps = np.where(contiguous, np.diff(arr[:, 3 + axis]), np.nan)
+            direction = filled_direction(want_steps)
+            back = np.isfinite(got_steps) & (got_steps != 0) & (np.sign(got_steps) == -direction) & (direction != 0)
+            for k in np.flatnonzero(back):
+                backward.append({"frame": int(arr[k + 1, 0]), "triangle": t, "x": x, "y": y, "axis": "uv"[axis]})
+    metrics = {"texel_mismatches": float(mismatches), "max_uv_error_texels": worst, "swim_backward_steps": float(len(backward))}
+    evidence: dict[str, Any] = {"series": {"mismatches": per_frame_mismatch, "max_uv_error_texels": per_frame_error}}
+    if examples:
+        evidence["mismatches"] = examples
+    if backward:
+        evidence["backward_steps"] = sorted(backward, key=lambda b: b["frame"])[:EVIDENCE_LIMIT]
+    ok = mismatches == 0 and not backward
+    message = (f"texels match the exact ones (largest u, v error {worst:.2g} texels)" if ok
+               else f"{mismatches} texel mismatches outside exact ties, {len(backward)} backward texel steps, largest u, v error {worst:.3g} texels")
+    return _result(case_id, "texel", ok, message, metrics, evidence)
+
+
+def perspective(case_id: str, coverages: list[Coverage], oracles: list[Coverage], texels: int,
+                tolerance: Tolerance = Tolerance()) -> Result:
+    """u, v against the exact perspective-correct values, in texels: the largest error may
+    not exceed ``tolerance.uv_error`` texels."""
+    worst = 0.0
+    where: dict[str, Any] = {}
+    for f, (cov, oracle) in enumerate(zip(coverages, oracles)):
+        keys, got, want = _matched(cov, oracle)
+        if not len(keys):
+            continue
+        error = np.abs(got[:, :2] - want[:, :2]).max(axis=1) * texels
+        error = np.where(np.isfinite(error), error, np.inf)
+        k = int(np.argmax(error))
+        if error[k] > worst:
+            worst = float(error[k])
+            where = {"frame": f, "triangle": int(keys[k, 0]), "x": int(keys[k, 1]), "y": int(keys[k, 2]),
+                     "uv": got[k, :2].tolist(), "exact_uv": want[k, :2].tolist()}
+    ok = worst <= tolerance.uv_error
+    message = (f"perspective-correct: largest u, v error {worst:.2g} texels" if ok
+               else f"u, v off by up to {worst:.3g} texels from the perspective-correct values (limit {tolerance.uv_error:g})")
+    return _result(case_id, "perspective", ok, message, {"max_uv_error_texels": worst}, {"worst": where} if where else {})

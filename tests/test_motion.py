@@ -1,0 +1,94 @@
+"""Motion checks: each fails on its known-bad rasterizers and passes on the built-ins."""
+
+import base64
+import io
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from cases.motion import MotionCase, motion_cases, rotate, translate, zoom
+from harness import run_suite
+from harness.api import Coverage, Scene
+from harness.motion import filled_direction, jaggy
+from tests.known_bad.interpolation import Float32DDA, InterpolationBug
+from tests.known_bad.scanlines import ScanlineBug
+
+MOTION = motion_cases(0)
+BUILTINS = ["floor_scanline", "centre_scanline", "pineda_topleft", "fixed_point"]
+
+MOTION_TABLE = {
+    ScanlineBug("no-prestep"): {"jaggy"},              # seed 000's first bug: no subpixel correction
+    InterpolationBug("no-subtexel"): {"texel"},        # seed 000's second bug
+    InterpolationBug("subtexel-wrong-sign"): {"texel"},
+    InterpolationBug("pixel-corner"): {"texel"},
+    InterpolationBug("affine"): {"perspective", "texel"},
+    Float32DDA(): {"jaggy"},
+}
+
+
+@pytest.fixture(scope="module")
+def motion_flags():
+    out = {}
+    for bad in MOTION_TABLE:
+        results = run_suite([bad], cases=MOTION, timeout=30.0, repros=False)
+        out[bad.name] = {}
+        for r in results:
+            if r.status in ("fail", "error"):
+                out[bad.name].setdefault(r.check, []).append(r)
+    return out
+
+
+@pytest.mark.parametrize("bad", list(MOTION_TABLE), ids=lambda b: b.name)
+def test_motion_known_bad_is_flagged(bad, motion_flags):
+    missing = MOTION_TABLE[bad] - set(motion_flags[bad.name])
+    assert not missing, f"{bad.name} not flagged by {sorted(missing)}"
+
+
+def test_builtins_pass_every_motion_check():
+    results = run_suite(BUILTINS, cases=MOTION)
+    bad = [(r.rasterizer, r.case, r.check, r.message) for r in results if r.status != "pass"]
+    assert not bad, bad[:5]
+    assert {r.check for r in results} == {"jaggy", "texel", "perspective"}
+
+
+def test_failures_carry_series_evidence_and_an_animation(motion_flags):
+    jump = next(r for r in motion_flags["bad_no-prestep"]["jaggy"] if r.metrics["backward_jumps"])
+    assert jump.evidence["backward_jumps"][0].keys() >= {"frame", "row", "column"}
+    series = jump.evidence["series"]
+    assert len(series["backward_jumps"]) == int(jump.metrics["frames"])
+    uri = jump.evidence["animation"]
+    image = Image.open(io.BytesIO(base64.b64decode(uri.split(",", 1)[1])))
+    assert image.format == "GIF" and image.n_frames > 1
+    texel = motion_flags["bad_no-subtexel"]["texel"][0]
+    assert texel.metrics["max_uv_error_texels"] > 0.01 and texel.evidence["mismatches"]
+
+
+def test_sequences_are_what_they_say():
+    tri = np.array([[[1.0, 1.0], [5.0, 1.0], [1.0, 5.0]]])
+    frames = translate(tri, (1 / 16, 0.0), 33)
+    assert len(frames) == 33 and frames[-1][0, 0, 0] - frames[0][0, 0, 0] == 2.0  # exact, two pixels
+    turned = rotate(tri, np.array([3.0, 3.0]), 0.05, 3)
+    assert np.allclose(np.linalg.norm(turned[2][0] - 3, axis=1), np.linalg.norm(tri[0] - 3, axis=1))
+    grown = zoom(tri, np.array([0.0, 0.0]), 0.01, 3)
+    assert np.allclose(grown[2], tri * 1.0201)
+    ids = [c.id for c in MOTION]
+    assert len(ids) == len(set(ids)) and all(isinstance(c, MotionCase) for c in MOTION)
+    assert any(c.perspective for c in MOTION) and {c.texels for c in MOTION} >= {8, 64, 256}
+
+
+def test_backward_jump_and_flicker_detection():
+    def frame(x0):
+        return Coverage([0], [0], [x0], [x0 + 3])
+
+    oracle = [frame(x) for x in (0, 0, 1, 1, 2)]
+    smooth = [frame(x) for x in (0, 1, 1, 1, 2)]
+    backward = [frame(x) for x in (0, 1, 0, 1, 2)]
+    assert jaggy("t", smooth, oracle, 1, 8, 1).status == "pass"
+    result = jaggy("t", backward, oracle, 1, 8, 1)
+    assert result.status == "fail" and result.metrics["backward_jumps"] == 2 and result.metrics["flicker"] > 0
+
+
+def test_filled_direction_uses_the_nearest_move():
+    steps = np.array([[0.0, 0.0], [0.0, -1.0], [1.0, 0.0], [0.0, 0.0]])
+    assert filled_direction(steps).tolist() == [[1.0, -1.0], [1.0, -1.0], [1.0, -1.0], [1.0, -1.0]]
