@@ -108,7 +108,8 @@ def motion_cases(seed: int, full: bool = False) -> list[MotionCase]:
                 if name != "triangle" and step != 1 / 16 and axis != "diagonal":
                     continue  # the finer steps on every geometry only along the diagonal
                 add(f"{name}/translate-{axis}-1/{int(1 / step)}", translate(geometry, direction, count))
-        add(f"{name}/rotate-0.05deg", rotate(geometry, rng.uniform(6, 14, 2), 0.05, 120))
+        for degrees in ((0.01, 0.05, 0.1) if full else (0.05,)):
+            add(f"{name}/rotate-{degrees:g}deg", rotate(geometry, rng.uniform(6, 14, 2), degrees, 120))
         add(f"{name}/zoom-0.1pct", zoom(geometry, rng.uniform(8, 12, 2), 0.001, 100))
     # a tall sliver far right on a large screen: two thousand rows down each long edge,
     # where single-precision stepping drifts by a visible fraction of a pixel

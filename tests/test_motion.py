@@ -92,3 +92,48 @@ def test_backward_jump_and_flicker_detection():
 def test_filled_direction_uses_the_nearest_move():
     steps = np.array([[0.0, 0.0], [0.0, -1.0], [1.0, 0.0], [0.0, 0.0]])
     assert filled_direction(steps).tolist() == [[1.0, -1.0], [1.0, -1.0], [1.0, -1.0], [1.0, -1.0]]
+
+
+OUTSIDE_TEXTURER = """
+import numpy as np
+from harness import Convention, Coverage
+from rasterizers.pineda_topleft import PinedaTopLeft
+
+
+class CornerTexturer:
+    '''Written outside rastercheck: right coverage, but u, v from barycentrics taken at
+    the pixel's integer corner.'''
+    name = "corner_texturer"
+    convention = Convention()
+
+    def rasterize(self, scene):
+        cov = PinedaTopLeft().rasterize(Scene_without_attributes(scene))
+        if scene.attributes is None:
+            return cov
+        t, x, y = cov.pixels()
+        p = scene.positions[t]
+        def area(a, b, c):
+            return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+        q = np.stack([x, y], axis=1).astype(float)
+        l0, l1, l2 = area(p[:, 1], p[:, 2], q), area(p[:, 2], p[:, 0], q), area(p[:, 0], p[:, 1], q)
+        total = l0 + l1 + l2
+        a = scene.attributes[t]
+        values = (l0[:, None] * a[:, 0] + l1[:, None] * a[:, 1] + l2[:, None] * a[:, 2]) / total[:, None]
+        return Coverage(cov.triangle, cov.y, cov.x0, cov.x1, values)
+
+
+def Scene_without_attributes(scene):
+    from harness import Scene
+    return Scene(scene.width, scene.height, scene.positions)
+"""
+
+
+def test_an_outside_rasterizer_with_a_motion_bug_is_flagged(tmp_path):
+    from harness.registry import load
+
+    path = tmp_path / "corner.py"
+    path.write_text(OUTSIDE_TEXTURER)
+    textured = [c for c in MOTION if c.texels and not c.perspective]
+    results = run_suite([load(f"{path}:CornerTexturer")], cases=textured, repros=False)
+    assert {r.check for r in results if r.status == "fail"} == {"texel"}
+    assert all(r.status == "pass" for r in results if r.check == "jaggy")
