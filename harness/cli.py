@@ -1,12 +1,19 @@
-"""The ``rastercheck`` command: run, bench, list."""
+"""The ``rastercheck`` command: run, gate, replay, bench, list.
+
+Exit codes: 0 everything passes, 1 a check fails or errors (for ``gate``: a regression),
+2 a usage or configuration error, reported in one line without a traceback.
+"""
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
-from dataclasses import asdict
+import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from typing import Any
 
 __all__ = ["main"]
 
@@ -15,7 +22,7 @@ class UsageError(Exception):
     """A usage or configuration problem: exit 2 with one line, no traceback."""
 
 
-def _load_all(specs: list[str] | None):  # type: ignore[no-untyped-def]
+def _load_all(specs: list[str] | None) -> tuple[list[Any], list[str]]:
     from harness.registry import available, load
 
     names = specs or available()
@@ -30,38 +37,109 @@ def _load_all(specs: list[str] | None):  # type: ignore[no-untyped-def]
     return loaded, problems
 
 
-def _run(args: argparse.Namespace) -> int:
-    import time
+def _quiet() -> bool:
+    return bool(os.environ.get("CI")) or not sys.stderr.isatty()
 
-    from harness.files import atomic_write_text
-    from harness.report import write_report
+
+def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float]:
+    """Run the selected rasterizers over the suite, in parallel with --jobs, with a
+    progress bar on a terminal. Returns (rasterizers, results, seconds)."""
+    from cases.suites import suite
     from harness.runner import run_suite
 
     rasterizers, problems = _load_all(args.rasterizer)
     for problem in problems:
-        print(f"skipped: {problem}", file=sys.stderr)
+        print(f"skipped plugin: {problem}", file=sys.stderr)
+    try:
+        cases = suite(args.suite, args.seed)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     start = time.perf_counter()
-    results = []
-    for r in rasterizers:
-        mine = run_suite([r], suite=args.suite, seed=args.seed, timeout=args.timeout)
-        results.extend(mine)
-        bad = [x for x in mine if x.status in ("fail", "error")]
-        print(f"{r.name:<20} {len(mine) - len(bad)}/{len(mine)} results pass or skip" + (f", {len(bad)} failing" if bad else ""))
-    seconds = time.perf_counter() - start
-    written = _write_repros(Path(args.out), results)
-    if written:
-        print(f"repros: {written} minimal failing cases in {Path(args.out) / 'repros'}")
+    progress = None
+    if not _quiet():
+        from rich.progress import Progress
+
+        progress = Progress(transient=True)
+        progress.start()
+    tasks = {r.name: progress.add_task(r.name, total=len(cases)) if progress else None for r in rasterizers}
+    seen: dict[str, set[str]] = {r.name: set() for r in rasterizers}
+
+    def tick(result: Any) -> None:
+        if progress is not None and result.case not in seen[result.rasterizer]:
+            seen[result.rasterizer].add(result.case)
+            progress.advance(tasks[result.rasterizer])
+
+    def one(r: Any) -> list[Any]:
+        return run_suite([r], cases=cases, timeout=args.timeout, on_result=tick)
+
+    try:
+        if args.jobs <= 1:
+            per_rasterizer = [one(r) for r in rasterizers]
+        else:
+            with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+                per_rasterizer = list(pool.map(one, rasterizers))
+    finally:
+        if progress is not None:
+            progress.stop()
+    results = [r for chunk in per_rasterizer for r in chunk]
+    return rasterizers, results, time.perf_counter() - start
+
+
+def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: list[Any], seconds: float) -> None:
+    from harness.output import write_json, write_junit
+    from harness.report import write_report
+
+    out = Path(args.out)
+    written = _write_repros(out, results)
     conventions = {r.name: (r.convention.describe() if r.convention else "none declared") for r in rasterizers}
-    path = write_report(Path(args.out), conventions, results, args.seed, args.suite, seconds)
-    print(f"report: {path}")
+    path = write_report(out, conventions, results, args.seed, args.suite, seconds)
+    print(f"report: {path}" + (f"; {written} minimal repros in {out / 'repros'}" if written else ""))
     if args.json:
-        payload = {"schema": 1, "suite": args.suite, "seed": args.seed, "results": [asdict(x) for x in results]}
-        atomic_write_text(Path(args.json), json.dumps(payload, indent=2, default=str))
+        write_json(args.json, results, args.suite, args.seed, conventions)
+    if args.junit:
+        write_junit(args.junit, results)
+
+
+def _summary(rasterizers: list[Any], results: list[Any]) -> None:
+    for r in rasterizers:
+        mine = [x for x in results if x.rasterizer == r.name]
+        bad = sum(x.status in ("fail", "error") for x in mine)
+        print(f"{r.name:<22} {len(mine) - bad}/{len(mine)} pass or skip" + (f", {bad} failing" if bad else ""))
+
+
+def _run(args: argparse.Namespace) -> int:
+    rasterizers, results, seconds = _execute(args)
+    _summary(rasterizers, results)
+    _write_outputs(args, rasterizers, results, seconds)
     return 1 if any(x.status in ("fail", "error") for x in results) else 0
 
 
-def _write_repros(out: Path, results: list) -> int:  # type: ignore[type-arg]
-    """Save each attached minimal repro as reports/repros/<rasterizer>/<case>--<check>.json."""
+def _gate(args: argparse.Namespace) -> int:
+    from harness.gate import compare_with_baseline, load_baseline, save_baseline
+
+    baseline: dict[str, Any] = {}
+    if not args.update_baseline or Path(args.baseline).exists():
+        try:
+            baseline = load_baseline(args.baseline)
+        except ValueError as exc:
+            if not args.update_baseline:
+                raise UsageError(str(exc)) from None
+    rasterizers, results, seconds = _execute(args)
+    _write_outputs(args, rasterizers, results, seconds)
+    if args.update_baseline:
+        save_baseline(args.baseline, results, baseline)
+        print(f"baseline updated: {args.baseline} ({len(results)} entries)")
+        return 0
+    verdict = compare_with_baseline(results, baseline)
+    for line in verdict.lines():
+        print(line)
+    print(f"gate: {len(verdict.regressions)} regressions, {len(verdict.fixed)} unexpectedly passing, "
+          f"{len(verdict.known)} known failures")
+    return 0 if verdict.ok else 1
+
+
+def _write_repros(out: Path, results: list[Any]) -> int:
+    """Save each attached minimal repro as <out>/repros/<rasterizer>/<case>--<check>.json."""
     from harness.files import atomic_write_text
 
     count = 0
@@ -69,8 +147,7 @@ def _write_repros(out: Path, results: list) -> int:  # type: ignore[type-arg]
         payload = r.evidence.get("repro")
         if payload is None:
             continue
-        name = f"{r.case.replace('/', '_')}--{r.check}.json"
-        path = out / "repros" / r.rasterizer / name
+        path = out / "repros" / r.rasterizer / f"{r.case.replace('/', '_')}--{r.check}.json"
         atomic_write_text(path, json.dumps(payload, indent=1))
         r.evidence["repro_path"] = str(path.relative_to(out))
         count += 1
@@ -107,37 +184,58 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _list(args: argparse.Namespace) -> int:
+    from cases.suites import SUITES, suite
+    from harness.checks import CHECKS
+
     rasterizers, problems = _load_all(None)
+    print("rasterizers:")
     for r in rasterizers:
-        print(f"{r.name:<20} {r.convention.describe() if r.convention else 'declares no convention'}")
+        print(f"  {r.name:<20} {r.convention.describe() if r.convention else 'declares no convention'}")
     for problem in problems:
-        print(f"skipped: {problem}")
+        print(f"  skipped plugin: {problem}")
+    print("suites:")
+    for name in SUITES:
+        print(f"  {name:<20} {len(suite(name))} cases")
+    print("checks:")
+    print("  " + ", ".join(CHECKS))
     return 0
+
+
+def _selection(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--rasterizer", action="append", metavar="SPEC",
+                        help="built-in name, module:attr or file.py:attr (repeatable; default all)")
+    parser.add_argument("--suite", default="quick", help="quick or full (default quick)")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--jobs", type=int, default=1, help="rasterizers checked side by side")
+    parser.add_argument("--timeout", type=float, default=60.0, help="seconds one rasterize call may take")
+    parser.add_argument("--out", default="reports", help="report directory (default reports/)")
+    parser.add_argument("--json", metavar="FILE", help="also write results as JSON (schema 1)")
+    parser.add_argument("--junit", metavar="FILE", help="also write JUnit XML")
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="rastercheck", description="Rasterization conformance and artifact harness.")
     sub = parser.add_subparsers(dest="command", required=True)
-    run = sub.add_parser("run", help="run the conformance suite and write the HTML report")
-    run.add_argument("--rasterizer", action="append", metavar="SPEC", help="built-in name, module:attr or file.py:attr (repeatable; default all)")
-    run.add_argument("--out", default="reports", help="report directory (default reports/)")
-    run.add_argument("--json", metavar="FILE", help="also write results as JSON")
-    run.add_argument("--seed", type=int, default=0)
-    run.add_argument("--suite", choices=["quick", "full"], default="quick")
-    run.add_argument("--timeout", type=float, default=60.0, help="seconds one rasterize call may take")
+    run = sub.add_parser("run", help="run the suite and write the HTML report")
+    _selection(run)
     run.set_defaults(func=_run)
+    gate = sub.add_parser("gate", help="fail only on regressions against a baseline (for CI)")
+    _selection(gate)
+    gate.add_argument("--baseline", required=True, metavar="FILE")
+    gate.add_argument("--update-baseline", action="store_true", help="write this run as the new baseline")
+    gate.set_defaults(func=_gate)
+    rep = sub.add_parser("replay", help="run the checks of a saved case (a minimal repro) on a rasterizer")
+    rep.add_argument("case", help="a case JSON file, as written under reports/repros/")
+    rep.add_argument("--rasterizer", required=True, metavar="SPEC")
+    rep.add_argument("--timeout", type=float, default=60.0)
+    rep.set_defaults(func=_replay)
     bench = sub.add_parser("bench", help="throughput against Pillow, as ratios measured in one run")
     bench.add_argument("--rasterizer", action="append", metavar="SPEC")
     bench.add_argument("--json", metavar="FILE", help="write the measurements as JSON")
     bench.add_argument("--scale", type=float, default=1.0, help="shrink the workloads (smoke tests)")
     bench.add_argument("--budget", type=float, default=1.0, help="seconds of repeats per contender")
     bench.set_defaults(func=_bench)
-    rep = sub.add_parser("replay", help="run the checks of a saved case (a minimal repro) on a rasterizer")
-    rep.add_argument("case", help="a case JSON file, as written under reports/repros/")
-    rep.add_argument("--rasterizer", required=True, metavar="SPEC")
-    rep.add_argument("--timeout", type=float, default=60.0)
-    rep.set_defaults(func=_replay)
-    lst = sub.add_parser("list", help="registered rasterizers and their conventions")
+    lst = sub.add_parser("list", help="rasterizers with their conventions, suites, checks")
     lst.set_defaults(func=_list)
     return parser
 
