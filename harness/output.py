@@ -40,7 +40,7 @@ from harness.files import atomic_write_text
 __all__ = ["SCHEMA", "results_to_json", "results_from_json", "write_json", "write_junit"]
 
 SCHEMA = 1
-_PICTURES = ("animation", "images")
+_PICTURES = ("animation", "images", "plot")
 
 
 def _clean(value: Any) -> Any:

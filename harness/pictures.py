@@ -79,3 +79,112 @@ def motion_animation(coverages: list[Coverage], oracles: list[Coverage], width: 
     buffer = io.BytesIO()
     images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:], duration=80, loop=0)
     return "data:image/gif;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+# -- still pictures for failures of single-scene checks ------------------------------------
+
+HEAT = {0: (255, 255, 255), 1: (190, 190, 190)}
+HEAT_LEGEND = {"not hit": (255, 255, 255), "hit once": (190, 190, 190), "hit twice or more": (220, 40, 40),
+               "hole (inside, not hit)": (120, 60, 220), "stray (outside, hit)": (255, 150, 0)}
+DIFF_LEGEND = {"both": (190, 190, 190), "missing (oracle only)": (150, 60, 200), "extra (rasterizer only)": (220, 40, 40),
+               "near tie": (255, 210, 0)}
+
+
+def _png(rgb: NDArray, scale: int) -> str:
+    image = Image.fromarray(np.ascontiguousarray(rgb)).resize((rgb.shape[1] * scale, rgb.shape[0] * scale), Image.NEAREST)
+    buffer = io.BytesIO()
+    image.save(buffer, format="PNG")
+    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
+
+
+def window_around(x: int, y: int, width: int, height: int, side: int) -> tuple[int, int, int, int]:
+    """A side x side window of the viewport centred near (x, y)."""
+    x0 = int(np.clip(x - side // 2, 0, max(width - side, 0)))
+    y0 = int(np.clip(y - side // 2, 0, max(height - side, 0)))
+    return x0, y0, min(x0 + side, width), min(y0 + side, height)
+
+
+def heatmap(counts: NDArray, holes: NDArray | None = None, strays: NDArray | None = None,
+            window: tuple[int, int, int, int] | None = None) -> str:
+    """Hit counts per pixel as a PNG data URI: white 0, grey 1, red 2+, purple holes,
+    orange strays (colours in HEAT_LEGEND)."""
+    rgb = np.full(counts.shape + (3,), 255, dtype=np.uint8)
+    rgb[counts == 1] = HEAT_LEGEND["hit once"]
+    rgb[counts >= 2] = HEAT_LEGEND["hit twice or more"]
+    if holes is not None:
+        rgb[holes] = HEAT_LEGEND["hole (inside, not hit)"]
+    if strays is not None:
+        rgb[strays] = HEAT_LEGEND["stray (outside, hit)"]
+    if window is not None:
+        x0, y0, x1, y1 = window
+        rgb = rgb[y0:y1, x0:x1]
+    return _png(rgb, max(1, 384 // max(rgb.shape)))
+
+
+def oracle_diff(width: int, height: int, got: NDArray, want: NDArray, pixels: list[dict[str, Any]],
+                window: tuple[int, int, int, int] | None = None) -> str:
+    """dEQP-style diff as a PNG data URI: both grey, missing purple, extra red, near-tie
+    yellow (colours in DIFF_LEGEND)."""
+    rgb = np.full((height, width, 3), 255, dtype=np.uint8)
+    rgb[got & want] = DIFF_LEGEND["both"]
+    rgb[want & ~got] = DIFF_LEGEND["missing (oracle only)"]
+    rgb[got & ~want] = DIFF_LEGEND["extra (rasterizer only)"]
+    for p in pixels:
+        x, y = int(p["x"]), int(p["y"])
+        if 0 <= x < width and 0 <= y < height:
+            kind = "near tie" if p.get("near_tie") else ("missing (oracle only)" if p["kind"] == "missing" else "extra (rasterizer only)")
+            rgb[y, x] = DIFF_LEGEND[kind]
+    if window is not None:
+        x0, y0, x1, y1 = window
+        rgb = rgb[y0:y1, x0:x1]
+    return _png(rgb, max(1, 384 // max(rgb.shape)))
+
+
+def svg_crop(positions: NDArray, coverage: Coverage, sample: tuple[float, float], window: tuple[int, int, int, int],
+             marks: list[tuple[int, int]]) -> str:
+    """The pixel grid of a small window with its sample points, the covered pixels, the
+    marked pixels outlined, and the triangles drawn as vectors over them (SVG data URI)."""
+    x0, y0, x1, y1 = window
+    scale = 24
+    w, h = (x1 - x0) * scale, (y1 - y0) * scale
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">',
+             f'<rect width="{w}" height="{h}" fill="white"/>']
+    t, x, y = coverage.pixels()
+    inside = (x >= x0) & (x < x1) & (y >= y0) & (y < y1)
+    for px, py in set(zip(x[inside].tolist(), y[inside].tolist())):
+        parts.append(f'<rect x="{(px - x0) * scale}" y="{(py - y0) * scale}" width="{scale}" height="{scale}" fill="#c8c8c8"/>')
+    for i in range(x1 - x0 + 1):
+        parts.append(f'<line x1="{i * scale}" y1="0" x2="{i * scale}" y2="{h}" stroke="#999" stroke-width="0.5"/>')
+    for j in range(y1 - y0 + 1):
+        parts.append(f'<line x1="0" y1="{j * scale}" x2="{w}" y2="{j * scale}" stroke="#999" stroke-width="0.5"/>')
+    for i in range(x1 - x0):
+        for j in range(y1 - y0):
+            parts.append(f'<circle cx="{(i + sample[0]) * scale:.2f}" cy="{(j + sample[1]) * scale:.2f}" r="1.5" fill="#333"/>')
+    for mx, my in marks:
+        if x0 <= mx < x1 and y0 <= my < y1:
+            parts.append(f'<rect x="{(mx - x0) * scale + 1}" y="{(my - y0) * scale + 1}" width="{scale - 2}" height="{scale - 2}" '
+                         f'fill="none" stroke="#d00" stroke-width="2"/>')
+    finite = np.all(np.isfinite(positions), axis=(1, 2))
+    near = finite & np.any((positions[..., 0] > x0 - 64) & (positions[..., 0] < x1 + 64), axis=1)
+    for tri in positions[near][:200]:
+        pts = " ".join(f"{(vx - x0) * scale:.3f},{(vy - y0) * scale:.3f}" for vx, vy in np.clip(tri, -1e6, 1e6))
+        parts.append(f'<polygon points="{pts}" fill="none" stroke="#0050c8" stroke-width="1"/>')
+    parts.append("</svg>")
+    return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
+
+
+def series_plot(series: dict[str, list[float]], width: int = 480, height: int = 160) -> str:
+    """Per-frame metric series as a small SVG line chart (data URI), one colour each."""
+    colours = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd"]
+    values = [np.nan_to_num(np.asarray(v, dtype=float), posinf=0.0) for v in series.values()]
+    top = max([float(v.max()) for v in values if v.size] + [1.0])
+    frames = max([v.size for v in values] + [2])
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height + 20 * len(values)}">',
+             f'<rect width="{width}" height="{height}" fill="white" stroke="#999"/>']
+    for k, ((name, _), v) in enumerate(zip(series.items(), values)):
+        pts = " ".join(f"{i * (width - 1) / (frames - 1):.1f},{height - 1 - v[i] / top * (height - 10):.1f}" for i in range(v.size))
+        colour = colours[k % len(colours)]
+        parts.append(f'<polyline points="{pts}" fill="none" stroke="{colour}" stroke-width="1.5"/>')
+        parts.append(f'<text x="4" y="{height + 15 + 20 * k}" font-size="12" fill="{colour}">{name} (max {float(v.max()) if v.size else 0:g})</text>')
+    parts.append("</svg>")
+    return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")

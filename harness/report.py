@@ -1,24 +1,38 @@
-"""The HTML report, rendered on the server side with Jinja2 (autoescape on)."""
+"""The HTML report: an index with the summary matrix and convention cards, and one page
+per rasterizer with each failure's pictures. Static, self-contained (images as data URIs),
+rendered on the server side with Jinja2 autoescape, readable without JavaScript."""
 
 from __future__ import annotations
 
 import json
 import os
 import platform
+import re
 import time
 from pathlib import Path
+from typing import Any
 
+import numba
+import numpy as np
 from jinja2 import Environment, PackageLoader, select_autoescape
 
 import harness
 from harness.checks import CHECKS, Result
 from harness.files import atomic_write_text
+from harness.pictures import DIFF_LEGEND, HEAT_LEGEND, LEGEND
 
-__all__ = ["write_report"]
+__all__ = ["write_report", "page_name"]
+
+CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop: triangles over the pixel grid",
+            "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics"}
 
 
 def _environment() -> Environment:
     return Environment(loader=PackageLoader("harness", "templates"), autoescape=select_autoescape(["html"]))
+
+
+def page_name(rasterizer: str) -> str:
+    return "rasterizer-" + re.sub(r"[^A-Za-z0-9_.-]", "_", rasterizer) + ".html"
 
 
 def _cell(results: list[Result]) -> dict[str, str]:
@@ -29,31 +43,48 @@ def _cell(results: list[Result]) -> dict[str, str]:
     return {"status": status, "text": " / ".join(str(counts[s]) for s in ("pass", "fail", "error", "skip"))}
 
 
+def _problem(r: Result, index: int) -> dict[str, Any]:
+    images = [(CAPTIONS[k], v) for k, v in r.evidence.get("images", {}).items()]
+    for key in ("animation", "plot"):
+        if key in r.evidence:
+            images.append((CAPTIONS[key], r.evidence[key]))
+    hidden = ("traceback", "repro", "repro_path", "images", "animation", "plot")
+    text = json.dumps({k: v for k, v in r.evidence.items() if k not in hidden}, default=str)[:4000]
+    if "traceback" in r.evidence:
+        text += "\n" + r.evidence["traceback"]
+    repro = r.evidence.get("repro", {})
+    return {"case": r.case, "check": r.check, "status": r.status, "message": r.message, "anchor": f"failure-{index}",
+            "images": images, "evidence_text": text if text.strip("{} \n") else "",
+            "repro_path": r.evidence.get("repro_path"), "repro_size": len(repro.get("positions", [])),
+            "repro_of": repro.get("original_triangles")}
+
+
 def write_report(out_dir: Path, conventions: dict[str, str], results: list[Result], seed: int,
                  suite: str = "quick", seconds: float = 0.0) -> Path:
-    """Write ``index.html`` into ``out_dir`` atomically; return its path."""
+    """Write ``index.html`` and one page per rasterizer into ``out_dir`` atomically."""
+    out_dir = Path(out_dir)
     checks = [c for c in ("run", *CHECKS) if any(r.check == c for r in results)]
-    rows = []
-    for name, convention in conventions.items():
-        mine = [r for r in results if r.rasterizer == name]
-        problems = [
-            {**{k: getattr(r, k) for k in ("case", "check", "status", "message", "evidence")},
-             "repro_path": r.evidence.get("repro_path"),
-             "repro_size": len(r.evidence.get("repro", {}).get("positions", [])),
-             "evidence_text": json.dumps({k: v for k, v in r.evidence.items() if k not in ("traceback", "repro", "repro_path")}, default=str)[:2000]
-             + ("\n" + r.evidence["traceback"] if "traceback" in r.evidence else "")}
-            for r in mine if r.status != "pass"
-        ]
-        rows.append({
-            "name": name, "convention": convention, "total": len(mine), "problems": problems,
-            "cells": [_cell([r for r in mine if r.check == c]) for c in checks],
-        })
     meta = {
         "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "version": harness.__version__, "seed": seed,
         "suite": suite, "seconds": f"{seconds:.1f}", "python": platform.python_version(),
+        "numpy": np.__version__, "numba": numba.__version__,
         "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, {platform.system()}",
     }
-    html = _environment().get_template("index.html").render(rows=rows, checks=checks, meta=meta)
-    path = Path(out_dir) / "index.html"
+    env = _environment()
+    rows = []
+    for name, convention in conventions.items():
+        mine = [r for r in results if r.rasterizer == name]
+        problems = [_problem(r, i) for i, r in enumerate(x for x in mine if x.status in ("fail", "error"))]
+        row = {
+            "name": name, "convention": convention, "total": len(mine), "problems": problems, "page": page_name(name),
+            "counts": {s: sum(r.status == s for r in mine) for s in ("pass", "fail", "error", "skip")},
+            "cells": [_cell([r for r in mine if r.check == c]) for c in checks],
+        }
+        rows.append(row)
+        html = env.get_template("rasterizer.html").render(
+            row=row, meta=meta, heat_legend=HEAT_LEGEND.items(), diff_legend=DIFF_LEGEND.items(), motion_legend=LEGEND.items())
+        atomic_write_text(out_dir / row["page"], html)
+    html = env.get_template("index.html").render(rows=rows, checks=checks, meta=meta)
+    path = out_dir / "index.html"
     atomic_write_text(path, html)
     return path

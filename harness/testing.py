@@ -32,9 +32,10 @@ def assert_conforms(rasterizer: Rasterizer | str, suite: str = "quick", seed: in
     """Run a suite on a rasterizer and raise AssertionError listing every failure or error
     (with paths to minimal repros); return the results when all pass or skip.
 
-    Examples
-    --------
-    >>> results = assert_conforms("fixed_point")  # doctest: +SKIP
+    Use it in a test of your own::
+
+        def test_my_rasterizer_conforms():
+            assert_conforms("my_raster.py:MyRasterizer")
     """
     from harness.runner import run_suite
 

@@ -59,6 +59,7 @@ def test_cli_run_writes_report_and_json(tmp_path, capsys):
     assert code == 0
     html = (out / "index.html").read_text()
     assert "centre_scanline" in html and "fixed_point" in html and "<script" not in html
+    assert (out / "rasterizer-centre_scanline.html").exists()
     data = json.loads((tmp_path / "r.json").read_text())
     assert data["schema"] == 1 and {r["status"] for r in data["results"]} <= {"pass", "skip"}
     assert {r["check"] for r in data["results"]} >= {"hygiene", "conformance", "watertight", "closed", "degenerate", "invariance"}
@@ -76,6 +77,7 @@ def test_cli_run_fails_on_a_wrong_rasterizer(tmp_path):
     code = main(["run", "--rasterizer", f"{path}:Liar", "--out", str(tmp_path / "rep")])
     assert code == 1
     assert "fail" in (tmp_path / "rep" / "index.html").read_text()
+    assert "against the oracle" in (tmp_path / "rep" / "rasterizer-liar.html").read_text()
 
 
 def test_cli_usage_errors_exit_2(capsys):
@@ -138,8 +140,9 @@ def test_an_outside_rasterizer_is_flagged_with_repros(tmp_path, capsys):
     assert {"conformance", "watertight", "closed", "invariance"} <= failed
     repros = list((out / "repros" / "hobby").glob("*.json"))
     assert repros
-    html = (out / "index.html").read_text()
-    assert "minimal repro" in html
+    html = (out / "rasterizer-hobby.html").read_text()
+    assert "minimal repro" in html and "data:image/png;base64," in html and "data:image/svg+xml;base64," in html
+    assert 'href="rasterizer-hobby.html"' in (out / "index.html").read_text()
     assert main(["replay", str(repros[0]), "--rasterizer", f"{path}:Hobby"]) == 1
     assert all(main(["replay", str(r), "--rasterizer", "centre_scanline"]) == 0 for r in repros)
     assert main(["replay", str(tmp_path / "missing.json"), "--rasterizer", "centre_scanline"]) == 2
