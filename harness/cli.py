@@ -1,4 +1,4 @@
-"""The ``rastercheck`` command: run, gate, replay, bench, list.
+"""The ``rastercheck`` command: run, gate, compare, replay, bench, list.
 
 Exit codes: 0 everything passes, 1 a check fails or errors (for ``gate``: a regression),
 2 a usage or configuration error, reported in one line without a traceback.
@@ -154,6 +154,28 @@ def _write_repros(out: Path, results: list[Any]) -> int:
     return count
 
 
+def _compare(args: argparse.Namespace) -> int:
+    from harness.compare import CANDIDATES, as_dict, compare
+    from harness.files import atomic_write_text
+    from harness.report import write_comparison
+
+    if len(args.specs) < 2:
+        raise UsageError("compare needs at least two rasterizers")
+    rasterizers, _ = _load_all(args.specs)
+    explanations, comparisons = compare(rasterizers, seed=args.seed)
+    for e in explanations:
+        verdict = "exactly" if e.exact else f"best, with {e.mismatches} mismatching pixels of {e.pixels}"
+        print(f"{e.rasterizer:<22} {e.convention.describe()} ({verdict})")
+    for c in comparisons:
+        print(f"{c.a} vs {c.b}: {c.differing_pixels} pixels differ; {c.separation}")
+    data = as_dict(explanations, comparisons)
+    path = write_comparison(Path(args.out), data, len(CANDIDATES), args.seed)
+    if args.json:
+        atomic_write_text(Path(args.json), json.dumps({"schema": 1, **data}, indent=1))
+    print(f"report: {path}")
+    return 0
+
+
 def _replay(args: argparse.Namespace) -> int:
     from harness.repro import load_case
     from harness.runner import run_suite
@@ -224,6 +246,12 @@ def build_parser() -> argparse.ArgumentParser:
     gate.add_argument("--baseline", required=True, metavar="FILE")
     gate.add_argument("--update-baseline", action="store_true", help="write this run as the new baseline")
     gate.set_defaults(func=_gate)
+    cmp = sub.add_parser("compare", help="pixel differences between rasterizers, and the convention that separates them")
+    cmp.add_argument("specs", nargs="+", metavar="SPEC")
+    cmp.add_argument("--seed", type=int, default=0)
+    cmp.add_argument("--out", default="reports")
+    cmp.add_argument("--json", metavar="FILE")
+    cmp.set_defaults(func=_compare)
     rep = sub.add_parser("replay", help="run the checks of a saved case (a minimal repro) on a rasterizer")
     rep.add_argument("case", help="a case JSON file, as written under reports/repros/")
     rep.add_argument("--rasterizer", required=True, metavar="SPEC")
@@ -241,6 +269,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    if "" not in sys.path and os.getcwd() not in sys.path:
+        sys.path.insert(0, os.getcwd())  # as `python -m` does: module:attr specs of the project at hand
     parser = build_parser()
     args = parser.parse_args(argv)
     try:

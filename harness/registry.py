@@ -82,6 +82,9 @@ def _import_file(path: Path) -> Any:
         raise ValueError(f"{path}: cannot be imported as Python")
     module = importlib.util.module_from_spec(spec)
     sys.modules[module_name] = module
+    folder = str(path.resolve().parent)
+    if folder not in sys.path:
+        sys.path.append(folder)  # so the file can import its neighbours
     try:
         spec.loader.exec_module(module)
     except Exception as exc:

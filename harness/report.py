@@ -21,7 +21,7 @@ from harness.checks import CHECKS, Result
 from harness.files import atomic_write_text
 from harness.pictures import DIFF_LEGEND, HEAT_LEGEND, LEGEND
 
-__all__ = ["write_report", "page_name"]
+__all__ = ["write_report", "write_comparison", "page_name"]
 
 CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop: triangles over the pixel grid",
             "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics"}
@@ -86,5 +86,18 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
         atomic_write_text(out_dir / row["page"], html)
     html = env.get_template("index.html").render(rows=rows, checks=checks, meta=meta)
     path = out_dir / "index.html"
+    atomic_write_text(path, html)
+    return path
+
+
+def write_comparison(out_dir: Path, data: dict[str, Any], candidates: int, seed: int) -> Path:
+    """Write ``compare.html`` (the comparison page) into ``out_dir`` atomically."""
+    meta = {
+        "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "version": harness.__version__, "seed": seed, "suite": "lattice",
+        "python": platform.python_version(), "numpy": np.__version__, "numba": numba.__version__,
+        "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, {platform.system()}",
+    }
+    html = _environment().get_template("compare.html").render(data=data, candidates=candidates, meta=meta)
+    path = Path(out_dir) / "compare.html"
     atomic_write_text(path, html)
     return path

@@ -235,8 +235,9 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
         evidence = r.evidence
         if r.status == "fail":
             marks = [*evidence.get("backward_jumps", []), *evidence.get("mismatches", []), *evidence.get("backward_steps", [])]
-            evidence = {**evidence, "animation": pictures.motion_animation(coverages, oracles, first.width, first.height, marks, case.texels),
-                        "plot": pictures.series_plot(evidence["series"])}
+            evidence = {**evidence, "animation": pictures.motion_animation(coverages, oracles, first.width, first.height, marks, case.texels)}
+            if "series" in evidence:
+                evidence["plot"] = pictures.series_plot(evidence["series"])
         out.append(replace(r, rasterizer=name, evidence=evidence, metrics={**r.metrics, "seconds": seconds}))
     return out
 

@@ -98,3 +98,33 @@ def test_pytest_plugin_runs_the_suite_as_items(tmp_path):
     assert failing.returncode == 1
     assert "centre_scanline lattice/bits-0 [conformance] fail" in failing.stdout
     assert "minimal repro: " in failing.stdout
+
+
+def test_compare_names_the_convention_that_separates(tmp_path, capsys):
+    assert main(["compare", "centre_scanline", "floor_scanline", "fixed_point", "--out", str(tmp_path), "--json", str(tmp_path / "c.json")]) == 0
+    out = capsys.readouterr().out
+    assert "centre_scanline vs floor_scanline" in out and "half-pixel shift of the sample point by (+0.5, +0.5)" in out
+    assert "mirrored tie rule (top-left vs bottom-right)" in out
+    assert "centre_scanline vs fixed_point: 0 pixels differ" in out
+    data = json.loads((tmp_path / "c.json").read_text())
+    assert all(e["exact"] for e in data["explanations"])
+    assert "separated by" in (tmp_path / "compare.html").read_text()
+    assert main(["compare", "centre_scanline"]) == 2
+
+
+def test_a_broken_plugin_is_reported_and_skipped(monkeypatch, capsys):
+    from importlib.metadata import EntryPoint
+
+    import harness.registry as registry
+
+    real = registry.entry_points
+
+    def with_broken(group):
+        return [*real(group=group), EntryPoint("broken_plugin", "no_such_module_xyz:Thing", group)]
+
+    monkeypatch.setattr(registry, "entry_points", with_broken)
+    assert "broken_plugin" in registry.available()
+    assert main(["list"]) == 0
+    assert "skipped plugin: broken_plugin: plugin failed to load" in capsys.readouterr().out
+    monkeypatch.setenv("RASTERCHECK_NO_PLUGINS", "1")
+    assert "broken_plugin" not in registry.available()
