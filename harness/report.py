@@ -84,7 +84,8 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
         html = env.get_template("rasterizer.html").render(
             row=row, meta=meta, heat_legend=HEAT_LEGEND.items(), diff_legend=DIFF_LEGEND.items(), motion_legend=LEGEND.items())
         atomic_write_text(out_dir / row["page"], html)
-    html = env.get_template("index.html").render(rows=rows, checks=checks, meta=meta)
+    html = env.get_template("index.html").render(rows=rows, checks=checks, meta=meta,
+                                                 has_comparison=(out_dir / "compare.html").exists())
     path = out_dir / "index.html"
     atomic_write_text(path, html)
     return path
