@@ -26,7 +26,7 @@ from PIL import Image, ImageDraw
 from harness.api import Scene
 from harness.conventions import Convention
 from harness.oracle import exact_coverage
-from harness.registry import available, load
+from harness.registry import builtins, load
 from cases.scenes import random_triangles
 
 __all__ = ["Workload", "workloads", "run_bench", "format_table"]
@@ -100,7 +100,7 @@ def _time(fn: Callable[[], object], budget: float) -> tuple[float, float, int]:
 
 def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float = 1.0) -> list[Measurement]:
     """Measure Pillow, the oracle and each rasterizer on W1 and W2 in this process."""
-    names = names if names is not None else available()
+    names = names if names is not None else builtins()
     rasterizers = [load(n) for n in names]
     oracle_convention = Convention()
     results = []

@@ -1,4 +1,4 @@
-"""The ``rastercheck`` command: run, gate, compare, replay, bench, list.
+"""The ``rastercheck`` command: run, gate, compare, identify, replay, bench, list.
 
 Exit codes: 0 everything passes, 1 a check fails or errors (for ``gate``: a regression),
 2 a usage or configuration error, reported in one line without a traceback.
@@ -23,13 +23,15 @@ class UsageError(Exception):
 
 
 def _load_all(specs: list[str] | None) -> tuple[list[Any], list[str]]:
-    from harness.registry import available, load
+    from harness.registry import Unavailable, available, load
 
     names = specs or available()
     loaded, problems = [], []
     for spec in names:
         try:
             loaded.append(load(spec))
+        except Unavailable as exc:  # a missing library: skipped with its install hint, never fatal
+            print(f"skipped {spec}: {exc}", file=sys.stderr)
         except ValueError as exc:
             if specs:  # the user named it: a configuration error
                 raise UsageError(str(exc)) from None
@@ -47,9 +49,13 @@ def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float]:
     from cases.suites import suite
     from harness.runner import run_suite
 
+    from harness.identify import Identified, identify_isolated
+
     rasterizers, problems = _load_all(args.rasterizer)
     for problem in problems:
         print(f"skipped plugin: {problem}", file=sys.stderr)
+    # a rasterizer that declares no convention is checked against the one identified for it
+    rasterizers = [Identified(r, identify_isolated(r, args.seed)) if r.convention is None else r for r in rasterizers]
     try:
         cases = suite(args.suite, args.seed)
     except ValueError as exc:
@@ -91,13 +97,21 @@ def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: li
 
     out = Path(args.out)
     written = _write_repros(out, results)
-    conventions = {r.name: (r.convention.describe() if r.convention else "none declared") for r in rasterizers}
+    conventions = {r.name: _convention_text(r) for r in rasterizers}
     path = write_report(out, conventions, results, args.seed, args.suite, seconds)
     print(f"report: {path}" + (f"; {written} minimal repros in {out / 'repros'}" if written else ""))
     if args.json:
         write_json(args.json, results, args.suite, args.seed, conventions)
     if args.junit:
         write_junit(args.junit, results)
+
+
+def _convention_text(r: Any) -> str:
+    fingerprint = getattr(r, "fingerprint", None)
+    if fingerprint is not None:
+        quality = "exactly" if fingerprint.exact else f"best guess, residual {fingerprint.residual} pixels"
+        return f"none declared; identified as {r.convention.describe()} ({quality}), used for the convention-bound checks"
+    return r.convention.describe() if r.convention else "none declared"
 
 
 def _summary(rasterizers: list[Any], results: list[Any]) -> None:
@@ -173,6 +187,21 @@ def _compare(args: argparse.Namespace) -> int:
     if args.json:
         atomic_write_text(Path(args.json), json.dumps({"schema": 1, **data}, indent=1))
     print(f"report: {path}")
+    return 0
+
+
+def _identify(args: argparse.Namespace) -> int:
+    from harness.identify import identify_isolated
+
+    rasterizers, _ = _load_all([args.spec])
+    if not rasterizers:
+        return 0  # unavailable: reported as skipped with its install hint
+    fingerprint = identify_isolated(rasterizers[0], seed=args.seed)
+    print(fingerprint.card())
+    declared = rasterizers[0].convention
+    if declared is not None:
+        same = declared == fingerprint.convention
+        print(f"declared     {declared.describe()} ({'confirmed' if same and fingerprint.exact else 'NOT what it does'})")
     return 0
 
 
@@ -252,6 +281,10 @@ def build_parser() -> argparse.ArgumentParser:
     cmp.add_argument("--out", default="reports")
     cmp.add_argument("--json", metavar="FILE")
     cmp.set_defaults(func=_compare)
+    ide = sub.add_parser("identify", help="fingerprint a rasterizer's convention from outside")
+    ide.add_argument("spec", metavar="SPEC")
+    ide.add_argument("--seed", type=int, default=0)
+    ide.set_defaults(func=_identify)
     rep = sub.add_parser("replay", help="run the checks of a saved case (a minimal repro) on a rasterizer")
     rep.add_argument("case", help="a case JSON file, as written under reports/repros/")
     rep.add_argument("--rasterizer", required=True, metavar="SPEC")

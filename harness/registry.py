@@ -18,10 +18,15 @@ from typing import Any
 from harness.api import Rasterizer
 from harness.conventions import Convention
 
-__all__ = ["GROUP", "available", "load", "as_rasterizer", "BUILTIN_MODULE"]
+__all__ = ["GROUP", "available", "builtins", "load", "as_rasterizer", "BUILTIN_MODULE", "Unavailable"]
 
 GROUP = "rastercheck.rasterizers"
 BUILTIN_MODULE = "rasterizers"
+
+
+class Unavailable(Exception):
+    """A rasterizer whose library or driver is missing; the message is the install hint.
+    Runs report it as skipped and go on."""
 
 
 def _plugins_enabled() -> bool:
@@ -46,6 +51,12 @@ def _entry_points() -> dict[str, EntryPoint]:
     return found
 
 
+def builtins() -> list[str]:
+    """Names of the four reference rasterizers (not the adapters of real libraries)."""
+    return sorted(name for name, ep in _entry_points().items()
+                  if ep.value.startswith(BUILTIN_MODULE + ".") and not ep.value.startswith(BUILTIN_MODULE + ".real"))
+
+
 def available() -> list[str]:
     """Names of the registered rasterizers, sorted: built-ins and enabled plugins."""
     return sorted(_entry_points())
@@ -58,6 +69,8 @@ def as_rasterizer(obj: Any, spec: str) -> Rasterizer:
     if isinstance(candidate, type) or (not hasattr(candidate, "rasterize") and callable(candidate)):
         try:
             candidate = candidate()
+        except Unavailable:
+            raise
         except Exception as exc:
             raise ValueError(f"{spec}: calling {obj!r} with no arguments failed: {exc}") from exc
     problems = []
@@ -117,6 +130,8 @@ def load(spec: str) -> Rasterizer:
     if spec in registered:
         try:
             obj = registered[spec].load()
+        except Unavailable:
+            raise
         except Exception as exc:
             raise ValueError(f"{spec}: plugin failed to load: {type(exc).__name__}: {exc}") from exc
         return as_rasterizer(obj, spec)

@@ -272,6 +272,7 @@ def run_suite(
     timeout: float = 60.0,
     isolate: bool = True,
     repros: bool = True,
+    repro_seconds: float = 120.0,
     on_result: Callable[[Result], None] | None = None,
 ) -> list[Result]:
     """Run a suite's checks on each rasterizer.
@@ -291,6 +292,9 @@ def run_suite(
         (no time limit), for debugging.
     repros : bool
         Shrink each failing case to a minimal replayable one (evidence ``repro``).
+    repro_seconds : float
+        Time budget for shrinking, per rasterizer; failures past it keep their whole case
+        as the repro, and say so.
     on_result : callable, optional
         Called with each result as soon as it exists.
 
@@ -306,6 +310,7 @@ def run_suite(
         rasterizer = load(spec) if isinstance(spec, str) else spec
         worker = Worker(rasterizer) if isolate else None
         call = (lambda scene, w=worker: w.rasterize(scene, timeout)) if worker else (lambda scene, r=rasterizer: _call(r, scene))
+        shrink_until = time.monotonic() + repro_seconds
         try:
             for case in selected:
                 if isinstance(case, MotionCase):
@@ -316,7 +321,13 @@ def run_suite(
                     continue
                 for result in check_case(case, rasterizer, call, tolerance):
                     if repros and result.status == "fail":
-                        result = attach_repro(result, case, rasterizer, call, tolerance)
+                        if time.monotonic() < shrink_until:
+                            result = attach_repro(result, case, rasterizer, call, tolerance)
+                        else:  # budget used up: the whole case is the repro
+                            payload = repro.case_to_json(case, check=result.check, rasterizer=rasterizer.name, message=result.message,
+                                                         original_case=case.id, original_triangles=len(case.scene),
+                                                         note="not shrunk: the shrinking time budget was used up")
+                            result = replace(result, evidence={**result.evidence, "repro": payload})
                     results.append(result)
                     if on_result is not None:
                         on_result(result)

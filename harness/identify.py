@@ -1,0 +1,170 @@
+"""``rastercheck identify``: fingerprint a black-box rasterizer's convention from outside.
+
+- Sample point and tie rule: the candidate (9 sample points x 4 tie rules) whose exact
+  oracle best matches the rasterizer on lattice scenes built to hit ties (vertices on
+  sample points, edges through them).
+- Snapping: with that sample point and tie rule, the number of sub-pixel bits (or none)
+  that best explains it on unconstrained-float scenes, where snapping shows.
+- Culling, zero-area and non-finite handling, and watertightness on planar partitions.
+
+It prints a convention card and the :class:`Convention` that best explains the rasterizer
+with the residual mismatch; it says "identified" only when the residual is zero.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from cases.partitions import partition_cases
+from cases.records import Case
+from cases.scenes import lattice_triangles, random_triangles
+from harness.api import Coverage, Rasterizer, Scene
+from harness.checks import deviations, watertight
+from harness.compare import CANDIDATES
+from harness.conventions import Convention
+from harness.oracle import exact_coverage
+
+__all__ = ["Fingerprint", "identify", "identify_isolated", "Identified"]
+
+SNAP_BITS = (None, 2, 3, 4, 5, 6, 7, 8, 9, 10, 12, 14, 16)
+
+
+@dataclass
+class Fingerprint:
+    rasterizer: str
+    convention: Convention
+    residual: int
+    pixels: int
+    runner_up: tuple[str, int] | None = None
+    facts: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def exact(self) -> bool:
+        return self.residual == 0
+
+    def card(self) -> str:
+        lines = [f"rasterizer   {self.rasterizer}",
+                 f"convention   {self.convention.describe()}",
+                 f"             {self.convention!r}",
+                 f"residual     {self.residual} mismatching pixels of {self.pixels}"
+                 + ("  (identified exactly)" if self.exact else "  (best guess only: no candidate explains it exactly)")]
+        if self.runner_up:
+            lines.append(f"next best    {self.runner_up[0]} ({self.runner_up[1]} mismatches)")
+        for k, v in self.facts.items():
+            lines.append(f"{k:<12} {v}")
+        return "\n".join(lines)
+
+
+def _mismatch(coverage: Coverage, scene: Scene, convention: Convention) -> int:
+    missing, extra = deviations(coverage, exact_coverage(scene, convention), scene.width, scene.height)
+    return missing.shape[1] + extra.shape[1]
+
+
+def _safe(rasterizer: Rasterizer, scene: Scene) -> Coverage | BaseException:
+    try:
+        return rasterizer.rasterize(scene)
+    except Exception as exc:
+        return exc
+
+
+def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
+    """The convention that best explains ``rasterizer``, its residual, and other facts."""
+    facts: dict[str, Any] = {}
+    # culling: one large clockwise and one counter-clockwise triangle
+    cw = np.array([[[4.25, 4.5], [40.5, 6.25], [8.75, 40.5]]])
+    cull_scene = Scene(48, 48, np.concatenate([cw, cw[:, ::-1] + np.array([2.0, 0.0])]))
+    drawn = _safe(rasterizer, cull_scene)
+    cull = "none"
+    if isinstance(drawn, Coverage):
+        which = set(drawn.triangle[drawn.x1 > drawn.x0].tolist())
+        cull = "none" if which == {0, 1} else "cw" if which == {1} else "ccw" if which == {0} else "both"
+        facts["culling"] = {"none": "draws both windings", "cw": "culls clockwise", "ccw": "culls counter-clockwise", "both": "draws neither winding"}[cull]
+    cull_mode = cull if cull in ("cw", "ccw") else "none"
+    lattice = [Scene(48, 48, lattice_triangles(120, 48, bits, seed + bits)) for bits in (0, 1, 2, 4)]
+    floats = [Scene(48, 48, random_triangles(150, 60.0, 48, seed + k)) for k in range(2)]
+    lattice_cov = [rasterizer.rasterize(s) for s in lattice]
+    candidates = [Convention(sample=c.sample, tie=c.tie, cull=cull_mode) for c in CANDIDATES]
+    scores = sorted(((sum(_mismatch(c, s, cand) for c, s in zip(lattice_cov, lattice)), i) for i, cand in enumerate(candidates)))
+    best = candidates[scores[0][1]]
+    runner = candidates[scores[1][1]]
+    float_cov = [rasterizer.rasterize(s) for s in floats]
+    snap_scores: list[tuple[int, int, int | None]] = []
+    for bits in SNAP_BITS:
+        candidate = Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode)
+        snap_scores.append((sum(_mismatch(c, s, candidate) for c, s in zip(float_cov, floats)), 0 if bits is None else 1, bits))
+    snap_scores.sort(key=lambda s: (s[0], s[1]))
+    bits = snap_scores[0][2]
+    facts: dict[str, Any] = {}
+    convention = Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode)
+    residual = sum(_mismatch(c, s, convention) for c, s in zip([*lattice_cov, *float_cov], [*lattice, *floats]))
+    pixels = sum(c.n_pixels for c in [*lattice_cov, *float_cov])
+    # degenerate and non-finite handling
+    zero = Scene(32, 32, [[[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[8, 8], [8, 8], [20, 14]]])
+    result = _safe(rasterizer, zero)
+    facts["zero area"] = (f"raises {type(result).__name__}" if isinstance(result, BaseException)
+                          else "draws nothing" if result.n_pixels == 0 else f"draws {result.n_pixels} pixels")
+    bad = Scene(32, 32, [[[np.nan, 4], [10, 10], [4, 20]], [[4.5, 4.5], [20.5, 4.5], [4.5, 20.5]]])
+    result = _safe(rasterizer, bad)
+    if isinstance(result, BaseException):
+        facts["non-finite"] = f"raises {type(result).__name__}: {result}"[:120]
+    else:
+        facts["non-finite"] = "covers nothing, the rest drawn" if 0 not in set(result.triangle.tolist()) else "draws the NaN triangle"
+    # watertight on planar partitions
+    holes = doubles = 0
+    for case in partition_cases(seed)[:8]:
+        cov = _safe(rasterizer, case.scene)
+        if isinstance(cov, Coverage):
+            r = watertight(case, cov)
+            holes += int(r.metrics.get("holes", 0))
+            doubles += int(r.metrics.get("double_hits", 0))
+    facts["watertight"] = "yes (no hole, no double hit on 8 partitions)" if holes == doubles == 0 else f"no: {holes} holes, {doubles} double hits on 8 partitions"
+    facts["snapping"] = (f"{bits} sub-pixel bits" if bits is not None else "none detected") + f" ({snap_scores[0][0]} float mismatches)"
+    return Fingerprint(rasterizer.name, convention, residual, pixels, (runner.describe(), scores[1][0]), facts)
+
+
+def _child(rasterizer: Rasterizer, seed: int, conn: Any) -> None:  # pragma: no cover - runs in the child
+    try:
+        conn.send(identify(rasterizer, seed))
+    except Exception as exc:
+        conn.send(RuntimeError(f"identify failed: {type(exc).__name__}: {exc}"))
+
+
+def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0) -> Fingerprint:
+    """:func:`identify` in a forked process of its own, so that a library's process-wide
+    state (an EGL display, a crash, a hang) stays out of the caller."""
+    import multiprocessing
+
+    context = multiprocessing.get_context("fork")
+    parent, child = context.Pipe()
+    process = context.Process(target=_child, args=(rasterizer, seed, child), daemon=True)
+    process.start()
+    child.close()
+    try:
+        if not parent.poll(timeout):
+            raise TimeoutError(f"identify {rasterizer.name}: no answer within {timeout:g} s")
+        answer = parent.recv()
+    except EOFError:
+        raise RuntimeError(f"identify {rasterizer.name}: the process died (exit code {process.exitcode})") from None
+    finally:
+        if process.is_alive():
+            process.kill()
+        process.join(5)
+    if isinstance(answer, BaseException):
+        raise answer
+    return answer
+
+
+class Identified:
+    """A rasterizer that declares no convention, checked against the one identified for it."""
+
+    def __init__(self, inner: Rasterizer, fingerprint: Fingerprint) -> None:
+        self.inner = inner
+        self.name = inner.name
+        self.convention = fingerprint.convention
+        self.fingerprint = fingerprint
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return self.inner.rasterize(scene)

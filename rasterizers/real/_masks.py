@@ -1,0 +1,46 @@
+"""Per-triangle masks drawn by a library into a small image around the triangle's box."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+from harness.api import Coverage, Scene
+
+__all__ = ["LIMIT", "draw_each"]
+
+# Libraries keep coordinates in float32 or fixed point: beyond this they are refused with a
+# ValueError naming the triangle (a guard band), never drawn wrong.
+LIMIT = 2.0**20
+
+
+def draw_each(scene: Scene, name: str, draw: Callable[[NDArray[np.float64], int, int, tuple[int, int]], NDArray[np.bool_]],
+              margin: int = 2) -> Coverage:
+    """Call ``draw(vertices relative to the box origin, box width, box height, origin)`` for
+    each finite triangle; it returns the box's (h, w) bool mask. Spans come back in screen
+    coordinates, clipped to the viewport."""
+    positions = scene.positions
+    finite = np.all(np.isfinite(positions), axis=(1, 2))
+    too_big = finite & np.any(np.abs(positions) > LIMIT, axis=(1, 2))
+    if too_big.any():
+        t = int(np.flatnonzero(too_big)[0])
+        raise ValueError(f"{name}: triangle {t} has a coordinate beyond +/-{LIMIT:g} px ({positions[t].tolist()}); "
+                         "the library's coordinates would lose precision or overflow")
+    parts = []
+    for t in np.flatnonzero(finite):
+        p = positions[t]
+        x0 = int(np.clip(np.floor(p[:, 0].min()) - margin, 0, scene.width))
+        y0 = int(np.clip(np.floor(p[:, 1].min()) - margin, 0, scene.height))
+        x1 = int(np.clip(np.ceil(p[:, 0].max()) + margin, 0, scene.width))
+        y1 = int(np.clip(np.ceil(p[:, 1].max()) + margin, 0, scene.height))
+        if x0 >= x1 or y0 >= y1:
+            continue
+        mask = draw(p - np.array([x0, y0], dtype=np.float64), x1 - x0, y1 - y0, (x0, y0))
+        if mask.any():
+            cov = Coverage.from_mask(int(t), mask)
+            parts.append((cov.triangle, cov.y + y0, cov.x0 + x0, cov.x1 + x0))
+    if not parts:
+        return Coverage.empty()
+    return Coverage(*(np.concatenate([part[i] for part in parts]) for i in range(4)))

@@ -1,0 +1,206 @@
+"""The library adapters. Each docstring says how the library's coordinates map onto ours:
+pixel (i, j) is the square [i, i+1) x [j, j+1), y down."""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from harness.api import Coverage, Scene
+from harness.registry import Unavailable
+from rasterizers.real._masks import draw_each
+
+__all__ = ["PillowPolygon", "SkimagePolygon", "SkiaPath", "CairoFill", "MesaLlvmpipe", "MesaSoftpipe"]
+
+
+def _need(module: str, hint: str) -> Any:
+    try:
+        return __import__(module)
+    except Exception as exc:
+        raise Unavailable(f"{module} is not installed ({type(exc).__name__}): {hint}") from None
+
+
+class PillowPolygon:
+    """Pillow's ``ImageDraw.polygon``. Pillow puts pixel centres at integer coordinates,
+    so our (x, y) is Pillow's (x - 0.5, y - 0.5)."""
+
+    name = "pillow"
+    convention = None
+
+    def __init__(self) -> None:
+        self._pil = _need("PIL", "pip install pillow")
+        from PIL import Image, ImageDraw
+
+        self._Image, self._Draw = Image, ImageDraw
+
+    def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        image = self._Image.new("L", (w, h), 0)
+        self._Draw.Draw(image).polygon([(float(x) - 0.5, float(y) - 0.5) for x, y in p], fill=255)
+        return np.asarray(image) > 0
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return draw_each(scene, self.name, self._draw)
+
+
+class SkimagePolygon:
+    """scikit-image's ``draw.polygon(rows, cols)``: pixel centres at integers, so rows are
+    y - 0.5 and columns x - 0.5."""
+
+    name = "skimage"
+    convention = None
+
+    def __init__(self) -> None:
+        _need("skimage", "pip install scikit-image   (or pip install '.[real]')")
+        from skimage.draw import polygon
+
+        self._polygon = polygon
+
+    def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        rows, cols = self._polygon(p[:, 1] - 0.5, p[:, 0] - 0.5, shape=(h, w))
+        mask = np.zeros((h, w), dtype=bool)
+        mask[rows, cols] = True
+        return mask
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return draw_each(scene, self.name, self._draw)
+
+
+class SkiaPath:
+    """skia-python, anti-aliasing off: skia's pixel (i, j) is our [i, i+1) x [j, j+1), so
+    coordinates pass unchanged."""
+
+    name = "skia"
+    convention = None
+
+    def __init__(self) -> None:
+        self._skia = _need("skia", "pip install skia-python   (or pip install '.[real]')")
+
+    def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        skia = self._skia
+        surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(w, h))
+        canvas = surface.getCanvas()
+        canvas.clear(skia.ColorTRANSPARENT)
+        path = skia.Path()
+        path.moveTo(float(p[0, 0]), float(p[0, 1]))
+        path.lineTo(float(p[1, 0]), float(p[1, 1]))
+        path.lineTo(float(p[2, 0]), float(p[2, 1]))
+        path.close()
+        canvas.drawPath(path, skia.Paint(AntiAlias=False, Color=skia.ColorBLACK))
+        return np.asarray(surface.makeImageSnapshot().toarray(colorType=skia.kAlpha_8_ColorType)).reshape(h, w) > 0
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return draw_each(scene, self.name, self._draw)
+
+
+class CairoFill:
+    """pycairo, ``ANTIALIAS_NONE`` fill: cairo's pixel (i, j) is our [i, i+1) x [j, j+1), so
+    coordinates pass unchanged."""
+
+    name = "cairo"
+    convention = None
+
+    def __init__(self) -> None:
+        self._cairo = _need("cairo", "apt-get install libcairo2-dev pkg-config && pip install pycairo   (or pip install '.[real]')")
+
+    def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        cairo = self._cairo
+        surface = cairo.ImageSurface(cairo.FORMAT_A8, w, h)
+        ctx = cairo.Context(surface)
+        ctx.set_antialias(cairo.ANTIALIAS_NONE)
+        ctx.move_to(float(p[0, 0]), float(p[0, 1]))
+        ctx.line_to(float(p[1, 0]), float(p[1, 1]))
+        ctx.line_to(float(p[2, 0]), float(p[2, 1]))
+        ctx.close_path()
+        ctx.fill()
+        surface.flush()
+        stride = surface.get_stride()
+        data = np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, stride)[:, :w]
+        return data > 0
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return draw_each(scene, self.name, self._draw)
+
+
+_VERTEX = """#version 330
+in vec2 position;
+void main() { gl_Position = vec4(position, 0.0, 1.0); }"""
+_FRAGMENT = """#version 330
+out float coverage;
+void main() { coverage = 1.0; }"""
+
+
+class _Mesa:
+    """Mesa's OpenGL through moderngl's EGL backend (no display), one draw per triangle.
+
+    Pixel (x, y) maps to NDC (2x/W - 1, 2y/H - 1): GL window row y is memory row y, so the
+    read-back image is indexed [y, x] exactly as ours (the picture is flipped relative to
+    GL's bottom-up display, which also flips the winding; culling is off). Vertices go to
+    GL as float32; Mesa snaps them to its own sub-pixel grid."""
+
+    driver = ""
+    convention = None
+
+    def __init__(self) -> None:
+        self._moderngl = _need("moderngl", "pip install moderngl   (or pip install '.[real]'), with Mesa's EGL: apt-get install libegl1 libgl1-mesa-dri")
+        self._ctx: Any = None
+        self._pid = -1
+
+    def _context(self) -> Any:
+        if self._ctx is not None and self._pid == os.getpid():
+            return self._ctx
+        os.environ["GALLIUM_DRIVER"] = self.driver  # read when the EGL display is first made
+        os.environ.setdefault("LIBGL_ALWAYS_SOFTWARE", "1")
+        try:
+            ctx = self._moderngl.create_standalone_context(backend="egl")
+        except Exception as exc:
+            raise Unavailable(f"no EGL context ({exc}): apt-get install libegl1 libgl1-mesa-dri") from None
+        renderer = ctx.info["GL_RENDERER"]
+        if self.driver not in renderer:
+            raise RuntimeError(f"{self.name}: asked Mesa for {self.driver} but got {renderer!r} "
+                               "(this process already made an EGL display; run each Mesa adapter in its own worker)")
+        self._ctx, self._pid = ctx, os.getpid()
+        self._program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
+        return ctx
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        ctx = self._context()
+        w, h = scene.width, scene.height
+        fbo = ctx.simple_framebuffer((w, h), components=1, dtype="f1")
+        fbo.use()
+        ctx.disable(self._moderngl.CULL_FACE | self._moderngl.BLEND | self._moderngl.DEPTH_TEST)
+        buffer = ctx.buffer(reserve=3 * 2 * 4)
+        vao = ctx.vertex_array(self._program, [(buffer, "2f", "position")])
+
+        def draw(p: NDArray, bw: int, bh: int, origin: tuple[int, int]) -> NDArray:
+            x0, y0 = origin
+            ndc = np.empty((3, 2), dtype=np.float32)
+            ndc[:, 0] = (p[:, 0] + x0) * (2.0 / w) - 1.0
+            ndc[:, 1] = (p[:, 1] + y0) * (2.0 / h) - 1.0
+            buffer.write(ndc.tobytes())
+            fbo.scissor = (x0, y0, bw, bh)
+            fbo.clear(0.0)
+            vao.render(self._moderngl.TRIANGLES, vertices=3)
+            data = np.frombuffer(fbo.read(viewport=(x0, y0, bw, bh), components=1, alignment=1), dtype=np.uint8)
+            return data.reshape(bh, bw) > 0
+
+        try:
+            return draw_each(scene, self.name, draw)
+        finally:
+            vao.release()
+            buffer.release()
+            fbo.release()
+
+
+class MesaLlvmpipe(_Mesa):
+    __doc__ = _Mesa.__doc__
+    name = "mesa_llvmpipe"
+    driver = "llvmpipe"
+
+
+class MesaSoftpipe(_Mesa):
+    __doc__ = _Mesa.__doc__
+    name = "mesa_softpipe"
+    driver = "softpipe"

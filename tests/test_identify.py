@@ -1,0 +1,112 @@
+"""identify recovers declared conventions from outside; the real adapters work where their
+libraries are installed and are skipped with the install hint elsewhere."""
+
+import numpy as np
+import pytest
+
+from harness.api import Scene
+from harness.conventions import Convention
+from harness.identify import identify
+from harness.oracle import exact_coverage
+from harness.registry import Unavailable, load
+
+BUILTINS = ["floor_scanline", "centre_scanline", "pineda_topleft", "fixed_point"]
+
+
+class BlackBox:
+    """A rasterizer that follows a convention it does not declare (the exact oracle's)."""
+
+    convention = None
+
+    def __init__(self, convention: Convention) -> None:
+        self.hidden = convention
+        self.name = f"blackbox-{convention.tie}-{convention.sample}-{convention.subpixel_bits}"
+
+    def rasterize(self, scene):
+        return exact_coverage(scene, self.hidden)
+
+
+@pytest.mark.parametrize("name", BUILTINS)
+def test_identify_recovers_each_builtin(name):
+    r = load(name)
+    fingerprint = identify(r)
+    assert fingerprint.exact and fingerprint.convention == r.convention, fingerprint.card()
+    assert fingerprint.facts["watertight"].startswith("yes")
+
+
+@pytest.mark.parametrize("hidden", [
+    Convention(tie="top-right"),
+    Convention(tie="bottom-left", sample=(0.0, 0.0)),
+    Convention(tie="bottom-right", sample=(1.0, 1.0), subpixel_bits=4),
+    Convention(tie="top-left", subpixel_bits=6),
+    Convention(tie="top-left", cull="cw"),
+], ids=str)
+def test_identify_recovers_hidden_conventions(hidden):
+    fingerprint = identify(BlackBox(hidden))
+    assert fingerprint.convention == hidden and fingerprint.exact, fingerprint.card()
+
+
+def test_identify_never_claims_what_it_cannot_confirm():
+    from tests.known_bad.edge_functions import EdgeFunctionBug
+
+    fingerprint = identify(EdgeFunctionBug("inclusive"))
+    assert not fingerprint.exact and "best guess only" in fingerprint.card()
+    assert fingerprint.facts["watertight"].startswith("no")
+
+
+REAL = ["pillow", "skimage", "skia", "cairo", "mesa_llvmpipe", "mesa_softpipe"]
+
+
+SQUARE_CHECK = """
+import sys
+import numpy as np
+from harness.api import Scene
+from harness.registry import Unavailable, load
+try:
+    r = load(sys.argv[1])
+except Unavailable as exc:
+    print("UNAVAILABLE", exc)
+    sys.exit(0)
+assert r.convention is None
+scene = Scene(16, 16, [[[2, 2], [12, 2], [12, 12]], [[2, 2], [12, 12], [2, 12]]])
+counts = r.rasterize(scene).counts(16, 16)
+assert (counts[3:11, 3:11] >= 1).all(), counts
+assert counts[:1].sum() == 0 and counts[:, 14:].sum() == 0, counts
+try:
+    r.rasterize(Scene(16, 16, [[[2, 2], [12, 2], [12, 12]], [[0, 0], [1e30, 0], [0, 5]]]))
+    raise SystemExit("no error for a huge triangle")
+except ValueError as exc:
+    assert f"{sys.argv[1]}: triangle 1 " in str(exc), exc
+print("OK")
+"""
+
+
+@pytest.mark.parametrize("name", REAL)
+def test_real_adapter_draws_a_square_without_gaps(name):
+    """Each adapter in a fresh process (Mesa picks its driver once per process)."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", SQUARE_CHECK, name], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stdout + done.stderr
+    if done.stdout.startswith("UNAVAILABLE"):
+        pytest.skip(done.stdout.strip())
+    assert done.stdout.strip().endswith("OK")
+
+
+def test_run_identifies_an_undeclared_convention(tmp_path):
+    from harness.cli import main
+
+    path = tmp_path / "box.py"
+    path.write_text(
+        "from harness.conventions import Convention\n"
+        "from harness.oracle import exact_coverage\n"
+        "class Box:\n"
+        "    name = 'box'\n"
+        "    convention = None\n"
+        "    def rasterize(self, scene):\n"
+        "        return exact_coverage(scene, Convention(tie='bottom-left'))\n"
+    )
+    assert main(["run", "--rasterizer", f"{path}:Box", "--out", str(tmp_path / "rep")]) == 0
+    page = (tmp_path / "rep" / "index.html").read_text()
+    assert "none declared; identified as sample (0.5, 0.5), bottom-left ties" in page
