@@ -10,6 +10,8 @@ $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/pip install --quiet --upgrade pip
 	$(BIN)/pip install --quiet -e '.[test]'
+	@# the real-rasterizer adapters where this machine can build them (cairo needs libcairo2-dev)
+	$(BIN)/pip install --quiet -e '.[test,real]' || echo "note: real-rasterizer adapters not installed; see README (Real rasterizers)"
 	touch $(STAMP)
 
 # The report is written whether checks pass or fail (exit 1); only usage errors stop make.

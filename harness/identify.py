@@ -97,7 +97,6 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
         snap_scores.append((sum(_mismatch(c, s, candidate) for c, s in zip(float_cov, floats)), 0 if bits is None else 1, bits))
     snap_scores.sort(key=lambda s: (s[0], s[1]))
     bits = snap_scores[0][2]
-    facts: dict[str, Any] = {}
     convention = Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode)
     residual = sum(_mismatch(c, s, convention) for c, s in zip([*lattice_cov, *float_cov], [*lattice, *floats]))
     pixels = sum(c.n_pixels for c in [*lattice_cov, *float_cov])

@@ -110,3 +110,9 @@ def test_run_identifies_an_undeclared_convention(tmp_path):
     assert main(["run", "--rasterizer", f"{path}:Box", "--out", str(tmp_path / "rep")]) == 0
     page = (tmp_path / "rep" / "index.html").read_text()
     assert "none declared; identified as sample (0.5, 0.5), bottom-left ties" in page
+
+
+def test_the_card_lists_every_fact():
+    card = identify(load("centre_scanline")).card()
+    for fact in ("culling", "zero area", "non-finite", "watertight", "snapping"):
+        assert f"\n{fact}" in card, card

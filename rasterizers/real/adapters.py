@@ -135,10 +135,12 @@ void main() { coverage = 1.0; }"""
 class _Mesa:
     """Mesa's OpenGL through moderngl's EGL backend (no display), one draw per triangle.
 
-    Pixel (x, y) maps to NDC (2x/W - 1, 2y/H - 1): GL window row y is memory row y, so the
-    read-back image is indexed [y, x] exactly as ours (the picture is flipped relative to
-    GL's bottom-up display, which also flips the winding; culling is off). Vertices go to
-    GL as float32; Mesa snaps them to its own sub-pixel grid."""
+    The framebuffer is a power-of-two square P >= W, H, and pixel (x, y) maps to NDC
+    (2x/P - 1, 2y/P - 1): scaling by a power of two is exact, so lattice coordinates reach
+    Mesa unrounded (with W itself, 2/W would round and bias Mesa's snapping). GL window row
+    y is memory row y, so the read-back image is indexed [y, x] exactly as ours (flipped
+    relative to GL's bottom-up display, which also flips the winding; culling is off).
+    Vertices go to GL as float32; Mesa snaps them to its own sub-pixel grid."""
 
     driver = ""
     convention = None
@@ -167,8 +169,8 @@ class _Mesa:
 
     def rasterize(self, scene: Scene) -> Coverage:
         ctx = self._context()
-        w, h = scene.width, scene.height
-        fbo = ctx.simple_framebuffer((w, h), components=1, dtype="f1")
+        side = 1 << max(scene.width - 1, scene.height - 1, 1).bit_length()
+        fbo = ctx.simple_framebuffer((side, side), components=1, dtype="f1")
         fbo.use()
         ctx.disable(self._moderngl.CULL_FACE | self._moderngl.BLEND | self._moderngl.DEPTH_TEST)
         buffer = ctx.buffer(reserve=3 * 2 * 4)
@@ -177,8 +179,8 @@ class _Mesa:
         def draw(p: NDArray, bw: int, bh: int, origin: tuple[int, int]) -> NDArray:
             x0, y0 = origin
             ndc = np.empty((3, 2), dtype=np.float32)
-            ndc[:, 0] = (p[:, 0] + x0) * (2.0 / w) - 1.0
-            ndc[:, 1] = (p[:, 1] + y0) * (2.0 / h) - 1.0
+            ndc[:, 0] = (p[:, 0] + x0) * (2.0 / side) - 1.0
+            ndc[:, 1] = (p[:, 1] + y0) * (2.0 / side) - 1.0
             buffer.write(ndc.tobytes())
             fbo.scissor = (x0, y0, bw, bh)
             fbo.clear(0.0)
