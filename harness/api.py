@@ -392,6 +392,11 @@ class Rasterizer(Protocol):
         Short identifier, shown in reports.
     convention : Convention or None
         The fill convention it claims to follow; None when it declares none.
+
+    A rasterizer may also say ``interpolates = False`` (an optional member, True when
+    absent): it returns coverage only, its hygiene check then accepts missing attribute
+    rows, and the texel and perspective checks are skipped with that reason instead of
+    failing.
     """
 
     # Read-only members: a plain class attribute or instance attribute of a narrower

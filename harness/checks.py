@@ -99,9 +99,10 @@ def _first(array: NDArray, limit: int = EVIDENCE_LIMIT) -> list:
 # -- hygiene -------------------------------------------------------------------------------
 
 
-def hygiene(case: Case, coverage: Coverage) -> Result:
+def hygiene(case: Case, coverage: Coverage, interpolates: bool = True) -> Result:
     """Spans inside the viewport, valid triangle ids, ``x0 < x1``, no pixel emitted twice by
-    one triangle, one attribute row per pixel (when the scene has attributes)."""
+    one triangle, one attribute row per pixel (when the scene has attributes and the
+    rasterizer interpolates; one that declares ``interpolates = False`` may return none)."""
     scene = case.scene
     t, y, x0, x1 = coverage.triangle, coverage.y, coverage.x0, coverage.x1
     problems: dict[str, NDArray] = {
@@ -119,7 +120,7 @@ def hygiene(case: Case, coverage: Coverage) -> Result:
     if repeated.size:
         evidence["repeated_pixels"] = np.stack([tri[repeated], x[repeated], yy[repeated]], axis=1)[:EVIDENCE_LIMIT].tolist()
     attribute_problem = ""
-    if scene.attributes is not None:
+    if scene.attributes is not None and (interpolates or coverage.attributes is not None):
         rows = None if coverage.attributes is None else coverage.attributes.shape[0]
         if rows != coverage.n_pixels:
             attribute_problem = f"{rows} attribute rows for {coverage.n_pixels} pixels"
@@ -129,7 +130,8 @@ def hygiene(case: Case, coverage: Coverage) -> Result:
     if attribute_problem:
         parts.append(attribute_problem)
         evidence["attributes"] = attribute_problem
-    return _result(case, "hygiene", not parts, "; ".join(parts) or "well-formed", metrics, evidence)
+    quiet = "well-formed" if interpolates or scene.attributes is None else "well-formed (interpolates no attributes, as it declares)"
+    return _result(case, "hygiene", not parts, "; ".join(parts) or quiet, metrics, evidence)
 
 
 # -- conformance ---------------------------------------------------------------------------

@@ -70,6 +70,31 @@ def _safe(rasterizer: Rasterizer, scene: Scene) -> Coverage | BaseException:
         return exc
 
 
+def _viewport_edge(rasterizer: Rasterizer, seed: int, margin: int = 8) -> str:
+    """Whether triangles crossing the viewport edge cover the same on-screen pixels as when
+    the screen is grown so that nothing crosses it: convention-free, the rasterizer against
+    itself (a clipper that moves vertices before snapping shows up here)."""
+    changed = total = 0
+    for bits in (0, 2, 4):
+        crossing = Scene(48, 48, lattice_triangles(120, 48, bits, seed + 7 + bits))
+        grown = Scene(48 + 2 * margin, 48 + 2 * margin, crossing.positions + float(margin))
+        a, b = _safe(rasterizer, crossing), _safe(rasterizer, grown)
+        if not isinstance(a, Coverage) or not isinstance(b, Coverage):
+            return "not measured: the rasterizer raised"
+        ta, xa, ya = a.pixels()
+        tb, xb, yb = b.pixels()
+        xb, yb = xb - margin, yb - margin
+        keep = (xb >= 0) & (xb < 48) & (yb >= 0) & (yb < 48)
+        mine = set(zip(ta.tolist(), xa.tolist(), ya.tolist()))
+        inside = set(zip(tb[keep].tolist(), xb[keep].tolist(), yb[keep].tolist()))
+        changed += len(mine ^ inside)
+        total += len(inside)
+    if changed == 0:
+        return f"exact: triangles crossing it cover the same on-screen pixels ({total} compared)"
+    return (f"{changed} of {total} on-screen pixels change when triangles cross it "
+            "(against the same triangles inside a larger screen): it treats them differently, e.g. clips them before snapping")
+
+
 def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     """The convention that best explains ``rasterizer``, its residual, and other facts."""
     facts: dict[str, Any] = {}
@@ -83,7 +108,9 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
         cull = "none" if which == {0, 1} else "cw" if which == {1} else "ccw" if which == {0} else "both"
         facts["culling"] = {"none": "draws both windings", "cw": "culls clockwise", "ccw": "culls counter-clockwise", "both": "draws neither winding"}[cull]
     cull_mode = cull if cull in ("cw", "ccw") else "none"
-    lattice = [Scene(48, 48, lattice_triangles(120, 48, bits, seed + bits)) for bits in (0, 1, 2, 4)]
+    # lattice triangles reach 2 px past a 48 px square; moved 4 px into a 56 px screen
+    # (exactly) nothing crosses the viewport edge, so clipping cannot blur the convention
+    lattice = [Scene(56, 56, lattice_triangles(120, 48, bits, seed + bits) + 4.0) for bits in (0, 1, 2, 4)]
     floats = [Scene(48, 48, random_triangles(150, 60.0, 48, seed + k)) for k in range(2)]
     lattice_cov = [rasterizer.rasterize(s) for s in lattice]
     candidates = [Convention(sample=c.sample, tie=c.tie, cull=cull_mode) for c in CANDIDATES]
@@ -100,6 +127,7 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     convention = Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode)
     residual = sum(_mismatch(c, s, convention) for c, s in zip([*lattice_cov, *float_cov], [*lattice, *floats]))
     pixels = sum(c.n_pixels for c in [*lattice_cov, *float_cov])
+    facts["viewport edge"] = _viewport_edge(rasterizer, seed)
     # degenerate and non-finite handling
     zero = Scene(32, 32, [[[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[8, 8], [8, 8], [20, 14]]])
     result = _safe(rasterizer, zero)
@@ -163,6 +191,9 @@ class Identified:
         self.inner = inner
         self.name = inner.name
         self.convention = fingerprint.convention
+        self.interpolates = getattr(inner, "interpolates", True)
+        if hasattr(inner, "received"):
+            self.received = inner.received
         self.fingerprint = fingerprint
 
     def rasterize(self, scene: Scene) -> Coverage:

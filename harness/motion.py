@@ -152,11 +152,27 @@ def _matched(cov: Coverage, oracle: Coverage) -> tuple[NDArray, NDArray, NDArray
     return np.stack([t[i], x[i], y[i]], axis=1), cov.attributes[i], oracle.attributes[j]
 
 
+def _frames_without_attributes(coverages: list[Coverage]) -> list[int]:
+    """Frames that cover pixels but return no attribute row for each of them: nothing to
+    compare there, which must never read as a pass."""
+    return [f for f, cov in enumerate(coverages)
+            if cov.n_pixels and (cov.attributes is None or cov.attributes.shape[0] != cov.n_pixels)]
+
+
+def _no_attributes_message(missing: list[int], frames: int) -> str:
+    return (f"{len(missing)} of {frames} frames came back without one attribute row per covered pixel "
+            f"(first: frame {missing[0]}); a rasterizer that interpolates nothing should say so with interpolates = False")
+
+
 def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Coverage], texels: int) -> Result:
     """The nearest texel (floor(u*T), floor(v*T)) at each covered pixel against the
     oracle's, mismatches at exact texel edges excused; at a fixed pixel, the texel index
     moves only the way the oracle's does (backward steps counted); the largest u, v error
     in texels."""
+    missing = _frames_without_attributes(coverages)
+    if missing:
+        return _result(case_id, "texel", False, _no_attributes_message(missing, len(coverages)),
+                       {"frames_without_attributes": float(len(missing))}, {"frames_without_attributes": missing[:EVIDENCE_LIMIT]})
     mismatches = 0
     worst = 0.0
     per_frame_mismatch = []
@@ -215,6 +231,10 @@ def perspective(case_id: str, coverages: list[Coverage], oracles: list[Coverage]
                 tolerance: Tolerance = Tolerance()) -> Result:
     """u, v against the exact perspective-correct values, in texels: the largest error may
     not exceed ``tolerance.uv_error`` texels."""
+    missing = _frames_without_attributes(coverages)
+    if missing:
+        return _result(case_id, "perspective", False, _no_attributes_message(missing, len(coverages)),
+                       {"frames_without_attributes": float(len(missing))}, {"frames_without_attributes": missing[:EVIDENCE_LIMIT]})
     worst = 0.0
     where: dict[str, Any] = {}
     for f, (cov, oracle) in enumerate(zip(coverages, oracles)):

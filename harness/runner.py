@@ -15,6 +15,8 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from typing import Any
 
+import numpy as np
+
 from cases.records import Case
 from cases.suites import suite as suite_cases
 from cases.motion import MotionCase
@@ -99,6 +101,12 @@ class Worker:
         self._conn.close()
 
 
+def interpolates(rasterizer: Rasterizer) -> bool:
+    """Whether the rasterizer interpolates attributes: an optional member, True unless it
+    says ``interpolates = False`` (coverage-only libraries such as cairo or skia)."""
+    return bool(getattr(rasterizer, "interpolates", True))
+
+
 def _error(case: Case, rasterizer: str, outcome: Outcome, check: str = "run") -> Result:
     kind = "timeout" if outcome.timed_out else type(outcome.error).__name__
     return Result(rasterizer, case.id, check, "error", f"{kind}: {outcome.error}",
@@ -135,7 +143,7 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
             return [replace(refused, rasterizer=name)]
         return [_error(case, name, outcome)]
     coverage = outcome.coverage
-    results = [checks.hygiene(case, coverage)] if wanted("hygiene") else []
+    results = [checks.hygiene(case, coverage, interpolates(rasterizer))] if wanted("hygiene") else []
     if wanted("conformance"):
         if convention is not None:
             oracle = exact_coverage(case.scene, convention)
@@ -226,10 +234,13 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
     oracles = [exact_coverage(scene, convention) for scene in case.frames]
     first = case.frames[0]
     results = [motion.jaggy(case.id, coverages, oracles, len(first), first.width, first.height)]
+    no_attributes = f"{name} declares interpolates = False: it returns coverage only, no u, v to compare"
     if case.texels:
-        results.append(motion.texel_swimming(case.id, coverages, oracles, case.texels))
+        results.append(motion.texel_swimming(case.id, coverages, oracles, case.texels) if interpolates(rasterizer)
+                       else Result(name, case.id, "texel", "skip", no_attributes))
     if case.perspective:
-        results.append(motion.perspective(case.id, coverages, oracles, case.texels or 1, tolerance))
+        results.append(motion.perspective(case.id, coverages, oracles, case.texels or 1, tolerance) if interpolates(rasterizer)
+                       else Result(name, case.id, "perspective", "skip", no_attributes))
     out = []
     for r in results:
         evidence = r.evidence
@@ -257,9 +268,79 @@ def attach_repro(result: Result, case: Case, rasterizer: Rasterizer, call: Calla
             return any(r.check == check and r.status == "fail" for r in found)
 
         minimal = repro.shrink(case, fails, budget=budget, seconds=seconds)
-    payload = repro.case_to_json(minimal, check=check, rasterizer=rasterizer.name, message=result.message,
+    evidence = dict(result.evidence)
+    message = result.message
+    if check in ("conformance", "invariance"):
+        as_received = input_precision_probe(minimal, check, rasterizer, call, tolerance)
+        if as_received is not None:
+            evidence["input_precision"] = as_received
+            message += ("; with its coordinates rounded the way the library receives them (rasterizer.received), the "
+                        f"same triangles pass: the deviation comes from the input format ({as_received['moved']} "
+                        "coordinates move), not from the fill rule")
+        inside = viewport_edge_probe(minimal, check, rasterizer, call, tolerance)
+        if inside is not None:
+            evidence["viewport_edge"] = inside
+            message += (f"; moved {inside['margin']} px into a screen {inside['margin']} px larger on each side, the same "
+                        "triangles pass: the deviation appears only where triangles cross the viewport edge")
+    payload = repro.case_to_json(minimal, check=check, rasterizer=rasterizer.name, message=message,
                                  original_case=case.id, original_triangles=len(case.scene))
-    return replace(result, evidence={**result.evidence, "repro": payload})
+    return replace(result, message=message, evidence={**evidence, "repro": payload})
+
+
+def input_precision_probe(case: Case, check: str, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
+                          tolerance: Tolerance) -> dict[str, Any] | None:
+    """Whether a failing case passes once its coordinates are rounded the way the library
+    receives them, for a rasterizer that says how (an optional ``received(scene) -> Scene``
+    member, e.g. float32 positions at the GL API). Returns ``{"moved": n}`` (how many
+    coordinates the rounding changed) when it then passes, else None."""
+    received = getattr(rasterizer, "received", None)
+    if received is None:
+        return None
+    try:
+        scene = received(case.scene)
+    except Exception:
+        return None
+    before, after = case.scene.positions, scene.positions
+    moved = int(np.sum((before != after) & ~(np.isnan(before) & np.isnan(after))))
+    if moved == 0:
+        return None
+    found = check_case(replace(case, id=f"{case.id}/as-received", scene=scene), rasterizer, call, tolerance, only={check})
+    if found and all(r.status == "pass" for r in found if r.check == check):
+        return {"moved": moved}
+    return None
+
+
+def viewport_edge_probe(case: Case, check: str, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
+                        tolerance: Tolerance, largest: int = 8192) -> dict[str, Any] | None:
+    """Whether a failing case with vertices off-screen passes once the screen is grown by a
+    whole-pixel margin on every side and its triangles moved by that margin (an exact
+    translation), so that nothing crosses the viewport edge any more.
+
+    Returns ``{"margin": m, "screen": [w, h]}`` when the grown case passes ``check``, None
+    when no vertex is off-screen, the case has a region, the grown screen would exceed
+    ``largest`` pixels a side, or it still fails (the deviation is not the edge's).
+    """
+    scene = case.scene
+    p = scene.positions
+    finite = np.isfinite(p).all(axis=(1, 2))
+    if case.region is not None or not finite.any():
+        return None
+    q = p[finite]
+    over = max(0.0, float(-q[..., 0].min()), float(-q[..., 1].min()),
+               float(q[..., 0].max() - scene.width), float(q[..., 1].max() - scene.height))
+    if over == 0.0:
+        return None
+    margin = int(np.ceil(over)) + 8  # the invariance check's translation stays inside too
+    width, height = scene.width + 2 * margin, scene.height + 2 * margin
+    moved = p + float(margin)
+    with np.errstate(invalid="ignore"):
+        if max(width, height) > largest or not np.array_equal(moved - float(margin), p, equal_nan=True):
+            return None
+    grown = replace(case, id=f"{case.id}/inside", scene=Scene(width, height, moved, scene.attributes, scene.w))
+    found = check_case(grown, rasterizer, call, tolerance, only={check})
+    if found and all(r.status == "pass" for r in found if r.check == check):
+        return {"margin": margin, "screen": [width, height]}
+    return None
 
 
 def run_suite(

@@ -29,6 +29,7 @@ class PillowPolygon:
 
     name = "pillow"
     convention = None
+    interpolates = False  # coverage only: the library draws no varyings
 
     def __init__(self) -> None:
         self._pil = _need("PIL", "pip install pillow")
@@ -51,6 +52,7 @@ class SkimagePolygon:
 
     name = "skimage"
     convention = None
+    interpolates = False  # coverage only: the library draws no varyings
 
     def __init__(self) -> None:
         _need("skimage", "pip install scikit-image   (or pip install '.[real]')")
@@ -74,6 +76,7 @@ class SkiaPath:
 
     name = "skia"
     convention = None
+    interpolates = False  # coverage only: the library draws no varyings
 
     def __init__(self) -> None:
         self._skia = _need("skia", "pip install skia-python   (or pip install '.[real]')")
@@ -101,6 +104,7 @@ class CairoFill:
 
     name = "cairo"
     convention = None
+    interpolates = False  # coverage only: the library draws no varyings
 
     def __init__(self) -> None:
         self._cairo = _need("cairo", "apt-get install libcairo2-dev pkg-config && pip install pycairo   (or pip install '.[real]')")
@@ -144,6 +148,7 @@ class _Mesa:
 
     driver = ""
     convention = None
+    interpolates = False  # coverage only: this adapter reads back no varyings (yet)
 
     def __init__(self) -> None:
         self._moderngl = _need("moderngl", "pip install moderngl   (or pip install '.[real]'), with Mesa's EGL: apt-get install libegl1 libgl1-mesa-dri")
@@ -167,9 +172,24 @@ class _Mesa:
         self._program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
         return ctx
 
+    @staticmethod
+    def _side(scene: Scene) -> int:
+        return 1 << max(scene.width - 1, scene.height - 1, 1).bit_length()
+
+    def received(self, scene: Scene) -> Scene:
+        """The scene as Mesa receives it: GL takes float32 positions, so each coordinate
+        goes to NDC as float32(x * 2/P - 1) and the viewport transform brings it back as
+        float32(ndc * P/2 + P/2). Coordinates on a coarse lattice survive unchanged; others
+        move by up to P * 2**-24 px."""
+        half = self._side(scene) / 2.0
+        with np.errstate(invalid="ignore", over="ignore"):
+            ndc = (scene.positions * (1.0 / half) - 1.0).astype(np.float32)
+            window = (ndc * np.float32(half) + np.float32(half)).astype(np.float64)
+        return Scene(scene.width, scene.height, window, scene.attributes, scene.w)
+
     def rasterize(self, scene: Scene) -> Coverage:
         ctx = self._context()
-        side = 1 << max(scene.width - 1, scene.height - 1, 1).bit_length()
+        side = self._side(scene)
         fbo = ctx.simple_framebuffer((side, side), components=1, dtype="f1")
         fbo.use()
         ctx.disable(self._moderngl.CULL_FACE | self._moderngl.BLEND | self._moderngl.DEPTH_TEST)
