@@ -283,7 +283,30 @@ def watertight(case: Case, coverage: Coverage) -> Result:
         evidence["strays"] = [[int(x), int(y)] for y, x in strays[:EVIDENCE_LIMIT]]
     ok = not (len(holes) or len(doubles) or len(strays))
     message = "every inside pixel hit exactly once" if ok else f"{len(holes)} holes, {len(doubles)} double hits, {len(strays)} stray hits outside"
+    if len(holes) or len(doubles):
+        at_vertex = _holds_vertex(scene.positions, scene.width, scene.height)
+        on_vertex = int(at_vertex[holes[:, 0], holes[:, 1]].sum() + at_vertex[doubles[:, 0], doubles[:, 1]].sum())
+        metrics["at_vertex_pixels"] = float(on_vertex)
+        if on_vertex == len(holes) + len(doubles):
+            message += " (every one at a pixel holding a mesh vertex: the rule for samples on shared vertices)"
+        else:
+            message += f" ({on_vertex} at pixels holding a mesh vertex, the rest along edges)"
     return _result(case, "watertight", ok, message, metrics, evidence)
+
+
+def _holds_vertex(positions: NDArray, width: int, height: int) -> NDArray:
+    """(H, W) bool: pixels whose closed square holds a vertex of the scene (a vertex on a
+    pixel corner or side belongs to every square that touches it)."""
+    grid = np.zeros((height, width), dtype=bool)
+    v = positions.reshape(-1, 2)
+    v = v[np.isfinite(v).all(axis=1) & (np.abs(v) < 2.0**31).all(axis=1)]
+    for dx in (0, 1):
+        for dy in (0, 1):
+            x = np.floor(v[:, 0]) - dx * (v[:, 0] == np.floor(v[:, 0]))
+            y = np.floor(v[:, 1]) - dy * (v[:, 1] == np.floor(v[:, 1]))
+            ok = (x >= 0) & (x < width) & (y >= 0) & (y < height)
+            grid[y[ok].astype(np.int64), x[ok].astype(np.int64)] = True
+    return grid
 
 
 def overdraw(case: Case, coverage: Coverage) -> Result:

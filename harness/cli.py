@@ -43,19 +43,42 @@ def _quiet() -> bool:
     return bool(os.environ.get("CI")) or not sys.stderr.isatty()
 
 
-def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float]:
+def _fingerprint_all(rasterizers: list[Any], seed: int, everyone: bool) -> tuple[list[Any], dict[str, dict[str, Any]]]:
+    """Identify each rasterizer (each in a process of its own) for the side-by-side page;
+    one that declares no convention is then checked against the one identified for it.
+    With ``everyone`` False only those are identified. A failure to identify is kept as
+    an error entry; an undeclared rasterizer then runs without a convention."""
+    from harness.identify import Identified, identify_isolated
+
+    out: list[Any] = []
+    fingerprints: dict[str, dict[str, Any]] = {}
+    for r in rasterizers:
+        if not everyone and r.convention is not None:
+            out.append(r)
+            continue
+        try:
+            fingerprint = identify_isolated(r, seed)
+        except Exception as exc:
+            fingerprints[r.name] = {"error": f"{type(exc).__name__}: {exc}"}
+            print(f"identify {r.name}: {type(exc).__name__}: {exc}", file=sys.stderr)
+            out.append(r)
+            continue
+        fingerprints[r.name] = fingerprint.to_dict()
+        # a rasterizer that declares no convention is checked against the one identified for it
+        out.append(Identified(r, fingerprint) if r.convention is None else r)
+    return out, fingerprints
+
+
+def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float, dict[str, dict[str, Any]]]:
     """Run the selected rasterizers over the suite, in parallel with --jobs, with a
-    progress bar on a terminal. Returns (rasterizers, results, seconds)."""
+    progress bar on a terminal. Returns (rasterizers, results, seconds, fingerprints)."""
     from cases.suites import suite
     from harness.runner import run_suite
-
-    from harness.identify import Identified, identify_isolated
 
     rasterizers, problems = _load_all(args.rasterizer)
     for problem in problems:
         print(f"skipped plugin: {problem}", file=sys.stderr)
-    # a rasterizer that declares no convention is checked against the one identified for it
-    rasterizers = [Identified(r, identify_isolated(r, args.seed)) if r.convention is None else r for r in rasterizers]
+    rasterizers, fingerprints = _fingerprint_all(rasterizers, args.seed, not getattr(args, "no_fingerprints", False))
     try:
         cases = suite(args.suite, args.seed)
     except ValueError as exc:
@@ -88,20 +111,35 @@ def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float]:
         if progress is not None:
             progress.stop()
     results = [r for chunk in per_rasterizer for r in chunk]
-    return rasterizers, results, time.perf_counter() - start
+    return rasterizers, results, time.perf_counter() - start, fingerprints
 
 
-def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: list[Any], seconds: float) -> None:
+def _kind(r: Any) -> str:
+    from harness.registry import builtins
+
+    inner = getattr(r, "inner", r)
+    module = type(inner).__module__
+    if module.startswith("rasterizers.real"):
+        return "real library"
+    return "built-in" if r.name in builtins() and module.startswith("rasterizers.") else "plugin"
+
+
+def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: list[Any], seconds: float,
+                   fingerprints: dict[str, dict[str, Any]]) -> None:
     from harness.output import write_json, write_junit
     from harness.report import write_report
 
     out = Path(args.out)
     written = _write_repros(out, results)
     conventions = {r.name: _convention_text(r) for r in rasterizers}
-    path = write_report(out, conventions, results, args.seed, args.suite, seconds)
+    declared = {r.name: (r.convention.describe() if r.convention is not None and getattr(r, "fingerprint", None) is None
+                         else "none declared") for r in rasterizers}
+    kinds = {r.name: _kind(r) for r in rasterizers}
+    path = write_report(out, conventions, results, args.seed, args.suite, seconds,
+                        fingerprints=fingerprints, declared=declared, kinds=kinds)
     print(f"report: {path}" + (f"; {written} minimal repros in {out / 'repros'}" if written else ""))
     if args.json:
-        write_json(args.json, results, args.suite, args.seed, conventions)
+        write_json(args.json, results, args.suite, args.seed, conventions, fingerprints)
     if args.junit:
         write_junit(args.junit, results)
 
@@ -122,9 +160,9 @@ def _summary(rasterizers: list[Any], results: list[Any]) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    rasterizers, results, seconds = _execute(args)
+    rasterizers, results, seconds, fingerprints = _execute(args)
     _summary(rasterizers, results)
-    _write_outputs(args, rasterizers, results, seconds)
+    _write_outputs(args, rasterizers, results, seconds, fingerprints)
     return 1 if any(x.status in ("fail", "error") for x in results) else 0
 
 
@@ -138,8 +176,8 @@ def _gate(args: argparse.Namespace) -> int:
         except ValueError as exc:
             if not args.update_baseline:
                 raise UsageError(str(exc)) from None
-    rasterizers, results, seconds = _execute(args)
-    _write_outputs(args, rasterizers, results, seconds)
+    rasterizers, results, seconds, fingerprints = _execute(args)
+    _write_outputs(args, rasterizers, results, seconds, fingerprints)
     if args.update_baseline:
         save_baseline(args.baseline, results, baseline)
         print(f"baseline updated: {args.baseline} ({len(results)} entries)")
@@ -262,6 +300,8 @@ def _selection(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", default="reports", help="report directory (default reports/)")
     parser.add_argument("--json", metavar="FILE", help="also write results as JSON (schema 1)")
     parser.add_argument("--junit", metavar="FILE", help="also write JUnit XML")
+    parser.add_argument("--no-fingerprints", action="store_true",
+                        help="identify only rasterizers that declare no convention (faster; no side-by-side fingerprints)")
 
 
 def build_parser() -> argparse.ArgumentParser:

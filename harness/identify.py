@@ -5,7 +5,8 @@
   sample points, edges through them).
 - Snapping: with that sample point and tie rule, the number of sub-pixel bits (or none)
   that best explains it on unconstrained-float scenes, where snapping shows.
-- Culling, zero-area and non-finite handling, and watertightness on planar partitions.
+- Culling, zero-area and non-finite handling, the viewport edge (the rasterizer against
+  itself inside a larger screen), and watertightness on every planar partition family.
 
 It prints a convention card and the :class:`Convention` that best explains the rasterizer
 with the residual mismatch; it says "identified" only when the residual is zero.
@@ -44,6 +45,14 @@ class Fingerprint:
     @property
     def exact(self) -> bool:
         return self.residual == 0
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for JSON and the report."""
+        return {"rasterizer": self.rasterizer, "convention": self.convention.describe(),
+                "sample": list(self.convention.sample), "tie": self.convention.tie,
+                "subpixel_bits": self.convention.subpixel_bits, "cull": self.convention.cull,
+                "exact": self.exact, "residual": self.residual, "pixels": self.pixels,
+                "runner_up": list(self.runner_up) if self.runner_up else None, "facts": dict(self.facts)}
 
     def card(self) -> str:
         lines = [f"rasterizer   {self.rasterizer}",
@@ -90,9 +99,9 @@ def _viewport_edge(rasterizer: Rasterizer, seed: int, margin: int = 8) -> str:
         changed += len(mine ^ inside)
         total += len(inside)
     if changed == 0:
-        return f"exact: triangles crossing it cover the same on-screen pixels ({total} compared)"
-    return (f"{changed} of {total} on-screen pixels change when triangles cross it "
-            "(against the same triangles inside a larger screen): it treats them differently, e.g. clips them before snapping")
+        return f"exact ({total} on-screen pixels compared)"
+    return (f"{changed} of {total} on-screen pixels change when triangles cross it: "
+            "it treats them differently (e.g. clips them before snapping)")
 
 
 def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
@@ -141,13 +150,16 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
         facts["non-finite"] = "covers nothing, the rest drawn" if 0 not in set(result.triangle.tolist()) else "draws the NaN triangle"
     # watertight on planar partitions
     holes = doubles = 0
-    for case in partition_cases(seed)[:8]:
+    partitions = partition_cases(seed)
+    for case in partitions:
         cov = _safe(rasterizer, case.scene)
         if isinstance(cov, Coverage):
             r = watertight(case, cov)
             holes += int(r.metrics.get("holes", 0))
             doubles += int(r.metrics.get("double_hits", 0))
-    facts["watertight"] = "yes (no hole, no double hit on 8 partitions)" if holes == doubles == 0 else f"no: {holes} holes, {doubles} double hits on 8 partitions"
+    n = len(partitions)
+    facts["watertight"] = (f"yes (no hole, no double hit on {n} partitions)" if holes == doubles == 0
+                           else f"no: {holes} holes, {doubles} double hits on {n} partitions")
     facts["snapping"] = (f"{bits} sub-pixel bits" if bits is not None else "none detected") + f" ({snap_scores[0][0]} float mismatches)"
     return Fingerprint(rasterizer.name, convention, residual, pixels, (runner.describe(), scores[1][0]), facts)
 

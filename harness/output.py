@@ -9,6 +9,10 @@ JSON schema 1::
       "seed": <int>,
       "created": "<ISO 8601 time>",
       "rasterizers": {"<name>": "<convention, in words, or 'none declared'>"},
+      "fingerprints": {"<name>": {"convention": str, "sample": [x, y], "tie": str,
+                       "subpixel_bits": int | null, "cull": str, "exact": bool,
+                       "residual": int, "pixels": int, "facts": {str: str}}
+                       | {"error": str}},   # what identify found, when it ran
       "results": [
         {"rasterizer": str, "case": str, "check": str,
          "status": "pass" | "fail" | "error" | "skip",
@@ -54,7 +58,8 @@ def _clean(value: Any) -> Any:
     return value
 
 
-def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizers: dict[str, str]) -> dict[str, Any]:
+def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizers: dict[str, str],
+                    fingerprints: dict[str, dict[str, Any]] | None = None) -> dict[str, Any]:
     rows = []
     for r in results:
         row = asdict(r)
@@ -67,6 +72,7 @@ def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizer
         "seed": seed,
         "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "rasterizers": rasterizers,
+        **({"fingerprints": _clean(fingerprints)} if fingerprints else {}),
         "results": rows,
     }
 
@@ -85,9 +91,10 @@ def results_from_json(data: dict[str, Any]) -> list[Result]:
         raise ValueError(f"malformed results: {exc}") from None
 
 
-def write_json(path: Path | str, results: Iterable[Result], suite: str, seed: int, rasterizers: dict[str, str]) -> Path:
+def write_json(path: Path | str, results: Iterable[Result], suite: str, seed: int, rasterizers: dict[str, str],
+               fingerprints: dict[str, dict[str, Any]] | None = None) -> Path:
     path = Path(path)
-    atomic_write_text(path, json.dumps(results_to_json(results, suite, seed, rasterizers), indent=1))
+    atomic_write_text(path, json.dumps(results_to_json(results, suite, seed, rasterizers, fingerprints), indent=1))
     return path
 
 

@@ -59,9 +59,18 @@ def _problem(r: Result, index: int) -> dict[str, Any]:
             "repro_of": repro.get("original_triangles")}
 
 
+FACTS = ("culling", "zero area", "non-finite", "viewport edge", "watertight", "snapping")
+KIND_ORDER = {"built-in": 0, "real library": 1, "plugin": 2}
+
+
 def write_report(out_dir: Path, conventions: dict[str, str], results: list[Result], seed: int,
-                 suite: str = "quick", seconds: float = 0.0) -> Path:
-    """Write ``index.html`` and one page per rasterizer into ``out_dir`` atomically."""
+                 suite: str = "quick", seconds: float = 0.0, *,
+                 fingerprints: dict[str, dict[str, Any]] | None = None,
+                 declared: dict[str, str] | None = None, kinds: dict[str, str] | None = None) -> Path:
+    """Write ``index.html``, one page per rasterizer and, given ``fingerprints`` (name ->
+    :meth:`Fingerprint.to_dict` or ``{"error": text}``), ``fingerprints.html`` with every
+    rasterizer side by side, into ``out_dir`` atomically."""
+    fingerprints = fingerprints or {}
     out_dir = Path(out_dir)
     checks = [c for c in ("run", *CHECKS) if any(r.check == c for r in results)]
     meta = {
@@ -79,13 +88,20 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
             "name": name, "convention": convention, "total": len(mine), "problems": problems, "page": page_name(name),
             "counts": {s: sum(r.status == s for r in mine) for s in ("pass", "fail", "error", "skip")},
             "cells": [_cell([r for r in mine if r.check == c]) for c in checks],
+            "fingerprint": fingerprints.get(name), "kind": (kinds or {}).get(name, ""),
+            "declared": (declared or {}).get(name, convention),
         }
         rows.append(row)
         html = env.get_template("rasterizer.html").render(
             row=row, meta=meta, heat_legend=HEAT_LEGEND.items(), diff_legend=DIFF_LEGEND.items(), motion_legend=LEGEND.items())
         atomic_write_text(out_dir / row["page"], html)
+    if fingerprints:
+        ordered = sorted(rows, key=lambda row: KIND_ORDER.get(row["kind"], 3))
+        html = env.get_template("fingerprints.html").render(rows=ordered, checks=checks, meta=meta, facts=FACTS)
+        atomic_write_text(out_dir / "fingerprints.html", html)
     html = env.get_template("index.html").render(rows=rows, checks=checks, meta=meta,
-                                                 has_comparison=(out_dir / "compare.html").exists())
+                                                 has_comparison=(out_dir / "compare.html").exists(),
+                                                 has_fingerprints=bool(fingerprints))
     path = out_dir / "index.html"
     atomic_write_text(path, html)
     return path
