@@ -206,7 +206,7 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
     scene = case.scene
     missing, extra = deviations(coverage, oracle, scene.width, scene.height)
     both = np.concatenate([missing, extra], axis=1)
-    distance = edge_distance(snap(scene.positions, convention.subpixel_bits), both, convention.sample)
+    distance = edge_distance(convention.snap(scene.positions), both, convention.sample)
     near = (distance <= tolerance.near_tie) if not case.lattice else np.zeros(distance.size, dtype=bool)
     wrong = ~near
     allowed = distance.size == 0 if tolerance.mode == "strict" else not wrong.any()
@@ -370,8 +370,7 @@ def closed_balance(case: Case, coverage: Coverage, convention: Convention | None
     if not case.closed:
         return skip(case, "closed", "not a closed mesh")
     scene = case.scene
-    bits = convention.subpixel_bits if convention is not None else None
-    sign = orientation(snap(scene.positions, bits)).astype(np.int64)
+    sign = orientation(convention.snap(scene.positions) if convention is not None else scene.positions).astype(np.int64)
     valid = (coverage.triangle >= 0) & (coverage.triangle < len(scene))
     signed = Coverage(coverage.triangle[valid], coverage.y[valid], coverage.x0[valid], coverage.x1[valid])
     front = Coverage(*(a[sign[signed.triangle] > 0] for a in (signed.triangle, signed.y, signed.x0, signed.x1)))
@@ -405,8 +404,7 @@ def degenerate(case: Case, coverage: Coverage, convention: Convention | None,
     case, seconds for :func:`control_scene`), whose ratio may not exceed
     ``tolerance.work_ratio``."""
     scene = case.scene
-    bits = convention.subpixel_bits if convention is not None else None
-    sign = orientation(snap(scene.positions, bits))
+    sign = orientation(convention.snap(scene.positions) if convention is not None else scene.positions)
     nothing = sign == 0  # zero area or non-finite
     tri = coverage.triangle
     valid = (tri >= 0) & (tri < len(scene))

@@ -57,9 +57,11 @@ __all__ = [
 
 TieRule = Literal["top-left", "top-right", "bottom-left", "bottom-right"]
 CullMode = Literal["none", "cw", "ccw"]
+SnapRounding = Literal["nearest-even", "floor"]
 
 TIE_RULES: tuple[str, ...] = ("top-left", "top-right", "bottom-left", "bottom-right")
 CULL_MODES: tuple[str, ...] = ("none", "cw", "ccw")
+SNAP_ROUNDINGS: tuple[str, ...] = ("nearest-even", "floor")
 MAX_SUBPIXEL_BITS = 16
 # A sample offset must be a multiple of 2**-32 so that i + sx is exact for every pixel
 # column i of any viewport up to 2**20 pixels wide.
@@ -69,7 +71,7 @@ SAMPLE_FRACTION_BITS = 32
 _SNAP_IDENTITY_ABOVE = 2.0**52
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, repr=False)
 class Convention:
     """A fill convention: sample point, tie rule, vertex snapping and culling.
 
@@ -81,9 +83,12 @@ class Convention:
     tie : {"top-left", "top-right", "bottom-left", "bottom-right"}
         Which edges own the samples lying exactly on them.
     subpixel_bits : int or None
-        Snap vertices to multiples of 2**-n (round half to even), 0 <= n <= 16, or None.
+        Snap vertices to multiples of 2**-n, 0 <= n <= 16, or None.
     cull : {"none", "cw", "ccw"}
         Remove triangles running clockwise (A > 0) or counter-clockwise on screen.
+    snap_rounding : {"nearest-even", "floor"}
+        How snapping rounds: to nearest, ties to even (D3D, GL drivers), or down
+        (truncating fixed-point conversion, as skia's ``int(x * 64)``).
 
     Examples
     --------
@@ -101,6 +106,16 @@ class Convention:
     tie: TieRule = "top-left"
     subpixel_bits: int | None = None
     cull: CullMode = "none"
+    snap_rounding: SnapRounding = "nearest-even"
+
+    def __repr__(self) -> str:
+        extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
+        return (f"Convention(sample={self.sample!r}, tie={self.tie!r}, subpixel_bits={self.subpixel_bits!r}, "
+                f"cull={self.cull!r}{extra})")
+
+    def snap(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The positions as this convention sees them: snapped (see :func:`snap`)."""
+        return snap(positions, self.subpixel_bits, self.snap_rounding)
 
     def __post_init__(self) -> None:
         try:
@@ -134,6 +149,10 @@ class Convention:
             )
         if bits is not None:
             object.__setattr__(self, "subpixel_bits", int(bits))
+        if self.snap_rounding not in SNAP_ROUNDINGS:
+            raise ValueError(
+                f"Convention.snap_rounding must be one of {', '.join(SNAP_ROUNDINGS)}, not {self.snap_rounding!r}"
+            )
         if self.cull not in CULL_MODES:
             raise ValueError(
                 f"Convention.cull must be one of {', '.join(CULL_MODES)}, not {self.cull!r}"
@@ -155,23 +174,26 @@ class Convention:
         snapping = (
             "no snapping"
             if self.subpixel_bits is None
-            else f"snapped to 1/{2**self.subpixel_bits} px ({self.subpixel_bits} bits)"
+            else f"snapped to 1/{2**self.subpixel_bits} px ({self.subpixel_bits} bits"
+            + (", rounding down)" if self.snap_rounding == "floor" else ")")
         )
         culling = "no culling" if self.cull == "none" else f"culls {self.cull}"
         return f"sample ({sx}, {sy}), {self.tie} ties, {snapping}, {culling}"
 
 
-def snap(positions: NDArray[np.float64], subpixel_bits: int | None) -> NDArray[np.float64]:
-    """Snap coordinates to multiples of ``2**-subpixel_bits``, rounding half to even.
+def snap(positions: NDArray[np.float64], subpixel_bits: int | None, rounding: str = "nearest-even") -> NDArray[np.float64]:
+    """Snap coordinates to multiples of ``2**-subpixel_bits``, rounding half to even (or
+    down, with ``rounding="floor"``).
 
     Exact for every float64: scaling by a power of two is exact, ``np.rint`` rounds half
-    to even, and values of magnitude 2**52 or more (already integers) are left alone.
-    Non-finite values pass through unchanged.
+    to even, ``np.floor`` is exact, and values of magnitude 2**52 or more (already
+    integers) are left alone. Non-finite values pass through unchanged.
 
     Parameters
     ----------
     positions : (..., 2) float64
     subpixel_bits : int or None
+    rounding : {"nearest-even", "floor"}
 
     Returns
     -------
@@ -189,5 +211,6 @@ def snap(positions: NDArray[np.float64], subpixel_bits: int | None) -> NDArray[n
     with np.errstate(invalid="ignore"):
         small = np.abs(positions) < _SNAP_IDENTITY_ABOVE
     snapped = positions.copy()
-    snapped[small] = np.rint(positions[small] * scale) / scale
+    round_ = np.floor if rounding == "floor" else np.rint
+    snapped[small] = round_(positions[small] * scale) / scale
     return snapped

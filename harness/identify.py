@@ -50,7 +50,8 @@ class Fingerprint:
         """Plain data for JSON and the report."""
         return {"rasterizer": self.rasterizer, "convention": self.convention.describe(),
                 "sample": list(self.convention.sample), "tie": self.convention.tie,
-                "subpixel_bits": self.convention.subpixel_bits, "cull": self.convention.cull,
+                "subpixel_bits": self.convention.subpixel_bits, "snap_rounding": self.convention.snap_rounding,
+                "cull": self.convention.cull,
                 "exact": self.exact, "residual": self.residual, "pixels": self.pixels,
                 "runner_up": list(self.runner_up) if self.runner_up else None, "facts": dict(self.facts)}
 
@@ -104,6 +105,64 @@ def _viewport_edge(rasterizer: Rasterizer, seed: int, margin: int = 8) -> str:
             "it treats them differently (e.g. clips them before snapping)")
 
 
+def _fraction_bits(value: float) -> int:
+    """The number of binary fraction digits of a float: 0 for an integer, 3 for 0.375."""
+    return max(0, value.as_integer_ratio()[1].bit_length() - 1)
+
+
+# Triangles whose moving vertex (index 0) drags two edges across many sample points; the
+# fixed vertices are off every coarse lattice, so without snapping the coverage changes at
+# non-dyadic offsets.
+_SWEEP_TRIANGLES = (
+    ([10.0, 10.0], [41.7, 30.1], [12.2, 50.9]),
+    ([30.0, 8.0], [9.3, 40.3], [50.1, 52.7]),
+    ([52.0, 40.0], [8.9, 12.6], [20.4, 55.3]),
+)
+
+
+def _vertex_sweep(rasterizer: Rasterizer, changes: int = 6, resolution: int = 16, coarsest: int = 12) -> tuple[int | None, int]:
+    """Move one vertex along x (and, for the last triangle, y) and find, by bisection to
+    2**-resolution px, the offsets where the coverage changes. Returns (m, count): every
+    change happens at a multiple of 2**-m px (None when some change needs more than
+    ``coarsest`` fraction bits: no snapping seen), and how many changes were located.
+
+    The resolution stays coarser than float32's spacing at these coordinates (2**-18 below
+    64 px), so a library that rounds its input to float32 moves a change by less than one
+    step; unsnapped, a change lands within ``coarsest`` bits only by chance (1 in 8 each),
+    and 18 of them all do with odds below 1e-16."""
+    finest = 0
+    located = 0
+    for k, triangle in enumerate(_SWEEP_TRIANGLES):
+        base = np.array(triangle, dtype=np.float64)
+        axis = 1 if k == len(_SWEEP_TRIANGLES) - 1 else 0
+
+        def cover(t: float) -> Coverage | None:
+            p = base.copy()
+            p[0, axis] += t
+            got = _safe(rasterizer, Scene(64, 64, p[None]))
+            return got if isinstance(got, Coverage) else None
+
+        lo, start = 0.0, cover(0.0)
+        if start is None:
+            return None, located
+        for _ in range(changes):
+            hi = lo + 1.0
+            if cover(hi) == start:
+                break
+            while hi - lo > 2.0**-resolution:  # cover(lo) == start, cover(hi) differs
+                mid = (lo + hi) / 2.0
+                if cover(mid) == start:
+                    lo = mid
+                else:
+                    hi = mid
+            located += 1
+            finest = max(finest, min(_fraction_bits(lo), _fraction_bits(hi)))
+            lo, start = hi, cover(hi)
+            if start is None:
+                return None, located
+    return (finest if finest <= coarsest else None), located
+
+
 def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     """The convention that best explains ``rasterizer``, its residual, and other facts."""
     facts: dict[str, Any] = {}
@@ -122,18 +181,27 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     lattice = [Scene(56, 56, lattice_triangles(120, 48, bits, seed + bits) + 4.0) for bits in (0, 1, 2, 4)]
     floats = [Scene(48, 48, random_triangles(150, 60.0, 48, seed + k)) for k in range(2)]
     lattice_cov = [rasterizer.rasterize(s) for s in lattice]
-    candidates = [Convention(sample=c.sample, tie=c.tie, cull=cull_mode) for c in CANDIDATES]
+    # a vertex sweep that sees a snapping grid lets the sample and tie be fitted under it
+    grid, located = _vertex_sweep(rasterizer)
+    snaps: list[tuple[int | None, str]] = [(None, "nearest-even")]
+    if grid is not None:
+        snaps += [(grid - 1, "nearest-even"), (grid, "floor")]
+    candidates = [Convention(sample=c.sample, tie=c.tie, cull=cull_mode, subpixel_bits=b, snap_rounding=r)
+                  for b, r in snaps for c in CANDIDATES]
     scores = sorted(((sum(_mismatch(c, s, cand) for c, s in zip(lattice_cov, lattice)), i) for i, cand in enumerate(candidates)))
     best = candidates[scores[0][1]]
     runner = candidates[scores[1][1]]
     float_cov = [rasterizer.rasterize(s) for s in floats]
-    snap_scores: list[tuple[int, int, int | None]] = []
+    snap_scores: list[tuple[int, int, int | None, str]] = []
     for bits in SNAP_BITS:
-        candidate = Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode)
-        snap_scores.append((sum(_mismatch(c, s, candidate) for c, s in zip(float_cov, floats)), 0 if bits is None else 1, bits))
+        for rounding in ("nearest-even", "floor") if bits is not None else ("nearest-even",):
+            candidate = Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode, snap_rounding=rounding)
+            score = sum(_mismatch(c, s, candidate) for c, s in zip(float_cov, floats))
+            # ties prefer no snapping, then rounding to nearest
+            snap_scores.append((score, 0 if bits is None else 1 if rounding == "nearest-even" else 2, bits, rounding))
     snap_scores.sort(key=lambda s: (s[0], s[1]))
-    bits = snap_scores[0][2]
-    convention = Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode)
+    bits, rounding = snap_scores[0][2], snap_scores[0][3]
+    convention = Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode, snap_rounding=rounding)
     residual = sum(_mismatch(c, s, convention) for c, s in zip([*lattice_cov, *float_cov], [*lattice, *floats]))
     pixels = sum(c.n_pixels for c in [*lattice_cov, *float_cov])
     facts["viewport edge"] = _viewport_edge(rasterizer, seed)
@@ -160,7 +228,19 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     n = len(partitions)
     facts["watertight"] = (f"yes (no hole, no double hit on {n} partitions)" if holes == doubles == 0
                            else f"no: {holes} holes, {doubles} double hits on {n} partitions")
-    facts["snapping"] = (f"{bits} sub-pixel bits" if bits is not None else "none detected") + f" ({snap_scores[0][0]} float mismatches)"
+    facts["snapping"] = ((f"{bits} sub-pixel bits" + (", rounding down" if rounding == "floor" else "")) if bits is not None
+                         else "none detected") + f" ({snap_scores[0][0]} float mismatches)"
+    if located == 0:
+        facts["vertex sweep"] = "no coverage change located (the rasterizer raised or drew nothing)"
+    elif grid is None:
+        facts["vertex sweep"] = (f"{located} coverage changes at arbitrary offsets (bisected to 2^-16 px): "
+                                 "no vertex snapping down to 2^-12 px" + (" (agrees)" if bits is None else f" (the fit's {bits} bits are NOT confirmed)"))
+    else:
+        nearest = grid - 1  # a grid rounded to nearest changes halfway between its points
+        fits = (bits, rounding) in ((nearest, "nearest-even"), (grid, "floor"))
+        agree = " (agrees with the fit)" if fits else f" (the fit says {bits if bits is not None else 'none'}, {rounding}: not confirmed)"
+        facts["vertex sweep"] = (f"{located} coverage changes, all at multiples of 2^-{grid} px: vertices snap to 2^-{nearest} px "
+                                 f"rounding to nearest, or 2^-{grid} px truncating" + agree)
     return Fingerprint(rasterizer.name, convention, residual, pixels, (runner.describe(), scores[1][0]), facts)
 
 

@@ -97,7 +97,7 @@ class PreparedTriangles:
     __slots__ = ("snapped", "sign", "owned", "active", "safe", "rows", "_oriented")
 
     def __init__(self, scene: Scene, convention: Convention) -> None:
-        self.snapped = np.ascontiguousarray(snap(scene.positions, convention.subpixel_bits))
+        self.snapped = np.ascontiguousarray(convention.snap(scene.positions))
         n = self.snapped.shape[0]
         self.safe = np.empty(n, dtype=np.bool_)
         self.sign = orientation(self.snapped, self.safe)

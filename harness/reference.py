@@ -46,7 +46,7 @@ def brute_force_coverage(scene: Scene, convention: Convention) -> Coverage:
     Coverage
         Without attributes.
     """
-    positions = snap(scene.positions, convention.subpixel_bits)
+    positions = convention.snap(scene.positions)
     sx, sy = (Fraction(s) for s in convention.sample)
     vertical_owner = "top" if convention.owns_top else "bottom"
     side_owner = "left" if convention.owns_left else "right"

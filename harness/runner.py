@@ -330,11 +330,15 @@ def viewport_edge_probe(case: Case, check: str, rasterizer: Rasterizer, call: Ca
                float(q[..., 0].max() - scene.width), float(q[..., 1].max() - scene.height))
     if over == 0.0:
         return None
+    if over > largest:
+        return None
     margin = int(np.ceil(over)) + 8  # the invariance check's translation stays inside too
     width, height = scene.width + 2 * margin, scene.height + 2 * margin
+    if max(width, height) > largest:
+        return None
     moved = p + float(margin)
-    with np.errstate(invalid="ignore"):
-        if max(width, height) > largest or not np.array_equal(moved - float(margin), p, equal_nan=True):
+    with np.errstate(invalid="ignore", over="ignore"):
+        if not np.array_equal(moved - float(margin), p, equal_nan=True):
             return None
     grown = replace(case, id=f"{case.id}/inside", scene=Scene(width, height, moved, scene.attributes, scene.w))
     found = check_case(grown, rasterizer, call, tolerance, only={check})

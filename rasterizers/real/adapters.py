@@ -139,16 +139,22 @@ void main() { coverage = 1.0; }"""
 class _Mesa:
     """Mesa's OpenGL through moderngl's EGL backend (no display), one draw per triangle.
 
-    The framebuffer is a power-of-two square P >= W, H, and pixel (x, y) maps to NDC
-    (2x/P - 1, 2y/P - 1): scaling by a power of two is exact, so lattice coordinates reach
-    Mesa unrounded (with W itself, 2/W would round and bias Mesa's snapping). GL window row
-    y is memory row y, so the read-back image is indexed [y, x] exactly as ours (flipped
-    relative to GL's bottom-up display, which also flips the winding; culling is off).
-    Vertices go to GL as float32; Mesa snaps them to its own sub-pixel grid."""
+    The framebuffer is a power-of-two square P >= W, H; GL window row y is memory row y,
+    so the read-back image is indexed [y, x] exactly as ours (flipped relative to GL's
+    bottom-up display, which also flips the winding; culling is off). GL takes float32
+    positions: pixel x goes to NDC as float32(x / P) and the viewport is (-P, -P, 2P, 2P),
+    whose transform ndc * P + 0 brings it back exactly, so every coordinate that float32
+    holds reaches Mesa unchanged (a mapping like 2x/P - 1 would lose up to 2**-19 px to
+    cancellation). The clip volume is therefore [-P, P]^2, wider than the screen: a
+    triangle reaching up to P px off-screen reaches the rasterizer unclipped, as with a
+    hardware guard band, and Mesa's viewport clipping (which moves vertices before
+    snapping) only acts beyond that. Mesa snaps vertices to its own sub-pixel grid."""
 
     driver = ""
     convention = None
     interpolates = False  # coverage only: this adapter reads back no varyings (yet)
+    # GL_MAX_VIEWPORT_DIMS is 16384 in llvmpipe and softpipe: the 2P viewport must fit
+    LARGEST = 8192
 
     def __init__(self) -> None:
         self._moderngl = _need("moderngl", "pip install moderngl   (or pip install '.[real]'), with Mesa's EGL: apt-get install libegl1 libgl1-mesa-dri")
@@ -172,19 +178,18 @@ class _Mesa:
         self._program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
         return ctx
 
-    @staticmethod
-    def _side(scene: Scene) -> int:
-        return 1 << max(scene.width - 1, scene.height - 1, 1).bit_length()
+    def _side(self, scene: Scene) -> int:
+        side = 1 << max(scene.width - 1, scene.height - 1, 1).bit_length()
+        if side > self.LARGEST:
+            raise ValueError(f"{self.name}: a {scene.width} x {scene.height} screen needs a {2 * side} px viewport; "
+                             f"Mesa allows 16384 (screens up to {self.LARGEST} px a side)")
+        return side
 
     def received(self, scene: Scene) -> Scene:
-        """The scene as Mesa receives it: GL takes float32 positions, so each coordinate
-        goes to NDC as float32(x * 2/P - 1) and the viewport transform brings it back as
-        float32(ndc * P/2 + P/2). Coordinates on a coarse lattice survive unchanged; others
-        move by up to P * 2**-24 px."""
-        half = self._side(scene) / 2.0
+        """The scene as Mesa receives it: each coordinate rounded to float32 (GL's vertex
+        format), which the exact mapping then carries unchanged."""
         with np.errstate(invalid="ignore", over="ignore"):
-            ndc = (scene.positions * (1.0 / half) - 1.0).astype(np.float32)
-            window = (ndc * np.float32(half) + np.float32(half)).astype(np.float64)
+            window = scene.positions.astype(np.float32).astype(np.float64)
         return Scene(scene.width, scene.height, window, scene.attributes, scene.w)
 
     def rasterize(self, scene: Scene) -> Coverage:
@@ -192,6 +197,7 @@ class _Mesa:
         side = self._side(scene)
         fbo = ctx.simple_framebuffer((side, side), components=1, dtype="f1")
         fbo.use()
+        ctx.viewport = (-side, -side, 2 * side, 2 * side)
         ctx.disable(self._moderngl.CULL_FACE | self._moderngl.BLEND | self._moderngl.DEPTH_TEST)
         buffer = ctx.buffer(reserve=3 * 2 * 4)
         vao = ctx.vertex_array(self._program, [(buffer, "2f", "position")])
@@ -199,8 +205,8 @@ class _Mesa:
         def draw(p: NDArray, bw: int, bh: int, origin: tuple[int, int]) -> NDArray:
             x0, y0 = origin
             ndc = np.empty((3, 2), dtype=np.float32)
-            ndc[:, 0] = (p[:, 0] + x0) * (2.0 / side) - 1.0
-            ndc[:, 1] = (p[:, 1] + y0) * (2.0 / side) - 1.0
+            ndc[:, 0] = (p[:, 0] + x0) / side  # dividing by a power of two: exact
+            ndc[:, 1] = (p[:, 1] + y0) / side
             buffer.write(ndc.tobytes())
             fbo.scissor = (x0, y0, bw, bh)
             fbo.clear(0.0)
