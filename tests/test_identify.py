@@ -32,6 +32,8 @@ def test_identify_recovers_each_builtin(name):
     fingerprint = identify(r)
     assert fingerprint.exact and fingerprint.convention == r.convention, fingerprint.card()
     assert fingerprint.facts["watertight"].startswith("yes")
+    assert fingerprint.facts["viewport edge"].startswith("exact")
+    assert ("agrees" in fingerprint.facts["vertex sweep"]), fingerprint.card()
 
 
 @pytest.mark.parametrize("hidden", [
@@ -114,5 +116,34 @@ def test_run_identifies_an_undeclared_convention(tmp_path):
 
 def test_the_card_lists_every_fact():
     card = identify(load("centre_scanline")).card()
-    for fact in ("culling", "zero area", "non-finite", "watertight", "snapping"):
+    for fact in ("culling", "zero area", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep"):
         assert f"\n{fact}" in card, card
+
+
+IDENTIFY_LLVMPIPE = """
+from harness.registry import Unavailable, load
+from harness.identify import identify
+from harness.conventions import Convention
+try:
+    r = load("mesa_llvmpipe")
+except Unavailable as exc:
+    print("UNAVAILABLE", exc)
+    raise SystemExit(0)
+f = identify(r)
+assert f.exact and f.convention == Convention(subpixel_bits=8), f.card()
+assert f.facts["watertight"].startswith("yes") and "agrees" in f.facts["vertex sweep"], f.card()
+print("OK")
+"""
+
+
+def test_llvmpipe_is_identified_exactly():
+    """A production GL driver: centre samples, top-left ties (image row y = memory row y),
+    vertices snapped to 1/256 px, watertight; the vertex sweep agrees."""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", IDENTIFY_LLVMPIPE], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stdout + done.stderr
+    if done.stdout.startswith("UNAVAILABLE"):
+        pytest.skip(done.stdout.strip())
+    assert done.stdout.strip().endswith("OK")

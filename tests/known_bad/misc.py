@@ -9,9 +9,10 @@ import numpy as np
 from harness.api import Coverage, Scene
 from tests.known_bad import coverage_from_parts
 from harness.conventions import Convention
+from harness.oracle import exact_coverage
 from rasterizers.centre_scanline import CentreScanline
 
-__all__ = ["SlowOnEpsilon", "WrongTieClaim", "Raises", "ReturnsGarbage", "HangsOnEpsilon", "Int32FixedPoint", "NaNAttributes"]
+__all__ = ["ClipsBeforeSnapping", "Float32Input", "DropsAttributes", "SlowOnEpsilon", "WrongTieClaim", "Raises", "ReturnsGarbage", "HangsOnEpsilon", "Int32FixedPoint", "NaNAttributes"]
 
 
 class WrongTieClaim:
@@ -136,3 +137,89 @@ class SlowOnEpsilon:
         thin = ((height > 0) & (height < 1e-6)) | ((width > 0) & (width < 1e-6))
         time.sleep(0.1 * int(thin.sum()))
         return CentreScanline().rasterize(scene)
+
+
+def _clip_to_screen(polygon: list[np.ndarray], width: int, height: int) -> list[np.ndarray]:
+    """Sutherland-Hodgman against the four sides of the screen, in float (as a GL clipper)."""
+    for axis, bound, keep_below in ((0, 0.0, False), (0, float(width), True), (1, 0.0, False), (1, float(height), True)):
+        out: list[np.ndarray] = []
+        for k in range(len(polygon)):
+            a, b = polygon[k], polygon[(k + 1) % len(polygon)]
+            da = (bound - a[axis]) if keep_below else (a[axis] - bound)
+            db = (bound - b[axis]) if keep_below else (b[axis] - bound)
+            if da >= 0:
+                out.append(a)
+            if (da >= 0) != (db >= 0):
+                t = da / (da - db)
+                out.append(a + t * (b - a))
+        polygon = out
+        if not polygon:
+            break
+    return polygon
+
+
+class ClipsBeforeSnapping:
+    """Mesa's behaviour at the viewport edge: a triangle with a vertex off-screen is clipped
+    to the screen in float, and the clipped polygon's new vertices are then snapped to
+    1/256 px, so samples on its edges can change side. Inside the screen it is exact."""
+
+    name = "bad_clips_before_snapping"
+    convention = Convention(subpixel_bits=8)
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        tris, ys, xs = [], [], []
+        for t, p in enumerate(scene.positions):
+            if not np.isfinite(p).all():
+                continue
+            inside = (p[:, 0].min() >= 0) & (p[:, 1].min() >= 0) & (p[:, 0].max() <= scene.width) & (p[:, 1].max() <= scene.height)
+            pieces = [p]
+            if not inside:
+                polygon = _clip_to_screen([v for v in p], scene.width, scene.height)
+                pieces = [np.array([polygon[0], polygon[k], polygon[k + 1]]) for k in range(1, len(polygon) - 1)]
+            seen: set[tuple[int, int]] = set()
+            for piece in pieces:
+                cov = exact_coverage(Scene(scene.width, scene.height, piece[None]), self.convention)
+                _, x, y = cov.pixels()
+                seen.update(zip(x.tolist(), y.tolist()))
+            for x, y in sorted(seen):
+                tris.append(t)
+                xs.append(x)
+                ys.append(y)
+        if not tris:
+            return Coverage.empty()
+        return Coverage.from_pixels(np.array(tris), np.array(xs), np.array(ys))
+
+
+class Float32Input:
+    """Exact, but its API takes float32 coordinates: float scenes lose their low bits.
+    With ``tell`` it says so through ``received``, as the Mesa adapters do."""
+
+    convention = Convention()
+
+    def __init__(self, tell: bool = True) -> None:
+        self.name = "bad_float32_input" + ("" if tell else "_silent")
+        if tell:
+            self.received = self._received
+
+    @staticmethod
+    def _received(scene: Scene) -> Scene:
+        return Scene(scene.width, scene.height, scene.positions.astype(np.float32).astype(np.float64), scene.attributes, scene.w)
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return exact_coverage(self._received(scene), self.convention)
+
+
+class DropsAttributes:
+    """The centre scanline, coverage only; ``declares`` says whether it admits it
+    (``interpolates = False``)."""
+
+    convention = Convention()
+
+    def __init__(self, declares: bool) -> None:
+        self.name = "bad_drops_attributes" + ("_declared" if declares else "")
+        if declares:
+            self.interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        cov = CentreScanline().rasterize(scene)
+        return Coverage(cov.triangle, cov.y, cov.x0, cov.x1)

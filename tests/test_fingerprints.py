@@ -1,0 +1,124 @@
+"""identify's direct probes (vertex sweep, viewport edge), the repro probes that say why a
+failure happens (viewport edge, input precision), coverage-only rasterizers, and the
+side-by-side fingerprint page: each shown to fire on a known-bad rasterizer and to stay
+quiet on correct ones."""
+
+import json
+
+import numpy as np
+import pytest
+
+from cases.partitions import partition_cases
+from cases.suites import conformance_cases
+from cases.meshes import mesh_cases
+from cases.motion import motion_cases
+from harness.checks import watertight
+from harness.conventions import Convention, snap
+from harness.identify import _vertex_sweep, identify
+from harness.registry import load
+from harness.runner import run_suite
+from tests.known_bad.edge_functions import EdgeFunctionBug
+from tests.known_bad.misc import ClipsBeforeSnapping, DropsAttributes, Float32Input
+from tests.test_identify import BlackBox
+
+
+def test_snap_can_round_down():
+    values = np.array([0.125, 0.375, -0.125, 1.0 / 3.0])
+    assert snap(values, 2, "floor").tolist() == [0.0, 0.25, -0.25, 0.25]
+    assert repr(Convention(subpixel_bits=6, snap_rounding="floor")).endswith("snap_rounding='floor')")
+    assert "rounding down" in Convention(subpixel_bits=6, snap_rounding="floor").describe()
+    with pytest.raises(ValueError, match="snap_rounding"):
+        Convention(snap_rounding="up")
+
+
+@pytest.mark.parametrize("hidden, grid", [
+    (Convention(subpixel_bits=8), 9),
+    (Convention(tie="bottom-right", subpixel_bits=6, snap_rounding="floor"), 6),
+    (Convention(sample=(1.0, 1.0), subpixel_bits=2), 3),
+    (Convention(), None),
+], ids=str)
+def test_vertex_sweep_finds_the_snapping_grid(hidden, grid):
+    found, located = _vertex_sweep(BlackBox(hidden))
+    assert located >= 12 and found == grid
+
+
+def test_identify_recovers_snapping_that_rounds_down():
+    hidden = Convention(tie="bottom-right", subpixel_bits=6, snap_rounding="floor")
+    fingerprint = identify(BlackBox(hidden))
+    assert fingerprint.convention == hidden and fingerprint.exact, fingerprint.card()
+    assert "agrees with the fit" in fingerprint.facts["vertex sweep"]
+
+
+def test_viewport_edge_fact_tells_a_clipper_from_an_exact_rasterizer():
+    assert identify(load("centre_scanline")).facts["viewport edge"].startswith("exact")
+    fingerprint = identify(ClipsBeforeSnapping())
+    assert "change when triangles cross it" in fingerprint.facts["viewport edge"], fingerprint.card()
+    # away from the edge it is exactly its convention
+    assert fingerprint.convention == Convention(subpixel_bits=8) and fingerprint.exact, fingerprint.card()
+
+
+def test_repros_say_when_a_failure_lives_at_the_viewport_edge():
+    cases = [c for c in conformance_cases(0) if c.id.startswith("lattice/bits-")]
+    results = run_suite([ClipsBeforeSnapping()], cases=cases, isolate=False, repro_seconds=60)
+    failed = [r for r in results if r.status == "fail" and r.check == "conformance"]
+    assert failed
+    assert all("viewport_edge" in r.evidence and "cross the viewport edge" in r.message for r in failed)
+    # an exact rasterizer fails nowhere, so the probe has nothing to say
+    assert all(r.status in ("pass", "skip") for r in run_suite([load("fixed_point")], cases=cases, isolate=False))
+
+
+def test_repros_say_when_a_failure_comes_from_the_input_format():
+    cases = [c for c in conformance_cases(0) if c.id == "float/near-ties-1e-6"]
+    told = [r for r in run_suite([Float32Input(tell=True)], cases=cases, isolate=False) if r.check == "conformance"]
+    silent = [r for r in run_suite([Float32Input(tell=False)], cases=cases, isolate=False) if r.check == "conformance"]
+    assert told[0].status == "fail" and "input_precision" in told[0].evidence and "input format" in told[0].message
+    assert silent[0].status == "fail" and "input_precision" not in silent[0].evidence
+
+
+def test_a_coverage_only_rasterizer_says_so_or_fails():
+    mesh = [c for c in mesh_cases(0) if c.scene.attributes is not None][:1]
+    textured = [c for c in motion_cases(0) if c.texels][:1]
+    assert mesh and textured
+    declared = run_suite([DropsAttributes(declares=True)], cases=mesh + textured, isolate=False)
+    silent = run_suite([DropsAttributes(declares=False)], cases=mesh + textured, isolate=False)
+    by = lambda results, check: [r for r in results if r.check == check]  # noqa: E731
+    assert all(r.status == "pass" and "as it declares" in r.message for r in by(declared, "hygiene"))
+    assert all(r.status == "skip" and "interpolates = False" in r.message for r in by(declared, "texel"))
+    assert all(r.status == "fail" for r in by(silent, "hygiene"))
+    assert all(r.status == "fail" and "without one attribute row" in r.message for r in by(silent, "texel"))
+
+
+def test_watertight_says_whether_failures_sit_at_vertices():
+    fan = next(c for c in partition_cases(0) if c.id == "watertight/fan-8/centre")
+    message = watertight(fan, EdgeFunctionBug("inclusive").rasterize(fan.scene)).message
+    assert "mesh vertex" in message, message
+    assert "every one at a pixel holding a mesh vertex" in message, message
+    grid = next(c for c in partition_cases(0) if c.id == "watertight/grid-6x6-on-centres/lattice")
+    message = watertight(grid, EdgeFunctionBug("inclusive").rasterize(grid.scene)).message
+    assert "the rest along edges" in message, message
+
+
+def test_fingerprint_page_puts_everyone_side_by_side(tmp_path):
+    from harness.cli import main
+
+    path = tmp_path / "box.py"
+    path.write_text(
+        "from harness.conventions import Convention\n"
+        "from harness.oracle import exact_coverage\n"
+        "class Box:\n"
+        "    name = 'box<b>'\n"
+        "    convention = None\n"
+        "    def rasterize(self, scene):\n"
+        "        return exact_coverage(scene, Convention(tie='bottom-left'))\n"
+    )
+    out = tmp_path / "rep"
+    code = main(["run", "--rasterizer", "centre_scanline", "--rasterizer", f"{path}:Box", "--out", str(out),
+                 "--json", str(tmp_path / "r.json")])
+    assert code == 0
+    page = (out / "fingerprints.html").read_text()
+    assert "box&lt;b&gt;" in page and "box<b>" not in page  # autoescaped
+    assert "confirmed" in page and "nothing declared; checked against the identified one" in page
+    assert "vertex sweep" in page and "viewport edge" in page and 'href="fingerprints.html"' in (out / "index.html").read_text()
+    data = json.loads((tmp_path / "r.json").read_text())
+    assert data["fingerprints"]["centre_scanline"]["exact"] is True
+    assert data["fingerprints"]["box<b>"]["tie"] == "bottom-left"
