@@ -163,6 +163,39 @@ def _vertex_sweep(rasterizer: Rasterizer, changes: int = 6, resolution: int = 16
     return (finest if finest <= coarsest else None), located
 
 
+def _residual_kinds(coverages: list[Coverage], scenes: list[Scene], convention: Convention, limit: int = 5000) -> str:
+    """Where the lattice residual lies: samples exactly on an edge whose slope dx/dy is not
+    a dyadic fraction (an exact edge function decides those like any other; stepping x by
+    dx/dy in floating point rounds there), exactly on a dyadic-slope edge, or off every
+    edge (a different rule, not a tie)."""
+    from fractions import Fraction
+
+    from harness.exact import orientation
+
+    non_dyadic = dyadic = off = 0
+    for cov, scene in zip(coverages, scenes):
+        missing, extra = deviations(cov, exact_coverage(scene, convention), scene.width, scene.height)
+        both = np.concatenate([missing, extra], axis=1)[:, :limit]
+        if not both.shape[1]:
+            continue
+        p = convention.snap(scene.positions)[both[0]]
+        samples = np.stack([both[1] + convention.sample[0], both[2] + convention.sample[1]], axis=-1)
+        kinds = np.zeros(both.shape[1], dtype=np.int8)  # 0 off, 1 dyadic slope, 2 non-dyadic
+        for k in range(3):
+            a, b = p[:, k], p[:, (k + 1) % 3]
+            on = orientation(np.stack([a, b, samples], axis=1)) == 0
+            for i in np.flatnonzero(on):
+                dx, dy = Fraction(float(b[i, 0] - a[i, 0])), Fraction(float(b[i, 1] - a[i, 1]))
+                slope_dyadic = dy == 0 or ((dx / dy).denominator & ((dx / dy).denominator - 1)) == 0
+                kinds[i] = max(kinds[i], 1 if slope_dyadic else 2)
+        non_dyadic += int((kinds == 2).sum())
+        dyadic += int((kinds == 1).sum())
+        off += int((kinds == 0).sum())
+    return (f"on lattice scenes: {non_dyadic} samples exactly on an edge whose slope dx/dy is not dyadic "
+            f"(where stepping x by dx/dy in floating point rounds), {dyadic} exactly on a dyadic-slope edge, "
+            f"{off} off every edge")
+
+
 def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     """The convention that best explains ``rasterizer``, its residual, and other facts."""
     facts: dict[str, Any] = {}
@@ -204,6 +237,8 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     convention = Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode, snap_rounding=rounding)
     residual = sum(_mismatch(c, s, convention) for c, s in zip([*lattice_cov, *float_cov], [*lattice, *floats]))
     pixels = sum(c.n_pixels for c in [*lattice_cov, *float_cov])
+    if residual:
+        facts["residual lies"] = _residual_kinds(lattice_cov, lattice, convention)
     facts["viewport edge"] = _viewport_edge(rasterizer, seed)
     # degenerate and non-finite handling
     zero = Scene(32, 32, [[[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[8, 8], [8, 8], [20, 14]]])
