@@ -85,16 +85,17 @@ def _viewport_edge(rasterizer: Rasterizer, seed: int, margin: int = 8) -> str:
     the screen is grown so that nothing crosses it: convention-free, the rasterizer against
     itself (a clipper that moves vertices before snapping shows up here)."""
     changed = total = 0
+    size = 64  # a power of two, as framebuffers, tiles and guard bands often are
     for bits in (0, 2, 4):
-        crossing = Scene(48, 48, lattice_triangles(120, 48, bits, seed + 7 + bits))
-        grown = Scene(48 + 2 * margin, 48 + 2 * margin, crossing.positions + float(margin))
+        crossing = Scene(size, size, lattice_triangles(120, size, bits, seed + 7 + bits))
+        grown = Scene(size + 2 * margin, size + 2 * margin, crossing.positions + float(margin))
         a, b = _safe(rasterizer, crossing), _safe(rasterizer, grown)
         if not isinstance(a, Coverage) or not isinstance(b, Coverage):
             return "not measured: the rasterizer raised"
         ta, xa, ya = a.pixels()
         tb, xb, yb = b.pixels()
         xb, yb = xb - margin, yb - margin
-        keep = (xb >= 0) & (xb < 48) & (yb >= 0) & (yb < 48)
+        keep = (xb >= 0) & (xb < size) & (yb >= 0) & (yb < size)
         mine = set(zip(ta.tolist(), xa.tolist(), ya.tolist()))
         inside = set(zip(tb[keep].tolist(), xb[keep].tolist(), yb[keep].tolist()))
         changed += len(mine ^ inside)

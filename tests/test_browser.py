@@ -13,6 +13,8 @@ import pytest
 
 from cases.motion import motion_cases
 from cases.suites import suite
+from harness.identify import identify
+from harness.registry import load
 from harness.report import write_report
 from harness.runner import run_suite
 from tests.known_bad.interpolation import InterpolationBug
@@ -53,9 +55,13 @@ def test_report_renders_in_a_real_browser(tmp_path):
     results = run_suite([WrongTieClaim(), InterpolationBug("no-subtexel"), "centre_scanline"], cases=static + moving)
     conventions = {"bad_wrong_tie_claim": "claims bottom-right", "bad_no-subtexel": "top-left", "centre_scanline": "top-left"}
     out = tmp_path / "report"
-    write_report(out, conventions, results, seed=0)
+    fingerprints = {"bad_wrong_tie_claim": identify(WrongTieClaim()).to_dict(), "centre_scanline": identify(load("centre_scanline")).to_dict()}
+    declared = {"bad_wrong_tie_claim": "sample (0.5, 0.5), bottom-right ties, no snapping, no culling"}
+    write_report(out, conventions, results, seed=0, fingerprints=fingerprints, declared=declared,
+                 kinds={"centre_scanline": "built-in", "bad_wrong_tie_claim": "plugin", "bad_no-subtexel": "plugin"})
     pages = sorted(p.name for p in out.glob("*.html"))
-    assert len(pages) == 4
+    assert len(pages) == 5 and "fingerprints.html" in pages
+    assert "not confirmed" in (out / "fingerprints.html").read_text()
     checker = out / "check.html"
     checker.write_text(CHECKER.replace("PAGES", json.dumps(pages)))
     text = "pending"
@@ -72,7 +78,7 @@ def test_report_renders_in_a_real_browser(tmp_path):
     assert all(page["broken"] == 0 and page["scripts"] == 0 for page in report.values()), report
     assert sum(page["images"] for page in report.values()) >= 5  # heat map, diff, crop, animation, plot
     KEEP.mkdir(parents=True, exist_ok=True)
-    for page in ("index.html", "rasterizer-bad_wrong_tie_claim.html"):
+    for page in ("index.html", "rasterizer-bad_wrong_tie_claim.html", "fingerprints.html"):
         shot = KEEP / page.replace(".html", ".png")
         subprocess.run([CHROMIUM, *FLAGS, f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1280,1600",
                         f"--screenshot={shot}", (out / page).as_uri()], capture_output=True, timeout=120)
