@@ -246,12 +246,17 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     result = _safe(rasterizer, zero)
     facts["zero area"] = (f"raises {type(result).__name__}" if isinstance(result, BaseException)
                           else "draws nothing" if result.n_pixels == 0 else f"draws {result.n_pixels} pixels")
-    bad = Scene(32, 32, [[[np.nan, 4], [10, 10], [4, 20]], [[4.5, 4.5], [20.5, 4.5], [4.5, 20.5]]])
-    result = _safe(rasterizer, bad)
-    if isinstance(result, BaseException):
-        facts["non-finite"] = f"raises {type(result).__name__}: {result}"[:120]
-    else:
-        facts["non-finite"] = "covers nothing, the rest drawn" if 0 not in set(result.triangle.tolist()) else "draws the NaN triangle"
+    answers = []
+    for label, value in (("NaN", np.nan), ("inf", np.inf)):
+        bad = Scene(32, 32, [[[value, 4], [10, 10], [4, 20]], [[4.5, 4.5], [20.5, 4.5], [4.5, 20.5]]])
+        result = _safe(rasterizer, bad)
+        if isinstance(result, BaseException):
+            answers.append(f"{label}: raises {type(result).__name__}: {result}"[:120])
+        else:
+            drawn = int(np.sum((result.triangle == 0) * (result.x1 - result.x0)))
+            rest = "the rest drawn" if 1 in set(result.triangle.tolist()) else "the finite triangle lost too"
+            answers.append(f"{label}: {'covers nothing' if drawn == 0 else f'DRAWS {drawn} pixels'}, {rest}")
+    facts["non-finite"] = "; ".join(answers)
     # watertight on planar partitions
     holes = doubles = 0
     partitions = partition_cases(seed)

@@ -19,8 +19,10 @@ LIMIT = 2.0**20
 def draw_each(scene: Scene, name: str, draw: Callable[[NDArray[np.float64], int, int, tuple[int, int]], NDArray[np.bool_]],
               margin: int = 2) -> Coverage:
     """Call ``draw(vertices relative to the box origin, box width, box height, origin)`` for
-    each finite triangle; it returns the box's (h, w) bool mask. Spans come back in screen
-    coordinates, clipped to the viewport."""
+    each triangle; it returns the box's (h, w) bool mask. Spans come back in screen
+    coordinates, clipped to the viewport. A triangle with a NaN or infinite coordinate is
+    handed to the library unchanged, with the whole screen as its box, so that what the
+    library does with it (draws nothing, raises, or draws garbage) is what the checks see."""
     positions = scene.positions
     finite = np.all(np.isfinite(positions), axis=(1, 2))
     too_big = finite & np.any(np.abs(positions) > LIMIT, axis=(1, 2))
@@ -29,12 +31,15 @@ def draw_each(scene: Scene, name: str, draw: Callable[[NDArray[np.float64], int,
         raise ValueError(f"{name}: triangle {t} has a coordinate beyond +/-{LIMIT:g} px ({positions[t].tolist()}); "
                          "the library's coordinates would lose precision or overflow")
     parts = []
-    for t in np.flatnonzero(finite):
+    for t in range(len(scene)):
         p = positions[t]
-        x0 = int(np.clip(np.floor(p[:, 0].min()) - margin, 0, scene.width))
-        y0 = int(np.clip(np.floor(p[:, 1].min()) - margin, 0, scene.height))
-        x1 = int(np.clip(np.ceil(p[:, 0].max()) + margin, 0, scene.width))
-        y1 = int(np.clip(np.ceil(p[:, 1].max()) + margin, 0, scene.height))
+        if not finite[t]:
+            x0, y0, x1, y1 = 0, 0, scene.width, scene.height
+        else:
+            x0 = int(np.clip(np.floor(p[:, 0].min()) - margin, 0, scene.width))
+            y0 = int(np.clip(np.floor(p[:, 1].min()) - margin, 0, scene.height))
+            x1 = int(np.clip(np.ceil(p[:, 0].max()) + margin, 0, scene.width))
+            y1 = int(np.clip(np.ceil(p[:, 1].max()) + margin, 0, scene.height))
         if x0 >= x1 or y0 >= y1:
             continue
         mask = draw(p - np.array([x0, y0], dtype=np.float64), x1 - x0, y1 - y0, (x0, y0))
