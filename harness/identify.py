@@ -192,9 +192,8 @@ def _residual_kinds(coverages: list[Coverage], scenes: list[Scene], convention: 
         non_dyadic += int((kinds == 2).sum())
         dyadic += int((kinds == 1).sum())
         off += int((kinds == 0).sum())
-    return (f"on lattice scenes: {non_dyadic} samples exactly on an edge whose slope dx/dy is not dyadic "
-            f"(where stepping x by dx/dy in floating point rounds), {dyadic} exactly on a dyadic-slope edge, "
-            f"{off} off every edge")
+    return (f"{non_dyadic} exactly on edges of non-dyadic slope dx/dy, {dyadic} exactly on dyadic-slope edges, "
+            f"{off} off every edge (lattice scenes)")
 
 
 def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
@@ -224,7 +223,10 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
                   for b, r in snaps for c in CANDIDATES]
     scores = sorted(((sum(_mismatch(c, s, cand) for c, s in zip(lattice_cov, lattice)), i) for i, cand in enumerate(candidates)))
     best = candidates[scores[0][1]]
-    runner = candidates[scores[1][1]]
+    # the runner-up differs in sample point or tie rule (snapping cannot show on lattices)
+    runner_score, runner_index = next((sc, i) for sc, i in scores
+                                      if (candidates[i].sample, candidates[i].tie) != (best.sample, best.tie))
+    runner = candidates[runner_index]
     float_cov = [rasterizer.rasterize(s) for s in floats]
     snap_scores: list[tuple[int, int, int | None, str]] = []
     for bits in SNAP_BITS:
@@ -282,7 +284,7 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
         agree = " (agrees with the fit)" if fits else f" (the fit says {bits if bits is not None else 'none'}, {rounding}: not confirmed)"
         facts["vertex sweep"] = (f"{located} coverage changes, all at multiples of 2^-{grid} px: vertices snap to 2^-{nearest} px "
                                  f"rounding to nearest, or 2^-{grid} px truncating" + agree)
-    return Fingerprint(rasterizer.name, convention, residual, pixels, (runner.describe(), scores[1][0]), facts)
+    return Fingerprint(rasterizer.name, convention, residual, pixels, (runner.describe(), runner_score), facts)
 
 
 def _child(rasterizer: Rasterizer, seed: int, conn: Any) -> None:  # pragma: no cover - runs in the child
