@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from cases.partitions import partition_cases
 from cases.records import Case
@@ -25,7 +26,7 @@ from cases.scenes import lattice_triangles, random_triangles
 from harness.api import Coverage, Rasterizer, Scene
 from harness.checks import deviations, watertight
 from harness.compare import CANDIDATES
-from harness.conventions import Convention
+from harness.conventions import TIE_RULES, Convention
 from harness.oracle import exact_coverage
 
 __all__ = ["Fingerprint", "identify", "identify_isolated", "Identified"]
@@ -44,7 +45,9 @@ class Fingerprint:
 
     @property
     def exact(self) -> bool:
-        return self.residual == 0
+        """No mismatch, and the runner-up (another sample point or tie rule) has some:
+        a candidate that only ties with another is never claimed."""
+        return self.residual == 0 and not (self.runner_up is not None and self.runner_up[1] == 0)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for JSON and the report."""
@@ -60,9 +63,11 @@ class Fingerprint:
                  f"convention   {self.convention.describe()}",
                  f"             {self.convention!r}",
                  f"residual     {self.residual} mismatching pixels of {self.pixels}"
-                 + ("  (identified exactly)" if self.exact else "  (best guess only: no candidate explains it exactly)")]
+                 + ("  (identified exactly)" if self.exact
+                    else "  (ambiguous: the next best explains it as well)" if self.residual == 0
+                    else "  (best guess only: no candidate explains it exactly)")]
         if self.runner_up:
-            lines.append(f"next best    {self.runner_up[0]} ({self.runner_up[1]} mismatches)")
+            lines.append(f"next best    {self.runner_up[0]} ({self.runner_up[1]} mismatches on the tie scenes)")
         for k, v in self.facts.items():
             lines.append(f"{k:<12} {v}")
         return "\n".join(lines)
@@ -196,6 +201,64 @@ def _residual_kinds(coverages: list[Coverage], scenes: list[Scene], convention: 
             f"{off} off every edge (lattice scenes)")
 
 
+def _sample_sweep(rasterizer: Rasterizer, resolution: int = 20) -> tuple[float, float] | None:
+    """Sweep a vertical edge, then a horizontal one, across pixel (8, 30) / (30, 8) and find
+    by bisection (to 2**-resolution px) the offset inside the pixel where its coverage
+    flips: the sample point, measured directly (up to the snapping grid). None when the
+    pixel never flips (the rasterizer raised, or draws nothing there)."""
+    found = []
+    for axis in (0, 1):
+        def covered(t: float) -> bool | None:
+            edge = 8.0 + t
+            tri = [[edge, 2.0], [edge, 60.0], [40.0, 31.0]] if axis == 0 else [[2.0, edge], [60.0, edge], [31.0, 40.0]]
+            got = _safe(rasterizer, Scene(64, 64, [tri]))
+            if not isinstance(got, Coverage):
+                return None
+            t_, x, y = got.pixels()
+            px, py = (8, 30) if axis == 0 else (30, 8)
+            return bool(np.any((x == px) & (y == py)))
+
+        lo, hi = -0.5, 1.5  # the pixel is inside at lo (edge left of it), outside at hi
+        if covered(lo) is not True or covered(hi) is not False:
+            return None
+        while hi - lo > 2.0**-resolution:
+            mid = (lo + hi) / 2.0
+            answer = covered(mid)
+            if answer is None:
+                return None
+            lo, hi = (mid, hi) if answer else (lo, mid)
+        found.append(lo if _fraction_bits(lo) <= _fraction_bits(hi) else hi)
+    return found[0], found[1]
+
+
+def _tie_triangles(sample: tuple[float, float], seed: int, count: int = 200) -> NDArray[np.float64]:
+    """(count, 3, 2): triangles whose vertices all sit on sample points (i + sx, j + sy) of a
+    48 px square (moved 4 px in), each with a horizontal or a vertical edge, both windings:
+    every tie rule is exercised at this sample point."""
+    rng = np.random.default_rng(seed + 11)
+    base = rng.integers(6, 42, size=(count, 2)).astype(np.float64)
+    a = rng.integers(1, 7, size=count) * rng.choice([-1, 1], size=count)
+    c = rng.integers(-6, 7, size=(count, 2))
+    c[:, 1] = np.where(c[:, 1] == 0, 1, c[:, 1])
+    second = base.copy()
+    horizontal = rng.random(count) < 0.5
+    second[horizontal, 0] += a[horizontal]
+    second[~horizontal, 1] += a[~horizontal]
+    third = base + c
+    return np.stack([base, second, third], axis=1) + np.array(sample) + 4.0
+
+
+def _sample_candidates(measured: tuple[float, float] | None) -> list[tuple[float, float]]:
+    """The 9 standard sample points, plus the measured one at a few dyadic precisions."""
+    samples = list(dict.fromkeys(c.sample for c in CANDIDATES))
+    if measured is not None:
+        for bits in (1, 2, 3, 4, 6, 8, 12):
+            sx, sy = (min(1.0, max(0.0, round(v * 2**bits) / 2**bits)) for v in measured)
+            if (sx, sy) not in samples:
+                samples.append((sx, sy))
+    return samples
+
+
 def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     """The convention that best explains ``rasterizer``, its residual, and other facts."""
     facts: dict[str, Any] = {}
@@ -211,7 +274,13 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     cull_mode = cull if cull in ("cw", "ccw") else "none"
     # lattice triangles reach 2 px past a 48 px square; moved 4 px into a 56 px screen
     # (exactly) nothing crosses the viewport edge, so clipping cannot blur the convention
+    # an edge swept across a pixel measures the sample point directly, even off the 9 usual ones
+    measured = _sample_sweep(rasterizer)
+    facts["sample sweep"] = ("no flip found (the pixel never changed)" if measured is None else
+                             f"an edge swept across a pixel flips it at offset ({measured[0]:.6g}, {measured[1]:.6g}) "
+                             "(bisected to 2^-20 px; snapping moves it by up to one grid step)")
     lattice = [Scene(56, 56, lattice_triangles(120, 48, bits, seed + bits) + 4.0) for bits in (0, 1, 2, 4)]
+    # ties at the measured sample point: vertices on samples, axis-aligned edges through rows of them
     floats = [Scene(48, 48, random_triangles(150, 60.0, 48, seed + k)) for k in range(2)]
     lattice_cov = [rasterizer.rasterize(s) for s in lattice]
     # a vertex sweep that sees a snapping grid lets the sample and tie be fitted under it
@@ -219,9 +288,14 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     snaps: list[tuple[int | None, str]] = [(None, "nearest-even")]
     if grid is not None:
         snaps += [(grid - 1, "nearest-even"), (grid, "floor")]
-    candidates = [Convention(sample=c.sample, tie=c.tie, cull=cull_mode, subpixel_bits=b, snap_rounding=r)
-                  for b, r in snaps for c in CANDIDATES]
+    candidates = [Convention(sample=sample, tie=tie, cull=cull_mode, subpixel_bits=b, snap_rounding=r)
+                  for b, r in snaps for sample in _sample_candidates(measured) for tie in TIE_RULES]
     scores = sorted(((sum(_mismatch(c, s, cand) for c, s in zip(lattice_cov, lattice)), i) for i, cand in enumerate(candidates)))
+    # then ties at the best sample point: vertices on samples, axis-aligned edges through
+    # rows of them, so that every tie rule shows there
+    lattice.append(Scene(56, 56, _tie_triangles(candidates[scores[0][1]].sample, seed)))
+    lattice_cov.append(rasterizer.rasterize(lattice[-1]))
+    scores = sorted((score + _mismatch(lattice_cov[-1], lattice[-1], candidates[i]), i) for score, i in scores)
     best = candidates[scores[0][1]]
     # the runner-up differs in sample point or tie rule (snapping cannot show on lattices)
     runner_score, runner_index = next((sc, i) for sc, i in scores

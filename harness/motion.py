@@ -159,9 +159,15 @@ def _frames_without_attributes(coverages: list[Coverage]) -> list[int]:
             if cov.n_pixels and (cov.attributes is None or cov.attributes.shape[0] != cov.n_pixels)]
 
 
-def _no_attributes_message(missing: list[int], frames: int) -> str:
-    return (f"{len(missing)} of {frames} frames came back without one attribute row per covered pixel "
-            f"(first: frame {missing[0]}); a rasterizer that interpolates nothing should say so with interpolates = False")
+def _lacking_attributes(case_id: str, check: str, coverages: list[Coverage]) -> Result | None:
+    """A failed result when some frame lacks attribute rows, else None."""
+    missing = _frames_without_attributes(coverages)
+    if not missing:
+        return None
+    message = (f"{len(missing)} of {len(coverages)} frames came back without one attribute row per covered pixel "
+               f"(first: frame {missing[0]}); a rasterizer that interpolates nothing should say so with interpolates = False")
+    return _result(case_id, check, False, message, {"frames_without_attributes": float(len(missing))},
+                   {"frames_without_attributes": missing[:EVIDENCE_LIMIT]})
 
 
 def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Coverage], texels: int) -> Result:
@@ -169,10 +175,9 @@ def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Covera
     oracle's, mismatches at exact texel edges excused; at a fixed pixel, the texel index
     moves only the way the oracle's does (backward steps counted); the largest u, v error
     in texels."""
-    missing = _frames_without_attributes(coverages)
-    if missing:
-        return _result(case_id, "texel", False, _no_attributes_message(missing, len(coverages)),
-                       {"frames_without_attributes": float(len(missing))}, {"frames_without_attributes": missing[:EVIDENCE_LIMIT]})
+    lacking = _lacking_attributes(case_id, "texel", coverages)
+    if lacking is not None:
+        return lacking
     mismatches = 0
     worst = 0.0
     per_frame_mismatch = []
@@ -231,10 +236,9 @@ def perspective(case_id: str, coverages: list[Coverage], oracles: list[Coverage]
                 tolerance: Tolerance = Tolerance()) -> Result:
     """u, v against the exact perspective-correct values, in texels: the largest error may
     not exceed ``tolerance.uv_error`` texels."""
-    missing = _frames_without_attributes(coverages)
-    if missing:
-        return _result(case_id, "perspective", False, _no_attributes_message(missing, len(coverages)),
-                       {"frames_without_attributes": float(len(missing))}, {"frames_without_attributes": missing[:EVIDENCE_LIMIT]})
+    lacking = _lacking_attributes(case_id, "perspective", coverages)
+    if lacking is not None:
+        return lacking
     worst = 0.0
     where: dict[str, Any] = {}
     for f, (cov, oracle) in enumerate(zip(coverages, oracles)):

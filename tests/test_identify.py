@@ -42,10 +42,26 @@ def test_identify_recovers_each_builtin(name):
     Convention(tie="bottom-right", sample=(1.0, 1.0), subpixel_bits=4),
     Convention(tie="top-left", subpixel_bits=6),
     Convention(tie="top-left", cull="cw"),
+    Convention(tie="bottom-left", sample=(0.25, 0.75)),
+    Convention(tie="top-right", sample=(0.375, 0.125), subpixel_bits=4),
+    Convention(tie="bottom-right", sample=(0.0, 1.0), subpixel_bits=5, snap_rounding="floor"),
 ], ids=str)
 def test_identify_recovers_hidden_conventions(hidden):
     fingerprint = identify(BlackBox(hidden))
     assert fingerprint.convention == hidden and fingerprint.exact, fingerprint.card()
+
+
+def test_a_tie_with_the_runner_up_is_never_claimed():
+    from harness.identify import Fingerprint
+
+    tied = Fingerprint("r", Convention(), 0, 1000, ("sample (0.5, 0.5), bottom-left ties", 0))
+    assert not tied.exact and "ambiguous" in tied.card()
+    assert Fingerprint("r", Convention(), 0, 1000, ("other", 3)).exact
+
+
+def test_the_sample_sweep_measures_an_unusual_sample_point():
+    fingerprint = identify(BlackBox(Convention(sample=(0.25, 0.75))))
+    assert "(0.25, 0.75)" in fingerprint.facts["sample sweep"]
 
 
 def test_identify_never_claims_what_it_cannot_confirm():
@@ -83,17 +99,22 @@ print("OK")
 """
 
 
-@pytest.mark.parametrize("name", REAL)
-def test_real_adapter_draws_a_square_without_gaps(name):
-    """Each adapter in a fresh process (Mesa picks its driver once per process)."""
+def _in_fresh_process(script: str, *args: str, timeout: float = 300) -> None:
+    """Run a check script in a fresh Python (Mesa picks its driver once per process);
+    skip with the script's install hint when it says UNAVAILABLE."""
     import subprocess
     import sys
 
-    done = subprocess.run([sys.executable, "-c", SQUARE_CHECK, name], capture_output=True, text=True, timeout=120)
+    done = subprocess.run([sys.executable, "-c", script, *args], capture_output=True, text=True, timeout=timeout)
     assert done.returncode == 0, done.stdout + done.stderr
     if done.stdout.startswith("UNAVAILABLE"):
         pytest.skip(done.stdout.strip())
     assert done.stdout.strip().endswith("OK")
+
+
+@pytest.mark.parametrize("name", REAL)
+def test_real_adapter_draws_a_square_without_gaps(name):
+    _in_fresh_process(SQUARE_CHECK, name, timeout=120)
 
 
 def test_run_identifies_an_undeclared_convention(tmp_path):
@@ -116,7 +137,7 @@ def test_run_identifies_an_undeclared_convention(tmp_path):
 
 def test_the_card_lists_every_fact():
     card = identify(load("centre_scanline")).card()
-    for fact in ("culling", "zero area", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep"):
+    for fact in ("sample sweep", "culling", "zero area", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep"):
         assert f"\n{fact}" in card, card
 
 
@@ -139,11 +160,4 @@ print("OK")
 def test_llvmpipe_is_identified_exactly():
     """A production GL driver: centre samples, top-left ties (image row y = memory row y),
     vertices snapped to 1/256 px, watertight; the vertex sweep agrees."""
-    import subprocess
-    import sys
-
-    done = subprocess.run([sys.executable, "-c", IDENTIFY_LLVMPIPE], capture_output=True, text=True, timeout=300)
-    assert done.returncode == 0, done.stdout + done.stderr
-    if done.stdout.startswith("UNAVAILABLE"):
-        pytest.skip(done.stdout.strip())
-    assert done.stdout.strip().endswith("OK")
+    _in_fresh_process(IDENTIFY_LLVMPIPE)
