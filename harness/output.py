@@ -10,8 +10,9 @@ JSON schema 1::
       "created": "<ISO 8601 time>",
       "rasterizers": {"<name>": "<convention, in words, or 'none declared'>"},
       "fingerprints": {"<name>": {"convention": str, "sample": [x, y], "tie": str,
-                       "subpixel_bits": int | null, "cull": str, "exact": bool,
-                       "residual": int, "pixels": int, "facts": {str: str}}
+                       "subpixel_bits": int | null, "snap_rounding": str, "cull": str,
+                       "exact": bool, "residual": int, "pixels": int,
+                       "runner_up": [str, int] | null, "facts": {str: str}}
                        | {"error": str}},   # what identify found, when it ran
       "results": [
         {"rasterizer": str, "case": str, "check": str,
