@@ -43,7 +43,8 @@ def _quiet() -> bool:
     return bool(os.environ.get("CI")) or not sys.stderr.isatty()
 
 
-def _fingerprint_all(rasterizers: list[Any], seed: int, everyone: bool) -> tuple[list[Any], dict[str, dict[str, Any]]]:
+def _fingerprint_all(rasterizers: list[Any], seed: int, everyone: bool,
+                     call_timeout: float = 60.0) -> tuple[list[Any], dict[str, dict[str, Any]]]:
     """Identify each rasterizer (each in a process of its own) for the side-by-side page;
     one that declares no convention is then checked against the one identified for it.
     With ``everyone`` False only those are identified. A failure to identify is kept as
@@ -57,7 +58,7 @@ def _fingerprint_all(rasterizers: list[Any], seed: int, everyone: bool) -> tuple
             out.append(r)
             continue
         try:
-            fingerprint = identify_isolated(r, seed)
+            fingerprint = identify_isolated(r, seed, timeout=max(300.0, 10 * call_timeout), call_timeout=call_timeout)
         except Exception as exc:
             fingerprints[r.name] = {"error": f"{type(exc).__name__}: {exc}"}
             print(f"identify {r.name}: {type(exc).__name__}: {exc}", file=sys.stderr)
@@ -78,7 +79,8 @@ def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float, dic
     rasterizers, problems = _load_all(args.rasterizer)
     for problem in problems:
         print(f"skipped plugin: {problem}", file=sys.stderr)
-    rasterizers, fingerprints = _fingerprint_all(rasterizers, args.seed, not getattr(args, "no_fingerprints", False))
+    rasterizers, fingerprints = _fingerprint_all(rasterizers, args.seed, not getattr(args, "no_fingerprints", False),
+                                                 args.timeout)
     try:
         cases = suite(args.suite, args.seed)
     except ValueError as exc:
@@ -234,7 +236,12 @@ def _identify(args: argparse.Namespace) -> int:
     rasterizers, _ = _load_all([args.spec])
     if not rasterizers:
         return 0  # unavailable: reported as skipped with its install hint
-    fingerprint = identify_isolated(rasterizers[0], seed=args.seed)
+    try:
+        fingerprint = identify_isolated(rasterizers[0], seed=args.seed, timeout=max(300.0, 10 * args.timeout),
+                                        call_timeout=args.timeout)
+    except Exception as exc:  # the rasterizer died or hung outside Python: say so, no traceback
+        print(f"identify {rasterizers[0].name}: {type(exc).__name__}: {exc}", file=sys.stderr)
+        return 1
     print(fingerprint.card())
     declared = rasterizers[0].convention
     if declared is not None:
@@ -324,6 +331,7 @@ def build_parser() -> argparse.ArgumentParser:
     ide = sub.add_parser("identify", help="fingerprint a rasterizer's convention from outside")
     ide.add_argument("spec", metavar="SPEC")
     ide.add_argument("--seed", type=int, default=0)
+    ide.add_argument("--timeout", type=float, default=60.0, help="seconds one rasterize call may take")
     ide.set_defaults(func=_identify)
     rep = sub.add_parser("replay", help="run the checks of a saved case (a minimal repro) on a rasterizer")
     rep.add_argument("case", help="a case JSON file, as written under reports/repros/")

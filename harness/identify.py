@@ -361,21 +361,52 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     return Fingerprint(rasterizer.name, convention, residual, pixels, (runner.describe(), runner_score), facts)
 
 
-def _child(rasterizer: Rasterizer, seed: int, conn: Any) -> None:  # pragma: no cover - runs in the child
+class _TimeLimited:
+    """The rasterizer with each call cut off after ``seconds`` by SIGALRM (a TimeoutError,
+    which the probes record like any other exception). Only for a child process."""
+
+    def __init__(self, inner: Rasterizer, seconds: float) -> None:
+        self.inner, self.seconds = inner, seconds
+        self.name, self.convention = inner.name, inner.convention
+        for optional in ("interpolates", "received"):
+            if hasattr(inner, optional):
+                setattr(self, optional, getattr(inner, optional))
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        import signal
+
+        def expire(signum: int, frame: Any) -> None:
+            raise TimeoutError(f"no answer within {self.seconds:g} s")
+
+        previous = signal.signal(signal.SIGALRM, expire)
+        signal.setitimer(signal.ITIMER_REAL, self.seconds)
+        try:
+            return self.inner.rasterize(scene)
+        finally:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, previous)
+
+
+def _child(rasterizer: Rasterizer, seed: int, conn: Any, call_timeout: float | None) -> None:  # pragma: no cover - runs in the child
     try:
+        if call_timeout:
+            rasterizer = _TimeLimited(rasterizer, call_timeout)
         conn.send(identify(rasterizer, seed))
     except Exception as exc:
         conn.send(RuntimeError(f"identify failed: {type(exc).__name__}: {exc}"))
 
 
-def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0) -> Fingerprint:
+def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0,
+                      call_timeout: float | None = None) -> Fingerprint:
     """:func:`identify` in a forked process of its own, so that a library's process-wide
-    state (an EGL display, a crash, a hang) stays out of the caller."""
+    state (an EGL display, a crash, a hang) stays out of the caller. ``timeout`` bounds the
+    whole; ``call_timeout`` each rasterize call (a call that hangs in Python then counts
+    as raising TimeoutError, and identification goes on)."""
     import multiprocessing
 
     context = multiprocessing.get_context("fork")
     parent, child = context.Pipe()
-    process = context.Process(target=_child, args=(rasterizer, seed, child), daemon=True)
+    process = context.Process(target=_child, args=(rasterizer, seed, child, call_timeout), daemon=True)
     process.start()
     child.close()
     try:

@@ -122,3 +122,37 @@ def test_fingerprint_page_puts_everyone_side_by_side(tmp_path):
     data = json.loads((tmp_path / "r.json").read_text())
     assert data["fingerprints"]["centre_scanline"]["exact"] is True
     assert data["fingerprints"]["box<b>"]["tie"] == "bottom-left"
+
+
+HANGS_ON_NAN = """
+import time
+import numpy as np
+from rasterizers.centre_scanline import CentreScanline
+
+class HangsOnNaN:
+    name = "hangs_on_nan"
+    convention = None
+
+    def rasterize(self, scene):
+        if np.isnan(scene.positions).any():
+            while True:
+                time.sleep(0.05)
+        return CentreScanline().rasterize(scene)
+"""
+
+
+def test_identify_and_run_go_on_past_a_call_that_hangs(tmp_path, capsys):
+    from harness.cli import main
+
+    path = tmp_path / "hang.py"
+    path.write_text(HANGS_ON_NAN)
+    assert main(["identify", f"{path}:HangsOnNaN", "--timeout", "0.5"]) == 0
+    card = capsys.readouterr().out
+    assert "NaN: raises TimeoutError" in card and "identified exactly" in card, card
+    out = tmp_path / "rep"
+    code = main(["run", "--rasterizer", f"{path}:HangsOnNaN", "--timeout", "0.5", "--out", str(out),
+                 "--json", str(tmp_path / "r.json")])
+    assert code == 1
+    data = json.loads((tmp_path / "r.json").read_text())
+    assert "raises TimeoutError" in data["fingerprints"]["hangs_on_nan"]["facts"]["non-finite"]
+    assert any(r["status"] == "error" and "timeout" in r["message"] for r in data["results"])
