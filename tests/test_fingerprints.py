@@ -156,3 +156,24 @@ def test_identify_and_run_go_on_past_a_call_that_hangs(tmp_path, capsys):
     data = json.loads((tmp_path / "r.json").read_text())
     assert "raises TimeoutError" in data["fingerprints"]["hangs_on_nan"]["facts"]["non-finite"]
     assert any(r["status"] == "error" and "timeout" in r["message"] for r in data["results"])
+
+
+def test_failures_against_a_guessed_convention_say_so():
+    from harness.identify import Identified
+
+    class Undeclared:
+        name = "undeclared_inclusive"
+        convention = None
+
+        def rasterize(self, scene):
+            return EdgeFunctionBug("inclusive").rasterize(scene)
+
+    fingerprint = identify(Undeclared())
+    assert not fingerprint.exact
+    case = [c for c in conformance_cases(0) if c.id == "lattice/bits-0"]
+    results = run_suite([Identified(Undeclared(), fingerprint)], cases=case, isolate=False, repros=False)
+    failed = [r for r in results if r.check == "conformance"]
+    assert failed[0].status == "fail" and failed[0].message.startswith("against the best-guess convention")
+    # a declared convention is never qualified
+    declared = run_suite([EdgeFunctionBug("inclusive")], cases=case, isolate=False, repros=False)
+    assert not any(r.message.startswith("against the best-guess") for r in declared)
