@@ -259,6 +259,33 @@ def _sample_candidates(measured: tuple[float, float] | None) -> list[tuple[float
     return samples
 
 
+def _epsilon(rasterizer: Rasterizer, convention: Convention) -> str:
+    """Tiny triangles (1e-3 down to 1e-9 px across) around sample points, half of them
+    holding their sample strictly inside and half just missing it, against the exact
+    answer of ``convention``."""
+    sx, sy = convention.sample
+    triangles = []
+    for k, size in enumerate(np.repeat(10.0 ** -np.arange(3, 10), 8)):
+        x, y = 4.0 + (k % 12) * 4.0 + sx, 4.0 + (k // 12) * 4.0 + sy
+        shift = 0.0 if k % 2 == 0 else 2.0 * size  # odd ones sit just to the right of the sample
+        triangles.append([[x - size + shift, y - size], [x + size + shift, y - size], [x + shift, y + size]])
+    scene = Scene(56, 32, triangles)
+    got = _safe(rasterizer, scene)
+    if not isinstance(got, Coverage):
+        return f"raises {type(got).__name__}: {got}"[:120]
+    wrong = _mismatch(got, scene, convention)
+    want = exact_coverage(scene, convention).n_pixels
+    if wrong == 0:
+        return f"exact: {want} of {len(triangles)} tiny triangles (1e-3..1e-9 px) drawn, as the convention says"
+    said = f"{wrong} of {len(triangles)} tiny triangles (1e-3..1e-9 px) decided unlike the convention ({want} should draw)"
+    received = getattr(rasterizer, "received", None)
+    if received is not None:
+        rounded = received(scene)
+        if _mismatch(got, rounded, convention) == 0:
+            said += "; exact for the coordinates as the library receives them (its input format rounds them)"
+    return said
+
+
 def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     """The convention that best explains ``rasterizer``, its residual, and other facts."""
     facts: dict[str, Any] = {}
@@ -317,6 +344,7 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     if residual:
         facts["residual lies"] = _residual_kinds(lattice_cov, lattice, convention)
     facts["viewport edge"] = _viewport_edge(rasterizer, seed)
+    facts["epsilon"] = _epsilon(rasterizer, convention)
     # degenerate and non-finite handling
     zero = Scene(32, 32, [[[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[8, 8], [8, 8], [20, 14]]])
     result = _safe(rasterizer, zero)

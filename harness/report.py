@@ -59,7 +59,7 @@ def _problem(r: Result, index: int) -> dict[str, Any]:
             "repro_of": repro.get("original_triangles")}
 
 
-FACTS = ("residual lies", "sample sweep", "culling", "zero area", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep")
+FACTS = ("residual lies", "sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep")
 KIND_ORDER = {"built-in": 0, "real library": 1, "plugin": 2}
 
 

@@ -177,3 +177,10 @@ def test_failures_against_a_guessed_convention_say_so():
     # a declared convention is never qualified
     declared = run_suite([EdgeFunctionBug("inclusive")], cases=case, isolate=False, repros=False)
     assert not any(r.message.startswith("against the best-guess") for r in declared)
+
+
+def test_epsilon_fact_catches_single_precision():
+    from harness.identify import _epsilon
+
+    assert _epsilon(load("pineda_topleft"), Convention()).startswith("exact")
+    assert "decided unlike the convention" in _epsilon(EdgeFunctionBug("float32"), Convention())

@@ -33,6 +33,7 @@ def test_identify_recovers_each_builtin(name):
     assert fingerprint.exact and fingerprint.convention == r.convention, fingerprint.card()
     assert fingerprint.facts["watertight"].startswith("yes")
     assert fingerprint.facts["viewport edge"].startswith("exact")
+    assert fingerprint.facts["epsilon"].startswith("exact")
     assert ("agrees" in fingerprint.facts["vertex sweep"]), fingerprint.card()
 
 
@@ -137,7 +138,7 @@ def test_run_identifies_an_undeclared_convention(tmp_path):
 
 def test_the_card_lists_every_fact():
     card = identify(load("centre_scanline")).card()
-    for fact in ("sample sweep", "culling", "zero area", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep"):
+    for fact in ("sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep"):
         assert f"\n{fact}" in card, card
 
 
