@@ -170,15 +170,15 @@ def _vertex_sweep(rasterizer: Rasterizer, changes: int = 6, resolution: int = 16
 
 
 def _residual_kinds(coverages: list[Coverage], scenes: list[Scene], convention: Convention, limit: int = 5000) -> str:
-    """Where the lattice residual lies: samples exactly on an edge whose slope dx/dy is not
-    a dyadic fraction (an exact edge function decides those like any other; stepping x by
+    """Where the lattice residual lies: samples exactly at a vertex (the vertex rule),
+    exactly on an edge whose slope dx/dy is not a dyadic fraction (an exact edge function decides those like any other; stepping x by
     dx/dy in floating point rounds there), exactly on a dyadic-slope edge, or off every
     edge (a different rule, not a tie)."""
     from fractions import Fraction
 
     from harness.exact import orientation
 
-    non_dyadic = dyadic = off = 0
+    at_vertex = non_dyadic = dyadic = off = 0
     for cov, scene in zip(coverages, scenes):
         missing, extra = deviations(cov, exact_coverage(scene, convention), scene.width, scene.height)
         both = np.concatenate([missing, extra], axis=1)[:, :limit]
@@ -194,11 +194,13 @@ def _residual_kinds(coverages: list[Coverage], scenes: list[Scene], convention: 
                 dx, dy = Fraction(float(b[i, 0] - a[i, 0])), Fraction(float(b[i, 1] - a[i, 1]))
                 slope_dyadic = dy == 0 or ((dx / dy).denominator & ((dx / dy).denominator - 1)) == 0
                 kinds[i] = max(kinds[i], 1 if slope_dyadic else 2)
-        non_dyadic += int((kinds == 2).sum())
-        dyadic += int((kinds == 1).sum())
+        vertex = np.any(np.all(p == samples[:, None, :], axis=2), axis=1)  # the sample is a vertex
+        at_vertex += int(vertex.sum())
+        non_dyadic += int(((kinds == 2) & ~vertex).sum())
+        dyadic += int(((kinds == 1) & ~vertex).sum())
         off += int((kinds == 0).sum())
-    return (f"{non_dyadic} exactly on edges of non-dyadic slope dx/dy, {dyadic} exactly on dyadic-slope edges, "
-            f"{off} off every edge (lattice scenes)")
+    return (f"{at_vertex} exactly at a vertex, {non_dyadic} exactly on edges of non-dyadic slope dx/dy, "
+            f"{dyadic} exactly on dyadic-slope edges, {off} off every edge (lattice scenes)")
 
 
 def _sample_sweep(rasterizer: Rasterizer, resolution: int = 20) -> tuple[float, float] | None:
