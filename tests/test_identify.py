@@ -162,3 +162,35 @@ def test_llvmpipe_is_identified_exactly():
     """A production GL driver: centre samples, top-left ties (image row y = memory row y),
     vertices snapped to 1/256 px, watertight; the vertex sweep agrees."""
     _in_fresh_process(IDENTIFY_LLVMPIPE)
+
+
+BATCH_AGREES = """
+from cases.suites import suite
+from harness.registry import Unavailable, load
+try:
+    r = load("mesa_llvmpipe")
+    r._context()
+except Unavailable as exc:
+    print("UNAVAILABLE", exc)
+    raise SystemExit(0)
+listed = r._list_program
+assert listed is not None, "llvmpipe offers GL 4.5: the fragment-list path should be on"
+compared = 0
+for case in suite("quick")[:40]:
+    for scene in (case.frames[:2] if hasattr(case, "frames") else [case.scene]):
+        try:
+            r._list_program = listed
+            one_draw = r.rasterize(scene)
+            r._list_program = None
+            each = r.rasterize(scene)
+        except ValueError:
+            continue
+        assert one_draw == each, case.id
+        compared += 1
+assert compared >= 30, compared
+print("OK")
+"""
+
+
+def test_llvmpipe_one_draw_with_a_fragment_list_equals_one_draw_per_triangle():
+    _in_fresh_process(BATCH_AGREES)

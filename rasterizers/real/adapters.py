@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene
 from harness.registry import Unavailable
-from rasterizers.real._masks import draw_each
+from rasterizers.real._masks import LIMIT, draw_each
 
 __all__ = ["PillowPolygon", "SkimagePolygon", "SkiaPath", "CairoFill", "MesaLlvmpipe", "MesaSoftpipe"]
 
@@ -134,10 +134,23 @@ void main() { gl_Position = vec4(position, 0.0, 1.0); }"""
 _FRAGMENT = """#version 330
 out float coverage;
 void main() { coverage = 1.0; }"""
+# GL >= 4.3: every fragment appends (primitive id, x, y) to a storage buffer, so one draw
+# keeps each triangle's identity through overlaps (helper invocations store nothing).
+_FRAGMENT_LIST = """#version 430
+layout(std430, binding = 0) buffer Fragments { uint count; uint capacity; uint pad0; uint pad1; uvec4 items[]; };
+out float coverage;
+void main() {
+    uint i = atomicAdd(count, 1u);
+    if (i < capacity) items[i] = uvec4(uint(gl_PrimitiveID), uint(gl_FragCoord.x), uint(gl_FragCoord.y), 0u);
+    coverage = 1.0;
+}"""
 
 
 class _Mesa:
-    """Mesa's OpenGL through moderngl's EGL backend (no display), one draw per triangle.
+    """Mesa's OpenGL through moderngl's EGL backend (no display). Where the context offers
+    GL 4.3 (llvmpipe), the whole scene is one draw whose fragment shader appends
+    (gl_PrimitiveID, x, y) to a storage buffer; otherwise (softpipe: GL 3.3) one draw per
+    triangle into a cleared, scissored box, read back each time.
 
     The framebuffer is a power-of-two square P >= W, H; GL window row y is memory row y,
     so the read-back image is indexed [y, x] exactly as ours (flipped relative to GL's
@@ -155,6 +168,7 @@ class _Mesa:
     interpolates = False  # coverage only: this adapter reads back no varyings (yet)
     # GL_MAX_VIEWPORT_DIMS is 16384 in llvmpipe and softpipe: the 2P viewport must fit
     LARGEST = 8192
+    batch = True  # one draw with a fragment list where GL >= 4.3
 
     def __init__(self) -> None:
         self._moderngl = _need("moderngl", "pip install moderngl   (or pip install '.[real]'), with Mesa's EGL: apt-get install libegl1 libgl1-mesa-dri")
@@ -166,16 +180,22 @@ class _Mesa:
             return self._ctx
         os.environ["GALLIUM_DRIVER"] = self.driver  # read when the EGL display is first made
         os.environ.setdefault("LIBGL_ALWAYS_SOFTWARE", "1")
+        self._list_program = None
         try:
-            ctx = self._moderngl.create_standalone_context(backend="egl")
-        except Exception as exc:
-            raise Unavailable(f"no EGL context ({exc}): apt-get install libegl1 libgl1-mesa-dri") from None
+            ctx = self._moderngl.create_standalone_context(backend="egl", require=430)
+        except Exception:
+            try:
+                ctx = self._moderngl.create_standalone_context(backend="egl")
+            except Exception as exc:
+                raise Unavailable(f"no EGL context ({exc}): apt-get install libegl1 libgl1-mesa-dri") from None
         renderer = ctx.info["GL_RENDERER"]
         if self.driver not in renderer:
             raise RuntimeError(f"{self.name}: asked Mesa for {self.driver} but got {renderer!r} "
                                "(this process already made an EGL display; run each Mesa adapter in its own worker)")
         self._ctx, self._pid = ctx, os.getpid()
         self._program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
+        if ctx.version_code >= 430 and self.batch:
+            self._list_program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT_LIST)
         return ctx
 
     def _side(self, scene: Scene) -> int:
@@ -195,6 +215,56 @@ class _Mesa:
     def rasterize(self, scene: Scene) -> Coverage:
         ctx = self._context()
         side = self._side(scene)
+        if self._list_program is not None:
+            return self._rasterize_listed(ctx, scene, side)
+        return self._rasterize_each(ctx, scene, side)
+
+    def _rasterize_listed(self, ctx: Any, scene: Scene, side: int) -> Coverage:
+        """One draw; the fragment list says which triangle made each fragment."""
+        positions = scene.positions
+        n = len(scene)
+        finite = np.all(np.isfinite(positions), axis=(1, 2))
+        too_big = finite & np.any(np.abs(positions) > LIMIT, axis=(1, 2))
+        if too_big.any():
+            t = int(np.flatnonzero(too_big)[0])
+            raise ValueError(f"{self.name}: triangle {t} has a coordinate beyond +/-{LIMIT:g} px ({positions[t].tolist()}); "
+                             "the library's coordinates would lose precision or overflow")
+        if n == 0:
+            return Coverage.empty()
+        safe = np.where(finite[:, None, None], positions, 0.0)  # non-finite ones get the whole screen below
+        lo = np.clip(np.floor(safe.min(axis=1)), 0, [scene.width, scene.height])
+        hi = np.clip(np.ceil(safe.max(axis=1)) + 1, 0, [scene.width, scene.height])
+        boxes = np.where(finite[:, None], np.maximum(hi - lo, 0), [scene.width, scene.height])
+        capacity = int(np.sum(boxes[:, 0] * boxes[:, 1])) + 1024  # no triangle covers more than its box
+        fbo = ctx.simple_framebuffer((side, side), components=1, dtype="f1")
+        vertices = ctx.buffer((positions / side).astype(np.float32).tobytes())  # dividing by a power of two: exact
+        vao = ctx.vertex_array(self._list_program, [(vertices, "2f", "position")])
+        try:
+            while True:
+                storage = ctx.buffer(reserve=16 * (capacity + 1))
+                storage.write(np.array([0, capacity, 0, 0], dtype=np.uint32).tobytes())
+                storage.bind_to_storage_buffer(0)
+                fbo.use()
+                ctx.viewport = (-side, -side, 2 * side, 2 * side)
+                fbo.scissor = (0, 0, scene.width, scene.height)
+                ctx.disable(self._moderngl.CULL_FACE | self._moderngl.BLEND | self._moderngl.DEPTH_TEST)
+                vao.render(self._moderngl.TRIANGLES, vertices=3 * n)
+                ctx.finish()
+                data = np.frombuffer(storage.read(), dtype=np.uint32)
+                storage.release()
+                count = int(data[0])
+                if count <= capacity:
+                    break
+                capacity = count + 1024  # cannot happen (fragments fit their boxes), but never truncate
+            items = data[4:].reshape(-1, 4)[:count].astype(np.int64)
+            keep = (items[:, 1] < scene.width) & (items[:, 2] < scene.height)
+            return Coverage.from_pixels(items[keep, 0], items[keep, 1], items[keep, 2])
+        finally:
+            vao.release()
+            vertices.release()
+            fbo.release()
+
+    def _rasterize_each(self, ctx: Any, scene: Scene, side: int) -> Coverage:
         fbo = ctx.simple_framebuffer((side, side), components=1, dtype="f1")
         fbo.use()
         ctx.viewport = (-side, -side, 2 * side, 2 * side)
