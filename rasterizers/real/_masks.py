@@ -9,11 +9,24 @@ from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene
 
-__all__ = ["LIMIT", "draw_each"]
+__all__ = ["LIMIT", "draw_each", "finite_within_limit"]
 
 # Libraries keep coordinates in float32 or fixed point: beyond this they are refused with a
 # ValueError naming the triangle (a guard band), never drawn wrong.
 LIMIT = 2.0**20
+
+
+def finite_within_limit(scene: Scene, name: str) -> NDArray[np.bool_]:
+    """(N,) bool: which triangles are finite. Raises ValueError naming the first finite
+    triangle with a coordinate beyond :data:`LIMIT` (refused, never drawn wrong)."""
+    positions = scene.positions
+    finite = np.all(np.isfinite(positions), axis=(1, 2))
+    too_big = finite & np.any(np.abs(positions) > LIMIT, axis=(1, 2))
+    if too_big.any():
+        t = int(np.flatnonzero(too_big)[0])
+        raise ValueError(f"{name}: triangle {t} has a coordinate beyond +/-{LIMIT:g} px ({positions[t].tolist()}); "
+                         "the library's coordinates would lose precision or overflow")
+    return finite
 
 
 def draw_each(scene: Scene, name: str, draw: Callable[[NDArray[np.float64], int, int, tuple[int, int]], NDArray[np.bool_]],
@@ -24,12 +37,7 @@ def draw_each(scene: Scene, name: str, draw: Callable[[NDArray[np.float64], int,
     handed to the library unchanged, with the whole screen as its box, so that what the
     library does with it (draws nothing, raises, or draws garbage) is what the checks see."""
     positions = scene.positions
-    finite = np.all(np.isfinite(positions), axis=(1, 2))
-    too_big = finite & np.any(np.abs(positions) > LIMIT, axis=(1, 2))
-    if too_big.any():
-        t = int(np.flatnonzero(too_big)[0])
-        raise ValueError(f"{name}: triangle {t} has a coordinate beyond +/-{LIMIT:g} px ({positions[t].tolist()}); "
-                         "the library's coordinates would lose precision or overflow")
+    finite = finite_within_limit(scene, name)
     parts = []
     for t in range(len(scene)):
         p = positions[t]

@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene
 from harness.registry import Unavailable
-from rasterizers.real._masks import LIMIT, draw_each
+from rasterizers.real._masks import draw_each, finite_within_limit
 
 __all__ = ["PillowPolygon", "SkimagePolygon", "SkiaPath", "CairoFill", "MesaLlvmpipe", "MesaSoftpipe"]
 
@@ -223,12 +223,7 @@ class _Mesa:
         """One draw; the fragment list says which triangle made each fragment."""
         positions = scene.positions
         n = len(scene)
-        finite = np.all(np.isfinite(positions), axis=(1, 2))
-        too_big = finite & np.any(np.abs(positions) > LIMIT, axis=(1, 2))
-        if too_big.any():
-            t = int(np.flatnonzero(too_big)[0])
-            raise ValueError(f"{self.name}: triangle {t} has a coordinate beyond +/-{LIMIT:g} px ({positions[t].tolist()}); "
-                             "the library's coordinates would lose precision or overflow")
+        finite = finite_within_limit(scene, self.name)
         if n == 0:
             return Coverage.empty()
         safe = np.where(finite[:, None, None], positions, 0.0)  # non-finite ones get the whole screen below
