@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from cases.records import Case
 from harness.api import Coverage, Scene
-from harness.conventions import Convention, snap
+from harness.conventions import Convention
 from harness.exact import orientation
 
 __all__ = [

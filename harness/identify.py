@@ -21,7 +21,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from cases.partitions import partition_cases
-from cases.records import Case
 from cases.scenes import lattice_triangles, random_triangles
 from harness.api import Coverage, Rasterizer, Scene
 from harness.checks import deviations, watertight

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene, _expand, _span_pixel_offsets, span_buffers
-from harness.conventions import Convention, snap
+from harness.conventions import Convention
 from harness.exact import orient2d_sign, orientation
 
 __all__ = ["exact_coverage", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]

@@ -14,7 +14,7 @@ from fractions import Fraction
 import numpy as np
 
 from harness.api import Coverage, Scene
-from harness.conventions import Convention, snap
+from harness.conventions import Convention
 
 __all__ = ["brute_force_coverage"]
 

@@ -1,14 +1,12 @@
 """identify recovers declared conventions from outside; the real adapters work where their
 libraries are installed and are skipped with the install hint elsewhere."""
 
-import numpy as np
 import pytest
 
-from harness.api import Scene
 from harness.conventions import Convention
 from harness.identify import identify
 from harness.oracle import exact_coverage
-from harness.registry import Unavailable, load
+from harness.registry import load
 
 BUILTINS = ["floor_scanline", "centre_scanline", "pineda_topleft", "fixed_point"]
 

@@ -23,13 +23,26 @@ def _need(module: str, hint: str) -> Any:
         raise Unavailable(f"{module} is not installed ({type(exc).__name__}): {hint}") from None
 
 
-class PillowPolygon:
+class _OneTriangleAtATime:
+    """A 2D library drawing one triangle at a time into a mask (``_draw``): coverage only,
+    no declared convention."""
+
+    name = ""
+    convention = None
+    interpolates = False  # coverage only: the library draws no varyings
+
+    def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        raise NotImplementedError
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return draw_each(scene, self.name, self._draw)
+
+
+class PillowPolygon(_OneTriangleAtATime):
     """Pillow's ``ImageDraw.polygon``. Pillow puts pixel centres at integer coordinates,
     so our (x, y) is Pillow's (x - 0.5, y - 0.5)."""
 
     name = "pillow"
-    convention = None
-    interpolates = False  # coverage only: the library draws no varyings
 
     def __init__(self) -> None:
         self._pil = _need("PIL", "pip install pillow")
@@ -42,17 +55,12 @@ class PillowPolygon:
         self._Draw.Draw(image).polygon([(float(x) - 0.5, float(y) - 0.5) for x, y in p], fill=255)
         return np.asarray(image) > 0
 
-    def rasterize(self, scene: Scene) -> Coverage:
-        return draw_each(scene, self.name, self._draw)
 
-
-class SkimagePolygon:
+class SkimagePolygon(_OneTriangleAtATime):
     """scikit-image's ``draw.polygon(rows, cols)``: pixel centres at integers, so rows are
     y - 0.5 and columns x - 0.5."""
 
     name = "skimage"
-    convention = None
-    interpolates = False  # coverage only: the library draws no varyings
 
     def __init__(self) -> None:
         _need("skimage", "pip install scikit-image   (or pip install '.[real]')")
@@ -66,17 +74,12 @@ class SkimagePolygon:
         mask[rows, cols] = True
         return mask
 
-    def rasterize(self, scene: Scene) -> Coverage:
-        return draw_each(scene, self.name, self._draw)
 
-
-class SkiaPath:
+class SkiaPath(_OneTriangleAtATime):
     """skia-python, anti-aliasing off: skia's pixel (i, j) is our [i, i+1) x [j, j+1), so
     coordinates pass unchanged."""
 
     name = "skia"
-    convention = None
-    interpolates = False  # coverage only: the library draws no varyings
 
     def __init__(self) -> None:
         self._skia = _need("skia", "pip install skia-python   (or pip install '.[real]')")
@@ -94,17 +97,12 @@ class SkiaPath:
         canvas.drawPath(path, skia.Paint(AntiAlias=False, Color=skia.ColorBLACK))
         return np.asarray(surface.makeImageSnapshot().toarray(colorType=skia.kAlpha_8_ColorType)).reshape(h, w) > 0
 
-    def rasterize(self, scene: Scene) -> Coverage:
-        return draw_each(scene, self.name, self._draw)
 
-
-class CairoFill:
+class CairoFill(_OneTriangleAtATime):
     """pycairo, ``ANTIALIAS_NONE`` fill: cairo's pixel (i, j) is our [i, i+1) x [j, j+1), so
     coordinates pass unchanged."""
 
     name = "cairo"
-    convention = None
-    interpolates = False  # coverage only: the library draws no varyings
 
     def __init__(self) -> None:
         self._cairo = _need("cairo", "apt-get install libcairo2-dev pkg-config && pip install pycairo   (or pip install '.[real]')")
@@ -123,9 +121,6 @@ class CairoFill:
         stride = surface.get_stride()
         data = np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, stride)[:, :w]
         return data > 0
-
-    def rasterize(self, scene: Scene) -> Coverage:
-        return draw_each(scene, self.name, self._draw)
 
 
 _VERTEX = """#version 330

@@ -12,3 +12,11 @@ def coverage_from_parts(tris: list, xs: list, ys: list) -> Coverage:  # type: ig
     if not tris:
         return Coverage.empty()
     return Coverage.from_pixels(np.concatenate(tris), np.concatenate(xs), np.concatenate(ys))
+
+
+def coverage_from_spans(spans: list[tuple[int, int, int, int]]) -> Coverage:
+    """One Coverage from (triangle, y, x0, x1) tuples (empty when there are none)."""
+    if not spans:
+        return Coverage.empty()
+    t, y, x0, x1 = np.array(spans, dtype=np.int64).T
+    return Coverage(t, y, x0, x1)

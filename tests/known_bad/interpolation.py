@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from tests.known_bad import coverage_from_spans
 from harness.api import Coverage, Scene
 from harness.conventions import Convention
 from rasterizers._scanline import scanline
@@ -107,7 +108,4 @@ class Float32DDA:
                 a, b = max(math.ceil(xl - 0.5), 0), min(math.ceil(xr - 0.5), scene.width)
                 if a < b:
                     spans.append((t, j, a, b))
-        if not spans:
-            return Coverage.empty()
-        t, y, x0, x1 = np.array(spans, dtype=np.int64).T
-        return Coverage(t, y, x0, x1)
+        return coverage_from_spans(spans)

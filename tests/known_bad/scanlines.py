@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from tests.known_bad import coverage_from_spans
 from harness.api import Coverage, Scene
 from harness.conventions import Convention
 from harness.exact import orientation
@@ -88,7 +89,4 @@ class ScanlineBug:
                     a, b = max(a, -4), min(b, scene.width + 4)
                 if a < b:
                     spans.append((t, j, a, b))
-        if not spans:
-            return Coverage.empty()
-        t, y, x0, x1 = np.array(spans, dtype=np.int64).T
-        return Coverage(t, y, x0, x1)
+        return coverage_from_spans(spans)
