@@ -184,3 +184,12 @@ def test_epsilon_fact_catches_single_precision():
 
     assert _epsilon(load("pineda_topleft"), Convention()).startswith("exact")
     assert "decided unlike the convention" in _epsilon(EdgeFunctionBug("float32"), Convention())
+
+
+def test_non_finite_and_residual_facts_name_what_a_broken_rasterizer_does():
+    drawn = identify(EdgeFunctionBug("nan-to-num")).facts
+    assert "NaN: DRAWS" in drawn["non-finite"] and "inf: DRAWS" in drawn["non-finite"]
+    assert "DRAWS" not in identify(load("floor_scanline")).facts["non-finite"]
+    inclusive = identify(EdgeFunctionBug("inclusive")).facts["residual lies"]
+    # inclusive edges only disagree with a tie rule exactly on edges: nothing off them
+    assert inclusive.endswith("0 off every edge (lattice scenes)") and not inclusive.startswith("0 exactly at a vertex, 0 ")
