@@ -163,7 +163,10 @@ def test_llvmpipe_is_identified_exactly():
 
 
 BATCH_AGREES = """
+import numpy as np
 from cases.suites import suite
+from harness.api import Scene
+from harness.bench import workloads
 from harness.registry import Unavailable, load
 try:
     r = load("mesa_llvmpipe")
@@ -173,18 +176,21 @@ except Unavailable as exc:
     raise SystemExit(0)
 listed = r._list_program
 assert listed is not None, "llvmpipe offers GL 4.5: the fragment-list path should be on"
-compared = 0
+small_and_large = [w.scene for w in workloads(scale=0.05)]  # many small triangles; a few of 100,000 px
+scenes = [*small_and_large, Scene(1024, 1024, np.concatenate([s.positions for s in small_and_large]))]
 for case in suite("quick")[:40]:
-    for scene in (case.frames[:2] if hasattr(case, "frames") else [case.scene]):
-        try:
-            r._list_program = listed
-            one_draw = r.rasterize(scene)
-            r._list_program = None
-            each = r.rasterize(scene)
-        except ValueError:
-            continue
-        assert one_draw == each, case.id
-        compared += 1
+    scenes += case.frames[:2] if hasattr(case, "frames") else [case.scene]
+compared = 0
+for scene in scenes:
+    try:
+        r._list_program = listed
+        one_draw = r.rasterize(scene)
+        r._list_program = None
+        each = r.rasterize(scene)
+    except ValueError:
+        continue
+    assert one_draw == each, scene
+    compared += 1
 assert compared >= 30, compared
 print("OK")
 """

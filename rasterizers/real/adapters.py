@@ -143,9 +143,10 @@ void main() {
 
 class _Mesa:
     """Mesa's OpenGL through moderngl's EGL backend (no display). Where the context offers
-    GL 4.3 (llvmpipe), the whole scene is one draw whose fragment shader appends
-    (gl_PrimitiveID, x, y) to a storage buffer; otherwise (softpipe: GL 3.3) one draw per
-    triangle into a cleared, scissored box, read back each time.
+    GL 4.3 (llvmpipe), the small triangles are one draw whose fragment shader appends
+    (gl_PrimitiveID, x, y) to a storage buffer; large ones, and all of them without GL 4.3
+    (softpipe: GL 3.3), one draw per triangle into a cleared, scissored box, read back
+    each time.
 
     The framebuffer is a power-of-two square P >= W, H; GL window row y is memory row y,
     so the read-back image is indexed [y, x] exactly as ours (flipped relative to GL's
@@ -164,6 +165,7 @@ class _Mesa:
     # GL_MAX_VIEWPORT_DIMS is 16384 in llvmpipe and softpipe: the 2P viewport must fit
     LARGEST = 8192
     batch = True  # one draw with a fragment list where GL >= 4.3
+    LISTED_BOX = 2048  # px: larger boxes are drawn one at a time
 
     def __init__(self) -> None:
         self._moderngl = _need("moderngl", "pip install moderngl   (or pip install '.[real]'), with Mesa's EGL: apt-get install libegl1 libgl1-mesa-dri")
@@ -215,7 +217,10 @@ class _Mesa:
         return self._rasterize_each(ctx, scene, side)
 
     def _rasterize_listed(self, ctx: Any, scene: Scene, side: int) -> Coverage:
-        """One draw; the fragment list says which triangle made each fragment."""
+        """Small triangles in one draw, the fragment list saying which triangle made each
+        fragment; triangles whose box exceeds ``LISTED_BOX`` px one draw each (a fragment
+        list pays an atomic per fragment: 20x faster on many small triangles, 12x slower
+        on large ones, by ``rastercheck bench``'s workloads)."""
         positions = scene.positions
         n = len(scene)
         finite = finite_within_limit(scene, self.name)
@@ -225,7 +230,22 @@ class _Mesa:
         lo = np.clip(np.floor(safe.min(axis=1)), 0, [scene.width, scene.height])
         hi = np.clip(np.ceil(safe.max(axis=1)) + 1, 0, [scene.width, scene.height])
         boxes = np.where(finite[:, None], np.maximum(hi - lo, 0), [scene.width, scene.height])
-        capacity = int(np.sum(boxes[:, 0] * boxes[:, 1])) + 1024  # no triangle covers more than its box
+        area = boxes[:, 0] * boxes[:, 1]
+        large = np.flatnonzero(finite & (area > self.LISTED_BOX))
+        parts = []
+        if large.size:
+            each = self._rasterize_each(ctx, Scene(scene.width, scene.height, positions[large]), side)
+            parts.append(Coverage(large[each.triangle], each.y, each.x0, each.x1))
+            positions = positions.copy()
+            positions[large] = 0.0  # a point: draws nothing, and keeps the primitive ids in step
+            area[large] = 0
+        parts.append(self._draw_listed(ctx, scene, positions, side, int(np.sum(area)) + 1024))
+        return Coverage(*(np.concatenate([getattr(c, f) for c in parts]) for f in ("triangle", "y", "x0", "x1")))
+
+    def _draw_listed(self, ctx: Any, scene: Scene, positions: NDArray, side: int, capacity: int) -> Coverage:
+        """One draw of every triangle; ``capacity`` bounds the fragments (no triangle covers
+        more than its box)."""
+        n = len(positions)
         fbo = ctx.simple_framebuffer((side, side), components=1, dtype="f1")
         vertices = ctx.buffer((positions / side).astype(np.float32).tobytes())  # dividing by a power of two: exact
         vao = ctx.vertex_array(self._list_program, [(vertices, "2f", "position")])
