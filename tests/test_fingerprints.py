@@ -193,3 +193,17 @@ def test_non_finite_and_residual_facts_name_what_a_broken_rasterizer_does():
     inclusive = identify(EdgeFunctionBug("inclusive")).facts["residual lies"]
     # inclusive edges only disagree with a tie rule exactly on edges: nothing off them
     assert inclusive.endswith("0 off every edge (lattice scenes)") and not inclusive.startswith("0 exactly at a vertex, 0 ")
+
+
+def test_a_library_that_fails_on_a_triangle_is_named_with_it():
+    from harness.api import Scene
+    from rasterizers.real._masks import draw_each
+
+    def draw(p, w, h, origin):
+        if not np.isfinite(p).all():
+            raise OverflowError("cannot convert float NaN to integer")
+        return np.ones((h, w), dtype=bool)
+
+    scene = Scene(16, 16, [[[1, 1], [5, 1], [1, 5]], [[np.nan, 2], [8, 8], [2, 9]]])
+    with pytest.raises(RuntimeError, match=r"lib: the library failed on triangle 1 .*OverflowError"):
+        draw_each(scene, "lib", draw)

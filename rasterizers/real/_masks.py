@@ -50,7 +50,11 @@ def draw_each(scene: Scene, name: str, draw: Callable[[NDArray[np.float64], int,
             y1 = int(np.clip(np.ceil(p[:, 1].max()) + margin, 0, scene.height))
         if x0 >= x1 or y0 >= y1:
             continue
-        mask = draw(p - np.array([x0, y0], dtype=np.float64), x1 - x0, y1 - y0, (x0, y0))
+        try:
+            mask = draw(p - np.array([x0, y0], dtype=np.float64), x1 - x0, y1 - y0, (x0, y0))
+        except Exception as exc:  # name the triangle the library failed on
+            raise RuntimeError(f"{name}: the library failed on triangle {int(t)} {p.tolist()}: "
+                               f"{type(exc).__name__}: {exc}") from exc
         if mask.any():
             cov = Coverage.from_mask(int(t), mask)
             parts.append((cov.triangle, cov.y + y0, cov.x0 + x0, cov.x1 + x0))
