@@ -304,10 +304,7 @@ def input_precision_probe(case: Case, check: str, rasterizer: Rasterizer, call: 
     moved = int(np.sum((before != after) & ~(np.isnan(before) & np.isnan(after))))
     if moved == 0:
         return None
-    found = check_case(replace(case, id=f"{case.id}/as-received", scene=scene), rasterizer, call, tolerance, only={check})
-    if found and all(r.status == "pass" for r in found if r.check == check):
-        return {"moved": moved}
-    return None
+    return {"moved": moved} if _passes(replace(case, id=f"{case.id}/as-received", scene=scene), check, rasterizer, call, tolerance) else None
 
 
 def viewport_edge_probe(case: Case, check: str, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
@@ -341,10 +338,12 @@ def viewport_edge_probe(case: Case, check: str, rasterizer: Rasterizer, call: Ca
         if not np.array_equal(moved - float(margin), p, equal_nan=True):
             return None
     grown = replace(case, id=f"{case.id}/inside", scene=Scene(width, height, moved, scene.attributes, scene.w))
-    found = check_case(grown, rasterizer, call, tolerance, only={check})
-    if found and all(r.status == "pass" for r in found if r.check == check):
-        return {"margin": margin, "screen": [width, height]}
-    return None
+    return {"margin": margin, "screen": [width, height]} if _passes(grown, check, rasterizer, call, tolerance) else None
+
+
+def _passes(case: Case, check: str, rasterizer: Rasterizer, call: Callable[[Scene], Outcome], tolerance: Tolerance) -> bool:
+    found = [r for r in check_case(case, rasterizer, call, tolerance, only={check}) if r.check == check]
+    return bool(found) and all(r.status == "pass" for r in found)
 
 
 CONVENTION_BOUND = ("conformance", "jaggy", "texel", "perspective")
