@@ -31,8 +31,8 @@ def degenerate_cases(seed: int, full: bool = False) -> list[Case]:
     rng = np.random.default_rng(seed)
     cases: list[Case] = []
 
-    def add(name: str, scene: Scene, lattice: bool = False, refusable: tuple[int, ...] = ()) -> None:
-        cases.append(Case(f"degenerate/{name}", scene, lattice=lattice, refusable=refusable))
+    def add(name: str, scene: Scene, lattice: bool = False, refusable: tuple[int, ...] = (), region: np.ndarray | None = None) -> None:
+        cases.append(Case(f"degenerate/{name}", scene, lattice=lattice, refusable=refusable, region=region))
 
     # zero area: nothing, always
     add("zero-area/collinear", _scene([[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[3, 20], [20, 3], [11.5, 11.5]]), lattice=True)
@@ -61,8 +61,12 @@ def degenerate_cases(seed: int, full: bool = False) -> list[Case]:
     for label, big in (("1e6", 1e6), ("1e9", 1e9), ("1e30", 1e30), ("max-float", BIG)):
         pair = [[[-big, -big], [big, -big], [-big, big]], [[big, -big], [big, big], [-big, big]]]
         scene = Scene(SIZE, SIZE, np.array(pair, dtype=float))
-        add(f"huge/cover-{label}", scene, refusable=(0, 1))
+        # the pair tiles the square of side 2*big: a partition, so watertight checks it too
+        square = np.array([[-big, -big], [big, -big], [big, big], [-big, big]])
+        add(f"huge/cover-{label}", scene, refusable=(0, 1), region=square)
         add(f"huge/sliver-{label}", _scene([[-big, 14.25], [big, 17.75], [16.5, 16.0]]), refusable=(2,))
+        # a wedge from two far vertices to one on screen: a whole band of pixels to draw
+        add(f"huge/wedge-{label}", _scene([[-big, 6.25], [big, 9.75], [16.5, 27.0]]), refusable=(2,))
     # off-screen and negative coordinates
     add("offscreen/partly", _scene([[-10.5, -4.25], [20.0, 5.5], [6.5, 40.75]], [[25.0, 10.0], [50.0, 14.0], [28.0, 60.0]]))
     add("offscreen/fully", _scene([[-40, -40], [-10, -35], [-30, -5]], [[40, 40], [60, 45], [50, 70]], [[5, -20], [25, -20], [15, -1]]))

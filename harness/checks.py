@@ -3,7 +3,9 @@
 No I/O, no plotting. Every check returns a :class:`Result` whose ``rasterizer`` the runner
 fills in. Tolerances are data (:class:`Tolerance`): ``strict`` allows no deviation at all,
 ``default`` excuses deviations at near ties (the sample within ``near_tie`` of an edge,
-relative to the coordinates' magnitude: float rounding) on non-lattice cases only.
+relative to the coordinates' magnitude, and within ``near_tie_pixels`` absolutely: float
+rounding) on non-lattice cases only. Distances are rigorous upper bounds, and exactly 0
+only where the exact predicate puts the sample on an edge line.
 """
 
 from __future__ import annotations
@@ -11,6 +13,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+import numba
 import numpy as np
 from numpy.typing import NDArray
 
@@ -25,7 +28,9 @@ __all__ = [
     "NEAR_TIE",
     "CHECKS",
     "deviations",
+    "FragmentCounter",
     "edge_distance",
+    "near_ties",
     "hygiene",
     "conformance",
     "watertight",
@@ -41,6 +46,14 @@ __all__ = [
 # coordinates (about 2**-50 relative); 2**-40 leaves a wide berth and is still far below
 # any sub-pixel lattice a rasterizer could mean (16 bits is 2**-16).
 NEAR_TIE = 2.0**-40
+# ... and never more than 2**-20 px, whatever the magnitude: beyond about 2**20 px a float
+# rasterizer's rounding reaches whole fractions of a pixel, and it must draw exactly or
+# refuse the triangle (a case's ``refusable``), not be excused.
+NEAR_TIE_PIXELS = 2.0**-20
+# Shewchuk's bound on the float orient2d's error, differences included; the added
+# absolute term covers underflow of the products (harmless at any pixel scale).
+_ORIENT_ERROR = (3.0 + 16.0 * 2.0**-53) * 2.0**-53
+_UNDERFLOW = 2.0**-1000
 EVIDENCE_LIMIT = 50
 
 CHECKS = ("hygiene", "conformance", "watertight", "closed", "degenerate", "invariance", "jaggy", "texel", "perspective")
@@ -55,6 +68,8 @@ class Tolerance:
     mode : {"default", "strict"}
     near_tie : float
         Relative distance of a sample from an edge below which a deviation is rounding.
+    near_tie_pixels : float
+        ... and the absolute distance in pixels (a cap for huge coordinates).
     work_ratio : float
         Largest allowed time ratio of an epsilon scene to its control scene.
     uv_error : float
@@ -63,6 +78,7 @@ class Tolerance:
 
     mode: str = "default"
     near_tie: float = NEAR_TIE
+    near_tie_pixels: float = NEAR_TIE_PIXELS
     work_ratio: float = 50.0
     uv_error: float = 1e-6
 
@@ -163,15 +179,74 @@ def deviations(coverage: Coverage, oracle: Coverage, width: int, height: int) ->
     return missing, np.concatenate([extra, outside], axis=1)
 
 
+class FragmentCounter:
+    """A coverage's fragments as sorted keys, to count its deviations from many oracles
+    quickly (:meth:`mismatches` equals the total size of :func:`deviations`' answer).
+
+    Parameters
+    ----------
+    coverage : Coverage
+    width, height : int
+        The viewport; fragments outside it always count as extra.
+    """
+
+    def __init__(self, coverage: Coverage, width: int, height: int) -> None:
+        tri, x, y = coverage.pixels()
+        inside = (x >= 0) & (x < width) & (y >= 0) & (y < height) & (tri >= 0)
+        self.width, self.height = width, height
+        self.keys, self.counts = np.unique((tri[inside] * height + y[inside]) * width + x[inside], return_counts=True)
+        self.outside = int((~inside).sum())
+
+    def mismatches(self, oracle: Coverage) -> int:
+        """Missing plus extra fragments (with multiplicity) against ``oracle``."""
+        tri, x, y = oracle.pixels()
+        want = np.sort((tri * self.height + y) * self.width + x)
+        return int(_merge_mismatches(self.keys, self.counts, want)) + self.outside
+
+
+@numba.njit(cache=True)
+def _merge_mismatches(got, counts, want):  # type: ignore[no-untyped-def]
+    """sum |count_got(k) - count_want(k)| over all keys; both key arrays sorted, ``got``
+    unique with ``counts``, ``want`` with repeats."""
+    total = 0
+    i = 0
+    j = 0
+    while i < got.size or j < want.size:
+        if j >= want.size or (i < got.size and got[i] < want[j]):
+            total += counts[i]
+            i += 1
+            continue
+        key = want[j]
+        n = 0
+        while j < want.size and want[j] == key:
+            n += 1
+            j += 1
+        have = 0
+        if i < got.size and got[i] == key:
+            have = counts[i]
+            i += 1
+        total += abs(have - n)
+    return total
+
+
 def edge_distance(positions: NDArray, fragments: NDArray, sample: tuple[float, float]) -> NDArray:
     """Distance from each fragment's sample point to the nearest edge line of its
-    triangle, relative to max(1, largest |coordinate|) of that triangle; exactly 0 when
-    the sample lies exactly on an edge line (decided by the exact predicate).
+    triangle, relative to max(1, largest |coordinate|) of that triangle.
+
+    Never an underestimate: each edge function is evaluated in float with Shewchuk's
+    rigorous error bound added, and divided by a lower bound on the edge's length. It is
+    exactly 0 only when the exact predicate puts the sample on an edge line, and inf for a
+    triangle with a non-finite coordinate (or an overflowing one): a float that cancels to
+    zero never passes for a tie.
 
     Parameters
     ----------
     positions : (N, 3, 2) float64, as the convention sees them (snapped)
     fragments : (3, M) int64 rows triangle, x, y
+
+    Returns
+    -------
+    (M,) float64
     """
     out = np.full(fragments.shape[1], np.inf)
     if fragments.shape[1] == 0:
@@ -181,20 +256,44 @@ def edge_distance(positions: NDArray, fragments: NDArray, sample: tuple[float, f
     p = positions[tri[ok]]
     px = fragments[1, ok] + sample[0]
     py = fragments[2, ok] + sample[1]
+    finite = np.all(np.isfinite(p), axis=(1, 2))
     best = np.full(p.shape[0], np.inf)
     with np.errstate(all="ignore"):
         for k in range(3):
             a, b = p[:, k], p[:, (k + 1) % 3]
-            d = b - a
-            e = d[:, 0] * (py - a[:, 1]) - d[:, 1] * (px - a[:, 0])
-            best = np.minimum(best, np.abs(e) / np.hypot(d[:, 0], d[:, 1]))
+            left = (a[:, 0] - px) * (b[:, 1] - py)
+            right = (a[:, 1] - py) * (b[:, 0] - px)
+            bound = np.abs(left - right) + _ORIENT_ERROR * (np.abs(left) + np.abs(right)) + _UNDERFLOW
+            length = np.hypot(b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]) * (1.0 - 2.0**-50)
+            best = np.minimum(best, np.where(np.isfinite(bound) & (length > 0), bound / length, np.inf))
         relative = best / np.maximum(1.0, np.abs(p).max(axis=(1, 2)))
+    relative[~finite] = np.inf
     samples = np.stack([px, py], axis=-1)
     for k in range(3):
         on_line = orientation(np.stack([p[:, k], p[:, (k + 1) % 3], samples], axis=1)) == 0
-        relative[on_line] = 0.0
+        relative[on_line & finite] = 0.0
     out[ok] = np.where(np.isnan(relative), np.inf, relative)
     return out
+
+
+def near_ties(positions: NDArray, fragments: NDArray, sample: tuple[float, float], tolerance: Tolerance) -> tuple[NDArray, NDArray]:
+    """Which fragments are near ties under ``tolerance`` (within ``near_tie`` of an edge
+    relative to the coordinates and within ``near_tie_pixels`` absolutely), and their
+    :func:`edge_distance`. Non-finite triangles are never near ties.
+
+    Returns
+    -------
+    near : (M,) bool
+    distance : (M,) float64
+    """
+    distance = edge_distance(positions, fragments, sample)
+    tri = fragments[0]
+    ok = (tri >= 0) & (tri < positions.shape[0])
+    magnitude = np.full(distance.size, np.inf)
+    with np.errstate(invalid="ignore"):
+        magnitude[ok] = np.maximum(1.0, np.abs(positions[tri[ok]]).max(axis=(1, 2)))
+        near = (distance <= tolerance.near_tie) & (distance * magnitude <= tolerance.near_tie_pixels)
+    return near, distance
 
 
 def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Convention, tolerance: Tolerance = Tolerance()) -> Result:
@@ -206,8 +305,9 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
     scene = case.scene
     missing, extra = deviations(coverage, oracle, scene.width, scene.height)
     both = np.concatenate([missing, extra], axis=1)
-    distance = edge_distance(convention.snap(scene.positions), both, convention.sample)
-    near = (distance <= tolerance.near_tie) if not case.lattice else np.zeros(distance.size, dtype=bool)
+    near, distance = near_ties(convention.snap(scene.positions), both, convention.sample, tolerance)
+    if case.lattice:
+        near[:] = False
     wrong = ~near
     allowed = distance.size == 0 if tolerance.mode == "strict" else not wrong.any()
     metrics = {
@@ -243,7 +343,9 @@ def _pixel_classes(region: NDArray, width: int, height: int) -> tuple[NDArray, N
     """(inside, outside), (H, W) bool: pixels whose closed square lies in the open convex
     region, and pixels whose closed square misses the closed region; decided exactly."""
     m = region.shape[0]
-    area_sign = np.sign(np.sum(region[:, 0] * np.roll(region[:, 1], -1) - np.roll(region[:, 0], -1) * region[:, 1]))
+    # the outline's winding, exactly (a float shoelace overflows for huge outlines)
+    turns = orientation(np.stack([region, np.roll(region, -1, axis=0), np.roll(region, -2, axis=0)], axis=1))
+    area_sign = int(turns[np.flatnonzero(turns)[0]])
     cy, cx = np.mgrid[0 : height + 1, 0 : width + 1]
     corners = np.stack([cx.ravel(), cy.ravel()], axis=-1).astype(float)
     side = np.empty((m, corners.shape[0]), dtype=np.int8)
@@ -351,8 +453,8 @@ def blame(scene: Scene, coverage: Coverage, holes: NDArray, doubles: NDArray) ->
             dist = np.full(len(scene), np.inf)
             for k in range(3):
                 a, b = p[:, k], p[:, (k + 1) % 3]
-                d = b - a
                 with np.errstate(all="ignore"):
+                    d = b - a  # may overflow for huge coordinates: such a triangle is then not blamed
                     t = np.clip(np.sum((centre - a) * d, axis=1) / np.sum(d * d, axis=1), 0, 1)
                     dist = np.minimum(dist, np.hypot(*(a + t[:, None] * d - centre).T))
             dist[~finite] = np.inf

@@ -19,7 +19,7 @@ import numpy as np
 from cases.records import Case
 from cases.suites import conformance_cases
 from harness.api import Coverage, Rasterizer
-from harness.checks import deviations
+from harness.checks import FragmentCounter
 from harness.conventions import TIE_RULES, Convention
 from harness.oracle import exact_coverage
 
@@ -58,15 +58,11 @@ def _cases(seed: int) -> list[Case]:
     return [c for c in conformance_cases(seed) if c.lattice]
 
 
-def _mismatches(coverage: Coverage, oracle: Coverage, case: Case) -> int:
-    missing, extra = deviations(coverage, oracle, case.scene.width, case.scene.height)
-    return missing.shape[1] + extra.shape[1]
-
-
 def explain(rasterizer: Rasterizer, coverages: dict[str, Coverage], cases: list[Case]) -> Explanation:
     scores = []
+    counters = {c.id: FragmentCounter(coverages[c.id], c.scene.width, c.scene.height) for c in cases}
     for candidate in CANDIDATES:
-        total = sum(_mismatches(coverages[c.id], exact_coverage(c.scene, candidate), c) for c in cases)
+        total = sum(counters[c.id].mismatches(exact_coverage(c.scene, candidate)) for c in cases)
         scores.append((total, candidate))
     scores.sort(key=lambda s: s[0])
     pixels = sum(coverages[c.id].n_pixels for c in cases)
@@ -86,8 +82,10 @@ def _separation(a: Explanation, b: Explanation) -> str:
         kind = "half-pixel" if {abs(dx), abs(dy)} <= {0.0, 0.5} else "whole-pixel" if {abs(dx), abs(dy)} <= {0.0, 1.0} else "sub-pixel"
         parts.append(f"a {kind} shift of the sample point by ({dx:+g}, {dy:+g})")
     if ca.tie != cb.tie:
-        mirrored = ca.owns_top != cb.owns_top and ca.owns_left != cb.owns_left
-        parts.append(f"{'a mirrored' if mirrored else 'a different'} tie rule ({ca.tie} vs {cb.tie})")
+        (ax, ay, a_first), (bx, by, b_first) = ca.tie_perturbation, cb.tie_perturbation
+        kind = ("a mirrored" if (ax, ay, a_first) == (-bx, -by, b_first)
+                else "an x-first vs y-first" if (ax, ay) == (bx, by) else "a different")
+        parts.append(f"{kind} tie rule ({ca.tie} vs {cb.tie})")
     return "separated by " + " and ".join(parts)
 
 

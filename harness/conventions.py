@@ -20,16 +20,67 @@ Edge function
 A convention is sample point + tie rule + snapping (+ culling)
     1. Sample point ``(sx, sy)``: pixel (i, j) is covered when the point (i+sx, j+sy) is
        inside the triangle. GL, D3D10+ and Vulkan use the centre (0.5, 0.5).
-    2. Tie rule: who owns a sample lying exactly on an edge. An edge is *top* if it is
-       horizontal with the interior below it, *bottom* if horizontal with the interior
-       above, *left* if not horizontal with the interior to its right, *right* otherwise.
-       ``top-left`` owns top and left edges (D3D, llvmpipe); ``bottom-right``,
-       ``top-right`` and ``bottom-left`` likewise. A sample on a vertex is inside only if it
-       passes all three edge tests. A shared edge's samples thus belong to exactly one of
-       its two triangles: no cracks, no double hits.
-    3. Snapping ``subpixel_bits = n``: every coordinate c becomes
-       ``round_half_to_even(c * 2**n) / 2**n`` before anything else. ``None``: no snapping,
-       decisions are exact on the float64 input.
+    2. Tie rule: who owns a sample lying exactly on an edge or vertex, defined once for
+       every rule by symbolic perturbation: such a sample p is decided at p + d(eps),
+       eps -> 0+, with ``d = (sx*eps, sy*eps**2)`` for the *x-first* rules and
+       ``d = (sx*eps**2, sy*eps)`` for the *y-first* ones, sx, sy in {+1, -1} (y down).
+       E is linear, so ``E(p + d) = E(p) + dE/dx*d_x + dE/dy*d_y``: a sample exactly on
+       edge a-b (``E(p) = 0``; dE/dx = -(by-ay), dE/dy = bx-ax) is inside that edge when
+       ``sign(dE/dx * sx) > 0`` if dE/dx != 0, else ``sign(dE/dy * sy) > 0`` (x-first; swap
+       the roles of x and y for y-first). Each edge owns or does not own its samples, and
+       a sample on a vertex is inside only if it passes every edge test -- the perturbed
+       point's own test.
+
+       =====================  ========  ===================================================
+       rule                   d         owns the samples of
+       =====================  ========  ===================================================
+       ``top-left``           (+, +)    left edges (not horizontal, interior to the right)
+                                        and top edges (horizontal, interior below): D3D10+
+       ``top-right``          (-, +)    right edges and top edges
+       ``bottom-left``        (+, -)    left edges and bottom edges
+       ``bottom-right``       (-, -)    right edges and bottom edges (the floor scanline)
+       ``top-left-y-first``   (+, +)    top edges (not vertical, interior below) and left
+                                        edges (vertical, interior to the right)
+       ``top-right-y-first``  (-, +)    top edges and right (vertical) edges
+       ``bottom-left-y-first`` (+, -)   bottom edges (not vertical, interior above) and
+                                        left (vertical) edges
+       ``bottom-right-y-first`` (-, -)  bottom edges and right (vertical) edges
+       =====================  ========  ===================================================
+
+       x-first and y-first rules differ only on slanted edges: on horizontal and vertical
+       ones both ask the same question.
+
+       *Exactly once.* Two triangles sharing an edge lie on opposite sides of it, so their
+       edge functions are exact negatives and the perturbed sign is positive for exactly
+       one of them. More generally, for any planar partition the perturbed point p + d(eps)
+       lies on no edge line for small eps > 0 (the lowest-order term of E(p + d) is
+       nonzero, since an edge's gradient is not zero), so it is interior to exactly one
+       piece: no crack and no double hit, at edges and at vertices where any number of
+       triangles meet.
+
+       *Who uses which.* D3D10+ mandates top-left (y down); GL and Vulkan require only
+       that a shared edge's samples be produced once, and drivers pick a rule in their own
+       framebuffer orientation (llvmpipe: top-left with window row y taken as row y, as
+       rastercheck's Mesa adapter does). piglit's ``triangle-rasterization`` test names
+       eight conventions by which of its eight sub-pixel triangles around a pixel centre
+       (GL window coordinates, y up) is drawn: ``top_left``, ``top_right``,
+       ``bottom_left``, ``bottom_right`` are the x-first rules and ``left_top``,
+       ``right_top``, ``left_bottom``, ``right_bottom`` the y-first ones (the vertical
+       edges' owner first, then the others'). Read in GL's orientation (the image shown
+       with its origin at the bottom), each piglit name ``A_B`` is the rule of the same
+       sides: ``left_top`` is ``top-left-y-first``, ``top_right`` is ``top-right``. With
+       window y taken as rastercheck's y unflipped (row y = window row y), top and bottom
+       trade places: ``top_left`` is ``bottom-left``, ``left_top`` is
+       ``bottom-left-y-first`` (:data:`PIGLIT_NAMES`). piglit's own reference rasterizer
+       (``rast_triangle``) biases the y-first four the other way round -- its
+       ``left_bottom`` bias draws what its probe calls ``right_top`` and so on -- which
+       never shows on drivers that use an x-first rule.
+    3. Snapping ``subpixel_bits = n``: every coordinate c becomes ``round(c * 2**n) / 2**n``
+       before anything else, rounding half to even (``nearest-even``: D3D, GL drivers),
+       half away from zero (``half-away``: ``(int64)(v * 2**n +/- 0.5)``, dEQP's reference
+       renderer and piglit's reference rasterizer) or down (``floor``: truncating
+       fixed-point conversion, skia). ``None``: no snapping, decisions are exact on the
+       float64 input.
     4. Culling ``none | cw | ccw``: ``cw`` removes triangles with snapped A > 0 (clockwise
        on screen), ``ccw`` those with A < 0.
 
@@ -43,25 +94,53 @@ import math
 from dataclasses import dataclass
 from typing import Literal
 
+import numba
 import numpy as np
 from numpy.typing import NDArray
 
 __all__ = [
     "TIE_RULES",
+    "TIE_PERTURBATION",
+    "PIGLIT_NAMES",
+    "SNAP_ROUNDINGS",
     "CULL_MODES",
     "MAX_SUBPIXEL_BITS",
     "SAMPLE_FRACTION_BITS",
     "Convention",
     "snap",
+    "owns_edge",
 ]
 
-TieRule = Literal["top-left", "top-right", "bottom-left", "bottom-right"]
+TieRule = Literal[
+    "top-left", "top-right", "bottom-left", "bottom-right",
+    "top-left-y-first", "top-right-y-first", "bottom-left-y-first", "bottom-right-y-first",
+]
 CullMode = Literal["none", "cw", "ccw"]
-SnapRounding = Literal["nearest-even", "floor"]
+SnapRounding = Literal["nearest-even", "half-away", "floor"]
 
-TIE_RULES: tuple[str, ...] = ("top-left", "top-right", "bottom-left", "bottom-right")
+# rule -> (sx, sy, y_first): the sample is decided as if moved by (sx*eps, sy*eps**2), or
+# by (sx*eps**2, sy*eps) when y_first (y down, eps -> 0+).
+TIE_PERTURBATION: dict[str, tuple[int, int, bool]] = {
+    "top-left": (1, 1, False),
+    "top-right": (-1, 1, False),
+    "bottom-left": (1, -1, False),
+    "bottom-right": (-1, -1, False),
+    "top-left-y-first": (1, 1, True),
+    "top-right-y-first": (-1, 1, True),
+    "bottom-left-y-first": (1, -1, True),
+    "bottom-right-y-first": (-1, -1, True),
+}
+TIE_RULES: tuple[str, ...] = tuple(TIE_PERTURBATION)
+# piglit's eight filling conventions (GL window coordinates, y up) -> rastercheck's rule
+# for that driver, with window y taken as rastercheck's y (row y = window row y).
+PIGLIT_NAMES: dict[str, str] = {
+    "top_left": "bottom-left", "top_right": "bottom-right",
+    "bottom_left": "top-left", "bottom_right": "top-right",
+    "left_top": "bottom-left-y-first", "right_top": "bottom-right-y-first",
+    "left_bottom": "top-left-y-first", "right_bottom": "top-right-y-first",
+}
 CULL_MODES: tuple[str, ...] = ("none", "cw", "ccw")
-SNAP_ROUNDINGS: tuple[str, ...] = ("nearest-even", "floor")
+SNAP_ROUNDINGS: tuple[str, ...] = ("nearest-even", "half-away", "floor")
 MAX_SUBPIXEL_BITS = 16
 # A sample offset must be a multiple of 2**-32 so that i + sx is exact for every pixel
 # column i of any viewport up to 2**20 pixels wide.
@@ -80,15 +159,18 @@ class Convention:
     sample : (float, float)
         Offset of the sample point inside each pixel, each in [0, 1] and a multiple of
         2**-32. (0.5, 0.5) is the centre; (1, 1) is the floor scanline's bottom-right corner.
-    tie : {"top-left", "top-right", "bottom-left", "bottom-right"}
-        Which edges own the samples lying exactly on them.
+    tie : str
+        Which edges own the samples lying exactly on them: one of :data:`TIE_RULES`,
+        ``top-left``, ``top-right``, ``bottom-left``, ``bottom-right`` (x first) and the
+        same four with ``-y-first``.
     subpixel_bits : int or None
         Snap vertices to multiples of 2**-n, 0 <= n <= 16, or None.
     cull : {"none", "cw", "ccw"}
         Remove triangles running clockwise (A > 0) or counter-clockwise on screen.
-    snap_rounding : {"nearest-even", "floor"}
-        How snapping rounds: to nearest, ties to even (D3D, GL drivers), or down
-        (truncating fixed-point conversion, as skia's ``int(x * 64)``).
+    snap_rounding : {"nearest-even", "half-away", "floor"}
+        How snapping rounds: to nearest, ties to even (D3D, GL drivers), to nearest, ties
+        away from zero (dEQP's and piglit's reference rasterizers), or down (truncating
+        fixed-point conversion, as skia's ``int(x * 64)``).
 
     Examples
     --------
@@ -99,7 +181,7 @@ class Convention:
     >>> Convention(tie="top-middle")
     Traceback (most recent call last):
     ...
-    ValueError: Convention.tie must be one of top-left, top-right, bottom-left, bottom-right, not 'top-middle'
+    ValueError: Convention.tie must be one of top-left, top-right, bottom-left, bottom-right, top-left-y-first, top-right-y-first, bottom-left-y-first, bottom-right-y-first, not 'top-middle'
     """
 
     sample: tuple[float, float] = (0.5, 0.5)
@@ -159,14 +241,10 @@ class Convention:
             )
 
     @property
-    def owns_top(self) -> bool:
-        """True when horizontal edges with the interior below them own their samples."""
-        return self.tie.startswith("top")
-
-    @property
-    def owns_left(self) -> bool:
-        """True when non-horizontal edges with the interior to their right own their samples."""
-        return self.tie.endswith("left")
+    def tie_perturbation(self) -> tuple[int, int, bool]:
+        """(sx, sy, y_first): a sample on an edge is decided as if moved by
+        (sx*eps, sy*eps**2), or (sx*eps**2, sy*eps) when y_first."""
+        return TIE_PERTURBATION[self.tie]
 
     def describe(self) -> str:
         """One line for people: sample point, ties, snapping, culling."""
@@ -175,25 +253,28 @@ class Convention:
             "no snapping"
             if self.subpixel_bits is None
             else f"snapped to 1/{2**self.subpixel_bits} px ({self.subpixel_bits} bits"
-            + (", rounding down)" if self.snap_rounding == "floor" else ")")
+            + {"nearest-even": ")", "half-away": ", half away from zero)", "floor": ", rounding down)"}[self.snap_rounding]
         )
         culling = "no culling" if self.cull == "none" else f"culls {self.cull}"
-        return f"sample ({sx}, {sy}), {self.tie} ties, {snapping}, {culling}"
+        tie = self.tie.removesuffix("-y-first") + " ties" + (" (y first)" if self.tie.endswith("-y-first") else "")
+        return f"sample ({sx}, {sy}), {tie}, {snapping}, {culling}"
 
 
 def snap(positions: NDArray[np.float64], subpixel_bits: int | None, rounding: str = "nearest-even") -> NDArray[np.float64]:
-    """Snap coordinates to multiples of ``2**-subpixel_bits``, rounding half to even (or
-    down, with ``rounding="floor"``).
+    """Snap coordinates to multiples of ``2**-subpixel_bits``, rounding to nearest with
+    ties to even (``"nearest-even"``), to nearest with ties away from zero
+    (``"half-away"``), or down (``"floor"``).
 
     Exact for every float64: scaling by a power of two is exact, ``np.rint`` rounds half
-    to even, ``np.floor`` is exact, and values of magnitude 2**52 or more (already
-    integers) are left alone. Non-finite values pass through unchanged.
+    to even, ``np.floor`` and ``np.trunc`` are exact, so is a float's fractional part
+    ``v - trunc(v)``, and values of magnitude 2**52 or more (already integers) are left
+    alone. Non-finite values pass through unchanged.
 
     Parameters
     ----------
     positions : (..., 2) float64
     subpixel_bits : int or None
-    rounding : {"nearest-even", "floor"}
+    rounding : {"nearest-even", "half-away", "floor"}
 
     Returns
     -------
@@ -203,14 +284,45 @@ def snap(positions: NDArray[np.float64], subpixel_bits: int | None, rounding: st
     --------
     >>> snap(np.array([0.125, 0.375, 1.0 / 3.0, -0.375]), 2)
     array([ 0.  ,  0.5 ,  0.25, -0.5 ])
+    >>> snap(np.array([0.125, 0.375, -0.125, -0.375]), 2, "half-away")
+    array([ 0.25,  0.5 , -0.25, -0.5 ])
+    >>> snap(np.array([0.125, 0.375, -0.125, -0.375]), 2, "floor")
+    array([ 0.  ,  0.25, -0.25, -0.5 ])
     """
     positions = np.asarray(positions, dtype=np.float64)
     if subpixel_bits is None:
         return positions
+    if rounding not in SNAP_ROUNDINGS:
+        raise ValueError(f"snap rounding must be one of {', '.join(SNAP_ROUNDINGS)}, not {rounding!r}")
     scale = 2.0**subpixel_bits
     with np.errstate(invalid="ignore"):
         small = np.abs(positions) < _SNAP_IDENTITY_ABOVE
     snapped = positions.copy()
-    round_ = np.floor if rounding == "floor" else np.rint
-    snapped[small] = round_(positions[small] * scale) / scale
+    scaled = positions[small] * scale
+    if rounding == "floor":
+        rounded = np.floor(scaled)
+    elif rounding == "half-away":
+        # (int64)(v + 0.5) for v >= 0 and (int64)(v - 0.5) below, without the float sum's
+        # rounding: truncate, then step away from zero when the dropped part is >= 1/2.
+        whole = np.trunc(scaled)
+        rounded = whole + np.sign(scaled) * (np.abs(scaled - whole) >= 0.5)
+    else:
+        rounded = np.rint(scaled)
+    snapped[small] = rounded / scale
     return snapped
+
+
+@numba.njit(cache=True, inline="always")
+def owns_edge(ax, ay, bx, by, tie_x, tie_y, y_first):  # type: ignore[no-untyped-def]
+    """Whether the edge a -> b of a triangle oriented with its interior where
+    ``E_ab > 0`` owns the samples lying exactly on it, under the tie rule with
+    perturbation ``(tie_x, tie_y, y_first)`` (:data:`TIE_PERTURBATION`).
+
+    dE/dx = -(by - ay) and dE/dy = bx - ax; the sign of the first nonzero term of
+    E(p + d) decides. Comparisons, not differences: nothing overflows.
+    """
+    if y_first and ax != bx:
+        return (bx > ax) == (tie_y > 0)  # sign(dE/dy * sy)
+    if not y_first and ay == by:
+        return (bx > ax) == (tie_y > 0)  # horizontal: dE/dx = 0, sign(dE/dy * sy)
+    return (by < ay) == (tie_x > 0)  # sign(dE/dx * sx)

@@ -1,10 +1,13 @@
 """``rastercheck identify``: fingerprint a black-box rasterizer's convention from outside.
 
-- Sample point and tie rule: the candidate (9 sample points x 4 tie rules) whose exact
-  oracle best matches the rasterizer on lattice scenes built to hit ties (vertices on
-  sample points, edges through them).
+- Sample point and tie rule: the candidate (9 sample points and the measured one x the 8
+  tie rules) whose exact oracle best matches the rasterizer on lattice scenes built to
+  hit ties (vertices on sample points, edges through them, and piglit's pinwheels of
+  eight triangles around a sample, of which each rule draws exactly one).
 - Snapping: with that sample point and tie rule, the number of sub-pixel bits (or none)
-  that best explains it on unconstrained-float scenes, where snapping shows.
+  and the rounding (nearest-even, half-away, floor) that best explain it on
+  unconstrained-float scenes, where snapping shows, and on scenes whose vertices sit
+  exactly on half steps of the fitted grid, where the roundings part.
 - Culling, zero-area and non-finite handling, the viewport edge (the rasterizer against
   itself inside a larger screen), and watertightness on every planar partition family.
 
@@ -23,9 +26,9 @@ from numpy.typing import NDArray
 from cases.partitions import partition_cases
 from cases.scenes import lattice_triangles, random_triangles
 from harness.api import Coverage, Rasterizer, Scene
-from harness.checks import deviations, watertight
+from harness.checks import FragmentCounter, deviations, watertight
 from harness.compare import CANDIDATES
-from harness.conventions import TIE_RULES, Convention
+from harness.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention
 from harness.oracle import exact_coverage
 
 __all__ = ["Fingerprint", "identify", "identify_isolated", "Identified"]
@@ -41,12 +44,15 @@ class Fingerprint:
     pixels: int
     runner_up: tuple[str, int] | None = None
     facts: dict[str, Any] = field(default_factory=dict)
+    ambiguous: tuple[str, ...] = ()
 
     @property
     def exact(self) -> bool:
-        """No mismatch, and the runner-up (another sample point or tie rule) has some:
-        a candidate that only ties with another is never claimed."""
-        return self.residual == 0 and not (self.runner_up is not None and self.runner_up[1] == 0)
+        """No mismatch, the runner-up (another sample point or tie rule) has some, and no
+        other snap rounding explains it as well: a candidate that only ties with another
+        is never claimed."""
+        return (self.residual == 0 and not (self.runner_up is not None and self.runner_up[1] == 0)
+                and not self.ambiguous)
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for JSON and the report."""
@@ -55,7 +61,8 @@ class Fingerprint:
                 "subpixel_bits": self.convention.subpixel_bits, "snap_rounding": self.convention.snap_rounding,
                 "cull": self.convention.cull,
                 "exact": self.exact, "residual": self.residual, "pixels": self.pixels,
-                "runner_up": list(self.runner_up) if self.runner_up else None, "facts": dict(self.facts)}
+                "runner_up": list(self.runner_up) if self.runner_up else None, "facts": dict(self.facts),
+                "ambiguous": list(self.ambiguous)}
 
     def card(self) -> str:
         lines = [f"rasterizer   {self.rasterizer}",
@@ -63,6 +70,7 @@ class Fingerprint:
                  f"             {self.convention!r}",
                  f"residual     {self.residual} mismatching pixels of {self.pixels}"
                  + ("  (identified exactly)" if self.exact
+                    else f"  (ambiguous between {' and '.join(self.ambiguous)})" if self.residual == 0 and self.ambiguous
                     else "  (ambiguous: the next best explains it as well)" if self.residual == 0
                     else "  (best guess only: no candidate explains it exactly)")]
         if self.runner_up:
@@ -72,9 +80,18 @@ class Fingerprint:
         return "\n".join(lines)
 
 
+_COUNTERS: dict[int, tuple[Coverage, FragmentCounter]] = {}
+
+
 def _mismatch(coverage: Coverage, scene: Scene, convention: Convention) -> int:
-    missing, extra = deviations(coverage, exact_coverage(scene, convention), scene.width, scene.height)
-    return missing.shape[1] + extra.shape[1]
+    """Missing plus extra pixels of ``coverage`` against the oracle of ``convention``
+    (the rasterizer's fragments sorted once per coverage, then merged with each oracle)."""
+    held = _COUNTERS.get(id(coverage))
+    if held is None or held[0] is not coverage:
+        if len(_COUNTERS) > 64:
+            _COUNTERS.clear()
+        held = _COUNTERS[id(coverage)] = (coverage, FragmentCounter(coverage, scene.width, scene.height))
+    return held[1].mismatches(exact_coverage(scene, convention))
 
 
 def _safe(rasterizer: Rasterizer, scene: Scene) -> Coverage | BaseException:
@@ -249,6 +266,30 @@ def _tie_triangles(sample: tuple[float, float], seed: int, count: int = 200) -> 
     return np.stack([base, second, third], axis=1) + np.array(sample) + 4.0
 
 
+def _pinwheels(sample: tuple[float, float], sizes: tuple[int, ...] = (1, 2, 3)) -> NDArray[np.float64]:
+    """(8 * 30 * len(sizes), 3, 2): piglit's probe, eight triangles around a sample point
+    (split by the axes and diagonals, sizes in whole pixels), at 30 sample points of a 48
+    px square moved 4 px in. The sample is every triangle's vertex and lies on two edges of
+    each; each of the eight tie rules gives it to exactly one triangle, a different one."""
+    wheels = []
+    rim = np.array([[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]], dtype=np.float64)
+    for k in range(30):
+        centre = np.array([6.0 + (k % 6) * 7.0, 6.0 + (k // 6) * 8.0]) + np.array(sample) + 4.0
+        size = sizes[k % len(sizes)]
+        for i in range(8):
+            wheels.append([centre + size * rim[i], centre + size * rim[i + 1], centre])
+    return np.array(wheels)
+
+
+def _half_steps(scene: Scene, bits: int) -> Scene:
+    """The scene with every coordinate moved onto an odd multiple of 2**-(bits+1) -- a half
+    step of the 2**-bits grid, where rounding to nearest must break a tie -- and kept at
+    least 1 px from the origin (a frame's rounding sign plays no part there)."""
+    scale = 2.0**bits
+    moved = (np.floor(np.abs(scene.positions) * scale) + 0.5) / scale + 1.0
+    return Scene(scene.width, scene.height, moved)
+
+
 def _sample_candidates(measured: tuple[float, float] | None) -> list[tuple[float, float]]:
     """The 9 standard sample points, plus the measured one at a few dyadic precisions."""
     samples = list(dict.fromkeys(c.sample for c in CANDIDATES))
@@ -315,31 +356,53 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     grid, located = _vertex_sweep(rasterizer)
     snaps: list[tuple[int | None, str]] = [(None, "nearest-even")]
     if grid is not None:
-        snaps += [(grid - 1, "nearest-even"), (grid, "floor")]
+        snaps += [(grid - 1, "nearest-even"), (grid - 1, "half-away"), (grid, "floor")]
+        snaps = [(b, r) for b, r in snaps if b is None or 0 <= b <= 16]
     candidates = [Convention(sample=sample, tie=tie, cull=cull_mode, subpixel_bits=b, snap_rounding=r)
                   for b, r in snaps for sample in _sample_candidates(measured) for tie in TIE_RULES]
     scores = sorted(((sum(_mismatch(c, s, cand) for c, s in zip(lattice_cov, lattice)), i) for i, cand in enumerate(candidates)))
     # then ties at the best sample point: vertices on samples, axis-aligned edges through
     # rows of them, so that every tie rule shows there
-    lattice.append(Scene(56, 56, _tie_triangles(candidates[scores[0][1]].sample, seed)))
-    lattice_cov.append(rasterizer.rasterize(lattice[-1]))
-    scores = sorted((score + _mismatch(lattice_cov[-1], lattice[-1], candidates[i]), i) for score, i in scores)
+    for ties in (_tie_triangles(candidates[scores[0][1]].sample, seed), _pinwheels(candidates[scores[0][1]].sample)):
+        lattice.append(Scene(56, 56, ties))
+        lattice_cov.append(rasterizer.rasterize(lattice[-1]))
+        scores = sorted((score + _mismatch(lattice_cov[-1], lattice[-1], candidates[i]), i) for score, i in scores)
     best = candidates[scores[0][1]]
     # the runner-up differs in sample point or tie rule (snapping cannot show on lattices)
     runner_score, runner_index = next((sc, i) for sc, i in scores
                                       if (candidates[i].sample, candidates[i].tie) != (best.sample, best.tie))
     runner = candidates[runner_index]
     float_cov = [rasterizer.rasterize(s) for s in floats]
+
+    def fitted(bits: int | None, rounding: str) -> Convention:
+        return Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode, snap_rounding=rounding)  # type: ignore[arg-type]
+
     snap_scores: list[tuple[int, int, int | None, str]] = []
     for bits in SNAP_BITS:
-        for rounding in ("nearest-even", "floor") if bits is not None else ("nearest-even",):
-            candidate = Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode, snap_rounding=rounding)
-            score = sum(_mismatch(c, s, candidate) for c, s in zip(float_cov, floats))
-            # ties prefer no snapping, then rounding to nearest
-            snap_scores.append((score, 0 if bits is None else 1 if rounding == "nearest-even" else 2, bits, rounding))
+        for rounding in SNAP_ROUNDINGS if bits is not None else ("nearest-even",):
+            score = sum(_mismatch(c, s, fitted(bits, rounding)) for c, s in zip(float_cov, floats))
+            # ties prefer no snapping, then rounding to nearest even
+            snap_scores.append((score, 0 if bits is None else 1 + SNAP_ROUNDINGS.index(rounding), bits, rounding))
     snap_scores.sort(key=lambda s: (s[0], s[1]))
     bits, rounding = snap_scores[0][2], snap_scores[0][3]
-    convention = Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode, snap_rounding=rounding)
+    ambiguous: tuple[str, ...] = ()
+    if bits is not None:
+        # floats almost never sit on a half step, where nearest-even and half-away part:
+        # put every vertex on one, and fit the rounding there
+        halves = [_half_steps(s, bits) for s in floats]
+        floats += halves
+        float_cov += [rasterizer.rasterize(s) for s in halves]
+        rounding_scores = sorted(
+            (sum(_mismatch(c, s, fitted(bits, r)) for c, s in zip(float_cov, floats)), SNAP_ROUNDINGS.index(r), r)
+            for r in SNAP_ROUNDINGS
+        )
+        rounding = rounding_scores[0][2]
+        tied = [r for score, _, r in rounding_scores if score == rounding_scores[0][0]]
+        if len(tied) > 1:
+            ambiguous = tuple(f"{bits} bits {r}" for r in tied)
+        facts["rounding"] = "; ".join(f"{r}: {score} mismatches" for score, _, r in rounding_scores) + (
+            f" (with every vertex on a half step of the 2^-{bits} grid)")
+    convention = fitted(bits, rounding)
     residual = sum(_mismatch(c, s, convention) for c, s in zip([*lattice_cov, *float_cov], [*lattice, *floats]))
     pixels = sum(c.n_pixels for c in [*lattice_cov, *float_cov])
     if residual:
@@ -374,7 +437,8 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     n = len(partitions)
     facts["watertight"] = (f"yes (no hole, no double hit on {n} partitions)" if holes == doubles == 0
                            else f"no: {holes} holes, {doubles} double hits on {n} partitions")
-    facts["snapping"] = ((f"{bits} sub-pixel bits" + (", rounding down" if rounding == "floor" else "")) if bits is not None
+    facts["snapping"] = ((f"{bits} sub-pixel bits, " + {"nearest-even": "half to even", "half-away": "half away from zero",
+                                                         "floor": "rounding down"}[rounding]) if bits is not None
                          else "none detected") + f" ({snap_scores[0][0]} float mismatches)"
     if located == 0:
         facts["vertex sweep"] = "no coverage change located (the rasterizer raised or drew nothing)"
@@ -383,11 +447,11 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
                                  "no vertex snapping down to 2^-12 px" + (" (agrees)" if bits is None else f" (the fit's {bits} bits are NOT confirmed)"))
     else:
         nearest = grid - 1  # a grid rounded to nearest changes halfway between its points
-        fits = (bits, rounding) in ((nearest, "nearest-even"), (grid, "floor"))
+        fits = (bits, rounding) in ((nearest, "nearest-even"), (nearest, "half-away"), (grid, "floor"))
         agree = " (agrees with the fit)" if fits else f" (the fit says {bits if bits is not None else 'none'}, {rounding}: not confirmed)"
         facts["vertex sweep"] = (f"{located} coverage changes, all at multiples of 2^-{grid} px: vertices snap to 2^-{nearest} px "
                                  f"rounding to nearest, or 2^-{grid} px truncating" + agree)
-    return Fingerprint(rasterizer.name, convention, residual, pixels, (runner.describe(), runner_score), facts)
+    return Fingerprint(rasterizer.name, convention, residual, pixels, (runner.describe(), runner_score), facts, ambiguous)
 
 
 class _TimeLimited:

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene, _expand, _span_pixel_offsets, span_buffers
-from harness.conventions import Convention
+from harness.conventions import Convention, owns_edge
 from harness.exact import orient2d_sign, orientation
 
 __all__ = ["exact_coverage", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
@@ -36,7 +36,7 @@ _CULL_CODES = {"none": 0, "cw": 1, "ccw": -1}
 
 
 @numba.njit(cache=True)
-def _orient_kernel(positions, sign, cull, owns_top, owns_left, sy, height, out_owned, out_active):  # type: ignore[no-untyped-def]
+def _orient_kernel(positions, sign, cull, tie_x, tie_y, y_first, sy, height, out_owned, out_active):  # type: ignore[no-untyped-def]
     """Activity and edge ownership of each triangle, taken with its vertices in oriented
     order (0, 1, 2) when A > 0 and (0, 2, 1) when A < 0; returns an upper bound on the
     rows the active ones span (the span buffers' capacity)."""
@@ -55,14 +55,10 @@ def _orient_kernel(positions, sign, cull, owns_top, owns_left, sy, height, out_o
             a, b = order[k], order[(k + 1) % 3]
             ax, ay = positions[t, a, 0], positions[t, a, 1]
             bx, by = positions[t, b, 0], positions[t, b, 1]
-            # With A > 0 the interior lies on the side of (-dy, dx): a horizontal edge
-            # with dx > 0 has the interior below it (top edge); a non-horizontal edge with
-            # dy < 0 has it to its right (left edge). Comparisons, not differences: no
-            # overflow.
-            if ay == by:
-                out_owned[t, k] = (bx > ax) if owns_top else (bx < ax)
-            else:
-                out_owned[t, k] = (by < ay) if owns_left else (by > ay)
+            # The tie rule: with A > 0 the interior is where E_ab > 0, and the edge owns
+            # its samples when E is positive at the sample moved by the rule's
+            # perturbation (harness.conventions).
+            out_owned[t, k] = owns_edge(ax, ay, bx, by, tie_x, tie_y, y_first)
         first, last = _row_range(
             min(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1]),
             max(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1]),
@@ -105,8 +101,8 @@ class PreparedTriangles:
         self.active = np.empty(n, dtype=np.bool_)
         self.rows = int(
             _orient_kernel(
-                self.snapped, self.sign, _CULL_CODES[convention.cull], convention.owns_top,
-                convention.owns_left, convention.sample[1], scene.height, self.owned, self.active,
+                self.snapped, self.sign, _CULL_CODES[convention.cull], *convention.tie_perturbation,
+                convention.sample[1], scene.height, self.owned, self.active,
             )
         )
         self._oriented: NDArray[np.float64] | None = None

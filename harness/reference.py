@@ -1,9 +1,11 @@
 """A slow, obviously correct reference for the oracle: every pixel, rational arithmetic.
 
 For each triangle and each pixel of its bounding box (clipped to the viewport) the sample
-point is tested against the three edges with :class:`fractions.Fraction`. Edges are
-classified straight from the definitions in :mod:`harness.conventions` -- where the third
-vertex lies -- independently of how the oracle classifies them. Use it on small scenes.
+point is tested against the three edges with :class:`fractions.Fraction`. Ties are decided
+straight from the definition in :mod:`harness.conventions` -- the sample moved by the tie
+rule's symbolic perturbation, E(p + d(eps)) expanded as a polynomial in eps whose first
+nonzero coefficient gives the sign -- independently of how the oracle classifies edges.
+Use it on small scenes.
 """
 
 from __future__ import annotations
@@ -17,15 +19,6 @@ from harness.api import Coverage, Scene
 from harness.conventions import Convention
 
 __all__ = ["brute_force_coverage"]
-
-
-def _edge_kind(a: tuple[Fraction, Fraction], b: tuple[Fraction, Fraction], c: tuple[Fraction, Fraction]) -> str:
-    """'top', 'bottom', 'left' or 'right' for edge a-b of triangle abc."""
-    if a[1] == b[1]:
-        return "top" if c[1] > a[1] else "bottom"
-    # The edge's x at the third vertex's height; the interior is on the third vertex's side.
-    x_on_edge = a[0] + (b[0] - a[0]) * (c[1] - a[1]) / (b[1] - a[1])
-    return "left" if c[0] > x_on_edge else "right"
 
 
 def _side(a: tuple[Fraction, Fraction], b: tuple[Fraction, Fraction], p: tuple[Fraction, Fraction]) -> Fraction:
@@ -48,8 +41,9 @@ def brute_force_coverage(scene: Scene, convention: Convention) -> Coverage:
     """
     positions = convention.snap(scene.positions)
     sx, sy = (Fraction(s) for s in convention.sample)
-    vertical_owner = "top" if convention.owns_top else "bottom"
-    side_owner = "left" if convention.owns_left else "right"
+    tie_x, tie_y, y_first = convention.tie_perturbation
+    # d(eps) = (tie_x*eps, tie_y*eps**2), or (tie_x*eps**2, tie_y*eps) when y_first
+    move_x, move_y = ((0, tie_x, 0), (0, 0, tie_y)) if not y_first else ((0, 0, tie_x), (0, tie_y, 0))
     tri, xs, ys = [], [], []
     for t in range(len(scene)):
         p = positions[t]
@@ -61,8 +55,7 @@ def brute_force_coverage(scene: Scene, convention: Convention) -> Coverage:
             continue
         if convention.cull == "cw" and area > 0 or convention.cull == "ccw" and area < 0:
             continue
-        edges = [(v[k], v[(k + 1) % 3], v[(k + 2) % 3]) for k in range(3)]
-        owned = [_edge_kind(a, b, c) in (vertical_owner, side_owner) for a, b, c in edges]
+        edges = [(v[k], v[(k + 1) % 3]) for k in range(3)]
         sign = 1 if area > 0 else -1
         x_lo = max(0, math.floor(min(q[0] for q in v) - sx))
         x_hi = min(scene.width - 1, math.ceil(max(q[0] for q in v) - sx))
@@ -72,9 +65,12 @@ def brute_force_coverage(scene: Scene, convention: Convention) -> Coverage:
             for i in range(x_lo, x_hi + 1):
                 sample = (i + sx, j + sy)
                 inside = True
-                for (a, b, _), own in zip(edges, owned):
-                    e = sign * _side(a, b, sample)
-                    if e < 0 or (e == 0 and not own):
+                for a, b in edges:
+                    # E(p + d) = E(p) + dE/dx * d_x + dE/dy * d_y, as coefficients of 1, eps, eps**2
+                    gx, gy = -(b[1] - a[1]), b[0] - a[0]
+                    terms = [sign * (_side(a, b, sample) if k == 0 else gx * move_x[k] + gy * move_y[k]) for k in range(3)]
+                    leading = next((c for c in terms if c != 0), Fraction(0))
+                    if leading <= 0:
                         inside = False
                         break
                 if inside:

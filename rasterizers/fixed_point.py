@@ -1,11 +1,13 @@
 """``fixed_point``: snapped integer edge functions with the top-left bias (seed 002, GPUs).
 
 Vertices snap to ``subpixel_bits`` fractional bits (8 by default, as D3D's 16.8; 4..16
-allowed), round half to even. Every edge function is then an exact int64 expression, and
-each row's span is solved from it exactly: for an edge whose function grows with x the
-first column with ``E + bias >= 0``, for one that falls with x the last, by floor
-division. The top-left rule is an integer bias: ``bias = 0`` on top and left edges and
-``-1`` on the others, since for integers ``E > 0`` and ``E - 1 >= 0`` are the same test.
+allowed), round half to even (or half away from zero, as dEQP's reference renderer, or
+down). Every edge function is then an exact int64 expression, and each row's span is
+solved from it exactly: for an edge whose function grows with x the first column with
+``E + bias >= 0``, for one that falls with x the last, by floor division. The tie rule
+is an integer bias: ``bias = 0`` on the edges it owns and ``-1`` on the others, since
+for integers ``E > 0`` and ``E - 1 >= 0`` are the same test. Any of the eight tie rules
+may be chosen (top-left by default).
 
 Overflow bound. With every fixed-point coordinate (vertices and samples) within
 ``|c| <= 2**30 - 1``, differences stay within 2**31, products within 2**62, and an edge
@@ -14,7 +16,8 @@ In pixels: ``|x|, |y| < 2**(30 - bits)`` (4,194,304 px at 8 bits, 16,384 px at 1
 the viewport must fit too. Outside that range ``rasterize`` raises ``ValueError`` naming
 the triangle -- never a wrong picture.
 
-Convention: sample (0.5, 0.5), ``top-left`` ties, snapped to ``subpixel_bits``.
+Convention: sample (0.5, 0.5), ``top-left`` ties (or the chosen rule), snapped to
+``subpixel_bits`` with the chosen rounding.
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ import numba
 import numpy as np
 
 from harness.api import Coverage, Scene, span_buffers
-from harness.conventions import Convention, snap
+from harness.conventions import TIE_RULES, Convention, owns_edge, snap
 from rasterizers._common import build_coverage, check_range, interpolate_barycentric
 
 __all__ = ["FixedPoint", "MAX_FIXED"]
@@ -32,7 +35,7 @@ MAX_FIXED = 2**30 - 1  # |fixed-point coordinate| bound: 8 * MAX_FIXED**2 < 2**6
 
 
 @numba.njit(cache=True)
-def _kernel(fixed, half, one, width, height, out_t, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+def _kernel(fixed, half, one, tie_x, tie_y, y_first, width, height, out_t, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
     n = 0
     for t in range(fixed.shape[0]):
         p = fixed[t]
@@ -55,8 +58,9 @@ def _kernel(fixed, half, one, width, height, out_t, out_y, out_x0, out_x1):  # t
                     a, b = (k + 1) % 3, k
                 ax, ay, bx, by = p[a, 0], p[a, 1], p[b, 0], p[b, 1]
                 dx, dy = bx - ax, by - ay
-                # Top-left rule as an integer bias: 0 on top and left edges, -1 elsewhere.
-                bias = 0 if ((dy == 0 and dx > 0) or dy < 0) else -1
+                # The tie rule as an integer bias: 0 on the edges it owns, -1 elsewhere
+                # (E > 0 and E - 1 >= 0 are the same test for integers).
+                bias = 0 if owns_edge(ax, ay, bx, by, tie_x, tie_y, y_first) else -1
                 # E(i) = dx*(py - ay) - dy*(i*one + half - ax) + bias = c - dy*one*i
                 c = dx * (py - ay) - dy * (half - ax) + bias
                 if dy == 0:
@@ -84,6 +88,10 @@ class FixedPoint:
     ----------
     subpixel_bits : int
         Fractional bits of the vertex grid, 4..16 (default 8: 1/256 px).
+    tie : str
+        Any of :data:`harness.conventions.TIE_RULES` (default top-left).
+    snap_rounding : {"nearest-even", "half-away", "floor"}
+        How vertices round onto the grid (default nearest-even).
 
     Examples
     --------
@@ -99,13 +107,19 @@ class FixedPoint:
 
     name = "fixed_point"
 
-    def __init__(self, subpixel_bits: int = 8) -> None:
+    def __init__(self, subpixel_bits: int = 8, tie: str = "top-left", snap_rounding: str = "nearest-even") -> None:
         if isinstance(subpixel_bits, bool) or not isinstance(subpixel_bits, int) or not 4 <= subpixel_bits <= 16:
             raise ValueError(f"fixed_point: subpixel_bits must be an integer in 4..16, not {subpixel_bits!r}")
+        if tie not in TIE_RULES:
+            raise ValueError(f"fixed_point: tie must be one of {', '.join(TIE_RULES)}, not {tie!r}")
         self.subpixel_bits = subpixel_bits
-        self.convention = Convention(sample=(0.5, 0.5), tie="top-left", subpixel_bits=subpixel_bits)
-        if subpixel_bits != 8:
-            self.name = f"fixed_point_{subpixel_bits}"
+        self.convention = Convention(sample=(0.5, 0.5), tie=tie, subpixel_bits=subpixel_bits,  # type: ignore[arg-type]
+                                     snap_rounding=snap_rounding)  # type: ignore[arg-type]
+        parts = [str(subpixel_bits)] if subpixel_bits != 8 else []
+        parts += [tie] if tie != "top-left" else []
+        parts += [snap_rounding] if snap_rounding != "nearest-even" else []
+        if parts:
+            self.name = "fixed_point_" + "_".join(parts)
 
     @property
     def max_coordinate(self) -> float:
@@ -125,11 +139,11 @@ class FixedPoint:
             f"{bits} sub-pixel bits keep int64 edge functions exact only within +/-2**{30 - bits} px",
         )
         finite = np.all(np.isfinite(scene.positions), axis=(1, 2))  # others draw nothing
-        snapped = snap(np.where(finite[:, None, None], scene.positions, 0.0), bits)
+        snapped = snap(np.where(finite[:, None, None], scene.positions, 0.0), bits, self.convention.snap_rounding)
         fixed = (snapped * 2.0**bits).astype(np.int64)  # exact: snapped values are on the grid
         rows = (fixed[..., 1].max(axis=1) - fixed[..., 1].min(axis=1)) // (1 << bits) + 2
         capacity = int(np.clip(rows, 0, scene.height).sum())
         spans = span_buffers(capacity)
-        n = _kernel(fixed, 1 << (bits - 1), 1 << bits, scene.width, scene.height, *spans)
+        n = _kernel(fixed, 1 << (bits - 1), 1 << bits, *self.convention.tie_perturbation, scene.width, scene.height, *spans)
         attributes = interpolate_barycentric(scene, snapped, spans, n, self.convention.sample)
         return build_coverage(scene, spans, n, attributes)

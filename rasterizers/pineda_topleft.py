@@ -16,7 +16,8 @@ Each edge is evaluated with its endpoints in one canonical (lexicographic) order
 negated for the other direction, so the two triangles sharing an edge get exactly
 opposite values at every sample and the mesh is watertight on arbitrary floats.
 
-Convention: sample (0.5, 0.5), ``top-left`` ties.
+Convention: sample (0.5, 0.5), ``top-left`` ties (any of the eight rules may be chosen:
+``PinedaTopLeft(tie="bottom-right-y-first")``).
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ import numba
 import numpy as np
 
 from harness.api import Coverage, Scene, span_buffers
-from harness.conventions import Convention
+from harness.conventions import TIE_RULES, Convention, owns_edge
 from rasterizers._common import build_coverage, interpolate_barycentric, row_capacity, screen_triangles
 
 __all__ = ["PinedaTopLeft", "edge_setup"]
@@ -36,10 +37,10 @@ MAX_COORDINATE = 2.0**24  # float edge functions stay accurate to far below 1/10
 
 
 @numba.njit(cache=True)
-def edge_setup(p, sign, edges):  # type: ignore[no-untyped-def]
+def edge_setup(p, sign, edges, tie_x=1, tie_y=1, y_first=False):  # type: ignore[no-untyped-def]
     """Fill ``edges`` (3, 6) for edge k (vertex k -> k+1 once oriented A > 0): canonical
     start point, canonical deltas, the sign turning the canonical value into this
-    triangle's, and 1 when the edge is top or left."""
+    triangle's, and 1 when the tie rule (default top-left) owns the edge."""
     for k in range(3):
         if sign > 0:
             a, b = k, (k + 1) % 3
@@ -47,9 +48,9 @@ def edge_setup(p, sign, edges):  # type: ignore[no-untyped-def]
             a, b = (k + 1) % 3, k
         ax, ay, bx, by = p[a, 0], p[a, 1], p[b, 0], p[b, 1]
         dx, dy = bx - ax, by - ay
-        # Top-left rule: a top edge is horizontal with the interior below (dx > 0);
-        # a left edge has the interior to its right (dy < 0).
-        top_left = 1.0 if ((dy == 0.0 and dx > 0.0) or dy < 0.0) else 0.0
+        # The tie rule: top-left owns top edges (horizontal, interior below: dx > 0) and
+        # left ones (interior to the right: dy < 0); any other rule by its perturbation.
+        top_left = 1.0 if owns_edge(ax, ay, bx, by, tie_x, tie_y, y_first) else 0.0
         # One canonical endpoint order per edge: both triangles compute the same float.
         if (ax, ay) <= (bx, by):
             edges[k, 0], edges[k, 1], edges[k, 2], edges[k, 3], edges[k, 4] = ax, ay, bx - ax, by - ay, 1.0
@@ -93,7 +94,7 @@ def _walk(ax, ay, dx, dy, s, top_left, py, lo, hi, estimate, rising):  # type: i
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _kernel(positions, sign, width, height, out_t, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+def _kernel(positions, sign, tie_x, tie_y, y_first, width, height, out_t, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
     n = 0
     e = np.empty((3, 6))
     slope = np.empty(3)
@@ -101,7 +102,7 @@ def _kernel(positions, sign, width, height, out_t, out_y, out_x0, out_x1):  # ty
         if sign[t] == 0:
             continue
         p = positions[t]
-        edge_setup(p, sign[t], e)
+        edge_setup(p, sign[t], e, tie_x, tie_y, y_first)
         for k in range(3):  # dx/dy, for the crossing estimate only
             slope[k] = e[k, 2] / e[k, 3] if e[k, 3] != 0.0 else 0.0
         # Columns and rows whose pixel centres lie in the triangle's box, on screen.
@@ -151,12 +152,19 @@ class PinedaTopLeft:
     name = "pineda_topleft"
     convention = Convention(sample=(0.5, 0.5), tie="top-left")
 
+    def __init__(self, tie: str = "top-left") -> None:
+        if tie not in TIE_RULES:
+            raise ValueError(f"pineda_topleft: tie must be one of {', '.join(TIE_RULES)}, not {tie!r}")
+        if tie != "top-left":
+            self.name = f"pineda_{tie}"
+            self.convention = Convention(sample=(0.5, 0.5), tie=tie)  # type: ignore[arg-type]
+
     def rasterize(self, scene: Scene) -> Coverage:
         sign = screen_triangles(  # zero-area and non-finite triangles draw nothing
             scene, MAX_COORDINATE, self.name, "float edge functions are not accurate that far out"
         )
         capacity = row_capacity(scene.positions, sign, scene.height)  # one run per row at most
         spans = span_buffers(capacity)
-        n = _kernel(scene.positions, sign, scene.width, scene.height, *spans)
+        n = _kernel(scene.positions, sign, *self.convention.tie_perturbation, scene.width, scene.height, *spans)
         attributes = interpolate_barycentric(scene, scene.positions, spans, n, self.convention.sample)
         return build_coverage(scene, spans, n, attributes)

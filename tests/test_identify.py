@@ -198,3 +198,73 @@ print("OK")
 
 def test_llvmpipe_one_draw_with_a_fragment_list_equals_one_draw_per_triangle():
     _in_fresh_process(BATCH_AGREES)
+
+
+@pytest.mark.parametrize("hidden", [
+    Convention(tie="top-left-y-first"),
+    Convention(tie="bottom-right-y-first", subpixel_bits=4),
+    Convention(tie="top-right-y-first", sample=(0.0, 0.0)),
+    Convention(tie="bottom-left-y-first", subpixel_bits=8, snap_rounding="half-away"),
+    Convention(subpixel_bits=4, snap_rounding="half-away"),
+    Convention(tie="bottom-right", subpixel_bits=6, snap_rounding="half-away"),
+], ids=str)
+def test_identify_recovers_y_first_rules_and_half_away_snapping(hidden):
+    fingerprint = identify(BlackBox(hidden))
+    assert fingerprint.convention == hidden and fingerprint.exact, fingerprint.card()
+
+
+def test_identify_separates_the_roundings_on_half_steps():
+    fingerprint = identify(BlackBox(Convention(subpixel_bits=8)))
+    assert fingerprint.exact and "nearest-even: 0 mismatches" in fingerprint.facts["rounding"], fingerprint.card()
+    assert "half-away: 0 " not in fingerprint.facts["rounding"]
+
+
+def test_a_rounding_that_was_not_separated_is_never_claimed():
+    from harness.identify import Fingerprint
+
+    unsure = Fingerprint("r", Convention(subpixel_bits=8), 0, 1000, ("other", 3), {}, ("8 bits nearest-even", "8 bits half-away"))
+    assert not unsure.exact and "ambiguous between 8 bits nearest-even and 8 bits half-away" in unsure.card()
+
+
+# piglit's rast_triangle biases its y-first conventions the other way round from the
+# names its probe gives them (see harness.conventions): what each port really draws.
+PIGLIT_PORT_DRAWS = {
+    "top_left": "bottom-left", "top_right": "bottom-right", "bottom_left": "top-left", "bottom_right": "top-right",
+    "left_top": "top-right-y-first", "right_top": "top-left-y-first",
+    "left_bottom": "bottom-right-y-first", "right_bottom": "bottom-left-y-first",
+}
+
+
+@pytest.mark.parametrize("filling", sorted(PIGLIT_PORT_DRAWS))
+def test_piglit_reference_is_identified_exactly(filling):
+    from tests.ports import PiglitReference
+
+    fingerprint = identify(PiglitReference(filling, bits=8))
+    want = Convention(tie=PIGLIT_PORT_DRAWS[filling], subpixel_bits=8, snap_rounding="half-away")
+    assert fingerprint.exact and fingerprint.residual == 0 and fingerprint.convention == want, fingerprint.card()
+
+
+@pytest.mark.parametrize("port", ["deqp-8", "deqp-4", "piglit-left_top-4", "piglit-top_left-8"])
+def test_ported_references_pass_the_quick_suite_as_identified(port):
+    """dEQP's and piglit's reference rasterizers, identified from outside, then checked
+    against what was identified: no false failure at half steps or ties."""
+    from harness import run_suite
+    from harness.identify import Identified
+    from tests.ports import DeqpReference, PiglitReference
+
+    kind, *rest = port.split("-")
+    rasterizer = DeqpReference(int(rest[0])) if kind == "deqp" else PiglitReference(rest[0], int(rest[1]))
+    fingerprint = identify(rasterizer)
+    assert fingerprint.exact and fingerprint.convention.snap_rounding == "half-away", fingerprint.card()
+    results = run_suite([Identified(rasterizer, fingerprint)], suite="quick", repros=False)
+    bad = [f"{r.case} {r.check}: {r.message}" for r in results if r.status in ("fail", "error")]
+    assert not bad and any(r.check == "conformance" and r.status == "pass" for r in results), bad[:5]
+
+
+def test_identify_tells_the_known_bad_claims_apart():
+    from tests.known_bad.conventions import HalfAwayClaimsNearestEven, YFirstClaimsXFirst
+
+    y_first = identify(YFirstClaimsXFirst())
+    assert y_first.exact and y_first.convention == Convention(tie="top-left-y-first", subpixel_bits=8), y_first.card()
+    half_away = identify(HalfAwayClaimsNearestEven())
+    assert half_away.exact and half_away.convention == Convention(subpixel_bits=4, snap_rounding="half-away"), half_away.card()

@@ -7,6 +7,7 @@ from cases.records import Case
 from cases.suites import suite
 from harness import run_suite
 from harness.checks import CHECKS
+from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.known_bad.misc import HangsOnEpsilon, SlowOnEpsilon, Int32FixedPoint, NaNAttributes, Raises, ReturnsGarbage, WrongTieClaim
 from tests.known_bad.scanlines import ScanlineBug
@@ -30,6 +31,9 @@ TABLE = {
     ScanlineBug("top-edge-eval"): {"conformance"},
     ScanlineBug("no-clip"): {"hygiene"},
     WrongTieClaim(): {"conformance"},
+    YFirstClaimsXFirst(): {"conformance"},
+    HalfAwayClaimsNearestEven(): {"conformance"},
+    DropsHuge(): {"conformance", "watertight"},
     Int32FixedPoint(): {"conformance"},
     NaNAttributes(): {"degenerate"},
     SlowOnEpsilon(): {"degenerate"},
@@ -77,3 +81,15 @@ def test_failures_carry_evidence(flagged):
     assert slow.metrics["work_ratio"] > 50 and "the time of plain triangles" in slow.message
     crash = flagged["bad_raises"]["run"][0]
     assert "RuntimeError: rasterizer exploded" in crash.message and "Traceback" in crash.evidence["traceback"]
+
+
+def test_huge_cases_are_never_excused_as_near_ties(flagged):
+    """A rasterizer that draws nothing beyond 1e15 fails every huge case beyond it, with no
+    pixel excused as float rounding (the exact distance is whole pixels)."""
+    failed = {r.case: r for r in flagged["bad_drops_huge"]["conformance"]}
+    for label in ("1e30", "max-float"):
+        for kind in ("cover", "wedge"):
+            result = failed[f"degenerate/huge/{kind}-{label}"]
+            assert result.metrics["near_tie"] == 0 and result.metrics["exact_ties"] == 0, result.message
+    holes = {r.case for r in flagged["bad_drops_huge"]["watertight"]}
+    assert {"degenerate/huge/cover-1e30", "degenerate/huge/cover-max-float"} <= holes

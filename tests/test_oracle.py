@@ -4,11 +4,11 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import example, given, strategies as st
+from hypothesis import example, given, settings, strategies as st
 
 from cases.strategies import conventions, float_scenes, lattice_scenes, thin_scenes
 from harness.api import Scene
-from harness.conventions import TIE_RULES, Convention
+from harness.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention
 from harness.exact import in_safe_range, orient2d_fraction, orient2d_sign, orientation
 from harness.oracle import exact_coverage, exact_coverage_python
 from harness.reference import brute_force_coverage
@@ -26,6 +26,17 @@ def agree(scene, convention):
 @example(Scene(6, 6, [[[0.5, 0.5], [4.5, 0.5], [0.5, 4.5]], [[4.5, 0.5], [4.5, 4.5], [0.5, 4.5]]]), Convention())
 def test_lattice_scenes(scene, convention):
     agree(scene, convention)
+
+
+@pytest.mark.parametrize("rounding", SNAP_ROUNDINGS)
+@pytest.mark.parametrize("tie", TIE_RULES)
+@given(scene=lattice_scenes(max_bits=5), sample=st.tuples(*[st.integers(0, 4).map(lambda k: k / 4)] * 2),
+       bits=st.one_of(st.none(), st.integers(0, 4)))
+@settings(max_examples=30)
+def test_every_tie_rule_and_rounding(tie, rounding, scene, sample, bits):
+    """All 8 x 3 combinations against the brute-force reference, on lattices finer than
+    the snapping grid: vertices land on half steps, samples on vertices and edges."""
+    agree(scene, Convention(sample=sample, tie=tie, subpixel_bits=bits, snap_rounding=rounding))
 
 
 @given(float_scenes(), conventions())

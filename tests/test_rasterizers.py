@@ -125,7 +125,7 @@ def test_attributes_match_the_oracle(rasterizer, perspective):
     assert np.max(np.abs(cov.attributes - ref.attributes)) <= 1e-9
 
 
-def pineda_per_pixel(scene):
+def pineda_per_pixel(scene, tie="top-left"):
     """The Pineda test at every pixel of the screen, in numpy: the reference the edge
     walk must reproduce exactly (same float expression, same canonical edges)."""
     from tests.known_bad import coverage_from_parts
@@ -139,7 +139,7 @@ def pineda_per_pixel(scene):
     tri, px, py = [], [], []
     e = np.empty((3, 6))
     for t in np.flatnonzero(sign):
-        edge_setup(positions[t], sign[t], e)
+        edge_setup(positions[t], sign[t], e, *Convention(tie=tie).tie_perturbation)
         inside = np.ones(xs.shape, dtype=bool)
         for ax, ay, dx, dy, s, tl in e:
             value = s * (dx * (ys - ay) - dy * (xs - ax))
