@@ -12,7 +12,8 @@ JSON schema 1::
       "fingerprints": {"<name>": {"convention": str, "sample": [x, y], "tie": str,
                        "subpixel_bits": int | null, "snap_rounding": str, "cull": str,
                        "exact": bool, "residual": int, "pixels": int,
-                       "runner_up": [str, int] | null, "facts": {str: str}}
+                       "runner_up": [str, int] | null, "facts": {str: str},
+                       "ambiguous": [str]}   # alternatives it could not separate
                        | {"error": str}},   # what identify found, when it ran
       "results": [
         {"rasterizer": str, "case": str, "check": str,

@@ -2,13 +2,13 @@
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 
 from cases.scenes import fan_mesh, grid_mesh, random_triangles
 from cases.strategies import float_scenes, lattice_scenes
 from harness.api import Rasterizer, Scene
 from harness.checks import NEAR_TIE, deviations, edge_distance
-from harness.conventions import snap
+from harness.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention, snap
 from harness.oracle import exact_coverage
 from rasterizers.centre_scanline import CentreScanline
 from rasterizers.fixed_point import FixedPoint, MAX_FIXED
@@ -169,3 +169,31 @@ def test_pineda_edge_walk_equals_per_pixel_tests_on_slivers_and_near_ties():
         slivers[:, 2] = slivers[:, 0] + (slivers[:, 1] - slivers[:, 0]) * 0.37 + rng.choice([1e-9, 1e-13, 1e-15], size=(20, 1))
         scene = Scene(48, 48, np.concatenate([positions, slivers]))
         assert PinedaTopLeft().rasterize(scene) == pineda_per_pixel(scene)
+
+
+@pytest.mark.parametrize("tie", TIE_RULES)
+@given(scene=lattice_scenes(max_bits=4, size=24, max_triangles=6))
+@settings(max_examples=25)
+def test_pineda_and_fixed_point_take_every_tie_rule(tie, scene):
+    assert PinedaTopLeft(tie=tie).rasterize(scene) == exact_coverage(scene, Convention(tie=tie))
+    assert PinedaTopLeft(tie=tie).rasterize(scene) == pineda_per_pixel(scene, tie)
+    fixed = FixedPoint(4, tie=tie)
+    assert fixed.rasterize(scene) == exact_coverage(scene, fixed.convention)
+
+
+@pytest.mark.parametrize("rounding", SNAP_ROUNDINGS)
+@given(scene=lattice_scenes(max_bits=8, size=24, max_triangles=6))
+@settings(max_examples=25)
+def test_fixed_point_takes_every_rounding(rounding, scene):
+    for bits in (4, 6):
+        fixed = FixedPoint(bits, tie="bottom-left-y-first", snap_rounding=rounding)
+        assert fixed.rasterize(scene) == exact_coverage(scene, fixed.convention)
+
+
+def test_known_bad_edge_functions_take_every_tie_rule():
+    from tests.known_bad.edge_functions import EdgeFunctionBug
+
+    scene = Scene(24, 24, np.concatenate([grid_mesh(4, 24, 0.0, 1), fan_mesh(8, (12.5, 12.5), 10.0, 1)]))
+    for tie in TIE_RULES:
+        bad = EdgeFunctionBug("exclusive", tie=tie)
+        assert bad.convention.tie == tie and bad.rasterize(scene) != exact_coverage(scene, bad.convention)

@@ -7,13 +7,13 @@ import numpy as np
 
 from harness.api import Coverage, Scene
 from tests.known_bad import coverage_from_parts
-from harness.conventions import Convention
+from harness.conventions import Convention, owns_edge
 
 __all__ = ["EdgeFunctionBug"]
 
 
 class EdgeFunctionBug:
-    """Pixel-centre edge functions, top-left rule, with one bug.
+    """Pixel-centre edge functions, top-left rule (or any other ``tie``), with one bug.
 
     bug:
       "inclusive"      every edge owns its samples (tinyrenderer's `< 0` test): double hits,
@@ -28,11 +28,10 @@ class EdgeFunctionBug:
       "nan-to-num"     replaces non-finite coordinates by numbers and draws them
     """
 
-    convention = Convention()
-
-    def __init__(self, bug: str) -> None:
+    def __init__(self, bug: str, tie: str = "top-left") -> None:
         self.bug = bug
-        self.name = f"bad_{bug}"
+        self.name = f"bad_{bug}" + ("" if tie == "top-left" else f"_{tie}")
+        self.convention = Convention(tie=tie)  # type: ignore[arg-type]
 
     def rasterize(self, scene: Scene) -> Coverage:
         with np.errstate(all="ignore"):
@@ -67,8 +66,8 @@ class EdgeFunctionBug:
                 if self.bug not in ("endpoint-order", "float32") and tuple(a) > tuple(b):
                     a, b, sign = b, a, -1  # canonical order: shared edges get opposite values
                 e = sign * ((b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]))
-                dx, dy = q[(k + 1) % 3] - q[k]
-                owned = (dy == 0 and dx > 0) or dy < 0
+                (ax, ay), (bx, by) = q[k], q[(k + 1) % 3]
+                owned = owns_edge(ax, ay, bx, by, *self.convention.tie_perturbation)
                 if self.bug == "inclusive":
                     owned = True
                 elif self.bug == "exclusive":
