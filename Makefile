@@ -18,7 +18,10 @@ $(STAMP): pyproject.toml
 report: $(STAMP)
 	$(BIN)/rastercheck run --out reports || [ $$? -eq 1 ]
 
+# lint and types first (seconds), then the tests
 test: $(STAMP)
+	$(BIN)/ruff check .
+	$(BIN)/python -m mypy
 	$(BIN)/python -m pytest
 
 bench: $(STAMP)

@@ -10,7 +10,7 @@ import numpy as np
 from hypothesis import strategies as st
 
 from harness.api import Scene
-from harness.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention
+from harness.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention, SnapRounding
 
 __all__ = ["conventions", "lattice_scenes", "float_scenes", "thin_scenes", "grid_scenes", "fan_scenes"]
 
@@ -21,7 +21,7 @@ def conventions(draw, snapping: bool = True):  # type: ignore[no-untyped-def]
     three roundings, culling."""
     sample = tuple(draw(st.integers(0, 8)) / 8 for _ in range(2))
     bits = draw(st.one_of(st.none(), st.integers(0, 16))) if snapping else None
-    rounding = draw(st.sampled_from(SNAP_ROUNDINGS)) if bits is not None else "nearest-even"
+    rounding: SnapRounding = draw(st.sampled_from(SNAP_ROUNDINGS)) if bits is not None else "nearest-even"
     return Convention(sample=sample, tie=draw(st.sampled_from(TIE_RULES)), subpixel_bits=bits,
                       cull=draw(st.sampled_from(["none", "cw", "ccw"])), snap_rounding=rounding)
 

@@ -7,6 +7,7 @@ tie rules are defined in :mod:`harness.conventions`.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Protocol, runtime_checkable
 
@@ -308,6 +309,27 @@ class Coverage:
                 )
             values = attributes[mask]
         return cls(np.full(rows.size, triangle), rows, starts, ends, values)
+
+    @classmethod
+    def concat(cls, parts: Iterable[Coverage]) -> Coverage:
+        """One coverage from several, spans (and attribute rows) in the order given. All
+        parts carry attributes, or none does.
+
+        Examples
+        --------
+        >>> both = Coverage.concat([Coverage.from_mask(0, [[1, 1, 0]]), Coverage.from_mask(1, [[0, 1, 1]])])
+        >>> both.triangle, both.x0, both.x1
+        (array([0, 1]), array([0, 1]), array([2, 3]))
+        """
+        parts = list(parts)
+        if not parts:
+            return cls.empty()
+        with_values = [p.attributes is not None for p in parts]
+        if any(with_values) and not all(with_values):
+            raise ValueError("Coverage.concat: some parts carry attributes and some do not")
+        values = np.concatenate([p.attributes for p in parts if p.attributes is not None]) if all(with_values) else None
+        triangle, y, x0, x1 = (np.concatenate([getattr(p, f) for p in parts]) for f in ("triangle", "y", "x0", "x1"))
+        return cls(triangle, y, x0, x1, values)
 
     # -- views -----------------------------------------------------------------------
 

@@ -12,6 +12,8 @@ across machines. Cold start (numba compilation or cache load) is timed separatel
 
 from __future__ import annotations
 
+from functools import partial
+
 import json
 import os
 import platform
@@ -105,10 +107,10 @@ def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float 
     oracle_convention = Convention()
     results = []
     for work in workloads(scale):
-        contenders: list[tuple[str, Callable[[], object]]] = [("pillow", lambda s=work.scene: _pillow(s))]
-        contenders.append(("oracle", lambda s=work.scene: exact_coverage(s, oracle_convention)))
+        contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow, work.scene))]
+        contenders.append(("oracle", partial(exact_coverage, work.scene, oracle_convention)))
         for r in rasterizers:
-            contenders.append((r.name, lambda s=work.scene, r=r: r.rasterize(s)))
+            contenders.append((r.name, partial(r.rasterize, work.scene)))
         pillow_rate = None
         for label, fn in contenders:
             cold, seconds, pixels = _time(fn, budget)

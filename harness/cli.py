@@ -7,6 +7,7 @@ Exit codes: 0 everything passes, 1 a check fails or errors (for ``gate``: a regr
 from __future__ import annotations
 
 import argparse
+import math
 import json
 import os
 import sys
@@ -43,44 +44,25 @@ def _quiet() -> bool:
     return bool(os.environ.get("CI")) or not sys.stderr.isatty()
 
 
-def _fingerprint_all(rasterizers: list[Any], seed: int, everyone: bool,
-                     call_timeout: float = 60.0) -> tuple[list[Any], dict[str, dict[str, Any]]]:
-    """Identify each rasterizer (each in a process of its own) for the side-by-side page;
-    one that declares no convention is then checked against the one identified for it.
-    With ``everyone`` False only those are identified. A failure to identify is kept as
-    an error entry; an undeclared rasterizer then runs without a convention."""
-    from harness.identify import Identified, identify_isolated
-
-    out: list[Any] = []
-    fingerprints: dict[str, dict[str, Any]] = {}
-    for r in rasterizers:
-        if not everyone and r.convention is not None:
-            out.append(r)
-            continue
-        try:
-            fingerprint = identify_isolated(r, seed, timeout=max(300.0, 10 * call_timeout), call_timeout=call_timeout)
-        except Exception as exc:
-            fingerprints[r.name] = {"error": f"{type(exc).__name__}: {exc}"}
-            print(f"identify {r.name}: {type(exc).__name__}: {exc}", file=sys.stderr)
-            out.append(r)
-            continue
-        fingerprints[r.name] = fingerprint.to_dict()
-        # a rasterizer that declares no convention is checked against the one identified for it
-        out.append(Identified(r, fingerprint) if r.convention is None else r)
-    return out, fingerprints
-
-
 def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float, dict[str, dict[str, Any]]]:
     """Run the selected rasterizers over the suite, in parallel with --jobs, with a
     progress bar on a terminal. Returns (rasterizers, results, seconds, fingerprints)."""
     from cases.suites import suite
     from harness.runner import run_suite
 
+    from harness.registry import distinct_names
+
     rasterizers, problems = _load_all(args.rasterizer)
+    if not rasterizers:
+        raise UsageError("no rasterizer could be loaded: nothing was checked"
+                         + (f" ({'; '.join(problems)})" if problems else ""))
+    rasterizers = distinct_names(rasterizers)
     for problem in problems:
         print(f"skipped plugin: {problem}", file=sys.stderr)
-    rasterizers, fingerprints = _fingerprint_all(rasterizers, args.seed, not getattr(args, "no_fingerprints", False),
-                                                 args.timeout)
+    from harness.identify import identify_all
+
+    rasterizers, fingerprints = identify_all(rasterizers, args.seed, everyone=not getattr(args, "no_fingerprints", False),
+                                             call_timeout=args.timeout, report=lambda line: print(line, file=sys.stderr))
     try:
         cases = suite(args.suite, args.seed)
     except ValueError as exc:
@@ -96,9 +78,10 @@ def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float, dic
     seen: dict[str, set[str]] = {r.name: set() for r in rasterizers}
 
     def tick(result: Any) -> None:
-        if progress is not None and result.case not in seen[result.rasterizer]:
+        task = tasks[result.rasterizer]
+        if progress is not None and task is not None and result.case not in seen[result.rasterizer]:
             seen[result.rasterizer].add(result.case)
-            progress.advance(tasks[result.rasterizer])
+            progress.advance(task)
 
     def one(r: Any) -> list[Any]:
         return run_suite([r], cases=cases, timeout=args.timeout, on_result=tick)
@@ -193,15 +176,16 @@ def _gate(args: argparse.Namespace) -> int:
 
 
 def _write_repros(out: Path, results: list[Any]) -> int:
-    """Save each attached minimal repro as <out>/repros/<rasterizer>/<case>--<check>.json."""
-    from harness.files import atomic_write_text
+    """Save each attached minimal repro as <out>/repros/<rasterizer>/<case>--<check>.json,
+    every part sanitised (no name leaves <out>)."""
+    from harness.files import atomic_write_text, safe_name
 
     count = 0
     for r in results:
         payload = r.evidence.get("repro")
         if payload is None:
             continue
-        path = out / "repros" / r.rasterizer / f"{r.case.replace('/', '_')}--{r.check}.json"
+        path = out / "repros" / safe_name(r.rasterizer) / f"{safe_name(r.case)}--{safe_name(r.check)}.json"
         atomic_write_text(path, json.dumps(payload, indent=1))
         r.evidence["repro_path"] = str(path.relative_to(out))
         count += 1
@@ -281,7 +265,7 @@ def _bench(args: argparse.Namespace) -> int:
 
 def _list(args: argparse.Namespace) -> int:
     from cases.suites import SUITES, suite
-    from harness.checks import CHECKS
+    from harness.checks import check_names
 
     rasterizers, problems = _load_all(None)
     print("rasterizers:")
@@ -293,8 +277,30 @@ def _list(args: argparse.Namespace) -> int:
     for name in SUITES:
         print(f"  {name:<20} {len(suite(name))} cases")
     print("checks:")
-    print("  " + ", ".join(CHECKS))
+    print("  " + ", ".join(check_names()))
     return 0
+
+
+def _positive_int(text: str) -> int:
+    """A whole number >= 1 (``--jobs``), else a usage error naming the value."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, not {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, not {text!r}")
+    return value
+
+
+def _positive_seconds(text: str) -> float:
+    """A finite number > 0 (``--timeout``, ``--budget``, ``--scale``), else a usage error."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a finite number > 0, not {text!r}") from None
+    if not math.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"expected a finite number > 0, not {text!r}")
+    return value
 
 
 def _selection(parser: argparse.ArgumentParser) -> None:
@@ -302,8 +308,8 @@ def _selection(parser: argparse.ArgumentParser) -> None:
                         help="built-in name, module:attr or file.py:attr (repeatable; default all)")
     parser.add_argument("--suite", default="quick", help="quick or full (default quick)")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--jobs", type=int, default=1, help="rasterizers checked side by side")
-    parser.add_argument("--timeout", type=float, default=60.0, help="seconds one rasterize call may take")
+    parser.add_argument("--jobs", type=_positive_int, default=1, help="rasterizers checked side by side")
+    parser.add_argument("--timeout", type=_positive_seconds, default=60.0, help="seconds one rasterize call may take")
     parser.add_argument("--out", default="reports", help="report directory (default reports/)")
     parser.add_argument("--json", metavar="FILE", help="also write results as JSON (schema 1)")
     parser.add_argument("--junit", metavar="FILE", help="also write JUnit XML")
@@ -331,18 +337,18 @@ def build_parser() -> argparse.ArgumentParser:
     ide = sub.add_parser("identify", help="fingerprint a rasterizer's convention from outside")
     ide.add_argument("spec", metavar="SPEC")
     ide.add_argument("--seed", type=int, default=0)
-    ide.add_argument("--timeout", type=float, default=60.0, help="seconds one rasterize call may take")
+    ide.add_argument("--timeout", type=_positive_seconds, default=60.0, help="seconds one rasterize call may take")
     ide.set_defaults(func=_identify)
     rep = sub.add_parser("replay", help="run the checks of a saved case (a minimal repro) on a rasterizer")
     rep.add_argument("case", help="a case JSON file, as written under reports/repros/")
     rep.add_argument("--rasterizer", required=True, metavar="SPEC")
-    rep.add_argument("--timeout", type=float, default=60.0)
+    rep.add_argument("--timeout", type=_positive_seconds, default=60.0)
     rep.set_defaults(func=_replay)
     bench = sub.add_parser("bench", help="throughput against Pillow, as ratios measured in one run")
     bench.add_argument("--rasterizer", action="append", metavar="SPEC")
     bench.add_argument("--json", metavar="FILE", help="write the measurements as JSON")
-    bench.add_argument("--scale", type=float, default=1.0, help="shrink the workloads (smoke tests)")
-    bench.add_argument("--budget", type=float, default=1.0, help="seconds of repeats per contender")
+    bench.add_argument("--scale", type=_positive_seconds, default=1.0, help="shrink the workloads (smoke tests)")
+    bench.add_argument("--budget", type=_positive_seconds, default=1.0, help="seconds of repeats per contender")
     bench.set_defaults(func=_bench)
     lst = sub.add_parser("list", help="rasterizers with their conventions, suites, checks")
     lst.set_defaults(func=_list)

@@ -1,6 +1,6 @@
 """What "correct" means: screen space, sample points, tie rules, snapping and culling.
 
-This module states the definitions of ``CONVENTIONS.md`` once; everything else in
+This module states the definitions of a convention once; everything else in
 rastercheck (the oracle, the reference rasterizers, the checks) applies them.
 
 Screen space
@@ -92,7 +92,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import Literal, cast
 
 import numba
 import numpy as np
@@ -100,6 +100,9 @@ from numpy.typing import NDArray
 
 __all__ = [
     "TIE_RULES",
+    "TieRule",
+    "CullMode",
+    "SnapRounding",
     "TIE_PERTURBATION",
     "PIGLIT_NAMES",
     "SNAP_ROUNDINGS",
@@ -130,7 +133,7 @@ TIE_PERTURBATION: dict[str, tuple[int, int, bool]] = {
     "bottom-left-y-first": (1, -1, True),
     "bottom-right-y-first": (-1, -1, True),
 }
-TIE_RULES: tuple[str, ...] = tuple(TIE_PERTURBATION)
+TIE_RULES: tuple[TieRule, ...] = cast("tuple[TieRule, ...]", tuple(TIE_PERTURBATION))
 # piglit's eight filling conventions (GL window coordinates, y up) -> rastercheck's rule
 # for that driver, with window y taken as rastercheck's y (row y = window row y).
 PIGLIT_NAMES: dict[str, str] = {
@@ -139,8 +142,8 @@ PIGLIT_NAMES: dict[str, str] = {
     "left_top": "bottom-left-y-first", "right_top": "bottom-right-y-first",
     "left_bottom": "top-left-y-first", "right_bottom": "top-right-y-first",
 }
-CULL_MODES: tuple[str, ...] = ("none", "cw", "ccw")
-SNAP_ROUNDINGS: tuple[str, ...] = ("nearest-even", "half-away", "floor")
+CULL_MODES: tuple[CullMode, ...] = ("none", "cw", "ccw")
+SNAP_ROUNDINGS: tuple[SnapRounding, ...] = ("nearest-even", "half-away", "floor")
 MAX_SUBPIXEL_BITS = 16
 # A sample offset must be a multiple of 2**-32 so that i + sx is exact for every pixel
 # column i of any viewport up to 2**20 pixels wide.

@@ -18,20 +18,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from harness.checks import Result
+from harness.checks import Result, metric_tolerance
 from harness.files import atomic_write_text
 
-__all__ = ["Verdict", "compare_with_baseline", "load_baseline", "save_baseline", "METRIC_TOLERANCE"]
+__all__ = ["Verdict", "compare_with_baseline", "load_baseline", "save_baseline"]
 
 SCHEMA = 1
 BAD = ("fail", "error")
-# Metrics where larger is worse, with the growth the gate lets through: (factor, slack).
-METRIC_TOLERANCE: dict[str, tuple[float, float]] = {
-    "wrong": (1.0, 0.0), "holes": (1.0, 0.0),  # conformance: only deviations not excused as rounding
-    "double_hits": (1.0, 0.0), "strays": (1.0, 0.0), "unbalanced_pixels": (1.0, 0.0),
-    "flicker": (1.0, 0.0), "backward_jumps": (1.0, 0.0), "texel_mismatches": (1.0, 0.0),
-    "swim_backward_steps": (1.0, 0.0), "max_uv_error_texels": (2.0, 1e-9), "work_ratio": (3.0, 1.0),
-}
+# Metrics where larger is worse, with the growth the gate lets through: each check
+# declares its own (harness.checks.metric_tolerance()).
 
 
 def key(r: Result) -> str:
@@ -74,9 +69,10 @@ def save_baseline(path: Path | str, results: list[Result], previous: dict[str, d
     """Write the run as the new baseline, keeping the reasons of failures that remain."""
     previous = previous or {}
     entries = {}
+    gated = metric_tolerance()
     for r in results:
         k = key(r)
-        entry: dict[str, Any] = {"status": r.status, "metrics": {m: v for m, v in r.metrics.items() if m in METRIC_TOLERANCE}}
+        entry: dict[str, Any] = {"status": r.status, "metrics": {m: v for m, v in r.metrics.items() if m in gated}}
         if r.status in BAD:
             entry["reason"] = previous.get(k, {}).get("reason", "") or f"known failure: {r.message}"
         entries[k] = entry
@@ -100,7 +96,7 @@ def compare_with_baseline(results: list[Result], baseline: dict[str, dict[str, A
             verdict.fixed.append(f"{k}: was {before.get('status')} ({before.get('reason', '')}), now passes")
         elif was_bad:
             verdict.known.append(f"{k}: {before.get('reason', '')}")
-        for metric, (factor, slack) in METRIC_TOLERANCE.items():
+        for metric, (factor, slack) in metric_tolerance().items():
             old, new = before.get("metrics", {}).get(metric), r.metrics.get(metric)
             if isinstance(old, (int, float)) and isinstance(new, (int, float)) and new > old * factor + slack:
                 verdict.regressions.append(f"{k}: {metric} worsened from {old:g} to {new:g}")

@@ -17,6 +17,7 @@ with the residual mismatch; it says "identified" only when the residual is zero.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -28,10 +29,10 @@ from cases.scenes import lattice_triangles, random_triangles
 from harness.api import Coverage, Rasterizer, Scene
 from harness.checks import FragmentCounter, deviations, watertight
 from harness.compare import CANDIDATES
-from harness.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention
+from harness.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention, CullMode, SnapRounding
 from harness.oracle import exact_coverage
 
-__all__ = ["Fingerprint", "identify", "identify_isolated", "Identified"]
+__all__ = ["Fingerprint", "identify", "identify_isolated", "identify_all", "Identified"]
 
 SNAP_BITS = (None, 2, 3, 4, 5, 6, 7, 8, 9, 10, 12, 14, 16)
 
@@ -158,7 +159,7 @@ def _vertex_sweep(rasterizer: Rasterizer, changes: int = 6, resolution: int = 16
         base = np.array(triangle, dtype=np.float64)
         axis = 1 if k == len(_SWEEP_TRIANGLES) - 1 else 0
 
-        def cover(t: float) -> Coverage | None:
+        def cover(t: float, base: NDArray[np.float64] = base, axis: int = axis) -> Coverage | None:
             p = base.copy()
             p[0, axis] += t
             got = _safe(rasterizer, Scene(64, 64, p[None]))
@@ -226,10 +227,10 @@ def _sample_sweep(rasterizer: Rasterizer, resolution: int = 20) -> tuple[float, 
     pixel never flips (the rasterizer raised, or draws nothing there)."""
     found = []
     for axis in (0, 1):
-        def covered(t: float) -> bool | None:
+        def covered(t: float, axis: int = axis) -> bool | None:
             edge = 8.0 + t
             tri = [[edge, 2.0], [edge, 60.0], [40.0, 31.0]] if axis == 0 else [[2.0, edge], [60.0, edge], [31.0, 40.0]]
-            got = _safe(rasterizer, Scene(64, 64, [tri]))
+            got = _safe(rasterizer, Scene(64, 64, np.array([tri])))
             if not isinstance(got, Coverage):
                 return None
             t_, x, y = got.pixels()
@@ -311,7 +312,7 @@ def _epsilon(rasterizer: Rasterizer, convention: Convention) -> str:
         x, y = 4.0 + (k % 12) * 4.0 + sx, 4.0 + (k // 12) * 4.0 + sy
         shift = 0.0 if k % 2 == 0 else 2.0 * size  # odd ones sit just to the right of the sample
         triangles.append([[x - size + shift, y - size], [x + size + shift, y - size], [x + shift, y + size]])
-    scene = Scene(56, 32, triangles)
+    scene = Scene(56, 32, np.array(triangles))
     got = _safe(rasterizer, scene)
     if not isinstance(got, Coverage):
         return f"raises {type(got).__name__}: {got}"[:120]
@@ -340,7 +341,7 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
         which = set(drawn.triangle[drawn.x1 > drawn.x0].tolist())
         cull = "none" if which == {0, 1} else "cw" if which == {1} else "ccw" if which == {0} else "both"
         facts["culling"] = {"none": "draws both windings", "cw": "culls clockwise", "ccw": "culls counter-clockwise", "both": "draws neither winding"}[cull]
-    cull_mode = cull if cull in ("cw", "ccw") else "none"
+    cull_mode: CullMode = "cw" if cull == "cw" else "ccw" if cull == "ccw" else "none"
     # lattice triangles reach 2 px past a 48 px square; moved 4 px into a 56 px screen
     # (exactly) nothing crosses the viewport edge, so clipping cannot blur the convention
     # an edge swept across a pixel measures the sample point directly, even off the 9 usual ones
@@ -354,7 +355,7 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     lattice_cov = [rasterizer.rasterize(s) for s in lattice]
     # a vertex sweep that sees a snapping grid lets the sample and tie be fitted under it
     grid, located = _vertex_sweep(rasterizer)
-    snaps: list[tuple[int | None, str]] = [(None, "nearest-even")]
+    snaps: list[tuple[int | None, SnapRounding]] = [(None, "nearest-even")]
     if grid is not None:
         snaps += [(grid - 1, "nearest-even"), (grid - 1, "half-away"), (grid, "floor")]
         snaps = [(b, r) for b, r in snaps if b is None or 0 <= b <= 16]
@@ -374,10 +375,10 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     runner = candidates[runner_index]
     float_cov = [rasterizer.rasterize(s) for s in floats]
 
-    def fitted(bits: int | None, rounding: str) -> Convention:
-        return Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode, snap_rounding=rounding)  # type: ignore[arg-type]
+    def fitted(bits: int | None, rounding: SnapRounding) -> Convention:
+        return Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=cull_mode, snap_rounding=rounding)
 
-    snap_scores: list[tuple[int, int, int | None, str]] = []
+    snap_scores: list[tuple[int, int, int | None, SnapRounding]] = []
     for bits in SNAP_BITS:
         for rounding in SNAP_ROUNDINGS if bits is not None else ("nearest-even",):
             score = sum(_mismatch(c, s, fitted(bits, rounding)) for c, s in zip(float_cov, floats))
@@ -410,20 +411,20 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
     facts["viewport edge"] = _viewport_edge(rasterizer, seed)
     facts["epsilon"] = _epsilon(rasterizer, convention)
     # degenerate and non-finite handling
-    zero = Scene(32, 32, [[[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[8, 8], [8, 8], [20, 14]]])
-    result = _safe(rasterizer, zero)
-    facts["zero area"] = (f"raises {type(result).__name__}" if isinstance(result, BaseException)
-                          else "draws nothing" if result.n_pixels == 0 else f"draws {result.n_pixels} pixels")
+    zero = Scene(32, 32, np.array([[[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[8, 8], [8, 8], [20, 14]]], dtype=np.float64))
+    flat = _safe(rasterizer, zero)
+    facts["zero area"] = (f"raises {type(flat).__name__}" if isinstance(flat, BaseException)
+                          else "draws nothing" if flat.n_pixels == 0 else f"draws {flat.n_pixels} pixels")
     answers = []
     for label, value in (("NaN", np.nan), ("inf", np.inf)):
-        bad = Scene(32, 32, [[[value, 4], [10, 10], [4, 20]], [[4.5, 4.5], [20.5, 4.5], [4.5, 20.5]]])
-        result = _safe(rasterizer, bad)
-        if isinstance(result, BaseException):
-            answers.append(f"{label}: raises {type(result).__name__}: {result}"[:120])
+        bad = Scene(32, 32, np.array([[[value, 4], [10, 10], [4, 20]], [[4.5, 4.5], [20.5, 4.5], [4.5, 20.5]]]))
+        answer = _safe(rasterizer, bad)
+        if isinstance(answer, BaseException):
+            answers.append(f"{label}: raises {type(answer).__name__}: {answer}"[:120])
         else:
-            drawn = int(np.sum((result.triangle == 0) * (result.x1 - result.x0)))
-            rest = "the rest drawn" if 1 in set(result.triangle.tolist()) else "the finite triangle lost too"
-            answers.append(f"{label}: {'covers nothing' if drawn == 0 else f'DRAWS {drawn} pixels'}, {rest}")
+            covered = int(np.sum((answer.triangle == 0) * (answer.x1 - answer.x0)))
+            rest = "the rest drawn" if 1 in set(answer.triangle.tolist()) else "the finite triangle lost too"
+            answers.append(f"{label}: {'covers nothing' if covered == 0 else f'DRAWS {covered} pixels'}, {rest}")
     facts["non-finite"] = "; ".join(answers)
     # watertight on planar partitions
     holes = doubles = 0
@@ -531,3 +532,35 @@ class Identified:
 
     def rasterize(self, scene: Scene) -> Coverage:
         return self.inner.rasterize(scene)
+
+
+def identify_all(rasterizers: list[Rasterizer], seed: int = 0, *, everyone: bool = False, call_timeout: float = 60.0,
+                 report: Callable[[str], None] | None = None) -> tuple[list[Rasterizer], dict[str, dict[str, Any]]]:
+    """Identify the rasterizers that declare no convention (all of them with
+    ``everyone``), each in a process of its own; one that declares none is then checked
+    against the one identified for it (:class:`Identified`). A failure to identify is kept
+    as an error entry, and that rasterizer runs without a convention.
+
+    Returns
+    -------
+    rasterizers : the same, undeclared ones wrapped
+    fingerprints : name -> :meth:`Fingerprint.to_dict` or ``{"error": ...}``
+    """
+    out: list[Rasterizer] = []
+    fingerprints: dict[str, dict[str, Any]] = {}
+    for r in rasterizers:
+        if r.convention is not None and (not everyone or isinstance(r, Identified)):
+            out.append(r)
+            continue
+        try:
+            fingerprint = identify_isolated(r, seed, timeout=max(300.0, 10 * call_timeout), call_timeout=call_timeout)
+        except Exception as exc:
+            fingerprints[r.name] = {"error": f"{type(exc).__name__}: {exc}"}
+            if report is not None:
+                report(f"identify {r.name}: {type(exc).__name__}: {exc}")
+            out.append(r)
+            continue
+        fingerprints[r.name] = fingerprint.to_dict()
+        # a rasterizer that declares no convention is checked against the one identified for it
+        out.append(Identified(r, fingerprint) if r.convention is None else r)
+    return out, fingerprints

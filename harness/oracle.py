@@ -454,7 +454,7 @@ def exact_coverage(scene: Scene, convention: Convention) -> Coverage:
     extra_values = []
     for m in slow:
         runs = _rows_python(prepared.positions[m], prepared.owned[m], sx, sy, scene.width, scene.height)
-        extra.extend((m, j, a, b) for j, a, b in runs)
+        extra.extend((int(m), j, a, b) for j, a, b in runs)
         if attributes is not None and runs:
             cols = np.concatenate([np.arange(a, b) for _, a, b in runs]) + sx
             rows = np.concatenate([np.full(b - a, j) for j, a, b in runs]) + sy

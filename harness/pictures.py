@@ -75,7 +75,7 @@ def motion_animation(coverages: list[Coverage], oracles: list[Coverage], width: 
             elif "row" in m and "column" in m:
                 rgb[int(m["row"]) % height, min(max(int(m["column"]), 0), width - 1)] = LEGEND["flicker or backward jump"]
         crop = rgb[wy0:wy1, wx0:wx1]
-        images.append(Image.fromarray(np.ascontiguousarray(crop)).resize(((wx1 - wx0) * scale, (wy1 - wy0) * scale), Image.NEAREST))
+        images.append(Image.fromarray(np.ascontiguousarray(crop)).resize(((wx1 - wx0) * scale, (wy1 - wy0) * scale), Image.Resampling.NEAREST))
     buffer = io.BytesIO()
     images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:], duration=80, loop=0)
     return "data:image/gif;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
@@ -91,7 +91,7 @@ DIFF_LEGEND = {"both": (190, 190, 190), "missing (oracle only)": (150, 60, 200),
 
 
 def _png(rgb: NDArray, scale: int) -> str:
-    image = Image.fromarray(np.ascontiguousarray(rgb)).resize((rgb.shape[1] * scale, rgb.shape[0] * scale), Image.NEAREST)
+    image = Image.fromarray(np.ascontiguousarray(rgb)).resize((rgb.shape[1] * scale, rgb.shape[0] * scale), Image.Resampling.NEAREST)
     buffer = io.BytesIO()
     image.save(buffer, format="PNG")
     return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")

@@ -18,7 +18,7 @@ from typing import Any
 from harness.api import Rasterizer
 from harness.conventions import Convention
 
-__all__ = ["GROUP", "available", "builtins", "load", "as_rasterizer", "BUILTIN_MODULE", "Unavailable"]
+__all__ = ["GROUP", "available", "builtins", "load", "as_rasterizer", "BUILTIN_MODULE", "Unavailable", "distinct_names", "Renamed"]
 
 GROUP = "rastercheck.rasterizers"
 BUILTIN_MODULE = "rasterizers"
@@ -71,8 +71,8 @@ def as_rasterizer(obj: Any, spec: str) -> Rasterizer:
             candidate = candidate()
         except Unavailable:
             raise
-        except Exception as exc:
-            raise ValueError(f"{spec}: calling {obj!r} with no arguments failed: {exc}") from exc
+        except (Exception, SystemExit) as exc:
+            raise ValueError(f"{spec}: calling it with no arguments failed: {_describe(exc)}") from exc
     problems = []
     if not isinstance(getattr(candidate, "name", None), str):
         problems.append("a str `name`")
@@ -84,6 +84,17 @@ def as_rasterizer(obj: Any, spec: str) -> Rasterizer:
     if problems:
         raise ValueError(f"{spec}: {candidate!r} is not a rasterizer: it lacks {', '.join(problems)}")
     return candidate  # type: ignore[no-any-return]
+
+
+def _describe(exc: BaseException) -> str:
+    """``Type: message`` of a plugin's exception, even when its ``__str__`` raises."""
+    try:
+        text = str(exc)
+    except Exception:
+        text = "(its message cannot be shown)"
+    if isinstance(exc, SystemExit):
+        return f"it called sys.exit({exc.code!r}) while being imported"
+    return f"{type(exc).__name__}: {text}"
 
 
 def _import_file(path: Path) -> Any:
@@ -100,9 +111,9 @@ def _import_file(path: Path) -> Any:
         sys.path.append(folder)  # so the file can import its neighbours
     try:
         spec.loader.exec_module(module)
-    except Exception as exc:
+    except (Exception, SystemExit) as exc:  # a plugin that calls sys.exit at import ends nothing but itself
         del sys.modules[module_name]
-        raise ValueError(f"{path}: importing it failed: {type(exc).__name__}: {exc}") from exc
+        raise ValueError(f"{path}: importing it failed: {_describe(exc)}") from exc
     return module
 
 
@@ -132,8 +143,8 @@ def load(spec: str) -> Rasterizer:
             obj = registered[spec].load()
         except Unavailable:
             raise
-        except Exception as exc:
-            raise ValueError(f"{spec}: plugin failed to load: {type(exc).__name__}: {exc}") from exc
+        except (Exception, SystemExit) as exc:
+            raise ValueError(f"{spec}: plugin failed to load: {_describe(exc)}") from exc
         return as_rasterizer(obj, spec)
     where, sep, attr = spec.rpartition(":")
     if not sep or not where or not attr:
@@ -146,10 +157,34 @@ def load(spec: str) -> Rasterizer:
     else:
         try:
             module = importlib.import_module(where)
-        except Exception as exc:
-            raise ValueError(f"{spec}: importing {where} failed: {type(exc).__name__}: {exc}") from exc
+        except (Exception, SystemExit) as exc:
+            raise ValueError(f"{spec}: importing {where} failed: {_describe(exc)}") from exc
     try:
         obj = getattr(module, attr)
     except AttributeError:
         raise ValueError(f"{spec}: {where} has no attribute {attr!r}") from None
     return as_rasterizer(obj, spec)
+
+
+class Renamed:
+    """A rasterizer under another name (its optional members kept)."""
+
+    def __init__(self, inner: Rasterizer, name: str) -> None:
+        self.inner, self.name, self.convention = inner, name, inner.convention
+        for optional in ("interpolates", "received", "fingerprint"):
+            if hasattr(inner, optional):
+                setattr(self, optional, getattr(inner, optional))
+
+    def rasterize(self, scene: Any) -> Any:
+        return self.inner.rasterize(scene)
+
+
+def distinct_names(rasterizers: list[Rasterizer]) -> list[Rasterizer]:
+    """The rasterizers with every name told apart: a second ``centre_scanline`` (a plugin
+    beside the built-in) becomes ``centre_scanline#2``, so that results are never merged."""
+    seen: dict[str, int] = {}
+    out: list[Rasterizer] = []
+    for r in rasterizers:
+        count = seen[r.name] = seen.get(r.name, 0) + 1
+        out.append(r if count == 1 else Renamed(r, f"{r.name}#{count}"))
+    return out

@@ -7,7 +7,6 @@ from __future__ import annotations
 import json
 import os
 import platform
-import re
 import time
 from pathlib import Path
 from typing import Any
@@ -17,8 +16,9 @@ import numpy as np
 from jinja2 import Environment, PackageLoader, select_autoescape
 
 import harness
-from harness.checks import CHECKS, Result
-from harness.files import atomic_write_text
+from harness.checks import Result, check_names
+from harness.checks import checks as registered_checks
+from harness.files import atomic_write_text, safe_name
 from harness.pictures import DIFF_LEGEND, HEAT_LEGEND, LEGEND
 
 __all__ = ["write_report", "write_comparison", "page_name"]
@@ -32,7 +32,7 @@ def _environment() -> Environment:
 
 
 def page_name(rasterizer: str) -> str:
-    return "rasterizer-" + re.sub(r"[^A-Za-z0-9_.-]", "_", rasterizer) + ".html"
+    return "rasterizer-" + safe_name(rasterizer) + ".html"
 
 
 def _cell(results: list[Result]) -> dict[str, str]:
@@ -72,19 +72,19 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
     rasterizer side by side, into ``out_dir`` atomically."""
     fingerprints = fingerprints or {}
     out_dir = Path(out_dir)
-    checks = [c for c in ("run", *CHECKS) if any(r.check == c for r in results)]
-    meta = {
+    checks = [c for c in ("run", *check_names()) if any(r.check == c for r in results)]
+    meta: dict[str, Any] = {
         "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "version": harness.__version__, "seed": seed,
         "suite": suite, "seconds": f"{seconds:.1f}", "python": platform.python_version(),
         "numpy": np.__version__, "numba": numba.__version__,
         "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, {platform.system()}",
     }
     env = _environment()
-    rows = []
+    rows: list[dict[str, Any]] = []
     for name, convention in conventions.items():
         mine = [r for r in results if r.rasterizer == name]
         problems = [_problem(r, i) for i, r in enumerate(x for x in mine if x.status in ("fail", "error"))]
-        row = {
+        row: dict[str, Any] = {
             "name": name, "convention": convention, "total": len(mine), "problems": problems, "page": page_name(name),
             "counts": {s: sum(r.status == s for r in mine) for s in ("pass", "fail", "error", "skip")},
             "cells": [_cell([r for r in mine if r.check == c]) for c in checks],
@@ -99,7 +99,8 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
         ordered = sorted(rows, key=lambda row: KIND_ORDER.get(row["kind"], 3))
         html = env.get_template("fingerprints.html").render(rows=ordered, checks=checks, meta=meta, facts=FACTS)
         atomic_write_text(out_dir / "fingerprints.html", html)
-    html = env.get_template("index.html").render(rows=rows, checks=checks, meta=meta,
+    captions = {c.name: c.caption for c in registered_checks()} | {"run": "the rasterizer answered: no crash, no hang"}
+    html = env.get_template("index.html").render(rows=rows, checks=checks, captions=captions, meta=meta,
                                                  has_comparison=(out_dir / "compare.html").exists(),
                                                  has_fingerprints=bool(fingerprints))
     path = out_dir / "index.html"
@@ -109,7 +110,7 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
 
 def write_comparison(out_dir: Path, data: dict[str, Any], candidates: int, seed: int) -> Path:
     """Write ``compare.html`` (the comparison page) into ``out_dir`` atomically."""
-    meta = {
+    meta: dict[str, Any] = {
         "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "version": harness.__version__, "seed": seed, "suite": "lattice",
         "python": platform.python_version(), "numpy": np.__version__, "numba": numba.__version__,
         "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, {platform.system()}",

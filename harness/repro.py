@@ -24,8 +24,6 @@ from harness.files import atomic_write_text
 __all__ = ["ddmin", "shrink", "case_to_json", "case_from_json", "save_case", "load_case", "replay", "SCHEMA"]
 
 SCHEMA = 1
-# Checks whose failure on a case still means a failure on any subset of its triangles.
-SHRINKABLE = ("hygiene", "conformance", "degenerate", "invariance", "overdraw")
 
 
 def ddmin(items: list[int], fails: Callable[[list[int]], bool], budget: int) -> list[int]:
@@ -143,7 +141,10 @@ def case_from_json(data: dict[str, Any]) -> Case:
     if not isinstance(data, dict) or data.get("schema") != SCHEMA:
         raise ValueError(f"not a rastercheck case (schema {SCHEMA} expected)")
     try:
-        positions = _unhex(data["positions"]).reshape(-1, 3, 2)
+        positions = _unhex(data["positions"])
+        if positions is None:
+            raise ValueError("no positions")
+        positions = positions.reshape(-1, 3, 2)
         scene = Scene(int(data["width"]), int(data["height"]), positions, _unhex(data.get("attributes")), _unhex(data.get("w")))
         return Case(
             str(data["id"]), scene, lattice=bool(data.get("lattice", False)), region=_unhex(data.get("region")),

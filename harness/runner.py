@@ -20,11 +20,11 @@ import numpy as np
 from cases.records import Case
 from cases.suites import suite as suite_cases
 from cases.motion import MotionCase
-from harness import checks, motion, pictures, repro
+from harness import checks, pictures, repro
 from harness.api import Coverage, Rasterizer, Scene
 from harness.checks import Result, Tolerance
 from harness.oracle import exact_coverage
-from harness.registry import load
+from harness.registry import distinct_names, load
 
 __all__ = ["run_suite", "Worker", "Outcome"]
 
@@ -113,27 +113,10 @@ def _error(case: Case, rasterizer: str, outcome: Outcome, check: str = "run") ->
                   {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
 
 
-def _work(case: Case, call: Callable[[Scene], Outcome], first: float, repeats: int = 3) -> tuple[float, float] | None:
-    """Best-of seconds for the case and for its control scene (None if the control fails)."""
-    control = checks.control_scene(case)
-    if len(control) == 0:
-        return None
-    times = [first]
-    control_times = []
-    for _ in range(repeats):
-        again, plain = call(case.scene), call(control)
-        if again.coverage is None or plain.coverage is None:
-            return None
-        times.append(again.seconds)
-        control_times.append(plain.seconds)
-    return min(times), min(control_times)
-
-
 def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
                tolerance: Tolerance = Tolerance(), invariance: bool = True,
                only: set[str] | None = None) -> list[Result]:
     """All applicable checks of one rasterizer on one case (or those named in ``only``)."""
-    wanted = (lambda check: only is None or check in only)  # noqa: E731
     name = rasterizer.name
     convention = rasterizer.convention
     outcome = call(case.scene)
@@ -143,32 +126,9 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
             return [replace(refused, rasterizer=name)]
         return [_error(case, name, outcome)]
     coverage = outcome.coverage
-    results = [checks.hygiene(case, coverage, interpolates(rasterizer))] if wanted("hygiene") else []
-    if wanted("conformance"):
-        if convention is not None:
-            oracle = exact_coverage(case.scene, convention)
-            results.append(checks.conformance(case, coverage, oracle, convention, tolerance))
-        else:
-            results.append(checks.skip(case, "conformance", "the rasterizer declares no convention"))
-    if case.region is not None and wanted("watertight"):
-        results.append(checks.watertight(case, coverage))
-    if only is not None and "overdraw" in only:  # asked for by name only (when shrinking)
-        results.append(checks.overdraw(case, coverage))
-    if case.closed and wanted("closed"):
-        results.append(checks.closed_balance(case, coverage, convention))
-    if case.family == "degenerate" and wanted("degenerate"):
-        results.append(checks.degenerate(case, coverage, convention, _work(case, call, outcome.seconds), tolerance))
-    if invariance and case.family in ("lattice", "float", "watertight") and wanted("invariance"):
-        variants = []
-        for label, scene, index in checks.invariance_variants(case):
-            result = call(scene)
-            if result.coverage is None:
-                results.append(_error(case, name, result, "invariance"))
-                break
-            variants.append((label, index, result.coverage))
-        else:
-            sample = convention.sample if convention is not None else (0.5, 0.5)
-            results.append(checks.invariance(case, coverage, variants, tolerance=tolerance, sample=sample))
+    subject = checks.Subject(case, name, convention, [coverage], call, tolerance, interpolates(rasterizer), outcome.seconds)
+    results = [check.verdict(subject) for check in checks.checks(case, only)
+               if invariance or check.name != "invariance"]
     for i, r in enumerate(results):
         evidence = r.evidence
         if r.status == "fail" and only is None:
@@ -202,7 +162,7 @@ def _pictures(case: Case, coverage: Coverage, convention: Any, result: Result) -
     counts = coverage.counts(scene.width, scene.height)
     holes = strays = None
     if case.region is not None:
-        inside, outside = checks._pixel_classes(case.region, scene.width, scene.height)
+        inside, outside = checks.pixel_classes(case.region, scene.width, scene.height)
         holes, strays = inside & (counts == 0), outside & (counts > 0)
     images = {"heatmap": pictures.heatmap(counts, holes, strays, window)}
     if convention is not None:
@@ -229,18 +189,10 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
             return [replace(failed, message=f"frame {f}: {failed.message}")]
         coverages.append(outcome.coverage)
         seconds += outcome.seconds
-    if convention is None:
-        return [Result(name, case.id, "jaggy", "skip", "the rasterizer declares no convention: no exact motion to compare with")]
-    oracles = [exact_coverage(scene, convention) for scene in case.frames]
+    subject = checks.Subject(case, name, convention, coverages, call, tolerance, interpolates(rasterizer), seconds)
+    results = [check.verdict(subject) for check in checks.checks(case)]
+    oracles = subject.oracles if convention is not None else []
     first = case.frames[0]
-    results = [motion.jaggy(case.id, coverages, oracles, len(first), first.width, first.height)]
-    no_attributes = f"{name} declares interpolates = False: it returns coverage only, no u, v to compare"
-    if case.texels:
-        results.append(motion.texel_swimming(case.id, coverages, oracles, case.texels) if interpolates(rasterizer)
-                       else Result(name, case.id, "texel", "skip", no_attributes))
-    if case.perspective:
-        results.append(motion.perspective(case.id, coverages, oracles, case.texels or 1, tolerance) if interpolates(rasterizer)
-                       else Result(name, case.id, "perspective", "skip", no_attributes))
     out = []
     for r in results:
         evidence = r.evidence
@@ -260,7 +212,7 @@ def attach_repro(result: Result, case: Case, rasterizer: Rasterizer, call: Calla
     check = result.check
     if check == "watertight" and result.metrics.get("double_hits", 0) > 0:
         check = "overdraw"  # double hits stay double hits in any subset of the triangles
-    if check not in repro.SHRINKABLE:
+    if check not in {c.name for c in checks.checks(only={check}) if c.shrinks}:
         minimal = case  # holes and closed meshes need the whole case: no smaller one is valid
     else:
         def fails(candidate: Case) -> bool:
@@ -346,15 +298,13 @@ def _passes(case: Case, check: str, rasterizer: Rasterizer, call: Callable[[Scen
     return bool(found) and all(r.status == "pass" for r in found)
 
 
-CONVENTION_BOUND = ("conformance", "jaggy", "texel", "perspective")
-
-
 def _qualified(result: Result, rasterizer: Rasterizer) -> Result:
     """A convention-bound failure of a rasterizer checked against a convention that was
     only guessed (identified with a residual, never declared) says so: it shows where the
     rasterizer departs from the nearest convention, not a rule it broke."""
     fingerprint = getattr(rasterizer, "fingerprint", None)
-    if fingerprint is None or fingerprint.exact or result.check not in CONVENTION_BOUND or result.status != "fail":
+    bound = {c.name for c in checks.checks() if c.needs_convention}
+    if fingerprint is None or fingerprint.exact or result.check not in bound or result.status != "fail":
         return result
     return replace(result, message=(f"against the best-guess convention (declared by nobody; identify's residual "
                                     f"{fingerprint.residual} px): {result.message}"))
@@ -372,6 +322,7 @@ def run_suite(
     repros: bool = True,
     repro_seconds: float = 120.0,
     on_result: Callable[[Result], None] | None = None,
+    identify: bool = True,
 ) -> list[Result]:
     """Run a suite's checks on each rasterizer.
 
@@ -395,6 +346,10 @@ def run_suite(
         as the repro, and say so.
     on_result : callable, optional
         Called with each result as soon as it exists.
+    identify : bool
+        Identify each rasterizer that declares no convention first (as ``rastercheck
+        run`` does) and check it against the convention identified for it; False runs it
+        without one (its convention-bound checks skip).
 
     Returns
     -------
@@ -404,8 +359,12 @@ def run_suite(
     """
     selected = cases if cases is not None else suite_cases(suite, seed)
     results: list[Result] = []
-    for spec in rasterizers:
-        rasterizer = load(spec) if isinstance(spec, str) else spec
+    loaded = distinct_names([load(spec) if isinstance(spec, str) else spec for spec in rasterizers])
+    if identify:
+        from harness.identify import identify_all
+
+        loaded, _ = identify_all(loaded, seed, call_timeout=timeout)
+    for rasterizer in loaded:
         worker = Worker(rasterizer) if isolate else None
         call = (lambda scene, w=worker: w.rasterize(scene, timeout)) if worker else (lambda scene, r=rasterizer: _call(r, scene))
         shrink_until = time.monotonic() + repro_seconds

@@ -105,5 +105,6 @@ def scanline(scene, centre: bool, name: str):  # type: ignore[no-untyped-def]
     capacity = row_capacity(scene.positions, sign, scene.height)
     spans = span_buffers(capacity)
     edge_x: NDArray[np.float64] = np.empty(capacity)
-    n = scanline_kernel(scene.positions, sign, sign != 0, centre, scene.width, scene.height, *spans, edge_x)
+    out_t, out_y, out_x0, out_x1 = spans
+    n = scanline_kernel(scene.positions, sign, sign != 0, centre, scene.width, scene.height, out_t, out_y, out_x0, out_x1, edge_x)
     return spans, n, edge_x

@@ -26,7 +26,7 @@ import numba
 import numpy as np
 
 from harness.api import Coverage, Scene, span_buffers
-from harness.conventions import TIE_RULES, Convention, owns_edge, snap
+from harness.conventions import TIE_RULES, Convention, SnapRounding, TieRule, owns_edge, snap
 from rasterizers._common import build_coverage, check_range, interpolate_barycentric
 
 __all__ = ["FixedPoint", "MAX_FIXED"]
@@ -107,14 +107,13 @@ class FixedPoint:
 
     name = "fixed_point"
 
-    def __init__(self, subpixel_bits: int = 8, tie: str = "top-left", snap_rounding: str = "nearest-even") -> None:
+    def __init__(self, subpixel_bits: int = 8, tie: TieRule = "top-left", snap_rounding: SnapRounding = "nearest-even") -> None:
         if isinstance(subpixel_bits, bool) or not isinstance(subpixel_bits, int) or not 4 <= subpixel_bits <= 16:
             raise ValueError(f"fixed_point: subpixel_bits must be an integer in 4..16, not {subpixel_bits!r}")
         if tie not in TIE_RULES:
             raise ValueError(f"fixed_point: tie must be one of {', '.join(TIE_RULES)}, not {tie!r}")
         self.subpixel_bits = subpixel_bits
-        self.convention = Convention(sample=(0.5, 0.5), tie=tie, subpixel_bits=subpixel_bits,  # type: ignore[arg-type]
-                                     snap_rounding=snap_rounding)  # type: ignore[arg-type]
+        self.convention = Convention(sample=(0.5, 0.5), tie=tie, subpixel_bits=subpixel_bits, snap_rounding=snap_rounding)
         parts = [str(subpixel_bits)] if subpixel_bits != 8 else []
         parts += [tie] if tie != "top-left" else []
         parts += [snap_rounding] if snap_rounding != "nearest-even" else []

@@ -28,7 +28,7 @@ import numba
 import numpy as np
 
 from harness.api import Coverage, Scene, span_buffers
-from harness.conventions import TIE_RULES, Convention, owns_edge
+from harness.conventions import TIE_RULES, Convention, TieRule, owns_edge
 from rasterizers._common import build_coverage, interpolate_barycentric, row_capacity, screen_triangles
 
 __all__ = ["PinedaTopLeft", "edge_setup"]
@@ -47,7 +47,6 @@ def edge_setup(p, sign, edges, tie_x=1, tie_y=1, y_first=False):  # type: ignore
         else:  # walk the edges backwards: same triangle, positive orientation
             a, b = (k + 1) % 3, k
         ax, ay, bx, by = p[a, 0], p[a, 1], p[b, 0], p[b, 1]
-        dx, dy = bx - ax, by - ay
         # The tie rule: top-left owns top edges (horizontal, interior below: dx > 0) and
         # left ones (interior to the right: dy < 0); any other rule by its perturbation.
         top_left = 1.0 if owns_edge(ax, ay, bx, by, tie_x, tie_y, y_first) else 0.0
@@ -152,12 +151,12 @@ class PinedaTopLeft:
     name = "pineda_topleft"
     convention = Convention(sample=(0.5, 0.5), tie="top-left")
 
-    def __init__(self, tie: str = "top-left") -> None:
+    def __init__(self, tie: TieRule = "top-left") -> None:
         if tie not in TIE_RULES:
             raise ValueError(f"pineda_topleft: tie must be one of {', '.join(TIE_RULES)}, not {tie!r}")
         if tie != "top-left":
             self.name = f"pineda_{tie}"
-            self.convention = Convention(sample=(0.5, 0.5), tie=tie)  # type: ignore[arg-type]
+            self.convention = Convention(sample=(0.5, 0.5), tie=tie)
 
     def rasterize(self, scene: Scene) -> Coverage:
         sign = screen_triangles(  # zero-area and non-finite triangles draw nothing

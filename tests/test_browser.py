@@ -65,7 +65,7 @@ def test_report_renders_in_a_real_browser(tmp_path):
     checker = out / "check.html"
     checker.write_text(CHECKER.replace("PAGES", json.dumps(pages)))
     text = "pending"
-    for attempt in range(3):  # a cold browser profile can run out of virtual time
+    for _attempt in range(3):  # a cold browser profile can run out of virtual time
         dom = subprocess.run([CHROMIUM, *FLAGS, f"--user-data-dir={tmp_path / 'profile'}", "--allow-file-access-from-files",
                               "--virtual-time-budget=60000", "--dump-dom", checker.as_uri()],
                              capture_output=True, text=True, timeout=120).stdout

@@ -8,7 +8,7 @@ from hypothesis import given
 from cases.meshes import MeshFileError, clip_near, load_mesh_file, mesh_file_case
 from cases.partitions import partition_cases
 from cases.strategies import fan_scenes, grid_scenes
-from harness.checks import _pixel_classes
+from harness.checks import pixel_classes as _pixel_classes
 from harness.exact import orientation
 from harness.oracle import exact_coverage
 from harness.conventions import Convention

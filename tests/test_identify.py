@@ -268,3 +268,32 @@ def test_identify_tells_the_known_bad_claims_apart():
     assert y_first.exact and y_first.convention == Convention(tie="top-left-y-first", subpixel_bits=8), y_first.card()
     half_away = identify(HalfAwayClaimsNearestEven())
     assert half_away.exact and half_away.convention == Convention(subpixel_bits=4, snap_rounding="half-away"), half_away.card()
+
+
+def test_the_library_identifies_undeclared_rasterizers_as_the_command_does(tmp_path):
+    """harness.run_suite and ``rastercheck run`` give the same verdicts on a rasterizer
+    that declares no convention: both identify it and check it against what was found."""
+    import json
+
+    from harness import run_suite
+    from harness.cli import main
+
+    path = tmp_path / "box.py"
+    path.write_text(
+        "from harness.conventions import Convention\n"
+        "from harness.oracle import exact_coverage\n"
+        "class Box:\n"
+        "    name = 'box'\n"
+        "    convention = None\n"
+        "    def rasterize(self, scene):\n"
+        "        return exact_coverage(scene, Convention(tie='bottom-left-y-first', subpixel_bits=4, snap_rounding='half-away'))\n"
+    )
+    spec = f"{path}:Box"
+    main(["run", "--rasterizer", spec, "--out", str(tmp_path / "rep"), "--json", str(tmp_path / "r.json")])
+    command = {(r["case"], r["check"]): (r["status"], r["message"]) for r in json.loads((tmp_path / "r.json").read_text())["results"]}
+    library = {(r.case, r.check): (r.status, r.message) for r in run_suite([spec])}
+    assert library.keys() == command.keys()
+    differ = [k for k in library if library[k] != command[k] and k[1] != "degenerate"]  # degenerate quotes timings
+    assert not differ, [(k, library[k], command[k]) for k in differ[:3]]
+    assert all(library[k][0] == command[k][0] for k in library)
+    assert any(k[1] == "conformance" and v[0] == "pass" for k, v in library.items())  # checked, not skipped

@@ -10,7 +10,7 @@ from PIL import Image
 from cases.motion import MotionCase, motion_cases, rotate, translate, zoom
 from harness import run_suite
 from harness.api import Coverage
-from harness.motion import filled_direction, jaggy
+from harness.checks.motion import filled_direction, jaggy
 from tests.known_bad.interpolation import Float32DDA, InterpolationBug
 from tests.known_bad.scanlines import ScanlineBug
 

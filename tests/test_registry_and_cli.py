@@ -146,3 +146,69 @@ def test_an_outside_rasterizer_is_flagged_with_repros(tmp_path, capsys):
     assert main(["replay", str(repros[0]), "--rasterizer", f"{path}:Hobby"]) == 1
     assert all(main(["replay", str(r), "--rasterizer", "centre_scanline"]) == 0 for r in repros)
     assert main(["replay", str(tmp_path / "missing.json"), "--rasterizer", "centre_scanline"]) == 2
+
+
+@pytest.mark.parametrize("argv", [
+    ["run", "--jobs", "0"], ["run", "--jobs", "-1"], ["run", "--jobs", "two"],
+    ["run", "--timeout", "0"], ["run", "--timeout", "-1"], ["run", "--timeout", "nan"], ["run", "--timeout", "inf"],
+    ["gate", "--baseline", "b.json", "--timeout", "0"], ["identify", "centre_scanline", "--timeout", "-5"],
+    ["bench", "--budget", "0"], ["bench", "--scale", "inf"],
+])
+def test_numbers_out_of_range_are_usage_errors(argv, capsys):
+    """Before any work: one line naming the option and the value, exit 2."""
+    from harness.cli import main
+
+    with pytest.raises(SystemExit) as stopped:
+        main(argv)
+    assert stopped.value.code == 2
+    err = capsys.readouterr().err
+    assert argv[-2] in err and repr(argv[-1]) in err and "Traceback" not in err
+
+
+def test_a_hostile_name_never_becomes_a_path_outside_out(tmp_path):
+    from harness.cli import main
+
+    plugin = tmp_path / "hostile.py"
+    plugin.write_text(
+        "from harness.conventions import Convention\n"
+        "from harness.oracle import exact_coverage\n"
+        "class Hostile:\n"
+        "    name = '../../../escaped_repros'\n"
+        "    convention = Convention()\n"
+        "    def rasterize(self, scene):\n"
+        "        return exact_coverage(scene, Convention(tie='bottom-right'))\n"
+    )
+    out = tmp_path / "deep" / "rep"
+    assert main(["run", "--rasterizer", f"{plugin}:Hostile", "--out", str(out), "--no-fingerprints"]) == 1
+    written = [p for p in tmp_path.rglob("*.json")]
+    assert written and all(out in p.parents for p in written), [str(p) for p in written if out not in p.parents][:3]
+    assert not (tmp_path / "escaped_repros").exists() and not (tmp_path / "deep" / "escaped_repros").exists()
+
+
+def test_two_rasterizers_of_one_name_are_told_apart():
+    from harness import run_suite
+    from harness.registry import distinct_names, load
+    from tests.known_bad.misc import WrongTieClaim
+
+    impostor = WrongTieClaim()
+    impostor.name = "centre_scanline"
+    named = distinct_names([load("centre_scanline"), impostor])
+    assert [r.name for r in named] == ["centre_scanline", "centre_scanline#2"]
+    case = [c for c in __import__("cases.suites", fromlist=["x"]).conformance_cases(0) if c.id == "lattice/bits-0"]
+    results = run_suite(["centre_scanline", impostor], cases=case, repros=False)
+    verdicts = {(r.rasterizer, r.check): r.status for r in results}
+    assert verdicts[("centre_scanline", "conformance")] == "pass" and verdicts[("centre_scanline#2", "conformance")] == "fail"
+
+
+@pytest.mark.parametrize("where", ["import", "factory"])
+def test_a_plugin_that_exits_cannot_make_run_pass(tmp_path, capsys, where):
+    """sys.exit(0) in a plugin, at import or when built, is that plugin's failure to load:
+    a usage error (exit 2) naming it, never exit 0 with nothing checked."""
+    from harness.cli import main
+
+    plugin = tmp_path / "quits.py"
+    body = "import sys\n" + ("sys.exit(0)\n" if where == "import" else "") + (
+        "def Quits():\n    sys.exit(0)\n" if where == "factory" else "class Quits:\n    pass\n")
+    plugin.write_text(body)
+    assert main(["run", "--rasterizer", f"{plugin}:Quits", "--out", str(tmp_path / "rep")]) == 2
+    assert "sys.exit(0)" in capsys.readouterr().err

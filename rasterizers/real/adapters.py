@@ -159,6 +159,7 @@ class _Mesa:
     hardware guard band, and Mesa's viewport clipping (which moves vertices before
     snapping) only acts beyond that. Mesa snaps vertices to its own sub-pixel grid."""
 
+    name = ""
     driver = ""
     convention = None
     interpolates = False  # coverage only: this adapter reads back no varyings (yet)

@@ -12,13 +12,14 @@ the direction of its most recent move (or of its next one) stands in.
 
 from __future__ import annotations
 
+from operator import itemgetter
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import Coverage
-from harness.checks import EVIDENCE_LIMIT, Result, Tolerance
+from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
 
 __all__ = ["jaggy", "texel_swimming", "perspective", "boundary_series", "filled_direction", "TIE"]
 
@@ -26,9 +27,6 @@ __all__ = ["jaggy", "texel_swimming", "perspective", "boundary_series", "filled_
 # edge: which side it falls on is float rounding, not swimming.
 TIE = 1e-9
 
-
-def _result(case_id: str, check: str, ok: bool, message: str, metrics: dict, evidence: dict) -> Result:
-    return Result("", case_id, check, "pass" if ok else "fail", message, metrics, evidence)
 
 
 def boundary_series(coverages: list[Coverage], n_triangles: int, height: int) -> tuple[NDArray, NDArray]:
@@ -118,7 +116,7 @@ def jaggy(case_id: str, coverages: list[Coverage], oracles: list[Coverage], n_tr
         for f, t, y in np.argwhere(back):
             jumps.append({"frame": int(f + 1), "triangle": int(t), "row": int(y), "side": side,
                           "column": int(series[f + 1, t, y]), "previous": int(series[f, t, y])})
-    jumps.sort(key=lambda j: j["frame"])
+    jumps.sort(key=itemgetter("frame"))
     per_frame = {
         "changed_pixels": [0] + (got[1:] != got[:-1]).sum(axis=(1, 2)).tolist(),
         "oracle_changed_pixels": [0] + (want[1:] != want[:-1]).sum(axis=(1, 2)).tolist(),
@@ -136,7 +134,7 @@ def jaggy(case_id: str, coverages: list[Coverage], oracles: list[Coverage], n_tr
     ok = not len(flicker) and not jumps
     message = ("monotone: no flicker, no backward jump" if ok
                else f"{int(excess.sum())} extra changes at {len(flicker)} pixels (flicker), {len(jumps)} backward jumps")
-    return _result(case_id, "jaggy", ok, message, metrics, evidence)
+    return result(case_id, "jaggy", ok, message, metrics, evidence)
 
 
 def _matched(cov: Coverage, oracle: Coverage) -> tuple[NDArray, NDArray, NDArray]:
@@ -166,7 +164,7 @@ def _lacking_attributes(case_id: str, check: str, coverages: list[Coverage]) -> 
         return None
     message = (f"{len(missing)} of {len(coverages)} frames came back without one attribute row per covered pixel "
                f"(first: frame {missing[0]}); a rasterizer that interpolates nothing should say so with interpolates = False")
-    return _result(case_id, check, False, message, {"frames_without_attributes": float(len(missing))},
+    return result(case_id, check, False, message, {"frames_without_attributes": float(len(missing))},
                    {"frames_without_attributes": missing[:EVIDENCE_LIMIT]})
 
 
@@ -225,11 +223,11 @@ def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Covera
     if examples:
         evidence["mismatches"] = examples
     if backward:
-        evidence["backward_steps"] = sorted(backward, key=lambda b: b["frame"])[:EVIDENCE_LIMIT]
+        evidence["backward_steps"] = sorted(backward, key=itemgetter("frame"))[:EVIDENCE_LIMIT]
     ok = mismatches == 0 and not backward
     message = (f"texels match the exact ones (largest u, v error {worst:.2g} texels)" if ok
                else f"{mismatches} texel mismatches outside exact ties, {len(backward)} backward texel steps, largest u, v error {worst:.3g} texels")
-    return _result(case_id, "texel", ok, message, metrics, evidence)
+    return result(case_id, "texel", ok, message, metrics, evidence)
 
 
 def perspective(case_id: str, coverages: list[Coverage], oracles: list[Coverage], texels: int,
@@ -255,4 +253,31 @@ def perspective(case_id: str, coverages: list[Coverage], oracles: list[Coverage]
     ok = worst <= tolerance.uv_error
     message = (f"perspective-correct: largest u, v error {worst:.2g} texels" if ok
                else f"u, v off by up to {worst:.3g} texels from the perspective-correct values (limit {tolerance.uv_error:g})")
-    return _result(case_id, "perspective", ok, message, {"max_uv_error_texels": worst}, {"worst": where} if where else {})
+    return result(case_id, "perspective", ok, message, {"max_uv_error_texels": worst}, {"worst": where} if where else {})
+
+
+def _is_motion(case: Any) -> bool:
+    return hasattr(case, "frames")
+
+
+def _jaggy(s: Subject) -> Result:
+    first_frame = s.case.frames[0]
+    return jaggy(s.case.id, s.coverages, s.oracles, len(first_frame), first_frame.width, first_frame.height)
+
+
+register(Check(
+    "jaggy", _jaggy, _is_motion, needs_convention=True, metrics={"flicker": (1.0, 0.0), "backward_jumps": (1.0, 0.0)},
+    caption="under sub-pixel motion no pixel flickers more than the exact answer and no span end jumps backwards",
+))
+register(Check(
+    "texel", lambda s: texel_swimming(s.case.id, s.coverages, s.oracles, s.case.texels),
+    lambda case: _is_motion(case) and bool(case.texels), needs_convention=True, needs_attributes=True,
+    metrics={"texel_mismatches": (1.0, 0.0), "swim_backward_steps": (1.0, 0.0)},
+    caption="the nearest texel is the exact one and never steps backwards under translation",
+))
+register(Check(
+    "perspective", lambda s: perspective(s.case.id, s.coverages, s.oracles, s.case.texels or 1, s.tolerance),
+    lambda case: _is_motion(case) and bool(case.perspective), needs_convention=True, needs_attributes=True,
+    metrics={"max_uv_error_texels": (2.0, 1e-9)},
+    caption="u, v against the exact perspective-correct values",
+))

@@ -1,0 +1,42 @@
+"""Checks: pure functions from (case, coverage, oracle, tolerance) to result records.
+
+No I/O, no plotting. One family per module, each registering its checks once
+(:class:`harness.checks.records.Check`); every list of checks elsewhere -- the runner's
+dispatch, the convention-bound ones, the shrinkable ones, the gate's metrics, the report's
+columns and captions, ``rastercheck list`` -- is derived from that registry.
+
+Tolerances are data (:class:`Tolerance`): ``strict`` allows no deviation at all,
+``default`` excuses deviations at near ties (the sample within ``near_tie`` of an edge,
+relative to the coordinates' magnitude, and within ``near_tie_pixels`` absolutely: float
+rounding) on non-lattice cases only. Distances are rigorous upper bounds, and exactly 0
+only where the exact predicate puts the sample on an edge line.
+
+Registration order is the order results come in: hygiene, conformance, watertight,
+overdraw (on request), closed, degenerate, invariance; jaggy, texel, perspective on motion
+cases.
+"""
+
+from __future__ import annotations
+
+from harness.checks.records import (
+    EVIDENCE_LIMIT, NEAR_TIE, NEAR_TIE_PIXELS, Check, Result, Status, Subject, Tolerance, check_names, checks,
+    metric_tolerance, register, registered, result, skip,
+)
+from harness.checks.hygiene import hygiene
+from harness.checks.conformance import FragmentCounter, conformance, deviations, edge_distance, near_ties
+from harness.checks.watertight import blame, overdraw, pixel_classes, watertight
+from harness.checks.closed import closed_balance
+from harness.checks.degenerate import control_scene, degenerate, measure_work, refusal
+from harness.checks.invariance import invariance, invariance_variants
+from harness.checks.motion import jaggy, perspective, texel_swimming
+
+__all__ = [
+    "Result", "Status", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "CHECKS",
+    "Check", "Subject", "register", "registered", "checks", "check_names", "metric_tolerance", "result", "skip",
+    "deviations", "FragmentCounter", "edge_distance", "near_ties", "hygiene", "conformance", "watertight",
+    "pixel_classes", "blame", "overdraw", "closed_balance", "degenerate", "control_scene", "measure_work", "refusal",
+    "invariance", "invariance_variants", "jaggy", "texel_swimming", "perspective",
+]
+
+# The built-in checks, in order (a check registered later shows in check_names()).
+CHECKS: tuple[str, ...] = check_names()

@@ -1,0 +1,41 @@
+"""closed: on a closed mesh in front of the camera, front-facing minus back-facing hits
+is zero at every pixel; convention-free."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from cases.records import Case
+from harness.api import Coverage
+from harness.checks.records import EVIDENCE_LIMIT, Check, register, result, skip, Result
+from harness.conventions import Convention
+from harness.exact import orientation
+
+__all__ = ["closed_balance"]
+
+
+def closed_balance(case: Case, coverage: Coverage, convention: Convention | None) -> Result:
+    """On a closed mesh in front of the camera, hits by clockwise triangles equal hits by
+    counter-clockwise ones at every pixel. Orientation is taken after the declared
+    snapping, if any (snapping can flip a tiny triangle)."""
+    if not case.closed:
+        return skip(case, "closed", "not a closed mesh")
+    scene = case.scene
+    sign = orientation(convention.snap(scene.positions) if convention is not None else scene.positions).astype(np.int64)
+    valid = (coverage.triangle >= 0) & (coverage.triangle < len(scene))
+    signed = Coverage(coverage.triangle[valid], coverage.y[valid], coverage.x0[valid], coverage.x1[valid])
+    facing = sign[signed.triangle]
+    front = Coverage(signed.triangle[facing > 0], signed.y[facing > 0], signed.x0[facing > 0], signed.x1[facing > 0])
+    back = Coverage(signed.triangle[facing < 0], signed.y[facing < 0], signed.x0[facing < 0], signed.x1[facing < 0])
+    balance = front.counts(scene.width, scene.height) - back.counts(scene.width, scene.height)
+    bad = np.argwhere(balance != 0)
+    metrics = {"unbalanced_pixels": float(len(bad))}
+    evidence = {"pixels": [[int(x), int(y), int(balance[y, x])] for y, x in bad[:EVIDENCE_LIMIT]]} if len(bad) else {}
+    message = "front minus back is zero everywhere" if not len(bad) else f"{len(bad)} pixels where front minus back is not zero"
+    return result(case.id, "closed", not len(bad), message, metrics, evidence)
+
+
+register(Check(
+    "closed", lambda s: closed_balance(s.case, s.coverage, s.convention), lambda case: bool(getattr(case, "closed", False)),
+    metrics={"unbalanced_pixels": (1.0, 0.0)}, caption="on a closed mesh: front-facing minus back-facing hits is zero everywhere",
+))

@@ -1,0 +1,103 @@
+"""degenerate: zero-area and non-finite triangles draw nothing, no NaN attribute, and the
+work stays bounded against plain triangles of the same size; convention-free."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from cases.records import Case
+from harness.api import Coverage, Scene
+from harness.checks.records import Check, Result, Subject, Tolerance, first, register, result
+from harness.conventions import Convention
+from harness.exact import orientation
+
+__all__ = ["control_scene", "degenerate", "refusal", "measure_work"]
+
+
+def control_scene(case: Case) -> Scene:
+    """The work yardstick for a degenerate case: each finite triangle replaced by a plain
+    right triangle over its bounding box, each side at least one pixel long."""
+    p = case.scene.positions
+    finite = np.all(np.isfinite(p), axis=(1, 2))
+    lo = p[finite].min(axis=1)
+    hi = np.maximum(p[finite].max(axis=1), lo + 1.0)
+    tris = np.stack([lo, np.stack([hi[:, 0], lo[:, 1]], axis=-1), np.stack([lo[:, 0], hi[:, 1]], axis=-1)], axis=1)
+    return Scene(case.scene.width, case.scene.height, tris)
+
+
+def degenerate(case: Case, coverage: Coverage, convention: Convention | None,
+               work: tuple[float, float] | None = None, tolerance: Tolerance = Tolerance()) -> Result:
+    """Zero-area triangles (after the declared snapping) draw nothing, non-finite ones draw
+    nothing, no attribute is NaN, and the work stays bounded: ``work`` is (seconds for the
+    case, seconds for :func:`control_scene`), whose ratio may not exceed
+    ``tolerance.work_ratio``."""
+    scene = case.scene
+    sign = orientation(convention.snap(scene.positions) if convention is not None else scene.positions)
+    nothing = sign == 0  # zero area or non-finite
+    tri = coverage.triangle
+    valid = (tri >= 0) & (tri < len(scene))
+    drew = np.zeros(len(scene), dtype=bool)
+    drew[tri[valid][coverage.x1[valid] > coverage.x0[valid]]] = True
+    offenders = np.flatnonzero(nothing & drew)
+    nan_rows = 0
+    if coverage.attributes is not None:
+        nan_rows = int(np.isnan(coverage.attributes).any(axis=1).sum())
+    metrics = {"degenerate_triangles_drawn": float(offenders.size), "nan_attribute_rows": float(nan_rows)}
+    parts = []
+    if offenders.size:
+        parts.append(f"triangles {first(offenders, 10)} have zero area or non-finite coordinates but drew pixels")
+    if nan_rows:
+        parts.append(f"{nan_rows} pixels with NaN attributes")
+    if work is not None:
+        ratio = work[0] / max(work[1], 1e-9)
+        metrics["work_ratio"] = ratio
+        if ratio > tolerance.work_ratio:
+            parts.append(f"took {ratio:.0f}x the time of plain triangles with the same bounding boxes (limit {tolerance.work_ratio:g}x)")
+    evidence = {"triangles": first(offenders)} if offenders.size else {}
+    return result(case.id, "degenerate", not parts, "; ".join(parts) or "degenerate triangles draw nothing", metrics, evidence)
+
+
+def refusal(case: Case, error: BaseException) -> Result | None:
+    """A ValueError that names a triangle of the case the rasterizer may refuse: a
+    non-finite one (a pass, as the contract allows) or a huge one (a skip, with its
+    reason). None when the error is not such a refusal."""
+    if not isinstance(error, ValueError):
+        return None
+    text = str(error)
+    for t in case.non_finite:
+        if f"triangle {t}" in text:
+            return Result("", case.id, "degenerate", "pass", f"refused non-finite triangle {t}: {text}")
+    for t in case.refusable:
+        if f"triangle {t}" in text:
+            return Result("", case.id, "degenerate", "skip", f"declined huge triangle {t}: {text}")
+    return None
+
+
+def measure_work(case: Case, call: Callable[[Scene], Any], first_seconds: float, repeats: int = 3) -> tuple[float, float] | None:
+    """Best-of seconds for the case and for its control scene (None if the control fails)."""
+    control = control_scene(case)
+    if len(control) == 0:
+        return None
+    times = [first_seconds]
+    control_times = []
+    for _ in range(repeats):
+        again, plain = call(case.scene), call(control)
+        if again.coverage is None or plain.coverage is None:
+            return None
+        times.append(again.seconds)
+        control_times.append(plain.seconds)
+    return min(times), min(control_times)
+
+
+def _run(s: Subject) -> Result:
+    return degenerate(s.case, s.coverage, s.convention, measure_work(s.case, s.call, s.seconds), s.tolerance)
+
+
+register(Check(
+    "degenerate", _run, lambda case: getattr(case, "family", "") == "degenerate" and not hasattr(case, "frames"),
+    shrinks=True, metrics={"work_ratio": (3.0, 1.0)},
+    caption="zero-area and non-finite triangles draw nothing, no NaN attribute, bounded work",
+))

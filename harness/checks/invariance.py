@@ -1,0 +1,91 @@
+"""invariance: vertex rotation, winding flip, triangle permutation and whole-pixel
+translation change nothing but the shift; convention-free."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cases.records import Case
+from harness.api import Coverage, Scene
+from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
+from harness.checks.conformance import deviations, near_ties
+
+__all__ = ["invariance_variants", "invariance"]
+
+
+def invariance_variants(case: Case, shift: tuple[int, int] = (3, 2), seed: int = 0) -> list[tuple[str, Scene, NDArray]]:
+    """Transformed scenes and, for each, the scene-triangle index of each variant triangle:
+    vertex order rotated, winding flipped, triangles permuted, and (when exact) translated
+    by whole pixels into a viewport grown by the shift."""
+    scene = case.scene
+    n = len(scene)
+    identity = np.arange(n)
+    out = [
+        ("rotate-vertices", Scene(scene.width, scene.height, scene.positions[:, [1, 2, 0]]), identity),
+        ("flip-winding", Scene(scene.width, scene.height, scene.positions[:, [0, 2, 1]]), identity),
+    ]
+    perm = np.random.default_rng(seed).permutation(n)
+    out.append(("permute-triangles", Scene(scene.width, scene.height, scene.positions[perm]), perm))
+    moved = scene.positions + np.array(shift, dtype=float)
+    with np.errstate(invalid="ignore"):
+        exact = np.array_equal(moved - np.array(shift, dtype=float), scene.positions, equal_nan=True)
+    if exact:
+        out.append(("translate", Scene(scene.width + shift[0], scene.height + shift[1], moved), identity))
+    return out
+
+
+def invariance(case: Case, coverage: Coverage, variants: list[tuple[str, NDArray, Coverage]],
+               shift: tuple[int, int] = (3, 2), tolerance: Tolerance = Tolerance(),
+               sample: tuple[float, float] = (0.5, 0.5)) -> Result:
+    """Each variant's coverage, mapped back (triangle ids, shift), equals the original's.
+    Differences at near ties are excused on non-lattice cases in default mode.
+
+    Parameters
+    ----------
+    variants : list of (name, triangle index map, coverage of the variant)
+    """
+    scene = case.scene
+    diffs: dict[str, int] = {}
+    evidence: dict[str, Any] = {}
+    for name, index, cov in variants:
+        t, x, y = cov.pixels()
+        keep = (t >= 0) & (t < index.size)
+        t, x, y = index[t[keep]], x[keep], y[keep]
+        if name == "translate":
+            x, y = x - shift[0], y - shift[1]
+            window = (x >= 0) & (y >= 0) & (x < scene.width) & (y < scene.height)
+            t, x, y = t[window], x[window], y[window]
+        mapped = Coverage.from_pixels(t, x, y)
+        missing, extra = deviations(mapped, coverage, scene.width, scene.height)
+        both = np.concatenate([missing, extra], axis=1)
+        if both.shape[1] and tolerance.mode == "default" and not case.lattice:
+            near, _ = near_ties(scene.positions, both, sample, tolerance)
+            both = both[:, ~near]  # excused: rounding at a near tie
+        if both.shape[1]:
+            diffs[name] = int(both.shape[1])
+            evidence[name] = both.T[:EVIDENCE_LIMIT].tolist()
+    metrics = {f"{name}_differences": float(diffs.get(name, 0)) for name, _, _ in variants}
+    message = "unchanged under " + ", ".join(n for n, _, _ in variants) if not diffs else "changed under " + ", ".join(f"{k} ({v} pixels)" for k, v in diffs.items())
+    return result(case.id, "invariance", not diffs, message, metrics, evidence)
+
+
+def _run(s: Subject) -> Result:
+    variants = []
+    for label, scene, index in invariance_variants(s.case):
+        outcome = s.call(scene)
+        if outcome.coverage is None:
+            kind = "timeout" if outcome.timed_out else type(outcome.error).__name__
+            return Result("", s.case.id, "invariance", "error", f"{kind}: {outcome.error}",
+                          {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
+        variants.append((label, index, outcome.coverage))
+    sample = s.convention.sample if s.convention is not None else (0.5, 0.5)
+    return invariance(s.case, s.coverage, variants, tolerance=s.tolerance, sample=sample)
+
+
+register(Check(
+    "invariance", _run, lambda case: getattr(case, "family", "") in ("lattice", "float", "watertight") and not hasattr(case, "frames"),
+    shrinks=True, caption="vertex rotation, winding flip, triangle permutation and whole-pixel translation change nothing but the shift",
+))

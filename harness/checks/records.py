@@ -1,0 +1,245 @@
+"""The check contract: result records, tolerances, what a check looks at, and the one
+registry every list of checks (the runner's, the gate's, the shrinker's, the report's,
+the command line's) is derived from.
+
+A check is registered once, as a :class:`Check`: its name, the cases it applies to,
+whether it needs a convention, whether its failures survive shrinking, the metrics the
+gate compares (with their tolerances), a caption for people, and the function from a
+:class:`Subject` to a :class:`Result`. Adding a check touches its own module (and its
+known-bad test) only.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import NDArray
+
+from harness.api import Coverage, Scene
+from harness.conventions import Convention
+
+__all__ = [
+    "Status", "Result", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "result", "skip", "first",
+    "Subject", "Check", "register", "registered", "checks", "check_names", "metric_tolerance",
+]
+
+Status = Literal["pass", "fail", "error", "skip"]
+
+# float64 evaluations of edge crossings err by a few units in the last place of the
+# coordinates (about 2**-50 relative); 2**-40 leaves a wide berth and is still far below
+# any sub-pixel lattice a rasterizer could mean (16 bits is 2**-16).
+NEAR_TIE = 2.0**-40
+# ... and never more than 2**-20 px, whatever the magnitude: beyond about 2**20 px a float
+# rasterizer's rounding reaches whole fractions of a pixel, and it must draw exactly or
+# refuse the triangle (a case's ``refusable``), not be excused.
+NEAR_TIE_PIXELS = 2.0**-20
+EVIDENCE_LIMIT = 50
+
+
+@dataclass(frozen=True, slots=True)
+class Tolerance:
+    """How much deviation a check lets through.
+
+    Parameters
+    ----------
+    mode : {"default", "strict"}
+    near_tie : float
+        Relative distance of a sample from an edge below which a deviation is rounding.
+    near_tie_pixels : float
+        ... and the absolute distance in pixels (a cap for huge coordinates).
+    work_ratio : float
+        Largest allowed time ratio of an epsilon scene to its control scene.
+    uv_error : float
+        Largest allowed error of interpolated (u, v) against the exact values, in texels.
+    """
+
+    mode: str = "default"
+    near_tie: float = NEAR_TIE
+    near_tie_pixels: float = NEAR_TIE_PIXELS
+    work_ratio: float = 50.0
+    uv_error: float = 1e-6
+
+    def __post_init__(self) -> None:
+        if self.mode not in ("default", "strict"):
+            raise ValueError(f"Tolerance.mode must be 'default' or 'strict', not {self.mode!r}")
+
+
+@dataclass(frozen=True, slots=True)
+class Result:
+    """One check of one rasterizer on one case."""
+
+    rasterizer: str
+    case: str
+    check: str
+    status: Status
+    message: str
+    metrics: dict[str, float] = field(default_factory=dict)
+    evidence: dict[str, Any] = field(default_factory=dict)
+
+
+def result(case_id: str, check: str, ok: bool, message: str, metrics: dict[str, float] | None = None,
+           evidence: dict[str, Any] | None = None) -> Result:
+    """A pass or fail record (the runner fills in the rasterizer's name)."""
+    return Result("", case_id, check, "pass" if ok else "fail", message, metrics or {}, evidence or {})
+
+
+def skip(case: Any, check: str, why: str) -> Result:
+    """A skip record for a case (or a case id)."""
+    return Result("", case if isinstance(case, str) else case.id, check, "skip", why)
+
+
+def first(array: NDArray[Any] | list[Any], limit: int = EVIDENCE_LIMIT) -> list[Any]:
+    """The first ``limit`` entries as plain lists, for evidence."""
+    return np.asarray(array)[:limit].tolist()  # type: ignore[no-any-return]
+
+
+class Subject:
+    """What a check looks at: one rasterizer's answer on one case, and what it may need
+    besides (the convention, the oracle, a way to call the rasterizer again).
+
+    Parameters
+    ----------
+    case : Case or MotionCase
+    rasterizer : str
+        Its name.
+    convention : Convention or None
+        Declared or identified; None when there is none.
+    coverages : list of Coverage
+        The answer: one for a static case, one per frame for a motion case.
+    call : callable
+        ``call(scene) -> Outcome``: the rasterizer again, isolated and time-limited.
+    tolerance : Tolerance
+    interpolates : bool
+        False when the rasterizer says it returns coverage only.
+    seconds : float
+        How long the (first) call took.
+    """
+
+    def __init__(self, case: Any, rasterizer: str, convention: Convention | None, coverages: list[Coverage],
+                 call: Callable[[Scene], Any], tolerance: Tolerance, interpolates: bool = True, seconds: float = 0.0) -> None:
+        self.case, self.rasterizer, self.convention = case, rasterizer, convention
+        self.coverages, self.call, self.tolerance = coverages, call, tolerance
+        self.interpolates, self.seconds = interpolates, seconds
+
+    @property
+    def coverage(self) -> Coverage:
+        """The answer on a static case."""
+        return self.coverages[0]
+
+    @property
+    def scenes(self) -> list[Scene]:
+        return list(self.case.frames) if hasattr(self.case, "frames") else [self.case.scene]
+
+    @cached_property
+    def oracles(self) -> list[Coverage]:
+        """The exact coverage of the convention for each scene (computed once)."""
+        from harness.oracle import exact_coverage
+
+        assert self.convention is not None
+        return [exact_coverage(scene, self.convention) for scene in self.scenes]
+
+    @property
+    def oracle(self) -> Coverage:
+        return self.oracles[0]
+
+
+@dataclass(frozen=True)
+class Check:
+    """A registered check.
+
+    Parameters
+    ----------
+    name : str
+    run : callable
+        ``run(subject) -> Result``; pure but for ``subject.call``.
+    applies : callable
+        ``applies(case) -> bool``: the cases (static or motion) it looks at.
+    needs_convention : bool
+        It compares with a convention's oracle: skipped without one, and its failures
+        against a merely guessed convention say so.
+    shrinks : bool
+        A failure on a case still fails on some subset of its triangles: the shrinker may
+        look for a minimal repro.
+    metrics : mapping of str to (factor, slack)
+        Metrics where larger is worse, with the growth the gate lets through.
+    caption : str
+        What it asserts, in one line.
+    needs_attributes : bool
+        It compares interpolated attributes: skipped for a coverage-only rasterizer.
+    on_request : bool
+        Run only when asked for by name (``overdraw``: the form of ``watertight`` that
+        survives shrinking).
+    """
+
+    name: str
+    run: Callable[[Subject], Result]
+    applies: Callable[[Any], bool]
+    needs_convention: bool = False
+    shrinks: bool = False
+    metrics: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    caption: str = ""
+    needs_attributes: bool = False
+    on_request: bool = False
+
+    def verdict(self, subject: Subject) -> Result:
+        """The check's result, or its skip when the subject lacks what it needs."""
+        if self.needs_convention and subject.convention is None:
+            return skip(subject.case, self.name, "the rasterizer declares no convention")
+        if self.needs_attributes and not subject.interpolates:
+            return skip(subject.case, self.name, f"{subject.rasterizer} declares interpolates = False: it returns "
+                                                  "coverage only, no u, v to compare")
+        return self.run(subject)
+
+
+_REGISTRY: dict[str, Check] = {}
+
+
+def register(check: Check) -> Check:
+    """Add a check; a second check of the same name is refused."""
+    if check.name in _REGISTRY and _REGISTRY[check.name] is not check:
+        raise ValueError(f"a check named {check.name!r} is registered already")
+    _REGISTRY[check.name] = check
+    return check
+
+
+@contextmanager
+def registered(check: Check) -> Iterator[Check]:
+    """Register a check for the duration of a ``with`` block (tests, experiments)."""
+    register(check)
+    try:
+        yield check
+    finally:
+        _REGISTRY.pop(check.name, None)
+
+
+def checks(case: Any = None, only: set[str] | None = None) -> list[Check]:
+    """The registered checks in order; with ``case``, those that apply to it (on-request
+    ones only when named in ``only``); with ``only``, those named."""
+    out = []
+    for check in _REGISTRY.values():
+        if only is not None and check.name not in only:
+            continue
+        if check.on_request and (only is None or check.name not in only):
+            continue
+        if case is not None and not check.applies(case):
+            continue
+        out.append(check)
+    return out
+
+
+def check_names() -> tuple[str, ...]:
+    """Names of the registered checks (on-request ones left out)."""
+    return tuple(c.name for c in _REGISTRY.values() if not c.on_request)
+
+
+def metric_tolerance() -> dict[str, tuple[float, float]]:
+    """Every gated metric of every registered check, with its (factor, slack)."""
+    out: dict[str, tuple[float, float]] = {}
+    for check in _REGISTRY.values():
+        out.update(check.metrics)
+    return out

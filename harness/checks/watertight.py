@@ -1,0 +1,156 @@
+"""watertight and overdraw: a planar partition covers every pixel inside it exactly once,
+nothing outside, and no pixel twice; convention-free."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cases.records import Case
+from harness.api import Coverage, Scene
+from harness.checks.records import EVIDENCE_LIMIT, Check, Result, register, result, skip
+from harness.exact import orientation
+
+__all__ = ["watertight", "overdraw", "blame", "pixel_classes"]
+
+
+def _pixel_classes(region: NDArray, width: int, height: int) -> tuple[NDArray, NDArray]:
+    """(inside, outside), (H, W) bool: pixels whose closed square lies in the open convex
+    region, and pixels whose closed square misses the closed region; decided exactly."""
+    m = region.shape[0]
+    # the outline's winding, exactly (a float shoelace overflows for huge outlines)
+    turns = orientation(np.stack([region, np.roll(region, -1, axis=0), np.roll(region, -2, axis=0)], axis=1))
+    area_sign = int(turns[np.flatnonzero(turns)[0]])
+    cy, cx = np.mgrid[0 : height + 1, 0 : width + 1]
+    corners = np.stack([cx.ravel(), cy.ravel()], axis=-1).astype(float)
+    side = np.empty((m, corners.shape[0]), dtype=np.int8)
+    for k in range(m):
+        a = np.broadcast_to(region[k], corners.shape)
+        b = np.broadcast_to(region[(k + 1) % m], corners.shape)
+        # positive: the corner lies on the region's side of edge k
+        side[k] = orientation(np.stack([a, b, corners], axis=1)) * area_sign
+    sides = side.reshape(m, height + 1, width + 1)
+    quads = np.stack([sides[:, :-1, :-1], sides[:, :-1, 1:], sides[:, 1:, :-1], sides[:, 1:, 1:]])
+    inside = np.all(quads > 0, axis=(0, 1))
+    outside = np.any(np.all(quads < 0, axis=0), axis=0)
+    xs, ys = np.arange(width), np.arange(height)
+    outside |= (region[:, 0].max() < xs)[None, :] | (region[:, 0].min() > xs + 1)[None, :]
+    outside |= (region[:, 1].max() < ys)[:, None] | (region[:, 1].min() > ys + 1)[:, None]
+    return inside, outside
+
+
+def watertight(case: Case, coverage: Coverage) -> Result:
+    """On a planar partition, convention-free: pixels wholly inside the union hit exactly
+    once, pixels wholly outside never, and no pixel twice. Each hole and double hit is
+    blamed on an edge and the triangles that share it."""
+    if case.region is None:
+        return skip(case, "watertight", "not a planar partition")
+    scene = case.scene
+    counts = coverage.counts(scene.width, scene.height)
+    inside, outside = _pixel_classes(case.region, scene.width, scene.height)
+    holes = np.argwhere(inside & (counts == 0))
+    doubles = np.argwhere(counts > 1)
+    strays = np.argwhere(outside & (counts > 0))
+    metrics = {"holes": float(len(holes)), "double_hits": float(len(doubles)), "strays": float(len(strays)),
+               "inside_pixels": float(inside.sum())}
+    evidence: dict[str, Any] = {}
+    if len(holes) or len(doubles):
+        evidence["blame"] = blame(scene, coverage, holes[:EVIDENCE_LIMIT], doubles[:EVIDENCE_LIMIT])
+    if len(strays):
+        evidence["strays"] = [[int(x), int(y)] for y, x in strays[:EVIDENCE_LIMIT]]
+    ok = not (len(holes) or len(doubles) or len(strays))
+    message = "every inside pixel hit exactly once" if ok else f"{len(holes)} holes, {len(doubles)} double hits, {len(strays)} stray hits outside"
+    if len(holes) or len(doubles):
+        at_vertex = _holds_vertex(scene.positions, scene.width, scene.height)
+        on_vertex = int(at_vertex[holes[:, 0], holes[:, 1]].sum() + at_vertex[doubles[:, 0], doubles[:, 1]].sum())
+        metrics["at_vertex_pixels"] = float(on_vertex)
+        if on_vertex == len(holes) + len(doubles):
+            message += " (every one at a pixel holding a mesh vertex: the rule for samples on shared vertices)"
+        else:
+            message += f" ({on_vertex} at pixels holding a mesh vertex, the rest along edges)"
+    return result(case.id, "watertight", ok, message, metrics, evidence)
+
+
+def _holds_vertex(positions: NDArray, width: int, height: int) -> NDArray:
+    """(H, W) bool: pixels whose closed square holds a vertex of the scene (a vertex on a
+    pixel corner or side belongs to every square that touches it)."""
+    grid = np.zeros((height, width), dtype=bool)
+    v = positions.reshape(-1, 2)
+    v = v[np.isfinite(v).all(axis=1) & (np.abs(v) < 2.0**31).all(axis=1)]
+    for dx in (0, 1):
+        for dy in (0, 1):
+            x = np.floor(v[:, 0]) - dx * (v[:, 0] == np.floor(v[:, 0]))
+            y = np.floor(v[:, 1]) - dy * (v[:, 1] == np.floor(v[:, 1]))
+            ok = (x >= 0) & (x < width) & (y >= 0) & (y < height)
+            grid[y[ok].astype(np.int64), x[ok].astype(np.int64)] = True
+    return grid
+
+
+def overdraw(case: Case, coverage: Coverage) -> Result:
+    """No pixel hit twice: for triangles that tile a region without overlapping, or any
+    subset of them (the form of ``watertight`` that survives shrinking)."""
+    counts = coverage.counts(case.scene.width, case.scene.height)
+    doubles = np.argwhere(counts > 1)
+    evidence = {"pixels": [[int(x), int(y)] for y, x in doubles[:EVIDENCE_LIMIT]]} if len(doubles) else {}
+    return result(case.id, "overdraw", not len(doubles), f"{len(doubles)} double hits" if len(doubles) else "no double hits",
+                   {"double_hits": float(len(doubles))}, evidence)
+
+
+def _shared_edges(positions: NDArray, a: int, b: int) -> list[list[list[float]]]:
+    """Edges (pairs of vertices) that triangles a and b have in common."""
+    va = {tuple(v) for v in positions[a].tolist()}
+    common = [v for v in positions[b].tolist() if tuple(v) in va]
+    return [common[:2]] if len(common) >= 2 else []
+
+
+def blame(scene: Scene, coverage: Coverage, holes: NDArray, doubles: NDArray) -> list[dict[str, Any]]:
+    """Attribute holes and double hits to edges. A double hit names the two triangles that
+    both drew the pixel and their shared edge; a hole names the triangles whose edges pass
+    closest to the pixel centre, and their shared edge.
+
+    Parameters
+    ----------
+    holes, doubles : (M, 2) int, rows (y, x)
+    """
+    tri, x, y = coverage.pixels()
+    out = []
+    for yy, xx in doubles:
+        hitters = sorted(set(tri[(x == xx) & (y == yy)].tolist()))
+        entry: dict[str, Any] = {"pixel": [int(xx), int(yy)], "kind": "double", "triangles": hitters[:4]}
+        if len(hitters) >= 2:
+            entry["edge"] = next(iter(_shared_edges(scene.positions, hitters[0], hitters[1])), None)
+        out.append(entry)
+    if len(holes):
+        finite = np.all(np.isfinite(scene.positions), axis=(1, 2))
+        for yy, xx in holes:
+            centre = np.array([xx + 0.5, yy + 0.5])
+            p = scene.positions
+            dist = np.full(len(scene), np.inf)
+            for k in range(3):
+                a, b = p[:, k], p[:, (k + 1) % 3]
+                with np.errstate(all="ignore"):
+                    d = b - a  # may overflow for huge coordinates: such a triangle is then not blamed
+                    t = np.clip(np.sum((centre - a) * d, axis=1) / np.sum(d * d, axis=1), 0, 1)
+                    dist = np.minimum(dist, np.hypot(*(a + t[:, None] * d - centre).T))
+            dist[~finite] = np.inf
+            near = np.argsort(dist)[:2].tolist()
+            entry = {"pixel": [int(xx), int(yy)], "kind": "hole", "triangles": near}
+            entry["edge"] = next(iter(_shared_edges(p, near[0], near[1])), None) if len(near) == 2 else None
+            out.append(entry)
+    return out
+
+
+pixel_classes = _pixel_classes
+
+register(Check(
+    "watertight", lambda s: watertight(s.case, s.coverage), lambda case: getattr(case, "region", None) is not None,
+    metrics={"holes": (1.0, 0.0), "double_hits": (1.0, 0.0), "strays": (1.0, 0.0)},
+    caption="on a planar partition: inside pixels hit exactly once, outside never, no double hit",
+))
+register(Check(
+    "overdraw", lambda s: overdraw(s.case, s.coverage), lambda case: not hasattr(case, "frames"), shrinks=True,
+    metrics={"double_hits": (1.0, 0.0)}, on_request=True,
+    caption="no pixel hit twice (watertight's double hits, in a form that survives shrinking)",
+))

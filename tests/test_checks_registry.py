@@ -1,0 +1,84 @@
+"""The check contract: one registration, every list derived from it; the import graph
+stays acyclic."""
+
+import ast
+import json
+from dataclasses import replace
+from pathlib import Path
+
+from cases.suites import conformance_cases
+from harness import run_suite
+from harness.checks import Check, check_names, checks, metric_tolerance, registered, result
+
+
+def _few_pixels(subject):
+    """A trivial check: a scene may draw at most 500 pixels."""
+    drawn = subject.coverage.n_pixels
+    return result(subject.case.id, "few_pixels", drawn <= 500, f"{drawn} pixels drawn", {"drawn_pixels": float(drawn)})
+
+
+FEW_PIXELS = Check("few_pixels", _few_pixels, lambda case: not hasattr(case, "frames"), shrinks=True,
+                   metrics={"drawn_pixels": (1.0, 0.0)}, caption="at most 500 pixels per scene")
+
+
+def test_a_check_registered_in_a_test_reaches_run_json_gate_report_and_shrinker(tmp_path):
+    from harness.gate import compare_with_baseline, load_baseline, save_baseline
+    from harness.output import write_json
+    from harness.report import write_report
+
+    case = [c for c in conformance_cases(0) if c.id == "lattice/bits-0"]
+    with registered(FEW_PIXELS):
+        assert "few_pixels" in check_names() and metric_tolerance()["drawn_pixels"] == (1.0, 0.0)
+        results = run_suite(["centre_scanline"], cases=case)
+        mine = [r for r in results if r.check == "few_pixels"]
+        assert len(mine) == 1 and mine[0].status == "fail"
+        repro = mine[0].evidence["repro"]  # the shrinker found a smaller case that still fails
+        assert repro["check"] == "few_pixels" and len(repro["positions"]) < len(case[0].scene)
+        write_json(tmp_path / "r.json", results, "custom", 0, {"centre_scanline": "declared"})
+        assert any(r["check"] == "few_pixels" for r in json.loads((tmp_path / "r.json").read_text())["results"])
+        save_baseline(tmp_path / "base.json", results)
+        baseline = load_baseline(tmp_path / "base.json")
+        assert baseline["centre_scanline|lattice/bits-0|few_pixels"]["metrics"]["drawn_pixels"] == mine[0].metrics["drawn_pixels"]
+        worse = [replace(r, metrics={**r.metrics, "drawn_pixels": r.metrics["drawn_pixels"] + 1}) if r.check == "few_pixels" else r
+                 for r in results]
+        assert any("drawn_pixels worsened" in line for line in compare_with_baseline(worse, baseline).regressions)
+        write_report(tmp_path / "rep", {"centre_scanline": "declared"}, results, 0)
+        pages = "".join(p.read_text() for p in (tmp_path / "rep").glob("*.html"))
+        assert "few_pixels" in pages
+    assert "few_pixels" not in check_names()
+
+
+def test_registry_answers_what_the_lists_used_to_say():
+    assert check_names() == ("hygiene", "conformance", "watertight", "closed", "degenerate", "invariance", "jaggy", "texel", "perspective")
+    assert {c.name for c in checks() if c.needs_convention} == {"conformance", "jaggy", "texel", "perspective"}
+    assert {c.name for c in checks(only={"overdraw", "hygiene", "conformance", "degenerate", "invariance"}) if c.shrinks} == {
+        "hygiene", "conformance", "degenerate", "invariance", "overdraw"}
+
+
+def test_a_name_registers_once():
+    import pytest
+
+    from harness.checks import register
+
+    with pytest.raises(ValueError, match="registered already"):
+        register(Check("hygiene", _few_pixels, lambda case: True))
+
+
+def _imports(path: Path, package: str) -> set[str]:
+    tree = ast.parse(path.read_text())
+    out = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            out.add(node.module)
+            out.update(f"{node.module}.{a.name}" for a in node.names)
+    return {m for m in out if m.split(".")[0] in ("harness", "cases", "rasterizers")}
+
+
+def test_the_check_modules_import_no_runner_and_no_presentation():
+    """Checks are pure: no runner, report, pictures or command line behind them."""
+    root = Path(__file__).resolve().parents[1]
+    for path in (root / "harness" / "checks").glob("*.py"):
+        bad = {m for m in _imports(path, "harness") if m.split(".")[1:2] and m.split(".")[1] in ("runner", "report", "pictures", "cli", "output", "gate")}
+        assert not bad, (path.name, bad)
