@@ -18,11 +18,12 @@ $(STAMP): pyproject.toml
 report: $(STAMP)
 	$(BIN)/rastercheck run --out reports || [ $$? -eq 1 ]
 
-# lint and types first (seconds), then the tests
+# lint and types first (seconds), then the tests on every core (a module's tests stay
+# together, so its shared fixtures are built once)
 test: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/python -m mypy
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n auto --dist loadfile
 
 bench: $(STAMP)
 	$(BIN)/rastercheck bench --json reports/bench.json

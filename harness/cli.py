@@ -292,15 +292,26 @@ def _positive_int(text: str) -> int:
     return value
 
 
-def _positive_seconds(text: str) -> float:
-    """A finite number > 0 (``--timeout``, ``--budget``, ``--scale``), else a usage error."""
+def _finite(text: str, zero_allowed: bool) -> float:
+    """A finite number > 0 (>= 0 with ``zero_allowed``), else a usage error naming it."""
+    wanted = ">= 0" if zero_allowed else "> 0"
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a finite number > 0, not {text!r}") from None
-    if not math.isfinite(value) or value <= 0:
-        raise argparse.ArgumentTypeError(f"expected a finite number > 0, not {text!r}")
+        value = math.nan
+    if not math.isfinite(value) or value < 0 or (value == 0 and not zero_allowed):
+        raise argparse.ArgumentTypeError(f"expected a finite number {wanted}, not {text!r}")
     return value
+
+
+def _positive_seconds(text: str) -> float:
+    """``--timeout``, ``--scale``: a finite number > 0."""
+    return _finite(text, zero_allowed=False)
+
+
+def _non_negative_seconds(text: str) -> float:
+    """``--budget``: a finite number >= 0 (0 measures each contender once)."""
+    return _finite(text, zero_allowed=True)
 
 
 def _selection(parser: argparse.ArgumentParser) -> None:
@@ -348,7 +359,7 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--rasterizer", action="append", metavar="SPEC")
     bench.add_argument("--json", metavar="FILE", help="write the measurements as JSON")
     bench.add_argument("--scale", type=_positive_seconds, default=1.0, help="shrink the workloads (smoke tests)")
-    bench.add_argument("--budget", type=_positive_seconds, default=1.0, help="seconds of repeats per contender")
+    bench.add_argument("--budget", type=_non_negative_seconds, default=1.0, help="seconds of repeats per contender")
     bench.set_defaults(func=_bench)
     lst = sub.add_parser("list", help="rasterizers with their conventions, suites, checks")
     lst.set_defaults(func=_list)

@@ -116,10 +116,9 @@ def test_real_adapter_draws_a_square_without_gaps(name):
     _in_fresh_process(SQUARE_CHECK, name, timeout=120)
 
 
-def test_run_identifies_an_undeclared_convention(tmp_path):
-    from harness.cli import main
-
-    path = tmp_path / "box.py"
+def _undeclared_box(folder, convention_args):
+    """A plugin file whose class ``Box`` follows Convention(convention_args) and declares none."""
+    path = folder / "box.py"
     path.write_text(
         "from harness.conventions import Convention\n"
         "from harness.oracle import exact_coverage\n"
@@ -127,8 +126,15 @@ def test_run_identifies_an_undeclared_convention(tmp_path):
         "    name = 'box'\n"
         "    convention = None\n"
         "    def rasterize(self, scene):\n"
-        "        return exact_coverage(scene, Convention(tie='bottom-left'))\n"
+        f"        return exact_coverage(scene, Convention({convention_args}))\n"
     )
+    return path
+
+
+def test_run_identifies_an_undeclared_convention(tmp_path):
+    from harness.cli import main
+
+    path = _undeclared_box(tmp_path, "tie='bottom-left'")
     assert main(["run", "--rasterizer", f"{path}:Box", "--out", str(tmp_path / "rep")]) == 0
     page = (tmp_path / "rep" / "index.html").read_text()
     assert "none declared; identified as sample (0.5, 0.5), bottom-left ties" in page
@@ -278,17 +284,8 @@ def test_the_library_identifies_undeclared_rasterizers_as_the_command_does(tmp_p
     from harness import run_suite
     from harness.cli import main
 
-    path = tmp_path / "box.py"
-    path.write_text(
-        "from harness.conventions import Convention\n"
-        "from harness.oracle import exact_coverage\n"
-        "class Box:\n"
-        "    name = 'box'\n"
-        "    convention = None\n"
-        "    def rasterize(self, scene):\n"
-        "        return exact_coverage(scene, Convention(tie='bottom-left-y-first', subpixel_bits=4, snap_rounding='half-away'))\n"
-    )
-    spec = f"{path}:Box"
+    box = _undeclared_box(tmp_path, "tie='bottom-left-y-first', subpixel_bits=4, snap_rounding='half-away'")
+    spec = f"{box}:Box"
     main(["run", "--rasterizer", spec, "--out", str(tmp_path / "rep"), "--json", str(tmp_path / "r.json")])
     command = {(r["case"], r["check"]): (r["status"], r["message"]) for r in json.loads((tmp_path / "r.json").read_text())["results"]}
     library = {(r.case, r.check): (r.status, r.message) for r in run_suite([spec])}

@@ -93,3 +93,21 @@ def test_huge_cases_are_never_excused_as_near_ties(flagged):
             assert result.metrics["near_tie"] == 0 and result.metrics["exact_ties"] == 0, result.message
     holes = {r.case for r in flagged["bad_drops_huge"]["watertight"]}
     assert {"degenerate/huge/cover-1e30", "degenerate/huge/cover-max-float"} <= holes
+
+
+def test_drawing_nothing_fails_every_huge_case():
+    """Nothing drawn is never excused as float rounding, however far away the vertices:
+    every huge case fails conformance, and the covering pairs fail watertight too."""
+    from cases.degenerate import degenerate_cases
+    from harness.api import Coverage
+    from harness.checks import conformance, watertight
+    from harness.conventions import Convention
+    from harness.oracle import exact_coverage
+
+    huge = [c for c in degenerate_cases(0) if c.id.startswith("degenerate/huge/")]
+    assert len(huge) == 12
+    for case in huge:
+        verdict = conformance(case, Coverage.empty(), exact_coverage(case.scene, Convention()), Convention())
+        assert verdict.status == "fail" and verdict.metrics["near_tie"] == 0, (case.id, verdict.message)
+        if case.region is not None:
+            assert watertight(case, Coverage.empty()).status == "fail", case.id

@@ -152,7 +152,7 @@ def test_an_outside_rasterizer_is_flagged_with_repros(tmp_path, capsys):
     ["run", "--jobs", "0"], ["run", "--jobs", "-1"], ["run", "--jobs", "two"],
     ["run", "--timeout", "0"], ["run", "--timeout", "-1"], ["run", "--timeout", "nan"], ["run", "--timeout", "inf"],
     ["gate", "--baseline", "b.json", "--timeout", "0"], ["identify", "centre_scanline", "--timeout", "-5"],
-    ["bench", "--budget", "0"], ["bench", "--scale", "inf"],
+    ["bench", "--budget", "-1"], ["bench", "--budget", "nan"], ["bench", "--scale", "inf"],
 ])
 def test_numbers_out_of_range_are_usage_errors(argv, capsys):
     """Before any work: one line naming the option and the value, exit 2."""
