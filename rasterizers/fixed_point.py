@@ -37,6 +37,7 @@ MAX_FIXED = 2**30 - 1  # |fixed-point coordinate| bound: 8 * MAX_FIXED**2 < 2**6
 @numba.njit(cache=True)
 def _kernel(fixed, half, one, tie_x, tie_y, y_first, width, height, out_t, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
     n = 0
+    edges = np.empty((3, 5), dtype=np.int64)
     for t in range(fixed.shape[0]):
         p = fixed[t]
         area = (p[1, 0] - p[0, 0]) * (p[2, 1] - p[0, 1]) - (p[1, 1] - p[0, 1]) * (p[2, 0] - p[0, 0])
@@ -47,20 +48,20 @@ def _kernel(fixed, half, one, tie_x, tie_y, y_first, width, height, out_t, out_y
         # Rows whose sample height j*one + half lies within [ymin, ymax].
         first = max(-((half - ymin) // one), 0)
         last = min((ymax - half) // one, height - 1)
+        # per edge (vertices taken with A > 0): start point, deltas, and the tie rule as an
+        # integer bias: 0 on the edges it owns, -1 elsewhere (E > 0 and E - 1 >= 0 are the
+        # same test for integers)
+        for k in range(3):
+            a, b = (k, (k + 1) % 3) if area > 0 else ((k + 1) % 3, k)
+            ax, ay, bx, by = p[a, 0], p[a, 1], p[b, 0], p[b, 1]
+            edges[k, 0], edges[k, 1], edges[k, 2], edges[k, 3] = ax, ay, bx - ax, by - ay
+            edges[k, 4] = 0 if owns_edge(ax, ay, bx, by, tie_x, tie_y, y_first) else -1
         for j in range(first, last + 1):
             py = j * one + half
             left = 0
             right = width
             for k in range(3):
-                if area > 0:
-                    a, b = k, (k + 1) % 3
-                else:
-                    a, b = (k + 1) % 3, k
-                ax, ay, bx, by = p[a, 0], p[a, 1], p[b, 0], p[b, 1]
-                dx, dy = bx - ax, by - ay
-                # The tie rule as an integer bias: 0 on the edges it owns, -1 elsewhere
-                # (E > 0 and E - 1 >= 0 are the same test for integers).
-                bias = 0 if owns_edge(ax, ay, bx, by, tie_x, tie_y, y_first) else -1
+                ax, ay, dx, dy, bias = edges[k, 0], edges[k, 1], edges[k, 2], edges[k, 3], edges[k, 4]
                 # E(i) = dx*(py - ay) - dy*(i*one + half - ax) + bias = c - dy*one*i
                 c = dx * (py - ay) - dy * (half - ax) + bias
                 if dy == 0:
