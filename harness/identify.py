@@ -452,6 +452,7 @@ def identify(rasterizer: Rasterizer, seed: int = 0) -> Fingerprint:
         agree = " (agrees with the fit)" if fits else f" (the fit says {bits if bits is not None else 'none'}, {rounding}: not confirmed)"
         facts["vertex sweep"] = (f"{located} coverage changes, all at multiples of 2^-{grid} px: vertices snap to 2^-{nearest} px "
                                  f"rounding to nearest, or 2^-{grid} px truncating" + agree)
+    _COUNTERS.clear()  # the sorted fragments were for this rasterizer's scenes only
     return Fingerprint(rasterizer.name, convention, residual, pixels, (runner.describe(), runner_score), facts, ambiguous)
 
 
