@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from cases.records import Case
+from harness.case import Case
 from harness.api import Scene
 
 __all__ = ["degenerate_cases"]

@@ -14,7 +14,7 @@ import numpy as np
 import trimesh
 from numpy.typing import NDArray
 
-from cases.records import Case
+from harness.case import Case
 from harness.api import Scene
 
 __all__ = ["MeshFileError", "load_mesh_file", "project", "clip_near", "mesh_cases", "mesh_file_case"]

@@ -9,42 +9,15 @@ per-vertex (u, v) on a T x T texel grid, including perspective quads seen at gra
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 from numpy.typing import NDArray
 
 from cases.meshes import _rotation, _shapes, project
 from cases.partitions import fan, grid
 from harness.api import Scene
+from harness.case import MotionCase
 
 __all__ = ["MotionCase", "motion_cases", "translate", "rotate", "zoom"]
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class MotionCase:
-    """A named frame sequence.
-
-    Parameters
-    ----------
-    id : str
-        ``motion/<geometry>/<movement>``.
-    frames : tuple of Scene
-        One scene per frame, same triangles in the same order.
-    texels : int or None
-        T for textured sequences: attribute columns 0 and 1 are (u, v) on a T x T grid.
-    perspective : bool
-        Whether the frames carry clip-space w (perspective-correct interpolation).
-    """
-
-    id: str
-    frames: tuple[Scene, ...]
-    texels: int | None = None
-    perspective: bool = False
-
-    @property
-    def family(self) -> str:
-        return "motion"
 
 
 def translate(positions: NDArray, step: tuple[float, float], count: int) -> list[NDArray]:

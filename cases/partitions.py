@@ -11,7 +11,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import ConvexHull, Delaunay
 
-from cases.records import Case
+from harness.case import Case
 from harness.api import Scene
 
 __all__ = ["grid", "fan", "strip", "delaunay", "sliver_fan", "partition_cases"]

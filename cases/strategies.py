@@ -66,7 +66,7 @@ def grid_scenes(draw, size: int = 24):  # type: ignore[no-untyped-def]
     """Planar partitions: a grid on a sub-pixel lattice, split on random diagonals, with
     lattice jitter and mixed windings (cases with their exact region)."""
     from cases.partitions import grid
-    from cases.records import Case
+    from harness.case import Case
 
     bits = draw(st.integers(0, 4))
     scale = 2**bits
@@ -87,7 +87,7 @@ def grid_scenes(draw, size: int = 24):  # type: ignore[no-untyped-def]
 def fan_scenes(draw, size: int = 24):  # type: ignore[no-untyped-def]
     """Fans of 3..16 triangles around a pixel centre, a corner or a lattice point."""
     from cases.partitions import fan
-    from cases.records import Case
+    from harness.case import Case
 
     count = draw(st.integers(3, 16))
     centre = np.array([draw(st.integers(16, 32 * 4 - 16)), draw(st.integers(16, 32 * 4 - 16))]) / 8 * size / 32

@@ -6,9 +6,9 @@ import numpy as np
 
 from cases.degenerate import degenerate_cases
 from cases.meshes import mesh_cases
-from cases.motion import MotionCase, motion_cases
+from cases.motion import motion_cases
 from cases.partitions import partition_cases
-from cases.records import Case
+from harness.case import Case, MotionCase
 from cases.scenes import lattice_triangles, random_triangles
 from harness.api import Scene
 

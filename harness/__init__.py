@@ -21,7 +21,7 @@ def run_suite(*args: Any, **kwargs: Any) -> Any:
 
 
 def replay(path: Any, rasterizer: Any, isolate: bool = False) -> Any:
-    """Run the checks of a saved case on a rasterizer; see :func:`harness.repro.replay`."""
-    from harness.repro import replay as run
+    """Run the checks of a saved case on a rasterizer; see :func:`harness.runner.replay`."""
+    from harness.runner import replay as run
 
     return run(path, rasterizer, isolate=isolate)

@@ -7,16 +7,17 @@ tie rules are defined in :mod:`harness.conventions`.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Protocol, runtime_checkable
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from harness.conventions import Convention
+from harness.spans import expand, pixel_offsets, run_tails, span_buffers
 
-__all__ = ["Scene", "Coverage", "Convention", "Rasterizer"]
+__all__ = ["Scene", "Coverage", "Convention", "Rasterizer", "span_buffers", "interpolates_of", "received_of", "fingerprint_of"]
 
 # Sample points i + sx must be exact floats (sx has up to 32 fractional bits).
 MAX_VIEWPORT = 1 << 20
@@ -128,48 +129,6 @@ def _int_array(value: ArrayLike, field: str) -> NDArray[np.int64]:
     raise ValueError(f"Coverage.{field} must hold integers, not dtype {array.dtype}")
 
 
-def _span_pixel_offsets(x0: NDArray[np.int64], x1: NDArray[np.int64]) -> NDArray[np.int64]:
-    """Index of each span's first pixel in the span-ordered pixel list."""
-    lengths = np.maximum(x1 - x0, 0)
-    offsets = np.zeros(lengths.size + 1, dtype=np.int64)
-    np.cumsum(lengths, out=offsets[1:])
-    return offsets
-
-
-def _run_tails(heads: NDArray[np.int64], size: int) -> NDArray[np.int64]:
-    """Index of the last element of each run, given the index of each run's first."""
-    tails = np.empty(heads.size, dtype=np.int64)
-    tails[:-1] = heads[1:] - 1
-    if heads.size:
-        tails[-1] = size - 1
-    return tails
-
-
-def span_buffers(capacity: int) -> tuple[NDArray[np.int64], ...]:
-    """Four int64 arrays (triangle, y, x0, x1) of ``capacity`` for a span kernel to fill.
-
-    They are rows of one block: a single large allocation is much cheaper than four
-    (one mapping, and huge pages where the system offers them), and the spans a kernel
-    writes end up side by side in memory."""
-    block = np.empty((4, capacity), dtype=np.int64)
-    return block[0], block[1], block[2], block[3]
-
-
-def _expand(starts: NDArray[np.int64], lengths: NDArray[np.int64]) -> NDArray[np.int64]:
-    """Concatenate ``arange(s, s + n)`` for each (s, n), without a Python loop."""
-    total = int(lengths.sum())
-    if total == 0:
-        return np.zeros(0, dtype=np.int64)
-    keep = lengths > 0
-    starts, lengths = starts[keep], lengths[keep]
-    steps = np.ones(total, dtype=np.int64)
-    heads = np.zeros(lengths.size, dtype=np.int64)
-    np.cumsum(lengths[:-1], out=heads[1:])
-    steps[heads] = starts
-    steps[heads[1:]] -= starts[:-1] + lengths[:-1] - 1
-    return np.cumsum(steps)
-
-
 @dataclass(frozen=True, slots=True, eq=False)
 class Coverage:
     """What a rasterizer covered: horizontal spans, plus interpolated attributes.
@@ -273,7 +232,7 @@ class Coverage:
         new_span = np.ones(tri.size, dtype=bool)
         new_span[1:] = (tri[1:] != tri[:-1]) | (ys[1:] != ys[:-1]) | (xs[1:] != xs[:-1] + 1)
         heads = np.flatnonzero(new_span)
-        tails = _run_tails(heads, tri.size)
+        tails = run_tails(heads, tri.size)
         return cls(tri[heads], ys[heads], xs[heads], xs[tails] + 1, attributes)
 
     @classmethod
@@ -348,7 +307,7 @@ class Coverage:
         (array([2, 2]), array([3, 4]), array([1, 1]))
         """
         lengths = np.maximum(self.x1 - self.x0, 0)
-        x = _expand(self.x0, lengths)
+        x = expand(self.x0, lengths)
         return np.repeat(self.triangle, lengths), x, np.repeat(self.y, lengths)
 
     def counts(self, width: int, height: int) -> NDArray[np.int32]:
@@ -377,13 +336,13 @@ class Coverage:
         tri, y, x0, x1 = self.triangle[order], self.y[order], self.x0[order], self.x1[order]
         attributes = self.attributes
         if attributes is not None:
-            offsets = _span_pixel_offsets(self.x0, self.x1)
+            offsets = pixel_offsets(self.x0, self.x1)
             if attributes.shape[0] == offsets[-1]:
-                attributes = attributes[_expand(offsets[order], length[order])]
+                attributes = attributes[expand(offsets[order], length[order])]
         joins = np.zeros(tri.size, dtype=bool)
         joins[1:] = (tri[1:] == tri[:-1]) & (y[1:] == y[:-1]) & (x0[1:] == x1[:-1])
         heads = np.flatnonzero(~joins)
-        return Coverage(tri[heads], y[heads], x0[heads], x1[_run_tails(heads, tri.size)], attributes)
+        return Coverage(tri[heads], y[heads], x0[heads], x1[run_tails(heads, tri.size)], attributes)
 
     def __eq__(self, other: object) -> bool:
         """Exact equality of canonical forms (attributes too; NaN equals NaN)."""
@@ -415,10 +374,19 @@ class Rasterizer(Protocol):
     convention : Convention or None
         The fill convention it claims to follow; None when it declares none.
 
-    A rasterizer may also say ``interpolates = False`` (an optional member, True when
-    absent): it returns coverage only, its hygiene check then accepts missing attribute
-    rows, and the texel and perspective checks are skipped with that reason instead of
-    failing.
+    Optional members, read only through :func:`interpolates_of`, :func:`received_of` and
+    :func:`fingerprint_of` (a plugin that lacks them is still a Rasterizer):
+
+    interpolates : bool
+        False for a coverage-only rasterizer (True when absent): its hygiene check then
+        accepts missing attribute rows, and the texel and perspective checks are skipped
+        with that reason instead of failing.
+    received : callable, ``received(scene) -> Scene``
+        The scene as the library really receives it (e.g. positions rounded to float32 at
+        the GL API): a failure that passes on it is blamed on the input format.
+    fingerprint : harness.identify.Fingerprint
+        Set by rastercheck on a rasterizer that declares no convention: what identify
+        found, so that verdicts against a best guess say so.
     """
 
     # Read-only members: a plain class attribute or instance attribute of a narrower
@@ -432,3 +400,20 @@ class Rasterizer(Protocol):
     def rasterize(self, scene: Scene) -> Coverage:
         """Cover the scene's triangles; attributes interpolated when the scene has them."""
         ...
+
+
+# The optional members of a Rasterizer, each read in one place.
+def interpolates_of(rasterizer: Rasterizer) -> bool:
+    """Whether the rasterizer interpolates attributes (``interpolates``, True when absent)."""
+    return bool(getattr(rasterizer, "interpolates", True))
+
+
+def received_of(rasterizer: Rasterizer) -> Callable[[Scene], Scene] | None:
+    """The rasterizer's ``received(scene) -> Scene``, or None when it has none."""
+    received = getattr(rasterizer, "received", None)
+    return received if callable(received) else None
+
+
+def fingerprint_of(rasterizer: Rasterizer) -> Any:
+    """What identify found for a rasterizer that declared no convention, or None."""
+    return getattr(rasterizer, "fingerprint", None)

@@ -111,13 +111,14 @@ def _kind(r: Any) -> str:
 
 def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: list[Any], seconds: float,
                    fingerprints: dict[str, dict[str, Any]]) -> None:
+    from harness.api import fingerprint_of
     from harness.output import write_json, write_junit
     from harness.report import write_report
 
     out = Path(args.out)
     written = _write_repros(out, results)
     conventions = {r.name: _convention_text(r) for r in rasterizers}
-    declared = {r.name: (r.convention.describe() if r.convention is not None and getattr(r, "fingerprint", None) is None
+    declared = {r.name: (r.convention.describe() if r.convention is not None and fingerprint_of(r) is None
                          else "none declared") for r in rasterizers}
     kinds = {r.name: _kind(r) for r in rasterizers}
     path = write_report(out, conventions, results, args.seed, args.suite, seconds,
@@ -130,7 +131,9 @@ def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: li
 
 
 def _convention_text(r: Any) -> str:
-    fingerprint = getattr(r, "fingerprint", None)
+    from harness.api import fingerprint_of
+
+    fingerprint = fingerprint_of(r)
     if fingerprint is not None:
         quality = "exactly" if fingerprint.exact else f"best guess, residual {fingerprint.residual} pixels"
         return f"none declared; identified as {r.convention.describe()} ({quality}), used for the convention-bound checks"
@@ -235,15 +238,15 @@ def _identify(args: argparse.Namespace) -> int:
 
 
 def _replay(args: argparse.Namespace) -> int:
-    from harness.repro import load_case
-    from harness.runner import run_suite
+    from harness.case import read_case_file
+    from harness.runner import replay
 
     try:
-        case = load_case(args.case)
+        read_case_file(args.case)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     rasterizers, _ = _load_all([args.rasterizer])
-    results = run_suite(rasterizers, cases=[case], timeout=args.timeout, repros=False)
+    results = replay(args.case, rasterizers[0], isolate=True, timeout=args.timeout)
     for r in results:
         print(f"{r.status:<6} {r.check:<12} {r.message}")
     return 1 if any(r.status in ("fail", "error") for r in results) else 0

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from cases.records import Case
+from harness.case import Case
 from cases.suites import conformance_cases
 from harness.api import Coverage, Rasterizer
 from harness.checks import FragmentCounter

@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from cases.partitions import partition_cases
 from cases.scenes import lattice_triangles, random_triangles
-from harness.api import Coverage, Rasterizer, Scene
+from harness.api import Coverage, Rasterizer, Scene, interpolates_of, received_of
 from harness.checks import FragmentCounter, deviations, watertight
 from harness.compare import CANDIDATES
 from harness.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention, CullMode, SnapRounding
@@ -321,7 +321,7 @@ def _epsilon(rasterizer: Rasterizer, convention: Convention) -> str:
     if wrong == 0:
         return f"exact: {want} of {len(triangles)} tiny triangles (1e-3..1e-9 px) drawn, as the convention says"
     said = f"{wrong} of {len(triangles)} tiny triangles (1e-3..1e-9 px) decided unlike the convention ({want} should draw)"
-    received = getattr(rasterizer, "received", None)
+    received = received_of(rasterizer)
     if received is not None:
         rounded = received(scene)
         if _mismatch(got, rounded, convention) == 0:
@@ -526,7 +526,7 @@ class Identified:
         self.inner = inner
         self.name = inner.name
         self.convention = fingerprint.convention
-        self.interpolates = getattr(inner, "interpolates", True)
+        self.interpolates = interpolates_of(inner)
         if hasattr(inner, "received"):
             self.received = inner.received
         self.fingerprint = fingerprint

@@ -25,7 +25,8 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene, _expand, _span_pixel_offsets, span_buffers
+from harness.api import Coverage, Scene
+from harness.spans import expand, pixel_offsets, span_buffers
 from harness.conventions import Convention, owns_edge
 from harness.exact import orient2d_sign, orientation
 
@@ -470,7 +471,7 @@ def exact_coverage(scene: Scene, convention: Convention) -> Coverage:
         order = np.argsort(triangle, kind="stable")  # back into triangle order
         if attributes is not None:
             attributes = np.concatenate([attributes, *extra_values])
-            attributes = attributes[_expand(_span_pixel_offsets(x0, x1)[order], (x1 - x0)[order])]
+            attributes = attributes[expand(pixel_offsets(x0, x1)[order], (x1 - x0)[order])]
         triangle, y, x0, x1 = triangle[order], y[order], x0[order], x1[order]
     return Coverage(triangle, y, x0, x1, attributes)
 

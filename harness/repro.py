@@ -1,29 +1,33 @@
-"""Minimal repros: shrink a failing case, save it as replayable JSON, replay it.
+"""Minimal repros: shrink a failing case to the smallest one that still fails the same
+check, and probe what the failure depends on.
 
 Shrinking is delta debugging over the triangles (Zeller's ddmin), then coarsening every
-coordinate to the simplest dyadic lattice on which the check still fails. Coordinates are
-stored with ``float.hex`` so that a replay sees exactly the same floats.
+coordinate to the simplest dyadic lattice on which the check still fails. The repro is
+stored as case JSON (:mod:`harness.case`, every float as ``float.hex``) naming the check;
+:func:`harness.runner.replay` runs it. The checks are reached through a ``judge``
+(``judge(case, check) -> results``) so that this module needs nothing of the runner's.
 """
 
 from __future__ import annotations
 
-import json
 import time
 from collections.abc import Callable
-from pathlib import Path
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from cases.records import Case
-from harness.api import Rasterizer, Scene
+from harness import checks
+from harness.api import Rasterizer, Scene, received_of
+from harness.case import Case, case_to_json
 from harness.checks import Result
-from harness.files import atomic_write_text
 
-__all__ = ["ddmin", "shrink", "case_to_json", "case_from_json", "save_case", "load_case", "replay", "SCHEMA"]
+__all__ = ["ddmin", "shrink", "attach_repro", "whole_case_repro", "input_precision_probe", "viewport_edge_probe",
+           "grown_screen", "Judge"]
 
-SCHEMA = 1
+# The checks of one rasterizer on a case, restricted to one check by name.
+Judge = Callable[[Case, str], list[Result]]
 
 
 def ddmin(items: list[int], fails: Callable[[list[int]], bool], budget: int) -> list[int]:
@@ -109,73 +113,113 @@ def shrink(case: Case, fails: Callable[[Case], bool], budget: int = 200, seconds
     return best
 
 
-def _hex(array: NDArray | None) -> Any:
-    return None if array is None else np.vectorize(float.hex, otypes=[object])(array).tolist()
+def attach_repro(result: Result, case: Case, judge: Judge, rasterizer: Rasterizer,
+                 budget: int = 60, seconds: float = 10.0) -> Result:
+    """Shrink the case to a minimal one that still fails the same check and attach it, as
+    replayable JSON naming that check, to the result's evidence; the message is the
+    check's own on the shrunk case."""
+    check = result.check
+    if check == "watertight" and result.metrics.get("double_hits", 0) > 0:
+        check = "overdraw"  # double hits stay double hits in any subset of the triangles
+
+    def failed(candidate: Case) -> Result | None:
+        return next((r for r in judge(candidate, check) if r.check == check and r.status == "fail"), None)
+
+    if check not in {c.name for c in checks.checks(only={check}) if c.shrinks}:
+        minimal = case  # holes and closed meshes need the whole case: no smaller one is valid
+    else:
+        minimal = shrink(case, lambda candidate: failed(candidate) is not None, budget=budget, seconds=seconds)
+    evidence = dict(result.evidence)
+    message = result.message
+    if minimal is not case:
+        again = failed(minimal)
+        if again is not None:
+            message = again.message
+    if check in ("conformance", "invariance"):
+        as_received = input_precision_probe(minimal, check, judge, rasterizer)
+        if as_received is not None:
+            evidence["input_precision"] = as_received
+            message += ("; with its coordinates rounded the way the library receives them (rasterizer.received), the "
+                        f"same triangles pass: the deviation comes from the input format ({as_received['moved']} "
+                        "coordinates move), not from the fill rule")
+        inside = viewport_edge_probe(minimal, check, judge)
+        if inside is not None:
+            evidence["viewport_edge"] = inside
+            message += (f"; moved {inside['margin']} px into a screen {inside['margin']} px larger on each side, the same "
+                        "triangles pass: the deviation appears only where triangles cross the viewport edge")
+    payload = case_to_json(minimal, check=check, rasterizer=rasterizer.name, message=message,
+                           original_case=case.id, original_triangles=len(case.scene))
+    return replace(result, message=message, evidence={**evidence, "repro": payload})
 
 
-def _unhex(data: Any) -> NDArray | None:
-    return None if data is None else np.vectorize(float.fromhex, otypes=[float])(np.array(data, dtype=object))
+def whole_case_repro(result: Result, case: Case, rasterizer: str, note: str) -> Result:
+    """The whole case attached as the repro, unshrunk, with the reason."""
+    payload = case_to_json(case, check=result.check, rasterizer=rasterizer, message=result.message,
+                           original_case=case.id, original_triangles=len(case.scene), note=note)
+    return replace(result, evidence={**result.evidence, "repro": payload})
 
 
-def case_to_json(case: Case, **extra: Any) -> dict[str, Any]:
-    """A JSON-ready dict with every float as ``float.hex``."""
+def _passes(case: Case, check: str, judge: Judge) -> bool:
+    found = [r for r in judge(case, check) if r.check == check]
+    return bool(found) and all(r.status == "pass" for r in found)
+
+
+def input_precision_probe(case: Case, check: str, judge: Judge, rasterizer: Rasterizer) -> dict[str, Any] | None:
+    """Whether a failing case passes once its coordinates are rounded the way the library
+    receives them, for a rasterizer that says how (an optional ``received(scene) -> Scene``
+    member, e.g. float32 positions at the GL API). Returns ``{"moved": n}`` (how many
+    coordinates the rounding changed) when it then passes, else None."""
+    received = received_of(rasterizer)
+    if received is None:
+        return None
+    try:
+        scene = received(case.scene)
+    except Exception:
+        return None
+    before, after = case.scene.positions, scene.positions
+    moved = int(np.sum((before != after) & ~(np.isnan(before) & np.isnan(after))))
+    if moved == 0:
+        return None
+    return {"moved": moved} if _passes(replace(case, id=f"{case.id}/as-received", scene=scene), check, judge) else None
+
+
+def grown_screen(scene: Scene, margin: int, largest: int = 8192) -> Scene | None:
+    """The scene moved ``margin`` whole pixels right and down into a screen ``margin``
+    pixels larger on every side -- an exact translation, so the same triangles cover the
+    same samples, none of them crossing the viewport edge any more. None when the grown
+    screen would exceed ``largest`` pixels a side or the move would round a coordinate."""
+    width, height = scene.width + 2 * margin, scene.height + 2 * margin
+    if max(width, height) > largest:
+        return None
+    p = scene.positions
+    moved = p + float(margin)
+    with np.errstate(invalid="ignore", over="ignore"):
+        if not np.array_equal(moved - float(margin), p, equal_nan=True):
+            return None
+    return Scene(width, height, moved, scene.attributes, scene.w)
+
+
+def viewport_edge_probe(case: Case, check: str, judge: Judge, largest: int = 8192) -> dict[str, Any] | None:
+    """Whether a failing case with vertices off-screen passes once the screen is grown
+    (:func:`grown_screen`) so that nothing crosses the viewport edge.
+
+    Returns ``{"margin": m, "screen": [w, h]}`` when the grown case passes ``check``, None
+    when no vertex is off-screen, the case has a region, the grown screen would exceed
+    ``largest`` pixels a side, or it still fails (the deviation is not the edge's).
+    """
     scene = case.scene
-    return {
-        "schema": SCHEMA,
-        "id": case.id,
-        "width": scene.width,
-        "height": scene.height,
-        "positions": _hex(scene.positions),
-        "attributes": _hex(scene.attributes),
-        "w": _hex(scene.w),
-        "lattice": case.lattice,
-        "region": _hex(case.region),
-        "closed": case.closed,
-        "refusable": list(case.refusable),
-        **extra,
-    }
-
-
-def case_from_json(data: dict[str, Any]) -> Case:
-    """The exact case back from :func:`case_to_json`; ValueError naming what is wrong."""
-    if not isinstance(data, dict) or data.get("schema") != SCHEMA:
-        raise ValueError(f"not a rastercheck case (schema {SCHEMA} expected)")
-    try:
-        positions = _unhex(data["positions"])
-        if positions is None:
-            raise ValueError("no positions")
-        positions = positions.reshape(-1, 3, 2)
-        scene = Scene(int(data["width"]), int(data["height"]), positions, _unhex(data.get("attributes")), _unhex(data.get("w")))
-        return Case(
-            str(data["id"]), scene, lattice=bool(data.get("lattice", False)), region=_unhex(data.get("region")),
-            closed=bool(data.get("closed", False)), refusable=tuple(int(t) for t in data.get("refusable", ())),
-        )
-    except KeyError as exc:
-        raise ValueError(f"case JSON lacks the field {exc.args[0]!r}") from None
-    except (TypeError, AttributeError) as exc:
-        raise ValueError(f"case JSON is malformed: {exc}") from None
-
-
-def save_case(path: Path | str, case: Case, **extra: Any) -> Path:
-    path = Path(path)
-    atomic_write_text(path, json.dumps(case_to_json(case, **extra), indent=1))
-    return path
-
-
-def load_case(path: Path | str) -> Case:
-    path = Path(path)
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError) as exc:
-        raise ValueError(f"{path}: cannot read the case ({exc})") from None
-    try:
-        return case_from_json(data)
-    except ValueError as exc:
-        raise ValueError(f"{path}: {exc}") from None
-
-
-def replay(path: Path | str, rasterizer: Rasterizer | str, isolate: bool = False) -> list[Result]:
-    """Run every applicable check of a saved case on a rasterizer."""
-    from harness.runner import run_suite
-
-    return run_suite([rasterizer], cases=[load_case(path)], isolate=isolate)
+    p = scene.positions
+    finite = np.isfinite(p).all(axis=(1, 2))
+    if case.region is not None or not finite.any():
+        return None
+    q = p[finite]
+    over = max(0.0, float(-q[..., 0].min()), float(-q[..., 1].min()),
+               float(q[..., 0].max() - scene.width), float(q[..., 1].max() - scene.height))
+    if over == 0.0 or over > largest:
+        return None
+    margin = int(np.ceil(over)) + 8  # the invariance check's translation stays inside too
+    grown = grown_screen(scene, margin, largest)
+    if grown is None:
+        return None
+    passes = _passes(replace(case, id=f"{case.id}/inside", scene=grown), check, judge)
+    return {"margin": margin, "screen": [grown.width, grown.height]} if passes else None

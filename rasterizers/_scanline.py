@@ -96,7 +96,7 @@ def scanline_kernel(positions, orient, active, centre, width, height, out_t, out
 
 def scanline(scene, centre: bool, name: str):  # type: ignore[no-untyped-def]
     """Run the kernel over a scene: spans, the left edge x of each, and span count."""
-    from harness.api import span_buffers
+    from harness.spans import span_buffers
     from rasterizers._common import row_capacity, screen_triangles
 
     sign = screen_triangles(  # zero-area and non-finite triangles draw nothing

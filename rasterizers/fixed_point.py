@@ -25,7 +25,8 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from harness.api import Coverage, Scene, span_buffers
+from harness.api import Coverage, Scene
+from harness.spans import span_buffers
 from harness.conventions import TIE_RULES, Convention, SnapRounding, TieRule, owns_edge, snap
 from rasterizers._common import build_coverage, check_range, interpolate_barycentric
 

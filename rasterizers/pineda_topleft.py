@@ -27,7 +27,8 @@ import math
 import numba
 import numpy as np
 
-from harness.api import Coverage, Scene, span_buffers
+from harness.api import Coverage, Scene
+from harness.spans import span_buffers
 from harness.conventions import TIE_RULES, Convention, TieRule, owns_edge
 from rasterizers._common import build_coverage, interpolate_barycentric, row_capacity, screen_triangles
 

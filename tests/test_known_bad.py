@@ -3,7 +3,7 @@ table says, and passes on all four built-ins (tests/test_runner.py)."""
 
 import pytest
 
-from cases.records import Case
+from harness.case import Case
 from cases.suites import suite
 from harness import run_suite
 from harness.checks import CHECKS

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from cases.motion import MotionCase, motion_cases, rotate, translate, zoom
+from cases.motion import motion_cases, rotate, translate, zoom
+from harness.case import MotionCase
 from harness import run_suite
 from harness.api import Coverage
 from harness.checks.motion import filled_direction, jaggy

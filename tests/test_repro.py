@@ -6,11 +6,13 @@ import numpy as np
 import pytest
 from hypothesis import given, strategies as st
 
-from cases.records import Case
+from harness.case import Case
 from cases.suites import suite
 from harness import run_suite
 from harness.api import Scene
-from harness.repro import case_from_json, case_to_json, ddmin, load_case, replay, save_case
+from harness.case import case_from_json, case_to_json, load_case, save_case
+from harness.repro import ddmin
+from harness.runner import replay
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.known_bad.misc import WrongTieClaim
 
@@ -41,8 +43,51 @@ def test_bad_case_files_name_the_problem(tmp_path):
     with pytest.raises(ValueError, match="x.json: cannot read"):
         load_case(path)
     path.write_text(json.dumps({"schema": 1, "id": "a"}))
-    with pytest.raises(ValueError, match="lacks the field 'positions'"):
+    with pytest.raises(ValueError, match="lacks the fields 'width', 'height', 'positions'"):
         load_case(path)
+
+
+def _good(**changes):
+    data = case_to_json(Case("x/y", Scene(8, 8, [[[0, 0], [4, 0], [0, 4]]]), region=np.array([[0, 0], [4, 0], [0, 4.0]])))
+    data.update(changes)
+    return data
+
+
+@pytest.mark.parametrize("changes, problem", [
+    ({"width": 1e999}, r"at width: inf is not valid"),
+    ({"width": "8"}, r"at width: '8' is not valid"),
+    ({"width": 1 << 20, "height": 1 << 20}, r"1048576 x 1048576 viewport is more than"),
+    ({"positions": [[[0, 0], [4, 0]]]}, r"at positions\[0\]"),
+    ({"positions": [[["0x1p+0", "zz"], [4, 0], [0, 4]]]}, r"at positions\[0\]\[0\]\[1\]"),
+    ({"region": [[0, 0, 1], [4, 0, 1], [0, 4, 1]]}, r"at region\[\d\]: \[\d, \d, 1\] is not valid"),
+    ({"region": {"a": 1}}, r"at region"),
+    ({"refusable": [5]}, r"refusable: names triangles past the last"),
+    ({"attributes": [[[1.0], [2.0, 3.0], [4.0]]]}, r"attributes"),
+    ({"id": ""}, r"at id"),
+    ({"kind": "motion"}, r"lacks the field 'frames'"),
+])
+def test_malformed_case_files_are_refused_by_the_schema_naming_the_field(changes, problem):
+    with pytest.raises(ValueError, match=problem):
+        case_from_json(_good(**changes))
+
+
+def test_case_files_nested_too_deep_or_not_utf8_are_refused(tmp_path):
+    path = tmp_path / "deep.json"
+    path.write_text("[" * 100_000 + "]" * 100_000)
+    with pytest.raises(ValueError, match="deep.json: cannot read the case"):
+        load_case(path)
+    path.write_bytes(b'{"schema": 1, "id": "\xff\xfe"}' + bytes([0xff]))
+    with pytest.raises(ValueError, match="cannot read the case"):
+        load_case(path)
+
+
+def test_motion_cases_round_trip_exactly(tmp_path):
+    from cases.motion import motion_cases
+
+    case = motion_cases(0)[0]
+    back = load_case(save_case(tmp_path / "m.json", case, check="jaggy"))
+    assert back.id == case.id and back.texels == case.texels and len(back.frames) == len(case.frames)
+    assert all(np.array_equal(a.positions, b.positions) for a, b in zip(back.frames, case.frames))
 
 
 @pytest.mark.parametrize("bad, case_id, check", [

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from cases.records import Case
+from harness.case import Case
 from harness.api import Coverage
 from harness.checks.records import EVIDENCE_LIMIT, Check, register, result, skip, Result
 from harness.conventions import Convention

@@ -9,7 +9,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from cases.records import Case
+from harness.case import Case
 from harness.api import Coverage
 from harness.checks.records import EVIDENCE_LIMIT, Check, Tolerance, register, result, Result
 from harness.conventions import Convention

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from cases.records import Case
+from harness.case import Case
 from harness.api import Coverage, Scene
 from harness.checks.records import Check, Result, Subject, Tolerance, first, register, result
 from harness.conventions import Convention

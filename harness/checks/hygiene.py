@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from cases.records import Case
+from harness.case import Case
 from harness.api import Coverage
 from harness.checks.records import EVIDENCE_LIMIT, Check, first, register, result, Result
 

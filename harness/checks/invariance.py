@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from cases.records import Case
+from harness.case import Case
 from harness.api import Coverage, Scene
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
 from harness.checks.conformance import deviations, near_ties

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from cases.records import Case
+from harness.case import Case
 from harness.api import Coverage, Scene
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, register, result, skip
 from harness.exact import orientation

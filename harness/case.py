@@ -1,0 +1,272 @@
+"""The case records and their JSON codec: what flows from the case generators to the checks.
+
+A :class:`Case` is one named scene plus the facts about it that are known exactly; a
+:class:`MotionCase` is a named frame sequence. Both are stored as JSON with every float
+written by ``float.hex``, so that a replay sees exactly the same floats
+(:func:`case_to_json`, :func:`case_from_json`, :func:`save_case`, :func:`load_case`).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from harness.api import MAX_VIEWPORT, Scene
+from harness.files import atomic_write_text
+
+__all__ = ["Case", "MotionCase", "case_to_json", "case_from_json", "save_case", "load_case", "read_case_file", "SCHEMA", "CASE_SCHEMA",
+           "MAX_CASE_PIXELS"]
+
+SCHEMA = 1
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Case:
+    """A named scene and the facts the checks may rely on.
+
+    Parameters
+    ----------
+    id : str
+        Stable hierarchical id, ``family/variant/detail``; the first part is the family.
+    scene : Scene
+    lattice : bool
+        Every coordinate lies on a coarse dyadic lattice: float arithmetic is exact there,
+        so no deviation from the oracle is excused as rounding.
+    region : (M, 2) float64 or None
+        For a planar partition, the convex outline (clockwise or not) of the union of
+        its triangles, known exactly: pixels wholly inside must be hit exactly once,
+        pixels wholly outside never, and no pixel twice.
+    closed : bool
+        The triangles form a closed mesh wholly in front of the camera: at every pixel,
+        hits by clockwise triangles equal hits by counter-clockwise ones.
+    refusable : tuple of int
+        Triangles with finite but huge coordinates that a rasterizer may refuse by
+        raising ValueError naming them (reported as skip, with its reason).
+    """
+
+    id: str
+    scene: Scene
+    lattice: bool = False
+    region: NDArray[np.float64] | None = None
+    closed: bool = False
+    refusable: tuple[int, ...] = field(default=())
+
+    @property
+    def family(self) -> str:
+        return self.id.split("/", 1)[0]
+
+    @property
+    def non_finite(self) -> tuple[int, ...]:
+        """Triangles with a NaN or infinite coordinate."""
+        bad = ~np.all(np.isfinite(self.scene.positions), axis=(1, 2))
+        return tuple(int(t) for t in np.flatnonzero(bad))
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class MotionCase:
+    """A named frame sequence.
+
+    Parameters
+    ----------
+    id : str
+        ``motion/<geometry>/<movement>``.
+    frames : tuple of Scene
+        One scene per frame, same triangles in the same order.
+    texels : int or None
+        T for textured sequences: attribute columns 0 and 1 are (u, v) on a T x T grid.
+    perspective : bool
+        Whether the frames carry clip-space w (perspective-correct interpolation).
+    """
+
+    id: str
+    frames: tuple[Scene, ...]
+    texels: int | None = None
+    perspective: bool = False
+
+    @property
+    def family(self) -> str:
+        return "motion"
+
+
+# The largest viewport a case file may ask for: the checks hold per-pixel counts of the
+# whole screen, and 2**26 pixels (8192 x 8192) is 256 MiB of them.
+MAX_CASE_PIXELS = 1 << 26
+
+_NUMBER = {"anyOf": [
+    {"type": "string", "pattern": r"^-?(0x[0-9a-f]+(\.[0-9a-f]*)?(p[+-]?[0-9]+)?|inf|nan)$"},
+    {"type": "number"},
+]}
+_POINT = {"type": "array", "items": _NUMBER, "minItems": 2, "maxItems": 2}
+_TRIANGLES = {"type": "array", "items": {"type": "array", "items": _POINT, "minItems": 3, "maxItems": 3}}
+_VALUES = {"type": ["array", "null"], "items": {"type": "array", "minItems": 3, "maxItems": 3,
+                                                "items": {"type": "array", "items": _NUMBER}}}
+_W = {"type": ["array", "null"], "items": {"type": "array", "items": _NUMBER, "minItems": 3, "maxItems": 3}}
+_SIDE = {"type": "integer", "minimum": 1, "maximum": MAX_VIEWPORT}
+_FRAME = {"type": "object", "required": ["width", "height", "positions"],
+          "properties": {"width": _SIDE, "height": _SIDE, "positions": _TRIANGLES, "attributes": _VALUES, "w": _W}}
+
+# The JSON schema of a case file (a JSON Schema 2020-12 document): a still case, or a
+# motion case (``"kind": "motion"``) with its frames. Other fields (the check that
+# failed, the rasterizer, a message) ride along unchecked.
+CASE_SCHEMA: dict[str, Any] = {
+    "$schema": "https://json-schema.org/draft/2020-12/schema",
+    "type": "object",
+    "required": ["schema", "id"],
+    "properties": {
+        "schema": {"const": SCHEMA},
+        "kind": {"enum": ["case", "motion"]},
+        "id": {"type": "string", "minLength": 1, "maxLength": 1000},
+        "check": {"type": "string"},
+    },
+    "if": {"properties": {"kind": {"const": "motion"}}, "required": ["kind"]},
+    "then": {
+        "required": ["frames"],
+        "properties": {"frames": {"type": "array", "items": _FRAME, "minItems": 1},
+                       "texels": {"type": ["integer", "null"], "minimum": 1},
+                       "perspective": {"type": "boolean"}},
+    },
+    "else": {
+        "required": ["width", "height", "positions"],
+        "properties": {
+            "width": _SIDE, "height": _SIDE, "positions": _TRIANGLES, "attributes": _VALUES, "w": _W,
+            "lattice": {"type": "boolean"}, "closed": {"type": "boolean"},
+            "region": {"type": ["array", "null"], "items": _POINT, "minItems": 3},
+            "refusable": {"type": "array", "items": {"type": "integer", "minimum": 0}},
+        },
+    },
+}
+
+
+def _hex(array: NDArray | None) -> Any:
+    return None if array is None else np.vectorize(float.hex, otypes=[object])(array).tolist()
+
+
+def _number(value: Any) -> float:
+    return float.fromhex(value) if isinstance(value, str) else float(value)
+
+
+def _unhex(data: Any, field: str = "") -> NDArray | None:
+    if data is None:
+        return None
+    try:
+        array = np.array(data, dtype=object)
+        ragged = any(isinstance(v, list) for v in array.ravel())
+    except ValueError:
+        ragged = True
+    if ragged:
+        raise ValueError(f"case JSON is malformed at {field}: its rows are of different lengths")
+    if array.size == 0:
+        return array.astype(np.float64)
+    return np.vectorize(_number, otypes=[float])(array)
+
+
+def _scene_to_json(scene: Scene) -> dict[str, Any]:
+    return {"width": scene.width, "height": scene.height, "positions": _hex(scene.positions),
+            "attributes": _hex(scene.attributes), "w": _hex(scene.w)}
+
+
+def case_to_json(case: Case | MotionCase, **extra: Any) -> dict[str, Any]:
+    """A JSON-ready dict with every float as ``float.hex``; ``extra`` fields ride along.
+
+    >>> from harness.api import MAX_VIEWPORT, Scene
+    >>> data = case_to_json(Case("lattice/one", Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]])), check="conformance")
+    >>> data["positions"][0][1], data["check"]
+    (['0x1.0000000000000p+2', '0x0.0p+0'], 'conformance')
+    >>> case_from_json(data).scene.positions[0, 1].tolist()
+    [4.0, 0.0]
+    """
+    if isinstance(case, MotionCase):
+        return {"schema": SCHEMA, "kind": "motion", "id": case.id, "frames": [_scene_to_json(f) for f in case.frames],
+                "texels": case.texels, "perspective": case.perspective, **extra}
+    return {
+        "schema": SCHEMA,
+        "kind": "case",
+        "id": case.id,
+        **_scene_to_json(case.scene),
+        "lattice": case.lattice,
+        "region": _hex(case.region),
+        "closed": case.closed,
+        "refusable": list(case.refusable),
+        **extra,
+    }
+
+
+def _where(error: Any) -> str:
+    path = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in error.absolute_path).lstrip(".")
+    return path or "the top level"
+
+
+def _scene_from_json(data: dict[str, Any], where: str) -> Scene:
+    width, height = int(data["width"]), int(data["height"])
+    if width * height > MAX_CASE_PIXELS:
+        raise ValueError(f"{where}a {width} x {height} viewport is more than the {MAX_CASE_PIXELS} pixels (8192 x 8192) "
+                         "a case may cover: the checks count hits on every pixel of the screen")
+    positions = _unhex(data["positions"], "positions")
+    assert positions is not None
+    try:
+        return Scene(width, height, positions.reshape(-1, 3, 2), _unhex(data.get("attributes"), "attributes"), _unhex(data.get("w"), "w"))
+    except ValueError as exc:
+        raise ValueError(f"{where}{exc}") from None
+
+
+def case_from_json(data: Any) -> Case | MotionCase:
+    """The exact case back from :func:`case_to_json`, after checking it against
+    :data:`CASE_SCHEMA`; ValueError naming the field that is wrong and where."""
+    import jsonschema
+
+    if not isinstance(data, dict) or data.get("schema") != SCHEMA:
+        raise ValueError(f"not a rastercheck case (schema {SCHEMA} expected)")
+    error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(CASE_SCHEMA).iter_errors(data))
+    if error is not None:
+        if error.validator == "required":
+            missing = [f for f in error.validator_value if isinstance(error.instance, dict) and f not in error.instance]
+            raise ValueError(f"case JSON lacks the field{'s' if len(missing) > 1 else ''} {', '.join(map(repr, missing))}"
+                             + ("" if not error.absolute_path else f" at {_where(error)}"))
+        shown = repr(error.instance)
+        raise ValueError(f"case JSON is malformed at {_where(error)}: "
+                         f"{shown if len(shown) <= 60 else shown[:57] + '...'} is not valid ({error.validator} {error.validator_value!r:.80})")
+    if data.get("kind") == "motion":
+        frames = tuple(_scene_from_json(f, f"frame {k}: ") for k, f in enumerate(data["frames"]))
+        return MotionCase(data["id"], frames, texels=data.get("texels"), perspective=bool(data.get("perspective", False)))
+    scene = _scene_from_json(data, "")
+    region = _unhex(data.get("region"), "region")
+    if any(t >= len(scene) for t in data.get("refusable", ())):
+        raise ValueError(f"case JSON is malformed at refusable: names triangles past the last ({len(scene) - 1})")
+    return Case(data["id"], scene, lattice=bool(data.get("lattice", False)), region=region,
+                closed=bool(data.get("closed", False)), refusable=tuple(data.get("refusable", ())))
+
+
+def save_case(path: Path | str, case: Case | MotionCase, **extra: Any) -> Path:
+    """Write the case as JSON (atomically: a reader never sees half a file)."""
+    path = Path(path)
+    atomic_write_text(path, json.dumps(case_to_json(case, **extra), indent=1))
+    return path
+
+
+def load_case(path: Path | str) -> Case | MotionCase:
+    """The case saved at ``path``; ValueError naming the file and what is wrong with it."""
+    return read_case_file(path)[0]
+
+
+def read_case_file(path: Path | str) -> tuple[Case | MotionCase, dict[str, Any]]:
+    """The case saved at ``path`` and the fields that ride along with it (``check``,
+    ``rasterizer``, ``message`` of a repro); ValueError naming the file and the fault."""
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ValueError(f"{path}: cannot read the case ({exc})") from None
+    except RecursionError:
+        raise ValueError(f"{path}: cannot read the case (JSON nested too deep)") from None
+    try:
+        case = case_from_json(data)
+    except ValueError as exc:
+        raise ValueError(f"{path}: {exc}") from None
+    known = {"schema", "kind", "id", "width", "height", "positions", "attributes", "w", "lattice", "region", "closed",
+             "refusable", "frames", "texels", "perspective"}
+    return case, {k: v for k, v in data.items() if k not in known}

@@ -1,0 +1,225 @@
+"""Isolation: every call of a rasterizer in a forked worker process, with a time limit.
+
+The one place where rastercheck calls a plugin. An exception (any ``BaseException``,
+``KeyboardInterrupt`` and ``SystemExit`` raised by the plugin included) becomes an
+:class:`Outcome` carrying its type, text and traceback; an exception that cannot cross
+the process boundary, or whose ``__str__`` itself raises, is carried as text. A call
+that outlives its time limit, or a worker that dies (a segfault, ``os._exit``), becomes
+an outcome too; the worker is then replaced and the caller goes on.
+
+The time limit adapts: after a few calls, a call that takes far longer than the
+rasterizer's own typical call for a scene of its size (``patience`` times the median
+rate, never below ``floor`` seconds, never above the absolute ``timeout``) counts as
+hung, so that a rasterizer that hangs is known in seconds rather than minutes.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import pickle
+import statistics
+import time
+import traceback
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from harness.api import Coverage, Rasterizer, Scene
+
+__all__ = ["Outcome", "Worker", "call_in_process", "describe", "Call"]
+
+
+@dataclass(frozen=True, slots=True)
+class Outcome:
+    """What one rasterize call gave: a coverage, or an error (with its traceback)."""
+
+    coverage: Coverage | None
+    error: BaseException | None = None
+    traceback: str = ""
+    seconds: float = 0.0
+    timed_out: bool = False
+
+
+# What the checks and probes hold: the rasterizer again, as a function of a scene.
+Call = Callable[[Scene], Outcome]
+
+
+def describe(error: BaseException | None, kind: bool = True) -> str:
+    """``Type: text`` of an exception (only its text without ``kind``), even when its
+    ``__str__`` raises.
+
+    >>> describe(ValueError("triangle 3 is huge"))
+    'ValueError: triangle 3 is huge'
+    """
+    if error is None:
+        return "no error"
+    try:
+        text = str(error)
+    except BaseException as inner:  # noqa: B036 - a plugin's __str__ may raise anything
+        text = f"<its text cannot be shown: __str__ raised {type(inner).__name__}>"
+    if not kind:
+        return text
+    return f"{type(error).__name__}: {text}" if text else type(error).__name__
+
+
+class PluginError(RuntimeError):
+    """An exception of the plugin's that could not be carried as itself (it cannot be
+    pickled or unpickled, or its text cannot be shown): its type name and text."""
+
+
+def _portable(outcome: Outcome) -> Outcome:
+    """The outcome with its exception replaced by a PluginError carrying its text when it
+    would not survive the trip to the parent process."""
+    error = outcome.error
+    if error is None:
+        return outcome
+    try:
+        str(error)
+        pickle.loads(pickle.dumps(error))
+    except BaseException:  # noqa: B036
+        error = PluginError(describe(error))
+    return Outcome(None, error, outcome.traceback, outcome.seconds)
+
+
+def call_in_process(rasterizer: Rasterizer, scene: Scene) -> Outcome:
+    """One rasterize call, in this process, with any exception captured."""
+    start = time.perf_counter()
+    try:
+        coverage = rasterizer.rasterize(scene)
+        if not isinstance(coverage, Coverage):
+            raise TypeError(f"rasterize returned {type(coverage).__name__}, not a harness.Coverage")
+    except BaseException as exc:  # noqa: B036 - a plugin's KeyboardInterrupt or SystemExit is its failure
+        try:
+            trace = traceback.format_exc()
+        except BaseException:  # noqa: B036 - formatting calls the exception's __str__
+            trace = ""
+        return Outcome(None, exc, trace, time.perf_counter() - start)
+    return Outcome(coverage, seconds=time.perf_counter() - start)
+
+
+def _serve(rasterizer: Rasterizer, conn: Any) -> None:  # pragma: no cover - runs in the child
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    while True:
+        try:
+            scene = conn.recv()
+        except (EOFError, OSError):
+            return
+        outcome = _portable(call_in_process(rasterizer, scene))
+        try:
+            conn.send(outcome)
+        except Exception:  # a coverage that cannot be pickled
+            conn.send(Outcome(None, PluginError("the rasterizer's answer cannot be sent back (it cannot be pickled)"),
+                              "", outcome.seconds))
+
+
+class Worker:
+    """A rasterizer in a forked process of its own, called with a time limit.
+
+    Parameters
+    ----------
+    rasterizer : Rasterizer
+    timeout : float
+        The absolute limit of one call, in seconds.
+    patience : float or None
+        After ``warmup`` answered calls, a call may take at most ``patience`` times the
+        median seconds per unit of work (triangles, plus screen pixels / 256) times its
+        scene's work, but never less than ``floor`` seconds; None keeps the absolute
+        limit only.
+    """
+
+    def __init__(self, rasterizer: Rasterizer, timeout: float = 60.0, *, patience: float | None = 20.0,
+                 floor: float = 2.0, warmup: int = 5) -> None:
+        self.rasterizer = rasterizer
+        self.timeout, self.patience, self.floor, self.warmup = timeout, patience, floor, warmup
+        self._rates: list[float] = []
+        self._context = multiprocessing.get_context("fork")
+        self._start()
+
+    def _start(self) -> None:
+        self._conn, child = self._context.Pipe()
+        self._process = self._context.Process(target=_serve, args=(self.rasterizer, child), daemon=True)
+        self._process.start()
+        child.close()
+
+    @staticmethod
+    def _work(scene: Scene) -> float:
+        return len(scene) + scene.width * scene.height / 256 + 1
+
+    def limit(self, scene: Scene) -> tuple[float, str]:
+        """The time limit of a call on ``scene``, and how it was set."""
+        if self.patience is None or len(self._rates) < self.warmup:
+            return self.timeout, f"{self.timeout:g} s"
+        expected = statistics.median(self._rates) * self._work(scene)
+        adaptive = max(self.floor, self.patience * expected)
+        if adaptive >= self.timeout:
+            return self.timeout, f"{self.timeout:g} s"
+        return adaptive, (f"{adaptive:.3g} s, {self.patience:g} times its typical call on a scene this size "
+                          f"(the absolute limit is {self.timeout:g} s)")
+
+    def rasterize(self, scene: Scene, timeout: float | None = None) -> Outcome:
+        """One call in the worker; ``timeout`` overrides the limit (absolute, not adaptive)."""
+        limit, said = (timeout, f"{timeout:g} s") if timeout is not None else self.limit(scene)
+        start = time.perf_counter()
+        try:
+            self._conn.send(scene)
+            if self._conn.poll(limit):
+                try:
+                    outcome: Outcome = self._conn.recv()
+                except (EOFError, OSError):
+                    raise
+                except Exception as exc:  # the answer arrived whole but cannot be unpickled
+                    return Outcome(None, PluginError(f"the rasterizer's answer cannot be read back ({describe(exc)})"),
+                                   "", time.perf_counter() - start)
+                if outcome.coverage is not None:
+                    self._rates.append(outcome.seconds / self._work(scene))
+                return outcome
+        except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
+            self._process.join(1)
+            code = self._process.exitcode
+            self.close()
+            self._start()
+            return Outcome(None, RuntimeError(f"the rasterizer's worker process died (exit code {code})"), "",
+                           time.perf_counter() - start)
+        self.close()
+        self._start()
+        return Outcome(None, TimeoutError(f"no answer within {said}"), "", limit, timed_out=True)
+
+    def __call__(self, scene: Scene) -> Outcome:
+        return self.rasterize(scene)
+
+    def close(self) -> None:
+        if self._process.is_alive():
+            self._process.kill()
+        self._process.join(5)
+        self._conn.close()
+
+    def __enter__(self) -> Worker:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+class InProcess:
+    """The rasterizer called in this process (no isolation, no time limit), for debugging;
+    the same interface as :class:`Worker`."""
+
+    def __init__(self, rasterizer: Rasterizer) -> None:
+        self.rasterizer = rasterizer
+
+    def rasterize(self, scene: Scene, timeout: float | None = None) -> Outcome:
+        return call_in_process(self.rasterizer, scene)
+
+    def __call__(self, scene: Scene) -> Outcome:
+        return self.rasterize(scene)
+
+    def close(self) -> None:
+        pass
+
+    def __enter__(self) -> InProcess:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        pass
