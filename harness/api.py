@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from harness.conventions import Convention
-from harness.spans import expand, pixel_offsets, run_tails, span_buffers
+from harness.spans import expand, pixel_offsets, run_tails, span_buffers, tidy
 
 __all__ = ["Scene", "Coverage", "Convention", "Rasterizer", "span_buffers", "interpolates_of", "received_of", "fingerprint_of"]
 
@@ -326,6 +326,43 @@ class Coverage:
         )
         return np.cumsum(delta.reshape(height, stride), axis=1)[:, :width].astype(np.int32)
 
+    def tidy(self, scene: Scene) -> tuple[Coverage, dict[str, NDArray[np.int64]]]:
+        """What the checks may safely use of this coverage, and what was wrong with it.
+
+        Works span by span, never pixel by pixel, so that a garbage answer (a span of
+        10**8 pixels, a million copies of one span, spans far off-screen) costs time and
+        memory in proportion to its number of spans, not to the pixels it claims. Keeps
+        the pixels that can belong to their triangle: inside the viewport and within the
+        triangle's bounding box grown by 2 px (the reach of any sample point in the pixel
+        plus any snapping of a vertex by up to 1 px), each emitted once per triangle.
+
+        Returns
+        -------
+        usable : Coverage
+            ``self`` when nothing was wrong; else the kept spans, with the attribute rows
+            of the kept pixels when there was one row per pixel (else none).
+        flaws : dict of str -> (n,) int64
+            Indices of offending spans: ``bad_triangle_id``, ``empty_or_reversed``,
+            ``outside_viewport``, ``outside_triangle``, ``repeated``
+            (see :func:`harness.spans.tidy`), all empty when ``usable is self``; and
+            ``repeated_pixels``, one number: the pixels emitted a second time.
+        """
+        bounds = _pixel_bounds(scene)
+        keep, start, flaws, repeated_pixels = tidy(self.triangle, self.y, self.x0, self.x1, len(scene), bounds)
+        t, y, x0, x1 = self.triangle, self.y, self.x0, self.x1
+        outside = (y < 0) | (y >= scene.height) | (x0 < 0) | (x1 > scene.width)
+        flaws["outside_viewport"] = np.flatnonzero(outside & (x0 < x1))
+        flaws["outside_triangle"] = np.setdiff1d(flaws["outside_triangle"], flaws["outside_viewport"])
+        flaws["repeated_pixels"] = np.array([repeated_pixels], dtype=np.int64)
+        if not any(v.size for k, v in flaws.items() if k != "repeated_pixels"):
+            return self, flaws
+        end = np.minimum(x1[keep], bounds[t[keep], 2] + 1) if keep.size else np.zeros(0, dtype=np.int64)
+        attributes = None
+        if self.attributes is not None and self.attributes.shape[0] == self.n_pixels:
+            first = pixel_offsets(x0, x1)[keep] + (start - x0[keep])
+            attributes = self.attributes[expand(first, end - start)]
+        return Coverage(t[keep], y[keep], start, end, attributes), flaws
+
     def canonical(self) -> Coverage:
         """The same fragments in canonical form: spans sorted by (triangle, y, x0), empty
         spans dropped, touching spans of one triangle and row merged. Overlapping spans
@@ -400,6 +437,24 @@ class Rasterizer(Protocol):
     def rasterize(self, scene: Scene) -> Coverage:
         """Cover the scene's triangles; attributes interpolated when the scene has them."""
         ...
+
+
+def _pixel_bounds(scene: Scene) -> NDArray[np.int64]:
+    """(N, 4) int64: per triangle the pixels ``xmin, ymin, xmax, ymax`` (inclusive) any of
+    its fragments may lie in under any convention: its bounding box grown by 2 px, clipped
+    to the viewport (the whole viewport for a triangle with a NaN or infinite coordinate)."""
+    p = scene.positions
+    out = np.empty((len(scene), 4), dtype=np.int64)
+    finite: NDArray[np.bool_] = np.asarray(np.isfinite(p).all(axis=(1, 2)))
+    q = np.where(np.isfinite(p), p, 0.0)
+    lo = np.clip(q.min(axis=1, initial=np.inf), -4.0, [scene.width + 4.0, scene.height + 4.0])
+    hi = np.clip(q.max(axis=1, initial=-np.inf), -4.0, [scene.width + 4.0, scene.height + 4.0])
+    out[:, 0:2] = np.where(finite[:, None], np.floor(lo) - 2, 0)
+    out[:, 2:4] = np.where(finite[:, None], np.ceil(hi) + 2, [scene.width - 1, scene.height - 1])
+    out[:, 0:2] = np.maximum(out[:, 0:2], 0)
+    out[:, 2] = np.minimum(out[:, 2], scene.width - 1)
+    out[:, 3] = np.minimum(out[:, 3], scene.height - 1)
+    return out
 
 
 # The optional members of a Rasterizer, each read in one place.

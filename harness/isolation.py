@@ -31,13 +31,30 @@ __all__ = ["Outcome", "Worker", "call_in_process", "describe", "Call"]
 
 @dataclass(frozen=True, slots=True)
 class Outcome:
-    """What one rasterize call gave: a coverage, or an error (with its traceback)."""
+    """What one rasterize call gave: a coverage, or an error (with its traceback).
+
+    ``coverage`` is always safe to expand into pixels (:meth:`Coverage.tidy`: spans
+    clipped to the viewport and to their triangle's reach, no pixel twice); when the
+    rasterizer's own answer was malformed, ``received`` holds it as it came and ``flaws``
+    the offending spans by kind (the hygiene check reports them).
+    """
 
     coverage: Coverage | None
     error: BaseException | None = None
     traceback: str = ""
     seconds: float = 0.0
     timed_out: bool = False
+    received: Coverage | None = None
+    flaws: dict[str, Any] | None = None
+
+
+def _tidied(outcome: Outcome, scene: Scene) -> Outcome:
+    if outcome.coverage is None:
+        return outcome
+    usable, flaws = outcome.coverage.tidy(scene)
+    if usable is outcome.coverage:
+        return outcome
+    return Outcome(usable, seconds=outcome.seconds, received=outcome.coverage, flaws=flaws)
 
 
 # What the checks and probes hold: the rasterizer again, as a function of a scene.
@@ -174,7 +191,7 @@ class Worker:
                                    "", time.perf_counter() - start)
                 if outcome.coverage is not None:
                     self._rates.append(outcome.seconds / self._work(scene))
-                return outcome
+                return _tidied(outcome, scene)
         except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
             self._process.join(1)
             code = self._process.exitcode
@@ -210,7 +227,7 @@ class InProcess:
         self.rasterizer = rasterizer
 
     def rasterize(self, scene: Scene, timeout: float | None = None) -> Outcome:
-        return call_in_process(self.rasterizer, scene)
+        return _tidied(call_in_process(self.rasterizer, scene), scene)
 
     def __call__(self, scene: Scene) -> Outcome:
         return self.rasterize(scene)

@@ -48,7 +48,8 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
             return [replace(refused, rasterizer=name)]
         return [_error(case, name, outcome)]
     coverage = outcome.coverage
-    subject = checks.Subject(case, name, convention, [coverage], call, tolerance, interpolates_of(rasterizer), outcome.seconds)
+    subject = checks.Subject(case, name, convention, [coverage], call, tolerance, interpolates_of(rasterizer), outcome.seconds,
+                             received=[outcome.received if outcome.received is not None else coverage])
     results = [check.verdict(subject) for check in checks.checks(case, only)
                if invariance or check.name != "invariance"]
     for i, r in enumerate(results):

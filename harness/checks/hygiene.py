@@ -5,7 +5,6 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
 from harness.case import Case
 from harness.api import Coverage
@@ -15,25 +14,23 @@ __all__ = ["hygiene"]
 
 
 def hygiene(case: Case, coverage: Coverage, interpolates: bool = True) -> Result:
-    """Spans inside the viewport, valid triangle ids, ``x0 < x1``, no pixel emitted twice by
-    one triangle, one attribute row per pixel (when the scene has attributes and the
-    rasterizer interpolates; one that declares ``interpolates = False`` may return none)."""
+    """Spans inside the viewport and within their triangle's reach, valid triangle ids,
+    ``x0 < x1``, no pixel emitted twice by one triangle, one finite attribute row per
+    pixel (when the scene has attributes and the rasterizer interpolates; one that
+    declares ``interpolates = False`` may return none).
+
+    Judged span by span (:meth:`Coverage.tidy`), so a garbage answer costs time in
+    proportion to its spans, not to the pixels it claims."""
     scene = case.scene
+    _, flaws = coverage.tidy(scene)
     t, y, x0, x1 = coverage.triangle, coverage.y, coverage.x0, coverage.x1
-    problems: dict[str, NDArray] = {
-        "outside_viewport": np.flatnonzero((y < 0) | (y >= scene.height) | (x0 < 0) | (x1 > scene.width)),
-        "bad_triangle_id": np.flatnonzero((t < 0) | (t >= len(scene))),
-        "empty_or_reversed": np.flatnonzero(x0 >= x1),
-    }
-    tri, x, yy = coverage.pixels()
-    order = np.lexsort((x, yy, tri))
-    same = (np.diff(tri[order]) == 0) & (np.diff(yy[order]) == 0) & (np.diff(x[order]) == 0)
-    repeated = order[1:][same]
-    metrics = {k: float(v.size) for k, v in problems.items()}
-    metrics["repeated_pixels"] = float(repeated.size)
-    evidence: dict[str, Any] = {k: first(v) for k, v in problems.items() if v.size}
-    if repeated.size:
-        evidence["repeated_pixels"] = np.stack([tri[repeated], x[repeated], yy[repeated]], axis=1)[:EVIDENCE_LIMIT].tolist()
+    kinds = ("outside_viewport", "outside_triangle", "bad_triangle_id", "empty_or_reversed")
+    metrics = {k: float(flaws[k].size) for k in kinds}
+    metrics["repeated_pixels"] = float(flaws["repeated_pixels"][0])
+    evidence: dict[str, Any] = {k: first(flaws[k]) for k in kinds if flaws[k].size}
+    if flaws["repeated"].size:
+        shown = flaws["repeated"][:EVIDENCE_LIMIT]
+        evidence["repeated_spans"] = np.stack([t[shown], y[shown], x0[shown], x1[shown]], axis=1).tolist()
     attribute_problem = ""
     if scene.attributes is not None and (interpolates or coverage.attributes is not None):
         rows = None if coverage.attributes is None else coverage.attributes.shape[0]
@@ -41,6 +38,9 @@ def hygiene(case: Case, coverage: Coverage, interpolates: bool = True) -> Result
             attribute_problem = f"{rows} attribute rows for {coverage.n_pixels} pixels"
         elif coverage.attributes.shape[1] != scene.n_attributes:
             attribute_problem = f"{coverage.attributes.shape[1]} attributes per pixel, the scene has {scene.n_attributes}"
+        elif not np.isfinite(coverage.attributes).all() and np.isfinite(scene.attributes).all():
+            bad = int((~np.isfinite(coverage.attributes)).any(axis=1).sum())
+            attribute_problem = f"{bad} pixels with NaN or infinite attributes, from finite vertex attributes"
     parts = [f"{int(v)} {k.replace('_', ' ')}" for k, v in metrics.items() if v]
     if attribute_problem:
         parts.append(attribute_problem)
@@ -54,6 +54,7 @@ def _is_static(case: Any) -> bool:
 
 
 register(Check(
-    "hygiene", lambda s: hygiene(s.case, s.coverage, s.interpolates), _is_static, shrinks=True,
-    caption="spans inside the viewport, valid triangle ids, x0 < x1, no pixel twice per triangle, one attribute row per pixel",
+    "hygiene", lambda s: hygiene(s.case, s.received[0], s.interpolates), _is_static, shrinks=True,
+    caption="spans inside the viewport and their triangle's reach, valid triangle ids, x0 < x1, no pixel twice per triangle, "
+            "one finite attribute row per pixel",
 ))

@@ -202,7 +202,7 @@ def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Covera
         for k in np.flatnonzero(bad)[: max(0, EVIDENCE_LIMIT - len(examples))]:
             examples.append({"frame": f, "triangle": int(keys[k, 0]), "x": int(keys[k, 1]), "y": int(keys[k, 2]),
                              "texel": texel_got[k].tolist(), "exact": texel_want[k].tolist()})
-        for k in range(len(keys)):
+        for k in np.flatnonzero(finite):  # a NaN or infinite u, v has no texel to track (counted above)
             tracks.setdefault((int(keys[k, 0]), int(keys[k, 1]), int(keys[k, 2])), []).append(
                 (f, int(texel_got[k, 0]), int(texel_got[k, 1]), int(texel_want[k, 0]), int(texel_want[k, 1])))
     backward = []

@@ -118,13 +118,18 @@ class Subject:
         False when the rasterizer says it returns coverage only.
     seconds : float
         How long the (first) call took.
+    received : list of Coverage, optional
+        The answers as the rasterizer gave them, when they differ from ``coverages``
+        (which are tidied: see :meth:`Coverage.tidy`); the hygiene check judges these.
     """
 
     def __init__(self, case: Any, rasterizer: str, convention: Convention | None, coverages: list[Coverage],
-                 call: Callable[[Scene], Any], tolerance: Tolerance, interpolates: bool = True, seconds: float = 0.0) -> None:
+                 call: Callable[[Scene], Any], tolerance: Tolerance, interpolates: bool = True, seconds: float = 0.0,
+                 received: list[Coverage] | None = None) -> None:
         self.case, self.rasterizer, self.convention = case, rasterizer, convention
         self.coverages, self.call, self.tolerance = coverages, call, tolerance
         self.interpolates, self.seconds = interpolates, seconds
+        self.received = received if received is not None else coverages
 
     @property
     def coverage(self) -> Coverage:

@@ -1,0 +1,73 @@
+"""Hostile plugins (issue 13): garbage answers cost time and memory in proportion to their
+spans, faults of every kind end in an error naming them, and the run goes on."""
+
+import subprocess
+import sys
+
+import pytest
+
+from cases.suites import suite
+from harness import run_suite
+from tests.known_bad.hostile import (
+    HOSTILE, ExitsWithSystemExit, FarAway, HugeSpan, MillionCopies, NaNEverywhere, RaisesKeyboardInterrupt,
+    RaisesUnpicklable, RaisesUnprintable,
+)
+
+
+def _cases():
+    wanted = ("lattice/bits-0", "watertight/fan-32/centre")
+    return [c for c in suite("quick") if c.id in wanted] + [c for c in suite("quick") if c.family == "motion"][:1]
+
+
+@pytest.mark.parametrize("bad", [HugeSpan, MillionCopies, FarAway])
+def test_garbage_spans_fail_hygiene_naming_the_fault(bad):
+    results = run_suite([bad()], cases=_cases()[:2], repros=False)
+    hygiene = [r for r in results if r.check == "hygiene"]
+    assert hygiene and all(r.status == "fail" for r in hygiene)
+    said = " ".join(r.message for r in hygiene)
+    assert {"HugeSpan": "outside viewport", "MillionCopies": "repeated pixels", "FarAway": "outside viewport"}[bad.__name__] in said
+    assert all(r.status in ("pass", "fail", "skip") for r in results), [r.message for r in results if r.status == "error"]
+
+
+@pytest.mark.parametrize("bad, words", [
+    (RaisesUnpicklable, "_Unpicklable: 1, 2"),
+    (RaisesUnprintable, "__str__ raised RuntimeError"),
+    (RaisesKeyboardInterrupt, "KeyboardInterrupt"),
+    (ExitsWithSystemExit, "SystemExit"),
+])
+def test_every_fault_is_an_error_naming_it_and_the_run_goes_on(bad, words):
+    results = run_suite([bad(), "centre_scanline"], cases=_cases(), repros=False)
+    mine = [r for r in results if r.rasterizer == bad.__name__]
+    assert mine and all(r.status == "error" and words in r.message for r in mine), [r.message for r in mine]
+    others = [r for r in results if r.rasterizer == "centre_scanline"]
+    assert others and all(r.status in ("pass", "skip") for r in others)
+
+
+def test_nan_attributes_fail_hygiene_and_the_motion_checks_without_crashing():
+    results = run_suite([NaNEverywhere()], cases=[c for c in suite("quick") if c.family == "motion" and c.texels][:2]
+                        + [c for c in suite("quick") if c.id == "mesh/box/near-clipped"], repros=False)
+    assert not [r for r in results if r.status == "error"], [r.message for r in results if r.status == "error"]
+    hygiene = [r for r in results if r.check == "hygiene"]
+    assert hygiene and "NaN or infinite attributes" in hygiene[0].message
+    assert any(r.check == "texel" and r.status == "fail" for r in results)
+
+
+def test_a_million_copies_of_a_span_cost_bounded_memory():
+    """Measured in a fresh process: peak memory stays far below what expanding 10**6 spans
+    into pixels would take, and the run ends (the reported fault: 16 GB past 300 s)."""
+    code = (
+        "import resource\n"
+        "from cases.suites import suite\n"
+        "from harness import run_suite\n"
+        "from tests.known_bad.hostile import MillionCopies, HugeSpan\n"
+        "cases = [c for c in suite('quick') if c.id == 'watertight/fan-32/centre']\n"
+        "before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+        "run_suite([MillionCopies(), HugeSpan()], cases=cases, isolate=False, identify=False)\n"
+        "print((resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) // 1024)\n"
+    )
+    grown = int(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=600).stdout.split()[-1])
+    assert grown < 1500, f"{grown} MiB"
+
+
+def test_hostile_catalogue_is_complete():
+    assert len(HOSTILE) == 8
