@@ -27,6 +27,11 @@ def _real_array(value: ArrayLike, field: str, owner: str) -> NDArray[np.float64]
     array = np.asarray(value)
     if array.dtype.kind not in "biuf":
         raise ValueError(f"{owner}.{field} must hold real numbers, not dtype {array.dtype}")
+    if array.dtype.kind in "iu" and bool(np.any(array > 2**53) or np.any(array < -(2**53))):
+        # float64 holds every integer up to 2**53 exactly and rounds past it: refuse rather
+        # than test a scene other than the one given
+        raise ValueError(f"{owner}.{field} holds integers beyond 2**53, which float64 cannot hold exactly; "
+                         "give them as floats if the rounding is meant")
     array = np.array(array, dtype=np.float64, copy=True)
     array.setflags(write=False)
     return array

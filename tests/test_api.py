@@ -86,3 +86,36 @@ def test_equality_distinguishes():
     assert a != Coverage([0], [1], [2], [6])
     assert a != Coverage([1], [1], [2], [5])
     assert Coverage([0], [0], [0], [1], np.zeros((1, 1))) != Coverage([0], [0], [0], [1], np.ones((1, 1)))
+
+
+def test_integers_past_2_53_are_refused_not_rounded():
+    with pytest.raises(ValueError, match="beyond 2\\*\\*53"):
+        Scene(8, 8, np.array([[[2**53 + 1, 0], [4, 0], [0, 4]]], dtype=np.int64))
+    assert Scene(8, 8, np.array([[[2**53, 0], [4, 0], [0, 4]]], dtype=np.int64)).positions[0, 0, 0] == 2.0**53
+
+
+span_lists = st.lists(st.tuples(st.integers(-2, 3), st.integers(-3, 12), st.integers(-5, 14), st.integers(-5, 14)), max_size=40)
+
+
+@given(span_lists, st.lists(st.floats(-3, 13, allow_nan=False), min_size=6, max_size=6))
+def test_tidy_keeps_exactly_the_first_emission_of_each_pixel_within_reach(spans, corners):
+    """Against a pixel-by-pixel reference: a pixel is kept once per triangle when its
+    triangle id is valid and it lies in the viewport and in the triangle's grown box."""
+    scene = Scene(10, 9, [np.array(corners).reshape(3, 2), [[1, 1], [2, 1], [1, 2]]])
+    arr = np.array(spans, dtype=np.int64).reshape(-1, 4)
+    cov = Coverage(arr[:, 0], arr[:, 1], arr[:, 2], arr[:, 3], np.arange(max(int(np.maximum(arr[:, 3] - arr[:, 2], 0).sum()), 0))[:, None].astype(float))
+    usable, flaws = cov.tidy(scene)
+    box = [(np.floor(scene.positions[t].min(axis=0)) - 2, np.ceil(scene.positions[t].max(axis=0)) + 2) for t in range(2)]
+    want: dict = {}
+    row = 0
+    for t, y, x0, x1 in arr.tolist():
+        for x in range(x0, x1):
+            reach = 0 <= t < 2 and box[t][0][0] <= x <= box[t][1][0] and box[t][0][1] <= y <= box[t][1][1]
+            if reach and 0 <= x < 10 and 0 <= y < 9:
+                want.setdefault((t, x, y), float(row))
+            row += 1
+    tri, x, y = usable.pixels()
+    got = dict(zip(zip(tri.tolist(), x.tolist(), y.tolist()), usable.attributes[:, 0].tolist()))
+    assert got == want and len(tri) == len(want)  # each pixel once, with its first attribute row
+    clean = not any(v.size for k, v in flaws.items() if k != "repeated_pixels")
+    assert (usable is cov) == clean
