@@ -26,7 +26,7 @@ from typing import Any
 
 from harness.api import Coverage, Rasterizer, Scene
 
-__all__ = ["Outcome", "Worker", "call_in_process", "describe", "Call"]
+__all__ = ["Outcome", "Worker", "InProcess", "call_in_process", "describe", "span_limit", "Call", "PluginError"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -98,13 +98,23 @@ def _portable(outcome: Outcome) -> Outcome:
     return Outcome(None, error, outcome.traceback, outcome.seconds)
 
 
+def span_limit(scene: Scene) -> int:
+    """The most spans an answer may hold: a triangle is convex, so it needs at most one
+    span per row (16 allowed, for one per sample of a 16x multisample pattern)."""
+    return 16 * (len(scene) + 1) * scene.height + 1024
+
+
 def call_in_process(rasterizer: Rasterizer, scene: Scene) -> Outcome:
-    """One rasterize call, in this process, with any exception captured."""
+    """One rasterize call, in this process, with any exception captured. An answer of
+    more spans than :func:`span_limit` is refused at once, with its size."""
     start = time.perf_counter()
     try:
         coverage = rasterizer.rasterize(scene)
         if not isinstance(coverage, Coverage):
             raise TypeError(f"rasterize returned {type(coverage).__name__}, not a harness.Coverage")
+        if len(coverage) > span_limit(scene):
+            raise PluginError(f"refused an answer of {len(coverage):,} spans: {len(scene):,} triangles on {scene.height:,} "
+                              f"rows need at most {len(scene) * scene.height:,}")
     except BaseException as exc:  # noqa: B036 - a plugin's KeyboardInterrupt or SystemExit is its failure
         try:
             trace = traceback.format_exc()

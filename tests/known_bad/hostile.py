@@ -27,18 +27,26 @@ class HugeSpan(_Base):
         return Coverage(np.arange(n), np.full(n, scene.height // 2), np.zeros(n, np.int64), np.full(n, 10**8))
 
 
-class MillionCopies(_Base):
-    """The correct answer, plus a million copies of its first span."""
+class Copies(_Base):
+    """The correct answer, plus ``copies`` copies of its first span."""
+
+    copies = 1000
 
     def rasterize(self, scene: Scene) -> Coverage:
         right = PinedaTopLeft().rasterize(scene)
         if len(right) == 0:
             return right
-        k = 10**6
+        k = self.copies
         return Coverage(np.concatenate([right.triangle, np.repeat(right.triangle[:1], k)]),
                         np.concatenate([right.y, np.repeat(right.y[:1], k)]),
                         np.concatenate([right.x0, np.repeat(right.x0[:1], k)]),
                         np.concatenate([right.x1, np.repeat(right.x1[:1], k)]))
+
+
+class MillionCopies(Copies):
+    """A million copies: more spans than any answer could need."""
+
+    copies = 10**6
 
 
 class FarAway(_Base):
@@ -91,5 +99,5 @@ class NaNEverywhere(_Base):
         return Coverage(right.triangle, right.y, right.x0, right.x1, np.full(right.attributes.shape, np.nan))
 
 
-HOSTILE = (HugeSpan, MillionCopies, FarAway, RaisesUnpicklable, RaisesUnprintable, RaisesKeyboardInterrupt,
+HOSTILE = (HugeSpan, Copies, MillionCopies, FarAway, RaisesUnpicklable, RaisesUnprintable, RaisesKeyboardInterrupt,
            ExitsWithSystemExit, NaNEverywhere)
