@@ -12,7 +12,7 @@ import json
 import os
 import sys
 import time
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor, TimeoutError
 from pathlib import Path
 from typing import Any
 
@@ -44,14 +44,102 @@ def _quiet() -> bool:
     return bool(os.environ.get("CI")) or not sys.stderr.isatty()
 
 
+def _prepare_outputs(args: argparse.Namespace) -> None:
+    """Every output path checked (and its folder created) before any work starts: a
+    mistyped path costs a one-line error now, not a traceback after the whole suite."""
+    from harness.files import prepare_file, prepare_folder
+
+    try:
+        prepare_folder(args.out, "--out")
+        for option in ("json", "junit"):
+            if getattr(args, option, None):
+                prepare_file(getattr(args, option), f"--{option}")
+        if getattr(args, "baseline", None) and getattr(args, "update_baseline", False):
+            prepare_file(args.baseline, "--baseline")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def _skip_list(path: str) -> list[tuple[str, str]]:
+    """A skip list: one ``GLOB  # reason`` per line (a case id glob, optionally
+    ``rasterizer:case-glob``); blank lines and lines starting with # are ignored."""
+    try:
+        lines = Path(path).read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise UsageError(f"--skip {path}: cannot read it ({exc})") from None
+    out = []
+    for number, line in enumerate(lines, 1):
+        pattern, _, reason = line.partition("#")
+        pattern = pattern.strip()
+        if not pattern:
+            continue
+        if len(pattern.split()) != 1:
+            raise UsageError(f"--skip {path}, line {number}: one glob per line, then '# reason' ({line.strip()!r})")
+        out.append((pattern, reason.strip() or "listed in " + path))
+    return out
+
+
+def _select_cases(args: argparse.Namespace, cases: list[Any]) -> list[Any]:
+    """The cases of ``--case`` globs and the ``--shard K/N`` share (every N-th case from
+    the K-th, in suite order: the shards partition the run exactly)."""
+    import fnmatch
+
+    if getattr(args, "case", None):
+        cases = [c for c in cases if any(fnmatch.fnmatchcase(c.id, g) for g in args.case)]
+        if not cases:
+            raise UsageError(f"--case {' '.join(args.case)}: no case of the suite matches")
+    if getattr(args, "shard", None):
+        k, n = args.shard
+        cases = cases[k - 1::n]
+    return cases
+
+
+def _shard(text: str) -> tuple[int, int]:
+    """``K/N`` with 1 <= K <= N."""
+    k, _, n = text.partition("/")
+    try:
+        kk, nn = int(k), int(n)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected K/N (e.g. 2/4), not {text!r}") from None
+    if not 1 <= kk <= nn:
+        raise argparse.ArgumentTypeError(f"expected K/N with 1 <= K <= N, not {text!r}")
+    return kk, nn
+
+
+class Interrupted(Exception):
+    """Ctrl-C during a run: what finished is kept."""
+
+    def __init__(self, rasterizers: list[Any], results: list[Any], seconds: float, fingerprints: dict[str, Any]) -> None:
+        super().__init__("interrupted")
+        self.partial = (rasterizers, results, seconds, fingerprints)
+
+
 def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float, dict[str, dict[str, Any]]]:
-    """Run the selected rasterizers over the suite, in parallel with --jobs, with a
-    progress bar on a terminal. Returns (rasterizers, results, seconds, fingerprints)."""
+    """Run the selected rasterizers over the suite, side by side with --jobs, showing
+    progress (a bar on a terminal, a plain line every 30 s in CI). Ctrl-C raises
+    :class:`Interrupted` carrying what finished. Returns (rasterizers, results,
+    seconds, fingerprints)."""
+    import fnmatch
+    import threading
+
     from cases.suites import suite
+    from harness.checks import Result, check_names
+    from harness.isolation import kill_all
+    from harness.registry import distinct_names
     from harness.runner import run_suite
 
-    from harness.registry import distinct_names
-
+    _prepare_outputs(args)
+    only = None
+    if getattr(args, "check", None):
+        unknown = sorted(set(args.check) - set(check_names()) - {"overdraw"})
+        if unknown:
+            raise UsageError(f"--check {', '.join(unknown)}: no such check (checks: {', '.join(check_names())})")
+        only = {*args.check, "hygiene"} if "hygiene" in args.check else set(args.check)
+    skips = _skip_list(args.skip) if getattr(args, "skip", None) else []
+    try:
+        cases = _select_cases(args, suite(args.suite, args.seed))
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     rasterizers, problems = _load_all(args.rasterizer)
     if not rasterizers:
         raise UsageError("no rasterizer could be loaded: nothing was checked"
@@ -61,13 +149,18 @@ def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float, dic
         print(f"skipped plugin: {problem}", file=sys.stderr)
     from harness.identify import identify_all
 
-    rasterizers, fingerprints = identify_all(rasterizers, args.seed, everyone=not getattr(args, "no_fingerprints", False),
-                                             call_timeout=args.timeout, report=lambda line: print(line, file=sys.stderr))
-    try:
-        cases = suite(args.suite, args.seed)
-    except ValueError as exc:
-        raise UsageError(str(exc)) from None
     start = time.perf_counter()
+    try:
+        rasterizers, fingerprints = identify_all(rasterizers, args.seed, everyone=not getattr(args, "no_fingerprints", False),
+                                                 call_timeout=args.timeout, report=lambda line: print(line, file=sys.stderr))
+    except KeyboardInterrupt:
+        kill_all()
+        raise Interrupted(rasterizers, [], time.perf_counter() - start, {}) from None
+    budget = getattr(args, "max_seconds", None)
+    deadline = time.monotonic() + budget if budget else None
+    stop = threading.Event()
+    collected: list[Any] = []
+    lock = threading.Lock()
     progress = None
     if not _quiet():
         from rich.progress import Progress
@@ -78,24 +171,67 @@ def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float, dic
     seen: dict[str, set[str]] = {r.name: set() for r in rasterizers}
 
     def tick(result: Any) -> None:
-        task = tasks[result.rasterizer]
-        if progress is not None and task is not None and result.case not in seen[result.rasterizer]:
-            seen[result.rasterizer].add(result.case)
-            progress.advance(task)
+        with lock:
+            collected.append(result)
+            task = tasks[result.rasterizer]
+            if result.case not in seen[result.rasterizer]:
+                seen[result.rasterizer].add(result.case)
+                if progress is not None and task is not None:
+                    progress.advance(task)
 
-    def one(r: Any) -> list[Any]:
-        return run_suite([r], cases=cases, timeout=args.timeout, on_result=tick)
+    def skipped(r: Any) -> tuple[list[Any], list[Any]]:
+        """The cases this rasterizer runs, and a skip result for each one the list names."""
+        keep, out = [], []
+        for case in cases:
+            reason = next((why for glob, why in skips
+                           if fnmatch.fnmatchcase(case.id, glob) or fnmatch.fnmatchcase(f"{r.name}:{case.id}", glob)), None)
+            if reason is None:
+                keep.append(case)
+            else:
+                out.append(Result(r.name, case.id, "run", "skip", f"skipped: {reason}"))
+        return keep, out
 
+    def one(r: Any) -> None:
+        mine, skips_of_r = skipped(r)
+        for result in skips_of_r:
+            tick(result)
+        run_suite([r], cases=mine, timeout=args.timeout, on_result=tick, identify=False, only=only,
+                  rerun=getattr(args, "rerun", 0), stop=stop, deadline=deadline)
+
+    def report_progress() -> None:
+        while not finished.wait(30.0):
+            with lock:
+                done = sum(len(s) for s in seen.values())
+                failing = sum(x.status in ("fail", "error") for x in collected)
+            print(f"progress: {done}/{len(cases) * len(rasterizers)} cases, {failing} failing results, "
+                  f"{time.perf_counter() - start:.0f} s", file=sys.stderr, flush=True)
+
+    finished = threading.Event()
+    if progress is None:
+        threading.Thread(target=report_progress, daemon=True).start()
+    pool = ThreadPoolExecutor(max_workers=args.jobs)
     try:
-        if args.jobs <= 1:
-            per_rasterizer = [one(r) for r in rasterizers]
-        else:
-            with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-                per_rasterizer = list(pool.map(one, rasterizers))
+        futures = [pool.submit(one, r) for r in rasterizers]
+        for future in futures:
+            while True:
+                try:
+                    future.result(timeout=0.2)
+                    break
+                except TimeoutError:
+                    continue
+    except KeyboardInterrupt:
+        stop.set()
+        kill_all()
+        pool.shutdown(wait=True, cancel_futures=True)
+        with lock:
+            raise Interrupted(rasterizers, list(collected), time.perf_counter() - start, fingerprints) from None
     finally:
+        finished.set()
+        pool.shutdown(wait=False)
         if progress is not None:
             progress.stop()
-    results = [r for chunk in per_rasterizer for r in chunk]
+    order = {r.name: k for k, r in enumerate(rasterizers)}
+    results = sorted(collected, key=lambda x: order.get(x.rasterizer, len(order)))  # stable: per rasterizer, in run order
     return rasterizers, results, time.perf_counter() - start, fingerprints
 
 
@@ -110,7 +246,7 @@ def _kind(r: Any) -> str:
 
 
 def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: list[Any], seconds: float,
-                   fingerprints: dict[str, dict[str, Any]]) -> None:
+                   fingerprints: dict[str, dict[str, Any]], quiet: bool = False) -> None:
     from harness.api import fingerprint_of
     from harness.output import write_json, write_junit
     from harness.report import write_report
@@ -123,7 +259,8 @@ def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: li
     kinds = {r.name: _kind(r) for r in rasterizers}
     path = write_report(out, conventions, results, args.seed, args.suite, seconds,
                         fingerprints=fingerprints, declared=declared, kinds=kinds)
-    print(f"report: {path}" + (f"; {written} minimal repros in {out / 'repros'}" if written else ""))
+    if not quiet:
+        print(f"report: {path}" + (f"; {written} minimal repros in {out / 'repros'}" if written else ""))
     if args.json:
         write_json(args.json, results, args.suite, args.seed, conventions, fingerprints)
     if args.junit:
@@ -147,8 +284,22 @@ def _summary(rasterizers: list[Any], results: list[Any]) -> None:
         print(f"{r.name:<22} {len(mine) - bad}/{len(mine)} pass or skip" + (f", {bad} failing" if bad else ""))
 
 
+def _interrupted(args: argparse.Namespace, stopped: Interrupted) -> int:
+    """Ctrl-C: the partial report and JSON of what finished, one line, exit 130."""
+    rasterizers, results, seconds, fingerprints = stopped.partial
+    if results:
+        _write_outputs(args, rasterizers, results, seconds, fingerprints, quiet=True)
+    print(f"rastercheck: interrupted after {seconds:.0f} s; "
+          + (f"the partial report of {len(results)} results is in {args.out}" if results else "nothing had finished"),
+          file=sys.stderr)
+    return 130
+
+
 def _run(args: argparse.Namespace) -> int:
-    rasterizers, results, seconds, fingerprints = _execute(args)
+    try:
+        rasterizers, results, seconds, fingerprints = _execute(args)
+    except Interrupted as stopped:
+        return _interrupted(args, stopped)
     _summary(rasterizers, results)
     _write_outputs(args, rasterizers, results, seconds, fingerprints)
     return 1 if any(x.status in ("fail", "error") for x in results) else 0
@@ -295,6 +446,17 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def _non_negative_int(text: str) -> int:
+    """A whole number >= 0 (``--rerun``)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, not {text!r}")
+    return value
+
+
 def _finite(text: str, zero_allowed: bool) -> float:
     """A finite number > 0 (>= 0 with ``zero_allowed``), else a usage error naming it."""
     wanted = ">= 0" if zero_allowed else "> 0"
@@ -329,6 +491,14 @@ def _selection(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--junit", metavar="FILE", help="also write JUnit XML")
     parser.add_argument("--no-fingerprints", action="store_true",
                         help="identify only rasterizers that declare no convention (faster; no side-by-side fingerprints)")
+    parser.add_argument("--case", action="append", metavar="GLOB", help="only cases whose id matches (repeatable)")
+    parser.add_argument("--check", action="append", metavar="NAME", help="only this check (repeatable)")
+    parser.add_argument("--skip", metavar="FILE", help="a skip list: 'GLOB  # reason' per line; skipped cases are reported")
+    parser.add_argument("--shard", type=_shard, metavar="K/N", help="run the K-th of N disjoint shares of the cases")
+    parser.add_argument("--rerun", type=_non_negative_int, default=0, metavar="N",
+                        help="rerun each failing check N times; one that changes is reported as flaky")
+    parser.add_argument("--max-seconds", type=_positive_seconds, metavar="S",
+                        help="a budget for the whole run: cases not started by then are errors ('not run')")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -7,7 +7,7 @@ import re
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_write_text", "safe_name"]
+__all__ = ["atomic_write_text", "safe_name", "prepare_folder", "prepare_file", "sweep_partial"]
 
 
 def safe_name(text: str) -> str:
@@ -22,11 +22,63 @@ def safe_name(text: str) -> str:
     return "_" + name if not name or name.startswith(".") else name
 
 
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def sweep_partial(folder: Path | str) -> int:
+    """Remove the temporary files that killed writes left in ``folder`` (those of
+    :func:`atomic_write_text` whose writing process no longer exists); how many."""
+    removed = 0
+    for stale in Path(folder).glob(".*.partial"):
+        parts = stale.name.rsplit(".", 3)  # .<name>.<pid>.<random>.partial
+        if len(parts) == 4 and parts[1].isdigit() and not _alive(int(parts[1])):
+            stale.unlink(missing_ok=True)
+            removed += 1
+    return removed
+
+
+def prepare_folder(path: Path | str, what: str) -> Path:
+    """The folder ``path``, created if need be and proven writable; ValueError in one line
+    naming ``what`` it is for when it is a file, cannot be created or is not writable."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{what} {path} is a file, not a folder")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        probe = tempfile.NamedTemporaryFile(dir=path, prefix=".rastercheck-probe.", delete=True)
+        probe.close()
+    except OSError as exc:
+        raise ValueError(f"{what} {path} cannot be written ({exc.strerror or exc})") from None
+    sweep_partial(path)
+    return path
+
+
+def prepare_file(path: Path | str, what: str) -> Path:
+    """A file path that can be written: not a folder, its folder created and writable;
+    ValueError in one line naming ``what`` it is for otherwise."""
+    path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{what} {path} is a folder, not a file")
+    if path.exists() and not os.access(path, os.W_OK):
+        raise ValueError(f"{what} {path} cannot be written (permission denied)")
+    prepare_folder(path.parent if str(path.parent) else Path("."), f"the folder of {what}")
+    return path
+
+
 def atomic_write_text(path: Path | str, text: str) -> None:
-    """Write ``text`` to a temporary file beside ``path``, then rename it into place."""
+    """Write ``text`` to a temporary file beside ``path``, then rename it into place (a
+    write killed half-way leaves a ``.<name>.<pid>.*.partial`` file that the next
+    :func:`sweep_partial` of the folder removes)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}.", suffix=".partial", dir=path.parent)
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as handle:
             handle.write(text)

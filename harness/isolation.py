@@ -20,13 +20,14 @@ import pickle
 import statistics
 import time
 import traceback
+import weakref
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 from harness.api import Coverage, Rasterizer, Scene
 
-__all__ = ["Outcome", "Worker", "InProcess", "call_in_process", "describe", "span_limit", "Call", "PluginError"]
+__all__ = ["Outcome", "Worker", "InProcess", "call_in_process", "describe", "span_limit", "Call", "PluginError", "kill_all"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -141,6 +142,20 @@ def _serve(rasterizer: Rasterizer, conn: Any) -> None:  # pragma: no cover - run
                               "", outcome.seconds))
 
 
+_LIVE: weakref.WeakSet[Worker] = weakref.WeakSet()
+
+
+def kill_all() -> int:
+    """Kill every worker process of this process at once (Ctrl-C: nothing is left behind,
+    and a call in progress returns at once as an error); how many were alive."""
+    killed = 0
+    for worker in list(_LIVE):
+        if worker._process.is_alive():
+            worker._process.kill()
+            killed += 1
+    return killed
+
+
 class Worker:
     """A rasterizer in a forked process of its own, called with a time limit.
 
@@ -163,6 +178,7 @@ class Worker:
         self._rates: list[float] = []
         self._context = multiprocessing.get_context("fork")
         self._start()
+        _LIVE.add(self)
 
     def _start(self) -> None:
         self._conn, child = self._context.Pipe()

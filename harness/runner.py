@@ -8,6 +8,7 @@ are never lost: ``on_result`` sees each one as soon as it exists.
 
 from __future__ import annotations
 
+import threading
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import replace
@@ -154,6 +155,9 @@ def run_suite(
     on_result: Callable[[Result], None] | None = None,
     identify: bool = True,
     only: set[str] | None = None,
+    rerun: int = 0,
+    stop: threading.Event | None = None,
+    deadline: float | None = None,
 ) -> list[Result]:
     """Run a suite's checks on each rasterizer.
 
@@ -183,6 +187,15 @@ def run_suite(
         without one (its convention-bound checks skip).
     only : set of str, optional
         Run only the checks of these names (see :func:`harness.checks.check_names`).
+    rerun : int
+        Rerun each failing or erroring check this many times; one whose status changes
+        is marked flaky (``evidence["flaky"]``) and not shrunk.
+    stop : threading.Event, optional
+        Set from another thread (Ctrl-C) to end the run after the case in progress; the
+        results of that case are dropped (a killed worker's answers are no verdicts).
+    deadline : float, optional
+        A ``time.monotonic()`` after which no case starts; each case left is an error
+        result ("not run"), so that a capped run never passes.
 
     Returns
     -------
@@ -203,18 +216,28 @@ def run_suite(
 
         def judge(candidate: Case, check: str, rasterizer: Rasterizer = rasterizer, call: Call = call) -> list[Result]:
             return check_case(candidate, rasterizer, call, tolerance, only={check})
+
+        def one_case(case: Case | MotionCase, only: set[str] | None,
+                     rasterizer: Rasterizer = rasterizer, call: Call = call) -> list[Result]:
+            if isinstance(case, MotionCase):
+                return check_motion(case, rasterizer, call, tolerance, only)
+            return check_case(case, rasterizer, call, tolerance, only=only)
+
         shrink_until = time.monotonic() + repro_seconds
         try:
-            for case in selected:
-                if isinstance(case, MotionCase):
-                    for result in check_motion(case, rasterizer, call, tolerance, only):
-                        result = _qualified(result, rasterizer)
-                        results.append(result)
-                        if on_result is not None:
-                            on_result(result)
-                    continue
-                for result in check_case(case, rasterizer, call, tolerance, only=only):
-                    if repros and result.status == "fail":
+            for k, case in enumerate(selected):
+                if stop is not None and stop.is_set():
+                    break
+                if deadline is not None and time.monotonic() > deadline:
+                    results += _not_run(selected[k:], rasterizer.name, "the run's time budget was used up", on_result)
+                    break
+                found = one_case(case, only)
+                if rerun:
+                    found = [_rerun(r, case, one_case, rerun) if r.status in ("fail", "error") else r for r in found]
+                if stop is not None and stop.is_set():
+                    break  # the case was cut short by the stop: its results are not to be trusted
+                for result in found:
+                    if repros and result.status == "fail" and isinstance(case, Case) and "flaky" not in result.evidence:
                         if time.monotonic() < shrink_until:
                             result = repro.attach_repro(result, case, judge, rasterizer)
                         else:  # budget used up: the whole case is the repro
@@ -227,6 +250,33 @@ def run_suite(
         finally:
             worker.close()
     return results
+
+
+def _not_run(cases: list[Case | MotionCase], rasterizer: str, why: str,
+             on_result: Callable[[Result], None] | None) -> list[Result]:
+    """An error result for each case that was not run, saying why: a run cut short never
+    passes silently."""
+    out = [Result(rasterizer, c.id, "run", "error", f"not run: {why}") for c in cases]
+    for result in out:
+        if on_result is not None:
+            on_result(result)
+    return out
+
+
+def _rerun(result: Result, case: Case | MotionCase, one_case: Callable[[Case | MotionCase, set[str] | None], list[Result]],
+           times: int) -> Result:
+    """Rerun the check behind an unexpected result ``times`` times; when the status
+    changes, the result is marked flaky (``evidence["flaky"]``: the statuses seen, first
+    the original) and its message says so: a flake is not a regression."""
+    statuses: list[str] = [result.status]
+    only = None if result.check == "run" else {result.check}
+    for _ in range(times):
+        again = [r for r in one_case(case, only) if r.check == result.check]
+        statuses.append(again[0].status if again else "missing")
+    if len(set(statuses)) == 1:
+        return replace(result, evidence={**result.evidence, "reruns": statuses})
+    return replace(result, message=f"flaky ({' / '.join(statuses)} over {times + 1} runs): {result.message}",
+                   evidence={**result.evidence, "flaky": statuses})
 
 
 def replay(path: Path | str, rasterizer: Rasterizer | str, isolate: bool = False, identify: bool = True,

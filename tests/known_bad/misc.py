@@ -11,6 +11,7 @@ from tests.known_bad import coverage_from_parts
 from harness.conventions import Convention
 from harness.oracle import exact_coverage
 from rasterizers.centre_scanline import CentreScanline
+from rasterizers.pineda_topleft import PinedaTopLeft
 
 __all__ = ["ClipsBeforeSnapping", "Float32Input", "DropsAttributes", "SlowOnEpsilon", "WrongTieClaim", "Raises", "ReturnsGarbage", "HangsOnEpsilon", "Int32FixedPoint", "NaNAttributes"]
 
@@ -223,3 +224,22 @@ class DropsAttributes:
     def rasterize(self, scene: Scene) -> Coverage:
         cov = CentreScanline().rasterize(scene)
         return Coverage(cov.triangle, cov.y, cov.x0, cov.x1)
+
+
+class Flaky:
+    """Correct on every other call, one pixel short on the others: a flake, deliberately."""
+
+    name = "flaky"
+    convention = PinedaTopLeft().convention
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        self.calls += 1
+        right = PinedaTopLeft().rasterize(scene)
+        if self.calls % 2 == 0 or len(right) == 0:
+            return right
+        keep = np.ones(len(right), dtype=bool)
+        keep[0] = False
+        return Coverage(right.triangle[keep], right.y[keep], right.x0[keep], right.x1[keep])

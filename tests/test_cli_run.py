@@ -1,0 +1,141 @@
+"""The run command a CI user leans on: filters, shards, skip lists, reruns, budgets,
+output paths checked first, Ctrl-C (issues 12 and 13)."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from harness.cli import main
+
+LATTICE = ["--case", "lattice/bits-*", "--no-fingerprints"]
+
+
+def _json(path):
+    return json.loads(path.read_text())["results"]
+
+
+def test_case_and_check_filters_select_exactly(tmp_path):
+    out = tmp_path / "r.json"
+    code = main(["run", "--rasterizer", "centre_scanline", *LATTICE, "--check", "conformance", "--out", str(tmp_path / "rep"),
+                 "--json", str(out)])
+    results = _json(out)
+    assert code == 0 and results and {r["check"] for r in results} == {"conformance"}
+    assert all(r["case"].startswith("lattice/bits-") for r in results)
+
+
+def test_shards_partition_the_run(tmp_path):
+    """The union of the shards is the whole run, and no case runs in two shards."""
+    def cases(*extra):
+        out = tmp_path / f"{'-'.join(extra) or 'all'}.json".replace("/", "of")
+        main(["run", "--rasterizer", "centre_scanline", "--no-fingerprints", "--check", "hygiene", "--out", str(tmp_path / "rep"),
+              "--json", str(out), *extra])
+        return [r["case"] for r in _json(out)]
+
+    whole = cases()
+    shards = [cases("--shard", f"{k}/3") for k in (1, 2, 3)]
+    assert sorted(whole) == sorted(c for s in shards for c in s) and len(whole) > 50
+    assert all(set(a).isdisjoint(b) for i, a in enumerate(shards) for b in shards[i + 1:])
+
+
+def test_a_skip_list_skips_with_its_reasons(tmp_path):
+    skips = tmp_path / "skip.txt"
+    skips.write_text("# known slow\nlattice/bits-0   # upstream bug 123\ncentre_scanline:lattice/bits-2\n")
+    out = tmp_path / "r.json"
+    main(["run", "--rasterizer", "centre_scanline", *LATTICE, "--skip", str(skips), "--out", str(tmp_path / "rep"), "--json", str(out)])
+    by_case = {}
+    for r in _json(out):
+        by_case.setdefault(r["case"], []).append(r)
+    assert [r["message"] for r in by_case["lattice/bits-0"]] == ["skipped: upstream bug 123"]
+    assert by_case["lattice/bits-2"][0]["status"] == "skip" and len(by_case["lattice/bits-2"]) == 1
+    assert any(r["check"] == "conformance" for r in by_case["lattice/bits-4"])
+
+
+def test_rerun_tells_a_flake_from_a_failure(tmp_path):
+    from harness import run_suite
+    from cases.suites import suite
+    from tests.known_bad.misc import Flaky, WrongTieClaim
+
+    cases = [c for c in suite("quick") if c.id == "lattice/bits-0"]
+    flaky = [r for r in run_suite([Flaky()], cases=cases, rerun=2, isolate=False) if r.check == "conformance"]
+    assert flaky and all("flaky" in r.evidence and r.message.startswith("flaky (fail / pass") for r in flaky)
+    assert all("repro" not in r.evidence for r in flaky)
+    steady = [r for r in run_suite([WrongTieClaim()], cases=cases, rerun=2) if r.status == "fail"]
+    assert steady and all("flaky" not in r.evidence and r.evidence["reruns"] == ["fail"] * 3 for r in steady)
+
+
+def test_a_run_budget_makes_the_rest_errors_not_passes(tmp_path):
+    from harness import run_suite
+    from cases.suites import suite
+
+    cases = suite("quick")[:30]
+    results = run_suite(["centre_scanline"], cases=cases, deadline=time.monotonic() - 1)
+    assert len(results) == 30 and all(r.status == "error" and "time budget" in r.message for r in results)
+    assert main(["run", "--rasterizer", "centre_scanline", *LATTICE, "--max-seconds", "0.001", "--out", str(tmp_path)]) == 1
+
+
+@pytest.mark.parametrize("option, kind", [("--out", "file"), ("--json", "dir"), ("--junit", "dir"), ("--out", "unwritable")])
+def test_bad_output_paths_are_usage_errors_before_any_work(tmp_path, capsys, option, kind):
+    target = tmp_path / "x"
+    if kind == "file":
+        target.write_text("")
+    elif kind == "dir":
+        target.mkdir()
+    else:
+        target = "/proc/rastercheck-out"
+    start = time.perf_counter()
+    code = main(["run", "--rasterizer", "centre_scanline", "--no-fingerprints", option, str(target)]
+                + ([] if option == "--out" else ["--out", str(tmp_path / "rep")]))
+    err = capsys.readouterr().err
+    assert code == 2 and option in err and "Traceback" not in err
+    assert time.perf_counter() - start < 5  # refused before the suite
+
+
+def test_unknown_check_or_case_glob_is_a_usage_error(capsys):
+    assert main(["run", "--rasterizer", "centre_scanline", "--check", "nope"]) == 2
+    assert main(["run", "--rasterizer", "centre_scanline", "--case", "nothing/*"]) == 2
+    with pytest.raises(SystemExit):
+        main(["run", "--shard", "4/3"])
+
+
+def test_stale_temp_files_of_killed_writes_are_swept(tmp_path):
+    from harness.files import prepare_folder
+
+    stale = tmp_path / ".index.html.999999.abcdefgh.partial"
+    stale.write_text("half")
+    mine = tmp_path / f".index.html.{os.getpid()}.abcdefgh.partial"
+    mine.write_text("being written")
+    prepare_folder(tmp_path, "--out")
+    assert not stale.exists() and mine.exists()
+
+
+def test_ctrl_c_stops_a_parallel_run_within_seconds_and_keeps_what_finished(tmp_path):
+    token = f"ctrlc-{os.getpid()}"
+    plugin = tmp_path / "slow.py"
+    plugin.write_text(
+        "import time\n"
+        "from rasterizers.centre_scanline import CentreScanline\n"
+        "class Slow(CentreScanline):\n"
+        "    name = 'slow'\n"
+        "    def rasterize(self, scene):\n"
+        "        time.sleep(0.3)\n"
+        "        return super().rasterize(scene)\n"
+    )
+    out = tmp_path / token
+    proc = subprocess.Popen([sys.executable, "-m", "harness.cli", "run", "--rasterizer", f"{plugin}:Slow", "--rasterizer",
+                             "centre_scanline", "--no-fingerprints", "--jobs", "2", "--out", str(out), "--json", str(out / "r.json")],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=os.getcwd())
+    time.sleep(12)
+    proc.send_signal(signal.SIGINT)
+    sent = time.perf_counter()
+    _, err = proc.communicate(timeout=30)
+    assert proc.returncode == 130, err
+    assert time.perf_counter() - sent < 5
+    assert "interrupted" in err and "Traceback" not in err
+    assert _json(out / "r.json")  # the partial results were written
+    left = subprocess.run(["pgrep", "-f", token], capture_output=True, text=True).stdout.split()
+    assert not left, f"worker processes left behind: {left}"
