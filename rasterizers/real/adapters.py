@@ -16,11 +16,32 @@ from rasterizers.real._masks import draw_each, finite_within_limit
 __all__ = ["PillowPolygon", "SkimagePolygon", "SkiaPath", "CairoFill", "MesaLlvmpipe", "MesaSoftpipe"]
 
 
+# The pip extra that installs each adapter's module (``make`` installs each on its own
+# and keeps pip's log as .venv/install-<extra>.log).
+_EXTRAS = {"cairo": "cairo", "skia": "skia", "moderngl": "gl"}
+
+
+def _install_failure(module: str) -> str:
+    """Why ``make`` could not install the module here: the last error line of its log."""
+    import sys
+    from pathlib import Path
+
+    extra = _EXTRAS.get(module)
+    log = Path(sys.prefix) / f"install-{extra}.log"
+    try:
+        text = log.read_text(errors="replace").splitlines()
+    except OSError:
+        return ""
+    # the build's own error (e.g. meson's "ERROR: Dependency "cairo" not found") says most
+    lines = [line.strip() for line in text if "ERROR:" in line] or [line.strip() for line in text if "rror" in line]
+    return f"; its install failed on this machine ({lines[0][:160]}; see {log})" if lines else ""
+
+
 def _need(module: str, hint: str) -> Any:
     try:
         return __import__(module)
     except Exception as exc:
-        raise Unavailable(f"{module} is not installed ({type(exc).__name__}): {hint}") from None
+        raise Unavailable(f"{module} is not installed ({type(exc).__name__}): {hint}{_install_failure(module)}") from None
 
 
 class _OneTriangleAtATime:
@@ -63,7 +84,7 @@ class SkimagePolygon(_OneTriangleAtATime):
     name = "skimage"
 
     def __init__(self) -> None:
-        _need("skimage", "pip install scikit-image   (or pip install '.[real]')")
+        _need("skimage", "pip install scikit-image")
         from skimage.draw import polygon
 
         self._polygon = polygon
