@@ -72,3 +72,33 @@ def test_garbage_costs_bounded_memory():
 
 def test_hostile_catalogue_is_complete():
     assert len(HOSTILE) == 9
+
+
+class _HangsAfterSix:
+    name = "hangs_after_six"
+
+    def __init__(self):
+        from rasterizers.centre_scanline import CentreScanline
+
+        self.inner, self.calls = CentreScanline(), 0
+        self.convention = self.inner.convention
+
+    def rasterize(self, scene):
+        import time
+
+        self.calls += 1
+        if self.calls > 6:
+            time.sleep(3600)
+        return self.inner.rasterize(scene)
+
+
+def test_a_hang_is_known_in_seconds_not_after_the_absolute_timeout():
+    import time
+
+    cases = [c for c in suite("quick") if c.family == "lattice"][:4]
+    start = time.perf_counter()
+    results = run_suite([_HangsAfterSix()], cases=cases, timeout=60.0, repros=False, identify=False)
+    took = time.perf_counter() - start
+    hung = [r for r in results if r.status == "error"]
+    assert hung and all("typical call" in r.message for r in hung), [r.message for r in results]
+    assert took < 30, took
