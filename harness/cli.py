@@ -417,6 +417,23 @@ def _bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def _diff(args: argparse.Namespace) -> int:
+    """Print what changed between two runs and write diff.html; exit 1 on regressions."""
+    from harness.diff import diff_runs, load_run, write_diff_page
+    from harness.files import prepare_folder
+
+    try:
+        prepare_folder(args.out, "--out")
+        before, after = load_run(args.before), load_run(args.after)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    diff = diff_runs(before, after, Path(args.before).name, Path(args.after).name)
+    for line in diff.lines():
+        print(line)
+    print(f"report: {write_diff_page(args.out, diff)}")
+    return 1 if diff.of("regression") else 0
+
+
 def _list(args: argparse.Namespace) -> int:
     from cases.suites import SUITES, suite
     from harness.checks import check_names
@@ -534,6 +551,11 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--scale", type=_positive_seconds, default=1.0, help="shrink the workloads (smoke tests)")
     bench.add_argument("--budget", type=_non_negative_seconds, default=1.0, help="seconds of repeats per contender")
     bench.set_defaults(func=_bench)
+    dif = sub.add_parser("diff", help="what changed between two runs' --json files (regressions, fixes, new, removed, metrics)")
+    dif.add_argument("before", metavar="A.json")
+    dif.add_argument("after", metavar="B.json")
+    dif.add_argument("--out", default="reports", help="folder for diff.html (default reports/)")
+    dif.set_defaults(func=_diff)
     lst = sub.add_parser("list", help="rasterizers with their conventions, suites, checks")
     lst.set_defaults(func=_list)
     return parser

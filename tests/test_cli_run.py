@@ -139,3 +139,36 @@ def test_ctrl_c_stops_a_parallel_run_within_seconds_and_keeps_what_finished(tmp_
     assert _json(out / "r.json")  # the partial results were written
     left = subprocess.run(["pgrep", "-f", token], capture_output=True, text=True).stdout.split()
     assert not left, f"worker processes left behind: {left}"
+
+
+def test_diff_classifies_every_change_and_writes_a_page(tmp_path, capsys):
+    from harness.checks import Result
+    from harness.output import write_json
+
+    def run(path, rows):
+        write_json(path, [Result(*row) for row in rows], "custom", 0, {"r": "declared"})
+        return str(path)
+
+    a = run(tmp_path / "a.json", [
+        ("r", "c1", "conformance", "pass", "ok", {"missing": 0.0, "seconds": 0.1}, {}),
+        ("r", "c2", "conformance", "fail", "bad", {"missing": 3.0}, {}),
+        ("r", "c3", "watertight", "pass", "ok", {"holes": 0.0}, {}),
+        ("r", "c4", "hygiene", "fail", "bad", {}, {}),
+        ("r", "gone", "hygiene", "pass", "ok", {}, {}),
+    ])
+    b = run(tmp_path / "b.json", [
+        ("r", "c1", "conformance", "fail", "now bad", {"missing": 2.0, "seconds": 0.3}, {}),
+        ("r", "c2", "conformance", "pass", "ok", {"missing": 0.0}, {}),
+        ("r", "c3", "watertight", "pass", "ok", {"holes": 0.0}, {}),
+        ("r", "c4", "hygiene", "error", "crashed", {}, {}),
+        ("r", "born", "hygiene", "pass", "ok", {}, {}),
+    ])
+    assert main(["diff", a, b, "--out", str(tmp_path / "d")]) == 1
+    out = capsys.readouterr().out
+    assert "regression: 1, fix: 1, status change: 1, new: 1, removed: 1" in out and "unchanged: 1" in out
+    assert "REGRESSION     r c1 conformance: pass -> fail" in out and "seconds" not in out
+    page = (tmp_path / "d" / "diff.html").read_text()
+    assert "c1" in page and "now bad" in page and "Metric changes (2)" in page
+    assert main(["diff", b, b, "--out", str(tmp_path / "d")]) == 0
+    (tmp_path / "x.json").write_text("{")
+    assert main(["diff", a, str(tmp_path / "x.json")]) == 2
