@@ -409,7 +409,9 @@ def _bench(args: argparse.Namespace) -> int:
     names = args.rasterizer
     if names:
         _load_all(names)  # fail early, with a usage error, on a bad spec
-    results = run_bench(names, scale=args.scale, budget=args.budget)
+    started = time.perf_counter()
+    results = run_bench(names, scale=args.scale, budget=args.budget,
+                        progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}", file=sys.stderr, flush=True))
     print(format_table(results, {w.name: w.description for w in workloads(args.scale)}))
     if args.json:
         write_json(results, Path(args.json))
