@@ -117,6 +117,49 @@ def _import_file(path: Path) -> Any:
     return module
 
 
+def _probe(spec: str, seconds: float = 120.0) -> None:
+    """Load ``spec`` once in a forked child first, so that a plugin that ends the process
+    while it is imported or built (``os._exit``, a signal, a crash in native code) ends
+    the child, not rastercheck -- which would otherwise exit with whatever code the plugin
+    chose, 0 included. Raises ValueError (or Unavailable) with what the child saw."""
+    import multiprocessing
+    import signal
+
+    context = multiprocessing.get_context("fork")
+    parent, child = context.Pipe(duplex=False)
+
+    def attempt() -> None:  # pragma: no cover - runs in the child
+        try:
+            _load(spec)
+            child.send(("ok", ""))
+        except Unavailable as exc:
+            child.send(("unavailable", str(exc)))
+        except BaseException as exc:  # noqa: B036
+            child.send(("error", str(exc) if isinstance(exc, ValueError) else f"{spec}: {_describe(exc)}"))
+
+    process = context.Process(target=attempt, daemon=True)
+    process.start()
+    child.close()
+    try:
+        if not parent.poll(seconds):
+            raise ValueError(f"{spec}: loading the plugin did not finish within {seconds:g} s")
+        kind, text = parent.recv()
+    except EOFError:
+        process.join(5)
+        code = process.exitcode
+        how = (f"signal {signal.Signals(-code).name}" if code is not None and code < 0 else f"exit code {code}")
+        raise ValueError(f"{spec}: the plugin ended the process while being loaded ({how})") from None
+    finally:
+        if process.is_alive():
+            process.kill()
+        process.join(5)
+        parent.close()
+    if kind == "unavailable":
+        raise Unavailable(text)
+    if kind == "error":
+        raise ValueError(text)
+
+
 def load(spec: str) -> Rasterizer:
     """A ready rasterizer for ``spec``.
 
@@ -136,7 +179,17 @@ def load(spec: str) -> Rasterizer:
     --------
     >>> load("centre_scanline").convention
     Convention(sample=(0.5, 0.5), tie='top-left', subpixel_bits=None, cull='none')
+
+    A spec that is not one of rastercheck's own rasterizers is loaded in a forked child
+    first (:func:`_probe`), so that no plugin can end rastercheck while it loads.
     """
+    ours = _entry_points().get(spec)
+    if ours is None or not ours.value.startswith(BUILTIN_MODULE + "."):
+        _probe(spec)
+    return _load(spec)
+
+
+def _load(spec: str) -> Rasterizer:
     registered = _entry_points()
     if spec in registered:
         try:

@@ -212,3 +212,35 @@ def test_a_plugin_that_exits_cannot_make_run_pass(tmp_path, capsys, where):
     plugin.write_text(body)
     assert main(["run", "--rasterizer", f"{plugin}:Quits", "--out", str(tmp_path / "rep")]) == 2
     assert "sys.exit(0)" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("ending", ["os._exit(0)", "os.kill(os.getpid(), signal.SIGKILL)", "os.kill(os.getpid(), signal.SIGTERM)"])
+@pytest.mark.parametrize("where", ["import", "factory"])
+def test_a_plugin_that_ends_the_process_while_loading_cannot_end_rastercheck(tmp_path, capsys, ending, where):
+    """os._exit or a signal at import or construction ends a probe child, not the run:
+    exit 2 naming the plugin and how it ended, never the plugin's own exit code."""
+    from harness.cli import main
+
+    plugin = tmp_path / "ends.py"
+    body = "import os, signal\n" + (f"{ending}\n" if where == "import" else "") + (
+        f"def Ends():\n    {ending}\n" if where == "factory" else "class Ends:\n    pass\n")
+    plugin.write_text(body)
+    assert main(["run", "--rasterizer", f"{plugin}:Ends", "--out", str(tmp_path / "rep")]) == 2
+    err = capsys.readouterr().err
+    assert "ended the process while being loaded" in err and "ends.py" in err
+
+
+@pytest.mark.parametrize("ending", ["os._exit(0)", "sys.exit(0)", "os.kill(os.getpid(), signal.SIGKILL)", "raise KeyboardInterrupt"])
+def test_a_plugin_that_ends_the_process_in_rasterize_is_an_error_result(tmp_path, ending):
+    from harness.cli import main
+
+    plugin = tmp_path / "ends_later.py"
+    plugin.write_text("import os, signal, sys\nfrom rasterizers.centre_scanline import CentreScanline\n"
+                      f"class EndsLater(CentreScanline):\n    name = 'ends_later'\n    def rasterize(self, scene):\n        {ending}\n")
+    out = tmp_path / "r.json"
+    code = main(["run", "--rasterizer", f"{plugin}:EndsLater", "--rasterizer", "centre_scanline", "--case", "lattice/bits-0",
+                 "--no-fingerprints", "--out", str(tmp_path / "rep"), "--json", str(out)])
+    results = __import__("json").loads(out.read_text())["results"]
+    assert code == 1
+    assert all(r["status"] == "error" for r in results if r["rasterizer"] == "ends_later")
+    assert all(r["status"] == "pass" for r in results if r["rasterizer"] == "centre_scanline")
