@@ -20,7 +20,7 @@ JSON schema 1::
          "status": "pass" | "fail" | "error" | "skip",
          "message": str,
          "metrics": {str: number},          # totals; "seconds" is the rasterize time
-         "evidence": {str: ...}}            # pixels, blame, series, repro (pictures left out)
+         "evidence": {str: ...}}            # pixels, blame, series, repro
       ]
     }
 
@@ -35,7 +35,7 @@ import math
 import time
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable
-from dataclasses import asdict
+from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
@@ -46,7 +46,8 @@ from harness.files import atomic_write_text
 __all__ = ["SCHEMA", "results_to_json", "results_from_json", "write_json", "write_junit"]
 
 SCHEMA = 1
-_PICTURES = ("animation", "images", "plot")
+# the record's fields but its drawing (references for the report's pictures, not data)
+_FIELDS = tuple(f.name for f in fields(Result) if f.name != "drawing")
 
 
 def _clean(value: Any) -> Any:
@@ -62,11 +63,8 @@ def _clean(value: Any) -> Any:
 
 def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizers: dict[str, str],
                     fingerprints: dict[str, dict[str, Any]] | None = None) -> dict[str, Any]:
-    rows = []
-    for r in results:
-        row = asdict(r)
-        row["evidence"] = {k: v for k, v in r.evidence.items() if k not in _PICTURES}
-        rows.append(_clean(row))
+    # built from the fields (no asdict: it would deep-copy a drawing's arrays only to drop them)
+    rows = [_clean({name: getattr(r, name) for name in _FIELDS}) for r in results]
     return {
         "schema": SCHEMA,
         "rastercheck": harness.__version__,

@@ -1,4 +1,12 @@
-"""Pictures for the report: animations of motion sequences, as GIF data URIs (Pillow)."""
+"""Pictures for the report, drawn from results' evidence: heat maps, oracle diffs and
+crops of failures on still cases, animations and series plots of motion failures, as data
+URIs (Pillow for the rasters, SVG by hand for the vectors).
+
+The engine draws nothing: a failing :class:`~harness.checks.Result` carries a
+:class:`~harness.checks.records.Drawing` (references to the case, the answer, the
+convention and the oracle if a check computed it), and :func:`draw` makes its pictures
+when the report shows it.
+"""
 
 from __future__ import annotations
 
@@ -11,8 +19,88 @@ from numpy.typing import NDArray
 from PIL import Image
 
 from harness.api import Coverage
+from harness.case import Case, MotionCase
+from harness.checks import Result, pixel_classes
+from harness.checks.records import Drawing
+from harness.oracle import exact_coverage
 
-__all__ = ["motion_animation", "LEGEND"]
+__all__ = ["draw", "motion_animation", "heatmap", "oracle_diff", "svg_crop", "series_plot", "window_around",
+           "LEGEND", "HEAT_LEGEND", "DIFF_LEGEND"]
+
+
+def draw(result: Result) -> dict[str, str]:
+    """The pictures of a failure, caption key -> data URI, in the order the report shows
+    them: ``heatmap``, ``diff`` (given a convention) and ``crop`` for a still case;
+    ``animation`` and, when the evidence has a series, ``plot`` for a motion case. Nothing
+    for a result without a drawing (a pass, an error, one read back from JSON)."""
+    drawing = result.drawing
+    if drawing is None:
+        return {}
+    if isinstance(drawing.case, MotionCase):
+        return _motion_pictures(drawing.case, drawing, result.evidence)
+    return _still_pictures(drawing.case, drawing, result)
+
+
+def _oracles(drawing: Drawing, scenes: list[Any]) -> tuple[Coverage, ...] | None:
+    """The oracle of each scene: the check's, when it computed one; else computed now
+    (given a convention); None without a convention."""
+    if drawing.oracles is not None:
+        return drawing.oracles
+    if drawing.convention is None:
+        return None
+    return tuple(exact_coverage(scene, drawing.convention) for scene in scenes)
+
+
+def _focus(result: Result) -> list[tuple[int, int]]:
+    """The offending pixels a failure names, first the most telling."""
+    e = result.evidence
+    if "pixels" in e and e["pixels"] and isinstance(e["pixels"][0], dict):
+        return [(p["x"], p["y"]) for p in e["pixels"]]
+    if "blame" in e:
+        return [(int(b["pixel"][0]), int(b["pixel"][1])) for b in e["blame"]]
+    for key in ("strays", "pixels"):
+        if e.get(key):
+            return [(int(p[0]), int(p[1])) for p in e[key]]
+    for key in ("rotate-vertices", "flip-winding", "permute-triangles", "translate"):
+        if e.get(key):
+            return [(int(p[1]), int(p[2])) for p in e[key]]
+    return []
+
+
+def _still_pictures(case: Case, drawing: Drawing, result: Result) -> dict[str, str]:
+    """Heat map, oracle diff and an SVG crop around the first offending pixel."""
+    scene = case.scene
+    coverage = drawing.coverages[0]
+    marks = _focus(result)
+    fx, fy = marks[0] if marks else (scene.width // 2, scene.height // 2)
+    window = window_around(int(fx), int(fy), scene.width, scene.height, 64)
+    counts = coverage.counts(scene.width, scene.height)
+    holes = strays = None
+    if case.region is not None:
+        inside, outside = pixel_classes(case.region, scene.width, scene.height)
+        holes, strays = inside & (counts == 0), outside & (counts > 0)
+    images = {"heatmap": heatmap(counts, holes, strays, window)}
+    oracles = _oracles(drawing, [scene])
+    if oracles is not None:
+        images["diff"] = oracle_diff(scene.width, scene.height, counts > 0, oracles[0].counts(scene.width, scene.height) > 0,
+                                     result.evidence.get("pixels", []) if result.check == "conformance" else [], window)
+    crop = window_around(int(fx), int(fy), scene.width, scene.height, 12)
+    sample = drawing.convention.sample if drawing.convention is not None else (0.5, 0.5)
+    images["crop"] = svg_crop(scene.positions, coverage, sample, crop, [(int(x), int(y)) for x, y in marks[:20]])
+    return images
+
+
+def _motion_pictures(case: MotionCase, drawing: Drawing, evidence: dict[str, Any]) -> dict[str, str]:
+    """The sequence as an animation with the evidence's offending pixels marked, and the
+    per-frame series as a plot."""
+    first = case.frames[0]
+    marks = [*evidence.get("backward_jumps", []), *evidence.get("mismatches", []), *evidence.get("backward_steps", [])]
+    oracles = _oracles(drawing, list(case.frames))
+    images = {"animation": motion_animation(list(drawing.coverages), list(oracles) if oracles is not None else None,
+                                            first.width, first.height, marks, case.texels)}
+    if "series" in evidence:
+        images["plot"] = series_plot(evidence["series"])
+    return images
 
 LEGEND = {
     "covered": (150, 150, 150),
@@ -31,10 +119,11 @@ def _texel_colours(ids: NDArray) -> NDArray:
     return palette[ids % 4096]
 
 
-def motion_animation(coverages: list[Coverage], oracles: list[Coverage], width: int, height: int,
+def motion_animation(coverages: list[Coverage], oracles: list[Coverage] | None, width: int, height: int,
                      marks: list[dict[str, Any]] | None = None, texels: int | None = None, scale: int = 6) -> str:
     """An animated GIF (data URI) of the sequence: coverage (or texel ids when textured)
-    against the oracle, with the evidence's frames, pixels and rows marked.
+    against the oracle (none without a convention), with the evidence's frames, pixels and
+    rows marked.
 
     Frames beyond ``MAX_FRAMES`` are sampled evenly; marked frames are always kept.
     """
@@ -56,7 +145,7 @@ def motion_animation(coverages: list[Coverage], oracles: list[Coverage], width: 
     images = []
     for f in sorted(keep):
         got = coverages[f].counts(width, height) > 0
-        want = oracles[f].counts(width, height) > 0
+        want = oracles[f].counts(width, height) > 0 if oracles is not None else got
         rgb = np.full((height, width, 3), 255, dtype=np.uint8)
         if texels and coverages[f].attributes is not None and coverages[f].attributes.shape[0] == coverages[f].n_pixels:
             t, x, y = coverages[f].pixels()

@@ -1,6 +1,10 @@
 """The HTML report: an index with the summary matrix and convention cards, and one page
 per rasterizer with each failure's pictures. Static, self-contained (images as data URIs),
-rendered on the server side with Jinja2 autoescape, readable without JavaScript."""
+rendered on the server side with Jinja2 autoescape, readable without JavaScript.
+
+The pictures are drawn here, from each failure's drawing and evidence
+(:func:`harness.pictures.draw`), once per failure shown; results read back from JSON
+carry no drawing and show none."""
 
 from __future__ import annotations
 
@@ -19,7 +23,7 @@ import harness
 from harness.checks import Result, check_names
 from harness.checks import checks as registered_checks
 from harness.files import atomic_write_text, safe_name
-from harness.pictures import DIFF_LEGEND, HEAT_LEGEND, LEGEND
+from harness.pictures import DIFF_LEGEND, HEAT_LEGEND, LEGEND, draw
 
 __all__ = ["write_report", "write_comparison", "page_name"]
 
@@ -44,11 +48,8 @@ def _cell(results: list[Result]) -> dict[str, str]:
 
 
 def _problem(r: Result, index: int) -> dict[str, Any]:
-    images = [(CAPTIONS[k], v) for k, v in r.evidence.get("images", {}).items()]
-    for key in ("animation", "plot"):
-        if key in r.evidence:
-            images.append((CAPTIONS[key], r.evidence[key]))
-    hidden = ("traceback", "repro", "repro_path", "images", "animation", "plot")
+    images = [(CAPTIONS[k], uri) for k, uri in draw(r).items()]  # none without a drawing
+    hidden = ("traceback", "repro", "repro_path")
     text = json.dumps({k: v for k, v in r.evidence.items() if k not in hidden}, default=str)[:4000]
     if "traceback" in r.evidence:
         text += "\n" + r.evidence["traceback"]

@@ -13,16 +13,15 @@ import time
 from collections.abc import Callable, Iterable
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
 
 
 
 from cases.suites import suite as suite_cases
 from harness.case import Case, MotionCase, read_case_file
-from harness import checks, pictures, repro
-from harness.api import Coverage, Rasterizer, Scene, fingerprint_of, interpolates_of
-from harness.checks import Result, Tolerance, check_names
-from harness.oracle import exact_coverage
+from harness import checks, repro
+from harness.api import Rasterizer, Scene, fingerprint_of, interpolates_of
+from harness.checks import Drawing, Result, Tolerance, check_names
+
 from harness.isolation import Call, InProcess, Outcome, Worker, describe
 from harness.registry import distinct_names, load
 
@@ -53,50 +52,9 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
                              received=[outcome.received if outcome.received is not None else coverage])
     results = [check.verdict(subject) for check in checks.checks(case, only)
                if invariance or check.name != "invariance"]
-    for i, r in enumerate(results):
-        evidence = r.evidence
-        if r.status == "fail" and only is None:
-            evidence = {**evidence, "images": _pictures(case, coverage, convention, r)}
-        results[i] = replace(r, rasterizer=name, evidence=evidence, metrics={**r.metrics, "seconds": outcome.seconds})
-    return results
-
-
-def _focus(result: Result) -> list[tuple[int, int]]:
-    """The offending pixels a failure names, first the most telling."""
-    e = result.evidence
-    if "pixels" in e and e["pixels"] and isinstance(e["pixels"][0], dict):
-        return [(p["x"], p["y"]) for p in e["pixels"]]
-    if "blame" in e:
-        return [tuple(b["pixel"]) for b in e["blame"]]
-    for key in ("strays", "pixels"):
-        if e.get(key):
-            return [(int(p[0]), int(p[1])) for p in e[key]]
-    for key in ("rotate-vertices", "flip-winding", "permute-triangles", "translate"):
-        if e.get(key):
-            return [(int(p[1]), int(p[2])) for p in e[key]]
-    return []
-
-
-def _pictures(case: Case, coverage: Coverage, convention: Any, result: Result) -> dict[str, str]:
-    """Heat map, oracle diff and an SVG crop around the first offending pixel."""
-    scene = case.scene
-    marks = _focus(result)
-    fx, fy = marks[0] if marks else (scene.width // 2, scene.height // 2)
-    window = pictures.window_around(int(fx), int(fy), scene.width, scene.height, 64)
-    counts = coverage.counts(scene.width, scene.height)
-    holes = strays = None
-    if case.region is not None:
-        inside, outside = checks.pixel_classes(case.region, scene.width, scene.height)
-        holes, strays = inside & (counts == 0), outside & (counts > 0)
-    images = {"heatmap": pictures.heatmap(counts, holes, strays, window)}
-    if convention is not None:
-        oracle = exact_coverage(scene, convention)
-        images["diff"] = pictures.oracle_diff(scene.width, scene.height, counts > 0, oracle.counts(scene.width, scene.height) > 0,
-                                              result.evidence.get("pixels", []) if result.check == "conformance" else [], window)
-    crop = pictures.window_around(int(fx), int(fy), scene.width, scene.height, 12)
-    sample = convention.sample if convention is not None else (0.5, 0.5)
-    images["crop"] = pictures.svg_crop(scene.positions, coverage, sample, crop, [(int(x), int(y)) for x, y in marks[:20]])
-    return images
+    drawing = Drawing.of(subject)  # references only (and the oracle if a check computed it): the report draws
+    return [replace(r, rasterizer=name, metrics={**r.metrics, "seconds": outcome.seconds},
+                    drawing=drawing if r.status == "fail" else None) for r in results]
 
 
 def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
@@ -115,18 +73,9 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
         seconds += outcome.seconds
     subject = checks.Subject(case, name, convention, coverages, call, tolerance, interpolates_of(rasterizer), seconds)
     results = [check.verdict(subject) for check in checks.checks(case, only)]
-    oracles = subject.oracles if convention is not None else []
-    first = case.frames[0]
-    out = []
-    for r in results:
-        evidence = r.evidence
-        if r.status == "fail" and only is None:
-            marks = [*evidence.get("backward_jumps", []), *evidence.get("mismatches", []), *evidence.get("backward_steps", [])]
-            evidence = {**evidence, "animation": pictures.motion_animation(coverages, oracles, first.width, first.height, marks, case.texels)}
-            if "series" in evidence:
-                evidence["plot"] = pictures.series_plot(evidence["series"])
-        out.append(replace(r, rasterizer=name, evidence=evidence, metrics={**r.metrics, "seconds": seconds}))
-    return out
+    drawing = Drawing.of(subject)
+    return [replace(r, rasterizer=name, metrics={**r.metrics, "seconds": seconds},
+                    drawing=drawing if r.status == "fail" else None) for r in results]
 
 
 def _qualified(result: Result, rasterizer: Rasterizer) -> Result:

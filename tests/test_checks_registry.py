@@ -82,3 +82,76 @@ def test_the_check_modules_import_no_runner_and_no_presentation():
     for path in (root / "harness" / "checks").glob("*.py"):
         bad = {m for m in _imports(path, "harness") if m.split(".")[1:2] and m.split(".")[1] in ("runner", "report", "pictures", "cli", "output", "gate")}
         assert not bad, (path.name, bad)
+
+
+def _module_graph() -> dict[str, set[str]]:
+    """Every module of harness, cases and rasterizers -> the project modules it imports
+    (at the top or inside a function: a lazy import is an import too)."""
+    root = Path(__file__).resolve().parents[1]
+    modules = {}
+    for package in ("harness", "cases", "rasterizers"):
+        for path in (root / package).rglob("*.py"):
+            parts = path.relative_to(root).with_suffix("").parts
+            name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+            modules[name] = path
+    graph = {}
+    for name, path in modules.items():
+        found = set()
+        for imported in _imports(path, "harness"):
+            # "harness.checks.Result" names a module only as far as it is one
+            while imported and imported not in modules:
+                imported = imported.rpartition(".")[0]
+            if imported and imported != name:
+                found.add(imported)
+        graph[name] = found
+    return graph
+
+
+def test_the_import_graph_has_no_cycle():
+    """Packages aside (a package's __init__ gathers its own modules), no module reaches
+    itself through imports."""
+    graph = _module_graph()
+
+    def edges(name):
+        # a package importing its own submodules is aggregation, not a cycle
+        return {m for m in graph[name] if not m.startswith(name + ".")}
+
+    state: dict[str, int] = {}
+    path: list[str] = []
+
+    def visit(name):
+        state[name] = 1
+        path.append(name)
+        for nxt in edges(name):
+            if state.get(nxt) == 1:
+                raise AssertionError("import cycle: " + " -> ".join(path[path.index(nxt):] + [nxt]))
+            if nxt not in state:
+                visit(nxt)
+        path.pop()
+        state[name] = 2
+
+    for name in sorted(graph):
+        if name not in state:
+            visit(name)
+
+
+PRESENTATION = {"harness.report", "harness.pictures", "harness.cli", "harness.output", "harness.gate", "harness.pytest_plugin"}
+ENGINE = {"harness.api", "harness.spans", "harness.conventions", "harness.exact", "harness.oracle", "harness.reference",
+          "harness.case", "harness.isolation", "harness.runner", "harness.repro", "harness.identify", "harness.compare",
+          "harness.registry", "harness.files", "harness.bench"}
+
+
+def test_the_engine_imports_no_presentation_module():
+    """Presentation (report, pictures, command line, output formats) sits on the engine,
+    never under it: no engine module reaches one, however indirectly."""
+    graph = _module_graph()
+    engine = ENGINE | {m for m in graph if m.startswith(("harness.checks", "cases", "rasterizers"))}
+    for start in sorted(engine):
+        seen, todo = set(), [start]
+        while todo:
+            name = todo.pop()
+            for nxt in graph.get(name, ()):
+                if nxt not in seen:
+                    seen.add(nxt)
+                    todo.append(nxt)
+        assert not seen & PRESENTATION, (start, sorted(seen & PRESENTATION))

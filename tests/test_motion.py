@@ -9,7 +9,7 @@ from PIL import Image
 
 from cases.motion import motion_cases, rotate, translate, zoom
 from harness.case import MotionCase
-from harness import run_suite
+from harness import pictures, run_suite
 from harness.api import Coverage
 from harness.checks.motion import filled_direction, jaggy
 from tests.known_bad.interpolation import Float32DDA, InterpolationBug
@@ -57,12 +57,15 @@ def test_builtins_pass_every_motion_check():
     assert {r.check for r in results} == {"jaggy", "texel", "perspective"}
 
 
-def test_failures_carry_series_evidence_and_an_animation(motion_flags):
+def test_failures_carry_series_evidence_and_draw_an_animation(motion_flags):
     jump = next(r for r in motion_flags["bad_no-prestep"]["jaggy"] if r.metrics["backward_jumps"])
     assert jump.evidence["backward_jumps"][0].keys() >= {"frame", "row", "column"}
     series = jump.evidence["series"]
     assert len(series["backward_jumps"]) == int(jump.metrics["frames"])
-    uri = jump.evidence["animation"]
+    assert not {"animation", "plot", "images"} & set(jump.evidence)  # the engine draws nothing
+    drawn = pictures.draw(jump)
+    assert list(drawn) == ["animation", "plot"] and drawn["plot"].startswith("data:image/svg+xml;base64,")
+    uri = drawn["animation"]
     image = Image.open(io.BytesIO(base64.b64decode(uri.split(",", 1)[1])))
     assert image.format == "GIF" and image.n_frames > 1
     texel = motion_flags["bad_no-subtexel"]["texel"][0]

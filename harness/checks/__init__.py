@@ -19,7 +19,7 @@ cases.
 from __future__ import annotations
 
 from harness.checks.records import (
-    EVIDENCE_LIMIT, NEAR_TIE, NEAR_TIE_PIXELS, Check, Result, Status, Subject, Tolerance, check_names, checks,
+    EVIDENCE_LIMIT, NEAR_TIE, NEAR_TIE_PIXELS, Check, Drawing, Result, Status, Subject, Tolerance, check_names, checks,
     metric_tolerance, register, registered, result, skip,
 )
 from harness.checks.hygiene import hygiene
@@ -31,7 +31,7 @@ from harness.checks.invariance import invariance, invariance_variants
 from harness.checks.motion import jaggy, perspective, texel_swimming
 
 __all__ = [
-    "Result", "Status", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "CHECKS",
+    "Result", "Drawing", "Status", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "CHECKS",
     "Check", "Subject", "register", "registered", "checks", "check_names", "metric_tolerance", "result", "skip",
     "deviations", "FragmentCounter", "edge_distance", "near_ties", "hygiene", "conformance", "watertight",
     "pixel_classes", "blame", "overdraw", "closed_balance", "degenerate", "control_scene", "measure_work", "refusal",

@@ -21,10 +21,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene
+from harness.case import Case, MotionCase
 from harness.conventions import Convention
 
 __all__ = [
-    "Status", "Result", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "result", "skip", "first",
+    "Status", "Result", "Drawing", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "result", "skip", "first",
     "Subject", "Check", "register", "registered", "checks", "check_names", "metric_tolerance",
 ]
 
@@ -80,6 +81,38 @@ class Result:
     message: str
     metrics: dict[str, float] = field(default_factory=dict)
     evidence: dict[str, Any] = field(default_factory=dict)
+    # what a failure is drawn from (the report's business: see harness.pictures.draw); not
+    # part of the verdict, not compared, not written to JSON
+    drawing: Drawing | None = field(default=None, compare=False, repr=False)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Drawing:
+    """What it takes to draw a failure: references to what the check looked at, no
+    pictures (the report draws them from this and the evidence).
+
+    Parameters
+    ----------
+    case : Case or MotionCase
+    coverages : tuple of Coverage
+        The rasterizer's answer (tidied): one for a still case, one per frame for a motion case.
+    convention : Convention or None
+    oracles : tuple of Coverage or None
+        The convention's exact coverage of each scene when a check computed it already;
+        None when none did (whoever draws computes it, if at all).
+    """
+
+    case: Case | MotionCase
+    coverages: tuple[Coverage, ...]
+    convention: Convention | None = None
+    oracles: tuple[Coverage, ...] | None = None
+
+    @classmethod
+    def of(cls, subject: Subject) -> Drawing:
+        """References to ``subject``'s case, answers, convention and (when the checks
+        needed it) oracle: no copy, no oracle computed here."""
+        done = vars(subject).get("oracles")  # the cached_property's value, if it ran
+        return cls(subject.case, tuple(subject.coverages), subject.convention, None if done is None else tuple(done))
 
 
 def result(case_id: str, check: str, ok: bool, message: str, metrics: dict[str, float] | None = None,
