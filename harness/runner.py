@@ -20,7 +20,7 @@ from cases.suites import suite as suite_cases
 from harness.case import Case, MotionCase, read_case_file
 from harness import checks, repro
 from harness.api import Rasterizer, Scene, fingerprint_of, interpolates_of
-from harness.checks import Drawing, Result, Tolerance, check_names
+from harness.checks import Drawing, Result, Tolerance
 
 from harness.isolation import Call, InProcess, Outcome, Worker, describe
 from harness.registry import distinct_names, load
@@ -234,6 +234,7 @@ def replay(path: Path | str, rasterizer: Rasterizer | str, isolate: bool = False
     check it names (plus hygiene), or, when it names none, every check that applies."""
     case, extra = read_case_file(path)
     named = extra.get("check")
-    only = {str(named), "hygiene"} if isinstance(named, str) and named in check_names() else None
+    known = isinstance(named, str) and bool(checks.checks(only={named}))  # on-request ones (overdraw) too
+    only = {str(named), "hygiene"} if known else None
     return run_suite([rasterizer], cases=[case], isolate=isolate, identify=identify, repros=False, only=only,
                      timeout=timeout)

@@ -1,5 +1,8 @@
 """Every check fails on at least one deliberately broken rasterizer, for the reason the
-table says, and passes on all four built-ins (tests/test_runner.py)."""
+table says, and passes on all four built-ins (tests/test_runner.py); and every repro
+reproduces: each failure, saved as its repro file and replayed, fails the same check."""
+
+import json
 
 import pytest
 
@@ -43,6 +46,10 @@ TABLE = {
 }
 
 
+# a timing check's failure (slow_on_epsilon's) is no repro to replay exactly
+SHRINKING = [bad for bad, wanted in TABLE.items() if "run" not in wanted and bad.name != "bad_slow_on_epsilon"]
+
+
 @pytest.fixture(scope="module")
 def flagged():
     """known-bad name -> {check: [failing or erroring results]} over the quick suite."""
@@ -54,7 +61,9 @@ def flagged():
         # the raising, lying and hanging ones all show): what must flag it
         mine = ([c for c in STATIC if c.family == "degenerate"] if "run" in wanted
                 else [c for c in STATIC if any(check.name in wanted for check in checks(c))])
-        results = run_suite([bad], cases=mine, timeout=1.0, repros=False, only=None if "run" in wanted else set(wanted))
+        # with repros (as a user's run makes them), replayed by test_every_failure_replays_...
+        results = run_suite([bad], cases=mine, timeout=1.0, repro_seconds=4.0, identify=False, repros=bad in SHRINKING,
+                            only=None if "run" in wanted else set(wanted))
         out[bad.name] = {}
         for r in results:
             if r.status in ("fail", "error"):
@@ -117,3 +126,27 @@ def test_drawing_nothing_fails_every_huge_case():
         assert verdict.status == "fail" and verdict.metrics["near_tie"] == 0, (case.id, verdict.message)
         if case.region is not None:
             assert watertight(case, Coverage.empty()).status == "fail", case.id
+
+
+
+@pytest.mark.parametrize("bad", SHRINKING, ids=lambda b: b.name)
+def test_every_failure_replays_as_the_same_check_from_its_repro(bad, flagged, tmp_path):
+    """The repro file of each failure (shrunk, or the whole case once the shrinking budget
+    is spent) fails again on replay -- the same check, which replay runs alone with
+    hygiene -- and a shrunk repro's message is the check's own on the shrunk case."""
+    from harness.runner import replay
+
+    failures = [r for found in flagged[bad.name].values() for r in found if r.status == "fail"]
+    assert failures
+    for k, failure in enumerate(failures):
+        payload = failure.evidence["repro"]
+        path = tmp_path / f"{k}.json"
+        path.write_text(json.dumps(payload))
+        named = payload["check"]
+        again = replay(path, bad, identify=False)
+        assert {r.check for r in again} <= {named, "hygiene"}
+        mine = [r for r in again if r.check == named]
+        assert mine and any(r.status == "fail" for r in mine), (failure.case, named, [r.message for r in again])
+        shrunk = payload.get("note") is None and len(payload["positions"]) < payload["original_triangles"]
+        if shrunk and named != "watertight":
+            assert payload["message"].split(";")[0] == mine[0].message.split(";")[0], (payload["message"], mine[0].message)
