@@ -1,12 +1,12 @@
 """Known-bad edge-function rasterizers: a plain per-pixel test over each triangle's
-bounding box, in numpy, with one classic bug each (selected by the constructor)."""
+bounding box, compiled, with one classic bug each (selected by the constructor)."""
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from harness.api import Coverage, Scene
-from tests.known_bad import coverage_from_parts
 from harness.conventions import Convention, owns_edge
 
 __all__ = ["EdgeFunctionBug"]
@@ -34,49 +34,76 @@ class EdgeFunctionBug:
         self.convention = Convention(tie=tie)  # type: ignore[arg-type]
 
     def rasterize(self, scene: Scene) -> Coverage:
-        with np.errstate(all="ignore"):
-            return self._rasterize(scene)
-
-    def _rasterize(self, scene: Scene) -> Coverage:
-        dtype = np.float32 if self.bug == "float32" else np.float64
         positions = scene.positions
         if self.bug == "nan-to-num":
             positions = np.nan_to_num(positions, nan=0.0, posinf=1e6, neginf=-1e6)
-        tris, xs, ys = [], [], []
-        for t, p in enumerate(positions):
-            if not np.all(np.isfinite(p)):
-                continue
-            area = (p[1, 0] - p[0, 0]) * (p[2, 1] - p[0, 1]) - (p[1, 1] - p[0, 1]) * (p[2, 0] - p[0, 0])
-            if (area == 0 and self.bug != "inclusive") or (self.bug == "min-area" and abs(area) / 2 < 1.0) or (self.bug == "one-winding" and area < 0):
-                continue
-            if area < 0:
-                p = p[[0, 2, 1]]
-            x0 = int(max(np.floor(p[:, 0].min()), 0))
-            x1 = int(min(np.ceil(p[:, 0].max()) + 1, scene.width))
-            y0 = int(max(np.floor(p[:, 1].min()), 0))
-            y1 = int(min(np.ceil(p[:, 1].max()) + 1, scene.height))
-            if x0 >= x1 or y0 >= y1:
-                continue
-            py, px = (np.mgrid[y0:y1, x0:x1] + 0.5).astype(dtype)
-            inside = np.ones(px.shape, dtype=bool)
-            q = p.astype(dtype)
-            for k in range(3):
-                a, b = q[k], q[(k + 1) % 3]
-                sign = 1
-                if self.bug not in ("endpoint-order", "float32") and tuple(a) > tuple(b):
-                    a, b, sign = b, a, -1  # canonical order: shared edges get opposite values
-                e = sign * ((b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]))
-                (ax, ay), (bx, by) = q[k], q[(k + 1) % 3]
-                owned = owns_edge(ax, ay, bx, by, *self.convention.tie_perturbation)
-                if self.bug == "inclusive":
-                    owned = True
-                elif self.bug == "exclusive":
-                    owned = False
-                elif self.bug == "vertex-order-ties":
-                    owned = k == 0
-                inside &= (e > 0) | ((e == 0) & owned)
-            y, x = np.nonzero(inside)
-            tris.append(np.full(x.size, t))
-            xs.append(x + x0)
-            ys.append(y + y0)
-        return coverage_from_parts(tris, xs, ys)
+        sx, sy, y_first = self.convention.tie_perturbation
+        with np.errstate(all="ignore"):
+            tri, x, y = _pixels(np.ascontiguousarray(positions, dtype=np.float64), scene.width, scene.height,
+                                BUGS.index(self.bug), sx, sy, y_first)
+        return Coverage.from_pixels(tri, x, y)
+
+
+BUGS = ("inclusive", "exclusive", "float32", "endpoint-order", "vertex-order-ties", "min-area", "one-winding", "nan-to-num")
+
+
+@numba.njit(cache=True)
+def _edge(ax, ay, bx, by, px, py, f32):  # type: ignore[no-untyped-def]
+    if f32:
+        return np.float32(np.float32(bx - ax) * np.float32(py - ay)) - np.float32(np.float32(by - ay) * np.float32(px - ax))
+    return (bx - ax) * (py - ay) - (by - ay) * (px - ax)
+
+
+@numba.njit(cache=True)
+def _pixels(positions, width, height, bug, sx, sy, y_first):  # type: ignore[no-untyped-def]
+    """(triangle, x, y) of every pixel whose centre the buggy test puts inside: a plain
+    per-pixel test over each triangle's bounding box, with the bug numbered ``bug`` in
+    :data:`BUGS` (a compiled kernel: shrinking calls it thousands of times)."""
+    f32 = bug == 2
+    out_t, out_x, out_y = [], [], []
+    for t in range(positions.shape[0]):
+        p = positions[t].copy()
+        if not np.all(np.isfinite(p)):
+            continue
+        if f32:
+            for i in range(3):
+                for j in range(2):
+                    p[i, j] = np.float32(p[i, j])
+        area = (p[1, 0] - p[0, 0]) * (p[2, 1] - p[0, 1]) - (p[1, 1] - p[0, 1]) * (p[2, 0] - p[0, 0])
+        if (area == 0 and bug != 0) or (bug == 5 and abs(area) / 2 < 1.0) or (bug == 6 and area < 0):
+            continue
+        if area < 0:
+            p = p[np.array([0, 2, 1])]
+        x0 = int(max(np.floor(p[:, 0].min()), 0.0))
+        x1 = int(min(np.ceil(p[:, 0].max()) + 1, width))
+        y0 = int(max(np.floor(p[:, 1].min()), 0.0))
+        y1 = int(min(np.ceil(p[:, 1].max()) + 1, height))
+        owned = np.zeros(3, dtype=np.bool_)
+        for k in range(3):
+            ax, ay, bx, by = p[k, 0], p[k, 1], p[(k + 1) % 3, 0], p[(k + 1) % 3, 1]
+            if bug == 0:
+                owned[k] = True
+            elif bug == 1:
+                owned[k] = False
+            elif bug == 4:
+                owned[k] = k == 0
+            else:
+                owned[k] = owns_edge(ax, ay, bx, by, sx, sy, y_first)
+        for yy in range(y0, y1):
+            for xx in range(x0, x1):
+                px, py = xx + 0.5, yy + 0.5
+                inside = True
+                for k in range(3):
+                    ax, ay, bx, by = p[k, 0], p[k, 1], p[(k + 1) % 3, 0], p[(k + 1) % 3, 1]
+                    sign = 1.0
+                    if bug != 3 and bug != 2 and (ax > bx or (ax == bx and ay > by)):
+                        ax, ay, bx, by, sign = bx, by, ax, ay, -1.0  # canonical order: shared edges get opposite values
+                    e = sign * _edge(ax, ay, bx, by, px, py, f32)
+                    if not (e > 0 or (e == 0 and owned[k])):
+                        inside = False
+                        break
+                if inside:
+                    out_t.append(t)
+                    out_x.append(xx)
+                    out_y.append(yy)
+    return np.array(out_t, dtype=np.int64), np.array(out_x, dtype=np.int64), np.array(out_y, dtype=np.int64)
