@@ -62,7 +62,7 @@ def flagged():
         mine = ([c for c in STATIC if c.family == "degenerate"] if "run" in wanted
                 else [c for c in STATIC if any(check.name in wanted for check in checks(c))])
         # with repros (as a user's run makes them), replayed by test_every_failure_replays_...
-        results = run_suite([bad], cases=mine, timeout=1.0, repro_seconds=4.0, identify=False, repros=bad in SHRINKING,
+        results = run_suite([bad], cases=mine, timeout=0.5, repro_seconds=4.0, identify=False, repros=bad in SHRINKING,
                             isolate="run" in wanted,  # in-process where nothing hangs: shrinking calls it often
                             only=None if "run" in wanted else set(wanted))
         out[bad.name] = {}
