@@ -368,24 +368,66 @@ def _compare(args: argparse.Namespace) -> int:
     return 0
 
 
+def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: float) -> tuple[str, bool]:
+    """What identify says of a declared convention: (the words, contradicted?).
+
+    Confirmed when identify finds exactly the declared convention; contradicted when the
+    rasterizer fails conformance to its own declared convention on the lattice and float
+    cases (measured directly, so that a convention outside identify's candidates is judged
+    fairly); otherwise consistent but not pinned down."""
+    from cases.suites import conformance_cases
+    from harness.runner import run_suite
+
+    declared = rasterizer.convention
+    if declared == fingerprint.convention and fingerprint.exact:
+        return "confirmed", False
+    cases = conformance_cases(seed)
+    failing = [r for r in run_suite([rasterizer], cases=cases, only={"conformance"}, repros=False, identify=False,
+                                    timeout=timeout) if r.status in ("fail", "error")]
+    if failing:
+        pixels = sum(int(r.metrics.get("missing", 0) + r.metrics.get("extra", 0)) for r in failing)
+        return (f"NOT what it does: {len(failing)} of {len(cases)} conformance cases fail against it "
+                f"({pixels} pixels), e.g. {failing[0].case}: {failing[0].message}"), True
+    if declared == fingerprint.convention:
+        return "consistent (conformance passes; identify could not tell it from " + (
+            " and ".join(fingerprint.ambiguous) or "the runner-up") + ")", False
+    return (f"consistent: conformance passes against it on {len(cases)} cases, though identify's best fit is "
+            f"{fingerprint.convention.describe()}"), False
+
+
 def _identify(args: argparse.Namespace) -> int:
+    """The fingerprint card; exit 1 when the rasterizer's declared convention is
+    contradicted, 2 when it cannot be loaded; ``--json`` writes the fingerprint."""
+    from harness.files import atomic_write_text, prepare_file
     from harness.identify import identify_isolated
 
+    if args.json:
+        try:
+            prepare_file(args.json, "--json")
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
     rasterizers, _ = _load_all([args.spec])
     if not rasterizers:
-        return 0  # unavailable: reported as skipped with its install hint
+        return 2  # unavailable: reported as skipped with its install hint; nothing was identified
+    rasterizer = rasterizers[0]
     try:
-        fingerprint = identify_isolated(rasterizers[0], seed=args.seed, timeout=max(300.0, 10 * args.timeout),
+        fingerprint = identify_isolated(rasterizer, seed=args.seed, timeout=max(300.0, 10 * args.timeout),
                                         call_timeout=args.timeout)
     except Exception as exc:  # the rasterizer died or hung outside Python: say so, no traceback
-        print(f"identify {rasterizers[0].name}: {type(exc).__name__}: {exc}", file=sys.stderr)
+        print(f"identify {rasterizer.name}: {type(exc).__name__}: {exc}", file=sys.stderr)
         return 1
     print(fingerprint.card())
-    declared = rasterizers[0].convention
+    declared = rasterizer.convention
+    payload: dict[str, Any] = {"schema": 1, "fingerprint": fingerprint.to_dict(),
+                               "declared": declared.describe() if declared is not None else None}
+    contradicted = False
     if declared is not None:
-        same = declared == fingerprint.convention
-        print(f"declared     {declared.describe()} ({'confirmed' if same and fingerprint.exact else 'NOT what it does'})")
-    return 0
+        words, contradicted = _declared_verdict(rasterizer, fingerprint, args.seed, args.timeout)
+        print(f"declared     {declared.describe()} ({words})")
+        payload.update(verdict=words, contradicted=contradicted)
+    if args.json:
+        atomic_write_text(args.json, json.dumps(payload, indent=1))
+    return 1 if contradicted else 0
 
 
 def _replay(args: argparse.Namespace) -> int:
@@ -541,6 +583,7 @@ def build_parser() -> argparse.ArgumentParser:
     ide.add_argument("spec", metavar="SPEC")
     ide.add_argument("--seed", type=int, default=0)
     ide.add_argument("--timeout", type=_positive_seconds, default=60.0, help="seconds one rasterize call may take")
+    ide.add_argument("--json", metavar="FILE", help="also write the fingerprint (and the verdict on a declared convention) as JSON")
     ide.set_defaults(func=_identify)
     rep = sub.add_parser("replay", help="run the checks of a saved case (a minimal repro) on a rasterizer")
     rep.add_argument("case", help="a case JSON file, as written under reports/repros/")

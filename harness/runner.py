@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import threading
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -95,7 +95,7 @@ def run_suite(
     suite: str = "quick",
     seed: int = 0,
     *,
-    cases: list[Case | MotionCase] | None = None,
+    cases: Sequence[Case | MotionCase] | None = None,
     tolerance: Tolerance = Tolerance(),
     timeout: float = 60.0,
     isolate: bool = True,
@@ -152,7 +152,7 @@ def run_suite(
         Records with ``rasterizer``, ``case``, ``check``, ``status``, ``message``,
         ``metrics`` and ``evidence``.
     """
-    selected = cases if cases is not None else suite_cases(suite, seed)
+    selected = list(cases) if cases is not None else suite_cases(suite, seed)
     results: list[Result] = []
     loaded = distinct_names([load(spec) if isinstance(spec, str) else spec for spec in rasterizers])
     if identify:
@@ -201,7 +201,7 @@ def run_suite(
     return results
 
 
-def _not_run(cases: list[Case | MotionCase], rasterizer: str, why: str,
+def _not_run(cases: Sequence[Case | MotionCase], rasterizer: str, why: str,
              on_result: Callable[[Result], None] | None) -> list[Result]:
     """An error result for each case that was not run, saying why: a run cut short never
     passes silently."""

@@ -172,3 +172,15 @@ def test_diff_classifies_every_change_and_writes_a_page(tmp_path, capsys):
     assert main(["diff", b, b, "--out", str(tmp_path / "d")]) == 0
     (tmp_path / "x.json").write_text("{")
     assert main(["diff", a, str(tmp_path / "x.json")]) == 2
+
+
+def test_identify_writes_json_and_exits_1_when_the_declared_convention_is_contradicted(tmp_path, capsys):
+    out = tmp_path / "f.json"
+    assert main(["identify", "centre_scanline", "--json", str(out)]) == 0
+    data = json.loads(out.read_text())
+    assert data["fingerprint"]["exact"] and data["contradicted"] is False and data["verdict"] == "confirmed"
+    code = main(["identify", "tests/known_bad/misc.py:WrongTieClaim", "--json", str(out)])
+    said = capsys.readouterr().out
+    assert code == 1 and "NOT what it does" in said
+    assert json.loads(out.read_text())["contradicted"] is True
+    assert main(["identify", "centre_scanline", "--json", str(tmp_path)]) == 2
