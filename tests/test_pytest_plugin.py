@@ -1,0 +1,178 @@
+"""The pytest plugin (``pytest --rasterizer SPEC``) and ``harness.testing.assert_conforms``.
+
+The plugin runs in a pytest of its own (a subprocess, as a CI user runs it), in a folder
+whose pytest.ini is as strict as ours: xfail_strict, --strict-markers, warnings as errors.
+"""
+
+import os
+import subprocess
+import sys
+import textwrap
+import time
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from cases.suites import suite
+from harness.checks import checks
+from harness.gate import key, save_baseline
+from harness.runner import run_suite
+from harness.testing import assert_conforms
+from tests.known_bad.misc import WrongTieClaim
+
+REPO = Path(__file__).resolve().parents[1]
+INI = "[pytest]\nxfail_strict = true\nfilterwarnings = error\naddopts = --strict-markers\n"
+COUNTING = textwrap.dedent('''
+    """centre_scanline, writing the triangle count of every scene it is called on to calls.log."""
+    import os
+
+    from rasterizers.centre_scanline import CentreScanline
+
+    LOG = os.path.join(os.path.dirname(os.path.abspath(__file__)), "calls.log")
+
+
+    class Counting(CentreScanline):
+        name = "counting"
+
+        def rasterize(self, scene):
+            with open(LOG, "a") as log:
+                log.write(f"{len(scene)}\\n")
+            return super().rasterize(scene)
+
+
+    class Undeclared:
+        """centre_scanline declaring no convention: identified (dozens of calls) when its
+        first item is set up."""
+
+        name = "undeclared"
+        convention = None
+
+        def rasterize(self, scene):
+            return CentreScanline().rasterize(scene)
+''')
+pytest_plugins = ["pytester"]
+KNOWN_BAD = ["--rasterizer", "tests.known_bad.misc:WrongTieClaim", "--rasterizer", "tests.known_bad.misc:Raises"]
+
+
+def plugin_run(tmp_path: Path, *args: str) -> tuple[subprocess.CompletedProcess[str], float]:
+    """``pytest ARGS`` in ``tmp_path`` (the repository importable, as an installed plugin
+    would be), and how long it took."""
+    (tmp_path / "pytest.ini").write_text(INI)
+    env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTEST_", "COV_"))}
+    env["PYTHONPATH"] = os.pathsep.join([str(REPO), *filter(None, [os.environ.get("PYTHONPATH")])])
+    start = time.monotonic()
+    proc = subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "--rastercheck-repros",
+                           str(tmp_path / "repros"), *args], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=600)
+    return proc, time.monotonic() - start
+
+
+def calls(tmp_path: Path) -> list[int]:
+    log = tmp_path / "calls.log"
+    return [int(line) for line in log.read_text().split()] if log.exists() else []
+
+
+def test_collection_builds_every_item_and_rasterizes_nothing(tmp_path):
+    (tmp_path / "counting.py").write_text(COUNTING)
+    plugin = tmp_path / "counting.py"
+    proc, _ = plugin_run(tmp_path, "--collect-only", "-q", "--rasterizer", f"{plugin}:Counting",
+                         "--rasterizer", f"{plugin}:Undeclared")
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    ids = [line for line in proc.stdout.splitlines() if "::" in line]
+    cases = suite("quick")
+    assert len(ids) == 2 * sum(len(checks(case)) for case in cases)
+    assert ids[:3] == ["rastercheck::counting::lattice/bits-0::hygiene", "rastercheck::counting::lattice/bits-0::conformance",
+                       "rastercheck::counting::lattice/bits-0::invariance"]
+    assert f"rastercheck::undeclared::{cases[-1].id}::" in proc.stdout
+    assert not calls(tmp_path)  # no rasterizing, no identifying
+    # -k leaves one item a case: each runs its own case and nothing else; the undeclared
+    # rasterizer is identified once, before its first item
+    lattice = [case for case in cases if case.id.startswith("lattice/bits-")]
+    proc, _ = plugin_run(tmp_path, "-q", "--rasterizer", f"{plugin}:Counting", "--rasterizer", f"{plugin}:Undeclared",
+                         "-k", "lattice/bits- and conformance")
+    assert proc.returncode == 0, proc.stdout[-3000:]
+    assert f"{2 * len(lattice)} passed" in proc.stdout
+    assert len(calls(tmp_path)) >= len(lattice) and set(calls(tmp_path)) == {len(case.scene) for case in lattice}
+    identified = [line for line in proc.stdout.splitlines() if line.startswith("undeclared: ")]
+    assert identified == ["undeclared: checked against the convention identified for it: sample (0.5, 0.5), top-left ties, "
+                          "no snapping, no culling"]
+
+
+def test_a_one_case_selection_runs_one_item_in_seconds(tmp_path):
+    proc, seconds = plugin_run(tmp_path, "--rasterizer", "centre_scanline", "-k", "lattice/bits-0 and conformance",
+                               "--junitxml", str(tmp_path / "r.xml"))
+    assert proc.returncode == 0, proc.stdout[-3000:]
+    assert " 1 passed, " in proc.stdout and " deselected" in proc.stdout
+    cases = ET.parse(tmp_path / "r.xml").getroot().findall(".//testcase")
+    assert [(c.get("classname"), c.get("name")) for c in cases] == [("rastercheck.centre_scanline.lattice/bits-0", "conformance")]
+    assert float(cases[0].get("time", "0")) > 0.01  # the item's own run, not done at collection
+    assert seconds < 20, seconds  # about 5 s (interpreter and imports included) on an idle machine: one case of 108
+
+
+def test_failures_read_well_with_their_repro_and_traceback(tmp_path):
+    proc, _ = plugin_run(tmp_path, *KNOWN_BAD, "-k", "lattice/bits-0")
+    assert proc.returncode == 1
+    out = proc.stdout
+    assert "4 failed, 2 passed" in out
+    assert "_ bad_wrong_tie_claim lattice/bits-0 [conformance] _" in out
+    assert "bad_wrong_tie_claim lattice/bits-0 [conformance] fail: " in out
+    repro = tmp_path / "repros" / "bad_wrong_tie_claim" / "lattice_bits-0--conformance.json"
+    assert f"minimal repro: {repro} (rastercheck replay {repro} --rasterizer tests.known_bad.misc:WrongTieClaim)" in out
+    assert repro.is_file()
+    # a rasterizer that raises: each check of the case shows the run's error and its traceback
+    assert out.count("bad_raises lattice/bits-0 [run] error: RuntimeError: rasterizer exploded") == 3
+    assert "the rasterizer's traceback:" in out and 'raise RuntimeError("rasterizer exploded")' in out
+
+
+def test_a_baseline_makes_known_failures_xfail(tmp_path):
+    baseline = tmp_path / "baseline.json"
+    from harness.checks import Result
+
+    known = [Result("bad_wrong_tie_claim", "lattice/bits-0", "conformance", "fail", ""),
+             Result("bad_wrong_tie_claim", "lattice/bits-0", "hygiene", "fail", ""),  # passes now: XPASS
+             Result("bad_raises", "lattice/bits-0", "run", "error", "")]  # the whole case: each check xfails
+    save_baseline(baseline, known, {key(known[0]): {"reason": "claims bottom-right, draws top-left"}})
+    proc, _ = plugin_run(tmp_path, *KNOWN_BAD, "-k", "lattice/bits-0", "--rastercheck-baseline", str(baseline), "-rxX")
+    assert proc.returncode == 0, proc.stdout[-3000:]
+    out = proc.stdout
+    assert "1 passed, 588 deselected, 4 xfailed, 1 xpassed" in out
+    assert "XFAIL rastercheck::bad_wrong_tie_claim::lattice/bits-0::conformance - claims bottom-right, draws top-left" in out
+    assert "XPASS rastercheck::bad_wrong_tie_claim::lattice/bits-0::hygiene" in out
+    assert "XFAIL rastercheck::bad_raises::lattice/bits-0::invariance - the case's run: " in out
+
+
+@pytest.mark.parametrize("args, said", [
+    (["--rasterizer", "nope"], "nope: not a registered rasterizer"),
+    (["--rasterizer", "centre_scanline", "--rastercheck-baseline", "none.json"], "--rastercheck-baseline: none.json: no such baseline"),
+    (["--rasterizer", "centre_scanline", "--rastercheck-suite", "huge"], "--rastercheck-suite: unknown suite 'huge'"),
+])
+def test_usage_errors(pytester, args, said):
+    pytester.makeini(INI)
+    result = pytester.runpytest_inprocess("-p", "no:cacheprovider", *args)
+    assert result.ret == pytest.ExitCode.USAGE_ERROR and said in result.stderr.str()
+
+
+LATTICE = [case for case in suite("quick") if case.id.startswith("lattice/")]
+
+
+def test_assert_conforms():
+    assert assert_conforms("fixed_point", cases=LATTICE, isolate=False)
+    with pytest.raises(AssertionError, match=r"checks failed:(.|\n)*minimal repro: "):
+        assert_conforms(WrongTieClaim(), cases=LATTICE, isolate=False)
+
+
+def test_assert_conforms_lets_a_baselines_known_failures_through(tmp_path):
+    failing = [r for r in run_suite([WrongTieClaim()], cases=LATTICE, isolate=False, repros=False) if r.status == "fail"]
+    assert len(failing) > 1
+    baseline = tmp_path / "baseline.json"
+    save_baseline(baseline, failing)
+    results = assert_conforms(WrongTieClaim(), cases=LATTICE, isolate=False, repros=False, baseline=baseline)
+    assert [key(r) for r in results if r.status == "fail"] == [key(r) for r in failing]
+    save_baseline(baseline, failing[1:])  # one known failure fewer: that one fails the assertion, alone
+    with pytest.raises(AssertionError) as raised:
+        assert_conforms(WrongTieClaim(), cases=LATTICE, isolate=False, repros=False, baseline=baseline)
+    text = str(raised.value)
+    assert text.startswith(f"1 of {len(results)} checks failed ({len(failing) - 1} known failures of the baseline let through):")
+    assert f"{failing[0].rasterizer} {failing[0].case} [{failing[0].check}] fail" in text
+    with pytest.raises(ValueError, match="no such baseline"):
+        assert_conforms(WrongTieClaim(), cases=LATTICE, baseline=tmp_path / "none.json")
