@@ -23,20 +23,31 @@ class UsageError(Exception):
     """A usage or configuration problem: exit 2 with one line, no traceback."""
 
 
+# what the last _load_all loaded (the spec of each rasterizer, in load order) and skipped
+# (spec -> why), for the report: its replay commands quote the spec, its index lists the skipped
+_loaded_specs: list[str] = []
+_skipped: dict[str, str] = {}
+
+
 def _load_all(specs: list[str] | None) -> tuple[list[Any], list[str]]:
     from harness.registry import Unavailable, available, load
 
     names = specs or available()
     loaded, problems = [], []
+    _loaded_specs.clear()
+    _skipped.clear()
     for spec in names:
         try:
             loaded.append(load(spec))
+            _loaded_specs.append(spec)
         except Unavailable as exc:  # a missing library: skipped with its install hint, never fatal
             print(f"skipped {spec}: {exc}", file=sys.stderr)
+            _skipped[spec] = str(exc)
         except ValueError as exc:
             if specs:  # the user named it: a configuration error
                 raise UsageError(str(exc)) from None
             problems.append(str(exc))  # a broken plugin is reported and skipped
+            _skipped[spec] = f"broken plugin: {exc}"
     return loaded, problems
 
 
@@ -257,8 +268,10 @@ def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: li
     declared = {r.name: (r.convention.describe() if r.convention is not None and fingerprint_of(r) is None
                          else "none declared") for r in rasterizers}
     kinds = {r.name: _kind(r) for r in rasterizers}
+    # the rasterizers come in load order (renamed and identified ones in place): each one's spec
+    specs = dict(zip([r.name for r in rasterizers], _loaded_specs)) if len(_loaded_specs) == len(rasterizers) else {}
     path = write_report(out, conventions, results, args.seed, args.suite, seconds,
-                        fingerprints=fingerprints, declared=declared, kinds=kinds)
+                        fingerprints=fingerprints, declared=declared, kinds=kinds, specs=specs, skipped=dict(_skipped))
     if not quiet:
         print(f"report: {path}" + (f"; {written} minimal repros in {out / 'repros'}" if written else ""))
     if args.json:
@@ -305,27 +318,73 @@ def _run(args: argparse.Namespace) -> int:
     return 1 if any(x.status in ("fail", "error") for x in results) else 0
 
 
+def _update_command(args: argparse.Namespace) -> str:
+    """The ``rastercheck gate ... --update-baseline`` that accepts this run's selection."""
+    import shlex
+
+    parts = ["rastercheck", "gate"]
+    for spec in args.rasterizer or []:
+        parts += ["--rasterizer", spec]
+    parts += ["--suite", args.suite, "--seed", str(args.seed)]
+    for glob in args.case or []:
+        parts += ["--case", glob]
+    for name in args.check or []:
+        parts += ["--check", name]
+    if args.skip:
+        parts += ["--skip", args.skip]
+    if args.shard:
+        parts += ["--shard", f"{args.shard[0]}/{args.shard[1]}"]
+    parts += ["--baseline", args.baseline] + (["--allow-missing"] if args.allow_missing else []) + ["--update-baseline"]
+    return shlex.join(parts)
+
+
 def _gate(args: argparse.Namespace) -> int:
+    """Run the suite, then compare with the baseline: exit 1 on a regression (a missing
+    result is one, unless --allow-missing). With --update-baseline, write the run as the
+    new baseline instead. A baseline that is a folder, unreadable, malformed, or of
+    another rasterizer than the run's is a usage error (exit 2). --junit is written with
+    the gate's verdict: known failures skipped, regressions failing."""
+    from harness.files import prepare_file
     from harness.gate import compare_with_baseline, load_baseline, save_baseline
+    from harness.output import write_junit
 
     baseline: dict[str, Any] = {}
-    if not args.update_baseline or Path(args.baseline).exists():
-        try:
-            baseline = load_baseline(args.baseline)
-        except ValueError as exc:
-            if not args.update_baseline:
-                raise UsageError(str(exc)) from None
-    rasterizers, results, seconds, fingerprints = _execute(args)
-    _write_outputs(args, rasterizers, results, seconds, fingerprints)
+    path = Path(args.baseline)
+    try:
+        if args.update_baseline:
+            prepare_file(path, "--baseline")
+        if not args.update_baseline or path.exists():
+            baseline = load_baseline(path)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    try:
+        rasterizers, results, seconds, fingerprints = _execute(args)
+    except Interrupted as stopped:  # the partial report and JSON, but no verdict (nor JUnit) on half a run
+        return _interrupted(argparse.Namespace(**{**vars(args), "junit": None}), stopped)
+    before: bytes | None = None
     if args.update_baseline:
-        save_baseline(args.baseline, results, baseline)
-        print(f"baseline updated: {args.baseline} ({len(results)} entries)")
+        before = path.read_bytes() if path.exists() else None
+        save_baseline(path, results, baseline, keep_missing=args.allow_missing)
+        baseline = load_baseline(path)
+    try:
+        verdict = compare_with_baseline(results, baseline, allow_missing=args.allow_missing)
+    except ValueError as exc:
+        raise UsageError(f"{path}: {exc}") from None
+    _write_outputs(argparse.Namespace(**{**vars(args), "junit": None}), rasterizers, results, seconds, fingerprints)
+    if args.junit:
+        write_junit(args.junit, results, verdict)
+    if args.update_baseline:
+        print(f"baseline {'unchanged' if before == path.read_bytes() else 'updated'}: {path} ({len(baseline)} entries)")
         return 0
-    verdict = compare_with_baseline(results, baseline)
     for line in verdict.lines():
         print(line)
-    print(f"gate: {len(verdict.regressions)} regressions, {len(verdict.fixed)} unexpectedly passing, "
-          f"{len(verdict.known)} known failures")
+    fixed = verdict.of("fixed")
+    if fixed:
+        print(f"to accept the {len(fixed)} unexpected passes as the new baseline: {_update_command(args)}")
+    absent = len(verdict.of("absent"))
+    print(f"gate: {len(verdict.regressions)} regressions ({len(verdict.of('missing'))} missing), {len(fixed)} unexpectedly passing, "
+          f"{len(verdict.of('known'))} known failures, {len(verdict.of('new'))} new"
+          + (f", {absent} not run (missing allowed)" if absent else ""))
     return 0 if verdict.ok else 1
 
 
@@ -571,7 +630,11 @@ def build_parser() -> argparse.ArgumentParser:
     gate = sub.add_parser("gate", help="fail only on regressions against a baseline (for CI)")
     _selection(gate)
     gate.add_argument("--baseline", required=True, metavar="FILE")
-    gate.add_argument("--update-baseline", action="store_true", help="write this run as the new baseline")
+    gate.add_argument("--update-baseline", action="store_true",
+                      help="write this run as the new baseline (the reasons of failures that remain are kept)")
+    gate.add_argument("--allow-missing", action="store_true",
+                      help="a result of the baseline missing from the run is no regression (a partial run: --case, --check, "
+                           "--shard, fewer rasterizers); with --update-baseline, such entries are kept")
     gate.set_defaults(func=_gate)
     cmp = sub.add_parser("compare", help="pixel differences between rasterizers, and the convention that separates them")
     cmp.add_argument("specs", nargs="+", metavar="SPEC")

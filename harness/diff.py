@@ -18,21 +18,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import harness
-from harness.checks import Result, checks
+from harness.checks import Result, timing_metrics
 from harness.files import atomic_write_text
 
 __all__ = ["Change", "RunDiff", "diff_runs", "load_run", "write_diff_page"]
 
 BAD = ("fail", "error")
 KINDS = ("regression", "fix", "status change", "new", "removed")
-
-
-def _timing_metrics() -> set[str]:
-    """Metrics measured in time, which differ between any two runs."""
-    timing = {"seconds"}
-    for check in checks(only=None):
-        timing |= set(getattr(check, "timing", ()) or ())
-    return timing
 
 
 @dataclass(frozen=True)
@@ -89,7 +81,7 @@ def _key(r: Result) -> tuple[str, str, str]:
 
 def diff_runs(a: list[Result], b: list[Result], a_name: str = "A", b_name: str = "B") -> RunDiff:
     """Match the results of two runs and classify every difference."""
-    timing = _timing_metrics()
+    timing = timing_metrics()
     before = {_key(r): r for r in a}
     after = {_key(r): r for r in b}
     diff = RunDiff(a_name, b_name)

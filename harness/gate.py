@@ -2,102 +2,335 @@
 
 A baseline maps ``rasterizer|case|check`` to the status and metrics seen when it was last
 updated, and, for known failures, a reason a person wrote. The gate fails only on
-regressions: a check that passed (or is new) now fails or errors, or a metric got worse
-beyond its tolerance. A known failure that now passes is reported as unexpectedly passing.
+regressions: a check that passed (or is new) now fails or errors, a metric got worse
+beyond its tolerance, or a result of the baseline is missing from the run (unless the run
+is partial on purpose: ``allow_missing``). A known failure that now passes is reported as
+unexpectedly passing. A run that shares no rasterizer with the baseline is not compared
+at all: that is a mistake of the caller (ValueError).
 
-Baseline file (JSON)::
+Baseline file (JSON, :data:`BASELINE_SCHEMA`), written with sorted keys so that an
+unchanged run rewrites it byte for byte::
 
     {"schema": 1, "entries": {"<rasterizer>|<case>|<check>":
-        {"status": "pass" | "fail" | "error" | "skip", "metrics": {...}, "reason": "..."}}}
+        {"status": "pass" | "fail" | "error" | "skip", "metrics": {str: number}, "reason": str}}}
+
+Only gated metrics (:func:`harness.checks.metric_tolerance`) that are not timings
+(:func:`harness.checks.timing_metrics`) are stored. Fields may be added to an entry in a later schema-1 file.
 """
 
 from __future__ import annotations
 
 import json
+import re
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
-from harness.checks import Result, metric_tolerance
+from harness.checks import timing_metrics, Result, check_names, metric_tolerance
 from harness.files import atomic_write_text
 
-__all__ = ["Verdict", "compare_with_baseline", "load_baseline", "save_baseline"]
+__all__ = ["BASELINE_SCHEMA", "Finding", "Verdict", "compare_with_baseline", "gated_metrics", "key",
+           "load_baseline", "save_baseline"]
 
 SCHEMA = 1
 BAD = ("fail", "error")
-# Metrics where larger is worse, with the growth the gate lets through: each check
-# declares its own (harness.checks.metric_tolerance()).
+
+# Metrics measured with a clock (each check declares its own, Check.timings; "seconds"
+# is the rasterize time the runner adds to every result) change from one run to the next
+# on the same code: they never enter a baseline and the gate never compares them.
+
+# The JSON schema of a baseline file (a JSON Schema 2020-12 document).
+BASELINE_SCHEMA: dict[str, Any] = {
+    "$schema": "https://json-schema.org/draft/2020-12/schema",
+    "type": "object",
+    "required": ["schema", "entries"],
+    "properties": {
+        "schema": {"const": SCHEMA},
+        "entries": {
+            "type": "object",
+            "propertyNames": {"pattern": r"^[^|]+\|.+\|[^|]+$"},  # rasterizer|case|check
+            "additionalProperties": {
+                "type": "object",
+                "required": ["status"],
+                "properties": {
+                    "status": {"enum": ["pass", "fail", "error", "skip"]},
+                    "metrics": {"type": "object", "additionalProperties": {"type": "number"}},
+                    "reason": {"type": "string"},
+                },
+            },
+        },
+    },
+}
+
+Kind = Literal["regression", "missing", "fixed", "known", "new", "absent", "flaky", "dropped"]
+# How each kind of finding is labelled in the gate's output, and counted in a header.
+_LABEL = {"regression": "REGRESSION", "missing": "MISSING", "fixed": "UNEXPECTEDLY PASSING", "flaky": "FLAKY",
+          "dropped": "NOW SKIPPED"}
+_SHOWN: tuple[Kind, ...] = ("regression", "missing", "fixed", "flaky", "dropped")
 
 
 def key(r: Result) -> str:
     return f"{r.rasterizer}|{r.case}|{r.check}"
 
 
+def _parts(k: str) -> tuple[str, str, str]:
+    """(rasterizer, case, check) of a baseline key."""
+    rasterizer, rest = k.split("|", 1)
+    case, _, check = rest.rpartition("|")
+    return rasterizer, case, check
+
+
+def gated_metrics() -> dict[str, tuple[float, float]]:
+    """The metrics a baseline stores and the gate compares, with their (factor, slack):
+    those the checks declare, but timings."""
+    return {m: t for m, t in metric_tolerance().items() if m not in timing_metrics()}
+
+
+@dataclass(frozen=True)
+class Finding:
+    """What the gate says of one ``rasterizer|case|check``.
+
+    kind : {"regression", "missing", "fixed", "known", "new", "absent", "flaky", "dropped"}
+        ``missing``: in the baseline, not in the run (a regression); ``absent``: the same
+        when missing results are allowed (not a regression); ``fixed``: a known failure
+        that passes now; ``known``: a known failure that still fails; ``new``: not in the
+        baseline, and passing or skipped; ``flaky``: it fails now, but not on every rerun
+        (``--rerun``): shown, not a regression; ``dropped``: it passed, and is skipped
+        now: shown (coverage lost), not a regression.
+    text : str
+        What changed, in one line (a status change and worse metrics together).
+    reason : str
+        The baseline's reason, for a known failure or a fixed one.
+    """
+
+    key: str
+    kind: Kind
+    text: str
+    reason: str = ""
+
+    @property
+    def rasterizer(self) -> str:
+        return _parts(self.key)[0]
+
+    @property
+    def case(self) -> str:
+        return _parts(self.key)[1]
+
+    @property
+    def check(self) -> str:
+        return _parts(self.key)[2]
+
+    def __str__(self) -> str:
+        return f"{self.key}: {self.text}"
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}" + ("" if n == 1 or word.endswith("passing") else "s")
+
+
 @dataclass
 class Verdict:
-    regressions: list[str] = field(default_factory=list)
-    fixed: list[str] = field(default_factory=list)
-    known: list[str] = field(default_factory=list)
-    new: list[str] = field(default_factory=list)
+    findings: list[Finding] = field(default_factory=list)
+
+    def of(self, kind: Kind) -> list[Finding]:
+        return [f for f in self.findings if f.kind == kind]
+
+    def by_key(self) -> dict[str, Finding]:
+        """The finding on each key that has one (one key has at most one)."""
+        return {f.key: f for f in self.findings}
+
+    @property
+    def regressions(self) -> list[str]:
+        """One line per regressed result, missing ones included."""
+        return [str(f) for f in self.findings if f.kind in ("regression", "missing")]
+
+    @property
+    def fixed(self) -> list[str]:
+        return [str(f) for f in self.of("fixed")]
+
+    @property
+    def known(self) -> list[str]:
+        return [str(f) for f in self.of("known")]
+
+    @property
+    def new(self) -> list[str]:
+        return [str(f) for f in self.of("new")]
 
     @property
     def ok(self) -> bool:
         return not self.regressions
 
+    def counts(self, findings: Iterable[Finding] | None = None) -> str:
+        """``3 regressions, 1 unexpectedly passing, 2 known failures``: the nonzero counts."""
+        mine = list(self.findings if findings is None else findings)
+        n = {kind: sum(f.kind == kind for f in mine)
+             for kind in ("regression", "missing", "fixed", "known", "new", "absent", "flaky", "dropped")}
+        regressions = n["regression"] + n["missing"]
+        parts = [_plural(regressions, "regression") + (f" ({n['missing']} missing)" if n["missing"] else "")] if regressions else []
+        parts += [f"{n['fixed']} unexpectedly passing"] if n["fixed"] else []
+        parts += [_plural(n["known"], "known failure")] if n["known"] else []
+        parts += [f"{n['new']} new"] if n["new"] else []
+        parts += [f"{n['absent']} not run (missing allowed)"] if n["absent"] else []
+        parts += [f"{n['flaky']} flaky"] if n["flaky"] else []
+        parts += [f"{n['dropped']} passing before, skipped now"] if n["dropped"] else []
+        return ", ".join(parts)
+
     def lines(self) -> list[str]:
-        out = [f"REGRESSION {line}" for line in self.regressions]
-        out += [f"UNEXPECTEDLY PASSING {line}" for line in self.fixed]
-        out += [f"known failure {line}" for line in self.known]
-        out += [f"new {line}" for line in self.new]
+        """Grouped by check, in registry order: a header with the counts, then one line
+        per regression, missing result and unexpected pass (known failures and new
+        results are counted, not listed)."""
+        order = {name: k for k, name in enumerate(check_names())}
+        groups: dict[str, list[Finding]] = {}
+        for f in self.findings:
+            groups.setdefault(f.check, []).append(f)
+        out = []
+        for check in sorted(groups, key=lambda c: (order.get(c, len(order)), c)):
+            mine = groups[check]
+            if not any(f.kind in _SHOWN or f.kind == "known" for f in mine):
+                continue
+            out.append(f"{check}: {self.counts(mine)}")
+            for kind in _SHOWN:
+                out += [f"  {_LABEL[kind]} {f}" for f in mine if f.kind == kind]
         return out
 
 
+def _where(path: Iterable[Any]) -> str:
+    """``entries["a|b|c"].metrics.wrong``: a JSON path for people."""
+    out = ""
+    for p in path:
+        if isinstance(p, int):
+            out += f"[{p}]"
+        elif re.fullmatch(r"[A-Za-z_]\w*", str(p)):
+            out += f".{p}"
+        else:
+            out += f"[{json.dumps(p)}]"
+    return out.lstrip(".") or "the top level"
+
+
 def load_baseline(path: Path | str) -> dict[str, dict[str, Any]]:
+    """The entries of a baseline file, checked against :data:`BASELINE_SCHEMA`;
+    ValueError in one line naming the file (and the field) that is wrong."""
+    import jsonschema
+
     path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{path}: a folder, not a baseline file")
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         raise ValueError(f"{path}: no such baseline (create one with --update-baseline)") from None
-    except (OSError, json.JSONDecodeError) as exc:
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
         raise ValueError(f"{path}: unreadable baseline ({exc})") from None
-    if not isinstance(data, dict) or data.get("schema") != SCHEMA or not isinstance(data.get("entries"), dict):
+    if not isinstance(data, dict) or data.get("schema") != SCHEMA:
         raise ValueError(f"{path}: not a rastercheck baseline of schema {SCHEMA}")
-    return data["entries"]
+    error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(BASELINE_SCHEMA).iter_errors(data))
+    if error is not None:
+        shown = repr(error.instance)
+        shown = shown if len(shown) <= 60 else shown[:57] + "..."
+        if error.validator == "required":
+            missing = [f for f in error.validator_value if isinstance(error.instance, dict) and f not in error.instance]
+            what = f"lacks {', '.join(map(repr, missing))}"
+        elif "propertyNames" in error.absolute_schema_path:
+            what = f"{shown} is not a key of the form rasterizer|case|check"
+        elif error.validator == "type":
+            what = f"{shown} is not of type {error.validator_value!r}"
+        elif error.validator == "enum":
+            what = f"{shown} is not one of {', '.join(map(repr, error.validator_value))}"
+        else:
+            what = f"{shown} is not valid ({error.validator} {error.validator_value!r:.80})"
+        raise ValueError(f"{path}: malformed baseline at {_where(error.absolute_path)}: {what}")
+    entries: dict[str, dict[str, Any]] = data["entries"]
+    return entries
 
 
-def save_baseline(path: Path | str, results: list[Result], previous: dict[str, dict[str, Any]] | None = None) -> Path:
-    """Write the run as the new baseline, keeping the reasons of failures that remain."""
+def _entry(r: Result, previous: dict[str, dict[str, Any]], gated: dict[str, tuple[float, float]]) -> dict[str, Any]:
+    metrics = {m: v for m, v in r.metrics.items() if m in gated and isinstance(v, (int, float)) and not isinstance(v, bool)}
+    entry: dict[str, Any] = {"status": r.status, "metrics": metrics}
+    if r.status in BAD:
+        entry["reason"] = previous.get(key(r), {}).get("reason", "") or r.message
+    return entry
+
+
+def save_baseline(path: Path | str, results: list[Result], previous: dict[str, dict[str, Any]] | None = None,
+                  keep_missing: bool = False) -> Path:
+    """Write the run as the new baseline, keeping the reasons of failures that remain.
+
+    Parameters
+    ----------
+    path : path
+    results : list of Result
+    previous : dict, optional
+        The baseline's entries so far (:func:`load_baseline`): their reasons are kept.
+    keep_missing : bool
+        Keep the previous entries this run did not produce (a partial run: ``--case``,
+        ``--check``, ``--shard``, fewer rasterizers).
+
+    Timings are left out and keys sorted: the same results give the same bytes.
+    """
     previous = previous or {}
-    entries = {}
-    gated = metric_tolerance()
-    for r in results:
-        k = key(r)
-        entry: dict[str, Any] = {"status": r.status, "metrics": {m: v for m, v in r.metrics.items() if m in gated}}
-        if r.status in BAD:
-            entry["reason"] = previous.get(k, {}).get("reason", "") or f"known failure: {r.message}"
-        entries[k] = entry
+    gated = gated_metrics()
+    entries = {key(r): _entry(r, previous, gated) for r in results}
+    if keep_missing:
+        entries = {**{k: v for k, v in previous.items() if k not in entries}, **entries}
     path = Path(path)
-    atomic_write_text(path, json.dumps({"schema": SCHEMA, "entries": entries}, indent=1, sort_keys=True))
+    atomic_write_text(path, json.dumps({"schema": SCHEMA, "entries": entries}, indent=1, sort_keys=True) + "\n")
     return path
 
 
-def compare_with_baseline(results: list[Result], baseline: dict[str, dict[str, Any]]) -> Verdict:
+def _worse(r: Result, before: dict[str, Any], gated: dict[str, tuple[float, float]]) -> list[str]:
+    """``wrong worsened from 0 to 12`` for each gated metric beyond its tolerance."""
+    out = []
+    old_metrics = before.get("metrics", {})
+    for metric, (factor, slack) in gated.items():
+        old, new = old_metrics.get(metric), r.metrics.get(metric)
+        if isinstance(old, (int, float)) and isinstance(new, (int, float)) and new > old * factor + slack:
+            out.append(f"{metric} worsened from {old:g} to {new:g}")
+    return out
+
+
+def compare_with_baseline(results: list[Result], baseline: dict[str, dict[str, Any]], allow_missing: bool = False) -> Verdict:
+    """The gate's verdict on ``results`` against the baseline's entries.
+
+    Raises ValueError (one line) when both name rasterizers and none in common: the run
+    was of another rasterizer than the baseline's.
+    """
+    ran = {r.rasterizer for r in results}
+    known = {_parts(k)[0] for k in baseline}
+    if ran and known and not ran & known:
+        raise ValueError(f"the baseline is of {', '.join(sorted(known))}, this run of {', '.join(sorted(ran))}: "
+                         "no rasterizer in common (another --baseline, or --update-baseline to start one)")
+    gated = gated_metrics()
     verdict = Verdict()
+    seen = set()
     for r in results:
         k = key(r)
+        seen.add(k)
         before = baseline.get(k)
         if before is None:
-            (verdict.regressions if r.status in BAD else verdict.new).append(f"{k}: {r.status}: {r.message}")
+            if r.status in BAD and "flaky" in r.evidence:
+                verdict.findings.append(Finding(k, "flaky", f"new, {' / '.join(r.evidence['flaky'])} on reruns: {r.message}"))
+            elif r.status in BAD:
+                verdict.findings.append(Finding(k, "regression", f"new, {r.status}: {r.message}"))
+            else:
+                verdict.findings.append(Finding(k, "new", f"new, {r.status}"))
             continue
-        was_bad = before.get("status") in BAD
-        if r.status in BAD and not was_bad:
-            verdict.regressions.append(f"{k}: was {before.get('status')}, now {r.status}: {r.message}")
+        status, reason = before.get("status"), before.get("reason", "")
+        was_bad = status in BAD
+        worse = _worse(r, before, gated)
+        if r.status in BAD and not was_bad and "flaky" in r.evidence:  # the reruns disagree: a flake, shown
+            verdict.findings.append(Finding(k, "flaky", f"was {status}, now {' / '.join(r.evidence['flaky'])} on reruns: {r.message}"))
+        elif r.status in BAD and not was_bad:
+            verdict.findings.append(Finding(k, "regression", "; ".join([f"was {status}, now {r.status}: {r.message}", *worse])))
+        elif worse:
+            verdict.findings.append(Finding(k, "regression", "; ".join([f"{r.status} as before", *worse]), reason))
         elif was_bad and r.status == "pass":
-            verdict.fixed.append(f"{k}: was {before.get('status')} ({before.get('reason', '')}), now passes")
-        elif was_bad:
-            verdict.known.append(f"{k}: {before.get('reason', '')}")
-        for metric, (factor, slack) in metric_tolerance().items():
-            old, new = before.get("metrics", {}).get(metric), r.metrics.get(metric)
-            if isinstance(old, (int, float)) and isinstance(new, (int, float)) and new > old * factor + slack:
-                verdict.regressions.append(f"{k}: {metric} worsened from {old:g} to {new:g}")
+            verdict.findings.append(Finding(k, "fixed", f"was {status} ({reason}), now passes", reason))
+        elif was_bad and r.status in BAD:
+            verdict.findings.append(Finding(k, "known", f"{r.status}: {reason or r.message}", reason or r.message))
+        elif status == "pass" and r.status == "skip":
+            verdict.findings.append(Finding(k, "dropped", f"was pass, now skipped: {r.message}"))
+    for k in sorted(baseline.keys() - seen):
+        verdict.findings.append(Finding(k, "absent" if allow_missing else "missing",
+                                        f"in the baseline ({baseline[k].get('status')}), not in this run"))
     return verdict

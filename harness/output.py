@@ -32,16 +32,21 @@ from __future__ import annotations
 
 import json
 import math
+import re
+import socket
 import time
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable
 from dataclasses import fields
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import harness
 from harness.checks import Result
 from harness.files import atomic_write_text
+
+if TYPE_CHECKING:
+    from harness.gate import Finding, Verdict
 
 __all__ = ["SCHEMA", "results_to_json", "results_from_json", "write_json", "write_junit"]
 
@@ -98,31 +103,101 @@ def write_json(path: Path | str, results: Iterable[Result], suite: str, seed: in
     return path
 
 
-def write_junit(path: Path | str, results: Iterable[Result]) -> Path:
-    """JUnit XML: one testsuite per rasterizer, one testcase per case and check."""
+# Characters XML 1.0 cannot carry (a rasterizer's exception text may hold any of them).
+_NOT_XML = re.compile("[\x00-\x08\x0b\x0c\x0e-\x1f\ud800-\udfff\ufffe\uffff]")
+
+
+def _xml(text: str) -> str:
+    return _NOT_XML.sub("\ufffd", text)
+
+
+def _junit_seconds(r: Result) -> float:
+    """A testcase's time: the result's rasterize seconds (0 when it has none)."""
+    value = r.metrics.get("seconds", 0.0)
+    return float(value) if isinstance(value, (int, float)) and math.isfinite(value) and value >= 0 else 0.0
+
+
+def _error_type(message: str) -> str:
+    """``timeout`` or the exception's name, from an error result's ``kind: text`` message."""
+    head, colon, _ = message.partition(":")
+    return head if colon and head.isidentifier() else "error"
+
+
+def _known_failure(reason: str) -> str:
+    # the default reason of earlier baselines starts so already
+    return reason if reason.startswith("known failure") else f"known failure: {reason}"
+
+
+def _junit_case(suite: ET.Element, r: Result, finding: Finding | None, notes: list[str]) -> None:
+    """One testcase: its outcome from the result's status, or, under the gate, from its
+    finding (a known failure is skipped, a regression fails, an unexpected pass passes
+    with a note)."""
+    case = ET.SubElement(suite, "testcase", classname=_xml(f"{r.rasterizer}.{r.check}"), name=_xml(r.case),
+                         time=f"{_junit_seconds(r):.6f}")
+    repro = f"\nminimal repro: {r.evidence['repro_path']}" if "repro_path" in r.evidence else ""
+    regression = finding is not None and finding.kind == "regression"
+    message = finding.text if finding is not None and regression else r.message
+    if finding is not None and finding.kind == "known":
+        ET.SubElement(case, "skipped", message=_xml(_known_failure(finding.reason)))
+    elif finding is not None and finding.kind == "fixed":
+        notes.append(f"UNEXPECTEDLY PASSING {finding}")
+    elif finding is not None and finding.kind == "flaky":  # neither a pass nor a regression: said, not failed
+        ET.SubElement(case, "skipped", message=_xml(f"flaky: {finding.text}"))
+    elif r.status == "error":  # a crash or a timeout, new or regressed
+        ET.SubElement(case, "error", type=_error_type(r.message), message=_xml(message)).text = _xml(
+            str(r.evidence.get("traceback") or r.message + repro))
+    elif r.status == "fail" or regression:  # a regression may be a metric of a passing check
+        ET.SubElement(case, "failure", type="regression" if regression else r.check, message=_xml(message)).text = _xml(
+            message + repro)
+    elif r.status == "skip":
+        ET.SubElement(case, "skipped", message=_xml(r.message))
+
+
+def write_junit(path: Path | str, results: Iterable[Result], verdict: Verdict | None = None) -> Path:
+    """JUnit XML valid against the Ant/Jenkins ``JUnit.xsd``: one testsuite per
+    rasterizer, one testcase per case and check; the suites' counts are those of the
+    testcases' outcomes.
+
+    Without ``verdict``: fail is a ``<failure>``, error an ``<error>``, skip ``<skipped>``.
+    With the gate's (:func:`harness.gate.compare_with_baseline`): a regression is a
+    ``<failure>`` (an ``<error>`` when it crashed or timed out), a known failure is
+    ``<skipped message="known failure: <reason>">``, an unexpected pass passes with a
+    property and a line of system-out on its suite, and a missing result is a testcase
+    of its own that fails.
+    """
     by_rasterizer: dict[str, list[Result]] = {}
     for r in results:
         by_rasterizer.setdefault(r.rasterizer, []).append(r)
-    root = ET.Element("testsuites", name="rastercheck")
-    for name, mine in by_rasterizer.items():
-        suite = ET.SubElement(
-            root, "testsuite", name=name, tests=str(len(mine)),
-            failures=str(sum(r.status == "fail" for r in mine)),
-            errors=str(sum(r.status == "error" for r in mine)),
-            skipped=str(sum(r.status == "skip" for r in mine)),
-        )
+    findings: dict[str, Finding] = {}
+    missing: dict[str, list[Finding]] = {}
+    if verdict is not None:
+        findings = verdict.by_key()
+        for f in verdict.of("missing"):
+            missing.setdefault(f.rasterizer, []).append(f)
+            by_rasterizer.setdefault(f.rasterizer, [])
+    stamp = time.strftime("%Y-%m-%dT%H:%M:%S")  # the schema's timestamp: local time, no zone
+    host = socket.gethostname() or "localhost"
+    root = ET.Element("testsuites")
+    for number, (name, mine) in enumerate(by_rasterizer.items()):
+        suite = ET.SubElement(root, "testsuite", name=_xml(name), package="rastercheck", id=str(number),
+                              timestamp=stamp, hostname=_xml(host))
+        properties = ET.SubElement(suite, "properties")
+        notes: list[str] = []
         for r in mine:
-            case = ET.SubElement(suite, "testcase", classname=f"{name}.{r.check}", name=r.case,
-                                 time=f"{float(r.metrics.get('seconds', 0.0)):.6f}")
-            detail = r.message
-            if "repro_path" in r.evidence:
-                detail += f"\nminimal repro: {r.evidence['repro_path']}"
-            if r.status == "fail":
-                ET.SubElement(case, "failure", message=r.message).text = detail
-            elif r.status == "error":
-                ET.SubElement(case, "error", message=r.message).text = r.evidence.get("traceback", "") or detail
-            elif r.status == "skip":
-                ET.SubElement(case, "skipped", message=r.message)
+            _junit_case(suite, r, findings.get(f"{r.rasterizer}|{r.case}|{r.check}"), notes)
+        for f in missing.get(name, []):
+            case = ET.SubElement(suite, "testcase", classname=_xml(f"{name}.{f.check}"), name=_xml(f.case), time="0")
+            ET.SubElement(case, "failure", type="missing", message=_xml(f.text)).text = _xml(
+                f"{f.text} (--allow-missing for a partial run)")
+        for note in notes:
+            ET.SubElement(properties, "property", name="rastercheck.gate", value=_xml(note))
+        ET.SubElement(suite, "system-out").text = _xml("\n".join(notes))
+        ET.SubElement(suite, "system-err")
+        cases = suite.findall("testcase")
+        suite.set("tests", str(len(cases)))
+        for attribute, tag in (("failures", "failure"), ("errors", "error"), ("skipped", "skipped")):
+            suite.set(attribute, str(sum(c.find(tag) is not None for c in cases)))
+        suite.set("time", f"{sum(float(c.get('time', 0)) for c in cases):.6f}")
     path = Path(path)
     atomic_write_text(path, ET.tostring(root, encoding="unicode", xml_declaration=True))
     return path

@@ -1,16 +1,12 @@
-"""JSON schema, JUnit, the baseline gate, the pytest plugin and assert_conforms."""
+"""JSON schema, JUnit (the baseline gate: test_gate.py; the pytest plugin and assert_conforms:
+test_pytest_plugin.py)."""
 
 import json
-import subprocess
-import sys
 import textwrap
 import xml.etree.ElementTree as ET
 
-import pytest
-
 from harness.cli import main
 from harness.output import results_from_json
-from harness.testing import assert_conforms
 
 BROKEN = textwrap.dedent('''
     from harness import Convention
@@ -49,55 +45,10 @@ def test_junit_reports_failures(tmp_path):
     assert failures and "minimal repro" in failures[0].text
 
 
-def test_gate_flags_a_regression_and_reports_a_fix(tmp_path, capsys):
-    baseline = tmp_path / "baseline.json"
-    assert main(["gate", "--rasterizer", "centre_scanline", "--baseline", str(baseline), "--update-baseline", *run_args(tmp_path)]) == 0
-    assert main(["gate", "--rasterizer", "centre_scanline", "--baseline", str(baseline), *run_args(tmp_path)]) == 0
-    bad = tmp_path / "bad.py"
-    bad.write_text(BROKEN)
-    capsys.readouterr()
-    assert main(["gate", "--rasterizer", f"{bad}:CentreScanline2", "--baseline", str(baseline), *run_args(tmp_path)]) == 1
-    assert "REGRESSION centre_scanline|lattice/bits-0|conformance" in capsys.readouterr().out
-    # the broken one becomes the baseline, with reasons; the fix then shows up
-    assert main(["gate", "--rasterizer", f"{bad}:CentreScanline2", "--baseline", str(baseline), "--update-baseline", *run_args(tmp_path)]) == 0
-    entries = json.loads(baseline.read_text())["entries"]
-    assert entries["centre_scanline|lattice/bits-0|conformance"]["reason"].startswith("known failure")
-    capsys.readouterr()
-    assert main(["gate", "--rasterizer", "centre_scanline", "--baseline", str(baseline), *run_args(tmp_path)]) == 0
-    assert "UNEXPECTEDLY PASSING centre_scanline|lattice/bits-0|conformance" in capsys.readouterr().out
-
-
-def test_gate_needs_a_baseline(tmp_path, capsys):
-    assert main(["gate", "--rasterizer", "centre_scanline", "--baseline", str(tmp_path / "none.json"), *run_args(tmp_path)]) == 2
-    assert "no such baseline" in capsys.readouterr().err
-
-
 def test_list_shows_suites_and_checks(capsys):
     assert main(["list"]) == 0
     out = capsys.readouterr().out
     assert "quick" in out and "jaggy" in out and "centre_scanline" in out
-
-
-def test_assert_conforms():
-    assert assert_conforms("fixed_point", isolate=False)
-    from tests.known_bad.misc import WrongTieClaim
-
-    with pytest.raises(AssertionError, match=r"checks failed:(.|\n)*minimal repro: "):
-        assert_conforms(WrongTieClaim(), isolate=False)
-
-
-def test_pytest_plugin_runs_the_suite_as_items(tmp_path):
-    bad = tmp_path / "bad.py"
-    bad.write_text(BROKEN)
-    run = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-o", "addopts=", "--rootdir", str(tmp_path),
-           "--rastercheck-repros", str(tmp_path / "repros")]
-    good = subprocess.run([*run, "--rasterizer", "fixed_point"], capture_output=True, text=True, cwd=tmp_path)
-    assert good.returncode == 0, good.stdout[-2000:]
-    assert " passed" in good.stdout
-    failing = subprocess.run([*run, "--rasterizer", f"{bad}:CentreScanline2"], capture_output=True, text=True, cwd=tmp_path)
-    assert failing.returncode == 1
-    assert "centre_scanline lattice/bits-0 [conformance] fail" in failing.stdout
-    assert "minimal repro: " in failing.stdout
 
 
 def test_compare_names_the_convention_that_separates(tmp_path, capsys):

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 from harness.checks.records import (
     EVIDENCE_LIMIT, NEAR_TIE, NEAR_TIE_PIXELS, Check, Drawing, Result, Status, Subject, Tolerance, check_names, checks,
-    metric_tolerance, register, registered, result, skip,
+    metric_tolerance, register, registered, result, skip, timing_metrics,
 )
 from harness.checks.hygiene import hygiene
 from harness.checks.conformance import FragmentCounter, conformance, deviations, edge_distance, near_ties
@@ -32,7 +32,7 @@ from harness.checks.motion import jaggy, perspective, texel_swimming
 
 __all__ = [
     "Result", "Drawing", "Status", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "CHECKS",
-    "Check", "Subject", "register", "registered", "checks", "check_names", "metric_tolerance", "result", "skip",
+    "Check", "Subject", "register", "registered", "checks", "check_names", "metric_tolerance", "timing_metrics", "result", "skip",
     "deviations", "FragmentCounter", "edge_distance", "near_ties", "hygiene", "conformance", "watertight",
     "pixel_classes", "blame", "overdraw", "closed_balance", "degenerate", "control_scene", "measure_work", "refusal",
     "invariance", "invariance_variants", "jaggy", "texel_swimming", "perspective",

@@ -212,6 +212,9 @@ class Check:
     on_request : bool
         Run only when asked for by name (``overdraw``: the form of ``watertight`` that
         survives shrinking).
+    timings : tuple of str
+        Metrics measured in time (they differ between any two runs): never stored in a
+        baseline nor compared across runs.
     """
 
     name: str
@@ -223,6 +226,7 @@ class Check:
     caption: str = ""
     needs_attributes: bool = False
     on_request: bool = False
+    timings: tuple[str, ...] = ()
 
     def verdict(self, subject: Subject) -> Result:
         """The check's result, or its skip when the subject lacks what it needs."""
@@ -273,6 +277,12 @@ def checks(case: Any = None, only: set[str] | None = None) -> list[Check]:
 def check_names() -> tuple[str, ...]:
     """Names of the registered checks (on-request ones left out)."""
     return tuple(c.name for c in _REGISTRY.values() if not c.on_request)
+
+
+def timing_metrics() -> frozenset[str]:
+    """Every metric measured in time: ``seconds`` (each call's) and those the checks
+    declare (:attr:`Check.timings`)."""
+    return frozenset({"seconds"}.union(*(check.timings for check in _REGISTRY.values())))
 
 
 def metric_tolerance() -> dict[str, tuple[float, float]]:
