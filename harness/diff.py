@@ -144,4 +144,7 @@ def write_diff_page(out: Path | str, diff: RunDiff) -> Path:
     html = env.get_template("diff.html").render(diff=diff, kinds=KINDS, counts=counts, per=sorted(per.items()), meta=meta)
     path = Path(out) / "diff.html"
     atomic_write_text(path, html)
+    from harness.report import link_pages
+
+    link_pages(Path(out))  # index.html, when there is one, links the new page
     return path

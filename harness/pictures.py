@@ -1,6 +1,12 @@
 """Pictures for the report, drawn from results' evidence: heat maps, oracle diffs and
-crops of failures on still cases, animations and series plots of motion failures, as data
-URIs (Pillow for the rasters, SVG by hand for the vectors).
+crops of failures on still cases, the minimal repro, animations and series plots of motion
+failures, as data URIs (Pillow for the rasters, SVG by hand for the vectors, matplotlib,
+imported when a plot is drawn, for the plots).
+
+No colour means two things across the pictures: the heat map is drawn in greys and blues
+(:data:`HEAT_LEGEND`), the diff against the oracle in green, red, orange and yellow
+(:data:`DIFF_LEGEND`), and the animations use the diff's colours for the same meanings
+(:data:`LEGEND`); the crops and repros have theirs (:data:`CROP_LEGEND`).
 
 The engine draws nothing: a failing :class:`~harness.checks.Result` carries a
 :class:`~harness.checks.records.Drawing` (references to the case, the answer, the
@@ -12,6 +18,7 @@ from __future__ import annotations
 
 import base64
 import io
+import textwrap
 from typing import Any
 
 import numpy as np
@@ -19,13 +26,14 @@ from numpy.typing import NDArray
 from PIL import Image
 
 from harness.api import Coverage
-from harness.case import Case, MotionCase
-from harness.checks import Result, pixel_classes
+from harness.case import Case, MotionCase, case_from_json
+from harness.checks import EVIDENCE_LIMIT, Result, pixel_classes
 from harness.checks.records import Drawing
 from harness.oracle import exact_coverage
 
-__all__ = ["draw", "motion_animation", "heatmap", "oracle_diff", "svg_crop", "series_plot", "window_around",
-           "LEGEND", "HEAT_LEGEND", "DIFF_LEGEND"]
+__all__ = ["draw", "draw_repro", "motion_animation", "heatmap", "oracle_diff", "svg_crop", "svg_window", "series_plot",
+           "series_label", "window_around", "LEGEND", "HEAT_LEGEND", "DIFF_LEGEND", "CROP_LEGEND", "MAX_REPRO_TRIANGLES",
+           "MAX_REPRO_SIDE"]
 
 
 def draw(result: Result) -> dict[str, str]:
@@ -98,17 +106,33 @@ def _motion_pictures(case: MotionCase, drawing: Drawing, evidence: dict[str, Any
     oracles = _oracles(drawing, list(case.frames))
     images = {"animation": motion_animation(list(drawing.coverages), list(oracles) if oracles is not None else None,
                                             first.width, first.height, marks, case.texels)}
-    if "series" in evidence:
+    if evidence.get("series"):
         images["plot"] = series_plot(evidence["series"])
     return images
 
+
+# -- colours: one meaning each across every picture ----------------------------------------
+
+HEAT_LEGEND = {"not hit": (255, 255, 255), "hit once": (198, 219, 239), "hit twice or more": (8, 69, 148),
+               "hole (inside, not hit)": (37, 37, 37), "stray (outside, hit)": (0, 170, 190)}
+DIFF_LEGEND = {"both": (161, 217, 155), "missing (oracle only)": (215, 40, 40), "extra (rasterizer only)": (250, 140, 30),
+               "near tie": (255, 225, 0)}
+# the animations say "missing" and "extra" in the diff's colours
 LEGEND = {
     "covered": (150, 150, 150),
-    "oracle only (missing)": (90, 60, 200),
-    "extra": (220, 60, 60),
-    "flicker or backward jump": (255, 200, 0),
+    "oracle only (missing)": DIFF_LEGEND["missing (oracle only)"],
+    "extra": DIFF_LEGEND["extra (rasterizer only)"],
+    "flicker or backward jump": (120, 60, 220),
     "texel swim": (230, 0, 230),
 }
+CROP_LEGEND = {"covered by the rasterizer (crops)": (200, 200, 200), "covered by the convention (repros)": (230, 205, 140),
+               "offending pixel (outlined)": (221, 0, 0), "triangle (outlined)": (0, 80, 200)}
+
+
+def _hex(rgb: tuple[int, int, int]) -> str:
+    return "#{:02x}{:02x}{:02x}".format(*rgb)
+
+
 MAX_FRAMES = 48
 MAX_SIDE = 64  # pixels of the viewport shown: a window around the evidence
 
@@ -172,12 +196,6 @@ def motion_animation(coverages: list[Coverage], oracles: list[Coverage] | None, 
 
 # -- still pictures for failures of single-scene checks ------------------------------------
 
-HEAT = {0: (255, 255, 255), 1: (190, 190, 190)}
-HEAT_LEGEND = {"not hit": (255, 255, 255), "hit once": (190, 190, 190), "hit twice or more": (220, 40, 40),
-               "hole (inside, not hit)": (120, 60, 220), "stray (outside, hit)": (255, 150, 0)}
-DIFF_LEGEND = {"both": (190, 190, 190), "missing (oracle only)": (150, 60, 200), "extra (rasterizer only)": (220, 40, 40),
-               "near tie": (255, 210, 0)}
-
 
 def _png(rgb: NDArray, scale: int) -> str:
     image = Image.fromarray(np.ascontiguousarray(rgb)).resize((rgb.shape[1] * scale, rgb.shape[0] * scale), Image.Resampling.NEAREST)
@@ -195,8 +213,8 @@ def window_around(x: int, y: int, width: int, height: int, side: int) -> tuple[i
 
 def heatmap(counts: NDArray, holes: NDArray | None = None, strays: NDArray | None = None,
             window: tuple[int, int, int, int] | None = None) -> str:
-    """Hit counts per pixel as a PNG data URI: white 0, grey 1, red 2+, purple holes,
-    orange strays (colours in HEAT_LEGEND)."""
+    """Hit counts per pixel as a PNG data URI: white 0, pale blue 1, dark blue 2+, near-black
+    holes, teal strays (colours in HEAT_LEGEND)."""
     rgb = np.full(counts.shape + (3,), 255, dtype=np.uint8)
     rgb[counts == 1] = HEAT_LEGEND["hit once"]
     rgb[counts >= 2] = HEAT_LEGEND["hit twice or more"]
@@ -212,7 +230,7 @@ def heatmap(counts: NDArray, holes: NDArray | None = None, strays: NDArray | Non
 
 def oracle_diff(width: int, height: int, got: NDArray, want: NDArray, pixels: list[dict[str, Any]],
                 window: tuple[int, int, int, int] | None = None) -> str:
-    """dEQP-style diff as a PNG data URI: both grey, missing purple, extra red, near-tie
+    """dEQP-style diff as a PNG data URI: both green, missing red, extra orange, near-tie
     yellow (colours in DIFF_LEGEND)."""
     rgb = np.full((height, width, 3), 255, dtype=np.uint8)
     rgb[got & want] = DIFF_LEGEND["both"]
@@ -234,46 +252,218 @@ def svg_crop(positions: NDArray, coverage: Coverage, sample: tuple[float, float]
     """The pixel grid of a small window with its sample points, the covered pixels, the
     marked pixels outlined, and the triangles drawn as vectors over them (SVG data URI)."""
     x0, y0, x1, y1 = window
-    scale = 24
-    w, h = (x1 - x0) * scale, (y1 - y0) * scale
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">',
-             f'<rect width="{w}" height="{h}" fill="white"/>']
     t, x, y = coverage.pixels()
     inside = (x >= x0) & (x < x1) & (y >= y0) & (y < y1)
-    for px, py in set(zip(x[inside].tolist(), y[inside].tolist())):
-        parts.append(f'<rect x="{(px - x0) * scale}" y="{(py - y0) * scale}" width="{scale}" height="{scale}" fill="#c8c8c8"/>')
-    for i in range(x1 - x0 + 1):
-        parts.append(f'<line x1="{i * scale}" y1="0" x2="{i * scale}" y2="{h}" stroke="#999" stroke-width="0.5"/>')
-    for j in range(y1 - y0 + 1):
-        parts.append(f'<line x1="0" y1="{j * scale}" x2="{w}" y2="{j * scale}" stroke="#999" stroke-width="0.5"/>')
-    for i in range(x1 - x0):
-        for j in range(y1 - y0):
-            parts.append(f'<circle cx="{(i + sample[0]) * scale:.2f}" cy="{(j + sample[1]) * scale:.2f}" r="1.5" fill="#333"/>')
+    covered = np.zeros((y1 - y0, x1 - x0), dtype=bool)
+    covered[y[inside] - y0, x[inside] - x0] = True
+    return svg_window(positions, covered, CROP_LEGEND["covered by the rasterizer (crops)"], sample, window, marks)
+
+
+def svg_window(positions: NDArray, covered: NDArray | None, fill: tuple[int, int, int], sample: tuple[float, float] | None,
+               window: tuple[int, int, int, int], marks: list[tuple[int, int]], fit: int = 384) -> str:
+    """A window of the viewport as an SVG data URI, scaled to fit ``fit`` px (at most 24 px
+    a pixel): the covered pixels filled, the pixel grid and the sample points when the
+    pixels are drawn large enough to show them, the marked pixels outlined and the
+    triangles drawn as vectors over them.
+
+    Parameters
+    ----------
+    positions : (N, 3, 2) float64
+    covered : (y1 - y0, x1 - x0) bool or None
+        The pixels of the window to fill with ``fill``.
+    sample : (float, float) or None
+        The sample point in the pixel; None draws none.
+    window : (x0, y0, x1, y1)
+    marks : list of (x, y)
+        Pixels to outline; those outside the window are left out.
+    """
+    x0, y0, x1, y1 = window
+    cols, rows = x1 - x0, y1 - y0
+    scale = min(24.0, fit / max(cols, rows, 1))  # screen px per pixel
+    thin = 'vector-effect="non-scaling-stroke"'
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{round(cols * scale)}" height="{round(rows * scale)}" '
+             f'viewBox="{x0} {y0} {cols} {rows}">',
+             f'<rect x="{x0}" y="{y0}" width="{cols}" height="{rows}" fill="white"/>']
+    if covered is not None and covered.any():
+        # one rectangle per run of covered pixels in a row
+        edges = np.diff(np.pad(covered.astype(np.int8), ((0, 0), (1, 1))), axis=1)
+        starts, ends = np.argwhere(edges == 1), np.argwhere(edges == -1)  # row-major: pairs line up
+        colour = _hex(fill)
+        parts.extend(f'<rect x="{x0 + a}" y="{y0 + j}" width="{b - a}" height="1" fill="{colour}"/>'
+                     for (j, a), (_, b) in zip(starts.tolist(), ends.tolist()))
+    if scale >= 4:
+        parts.extend(f'<line x1="{x0 + i}" y1="{y0}" x2="{x0 + i}" y2="{y1}" stroke="#999" stroke-width="0.5" {thin}/>'
+                     for i in range(cols + 1))
+        parts.extend(f'<line x1="{x0}" y1="{y0 + j}" x2="{x1}" y2="{y0 + j}" stroke="#999" stroke-width="0.5" {thin}/>'
+                     for j in range(rows + 1))
+    if sample is not None and scale >= 8:
+        parts.extend(f'<circle cx="{x0 + i + sample[0]:g}" cy="{y0 + j + sample[1]:g}" r="{1.5 / scale:.4f}" fill="#333"/>'
+                     for i in range(cols) for j in range(rows))
+    inset = min(1.0 / scale, 0.25)
+    red = _hex(CROP_LEGEND["offending pixel (outlined)"])
     for mx, my in marks:
         if x0 <= mx < x1 and y0 <= my < y1:
-            parts.append(f'<rect x="{(mx - x0) * scale + 1}" y="{(my - y0) * scale + 1}" width="{scale - 2}" height="{scale - 2}" '
-                         f'fill="none" stroke="#d00" stroke-width="2"/>')
+            parts.append(f'<rect x="{mx + inset:.4f}" y="{my + inset:.4f}" width="{1 - 2 * inset:.4f}" height="{1 - 2 * inset:.4f}" '
+                         f'fill="none" stroke="{red}" stroke-width="2" {thin}/>')
     finite = np.all(np.isfinite(positions), axis=(1, 2))
     near = finite & np.any((positions[..., 0] > x0 - 64) & (positions[..., 0] < x1 + 64), axis=1)
+    blue = _hex(CROP_LEGEND["triangle (outlined)"])
     for tri in positions[near][:200]:
-        pts = " ".join(f"{(vx - x0) * scale:.3f},{(vy - y0) * scale:.3f}" for vx, vy in np.clip(tri, -1e6, 1e6))
-        parts.append(f'<polygon points="{pts}" fill="none" stroke="#0050c8" stroke-width="1"/>')
+        pts = " ".join(f"{vx:.6g},{vy:.6g}" for vx, vy in np.clip(tri, -1e6, 1e6))
+        parts.append(f'<polygon points="{pts}" fill="none" stroke="{blue}" stroke-width="1" {thin}/>')
     parts.append("</svg>")
     return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
 
 
-def series_plot(series: dict[str, list[float]], width: int = 480, height: int = 160) -> str:
-    """Per-frame metric series as a small SVG line chart (data URI), one colour each."""
-    colours = ["#d62728", "#1f77b4", "#2ca02c", "#9467bd"]
-    values = [np.nan_to_num(np.asarray(v, dtype=float), posinf=0.0) for v in series.values()]
-    top = max([float(v.max()) for v in values if v.size] + [1.0])
-    frames = max([v.size for v in values] + [2])
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height + 20 * len(values)}">',
-             f'<rect width="{width}" height="{height}" fill="white" stroke="#999"/>']
-    for k, ((name, _), v) in enumerate(zip(series.items(), values)):
-        pts = " ".join(f"{i * (width - 1) / (frames - 1):.1f},{height - 1 - v[i] / top * (height - 10):.1f}" for i in range(v.size))
-        colour = colours[k % len(colours)]
-        parts.append(f'<polyline points="{pts}" fill="none" stroke="{colour}" stroke-width="1.5"/>')
-        parts.append(f'<text x="4" y="{height + 15 + 20 * k}" font-size="12" fill="{colour}">{name} (max {float(v.max()) if v.size else 0:g})</text>')
-    parts.append("</svg>")
-    return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
+# -- the minimal repro ---------------------------------------------------------------------
+
+MAX_REPRO_TRIANGLES = 200
+MAX_REPRO_SIDE = 512  # px: larger viewports are not drawn (the report stays cheap)
+
+
+def _repro_window(positions: NDArray, width: int, height: int, least: int = 8) -> tuple[int, int, int, int]:
+    """The viewport's part that holds the triangles (finite ones), a pixel around them, at
+    least ``least`` pixels a side where the viewport allows."""
+    finite = positions[np.all(np.isfinite(positions), axis=(1, 2))].reshape(-1, 2)
+    if not finite.size:
+        return 0, 0, width, height
+    lo = np.floor(np.clip(finite.min(axis=0), -1.0, [width + 1.0, height + 1.0])).astype(int) - 1
+    hi = np.ceil(np.clip(finite.max(axis=0), -1.0, [width + 1.0, height + 1.0])).astype(int) + 1
+    box = []
+    for a, b, side in ((lo[0], hi[0], width), (lo[1], hi[1], height)):
+        a, b = max(int(a), 0), min(int(b), side)
+        if b - a < least:
+            middle = (a + b) // 2
+            a = int(np.clip(middle - least // 2, 0, max(side - least, 0)))
+            b = min(a + least, side)
+        box.append((a, b))
+    (x0, x1), (y0, y1) = box
+    return x0, y0, max(x1, x0 + 1), max(y1, y0 + 1)
+
+
+def _near_triangles(marks: list[tuple[int, int]], positions: NDArray, reach: float = 1.5) -> list[tuple[int, int]]:
+    """The marked pixels whose centre lies within ``reach`` px of one of the (finite)
+    triangles: those of a whole case's evidence that can belong to its repro."""
+    tris = positions[np.all(np.isfinite(positions), axis=(1, 2))]
+    if not marks or not len(tris):
+        return []
+    centres = np.asarray(marks, dtype=float) + 0.5  # (M, 2)
+    p = centres[:, None, None, :]  # (M, 1, 1, 2)
+    a, b = tris[None, :, :, :], np.roll(tris, -1, axis=1)[None, :, :, :]  # (1, T, 3, 2) edges a -> b
+    ab, ap = b - a, p - a
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.clip(np.nan_to_num((ap * ab).sum(-1) / (ab * ab).sum(-1)), 0.0, 1.0)
+    edge = np.hypot(*np.moveaxis(ap - t[..., None] * ab, -1, 0)).min(axis=2)  # (M, T): to the nearest edge
+    cross = ab[..., 0] * ap[..., 1] - ab[..., 1] * ap[..., 0]  # (M, T, 3)
+    inside = (cross >= 0).all(axis=2) | (cross <= 0).all(axis=2)
+    near = (inside | (edge <= reach)).any(axis=1)
+    return [m for m, ok in zip(marks, near.tolist()) if ok]
+
+
+def draw_repro(result: Result) -> tuple[str | None, str] | None:
+    """The failure's minimal repro (``evidence["repro"]``, case JSON) drawn, with its
+    caption: its triangles over the pixel grid and, given a convention (the drawing's),
+    the pixels that convention covers; the pixels the evidence names (on the whole case)
+    within a pixel and a half of the repro's triangles outlined. The rasterizer's own
+    answer on the repro is not known here and not drawn.
+
+    Returns None without a repro; (None, why) when it is not drawn (a motion case, a malformed
+    one, or more than :data:`MAX_REPRO_TRIANGLES` triangles or :data:`MAX_REPRO_SIDE` px).
+    """
+    payload = result.evidence.get("repro")
+    if not isinstance(payload, dict):
+        return None
+    try:
+        case = case_from_json(payload)
+    except ValueError as exc:
+        return None, f"minimal repro not drawn: {exc}"
+    if isinstance(case, MotionCase):
+        return None, f"minimal repro: a sequence of {len(case.frames)} frames, not drawn here"
+    scene = case.scene
+    n, of = len(scene), payload.get("original_triangles")
+    triangles = f"{n} triangle{'' if n == 1 else 's'}" + (f" (of {of})" if of else "")
+    if n > MAX_REPRO_TRIANGLES or max(scene.width, scene.height) > MAX_REPRO_SIDE:
+        return None, (f"minimal repro: {triangles} on a {scene.width} x {scene.height} viewport, not drawn (pictures are "
+                      f"drawn up to {MAX_REPRO_TRIANGLES} triangles and {MAX_REPRO_SIDE} px a side)")
+    convention = result.drawing.convention if result.drawing is not None else None
+    window = _repro_window(scene.positions, scene.width, scene.height)
+    covered = None
+    if convention is not None:
+        x0, y0, x1, y1 = window
+        covered = exact_coverage(scene, convention).counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+    marks = _near_triangles(_focus(result)[:EVIDENCE_LIMIT], scene.positions)
+    uri = svg_window(scene.positions, covered, CROP_LEGEND["covered by the convention (repros)"],
+                     convention.sample if convention is not None else None, window, marks)
+    outlined = f"; outlined: {len(marks)} of the pixels the failure names, next to these triangles" if marks else ""
+    if convention is None:
+        return uri, f"minimal repro: its {triangles}; no convention known, so no coverage drawn{outlined}"
+    return uri, f"minimal repro: its {triangles}, the pixels the convention covers{outlined}"
+
+
+# -- per-frame series ----------------------------------------------------------------------
+
+# series name -> (what it counts, unit): the motion checks' evidence["series"]
+SERIES = {
+    "changed_pixels": ("pixels that changed", "pixels"),
+    "oracle_changed_pixels": ("pixels the oracle changed", "pixels"),
+    "backward_jumps": ("backward jumps", "span ends"),
+    "mismatches": ("texel mismatches", "pixels"),
+    "max_uv_error_texels": ("largest u, v error", "texels"),
+}
+
+
+def series_label(name: str) -> tuple[str, str]:
+    """What a per-frame series counts and its unit; an unknown name is read from its
+    suffix (``_pixels``, ``_texels``), else counted.
+
+    >>> series_label("max_uv_error_texels"), series_label("stray_pixels"), series_label("flips")
+    (('largest u, v error', 'texels'), ('stray', 'pixels'), ('flips', 'count'))
+    """
+    if name in SERIES:
+        return SERIES[name]
+    for unit in ("pixels", "texels"):
+        if name.endswith("_" + unit):
+            return name[: -len(unit) - 1].replace("_", " "), unit
+    return name.replace("_", " "), "count"
+
+
+def series_plot(series: dict[str, list[float]]) -> str:
+    """Per-frame metric series as a PNG data URI (matplotlib, Agg): one panel per unit,
+    frames along x, the metric and its unit along y, a legend naming each series.
+    Non-finite values are left out of the line (the legend says how many). A fixed
+    layout and fast PNG compression keep it near a tenth of a second."""
+    from matplotlib.figure import Figure  # the presentation's own import: the engine never pays for it
+    from matplotlib.ticker import MaxNLocator
+
+    panels: dict[str, list[tuple[str, NDArray]]] = {}
+    for name, values in series.items():
+        label, unit = series_label(name)
+        panels.setdefault(unit, []).append((label, np.asarray(values, dtype=float).ravel()))
+    dpi, panel, legend, axis = 80, 110, 24, 44  # px: a panel's height, a legend's above it, the x axis's below
+    height = len(panels) * (panel + legend) + axis
+    figure = Figure(figsize=(512 / dpi, height / dpi), dpi=dpi)
+    figure.subplots_adjust(left=90 / 512, right=1 - 12 / 512, top=1 - legend / height, bottom=axis / height,
+                           hspace=legend / panel)
+    axes = figure.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, (unit, lines) in zip(axes, panels.items()):
+        for label, v in lines:
+            finite = np.isfinite(v)
+            lost = int((~finite).sum())
+            ax.plot(np.arange(v.size), np.where(finite, v, np.nan), marker="." if v.size <= 40 else None,
+                    linewidth=1.2, label=label + (f" ({lost} non-finite frames not drawn)" if lost else ""))
+        ax.set_ylabel(textwrap.fill(lines[0][0], 16) + f"\n({unit})" if len(lines) == 1 else unit, fontsize=9)
+        finite_values = np.concatenate([v[np.isfinite(v)] for _, v in lines])
+        whole = bool(np.array_equal(finite_values, np.round(finite_values)))
+        ax.yaxis.set_major_locator(MaxNLocator(nbins=4, integer=whole))
+        if whole and (not finite_values.size or finite_values.min() >= 0):  # counts: from 0, at least to 1
+            top = max(1.0, float(finite_values.max()) if finite_values.size else 1.0)
+            ax.set_ylim(-0.05 * top, 1.08 * top)
+        ax.tick_params(labelsize=8)
+        ax.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncol=len(lines), frameon=False,
+                  borderaxespad=0.1)
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("frame", fontsize=9)
+    axes[-1].xaxis.set_major_locator(MaxNLocator(integer=True))
+    buffer = io.BytesIO()
+    figure.savefig(buffer, format="png", pil_kwargs={"compress_level": 1})
+    return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")

@@ -1,16 +1,22 @@
-"""The HTML report: an index with the summary matrix and convention cards, and one page
-per rasterizer with each failure's pictures. Static, self-contained (images as data URIs),
-rendered on the server side with Jinja2 autoescape, readable without JavaScript.
+"""The HTML report: an index with the summary matrix, convention cards, the rasterizers
+that were skipped and why, and links to the other pages of the folder; one page per
+rasterizer with its failures grouped by check and cause (a table of contents with counts,
+filters by check and status that are CSS ``:target`` rules), each with its pictures, its
+minimal repro drawn, its evidence as tables and the command that replays it. Static,
+self-contained (images as data URIs), rendered on the server side with Jinja2 autoescape,
+without JavaScript.
 
 The pictures are drawn here, from each failure's drawing and evidence
 (:func:`harness.pictures.draw`), once per failure shown; results read back from JSON
-carry no drawing and show none."""
+carry no drawing and show none but their repro's (:func:`harness.pictures.draw_repro`,
+without a convention)."""
 
 from __future__ import annotations
 
-import json
 import os
 import platform
+import re
+import shlex
 import time
 from pathlib import Path
 from typing import Any
@@ -20,12 +26,12 @@ import numpy as np
 from jinja2 import Environment, PackageLoader, select_autoescape
 
 import harness
-from harness.checks import Result, check_names
+from harness.checks import EVIDENCE_LIMIT, Result, check_names
 from harness.checks import checks as registered_checks
 from harness.files import atomic_write_text, safe_name
-from harness.pictures import DIFF_LEGEND, HEAT_LEGEND, LEGEND, draw
+from harness.pictures import CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, draw, draw_repro
 
-__all__ = ["write_report", "write_comparison", "page_name"]
+__all__ = ["write_report", "write_comparison", "link_pages", "page_name", "cause", "evidence_table"]
 
 CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop: triangles over the pixel grid",
             "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics"}
@@ -47,17 +53,161 @@ def _cell(results: list[Result]) -> dict[str, str]:
     return {"status": status, "text": " / ".join(str(counts[s]) for s in ("pass", "fail", "error", "skip"))}
 
 
-def _problem(r: Result, index: int) -> dict[str, Any]:
+def cause(r: Result) -> str:
+    """What went wrong, in words shared by failures with the same cause, to group them: for
+    an error its kind (the exception's type, ``timeout``, ``not run``); for conformance
+    which pixels deviate (missing, extra) and whether their samples lie exactly on edges;
+    otherwise the first clause of the message that counts something not zero, its numbers
+    replaced by N.
+
+    >>> from harness.checks import Result
+    >>> cause(Result("r", "c", "watertight", "fail", "0 holes, 3 double hits, 0 stray hits outside"))
+    'N double hits'
+    >>> cause(Result("r", "c", "run", "error", "RuntimeError: rasterizer exploded"))
+    'RuntimeError'
+    """
+    if r.status == "error":
+        kind, colon, _ = r.message.partition(":")
+        return kind.strip() if colon and kind.strip() and len(kind) <= 60 else _gist(r.message)
+    if r.check == "conformance" and ("missing" in r.metrics or "extra" in r.metrics):
+        missing, extra = r.metrics.get("missing", 0.0), r.metrics.get("extra", 0.0)
+        kinds = " and ".join(k for k, n in (("missing", missing), ("extra", extra)) if n) or "no"
+        ties = r.metrics.get("exact_ties", 0.0)
+        where = (", every one with its sample exactly on an edge" if ties and ties == missing + extra
+                 else ", some with the sample exactly on an edge" if ties else "")
+        return f"{kinds} pixels{where}"
+    return _gist(r.message)
+
+
+_NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?")
+
+
+def _counts_zero(clause: str) -> bool:
+    number = _NUMBER.match(clause)
+    return number is not None and float(number.group()) == 0.0
+
+
+def _gist(message: str) -> str:
+    """The first clause of ``message`` that does not count zero, its numbers as N, lists
+    as […], parentheses with numbers dropped (see :func:`cause`)."""
+    text = re.sub(r"\[[^\]]*\]", "[…]", message)
+    clauses = [c.strip() for c in re.split(r";|, ", text) if c.strip()]
+    telling = [c for c in clauses if not _counts_zero(c)] or clauses or [message]
+    gist = re.sub(r"\s*\([^)]*\d[^)]*\)", "", telling[0])
+    gist = _NUMBER.sub("N", gist)
+    return " ".join(gist.split()) or message
+
+
+ROWS_SHOWN = 50  # rows of a table (items of a list) shown; the rest are counted
+INLINE_ITEMS = 8  # items of a list inside a table cell
+HIDDEN = ("traceback", "repro", "repro_path")
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def _compact(value: Any, items: int = INLINE_ITEMS) -> str:
+    """A value in one line, whole: lists show their first ``items`` entries and count the
+    rest, nothing is cut inside an entry."""
+    value = _plain(value)
+    if value is None:
+        return "—"
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k}: {_compact(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, (list, tuple)):
+        shown = ", ".join(_compact(v) for v in value[:items])
+        more = len(value) - items
+        return "[" + shown + (f", … {more} more" if more > 0 else "") + "]"
+    return str(value)
+
+
+def evidence_table(value: Any, depth: int = 0) -> dict[str, Any]:
+    """Evidence as nested tables for the page: a dict as key/value rows (``kind`` "pairs"),
+    a list of dicts as a table with one column per key, its first :data:`ROWS_SHOWN` rows
+    shown and the rest counted ("table"), anything else as one compact line ("text").
+    A list of the evidence itself (``depth`` 1) as long as checks keep at most
+    (:data:`~harness.checks.EVIDENCE_LIMIT`) is ``capped`` at that: there may be more.
+
+    >>> evidence_table({"moved": 3})
+    {'kind': 'pairs', 'rows': [('moved', {'kind': 'text', 'text': '3', 'capped': 0})]}
+    """
+    value = _plain(value)
+    capped = EVIDENCE_LIMIT if depth == 1 and isinstance(value, (list, tuple)) and len(value) == EVIDENCE_LIMIT else 0
+    if isinstance(value, dict):
+        return {"kind": "pairs", "rows": [(str(k), evidence_table(v, depth + 1)) for k, v in value.items()]}
+    if isinstance(value, (list, tuple)) and value and all(isinstance(v, dict) for v in value):
+        columns = list(dict.fromkeys(str(k) for row in value for k in row))
+        rows = [[_compact(row[c]) if c in row else "" for c in columns] for row in value[:ROWS_SHOWN]]
+        return {"kind": "table", "columns": columns, "rows": rows, "more": len(value) - len(rows), "capped": capped}
+    if isinstance(value, (list, tuple)):
+        return {"kind": "text", "text": _compact(value, ROWS_SHOWN), "capped": capped}
+    return {"kind": "text", "text": _compact(value), "capped": 0}
+
+
+def _rows(node: dict[str, Any]) -> int:
+    """How many table rows a node of :func:`evidence_table` takes."""
+    if node["kind"] == "pairs":
+        return sum(max(1, _rows(value)) for _, value in node["rows"])
+    return len(node["rows"]) + 1 if node["kind"] == "table" else 1
+
+
+def _problem(r: Result, index: int, spec: str) -> dict[str, Any]:
     images = [(CAPTIONS[k], uri) for k, uri in draw(r).items()]  # none without a drawing
-    hidden = ("traceback", "repro", "repro_path")
-    text = json.dumps({k: v for k, v in r.evidence.items() if k not in hidden}, default=str)[:4000]
-    if "traceback" in r.evidence:
-        text += "\n" + r.evidence["traceback"]
-    repro = r.evidence.get("repro", {})
+    evidence = {k: v for k, v in r.evidence.items() if k not in HIDDEN}
+    repro = r.evidence.get("repro")
+    repro = repro if isinstance(repro, dict) else {}
+    path = r.evidence.get("repro_path")
+    drawn = draw_repro(r)
+    table = evidence_table(evidence) if evidence else None
     return {"case": r.case, "check": r.check, "status": r.status, "message": r.message, "anchor": f"failure-{index}",
-            "images": images, "evidence_text": text if text.strip("{} \n") else "",
-            "repro_path": r.evidence.get("repro_path"), "repro_size": len(repro.get("positions", [])),
-            "repro_of": repro.get("original_triangles")}
+            "cause": cause(r), "images": images, "evidence": table, "evidence_open": table is not None and _rows(table) <= 16,
+            "evidence_keys": list(evidence), "traceback": r.evidence.get("traceback"),
+            "repro_picture": drawn[0] if drawn else None, "repro_caption": drawn[1] if drawn else None,
+            "repro_path": path, "repro_size": len(repro.get("positions", [])), "repro_of": repro.get("original_triangles"),
+            "replay": f"rastercheck replay {shlex.quote(str(path))} --rasterizer {shlex.quote(spec)}" if path else None}
+
+
+def _slug(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_-]+", "-", text).strip("-") or "x"
+
+
+def _sections(problems: list[dict[str, Any]], order: list[str]) -> list[dict[str, Any]]:
+    """The failures by check (in ``order``), and within a check by status and cause, the
+    largest group first; each group with an anchor."""
+    sections = []
+    groups = 0
+    for check in sorted({p["check"] for p in problems}, key=lambda c: (order.index(c) if c in order else len(order), c)):
+        mine = [p for p in problems if p["check"] == check]
+        by_cause: dict[tuple[str, str], list[dict[str, Any]]] = {}
+        for p in mine:
+            by_cause.setdefault((p["status"], p["cause"]), []).append(p)
+        ranked = sorted(by_cause.items(), key=lambda kv: (kv[0][0] != "fail", -len(kv[1]), kv[0][1]))
+        out = []
+        for (status, why), members in ranked:
+            out.append({"id": f"group-{groups}", "status": status, "cause": why, "count": len(members), "problems": members})
+            groups += 1
+        sections.append({"check": check, "slug": _slug(check), "count": len(mine), "groups": out,
+                         "statuses": sorted({p["status"] for p in mine})})
+    return sections
+
+
+def _filters(sections: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The page's filters (CSS :target rules): by check, by status, and by check and
+    status where a check has failures of both statuses."""
+    statuses = sorted({s for section in sections for s in section["statuses"]})
+    out = [{"id": f"only-{section['slug']}", "check": section["slug"], "status": None, "label": section["check"]}
+           for section in sections]
+    out += [{"id": f"only-status-{s}", "check": None, "status": s, "label": s} for s in statuses]
+    out += [{"id": f"only-{section['slug']}-{s}", "check": section["slug"], "status": s, "label": f"{section['check']} · {s}"}
+            for section in sections if len(section["statuses"]) > 1 for s in section["statuses"]]
+    return out
 
 
 FACTS = ("residual lies", "sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep")
@@ -67,10 +217,15 @@ KIND_ORDER = {"built-in": 0, "real library": 1, "plugin": 2}
 def write_report(out_dir: Path, conventions: dict[str, str], results: list[Result], seed: int,
                  suite: str = "quick", seconds: float = 0.0, *,
                  fingerprints: dict[str, dict[str, Any]] | None = None,
-                 declared: dict[str, str] | None = None, kinds: dict[str, str] | None = None) -> Path:
+                 declared: dict[str, str] | None = None, kinds: dict[str, str] | None = None,
+                 specs: dict[str, str] | None = None, skipped: dict[str, str] | None = None) -> Path:
     """Write ``index.html``, one page per rasterizer and, given ``fingerprints`` (name ->
     :meth:`Fingerprint.to_dict` or ``{"error": text}``), ``fingerprints.html`` with every
-    rasterizer side by side, into ``out_dir`` atomically."""
+    rasterizer side by side, into ``out_dir`` atomically.
+
+    ``specs`` (name -> the spec it was loaded from, as given on the command line) is what
+    the replay commands quote (the name by default); ``skipped`` (spec -> why) lists on the
+    index the rasterizers that could not be loaded."""
     fingerprints = fingerprints or {}
     out_dir = Path(out_dir)
     checks = [c for c in ("run", *check_names()) if any(r.check == c for r in results)]
@@ -84,17 +239,20 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
     rows: list[dict[str, Any]] = []
     for name, convention in conventions.items():
         mine = [r for r in results if r.rasterizer == name]
-        problems = [_problem(r, i) for i, r in enumerate(x for x in mine if x.status in ("fail", "error"))]
+        spec = (specs or {}).get(name, name)
+        problems = [_problem(r, i, spec) for i, r in enumerate(x for x in mine if x.status in ("fail", "error"))]
+        sections = _sections(problems, checks)
         row: dict[str, Any] = {
             "name": name, "convention": convention, "total": len(mine), "problems": problems, "page": page_name(name),
             "counts": {s: sum(r.status == s for r in mine) for s in ("pass", "fail", "error", "skip")},
             "cells": [_cell([r for r in mine if r.check == c]) for c in checks],
             "fingerprint": fingerprints.get(name), "kind": (kinds or {}).get(name, ""),
-            "declared": (declared or {}).get(name, convention),
+            "declared": (declared or {}).get(name, convention), "sections": sections, "filters": _filters(sections),
         }
         rows.append(row)
         html = env.get_template("rasterizer.html").render(
-            row=row, meta=meta, heat_legend=HEAT_LEGEND.items(), diff_legend=DIFF_LEGEND.items(), motion_legend=LEGEND.items())
+            row=row, meta=meta, heat_legend=HEAT_LEGEND.items(), diff_legend=DIFF_LEGEND.items(), motion_legend=LEGEND.items(),
+            crop_legend=CROP_LEGEND.items())
         atomic_write_text(out_dir / row["page"], html)
     if fingerprints:
         ordered = sorted(rows, key=lambda row: KIND_ORDER.get(row["kind"], 3))
@@ -102,11 +260,38 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
         atomic_write_text(out_dir / "fingerprints.html", html)
     captions = {c.name: c.caption for c in registered_checks()} | {"run": "the rasterizer answered: no crash, no hang"}
     html = env.get_template("index.html").render(rows=rows, checks=checks, captions=captions, meta=meta,
-                                                 has_comparison=(out_dir / "compare.html").exists(),
-                                                 has_fingerprints=bool(fingerprints))
+                                                 pages=_pages(out_dir, bool(fingerprints)), skipped=skipped or {})
     path = out_dir / "index.html"
     atomic_write_text(path, html)
     return path
+
+
+PAGES_START, PAGES_END = "<!-- pages -->", "<!-- /pages -->"
+
+
+def _pages(out_dir: Path, fingerprints: bool) -> dict[str, bool]:
+    """Which other pages the index links: fingerprints.html when this run wrote it,
+    compare.html (``rastercheck compare``) and diff.html (``rastercheck diff``) whenever
+    they are in the folder."""
+    return {"fingerprints": fingerprints, "comparison": (out_dir / "compare.html").exists(),
+            "diff": (out_dir / "diff.html").exists()}
+
+
+def link_pages(out_dir: Path) -> None:
+    """Bring the links of ``out_dir/index.html`` (if there is one) up to date with the pages
+    now in the folder: a comparison or diff page written after the report is linked too."""
+    path = Path(out_dir) / "index.html"
+    try:
+        html = path.read_text(encoding="utf-8")
+    except OSError:
+        return
+    start, end = html.find(PAGES_START), html.find(PAGES_END)
+    if start < 0 or end < start:
+        return  # not an index this module wrote
+    old = html[start:end]
+    block = _environment().get_template("pages.html").render(
+        pages=_pages(Path(out_dir), 'href="fingerprints.html"' in old))
+    atomic_write_text(path, html[:start] + PAGES_START + block + html[end:])
 
 
 def write_comparison(out_dir: Path, data: dict[str, Any], candidates: int, seed: int) -> Path:
@@ -119,4 +304,5 @@ def write_comparison(out_dir: Path, data: dict[str, Any], candidates: int, seed:
     html = _environment().get_template("compare.html").render(data=data, candidates=candidates, meta=meta)
     path = Path(out_dir) / "compare.html"
     atomic_write_text(path, html)
+    link_pages(Path(out_dir))
     return path

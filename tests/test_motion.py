@@ -64,7 +64,7 @@ def test_failures_carry_series_evidence_and_draw_an_animation(motion_flags):
     assert len(series["backward_jumps"]) == int(jump.metrics["frames"])
     assert not {"animation", "plot", "images"} & set(jump.evidence)  # the engine draws nothing
     drawn = pictures.draw(jump)
-    assert list(drawn) == ["animation", "plot"] and drawn["plot"].startswith("data:image/svg+xml;base64,")
+    assert list(drawn) == ["animation", "plot"] and drawn["plot"].startswith("data:image/png;base64,")
     uri = drawn["animation"]
     image = Image.open(io.BytesIO(base64.b64decode(uri.split(",", 1)[1])))
     assert image.format == "GIF" and image.n_frames > 1

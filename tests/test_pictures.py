@@ -68,7 +68,8 @@ def test_a_still_failure_draws_a_heat_map_a_diff_and_a_crop(tie_failure, monkeyp
         assert _image(drawn[key]).format == "PNG"
     assert drawn["crop"].startswith("data:image/svg+xml;base64,")
     svg = _decoded(drawn["crop"]).decode()
-    assert svg.startswith("<svg") and "<polygon" in svg and 'stroke="#d00"' in svg  # triangles, offending pixels
+    red = "#{:02x}{:02x}{:02x}".format(*pictures.CROP_LEGEND["offending pixel (outlined)"])
+    assert svg.startswith("<svg") and "<polygon" in svg and f'stroke="{red}"' in svg  # triangles, offending pixels
 
 
 def test_a_failure_whose_check_needed_no_oracle_draws_the_diff_from_the_convention():

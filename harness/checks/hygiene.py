@@ -33,9 +33,11 @@ def hygiene(case: Case, coverage: Coverage, interpolates: bool = True) -> Result
         evidence["repeated_spans"] = np.stack([t[shown], y[shown], x0[shown], x1[shown]], axis=1).tolist()
     attribute_problem = ""
     if scene.attributes is not None and (interpolates or coverage.attributes is not None):
-        rows = None if coverage.attributes is None else coverage.attributes.shape[0]
-        if coverage.attributes is None or rows != coverage.n_pixels:
-            attribute_problem = f"{rows} attribute rows for {coverage.n_pixels} pixels"
+        if coverage.attributes is None:
+            if coverage.n_pixels:  # no pixel needs no row
+                attribute_problem = f"no attribute rows for {coverage.n_pixels} pixels (the scene has {scene.n_attributes} per vertex)"
+        elif coverage.attributes.shape[0] != coverage.n_pixels:
+            attribute_problem = f"{coverage.attributes.shape[0]} attribute rows for {coverage.n_pixels} pixels"
         elif coverage.attributes.shape[1] != scene.n_attributes:
             attribute_problem = f"{coverage.attributes.shape[1]} attributes per pixel, the scene has {scene.n_attributes}"
         elif not np.isfinite(coverage.attributes).all() and np.isfinite(scene.attributes).all():
