@@ -14,7 +14,9 @@ from cases.meshes import mesh_cases
 from cases.motion import motion_cases
 from harness.checks import watertight
 from harness.conventions import Convention, snap
-from harness.identify import _vertex_sweep, identify
+from harness.identify import identify
+from harness.isolation import InProcess
+from harness.probes import epsilon, vertex_sweep
 from harness.registry import load
 from harness.runner import run_suite
 from tests.known_bad.edge_functions import EdgeFunctionBug
@@ -38,8 +40,8 @@ def test_snap_can_round_down():
     (Convention(), None),
 ], ids=str)
 def test_vertex_sweep_finds_the_snapping_grid(hidden, grid):
-    found, located = _vertex_sweep(BlackBox(hidden))
-    assert located >= 12 and found == grid
+    sweep = vertex_sweep(InProcess(BlackBox(hidden)))
+    assert sweep.located >= 12 and sweep.grid == grid
 
 
 def test_identify_recovers_snapping_that_rounds_down():
@@ -112,8 +114,8 @@ def test_fingerprint_page_puts_everyone_side_by_side(tmp_path):
         "        return exact_coverage(scene, Convention(tie='bottom-left'))\n"
     )
     out = tmp_path / "rep"
-    code = main(["run", "--rasterizer", "centre_scanline", "--rasterizer", f"{path}:Box", "--out", str(out),
-                 "--json", str(tmp_path / "r.json")])
+    code = main(["run", "--rasterizer", "centre_scanline", "--rasterizer", f"{path}:Box", "--case", "lattice/*",
+                 "--out", str(out), "--json", str(tmp_path / "r.json")])
     assert code == 0
     page = (out / "fingerprints.html").read_text()
     assert "box&lt;b&gt;" in page and "box<b>" not in page  # autoescaped
@@ -180,10 +182,8 @@ def test_failures_against_a_guessed_convention_say_so():
 
 
 def test_epsilon_fact_catches_single_precision():
-    from harness.identify import _epsilon
-
-    assert _epsilon(load("pineda_topleft"), Convention()).startswith("exact")
-    assert "decided unlike the convention" in _epsilon(EdgeFunctionBug("float32"), Convention())
+    assert epsilon(InProcess(load("pineda_topleft")), Convention()).text.startswith("exact")
+    assert "decided unlike the convention" in epsilon(InProcess(EdgeFunctionBug("float32")), Convention()).text
 
 
 def test_non_finite_and_residual_facts_name_what_a_broken_rasterizer_does():
