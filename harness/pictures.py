@@ -350,11 +350,11 @@ def _near_triangles(marks: list[tuple[int, int]], positions: NDArray, reach: flo
     centres = np.asarray(marks, dtype=float) + 0.5  # (M, 2)
     p = centres[:, None, None, :]  # (M, 1, 1, 2)
     a, b = tris[None, :, :, :], np.roll(tris, -1, axis=1)[None, :, :, :]  # (1, T, 3, 2) edges a -> b
-    ab, ap = b - a, p - a
-    with np.errstate(invalid="ignore", divide="ignore"):
+    with np.errstate(all="ignore"):  # huge or degenerate triangles: a picture, not a verdict
+        ab, ap = b - a, p - a
         t = np.clip(np.nan_to_num((ap * ab).sum(-1) / (ab * ab).sum(-1)), 0.0, 1.0)
-    edge = np.hypot(*np.moveaxis(ap - t[..., None] * ab, -1, 0)).min(axis=2)  # (M, T): to the nearest edge
-    cross = ab[..., 0] * ap[..., 1] - ab[..., 1] * ap[..., 0]  # (M, T, 3)
+        edge = np.hypot(*np.moveaxis(ap - t[..., None] * ab, -1, 0)).min(axis=2)  # (M, T): to the nearest edge
+        cross = ab[..., 0] * ap[..., 1] - ab[..., 1] * ap[..., 0]  # (M, T, 3)
     inside = (cross >= 0).all(axis=2) | (cross <= 0).all(axis=2)
     near = (inside | (edge <= reach)).any(axis=1)
     return [m for m, ok in zip(marks, near.tolist()) if ok]

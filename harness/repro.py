@@ -116,8 +116,8 @@ def shrink(case: Case, fails: Callable[[Case], bool], budget: int = 200, seconds
 def attach_repro(result: Result, case: Case, judge: Judge, rasterizer: Rasterizer,
                  budget: int = 60, seconds: float = 10.0) -> Result:
     """Shrink the case to a minimal one that still fails the same check and attach it, as
-    replayable JSON naming that check, to the result's evidence; the message is the
-    check's own on the shrunk case."""
+    replayable JSON naming that check, to the result's evidence. The result keeps the
+    whole case's message; the repro file carries the check's own on the shrunk case."""
     check = result.check
     if check == "watertight" and result.metrics.get("double_hits", 0) > 0:
         check = "overdraw"  # double hits stay double hits in any subset of the triangles
@@ -130,24 +130,27 @@ def attach_repro(result: Result, case: Case, judge: Judge, rasterizer: Rasterize
     else:
         minimal = shrink(case, lambda candidate: failed(candidate) is not None, budget=budget, seconds=seconds)
     evidence = dict(result.evidence)
-    message = result.message
+    message = result.message  # the whole case's, for the result
+    said = result.message  # the shrunk case's, for the repro file
     if minimal is not case:
         again = failed(minimal)
         if again is not None:
-            message = again.message
+            said = again.message
     if check in ("conformance", "invariance"):
         as_received = input_precision_probe(minimal, check, judge, rasterizer)
         if as_received is not None:
             evidence["input_precision"] = as_received
-            message += ("; with its coordinates rounded the way the library receives them (rasterizer.received), the "
-                        f"same triangles pass: the deviation comes from the input format ({as_received['moved']} "
-                        "coordinates move), not from the fill rule")
+            note = ("; with its coordinates rounded the way the library receives them (rasterizer.received), the "
+                    f"same triangles pass: the deviation comes from the input format ({as_received['moved']} "
+                    "coordinates move), not from the fill rule")
+            message, said = message + note, said + note
         inside = viewport_edge_probe(minimal, check, judge)
         if inside is not None:
             evidence["viewport_edge"] = inside
-            message += (f"; moved {inside['margin']} px into a screen {inside['margin']} px larger on each side, the same "
-                        "triangles pass: the deviation appears only where triangles cross the viewport edge")
-    payload = case_to_json(minimal, check=check, rasterizer=rasterizer.name, message=message,
+            note = (f"; moved {inside['margin']} px into a screen {inside['margin']} px larger on each side, the same "
+                    "triangles pass: the deviation appears only where triangles cross the viewport edge")
+            message, said = message + note, said + note
+    payload = case_to_json(minimal, check=check, rasterizer=rasterizer.name, message=said,
                            original_case=case.id, original_triangles=len(case.scene))
     return replace(result, message=message, evidence={**evidence, "repro": payload})
 
