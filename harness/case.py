@@ -2,13 +2,16 @@
 
 A :class:`Case` is one named scene plus the facts about it that are known exactly; a
 :class:`MotionCase` is a named frame sequence. Both are stored as JSON with every float
-written by ``float.hex``, so that a replay sees exactly the same floats
+written exactly: as its decimal where that is short (``0.375``), else by ``float.hex``,
+so that a replay sees exactly the same floats
 (:func:`case_to_json`, :func:`case_from_json`, :func:`save_case`, :func:`load_case`).
 """
 
 from __future__ import annotations
 
 import json
+import math
+from decimal import Decimal
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -97,8 +100,12 @@ class MotionCase:
 # whole screen, and 2**26 pixels (8192 x 8192) is 256 MiB of them.
 MAX_CASE_PIXELS = 1 << 26
 
+# A coordinate: a decimal string that is exactly a float ("0.375"), a float.hex string
+# ("0x1.8p+1"), "inf", "-inf", "nan", or a JSON number (read exactly: an inexact one is
+# refused, never rounded).
 _NUMBER = {"anyOf": [
     {"type": "string", "pattern": r"^-?(0x[0-9a-f]+(\.[0-9a-f]*)?(p[+-]?[0-9]+)?|inf|nan)$"},
+    {"type": "string", "pattern": r"^-?[0-9]+(\.[0-9]+)?$"},
     {"type": "number"},
 ]}
 _POINT = {"type": "array", "items": _NUMBER, "minItems": 2, "maxItems": 2}
@@ -142,12 +149,29 @@ CASE_SCHEMA: dict[str, Any] = {
 }
 
 
+def _text(value: float) -> str:
+    """A coordinate as text: its exact decimal when that is short (``0.375``, ``-12.5``),
+    else ``float.hex`` -- exact either way, and readable where it can be."""
+    if math.isfinite(value):
+        exact = format(Decimal(value), "f")
+        if len(exact) <= 14:
+            return exact
+    return float.hex(value)
+
+
 def _hex(array: NDArray | None) -> Any:
-    return None if array is None else np.vectorize(float.hex, otypes=[object])(array).tolist()
+    return None if array is None else np.vectorize(_text, otypes=[object])(array).tolist()
 
 
 def _number(value: Any) -> float:
-    return float.fromhex(value) if isinstance(value, str) else float(value)
+    """A coordinate back, exactly; ValueError when the text or number is not exactly a float."""
+    if isinstance(value, str) and ("x" in value or value.lstrip("-") in ("inf", "nan")):
+        return float.fromhex(value)
+    exact = Decimal(value) if isinstance(value, (str, Decimal)) else Decimal(value)
+    number = float(exact)
+    if math.isfinite(number) and Decimal(number) != exact:
+        raise ValueError(f"{value} is not exactly a float64 (the nearest is {float.hex(number)}): write it exactly")
+    return number
 
 
 def _unhex(data: Any, field: str = "") -> NDArray | None:
@@ -176,7 +200,9 @@ def case_to_json(case: Case | MotionCase, **extra: Any) -> dict[str, Any]:
     >>> from harness.api import MAX_VIEWPORT, Scene
     >>> data = case_to_json(Case("lattice/one", Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]])), check="conformance")
     >>> data["positions"][0][1], data["check"]
-    (['0x1.0000000000000p+2', '0x0.0p+0'], 'conformance')
+    (['4', '0'], 'conformance')
+    >>> _text(0.1), _text(-12.375)
+    ('0x1.999999999999ap-4', '-12.375')
     >>> case_from_json(data).scene.positions[0, 1].tolist()
     [4.0, 0.0]
     """
@@ -258,7 +284,7 @@ def read_case_file(path: Path | str) -> tuple[Case | MotionCase, dict[str, Any]]
     ``rasterizer``, ``message`` of a repro); ValueError naming the file and the fault."""
     path = Path(path)
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(path.read_text(encoding="utf-8"), parse_float=Decimal)  # numbers read exactly
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise ValueError(f"{path}: cannot read the case ({exc})") from None
     except RecursionError:

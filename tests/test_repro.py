@@ -114,3 +114,14 @@ def test_saved_case_replays_identically(tmp_path):
     path = save_case(tmp_path / "c.json", case)
     assert np.array_equal(load_case(path).scene.positions, case.scene.positions)
     assert [r.status for r in replay(path, "fixed_point")] == [r.status for r in run_suite(["fixed_point"], cases=[case])]
+
+
+def test_coordinates_are_written_as_short_decimals_where_exact_and_read_back_exactly(tmp_path):
+    scene = Scene(16, 16, [[[0.375, 1.5], [12.0, 0.1], [1e-300, 2**60]]])
+    data = case_to_json(Case("x/y", scene))
+    assert data["positions"][0][0] == ["0.375", "1.5"] and data["positions"][0][1][0] == "12"
+    assert data["positions"][0][1][1] == float.hex(0.1) and data["positions"][0][2][0] == float.hex(1e-300)
+    back = load_case(save_case(tmp_path / "c.json", Case("x/y", scene)))
+    assert np.array_equal(back.scene.positions, scene.positions)
+    data["positions"][0][0] = ["10", 1.5]  # "10" is ten (not hex sixteen); numbers are read exactly
+    assert case_from_json(data).scene.positions[0, 0].tolist() == [10.0, 1.5]
