@@ -1,11 +1,13 @@
 """Comparing rasterizers: pixel differences on the same scenes, and the convention that
 separates them.
 
-Each rasterizer is matched against the exact oracle of every candidate convention
-(sample at the centre, a corner or an edge midpoint; four tie rules) on lattice scenes
-with ties on purpose; the candidate with the fewest mismatches explains it (exactly when
-the count is 0). Two rasterizers then agree up to a half- or whole-pixel shift of the
-sample point and a mirrored tie rule when their explanations differ only there.
+Each rasterizer is explained by the fit identify makes (:func:`harness.probes.fit_ties`:
+the 9 usual sample points and the measured one, x the 8 tie rules, on lattice scenes,
+tie triangles and piglit's pinwheels, built to hit ties), so that compare and identify
+never disagree on a rasterizer's sample point and tie rule; the best candidate explains
+it (exactly when it has no mismatch). Every pair is then compared pixel for pixel on the
+lattice conformance cases, and two rasterizers agree up to a half- or whole-pixel shift
+of the sample point and a mirrored tie rule when their explanations differ only there.
 """
 
 from __future__ import annotations
@@ -16,22 +18,21 @@ from typing import Any
 
 import numpy as np
 
-from harness.case import Case
 from cases.suites import conformance_cases
 from harness.api import Coverage, Rasterizer
-from harness.checks import FragmentCounter
-from harness.conventions import TIE_RULES, Convention
-from harness.oracle import exact_coverage
+from harness.case import Case
+from harness.conventions import Convention
+from harness.isolation import Call, InProcess
+from harness.probes import CANDIDATES, fit_ties
 
-__all__ = ["CANDIDATES", "Explanation", "Comparison", "explain", "compare"]
-
-SAMPLES = ((0.5, 0.5), (0.0, 0.0), (1.0, 1.0), (0.0, 1.0), (1.0, 0.0), (0.5, 0.0), (0.0, 0.5), (0.5, 1.0), (1.0, 0.5))
-CANDIDATES = tuple(Convention(sample=s, tie=t) for s in SAMPLES for t in TIE_RULES)
+__all__ = ["CANDIDATES", "Explanation", "Comparison", "explain", "compare", "as_dict"]
 
 
 @dataclass(frozen=True)
 class Explanation:
-    """The candidate convention that best explains a rasterizer, and how well."""
+    """The candidate convention that best explains a rasterizer, its mismatches over the
+    ``pixels`` it drew on the fit's scenes, and the runner-up (another sample point or tie
+    rule) with its mismatches."""
 
     rasterizer: str
     convention: Convention
@@ -46,6 +47,9 @@ class Explanation:
 
 @dataclass
 class Comparison:
+    """Two rasterizers on the same lattice cases: pixels whose hit count differs (per case
+    id), of the first one's pixels, and what separates their explanations."""
+
     a: str
     b: str
     differing_pixels: int
@@ -58,22 +62,28 @@ def _cases(seed: int) -> list[Case]:
     return [c for c in conformance_cases(seed) if c.lattice]
 
 
-def explain(rasterizer: Rasterizer, coverages: dict[str, Coverage], cases: list[Case]) -> Explanation:
-    scores = []
-    counters = {c.id: FragmentCounter(coverages[c.id], c.scene.width, c.scene.height) for c in cases}
-    for candidate in CANDIDATES:
-        total = sum(counters[c.id].mismatches(exact_coverage(c.scene, candidate)) for c in cases)
-        scores.append((total, candidate))
-    scores.sort(key=lambda s: s[0])
-    pixels = sum(coverages[c.id].n_pixels for c in cases)
-    return Explanation(rasterizer.name, scores[0][1], scores[0][0], pixels, (scores[1][1], scores[1][0]))
+def explain(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) -> Explanation:
+    """The fit identify makes of ``rasterizer`` (called through ``call``; in this process
+    when None), as an explanation."""
+    fit = fit_ties(InProcess(rasterizer) if call is None else call, seed)
+    return Explanation(rasterizer.name, fit.best, fit.mismatches, fit.pixels, (fit.runner_up, fit.runner_up_mismatches))
+
+
+def _snapping(c: Convention) -> str:
+    return "none" if c.subpixel_bits is None else f"{c.subpixel_bits} bits {c.snap_rounding}"
 
 
 def _separation(a: Explanation, b: Explanation) -> str:
-    if not (a.exact and b.exact):
-        return (f"no candidate convention explains {'both' if not (a.exact or b.exact) else (a.rasterizer if not a.exact else b.rasterizer)} "
-                f"exactly; best guesses differ: {a.convention.describe()} vs {b.convention.describe()}")
+    """What tells the two explanations apart, in words."""
     ca, cb = a.convention, b.convention
+    if not (a.exact and b.exact):
+        inexact = [e for e in (a, b) if not e.exact]
+        who = "either" if len(inexact) == 2 else inexact[0].rasterizer
+        if ca == cb:
+            return (f"no candidate convention explains {who} exactly; both are best explained by {ca.describe()}, "
+                    + ("neither exactly" if len(inexact) == 2 else f"{who} with {inexact[0].mismatches} mismatches"))
+        return (f"no candidate convention explains {'both' if len(inexact) == 2 else who} exactly; "
+                f"best guesses differ: {ca.describe()} vs {cb.describe()}")
     if ca == cb:
         return "the same convention: they agree pixel for pixel wherever both are exact"
     parts = []
@@ -86,14 +96,23 @@ def _separation(a: Explanation, b: Explanation) -> str:
         kind = ("a mirrored" if (ax, ay, a_first) == (-bx, -by, b_first)
                 else "an x-first vs y-first" if (ax, ay) == (bx, by) else "a different")
         parts.append(f"{kind} tie rule ({ca.tie} vs {cb.tie})")
+    if (ca.subpixel_bits, ca.snap_rounding) != (cb.subpixel_bits, cb.snap_rounding):
+        parts.append(f"snapping ({_snapping(ca)} vs {_snapping(cb)})")
+    if ca.cull != cb.cull:
+        parts.append(f"culling ({ca.cull} vs {cb.cull})")
     return "separated by " + " and ".join(parts)
 
 
 def compare(rasterizers: list[Rasterizer], seed: int = 0) -> tuple[list[Explanation], list[Comparison]]:
-    """Explain each rasterizer and compare every pair on the same lattice scenes."""
+    """Explain each rasterizer as identify does and compare every pair on the same lattice
+    cases (a case a rasterizer gives an error for counts as drawing nothing)."""
     cases = _cases(seed)
-    coverages = {r.name: {c.id: r.rasterize(c.scene) for c in cases} for r in rasterizers}
-    explanations = [explain(r, coverages[r.name], cases) for r in rasterizers]
+    coverages: dict[str, dict[str, Coverage]] = {}
+    explanations = []
+    for r in rasterizers:
+        call = InProcess(r)
+        explanations.append(explain(r, seed, call))
+        coverages[r.name] = {c.id: call(c.scene).coverage or Coverage.empty() for c in cases}
     by_name = {e.rasterizer: e for e in explanations}
     comparisons = []
     for ra, rb in combinations(rasterizers, 2):
@@ -110,6 +129,7 @@ def compare(rasterizers: list[Rasterizer], seed: int = 0) -> tuple[list[Explanat
 
 
 def as_dict(explanations: list[Explanation], comparisons: list[Comparison]) -> dict[str, Any]:
+    """Plain data for JSON and the comparison page."""
     return {
         "explanations": [{"rasterizer": e.rasterizer, "convention": e.convention.describe(), "mismatches": e.mismatches,
                           "pixels": e.pixels, "exact": e.exact} for e in explanations],

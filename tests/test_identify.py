@@ -303,3 +303,114 @@ def test_the_library_identifies_undeclared_rasterizers_as_the_command_does(tmp_p
     assert not differ, [(k, library[k], command[k]) for k in differ[:3]]
     assert all(library[k][0] == command[k][0] for k in library)
     assert any(k[1] == "conformance" and v[0] == "pass" for k, v in library.items())  # checked, not skipped
+
+
+class ReversedAndMinInt:
+    """Spans with x0 > x1, and spans at the most negative int64 rows and columns."""
+
+    name = "reversed_and_min_int"
+    convention = None
+
+    def rasterize(self, scene):
+        import numpy as np
+
+        from harness.api import Coverage
+
+        n = len(scene)
+        lo, hi = np.iinfo(np.int64).min, np.iinfo(np.int64).max
+        t = np.concatenate([np.arange(n), np.arange(n)])
+        return Coverage(t, np.concatenate([np.full(n, 3), np.full(n, lo)]),
+                        np.concatenate([np.full(n, 9), np.full(n, lo)]), np.concatenate([np.full(n, 2), np.full(n, hi)]))
+
+
+class RaisesOnBigScenes:
+    """Correct, but raises on a scene of more than 100 triangles (every fit scene)."""
+
+    name = "raises_on_big_scenes"
+    convention = None
+
+    def rasterize(self, scene):
+        if len(scene) > 100:
+            raise MemoryError("too many triangles")
+        return load("centre_scanline").rasterize(scene)
+
+
+def _lying():
+    from tests.known_bad.hostile import FarAway, HugeSpan
+    from tests.known_bad.misc import Raises, ReturnsGarbage
+
+    return [ReversedAndMinInt(), FarAway(), HugeSpan(), Raises(), ReturnsGarbage()]
+
+
+@pytest.mark.parametrize("index", range(5), ids=["reversed-min-int", "far-away", "huge-span", "raises", "not-a-coverage"])
+def test_identify_gives_a_lying_rasterizer_a_residual_not_an_exception(index):
+    import json
+
+    from harness.identify import Fingerprint
+
+    rasterizer = _lying()[index]
+    fingerprint = identify(rasterizer)
+    assert isinstance(fingerprint, Fingerprint) and not fingerprint.exact and fingerprint.residual > 0
+    assert "best guess only" in fingerprint.card()
+    assert all(isinstance(text, str) for text in fingerprint.facts.values())
+    json.dumps(fingerprint.to_dict())
+
+
+def test_identify_reports_fit_scenes_the_rasterizer_did_not_answer():
+    fingerprint = identify(RaisesOnBigScenes())
+    assert not fingerprint.exact and fingerprint.residual > 0, fingerprint.card()
+    # 4 lattice scenes, tie triangles, pinwheels and 2 float scenes (no snapping seen: no half steps)
+    assert fingerprint.facts["unanswered"].startswith("8 of 8 fit scenes unanswered"), fingerprint.card()
+    assert "MemoryError: too many triangles" in fingerprint.facts["unanswered"]
+    # nothing it did not answer steers the guess, and what it did answer is still measured
+    assert fingerprint.convention == Convention()
+    assert "(0.5, 0.5)" in fingerprint.facts["sample sweep"] and fingerprint.facts["epsilon"].startswith("exact")
+    assert type(fingerprint.probes["unanswered"]).__name__ == "Unanswered"
+
+
+class DiesOnNaN:
+    """Correct, but its process dies on a NaN coordinate (a segfault, as far as anyone can tell)."""
+
+    name = "dies_on_nan"
+    convention = None
+
+    def rasterize(self, scene):
+        import os
+
+        import numpy as np
+
+        if np.isnan(scene.positions).any():
+            os._exit(3)
+        return load("centre_scanline").rasterize(scene)
+
+
+def test_identify_isolated_goes_on_past_a_dying_call_and_agrees_with_identify():
+    from harness.identify import identify_isolated
+
+    isolated = identify_isolated(DiesOnNaN(), call_timeout=60)
+    assert isolated.exact and isolated.convention == Convention(), isolated.card()
+    assert "NaN: raises RuntimeError: the rasterizer's worker process died (exit code 3)" in isolated.facts["non-finite"]
+    plain = identify(load("centre_scanline")).to_dict()
+    assert {**isolated.to_dict(), "rasterizer": None, "facts": None} == {**plain, "rasterizer": None, "facts": None}
+
+
+class Sluggish:
+    name = "sluggish"
+    convention = None
+
+    def rasterize(self, scene):
+        import time
+
+        time.sleep(0.02)
+        return load("centre_scanline").rasterize(scene)
+
+
+def test_identify_isolated_bounds_the_whole_identification():
+    import time
+
+    from harness.identify import identify_isolated
+
+    start = time.monotonic()
+    with pytest.raises(TimeoutError, match=r"identify sluggish: no answer within 1 s"):
+        identify_isolated(Sluggish(), timeout=1.0, call_timeout=30)
+    assert time.monotonic() - start < 10
