@@ -22,7 +22,7 @@ from cases.suites import conformance_cases
 from harness.api import Coverage, Rasterizer
 from harness.case import Case
 from harness.conventions import Convention
-from harness.isolation import Call, InProcess
+from harness.isolation import Call, InProcess, Worker
 from harness.probes import CANDIDATES, fit_ties
 
 __all__ = ["CANDIDATES", "Explanation", "Comparison", "explain", "compare", "as_dict"]
@@ -39,6 +39,7 @@ class Explanation:
     mismatches: int
     pixels: int
     runner_up: tuple[Convention, int] | None = None
+    candidates: int = 0
 
     @property
     def exact(self) -> bool:
@@ -66,7 +67,8 @@ def explain(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) -> 
     """The fit identify makes of ``rasterizer`` (called through ``call``; in this process
     when None), as an explanation."""
     fit = fit_ties(InProcess(rasterizer) if call is None else call, seed)
-    return Explanation(rasterizer.name, fit.best, fit.mismatches, fit.pixels, (fit.runner_up, fit.runner_up_mismatches))
+    return Explanation(rasterizer.name, fit.best, fit.mismatches, fit.pixels, (fit.runner_up, fit.runner_up_mismatches),
+                       fit.candidates)
 
 
 def _snapping(c: Convention) -> str:
@@ -103,16 +105,18 @@ def _separation(a: Explanation, b: Explanation) -> str:
     return "separated by " + " and ".join(parts)
 
 
-def compare(rasterizers: list[Rasterizer], seed: int = 0) -> tuple[list[Explanation], list[Comparison]]:
+def compare(rasterizers: list[Rasterizer], seed: int = 0, isolate: bool = True,
+            timeout: float = 60.0) -> tuple[list[Explanation], list[Comparison]]:
     """Explain each rasterizer as identify does and compare every pair on the same lattice
-    cases (a case a rasterizer gives an error for counts as drawing nothing)."""
+    cases (a case a rasterizer gives an error for counts as drawing nothing). Each
+    rasterizer is called in a worker process of its own (``isolate``), as in a run."""
     cases = _cases(seed)
     coverages: dict[str, dict[str, Coverage]] = {}
     explanations = []
     for r in rasterizers:
-        call = InProcess(r)
-        explanations.append(explain(r, seed, call))
-        coverages[r.name] = {c.id: call(c.scene).coverage or Coverage.empty() for c in cases}
+        with Worker(r, timeout) if isolate else InProcess(r) as call:
+            explanations.append(explain(r, seed, call))
+            coverages[r.name] = {c.id: call(c.scene).coverage or Coverage.empty() for c in cases}
     by_name = {e.rasterizer: e for e in explanations}
     comparisons = []
     for ra, rb in combinations(rasterizers, 2):
