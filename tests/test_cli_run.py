@@ -131,7 +131,7 @@ def test_ctrl_c_stops_a_parallel_run_within_seconds_and_keeps_what_finished(tmp_
     proc = subprocess.Popen([sys.executable, "-m", "harness.cli", "run", "--rasterizer", f"{plugin}:Slow", "--rasterizer",
                              "centre_scanline", "--no-fingerprints", "--jobs", "2", "--out", str(out), "--json", str(out / "r.json")],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=os.getcwd())
-    time.sleep(12)
+    time.sleep(6)
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=10)  # stopped at once: a run that went on would time out here
     assert proc.returncode == 130, err

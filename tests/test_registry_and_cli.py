@@ -55,7 +55,9 @@ def test_load_file_specs(tmp_path):
 
 def test_cli_run_writes_report_and_json(tmp_path, capsys):
     out = tmp_path / "rep"
-    code = main(["run", "--rasterizer", "centre_scanline", "--rasterizer", "fixed_point", "--out", str(out), "--json", str(tmp_path / "r.json")])
+    families = [a for g in ("lattice/*", "watertight/fan-*", "mesh/box/*", "degenerate/zero-area/*") for a in ("--case", g)]
+    code = main(["run", "--rasterizer", "centre_scanline", "--rasterizer", "fixed_point", *families, "--no-fingerprints",
+                 "--out", str(out), "--json", str(tmp_path / "r.json")])
     assert code == 0
     html = (out / "index.html").read_text()
     assert "centre_scanline" in html and "fixed_point" in html and "<script" not in html
@@ -74,7 +76,7 @@ def test_cli_run_fails_on_a_wrong_rasterizer(tmp_path):
             name = "liar"
             convention = Convention(tie="bottom-right")  # claims what it does not do
     '''))
-    code = main(["run", "--rasterizer", f"{path}:Liar", "--out", str(tmp_path / "rep")])
+    code = main(["run", "--rasterizer", f"{path}:Liar", "--case", "lattice/*", "--no-fingerprints", "--out", str(tmp_path / "rep")])
     assert code == 1
     assert "fail" in (tmp_path / "rep" / "index.html").read_text()
     assert "against the oracle" in (tmp_path / "rep" / "rasterizer-liar.html").read_text()
@@ -181,7 +183,8 @@ def test_a_hostile_name_never_becomes_a_path_outside_out(tmp_path):
         "        return exact_coverage(scene, Convention(tie='bottom-right'))\n"
     )
     out = tmp_path / "deep" / "rep"
-    assert main(["run", "--rasterizer", f"{plugin}:Hostile", "--out", str(out), "--no-fingerprints"]) == 1
+    assert main(["run", "--rasterizer", f"{plugin}:Hostile", "--case", "lattice/*", "--case", "watertight/fan-*", "--out", str(out),
+                 "--no-fingerprints"]) == 1
     written = [p for p in tmp_path.rglob("*.json")]
     assert written and all(out in p.parents for p in written), [str(p) for p in written if out not in p.parents][:3]
     assert not (tmp_path / "escaped_repros").exists() and not (tmp_path / "deep" / "escaped_repros").exists()
