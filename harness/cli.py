@@ -420,7 +420,8 @@ def _compare(args: argparse.Namespace) -> int:
     for c in comparisons:
         print(f"{c.a} vs {c.b}: {c.differing_pixels} pixels differ; {c.separation}")
     data = as_dict(explanations, comparisons)
-    path = write_comparison(Path(args.out), data, max((e.candidates for e in explanations), default=len(CANDIDATES)), args.seed)
+    path = write_comparison(Path(args.out), data, max((e.candidates for e in explanations), default=len(CANDIDATES)), args.seed,
+                            comparisons)
     if args.json:
         atomic_write_text(Path(args.json), json.dumps({"schema": 1, **data}, indent=1))
     print(f"report: {path}")

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from cases.suites import conformance_cases
-from harness.api import Coverage, Rasterizer
+from harness.api import Coverage, Rasterizer, Scene
 from harness.case import Case
 from harness.conventions import Convention
 from harness.isolation import Call, InProcess, Worker
@@ -57,6 +57,9 @@ class Comparison:
     total_pixels: int
     per_case: dict[str, int] = field(default_factory=dict)
     separation: str = ""
+    # where they first differ, for the page's crops (references, not drawn here): the
+    # scene, each side's coverage, and the pixels (x, y) that differ there
+    where: tuple[Scene, Coverage, Coverage, list[tuple[int, int]]] | None = field(default=None, compare=False, repr=False)
 
 
 def _cases(seed: int) -> list[Case]:
@@ -122,13 +125,17 @@ def compare(rasterizers: list[Rasterizer], seed: int = 0, isolate: bool = True,
     for ra, rb in combinations(rasterizers, 2):
         per_case = {}
         total = 0
+        where = None
         for c in cases:
             a, b = coverages[ra.name][c.id], coverages[rb.name][c.id]
-            differing = int(np.sum(a.counts(c.scene.width, c.scene.height) != b.counts(c.scene.width, c.scene.height)))
-            per_case[c.id] = differing
+            differs = a.counts(c.scene.width, c.scene.height) != b.counts(c.scene.width, c.scene.height)
+            per_case[c.id] = int(differs.sum())
             total += a.n_pixels
+            if where is None and per_case[c.id]:
+                ys, xs = np.nonzero(differs)
+                where = (c.scene, a, b, [(int(x), int(y)) for x, y in zip(xs[:20], ys[:20])])
         comparisons.append(Comparison(ra.name, rb.name, sum(per_case.values()), total, per_case,
-                                      _separation(by_name[ra.name], by_name[rb.name])))
+                                      _separation(by_name[ra.name], by_name[rb.name]), where))
     return explanations, comparisons
 
 

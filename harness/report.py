@@ -294,14 +294,33 @@ def link_pages(out_dir: Path) -> None:
     atomic_write_text(path, html[:start] + PAGES_START + block + html[end:])
 
 
-def write_comparison(out_dir: Path, data: dict[str, Any], candidates: int, seed: int) -> Path:
-    """Write ``compare.html`` (the comparison page) into ``out_dir`` atomically."""
+def _pair_crops(comparisons: list[Any]) -> dict[str, list[tuple[str, str]]]:
+    """Per pair ``"a · b"``: an SVG crop of each side around the first pixels where they
+    differ (the triangles over the pixel grid, the differing pixels outlined)."""
+    from harness.pictures import svg_crop, window_around
+
+    out: dict[str, list[tuple[str, str]]] = {}
+    for c in comparisons:
+        if c.where is None:
+            continue
+        scene, a, b, pixels = c.where
+        x, y = pixels[0]
+        window = window_around(x, y, scene.width, scene.height, 12)
+        out[f"{c.a} · {c.b}"] = [(f"{name}: where they differ (outlined)", svg_crop(scene.positions, cov, (0.5, 0.5), window, pixels))
+                                 for name, cov in ((c.a, a), (c.b, b))]
+    return out
+
+
+def write_comparison(out_dir: Path, data: dict[str, Any], candidates: int, seed: int, comparisons: list[Any] | None = None) -> Path:
+    """Write ``compare.html`` (the comparison page) into ``out_dir`` atomically; with the
+    ``comparisons`` themselves, each pair that differs is drawn where it first does."""
     meta: dict[str, Any] = {
         "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "version": harness.__version__, "seed": seed, "suite": "lattice",
         "python": platform.python_version(), "numpy": np.__version__, "numba": numba.__version__,
         "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, {platform.system()}",
     }
-    html = _environment().get_template("compare.html").render(data=data, candidates=candidates, meta=meta)
+    crops = _pair_crops(comparisons or [])
+    html = _environment().get_template("compare.html").render(data=data, candidates=candidates, meta=meta, crops=crops)
     path = Path(out_dir) / "compare.html"
     atomic_write_text(path, html)
     link_pages(Path(out_dir))

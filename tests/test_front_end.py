@@ -61,7 +61,11 @@ def test_compare_names_the_convention_that_separates(tmp_path, capsys):
     assert "centre_scanline vs fixed_point: 0 pixels differ" in out
     data = json.loads((tmp_path / "c.json").read_text())
     assert all(e["exact"] for e in data["explanations"])
-    assert "separated by" in (tmp_path / "compare.html").read_text()
+    page = (tmp_path / "compare.html").read_text()
+    assert "separated by" in page
+    # each pair that differs is drawn where it first does, both sides; identical pairs are not
+    assert "<h3>centre_scanline · floor_scanline</h3>" in page and "centre_scanline · fixed_point</h3>" not in page
+    assert page.count("<figcaption>") == 4 and "data:image/svg+xml;base64," in page
     assert main(["compare", "centre_scanline"]) == 2
 
 
