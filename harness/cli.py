@@ -125,7 +125,7 @@ class Interrupted(Exception):
         self.partial = (rasterizers, results, seconds, fingerprints)
 
 
-def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float, dict[str, dict[str, Any]]]:
+def _execute(args: argparse.Namespace, loaded: Any = None) -> tuple[list[Any], list[Any], float, dict[str, dict[str, Any]]]:
     """Run the selected rasterizers over the suite, side by side with --jobs, showing
     progress (a bar on a terminal, a plain line every 30 s in CI). Ctrl-C raises
     :class:`Interrupted` carrying what finished. Returns (rasterizers, results,
@@ -156,6 +156,8 @@ def _execute(args: argparse.Namespace) -> tuple[list[Any], list[Any], float, dic
         raise UsageError("no rasterizer could be loaded: nothing was checked"
                          + (f" ({'; '.join(problems)})" if problems else ""))
     rasterizers = distinct_names(rasterizers)
+    if loaded is not None:
+        loaded(rasterizers)  # e.g. the gate's check that the baseline is of these rasterizers
     for problem in problems:
         print(f"skipped plugin: {problem}", file=sys.stderr)
     from harness.identify import identify_all
@@ -357,8 +359,16 @@ def _gate(args: argparse.Namespace) -> int:
             baseline = load_baseline(path)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    def same_rasterizers(rasterizers: list[Any]) -> None:
+        """Before any work: a baseline of other rasterizers is a usage error now, not after the suite."""
+        known = {key.split("|", 1)[0] for key in baseline}
+        names = {r.name for r in rasterizers}
+        if known and not args.update_baseline and not known & names:
+            raise UsageError(f"{path}: the baseline is of {', '.join(sorted(known))}, this run of {', '.join(sorted(names))}: "
+                             "no rasterizer in common (another --baseline, or --update-baseline to start one)")
+
     try:
-        rasterizers, results, seconds, fingerprints = _execute(args)
+        rasterizers, results, seconds, fingerprints = _execute(args, loaded=same_rasterizers)
     except Interrupted as stopped:  # the partial report and JSON, but no verdict (nor JUnit) on half a run
         return _interrupted(argparse.Namespace(**{**vars(args), "junit": None}), stopped)
     before: bytes | None = None
