@@ -11,13 +11,10 @@ written as one HTML page.
 from __future__ import annotations
 
 import json
-import platform
-import time
 from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import harness
 from harness.checks import Result, timing_metrics
 from harness.files import atomic_write_text
 
@@ -134,17 +131,13 @@ def load_run(path: Path | str) -> list[Result]:
 
 def write_diff_page(out: Path | str, diff: RunDiff) -> Path:
     """``<out>/diff.html``: the changes by kind, per rasterizer and check."""
-    from jinja2 import Environment, PackageLoader, select_autoescape
+    from harness.report import _environment, link_pages, page_meta
 
-    env = Environment(loader=PackageLoader("harness", "templates"), autoescape=select_autoescape(["html"]))
     counts = Counter(c.kind for c in diff.changes)
     per = Counter((c.rasterizer, c.check, c.kind) for c in diff.changes)
-    meta = {"version": harness.__version__, "suite": "diff", "seed": "-", "date": time.strftime("%Y-%m-%d %H:%M"),
-            "python": platform.python_version(), "numpy": "", "numba": "", "machine": platform.machine()}
-    html = env.get_template("diff.html").render(diff=diff, kinds=KINDS, counts=counts, per=sorted(per.items()), meta=meta)
+    html = _environment().get_template("diff.html").render(diff=diff, kinds=KINDS, counts=counts, per=sorted(per.items()),
+                                                           meta=page_meta("diff", "-"))
     path = Path(out) / "diff.html"
     atomic_write_text(path, html)
-    from harness.report import link_pages
-
     link_pages(Path(out))  # index.html, when there is one, links the new page
     return path

@@ -87,14 +87,13 @@ def as_rasterizer(obj: Any, spec: str) -> Rasterizer:
 
 
 def _describe(exc: BaseException) -> str:
-    """``Type: message`` of a plugin's exception, even when its ``__str__`` raises."""
-    try:
-        text = str(exc)
-    except Exception:
-        text = "(its message cannot be shown)"
+    """``Type: message`` of a plugin's exception, even when its ``__str__`` raises; a
+    sys.exit said as such."""
+    from harness.isolation import describe
+
     if isinstance(exc, SystemExit):
         return f"it called sys.exit({exc.code!r}) while being imported"
-    return f"{type(exc).__name__}: {text}"
+    return describe(exc)
 
 
 def _import_file(path: Path) -> Any:

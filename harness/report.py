@@ -37,6 +37,18 @@ CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop
             "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics"}
 
 
+def page_meta(suite: str, seed: Any, seconds: float | None = None) -> dict[str, Any]:
+    """What every page's footer says: when, by which version, on what machine."""
+    meta: dict[str, Any] = {
+        "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "version": harness.__version__, "seed": seed, "suite": suite,
+        "python": platform.python_version(), "numpy": np.__version__, "numba": numba.__version__,
+        "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, {platform.system()}",
+    }
+    if seconds is not None:
+        meta["seconds"] = f"{seconds:.1f}"
+    return meta
+
+
 def _environment() -> Environment:
     return Environment(loader=PackageLoader("harness", "templates"), autoescape=select_autoescape(["html"]))
 
@@ -229,12 +241,7 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
     fingerprints = fingerprints or {}
     out_dir = Path(out_dir)
     checks = [c for c in ("run", *check_names()) if any(r.check == c for r in results)]
-    meta: dict[str, Any] = {
-        "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "version": harness.__version__, "seed": seed,
-        "suite": suite, "seconds": f"{seconds:.1f}", "python": platform.python_version(),
-        "numpy": np.__version__, "numba": numba.__version__,
-        "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, {platform.system()}",
-    }
+    meta = page_meta(suite, seed, seconds)
     env = _environment()
     rows: list[dict[str, Any]] = []
     for name, convention in conventions.items():
@@ -314,11 +321,7 @@ def _pair_crops(comparisons: list[Any]) -> dict[str, list[tuple[str, str]]]:
 def write_comparison(out_dir: Path, data: dict[str, Any], candidates: int, seed: int, comparisons: list[Any] | None = None) -> Path:
     """Write ``compare.html`` (the comparison page) into ``out_dir`` atomically; with the
     ``comparisons`` themselves, each pair that differs is drawn where it first does."""
-    meta: dict[str, Any] = {
-        "date": time.strftime("%Y-%m-%d %H:%M:%S %Z"), "version": harness.__version__, "seed": seed, "suite": "lattice",
-        "python": platform.python_version(), "numpy": np.__version__, "numba": numba.__version__,
-        "machine": f"{platform.machine()}, {os.cpu_count()} CPUs, {platform.system()}",
-    }
+    meta = page_meta("lattice", seed)
     crops = _pair_crops(comparisons or [])
     html = _environment().get_template("compare.html").render(data=data, candidates=candidates, meta=meta, crops=crops)
     path = Path(out_dir) / "compare.html"
