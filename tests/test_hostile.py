@@ -9,7 +9,7 @@ import pytest
 from cases.suites import suite
 from harness import run_suite
 from tests.known_bad.hostile import (
-    HOSTILE, Copies, ExitsWithSystemExit, FarAway, HugeSpan, MillionCopies, NaNEverywhere, RaisesKeyboardInterrupt,
+    HOSTILE, BeyondReach, Copies, ExitsWithSystemExit, FarAway, HugeSpan, MillionCopies, NaNEverywhere, RaisesKeyboardInterrupt,
     RaisesUnpicklable, RaisesUnprintable,
 )
 
@@ -19,13 +19,14 @@ def _cases():
     return [c for c in suite("quick") if c.id in wanted] + [c for c in suite("quick") if c.family == "motion"][:1]
 
 
-@pytest.mark.parametrize("bad", [HugeSpan, Copies, FarAway])
+@pytest.mark.parametrize("bad", [HugeSpan, Copies, FarAway, BeyondReach])
 def test_garbage_spans_fail_hygiene_naming_the_fault(bad):
     results = run_suite([bad()], cases=_cases()[:2], repros=False)
     hygiene = [r for r in results if r.check == "hygiene"]
     assert hygiene and all(r.status == "fail" for r in hygiene)
     said = " ".join(r.message for r in hygiene)
-    assert {"HugeSpan": "outside viewport", "Copies": "repeated pixels", "FarAway": "outside viewport"}[bad.__name__] in said
+    assert {"HugeSpan": "outside viewport", "Copies": "repeated pixels", "FarAway": "outside viewport",
+             "BeyondReach": "outside triangle"}[bad.__name__] in said
     assert all(r.status in ("pass", "fail", "skip") for r in results), [r.message for r in results if r.status == "error"]
 
 
@@ -71,7 +72,7 @@ def test_garbage_costs_bounded_memory():
 
 
 def test_hostile_catalogue_is_complete():
-    assert len(HOSTILE) == 9
+    assert len(HOSTILE) == 10
 
 
 class _HangsAfterSix:

@@ -59,6 +59,18 @@ class FarAway(_Base):
         return Coverage(t, y, np.full(n, -(10**12)), np.full(n, 10**12))
 
 
+class BeyondReach(_Base):
+    """The correct answer, plus for each triangle a span on screen but far from it."""
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        right = PinedaTopLeft().rasterize(scene)
+        n = len(scene)
+        far_x = np.where(scene.positions[:, :, 0].max(axis=1) < scene.width / 2, scene.width - 2, 0).astype(np.int64)
+        far_y = np.where(scene.positions[:, :, 1].max(axis=1) < scene.height / 2, scene.height - 1, 0).astype(np.int64)
+        return Coverage(np.concatenate([right.triangle, np.arange(n)]), np.concatenate([right.y, far_y]),
+                        np.concatenate([right.x0, far_x]), np.concatenate([right.x1, far_x + 1]))
+
+
 class _Unpicklable(Exception):
     def __init__(self, a: int, b: int) -> None:  # pickling calls __init__ with one argument
         super().__init__(f"{a}, {b}")
@@ -99,5 +111,5 @@ class NaNEverywhere(_Base):
         return Coverage(right.triangle, right.y, right.x0, right.x1, np.full(right.attributes.shape, np.nan))
 
 
-HOSTILE = (HugeSpan, Copies, MillionCopies, FarAway, RaisesUnpicklable, RaisesUnprintable, RaisesKeyboardInterrupt,
+HOSTILE = (HugeSpan, Copies, MillionCopies, BeyondReach, FarAway, RaisesUnpicklable, RaisesUnprintable, RaisesKeyboardInterrupt,
            ExitsWithSystemExit, NaNEverywhere)
