@@ -61,6 +61,7 @@ def plugin_run(tmp_path: Path, *args: str) -> tuple[subprocess.CompletedProcess[
     (tmp_path / "pytest.ini").write_text(INI)
     env = {k: v for k, v in os.environ.items() if not k.startswith(("PYTEST_", "COV_"))}
     env["PYTHONPATH"] = os.pathsep.join([str(REPO), *filter(None, [os.environ.get("PYTHONPATH")])])
+    env["COLUMNS"] = "100"  # the summary lines are cut to the terminal's width: one width everywhere
     start = time.monotonic()
     proc = subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "--rastercheck-repros",
                            str(tmp_path / "repros"), *args], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=600)
@@ -120,7 +121,8 @@ def test_failures_read_well_with_their_repro_and_traceback(tmp_path):
     assert f"minimal repro: {repro} (rastercheck replay {repro} --rasterizer tests.known_bad.misc:WrongTieClaim)" in out
     assert repro.is_file()
     # a rasterizer that raises: each check of the case shows the run's error and its traceback
-    assert out.count("bad_raises lattice/bits-0 [run] error: RuntimeError: rasterizer exploded") == 3
+    failures = out.split("short test summary info")[0]
+    assert failures.count("bad_raises lattice/bits-0 [run] error: RuntimeError: rasterizer exploded") == 3
     assert "the rasterizer's traceback:" in out and 'raise RuntimeError("rasterizer exploded")' in out
 
 
