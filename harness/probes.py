@@ -115,9 +115,31 @@ class Drawn:
         # the fragments are sorted once, then merged with each candidate's oracle
         return FragmentCounter(self.coverage or Coverage.empty(), self.scene.width, self.scene.height)
 
+    @cached_property
+    def _scores(self) -> dict[Convention, int]:
+        return {}
+
+    @cached_property
+    def _still(self) -> dict[tuple[int, str], bool]:
+        return {}
+
+    def _seen_as(self, convention: Convention) -> Convention:
+        """``convention``, without its snapping when that moves no vertex of the scene (then
+        the oracle is the same: identify's candidates differing only there share one)."""
+        bits, rounding = convention.subpixel_bits, convention.snap_rounding
+        if bits is None:
+            return convention
+        if (bits, rounding) not in self._still:
+            positions = self.scene.positions
+            self._still[bits, rounding] = bool(np.array_equal(convention.snap(positions), positions, equal_nan=True))
+        return replace(convention, subpixel_bits=None, snap_rounding="nearest-even") if self._still[bits, rounding] else convention
+
     def mismatches(self, convention: Convention) -> int:
         """Missing plus extra pixels against the exact oracle of ``convention``."""
-        return self._counter.mismatches(exact_coverage(self.scene, convention)) + self.dropped
+        seen = self._seen_as(convention)
+        if seen not in self._scores:
+            self._scores[seen] = self._counter.mismatches(exact_coverage(self.scene, seen)) + self.dropped
+        return self._scores[seen]
 
 
 def draw(call: Call, scene: Scene) -> Drawn:

@@ -3,11 +3,12 @@
 import numpy as np
 import pytest
 from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from cases.scenes import fan_mesh, grid_mesh, random_triangles
 from cases.strategies import float_scenes, lattice_scenes
-from harness.api import Rasterizer, Scene
-from harness.checks import NEAR_TIE, deviations, edge_distance
+from harness.api import Coverage, Rasterizer, Scene
+from harness.checks import NEAR_TIE, FragmentCounter, deviations, edge_distance
 from harness.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention, snap
 from harness.oracle import exact_coverage
 from rasterizers.centre_scanline import CentreScanline
@@ -197,3 +198,20 @@ def test_known_bad_edge_functions_take_every_tie_rule():
     for tie in TIE_RULES:
         bad = EdgeFunctionBug("exclusive", tie=tie)
         assert bad.convention.tie == tie and bad.rasterize(scene) != exact_coverage(scene, bad.convention)
+
+
+SPANS = st.lists(st.tuples(st.integers(-1, 3), st.integers(-1, 5), st.integers(-2, 7), st.integers(-2, 7)), max_size=12)
+
+
+@given(SPANS, SPANS)
+@settings(max_examples=300)
+def test_counting_mismatches_span_by_span_equals_the_deviations(got, want):
+    """FragmentCounter (identify's and compare's fast count, which merges an oracle's spans
+    without expanding them) agrees with deviations fragment by fragment: any spans,
+    off-screen, overlapping and empty ones included."""
+    def coverage(spans):
+        return Coverage(*(np.array(column, dtype=np.int64) for column in zip(*spans))) if spans else Coverage.empty()
+
+    got_coverage, want_coverage = coverage(got), coverage(want)
+    missing, extra = deviations(got_coverage, want_coverage, 6, 5)
+    assert FragmentCounter(got_coverage, 6, 5).mismatches(want_coverage) == missing.shape[1] + extra.shape[1]

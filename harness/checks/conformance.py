@@ -68,7 +68,20 @@ class FragmentCounter:
         self.outside = int((~inside).sum())
 
     def mismatches(self, oracle: Coverage) -> int:
-        """Missing plus extra fragments (with multiplicity) against ``oracle``."""
+        """Missing plus extra fragments (with multiplicity) against ``oracle``.
+
+        An oracle's spans (inside the viewport, never overlapping: what
+        :func:`harness.oracle.exact_coverage` gives) are merged with the fragments span by
+        span, without expanding them; any other coverage is expanded into fragments.
+        """
+        row = oracle.triangle * self.height + oracle.y
+        start, stop = row * self.width + oracle.x0, row * self.width + oracle.x1
+        order = np.argsort(start, kind="stable")
+        inside = (oracle.triangle >= 0) & (oracle.y >= 0) & (oracle.y < self.height) & (oracle.x0 >= 0) & (oracle.x1 <= self.width)
+        if inside.all():
+            total = int(_merge_spans(self.keys, self.counts, start[order], stop[order]))
+            if total >= 0:
+                return total + self.outside
         tri, x, y = oracle.pixels()
         want = np.sort((tri * self.height + y) * self.width + x)
         return int(_merge_mismatches(self.keys, self.counts, want)) + self.outside
@@ -96,6 +109,37 @@ def _merge_mismatches(got, counts, want):  # type: ignore[no-untyped-def]
             have = counts[i]
             i += 1
         total += abs(have - n)
+    return total
+
+
+@numba.njit(cache=True)
+def _merge_spans(got, counts, start, stop):  # type: ignore[no-untyped-def]
+    """sum |count_got(k) - count_want(k)| over all keys, ``want`` given as key ranges
+    [start, stop) sorted by start; -1 when two of the ranges overlap (then a key's wanted
+    count may exceed 1: the caller counts fragment by fragment instead)."""
+    total = 0
+    i = 0
+    reached = np.iinfo(np.int64).min
+    for s in range(start.size):
+        a = start[s]
+        b = stop[s]
+        if b <= a:
+            continue
+        if a < reached:
+            return -1
+        reached = b
+        while i < got.size and got[i] < a:
+            total += counts[i]
+            i += 1
+        seen = 0
+        while i < got.size and got[i] < b:
+            total += abs(counts[i] - 1)
+            seen += 1
+            i += 1
+        total += (b - a) - seen
+    while i < got.size:
+        total += counts[i]
+        i += 1
     return total
 
 
