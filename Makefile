@@ -22,11 +22,13 @@ $(STAMP): pyproject.toml
 report: $(STAMP)
 	$(BIN)/rastercheck run --out reports || [ $$? -eq 1 ]
 
-# lint and types first (seconds), then the tests on every core (a module's tests stay
-# together, so its shared fixtures are built once)
+# lint first (a second); types on one core while the other compiles the numba kernels
+# once into numba's cache (else every test worker compiles them again on a fresh clone);
+# then the tests on every core (a module's tests stay together, so its shared fixtures
+# are built once)
 test: $(STAMP)
 	$(BIN)/ruff check .
-	$(BIN)/python -m mypy
+	$(BIN)/python -m tests.warm & warm=$$!; $(BIN)/python -m mypy; typed=$$?; wait $$warm && exit $$typed
 	$(BIN)/python -m pytest -n auto --dist loadfile --durations=15
 
 bench: $(STAMP)
