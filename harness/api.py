@@ -353,7 +353,7 @@ class Coverage:
             ``repeated_pixels``, one number: the pixels emitted a second time.
         """
         bounds = _pixel_bounds(scene)
-        keep, start, flaws, repeated_pixels = tidy(self.triangle, self.y, self.x0, self.x1, len(scene), bounds)
+        keep, start, end, flaws, repeated_pixels = tidy(self.triangle, self.y, self.x0, self.x1, len(scene), bounds)
         t, y, x0, x1 = self.triangle, self.y, self.x0, self.x1
         outside = (y < 0) | (y >= scene.height) | (x0 < 0) | (x1 > scene.width)
         flaws["outside_viewport"] = np.flatnonzero(outside & (x0 < x1))
@@ -361,7 +361,6 @@ class Coverage:
         flaws["repeated_pixels"] = np.array([repeated_pixels], dtype=np.int64)
         if not any(v.size for k, v in flaws.items() if k != "repeated_pixels"):
             return self, flaws
-        end = np.minimum(x1[keep], bounds[t[keep], 2] + 1) if keep.size else np.zeros(0, dtype=np.int64)
         attributes = None
         if self.attributes is not None and self.attributes.shape[0] == self.n_pixels:
             first = pixel_offsets(x0, x1)[keep] + (start - x0[keep])

@@ -61,7 +61,7 @@ def expand(starts: NDArray[np.int64], lengths: NDArray[np.int64]) -> NDArray[np.
 
 
 def tidy(triangle: NDArray[np.int64], y: NDArray[np.int64], x0: NDArray[np.int64], x1: NDArray[np.int64],
-         n_triangles: int, bounds: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64], dict[str, NDArray[np.int64]], int]:
+         n_triangles: int, bounds: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], dict[str, NDArray[np.int64]], int]:
     """What can be kept of a list of spans, found span by span (never pixel by pixel, so
     that the cost is bounded by the number of spans whatever their lengths).
 
@@ -78,23 +78,27 @@ def tidy(triangle: NDArray[np.int64], y: NDArray[np.int64], x0: NDArray[np.int64
 
     Returns
     -------
-    keep : (S,) int64
-        Indices of the spans kept, in their order (sorted by triangle, y, x0).
-    start : (S2,) int64, paired with ``keep``
-        Each kept span's first kept pixel (``x0`` moved right past pixels already
-        emitted by an earlier span of the same triangle and row, and into the bounds);
-        its end is ``min(x1, xmax + 1)``.
+    keep : (P,) int64
+        For each kept piece, the index of the span it comes from; pieces sorted by
+        triangle, y and start. A pixel that several spans of one triangle emit belongs to
+        the first of them in the rasterizer's order (so a kept pixel's attribute row is
+        the one it was first given with); a span may thus keep several pieces, or none.
+    start, end : (P,) int64
+        Each piece's pixels [start, end), inside its triangle's bounds.
     flaws : dict of str -> (n,) int64
         Indices of offending spans per kind: ``bad_triangle_id``, ``empty_or_reversed``,
         ``outside_triangle`` (reaching past its triangle's bounds), ``repeated``
-        (overlapping an earlier span of the same triangle and row).
+        (emitting a pixel that an earlier span of the same triangle emitted).
     repeated_pixels : int
         How many pixels (within the bounds) the repeated spans emit a second time.
 
-    >>> t, y = np.array([0, 0, 0]), np.array([1, 1, 1])
-    >>> keep, start, flaws, again = tidy(t, y, np.array([2, 4, 9]), np.array([6, 8, 9]), 1, np.array([[0, 0, 9, 9]]))
-    >>> keep.tolist(), start.tolist(), flaws["repeated"].tolist(), flaws["empty_or_reversed"].tolist(), again
-    ([0, 1], [2, 6], [1], [2], 2)
+    >>> t, y = np.array([0, 0, 0, 0]), np.array([1, 1, 1, 1])
+    >>> x0, x1 = np.array([2, 4, 9, 1]), np.array([6, 8, 9, 3])
+    >>> keep, start, end, flaws, again = tidy(t, y, x0, x1, 1, np.array([[0, 0, 9, 9]]))
+    >>> keep.tolist(), start.tolist(), end.tolist(), again
+    ([3, 0, 1], [1, 2, 6], [2, 6, 8], 3)
+    >>> flaws["repeated"].tolist(), flaws["empty_or_reversed"].tolist()
+    ([1, 3], [2])
     """
     size = triangle.size
     valid_id = (triangle >= 0) & (triangle < n_triangles)
@@ -108,28 +112,71 @@ def tidy(triangle: NDArray[np.int64], y: NDArray[np.int64], x0: NDArray[np.int64
     row_in = (y >= box[:, 1]) & (y <= box[:, 3])
     flaws["outside_triangle"] = np.flatnonzero(valid_id & (x0 < x1) & ((lo > x0) | (hi < x1) | ~row_in))
     usable = valid_id & row_in & (lo < hi)
-    order = np.lexsort((lo, y, triangle))
+    order = np.lexsort((np.arange(size), lo, y, triangle))
     order = order[usable[order]]
-    start = _past_earlier_spans(triangle[order], y[order], lo[order], hi[order])
-    flaws["repeated"] = np.sort(order[start > lo[order]])
-    repeated_pixels = int((np.minimum(start, hi[order]) - lo[order]).sum())
-    kept = start < hi[order]
-    return order[kept], start[kept], flaws, repeated_pixels
+    keep, start, end = _first_emissions(triangle[order], y[order], lo[order], hi[order], order)
+    kept = np.bincount(keep, weights=end - start, minlength=size).astype(np.int64)
+    wanted = np.where(usable, hi - lo, 0)
+    flaws["repeated"] = np.flatnonzero(kept < wanted)
+    return keep, start, end, flaws, int((wanted - kept).sum())
 
 
 @numba.njit(cache=True)
-def _past_earlier_spans(triangle: NDArray[np.int64], y: NDArray[np.int64], x0: NDArray[np.int64],
-                        x1: NDArray[np.int64]) -> NDArray[np.int64]:  # pragma: no cover - compiled
-    """Spans sorted by (triangle, y, x0): each one's start moved past the furthest end of
-    the spans before it in its (triangle, row) group, so that no pixel is kept twice."""
-    start = x0.copy()
-    furthest = 0
-    for i in range(x0.size):
-        if i == 0 or triangle[i] != triangle[i - 1] or y[i] != y[i - 1]:
-            furthest = x1[i]
-            continue
-        if x0[i] < furthest:
-            start[i] = furthest
-        if x1[i] > furthest:
-            furthest = x1[i]
-    return start
+def _first_emissions(triangle, y, x0, x1, index):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """Spans sorted by (triangle, y, x0): the pieces of each (triangle, row) group, each
+    pixel owned by the span of smallest ``index`` that covers it. A sweep along the row
+    with a heap of the spans open at each point (keyed by index, closed ones dropped
+    lazily): O(k log k) for a group of k spans, at most 2k pieces, whatever their lengths."""
+    n = x0.size
+    out_keep = np.empty(2 * n, dtype=np.int64)
+    out_start = np.empty(2 * n, dtype=np.int64)
+    out_end = np.empty(2 * n, dtype=np.int64)
+    heap_key = np.empty(n, dtype=np.int64)
+    heap_end = np.empty(n, dtype=np.int64)
+    pieces = 0
+    g0 = 0
+    while g0 < n:
+        g1 = g0 + 1
+        while g1 < n and triangle[g1] == triangle[g0] and y[g1] == y[g0]:
+            g1 += 1
+        size = 0
+        i = g0
+        p = x0[g0]
+        while True:
+            while i < g1 and x0[i] <= p:  # open the spans starting here
+                c = size
+                size += 1
+                while c > 0 and heap_key[(c - 1) // 2] > index[i]:
+                    heap_key[c], heap_end[c] = heap_key[(c - 1) // 2], heap_end[(c - 1) // 2]
+                    c = (c - 1) // 2
+                heap_key[c], heap_end[c] = index[i], x1[i]
+                i += 1
+            while size > 0 and heap_end[0] <= p:  # drop the spans closed by now
+                size -= 1
+                key, end = heap_key[size], heap_end[size]
+                c = 0
+                while 2 * c + 1 < size:
+                    child = 2 * c + 1
+                    if child + 1 < size and heap_key[child + 1] < heap_key[child]:
+                        child += 1
+                    if heap_key[child] >= key:
+                        break
+                    heap_key[c], heap_end[c] = heap_key[child], heap_end[child]
+                    c = child
+                heap_key[c], heap_end[c] = key, end
+            if size == 0:
+                if i == g1:
+                    break
+                p = x0[i]
+                continue
+            q = heap_end[0]
+            if i < g1 and x0[i] < q:
+                q = x0[i]
+            if pieces > 0 and out_keep[pieces - 1] == heap_key[0] and out_end[pieces - 1] == p:
+                out_end[pieces - 1] = q
+            else:
+                out_keep[pieces], out_start[pieces], out_end[pieces] = heap_key[0], p, q
+                pieces += 1
+            p = q
+        g0 = g1
+    return out_keep[:pieces], out_start[:pieces], out_end[:pieces]

@@ -1,6 +1,6 @@
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import example, given, strategies as st
 
 from harness import Convention, Coverage, Rasterizer, Scene
 
@@ -98,6 +98,8 @@ span_lists = st.lists(st.tuples(st.integers(-2, 3), st.integers(-3, 12), st.inte
 
 
 @given(span_lists, st.lists(st.floats(-3, 13, allow_nan=False), min_size=6, max_size=6))
+@example([(0, 0, 1, 2), (0, 0, 0, 2)], [0.0] * 6)  # a later span starting further left: pixel 1 is the first span's
+@example([(0, 4, 0, 9), (0, 4, 3, 5), (0, 4, 4, 12), (0, 4, 2, 3)], [0.0, 0.0, 9.0, 0.0, 0.0, 9.0])
 def test_tidy_keeps_exactly_the_first_emission_of_each_pixel_within_reach(spans, corners):
     """Against a pixel-by-pixel reference: a pixel is kept once per triangle when its
     triangle id is valid and it lies in the viewport and in the triangle's grown box."""
