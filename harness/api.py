@@ -32,7 +32,7 @@ def _real_array(value: ArrayLike, field: str, owner: str) -> NDArray[np.float64]
         # than test a scene other than the one given
         raise ValueError(f"{owner}.{field} holds integers beyond 2**53, which float64 cannot hold exactly; "
                          "give them as floats if the rounding is meant")
-    array = np.array(array, dtype=np.float64, copy=True)
+    array = np.array(array, dtype=np.float64, copy=True, order="C")
     array.setflags(write=False)
     return array
 
@@ -103,6 +103,11 @@ class Scene:
                     f"triangle {t} has w = {w[t].tolist()}"
                 )
             object.__setattr__(self, "w", w)
+
+    def __reduce__(self) -> tuple[type, tuple]:  # type: ignore[type-arg]
+        # through the constructor: an unpickled scene (a worker's) is checked and frozen as
+        # the original was, so kernels see one array type (see harness.exact.frozen)
+        return Scene, (self.width, self.height, self.positions, self.attributes, self.w)
 
     def __len__(self) -> int:
         return int(self.positions.shape[0])

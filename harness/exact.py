@@ -20,7 +20,7 @@ from fractions import Fraction
 
 import numba
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = [
     "SAFE_MAX",
@@ -28,6 +28,7 @@ __all__ = [
     "orient2d_sign",
     "orient2d_fraction",
     "in_safe_range",
+    "frozen",
     "orientation",
 ]
 
@@ -143,6 +144,26 @@ def orient2d_fraction(ax: float, ay: float, bx: float, by: float, cx: float, cy:
     return (det > 0) - (det < 0)
 
 
+def frozen(array: ArrayLike, dtype: type = np.float64) -> NDArray:
+    """``array`` as every numba kernel takes it: C-contiguous, read-only, of ``dtype``
+    (a read-only view when it was writable; no copy when it already is).
+
+    Numba compiles a kernel once per layout and writeability of its array arguments
+    (seconds each), so every call site hands kernels this one type: a scene's own arrays
+    (which :class:`harness.api.Scene` keeps C-contiguous and read-only) and the arrays
+    computed from them alike.
+
+    >>> a = frozen(np.zeros((2, 3)).T)
+    >>> a.flags.c_contiguous, a.flags.writeable
+    (True, False)
+    """
+    out: NDArray = np.ascontiguousarray(array, dtype=dtype)
+    if out.flags.writeable:
+        out = out.view()
+        out.flags.writeable = False
+    return out
+
+
 def in_safe_range(values: NDArray[np.float64], axis: int | tuple[int, ...] = -1) -> NDArray[np.bool_]:
     """True where every value along ``axis`` is zero or of magnitude in [SAFE_MIN, SAFE_MAX]."""
     magnitude = np.abs(values)
@@ -198,7 +219,7 @@ def orientation(
     ...                       [[0, 0], [1, 1], [1e300, 1e300]]], dtype=float))
     array([ 1, -1,  0], dtype=int8)
     """
-    positions = np.ascontiguousarray(positions, dtype=np.float64).reshape(-1, 3, 2)
+    positions = frozen(positions).reshape(-1, 3, 2)
     sign = np.empty(positions.shape[0], dtype=np.int8)
     if safe is None:
         safe = np.empty(positions.shape[0], dtype=np.bool_)

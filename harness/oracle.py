@@ -28,7 +28,7 @@ from numpy.typing import NDArray
 from harness.api import Coverage, Scene
 from harness.spans import expand, pixel_offsets, span_buffers
 from harness.conventions import Convention, owns_edge
-from harness.exact import orient2d_sign, orientation
+from harness.exact import frozen, orient2d_sign, orientation
 
 __all__ = ["exact_coverage", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
 
@@ -94,7 +94,7 @@ class PreparedTriangles:
     __slots__ = ("snapped", "sign", "owned", "active", "safe", "rows", "_oriented")
 
     def __init__(self, scene: Scene, convention: Convention) -> None:
-        self.snapped = np.ascontiguousarray(convention.snap(scene.positions))
+        self.snapped = frozen(convention.snap(scene.positions))
         n = self.snapped.shape[0]
         self.safe = np.empty(n, dtype=np.bool_)
         self.sign = orientation(self.snapped, self.safe)
@@ -112,9 +112,7 @@ class PreparedTriangles:
     def positions(self) -> NDArray[np.float64]:
         """(N, 3, 2) float64: snapped vertices, reordered so that the signed area is positive."""
         if self._oriented is None:
-            self._oriented = np.ascontiguousarray(
-                np.take_along_axis(self.snapped, self.vertex_order[:, :, None], axis=1)
-            )
+            self._oriented = frozen(np.take_along_axis(self.snapped, self.vertex_order[:, :, None], axis=1))
         return self._oriented
 
     @property
@@ -395,10 +393,10 @@ def _vertex_values(scene: Scene, prepared: PreparedTriangles) -> tuple[NDArray, 
     assert scene.attributes is not None
     values = np.take_along_axis(scene.attributes, prepared.vertex_order[:, :, None], axis=1)
     if scene.w is None:
-        return np.ascontiguousarray(values), np.ones((len(scene), 3))
+        return frozen(values), frozen(np.ones((len(scene), 3)))
     with np.errstate(divide="ignore", invalid="ignore"):
         inv_w = 1.0 / np.take_along_axis(scene.w, prepared.vertex_order, axis=1)
-    return np.ascontiguousarray(values), inv_w
+    return frozen(values), frozen(inv_w)
 
 
 def exact_coverage(scene: Scene, convention: Convention) -> Coverage:

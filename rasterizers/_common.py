@@ -7,7 +7,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene
-from harness.exact import orientation
+from harness.exact import frozen, orientation
 from harness.oracle import interpolate_kernel as barycentric_kernel
 
 __all__ = ["check_range", "screen_triangles", "row_capacity", "interpolate_planes", "interpolate_barycentric", "build_coverage"]
@@ -35,7 +35,7 @@ def check_range(scene: Scene, limit: float, rasterizer: str, why: str) -> None:
     """Raise ValueError naming the first finite triangle with a coordinate beyond
     ``limit``: the rasterizer cannot draw it right, so it refuses rather than guesses.
     Non-finite triangles are not an error: they cover nothing."""
-    t = int(_first_beyond(scene.positions, limit))
+    t = int(_first_beyond(frozen(scene.positions), limit))
     if t >= 0:
         raise ValueError(
             f"{rasterizer}: triangle {t} has a coordinate beyond +/-{limit:g} px "
@@ -71,9 +71,9 @@ def build_coverage(scene: Scene, spans: tuple[NDArray, ...], n: int, attributes:
 def _values_and_inverse_w(scene: Scene) -> tuple[NDArray[np.float64], NDArray[np.float64], bool]:
     assert scene.attributes is not None
     if scene.w is None:
-        return np.ascontiguousarray(scene.attributes), np.ones((len(scene), 3)), False
+        return frozen(scene.attributes), frozen(np.ones((len(scene), 3))), False
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.ascontiguousarray(scene.attributes), 1.0 / scene.w, True
+        return frozen(scene.attributes), frozen(1.0 / scene.w), True
 
 
 @numba.njit(cache=True)
@@ -125,7 +125,7 @@ def interpolate_planes(
     t, y, x0, x1 = (a[:n] for a in spans)
     values, inv_w, perspective = _values_and_inverse_w(scene)
     out = np.empty((int((x1 - x0).sum()), scene.n_attributes))
-    _plane_kernel(scene.positions, values, inv_w, perspective, t, y, x0, x1, edge_x[:n], sample[0], sample[1], out)
+    _plane_kernel(frozen(scene.positions), values, inv_w, perspective, t, y, x0, x1, edge_x[:n], sample[0], sample[1], out)
     return out
 
 
@@ -139,5 +139,5 @@ def interpolate_barycentric(
     t, y, x0, x1 = (a[:n] for a in spans)
     values, inv_w, perspective = _values_and_inverse_w(scene)
     out = np.empty((int((x1 - x0).sum()), scene.n_attributes))
-    barycentric_kernel(positions, values, inv_w, perspective, t, y, x0, x1, sample[0], sample[1], out)
+    barycentric_kernel(frozen(positions), values, inv_w, perspective, t, y, x0, x1, sample[0], sample[1], out)
     return out

@@ -11,6 +11,8 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from harness.exact import frozen
+
 # Float scanline arithmetic is accurate (errors far below 1/1000 px) up to 2**24 px;
 # beyond that a crossing's rounding error grows with the coordinates, so such triangles
 # are refused with a clear error rather than drawn wrong.
@@ -102,9 +104,10 @@ def scanline(scene, centre: bool, name: str):  # type: ignore[no-untyped-def]
     sign = screen_triangles(  # zero-area and non-finite triangles draw nothing
         scene, MAX_COORDINATE, name, "float scanline arithmetic is not accurate that far out"
     )
-    capacity = row_capacity(scene.positions, sign, scene.height)
+    positions = frozen(scene.positions)
+    capacity = row_capacity(positions, sign, scene.height)
     spans = span_buffers(capacity)
     edge_x: NDArray[np.float64] = np.empty(capacity)
     out_t, out_y, out_x0, out_x1 = spans
-    n = scanline_kernel(scene.positions, sign, sign != 0, centre, scene.width, scene.height, out_t, out_y, out_x0, out_x1, edge_x)
+    n = scanline_kernel(positions, sign, sign != 0, centre, scene.width, scene.height, out_t, out_y, out_x0, out_x1, edge_x)
     return spans, n, edge_x

@@ -28,6 +28,7 @@ import numba
 import numpy as np
 
 from harness.api import Coverage, Scene
+from harness.exact import frozen
 from harness.spans import span_buffers
 from harness.conventions import TIE_RULES, Convention, TieRule, owns_edge
 from rasterizers._common import build_coverage, interpolate_barycentric, row_capacity, screen_triangles
@@ -163,8 +164,9 @@ class PinedaTopLeft:
         sign = screen_triangles(  # zero-area and non-finite triangles draw nothing
             scene, MAX_COORDINATE, self.name, "float edge functions are not accurate that far out"
         )
-        capacity = row_capacity(scene.positions, sign, scene.height)  # one run per row at most
+        positions = frozen(scene.positions)
+        capacity = row_capacity(positions, sign, scene.height)  # one run per row at most
         spans = span_buffers(capacity)
-        n = _kernel(scene.positions, sign, *self.convention.tie_perturbation, scene.width, scene.height, *spans)
+        n = _kernel(positions, sign, *self.convention.tie_perturbation, scene.width, scene.height, *spans)
         attributes = interpolate_barycentric(scene, scene.positions, spans, n, self.convention.sample)
         return build_coverage(scene, spans, n, attributes)

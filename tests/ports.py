@@ -21,6 +21,7 @@ import numba
 import numpy as np
 
 from harness.api import Coverage, Scene
+from harness.exact import frozen
 from rasterizers._common import check_range
 
 __all__ = ["DeqpReference", "PiglitReference", "PIGLIT_CONVENTIONS"]
@@ -50,7 +51,7 @@ class DeqpReference:
         finite = np.all(np.isfinite(scene.positions), axis=(1, 2))
         fixed = _half_away(np.where(finite[:, None, None], scene.positions, 0.0) * float(1 << bits))
         left, bottom = self.horizontal_fill == "left", self.vertical_fill == "bottom"
-        out = _deqp_kernel(fixed, finite, bits, left, bottom, scene.width, scene.height)
+        out = _deqp_kernel(frozen(fixed, np.int64), finite, bits, left, bottom, scene.width, scene.height)
         return _fragments(out)
 
 
@@ -169,5 +170,5 @@ class PiglitReference:
         finite = np.all(np.isfinite(scene.positions), axis=(1, 2))
         # iround(FIXED_ONE * (v + center_offset)): exact, since v * 2**shift - 2**(shift-1) is
         fixed = _half_away(np.where(finite[:, None, None], scene.positions, 0.0) * float(one) - float(one // 2))
-        return _fragments(_piglit_kernel(fixed, finite, shift, self.code, scene.width, scene.height))
+        return _fragments(_piglit_kernel(frozen(fixed, np.int64), finite, shift, self.code, scene.width, scene.height))
 

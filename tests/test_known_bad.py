@@ -1,6 +1,7 @@
 """Every check fails on at least one deliberately broken rasterizer, for the reason the
-table says, and passes on all four built-ins (tests/test_runner.py); and every repro
-reproduces: each failure, saved as its repro file and replayed, fails the same check."""
+table says, and passes on all four built-ins (tests/test_runner.py); and repros reproduce:
+a failure of each check and case family, saved as its repro file and replayed, fails the
+same check."""
 
 import json
 
@@ -9,7 +10,7 @@ import pytest
 from harness.case import Case
 from cases.suites import suite
 from harness import run_suite
-from harness.checks import CHECKS
+from harness.checks import CHECKS, Result
 from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.known_bad.misc import HangsOnEpsilon, SlowOnEpsilon, Int32FixedPoint, NaNAttributes, Raises, ReturnsGarbage, WrongTieClaim
@@ -61,9 +62,8 @@ def flagged():
         # the raising, lying and hanging ones all show): what must flag it
         mine = ([c for c in STATIC if c.family == "degenerate"] if "run" in wanted
                 else [c for c in STATIC if any(check.name in wanted for check in checks(c))])
-        # with repros (as a user's run makes them), replayed by test_every_failure_replays_...
-        results = run_suite([bad], cases=mine, timeout=0.5, repro_seconds=4.0, identify=False, repros=bad in SHRINKING,
-                            isolate="run" in wanted,  # in-process where nothing hangs: shrinking calls it often
+        results = run_suite([bad], cases=mine, timeout=0.5, identify=False, repros=False,
+                            isolate="run" in wanted,  # in-process where nothing hangs
                             only=None if "run" in wanted else set(wanted))
         out[bad.name] = {}
         for r in results:
@@ -132,14 +132,24 @@ def test_drawing_nothing_fails_every_huge_case():
 
 @pytest.mark.parametrize("bad", SHRINKING, ids=lambda b: b.name)
 def test_every_failure_replays_as_the_same_check_from_its_repro(bad, flagged, tmp_path):
-    """The repro file of each failure (shrunk, or the whole case once the shrinking budget
-    is spent) fails again on replay -- the same check, which replay runs alone with
-    hygiene -- and a shrunk repro's message is the check's own on the shrunk case."""
+    """The repro file of a failure (shrunk, or the whole case once the shrinking budget is
+    spent) fails again on replay -- the same check, which replay runs alone with hygiene --
+    and a shrunk repro's message is the check's own on the shrunk case. For each check and
+    case family a known-bad fails, its first failure there is run again with repros, as a
+    user's run makes them (shrinking all ~700 failures would prove the same at 15 s more)."""
     from harness.runner import replay
 
-    failures = [r for found in flagged[bad.name].values() for r in found if r.status == "fail"]
-    assert failures
-    for k, failure in enumerate(failures):
+    first: dict[tuple[str, str], Result] = {}
+    for found in flagged[bad.name].values():
+        for r in found:
+            if r.status == "fail":
+                first.setdefault((r.check, r.case.split("/")[0]), r)
+    assert first
+    cases = {c.id: c for c in STATIC}
+    for k, ((check, _), failure) in enumerate(sorted(first.items())):
+        again_with_repro = run_suite([bad], cases=[cases[failure.case]], timeout=0.5, repro_seconds=4.0, identify=False,
+                                     isolate=False, only={check})
+        failure = next(r for r in again_with_repro if r.check == check and r.status == "fail")
         payload = failure.evidence["repro"]
         path = tmp_path / f"{k}.json"
         path.write_text(json.dumps(payload))

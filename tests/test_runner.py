@@ -25,6 +25,15 @@ def test_builtins_pass_the_quick_suite(quick_results):
     assert all(r.case.startswith("degenerate/huge/") and "declined" in r.message for r in quick_results if r.status == "skip")
 
 
+def test_builtins_pass_every_motion_check(quick_results):
+    from cases.motion import motion_cases
+
+    motion = {c.id for c in motion_cases(0)}
+    results = [r for r in quick_results if r.case in motion]
+    assert {r.case for r in results} == motion and all(r.status == "pass" for r in results)
+    assert {r.check for r in results} == {"jaggy", "texel", "perspective"}
+
+
 def test_every_check_ran_on_every_builtin(quick_results):
     ran = collections.defaultdict(set)
     for r in quick_results:

@@ -8,6 +8,7 @@ import numpy as np
 
 from harness.api import Coverage, Scene
 from harness.conventions import Convention, owns_edge
+from harness.exact import frozen
 
 __all__ = ["EdgeFunctionBug"]
 
@@ -39,7 +40,7 @@ class EdgeFunctionBug:
             positions = np.nan_to_num(positions, nan=0.0, posinf=1e6, neginf=-1e6)
         sx, sy, y_first = self.convention.tie_perturbation
         with np.errstate(all="ignore"):
-            tri, x, y = _pixels(np.ascontiguousarray(positions, dtype=np.float64), scene.width, scene.height,
+            tri, x, y = _pixels(frozen(positions), scene.width, scene.height,
                                 BUGS.index(self.bug), sx, sy, y_first)
         return Coverage.from_pixels(tri, x, y)
 

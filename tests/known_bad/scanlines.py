@@ -7,7 +7,7 @@ import numpy as np
 
 from harness.api import Coverage, Scene
 from harness.conventions import Convention
-from harness.exact import orientation
+from harness.exact import frozen, orientation
 
 __all__ = ["ScanlineBug"]
 
@@ -35,7 +35,7 @@ class ScanlineBug:
     def rasterize(self, scene: Scene) -> Coverage:
         sign = orientation(scene.positions)
         with np.errstate(all="ignore"):
-            t, y, x0, x1 = _spans(np.ascontiguousarray(scene.positions, dtype=np.float64), sign.astype(np.int64),
+            t, y, x0, x1 = _spans(frozen(scene.positions), sign.astype(np.int64),
                                   BUGS.index(self.bug), self.centre, scene.width, scene.height)
         return Coverage(t, y, x0, x1)
 
