@@ -38,9 +38,13 @@ def _error(case: Case, rasterizer: str, outcome: Outcome, check: str = "run") ->
 def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
                tolerance: Tolerance = Tolerance(), invariance: bool = True,
                only: set[str] | None = None) -> list[Result]:
-    """All applicable checks of one rasterizer on one case (or those named in ``only``)."""
+    """All applicable checks of one rasterizer on one case (or those named in ``only``;
+    when none of them applies, the rasterizer is not called and there is no result)."""
     name = rasterizer.name
     convention = rasterizer.convention
+    applicable = [check for check in checks.checks(case, only) if invariance or check.name != "invariance"]
+    if not applicable:
+        return []
     outcome = call(case.scene)
     if outcome.coverage is None:
         refused = checks.refusal(case, outcome.error) if outcome.error is not None else None
@@ -50,8 +54,7 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
     coverage = outcome.coverage
     subject = checks.Subject(case, name, convention, [coverage], call, tolerance, interpolates_of(rasterizer), outcome.seconds,
                              received=[outcome.received if outcome.received is not None else coverage])
-    results = [check.verdict(subject) for check in checks.checks(case, only)
-               if invariance or check.name != "invariance"]
+    results = [check.verdict(subject) for check in applicable]
     drawing = Drawing.of(subject)  # references only (and the oracle if a check computed it): the report draws
     return [replace(r, rasterizer=name, metrics={**r.metrics, "seconds": outcome.seconds},
                     drawing=drawing if r.status == "fail" else None) for r in results]
@@ -59,9 +62,13 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
 
 def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
                  tolerance: Tolerance = Tolerance(), only: set[str] | None = None) -> list[Result]:
-    """The motion checks of one rasterizer on one frame sequence."""
+    """The motion checks of one rasterizer on one frame sequence (or those named in
+    ``only``; when none of them applies, no frame is drawn and there is no result)."""
     name = rasterizer.name
     convention = rasterizer.convention
+    applicable = checks.checks(case, only)
+    if not applicable:
+        return []
     coverages = []
     seconds = 0.0
     for f, scene in enumerate(case.frames):
@@ -72,7 +79,7 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
         coverages.append(outcome.coverage)
         seconds += outcome.seconds
     subject = checks.Subject(case, name, convention, coverages, call, tolerance, interpolates_of(rasterizer), seconds)
-    results = [check.verdict(subject) for check in checks.checks(case, only)]
+    results = [check.verdict(subject) for check in applicable]
     drawing = Drawing.of(subject)
     return [replace(r, rasterizer=name, metrics={**r.metrics, "seconds": seconds},
                     drawing=drawing if r.status == "fail" else None) for r in results]

@@ -8,7 +8,7 @@ import pytest
 
 from cases.suites import suite
 from harness import run_suite
-from harness.checks import CHECKS
+from harness.checks import CHECKS, checks
 
 BUILTINS = ["floor_scanline", "centre_scanline", "pineda_topleft", "fixed_point"]
 
@@ -84,3 +84,24 @@ def test_a_hang_becomes_a_timeout_and_the_run_goes_on():
     results = run_suite([HangsOnEpsilon()], cases=cases, timeout=0.5, repros=False)
     timeouts = [r for r in results if r.status == "error" and r.message.startswith("timeout")]
     assert timeouts and len({r.case for r in results}) == len(cases)  # every case has results
+
+
+def test_a_case_no_selected_check_applies_to_is_not_drawn():
+    """--check conformance draws no motion frame (no motion check is selected): nothing to
+    judge there, so no call and no result; the static cases are drawn and judged."""
+    from cases.motion import motion_cases
+    from rasterizers.centre_scanline import CentreScanline
+
+    class Counting(CentreScanline):
+        calls = 0
+
+        def rasterize(self, scene):
+            Counting.calls += 1
+            return super().rasterize(scene)
+
+    motion = motion_cases(0)[:2]
+    static = suite("quick")[:2]
+    results = run_suite([Counting()], cases=[*motion, *static], only={"conformance"}, isolate=False, identify=False)
+    assert Counting.calls == 2 and {r.case for r in results} == {c.id for c in static}
+    assert run_suite([Counting()], cases=motion, only={"jaggy"}, isolate=False, identify=False)
+    assert Counting.calls == 2 + sum(len(c.frames) for c in motion if checks(c, {"jaggy"}))
