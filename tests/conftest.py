@@ -6,3 +6,17 @@ settings.register_profile("dev", max_examples=60, deadline=None)
 settings.register_profile("ci", max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True)
 settings.register_profile("thorough", max_examples=2000, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "dev"))
+
+# The longest modules first: `make test` hands whole modules to its workers in collection
+# order (--dist loadfile), so a long module collected last would leave one worker running
+# it alone at the end.
+LONGEST_FIRST = ["test_identify.py", "test_known_bad.py", "test_runner.py", "test_pytest_plugin.py",
+                 "test_fingerprints.py", "test_oracle.py"]
+
+
+def pytest_collection_modifyitems(items):
+    def rank(item):
+        name = item.path.name
+        return LONGEST_FIRST.index(name) if name in LONGEST_FIRST else len(LONGEST_FIRST)
+
+    items.sort(key=rank)  # stable: each module keeps its own order
