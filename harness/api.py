@@ -15,7 +15,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from harness.conventions import Convention
-from harness.spans import expand, pixel_offsets, run_tails, span_buffers, tidy
+from harness.exact import frozen
+from harness.spans import already_tidy, expand, pixel_offsets, run_tails, span_buffers, tidy
 
 __all__ = ["Scene", "Coverage", "Convention", "Rasterizer", "span_buffers", "interpolates_of", "received_of", "fingerprint_of"]
 
@@ -357,6 +358,10 @@ class Coverage:
             (see :func:`harness.spans.tidy`), all empty when ``usable is self``; and
             ``repeated_pixels``, one number: the pixels emitted a second time.
         """
+        if already_tidy(frozen(scene.positions), scene.width, scene.height, self.triangle, self.y, self.x0, self.x1):
+            none = np.zeros(0, dtype=np.int64)
+            kinds = ("bad_triangle_id", "empty_or_reversed", "outside_triangle", "repeated", "outside_viewport")
+            return self, {**{kind: none for kind in kinds}, "repeated_pixels": np.zeros(1, dtype=np.int64)}
         bounds = _pixel_bounds(scene)
         keep, start, end, flaws, repeated_pixels = tidy(self.triangle, self.y, self.x0, self.x1, len(scene), bounds)
         t, y, x0, x1 = self.triangle, self.y, self.x0, self.x1

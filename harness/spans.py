@@ -180,3 +180,38 @@ def _first_emissions(triangle, y, x0, x1, index):  # type: ignore[no-untyped-def
             p = q
         g0 = g1
     return out_keep[:pieces], out_start[:pieces], out_end[:pieces]
+
+
+@numba.njit(cache=True)
+def already_tidy(positions, width, height, triangle, y, x0, x1):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """True when :func:`tidy` would keep every span whole: each names a triangle of
+    ``positions`` (N, 3, 2), is non-empty, lies within its triangle's pixel bounds (as
+    :func:`harness.api._pixel_bounds` grows and clips them), and the (triangle, y) pairs
+    strictly increase, so no pixel can be emitted twice. What rasterizers return is
+    usually so; one pass, no allocation. False says only "look closer"."""
+    n = positions.shape[0]
+    for s in range(triangle.size):
+        t = triangle[s]
+        if t < 0 or t >= n or x0[s] >= x1[s]:
+            return False
+        if s > 0 and (t < triangle[s - 1] or (t == triangle[s - 1] and y[s] <= y[s - 1])):
+            return False
+        xmin, ymin, xmax, ymax = 0, 0, width - 1, height - 1
+        finite = True
+        for v in range(3):
+            for a in range(2):
+                if not np.isfinite(positions[t, v, a]):
+                    finite = False
+        if finite:
+            lo_x = min(positions[t, 0, 0], positions[t, 1, 0], positions[t, 2, 0])
+            hi_x = max(positions[t, 0, 0], positions[t, 1, 0], positions[t, 2, 0])
+            lo_y = min(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1])
+            hi_y = max(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1])
+            xmin = max(int(np.floor(min(max(lo_x, -4.0), width + 4.0))) - 2, 0)
+            ymin = max(int(np.floor(min(max(lo_y, -4.0), height + 4.0))) - 2, 0)
+            xmax = min(int(np.ceil(min(max(hi_x, -4.0), width + 4.0))) + 2, width - 1)
+            ymax = min(int(np.ceil(min(max(hi_y, -4.0), height + 4.0))) + 2, height - 1)
+        if y[s] < ymin or y[s] > ymax or x0[s] < xmin or x1[s] > xmax + 1:
+            return False
+    return True
+

@@ -3,6 +3,7 @@ import pytest
 from hypothesis import example, given, strategies as st
 
 from harness import Convention, Coverage, Rasterizer, Scene
+from harness.api import _pixel_bounds
 
 
 def test_public_imports():
@@ -121,3 +122,23 @@ def test_tidy_keeps_exactly_the_first_emission_of_each_pixel_within_reach(spans,
     assert got == want and len(tri) == len(want)  # each pixel once, with its first attribute row
     clean = not any(v.size for k, v in flaws.items() if k != "repeated_pixels")
     assert (usable is cov) == clean
+
+
+@given(st.lists(st.tuples(st.integers(-1, 2), st.integers(-3, 12), st.integers(-5, 14), st.integers(1, 6)), max_size=12),
+       st.lists(st.floats(-3, 13, allow_nan=False), min_size=6, max_size=6), st.booleans())
+@example([(0, 2, 1, 3), (0, 3, 0, 2), (1, 1, 1, 2)], [0.0, 0.0, 9.0, 0.0, 0.0, 9.0], True)
+def test_the_quick_tidiness_test_never_passes_what_tidying_would_change(spans, corners, ordered):
+    """Coverage.tidy returns a clean answer as it is after one pass (spans.already_tidy);
+    whenever that pass says clean, the full tidying keeps every span whole, flags nothing."""
+    from harness.spans import already_tidy, tidy
+
+    scene = Scene(10, 9, [np.array(corners).reshape(3, 2), [[1, 1], [2, 1], [np.inf, 2]]])
+    rows = sorted(spans) if ordered else spans
+    t, y, x0, length = (np.array(column, dtype=np.int64) for column in zip(*rows)) if rows else [np.zeros(0, np.int64)] * 4
+    x1 = x0 + length
+    if already_tidy(scene.positions, 10, 9, t, y, x0, x1):
+        keep, start, end, flaws, again = tidy(t, y, x0, x1, 2, _pixel_bounds(scene))
+        assert keep.tolist() == list(range(t.size)) and start.tolist() == x0.tolist() and end.tolist() == x1.tolist()
+        assert again == 0 and not any(v.size for v in flaws.values())
+        assert Coverage(t, y, x0, x1).tidy(scene)[1]["outside_viewport"].size == 0
+        assert ((x0 >= 0) & (x1 <= 10) & (y >= 0) & (y < 9)).all()

@@ -2,7 +2,7 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from cases.scenes import fan_mesh, grid_mesh, random_triangles
@@ -205,6 +205,8 @@ SPANS = st.lists(st.tuples(st.integers(-1, 3), st.integers(-1, 5), st.integers(-
 
 @given(SPANS, SPANS)
 @settings(max_examples=300)
+@example([(0, 1, 0, 3)], [(0, 1, 0, 2), (0, 1, 2, 3)])  # the same fragments: deviations' span-level shortcut
+@example([(0, 1, 4, 8)], [(0, 1, 4, 8)])  # the same, partly off-screen: extra, and missing
 def test_counting_mismatches_span_by_span_equals_the_deviations(got, want):
     """FragmentCounter (identify's and compare's fast count, which merges an oracle's spans
     without expanding them) agrees with deviations fragment by fragment: any spans,
