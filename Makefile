@@ -22,13 +22,14 @@ $(STAMP): pyproject.toml
 report: $(STAMP)
 	$(BIN)/rastercheck run --out reports || [ $$? -eq 1 ]
 
-# lint first (a second); types on one core while the other compiles the numba kernels
-# once into numba's cache (else every test worker compiles them again on a fresh clone);
-# then the tests on every core (a module's tests stay together, so its shared fixtures
-# are built once)
+# lint first (a second); types beside the two parts of compiling the numba kernels once
+# into numba's cache (else every test worker compiles them again on a fresh clone); then
+# the tests on every core (a module's tests stay together, so its shared fixtures are
+# built once)
 test: $(STAMP)
 	$(BIN)/ruff check .
-	$(BIN)/python -m tests.warm & warm=$$!; $(BIN)/python -m mypy; typed=$$?; wait $$warm && exit $$typed
+	$(BIN)/python -m tests.warm engine & engine=$$!; $(BIN)/python -m tests.warm rasterizers & others=$$!; \
+	$(BIN)/python -m mypy; typed=$$?; wait $$engine && wait $$others && exit $$typed
 	$(BIN)/python -m pytest -n auto --dist loadfile --durations=15
 
 bench: $(STAMP)

@@ -358,7 +358,8 @@ class Coverage:
             (see :func:`harness.spans.tidy`), all empty when ``usable is self``; and
             ``repeated_pixels``, one number: the pixels emitted a second time.
         """
-        if already_tidy(frozen(scene.positions), scene.width, scene.height, self.triangle, self.y, self.x0, self.x1):
+        spans = (frozen(a, np.int64) for a in (self.triangle, self.y, self.x0, self.x1))
+        if already_tidy(frozen(scene.positions), scene.width, scene.height, *spans):
             none = np.zeros(0, dtype=np.int64)
             kinds = ("bad_triangle_id", "empty_or_reversed", "outside_triangle", "repeated", "outside_viewport")
             return self, {**{kind: none for kind in kinds}, "repeated_pixels": np.zeros(1, dtype=np.int64)}

@@ -130,12 +130,12 @@ def pineda_per_pixel(scene, tie="top-left"):
     """The Pineda test at every pixel of the screen, in numpy: the reference the edge
     walk must reproduce exactly (same float expression, same canonical edges)."""
     from tests.known_bad import coverage_from_parts
-    from harness.exact import orientation
+    from harness.exact import frozen, orientation
     from rasterizers.pineda_topleft import edge_setup
 
     ys, xs = np.mgrid[0 : scene.height, 0 : scene.width] + 0.5
     finite = np.all(np.isfinite(scene.positions), axis=(1, 2))
-    positions = np.where(finite[:, None, None], scene.positions, 0.0)
+    positions = frozen(np.where(finite[:, None, None], scene.positions, 0.0))  # as the kernel sees them
     sign = orientation(positions)
     tri, px, py = [], [], []
     e = np.empty((3, 6))

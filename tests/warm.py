@@ -1,58 +1,105 @@
 """Compile every numba kernel the tests use, once, into numba's on-disk cache.
 
-``make test`` runs this beside mypy (one core each), before pytest starts its workers: on
-a fresh clone each worker would otherwise compile the same kernels again (tens of seconds
-each). It asserts nothing; the tests do. Run: ``python -m tests.warm``.
+``make test`` runs its two parts beside mypy (three processes on the machine's cores)
+before pytest starts its workers: on a fresh clone each worker would otherwise compile the
+same kernels again (tens of seconds each). It asserts nothing; the tests do.
+
+Run: ``python -m tests.warm engine`` (the checks', oracle's and area kernels) and
+``python -m tests.warm rasterizers`` (the built-in, known-bad and ported rasterizers'),
+or both in turn without an argument.
 """
 
 from __future__ import annotations
 
+import sys
 import time
 
 import numpy as np
 
+# attributes, affine and perspective-correct: the interpolation kernels
+POSITIONS = np.array([[[0.5, 0.5], [7.0, 1.0], [2.0, 6.5]]])
+VALUES = np.arange(6, dtype=np.float64).reshape(1, 3, 2)
 
-def warm() -> float:
-    """Run every kernel on a few small scenes; return the seconds it took."""
-    start = time.monotonic()
+
+def _first_of_each_family() -> list:  # type: ignore[type-arg]
     from cases.suites import suite
+
+    cases, families = [], set()
+    for case in suite("quick"):  # the first case of each family: every check, every kernel
+        if case.family not in families:
+            families.add(case.family)
+            cases.append(case)
+    return cases
+
+
+class _Oracle:
+    """The exact oracle as a rasterizer: the checks' kernels without a rasterizer's."""
+
+    name = "oracle"
+
+    def __init__(self) -> None:
+        from harness.conventions import Convention
+
+        self.convention = Convention()
+
+    def rasterize(self, scene):  # type: ignore[no-untyped-def]
+        from harness.oracle import exact_coverage
+
+        return exact_coverage(scene, self.convention)
+
+
+def engine() -> None:
+    """Every check on the first case of each family; areas; identify's counts."""
     from harness import run_suite
     from harness.api import Coverage, Scene
     from harness.area import area_error_bound, pixel_areas
+    from harness.case import Case
     from harness.checks import FragmentCounter
     from harness.conventions import Convention
     from harness.oracle import exact_coverage
+
+    cases = _first_of_each_family()
+    run_suite([_Oracle()], cases=cases, identify=False, isolate=False, repros=False)
+    scene = next(c for c in cases if isinstance(c, Case)).scene
+    pixel_areas(scene.positions, scene.width, scene.height)
+    area_error_bound(np.asarray(scene.positions))
+    for w in (None, np.array([[1.0, 2.0, 4.0]])):
+        exact_coverage(Scene(8, 8, POSITIONS, attributes=VALUES, w=w), Convention())
+    # identify's and compare's mismatch counts, span by span and fragment by fragment
+    counter = FragmentCounter(Coverage([0], [1], [0], [3]), 8, 8)
+    counter.mismatches(Coverage([0], [1], [1], [4]))
+    counter.mismatches(Coverage([0, 0], [1, 1], [1, 2], [4, 5]))
+    # an untidy answer: tidied span by span
+    Coverage([0, 0], [1, 1], [1, 0], [3, 2]).tidy(Scene(8, 8, POSITIONS))
+
+
+def rasterizers() -> None:
+    """Each built-in, known-bad and ported rasterizer on one scene of each family, and on
+    scenes with attributes (affine and perspective-correct)."""
+    from harness.api import Scene
     from harness.case import Case
     from harness.registry import builtins, load
     from tests.known_bad.edge_functions import EdgeFunctionBug
     from tests.known_bad.scanlines import ScanlineBug
     from tests.ports import DeqpReference, PiglitReference
 
-    rasterizers = [load(name) for name in builtins()]
-    rasterizers += [EdgeFunctionBug("inclusive"), ScanlineBug("no-prestep"), DeqpReference(), PiglitReference()]
-    cases, families = [], set()
-    for case in suite("quick"):  # the first case of each family: every check, every kernel
-        if case.family not in families:
-            families.add(case.family)
-            cases.append(case)
-    run_suite(rasterizers, cases=cases, identify=False, isolate=False, repros=False)
-    scene = next(c for c in cases if isinstance(c, Case)).scene
-    pixel_areas(scene.positions, scene.width, scene.height)
-    area_error_bound(np.asarray(scene.positions))
-    # attributes, affine and perspective-correct: the interpolation kernels
-    positions = np.array([[[0.5, 0.5], [7.0, 1.0], [2.0, 6.5]]])
-    values = np.arange(6, dtype=np.float64).reshape(1, 3, 2)
-    for w in (None, np.array([[1.0, 2.0, 4.0]])):
-        with_values = Scene(8, 8, positions, attributes=values, w=w)
-        exact_coverage(with_values, Convention())
-        for rasterizer in rasterizers:
-            rasterizer.rasterize(with_values)
-    # identify's and compare's mismatch counts, span by span and fragment by fragment
-    counter = FragmentCounter(Coverage([0], [1], [0], [3]), 8, 8)
-    counter.mismatches(Coverage([0], [1], [1], [4]))
-    counter.mismatches(Coverage([0, 0], [1, 1], [1, 2], [4, 5]))
-    return time.monotonic() - start
+    everyone = [load(name) for name in builtins()]
+    everyone += [EdgeFunctionBug("inclusive"), ScanlineBug("no-prestep"), DeqpReference(), PiglitReference()]
+    scenes = [Scene(8, 8, POSITIONS, attributes=VALUES, w=w) for w in (None, np.array([[1.0, 2.0, 4.0]]))]
+    for case in _first_of_each_family():
+        scenes += case.frames[:1] if not isinstance(case, Case) else [case.scene]
+    for scene in scenes:
+        for rasterizer in everyone:
+            try:
+                rasterizer.rasterize(scene)
+            except ValueError:  # a refusal (coordinates out of its range): compiled all the same
+                pass
 
+
+PARTS = {"engine": engine, "rasterizers": rasterizers}
 
 if __name__ == "__main__":
-    print(f"numba kernels compiled and cached in {warm():.1f} s")
+    for name in sys.argv[1:] or list(PARTS):
+        start = time.monotonic()
+        PARTS[name]()
+        print(f"numba kernels ({name}) compiled and cached in {time.monotonic() - start:.1f} s")
