@@ -15,9 +15,9 @@ hung, so that a rasterizer that hangs is known in seconds rather than minutes.
 
 from __future__ import annotations
 
+import bisect
 import multiprocessing
 import pickle
-import statistics
 import time
 import traceback
 import weakref
@@ -131,15 +131,21 @@ def _serve(rasterizer: Rasterizer, conn: Any) -> None:  # pragma: no cover - run
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
     while True:
         try:
-            scene = conn.recv()
+            request = conn.recv()
         except (EOFError, OSError):
             return
-        outcome = _portable(call_in_process(rasterizer, scene))
-        try:
-            conn.send(outcome)
-        except Exception:  # a coverage that cannot be pickled
-            conn.send(Outcome(None, PluginError("the rasterizer's answer cannot be sent back (it cannot be pickled)"),
-                              "", outcome.seconds))
+        # one scene, or a sequence (a motion case's frames): each answer is sent as soon as
+        # it is ready, up to the first error
+        for scene in request if isinstance(request, list) else [request]:
+            outcome = _portable(call_in_process(rasterizer, scene))
+            try:
+                conn.send(outcome)
+            except Exception:  # a coverage that cannot be pickled
+                outcome = Outcome(None, PluginError("the rasterizer's answer cannot be sent back (it cannot be pickled)"),
+                                  "", outcome.seconds)
+                conn.send(outcome)
+            if outcome.coverage is None:
+                break
 
 
 _LIVE: weakref.WeakSet[Worker] = weakref.WeakSet()
@@ -194,7 +200,8 @@ class Worker:
         """The time limit of a call on ``scene``, and how it was set."""
         if self.patience is None or len(self._rates) < self.warmup:
             return self.timeout, f"{self.timeout:g} s"
-        expected = statistics.median(self._rates) * self._work(scene)
+        rates, n = self._rates, len(self._rates)
+        expected = (rates[(n - 1) // 2] + rates[n // 2]) / 2 * self._work(scene)  # the median
         adaptive = max(self.floor, self.patience * expected)
         if adaptive >= self.timeout:
             return self.timeout, f"{self.timeout:g} s"
@@ -203,10 +210,48 @@ class Worker:
 
     def rasterize(self, scene: Scene, timeout: float | None = None) -> Outcome:
         """One call in the worker; ``timeout`` overrides the limit (absolute, not adaptive)."""
+        try:
+            self._conn.send(scene)
+        except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
+            return self._died(time.perf_counter())
+        return self._answer(scene, timeout)
+
+    def rasterize_all(self, scenes: list[Scene]) -> list[Outcome]:
+        """One call per scene, in order, up to and including the first that gives no
+        coverage. The scenes go to the worker at once and it answers each as soon as it
+        is drawn, so the worker draws the next while this process reads the last; each
+        call keeps its own time limit. Until the limit has adapted, calls go one by one."""
+        outcomes: list[Outcome] = []
+        while len(outcomes) < len(scenes) and len(self._rates) < self.warmup:
+            outcomes.append(self.rasterize(scenes[len(outcomes)]))
+            if outcomes[-1].coverage is None:
+                return outcomes
+        rest = scenes[len(outcomes):]
+        if not rest:
+            return outcomes
+        try:
+            self._conn.send(list(rest))
+        except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
+            return [*outcomes, self._died(time.perf_counter())]
+        for scene in rest:
+            outcomes.append(self._answer(scene, None))
+            if outcomes[-1].coverage is None:
+                break
+        return outcomes
+
+    def _died(self, start: float) -> Outcome:
+        self._process.join(1)
+        code = self._process.exitcode
+        self.close()
+        self._start()
+        return Outcome(None, RuntimeError(f"the rasterizer's worker process died (exit code {code})"), "",
+                       time.perf_counter() - start)
+
+    def _answer(self, scene: Scene, timeout: float | None) -> Outcome:
+        """The worker's answer on ``scene`` (already sent), within its time limit."""
         limit, said = (timeout, f"{timeout:g} s") if timeout is not None else self.limit(scene)
         start = time.perf_counter()
         try:
-            self._conn.send(scene)
             if self._conn.poll(limit):
                 try:
                     outcome: Outcome = self._conn.recv()
@@ -216,15 +261,10 @@ class Worker:
                     return Outcome(None, PluginError(f"the rasterizer's answer cannot be read back ({describe(exc)})"),
                                    "", time.perf_counter() - start)
                 if outcome.coverage is not None:
-                    self._rates.append(outcome.seconds / self._work(scene))
+                    bisect.insort(self._rates, outcome.seconds / self._work(scene))  # kept sorted
                 return _tidied(outcome, scene)
         except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
-            self._process.join(1)
-            code = self._process.exitcode
-            self.close()
-            self._start()
-            return Outcome(None, RuntimeError(f"the rasterizer's worker process died (exit code {code})"), "",
-                           time.perf_counter() - start)
+            return self._died(start)
         self.close()
         self._start()
         return Outcome(None, TimeoutError(f"no answer within {said}"), "", limit, timed_out=True)
@@ -254,6 +294,15 @@ class InProcess:
 
     def rasterize(self, scene: Scene, timeout: float | None = None) -> Outcome:
         return _tidied(call_in_process(self.rasterizer, scene), scene)
+
+    def rasterize_all(self, scenes: list[Scene]) -> list[Outcome]:
+        """One call per scene, in order, up to and including the first that gives no coverage."""
+        outcomes: list[Outcome] = []
+        for scene in scenes:
+            outcomes.append(self.rasterize(scene))
+            if outcomes[-1].coverage is None:
+                break
+        return outcomes
 
     def __call__(self, scene: Scene) -> Outcome:
         return self.rasterize(scene)

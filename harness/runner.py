@@ -61,7 +61,8 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
 
 
 def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
-                 tolerance: Tolerance = Tolerance(), only: set[str] | None = None) -> list[Result]:
+                 tolerance: Tolerance = Tolerance(), only: set[str] | None = None,
+                 call_all: Callable[[list[Scene]], list[Outcome]] | None = None) -> list[Result]:
     """The motion checks of one rasterizer on one frame sequence (or those named in
     ``only``; when none of them applies, no frame is drawn and there is no result)."""
     name = rasterizer.name
@@ -71,8 +72,12 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
         return []
     coverages = []
     seconds = 0.0
-    for f, scene in enumerate(case.frames):
-        outcome = call(scene)
+    frames = list(case.frames)
+    # every frame in one go when the caller can (a worker draws the next frame while this
+    # process reads the last), else one call each; either way up to the first error
+    outcomes = call_all(frames) if call_all is not None else _each(call, frames)
+    for f, outcome in enumerate(outcomes):
+        scene = frames[f]
         if outcome.coverage is None:
             failed = _error(Case(case.id, scene), name, outcome)
             return [replace(failed, message=f"frame {f}: {failed.message}")]
@@ -83,6 +88,15 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
     drawing = Drawing.of(subject)
     return [replace(r, rasterizer=name, metrics={**r.metrics, "seconds": seconds},
                     drawing=drawing if r.status == "fail" else None) for r in results]
+
+
+def _each(call: Callable[[Scene], Outcome], scenes: list[Scene]) -> list[Outcome]:
+    outcomes: list[Outcome] = []
+    for scene in scenes:
+        outcomes.append(call(scene))
+        if outcomes[-1].coverage is None:
+            break
+    return outcomes
 
 
 def _qualified(result: Result, rasterizer: Rasterizer) -> Result:
@@ -173,10 +187,10 @@ def run_suite(
         def judge(candidate: Case, check: str, rasterizer: Rasterizer = rasterizer, call: Call = call) -> list[Result]:
             return check_case(candidate, rasterizer, call, tolerance, only={check})
 
-        def one_case(case: Case | MotionCase, only: set[str] | None,
-                     rasterizer: Rasterizer = rasterizer, call: Call = call) -> list[Result]:
+        def one_case(case: Case | MotionCase, only: set[str] | None, rasterizer: Rasterizer = rasterizer, call: Call = call,
+                     call_all: Callable[[list[Scene]], list[Outcome]] = worker.rasterize_all) -> list[Result]:
             if isinstance(case, MotionCase):
-                return check_motion(case, rasterizer, call, tolerance, only)
+                return check_motion(case, rasterizer, call, tolerance, only, call_all)
             return check_case(case, rasterizer, call, tolerance, only=only)
 
         shrink_until = time.monotonic() + repro_seconds

@@ -101,3 +101,54 @@ def test_a_hang_is_known_in_seconds_not_after_the_absolute_timeout():
     # the limit applied: seconds, from the rasterizer's own typical call, not the 60 s one
     limits = [float(r.message.split("no answer within ")[1].split(" s")[0]) for r in hung]
     assert all(limit < 10 for limit in limits), limits
+
+
+class _FrameFaults:
+    """centre_scanline, except on a scene whose first vertex x is 7 (it raises), 8 (it
+    hangs) or 9 (its process dies)."""
+
+    name = "frame_faults"
+
+    def __init__(self):
+        from rasterizers.centre_scanline import CentreScanline
+
+        self.inner = CentreScanline()
+        self.convention = self.inner.convention
+
+    def rasterize(self, scene):
+        import os
+        import time
+
+        fault = scene.positions[0, 0, 0]
+        if fault == 7:
+            raise ValueError("frame seven")
+        if fault == 8:
+            time.sleep(3600)
+        if fault == 9:
+            os._exit(3)
+        return self.inner.rasterize(scene)
+
+
+def test_frames_in_one_go_keep_each_call_limit_and_the_worker_in_step():
+    """Worker.rasterize_all (a motion case's frames sent at once, answered one by one): the
+    answers equal one call each, stop at the first error, a hang is a timeout within that
+    frame's limit, a death is an error; after each the worker answers the next call right."""
+    import time
+
+    from harness.api import Scene
+    from harness.isolation import InProcess, Worker
+
+    def frame(x):
+        return Scene(16, 16, [[[x, 1.0], [x + 6.5, 2.0], [x + 1.0, 9.5]]])
+
+    plain = [frame(x) for x in (0.25, 1.5, 2.75, 3.0, 4.5, 5.0, 6.25)]
+    with Worker(_FrameFaults(), timeout=30.0, floor=1.0) as worker:
+        inline = InProcess(_FrameFaults())
+        assert [o.coverage for o in worker.rasterize_all(plain)] == [o.coverage for o in inline.rasterize_all(plain)]
+        for fault, words in ((7, "ValueError"), (8, "TimeoutError"), (9, "died")):
+            start = time.monotonic()
+            outcomes = worker.rasterize_all([plain[0], frame(fault), plain[1]])
+            assert len(outcomes) == 2 and outcomes[0].coverage is not None and outcomes[1].coverage is None
+            assert words in f"{type(outcomes[1].error).__name__}: {outcomes[1].error}", outcomes[1].error
+            assert time.monotonic() - start < 10  # the frame's adapted limit (>= 1 s), not the 30 s one
+            assert worker.rasterize(plain[2]).coverage == inline.rasterize(plain[2]).coverage  # in step
