@@ -7,6 +7,11 @@ settings.register_profile("ci", max_examples=150, deadline=None, suppress_health
 settings.register_profile("thorough", max_examples=2000, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "dev"))
 
+# The commands and inner pytest runs the tests start share compiled (and pytest's
+# rewritten) modules, as they would on a user's machine, even where the environment
+# says not to write them (each would otherwise compile every module again: seconds each).
+os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
+
 # The longest modules first: `make test` hands whole modules to its workers in collection
 # order (--dist loadfile), so a long module collected last would leave one worker running
 # it alone at the end.

@@ -63,7 +63,7 @@ def plugin_run(tmp_path: Path, *args: str) -> tuple[subprocess.CompletedProcess[
     env["PYTHONPATH"] = os.pathsep.join([str(REPO), *filter(None, [os.environ.get("PYTHONPATH")])])
     env["COLUMNS"] = "100"  # the summary lines are cut to the terminal's width: one width everywhere
     start = time.monotonic()
-    proc = subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "--rastercheck-repros",
+    proc = subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-p", "no:hypothesispytest", "--rastercheck-repros",
                            str(tmp_path / "repros"), *args], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=600)
     return proc, time.monotonic() - start
 
