@@ -19,6 +19,8 @@ the scene has ``w``.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from dataclasses import replace
 from fractions import Fraction
 
 import numba
@@ -29,8 +31,9 @@ from harness.api import Coverage, Scene
 from harness.spans import expand, pixel_offsets, span_buffers
 from harness.conventions import Convention, owns_edge
 from harness.exact import frozen, orient2d_sign, orientation
+from harness.samples import pattern
 
-__all__ = ["exact_coverage", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
+__all__ = ["exact_coverage", "exact_samples", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
 
 
 _CULL_CODES = {"none": 0, "cw": 1, "ccw": -1}
@@ -492,3 +495,37 @@ def exact_coverage_python(scene: Scene, convention: Convention) -> Coverage:
         return Coverage.empty()
     t, y, x0, x1 = np.array(spans, dtype=np.int64).T
     return Coverage(t, y, x0, x1)
+
+
+def exact_samples(scene: Scene, convention: Convention, samples: int | Sequence[Sequence[float]]) -> list[Coverage]:
+    """Exactly which samples of a multisample pattern each triangle covers.
+
+    Each sample obeys the convention's tie rule, snapping and culling at its own offset
+    (the standard multisample rule: D3D11, Vulkan, GL), so the exact single-sample oracle
+    at each offset is the exact multisample oracle.
+
+    Parameters
+    ----------
+    scene : Scene
+    convention : Convention
+        Its ``sample`` is not used: the pattern's offsets stand in its place.
+    samples : int or sequence of (x, y)
+        A standard pattern's count (1, 2, 4, 8, 16) or the offsets themselves
+        (:func:`harness.samples.pattern`).
+
+    Returns
+    -------
+    list of Coverage
+        One per sample, in pattern order: the pixels whose sample k the triangle covers.
+
+    Examples
+    --------
+    The standard 4x pattern under the hypotenuse x + y = 2: in the pixels beside it,
+    samples 0 and 2 lie inside, samples 1 and 3 outside.
+
+    >>> scene = Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]])
+    >>> [cov.counts(2, 2).tolist() for cov in exact_samples(scene, Convention(), 4)]
+    [[[1, 1], [1, 0]], [[1, 0], [0, 0]], [[1, 1], [1, 0]], [[1, 0], [0, 0]]]
+    """
+    return [exact_coverage(scene, replace(convention, sample=offset)) for offset in pattern(samples)]
+

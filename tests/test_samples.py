@@ -83,3 +83,30 @@ def test_every_sample_point_of_any_valid_pattern_is_an_exact_float(ticks):
             # i + s rounds to nothing: the exact sample point is the float one
             assert Fraction(i + sx) == i + Fraction(sx)
             assert Fraction(i + sy) == i + Fraction(sy)
+
+
+@pytest.mark.parametrize("count, tie", [(4, "top-left"), (8, "bottom-right-y-first")])
+def test_per_sample_oracle_is_watertight_on_a_partition_with_ties_at_samples(count, tie):
+    """On a planar partition whose vertices lie on the 1/16 grid -- edges through many of
+    the standard samples -- every sample of every pixel inside it is covered exactly once,
+    for each sample of the pattern; and each sample's coverage is the brute-force rational
+    one at its offset."""
+    from dataclasses import replace
+
+    from cases.scenes import grid_mesh
+    from harness.api import Scene
+    from harness.conventions import Convention
+    from harness.oracle import exact_samples
+    from harness.reference import brute_force_coverage
+
+    rng = np.random.default_rng(count)
+    # interior vertices moved by random 1/16 steps; a shared vertex moves with all its triangles
+    moved = {tuple(v): v + rng.integers(-6, 7, 2) / 16 for v in grid_mesh(4, 10, 0.0, 0).reshape(-1, 2) if ((v > 1) & (v < 9)).all()}
+    mesh = np.array([[moved.get(tuple(v), v) for v in tri] for tri in grid_mesh(4, 10, 0.0, 0)])
+    scene = Scene(10, 10, mesh)
+    convention = Convention(tie=tie)
+    per_sample = exact_samples(scene, convention, count)
+    for k, coverage in enumerate(per_sample):
+        hits = coverage.counts(10, 10)
+        assert (hits[1:9, 1:9] == 1).all(), (k, hits)  # the pixels wholly inside [1, 9]^2
+        assert coverage == brute_force_coverage(scene, replace(convention, sample=STANDARD_PATTERNS[count][k]))
