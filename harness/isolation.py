@@ -27,7 +27,8 @@ from typing import Any
 
 from harness.api import Coverage, Rasterizer, Scene
 
-__all__ = ["Outcome", "Worker", "InProcess", "call_in_process", "describe", "span_limit", "Call", "PluginError", "kill_all"]
+__all__ = ["Outcome", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call", "PluginError",
+           "kill_all"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -123,6 +124,16 @@ def call_in_process(rasterizer: Rasterizer, scene: Scene) -> Outcome:
             trace = ""
         return Outcome(None, exc, trace, time.perf_counter() - start)
     return Outcome(coverage, seconds=time.perf_counter() - start)
+
+
+def each_until_error(call: Call, scenes: list[Scene]) -> list[Outcome]:
+    """``call`` on each scene in turn, up to and including the first that gives no coverage."""
+    outcomes: list[Outcome] = []
+    for scene in scenes:
+        outcomes.append(call(scene))
+        if outcomes[-1].coverage is None:
+            break
+    return outcomes
 
 
 def _serve(rasterizer: Rasterizer, conn: Any) -> None:  # pragma: no cover - runs in the child
@@ -297,12 +308,7 @@ class InProcess:
 
     def rasterize_all(self, scenes: list[Scene]) -> list[Outcome]:
         """One call per scene, in order, up to and including the first that gives no coverage."""
-        outcomes: list[Outcome] = []
-        for scene in scenes:
-            outcomes.append(self.rasterize(scene))
-            if outcomes[-1].coverage is None:
-                break
-        return outcomes
+        return each_until_error(self.rasterize, scenes)
 
     def __call__(self, scene: Scene) -> Outcome:
         return self.rasterize(scene)

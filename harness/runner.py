@@ -22,7 +22,7 @@ from harness import checks, repro
 from harness.api import Rasterizer, Scene, fingerprint_of, interpolates_of
 from harness.checks import Drawing, Result, Tolerance
 
-from harness.isolation import Call, InProcess, Outcome, Worker, describe
+from harness.isolation import Call, InProcess, Outcome, Worker, describe, each_until_error
 from harness.registry import distinct_names, load
 
 __all__ = ["run_suite", "check_case", "check_motion", "replay"]
@@ -75,7 +75,7 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
     frames = list(case.frames)
     # every frame in one go when the caller can (a worker draws the next frame while this
     # process reads the last), else one call each; either way up to the first error
-    outcomes = call_all(frames) if call_all is not None else _each(call, frames)
+    outcomes = call_all(frames) if call_all is not None else each_until_error(call, frames)
     for f, outcome in enumerate(outcomes):
         scene = frames[f]
         if outcome.coverage is None:
@@ -88,15 +88,6 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
     drawing = Drawing.of(subject)
     return [replace(r, rasterizer=name, metrics={**r.metrics, "seconds": seconds},
                     drawing=drawing if r.status == "fail" else None) for r in results]
-
-
-def _each(call: Callable[[Scene], Outcome], scenes: list[Scene]) -> list[Outcome]:
-    outcomes: list[Outcome] = []
-    for scene in scenes:
-        outcomes.append(call(scene))
-        if outcomes[-1].coverage is None:
-            break
-    return outcomes
 
 
 def _qualified(result: Result, rasterizer: Rasterizer) -> Result:
