@@ -149,6 +149,14 @@ class Coverage:
     pixels. ``attributes`` has one row per covered pixel: the spans' pixels in span
     order, left to right within a span.
 
+    The same spans carry the two other kinds of coverage (:attr:`Convention.kind`):
+
+    * multisample: ``sample[k]`` says which sample of the pattern span k covers in each of
+      its pixels (one run per triangle, sample and row); a fragment is then a (triangle,
+      sample, pixel) and ``attributes`` has one row per fragment, in span order.
+    * area (anti-aliased): ``alpha`` has one value per pixel in span order, the share of
+      the pixel the triangle covers; a pixel left out has alpha 0.
+
     The constructor checks structure only (1-D integer arrays of one length, a 2-D
     float attribute array); whether spans are sensible is for the hygiene checks to say.
     int64 span arrays are kept without a copy (as read-only views): do not modify them
@@ -158,6 +166,10 @@ class Coverage:
     ----------
     triangle, y, x0, x1 : (S,) int64
     attributes : (P, K) float64 or None
+    sample : (S,) int64 or None
+        Multisample coverage: the sample index of each span; None for one sample per pixel.
+    alpha : (P,) float64 or None
+        Area coverage: the alpha of each pixel, in span order; None otherwise.
 
     Examples
     --------
@@ -174,9 +186,12 @@ class Coverage:
     x0: NDArray[np.int64]
     x1: NDArray[np.int64]
     attributes: NDArray[np.float64] | None = None
+    sample: NDArray[np.int64] | None = None
+    alpha: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
-        arrays = {f: _int_array(getattr(self, f), f) for f in ("triangle", "y", "x0", "x1")}
+        fields = ("triangle", "y", "x0", "x1") + (("sample",) if self.sample is not None else ())
+        arrays = {f: _int_array(getattr(self, f), f) for f in fields}
         sizes = {f: a.size for f, a in arrays.items()}
         if len(set(sizes.values())) != 1:
             raise ValueError(f"Coverage span arrays must have equal lengths, not {sizes}")
@@ -196,6 +211,15 @@ class Coverage:
             attributes = np.array(attributes, dtype=np.float64, copy=True)
             attributes.setflags(write=False)
             object.__setattr__(self, "attributes", attributes)
+        if self.alpha is not None:
+            alpha = np.asarray(self.alpha)
+            if alpha.dtype.kind not in "biuf":
+                raise ValueError(f"Coverage.alpha must hold real numbers, not dtype {alpha.dtype}")
+            if alpha.ndim != 1:
+                raise ValueError(f"Coverage.alpha must have shape (P,), not {alpha.shape}")
+            alpha = np.array(alpha, dtype=np.float64, copy=True)
+            alpha.setflags(write=False)
+            object.__setattr__(self, "alpha", alpha)
 
     # -- constructors ------------------------------------------------------------------
 
@@ -213,53 +237,85 @@ class Coverage:
         x: ArrayLike,
         y: ArrayLike,
         attributes: ArrayLike | None = None,
+        *,
+        sample: ArrayLike | None = None,
+        alpha: ArrayLike | None = None,
     ) -> Coverage:
         """Build spans from individual fragments, in any order.
 
-        Fragments are sorted by (triangle, y, x) and runs of consecutive x become spans. A
-        fragment repeated for the same triangle stays a separate span, so the duplicate
-        remains visible to the checks.
+        Fragments are sorted by (triangle, sample, y, x) and runs of consecutive x become
+        spans. A fragment repeated for the same triangle (and sample) stays a separate
+        span, so the duplicate remains visible to the checks.
 
         Parameters
         ----------
         triangle, x, y : (P,) int
         attributes : (P, K) float64 or None, one row per fragment in the given order
+        sample : (P,) int or None
+            Multisample coverage: each fragment's sample index.
+        alpha : (P,) float64 or None
+            Area coverage: each fragment's alpha.
+
+        Examples
+        --------
+        >>> cov = Coverage.from_pixels([0, 0, 0], [1, 2, 1], [0, 0, 0], sample=[3, 3, 1])
+        >>> cov.sample, cov.x0, cov.x1
+        (array([1, 3]), array([1, 1]), array([2, 3]))
         """
         tri = _int_array(triangle, "triangle")
         xs = _int_array(x, "x")
         ys = _int_array(y, "y")
         if not tri.size == xs.size == ys.size:
             raise ValueError("Coverage.from_pixels needs triangle, x and y of equal lengths")
-        order = np.lexsort((xs, ys, tri))
+        samples = None if sample is None else _int_array(sample, "sample")
+        if samples is not None and samples.size != tri.size:
+            raise ValueError("Coverage.from_pixels needs one sample index per fragment")
+        keys = (xs, ys, tri) if samples is None else (xs, ys, samples, tri)
+        order = np.lexsort(keys)
         tri, xs, ys = tri[order], xs[order], ys[order]
-        if attributes is not None:
-            attributes = np.asarray(attributes, dtype=np.float64)
-            if attributes.ndim != 2 or attributes.shape[0] != order.size:
-                raise ValueError(
-                    f"Coverage.from_pixels attributes must have shape ({order.size}, K), "
-                    f"not {attributes.shape}"
-                )
-            attributes = attributes[order]
+        if samples is not None:
+            samples = samples[order]
+        rows: dict[str, NDArray[np.float64] | None] = {}
+        for field, values, shape in (("attributes", attributes, "K"), ("alpha", alpha, None)):
+            if values is None:
+                rows[field] = None
+                continue
+            array = np.asarray(values, dtype=np.float64)
+            if array.ndim != (2 if shape else 1) or array.shape[0] != order.size:
+                raise ValueError(f"Coverage.from_pixels {field} must have shape ({order.size}{', K' if shape else ','}), "
+                                 f"not {array.shape}")
+            rows[field] = array[order]
         new_span = np.ones(tri.size, dtype=bool)
         new_span[1:] = (tri[1:] != tri[:-1]) | (ys[1:] != ys[:-1]) | (xs[1:] != xs[:-1] + 1)
+        if samples is not None:
+            new_span[1:] |= samples[1:] != samples[:-1]
         heads = np.flatnonzero(new_span)
         tails = run_tails(heads, tri.size)
-        return cls(tri[heads], ys[heads], xs[heads], xs[tails] + 1, attributes)
+        return cls(tri[heads], ys[heads], xs[heads], xs[tails] + 1, rows["attributes"],
+                   None if samples is None else samples[heads], rows["alpha"])
 
     @classmethod
-    def from_mask(cls, triangle: int, mask: ArrayLike, attributes: ArrayLike | None = None) -> Coverage:
-        """Build the spans of one triangle from an (H, W) boolean mask.
+    def from_mask(cls, triangle: int, mask: ArrayLike, attributes: ArrayLike | None = None, *,
+                  sample: int | None = None, alpha: ArrayLike | None = None) -> Coverage:
+        """Build the spans of one triangle (and one sample) from an (H, W) boolean mask.
 
         Parameters
         ----------
         triangle : int
         mask : (H, W) bool
         attributes : (H, W, K) float64 or None, values at every pixel (only covered ones kept)
+        sample : int or None
+            Multisample coverage: the sample the mask is of.
+        alpha : (H, W) float64 or None
+            Area coverage: the alpha at every pixel (only the mask's pixels kept).
 
         Examples
         --------
         >>> Coverage.from_mask(3, [[0, 1, 1, 0, 1], [0, 0, 0, 0, 0]]).x0
         array([1, 4])
+        >>> alpha = [[0.0, 0.25, 1.0]]
+        >>> Coverage.from_mask(0, np.asarray(alpha) > 0, alpha=alpha).alpha
+        array([0.25, 1.  ])
         """
         mask = np.asarray(mask).astype(bool)
         if mask.ndim != 2:
@@ -278,12 +334,19 @@ class Coverage:
                     f"not {attributes.shape}"
                 )
             values = attributes[mask]
-        return cls(np.full(rows.size, triangle), rows, starts, ends, values)
+        alphas = None
+        if alpha is not None:
+            alpha = np.asarray(alpha, dtype=np.float64)
+            if alpha.shape != mask.shape:
+                raise ValueError(f"Coverage.from_mask alpha must have shape {mask.shape}, not {alpha.shape}")
+            alphas = alpha[mask]
+        samples = None if sample is None else np.full(rows.size, sample)
+        return cls(np.full(rows.size, triangle), rows, starts, ends, values, samples, alphas)
 
     @classmethod
     def concat(cls, parts: Iterable[Coverage]) -> Coverage:
-        """One coverage from several, spans (and attribute rows) in the order given. All
-        parts carry attributes, or none does.
+        """One coverage from several, spans (and attribute and alpha rows) in the order
+        given. All parts carry attributes (sample indices, alphas), or none does.
 
         Examples
         --------
@@ -294,12 +357,14 @@ class Coverage:
         parts = list(parts)
         if not parts:
             return cls.empty()
-        with_values = [p.attributes is not None for p in parts]
-        if any(with_values) and not all(with_values):
-            raise ValueError("Coverage.concat: some parts carry attributes and some do not")
-        values = np.concatenate([p.attributes for p in parts if p.attributes is not None]) if all(with_values) else None
+        joined: dict[str, Any] = {}
+        for field in ("attributes", "sample", "alpha"):
+            present = [getattr(p, field) is not None for p in parts]
+            if any(present) and not all(present):
+                raise ValueError(f"Coverage.concat: some parts carry {field} and some do not")
+            joined[field] = np.concatenate([getattr(p, field) for p in parts]) if all(present) else None
         triangle, y, x0, x1 = (np.concatenate([getattr(p, f) for p in parts]) for f in ("triangle", "y", "x0", "x1"))
-        return cls(triangle, y, x0, x1, values)
+        return cls(triangle, y, x0, x1, joined["attributes"], joined["sample"], joined["alpha"])
 
     # -- views -----------------------------------------------------------------------
 
@@ -321,8 +386,53 @@ class Coverage:
         x = expand(self.x0, lengths)
         return np.repeat(self.triangle, lengths), x, np.repeat(self.y, lengths)
 
+    def fragment_samples(self) -> NDArray[np.int64]:
+        """The sample index of every fragment, in the order of :meth:`pixels` (all 0 for
+        single-sample or area coverage)."""
+        lengths = np.maximum(self.x1 - self.x0, 0)
+        if self.sample is None:
+            return np.zeros(int(lengths.sum()), dtype=np.int64)
+        return np.repeat(self.sample, lengths)
+
+    def take(self, spans: NDArray[np.int64], start: NDArray[np.int64] | None = None,
+             end: NDArray[np.int64] | None = None) -> Coverage:
+        """The spans of index ``spans``, in that order, optionally cut to ``start <= x <
+        end`` (within each span); attribute and alpha rows go with their pixels (dropped
+        when their number does not match the spans' pixels).
+
+        Examples
+        --------
+        >>> cov = Coverage([0, 1], [0, 0], [0, 4], [3, 6], alpha=[0.1, 0.2, 0.3, 0.4, 0.5])
+        >>> cut = cov.take(np.array([1, 0]), np.array([5, 1]), np.array([6, 3]))
+        >>> cut.x0, cut.x1, cut.alpha
+        (array([5, 1]), array([6, 3]), array([0.5, 0.2, 0.3]))
+        """
+        x0 = self.x0[spans] if start is None else start
+        x1 = self.x1[spans] if end is None else end
+        first = pixel_offsets(self.x0, self.x1)[spans] + (x0 - self.x0[spans])
+        rows = expand(first, np.maximum(x1 - x0, 0))
+        n_pixels = self.n_pixels
+        kept = [values[rows] if values is not None and values.shape[0] == n_pixels else None
+                for values in (self.attributes, self.alpha)]
+        sample = None if self.sample is None else self.sample[spans]
+        return Coverage(self.triangle[spans], self.y[spans], x0, x1, kept[0], sample, kept[1])
+
+    def layer(self, index: int) -> Coverage:
+        """The single-sample coverage of sample ``index`` of a multisample coverage (the
+        whole coverage, without sample indices, when it has none and ``index`` is 0).
+
+        >>> Coverage([0, 0], [2, 2], [1, 5], [4, 6], sample=[0, 3]).layer(3).x0
+        array([5])
+        """
+        if self.sample is None:
+            return self if index == 0 else Coverage.empty(None if self.attributes is None else self.attributes.shape[1])
+        spans = np.flatnonzero(self.sample == index)
+        taken = self.take(spans)
+        return Coverage(taken.triangle, taken.y, taken.x0, taken.x1, taken.attributes)
+
     def counts(self, width: int, height: int) -> NDArray[np.int32]:
-        """Hits per pixel, (height, width) int32, from difference arrays (no fragments).
+        """Hits per pixel, (height, width) int32, from difference arrays (no fragments);
+        a multisample coverage counts each covered sample.
 
         Spans are clipped to the viewport; rows outside it are ignored.
         """
@@ -345,59 +455,77 @@ class Coverage:
         memory in proportion to its number of spans, not to the pixels it claims. Keeps
         the pixels that can belong to their triangle: inside the viewport and within the
         triangle's bounding box grown by 2 px (the reach of any sample point in the pixel
-        plus any snapping of a vertex by up to 1 px), each emitted once per triangle.
+        plus any snapping of a vertex by up to 1 px), each emitted once per triangle (and
+        sample, for multisample coverage: a sample index outside 0 .. MAX_SAMPLES - 1 is
+        a ``bad_sample``).
 
         Returns
         -------
         usable : Coverage
-            ``self`` when nothing was wrong; else the kept spans, with the attribute rows
-            of the kept pixels when there was one row per pixel (else none).
+            ``self`` when nothing was wrong; else the kept spans, with the attribute (and
+            alpha) rows of the kept pixels when there was one row per pixel (else none).
         flaws : dict of str -> (n,) int64
-            Indices of offending spans: ``bad_triangle_id``, ``empty_or_reversed``,
-            ``outside_viewport``, ``outside_triangle``, ``repeated``
+            Indices of offending spans: ``bad_triangle_id``, ``bad_sample``,
+            ``empty_or_reversed``, ``outside_viewport``, ``outside_triangle``, ``repeated``
             (see :func:`harness.spans.tidy`), all empty when ``usable is self``; and
             ``repeated_pixels``, one number: the pixels emitted a second time.
         """
-        spans = (frozen(a, np.int64) for a in (self.triangle, self.y, self.x0, self.x1))
-        if already_tidy(frozen(scene.positions), scene.width, scene.height, *spans):
+        from harness.conventions import MAX_SAMPLES
+
+        n = len(scene)
+        ids, layers, positions = self.triangle, 1, scene.positions
+        bad_sample = np.zeros(0, dtype=np.int64)
+        if self.sample is not None:
+            # one virtual triangle per (triangle, sample): the single-sample rules apply to each
+            valid = (self.sample >= 0) & (self.sample < MAX_SAMPLES)
+            bad_sample = np.flatnonzero(~valid)
+            layers = int(self.sample[valid].max(initial=0)) + 1
+            known = (self.triangle >= 0) & (self.triangle < n)
+            ids = np.where(known & valid, np.where(known, self.triangle, 0) * layers + np.where(valid, self.sample, 0), -1)
+            positions = np.repeat(positions, layers, axis=0)
+        spans = (frozen(a, np.int64) for a in (ids, self.y, self.x0, self.x1))
+        kinds = ("bad_triangle_id", "bad_sample", "empty_or_reversed", "outside_triangle", "repeated", "outside_viewport")
+        if not bad_sample.size and already_tidy(frozen(positions), scene.width, scene.height, *spans):
             none = np.zeros(0, dtype=np.int64)
-            kinds = ("bad_triangle_id", "empty_or_reversed", "outside_triangle", "repeated", "outside_viewport")
             return self, {**{kind: none for kind in kinds}, "repeated_pixels": np.zeros(1, dtype=np.int64)}
-        bounds = _pixel_bounds(scene)
-        keep, start, end, flaws, repeated_pixels = tidy(self.triangle, self.y, self.x0, self.x1, len(scene), bounds)
-        t, y, x0, x1 = self.triangle, self.y, self.x0, self.x1
+        bounds = np.repeat(_pixel_bounds(scene), layers, axis=0)
+        keep, start, end, flaws, repeated_pixels = tidy(ids, self.y, self.x0, self.x1, n * layers, bounds)
+        y, x0, x1 = self.y, self.x0, self.x1
         outside = (y < 0) | (y >= scene.height) | (x0 < 0) | (x1 > scene.width)
+        flaws["bad_sample"] = bad_sample
+        flaws["bad_triangle_id"] = np.setdiff1d(flaws["bad_triangle_id"], bad_sample[(self.triangle[bad_sample] >= 0) & (self.triangle[bad_sample] < n)])
         flaws["outside_viewport"] = np.flatnonzero(outside & (x0 < x1))
         flaws["outside_triangle"] = np.setdiff1d(flaws["outside_triangle"], flaws["outside_viewport"])
         flaws["repeated_pixels"] = np.array([repeated_pixels], dtype=np.int64)
         if not any(v.size for k, v in flaws.items() if k != "repeated_pixels"):
             return self, flaws
-        attributes = None
-        if self.attributes is not None and self.attributes.shape[0] == self.n_pixels:
-            first = pixel_offsets(x0, x1)[keep] + (start - x0[keep])
-            attributes = self.attributes[expand(first, end - start)]
-        return Coverage(t[keep], y[keep], start, end, attributes), flaws
+        return self.take(keep, start, end), flaws
 
     def canonical(self) -> Coverage:
-        """The same fragments in canonical form: spans sorted by (triangle, y, x0), empty
-        spans dropped, touching spans of one triangle and row merged. Overlapping spans
-        are kept apart, so a fragment emitted twice is still counted twice."""
+        """The same fragments in canonical form: spans sorted by (triangle, sample, y, x0),
+        empty spans dropped, touching spans of one triangle, sample and row merged.
+        Overlapping spans are kept apart, so a fragment emitted twice is still counted
+        twice."""
         length = self.x1 - self.x0
         keep = np.flatnonzero(length > 0)
-        order = keep[np.lexsort((self.x1[keep], self.x0[keep], self.y[keep], self.triangle[keep]))]
-        tri, y, x0, x1 = self.triangle[order], self.y[order], self.x0[order], self.x1[order]
-        attributes = self.attributes
-        if attributes is not None:
-            offsets = pixel_offsets(self.x0, self.x1)
-            if attributes.shape[0] == offsets[-1]:
-                attributes = attributes[expand(offsets[order], length[order])]
+        keys = [self.x1[keep], self.x0[keep], self.y[keep]] + ([] if self.sample is None else [self.sample[keep]])
+        order = keep[np.lexsort((*keys, self.triangle[keep]))]
+        sorted_ = self.take(order)
+        tri, y, x0, x1 = sorted_.triangle, sorted_.y, sorted_.x0, sorted_.x1
         joins = np.zeros(tri.size, dtype=bool)
         joins[1:] = (tri[1:] == tri[:-1]) & (y[1:] == y[:-1]) & (x0[1:] == x1[:-1])
+        if sorted_.sample is not None:
+            joins[1:] &= sorted_.sample[1:] == sorted_.sample[:-1]
         heads = np.flatnonzero(~joins)
-        return Coverage(tri[heads], y[heads], x0[heads], x1[run_tails(heads, tri.size)], attributes)
+        sample = None if sorted_.sample is None else sorted_.sample[heads]
+        # rows not matching the pixels stay as they came (hygiene reports them)
+        attributes = sorted_.attributes if sorted_.attributes is not None or self.attributes is None else self.attributes
+        alpha = sorted_.alpha if sorted_.alpha is not None or self.alpha is None else self.alpha
+        return Coverage(tri[heads], y[heads], x0[heads], x1[run_tails(heads, tri.size)], attributes, sample, alpha)
 
     def __eq__(self, other: object) -> bool:
-        """Exact equality of canonical forms (attributes too; NaN equals NaN)."""
+        """Exact equality of canonical forms (sample indices, attributes and alphas too;
+        NaN equals NaN)."""
         if not isinstance(other, Coverage):
             return NotImplemented
         a, b = self.canonical(), other.canonical()
@@ -406,11 +534,14 @@ class Coverage:
         )
         if not same_spans:
             return False
-        if a.attributes is None or b.attributes is None:
-            return a.attributes is None and b.attributes is None
-        return a.attributes.shape == b.attributes.shape and bool(
-            np.array_equal(a.attributes, b.attributes, equal_nan=True)
-        )
+        for field in ("sample", "attributes", "alpha"):
+            u, v = getattr(a, field), getattr(b, field)
+            if u is None or v is None:
+                if not (u is None and v is None):
+                    return False
+            elif u.shape != v.shape or not np.array_equal(u, v, equal_nan=True):
+                return False
+        return True
 
     __hash__ = None  # type: ignore[assignment]
 

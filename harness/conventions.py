@@ -84,6 +84,26 @@ A convention is sample point + tie rule + snapping (+ culling)
     4. Culling ``none | cw | ccw``: ``cw`` removes triangles with snapped A > 0 (clockwise
        on screen), ``ccw`` those with A < 0.
 
+A convention's coverage is one of three kinds (:attr:`Convention.kind`)
+    ``single``
+        One sample per pixel at ``sample``: a fragment is a (triangle, pixel).
+    ``multisample``
+        ``samples`` is a pattern (:func:`harness.samples.pattern`: D3D11/Vulkan standard
+        counts 1, 2, 4, 8, 16, or any dyadic offsets): sample s of pixel (i, j) is the point
+        (i + sx_s, j + sy_s), and each sample obeys the tie rule, snapping and culling on its
+        own, exactly as a single-sample convention at that offset
+        (:meth:`Convention.at_sample`). A fragment is a (triangle, sample, pixel).
+    ``area``
+        Anti-aliased: each (triangle, pixel) gets an alpha, the area of the (snapped)
+        triangle inside the pixel square [i, i+1] x [j, j+1], quantised to ``levels``
+        levels (alpha a multiple of 1/(levels - 1)) and within ``tolerance`` of the exact
+        area. Ties and the sample point mean nothing here: an edge has no area.
+        With ``samples`` too, the alpha is *supersampled*: the share of the pattern's
+        samples the triangle covers (a box-filter resolve: each sample under the tie rule,
+        snapping and culling), which is what a supersampling anti-aliaser computes and is
+        judged against exactly; its distance from the true area is an artifact the checks
+        measure (popping), not a broken promise.
+
 Every decision is exact: the sign of an edge function is the sign of the exact real
 number (floats are dyadic rationals). No epsilon appears in any coverage decision.
 """
@@ -91,8 +111,8 @@ number (floats are dyadic rationals). No epsilon appears in any coverage decisio
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Literal, cast
+from dataclasses import dataclass, replace
+from typing import Any, Literal, cast
 
 import numba
 import numpy as np
@@ -109,6 +129,9 @@ __all__ = [
     "CULL_MODES",
     "MAX_SUBPIXEL_BITS",
     "SAMPLE_FRACTION_BITS",
+    "MAX_SAMPLES",
+    "COVERAGE_KINDS",
+    "CoverageKind",
     "Convention",
     "snap",
     "owns_edge",
@@ -119,6 +142,11 @@ TieRule = Literal[
     "top-left-y-first", "top-right-y-first", "bottom-left-y-first", "bottom-right-y-first",
 ]
 CullMode = Literal["none", "cw", "ccw"]
+CoverageKind = Literal["single", "multisample", "area"]
+COVERAGE_KINDS: tuple[CoverageKind, ...] = ("single", "multisample", "area")
+# The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
+# 64 with no standard locations; 32 keeps a garbage answer's span budget bounded).
+MAX_SAMPLES = 32
 SnapRounding = Literal["nearest-even", "half-away", "floor"]
 
 # rule -> (sx, sy, y_first): the sample is decided as if moved by (sx*eps, sy*eps**2), or
@@ -174,6 +202,21 @@ class Convention:
         How snapping rounds: to nearest, ties to even (D3D, GL drivers), to nearest, ties
         away from zero (dEQP's and piglit's reference rasterizers), or down (truncating
         fixed-point conversion, as skia's ``int(x * 64)``).
+    samples : int, sequence of (x, y) or None
+        A multisample pattern (:func:`harness.samples.pattern`): a standard count (1, 2,
+        4, 8, 16) or up to :data:`MAX_SAMPLES` dyadic offsets in [0, 1)^2; stored as the
+        offsets. Each sample then follows ``tie``, snapping and culling at its own offset,
+        and ``sample`` is not used. None: one sample, at ``sample``.
+    coverage : {"sample", "area"}
+        ``area``: anti-aliased coverage, an alpha per pixel equal to the area of the
+        triangle inside the pixel (or, with ``samples``, the share of the samples it
+        covers), quantised and within ``tolerance`` (``sample`` is not used, nor ``tie``
+        without ``samples``).
+    levels : int
+        Area coverage only: alphas are multiples of 1/(levels - 1) (256: 8-bit alpha).
+    tolerance : float or None
+        Area coverage only: the largest |alpha - exact area| the rasterizer promises at any
+        pixel; None means half a level (the exact area rounded to the nearest level).
 
     Examples
     --------
@@ -181,6 +224,10 @@ class Convention:
     Convention(sample=(0.5, 0.5), tie='top-left', subpixel_bits=None, cull='none')
     >>> Convention(sample=(1, 1), tie="bottom-right").describe()
     'sample (1, 1), bottom-right ties, no snapping, no culling'
+    >>> Convention(samples=4).describe()
+    '4 samples (standard pattern), top-left ties, no snapping, no culling'
+    >>> Convention(coverage="area", subpixel_bits=8).describe()
+    'area coverage, 256 levels, within 0.00196 of the exact area, snapped to 1/256 px (8 bits), no culling'
     >>> Convention(tie="top-middle")
     Traceback (most recent call last):
     ...
@@ -192,11 +239,57 @@ class Convention:
     subpixel_bits: int | None = None
     cull: CullMode = "none"
     snap_rounding: SnapRounding = "nearest-even"
+    # given as a count or offsets (harness.samples.pattern), kept as a tuple of (x, y) offsets
+    samples: Any = None
+    coverage: Literal["sample", "area"] = "sample"
+    levels: int = 256
+    tolerance: float | None = None
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
+        if self.samples is not None:
+            extra += f", samples={self.samples!r}"
+        if self.coverage != "sample":
+            extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
         return (f"Convention(sample={self.sample!r}, tie={self.tie!r}, subpixel_bits={self.subpixel_bits!r}, "
                 f"cull={self.cull!r}{extra})")
+
+    @property
+    def kind(self) -> CoverageKind:
+        """``single``, ``multisample`` or ``area`` (see the module docstring)."""
+        if self.coverage == "area":
+            return "area"
+        return "single" if self.samples is None else "multisample"
+
+    @property
+    def n_samples(self) -> int:
+        """Samples per pixel: the pattern's length, else 1."""
+        return 1 if self.samples is None else len(self.samples)
+
+    def at_sample(self, index: int) -> Convention:
+        """The single-sample convention that sample ``index`` of the pattern obeys: this
+        one with ``sample`` moved to that offset (the same ties, snapping and culling).
+
+        >>> Convention(samples=4).at_sample(1)
+        Convention(sample=(0.875, 0.375), tie='top-left', subpixel_bits=None, cull='none')
+        """
+        if self.samples is None:
+            if index != 0:
+                raise IndexError(f"a single-sample convention has sample 0 only, not {index}")
+            return self
+        offsets: tuple[tuple[float, float], ...] = self.samples
+        return replace(self, sample=offsets[index], samples=None, coverage="sample", levels=256, tolerance=None)
+
+    @property
+    def level_step(self) -> float:
+        """Area coverage: the alpha quantum 1/(levels - 1)."""
+        return 1.0 / (self.levels - 1)
+
+    @property
+    def alpha_tolerance(self) -> float:
+        """Area coverage: the promised bound on |alpha - exact area| (half a level when
+        none is declared)."""
+        return 0.5 * self.level_step if self.tolerance is None else float(self.tolerance)
 
     def snap(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
         """The positions as this convention sees them: snapped (see :func:`snap`)."""
@@ -242,6 +335,27 @@ class Convention:
             raise ValueError(
                 f"Convention.cull must be one of {', '.join(CULL_MODES)}, not {self.cull!r}"
             )
+        if self.samples is not None:
+            from harness.samples import pattern
+
+            offsets = pattern(self.samples)
+            if len(offsets) > MAX_SAMPLES:
+                raise ValueError(f"Convention.samples has {len(offsets)} samples; at most {MAX_SAMPLES} are supported")
+            object.__setattr__(self, "samples", offsets)
+        if self.coverage not in ("sample", "area"):
+            raise ValueError(f"Convention.coverage must be 'sample' or 'area', not {self.coverage!r}")
+        levels = self.levels
+        if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
+            raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
+        object.__setattr__(self, "levels", int(levels))
+        if self.tolerance is not None:
+            try:
+                tol = float(self.tolerance)
+            except (TypeError, ValueError):
+                raise ValueError(f"Convention.tolerance must be a number or None, not {self.tolerance!r}") from None
+            if not 0.0 <= tol <= 1.0:
+                raise ValueError(f"Convention.tolerance must lie in [0, 1], not {self.tolerance!r}")
+            object.__setattr__(self, "tolerance", tol)
 
     @property
     def tie_perturbation(self) -> tuple[int, int, bool]:
@@ -260,6 +374,18 @@ class Convention:
         )
         culling = "no culling" if self.cull == "none" else f"culls {self.cull}"
         tie = self.tie.removesuffix("-y-first") + " ties" + (" (y first)" if self.tie.endswith("-y-first") else "")
+        where = ""
+        if self.samples is not None:
+            from harness.samples import STANDARD_PATTERNS
+
+            standard = STANDARD_PATTERNS.get(len(self.samples)) == self.samples
+            where = f"{len(self.samples)} samples (" + ("standard pattern" if standard else
+                                                        "pattern " + " ".join(f"({x:g}, {y:g})" for x, y in self.samples)) + ")"
+        if self.kind == "area":
+            what = "the exact area" if self.samples is None else f"the share of {where} covered, {tie}"
+            return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
+        if self.samples is not None:
+            return f"{where}, {tie}, {snapping}, {culling}"
         return f"sample ({sx}, {sy}), {tie}, {snapping}, {culling}"
 
 

@@ -22,12 +22,12 @@ import time
 import traceback
 import weakref
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from harness.api import Coverage, Rasterizer, Scene
 
-__all__ = ["Outcome", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call", "PluginError",
+__all__ = ["Outcome", "layer_of", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call", "PluginError",
            "kill_all"]
 
 
@@ -48,6 +48,14 @@ class Outcome:
     timed_out: bool = False
     received: Coverage | None = None
     flaws: dict[str, Any] | None = None
+
+
+def layer_of(outcome: Outcome, index: int) -> Outcome:
+    """Sample ``index`` of a multisample outcome (:meth:`Coverage.layer`); errors as they are."""
+    if outcome.coverage is None:
+        return outcome
+    received = None if outcome.received is None else outcome.received.layer(index)
+    return replace(outcome, coverage=outcome.coverage.layer(index), received=received)
 
 
 def _tidied(outcome: Outcome, scene: Scene) -> Outcome:

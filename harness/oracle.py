@@ -33,7 +33,7 @@ from harness.conventions import Convention, owns_edge
 from harness.exact import frozen, orient2d_sign, orientation
 from harness.samples import pattern
 
-__all__ = ["exact_coverage", "exact_samples", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
+__all__ = ["exact_coverage", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
 
 
 _CULL_CODES = {"none": 0, "cw": 1, "ccw": -1}
@@ -416,7 +416,9 @@ def exact_coverage(scene: Scene, convention: Convention) -> Coverage:
         Spans sorted by triangle then row, clipped to the viewport. Non-finite,
         zero-area and culled triangles cover nothing. ``attributes`` is (P, K) when the
         scene has attributes, interpolated at each covered sample (perspective-correct
-        when the scene has ``w``).
+        when the scene has ``w``). For a multisample convention, spans carry their sample
+        index (:func:`exact_multisample`); for area coverage, alphas
+        (:func:`harness.area.area_coverage`).
 
     Examples
     --------
@@ -436,6 +438,14 @@ def exact_coverage(scene: Scene, convention: Convention) -> Coverage:
            [1, 1, 0, 0],
            [1, 0, 0, 0]], dtype=int32)
     """
+    if convention.kind == "multisample":
+        return exact_multisample(scene, convention)
+    if convention.kind == "area" and convention.samples is not None:
+        return sample_shares(scene, convention)
+    if convention.kind == "area":
+        from harness.area import area_coverage
+
+        return area_coverage(scene, convention)
     prepared = PreparedTriangles(scene, convention)
     sx, sy = convention.sample
     fast = prepared.active & prepared.safe
@@ -529,3 +539,35 @@ def exact_samples(scene: Scene, convention: Convention, samples: int | Sequence[
     """
     return [exact_coverage(scene, replace(convention, sample=offset)) for offset in pattern(samples)]
 
+
+
+def exact_multisample(scene: Scene, convention: Convention) -> Coverage:
+    """The exact coverage of a multisample convention as one Coverage: the spans of
+    :func:`exact_samples` with their sample index, sorted by triangle, sample and row
+    (attributes interpolated at each sample).
+
+    >>> cov = exact_multisample(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(samples=4))
+    >>> cov.sample.tolist(), cov.y.tolist(), cov.x1.tolist()
+    ([0, 0, 1, 2, 2, 3], [0, 1, 0, 0, 1, 0], [2, 1, 1, 2, 1, 1])
+    """
+    offsets = convention.samples if convention.samples is not None else (convention.sample,)
+    layers = exact_samples(scene, replace(convention, samples=None), offsets)
+    marked = [Coverage(c.triangle, c.y, c.x0, c.x1, c.attributes, np.full(len(c), s)) for s, c in enumerate(layers)]
+    joined = Coverage.concat(marked)
+    order = np.lexsort((joined.y, joined.sample, joined.triangle))
+    return joined.take(order)
+
+
+def sample_shares(scene: Scene, convention: Convention) -> Coverage:
+    """The oracle of a supersampled area convention: per (triangle, pixel), the share of
+    the pattern's samples it covers (each sample under the tie rule, snapping and
+    culling), as ``alpha``; exact (a count over the number of samples).
+
+    >>> sample_shares(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(coverage="area", samples=4)).alpha.tolist()
+    [1.0, 0.5, 0.5]
+    """
+    covered = exact_multisample(scene, replace(convention, coverage="sample"))
+    t, x, y = covered.pixels()
+    keys, counts = np.unique((t * scene.height + y) * scene.width + x, return_counts=True)
+    triangle, rest = np.divmod(keys, scene.width * scene.height)
+    return Coverage.from_pixels(triangle, rest % scene.width, rest // scene.width, alpha=counts / convention.n_samples)

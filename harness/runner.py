@@ -42,7 +42,8 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
     when none of them applies, the rasterizer is not called and there is no result)."""
     name = rasterizer.name
     convention = rasterizer.convention
-    applicable = [check for check in checks.checks(case, only) if invariance or check.name != "invariance"]
+    kind = convention.kind if convention is not None else "single"
+    applicable = [check for check in checks.checks(case, only, kind) if invariance or check.name != "invariance"]
     if not applicable:
         return []
     outcome = call(case.scene)
@@ -57,7 +58,7 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
     results = [check.verdict(subject) for check in applicable]
     drawing = Drawing.of(subject)  # references only (and the oracle if a check computed it): the report draws
     return [replace(r, rasterizer=name, metrics={**r.metrics, "seconds": outcome.seconds},
-                    drawing=drawing if r.status == "fail" else None) for r in results]
+                    drawing=(r.drawing or drawing) if r.status == "fail" else None) for r in results]
 
 
 def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
@@ -67,7 +68,7 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
     ``only``; when none of them applies, no frame is drawn and there is no result)."""
     name = rasterizer.name
     convention = rasterizer.convention
-    applicable = checks.checks(case, only)
+    applicable = checks.checks(case, only, convention.kind if convention is not None else "single")
     if not applicable:
         return []
     coverages = []
@@ -87,7 +88,7 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
     results = [check.verdict(subject) for check in applicable]
     drawing = Drawing.of(subject)
     return [replace(r, rasterizer=name, metrics={**r.metrics, "seconds": seconds},
-                    drawing=drawing if r.status == "fail" else None) for r in results]
+                    drawing=(r.drawing or drawing) if r.status == "fail" else None) for r in results]
 
 
 def _qualified(result: Result, rasterizer: Rasterizer) -> Result:

@@ -10,7 +10,7 @@ import numpy as np
 
 from harness.case import Case
 from harness.api import Coverage, Scene
-from harness.checks.records import Check, Result, Subject, Tolerance, first, register, result
+from harness.checks.records import ALL_KINDS, Check, Result, Subject, Tolerance, first, register, result
 from harness.conventions import Convention
 from harness.exact import orientation
 
@@ -40,7 +40,13 @@ def degenerate(case: Case, coverage: Coverage, convention: Convention | None,
     tri = coverage.triangle
     valid = (tri >= 0) & (tri < len(scene))
     drew = np.zeros(len(scene), dtype=bool)
-    drew[tri[valid][coverage.x1[valid] > coverage.x0[valid]]] = True
+    if coverage.alpha is not None and coverage.alpha.shape[0] == coverage.n_pixels:
+        # area coverage: a pixel listed with alpha 0 draws nothing
+        pixel_tri = coverage.pixels()[0]
+        hit = pixel_tri[(coverage.alpha > 0) & (pixel_tri >= 0) & (pixel_tri < len(scene))]
+        drew[hit] = True
+    else:
+        drew[tri[valid][coverage.x1[valid] > coverage.x0[valid]]] = True
     offenders = np.flatnonzero(nothing & drew)
     nan_rows = 0
     if coverage.attributes is not None:
@@ -98,6 +104,6 @@ def _run(s: Subject) -> Result:
 
 register(Check(
     "degenerate", _run, lambda case: getattr(case, "family", "") == "degenerate" and not hasattr(case, "frames"),
-    shrinks=True, timings=("work_ratio",),  # a ratio of times: judged by its own limit, never across runs
+    shrinks=True, timings=("work_ratio",), kinds=ALL_KINDS, per_sample=False,  # any sample drawn is drawn; times are the whole call's  # a ratio of times: judged by its own limit, never across runs
     caption="zero-area and non-finite triangles draw nothing, no NaN attribute, bounded work",
 ))

@@ -10,10 +10,10 @@ from numpy.typing import NDArray
 
 from harness.case import Case
 from harness.api import Coverage, Scene
-from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
+from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
 from harness.checks.conformance import deviations, near_ties
 
-__all__ = ["invariance_variants", "invariance"]
+__all__ = ["invariance_variants", "invariance", "area_invariance"]
 
 
 def invariance_variants(case: Case, shift: tuple[int, int] = (3, 2), seed: int = 0) -> list[tuple[str, Scene, NDArray]]:
@@ -72,6 +72,59 @@ def invariance(case: Case, coverage: Coverage, variants: list[tuple[str, NDArray
     return result(case.id, "invariance", not diffs, message, metrics, evidence)
 
 
+def _alpha_map(coverage: Coverage, index: NDArray | None, shift: tuple[int, int], width: int, height: int) -> tuple[NDArray, NDArray]:
+    """Sorted (triangle, y, x) keys of the pixels with nonzero alpha, mapped back through
+    ``index`` and ``shift``, and their alphas (a pixel listed twice: the sum)."""
+    t, x, y = coverage.pixels()
+    alpha = coverage.alpha if coverage.alpha is not None and coverage.alpha.size == t.size else np.zeros(t.size)
+    if index is not None:
+        keep = (t >= 0) & (t < index.size)
+        t, x, y, alpha = index[t[keep]], x[keep], y[keep], alpha[keep]
+    x, y = x - shift[0], y - shift[1]
+    window = (x >= 0) & (y >= 0) & (x < width) & (y < height) & (t >= 0) & (alpha != 0)
+    keys, where = np.unique((t[window] * height + y[window]) * width + x[window], return_inverse=True)
+    return keys, np.bincount(where, weights=alpha[window], minlength=keys.size)
+
+
+def area_invariance(case: Case, coverage: Coverage, variants: list[tuple[str, NDArray, Coverage]], level_step: float,
+                    shift: tuple[int, int] = (3, 2)) -> Result:
+    """Area coverage: each variant's alphas, mapped back (triangle ids, shift), equal the
+    original's within one level (a rounding that lands on the other side of a level's
+    midpoint is no change of method); a larger difference is a change.
+
+    Parameters
+    ----------
+    variants : list of (name, triangle index map, coverage of the variant)
+    level_step : float
+        The declared alpha quantum 1/(levels - 1).
+    """
+    scene = case.scene
+    keys, alpha = _alpha_map(coverage, None, (0, 0), scene.width, scene.height)
+    diffs: dict[str, int] = {}
+    evidence: dict[str, Any] = {}
+    for name, index, cov in variants:
+        moved = shift if name == "translate" else (0, 0)
+        other_keys, other_alpha = _alpha_map(cov, index, moved, scene.width, scene.height)
+        union = np.union1d(keys, other_keys)
+        a = np.zeros(union.size)
+        b = np.zeros(union.size)
+        a[np.searchsorted(union, keys)] = alpha
+        b[np.searchsorted(union, other_keys)] = other_alpha
+        changed = np.flatnonzero(~(np.abs(a - b) <= level_step))  # NaN counts as a change
+        if changed.size:
+            diffs[name] = int(changed.size)
+            k = union[changed[:EVIDENCE_LIMIT]]
+            evidence[name] = [[int(key // (scene.width * scene.height)), int(key % scene.width),
+                               int(key // scene.width % scene.height), float(u), float(v)]
+                              for key, u, v in zip(k, a[changed[:EVIDENCE_LIMIT]], b[changed[:EVIDENCE_LIMIT]])]
+    metrics = {f"{name}_differences": float(diffs.get(name, 0)) for name, _, _ in variants}
+    message = ("alphas unchanged (within one level) under " + ", ".join(n for n, _, _ in variants) if not diffs else
+               "alphas changed under " + ", ".join(f"{k} ({v} pixels)" for k, v in diffs.items()))
+    if diffs:
+        evidence["columns"] = ["triangle", "x", "y", "alpha", "alpha of the variant"]
+    return result(case.id, "invariance", not diffs, message, metrics, evidence)
+
+
 def _run(s: Subject) -> Result:
     variants = []
     for label, scene, index in invariance_variants(s.case):
@@ -81,11 +134,14 @@ def _run(s: Subject) -> Result:
             return Result("", s.case.id, "invariance", "error", f"{kind}: {outcome.error}",
                           {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
         variants.append((label, index, outcome.coverage))
+    if s.convention is not None and s.convention.kind == "area":
+        return area_invariance(s.case, s.coverage, variants, s.convention.level_step)
     sample = s.convention.sample if s.convention is not None else (0.5, 0.5)
     return invariance(s.case, s.coverage, variants, tolerance=s.tolerance, sample=sample)
 
 
 register(Check(
     "invariance", _run, lambda case: getattr(case, "family", "") in ("lattice", "float", "watertight") and not hasattr(case, "frames"),
-    shrinks=True, caption="vertex rotation, winding flip, triangle permutation and whole-pixel translation change nothing but the shift",
+    shrinks=True, kinds=ALL_KINDS,
+    caption="vertex rotation, winding flip, triangle permutation and whole-pixel translation change nothing but the shift",
 ))

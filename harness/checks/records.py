@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Any, Literal
 
@@ -26,7 +26,8 @@ from harness.conventions import Convention
 
 __all__ = [
     "Status", "Result", "Drawing", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "result", "skip", "first",
-    "Subject", "Check", "register", "registered", "checks", "check_names", "metric_tolerance",
+    "Subject", "Check", "register", "registered", "checks", "check_names", "metric_tolerance", "merge_samples",
+    "POINT_KINDS", "ALL_KINDS",
 ]
 
 Status = Literal["pass", "fail", "error", "skip"]
@@ -40,6 +41,10 @@ NEAR_TIE = 2.0**-40
 # refuse the triangle (a case's ``refusable``), not be excused.
 NEAR_TIE_PIXELS = 2.0**-20
 EVIDENCE_LIMIT = 50
+# The coverage kinds of sample-based answers (one or several samples per pixel): what the
+# checks written for single-sample coverage judge, a multisample answer sample by sample.
+POINT_KINDS: frozenset[str] = frozenset({"single", "multisample"})
+ALL_KINDS: frozenset[str] = frozenset({"single", "multisample", "area"})
 
 
 @dataclass(frozen=True, slots=True)
@@ -170,6 +175,23 @@ class Subject:
         return self.coverages[0]
 
     @property
+    def kind(self) -> str:
+        """The coverage kind judged: the convention's (``single`` without one)."""
+        return "single" if self.convention is None else self.convention.kind
+
+    def layer(self, index: int) -> Subject:
+        """Sample ``index`` of a multisample subject as a single-sample subject: its
+        answers' layer, the convention at that sample (:meth:`Convention.at_sample`), and
+        the rasterizer again giving that layer."""
+        from harness.isolation import layer_of
+
+        assert self.convention is not None
+        call = self.call
+        return Subject(self.case, self.rasterizer, self.convention.at_sample(index), [c.layer(index) for c in self.coverages],
+                       lambda scene: layer_of(call(scene), index), self.tolerance, self.interpolates, self.seconds,
+                       [c.layer(index) for c in self.received])
+
+    @property
     def scenes(self) -> list[Scene]:
         return list(self.case.frames) if hasattr(self.case, "frames") else [self.case.scene]
 
@@ -215,6 +237,14 @@ class Check:
     timings : tuple of str
         Metrics measured in time (they differ between any two runs): never stored in a
         baseline nor compared across runs.
+    kinds : frozenset of str
+        The coverage kinds it judges (:attr:`Convention.kind`); a rasterizer of another
+        kind is not given it.
+    per_sample : bool
+        A multisample rasterizer is judged sample by sample: the check runs on each
+        sample's layer (:meth:`Subject.layer`) as on a single-sample rasterizer, and the
+        results are merged (:func:`merge_samples`). False: the check reads every sample
+        at once.
     """
 
     name: str
@@ -227,15 +257,87 @@ class Check:
     needs_attributes: bool = False
     on_request: bool = False
     timings: tuple[str, ...] = ()
+    kinds: frozenset[str] = POINT_KINDS
+    per_sample: bool = True
 
     def verdict(self, subject: Subject) -> Result:
-        """The check's result, or its skip when the subject lacks what it needs."""
+        """The check's result, or its skip when the subject lacks what it needs; a
+        multisample subject sample by sample when the check is ``per_sample``."""
         if self.needs_convention and subject.convention is None:
             return skip(subject.case, self.name, "the rasterizer declares no convention")
         if self.needs_attributes and not subject.interpolates:
             return skip(subject.case, self.name, f"{subject.rasterizer} declares interpolates = False: it returns "
                                                   "coverage only, no u, v to compare")
+        if subject.kind not in self.kinds:
+            return skip(subject.case, self.name, f"judges {', '.join(sorted(self.kinds))} coverage, not {subject.kind}")
+        if subject.kind == "multisample" and self.per_sample:
+            assert subject.convention is not None
+            whole = Subject(subject.case, subject.rasterizer, subject.convention, subject.coverages, _once_per_scene(subject.call),
+                            subject.tolerance, subject.interpolates, subject.seconds, subject.received)
+            layers = [whole.layer(s) for s in range(subject.convention.n_samples)]
+            return merge_samples([(layer, self.run(layer)) for layer in layers])
         return self.run(subject)
+
+
+def _once_per_scene(call: Callable[[Scene], Any]) -> Callable[[Scene], Any]:
+    """``call`` answering each distinct scene once: the layers of a multisample answer
+    ask the rasterizer for the same variant scenes, and one answer holds every sample."""
+    answers: dict[tuple[Any, ...], Any] = {}
+
+    def once(scene: Scene) -> Any:
+        key = tuple(None if a is None else a.tobytes() for a in (scene.positions, scene.attributes, scene.w))
+        key += (scene.width, scene.height)
+        if key not in answers:
+            answers[key] = call(scene)
+        return answers[key]
+
+    return once
+
+
+def merge_samples(judged: list[tuple[Subject, Result]]) -> Result:
+    """One result from a check's results on each sample layer of a multisample answer.
+
+    An error if any layer errs, else a failure if any fails, a skip if every layer
+    skips, else a pass. Metrics are summed over the layers (times: the largest);
+    ``failing_samples`` counts the layers that failed. The evidence and the drawing are
+    the first failing layer's, with ``sample`` (its index) and ``offset`` added, and
+    ``samples`` lists each failing layer's index, offset and message.
+    """
+    results = [r for _, r in judged]
+    first_result = results[0]
+    for status in ("error", "fail"):
+        bad = [(subject, r) for subject, r in judged if r.status == status]
+        if bad:
+            break
+    else:
+        if all(r.status == "skip" for r in results):
+            return first_result
+    times = timing_metrics()
+    metrics: dict[str, float] = {}
+    for r in results:
+        for key, value in r.metrics.items():
+            metrics[key] = max(metrics.get(key, value), value) if key in times else metrics.get(key, 0.0) + value
+
+    def where(subject: Subject) -> str:
+        assert subject.convention is not None
+        x, y = subject.convention.sample
+        return f"({x:g}, {y:g})"
+
+    indexed = {id(subject): s for s, (subject, _) in enumerate(judged)}
+    if not bad:
+        message = f"each of {len(judged)} samples: {first_result.message}" if len({r.message for r in results}) == 1 \
+            else f"{len(judged)} samples: " + "; ".join(f"sample {s}: {r.message}" for s, r in enumerate(results))
+        return replace(first_result, message=message, metrics=metrics)
+    metrics["failing_samples"] = float(len(bad))
+    subject, worst = bad[0]
+    listed = [{"sample": indexed[id(sub)], "offset": list(sub.convention.sample) if sub.convention else None,
+               "message": r.message} for sub, r in bad]
+    evidence = {**worst.evidence, "sample": indexed[id(subject)], "offset": listed[0]["offset"], "samples": listed}
+    message = "; ".join(f"sample {indexed[id(sub)]} {where(sub)}: {r.message}" for sub, r in bad[:3])
+    if len(bad) > 3:
+        message += f"; and {len(bad) - 3} more samples"
+    drawing = worst.drawing if worst.drawing is not None else Drawing.of(subject)
+    return replace(worst, message=message, metrics=metrics, evidence=evidence, drawing=drawing)
 
 
 _REGISTRY: dict[str, Check] = {}
@@ -259,12 +361,15 @@ def registered(check: Check) -> Iterator[Check]:
         _REGISTRY.pop(check.name, None)
 
 
-def checks(case: Any = None, only: set[str] | None = None) -> list[Check]:
+def checks(case: Any = None, only: set[str] | None = None, kind: str | None = None) -> list[Check]:
     """The registered checks in order; with ``case``, those that apply to it (on-request
-    ones only when named in ``only``); with ``only``, those named."""
+    ones only when named in ``only``); with ``only``, those named; with ``kind``, those
+    that judge that coverage kind."""
     out = []
     for check in _REGISTRY.values():
         if only is not None and check.name not in only:
+            continue
+        if kind is not None and kind not in check.kinds:
             continue
         if check.on_request and (only is None or check.name not in only):
             continue
