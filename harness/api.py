@@ -409,11 +409,12 @@ class Coverage:
         """
         x0 = self.x0[spans] if start is None else start
         x1 = self.x1[spans] if end is None else end
-        first = pixel_offsets(self.x0, self.x1)[spans] + (x0 - self.x0[spans])
-        rows = expand(first, np.maximum(x1 - x0, 0))
-        n_pixels = self.n_pixels
-        kept = [values[rows] if values is not None and values.shape[0] == n_pixels else None
-                for values in (self.attributes, self.alpha)]
+        kept: list[NDArray[np.float64] | None] = [None, None]
+        if self.attributes is not None or self.alpha is not None:  # pixel rows only when there are any
+            offsets = pixel_offsets(self.x0, self.x1)
+            rows = expand(offsets[spans] + (x0 - self.x0[spans]), np.maximum(x1 - x0, 0))
+            kept = [values[rows] if values is not None and values.shape[0] == offsets[-1] else None
+                    for values in (self.attributes, self.alpha)]
         sample = None if self.sample is None else self.sample[spans]
         return Coverage(self.triangle[spans], self.y[spans], x0, x1, kept[0], sample, kept[1])
 

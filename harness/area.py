@@ -29,8 +29,13 @@ The float method: one edge integral per edge
     Which pixels: per row, the columns within the bounding box and the row band's
     x-extent, found from the float crossings of the edges with the band's lines and
     widened by more than their error (about 5 u (extent + |x|)), so that a pixel left
-    out holds no area. Triangles of exactly zero area (:func:`harness.exact.orientation`)
-    and non-finite ones are dropped: they cover nothing.
+    out holds no area. Likewise the pixels wholly inside: where the polygon spans the
+    whole row band, the columns between its cross-sections at the band's top and bottom
+    (a convex polygon's left boundary is convex in y and its right one concave, so their
+    extremes over the band lie at its sides), narrowed by the same margin; their area is
+    exactly 1 and is written as such, with no error at all. Triangles of exactly zero
+    area (:func:`harness.exact.orientation`) and non-finite ones are dropped: they cover
+    nothing.
 
     Per pixel and edge, in float64: local coordinates ``fl(x - i)``, ``fl(y - j)``; the
     x-interval ``[xl, xr] = [max(lx, 0), min(rx, 1)]`` (exact); the heights at its ends,
@@ -306,10 +311,14 @@ def _x_at(ax, ay, bx, by, y):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out_i0, out_i1):  # type: ignore[no-untyped-def]
     """Per polygon and row, the columns [x0, x1) that may hold area: the row band's
     x-extent (reached on the edges' parts inside the band), widened by the crossings'
-    error bound, within the bounding box and the viewport."""
+    error bound, within the bounding box and the viewport; and the columns [i0, i1)
+    whose pixel lies wholly inside the polygon (area exactly 1): when the polygon spans
+    the whole band, its cross-sections at the band's top and bottom, intersected and
+    narrowed by the same bound (a convex polygon's left boundary is convex in y, the
+    right one concave: their extremes over the band are at its sides)."""
     n = 0
     for p in range(polys.shape[0]):
         k = counts[p]
@@ -351,18 +360,47 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1):  #
                 continue
             first = max(int(math.floor(lo - margin)), col_lo)
             last = min(int(math.ceil(hi + margin)) - 1, col_hi)
+            inner_lo = 0
+            inner_hi = 0
+            if ymin <= top and ymax >= bottom:
+                # cross-sections at y = top and y = bottom: [left, right] of each
+                left = -math.inf
+                right = math.inf
+                for side in (top, bottom):
+                    at_lo = math.inf
+                    at_hi = -math.inf
+                    for e in range(k):
+                        f = e + 1 if e + 1 < k else 0
+                        ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
+                        if by < ay:
+                            ax, ay, bx, by = bx, by, ax, ay
+                        if ay == by or side < ay or side > by:
+                            continue
+                        x = _x_at(ax, ay, bx, by, side)
+                        at_lo = min(at_lo, x)
+                        at_hi = max(at_hi, x)
+                    left = max(left, at_lo)
+                    right = min(right, at_hi)
+                # columns i with left + margin <= i and i + 1 <= right - margin
+                inner_lo = max(int(math.ceil(left + margin)), first)
+                inner_hi = min(int(math.floor(right - margin)), last + 1)
+                if inner_hi < inner_lo:
+                    inner_lo = inner_hi = 0
             if first <= last:
                 out_p[n] = p
                 out_y[n] = j
                 out_x0[n] = first
                 out_x1[n] = last + 1
+                out_i0[n] = inner_lo
+                out_i1[n] = inner_hi
                 n += 1
     return n
 
 
 @numba.njit(cache=True)
-def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, out):  # type: ignore[no-untyped-def]
-    """|sum of the edge integrals| of each span's pixels, clamped to [0, 1], in span order."""
+def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):  # type: ignore[no-untyped-def]
+    """|sum of the edge integrals| of each span's pixels, clamped to [0, 1], in span order
+    (exactly 1 on the pixels [i0, i1) wholly inside)."""
     local_x = np.empty(polys.shape[1])
     local_y = np.empty(polys.shape[1])
     m = 0
@@ -374,6 +412,10 @@ def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, out):  # type:
             # pixel-local coordinates: every later quantity is at most 1 (or M)
             local_y[v] = polys[p, v, 1] - j
         for i in range(span_x0[s], span_x1[s]):
+            if span_i0[s] <= i < span_i1[s]:
+                out[m] = 1.0  # the whole pixel lies inside: exactly 1
+                m += 1
+                continue
             for v in range(k):
                 local_x[v] = polys[p, v, 0] - i
             total = 0.0
@@ -451,22 +493,50 @@ def pixel_areas(
     >>> t.tolist(), x.tolist(), y.tolist(), area.tolist()
     ([0, 0, 0, 1], [0, 1, 0, 0], [0, 0, 1, 0], [1.0, 0.5, 0.5, 0.5])
     """
-    array = _positions(positions)
+    triangle, y, x0, x1, area = _area_spans(_positions(positions), width, height)
+    lengths = x1 - x0
+    keep = area > 0.0
+    return np.repeat(triangle, lengths)[keep], expand(x0, lengths)[keep], np.repeat(y, lengths)[keep], area[keep]
+
+
+@numba.njit(cache=True)
+def _trim_zeros(x0, x1, area, out_x0, out_x1, out_first):  # type: ignore[no-untyped-def]
+    """Each span cut to its first and last pixel of nonzero area (empty when none):
+    the new [x0, x1) and the index of its first area in ``area``."""
+    m = 0
+    for s in range(x0.size):
+        a = m
+        b = m + (x1[s] - x0[s])
+        m = b
+        while a < b and area[a] == 0.0:
+            a += 1
+        while b > a and area[b - 1] == 0.0:
+            b -= 1
+        out_first[s] = a
+        out_x0[s] = x0[s] + (a - (m - (x1[s] - x0[s])))
+        out_x1[s] = out_x0[s] + (b - a)
+
+
+def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[NDArray[np.int64], ...]:
+    """(triangle, y, x0, x1, area): spans sorted by triangle and row, cut to their first
+    and last pixel of nonzero float area, with one area per pixel (zero only inside a
+    span, where a float area vanished)."""
     _viewport(width, height)
     polys, counts, source = _polygons(array, int(width), int(height))
     # Rows a polygon can touch: floor(ymin) .. ceil(ymax) - 1 within the viewport.
     ys = polys[:, :, 1]
     rows = np.minimum(np.ceil(ys.max(axis=1)), height) - np.maximum(np.floor(ys.min(axis=1)), 0)
     capacity = int(np.maximum(rows, 0).sum())
-    block = np.empty((4, capacity), dtype=np.int64)
-    spans = _span_kernel(polys, counts, int(width), int(height), block[0], block[1], block[2], block[3])
-    span_p, span_y, span_x0, span_x1 = (np.ascontiguousarray(b[:spans]) for b in block)
-    lengths = span_x1 - span_x0
+    block = np.empty((6, capacity), dtype=np.int64)
+    spans = _span_kernel(polys, counts, int(width), int(height), *block)
+    span_p, span_y, span_x0, span_x1, span_i0, span_i1 = (np.ascontiguousarray(b[:spans]) for b in block)
     area = np.empty(int(pixel_offsets(span_x0, span_x1)[-1]))
-    _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, area)
-    keep = area > 0.0
-    triangle = np.repeat(source[span_p], lengths)[keep]
-    return triangle, expand(span_x0, lengths)[keep], np.repeat(span_y, lengths)[keep], area[keep]
+    _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, area)
+    x0, x1, first = np.empty_like(span_x0), np.empty_like(span_x1), np.empty_like(span_x0)
+    _trim_zeros(span_x0, span_x1, area, x0, x1, first)
+    keep = x1 > x0
+    lengths = (x1 - x0)[keep]
+    return source[span_p[keep]], span_y[keep], x0[keep], x1[keep], area[expand(first[keep], lengths)]
 
 
 def area_error_bound(positions: ArrayLike, width: int = MAX_VIEWPORT, height: int = MAX_VIEWPORT) -> NDArray[np.float64]:
@@ -548,5 +618,5 @@ def area_coverage(scene: Scene, convention: Convention) -> Coverage:
         sign = orientation(positions)
         culled = sign == (1 if convention.cull == "cw" else -1)
         positions = np.where(culled[:, None, None], np.nan, positions)  # non-finite: covers nothing
-    triangle, x, y, area = pixel_areas(np.ascontiguousarray(positions), scene.width, scene.height)
-    return Coverage.from_pixels(triangle, x, y, alpha=area)
+    triangle, y, x0, x1, area = _area_spans(np.ascontiguousarray(positions), scene.width, scene.height)
+    return Coverage(triangle, y, x0, x1, alpha=area)

@@ -554,7 +554,9 @@ def exact_multisample(scene: Scene, convention: Convention) -> Coverage:
     layers = exact_samples(scene, replace(convention, samples=None), offsets)
     marked = [Coverage(c.triangle, c.y, c.x0, c.x1, c.attributes, np.full(len(c), s)) for s, c in enumerate(layers)]
     joined = Coverage.concat(marked)
-    order = np.lexsort((joined.y, joined.sample, joined.triangle))
+    # each layer is sorted by (triangle, row) and the layers follow in sample order: a
+    # stable sort on the triangle gives (triangle, sample, row)
+    order = np.argsort(joined.triangle, kind="stable")
     return joined.take(order)
 
 
