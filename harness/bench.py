@@ -8,6 +8,12 @@ Workloads (fixed seeds, 1024 x 1024):
 Pillow's ``ImageDraw.polygon``, one call per triangle, is the in-run yardstick: every
 figure is reported as a ratio to it, measured in the same process, so the numbers compare
 across machines. Cold start (numba compilation or cache load) is timed separately.
+
+Beside the single-sample oracle, the oracles of the other coverage kinds: the exact area
+(``oracle_area``) and the exact 4x and 8x multisample coverage (``oracle_msaa4``,
+``oracle_msaa8``), with the anti-aliased fills of cairo and skia as their peers
+(``cairo_aa_fill``, ``skia_aa_fill``: the libraries alone, each triangle filled into one
+8-bit surface, no read-back -- the least they can cost), when installed.
 """
 
 from __future__ import annotations
@@ -76,10 +82,67 @@ def _pillow(scene: Scene) -> Image.Image:
     return image
 
 
+def _cairo_aa(scene: Scene) -> np.ndarray:
+    """cairo's anti-aliased fill (``ANTIALIAS_DEFAULT``) of each triangle into one A8 surface."""
+    import cairo
+
+    surface = cairo.ImageSurface(cairo.FORMAT_A8, scene.width, scene.height)
+    context = cairo.Context(surface)
+    for (ax, ay), (bx, by), (cx, cy) in scene.positions.tolist():
+        context.move_to(ax, ay)
+        context.line_to(bx, by)
+        context.line_to(cx, cy)
+        context.close_path()
+        context.fill()
+    surface.flush()
+    return np.frombuffer(surface.get_data(), dtype=np.uint8)
+
+
+def _skia_aa(scene: Scene) -> np.ndarray:
+    """skia's anti-aliased path fill of each triangle into one 8-bit alpha surface."""
+    import skia
+
+    surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(scene.width, scene.height))
+    canvas = surface.getCanvas()
+    paint = skia.Paint(AntiAlias=True)
+    for (ax, ay), (bx, by), (cx, cy) in scene.positions.tolist():
+        path = skia.Path()
+        path.moveTo(ax, ay)
+        path.lineTo(bx, by)
+        path.lineTo(cx, cy)
+        path.close()
+        canvas.drawPath(path, paint)
+    return np.asarray(surface.makeImageSnapshot().toarray())
+
+
+def _library_peers() -> list[tuple[str, Callable[[Scene], object]]]:
+    """The anti-aliased library fills that are installed here."""
+    peers: list[tuple[str, Callable[[Scene], object]]] = []
+    for label, module, fill in (("cairo_aa_fill", "cairo", _cairo_aa), ("skia_aa_fill", "skia", _skia_aa)):
+        try:
+            __import__(module)
+        except Exception:  # noqa: BLE001 - not installed (or broken): no peer, the table says which ran
+            continue
+        peers.append((label, fill))
+    return peers
+
+
+# The oracles of each coverage kind the bench measures.
+ORACLES: dict[str, Convention] = {
+    "oracle": Convention(),
+    "oracle_area": Convention(coverage="area"),
+    "oracle_msaa4": Convention(samples=4),
+    "oracle_msaa8": Convention(samples=8),
+}
+
+
 def _pixels(result: object) -> int:
-    """Pixels drawn (Pillow: distinct pixels set; rasterizers: fragments)."""
+    """Pixels drawn (Pillow and the library fills: pixels set; rasterizers: fragments,
+    one per sample for multisample coverage)."""
     if isinstance(result, Image.Image):
         return int(np.count_nonzero(np.asarray(result)))
+    if isinstance(result, np.ndarray):
+        return int(np.count_nonzero(result))
     return int(result.n_pixels)  # type: ignore[attr-defined]
 
 
@@ -113,11 +176,12 @@ def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float 
     ``progress`` hears a line before and after each contender."""
     names = names if names is not None else builtins()
     rasterizers = [load(n) for n in names]
-    oracle_convention = Convention()
     results = []
+    peers = _library_peers()
     for work in workloads(scale):
         contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow, work.scene))]
-        contenders.append(("oracle", partial(exact_coverage, work.scene, oracle_convention)))
+        contenders += [(label, partial(exact_coverage, work.scene, convention)) for label, convention in ORACLES.items()]
+        contenders += [(label, partial(fill, work.scene)) for label, fill in peers]
         for r in rasterizers:
             contenders.append((r.name, partial(r.rasterize, work.scene)))
         pillow_rate = None
