@@ -517,7 +517,8 @@ def _trim_zeros(x0, x1, area, out_x0, out_x1, out_first):  # type: ignore[no-unt
         out_x1[s] = out_x0[s] + (b - a)
 
 
-def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[NDArray[np.int64], ...]:
+def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[
+        NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
     """(triangle, y, x0, x1, area): spans sorted by triangle and row, cut to their first
     and last pixel of nonzero float area, with one area per pixel (zero only inside a
     span, where a float area vanished)."""

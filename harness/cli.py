@@ -273,7 +273,9 @@ def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: li
     # the rasterizers come in load order (renamed and identified ones in place): each one's spec
     specs = dict(zip([r.name for r in rasterizers], _loaded_specs)) if len(_loaded_specs) == len(rasterizers) else {}
     path = write_report(out, conventions, results, args.seed, args.suite, seconds,
-                        fingerprints=fingerprints, declared=declared, kinds=kinds, specs=specs, skipped=dict(_skipped))
+                        fingerprints=fingerprints, declared=declared, kinds=kinds, specs=specs, skipped=dict(_skipped),
+                        patterns={r.name: r.convention.samples for r in rasterizers
+                                  if r.convention is not None and r.convention.samples is not None})
     if not quiet:
         print(f"report: {path}" + (f"; {written} minimal repros in {out / 'repros'}" if written else ""))
     if args.json:

@@ -32,7 +32,7 @@ from harness.checks.records import Drawing
 from harness.oracle import exact_coverage
 
 __all__ = ["draw", "draw_repro", "motion_animation", "heatmap", "oracle_diff", "svg_crop", "svg_window", "series_plot",
-           "series_label", "window_around", "LEGEND", "HEAT_LEGEND", "DIFF_LEGEND", "CROP_LEGEND", "MAX_REPRO_TRIANGLES",
+           "series_label", "window_around", "svg_pattern", "LEGEND", "HEAT_LEGEND", "DIFF_LEGEND", "CROP_LEGEND", "ALPHA_LEGEND", "alpha_map", "MAX_REPRO_TRIANGLES",
            "MAX_REPRO_SIDE"]
 
 
@@ -75,13 +75,89 @@ def _focus(result: Result) -> list[tuple[int, int]]:
     return []
 
 
+def _alpha_per_pixel(coverage: Coverage, width: int, height: int) -> NDArray:
+    """(H, W) float64: the alphas of every triangle summed per pixel (viewport only)."""
+    t, x, y = coverage.pixels()
+    alpha = coverage.alpha if coverage.alpha is not None and coverage.alpha.size == t.size else np.zeros(t.size)
+    inside = (x >= 0) & (x < width) & (y >= 0) & (y < height)
+    out = np.zeros(height * width)
+    np.add.at(out, y[inside] * width + x[inside], alpha[inside])
+    return out.reshape(height, width)
+
+
+def _alpha_errors(coverage: Coverage, oracle: Coverage, width: int, height: int) -> NDArray:
+    """(H, W) float64: per pixel, the signed alpha error (rasterizer minus oracle) of the
+    triangle that errs most there."""
+    def keyed(cov: Coverage) -> tuple[NDArray, NDArray]:
+        t, x, y = cov.pixels()
+        alpha = cov.alpha if cov.alpha is not None and cov.alpha.size == t.size else np.zeros(t.size)
+        ok = (x >= 0) & (x < width) & (y >= 0) & (y < height) & (t >= 0)
+        keys, where = np.unique((t[ok] * height + y[ok]) * width + x[ok], return_inverse=True)
+        return keys, np.bincount(where, weights=alpha[ok], minlength=keys.size)
+
+    got_keys, got = keyed(coverage)
+    want_keys, want = keyed(oracle)
+    keys = np.union1d(got_keys, want_keys)
+    error = np.zeros(keys.size)
+    error[np.searchsorted(keys, got_keys)] += got
+    error[np.searchsorted(keys, want_keys)] -= want
+    pixel = keys % (width * height)
+    worst = np.zeros(width * height)
+    order = np.argsort(np.abs(error), kind="stable")  # the largest |error| written last wins
+    worst[pixel[order]] = error[order]
+    return worst.reshape(height, width)
+
+
+def alpha_map(values: NDArray, scale: float, window: tuple[int, int, int, int] | None = None,
+              marks: NDArray | None = None) -> str:
+    """A signed per-pixel quantity as a PNG data URI on a diverging scale: white 0, red
+    positive (too much alpha), blue negative (too little), full colour at ``scale`` and
+    beyond; ``marks`` (H, W) bool pixels in black (ALPHA_LEGEND)."""
+    level = np.clip(np.nan_to_num(values, nan=scale) / max(scale, 1e-300), -1.0, 1.0)
+    rgb = np.full(values.shape + (3,), 255.0)
+    for sign, colour in ((1.0, ALPHA_LEGEND["too much alpha (full red: the scale)"]),
+                         (-1.0, ALPHA_LEGEND["too little alpha (full blue: the scale)"])):
+        weight = np.where(level * sign > 0, np.abs(level), 0.0)[..., None]
+        rgb = np.where(weight > 0, 255.0 * (1 - weight) + np.asarray(colour, dtype=float) * weight, rgb)
+    rgb = rgb.astype(np.uint8)
+    if marks is not None:
+        rgb[marks] = ALPHA_LEGEND["stray (outside the region, alpha > 0)"]
+    if window is not None:
+        x0, y0, x1, y1 = window
+        rgb = rgb[y0:y1, x0:x1]
+    return _png(rgb, max(1, 384 // max(rgb.shape)))
+
+
+def _area_pictures(case: Case, drawing: Drawing, result: Result, window: tuple[int, int, int, int]) -> dict[str, str]:
+    """Area coverage: the alpha error against the oracle (scaled to the declared
+    tolerance, or to the largest error when that is larger) and, on a partition, the sum
+    of the pieces' alphas minus 1 (scaled to one level) with stray pixels marked."""
+    scene = case.scene
+    coverage = drawing.coverages[0]
+    images: dict[str, str] = {}
+    oracles = _oracles(drawing, [scene])
+    if oracles is not None and drawing.convention is not None:
+        errors = _alpha_errors(coverage, oracles[0], scene.width, scene.height)
+        scale = max(drawing.convention.alpha_tolerance, float(np.abs(errors).max(initial=0.0)))
+        images["alpha error"] = alpha_map(errors, scale, window)
+    if case.region is not None and drawing.convention is not None:
+        inside, outside = pixel_classes(case.region, scene.width, scene.height)
+        total = _alpha_per_pixel(coverage, scene.width, scene.height)
+        images["alpha sum"] = alpha_map(np.where(inside, total - 1.0, 0.0), drawing.convention.level_step, window,
+                                        outside & (total > 0))
+    return images
+
+
 def _still_pictures(case: Case, drawing: Drawing, result: Result) -> dict[str, str]:
-    """Heat map, oracle diff and an SVG crop around the first offending pixel."""
+    """Heat map, oracle diff and an SVG crop around the first offending pixel (for area
+    coverage: the alpha error and alpha sum maps)."""
     scene = case.scene
     coverage = drawing.coverages[0]
     marks = _focus(result)
     fx, fy = marks[0] if marks else (scene.width // 2, scene.height // 2)
     window = window_around(int(fx), int(fy), scene.width, scene.height, 64)
+    if drawing.convention is not None and drawing.convention.kind == "area":
+        return _area_pictures(case, drawing, result, window)
     counts = coverage.counts(scene.width, scene.height)
     holes = strays = None
     if case.region is not None:
@@ -125,6 +201,8 @@ LEGEND = {
     "flicker or backward jump": (120, 60, 220),
     "texel swim": (230, 0, 230),
 }
+ALPHA_LEGEND = {"exact (white)": (255, 255, 255), "too much alpha (full red: the scale)": (200, 30, 30),
+                "too little alpha (full blue: the scale)": (30, 80, 200), "stray (outside the region, alpha > 0)": (0, 0, 0)}
 CROP_LEGEND = {"covered by the rasterizer (crops)": (200, 200, 200), "covered by the convention (repros)": (230, 205, 140),
                "offending pixel (outlined)": (221, 0, 0), "triangle (outlined)": (0, 80, 200)}
 
@@ -311,6 +389,28 @@ def svg_window(positions: NDArray, covered: NDArray | None, fill: tuple[int, int
     for tri in positions[near][:200]:
         pts = " ".join(f"{vx:.6g},{vy:.6g}" for vx, vy in np.clip(tri, -1e6, 1e6))
         parts.append(f'<polygon points="{pts}" fill="none" stroke="{blue}" stroke-width="1" {thin}/>')
+    parts.append("</svg>")
+    return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
+
+
+def svg_pattern(offsets: tuple[tuple[float, float], ...], side: int = 160) -> str:
+    """A multisample pattern as an SVG data URI: one pixel square, its 1/16 px grid, the
+    centre marked, and each sample as a numbered dot (y down, as on screen).
+
+    >>> svg_pattern(((0.375, 0.125), (0.875, 0.375))).startswith("data:image/svg+xml;base64,")
+    True
+    """
+    thin = 'vector-effect="non-scaling-stroke"'
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{side}" height="{side}" viewBox="-0.08 -0.08 1.16 1.16">',
+             '<rect x="0" y="0" width="1" height="1" fill="white" stroke="#333" stroke-width="1.5" ' + thin + '/>']
+    parts.extend(f'<line x1="{k / 16:g}" y1="0" x2="{k / 16:g}" y2="1" stroke="#ddd" stroke-width="0.5" {thin}/>'
+                 f'<line x1="0" y1="{k / 16:g}" x2="1" y2="{k / 16:g}" stroke="#ddd" stroke-width="0.5" {thin}/>'
+                 for k in range(1, 16))
+    parts.append('<circle cx="0.5" cy="0.5" r="0.012" fill="#999"/>')
+    blue = _hex(CROP_LEGEND["triangle (outlined)"])
+    for index, (x, y) in enumerate(offsets):
+        parts.append(f'<circle cx="{x:.6g}" cy="{y:.6g}" r="0.025" fill="{blue}"/>'
+                     f'<text x="{x + 0.03:.6g}" y="{y - 0.02:.6g}" font-size="0.07" font-family="sans-serif">{index}</text>')
     parts.append("</svg>")
     return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
 

@@ -29,12 +29,14 @@ import harness
 from harness.checks import EVIDENCE_LIMIT, Result, check_names
 from harness.checks import checks as registered_checks
 from harness.files import atomic_write_text, safe_name
-from harness.pictures import CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, draw, draw_repro
+from harness.pictures import ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, draw, draw_repro, svg_pattern
 
 __all__ = ["write_report", "write_comparison", "link_pages", "page_name", "cause", "evidence_table"]
 
 CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop: triangles over the pixel grid",
-            "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics"}
+            "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics",
+            "alpha error": "alpha minus the oracle's, per pixel (the worst triangle there)",
+            "alpha sum": "sum of the pieces' alphas minus 1, inside the partition (full colour: one level)"}
 
 
 def page_meta(suite: str, seed: Any, seconds: float | None = None) -> dict[str, Any]:
@@ -230,14 +232,16 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
                  suite: str = "quick", seconds: float = 0.0, *,
                  fingerprints: dict[str, dict[str, Any]] | None = None,
                  declared: dict[str, str] | None = None, kinds: dict[str, str] | None = None,
-                 specs: dict[str, str] | None = None, skipped: dict[str, str] | None = None) -> Path:
+                 specs: dict[str, str] | None = None, skipped: dict[str, str] | None = None,
+                 patterns: dict[str, tuple[tuple[float, float], ...]] | None = None) -> Path:
     """Write ``index.html``, one page per rasterizer and, given ``fingerprints`` (name ->
     :meth:`Fingerprint.to_dict` or ``{"error": text}``), ``fingerprints.html`` with every
     rasterizer side by side, into ``out_dir`` atomically.
 
     ``specs`` (name -> the spec it was loaded from, as given on the command line) is what
     the replay commands quote (the name by default); ``skipped`` (spec -> why) lists on the
-    index the rasterizers that could not be loaded."""
+    index the rasterizers that could not be loaded; ``patterns`` (name -> sample offsets)
+    draws the multisample pattern a rasterizer declares on its page."""
     fingerprints = fingerprints or {}
     out_dir = Path(out_dir)
     checks = [c for c in ("run", *check_names()) if any(r.check == c for r in results)]
@@ -255,11 +259,13 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
             "cells": [_cell([r for r in mine if r.check == c]) for c in checks],
             "fingerprint": fingerprints.get(name), "kind": (kinds or {}).get(name, ""),
             "declared": (declared or {}).get(name, convention), "sections": sections, "filters": _filters(sections),
+            "figures": coverage_figures(mine),
+            "pattern": svg_pattern((patterns or {})[name]) if (patterns or {}).get(name) else None,
         }
         rows.append(row)
         html = env.get_template("rasterizer.html").render(
             row=row, meta=meta, heat_legend=HEAT_LEGEND.items(), diff_legend=DIFF_LEGEND.items(), motion_legend=LEGEND.items(),
-            crop_legend=CROP_LEGEND.items())
+            crop_legend=CROP_LEGEND.items(), alpha_legend=ALPHA_LEGEND.items())
         atomic_write_text(out_dir / row["page"], html)
     if fingerprints:
         ordered = sorted(rows, key=lambda row: KIND_ORDER.get(row["kind"], 3))
@@ -271,6 +277,34 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
     path = out_dir / "index.html"
     atomic_write_text(path, html)
     return path
+
+
+# (check, metric, how to combine over cases, label): the anti-aliasing and multisample
+# figures a rasterizer's page and the index show, from its results' metrics.
+FIGURES = (
+    ("accuracy", "max_error", "max", "largest |alpha - area|"),
+    ("accuracy", "mean_error", "mean", "mean |alpha - area|"),
+    ("accuracy", "over_tolerance", "sum", "pixels beyond the declared tolerance"),
+    ("seams", "seam_pixels", "sum", "seam pixels (alphas not summing to 1)"),
+    ("seams", "max_sum_error", "max", "largest seam (levels)"),
+    ("seams", "max_over_gap", "max", "deepest seam after compositing with over"),
+    ("popping", "max_pop_levels", "max", "largest pop against the area (levels)"),
+    ("popping", "pops", "sum", "pops of more than one level"),
+    ("conformance", "failing_samples", "sum", "samples failing conformance (summed over cases)"),
+)
+
+
+def coverage_figures(results: list[Result]) -> list[tuple[str, str]]:
+    """The anti-aliasing and multisample figures of one rasterizer's results, (label,
+    value) for each figure some result measured (:data:`FIGURES`), combined over cases."""
+    out = []
+    for check, metric, how, label in FIGURES:
+        values = [r.metrics[metric] for r in results if r.check == check and metric in r.metrics]
+        if not values:
+            continue
+        value = max(values) if how == "max" else sum(values) if how == "sum" else sum(values) / len(values)
+        out.append((f"{check}: {label}", f"{value:.4g}" + ("" if how != "mean" else f" (over {len(values)} cases)")))
+    return out
 
 
 PAGES_START, PAGES_END = "<!-- pages -->", "<!-- /pages -->"

@@ -285,8 +285,8 @@ def _once_per_scene(call: Callable[[Scene], Any]) -> Callable[[Scene], Any]:
     answers: dict[tuple[Any, ...], Any] = {}
 
     def once(scene: Scene) -> Any:
-        key = tuple(None if a is None else a.tobytes() for a in (scene.positions, scene.attributes, scene.w))
-        key += (scene.width, scene.height)
+        key: tuple[Any, ...] = (scene.width, scene.height,
+                                *(None if a is None else a.tobytes() for a in (scene.positions, scene.attributes, scene.w)))
         if key not in answers:
             answers[key] = call(scene)
         return answers[key]
