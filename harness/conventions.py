@@ -130,6 +130,7 @@ __all__ = [
     "MAX_SUBPIXEL_BITS",
     "SAMPLE_FRACTION_BITS",
     "MAX_SAMPLES",
+    "MAX_AREA_SAMPLES",
     "COVERAGE_KINDS",
     "CoverageKind",
     "Convention",
@@ -147,6 +148,9 @@ COVERAGE_KINDS: tuple[CoverageKind, ...] = ("single", "multisample", "area")
 # The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
 # 64 with no standard locations; 32 keeps a garbage answer's span budget bounded).
 MAX_SAMPLES = 32
+# ... and a supersampled area convention (alpha = share of its samples) up to 16 x 16:
+# its answer is one alpha per pixel, however many samples stand behind it.
+MAX_AREA_SAMPLES = 256
 SnapRounding = Literal["nearest-even", "half-away", "floor"]
 
 # rule -> (sx, sy, y_first): the sample is decided as if moved by (sx*eps, sy*eps**2), or
@@ -204,8 +208,8 @@ class Convention:
         fixed-point conversion, as skia's ``int(x * 64)``).
     samples : int, sequence of (x, y) or None
         A multisample pattern (:func:`harness.samples.pattern`): a standard count (1, 2,
-        4, 8, 16) or up to :data:`MAX_SAMPLES` dyadic offsets in [0, 1)^2; stored as the
-        offsets. Each sample then follows ``tie``, snapping and culling at its own offset,
+        4, 8, 16) or up to :data:`MAX_SAMPLES` dyadic offsets in [0, 1)^2 (up to
+        :data:`MAX_AREA_SAMPLES` for supersampled area coverage); stored as the offsets. Each sample then follows ``tie``, snapping and culling at its own offset,
         and ``sample`` is not used. None: one sample, at ``sample``.
     coverage : {"sample", "area"}
         ``area``: anti-aliased coverage, an alpha per pixel equal to the area of the
@@ -339,8 +343,10 @@ class Convention:
             from harness.samples import pattern
 
             offsets = pattern(self.samples)
-            if len(offsets) > MAX_SAMPLES:
-                raise ValueError(f"Convention.samples has {len(offsets)} samples; at most {MAX_SAMPLES} are supported")
+            limit = MAX_AREA_SAMPLES if self.coverage == "area" else MAX_SAMPLES
+            if len(offsets) > limit:
+                raise ValueError(f"Convention.samples has {len(offsets)} samples; at most {limit} are supported"
+                                 + ("" if self.coverage == "area" else f" ({MAX_AREA_SAMPLES} for supersampled area coverage)"))
             object.__setattr__(self, "samples", offsets)
         if self.coverage not in ("sample", "area"):
             raise ValueError(f"Convention.coverage must be 'sample' or 'area', not {self.coverage!r}")

@@ -12,7 +12,11 @@
   itself inside a larger screen), and watertightness on every planar partition family.
 
 Each of these is a probe of :mod:`harness.probes` giving a typed fact; :func:`identify`
-composes them. The fit of sample point and tie rule is :func:`harness.probes.fit_ties`,
+composes them. It first reads the kind of coverage (:func:`harness.coverage_probes.coverage_kind`):
+an anti-aliaser (alphas) or a multisample rasterizer (sample indices) is fingerprinted by
+the probes of :mod:`harness.coverage_probes` instead -- analytic area or supersampled, the
+grid and the levels (:func:`~harness.coverage_probes.alpha_sweeps`), or the sample
+pattern and its tie rule (:func:`~harness.coverage_probes.sample_positions`). The fit of sample point and tie rule is :func:`harness.probes.fit_ties`,
 the one ``compare`` uses too. Every call of the rasterizer goes through a
 :data:`~harness.isolation.Call`: in this process, or in a worker process
 (:func:`identify_isolated`).
@@ -29,10 +33,12 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from harness.api import Coverage, Rasterizer, Scene, interpolates_of, received_of
-from harness.conventions import Convention
+from harness.conventions import Convention, CoverageKind
+from harness.coverage_probes import CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions
 from harness.isolation import Call, InProcess, Outcome, Worker
 from harness.probes import (Fact, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, unanswered, viewport_edge,
                             watertight_partitions, zero_area)
+from harness.samples import STANDARD_PATTERNS
 
 __all__ = ["Fingerprint", "identify", "identify_isolated", "identify_all", "Identified"]
 
@@ -42,7 +48,11 @@ class Fingerprint:
     """What identify found: the convention that best explains a rasterizer, its residual
     mismatch over ``pixels`` drawn, the runner-up (another sample point or tie rule) with
     its mismatches, the card's facts (label -> text), the snap roundings it could not tell
-    apart, and the typed facts behind the card (``probes``, label -> fact)."""
+    apart, and the typed facts behind the card (``probes``, label -> fact).
+
+    ``kind`` is the coverage kind seen (``single``, ``multisample``, ``area``); for the
+    last two the residual counts mismatching fragments (triangle, sample, pixel) and
+    (triangle, pixel)s whose alpha lies beyond the convention's tolerance of its oracle."""
 
     rasterizer: str
     convention: Convention
@@ -52,6 +62,7 @@ class Fingerprint:
     facts: dict[str, Any] = field(default_factory=dict)
     ambiguous: tuple[str, ...] = ()
     probes: dict[str, Fact] = field(default_factory=dict, repr=False, compare=False)
+    kind: CoverageKind = "single"
 
     @property
     def exact(self) -> bool:
@@ -63,13 +74,20 @@ class Fingerprint:
 
     def to_dict(self) -> dict[str, Any]:
         """Plain data for JSON and the report."""
-        return {"rasterizer": self.rasterizer, "convention": self.convention.describe(),
-                "sample": list(self.convention.sample), "tie": self.convention.tie,
-                "subpixel_bits": self.convention.subpixel_bits, "snap_rounding": self.convention.snap_rounding,
-                "cull": self.convention.cull,
-                "exact": self.exact, "residual": self.residual, "pixels": self.pixels,
-                "runner_up": list(self.runner_up) if self.runner_up else None, "facts": dict(self.facts),
-                "ambiguous": list(self.ambiguous)}
+        out: dict[str, Any] = {
+            "rasterizer": self.rasterizer, "convention": self.convention.describe(),
+            "sample": list(self.convention.sample), "tie": self.convention.tie,
+            "subpixel_bits": self.convention.subpixel_bits, "snap_rounding": self.convention.snap_rounding,
+            "cull": self.convention.cull,
+            "exact": self.exact, "residual": self.residual, "pixels": self.pixels,
+            "runner_up": list(self.runner_up) if self.runner_up else None, "facts": dict(self.facts),
+            "ambiguous": list(self.ambiguous)}
+        if self.kind != "single":  # added fields (schema 1 allows them)
+            samples = self.convention.samples
+            out.update(kind=self.kind, samples=None if samples is None else [list(o) for o in samples],
+                       levels=self.convention.levels if self.kind == "area" else None,
+                       tolerance=self.convention.tolerance if self.kind == "area" else None)
+        return out
 
     def card(self) -> str:
         lines = [f"rasterizer   {self.rasterizer}",
@@ -101,6 +119,9 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
         the rasterizer raising: each probe reports it, and nothing here raises for it.
     """
     call = InProcess(rasterizer) if call is None else call
+    kind = coverage_kind(call)
+    if kind.kind in ("area", "multisample"):
+        return _identify_coverage(rasterizer.name, call, seed, kind)
     ties = fit_ties(call, seed)
     snapping = fit_snapping(call, seed, ties)
     convention = snapping.convention
@@ -125,6 +146,47 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
     return Fingerprint(rasterizer.name, convention, residual, sum(d.pixels for d in drawn),
                        (ties.runner_up.describe(), ties.runner_up_mismatches), {k: f.text for k, f in found.items()},
                        snapping.ambiguous, found)
+
+
+def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact) -> Fingerprint:
+    """identify for an anti-aliaser (the sweeps: analytic or supersampled, grid, levels)
+    or a multisample rasterizer (the pattern and its tie rule, then watertightness sample
+    by sample); the single-sample probes would be meaningless there. Each distinct scene
+    is drawn once (the samples' probes share them)."""
+    call = Remembered(call)
+    probes: dict[str, Fact] = {"coverage": kind}
+    lines = {"coverage": kind.text}
+    if kind.kind == "area":
+        sweeps = alpha_sweeps(call, seed)
+        probes["sweeps"] = sweeps
+        lines |= sweeps.lines()
+        convention = sweeps.convention or Convention(coverage="area")
+        residual, pixels, runner_up = sweeps.residual, sweeps.pixels, sweeps.runner_up
+        if sweeps.model is None:  # nothing measured: never claimed
+            runner_up = ("any area convention: the sweeps were not answered", 0)
+    else:
+        n = max(kind.indices, default=-1) + 1
+        pattern = sample_positions(call, n, seed)
+        probes["pattern"] = pattern
+        lines["pattern"] = pattern.text
+        if pattern.vertex is not None:
+            probes["vertex sweep"] = pattern.vertex
+            lines["vertex sweep"] = pattern.vertex.text + " (sample 0)"
+        tight = [watertight_partitions(layered(call, s), seed) for s in range(n)]
+        probes |= {f"watertight {s}": w for s, w in enumerate(tight)}
+        leaky = [f"sample {s}: {w.text}" for s, w in enumerate(tight) if w.holes or w.doubles or w.unanswered]
+        if tight:
+            lines["watertight"] = "; ".join(leaky) if leaky else f"every sample: {tight[0].text}"
+        if pattern.convention is None:
+            convention = Convention(samples=n) if n in STANDARD_PATTERNS else Convention()
+            residual, pixels, runner_up = max(1, pattern.fragments), pattern.fragments, None
+        else:
+            convention = pattern.convention
+            residual, pixels, runner_up = pattern.residual, pattern.fragments, pattern.runner_up
+    probes |= {"zero area": zero_area(call), "non-finite": non_finite(call)}
+    lines |= {"zero area": probes["zero area"].text, "non-finite": probes["non-finite"].text,
+              "calls": f"{call.calls + 1} rasterizer calls"}  # and the one that read the kind
+    return Fingerprint(name, convention, residual, pixels, runner_up, lines, (), probes, kind=kind.kind or "single")
 
 
 def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0,

@@ -568,8 +568,11 @@ def sample_shares(scene: Scene, convention: Convention) -> Coverage:
     >>> sample_shares(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(coverage="area", samples=4)).alpha.tolist()
     [1.0, 0.5, 0.5]
     """
-    covered = exact_multisample(scene, replace(convention, coverage="sample"))
-    t, x, y = covered.pixels()
-    keys, counts = np.unique((t * scene.height + y) * scene.width + x, return_counts=True)
+    single = replace(convention, coverage="sample", samples=None, levels=256, tolerance=None)
+    per_sample = []
+    for layer in exact_samples(scene, single, convention.samples):
+        t, x, y = layer.pixels()
+        per_sample.append((t * scene.height + y) * scene.width + x)
+    keys, counts = np.unique(np.concatenate(per_sample), return_counts=True)
     triangle, rest = np.divmod(keys, scene.width * scene.height)
     return Coverage.from_pixels(triangle, rest % scene.width, rest // scene.width, alpha=counts / convention.n_samples)

@@ -13,7 +13,9 @@ JSON schema 1::
                        "subpixel_bits": int | null, "snap_rounding": str, "cull": str,
                        "exact": bool, "residual": int, "pixels": int,
                        "runner_up": [str, int] | null, "facts": {str: str},
-                       "ambiguous": [str]}   # alternatives it could not separate
+                       "ambiguous": [str],   # alternatives it could not separate
+                       "kind": "multisample" | "area",   # these four only when not "single":
+                       "samples": [[x, y], ...] | null, "levels": int, "tolerance": float | null}
                        | {"error": str}},   # what identify found, when it ran
       "results": [
         {"rasterizer": str, "case": str, "check": str,

@@ -224,7 +224,7 @@ def _filters(sections: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
-FACTS = ("residual lies", "sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep")
+FACTS = ("coverage", "model", "levels", "area error", "sweeps", "pattern", "residual lies", "sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep")
 KIND_ORDER = {"built-in": 0, "real library": 1, "plugin": 2}
 
 

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene
 
-__all__ = ["LIMIT", "draw_each", "finite_within_limit"]
+__all__ = ["LIMIT", "draw_each", "draw_each_alpha", "coverage_from_sample_masks", "finite_within_limit"]
 
 # Libraries keep coordinates in float32 or fixed point: beyond this they are refused with a
 # ValueError naming the triangle (a guard band), never drawn wrong.
@@ -29,16 +29,12 @@ def finite_within_limit(scene: Scene, name: str) -> NDArray[np.bool_]:
     return finite
 
 
-def draw_each(scene: Scene, name: str, draw: Callable[[NDArray[np.float64], int, int, tuple[int, int]], NDArray[np.bool_]],
-              margin: int = 2) -> Coverage:
-    """Call ``draw(vertices relative to the box origin, box width, box height, origin)`` for
-    each triangle; it returns the box's (h, w) bool mask. Spans come back in screen
-    coordinates, clipped to the viewport. A triangle with a NaN or infinite coordinate is
-    handed to the library unchanged, with the whole screen as its box, so that what the
-    library does with it (draws nothing, raises, or draws garbage) is what the checks see."""
+def _boxes(scene: Scene, name: str, margin: int) -> Iterator[tuple[int, NDArray[np.float64], int, int, int, int]]:
+    """(t, vertices, x0, y0, x1, y1) for every triangle whose box within the viewport is
+    not empty: its bounding box widened by ``margin`` px, or the whole screen for a
+    non-finite triangle (raises as :func:`finite_within_limit` does)."""
     positions = scene.positions
     finite = finite_within_limit(scene, name)
-    parts = []
     for t in range(len(scene)):
         p = positions[t]
         if not finite[t]:
@@ -50,6 +46,18 @@ def draw_each(scene: Scene, name: str, draw: Callable[[NDArray[np.float64], int,
             y1 = int(np.clip(np.ceil(p[:, 1].max()) + margin, 0, scene.height))
         if x0 >= x1 or y0 >= y1:
             continue
+        yield t, p, x0, y0, x1, y1
+
+
+def draw_each(scene: Scene, name: str, draw: Callable[[NDArray[np.float64], int, int, tuple[int, int]], NDArray[np.bool_]],
+              margin: int = 2) -> Coverage:
+    """Call ``draw(vertices relative to the box origin, box width, box height, origin)`` for
+    each triangle; it returns the box's (h, w) bool mask. Spans come back in screen
+    coordinates, clipped to the viewport. A triangle with a NaN or infinite coordinate is
+    handed to the library unchanged, with the whole screen as its box, so that what the
+    library does with it (draws nothing, raises, or draws garbage) is what the checks see."""
+    parts = []
+    for t, p, x0, y0, x1, y1 in _boxes(scene, name, margin):
         try:
             mask = draw(p - np.array([x0, y0], dtype=np.float64), x1 - x0, y1 - y0, (x0, y0))
         except Exception as exc:  # name the triangle the library failed on
@@ -61,3 +69,91 @@ def draw_each(scene: Scene, name: str, draw: Callable[[NDArray[np.float64], int,
     if not parts:
         return Coverage.empty()
     return Coverage(*(np.concatenate([part[i] for part in parts]) for i in range(4)))
+
+
+def draw_each_alpha(scene: Scene, name: str,
+                    draw: Callable[[NDArray[np.float64], int, int, tuple[int, int]], NDArray[np.float64]],
+                    margin: int = 2) -> Coverage:
+    """Area coverage, one triangle at a time: :func:`draw_each` for an anti-aliasing
+    library. ``draw(vertices relative to the box origin, box width, box height, origin)``
+    returns the box's (h, w) float64 alphas in [0, 1]; every pixel with a nonzero alpha
+    becomes part of a span and keeps its alpha (Coverage ``alpha``), in screen coordinates,
+    clipped to the viewport. Boxes, non-finite triangles and library failures are treated
+    as in :func:`draw_each`.
+
+    Examples
+    --------
+    >>> from harness.api import Scene
+    >>> def half(p, w, h, origin):  # a "library" that gives every box pixel alpha 0.5
+    ...     return np.full((h, w), 0.5)
+    >>> cov = draw_each_alpha(Scene(4, 1, [[[1, 0], [2, 0], [1, 1]]]), "half", half, margin=0)
+    >>> cov.y.tolist(), cov.x0.tolist(), cov.x1.tolist(), cov.alpha.tolist()
+    ([0], [1], [2], [0.5])
+    """
+    parts = []
+    for t, p, x0, y0, x1, y1 in _boxes(scene, name, margin):
+        try:
+            alpha = np.asarray(draw(p - np.array([x0, y0], dtype=np.float64), x1 - x0, y1 - y0, (x0, y0)), dtype=np.float64)
+        except Exception as exc:  # name the triangle the library failed on
+            raise RuntimeError(f"{name}: the library failed on triangle {int(t)} {p.tolist()}: "
+                               f"{type(exc).__name__}: {exc}") from exc
+        covered = alpha > 0.0
+        if covered.any():
+            cov = Coverage.from_mask(int(t), covered, alpha=alpha)
+            parts.append(Coverage(cov.triangle, cov.y + y0, cov.x0 + x0, cov.x1 + x0, alpha=cov.alpha))
+    return Coverage.concat(parts) if parts else Coverage.empty()
+
+
+def coverage_from_sample_masks(triangle: NDArray[np.int64], x: NDArray[np.int64], y: NDArray[np.int64],
+                               mask: NDArray[np.int64], width: int, samples: int) -> Coverage:
+    """Multisample coverage from fragments in any order, each with the bit mask of the
+    samples it covers (bit s: sample s).
+
+    Equal to ``Coverage.from_pixels`` of one fragment per set bit (sorted by triangle,
+    sample, row and column, a repeated fragment kept as its own span), but sorting the
+    fragments once by one integer key instead of every (fragment, sample) by four.
+
+    Parameters
+    ----------
+    triangle, x, y : (P,) int64
+        Fragments, 0 <= x < width.
+    mask : (P,) int64
+        Covered samples of each fragment, bits 0 .. samples - 1.
+    width : int
+    samples : int
+
+    Returns
+    -------
+    Coverage
+        With ``sample``: one span per run of consecutive pixels of one triangle, sample
+        and row.
+
+    Examples
+    --------
+    >>> cov = coverage_from_sample_masks(np.array([0, 0, 0]), np.array([2, 1, 3]), np.array([0, 0, 0]),
+    ...                                  np.array([0b01, 0b11, 0b10]), 4, 2)
+    >>> cov.sample.tolist(), cov.x0.tolist(), cov.x1.tolist()
+    ([0, 1, 1], [1, 1, 3], [3, 2, 4])
+    """
+    triangle, x, y, mask = (np.asarray(a, dtype=np.int64) for a in (triangle, x, y, mask))
+    height = int(y.max()) + 1 if y.size else 1
+    key = (triangle * height + y) * width + x  # by triangle, row, column
+    order = np.argsort(key, kind="stable")  # fragments arrive nearly in raster order: merge sort is fast
+    key, mask = key[order], mask[order]
+    parts = []
+    for s in range(samples):
+        covered = ((mask >> s) & 1).astype(bool)
+        k = key[covered]
+        # a new span where the key is not the previous one plus one, or a row begins
+        head = np.ones(k.size, dtype=bool)
+        head[1:] = (k[1:] != k[:-1] + 1) | (k[1:] % width == 0)
+        starts = np.flatnonzero(head)
+        ends = np.append(starts[1:], k.size) - 1
+        first = k[starts]
+        rows = first // width
+        parts.append((rows, np.full(starts.size, s), first % width, k[ends] % width + 1))
+    rows, sample, x0, x1 = (np.concatenate([part[i] for part in parts]) for i in range(4))
+    span_triangle, span_y = rows // height, rows % height
+    # by triangle, then sample (each sample's spans are already by row and column)
+    spans = np.argsort(span_triangle * samples + sample, kind="stable")
+    return Coverage(span_triangle[spans], span_y[spans], x0[spans], x1[spans], sample=sample[spans])
