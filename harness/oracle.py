@@ -569,10 +569,58 @@ def sample_shares(scene: Scene, convention: Convention) -> Coverage:
     [1.0, 0.5, 0.5]
     """
     single = replace(convention, coverage="sample", samples=None, levels=256, tolerance=None)
-    per_sample = []
-    for layer in exact_samples(scene, single, convention.samples):
-        t, x, y = layer.pixels()
-        per_sample.append((t * scene.height + y) * scene.width + x)
-    keys, counts = np.unique(np.concatenate(per_sample), return_counts=True)
-    triangle, rest = np.divmod(keys, scene.width * scene.height)
-    return Coverage.from_pixels(triangle, rest % scene.width, rest // scene.width, alpha=counts / convention.n_samples)
+    layers = Coverage.concat(exact_samples(scene, single, convention.samples))
+    # spans grouped by (triangle, row); within a group, samples counted per pixel
+    order = np.argsort(layers.triangle * scene.height + layers.y, kind="stable")
+    t, y, x0, x1 = (frozen(a[order], np.int64) for a in (layers.triangle, layers.y, layers.x0, layers.x1))
+    out_t, out_y, out_x0, out_x1 = span_buffers(t.size)
+    counts = np.empty(layers.n_pixels, dtype=np.int64)
+    spans, pixels = _count_samples(t, y, x0, x1, out_t, out_y, out_x0, out_x1, counts)
+    return Coverage(out_t[:spans], out_y[:spans], out_x0[:spans], out_x1[:spans],
+                    alpha=counts[:pixels] / convention.n_samples)
+
+
+@numba.njit(cache=True)
+def _count_samples(t, y, x0, x1, out_t, out_y, out_x0, out_x1, out_counts):  # type: ignore[no-untyped-def]
+    """Per run of spans of one (triangle, row), the number of spans covering each pixel,
+    as spans over the pixels some span covers (a sliver can pass between a pixel's
+    samples: such a pixel is left out) with a count per pixel. Each output span and pixel
+    comes from at least one input span and pixel, so buffers of the inputs' sizes hold
+    them. Returns (spans, pixels) written."""
+    n = 0
+    m = 0
+    i = 0
+    while i < t.size:
+        j = i
+        lo = x0[i]
+        hi = x1[i]
+        while j < t.size and t[j] == t[i] and y[j] == y[i]:
+            lo = min(lo, x0[j])
+            hi = max(hi, x1[j])
+            j += 1
+        delta = np.zeros(hi - lo + 1, dtype=np.int64)
+        for k in range(i, j):
+            if x1[k] > x0[k]:
+                delta[x0[k] - lo] += 1
+                delta[x1[k] - lo] -= 1
+        running = 0
+        open_run = False
+        for x in range(hi - lo):
+            running += delta[x]
+            if running > 0:
+                if not open_run:
+                    out_t[n] = t[i]
+                    out_y[n] = y[i]
+                    out_x0[n] = lo + x
+                    open_run = True
+                out_counts[m] = running
+                m += 1
+            elif open_run:
+                out_x1[n] = lo + x
+                n += 1
+                open_run = False
+        if open_run:
+            out_x1[n] = hi
+            n += 1
+        i = j
+    return n, m

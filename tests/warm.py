@@ -79,12 +79,16 @@ def rasterizers() -> None:
     from harness.api import Scene
     from harness.case import Case
     from harness.registry import builtins, load
+    from rasterizers.area_scanline import AreaScanline
+    from rasterizers.multisample import PinedaMSAA4
+    from rasterizers.supersample import Supersampler4
     from tests.known_bad.edge_functions import EdgeFunctionBug
     from tests.known_bad.scanlines import ScanlineBug
     from tests.ports import DeqpReference, PiglitReference
 
     everyone = [load(name) for name in builtins()]
     everyone += [EdgeFunctionBug("inclusive"), ScanlineBug("no-prestep"), DeqpReference(), PiglitReference()]
+    everyone += [r for r in (PinedaMSAA4(), AreaScanline(), Supersampler4()) if r.name not in builtins()]
     scenes = [Scene(8, 8, POSITIONS, attributes=VALUES, w=w) for w in (None, np.array([[1.0, 2.0, 4.0]]))]
     for case in _first_of_each_family():
         scenes += case.frames[:1] if not isinstance(case, Case) else [case.scene]

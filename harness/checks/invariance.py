@@ -110,7 +110,10 @@ def area_invariance(case: Case, coverage: Coverage, variants: list[tuple[str, ND
         b = np.zeros(union.size)
         a[np.searchsorted(union, keys)] = alpha
         b[np.searchsorted(union, other_keys)] = other_alpha
-        changed = np.flatnonzero(~(np.abs(a - b) <= level_step))  # NaN counts as a change
+        # compared in whole levels: k/255 - (k-1)/255 need not be <= 1/255 in floats
+        with np.errstate(invalid="ignore"):
+            steps = np.abs(np.rint(a / level_step) - np.rint(b / level_step))
+        changed = np.flatnonzero(~(steps <= 1))  # NaN counts as a change
         if changed.size:
             diffs[name] = int(changed.size)
             k = union[changed[:EVIDENCE_LIMIT]]
