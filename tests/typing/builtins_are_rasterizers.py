@@ -6,9 +6,22 @@ from rasterizers.centre_scanline import CentreScanline
 from rasterizers.fixed_point import FixedPoint
 from rasterizers.floor_scanline import FloorScanline
 from rasterizers.pineda_topleft import PinedaTopLeft
+from rasterizers.area_scanline import AreaScanline
+from rasterizers.multisample import MultisamplePineda, PinedaMSAA4, PinedaMSAA8
+from rasterizers.real.adapters import CairoAntialiased, MesaMultisample, SkiaAntialiased
+from rasterizers.supersample import Supersampler, Supersampler4
 
 floor: Rasterizer = FloorScanline()
 centre: Rasterizer = CentreScanline()
 pineda: Rasterizer = PinedaTopLeft()
 fixed: Rasterizer = FixedPoint()
 fixed16: Rasterizer = FixedPoint(16)
+msaa4: Rasterizer = PinedaMSAA4()
+msaa8: Rasterizer = PinedaMSAA8()
+msaa_custom: Rasterizer = MultisamplePineda([(0.25, 0.25), (0.75, 0.75)], tie="bottom-right")
+area: Rasterizer = AreaScanline()
+supersample: Rasterizer = Supersampler4()
+supersample2: Rasterizer = Supersampler(2)
+cairo_aa: Rasterizer = CairoAntialiased()
+skia_aa: Rasterizer = SkiaAntialiased()
+llvmpipe_msaa: Rasterizer = MesaMultisample()
