@@ -178,7 +178,8 @@ def _motion_pictures(case: MotionCase, drawing: Drawing, evidence: dict[str, Any
     """The sequence as an animation with the evidence's offending pixels marked, and the
     per-frame series as a plot."""
     first = case.frames[0]
-    marks = [*evidence.get("backward_jumps", []), *evidence.get("mismatches", []), *evidence.get("backward_steps", [])]
+    steps = [p for p in evidence.get("steps", []) if isinstance(p, dict)]  # popping's, dicts with frame, x, y
+    marks = [*evidence.get("backward_jumps", []), *evidence.get("mismatches", []), *evidence.get("backward_steps", []), *steps]
     oracles = _oracles(drawing, list(case.frames))
     images = {"animation": motion_animation(list(drawing.coverages), list(oracles) if oracles is not None else None,
                                             first.width, first.height, marks, case.texels)}
@@ -509,6 +510,10 @@ SERIES = {
     "backward_jumps": ("backward jumps", "span ends"),
     "mismatches": ("texel mismatches", "pixels"),
     "max_uv_error_texels": ("largest u, v error", "texels"),
+    # popping: the worst pixel's alpha, exact area and declared model, frame by frame
+    "alpha": ("the rasterizer's alpha", "alpha"),
+    "area": ("the exact area", "alpha"),
+    "oracle": ("the declared model's alpha", "alpha"),
 }
 
 

@@ -133,7 +133,12 @@ class _Case(pytest.Collector):
     def collect(self) -> list[pytest.Item | pytest.Collector]:
         from harness.checks import checks
 
-        return [RastercheckItem.from_parent(self, name=check.name) for check in checks(self.case)]
+        # the checks of the declared coverage kind (an undeclared rasterizer is taken as
+        # single-sample until identify says otherwise; a check then skips, saying why)
+        rasterizer = self.parent.given.rasterizer if isinstance(self.parent, _Rasterizer) else None
+        convention = getattr(rasterizer, "convention", None)
+        kind = convention.kind if convention is not None else "single"
+        return [RastercheckItem.from_parent(self, name=check.name) for check in checks(self.case, kind=kind)]
 
     def result(self, check: str) -> Result:
         """The result of ``check``, running the case first unless a sibling did."""

@@ -286,10 +286,11 @@ FIGURES = (
     ("accuracy", "mean_error", "mean", "mean |alpha - area|"),
     ("accuracy", "over_tolerance", "sum", "pixels beyond the declared tolerance"),
     ("seams", "seam_pixels", "sum", "seam pixels (alphas not summing to 1)"),
-    ("seams", "max_sum_error", "max", "largest seam (levels)"),
+    ("seams", "max_sum_error", "max", "largest seam (levels of its quantisation)"),
     ("seams", "max_over_gap", "max", "deepest seam after compositing with over"),
-    ("popping", "max_pop_levels", "max", "largest pop against the area (levels)"),
-    ("popping", "pops", "sum", "pops of more than one level"),
+    ("popping", "max_pop_levels", "max", "largest pop against the exact area (in 1/255 levels)"),
+    ("popping", "pops", "sum", "pops of more than 1/255 (pixel-steps)"),
+    ("popping", "alpha_jumps", "sum", "alpha jumps beyond the declared tolerance"),
     ("conformance", "failing_samples", "sum", "samples failing conformance (summed over cases)"),
 )
 

@@ -91,9 +91,10 @@ def test_alpha_rows_follow_their_pixels_through_tidy_and_canonical_form():
 
 
 def test_a_multisample_reference_passes_every_check_sample_by_sample():
-    motion = [c for c in QUICK if not isinstance(c, Case)]
-    by_family = list({c.id.split("/")[1]: c for c in motion}.values())  # one motion case per kind of scene
-    results = run_suite([OracleMSAA()], cases=STATIC + by_family, isolate=False, repros=False, identify=False)
+    # (pineda_msaa4 passes the still cases and a motion case of each kind: tests/test_runner.py)
+    lattice = [c for c in STATIC if c.family in ("lattice", "watertight", "degenerate")][::4]
+    motion = next(c for c in QUICK if not isinstance(c, Case))
+    results = run_suite([OracleMSAA()], cases=lattice + [motion], isolate=False, repros=False, identify=False)
     assert results and all(r.status in ("pass", "skip") for r in results), [r for r in results if r.status not in ("pass", "skip")][:3]
     judged = {r.check for r in results if r.status == "pass"}
     assert {"hygiene", "conformance", "watertight", "invariance", "degenerate", "jaggy"} <= judged

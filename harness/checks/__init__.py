@@ -13,7 +13,13 @@ only where the exact predicate puts the sample on an edge line.
 
 Registration order is the order results come in: hygiene, conformance, watertight,
 overdraw (on request), closed, degenerate, invariance; jaggy, texel, perspective on motion
-cases.
+cases; then accuracy, seams (still cases) and popping (motion cases), which judge area
+(anti-aliased) coverage only.
+
+Each check says which coverage kinds it judges (:attr:`Check.kinds`): the sample-based
+ones judge a multisample rasterizer sample by sample (each sample's layer against the
+convention at that sample, results merged), hygiene, degenerate and invariance judge
+every kind, and the area checks anti-aliased coverage.
 """
 
 from __future__ import annotations
@@ -29,13 +35,14 @@ from harness.checks.closed import closed_balance
 from harness.checks.degenerate import control_scene, degenerate, measure_work, refusal
 from harness.checks.invariance import invariance, invariance_variants
 from harness.checks.motion import jaggy, perspective, texel_swimming
+from harness.checks.area import accuracy, popping, seams
 
 __all__ = [
     "Result", "Drawing", "Status", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "CHECKS",
     "Check", "Subject", "register", "registered", "checks", "check_names", "metric_tolerance", "timing_metrics", "result", "skip",
     "deviations", "FragmentCounter", "edge_distance", "near_ties", "hygiene", "conformance", "watertight",
     "pixel_classes", "blame", "overdraw", "closed_balance", "degenerate", "control_scene", "measure_work", "refusal",
-    "invariance", "invariance_variants", "jaggy", "texel_swimming", "perspective",
+    "invariance", "invariance_variants", "jaggy", "texel_swimming", "perspective", "accuracy", "seams", "popping",
 ]
 
 # The built-in checks, in order (a check registered later shows in check_names()).

@@ -1,0 +1,540 @@
+"""Area (anti-aliased) coverage: accuracy against the exact area, seams on planar
+partitions, and popping under sub-pixel motion.
+
+Each check reads the answer as (triangle, pixel) -> alpha, keyed ``(triangle * H + y) * W
++ x`` (a pixel a side leaves out has alpha 0), vectorised with ``np.unique`` and
+``np.bincount``; the only per-pixel Python work is the exact rational decision of the
+few verdicts the float oracle's proven bound leaves open.
+
+accuracy
+    |alpha - model| per (triangle, pixel) against the declared tolerance, where the model
+    is the convention's oracle (:func:`harness.oracle.exact_coverage`): the exact area
+    (float, within :func:`harness.area.area_error_bound` of the rational one) or, for a
+    supersampled convention, the share of samples covered (exact). A verdict the bound
+    leaves open is decided with :func:`harness.area.exact_area`. Alphas off the declared
+    quantisation (not a multiple of 1/(levels - 1) up to float representation) fail too.
+seams
+    On a planar partition the exact areas (or sample shares) of the pieces in a pixel
+    wholly inside the region sum to exactly 1, so the pieces' alphas, as integer levels,
+    must sum to levels - 1 within half a level per piece; outside the region they must
+    sum to 0. The depth of the seam after compositing the pieces with ``over`` (the
+    background left showing, prod(1 - alpha)) is reported as an artifact, never a failure.
+popping
+    Under a sub-pixel motion, each (triangle, pixel)'s alpha change from frame to frame
+    against the declared model's change: beyond twice the tolerance the alpha jumped on
+    its own. Against the exact area (even for a supersampled convention: that is what a
+    viewer sees), the per-pixel change of the summed alpha is reported in 8-bit levels
+    (pops).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from fractions import Fraction
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from harness.api import Coverage, Scene
+from harness.area import area_coverage, area_error_bound, exact_area
+from harness.case import Case
+from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, register, result, skip
+from harness.checks.watertight import pixel_classes
+from harness.conventions import Convention
+from harness.exact import orientation
+
+__all__ = ["accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "LEVEL_NOISE", "DISPLAY_LEVELS"]
+
+AREA_KINDS: frozenset[str] = frozenset({"area"})
+# An alpha meant as level k of L is k/(L-1) rounded to float64 (or computed as k * (1/(L-1)),
+# a few units in the last place away): within about 2**-50 relative of the level. 1e-9
+# relative is far beyond any such rounding and far below a level's spacing (at most 2**24
+# levels: 1e-9 * 2**24 is under 0.02 of a level), so it tells "a float representation of
+# a level" from "a value between levels" without deciding anything geometric.
+LEVEL_NOISE = 1e-9
+# Pops are measured in the levels of an 8-bit display (1/255), whatever the convention
+# declares: a 17-level supersampler's one-level step is a 16-level jump on screen.
+DISPLAY_LEVELS = 255
+# Rounding of the differences the checks form from floats in [0, 1] (a - b, then the
+# difference of two such): a few units of 2**-53; 2**-50 per unit of magnitude is ample.
+_DIFFERENCE_ROUNDING = 2.0**-50
+
+
+# -- (triangle, pixel) -> alpha ---------------------------------------------------------------
+
+
+def _fragments(coverage: Coverage, width: int, height: int, n: int) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """(triangle, x, y, alpha) of every fragment inside the viewport with a valid triangle
+    id; alpha NaN throughout when the coverage lacks one alpha per pixel."""
+    t, x, y = coverage.pixels()
+    alpha = coverage.alpha
+    if alpha is None or alpha.size != t.size:
+        alpha = np.full(t.size, np.nan)
+    ok = (t >= 0) & (t < n) & (x >= 0) & (x < width) & (y >= 0) & (y < height)
+    if ok.all():  # a tidied answer: nothing to drop
+        return t, x, y, alpha
+    return t[ok], x[ok], y[ok], alpha[ok]
+
+
+def _keyed(coverage: Coverage, width: int, height: int, n: int) -> tuple[NDArray, NDArray]:
+    """Sorted unique keys ``(t * H + y) * W + x`` and the summed alpha of each."""
+    t, x, y, alpha = _fragments(coverage, width, height, n)
+    keys, where = np.unique((t * height + y) * width + x, return_inverse=True)
+    return keys, np.bincount(where, weights=alpha, minlength=keys.size)
+
+
+def _aligned(keys_a: NDArray, a: NDArray, keys_b: NDArray, b: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+    """Union of two sorted key sets and the values of each side on it (0 where absent)."""
+    keys = np.union1d(keys_a, keys_b)
+    out_a, out_b = np.zeros(keys.size), np.zeros(keys.size)
+    out_a[np.searchsorted(keys, keys_a)] = a
+    out_b[np.searchsorted(keys, keys_b)] = b
+    return keys, out_a, out_b
+
+
+# -- the declared model, in float with a bound and exactly ----------------------------------
+
+
+def model_bound(positions: NDArray, convention: Convention, width: int, height: int) -> NDArray:
+    """Per triangle, a proven bound on |oracle alpha - exact model| at every pixel.
+
+    Parameters
+    ----------
+    positions : (N, 3, 2) float64
+        The scene's positions as given (snapped here).
+    convention : Convention
+        An area convention.
+    width, height : int
+
+    Returns
+    -------
+    (N,) float64
+        :func:`harness.area.area_error_bound` of the snapped triangles for the exact area;
+        for a supersampled convention the share count/n is exact but for the rounding of
+        the division (2**-53).
+
+    >>> model_bound(np.array([[[0, 0], [4, 0], [0, 4]]], float), Convention(coverage="area"), 8, 8) * 2**53
+    array([360.])
+    """
+    if convention.samples is not None:
+        return np.full(positions.shape[0], 2.0**-53)
+    return area_error_bound(convention.snap(positions), width, height)
+
+
+def exact_model(positions: NDArray, convention: Convention, triangle: int, x: int, y: int, share: float = 0.0) -> Fraction:
+    """The declared model's value at one (triangle, pixel), exactly: the area of the
+    snapped triangle inside the pixel square (0 when culled or not finite), or, for a
+    supersampled convention, the share of samples ``share`` (the oracle's float, count/n)
+    as the rational count/n.
+
+    >>> exact_model(np.array([[[0, 0], [1, 0], [0, 3]]], float), Convention(coverage="area"), 0, 0, 0)
+    Fraction(5, 6)
+    """
+    if convention.samples is not None:
+        n = convention.n_samples
+        return Fraction(int(round(share * n)), n)
+    tri = convention.snap(positions[triangle : triangle + 1])
+    if not np.all(np.isfinite(tri)):
+        return Fraction(0)
+    if convention.cull != "none":
+        sign = int(orientation(tri)[0])
+        if sign == (1 if convention.cull == "cw" else -1):
+            return Fraction(0)
+    return exact_area(tri[0], int(x), int(y))
+
+
+def _model_words(convention: Convention) -> str:
+    return "the share of samples covered" if convention.samples is not None else "the exact area"
+
+
+# -- accuracy ---------------------------------------------------------------------------------
+
+
+def off_level(alpha: NDArray, levels: int) -> NDArray:
+    """Which alphas are no level of ``levels`` (a multiple of 1/(levels - 1)) up to float
+    representation (:data:`LEVEL_NOISE`); NaN is off.
+
+    >>> off_level(np.array([0.0, 1 / 255, 128 / 255, 0.5, np.nan]), 256).tolist()
+    [False, False, False, True, True]
+    """
+    q = alpha * (levels - 1)
+    with np.errstate(invalid="ignore"):
+        return ~(np.abs(q - np.rint(q)) <= LEVEL_NOISE * np.maximum(1.0, np.abs(q)))  # type: ignore[no-any-return]
+
+
+def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Convention) -> Result:
+    """|alpha - model| per (triangle, pixel) against ``convention.alpha_tolerance``; a
+    pixel either side leaves out has alpha 0. Alphas off the declared levels fail too.
+
+    The float oracle is within :func:`model_bound` of the model; where that bound (and the
+    rounding of the difference) leaves the verdict open, the exact rational model decides
+    (:func:`exact_model`): no epsilon decides.
+
+    Metrics: ``max_error``, ``mean_error`` (over the (triangle, pixel)s where either side
+    is nonzero), ``over_tolerance``, ``pixels``, ``off_level``, ``exact_decisions``.
+    Evidence (on failure): ``pixels``, worst first, ``{triangle, x, y, alpha, area,
+    error}`` (``area``: the model's value, a share for a supersampled convention); and
+    ``off_level``, ``{triangle, x, y, alpha, level}`` (level: alpha * (levels - 1)).
+    """
+    scene = case.scene
+    width, height, n = scene.width, scene.height, len(scene)
+    keys, alpha, model = _aligned(*_keyed(coverage, width, height, n), *_keyed(oracle, width, height, n))
+    present = (alpha != 0) | (model != 0)  # NaN counts as present
+    keys, alpha, model = keys[present], alpha[present], model[present]
+    with np.errstate(invalid="ignore"):
+        error = np.abs(alpha - model)
+    error[np.isnan(error)] = np.inf
+    tolerance = convention.alpha_tolerance
+    triangle = keys // (width * height)
+    finite = np.isfinite(alpha)
+    magnitude = np.maximum(1.0, np.abs(np.where(finite, alpha, 0.0)))
+    slack = model_bound(scene.positions, convention, width, height)[triangle] + _DIFFERENCE_ROUNDING * magnitude
+    # the exact error lies in [error - slack, error + slack]: beyond the tolerance for
+    # sure, within it for sure, or open -- then the rationals decide (a NaN or infinite
+    # alpha is beyond any tolerance)
+    over = (error - slack > tolerance) | ~finite
+    open_ = np.flatnonzero(~over & (error + slack > tolerance))
+    x, y = keys % width, keys // width % height
+    if open_.size:
+        limit = Fraction(tolerance)
+        for i in open_:
+            exact = exact_model(scene.positions, convention, int(triangle[i]), int(x[i]), int(y[i]), float(model[i]))
+            over[i] = abs(Fraction(float(alpha[i])) - exact) > limit
+    off = off_level(alpha, convention.levels)
+    count, n_off = int(over.sum()), int(off.sum())
+    worst = float(error.max(initial=0.0))
+    metrics = {
+        "max_error": worst,
+        "mean_error": float(error.mean()) if error.size else 0.0,
+        "over_tolerance": float(count),
+        "pixels": float(keys.size),
+        "off_level": float(n_off),
+        "exact_decisions": float(open_.size),
+    }
+    ok = not count and not n_off
+    step = convention.level_step
+    what = _model_words(convention)
+    evidence: dict[str, Any] = {}
+    if not ok:
+        order = np.argsort(-error, kind="stable")[:EVIDENCE_LIMIT]
+        evidence["pixels"] = [{"triangle": int(triangle[i]), "x": int(x[i]), "y": int(y[i]), "alpha": float(alpha[i]),
+                               "area": float(model[i]), "error": float(error[i]), "over": bool(over[i])} for i in order]
+        evidence["model"] = what
+        evidence["tolerance"] = tolerance
+        if n_off:
+            shown = np.flatnonzero(off)[:EVIDENCE_LIMIT]
+            evidence["off_level"] = [{"triangle": int(triangle[i]), "x": int(x[i]), "y": int(y[i]), "alpha": float(alpha[i]),
+                                      "level": float(alpha[i] * (convention.levels - 1))} for i in shown]
+    if ok:
+        message = (f"within {tolerance:.3g} of {what} at all {keys.size} pixels (largest error {worst:.3g}, "
+                   f"{worst / step:.2f} levels)")
+    else:
+        parts = []
+        if count:
+            parts.append(f"{count} of {keys.size} pixels beyond {tolerance:.3g} of {what} "
+                         f"(largest error {worst:.3g}, {worst / step:.1f} levels)")
+        if n_off:
+            parts.append(f"{n_off} alphas on none of the {convention.levels} declared levels")
+        message = "; ".join(parts)
+    return result(case.id, "accuracy", ok, message, metrics, evidence)
+
+
+# -- seams ------------------------------------------------------------------------------------
+
+
+def _classes(region: NDArray, convention: Convention, width: int, height: int) -> tuple[NDArray, NDArray]:
+    """(inside, outside), (H, W) bool: pixels wholly inside (outside) the region both as
+    given and as the convention snaps it (the pieces' vertices, the region's among them,
+    move by snapping: a pixel counts only where both agree)."""
+    inside, outside = pixel_classes(region, width, height)
+    snapped = convention.snap(region)
+    if not np.array_equal(snapped, region):
+        inside_s, outside_s = pixel_classes(snapped, width, height)
+        inside, outside = inside & inside_s, outside & outside_s
+    return inside, outside
+
+
+def seams(case: Case, coverage: Coverage, convention: Convention, oracle: Coverage) -> Result:
+    """On a planar partition: at each pixel wholly inside the region the pieces' alphas,
+    as levels ``rint(alpha * (levels - 1))``, sum to ``levels - 1`` within half a level per
+    piece present there (each may round by half a level; exact sample shares sum to
+    exactly 1 too, so the rule is the same for a supersampled convention); at each pixel
+    wholly outside, to 0 (a stray).
+
+    A piece is present where the rasterizer gives it a nonzero alpha or the oracle a
+    nonzero area: a sliver that rounds to level 0 still takes its area from the sum, and
+    the half level it may lose must be allowed for (the float oracle's zero areas are
+    below 2**-24 each, which no integer sum of levels can tell).
+
+    Metrics: ``seam_pixels``, ``max_sum_error`` (largest |sum of alphas - 1| inside, in
+    levels), ``strays``, ``inside_pixels``, and the conflation artifact ``max_over_gap``,
+    ``mean_over_gap``: the background left showing, prod(1 - alpha), when the pieces are
+    composited in one colour with ``over`` (never a failure by itself). Evidence (on
+    failure): ``pixels``, worst first, ``{x, y, sum, levels_off, pieces, triangles,
+    nonzero}`` (``sum``: of the alphas; ``levels_off``: sum of levels - (levels - 1);
+    ``pieces``: present, as above; ``triangles``: those with nonzero alpha, at most 8;
+    ``nonzero``: their number); ``strays``, ``[x, y]`` pairs.
+    """
+    if case.region is None:
+        return skip(case, "seams", "not a planar partition")
+    if convention.cull != "none":
+        return skip(case, "seams", f"the convention culls {convention.cull} triangles: the pieces' sums mean nothing")
+    scene = case.scene
+    width, height = scene.width, scene.height
+    t, x, y, alpha = _fragments(coverage, width, height, len(scene))
+    pixel = y * width + x
+    top = convention.levels - 1
+    size = width * height
+    with np.errstate(invalid="ignore"):
+        levels = np.rint(alpha * top)
+        level_sum = np.bincount(pixel, weights=levels, minlength=size)
+        level_abs = np.bincount(pixel, weights=np.abs(levels), minlength=size)
+        alpha_sum = np.bincount(pixel, weights=alpha, minlength=size)
+        nonzero = np.bincount(pixel, weights=(alpha != 0).astype(float), minlength=size)
+        # over: each piece leaves (1 - alpha) of what is below; the product, by its logarithm
+        cleaned = np.clip(np.nan_to_num(alpha, nan=0.0), 0.0, 1.0)
+        with np.errstate(divide="ignore"):
+            gap = np.exp(np.bincount(pixel, weights=np.log1p(-cleaned), minlength=size))
+    inside, outside = (c.ravel() for c in _classes(case.region, convention, width, height))
+    # pieces present: nonzero alpha, or nonzero area in the oracle, per (triangle, pixel)
+    keys, got, want = _aligned(*_keyed(coverage, width, height, len(scene)), *_keyed(oracle, width, height, len(scene)))
+    present = keys[(got != 0) | (want != 0)] % size
+    pieces = np.bincount(present, minlength=size).astype(float)
+    off = level_sum - top
+    with np.errstate(invalid="ignore"):
+        seam = inside & ~(np.abs(off) <= pieces / 2)  # NaN is a seam
+        stray = outside & ~(level_abs == 0)
+        sum_error = np.where(np.isnan(alpha_sum), np.inf, np.abs(alpha_sum - 1.0) * top)
+    n_inside = int(inside.sum())
+    metrics = {
+        "seam_pixels": float(seam.sum()),
+        "max_sum_error": float(sum_error[inside].max(initial=0.0)),
+        "strays": float(stray.sum()),
+        "inside_pixels": float(n_inside),
+        "max_over_gap": float(gap[inside].max(initial=0.0)),
+        "mean_over_gap": float(gap[inside].mean()) if n_inside else 0.0,
+    }
+    ok = not seam.any() and not stray.any()
+    evidence: dict[str, Any] = {}
+    if not ok:
+        bad = np.flatnonzero(seam)
+        bad = bad[np.argsort(-np.nan_to_num(np.abs(off[bad]), nan=np.inf), kind="stable")][:EVIDENCE_LIMIT]
+        evidence["pixels"] = [{"x": int(p % width), "y": int(p // width), "sum": float(alpha_sum[p]),
+                               "levels_off": float(off[p]), "pieces": int(pieces[p]),
+                               "triangles": sorted(set(t[(pixel == p) & (alpha != 0)].tolist()))[:8],
+                               "nonzero": int(nonzero[p])} for p in bad]
+        if stray.any():
+            evidence["strays"] = [[int(p % width), int(p // width)] for p in np.flatnonzero(stray)[:EVIDENCE_LIMIT]]
+    gaps = (f"compositing with over leaves up to {metrics['max_over_gap']:.3g} of the background showing "
+            f"(mean {metrics['mean_over_gap']:.3g}: conflation)")
+    if ok:
+        message = f"the pieces' alphas sum to 1 within their quantisation at all {n_inside} inside pixels; {gaps}"
+    else:
+        message = (f"{int(seam.sum())} seam pixels (the pieces' alphas off 1 by up to {metrics['max_sum_error']:.2f} levels), "
+                   f"{int(stray.sum())} stray pixels outside; {gaps}")
+    return result(case.id, "seams", ok, message, metrics, evidence)
+
+
+# -- popping ----------------------------------------------------------------------------------
+
+
+def _exact_areas(scenes: list[Scene], convention: Convention) -> list[Coverage]:
+    """The exact area (the float oracle) of each frame under ``convention``'s snapping
+    and culling, ignoring any sample pattern: what a viewer's eye integrates."""
+    analytic = replace(convention, samples=None, coverage="area")
+    return [area_coverage(scene, analytic) for scene in scenes]
+
+
+def _window(parts: list[tuple[NDArray, NDArray, NDArray, NDArray]]) -> tuple[int, int, int, int]:
+    """(x0, y0, x1, y1): the smallest rectangle holding every fragment of ``parts``."""
+    xs = [p[1] for p in parts if p[1].size]
+    ys = [p[2] for p in parts if p[2].size]
+    if not xs:
+        return 0, 0, 1, 1
+    return (min(int(a.min()) for a in xs), min(int(a.min()) for a in ys),
+            max(int(a.max()) for a in xs) + 1, max(int(a.max()) for a in ys) + 1)
+
+
+# dense per-frame arrays of (triangles in a chunk) x (window pixels) stay below this many entries
+_CHUNK_ENTRIES = 1 << 21
+
+
+def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracles: list[Coverage],
+            convention: Convention, areas: list[Coverage] | None = None) -> Result:
+    """Per (triangle, pixel) and frame step, the alpha change against the declared
+    model's (the oracle of each frame): beyond ``2 * alpha_tolerance`` (what the declared
+    accuracy allows at the two frames) the alpha jumped on its own -- a failure, decided
+    exactly where the oracle's bound leaves it open. Per pixel, the change of the summed
+    alpha against the exact area's (``areas``, computed when None) is the popping
+    artifact, in 8-bit levels (:data:`DISPLAY_LEVELS`).
+
+    The verdict is per triangle: at a pixel that k triangles share, each may err by the
+    tolerance, so their summed alpha may step by up to 2 k times it against the model's
+    with every promise kept.
+
+    Metrics: ``alpha_jumps`` ((triangle, pixel, step)s beyond the bound), ``max_step_error``
+    (largest |d alpha - d model|), ``max_pop_levels``, ``pops`` (pixel-steps beyond one
+    8-bit level), ``frames``, ``exact_decisions``. Evidence: ``series``, the worst pixel's
+    per-frame ``alpha``, ``area`` (exact) and ``oracle`` (each summed over triangles;
+    ready to plot); ``pixel``, that pixel ``{x, y}``; and (on failure) ``steps``, worst
+    first, ``{frame, triangle, x, y, d_alpha, d_oracle}`` (frame: the later frame of the
+    step).
+    """
+    frames = len(scenes)
+    width, height, n = scenes[0].width, scenes[0].height, len(scenes[0])
+    if areas is None:
+        areas = oracles if convention.samples is None else _exact_areas(scenes, convention)
+    got = [_fragments(c, width, height, n) for c in coverages]
+    want = [_fragments(c, width, height, n) for c in oracles]
+    true = want if areas is oracles else [_fragments(c, width, height, n) for c in areas]
+    x0, y0, x1, y1 = _window(got + want + true)
+    span = x1 - x0
+    win = span * (y1 - y0)
+    # window-local pixel index of every fragment, per frame
+    where = {name: [(part[2] - y0) * span + (part[1] - x0) for part in parts] for name, parts in (("got", got), ("want", want))}
+    where["true"] = where["want"] if true is want else [(part[2] - y0) * span + (part[1] - x0) for part in true]
+    tolerance = 2.0 * convention.alpha_tolerance
+    unit = 1.0 / DISPLAY_LEVELS
+    bounds: dict[int, NDArray] = {}
+
+    def bound(f: int) -> NDArray:
+        """:func:`model_bound` of frame ``f`` (computed when a step comes near the limit)."""
+        if f not in bounds:
+            bounds[f] = model_bound(scenes[f].positions, convention, width, height)
+        return bounds[f]
+
+    chunk = max(1, _CHUNK_ENTRIES // max(win, 1))
+    whole = chunk >= n  # one chunk: the per-pixel sums come from the per-triangle arrays
+
+    pop_max, pops, pop_at = 0.0, 0, 0
+    summed_before: tuple[NDArray, NDArray] | None = None
+
+    def pixel_step(summed: tuple[NDArray, NDArray]) -> None:
+        """The summed alpha's step against the exact area's, per pixel."""
+        nonlocal pop_max, pops, pop_at, summed_before
+        if summed_before is not None:
+            with np.errstate(invalid="ignore"):
+                pop = np.abs((summed[0] - summed_before[0]) - (summed[1] - summed_before[1]))
+            pop[np.isnan(pop)] = np.inf
+            pops += int((pop > unit).sum())
+            k = int(np.argmax(pop))
+            if pop[k] > pop_max:
+                pop_max, pop_at = float(pop[k]), k
+        summed_before = summed
+
+    found: list[tuple[float, int, int, int, float, float, float, float]] = []  # |step error|, frame, t, pixel, a0, a1, o0, o1
+    jumps, worst_step, open_count = 0, 0.0, 0
+    for t0 in range(0, n, chunk):
+        t1 = min(n, t0 + chunk)
+        size = (t1 - t0) * win
+        before: tuple[NDArray, NDArray] | None = None
+        for f in range(frames):
+            dense = []
+            for part, local in ((got[f], where["got"][f]), (want[f], where["want"][f])):
+                if whole:
+                    dense.append(np.bincount(part[0] * win + local, weights=part[3], minlength=size))
+                else:
+                    mine = (part[0] >= t0) & (part[0] < t1)
+                    dense.append(np.bincount((part[0][mine] - t0) * win + local[mine], weights=part[3][mine], minlength=size))
+            now = (dense[0], dense[1])
+            if whole:
+                alpha_sum = now[0].reshape(n, win).sum(axis=0)
+                area_sum = (now[1].reshape(n, win).sum(axis=0) if true is want
+                            else np.bincount(where["true"][f], weights=true[f][3], minlength=win))
+                pixel_step((alpha_sum, area_sum))
+            if before is not None:
+                with np.errstate(invalid="ignore"):
+                    diff = np.abs((now[0] - before[0]) - (now[1] - before[1]))
+                diff[np.isnan(diff)] = np.inf
+                worst_step = max(worst_step, float(diff.max(initial=0.0)))
+                # the exact step error lies within the two frames' oracle bounds (each below
+                # 2**-24: harness.area) and the rounding of the differences of diff: beyond
+                # the limit for sure, or open; only the steps near or beyond it are looked at
+                with np.errstate(invalid="ignore"):
+                    largest = np.nanmax(np.abs(now[0]), initial=0.0) + np.nanmax(np.abs(before[0]), initial=0.0)
+                candidates = np.flatnonzero(diff > tolerance - 2.0**-23 - _DIFFERENCE_ROUNDING * max(1.0, largest))
+                if candidates.size:
+                    t = t0 + candidates // win
+                    a0, a1, o0, o1 = before[0][candidates], now[0][candidates], before[1][candidates], now[1][candidates]
+                    finite = np.isfinite(a0) & np.isfinite(a1)
+                    magnitude = np.maximum(1.0, np.abs(np.where(finite, a0, 0.0)) + np.abs(np.where(finite, a1, 0.0)))
+                    slack = bound(f - 1)[t] + bound(f)[t] + _DIFFERENCE_ROUNDING * magnitude
+                    d = diff[candidates]
+                    sure = (d - slack > tolerance) | ~finite  # a NaN or infinite alpha jumps beyond any limit
+                    for k in np.flatnonzero(~sure & (d + slack > tolerance)):  # open: the rationals decide
+                        open_count += 1
+                        p = int(candidates[k]) % win
+                        x, y = x0 + p % span, y0 + p // span
+                        step_model = (exact_model(scenes[f].positions, convention, int(t[k]), x, y, float(o1[k]))
+                                      - exact_model(scenes[f - 1].positions, convention, int(t[k]), x, y, float(o0[k])))
+                        step_alpha = Fraction(float(a1[k])) - Fraction(float(a0[k]))
+                        sure[k] = abs(step_alpha - step_model) > Fraction(tolerance)
+                    hits = np.flatnonzero(sure)
+                    jumps += hits.size
+                    for k in hits[np.argsort(-d[hits], kind="stable")][:EVIDENCE_LIMIT]:
+                        found.append((float(d[k]), f, int(t[k]), int(candidates[k]) % win,
+                                      float(a0[k]), float(a1[k]), float(o0[k]), float(o1[k])))
+            before = now
+    if not whole:
+        for f in range(frames):
+            pixel_step((np.bincount(where["got"][f], weights=got[f][3], minlength=win),
+                        np.bincount(where["true"][f], weights=true[f][3], minlength=win)))
+    found.sort(key=lambda item: (-item[0], item[1], item[2], item[3]))  # worst first; ties by frame, triangle, pixel
+    found = found[:EVIDENCE_LIMIT]
+
+    # the worst pixel's series: the worst failing step's pixel, else the deepest pop's
+    focus = found[0][3] if found else pop_at
+    series: dict[str, list[float]] = {"alpha": [], "area": [], "oracle": []}
+    for f in range(frames):
+        for name, key, part in (("alpha", "got", got[f]), ("area", "true", true[f]), ("oracle", "want", want[f])):
+            series[name].append(float(part[3][where[key][f] == focus].sum()))
+    metrics = {"alpha_jumps": float(jumps), "max_step_error": worst_step, "max_pop_levels": pop_max / unit,
+               "pops": float(pops), "frames": float(frames), "exact_decisions": float(open_count)}
+    evidence: dict[str, Any] = {"series": series, "pixel": {"x": int(x0 + focus % span), "y": int(y0 + focus // span)}}
+    if found:
+        evidence["steps"] = [{"frame": f, "triangle": t, "x": int(x0 + p % span), "y": int(y0 + p // span),
+                              "d_alpha": a1 - a0, "d_oracle": o1 - o0} for _, f, t, p, a0, a1, o0, o1 in found]
+    what = _model_words(convention)
+    artifact = (f"against the exact area the summed alpha pops by up to {pop_max / unit:.1f} 8-bit levels in a step "
+                f"({pops} pixel-steps beyond one level)")
+    if not jumps:
+        message = f"every alpha change within {tolerance:.3g} of {what}'s; {artifact}"
+    else:
+        message = (f"{jumps} alpha changes beyond {tolerance:.3g} (twice the tolerance) of {what}'s, by up to "
+                   f"{worst_step:.3g}; {artifact}")
+    return result(case_id, "popping", not jumps, message, metrics, evidence)
+
+
+# -- registration -----------------------------------------------------------------------------
+
+
+def _is_static(case: Any) -> bool:
+    return not hasattr(case, "frames")
+
+
+def _popping(s: Subject) -> Result:
+    assert s.convention is not None
+    return popping(s.case.id, s.scenes, s.coverages, s.oracles, s.convention)
+
+
+register(Check(
+    "accuracy", lambda s: accuracy(s.case, s.coverage, s.oracle, s.convention),  # type: ignore[arg-type]
+    _is_static, needs_convention=True, shrinks=True, kinds=AREA_KINDS, per_sample=False,
+    metrics={"over_tolerance": (1.0, 0.0), "off_level": (1.0, 0.0), "max_error": (1.5, 2.0**-9)},
+    caption="area coverage: every alpha within the declared tolerance of the exact area (or share of samples), "
+            "on the declared levels",
+))
+register(Check(
+    "seams", lambda s: seams(s.case, s.coverage, s.convention, s.oracle),  # type: ignore[arg-type]
+    lambda case: _is_static(case) and getattr(case, "region", None) is not None, needs_convention=True,
+    kinds=AREA_KINDS, per_sample=False, metrics={"seam_pixels": (1.0, 0.0), "strays": (1.0, 0.0)},
+    caption="area coverage on a planar partition: the pieces' alphas sum to 1 inside (within their quantisation), "
+            "0 outside; the seam left by compositing with over reported",
+))
+register(Check(
+    "popping", _popping, lambda case: hasattr(case, "frames"), needs_convention=True, kinds=AREA_KINDS,
+    per_sample=False, metrics={"alpha_jumps": (1.0, 0.0)},
+    caption="area coverage under sub-pixel motion: no alpha changes beyond what the declared tolerance allows; "
+            "pops against the exact area reported",
+))

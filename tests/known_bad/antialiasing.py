@@ -1,0 +1,298 @@
+"""Known-bad multisample and anti-aliasing rasterizers (issue 14): each gets one classic
+thing wrong -- the sample table, the sample bits, the tie rule at the samples, the 8-bit
+conversion, the method per edge (cairo's 2010 seam), the promise of analytic coverage --
+and must fail the check that judges it, for that reason.
+
+The exact oracles are the building blocks where the bug lies elsewhere (a mirrored table
+is the exact coverage of the mirrored pattern; a coarse supersampler is the exact share of
+a 4 x 4 grid); the tie and per-edge bugs have kernels of their own.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from harness.api import Coverage, Scene
+from harness.area import area_coverage
+from harness.conventions import Convention
+from harness.exact import frozen
+from harness.oracle import exact_coverage, sample_shares
+
+__all__ = ["MirroredPattern", "SwappedSampleBits", "InclusiveSampleTies", "BiasedArea", "PerEdgeMethodSwitch",
+           "CoarseSupersampleClaimsAnalytic", "GRID_4X4"]
+
+# the largest |coordinate| the per-edge kernel accepts (a float kernel's limit, as area_scanline's)
+MAX_COORDINATE = 2.0**24
+# the 4 x 4 grid's sample offsets, row by row: ((i + 0.5) / 4, (j + 0.5) / 4), exact floats
+GRID_4X4 = tuple(((i + 0.5) / 4, (j + 0.5) / 4) for j in range(4) for i in range(4))
+
+
+def _geometry(scene: Scene) -> Scene:
+    """The scene without attributes: these rasterizers interpolate nothing, and the
+    oracle need not either."""
+    return Scene(scene.width, scene.height, scene.positions)
+
+
+def _eight_bit(alpha: np.ndarray) -> np.ndarray:
+    """An alpha in [0, 1] rounded to the nearest of 256 levels."""
+    return np.rint(np.clip(alpha, 0.0, 1.0) * 255.0) / 255.0
+
+
+class MirroredPattern:
+    """Declares the standard 4x pattern, samples it mirrored in x (a sample table indexed
+    for the other x direction): sample s at (1 - x_s, y_s). Each sample's coverage is
+    exact -- at the wrong offset."""
+
+    name = "bad_mirrored_pattern"
+    convention = Convention(samples=4)
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        mirrored = Convention(samples=[(1.0 - x, y) for x, y in self.convention.samples])
+        cov = exact_coverage(_geometry(scene), mirrored)
+        return Coverage(cov.triangle, cov.y, cov.x0, cov.x1, sample=cov.sample)
+
+
+class SwappedSampleBits:
+    """Declares the standard 4x pattern and tests each sample at its offset, but reports
+    sample index s with its two bits swapped (1 <-> 2): a coverage mask packed in the
+    wrong bit order."""
+
+    name = "bad_swapped_sample_bits"
+    convention = Convention(samples=4)
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        cov = exact_coverage(_geometry(scene), self.convention)
+        assert cov.sample is not None
+        swapped = ((cov.sample & 1) << 1) | ((cov.sample & 2) >> 1)
+        return Coverage(cov.triangle, cov.y, cov.x0, cov.x1, sample=swapped)
+
+
+@numba.njit(cache=True)
+def _inclusive_kernel(positions, offsets, width, height):  # type: ignore[no-untyped-def]
+    """(triangle, sample, x, y) of every sample an edge-function test with ``>= 0`` puts
+    inside: each edge takes the samples exactly on it (no tie rule)."""
+    out_t = []
+    out_s = []
+    out_x = []
+    out_y = []
+    for t in range(positions.shape[0]):
+        p = positions[t].copy()
+        if not np.all(np.isfinite(p)):
+            continue
+        area = (p[1, 0] - p[0, 0]) * (p[2, 1] - p[0, 1]) - (p[1, 1] - p[0, 1]) * (p[2, 0] - p[0, 0])
+        if area == 0:
+            continue
+        if area < 0:  # the interior to the right of every edge
+            p = p[np.array([0, 2, 1])]
+        # clamp in floats before any integer (huge coordinates)
+        x0 = int(max(np.floor(p[:, 0].min()) - 1.0, 0.0))
+        x1 = int(min(np.ceil(p[:, 0].max()) + 1.0, float(width)))
+        y0 = int(max(np.floor(p[:, 1].min()) - 1.0, 0.0))
+        y1 = int(min(np.ceil(p[:, 1].max()) + 1.0, float(height)))
+        for s in range(offsets.shape[0]):
+            for yy in range(y0, y1):
+                py = yy + offsets[s, 1]
+                for xx in range(x0, x1):
+                    px = xx + offsets[s, 0]
+                    inside = True
+                    for k in range(3):
+                        ax, ay = p[k, 0], p[k, 1]
+                        bx, by = p[(k + 1) % 3, 0], p[(k + 1) % 3, 1]
+                        if (bx - ax) * (py - ay) - (by - ay) * (px - ax) < 0:  # the bug: == 0 counts as inside
+                            inside = False
+                            break
+                    if inside:
+                        out_t.append(t)
+                        out_s.append(s)
+                        out_x.append(xx)
+                        out_y.append(yy)
+    return (np.array(out_t, dtype=np.int64), np.array(out_s, dtype=np.int64), np.array(out_x, dtype=np.int64),
+            np.array(out_y, dtype=np.int64))
+
+
+class InclusiveSampleTies:
+    """Declares the standard 4x pattern with top-left ties, tests every sample with
+    ``E >= 0``: a sample exactly on an edge is inside both triangles sharing it (double
+    hits on partitions whose shared edges pass through sample points)."""
+
+    name = "bad_inclusive_sample_ties"
+    convention = Convention(samples=4)
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        offsets = frozen(np.array(self.convention.samples, dtype=np.float64))
+        with np.errstate(all="ignore"):
+            t, s, x, y = _inclusive_kernel(frozen(scene.positions), offsets, scene.width, scene.height)
+        if not t.size:
+            return Coverage.empty()
+        return Coverage.from_pixels(t, x, y, sample=s)
+
+
+class BiasedArea:
+    """Declares analytic area coverage on 256 levels; converts the exact area to 8 bits as
+    ``int(a * 255 + 2.5)`` (a rounding offset of 2.5 where 0.5 was meant): two levels too
+    much on every pixel it touches, clamped to 255."""
+
+    name = "bad_biased_area"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        exact = area_coverage(scene, self.convention)
+        assert exact.alpha is not None
+        levels = np.minimum(np.floor(exact.alpha * 255.0 + 2.5), 255.0)
+        return Coverage(exact.triangle, exact.y, exact.x0, exact.x1, alpha=levels / 255.0)
+
+
+@numba.njit(cache=True, inline="always")
+def _clamped_mean(y0, y1):  # type: ignore[no-untyped-def]
+    """Mean of clamp(h, 0, 1) as h runs linearly from y0 to y1."""
+    lo = min(y0, y1)
+    hi = max(y0, y1)
+    if hi <= 0.0:
+        return 0.0
+    if lo >= 1.0:
+        return 1.0
+    if lo >= 0.0:
+        if hi <= 1.0:
+            return (lo + hi) * 0.5
+        r = 1.0 - lo
+        return 1.0 - (r / (hi - lo)) * r * 0.5
+    if hi <= 1.0:
+        return (hi / (hi - lo)) * hi * 0.5
+    return (hi - 0.5) / (hi - lo)
+
+
+@numba.njit(cache=True, inline="always")
+def _exact_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
+    """s_e * C_e of the edge a -> b in pixel-local coordinates, analytically: the signed
+    area of the unit square between its top side and the edge, over the edge's x-range
+    (Green's theorem; the method of :mod:`harness.area`)."""
+    if ax == bx:
+        return 0.0
+    sign = 1.0
+    if bx < ax:
+        ax, ay, bx, by = bx, by, ax, ay
+        sign = -1.0
+    xl = max(ax, 0.0)
+    xr = min(bx, 1.0)
+    if xl >= xr:
+        return 0.0
+    dx = bx - ax
+    dy = by - ay
+    yl = ay if xl == ax else ay + ((xl - ax) / dx) * dy
+    yr = by if xr == bx else ay + ((xr - ax) / dx) * dy
+    return sign * ((xr - xl) * _clamped_mean(yl, yr))
+
+
+@numba.njit(cache=True, inline="always")
+def _sampled_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
+    """The same signed area by 4 x 4 point sampling: the share of the grid's samples
+    (x in the edge's half-open x-range, y above the edge)."""
+    if ax == bx:
+        return 0.0
+    sign = 1.0
+    if bx < ax:
+        ax, ay, bx, by = bx, by, ax, ay
+        sign = -1.0
+    count = 0
+    for i in range(4):
+        sx = (i + 0.5) * 0.25
+        if sx < ax or sx >= bx:
+            continue
+        height = ay + ((sx - ax) / (bx - ax)) * (by - ay)
+        for j in range(4):
+            if (j + 0.5) * 0.25 < height:
+                count += 1
+    return sign * count / 16.0
+
+
+@numba.njit(cache=True)
+def _switch_kernel(positions, width, height):  # type: ignore[no-untyped-def]
+    """(triangle, x, y, area) per pixel of each triangle's bounding box: |sum of the edge
+    terms|, each edge integrated exactly when it runs down the screen (or level) and by
+    4 x 4 point sampling when it runs up."""
+    out_t = []
+    out_x = []
+    out_y = []
+    out_a = []
+    for t in range(positions.shape[0]):
+        p = positions[t]
+        if not np.all(np.isfinite(p)):
+            continue
+        area = (p[1, 0] - p[0, 0]) * (p[2, 1] - p[0, 1]) - (p[1, 1] - p[0, 1]) * (p[2, 0] - p[0, 0])
+        if area == 0:
+            continue
+        x0 = int(max(np.floor(p[:, 0].min()), 0.0))
+        x1 = int(min(np.ceil(p[:, 0].max()), float(width)))
+        y0 = int(max(np.floor(p[:, 1].min()), 0.0))
+        y1 = int(min(np.ceil(p[:, 1].max()), float(height)))
+        for yy in range(y0, y1):
+            for xx in range(x0, x1):
+                total = 0.0
+                for k in range(3):
+                    ax, ay = p[k, 0] - xx, p[k, 1] - yy
+                    bx, by = p[(k + 1) % 3, 0] - xx, p[(k + 1) % 3, 1] - yy
+                    if by >= ay:  # the bug: the method depends on the edge's direction
+                        total += _exact_integral(ax, ay, bx, by)
+                    else:
+                        total += _sampled_integral(ax, ay, bx, by)
+                a = min(abs(total), 1.0)
+                if a > 0:
+                    out_t.append(t)
+                    out_x.append(xx)
+                    out_y.append(yy)
+                    out_a.append(a)
+    return (np.array(out_t, dtype=np.int64), np.array(out_x, dtype=np.int64), np.array(out_y, dtype=np.int64),
+            np.array(out_a, dtype=np.float64))
+
+
+class PerEdgeMethodSwitch:
+    """cairo's image backend in 2010 ("Seams with image backend again"): the coverage of a
+    pixel is the signed sum of per-edge areas (Green's theorem), but an edge running down
+    the screen is integrated analytically and one running up is point-sampled on a 4 x 4
+    grid. Each alpha is within the generous tolerance it declares; the two sides of a
+    shared edge use different methods, so on a partition their errors no longer cancel
+    (seams), and flipping a triangle's winding swaps its methods (invariance)."""
+
+    name = "bad_per_edge_method_switch"
+    # A point-sampled edge term errs by up to 3/8 (1/8 at each end of its x-range, where
+    # a sample column's centre decides a quarter-wide column, and 1/8 from the heights'
+    # quarter steps); the analytic terms not at all. 3/8 holds the mixed sums of the quick
+    # suite's triangles (0.26 at most): a generous promise each alpha keeps.
+    convention = Convention(coverage="area", tolerance=0.375)
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        with np.errstate(invalid="ignore"):
+            huge = np.flatnonzero(np.any(np.abs(scene.positions) > MAX_COORDINATE, axis=(1, 2)))
+        if huge.size:  # pixel-local coordinates of such vertices lose the pixel: declined
+            raise ValueError(f"{self.name}: triangle {int(huge[0])} has a coordinate beyond {MAX_COORDINATE:g}")
+        with np.errstate(all="ignore"):
+            t, x, y, area = _switch_kernel(frozen(scene.positions), scene.width, scene.height)
+        alpha = _eight_bit(area)
+        keep = alpha > 0
+        if not keep.any():
+            return Coverage.empty()
+        return Coverage.from_pixels(t[keep], x[keep], y[keep], alpha=alpha[keep])
+
+
+class CoarseSupersampleClaimsAnalytic:
+    """A 4 x 4 supersampler (the exact share of a regular grid's 16 samples, top-left ties,
+    written as 8-bit alpha) that declares analytic area coverage: its alphas stray from the
+    area by up to a pixel's worth along edges (accuracy), and change in steps of 1/16 as a
+    shape moves by tiny amounts (popping)."""
+
+    name = "bad_coarse_supersample"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        shares = sample_shares(_geometry(scene), Convention(coverage="area", samples=GRID_4X4, levels=17))
+        assert shares.alpha is not None
+        alpha = _eight_bit(shares.alpha)
+        return Coverage(shares.triangle, shares.y, shares.x0, shares.x1, alpha=alpha)
+

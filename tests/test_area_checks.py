@@ -1,0 +1,323 @@
+"""The area-coverage checks (issue 14): accuracy, seams and popping pass on correct
+anti-aliasers -- the exact area rounded to 8 bits, and the exact share of a 4 x 4 grid's
+samples declared as supersampled -- and fail on the known-bad ones for the reason each
+stands for (asserted on the metrics, not only the status); the multisample known-bads
+fail the per-sample checks the same way."""
+
+from __future__ import annotations
+
+import fnmatch
+from fractions import Fraction
+from functools import cache
+from typing import Any
+
+import numpy as np
+import pytest
+
+from cases.suites import suite
+from harness import run_suite
+from harness.api import Coverage, Scene
+from harness.area import area_coverage, exact_area
+from harness.case import Case, MotionCase
+from harness.checks import Result, accuracy, checks, popping, seams
+from harness.conventions import Convention
+from harness.oracle import exact_coverage, sample_shares
+from tests.known_bad.antialiasing import (
+    GRID_4X4, BiasedArea, CoarseSupersampleClaimsAnalytic, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch,
+    SwappedSampleBits,
+)
+
+AREA_CHECKS = {"accuracy", "seams", "popping"}
+
+
+class Quantised8Bit:
+    """The exact area rounded to the nearest of 256 levels: within half a level (and the
+    oracle's float error, below 2**-24) of the exact area."""
+
+    name = "area_8bit"
+    convention = Convention(coverage="area", tolerance=0.5 / 255 + 2.0**-24)
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        exact = area_coverage(scene, self.convention)
+        assert exact.alpha is not None
+        return Coverage(exact.triangle, exact.y, exact.x0, exact.x1, alpha=np.rint(exact.alpha * 255) / 255)
+
+
+class Shares4x4:
+    """The exact share of a 4 x 4 grid's samples covered (top-left ties), declared as
+    what it is: supersampled area on 17 levels."""
+
+    name = "shares_4x4"
+    convention = Convention(coverage="area", samples=GRID_4X4, levels=17)
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return sample_shares(scene, self.convention)
+
+
+@cache
+def quick() -> dict[str, Case | MotionCase]:
+    return {c.id: c for c in suite("quick")}
+
+
+def cases(*patterns: str) -> list[Case | MotionCase]:
+    return [c for cid, c in quick().items() if any(fnmatch.fnmatchcase(cid, p) for p in patterns)]
+
+
+def judged(rasterizer: Any, selected: list[Case | MotionCase], only: set[str]) -> dict[str, dict[str, Result]]:
+    """check -> case id -> result, in-process."""
+    out: dict[str, dict[str, Result]] = {}
+    for r in run_suite([rasterizer], cases=selected, isolate=False, identify=False, repros=False, only=set(only),
+                       timeout=60.0):
+        out.setdefault(r.check, {})[r.case] = r
+    return out
+
+
+# -- correct rasterizers pass ----------------------------------------------------------------
+
+
+def test_the_exact_area_in_8_bits_passes_every_area_check_on_the_quick_suite():
+    results = judged(Quantised8Bit(), list(quick().values()), AREA_CHECKS)
+    assert set(results) >= AREA_CHECKS
+    for check in AREA_CHECKS:
+        bad = {cid: r.message for cid, r in results[check].items() if r.status != "pass"}
+        assert not bad, (check, bad)
+    tolerance = Quantised8Bit.convention.alpha_tolerance
+    assert max(r.metrics["max_error"] for r in results["accuracy"].values()) <= tolerance
+    assert len(results["seams"]) >= 24 and len(results["popping"]) >= 25
+    # conflation: the pieces of an exact partition composited with over still leave a seam
+    assert max(r.metrics["max_over_gap"] for r in results["seams"].values()) > 0.2
+    # single triangles: each step of a rounded area is within one level of the area's
+    single = [r for cid, r in results["popping"].items() if cid.startswith("motion/triangle/")]
+    assert single and all(r.metrics["max_pop_levels"] <= 1.0 and r.metrics["pops"] == 0 for r in single)
+
+
+def test_the_exact_share_of_a_4x4_grid_passes_and_its_popping_shows_as_an_artifact():
+    selected = [c for c in quick().values() if not isinstance(c, MotionCase)] + cases("motion/*/translate-*-1/16")
+    results = judged(Shares4x4(), selected, AREA_CHECKS)
+    for check in AREA_CHECKS:
+        bad = {cid: r.message for cid, r in results[check].items() if r.status != "pass"}
+        assert not bad, (check, bad)
+    assert all(r.metrics["max_error"] == 0 for r in results["accuracy"].values())
+    # judged against the exact area, a sixteenth of a pixel at a time is a pop
+    pops = [r.metrics["max_pop_levels"] for r in results["popping"].values()]
+    assert max(pops) >= 8 and sum(r.metrics["pops"] for r in results["popping"].values()) > 0
+
+
+# -- accuracy ---------------------------------------------------------------------------------
+
+
+def _alone(scene: Scene, convention: Convention, x: int, y: int, alpha: float) -> Coverage:
+    """The oracle's answer with the alpha of triangle 0 at pixel (x, y) replaced."""
+    oracle = exact_coverage(scene, convention)
+    t, xs, ys = oracle.pixels()
+    assert oracle.alpha is not None
+    values = oracle.alpha.copy()
+    values[(t == 0) & (xs == x) & (ys == y)] = alpha
+    return Coverage.from_pixels(t, xs, ys, alpha=values)
+
+
+def test_accuracy_passes_an_alpha_exactly_at_the_tolerance():
+    """Pixel (0, 0) holds exactly half of the triangle's area: alpha = 1/2 + 1/128 is at
+    the tolerance 1/128, within it; on 129 levels it is a level. The float oracle's bound
+    leaves the verdict open: the rationals decide."""
+    scene = Scene(2, 2, [[[0, 0], [1, 1], [0, 1]]])
+    convention = Convention(coverage="area", tolerance=2.0**-7, levels=129)
+    assert exact_area(scene.positions[0], 0, 0) == Fraction(1, 2)
+    case = Case("exact/at-tolerance", scene)
+    oracle = exact_coverage(scene, convention)
+    at = accuracy(case, _alone(scene, convention, 0, 0, 0.5 + 2.0**-7), oracle, convention)
+    assert at.status == "pass" and at.metrics["exact_decisions"] == 1 and at.metrics["max_error"] == 2.0**-7, at.message
+    beyond = accuracy(case, _alone(scene, convention, 0, 0, 0.5 + 2 * 2.0**-7), oracle, convention)
+    assert beyond.status == "fail" and beyond.metrics["over_tolerance"] == 1
+    assert beyond.evidence["pixels"][0] == {"triangle": 0, "x": 0, "y": 0, "alpha": 0.5 + 2**-6, "area": 0.5,
+                                            "error": 2**-6, "over": True}
+
+
+def test_accuracy_decides_at_the_last_bit_where_the_float_oracle_cannot():
+    """Pixel (0, 0) holds 5/6 of a pixel, which no float is; the float oracle errs by
+    1/2**54.6 or so. The floats on either side of 5/6 + 1/128 are judged by the rationals:
+    the one above is beyond the tolerance although its float error equals it exactly."""
+    scene = Scene(2, 4, [[[0, 0], [1, 0], [0, 3]]])
+    convention = Convention(coverage="area", tolerance=2.0**-7)
+    limit = exact_area(scene.positions[0], 0, 0) + Fraction(2.0**-7)
+    assert limit.denominator % 3 == 0
+    below = float(limit) if Fraction(float(limit)) <= limit else float(np.nextafter(float(limit), 0.0))
+    above = float(np.nextafter(below, 2.0))
+    assert Fraction(below) < limit < Fraction(above)
+    case = Case("exact/last-bit", scene)
+    oracle = exact_coverage(scene, convention)
+    assert oracle.alpha is not None and not abs(above - oracle.alpha[0]) > 2.0**-7  # the float difference says "within"
+    for alpha, over in ((below, 0), (above, 1)):
+        verdict = accuracy(case, _alone(scene, convention, 0, 0, alpha), oracle, convention)
+        assert verdict.metrics["over_tolerance"] == over and verdict.metrics["exact_decisions"] == 1, (alpha, verdict.message)
+
+
+def test_accuracy_fails_alphas_off_the_declared_levels_and_nothing_else():
+    """The unquantised float area declared as 256 levels: within the tolerance everywhere,
+    yet on none of the levels it declares."""
+    case = quick()["lattice/bits-2"]
+    convention = Convention(coverage="area")
+    oracle = exact_coverage(case.scene, convention)
+    assert isinstance(case, Case)
+    verdict = accuracy(case, oracle, oracle, convention)
+    assert verdict.status == "fail" and verdict.metrics["over_tolerance"] == 0 and verdict.metrics["off_level"] > 100
+    assert "declared levels" in verdict.message and verdict.evidence["off_level"][0].keys() >= {"x", "y", "alpha", "level"}
+
+
+def test_biased_area_fails_accuracy_by_two_levels():
+    verdict = judged(BiasedArea(), cases("lattice/bits-2"), {"accuracy"})["accuracy"]["lattice/bits-2"]
+    assert verdict.status == "fail"
+    metrics, worst = verdict.metrics, verdict.evidence["pixels"][0]
+    assert 1.5 / 255 < metrics["max_error"] <= 2.5 / 255 + 1e-12 and metrics["over_tolerance"] > 1000 and metrics["off_level"] == 0
+    assert worst["over"] and worst["alpha"] > worst["area"]  # too much alpha: the bias
+
+
+def test_an_answer_without_alphas_fails_every_area_check():
+    """Spans but no alphas (NaN throughout): beyond every tolerance, never a crash in the
+    exact fallback."""
+    convention = Quantised8Bit.convention
+    case = quick()["watertight/fan-8/centre"]
+    assert isinstance(case, Case)
+    oracle = exact_coverage(case.scene, convention)
+    bare = Coverage(oracle.triangle, oracle.y, oracle.x0, oracle.x1)
+    verdict = accuracy(case, bare, oracle, convention)
+    assert verdict.status == "fail" and verdict.metrics["over_tolerance"] == oracle.n_pixels
+    assert seams(case, bare, convention, oracle).metrics["seam_pixels"] > 0
+    motion = quick()["motion/triangle/translate-x-1/16"]
+    assert isinstance(motion, MotionCase)
+    frames = list(motion.frames)[:3]
+    oracles = [exact_coverage(s, convention) for s in frames]
+    bares = [Coverage(o.triangle, o.y, o.x0, o.x1) for o in oracles]
+    assert popping(motion.id, frames, bares, oracles, convention).metrics["alpha_jumps"] > 0
+
+
+# -- seams ------------------------------------------------------------------------------------
+
+
+def test_seams_counts_a_missing_piece_and_a_stray():
+    case = quick()["watertight/grid-6x6-main/none"]
+    assert isinstance(case, Case) and case.region is not None
+    rasterizer = Quantised8Bit()
+    convention = rasterizer.convention
+    answer = rasterizer.rasterize(case.scene)
+    oracle = exact_coverage(case.scene, convention)
+    assert seams(case, answer, convention, oracle).status == "pass"
+    dropped = answer.take(np.flatnonzero(answer.triangle != 7))
+    verdict = seams(case, dropped, convention, oracle)
+    assert verdict.status == "fail" and verdict.metrics["seam_pixels"] > 10 and verdict.metrics["strays"] == 0
+    assert verdict.evidence["pixels"][0]["levels_off"] == -255  # a pixel wholly inside piece 7
+    stray = Coverage.concat([answer, Coverage([0], [0], [0], [1], alpha=[3 / 255])])  # pixel (0, 0): outside
+    verdict = seams(case, stray, convention, oracle)
+    assert verdict.status == "fail" and verdict.metrics["strays"] == 1 and verdict.evidence["strays"] == [[0, 0]]
+
+
+def test_per_edge_method_switch_keeps_its_tolerance_but_opens_seams_and_changes_under_flips():
+    """cairo's 2010 seam: each alpha within the (generous) tolerance it declares; the
+    pieces of a partition do not sum to one pixel where a shared edge is integrated one
+    way on one side and another on the other; flipping a winding swaps the methods."""
+    selected = cases("watertight/grid-6x6-main/none", "watertight/fan-8/centre")
+    results = judged(PerEdgeMethodSwitch(), selected, {"accuracy", "seams", "invariance"})
+    for case in selected:
+        assert results["accuracy"][case.id].status == "pass"
+        seam = results["seams"][case.id]
+        assert seam.status == "fail" and seam.metrics["seam_pixels"] > 10 and seam.metrics["max_sum_error"] >= 2
+        worst = seam.evidence["pixels"][0]
+        assert abs(worst["levels_off"]) > worst["pieces"] / 2 and len(worst["triangles"]) >= 2
+        flips = results["invariance"][case.id]
+        assert flips.status == "fail" and flips.metrics["flip-winding_differences"] > 0
+        assert flips.metrics["rotate-vertices_differences"] == 0 == flips.metrics["permute-triangles_differences"]
+
+
+# -- popping ----------------------------------------------------------------------------------
+
+
+def test_coarse_supersampling_claimed_as_analytic_fails_accuracy_and_pops():
+    results = judged(CoarseSupersampleClaimsAnalytic(), cases("lattice/bits-0", "motion/triangle/translate-x-1/64"),
+                     {"accuracy", "popping"})
+    coarse = results["accuracy"]["lattice/bits-0"]
+    assert coarse.status == "fail" and coarse.metrics["max_error"] > 8 / 255 and coarse.metrics["off_level"] == 0
+    pop = results["popping"]["motion/triangle/translate-x-1/64"]
+    assert pop.status == "fail" and pop.metrics["alpha_jumps"] > 10 and pop.metrics["max_pop_levels"] >= 8
+    evidence = pop.evidence
+    series = evidence["series"]
+    assert {len(v) for v in series.values()} == {pop.metrics["frames"]} == {129}
+    # the alpha moves in sixteenths, the area continuously
+    assert len(set(series["alpha"])) <= 17 < len(set(series["area"]))
+    assert series["oracle"] == series["area"]  # analytic: the declared model is the area
+    step = evidence["steps"][0]
+    assert step.keys() == {"frame", "triangle", "x", "y", "d_alpha", "d_oracle"}
+    assert abs(step["d_alpha"] - step["d_oracle"]) > 2 * CoarseSupersampleClaimsAnalytic.convention.alpha_tolerance
+    assert evidence["pixel"].keys() == {"x", "y"}
+
+
+def test_popping_allows_each_triangle_its_own_tolerance():
+    """Two triangles over pixel (0, 0), each covering its left part up to x = a, moving
+    right by 0.02 levels' worth: each area crosses a half level in the same step, so each
+    rounded alpha steps by one level while the area steps by 0.02 -- each keeps its
+    promise, the summed alpha pops by two levels. The verdict is per triangle; the
+    summed pop is the artifact."""
+    a = 100.49 / 255
+    frames = [Scene(2, 2, [[[a + d, -5], [a + d, 5], [a + d - 20, 0]]] * 2) for d in (0.0, 0.02 / 255)]
+    convention = Quantised8Bit.convention
+    answers = [Quantised8Bit().rasterize(s) for s in frames]
+    oracles = [exact_coverage(s, convention) for s in frames]
+    verdict = popping("two-pieces", frames, answers, oracles, convention)
+    assert verdict.status == "pass" and verdict.metrics["alpha_jumps"] == 0, verdict.message
+    assert verdict.metrics["max_step_error"] <= 2 * convention.alpha_tolerance
+    assert 1.9 < verdict.metrics["max_pop_levels"] < 2 and verdict.metrics["pops"] == 2  # rows 0 and 1 alike
+    assert verdict.evidence["pixel"] == {"x": 0, "y": 0} and verdict.evidence["series"]["alpha"] == [200 / 255, 202 / 255]
+
+
+def test_popping_in_triangle_chunks_agrees_with_popping_at_once(monkeypatch):
+    """Large scenes are judged a few triangles at a time (bounded memory): same verdict,
+    same metrics, same evidence."""
+    import harness.checks.area as area_checks
+
+    motion = quick()["motion/fan-8/translate-x-1/16"]
+    assert isinstance(motion, MotionCase)
+    frames = list(motion.frames)
+    bad = CoarseSupersampleClaimsAnalytic()
+    answers = [bad.rasterize(s) for s in frames]
+    oracles = [exact_coverage(s, bad.convention) for s in frames]
+    at_once = popping(motion.id, frames, answers, oracles, bad.convention)
+    monkeypatch.setattr(area_checks, "_CHUNK_ENTRIES", 1)  # one triangle per chunk
+    chunked = popping(motion.id, frames, answers, oracles, bad.convention)
+    assert at_once.status == chunked.status == "fail" and at_once.metrics == chunked.metrics
+    assert at_once.evidence == chunked.evidence
+
+
+# -- multisample known-bads, judged sample by sample -------------------------------------------
+
+
+def test_multisample_known_bads_fail_per_sample_for_their_reason():
+    lattice = cases("lattice/bits-0")
+    mirrored = judged(MirroredPattern(), lattice, {"conformance"})["conformance"]["lattice/bits-0"]
+    assert mirrored.status == "fail" and mirrored.metrics["failing_samples"] == 4
+    swapped = judged(SwappedSampleBits(), lattice, {"conformance"})["conformance"]["lattice/bits-0"]
+    assert swapped.status == "fail" and swapped.metrics["failing_samples"] == 2
+    assert [s["sample"] for s in swapped.evidence["samples"]] == [1, 2]
+    # the anti-diagonals of this grid run through samples 0 and 3 of the 4x pattern
+    ties = cases("watertight/grid-6x6-on-samples-0.25/lattice")
+    inclusive = judged(InclusiveSampleTies(), ties, {"watertight", "conformance"})
+    double = inclusive["watertight"][ties[0].id]
+    assert double.status == "fail" and double.metrics["double_hits"] > 100 and double.metrics["holes"] == 0
+    assert [s["sample"] for s in double.evidence["samples"]] == [0, 3]
+    extra = inclusive["conformance"][ties[0].id]
+    assert extra.status == "fail" and extra.metrics["missing"] == 0
+    assert extra.metrics["extra"] == extra.metrics["exact_ties"] > 0  # every extra sample lies on an edge
+
+
+def test_the_area_checks_judge_area_coverage_only():
+    for check in checks(only=AREA_CHECKS):
+        assert check.kinds == frozenset({"area"}) and check.needs_convention
+    judged_kinds = {check.name for check in checks(kind="multisample")}
+    assert not AREA_CHECKS & judged_kinds
+
+
+@pytest.mark.parametrize("rasterizer", [MirroredPattern(), SwappedSampleBits(), InclusiveSampleTies()], ids=lambda r: r.name)
+def test_the_multisample_known_bads_are_well_formed(rasterizer):
+    case = quick()["watertight/fan-8/centre"]
+    results = judged(rasterizer, [case], {"hygiene"})
+    assert results["hygiene"][case.id].status == "pass"
