@@ -15,8 +15,8 @@ os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 # The longest modules first: `make test` hands whole modules to its workers in collection
 # order (--dist loadfile), so a long module collected last would leave one worker running
 # it alone at the end.
-LONGEST_FIRST = ["test_identify.py", "test_known_bad.py", "test_runner.py", "test_pytest_plugin.py",
-                 "test_fingerprints.py", "test_oracle.py"]
+LONGEST_FIRST = ["test_known_bad.py", "test_identify.py", "test_runner.py", "test_pytest_plugin.py", "test_coverage_identify.py",
+                 "test_fingerprints.py", "test_area_checks.py", "test_oracle.py", "test_aa_references.py"]
 
 
 def pytest_collection_modifyitems(items):

@@ -139,16 +139,17 @@ def test_a_supersampler_quantised_to_8_bits_keeps_its_grid():
     assert fingerprint.convention == Convention(coverage="area", samples=GRID4) and fingerprint.exact
 
 
-def test_analytic_area_is_told_from_4x4_and_16x16_supersampling():
+def test_analytic_area_is_told_from_4x4_and_8x8_supersampling():
     analytic = alpha_sweeps(InProcess(Hidden(Convention(coverage="area"), 256)))
     coarse = alpha_sweeps(InProcess(Supersampler(4)))
-    fine = alpha_sweeps(InProcess(Supersampler(16)))
+    fine = alpha_sweeps(InProcess(Supersampler(8)))
     assert analytic.model == "analytic" and coarse.model == fine.model == "supersampled"
-    assert (coarse.layout, fine.layout) == ("regular 4 x 4 grid (16 samples)", "regular 16 x 16 grid (256 samples)")
-    assert set(fine.pattern) == set(Supersampler(16).grid) and fine.levels == 257
-    assert (fine.vertical.levels, fine.horizontal.levels) == (17, 17)
-    # 256 samples: a supersampled area convention holds them (MAX_AREA_SAMPLES), identified exactly
-    assert set(fine.convention.samples) == set(Supersampler(16).grid) and fine.residual == 0
+    assert (coarse.layout, fine.layout) == ("regular 4 x 4 grid (16 samples)", "regular 8 x 8 grid (64 samples)")
+    assert set(fine.pattern) == set(Supersampler(8).grid) and fine.levels == 65
+    assert (fine.vertical.levels, fine.horizontal.levels) == (9, 9)
+    # 64 samples, more than a multisample convention holds: a supersampled area convention
+    # holds them (MAX_AREA_SAMPLES), identified exactly
+    assert set(fine.convention.samples) == set(Supersampler(8).grid) and fine.residual == 0
     assert analytic.max_error < 1 / 256 < fine.max_error < coarse.max_error
     assert analytic.calls <= 5 and coarse.calls <= 30 and fine.calls <= 30  # one call per sweep or bisection step
 

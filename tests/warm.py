@@ -35,12 +35,12 @@ def _first_of_each_family() -> list:  # type: ignore[type-arg]
 class _Oracle:
     """The exact oracle as a rasterizer: the checks' kernels without a rasterizer's."""
 
-    name = "oracle"
-
-    def __init__(self) -> None:
+    def __init__(self, **convention: object) -> None:
         from harness.conventions import Convention
 
-        self.convention = Convention()
+        self.convention = Convention(**convention)  # type: ignore[arg-type]
+        self.name = f"oracle_{self.convention.kind}{'_shares' if self.convention.samples and self.convention.kind == 'area' else ''}"
+        self.interpolates = self.convention.kind != "area"
 
     def rasterize(self, scene):  # type: ignore[no-untyped-def]
         from harness.oracle import exact_coverage
@@ -59,7 +59,9 @@ def engine() -> None:
     from harness.oracle import exact_coverage
 
     cases = _first_of_each_family()
-    run_suite([_Oracle()], cases=cases, identify=False, isolate=False, repros=False)
+    # every coverage kind: the oracles' and the area checks' kernels
+    oracles = [_Oracle(), _Oracle(samples=4), _Oracle(coverage="area"), _Oracle(coverage="area", samples=4)]
+    run_suite(oracles, cases=cases, identify=False, isolate=False, repros=False)
     scene = next(c for c in cases if isinstance(c, Case)).scene
     pixel_areas(scene.positions, scene.width, scene.height)
     area_error_bound(np.asarray(scene.positions))
