@@ -90,11 +90,14 @@ def test_cli_usage_errors_exit_2(capsys):
 def test_cli_list_and_bench(tmp_path, capsys):
     assert main(["list"]) == 0
     assert "floor_scanline" in capsys.readouterr().out
-    assert main(["bench", "--scale", "0.01", "--budget", "0", "--json", str(tmp_path / "b.json")]) == 0
+    two = ["--rasterizer", "centre_scanline", "--rasterizer", "area_scanline"]  # (all of them: `make bench`)
+    assert main(["bench", "--scale", "0.01", "--budget", "0", *two, "--json", str(tmp_path / "b.json")]) == 0
     out = capsys.readouterr().out
     assert "pillow" in out and "oracle" in out
     data = json.loads((tmp_path / "b.json").read_text())
-    assert {r["contender"] for r in data["results"]} >= {"pillow", "oracle", *BUILTIN_NAMES}
+    oracles = {"oracle", "oracle_area", "oracle_msaa4", "oracle_msaa8"}
+    assert {r["contender"] for r in data["results"]} >= {"pillow", *oracles, "cairo_aa_fill", "skia_aa_fill", "centre_scanline",
+                                                         "area_scanline"}
 
 
 def test_console_script_entry_point():
