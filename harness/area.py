@@ -256,7 +256,7 @@ def _viewport(width: int, height: int) -> None:
 
 
 @numba.njit(cache=True, inline="always")
-def _clamped_mean(y0, y1):  # type: ignore[no-untyped-def]
+def clamped_mean(y0, y1):  # type: ignore[no-untyped-def]
     """Mean of clamp(h, 0, 1) as h runs linearly from y0 to y1. Each case is a quotient of
     differences of like-signed numbers: no cancellation, at most five roundings."""
     lo = min(y0, y1)
@@ -297,7 +297,7 @@ def _edge_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
     # overflow however steep the edge.
     yl = ay if xl == ax else ay + ((xl - ax) / dx) * dy
     yr = by if xr == bx else ay + ((xr - ax) / dx) * dy
-    return sign * ((xr - xl) * _clamped_mean(yl, yr))
+    return sign * ((xr - xl) * clamped_mean(yl, yr))
 
 
 @numba.njit(cache=True, inline="always")

@@ -46,6 +46,21 @@ def _need(module: str, hint: str) -> Any:
         raise Unavailable(f"{module} is not installed ({type(exc).__name__}): {hint}{_install_failure(module)}") from None
 
 
+def _cairo_fill(cairo: Any, p: NDArray, w: int, h: int, antialias: Any) -> NDArray:
+    """One triangle filled by cairo into a w x h A8 surface: the (h, w) uint8 alpha."""
+    surface = cairo.ImageSurface(cairo.FORMAT_A8, w, h)
+    ctx = cairo.Context(surface)
+    ctx.set_antialias(antialias)
+    ctx.move_to(float(p[0, 0]), float(p[0, 1]))
+    ctx.line_to(float(p[1, 0]), float(p[1, 1]))
+    ctx.line_to(float(p[2, 0]), float(p[2, 1]))
+    ctx.close_path()
+    ctx.fill()
+    surface.flush()
+    stride = surface.get_stride()
+    return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, stride)[:, :w]
+
+
 class _OneTriangleAtATime:
     """A 2D library drawing one triangle at a time into a mask (``_draw``): coverage only,
     no declared convention."""
@@ -131,19 +146,7 @@ class CairoFill(_OneTriangleAtATime):
         self._cairo = _need("cairo", "apt-get install libcairo2-dev pkg-config && pip install pycairo   (or pip install '.[real]')")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
-        cairo = self._cairo
-        surface = cairo.ImageSurface(cairo.FORMAT_A8, w, h)
-        ctx = cairo.Context(surface)
-        ctx.set_antialias(cairo.ANTIALIAS_NONE)
-        ctx.move_to(float(p[0, 0]), float(p[0, 1]))
-        ctx.line_to(float(p[1, 0]), float(p[1, 1]))
-        ctx.line_to(float(p[2, 0]), float(p[2, 1]))
-        ctx.close_path()
-        ctx.fill()
-        surface.flush()
-        stride = surface.get_stride()
-        data = np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, stride)[:, :w]
-        return data > 0
+        return _cairo_fill(self._cairo, p, w, h, self._cairo.ANTIALIAS_NONE) > 0
 
 
 class _AlphaOneTriangleAtATime:
@@ -193,19 +196,7 @@ class CairoAntialiased(_AlphaOneTriangleAtATime):
         self._cairo = _need("cairo", "apt-get install libcairo2-dev pkg-config && pip install pycairo   (or pip install '.[real]')")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
-        cairo = self._cairo
-        surface = cairo.ImageSurface(cairo.FORMAT_A8, w, h)
-        ctx = cairo.Context(surface)
-        ctx.set_antialias(cairo.ANTIALIAS_DEFAULT)
-        ctx.move_to(float(p[0, 0]), float(p[0, 1]))
-        ctx.line_to(float(p[1, 0]), float(p[1, 1]))
-        ctx.line_to(float(p[2, 0]), float(p[2, 1]))
-        ctx.close_path()
-        ctx.fill()
-        surface.flush()
-        stride = surface.get_stride()
-        data = np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, stride)[:, :w]
-        return data / 255.0
+        return _cairo_fill(self._cairo, p, w, h, self._cairo.ANTIALIAS_DEFAULT) / 255.0
 
 
 class SkiaAntialiased(_AlphaOneTriangleAtATime):

@@ -18,6 +18,7 @@ from harness.area import area_coverage
 from harness.conventions import Convention
 from harness.exact import frozen
 from harness.oracle import exact_coverage, sample_shares
+from harness.area import clamped_mean as _clamped_mean  # the same clamped mean as the area oracle
 
 __all__ = ["MirroredPattern", "SwappedSampleBits", "InclusiveSampleTies", "BiasedArea", "PerEdgeMethodSwitch",
            "CoarseSupersampleClaimsAnalytic", "GRID_4X4"]
@@ -145,25 +146,6 @@ class BiasedArea:
         assert exact.alpha is not None
         levels = np.minimum(np.floor(exact.alpha * 255.0 + 2.5), 255.0)
         return Coverage(exact.triangle, exact.y, exact.x0, exact.x1, alpha=levels / 255.0)
-
-
-@numba.njit(cache=True, inline="always")
-def _clamped_mean(y0, y1):  # type: ignore[no-untyped-def]
-    """Mean of clamp(h, 0, 1) as h runs linearly from y0 to y1."""
-    lo = min(y0, y1)
-    hi = max(y0, y1)
-    if hi <= 0.0:
-        return 0.0
-    if lo >= 1.0:
-        return 1.0
-    if lo >= 0.0:
-        if hi <= 1.0:
-            return (lo + hi) * 0.5
-        r = 1.0 - lo
-        return 1.0 - (r / (hi - lo)) * r * 0.5
-    if hi <= 1.0:
-        return (hi / (hi - lo)) * hi * 0.5
-    return (hi - 0.5) / (hi - lo)
 
 
 @numba.njit(cache=True, inline="always")
