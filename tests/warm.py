@@ -73,24 +73,36 @@ def engine() -> None:
     counter.mismatches(Coverage([0, 0], [1, 1], [1, 2], [4, 5]))
     # an untidy answer: tidied span by span
     Coverage([0, 0], [1, 1], [1, 0], [3, 2]).tidy(Scene(8, 8, POSITIONS))
+    # the references beyond one sample (here, beside the oracles they share kernels with,
+    # to balance the two parts)
+    from rasterizers.area_scanline import AreaScanline
+    from rasterizers.multisample import PinedaMSAA4
+    from rasterizers.supersample import Supersampler4
+
+    _draw_each_family([PinedaMSAA4(), AreaScanline(), Supersampler4()])
 
 
 def rasterizers() -> None:
     """Each built-in, known-bad and ported rasterizer on one scene of each family, and on
     scenes with attributes (affine and perspective-correct)."""
-    from harness.api import Scene
-    from harness.case import Case
     from harness.registry import builtins, load
     from rasterizers.area_scanline import AreaScanline
-    from rasterizers.multisample import PinedaMSAA4
+    from rasterizers.multisample import PinedaMSAA4, PinedaMSAA8
     from rasterizers.supersample import Supersampler4
     from tests.known_bad.edge_functions import EdgeFunctionBug
     from tests.known_bad.scanlines import ScanlineBug
     from tests.ports import DeqpReference, PiglitReference
 
-    everyone = [load(name) for name in builtins()]
+    beyond_one_sample = {r.name for r in (PinedaMSAA4(), PinedaMSAA8(), AreaScanline(), Supersampler4())}
+    everyone = [load(name) for name in builtins() if name not in beyond_one_sample]  # those: the engine part's
     everyone += [EdgeFunctionBug("inclusive"), ScanlineBug("no-prestep"), DeqpReference(), PiglitReference()]
-    everyone += [r for r in (PinedaMSAA4(), AreaScanline(), Supersampler4()) if r.name not in builtins()]
+    _draw_each_family(everyone)
+
+
+def _draw_each_family(everyone: list) -> None:  # type: ignore[type-arg]
+    from harness.api import Scene
+    from harness.case import Case
+
     scenes = [Scene(8, 8, POSITIONS, attributes=VALUES, w=w) for w in (None, np.array([[1.0, 2.0, 4.0]]))]
     for case in _first_of_each_family():
         scenes += case.frames[:1] if not isinstance(case, Case) else [case.scene]

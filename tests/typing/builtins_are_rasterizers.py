@@ -8,7 +8,6 @@ from rasterizers.floor_scanline import FloorScanline
 from rasterizers.pineda_topleft import PinedaTopLeft
 from rasterizers.area_scanline import AreaScanline
 from rasterizers.multisample import MultisamplePineda, PinedaMSAA4, PinedaMSAA8
-from rasterizers.real.adapters import CairoAntialiased, MesaMultisample, SkiaAntialiased
 from rasterizers.supersample import Supersampler, Supersampler4
 
 floor: Rasterizer = FloorScanline()
@@ -22,6 +21,3 @@ msaa_custom: Rasterizer = MultisamplePineda([(0.25, 0.25), (0.75, 0.75)], tie="b
 area: Rasterizer = AreaScanline()
 supersample: Rasterizer = Supersampler4()
 supersample2: Rasterizer = Supersampler(2)
-cairo_aa: Rasterizer = CairoAntialiased()
-skia_aa: Rasterizer = SkiaAntialiased()
-llvmpipe_msaa: Rasterizer = MesaMultisample()
