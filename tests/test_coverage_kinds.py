@@ -91,7 +91,7 @@ def test_alpha_rows_follow_their_pixels_through_tidy_and_canonical_form():
 
 
 def test_a_multisample_reference_passes_every_check_sample_by_sample():
-    # (pineda_msaa4 passes the still cases and a motion case of each kind: tests/test_runner.py)
+    # (pineda_msaa4 equals this oracle on every still case: tests/test_aa_references.py)
     lattice = [c for c in STATIC if c.family in ("lattice", "watertight", "degenerate")][::4]
     motion = next(c for c in QUICK if not isinstance(c, Case))
     results = run_suite([OracleMSAA()], cases=lattice + [motion], isolate=False, repros=False, identify=False)
