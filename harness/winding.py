@@ -1,0 +1,378 @@
+"""The exact winding-number oracle for paths under the nonzero and even-odd fill rules.
+
+A path is one or more closed contours (the last vertex joins the first). Sample
+``p = (i + sx, j + sy)`` of pixel (i, j) is covered by a path when the winding number of
+the *perturbed* sample ``q = p + d(eps)``, eps -> 0+, around the path's contours satisfies
+the fill rule (``nonzero``: w != 0; ``evenodd``: w odd). ``d`` is the tie rule's
+perturbation (:mod:`harness.conventions`): ``(tx*eps, ty*eps**2)`` for the x-first rules,
+``(tx*eps**2, ty*eps)`` for the y-first ones, ``(tx, ty)`` from
+:data:`harness.conventions.TIE_PERTURBATION`. For small eps, q lies on no edge line (an
+edge of nonzero length has a nonzero gradient, so the lowest-order term of its edge
+function at q is nonzero) and on no horizontal line through a vertex, so the winding number
+is well defined everywhere: on vertices, horizontal edges, collinear or repeated vertices,
+zero-length edges and overlapping edges. For a path of one triangle it is exactly the
+triangle oracle (:func:`harness.oracle.exact_coverage`), with either fill rule.
+
+Method, per sample row ``ys = j + sy`` (every decision exact, no epsilon):
+
+1. *Which edges cross q's horizontal line.* q's y is ``ys + ty*eps**k`` (k = 2 for
+   x-first, 1 for y-first: only the sign ``ty`` matters). A vertex ``v`` lies below it
+   (greater y) when ``vy > ys``, or ``vy == ys`` and ``ty < 0`` -- float comparisons,
+   exact. Edge a -> b crosses when exactly one of a, b is below. A horizontal edge has
+   both ends on the same side: never crossed; a zero-length edge likewise.
+2. *Where.* For a crossing edge (never horizontal), let ``s = sign E_ab(p)`` with
+   ``E_ab(p) = (bx-ax)*(py-ay) - (by-ay)*(px-ax)`` (:func:`harness.exact.orient2d_sign`)
+   and ``dir = sign(by - ay)``. E decreases in x when dir > 0, so q lies right of the
+   edge's crossing exactly when ``sign E_ab(q) * dir < 0``. When ``s != 0`` that is
+   ``s * dir < 0``. When p is on the edge's line (``s == 0``) the perturbation decides,
+   from ``E(q) = E(p) + dE/dx*d_x + dE/dy*d_y`` with dE/dx = -(by-ay) != 0 and
+   dE/dy = bx-ax:
+
+   * x-first rules (d_x = tx*eps is first order): sign E(q) = -dir*tx, so q is right of
+     the crossing exactly when ``tx > 0``;
+   * y-first rules (d_y = ty*eps first order), a slanted edge (bx != ax): sign E(q) =
+     sign((bx-ax)*ty), so q is right exactly when ``(bx-ax)*(by-ay)*ty < 0`` -- the
+     crossing itself moves by (dx/dy)*ty*eps while q's x moves by only O(eps**2);
+   * y-first rules, a vertical edge: dE/dy = 0 and the x-term decides as for x-first:
+     right exactly when ``tx > 0``.
+
+   "Right of the crossing" is monotone in the column, so the first column ``c`` in
+   [0, width] whose sample is right of it is found from the float crossing with a rigorous
+   error bound and, when a column boundary lies within it, settled exactly with
+   ``orient2d_sign`` (the triangle oracle's ``_bound``/``_settle``).
+3. *Winding.* Every crossing contributes ``dir`` (+1 for an edge running down the screen,
+   -1 up) to the winding of every sample at column >= c (the crossings left of the
+   sample). Per (path, row) the (c, dir) events are sorted by c and prefix-summed; the
+   runs where the fill rule holds are the spans. (Counting crossings left of the sample
+   rather than right negates the winding number of a closed path: neither rule cares.)
+
+Snapping (``convention.snap``) is applied to every vertex first. Culling is ignored for
+paths: a fill rule, not a triangle's orientation, decides what a path covers. A path with
+a NaN or infinite vertex (after snapping) covers nothing. Coordinates beyond the exact
+expansions' safe range (nonzero magnitude below 2**-450 or above 2**450,
+:data:`harness.exact.SAFE_MIN`/:data:`~harness.exact.SAFE_MAX`) raise ValueError naming
+the contour; :func:`path_spans_rational` handles any finite float.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from fractions import Fraction
+from typing import Literal
+
+import numba
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from harness.conventions import Convention
+from harness.exact import SAFE_MAX, SAFE_MIN, frozen
+from harness.oracle import _bound, _edge_setup, _row_range
+
+__all__ = ["FILL_RULES", "FillRule", "path_spans", "path_spans_rational"]
+
+FillRule = Literal["nonzero", "evenodd"]
+FILL_RULES: tuple[FillRule, ...] = ("nonzero", "evenodd")
+
+Spans = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]
+
+
+# -- the compiled kernels ------------------------------------------------------------------
+
+
+@numba.njit(cache=True, inline="always")
+def _below(vy, ys, ty):  # type: ignore[no-untyped-def]
+    """Whether a vertex at height vy lies below (greater y than) the perturbed line
+    ys + ty*eps**k, eps -> 0+."""
+    return vy > ys or (vy == ys and ty < 0)
+
+
+@numba.njit(cache=True, inline="always")
+def _tie_right(ax, ay, bx, by, tx, ty, y_first):  # type: ignore[no-untyped-def]
+    """Whether a sample exactly on the (non-horizontal) edge line a-b, perturbed by the tie
+    rule, lies right of the edge's crossing of its row (see the module docstring)."""
+    if y_first and ax != bx:
+        return ((bx > ax) == (by > ay)) != (ty > 0)  # (bx-ax)*(by-ay)*ty < 0
+    return tx > 0
+
+
+@numba.njit(cache=True)
+def _count_events(ax, ay, bx, by, sy, height):  # type: ignore[no-untyped-def]
+    """An upper bound on the (edge, row) crossings: the rows each edge's y extent spans."""
+    n = 0
+    for e in range(ax.size):
+        if ay[e] == by[e]:
+            continue
+        first, last = _row_range(min(ay[e], by[e]), max(ay[e], by[e]), sy, height)
+        n += max(last - first + 1, 0)
+    return n
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _events_kernel(ax, ay, bx, by, edge_path, sx, sy, tx, ty, y_first, width, height,
+                   out_path, out_row, out_col, out_dir):  # type: ignore[no-untyped-def]
+    """Per edge and row it crosses: (path, row, first column right of the crossing, dir).
+    Crossings at column ``width`` (right of every sample) are dropped. Returns the count."""
+    n = 0
+    for e in range(ax.size):
+        x0, y0, x1, y1 = ax[e], ay[e], bx[e], by[e]
+        if y0 == y1:
+            continue  # horizontal or zero-length: never crosses a perturbed row
+        first, last = _row_range(min(y0, y1), max(y0, y1), sy, height)
+        if first > last:
+            continue
+        direction = 1 if y1 > y0 else -1
+        lower = y1 < y0
+        tie_right = _tie_right(x0, y0, x1, y1, tx, ty, y_first)
+        # _bound/_settle look for the first column where g holds: g = inside(owned) when
+        # `lower`, else not inside(owned), with inside = s > 0 or (s == 0 and owned). With
+        # dir < 0 (lower) "right of the crossing" is s > 0 or (s == 0 and tie_right); with
+        # dir > 0 it is s < 0 or (s == 0 and tie_right) = not (s > 0 or (s == 0 and not
+        # tie_right)).
+        owned = tie_right if lower else not tie_right
+        y_lo, y_hi, slope, delta = _edge_setup(x0, y0, x1, y1, first + sy, last + sy)
+        for j in range(first, last + 1):
+            ys = j + sy
+            if _below(y0, ys, ty) == _below(y1, ys, ty):
+                continue
+            c = _bound(x0, y0, x1, y1, slope, delta, owned, sx, ys, width, lower)
+            if c >= width:
+                continue
+            out_path[n] = edge_path[e]
+            out_row[n] = j
+            out_col[n] = c
+            out_dir[n] = direction
+            n += 1
+    return n
+
+
+@numba.njit(cache=True)
+def _scan_kernel(path, row, col, direction, evenodd, width, out_p, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """Events sorted by (path, row, col) -> maximal spans where the fill rule holds."""
+    n = 0
+    i = 0
+    total = path.size
+    while i < total:
+        p = path[i]
+        r = row[i]
+        wind = 0
+        is_open = False
+        start = 0
+        j = i
+        while j < total and path[j] == p and row[j] == r:
+            c = col[j]
+            while j < total and path[j] == p and row[j] == r and col[j] == c:
+                wind += direction[j]
+                j += 1
+            inside = (wind & 1) == 1 if evenodd else wind != 0
+            if inside and not is_open:
+                start = c
+                is_open = True
+            elif not inside and is_open:
+                out_p[n] = p
+                out_y[n] = r
+                out_x0[n] = start
+                out_x1[n] = c
+                n += 1
+                is_open = False
+        if is_open:
+            out_p[n] = p
+            out_y[n] = r
+            out_x0[n] = start
+            out_x1[n] = width
+            n += 1
+        i = j
+    return n
+
+
+# -- input handling ------------------------------------------------------------------------
+
+
+def _empty() -> Spans:
+    return tuple(np.empty(0, dtype=np.int64) for _ in range(4))  # type: ignore[return-value]
+
+
+def _prepare(
+    contours: Sequence[ArrayLike], path_of_contour: ArrayLike, fill_rule: str, convention: Convention,
+    width: int, height: int, check_range: bool,
+) -> tuple[list[NDArray[np.float64]], NDArray[np.int64]]:
+    """Validated, snapped contours (those of paths with a non-finite vertex dropped)."""
+    if fill_rule not in FILL_RULES:
+        raise ValueError(f"fill_rule must be one of {', '.join(FILL_RULES)}, not {fill_rule!r}")
+    if convention.kind != "single":
+        raise ValueError(f"path_spans takes a single-sample convention, not kind {convention.kind!r}")
+    if width < 0 or height < 0:
+        raise ValueError(f"viewport must be non-negative, not {width} x {height}")
+    paths = np.asarray(path_of_contour, dtype=np.int64).reshape(-1)
+    if paths.size != len(contours):
+        raise ValueError(f"path_of_contour has {paths.size} entries for {len(contours)} contours")
+    snapped = []
+    for k, contour in enumerate(contours):
+        v = np.asarray(contour, dtype=np.float64)
+        if v.ndim != 2 or v.shape[1] != 2:
+            raise ValueError(f"contour {k} must be a (K, 2) array, not of shape {v.shape}")
+        snapped.append(convention.snap(v))
+    bad_paths = {int(paths[k]) for k, v in enumerate(snapped) if not np.all(np.isfinite(v))}
+    keep = [k for k in range(len(snapped)) if int(paths[k]) not in bad_paths]
+    if check_range:
+        for k in keep:
+            magnitude = np.abs(snapped[k])
+            if np.any((magnitude != 0.0) & ((magnitude < SAFE_MIN) | (magnitude > SAFE_MAX))):
+                raise ValueError(
+                    f"contour {k} has coordinates beyond the exact predicates' range "
+                    f"(nonzero magnitude below 2**-450 or above 2**450); use path_spans_rational"
+                )
+    return [snapped[k] for k in keep], paths[keep]
+
+
+# -- public entry points -------------------------------------------------------------------
+
+
+def path_spans(
+    contours: Sequence[ArrayLike],
+    path_of_contour: ArrayLike,
+    fill_rule: str,
+    convention: Convention,
+    width: int,
+    height: int,
+) -> Spans:
+    """Exactly which samples each path covers under ``fill_rule`` and ``convention``.
+
+    Parameters
+    ----------
+    contours : list of (K_i, 2) float64 arrays
+        Closed contours: the last vertex joins the first.
+    path_of_contour : (C,) int
+        The path each contour belongs to; paths are filled independently.
+    fill_rule : {"nonzero", "evenodd"}
+    convention : Convention
+        Of kind ``single``: its sample point, tie rule and snapping apply (snapping to
+        every vertex first); its culling is ignored (paths have no culling).
+    width, height : int
+        The viewport.
+
+    Returns
+    -------
+    (path, y, x0, x1) : four (S,) int64 arrays
+        Maximal spans [x0, x1) of covered samples, sorted by path, row, x0. A path with a
+        NaN or infinite vertex covers nothing.
+
+    Raises
+    ------
+    ValueError
+        On a bad argument, or a contour with coordinates beyond the exact predicates'
+        range (nonzero |c| < 2**-450 or |c| > 2**450), naming the contour.
+
+    Examples
+    --------
+    A pentagram: even-odd leaves the centre pentagon out, nonzero fills it.
+
+    >>> import math
+    >>> star = np.array([[4 + 3.6 * math.sin(k * 4 * math.pi / 5), 4 - 3.6 * math.cos(k * 4 * math.pi / 5)]
+    ...                  for k in range(5)])
+    >>> for rule in ("nonzero", "evenodd"):
+    ...     p, y, x0, x1 = path_spans([star], [0], rule, Convention(), 8, 8)
+    ...     print(rule, [(int(a), int(b), int(c)) for a, b, c in zip(y, x0, x1)])
+    nonzero [(2, 3, 5), (3, 1, 7), (4, 3, 5), (5, 2, 6)]
+    evenodd [(2, 3, 5), (3, 1, 3), (3, 5, 7), (5, 2, 6)]
+    """
+    kept, paths = _prepare(contours, path_of_contour, fill_rule, convention, width, height, True)
+    edges = [
+        np.concatenate([v, np.roll(v, -1, axis=0)], axis=1) for v in kept
+    ]
+    if not edges or width == 0 or height == 0:
+        return _empty()
+    lengths = np.array([len(e) for e in edges], dtype=np.int64)
+    flat = np.concatenate(edges, axis=0) if lengths.sum() else np.empty((0, 4))
+    edge_path = frozen(np.repeat(paths, lengths), np.int64)
+    ax, ay, bx, by = (frozen(flat[:, k]) for k in range(4))
+    sx, sy = convention.sample
+    tx, ty, y_first = convention.tie_perturbation
+    capacity = int(_count_events(ax, ay, bx, by, sy, height))
+    ev = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
+    n = int(_events_kernel(ax, ay, bx, by, edge_path, sx, sy, tx, ty, y_first, width, height, *ev))
+    ev_path, ev_row, ev_col, ev_dir = (a[:n] for a in ev)
+    order = np.lexsort((ev_col, ev_row, ev_path))
+    out = [np.empty(n, dtype=np.int64) for _ in range(4)]
+    m = int(_scan_kernel(frozen(ev_path[order], np.int64), frozen(ev_row[order], np.int64),
+                         frozen(ev_col[order], np.int64), frozen(ev_dir[order], np.int64),
+                         fill_rule == "evenodd", width, *out))
+    return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
+
+
+def path_spans_rational(
+    contours: Sequence[ArrayLike],
+    path_of_contour: ArrayLike,
+    fill_rule: str,
+    convention: Convention,
+    width: int,
+    height: int,
+) -> Spans:
+    """The same spans as :func:`path_spans` by brute force in rational arithmetic: for
+    every sample, the winding number of the symbolically perturbed sample point by an
+    exact crossing count. Any finite float; slow (small viewports only).
+
+    Every quantity is a triple (value, eps coefficient, eps**2 coefficient) compared in
+    lexicographic order: the sample is ``(xs, ys) + (tx*eps, ty*eps**2)`` (x-first) or
+    ``+ (tx*eps**2, ty*eps)`` (y-first). Edge a -> b crosses the sample's horizontal
+    line when exactly one end lies below it; the crossing lies left of the sample when
+    the edge function E_ab at the sample, a linear function of the triple, has the sign
+    of -(by - ay); each such crossing adds sign(by - ay).
+    """
+    kept, paths = _prepare(contours, path_of_contour, fill_rule, convention, width, height, False)
+    sx, sy = (Fraction(v) for v in convention.sample)
+    tx, ty, y_first = convention.tie_perturbation
+    dx = (0, tx) if y_first else (tx, 0)  # (eps, eps**2) coefficients of the x offset
+    dy = (ty, 0) if y_first else (0, ty)
+    by_path: dict[int, list[tuple[Fraction, Fraction, Fraction, Fraction]]] = {}
+    for v, p in zip(kept, paths):
+        fv = [(Fraction(float(x)), Fraction(float(y))) for x, y in v]
+        edges = by_path.setdefault(int(p), [])
+        for k in range(len(fv)):
+            (ax, ay), (bx, by) = fv[k], fv[(k + 1) % len(fv)]
+            edges.append((ax, ay, bx, by))
+    spans: list[tuple[int, int, int, int]] = []
+
+    def sign3(t: tuple[Fraction, Fraction, Fraction]) -> int:
+        for value in t:
+            if value:
+                return 1 if value > 0 else -1
+        return 0
+
+    for p in sorted(by_path):
+        edges = by_path[p]
+        for j in range(height):
+            ys = j + sy
+            qy = (ys, Fraction(dy[0]), Fraction(dy[1]))
+            covered = []
+            for i in range(width):
+                xs = i + sx
+                qx = (xs, Fraction(dx[0]), Fraction(dx[1]))
+                wind = 0
+                for ax, ay, bx, by in edges:
+                    below_a = sign3((ay - qy[0], -qy[1], -qy[2])) > 0
+                    below_b = sign3((by - qy[0], -qy[1], -qy[2])) > 0
+                    if below_a == below_b:
+                        continue
+                    e = ((bx - ax) * (qy[0] - ay) - (by - ay) * (qx[0] - ax),
+                         (bx - ax) * qy[1] - (by - ay) * qx[1],
+                         (bx - ax) * qy[2] - (by - ay) * qx[2])
+                    d = 1 if by > ay else -1
+                    if sign3(e) * d < 0:  # the sample is right of the crossing
+                        wind += d
+                covered.append(wind % 2 == 1 if fill_rule == "evenodd" else wind != 0)
+            i = 0
+            while i < width:
+                if covered[i]:
+                    k = i
+                    while k < width and covered[k]:
+                        k += 1
+                    spans.append((p, j, i, k))
+                    i = k
+                else:
+                    i += 1
+    if not spans:
+        return _empty()
+    arr = np.array(spans, dtype=np.int64).T
+    return arr[0], arr[1], arr[2], arr[3]
+
+
