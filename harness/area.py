@@ -279,7 +279,7 @@ def clamped_mean(y0, y1):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _edge_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
+def edge_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
     """s_e * C_e for the edge a -> b in pixel-local coordinates (see the module docstring)."""
     if ax == bx:
         return 0.0  # vertical: crosses no vertical line
@@ -421,7 +421,7 @@ def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
             total = 0.0
             for e in range(k):
                 f = e + 1 if e + 1 < k else 0
-                total += _edge_integral(local_x[e], local_y[e], local_x[f], local_y[f])
+                total += edge_integral(local_x[e], local_y[e], local_x[f], local_y[f])
             # Green's theorem gives the area up to the orientation's sign; the exact area is
             # in [0, 1], so clamping only brings the float one closer.
             out[m] = min(abs(total), 1.0)

@@ -46,6 +46,21 @@ def _need(module: str, hint: str) -> Any:
         raise Unavailable(f"{module} is not installed ({type(exc).__name__}): {hint}{_install_failure(module)}") from None
 
 
+def _skia_fill(skia: Any, p: NDArray, w: int, h: int, antialias: bool) -> NDArray:
+    """One triangle filled by skia (a path, black paint) into a w x h alpha-8 surface: the
+    (h, w) uint8 alpha."""
+    surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(w, h))
+    canvas = surface.getCanvas()
+    canvas.clear(skia.ColorTRANSPARENT)
+    path = skia.Path()
+    path.moveTo(float(p[0, 0]), float(p[0, 1]))
+    path.lineTo(float(p[1, 0]), float(p[1, 1]))
+    path.lineTo(float(p[2, 0]), float(p[2, 1]))
+    path.close()
+    canvas.drawPath(path, skia.Paint(AntiAlias=antialias, Color=skia.ColorBLACK))
+    return np.asarray(surface.makeImageSnapshot().toarray(colorType=skia.kAlpha_8_ColorType)).reshape(h, w)
+
+
 def _cairo_fill(cairo: Any, p: NDArray, w: int, h: int, antialias: Any) -> NDArray:
     """One triangle filled by cairo into a w x h A8 surface: the (h, w) uint8 alpha."""
     surface = cairo.ImageSurface(cairo.FORMAT_A8, w, h)
@@ -123,17 +138,7 @@ class SkiaPath(_OneTriangleAtATime):
         self._skia = _need("skia", "pip install skia-python   (or pip install '.[real]')")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
-        skia = self._skia
-        surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(w, h))
-        canvas = surface.getCanvas()
-        canvas.clear(skia.ColorTRANSPARENT)
-        path = skia.Path()
-        path.moveTo(float(p[0, 0]), float(p[0, 1]))
-        path.lineTo(float(p[1, 0]), float(p[1, 1]))
-        path.lineTo(float(p[2, 0]), float(p[2, 1]))
-        path.close()
-        canvas.drawPath(path, skia.Paint(AntiAlias=False, Color=skia.ColorBLACK))
-        return np.asarray(surface.makeImageSnapshot().toarray(colorType=skia.kAlpha_8_ColorType)).reshape(h, w) > 0
+        return _skia_fill(self._skia, p, w, h, antialias=False) > 0
 
 
 class CairoFill(_OneTriangleAtATime):
@@ -226,18 +231,7 @@ class SkiaAntialiased(_AlphaOneTriangleAtATime):
         self._skia = _need("skia", "pip install skia-python   (or pip install '.[real]')")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
-        skia = self._skia
-        surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(w, h))
-        canvas = surface.getCanvas()
-        canvas.clear(skia.ColorTRANSPARENT)
-        path = skia.Path()
-        path.moveTo(float(p[0, 0]), float(p[0, 1]))
-        path.lineTo(float(p[1, 0]), float(p[1, 1]))
-        path.lineTo(float(p[2, 0]), float(p[2, 1]))
-        path.close()
-        canvas.drawPath(path, skia.Paint(AntiAlias=True, Color=skia.ColorBLACK))
-        data = np.asarray(surface.makeImageSnapshot().toarray(colorType=skia.kAlpha_8_ColorType)).reshape(h, w)
-        return data / 255.0
+        return _skia_fill(self._skia, p, w, h, antialias=True) / 255.0
 
 
 _VERTEX = """#version 330

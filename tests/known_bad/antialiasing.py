@@ -18,7 +18,7 @@ from harness.area import area_coverage
 from harness.conventions import Convention
 from harness.exact import frozen
 from harness.oracle import exact_coverage, sample_shares
-from harness.area import clamped_mean as _clamped_mean  # the same clamped mean as the area oracle
+from harness.area import edge_integral as _exact_integral  # the area oracle's exact edge integral (Green's theorem)
 
 __all__ = ["MirroredPattern", "SwappedSampleBits", "InclusiveSampleTies", "BiasedArea", "PerEdgeMethodSwitch",
            "CoarseSupersampleClaimsAnalytic", "GRID_4X4"]
@@ -146,28 +146,6 @@ class BiasedArea:
         assert exact.alpha is not None
         levels = np.minimum(np.floor(exact.alpha * 255.0 + 2.5), 255.0)
         return Coverage(exact.triangle, exact.y, exact.x0, exact.x1, alpha=levels / 255.0)
-
-
-@numba.njit(cache=True, inline="always")
-def _exact_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
-    """s_e * C_e of the edge a -> b in pixel-local coordinates, analytically: the signed
-    area of the unit square between its top side and the edge, over the edge's x-range
-    (Green's theorem; the method of :mod:`harness.area`)."""
-    if ax == bx:
-        return 0.0
-    sign = 1.0
-    if bx < ax:
-        ax, ay, bx, by = bx, by, ax, ay
-        sign = -1.0
-    xl = max(ax, 0.0)
-    xr = min(bx, 1.0)
-    if xl >= xr:
-        return 0.0
-    dx = bx - ax
-    dy = by - ay
-    yl = ay if xl == ax else ay + ((xl - ax) / dx) * dy
-    yr = by if xr == bx else ay + ((xr - ax) / dx) * dy
-    return sign * ((xr - xl) * _clamped_mean(yl, yr))
 
 
 @numba.njit(cache=True, inline="always")
