@@ -191,11 +191,23 @@ def _empty() -> Spans:
     return tuple(np.empty(0, dtype=np.int64) for _ in range(4))  # type: ignore[return-value]
 
 
-def _prepare(
+def _flat(
     contours: Sequence[ArrayLike], path_of_contour: ArrayLike, fill_rule: str, convention: Convention,
     width: int, height: int, check_range: bool,
-) -> tuple[list[NDArray[np.float64]], NDArray[np.int64]]:
-    """Validated, snapped contours (those of paths with a non-finite vertex dropped)."""
+) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_]]:
+    """The contours validated and snapped, as flat arrays (no per-contour array work).
+
+    Returns
+    -------
+    vertices : (V, 2) float64
+        Every contour's vertices, snapped, one contour after the other.
+    lengths : (C,) int64
+        Each contour's vertex count.
+    paths : (C,) int64
+        The path of each contour.
+    keep : (C,) bool
+        False for the contours of paths with a non-finite vertex (they cover nothing).
+    """
     if fill_rule not in FILL_RULES:
         raise ValueError(f"fill_rule must be one of {', '.join(FILL_RULES)}, not {fill_rule!r}")
     if convention.kind != "single":
@@ -205,23 +217,38 @@ def _prepare(
     paths = np.asarray(path_of_contour, dtype=np.int64).reshape(-1)
     if paths.size != len(contours):
         raise ValueError(f"path_of_contour has {paths.size} entries for {len(contours)} contours")
-    snapped = []
-    for k, contour in enumerate(contours):
-        v = np.asarray(contour, dtype=np.float64)
+    arrays = [np.asarray(contour, dtype=np.float64) for contour in contours]
+    for k, v in enumerate(arrays):
         if v.ndim != 2 or v.shape[1] != 2:
             raise ValueError(f"contour {k} must be a (K, 2) array, not of shape {v.shape}")
-        snapped.append(convention.snap(v))
-    bad_paths = {int(paths[k]) for k, v in enumerate(snapped) if not np.all(np.isfinite(v))}
-    keep = [k for k in range(len(snapped)) if int(paths[k]) not in bad_paths]
+    lengths = np.array([v.shape[0] for v in arrays], dtype=np.int64)
+    vertices = convention.snap(np.concatenate(arrays) if arrays else np.empty((0, 2)))
+    contour_of_vertex = np.repeat(np.arange(lengths.size), lengths)
+    finite = np.ones(lengths.size, dtype=bool)
+    finite[contour_of_vertex[~np.all(np.isfinite(vertices), axis=1)]] = False
+    keep = ~np.isin(paths, paths[~finite])
     if check_range:
-        for k in keep:
-            magnitude = np.abs(snapped[k])
-            if np.any((magnitude != 0.0) & ((magnitude < SAFE_MIN) | (magnitude > SAFE_MAX))):
-                raise ValueError(
-                    f"contour {k} has coordinates beyond the exact predicates' range "
-                    f"(nonzero magnitude below 2**-450 or above 2**450); use path_spans_rational"
-                )
-    return [snapped[k] for k in keep], paths[keep]
+        magnitude = np.abs(vertices)
+        beyond = np.any((magnitude != 0.0) & ((magnitude < SAFE_MIN) | (magnitude > SAFE_MAX)), axis=1)
+        beyond &= keep[contour_of_vertex]
+        if beyond.any():
+            k = int(contour_of_vertex[np.flatnonzero(beyond)[0]])
+            raise ValueError(
+                f"contour {k} has coordinates beyond the exact predicates' range "
+                f"(nonzero magnitude below 2**-450 or above 2**450); use path_spans_rational"
+            )
+    return vertices, lengths, paths, keep
+
+
+def _prepare(
+    contours: Sequence[ArrayLike], path_of_contour: ArrayLike, fill_rule: str, convention: Convention,
+    width: int, height: int, check_range: bool,
+) -> tuple[list[NDArray[np.float64]], NDArray[np.int64]]:
+    """Validated, snapped contours (those of paths with a non-finite vertex dropped), one
+    array each (for the rational reference)."""
+    vertices, lengths, paths, keep = _flat(contours, path_of_contour, fill_rule, convention, width, height, check_range)
+    split = np.split(vertices, np.cumsum(lengths)[:-1]) if lengths.size else []
+    return [split[k] for k in np.flatnonzero(keep)], paths[keep]
 
 
 # -- public entry points -------------------------------------------------------------------
@@ -275,23 +302,31 @@ def path_spans(
     nonzero [(2, 3, 5), (3, 1, 7), (4, 3, 5), (5, 2, 6)]
     evenodd [(2, 3, 5), (3, 1, 3), (3, 5, 7), (5, 2, 6)]
     """
-    kept, paths = _prepare(contours, path_of_contour, fill_rule, convention, width, height, True)
-    edges = [
-        np.concatenate([v, np.roll(v, -1, axis=0)], axis=1) for v in kept
-    ]
-    if not edges or width == 0 or height == 0:
+    vertices, lengths, paths, keep = _flat(contours, path_of_contour, fill_rule, convention, width, height, True)
+    if not keep.any() or width == 0 or height == 0:
         return _empty()
-    lengths = np.array([len(e) for e in edges], dtype=np.int64)
-    flat = np.concatenate(edges, axis=0) if lengths.sum() else np.empty((0, 4))
-    edge_path = frozen(np.repeat(paths, lengths), np.int64)
-    ax, ay, bx, by = (frozen(flat[:, k]) for k in range(4))
+    # edge k runs from vertex k to the next of its contour (the last back to the first)
+    ends = np.cumsum(lengths)
+    following = np.arange(1, vertices.shape[0] + 1)
+    closing = lengths > 0
+    following[ends[closing] - 1] = (ends - lengths)[closing]
+    used = np.repeat(keep, lengths)
+    a, b = vertices[used], vertices[following[used]]
+    edge_path = frozen(np.repeat(paths, lengths)[used], np.int64)
+    ax, ay, bx, by = (frozen(c) for c in (a[:, 0], a[:, 1], b[:, 0], b[:, 1]))
     sx, sy = convention.sample
     tx, ty, y_first = convention.tie_perturbation
     capacity = int(_count_events(ax, ay, bx, by, sy, height))
     ev = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
     n = int(_events_kernel(ax, ay, bx, by, edge_path, sx, sy, tx, ty, y_first, width, height, *ev))
     ev_path, ev_row, ev_col, ev_dir = (a[:n] for a in ev)
-    order = np.lexsort((ev_col, ev_row, ev_path))
+    # by (path, row, column): one int64 key and numpy's radix sort when the key fits
+    top = int(ev_path.max(initial=0)) - int(ev_path.min(initial=0)) + 1
+    if top * height * (width + 1) < 2**62:
+        key = ((ev_path - ev_path.min(initial=0)) * height + ev_row) * (width + 1) + ev_col
+        order = np.argsort(key, kind="stable")
+    else:
+        order = np.lexsort((ev_col, ev_row, ev_path))
     out = [np.empty(n, dtype=np.int64) for _ in range(4)]
     m = int(_scan_kernel(frozen(ev_path[order], np.int64), frozen(ev_row[order], np.int64),
                          frozen(ev_col[order], np.int64), frozen(ev_dir[order], np.int64),
