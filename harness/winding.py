@@ -146,22 +146,23 @@ def _events_kernel(ax, ay, bx, by, edge_path, sx, sy, tx, ty, y_first, width, he
 
 
 @numba.njit(cache=True)
-def _scan_kernel(path, row, col, direction, evenodd, width, out_p, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
-    """Events sorted by (path, row, col) -> maximal spans where the fill rule holds."""
+def _scan_kernel(order, path, row, col, direction, evenodd, width, out_p, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """Events, in ``order`` sorted by (path, row, col) -> maximal spans where the fill
+    rule holds."""
     n = 0
     i = 0
-    total = path.size
+    total = order.size
     while i < total:
-        p = path[i]
-        r = row[i]
+        p = path[order[i]]
+        r = row[order[i]]
         wind = 0
         is_open = False
         start = 0
         j = i
-        while j < total and path[j] == p and row[j] == r:
-            c = col[j]
-            while j < total and path[j] == p and row[j] == r and col[j] == c:
-                wind += direction[j]
+        while j < total and path[order[j]] == p and row[order[j]] == r:
+            c = col[order[j]]
+            while j < total and path[order[j]] == p and row[order[j]] == r and col[order[j]] == c:
+                wind += direction[order[j]]
                 j += 1
             inside = (wind & 1) == 1 if evenodd else wind != 0
             if inside and not is_open:
@@ -312,25 +313,24 @@ def path_spans(
     following[ends[closing] - 1] = (ends - lengths)[closing]
     used = np.repeat(keep, lengths)
     a, b = vertices[used], vertices[following[used]]
-    edge_path = frozen(np.repeat(paths, lengths)[used], np.int64)
+    # paths by rank (0 .. P - 1) in the kernels, their own ids on the way out
+    names, rank = np.unique(paths, return_inverse=True)
+    edge_path = frozen(np.repeat(rank.reshape(-1), lengths)[used], np.int64)
     ax, ay, bx, by = (frozen(c) for c in (a[:, 0], a[:, 1], b[:, 0], b[:, 1]))
     sx, sy = convention.sample
     tx, ty, y_first = convention.tie_perturbation
     capacity = int(_count_events(ax, ay, bx, by, sy, height))
     ev = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
     n = int(_events_kernel(ax, ay, bx, by, edge_path, sx, sy, tx, ty, y_first, width, height, *ev))
-    ev_path, ev_row, ev_col, ev_dir = (a[:n] for a in ev)
+    ev_path, ev_row, ev_col, ev_dir = (frozen(a[:n], np.int64) for a in ev)
     # by (path, row, column): one int64 key and numpy's radix sort when the key fits
-    top = int(ev_path.max(initial=0)) - int(ev_path.min(initial=0)) + 1
-    if top * height * (width + 1) < 2**62:
-        key = ((ev_path - ev_path.min(initial=0)) * height + ev_row) * (width + 1) + ev_col
-        order = np.argsort(key, kind="stable")
+    if names.size * height * (width + 1) < 2**62:
+        order = np.argsort((ev_path * height + ev_row) * (width + 1) + ev_col, kind="stable")
     else:
         order = np.lexsort((ev_col, ev_row, ev_path))
     out = [np.empty(n, dtype=np.int64) for _ in range(4)]
-    m = int(_scan_kernel(frozen(ev_path[order], np.int64), frozen(ev_row[order], np.int64),
-                         frozen(ev_col[order], np.int64), frozen(ev_dir[order], np.int64),
-                         fill_rule == "evenodd", width, *out))
+    m = int(_scan_kernel(frozen(order, np.int64), ev_path, ev_row, ev_col, ev_dir, fill_rule == "evenodd", width, *out))
+    out[0] = names[out[0][:m]]
     return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
 
 
