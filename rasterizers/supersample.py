@@ -23,7 +23,7 @@ import numba
 import numpy as np
 
 from harness.api import Coverage, Scene
-from harness.conventions import TIE_RULES, Convention, TieRule
+from harness.conventions import MAX_AREA_SAMPLES, TIE_RULES, Convention, TieRule
 from harness.exact import frozen
 from rasterizers.area_scanline import emit_row, first_capacity
 from rasterizers.multisample import sample_rows, sample_run, screen_exact, triangle_edges
@@ -95,8 +95,9 @@ class Supersampler:
     Parameters
     ----------
     n : int
-        Samples per side, a power of two from 1 to 4 (at most 32 samples per pixel in
-        all; default 4: 16 samples, 17 levels).
+        Samples per side, a power of two from 1 to 16 (a supersampled area convention
+        holds up to :data:`harness.conventions.MAX_AREA_SAMPLES` = 256; default 4: 16
+        samples, 17 levels).
     tie : str
         Any of :data:`harness.conventions.TIE_RULES` (default top-left).
 
@@ -110,8 +111,9 @@ class Supersampler:
     interpolates = False
 
     def __init__(self, n: int = 4, tie: TieRule = "top-left") -> None:
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1 or n & (n - 1) or n * n > 32:
-            raise ValueError(f"supersample: n must be a power of two from 1 to 4 (at most 32 samples), not {n!r}")
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1 or n & (n - 1) or n * n > MAX_AREA_SAMPLES:
+            raise ValueError(f"supersample: n must be a power of two from 1 to 16 (at most {MAX_AREA_SAMPLES} samples), "
+                             f"not {n!r}")
         if tie not in TIE_RULES:
             raise ValueError(f"supersample: tie must be one of {', '.join(TIE_RULES)}, not {tie!r}")
         self.n = int(n)

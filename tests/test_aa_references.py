@@ -209,10 +209,13 @@ def test_supersampler_equals_the_share_of_samples_on_the_quick_suite():
                 assert cov == exact_coverage(case.scene, r.convention), (r.name, case.id)
 
 
-def test_supersampler_rejects_other_grids():
-    for n in (3, 8, 0, True):
+def test_supersampler_rejects_other_grids_and_takes_up_to_16_x_16():
+    for n in (3, 32, 0, True):
         with pytest.raises(ValueError, match="power of two"):
             Supersampler(n)
+    scene = Scene(6, 5, [[[0.3, 0.2], [5.7, 1.1], [1.2, 4.9]], [[5.5, 0.5], [6, 5], [2, 5]]])
+    fine = Supersampler(8)
+    assert fine.rasterize(scene) == exact_coverage(scene, fine.convention)  # 64 samples: more than multisample holds
 
 
 # -- seams on planar partitions -----------------------------------------------------------
