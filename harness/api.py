@@ -9,16 +9,17 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
-from typing import Any, Protocol, runtime_checkable
+from typing import Any, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from harness.conventions import Convention
+from harness.conventions import FILL_RULES, Convention
 from harness.exact import frozen
 from harness.spans import already_tidy, expand, pixel_offsets, run_tails, span_buffers, tidy
 
-__all__ = ["Scene", "Coverage", "Convention", "Rasterizer", "span_buffers", "interpolates_of", "received_of", "fingerprint_of"]
+__all__ = ["Scene", "PathScene", "AnyScene", "SCENE_KINDS", "Coverage", "Convention", "Rasterizer", "span_buffers", "interpolates_of", "received_of", "fingerprint_of",
+           "scene_kinds_of", "fill_rules_of", "takes"]
 
 # Sample points i + sx must be exact floats (sx has up to 32 fractional bits).
 MAX_VIEWPORT = 1 << 20
@@ -71,6 +72,8 @@ class Scene:
     positions: NDArray[np.float64]
     attributes: NDArray[np.float64] | None = None
     w: NDArray[np.float64] | None = None
+    kind: ClassVar[str] = "triangles"
+    noun: ClassVar[str] = "triangle"  # what a primitive is called in messages and evidence
 
     def __post_init__(self) -> None:
         for field in ("width", "height"):
@@ -118,6 +121,230 @@ class Scene:
         """K, the number of interpolated values per vertex (0 without attributes)."""
         return 0 if self.attributes is None else int(self.attributes.shape[2])
 
+    def primitive_boxes(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+        """Per triangle its bounding box ``lo, hi`` ((N, 2) each) and whether all its
+        coordinates are finite ((N,) bool; the box is meaningless where not)."""
+        p = np.where(np.isfinite(self.positions), self.positions, 0.0)
+        finite: NDArray[np.bool_] = np.asarray(np.isfinite(self.positions).all(axis=(1, 2)))
+        return p.min(axis=1), p.max(axis=1), finite
+
+    def non_finite(self) -> tuple[int, ...]:
+        """Triangles with a NaN or infinite coordinate."""
+        return tuple(int(t) for t in np.flatnonzero(~np.isfinite(self.positions).all(axis=(1, 2))))
+
+    # The operations every scene kind has, so that shrinking, moving and drawing a scene
+    # need not ask which kind it is.
+    def edges(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+        """Every edge ``a -> b`` ((3N, 2) each: v0 -> v1, v1 -> v2, v2 -> v0 of each
+        triangle) and its triangle ((3N,) int64)."""
+        return (self.positions.reshape(-1, 2), self.positions[:, [1, 2, 0]].reshape(-1, 2),
+                np.repeat(np.arange(len(self), dtype=np.int64), 3))
+
+    @property
+    def coordinates(self) -> NDArray[np.float64]:
+        """Every vertex coordinate: ``positions``, (N, 3, 2)."""
+        return self.positions
+
+    def with_coordinates(self, coordinates: ArrayLike) -> Scene:
+        """The same triangles (attributes, w) with these (N, 3, 2) positions."""
+        return Scene(self.width, self.height, np.asarray(coordinates, dtype=np.float64), self.attributes, self.w)
+
+    def subset(self, keep: ArrayLike) -> Scene:
+        """Triangles ``keep``, in that order (triangle k of the result is ``keep[k]``)."""
+        index = np.asarray(keep, dtype=np.int64)
+        return Scene(self.width, self.height, self.positions[index], None if self.attributes is None else self.attributes[index],
+                     None if self.w is None else self.w[index])
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class PathScene:
+    """Paths to fill into a ``width`` x ``height`` viewport under one fill rule.
+
+    A path is one or more closed contours (the last vertex joins the first); sample
+    ``p`` is covered by path k when the winding number of ``p`` around path k's contours
+    satisfies the fill rule (``nonzero``: w != 0; ``evenodd``: w odd), samples exactly on
+    an edge or a vertex being decided by the convention's tie rule as for triangles
+    (:mod:`harness.winding`). Paths are filled independently, each in one call of a 2D
+    library, so coverage names the path (:attr:`Coverage.primitive`). A rasterizer takes
+    path scenes when it lists ``"paths"`` in its ``scene_kinds`` (:func:`scene_kinds_of`).
+
+    Parameters
+    ----------
+    width, height : int
+        Viewport size in pixels, 1 .. 2**20.
+    vertices : (V, 2) float64
+        Every contour's vertices, one contour after the other. Non-finite values are
+        allowed (bad-input cases); a path holding one covers nothing in the oracle.
+    contour_sizes : (C,) int64
+        The number of vertices of each contour, each at least 1 (a contour of one or two
+        vertices encloses nothing).
+    contour_path : (C,) int64
+        The path each contour belongs to; paths are numbered 0 .. P - 1, each has a
+        contour at least, and a path's contours need not be adjacent.
+    fill_rule : {"nonzero", "evenodd"}
+
+    Examples
+    --------
+    A square with a square hole (the hole wound the other way), and a triangle:
+
+    >>> scene = PathScene.from_paths(8, 8, [[[[1, 1], [7, 1], [7, 7], [1, 7]], [[3, 3], [3, 5], [5, 5], [5, 3]]],
+    ...                                     [[[0, 0], [2, 0], [0, 2]]]], "evenodd")
+    >>> len(scene), scene.contour_sizes, scene.contour_path, scene.kind
+    (2, array([4, 4, 3]), array([0, 0, 1]), 'paths')
+    >>> [c.shape for c in scene.contours_of(0)]
+    [(4, 2), (4, 2)]
+    """
+
+    width: int
+    height: int
+    vertices: NDArray[np.float64]
+    contour_sizes: NDArray[np.int64]
+    contour_path: NDArray[np.int64]
+    fill_rule: str = "nonzero"
+    kind: ClassVar[str] = "paths"
+    noun: ClassVar[str] = "path"
+    # paths carry no per-vertex values
+    attributes: ClassVar[None] = None
+    w: ClassVar[None] = None
+
+    def __post_init__(self) -> None:
+        for field in ("width", "height"):
+            value = getattr(self, field)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+                raise ValueError(f"PathScene.{field} must be an integer, not {value!r}")
+            if not 1 <= value <= MAX_VIEWPORT:
+                raise ValueError(f"PathScene.{field} must lie in 1..{MAX_VIEWPORT}, not {value}")
+            object.__setattr__(self, field, int(value))
+        vertices = _real_array(self.vertices, "vertices", "PathScene")
+        if vertices.size == 0:
+            vertices = vertices.reshape(0, 2)
+        if vertices.ndim != 2 or vertices.shape[1] != 2:
+            raise ValueError(f"PathScene.vertices must have shape (V, 2), not {vertices.shape}")
+        object.__setattr__(self, "vertices", vertices)
+        sizes, paths = (_counts_array(getattr(self, f), f) for f in ("contour_sizes", "contour_path"))
+        if sizes.size != paths.size:
+            raise ValueError(f"PathScene has {sizes.size} contour sizes but {paths.size} contour paths")
+        if np.any(sizes < 1):
+            raise ValueError(f"PathScene contour {int(np.flatnonzero(sizes < 1)[0])} has no vertex")
+        if int(sizes.sum()) != vertices.shape[0]:
+            raise ValueError(f"PathScene contour sizes add up to {int(sizes.sum())} vertices, not the {vertices.shape[0]} given")
+        n_paths = int(paths.max(initial=-1)) + 1
+        if np.any(paths < 0) or np.unique(paths).size != n_paths:
+            raise ValueError(f"PathScene.contour_path must number the paths 0 .. P - 1, each with a contour, "
+                             f"not {paths[:12].tolist()}{' ...' if paths.size > 12 else ''}")
+        if self.fill_rule not in FILL_RULES:
+            raise ValueError(f"PathScene.fill_rule must be one of {', '.join(FILL_RULES)}, not {self.fill_rule!r}")
+        for field, array in (("contour_sizes", sizes), ("contour_path", paths)):
+            array.setflags(write=False)
+            object.__setattr__(self, field, array)
+
+    @classmethod
+    def from_paths(cls, width: int, height: int, paths: Iterable[Iterable[ArrayLike]], fill_rule: str = "nonzero") -> PathScene:
+        """A scene from nested lists: ``paths[k]`` is path k's contours, each a (K, 2)
+        array-like of vertices."""
+        contours: list[NDArray[np.float64]] = []
+        owner: list[int] = []
+        for k, path in enumerate(paths):
+            for contour in path:
+                contours.append(np.asarray(contour, dtype=np.float64).reshape(-1, 2))
+                owner.append(k)
+        vertices = np.concatenate(contours) if contours else np.zeros((0, 2))
+        return cls(width, height, vertices, np.array([c.shape[0] for c in contours], dtype=np.int64),
+                   np.array(owner, dtype=np.int64), fill_rule)
+
+    def __reduce__(self) -> tuple[type, tuple]:  # type: ignore[type-arg]
+        return PathScene, (self.width, self.height, self.vertices, self.contour_sizes, self.contour_path, self.fill_rule)
+
+    def __len__(self) -> int:
+        """P, the number of paths."""
+        return int(self.contour_path.max(initial=-1)) + 1
+
+    @property
+    def n_attributes(self) -> int:
+        """0: paths carry no attributes."""
+        return 0
+
+    @property
+    def contour_starts(self) -> NDArray[np.int64]:
+        """(C,) int64: the index of each contour's first vertex."""
+        return np.cumsum(self.contour_sizes) - self.contour_sizes
+
+    def contours(self) -> list[NDArray[np.float64]]:
+        """Every contour's (K, 2) vertices (views), in order."""
+        return np.split(self.vertices, np.cumsum(self.contour_sizes)[:-1]) if self.contour_sizes.size else []
+
+    def contours_of(self, path: int) -> list[NDArray[np.float64]]:
+        """Path ``path``'s contours, in order."""
+        every = self.contours()
+        return [every[c] for c in np.flatnonzero(self.contour_path == path)]
+
+    def edges(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+        """Every edge ``a -> b`` ((E, 2) each; E = V, the last vertex of each contour
+        joining its first) and its path ((E,) int64)."""
+        following = np.arange(1, self.vertices.shape[0] + 1)
+        ends = np.cumsum(self.contour_sizes)
+        following[ends - 1] = ends - self.contour_sizes
+        return self.vertices, self.vertices[following], np.repeat(self.contour_path, self.contour_sizes)
+
+    def primitive_boxes(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+        """Per path its bounding box ``lo, hi`` ((P, 2) each) and whether all its
+        coordinates are finite ((P,) bool)."""
+        n = len(self)
+        owner = np.repeat(self.contour_path, self.contour_sizes)
+        finite_vertex = np.isfinite(self.vertices).all(axis=1)
+        finite = np.ones(n, dtype=bool)
+        finite[owner[~finite_vertex]] = False
+        v = np.where(np.isfinite(self.vertices), self.vertices, 0.0)
+        lo = np.full((n, 2), np.inf)
+        hi = np.full((n, 2), -np.inf)
+        np.minimum.at(lo, owner, v)
+        np.maximum.at(hi, owner, v)
+        return lo, hi, finite
+
+    def non_finite(self) -> tuple[int, ...]:
+        """Paths with a NaN or infinite coordinate."""
+        return tuple(int(p) for p in np.flatnonzero(~self.primitive_boxes()[2]))
+
+    @property
+    def coordinates(self) -> NDArray[np.float64]:
+        """Every vertex coordinate: ``vertices``, (V, 2)."""
+        return self.vertices
+
+    def with_coordinates(self, coordinates: ArrayLike) -> PathScene:
+        """The same contours, paths and fill rule with these (V, 2) vertices."""
+        return PathScene(self.width, self.height, np.asarray(coordinates, dtype=np.float64), self.contour_sizes, self.contour_path,
+                         self.fill_rule)
+
+    def subset(self, keep: ArrayLike) -> PathScene:
+        """Paths ``keep``, in that order (path k of the result is ``keep[k]``)."""
+        index = np.asarray(keep, dtype=np.int64).reshape(-1)
+        every = self.contours()
+        chosen = [c for p in index for c in np.flatnonzero(self.contour_path == p)]
+        rank = {int(p): k for k, p in enumerate(index)}
+        vertices = np.concatenate([every[c] for c in chosen]) if chosen else np.zeros((0, 2))
+        return PathScene(self.width, self.height, vertices, self.contour_sizes[chosen] if chosen else np.zeros(0, np.int64),
+                         np.array([rank[int(self.contour_path[c])] for c in chosen], dtype=np.int64), self.fill_rule)
+
+    def with_fill_rule(self, fill_rule: str) -> PathScene:
+        """The same paths under another fill rule."""
+        return PathScene(self.width, self.height, self.vertices, self.contour_sizes, self.contour_path, fill_rule)
+
+
+# A scene of any kind: each has ``width``, ``height``, ``kind``, ``len()`` (its number of
+# primitives), ``primitive_boxes()``, ``non_finite()``, ``coordinates``,
+# ``with_coordinates(c)`` and ``subset(keep)``.
+AnyScene = Scene | PathScene
+SCENE_KINDS = ("triangles", "paths")
+
+
+def _counts_array(value: ArrayLike, field: str) -> NDArray[np.int64]:
+    array = np.asarray(value)
+    if array.size == 0:
+        return np.zeros(0, dtype=np.int64)
+    if array.ndim != 1 or array.dtype.kind not in "iu":
+        raise ValueError(f"PathScene.{field} must be a 1-D integer array, not {array.dtype} of shape {array.shape}")
+    return np.array(array, dtype=np.int64)
+
 
 def _int_array(value: ArrayLike, field: str) -> NDArray[np.int64]:
     array = np.asarray(value)
@@ -144,18 +371,19 @@ def _int_array(value: ArrayLike, field: str) -> NDArray[np.int64]:
 class Coverage:
     """What a rasterizer covered: horizontal spans, plus interpolated attributes.
 
-    Span k covers pixels ``x0[k] <= x < x1[k]`` of row ``y[k]`` for triangle
-    ``triangle[k]``. A triangle covers one run per row, so cost grows with rows, not
-    pixels. ``attributes`` has one row per covered pixel: the spans' pixels in span
+    Span k covers pixels ``x0[k] <= x < x1[k]`` of row ``y[k]`` for primitive
+    ``primitive[k]``: the scene's triangle k of a triangle scene, its path k of a path
+    scene (:attr:`triangle` is the same array under its triangle-scene name). A triangle
+    covers one run per row, so cost grows with rows, not pixels. ``attributes`` has one row per covered pixel: the spans' pixels in span
     order, left to right within a span.
 
     The same spans carry the two other kinds of coverage (:attr:`Convention.kind`):
 
     * multisample: ``sample[k]`` says which sample of the pattern span k covers in each of
-      its pixels (one run per triangle, sample and row); a fragment is then a (triangle,
+      its pixels (one run per primitive, sample and row); a fragment is then a (primitive,
       sample, pixel) and ``attributes`` has one row per fragment, in span order.
     * area (anti-aliased): ``alpha`` has one value per pixel in span order, the share of
-      the pixel the triangle covers; a pixel left out has alpha 0.
+      the pixel the primitive covers; a pixel left out has alpha 0.
 
     The constructor checks structure only (1-D integer arrays of one length, a 2-D
     float attribute array); whether spans are sensible is for the hygiene checks to say.
@@ -164,7 +392,7 @@ class Coverage:
 
     Parameters
     ----------
-    triangle, y, x0, x1 : (S,) int64
+    primitive, y, x0, x1 : (S,) int64
     attributes : (P, K) float64 or None
     sample : (S,) int64 or None
         Multisample coverage: the sample index of each span; None for one sample per pixel.
@@ -174,14 +402,14 @@ class Coverage:
     Examples
     --------
     >>> cov = Coverage.from_pixels([0, 0, 0, 1], [2, 3, 1, 0], [5, 5, 6, 5])
-    >>> cov.triangle, cov.y, cov.x0, cov.x1
+    >>> cov.primitive, cov.y, cov.x0, cov.x1
     (array([0, 0, 1]), array([5, 6, 5]), array([2, 1, 0]), array([4, 2, 1]))
     >>> cov.counts(4, 7)[5:]
     array([[1, 0, 1, 1],
            [0, 1, 0, 0]], dtype=int32)
     """
 
-    triangle: NDArray[np.int64]
+    primitive: NDArray[np.int64]
     y: NDArray[np.int64]
     x0: NDArray[np.int64]
     x1: NDArray[np.int64]
@@ -190,7 +418,7 @@ class Coverage:
     alpha: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
-        fields = ("triangle", "y", "x0", "x1") + (("sample",) if self.sample is not None else ())
+        fields = ("primitive", "y", "x0", "x1") + (("sample",) if self.sample is not None else ())
         arrays = {f: _int_array(getattr(self, f), f) for f in fields}
         sizes = {f: a.size for f, a in arrays.items()}
         if len(set(sizes.values())) != 1:
@@ -233,7 +461,7 @@ class Coverage:
     @classmethod
     def from_pixels(
         cls,
-        triangle: ArrayLike,
+        primitive: ArrayLike,
         x: ArrayLike,
         y: ArrayLike,
         attributes: ArrayLike | None = None,
@@ -243,13 +471,13 @@ class Coverage:
     ) -> Coverage:
         """Build spans from individual fragments, in any order.
 
-        Fragments are sorted by (triangle, sample, y, x) and runs of consecutive x become
-        spans. A fragment repeated for the same triangle (and sample) stays a separate
+        Fragments are sorted by (primitive, sample, y, x) and runs of consecutive x become
+        spans. A fragment repeated for the same primitive (and sample) stays a separate
         span, so the duplicate remains visible to the checks.
 
         Parameters
         ----------
-        triangle, x, y : (P,) int
+        primitive, x, y : (P,) int
         attributes : (P, K) float64 or None, one row per fragment in the given order
         sample : (P,) int or None
             Multisample coverage: each fragment's sample index.
@@ -262,11 +490,11 @@ class Coverage:
         >>> cov.sample, cov.x0, cov.x1
         (array([1, 3]), array([1, 1]), array([2, 3]))
         """
-        tri = _int_array(triangle, "triangle")
+        tri = _int_array(primitive, "primitive")
         xs = _int_array(x, "x")
         ys = _int_array(y, "y")
         if not tri.size == xs.size == ys.size:
-            raise ValueError("Coverage.from_pixels needs triangle, x and y of equal lengths")
+            raise ValueError("Coverage.from_pixels needs primitive, x and y of equal lengths")
         samples = None if sample is None else _int_array(sample, "sample")
         if samples is not None and samples.size != tri.size:
             raise ValueError("Coverage.from_pixels needs one sample index per fragment")
@@ -295,13 +523,13 @@ class Coverage:
                    None if samples is None else samples[heads], rows["alpha"])
 
     @classmethod
-    def from_mask(cls, triangle: int, mask: ArrayLike, attributes: ArrayLike | None = None, *,
+    def from_mask(cls, primitive: int, mask: ArrayLike, attributes: ArrayLike | None = None, *,
                   sample: int | None = None, alpha: ArrayLike | None = None) -> Coverage:
-        """Build the spans of one triangle (and one sample) from an (H, W) boolean mask.
+        """Build the spans of one primitive (and one sample) from an (H, W) boolean mask.
 
         Parameters
         ----------
-        triangle : int
+        primitive : int
         mask : (H, W) bool
         attributes : (H, W, K) float64 or None, values at every pixel (only covered ones kept)
         sample : int or None
@@ -341,7 +569,7 @@ class Coverage:
                 raise ValueError(f"Coverage.from_mask alpha must have shape {mask.shape}, not {alpha.shape}")
             alphas = alpha[mask]
         samples = None if sample is None else np.full(rows.size, sample)
-        return cls(np.full(rows.size, triangle), rows, starts, ends, values, samples, alphas)
+        return cls(np.full(rows.size, primitive), rows, starts, ends, values, samples, alphas)
 
     @classmethod
     def concat(cls, parts: Iterable[Coverage]) -> Coverage:
@@ -351,7 +579,7 @@ class Coverage:
         Examples
         --------
         >>> both = Coverage.concat([Coverage.from_mask(0, [[1, 1, 0]]), Coverage.from_mask(1, [[0, 1, 1]])])
-        >>> both.triangle, both.x0, both.x1
+        >>> both.primitive, both.x0, both.x1
         (array([0, 1]), array([0, 1]), array([2, 3]))
         """
         parts = list(parts)
@@ -363,13 +591,18 @@ class Coverage:
             if any(present) and not all(present):
                 raise ValueError(f"Coverage.concat: some parts carry {field} and some do not")
             joined[field] = np.concatenate([getattr(p, field) for p in parts]) if all(present) else None
-        triangle, y, x0, x1 = (np.concatenate([getattr(p, f) for p in parts]) for f in ("triangle", "y", "x0", "x1"))
-        return cls(triangle, y, x0, x1, joined["attributes"], joined["sample"], joined["alpha"])
+        primitive, y, x0, x1 = (np.concatenate([getattr(p, f) for p in parts]) for f in ("primitive", "y", "x0", "x1"))
+        return cls(primitive, y, x0, x1, joined["attributes"], joined["sample"], joined["alpha"])
 
     # -- views -----------------------------------------------------------------------
 
     def __len__(self) -> int:
-        return int(self.triangle.size)
+        return int(self.primitive.size)
+
+    @property
+    def triangle(self) -> NDArray[np.int64]:
+        """:attr:`primitive` by its triangle-scene name (the same array)."""
+        return self.primitive
 
     @property
     def n_pixels(self) -> int:
@@ -377,14 +610,14 @@ class Coverage:
         return int(np.maximum(self.x1 - self.x0, 0).sum())
 
     def pixels(self) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
-        """Every fragment as (triangle, x, y), in span order, left to right.
+        """Every fragment as (primitive, x, y), in span order, left to right.
 
         >>> Coverage([2], [1], [3], [5]).pixels()
         (array([2, 2]), array([3, 4]), array([1, 1]))
         """
         lengths = np.maximum(self.x1 - self.x0, 0)
         x = expand(self.x0, lengths)
-        return np.repeat(self.triangle, lengths), x, np.repeat(self.y, lengths)
+        return np.repeat(self.primitive, lengths), x, np.repeat(self.y, lengths)
 
     def fragment_samples(self) -> NDArray[np.int64]:
         """The sample index of every fragment, in the order of :meth:`pixels` (all 0 for
@@ -416,7 +649,7 @@ class Coverage:
             kept = [values[rows] if values is not None and values.shape[0] == offsets[-1] else None
                     for values in (self.attributes, self.alpha)]
         sample = None if self.sample is None else self.sample[spans]
-        return Coverage(self.triangle[spans], self.y[spans], x0, x1, kept[0], sample, kept[1])
+        return Coverage(self.primitive[spans], self.y[spans], x0, x1, kept[0], sample, kept[1])
 
     def layer(self, index: int) -> Coverage:
         """The single-sample coverage of sample ``index`` of a multisample coverage (the
@@ -429,7 +662,7 @@ class Coverage:
             return self if index == 0 else Coverage.empty(None if self.attributes is None else self.attributes.shape[1])
         spans = np.flatnonzero(self.sample == index)
         taken = self.take(spans)
-        return Coverage(taken.triangle, taken.y, taken.x0, taken.x1, taken.attributes)
+        return Coverage(taken.primitive, taken.y, taken.x0, taken.x1, taken.attributes)
 
     def counts(self, width: int, height: int) -> NDArray[np.int32]:
         """Hits per pixel, (height, width) int32, from difference arrays (no fragments);
@@ -448,15 +681,15 @@ class Coverage:
         )
         return np.cumsum(delta.reshape(height, stride), axis=1)[:, :width].astype(np.int32)
 
-    def tidy(self, scene: Scene) -> tuple[Coverage, dict[str, NDArray[np.int64]]]:
+    def tidy(self, scene: AnyScene) -> tuple[Coverage, dict[str, NDArray[np.int64]]]:
         """What the checks may safely use of this coverage, and what was wrong with it.
 
         Works span by span, never pixel by pixel, so that a garbage answer (a span of
         10**8 pixels, a million copies of one span, spans far off-screen) costs time and
         memory in proportion to its number of spans, not to the pixels it claims. Keeps
-        the pixels that can belong to their triangle: inside the viewport and within the
-        triangle's bounding box grown by 2 px (the reach of any sample point in the pixel
-        plus any snapping of a vertex by up to 1 px), each emitted once per triangle (and
+        the pixels that can belong to their primitive: inside the viewport and within the
+        primitive's bounding box grown by 2 px (the reach of any sample point in the pixel
+        plus any snapping of a vertex by up to 1 px), each emitted once per primitive (and
         sample, for multisample coverage: a sample index outside 0 .. MAX_SAMPLES - 1 is
         a ``bad_sample``).
 
@@ -466,53 +699,53 @@ class Coverage:
             ``self`` when nothing was wrong; else the kept spans, with the attribute (and
             alpha) rows of the kept pixels when there was one row per pixel (else none).
         flaws : dict of str -> (n,) int64
-            Indices of offending spans: ``bad_triangle_id``, ``bad_sample``,
-            ``empty_or_reversed``, ``outside_viewport``, ``outside_triangle``, ``repeated``
+            Indices of offending spans: ``bad_primitive_id``, ``bad_sample``,
+            ``empty_or_reversed``, ``outside_viewport``, ``outside_primitive``, ``repeated``
             (see :func:`harness.spans.tidy`), all empty when ``usable is self``; and
             ``repeated_pixels``, one number: the pixels emitted a second time.
         """
         from harness.conventions import MAX_SAMPLES
 
         n = len(scene)
-        ids, layers, positions = self.triangle, 1, scene.positions
+        ids, layers = self.primitive, 1
+        bounds = _pixel_bounds(scene)
         bad_sample = np.zeros(0, dtype=np.int64)
         if self.sample is not None:
-            # one virtual triangle per (triangle, sample): the single-sample rules apply to each
+            # one virtual primitive per (primitive, sample): the single-sample rules apply to each
             valid = (self.sample >= 0) & (self.sample < MAX_SAMPLES)
             bad_sample = np.flatnonzero(~valid)
             layers = int(self.sample[valid].max(initial=0)) + 1
-            known = (self.triangle >= 0) & (self.triangle < n)
-            ids = np.where(known & valid, np.where(known, self.triangle, 0) * layers + np.where(valid, self.sample, 0), -1)
-            positions = np.repeat(positions, layers, axis=0)
+            known = (self.primitive >= 0) & (self.primitive < n)
+            ids = np.where(known & valid, np.where(known, self.primitive, 0) * layers + np.where(valid, self.sample, 0), -1)
+            bounds = np.repeat(bounds, layers, axis=0)
         spans = (frozen(a, np.int64) for a in (ids, self.y, self.x0, self.x1))
-        kinds = ("bad_triangle_id", "bad_sample", "empty_or_reversed", "outside_triangle", "repeated", "outside_viewport")
-        if not bad_sample.size and already_tidy(frozen(positions), scene.width, scene.height, *spans):
+        kinds = ("bad_primitive_id", "bad_sample", "empty_or_reversed", "outside_primitive", "repeated", "outside_viewport")
+        if not bad_sample.size and already_tidy(frozen(bounds, np.int64), *spans):
             none = np.zeros(0, dtype=np.int64)
             return self, {**{kind: none for kind in kinds}, "repeated_pixels": np.zeros(1, dtype=np.int64)}
-        bounds = np.repeat(_pixel_bounds(scene), layers, axis=0)
         keep, start, end, flaws, repeated_pixels = tidy(ids, self.y, self.x0, self.x1, n * layers, bounds)
         y, x0, x1 = self.y, self.x0, self.x1
         outside = (y < 0) | (y >= scene.height) | (x0 < 0) | (x1 > scene.width)
         flaws["bad_sample"] = bad_sample
-        flaws["bad_triangle_id"] = np.setdiff1d(flaws["bad_triangle_id"], bad_sample[(self.triangle[bad_sample] >= 0) & (self.triangle[bad_sample] < n)])
+        flaws["bad_primitive_id"] = np.setdiff1d(flaws["bad_primitive_id"], bad_sample[(self.primitive[bad_sample] >= 0) & (self.primitive[bad_sample] < n)])
         flaws["outside_viewport"] = np.flatnonzero(outside & (x0 < x1))
-        flaws["outside_triangle"] = np.setdiff1d(flaws["outside_triangle"], flaws["outside_viewport"])
+        flaws["outside_primitive"] = np.setdiff1d(flaws["outside_primitive"], flaws["outside_viewport"])
         flaws["repeated_pixels"] = np.array([repeated_pixels], dtype=np.int64)
         if not any(v.size for k, v in flaws.items() if k != "repeated_pixels"):
             return self, flaws
         return self.take(keep, start, end), flaws
 
     def canonical(self) -> Coverage:
-        """The same fragments in canonical form: spans sorted by (triangle, sample, y, x0),
-        empty spans dropped, touching spans of one triangle, sample and row merged.
+        """The same fragments in canonical form: spans sorted by (primitive, sample, y, x0),
+        empty spans dropped, touching spans of one primitive, sample and row merged.
         Overlapping spans are kept apart, so a fragment emitted twice is still counted
         twice."""
         length = self.x1 - self.x0
         keep = np.flatnonzero(length > 0)
         keys = [self.x1[keep], self.x0[keep], self.y[keep]] + ([] if self.sample is None else [self.sample[keep]])
-        order = keep[np.lexsort((*keys, self.triangle[keep]))]
+        order = keep[np.lexsort((*keys, self.primitive[keep]))]
         sorted_ = self.take(order)
-        tri, y, x0, x1 = sorted_.triangle, sorted_.y, sorted_.x0, sorted_.x1
+        tri, y, x0, x1 = sorted_.primitive, sorted_.y, sorted_.x0, sorted_.x1
         joins = np.zeros(tri.size, dtype=bool)
         joins[1:] = (tri[1:] == tri[:-1]) & (y[1:] == y[:-1]) & (x0[1:] == x1[:-1])
         if sorted_.sample is not None:
@@ -531,7 +764,7 @@ class Coverage:
             return NotImplemented
         a, b = self.canonical(), other.canonical()
         same_spans = all(
-            np.array_equal(getattr(a, f), getattr(b, f)) for f in ("triangle", "y", "x0", "x1")
+            np.array_equal(getattr(a, f), getattr(b, f)) for f in ("primitive", "y", "x0", "x1")
         )
         if not same_spans:
             return False
@@ -571,6 +804,13 @@ class Rasterizer(Protocol):
     fingerprint : harness.identify.Fingerprint
         Set by rastercheck on a rasterizer that declares no convention: what identify
         found, so that verdicts against a best guess say so.
+    scene_kinds : tuple of str
+        The scene kinds it takes, of :data:`SCENE_KINDS` (``("triangles",)`` when absent):
+        one listing ``"paths"`` is handed :class:`PathScene` too, and fills each path in
+        one go under the scene's fill rule. Read by :func:`scene_kinds_of`.
+    fill_rules : tuple of str
+        The fill rules a path-taking rasterizer honours (both when absent): it is handed
+        only path scenes of these rules. Read by :func:`fill_rules_of`.
     """
 
     # Read-only members: a plain class attribute or instance attribute of a narrower
@@ -586,18 +826,15 @@ class Rasterizer(Protocol):
         ...
 
 
-def _pixel_bounds(scene: Scene) -> NDArray[np.int64]:
-    """(N, 4) int64: per triangle the pixels ``xmin, ymin, xmax, ymax`` (inclusive) any of
+def _pixel_bounds(scene: AnyScene) -> NDArray[np.int64]:
+    """(N, 4) int64: per primitive the pixels ``xmin, ymin, xmax, ymax`` (inclusive) any of
     its fragments may lie in under any convention: its bounding box grown by 2 px, clipped
-    to the viewport (the whole viewport for a triangle with a NaN or infinite coordinate)."""
-    p = scene.positions
+    to the viewport (the whole viewport for a primitive with a NaN or infinite coordinate)."""
+    lo, hi, finite = scene.primitive_boxes()
     out = np.empty((len(scene), 4), dtype=np.int64)
-    finite: NDArray[np.bool_] = np.asarray(np.isfinite(p).all(axis=(1, 2)))
-    q = np.where(np.isfinite(p), p, 0.0)
-    lo = np.clip(q.min(axis=1, initial=np.inf), -4.0, [scene.width + 4.0, scene.height + 4.0])
-    hi = np.clip(q.max(axis=1, initial=-np.inf), -4.0, [scene.width + 4.0, scene.height + 4.0])
-    out[:, 0:2] = np.where(finite[:, None], np.floor(lo) - 2, 0)
-    out[:, 2:4] = np.where(finite[:, None], np.ceil(hi) + 2, [scene.width - 1, scene.height - 1])
+    limit = [scene.width + 4.0, scene.height + 4.0]
+    out[:, 0:2] = np.where(finite[:, None], np.floor(np.clip(lo, -4.0, limit)) - 2, 0)
+    out[:, 2:4] = np.where(finite[:, None], np.ceil(np.clip(hi, -4.0, limit)) + 2, [scene.width - 1, scene.height - 1])
     out[:, 0:2] = np.maximum(out[:, 0:2], 0)
     out[:, 2] = np.minimum(out[:, 2], scene.width - 1)
     out[:, 3] = np.minimum(out[:, 3], scene.height - 1)
@@ -605,6 +842,26 @@ def _pixel_bounds(scene: Scene) -> NDArray[np.int64]:
 
 
 # The optional members of a Rasterizer, each read in one place.
+def scene_kinds_of(rasterizer: Rasterizer) -> tuple[str, ...]:
+    """The scene kinds a rasterizer takes (``scene_kinds``; triangles only when absent)."""
+    kinds = getattr(rasterizer, "scene_kinds", None)
+    return ("triangles",) if kinds is None else tuple(str(k) for k in kinds)
+
+
+def fill_rules_of(rasterizer: Rasterizer) -> tuple[str, ...]:
+    """The fill rules a path-taking rasterizer honours (``fill_rules``; both when absent)."""
+    rules = getattr(rasterizer, "fill_rules", None)
+    return tuple(FILL_RULES) if rules is None else tuple(str(r) for r in rules)
+
+
+def takes(rasterizer: Rasterizer, scene: AnyScene) -> bool:
+    """Whether the rasterizer is handed ``scene``: a kind it takes (and, for paths, a fill
+    rule it honours). The runner gives each rasterizer only such scenes."""
+    if scene.kind not in scene_kinds_of(rasterizer):
+        return False
+    return not isinstance(scene, PathScene) or scene.fill_rule in fill_rules_of(rasterizer)
+
+
 def interpolates_of(rasterizer: Rasterizer) -> bool:
     """Whether the rasterizer interpolates attributes (``interpolates``, True when absent)."""
     return bool(getattr(rasterizer, "interpolates", True))

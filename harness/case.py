@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import MAX_VIEWPORT, Scene
+from harness.api import MAX_VIEWPORT, AnyScene, PathScene, Scene
 from harness.files import atomic_write_text
 
 __all__ = ["Case", "MotionCase", "case_to_json", "case_from_json", "save_case", "load_case", "read_case_file", "SCHEMA", "CASE_SCHEMA",
@@ -36,24 +36,26 @@ class Case:
     ----------
     id : str
         Stable hierarchical id, ``family/variant/detail``; the first part is the family.
-    scene : Scene
+    scene : Scene or PathScene
+        Triangles, or paths under a fill rule; a rasterizer is handed the case only when
+        it takes the scene's kind (:func:`harness.api.takes`).
     lattice : bool
         Every coordinate lies on a coarse dyadic lattice: float arithmetic is exact there,
         so no deviation from the oracle is excused as rounding.
     region : (M, 2) float64 or None
         For a planar partition, the convex outline (clockwise or not) of the union of
-        its triangles, known exactly: pixels wholly inside must be hit exactly once,
+        its triangles (or paths), known exactly: pixels wholly inside must be hit exactly once,
         pixels wholly outside never, and no pixel twice.
     closed : bool
         The triangles form a closed mesh wholly in front of the camera: at every pixel,
         hits by clockwise triangles equal hits by counter-clockwise ones.
     refusable : tuple of int
-        Triangles with finite but huge coordinates that a rasterizer may refuse by
+        Triangles (paths) with finite but huge coordinates that a rasterizer may refuse by
         raising ValueError naming them (reported as skip, with its reason).
     """
 
     id: str
-    scene: Scene
+    scene: AnyScene
     lattice: bool = False
     region: NDArray[np.float64] | None = None
     closed: bool = False
@@ -65,9 +67,8 @@ class Case:
 
     @property
     def non_finite(self) -> tuple[int, ...]:
-        """Triangles with a NaN or infinite coordinate."""
-        bad = ~np.all(np.isfinite(self.scene.positions), axis=(1, 2))
-        return tuple(int(t) for t in np.flatnonzero(bad))
+        """Primitives (triangles or paths) with a NaN or infinite coordinate."""
+        return self.scene.non_finite()
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -114,6 +115,9 @@ _VALUES = {"type": ["array", "null"], "items": {"type": "array", "minItems": 3, 
                                                 "items": {"type": "array", "items": _NUMBER}}}
 _W = {"type": ["array", "null"], "items": {"type": "array", "items": _NUMBER, "minItems": 3, "maxItems": 3}}
 _SIDE = {"type": "integer", "minimum": 1, "maximum": MAX_VIEWPORT}
+# paths: each a list of closed contours, each a list of points
+_PATHS = {"type": "array", "items": {"type": "array", "minItems": 1,
+                                     "items": {"type": "array", "items": _POINT, "minItems": 1}}}
 _FRAME = {"type": "object", "required": ["width", "height", "positions"],
           "properties": {"width": _SIDE, "height": _SIDE, "positions": _TRIANGLES, "attributes": _VALUES, "w": _W}}
 
@@ -138,13 +142,17 @@ CASE_SCHEMA: dict[str, Any] = {
                        "perspective": {"type": "boolean"}},
     },
     "else": {
-        "required": ["width", "height", "positions"],
+        "required": ["width", "height"],
         "properties": {
             "width": _SIDE, "height": _SIDE, "positions": _TRIANGLES, "attributes": _VALUES, "w": _W,
+            "paths": _PATHS, "fill_rule": {"enum": ["nonzero", "evenodd"]},
             "lattice": {"type": "boolean"}, "closed": {"type": "boolean"},
             "region": {"type": ["array", "null"], "items": _POINT, "minItems": 3},
             "refusable": {"type": "array", "items": {"type": "integer", "minimum": 0}},
         },
+        # triangles, or paths with their fill rule
+        "oneOf": [{"required": ["positions"], "not": {"required": ["paths"]}},
+                  {"required": ["paths", "fill_rule"], "not": {"required": ["positions"]}}],
     },
 }
 
@@ -189,7 +197,10 @@ def _unhex(data: Any, field: str = "") -> NDArray | None:
     return np.vectorize(_number, otypes=[float])(array)
 
 
-def _scene_to_json(scene: Scene) -> dict[str, Any]:
+def _scene_to_json(scene: AnyScene) -> dict[str, Any]:
+    if isinstance(scene, PathScene):
+        return {"width": scene.width, "height": scene.height, "fill_rule": scene.fill_rule,
+                "paths": [[_hex(c) for c in scene.contours_of(p)] for p in range(len(scene))]}
     return {"width": scene.width, "height": scene.height, "positions": _hex(scene.positions),
             "attributes": _hex(scene.attributes), "w": _hex(scene.w)}
 
@@ -227,11 +238,17 @@ def _where(error: Any) -> str:
     return path or "the top level"
 
 
-def _scene_from_json(data: dict[str, Any], where: str) -> Scene:
+def _scene_from_json(data: dict[str, Any], where: str) -> AnyScene:
     width, height = int(data["width"]), int(data["height"])
     if width * height > MAX_CASE_PIXELS:
         raise ValueError(f"{where}a {width} x {height} viewport is more than the {MAX_CASE_PIXELS} pixels (8192 x 8192) "
                          "a case may cover: the checks count hits on every pixel of the screen")
+    try:
+        if "paths" in data:
+            paths = [[_unhex(c, f"paths[{p}][{k}]") for k, c in enumerate(path)] for p, path in enumerate(data["paths"])]
+            return PathScene.from_paths(width, height, paths, data["fill_rule"])  # type: ignore[arg-type]
+    except ValueError as exc:
+        raise ValueError(f"{where}{exc}") from None
     positions = _unhex(data["positions"], "positions")
     assert positions is not None
     try:
@@ -248,9 +265,13 @@ def case_from_json(data: Any) -> Case | MotionCase:
     if not isinstance(data, dict) or data.get("schema") != SCHEMA:
         raise ValueError(f"not a rastercheck case (schema {SCHEMA} expected)")
     error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(CASE_SCHEMA).iter_errors(data))
+    if error is not None and error.validator == "oneOf" and not error.absolute_path and "positions" not in data and "paths" not in data:
+        raise ValueError("case JSON lacks the field 'positions' (or 'paths' and 'fill_rule', for a path case)")
     if error is not None:
         if error.validator == "required":
             missing = [f for f in error.validator_value if isinstance(error.instance, dict) and f not in error.instance]
+            if error.instance is data and data.get("kind") != "motion" and "positions" not in data and "paths" not in data:
+                missing.append("positions")  # (or "paths" and "fill_rule", for a path case)
             raise ValueError(f"case JSON lacks the field{'s' if len(missing) > 1 else ''} {', '.join(map(repr, missing))}"
                              + ("" if not error.absolute_path else f" at {_where(error)}"))
         shown = repr(error.instance)
@@ -258,7 +279,10 @@ def case_from_json(data: Any) -> Case | MotionCase:
                          f"{shown if len(shown) <= 60 else shown[:57] + '...'} is not valid ({error.validator} {error.validator_value!r:.80})")
     if data.get("kind") == "motion":
         frames = tuple(_scene_from_json(f, f"frame {k}: ") for k, f in enumerate(data["frames"]))
-        return MotionCase(data["id"], frames, texels=data.get("texels"), perspective=bool(data.get("perspective", False)))
+        if any(isinstance(f, PathScene) for f in frames):
+            raise ValueError("case JSON is malformed at frames: a motion case's frames are triangle scenes")
+        triangles = tuple(f for f in frames if isinstance(f, Scene))
+        return MotionCase(data["id"], triangles, texels=data.get("texels"), perspective=bool(data.get("perspective", False)))
     scene = _scene_from_json(data, "")
     region = _unhex(data.get("region"), "region")
     if any(t >= len(scene) for t in data.get("refusable", ())):
@@ -293,6 +317,6 @@ def read_case_file(path: Path | str) -> tuple[Case | MotionCase, dict[str, Any]]
         case = case_from_json(data)
     except ValueError as exc:
         raise ValueError(f"{path}: {exc}") from None
-    known = {"schema", "kind", "id", "width", "height", "positions", "attributes", "w", "lattice", "region", "closed",
-             "refusable", "frames", "texels", "perspective"}
+    known = {"schema", "kind", "id", "width", "height", "positions", "attributes", "w", "paths", "fill_rule", "lattice",
+             "region", "closed", "refusable", "frames", "texels", "perspective"}
     return case, {k: v for k, v in data.items() if k not in known}

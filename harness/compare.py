@@ -131,7 +131,7 @@ def compare(rasterizers: list[Rasterizer], seed: int = 0, isolate: bool = True,
             differs = a.counts(c.scene.width, c.scene.height) != b.counts(c.scene.width, c.scene.height)
             per_case[c.id] = int(differs.sum())
             total += a.n_pixels
-            if where is None and per_case[c.id]:
+            if where is None and per_case[c.id] and isinstance(c.scene, Scene):
                 ys, xs = np.nonzero(differs)
                 where = (c.scene, a, b, [(int(x), int(y)) for x, y in zip(xs[:20], ys[:20])])
         comparisons.append(Comparison(ra.name, rb.name, sum(per_case.values()), total, per_case,

@@ -120,6 +120,8 @@ from numpy.typing import NDArray
 
 __all__ = [
     "TIE_RULES",
+    "FILL_RULES",
+    "FillRule",
     "TieRule",
     "CullMode",
     "SnapRounding",
@@ -166,6 +168,11 @@ TIE_PERTURBATION: dict[str, tuple[int, int, bool]] = {
     "bottom-right-y-first": (-1, -1, True),
 }
 TIE_RULES: tuple[TieRule, ...] = cast("tuple[TieRule, ...]", tuple(TIE_PERTURBATION))
+
+# The fill rules of paths (harness.winding): a sample is inside a path when its winding
+# number is nonzero, or odd.
+FillRule = Literal["nonzero", "evenodd"]
+FILL_RULES: tuple[FillRule, ...] = ("nonzero", "evenodd")
 # piglit's eight filling conventions (GL window coordinates, y up) -> rastercheck's rule
 # for that driver, with window y taken as rastercheck's y (row y = window row y).
 PIGLIT_NAMES: dict[str, str] = {

@@ -25,9 +25,9 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
-from harness.api import Coverage, Rasterizer, Scene
+from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene
 
-__all__ = ["Outcome", "layer_of", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call", "PluginError",
+__all__ = ["Outcome", "layer_of", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call", "AnyCall", "PluginError",
            "kill_all"]
 
 
@@ -58,7 +58,7 @@ def layer_of(outcome: Outcome, index: int) -> Outcome:
     return replace(outcome, coverage=outcome.coverage.layer(index), received=received)
 
 
-def _tidied(outcome: Outcome, scene: Scene) -> Outcome:
+def _tidied(outcome: Outcome, scene: AnyScene) -> Outcome:
     if outcome.coverage is None:
         return outcome
     usable, flaws = outcome.coverage.tidy(scene)
@@ -69,6 +69,8 @@ def _tidied(outcome: Outcome, scene: Scene) -> Outcome:
 
 # What the checks and probes hold: the rasterizer again, as a function of a scene.
 Call = Callable[[Scene], Outcome]
+# A call that takes a scene of any kind (the runner's: it hands path scenes to path fillers).
+AnyCall = Callable[[AnyScene], Outcome]
 
 
 def describe(error: BaseException | None, kind: bool = True) -> str:
@@ -108,23 +110,30 @@ def _portable(outcome: Outcome) -> Outcome:
     return Outcome(None, error, outcome.traceback, outcome.seconds)
 
 
-def span_limit(scene: Scene) -> int:
+def _pieces(scene: AnyScene) -> int:
+    """Triangles, or for paths their vertices: a path needs at most one span per row for
+    every two of its edges."""
+    return int(scene.vertices.shape[0]) if isinstance(scene, PathScene) else len(scene)
+
+
+def span_limit(scene: AnyScene) -> int:
     """The most spans an answer may hold: a triangle is convex, so it needs at most one
-    span per row (16 allowed, for one per sample of a 16x multisample pattern)."""
-    return 16 * (len(scene) + 1) * scene.height + 1024
+    span per row, a path one per row for every two edges (16 allowed, for one per sample of
+    a 16x multisample pattern)."""
+    return 16 * (_pieces(scene) + 1) * scene.height + 1024
 
 
-def call_in_process(rasterizer: Rasterizer, scene: Scene) -> Outcome:
+def call_in_process(rasterizer: Rasterizer, scene: AnyScene) -> Outcome:
     """One rasterize call, in this process, with any exception captured. An answer of
     more spans than :func:`span_limit` is refused at once, with its size."""
     start = time.perf_counter()
     try:
-        coverage = rasterizer.rasterize(scene)
+        coverage = rasterizer.rasterize(scene)  # type: ignore[arg-type]  # a path scene only to one that takes paths
         if not isinstance(coverage, Coverage):
             raise TypeError(f"rasterize returned {type(coverage).__name__}, not a harness.Coverage")
         if len(coverage) > span_limit(scene):
-            raise PluginError(f"refused an answer of {len(coverage):,} spans: {len(scene):,} triangles on {scene.height:,} "
-                              f"rows need at most {len(scene) * scene.height:,}")
+            raise PluginError(f"refused an answer of {len(coverage):,} spans: {len(scene):,} {scene.noun}s on {scene.height:,} "
+                              f"rows need at most {16 * (_pieces(scene) + 1) * scene.height + 1024:,}")
     except BaseException as exc:  # noqa: B036 - a plugin's KeyboardInterrupt or SystemExit is its failure
         try:
             trace = traceback.format_exc()
@@ -212,10 +221,10 @@ class Worker:
         child.close()
 
     @staticmethod
-    def _work(scene: Scene) -> float:
-        return len(scene) + scene.width * scene.height / 256 + 1
+    def _work(scene: AnyScene) -> float:
+        return _pieces(scene) + scene.width * scene.height / 256 + 1
 
-    def limit(self, scene: Scene) -> tuple[float, str]:
+    def limit(self, scene: AnyScene) -> tuple[float, str]:
         """The time limit of a call on ``scene``, and how it was set."""
         if self.patience is None or len(self._rates) < self.warmup:
             return self.timeout, f"{self.timeout:g} s"
@@ -227,7 +236,7 @@ class Worker:
         return adaptive, (f"{adaptive:.3g} s, {self.patience:g} times its typical call on a scene this size "
                           f"(the absolute limit is {self.timeout:g} s)")
 
-    def rasterize(self, scene: Scene, timeout: float | None = None) -> Outcome:
+    def rasterize(self, scene: AnyScene, timeout: float | None = None) -> Outcome:
         """One call in the worker; ``timeout`` overrides the limit (absolute, not adaptive)."""
         try:
             self._conn.send(scene)
@@ -266,7 +275,7 @@ class Worker:
         return Outcome(None, RuntimeError(f"the rasterizer's worker process died (exit code {code})"), "",
                        time.perf_counter() - start)
 
-    def _answer(self, scene: Scene, timeout: float | None) -> Outcome:
+    def _answer(self, scene: AnyScene, timeout: float | None) -> Outcome:
         """The worker's answer on ``scene`` (already sent), within its time limit."""
         limit, said = (timeout, f"{timeout:g} s") if timeout is not None else self.limit(scene)
         start = time.perf_counter()
@@ -288,7 +297,7 @@ class Worker:
         self._start()
         return Outcome(None, TimeoutError(f"no answer within {said}"), "", limit, timed_out=True)
 
-    def __call__(self, scene: Scene) -> Outcome:
+    def __call__(self, scene: AnyScene) -> Outcome:
         return self.rasterize(scene)
 
     def close(self) -> None:
@@ -311,14 +320,14 @@ class InProcess:
     def __init__(self, rasterizer: Rasterizer) -> None:
         self.rasterizer = rasterizer
 
-    def rasterize(self, scene: Scene, timeout: float | None = None) -> Outcome:
+    def rasterize(self, scene: AnyScene, timeout: float | None = None) -> Outcome:
         return _tidied(call_in_process(self.rasterizer, scene), scene)
 
     def rasterize_all(self, scenes: list[Scene]) -> list[Outcome]:
         """One call per scene, in order, up to and including the first that gives no coverage."""
         return each_until_error(self.rasterize, scenes)
 
-    def __call__(self, scene: Scene) -> Outcome:
+    def __call__(self, scene: AnyScene) -> Outcome:
         return self.rasterize(scene)
 
     def close(self) -> None:

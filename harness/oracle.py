@@ -27,11 +27,12 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene
+from harness.api import AnyScene, Coverage, PathScene, Scene
 from harness.spans import expand, pixel_offsets, span_buffers
 from harness.conventions import Convention, owns_edge
-from harness.exact import frozen, orient2d_sign, orientation
+from harness.exact import frozen, orientation
 from harness.samples import pattern
+from harness.oracle_kernels import _apply_edge, _edge_setup, _row_range, shares_of_layers
 
 __all__ = ["exact_coverage", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
 
@@ -135,133 +136,6 @@ def prepare_triangles(scene: Scene, convention: Convention) -> PreparedTriangles
 
 
 # -- the compiled span kernel -------------------------------------------------------------
-
-
-@numba.njit(cache=True, inline="always")
-def _inside(ax, ay, bx, by, px, py, owned):  # type: ignore[no-untyped-def]
-    s = orient2d_sign(ax, ay, bx, by, px, py)
-    # A sample exactly on the edge belongs to it only when the tie rule owns the edge.
-    return s > 0 or (s == 0 and owned)
-
-
-@numba.njit(cache=True)
-def _settle(ax, ay, bx, by, owned, sx, ys, width, estimate, lower):  # type: ignore[no-untyped-def]
-    """Smallest column i in [0, width] where g(i) holds, g monotone false -> true, with
-    g(i) = inside(i) for a lower bound (dy < 0) and not inside(i) for an upper bound;
-    g(width) is taken as true. Starts from the float estimate, then steps or bisects."""
-    c = min(max(estimate, 0), width)
-    if c < width and (_inside(ax, ay, bx, by, c + sx, ys, owned) != lower):
-        # g(c) is false: the answer lies right of c.
-        c += 1
-        if c >= width or (_inside(ax, ay, bx, by, c + sx, ys, owned) == lower):
-            return c
-        lo, hi = c, width
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if _inside(ax, ay, bx, by, mid + sx, ys, owned) == lower:
-                hi = mid
-            else:
-                lo = mid
-        return hi
-    # g(c) is true (or c == width): the answer is c or lies left of it.
-    if c == 0 or (_inside(ax, ay, bx, by, c - 1 + sx, ys, owned) != lower):
-        return c
-    c -= 1
-    if c == 0 or (_inside(ax, ay, bx, by, c - 1 + sx, ys, owned) != lower):
-        return c
-    lo, hi = -1, c - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if _inside(ax, ay, bx, by, mid + sx, ys, owned) == lower:
-            hi = mid
-        else:
-            lo = mid
-    return hi
-
-
-@numba.njit(cache=True, inline="always")
-def _estimate_column(ax, ay, bx, by, sx, ys, width):  # type: ignore[no-untyped-def]
-    xc = ax + (bx - ax) * ((ys - ay) / (by - ay))
-    e = xc - sx
-    if not e > -1.0:  # also catches NaN
-        return 0
-    if e > width:
-        return width
-    return int(math.ceil(e))
-
-
-@numba.njit(cache=True)
-def _row_range(ymin, ymax, sy, height):  # type: ignore[no-untyped-def]
-    # Rows j with ymin <= j + sy <= ymax. ceil(fl(ymin - sy)) <= ceil(ymin - sy) and
-    # floor(fl(ymax - sy)) >= floor(ymax - sy): rounding is monotone and integers are
-    # representable, so no row is lost; a rare extra one is skipped by the caller.
-    lo = ymin - sy
-    hi = ymax - sy
-    if hi < 0.0 or lo > height - 1:
-        return 0, -1
-    first = 0 if lo < 0.0 else int(math.ceil(lo))
-    last = height - 1 if hi > height - 1 else int(math.floor(hi))
-    return first, last
-
-
-# Bound on |fl(ax + fl(slope * fl(ys - ay))) - exact crossing|, with the roundings of the
-# filter's own interval ends: about 9 roundings of relative size 2**-53 each on
-# |ax| + |slope * (ys - ay)| + |sx|; 2**-48 (32 units) leaves room to spare, and the "+ 1"
-# in the scale keeps the bound above any underflow. It is taken over a triangle's rows
-# once, with the largest |ys - ay| among them.
-_CROSSING_ERROR = 2.0**-48
-
-
-@numba.njit(cache=True, inline="always")
-def _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, lower):  # type: ignore[no-untyped-def]
-    """The column where edge a-b's test flips on row ys, clamped to [0, width]: the first
-    inside column for a lower bound, the first outside one for an upper bound.
-
-    Fast path: the float crossing with its error bound ``delta``. When no column
-    boundary lies within the bound the crossing is not a tie and both rules give
-    floor(lo) + 1. Otherwise the exact predicate settles it."""
-    xc = ax + slope * (ys - ay)
-    lo = xc - delta - sx
-    hi = xc + delta - sx
-    if lo >= width:
-        return width
-    if hi < 0.0:
-        return 0
-    if lo > -1.0 and hi < width + 1.0:
-        f = math.floor(lo)
-        if hi < f + 1.0:
-            return min(int(f) + 1, width)
-    est = _estimate_column(ax, ay, bx, by, sx, ys, width)
-    return _settle(ax, ay, bx, by, owned, sx, ys, width, est, lower)
-
-
-@numba.njit(cache=True, inline="always")
-def _edge_setup(ax, ay, bx, by, y_first, y_last):  # type: ignore[no-untyped-def]
-    """Per-edge constants: y extent, slope dx/dy (for the float estimate only; 0 when
-    horizontal) and the crossing's error bound over rows y_first..y_last."""
-    slope = (bx - ax) / (by - ay) if by != ay else 0.0
-    reach = max(abs(y_first - ay), abs(y_last - ay))
-    delta = _CROSSING_ERROR * (abs(ax) + abs(slope) * reach + 1.0)
-    return min(ay, by), max(ay, by), slope, delta
-
-
-@numba.njit(cache=True, inline="always")
-def _apply_edge(ax, ay, bx, by, y_lo, y_hi, slope, delta, owned, sx, ys, width, left, right):  # type: ignore[no-untyped-def]
-    """Narrow the row's run [left, right) by edge a-b, if its segment reaches height ys.
-
-    An edge whose segment lies wholly above or below the row is skipped: on a row within
-    the triangle's height the two edges that reach it bound the section exactly (their
-    wedge meets the row inside the triangle), so the third line adds nothing."""
-    if ys < y_lo or ys > y_hi:
-        return left, right
-    if ay == by:
-        # Horizontal edge on this very row: its samples are inside only if it owns them.
-        if not owned:
-            return left, 0
-        return left, right
-    if by < ay:  # E grows with x: this edge bounds the run from the left
-        return max(left, _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, True)), right
-    return left, min(right, _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, False))
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -402,18 +276,18 @@ def _vertex_values(scene: Scene, prepared: PreparedTriangles) -> tuple[NDArray, 
     return frozen(values), frozen(inv_w)
 
 
-def exact_coverage(scene: Scene, convention: Convention) -> Coverage:
+def exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
     """Exactly what ``convention`` says ``scene`` covers, with reference attributes.
 
     Parameters
     ----------
-    scene : Scene
+    scene : Scene or PathScene
     convention : Convention
 
     Returns
     -------
     Coverage
-        Spans sorted by triangle then row, clipped to the viewport. Non-finite,
+        Spans sorted by primitive then row (a path scene's: :func:`harness.winding.path_coverage`), clipped to the viewport. Non-finite,
         zero-area and culled triangles cover nothing. ``attributes`` is (P, K) when the
         scene has attributes, interpolated at each covered sample (perspective-correct
         when the scene has ``w``). For a multisample convention, spans carry their sample
@@ -438,6 +312,10 @@ def exact_coverage(scene: Scene, convention: Convention) -> Coverage:
            [1, 1, 0, 0],
            [1, 0, 0, 0]], dtype=int32)
     """
+    if isinstance(scene, PathScene):
+        from harness.winding import path_coverage
+
+        return path_coverage(scene, convention)
     if convention.kind == "multisample":
         return exact_multisample(scene, convention)
     if convention.kind == "area" and convention.samples is not None:
@@ -569,58 +447,4 @@ def sample_shares(scene: Scene, convention: Convention) -> Coverage:
     [1.0, 0.5, 0.5]
     """
     single = replace(convention, coverage="sample", samples=None, levels=256, tolerance=None)
-    layers = Coverage.concat(exact_samples(scene, single, convention.samples))
-    # spans grouped by (triangle, row); within a group, samples counted per pixel
-    order = np.argsort(layers.triangle * scene.height + layers.y, kind="stable")
-    t, y, x0, x1 = (frozen(a[order], np.int64) for a in (layers.triangle, layers.y, layers.x0, layers.x1))
-    out_t, out_y, out_x0, out_x1 = span_buffers(t.size)
-    counts = np.empty(layers.n_pixels, dtype=np.int64)
-    spans, pixels = _count_samples(t, y, x0, x1, out_t, out_y, out_x0, out_x1, counts)
-    return Coverage(out_t[:spans], out_y[:spans], out_x0[:spans], out_x1[:spans],
-                    alpha=counts[:pixels] / convention.n_samples)
-
-
-@numba.njit(cache=True)
-def _count_samples(t, y, x0, x1, out_t, out_y, out_x0, out_x1, out_counts):  # type: ignore[no-untyped-def]
-    """Per run of spans of one (triangle, row), the number of spans covering each pixel,
-    as spans over the pixels some span covers (a sliver can pass between a pixel's
-    samples: such a pixel is left out) with a count per pixel. Each output span and pixel
-    comes from at least one input span and pixel, so buffers of the inputs' sizes hold
-    them. Returns (spans, pixels) written."""
-    n = 0
-    m = 0
-    i = 0
-    while i < t.size:
-        j = i
-        lo = x0[i]
-        hi = x1[i]
-        while j < t.size and t[j] == t[i] and y[j] == y[i]:
-            lo = min(lo, x0[j])
-            hi = max(hi, x1[j])
-            j += 1
-        delta = np.zeros(hi - lo + 1, dtype=np.int64)
-        for k in range(i, j):
-            if x1[k] > x0[k]:
-                delta[x0[k] - lo] += 1
-                delta[x1[k] - lo] -= 1
-        running = 0
-        open_run = False
-        for x in range(hi - lo):
-            running += delta[x]
-            if running > 0:
-                if not open_run:
-                    out_t[n] = t[i]
-                    out_y[n] = y[i]
-                    out_x0[n] = lo + x
-                    open_run = True
-                out_counts[m] = running
-                m += 1
-            elif open_run:
-                out_x1[n] = lo + x
-                n += 1
-                open_run = False
-        if open_run:
-            out_x1[n] = hi
-            n += 1
-        i = j
-    return n, m
+    return shares_of_layers(exact_samples(scene, single, convention.samples), scene.height, convention.n_samples)

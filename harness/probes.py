@@ -89,7 +89,7 @@ class Drawn:
         if raw is None or kept is None:
             return kept
         flaws = self.outcome.flaws or {}
-        if _claimed(raw) <= RAW_PIXELS and not len(flaws.get("bad_triangle_id", ())):
+        if _claimed(raw) <= RAW_PIXELS and not len(flaws.get("bad_primitive_id", ())):
             return raw
         return kept
 
@@ -676,7 +676,7 @@ def viewport_edge(call: Call, seed: int, margin: int = 8) -> ViewportEdge:
     for bits in (0, 2, 4):
         crossing = Scene(size, size, lattice_triangles(120, size, bits, seed + 7 + bits))
         grown = grown_screen(crossing, margin)
-        if grown is None:  # never for these scenes: whole-pixel moves of small dyadic numbers are exact
+        if not isinstance(grown, Scene):  # never for these scenes: whole-pixel moves of small dyadic numbers are exact
             return ViewportEdge(0, 0, "the grown screen would round the scene")
         a, b = draw(call, crossing), draw(call, grown)
         if a.coverage is None or b.coverage is None:
@@ -847,6 +847,7 @@ def watertight_partitions(call: Call, seed: int) -> Watertight:
     holes = doubles = unanswered = 0
     partitions = partition_cases(seed)
     for case in partitions:
+        assert isinstance(case.scene, Scene)
         cov = draw(call, case.scene).coverage
         if cov is None:
             unanswered += 1

@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness import checks
-from harness.api import Rasterizer, Scene, received_of
+from harness.api import AnyScene, Rasterizer, Scene, received_of
 from harness.case import Case, case_to_json
 from harness.checks import Result
 
@@ -66,16 +66,14 @@ def ddmin(items: list[int], fails: Callable[[list[int]], bool], budget: int) -> 
     return items
 
 
-def _subcase(case: Case, keep: list[int], positions: NDArray | None = None, lattice: bool | None = None) -> Case:
-    scene = case.scene
-    index = np.array(keep, dtype=np.int64)
-    pos = (scene.positions if positions is None else positions)[index]
-    attributes = None if scene.attributes is None else scene.attributes[index]
-    w = None if scene.w is None else scene.w[index]
-    remap = {int(t): k for k, t in enumerate(index)}
+def _subcase(case: Case, keep: list[int], coordinates: NDArray | None = None, lattice: bool | None = None) -> Case:
+    scene = case.scene.subset(keep)
+    if coordinates is not None:
+        scene = scene.with_coordinates(coordinates)
+    remap = {int(t): k for k, t in enumerate(keep)}
     return Case(
         f"{case.id}/repro",
-        Scene(scene.width, scene.height, pos, attributes, w),
+        scene,
         lattice=case.lattice if lattice is None else lattice,
         refusable=tuple(remap[t] for t in case.refusable if t in remap),
     )
@@ -102,7 +100,7 @@ def shrink(case: Case, fails: Callable[[Case], bool], budget: int = 200, seconds
     best = _subcase(case, keep)
     with np.errstate(all="ignore"):
         for bits in range(0, 25):
-            p = best.scene.positions
+            p = best.scene.coordinates
             coarse = np.where(np.isfinite(p) & (np.abs(p) < 2.0**40), np.round(p * 2.0**bits) / 2.0**bits, p)
             if np.array_equal(coarse, p, equal_nan=True):
                 break
@@ -173,20 +171,20 @@ def input_precision_probe(case: Case, check: str, judge: Judge, rasterizer: Rast
     member, e.g. float32 positions at the GL API). Returns ``{"moved": n}`` (how many
     coordinates the rounding changed) when it then passes, else None."""
     received = received_of(rasterizer)
-    if received is None:
+    if received is None or not isinstance(case.scene, Scene):
         return None
     try:
         scene = received(case.scene)
     except Exception:
         return None
-    before, after = case.scene.positions, scene.positions
+    before, after = case.scene.coordinates, scene.coordinates
     moved = int(np.sum((before != after) & ~(np.isnan(before) & np.isnan(after))))
     if moved == 0:
         return None
     return {"moved": moved} if _passes(replace(case, id=f"{case.id}/as-received", scene=scene), check, judge) else None
 
 
-def grown_screen(scene: Scene, margin: int, largest: int = 8192) -> Scene | None:
+def grown_screen(scene: AnyScene, margin: int, largest: int = 8192) -> AnyScene | None:
     """The scene moved ``margin`` whole pixels right and down into a screen ``margin``
     pixels larger on every side -- an exact translation, so the same triangles cover the
     same samples, none of them crossing the viewport edge any more. None when the grown
@@ -194,12 +192,12 @@ def grown_screen(scene: Scene, margin: int, largest: int = 8192) -> Scene | None
     width, height = scene.width + 2 * margin, scene.height + 2 * margin
     if max(width, height) > largest:
         return None
-    p = scene.positions
+    p = scene.coordinates
     moved = p + float(margin)
     with np.errstate(invalid="ignore", over="ignore"):
         if not np.array_equal(moved - float(margin), p, equal_nan=True):
             return None
-    return Scene(width, height, moved, scene.attributes, scene.w)
+    return replace(scene.with_coordinates(moved), width=width, height=height)
 
 
 def viewport_edge_probe(case: Case, check: str, judge: Judge, largest: int = 8192) -> dict[str, Any] | None:
@@ -211,13 +209,11 @@ def viewport_edge_probe(case: Case, check: str, judge: Judge, largest: int = 819
     ``largest`` pixels a side, or it still fails (the deviation is not the edge's).
     """
     scene = case.scene
-    p = scene.positions
-    finite = np.isfinite(p).all(axis=(1, 2))
+    lo, hi, finite = scene.primitive_boxes()
     if case.region is not None or not finite.any():
         return None
-    q = p[finite]
-    over = max(0.0, float(-q[..., 0].min()), float(-q[..., 1].min()),
-               float(q[..., 0].max() - scene.width), float(q[..., 1].max() - scene.height))
+    over = max(0.0, float(-lo[finite, 0].min()), float(-lo[finite, 1].min()),
+               float(hi[finite, 0].max() - scene.width), float(hi[finite, 1].max() - scene.height))
     if over == 0.0 or over > largest:
         return None
     margin = int(np.ceil(over)) + 8  # the invariance check's translation stays inside too

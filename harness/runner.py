@@ -19,10 +19,10 @@ from pathlib import Path
 from cases.suites import suite as suite_cases
 from harness.case import Case, MotionCase, read_case_file
 from harness import checks, repro
-from harness.api import Rasterizer, Scene, fingerprint_of, interpolates_of
+from harness.api import Rasterizer, Scene, fingerprint_of, interpolates_of, scene_kinds_of, takes
 from harness.checks import Drawing, Result, Tolerance
 
-from harness.isolation import Call, InProcess, Outcome, Worker, describe, each_until_error
+from harness.isolation import AnyCall, InProcess, Outcome, Worker, describe, each_until_error
 from harness.registry import distinct_names, load
 
 __all__ = ["run_suite", "check_case", "check_motion", "replay"]
@@ -35,12 +35,14 @@ def _error(case: Case, rasterizer: str, outcome: Outcome, check: str = "run") ->
                   {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
 
 
-def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
+def check_case(case: Case, rasterizer: Rasterizer, call: AnyCall,
                tolerance: Tolerance = Tolerance(), invariance: bool = True,
                only: set[str] | None = None) -> list[Result]:
     """All applicable checks of one rasterizer on one case (or those named in ``only``;
     when none of them applies, the rasterizer is not called and there is no result)."""
     name = rasterizer.name
+    if not takes(rasterizer, case.scene):
+        return []  # a scene kind (or fill rule) it does not take: not handed to it
     convention = rasterizer.convention
     kind = convention.kind if convention is not None else "single"
     applicable = [check for check in checks.checks(case, only, kind) if invariance or check.name != "invariance"]
@@ -54,7 +56,8 @@ def check_case(case: Case, rasterizer: Rasterizer, call: Callable[[Scene], Outco
         return [_error(case, name, outcome)]
     coverage = outcome.coverage
     subject = checks.Subject(case, name, convention, [coverage], call, tolerance, interpolates_of(rasterizer), outcome.seconds,
-                             received=[outcome.received if outcome.received is not None else coverage])
+                             received=[outcome.received if outcome.received is not None else coverage],
+                             scene_kinds=scene_kinds_of(rasterizer))
     results = [check.verdict(subject) for check in applicable]
     drawing = Drawing.of(subject)  # references only (and the oracle if a check computed it): the report draws
     return [replace(r, rasterizer=name, metrics={**r.metrics, "seconds": outcome.seconds},
@@ -176,10 +179,10 @@ def run_suite(
         worker: Worker | InProcess = Worker(rasterizer, timeout) if isolate else InProcess(rasterizer)
         call = worker.rasterize
 
-        def judge(candidate: Case, check: str, rasterizer: Rasterizer = rasterizer, call: Call = call) -> list[Result]:
+        def judge(candidate: Case, check: str, rasterizer: Rasterizer = rasterizer, call: AnyCall = call) -> list[Result]:
             return check_case(candidate, rasterizer, call, tolerance, only={check})
 
-        def one_case(case: Case | MotionCase, only: set[str] | None, rasterizer: Rasterizer = rasterizer, call: Call = call,
+        def one_case(case: Case | MotionCase, only: set[str] | None, rasterizer: Rasterizer = rasterizer, call: AnyCall = call,
                      call_all: Callable[[list[Scene]], list[Outcome]] = worker.rasterize_all) -> list[Result]:
             if isinstance(case, MotionCase):
                 return check_motion(case, rasterizer, call, tolerance, only, call_all)

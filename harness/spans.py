@@ -86,8 +86,8 @@ def tidy(triangle: NDArray[np.int64], y: NDArray[np.int64], x0: NDArray[np.int64
     start, end : (P,) int64
         Each piece's pixels [start, end), inside its triangle's bounds.
     flaws : dict of str -> (n,) int64
-        Indices of offending spans per kind: ``bad_triangle_id``, ``empty_or_reversed``,
-        ``outside_triangle`` (reaching past its triangle's bounds), ``repeated``
+        Indices of offending spans per kind: ``bad_primitive_id``, ``empty_or_reversed``,
+        ``outside_primitive`` (reaching past its triangle's bounds), ``repeated``
         (emitting a pixel that an earlier span of the same triangle emitted).
     repeated_pixels : int
         How many pixels (within the bounds) the repeated spans emit a second time.
@@ -104,13 +104,13 @@ def tidy(triangle: NDArray[np.int64], y: NDArray[np.int64], x0: NDArray[np.int64
     valid_id = (triangle >= 0) & (triangle < n_triangles)
     if n_triangles == 0:
         bounds = np.zeros((1, 4), dtype=np.int64)
-    flaws = {"bad_triangle_id": np.flatnonzero(~valid_id), "empty_or_reversed": np.flatnonzero(x0 >= x1)}
+    flaws = {"bad_primitive_id": np.flatnonzero(~valid_id), "empty_or_reversed": np.flatnonzero(x0 >= x1)}
     tri = np.where(valid_id, triangle, 0)
     box = bounds[tri] if size else np.zeros((0, 4), dtype=np.int64)
     lo = np.maximum(x0, box[:, 0])
     hi = np.minimum(x1, box[:, 2] + 1)
     row_in = (y >= box[:, 1]) & (y <= box[:, 3])
-    flaws["outside_triangle"] = np.flatnonzero(valid_id & (x0 < x1) & ((lo > x0) | (hi < x1) | ~row_in))
+    flaws["outside_primitive"] = np.flatnonzero(valid_id & (x0 < x1) & ((lo > x0) | (hi < x1) | ~row_in))
     usable = valid_id & row_in & (lo < hi)
     order = np.lexsort((np.arange(size), lo, y, triangle))
     order = order[usable[order]]
@@ -183,35 +183,21 @@ def _first_emissions(triangle, y, x0, x1, index):  # type: ignore[no-untyped-def
 
 
 @numba.njit(cache=True)
-def already_tidy(positions, width, height, triangle, y, x0, x1):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
-    """True when :func:`tidy` would keep every span whole: each names a triangle of
-    ``positions`` (N, 3, 2), is non-empty, lies within its triangle's pixel bounds (as
-    :func:`harness.api._pixel_bounds` grows and clips them), and the (triangle, y) pairs
-    strictly increase, so no pixel can be emitted twice. What rasterizers return is
-    usually so; one pass, no allocation. False says only "look closer"."""
-    n = positions.shape[0]
-    for s in range(triangle.size):
-        t = triangle[s]
+def already_tidy(bounds, primitive, y, x0, x1):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """True when :func:`tidy` would keep every span whole: each names a primitive of
+    ``bounds`` ((N, 4) int64 ``xmin, ymin, xmax, ymax`` inclusive, from
+    :func:`harness.api._pixel_bounds`), is non-empty, lies within its primitive's pixel
+    bounds, and the (primitive, y) pairs strictly increase, so no pixel can be emitted
+    twice. What rasterizers return is usually so; one pass, no allocation. False says only
+    "look closer"."""
+    n = bounds.shape[0]
+    for s in range(primitive.size):
+        t = primitive[s]
         if t < 0 or t >= n or x0[s] >= x1[s]:
             return False
-        if s > 0 and (t < triangle[s - 1] or (t == triangle[s - 1] and y[s] <= y[s - 1])):
+        if s > 0 and (t < primitive[s - 1] or (t == primitive[s - 1] and y[s] <= y[s - 1])):
             return False
-        xmin, ymin, xmax, ymax = 0, 0, width - 1, height - 1
-        finite = True
-        for v in range(3):
-            for a in range(2):
-                if not np.isfinite(positions[t, v, a]):
-                    finite = False
-        if finite:
-            lo_x = min(positions[t, 0, 0], positions[t, 1, 0], positions[t, 2, 0])
-            hi_x = max(positions[t, 0, 0], positions[t, 1, 0], positions[t, 2, 0])
-            lo_y = min(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1])
-            hi_y = max(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1])
-            xmin = max(int(np.floor(min(max(lo_x, -4.0), width + 4.0))) - 2, 0)
-            ymin = max(int(np.floor(min(max(lo_y, -4.0), height + 4.0))) - 2, 0)
-            xmax = min(int(np.ceil(min(max(hi_x, -4.0), width + 4.0))) + 2, width - 1)
-            ymax = min(int(np.ceil(min(max(hi_y, -4.0), height + 4.0))) + 2, height - 1)
-        if y[s] < ymin or y[s] > ymax or x0[s] < xmin or x1[s] > xmax + 1:
+        if y[s] < bounds[t, 1] or y[s] > bounds[t, 3] or x0[s] < bounds[t, 0] or x1[s] > bounds[t, 2] + 1:
             return False
     return True
 

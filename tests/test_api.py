@@ -136,7 +136,7 @@ def test_the_quick_tidiness_test_never_passes_what_tidying_would_change(spans, c
     rows = sorted(spans) if ordered else spans
     t, y, x0, length = (np.array(column, dtype=np.int64) for column in zip(*rows)) if rows else [np.zeros(0, np.int64)] * 4
     x1 = x0 + length
-    if already_tidy(scene.positions, 10, 9, t, y, x0, x1):
+    if already_tidy(_pixel_bounds(scene), t, y, x0, x1):
         keep, start, end, flaws, again = tidy(t, y, x0, x1, 2, _pixel_bounds(scene))
         assert keep.tolist() == list(range(t.size)) and start.tolist() == x0.tolist() and end.tolist() == x1.tolist()
         assert again == 0 and not any(v.size for v in flaws.values())

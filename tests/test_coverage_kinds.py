@@ -74,7 +74,7 @@ def test_tidy_keys_multisample_spans_on_triangle_and_sample():
     cov = Coverage([0, 0, 0, 0], [1, 1, 1, 1], [0, 2, 2, 0], [3, 3, 3, 1], sample=[1, 1, 3, 99])
     usable, flaws = cov.tidy(scene)
     assert flaws["repeated"].tolist() == [1] and flaws["bad_sample"].tolist() == [3]
-    assert flaws["repeated_pixels"].tolist() == [1] and not flaws["bad_triangle_id"].size
+    assert flaws["repeated_pixels"].tolist() == [1] and not flaws["bad_primitive_id"].size
     assert usable.sample.tolist() == [1, 3] and usable.n_pixels == 4
     clean = Coverage([0, 0], [1, 1], [0, 0], [3, 3], sample=[0, 1])
     assert clean.tidy(scene)[0] is clean  # the same pixel in two samples is no repeat

@@ -14,7 +14,8 @@ only where the exact predicate puts the sample on an edge line.
 Registration order is the order results come in: hygiene, conformance, watertight,
 overdraw (on request), closed, degenerate, invariance; jaggy, texel, perspective on motion
 cases; then accuracy, seams (still cases) and popping (motion cases), which judge area
-(anti-aliased) coverage only.
+(anti-aliased) coverage only; then triangulation (path cases: a path against its
+triangles).
 
 Each check says which coverage kinds it judges (:attr:`Check.kinds`): the sample-based
 ones judge a multisample rasterizer sample by sample (each sample's layer against the
@@ -36,6 +37,7 @@ from harness.checks.degenerate import control_scene, degenerate, measure_work, r
 from harness.checks.invariance import invariance, invariance_variants
 from harness.checks.motion import jaggy, perspective, texel_swimming
 from harness.checks.area import accuracy, popping, seams
+from harness.checks.paths import triangulation
 
 __all__ = [
     "Result", "Drawing", "Status", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "CHECKS",
@@ -43,6 +45,7 @@ __all__ = [
     "deviations", "FragmentCounter", "edge_distance", "near_ties", "hygiene", "conformance", "watertight",
     "pixel_classes", "blame", "overdraw", "closed_balance", "degenerate", "control_scene", "measure_work", "refusal",
     "invariance", "invariance_variants", "jaggy", "texel_swimming", "perspective", "accuracy", "seams", "popping",
+    "triangulation",
 ]
 
 # The built-in checks, in order (a check registered later shows in check_names()).

@@ -178,6 +178,7 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     ``off_level``, ``{triangle, x, y, alpha, level}`` (level: alpha * (levels - 1)).
     """
     scene = case.scene
+    assert isinstance(scene, Scene), "area coverage is judged on triangle scenes"
     width, height, n = scene.width, scene.height, len(scene)
     keys, alpha, model = _aligned(*_keyed(coverage, width, height, n), *_keyed(oracle, width, height, n))
     present = (alpha != 0) | (model != 0)  # NaN counts as present
@@ -515,7 +516,7 @@ def _is_static(case: Any) -> bool:
 
 def _popping(s: Subject) -> Result:
     assert s.convention is not None
-    return popping(s.case.id, s.scenes, s.coverages, s.oracles, s.convention)
+    return popping(s.case.id, list(s.case.frames), s.coverages, s.oracles, s.convention)
 
 
 register(Check(

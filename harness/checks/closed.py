@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from harness.case import Case
-from harness.api import Coverage
+from harness.api import Coverage, Scene
 from harness.checks.records import EVIDENCE_LIMIT, Check, register, result, skip, Result
 from harness.conventions import Convention
 from harness.exact import orientation
@@ -21,6 +21,7 @@ def closed_balance(case: Case, coverage: Coverage, convention: Convention | None
     if not case.closed:
         return skip(case, "closed", "not a closed mesh")
     scene = case.scene
+    assert isinstance(scene, Scene), "closed meshes are triangle scenes"
     sign = orientation(convention.snap(scene.positions) if convention is not None else scene.positions).astype(np.int64)
     valid = (coverage.triangle >= 0) & (coverage.triangle < len(scene))
     signed = Coverage(coverage.triangle[valid], coverage.y[valid], coverage.x0[valid], coverage.x1[valid])

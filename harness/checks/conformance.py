@@ -10,12 +10,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.case import Case
-from harness.api import Coverage
+from harness.api import AnyScene, Coverage, PathScene
 from harness.checks.records import EVIDENCE_LIMIT, Check, Tolerance, register, result, Result
 from harness.conventions import Convention
 from harness.exact import orientation
 
-__all__ = ["deviations", "FragmentCounter", "edge_distance", "near_ties", "conformance"]
+__all__ = ["deviations", "FragmentCounter", "edge_distance", "path_edge_distance", "near_ties", "near_ties_of", "conformance"]
 
 # Shewchuk's bound on the float orient2d's error, differences included; the added
 # absolute term covers underflow of the products (harmless at any pixel scale).
@@ -202,6 +202,92 @@ def edge_distance(positions: NDArray, fragments: NDArray, sample: tuple[float, f
     return out
 
 
+@numba.njit(cache=True)
+def _path_distance_kernel(ax, ay, bx, by, first, last, magnitude, fragment_path, px, py, out, pairs):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """Per fragment, the least bound / length over its path's edges whose y-range holds
+    the sample (the edges that decide the sample's row), relative to the path's largest
+    |coordinate|; pairs (fragment, edge) whose float edge function cannot be told from 0
+    are written to ``pairs`` for the exact test. Returns the number of pairs."""
+    n = 0
+    for f in range(fragment_path.size):
+        p = fragment_path[f]
+        best = np.inf
+        for e in range(first[p], last[p]):
+            if py[f] < min(ay[e], by[e]) or py[f] > max(ay[e], by[e]):
+                continue
+            left = (ax[e] - px[f]) * (by[e] - py[f])
+            right = (ay[e] - py[f]) * (bx[e] - px[f])
+            value = abs(left - right)
+            error = _ORIENT_ERROR * (abs(left) + abs(right)) + _UNDERFLOW
+            bound = value + error
+            length = np.hypot(bx[e] - ax[e], by[e] - ay[e]) * (1.0 - 2.0**-50)
+            if np.isfinite(bound) and length > 0:
+                best = min(best, bound / length)
+            if value <= error and n < pairs.shape[0]:
+                pairs[n, 0] = f
+                pairs[n, 1] = e
+                n += 1
+        out[f] = best / magnitude[p]
+    return n
+
+
+def path_edge_distance(scene: PathScene, convention: Convention, fragments: NDArray) -> NDArray:
+    """:func:`edge_distance` for a path scene: from each fragment's sample point to the
+    nearest edge of its path among those whose y-range holds the sample (the edges that
+    decide it), relative to max(1, largest |coordinate|) of the path; never an
+    underestimate, exactly 0 only when the exact predicate puts the sample on such an edge,
+    inf for a path with a non-finite coordinate.
+
+    Parameters
+    ----------
+    fragments : (3, M) int64 rows path, x, y
+    """
+    out = np.full(fragments.shape[1], np.inf)
+    if fragments.shape[1] == 0:
+        return out
+    start, end, owner = scene.edges()
+    start, end = convention.snap(start), convention.snap(end)
+    order = np.argsort(owner, kind="stable")
+    start, end, owner = start[order], end[order], owner[order]
+    n = len(scene)
+    first = np.searchsorted(owner, np.arange(n)).astype(np.int64)
+    last = np.searchsorted(owner, np.arange(n), side="right").astype(np.int64)
+    lo, hi, finite = scene.primitive_boxes()
+    magnitude = np.maximum(1.0, np.maximum(np.abs(lo), np.abs(hi)).max(axis=1, initial=0.0)) if n else np.ones(0)
+    path = fragments[0]
+    ok = (path >= 0) & (path < n)
+    ok[ok] &= finite[path[ok]]
+    px = (fragments[1, ok] + convention.sample[0]).astype(np.float64)
+    py = (fragments[2, ok] + convention.sample[1]).astype(np.float64)
+    got = np.empty(px.size)
+    pairs = np.empty((max(16, 8 * px.size), 2), dtype=np.int64)
+    with np.errstate(all="ignore"):
+        ax, ay, bx, by = (np.ascontiguousarray(c) for c in (start[:, 0], start[:, 1], end[:, 0], end[:, 1]))
+        m = _path_distance_kernel(ax, ay, bx, by, first, last, magnitude, np.ascontiguousarray(path[ok]), px, py, got, pairs)
+    if m:
+        f, e = pairs[:m, 0], pairs[:m, 1]
+        on_edge = orientation(np.stack([start[e], end[e], np.stack([px[f], py[f]], axis=-1)], axis=1)) == 0
+        got[f[on_edge]] = 0.0
+    out[ok] = np.where(np.isnan(got), np.inf, got)
+    return out
+
+
+def near_ties_of(scene: AnyScene, convention: Convention, fragments: NDArray, tolerance: Tolerance) -> tuple[NDArray, NDArray]:
+    """:func:`near_ties` for a scene of any kind, as the convention sees it (snapped)."""
+    if isinstance(scene, PathScene):
+        distance = path_edge_distance(scene, convention, fragments)
+        lo, hi, _ = scene.primitive_boxes()
+        scale = np.maximum(1.0, np.maximum(np.abs(lo), np.abs(hi)).max(axis=1, initial=0.0)) if len(scene) else np.ones(0)
+        path = fragments[0]
+        ok = (path >= 0) & (path < len(scene))
+        magnitude = np.full(distance.size, np.inf)
+        magnitude[ok] = scale[path[ok]]
+        with np.errstate(invalid="ignore"):
+            near = (distance <= tolerance.near_tie) & (distance * magnitude <= tolerance.near_tie_pixels)
+        return near, distance
+    return near_ties(convention.snap(scene.positions), fragments, convention.sample, tolerance)
+
+
 def near_ties(positions: NDArray, fragments: NDArray, sample: tuple[float, float], tolerance: Tolerance) -> tuple[NDArray, NDArray]:
     """Which fragments are near ties under ``tolerance`` (within ``near_tie`` of an edge
     relative to the coordinates and within ``near_tie_pixels`` absolutely), and their
@@ -231,7 +317,7 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
     scene = case.scene
     missing, extra = deviations(coverage, oracle, scene.width, scene.height)
     both = np.concatenate([missing, extra], axis=1)
-    near, distance = near_ties(convention.snap(scene.positions), both, convention.sample, tolerance)
+    near, distance = near_ties_of(scene, convention, both, tolerance)
     if case.lattice:
         near[:] = False
     wrong = ~near
@@ -249,7 +335,7 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
         kind = np.array(["missing"] * missing.shape[1] + ["extra"] * extra.shape[1])
         order = np.argsort(near, kind="stable")  # wrong ones first
         evidence["pixels"] = [
-            {"triangle": int(both[0, i]), "x": int(both[1, i]), "y": int(both[2, i]), "kind": str(kind[i]),
+            {scene.noun: int(both[0, i]), "x": int(both[1, i]), "y": int(both[2, i]), "kind": str(kind[i]),
              "near_tie": bool(near[i]), "distance": float(distance[i])}
             for i in order[:EVIDENCE_LIMIT]
         ]

@@ -20,6 +20,7 @@ __all__ = ["control_scene", "degenerate", "refusal", "measure_work"]
 def control_scene(case: Case) -> Scene:
     """The work yardstick for a degenerate case: each finite triangle replaced by a plain
     right triangle over its bounding box, each side at least one pixel long."""
+    assert isinstance(case.scene, Scene), "degenerate cases are triangle scenes"
     p = case.scene.positions
     finite = np.all(np.isfinite(p), axis=(1, 2))
     lo = p[finite].min(axis=1)
@@ -35,6 +36,7 @@ def degenerate(case: Case, coverage: Coverage, convention: Convention | None,
     case, seconds for :func:`control_scene`), whose ratio may not exceed
     ``tolerance.work_ratio``."""
     scene = case.scene
+    assert isinstance(scene, Scene), "degenerate cases are triangle scenes"
     sign = orientation(convention.snap(scene.positions) if convention is not None else scene.positions)
     nothing = sign == 0  # zero area or non-finite
     tri = coverage.triangle
@@ -82,7 +84,7 @@ def refusal(case: Case, error: BaseException) -> Result | None:
     return None
 
 
-def measure_work(case: Case, call: Callable[[Scene], Any], first_seconds: float, repeats: int = 3) -> tuple[float, float] | None:
+def measure_work(case: Case, call: Callable[[Any], Any], first_seconds: float, repeats: int = 3) -> tuple[float, float] | None:
     """Best-of seconds for the case and for its control scene (None if the control fails)."""
     control = control_scene(case)
     if len(control) == 0:

@@ -27,7 +27,7 @@ def hygiene(case: Case, coverage: Coverage, interpolates: bool = True, conventio
     scene = case.scene
     _, flaws = coverage.tidy(scene)
     t, y, x0, x1 = coverage.triangle, coverage.y, coverage.x0, coverage.x1
-    kinds = ("outside_viewport", "outside_triangle", "bad_triangle_id", "empty_or_reversed", "bad_sample")
+    kinds = ("outside_viewport", "outside_primitive", "bad_primitive_id", "empty_or_reversed", "bad_sample")
     if convention is not None and convention.kind == "multisample" and coverage.sample is not None:
         # a sample index of no sample of the declared pattern
         beyond = np.flatnonzero((coverage.sample >= convention.n_samples) & (coverage.sample >= 0))
@@ -51,7 +51,7 @@ def hygiene(case: Case, coverage: Coverage, interpolates: bool = True, conventio
         elif not np.isfinite(coverage.attributes).all() and np.isfinite(scene.attributes).all():
             bad = int((~np.isfinite(coverage.attributes)).any(axis=1).sum())
             attribute_problem = f"{bad} pixels with NaN or infinite attributes, from finite vertex attributes"
-    parts = [f"{int(v)} {k.replace('_', ' ')}" for k, v in metrics.items() if v]
+    parts = [f"{int(v)} {k.replace('_', ' ').replace('primitive', scene.noun)}" for k, v in metrics.items() if v]
     if kind_problem:
         parts.append(kind_problem)
         evidence["coverage"] = kind_problem

@@ -1,39 +1,79 @@
 """invariance: vertex rotation, winding flip, triangle permutation and whole-pixel
-translation change nothing but the shift; convention-free."""
+translation change nothing but the shift (for paths: start vertex, contour reversal, contour
+and path order, translation); convention-free."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from harness.case import Case
-from harness.api import Coverage, Scene
+from harness.api import AnyScene, Coverage, PathScene, Scene
+from harness.conventions import Convention
 from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
-from harness.checks.conformance import deviations, near_ties
+from harness.checks.conformance import deviations, near_ties_of
 
 __all__ = ["invariance_variants", "invariance", "area_invariance"]
 
 
-def invariance_variants(case: Case, shift: tuple[int, int] = (3, 2), seed: int = 0) -> list[tuple[str, Scene, NDArray]]:
-    """Transformed scenes and, for each, the scene-triangle index of each variant triangle:
-    vertex order rotated, winding flipped, triangles permuted, and (when exact) translated
-    by whole pixels into a viewport grown by the shift."""
+def _path_variants(scene: PathScene, seed: int) -> list[tuple[str, AnyScene, NDArray]]:
+    """The path scene's own variants: each contour starting at its next vertex, every
+    contour reversed (the winding number negated: neither rule cares), for even-odd one
+    contour per path reversed too (parity ignores orientation), contours listed in another
+    order, paths numbered in another order."""
+    n = len(scene)
+    identity = np.arange(n)
+    sizes, starts = scene.contour_sizes, scene.contour_starts
+    offset = np.arange(scene.vertices.shape[0]) - np.repeat(starts, sizes)  # index within its contour
+    base, size = np.repeat(starts, sizes), np.repeat(sizes, sizes)
+    rotated = scene.with_coordinates(scene.vertices[base + (offset + 1) % size])
+    reversed_ = scene.with_coordinates(scene.vertices[base + (size - 1 - offset)])
+    out: list[tuple[str, AnyScene, NDArray]] = [("rotate-start-vertex", rotated, identity),
+                                                ("reverse-every-contour", reversed_, identity)]
+    if scene.fill_rule == "evenodd":
+        first = np.zeros(sizes.size, dtype=bool)
+        first[np.unique(scene.contour_path, return_index=True)[1]] = True
+        one = np.repeat(first, sizes)
+        out.append(("reverse-one-contour", scene.with_coordinates(np.where(one[:, None], reversed_.vertices, scene.vertices)),
+                    identity))
+    rng = np.random.default_rng(seed)
+    order = rng.permutation(sizes.size)
+    contours = scene.contours()
+    vertices = np.concatenate([contours[c] for c in order]) if order.size else scene.vertices
+    out.append(("reorder-contours", PathScene(scene.width, scene.height, vertices, sizes[order], scene.contour_path[order],
+                                              scene.fill_rule), identity))
+    perm = rng.permutation(n)
+    out.append(("permute-paths", scene.subset(perm), perm))
+    return out
+
+
+def invariance_variants(case: Case, shift: tuple[int, int] = (3, 2), seed: int = 0) -> list[tuple[str, AnyScene, NDArray]]:
+    """Transformed scenes and, for each, the scene's primitive index of each variant
+    primitive. Triangles: vertex order rotated, winding flipped, triangles permuted; paths
+    (:func:`_path_variants`): start vertex, contour reversal, contour order, path order.
+    Both, when exact: translated by whole pixels into a viewport grown by the shift."""
     scene = case.scene
     n = len(scene)
     identity = np.arange(n)
-    out = [
-        ("rotate-vertices", Scene(scene.width, scene.height, scene.positions[:, [1, 2, 0]]), identity),
-        ("flip-winding", Scene(scene.width, scene.height, scene.positions[:, [0, 2, 1]]), identity),
-    ]
-    perm = np.random.default_rng(seed).permutation(n)
-    out.append(("permute-triangles", Scene(scene.width, scene.height, scene.positions[perm]), perm))
-    moved = scene.positions + np.array(shift, dtype=float)
+    out: list[tuple[str, AnyScene, NDArray]]
+    if isinstance(scene, PathScene):
+        out = _path_variants(scene, seed)
+    else:
+        out = [
+            ("rotate-vertices", Scene(scene.width, scene.height, scene.positions[:, [1, 2, 0]]), identity),
+            ("flip-winding", Scene(scene.width, scene.height, scene.positions[:, [0, 2, 1]]), identity),
+        ]
+        perm = np.random.default_rng(seed).permutation(n)
+        out.append(("permute-triangles", Scene(scene.width, scene.height, scene.positions[perm]), perm))
+    moved = scene.coordinates + np.array(shift, dtype=float)
     with np.errstate(invalid="ignore"):
-        exact = np.array_equal(moved - np.array(shift, dtype=float), scene.positions, equal_nan=True)
+        exact = np.array_equal(moved - np.array(shift, dtype=float), scene.coordinates, equal_nan=True)
     if exact:
-        out.append(("translate", Scene(scene.width + shift[0], scene.height + shift[1], moved), identity))
+        out.append(("translate", replace(scene.with_coordinates(moved), width=scene.width + shift[0],
+                                         height=scene.height + shift[1]), identity))
     return out
 
 
@@ -62,7 +102,7 @@ def invariance(case: Case, coverage: Coverage, variants: list[tuple[str, NDArray
         missing, extra = deviations(mapped, coverage, scene.width, scene.height)
         both = np.concatenate([missing, extra], axis=1)
         if both.shape[1] and tolerance.mode == "default" and not case.lattice:
-            near, _ = near_ties(scene.positions, both, sample, tolerance)
+            near, _ = near_ties_of(scene, Convention(sample=sample), both, tolerance)
             both = both[:, ~near]  # excused: rounding at a near tie
         if both.shape[1]:
             diffs[name] = int(both.shape[1])
@@ -144,7 +184,9 @@ def _run(s: Subject) -> Result:
 
 
 register(Check(
-    "invariance", _run, lambda case: getattr(case, "family", "") in ("lattice", "float", "watertight") and not hasattr(case, "frames"),
+    "invariance", _run,
+    lambda case: getattr(case, "family", "") in ("lattice", "float", "watertight", "paths", "path-partitions") and not hasattr(case, "frames"),
     shrinks=True, kinds=ALL_KINDS,
-    caption="vertex rotation, winding flip, triangle permutation and whole-pixel translation change nothing but the shift",
+    caption="vertex rotation, winding flip, triangle permutation and whole-pixel translation change nothing but the shift "
+            "(paths: start vertex, contour reversal and order, path order)",
 ))

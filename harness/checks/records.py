@@ -20,7 +20,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene
+from harness.api import AnyScene, Coverage, Scene
 from harness.case import Case, MotionCase
 from harness.conventions import Convention
 
@@ -159,15 +159,19 @@ class Subject:
     received : list of Coverage, optional
         The answers as the rasterizer gave them, when they differ from ``coverages``
         (which are tidied: see :meth:`Coverage.tidy`); the hygiene check judges these.
+    scene_kinds : tuple of str
+        The scene kinds the rasterizer takes (:func:`harness.api.scene_kinds_of`): a check
+        calling it on a scene of another kind must not.
     """
 
     def __init__(self, case: Any, rasterizer: str, convention: Convention | None, coverages: list[Coverage],
-                 call: Callable[[Scene], Any], tolerance: Tolerance, interpolates: bool = True, seconds: float = 0.0,
-                 received: list[Coverage] | None = None) -> None:
+                 call: Callable[[Any], Any], tolerance: Tolerance, interpolates: bool = True, seconds: float = 0.0,
+                 received: list[Coverage] | None = None, scene_kinds: tuple[str, ...] = ("triangles",)) -> None:
         self.case, self.rasterizer, self.convention = case, rasterizer, convention
         self.coverages, self.call, self.tolerance = coverages, call, tolerance
         self.interpolates, self.seconds = interpolates, seconds
         self.received = received if received is not None else coverages
+        self.scene_kinds = scene_kinds
 
     @property
     def coverage(self) -> Coverage:
@@ -189,10 +193,10 @@ class Subject:
         call = self.call
         return Subject(self.case, self.rasterizer, self.convention.at_sample(index), [c.layer(index) for c in self.coverages],
                        lambda scene: layer_of(call(scene), index), self.tolerance, self.interpolates, self.seconds,
-                       [c.layer(index) for c in self.received])
+                       [c.layer(index) for c in self.received], self.scene_kinds)
 
     @property
-    def scenes(self) -> list[Scene]:
+    def scenes(self) -> list[AnyScene]:
         return list(self.case.frames) if hasattr(self.case, "frames") else [self.case.scene]
 
     @cached_property
@@ -273,7 +277,7 @@ class Check:
         if subject.kind == "multisample" and self.per_sample:
             assert subject.convention is not None
             whole = Subject(subject.case, subject.rasterizer, subject.convention, subject.coverages, _once_per_scene(subject.call),
-                            subject.tolerance, subject.interpolates, subject.seconds, subject.received)
+                            subject.tolerance, subject.interpolates, subject.seconds, subject.received, subject.scene_kinds)
             layers = [whole.layer(s) for s in range(subject.convention.n_samples)]
             return merge_samples([(layer, self.run(layer)) for layer in layers])
         return self.run(subject)
@@ -285,8 +289,10 @@ def _once_per_scene(call: Callable[[Scene], Any]) -> Callable[[Scene], Any]:
     answers: dict[tuple[Any, ...], Any] = {}
 
     def once(scene: Scene) -> Any:
-        key: tuple[Any, ...] = (scene.width, scene.height,
-                                *(None if a is None else a.tobytes() for a in (scene.positions, scene.attributes, scene.w)))
+        key: tuple[Any, ...] = (type(scene).__name__, scene.width, scene.height, getattr(scene, "fill_rule", None),
+                                *(None if a is None else a.tobytes() for a in (scene.coordinates, scene.attributes, scene.w,
+                                                                              getattr(scene, "contour_sizes", None),
+                                                                              getattr(scene, "contour_path", None))))
         if key not in answers:
             answers[key] = call(scene)
         return answers[key]

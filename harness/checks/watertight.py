@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.case import Case
-from harness.api import Coverage, Scene
+from harness.api import AnyScene, Coverage
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, register, result, skip
 from harness.exact import orientation
 
@@ -42,9 +42,10 @@ def _pixel_classes(region: NDArray, width: int, height: int) -> tuple[NDArray, N
 
 
 def watertight(case: Case, coverage: Coverage) -> Result:
-    """On a planar partition, convention-free: pixels wholly inside the union hit exactly
-    once, pixels wholly outside never, and no pixel twice. Each hole and double hit is
-    blamed on an edge and the triangles that share it."""
+    """On a planar partition (of triangles, or of paths: one path per cell),
+    convention-free: pixels wholly inside the union hit exactly once, pixels wholly
+    outside never, and no pixel twice. Each hole and double hit is blamed on an edge and
+    the primitives that share it."""
     if case.region is None:
         return skip(case, "watertight", "not a planar partition")
     scene = case.scene
@@ -63,7 +64,7 @@ def watertight(case: Case, coverage: Coverage) -> Result:
     ok = not (len(holes) or len(doubles) or len(strays))
     message = "every inside pixel hit exactly once" if ok else f"{len(holes)} holes, {len(doubles)} double hits, {len(strays)} stray hits outside"
     if len(holes) or len(doubles):
-        at_vertex = _holds_vertex(scene.positions, scene.width, scene.height)
+        at_vertex = _holds_vertex(scene.coordinates, scene.width, scene.height)
         on_vertex = int(at_vertex[holes[:, 0], holes[:, 1]].sum() + at_vertex[doubles[:, 0], doubles[:, 1]].sum())
         metrics["at_vertex_pixels"] = float(on_vertex)
         if on_vertex == len(holes) + len(doubles):
@@ -98,46 +99,54 @@ def overdraw(case: Case, coverage: Coverage) -> Result:
                    {"double_hits": float(len(doubles))}, evidence)
 
 
-def _shared_edges(positions: NDArray, a: int, b: int) -> list[list[list[float]]]:
-    """Edges (pairs of vertices) that triangles a and b have in common."""
-    va = {tuple(v) for v in positions[a].tolist()}
-    common = [v for v in positions[b].tolist() if tuple(v) in va]
-    return [common[:2]] if len(common) >= 2 else []
+def _shared_edge(edges: tuple[NDArray, NDArray, NDArray], a: int, b: int) -> list[list[float]] | None:
+    """An edge (pair of vertices) that primitives a and b have in common, either way round."""
+    start, end, owner = edges
+    of_a = {(tuple(u), tuple(v)) for u, v in zip(start[owner == a].tolist(), end[owner == a].tolist())}
+    for u, v in zip(start[owner == b].tolist(), end[owner == b].tolist()):
+        if (tuple(u), tuple(v)) in of_a or (tuple(v), tuple(u)) in of_a:
+            return [u, v]
+    return None
 
 
-def blame(scene: Scene, coverage: Coverage, holes: NDArray, doubles: NDArray) -> list[dict[str, Any]]:
-    """Attribute holes and double hits to edges. A double hit names the two triangles that
-    both drew the pixel and their shared edge; a hole names the triangles whose edges pass
-    closest to the pixel centre, and their shared edge.
+def blame(scene: AnyScene, coverage: Coverage, holes: NDArray, doubles: NDArray) -> list[dict[str, Any]]:
+    """Attribute holes and double hits to edges. A double hit names the two primitives
+    (triangles or paths) that both drew the pixel and their shared edge; a hole names the
+    primitives whose edges pass closest to the pixel centre, and their shared edge.
 
     Parameters
     ----------
     holes, doubles : (M, 2) int, rows (y, x)
     """
-    tri, x, y = coverage.pixels()
+    prim, x, y = coverage.pixels()
+    edges = scene.edges()
+    start, end, owner = edges
+    key = f"{scene.noun}s"
     out = []
     for yy, xx in doubles:
-        hitters = sorted(set(tri[(x == xx) & (y == yy)].tolist()))
-        entry: dict[str, Any] = {"pixel": [int(xx), int(yy)], "kind": "double", "triangles": hitters[:4]}
+        hitters = sorted(set(prim[(x == xx) & (y == yy)].tolist()))
+        entry: dict[str, Any] = {"pixel": [int(xx), int(yy)], "kind": "double", key: hitters[:4]}
         if len(hitters) >= 2:
-            entry["edge"] = next(iter(_shared_edges(scene.positions, hitters[0], hitters[1])), None)
+            entry["edge"] = _shared_edge(edges, hitters[0], hitters[1])
         out.append(entry)
     if len(holes):
-        finite = np.all(np.isfinite(scene.positions), axis=(1, 2))
+        finite = np.zeros(len(scene), dtype=bool)
+        finite[list(set(range(len(scene))) - set(scene.non_finite()))] = True
+        with np.errstate(all="ignore"):
+            d = end - start  # may overflow for huge coordinates: such an edge is then not blamed
+            length2 = np.sum(d * d, axis=1)
         for yy, xx in holes:
             centre = np.array([xx + 0.5, yy + 0.5])
-            p = scene.positions
-            dist = np.full(len(scene), np.inf)
-            for k in range(3):
-                a, b = p[:, k], p[:, (k + 1) % 3]
-                with np.errstate(all="ignore"):
-                    d = b - a  # may overflow for huge coordinates: such a triangle is then not blamed
-                    t = np.clip(np.sum((centre - a) * d, axis=1) / np.sum(d * d, axis=1), 0, 1)
-                    dist = np.minimum(dist, np.hypot(*(a + t[:, None] * d - centre).T))
-            dist[~finite] = np.inf
-            near = np.argsort(dist)[:2].tolist()
-            entry = {"pixel": [int(xx), int(yy)], "kind": "hole", "triangles": near}
-            entry["edge"] = next(iter(_shared_edges(p, near[0], near[1])), None) if len(near) == 2 else None
+            with np.errstate(all="ignore"):
+                t = np.clip(np.sum((centre - start) * d, axis=1) / length2, 0, 1)
+                t = np.where(np.isfinite(t), t, 0.0)
+                dist = np.hypot(*(start + t[:, None] * d - centre).T)
+            dist = np.where(finite[owner] & np.isfinite(dist), dist, np.inf)
+            nearest = np.full(len(scene), np.inf)
+            np.minimum.at(nearest, owner, dist)
+            near = [int(k) for k in np.argsort(nearest)[:2] if np.isfinite(nearest[k])]
+            entry = {"pixel": [int(xx), int(yy)], "kind": "hole", key: near}
+            entry["edge"] = _shared_edge(edges, near[0], near[1]) if len(near) == 2 else None
             out.append(entry)
     return out
 
