@@ -96,15 +96,15 @@ def _tie_right(ax, ay, bx, by, tx, ty, y_first):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _count_events(ax, ay, bx, by, sy, height):  # type: ignore[no-untyped-def]
-    """An upper bound on the (edge, row) crossings: the rows each edge's y extent spans."""
-    n = 0
+def _event_counts(ax, ay, bx, by, sy, height):  # type: ignore[no-untyped-def]
+    """Per edge, an upper bound on its row crossings: the rows its y extent spans."""
+    out = np.zeros(ax.size, dtype=np.int64)
     for e in range(ax.size):
         if ay[e] == by[e]:
             continue
         first, last = _row_range(min(ay[e], by[e]), max(ay[e], by[e]), sy, height)
-        n += max(last - first + 1, 0)
-    return n
+        out[e] = max(last - first + 1, 0)
+    return out
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -182,6 +182,111 @@ def _scan_kernel(order, path, row, col, direction, evenodd, width, out_p, out_y,
             out_x1[n] = width
             n += 1
         i = j
+    return n
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _paths_kernel(ax, ay, bx, by, first_edge, sx, sy, tx, ty, y_first, evenodd, width, height,
+                  keys, row_start, out_p, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """Every path's spans, one path at a time, with no global sort: the path's crossings
+    bucketed by row (a counting pass, then a filling pass), each row's bucket sorted by
+    column in place, then scanned with the winding summed. Edges are grouped by path:
+    path p owns edges ``first_edge[p] .. first_edge[p + 1] - 1``. ``keys`` holds one
+    path's crossings (as ``2 * column + (dir > 0)``), ``row_start`` height + 2 ints.
+    Returns the number of spans written."""
+    n = 0
+    for p in range(first_edge.size - 1):
+        e0, e1 = first_edge[p], first_edge[p + 1]
+        lo, hi = height, -1
+        for e in range(e0, e1):
+            if ay[e] != by[e]:
+                first, last = _row_range(min(ay[e], by[e]), max(ay[e], by[e]), sy, height)
+                if first <= last:
+                    lo, hi = min(lo, first), max(hi, last)
+        if hi < lo:
+            continue
+        rows = hi - lo + 1
+        for r in range(rows + 1):
+            row_start[r] = 0
+        # counting pass: the crossings of each row
+        for e in range(e0, e1):
+            x0, y0, x1, y1 = ax[e], ay[e], bx[e], by[e]
+            if y0 == y1:
+                continue  # horizontal or zero-length: never crosses a perturbed row
+            first, last = _row_range(min(y0, y1), max(y0, y1), sy, height)
+            for j in range(first, last + 1):
+                ys = j + sy
+                if _below(y0, ys, ty) != _below(y1, ys, ty):
+                    row_start[j - lo + 1] += 1
+        for r in range(rows):
+            row_start[r + 1] += row_start[r]
+        # filling pass: where each crossing lies (see _events_kernel for `owned`)
+        for e in range(e0, e1):
+            x0, y0, x1, y1 = ax[e], ay[e], bx[e], by[e]
+            if y0 == y1:
+                continue
+            first, last = _row_range(min(y0, y1), max(y0, y1), sy, height)
+            if first > last:
+                continue
+            up = 1 if y1 > y0 else 0
+            lower = y1 < y0
+            tie_right = _tie_right(x0, y0, x1, y1, tx, ty, y_first)
+            owned = tie_right if lower else not tie_right
+            y_lo, y_hi, slope, delta = _edge_setup(x0, y0, x1, y1, first + sy, last + sy)
+            for j in range(first, last + 1):
+                ys = j + sy
+                if _below(y0, ys, ty) == _below(y1, ys, ty):
+                    continue
+                c = _bound(x0, y0, x1, y1, slope, delta, owned, sx, ys, width, lower)
+                # row_start[j - lo] walks up as the row fills (restored below)
+                keys[row_start[j - lo]] = 2 * c + up
+                row_start[j - lo] += 1
+        # the fill moved each row's start to the next row's: rows now end where they begin
+        for r in range(rows - 1, 0, -1):
+            row_start[r] = row_start[r - 1]
+        row_start[0] = 0
+        for r in range(rows):
+            a, b = row_start[r], row_start[r + 1]
+            if a == b:
+                continue
+            if b - a <= 24:  # a few crossings, as most rows have: insertion sort
+                for i in range(a + 1, b):
+                    k = keys[i]
+                    m = i - 1
+                    while m >= a and keys[m] > k:
+                        keys[m + 1] = keys[m]
+                        m -= 1
+                    keys[m + 1] = k
+            else:
+                keys[a:b].sort()
+            wind = 0
+            is_open = False
+            start = 0
+            i = a
+            while i < b:
+                c = keys[i] >> 1
+                if c >= width:
+                    break  # right of every sample
+                while i < b and (keys[i] >> 1) == c:
+                    wind += 1 if (keys[i] & 1) == 1 else -1
+                    i += 1
+                inside = (wind & 1) == 1 if evenodd else wind != 0
+                if inside and not is_open:
+                    start = c
+                    is_open = True
+                elif not inside and is_open:
+                    out_p[n] = p
+                    out_y[n] = lo + r
+                    out_x0[n] = start
+                    out_x1[n] = c
+                    n += 1
+                    is_open = False
+            if is_open:
+                out_p[n] = p
+                out_y[n] = lo + r
+                out_x0[n] = start
+                out_x1[n] = width
+                n += 1
     return n
 
 
@@ -327,25 +432,24 @@ def _spans(vertices: NDArray[np.float64], lengths: NDArray[np.int64], paths: NDA
     following[ends[closing] - 1] = (ends - lengths)[closing]
     used = np.repeat(keep, lengths)
     a, b = vertices[used], vertices[following[used]]
-    # paths by rank (0 .. P - 1) in the kernels, their own ids on the way out
+    # paths by rank (0 .. P - 1) in the kernel, their own ids on the way out; the kernel
+    # takes each path's edges together
     names, rank = np.unique(paths, return_inverse=True)
-    edge_path = frozen(np.repeat(rank.reshape(-1), lengths)[used], np.int64)
+    edge_path = np.repeat(rank.reshape(-1), lengths)[used]
+    if edge_path.size and np.any(edge_path[1:] < edge_path[:-1]):
+        order = np.argsort(edge_path, kind="stable")
+        a, b, edge_path = a[order], b[order], edge_path[order]
+    first_edge = frozen(np.searchsorted(edge_path, np.arange(names.size + 1)), np.int64)
     ax, ay, bx, by = (frozen(c) for c in (a[:, 0], a[:, 1], b[:, 0], b[:, 1]))
     sx, sy = convention.sample
     tx, ty, y_first = convention.tie_perturbation
-    capacity = int(_count_events(ax, ay, bx, by, sy, height))
-    ev = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
-    n = int(_events_kernel(ax, ay, bx, by, edge_path, sx, sy, tx, ty, y_first, width, height, *ev))
-    ev_path, ev_row, ev_col, ev_dir = (frozen(a[:n], np.int64) for a in ev)
-    # by (path, row, column): one int64 key and numpy's radix sort when the key fits
-    if names.size * height * (width + 1) < 2**62:
-        order = np.argsort((ev_path * height + ev_row) * (width + 1) + ev_col, kind="stable")
-    else:
-        order = np.lexsort((ev_col, ev_row, ev_path))
-    out = [np.empty(n, dtype=np.int64) for _ in range(4)]
-    m = int(_scan_kernel(frozen(order, np.int64), ev_path, ev_row, ev_col, ev_dir, fill_rule == "evenodd", width, *out))
-    out[0] = names[out[0][:m]]
-    return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
+    per_path = np.add.reduceat(_event_counts(ax, ay, bx, by, sy, height), first_edge[:-1]) if ax.size else np.zeros(1, np.int64)
+    keys = np.empty(int(per_path.max(initial=0)), dtype=np.int64)
+    capacity = int(per_path.sum())  # a row's spans are at most half its crossings
+    out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
+    m = int(_paths_kernel(ax, ay, bx, by, first_edge, sx, sy, tx, ty, y_first, fill_rule == "evenodd", width, height,
+                          keys, np.empty(height + 2, dtype=np.int64), *out))
+    return names[out[0][:m]], out[1][:m], out[2][:m], out[3][:m]
 
 
 def path_spans_rational(
