@@ -42,9 +42,11 @@ Method, per sample row ``ys = j + sy`` (every decision exact, no epsilon):
    ``orient2d_sign`` (the triangle oracle's ``_bound``/``_settle``).
 3. *Winding.* Every crossing contributes ``dir`` (+1 for an edge running down the screen,
    -1 up) to the winding of every sample at column >= c (the crossings left of the
-   sample). Per (path, row) the (c, dir) events are sorted by c and prefix-summed; the
-   runs where the fill rule holds are the spans. (Counting crossings left of the sample
-   rather than right negates the winding number of a closed path: neither rule cares.)
+   sample). One path at a time, its crossings are bucketed by row (a counting pass and a
+   filling pass over its edges, no global sort), each row's (c, dir) events sorted by c
+   and prefix-summed; the runs where the fill rule holds are the spans. (Counting
+   crossings left of the sample rather than right negates the winding number of a closed
+   path: neither rule cares.)
 
 Snapping (``convention.snap``) is applied to every vertex first. Culling is ignored for
 paths: a fill rule, not a triangle's orientation, decides what a path covers. A path with
@@ -108,84 +110,6 @@ def _event_counts(ax, ay, bx, by, sy, height):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _events_kernel(ax, ay, bx, by, edge_path, sx, sy, tx, ty, y_first, width, height,
-                   out_path, out_row, out_col, out_dir):  # type: ignore[no-untyped-def]
-    """Per edge and row it crosses: (path, row, first column right of the crossing, dir).
-    Crossings at column ``width`` (right of every sample) are dropped. Returns the count."""
-    n = 0
-    for e in range(ax.size):
-        x0, y0, x1, y1 = ax[e], ay[e], bx[e], by[e]
-        if y0 == y1:
-            continue  # horizontal or zero-length: never crosses a perturbed row
-        first, last = _row_range(min(y0, y1), max(y0, y1), sy, height)
-        if first > last:
-            continue
-        direction = 1 if y1 > y0 else -1
-        lower = y1 < y0
-        tie_right = _tie_right(x0, y0, x1, y1, tx, ty, y_first)
-        # _bound/_settle look for the first column where g holds: g = inside(owned) when
-        # `lower`, else not inside(owned), with inside = s > 0 or (s == 0 and owned). With
-        # dir < 0 (lower) "right of the crossing" is s > 0 or (s == 0 and tie_right); with
-        # dir > 0 it is s < 0 or (s == 0 and tie_right) = not (s > 0 or (s == 0 and not
-        # tie_right)).
-        owned = tie_right if lower else not tie_right
-        y_lo, y_hi, slope, delta = _edge_setup(x0, y0, x1, y1, first + sy, last + sy)
-        for j in range(first, last + 1):
-            ys = j + sy
-            if _below(y0, ys, ty) == _below(y1, ys, ty):
-                continue
-            c = _bound(x0, y0, x1, y1, slope, delta, owned, sx, ys, width, lower)
-            if c >= width:
-                continue
-            out_path[n] = edge_path[e]
-            out_row[n] = j
-            out_col[n] = c
-            out_dir[n] = direction
-            n += 1
-    return n
-
-
-@numba.njit(cache=True)
-def _scan_kernel(order, path, row, col, direction, evenodd, width, out_p, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
-    """Events, in ``order`` sorted by (path, row, col) -> maximal spans where the fill
-    rule holds."""
-    n = 0
-    i = 0
-    total = order.size
-    while i < total:
-        p = path[order[i]]
-        r = row[order[i]]
-        wind = 0
-        is_open = False
-        start = 0
-        j = i
-        while j < total and path[order[j]] == p and row[order[j]] == r:
-            c = col[order[j]]
-            while j < total and path[order[j]] == p and row[order[j]] == r and col[order[j]] == c:
-                wind += direction[order[j]]
-                j += 1
-            inside = (wind & 1) == 1 if evenodd else wind != 0
-            if inside and not is_open:
-                start = c
-                is_open = True
-            elif not inside and is_open:
-                out_p[n] = p
-                out_y[n] = r
-                out_x0[n] = start
-                out_x1[n] = c
-                n += 1
-                is_open = False
-        if is_open:
-            out_p[n] = p
-            out_y[n] = r
-            out_x0[n] = start
-            out_x1[n] = width
-            n += 1
-        i = j
-    return n
-
-
-@numba.njit(cache=True, error_model="numpy")
 def _paths_kernel(ax, ay, bx, by, first_edge, sx, sy, tx, ty, y_first, evenodd, width, height,
                   keys, row_start, out_p, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
     """Every path's spans, one path at a time, with no global sort: the path's crossings
@@ -220,7 +144,11 @@ def _paths_kernel(ax, ay, bx, by, first_edge, sx, sy, tx, ty, y_first, evenodd, 
                     row_start[j - lo + 1] += 1
         for r in range(rows):
             row_start[r + 1] += row_start[r]
-        # filling pass: where each crossing lies (see _events_kernel for `owned`)
+        # filling pass: where each crossing lies. _bound/_settle look for the first column
+        # where g holds: g = inside(owned) when `lower`, else not inside(owned), with
+        # inside = s > 0 or (s == 0 and owned). With dir < 0 (lower) "right of the
+        # crossing" is s > 0 or (s == 0 and tie_right); with dir > 0 it is s < 0 or
+        # (s == 0 and tie_right) = not (s > 0 or (s == 0 and not tie_right)).
         for e in range(e0, e1):
             x0, y0, x1, y1 = ax[e], ay[e], bx[e], by[e]
             if y0 == y1:
