@@ -1,15 +1,15 @@
 """rastercheck: a rasterization conformance and artifact test harness.
 
->>> from harness import Scene, Coverage, Convention, Rasterizer
+>>> from harness import Scene, PathScene, Coverage, Convention, Rasterizer
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from harness.api import Convention, Coverage, Rasterizer, Scene
+from harness.api import Convention, Coverage, PathScene, Rasterizer, Scene
 
-__all__ = ["Scene", "Coverage", "Convention", "Rasterizer", "run_suite", "replay"]
+__all__ = ["Scene", "PathScene", "Coverage", "Convention", "Rasterizer", "run_suite", "replay"]
 __version__ = "0.1.0"
 
 

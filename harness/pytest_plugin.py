@@ -96,7 +96,11 @@ class _Rasterizer(pytest.Collector):
     def collect(self) -> list[pytest.Item | pytest.Collector]:
         if self.given.rasterizer is None:
             pytest.skip(f"{self.given.spec}: {self.given.unavailable}")
-        return [_Case.from_parent(self, name=case.id, case=case) for case in self.given.cases]
+        from harness.api import takes
+
+        # only the scenes it takes (the runner would hand it no other)
+        return [_Case.from_parent(self, name=case.id, case=case) for case in self.given.cases
+                if isinstance(case, MotionCase) or takes(self.given.rasterizer, case.scene)]
 
     def setup(self) -> None:
         if self.ready is not None:
