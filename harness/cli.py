@@ -262,7 +262,7 @@ def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: li
                    fingerprints: dict[str, dict[str, Any]], quiet: bool = False) -> None:
     from harness.api import fingerprint_of
     from harness.output import write_json, write_junit
-    from harness.report import write_report
+    from harness.report import capabilities, write_report
 
     out = Path(args.out)
     written = _write_repros(out, results)
@@ -275,7 +275,8 @@ def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: li
     path = write_report(out, conventions, results, args.seed, args.suite, seconds,
                         fingerprints=fingerprints, declared=declared, kinds=kinds, specs=specs, skipped=dict(_skipped),
                         patterns={r.name: r.convention.samples for r in rasterizers
-                                  if r.convention is not None and r.convention.samples is not None})
+                                  if r.convention is not None and r.convention.samples is not None},
+                        **capabilities(rasterizers))
     if not quiet:
         print(f"report: {path}" + (f"; {written} minimal repros in {out / 'repros'}" if written else ""))
     if args.json:

@@ -6,7 +6,14 @@ imported when a plot is drawn, for the plots).
 No colour means two things across the pictures: the heat map is drawn in greys and blues
 (:data:`HEAT_LEGEND`), the diff against the oracle in green, red, orange and yellow
 (:data:`DIFF_LEGEND`), and the animations use the diff's colours for the same meanings
-(:data:`LEGEND`); the crops and repros have theirs (:data:`CROP_LEGEND`).
+(:data:`LEGEND`); the crops and repros have theirs (:data:`CROP_LEGEND`), and for path
+scenes :data:`PATH_LEGEND`.
+
+A path scene's crop draws each path as one SVG ``<path>`` under the scene's fill rule
+(a faint fill where the rule fills it, arrows along the edges, a ring at each contour's
+start) and writes in every pixel the winding number of its sample around the path the
+failure names (:func:`winding_numbers`, computed exactly: its fill-rule verdict is the
+oracle's at every sample, ties included).
 
 The engine draws nothing: a failing :class:`~harness.checks.Result` carries a
 :class:`~harness.checks.records.Drawing` (references to the case, the answer, the
@@ -18,6 +25,7 @@ from __future__ import annotations
 
 import base64
 import io
+import math
 import textwrap
 from typing import Any
 
@@ -25,15 +33,18 @@ import numpy as np
 from numpy.typing import NDArray
 from PIL import Image
 
-from harness.api import Coverage
+from harness.api import Coverage, PathScene
 from harness.case import Case, MotionCase, case_from_json
 from harness.checks import EVIDENCE_LIMIT, Result, pixel_classes
 from harness.checks.records import Drawing
+from harness.conventions import Convention
+from harness.exact import orientation
 from harness.oracle import exact_coverage
 
 __all__ = ["draw", "draw_repro", "motion_animation", "heatmap", "oracle_diff", "svg_crop", "svg_window", "series_plot",
            "series_label", "window_around", "svg_pattern", "LEGEND", "HEAT_LEGEND", "DIFF_LEGEND", "CROP_LEGEND", "ALPHA_LEGEND", "alpha_map", "MAX_REPRO_TRIANGLES",
-           "MAX_REPRO_SIDE"]
+           "MAX_REPRO_SIDE", "PATH_LEGEND", "winding_numbers", "rule_fills", "focus_path", "numbered_path", "MAX_NUMBERED_SIDE",
+           "MAX_DRAWN_VERTICES"]
 
 
 def draw(result: Result) -> dict[str, str]:
@@ -69,10 +80,41 @@ def _focus(result: Result) -> list[tuple[int, int]]:
     for key in ("strays", "pixels"):
         if e.get(key):
             return [(int(p[0]), int(p[1])) for p in e[key]]
-    for key in ("rotate-vertices", "flip-winding", "permute-triangles", "translate"):
+    for key in ("rotate-vertices", "flip-winding", "permute-triangles", "translate", *_PATH_ROWS):
         if e.get(key):
             return [(int(p[1]), int(p[2])) for p in e[key]]
     return []
+
+
+# Evidence lists of [path, x, y] rows on path scenes: the triangulation check's and the
+# invariance check's path variants (harness.checks.paths, harness.checks.invariance).
+_PATH_ROWS = ("path_only", "triangles_only", "triangulation_double_hits", "rotate-start-vertex", "reverse-every-contour",
+              "reverse-one-contour", "reorder-contours", "permute-paths")
+
+
+def focus_path(result: Result) -> int | None:
+    """The path a failure on a path scene names first, or None when its evidence names
+    none: conformance's ``pixels[0]["path"]``, watertight's ``blame[0]["paths"][0]``,
+    the first row ``[path, x, y]`` of the triangulation check's and the invariance
+    check's lists.
+
+    >>> focus_path(Result("r", "c", "conformance", "fail", "m", {}, {"pixels": [{"path": 3, "x": 1, "y": 2}]}))
+    3
+    """
+    e = result.evidence
+    pixels = e.get("pixels")
+    if pixels and isinstance(pixels[0], dict) and "path" in pixels[0]:
+        return int(pixels[0]["path"])
+    for entry in e.get("blame", ()):
+        if isinstance(entry, dict) and entry.get("paths"):
+            return int(entry["paths"][0])
+    on_paths = result.drawing is not None and isinstance(getattr(result.drawing.case, "scene", None), PathScene)
+    translate = ("translate",) if on_paths else ()  # a name both kinds' invariance lists use
+    for key in (*_PATH_ROWS, *translate):
+        rows = e.get(key)
+        if rows and isinstance(rows[0], (list, tuple)) and len(rows[0]) == 3:
+            return int(rows[0][0])
+    return None
 
 
 def _alpha_per_pixel(coverage: Coverage, width: int, height: int) -> NDArray:
@@ -169,8 +211,14 @@ def _still_pictures(case: Case, drawing: Drawing, result: Result) -> dict[str, s
         images["diff"] = oracle_diff(scene.width, scene.height, counts > 0, oracles[0].counts(scene.width, scene.height) > 0,
                                      result.evidence.get("pixels", []) if result.check == "conformance" else [], window)
     crop = window_around(int(fx), int(fy), scene.width, scene.height, 12)
+    shown = [(int(x), int(y)) for x, y in marks[:20]]
+    if isinstance(scene, PathScene):
+        convention = _numbering_convention(drawing.convention)
+        numbered = numbered_path(result)
+        images["crop"] = svg_crop(scene, coverage, convention.sample, crop, shown, numbered=numbered, convention=convention)
+        return images
     sample = drawing.convention.sample if drawing.convention is not None else (0.5, 0.5)
-    images["crop"] = svg_crop(scene.positions, coverage, sample, crop, [(int(x), int(y)) for x, y in marks[:20]])
+    images["crop"] = svg_crop(scene.positions, coverage, sample, crop, shown)
     return images
 
 
@@ -206,6 +254,28 @@ ALPHA_LEGEND = {"exact (white)": (255, 255, 255), "too much alpha (full red: the
                 "too little alpha (full blue: the scale)": (30, 80, 200), "stray (outside the region, alpha > 0)": (0, 0, 0)}
 CROP_LEGEND = {"covered by the rasterizer (crops)": (200, 200, 200), "covered by the convention (repros)": (230, 205, 140),
                "offending pixel (outlined)": (221, 0, 0), "triangle (outlined)": (0, 80, 200)}
+# path crops and repros, over CROP_LEGEND's pixels and marks: the fill is the outline's
+# colour at PATH_FILL_OPACITY (its swatch: that over white)
+PATH_FILL_OPACITY = 0.16
+_PATH_COLOUR: tuple[int, int, int] = (120, 40, 170)
+_OTHER_PATH_COLOUR: tuple[int, int, int] = (150, 120, 60)
+
+
+def _faint(rgb: tuple[int, int, int]) -> tuple[int, int, int]:
+    """``rgb`` at PATH_FILL_OPACITY over white."""
+    r, g, b = (round(255 - PATH_FILL_OPACITY * (255 - c)) for c in rgb)
+    return r, g, b
+
+
+PATH_LEGEND = {
+    "the numbered path (outlined; arrows: each edge's direction; ring: each contour's first vertex)": _PATH_COLOUR,
+    "where its fill rule fills it (faint)": _faint(_PATH_COLOUR),
+    "other paths (dashed outline; their arrows and rings likewise)": _OTHER_PATH_COLOUR,
+    "where their fill rule fills them (faint)": _faint(_OTHER_PATH_COLOUR),
+    "winding number of the pixel's sample: the rule fills it (bold)": (10, 10, 10),
+    "winding number of the pixel's sample: the rule leaves it": (135, 135, 135),
+}
+_FILLED, _LEFT = list(PATH_LEGEND)[-2:]
 
 
 def _hex(rgb: tuple[int, int, int]) -> str:
@@ -326,28 +396,38 @@ def oracle_diff(width: int, height: int, got: NDArray, want: NDArray, pixels: li
     return _png(rgb, max(1, 384 // max(rgb.shape)))
 
 
-def svg_crop(positions: NDArray, coverage: Coverage, sample: tuple[float, float], window: tuple[int, int, int, int],
-             marks: list[tuple[int, int]]) -> str:
+def svg_crop(positions: NDArray | PathScene, coverage: Coverage, sample: tuple[float, float], window: tuple[int, int, int, int],
+             marks: list[tuple[int, int]], numbered: int | None = None, convention: Convention | None = None) -> str:
     """The pixel grid of a small window with its sample points, the covered pixels, the
-    marked pixels outlined, and the triangles drawn as vectors over them (SVG data URI)."""
+    marked pixels outlined, and the triangles (or a path scene's paths, with the winding
+    numbers of path ``numbered``: see :func:`svg_window`) drawn as vectors over them (SVG
+    data URI)."""
     x0, y0, x1, y1 = window
     t, x, y = coverage.pixels()
     inside = (x >= x0) & (x < x1) & (y >= y0) & (y < y1)
     covered = np.zeros((y1 - y0, x1 - x0), dtype=bool)
     covered[y[inside] - y0, x[inside] - x0] = True
-    return svg_window(positions, covered, CROP_LEGEND["covered by the rasterizer (crops)"], sample, window, marks)
+    return svg_window(positions, covered, CROP_LEGEND["covered by the rasterizer (crops)"], sample, window, marks,
+                      numbered=numbered, convention=convention)
 
 
-def svg_window(positions: NDArray, covered: NDArray | None, fill: tuple[int, int, int], sample: tuple[float, float] | None,
-               window: tuple[int, int, int, int], marks: list[tuple[int, int]], fit: int = 384) -> str:
+def svg_window(positions: NDArray | PathScene, covered: NDArray | None, fill: tuple[int, int, int], sample: tuple[float, float] | None,
+               window: tuple[int, int, int, int], marks: list[tuple[int, int]], fit: int = 384,
+               numbered: int | None = None, convention: Convention | None = None) -> str:
     """A window of the viewport as an SVG data URI, scaled to fit ``fit`` px (at most 24 px
     a pixel): the covered pixels filled, the pixel grid and the sample points when the
     pixels are drawn large enough to show them, the marked pixels outlined and the
     triangles drawn as vectors over them.
 
+    Given a path scene instead of triangles, each path is drawn as one SVG ``<path>`` of
+    its contours under the scene's fill rule (:func:`_svg_paths`), and, when the window
+    is at most :data:`MAX_NUMBERED_SIDE` pixels a side and drawn large enough, each
+    pixel shows the winding number of its sample around path ``numbered``
+    (:func:`winding_numbers`, exact), bold where the fill rule fills it (PATH_LEGEND).
+
     Parameters
     ----------
-    positions : (N, 3, 2) float64
+    positions : (N, 3, 2) float64, or PathScene
     covered : (y1 - y0, x1 - x0) bool or None
         The pixels of the window to fill with ``fill``.
     sample : (float, float) or None
@@ -355,6 +435,12 @@ def svg_window(positions: NDArray, covered: NDArray | None, fill: tuple[int, int
     window : (x0, y0, x1, y1)
     marks : list of (x, y)
         Pixels to outline; those outside the window are left out.
+    numbered : int or None
+        Paths only: the path whose winding numbers are written (None: none written).
+    convention : Convention or None
+        Paths only: the single-sample convention the winding numbers follow (its sample
+        point, tie rule and snapping); None: ``sample`` (the centre without one), top-left
+        ties, no snapping.
     """
     x0, y0, x1, y1 = window
     cols, rows = x1 - x0, y1 - y0
@@ -384,6 +470,13 @@ def svg_window(positions: NDArray, covered: NDArray | None, fill: tuple[int, int
         if x0 <= mx < x1 and y0 <= my < y1:
             parts.append(f'<rect x="{mx + inset:.4f}" y="{my + inset:.4f}" width="{1 - 2 * inset:.4f}" height="{1 - 2 * inset:.4f}" '
                          f'fill="none" stroke="{red}" stroke-width="2" {thin}/>')
+    if isinstance(positions, PathScene):
+        parts.extend(_svg_paths(positions, window, scale, numbered))
+        if numbered is not None and max(cols, rows) <= MAX_NUMBERED_SIDE and scale >= 10:
+            chosen = convention if convention is not None else Convention(sample=sample or (0.5, 0.5))
+            parts.extend(_svg_windings(positions, numbered, chosen, window, scale))
+        parts.append("</svg>")
+        return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
     finite = np.all(np.isfinite(positions), axis=(1, 2))
     near = finite & np.any((positions[..., 0] > x0 - 64) & (positions[..., 0] < x1 + 64), axis=1)
     blue = _hex(CROP_LEGEND["triangle (outlined)"])
@@ -416,16 +509,325 @@ def svg_pattern(offsets: tuple[tuple[float, float], ...], side: int = 160) -> st
     return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
 
 
+# -- paths: winding numbers and outlines ---------------------------------------------------
+
+MAX_NUMBERED_SIDE = 32  # px: windows up to this many pixels a side show winding numbers
+MAX_DRAWN_VERTICES = 20_000  # per picture: paths beyond it (after clipping) are left out, and counted
+
+
+def _numbering_convention(convention: Convention | None) -> Convention:
+    """The single-sample convention a path picture's winding numbers follow: the
+    drawing's (its first sample's for a multisample one); the centre, top-left ties and
+    no snapping without one."""
+    if convention is None:
+        return Convention()
+    return convention.at_sample(0) if convention.samples is not None else convention
+
+
+def winding_numbers(scene: PathScene, path: int, convention: Convention, window: tuple[int, int, int, int]) -> NDArray[np.int64] | None:
+    """The exact winding number of every sample of a window around one path.
+
+    Sample ``p = (i + sx, j + sy)`` of pixel (i, j) is taken at the tie rule's perturbed
+    point, exactly as the oracle does (:mod:`harness.winding`): a vertex on the sample row
+    lies below it when ``vy > ys`` or ``vy == ys`` and the perturbation moves up; an edge
+    crosses the row when exactly one end lies below; its crossing is right of the sample
+    when the exact ``sign E_ab(p) * dir`` is positive, or, on the edge's line, when the
+    tie rule says so. The number is the sum of ``dir`` (+1 for an edge running down the
+    screen, -1 up) over the crossings right of the sample: +1 inside a contour running
+    clockwise on screen (signed area A > 0). (The oracle counts the crossings left of the
+    sample, the same number negated: neither rule cares.) So the fill rule's verdict on
+    each number is the oracle's, ties included.
+
+    Only the edges whose y extent meets the window's sample rows and whose x extent
+    reaches its first sample column are looked at, so a path of 100,000 vertices costs a
+    filter over its edges; where a row crosses an edge is found for all such (edge, row)
+    pairs at once, by bisection over the window's columns with the exact predicate
+    (:func:`harness.exact.orientation`): "right of the crossing" is monotone along a row.
+
+    Parameters
+    ----------
+    scene : PathScene
+    path : int
+    convention : Convention
+        Single-sample: its sample point, tie rule and snapping (applied to every vertex
+        first) apply.
+    window : (x0, y0, x1, y1)
+
+    Returns
+    -------
+    (y1 - y0, x1 - x0) int64, or None when the path has a NaN or infinite vertex (after
+    snapping): it covers nothing and has no winding number.
+
+    Examples
+    --------
+    A pentagram, rows 3 to 5: 2 in the centre pentagon (nonzero fills it, even-odd does
+    not), 1 in its points.
+
+    >>> import math
+    >>> star = [[4 + 3.6 * math.sin(k * 4 * math.pi / 5), 4 - 3.6 * math.cos(k * 4 * math.pi / 5)] for k in range(5)]
+    >>> winding_numbers(PathScene.from_paths(8, 8, [[star]]), 0, Convention(), (1, 3, 7, 6))
+    array([[1, 1, 2, 2, 1, 1],
+           [0, 0, 2, 2, 0, 0],
+           [0, 1, 1, 1, 1, 0]])
+    """
+    if convention.kind != "single":
+        raise ValueError(f"winding_numbers takes a single-sample convention, not kind {convention.kind!r}")
+    x0, y0, x1, y1 = window
+    cols, rows = x1 - x0, y1 - y0
+    out = np.zeros((rows, cols), dtype=np.int64)
+    start, end, owner = scene.edges()
+    mine = owner == path
+    a, b = convention.snap(start[mine]), convention.snap(end[mine])
+    if not (np.isfinite(a).all() and np.isfinite(b).all()):
+        return None
+    if rows <= 0 or cols <= 0:
+        return out
+    sx, sy = convention.sample
+    tx, ty, y_first = convention.tie_perturbation
+    xs = np.arange(x0, x1, dtype=np.float64) + sx  # exact: |i| < 2**20, sx a multiple of 2**-32
+    ys = np.arange(y0, y1, dtype=np.float64) + sy
+    # an edge wholly left of every sample has its crossing left of them all: it adds nothing
+    keep = ((a[:, 1] != b[:, 1]) & (np.maximum(a[:, 1], b[:, 1]) >= ys[0]) & (np.minimum(a[:, 1], b[:, 1]) <= ys[-1])
+            & (np.maximum(a[:, 0], b[:, 0]) >= xs[0]))
+    a, b = a[keep], b[keep]
+    direction = np.where(b[:, 1] > a[:, 1], 1, -1)
+
+    def below(v: NDArray[np.float64]) -> NDArray[np.bool_]:
+        # the perturbed row moves up (ty < 0): a vertex on it lies below it
+        return (v[None, :] > ys[:, None]) | ((v[None, :] == ys[:, None]) & (ty < 0))
+
+    row, edge = np.nonzero(below(a[:, 1]) != below(b[:, 1]))  # (edge, row) pairs that cross
+    ea, eb, d = a[edge], b[edge], direction[edge]
+    # on the edge's line the tie rule decides (harness.winding._tie_right)
+    if y_first:
+        tie_right = np.where(ea[:, 0] != eb[:, 0], ((eb[:, 0] > ea[:, 0]) == (eb[:, 1] > ea[:, 1])) != (ty > 0), tx > 0)
+    else:
+        tie_right = np.full(edge.size, tx > 0)
+    # the first column whose sample is right of the crossing, in 0 .. cols: from the float
+    # crossing where no sample lies within its error bound, else by bisection with the exact
+    # predicate. Each of the six operations errs by at most half an ulp (2**-48 relative is
+    # a wide berth) unless the product underflows (factors of at least 2**-400 cannot; the
+    # absolute 2**-1000 covers an underflowing quotient); an overflow leaves no finite bound.
+    with np.errstate(all="ignore"):
+        rise, width = ys[row] - ea[:, 1], eb[:, 0] - ea[:, 0]
+        run = rise * width / (eb[:, 1] - ea[:, 1])
+        crossing = ea[:, 0] + run
+        bound = 2.0**-48 * (np.abs(ea[:, 0]) + np.abs(run)) + 2.0**-1000
+        guess = np.searchsorted(xs, crossing, side="right")  # samples xs < guess are <= the crossing
+        left_ok = (guess == 0) | (crossing - xs[np.maximum(guess - 1, 0)] > bound)
+        right_ok = (guess == cols) | (xs[np.minimum(guess, cols - 1)] - crossing > bound)
+        normal = ((rise == 0) | (np.abs(rise) >= 2.0**-400)) & ((width == 0) | (np.abs(width) >= 2.0**-400))
+    certain = left_ok & right_ok & normal & np.isfinite(bound)
+    lo = np.where(certain, guess, np.where(np.minimum(ea[:, 0], eb[:, 0]) > xs[-1], cols, 0))  # wholly right: none is right of it
+    hi = np.where(certain, guess, cols)
+    while True:
+        active = np.flatnonzero(lo < hi)
+        if not active.size:
+            break
+        mid = (lo[active] + hi[active]) // 2
+        p = np.stack([xs[mid], ys[row[active]]], axis=1)
+        s = orientation(np.stack([ea[active], eb[active], p], axis=1)).astype(np.int64)
+        right = np.where(s != 0, s * d[active] < 0, tie_right[active])
+        hi[active[right]] = mid[right]
+        lo[active[~right]] = mid[~right] + 1
+    # each crossing adds dir to the samples left of it: columns 0 .. lo - 1 of its row
+    delta = np.zeros((rows, cols + 1), dtype=np.int64)
+    np.add.at(delta, (row, np.zeros_like(row)), d)
+    np.add.at(delta, (row, lo), -d)
+    out[:] = np.cumsum(delta, axis=1)[:, :cols]
+    return out
+
+
+def rule_fills(winding: NDArray[np.int64], fill_rule: str) -> NDArray[np.bool_]:
+    """Where ``fill_rule`` fills: ``nonzero`` w != 0, ``evenodd`` w odd.
+
+    >>> rule_fills(np.array([0, 1, 2, -1]), "evenodd")
+    array([False,  True, False,  True])
+    """
+    if fill_rule == "evenodd":
+        return np.asarray(winding % 2 == 1)
+    if fill_rule == "nonzero":
+        return np.asarray(winding != 0)
+    raise ValueError(f"fill_rule must be nonzero or evenodd, not {fill_rule!r}")
+
+
+def numbered_path(result: Result) -> int | None:
+    """The path whose winding numbers a path failure's crop writes: the one its evidence
+    names (:func:`focus_path`); else the first path the rasterizer or the oracle covers at
+    the first offending pixel; else the first path whose box holds that pixel; None for a
+    result without a drawing of a path scene, or a scene without paths there."""
+    drawing = result.drawing
+    scene = getattr(drawing.case, "scene", None) if drawing is not None else None
+    if drawing is None or not isinstance(scene, PathScene) or len(scene) == 0:
+        return None
+    named = focus_path(result)
+    if named is not None and 0 <= named < len(scene):
+        return named
+    marks = _focus(result)
+    fx, fy = marks[0] if marks else (scene.width // 2, scene.height // 2)
+    for coverage in (*drawing.coverages[:1], *(drawing.oracles or ())[:1]):
+        p, x, y = coverage.pixels()
+        here = p[(x == fx) & (y == fy) & (p >= 0) & (p < len(scene))]
+        if here.size:
+            return int(here.min())
+    lo, hi, finite = scene.primitive_boxes()
+    holds = finite & (lo[:, 0] <= fx + 1) & (hi[:, 0] >= fx) & (lo[:, 1] <= fy + 1) & (hi[:, 1] >= fy)
+    return int(np.flatnonzero(holds)[0]) if holds.any() else None
+
+
+def _clip_contour(points: NDArray[np.float64], box: tuple[float, float, float, float]) -> NDArray[np.float64]:
+    """A closed contour clipped to the box (xmin, ymin, xmax, ymax), Sutherland-Hodgman:
+    each excursion outside a side is replaced by the chord along it, which leaves the
+    winding number of every point inside the box as it was (the excursion and the chord
+    enclose only points outside). Float arithmetic: for drawing, never for a verdict.
+
+    >>> _clip_contour(np.array([[-4.0, -4.0], [4.0, -4.0], [4.0, 4.0]]), (0.0, 0.0, 8.0, 8.0)).tolist()
+    [[4.0, 0.0], [4.0, 4.0], [0.0, 0.0]]
+    """
+    # in units of a power of two >= the largest coordinate (exact), so no difference overflows
+    magnitude = float(np.abs(points).max(initial=0.0))
+    unit = 2.0 ** math.ceil(math.log2(magnitude)) if magnitude > 1.0 else 1.0
+    p = points / unit
+    for axis, bound, keep_above in ((0, box[0], True), (1, box[1], True), (0, box[2], False), (1, box[3], False)):
+        if not p.shape[0]:
+            break
+        q = np.roll(p, -1, axis=0)  # each vertex's successor: edge p -> q
+        edge = bound / unit
+        inside = p[:, axis] >= edge if keep_above else p[:, axis] <= edge
+        crossing = inside != np.roll(inside, -1)
+        with np.errstate(all="ignore"):
+            t = (edge - p[:, axis]) / (q[:, axis] - p[:, axis])
+            cut = p + t[:, None] * (q - p)
+        cut[:, axis] = edge
+        # per edge: its start when inside, then the crossing point when it crosses
+        p = np.stack([p, cut], axis=1)[np.stack([inside, crossing], axis=1)]
+    repeated = np.all(p == np.roll(p, 1, axis=0), axis=1)  # a vertex on the side is emitted twice
+    if repeated.all():
+        return p[:0]
+    return p[~repeated] * unit
+
+
+def _svg_paths(scene: PathScene, window: tuple[int, int, int, int], scale: float, numbered: int | None) -> list[str]:
+    """The SVG of the paths near the window: each path's contours, clipped to the window
+    grown by 2 px, as one ``<path>`` under the scene's fill rule (faint fill, outline;
+    other paths than ``numbered`` dashed), an arrowhead on each edge long enough on screen
+    at the middle of its visible part, and a ring at each contour's first vertex."""
+    x0, y0, x1, y1 = window
+    margin = 2.0
+    box = (x0 - margin, y0 - margin, x1 + margin, y1 + margin)
+    thin = 'vector-effect="non-scaling-stroke"'
+    rule = "evenodd" if scene.fill_rule == "evenodd" else "nonzero"
+    lo, hi, finite = scene.primitive_boxes()
+    near = np.flatnonzero(finite & (lo[:, 0] <= box[2]) & (hi[:, 0] >= box[0]) & (lo[:, 1] <= box[3]) & (hi[:, 1] >= box[1]))
+    # the numbered path last: drawn on top of the others
+    near = np.concatenate([near[near != numbered], near[near == numbered]])[-200:]
+    contours = scene.contours()
+    by_path: dict[int, list[int]] = {}
+    for c, p in enumerate(scene.contour_path.tolist()):
+        by_path.setdefault(p, []).append(c)
+    parts: list[str] = []
+    budget, left_out = MAX_DRAWN_VERTICES, 0
+    starts: list[tuple[NDArray[np.float64], tuple[int, int, int]]] = []
+    segments: list[tuple[NDArray[np.float64], NDArray[np.float64], tuple[int, int, int]]] = []
+    for p in near.tolist():
+        colour = _PATH_COLOUR if p == numbered else _OTHER_PATH_COLOUR
+        clipped = [_clip_contour(contours[c], box) for c in by_path.get(p, [])]
+        size = sum(c.shape[0] for c in clipped)
+        if size > budget:
+            left_out += 1
+            continue
+        budget -= size
+        d = " ".join("M" + " L".join(f"{vx:.9g},{vy:.9g}" for vx, vy in c) + " Z" for c in clipped if c.shape[0] >= 2)
+        if d:
+            dash = "" if p == numbered else ' stroke-dasharray="4 3"'
+            parts.append(f'<path d="{d}" fill="{_hex(colour)}" fill-opacity="{PATH_FILL_OPACITY}" fill-rule="{rule}" '
+                         f'stroke="{_hex(colour)}" stroke-width="{1.5 if p == numbered else 1}"{dash} {thin}/>')
+        for c in by_path.get(p, []):
+            starts.append((contours[c][0], colour))
+            segments.append((contours[c], np.roll(contours[c], -1, axis=0), colour))
+    parts.extend(_svg_arrows(segments, window, scale))
+    ring = 3.0 / scale
+    for v, colour in starts:
+        if x0 - ring <= v[0] <= x1 + ring and y0 - ring <= v[1] <= y1 + ring:
+            parts.append(f'<circle cx="{v[0]:.9g}" cy="{v[1]:.9g}" r="{ring:.4f}" fill="none" stroke="{_hex(colour)}" '
+                         f'stroke-width="1.5" {thin}/>')
+    if left_out:
+        parts.append(f'<text x="{x0 + 0.1:g}" y="{y1 - 0.15:g}" font-size="{11 / scale:.4f}" font-family="sans-serif" '
+                     f'fill="#333">{left_out} path{"" if left_out == 1 else "s"} not drawn: more than '
+                     f'{MAX_DRAWN_VERTICES} vertices in view</text>')
+    return parts
+
+
+def _svg_arrows(segments: list[tuple[NDArray[np.float64], NDArray[np.float64], tuple[int, int, int]]],
+                window: tuple[int, int, int, int], scale: float, limit: int = 400) -> list[str]:
+    """An arrowhead (7 screen px) at the middle of the visible part of each edge a -> b
+    whose visible part is at least three arrowheads long on screen; at most ``limit``."""
+    x0, y0, x1, y1 = window
+    size = 7.0 / scale
+    out: list[str] = []
+    for a, b, colour in segments:
+        with np.errstate(all="ignore"):
+            d = b - a
+            # Liang-Barsky: the parameter range [t0, t1] of a + t d inside the window
+            t0, t1 = np.zeros(a.shape[0]), np.ones(a.shape[0])
+            for axis, low, high in ((0, x0, x1), (1, y0, y1)):
+                u = (low - a[:, axis]) / d[:, axis]
+                v = (high - a[:, axis]) / d[:, axis]
+                t0 = np.maximum(t0, np.where(d[:, axis] != 0, np.minimum(u, v), np.where(a[:, axis] >= low, -np.inf, np.inf)))
+                t1 = np.minimum(t1, np.where(d[:, axis] != 0, np.maximum(u, v), np.where(a[:, axis] <= high, np.inf, -np.inf)))
+            length = np.hypot(d[:, 0], d[:, 1])
+            shown = (t1 - t0) * length
+            ok = np.isfinite(shown) & (shown >= 3 * size) & np.isfinite(length) & (length > 0)
+            for k in np.flatnonzero(ok)[: max(limit - len(out), 0)]:
+                u_ = d[k] / length[k]
+                tip = a[k] + (t0[k] + t1[k]) / 2 * d[k] + u_ * size / 2
+                base = tip - u_ * size
+                n = np.array([-u_[1], u_[0]]) * size / 3
+                pts = " ".join(f"{px:.9g},{py:.9g}" for px, py in (tip, base + n, base - n))
+                out.append(f'<polygon points="{pts}" fill="{_hex(colour)}"/>')
+    return out
+
+
+def _svg_windings(scene: PathScene, path: int, convention: Convention, window: tuple[int, int, int, int],
+                  scale: float) -> list[str]:
+    """The winding number of each pixel's sample around ``path`` as small text in the
+    pixel (about 7 screen px high, 0.3 to 0.45 px), in the corner away from the sample
+    point: bold near-black where the scene's fill rule fills it, grey where not (PATH_LEGEND)."""
+    x0, y0, _, _ = window
+    font = min(max(7.0 / scale, 0.3), 0.45)
+    winding = winding_numbers(scene, path, convention, window)
+    if winding is None:
+        return []
+    filled = rule_fills(winding, scene.fill_rule)
+    sx, sy = convention.sample
+    dx = 0.06 if sx >= 0.5 else 0.5  # away from the sample point
+    dy = 0.06 + font if sy >= 0.5 else 0.94
+    out = [f'<g font-family="sans-serif" font-size="{font:.3f}"><title>winding numbers around path {path} '
+           f'({scene.fill_rule} rule)</title>']
+    bold = f'font-weight="bold" fill="{_hex(PATH_LEGEND[_FILLED])}"'
+    grey = f'fill="{_hex(PATH_LEGEND[_LEFT])}"'
+    for (j, i), w in np.ndenumerate(winding):
+        style = bold if filled[j, i] else grey
+        out.append(f'<text x="{x0 + i + dx:g}" y="{y0 + j + dy:g}" {style}>{int(w)}</text>')
+    out.append("</g>")
+    return out
+
+
 # -- the minimal repro ---------------------------------------------------------------------
 
-MAX_REPRO_TRIANGLES = 200
+MAX_REPRO_TRIANGLES = 200  # primitives: triangles, or paths
 MAX_REPRO_SIDE = 512  # px: larger viewports are not drawn (the report stays cheap)
 
 
 def _repro_window(positions: NDArray, width: int, height: int, least: int = 8) -> tuple[int, int, int, int]:
     """The viewport's part that holds the triangles (finite ones), a pixel around them, at
     least ``least`` pixels a side where the viewport allows."""
-    finite = positions[np.all(np.isfinite(positions), axis=(1, 2))].reshape(-1, 2)
+    return _points_window(positions[np.all(np.isfinite(positions), axis=(1, 2))].reshape(-1, 2), width, height, least)
+
+
+def _points_window(finite: NDArray, width: int, height: int, least: int = 8) -> tuple[int, int, int, int]:
+    """The viewport's part that holds the (finite) points ``finite`` (M, 2), a pixel around
+    them, at least ``least`` pixels a side where the viewport allows."""
     if not finite.size:
         return 0, 0, width, height
     lo = np.floor(np.clip(finite.min(axis=0), -1.0, [width + 1.0, height + 1.0])).astype(int) - 1
@@ -461,15 +863,52 @@ def _near_triangles(marks: list[tuple[int, int]], positions: NDArray, reach: flo
     return [m for m, ok in zip(marks, near.tolist()) if ok]
 
 
+def _near_paths(marks: list[tuple[int, int]], scene: PathScene, reach: float = 1.5) -> list[tuple[int, int]]:
+    """The marked pixels whose centre lies within ``reach`` px of the box of one of the
+    (finite) paths: those of a whole case's evidence that can belong to its repro."""
+    lo, hi, finite = scene.primitive_boxes()
+    if not marks or not finite.any():
+        return []
+    c = np.asarray(marks, dtype=float) + 0.5  # (M, 2)
+    lo, hi = lo[finite] - reach, hi[finite] + reach
+    inside: NDArray[np.bool_] = np.all((c[:, None, :] >= lo[None]) & (c[:, None, :] <= hi[None]), axis=2)  # (M, P)
+    return [m for m, ok in zip(marks, np.any(inside, axis=1).tolist()) if ok]
+
+
+def _repro_numbered(result: Result, scene: PathScene, marks: list[tuple[int, int]]) -> int | None:
+    """The repro's path to number: its only path; else the one with the vertices of the
+    path the failure names in the whole case; else the first whose box holds the first
+    marked pixel near it; else None."""
+    if len(scene) == 1:
+        return 0
+    named = numbered_path(result)
+    whole = getattr(result.drawing.case, "scene", None) if result.drawing is not None else None
+    if named is not None and isinstance(whole, PathScene):
+        wanted = [c.tolist() for c in whole.contours_of(named)]
+        for p in range(len(scene)):
+            if [c.tolist() for c in scene.contours_of(p)] == wanted:
+                return p
+    if marks:
+        lo, hi, finite = scene.primitive_boxes()
+        fx, fy = marks[0]
+        holds = finite & (lo[:, 0] <= fx + 1) & (hi[:, 0] >= fx) & (lo[:, 1] <= fy + 1) & (hi[:, 1] >= fy)
+        if holds.any():
+            return int(np.flatnonzero(holds)[0])
+    return None
+
+
 def draw_repro(result: Result) -> tuple[str | None, str] | None:
     """The failure's minimal repro (``evidence["repro"]``, case JSON) drawn, with its
-    caption: its triangles over the pixel grid and, given a convention (the drawing's),
-    the pixels that convention covers; the pixels the evidence names (on the whole case)
-    within a pixel and a half of the repro's triangles outlined. The rasterizer's own
-    answer on the repro is not known here and not drawn.
+    caption: its triangles (or paths) over the pixel grid and, given a convention (the
+    drawing's), the pixels that convention covers; the pixels the evidence names (on the
+    whole case) within a pixel and a half of the repro's triangles (paths' boxes)
+    outlined. A path repro small enough shows the winding numbers of one of its paths
+    (:func:`svg_window`). The rasterizer's own answer on the repro is not known here and
+    not drawn.
 
     Returns None without a repro; (None, why) when it is not drawn (a motion case, a malformed
-    one, or more than :data:`MAX_REPRO_TRIANGLES` triangles or :data:`MAX_REPRO_SIDE` px).
+    one, or more than :data:`MAX_REPRO_TRIANGLES` triangles (paths) or :data:`MAX_REPRO_SIDE` px,
+    or paths of more than :data:`MAX_DRAWN_VERTICES` vertices).
     """
     payload = result.evidence.get("repro")
     if not isinstance(payload, dict):
@@ -481,24 +920,51 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
     if isinstance(case, MotionCase):
         return None, f"minimal repro: a sequence of {len(case.frames)} frames, not drawn here"
     scene = case.scene
+    noun = scene.noun
     n, of = len(scene), payload.get("original_triangles")
-    triangles = f"{n} triangle{'' if n == 1 else 's'}" + (f" (of {of})" if of else "")
+    triangles = f"{n} {noun}{'' if n == 1 else 's'}" + (f" (of {of})" if of else "")
+    if isinstance(scene, PathScene):
+        triangles += f" under the {scene.fill_rule} rule"
     if n > MAX_REPRO_TRIANGLES or max(scene.width, scene.height) > MAX_REPRO_SIDE:
         return None, (f"minimal repro: {triangles} on a {scene.width} x {scene.height} viewport, not drawn (pictures are "
-                      f"drawn up to {MAX_REPRO_TRIANGLES} triangles and {MAX_REPRO_SIDE} px a side)")
+                      f"drawn up to {MAX_REPRO_TRIANGLES} {noun}s and {MAX_REPRO_SIDE} px a side)")
+    if isinstance(scene, PathScene) and scene.vertices.shape[0] > MAX_DRAWN_VERTICES:
+        return None, (f"minimal repro: {triangles} of {scene.vertices.shape[0]} vertices, not drawn (pictures are drawn up to "
+                      f"{MAX_DRAWN_VERTICES} vertices)")
     convention = result.drawing.convention if result.drawing is not None else None
-    window = _repro_window(scene.positions, scene.width, scene.height)
+    if isinstance(scene, PathScene):
+        finite_path = scene.primitive_boxes()[2]
+        drawn = scene.vertices[np.repeat(finite_path[scene.contour_path], scene.contour_sizes)]  # of the finite paths
+        window = _points_window(drawn, scene.width, scene.height)
+    else:
+        window = _repro_window(scene.positions, scene.width, scene.height)
+    x0, y0, x1, y1 = window
     covered = None
     if convention is not None:
-        x0, y0, x1, y1 = window
-        covered = exact_coverage(scene, convention).counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
-    marks = _near_triangles(_focus(result)[:EVIDENCE_LIMIT], scene.positions)
-    uri = svg_window(scene.positions, covered, CROP_LEGEND["covered by the convention (repros)"],
-                     convention.sample if convention is not None else None, window, marks)
-    outlined = f"; outlined: {len(marks)} of the pixels the failure names, next to these triangles" if marks else ""
-    if convention is None:
-        return uri, f"minimal repro: its {triangles}; no convention known, so no coverage drawn{outlined}"
-    return uri, f"minimal repro: its {triangles}, the pixels the convention covers{outlined}"
+        try:
+            covered = exact_coverage(scene, convention).counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+        except ValueError:  # no oracle of this kind for paths (analytic area): no coverage drawn
+            covered = None
+    named = _focus(result)[:EVIDENCE_LIMIT]
+    marks = _near_paths(named, scene) if isinstance(scene, PathScene) else _near_triangles(named, scene.positions)
+    fill = CROP_LEGEND["covered by the convention (repros)"]
+    sample = convention.sample if convention is not None else None
+    numbers = ""
+    if isinstance(scene, PathScene):
+        chosen = _numbering_convention(convention)
+        numbered = _repro_numbered(result, scene, marks)
+        uri = svg_window(scene, covered, fill, chosen.sample, window, marks, numbered=numbered, convention=chosen)
+        if numbered is not None and max(x1 - x0, y1 - y0) <= MAX_NUMBERED_SIDE:
+            at = ("its centre (no convention known: top-left ties)" if convention is None else
+                  "its first sample" if convention.samples is not None else "its sample")
+            numbers = f"; in each pixel the winding number of {at} around path {numbered}"
+    else:
+        uri = svg_window(scene.positions, covered, fill, sample, window, marks)
+    outlined = f"; outlined: {len(marks)} of the pixels the failure names, next to these {noun}s" if marks else ""
+    if convention is None or covered is None:
+        why = "no convention known" if convention is None else "no oracle of its kind for paths"
+        return uri, f"minimal repro: its {triangles}; {why}, so no coverage drawn{numbers}{outlined}"
+    return uri, f"minimal repro: its {triangles}, the pixels the convention covers{numbers}{outlined}"
 
 
 # -- per-frame series ----------------------------------------------------------------------

@@ -9,7 +9,14 @@ without JavaScript.
 The pictures are drawn here, from each failure's drawing and evidence
 (:func:`harness.pictures.draw`), once per failure shown; results read back from JSON
 carry no drawing and show none but their repro's (:func:`harness.pictures.draw_repro`,
-without a convention)."""
+without a convention).
+
+Path scenes (:class:`harness.api.PathScene`) are shown as triangles are, their crops and
+repros drawing the paths under their fill rule with the winding number of each sample;
+each rasterizer's card says which scene kinds it takes and which fill rules it honours
+(and what identify saw it draw for each rule, and its path convention), and the index
+lists the rasterizers that take paths in a table of polygon fillers with their failures
+on path cases."""
 
 from __future__ import annotations
 
@@ -26,17 +33,57 @@ import numpy as np
 from jinja2 import Environment, PackageLoader, select_autoescape
 
 import harness
+from harness.api import PathScene, fill_rules_of, scene_kinds_of
 from harness.checks import EVIDENCE_LIMIT, Result, check_names
 from harness.checks import checks as registered_checks
 from harness.files import atomic_write_text, safe_name
-from harness.pictures import ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, draw, draw_repro, svg_pattern
+from harness.pictures import (ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, PATH_LEGEND, draw, draw_repro,
+                              numbered_path, svg_pattern)
 
-__all__ = ["write_report", "write_comparison", "link_pages", "page_name", "cause", "evidence_table"]
+__all__ = ["write_report", "write_comparison", "link_pages", "page_name", "cause", "evidence_table", "capabilities",
+           "on_paths", "caption"]
 
 CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop: triangles over the pixel grid",
             "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics",
             "alpha error": "alpha minus the oracle's, per pixel (the worst triangle there)",
             "alpha sum": "sum of the pieces' alphas minus 1, inside the partition (full colour: one level)"}
+
+
+def caption(key: str, r: Result) -> str:
+    """The caption of picture ``key`` of failure ``r``: :data:`CAPTIONS`'s, but for a path
+    scene's crop, which says the fill rule and whose winding numbers it writes."""
+    scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
+    if key != "crop" or not isinstance(scene, PathScene):
+        return CAPTIONS[key]
+    path = numbered_path(r)
+    convention = r.drawing.convention if r.drawing is not None else None
+    at = ("its centre (no convention known)" if convention is None else
+          "its first sample" if convention.samples is not None else "its sample")
+    numbers = (f"; in each pixel the winding number of {at} around path {path} (bold where the rule fills it)"
+               if path is not None else "; no path there to number")
+    return f"crop: the paths over the pixel grid under the {scene.fill_rule} rule{numbers}"
+
+
+def on_paths(r: Result) -> bool:
+    """Whether a result is on a path scene: its drawing's scene is one, its repro holds
+    paths, or (read back from JSON) its case family is ``paths`` or ``path-...``."""
+    scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
+    if scene is not None:
+        return isinstance(scene, PathScene)
+    repro = r.evidence.get("repro")
+    if isinstance(repro, dict) and ("paths" in repro or "positions" in repro):
+        return "paths" in repro
+    family = r.case.split("/", 1)[0]
+    return family == "paths" or family.startswith("path-")
+
+
+def capabilities(rasterizers: list[Any]) -> dict[str, dict[str, tuple[str, ...]]]:
+    """What :func:`write_report` is told of each rasterizer's scene kinds and fill rules:
+    ``{"scene_kinds": name -> kinds, "fill_rules": name -> rules}`` (the fill rules of the
+    path-taking ones only), read with :func:`harness.api.scene_kinds_of` and
+    :func:`harness.api.fill_rules_of`; pass it on as ``write_report(..., **capabilities(rs))``."""
+    kinds = {r.name: scene_kinds_of(r) for r in rasterizers}
+    return {"scene_kinds": kinds, "fill_rules": {r.name: fill_rules_of(r) for r in rasterizers if "paths" in kinds[r.name]}}
 
 
 def page_meta(suite: str, seed: Any, seconds: float | None = None) -> dict[str, Any]:
@@ -173,18 +220,21 @@ def _rows(node: dict[str, Any]) -> int:
 
 
 def _problem(r: Result, index: int, spec: str) -> dict[str, Any]:
-    images = [(CAPTIONS[k], uri) for k, uri in draw(r).items()]  # none without a drawing
+    images = [(caption(k, r), uri) for k, uri in draw(r).items()]  # none without a drawing
     evidence = {k: v for k, v in r.evidence.items() if k not in HIDDEN}
     repro = r.evidence.get("repro")
     repro = repro if isinstance(repro, dict) else {}
     path = r.evidence.get("repro_path")
     drawn = draw_repro(r)
     table = evidence_table(evidence) if evidence else None
+    shapes = repro.get("paths") if "paths" in repro else repro.get("positions")
+    paths = on_paths(r)
     return {"case": r.case, "check": r.check, "status": r.status, "message": r.message, "anchor": f"failure-{index}",
             "cause": cause(r), "images": images, "evidence": table, "evidence_open": table is not None and _rows(table) <= 16,
             "evidence_keys": list(evidence), "traceback": r.evidence.get("traceback"),
             "repro_picture": drawn[0] if drawn else None, "repro_caption": drawn[1] if drawn else None,
-            "repro_path": path, "repro_size": len(repro.get("positions", [])), "repro_of": repro.get("original_triangles"),
+            "repro_path": path, "repro_size": len(shapes) if isinstance(shapes, list) else 0,
+            "repro_of": repro.get("original_triangles"), "noun": "path" if paths else "triangle", "paths": paths,
             "replay": f"rastercheck replay {shlex.quote(str(path))} --rasterizer {shlex.quote(spec)}" if path else None}
 
 
@@ -224,7 +274,8 @@ def _filters(sections: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
-FACTS = ("coverage", "model", "levels", "area error", "sweeps", "pattern", "residual lies", "sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep")
+FACTS = ("coverage", "model", "levels", "area error", "sweeps", "pattern", "residual lies", "sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep",
+         "fill rules", "paths", "real paths")
 KIND_ORDER = {"built-in": 0, "real library": 1, "plugin": 2}
 
 
@@ -233,7 +284,9 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
                  fingerprints: dict[str, dict[str, Any]] | None = None,
                  declared: dict[str, str] | None = None, kinds: dict[str, str] | None = None,
                  specs: dict[str, str] | None = None, skipped: dict[str, str] | None = None,
-                 patterns: dict[str, tuple[tuple[float, float], ...]] | None = None) -> Path:
+                 patterns: dict[str, tuple[tuple[float, float], ...]] | None = None,
+                 scene_kinds: dict[str, tuple[str, ...]] | None = None,
+                 fill_rules: dict[str, tuple[str, ...]] | None = None) -> Path:
     """Write ``index.html``, one page per rasterizer and, given ``fingerprints`` (name ->
     :meth:`Fingerprint.to_dict` or ``{"error": text}``), ``fingerprints.html`` with every
     rasterizer side by side, into ``out_dir`` atomically.
@@ -241,7 +294,11 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
     ``specs`` (name -> the spec it was loaded from, as given on the command line) is what
     the replay commands quote (the name by default); ``skipped`` (spec -> why) lists on the
     index the rasterizers that could not be loaded; ``patterns`` (name -> sample offsets)
-    draws the multisample pattern a rasterizer declares on its page."""
+    draws the multisample pattern a rasterizer declares on its page. ``scene_kinds`` and
+    ``fill_rules`` (name -> what :func:`harness.api.scene_kinds_of` and
+    :func:`harness.api.fill_rules_of` say: :func:`capabilities`) are what the cards and
+    the table of polygon fillers say a rasterizer takes; without them the scene kinds are
+    read from its results (and a fingerprint that saw it fill paths)."""
     fingerprints = fingerprints or {}
     out_dir = Path(out_dir)
     checks = [c for c in ("run", *check_names()) if any(r.check == c for r in results)]
@@ -262,10 +319,11 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
             "figures": coverage_figures(mine),
             "pattern": svg_pattern((patterns or {})[name]) if (patterns or {}).get(name) else None,
         }
+        row.update(_scene_card(name, mine, problems, fingerprints.get(name), scene_kinds, fill_rules))
         rows.append(row)
         html = env.get_template("rasterizer.html").render(
             row=row, meta=meta, heat_legend=HEAT_LEGEND.items(), diff_legend=DIFF_LEGEND.items(), motion_legend=LEGEND.items(),
-            crop_legend=CROP_LEGEND.items(), alpha_legend=ALPHA_LEGEND.items())
+            crop_legend=CROP_LEGEND.items(), alpha_legend=ALPHA_LEGEND.items(), path_legend=PATH_LEGEND.items())
         atomic_write_text(out_dir / row["page"], html)
     if fingerprints:
         ordered = sorted(rows, key=lambda row: KIND_ORDER.get(row["kind"], 3))
@@ -273,10 +331,66 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
         atomic_write_text(out_dir / "fingerprints.html", html)
     captions = {c.name: c.caption for c in registered_checks()} | {"run": "the rasterizer answered: no crash, no hang"}
     html = env.get_template("index.html").render(rows=rows, checks=checks, captions=captions, meta=meta,
-                                                 pages=_pages(out_dir, bool(fingerprints)), skipped=skipped or {})
+                                                 pages=_pages(out_dir, bool(fingerprints)), skipped=skipped or {},
+                                                 fillers=[row for row in rows if "paths" in row["scene_kinds"]])
     path = out_dir / "index.html"
     atomic_write_text(path, html)
     return path
+
+
+PATH_LINKS = 10  # failures linked per check in the table of polygon fillers; the rest are counted
+
+
+def _fingerprint_field(fingerprint: Any, name: str) -> Any:
+    """A field of a fingerprint given as :meth:`Fingerprint.to_dict`'s dict or as the
+    object (None when it has no such field: identify may not record it)."""
+    if isinstance(fingerprint, dict):
+        return fingerprint.get(name)
+    return getattr(fingerprint, name, None)
+
+
+def _path_convention(fingerprint: Any) -> dict[str, Any] | None:
+    """The path convention identify found, as ``{"text", "exact", "residual", "pixels",
+    "same_as_triangles"}``, or None when it recorded none."""
+    found = _fingerprint_field(fingerprint, "path_convention")
+    if found is None:
+        return None
+    if isinstance(found, dict):
+        return {"text": found.get("convention", "—"), "exact": bool(found.get("exact")), "residual": found.get("residual"),
+                "pixels": found.get("pixels"), "same_as_triangles": found.get("same_as_triangles")}
+    fit = getattr(fingerprint, "path_fit", None)
+    describe = getattr(found, "describe", None)
+    return {"text": describe() if callable(describe) else str(found), "exact": bool(getattr(fit, "exact", False)),
+            "residual": getattr(fit, "residual", None), "pixels": getattr(fit, "pixels", None),
+            "same_as_triangles": getattr(fit, "same_as_triangles", None)}
+
+
+def _scene_card(name: str, mine: list[Result], problems: list[dict[str, Any]], fingerprint: Any,
+                scene_kinds: dict[str, tuple[str, ...]] | None, fill_rules: dict[str, tuple[str, ...]] | None) -> dict[str, Any]:
+    """What a rasterizer's card and the table of polygon fillers say of its scene kinds:
+    the kinds it takes (declared, else read from its results), the fill rules it honours,
+    what identify saw it draw for each rule asked and the path convention it found, and
+    its failures on path cases by check (each linked, with its repro file)."""
+    seen_fills = _fingerprint_field(fingerprint, "fill_rules") if fingerprint is not None else None
+    if scene_kinds is not None and name in scene_kinds:
+        kinds, said = list(scene_kinds[name]), "declared"
+    else:
+        paths = any(on_paths(r) for r in mine) or bool(seen_fills)
+        triangles = any(not on_paths(r) for r in mine) or not paths
+        kinds, said = [k for k, taken in (("triangles", triangles), ("paths", paths)) if taken], "seen in its results"
+    rules = list(fill_rules[name]) if fill_rules is not None and name in fill_rules else None
+    on = [r for r in mine if on_paths(r)]
+    by_check: dict[str, list[dict[str, Any]]] = {}
+    for p in problems:
+        if p["paths"]:
+            by_check.setdefault(p["check"], []).append(p)
+    path_checks = [{"check": check, "count": len(found), "failures": found[:PATH_LINKS], "more": len(found) - PATH_LINKS}
+                   for check, found in by_check.items()]
+    return {"scene_kinds": kinds, "scene_kinds_said": said, "fill_rules": rules,
+            "fill_rules_seen": dict(seen_fills) if isinstance(seen_fills, dict) else None,
+            "path_convention": _path_convention(fingerprint) if fingerprint is not None else None,
+            "path_counts": {s: sum(r.status == s for r in on) for s in ("pass", "fail", "error", "skip")},
+            "path_checks": path_checks}
 
 
 # (check, metric, how to combine over cases, label): the anti-aliasing and multisample
