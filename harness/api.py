@@ -290,15 +290,18 @@ class PathScene:
         """Per path its bounding box ``lo, hi`` ((P, 2) each) and whether all its
         coordinates are finite ((P,) bool)."""
         n = len(self)
-        owner = np.repeat(self.contour_path, self.contour_sizes)
-        finite_vertex = np.isfinite(self.vertices).all(axis=1)
-        finite = np.ones(n, dtype=bool)
-        finite[owner[~finite_vertex]] = False
-        v = np.where(np.isfinite(self.vertices), self.vertices, 0.0)
         lo = np.full((n, 2), np.inf)
         hi = np.full((n, 2), -np.inf)
-        np.minimum.at(lo, owner, v)
-        np.maximum.at(hi, owner, v)
+        finite = np.ones(n, dtype=bool)
+        if not n:
+            return lo, hi, finite
+        # per contour by reduceat over its run of vertices, then per path over its contours
+        starts = self.contour_starts
+        ok = np.isfinite(self.vertices)
+        v = np.where(ok, self.vertices, 0.0)
+        np.minimum.at(lo, self.contour_path, np.minimum.reduceat(v, starts, axis=0))
+        np.maximum.at(hi, self.contour_path, np.maximum.reduceat(v, starts, axis=0))
+        finite[self.contour_path[~np.logical_and.reduceat(ok.all(axis=1), starts)]] = False
         return lo, hi, finite
 
     def non_finite(self) -> tuple[int, ...]:

@@ -69,18 +69,19 @@ def degenerate(case: Case, coverage: Coverage, convention: Convention | None,
 
 
 def refusal(case: Case, error: BaseException) -> Result | None:
-    """A ValueError that names a triangle of the case the rasterizer may refuse: a
+    """A ValueError that names a triangle (path) of the case the rasterizer may refuse: a
     non-finite one (a pass, as the contract allows) or a huge one (a skip, with its
     reason). None when the error is not such a refusal."""
     if not isinstance(error, ValueError):
         return None
     text = str(error)
+    noun = case.scene.noun  # "triangle" or "path"
     for t in case.non_finite:
-        if f"triangle {t}" in text:
-            return Result("", case.id, "degenerate", "pass", f"refused non-finite triangle {t}: {text}")
+        if f"{noun} {t}" in text:
+            return Result("", case.id, "degenerate", "pass", f"refused non-finite {noun} {t}: {text}")
     for t in case.refusable:
-        if f"triangle {t}" in text:
-            return Result("", case.id, "degenerate", "skip", f"declined huge triangle {t}: {text}")
+        if f"{noun} {t}" in text:
+            return Result("", case.id, "degenerate", "skip", f"declined huge {noun} {t}: {text}")
     return None
 
 

@@ -9,6 +9,7 @@ from rasterizers.pineda_topleft import PinedaTopLeft
 from rasterizers.area_scanline import AreaScanline
 from rasterizers.multisample import MultisamplePineda, PinedaMSAA4, PinedaMSAA8
 from rasterizers.supersample import Supersampler, Supersampler4
+from rasterizers.trapezoid import TrapezoidFill
 
 floor: Rasterizer = FloorScanline()
 centre: Rasterizer = CentreScanline()
@@ -21,3 +22,4 @@ msaa_custom: Rasterizer = MultisamplePineda([(0.25, 0.25), (0.75, 0.75)], tie="b
 area: Rasterizer = AreaScanline()
 supersample: Rasterizer = Supersampler4()
 supersample2: Rasterizer = Supersampler(2)
+trapezoid: Rasterizer = TrapezoidFill()

@@ -1,0 +1,141 @@
+"""Known-bad path fillers (seed 002): the trapezoid fill with one classic bug each.
+
+Each declares the reference's convention (:class:`rasterizers.trapezoid.TrapezoidFill`:
+pixel centres, top-left ties) and takes triangles and paths under both fill rules, so the
+conformance check judges it. Where a row crosses an edge is decided exactly (the
+reference's :func:`~rasterizers.trapezoid.crossing_column`): each differs from the
+oracle only through its bug. Spans are emitted between neighbouring crossings where the
+winding between them satisfies the rule, as the trapezoid decomposition does: nothing
+right of a row's last crossing.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from harness.api import AnyScene, Coverage, PathScene
+from harness.conventions import Convention
+from harness.exact import frozen
+from rasterizers.trapezoid import crossing_column, outline
+
+__all__ = ["PathFillBug", "BUGS"]
+
+BUGS = ("evenodd-for-nonzero", "unsigned-crossings", "horizontal-crossings", "inclusive-ends", "open-contours")
+EVENODD_FOR_NONZERO, UNSIGNED_CROSSINGS, HORIZONTAL_CROSSINGS, INCLUSIVE_ENDS, OPEN_CONTOURS = range(5)
+
+
+class PathFillBug:
+    """A trapezoid (active edge list) path filler with one bug.
+
+    bug:
+      "evenodd-for-nonzero"   the parity of the crossings decides under either rule, so
+                              nonzero loses every region of winding +/-2 (a pentagram's
+                              centre, a hole wound like its ring)
+      "unsigned-crossings"    the edge table stores every edge top to bottom and forgets
+                              which way it ran: every crossing adds +1, so nonzero fills
+                              from a row's first crossing to its last (a hole wound
+                              against its ring, the gaps between a pentagram's points);
+                              even-odd is unaffected (the parity is the same)
+      "horizontal-crossings"  horizontal edges are kept in the edge table: one lying on a
+                              sample row counts as a crossing there, at its left end,
+                              adding +1 (``dir = 1 if dy >= 0 else -1``)
+      "inclusive-ends"        an edge crosses the rows ``ylo <= ys <= yhi``, both ends
+                              inclusive instead of half-open: a row through a vertex
+                              where the outline passes on (one edge ending, the next
+                              starting) counts it twice -- even-odd drops that row's
+                              span -- and a row through a bottom edge is drawn
+      "open-contours"         the edge list is built from consecutive vertex pairs only,
+                              dropping each contour's closing edge (last -> first)
+    """
+
+    convention = Convention(sample=(0.5, 0.5), tie="top-left")
+    scene_kinds = ("triangles", "paths")
+    fill_rules = ("nonzero", "evenodd")
+    interpolates = False
+
+    def __init__(self, bug: str) -> None:
+        if bug not in BUGS:
+            raise ValueError(f"bug must be one of {', '.join(BUGS)}, not {bug!r}")
+        self.bug = bug
+        self.name = f"bad_{bug}"
+
+    def rasterize(self, scene: AnyScene) -> Coverage:
+        a, b, primitive = outline(scene)
+        if isinstance(scene, PathScene):
+            closing = np.zeros(primitive.size, dtype=bool)
+            closing[np.cumsum(scene.contour_sizes) - 1] = True
+        else:
+            closing = np.arange(primitive.size) % 3 == 2
+        keep = np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1)
+        keep &= np.isin(primitive, primitive[~keep], invert=True)  # a path with a NaN covers nothing
+        bug = BUGS.index(self.bug)
+        if bug == OPEN_CONTOURS:
+            keep &= ~closing
+        order = np.flatnonzero(keep)[np.argsort(primitive[keep], kind="stable")]
+        bounds = np.searchsorted(primitive[order], np.arange(len(scene) + 1)).astype(np.int64)
+        evenodd = bug == EVENODD_FOR_NONZERO or (isinstance(scene, PathScene) and scene.fill_rule == "evenodd")
+        ax, ay, bx, by = (frozen(c[order]) for c in (a[:, 0], a[:, 1], b[:, 0], b[:, 1]))
+        return Coverage(*_spans(ax, ay, bx, by, bounds, bug, evenodd, scene.width, scene.height))
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _spans(ax, ay, bx, by, bounds, bug, evenodd, width, height):  # type: ignore[no-untyped-def]
+    """Spans (path, y, x0, x1), row by row, over each path's edges ``bounds[p]:bounds[p + 1]``."""
+    capacity = height * ax.size  # per row and path at most ceil(crossings / 2) spans, a path has an edge at least
+    out_p = np.empty(capacity, dtype=np.int64)
+    out_y = np.empty(capacity, dtype=np.int64)
+    out_x0 = np.empty(capacity, dtype=np.int64)
+    out_x1 = np.empty(capacity, dtype=np.int64)
+    n = 0
+    column = np.empty(ax.size, dtype=np.int64)
+    winding = np.empty(ax.size, dtype=np.int64)
+    for p in range(bounds.size - 1):
+        for j in range(height):
+            ys = j + 0.5
+            m = 0
+            for e in range(bounds[p], bounds[p + 1]):
+                if ay[e] == by[e]:
+                    if bug == HORIZONTAL_CROSSINGS and ay[e] == ys:  # BUG: a horizontal edge on the row crosses it
+                        column[m] = min(max(math.ceil(min(ax[e], bx[e]) - 0.5), 0), width)
+                        winding[m] = 1
+                        m += 1
+                    continue
+                if bug == INCLUSIVE_ENDS:  # BUG: [ylo, yhi] instead of [ylo, yhi)
+                    crosses = min(ay[e], by[e]) <= ys <= max(ay[e], by[e])
+                else:  # top-left: a vertex on the row lies above the sample
+                    crosses = (ay[e] <= ys) != (by[e] <= ys)
+                if not crosses:
+                    continue
+                column[m] = crossing_column(ax[e], ay[e], bx[e], by[e], True, 0.5, ys, width)
+                # BUG (unsigned-crossings): the direction is lost, every crossing adds +1
+                winding[m] = 1 if bug == UNSIGNED_CROSSINGS or by[e] > ay[e] else -1
+                m += 1
+            order = np.argsort(column[:m], kind="mergesort")
+            wind = 0
+            start = -1
+            k = 0
+            while k < m:
+                c = column[order[k]]
+                while k < m and column[order[k]] == c:
+                    wind += winding[order[k]]
+                    k += 1
+                inside = (wind & 1) == 1 if evenodd else wind != 0
+                if inside and start < 0:
+                    start = c
+                elif not inside and start >= 0:
+                    out_p[n] = p
+                    out_y[n] = j
+                    out_x0[n] = start
+                    out_x1[n] = c
+                    n += 1
+                    start = -1
+            if start >= 0 and m and column[order[m - 1]] > start:  # the last trapezoid ends at the last crossing
+                out_p[n] = p
+                out_y[n] = j
+                out_x0[n] = start
+                out_x1[n] = column[order[m - 1]]
+                n += 1
+    return out_p[:n], out_y[:n], out_x0[:n], out_x1[:n]
