@@ -19,7 +19,7 @@ from harness.exact import frozen
 from harness.spans import already_tidy, expand, pixel_offsets, run_tails, span_buffers, tidy
 
 __all__ = ["Scene", "PathScene", "AnyScene", "SCENE_KINDS", "Coverage", "Convention", "Rasterizer", "span_buffers", "interpolates_of", "received_of", "fingerprint_of",
-           "scene_kinds_of", "fill_rules_of", "takes"]
+           "scene_kinds_of", "fill_rules_of", "takes", "Unsupported"]
 
 # Sample points i + sx must be exact floats (sx has up to 32 fractional bits).
 MAX_VIEWPORT = 1 << 20
@@ -331,6 +331,12 @@ class PathScene:
     def with_fill_rule(self, fill_rule: str) -> PathScene:
         """The same paths under another fill rule."""
         return PathScene(self.width, self.height, self.vertices, self.contour_sizes, self.contour_path, fill_rule)
+
+
+class Unsupported(ValueError):
+    """Raised by a rasterizer for a scene it cannot draw as given (say, a library that
+    fills one contour per call handed a path of three): the runner reports a skip with the
+    message, naming what it cannot do, instead of an error."""
 
 
 # A scene of any kind: each has ``width``, ``height``, ``kind``, ``len()`` (its number of

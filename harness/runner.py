@@ -19,7 +19,7 @@ from pathlib import Path
 from cases.suites import suite as suite_cases
 from harness.case import Case, MotionCase, read_case_file
 from harness import checks, repro
-from harness.api import Rasterizer, Scene, fingerprint_of, interpolates_of, scene_kinds_of, takes
+from harness.api import Rasterizer, Scene, Unsupported, fingerprint_of, interpolates_of, scene_kinds_of, takes
 from harness.checks import Drawing, Result, Tolerance
 
 from harness.isolation import AnyCall, InProcess, Outcome, Worker, describe, each_until_error
@@ -50,6 +50,8 @@ def check_case(case: Case, rasterizer: Rasterizer, call: AnyCall,
         return []
     outcome = call(case.scene)
     if outcome.coverage is None:
+        if isinstance(outcome.error, Unsupported):  # cannot draw this scene as given: it says so
+            return [Result(name, case.id, "run", "skip", f"unsupported: {outcome.error}", {"seconds": outcome.seconds})]
         refused = checks.refusal(case, outcome.error) if outcome.error is not None else None
         if refused is not None:
             return [replace(refused, rasterizer=name)]

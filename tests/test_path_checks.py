@@ -173,3 +173,18 @@ def test_path_scenes_refuse_malformed_input_naming_the_fault() -> None:
         PathScene(4, 4, np.zeros((3, 2)), [3], [1])
     with pytest.raises(ValueError, match="no vertex"):
         PathScene(4, 4, np.zeros((3, 2)), [3, 0], [0, 0])
+
+
+def test_a_scene_a_rasterizer_cannot_draw_as_given_is_a_skip_saying_why() -> None:
+    from harness.api import Unsupported
+
+    class OneContour(OracleFiller):
+        def rasterize(self, scene):  # type: ignore[no-untyped-def]
+            if isinstance(scene, PathScene) and np.bincount(scene.contour_path).max() > 1:
+                raise Unsupported(f"{self.name}: path 0 has {len(scene.contour_sizes)} contours; one per call")
+            return super().rasterize(scene)
+
+    results = _results(OneContour("one_contour"), CASES)
+    ring = [r for r in results if r.case == "paths/ring-same/nonzero"]
+    assert [(r.check, r.status) for r in ring] == [("run", "skip")] and "2 contours" in ring[0].message
+    assert all(r.status in ("pass", "skip") for r in results)

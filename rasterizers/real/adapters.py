@@ -9,10 +9,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene
+from harness.api import AnyScene, Coverage, PathScene, Scene, Unsupported
 from harness.conventions import Convention
 from harness.registry import Unavailable
-from rasterizers.real._masks import coverage_from_sample_masks, draw_each, draw_each_alpha, finite_within_limit
+from rasterizers.real._masks import coverage_from_sample_masks, draw_each, draw_each_alpha, draw_each_path, finite_within_limit
+from rasterizers.real._stencil import StencilPaths
 
 __all__ = ["PillowPolygon", "SkimagePolygon", "SkiaPath", "CairoFill", "MesaLlvmpipe", "MesaSoftpipe",
            "CairoAntialiased", "SkiaAntialiased", "MesaMultisample"]
@@ -46,56 +47,126 @@ def _need(module: str, hint: str) -> Any:
         raise Unavailable(f"{module} is not installed ({type(exc).__name__}): {hint}{_install_failure(module)}") from None
 
 
-def _skia_fill(skia: Any, p: NDArray, w: int, h: int, antialias: bool) -> NDArray:
-    """One triangle filled by skia (a path, black paint) into a w x h alpha-8 surface: the
-    (h, w) uint8 alpha."""
+def _skia_path(skia: Any, contours: list[NDArray], fill_rule: str = "nonzero") -> Any:
+    """A skia path of closed polygon contours (move, lines, close per contour) under the
+    fill rule. skia keeps points as float32 (``SkScalar``), which ``moveTo``/``lineTo``
+    round to as well; the path is built from its serialized form (``readFromMemory``:
+    the points as float32, the verbs as bytes) in one call, and, should this skia not
+    read that form back, with a ``moveTo``/``lineTo`` per vertex (the same path)."""
+    fill_type = skia.PathFillType.kEvenOdd if fill_rule == "evenodd" else skia.PathFillType.kWinding
+    path = skia.Path()
+    sizes = [c.shape[0] for c in contours]
+    if sizes and min(sizes) > 0:
+        # SkPath::writeToMemory, version 5: (version | fill type << 8), points, conics, verbs;
+        # the float32 points; the verbs (move, line..., close per contour), padded to 4 bytes
+        lengths = np.array(sizes) + 1  # K verbs and a close per contour
+        ends = np.cumsum(lengths)
+        verbs = np.ones(int(ends[-1]), dtype=np.uint8)  # kLine_Verb
+        verbs[ends - lengths] = 0  # kMove_Verb
+        verbs[ends - 1] = 5  # kClose_Verb
+        with np.errstate(over="ignore", invalid="ignore"):
+            points = np.concatenate(contours).astype(np.float32)
+        header = np.array([5 | (1 if fill_rule == "evenodd" else 0) << 8, points.shape[0], 0, verbs.size], dtype=np.int32)
+        data = header.tobytes() + points.tobytes() + verbs.tobytes() + bytes(-verbs.size % 4)
+        if path.readFromMemory(data) == len(data):
+            return path
+        path = skia.Path()
+    path.setFillType(fill_type)
+    for contour in contours:
+        if contour.shape[0] == 0:
+            continue
+        path.moveTo(float(contour[0, 0]), float(contour[0, 1]))
+        for x, y in contour[1:].tolist():
+            path.lineTo(x, y)
+        path.close()
+    return path
+
+
+def _skia_fill(skia: Any, contours: list[NDArray], w: int, h: int, antialias: bool, fill_rule: str = "nonzero") -> NDArray:
+    """Closed contours (a triangle is one) filled by skia under the fill rule, as one path
+    with black paint, into a w x h alpha-8 surface: the (h, w) uint8 alpha."""
     surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(w, h))
     canvas = surface.getCanvas()
     canvas.clear(skia.ColorTRANSPARENT)
-    path = skia.Path()
-    path.moveTo(float(p[0, 0]), float(p[0, 1]))
-    path.lineTo(float(p[1, 0]), float(p[1, 1]))
-    path.lineTo(float(p[2, 0]), float(p[2, 1]))
-    path.close()
-    canvas.drawPath(path, skia.Paint(AntiAlias=antialias, Color=skia.ColorBLACK))
-    return np.asarray(surface.makeImageSnapshot().toarray(colorType=skia.kAlpha_8_ColorType)).reshape(h, w)
+    canvas.drawPath(_skia_path(skia, contours, fill_rule), skia.Paint(AntiAlias=antialias, Color=skia.ColorBLACK))
+    alpha = np.empty((h, w), dtype=np.uint8)
+    if not surface.readPixels(skia.ImageInfo.MakeA8(w, h), alpha, w, 0, 0):
+        raise RuntimeError(f"skia could not read back its {w} x {h} surface")
+    return alpha
 
 
-def _cairo_fill(cairo: Any, p: NDArray, w: int, h: int, antialias: Any) -> NDArray:
-    """One triangle filled by cairo into a w x h A8 surface: the (h, w) uint8 alpha."""
+def _cairo_fill(cairo: Any, contours: list[NDArray], w: int, h: int, antialias: Any, fill_rule: str = "nonzero") -> NDArray:
+    """Closed contours (a triangle is one) filled by cairo under the fill rule, as one
+    path, into a w x h A8 surface: the (h, w) uint8 alpha."""
     surface = cairo.ImageSurface(cairo.FORMAT_A8, w, h)
     ctx = cairo.Context(surface)
     ctx.set_antialias(antialias)
-    ctx.move_to(float(p[0, 0]), float(p[0, 1]))
-    ctx.line_to(float(p[1, 0]), float(p[1, 1]))
-    ctx.line_to(float(p[2, 0]), float(p[2, 1]))
-    ctx.close_path()
+    ctx.set_fill_rule(cairo.FILL_RULE_EVEN_ODD if fill_rule == "evenodd" else cairo.FILL_RULE_WINDING)
+    for contour in contours:
+        if contour.shape[0] == 0:
+            continue
+        ctx.move_to(float(contour[0, 0]), float(contour[0, 1]))
+        for x, y in contour[1:].tolist():
+            ctx.line_to(x, y)
+        ctx.close_path()
     ctx.fill()
     surface.flush()
     stride = surface.get_stride()
     return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, stride)[:, :w]
 
 
-class _OneTriangleAtATime:
-    """A 2D library drawing one triangle at a time into a mask (``_draw``): coverage only,
-    no declared convention."""
+class _OneAtATime:
+    """A 2D library drawing one triangle, or one whole path (all its contours in one fill,
+    under the scene's fill rule), at a time into a mask (``_draw``, ``_draw_path``):
+    coverage only, no declared convention."""
 
     name = ""
     convention = None
     interpolates = False  # coverage only: the library draws no varyings
+    scene_kinds: tuple[str, ...] = ("triangles", "paths")
+    fill_rules: tuple[str, ...] = ("nonzero", "evenodd")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         raise NotImplementedError
 
-    def rasterize(self, scene: Scene) -> Coverage:
+    def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
+        raise NotImplementedError
+
+    def _refuse(self, scene: PathScene) -> None:
+        """Raise Unsupported for a path scene the library cannot fill (by default, a fill
+        rule it does not honour)."""
+        if scene.fill_rule not in self.fill_rules:
+            raise Unsupported(f"{self.name}: fills {' and '.join(self.fill_rules)} only, not {scene.fill_rule!r}")
+
+    def rasterize(self, scene: AnyScene) -> Coverage:
+        if isinstance(scene, PathScene):
+            self._refuse(scene)
+            rule = scene.fill_rule
+            return draw_each_path(scene, self.name, lambda contours, w, h, origin: self._draw_path(contours, rule, w, h))
         return draw_each(scene, self.name, self._draw)
 
 
-class PillowPolygon(_OneTriangleAtATime):
+class PillowPolygon(_OneAtATime):
     """Pillow's ``ImageDraw.polygon``. Pillow puts pixel centres at integer coordinates,
-    so our (x, y) is Pillow's (x - 0.5, y - 0.5)."""
+    so our (x, y) is Pillow's (x - 0.5, y - 0.5).
+
+    Paths: even-odd, one contour per path. What Pillow does (``_draw_polygon`` in
+    ``src/_imaging.c``, ``ImagingDrawPolygon`` and ``polygon_generic`` in
+    ``src/libImaging/Draw.c``): every vertex is truncated to an integer (``(int)x``, toward
+    zero: whole-pixel vertices); each horizontal edge is drawn as a line; on each row
+    (Pillow's integer y, our pixel centre) the crossings of the other edges (an edge's two
+    end rows included, its lower end row counted twice; corners nudged by a heuristic) are
+    sorted and taken in pairs, each pair filling the pixels ``ceil(a) .. floor(b)``, ends
+    included. Pairing sorted crossings is the even-odd rule (``polygon_generic``'s
+    ``eofill`` argument is unused), so ``fill_rules = ("evenodd",)``: a self-intersecting
+    contour (a pentagram) is filled even-odd, its centre left empty. ``ImageDraw.polygon``
+    takes one vertex sequence, one contour: a path of several contours is refused with a
+    ValueError naming it, not drawn otherwise (two calls would OR the contours, which is
+    no fill rule, and a zero-width bridge joining them into one polygon would have its
+    own pixels filled, Pillow filling edges inclusively)."""
 
     name = "pillow"
+    fill_rules = ("evenodd",)
 
     def __init__(self) -> None:
         self._pil = _need("PIL", "pip install pillow")
@@ -108,12 +179,47 @@ class PillowPolygon(_OneTriangleAtATime):
         self._Draw.Draw(image).polygon([(float(x) - 0.5, float(y) - 0.5) for x, y in p], fill=255)
         return np.asarray(image) > 0
 
+    def _refuse(self, scene: PathScene) -> None:
+        super()._refuse(scene)
+        several = np.flatnonzero(np.bincount(scene.contour_path, minlength=len(scene)) > 1)
+        if several.size:
+            k = int(several[0])
+            raise Unsupported(f"{self.name}: path {k} has {int(np.sum(scene.contour_path == k))} contours; "
+                             "ImageDraw.polygon fills one contour per call")
 
-class SkimagePolygon(_OneTriangleAtATime):
+    def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
+        (contour,) = contours
+        image = self._Image.new("L", (w, h), 0)
+        if contour.shape[0] > 1:  # Pillow raises TypeError below two vertices; one vertex encloses nothing
+            self._Draw.Draw(image).polygon((contour - 0.5).ravel().tolist(), fill=255)
+        return np.asarray(image) > 0
+
+
+class SkimagePolygon(_OneAtATime):
     """scikit-image's ``draw.polygon(rows, cols)``: pixel centres at integers, so rows are
-    y - 0.5 and columns x - 0.5."""
+    y - 0.5 and columns x - 0.5.
+
+    Paths: even-odd, every contour of a path in one call. What scikit-image does
+    (``_polygon`` in ``draw/_draw.pyx``, ``point_in_polygon`` in
+    ``_shared/geometry.pyx``): every pixel centre of the polygon's box is tested on its own
+    by the parity of the polygon's crossings of a ray to its right (an edge crosses when
+    its ends lie strictly on opposite sides of the ray, ``(y0 > 0) != (y1 > 0)``, at x =
+    ``(x0*y1 - x1*y0) / (y1 - y0)`` in float64); a centre within 1e-12 of a vertex in both
+    coordinates, or on an edge (left and right crossing parities differ), is inside. So
+    ``fill_rules = ("evenodd",)``. ``draw.polygon`` takes one polygon: a path's contours
+    are joined into one by zero-width bridges, C0, C0[0], C1, C1[0], C0[0], C2, C2[0],
+    C0[0], ... (C0 is walked and closed, then the bridge C0[0] -> C1[0], C1 walked and
+    closed, the bridge back C1[0] -> C0[0], and so on). This is exact, not an
+    approximation: the two edges of a bridge are the same segment walked both ways, and
+    the test above gives them the same straddle decision and the same float crossing (the
+    numerator and the denominator both change sign exactly, rounding to nearest being
+    symmetric), so each bridge adds 0 or 2 crossings and never changes a parity; the
+    repeated vertices are vertices already, and the closing edge C0[0] -> C0[0] has zero
+    length (it crosses nothing). The bridged polygon is therefore filled exactly as
+    scikit-image's test would fill all the path's edges at once."""
 
     name = "skimage"
+    fill_rules = ("evenodd",)
 
     def __init__(self) -> None:
         _need("skimage", "pip install scikit-image")
@@ -127,10 +233,36 @@ class SkimagePolygon(_OneTriangleAtATime):
         mask[rows, cols] = True
         return mask
 
+    def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
+        return self._draw(bridged(contours), w, h, (0, 0))
 
-class SkiaPath(_OneTriangleAtATime):
+
+def bridged(contours: list[NDArray]) -> NDArray:
+    """One polygon walking every contour, joined by zero-width bridges from the first
+    contour's first vertex (see :class:`SkimagePolygon`): (V + 2 (C - 1) + 1, 2) for C > 1
+    contours of V vertices in all, the single contour itself for C = 1.
+
+    >>> bridged([np.array([[0, 0], [4, 0], [0, 4]]), np.array([[1, 1], [1, 2], [2, 1]])]).tolist()
+    [[0, 0], [4, 0], [0, 4], [0, 0], [1, 1], [1, 2], [2, 1], [1, 1], [0, 0]]
+    """
+    if len(contours) == 1:
+        return contours[0]
+    home = contours[0][:1]
+    pieces = [contours[0], home]
+    for contour in contours[1:]:
+        pieces += [contour, contour[:1], home]
+    return np.concatenate(pieces)
+
+
+class SkiaPath(_OneAtATime):
     """skia-python, anti-aliasing off: skia's pixel (i, j) is our [i, i+1) x [j, j+1), so
-    coordinates pass unchanged."""
+    coordinates pass unchanged.
+
+    Paths: each path is one ``skia.Path`` holding all its contours (move, lines, close
+    each), with fill type ``kWinding`` (nonzero) or ``kEvenOdd``, drawn with one
+    ``drawPath``; both rules are skia's own. Measured (skia-python 144.1): centre samples
+    and bottom-right ties fit best, every departure within 1/64 px of an edge (its
+    vertices in 26.6 fixed point)."""
 
     name = "skia"
 
@@ -138,12 +270,26 @@ class SkiaPath(_OneTriangleAtATime):
         self._skia = _need("skia", "pip install skia-python   (or pip install '.[real]')")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
-        return _skia_fill(self._skia, p, w, h, antialias=False) > 0
+        return _skia_fill(self._skia, [p], w, h, antialias=False) > 0
+
+    def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
+        return _skia_fill(self._skia, contours, w, h, False, fill_rule) > 0
 
 
-class CairoFill(_OneTriangleAtATime):
+class CairoFill(_OneAtATime):
     """pycairo, ``ANTIALIAS_NONE`` fill: cairo's pixel (i, j) is our [i, i+1) x [j, j+1), so
-    coordinates pass unchanged."""
+    coordinates pass unchanged.
+
+    Paths: each path is one cairo path holding all its contours (``move_to``,
+    ``line_to``, ``close_path`` each), filled once with ``FILL_RULE_WINDING`` (nonzero)
+    or ``FILL_RULE_EVEN_ODD``; both rules are cairo's own. Measured (cairo 1.16): centre
+    samples and top-left ties fit best, but the aliased scan converter
+    (``cairo-mono-scan-converter.c``, ``row``) ends a span where the winding returns to
+    zero only when the next edge lies more than one pixel further (``I(next->x.quo) >
+    xend + 1``), so a one-pixel gap between two slanted edges of a row is filled (a
+    triangle has none, which is why triangles fit); and a self-intersecting path leaving
+    the surface on the left may fill pixels of column 0 that it leaves empty on a larger
+    surface."""
 
     name = "cairo"
 
@@ -151,7 +297,10 @@ class CairoFill(_OneTriangleAtATime):
         self._cairo = _need("cairo", "apt-get install libcairo2-dev pkg-config && pip install pycairo   (or pip install '.[real]')")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
-        return _cairo_fill(self._cairo, p, w, h, self._cairo.ANTIALIAS_NONE) > 0
+        return _cairo_fill(self._cairo, [p], w, h, self._cairo.ANTIALIAS_NONE) > 0
+
+    def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
+        return _cairo_fill(self._cairo, contours, w, h, self._cairo.ANTIALIAS_NONE, fill_rule) > 0
 
 
 class _AlphaOneTriangleAtATime:
@@ -201,7 +350,7 @@ class CairoAntialiased(_AlphaOneTriangleAtATime):
         self._cairo = _need("cairo", "apt-get install libcairo2-dev pkg-config && pip install pycairo   (or pip install '.[real]')")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
-        return _cairo_fill(self._cairo, p, w, h, self._cairo.ANTIALIAS_DEFAULT) / 255.0
+        return _cairo_fill(self._cairo, [p], w, h, self._cairo.ANTIALIAS_DEFAULT) / 255.0
 
 
 class SkiaAntialiased(_AlphaOneTriangleAtATime):
@@ -231,7 +380,7 @@ class SkiaAntialiased(_AlphaOneTriangleAtATime):
         self._skia = _need("skia", "pip install skia-python   (or pip install '.[real]')")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
-        return _skia_fill(self._skia, p, w, h, antialias=True) / 255.0
+        return _skia_fill(self._skia, [p], w, h, antialias=True) / 255.0
 
 
 _VERTEX = """#version 330
@@ -308,12 +457,63 @@ class _Mesa:
     cancellation). The clip volume is therefore [-P, P]^2, wider than the screen: a
     triangle reaching up to P px off-screen reaches the rasterizer unclipped, as with a
     hardware guard band, and Mesa's viewport clipping (which moves vertices before
-    snapping) only acts beyond that. Mesa snaps vertices to its own sub-pixel grid."""
+    snapping) only acts beyond that. Mesa snaps vertices to its own sub-pixel grid.
+
+    Paths (both fill rules), each filled in one go by stencil-then-cover
+    (:mod:`rasterizers.real._stencil`). Per path: a triangle fan per contour from its
+    first vertex, (v0, vi, vi+1) (beyond 32 vertices a fan of fans, the same count with
+    short triangles: :func:`~rasterizers.real._stencil.fan_indices`), drawn into an 8-bit
+    stencil buffer with colour writes and culling off, two-sided: ``GL_INCR_WRAP`` under
+    front-facing triangles and ``GL_DECR_WRAP`` under back-facing ones (nonzero),
+    ``GL_INVERT`` under every one (even-odd); then a cover quad over the path's box (its bounding box widened to whole
+    pixels plus one, clipped to the screen) drawn with the stencil test ``!= 0`` (nonzero:
+    mask 0xFF; even-odd: bit 0), which records the path's pixels and resets the stencil to
+    0 as it passes, so the next path starts from a clear stencil. With GL 4.3 (llvmpipe)
+    the cover pass appends (path, x, y) to a storage buffer (``early_fragment_tests``: only
+    fragments that pass the stencil test run the shader), paths whose boxes share no pixel
+    go in one fan draw and one cover draw, and each batch is read back once; without
+    (softpipe) the cover writes colour, read back path by path.
+
+    Which samples, and why this is the fill rule: each fan triangle is rasterized like
+    any triangle, at pixel centres, and the stencil at a sample ends as the number of
+    front-facing minus back-facing fan triangles covering it (mod 256). The signed
+    indicator of a triangle is the winding number of its boundary, and the fans'
+    boundaries add up to the path's contours (each diagonal v0 -> vi, or chord, is
+    walked once each way), so at a sample on no fan edge the count is the path's winding
+    number w: the cover passes where w != 0 (mod 256), or where w is odd. On edges: llvmpipe's
+    triangle rule (identified exactly: top-left ties at pixel centres, vertices snapped to
+    1/256 px, half to even) decides every triangle at one perturbed point q = p + (eps,
+    eps**2), eps -> 0+ (:mod:`harness.conventions`), and q lies on no line through two
+    vertices, so the count at p is exactly the winding number at q. A sample on a
+    diagonal shared by two fan triangles is thus counted once when they lie on opposite
+    sides of it, and by both or neither (with opposite signs: they cancel) when they
+    overlap; a sample on the path's own edge or vertex is decided at q, which is the
+    oracle's tie rule for paths (:mod:`harness.winding`); a fan triangle of zero area
+    after snapping is culled and holds no q. Facing comes from the snapped area (the
+    window y flip reverses every facing, which negates all counts: neither rule cares).
+    So llvmpipe's paths follow ``Convention(tie="top-left", subpixel_bits=8)`` exactly
+    under both rules, on the float32-rounded scene (:meth:`received`), but for a winding
+    that is a nonzero multiple of 256 (reads as 0 under nonzero) and paths reaching past
+    the guard band. The guard band: for a path scene P is widened (powers of two, up to
+    :attr:`LARGEST`) until [-P, P]^2 holds every finite vertex, so fan triangles reaching
+    off-screen are not clipped (Mesa clips in float, before snapping). A path with a NaN
+    or infinite vertex goes to Mesa unchanged, its cover spanning the whole screen.
+
+    No declared convention (it would bind the triangles too, which ``identify``
+    fingerprints). Measured (Mesa 22.3.6): llvmpipe equals the exact oracle of
+    ``Convention(subpixel_bits=8)`` on 400 random path scenes (1-4 paths of 1-3 contours
+    of 1-13 vertices, on 1/2, 1/4, 1/512 and 1 px lattices and in float, repeated and
+    collinear vertices, both rules) and on the hand-made scenes of
+    ``tests/test_path_adapters.py``: 0 pixels differ. softpipe (the same passes, colour
+    read-back) fits centre samples, top-right ties, no snapping, as its triangles do:
+    15 of 100 such scenes differ from it, by 21 px in all."""
 
     name = ""
     driver = ""
     convention: Convention | None = None
     interpolates = False  # coverage only: this adapter reads back no varyings (yet)
+    scene_kinds: tuple[str, ...] = ("triangles", "paths")
+    fill_rules: tuple[str, ...] = ("nonzero", "evenodd")
     # GL_MAX_VIEWPORT_DIMS is 16384 in llvmpipe and softpipe: the 2P viewport must fit
     LARGEST = 8192
     batch = True  # one draw with a fragment list where GL >= 4.3
@@ -323,6 +523,7 @@ class _Mesa:
         self._moderngl = _need("moderngl", "pip install moderngl   (or pip install '.[real]'), with Mesa's EGL: apt-get install libegl1 libgl1-mesa-dri")
         self._ctx: Any = None
         self._pid = -1
+        self._paths: StencilPaths | None = None
 
     def _context(self) -> Any:
         if self._ctx is not None and self._pid == os.getpid():
@@ -347,23 +548,42 @@ class _Mesa:
             self._list_program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT_LIST)
         return ctx
 
-    def _side(self, scene: Scene) -> int:
+    def _side(self, scene: AnyScene) -> int:
         side = 1 << max(scene.width - 1, scene.height - 1, 1).bit_length()
         if side > self.LARGEST:
             raise ValueError(f"{self.name}: a {scene.width} x {scene.height} screen needs a {2 * side} px viewport; "
                              f"Mesa allows 16384 (screens up to {self.LARGEST} px a side)")
         return side
 
-    def received(self, scene: Scene) -> Scene:
+    def _guard_band(self, scene: PathScene, side: int) -> int:
+        """P for a path scene: the screen's, widened (by powers of two, up to
+        :attr:`LARGEST`) until the clip volume [-P, P]^2 holds every finite vertex, so that
+        no fan triangle reaching off-screen is clipped (Mesa clips in float, before
+        snapping, and moves the samples near the new edges). The mapping stays exact: x / P
+        in float32, P a power of two."""
+        reach = float(np.max(np.abs(scene.vertices), where=np.isfinite(scene.vertices), initial=0.0))
+        while side < reach and side < self.LARGEST:
+            side *= 2
+        return side
+
+    def received(self, scene: AnyScene) -> AnyScene:
         """The scene as Mesa receives it: each coordinate rounded to float32 (GL's vertex
         format), which the exact mapping then carries unchanged."""
         with np.errstate(invalid="ignore", over="ignore"):
-            window = scene.positions.astype(np.float32).astype(np.float64)
-        return Scene(scene.width, scene.height, window, scene.attributes, scene.w)
+            window = scene.coordinates.astype(np.float32).astype(np.float64)
+        return scene.with_coordinates(window)
 
-    def rasterize(self, scene: Scene) -> Coverage:
+    def _stencil_paths(self, ctx: Any) -> StencilPaths:
+        """The stencil-then-cover drawer of this context (made once per context)."""
+        if self._paths is None or self._paths.ctx is not ctx:
+            self._paths = StencilPaths(ctx, self._moderngl, self._program, listed=self._list_program is not None)
+        return self._paths
+
+    def rasterize(self, scene: AnyScene) -> Coverage:
         ctx = self._context()
         side = self._side(scene)
+        if isinstance(scene, PathScene):
+            return self._stencil_paths(ctx).rasterize(scene, self._guard_band(scene, side), self.name)
         if self._list_program is not None:
             return self._rasterize_listed(ctx, scene, side)
         return self._rasterize_each(ctx, scene, side)
@@ -501,6 +721,7 @@ class MesaMultisample(_Mesa):
 
     name = "mesa_llvmpipe_msaa4"
     driver = "llvmpipe"
+    scene_kinds = ("triangles",)  # paths: single-sample only (MesaLlvmpipe)
     SAMPLES = 4
     convention = Convention(samples=_LLVMPIPE_4X, tie="top-left", subpixel_bits=8)
     # fragments per draw: 16 bytes each, so 64 MiB of storage at most
@@ -565,7 +786,9 @@ class MesaMultisample(_Mesa):
         self._positions = tuple(positions)
         return self._positions
 
-    def rasterize(self, scene: Scene) -> Coverage:
+    def rasterize(self, scene: AnyScene) -> Coverage:
+        if isinstance(scene, PathScene):
+            raise ValueError(f"{self.name}: takes triangles only (scene_kinds); paths: mesa_llvmpipe")
         ctx = self._context()
         side = self._side(scene)
         reported = self.sample_positions()
