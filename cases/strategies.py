@@ -94,3 +94,25 @@ def fan_scenes(draw, size: int = 24):  # type: ignore[no-untyped-def]
     rng = np.random.default_rng(draw(st.integers(0, 2**16)))
     tris, rim = fan(count, centre, size / 3, rng)
     return Case("watertight/strategy-fan", Scene(size, size, tris), region=rim)
+
+
+# -- paths ---------------------------------------------------------------------------------
+
+__all__ += ["path_scenes"]
+
+
+@st.composite
+def path_scenes(draw, size: int = 12, bits: int = 2, max_vertices: int = 8, max_contours: int = 3, max_paths: int = 3,  # type: ignore[no-untyped-def]
+                fill_rules: tuple[str, ...] = ("nonzero", "evenodd")):
+    """Path scenes on the 2**-bits lattice (1/4 px by default), vertices up to 2 px beyond a
+    size x size viewport: 1..max_paths paths of 1..max_contours contours of
+    1..max_vertices vertices each (one- and two-vertex contours, repeated and collinear
+    vertices and self-intersections all come up), under a fill rule of ``fill_rules``."""
+    from harness.api import PathScene
+
+    scale = 2**bits
+    coord = st.integers(-2 * scale, (size + 2) * scale)
+    contour = st.lists(st.tuples(coord, coord), min_size=1, max_size=max_vertices)
+    paths = draw(st.lists(st.lists(contour, min_size=1, max_size=max_contours), min_size=1, max_size=max_paths))
+    rule = draw(st.sampled_from(fill_rules))
+    return PathScene.from_paths(size, size, [[np.array(c, dtype=np.float64) / scale for c in path] for path in paths], rule)

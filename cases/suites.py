@@ -1,4 +1,9 @@
-"""Suites: ``quick`` (the four built-ins in well under a minute) and ``full``."""
+"""Suites: ``quick`` (the four built-ins in well under a minute) and ``full``.
+
+Triangle families first, then the path families (``paths``, ``path-partitions``,
+``path-degenerate``: :mod:`cases.paths`; handed only to rasterizers that take paths), then
+motion.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +13,7 @@ from cases.degenerate import degenerate_cases
 from cases.meshes import mesh_cases
 from cases.motion import motion_cases
 from cases.partitions import partition_cases
+from cases.paths import path_cases
 from harness.case import Case, MotionCase
 from cases.scenes import lattice_triangles, random_triangles
 from harness.api import Scene
@@ -52,5 +58,6 @@ def suite(name: str, seed: int = 0) -> list[Case | MotionCase]:
         *partition_cases(seed, full),
         *mesh_cases(seed, full),
         *degenerate_cases(seed, full),
+        *path_cases(seed, full),
         *motion_cases(seed, full),
     ]

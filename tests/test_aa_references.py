@@ -29,7 +29,7 @@ REFERENCES = [PinedaMSAA4(), PinedaMSAA8(), AreaScanline(), Supersampler4()]
 
 @cache
 def static_cases() -> list[Case]:
-    return [c for c in suite("quick") if isinstance(c, Case)]
+    return [c for c in suite("quick") if isinstance(c, Case) and c.scene.kind == "triangles"]  # the references take triangles
 
 
 def answer(rasterizer: Rasterizer, case: Case) -> Coverage | None:
