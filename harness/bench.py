@@ -14,6 +14,23 @@ Beside the single-sample oracle, the oracles of the other coverage kinds: the ex
 ``oracle_msaa8``), with the anti-aliased fills of cairo and skia as their peers
 (``cairo_aa_fill``, ``skia_aa_fill``: the libraries alone, each triangle filled into one
 8-bit surface, no read-back -- the least they can cost), when installed.
+
+Path workloads (fixed seeds, 512 x 512; :func:`path_workloads`), each under both fill rules:
+
+- P1-nonzero, P1-evenodd: 1,000 {10/3} stars (10 vertices, one self-intersecting contour
+  each; random centres, radii 4 to 40 px and rotations);
+- P2-nonzero, P2-evenodd: one closed wiggly curve of 100,000 vertices that winds twice
+  around the centre (self-intersecting: where the two turns overlap nonzero and even-odd
+  part).
+
+The exact winding oracle (``oracle``, :func:`harness.oracle.exact_coverage` on the path
+scene) against the aliased path fills of the libraries, each path filled in one call into
+one 8-bit surface, no read-back: Pillow's ``ImageDraw.polygon`` (the yardstick again;
+even-odd, whatever the rule asked), cairo (``cairo_fill``: ``ANTIALIAS_NONE``, the scene's
+fill rule), skia (``skia_fill``: ``drawPath`` without anti-aliasing, the scene's fill type)
+and scikit-image (``skimage_polygon``: ``draw.polygon``, even-odd); and each rasterizer
+that takes the scene (:func:`harness.api.takes`). A library's time includes handing it the
+vertices through its Python binding, as for the triangle peers.
 """
 
 from __future__ import annotations
@@ -27,31 +44,40 @@ import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
-from harness.api import Scene
+from harness.api import AnyScene, PathScene, Scene, takes
 from harness.conventions import Convention
 from harness.oracle import exact_coverage
 from harness.registry import builtins, load
 from cases.scenes import random_triangles
 
-__all__ = ["Workload", "workloads", "run_bench", "format_table"]
+__all__ = ["Workload", "workloads", "path_workloads", "stars", "wiggly_outline", "run_bench", "format_table"]
 
 SIZE = 1024
+PATH_SIZE = 512
 
 
 @dataclass(frozen=True, slots=True)
 class Workload:
+    """A scene to time; ``mean_area`` is per primitive (for a path, the magnitude of its
+    signed area: the integral of its winding number)."""
+
     name: str
     description: str
-    scene: Scene
+    scene: AnyScene
     mean_area: float
 
 
 @dataclass(frozen=True, slots=True)
 class Measurement:
+    """One contender on one workload. ``triangles_per_second`` is primitives per second:
+    paths for a path workload (``unit``)."""
+
     workload: str
     contender: str
     cold_seconds: float
@@ -59,6 +85,8 @@ class Measurement:
     triangles_per_second: float
     ratio_to_pillow: float
     pixels: int
+    unit: str = "triangles"
+    description: str = ""
 
 
 def workloads(scale: float = 1.0) -> list[Workload]:
@@ -70,6 +98,57 @@ def workloads(scale: float = 1.0) -> list[Workload]:
         p = positions
         areas = 0.5 * np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
         out.append(Workload(name, f"{n} triangles, mean area {areas.mean():,.0f} px", Scene(SIZE, SIZE, positions), float(areas.mean())))
+    return out
+
+
+def stars(count: int, size: int, seed: int) -> PathScene:
+    """``count`` {10/3} star polygons (10 vertices, one contour, each vertex joined to the
+    third next: the winding number reaches 3 at the centre) with random centres on the
+    ``size`` x ``size`` screen, radii 4 to 40 px and rotations; fill rule nonzero.
+
+    >>> scene = stars(3, 64, 0)
+    >>> len(scene), scene.contour_sizes.tolist()
+    (3, [10, 10, 10])
+    """
+    rng = np.random.default_rng(seed)
+    centre = rng.uniform(0.0, size, size=(count, 1, 2))
+    radius = rng.uniform(4.0, 40.0, size=(count, 1))
+    angle = rng.uniform(0.0, 2.0 * np.pi, size=(count, 1)) + 2.0 * np.pi * 3.0 * np.arange(10) / 10.0
+    vertices = centre + radius[..., None] * np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+    return PathScene(size, size, vertices.reshape(-1, 2), np.full(count, 10, dtype=np.int64), np.arange(count, dtype=np.int64))
+
+
+def wiggly_outline(vertices: int, size: int) -> PathScene:
+    """One closed curve of ``vertices`` vertices that winds twice around the screen's centre
+    with wiggles of two frequencies: it crosses itself, and where its two turns overlap the
+    winding number is 2 (filled by nonzero, not by even-odd); fill rule nonzero.
+
+    >>> wiggly_outline(1000, 512).vertices.shape
+    (1000, 2)
+    """
+    t = np.arange(vertices) * (4.0 * np.pi / vertices)  # two turns; every term below closes after them
+    r = 0.42 * size * (0.62 + 0.25 * np.sin(3.5 * t) + 0.08 * np.sin(61.0 * t) + 0.03 * np.sin(997.0 * t))
+    points = size / 2.0 + np.stack([r * np.cos(t), r * np.sin(t)], axis=-1)
+    return PathScene(size, size, points, np.array([vertices], dtype=np.int64), np.array([0], dtype=np.int64))
+
+
+def _signed_areas(scene: PathScene) -> NDArray[np.float64]:
+    """(P,) each path's signed area (shoelace over its contours)."""
+    a, b, path = scene.edges()
+    return np.asarray(np.bincount(path, weights=(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]) / 2.0, minlength=len(scene)), dtype=np.float64)
+
+
+def path_workloads(scale: float = 1.0) -> list[Workload]:
+    """P1 (stars) and P2 (the 100,000-vertex outline), each under nonzero then even-odd;
+    ``scale`` < 1 shrinks the star count and the outline's vertices (for smoke tests)."""
+    n = max(1, int(1000 * scale))
+    v = max(64, int(100_000 * scale))
+    out = []
+    for name, scene, what in (("P1", stars(n, PATH_SIZE, 3), f"{n} {{10/3}} stars of 10 vertices"),
+                              ("P2", wiggly_outline(v, PATH_SIZE), f"one self-intersecting outline of {v:,} vertices")):
+        area = float(np.abs(_signed_areas(scene)).mean())
+        for rule in ("nonzero", "evenodd"):
+            out.append(Workload(f"{name}-{rule}", f"{what}, {rule}, {PATH_SIZE} x {PATH_SIZE}", scene.with_fill_rule(rule), area))
     return out
 
 
@@ -115,16 +194,139 @@ def _skia_aa(scene: Scene) -> np.ndarray:
     return np.asarray(surface.makeImageSnapshot().toarray())
 
 
-def _library_peers() -> list[tuple[str, Callable[[Scene], object]]]:
-    """The anti-aliased library fills that are installed here."""
-    peers: list[tuple[str, Callable[[Scene], object]]] = []
-    for label, module, fill in (("cairo_aa_fill", "cairo", _cairo_aa), ("skia_aa_fill", "skia", _skia_aa)):
+def _installed(candidates: tuple[tuple[str, str, Callable[[Any], object]], ...]) -> list[tuple[str, Callable[[Any], object]]]:
+    """The (label, fill) of ``candidates`` whose module imports here."""
+    peers: list[tuple[str, Callable[[Any], object]]] = []
+    for label, module, fill in candidates:
         try:
             __import__(module)
         except Exception:  # noqa: BLE001 - not installed (or broken): no peer, the table says which ran
             continue
         peers.append((label, fill))
     return peers
+
+
+def _library_peers() -> list[tuple[str, Callable[[Scene], object]]]:
+    """The anti-aliased library fills that are installed here."""
+    return _installed((("cairo_aa_fill", "cairo", _cairo_aa), ("skia_aa_fill", "skia", _skia_aa)))
+
+
+# -- the path peers: each path filled in one call into one 8-bit surface ------------------------
+
+
+class _Surface:
+    """A library's surface, drawn and not read back: :func:`_pixels` reads it, outside the
+    timed call."""
+
+    def __init__(self, read: Callable[[], NDArray[np.uint8]]) -> None:
+        self.read = read
+
+
+def _contours_by_path(scene: PathScene, shift: float = 0.0) -> list[list[list[float]]]:
+    """Each path's contours, as flat ``[x0, y0, x1, y1, ...]`` lists moved by ``shift`` px,
+    paths in order."""
+    flat = (scene.vertices + shift).ravel().tolist()
+    starts = (2 * scene.contour_starts).tolist()
+    ends = (2 * np.cumsum(scene.contour_sizes)).tolist()
+    by_path: list[list[list[float]]] = [[] for _ in range(len(scene))]
+    for path, start, end in zip(scene.contour_path.tolist(), starts, ends):
+        by_path[path].append(flat[start:end])
+    return by_path
+
+
+def _pillow_paths(scene: PathScene) -> Image.Image:
+    """Pillow's polygon fill of each contour (even-odd within a contour, whatever the rule)."""
+    image = Image.new("L", (scene.width, scene.height), 0)
+    draw = ImageDraw.Draw(image)
+    for path in _contours_by_path(scene, -0.5):  # Pillow's pixel centres are at integers
+        for contour in path:
+            draw.polygon(contour, fill=255)
+    return image
+
+
+def _cairo_paths(scene: PathScene) -> _Surface:
+    """cairo's aliased fill (``ANTIALIAS_NONE``) of each path under the scene's fill rule."""
+    import cairo
+
+    surface = cairo.ImageSurface(cairo.FORMAT_A8, scene.width, scene.height)
+    context = cairo.Context(surface)
+    context.set_antialias(cairo.ANTIALIAS_NONE)
+    context.set_fill_rule(cairo.FILL_RULE_WINDING if scene.fill_rule == "nonzero" else cairo.FILL_RULE_EVEN_ODD)
+    for path in _contours_by_path(scene):
+        for contour in path:
+            context.move_to(contour[0], contour[1])
+            for k in range(2, len(contour), 2):
+                context.line_to(contour[k], contour[k + 1])
+            context.close_path()
+        context.fill()
+
+    def read() -> NDArray[np.uint8]:
+        surface.flush()
+        stride = surface.get_stride()
+        return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(scene.height, stride)[:, :scene.width]
+
+    return _Surface(read)
+
+
+def _skia_paths(scene: PathScene) -> _Surface:
+    """skia's ``drawPath`` without anti-aliasing of each path under the scene's fill type."""
+    import skia
+
+    surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(scene.width, scene.height))
+    canvas = surface.getCanvas()
+    paint = skia.Paint(AntiAlias=False)
+    fill_type = skia.PathFillType.kWinding if scene.fill_rule == "nonzero" else skia.PathFillType.kEvenOdd
+    for contours in _contours_by_path(scene):
+        path = skia.Path()
+        path.setFillType(fill_type)
+        for contour in contours:
+            path.moveTo(contour[0], contour[1])
+            for k in range(2, len(contour), 2):
+                path.lineTo(contour[k], contour[k + 1])
+            path.close()
+        canvas.drawPath(path, paint)
+    return _Surface(lambda: np.asarray(surface.makeImageSnapshot().toarray()))
+
+
+def _skimage_paths(scene: PathScene) -> NDArray[np.uint8]:
+    """scikit-image's ``draw.polygon`` of each contour (even-odd within a contour) into one
+    array."""
+    from skimage.draw import polygon
+
+    image = np.zeros((scene.height, scene.width), dtype=np.uint8)
+    shape = image.shape
+    shifted = scene.vertices - 0.5  # scikit-image's pixel centres are at integers
+    for start, size in zip(scene.contour_starts.tolist(), scene.contour_sizes.tolist()):
+        contour = shifted[start:start + size]
+        rows, columns = polygon(contour[:, 1], contour[:, 0], shape)
+        image[rows, columns] = 255
+    return image
+
+
+def _path_peers() -> list[tuple[str, Callable[[PathScene], object]]]:
+    """The aliased library path fills that are installed here."""
+    return _installed((("cairo_fill", "cairo", _cairo_paths), ("skia_fill", "skia", _skia_paths),
+                       ("skimage_polygon", "skimage", _skimage_paths)))
+
+
+# scikit-image's polygon tests every pixel of a contour's bounding box against each of its
+# edges: above this many (box pixels x vertices) summed over the contours it is not
+# measured. The 1,000 stars are 2.4e7 tests (0.8 s a call here); the 100,000-vertex
+# outline is 1.7e10 (100 s a call).
+SKIMAGE_WORK_LIMIT = 5e7
+
+
+def _unmeasured(label: str, scene: AnyScene) -> str:
+    """Why a peer is not measured on ``scene`` ("" when it is)."""
+    if label != "skimage_polygon" or not isinstance(scene, PathScene):
+        return ""
+    lo = np.minimum.reduceat(scene.vertices, scene.contour_starts, axis=0)
+    hi = np.maximum.reduceat(scene.vertices, scene.contour_starts, axis=0)
+    box = np.prod(np.clip(np.ceil(hi) - np.floor(lo) + 1, 0, [scene.width, scene.height]), axis=1)
+    work = float((box * scene.contour_sizes).sum())
+    if work <= SKIMAGE_WORK_LIMIT:
+        return ""
+    return f"not measured: draw.polygon tests each box pixel against each edge ({work:.2g} tests, limit {SKIMAGE_WORK_LIMIT:.0e})"
 
 
 # The oracles of each coverage kind the bench measures.
@@ -143,6 +345,8 @@ def _pixels(result: object) -> int:
         return int(np.count_nonzero(np.asarray(result)))
     if isinstance(result, np.ndarray):
         return int(np.count_nonzero(result))
+    if isinstance(result, _Surface):
+        return int(np.count_nonzero(result.read()))
     return int(result.n_pixels)  # type: ignore[attr-defined]
 
 
@@ -170,20 +374,38 @@ def _time(fn: Callable[[], object], budget: float) -> tuple[float, float, int, i
     return cold, best, pixels, runs
 
 
+def _contenders(work: Workload, rasterizers: list[Any]) -> list[tuple[str, Callable[[], object]]]:
+    """Pillow first (the yardstick), the oracles, the library peers, then each rasterizer
+    that takes the workload's scene."""
+    scene = work.scene
+    if isinstance(scene, PathScene):
+        contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow_paths, scene)),
+                                                              ("oracle", partial(exact_coverage, scene, ORACLES["oracle"]))]
+        contenders += [(label, partial(fill, scene)) for label, fill in _path_peers() if not _unmeasured(label, scene)]
+    else:
+        contenders = [("pillow", partial(_pillow, scene))]
+        contenders += [(label, partial(exact_coverage, scene, convention)) for label, convention in ORACLES.items()]
+        contenders += [(label, partial(fill, scene)) for label, fill in _library_peers()]
+    contenders += [(r.name, partial(r.rasterize, scene)) for r in rasterizers if takes(r, scene)]
+    return contenders
+
+
 def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float = 1.0,
-              progress: Callable[[str], None] | None = None) -> list[Measurement]:
-    """Measure Pillow, the oracle and each rasterizer on W1 and W2 in this process;
-    ``progress`` hears a line before and after each contender."""
+              progress: Callable[[str], None] | None = None, paths: bool = True) -> list[Measurement]:
+    """Measure Pillow, the oracle and each rasterizer on W1 and W2, then (with ``paths``)
+    Pillow, the winding oracle, the library path fills and each path-taking rasterizer on
+    the path workloads, in this process; ``progress`` hears a line before and after each
+    contender."""
     names = names if names is not None else builtins()
     rasterizers = [load(n) for n in names]
     results = []
-    peers = _library_peers()
-    for work in workloads(scale):
-        contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow, work.scene))]
-        contenders += [(label, partial(exact_coverage, work.scene, convention)) for label, convention in ORACLES.items()]
-        contenders += [(label, partial(fill, work.scene)) for label, fill in peers]
-        for r in rasterizers:
-            contenders.append((r.name, partial(r.rasterize, work.scene)))
+    for work in workloads(scale) + (path_workloads(scale) if paths else []):
+        contenders = _contenders(work, rasterizers)
+        unit = "paths" if isinstance(work.scene, PathScene) else "triangles"
+        if progress is not None and isinstance(work.scene, PathScene):
+            for label, _ in _path_peers():
+                if _unmeasured(label, work.scene):
+                    progress(f"{work.name} {label}: {_unmeasured(label, work.scene)}")
         pillow_rate = None
         for label, fn in contenders:
             if progress is not None:
@@ -194,16 +416,19 @@ def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float 
             rate = len(work.scene) / seconds
             if pillow_rate is None:
                 pillow_rate = rate
-            results.append(Measurement(work.name, label, cold, seconds, rate, rate / pillow_rate, pixels))
+            results.append(Measurement(work.name, label, cold, seconds, rate, rate / pillow_rate, pixels, unit, work.description))
     return results
 
 
 def format_table(results: list[Measurement], descriptions: dict[str, str]) -> str:
+    """One block per workload: each contender's rate, ratio to Pillow, best and cold time
+    and pixels; a workload missing from ``descriptions`` is described by its measurements."""
     lines = []
     for work in dict.fromkeys(m.workload for m in results):
-        lines.append(f"{work}: {descriptions.get(work, '')}")
-        lines.append(f"  {'contender':<18}{'triangles/s':>14}{'x Pillow':>10}{'best ms':>10}{'cold s':>9}{'pixels':>11}")
-        for m in (m for m in results if m.workload == work):
+        mine = [m for m in results if m.workload == work]
+        lines.append(f"{work}: {descriptions.get(work) or mine[0].description}")
+        lines.append(f"  {'contender':<18}{mine[0].unit + '/s':>14}{'x Pillow':>10}{'best ms':>10}{'cold s':>9}{'pixels':>11}")
+        for m in mine:
             lines.append(
                 f"  {m.contender:<18}{m.triangles_per_second:>14,.0f}{m.ratio_to_pillow:>10.2f}"
                 f"{m.seconds * 1e3:>10.2f}{m.cold_seconds:>9.2f}{m.pixels:>11,}"

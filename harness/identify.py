@@ -21,6 +21,13 @@ the one ``compare`` uses too. Every call of the rasterizer goes through a
 :data:`~harness.isolation.Call`: in this process, or in a worker process
 (:func:`identify_isolated`).
 
+A path-taking rasterizer (``"paths"`` in :func:`harness.api.scene_kinds_of`) is asked
+first which fill rule it draws for each rule it declares (:func:`harness.path_probes.fill_rules`),
+then fingerprinted on triangles as above, then through the path interface (the triangle
+probes with each triangle sent as a one-contour path, :func:`harness.path_probes.fit_path_convention`):
+its path convention is compared with its triangle convention, and tried on genuine paths
+with ties. A triangle-only rasterizer is never sent a path scene.
+
 It prints a convention card and the :class:`Convention` that best explains the rasterizer
 with the residual mismatch; it says "identified" only when the residual is zero.
 """
@@ -30,15 +37,18 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from harness.api import Coverage, Rasterizer, Scene, interpolates_of, received_of
+from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, fill_rules_of, interpolates_of, received_of, scene_kinds_of
 from harness.conventions import Convention, CoverageKind
 from harness.coverage_probes import CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions
 from harness.isolation import Call, InProcess, Outcome, Worker
 from harness.probes import (Fact, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, unanswered, viewport_edge,
                             watertight_partitions, zero_area)
 from harness.samples import STANDARD_PATTERNS
+
+if TYPE_CHECKING:  # the path probes are imported when a path-taking rasterizer is identified
+    from harness.path_probes import PathFit
 
 __all__ = ["Fingerprint", "identify", "identify_isolated", "identify_all", "Identified"]
 
@@ -52,7 +62,13 @@ class Fingerprint:
 
     ``kind`` is the coverage kind seen (``single``, ``multisample``, ``area``); for the
     last two the residual counts mismatching fragments (triangle, sample, pixel) and
-    (triangle, pixel)s whose alpha lies beyond the convention's tolerance of its oracle."""
+    (triangle, pixel)s whose alpha lies beyond the convention's tolerance of its oracle.
+
+    For a path-taking rasterizer only (None otherwise): ``fill_rules``, each fill rule
+    asked -> what it drew (``nonzero``, ``evenodd``, ``neither: ...`` or ``unanswered:
+    ...``; :attr:`harness.path_probes.RuleSeen.label`), and ``path_convention``, the
+    convention that best explains it on paths (``path_fit`` holds the whole fit: residual,
+    comparison with triangles, genuine paths)."""
 
     rasterizer: str
     convention: Convention
@@ -63,6 +79,16 @@ class Fingerprint:
     ambiguous: tuple[str, ...] = ()
     probes: dict[str, Fact] = field(default_factory=dict, repr=False, compare=False)
     kind: CoverageKind = "single"
+    fill_rules: dict[str, str] | None = None
+    path_convention: Convention | None = None
+    path_fit: PathFit | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def honoured_fill_rules(self) -> tuple[str, ...] | None:
+        """The fill rules asked that it draws as asked (None for a triangle-only rasterizer)."""
+        if self.fill_rules is None:
+            return None
+        return tuple(rule for rule, drawn in self.fill_rules.items() if drawn == rule)
 
     @property
     def exact(self) -> bool:
@@ -87,6 +113,21 @@ class Fingerprint:
             out.update(kind=self.kind, samples=None if samples is None else [list(o) for o in samples],
                        levels=self.convention.levels if self.kind == "area" else None,
                        tolerance=self.convention.tolerance if self.kind == "area" else None)
+        if self.fill_rules is not None:  # a path-taking rasterizer's (added fields)
+            fit = self.path_fit
+            path = self.path_convention
+            out.update(fill_rules=dict(self.fill_rules), honoured_fill_rules=list(self.honoured_fill_rules or ()),
+                       path_convention=None if path is None else {
+                           "convention": path.describe(), "sample": list(path.sample), "tie": path.tie,
+                           "subpixel_bits": path.subpixel_bits, "snap_rounding": path.snap_rounding, "cull": path.cull,
+                           "exact": fit.exact if fit is not None else False,
+                           "residual": fit.residual if fit is not None else None,
+                           "pixels": fit.pixels if fit is not None else None,
+                           "fill_rule": fit.rule if fit is not None else None,
+                           "same_as_triangles": fit.same_as_triangles if fit is not None else None,
+                           "differences": list(fit.differences) if fit is not None else [],
+                           "genuine_paths": None if fit is None or fit.lattice is None else
+                           [{"fill_rule": r, "mismatches": m, "pixels": px} for r, m, px in fit.lattice.scores]})
         return out
 
     def card(self) -> str:
@@ -119,9 +160,16 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
         the rasterizer raising: each probe reports it, and nothing here raises for it.
     """
     call = InProcess(rasterizer) if call is None else call
+    if "paths" in scene_kinds_of(rasterizer):
+        return _identify_paths(rasterizer, call, seed)
+    return _identify_triangles(rasterizer.name, call, seed, received_of(rasterizer))
+
+
+def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Scene], Scene] | None) -> Fingerprint:
+    """:func:`identify` on triangles (``call`` takes triangle scenes)."""
     kind = coverage_kind(call)
     if kind.kind in ("area", "multisample"):
-        return _identify_coverage(rasterizer.name, call, seed, kind)
+        return _identify_coverage(name, call, seed, kind)
     ties = fit_ties(call, seed)
     snapping = fit_snapping(call, seed, ties)
     convention = snapping.convention
@@ -134,7 +182,7 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
         "rounding": snapping.rounding_fit,
         "residual lies": residual_lies(ties.drawn, convention) if residual else None,
         "viewport edge": viewport_edge(call, seed),
-        "epsilon": epsilon(call, convention, received_of(rasterizer)),
+        "epsilon": epsilon(call, convention, received),
         "zero area": zero_area(call),
         "non-finite": non_finite(call),
         "watertight": watertight_partitions(call, seed),
@@ -143,9 +191,66 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
         "unanswered": unanswered(drawn),
     }
     found = {label: fact for label, fact in probes.items() if fact is not None}
-    return Fingerprint(rasterizer.name, convention, residual, sum(d.pixels for d in drawn),
+    return Fingerprint(name, convention, residual, sum(d.pixels for d in drawn),
                        (ties.runner_up.describe(), ties.runner_up_mismatches), {k: f.text for k, f in found.items()},
                        snapping.ambiguous, found)
+
+
+def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprint:
+    """:func:`identify` for a path-taking rasterizer: first the fill rule drawn for each
+    rule it declares, then the triangle fingerprint (through one-contour paths when it takes
+    no triangles), then the convention for paths, compared with the triangle one and tried
+    on genuine paths under each honoured rule. Only a single-sample rasterizer's path
+    convention is fitted (the triangle probes it reuses are single-sample ones)."""
+    from harness.path_probes import PathFit, as_paths, fill_rules, fit_path_convention, path_fit_of, with_lattice
+
+    rules = fill_rules(call, fill_rules_of(rasterizer))
+    rule = rules.fit_rule
+    received = received_of(rasterizer)
+    if "triangles" in scene_kinds_of(rasterizer):
+        fingerprint = _identify_triangles(rasterizer.name, call, seed, received)
+        path: PathFit | None = None
+        if fingerprint.kind == "single":
+            path = fit_path_convention(call, seed, rule, fingerprint.convention)
+    else:
+        # it takes paths only: every triangle probe goes through one-contour paths
+        fingerprint = _identify_triangles(rasterizer.name, as_paths(call, rule), seed, _received_as_triangles(received, rule))
+        path = None
+        if fingerprint.kind == "single":
+            path = path_fit_of(fingerprint.convention, fingerprint.residual, fingerprint.pixels, fingerprint.runner_up,
+                               fingerprint.ambiguous, None, rule)
+    if path is None:
+        path = PathFit(None, rule=rule, skipped=f"{fingerprint.kind} coverage (the path fit is single-sample)")
+    else:
+        path = with_lattice(path, call, rules.honoured, seed)
+    fingerprint.fill_rules = rules.drawn
+    fingerprint.path_convention = path.convention
+    fingerprint.path_fit = path
+    fingerprint.facts["fill rules"] = rules.text
+    fingerprint.facts["paths"] = path.text
+    if path.lattice is not None:
+        fingerprint.facts["real paths"] = path.lattice.text
+    fingerprint.probes["fill rules"] = rules
+    fingerprint.probes["paths"] = path
+    return fingerprint
+
+
+def _received_as_triangles(received: Callable[[Scene], Scene] | None, rule: str) -> Callable[[Scene], Scene] | None:
+    """A paths-only rasterizer's ``received`` seen on triangle scenes: each sent as one-contour
+    paths, the paths it reports receiving read back as triangles (None when that fails)."""
+    from harness.path_probes import triangle_paths
+
+    if received is None:
+        return None
+    paths_received: Callable[[AnyScene], AnyScene] = received  # type: ignore[assignment]
+
+    def as_triangles(scene: Scene) -> Scene:
+        got = paths_received(triangle_paths(scene, rule))
+        if isinstance(got, PathScene):
+            return Scene(got.width, got.height, got.vertices.reshape(-1, 3, 2))
+        return got
+
+    return as_triangles
 
 
 def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact) -> Fingerprint:
@@ -232,9 +337,17 @@ class Identified:
         if hasattr(inner, "received"):
             self.received = inner.received
         self.fingerprint = fingerprint
+        self.scene_kinds = scene_kinds_of(inner)
+        honoured = fingerprint.honoured_fill_rules
+        if honoured is not None:
+            # handed only the path scenes of the rules it was seen to draw as asked
+            # (:func:`harness.api.takes` reads this as it reads a plugin's own)
+            self.fill_rules = tuple(rule for rule in fill_rules_of(inner) if rule in honoured)
+        elif hasattr(inner, "fill_rules"):
+            self.fill_rules = fill_rules_of(inner)
 
-    def rasterize(self, scene: Scene) -> Coverage:
-        return self.inner.rasterize(scene)
+    def rasterize(self, scene: AnyScene) -> Coverage:
+        return self.inner.rasterize(scene)  # type: ignore[arg-type]
 
 
 def identify_all(rasterizers: list[Rasterizer], seed: int = 0, *, everyone: bool = False, call_timeout: float = 60.0,

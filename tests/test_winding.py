@@ -206,3 +206,18 @@ def test_bad_arguments() -> None:
         path_spans([sq], [0], "nonzero", Convention(samples=4), 6, 6)
     with pytest.raises(ValueError, match="path_of_contour"):
         path_spans([sq], [0, 1], "nonzero", Convention(), 6, 6)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, 1e300])
+def test_a_last_path_with_a_non_finite_or_out_of_range_vertex_leaves_the_others_alone(bad: float) -> None:
+    """Regression: the per-path room was read past the end when the last path had no
+    usable edge (IndexError)."""
+    from harness.api import PathScene
+
+    scene = PathScene.from_paths(8, 8, [[[[1, 1], [6, 1], [1, 6]]], [[[bad, 1], [6, 1], [1, 6]]]])
+    got = exact_coverage(scene, Convention())
+    first = exact_coverage(scene.subset([0]), Convention())
+    if bad == 1e300:  # finite: decided exactly, by the rational rows
+        assert got.take(np.flatnonzero(got.primitive == 0)) == first
+    else:
+        assert got == first
