@@ -19,7 +19,7 @@ from harness.exact import frozen
 from harness.spans import already_tidy, expand, pixel_offsets, run_tails, span_buffers, tidy
 
 __all__ = ["Scene", "PathScene", "AnyScene", "SCENE_KINDS", "Coverage", "Convention", "Rasterizer", "span_buffers", "interpolates_of", "received_of", "fingerprint_of",
-           "scene_kinds_of", "fill_rules_of", "takes", "Unsupported"]
+           "scene_kinds_of", "fill_rules_of", "takes", "convention_for", "Unsupported"]
 
 # Sample points i + sx must be exact floats (sx has up to 32 fractional bits).
 MAX_VIEWPORT = 1 << 20
@@ -820,6 +820,9 @@ class Rasterizer(Protocol):
     fill_rules : tuple of str
         The fill rules a path-taking rasterizer honours (both when absent): it is handed
         only path scenes of these rules. Read by :func:`fill_rules_of`.
+    path_convention : Convention
+        The convention its path fills follow when not ``convention`` (set by identify on a
+        black box whose paths and triangles differ). Read by :func:`convention_for`.
     """
 
     # Read-only members: a plain class attribute or instance attribute of a narrower
@@ -855,6 +858,18 @@ def scene_kinds_of(rasterizer: Rasterizer) -> tuple[str, ...]:
     """The scene kinds a rasterizer takes (``scene_kinds``; triangles only when absent)."""
     kinds = getattr(rasterizer, "scene_kinds", None)
     return ("triangles",) if kinds is None else tuple(str(k) for k in kinds)
+
+
+def convention_for(rasterizer: Rasterizer, scene: AnyScene) -> Convention | None:
+    """The convention a rasterizer's answer on ``scene`` is judged by: its
+    ``path_convention`` for a path scene when it has one (a black box whose path fills
+    identify found to follow another convention than its triangles), else its
+    ``convention``."""
+    if isinstance(scene, PathScene):
+        path = getattr(rasterizer, "path_convention", None)
+        if isinstance(path, Convention):
+            return path
+    return rasterizer.convention
 
 
 def fill_rules_of(rasterizer: Rasterizer) -> tuple[str, ...]:

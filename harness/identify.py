@@ -338,6 +338,8 @@ class Identified:
             self.received = inner.received
         self.fingerprint = fingerprint
         self.scene_kinds = scene_kinds_of(inner)
+        if fingerprint.path_convention is not None and fingerprint.path_convention != fingerprint.convention:
+            self.path_convention = fingerprint.path_convention  # its paths are judged by what they follow
         honoured = fingerprint.honoured_fill_rules
         if honoured is not None:
             # handed only the path scenes of the rules it was seen to draw as asked

@@ -19,7 +19,7 @@ from pathlib import Path
 from cases.suites import suite as suite_cases
 from harness.case import Case, MotionCase, read_case_file
 from harness import checks, repro
-from harness.api import Rasterizer, Scene, Unsupported, fingerprint_of, interpolates_of, scene_kinds_of, takes
+from harness.api import Rasterizer, Scene, Unsupported, convention_for, fingerprint_of, interpolates_of, scene_kinds_of, takes
 from harness.checks import Drawing, Result, Tolerance
 
 from harness.isolation import AnyCall, InProcess, Outcome, Worker, describe, each_until_error
@@ -43,7 +43,7 @@ def check_case(case: Case, rasterizer: Rasterizer, call: AnyCall,
     name = rasterizer.name
     if not takes(rasterizer, case.scene):
         return []  # a scene kind (or fill rule) it does not take: not handed to it
-    convention = rasterizer.convention
+    convention = convention_for(rasterizer, case.scene)
     kind = convention.kind if convention is not None else "single"
     applicable = [check for check in checks.checks(case, only, kind) if invariance or check.name != "invariance"]
     if not applicable:

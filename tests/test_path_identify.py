@@ -235,3 +235,23 @@ def test_triangle_paths_cover_what_the_triangles_do():
     scene = Scene(12, 12, positions)
     for rule in ("nonzero", "evenodd"):
         assert exact_coverage(triangle_paths(scene, rule), Convention()) == exact_coverage(scene, Convention())
+
+
+def test_an_identified_black_box_is_judged_on_paths_by_its_path_convention():
+    from harness.api import convention_for
+    from harness.case import Case
+    from harness.runner import run_suite
+
+    triangles, paths = Convention(), Convention(tie="top-right", sample=(0.0, 0.0), subpixel_bits=4)
+    box = PathBox(triangles, paths, name="split_box")
+    wrapped = Identified(box, identify(box))
+    square = PathScene.from_paths(8, 8, [[[[1, 1], [6, 1], [6, 6], [1, 6]]]])
+    assert convention_for(wrapped, square) == paths and convention_for(wrapped, Scene(8, 8, np.zeros((0, 3, 2)))) == triangles
+    cases = [Case("paths/square", square, lattice=True), Case("lattice/one", Scene(8, 8, [[[1, 1], [6, 1], [1, 6]]]), lattice=True)]
+    verdicts = {r.case: r.status for r in run_suite([wrapped], cases=cases, isolate=False, identify=False, repros=False,
+                                                     only={"conformance"})}
+    assert verdicts == {"paths/square": "pass", "lattice/one": "pass"}
+    # judged by its triangle convention instead, the same path answer fails: the difference is real
+    del wrapped.path_convention
+    again = run_suite([wrapped], cases=cases[:1], isolate=False, identify=False, repros=False, only={"conformance"})
+    assert again[0].status == "fail"
