@@ -402,7 +402,7 @@ def path_partition_cases(seed: int, full: bool = False) -> list[Case]:
     add("quads-5x5/lattice", lambda r: quad_grid(5, 4.0, 44.0, "lattice", r), True, True)
     # lines through pixel centres, points moved by half pixels: vertices on samples and
     # corners, shared edges through samples
-    add("quads-5x5-on-samples/lattice", lambda r: quad_grid(5, 3.5, 43.5, "half", r), True, False)
+    add("quads-5x5-on-samples/lattice", lambda r: quad_grid(5, 3.5, 43.5, "half", r), True, True)
     add("quads-10x10/lattice", lambda r: quad_grid(10, 4.0, 44.0, "lattice", r), True, False)
     # lines at non-dyadic spacing, unconstrained jitter
     add("quads-6x6/float", lambda r: quad_grid(6, 4.0, 44.0, "float", r), False, False)
@@ -458,6 +458,13 @@ def shape_cases(seed: int, full: bool = False) -> list[Case]:
     # a pentagram on the 1/2 lattice: vertices on pixel centres and corners
     add("star-5-2/half-pixels", [[_on_lattice(star(5, 2, (16.0, 16.0), 13.0, 0.1), 2)]], lattice=True)
     # bow tie: lobes of winding +1 and -1; its diagonals run through pixel centres
+    # simple concave polygons whose sides run through sample points (slopes 0, 1, -1 and
+    # 1/2 through pixel centres): ties on every side, for conformance and triangulation
+    add("simple/arrow-on-samples/lattice", [[np.array([[2.5, 2.5], [28.5, 2.5], [28.5, 28.5], [15.5, 15.5], [2.5, 28.5]])]],
+        quick=("nonzero",), lattice=True)
+    add("simple/comb-on-samples/lattice", [[np.array([[3.5, 3.5], [27.5, 3.5], [27.5, 27.5], [21.5, 27.5], [21.5, 11.5],
+                                                      [17.5, 15.5], [13.5, 11.5], [9.5, 27.5], [3.5, 27.5]])]],
+        quick=("evenodd",), lattice=True)
     add("bow-tie/lattice", [[np.array([[4.5, 4.5], [27.5, 27.5], [27.5, 4.5], [4.5, 27.5]])]], quick=both, lattice=True)
     # corners of a rectangle moved about, taken top-left, bottom-right, top-right, bottom-left
     add("bow-tie/float", lambda r: [[np.array([[3, 3], [24, 24], [24, 3], [3, 24]]) + r.uniform(0, 5, size=(4, 2))]])

@@ -21,7 +21,7 @@ from harness.conventions import Convention
 from harness.exact import frozen
 from rasterizers.trapezoid import crossing_column, outline
 
-__all__ = ["PathFillBug", "BUGS"]
+__all__ = ["PathFillBug", "BUGS", "TwoFillers"]
 
 BUGS = ("evenodd-for-nonzero", "unsigned-crossings", "horizontal-crossings", "inclusive-ends", "open-contours")
 EVENODD_FOR_NONZERO, UNSIGNED_CROSSINGS, HORIZONTAL_CROSSINGS, INCLUSIVE_ENDS, OPEN_CONTOURS = range(5)
@@ -139,3 +139,24 @@ def _spans(ax, ay, bx, by, bounds, bug, evenodd, width, height):  # type: ignore
                 out_x1[n] = column[order[m - 1]]
                 n += 1
     return out_p[:n], out_y[:n], out_x0[:n], out_x1[:n]
+
+
+class TwoFillers:
+    """Paths and triangles drawn by two separate code paths that disagree on ties (as in a
+    2D library whose polygon filler and triangle filler were written apart): triangles by
+    the reference with top-left ties, paths by the same algorithm with bottom-right ties.
+    Convention-free, the triangulation check sees it: a simple polygon then covers other
+    samples than its own triangulation does."""
+
+    name = "bad_two_fillers"
+    convention = None
+    scene_kinds = ("triangles", "paths")
+    interpolates = False
+
+    def __init__(self) -> None:
+        from rasterizers.trapezoid import TrapezoidFill
+
+        self._triangles, self._paths = TrapezoidFill(), TrapezoidFill(tie="bottom-right")
+
+    def rasterize(self, scene: AnyScene) -> Coverage:
+        return (self._paths if isinstance(scene, PathScene) else self._triangles).rasterize(scene)
