@@ -15,10 +15,14 @@ JSON schema 1::
                        "runner_up": [str, int] | null, "facts": {str: str},
                        "ambiguous": [str],   # alternatives it could not separate
                        "kind": "multisample" | "area",   # these four only when not "single":
-                       "samples": [[x, y], ...] | null, "levels": int, "tolerance": float | null}
+                       "samples": [[x, y], ...] | null, "levels": int, "tolerance": float | null,
+                       # these three only for a rasterizer that takes paths:
+                       "fill_rules": {"nonzero" | "evenodd": str},   # the rule asked -> what it drew
+                       "honoured_fill_rules": [str],
+                       "path_convention": {"convention": str, ..., "differences": [str]} | null}
                        | {"error": str}},   # what identify found, when it ran
       "results": [
-        {"rasterizer": str, "case": str, "check": str,
+        {"rasterizer": str, "case": str, "check": str,   # a path case's evidence names "path", not "triangle"
          "status": "pass" | "fail" | "error" | "skip",
          "message": str,
          "metrics": {str: number},          # totals; "seconds" is the rasterize time
