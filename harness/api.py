@@ -737,8 +737,10 @@ class Coverage:
         outside = (y < 0) | (y >= scene.height) | (x0 < 0) | (x1 > scene.width)
         flaws["bad_sample"] = bad_sample
         flaws["bad_primitive_id"] = np.setdiff1d(flaws["bad_primitive_id"], bad_sample[(self.primitive[bad_sample] >= 0) & (self.primitive[bad_sample] < n)])
-        flaws["outside_viewport"] = np.flatnonzero(outside & (x0 < x1))
-        flaws["outside_primitive"] = np.setdiff1d(flaws["outside_primitive"], flaws["outside_viewport"])
+        off_screen = outside & (x0 < x1)
+        flaws["outside_viewport"] = np.flatnonzero(off_screen)
+        beyond = flaws["outside_primitive"]
+        flaws["outside_primitive"] = beyond[~off_screen[beyond]]
         flaws["repeated_pixels"] = np.array([repeated_pixels], dtype=np.int64)
         if not any(v.size for k, v in flaws.items() if k != "repeated_pixels"):
             return self, flaws

@@ -16,7 +16,6 @@ callers when to take the third tier, exact rational arithmetic in Python
 
 from __future__ import annotations
 
-from fractions import Fraction
 
 import numba
 import numpy as np
@@ -137,10 +136,14 @@ def orient2d_fraction(ax: float, ay: float, bx: float, by: float, cx: float, cy:
     >>> orient2d_fraction(0.0, 0.0, 1.0, 0.0, 0.5, 1e-320)
     1
     """
-    fa = Fraction(ax), Fraction(ay)
-    fb = Fraction(bx), Fraction(by)
-    fc = Fraction(cx), Fraction(cy)
-    det = (fb[0] - fa[0]) * (fc[1] - fa[1]) - (fb[1] - fa[1]) * (fc[0] - fa[0])
+    def units(v: float) -> int:
+        # v as an integer count of 2**-1074 (every finite float is one): the same scale
+        # for all six, so the determinant's sign is kept, in exact integer arithmetic
+        m, d = v.as_integer_ratio()  # d = 2**k, k <= 1074
+        return m << (1075 - d.bit_length())
+
+    iax, iay, ibx, iby, icx, icy = map(units, (ax, ay, bx, by, cx, cy))
+    det = (ibx - iax) * (icy - iay) - (iby - iay) * (icx - iax)
     return (det > 0) - (det < 0)
 
 

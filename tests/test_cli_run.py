@@ -1,6 +1,7 @@
 """The run command a CI user leans on: filters, shards, skip lists, reruns, budgets,
 output paths checked first, Ctrl-C (issues 12 and 13)."""
 
+import contextlib
 import json
 import os
 import signal
@@ -116,27 +117,60 @@ def test_stale_temp_files_of_killed_writes_are_swept(tmp_path):
 
 
 def test_ctrl_c_stops_a_parallel_run_within_seconds_and_keeps_what_finished(tmp_path):
+    """Ctrl-C while two rasterizers run side by side: exit 130 within seconds, the finished
+    results written, no worker left. The interrupt comes once the slow one has finished a
+    case (it marks its second call: with conformance alone, one call a case), not after a
+    fixed time, which under load could fall before the run even started."""
     token = f"ctrlc-{os.getpid()}"
+    marker = tmp_path / "second-call"
     plugin = tmp_path / "slow.py"
     plugin.write_text(
         "import time\n"
         "from rasterizers.centre_scanline import CentreScanline\n"
         "class Slow(CentreScanline):\n"
         "    name = 'slow'\n"
+        "    calls = 0\n"
         "    def rasterize(self, scene):\n"
+        "        Slow.calls += 1\n"
+        "        if Slow.calls == 2:  # its first case is judged and kept\n"
+        f"            open({str(marker)!r}, 'w').close()\n"
         "        time.sleep(0.3)\n"
         "        return super().rasterize(scene)\n"
     )
     out = tmp_path / token
-    proc = subprocess.Popen([sys.executable, "-m", "harness.cli", "run", "--rasterizer", f"{plugin}:Slow", "--rasterizer",
-                             "centre_scanline", "--no-fingerprints", "--jobs", "2", "--out", str(out), "--json", str(out / "r.json")],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=os.getcwd())
-    time.sleep(6)
-    proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=10)  # stopped at once: a run that went on would time out here
+    # `python -m harness.cli` with Ctrl-C raising KeyboardInterrupt, as in a terminal, even
+    # where this test runs with SIGINT ignored (a background job of a shell: the child would
+    # inherit that, and never see the interrupt)
+    cli = ("import runpy, signal; signal.signal(signal.SIGINT, signal.default_int_handler); "
+           "runpy.run_module('harness.cli', run_name='__main__', alter_sys=True)")
+    proc = subprocess.Popen([sys.executable, "-c", cli, "run", "--rasterizer", f"{plugin}:Slow", "--rasterizer",
+                             "centre_scanline", "--check", "conformance", "--no-fingerprints", "--jobs", "2", "--out", str(out),
+                             "--json", str(out / "r.json")],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=os.getcwd(), start_new_session=True,
+                            env={**os.environ, "PYTHONFAULTHANDLER": "1"})  # SIGABRT dumps every thread's stack
+    try:
+        waited = time.monotonic()
+        while not marker.exists():  # the slow one needs 0.3 s a case, dozens of cases: the run is still going
+            assert proc.poll() is None, proc.communicate()
+            assert time.monotonic() - waited < 120, "the slow rasterizer was not called twice in 120 s"
+            time.sleep(0.05)
+        proc.send_signal(signal.SIGINT)
+        try:
+            _, err = proc.communicate(timeout=10)  # stopped at once: a run that went on would time out here
+        except subprocess.TimeoutExpired:
+            proc.send_signal(signal.SIGABRT)
+            proc.wait(30)
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(proc.pid, signal.SIGKILL)  # its workers hold the pipes open
+            raise AssertionError(f"still running 10 s after Ctrl-C; where it was:\n{proc.communicate()[1][-8000:]}") from None
+    finally:
+        if proc.poll() is None:  # a failure above: leave nothing running
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
     assert proc.returncode == 130, err
     assert "interrupted" in err and "Traceback" not in err
-    assert _json(out / "r.json")  # the partial results were written
+    results = _json(out / "r.json")  # the partial results were written: the slow one's first case at least
+    assert "slow" in {r["rasterizer"] for r in results}, results
     left = subprocess.run(["pgrep", "-f", token], capture_output=True, text=True).stdout.split()
     assert not left, f"worker processes left behind: {left}"
 

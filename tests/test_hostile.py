@@ -1,6 +1,7 @@
 """Hostile plugins (issue 13): garbage answers cost time and memory in proportion to their
 spans, faults of every kind end in an error naming them, and the run goes on."""
 
+import functools
 import subprocess
 import sys
 
@@ -14,9 +15,15 @@ from tests.known_bad.hostile import (
 )
 
 
+@functools.cache
+def _quick():
+    """The quick suite, built once for the module (each build takes a tenth of a second)."""
+    return tuple(suite("quick"))
+
+
 def _cases():
     wanted = ("lattice/bits-0", "watertight/fan-32/centre")
-    return [c for c in suite("quick") if c.id in wanted] + [c for c in suite("quick") if c.family == "motion"][:1]
+    return [c for c in _quick() if c.id in wanted] + [c for c in _quick() if c.family == "motion"][:1]
 
 
 @pytest.mark.parametrize("bad", [HugeSpan, Copies, FarAway, BeyondReach])
@@ -46,8 +53,8 @@ def test_every_fault_is_an_error_naming_it_and_the_run_goes_on(bad, words):
 
 
 def test_nan_attributes_fail_hygiene_and_the_motion_checks_without_crashing():
-    results = run_suite([NaNEverywhere()], cases=[c for c in suite("quick") if c.family == "motion" and c.texels][:2]
-                        + [c for c in suite("quick") if c.id == "mesh/box/near-clipped"], repros=False)
+    results = run_suite([NaNEverywhere()], cases=[c for c in _quick() if c.family == "motion" and c.texels][:2]
+                        + [c for c in _quick() if c.id == "mesh/box/near-clipped"], repros=False)
     assert not [r for r in results if r.status == "error"], [r.message for r in results if r.status == "error"]
     hygiene = [r for r in results if r.check == "hygiene"]
     assert hygiene and "NaN or infinite attributes" in hygiene[0].message
@@ -94,7 +101,7 @@ class _HangsAfterSix:
 
 
 def test_a_hang_is_known_in_seconds_not_after_the_absolute_timeout():
-    cases = [c for c in suite("quick") if c.family == "lattice"][:4]
+    cases = [c for c in _quick() if c.family == "lattice"][:4]
     results = run_suite([_HangsAfterSix()], cases=cases, timeout=60.0, repros=False, identify=False)
     hung = [r for r in results if r.status == "error"]
     assert hung and all("typical call" in r.message for r in hung), [r.message for r in results]

@@ -1,6 +1,8 @@
 """identify recovers declared conventions from outside; the real adapters work where their
 libraries are installed and are skipped with the install hint elsewhere."""
 
+import functools
+
 import pytest
 
 from harness.conventions import Convention
@@ -24,10 +26,22 @@ class BlackBox:
         return exact_coverage(scene, self.hidden)
 
 
+@functools.cache
+def _identified(name):
+    """identify of a built-in, once per module (several tests read the same fingerprint)."""
+    return identify(load(name))
+
+
+@functools.cache
+def _identified_hidden(hidden):
+    """identify of the exact oracle of ``hidden``, declaring none, once per module."""
+    return identify(BlackBox(hidden))
+
+
 @pytest.mark.parametrize("name", BUILTINS)
 def test_identify_recovers_each_builtin(name):
     r = load(name)
-    fingerprint = identify(r)
+    fingerprint = _identified(name)
     assert fingerprint.exact and fingerprint.convention == r.convention, fingerprint.card()
     assert fingerprint.facts["watertight"].startswith("yes")
     assert fingerprint.facts["viewport edge"].startswith("exact")
@@ -46,7 +60,7 @@ def test_identify_recovers_each_builtin(name):
     Convention(tie="bottom-right", sample=(0.0, 1.0), subpixel_bits=5, snap_rounding="floor"),
 ], ids=str)
 def test_identify_recovers_hidden_conventions(hidden):
-    fingerprint = identify(BlackBox(hidden))
+    fingerprint = _identified_hidden(hidden)
     assert fingerprint.convention == hidden and fingerprint.exact, fingerprint.card()
 
 
@@ -59,8 +73,9 @@ def test_a_tie_with_the_runner_up_is_never_claimed():
 
 
 def test_the_sample_sweep_measures_an_unusual_sample_point():
-    fingerprint = identify(BlackBox(Convention(sample=(0.25, 0.75))))
-    assert "(0.25, 0.75)" in fingerprint.facts["sample sweep"]
+    # one of the hidden conventions above (its fingerprint is shared, not drawn again)
+    fingerprint = _identified_hidden(Convention(tie="bottom-left", sample=(0.25, 0.75)))
+    assert "(0.25, 0.75)" in fingerprint.facts["sample sweep"], fingerprint.card()
 
 
 def test_identify_never_claims_what_it_cannot_confirm():
@@ -74,46 +89,94 @@ def test_identify_never_claims_what_it_cannot_confirm():
 REAL = ["pillow", "skimage", "skia", "cairo", "mesa_llvmpipe", "mesa_softpipe"]
 
 
+# The checks of the real adapters, as source: run here for the libraries that keep no
+# process-wide state, and in a fresh Python for Mesa (it picks its driver once per
+# process). Each part returns "OK", or "UNAVAILABLE <install hint>"; a failure raises.
 SQUARE_CHECK = """
 import sys
 import numpy as np
 from harness.api import Scene
 from harness.registry import Unavailable, load
-try:
-    r = load(sys.argv[1])
-except Unavailable as exc:
-    print("UNAVAILABLE", exc)
-    sys.exit(0)
-assert r.convention is None
-scene = Scene(16, 16, [[[2, 2], [12, 2], [12, 12]], [[2, 2], [12, 12], [2, 12]]])
-counts = r.rasterize(scene).counts(16, 16)
-assert (counts[3:11, 3:11] >= 1).all(), counts
-assert counts[:1].sum() == 0 and counts[:, 14:].sum() == 0, counts
-try:
-    r.rasterize(Scene(16, 16, [[[2, 2], [12, 2], [12, 12]], [[0, 0], [1e30, 0], [0, 5]]]))
-    raise SystemExit("no error for a huge triangle")
-except ValueError as exc:
-    assert f"{sys.argv[1]}: triangle 1 " in str(exc), exc
-print("OK")
+
+
+def square(name):
+    try:
+        r = load(name)
+    except Unavailable as exc:
+        return f"UNAVAILABLE {exc}"
+    assert r.convention is None
+    scene = Scene(16, 16, [[[2, 2], [12, 2], [12, 12]], [[2, 2], [12, 12], [2, 12]]])
+    counts = r.rasterize(scene).counts(16, 16)
+    assert (counts[3:11, 3:11] >= 1).all(), counts
+    assert counts[:1].sum() == 0 and counts[:, 14:].sum() == 0, counts
+    try:
+        r.rasterize(Scene(16, 16, [[[2, 2], [12, 2], [12, 12]], [[0, 0], [1e30, 0], [0, 5]]]))
+    except ValueError as exc:
+        assert f"{name}: triangle 1 " in str(exc), exc
+    else:
+        raise AssertionError("no error for a huge triangle")
+    return "OK"
+"""
+
+# the parts run in a fresh Python, each ending in a line "=== <part>: <what it returned or
+# FAILED and the traceback>"
+RUN_PARTS = """
+import traceback
+if __name__ == "__main__":
+    for part in sys.argv[1:]:
+        try:
+            said = PARTS[part]()
+        except BaseException:
+            said = "FAILED\\n" + traceback.format_exc()
+        print(f"=== {part}: {said}", flush=True)
 """
 
 
-def _in_fresh_process(script: str, *args: str, timeout: float = 300) -> None:
-    """Run a check script in a fresh Python (Mesa picks its driver once per process);
-    skip with the script's install hint when it says UNAVAILABLE."""
+def _in_fresh_process(script: str, *parts: str, timeout: float = 300) -> dict[str, str]:
+    """Run the parts of a check script in one fresh Python: part -> what it said."""
     import subprocess
     import sys
 
-    done = subprocess.run([sys.executable, "-c", script, *args], capture_output=True, text=True, timeout=timeout)
-    assert done.returncode == 0, done.stdout + done.stderr
-    if done.stdout.startswith("UNAVAILABLE"):
-        pytest.skip(done.stdout.strip())
-    assert done.stdout.strip().endswith("OK")
+    done = subprocess.run([sys.executable, "-c", script + RUN_PARTS, *parts], capture_output=True, text=True, timeout=timeout)
+    said = {}
+    for block in ("\n" + done.stdout).split("\n=== ")[1:]:
+        part, _, text = block.partition(": ")
+        said[part] = text.strip()
+    assert done.returncode == 0 and set(said) == set(parts), done.stdout + done.stderr
+    return said
+
+
+def _verdict(text: str) -> None:
+    """Skip with the install hint when a part says UNAVAILABLE; else it must say OK."""
+    if text.startswith("UNAVAILABLE"):
+        pytest.skip(text)
+    assert text.partition("\n")[0] == "OK", text
+
+
+def _in_this_process(script: str, part: str, *args: str) -> str:
+    space: dict = {"__name__": "check"}
+    exec(script, space)
+    return space[part](*args)
+
+
+@pytest.fixture(scope="module")
+def llvmpipe():
+    """The llvmpipe checks, in one fresh Python: what each part said."""
+    return _in_fresh_process(LLVMPIPE, "square", "identify", "batch")
+
+
+@pytest.fixture(scope="module")
+def softpipe():
+    return _in_fresh_process(SQUARE_CHECK + "\nPARTS = {'square': lambda: square('mesa_softpipe')}\n", "square",
+                             timeout=120)
 
 
 @pytest.mark.parametrize("name", REAL)
-def test_real_adapter_draws_a_square_without_gaps(name):
-    _in_fresh_process(SQUARE_CHECK, name, timeout=120)
+def test_real_adapter_draws_a_square_without_gaps(name, request):
+    if name.startswith("mesa_"):  # in a fresh Python of its own (softpipe) or shared with the llvmpipe checks
+        _verdict(request.getfixturevalue(name.removeprefix("mesa_"))["square"])
+    else:
+        _verdict(_in_this_process(SQUARE_CHECK, "square", name))
 
 
 def _undeclared_box(folder, convention_args):
@@ -141,69 +204,69 @@ def test_run_identifies_an_undeclared_convention(tmp_path):
 
 
 def test_the_card_lists_every_fact():
-    card = identify(load("centre_scanline")).card()
+    card = _identified("centre_scanline").card()
     for fact in ("sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep"):
         assert f"\n{fact}" in card, card
 
 
-IDENTIFY_LLVMPIPE = """
-from harness.registry import Unavailable, load
-from harness.identify import identify
-from harness.conventions import Convention
-try:
-    r = load("mesa_llvmpipe")
-except Unavailable as exc:
-    print("UNAVAILABLE", exc)
-    raise SystemExit(0)
-f = identify(r)
-assert f.exact and f.convention == Convention(subpixel_bits=8), f.card()
-assert f.facts["watertight"].startswith("yes") and "agrees" in f.facts["vertex sweep"], f.card()
-print("OK")
+LLVMPIPE = SQUARE_CHECK + """
+
+def identified():
+    from harness.conventions import Convention
+    from harness.identify import identify
+
+    try:
+        r = load("mesa_llvmpipe")
+    except Unavailable as exc:
+        return f"UNAVAILABLE {exc}"
+    f = identify(r)
+    assert f.exact and f.convention == Convention(subpixel_bits=8), f.card()
+    assert f.facts["watertight"].startswith("yes") and "agrees" in f.facts["vertex sweep"], f.card()
+    return "OK"
+
+
+def batch_agrees():
+    from cases.suites import suite
+    from harness.bench import workloads
+
+    try:
+        r = load("mesa_llvmpipe")
+        r._context()
+    except Unavailable as exc:
+        return f"UNAVAILABLE {exc}"
+    listed = r._list_program
+    assert listed is not None, "llvmpipe offers GL 4.5: the fragment-list path should be on"
+    small_and_large = [w.scene for w in workloads(scale=0.05)]  # many small triangles; a few of 100,000 px
+    scenes = [*small_and_large, Scene(1024, 1024, np.concatenate([s.positions for s in small_and_large]))]
+    for case in suite("quick")[:40]:
+        scenes += case.frames[:2] if hasattr(case, "frames") else [case.scene]
+    compared = 0
+    for scene in scenes:
+        try:
+            r._list_program = listed
+            one_draw = r.rasterize(scene)
+            r._list_program = None
+            each = r.rasterize(scene)
+        except ValueError:
+            continue
+        assert one_draw == each, scene
+        compared += 1
+    assert compared >= 30, compared
+    return "OK"
+
+
+PARTS = {"square": lambda: square("mesa_llvmpipe"), "identify": identified, "batch": batch_agrees}
 """
 
 
-def test_llvmpipe_is_identified_exactly():
+def test_llvmpipe_is_identified_exactly(llvmpipe):
     """A production GL driver: centre samples, top-left ties (image row y = memory row y),
     vertices snapped to 1/256 px, watertight; the vertex sweep agrees."""
-    _in_fresh_process(IDENTIFY_LLVMPIPE)
+    _verdict(llvmpipe["identify"])
 
 
-BATCH_AGREES = """
-import numpy as np
-from cases.suites import suite
-from harness.api import Scene
-from harness.bench import workloads
-from harness.registry import Unavailable, load
-try:
-    r = load("mesa_llvmpipe")
-    r._context()
-except Unavailable as exc:
-    print("UNAVAILABLE", exc)
-    raise SystemExit(0)
-listed = r._list_program
-assert listed is not None, "llvmpipe offers GL 4.5: the fragment-list path should be on"
-small_and_large = [w.scene for w in workloads(scale=0.05)]  # many small triangles; a few of 100,000 px
-scenes = [*small_and_large, Scene(1024, 1024, np.concatenate([s.positions for s in small_and_large]))]
-for case in suite("quick")[:40]:
-    scenes += case.frames[:2] if hasattr(case, "frames") else [case.scene]
-compared = 0
-for scene in scenes:
-    try:
-        r._list_program = listed
-        one_draw = r.rasterize(scene)
-        r._list_program = None
-        each = r.rasterize(scene)
-    except ValueError:
-        continue
-    assert one_draw == each, scene
-    compared += 1
-assert compared >= 30, compared
-print("OK")
-"""
-
-
-def test_llvmpipe_one_draw_with_a_fragment_list_equals_one_draw_per_triangle():
-    _in_fresh_process(BATCH_AGREES)
+def test_llvmpipe_one_draw_with_a_fragment_list_equals_one_draw_per_triangle(llvmpipe):
+    _verdict(llvmpipe["batch"])
 
 
 @pytest.mark.parametrize("hidden", [
@@ -215,7 +278,7 @@ def test_llvmpipe_one_draw_with_a_fragment_list_equals_one_draw_per_triangle():
     Convention(tie="bottom-right", subpixel_bits=6, snap_rounding="half-away"),
 ], ids=str)
 def test_identify_recovers_y_first_rules_and_half_away_snapping(hidden):
-    fingerprint = identify(BlackBox(hidden))
+    fingerprint = _identified_hidden(hidden)
     assert fingerprint.convention == hidden and fingerprint.exact, fingerprint.card()
 
 
@@ -241,11 +304,18 @@ PIGLIT_PORT_DRAWS = {
 }
 
 
+@functools.cache
+def _port(kind, *args):
+    """A ported reference rasterizer and its fingerprint, once per module."""
+    from tests.ports import DeqpReference, PiglitReference
+
+    rasterizer = DeqpReference(*args) if kind == "deqp" else PiglitReference(*args)
+    return rasterizer, identify(rasterizer)
+
+
 @pytest.mark.parametrize("filling", sorted(PIGLIT_PORT_DRAWS))
 def test_piglit_reference_is_identified_exactly(filling):
-    from tests.ports import PiglitReference
-
-    fingerprint = identify(PiglitReference(filling, bits=8))
+    _, fingerprint = _port("piglit", filling, 8)
     want = Convention(tie=PIGLIT_PORT_DRAWS[filling], subpixel_bits=8, snap_rounding="half-away")
     assert fingerprint.exact and fingerprint.residual == 0 and fingerprint.convention == want, fingerprint.card()
 
@@ -256,14 +326,14 @@ def test_ported_references_pass_the_quick_suite_as_identified(port):
     against what was identified: no false failure at half steps or ties."""
     from harness import run_suite
     from harness.identify import Identified
-    from tests.ports import DeqpReference, PiglitReference
 
     kind, *rest = port.split("-")
-    rasterizer = DeqpReference(int(rest[0])) if kind == "deqp" else PiglitReference(rest[0], int(rest[1]))
-    fingerprint = identify(rasterizer)
+    rasterizer, fingerprint = _port(kind, int(rest[0])) if kind == "deqp" else _port(kind, rest[0], int(rest[1]))
     assert fingerprint.exact and fingerprint.convention.snap_rounding == "half-away", fingerprint.card()
-    # conformance is where an identified convention could fail falsely (at half steps, at ties)
-    results = run_suite([Identified(rasterizer, fingerprint)], suite="quick", repros=False, only={"conformance"})
+    # conformance is where an identified convention could fail falsely (at half steps, at
+    # ties); in this process (the verdicts are the same in a worker, which would only add
+    # its start-up and the pickling of every answer)
+    results = run_suite([Identified(rasterizer, fingerprint)], suite="quick", repros=False, only={"conformance"}, isolate=False)
     bad = [f"{r.case} {r.check}: {r.message}" for r in results if r.status in ("fail", "error")]
     assert not bad and any(r.check == "conformance" and r.status == "pass" for r in results), bad[:5]
 
@@ -329,10 +399,13 @@ class RaisesOnBigScenes:
     name = "raises_on_big_scenes"
     convention = None
 
+    def __init__(self):
+        self.inner = load("centre_scanline")  # once: loading reads the entry points (ms a call)
+
     def rasterize(self, scene):
         if len(scene) > 100:
             raise MemoryError("too many triangles")
-        return load("centre_scanline").rasterize(scene)
+        return self.inner.rasterize(scene)
 
 
 def _lying():
@@ -374,6 +447,9 @@ class DiesOnNaN:
     name = "dies_on_nan"
     convention = None
 
+    def __init__(self):
+        self.inner = load("centre_scanline")
+
     def rasterize(self, scene):
         import os
 
@@ -381,7 +457,7 @@ class DiesOnNaN:
 
         if np.isnan(scene.positions).any():
             os._exit(3)
-        return load("centre_scanline").rasterize(scene)
+        return self.inner.rasterize(scene)
 
 
 def test_identify_isolated_goes_on_past_a_dying_call_and_agrees_with_identify():
@@ -390,7 +466,7 @@ def test_identify_isolated_goes_on_past_a_dying_call_and_agrees_with_identify():
     isolated = identify_isolated(DiesOnNaN(), call_timeout=60)
     assert isolated.exact and isolated.convention == Convention(), isolated.card()
     assert "NaN: raises RuntimeError: the rasterizer's worker process died (exit code 3)" in isolated.facts["non-finite"]
-    plain = identify(load("centre_scanline")).to_dict()
+    plain = _identified("centre_scanline").to_dict()
     assert {**isolated.to_dict(), "rasterizer": None, "facts": None} == {**plain, "rasterizer": None, "facts": None}
 
 
@@ -398,11 +474,14 @@ class Sluggish:
     name = "sluggish"
     convention = None
 
+    def __init__(self):
+        self.inner = load("centre_scanline")
+
     def rasterize(self, scene):
         import time
 
         time.sleep(0.02)
-        return load("centre_scanline").rasterize(scene)
+        return self.inner.rasterize(scene)
 
 
 def test_identify_isolated_bounds_the_whole_identification():

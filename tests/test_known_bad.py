@@ -3,6 +3,7 @@ table says, and passes on all four built-ins (tests/test_runner.py); and repros 
 a failure of each check and case family, saved as its repro file and replayed, fails the
 same check."""
 
+import functools
 import json
 
 import pytest
@@ -16,13 +17,22 @@ from tests.known_bad.antialiasing import (
 )
 from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.edge_functions import EdgeFunctionBug
+from tests.known_bad.paths import BUGS as PATH_BUGS, PathFillBug, TwoFillers
 from tests.known_bad.misc import HangsOnEpsilon, SlowOnEpsilon, Int32FixedPoint, NaNAttributes, Raises, ReturnsGarbage, WrongTieClaim
 from tests.known_bad.scanlines import ScanlineBug
 
-STATIC = [c for c in suite("quick") if isinstance(c, Case)]
+
+@functools.cache
+def static():
+    """The quick suite's still cases (built when first needed, not when the module is
+    collected: every test worker collects every module)."""
+    return tuple(c for c in suite("quick") if isinstance(c, Case))
+
 
 # known-bad rasterizer -> the checks that must flag it ("run": an error or timeout result)
 TABLE = {
+    **{PathFillBug(bug): {"conformance"} for bug in PATH_BUGS},
+    TwoFillers(): {"triangulation"},
     EdgeFunctionBug("inclusive"): {"conformance", "watertight", "degenerate"},
     EdgeFunctionBug("exclusive"): {"conformance", "watertight"},
     EdgeFunctionBug("float32"): {"conformance", "watertight"},
@@ -61,28 +71,56 @@ TABLE = {
 # too, at several times the cost: each sample of each case is judged)
 WHERE_IT_SHOWS = {"bad_mirrored_pattern": ("lattice", "float"), "bad_swapped_sample_bits": ("lattice", "float"),
                   "bad_inclusive_sample_ties": ("watertight",), "bad_biased_area": ("lattice", "float"),
-                  "bad_per_edge_method_switch": ("watertight",), "bad_coarse_supersample": ("lattice", "float")}
+                  "bad_per_edge_method_switch": ("watertight",), "bad_coarse_supersample": ("lattice", "float"),
+                  **{f"bad_{bug}": ("paths",) for bug in PATH_BUGS}, "bad_two_fillers": ("paths", "path-partitions")}
 
 
 # a timing check's failure (slow_on_epsilon's) is no repro to replay exactly
 SHRINKING = [bad for bad, wanted in TABLE.items() if "run" not in wanted and bad.name != "bad_slow_on_epsilon"]
 
 
+# whose failures are read case by case (every huge case), not only the first of each
+# check in each family
+EVERY_FAILURE = {"bad_drops_huge"}
+
+
 @pytest.fixture(scope="module")
 def flagged():
-    """known-bad name -> {check: [failing or erroring results]} over the quick suite."""
+    """known-bad name -> {check: [failing or erroring results]} over the quick suite.
+
+    A family's cases run in order until each check the table names for that known-bad has
+    failed there (every case of it when some check never does): the rest would only repeat
+    failures already seen. The first failure of each check in each family -- what the repro
+    test replays, and what the evidence tests read -- is the same as over every case."""
+    import threading
+
     from harness.checks import checks
 
     out = {}
     for bad, wanted in TABLE.items():
         # only the cases and checks the table names (for "run", the degenerate cases, where
         # the raising, lying and hanging ones all show): what must flag it
-        mine = ([c for c in STATIC if c.family == "degenerate"] if "run" in wanted
-                else [c for c in STATIC if any(check.name in wanted for check in checks(c))
-                      and c.family in WHERE_IT_SHOWS.get(bad.name, (c.family,))])
-        results = run_suite([bad], cases=mine, timeout=0.5, identify=False, repros=False,
-                            isolate="run" in wanted,  # in-process where nothing hangs
-                            only=None if "run" in wanted else set(wanted))
+        if "run" in wanted:
+            results = run_suite([bad], cases=[c for c in static() if c.family == "degenerate"], timeout=0.5, identify=False,
+                                repros=False, isolate=True)
+        else:
+            kind = bad.convention.kind if bad.convention is not None else None
+            mine = [c for c in static() if any(check.name in wanted for check in checks(c))
+                    and c.family in WHERE_IT_SHOWS.get(bad.name, (c.family,))]
+            results = []
+            for family in dict.fromkeys(c.family for c in mine):  # in suite order
+                cases = [c for c in mine if c.family == family]
+                left = {check.name for c in cases for check in checks(c, wanted, kind)}
+                stop = threading.Event()
+
+                def seen(r, left=left, stop=stop, every=bad.name in EVERY_FAILURE):
+                    if r.status in ("fail", "error"):
+                        left.discard(r.check)
+                        if not left and not every:
+                            stop.set()  # after this case: its results are all kept
+
+                results += run_suite([bad], cases=cases, timeout=0.5, identify=False, repros=False, isolate=False,
+                                     only=set(wanted), on_result=seen, stop=stop)
         out[bad.name] = {}
         for r in results:
             if r.status in ("fail", "error"):
@@ -163,7 +201,7 @@ def test_every_failure_replays_as_the_same_check_from_its_repro(bad, flagged, tm
             if r.status == "fail":
                 first.setdefault((r.check, r.case.split("/")[0]), r)
     assert first
-    cases = {c.id: c for c in STATIC}
+    cases = {c.id: c for c in static()}
     for k, ((check, _), failure) in enumerate(sorted(first.items())):
         again_with_repro = run_suite([bad], cases=[cases[failure.case]], timeout=0.5, repro_seconds=4.0, identify=False,
                                      isolate=False, only={check})
@@ -176,6 +214,7 @@ def test_every_failure_replays_as_the_same_check_from_its_repro(bad, flagged, tm
         assert {r.check for r in again} <= {named, "hygiene"}
         mine = [r for r in again if r.check == named]
         assert mine and any(r.status == "fail" for r in mine), (failure.case, named, [r.message for r in again])
-        shrunk = payload.get("note") is None and len(payload["positions"]) < payload["original_triangles"]
+        primitives = payload["positions"] if "positions" in payload else payload["paths"]
+        shrunk = payload.get("note") is None and len(primitives) < payload["original_triangles"]
         if shrunk and named != "watertight":
             assert payload["message"].split(";")[0] == mine[0].message.split(";")[0], (payload["message"], mine[0].message)

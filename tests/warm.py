@@ -33,7 +33,9 @@ def _first_of_each_family() -> list:  # type: ignore[type-arg]
 
 
 class _Oracle:
-    """The exact oracle as a rasterizer: the checks' kernels without a rasterizer's."""
+    """The exact oracle as a rasterizer: the checks' kernels without a rasterizer's. The
+    single-sample one takes path scenes too (the winding oracle's and the path checks'
+    kernels)."""
 
     def __init__(self, **convention: object) -> None:
         from harness.conventions import Convention
@@ -41,6 +43,7 @@ class _Oracle:
         self.convention = Convention(**convention)  # type: ignore[arg-type]
         self.name = f"oracle_{self.convention.kind}{'_shares' if self.convention.samples and self.convention.kind == 'area' else ''}"
         self.interpolates = self.convention.kind != "area"
+        self.scene_kinds = ("triangles", "paths") if self.convention.kind == "single" else ("triangles",)
 
     def rasterize(self, scene):  # type: ignore[no-untyped-def]
         from harness.oracle import exact_coverage
@@ -62,7 +65,7 @@ def engine() -> None:
     # every coverage kind: the oracles' and the area checks' kernels
     oracles = [_Oracle(), _Oracle(samples=4), _Oracle(coverage="area"), _Oracle(coverage="area", samples=4)]
     run_suite(oracles, cases=cases, identify=False, isolate=False, repros=False)
-    scene = next(c for c in cases if isinstance(c, Case)).scene
+    scene = next(c.scene for c in cases if isinstance(c, Case) and isinstance(c.scene, Scene))
     pixel_areas(scene.positions, scene.width, scene.height)
     area_error_bound(np.asarray(scene.positions))
     for w in (None, np.array([[1.0, 2.0, 4.0]])):
@@ -94,11 +97,23 @@ def rasterizers() -> None:
     beyond_one_sample = {r.name for r in (PinedaMSAA4(), PinedaMSAA8(), AreaScanline(), Supersampler4())}
     everyone = [load(name) for name in builtins() if name not in beyond_one_sample]  # those: the engine part's
     everyone += [EdgeFunctionBug("inclusive"), ScanlineBug("no-prestep"), DeqpReference(), PiglitReference()]
+    from tests.known_bad.paths import PathFillBug
+
+    everyone += [PathFillBug("inclusive-ends")]
     _draw_each_family(everyone)
+    # the Mesa path adapter's layering kernel, and the exact line oracles
+    from harness.lines import bresenham_spans, diamond_exit_spans, rectangle_spans
+    from rasterizers.real._stencil import layers
+
+    layers(np.array([[0, 0, 1, 1]]))
+    a, b = np.array([[0.5, 0.5], [1.0, 7.0]]), np.array([[7.5, 3.25], [6.0, 0.5]])
+    diamond_exit_spans(a, b, 8, 8)
+    rectangle_spans(a, b, 1.0, width=8, height=8)
+    bresenham_spans(a, b, 8, 8)
 
 
 def _draw_each_family(everyone: list) -> None:  # type: ignore[type-arg]
-    from harness.api import Scene
+    from harness.api import Scene, takes
     from harness.case import Case
 
     scenes = [Scene(8, 8, POSITIONS, attributes=VALUES, w=w) for w in (None, np.array([[1.0, 2.0, 4.0]]))]
@@ -106,6 +121,8 @@ def _draw_each_family(everyone: list) -> None:  # type: ignore[type-arg]
         scenes += case.frames[:1] if not isinstance(case, Case) else [case.scene]
     for scene in scenes:
         for rasterizer in everyone:
+            if not takes(rasterizer, scene):  # a path scene, to a triangle rasterizer: never handed one
+                continue
             try:
                 rasterizer.rasterize(scene)
             except ValueError:  # a refusal (coordinates out of its range): compiled all the same
