@@ -1,0 +1,1137 @@
+"""Exact oracles for aliased lines: the diamond-exit rule (Direct3D, GL), integer Bresenham
+(seed 003) and Vulkan's rectangular lines.
+
+A segment k runs from ``a[k]`` to ``b[k]`` (float64, pixels, x right, y down: the screen
+space of :mod:`harness.conventions`). Pixel (i, j) is the square [i, i+1) x [j, j+1) with
+centre (i + 1/2, j + 1/2). Every oracle returns the covered pixels as spans
+``(segment, y, x0, x1)`` -- pixels x0 <= x < x1 of row y -- sorted by segment, row and x0,
+like :func:`harness.winding.path_spans`. A segment with a NaN or infinite endpoint covers
+nothing. Every decision is exact on the float64 input; no epsilon appears anywhere.
+
+Diamond exit (:func:`diamond_exit_spans`)
+    Sources: the Direct3D 11.3 functional specification, section 3.4.3 "Aliased Line
+    Rasterization Rules" (microsoft/DirectX-Specs, ``d3d/archive/D3D11_3_FunctionalSpec.htm``,
+    whose rules are the text of its figure ``images/d3d11/D3D11_3_LineRast.png``; the same
+    words are in the Direct3D 10 "Rasterization Rules" page), and the OpenGL specification,
+    section 3.4.1 "Basic Line Segment Rasterization" (1.1 to 1.5; 14.5.1 in 4.6).
+
+    * The diamond of pixel (i, j) is |x - xc| + |y - yc| < 1/2 around its centre
+      (xc, yc) = (i + 1/2, j + 1/2). A segment is *x-major* when -1 <= slope <= 1, i.e.
+      |by - ay| <= |bx - ax| (decided exactly; a zero-length segment counts as x-major),
+      and *y-major* otherwise. For an x-major segment the diamond's *test area* D (D3D11
+      3.4.3; +y is down on the render target) includes the diamond's lower-left and
+      lower-right edges and its bottom corner (xc, j + 1), and excludes its upper-left and
+      upper-right edges and its top, left and right corners. For a y-major segment D also
+      includes the right corner (i + 1, yc). With the diamond's edge functions oriented
+      clockwise on screen (top -> right -> bottom -> left corner, positive inside):
+      ``D = {E_ul > 0, E_ur > 0, E_lr >= 0, E_ll >= 0}`` (plus the right corner, y-major).
+      Diamonds touch only at corners, and each shared corner belongs to at most one of the
+      two (a bottom corner to the upper pixel; a right corner, y-major, to the left pixel):
+      a point lies in at most one test area. So a line through a bottom corner draws the
+      upper pixel, and a y-major line through a right corner the left one.
+    * "A line covers a pixel if the line *exits* the pixel's diamond test area, when
+      traveling along the line from the start towards the end" (D3D11 3.4.3). D is convex,
+      so the segment meets it in an interval, and it exits D exactly when it meets D and its
+      end point b is not in D: pixel f is drawn when ``segment & D_f != {}`` and
+      ``b not in D_f``. That is GL's wording ("produces those fragments f for which the
+      segment intersects R_f, except if p_b is contained in R_f"): the start pixel is drawn
+      when the segment leaves it, the end pixel is not, so a strip's shared vertex is drawn
+      once (by the segment that starts there). A zero-length segment draws nothing.
+      ``last_pixel=True`` draws every pixel whose test area the segment meets (the end
+      pixel too; then a zero-length segment draws the pixel whose D holds it).
+    * GL's own boundary convention differs: it keeps the diamond open and perturbs both end
+      points by -(eps, eps**2) in window coordinates (y up). It is not implemented here.
+    * Implementations: Mesa's llvmpipe (``src/gallium/drivers/llvmpipe/lp_setup_line.c``)
+      asks the same two questions in float -- ``draw_start`` when the start lies inside
+      the open diamond (``fabsf(x1diff) + fabsf(y1diff) < 0.5f``) or the segment crosses
+      the diamond's diagonal after it, ``draw_end`` false when the end lies inside -- and
+      trims a one-pixel-wide parallelogram to match; softpipe (``sp_setup.c``,
+      ``sp_setup_line``) runs integer Bresenham on truncated end points and omits the last
+      pixel.
+
+    Method (why one pixel per major step and O(length) per segment). For an x-major line
+    (|slope| <= 1) and a column i, the line meets D(i, j) only for the one row j with
+    ``j < y(xc) <= j + 1``, y(xc) the line's height at the column centre xc = i + 1/2:
+    along the diamond's vertical diagonal the test areas of a column tile the line x = xc
+    with half-open pieces (j, j + 1] (top corners out, bottom corners in), and
+    ``|t + m*u| + |u| >= |t|`` for |m| <= 1 shows that a line missing the diagonal misses
+    the diamond (a line along a lower edge meets that edge; along an upper edge, nothing).
+    y-major lines likewise meet one D per row, the horizontal diagonal tiled by (i, i + 1]
+    (left corners out, right corners in). So the kernel walks the major axis: at each
+    column (row) centre it finds the one candidate minor cell exactly (a float estimate
+    settled by :func:`harness.exact.orient2d_sign` against the cell's grid points). The
+    line meets that D in an interval containing the diagonal point P, so the *segment*
+    meets it when P lies on the segment (the column centre lies between the end points'
+    x: a float comparison), and otherwise exactly when the end point nearer to P lies in
+    D -- four orient2d signs against the diamond's edges, no intersection points. The end
+    point b is tested once. Coordinates must be zero or of magnitude in [2**-450, 2**450]
+    (:data:`harness.exact.SAFE_MIN`/:data:`~harness.exact.SAFE_MAX`); beyond, ValueError
+    names the segment (:func:`diamond_exit_spans_rational` takes any finite float).
+
+Bresenham (:func:`bresenham_spans`)
+    Seed 003: integer end points, one pixel per step of the major axis, octants centred on
+    the first point (the walk starts at ``a`` and goes towards ``b``).
+
+    * End point p -> pixel (i, j), exactly, by the declared ``rounding``: the pixel holding
+      p. ``floor``: i = floor(px) (truncation of the window coordinate: softpipe's ``(int)``
+      cast, seed 000's floor). ``nearest-even``/``half-away``: i is the integer nearest to
+      px - 1/2, i.e. the pixel whose centre i + 1/2 is nearest to px; that is floor(px)
+      except when px is an integer (p on the boundary of pixels px - 1 and px), where
+      ``nearest-even`` takes the even one and ``half-away`` the one away from zero (px when
+      px - 1/2 > 0, px - 1 when px - 1/2 < 0). Likewise j from py.
+    * x-major when |x1 - x0| >= |y1 - y0| (integers), else y-major. With K = |major delta|,
+      M = |minor delta|: the classic decision variable ``p = 2M - K``; after each pixel the
+      major coordinate steps, and the minor one steps when ``p >= 0`` (then ``p += 2M - 2K``,
+      else ``p += 2M``) -- Hearn & Baker's and GeeksforGeeks' decision parameter (the
+      seed's first reference), softpipe's ``if (error < 0) ... else y0 += ystep``. A tie
+      (p = 0: the ideal line exactly halfway between two pixel centres) steps towards the
+      end point (``ties="step"``); ``ties="stay"`` keeps the minor coordinate on a tie
+      (Foley & van Dam's midpoint test ``d <= 0``; Wikipedia's ``D > 0``). Closed form: the
+      minor offset at major step k is ``round(k*M/K)`` with halves rounded up (``step``) or
+      down (``stay``). Both end points are drawn (K + 1 pixels); ``last_pixel=False``
+      drops the last (K pixels, none for a zero-length segment).
+    * Rounded end points must lie within +-2**30 (every product k*M then fits int64).
+
+Rectangular lines (:func:`rectangle_spans`)
+    Vulkan's ``VK_LINE_RASTERIZATION_MODE_RECTANGULAR`` ("lines drawn as if they were
+    rectangles extruded from the line"; ``strictLines``): sample p = (i + sx, j + sy) is
+    covered when it lies inside the rectangle of width w centred on the segment, length
+    |b - a|, no end caps. With d = b - a and c(p) = cross(d, p - a) =
+    dx*(py - ay) - dy*(px - ax): ``dot(d, p - a) > 0``, ``dot(a - b, p - b) > 0`` and
+    ``4*c(p)**2 < w**2 * |d|**2``. A sample on the boundary is decided at p + delta(eps), the
+    tie rule's symbolic perturbation (:mod:`harness.conventions`), exactly as for
+    triangles: on a cap or side the sign of the boundary function's gradient along delta
+    decides (x-first: its x part, else its y part), so collinear segments a->b, b->c share
+    the samples of their common cap exactly once, and side by side strips likewise.
+    Decisions: the caps by a dot-product sign (float filter, exact expansion), the sides
+    by sign(c) (:func:`harness.exact.orient2d_sign`) and sign(w**2 |d|**2 - 4 c**2), a
+    degree-4 polynomial: a float filter with a rigorous bound, else an exact expansion. No
+    square root decides anything. Degree 4 needs a smaller range: coordinates and widths
+    zero or of magnitude in [2**-150, 2**150] (every partial product of the expansion is
+    then a multiple of 2**-808 and below 2**610: no underflow, no overflow); beyond,
+    ValueError. A zero-length segment covers nothing.
+
+The ``*_rational`` functions are the slow references, in :class:`fractions.Fraction`
+arithmetic for any finite float (small viewports and coordinates only): the diamond and
+rectangle ones decide every pixel (sample) of the viewport from the definitions above; the
+Bresenham one rounds the end points exactly and walks the incremental decision variable
+literally, pixel by pixel.
+"""
+
+from __future__ import annotations
+
+import math
+from fractions import Fraction
+from typing import Literal
+
+import numba
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from harness.api import MAX_VIEWPORT
+from harness.conventions import Convention, TieRule
+from harness.exact import CCW_ERRBOUND_A, SAFE_MAX, SAFE_MIN, _two_product, _two_sum, frozen, orient2d_sign
+
+__all__ = [
+    "diamond_exit_spans",
+    "diamond_exit_spans_rational",
+    "bresenham_spans",
+    "bresenham_spans_rational",
+    "bresenham_pixels",
+    "rectangle_spans",
+    "rectangle_spans_rational",
+    "BRESENHAM_ROUNDINGS",
+    "BRESENHAM_TIES",
+    "RECT_SAFE_MIN",
+    "RECT_SAFE_MAX",
+    "BRESENHAM_MAX",
+    "BresenhamRounding",
+    "BresenhamTies",
+]
+
+Spans = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]
+BresenhamRounding = Literal["nearest-even", "half-away", "floor"]
+BresenhamTies = Literal["step", "stay"]
+BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor")
+BRESENHAM_TIES: tuple[BresenhamTies, ...] = ("step", "stay")
+# Rectangles decide a degree-4 polynomial: inputs of magnitude in [2**-150, 2**150] (or 0)
+# are multiples of 2**-202, so every term is a multiple of 2**-808 (no underflow) and the
+# largest, (2c)**2 <= (4 * 2**151 * 2**151)**2, stays below 2**610 (no overflow; Dekker's
+# split needs < 2**996).
+RECT_SAFE_MIN = 2.0**-150
+RECT_SAFE_MAX = 2.0**150
+# Rounded Bresenham end points: |k*M| <= 2**31 * 2**31 = 2**62 fits int64.
+BRESENHAM_MAX = 2**30
+# margin of the rectangle's float filter: 32 ulps, well above its ~8 roundings
+_FILTER_SLACK = 2.0**-48
+
+
+# -- shared compiled pieces -------------------------------------------------------------------
+
+
+@numba.njit(cache=True, inline="always")
+def _emit(s, y, x, out_s, out_y, out_x0, out_x1, n, first):  # type: ignore[no-untyped-def]
+    """Add pixel (x, y) of segment s, merged into the last span when adjacent on its row.
+    ``first`` is the index of the segment's first span. Returns the span count."""
+    if n > first and out_y[n - 1] == y:
+        if out_x1[n - 1] == x:
+            out_x1[n - 1] = x + 1
+            return n
+        if out_x0[n - 1] == x + 1:
+            out_x0[n - 1] = x
+            return n
+    out_s[n] = s
+    out_y[n] = y
+    out_x0[n] = x
+    out_x1[n] = x + 1
+    return n + 1
+
+
+@numba.njit(cache=True, inline="always")
+def _clamp_index(value, low, high):  # type: ignore[no-untyped-def]
+    """floor(value) clamped to [low, high] without converting a huge float (NaN -> low)."""
+    if not value >= low:
+        return low
+    if value >= high:
+        return high
+    return int(math.floor(value))
+
+
+# -- diamond exit ------------------------------------------------------------------------------
+
+
+@numba.njit(cache=True)
+def _x_major(ax, ay, bx, by):  # type: ignore[no-untyped-def]
+    """|bx - ax| >= |by - ay|, exactly (a zero-length segment is x-major)."""
+    dx, ex = _two_sum(bx, -ax)
+    dy, ey = _two_sum(by, -ay)
+    # Rounding is monotone: a strict order of the rounded magnitudes is the exact order.
+    if abs(dx) != abs(dy):
+        return abs(dx) > abs(dy)
+    if dx == 0.0:
+        return True
+    # Equal rounded magnitudes: |d| = |hi| + sign(hi)*lo exactly, so compare the tails.
+    tail_x = ex if dx > 0.0 else -ex
+    tail_y = ey if dy > 0.0 else -ey
+    return tail_x >= tail_y
+
+
+@numba.njit(cache=True)
+def _in_test_area(px, py, i, j, y_major):  # type: ignore[no-untyped-def]
+    """Whether point p lies in the diamond test area D of pixel (i, j) (D3D11 3.4.3)."""
+    fi = float(i)
+    fj = float(j)
+    xc = fi + 0.5
+    yc = fj + 0.5
+    # y-major lines: the right corner belongs to D as well.
+    if y_major and px == fi + 1.0 and py == yc:
+        return True
+    # Corners top (xc, j), right (i+1, yc), bottom (xc, j+1), left (i, yc), clockwise on
+    # screen: each edge function is positive inside. Upper edges and their corners are out
+    # (strict), lower edges and the bottom corner in.
+    if orient2d_sign(fi, yc, xc, fj, px, py) <= 0:  # upper-left
+        return False
+    if orient2d_sign(xc, fj, fi + 1.0, yc, px, py) <= 0:  # upper-right
+        return False
+    if orient2d_sign(fi + 1.0, yc, xc, fj + 1.0, px, py) < 0:  # lower-right
+        return False
+    return orient2d_sign(xc, fj + 1.0, fi, yc, px, py) >= 0  # lower-left
+
+
+@numba.njit(cache=True)
+def _test_area_pixel(px, py, y_major, width, height):  # type: ignore[no-untyped-def]
+    """The viewport pixel whose test area holds p, as (i, j, found). D(i, j) lies in
+    i < x < i + 1 (x-major) or i < x <= i + 1 (y-major), and j < y <= j + 1."""
+    if not (-1.0 < px < width + 1.0 and -1.0 < py < height + 1.0):
+        return -1, -1, False
+    if y_major:
+        i = int(math.ceil(px)) - 1
+    else:
+        if px == math.floor(px):
+            return -1, -1, False
+        i = int(math.floor(px))
+    j = int(math.ceil(py)) - 1
+    if i < 0 or i >= width or j < 0 or j >= height:
+        return -1, -1, False
+    return i, j, _in_test_area(px, py, i, j, y_major)
+
+
+@numba.njit(cache=True, inline="always")
+def _at_or_below(rx, ry, qx, qy, uc, n, x_major):  # type: ignore[no-untyped-def]
+    """Whether the line r -> q (q after r along the major axis) crosses the major coordinate
+    uc at minor coordinate <= n, exactly."""
+    if x_major:
+        # orient2d(r, q, (uc, n)) = (qx - rx) * (n - y(uc)), qx > rx
+        return orient2d_sign(rx, ry, qx, qy, uc, float(n)) >= 0
+    # orient2d(r, q, (n, uc)) = (qy - ry) * (x(uc) - n), qy > ry
+    return orient2d_sign(rx, ry, qx, qy, float(n), uc) <= 0
+
+
+@numba.njit(cache=True)
+def _minor_cell(rx, ry, qx, qy, uc, x_major, limit, estimate):  # type: ignore[no-untyped-def]
+    """ceil(v(uc)) - 1, the minor cell m with m < v(uc) <= m + 1, clamped to [-1, limit]:
+    the smallest n in [0, limit + 1] with v(uc) <= n, minus one (n = limit + 1 when none).
+    Starts from the float estimate, then steps or bisects with the exact predicate."""
+    n = min(max(estimate, 0), limit + 1)
+    if n <= limit and not _at_or_below(rx, ry, qx, qy, uc, n, x_major):
+        n += 1
+        if n > limit or _at_or_below(rx, ry, qx, qy, uc, n, x_major):
+            return n - 1
+        lo, hi = n, limit + 1
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if _at_or_below(rx, ry, qx, qy, uc, mid, x_major):
+                hi = mid
+            else:
+                lo = mid
+        return hi - 1
+    if n == 0 or not _at_or_below(rx, ry, qx, qy, uc, n - 1, x_major):
+        return n - 1
+    n -= 1
+    if n == 0 or not _at_or_below(rx, ry, qx, qy, uc, n - 1, x_major):
+        return n - 1
+    lo, hi = -1, n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if _at_or_below(rx, ry, qx, qy, uc, mid, x_major):
+            hi = mid
+        else:
+            lo = mid
+    return hi - 1
+
+
+@numba.njit(cache=True)
+def _diamond_walk(ax, ay, bx, by, width, height):  # type: ignore[no-untyped-def]
+    """The major-axis cells a segment's walk visits: (x_major, r, q, lo, hi) with r, q its
+    end points ordered along the major axis and lo..hi the cells (clamped to the
+    viewport) whose test areas it may meet: x-major D(i, .) lies in i < x < i + 1, y-major
+    D(., j) in j < y <= j + 1, so floor(min) - 1 .. floor(max) covers both."""
+    x_major = _x_major(ax, ay, bx, by)
+    if x_major:
+        if ax <= bx:
+            rx, ry, qx, qy = ax, ay, bx, by
+        else:
+            rx, ry, qx, qy = bx, by, ax, ay
+        ru, qu, extent = rx, qx, width
+    else:
+        if ay <= by:
+            rx, ry, qx, qy = ax, ay, bx, by
+        else:
+            rx, ry, qx, qy = bx, by, ax, ay
+        ru, qu, extent = ry, qy, height
+    lo = _clamp_index(ru, 0, extent) - 1
+    lo = max(lo, 0)
+    hi = _clamp_index(qu, -1, extent - 1)
+    return x_major, rx, ry, qx, qy, lo, hi
+
+
+@numba.njit(cache=True)
+def _diamond_capacity(a, b, keep, width, height):  # type: ignore[no-untyped-def]
+    """An upper bound on the spans each segment writes: the cells its walk visits."""
+    total = 0
+    for s in range(a.shape[0]):
+        if not keep[s]:
+            continue
+        if a[s, 0] == b[s, 0] and a[s, 1] == b[s, 1]:
+            total += 1
+            continue
+        _, _, _, _, _, lo, hi = _diamond_walk(a[s, 0], a[s, 1], b[s, 0], b[s, 1], width, height)
+        total += max(hi - lo + 1, 0)
+    return total
+
+
+@numba.njit(cache=True)
+def _diamond_kernel(a, b, keep, width, height, last_pixel, out_s, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """Every segment's diamond-exit pixels as spans, segment by segment, rows ascending.
+    Returns the number of spans written."""
+    n = 0
+    for s in range(a.shape[0]):
+        if not keep[s]:
+            continue
+        ax, ay, bx, by = a[s, 0], a[s, 1], b[s, 0], b[s, 1]
+        first = n
+        if ax == bx and ay == by:
+            # Zero length: it never exits; with the last pixel drawn, the pixel holding it.
+            if last_pixel:
+                i, j, found = _test_area_pixel(ax, ay, False, width, height)
+                if found:
+                    n = _emit(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
+            continue
+        x_major, rx, ry, qx, qy, lo, hi = _diamond_walk(ax, ay, bx, by, width, height)
+        if lo > hi:
+            continue
+        y_major = not x_major
+        # The exit rule: the pixel whose test area holds the end point b is not left.
+        bi, bj, b_inside = _test_area_pixel(bx, by, y_major, width, height)
+        skip_end = b_inside and not last_pixel
+        if x_major:
+            ru, rv, qu, qv, limit = rx, ry, qx, qy, height
+        else:
+            ru, rv, qu, qv, limit = ry, rx, qy, qx, width
+        slope = (qv - rv) / (qu - ru)
+        # Walk so that rows come out ascending: x-major lines going up walk right to left.
+        step = -1 if (x_major and qv < rv) else 1
+        k = lo if step == 1 else hi
+        for _ in range(hi - lo + 1):
+            uc = k + 0.5
+            k_now = k
+            k += step
+            v_est = rv + (uc - ru) * slope
+            estimate = 0 if not v_est > -1.0 else (limit + 1 if v_est > limit + 1.0 else int(math.ceil(v_est)))
+            m = _minor_cell(rx, ry, qx, qy, uc, x_major, limit, estimate)
+            if m < 0 or m >= limit:
+                continue
+            i, j = (k_now, m) if x_major else (m, k_now)
+            # The segment meets D when it reaches the diagonal point at the cell centre;
+            # short of it, only through the end point nearer to it.
+            if uc < ru:
+                meets = _in_test_area(rx, ry, i, j, y_major)
+            elif uc > qu:
+                meets = _in_test_area(qx, qy, i, j, y_major)
+            else:
+                meets = True
+            if not meets or (skip_end and i == bi and j == bj):
+                continue
+            n = _emit(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
+    return n
+
+
+# -- Bresenham -------------------------------------------------------------------------------
+
+
+@numba.njit(cache=True)
+def _bresenham_capacity(p0, p1, keep, width, height):  # type: ignore[no-untyped-def]
+    total = 0
+    for s in range(p0.shape[0]):
+        if keep[s]:
+            total += min(max(abs(p1[s, 0] - p0[s, 0]), abs(p1[s, 1] - p0[s, 1])) + 1, max(width, height))
+    return total
+
+
+@numba.njit(cache=True)
+def _bresenham_kernel(p0, p1, keep, width, height, step_ties, last_pixel, out_s, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """Integer Bresenham from p0 to p1 (int64 pixel coordinates), in closed form and only
+    within the viewport. Returns the number of spans written."""
+    n = 0
+    for s in range(p0.shape[0]):
+        if not keep[s]:
+            continue
+        first = n
+        x0, y0, x1, y1 = p0[s, 0], p0[s, 1], p1[s, 0], p1[s, 1]
+        x_major = abs(x1 - x0) >= abs(y1 - y0)
+        if x_major:
+            u0, v0, du, dv, extent = x0, y0, x1 - x0, y1 - y0, width
+        else:
+            u0, v0, du, dv, extent = y0, x0, y1 - y0, x1 - x0, height
+        su = 1 if du >= 0 else -1
+        sv = 1 if dv >= 0 else -1
+        big_k = abs(du)
+        big_m = abs(dv)
+        last = big_k if last_pixel else big_k - 1
+        if last < 0:
+            continue
+        # the steps k in [0, last] whose major coordinate u0 + su*k lies in [0, extent)
+        if su > 0:
+            k_lo, k_hi = max(0, -u0), min(last, extent - 1 - u0)
+        else:
+            k_lo, k_hi = max(0, u0 - (extent - 1)), min(last, u0)
+        if k_lo > k_hi:
+            continue
+        # rows ascending: walk backwards when the rows run up the screen
+        rows_down = (sv > 0) if x_major else (su > 0)
+        k = k_lo if rows_down else k_hi
+        step = 1 if rows_down else -1
+        for _ in range(k_hi - k_lo + 1):
+            k_now = k
+            k += step
+            if big_k == 0:
+                offset = 0
+            else:
+                # The decision variable in closed form: the minor offset is k*M/K rounded
+                # to nearest, a half (p = 0) stepping ("step") or staying ("stay").
+                q, r = divmod(k_now * big_m, big_k)
+                twice = 2 * r
+                offset = q + (1 if (twice > big_k or (step_ties and twice == big_k)) else 0)
+            u = u0 + su * k_now
+            v = v0 + sv * offset
+            x, y = (u, v) if x_major else (v, u)
+            if y < 0 or y >= height or x < 0 or x >= width:
+                continue
+            n = _emit(s, y, x, out_s, out_y, out_x0, out_x1, n, first)
+    return n
+
+
+# -- rectangles --------------------------------------------------------------------------------
+
+
+@numba.njit(cache=True)
+def _grow(h, length, q):  # type: ignore[no-untyped-def]
+    """Add float q to the nonoverlapping expansion h[:length] (Shewchuk's
+    grow_expansion_zeroelim); returns the new length."""
+    k = 0
+    for i in range(length):
+        q, err = _two_sum(q, h[i])
+        if err != 0.0:
+            h[k] = err
+            k += 1
+    if q != 0.0:
+        h[k] = q
+        k += 1
+    return k
+
+
+@numba.njit(cache=True)
+def _expansion_sign(h, length):  # type: ignore[no-untyped-def]
+    if length == 0:
+        return 0
+    return 1 if h[length - 1] > 0.0 else -1
+
+
+@numba.njit(cache=True)
+def _dot_sign(ax, ay, bx, by, px, py):  # type: ignore[no-untyped-def]
+    """Exact sign of dot(b - a, p - a) = (bx-ax)*(px-ax) + (by-ay)*(py-ay)."""
+    t1 = (bx - ax) * (px - ax)
+    t2 = (by - ay) * (py - ay)
+    total = t1 + t2
+    # Signs of differences and of their products are exact: agreeing signs need no bound.
+    if (t1 >= 0.0 and t2 >= 0.0) or (t1 <= 0.0 and t2 <= 0.0):
+        return 1 if total > 0.0 else (-1 if total < 0.0 else 0)
+    bound = CCW_ERRBOUND_A * (abs(t1) + abs(t2))  # Shewchuk's orient2d bound: same form
+    if total > bound:
+        return 1
+    if -total > bound:
+        return -1
+    h = np.empty(16)
+    length = 0
+    for u, v in ((bx, px), (-bx, ax), (-ax, px), (ax, ax), (by, py), (-by, ay), (-ay, py), (ay, ay)):
+        hi, lo = _two_product(u, v)
+        length = _grow(h, length, lo)
+        length = _grow(h, length, hi)
+    return _expansion_sign(h, length)
+
+
+@numba.njit(cache=True)
+def _strip_sign(ax, ay, bx, by, px, py, w):  # type: ignore[no-untyped-def]
+    """Exact sign of w**2 * |b - a|**2 - 4 * c**2, c = cross(b - a, p - a): positive when
+    p lies strictly between the rectangle's long sides."""
+    detleft = (ax - px) * (by - py)
+    detright = (ay - py) * (bx - px)
+    c = detleft - detright
+    c_err = CCW_ERRBOUND_A * (abs(detleft) + abs(detright))
+    dx = bx - ax
+    dy = by - ay
+    big_h = 0.25 * w * w * (dx * dx + dy * dy)  # h**2 within ~7 roundings
+    c_hi = abs(c) + c_err
+    c_lo = abs(c) - c_err
+    if c_hi * c_hi * (1.0 + _FILTER_SLACK) < big_h * (1.0 - _FILTER_SLACK):
+        return 1
+    if c_lo > 0.0 and c_lo * c_lo * (1.0 - _FILTER_SLACK) > big_h * (1.0 + _FILTER_SLACK):
+        return -1
+    # Exact: 2c as an expansion (orient2d's six products, doubled: exact), then
+    # w**2 * (dx**2 + dy**2) - (2c)**2 summed term by term.
+    cc = np.empty(16)
+    nc = 0
+    for u, v in ((ax, by), (-ay, bx), (bx, py), (-by, px), (px, ay), (-py, ax)):
+        hi, lo = _two_product(2.0 * u, v)
+        nc = _grow(cc, nc, lo)
+        nc = _grow(cc, nc, hi)
+    dd = np.empty(32)
+    nd = 0
+    dxh, dxl = _two_sum(bx, -ax)
+    dyh, dyl = _two_sum(by, -ay)
+    for u, v in ((dxh, dxh), (dxh, dxl), (dxh, dxl), (dxl, dxl), (dyh, dyh), (dyh, dyl), (dyh, dyl), (dyl, dyl)):
+        hi, lo = _two_product(u, v)
+        nd = _grow(dd, nd, lo)
+        nd = _grow(dd, nd, hi)
+    wh, wl = _two_product(w, w)
+    acc = np.empty(2 * nc * nc + 4 * nd + 8)
+    na = 0
+    for k in range(nd):
+        for part in (wh, wl):
+            if part != 0.0:
+                hi, lo = _two_product(dd[k], part)
+                na = _grow(acc, na, lo)
+                na = _grow(acc, na, hi)
+    for k in range(nc):
+        for m in range(nc):
+            hi, lo = _two_product(-cc[k], cc[m])
+            na = _grow(acc, na, lo)
+            na = _grow(acc, na, hi)
+    return _expansion_sign(acc, na)
+
+
+@numba.njit(cache=True, inline="always")
+def _owned(gx, gy, tx, ty, y_first):  # type: ignore[no-untyped-def]
+    """Whether a sample exactly on a boundary whose inside function has gradient signs
+    (gx, gy) is inside: the sign of the gradient along the tie rule's perturbation
+    (x-first: its x part, else its y part; y-first the other way round)."""
+    if y_first:
+        return gy * ty > 0 if gy != 0 else gx * tx > 0
+    return gx * tx > 0 if gx != 0 else gy * ty > 0
+
+
+@numba.njit(cache=True)
+def _rect_condition(kind, ax, ay, bx, by, w, px, py, sdx, sdy, tx, ty, y_first):  # type: ignore[no-untyped-def]
+    """Condition ``kind`` of the rectangle at sample p, exactly, ties by the perturbation:
+    0 dot(d, p - a) > 0, 1 dot(-d, p - b) > 0, 2 c < h, 3 c > -h (c = cross(d, p - a),
+    h = w|d|/2, d = b - a with exact signs sdx, sdy)."""
+    if kind == 0:
+        s = _dot_sign(ax, ay, bx, by, px, py)
+        return s > 0 if s != 0 else _owned(sdx, sdy, tx, ty, y_first)
+    if kind == 1:
+        s = _dot_sign(bx, by, ax, ay, px, py)
+        return s > 0 if s != 0 else _owned(-sdx, -sdy, tx, ty, y_first)
+    c = orient2d_sign(ax, ay, bx, by, px, py)
+    if kind == 2:
+        if c <= 0:
+            return True
+        s = _strip_sign(ax, ay, bx, by, px, py, w)
+        return s > 0 if s != 0 else _owned(sdy, -sdx, tx, ty, y_first)  # grad(h - c) = (dy, -dx)
+    if c >= 0:
+        return True
+    s = _strip_sign(ax, ay, bx, by, px, py, w)
+    return s > 0 if s != 0 else _owned(-sdy, sdx, tx, ty, y_first)  # grad(c + h) = (-dy, dx)
+
+
+@numba.njit(cache=True)
+def _rect_flip(kind, rising, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first, width, estimate):  # type: ignore[no-untyped-def]
+    """The first column i in [0, width] where g(i) holds, g = condition (``rising``) or
+    its negation, monotone false -> true along the row; g(width) is taken as true.
+    Starts from the float estimate, then steps or bisects with the exact condition."""
+    c = min(max(estimate, 0), width)
+    if c < width and (_rect_condition(kind, ax, ay, bx, by, w, c + sx, ys, sdx, sdy, tx, ty, y_first) != rising):
+        c += 1
+        if c >= width or (_rect_condition(kind, ax, ay, bx, by, w, c + sx, ys, sdx, sdy, tx, ty, y_first) == rising):
+            return c
+        lo, hi = c, width
+        while hi - lo > 1:
+            mid = (lo + hi) // 2
+            if _rect_condition(kind, ax, ay, bx, by, w, mid + sx, ys, sdx, sdy, tx, ty, y_first) == rising:
+                hi = mid
+            else:
+                lo = mid
+        return hi
+    if c == 0 or (_rect_condition(kind, ax, ay, bx, by, w, c - 1 + sx, ys, sdx, sdy, tx, ty, y_first) != rising):
+        return c
+    c -= 1
+    if c == 0 or (_rect_condition(kind, ax, ay, bx, by, w, c - 1 + sx, ys, sdx, sdy, tx, ty, y_first) != rising):
+        return c
+    lo, hi = -1, c - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if _rect_condition(kind, ax, ay, bx, by, w, mid + sx, ys, sdx, sdy, tx, ty, y_first) == rising:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+@numba.njit(cache=True, inline="always")
+def _rect_rows(ay, by, w, sy, height):  # type: ignore[no-untyped-def]
+    """Rows whose sample height may meet the rectangle (within w/2 of the segment's y
+    extent), with a row to spare either side for the float bounds."""
+    y_lo = min(ay, by) - 0.5 * w - sy
+    y_hi = max(ay, by) + 0.5 * w - sy
+    first = _clamp_index(y_lo, -1, height) - 1
+    last = _clamp_index(y_hi, -1, height) + 1
+    return max(first, 0), min(last, height - 1)
+
+
+@numba.njit(cache=True)
+def _rect_capacity(a, b, widths, keep, sy, height):  # type: ignore[no-untyped-def]
+    total = 0
+    for s in range(a.shape[0]):
+        if keep[s]:
+            first, last = _rect_rows(a[s, 1], b[s, 1], widths[s], sy, height)
+            total += max(last - first + 1, 0)
+    return total
+
+
+@numba.njit(cache=True)
+def _rect_kernel(a, b, widths, keep, sx, sy, tx, ty, y_first, width, height, out_s, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """Every segment's rectangle as one span per row. Each of the four conditions is linear
+    along a row (monotone in the column), so the covered samples run from the last column
+    where a rising condition turns true to the first where a falling one turns false."""
+    n = 0
+    for s in range(a.shape[0]):
+        if not keep[s]:
+            continue
+        ax, ay, bx, by, w = a[s, 0], a[s, 1], b[s, 0], b[s, 1], widths[s]
+        if ax == bx and ay == by:
+            continue  # no length, no rectangle
+        sdx = 1 if bx > ax else (-1 if bx < ax else 0)
+        sdy = 1 if by > ay else (-1 if by < ay else 0)
+        dx = bx - ax
+        dy = by - ay
+        half = 0.5 * w * math.sqrt(dx * dx + dy * dy)  # for the float estimates only
+        first, last = _rect_rows(ay, by, w, sy, height)
+        for j in range(first, last + 1):
+            ys = j + sy
+            lo = 0
+            end = width
+            for kind in range(4):
+                # the condition's x gradient: d, -d, (dy, .), (-dy, .)
+                gx = sdx if kind == 0 else (-sdx if kind == 1 else (sdy if kind == 2 else -sdy))
+                if gx == 0:
+                    # constant along the row
+                    if not _rect_condition(kind, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first):
+                        end = 0
+                        break
+                    continue
+                if kind == 0:
+                    x_edge = ax - dy * (ys - ay) / dx
+                elif kind == 1:
+                    x_edge = bx - dy * (ys - by) / dx
+                elif kind == 2:
+                    x_edge = ax + (dx * (ys - ay) - half) / dy
+                else:
+                    x_edge = ax + (dx * (ys - ay) + half) / dy
+                e = x_edge - sx
+                estimate = 0 if not e > -1.0 else (width if e > width else int(math.ceil(e)))
+                rising = gx > 0
+                c = _rect_flip(kind, rising, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first, width, estimate)
+                if rising:
+                    lo = max(lo, c)
+                else:
+                    end = min(end, c)
+                if lo >= end:
+                    break
+            if lo < end:
+                out_s[n] = s
+                out_y[n] = j
+                out_x0[n] = lo
+                out_x1[n] = end
+                n += 1
+    return n
+
+
+# -- input handling ------------------------------------------------------------------------------
+
+
+def _empty() -> Spans:
+    return tuple(np.empty(0, dtype=np.int64) for _ in range(4))  # type: ignore[return-value]
+
+
+def _viewport(width: int, height: int) -> tuple[int, int]:
+    for name, value in (("width", width), ("height", height)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not 0 <= value <= MAX_VIEWPORT:
+            raise ValueError(f"{name} must be an integer in 0..{MAX_VIEWPORT}, not {value!r}")
+    return int(width), int(height)
+
+
+def _endpoints(a: ArrayLike, b: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+    """The end points as (N, 2) float64 arrays, and which segments are finite."""
+    a_arr = np.asarray(a, dtype=np.float64)
+    b_arr = np.asarray(b, dtype=np.float64)
+    if a_arr.ndim != 2 or a_arr.shape[1:] != (2,) or a_arr.shape != b_arr.shape:
+        raise ValueError(f"a and b must be (N, 2) arrays of one shape, not {a_arr.shape} and {b_arr.shape}")
+    finite = np.isfinite(np.concatenate([a_arr, b_arr], axis=1)).all(axis=1)
+    return a_arr, b_arr, np.asarray(finite, dtype=np.bool_)
+
+
+def _check_range(values: NDArray[np.float64], keep: NDArray[np.bool_], low: float, high: float, use: str) -> None:
+    """ValueError naming the first kept segment with a nonzero coordinate beyond [low, high]."""
+    magnitude = np.abs(values.reshape(values.shape[0], -1))
+    beyond = ((magnitude != 0.0) & ((magnitude < low) | (magnitude > high))).any(axis=1) & keep
+    if beyond.any():
+        k = int(np.flatnonzero(beyond)[0])
+        raise ValueError(
+            f"segment {k} has coordinates beyond the exact predicates' range (nonzero magnitude below "
+            f"2**{int(math.log2(low))} or above 2**{int(math.log2(high))}); use {use}"
+        )
+
+
+def _spans_from_mask(segment: int, covered: list[list[bool]], out: list[tuple[int, int, int, int]]) -> None:
+    """Maximal runs of each row of ``covered`` ([y][x]) as spans of ``segment``."""
+    for j, row in enumerate(covered):
+        i = 0
+        while i < len(row):
+            if row[i]:
+                k = i
+                while k < len(row) and row[k]:
+                    k += 1
+                out.append((segment, j, i, k))
+                i = k
+            else:
+                i += 1
+
+
+def _as_spans(rows: list[tuple[int, int, int, int]]) -> Spans:
+    if not rows:
+        return _empty()
+    arr = np.array(rows, dtype=np.int64).T
+    return arr[0], arr[1], arr[2], arr[3]
+
+
+# -- diamond exit: public ----------------------------------------------------------------------
+
+
+def diamond_exit_spans(a: ArrayLike, b: ArrayLike, width: int, height: int, last_pixel: bool = False) -> Spans:
+    """Exactly which pixels each segment draws under the diamond-exit rule (D3D11 aliased
+    lines; GL's half-open lines).
+
+    Parameters
+    ----------
+    a, b : (N, 2) float64
+        Segment k runs from ``a[k]`` to ``b[k]``.
+    width, height : int
+        The viewport.
+    last_pixel : bool
+        False: the rule itself (a pixel whose test area holds the end point is not
+        drawn). True: every pixel whose test area the segment meets, the end pixel too.
+
+    Returns
+    -------
+    (segment, y, x0, x1) : four (S,) int64 arrays
+        Spans [x0, x1), sorted by segment, row and x0 (one span per row and segment).
+
+    Raises
+    ------
+    ValueError
+        On a bad argument, or a segment with a nonzero coordinate of magnitude below
+        2**-450 or above 2**450, naming the segment.
+
+    Examples
+    --------
+    From pixel centre to pixel centre: the start pixel is drawn, the end pixel is not; a
+    tie (the line through the bottom corner of (1, 0)) goes to the upper pixel.
+
+    >>> s, y, x0, x1 = diamond_exit_spans([[0.5, 0.5]], [[4.5, 2.5]], 6, 4)
+    >>> [(int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1)]
+    [(0, 0, 2), (1, 2, 4)]
+    >>> s, y, x0, x1 = diamond_exit_spans([[0.5, 0.5]], [[4.5, 2.5]], 6, 4, last_pixel=True)
+    >>> [(int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1)]
+    [(0, 0, 2), (1, 2, 4), (2, 4, 5)]
+    """
+    width, height = _viewport(width, height)
+    a_arr, b_arr, keep = _endpoints(a, b)
+    _check_range(np.concatenate([a_arr, b_arr], axis=1), keep, SAFE_MIN, SAFE_MAX, "diamond_exit_spans_rational")
+    if not keep.any() or width == 0 or height == 0:
+        return _empty()
+    a_arr, b_arr, keep_f = frozen(a_arr), frozen(b_arr), frozen(keep, np.bool_)
+    capacity = int(_diamond_capacity(a_arr, b_arr, keep_f, width, height))
+    out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
+    m = int(_diamond_kernel(a_arr, b_arr, keep_f, width, height, bool(last_pixel), *out))
+    return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
+
+
+def _in_test_area_rational(px: Fraction, py: Fraction, xc: Fraction, yc: Fraction, y_major: bool) -> bool:
+    """The D3D11 test area, written from the spec's words: lower edges (``<=``) and the
+    bottom corner in, upper edges and the top, left and right corners out; the right corner
+    in for y-major lines."""
+    dx, dy = px - xc, py - yc
+    half = Fraction(1, 2)
+    if y_major and dx == half and dy == 0:
+        return True
+    return dx + dy <= half and -dx + dy <= half and dx - dy < half and -dx - dy < half
+
+
+def _meets_rational(a: tuple[Fraction, Fraction], b: tuple[Fraction, Fraction], xc: Fraction, yc: Fraction,
+                    y_major: bool) -> bool:
+    """Whether the segment a-b meets the test area around (xc, yc): the points
+    a + t(b - a), 0 <= t <= 1, satisfying its four linear conditions form an interval."""
+    half = Fraction(1, 2)
+    ex, ey = a[0] - xc, a[1] - yc
+    fx, fy = b[0] - a[0], b[1] - a[1]
+    # each condition: g0 + g1*t > 0 (strict) or >= 0
+    conditions = [
+        (half - ex - ey, -fx - fy, False),  # dx + dy <= 1/2: lower-right edge
+        (half + ex - ey, fx - fy, False),  # -dx + dy <= 1/2: lower-left edge
+        (half - ex + ey, -fx + fy, True),  # dx - dy < 1/2: upper-right edge
+        (half + ex + ey, fx + fy, True),  # -dx - dy < 1/2: upper-left edge
+    ]
+    lo, lo_strict, hi, hi_strict = Fraction(0), False, Fraction(1), False
+    feasible = True
+    for g0, g1, strict in conditions:
+        if g1 == 0:
+            if g0 < 0 or (g0 == 0 and strict):
+                feasible = False
+            continue
+        root = -g0 / g1
+        if g1 > 0:  # t > root
+            if root > lo:
+                lo, lo_strict = root, strict
+            elif root == lo:
+                lo_strict = lo_strict or strict
+        else:  # t < root
+            if root < hi:
+                hi, hi_strict = root, strict
+            elif root == hi:
+                hi_strict = hi_strict or strict
+    if feasible and (lo < hi or (lo == hi and not lo_strict and not hi_strict)):
+        return True
+    if not y_major:
+        return False
+    # the right corner (xc + 1/2, yc): on the segment?
+    rx, ry = xc + half - a[0], yc - a[1]
+    if fx == 0 and fy == 0:
+        return rx == 0 and ry == 0
+    if fx * ry - fy * rx != 0:
+        return False
+    t = (rx * fx + ry * fy) / (fx * fx + fy * fy)
+    return 0 <= t <= 1
+
+
+def diamond_exit_spans_rational(a: ArrayLike, b: ArrayLike, width: int, height: int, last_pixel: bool = False) -> Spans:
+    """The same spans as :func:`diamond_exit_spans` by brute force in rational arithmetic:
+    every pixel of the viewport tested from the definition (the segment meets the pixel's
+    test area, and the end point is not in it). Any finite float; small viewports only."""
+    width, height = _viewport(width, height)
+    a_arr, b_arr, keep = _endpoints(a, b)
+    out: list[tuple[int, int, int, int]] = []
+    half = Fraction(1, 2)
+    for s in np.flatnonzero(keep):
+        pa = (Fraction(float(a_arr[s, 0])), Fraction(float(a_arr[s, 1])))
+        pb = (Fraction(float(b_arr[s, 0])), Fraction(float(b_arr[s, 1])))
+        y_major = abs(pb[1] - pa[1]) > abs(pb[0] - pa[0])
+        covered = []
+        for j in range(height):
+            row = []
+            for i in range(width):
+                xc, yc = i + half, j + half
+                hit = _meets_rational(pa, pb, xc, yc, y_major) and (
+                    bool(last_pixel) or not _in_test_area_rational(pb[0], pb[1], xc, yc, y_major))
+                row.append(hit)
+            covered.append(row)
+        _spans_from_mask(int(s), covered, out)
+    return _as_spans(out)
+
+
+# -- Bresenham: public --------------------------------------------------------------------------
+
+
+def _round_pixels(p: NDArray[np.float64], rounding: str) -> NDArray[np.float64]:
+    """Pixel coordinates of points, exactly (see the module docstring): floor(p) is exact,
+    and so is p - floor(p)."""
+    f = np.floor(p)
+    if rounding == "floor":
+        return f
+    on_boundary = (p - f) == 0.0  # p - 1/2 is a half: the tie
+    if rounding == "nearest-even":
+        tie = np.where(np.fmod(f, 2.0) == 0.0, f, f - 1.0)
+    else:  # half-away: p - 1/2 > 0 rounds up to f, < 0 down to f - 1
+        tie = np.where(f >= 1.0, f, f - 1.0)
+    return np.where(on_boundary, tie, f)
+
+
+def _bresenham_prepare(a: ArrayLike, b: ArrayLike, width: int, height: int, rounding: str,
+                       ties: str) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_], int, int]:
+    width, height = _viewport(width, height)
+    if rounding not in BRESENHAM_ROUNDINGS:
+        raise ValueError(f"rounding must be one of {', '.join(BRESENHAM_ROUNDINGS)}, not {rounding!r}")
+    if ties not in BRESENHAM_TIES:
+        raise ValueError(f"ties must be one of {', '.join(BRESENHAM_TIES)}, not {ties!r}")
+    a_arr, b_arr, keep = _endpoints(a, b)
+    with np.errstate(invalid="ignore"):
+        p0 = np.where(keep[:, None], _round_pixels(a_arr, rounding), 0.0)
+        p1 = np.where(keep[:, None], _round_pixels(b_arr, rounding), 0.0)
+    beyond = (np.abs(np.concatenate([p0, p1], axis=1)) > BRESENHAM_MAX).any(axis=1)
+    if beyond.any():
+        k = int(np.flatnonzero(beyond)[0])
+        raise ValueError(f"segment {k} has a rounded end point beyond +-2**30 pixels")
+    return p0.astype(np.int64), p1.astype(np.int64), keep, width, height
+
+
+def bresenham_spans(a: ArrayLike, b: ArrayLike, width: int, height: int, rounding: BresenhamRounding = "nearest-even",
+                    ties: BresenhamTies = "step", last_pixel: bool = True) -> Spans:
+    """The pixels integer Bresenham draws from ``a[k]`` to ``b[k]`` (seed 003).
+
+    Parameters
+    ----------
+    a, b : (N, 2) float64
+        End points, rounded to pixels by ``rounding`` (see the module docstring).
+    width, height : int
+        The viewport.
+    rounding : {"nearest-even", "half-away", "floor"}
+    ties : {"step", "stay"}
+        Decision variable zero: step the minor coordinate (``p >= 0``) or keep it (``p > 0``).
+    last_pixel : bool
+        Draw the end point's pixel (True) or stop one step short.
+
+    Returns
+    -------
+    (segment, y, x0, x1) : four (S,) int64 arrays
+        Spans sorted by segment, row and x0.
+
+    Examples
+    --------
+    >>> s, y, x0, x1 = bresenham_spans([[0.5, 0.5]], [[4.5, 2.5]], 6, 4)
+    >>> [(int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1)]
+    [(0, 0, 1), (1, 1, 3), (2, 3, 5)]
+    >>> s, y, x0, x1 = bresenham_spans([[0.5, 0.5]], [[4.5, 2.5]], 6, 4, ties="stay")
+    >>> [(int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1)]
+    [(0, 0, 2), (1, 2, 4), (2, 4, 5)]
+    """
+    p0, p1, keep, width, height = _bresenham_prepare(a, b, width, height, rounding, ties)
+    if not keep.any() or width == 0 or height == 0:
+        return _empty()
+    p0, p1, keep_f = frozen(p0, np.int64), frozen(p1, np.int64), frozen(keep, np.bool_)
+    capacity = int(_bresenham_capacity(p0, p1, keep_f, width, height))
+    out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
+    m = int(_bresenham_kernel(p0, p1, keep_f, width, height, ties == "step", bool(last_pixel), *out))
+    return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
+
+
+bresenham_pixels = bresenham_spans  # the issue's name for it
+
+
+def _round_pixel_rational(v: Fraction, rounding: str) -> int:
+    if rounding == "floor":
+        return math.floor(v)
+    c = v - Fraction(1, 2)
+    f = math.floor(c)
+    r = c - f
+    if r != Fraction(1, 2):
+        return f if r < Fraction(1, 2) else f + 1
+    if rounding == "nearest-even":
+        return f if f % 2 == 0 else f + 1
+    return f + 1 if c > 0 else f
+
+
+def bresenham_spans_rational(a: ArrayLike, b: ArrayLike, width: int, height: int,
+                             rounding: BresenhamRounding = "nearest-even", ties: BresenhamTies = "step",
+                             last_pixel: bool = True) -> Spans:
+    """The same pixels as :func:`bresenham_spans` by the literal algorithm: end points
+    rounded in rational arithmetic, then the incremental decision variable walked pixel
+    by pixel from the first end point (small coordinates only)."""
+    width, height = _viewport(width, height)
+    if rounding not in BRESENHAM_ROUNDINGS or ties not in BRESENHAM_TIES:
+        raise ValueError(f"bad rounding {rounding!r} or ties {ties!r}")
+    a_arr, b_arr, keep = _endpoints(a, b)
+    out: list[tuple[int, int, int, int]] = []
+    for s in np.flatnonzero(keep):
+        x0, y0 = (_round_pixel_rational(Fraction(float(v)), rounding) for v in a_arr[s])
+        x1, y1 = (_round_pixel_rational(Fraction(float(v)), rounding) for v in b_arr[s])
+        x_major = abs(x1 - x0) >= abs(y1 - y0)
+        u, v, du, dv = (x0, y0, x1 - x0, y1 - y0) if x_major else (y0, x0, y1 - y0, x1 - x0)
+        su, sv = (1 if du >= 0 else -1), (1 if dv >= 0 else -1)
+        big_k, big_m = abs(du), abs(dv)
+        p = 2 * big_m - big_k
+        covered = [[False] * width for _ in range(height)]
+        for k in range(big_k + 1):
+            if k < big_k or last_pixel:
+                x, y = (u, v) if x_major else (v, u)
+                if 0 <= x < width and 0 <= y < height:
+                    covered[y][x] = True
+            if k == big_k:
+                break
+            if p > 0 or (p == 0 and ties == "step"):
+                v += sv
+                p -= 2 * big_k
+            p += 2 * big_m
+            u += su
+        _spans_from_mask(int(s), covered, out)
+    return _as_spans(out)
+
+
+# -- rectangles: public ---------------------------------------------------------------------------
+
+
+def _rect_prepare(a: ArrayLike, b: ArrayLike, line_width: ArrayLike, sample: tuple[float, float], tie: TieRule,
+                  width: int, height: int) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64],
+                                                    NDArray[np.bool_], Convention, int, int]:
+    width, height = _viewport(width, height)
+    convention = Convention(sample=sample, tie=tie)  # validates the sample point and the rule
+    a_arr, b_arr, keep = _endpoints(a, b)
+    widths = np.broadcast_to(np.asarray(line_width, dtype=np.float64), (a_arr.shape[0],)).copy()
+    bad = ~(np.isfinite(widths) & (widths > 0.0))
+    if bad.any():
+        k = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"line_width of segment {k} must be positive and finite, not {widths[k]!r}")
+    return a_arr, b_arr, widths, keep, convention, width, height
+
+
+def rectangle_spans(a: ArrayLike, b: ArrayLike, line_width: ArrayLike, sample: tuple[float, float] = (0.5, 0.5),
+                    tie: TieRule = "top-left", *, width: int, height: int) -> Spans:
+    """Exactly which samples each segment's rectangle covers (Vulkan rectangular lines).
+
+    Parameters
+    ----------
+    a, b : (N, 2) float64
+        Segment k runs from ``a[k]`` to ``b[k]``.
+    line_width : float or (N,) float64
+        The rectangle's width w > 0.
+    sample : (float, float)
+        The sample point's offset in each pixel (as :class:`harness.conventions.Convention`).
+    tie : str
+        The tie rule for samples on the rectangle's boundary (:data:`harness.conventions.TIE_RULES`).
+    width, height : int
+        The viewport.
+
+    Returns
+    -------
+    (segment, y, x0, x1) : four (S,) int64 arrays
+        One span per covered row and segment, sorted by segment and row.
+
+    Raises
+    ------
+    ValueError
+        On a bad argument, or a segment with a nonzero coordinate or width of magnitude below
+        2**-150 or above 2**150, naming the segment.
+
+    Examples
+    --------
+    A horizontal segment of width 1 along y = 1: the samples of row 0 (y = 0.5) lie on its
+    upper side and those of row 1 on its lower side; top-left ties keep the upper side and
+    the left cap (x = 0.5), and leave out the lower side and the right cap (x = 3.5).
+
+    >>> s, y, x0, x1 = rectangle_spans([[0.5, 1.0]], [[3.5, 1.0]], 1.0, width=5, height=3)
+    >>> [(int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1)]
+    [(0, 0, 3)]
+    """
+    a_arr, b_arr, widths, keep, convention, width, height = _rect_prepare(a, b, line_width, sample, tie, width, height)
+    values = np.concatenate([a_arr, b_arr, widths[:, None]], axis=1)
+    _check_range(values, keep, RECT_SAFE_MIN, RECT_SAFE_MAX, "rectangle_spans_rational")
+    if not keep.any() or width == 0 or height == 0:
+        return _empty()
+    sx, sy = convention.sample
+    tx, ty, y_first = convention.tie_perturbation
+    a_f, b_f, w_f, keep_f = frozen(a_arr), frozen(b_arr), frozen(widths), frozen(keep, np.bool_)
+    capacity = int(_rect_capacity(a_f, b_f, w_f, keep_f, sy, height))
+    out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
+    m = int(_rect_kernel(a_f, b_f, w_f, keep_f, sx, sy, tx, ty, y_first, width, height, *out))
+    return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
+
+
+def _first_sign(coefficients: list[Fraction]) -> int:
+    for value in coefficients:
+        if value:
+            return 1 if value > 0 else -1
+    return 0
+
+
+def rectangle_spans_rational(a: ArrayLike, b: ArrayLike, line_width: ArrayLike, sample: tuple[float, float] = (0.5, 0.5),
+                             tie: TieRule = "top-left", *, width: int, height: int) -> Spans:
+    """The same spans as :func:`rectangle_spans` by brute force in rational arithmetic:
+    every sample p of the viewport moved symbolically to q = p + delta(eps) -- the tie rule's
+    (tx*eps, ty*eps**2), or (tx*eps**2, ty*eps) y-first -- and tested in the open rectangle
+    as polynomials in eps (sign of the lowest nonzero coefficient): dot(d, q - a) > 0,
+    dot(-d, q - b) > 0 and w**2 |d|**2 / 4 - cross(d, q - a)**2 > 0. Any finite float."""
+    a_arr, b_arr, widths, keep, convention, width, height = _rect_prepare(a, b, line_width, sample, tie, width, height)
+    sx, sy = (Fraction(v) for v in convention.sample)
+    tx, ty, y_first = convention.tie_perturbation
+    ex = (Fraction(0), Fraction(tx)) if y_first else (Fraction(tx), Fraction(0))  # (eps, eps**2) parts of q - p
+    ey = (Fraction(ty), Fraction(0)) if y_first else (Fraction(0), Fraction(ty))
+    out: list[tuple[int, int, int, int]] = []
+    for s in np.flatnonzero(keep):
+        ax, ay, bx, by = (Fraction(float(v)) for v in (*a_arr[s], *b_arr[s]))
+        w = Fraction(float(widths[s]))
+        dx, dy = bx - ax, by - ay
+        if dx == 0 and dy == 0:
+            continue
+        big_h = w * w * (dx * dx + dy * dy) / 4
+        covered = []
+        for j in range(height):
+            row = []
+            for i in range(width):
+                px, py = i + sx, j + sy
+                cap_a = [dx * (px - ax) + dy * (py - ay), dx * ex[0] + dy * ey[0], dx * ex[1] + dy * ey[1]]
+                cap_b = [-dx * (px - bx) - dy * (py - by), -dx * ex[0] - dy * ey[0], -dx * ex[1] - dy * ey[1]]
+                c0 = dx * (py - ay) - dy * (px - ax)
+                c1 = dx * ey[0] - dy * ex[0]
+                c2 = dx * ey[1] - dy * ex[1]
+                side = [big_h - c0 * c0, -2 * c0 * c1, -(c1 * c1 + 2 * c0 * c2), -2 * c1 * c2, -c2 * c2]
+                row.append(_first_sign(cap_a) > 0 and _first_sign(cap_b) > 0 and _first_sign(side) > 0)
+            covered.append(row)
+        _spans_from_mask(int(s), covered, out)
+    return _as_spans(out)
