@@ -74,6 +74,12 @@ def engine() -> None:
     counter = FragmentCounter(Coverage([0], [1], [0], [3]), 8, 8)
     counter.mismatches(Coverage([0], [1], [1], [4]))
     counter.mismatches(Coverage([0, 0], [1, 1], [1, 2], [4, 5]))
+    # the near-tie distance of deviations on a path (conformance off the lattice)
+    from harness.api import PathScene
+    from harness.checks.conformance import path_edge_distance
+
+    star = PathScene.from_paths(8, 8, [[[[1.0, 1.0], [7.0, 2.0], [2.0, 7.0]]]])
+    path_edge_distance(star, Convention(), np.array([[0, 0], [2, 3], [2, 3]]))
     # an untidy answer: tidied span by span
     Coverage([0, 0], [1, 1], [1, 0], [3, 2]).tidy(Scene(8, 8, POSITIONS))
     # the anti-aliased reference (here, to balance the two parts; the multisample ones and
@@ -97,9 +103,9 @@ def rasterizers() -> None:
     beyond_one_sample = {r.name for r in (PinedaMSAA4(), PinedaMSAA8(), AreaScanline(), Supersampler4())}
     everyone = [load(name) for name in builtins() if name not in beyond_one_sample]  # those: the engine part's
     everyone += [EdgeFunctionBug("inclusive"), ScanlineBug("no-prestep"), DeqpReference(), PiglitReference()]
-    from tests.known_bad.paths import PathFillBug
+    from tests.known_bad.paths import BUGS, PathFillBug, TwoFillers
 
-    everyone += [PathFillBug("inclusive-ends")]
+    everyone += [PathFillBug(bug) for bug in BUGS] + [TwoFillers()]
     _draw_each_family(everyone)
     # the Mesa path adapter's layering kernel, and the exact line oracles
     from harness.lines import bresenham_spans, diamond_exit_spans, rectangle_spans
@@ -113,12 +119,14 @@ def rasterizers() -> None:
 
 
 def _draw_each_family(everyone: list) -> None:  # type: ignore[type-arg]
-    from harness.api import Scene, takes
+    from harness.api import PathScene, Scene, takes
     from harness.case import Case
 
     scenes = [Scene(8, 8, POSITIONS, attributes=VALUES, w=w) for w in (None, np.array([[1.0, 2.0, 4.0]]))]
     for case in _first_of_each_family():
         scenes += case.frames[:1] if not isinstance(case, Case) else [case.scene]
+    # paths under both rules (each rule a specialisation of some kernels)
+    scenes += [s.with_fill_rule(rule) for s in scenes if isinstance(s, PathScene) for rule in ("nonzero", "evenodd")]
     for scene in scenes:
         for rasterizer in everyone:
             if not takes(rasterizer, scene):  # a path scene, to a triangle rasterizer: never handed one
