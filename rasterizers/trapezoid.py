@@ -56,20 +56,27 @@ from harness.exact import SAFE_MAX, SAFE_MIN, frozen, orient2d_sign
 
 __all__ = ["TrapezoidFill", "outline", "trapezoid_spans", "crossing_column", "edge_table"]
 
+
+# Not cached on disk for now: in CI, xdist workers loading these kernels from numba's
+# cache while another process wrote it crashed three runs (a segfault inside _sweep that
+# no single-process run, with or without bounds checking, reproduces). Each process
+# compiles them once instead (a few seconds) until the cause is found.
+_CACHE = False
+
 Spans = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]
 
 
 # -- the edge table --------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=_CACHE, inline="always")
 def _above(v, ys, ty):  # type: ignore[no-untyped-def]
     """Whether a vertex at height v lies above (not below) the perturbed row ys + ty*eps."""
     # The tie rule's vertical half: a vertex on the row is above a sample that moves down.
     return v < ys or (v == ys and ty > 0)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=_CACHE)
 def _first_row_under(v, sy, ty, height):  # type: ignore[no-untyped-def]
     """The first row j in [0, height] whose perturbed sample lies below height v (v above
     it), ``height`` when none: from a float estimate, then exact comparisons (j + sy is
@@ -88,7 +95,7 @@ def _first_row_under(v, sy, ty, height):  # type: ignore[no-untyped-def]
     return j
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=_CACHE)
 def edge_table(ax, ay, bx, by, sy, tx, ty, y_first, height, first, last, tie_right):  # type: ignore[no-untyped-def]
     """Per edge a -> b: the first and last viewport row it crosses (``first > last`` when
     none) and whether a sample exactly on its line lies right of its crossing."""
@@ -113,7 +120,7 @@ def edge_table(ax, ay, bx, by, sy, tx, ty, y_first, height, first, last, tie_rig
 # -- where a row crosses an edge --------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=_CACHE, inline="always")
 def _right_of(ax, ay, bx, by, tie_right, xs, ys):  # type: ignore[no-untyped-def]
     """Whether the perturbed sample (xs, ys) lies right of edge a-b's crossing of its row."""
     s = orient2d_sign(ax, ay, bx, by, xs, ys)
@@ -131,7 +138,7 @@ def _right_of(ax, ay, bx, by, tie_right, xs, ys):  # type: ignore[no-untyped-def
 _CROSSING_ERROR = 2.0**-50
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=_CACHE)
 def crossing_column(ax, ay, bx, by, tie_right, sx, ys, width):  # type: ignore[no-untyped-def]
     """The first column c in [0, width] whose perturbed sample (c + sx, ys) lies right of
     the (non-horizontal) edge a-b's crossing of row ys; ``width`` when none does.
@@ -185,7 +192,7 @@ def crossing_column(ax, ay, bx, by, tie_right, sx, ys, width):  # type: ignore[n
 # -- the sweep ---------------------------------------------------------------------------------
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=_CACHE, inline="always")
 def _insertion_sort(column, active, lo, hi):  # type: ignore[no-untyped-def]
     """Sort active[lo:hi] by column[lo:hi] in place (stable; linear when nearly sorted)."""
     for k in range(lo + 1, hi):
@@ -200,7 +207,7 @@ def _insertion_sort(column, active, lo, hi):  # type: ignore[no-untyped-def]
         active[i + 1] = a
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=_CACHE, inline="always")
 def _sort_apart(column, active, lo, hi, spare_column, spare_active):  # type: ignore[no-untyped-def]
     """Sort active[lo:hi] by column[lo:hi] in place, in O(k log k) whatever their order."""
     by_column = np.argsort(column[lo:hi])
@@ -211,7 +218,7 @@ def _sort_apart(column, active, lo, hi, spare_column, spare_active):  # type: ig
     active[lo:hi] = spare_active[: hi - lo]
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=_CACHE, inline="always")
 def _merge(column, active, mid, hi, spare_column, spare_active):  # type: ignore[no-untyped-def]
     """Merge the sorted runs [0, mid) and [mid, hi) of (column, active) in place."""
     spare_column[:mid] = column[:mid]
@@ -229,7 +236,7 @@ def _merge(column, active, mid, hi, spare_column, spare_active):  # type: ignore
         out += 1
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=_CACHE)
 def _sweep(ax, ay, bx, by, winding, tie_right, first, last, order, bounds, sx, sy, evenodd, width, height,  # type: ignore[no-untyped-def]
            out_p, out_y, out_x0, out_x1):
     """Spans (path, row, x0, x1), sorted by path, row and x0, of every path.
@@ -380,7 +387,7 @@ def trapezoid_spans(
     return out[0][:n], out[1][:n], out[2][:n], out[3][:n]
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=_CACHE)
 def _screen(a, primitive, n):  # type: ignore[no-untyped-def]
     """Per primitive whether all its vertices are finite ((n,) bool), and the first edge
     of a finite primitive with a coordinate beyond the exact range (-1 when none)."""

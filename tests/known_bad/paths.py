@@ -19,7 +19,7 @@ import numpy as np
 from harness.api import AnyScene, Coverage, PathScene
 from harness.conventions import Convention
 from harness.exact import frozen
-from rasterizers.trapezoid import crossing_column, outline
+from rasterizers.trapezoid import _CACHE, crossing_column, outline
 
 __all__ = ["PathFillBug", "BUGS", "TwoFillers"]
 
@@ -81,7 +81,7 @@ class PathFillBug:
         return Coverage(*_spans(ax, ay, bx, by, bounds, bug, evenodd, scene.width, scene.height))
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=_CACHE, error_model="numpy")
 def _spans(ax, ay, bx, by, bounds, bug, evenodd, width, height):  # type: ignore[no-untyped-def]
     """Spans (path, y, x0, x1), row by row, over each path's edges ``bounds[p]:bounds[p + 1]``."""
     capacity = height * ax.size  # per row and path at most ceil(crossings / 2) spans, a path has an edge at least
