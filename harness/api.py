@@ -7,6 +7,7 @@ tie rules are defined in :mod:`harness.conventions`.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol, runtime_checkable
@@ -18,7 +19,7 @@ from harness.conventions import FILL_RULES, Convention
 from harness.exact import frozen
 from harness.spans import already_tidy, expand, pixel_offsets, run_tails, span_buffers, tidy
 
-__all__ = ["Scene", "PathScene", "AnyScene", "SCENE_KINDS", "Coverage", "Convention", "Rasterizer", "span_buffers", "interpolates_of", "received_of", "fingerprint_of",
+__all__ = ["Scene", "PathScene", "LineScene", "AnyScene", "SCENE_KINDS", "Coverage", "Convention", "Rasterizer", "span_buffers", "interpolates_of", "received_of", "fingerprint_of",
            "scene_kinds_of", "fill_rules_of", "takes", "convention_for", "Unsupported"]
 
 # Sample points i + sx must be exact floats (sx has up to 32 fractional bits).
@@ -333,6 +334,220 @@ class PathScene:
         return PathScene(self.width, self.height, self.vertices, self.contour_sizes, self.contour_path, fill_rule)
 
 
+@dataclass(frozen=True, slots=True, eq=False)
+class LineScene:
+    """Aliased lines to draw into a ``width`` x ``height`` viewport: segments, and
+    polylines (strips) whose consecutive segments share their end points.
+
+    The primitive is the *segment* (as ``gl_PrimitiveID`` counts the segments of a
+    ``GL_LINE_STRIP``): coverage names segment k (:attr:`Coverage.primitive`), so a pixel a
+    polyline draws at a joint from both of its segments is a double hit. Strip s holds
+    ``strip_sizes[s]`` vertices and ``strip_sizes[s] - 1`` segments; segments are numbered
+    strip by strip. How a rasterizer must draw them is its convention's
+    :class:`harness.conventions.LineRule` (:mod:`harness.lines`). A rasterizer takes line
+    scenes when it lists ``"lines"`` in its ``scene_kinds`` (:func:`scene_kinds_of`).
+
+    Parameters
+    ----------
+    width, height : int
+        Viewport size in pixels, 1 .. 2**20.
+    vertices : (V, 2) float64
+        Every strip's vertices, one strip after the other. Non-finite values are allowed
+        (bad-input cases); a segment with one covers nothing in the oracle.
+    strip_sizes : (S,) int64
+        The number of vertices of each strip, each at least 2.
+    line_width : float
+        Width in pixels, finite and positive: the rectangle's width for rectangular
+        lines; the diamond-exit and Bresenham rules draw width 1 only.
+
+    Examples
+    --------
+    A polyline of three segments and a lone segment:
+
+    >>> scene = LineScene.from_strips(8, 8, [[[0.5, 0.5], [6.5, 2.5], [6.5, 7.5], [1.5, 7.5]], [[0, 4], [3, 4]]])
+    >>> len(scene), scene.strip_sizes, scene.kind, scene.noun
+    (4, array([4, 2]), 'lines', 'segment')
+    >>> scene.joints().tolist()  # segment k ends where segment k + 1 starts
+    [[0, 1], [1, 2]]
+    """
+
+    width: int
+    height: int
+    vertices: NDArray[np.float64]
+    strip_sizes: NDArray[np.int64]
+    line_width: float = 1.0
+    kind: ClassVar[str] = "lines"
+    noun: ClassVar[str] = "segment"
+    # lines carry no per-vertex values
+    attributes: ClassVar[None] = None
+    w: ClassVar[None] = None
+
+    def __post_init__(self) -> None:
+        for field in ("width", "height"):
+            value = getattr(self, field)
+            if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+                raise ValueError(f"LineScene.{field} must be an integer, not {value!r}")
+            if not 1 <= value <= MAX_VIEWPORT:
+                raise ValueError(f"LineScene.{field} must lie in 1..{MAX_VIEWPORT}, not {value}")
+            object.__setattr__(self, field, int(value))
+        vertices = _real_array(self.vertices, "vertices", "LineScene")
+        if vertices.size == 0:
+            vertices = vertices.reshape(0, 2)
+        if vertices.ndim != 2 or vertices.shape[1] != 2:
+            raise ValueError(f"LineScene.vertices must have shape (V, 2), not {vertices.shape}")
+        object.__setattr__(self, "vertices", vertices)
+        sizes = _counts_array(self.strip_sizes, "strip_sizes", "LineScene")
+        if np.any(sizes < 2):
+            raise ValueError(f"LineScene strip {int(np.flatnonzero(sizes < 2)[0])} has fewer than 2 vertices")
+        if int(sizes.sum()) != vertices.shape[0]:
+            raise ValueError(f"LineScene strip sizes add up to {int(sizes.sum())} vertices, not the {vertices.shape[0]} given")
+        sizes.setflags(write=False)
+        object.__setattr__(self, "strip_sizes", sizes)
+        try:
+            line_width = float(self.line_width)
+        except (TypeError, ValueError):
+            raise ValueError(f"LineScene.line_width must be a number, not {self.line_width!r}") from None
+        if not (math.isfinite(line_width) and 0.0 < line_width <= MAX_VIEWPORT):
+            raise ValueError(f"LineScene.line_width must be positive, finite and at most {MAX_VIEWPORT}, not {self.line_width!r}")
+        object.__setattr__(self, "line_width", line_width)
+
+    @classmethod
+    def from_strips(cls, width: int, height: int, strips: Iterable[ArrayLike], line_width: float = 1.0) -> LineScene:
+        """A scene from nested lists: each strip a (K, 2) array-like of K >= 2 vertices."""
+        arrays = [np.asarray(strip, dtype=np.float64).reshape(-1, 2) for strip in strips]
+        vertices = np.concatenate(arrays) if arrays else np.zeros((0, 2))
+        return cls(width, height, vertices, np.array([a.shape[0] for a in arrays], dtype=np.int64), line_width)
+
+    @classmethod
+    def from_segments(cls, width: int, height: int, a: ArrayLike, b: ArrayLike, line_width: float = 1.0) -> LineScene:
+        """Separate segments ``a[k] -> b[k]`` ((N, 2) each), each a strip of its own."""
+        a_arr = np.asarray(a, dtype=np.float64).reshape(-1, 2)
+        b_arr = np.asarray(b, dtype=np.float64).reshape(-1, 2)
+        if a_arr.shape != b_arr.shape:
+            raise ValueError(f"LineScene.from_segments needs end points of one shape, not {a_arr.shape} and {b_arr.shape}")
+        return cls(width, height, np.stack([a_arr, b_arr], axis=1).reshape(-1, 2), np.full(a_arr.shape[0], 2, dtype=np.int64),
+                   line_width)
+
+    def __reduce__(self) -> tuple[type, tuple]:  # type: ignore[type-arg]
+        return LineScene, (self.width, self.height, self.vertices, self.strip_sizes, self.line_width)
+
+    def __len__(self) -> int:
+        """N, the number of segments."""
+        return int(self.vertices.shape[0] - self.strip_sizes.size)
+
+    @property
+    def n_attributes(self) -> int:
+        """0: lines carry no attributes."""
+        return 0
+
+    @property
+    def strip_starts(self) -> NDArray[np.int64]:
+        """(S,) int64: the index of each strip's first vertex."""
+        return np.cumsum(self.strip_sizes) - self.strip_sizes
+
+    @property
+    def segment_start(self) -> NDArray[np.int64]:
+        """(N,) int64: the vertex each segment starts at (it ends at the next vertex)."""
+        last = np.zeros(self.vertices.shape[0], dtype=bool)
+        last[np.cumsum(self.strip_sizes) - 1] = True
+        return np.flatnonzero(~last)
+
+    @property
+    def segment_strip(self) -> NDArray[np.int64]:
+        """(N,) int64: the strip each segment belongs to."""
+        return np.repeat(np.arange(self.strip_sizes.size, dtype=np.int64), self.strip_sizes - 1)
+
+    def segments(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Every segment's end points ``a -> b``, (N, 2) each."""
+        start = self.segment_start
+        return self.vertices[start], self.vertices[start + 1]
+
+    def strips(self) -> list[NDArray[np.float64]]:
+        """Every strip's (K, 2) vertices (views), in order."""
+        return np.split(self.vertices, np.cumsum(self.strip_sizes)[:-1]) if self.strip_sizes.size else []
+
+    def joints(self, closed: bool = False) -> NDArray[np.int64]:
+        """(J, 2) int64: pairs (k, m) of segments where k ends at the vertex m starts at --
+        consecutive segments of a strip (m = k + 1). With ``closed``, also (last, first) of
+        each strip of three or more segments whose last vertex equals its first exactly (a
+        closed polyline; its first vertex is drawn by its first segment only)."""
+        start = self.segment_start
+        strip = self.segment_strip
+        inner = np.flatnonzero(strip[:-1] == strip[1:]) if start.size else np.zeros(0, dtype=np.int64)
+        pairs = np.stack([inner, inner + 1], axis=1)
+        if not closed:
+            return pairs.astype(np.int64)
+        first_vertex, last_vertex = self.strip_starts, np.cumsum(self.strip_sizes) - 1
+        with np.errstate(invalid="ignore"):
+            loops = (self.strip_sizes >= 4) & np.all(self.vertices[first_vertex] == self.vertices[last_vertex], axis=1)
+        first_segment = first_vertex - np.arange(self.strip_sizes.size)
+        last_segment = first_segment + self.strip_sizes - 2
+        closing = np.stack([last_segment[loops], first_segment[loops]], axis=1)
+        return np.concatenate([pairs, closing]).astype(np.int64)
+
+    def edges(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+        """Every segment ``a -> b`` ((N, 2) each) and its index ((N,) int64): a line's
+        one edge."""
+        a, b = self.segments()
+        return a, b, np.arange(len(self), dtype=np.int64)
+
+    def primitive_boxes(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+        """Per segment its bounding box ``lo, hi`` ((N, 2) each) grown by half the line width,
+        and whether its coordinates are all finite ((N,) bool)."""
+        a, b = self.segments()
+        finite = np.asarray(np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1), dtype=np.bool_)
+        half = 0.5 * self.line_width
+        with np.errstate(invalid="ignore"):
+            lo = np.where(finite[:, None], np.minimum(a, b) - half, np.inf)
+            hi = np.where(finite[:, None], np.maximum(a, b) + half, -np.inf)
+        return lo, hi, finite
+
+    def non_finite(self) -> tuple[int, ...]:
+        """Segments with a NaN or infinite coordinate."""
+        return tuple(int(k) for k in np.flatnonzero(~self.primitive_boxes()[2]))
+
+    @property
+    def coordinates(self) -> NDArray[np.float64]:
+        """Every vertex coordinate: ``vertices``, (V, 2)."""
+        return self.vertices
+
+    def with_coordinates(self, coordinates: ArrayLike) -> LineScene:
+        """The same strips and width with these (V, 2) vertices."""
+        return LineScene(self.width, self.height, np.asarray(coordinates, dtype=np.float64), self.strip_sizes, self.line_width)
+
+    def with_line_width(self, line_width: float) -> LineScene:
+        """The same lines at another width."""
+        return LineScene(self.width, self.height, self.vertices, self.strip_sizes, line_width)
+
+    def subset(self, keep: ArrayLike) -> LineScene:
+        """Segments ``keep``, in that order (segment k of the result is ``keep[k]``): a run
+        of kept segments that follow each other in one strip stays a strip (its joints are
+        kept); every other segment becomes a strip of its own."""
+        index = np.asarray(keep, dtype=np.int64).reshape(-1)
+        start = self.segment_start
+        strip = self.segment_strip
+        runs: list[list[int]] = []
+        for k in index.tolist():
+            if runs and runs[-1][-1] + 1 == k and strip[k] == strip[runs[-1][-1]]:
+                runs[-1].append(k)
+            else:
+                runs.append([k])
+        pieces = [self.vertices[np.append(start[run], start[run[-1]] + 1)] for run in runs]
+        vertices = np.concatenate(pieces) if pieces else np.zeros((0, 2))
+        return LineScene(self.width, self.height, vertices, np.array([len(r) + 1 for r in runs], dtype=np.int64), self.line_width)
+
+    def reversed(self) -> tuple[LineScene, NDArray[np.int64]]:
+        """Every strip drawn backwards (its vertices in reverse order, strips in the same
+        order), and for each segment of the result the segment of this scene it retraces
+        ((N,) int64)."""
+        pieces = [s[::-1] for s in self.strips()]
+        vertices = np.concatenate(pieces) if pieces else np.zeros((0, 2))
+        first_segment = self.strip_starts - np.arange(self.strip_sizes.size)
+        origin = np.concatenate([first_segment[s] + np.arange(n - 2, -1, -1) for s, n in enumerate(self.strip_sizes.tolist())]) \
+            if self.strip_sizes.size else np.zeros(0, dtype=np.int64)
+        return LineScene(self.width, self.height, vertices, self.strip_sizes, self.line_width), origin.astype(np.int64)
+
+
 class Unsupported(ValueError):
     """Raised by a rasterizer for a scene it cannot draw as given (say, a library that
     fills one contour per call handed a path of three): the runner reports a skip with the
@@ -342,16 +557,16 @@ class Unsupported(ValueError):
 # A scene of any kind: each has ``width``, ``height``, ``kind``, ``len()`` (its number of
 # primitives), ``primitive_boxes()``, ``non_finite()``, ``coordinates``,
 # ``with_coordinates(c)`` and ``subset(keep)``.
-AnyScene = Scene | PathScene
-SCENE_KINDS = ("triangles", "paths")
+AnyScene = Scene | PathScene | LineScene
+SCENE_KINDS = ("triangles", "paths", "lines")
 
 
-def _counts_array(value: ArrayLike, field: str) -> NDArray[np.int64]:
+def _counts_array(value: ArrayLike, field: str, owner: str = "PathScene") -> NDArray[np.int64]:
     array = np.asarray(value)
     if array.size == 0:
         return np.zeros(0, dtype=np.int64)
     if array.ndim != 1 or array.dtype.kind not in "iu":
-        raise ValueError(f"PathScene.{field} must be a 1-D integer array, not {array.dtype} of shape {array.shape}")
+        raise ValueError(f"{owner}.{field} must be a 1-D integer array, not {array.dtype} of shape {array.shape}")
     return np.array(array, dtype=np.int64)
 
 
@@ -818,7 +1033,9 @@ class Rasterizer(Protocol):
     scene_kinds : tuple of str
         The scene kinds it takes, of :data:`SCENE_KINDS` (``("triangles",)`` when absent):
         one listing ``"paths"`` is handed :class:`PathScene` too, and fills each path in
-        one go under the scene's fill rule. Read by :func:`scene_kinds_of`.
+        one go under the scene's fill rule; one listing ``"lines"`` is handed
+        :class:`LineScene` and draws each segment by its convention's ``line`` rule
+        (:class:`harness.conventions.LineRule`). Read by :func:`scene_kinds_of`.
     fill_rules : tuple of str
         The fill rules a path-taking rasterizer honours (both when absent): it is handed
         only path scenes of these rules. Read by :func:`fill_rules_of`.

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import MAX_VIEWPORT, AnyScene, PathScene, Scene
+from harness.api import MAX_VIEWPORT, AnyScene, LineScene, PathScene, Scene
 from harness.files import atomic_write_text
 
 __all__ = ["Case", "MotionCase", "case_to_json", "case_from_json", "save_case", "load_case", "read_case_file", "SCHEMA", "CASE_SCHEMA",
@@ -36,8 +36,8 @@ class Case:
     ----------
     id : str
         Stable hierarchical id, ``family/variant/detail``; the first part is the family.
-    scene : Scene or PathScene
-        Triangles, or paths under a fill rule; a rasterizer is handed the case only when
+    scene : Scene, PathScene or LineScene
+        Triangles, paths under a fill rule, or lines; a rasterizer is handed the case only when
         it takes the scene's kind (:func:`harness.api.takes`).
     lattice : bool
         Every coordinate lies on a coarse dyadic lattice: float arithmetic is exact there,
@@ -80,7 +80,8 @@ class MotionCase:
     id : str
         ``motion/<geometry>/<movement>``.
     frames : tuple of Scene
-        One scene per frame, same triangles in the same order.
+        One scene per frame, same triangles in the same order (lines under motion are
+        moved by the line checks themselves, :mod:`harness.checks.lines`).
     texels : int or None
         T for textured sequences: attribute columns 0 and 1 are (u, v) on a T x T grid.
     perspective : bool
@@ -118,6 +119,9 @@ _SIDE = {"type": "integer", "minimum": 1, "maximum": MAX_VIEWPORT}
 # paths: each a list of closed contours, each a list of points
 _PATHS = {"type": "array", "items": {"type": "array", "minItems": 1,
                                      "items": {"type": "array", "items": _POINT, "minItems": 1}}}
+# lines: each a strip (polyline) of at least two points
+_LINES = {"type": "array", "items": {"type": "array", "items": _POINT, "minItems": 2}}
+_LINE_WIDTH = {"anyOf": [{"type": "number", "exclusiveMinimum": 0}, {"type": "string"}]}
 _FRAME = {"type": "object", "required": ["width", "height", "positions"],
           "properties": {"width": _SIDE, "height": _SIDE, "positions": _TRIANGLES, "attributes": _VALUES, "w": _W}}
 
@@ -145,14 +149,15 @@ CASE_SCHEMA: dict[str, Any] = {
         "required": ["width", "height"],
         "properties": {
             "width": _SIDE, "height": _SIDE, "positions": _TRIANGLES, "attributes": _VALUES, "w": _W,
-            "paths": _PATHS, "fill_rule": {"enum": ["nonzero", "evenodd"]},
+            "paths": _PATHS, "fill_rule": {"enum": ["nonzero", "evenodd"]}, "lines": _LINES, "line_width": _LINE_WIDTH,
             "lattice": {"type": "boolean"}, "closed": {"type": "boolean"},
             "region": {"type": ["array", "null"], "items": _POINT, "minItems": 3},
             "refusable": {"type": "array", "items": {"type": "integer", "minimum": 0}},
         },
-        # triangles, or paths with their fill rule
-        "oneOf": [{"required": ["positions"], "not": {"required": ["paths"]}},
-                  {"required": ["paths", "fill_rule"], "not": {"required": ["positions"]}}],
+        # triangles, paths with their fill rule, or lines
+        "oneOf": [{"required": ["positions"], "not": {"anyOf": [{"required": ["paths"]}, {"required": ["lines"]}]}},
+                  {"required": ["paths", "fill_rule"], "not": {"anyOf": [{"required": ["positions"]}, {"required": ["lines"]}]}},
+                  {"required": ["lines"], "not": {"anyOf": [{"required": ["positions"]}, {"required": ["paths"]}]}}],
     },
 }
 
@@ -198,6 +203,9 @@ def _unhex(data: Any, field: str = "") -> NDArray | None:
 
 
 def _scene_to_json(scene: AnyScene) -> dict[str, Any]:
+    if isinstance(scene, LineScene):
+        return {"width": scene.width, "height": scene.height, "line_width": _text(scene.line_width),
+                "lines": [_hex(strip) for strip in scene.strips()]}
     if isinstance(scene, PathScene):
         return {"width": scene.width, "height": scene.height, "fill_rule": scene.fill_rule,
                 "paths": [[_hex(c) for c in scene.contours_of(p)] for p in range(len(scene))]}
@@ -244,6 +252,10 @@ def _scene_from_json(data: dict[str, Any], where: str) -> AnyScene:
         raise ValueError(f"{where}a {width} x {height} viewport is more than the {MAX_CASE_PIXELS} pixels (8192 x 8192) "
                          "a case may cover: the checks count hits on every pixel of the screen")
     try:
+        if "lines" in data:
+            strips = [_unhex(strip, f"lines[{k}]") for k, strip in enumerate(data["lines"])]
+            line_width = _number(data.get("line_width", 1))
+            return LineScene.from_strips(width, height, strips, line_width)  # type: ignore[arg-type]
         if "paths" in data:
             paths = [[_unhex(c, f"paths[{p}][{k}]") for k, c in enumerate(path)] for p, path in enumerate(data["paths"])]
             return PathScene.from_paths(width, height, paths, data["fill_rule"])  # type: ignore[arg-type]
@@ -265,12 +277,16 @@ def case_from_json(data: Any) -> Case | MotionCase:
     if not isinstance(data, dict) or data.get("schema") != SCHEMA:
         raise ValueError(f"not a rastercheck case (schema {SCHEMA} expected)")
     error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(CASE_SCHEMA).iter_errors(data))
-    if error is not None and error.validator == "oneOf" and not error.absolute_path and "positions" not in data and "paths" not in data:
-        raise ValueError("case JSON lacks the field 'positions' (or 'paths' and 'fill_rule', for a path case)")
+    if error is not None and error.validator == "oneOf" and not error.absolute_path and not {"positions", "paths", "lines"} & set(data):
+        raise ValueError("case JSON lacks the field 'positions' (or 'paths' and 'fill_rule' for a path case, 'lines' for a line case)")
+    if error is not None and error.validator == "oneOf" and not error.absolute_path:
+        given = [f for f in ("positions", "paths", "lines") if f in data]
+        if len(given) > 1:
+            raise ValueError(f"case JSON gives {' and '.join(map(repr, given))}: a case holds one kind of scene")
     if error is not None:
         if error.validator == "required":
             missing = [f for f in error.validator_value if isinstance(error.instance, dict) and f not in error.instance]
-            if error.instance is data and data.get("kind") != "motion" and "positions" not in data and "paths" not in data:
+            if error.instance is data and data.get("kind") != "motion" and not {"positions", "paths", "lines"} & set(data):
                 missing.append("positions")  # (or "paths" and "fill_rule", for a path case)
             raise ValueError(f"case JSON lacks the field{'s' if len(missing) > 1 else ''} {', '.join(map(repr, missing))}"
                              + ("" if not error.absolute_path else f" at {_where(error)}"))
@@ -279,7 +295,7 @@ def case_from_json(data: Any) -> Case | MotionCase:
                          f"{shown if len(shown) <= 60 else shown[:57] + '...'} is not valid ({error.validator} {error.validator_value!r:.80})")
     if data.get("kind") == "motion":
         frames = tuple(_scene_from_json(f, f"frame {k}: ") for k, f in enumerate(data["frames"]))
-        if any(isinstance(f, PathScene) for f in frames):
+        if any(not isinstance(f, Scene) for f in frames):
             raise ValueError("case JSON is malformed at frames: a motion case's frames are triangle scenes")
         triangles = tuple(f for f in frames if isinstance(f, Scene))
         return MotionCase(data["id"], triangles, texels=data.get("texels"), perspective=bool(data.get("perspective", False)))
@@ -317,6 +333,6 @@ def read_case_file(path: Path | str) -> tuple[Case | MotionCase, dict[str, Any]]
         case = case_from_json(data)
     except ValueError as exc:
         raise ValueError(f"{path}: {exc}") from None
-    known = {"schema", "kind", "id", "width", "height", "positions", "attributes", "w", "paths", "fill_rule", "lattice",
+    known = {"schema", "kind", "id", "width", "height", "positions", "attributes", "w", "paths", "fill_rule", "lines", "line_width", "lattice",
              "region", "closed", "refusable", "frames", "texels", "perspective"}
     return case, {k: v for k, v in data.items() if k not in known}

@@ -104,6 +104,12 @@ A convention's coverage is one of three kinds (:attr:`Convention.kind`)
         judged against exactly; its distance from the true area is an artifact the checks
         measure (popping), not a broken promise.
 
+Lines (line scenes) are drawn by the convention's :class:`LineRule`
+    ``diamond-exit`` (D3D11, GL; the last pixel omitted or drawn), ``bresenham`` (seed 003's
+    integer algorithm, end points to pixels by a declared rounding) or ``rectangle``
+    (Vulkan: the samples inside a w-wide rectangle around the segment, under the sample
+    point and tie rule above), each after snapping; defined in :mod:`harness.lines`.
+
 Every decision is exact: the sign of an edge function is the sign of the exact real
 number (floats are dyadic rationals). No epsilon appears in any coverage decision.
 """
@@ -138,6 +144,13 @@ __all__ = [
     "Convention",
     "snap",
     "owns_edge",
+    "LineRule",
+    "LineRuleName",
+    "LINE_RULES",
+    "BRESENHAM_ROUNDINGS",
+    "BRESENHAM_TIES",
+    "BresenhamRounding",
+    "BresenhamTies",
 ]
 
 TieRule = Literal[
@@ -145,6 +158,12 @@ TieRule = Literal[
     "top-left-y-first", "top-right-y-first", "bottom-left-y-first", "bottom-right-y-first",
 ]
 CullMode = Literal["none", "cw", "ccw"]
+LineRuleName = Literal["diamond-exit", "bresenham", "rectangle"]
+LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "bresenham", "rectangle")
+BresenhamRounding = Literal["nearest-even", "half-away", "floor"]
+BresenhamTies = Literal["step", "stay"]
+BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor")
+BRESENHAM_TIES: tuple[BresenhamTies, ...] = ("step", "stay")
 CoverageKind = Literal["single", "multisample", "area"]
 COVERAGE_KINDS: tuple[CoverageKind, ...] = ("single", "multisample", "area")
 # The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
@@ -190,6 +209,68 @@ SAMPLE_FRACTION_BITS = 32
 # At or above 2**52 every float64 is an integer, so snapping leaves it alone; below it,
 # c * 2**16 < 2**68 cannot overflow and the product is exact (a power-of-two scale).
 _SNAP_IDENTITY_ABOVE = 2.0**52
+
+
+@dataclass(frozen=True, slots=True)
+class LineRule:
+    """How a convention draws aliased lines (line scenes, :class:`harness.api.LineScene`);
+    the definitions and their sources are in :mod:`harness.lines`.
+
+    Parameters
+    ----------
+    rule : {"diamond-exit", "bresenham", "rectangle"}
+        ``diamond-exit``: a pixel is drawn when the segment leaves its diamond test area
+        (D3D11 3.4.3, GL's half-open lines); width 1. ``bresenham``: seed 003's integer
+        algorithm between the end points' pixels; width 1. ``rectangle``: the samples
+        inside the ``line_width``-wide rectangle around the segment, under the
+        convention's sample point and tie rule (Vulkan's rectangular lines).
+    last_pixel : bool or None
+        diamond-exit and bresenham: also draw the pixel the segment ends in (a polyline's
+        shared vertices are then drawn twice). None: the rule's own (diamond-exit omits
+        it, seed 003's Bresenham draws both end points). Not used by ``rectangle``.
+    rounding : {"nearest-even", "half-away", "floor"}
+        bresenham: how an end point picks its pixel (the pixel whose centre is nearest,
+        halves to even or away from zero; or ``floor``, truncation).
+    ties : {"step", "stay"}
+        bresenham: the minor coordinate on a tie of the decision variable.
+
+    The convention's snapping (``subpixel_bits``, ``snap_rounding``) applies to line end
+    points first, as to triangle vertices.
+
+    Examples
+    --------
+    >>> LineRule()
+    LineRule(rule='diamond-exit', last_pixel=False, rounding='nearest-even', ties='step')
+    >>> LineRule("bresenham", rounding="floor").describe()
+    'Bresenham lines, end points to pixels by floor, ties step, last pixel drawn'
+    """
+
+    rule: LineRuleName = "diamond-exit"
+    last_pixel: bool | None = None
+    rounding: BresenhamRounding = "nearest-even"
+    ties: BresenhamTies = "step"
+
+    def __post_init__(self) -> None:
+        if self.rule not in LINE_RULES:
+            raise ValueError(f"LineRule.rule must be one of {', '.join(LINE_RULES)}, not {self.rule!r}")
+        if self.last_pixel is None:
+            object.__setattr__(self, "last_pixel", self.rule == "bresenham")
+        if not isinstance(self.last_pixel, (bool, np.bool_)):
+            raise ValueError(f"LineRule.last_pixel must be True, False or None, not {self.last_pixel!r}")
+        object.__setattr__(self, "last_pixel", bool(self.last_pixel))
+        if self.rounding not in BRESENHAM_ROUNDINGS:
+            raise ValueError(f"LineRule.rounding must be one of {', '.join(BRESENHAM_ROUNDINGS)}, not {self.rounding!r}")
+        if self.ties not in BRESENHAM_TIES:
+            raise ValueError(f"LineRule.ties must be one of {', '.join(BRESENHAM_TIES)}, not {self.ties!r}")
+
+    def describe(self) -> str:
+        """One line for people."""
+        if self.rule == "rectangle":
+            return "rectangular lines"
+        last = "last pixel drawn" if self.last_pixel else "last pixel omitted"
+        if self.rule == "diamond-exit":
+            return f"diamond-exit lines, {last}"
+        return f"Bresenham lines, end points to pixels by {self.rounding}, ties {self.ties}, {last}"
 
 
 @dataclass(frozen=True, slots=True, repr=False)
@@ -255,6 +336,8 @@ class Convention:
     coverage: Literal["sample", "area"] = "sample"
     levels: int = 256
     tolerance: float | None = None
+    # line scenes only (a LineRule, or its rule's name)
+    line: Any = LineRule()
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -262,6 +345,8 @@ class Convention:
             extra += f", samples={self.samples!r}"
         if self.coverage != "sample":
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
+        if self.line != LineRule():
+            extra += f", line={self.line!r}"
         return (f"Convention(sample={self.sample!r}, tie={self.tie!r}, subpixel_bits={self.subpixel_bits!r}, "
                 f"cull={self.cull!r}{extra})")
 
@@ -355,6 +440,10 @@ class Convention:
                 raise ValueError(f"Convention.samples has {len(offsets)} samples; at most {limit} are supported"
                                  + ("" if self.coverage == "area" else f" ({MAX_AREA_SAMPLES} for supersampled area coverage)"))
             object.__setattr__(self, "samples", offsets)
+        line = LineRule(cast(LineRuleName, self.line)) if isinstance(self.line, str) else self.line
+        if not isinstance(line, LineRule):
+            raise ValueError(f"Convention.line must be a LineRule or one of {', '.join(LINE_RULES)}, not {self.line!r}")
+        object.__setattr__(self, "line", line)
         if self.coverage not in ("sample", "area"):
             raise ValueError(f"Convention.coverage must be 'sample' or 'area', not {self.coverage!r}")
         levels = self.levels
@@ -376,17 +465,37 @@ class Convention:
         (sx*eps, sy*eps**2), or (sx*eps**2, sy*eps) when y_first."""
         return TIE_PERTURBATION[self.tie]
 
+    def describe_lines(self) -> str:
+        """One line for people on how this convention draws lines: the line rule, with the
+        sample point and ties for rectangular lines, and snapping.
+
+        >>> Convention(subpixel_bits=8).describe_lines()
+        'diamond-exit lines, last pixel omitted, snapped to 1/256 px (8 bits)'
+        >>> Convention(line="rectangle").describe_lines()
+        'rectangular lines, sample (0.5, 0.5), top-left ties, no snapping'
+        """
+        parts = [self.line.describe()]
+        if self.line.rule == "rectangle":
+            sx, sy = (f"{v:g}" for v in self.sample)
+            parts.append(f"sample ({sx}, {sy}), {self._tie_words()}")
+        parts.append(self._snapping_words())
+        return ", ".join(parts)
+
+    def _tie_words(self) -> str:
+        return self.tie.removesuffix("-y-first") + " ties" + (" (y first)" if self.tie.endswith("-y-first") else "")
+
+    def _snapping_words(self) -> str:
+        if self.subpixel_bits is None:
+            return "no snapping"
+        return (f"snapped to 1/{2**self.subpixel_bits} px ({self.subpixel_bits} bits"
+                + {"nearest-even": ")", "half-away": ", half away from zero)", "floor": ", rounding down)"}[self.snap_rounding])
+
     def describe(self) -> str:
         """One line for people: sample point, ties, snapping, culling."""
         sx, sy = (f"{v:g}" for v in self.sample)
-        snapping = (
-            "no snapping"
-            if self.subpixel_bits is None
-            else f"snapped to 1/{2**self.subpixel_bits} px ({self.subpixel_bits} bits"
-            + {"nearest-even": ")", "half-away": ", half away from zero)", "floor": ", rounding down)"}[self.snap_rounding]
-        )
+        snapping = self._snapping_words()
         culling = "no culling" if self.cull == "none" else f"culls {self.cull}"
-        tie = self.tie.removesuffix("-y-first") + " ties" + (" (y first)" if self.tie.endswith("-y-first") else "")
+        tie = self._tie_words()
         where = ""
         if self.samples is not None:
             from harness.samples import STANDARD_PATTERNS

@@ -248,6 +248,8 @@ def _received_as_triangles(received: Callable[[Scene], Scene] | None, rule: str)
         got = paths_received(triangle_paths(scene, rule))
         if isinstance(got, PathScene):
             return Scene(got.width, got.height, got.vertices.reshape(-1, 3, 2))
+        if not isinstance(got, Scene):
+            raise ValueError(f"received() answered a path scene with a {got.kind} scene")
         return got
 
     return as_triangles

@@ -122,14 +122,17 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from typing import Literal
+from typing import Any
 
 import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from harness.api import MAX_VIEWPORT
-from harness.conventions import Convention, TieRule
+from harness.conventions import (
+    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, BresenhamRounding, BresenhamTies, Convention, TieRule,
+)
+from harness.spans import expand
 from harness.exact import CCW_ERRBOUND_A, SAFE_MAX, SAFE_MIN, _two_product, _two_sum, frozen, orient2d_sign
 
 __all__ = [
@@ -150,10 +153,6 @@ __all__ = [
 ]
 
 Spans = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]
-BresenhamRounding = Literal["nearest-even", "half-away", "floor"]
-BresenhamTies = Literal["step", "stay"]
-BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor")
-BRESENHAM_TIES: tuple[BresenhamTies, ...] = ("step", "stay")
 # Rectangles decide a degree-4 polynomial: inputs of magnitude in [2**-150, 2**150] (or 0)
 # are multiples of 2**-202, so every term is a multiple of 2**-808 (no underflow) and the
 # largest, (2c)**2 <= (4 * 2**151 * 2**151)**2, stays below 2**610 (no overflow; Dekker's
@@ -1135,3 +1134,190 @@ def rectangle_spans_rational(a: ArrayLike, b: ArrayLike, line_width: ArrayLike, 
             covered.append(row)
         _spans_from_mask(int(s), covered, out)
     return _as_spans(out)
+
+
+# -- line scenes: the oracle ------------------------------------------------------------------------
+
+
+def _beyond(values: NDArray[np.float64], low: float, high: float) -> NDArray[np.bool_]:
+    """(N,) bool: rows holding a nonzero finite magnitude outside [low, high]."""
+    magnitude = np.abs(values.reshape(values.shape[0], -1))
+    with np.errstate(invalid="ignore"):
+        return np.asarray(((magnitude != 0.0) & ((magnitude < low) | (magnitude > high))).any(axis=1), dtype=np.bool_)
+
+
+def _bresenham_far(segment: int, p0: tuple[int, int], p1: tuple[int, int], width: int, height: int, ties: str,
+                   last_pixel: bool, out: list[tuple[int, int, int, int]]) -> None:
+    """One Bresenham segment with end-point pixels of any size (Python integers): the
+    closed form ``minor = round(k*M/K)`` (halves up for ``step``, down for ``stay``) on the
+    steps k whose pixel lies in the viewport, found by bisection (the walk is monotone)."""
+    x_major = abs(p1[0] - p0[0]) >= abs(p1[1] - p0[1])
+    u0, v0, du, dv = (p0[0], p0[1], p1[0] - p0[0], p1[1] - p0[1]) if x_major else (p0[1], p0[0], p1[1] - p0[1], p1[0] - p0[0])
+    su, sv = (1 if du >= 0 else -1), (1 if dv >= 0 else -1)
+    big_k, big_m = abs(du), abs(dv)
+    u_size, v_size = (width, height) if x_major else (height, width)
+    last = big_k if last_pixel else big_k - 1
+    if last < 0:
+        return
+
+    def minor(k: int) -> int:
+        if big_k == 0:
+            return v0
+        # round(k*M/K): halves up (step) = floor((2kM + K) / 2K); halves down (stay) = ceil((2kM - K) / 2K)
+        offset = (2 * k * big_m + big_k) // (2 * big_k) if ties == "step" else -((big_k - 2 * k * big_m) // (2 * big_k))
+        return v0 + sv * offset
+
+    # steps whose major coordinate lies in [0, u_size)
+    lo_u, hi_u = (0 - u0, u_size - 1 - u0) if su > 0 else (u0 - (u_size - 1), u0)
+    k_lo, k_hi = max(0, lo_u), min(last, hi_u)
+    if k_lo > k_hi:
+        return
+
+    def inside_or_before(k: int) -> bool:  # minor not yet past the viewport's far side
+        v = minor(k)
+        return v <= v_size - 1 if sv > 0 else v >= 0
+
+    def reached(k: int) -> bool:  # minor already at or past the viewport's near side
+        v = minor(k)
+        return v >= 0 if sv > 0 else v <= v_size - 1
+
+    def first_true(lo: int, hi: int, test: Any) -> int:
+        while lo < hi:
+            mid = (lo + hi) // 2
+            if test(mid):
+                hi = mid
+            else:
+                lo = mid + 1
+        return lo
+
+    start = first_true(k_lo, k_hi + 1, reached)
+    stop = first_true(start, k_hi + 1, lambda k: not inside_or_before(k))
+    for k in range(start, stop):
+        u, v = u0 + su * k, minor(k)
+        x, y = (u, v) if x_major else (v, u)
+        out.append((segment, y, x, x + 1))
+
+
+def _diamond_far(segment: int, a: NDArray[np.float64], b: NDArray[np.float64], width: int, height: int, last_pixel: bool,
+                 out: list[tuple[int, int, int, int]]) -> None:
+    """One diamond-exit segment of any finite coordinates, in rational arithmetic: per
+    major-axis cell of the viewport the one minor cell whose test area the line can meet
+    (the module docstring's method), and its neighbours, tested from the definition."""
+    pa = (Fraction(float(a[0])), Fraction(float(a[1])))
+    pb = (Fraction(float(b[0])), Fraction(float(b[1])))
+    fx, fy = pb[0] - pa[0], pb[1] - pa[1]
+    if fx == 0 and fy == 0:
+        if last_pixel:  # the pixel whose test area holds the point, if any
+            i, j = math.floor(pa[0]), math.floor(pa[1])
+            for u in (i - 1, i, i + 1):
+                for v in (j - 1, j, j + 1):
+                    if 0 <= u < width and 0 <= v < height and _in_test_area_rational(pa[0], pa[1], u + Fraction(1, 2),
+                                                                                     v + Fraction(1, 2), False):
+                        out.append((segment, v, u, u + 1))
+        return
+    y_major = abs(fy) > abs(fx)
+    half = Fraction(1, 2)
+    hits: list[tuple[int, int]] = []
+    for c in range(height if y_major else width):
+        centre = c + half
+        if y_major:
+            across = pa[0] + (centre - pa[1]) * fx / fy
+            candidates = [(m, c) for m in range(math.ceil(across) - 2, math.ceil(across) + 1)]
+        else:
+            across = pa[1] + (centre - pa[0]) * fy / fx
+            candidates = [(c, m) for m in range(math.ceil(across) - 2, math.ceil(across) + 1)]
+        for i, j in candidates:
+            if not (0 <= i < width and 0 <= j < height):
+                continue
+            xc, yc = i + half, j + half
+            if _meets_rational(pa, pb, xc, yc, y_major) and (
+                    last_pixel or not _in_test_area_rational(pb[0], pb[1], xc, yc, y_major)):
+                hits.append((j, i))
+    out.extend((segment, j, i, i + 1) for j, i in sorted(hits))
+
+
+def line_coverage(scene: Any, convention: Convention) -> Any:
+    """The exact coverage of a line scene (:func:`harness.oracle.exact_coverage` for lines).
+
+    The end points are snapped by the convention first; then each segment is drawn by the
+    convention's :class:`~harness.conventions.LineRule`: :func:`diamond_exit_spans`,
+    :func:`bresenham_spans` or :func:`rectangle_spans` (the scene's ``line_width``, the
+    convention's sample point and tie rule). Segments beyond the compiled kernels' range
+    are decided by the rational references (Bresenham's by its closed form in Python
+    integers, clipped to the viewport): exact for every finite float64.
+
+    Parameters
+    ----------
+    scene : harness.api.LineScene
+    convention : harness.conventions.Convention
+        Single-sample only (a multisample or area convention: ValueError).
+
+    Returns
+    -------
+    harness.api.Coverage
+        Spans of segment (``primitive``), row, x0, x1 sorted by segment, row and x0; no
+        attributes. Segments with a NaN or infinite end point cover nothing.
+
+    Examples
+    --------
+    >>> from harness.api import LineScene
+    >>> scene = LineScene.from_strips(6, 4, [[[0.5, 0.5], [4.5, 2.5], [0.5, 3.5]]])
+    >>> line_coverage(scene, Convention()).counts(6, 4)
+    array([[1, 1, 0, 0, 0, 0],
+           [0, 0, 1, 1, 0, 0],
+           [0, 0, 1, 1, 1, 0],
+           [0, 1, 0, 0, 0, 0]], dtype=int32)
+    """
+    from harness.api import Coverage
+
+    if convention.kind != "single":
+        raise ValueError(f"lines are defined for single-sample conventions only, not {convention.kind} coverage")
+    rule = convention.line
+    a, b = scene.segments()
+    a, b = convention.snap(a), convention.snap(b)
+    n = a.shape[0]
+    width, height = scene.width, scene.height
+    finite = np.asarray(np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1), dtype=np.bool_)
+    ends = np.concatenate([a, b], axis=1)
+    if rule.rule != "rectangle" and scene.line_width != 1.0:
+        raise ValueError(f"{rule.describe()} have width 1, not {scene.line_width:g}: use the rectangle rule for wide lines")
+    extra: list[tuple[int, int, int, int]] = []
+    if rule.rule == "diamond-exit":
+        far = _beyond(ends, SAFE_MIN, SAFE_MAX) & finite
+        near = finite & ~far
+        spans = diamond_exit_spans(np.where(near[:, None], a, np.nan), np.where(near[:, None], b, np.nan), width, height,
+                                   rule.last_pixel)
+        for k in np.flatnonzero(far):
+            _diamond_far(int(k), a[k], b[k], width, height, rule.last_pixel, extra)
+    elif rule.rule == "bresenham":
+        with np.errstate(invalid="ignore"):
+            p0 = np.where(finite[:, None], _round_pixels(np.where(finite[:, None], a, 0.0), rule.rounding), 0.0)
+            p1 = np.where(finite[:, None], _round_pixels(np.where(finite[:, None], b, 0.0), rule.rounding), 0.0)
+        far = (np.abs(np.concatenate([p0, p1], axis=1)) > BRESENHAM_MAX).any(axis=1) & finite
+        near = finite & ~far
+        spans = bresenham_spans(np.where(near[:, None], a, np.nan), np.where(near[:, None], b, np.nan), width, height,
+                                rule.rounding, rule.ties, rule.last_pixel)
+        for k in np.flatnonzero(far):
+            _bresenham_far(int(k), (int(p0[k, 0]), int(p0[k, 1])), (int(p1[k, 0]), int(p1[k, 1])), width, height, rule.ties,
+                           rule.last_pixel, extra)
+    else:
+        values = np.concatenate([ends, np.full((n, 1), scene.line_width)], axis=1)
+        far = _beyond(values, RECT_SAFE_MIN, RECT_SAFE_MAX) & finite
+        near = finite & ~far
+        kw = dict(width=width, height=height)
+        spans = rectangle_spans(np.where(near[:, None], a, np.nan), np.where(near[:, None], b, np.nan), scene.line_width,
+                                convention.sample, convention.tie, **kw)
+        for k in np.flatnonzero(far):
+            s, y, x0, x1 = rectangle_spans_rational(a[k:k + 1], b[k:k + 1], scene.line_width, convention.sample, convention.tie, **kw)
+            extra.extend((int(k), int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1))
+    p, y, x0, x1 = spans
+    if extra:
+        more = np.array(extra, dtype=np.int64).T
+        p, y, x0, x1 = (np.concatenate([u, v]) for u, v in zip((p, y, x0, x1), more))
+        order = np.lexsort((x0, y, p))
+        p, y, x0, x1 = p[order], y[order], x0[order], x1[order]
+        if rule.rule != "rectangle":  # far pixels come one by one: merge them into runs
+            lengths = x1 - x0
+            return Coverage.from_pixels(np.repeat(p, lengths), expand(x0, lengths), np.repeat(y, lengths))
+    return Coverage(p, y, x0, x1)
+

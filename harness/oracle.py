@@ -27,7 +27,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, PathScene, Scene
+from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene
 from harness.spans import expand, pixel_offsets, span_buffers
 from harness.conventions import Convention, owns_edge
 from harness.exact import frozen, orientation
@@ -281,7 +281,7 @@ def exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
 
     Parameters
     ----------
-    scene : Scene or PathScene
+    scene : Scene, PathScene or LineScene
     convention : Convention
 
     Returns
@@ -316,6 +316,10 @@ def exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
         from harness.winding import path_coverage
 
         return path_coverage(scene, convention)
+    if isinstance(scene, LineScene):
+        from harness.lines import line_coverage
+
+        return line_coverage(scene, convention)
     if convention.kind == "multisample":
         return exact_multisample(scene, convention)
     if convention.kind == "area" and convention.samples is not None:

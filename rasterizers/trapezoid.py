@@ -50,7 +50,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, PathScene
+from harness.api import AnyScene, Coverage, PathScene, Scene
 from harness.conventions import TIE_RULES, Convention, TieRule
 from harness.exact import SAFE_MAX, SAFE_MIN, frozen, orient2d_sign
 
@@ -319,7 +319,7 @@ def _sweep(ax, ay, bx, by, winding, tie_right, first, last, order, bounds, sx, s
 # -- numpy at the boundaries -------------------------------------------------------------------
 
 
-def outline(scene: AnyScene) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+def outline(scene: Scene | PathScene) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
     """Every edge a -> b of the scene's closed contours and its primitive: a path's
     contours, or a triangle as a one-contour path.
 
@@ -404,7 +404,7 @@ def _screen(a, primitive, n):  # type: ignore[no-untyped-def]
     return finite, -1
 
 
-def screen_edges(scene: AnyScene, rasterizer: str) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+def screen_edges(scene: Scene | PathScene, rasterizer: str) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
     """:func:`outline` without the primitives that hold a NaN or infinite coordinate (they
     cover nothing); ValueError naming the first primitive with a coordinate beyond the
     exact predicates' range."""

@@ -289,10 +289,9 @@ def _once_per_scene(call: Callable[[Scene], Any]) -> Callable[[Scene], Any]:
     answers: dict[tuple[Any, ...], Any] = {}
 
     def once(scene: Scene) -> Any:
-        key: tuple[Any, ...] = (type(scene).__name__, scene.width, scene.height, getattr(scene, "fill_rule", None),
-                                *(None if a is None else a.tobytes() for a in (scene.coordinates, scene.attributes, scene.w,
-                                                                              getattr(scene, "contour_sizes", None),
-                                                                              getattr(scene, "contour_path", None))))
+        # every field of the scene, whatever its kind (its pickling arguments)
+        key: tuple[Any, ...] = (type(scene).__name__,
+                                *(v.tobytes() if isinstance(v, np.ndarray) else v for v in scene.__reduce__()[1]))
         if key not in answers:
             answers[key] = call(scene)
         return answers[key]

@@ -20,15 +20,15 @@ LIMIT = 2.0**20
 
 
 def finite_within_limit(scene: AnyScene, name: str) -> NDArray[np.bool_]:
-    """(N,) bool: which primitives (triangles, or paths of a path scene) are finite.
-    Raises ValueError naming the first finite triangle (path) with a coordinate beyond
+    """(N,) bool: which primitives (triangles, paths or segments) are finite.
+    Raises ValueError naming the first finite triangle (path, segment) with a coordinate beyond
     :data:`LIMIT` (refused, never drawn wrong)."""
-    if isinstance(scene, PathScene):
-        lo, hi, finite = path_extents(scene)
+    if not isinstance(scene, Scene):
+        lo, hi, finite = path_extents(scene) if isinstance(scene, PathScene) else scene.primitive_boxes()
         beyond = finite & (np.maximum(np.abs(lo), np.abs(hi)).max(axis=1, initial=0.0) > LIMIT)
         if beyond.any():
             k = int(np.flatnonzero(beyond)[0])
-            raise ValueError(f"{name}: path {k} has a coordinate beyond +/-{LIMIT:g} px (box {lo[k].tolist()} .. "
+            raise ValueError(f"{name}: {scene.noun} {k} has a coordinate beyond +/-{LIMIT:g} px (box {lo[k].tolist()} .. "
                              f"{hi[k].tolist()}); the library's coordinates would lose precision or overflow")
         return finite
     positions = scene.positions
