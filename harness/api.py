@@ -1042,6 +1042,10 @@ class Rasterizer(Protocol):
     path_convention : Convention
         The convention its path fills follow when not ``convention`` (set by identify on a
         black box whose paths and triangles differ). Read by :func:`convention_for`.
+    line_convention : Convention
+        The convention its lines follow when not ``convention`` (set by identify on a
+        black box whose lines are snapped otherwise than its triangles, or drawn as
+        rectangles at another sample point or tie rule). Read by :func:`convention_for`.
     """
 
     # Read-only members: a plain class attribute or instance attribute of a narrower
@@ -1082,12 +1086,17 @@ def scene_kinds_of(rasterizer: Rasterizer) -> tuple[str, ...]:
 def convention_for(rasterizer: Rasterizer, scene: AnyScene) -> Convention | None:
     """The convention a rasterizer's answer on ``scene`` is judged by: its
     ``path_convention`` for a path scene when it has one (a black box whose path fills
-    identify found to follow another convention than its triangles), else its
+    identify found to follow another convention than its triangles), its
+    ``line_convention`` for a line scene when it has one (likewise for lines), else its
     ``convention``."""
     if isinstance(scene, PathScene):
         path = getattr(rasterizer, "path_convention", None)
         if isinstance(path, Convention):
             return path
+    if isinstance(scene, LineScene):
+        line = getattr(rasterizer, "line_convention", None)
+        if isinstance(line, Convention):
+            return line
     return rasterizer.convention
 
 

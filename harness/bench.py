@@ -31,6 +31,24 @@ fill rule), skia (``skia_fill``: ``drawPath`` without anti-aliasing, the scene's
 and scikit-image (``skimage_polygon``: ``draw.polygon``, even-odd); and each rasterizer
 that takes the scene (:func:`harness.api.takes`). A library's time includes handing it the
 vertices through its Python binding, as for the triangle peers.
+
+Line workloads (fixed seeds, 1024 x 1024; :func:`line_workloads`), width 1:
+
+- L1: 100,000 short segments (lengths 2 to 16 px, random directions);
+- L2: 1,000 long segments (end points anywhere on the screen, at least 256 px apart).
+
+Every segment stays inside the viewport (no peer clips). The exact line oracles, one per
+rule (``oracle_diamond_exit``, ``oracle_bresenham``, ``oracle_rectangle``:
+:func:`harness.oracle.exact_coverage` under ``Convention(line=...)``), against the aliased
+line drawers of the libraries, each segment one call into one 8-bit image, no read-back:
+Pillow's ``ImageDraw.line`` (the yardstick: integer Bresenham between the end points
+truncated to pixels), scikit-image's ``draw.line`` (``skimage_line``: Bresenham between the
+pixels whose centres are nearest the end points, the pixels set by a fancy index) -- on
+these workloads both draw exactly the Bresenham oracle's pixels --, cairo's hairline
+(``cairo_line``: width 1, ``ANTIALIAS_NONE``, each segment stroked: nearly the rectangle
+oracle's) and skia's (``skia_hairline``: ``drawLine`` with stroke width 0, no
+anti-aliasing: nearest the diamond-exit oracle's), when installed; and each rasterizer
+that takes lines. Rates are in segments per second.
 """
 
 from __future__ import annotations
@@ -50,22 +68,24 @@ import numpy as np
 from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
-from harness.api import AnyScene, PathScene, Scene, takes
+from harness.api import AnyScene, LineScene, PathScene, Scene, takes
 from harness.conventions import Convention
 from harness.oracle import exact_coverage
 from harness.registry import builtins, load
 from cases.scenes import random_triangles
 
-__all__ = ["Workload", "workloads", "path_workloads", "stars", "wiggly_outline", "run_bench", "format_table"]
+__all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "short_segments", "long_segments", "stars",
+           "wiggly_outline", "run_bench", "format_table", "LINE_ORACLES"]
 
 SIZE = 1024
 PATH_SIZE = 512
+LINE_SIZE = 1024
 
 
 @dataclass(frozen=True, slots=True)
 class Workload:
     """A scene to time; ``mean_area`` is per primitive (for a path, the magnitude of its
-    signed area: the integral of its winding number)."""
+    signed area: the integral of its winding number; for a segment, its length in px)."""
 
     name: str
     description: str
@@ -76,7 +96,7 @@ class Workload:
 @dataclass(frozen=True, slots=True)
 class Measurement:
     """One contender on one workload. ``triangles_per_second`` is primitives per second:
-    paths for a path workload (``unit``)."""
+    paths for a path workload, segments for a line workload (``unit``)."""
 
     workload: str
     contender: str
@@ -149,6 +169,61 @@ def path_workloads(scale: float = 1.0) -> list[Workload]:
         area = float(np.abs(_signed_areas(scene)).mean())
         for rule in ("nonzero", "evenodd"):
             out.append(Workload(f"{name}-{rule}", f"{what}, {rule}, {PATH_SIZE} x {PATH_SIZE}", scene.with_fill_rule(rule), area))
+    return out
+
+
+def short_segments(count: int, size: int, seed: int) -> LineScene:
+    """``count`` segments of lengths 2 to 16 px in random directions, each a strip of its
+    own, their start points random and every end point inside the ``size`` x ``size``
+    screen (at least half a pixel from its border).
+
+    >>> scene = short_segments(4, 64, 0)
+    >>> len(scene), scene.strip_sizes.tolist()
+    (4, [2, 2, 2, 2])
+    """
+    rng = np.random.default_rng(seed)
+    angle = rng.uniform(0.0, 2.0 * np.pi, size=count)
+    length = rng.uniform(2.0, 16.0, size=count)
+    step = length[:, None] * np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    # the start far enough from each border that the end lands inside it
+    low, high = 0.5 - np.minimum(step, 0.0), size - 0.5 - np.maximum(step, 0.0)
+    start = low + rng.uniform(0.0, 1.0, size=(count, 2)) * (high - low)
+    return LineScene.from_segments(size, size, start, start + step)
+
+
+def long_segments(count: int, size: int, seed: int) -> LineScene:
+    """``count`` segments whose end points lie anywhere on the ``size`` x ``size`` screen
+    (at least half a pixel from its border) and at least ``size / 4`` px apart, each a
+    strip of its own.
+
+    >>> scene = long_segments(3, 512, 0)
+    >>> a, b = scene.segments()
+    >>> len(scene), bool((np.hypot(*(b - a).T) >= 128).all())
+    (3, True)
+    """
+    rng = np.random.default_rng(seed)
+    found: list[NDArray[np.float64]] = []
+    kept = 0
+    while kept < count:  # about 3 in 4 pairs are far enough apart: a few rounds at most
+        ends = rng.uniform(0.5, size - 0.5, size=(2 * count, 2, 2))
+        far = np.hypot(*(ends[:, 1] - ends[:, 0]).T) >= size / 4
+        found.append(ends[far][: count - kept])
+        kept += found[-1].shape[0]
+    ends = np.concatenate(found)
+    return LineScene.from_segments(size, size, ends[:, 0], ends[:, 1])
+
+
+def line_workloads(scale: float = 1.0) -> list[Workload]:
+    """L1 (100,000 short segments) and L2 (1,000 long ones); ``scale`` < 1 shrinks the
+    counts (for smoke tests)."""
+    out = []
+    for name, count, make, seed, what in (("L1", 100_000, short_segments, 4, "short segments"),
+                                          ("L2", 1_000, long_segments, 5, "long segments")):
+        n = max(1, int(count * scale))
+        scene = make(n, LINE_SIZE, seed)
+        a, b = scene.segments()
+        length = float(np.hypot(*(b - a).T).mean())
+        out.append(Workload(name, f"{n:,} {what}, mean length {length:,.1f} px, width 1, {LINE_SIZE} x {LINE_SIZE}", scene, length))
     return out
 
 
@@ -303,6 +378,78 @@ def _skimage_paths(scene: PathScene) -> NDArray[np.uint8]:
     return image
 
 
+# -- the line peers: each segment drawn in one call into one 8-bit image -----------------------
+
+
+def _pillow_lines(scene: LineScene) -> Image.Image:
+    """Pillow's ``ImageDraw.line`` of each segment, width 1: integer Bresenham between the
+    end points truncated to integers (for coordinates >= 0 the pixel holding each: the
+    Bresenham oracle's end pixels, given no end point on a pixel border)."""
+    image = Image.new("L", (scene.width, scene.height), 0)
+    draw = ImageDraw.Draw(image)
+    a, b = scene.segments()
+    # no half-pixel shift, unlike the polygons: Pillow truncates, so x in [i, i + 1) is pixel i
+    for segment in np.concatenate([a, b], axis=1).tolist():
+        draw.line(segment, fill=255, width=1)
+    return image
+
+
+def _skimage_lines(scene: LineScene) -> NDArray[np.uint8]:
+    """scikit-image's ``draw.line`` (integer Bresenham) between the pixels nearest each
+    segment's end points."""
+    from skimage.draw import line
+
+    image = np.zeros((scene.height, scene.width), dtype=np.uint8)
+    a, b = scene.segments()
+    # scikit-image's pixel centres are at integers: (row, column) of the nearest one
+    ends = np.rint(np.concatenate([a[:, ::-1], b[:, ::-1]], axis=1) - 0.5).astype(np.int64).tolist()
+    for r0, c0, r1, c1 in ends:
+        rows, columns = line(r0, c0, r1, c1)
+        image[rows, columns] = 255
+    return image
+
+
+def _cairo_lines(scene: LineScene) -> _Surface:
+    """cairo's aliased hairline (width 1, ``ANTIALIAS_NONE``) of each segment, stroked."""
+    import cairo
+
+    surface = cairo.ImageSurface(cairo.FORMAT_A8, scene.width, scene.height)
+    context = cairo.Context(surface)
+    context.set_antialias(cairo.ANTIALIAS_NONE)
+    context.set_line_width(1.0)
+    a, b = scene.segments()
+    for ax, ay, bx, by in np.concatenate([a, b], axis=1).tolist():
+        context.move_to(ax, ay)
+        context.line_to(bx, by)
+        context.stroke()
+
+    def read() -> NDArray[np.uint8]:
+        surface.flush()
+        stride = surface.get_stride()
+        return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(scene.height, stride)[:, :scene.width]
+
+    return _Surface(read)
+
+
+def _skia_lines(scene: LineScene) -> _Surface:
+    """skia's aliased hairline (``drawLine``, stroke width 0, no anti-aliasing) of each segment."""
+    import skia
+
+    surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(scene.width, scene.height))
+    canvas = surface.getCanvas()
+    paint = skia.Paint(AntiAlias=False, StrokeWidth=0.0, Style=skia.Paint.kStroke_Style)
+    a, b = scene.segments()
+    for ax, ay, bx, by in np.concatenate([a, b], axis=1).tolist():
+        canvas.drawLine(ax, ay, bx, by, paint)
+    return _Surface(lambda: np.asarray(surface.makeImageSnapshot().toarray()))
+
+
+def _line_peers() -> list[tuple[str, Callable[[LineScene], object]]]:
+    """The aliased library line drawers that are installed here."""
+    return _installed((("skimage_line", "skimage", _skimage_lines), ("cairo_line", "cairo", _cairo_lines),
+                       ("skia_hairline", "skia", _skia_lines)))
+
+
 def _path_peers() -> list[tuple[str, Callable[[PathScene], object]]]:
     """The aliased library path fills that are installed here."""
     return _installed((("cairo_fill", "cairo", _cairo_paths), ("skia_fill", "skia", _skia_paths),
@@ -335,6 +482,14 @@ ORACLES: dict[str, Convention] = {
     "oracle_area": Convention(coverage="area"),
     "oracle_msaa4": Convention(samples=4),
     "oracle_msaa8": Convention(samples=8),
+}
+
+
+# The line oracles the bench measures: one per rule, width 1.
+LINE_ORACLES: dict[str, Convention] = {
+    "oracle_diamond_exit": Convention(line="diamond-exit"),
+    "oracle_bresenham": Convention(line="bresenham"),
+    "oracle_rectangle": Convention(line="rectangle"),
 }
 
 
@@ -378,9 +533,12 @@ def _contenders(work: Workload, rasterizers: list[Any]) -> list[tuple[str, Calla
     """Pillow first (the yardstick), the oracles, the library peers, then each rasterizer
     that takes the workload's scene."""
     scene = work.scene
-    if isinstance(scene, PathScene):
-        contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow_paths, scene)),
-                                                              ("oracle", partial(exact_coverage, scene, ORACLES["oracle"]))]
+    if isinstance(scene, LineScene):
+        contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow_lines, scene))]
+        contenders += [(label, partial(exact_coverage, scene, convention)) for label, convention in LINE_ORACLES.items()]
+        contenders += [(label, partial(draw, scene)) for label, draw in _line_peers()]
+    elif isinstance(scene, PathScene):
+        contenders = [("pillow", partial(_pillow_paths, scene)), ("oracle", partial(exact_coverage, scene, ORACLES["oracle"]))]
         contenders += [(label, partial(fill, scene)) for label, fill in _path_peers() if not _unmeasured(label, scene)]
     else:
         contenders = [("pillow", partial(_pillow, scene))]
@@ -391,17 +549,21 @@ def _contenders(work: Workload, rasterizers: list[Any]) -> list[tuple[str, Calla
 
 
 def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float = 1.0,
-              progress: Callable[[str], None] | None = None, paths: bool = True) -> list[Measurement]:
-    """Measure Pillow, the oracle and each rasterizer on W1 and W2, then (with ``paths``)
-    Pillow, the winding oracle, the library path fills and each path-taking rasterizer on
-    the path workloads, in this process; ``progress`` hears a line before and after each
-    contender."""
+              progress: Callable[[str], None] | None = None, paths: bool = True, lines: bool = True,
+              triangles: bool = True) -> list[Measurement]:
+    """Measure Pillow, the oracle and each rasterizer on W1 and W2 (with ``triangles``),
+    then (with ``paths``) Pillow, the winding oracle, the library path fills and each
+    path-taking rasterizer on the path workloads, then (with ``lines``) Pillow, the three
+    line oracles, the library line drawers and each line-taking rasterizer on the line
+    workloads, in this process; ``progress`` hears a line before and after each contender."""
     names = names if names is not None else builtins()
     rasterizers = [load(n) for n in names]
     results = []
-    for work in workloads(scale) + (path_workloads(scale) if paths else []):
+    chosen = ((workloads(scale) if triangles else []) + (path_workloads(scale) if paths else [])
+              + (line_workloads(scale) if lines else []))
+    for work in chosen:
         contenders = _contenders(work, rasterizers)
-        unit = "paths" if isinstance(work.scene, PathScene) else "triangles"
+        unit = {"paths": "paths", "lines": "segments"}.get(work.scene.kind, "triangles")
         if progress is not None and isinstance(work.scene, PathScene):
             for label, _ in _path_peers():
                 if _unmeasured(label, work.scene):

@@ -272,15 +272,16 @@ def _write_outputs(args: argparse.Namespace, rasterizers: list[Any], results: li
     kinds = {r.name: _kind(r) for r in rasterizers}
     # the rasterizers come in load order (renamed and identified ones in place): each one's spec
     specs = dict(zip([r.name for r in rasterizers], _loaded_specs)) if len(_loaded_specs) == len(rasterizers) else {}
+    able = capabilities(rasterizers)
     path = write_report(out, conventions, results, args.seed, args.suite, seconds,
                         fingerprints=fingerprints, declared=declared, kinds=kinds, specs=specs, skipped=dict(_skipped),
                         patterns={r.name: r.convention.samples for r in rasterizers
                                   if r.convention is not None and r.convention.samples is not None},
-                        **capabilities(rasterizers))
+                        **able)
     if not quiet:
         print(f"report: {path}" + (f"; {written} minimal repros in {out / 'repros'}" if written else ""))
     if args.json:
-        write_json(args.json, results, args.suite, args.seed, conventions, fingerprints)
+        write_json(args.json, results, args.suite, args.seed, conventions, fingerprints, **able)
     if args.junit:
         write_junit(args.junit, results)
 
@@ -446,15 +447,21 @@ def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: flo
 
     Confirmed when identify finds exactly the declared convention; contradicted when the
     rasterizer fails conformance to its own declared convention on the lattice and float
-    cases (measured directly, so that a convention outside identify's candidates is judged
+    cases (and the line cases, for a line drawer) (measured directly, so that a convention outside identify's candidates is judged
     fairly); otherwise consistent but not pinned down."""
+    from cases.lines import line_cases
     from cases.suites import conformance_cases
+    from harness.api import scene_kinds_of
     from harness.runner import run_suite
 
     declared = rasterizer.convention
     if declared == fingerprint.convention and fingerprint.exact:
         return "confirmed", False
-    cases = conformance_cases(seed)
+    kinds = scene_kinds_of(rasterizer)
+    # the lattice and float triangles, and the line segments of a line drawer (each handed
+    # only the kinds it takes)
+    cases = (conformance_cases(seed) if "triangles" in kinds else []) + \
+        ([c for c in line_cases(seed) if c.family == "lines"] if "lines" in kinds else [])
     failing = [r for r in run_suite([rasterizer], cases=cases, only={"conformance"}, repros=False, identify=False,
                                     timeout=timeout) if r.status in ("fail", "error")]
     if failing:
@@ -471,6 +478,7 @@ def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: flo
 def _identify(args: argparse.Namespace) -> int:
     """The fingerprint card; exit 1 when the rasterizer's declared convention is
     contradicted, 2 when it cannot be loaded; ``--json`` writes the fingerprint."""
+    from harness.api import scene_kinds_of
     from harness.files import atomic_write_text, prepare_file
     from harness.identify import identify_isolated
 
@@ -491,12 +499,14 @@ def _identify(args: argparse.Namespace) -> int:
         return 1
     print(fingerprint.card())
     declared = rasterizer.convention
+    # a line drawer's declaration in line words
+    words_of = (lambda c: c.describe_lines()) if scene_kinds_of(rasterizer) == ("lines",) else (lambda c: c.describe())
     payload: dict[str, Any] = {"schema": 1, "fingerprint": fingerprint.to_dict(),
-                               "declared": declared.describe() if declared is not None else None}
+                               "declared": words_of(declared) if declared is not None else None}
     contradicted = False
     if declared is not None:
         words, contradicted = _declared_verdict(rasterizer, fingerprint, args.seed, args.timeout)
-        print(f"declared     {declared.describe()} ({words})")
+        print(f"declared     {words_of(declared)} ({words})")
         payload.update(verdict=words, contradicted=contradicted)
     if args.json:
         atomic_write_text(args.json, json.dumps(payload, indent=1))

@@ -28,6 +28,14 @@ probes with each triangle sent as a one-contour path, :func:`harness.path_probes
 its path convention is compared with its triangle convention, and tried on genuine paths
 with ties. A triangle-only rasterizer is never sent a path scene.
 
+A line-taking rasterizer (``"lines"`` in its scene kinds) is also asked which line rule it
+draws (:func:`harness.line_probes.fit_lines`: diamond-exit, Bresenham with its end point
+rounding, tie direction and last pixel, or rectangular lines with their sample point and
+tie rule, and the snapping in front); the rule found is put in the fingerprint's
+convention (its ``line``), and the whole line convention in ``line_convention``. One that
+takes only lines is fingerprinted by that alone: no triangle or path is sent to it, nor
+a line to a rasterizer that does not list lines.
+
 It prints a convention card and the :class:`Convention` that best explains the rasterizer
 with the residual mismatch; it says "identified" only when the residual is zero.
 """
@@ -36,18 +44,19 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, fill_rules_of, interpolates_of, received_of, scene_kinds_of
-from harness.conventions import Convention, CoverageKind
+from harness.conventions import Convention, CoverageKind, LineRule
 from harness.coverage_probes import CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions
 from harness.isolation import Call, InProcess, Outcome, Worker
 from harness.probes import (Fact, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, unanswered, viewport_edge,
                             watertight_partitions, zero_area)
 from harness.samples import STANDARD_PATTERNS
 
-if TYPE_CHECKING:  # the path probes are imported when a path-taking rasterizer is identified
+if TYPE_CHECKING:  # the path and line probes are imported when a rasterizer taking those is identified
+    from harness.line_probes import LineFit
     from harness.path_probes import PathFit
 
 __all__ = ["Fingerprint", "identify", "identify_isolated", "identify_all", "Identified"]
@@ -68,7 +77,16 @@ class Fingerprint:
     asked -> what it drew (``nonzero``, ``evenodd``, ``neither: ...`` or ``unanswered:
     ...``; :attr:`harness.path_probes.RuleSeen.label`), and ``path_convention``, the
     convention that best explains it on paths (``path_fit`` holds the whole fit: residual,
-    comparison with triangles, genuine paths)."""
+    comparison with triangles, genuine paths).
+
+    For a line-taking rasterizer only (None otherwise): ``line_rule``, the
+    :class:`~harness.conventions.LineRule` that best explains its lines (also the
+    ``line`` of ``convention``), ``line_convention``, the whole convention its lines are
+    judged by (the rule, the snapping seen on lines, and for rectangular lines the sample
+    point and tie rule), and ``line_fit``, the fit behind them (residual, runner-up, each
+    rule's score, wide lines: :class:`harness.line_probes.LineFit`). For a rasterizer that
+    takes only lines, ``convention``, ``residual``, ``pixels``, ``runner_up`` and
+    ``ambiguous`` are the line fit's."""
 
     rasterizer: str
     convention: Convention
@@ -82,6 +100,14 @@ class Fingerprint:
     fill_rules: dict[str, str] | None = None
     path_convention: Convention | None = None
     path_fit: PathFit | None = field(default=None, repr=False, compare=False)
+    line_rule: LineRule | None = None
+    line_convention: Convention | None = None
+    line_fit: LineFit | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def lines_only(self) -> bool:
+        """Fingerprinted on lines alone (it takes no triangles or paths)."""
+        return self.line_fit is not None and self.line_fit.triangles is None
 
     @property
     def honoured_fill_rules(self) -> tuple[str, ...] | None:
@@ -101,7 +127,8 @@ class Fingerprint:
     def to_dict(self) -> dict[str, Any]:
         """Plain data for JSON and the report."""
         out: dict[str, Any] = {
-            "rasterizer": self.rasterizer, "convention": self.convention.describe(),
+            "rasterizer": self.rasterizer,
+            "convention": self.convention.describe_lines() if self.lines_only else self.convention.describe(),
             "sample": list(self.convention.sample), "tie": self.convention.tie,
             "subpixel_bits": self.convention.subpixel_bits, "snap_rounding": self.convention.snap_rounding,
             "cull": self.convention.cull,
@@ -128,11 +155,14 @@ class Fingerprint:
                            "differences": list(fit.differences) if fit is not None else [],
                            "genuine_paths": None if fit is None or fit.lattice is None else
                            [{"fill_rule": r, "mismatches": m, "pixels": px} for r, m, px in fit.lattice.scores]})
+        if self.line_fit is not None:  # a line-taking rasterizer's (added fields)
+            out.update(line_rule=None if self.line_rule is None else self.line_rule.describe(),
+                       line_convention=_line_convention_dict(self.line_fit))
         return out
 
     def card(self) -> str:
         lines = [f"rasterizer   {self.rasterizer}",
-                 f"convention   {self.convention.describe()}",
+                 f"convention   {self.convention.describe_lines() if self.lines_only else self.convention.describe()}",
                  f"             {self.convention!r}",
                  f"residual     {self.residual} mismatching pixels of {self.pixels}"
                  + ("  (identified exactly)" if self.exact
@@ -140,7 +170,8 @@ class Fingerprint:
                     else "  (ambiguous: the next best explains it as well)" if self.residual == 0
                     else "  (best guess only: no candidate explains it exactly)")]
         if self.runner_up:
-            lines.append(f"next best    {self.runner_up[0]} ({self.runner_up[1]} mismatches on the tie scenes)")
+            lines.append(f"next best    {self.runner_up[0]} ({self.runner_up[1]} mismatches on the "
+                         + ("line probes)" if self.lines_only else "tie scenes)"))
         for k, v in self.facts.items():
             lines.append(f"{k:<12} {v}")
         return "\n".join(lines)
@@ -160,9 +191,16 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
         the rasterizer raising: each probe reports it, and nothing here raises for it.
     """
     call = InProcess(rasterizer) if call is None else call
-    if "paths" in scene_kinds_of(rasterizer):
-        return _identify_paths(rasterizer, call, seed)
-    return _identify_triangles(rasterizer.name, call, seed, received_of(rasterizer))
+    kinds = scene_kinds_of(rasterizer)
+    if "lines" in kinds and "triangles" not in kinds and "paths" not in kinds:
+        return _identify_lines_only(rasterizer.name, call, seed)
+    if "paths" in kinds:
+        fingerprint = _identify_paths(rasterizer, call, seed)
+    else:
+        fingerprint = _identify_triangles(rasterizer.name, call, seed, received_of(rasterizer))
+    if "lines" in kinds:
+        _with_lines(fingerprint, call, seed)
+    return fingerprint
 
 
 def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Scene], Scene] | None) -> Fingerprint:
@@ -233,6 +271,70 @@ def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprin
     fingerprint.probes["fill rules"] = rules
     fingerprint.probes["paths"] = path
     return fingerprint
+
+
+def _identify_lines_only(name: str, call: Call, seed: int) -> Fingerprint:
+    """:func:`identify` for a rasterizer that takes only lines: the line fit is the
+    fingerprint (no triangle is sent)."""
+    from harness.line_probes import fit_lines
+
+    fit = fit_lines(call, seed, None)
+    convention = fit.convention or Convention()
+    runner_up: tuple[str, int] | None = fit.runner_up
+    residual = fit.residual
+    if fit.convention is None:  # nothing measured: never claimed
+        residual, runner_up = max(1, fit.pixels), ("any line convention: " + fit.skipped, 0)
+    fingerprint = Fingerprint(name, convention, residual, fit.pixels, runner_up, {}, fit.ambiguous)
+    _record_lines(fingerprint, fit)
+    return fingerprint
+
+
+def _with_lines(fingerprint: Fingerprint, call: Call, seed: int) -> None:
+    """Add the line fit to a triangle (or path) fingerprint: the rule found becomes its
+    convention's ``line`` (when that convention is single-sample: lines are), the whole
+    line convention its ``line_convention``."""
+    from harness.line_probes import fit_lines
+
+    fit = fit_lines(call, seed, fingerprint.convention)
+    if fit.convention is not None and fingerprint.convention.kind == "single":
+        fingerprint.convention = replace(fingerprint.convention, line=fit.convention.line)
+    _record_lines(fingerprint, fit)
+
+
+def _record_lines(fingerprint: Fingerprint, fit: LineFit) -> None:
+    """The line fit's fields, facts and probes on ``fingerprint``."""
+    fingerprint.line_fit = fit
+    fingerprint.line_convention = fit.convention
+    fingerprint.line_rule = None if fit.convention is None else fit.convention.line
+    fingerprint.facts["lines"] = fit.text
+    fingerprint.probes["lines"] = fit
+    if fit.rule_scores:
+        fingerprint.facts["line rules"] = fit.rules_text
+    if fit.rounding is not None:
+        fingerprint.facts["line snap"] = fit.rounding.text
+    if fit.wide is not None:
+        fingerprint.facts["wide lines"] = fit.wide.text
+        fingerprint.probes["wide lines"] = fit.wide
+
+
+def _line_convention_dict(fit: LineFit) -> dict[str, Any] | None:
+    """:meth:`Fingerprint.to_dict`'s ``line_convention``: the line convention in plain data
+    (None when no fit was made: then ``skipped`` says why in the facts)."""
+    line = fit.convention
+    if line is None:
+        return None
+    rule = line.line
+    return {"convention": line.describe_lines(), "rule": rule.rule,
+            "last_pixel": None if rule.rule == "rectangle" else rule.last_pixel,
+            "rounding": rule.rounding if rule.rule == "bresenham" else None,
+            "ties": rule.ties if rule.rule == "bresenham" else None,
+            "sample": list(line.sample) if rule.rule == "rectangle" else None,
+            "tie": line.tie if rule.rule == "rectangle" else None,
+            "subpixel_bits": line.subpixel_bits, "snap_rounding": line.snap_rounding,
+            "exact": fit.exact, "residual": fit.residual, "pixels": fit.pixels,
+            "runner_up": list(fit.runner_up) if fit.runner_up else None, "ambiguous": list(fit.ambiguous),
+            "rule_scores": dict(fit.rule_scores), "same_as_triangles": fit.same_as_triangles,
+            "differences": list(fit.differences), "wide_lines": None if fit.wide is None else fit.wide.text}
 
 
 def _received_as_triangles(received: Callable[[Scene], Scene] | None, rule: str) -> Callable[[Scene], Scene] | None:
@@ -340,8 +442,12 @@ class Identified:
             self.received = inner.received
         self.fingerprint = fingerprint
         self.scene_kinds = scene_kinds_of(inner)
-        if fingerprint.path_convention is not None and fingerprint.path_convention != fingerprint.convention:
-            self.path_convention = fingerprint.path_convention  # its paths are judged by what they follow
+        path = fingerprint.path_convention
+        if path is not None and replace(path, line=self.convention.line) != fingerprint.convention:
+            self.path_convention = path  # its paths are judged by what they follow (the line rule plays no part)
+        if fingerprint.line_convention is not None and fingerprint.line_convention != fingerprint.convention:
+            # its lines are judged by what they follow (:func:`harness.api.convention_for` reads this)
+            self.line_convention = fingerprint.line_convention
         honoured = fingerprint.honoured_fill_rules
         if honoured is not None:
             # handed only the path scenes of the rules it was seen to draw as asked

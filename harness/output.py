@@ -19,10 +19,16 @@ JSON schema 1::
                        # these three only for a rasterizer that takes paths:
                        "fill_rules": {"nonzero" | "evenodd": str},   # the rule asked -> what it drew
                        "honoured_fill_rules": [str],
-                       "path_convention": {"convention": str, ..., "differences": [str]} | null}
+                       "path_convention": {"convention": str, ..., "differences": [str]} | null,
+                       # and, for a rasterizer that takes lines, what identify found of them:
+                       "line_...": ...}   # fields named line_* (harness.line_probes)
                        | {"error": str}},   # what identify found, when it ran
+      # these three only when the caller knows the rasterizers (harness.report.capabilities):
+      "scene_kinds": {"<name>": ["triangles" | "paths" | "lines", ...]},   # the scene kinds each takes
+      "fill_rules": {"<name>": ["nonzero" | "evenodd", ...]},   # of those that take paths
+      "line_rules": {"<name>": "<line rule, in words>"},   # of those that take lines: Convention.describe_lines()
       "results": [
-        {"rasterizer": str, "case": str, "check": str,   # a path case's evidence names "path", not "triangle"
+        {"rasterizer": str, "case": str, "check": str,   # a path case's evidence names "path", a line case's "segment"
          "status": "pass" | "fail" | "error" | "skip",
          "message": str,
          "metrics": {str: number},          # totals; "seconds" is the rasterize time
@@ -73,9 +79,20 @@ def _clean(value: Any) -> Any:
 
 
 def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizers: dict[str, str],
-                    fingerprints: dict[str, dict[str, Any]] | None = None) -> dict[str, Any]:
+                    fingerprints: dict[str, dict[str, Any]] | None = None, *,
+                    scene_kinds: dict[str, tuple[str, ...]] | None = None, fill_rules: dict[str, tuple[str, ...]] | None = None,
+                    line_rules: dict[str, str] | None = None) -> dict[str, Any]:
+    """The schema-1 document of a run; ``scene_kinds``, ``fill_rules`` and ``line_rules``
+    (:func:`harness.report.capabilities`: pass it on as ``**capabilities(rs)``) are written
+    when given.
+
+    >>> doc = results_to_json([], "custom", 0, {"r": "x"}, scene_kinds={"r": ("lines",)}, line_rules={"r": "rectangular lines"})
+    >>> doc["scene_kinds"], doc["line_rules"], "fill_rules" in doc
+    ({'r': ['lines']}, {'r': 'rectangular lines'}, False)
+    """
     # built from the fields (no asdict: it would deep-copy a drawing's arrays only to drop them)
     rows = [_clean({name: getattr(r, name) for name in _FIELDS}) for r in results]
+    known = {"scene_kinds": scene_kinds, "fill_rules": fill_rules, "line_rules": line_rules}
     return {
         "schema": SCHEMA,
         "rastercheck": harness.__version__,
@@ -84,6 +101,7 @@ def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizer
         "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "rasterizers": rasterizers,
         **({"fingerprints": _clean(fingerprints)} if fingerprints else {}),
+        **{field: _clean(value) for field, value in known.items() if value is not None},
         "results": rows,
     }
 
@@ -103,9 +121,10 @@ def results_from_json(data: dict[str, Any]) -> list[Result]:
 
 
 def write_json(path: Path | str, results: Iterable[Result], suite: str, seed: int, rasterizers: dict[str, str],
-               fingerprints: dict[str, dict[str, Any]] | None = None) -> Path:
+               fingerprints: dict[str, dict[str, Any]] | None = None, **capabilities: Any) -> Path:
+    """:func:`results_to_json` written atomically (``capabilities``: its keyword fields)."""
     path = Path(path)
-    atomic_write_text(path, json.dumps(results_to_json(results, suite, seed, rasterizers, fingerprints), indent=1))
+    atomic_write_text(path, json.dumps(results_to_json(results, suite, seed, rasterizers, fingerprints, **capabilities), indent=1))
     return path
 
 

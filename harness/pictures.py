@@ -6,14 +6,25 @@ imported when a plot is drawn, for the plots).
 No colour means two things across the pictures: the heat map is drawn in greys and blues
 (:data:`HEAT_LEGEND`), the diff against the oracle in green, red, orange and yellow
 (:data:`DIFF_LEGEND`), and the animations use the diff's colours for the same meanings
-(:data:`LEGEND`); the crops and repros have theirs (:data:`CROP_LEGEND`), and for path
-scenes :data:`PATH_LEGEND`.
+(:data:`LEGEND`); the crops and repros have theirs (:data:`CROP_LEGEND`), for path
+scenes :data:`PATH_LEGEND`, and for line scenes :data:`LINE_LEGEND`.
 
 A path scene's crop draws each path as one SVG ``<path>`` under the scene's fill rule
 (a faint fill where the rule fills it, arrows along the edges, a ring at each contour's
 start) and writes in every pixel the winding number of its sample around the path the
 failure names (:func:`winding_numbers`, computed exactly: its fill-rule verdict is the
 oracle's at every sample, ties included).
+
+A line scene's crop (:class:`~harness.api.LineScene`) draws each strip as one polyline from
+end point to end point over the pixel grid, its pixels coloured as the diff against the
+oracle colours them, segment by segment (drawn by both; by the oracle only; by the
+rasterizer only, as a joint pixel drawn by the segment that ends there), the pixels the
+failure names outlined, each segment numbered at its middle with an arrowhead
+for its direction, the segment the failure names thick (:func:`numbered_segment`), every
+joint (a vertex where one segment ends and the next starts) as a dot, the number of
+segments that drew a pixel where more than one did, and, under the diamond-exit rule, the
+diamond test area of each offending pixel with the edges and corners it includes solid
+(:mod:`harness.lines`); under the rectangle rule, each segment's rectangle.
 
 The engine draws nothing: a failing :class:`~harness.checks.Result` carries a
 :class:`~harness.checks.records.Drawing` (references to the case, the answer, the
@@ -33,9 +44,9 @@ import numpy as np
 from numpy.typing import NDArray
 from PIL import Image
 
-from harness.api import Coverage, PathScene
+from harness.api import Coverage, LineScene, PathScene
 from harness.case import Case, MotionCase, case_from_json
-from harness.checks import EVIDENCE_LIMIT, Result, pixel_classes
+from harness.checks import EVIDENCE_LIMIT, Result, deviations, pixel_classes
 from harness.checks.records import Drawing
 from harness.conventions import Convention
 from harness.exact import orientation
@@ -44,7 +55,8 @@ from harness.oracle import exact_coverage
 __all__ = ["draw", "draw_repro", "motion_animation", "heatmap", "oracle_diff", "svg_crop", "svg_window", "series_plot",
            "series_label", "window_around", "svg_pattern", "LEGEND", "HEAT_LEGEND", "DIFF_LEGEND", "CROP_LEGEND", "ALPHA_LEGEND", "alpha_map", "MAX_REPRO_TRIANGLES",
            "MAX_REPRO_SIDE", "PATH_LEGEND", "winding_numbers", "rule_fills", "focus_path", "numbered_path", "MAX_NUMBERED_SIDE",
-           "MAX_DRAWN_VERTICES"]
+           "MAX_DRAWN_VERTICES", "LINE_LEGEND", "line_focus", "focus_segment", "numbered_segment",
+           "LINE_CROP_SIDE"]
 
 
 def draw(result: Result) -> dict[str, str]:
@@ -194,6 +206,8 @@ def _still_pictures(case: Case, drawing: Drawing, result: Result) -> dict[str, s
     """Heat map, oracle diff and an SVG crop around the first offending pixel (for area
     coverage: the alpha error and alpha sum maps)."""
     scene = case.scene
+    if isinstance(scene, LineScene):
+        return _line_pictures(scene, drawing, result)
     coverage = drawing.coverages[0]
     marks = _focus(result)
     fx, fy = marks[0] if marks else (scene.width // 2, scene.height // 2)
@@ -276,6 +290,20 @@ PATH_LEGEND = {
     "winding number of the pixel's sample: the rule leaves it": (135, 135, 135),
 }
 _FILLED, _LEFT = list(PATH_LEGEND)[-2:]
+
+# line crops and repros: the pixels in DIFF_LEGEND's colours (crops; without an oracle, and
+# in repros, CROP_LEGEND's), the marks in CROP_LEGEND's, the vectors in these
+LINE_LEGEND = {
+    "the segment the failure names (thick; its number at its middle, an arrowhead for its direction; dotted: its "
+    "rectangle, for rectangular lines)": (0, 100, 40),
+    "other segments (a strip's segments joined; numbered and dotted likewise; a ring at each end point that is no "
+    "joint)": (95, 95, 95),
+    "joint: a vertex where one segment ends and the next starts": (255, 0, 150),
+    "diamond test area of an offending pixel, diamond-exit rule (solid: the edges and corners it includes; dashed, "
+    "hollow: those it excludes)": (160, 60, 0),
+    "how many segments drew the pixel, where more than one did": (120, 0, 0),
+}
+_NAMED_SEGMENT, _OTHER_SEGMENT, _JOINT, _DIAMOND, _HITS = LINE_LEGEND
 
 
 def _hex(rgb: tuple[int, int, int]) -> str:
@@ -396,24 +424,49 @@ def oracle_diff(width: int, height: int, got: NDArray, want: NDArray, pixels: li
     return _png(rgb, max(1, 384 // max(rgb.shape)))
 
 
-def svg_crop(positions: NDArray | PathScene, coverage: Coverage, sample: tuple[float, float], window: tuple[int, int, int, int],
-             marks: list[tuple[int, int]], numbered: int | None = None, convention: Convention | None = None) -> str:
+def svg_crop(positions: NDArray | PathScene | LineScene, coverage: Coverage, sample: tuple[float, float],
+             window: tuple[int, int, int, int], marks: list[tuple[int, int]], numbered: int | None = None,
+             convention: Convention | None = None, oracle: Coverage | None = None) -> str:
     """The pixel grid of a small window with its sample points, the covered pixels, the
     marked pixels outlined, and the triangles (or a path scene's paths, with the winding
-    numbers of path ``numbered``: see :func:`svg_window`) drawn as vectors over them (SVG
-    data URI)."""
+    numbers of path ``numbered``; or a line scene's segments, segment ``numbered`` thick:
+    see :func:`svg_window`) drawn as vectors over them (SVG data URI).
+
+    For a line scene given the ``oracle``'s coverage, the pixels are coloured as the diff
+    against it colours them, segment by segment (DIFF_LEGEND): extra where some segment
+    drew a pixel the oracle's same segment does not (a joint drawn by both its segments),
+    else missing where some segment lacks one, else both; and each pixel more than one
+    segment drew shows how many did."""
     x0, y0, x1, y1 = window
     t, x, y = coverage.pixels()
     inside = (x >= x0) & (x < x1) & (y >= y0) & (y < y1)
     covered = np.zeros((y1 - y0, x1 - x0), dtype=bool)
     covered[y[inside] - y0, x[inside] - x0] = True
-    return svg_window(positions, covered, CROP_LEGEND["covered by the rasterizer (crops)"], sample, window, marks,
-                      numbered=numbered, convention=convention)
+    if not isinstance(positions, LineScene):
+        return svg_window(positions, covered, CROP_LEGEND["covered by the rasterizer (crops)"], sample, window, marks,
+                          numbered=numbered, convention=convention)
+    hits = np.zeros((y1 - y0, x1 - x0), dtype=np.int64)
+    np.add.at(hits, (y[inside] - y0, x[inside] - x0), 1)
+    fills = [(covered, CROP_LEGEND["covered by the rasterizer (crops)"])]
+    if oracle is not None:
+        classes = []
+        for fragments in deviations(coverage, oracle, positions.width, positions.height):  # missing, then extra
+            _, fx, fy = fragments
+            mine = (fx >= x0) & (fx < x1) & (fy >= y0) & (fy < y1)
+            mask = np.zeros_like(covered)
+            mask[fy[mine] - y0, fx[mine] - x0] = True
+            classes.append(mask)
+        missing, extra = classes
+        fills = [(covered & ~missing & ~extra, DIFF_LEGEND["both"]), (missing & ~extra, DIFF_LEGEND["missing (oracle only)"]),
+                 (extra, DIFF_LEGEND["extra (rasterizer only)"])]
+    return svg_window(positions, None, CROP_LEGEND["covered by the rasterizer (crops)"], sample, window, marks,
+                      numbered=numbered, convention=convention, fills=fills, hits=hits)
 
 
-def svg_window(positions: NDArray | PathScene, covered: NDArray | None, fill: tuple[int, int, int], sample: tuple[float, float] | None,
-               window: tuple[int, int, int, int], marks: list[tuple[int, int]], fit: int = 384,
-               numbered: int | None = None, convention: Convention | None = None) -> str:
+def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | None, fill: tuple[int, int, int],
+               sample: tuple[float, float] | None, window: tuple[int, int, int, int], marks: list[tuple[int, int]], fit: int = 384,
+               numbered: int | None = None, convention: Convention | None = None,
+               fills: list[tuple[NDArray, tuple[int, int, int]]] | None = None, hits: NDArray | None = None) -> str:
     """A window of the viewport as an SVG data URI, scaled to fit ``fit`` px (at most 24 px
     a pixel): the covered pixels filled, the pixel grid and the sample points when the
     pixels are drawn large enough to show them, the marked pixels outlined and the
@@ -425,9 +478,15 @@ def svg_window(positions: NDArray | PathScene, covered: NDArray | None, fill: tu
     pixel shows the winding number of its sample around path ``numbered``
     (:func:`winding_numbers`, exact), bold where the fill rule fills it (PATH_LEGEND).
 
+    Given a line scene, each strip is drawn as a polyline from end point to end point
+    (:func:`_svg_lines`): segment ``numbered`` thick, every segment numbered with an
+    arrowhead, the joints as dots, and, by the convention's line rule, the diamond test
+    area of each marked pixel (diamond-exit) or each segment's rectangle (rectangle)
+    (LINE_LEGEND).
+
     Parameters
     ----------
-    positions : (N, 3, 2) float64, or PathScene
+    positions : (N, 3, 2) float64, PathScene or LineScene
     covered : (y1 - y0, x1 - x0) bool or None
         The pixels of the window to fill with ``fill``.
     sample : (float, float) or None
@@ -436,11 +495,17 @@ def svg_window(positions: NDArray | PathScene, covered: NDArray | None, fill: tu
     marks : list of (x, y)
         Pixels to outline; those outside the window are left out.
     numbered : int or None
-        Paths only: the path whose winding numbers are written (None: none written).
+        Paths: the path whose winding numbers are written (None: none written). Lines: the
+        segment drawn thick (None: none).
     convention : Convention or None
-        Paths only: the single-sample convention the winding numbers follow (its sample
-        point, tie rule and snapping); None: ``sample`` (the centre without one), top-left
-        ties, no snapping.
+        Paths: the single-sample convention the winding numbers follow (its sample point,
+        tie rule and snapping); None: ``sample`` (the centre without one), top-left ties,
+        no snapping. Lines: the convention whose line rule says what to draw besides the
+        segments (None: nothing).
+    fills : list of ((y1 - y0, x1 - x0) bool, rgb), optional
+        More pixels to fill, each mask in its colour, after ``covered``.
+    hits : (y1 - y0, x1 - x0) int, optional
+        Lines: how many segments drew each pixel; written where more than one did.
     """
     x0, y0, x1, y1 = window
     cols, rows = x1 - x0, y1 - y0
@@ -456,6 +521,11 @@ def svg_window(positions: NDArray | PathScene, covered: NDArray | None, fill: tu
         colour = _hex(fill)
         parts.extend(f'<rect x="{x0 + a}" y="{y0 + j}" width="{b - a}" height="1" fill="{colour}"/>'
                      for (j, a), (_, b) in zip(starts.tolist(), ends.tolist()))
+    for mask, rgb in fills or ():
+        if mask.any():
+            runs = np.diff(np.pad(mask.astype(np.int8), ((0, 0), (1, 1))), axis=1)
+            parts.extend(f'<rect x="{x0 + a}" y="{y0 + j}" width="{b - a}" height="1" fill="{_hex(rgb)}"/>'
+                         for (j, a), (_, b) in zip(np.argwhere(runs == 1).tolist(), np.argwhere(runs == -1).tolist()))
     if scale >= 4:
         parts.extend(f'<line x1="{x0 + i}" y1="{y0}" x2="{x0 + i}" y2="{y1}" stroke="#999" stroke-width="0.5" {thin}/>'
                      for i in range(cols + 1))
@@ -475,6 +545,12 @@ def svg_window(positions: NDArray | PathScene, covered: NDArray | None, fill: tu
         if numbered is not None and max(cols, rows) <= MAX_NUMBERED_SIDE and scale >= 10:
             chosen = convention if convention is not None else Convention(sample=sample or (0.5, 0.5))
             parts.extend(_svg_windings(positions, numbered, chosen, window, scale))
+        parts.append("</svg>")
+        return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
+    if isinstance(positions, LineScene):
+        parts.extend(_svg_lines(positions, window, scale, numbered, convention, marks))
+        if hits is not None and scale >= 10:
+            parts.extend(_svg_hits(hits, window, scale))
         parts.append("</svg>")
         return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
     finite = np.all(np.isfinite(positions), axis=(1, 2))
@@ -813,6 +889,381 @@ def _svg_windings(scene: PathScene, path: int, convention: Convention, window: t
     return out
 
 
+# -- lines: segments over the pixel grid, joints, diamonds ---------------------------------
+
+LINE_CROP_SIDE = 16  # px: a line failure's crop (a longer stretch of line than a triangle's 12)
+MAX_DRAWN_SEGMENTS = 400  # per picture: the segments nearest in order beyond it are left out, and counted
+_NOT_PIXELS = ("repro", "repro_path", "traceback", "series", "columns", "flaky", "samples")
+
+
+def _pixel_rows(rows: list[Any], columns: Any) -> list[tuple[int, int]]:
+    """The pixels of an evidence list, read from its first row's form: dicts with ``x``
+    and ``y``, or ``pixel``/``vertex_pixel: [x, y]`` and ``pixels: [[x, y], ...]`` (each
+    row's in that order); rows named by ``columns`` (with ``x`` and ``y``); ``[x, y]``
+    pairs; ``[primitive, x, y]`` triples. Nothing when it holds none."""
+    head = rows[0]
+    try:
+        if isinstance(head, dict):
+            if "x" in head and "y" in head:
+                return [(int(r["x"]), int(r["y"])) for r in rows if isinstance(r, dict) and "x" in r and "y" in r]
+            out: list[tuple[int, int]] = []
+            for r in rows:
+                if not isinstance(r, dict):
+                    continue
+                named = [r[k] for k in ("pixel", "vertex_pixel") if isinstance(r.get(k), (list, tuple))]
+                named += [v for v in r.get("pixels", ()) if isinstance(v, (list, tuple))] if isinstance(r.get("pixels"), list) else []
+                out += [(int(v[0]), int(v[1])) for v in named if len(v) == 2]
+            return list(dict.fromkeys(out))
+        if not isinstance(head, (list, tuple)) or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool)
+                                                          for v in head):
+            return []
+        if isinstance(columns, list) and "x" in columns and "y" in columns:
+            ix, iy = columns.index("x"), columns.index("y")
+        elif len(head) in (2, 3):
+            ix, iy = len(head) - 2, len(head) - 1
+        else:
+            return []
+        return [(int(r[ix]), int(r[iy])) for r in rows if isinstance(r, (list, tuple)) and len(r) > max(ix, iy)]
+    except (TypeError, ValueError, IndexError, KeyError):
+        return []
+
+
+def line_focus(result: Result) -> list[tuple[int, int]]:
+    """The offending pixels a failure on a line scene names, first the most telling: the
+    first list of its evidence (in the check's order) that holds pixels (dicts with ``x``
+    and ``y`` or lists of ``pixels``, ``[x, y]`` pairs, ``[segment, x, y]`` rows or rows
+    named by ``columns``), else what :func:`_focus` finds.
+
+    >>> line_focus(Result("r", "c", "joints", "fail", "m", {}, {"count": 1, "double_hits": [{"joint": [0, 1], "x": 4, "y": 2}]}))
+    [(4, 2)]
+    >>> line_focus(Result("r", "c", "connectivity", "fail", "m", {}, {"gaps": [[3, 7, 1]], "columns": ["segment", "x", "y"]}))
+    [(7, 1)]
+    >>> line_focus(Result("r", "c", "joints", "fail", "m", {}, {"joints": [{"segments": [0, 1], "pixels": [[4, 2], [5, 2]],
+    ...                                                                      "vertex_pixel": [5, 2]}]}))
+    [(5, 2), (4, 2)]
+    """
+    e = result.evidence
+    for key, value in e.items():
+        if key in _NOT_PIXELS or not isinstance(value, list) or not value:
+            continue
+        found = _pixel_rows(value, e.get("columns"))
+        if found:
+            return found
+    return _focus(result)
+
+
+def focus_segment(result: Result) -> int | None:
+    """The segment a failure on a line scene names first, or None when its evidence names
+    none: the first row of an evidence list that has ``segment`` (or ``segments``, a
+    joint's pair, the first of them), or whose ``columns`` name one.
+
+    >>> focus_segment(Result("r", "c", "conformance", "fail", "m", {}, {"pixels": [{"segment": 3, "x": 1, "y": 2}]}))
+    3
+    >>> focus_segment(Result("r", "c", "joints", "fail", "m", {}, {"double_hits": [{"segments": [4, 5], "x": 1, "y": 2}]}))
+    4
+    """
+    e = result.evidence
+    columns = e.get("columns")
+    for key, value in e.items():
+        if key in _NOT_PIXELS or not isinstance(value, list) or not value:
+            continue
+        head = value[0]
+        try:
+            if isinstance(head, dict):
+                for name in ("segment", "segments", "joint"):
+                    named = head.get(name)
+                    if isinstance(named, (list, tuple)) and named:
+                        return int(named[0])
+                    if isinstance(named, (int, np.integer)) and not isinstance(named, bool):
+                        return int(named)
+            elif isinstance(head, (list, tuple)) and isinstance(columns, list) and "segment" in columns:
+                return int(head[columns.index("segment")])
+        except (TypeError, ValueError, IndexError):
+            continue
+    return None
+
+
+def numbered_segment(result: Result) -> int | None:
+    """The segment a line failure's crop draws thick: the one its evidence names
+    (:func:`focus_segment`); else the first segment the rasterizer or the oracle drew at
+    the first offending pixel; else the first whose box holds that pixel; None for a
+    result without a drawing of a line scene, or a scene without segments there."""
+    drawing = result.drawing
+    scene = getattr(drawing.case, "scene", None) if drawing is not None else None
+    if drawing is None or not isinstance(scene, LineScene) or len(scene) == 0:
+        return None
+    named = focus_segment(result)
+    if named is not None and 0 <= named < len(scene):
+        return named
+    marks = line_focus(result)
+    if not marks:
+        return None
+    fx, fy = marks[0]
+    for coverage in (*drawing.coverages[:1], *(drawing.oracles or ())[:1]):
+        k, x, y = coverage.pixels()
+        here = k[(x == fx) & (y == fy) & (k >= 0) & (k < len(scene))]
+        if here.size:
+            return int(here.min())
+    return _segment_at(scene, fx, fy)
+
+
+def _segment_at(scene: LineScene, x: int, y: int) -> int | None:
+    """The first segment whose box (grown by half the line width) meets pixel (x, y)."""
+    lo, hi, finite = scene.primitive_boxes()
+    holds = finite & (lo[:, 0] <= x + 1) & (hi[:, 0] >= x) & (lo[:, 1] <= y + 1) & (hi[:, 1] >= y)
+    return int(np.flatnonzero(holds)[0]) if holds.any() else None
+
+
+def _line_sample(convention: Convention | None) -> tuple[float, float]:
+    """The point in each pixel a line picture dots: the convention's sample for
+    rectangular lines; the centre otherwise (the diamond's centre; the pixel Bresenham
+    steps through)."""
+    if convention is not None and convention.line.rule == "rectangle":
+        return convention.sample
+    return 0.5, 0.5
+
+
+def _line_oracle(drawing: Drawing, scene: LineScene) -> Coverage | None:
+    """The oracle's coverage of the lines: the check's, else computed now; None without a
+    convention or when it has no line oracle (multisample or area coverage)."""
+    if drawing.oracles is not None:
+        return drawing.oracles[0]
+    if drawing.convention is None:
+        return None
+    try:
+        return exact_coverage(scene, drawing.convention)
+    except ValueError:  # lines are single-sample only
+        return None
+
+
+def _line_pictures(scene: LineScene, drawing: Drawing, result: Result) -> dict[str, str]:
+    """A failure on a line scene: the hit counts (a joint drawn by both its segments is
+    hit twice), the diff against the oracle, and a crop of the segments over the pixel
+    grid around the first offending pixel (:func:`svg_crop`). When the evidence names no
+    pixel (a segment drawn too long, say), the pixels where the segment it names (any
+    segment, when it names none) departs from the oracle are marked; failing those, the
+    crop shows the named segment's middle."""
+    coverage = drawing.coverages[0]
+    marks = line_focus(result)
+    numbered = numbered_segment(result)
+    oracle = _line_oracle(drawing, scene)
+    if not marks and oracle is not None:
+        wrong = np.concatenate(deviations(coverage, oracle, scene.width, scene.height), axis=1)  # (3, M): segment, x, y
+        if numbered is not None and (wrong[0] == numbered).any():
+            wrong = wrong[:, wrong[0] == numbered]
+        inside = (wrong[1] >= 0) & (wrong[1] < scene.width) & (wrong[2] >= 0) & (wrong[2] < scene.height)
+        marks = list(dict.fromkeys(zip(wrong[1, inside].tolist(), wrong[2, inside].tolist())))
+    if marks:
+        fx, fy = marks[0]
+    elif numbered is not None and numbered in np.flatnonzero(scene.primitive_boxes()[2]):
+        a, b = scene.segments()
+        fx, fy = (int(np.clip(np.floor(v), -1, side)) for v, side in zip((a[numbered] + b[numbered]) / 2, (scene.width, scene.height)))
+    else:
+        fx, fy = scene.width // 2, scene.height // 2
+    counts = coverage.counts(scene.width, scene.height)
+    images = {"heatmap": heatmap(counts, None, None, window_around(fx, fy, scene.width, scene.height, 64))}
+    if oracle is not None:
+        images["diff"] = oracle_diff(scene.width, scene.height, counts > 0, oracle.counts(scene.width, scene.height) > 0,
+                                     result.evidence.get("pixels", []) if result.check == "conformance" else [],
+                                     window_around(fx, fy, scene.width, scene.height, 64))
+    crop = window_around(fx, fy, scene.width, scene.height, LINE_CROP_SIDE)
+    images["crop"] = svg_crop(scene, coverage, _line_sample(drawing.convention), crop, marks[:20], numbered=numbered,
+                              convention=drawing.convention, oracle=oracle)
+    return images
+
+
+def _clip_parameters(a: NDArray[np.float64], b: NDArray[np.float64],
+                     box: tuple[float, float, float, float]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Liang-Barsky: the parameter range [t0, t1] of ``a + t (b - a)``, 0 <= t <= 1, inside
+    the box (xmin, ymin, xmax, ymax); empty (t0 > t1) when the segment misses it. Float
+    arithmetic: for drawing, never for a verdict.
+
+    >>> t0, t1 = _clip_parameters(np.array([[-2.0, 1.0]]), np.array([[6.0, 1.0]]), (0.0, 0.0, 4.0, 4.0))
+    >>> t0.tolist(), t1.tolist()
+    ([0.25], [0.75])
+    """
+    t0, t1 = np.zeros(a.shape[0]), np.ones(a.shape[0])
+    with np.errstate(all="ignore"):
+        d = b - a
+        for axis, low, high in ((0, box[0], box[2]), (1, box[1], box[3])):
+            u = (low - a[:, axis]) / d[:, axis]
+            v = (high - a[:, axis]) / d[:, axis]
+            moving = d[:, axis] != 0
+            still_in = (a[:, axis] >= low) & (a[:, axis] <= high)
+            t0 = np.maximum(t0, np.where(moving, np.minimum(u, v), np.where(still_in, -np.inf, np.inf)))
+            t1 = np.minimum(t1, np.where(moving, np.maximum(u, v), np.where(still_in, np.inf, -np.inf)))
+    return t0, t1
+
+
+def _point(v: NDArray[np.float64]) -> str:
+    return f"{v[0]:.9g},{v[1]:.9g}"
+
+
+def _svg_lines(scene: LineScene, window: tuple[int, int, int, int], scale: float, named: int | None,
+               convention: Convention | None, marks: list[tuple[int, int]]) -> list[str]:
+    """The SVG of the segments near the window (clipped to it grown by 2 px): under the
+    diamond-exit rule the diamond test area of each marked pixel first (:func:`_svg_diamond`),
+    under the rectangle rule each segment's rectangle (dotted); each strip as polylines
+    from end point to end point (the runs of its segments in view, joined), segment
+    ``named`` thick on top; an arrowhead and a number on each segment; every joint as a
+    dot and every other end point as a ring (LINE_LEGEND)."""
+    x0, y0, x1, y1 = window
+    margin = 2.0
+    box = (x0 - margin, y0 - margin, x1 + margin, y1 + margin)
+    thin = 'vector-effect="non-scaling-stroke"'
+    parts: list[str] = []
+    a, b = scene.segments()
+    lo, hi, finite = scene.primitive_boxes()
+    t0, t1 = _clip_parameters(np.where(finite[:, None], a, 0.0), np.where(finite[:, None], b, 0.0), box)
+    seen = finite & (lo[:, 0] <= box[2]) & (hi[:, 0] >= box[0]) & (lo[:, 1] <= box[3]) & (hi[:, 1] >= box[1])
+    rule = convention.line.rule if convention is not None else None
+    wide = rule == "rectangle"
+    in_view = np.flatnonzero(seen & ((t0 <= t1) | wide))
+    if named is not None and named in in_view:  # the named segment is drawn, whatever the budget
+        in_view = np.concatenate([[named], in_view[in_view != named]])
+    shown, left_out = np.sort(in_view[:MAX_DRAWN_SEGMENTS]), max(in_view.size - MAX_DRAWN_SEGMENTS, 0)
+    if rule == "diamond-exit":
+        d = b[named] - a[named] if named is not None and finite[named] else np.zeros(2)
+        y_major = bool(abs(d[1]) > abs(d[0]))  # the y-major test area holds its right corner too
+        for mx, my in [m for m in marks if x0 <= m[0] < x1 and y0 <= m[1] < y1][:8]:
+            parts.extend(_svg_diamond(mx, my, y_major, thin))
+    colour_of = {k: _NAMED_SEGMENT if k == named else _OTHER_SEGMENT for k in shown.tolist()}
+    if wide:  # the rectangle of each segment: its sides at half the width, no end caps beyond the end points
+        half = 0.5 * scene.line_width
+        for k in shown.tolist():
+            d = b[k] - a[k]
+            length = float(np.hypot(*d))
+            if not (length > 0 and np.isfinite(length)):
+                continue
+            n = np.array([-d[1], d[0]]) / length * half
+            corners = np.array([a[k] + n, b[k] + n, b[k] - n, a[k] - n])
+            clipped = _clip_contour(corners, box)
+            if clipped.shape[0] >= 3:
+                parts.append(f'<polygon points="{" ".join(_point(v) for v in clipped)}" fill="none" '
+                             f'stroke="{_hex(LINE_LEGEND[colour_of[k]])}" stroke-width="1" stroke-dasharray="1 2" {thin}/>')
+    with np.errstate(all="ignore"):  # segments out of view (or not finite) give inf and nan: never drawn
+        p = a + t0[:, None] * (b - a)  # the visible part of each segment, p -> q
+        q = a + t1[:, None] * (b - a)
+    strip = scene.segment_strip
+    runs: list[list[NDArray[np.float64]]] = []
+    previous = -2
+    for k in shown.tolist():
+        if t0[k] > t1[k]:
+            previous = -2
+            continue
+        joined = previous == k - 1 and strip[k] == strip[previous] and t1[previous] == 1.0 and t0[k] == 0.0
+        if joined:
+            runs[-1].append(q[k])
+        else:
+            runs.append([p[k], q[k]])
+        previous = k
+    other = _hex(LINE_LEGEND[_OTHER_SEGMENT])
+    for run in runs:
+        parts.append(f'<polyline points="{" ".join(_point(v) for v in run)}" fill="none" stroke="{other}" '
+                     f'stroke-width="1.5" stroke-linejoin="round" {thin}/>')
+    if named is not None and named in shown and t0[named] <= t1[named]:
+        parts.append(f'<line x1="{p[named][0]:.9g}" y1="{p[named][1]:.9g}" x2="{q[named][0]:.9g}" y2="{q[named][1]:.9g}" '
+                     f'stroke="{_hex(LINE_LEGEND[_NAMED_SEGMENT])}" stroke-width="3" stroke-linecap="round" {thin}/>')
+    for colour in (_OTHER_SEGMENT, _NAMED_SEGMENT):
+        mine = [k for k in shown.tolist() if colour_of[k] == colour]
+        if mine:
+            parts.extend(_svg_arrows([(a[mine], b[mine], LINE_LEGEND[colour])], window, scale))
+    parts.extend(_svg_end_points(scene, box, scale, set(shown.tolist()), thin))
+    parts.extend(_svg_segment_numbers(scene, shown, named, window, scale))
+    if left_out:
+        parts.append(f'<text x="{x0 + 0.1:g}" y="{y1 - 0.15:g}" font-size="{11 / scale:.4f}" font-family="sans-serif" '
+                     f'fill="#333">{left_out} segment{"" if left_out == 1 else "s"} not drawn: more than '
+                     f'{MAX_DRAWN_SEGMENTS} in view</text>')
+    return parts
+
+
+def _svg_diamond(i: int, j: int, y_major: bool, thin: str) -> list[str]:
+    """The diamond-exit rule's test area of pixel (i, j) (:mod:`harness.lines`): the diamond
+    |x - xc| + |y - yc| < 1/2 with its lower-left and lower-right edges and its bottom
+    corner included (solid, a filled dot), its upper edges and top and left corners
+    excluded (dashed, rings), its right corner included only for a y-major segment."""
+    colour = _hex(LINE_LEGEND[_DIAMOND])
+    top, right, bottom, left = (i + 0.5, j), (i + 1.0, j + 0.5), (i + 0.5, j + 1.0), (i, j + 0.5)
+
+    def at(v: tuple[float, float]) -> str:
+        return f"{v[0]:g},{v[1]:g}"
+
+    def corner(v: tuple[float, float], included: bool) -> str:
+        style = f'fill="{colour}"' if included else f'fill="white" stroke="{colour}" stroke-width="1" {thin}'
+        return f'<circle cx="{v[0]:g}" cy="{v[1]:g}" r="0.06" {style}/>'
+
+    return [f'<g><title>diamond test area of pixel ({i}, {j}): lower edges and bottom corner in, upper edges, top and '
+            f'left corners out, right corner {"in (a y-major segment)" if y_major else "out (an x-major segment)"}</title>',
+            f'<path d="M{at(right)} L{at(bottom)} L{at(left)}" fill="none" stroke="{colour}" stroke-width="2" {thin}/>',
+            f'<path d="M{at(left)} L{at(top)} L{at(right)}" fill="none" stroke="{colour}" stroke-width="1.5" '
+            f'stroke-dasharray="3 2" {thin}/>',
+            corner(bottom, True), corner(right, y_major), corner(top, False), corner(left, False), "</g>"]
+
+
+def _svg_end_points(scene: LineScene, box: tuple[float, float, float, float], scale: float, shown: set[int],
+                    thin: str) -> list[str]:
+    """Each joint of the drawn segments (a vertex where segment k ends and m starts) as a
+    dot, every other end point of theirs as a ring in its segment's colour."""
+    a, b = scene.segments()
+    joints = scene.joints(closed=True)
+    out: list[str] = []
+    shared: set[tuple[int, int]] = set()  # (segment, 0 start | 1 end) of the joints' end points
+    dot, ring = 3.5 / scale, 2.5 / scale
+    colour = _hex(LINE_LEGEND[_JOINT])
+    for k, m in joints.tolist():
+        if k not in shown and m not in shown:
+            continue
+        shared |= {(k, 1), (m, 0)}
+        v = b[k]
+        if box[0] <= v[0] <= box[2] and box[1] <= v[1] <= box[3]:
+            out.append(f'<circle cx="{v[0]:.9g}" cy="{v[1]:.9g}" r="{dot:.4f}" fill="{colour}"><title>joint: segment {k} '
+                       f'ends where segment {m} starts</title></circle>')
+    other = _hex(LINE_LEGEND[_OTHER_SEGMENT])
+    for k in sorted(shown):
+        for end, v in ((0, a[k]), (1, b[k])):
+            if (k, end) not in shared and box[0] <= v[0] <= box[2] and box[1] <= v[1] <= box[3]:
+                out.append(f'<circle cx="{v[0]:.9g}" cy="{v[1]:.9g}" r="{ring:.4f}" fill="none" stroke="{other}" '
+                           f'stroke-width="1" {thin}/>')
+    return out
+
+
+def _svg_segment_numbers(scene: LineScene, shown: NDArray[np.int64], named: int | None, window: tuple[int, int, int, int],
+                         scale: float, limit: int = 60) -> list[str]:
+    """Each drawn segment's number at the middle of its part in the window, moved off the
+    line by a third of a pixel on its left (as it runs), in its colour; at most ``limit``."""
+    x0, y0, x1, y1 = window
+    a, b = scene.segments()
+    index = shown[:limit]
+    t0, t1 = _clip_parameters(a[index], b[index], (float(x0), float(y0), float(x1), float(y1)))
+    font = min(max(10.0 / scale, 0.3), 0.6)
+    strips = scene.segment_strip
+    out = []
+    for k, s, e in zip(index.tolist(), t0.tolist(), t1.tolist()):
+        d = b[k] - a[k]
+        length = float(np.hypot(*d))
+        if s > e or not length > 0:
+            continue
+        middle = a[k] + (s + e) / 2 * d
+        off = np.array([d[1], -d[0]]) / length * (font * 0.8)  # left of the direction of travel (y down)
+        at = middle + off
+        colour = _hex(LINE_LEGEND[_NAMED_SEGMENT if k == named else _OTHER_SEGMENT])
+        weight = ' font-weight="bold"' if k == named else ""
+        out.append(f'<text x="{at[0]:.6g}" y="{at[1] + font / 3:.6g}" font-size="{font:.3f}" font-family="sans-serif" '
+                   f'text-anchor="middle" fill="{colour}"{weight}><title>segment {k} (strip {int(strips[k])})</title>{k}</text>')
+    return out
+
+
+def _svg_hits(hits: NDArray, window: tuple[int, int, int, int], scale: float) -> list[str]:
+    """How many segments drew each pixel of the window where more than one did, small, in
+    the pixel's top-left corner (away from the centre and the diamond)."""
+    x0, y0, _, _ = window
+    font = min(max(8.0 / scale, 0.25), 0.4)
+    colour = _hex(LINE_LEGEND[_HITS])
+    return [f'<text x="{x0 + i + 0.05:g}" y="{y0 + j + 0.02 + font:g}" font-size="{font:.3f}" font-family="sans-serif" '
+            f'font-weight="bold" fill="{colour}"><title>drawn by {int(n)} segments</title>{int(n)}</text>'
+            for (j, i), n in np.ndenumerate(hits) if n > 1]
+
+
 # -- the minimal repro ---------------------------------------------------------------------
 
 MAX_REPRO_TRIANGLES = 200  # primitives: triangles, or paths
@@ -863,9 +1314,10 @@ def _near_triangles(marks: list[tuple[int, int]], positions: NDArray, reach: flo
     return [m for m, ok in zip(marks, near.tolist()) if ok]
 
 
-def _near_paths(marks: list[tuple[int, int]], scene: PathScene, reach: float = 1.5) -> list[tuple[int, int]]:
+def _near_paths(marks: list[tuple[int, int]], scene: PathScene | LineScene, reach: float = 1.5) -> list[tuple[int, int]]:
     """The marked pixels whose centre lies within ``reach`` px of the box of one of the
-    (finite) paths: those of a whole case's evidence that can belong to its repro."""
+    (finite) paths (segments: their boxes grown by half the line width): those of a whole
+    case's evidence that can belong to its repro."""
     lo, hi, finite = scene.primitive_boxes()
     if not marks or not finite.any():
         return []
@@ -906,9 +1358,11 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
     (:func:`svg_window`). The rasterizer's own answer on the repro is not known here and
     not drawn.
 
+    A line repro draws its segments as the crops do (:func:`_line_repro`).
+
     Returns None without a repro; (None, why) when it is not drawn (a motion case, a malformed
-    one, or more than :data:`MAX_REPRO_TRIANGLES` triangles (paths) or :data:`MAX_REPRO_SIDE` px,
-    or paths of more than :data:`MAX_DRAWN_VERTICES` vertices).
+    one, or more than :data:`MAX_REPRO_TRIANGLES` triangles (paths, segments) or
+    :data:`MAX_REPRO_SIDE` px, or paths of more than :data:`MAX_DRAWN_VERTICES` vertices).
     """
     payload = result.evidence.get("repro")
     if not isinstance(payload, dict):
@@ -925,6 +1379,9 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
     triangles = f"{n} {noun}{'' if n == 1 else 's'}" + (f" (of {of})" if of else "")
     if isinstance(scene, PathScene):
         triangles += f" under the {scene.fill_rule} rule"
+    if isinstance(scene, LineScene) and scene.strip_sizes.size != n:
+        strips = scene.strip_sizes.size
+        triangles += f" in {strips} strip{'' if strips == 1 else 's'}"
     if n > MAX_REPRO_TRIANGLES or max(scene.width, scene.height) > MAX_REPRO_SIDE:
         return None, (f"minimal repro: {triangles} on a {scene.width} x {scene.height} viewport, not drawn (pictures are "
                       f"drawn up to {MAX_REPRO_TRIANGLES} {noun}s and {MAX_REPRO_SIDE} px a side)")
@@ -932,6 +1389,8 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
         return None, (f"minimal repro: {triangles} of {scene.vertices.shape[0]} vertices, not drawn (pictures are drawn up to "
                       f"{MAX_DRAWN_VERTICES} vertices)")
     convention = result.drawing.convention if result.drawing is not None else None
+    if isinstance(scene, LineScene):
+        return _line_repro(result, scene, convention, triangles)
     if isinstance(scene, PathScene):
         finite_path = scene.primitive_boxes()[2]
         drawn = scene.vertices[np.repeat(finite_path[scene.contour_path], scene.contour_sizes)]  # of the finite paths
@@ -965,6 +1424,49 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
         why = "no convention known" if convention is None else "no oracle of its kind for paths"
         return uri, f"minimal repro: its {triangles}; {why}, so no coverage drawn{numbers}{outlined}"
     return uri, f"minimal repro: its {triangles}, the pixels the convention covers{numbers}{outlined}"
+
+
+def _repro_segment(result: Result, scene: LineScene, marks: list[tuple[int, int]]) -> int | None:
+    """The repro's segment to draw thick: its only segment; else the one with the end
+    points of the segment the failure names in the whole case; else the first whose box
+    holds the first marked pixel near it; else None."""
+    if len(scene) == 1:
+        return 0
+    named = numbered_segment(result)
+    whole = getattr(result.drawing.case, "scene", None) if result.drawing is not None else None
+    if named is not None and isinstance(whole, LineScene):
+        wa, wb = whole.segments()
+        a, b = scene.segments()
+        same = np.flatnonzero(np.all(a == wa[named], axis=1) & np.all(b == wb[named], axis=1))
+        if same.size:
+            return int(same[0])
+    return _segment_at(scene, *marks[0]) if marks else None
+
+
+def _line_repro(result: Result, scene: LineScene, convention: Convention | None, what: str) -> tuple[str | None, str]:
+    """A line repro drawn (``what``: its segments counted): its segments over the pixel
+    grid as in the crops, the pixels the convention draws (its line rule), the pixels the
+    whole case's evidence names near its segments outlined, one segment thick."""
+    a, b = scene.segments()
+    finite = scene.primitive_boxes()[2]
+    window = _points_window(np.concatenate([a[finite], b[finite]]), scene.width, scene.height)
+    x0, y0, x1, y1 = window
+    covered = None
+    if convention is not None:
+        try:
+            covered = exact_coverage(scene, convention).counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+        except ValueError:  # lines are single-sample only: no oracle for a multisample or area convention
+            covered = None
+    marks = _near_paths(line_focus(result)[:EVIDENCE_LIMIT], scene)
+    numbered = _repro_segment(result, scene, marks)
+    uri = svg_window(scene, covered, CROP_LEGEND["covered by the convention (repros)"], _line_sample(convention), window, marks,
+                     numbered=numbered, convention=convention)
+    thick = f"; segment {numbered} thick" if numbered is not None and len(scene) > 1 else ""
+    outlined = f"; outlined: {len(marks)} of the pixels the failure names, next to these segments" if marks else ""
+    if convention is None or covered is None:
+        why = "no convention known" if convention is None else "no line oracle for its coverage kind"
+        return uri, f"minimal repro: its {what}; {why}, so no pixels drawn{thick}{outlined}"
+    return uri, f"minimal repro: its {what}, the pixels the convention draws ({convention.describe_lines()}){thick}{outlined}"
 
 
 # -- per-frame series ----------------------------------------------------------------------

@@ -16,7 +16,15 @@ repros drawing the paths under their fill rule with the winding number of each s
 each rasterizer's card says which scene kinds it takes and which fill rules it honours
 (and what identify saw it draw for each rule, and its path convention), and the index
 lists the rasterizers that take paths in a table of polygon fillers with their failures
-on path cases."""
+on path cases.
+
+Line scenes (:class:`harness.api.LineScene`) likewise: their crops and repros draw the
+segments over the pixel grid (:mod:`harness.pictures`), each card says the line rule a
+rasterizer declares (:meth:`harness.conventions.Convention.describe_lines`) and the one
+identify found, and the index lists the rasterizers that take lines in a table of line
+drawers: the rule, the results on line cases, and a column per check that judges lines
+(those of the registry that apply to a line case, and any with results on one) with the
+failures linked, each with its minimal repro."""
 
 from __future__ import annotations
 
@@ -33,15 +41,16 @@ import numpy as np
 from jinja2 import Environment, PackageLoader, select_autoescape
 
 import harness
-from harness.api import PathScene, fill_rules_of, scene_kinds_of
-from harness.checks import EVIDENCE_LIMIT, Result, check_names
+from harness.api import LineScene, PathScene, convention_for, fill_rules_of, scene_kinds_of
+from harness.case import Case
+from harness.checks import EVIDENCE_LIMIT, Check, Result, check_names
 from harness.checks import checks as registered_checks
 from harness.files import atomic_write_text, safe_name
-from harness.pictures import (ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, PATH_LEGEND, draw, draw_repro,
-                              numbered_path, svg_pattern)
+from harness.pictures import (ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, LINE_LEGEND, PATH_LEGEND, draw,
+                              draw_repro, numbered_path, numbered_segment, svg_pattern)
 
 __all__ = ["write_report", "write_comparison", "link_pages", "page_name", "cause", "evidence_table", "capabilities",
-           "on_paths", "caption"]
+           "on_paths", "on_lines", "caption", "line_checks"]
 
 CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop: triangles over the pixel grid",
             "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics",
@@ -51,8 +60,16 @@ CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop
 
 def caption(key: str, r: Result) -> str:
     """The caption of picture ``key`` of failure ``r``: :data:`CAPTIONS`'s, but for a path
-    scene's crop, which says the fill rule and whose winding numbers it writes."""
+    scene's crop, which says the fill rule and whose winding numbers it writes, and a line
+    scene's, which says the line rule and the segment drawn thick."""
     scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
+    if key == "crop" and isinstance(scene, LineScene):
+        convention = r.drawing.convention if r.drawing is not None else None
+        rule = f" ({convention.describe_lines()})" if convention is not None else " (no convention known)"
+        segment = numbered_segment(r)
+        thick = f"; segment {segment} thick" if segment is not None else ""
+        return (f"crop: the segments over the pixel grid{rule}, each pixel coloured as against the oracle, "
+                f"segment by segment{thick}")
     if key != "crop" or not isinstance(scene, PathScene):
         return CAPTIONS[key]
     path = numbered_path(r)
@@ -77,13 +94,59 @@ def on_paths(r: Result) -> bool:
     return family == "paths" or family.startswith("path-")
 
 
-def capabilities(rasterizers: list[Any]) -> dict[str, dict[str, tuple[str, ...]]]:
-    """What :func:`write_report` is told of each rasterizer's scene kinds and fill rules:
-    ``{"scene_kinds": name -> kinds, "fill_rules": name -> rules}`` (the fill rules of the
-    path-taking ones only), read with :func:`harness.api.scene_kinds_of` and
-    :func:`harness.api.fill_rules_of`; pass it on as ``write_report(..., **capabilities(rs))``."""
+def on_lines(r: Result) -> bool:
+    """Whether a result is on a line scene: its drawing's scene is one, its repro holds
+    lines, or (read back from JSON) its case family is ``lines`` or ``line-...``."""
+    scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
+    if scene is not None:
+        return isinstance(scene, LineScene)
+    repro = r.evidence.get("repro")
+    if isinstance(repro, dict) and ("lines" in repro or "paths" in repro or "positions" in repro):
+        return "lines" in repro
+    family = r.case.split("/", 1)[0]
+    return family == "lines" or family.startswith("line-")
+
+
+# A line case of each form a line check may look for: a strip with joints, a closed
+# polyline, a lone segment; on the 1/2 px lattice.
+_LINE_PROBE = Case("lines/probe", LineScene.from_strips(8, 8, [[[0.5, 0.5], [6.5, 2.5], [6.5, 7.5]],
+                                                                [[1.0, 1.0], [5.0, 1.0], [5.0, 5.0], [1.0, 1.0]],
+                                                                [[0.0, 4.0], [3.0, 4.0]]]), lattice=True)
+
+
+def _judges_lines(check: Check) -> bool:
+    try:
+        return bool(check.applies(_LINE_PROBE))
+    except Exception:  # noqa: BLE001 - a check that cannot even look at a line case does not judge lines
+        return False
+
+
+def line_checks(results: list[Result] | None = None) -> list[str]:
+    """The checks that judge lines, in registry order: those registered that apply to a
+    line case (single-sample: lines have no other coverage), and any other that has a
+    result on a line case among ``results`` (``run`` first, when one crashed)."""
+    seen = {r.check for r in results or () if on_lines(r)}
+    registered = [c.name for c in registered_checks(kind="single") if _judges_lines(c)]
+    order = ["run", *check_names()]
+    named = [c for c in order if c in registered or c in seen]
+    return named + sorted(seen - set(named))
+
+
+def capabilities(rasterizers: list[Any]) -> dict[str, dict[str, Any]]:
+    """What :func:`write_report` is told of each rasterizer's scene kinds, fill rules and
+    line rule: ``{"scene_kinds": name -> kinds, "fill_rules": name -> rules, "line_rules":
+    name -> rule}`` (the fill rules of the path-taking ones only; the line rule, in words
+    (:meth:`Convention.describe_lines`), of the line-taking ones with a convention), read
+    with :func:`harness.api.scene_kinds_of`, :func:`harness.api.fill_rules_of` and
+    :func:`harness.api.convention_for`; pass it on as ``write_report(..., **capabilities(rs))``."""
     kinds = {r.name: scene_kinds_of(r) for r in rasterizers}
-    return {"scene_kinds": kinds, "fill_rules": {r.name: fill_rules_of(r) for r in rasterizers if "paths" in kinds[r.name]}}
+    lines = {}
+    for r in rasterizers:
+        convention = convention_for(r, _LINE_PROBE.scene) if "lines" in kinds[r.name] else None
+        if convention is not None:
+            lines[r.name] = convention.describe_lines()
+    return {"scene_kinds": kinds, "fill_rules": {r.name: fill_rules_of(r) for r in rasterizers if "paths" in kinds[r.name]},
+            "line_rules": lines}
 
 
 def page_meta(suite: str, seed: Any, seconds: float | None = None) -> dict[str, Any]:
@@ -227,14 +290,20 @@ def _problem(r: Result, index: int, spec: str) -> dict[str, Any]:
     path = r.evidence.get("repro_path")
     drawn = draw_repro(r)
     table = evidence_table(evidence) if evidence else None
-    shapes = repro.get("paths") if "paths" in repro else repro.get("positions")
+    lines = on_lines(r)
+    if "lines" in repro:  # its segments: a strip of K vertices holds K - 1
+        strips = repro["lines"]
+        size = sum(len(s) - 1 for s in strips if isinstance(s, list)) if isinstance(strips, list) else 0
+    else:
+        shapes = repro.get("paths") if "paths" in repro else repro.get("positions")
+        size = len(shapes) if isinstance(shapes, list) else 0
     paths = on_paths(r)
     return {"case": r.case, "check": r.check, "status": r.status, "message": r.message, "anchor": f"failure-{index}",
             "cause": cause(r), "images": images, "evidence": table, "evidence_open": table is not None and _rows(table) <= 16,
             "evidence_keys": list(evidence), "traceback": r.evidence.get("traceback"),
             "repro_picture": drawn[0] if drawn else None, "repro_caption": drawn[1] if drawn else None,
-            "repro_path": path, "repro_size": len(shapes) if isinstance(shapes, list) else 0,
-            "repro_of": repro.get("original_triangles"), "noun": "path" if paths else "triangle", "paths": paths,
+            "repro_path": path, "repro_size": size, "repro_of": repro.get("original_triangles"),
+            "noun": "path" if paths else "segment" if lines else "triangle", "paths": paths, "lines": lines,
             "replay": f"rastercheck replay {shlex.quote(str(path))} --rasterizer {shlex.quote(spec)}" if path else None}
 
 
@@ -286,7 +355,8 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
                  specs: dict[str, str] | None = None, skipped: dict[str, str] | None = None,
                  patterns: dict[str, tuple[tuple[float, float], ...]] | None = None,
                  scene_kinds: dict[str, tuple[str, ...]] | None = None,
-                 fill_rules: dict[str, tuple[str, ...]] | None = None) -> Path:
+                 fill_rules: dict[str, tuple[str, ...]] | None = None,
+                 line_rules: dict[str, str] | None = None) -> Path:
     """Write ``index.html``, one page per rasterizer and, given ``fingerprints`` (name ->
     :meth:`Fingerprint.to_dict` or ``{"error": text}``), ``fingerprints.html`` with every
     rasterizer side by side, into ``out_dir`` atomically.
@@ -298,10 +368,13 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
     ``fill_rules`` (name -> what :func:`harness.api.scene_kinds_of` and
     :func:`harness.api.fill_rules_of` say: :func:`capabilities`) are what the cards and
     the table of polygon fillers say a rasterizer takes; without them the scene kinds are
-    read from its results (and a fingerprint that saw it fill paths)."""
+    read from its results (and a fingerprint that saw it fill paths or draw lines).
+    ``line_rules`` (name -> the line rule in words, :func:`capabilities`) is what the cards
+    and the table of line drawers say a line-taking rasterizer's lines are checked against."""
     fingerprints = fingerprints or {}
     out_dir = Path(out_dir)
     checks = [c for c in ("run", *check_names()) if any(r.check == c for r in results)]
+    judging_lines = line_checks(results)
     meta = page_meta(suite, seed, seconds)
     env = _environment()
     rows: list[dict[str, Any]] = []
@@ -320,19 +393,25 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
             "pattern": svg_pattern((patterns or {})[name]) if (patterns or {}).get(name) else None,
         }
         row.update(_scene_card(name, mine, problems, fingerprints.get(name), scene_kinds, fill_rules))
+        row.update(_line_card(name, mine, problems, fingerprints.get(name), judging_lines, line_rules, row["declared"]))
         rows.append(row)
         html = env.get_template("rasterizer.html").render(
             row=row, meta=meta, heat_legend=HEAT_LEGEND.items(), diff_legend=DIFF_LEGEND.items(), motion_legend=LEGEND.items(),
-            crop_legend=CROP_LEGEND.items(), alpha_legend=ALPHA_LEGEND.items(), path_legend=PATH_LEGEND.items())
+            crop_legend=CROP_LEGEND.items(), alpha_legend=ALPHA_LEGEND.items(), path_legend=PATH_LEGEND.items(),
+            line_legend=LINE_LEGEND.items())
         atomic_write_text(out_dir / row["page"], html)
     if fingerprints:
         ordered = sorted(rows, key=lambda row: KIND_ORDER.get(row["kind"], 3))
-        html = env.get_template("fingerprints.html").render(rows=ordered, checks=checks, meta=meta, facts=FACTS)
+        facts = [*FACTS, *sorted({k for f in fingerprints.values() if isinstance(f, dict) and isinstance(f.get("facts"), dict)
+                                  for k in f["facts"] if "line" in k and k not in FACTS})]
+        html = env.get_template("fingerprints.html").render(rows=ordered, checks=checks, meta=meta, facts=facts)
         atomic_write_text(out_dir / "fingerprints.html", html)
     captions = {c.name: c.caption for c in registered_checks()} | {"run": "the rasterizer answered: no crash, no hang"}
     html = env.get_template("index.html").render(rows=rows, checks=checks, captions=captions, meta=meta,
                                                  pages=_pages(out_dir, bool(fingerprints)), skipped=skipped or {},
-                                                 fillers=[row for row in rows if "paths" in row["scene_kinds"]])
+                                                 fillers=[row for row in rows if "paths" in row["scene_kinds"]],
+                                                 drawers=[row for row in rows if "lines" in row["scene_kinds"]],
+                                                 line_checks=judging_lines)
     path = out_dir / "index.html"
     atomic_write_text(path, html)
     return path
@@ -376,8 +455,10 @@ def _scene_card(name: str, mine: list[Result], problems: list[dict[str, Any]], f
         kinds, said = list(scene_kinds[name]), "declared"
     else:
         paths = any(on_paths(r) for r in mine) or bool(seen_fills)
-        triangles = any(not on_paths(r) for r in mine) or not paths
-        kinds, said = [k for k, taken in (("triangles", triangles), ("paths", paths)) if taken], "seen in its results"
+        lines = any(on_lines(r) for r in mine) or (fingerprint is not None and _line_identified(fingerprint) is not None)
+        triangles = any(not on_paths(r) and not on_lines(r) for r in mine) or not (paths or lines)
+        kinds, said = ([k for k, taken in (("triangles", triangles), ("paths", paths), ("lines", lines)) if taken],
+                       "seen in its results")
     rules = list(fill_rules[name]) if fill_rules is not None and name in fill_rules else None
     on = [r for r in mine if on_paths(r)]
     by_check: dict[str, list[dict[str, Any]]] = {}
@@ -391,6 +472,72 @@ def _scene_card(name: str, mine: list[Result], problems: list[dict[str, Any]], f
             "path_convention": _path_convention(fingerprint) if fingerprint is not None else None,
             "path_counts": {s: sum(r.status == s for r in on) for s in ("pass", "fail", "error", "skip")},
             "path_checks": path_checks}
+
+
+LINE_LINKS = 3  # failures linked per check in the table of line drawers; the rest are counted
+
+
+def _line_identified(fingerprint: Any) -> dict[str, Any] | None:
+    """What identify found of a rasterizer's lines, as ``{"text", "exact", "residual",
+    "pixels", "facts"}``, or None when it recorded nothing of lines. Read defensively:
+    ``line_convention`` or ``line_rule`` as words, a dict (``convention``/``rule``,
+    ``exact``, ``residual``, ``pixels``) or an object with ``describe_lines``/``describe``;
+    every other ``line_*`` field of a fingerprint dict becomes a fact."""
+    found = None
+    for field in ("line_convention", "line_rule"):
+        found = _fingerprint_field(fingerprint, field)
+        if found is not None:
+            break
+    others = {k: v for k, v in fingerprint.items() if isinstance(k, str) and k.startswith("line_")
+              and k not in ("line_convention", "line_rule") and v is not None} if isinstance(fingerprint, dict) else {}
+    if found is None and not others:
+        return None
+    exact = others.pop("line_exact", None)
+    residual = others.pop("line_residual", None)
+    pixels = others.pop("line_pixels", None)
+    facts = []
+    if isinstance(found, dict):
+        text = found.get("convention") or found.get("rule") or found.get("text") or _compact(found)
+        exact = found.get("exact", exact)
+        residual, pixels = found.get("residual", residual), found.get("pixels", pixels)
+        same = found.get("same_as_triangles")
+        if same is not None:
+            facts.append(("the same as for triangles", "yes" if same else "no"))
+        if found.get("differences"):
+            facts.append(("differs from triangles in", _compact(found["differences"])))
+        if found.get("wide_lines"):
+            facts.append(("wide lines", str(found["wide_lines"])))
+    elif found is None or isinstance(found, str):
+        text = found or "—"
+    else:
+        describe = getattr(found, "describe_lines", None) or getattr(found, "describe", None)
+        text = describe() if callable(describe) else str(found)
+        fit = getattr(fingerprint, "line_fit", None)
+        exact, residual, pixels = (getattr(fit, "exact", None), getattr(fit, "residual", None), getattr(fit, "pixels", None))
+    facts += [(k.removeprefix("line_").replace("_", " "), _compact(v)) for k, v in others.items()]
+    return {"text": str(text), "exact": None if exact is None else bool(exact), "residual": residual, "pixels": pixels,
+            "facts": facts}
+
+
+def _line_card(name: str, mine: list[Result], problems: list[dict[str, Any]], fingerprint: Any, judging: list[str],
+               line_rules: dict[str, str] | None, declared: str) -> dict[str, Any]:
+    """What a rasterizer's card and the table of line drawers say of its lines: the rule
+    its lines are checked against (and whether it declared it), what identify found, its
+    results on line cases, and per check that judges lines (``judging``) the counts and
+    the failures, each linked, with its repro file."""
+    on = [r for r in mine if on_lines(r)]
+    rule = (line_rules or {}).get(name)
+    cells = []
+    for check in judging:
+        results = [r for r in on if r.check == check]
+        failures = [p for p in problems if p["lines"] and p["check"] == check]
+        cell = _cell(results)
+        cells.append({**cell, "check": check, "failures": failures[:LINE_LINKS], "more": len(failures) - LINE_LINKS,
+                      "count": len(failures)})
+    return {"line_rule": rule, "line_rule_declared": declared != "none declared",
+            "line_identified": _line_identified(fingerprint) if fingerprint is not None else None,
+            "line_counts": {s: sum(r.status == s for r in on) for s in ("pass", "fail", "error", "skip")},
+            "line_cells": cells}
 
 
 # (check, metric, how to combine over cases, label): the anti-aliasing and multisample

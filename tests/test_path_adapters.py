@@ -128,10 +128,10 @@ def drawn(two_d):
 def test_declared_kinds_and_rules():
     for cls in ("CairoFill", "SkiaPath", "MesaLlvmpipe", "MesaSoftpipe"):
         r = getattr(adapters, cls)
-        assert r.scene_kinds == ("triangles", "paths") and r.fill_rules == ("nonzero", "evenodd")
+        assert r.scene_kinds == ("triangles", "paths", "lines") and r.fill_rules == ("nonzero", "evenodd")
     for cls in ("PillowPolygon", "SkimagePolygon"):
         r = getattr(adapters, cls)
-        assert r.scene_kinds == ("triangles", "paths") and r.fill_rules == ("evenodd",)
+        assert r.scene_kinds == ("triangles", "paths", "lines") and r.fill_rules == ("evenodd",)
         assert takes(r, scenes("evenodd")["pentagram"]) and not takes(r, scenes("nonzero")["pentagram"])
     assert adapters.MesaMultisample.scene_kinds == ("triangles",)
     assert not takes(adapters.MesaMultisample, scenes("nonzero")["pentagram"])

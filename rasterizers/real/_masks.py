@@ -1,6 +1,6 @@
 """Per-primitive masks drawn by a library into a small image around the primitive's box:
-one triangle (:func:`draw_each`) or one whole path, all its contours in one fill
-(:func:`draw_each_path`)."""
+one triangle (:func:`draw_each`), one whole path, all its contours in one fill
+(:func:`draw_each_path`), or one line segment (:func:`draw_each_segment`)."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ from collections.abc import Callable, Iterator
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, PathScene, Scene
+from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene
 
-__all__ = ["LIMIT", "draw_each", "draw_each_alpha", "draw_each_path", "path_contours", "path_extents", "coverage_from_fragments",
+__all__ = ["LIMIT", "draw_each", "draw_each_alpha", "draw_each_path", "draw_each_segment", "segment_boxes", "path_contours", "path_extents", "coverage_from_fragments",
            "coverage_from_sample_masks", "finite_within_limit"]
 
 # Libraries keep coordinates in float32 or fixed point: beyond this they are refused with a
@@ -174,6 +174,89 @@ def draw_each_path(scene: PathScene, name: str,
     if not parts:
         return Coverage.empty()
     return Coverage(*(np.concatenate([part[i] for part in parts]) for i in range(4)))
+
+
+def segment_boxes(scene: LineScene, name: str, margin: int) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Each segment's box within the viewport and which segments to draw.
+
+    The box is the segment's bounding box grown by half the line width
+    (:meth:`LineScene.primitive_boxes`), widened to whole pixels plus ``margin`` px and
+    clipped to the viewport. Raises ValueError naming the first finite segment with a
+    coordinate beyond :data:`LIMIT` (:func:`finite_within_limit`).
+
+    Returns
+    -------
+    boxes : (N, 4) int64
+        ``x0, y0, x1, y1`` per segment (garbage where not drawn).
+    drawn : (D,) int64
+        The segments to draw, ascending: finite ones whose box is not empty. A segment with
+        a NaN or infinite coordinate is never handed to the library and covers nothing.
+
+    Examples
+    --------
+    >>> scene = LineScene.from_segments(8, 8, [[1.5, 1.5], [np.nan, 0], [-9, 2]], [[3.5, 2.5], [1, 1], [-5, 3]])
+    >>> boxes, drawn = segment_boxes(scene, "lib", margin=1)
+    >>> boxes[0].tolist(), drawn.tolist()
+    ([0, 0, 5, 4], [0])
+    """
+    finite = finite_within_limit(scene, name)
+    lo, hi, _ = scene.primitive_boxes()
+    size = np.array([scene.width, scene.height])
+    with np.errstate(invalid="ignore"):
+        first = np.clip(np.floor(np.where(finite[:, None], lo, 0.0)) - margin, 0, size).astype(np.int64)
+        last = np.clip(np.ceil(np.where(finite[:, None], hi, 0.0)) + margin, 0, size).astype(np.int64)
+    drawn = np.flatnonzero(finite & np.all(first < last, axis=1))
+    return np.concatenate([first, last], axis=1), drawn
+
+
+def draw_each_segment(scene: LineScene, name: str,
+                      draw: Callable[[NDArray[np.float64], NDArray[np.float64], int, int, tuple[int, int]], NDArray[np.bool_]],
+                      margin: int = 2) -> Coverage:
+    """Call ``draw(a, b, box width, box height, origin)`` once per segment, its end points
+    ``a -> b`` ((2,) float64 each) relative to the box origin; it returns the box's (h, w)
+    bool mask. Each segment is drawn alone into its own image, so a pixel two segments
+    draw (a polyline's joint) comes back once per segment: a double hit stays visible.
+
+    The box (:func:`segment_boxes`) is the segment's bounding box grown by half the line
+    width and ``margin`` px, clipped to the viewport; its origin is a whole pixel, so
+    shifting by it is exact (x - x0, x0 an integer and |x| <= :data:`LIMIT`), and is 0 on
+    an axis where the segment reaches below 0 (relative coordinates are negative only where
+    the screen's are). A segment with a NaN or infinite end point covers nothing (the
+    library is not asked); a library failure is raised as RuntimeError naming the segment.
+
+    Examples
+    --------
+    >>> def ends(a, b, w, h, origin):  # a "library" that draws the pixels holding the end points
+    ...     mask = np.zeros((h, w), dtype=bool)
+    ...     for p in (a, b):
+    ...         mask[int(p[1]), int(p[0])] = True
+    ...     return mask
+    >>> scene = LineScene.from_strips(8, 4, [[[1.5, 0.5], [4.5, 2.5], [6.5, 2.5]]])
+    >>> cov = draw_each_segment(scene, "ends", ends)
+    >>> cov.primitive.tolist(), cov.y.tolist(), cov.x0.tolist(), cov.x1.tolist()
+    ([0, 0, 1, 1], [0, 2, 2, 2], [1, 4, 4, 6], [2, 5, 5, 7])
+    """
+    boxes, drawn = segment_boxes(scene, name, margin)
+    a, b = scene.segments()
+    box_list = boxes.tolist()
+    segments, xs, ys = [], [], []
+    for k in drawn.tolist():
+        x0, y0, x1, y1 = box_list[k]
+        origin = np.array([x0, y0], dtype=np.float64)
+        try:
+            mask = draw(a[k] - origin, b[k] - origin, x1 - x0, y1 - y0, (x0, y0))
+        except Exception as exc:  # name the segment the library failed on
+            raise RuntimeError(f"{name}: the library failed on segment {k} {a[k].tolist()} -> {b[k].tolist()}: "
+                               f"{type(exc).__name__}: {exc}") from exc
+        y, x = np.nonzero(mask)
+        if y.size:
+            segments.append(np.full(y.size, k))
+            xs.append(x + x0)
+            ys.append(y + y0)
+    if not segments:
+        return Coverage.empty()
+    # one sort of every segment's pixels, not a Coverage per segment (5x faster on short ones)
+    return coverage_from_fragments(np.concatenate(segments), np.concatenate(xs), np.concatenate(ys), scene.width, scene.height)
 
 
 def draw_each_alpha(scene: Scene, name: str,

@@ -4,15 +4,18 @@ pixel (i, j) is the square [i, i+1) x [j, j+1), y down."""
 from __future__ import annotations
 
 import os
-from typing import Any
+from typing import Any, NoReturn
 
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, PathScene, Scene, Unsupported
+from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, Unsupported
 from harness.conventions import Convention
 from harness.registry import Unavailable
-from rasterizers.real._masks import coverage_from_sample_masks, draw_each, draw_each_alpha, draw_each_path, finite_within_limit
+from rasterizers.real._lines import MesaLines
+from rasterizers.real._masks import (
+    coverage_from_sample_masks, draw_each, draw_each_alpha, draw_each_path, draw_each_segment, finite_within_limit,
+)
 from rasterizers.real._stencil import StencilPaths
 
 __all__ = ["PillowPolygon", "SkimagePolygon", "SkiaPath", "CairoFill", "MesaLlvmpipe", "MesaSoftpipe",
@@ -115,22 +118,45 @@ def _cairo_fill(cairo: Any, contours: list[NDArray], w: int, h: int, antialias: 
     return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, stride)[:, :w]
 
 
+def _refuse_kind(name: str, scene: object, kinds: tuple[str, ...]) -> NoReturn:
+    """Raise ValueError for a scene of a kind the rasterizer does not take."""
+    raise ValueError(f"{name}: takes {', '.join(kinds)} scenes, not {type(scene).__name__}")
+
+
 class _OneAtATime:
-    """A 2D library drawing one triangle, or one whole path (all its contours in one fill,
-    under the scene's fill rule), at a time into a mask (``_draw``, ``_draw_path``):
-    coverage only, no declared convention."""
+    """A 2D library drawing one triangle, one whole path (all its contours in one fill,
+    under the scene's fill rule) or one line segment at a time into a mask (``_draw``,
+    ``_draw_path``, ``_draw_segment``): coverage only, no declared convention.
+
+    Line scenes: each segment in its own call into an image around its box
+    (:func:`~rasterizers.real._masks.draw_each_segment`), so a pixel two segments of a
+    polyline draw is seen twice; a segment with a NaN or infinite end point covers
+    nothing (the library is not asked); one with a coordinate beyond
+    :data:`~rasterizers.real._masks.LIMIT` is refused (ValueError naming it). Libraries
+    that draw hairlines only (:attr:`line_widths` ``(1.0,)``) raise Unsupported for any
+    other ``line_width``."""
 
     name = ""
     convention = None
     interpolates = False  # coverage only: the library draws no varyings
-    scene_kinds: tuple[str, ...] = ("triangles", "paths")
+    scene_kinds: tuple[str, ...] = ("triangles", "paths", "lines")
     fill_rules: tuple[str, ...] = ("nonzero", "evenodd")
+    # the line widths the library draws; None: any
+    line_widths: tuple[float, ...] | None = (1.0,)
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         raise NotImplementedError
 
     def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
         raise NotImplementedError
+
+    def _draw_segment(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        raise NotImplementedError
+
+    def _refuse_lines(self, scene: LineScene) -> None:
+        """Raise Unsupported for a line width the library does not draw."""
+        if self.line_widths is not None and scene.line_width not in self.line_widths:
+            raise Unsupported(f"{self.name}: draws hairlines (one pixel wide) only, not lines {scene.line_width:g} px wide")
 
     def _refuse(self, scene: PathScene) -> None:
         """Raise Unsupported for a path scene the library cannot fill (by default, a fill
@@ -139,10 +165,16 @@ class _OneAtATime:
             raise Unsupported(f"{self.name}: fills {' and '.join(self.fill_rules)} only, not {scene.fill_rule!r}")
 
     def rasterize(self, scene: AnyScene) -> Coverage:
+        if isinstance(scene, LineScene):
+            self._refuse_lines(scene)
+            width = scene.line_width
+            return draw_each_segment(scene, self.name, lambda a, b, w, h, origin: self._draw_segment(a, b, width, w, h, origin))
         if isinstance(scene, PathScene):
             self._refuse(scene)
             rule = scene.fill_rule
             return draw_each_path(scene, self.name, lambda contours, w, h, origin: self._draw_path(contours, rule, w, h))
+        if not isinstance(scene, Scene):
+            _refuse_kind(self.name, scene, self.scene_kinds)
         return draw_each(scene, self.name, self._draw)
 
 
@@ -163,7 +195,22 @@ class PillowPolygon(_OneAtATime):
     takes one vertex sequence, one contour: a path of several contours is refused with a
     ValueError naming it, not drawn otherwise (two calls would OR the contours, which is
     no fill rule, and a zero-width bridge joining them into one polygon would have its
-    own pixels filled, Pillow filling edges inclusively)."""
+    own pixels filled, Pillow filling edges inclusively).
+
+    Lines: ``ImageDraw.line([a, b], width=1)``, one call per segment, coordinates
+    unchanged: for lines Pillow follows its documented coordinate system ("the
+    coordinates refer to the implied pixel corners": pixel (i, j) is the square [i, i+1) x
+    [j, j+1), as ours). What Pillow does (``_draw_lines`` in ``src/_imaging.c``,
+    ``line8``/``line32`` in ``src/libImaging/Draw.c``): each coordinate is cast to ``int``
+    (truncation toward zero: the pixel holding the point, ``floor``, for coordinates >= 0;
+    a coordinate in (-1, 0) goes to pixel 0, not -1), then integer Bresenham from the start
+    pixel, the minor coordinate stepping when the decision variable is >= 0 (a tie steps),
+    and the polyline's last point drawn too: one segment per call draws both end pixels.
+    So Pillow's lines are ``LineRule("bresenham", rounding="floor", ties="step",
+    last_pixel=True)`` applied to the coordinates truncated toward zero (measured, Pillow
+    13: not one pixel differs on float, lattice and below-zero polylines), and a
+    polyline's joints are drawn by both segments. Wide lines are polygons with their own
+    rounding: widths other than 1 are refused (Unsupported)."""
 
     name = "pillow"
     fill_rules = ("evenodd",)
@@ -186,6 +233,11 @@ class PillowPolygon(_OneAtATime):
             k = int(several[0])
             raise Unsupported(f"{self.name}: path {k} has {int(np.sum(scene.contour_path == k))} contours; "
                              "ImageDraw.polygon fills one contour per call")
+
+    def _draw_segment(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        image = self._Image.new("L", (w, h), 0)
+        self._Draw.Draw(image).line([(float(a[0]), float(a[1])), (float(b[0]), float(b[1]))], fill=255, width=1)
+        return np.asarray(image) > 0
 
     def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
         (contour,) = contours
@@ -216,16 +268,28 @@ class SkimagePolygon(_OneAtATime):
     symmetric), so each bridge adds 0 or 2 crossings and never changes a parity; the
     repeated vertices are vertices already, and the closing edge C0[0] -> C0[0] has zero
     length (it crosses nothing). The bridged polygon is therefore filled exactly as
-    scikit-image's test would fill all the path's edges at once."""
+    scikit-image's test would fill all the path's edges at once.
+
+    Lines: ``draw.line(r0, c0, r1, c1)`` takes integer end points, so the adapter rounds
+    each end point first, as a caller would in scikit-image's frame (pixel centres at
+    integers): to the nearest pixel centre, halves to even, ``np.rint(x - 0.5)``
+    (:func:`nearest_pixel`, computed exactly: the pixel holding the point, ``floor(x)``,
+    but for x an integer, on the border of pixels x - 1 and x, where the even one is
+    taken). What scikit-image does (``_line`` in ``draw/_draw.pyx``): integer Bresenham
+    from (r0, c0), the minor coordinate stepping while the decision variable is >= 0 (a
+    tie steps), both end pixels drawn; x-major unless |dr| > |dc|. So its lines are
+    ``LineRule("bresenham", rounding="nearest-even", ties="step", last_pixel=True)``
+    (measured, scikit-image 0.26: not one pixel differs on float, lattice and below-zero
+    polylines). Widths other than 1 are refused (Unsupported)."""
 
     name = "skimage"
     fill_rules = ("evenodd",)
 
     def __init__(self) -> None:
         _need("skimage", "pip install scikit-image")
-        from skimage.draw import polygon
+        from skimage.draw import line, polygon
 
-        self._polygon = polygon
+        self._polygon, self._line = polygon, line
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         rows, cols = self._polygon(p[:, 1] - 0.5, p[:, 0] - 0.5, shape=(h, w))
@@ -235,6 +299,30 @@ class SkimagePolygon(_OneAtATime):
 
     def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
         return self._draw(bridged(contours), w, h, (0, 0))
+
+    def _draw_segment(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        # rounded where the screen's coordinates are (halves to even depend on the parity)
+        shift = np.array(origin)
+        (c0, r0), (c1, r1) = (nearest_pixel(a + shift) - shift).tolist(), (nearest_pixel(b + shift) - shift).tolist()
+        rows, cols = self._line(r0, c0, r1, c1)
+        inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
+        mask = np.zeros((h, w), dtype=bool)
+        mask[rows[inside], cols[inside]] = True
+        return mask
+
+
+def nearest_pixel(p: NDArray) -> NDArray[np.int64]:
+    """The pixel whose centre is nearest to each finite coordinate, halves to even: the
+    integer nearest to x - 1/2 (``np.rint(x - 0.5)``), computed without rounding x - 0.5.
+    That is floor(x), but for an integer x (x - 1/2 halfway between x - 1 and x), where
+    the even one of the two is taken.
+
+    >>> nearest_pixel(np.array([3.2, 3.0, 4.0, 2.5, -1e-300, -1.0])).tolist()
+    [3, 2, 4, 2, -1, -2]
+    """
+    below = np.floor(p)
+    odd_integer = (p == below) & (np.mod(below, 2.0) == 1.0)
+    return (below - odd_integer).astype(np.int64)
 
 
 def bridged(contours: list[NDArray]) -> NDArray:
@@ -262,7 +350,23 @@ class SkiaPath(_OneAtATime):
     each), with fill type ``kWinding`` (nonzero) or ``kEvenOdd``, drawn with one
     ``drawPath``; both rules are skia's own. Measured (skia-python 144.1): centre samples
     and bottom-right ties fit best, every departure within 1/64 px of an edge (its
-    vertices in 26.6 fixed point)."""
+    vertices in 26.6 fixed point).
+
+    Lines: hairlines, ``canvas.drawLine(a, b)`` with a stroke paint of width 0,
+    anti-aliasing off, one call per segment, coordinates unchanged (float32 in skia).
+    What skia does (``SkScan::HairLineRgn`` in ``src/core/SkScan_Hairline.cpp``): end
+    points to 26.6 fixed point; an x-major line is drawn left to right whatever its
+    direction, one pixel in each column from round(min x) to round(max x) - 1 (round: add
+    1/2, floor), in the row holding the line's y at the column centre (16.16 fixed point);
+    a y-major one likewise by rows. So a column is drawn when its centre lies in (min x,
+    max x] (up to the fixed-point rounding): the left end's pixel is left out when the
+    line starts right of its centre, the right end's drawn, in both directions. The DDA
+    starts at the end point's own y, not at the first column drawn, so a line whose left
+    end lies exactly on a column centre is drawn one slope step off (a 45-degree line from
+    centre to centre comes out one pixel to the side). None of the harness's rules; the
+    diamond-exit rule is the nearest (measured, skia-python 144.1: 5% of the pixels
+    differ on float polylines, the rectangle rule 13%, Bresenham 44%). Widths other than
+    1 are refused (Unsupported: skia's wide strokes are another rule)."""
 
     name = "skia"
 
@@ -274,6 +378,18 @@ class SkiaPath(_OneAtATime):
 
     def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
         return _skia_fill(self._skia, contours, w, h, False, fill_rule) > 0
+
+    def _draw_segment(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        skia = self._skia
+        surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(w, h))
+        canvas = surface.getCanvas()
+        canvas.clear(skia.ColorTRANSPARENT)
+        hairline = skia.Paint(AntiAlias=False, Color=skia.ColorBLACK, Style=skia.Paint.kStroke_Style, StrokeWidth=0)
+        canvas.drawLine(float(a[0]), float(a[1]), float(b[0]), float(b[1]), hairline)
+        alpha = np.empty((h, w), dtype=np.uint8)
+        if not surface.readPixels(skia.ImageInfo.MakeA8(w, h), alpha, w, 0, 0):
+            raise RuntimeError(f"skia could not read back its {w} x {h} surface")
+        return alpha > 0
 
 
 class CairoFill(_OneAtATime):
@@ -289,18 +405,53 @@ class CairoFill(_OneAtATime):
     xend + 1``), so a one-pixel gap between two slanted edges of a row is filled (a
     triangle has none, which is why triangles fit); and a self-intersecting path leaving
     the surface on the left may fill pixels of column 0 that it leaves empty on a larger
-    surface."""
+    surface.
+
+    Lines: one ``stroke`` per segment (``move_to(a)``, ``line_to(b)``), ``ANTIALIAS_NONE``.
+    Where cairo has hairlines (``set_hairline``, cairo 1.18), a hairline, width 1 only
+    (other widths Unsupported). cairo 1.16 has none: the segment is stroked
+    ``line_width`` px wide with butt caps (``LINE_CAP_BUTT``, cairo's default), any width:
+    the stroker outlines the rectangle of that width around the segment (no caps) and
+    fills it like a path, at pixel centres, vertices in 24.8 fixed point -- Vulkan's
+    rectangular lines, ``LineRule("rectangle")`` under cairo's fill convention (see
+    above); a zero-length segment draws nothing. Measured (cairo 1.16): against
+    ``Convention(subpixel_bits=8, line="rectangle")`` 14 of 2,465 pixels differ on float
+    polylines, each within 0.005 px of the rectangle's boundary; on lattices the ties of
+    vertical and horizontal sides and caps are top-left, those of slanted ones are not
+    (a 45-degree segment from pixel centre to centre takes the end pixel, not the start
+    one), and a rectangle corner lying on a row of pixel centres may draw a pixel beyond a
+    cap (seen: 0.26 px beyond; the aliased scan converter's rounding of spans)."""
 
     name = "cairo"
 
     def __init__(self) -> None:
         self._cairo = _need("cairo", "apt-get install libcairo2-dev pkg-config && pip install pycairo   (or pip install '.[real]')")
+        major, minor = (int(v) for v in self._cairo.cairo_version_string().split(".")[:2])
+        self.hairlines = hasattr(self._cairo.Context, "set_hairline") and (major, minor) >= (1, 18)
+        # a hairline is one pixel wide; cairo 1.16's rectangular strokes take any width
+        self.line_widths = (1.0,) if self.hairlines else None
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _cairo_fill(self._cairo, [p], w, h, self._cairo.ANTIALIAS_NONE) > 0
 
     def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
         return _cairo_fill(self._cairo, contours, w, h, self._cairo.ANTIALIAS_NONE, fill_rule) > 0
+
+    def _draw_segment(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        cairo = self._cairo
+        surface = cairo.ImageSurface(cairo.FORMAT_A8, w, h)
+        ctx = cairo.Context(surface)
+        ctx.set_antialias(cairo.ANTIALIAS_NONE)
+        if self.hairlines:
+            ctx.set_hairline(True)
+        else:
+            ctx.set_line_width(line_width)
+        ctx.set_line_cap(cairo.LINE_CAP_BUTT)
+        ctx.move_to(float(a[0]), float(a[1]))
+        ctx.line_to(float(b[0]), float(b[1]))
+        ctx.stroke()
+        surface.flush()
+        return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, surface.get_stride())[:, :w] > 0
 
 
 class _AlphaOneTriangleAtATime:
@@ -315,6 +466,8 @@ class _AlphaOneTriangleAtATime:
         raise NotImplementedError
 
     def rasterize(self, scene: Scene) -> Coverage:
+        if not isinstance(scene, Scene):
+            _refuse_kind(self.name, scene, ("triangles",))
         return draw_each_alpha(scene, self.name, self._draw)
 
 
@@ -506,13 +659,43 @@ class _Mesa:
     collinear vertices, both rules) and on the hand-made scenes of
     ``tests/test_path_adapters.py``: 0 pixels differ. softpipe (the same passes, colour
     read-back) fits centre samples, top-right ties, no snapping, as its triangles do:
-    15 of 100 such scenes differ from it, by 21 px in all."""
+    15 of 100 such scenes differ from it, by 21 px in all.
+
+    Lines (:mod:`rasterizers.real._lines`): width 1 only (core-profile GL has no wider
+    aliased lines: Unsupported), ``GL_LINE_SMOOTH`` off, single-sample, mapped as
+    triangles are (float32 ``x / P``, P widened as for paths so that no segment is
+    clipped). Separate segments (strips of two vertices) are one ``GL_LINES`` draw,
+    polylines one ``GL_LINE_STRIP`` draw, strips separated by primitive restart. With
+    GL 4.3 (llvmpipe) every fragment appends (gl_PrimitiveID, x, y) to a storage buffer
+    (gl_PrimitiveID counts a strip draw's segments across restarts), so a pixel two
+    segments draw comes back twice; without (softpipe) each segment is a draw of its own
+    (a strip's as a two-vertex ``GL_LINE_STRIP``: Mesa's draw module hands the driver a
+    strip one vertex pair at a time), read back by colour. A segment with a NaN or
+    infinite end point is not drawn (a strip is cut around it) and covers nothing.
+
+    What they do (Mesa 22.3.6): llvmpipe (``lp_setup_line.c``) decides whether to draw
+    the start and end pixels by the diamond-exit test, in float on the unsnapped end
+    points, then rasterizes a one-pixel-high parallelogram (wide, for y-major lines)
+    trimmed to match, as a triangle (8-bit snapping, its triangles' tie rule). On float
+    scenes that is the diamond-exit rule after snapping to 1/256 px
+    (``Convention(subpixel_bits=8)``'s line rule): 0 of 2,096 (segment, pixel) pairs
+    differ on ``tests/test_line_adapters.py``'s float polylines, 11 of 15,275 on 1,500
+    random segments (lines within a rounding of a diamond corner). Where lines pass
+    through diamond corners (lattice end points) the parallelogram's ties decide
+    instead: a line through a column's bottom corner draws the lower pixel when it runs
+    down-right (the corner on the parallelogram's upper edge, a right edge) where the
+    diamond rule draws the upper one, and a y-major segment running up the screen from a
+    pixel centre leaves out its start pixel (54 of 2,412 pairs differ on a 1/4 px
+    lattice). softpipe (``sp_setup.c``, ``sp_setup_line``) casts the window coordinates
+    to ``int`` (truncation toward zero) and runs integer Bresenham without the last
+    pixel, a tie stepping: exactly ``LineRule("bresenham", rounding="floor",
+    last_pixel=False)`` on the truncated float32 coordinates."""
 
     name = ""
     driver = ""
     convention: Convention | None = None
     interpolates = False  # coverage only: this adapter reads back no varyings (yet)
-    scene_kinds: tuple[str, ...] = ("triangles", "paths")
+    scene_kinds: tuple[str, ...] = ("triangles", "paths", "lines")
     fill_rules: tuple[str, ...] = ("nonzero", "evenodd")
     # GL_MAX_VIEWPORT_DIMS is 16384 in llvmpipe and softpipe: the 2P viewport must fit
     LARGEST = 8192
@@ -524,6 +707,7 @@ class _Mesa:
         self._ctx: Any = None
         self._pid = -1
         self._paths: StencilPaths | None = None
+        self._lines: MesaLines | None = None
 
     def _context(self) -> Any:
         if self._ctx is not None and self._pid == os.getpid():
@@ -555,12 +739,12 @@ class _Mesa:
                              f"Mesa allows 16384 (screens up to {self.LARGEST} px a side)")
         return side
 
-    def _guard_band(self, scene: PathScene, side: int) -> int:
-        """P for a path scene: the screen's, widened (by powers of two, up to
+    def _guard_band(self, scene: PathScene | LineScene, side: int) -> int:
+        """P for a path or line scene: the screen's, widened (by powers of two, up to
         :attr:`LARGEST`) until the clip volume [-P, P]^2 holds every finite vertex, so that
-        no fan triangle reaching off-screen is clipped (Mesa clips in float, before
-        snapping, and moves the samples near the new edges). The mapping stays exact: x / P
-        in float32, P a power of two."""
+        no fan triangle (segment) reaching off-screen is clipped (Mesa clips in float,
+        before snapping, and moves the samples near the new edges, or a segment's end
+        point). The mapping stays exact: x / P in float32, P a power of two."""
         reach = float(np.max(np.abs(scene.vertices), where=np.isfinite(scene.vertices), initial=0.0))
         while side < reach and side < self.LARGEST:
             side *= 2
@@ -579,11 +763,24 @@ class _Mesa:
             self._paths = StencilPaths(ctx, self._moderngl, self._program, listed=self._list_program is not None)
         return self._paths
 
+    def _line_drawer(self, ctx: Any) -> MesaLines:
+        """The line drawer of this context (made once per context)."""
+        if self._lines is None or self._lines.ctx is not ctx:
+            self._lines = MesaLines(ctx, self._moderngl, self._program, listed=self._list_program is not None)
+        return self._lines
+
     def rasterize(self, scene: AnyScene) -> Coverage:
+        if isinstance(scene, LineScene) and scene.line_width != 1.0:
+            # core-profile GL refuses wide lines (glLineWidth > 1: GL_INVALID_VALUE)
+            raise Unsupported(f"{self.name}: draws lines 1 px wide only, not {scene.line_width:g}")
         ctx = self._context()
         side = self._side(scene)
+        if isinstance(scene, LineScene):
+            return self._line_drawer(ctx).rasterize(scene, self._guard_band(scene, side), self.name)
         if isinstance(scene, PathScene):
             return self._stencil_paths(ctx).rasterize(scene, self._guard_band(scene, side), self.name)
+        if not isinstance(scene, Scene):
+            _refuse_kind(self.name, scene, self.scene_kinds)
         if self._list_program is not None:
             return self._rasterize_listed(ctx, scene, side)
         return self._rasterize_each(ctx, scene, side)
@@ -721,7 +918,7 @@ class MesaMultisample(_Mesa):
 
     name = "mesa_llvmpipe_msaa4"
     driver = "llvmpipe"
-    scene_kinds = ("triangles",)  # paths: single-sample only (MesaLlvmpipe)
+    scene_kinds = ("triangles",)  # paths and lines: single-sample only (MesaLlvmpipe)
     SAMPLES = 4
     convention = Convention(samples=_LLVMPIPE_4X, tie="top-left", subpixel_bits=8)
     # fragments per draw: 16 bytes each, so 64 MiB of storage at most
@@ -787,8 +984,8 @@ class MesaMultisample(_Mesa):
         return self._positions
 
     def rasterize(self, scene: AnyScene) -> Coverage:
-        if isinstance(scene, PathScene):
-            raise ValueError(f"{self.name}: takes triangles only (scene_kinds); paths: mesa_llvmpipe")
+        if not isinstance(scene, Scene):
+            raise ValueError(f"{self.name}: takes triangles only (scene_kinds); paths and lines: mesa_llvmpipe")
         ctx = self._context()
         side = self._side(scene)
         reported = self.sample_positions()

@@ -10,6 +10,7 @@ from rasterizers.area_scanline import AreaScanline
 from rasterizers.multisample import MultisamplePineda, PinedaMSAA4, PinedaMSAA8
 from rasterizers.supersample import Supersampler, Supersampler4
 from rasterizers.trapezoid import TrapezoidFill
+from rasterizers.lines import BresenhamLines, DiamondExitDDA, RectangleLines
 
 floor: Rasterizer = FloorScanline()
 centre: Rasterizer = CentreScanline()
@@ -23,3 +24,6 @@ area: Rasterizer = AreaScanline()
 supersample: Rasterizer = Supersampler4()
 supersample2: Rasterizer = Supersampler(2)
 trapezoid: Rasterizer = TrapezoidFill()
+bresenham_lines: Rasterizer = BresenhamLines()
+dda: Rasterizer = DiamondExitDDA()
+rectangle_lines: Rasterizer = RectangleLines()
