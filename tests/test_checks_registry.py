@@ -49,15 +49,17 @@ def test_a_check_registered_in_a_test_reaches_run_json_gate_report_and_shrinker(
 
 
 def test_registry_answers_what_the_lists_used_to_say():
+    lines = ("connectivity", "joints", "reversal", "length", "line-motion")
     assert check_names() == ("hygiene", "conformance", "watertight", "closed", "degenerate", "invariance", "jaggy", "texel", "perspective",
-                             "accuracy", "seams", "popping", "triangulation")
+                             "accuracy", "seams", "popping", "triangulation", *lines)
     assert {c.name for c in checks() if c.needs_convention} == {"conformance", "jaggy", "texel", "perspective", "accuracy", "seams",
-                                                                 "popping"}
-    # each coverage kind gets the checks that judge it
+                                                                 "popping", *lines}
+    # each coverage kind gets the checks that judge it; lines are single-sample only
     assert {c.name for c in checks(kind="area")} == {"hygiene", "degenerate", "invariance", "accuracy", "seams", "popping"}
-    assert {c.name for c in checks(kind="multisample")} == {c.name for c in checks(kind="single")} == {
-        "hygiene", "conformance", "watertight", "closed", "degenerate", "invariance", "jaggy", "texel", "perspective",
-        "triangulation"}
+    points = {"hygiene", "conformance", "watertight", "closed", "degenerate", "invariance", "jaggy", "texel", "perspective",
+              "triangulation"}
+    assert {c.name for c in checks(kind="multisample")} == points
+    assert {c.name for c in checks(kind="single")} == points | set(lines)
     assert {c.name for c in checks(only={"overdraw", "hygiene", "conformance", "degenerate", "invariance"}) if c.shrinks} == {
         "hygiene", "conformance", "degenerate", "invariance", "overdraw"}
 

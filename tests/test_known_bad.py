@@ -17,6 +17,7 @@ from tests.known_bad.antialiasing import (
 )
 from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.edge_functions import EdgeFunctionBug
+from tests.known_bad.lines import BackwardPrestep, BothEndPixels, Float32DDA, LeftmostFirst, OffByOneLast, RoundingDDA, YMajorAlongX
 from tests.known_bad.paths import BUGS as PATH_BUGS, PathFillBug, TwoFillers
 from tests.known_bad.misc import HangsOnEpsilon, SlowOnEpsilon, Int32FixedPoint, NaNAttributes, Raises, ReturnsGarbage, WrongTieClaim
 from tests.known_bad.scanlines import ScanlineBug
@@ -64,6 +65,14 @@ TABLE = {
     BiasedArea(): {"accuracy"},
     PerEdgeMethodSwitch(): {"seams", "invariance"},  # cairo's 2010 seam
     CoarseSupersampleClaimsAnalytic(): {"accuracy"},  # and popping: tests/test_area_checks.py
+    # lines (issue 16): each on the check it was broken for (and the cheap, certain extras)
+    RoundingDDA(): {"conformance"},
+    BothEndPixels(): {"joints", "length"},
+    YMajorAlongX(): {"connectivity"},
+    OffByOneLast(): {"length"},
+    Float32DDA(): {"conformance"},  # on the long lines only
+    LeftmostFirst(): {"reversal"},
+    BackwardPrestep(): {"line-motion"},
 }
 
 
@@ -72,7 +81,9 @@ TABLE = {
 WHERE_IT_SHOWS = {"bad_mirrored_pattern": ("lattice", "float"), "bad_swapped_sample_bits": ("lattice", "float"),
                   "bad_inclusive_sample_ties": ("watertight",), "bad_biased_area": ("lattice", "float"),
                   "bad_per_edge_method_switch": ("watertight",), "bad_coarse_supersample": ("lattice", "float"),
-                  **{f"bad_{bug}": ("paths",) for bug in PATH_BUGS}, "bad_two_fillers": ("paths", "path-partitions")}
+                  **{f"bad_{bug}": ("paths",) for bug in PATH_BUGS}, "bad_two_fillers": ("paths", "path-partitions"),
+                  # joints need polylines; float32 drift needs the long lines
+                  "bad_both_end_pixels": ("line-strips",), "bad_float32_dda": ("lines",)}
 
 
 # a timing check's failure (slow_on_epsilon's) is no repro to replay exactly
@@ -214,7 +225,9 @@ def test_every_failure_replays_as_the_same_check_from_its_repro(bad, flagged, tm
         assert {r.check for r in again} <= {named, "hygiene"}
         mine = [r for r in again if r.check == named]
         assert mine and any(r.status == "fail" for r in mine), (failure.case, named, [r.message for r in again])
-        primitives = payload["positions"] if "positions" in payload else payload["paths"]
-        shrunk = payload.get("note") is None and len(primitives) < payload["original_triangles"]
+        # triangles, paths, or the segments of line strips
+        primitives = len(payload["positions"]) if "positions" in payload else len(payload["paths"]) if "paths" in payload \
+            else sum(len(strip) - 1 for strip in payload["lines"])
+        shrunk = payload.get("note") is None and primitives < payload["original_triangles"]
         if shrunk and named != "watertight":
             assert payload["message"].split(";")[0] == mine[0].message.split(";")[0], (payload["message"], mine[0].message)

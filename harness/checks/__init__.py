@@ -15,7 +15,9 @@ Registration order is the order results come in: hygiene, conformance, watertigh
 overdraw (on request), closed, degenerate, invariance; jaggy, texel, perspective on motion
 cases; then accuracy, seams (still cases) and popping (motion cases), which judge area
 (anti-aliased) coverage only; then triangulation (path cases: a path against its
-triangles).
+triangles); then the line checks (line cases, :mod:`harness.checks.lines`): connectivity,
+joints, reversal, length, line-motion. Checks that mean nothing for lines (watertight,
+closed, degenerate, triangulation, the area ones) do not apply to line cases.
 
 Each check says which coverage kinds it judges (:attr:`Check.kinds`): the sample-based
 ones judge a multisample rasterizer sample by sample (each sample's layer against the
@@ -38,6 +40,7 @@ from harness.checks.invariance import invariance, invariance_variants
 from harness.checks.motion import jaggy, perspective, texel_swimming
 from harness.checks.area import accuracy, popping, seams
 from harness.checks.paths import triangulation
+from harness.checks.lines import connectivity, joints, length, line_motion, reversal
 
 __all__ = [
     "Result", "Drawing", "Status", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "CHECKS",
@@ -45,7 +48,7 @@ __all__ = [
     "deviations", "FragmentCounter", "edge_distance", "near_ties", "hygiene", "conformance", "watertight",
     "pixel_classes", "blame", "overdraw", "closed_balance", "degenerate", "control_scene", "measure_work", "refusal",
     "invariance", "invariance_variants", "jaggy", "texel_swimming", "perspective", "accuracy", "seams", "popping",
-    "triangulation",
+    "triangulation", "connectivity", "joints", "reversal", "length", "line_motion",
 ]
 
 # The built-in checks, in order (a check registered later shows in check_names()).

@@ -1,8 +1,17 @@
 """conformance: pixel-exact against the exact oracle; deviations at near ties (float
-rounding, by a rigorous bound) excused off the lattice in default mode."""
+rounding, by a rigorous bound) excused off the lattice in default mode.
+
+A near tie is a fragment whose decision a tiny move of the geometry could flip; how far it
+is from flipping is measured per scene kind: for triangles and paths the sample's distance
+to the nearest deciding edge line; for lines (:func:`line_edge_distance`) the distance of
+the declared line rule's decision from its boundary. Every distance is a rigorous upper
+bound (never an underestimate), relative to the primitive's coordinates, and exactly 0 only
+where the exact predicate sits on the boundary.
+"""
 
 from __future__ import annotations
 
+from fractions import Fraction
 from typing import Any
 
 import numba
@@ -10,12 +19,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.case import Case
-from harness.api import AnyScene, Coverage, PathScene
-from harness.checks.records import EVIDENCE_LIMIT, Check, Tolerance, register, result, Result
+from harness.api import AnyScene, Coverage, LineScene, PathScene
+from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
 from harness.conventions import Convention
 from harness.exact import orientation
 
-__all__ = ["deviations", "FragmentCounter", "edge_distance", "path_edge_distance", "near_ties", "near_ties_of", "conformance"]
+__all__ = ["deviations", "FragmentCounter", "edge_distance", "path_edge_distance", "line_edge_distance", "near_ties",
+           "near_ties_of", "undefined_width", "conformance"]
 
 # Shewchuk's bound on the float orient2d's error, differences included; the added
 # absolute term covers underflow of the products (harmless at any pixel scale).
@@ -272,8 +282,318 @@ def path_edge_distance(scene: PathScene, convention: Convention, fragments: NDAr
     return out
 
 
-def near_ties_of(scene: AnyScene, convention: Convention, fragments: NDArray, tolerance: Tolerance) -> tuple[NDArray, NDArray]:
-    """:func:`near_ties` for a scene of any kind, as the convention sees it (snapped)."""
+# -- lines ----------------------------------------------------------------------------------
+
+# Running error bounds: an operation on floats known to within e each adds at most
+# 2**-53 |result| (round to nearest); 2**-52 leaves room for the bounds' own roundings.
+_ROUND = 2.0**-52
+# a hypot of rounded differences is within a few ulps of the exact length
+_LOW, _HIGH = 1.0 - 2.0**-50, 1.0 + 2.0**-50
+_SQRT2_LOW = 1.4142135623730951 * _LOW
+_SQRT2_HIGH = 1.4142135623730951 * _HIGH
+_DIAGONALS = ((1, 1), (1, -1), (-1, 1), (-1, -1))
+
+
+def _minus(x: NDArray, y: NDArray) -> tuple[NDArray, NDArray]:
+    """x - y of exact floats, and a bound on its error."""
+    z = x - y
+    return z, _ROUND * np.abs(z)
+
+
+def _plus(x: NDArray, ex: NDArray, y: NDArray, ey: NDArray) -> tuple[NDArray, NDArray]:
+    """x + y of floats known to within ex, ey, and a bound on its error."""
+    z = x + y
+    return z, ex + ey + _ROUND * np.abs(z)
+
+
+def _times(x: NDArray, ex: NDArray, y: NDArray, ey: NDArray) -> tuple[NDArray, NDArray]:
+    """x * y of floats known to within ex, ey, and a bound on its error (underflow included)."""
+    z = x * y
+    return z, np.abs(x) * ey + np.abs(y) * ex + ex * ey + _ROUND * np.abs(z) + _UNDERFLOW
+
+
+def _orient(ax: NDArray, ay: NDArray, bx: NDArray, by: NDArray, px: NDArray, py: NDArray) -> tuple[NDArray, NDArray]:
+    """orient2d(a, b, p) = cross(b - a, p - a) in float, and Shewchuk's bound on its error."""
+    left = (ax - px) * (by - py)
+    right = (ay - py) * (bx - px)
+    return left - right, _ORIENT_ERROR * (np.abs(left) + np.abs(right)) + _UNDERFLOW
+
+
+def _q(value: float) -> Fraction:
+    return Fraction(float(value))
+
+
+def _diamond_touches_exactly(a: NDArray, b: NDArray, centre: tuple[float, float]) -> bool:
+    """Whether the segment a-b touches the closed diamond |x - xc| + |y - yc| <= 1/2 without
+    entering it: the least of its separating functions (:func:`_diamond_margins`) is 0."""
+    ax, ay, bx, by = (_q(v) for v in (*a, *b))
+    cx, cy = _q(centre[0]), _q(centre[1])
+    half = Fraction(1, 2)
+    values = [half - min(sx * (ax - cx) + sy * (ay - cy), sx * (bx - cx) + sy * (by - cy)) for sx, sy in _DIAGONALS]
+    dx, dy = bx - ax, by - ay
+    if dx or dy:
+        values.append(max(abs(dx), abs(dy)) / 2 - abs((ax - cx) * (by - cy) - (ay - cy) * (bx - cx)))
+    return min(values) == 0
+
+
+def _diamond_margins(a: NDArray, b: NDArray, px: NDArray, py: NDArray, last_pixel: bool) -> NDArray:
+    """How far each diamond-exit decision is from flipping, in pixels (an upper bound).
+
+    The pixel with centre (px, py) is drawn when the segment meets its diamond D and the
+    end point b is not in D (:mod:`harness.lines`). By the separating axis theorem the
+    segment meets the closed diamond exactly when ``h(u) = h_D(u) + h_S(-u) >= 0`` for the
+    normals u of the diamond (the four diagonals: ``1/2 - min(u.A, u.B)`` with A, B the end
+    points relative to the centre) and of the segment (``max(|dx|, |dy|)/2 - |cross(d, A)|``).
+    When it meets, the least h(u)/|u| is how far the segment must move to stop meeting
+    (its penetration depth); when it does not, the distance between them, at most sqrt(2)
+    times the largest violation (the polygon D - S has no angle below 90 degrees). The end
+    point's own margin is |(|Bx| + |By|) - 1/2|, an upper bound on its distance to D's
+    boundary. Every term is evaluated in float with a running error bound; the result is
+    the least margin, exactly 0 where the segment touches D without entering it, or b lies
+    on its boundary (decided in rational arithmetic where the float cannot tell).
+
+    Parameters
+    ----------
+    a, b : (M, 2) float64
+        Each fragment's segment (snapped).
+    px, py : (M,) float64
+        Each fragment's pixel centre.
+
+    Returns
+    -------
+    (M,) float64
+    """
+    ax, ay, bx, by = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
+    big_ax, e_ax = _minus(ax, px)
+    big_ay, e_ay = _minus(ay, py)
+    big_bx, e_bx = _minus(bx, px)
+    big_by, e_by = _minus(by, py)
+    values, errors, lengths = [], [], []
+    for sx, sy in _DIAGONALS:
+        g_a, e_a = _plus(sx * big_ax, e_ax, sy * big_ay, e_ay)
+        g_b, e_b = _plus(sx * big_bx, e_bx, sy * big_by, e_by)
+        h = 0.5 - np.minimum(g_a, g_b)
+        values.append(h)
+        errors.append(np.maximum(e_a, e_b) + _ROUND * np.abs(h))
+        lengths.append(np.full(h.shape, _SQRT2_LOW))
+    dx, e_dx = _minus(bx, ax)
+    dy, e_dy = _minus(by, ay)
+    det, e_det = _orient(ax, ay, bx, by, px, py)
+    h = 0.5 * np.maximum(np.abs(dx), np.abs(dy)) - np.abs(det)
+    values.append(h)
+    errors.append(0.5 * np.maximum(e_dx, e_dy) + e_det + _ROUND * np.abs(h))
+    lengths.append(np.hypot(dx, dy) * _LOW)  # 0 for a zero-length segment (b - a is 0 only when b == a)
+    value, error, length = np.stack(values), np.stack(errors), np.stack(lengths)
+    used = length > 0
+    sure_inside = np.all((value - error > 0) | ~used, axis=0)
+    depth = np.min(np.where(used, (value + error) / np.where(used, length, 1.0), np.inf), axis=0) * _HIGH
+    doubtful = used & (value - error <= 0)
+    apart = _SQRT2_HIGH * np.max(np.where(doubtful, (np.abs(value) + error) / np.where(used, length, 1.0), 0.0), axis=0) * _HIGH
+    margin = np.where(sure_inside, depth, apart)
+    unsure = ~sure_inside & np.all((value + error >= 0) | ~used, axis=0) & np.isfinite(margin)
+    for k in np.flatnonzero(unsure):
+        if _diamond_touches_exactly(a[k], b[k], (px[k], py[k])):
+            margin[k] = 0.0
+    if not last_pixel:
+        s, e_s = _plus(np.abs(big_bx), e_bx, np.abs(big_by), e_by)
+        excess = s - 0.5
+        e_excess = e_s + _ROUND * np.abs(excess)
+        end = (np.abs(excess) + e_excess) * _HIGH
+        for k in np.flatnonzero((np.abs(excess) <= e_excess) & np.isfinite(end)):
+            if abs(_q(bx[k]) - _q(px[k])) + abs(_q(by[k]) - _q(py[k])) == Fraction(1, 2):
+                end[k] = 0.0
+        margin = np.minimum(margin, end)
+    return margin
+
+
+def _rectangle_margins(a: NDArray, b: NDArray, px: NDArray, py: NDArray, line_width: float) -> NDArray:
+    """How far each sample p is from the boundary lines of its segment's rectangle (the two
+    caps through a and b, the two sides at half the width), in pixels: an upper bound,
+    exactly 0 when the exact predicate puts p on a cap line or a side line; inf for a
+    zero-length segment (it covers nothing).
+
+    Parameters
+    ----------
+    a, b : (M, 2) float64
+        Each fragment's segment (snapped).
+    px, py : (M,) float64
+        Each fragment's sample point.
+    """
+    ax, ay, bx, by = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
+    dx, e_dx = _minus(bx, ax)
+    dy, e_dy = _minus(by, ay)
+    length = np.hypot(dx, dy)
+    low, high = length * _LOW, length * _HIGH
+    caps = []
+    for ex, ey in ((ax, ay), (bx, by)):
+        rx, e_rx = _minus(px, ex)
+        ry, e_ry = _minus(py, ey)
+        u, e_u = _times(dx, e_dx, rx, e_rx)
+        v, e_v = _times(dy, e_dy, ry, e_ry)
+        dot, e_dot = _plus(u, e_u, v, e_v)
+        cap = (np.abs(dot) + e_dot) / low * _HIGH
+        caps.append((cap, dot, e_dot))
+    det, e_det = _orient(ax, ay, bx, by, px, py)
+    half = 0.5 * line_width
+    q_high = (np.abs(det) + e_det) / low * _HIGH
+    q_low = np.maximum(np.abs(det) - e_det, 0.0) / high * _LOW
+    side = np.maximum(q_high - half, half - q_low) * _HIGH + _UNDERFLOW
+    margin = np.minimum(np.minimum(caps[0][0], caps[1][0]), side)
+    margin[~(length > 0)] = np.inf
+    # where the float cannot tell the sample off a boundary line, ask exactly
+    doubtful = (np.abs(caps[0][1]) <= caps[0][2]) | (np.abs(caps[1][1]) <= caps[1][2]) | ((q_low <= half) & (half <= q_high))
+    for k in np.flatnonzero(doubtful & np.isfinite(margin)):
+        qa, qb = (_q(ax[k]), _q(ay[k])), (_q(bx[k]), _q(by[k]))
+        p = (_q(px[k]), _q(py[k]))
+        d = (qb[0] - qa[0], qb[1] - qa[1])
+        caps_exact = [d[0] * (p[0] - e[0]) + d[1] * (p[1] - e[1]) for e in (qa, qb)]
+        cross = d[0] * (p[1] - qa[1]) - d[1] * (p[0] - qa[0])
+        if 0 in caps_exact or 4 * cross * cross == _q(line_width) ** 2 * (d[0] ** 2 + d[1] ** 2):
+            margin[k] = 0.0
+    return margin
+
+
+def _bresenham_margins(a: NDArray, b: NDArray, x: NDArray, y: NDArray, rule: Any, width: int, height: int) -> NDArray:
+    """How far each Bresenham decision is from flipping, in pixels: the rule rounds each end
+    point coordinate c to a pixel, and the pixel changes where c crosses an integer m. So
+    for every set of coordinates rounded to the pixel on the other side of their nearest
+    integer, the line between the changed end pixels is drawn; a fragment it draws or
+    leaves differently from the rule is that far from flipping: the largest |c - m| of
+    the set (exact: ``c - rint(c)`` is exact in float). inf where no such set flips it.
+
+    Parameters
+    ----------
+    a, b : (M, 2) float64
+        Each fragment's segment (snapped, finite).
+    x, y : (M,) int64
+        Each fragment's pixel (inf outside the ``width`` x ``height`` viewport).
+    rule : harness.conventions.LineRule
+    """
+    from harness.lines import BRESENHAM_MAX, _round_pixels, bresenham_spans
+
+    out = np.full(x.size, np.inf)
+    ends = np.concatenate([a, b], axis=1)
+    segments, local = np.unique(ends, axis=0, return_inverse=True)  # one row per distinct segment
+    local = local.reshape(-1)
+    pixel = _round_pixels(segments, rule.rounding)
+    nearest = np.rint(segments)
+    away = np.abs(segments - nearest)
+    other = np.where(pixel == nearest, nearest - 1.0, nearest)  # the pixel across the boundary at nearest
+    usable = (np.abs(np.concatenate([pixel, other], axis=1)) <= BRESENHAM_MAX).all(axis=1)
+
+    def drawn(ends_px: NDArray) -> NDArray:
+        """Sorted keys (segment, y, x) of the pixels the rule draws between these end pixels."""
+        p0, p1 = np.where(usable[:, None], ends_px[:, :2] + 0.5, np.nan), np.where(usable[:, None], ends_px[:, 2:] + 0.5, np.nan)
+        spans = bresenham_spans(p0, p1, width, height, "floor", rule.ties, rule.last_pixel)
+        seg, px, py = Coverage(*spans).pixels()
+        return np.sort((seg * height + py) * width + px)
+
+    wanted = drawn(pixel)
+    inside = (x >= 0) & (x < width) & (y >= 0) & (y < height)
+    asked = np.where(inside, (local * height + y) * width + x, -1)
+    for subset in range(1, 16):
+        chosen = np.array([(subset >> c) & 1 for c in range(4)], dtype=bool)
+        flipped = np.where(chosen[None, :], other, pixel)
+        weight = np.max(np.where(chosen[None, :], away, 0.0), axis=1)
+        changed = np.setxor1d(drawn(flipped), wanted, assume_unique=True)
+        hit = np.isin(asked, changed)
+        out[hit] = np.minimum(out[hit], weight[local[hit]])
+    return out
+
+
+def _segment_magnitude(scene: LineScene, convention: Convention | None) -> NDArray:
+    """(N,) float64: max(1, largest |coordinate|) of each segment as the convention sees it
+    (snapped; NaN for a non-finite one)."""
+    a, b = scene.segments()
+    if convention is not None:
+        a, b = convention.snap(a), convention.snap(b)
+    with np.errstate(invalid="ignore"):
+        return np.maximum(1.0, np.maximum(np.abs(a), np.abs(b)).max(axis=1, initial=0.0))  # type: ignore[no-any-return]
+
+
+def line_edge_distance(scene: LineScene, convention: Convention | None, fragments: NDArray) -> NDArray:
+    """:func:`edge_distance` for a line scene: how far the declared line rule's decision
+    on each fragment is from flipping, relative to max(1, largest |coordinate|) of its
+    segment (snapped). Never an underestimate; exactly 0 only where the exact predicate sits
+    on its boundary; inf for a segment with a non-finite coordinate.
+
+    * ``diamond-exit``: the least of how far the segment is from meeting the pixel's
+      diamond, or from leaving it (its penetration depth), and (last pixel omitted) how far
+      the end point is from the diamond's boundary (:func:`_diamond_margins`).
+    * ``bresenham``: how far the end points of the segment are from the roundings that
+      would draw or leave the fragment (:func:`_bresenham_margins`).
+    * ``rectangle``: the sample's distance to the nearest boundary line of the rectangle
+      (a cap or a side, :func:`_rectangle_margins`).
+
+    Parameters
+    ----------
+    scene : LineScene
+    convention : Convention or None
+        The rule, sample point and snapping; None: the least distance under the three
+        rules (end points unsnapped, pixel centres).
+    fragments : (3, M) int64 rows segment, x, y
+
+    Returns
+    -------
+    (M,) float64
+
+    Examples
+    --------
+    Segment 0 runs along the lower-left edge of pixel (1, 0)'s diamond, touching it without
+    entering: a tie (the rule owns lower edges). Segment 1 runs through the pixel centres
+    of row 0: it must move 0.5 px to leave pixel (1, 0)'s diamond, relative to its largest
+    coordinate, 3:
+
+    >>> from harness.conventions import LineRule
+    >>> scene = LineScene.from_segments(4, 4, [[1.0, 0.5], [0.0, 0.5]], [[1.5, 1.0], [3.0, 0.5]])
+    >>> line_edge_distance(scene, Convention(line=LineRule("diamond-exit", last_pixel=True)), np.array([[0, 1], [1, 1], [0, 0]]))
+    array([0.        , 0.16666667])
+    """
+    out = np.full(fragments.shape[1], np.inf)
+    n = len(scene)
+    segment = fragments[0]
+    ok = (segment >= 0) & (segment < n)
+    if not ok.any():
+        return out
+    if convention is None:
+        return np.minimum.reduce([line_edge_distance(scene, Convention(line=rule), fragments)
+                                  for rule in ("diamond-exit", "bresenham", "rectangle")])
+    a, b = scene.segments()
+    a, b = convention.snap(a)[segment[ok]], convention.snap(b)[segment[ok]]
+    x = fragments[1, ok].astype(np.float64)
+    y = fragments[2, ok].astype(np.float64)
+    rule = convention.line
+    with np.errstate(all="ignore"):
+        if rule.rule == "bresenham":
+            finite = np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1)
+            absolute = np.full(a.shape[0], np.inf)
+            absolute[finite] = _bresenham_margins(a[finite], b[finite], fragments[1, ok][finite], fragments[2, ok][finite], rule,
+                                                  scene.width, scene.height)
+        elif rule.rule == "rectangle":
+            absolute = _rectangle_margins(a, b, x + convention.sample[0], y + convention.sample[1], scene.line_width)
+        else:
+            absolute = _diamond_margins(a, b, x + 0.5, y + 0.5, bool(rule.last_pixel))
+        relative = absolute / _segment_magnitude(scene, convention)[segment[ok]]
+    finite = np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1)
+    out[ok] = np.where(finite & ~np.isnan(relative), relative, np.inf)
+    return out
+
+
+def near_ties_of(scene: AnyScene, convention: Convention | None, fragments: NDArray,
+                 tolerance: Tolerance) -> tuple[NDArray, NDArray]:
+    """:func:`near_ties` for a scene of any kind, as the convention sees it (snapped);
+    without a convention, pixel centres and (lines) the least distance under any rule."""
+    if isinstance(scene, LineScene):
+        distance = line_edge_distance(scene, convention, fragments)
+        segment = fragments[0]
+        ok = (segment >= 0) & (segment < len(scene))
+        magnitude = np.full(distance.size, np.inf)
+        magnitude[ok] = _segment_magnitude(scene, convention)[segment[ok]]
+        with np.errstate(invalid="ignore"):
+            near = (distance <= tolerance.near_tie) & (distance * magnitude <= tolerance.near_tie_pixels)
+        return near, distance
+    if convention is None:
+        convention = Convention()
     if isinstance(scene, PathScene):
         distance = path_edge_distance(scene, convention, fragments)
         lo, hi, _ = scene.primitive_boxes()
@@ -348,8 +668,25 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
     return result(case.id, "conformance", allowed, message, metrics, evidence)
 
 
+def undefined_width(scene: AnyScene, convention: Convention) -> str:
+    """Why the convention defines no answer on ``scene`` ("" when it does): its line rule
+    draws width 1 only and the lines are wider (a rasterizer should refuse such a scene,
+    raising :class:`harness.api.Unsupported`)."""
+    if isinstance(scene, LineScene) and convention.line.rule != "rectangle" and scene.line_width != 1.0:
+        return f"{convention.line.describe()} have width 1, not {scene.line_width:g}: the rule does not define wider lines"
+    return ""
+
+
+def _run(s: Subject) -> Result:
+    assert s.convention is not None
+    why = undefined_width(s.case.scene, s.convention)
+    if why:
+        return skip(s.case, "conformance", why)
+    return conformance(s.case, s.coverage, s.oracle, s.convention, s.tolerance)
+
+
 register(Check(
-    "conformance", lambda s: conformance(s.case, s.coverage, s.oracle, s.convention, s.tolerance),  # type: ignore[arg-type]
+    "conformance", _run,
     lambda case: not hasattr(case, "frames"), needs_convention=True, shrinks=True, metrics={"wrong": (1.0, 0.0)},
     caption="pixel-exact against the exact oracle of the convention",
 ))

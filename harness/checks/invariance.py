@@ -1,6 +1,11 @@
 """invariance: vertex rotation, winding flip, triangle permutation and whole-pixel
 translation change nothing but the shift (for paths: start vertex, contour reversal, contour
-and path order, translation); convention-free."""
+and path order, translation; for lines: strip order, strips split into lone segments,
+translation); convention-free.
+
+Reversing a line is no invariance (the diamond-exit rule omits the end pixel, Bresenham
+breaks ties towards the end point): :mod:`harness.checks.lines` judges it against the
+rule's prediction."""
 
 from __future__ import annotations
 
@@ -11,12 +16,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.case import Case
-from harness.api import AnyScene, Coverage, PathScene, Scene
+from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene
 from harness.conventions import Convention
 from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
 from harness.checks.conformance import deviations, near_ties_of
 
-__all__ = ["invariance_variants", "invariance", "area_invariance"]
+__all__ = ["invariance_variants", "invariance", "area_invariance", "shift_of", "LINE_SHIFT"]
+
+# Lines move by an even number of pixels: a half-to-even rounding of an end point (snapping
+# to whole pixels, Bresenham's end point to its pixel) keeps its tie's side.
+LINE_SHIFT = (4, 2)
 
 
 def _path_variants(scene: PathScene, seed: int) -> list[tuple[str, AnyScene, NDArray]]:
@@ -50,17 +59,43 @@ def _path_variants(scene: PathScene, seed: int) -> list[tuple[str, AnyScene, NDA
     return out
 
 
-def invariance_variants(case: Case, shift: tuple[int, int] = (3, 2), seed: int = 0) -> list[tuple[str, AnyScene, NDArray]]:
+def _line_variants(scene: LineScene, seed: int) -> list[tuple[str, AnyScene, NDArray]]:
+    """The line scene's own variants: strips listed in another order, and every strip split
+    into lone segments (its joints gone). Each rule decides every segment alone, so each
+    segment draws the same pixels either way."""
+    first_segment = scene.strip_starts - np.arange(scene.strip_sizes.size)
+    order = np.random.default_rng(seed).permutation(scene.strip_sizes.size)
+    strips = scene.strips()
+    index = np.concatenate([first_segment[s] + np.arange(scene.strip_sizes[s] - 1) for s in order]) if order.size \
+        else np.zeros(0, dtype=np.int64)
+    reordered = LineScene.from_strips(scene.width, scene.height, [strips[s] for s in order], scene.line_width)
+    a, b = scene.segments()
+    split = LineScene.from_segments(scene.width, scene.height, a, b, scene.line_width)
+    return [("reorder-strips", reordered, index.astype(np.int64)), ("split-strips", split, np.arange(len(scene)))]
+
+
+def shift_of(scene: AnyScene) -> tuple[int, int]:
+    """The whole-pixel translation of the scene's ``translate`` variant."""
+    return LINE_SHIFT if isinstance(scene, LineScene) else (3, 2)
+
+
+def invariance_variants(case: Case, shift: tuple[int, int] | None = None, seed: int = 0) -> list[tuple[str, AnyScene, NDArray]]:
     """Transformed scenes and, for each, the scene's primitive index of each variant
     primitive. Triangles: vertex order rotated, winding flipped, triangles permuted; paths
-    (:func:`_path_variants`): start vertex, contour reversal, contour order, path order.
-    Both, when exact: translated by whole pixels into a viewport grown by the shift."""
+    (:func:`_path_variants`): start vertex, contour reversal, contour order, path order;
+    lines (:func:`_line_variants`): strip order, strips split. All, when exact: translated
+    by whole pixels (``shift``, by default :func:`shift_of`) into a viewport grown by the
+    shift -- lines only when every coordinate is positive (a half-away-from-zero rounding
+    of an end point at or left of 0 changes side under the shift)."""
     scene = case.scene
     n = len(scene)
     identity = np.arange(n)
+    shift = shift_of(scene) if shift is None else shift
     out: list[tuple[str, AnyScene, NDArray]]
     if isinstance(scene, PathScene):
         out = _path_variants(scene, seed)
+    elif isinstance(scene, LineScene):
+        out = _line_variants(scene, seed)
     else:
         out = [
             ("rotate-vertices", Scene(scene.width, scene.height, scene.positions[:, [1, 2, 0]]), identity),
@@ -71,6 +106,8 @@ def invariance_variants(case: Case, shift: tuple[int, int] = (3, 2), seed: int =
     moved = scene.coordinates + np.array(shift, dtype=float)
     with np.errstate(invalid="ignore"):
         exact = np.array_equal(moved - np.array(shift, dtype=float), scene.coordinates, equal_nan=True)
+        if isinstance(scene, LineScene):
+            exact &= not bool((scene.coordinates <= 0).any())  # NaN compares False
     if exact:
         out.append(("translate", replace(scene.with_coordinates(moved), width=scene.width + shift[0],
                                          height=scene.height + shift[1]), identity))
@@ -78,16 +115,25 @@ def invariance_variants(case: Case, shift: tuple[int, int] = (3, 2), seed: int =
 
 
 def invariance(case: Case, coverage: Coverage, variants: list[tuple[str, NDArray, Coverage]],
-               shift: tuple[int, int] = (3, 2), tolerance: Tolerance = Tolerance(),
-               sample: tuple[float, float] = (0.5, 0.5)) -> Result:
+               shift: tuple[int, int] | None = None, tolerance: Tolerance = Tolerance(),
+               sample: tuple[float, float] = (0.5, 0.5), convention: Convention | None = None) -> Result:
     """Each variant's coverage, mapped back (triangle ids, shift), equals the original's.
     Differences at near ties are excused on non-lattice cases in default mode.
 
     Parameters
     ----------
     variants : list of (name, triangle index map, coverage of the variant)
+    shift : (int, int) or None
+        The ``translate`` variant's shift (None: :func:`shift_of` the scene).
+    sample : (float, float)
+        Where near ties are measured, without a ``convention``.
+    convention : Convention or None
+        The rasterizer's, when it declares one: near ties under its rule (for lines, its
+        line rule; without one, the least distance under any rule).
     """
     scene = case.scene
+    shift = shift_of(scene) if shift is None else shift
+    judge = convention if convention is not None else (None if isinstance(scene, LineScene) else Convention(sample=sample))
     diffs: dict[str, int] = {}
     evidence: dict[str, Any] = {}
     for name, index, cov in variants:
@@ -102,7 +148,7 @@ def invariance(case: Case, coverage: Coverage, variants: list[tuple[str, NDArray
         missing, extra = deviations(mapped, coverage, scene.width, scene.height)
         both = np.concatenate([missing, extra], axis=1)
         if both.shape[1] and tolerance.mode == "default" and not case.lattice:
-            near, _ = near_ties_of(scene, Convention(sample=sample), both, tolerance)
+            near, _ = near_ties_of(scene, judge, both, tolerance)
             both = both[:, ~near]  # excused: rounding at a near tie
         if both.shape[1]:
             diffs[name] = int(both.shape[1])
@@ -178,15 +224,21 @@ def _run(s: Subject) -> Result:
                           {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
         variants.append((label, index, outcome.coverage))
     if s.convention is not None and s.convention.kind == "area":
-        return area_invariance(s.case, s.coverage, variants, s.convention.level_step)
+        return area_invariance(s.case, s.coverage, variants, s.convention.level_step, shift_of(s.case.scene))
     sample = s.convention.sample if s.convention is not None else (0.5, 0.5)
-    return invariance(s.case, s.coverage, variants, tolerance=s.tolerance, sample=sample)
+    lines = isinstance(s.case.scene, LineScene)
+    return invariance(s.case, s.coverage, variants, tolerance=s.tolerance, sample=sample,
+                      convention=s.convention if lines else None)
+
+
+def _applies(case: Any) -> bool:
+    if hasattr(case, "frames"):
+        return False
+    return isinstance(case.scene, LineScene) or case.family in ("lattice", "float", "watertight", "paths", "path-partitions")
 
 
 register(Check(
-    "invariance", _run,
-    lambda case: getattr(case, "family", "") in ("lattice", "float", "watertight", "paths", "path-partitions") and not hasattr(case, "frames"),
-    shrinks=True, kinds=ALL_KINDS,
+    "invariance", _run, _applies, shrinks=True, kinds=ALL_KINDS,
     caption="vertex rotation, winding flip, triangle permutation and whole-pixel translation change nothing but the shift "
-            "(paths: start vertex, contour reversal and order, path order)",
+            "(paths: start vertex, contour reversal and order, path order; lines: strip order, strips split)",
 ))

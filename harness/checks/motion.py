@@ -12,7 +12,6 @@ the direction of its most recent move (or of its next one) stands in.
 
 from __future__ import annotations
 
-from operator import itemgetter
 from typing import Any
 
 import numpy as np
@@ -29,22 +28,28 @@ TIE = 1e-9
 
 
 
+def _spans(coverages: list[Coverage]) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray]:
+    """Every frame's spans at once: (frame, primitive, y, x0, x1), frame by frame."""
+    sizes = [c.y.size for c in coverages]
+    frame = np.repeat(np.arange(len(coverages)), sizes)
+    if not coverages:
+        empty = np.zeros(0, dtype=np.int64)
+        return frame, empty, empty, empty, empty
+    return (frame, *(np.concatenate([getattr(c, name) for c in coverages]) for name in ("triangle", "y", "x0", "x1")))
+
+
 def boundary_series(coverages: list[Coverage], n_triangles: int, height: int) -> tuple[NDArray, NDArray]:
     """Left and right span ends per frame, triangle and row: (F, N, H) float, NaN where the
     triangle covers nothing on that row (several runs on a row count from the outermost)."""
     frames = len(coverages)
-    left = np.full((frames, n_triangles, height), np.nan)
-    right = np.full((frames, n_triangles, height), np.nan)
-    for f, cov in enumerate(coverages):
-        ok = (cov.triangle >= 0) & (cov.triangle < n_triangles) & (cov.y >= 0) & (cov.y < height) & (cov.x1 > cov.x0)
-        t, y, x0, x1 = cov.triangle[ok], cov.y[ok], cov.x0[ok].astype(float), cov.x1[ok].astype(float)
-        lo = np.full((n_triangles, height), np.inf)
-        hi = np.full((n_triangles, height), -np.inf)
-        np.minimum.at(lo, (t, y), x0)
-        np.maximum.at(hi, (t, y), x1)
-        left[f] = np.where(np.isfinite(lo), lo, np.nan)
-        right[f] = np.where(np.isfinite(hi), hi, np.nan)
-    return left, right
+    f, t, y, x0, x1 = _spans(coverages)
+    ok = (t >= 0) & (t < n_triangles) & (y >= 0) & (y < height) & (x1 > x0)
+    where = (f[ok], t[ok], y[ok])
+    lo = np.full((frames, n_triangles, height), np.inf)
+    hi = np.full((frames, n_triangles, height), -np.inf)
+    np.minimum.at(lo, where, x0[ok].astype(float))
+    np.maximum.at(hi, where, x1[ok].astype(float))
+    return np.where(np.isfinite(lo), lo, np.nan), np.where(np.isfinite(hi), hi, np.nan)
 
 
 def filled_direction(steps: NDArray) -> NDArray:
@@ -75,26 +80,41 @@ def _backward_jumps(series: NDArray, oracle: NDArray) -> NDArray:
 
 def _window(coverages: list[Coverage], width: int, height: int) -> tuple[int, int, int, int]:
     """The smallest rectangle (x0, y0, x1, y1) of the viewport holding every span."""
-    x0s, x1s, ys = [], [], []
-    for c in coverages:
-        ok = (c.x1 > c.x0) & (c.y >= 0) & (c.y < height)
-        if ok.any():
-            x0s.append(max(int(c.x0[ok].min()), 0))
-            x1s.append(min(int(c.x1[ok].max()), width))
-            ys.extend([int(c.y[ok].min()), int(c.y[ok].max())])
-    if not x0s:
+    _, _, y, x0, x1 = _spans(coverages)
+    ok = (x1 > x0) & (y >= 0) & (y < height)
+    if not ok.any():
         return 0, 0, 1, 1
-    return min(x0s), min(ys), max(max(x1s), min(x0s) + 1), max(ys) + 1
+    left, right = max(int(x0[ok].min()), 0), min(int(x1[ok].max()), width)
+    return left, int(y[ok].min()), max(right, left + 1), int(y[ok].max()) + 1
+
+
+# pixels of the (frame, row, column) difference arrays built at once by _masks
+_MASK_CHUNK = 1 << 21
 
 
 def _masks(coverages: list[Coverage], window: tuple[int, int, int, int]) -> NDArray:
-    """(F, h, w) bool coverage masks of the frames, cropped to ``window``."""
+    """(F, h, w) bool coverage masks of the frames, cropped to ``window``: per pixel
+    whether some span covers it (difference arrays summed along each row, a few frames
+    at a time)."""
     x0, y0, x1, y1 = window
-    out = []
-    for c in coverages:
-        shifted = Coverage(c.triangle, c.y - y0, np.clip(c.x0, x0, x1) - x0, np.clip(c.x1, x0, x1) - x0)
-        out.append(shifted.counts(x1 - x0, y1 - y0) > 0)
-    return np.stack(out)
+    w, h = x1 - x0, y1 - y0
+    stride = w + 1
+    f, _, y, a, b = _spans(coverages)
+    y = y - y0
+    a = np.clip(a, x0, x1) - x0
+    b = np.clip(b, x0, x1) - x0
+    keep = (y >= 0) & (y < h) & (b > a)
+    f, y, a, b = f[keep], y[keep], a[keep], b[keep]
+    out = np.empty((len(coverages), h, w), dtype=bool)
+    step = max(1, _MASK_CHUNK // (h * stride))
+    for first in range(0, len(coverages), step):
+        last = min(first + step, len(coverages))
+        inside = (f >= first) & (f < last)
+        row = ((f[inside] - first) * h + y[inside]) * stride
+        size = (last - first) * h * stride
+        delta = np.bincount(row + a[inside], minlength=size) - np.bincount(row + b[inside], minlength=size)
+        out[first:last] = np.cumsum(delta.reshape(last - first, h, stride), axis=2)[:, :, :w] > 0
+    return out
 
 
 def jaggy(case_id: str, coverages: list[Coverage], oracles: list[Coverage], n_triangles: int,
@@ -111,29 +131,34 @@ def jaggy(case_id: str, coverages: list[Coverage], oracles: list[Coverage], n_tr
     left_o, right_o = boundary_series(oracles, n_triangles, height)
     back_left = _backward_jumps(left, left_o)
     back_right = _backward_jumps(right, right_o)
+    # every backward jump, ordered by frame, then side, triangle and row; the first few as evidence
+    where = [np.argwhere(back_left), np.argwhere(back_right)]
+    n_jumps = len(where[0]) + len(where[1])
+    found = np.concatenate(where)
+    side = np.repeat([0, 1], [len(where[0]), len(where[1])])
     jumps = []
-    for side, back, series in (("left", back_left, left), ("right", back_right, right)):
-        for f, t, y in np.argwhere(back):
-            jumps.append({"frame": int(f + 1), "triangle": int(t), "row": int(y), "side": side,
-                          "column": int(series[f + 1, t, y]), "previous": int(series[f, t, y])})
-    jumps.sort(key=itemgetter("frame"))
+    for k in np.lexsort((side, found[:, 0]))[:EVIDENCE_LIMIT] if n_jumps else ():
+        f, t, y = (int(v) for v in found[k])
+        series = right if side[k] else left
+        jumps.append({"frame": f + 1, "triangle": t, "row": y, "side": ("left", "right")[side[k]],
+                      "column": int(series[f + 1, t, y]), "previous": int(series[f, t, y])})
     per_frame = {
         "changed_pixels": [0] + (got[1:] != got[:-1]).sum(axis=(1, 2)).tolist(),
         "oracle_changed_pixels": [0] + (want[1:] != want[:-1]).sum(axis=(1, 2)).tolist(),
         "backward_jumps": [0] + (back_left.sum(axis=(1, 2)) + back_right.sum(axis=(1, 2))).tolist(),
     }
     flicker = np.argwhere(excess > 0)
-    metrics = {"flicker": float(excess.sum()), "flicker_pixels": float(len(flicker)), "backward_jumps": float(len(jumps)),
+    metrics = {"flicker": float(excess.sum()), "flicker_pixels": float(len(flicker)), "backward_jumps": float(n_jumps),
                "frames": float(len(coverages))}
     evidence: dict[str, Any] = {"series": per_frame}
     if len(flicker):
         evidence["flicker"] = [[int(x + window[0]), int(y + window[1]), int(changes_got[y, x]), int(changes_want[y, x])]
                                for y, x in flicker[:EVIDENCE_LIMIT]]
     if jumps:
-        evidence["backward_jumps"] = jumps[:EVIDENCE_LIMIT]
-    ok = not len(flicker) and not jumps
+        evidence["backward_jumps"] = jumps
+    ok = not len(flicker) and not n_jumps
     message = ("monotone: no flicker, no backward jump" if ok
-               else f"{int(excess.sum())} extra changes at {len(flicker)} pixels (flicker), {len(jumps)} backward jumps")
+               else f"{int(excess.sum())} extra changes at {len(flicker)} pixels (flicker), {n_jumps} backward jumps")
     return result(case_id, "jaggy", ok, message, metrics, evidence)
 
 
@@ -168,6 +193,53 @@ def _lacking_attributes(case_id: str, check: str, coverages: list[Coverage]) -> 
                    {"frames_without_attributes": missing[:EVIDENCE_LIMIT]})
 
 
+def _backward_texel_steps(tracked: list[tuple[NDArray, NDArray, NDArray, NDArray]]) -> list[dict[str, Any]]:
+    """At each pixel (triangle, x, y), followed over the frames that cover it, the steps
+    from one frame to the next where the texel index moves against the oracle's (whose
+    direction is filled over its still steps as by :func:`filled_direction`; steps over
+    a gap of frames are not compared), along u and v: ordered by frame, then pixel (in
+    the order of their first frame, then (triangle, y, x)), then axis."""
+    if not tracked:
+        return []
+    frame = np.concatenate([t[0] for t in tracked]).astype(float)
+    keys = np.concatenate([t[1] for t in tracked])
+    got = np.concatenate([t[2] for t in tracked])
+    want = np.concatenate([t[3] for t in tracked])
+    big = np.int64(1) << 20
+    pixel = (keys[:, 0] * big + keys[:, 2]) * big + keys[:, 1]
+    order = np.argsort(pixel, kind="stable")  # each pixel's frames stay in order
+    frame, keys, got, want, pixel = frame[order], keys[order], got[order], want[order], pixel[order]
+    n = pixel.size
+    if n < 2:
+        return []
+    same = pixel[1:] == pixel[:-1]  # step k (row k to k + 1) within one pixel's track
+    start = np.flatnonzero(np.r_[True, ~same])  # each track's first row
+    track = np.cumsum(np.r_[True, ~same]) - 1
+    first_step = start[track[:-1]]  # the track's first step (= first row)
+    last_step = np.r_[start[1:], n][track[:-1]] - 2  # and its last
+    first_frame = frame[start][track]
+    contiguous = same & (np.diff(frame) == 1)
+    index = np.arange(n - 1)
+    found = []
+    for axis in (0, 1):
+        got_steps = np.where(contiguous, np.diff(got[:, axis]), np.nan)
+        sign = np.where(same, np.nan_to_num(np.sign(np.where(contiguous, np.diff(want[:, axis]), np.nan))), 0.0)
+        nonzero = sign != 0
+        last = np.maximum.accumulate(np.where(nonzero, index, -1))  # the most recent move, if in this track
+        forward = np.where(last >= first_step, sign[np.maximum(last, 0)], 0.0)
+        following = np.minimum.accumulate(np.where(nonzero, index, n)[::-1])[::-1]  # else the next one
+        backward = np.where(following <= last_step, sign[np.minimum(following, n - 2)], 0.0)
+        direction = np.where(forward != 0, forward, backward)
+        back = same & np.isfinite(got_steps) & (got_steps != 0) & (np.sign(got_steps) == -direction) & (direction != 0)
+        found.append(np.flatnonzero(back))
+    steps = np.concatenate(found)
+    axes = np.repeat([0, 1], [len(found[0]), len(found[1])])
+    rows = steps + 1
+    ranked = np.lexsort((axes, pixel[rows], first_frame[rows], frame[rows]))
+    return [{"frame": int(frame[rows[k]]), "triangle": int(keys[rows[k], 0]), "x": int(keys[rows[k], 1]),
+             "y": int(keys[rows[k], 2]), "axis": "uv"[axes[k]]} for k in ranked]
+
+
 def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Coverage], texels: int) -> Result:
     """The nearest texel (floor(u*T), floor(v*T)) at each covered pixel against the
     oracle's, mismatches at exact texel edges excused; at a fixed pixel, the texel index
@@ -181,7 +253,7 @@ def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Covera
     per_frame_mismatch = []
     per_frame_error = []
     examples: list[dict[str, Any]] = []
-    tracks: dict[tuple[int, int, int], list[tuple[int, int, int, int, int]]] = {}
+    tracked = []  # per frame: (frame, keys, texel got, texel exact) of the pixels with a finite u, v
     for f, (cov, oracle) in enumerate(zip(coverages, oracles)):
         keys, got, want = _matched(cov, oracle)
         if not len(keys):
@@ -202,28 +274,15 @@ def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Covera
         for k in np.flatnonzero(bad)[: max(0, EVIDENCE_LIMIT - len(examples))]:
             examples.append({"frame": f, "triangle": int(keys[k, 0]), "x": int(keys[k, 1]), "y": int(keys[k, 2]),
                              "texel": texel_got[k].tolist(), "exact": texel_want[k].tolist()})
-        for k in np.flatnonzero(finite):  # a NaN or infinite u, v has no texel to track (counted above)
-            tracks.setdefault((int(keys[k, 0]), int(keys[k, 1]), int(keys[k, 2])), []).append(
-                (f, int(texel_got[k, 0]), int(texel_got[k, 1]), int(texel_want[k, 0]), int(texel_want[k, 1])))
-    backward = []
-    for (t, x, y), track in tracks.items():
-        if len(track) < 2:
-            continue
-        arr = np.array(track, dtype=float)
-        contiguous = np.diff(arr[:, 0]) == 1
-        for axis in (0, 1):
-            got_steps = np.where(contiguous, np.diff(arr[:, 1 + axis]), np.nan)
-            want_steps = np.where(contiguous, np.diff(arr[:, 3 + axis]), np.nan)
-            direction = filled_direction(want_steps)
-            back = np.isfinite(got_steps) & (got_steps != 0) & (np.sign(got_steps) == -direction) & (direction != 0)
-            for k in np.flatnonzero(back):
-                backward.append({"frame": int(arr[k + 1, 0]), "triangle": t, "x": x, "y": y, "axis": "uv"[axis]})
+        # a NaN or infinite u, v has no texel to track (counted above)
+        tracked.append((np.full(int(finite.sum()), f), keys[finite], texel_got[finite], texel_want[finite]))
+    backward = _backward_texel_steps(tracked)
     metrics = {"texel_mismatches": float(mismatches), "max_uv_error_texels": worst, "swim_backward_steps": float(len(backward))}
     evidence: dict[str, Any] = {"series": {"mismatches": per_frame_mismatch, "max_uv_error_texels": per_frame_error}}
     if examples:
         evidence["mismatches"] = examples
     if backward:
-        evidence["backward_steps"] = sorted(backward, key=itemgetter("frame"))[:EVIDENCE_LIMIT]
+        evidence["backward_steps"] = backward[:EVIDENCE_LIMIT]
     ok = mismatches == 0 and not backward
     message = (f"texels match the exact ones (largest u, v error {worst:.2g} texels)" if ok
                else f"{mismatches} texel mismatches outside exact ties, {len(backward)} backward texel steps, largest u, v error {worst:.3g} texels")
