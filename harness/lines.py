@@ -143,6 +143,10 @@ __all__ = [
     "bresenham_pixels",
     "rectangle_spans",
     "rectangle_spans_rational",
+    "line_coverage",
+    "is_x_major",
+    "diamond_holding",
+    "end_point_pixels",
     "BRESENHAM_ROUNDINGS",
     "BRESENHAM_TIES",
     "RECT_SAFE_MIN",
@@ -200,7 +204,7 @@ def _clamp_index(value, low, high):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _x_major(ax, ay, bx, by):  # type: ignore[no-untyped-def]
+def is_x_major(ax, ay, bx, by):  # type: ignore[no-untyped-def]
     """|bx - ax| >= |by - ay|, exactly (a zero-length segment is x-major)."""
     dx, ex = _two_sum(bx, -ax)
     dy, ey = _two_sum(by, -ay)
@@ -238,7 +242,7 @@ def _in_test_area(px, py, i, j, y_major):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _test_area_pixel(px, py, y_major, width, height):  # type: ignore[no-untyped-def]
+def diamond_holding(px, py, y_major, width, height):  # type: ignore[no-untyped-def]
     """The viewport pixel whose test area holds p, as (i, j, found). D(i, j) lies in
     i < x < i + 1 (x-major) or i < x <= i + 1 (y-major), and j < y <= j + 1."""
     if not (-1.0 < px < width + 1.0 and -1.0 < py < height + 1.0):
@@ -305,7 +309,7 @@ def _diamond_walk(ax, ay, bx, by, width, height):  # type: ignore[no-untyped-def
     end points ordered along the major axis and lo..hi the cells (clamped to the
     viewport) whose test areas it may meet: x-major D(i, .) lies in i < x < i + 1, y-major
     D(., j) in j < y <= j + 1, so floor(min) - 1 .. floor(max) covers both."""
-    x_major = _x_major(ax, ay, bx, by)
+    x_major = is_x_major(ax, ay, bx, by)
     if x_major:
         if ax <= bx:
             rx, ry, qx, qy = ax, ay, bx, by
@@ -352,7 +356,7 @@ def _diamond_kernel(a, b, keep, width, height, last_pixel, out_s, out_y, out_x0,
         if ax == bx and ay == by:
             # Zero length: it never exits; with the last pixel drawn, the pixel holding it.
             if last_pixel:
-                i, j, found = _test_area_pixel(ax, ay, False, width, height)
+                i, j, found = diamond_holding(ax, ay, False, width, height)
                 if found:
                     n = _emit(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
             continue
@@ -361,7 +365,7 @@ def _diamond_kernel(a, b, keep, width, height, last_pixel, out_s, out_y, out_x0,
             continue
         y_major = not x_major
         # The exit rule: the pixel whose test area holds the end point b is not left.
-        bi, bj, b_inside = _test_area_pixel(bx, by, y_major, width, height)
+        bi, bj, b_inside = diamond_holding(bx, by, y_major, width, height)
         skip_end = b_inside and not last_pixel
         if x_major:
             ru, rv, qu, qv, limit = rx, ry, qx, qy, height
@@ -899,7 +903,7 @@ def diamond_exit_spans_rational(a: ArrayLike, b: ArrayLike, width: int, height: 
 # -- Bresenham: public --------------------------------------------------------------------------
 
 
-def _round_pixels(p: NDArray[np.float64], rounding: str) -> NDArray[np.float64]:
+def end_point_pixels(p: NDArray[np.float64], rounding: str) -> NDArray[np.float64]:
     """Pixel coordinates of points, exactly (see the module docstring): floor(p) is exact,
     and so is p - floor(p)."""
     f = np.floor(p)
@@ -922,8 +926,8 @@ def _bresenham_prepare(a: ArrayLike, b: ArrayLike, width: int, height: int, roun
         raise ValueError(f"ties must be one of {', '.join(BRESENHAM_TIES)}, not {ties!r}")
     a_arr, b_arr, keep = _endpoints(a, b)
     with np.errstate(invalid="ignore"):
-        p0 = np.where(keep[:, None], _round_pixels(a_arr, rounding), 0.0)
-        p1 = np.where(keep[:, None], _round_pixels(b_arr, rounding), 0.0)
+        p0 = np.where(keep[:, None], end_point_pixels(a_arr, rounding), 0.0)
+        p1 = np.where(keep[:, None], end_point_pixels(b_arr, rounding), 0.0)
     beyond = (np.abs(np.concatenate([p0, p1], axis=1)) > BRESENHAM_MAX).any(axis=1)
     if beyond.any():
         k = int(np.flatnonzero(beyond)[0])
@@ -1291,8 +1295,8 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
             _diamond_far(int(k), a[k], b[k], width, height, rule.last_pixel, extra)
     elif rule.rule == "bresenham":
         with np.errstate(invalid="ignore"):
-            p0 = np.where(finite[:, None], _round_pixels(np.where(finite[:, None], a, 0.0), rule.rounding), 0.0)
-            p1 = np.where(finite[:, None], _round_pixels(np.where(finite[:, None], b, 0.0), rule.rounding), 0.0)
+            p0 = np.where(finite[:, None], end_point_pixels(np.where(finite[:, None], a, 0.0), rule.rounding), 0.0)
+            p1 = np.where(finite[:, None], end_point_pixels(np.where(finite[:, None], b, 0.0), rule.rounding), 0.0)
         far = (np.abs(np.concatenate([p0, p1], axis=1)) > BRESENHAM_MAX).any(axis=1) & finite
         near = finite & ~far
         spans = bresenham_spans(np.where(near[:, None], a, np.nan), np.where(near[:, None], b, np.nan), width, height,

@@ -150,11 +150,11 @@ def test_draw_lists_split_strips_at_left_out_segments():
 
 
 def test_nearest_pixel_is_the_oracles_nearest_even_rounding():
-    from harness.lines import _round_pixels
+    from harness.lines import end_point_pixels
 
     rng = np.random.default_rng(2)
     values = np.concatenate([rng.uniform(-40, 40, 500), np.arange(-9.0, 10.0), np.arange(-9.0, 10.0) + 0.5, [-1e-300, 1e-300]])
-    assert np.array_equal(adapters.nearest_pixel(values), _round_pixels(values, "nearest-even").astype(np.int64))
+    assert np.array_equal(adapters.nearest_pixel(values), end_point_pixels(values, "nearest-even").astype(np.int64))
 
 
 def test_declared_kinds():

@@ -19,7 +19,7 @@ from harness.lines import (
     BresenhamTies,
     _in_test_area_rational,
     _round_pixel_rational,
-    _round_pixels,
+    end_point_pixels,
     bresenham_spans,
     bresenham_spans_rational,
     diamond_exit_spans,
@@ -101,7 +101,7 @@ segments = st.lists(segment(), min_size=1, max_size=3).map(
     lambda pairs: (np.array([p[0] for p in pairs], dtype=np.float64), np.array([p[1] for p in pairs], dtype=np.float64)))
 
 
-def _x_major(a: tuple[float, float], b: tuple[float, float]) -> bool:
+def is_x_major(a: tuple[float, float], b: tuple[float, float]) -> bool:
     return abs(Fraction(b[1]) - Fraction(a[1])) <= abs(Fraction(b[0]) - Fraction(a[0]))
 
 
@@ -147,7 +147,7 @@ def test_diamond_exit_one_pixel_per_major_step(seg) -> None:  # type: ignore[no-
     whose centre it reaches, at most one anywhere, in a contiguous run of columns (y-major:
     rows); the exit rule removes at most that end pixel -- the one whose test area holds b."""
     a, b, size = _inside(seg)
-    x_major = _x_major(a, b)
+    x_major = is_x_major(a, b)
     every = {(x, y) for _, x, y in _pixels(diamond_exit_spans([a], [b], size, size, last_pixel=True))}
     drawn = {(x, y) for _, x, y in _pixels(diamond_exit_spans([a], [b], size, size))}
     major = [p[0] if x_major else p[1] for p in every]
@@ -170,11 +170,11 @@ def test_diamond_exit_strip_draws_shared_vertex_once(a, b, c) -> None:  # type: 
     b; the second draws it exactly when it leaves it, i.e. unless c is inside too."""
     first = {(x, y) for _, x, y in _pixels(diamond_exit_spans([a], [b], SIZE, SIZE))}
     second = {(x, y) for _, x, y in _pixels(diamond_exit_spans([b], [c], SIZE, SIZE))}
-    f1 = _holder(b, not _x_major(a, b), SIZE, SIZE)
-    f2 = _holder(b, not _x_major(b, c), SIZE, SIZE)
+    f1 = _holder(b, not is_x_major(a, b), SIZE, SIZE)
+    f2 = _holder(b, not is_x_major(b, c), SIZE, SIZE)
     assert f1 is None or f1 not in first
     if f2 is not None:
-        inside = _in_test_area_rational(Fraction(c[0]), Fraction(c[1]), f2[0] + HALF, f2[1] + HALF, not _x_major(b, c))
+        inside = _in_test_area_rational(Fraction(c[0]), Fraction(c[1]), f2[0] + HALF, f2[1] + HALF, not is_x_major(b, c))
         assert (f2 in second) == (not inside)
         if f1 == f2 and not inside:  # same test area for both: drawn exactly once
             assert (f2 in first) + (f2 in second) == 1
@@ -187,7 +187,7 @@ def test_diamond_exit_reversal_changes_only_end_pixels(seg) -> None:  # type: ig
     areas the segment meets and f_p the pixel whose test area holds p: reversal swaps which
     end pixel is left out, and with the end pixel drawn it changes nothing."""
     a, b = seg
-    y_major = not _x_major(a, b)
+    y_major = not is_x_major(a, b)
     met = _pixels(diamond_exit_spans([a], [b], SIZE, SIZE, last_pixel=True))
     assert _pixels(diamond_exit_spans([b], [a], SIZE, SIZE, last_pixel=True)) == met
     f_a, f_b = (_holder(p, y_major, SIZE, SIZE) for p in (a, b))
@@ -280,7 +280,7 @@ def test_bresenham_rounding_of_end_points() -> None:
     expect = {"nearest-even": [2, 2, 0, 0, -2, 5, 0], "half-away": [2, 3, -1, 0, -2, 5, 1],
               "floor": [2, 3, 0, 0, -1, 5, 1]}
     for rounding, pixels in expect.items():
-        assert _round_pixels(np.array(p), rounding).astype(int).tolist() == pixels, rounding
+        assert end_point_pixels(np.array(p), rounding).astype(int).tolist() == pixels, rounding
         assert [_round_pixel_rational(Fraction(v), rounding) for v in p] == pixels, rounding
     with pytest.raises(ValueError, match="segment 0"):
         bresenham_spans([[0.0, 0.0]], [[2.0**31, 0.0]], 4, 4)

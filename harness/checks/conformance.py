@@ -469,13 +469,13 @@ def _bresenham_margins(a: NDArray, b: NDArray, x: NDArray, y: NDArray, rule: Any
         Each fragment's pixel (inf outside the ``width`` x ``height`` viewport).
     rule : harness.conventions.LineRule
     """
-    from harness.lines import BRESENHAM_MAX, _round_pixels, bresenham_spans
+    from harness.lines import BRESENHAM_MAX, end_point_pixels, bresenham_spans
 
     out = np.full(x.size, np.inf)
     ends = np.concatenate([a, b], axis=1)
     segments, local = np.unique(ends, axis=0, return_inverse=True)  # one row per distinct segment
     local = local.reshape(-1)
-    pixel = _round_pixels(segments, rule.rounding)
+    pixel = end_point_pixels(segments, rule.rounding)
     nearest = np.rint(segments)
     away = np.abs(segments - nearest)
     other = np.where(pixel == nearest, nearest - 1.0, nearest)  # the pixel across the boundary at nearest

@@ -37,7 +37,7 @@ from harness.checks.conformance import near_ties_of, undefined_width
 from harness.checks.motion import filled_direction
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
 from harness.conventions import Convention
-from harness.lines import _round_pixels, _test_area_pixel, _x_major
+from harness.lines import end_point_pixels, diamond_holding, is_x_major
 from harness.oracle import exact_coverage
 
 __all__ = [
@@ -85,7 +85,7 @@ def _unkey(keys: NDArray, width: int, height: int) -> tuple[NDArray, NDArray, ND
 @numba.njit(cache=True)
 def _x_major_kernel(a, b, out):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
     for k in range(a.shape[0]):
-        out[k] = _x_major(a[k, 0], a[k, 1], b[k, 0], b[k, 1])
+        out[k] = is_x_major(a[k, 0], a[k, 1], b[k, 0], b[k, 1])
 
 
 def x_major_of(scene: LineScene, convention: Convention) -> NDArray[np.bool_]:
@@ -106,7 +106,7 @@ def _x_major_of_ends(a: NDArray, b: NDArray, convention: Convention) -> NDArray[
     out = np.ones(a.shape[0], dtype=np.bool_)
     finite = np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1)
     if convention.line.rule == "bresenham":
-        p0, p1 = _round_pixels(a[finite], convention.line.rounding), _round_pixels(b[finite], convention.line.rounding)
+        p0, p1 = end_point_pixels(a[finite], convention.line.rounding), end_point_pixels(b[finite], convention.line.rounding)
         d = np.abs(p1 - p0)
         out[finite] = d[:, 0] >= d[:, 1]
         return out
@@ -233,7 +233,7 @@ def _run_connectivity(s: Subject) -> Result:
 @numba.njit(cache=True)
 def _diamond_vertex_kernel(v, y_major, width, height, out):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
     for k in range(v.shape[0]):
-        i, j, found = _test_area_pixel(v[k, 0], v[k, 1], y_major[k], width, height)
+        i, j, found = diamond_holding(v[k, 0], v[k, 1], y_major[k], width, height)
         if found:
             out[k, 0] = i
             out[k, 1] = j
@@ -254,7 +254,7 @@ def vertex_pixels(scene: LineScene, convention: Convention, pairs: NDArray[np.in
     v = convention.snap(b[pairs[:, 0]])
     finite = np.asarray(np.isfinite(v).all(axis=1), dtype=np.bool_)
     if convention.line.rule == "bresenham":
-        p = _round_pixels(np.where(finite[:, None], v, -1.0), convention.line.rounding)
+        p = end_point_pixels(np.where(finite[:, None], v, -1.0), convention.line.rounding)
         inside = finite & (p[:, 0] >= 0) & (p[:, 0] < scene.width) & (p[:, 1] >= 0) & (p[:, 1] < scene.height)
         out[inside] = p[inside].astype(np.int64)
         return out
@@ -490,7 +490,7 @@ def _geometry(frames: list[LineScene], convention: Convention) -> tuple[NDArray[
     x_major = _x_major_of_ends(a, b, convention)
     with np.errstate(invalid="ignore"):
         if convention.line.rule == "bresenham":
-            a, b = _round_pixels(a, convention.line.rounding), _round_pixels(b, convention.line.rounding)
+            a, b = end_point_pixels(a, convention.line.rounding), end_point_pixels(b, convention.line.rounding)
         slope = np.nan_to_num(np.sign(b[:, 0] - a[:, 0]) * np.sign(b[:, 1] - a[:, 1]))
     return x_major.reshape(len(frames), -1), slope.reshape(len(frames), -1)
 
