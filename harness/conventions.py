@@ -160,9 +160,9 @@ TieRule = Literal[
 CullMode = Literal["none", "cw", "ccw"]
 LineRuleName = Literal["diamond-exit", "bresenham", "rectangle"]
 LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "bresenham", "rectangle")
-BresenhamRounding = Literal["nearest-even", "half-away", "floor"]
+BresenhamRounding = Literal["nearest-even", "half-away", "floor", "toward-zero"]
 BresenhamTies = Literal["step", "stay"]
-BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor")
+BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor", "toward-zero")
 BRESENHAM_TIES: tuple[BresenhamTies, ...] = ("step", "stay")
 CoverageKind = Literal["single", "multisample", "area"]
 COVERAGE_KINDS: tuple[CoverageKind, ...] = ("single", "multisample", "area")
@@ -228,9 +228,10 @@ class LineRule:
         diamond-exit and bresenham: also draw the pixel the segment ends in (a polyline's
         shared vertices are then drawn twice). None: the rule's own (diamond-exit omits
         it, seed 003's Bresenham draws both end points). Not used by ``rectangle``.
-    rounding : {"nearest-even", "half-away", "floor"}
+    rounding : {"nearest-even", "half-away", "floor", "toward-zero"}
         bresenham: how an end point picks its pixel (the pixel whose centre is nearest,
-        halves to even or away from zero; or ``floor``, truncation).
+        halves to even or away from zero; ``floor``; or ``toward-zero``, C's ``(int)`` cast,
+        as softpipe and Pillow do: pixel 0 for -1 < x < 1).
     ties : {"step", "stay"}
         bresenham: the minor coordinate on a tie of the decision variable.
 

@@ -193,13 +193,13 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
     call = InProcess(rasterizer) if call is None else call
     kinds = scene_kinds_of(rasterizer)
     if "lines" in kinds and "triangles" not in kinds and "paths" not in kinds:
-        return _identify_lines_only(rasterizer.name, call, seed)
+        return _identify_lines_only(rasterizer.name, call, seed, received_of(rasterizer))
     if "paths" in kinds:
         fingerprint = _identify_paths(rasterizer, call, seed)
     else:
         fingerprint = _identify_triangles(rasterizer.name, call, seed, received_of(rasterizer))
     if "lines" in kinds:
-        _with_lines(fingerprint, call, seed)
+        _with_lines(fingerprint, call, seed, received_of(rasterizer))
     return fingerprint
 
 
@@ -273,12 +273,12 @@ def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprin
     return fingerprint
 
 
-def _identify_lines_only(name: str, call: Call, seed: int) -> Fingerprint:
+def _identify_lines_only(name: str, call: Call, seed: int, received: Callable[[Any], Any] | None = None) -> Fingerprint:
     """:func:`identify` for a rasterizer that takes only lines: the line fit is the
     fingerprint (no triangle is sent)."""
     from harness.line_probes import fit_lines
 
-    fit = fit_lines(call, seed, None)
+    fit = fit_lines(call, seed, None, received)
     convention = fit.convention or Convention()
     runner_up: tuple[str, int] | None = fit.runner_up
     residual = fit.residual
@@ -289,13 +289,13 @@ def _identify_lines_only(name: str, call: Call, seed: int) -> Fingerprint:
     return fingerprint
 
 
-def _with_lines(fingerprint: Fingerprint, call: Call, seed: int) -> None:
+def _with_lines(fingerprint: Fingerprint, call: Call, seed: int, received: Callable[[Any], Any] | None = None) -> None:
     """Add the line fit to a triangle (or path) fingerprint: the rule found becomes its
     convention's ``line`` (when that convention is single-sample: lines are), the whole
     line convention its ``line_convention``."""
     from harness.line_probes import fit_lines
 
-    fit = fit_lines(call, seed, fingerprint.convention)
+    fit = fit_lines(call, seed, fingerprint.convention, received)
     if fit.convention is not None and fingerprint.convention.kind == "single":
         fingerprint.convention = replace(fingerprint.convention, line=fit.convention.line)
     _record_lines(fingerprint, fit)

@@ -54,8 +54,10 @@ alphas or sample indices is not fitted (the line rules are aliased, single-sampl
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -85,7 +87,7 @@ def line_rules_tried() -> tuple[LineRule, ...]:
     rule (the rule's own setting first).
 
     >>> len(line_rules_tried()), line_rules_tried()[0].describe()
-    (14, 'diamond-exit lines, last pixel omitted')
+    (18, 'diamond-exit lines, last pixel omitted')
     """
     rules = [LineRule("diamond-exit", last_pixel=False), LineRule("diamond-exit", last_pixel=True)]
     rules += [LineRule("bresenham", last_pixel=last, rounding=rounding, ties=ties)
@@ -105,8 +107,8 @@ def line_candidates(base: Convention | None = None) -> list[Convention]:
     that agrees with the triangles equal to the triangle convention with its line rule.
 
     >>> candidates = line_candidates()
-    >>> len(candidates), candidates[0].line.rule, candidates[14].line.rule, candidates[14].sample
-    (86, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    >>> len(candidates), candidates[0].line.rule, candidates[18].line.rule, candidates[18].sample
+    (90, 'diamond-exit', 'rectangle', (0.5, 0.5))
     """
     single = base if base is not None and base.kind == "single" else Convention()
     unsnapped = replace(single, subpixel_bits=None, snap_rounding="nearest-even")
@@ -132,10 +134,14 @@ _INSIDE = (((0.25, 0.0), (0.0, 0.25)), ((0.25, 0.5), (0.75, 0.5)), ((0.5, 0.25),
            ((0.25, 0.75), (0.5, 0.5)), ((0.75, 0.25), (0.75, 0.0)))
 # Zero-length segments: at a centre, a corner, diamond corners, diamond edges.
 _POINTS = ((0.5, 0.5), (0.0, 0.0), (0.5, 0.0), (0.0, 0.5), (0.25, 0.25), (0.75, 0.75), (0.25, 0.75), (1.0, 0.5))
-# End points on x = 0, y = 0 and negative integers (half-away and floor part only there).
+# End points on x = 0, y = 0 and negative integers (half-away and floor part only there), and
+# negative fractions (floor and toward-zero part there).
 _EDGE = (((0.0, 5.25), (6.0, 8.0)), ((-1.0, 10.0), (5.0, 12.5)), ((2.25, 0.0), (5.0, 6.0)), ((3.0, -2.0), (6.0, 4.0)),
          ((0.0, 0.0), (6.0, 3.0)), ((-2.0, -1.0), (4.0, 2.0)), ((0.0, 20.0), (3.0, 26.0)), ((13.0, 0.0), (19.0, 0.0)),
-         ((0.0, 30.5), (0.0, 36.5)), ((-3.0, 16.0), (2.0, 16.0)))
+         ((0.0, 30.5), (0.0, 36.5)), ((-3.0, 16.0), (2.0, 16.0)),
+         # fractional negative end points: floor and toward-zero (C's cast) part here
+         ((-0.75, 3.25), (5.25, 6.0)), ((4.5, -0.5), (7.25, 5.0)), ((-1.5, 22.25), (4.0, 24.0)),
+         ((-0.25, -0.75), (3.0, 2.25)))
 
 
 def crafted_lines() -> LineScene:
@@ -144,7 +150,7 @@ def crafted_lines() -> LineScene:
 
     >>> scene = crafted_lines()
     >>> len(scene), bool(np.all(scene.vertices * 4 == np.round(scene.vertices * 4)))
-    (296, True)
+    (304, True)
     """
     a: list[tuple[float, float]] = []
     b: list[tuple[float, float]] = []
@@ -324,6 +330,9 @@ class LineDrawn:
 
     scene: LineScene
     outcome: Outcome
+    # the scene as the library received it (say, its coordinates rounded to float32 at the
+    # GL API: the rasterizer's ``received``), which the candidates are judged on
+    judged: LineScene | None = None
 
     @property
     def coverage(self) -> Coverage | None:
@@ -372,12 +381,20 @@ class LineDrawn:
         """Missing plus extra pixels against the exact oracle of ``convention``."""
         seen = self._seen_as(convention)
         if seen not in self._scores:
-            self._scores[seen] = self._counter.mismatches(exact_coverage(self.scene, seen)) + self.dropped
+            judged = self.scene if self.judged is None else self.judged
+            self._scores[seen] = self._counter.mismatches(exact_coverage(judged, seen)) + self.dropped
         return self._scores[seen]
 
 
-def _draw(call: Call, scene: LineScene) -> LineDrawn:
-    return LineDrawn(scene, _send(call, scene))
+def _draw(call: Call, scene: LineScene, received: Callable[[Any], Any] | None = None) -> LineDrawn:
+    judged = None
+    if received is not None:
+        try:
+            got = received(scene)
+        except Exception:  # a received() that fails judges nothing: the scene as sent
+            got = None
+        judged = got if isinstance(got, LineScene) and got.strip_sizes.tolist() == scene.strip_sizes.tolist() else None
+    return LineDrawn(scene, _send(call, scene), judged)
 
 
 def _fit_score(drawn: list[LineDrawn], convention: Convention) -> int:
@@ -515,12 +532,13 @@ class LineFit:
 # --- the probes ---------------------------------------------------------------------------------
 
 
-def wide_lines(call: Call, seed: int, fitted: Convention, rectangle: Convention) -> WideLines:
+def wide_lines(call: Call, seed: int, fitted: Convention, rectangle: Convention,
+               received: Callable[[Any], Any] | None = None) -> WideLines:
     """Lattice segments of width :data:`WIDE` against ``rectangle`` (the best rectangular-line
     candidate of the fit), and for a width-1 rule (``fitted``) against that rule on the same
     segments at width 1."""
     scene = lattice_lines(seed + 3, 60).with_line_width(WIDE)
-    drawn = _draw(call, scene)
+    drawn = _draw(call, scene, received)
     if drawn.coverage is None:
         return WideLines(WIDE, describe(drawn.error))
     thin = None
@@ -539,7 +557,8 @@ def _aliased(drawn: list[LineDrawn]) -> str:
     return ""
 
 
-def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None) -> LineFit:
+def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
+              received: Callable[[Any], Any] | None = None) -> LineFit:
     """The line convention that best explains the rasterizer (see the module docstring).
 
     Parameters
@@ -552,6 +571,10 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None) ->
         The convention identified for its triangles (or paths), compared with the line
         convention; None when it takes none. The width-1 candidates carry its sample point
         and tie rule, and rectangles at them are tried first.
+    received : callable or None
+        The rasterizer's ``received(scene)`` (:func:`harness.api.received_of`): candidates
+        are judged on the scene as the library received it (float32 coordinates at the GL
+        API), as identify judges triangles.
 
     Returns
     -------
@@ -559,7 +582,7 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None) ->
     """
     candidates = line_candidates(triangles)
     # 1. the rule, on end points no candidate snapping moves
-    ruled = [_draw(call, s) for s in (crafted_lines(), lattice_lines(seed), lattice_lines(seed, 60, strips=True))]
+    ruled = [_draw(call, s, received) for s in (crafted_lines(), lattice_lines(seed), lattice_lines(seed, 60, strips=True))]
     answered = [d for d in ruled if d.coverage is not None]
     if not answered:
         return LineFit(None, triangles=triangles, scenes=len(ruled), skipped=f"unanswered: {describe(ruled[0].error)}"[:200],
@@ -572,7 +595,7 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None) ->
     per_rule = {rule: min((lattice[i] for i, c in enumerate(candidates) if c.line.rule == rule), default=0) for rule in LINE_RULES}
     best = candidates[order[0]]
     # 2. snapping, on end points next to decision boundaries and on floats
-    floats = [_draw(call, nudged_lines(seed)), _draw(call, float_lines(seed))]
+    floats = [_draw(call, nudged_lines(seed), received), _draw(call, float_lines(seed), received)]
     snaps: list[tuple[int | None, SnapRounding]] = [(None, "nearest-even")]
     snaps += [(b, r) for b in SNAP_BITS if b is not None for r in SNAP_ROUNDINGS]
     own = (None, "nearest-even") if triangles is None or triangles.subpixel_bits is None else (
@@ -587,7 +610,7 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None) ->
     bits, rounding = snaps[scored[0][2]]
     rounding_fit = None
     if bits is not None:
-        floats.append(_draw(call, half_step_lines(seed, bits)))
+        floats.append(_draw(call, half_step_lines(seed, bits), received))
         ranked = sorted((_fit_score(floats, _snapped(best, bits, r)), preference(bits, r), r) for r in SNAP_ROUNDINGS)
         rounding = ranked[0][2]
         rounding_fit = LineRounding(bits, tuple((r, sum(d.mismatches(_snapped(best, bits, r)) for d in floats))
@@ -612,5 +635,5 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None) ->
     return LineFit(best, sum(d.mismatches(best) for d in drawn), sum(d.pixels for d in drawn),
                    (runner.describe_lines(), sum(d.mismatches(runner) for d in drawn)), ambiguous,
                    tuple(per_rule.items()), rounding_fit,
-                   wide_lines(call, seed, best, rectangle), triangles, len(drawn),
+                   wide_lines(call, seed, best, rectangle, received), triangles, len(drawn),
                    tuple(describe(d.error) for d in drawn if d.coverage is None), drawn=tuple(drawn))

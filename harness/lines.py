@@ -73,8 +73,9 @@ Bresenham (:func:`bresenham_spans`)
     the first point (the walk starts at ``a`` and goes towards ``b``).
 
     * End point p -> pixel (i, j), exactly, by the declared ``rounding``: the pixel holding
-      p. ``floor``: i = floor(px) (truncation of the window coordinate: softpipe's ``(int)``
-      cast, seed 000's floor). ``nearest-even``/``half-away``: i is the integer nearest to
+      p. ``floor``: i = floor(px) (seed 000's floor). ``toward-zero``: i = trunc(px), C's
+      ``(int)`` cast of the window coordinate (softpipe's ``sp_setup_line``, Pillow's
+      ``ImageDraw.line``): floor for px >= 0, but pixel 0 for -1 < px < 0. ``nearest-even``/``half-away``: i is the integer nearest to
       px - 1/2, i.e. the pixel whose centre i + 1/2 is nearest to px; that is floor(px)
       except when px is an integer (p on the boundary of pixels px - 1 and px), where
       ``nearest-even`` takes the even one and ``half-away`` the one away from zero (px when
@@ -904,8 +905,10 @@ def diamond_exit_spans_rational(a: ArrayLike, b: ArrayLike, width: int, height: 
 
 
 def end_point_pixels(p: NDArray[np.float64], rounding: str) -> NDArray[np.float64]:
-    """Pixel coordinates of points, exactly (see the module docstring): floor(p) is exact,
-    and so is p - floor(p)."""
+    """Pixel coordinates of points, exactly (see the module docstring): floor(p) and
+    trunc(p) are exact, and so is p - floor(p)."""
+    if rounding == "toward-zero":
+        return np.trunc(p) + 0.0  # (int)p; + 0.0 turns -0.0 into 0.0
     f = np.floor(p)
     if rounding == "floor":
         return f
@@ -945,7 +948,7 @@ def bresenham_spans(a: ArrayLike, b: ArrayLike, width: int, height: int, roundin
         End points, rounded to pixels by ``rounding`` (see the module docstring).
     width, height : int
         The viewport.
-    rounding : {"nearest-even", "half-away", "floor"}
+    rounding : {"nearest-even", "half-away", "floor", "toward-zero"}
     ties : {"step", "stay"}
         Decision variable zero: step the minor coordinate (``p >= 0``) or keep it (``p > 0``).
     last_pixel : bool
@@ -979,6 +982,8 @@ bresenham_pixels = bresenham_spans  # the issue's name for it
 
 
 def _round_pixel_rational(v: Fraction, rounding: str) -> int:
+    if rounding == "toward-zero":
+        return math.trunc(v)
     if rounding == "floor":
         return math.floor(v)
     c = v - Fraction(1, 2)

@@ -94,7 +94,7 @@ _TINY_W = 2.0**-24
 # Float filter margin for 4c**2 against W**2 |d|**2: each side errs by at most 3 roundings.
 _FILTER = 2.0**-48
 
-_ROUNDING_CODES = {"floor": 0, "nearest-even": 1, "half-away": 2}
+_ROUNDING_CODES = {"floor": 0, "nearest-even": 1, "half-away": 2, "toward-zero": 3}
 
 
 # -- shared pieces -----------------------------------------------------------------------------
@@ -177,7 +177,9 @@ def _pixel_of(v, rounding):  # type: ignore[no-untyped-def]
     """The pixel index of coordinate v: floor(v) (``floor``, 0), else the pixel whose
     centre i + 1/2 is nearest to v. That is floor(v) too, except when v is an integer:
     then pixels v - 1 and v are equally near, and the tie goes to the even one (1) or the
-    one away from zero, i.e. v when v - 1/2 > 0 (2)."""
+    one away from zero, i.e. v when v - 1/2 > 0 (2); or trunc(v) (``toward-zero``, 3)."""
+    if rounding == 3:  # toward zero: C's (int) cast
+        return int(math.trunc(v))
     f = math.floor(v)
     i = int(f)
     if rounding == 0 or v != f:
@@ -261,7 +263,7 @@ class BresenhamLines:
 
     Parameters
     ----------
-    rounding : {"nearest-even", "half-away", "floor"}
+    rounding : {"nearest-even", "half-away", "floor", "toward-zero"}
         How an end point picks its pixel (:class:`harness.conventions.LineRule`).
     ties : {"step", "stay"}
         The minor coordinate when the decision variable is 0.

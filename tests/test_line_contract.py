@@ -210,3 +210,20 @@ def test_malformed_line_case_json_names_the_fault() -> None:
         case_from_json({**data, "positions": [[[0, 0], [1, 0], [0, 1]]]})
     with pytest.raises(ValueError, match="lines"):
         case_from_json({**data, "lines": [[[0, 0]]]})
+
+
+def test_toward_zero_is_the_c_cast() -> None:
+    """softpipe and Pillow take an end point's pixel by C's (int) cast: pixel 0 holds
+    -1 < x < 1, unlike floor."""
+    from harness.lines import end_point_pixels
+
+    values = np.array([-1.5, -1.0, -0.5, -0.0, 0.5, 1.0, 1.5])
+    assert end_point_pixels(values, "toward-zero").tolist() == [-1, -1, 0, 0, 0, 1, 1]
+    assert end_point_pixels(values, "floor").tolist() == [-2, -1, -1, 0, 0, 1, 1]
+    scene = LineScene.from_segments(6, 3, [[-0.5, 1.5]], [[4.5, 1.5]])
+    cast = exact_coverage(scene, Convention(line=LineRule("bresenham", rounding="toward-zero"))).counts(6, 3)[1]
+    floor = exact_coverage(scene, Convention(line=LineRule("bresenham", rounding="floor"))).counts(6, 3)[1]
+    assert cast.tolist() == [1, 1, 1, 1, 1, 0] and floor.tolist() == [1, 1, 1, 1, 1, 0]
+    steep = LineScene.from_segments(6, 6, [[-0.5, 0.5]], [[1.5, 5.5]])  # starts in pixel 0 (cast) or -1 (floor)
+    assert exact_coverage(steep, Convention(line=LineRule("bresenham", rounding="toward-zero"))).counts(6, 6)[0, 0] == 1
+    assert exact_coverage(steep, Convention(line=LineRule("bresenham", rounding="floor"))).counts(6, 6)[0, 0] == 0

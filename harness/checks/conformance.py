@@ -479,6 +479,11 @@ def _bresenham_margins(a: NDArray, b: NDArray, x: NDArray, y: NDArray, rule: Any
     nearest = np.rint(segments)
     away = np.abs(segments - nearest)
     other = np.where(pixel == nearest, nearest - 1.0, nearest)  # the pixel across the boundary at nearest
+    if rule.rounding == "toward-zero":
+        # C's cast: pixel k < 0 holds (k - 1, k], pixel 0 holds (-1, 1): a boundary at n < 0
+        # parts pixels n and n + 1, and there is none at 0
+        other = np.where(nearest < 0, np.where(pixel == nearest, nearest + 1.0, nearest), other)
+        away = np.where(nearest == 0, np.inf, away)
     usable = (np.abs(np.concatenate([pixel, other], axis=1)) <= BRESENHAM_MAX).all(axis=1)
 
     def drawn(ends_px: NDArray) -> NDArray:
