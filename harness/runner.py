@@ -72,6 +72,8 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
     """The motion checks of one rasterizer on one frame sequence (or those named in
     ``only``; when none of them applies, no frame is drawn and there is no result)."""
     name = rasterizer.name
+    if not case.frames or not takes(rasterizer, case.frames[0]):
+        return []  # triangles it does not take (a line drawer): not handed to it
     convention = rasterizer.convention
     applicable = checks.checks(case, only, convention.kind if convention is not None else "single")
     if not applicable:

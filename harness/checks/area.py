@@ -416,7 +416,8 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
         nonlocal pop_max, pops, pop_at, summed_before
         if summed_before is not None:
             with np.errstate(invalid="ignore"):
-                pop = np.abs((summed[0] - summed_before[0]) - (summed[1] - summed_before[1]))
+                # float even when no frame covers anything (empty sums come out integer)
+                pop = np.abs((summed[0] - summed_before[0]) - (summed[1] - summed_before[1])).astype(np.float64)
             pop[np.isnan(pop)] = np.inf
             pops += int((pop > unit).sum())
             k = int(np.argmax(pop))
@@ -446,7 +447,7 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
                 pixel_step((alpha_sum, area_sum))
             if before is not None:
                 with np.errstate(invalid="ignore"):
-                    diff = np.abs((now[0] - before[0]) - (now[1] - before[1]))
+                    diff = np.abs((now[0] - before[0]) - (now[1] - before[1])).astype(np.float64)
                 diff[np.isnan(diff)] = np.inf
                 worst_step = max(worst_step, float(diff.max(initial=0.0)))
                 # the exact step error lies within the two frames' oracle bounds (each below

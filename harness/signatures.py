@@ -1,0 +1,783 @@
+"""Failure signatures: what a failing or erroring result says about its cause, as a short
+stable key, so that ten thousand failures of one bug make one finding and two bugs two.
+
+A :class:`Signature` is (check, failure class, convention part). The class is read from the
+evidence the checks record (:class:`harness.checks.Result`: ``evidence``, ``metrics`` and,
+for a failure, the :class:`~harness.checks.Drawing` with the rasterizer's answer) and from
+exact facts about the deviating samples, decided by the exact predicates
+(:func:`harness.exact.orientation`), never an epsilon: whether a sample lies exactly on an
+edge, and whether that edge is horizontal, vertical or slanted (float comparisons of its
+end points: exact), or exactly on a vertex. Measures that are tolerances by nature
+(within float rounding of an edge, how huge a coordinate is) say so in their names.
+
+Classes of a ``conformance`` failure, first that holds (only the *wrong* deviations count,
+those not excused as near ties; non-finite and zero-area primitives are named only when
+every wrong one is such, else set aside):
+
+===============================  ==================  ==============================================
+class                            convention part     when
+===============================  ==================  ==============================================
+``input-format``                 none                the probe found it passes as the library
+                                                     receives it (evidence ``input_precision``:
+                                                     :func:`with_probes`)
+``viewport-edge``                none                the probe found it passes moved into a grown
+                                                     screen (evidence ``viewport_edge``)
+``non-finite-input``             none                every wrong primitive has a NaN or infinity
+``degenerate``                   none                every wrong triangle has zero area after
+                                                     snapping (segment: zero length)
+``overflow-2^a..2^b``            none                a wrong primitive's largest |coordinate| lies in
+                                                     [2^a, 2^b): 2^12, 2^24 (float32's integers),
+                                                     2^31 (int32), 2^53 (float64's integers), 2^63
+                                                     (int64), 2^128 (float32's range), beyond
+``culling``                      culling             every wrong deviation is a missing fragment of a
+                                                     primitive drawn not at all, and every triangle of
+                                                     their winding is missing, some of the other drawn
+``dropped-primitive``            none                ... whole primitives missing otherwise
+``snapping``                     snapping            the wrong primitives are drawn exactly as the
+                                                     oracle draws them under another rounding of the
+                                                     same snapping (one oracle call)
+``fill-rule``                    fill-rule           (paths wrong away from their edges) ... under the
+                                                     other fill rule (one oracle call)
+``viewport-edge``                none                every wrong sample lies exactly on, or (beyond
+                                                     float rounding) within 1/16 px of, an edge that
+                                                     leaves the screen -- and, for exact ties, a tie of
+                                                     the same kind on an edge inside the screen was
+                                                     decided right
+``exact-tie-slanted-edge``,      tie-rule            every wrong sample lies exactly on an edge of its
+``-vertical-edge``,                                  primitive (or exactly on a vertex); the class
+``-horizontal-edge``,                                names the first kind present in this order
+``exact-tie-vertex``
+``exact-tie-<dir>-segment``      line-rule           (lines) the rule's decision exactly on its
+                                                     boundary; dir: slanted, diagonal, vertical,
+                                                     horizontal
+``near-tie``                     none                every wrong sample lies within float32 rounding of
+                                                     an edge of its primitive (|E| <= 2^-17 M^2, M the
+                                                     largest |coordinate|) and within 2^-8 px of it
+``end-pixel``                    line-rule           (lines) every wrong pixel is next to an end point
+``vertex-row``                   fill-rule           (paths) every wrong sample on a row through one of
+                                                     its path's vertices
+``winding``                      fill-rule           (paths) none of the above
+``far-from-edge``                sample-point        (triangles) none of the above
+``far-from-tie``                 line-rule           (lines) none of the above
+===============================  ==================  ==============================================
+
+``watertight``: ``hole``, ``double-hit``, ``hole-and-double-hit`` or ``stray`` (tie-rule when
+every hole and double hit has its sample exactly on the blamed shared edge), ``near-tie``
+when every one lies within float rounding of it, ``non-finite-input`` and ``overflow-...``
+as above. Motion: ``backward-jump``, ``flicker``, ``texel-mismatch``,
+``texel-backward-step``, ``perspective-error``, ``missing-attributes``, ``popping``. Lines:
+``gap``, ``break``, ``double-step`` (connectivity), ``joint-vertex``, ``joint-overlap``,
+``reversal``, ``last-pixel`` (a segment one pixel long or short), ``length``,
+``backward-step``. Others: ``hygiene``'s flaw (``outside-viewport``, ...), ``degenerate``'s
+(``zero-area-drawn``, ``nan-attributes``, ``slow``), ``invariance``'s first changed variant
+(``changes-under-flip-winding``, ...), ``closed``'s ``front-only``/``back-only``/``unbalanced``,
+``accuracy``'s ``alpha-error``/``off-level``, ``seam``, ``triangulation-mismatch``.
+
+Errors: ``hang`` (a timeout), ``crash`` (the worker process died), ``not-run``,
+``exception-<Type>``.
+
+Anything else, or anything the classification cannot read, is ``other``:
+:func:`signature` never raises. It makes at most one oracle call (a hypothesis test on the
+wrong primitives alone).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene
+from harness.case import Case, MotionCase
+from harness.conventions import SNAP_ROUNDINGS, Convention, SnapRounding
+from harness.exact import orientation
+
+__all__ = ["Signature", "signature", "CONVENTION_PARTS", "OVERFLOW_EDGES", "overflow_class", "with_probes"]
+
+CONVENTION_PARTS = ("tie-rule", "sample-point", "snapping", "culling", "fill-rule", "line-rule", "none")
+# Powers of two where arithmetic gives out: 2**12 is huge beside any viewport here,
+# 2**24 and 2**53 where float32 and float64 stop holding every integer, 2**31 and 2**63
+# where int32 and int64 overflow, 2**128 where float32 overflows to infinity.
+OVERFLOW_EDGES = (12, 24, 31, 53, 63, 128)
+# near-tie: |E| within float32 rounding of the edge function (about 2**-19 M**2 for an
+# evaluation in float32 from float32 inputs; four times that), and at most 2**-8 px away
+FLOAT32_EDGE_ROUNDING = 2.0**-17
+NEAR_PIXELS = 2.0**-8
+# viewport-edge: a wrong sample off every edge counts as a clipper's when it lies within
+# this of an edge leaving the screen (a clipped vertex rounded to a coarse grid)
+CLIPPER_PIXELS = 2.0**-4
+
+_WORDS = {
+    "exact-tie-horizontal-edge": "samples exactly on a horizontal edge decided wrongly",
+    "exact-tie-vertical-edge": "samples exactly on a vertical edge decided wrongly",
+    "exact-tie-slanted-edge": "samples exactly on a slanted edge decided wrongly",
+    "exact-tie-vertex": "samples exactly on a vertex decided wrongly",
+    "near-tie": "samples within float rounding of an edge decided wrongly",
+    "viewport-edge": "wrong only where primitives cross the viewport's edge",
+    "input-format": "right on the input as the library receives it: the input format",
+    "snapping": "right under another rounding of the same snapping",
+    "fill-rule": "right under the other fill rule",
+    "winding": "samples away from every edge decided wrongly: the winding or fill",
+    "vertex-row": "samples on rows through a vertex decided wrongly: crossings counted at vertices",
+    "non-finite-input": "a primitive with a NaN or infinite coordinate drawn wrongly",
+    "degenerate": "a zero-area triangle (zero-length segment) drawn wrongly",
+    "culling": "whole primitives of one winding missing",
+    "dropped-primitive": "whole primitives missing",
+    "far-from-edge": "samples away from every edge decided wrongly",
+    "far-from-tie": "pixels away from the rule's ties drawn wrongly",
+    "end-pixel": "pixels at a segment's end drawn wrongly",
+    "crash": "the rasterizer's process died",
+    "hang": "no answer within the time limit",
+    "not-run": "not run",
+    "hole": "holes in a partition",
+    "double-hit": "pixels hit twice in a partition",
+    "hole-and-double-hit": "holes and double hits in a partition",
+    "stray": "pixels hit outside a partition",
+    "other": "unclassified",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Signature:
+    """What a failure says about its cause.
+
+    Parameters
+    ----------
+    check : str
+        The check that failed (``run`` for a call that gave no answer).
+    failure_class : str
+        How it failed (see the module docstring).
+    convention_part : str
+        What of the convention is involved: one of :data:`CONVENTION_PARTS`.
+
+    >>> s = Signature("conformance", "exact-tie-slanted-edge", "tie-rule")
+    >>> s.key
+    'conformance|exact-tie-slanted-edge|tie-rule'
+    >>> s.describe()
+    'conformance: samples exactly on a slanted edge decided wrongly (the tie rule)'
+    """
+
+    check: str
+    failure_class: str
+    convention_part: str
+
+    @property
+    def key(self) -> str:
+        """``check|failure_class|convention_part``: the finding's identity."""
+        return f"{self.check}|{self.failure_class}|{self.convention_part}"
+
+    def describe(self) -> str:
+        """One line for people."""
+        words = _WORDS.get(self.failure_class)
+        if words is None:
+            if self.failure_class.startswith("overflow-"):
+                words = f"wrong with coordinates of magnitude {self.failure_class.removeprefix('overflow-')}"
+            elif self.failure_class.startswith("exception-"):
+                words = f"raised {self.failure_class.removeprefix('exception-')}"
+            else:
+                words = self.failure_class.replace("-", " ")
+        part = "" if self.convention_part == "none" else f" (the {self.convention_part.replace('-', ' ')})"
+        return f"{self.check}: {words}{part}"
+
+
+def signature(result: Any, case: Case | MotionCase | Any, convention: Convention | None) -> Signature:
+    """The signature of a failing or erroring result of ``case``, judged under
+    ``convention`` (the rasterizer's, declared or identified; None without one).
+
+    Deterministic, at most one oracle call, never raises: what it cannot read is ``other``.
+
+    >>> from harness.checks import Result
+    >>> signature(Result("r", "c", "run", "error", "timeout: no answer within 2 s"), None, None).key
+    'run|hang|none'
+    >>> signature(Result("r", "c", "run", "error", "ZeroDivisionError: division by zero"), None, None).key
+    'run|exception-ZeroDivisionError|none'
+    """
+    try:
+        check = str(getattr(result, "check", "") or "unknown")
+    except Exception:  # a str() that raises: still a signature
+        check = "unknown"
+    try:
+        status = getattr(result, "status", None)
+        if status == "error":
+            return Signature(check, _error_class(str(getattr(result, "message", ""))), "none")
+        if status != "fail":
+            return Signature(check, "other", "none")
+        classify = _CLASSIFIERS.get(check)
+        if classify is None:
+            return Signature(check, "other", "none")
+        failure_class, part = classify(result, case, convention)
+        return Signature(check, failure_class, part)
+    except Exception:  # anything unreadable: never raise
+        return Signature(check, "other", "none")
+
+
+def overflow_class(magnitude: float) -> str | None:
+    """``overflow-2^a..2^b`` for a largest |coordinate| at or beyond 2**12 (its bucket
+    between :data:`OVERFLOW_EDGES`), None below.
+
+    >>> overflow_class(100.0), overflow_class(1e6), overflow_class(2.0**53), overflow_class(1e300)
+    (None, 'overflow-2^12..2^24', 'overflow-2^53..2^63', 'overflow-2^128+')
+    """
+    if not magnitude >= 2.0 ** OVERFLOW_EDGES[0]:  # NaN too
+        return None
+    exponent = math.frexp(magnitude)[1] - 1 if math.isfinite(magnitude) else 10**6  # floor(log2), exactly
+    for low, high in zip(OVERFLOW_EDGES, OVERFLOW_EDGES[1:]):
+        if low <= exponent < high:
+            return f"overflow-2^{low}..2^{high}"
+    return f"overflow-2^{OVERFLOW_EDGES[-1]}+"
+
+
+def with_probes(result: Any, case: Case, judge: Callable[[Case, str], list[Any]], rasterizer: Any) -> Any:
+    """The failing ``result`` with the probes' evidence added when they apply and hold:
+    ``viewport_edge`` (:func:`harness.repro.viewport_edge_probe`: the case passes moved into
+    a grown screen) and ``input_precision`` (:func:`harness.repro.input_precision_probe`:
+    it passes rounded as the library receives it). Each costs a call of the rasterizer and
+    the check; :func:`signature` then reads them as facts instead of guessing. Conformance
+    and invariance failures only; any other result comes back as it is. Never raises."""
+    from harness.repro import input_precision_probe, viewport_edge_probe
+
+    try:
+        if getattr(result, "status", None) != "fail" or result.check not in ("conformance", "invariance") or not isinstance(case, Case):
+            return result
+        evidence = dict(result.evidence)
+        if "input_precision" not in evidence:
+            found = input_precision_probe(case, result.check, judge, rasterizer)
+            if found is not None:
+                evidence["input_precision"] = found
+        if "viewport_edge" not in evidence and "input_precision" not in evidence:
+            found = viewport_edge_probe(case, result.check, judge)
+            if found is not None:
+                evidence["viewport_edge"] = found
+        return replace(result, evidence=evidence)
+    except Exception:
+        return result
+
+
+# -- errors ----------------------------------------------------------------------------------
+
+_KIND = re.compile(r"^([A-Za-z_][\w.]*)(?::| on )")
+
+
+def _error_class(message: str) -> str:
+    """hang, crash, not-run or exception-<Type>, from an error result's message
+    (``Type: text``, ``timeout: ...``, ``Type on what: ...``, ``frame k: ...``)."""
+    text = message.strip()
+    text = re.sub(r"^frame \d+: ", "", text)
+    if text.startswith("not run"):
+        return "not-run"
+    if "worker process died" in text:
+        return "crash"
+    match = _KIND.match(text)
+    if match is None:
+        return "other"
+    kind = match.group(1)
+    if kind.lower() in ("timeout", "timeouterror"):
+        return "hang"
+    return f"exception-{kind.rsplit('.', 1)[-1]}"
+
+
+# -- shared facts ----------------------------------------------------------------------------
+
+
+def _judged_convention(result: Any, convention: Convention | None) -> Convention:
+    """The single-sample convention the failing samples were judged by: the drawing's
+    (a multisample result's worst layer), else the evidence's sample of ``convention``,
+    else ``convention``, else the default."""
+    drawing = getattr(result, "drawing", None)
+    judged = getattr(drawing, "convention", None)
+    if isinstance(judged, Convention) and judged.kind == "single":
+        return judged
+    if isinstance(convention, Convention):
+        index = result.evidence.get("sample") if isinstance(result.evidence, dict) else None
+        if convention.kind == "multisample" and isinstance(index, int) and 0 <= index < convention.n_samples:
+            return convention.at_sample(index)
+        if convention.kind == "single":
+            return convention
+        return replace(convention, samples=None, coverage="sample", levels=256, tolerance=None)
+    return Convention()
+
+
+def _answer(result: Any) -> Coverage | None:
+    """The rasterizer's (tidied) answer on the still case, when the result carries it."""
+    drawing = getattr(result, "drawing", None)
+    coverages = getattr(drawing, "coverages", None)
+    if coverages and isinstance(coverages[0], Coverage):
+        return coverages[0]
+    return None
+
+
+def _primitive_coordinates(scene: AnyScene, prims: NDArray[np.int64]) -> list[NDArray[np.float64]]:
+    """Each primitive's coordinates, (K, 2) each (a path's every contour together)."""
+    if isinstance(scene, Scene):
+        return [scene.positions[k] for k in prims]
+    if isinstance(scene, LineScene):
+        a, b = scene.segments()
+        return [np.stack([a[k], b[k]]) for k in prims]
+    if isinstance(scene, PathScene):
+        return [np.concatenate(scene.contours_of(int(k))) for k in prims]
+    return []
+
+
+def _magnitude(coordinates: list[NDArray[np.float64]]) -> float:
+    """max(1, largest finite |coordinate|) of the primitives."""
+    biggest = 1.0
+    for c in coordinates:
+        finite = np.abs(c[np.isfinite(c)])
+        if finite.size:
+            biggest = max(biggest, float(finite.max()))
+    return biggest
+
+
+def _direction(a: NDArray, b: NDArray) -> str:
+    """horizontal, vertical or slanted, of the edge a -> b (float comparisons: exact)."""
+    if a[1] == b[1]:
+        return "horizontal"
+    if a[0] == b[0]:
+        return "vertical"
+    return "slanted"
+
+
+@dataclass
+class _Sample:
+    """What is known about one wrong sample."""
+
+    tie: str | None  # "vertex", "horizontal", "vertical", "slanted" (exactly on it), else None
+    near: bool  # within float rounding of an edge (and not exactly on one)
+    border: bool  # the edge it lies on (or, beyond float rounding, within CLIPPER_PIXELS of) leaves the viewport
+
+
+def _edge_facts(edges_a: NDArray, edges_b: NDArray, sample: NDArray, magnitude: float, width: int, height: int) -> _Sample:
+    """Position of ``sample`` against edges a -> b ((E, 2) each): exactly on a vertex or on
+    an edge (closed; the exact orientation and float comparisons), or within float32
+    rounding of one (a tolerance, named as one); and whether the edges it lies on -- or,
+    off every edge and beyond float rounding, the nearest when within
+    :data:`CLIPPER_PIXELS` -- reach beyond the viewport [0, width] x [0, height]."""
+    if edges_a.shape[0] == 0 or not np.isfinite(sample).all():
+        return _Sample(None, False, False)
+    with np.errstate(invalid="ignore"):
+        outside = ((np.minimum(edges_a, edges_b) < 0).any(axis=1) | (np.maximum(edges_a[:, 0], edges_b[:, 0]) > width)
+                   | (np.maximum(edges_a[:, 1], edges_b[:, 1]) > height))
+    at_vertex = np.all(edges_a == sample, axis=1) | np.all(edges_b == sample, axis=1)
+    if at_vertex.any():
+        return _Sample("vertex", False, bool(outside[at_vertex].all()))
+    triple = np.stack([edges_a, edges_b, np.broadcast_to(sample, edges_a.shape)], axis=1)
+    on_line = orientation(triple) == 0
+    lo, hi = np.minimum(edges_a, edges_b), np.maximum(edges_a, edges_b)
+    within = np.all((lo <= sample) & (sample <= hi), axis=1)
+    on_edge = np.flatnonzero(on_line & within & np.any(edges_a != edges_b, axis=1))
+    if on_edge.size:
+        kinds = {_direction(edges_a[k], edges_b[k]) for k in on_edge}
+        kind = next(k for k in ("slanted", "vertical", "horizontal") if k in kinds)
+        return _Sample(kind, False, bool(outside[on_edge].all()))
+    with np.errstate(all="ignore"):
+        d = edges_b - edges_a
+        e = d[:, 0] * (sample[1] - edges_a[:, 1]) - d[:, 1] * (sample[0] - edges_a[:, 0])
+        length = np.hypot(d[:, 0], d[:, 1])
+        m = max(magnitude, float(np.abs(sample).max()), 1.0)
+        close = (np.abs(e) <= FLOAT32_EDGE_ROUNDING * m * m) & (np.abs(e) <= NEAR_PIXELS * length) & (length > 0)
+        distance = np.where(length > 0, np.abs(e) / length, np.inf)
+    distance = np.where(np.isnan(distance), np.inf, distance)
+    nearest = int(np.argmin(distance))
+    near = bool(np.any(close & np.isfinite(e)))
+    # a clipper's error: beyond float rounding, yet close to an edge that leaves the screen
+    border = not near and bool(outside[nearest]) and bool(distance[nearest] <= CLIPPER_PIXELS)
+    return _Sample(None, near, border)
+
+
+def _wrong_pixels(result: Any, noun: str, n: int) -> list[tuple[int, int, int, str, float]]:
+    """(primitive, x, y, kind, distance) of the wrong deviations the evidence lists (all
+    listed ones when none is marked wrong: strict mode)."""
+    listed = result.evidence.get("pixels") if isinstance(result.evidence, dict) else None
+    if not isinstance(listed, list):
+        return []
+    rows = [p for p in listed if isinstance(p, dict) and isinstance(p.get(noun), int) and 0 <= p[noun] < n]
+    wrong = [p for p in rows if not p.get("near_tie")] or rows
+    return [(int(p[noun]), int(p["x"]), int(p["y"]), str(p.get("kind", "")), float(p.get("distance", math.inf))) for p in wrong]
+
+
+def _pixel_set(coverage: Coverage, prims: NDArray[np.int64], remap: dict[int, int], width: int, height: int) -> set[tuple[int, int, int]]:
+    """(remapped primitive, x, y) of the coverage's fragments of ``prims`` in the viewport."""
+    t, x, y = coverage.pixels()
+    keep = np.isin(t, prims) & (x >= 0) & (x < width) & (y >= 0) & (y < height)
+    return {(remap[int(a)], int(b), int(c)) for a, b, c in zip(t[keep], x[keep], y[keep])}
+
+
+def _same_as(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], variant: AnyScene, convention: Convention) -> bool:
+    """Whether the answer's fragments of ``prims`` are exactly the oracle's of ``variant``
+    (the subset scene of ``prims``, changed) under ``convention``: one oracle call."""
+    from harness.oracle import exact_coverage
+
+    remap = {int(k): i for i, k in enumerate(prims)}
+    want = exact_coverage(variant, convention)
+    got = _pixel_set(answer, prims, remap, scene.width, scene.height)
+    expected = _pixel_set(want, np.arange(len(prims)), {i: i for i in range(len(prims))}, scene.width, scene.height)
+    return got == expected
+
+
+def _hypothesis(result: Any, scene: AnyScene, prims: NDArray[np.int64], convention: Convention,
+                near: bool, exact: bool) -> tuple[str, str] | None:
+    """The one alternative worth an oracle call, tested on the wrong primitives alone:
+    another rounding of the convention's snapping (when it snaps), or the other fill rule
+    (paths wrong away from their edges)."""
+    answer = _answer(result)
+    if answer is None or not prims.size:
+        return None
+    subset = scene.subset(prims)
+    coordinates = subset.coordinates
+    if not np.isfinite(coordinates).all():
+        return None
+    if convention.subpixel_bits is not None:
+        declared = convention.snap(coordinates)
+        best: tuple[int, SnapRounding] | None = None
+        for rounding in SNAP_ROUNDINGS:
+            if rounding == convention.snap_rounding:
+                continue
+            moved = int(np.sum(replace(convention, snap_rounding=rounding).snap(coordinates) != declared))
+            if moved and (best is None or moved < best[0]):
+                best = (moved, rounding)
+        if best is None:
+            return None
+        other = replace(convention, snap_rounding=best[1])
+        return ("snapping", "snapping") if _same_as(answer, scene, prims, subset, other) else None
+    if isinstance(subset, PathScene) and not near and not exact:
+        flipped = subset.with_fill_rule("evenodd" if subset.fill_rule == "nonzero" else "nonzero")
+        return ("fill-rule", "fill-rule") if _same_as(answer, scene, prims, flipped, convention) else None
+    return None
+
+
+# -- conformance -----------------------------------------------------------------------------
+
+
+def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    if "input_precision" in evidence:
+        return "input-format", "none"
+    if "viewport_edge" in evidence:
+        return "viewport-edge", "none"
+    scene = case.scene
+    n = len(scene)
+    wrong = _wrong_pixels(result, scene.noun, n)
+    if not wrong:
+        return "other", "none"
+    complete = _metric(result, "wrong") <= len(wrong) or _metric(result, "wrong") == 0  # every wrong one listed
+    judged = _judged_convention(result, convention)
+    # non-finite, then zero-area primitives: their class when every wrong one is such; else
+    # the others decide (a scene may show two bugs; the first kind is the one to name)
+    non_finite = set(scene.non_finite())
+    if all(k in non_finite for k, *_ in wrong):
+        return "non-finite-input", "none"
+    wrong = [w for w in wrong if w[0] not in non_finite]
+    prims = np.array(sorted({w[0] for w in wrong}), dtype=np.int64)
+    coordinates = _primitive_coordinates(scene, prims)
+    snapped = {int(k): judged.snap(c) for k, c in zip(prims, coordinates)}
+    if isinstance(scene, Scene):
+        flat = {int(k) for k, sign in zip(prims, orientation(np.stack([snapped[int(k)] for k in prims]))) if sign == 0}
+    elif isinstance(scene, LineScene):
+        flat = {k for k, c in snapped.items() if np.array_equal(c[0], c[1])}
+    else:
+        flat = set()
+    if all(k in flat for k, *_ in wrong):
+        return "degenerate", "none"
+    if flat:
+        wrong = [w for w in wrong if w[0] not in flat]
+        prims = np.array(sorted({w[0] for w in wrong}), dtype=np.int64)
+        coordinates = _primitive_coordinates(scene, prims)
+    magnitude = _magnitude(coordinates)
+    if isinstance(scene, LineScene):
+        return _line_conformance(result, scene, wrong, prims, snapped, judged, magnitude)
+    edges = _edges_of(scene, judged)
+    facts = [_edge_facts(*edges[k], np.array([x + judged.sample[0], y + judged.sample[1]]), _magnitude([snapped[k]]),
+                         scene.width, scene.height) for k, x, y, _, _ in wrong]
+    exact = all(f.tie is not None for f in facts)
+    near = all(f.near for f in facts)
+    overflow = overflow_class(magnitude)
+    if overflow is not None:
+        return overflow, "none"
+    dropped = _dropped(result, scene, prims, wrong, snapped, lambda sc: judged.snap(sc.positions))
+    if dropped is not None:
+        return dropped
+    found = _hypothesis(result, scene, prims, judged, near, exact)
+    if found is not None:
+        return found
+    kinds = {f.tie for f in facts if f.tie is not None}
+    if all(f.border for f in facts) and (not kinds or (complete and _ties_right_inside(scene, edges, judged, kinds, wrong))):
+        # every wrong sample decided by an edge that leaves the screen, and (for ties) the
+        # same kind of tie decided right on an edge inside it: a clipper's work
+        return "viewport-edge", "none"
+    if exact:
+        for kind in ("slanted", "vertical", "horizontal"):
+            if kind in kinds:
+                return f"exact-tie-{kind}-edge", "tie-rule"
+        return "exact-tie-vertex", "tie-rule"
+    if near:
+        return "near-tie", "none"
+    if isinstance(scene, PathScene):
+        # every wrong sample on a row through one of its path's vertices (exact: float
+        # comparisons): crossings counted at the vertices, not the fill
+        rows = all(bool(np.any(snapped[k][:, 1] == y + judged.sample[1])) for k, _, y, _, _ in wrong)
+        return ("vertex-row" if rows else "winding"), "fill-rule"
+    return "far-from-edge", "sample-point"
+
+
+def _edges_of(scene: AnyScene, judged: Convention) -> dict[int, tuple[NDArray, NDArray]]:
+    """Each triangle's or path's edges a -> b as the convention sees them (snapped)."""
+    start, end, owner = scene.edges()
+    start, end = judged.snap(start), judged.snap(end)
+    order = np.argsort(owner, kind="stable")
+    bounds = np.searchsorted(owner[order], np.arange(len(scene) + 1))
+    return {k: (start[order[bounds[k]:bounds[k + 1]]], end[order[bounds[k]:bounds[k + 1]]]) for k in range(len(scene))}
+
+
+def _ties_right_inside(scene: AnyScene, edges: dict[int, tuple[NDArray, NDArray]], judged: Convention, kinds: set[str],
+                       wrong: list[tuple[int, int, int, str, float]]) -> bool:
+    """Whether some sample exactly on an edge inside the viewport, of a kind in ``kinds``
+    (an edge's direction, or ``vertex``), was decided right (is not among the wrong ones):
+    then the rasterizer keeps that tie rule where no edge leaves the screen. Exact: each
+    candidate sample's orientation decides."""
+    sx, sy = judged.sample
+    wrong_keys = {(k, x, y) for k, x, y, _, _ in wrong}
+    bad = set(scene.non_finite())
+    for k, (a, b) in edges.items():
+        if k in bad or not a.shape[0]:
+            continue
+        if isinstance(scene, Scene) and orientation(np.stack([a[0], b[0], b[1]])[None])[0] == 0:
+            continue  # zero area: covers nothing, no tie to decide
+        for p, q in zip(a, b):
+            if min(p[0], q[0]) < 0 or min(p[1], q[1]) < 0 or max(p[0], q[0]) > scene.width or max(p[1], q[1]) > scene.height:
+                continue
+            if "vertex" in kinds:
+                x, y = p[0] - sx, p[1] - sy
+                if x == math.floor(x) and y == math.floor(y) and (k, int(x), int(y)) not in wrong_keys \
+                        and x < scene.width and y < scene.height:
+                    return True
+            kind = _direction(p, q)
+            if kind not in kinds or np.array_equal(p, q):
+                continue
+            for x, y in _samples_on(p, q, sx, sy):
+                if (k, x, y) not in wrong_keys and 0 <= x < scene.width and 0 <= y < scene.height:
+                    return True
+    return False
+
+
+def _samples_on(p: NDArray, q: NDArray, sx: float, sy: float) -> list[tuple[int, int]]:
+    """Pixels (x, y) whose sample (x + sx, y + sy) lies exactly inside the segment p-q (not at
+    its ends): candidates from floats, each confirmed by the exact orientation."""
+    if p[1] == q[1]:
+        y = p[1] - sy
+        if y != math.floor(y):
+            return []
+        lo, hi = min(p[0], q[0]), max(p[0], q[0])
+        return [(x, int(y)) for x in range(math.floor(lo - sx) + 1, math.ceil(hi - sx)) if lo < x + sx < hi]
+    lo, hi = min(p[1], q[1]), max(p[1], q[1])
+    rows = np.arange(math.floor(lo - sy), math.ceil(hi - sy) + 1, dtype=np.float64)
+    rows = rows[(rows + sy > lo) & (rows + sy < hi)]
+    if not rows.size:
+        return []
+    with np.errstate(all="ignore"):
+        x = p[0] + (rows + sy - p[1]) * (q[0] - p[0]) / (q[1] - p[1]) - sx
+    columns = np.round(x)
+    close = np.abs(x - columns) <= 1e-6 * max(1.0, float(np.abs(x).max(initial=0.0)))  # a screen: orientation decides
+    if not close.any():
+        return []
+    samples = np.stack([columns[close] + sx, rows[close] + sy], axis=-1)
+    on = orientation(np.stack([np.broadcast_to(p, samples.shape), np.broadcast_to(q, samples.shape), samples], axis=1)) == 0
+    return [(int(c), int(r)) for c, r in zip(columns[close][on], rows[close][on])]
+
+
+def _dropped(result: Any, scene: AnyScene, prims: NDArray[np.int64], wrong: list[tuple[int, int, int, str, float]],
+             snapped: dict[int, NDArray], snap_all: Callable[[Scene], NDArray]) -> tuple[str, str] | None:
+    """culling or dropped-primitive when every wrong deviation is a missing fragment of a
+    primitive the answer holds nothing of."""
+    answer = _answer(result)
+    if answer is None or any(kind != "missing" for _, _, _, kind, _ in wrong):
+        return None
+    if np.isin(answer.pixels()[0], prims).any():
+        return None
+    if isinstance(scene, Scene) and prims.size:
+        # culling: every triangle of the wrong ones' winding missing, some of the other drawn
+        signs = set(orientation(np.stack([snapped[int(k)] for k in prims])).tolist())
+        every = orientation(snap_all(scene))
+        drawn = np.unique(answer.pixels()[0])
+        drawn = drawn[(drawn >= 0) & (drawn < len(scene))]
+        if len(signs) == 1 and not np.isin(np.flatnonzero(every == signs.pop()), drawn).any() and drawn.size:
+            return "culling", "culling"
+    return "dropped-primitive", "none"
+
+
+def _segment_direction(a: NDArray, b: NDArray) -> str:
+    if a[1] == b[1]:
+        return "horizontal"
+    if a[0] == b[0]:
+        return "vertical"
+    if abs(b[0] - a[0]) == abs(b[1] - a[1]):  # |dx| == |dy|: exact for floats that do not overflow
+        return "diagonal"
+    return "slanted"
+
+
+def _line_conformance(result: Any, scene: LineScene, wrong: list[tuple[int, int, int, str, float]], prims: NDArray[np.int64],
+                      snapped: dict[int, NDArray], judged: Convention, magnitude: float) -> tuple[str, str]:
+    """A line scene's conformance failure: the check's own distances say where the rule's
+    decision sits (exactly 0 only on its boundary, decided exactly)."""
+    exact = all(d == 0.0 for _, _, _, _, d in wrong)
+    near = all(0.0 < d <= 2.0**-16 and d * magnitude <= NEAR_PIXELS for _, _, _, _, d in wrong)
+    found = _hypothesis(result, scene, prims, judged, near, exact)
+    if found is not None:
+        return found
+    if exact:
+        kinds = {_segment_direction(snapped[k][0], snapped[k][1]) for k, _, _, _, _ in wrong}
+        for kind in ("slanted", "diagonal", "vertical", "horizontal"):
+            if kind in kinds:
+                return f"exact-tie-{kind}-segment", "line-rule"
+    overflow = overflow_class(magnitude)
+    if overflow is not None:
+        return overflow, "none"
+    if near:
+        return "near-tie", "none"
+    at_end = True
+    for k, x, y, _, _ in wrong:
+        centre = np.array([x + 0.5, y + 0.5])
+        ends = snapped[k]
+        at_end &= bool(np.any(np.abs(ends - centre).sum(axis=1) <= 1.0))
+    if at_end:
+        return "end-pixel", "line-rule"
+    return "far-from-tie", "line-rule"
+
+
+# -- watertight ------------------------------------------------------------------------------
+
+
+def _watertight(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    metrics = result.metrics if isinstance(result.metrics, dict) else {}
+    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    holes, doubles = metrics.get("holes", 0) > 0, metrics.get("double_hits", 0) > 0
+    kind = "hole-and-double-hit" if holes and doubles else "hole" if holes else "double-hit" if doubles else "stray"
+    scene = case.scene
+    blamed = [b for b in evidence.get("blame", []) if isinstance(b, dict)]
+    noun = f"{scene.noun}s"
+    prims = np.array(sorted({int(t) for b in blamed for t in b.get(noun, []) if 0 <= int(t) < len(scene)}), dtype=np.int64)
+    if set(prims.tolist()) & set(scene.non_finite()):
+        return "non-finite-input", "none"
+    magnitude = _magnitude(_primitive_coordinates(scene, prims)) if prims.size else 1.0
+    if case.region is not None:
+        magnitude = max(magnitude, _magnitude([np.asarray(case.region, dtype=np.float64)]))
+    overflow = overflow_class(magnitude)
+    if overflow is not None:
+        return overflow, "none"
+    if kind == "stray" or not blamed:
+        return kind, "none"
+    judged = _judged_convention(result, convention)
+    start, end, owner = scene.edges()
+    facts = []
+    for b in blamed:
+        edge = b.get("edge")
+        if edge:
+            a, z = (judged.snap(np.asarray(v, dtype=np.float64))[None] for v in edge)
+        else:  # no edge shared by the two nearest: every edge of the primitives named
+            mine = np.isin(owner, [int(t) for t in b.get(noun, [])])
+            a, z = judged.snap(start[mine]), judged.snap(end[mine])
+        x, y = b["pixel"]
+        facts.append(_edge_facts(a, z, np.array([x + judged.sample[0], y + judged.sample[1]]), _magnitude([a, z]), scene.width, scene.height))
+    if all(f.tie is not None for f in facts):
+        return kind, "tie-rule"
+    if all(f.near or f.tie is not None for f in facts):
+        return "near-tie", "none"
+    return kind, "none"
+
+
+# -- the other checks ------------------------------------------------------------------------
+
+
+def _metric(result: Any, name: str) -> float:
+    metrics = result.metrics if isinstance(result.metrics, dict) else {}
+    value = metrics.get(name, 0.0)
+    return float(value) if isinstance(value, (int, float)) else 0.0
+
+
+def _first_positive(result: Any, options: tuple[tuple[str, str], ...], otherwise: str) -> str:
+    for metric, name in options:
+        if _metric(result, metric) > 0:
+            return name
+    return otherwise
+
+
+def _hygiene(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    flaws = (("outside_viewport", "outside-viewport"), ("outside_primitive", "outside-primitive"),
+             ("bad_primitive_id", "bad-primitive-id"), ("empty_or_reversed", "empty-or-reversed-span"),
+             ("bad_sample", "bad-sample"), ("repeated_pixels", "repeated-pixel"))
+    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    fallback = "malformed-coverage" if "coverage" in evidence else "bad-attributes" if "attributes" in evidence else "other"
+    return _first_positive(result, flaws, fallback), "none"
+
+
+def _degenerate(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    return _first_positive(result, (("degenerate_triangles_drawn", "zero-area-drawn"), ("nan_attribute_rows", "nan-attributes"),
+                                    ("work_ratio", "slow")), "other"), "none"
+
+
+def _closed(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    signs = {int(np.sign(p[2])) for p in evidence.get("pixels", []) if isinstance(p, list) and len(p) == 3}
+    if signs == {1}:
+        return "front-only", "culling"
+    if signs == {-1}:
+        return "back-only", "culling"
+    return "unbalanced", "none"
+
+
+def _invariance(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    order = ("rotate-vertices", "flip-winding", "permute-triangles", "rotate-start-vertex", "reverse-every-contour",
+             "reverse-one-contour", "reorder-contours", "permute-paths", "reorder-strips", "split-strips", "translate")
+    for name in order:
+        if name in evidence:
+            return f"changes-under-{name}", "none"
+    changed = sorted(k for k in evidence if isinstance(evidence[k], list))
+    return (f"changes-under-{changed[0]}", "none") if changed else ("other", "none")
+
+
+def _fixed(failure_class: str, part: str = "none") -> Callable[[Any, Any, Convention | None], tuple[str, str]]:
+    return lambda result, case, convention: (failure_class, part)
+
+
+def _by_metrics(options: tuple[tuple[str, str], ...], otherwise: str, part: str = "none"
+                ) -> Callable[[Any, Any, Convention | None], tuple[str, str]]:
+    return lambda result, case, convention: (_first_positive(result, options, otherwise), part)
+
+
+def _length(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    rows = evidence.get("segments", [])
+    off = {int(r.get("drawn", 0)) - int(r.get("rule", 0)) for r in rows if isinstance(r, dict)}
+    return ("last-pixel" if off and off <= {1, -1} else "length"), "line-rule"
+
+
+_CLASSIFIERS: dict[str, Callable[[Any, Any, Convention | None], tuple[str, str]]] = {
+    "conformance": _conformance,
+    "watertight": _watertight,
+    "overdraw": _fixed("double-hit"),
+    "hygiene": _hygiene,
+    "degenerate": _degenerate,
+    "closed": _closed,
+    "invariance": _invariance,
+    "jaggy": _by_metrics((("flicker", "flicker"), ("backward_jumps", "backward-jump")), "other"),
+    "texel": _by_metrics((("frames_without_attributes", "missing-attributes"), ("swim_backward_steps", "texel-backward-step"),
+                          ("texel_mismatches", "texel-mismatch")), "other"),
+    "perspective": _by_metrics((("frames_without_attributes", "missing-attributes"),), "perspective-error"),
+    "accuracy": _by_metrics((("over_tolerance", "alpha-error"), ("off_level", "off-level")), "other"),
+    "seams": _by_metrics((("seam_pixels", "seam"), ("strays", "stray")), "other"),
+    "popping": _fixed("popping"),
+    "triangulation": _by_metrics((("triangulation_double_hits", "triangulation-double-hit"),), "triangulation-mismatch"),
+    "connectivity": _by_metrics((("line_gaps", "gap"), ("line_breaks", "break"), ("line_doubles", "double-step")), "other",
+                                "line-rule"),
+    "joints": lambda result, case, convention: (
+        "joint-vertex" if any(isinstance(r, dict) and "drawn" in r and r["drawn"] != r.get("rule")
+                              for r in (result.evidence or {}).get("joints", [])) else "joint-overlap", "line-rule"),
+    "reversal": _fixed("reversal", "line-rule"),
+    "length": _length,
+    "line-motion": _fixed("backward-step", "line-rule"),
+}

@@ -1,0 +1,209 @@
+"""Failure signatures (harness/signatures.py): one bug on many generated scenes is one
+signature, different bugs are different ones, errors classify, odd input never raises;
+and the held-out rare bug (tests/known_bad/rare.py) passes the quick suite."""
+
+import collections
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from cases.fuzz import generate
+from harness import run_suite
+from harness.api import Scene
+from harness.case import Case, MotionCase
+from harness.checks import Result
+from harness.conventions import Convention
+from harness.isolation import InProcess, Outcome
+from harness.runner import _error, check_case
+from harness.signatures import Signature, overflow_class, signature, with_probes
+from tests.known_bad.edge_functions import EdgeFunctionBug
+from tests.known_bad.lines import BothEndPixels, YMajorAlongX
+from tests.known_bad.misc import ClipsBeforeSnapping, Float32Input, Raises
+from tests.known_bad.conventions import HalfAwayClaimsNearestEven, YFirstClaimsXFirst
+from tests.known_bad.paths import PathFillBug
+from tests.known_bad.rare import RareSlopeTie, flipped_samples
+
+_RUNS: dict[tuple[str, str, int], tuple[dict, list[Result]]] = {}
+
+
+def scenes(family: str, count: int) -> dict[str, Case | MotionCase]:
+    return {c.id: c for c in (generate(family, 0, index) for index in range(count))}
+
+
+def failures(bad, family: str, count: int, only: set[str]) -> tuple[collections.Counter, list[Result]]:
+    """Signature keys of the bug's failures on the family's first scenes (computed once per
+    module), and the failing results."""
+    key = (bad.name, family, count)
+    if key not in _RUNS:
+        cases = scenes(family, count)
+        results = run_suite([bad], cases=list(cases.values()), isolate=False, identify=False, repros=False, only=only)
+        _RUNS[key] = (cases, [r for r in results if r.status in ("fail", "error")])
+    cases, failed = _RUNS[key]
+    return collections.Counter(signature(r, cases[r.case], bad.convention).key for r in failed), failed
+
+
+ONE_SIGNATURE = [
+    # bug, family, scenes, the checks run, its one signature
+    (EdgeFunctionBug("inclusive"), "lattice", 50, {"conformance"}, "conformance|exact-tie-slanted-edge|tie-rule"),
+    (YFirstClaimsXFirst(), "lattice", 50, {"conformance"}, "conformance|exact-tie-slanted-edge|tie-rule"),
+    (EdgeFunctionBug("float32"), "float", 120, {"conformance"}, "conformance|near-tie|none"),
+    (ClipsBeforeSnapping(), "lattice", 50, {"conformance"}, "conformance|viewport-edge|none"),
+    (EdgeFunctionBug("one-winding"), "lattice", 30, {"conformance"}, "conformance|culling|culling"),
+    (PathFillBug("evenodd-for-nonzero"), "paths", 40, {"conformance"}, "conformance|fill-rule|fill-rule"),
+    (PathFillBug("unsigned-crossings"), "paths", 40, {"conformance"}, "conformance|winding|fill-rule"),
+    (BothEndPixels(), "lines", 16, {"length"}, "length|last-pixel|line-rule"),
+    (YMajorAlongX(), "lines", 16, {"connectivity"}, "connectivity|gap|line-rule"),
+]
+
+
+@pytest.mark.parametrize("bad, family, count, only, expected", ONE_SIGNATURE, ids=lambda v: getattr(v, "name", None))
+def test_one_bug_on_many_scenes_is_one_signature(bad, family, count, only, expected):
+    found, failed = failures(bad, family, count, only)
+    assert len(failed) >= 5, f"{bad.name} fails only {len(failed)} of {count} {family} scenes"
+    assert set(found) == {expected}, found
+
+
+def test_different_bugs_are_different_signatures():
+    """An edge function owning every tie, one in float32 and a clipper snapping its new
+    vertices: three causes, no signature in common; so too three path fill bugs."""
+    groups = [set(failures(bad, family, count, only)[0]) for bad, family, count, only, _ in ONE_SIGNATURE
+              if bad.name in ("bad_inclusive", "bad_float32", "bad_clips_before_snapping")]
+    paths = [set(failures(PathFillBug(bug), "paths", 40, {"conformance"})[0])
+             for bug in ("evenodd-for-nonzero", "inclusive-ends", "unsigned-crossings")]
+    for sets in (groups, paths):
+        assert len(sets) == 3 and all(sets)
+        for i in range(3):
+            for j in range(i + 1, 3):
+                assert not sets[i] & sets[j], (sets[i], sets[j])
+
+
+def test_a_snapping_rounding_and_huge_coordinates_are_named():
+    """The quick suite's snapping case (vertices on half steps, rounded away from zero
+    where the convention says to even) is ``snapping``; drawing nothing beyond 1e15 is an
+    overflow in its magnitude's range."""
+    from harness.api import Scene as S
+
+    half = Case("lattice/half-steps", S(16, 16, [[[1.03125, 1.0], [9.0, 1.0], [1.03125, 9.03125]],
+                                                  [[2.0, 12.5], [14.03125, 12.53125], [13.5, 3.0]]]), lattice=True)
+    bad = HalfAwayClaimsNearestEven()
+    failed = [r for r in run_suite([bad], cases=[half], isolate=False, identify=False, repros=False, only={"conformance"})
+              if r.status == "fail"]
+    assert failed and signature(failed[0], half, bad.convention).key == "conformance|snapping|snapping"
+    assert overflow_class(2.0**12) == "overflow-2^12..2^24" and overflow_class(2.0**12 - 1) is None
+    assert overflow_class(float("inf")) == "overflow-2^128+" and overflow_class(float("nan")) is None
+
+
+def test_probes_make_input_format_and_viewport_edge_facts():
+    """A library that takes float32 (and says so) fails float scenes near ties: its
+    signature is ``near-tie`` until the probe shows it passes as received; a clipper's
+    failure is ``viewport-edge`` by the probe too."""
+    for bad, family, count, expected in ((Float32Input(tell=True), "float", 40, "conformance|input-format|none"),
+                                         (ClipsBeforeSnapping(), "lattice", 12, "conformance|viewport-edge|none")):
+        cases = scenes(family, count)
+        worker = InProcess(bad)
+
+        def judge(candidate, check, bad=bad, worker=worker):
+            return check_case(candidate, bad, worker.rasterize, only={check})
+
+        failed = [r for r in run_suite([bad], cases=list(cases.values()), isolate=False, identify=False, repros=False,
+                                       only={"conformance"}) if r.status == "fail"][:3]
+        assert failed
+        for r in failed:
+            probed = with_probes(r, cases[r.case], judge, bad)
+            assert signature(probed, cases[r.case], bad.convention).key == expected, probed.message
+    plain = Result("r", "c", "hygiene", "fail", "x")
+    assert with_probes(plain, None, None, None) is plain  # only conformance and invariance failures are probed
+
+
+def test_errors_classify():
+    case = Case("x/y", Scene(4, 4, np.zeros((0, 3, 2))))
+    made = {
+        "crash": _error(case, "r", Outcome(None, RuntimeError("the rasterizer's worker process died (exit code -11)"))),
+        "hang": _error(case, "r", Outcome(None, TimeoutError("no answer within 2 s"), timed_out=True)),
+        "exception-ZeroDivisionError": _error(case, "r", Outcome(None, ZeroDivisionError("division by zero"))),
+    }
+    for expected, r in made.items():
+        assert signature(r, case, None) == Signature("run", expected, "none")
+    framed = replace(made["hang"], message=f"frame 7: {made['hang'].message}")
+    assert signature(framed, None, None).failure_class == "hang"
+    checked = Result("r", "c", "reversal", "error", "ValueError on the reversed scene: segment 3 is huge")
+    assert signature(checked, None, None).key == "reversal|exception-ValueError|none"
+    assert signature(Result("r", "c", "run", "error", "not run: the run's time budget was used up"), None, None).failure_class == "not-run"
+    raised = [r for r in run_suite([Raises()], cases=[generate("degenerate", 0, 1)], isolate=False, identify=False, repros=False)]
+    assert [signature(r, None, None).key for r in raised] == ["run|exception-RuntimeError|none"]
+
+
+class _Hostile:
+    """Attributes that raise when read."""
+
+    @property
+    def check(self):
+        raise RuntimeError("no")
+
+    @property
+    def status(self):
+        raise RuntimeError("no")
+
+
+def test_signature_never_raises_on_odd_input():
+    scene = Scene(8, 8, [[[1, 1], [7, 1], [1, 7]], [[np.nan, 1], [7, 1], [1, 7]]])
+    case = Case("odd/case", scene)
+    odd_results = [
+        None, object(), _Hostile(), 42,
+        Result("r", "c", "conformance", "fail", "x", evidence=None),  # type: ignore[arg-type]
+        Result("r", "c", "conformance", "fail", "x", evidence={"pixels": "garbage"}),
+        Result("r", "c", "conformance", "fail", "x", evidence={"pixels": [{"triangle": 99, "x": 1, "y": 1}, {"x": 2}, 5]}),
+        Result("r", "c", "conformance", "fail", "x", evidence={"pixels": [{"triangle": 1, "x": 1, "y": 1, "kind": "extra"}]}),
+        Result("r", "c", "conformance", "fail", "x", evidence={"pixels": [{"triangle": 0, "x": 10**30, "y": -5}]}),
+        Result("r", "c", "watertight", "fail", "x", metrics={"holes": "many"}, evidence={"blame": [{"pixel": "?"}]}),
+        Result("r", "c", "jaggy", "fail", "x", metrics=None),  # type: ignore[arg-type]
+        Result("r", "c", "no-such-check", "fail", "x"),
+        Result("r", "c", "conformance", "pass", "pixel-exact"),
+        Result("r", "c", "run", "error", ""),
+    ]
+    for result in odd_results:
+        for odd_case in (case, None, "case", Case("odd/empty", Scene(4, 4, np.zeros((0, 3, 2))))):
+            for convention in (None, Convention(subpixel_bits=4), "not a convention", Convention(samples=4)):
+                got = signature(result, odd_case, convention)  # type: ignore[arg-type]
+                assert isinstance(got, Signature) and got.key.count("|") == 2
+    nan = signature(odd_results[7], case, None)
+    assert nan.failure_class == "non-finite-input"
+    assert signature(odd_results[4], case, None).failure_class == "other"
+
+
+def test_describe_reads_as_a_sentence():
+    assert Signature("conformance", "near-tie", "none").describe() == \
+        "conformance: samples within float rounding of an edge decided wrongly"
+    assert "2^53..2^63" in Signature("conformance", "overflow-2^53..2^63", "none").describe()
+    assert Signature("run", "exception-KeyError", "none").describe() == "run: raised KeyError"
+
+
+# -- the held-out rare bug ---------------------------------------------------------------------
+
+
+def test_the_rare_bug_passes_the_quick_suite():
+    """Wrong only on ties of edges of slope exactly 3/4: the quick suite's triangle cases
+    (conformance and watertight) never meet one."""
+    from cases.suites import suite
+
+    triangles = [c for c in suite("quick") if isinstance(c, Case) and isinstance(c.scene, Scene)]
+    assert len(triangles) > 70 and not any(flipped_samples(c.scene) for c in triangles)
+    results = run_suite([RareSlopeTie()], cases=triangles, isolate=False, identify=False, repros=False,
+                        only={"conformance", "watertight"})
+    assert {r.check for r in results} == {"conformance", "watertight"}
+    assert all(r.status in ("pass", "skip") for r in results), [r.message for r in results if r.status not in ("pass", "skip")]
+
+
+def test_the_rare_bug_is_rare_in_fuzz_scenes_and_named_a_slanted_tie():
+    lattice = [generate("lattice", 0, index) for index in range(300)]
+    triangles = sum(len(c.scene) for c in lattice)
+    hit = [c for c in lattice if flipped_samples(c.scene)]
+    wrong = sum(len({t for t, _, _ in flipped_samples(c.scene)}) for c in hit)
+    assert 1 <= len(hit) <= 30 and wrong / triangles < 2e-3, (len(hit), wrong, triangles)
+    bad = RareSlopeTie()
+    failed = [r for r in run_suite([bad], cases=hit, isolate=False, identify=False, repros=False, only={"conformance"})
+              if r.status == "fail"]
+    assert len(failed) == len(hit)
+    keys = collections.Counter(signature(r, c, bad.convention).key for r, c in zip(failed, hit))
+    assert keys.most_common(1)[0][0] == "conformance|exact-tie-slanted-edge|tie-rule", keys
