@@ -19,7 +19,7 @@ from pathlib import Path
 from cases.suites import suite as suite_cases
 from harness.case import Case, MotionCase, read_case_file
 from harness import checks, repro
-from harness.api import Rasterizer, Scene, Unsupported, convention_for, fingerprint_of, interpolates_of, scene_kinds_of, takes
+from harness.api import LineScene, Rasterizer, Scene, Unsupported, convention_for, fingerprint_of, interpolates_of, scene_kinds_of, takes
 from harness.checks import Drawing, Result, Tolerance
 
 from harness.isolation import AnyCall, InProcess, Outcome, Worker, describe, each_until_error
@@ -98,16 +98,24 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
                     drawing=(r.drawing or drawing) if r.status == "fail" else None) for r in results]
 
 
-def _qualified(result: Result, rasterizer: Rasterizer) -> Result:
+def _qualified(result: Result, rasterizer: Rasterizer, case: Case | MotionCase) -> Result:
     """A convention-bound failure of a rasterizer checked against a convention that was
     only guessed (identified with a residual, never declared) says so: it shows where the
-    rasterizer departs from the nearest convention, not a rule it broke."""
+    rasterizer departs from the nearest convention, not a rule it broke. A line case is
+    judged by the line fit (its own residual), any other by the triangle (path) one."""
     fingerprint = fingerprint_of(rasterizer)
     bound = {c.name for c in checks.checks() if c.needs_convention}
-    if fingerprint is None or fingerprint.exact or result.check not in bound or result.status != "fail":
+    if fingerprint is None or result.check not in bound or result.status != "fail":
         return result
-    return replace(result, message=(f"against the best-guess convention (declared by nobody; identify's residual "
-                                    f"{fingerprint.residual} px): {result.message}"))
+    line_fit = getattr(fingerprint, "line_fit", None)
+    if isinstance(case, Case) and isinstance(case.scene, LineScene) and line_fit is not None:
+        exact, residual, what = line_fit.exact, line_fit.residual, "line convention"
+    else:
+        exact, residual, what = fingerprint.exact, fingerprint.residual, "convention"
+    if exact:
+        return result
+    return replace(result, message=(f"against the best-guess {what} (declared by nobody; identify's residual "
+                                    f"{residual} px): {result.message}"))
 
 
 def run_suite(
@@ -212,7 +220,7 @@ def run_suite(
                         else:  # budget used up: the whole case is the repro
                             result = repro.whole_case_repro(result, case, rasterizer.name,
                                                             "not shrunk: the shrinking time budget was used up")
-                    result = _qualified(result, rasterizer)
+                    result = _qualified(result, rasterizer, case)
                     results.append(result)
                     if on_result is not None:
                         on_result(result)
