@@ -9,13 +9,16 @@ mesh is open, so only the convention-bound checks apply to it.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
-import trimesh
 from numpy.typing import NDArray
 
 from harness.case import Case
 from harness.api import Scene
+
+if TYPE_CHECKING:  # imported where a mesh is made or read: a second and more, that most
+    import trimesh  # processes importing the suites (every command, every test worker) never need
 
 __all__ = ["MeshFileError", "load_mesh_file", "project", "clip_near", "mesh_cases", "mesh_file_case"]
 
@@ -28,6 +31,8 @@ class MeshFileError(ValueError):
 
 
 def _rotation(rng: np.random.Generator) -> NDArray[np.float64]:
+    import trimesh
+
     q = rng.normal(size=4)
     return trimesh.transformations.quaternion_matrix(q / np.linalg.norm(q))
 
@@ -85,6 +90,8 @@ def project(mesh: trimesh.Trimesh, rotation: NDArray, distance: float, size: int
 
 def load_mesh_file(path: str | Path) -> trimesh.Trimesh:
     """Load an OBJ, PLY, STL or GLB file as one mesh, with a clear error naming the file."""
+    import trimesh
+
     path = Path(path)
     if not path.is_file():
         raise MeshFileError(f"{path}: no such file")
@@ -108,6 +115,8 @@ def mesh_file_case(path: str | Path, seed: int = 0) -> Case:
 
 
 def _shapes() -> dict[str, trimesh.Trimesh]:
+    import trimesh.creation
+
     return {
         "icosphere": trimesh.creation.icosphere(subdivisions=2),
         "box": trimesh.creation.box(),

@@ -8,6 +8,11 @@ from __future__ import annotations
 from typing import Any
 
 from harness.api import Convention, Coverage, PathScene, Rasterizer, Scene
+from harness.numba_cache import safe_numba_cache
+
+# every process that imports rastercheck loads (and may compile) its kernels side by side
+# with others: make numba's on-disk cache safe for that first
+safe_numba_cache()
 
 __all__ = ["Scene", "PathScene", "Coverage", "Convention", "Rasterizer", "run_suite", "replay"]
 __version__ = "0.1.0"

@@ -33,9 +33,26 @@ def _plugins_enabled() -> bool:
     return os.environ.get("RASTERCHECK_NO_PLUGINS", "").strip() not in ("1", "true", "yes")
 
 
+_SCANS: dict[tuple[Any, ...], tuple[EntryPoint, ...]] = {}
+
+
+def _scan() -> tuple[EntryPoint, ...]:
+    """The group's entry points, sorted by name and value. Scanning reads every installed
+    distribution's metadata (tens of milliseconds) and every lookup needs it, so it is done
+    once per process for each ``sys.path`` (and each stand-in for ``entry_points`` a test
+    installs)."""
+    key = (entry_points, tuple(sys.path))
+    scan = _SCANS.get(key)
+    if scan is None:
+        if len(_SCANS) > 16:
+            _SCANS.clear()
+        scan = _SCANS[key] = tuple(sorted(entry_points(group=GROUP), key=lambda e: (e.name, e.value)))
+    return scan
+
+
 def _entry_points() -> dict[str, EntryPoint]:
     found: dict[str, EntryPoint] = {}
-    for ep in sorted(entry_points(group=GROUP), key=lambda e: (e.name, e.value)):
+    for ep in _scan():
         builtin = ep.value.split(":")[0].split(".")[0] == BUILTIN_MODULE
         if not builtin and not _plugins_enabled():
             continue

@@ -50,18 +50,19 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, PathScene, Scene
+from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, Unsupported
 from harness.conventions import TIE_RULES, Convention, TieRule
 from harness.exact import SAFE_MAX, SAFE_MIN, frozen, orient2d_sign
 
 __all__ = ["TrapezoidFill", "outline", "trapezoid_spans", "crossing_column", "edge_table"]
 
 
-# Not cached on disk for now: in CI, xdist workers loading these kernels from numba's
-# cache while another process wrote it crashed three runs (a segfault inside _sweep that
-# no single-process run, with or without bounds checking, reproduces). Each process
-# compiles them once instead (a few seconds) until the cause is found.
-_CACHE = False
+# Cached on disk like every other kernel. (For a while they were not: xdist workers
+# crashed inside _sweep loading them from the cache. The cause was numba's cache itself:
+# two processes compiling different specialisations of one kernel at once could leave
+# the index naming the other's machine code. tests.warm.safe_numba_cache, which the tests
+# and the warm-up install, names each specialisation's file after its own key.)
+_CACHE = True
 
 Spans = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]
 
@@ -449,6 +450,8 @@ class TrapezoidFill:
             self.convention = Convention(sample=(0.5, 0.5), tie=tie)
 
     def rasterize(self, scene: AnyScene) -> Coverage:
+        if isinstance(scene, LineScene):
+            raise Unsupported(f"{self.name} fills triangles and paths, not lines")
         a, b, primitive = screen_edges(scene, self.name)
         evenodd = isinstance(scene, PathScene) and scene.fill_rule == "evenodd"
         return Coverage(*trapezoid_spans(a, b, primitive, len(scene), evenodd, self.convention, scene.width, scene.height))

@@ -2,10 +2,16 @@ import os
 
 from hypothesis import HealthCheck, settings
 
+from tests.warm import safe_numba_cache
+
 settings.register_profile("dev", max_examples=60, deadline=None)
 settings.register_profile("ci", max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow], derandomize=True)
 settings.register_profile("thorough", max_examples=2000, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "dev"))
+
+# Every worker may compile a kernel specialisation the warm-up did not: numba's cache made
+# safe for processes compiling side by side (see tests.warm.safe_numba_cache).
+safe_numba_cache()
 
 # The commands and inner pytest runs the tests start share compiled (and pytest's
 # rewritten) modules, as they would on a user's machine, even where the environment

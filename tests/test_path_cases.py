@@ -114,7 +114,7 @@ def test_every_case_comes_under_both_rules_in_the_full_suite():
         assert (twin.lattice, twin.refusable) == (case.lattice, case.refusable)
 
 
-def test_the_suites_hold_the_path_families_between_the_triangles_and_motion():
+def test_the_suites_hold_the_path_families_between_the_triangles_and_the_lines():
     for name, count in (("quick", (25, 45)), ("full", (100, 160))):
         cases = suite(name)
         ids = [c.id for c in cases]
@@ -122,7 +122,7 @@ def test_the_suites_hold_the_path_families_between_the_triangles_and_motion():
         families = [c.family for c in cases]
         where = [k for k, f in enumerate(families) if f in PATH_FAMILIES]
         assert where == list(range(where[0], where[-1] + 1)), name  # one block
-        assert families[where[-1] + 1] == "motion" and families[where[0] - 1] == "degenerate", name
+        assert families[where[-1] + 1] == "lines" and families[where[0] - 1] == "degenerate", name
         assert count[0] <= len(where) <= count[1], (name, len(where))
         assert ids[where[0]: where[-1] + 1] == [c.id for c in path_cases(0, name == "full")]
 

@@ -16,6 +16,8 @@ import time
 
 import numpy as np
 
+from harness.numba_cache import safe_numba_cache  # the tests import it from here too
+
 # attributes, affine and perspective-correct: the interpolation kernels
 POSITIONS = np.array([[[0.5, 0.5], [7.0, 1.0], [2.0, 6.5]]])
 VALUES = np.arange(6, dtype=np.float64).reshape(1, 3, 2)
@@ -80,6 +82,13 @@ def engine() -> None:
 
     star = PathScene.from_paths(8, 8, [[[[1.0, 1.0], [7.0, 2.0], [2.0, 7.0]]]])
     path_edge_distance(star, Convention(), np.array([[0, 0], [2, 3], [2, 3]]))
+    # the line checks' own kernels (major axis, the pixel holding a joint)
+    from harness.api import LineScene
+    from harness.checks.lines import vertex_pixels, x_major_of
+
+    strip = LineScene.from_strips(8, 8, [[[0.5, 0.5], [6.0, 2.5], [2.0, 7.0]]])
+    x_major_of(strip, Convention())
+    vertex_pixels(strip, Convention(), strip.joints())
     # an untidy answer: tidied span by span
     Coverage([0, 0], [1, 1], [1, 0], [3, 2]).tidy(Scene(8, 8, POSITIONS))
     # the anti-aliased reference (here, to balance the two parts; the multisample ones and
@@ -103,9 +112,9 @@ def rasterizers() -> None:
     beyond_one_sample = {r.name for r in (PinedaMSAA4(), PinedaMSAA8(), AreaScanline(), Supersampler4())}
     everyone = [load(name) for name in builtins() if name not in beyond_one_sample]  # those: the engine part's
     everyone += [EdgeFunctionBug("inclusive"), ScanlineBug("no-prestep"), DeqpReference(), PiglitReference()]
-    # (not trapezoid_fill nor the path known-bads built on it: their kernels are not cached
-    # on disk, see rasterizers.trapezoid, so compiling them here would be lost)
-    everyone = [r for r in everyone if r.name != "trapezoid_fill"]
+    from tests.known_bad.paths import BUGS, PathFillBug, TwoFillers
+
+    everyone += [PathFillBug(bug) for bug in BUGS] + [TwoFillers()]
     _draw_each_family(everyone)
     # the Mesa path adapter's layering kernel, and the exact line oracles
     from harness.lines import bresenham_spans, diamond_exit_spans, rectangle_spans
@@ -140,6 +149,7 @@ def _draw_each_family(everyone: list) -> None:  # type: ignore[type-arg]
 PARTS = {"engine": engine, "rasterizers": rasterizers}
 
 if __name__ == "__main__":
+    safe_numba_cache()
     for name in sys.argv[1:] or list(PARTS):
         start = time.monotonic()
         PARTS[name]()

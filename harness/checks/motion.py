@@ -35,7 +35,8 @@ def _spans(coverages: list[Coverage]) -> tuple[NDArray, NDArray, NDArray, NDArra
     if not coverages:
         empty = np.zeros(0, dtype=np.int64)
         return frame, empty, empty, empty, empty
-    return (frame, *(np.concatenate([getattr(c, name) for c in coverages]) for name in ("triangle", "y", "x0", "x1")))
+    t, y, x0, x1 = (np.concatenate([getattr(c, name) for c in coverages]) for name in ("triangle", "y", "x0", "x1"))
+    return frame, t, y, x0, x1
 
 
 def boundary_series(coverages: list[Coverage], n_triangles: int, height: int) -> tuple[NDArray, NDArray]:
