@@ -154,3 +154,21 @@ def test_an_outside_rasterizer_with_a_motion_bug_is_flagged(tmp_path):
     results = run_suite([load(f"{path}:CornerTexturer")], cases=textured, repros=False, isolate=False)
     assert {r.check for r in results if r.status == "fail"} == {"texel"}
     assert all(r.status == "pass" for r in results if r.check == "jaggy")
+
+
+def test_motion_checks_on_odd_answers_fail_or_pass_without_crashing():
+    """A sequence that covers nothing (a zero-area triangle) is judged, not crashed on, by
+    popping; an answer with one attribute column where u, v are due fails texel saying so."""
+    from harness.api import Scene
+    from tests.known_bad.misc import NaNAttributes
+
+    flat = np.array([[[13.5, 8.75], [18.0, 11.0], [14.5, 9.25]]])  # collinear: zero area
+    frames = tuple(Scene(32, 32, flat + [k / 16, 0]) for k in range(4))
+    popping = run_suite(["supersample4"], cases=[MotionCase("motion/flat", frames)], isolate=False, identify=False, repros=False)
+    assert [r.status for r in popping if r.check == "popping"] == ["pass"]
+    quad = np.array([[[2.0, 2.0], [20.0, 3.0], [4.0, 22.0]]])
+    uv = np.array([[[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]])
+    textured = MotionCase("motion/uv", tuple(Scene(32, 32, quad + [k / 16, 0], uv) for k in range(3)), texels=8)
+    texel = [r for r in run_suite([NaNAttributes()], cases=[textured], isolate=False, identify=False, repros=False)
+             if r.check == "texel"]
+    assert texel and texel[0].status in ("fail",) and "attribute" in texel[0].message

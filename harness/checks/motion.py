@@ -249,6 +249,12 @@ def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Covera
     lacking = _lacking_attributes(case_id, "texel", coverages)
     if lacking is not None:
         return lacking
+    narrow = [f for f, c in enumerate(coverages) if c.attributes is not None and c.n_pixels and c.attributes.shape[1] < 2]
+    if narrow:  # no u, v to take a texel from
+        return result(case_id, "texel", False,
+                      f"{len(narrow)} of {len(coverages)} frames came back with fewer than the two attribute columns (u, v) "
+                      f"interpolated (first: frame {narrow[0]}, {coverages[narrow[0]].attributes.shape[1]} columns)",  # type: ignore[union-attr]
+                      {"frames_without_attributes": float(len(narrow))}, {"frames_without_attributes": narrow[:EVIDENCE_LIMIT]})
     mismatches = 0
     worst = 0.0
     per_frame_mismatch = []
