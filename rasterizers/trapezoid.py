@@ -57,12 +57,13 @@ from harness.exact import SAFE_MAX, SAFE_MIN, frozen, orient2d_sign
 __all__ = ["TrapezoidFill", "outline", "trapezoid_spans", "crossing_column", "edge_table"]
 
 
-# Cached on disk like every other kernel. (For a while they were not: xdist workers
-# crashed inside _sweep loading them from the cache. The cause was numba's cache itself:
-# two processes compiling different specialisations of one kernel at once could leave
-# the index naming the other's machine code. tests.warm.safe_numba_cache, which the tests
-# and the warm-up install, names each specialisation's file after its own key.)
-_CACHE = True
+# Compiled in each process, not cached on disk: xdist workers crashed (segfault) inside
+# _sweep when loading these kernels from numba's cache (CI only; never in one process,
+# nor under NUMBA_BOUNDSCHECK over every quick case). A race in numba's cache index
+# between processes compiling side by side was found and closed
+# (harness.numba_cache.safe_numba_cache), but with the cache on, CI's workers still
+# crashed here; until the cause is known these kernels pay their compile in each process.
+_CACHE = False
 
 Spans = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]
 
