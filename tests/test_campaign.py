@@ -1,0 +1,293 @@
+"""Campaigns on a real Dask LocalCluster of two worker processes: a known bug found and
+grouped, a worker killed mid-campaign losing no finding, a resumed campaign repeating no
+scene, two campaigns merged, crashes and hangs as findings, the held-out rare bug found."""
+
+from __future__ import annotations
+
+import json
+import os
+import pickle
+import signal
+import time
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from harness.api import Coverage, Scene
+from harness.campaign import (Batch, BatchResult, CampaignState, CampaignTask, Finding, ProgressEvent, add_interval, local_cluster,
+                              run_batch, run_campaign)
+from harness.conventions import Convention
+from harness.identify import Fingerprint
+from harness.oracle import exact_coverage
+from harness.runner import replay
+from tests.known_bad.edge_functions import EdgeFunctionBug
+from tests.warm import safe_numba_cache
+
+distributed = pytest.importorskip("distributed")
+
+INCLUSIVE = "tests.test_campaign:inclusive"
+RARE = "tests.known_bad.rare:RareSlopeTie"
+
+
+def inclusive() -> EdgeFunctionBug:
+    """The edge-function rasterizer whose every edge owns its ties, as a zero-argument spec."""
+    return EdgeFunctionBug("inclusive")
+
+
+class Explosive:
+    """Exact (the default convention), but after its first answer in a process it dies on
+    scenes of 5k triangles and hangs on scenes of 5k + 1."""
+
+    name = "bad_explosive"
+    convention = Convention()
+    interpolates = False
+    answered = 0
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        if Explosive.answered and len(scene) % 5 == 0:
+            os._exit(3)
+        if Explosive.answered and len(scene) % 5 == 1:
+            while True:
+                time.sleep(0.05)
+        Explosive.answered += 1
+        return exact_coverage(scene, self.convention)
+
+
+class BottomRightBox:
+    """Draws bottom-right ties and declares no convention (a black box)."""
+
+    name = "bottom_right_box"
+    convention = None
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return exact_coverage(scene, Convention(tie="bottom-right"))
+
+
+class SafeNumbaCache(distributed.WorkerPlugin):
+    """Numba's cache made safe for processes compiling side by side (as in every test
+    worker: :func:`tests.warm.safe_numba_cache`), in each Dask worker as it starts."""
+
+    def setup(self, worker: Any) -> None:
+        safe_numba_cache()
+
+
+@pytest.fixture(scope="module")
+def cluster():  # type: ignore[no-untyped-def]
+    """One LocalCluster of two single-threaded worker processes for the module, as a
+    campaign makes its own (:func:`harness.campaign.local_cluster`)."""
+    with local_cluster(2) as client:
+        client.register_plugin(SafeNumbaCache())  # every worker, as every test worker, shares the numba cache safely
+        # each worker imports the harness and loads the kernels once, before any test's clock runs
+        warm = [client.submit(run_batch, CampaignTask("pineda_topleft", Batch("lattice", 0, 0, 1)), workers=[address], pure=False)
+                for address in client.run(os.getpid)]
+        client.gather(warm)
+        yield client.cluster, client
+
+
+def _merged(events: list[ProgressEvent]) -> list[Batch]:
+    return [e.batch for e in events if e.batch is not None]
+
+
+def _points(batches: list[Batch]) -> list[tuple[str, int, int]]:
+    return [(b.family, b.seed, i) for b in batches for i in b.indices()]
+
+
+def _ranges(points: list[tuple[str, int, int]]) -> dict[tuple[str, int], list[tuple[int, int]]]:
+    done: dict[tuple[str, int], list[tuple[int, int]]] = {}
+    for family, seed, index in points:
+        done[(family, seed)] = add_interval(done.get((family, seed), []), index, index + 1)
+    return done
+
+
+def _findings(findings: Any) -> list[tuple[Any, ...]]:
+    return sorted((f.family, f.seed, f.index, f.check, f.status, f.signature_key) for f in findings)
+
+
+def test_a_resumed_campaign_repeats_no_scene_and_a_correct_rasterizer_has_no_finding(cluster, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    local, _ = cluster
+    first: list[ProgressEvent] = []
+    second: list[ProgressEvent] = []
+    families = ["lattice", "float", "degenerate", "partitions"]
+    # stopped by time: batches in flight at the deadline are cancelled, not done
+    run_campaign("pineda_topleft", budget_seconds=1.0, families=families, state_dir=tmp_path,
+                 scheduler=local.scheduler_address, on_progress=first.append)
+    before = CampaignState.load(tmp_path)
+    state = run_campaign("pineda_topleft", budget_scenes=60, families=families, state_dir=tmp_path,
+                         scheduler=local.scheduler_address, on_progress=second.append)
+    runs = [_points(_merged(first)), _points(_merged(second))]
+    assert runs[0] and len(runs[1]) == 60
+    assert before.done == _ranges(runs[0])  # only the batches merged are done, none cancelled at the deadline
+    every = runs[0] + runs[1]
+    assert len(every) == len(set(every))  # no scene twice
+    assert state.scenes == before.scenes + 60 == len(every)
+    assert state.done == _ranges(every)
+    assert state.signatures == {} and second[-1].findings == 0
+    assert second[-1].finished and second[-1].scenes_per_second > 0 and second[-1].primitives_per_second > 0
+
+
+def test_crashes_and_hangs_are_findings_and_the_campaign_finishes(cluster, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    local, _ = cluster
+    state = run_campaign("tests.test_campaign:Explosive", budget_scenes=12, families=["lattice"], state_dir=tmp_path,
+                         scheduler=local.scheduler_address, batch_size=6, timeout=1.0, only=["conformance"])
+    assert state.scenes == 12 and state.done == {("lattice", 0): [(0, 12)]}
+    assert {"run|crash|none", "run|hang|none"} <= set(state.signatures)
+    crash = state.signatures["run|crash|none"]
+    assert "died" in crash["message"] and (tmp_path / crash["repro"]).is_file()
+
+
+def test_the_held_out_rare_bug_is_found_within_a_modest_budget(cluster, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    local, _ = cluster
+    state = run_campaign(RARE, budget_scenes=60, families=["lattice", "float", "degenerate", "paths"], state_dir=tmp_path,
+                         scheduler=local.scheduler_address)
+    assert set(state.skipped) == {"paths"} and state.scenes == 60  # it takes triangles only
+    assert list(state.signatures) == ["conformance|exact-tie-slanted-edge|tie-rule"]
+    repro = tmp_path / state.signatures["conformance|exact-tie-slanted-edge|tie-rule"]["repro"]
+    assert len(json.loads(repro.read_text())["positions"]) == 1
+    assert any(r.check == "conformance" and r.status == "fail" for r in replay(repro, RARE, identify=False))
+    # a signature left without its repro (a run stopped while shrinking) is shrunk by the next run
+    repro.unlink()
+    state.signatures["conformance|exact-tie-slanted-edge|tie-rule"]["repro"] = None
+    state.save()
+    again = run_campaign(RARE, budget_scenes=1, families=["float"], state_dir=tmp_path, scheduler=local.scheduler_address)
+    assert again.signatures["conformance|exact-tie-slanted-edge|tie-rule"]["repro"] == repro.relative_to(tmp_path).as_posix()
+    assert repro.is_file() and again.scenes == 61
+
+
+# -- without a cluster ------------------------------------------------------------------------
+
+
+def _result(batch: Batch, keys: dict[int, str]) -> BatchResult:
+    findings = tuple(Finding(batch.family, batch.seed, i, "conformance", "fail", f"wrong at {i}", key, key.split("|")[1],
+                             key.split("|")[2], "conformance") for i, key in sorted(keys.items()))
+    return BatchResult(batch, batch.count, 10 * batch.count, 0.5, findings, "here")
+
+
+def test_a_batch_is_merged_once_and_the_state_survives_a_reload(tmp_path: Path) -> None:
+    state = CampaignState(tmp_path, "spec", "name")
+    assert state.record(_result(Batch("lattice", 0, 0, 8), {3: "c|a|tie-rule", 5: "c|a|tie-rule"}), 1.0) == ["c|a|tie-rule"]
+    assert state.record(_result(Batch("lattice", 0, 0, 8), {3: "c|a|tie-rule"}), 2.0) is None  # a duplicate completion
+    assert state.record(_result(Batch("lattice", 0, 8, 4), {9: "c|b|none"}), 3.0) == ["c|b|none"]
+    with pytest.raises(ValueError, match=r"lattice/0/10..13 overlaps scenes already done \(10..11\)"):
+        state.record(_result(Batch("lattice", 0, 10, 4), {}), 4.0)
+    assert state.scenes == 12 and state.findings == 3 and state.done == {("lattice", 0): [(0, 12)]}
+    assert state.signatures["c|a|tie-rule"]["examples"] == [["lattice", 0, 3], ["lattice", 0, 5]]
+    state.save()
+    again = CampaignState.load(tmp_path)
+    assert again.to_json() == state.to_json()
+    assert [str(b) for b, _ in zip(again.next_batches(["lattice"], 5), range(2))] == ["lattice/0/12..16", "lattice/0/17..21"]
+    (tmp_path / "campaign.json").write_text("{\"schema\": 1}")
+    with pytest.raises(ValueError, match="campaign.json: malformed campaign state"):
+        CampaignState.load(tmp_path)
+    with pytest.raises(ValueError, match="no campaign state here"):
+        CampaignState.load(tmp_path / "elsewhere")
+    assert pickle.loads(pickle.dumps(CampaignTask("s", Batch("a", 1, 2, 3)))) == CampaignTask("s", Batch("a", 1, 2, 3))
+
+
+def test_two_campaigns_merge_when_disjoint_and_refuse_an_overlap(tmp_path: Path) -> None:
+    a = CampaignState(tmp_path / "a", "spec", "name")
+    a.record(_result(Batch("lattice", 0, 0, 10), {2: "c|a|tie-rule"}), 1.0)
+    b = CampaignState(tmp_path / "b", "spec", "name", seed=1)
+    b.record(_result(Batch("lattice", 1, 0, 10), {4: "c|a|tie-rule", 6: "c|b|none"}), 1.0)
+    b.record(_result(Batch("float", 1, 0, 5), {}), 2.0)
+    (tmp_path / "b" / "repros").mkdir(parents=True)
+    (tmp_path / "b" / "repros" / "x.json").write_text("{}")
+    b.signatures["c|b|none"]["repro"] = "repros/x.json"
+    a.merge(b)
+    assert a.scenes == 25 and a.primitives == 250 and a.findings == 3
+    assert a.done == {("lattice", 0): [(0, 10)], ("lattice", 1): [(0, 10)], ("float", 1): [(0, 5)]}
+    assert a.signatures["c|a|tie-rule"]["count"] == 2
+    assert a.signatures["c|a|tie-rule"]["examples"] == [["lattice", 0, 2], ["lattice", 1, 4]]
+    assert (tmp_path / "a" / a.signatures["c|b|none"]["repro"]).read_text() == "{}"
+    assert a.history[-1][1:] == [25, 3]
+    c = CampaignState(tmp_path / "c", "spec", "name")
+    c.record(_result(Batch("lattice", 1, 5, 10), {}), 1.0)
+    with pytest.raises(ValueError, match=r"both checked lattice/1 scenes 5..9"):
+        a.merge(c)
+    with pytest.raises(ValueError, match="on 'other'"):
+        a.merge(CampaignState(tmp_path / "d", "spec", "other"))
+
+
+def test_a_worker_judges_a_black_box_by_the_coordinators_fingerprint() -> None:
+    fingerprint = Fingerprint("bottom_right_box", Convention(), residual=0, pixels=1)
+    spec = "tests.test_campaign:BottomRightBox"
+    judged = run_batch(CampaignTask(spec, Batch("lattice", 0, 0, 6), fingerprint, frozenset({"conformance"})))
+    assert judged.findings and {f.signature_key.split("|")[0] for f in judged.findings} == {"conformance"}
+    unjudged = run_batch(CampaignTask(spec, Batch("lattice", 0, 0, 6), None, frozenset({"conformance"})))
+    assert unjudged.findings == () and unjudged.primitives == 0  # no convention: conformance skips
+
+
+def test_bad_arguments_are_refused_naming_them(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="needs a budget"):
+        run_campaign("pineda_topleft", state_dir=tmp_path)
+    with pytest.raises(ValueError, match="unknown case family 'cubes'"):
+        run_campaign("pineda_topleft", budget_scenes=1, families=["cubes"], state_dir=tmp_path)
+    with pytest.raises(ValueError, match="unknown check conformity"):
+        run_campaign("pineda_topleft", budget_scenes=1, only=["conformity"], state_dir=tmp_path)
+    with pytest.raises(ValueError, match="no_such_thing"):
+        run_campaign("no_such_thing", budget_scenes=1, state_dir=tmp_path)
+    CampaignState(tmp_path, "centre_scanline", "centre_scanline").save()
+    with pytest.raises(ValueError, match="of a campaign on 'centre_scanline'"):
+        run_campaign("pineda_topleft", budget_scenes=1, state_dir=tmp_path)
+    with pytest.raises(ValueError, match="this campaign runs every check, not only conformance"):
+        run_campaign("centre_scanline", budget_scenes=1, only=["conformance"], state_dir=tmp_path)
+
+
+# last: the cluster has one worker left after it
+
+
+def test_two_workers_find_the_bug_and_a_killed_worker_loses_no_finding(cluster, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+    local, client = cluster
+    pids = client.run(os.getpid)
+    killed: dict[str, Any] = {}
+    events: list[ProgressEvent] = []
+
+    def kill_a_busy_worker(event: ProgressEvent) -> None:
+        events.append(event)
+        if killed or event.batch is None:
+            return
+        busy = {address: keys for address, keys in client.processing().items()
+                if any(str(k).startswith("rastercheck-batch-") for k in keys)}
+        if not busy:
+            return  # every batch in flight ended this instant: at the next one
+        address, keys = sorted(busy.items())[0]
+        killed.update(address=address, keys=[str(k) for k in keys if str(k).startswith("rastercheck-batch-")])
+        nanny = next(n for n in local.workers.values() if n.worker_address == address)
+        nanny.close_gracefully()  # lost for good (a machine gone): not restarted
+        os.kill(pids[address], signal.SIGKILL)
+
+    state = run_campaign(INCLUSIVE, budget_scenes=60, families=["lattice"], state_dir=tmp_path, scheduler=local.scheduler_address,
+                         batch_size=6, timeout=30.0, on_progress=kill_a_busy_worker)
+
+    # every batch merged exactly once, all 60 scenes done once
+    assert killed, "no worker was busy to be killed"
+    batches = _merged(events)
+    assert len(batches) == len(set(batches)) == 10
+    assert sorted(_points(batches)) == [("lattice", 0, i) for i in range(60)]
+    assert state.done == {("lattice", 0): [(0, 60)]} and state.scenes == 60
+    # the batches given to the killed worker (running or waiting there) were redone by the other;
+    # one that ended in the instant before the kill counts once
+    lost = {b for b in batches if any(k.endswith(f"-lattice-0-{b.start}-{b.count}") for k in killed["keys"])}
+    redone = {e.batch for e in events if e.batch in lost and e.worker != killed["address"]}
+    assert len(lost) == len(killed["keys"]) and redone
+    # the same findings as the same scenes checked in one process, one after another
+    serial = run_batch(CampaignTask(INCLUSIVE, Batch("lattice", 0, 0, 60), timeout=30.0))
+    found = [f for e in events for f in e.batch_findings]
+    assert _findings(found) == _findings(serial.findings)
+    counts: dict[str, int] = {}
+    for f in serial.findings:
+        counts[f.signature_key] = counts.get(f.signature_key, 0) + 1
+    assert {k: s["count"] for k, s in state.signatures.items()} == counts
+    assert events[-1].finished and events[-1].signatures == counts
+    # its bug is found (ties owned by every edge), grouped, and each group shrunk to a repro that replays
+    ties = [k for k in state.signatures if k.startswith("conformance|exact-tie-") and k.endswith("|tie-rule")]
+    assert ties
+    saved = CampaignState.load(tmp_path)
+    assert saved.signatures == state.signatures
+    for key in ties:
+        repro = tmp_path / state.signatures[key]["repro"]
+        data = json.loads(repro.read_text())
+        assert data["signature"] == key and data["check"] == "conformance" and data["rasterizer"] == "bad_inclusive"
+        assert len(data["positions"]) <= 2
+        assert any(r.check == "conformance" and r.status == "fail" for r in replay(repro, inclusive(), identify=False))
