@@ -40,6 +40,28 @@ def _real_array(value: ArrayLike, field: str, owner: str) -> NDArray[np.float64]
     return array
 
 
+def _set_viewport(scene: Any) -> None:
+    """Check and set a scene's ``width`` and ``height`` (integers in 1 .. MAX_VIEWPORT)."""
+    owner = type(scene).__name__
+    for field in ("width", "height"):
+        value = getattr(scene, field)
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+            raise ValueError(f"{owner}.{field} must be an integer, not {value!r}")
+        if not 1 <= value <= MAX_VIEWPORT:
+            raise ValueError(f"{owner}.{field} must lie in 1..{MAX_VIEWPORT}, not {value}")
+        object.__setattr__(scene, field, int(value))
+
+
+def _vertex_array(value: ArrayLike, owner: str) -> NDArray[np.float64]:
+    """A scene's (V, 2) vertices, checked (an empty one reshaped to (0, 2))."""
+    vertices = _real_array(value, "vertices", owner)
+    if vertices.size == 0:
+        vertices = vertices.reshape(0, 2)
+    if vertices.ndim != 2 or vertices.shape[1] != 2:
+        raise ValueError(f"{owner}.vertices must have shape (V, 2), not {vertices.shape}")
+    return vertices
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class Scene:
     """Triangles to rasterize into a ``width`` x ``height`` viewport.
@@ -77,13 +99,7 @@ class Scene:
     noun: ClassVar[str] = "triangle"  # what a primitive is called in messages and evidence
 
     def __post_init__(self) -> None:
-        for field in ("width", "height"):
-            value = getattr(self, field)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-                raise ValueError(f"Scene.{field} must be an integer, not {value!r}")
-            if not 1 <= value <= MAX_VIEWPORT:
-                raise ValueError(f"Scene.{field} must lie in 1..{MAX_VIEWPORT}, not {value}")
-            object.__setattr__(self, field, int(value))
+        _set_viewport(self)
         positions = _real_array(self.positions, "positions", "Scene")
         if positions.ndim != 3 or positions.shape[1:] != (3, 2):
             raise ValueError(f"Scene.positions must have shape (N, 3, 2), not {positions.shape}")
@@ -209,18 +225,8 @@ class PathScene:
     w: ClassVar[None] = None
 
     def __post_init__(self) -> None:
-        for field in ("width", "height"):
-            value = getattr(self, field)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-                raise ValueError(f"PathScene.{field} must be an integer, not {value!r}")
-            if not 1 <= value <= MAX_VIEWPORT:
-                raise ValueError(f"PathScene.{field} must lie in 1..{MAX_VIEWPORT}, not {value}")
-            object.__setattr__(self, field, int(value))
-        vertices = _real_array(self.vertices, "vertices", "PathScene")
-        if vertices.size == 0:
-            vertices = vertices.reshape(0, 2)
-        if vertices.ndim != 2 or vertices.shape[1] != 2:
-            raise ValueError(f"PathScene.vertices must have shape (V, 2), not {vertices.shape}")
+        _set_viewport(self)
+        vertices = _vertex_array(self.vertices, "PathScene")
         object.__setattr__(self, "vertices", vertices)
         sizes, paths = (_counts_array(getattr(self, f), f) for f in ("contour_sizes", "contour_path"))
         if sizes.size != paths.size:
@@ -383,18 +389,8 @@ class LineScene:
     w: ClassVar[None] = None
 
     def __post_init__(self) -> None:
-        for field in ("width", "height"):
-            value = getattr(self, field)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-                raise ValueError(f"LineScene.{field} must be an integer, not {value!r}")
-            if not 1 <= value <= MAX_VIEWPORT:
-                raise ValueError(f"LineScene.{field} must lie in 1..{MAX_VIEWPORT}, not {value}")
-            object.__setattr__(self, field, int(value))
-        vertices = _real_array(self.vertices, "vertices", "LineScene")
-        if vertices.size == 0:
-            vertices = vertices.reshape(0, 2)
-        if vertices.ndim != 2 or vertices.shape[1] != 2:
-            raise ValueError(f"LineScene.vertices must have shape (V, 2), not {vertices.shape}")
+        _set_viewport(self)
+        vertices = _vertex_array(self.vertices, "LineScene")
         object.__setattr__(self, "vertices", vertices)
         sizes = _counts_array(self.strip_sizes, "strip_sizes", "LineScene")
         if np.any(sizes < 2):

@@ -174,7 +174,7 @@ _FILTER_SLACK = 2.0**-48
 
 
 @numba.njit(cache=True, inline="always")
-def _emit(s, y, x, out_s, out_y, out_x0, out_x1, n, first):  # type: ignore[no-untyped-def]
+def emit_pixel(s, y, x, out_s, out_y, out_x0, out_x1, n, first):  # type: ignore[no-untyped-def]
     """Add pixel (x, y) of segment s, merged into the last span when adjacent on its row.
     ``first`` is the index of the segment's first span. Returns the span count."""
     if n > first and out_y[n - 1] == y:
@@ -359,7 +359,7 @@ def _diamond_kernel(a, b, keep, width, height, last_pixel, out_s, out_y, out_x0,
             if last_pixel:
                 i, j, found = diamond_holding(ax, ay, False, width, height)
                 if found:
-                    n = _emit(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
+                    n = emit_pixel(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
             continue
         x_major, rx, ry, qx, qy, lo, hi = _diamond_walk(ax, ay, bx, by, width, height)
         if lo > hi:
@@ -396,7 +396,7 @@ def _diamond_kernel(a, b, keep, width, height, last_pixel, out_s, out_y, out_x0,
                 meets = True
             if not meets or (skip_end and i == bi and j == bj):
                 continue
-            n = _emit(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
+            n = emit_pixel(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
     return n
 
 
@@ -461,7 +461,7 @@ def _bresenham_kernel(p0, p1, keep, width, height, step_ties, last_pixel, out_s,
             x, y = (u, v) if x_major else (v, u)
             if y < 0 or y >= height or x < 0 or x >= width:
                 continue
-            n = _emit(s, y, x, out_s, out_y, out_x0, out_x1, n, first)
+            n = emit_pixel(s, y, x, out_s, out_y, out_x0, out_x1, n, first)
     return n
 
 
@@ -469,7 +469,7 @@ def _bresenham_kernel(p0, p1, keep, width, height, step_ties, last_pixel, out_s,
 
 
 @numba.njit(cache=True)
-def _grow(h, length, q):  # type: ignore[no-untyped-def]
+def grow_expansion(h, length, q):  # type: ignore[no-untyped-def]
     """Add float q to the nonoverlapping expansion h[:length] (Shewchuk's
     grow_expansion_zeroelim); returns the new length."""
     k = 0
@@ -485,7 +485,7 @@ def _grow(h, length, q):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _expansion_sign(h, length):  # type: ignore[no-untyped-def]
+def expansion_sign(h, length):  # type: ignore[no-untyped-def]
     if length == 0:
         return 0
     return 1 if h[length - 1] > 0.0 else -1
@@ -509,9 +509,9 @@ def _dot_sign(ax, ay, bx, by, px, py):  # type: ignore[no-untyped-def]
     length = 0
     for u, v in ((bx, px), (-bx, ax), (-ax, px), (ax, ax), (by, py), (-by, ay), (-ay, py), (ay, ay)):
         hi, lo = _two_product(u, v)
-        length = _grow(h, length, lo)
-        length = _grow(h, length, hi)
-    return _expansion_sign(h, length)
+        length = grow_expansion(h, length, lo)
+        length = grow_expansion(h, length, hi)
+    return expansion_sign(h, length)
 
 
 @numba.njit(cache=True)
@@ -537,16 +537,16 @@ def _strip_sign(ax, ay, bx, by, px, py, w):  # type: ignore[no-untyped-def]
     nc = 0
     for u, v in ((ax, by), (-ay, bx), (bx, py), (-by, px), (px, ay), (-py, ax)):
         hi, lo = _two_product(2.0 * u, v)
-        nc = _grow(cc, nc, lo)
-        nc = _grow(cc, nc, hi)
+        nc = grow_expansion(cc, nc, lo)
+        nc = grow_expansion(cc, nc, hi)
     dd = np.empty(32)
     nd = 0
     dxh, dxl = _two_sum(bx, -ax)
     dyh, dyl = _two_sum(by, -ay)
     for u, v in ((dxh, dxh), (dxh, dxl), (dxh, dxl), (dxl, dxl), (dyh, dyh), (dyh, dyl), (dyh, dyl), (dyl, dyl)):
         hi, lo = _two_product(u, v)
-        nd = _grow(dd, nd, lo)
-        nd = _grow(dd, nd, hi)
+        nd = grow_expansion(dd, nd, lo)
+        nd = grow_expansion(dd, nd, hi)
     wh, wl = _two_product(w, w)
     acc = np.empty(2 * nc * nc + 4 * nd + 8)
     na = 0
@@ -554,14 +554,14 @@ def _strip_sign(ax, ay, bx, by, px, py, w):  # type: ignore[no-untyped-def]
         for part in (wh, wl):
             if part != 0.0:
                 hi, lo = _two_product(dd[k], part)
-                na = _grow(acc, na, lo)
-                na = _grow(acc, na, hi)
+                na = grow_expansion(acc, na, lo)
+                na = grow_expansion(acc, na, hi)
     for k in range(nc):
         for m in range(nc):
             hi, lo = _two_product(-cc[k], cc[m])
-            na = _grow(acc, na, lo)
-            na = _grow(acc, na, hi)
-    return _expansion_sign(acc, na)
+            na = grow_expansion(acc, na, lo)
+            na = grow_expansion(acc, na, hi)
+    return expansion_sign(acc, na)
 
 
 @numba.njit(cache=True, inline="always")

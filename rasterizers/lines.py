@@ -73,7 +73,8 @@ from harness.api import AnyScene, Coverage, LineScene, Unsupported
 from harness.conventions import (
     BRESENHAM_ROUNDINGS, BRESENHAM_TIES, TIE_RULES, BresenhamRounding, BresenhamTies, Convention, LineRule, TieRule,
 )
-from harness.exact import _two_product, _two_sum, frozen
+from harness.exact import _two_product, frozen
+from harness.lines import emit_pixel, expansion_sign, grow_expansion
 from harness.spans import span_buffers
 
 __all__ = ["BresenhamLines", "DiamondExitDDA", "RectangleLines", "BRESENHAM_LIMIT", "DDA_LIMIT", "RECTANGLE_LIMIT"]
@@ -126,24 +127,6 @@ def _fixed(points: NDArray[np.float64], convention: Convention, finite: NDArray[
     on the grid and within range); non-finite segments become 0."""
     snapped = convention.snap(np.where(finite[:, None], points, 0.0))
     return frozen(snapped * float(SUBPIXEL_ONE), np.int64)
-
-
-@numba.njit(cache=True, inline="always")
-def _emit(s, x, y, out_s, out_y, out_x0, out_x1, n, first):  # type: ignore[no-untyped-def]
-    """Append pixel (x, y) of segment s, joined to the segment's last span when it touches
-    it on the same row (from either side). Returns the new span count."""
-    if n > first and out_y[n - 1] == y:
-        if out_x1[n - 1] == x:
-            out_x1[n - 1] = x + 1
-            return n
-        if out_x0[n - 1] == x + 1:
-            out_x0[n - 1] = x
-            return n
-    out_s[n] = s
-    out_y[n] = y
-    out_x0[n] = x
-    out_x1[n] = x + 1
-    return n + 1
 
 
 @numba.njit(cache=True, inline="always")
@@ -245,7 +228,7 @@ def _bresenham_kernel(p0, p1, keep, step_ties, last_pixel, width, height, out_s,
         for _ in range(k_hi - k_lo + 1):
             x, y = (u, v) if x_major else (v, u)
             if 0 <= x < width and 0 <= y < height:
-                n = _emit(s, x, y, out_s, out_y, out_x0, out_x1, n, first)
+                n = emit_pixel(s, y, x, out_s, out_y, out_x0, out_x1, n, first)
             # seed 003's test: p >= 0 steps the minor coordinate (a tie, p = 0, steps
             # towards the end point); "stay" keeps it on a tie
             if p > 0 or (step_ties and p == 0):
@@ -352,7 +335,7 @@ def _dda_kernel(a, b, keep, last_pixel, width, height, out_s, out_y, out_x0, out
                 i = ax // SUBPIXEL_ONE
                 j = -((-ay) // SUBPIXEL_ONE) - 1
                 if 0 <= i < width and 0 <= j < height and _in_test_area(ax, ay, i, j, False):
-                    n = _emit(s, i, j, out_s, out_y, out_x0, out_x1, n, first)
+                    n = emit_pixel(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
             continue
         x_major = abs(bx - ax) >= abs(by - ay)
         y_major = not x_major
@@ -405,7 +388,7 @@ def _dda_kernel(a, b, keep, last_pixel, width, height, out_s, out_y, out_x0, out
                     meets = True
                 # the exit rule: a pixel whose test area holds the end point b is not left
                 if meets and (last_pixel or not _in_test_area(bx, by, i, j, y_major)):
-                    n = _emit(s, i, j, out_s, out_y, out_x0, out_x1, n, first)
+                    n = emit_pixel(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
             uc += SUBPIXEL_ONE
             big_q += step_q
             big_r += step_r
@@ -498,20 +481,8 @@ def _sides_sign(q, big_s, w2_hi, w2_lo, scratch):  # type: ignore[no-untyped-def
     length = 0
     h = scratch[6:]
     for t in range(6):
-        x = scratch[t]
-        k = 0
-        for i in range(length):
-            x, err = _two_sum(x, h[i])
-            if err != 0.0:
-                h[k] = err
-                k += 1
-        if x != 0.0:
-            h[k] = x
-            k += 1
-        length = k
-    if length == 0:
-        return 0
-    return 1 if h[length - 1] > 0.0 else -1
+        length = grow_expansion(h, length, scratch[t])
+    return expansion_sign(h, length)
 
 
 @numba.njit(cache=True)
