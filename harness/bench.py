@@ -49,6 +49,17 @@ these workloads both draw exactly the Bresenham oracle's pixels --, cairo's hair
 oracle's) and skia's (``skia_hairline``: ``drawLine`` with stroke width 0, no
 anti-aliasing: nearest the diamond-exit oracle's), when installed; and each rasterizer
 that takes lines. Rates are in segments per second.
+
+The campaign workload (``rastercheck bench --campaign``; :func:`run_campaign_bench`): a
+campaign (:func:`harness.campaign.run_campaign`) of a fixed scene budget on a built-in
+reference (``pineda_topleft``: it passes, so nothing is shrunk) over every fuzz family it
+takes, first on a ``LocalCluster`` of one worker process, then of two
+(:func:`harness.campaign.local_cluster`, as a campaign starts by default): end-to-end checked
+primitives per second (generation, the isolated rasterize calls, every check against the
+exact oracle, the coordinator merging and saving the state) per worker, and the speed-up
+from one worker to two. The workers are started and warmed (the harness imported, the
+kernels loaded, one scene of each family checked) before the clock starts: the figure is
+a campaign's steady state, which is what a long one runs in.
 """
 
 from __future__ import annotations
@@ -58,24 +69,31 @@ from functools import partial
 import json
 import os
 import platform
+import tempfile
 import time
-from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
 from harness.api import AnyScene, LineScene, PathScene, Scene, takes
+from harness.campaign import local_cluster
 from harness.conventions import Convention
 from harness.oracle import exact_coverage
 from harness.registry import builtins, load
 from cases.scenes import random_triangles
 
+if TYPE_CHECKING:
+    from distributed import Client
+
 __all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "short_segments", "long_segments", "stars",
-           "wiggly_outline", "run_bench", "format_table", "LINE_ORACLES"]
+           "wiggly_outline", "run_bench", "format_table", "LINE_ORACLES", "CampaignMeasurement", "run_campaign_bench",
+           "format_campaign_table", "campaign_summary", "CAMPAIGN_REFERENCE", "CAMPAIGN_SCENES", "CAMPAIGN_GOAL",
+           "CAMPAIGN_BATCH", "CAMPAIGN_FAMILIES", "CAMPAIGN_REPEATS"]
 
 SIZE = 1024
 PATH_SIZE = 512
@@ -598,13 +616,178 @@ def format_table(results: list[Measurement], descriptions: dict[str, str]) -> st
     return "\n".join(lines)
 
 
-def write_json(results: list[Measurement], path: Path) -> None:
+def write_json(results: Sequence[Measurement | CampaignMeasurement], path: Path, summary: dict[str, Any] | None = None) -> None:
+    """The measurements as JSON (schema 1), with the machine and the date; ``summary``
+    (e.g. the campaign's speed-up, :func:`campaign_summary`) goes in as ``"summary"``."""
     from harness.files import atomic_write_text
 
-    payload = {
+    payload: dict[str, Any] = {
         "schema": 1,
         "machine": {"platform": platform.platform(), "python": platform.python_version(), "cpus": os.cpu_count()},
         "date": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "results": [asdict(m) for m in results],
     }
+    if summary is not None:
+        payload["summary"] = summary
     atomic_write_text(path, json.dumps(payload, indent=2))
+
+
+# -- campaigns: end-to-end checked primitives per second, one worker against two ---------------
+
+CAMPAIGN_REFERENCE = "pineda_topleft"  # a built-in that passes: no finding, nothing shrunk
+CAMPAIGN_SCENES = 1500  # about 20 s of search on one worker here
+CAMPAIGN_GOAL = 1.7  # the speed-up from one worker to two that the issue asks for
+CAMPAIGN_REPEATS = 2  # rounds of 1 then 2 workers; the fastest run of each is kept
+CAMPAIGN_BATCH = 25  # scenes per batch, fixed: both campaigns check the very same scenes (0.1 .. 0.7 s a batch here)
+CAMPAIGN_FAMILIES: tuple[str, ...] | None = None  # None: every fuzz family (those the rasterizer does not take are skipped)
+CAMPAIGN_SEED = 0
+WARM_SEED = 1  # the warm-up's scenes: not among those measured
+
+
+@dataclass(frozen=True, slots=True)
+class CampaignMeasurement:
+    """One campaign of the fixed scene budget on ``workers`` local worker processes.
+
+    ``seconds`` runs from the first batch sent to the last one merged (the coordinator's
+    own clock, :class:`harness.campaign.ProgressEvent`); ``startup_seconds`` is what
+    starting and warming the workers took before it. ``primitives`` are those checked
+    (triangles, and every frame's of a motion sequence); ``per_worker`` is
+    ``primitives_per_second / workers``; ``speedup`` the primitives per second against
+    the first measurement's (one worker); ``runs`` the seconds of every run of this
+    count (the measurement is the fastest)."""
+
+    workload: str
+    contender: str
+    workers: int
+    scenes: int
+    primitives: int
+    findings: int
+    seconds: float
+    startup_seconds: float
+    scenes_per_second: float
+    primitives_per_second: float
+    per_worker: float
+    speedup: float
+    unit: str = "primitives"
+    description: str = ""
+    runs: tuple[float, ...] = ()
+
+
+def _warm(client: Client, spec: str, families: Sequence[str], timeout: float) -> None:
+    """Every worker imports the harness, loads ``spec`` and checks one scene of each
+    family (kernels loaded, trimesh imported), so that the clock measures the search."""
+    from harness.campaign import Batch, CampaignTask, run_batch
+
+    addresses = sorted(client.scheduler_info()["workers"])
+    futures = [client.submit(run_batch, CampaignTask(spec, Batch(family, WARM_SEED, 0, 1), timeout=timeout),
+                             workers=[address], allow_other_workers=False, pure=False)
+               for address in addresses for family in families]
+    client.gather(futures)
+
+
+def run_campaign_bench(spec: str = CAMPAIGN_REFERENCE, scenes: int = CAMPAIGN_SCENES, worker_counts: Sequence[int] = (1, 2),
+                       families: Sequence[str] | None = None, batch_size: int = CAMPAIGN_BATCH, repeats: int = CAMPAIGN_REPEATS,
+                       timeout: float = 60.0, progress: Callable[[str], None] | None = None) -> list[CampaignMeasurement]:
+    """The same campaign (``scenes`` scenes of ``families``, default all, under seed 0, in
+    batches of ``batch_size``: the same scenes whatever the workers) on a fresh local
+    cluster of each worker count in turn, each in a state folder of its own; the whole
+    round ``repeats`` times, and the fastest run of each count kept (other processes on
+    the machine only ever slow a run down: the rounds interleave the counts, so a busy
+    spell costs each the same).
+
+    Parameters
+    ----------
+    spec : str
+        The rasterizer (:func:`harness.registry.load`); a built-in reference by default.
+    scenes : int
+        The scene budget of each campaign.
+    worker_counts : sequence of int
+        Worker processes of each cluster, in order; the speed-ups are against the first.
+    families : sequence of str, optional
+        Fuzz families (:data:`cases.fuzz.FAMILIES`); those the rasterizer does not take
+        are skipped by the campaign.
+    batch_size : int
+        Scenes per batch (fixed, unlike a campaign's default: with sizes adapted to the
+        time measured the two campaigns would check different scenes).
+    repeats : int
+        Rounds over the worker counts.
+    progress : callable, optional
+        Hears a line before and after each measurement.
+
+    Returns
+    -------
+    list of CampaignMeasurement
+        One per worker count, in order: its fastest run (``runs``: the seconds of each).
+    """
+    from cases.fuzz import FAMILIES
+    from harness.campaign import ProgressEvent, run_campaign
+
+    if scenes < 1:
+        raise ValueError(f"the campaign bench needs at least one scene, not {scenes}")
+    if not worker_counts or any(n < 1 for n in worker_counts):
+        raise ValueError(f"worker counts must be at least 1, not {list(worker_counts)}")
+    if repeats < 1:
+        raise ValueError(f"repeats must be at least 1, not {repeats}")
+    chosen = tuple(families or CAMPAIGN_FAMILIES or FAMILIES)
+    best: dict[int, CampaignMeasurement] = {}
+    runs: dict[int, list[float]] = {n: [] for n in worker_counts}
+    for round_ in range(repeats):
+        for workers in worker_counts:
+            said = f"campaign on {workers} worker{'s' if workers > 1 else ''} (round {round_ + 1} of {repeats})"
+            if progress is not None:
+                progress(f"{said}: starting and warming the workers ...")
+            started = time.perf_counter()
+            with local_cluster(workers) as client, tempfile.TemporaryDirectory(prefix="rastercheck-bench-") as state_dir:
+                _warm(client, spec, chosen, timeout)
+                startup = time.perf_counter() - started
+                events: list[ProgressEvent] = []
+                state = run_campaign(spec, budget_scenes=scenes, families=chosen, seed=CAMPAIGN_SEED, state_dir=state_dir,
+                                     scheduler=client, batch_size=batch_size, timeout=timeout, on_progress=events.append)
+            last = events[-1] if events else None
+            seconds = last.elapsed if last is not None else 0.0
+            checked = last.scenes if last is not None else 0
+            primitives = last.primitives if last is not None else 0
+            rate = primitives / seconds if seconds > 0 else 0.0
+            runs[workers].append(round(seconds, 3))
+            taken = [f for f in chosen if f not in state.skipped]
+            measured = CampaignMeasurement(
+                "campaign", spec, workers, checked, primitives, state.findings, seconds, startup,
+                checked / seconds if seconds > 0 else 0.0, rate, rate / workers, 0.0,
+                description=(f"{scenes:,} fuzz scenes of {', '.join(taken) or 'no family'} (seed {CAMPAIGN_SEED}, batches of "
+                             f"{batch_size}), checked end to end; the fastest of {repeats} run{'s' if repeats > 1 else ''}"))
+            if workers not in best or measured.primitives_per_second > best[workers].primitives_per_second:
+                best[workers] = measured
+            if progress is not None:
+                progress(f"{said}: {checked:,} scenes, {primitives:,} primitives in {seconds:.1f} s ({rate:,.0f} primitives/s; "
+                         f"startup {startup:.1f} s)")
+    base = best[worker_counts[0]].primitives_per_second
+    return [replace(best[n], speedup=best[n].primitives_per_second / base if base > 0 else 0.0, runs=tuple(runs[n]))
+            for n in dict.fromkeys(worker_counts)]
+
+
+def campaign_summary(results: Sequence[CampaignMeasurement]) -> dict[str, Any]:
+    """The speed-up from the first worker count to the last, against the goal."""
+    if len(results) < 2:
+        return {"goal": CAMPAIGN_GOAL}
+    first, last = results[0], results[-1]
+    return {"from_workers": first.workers, "to_workers": last.workers, "speedup": round(last.speedup, 3),
+            "goal": CAMPAIGN_GOAL, "met": last.speedup >= CAMPAIGN_GOAL}
+
+
+def format_campaign_table(results: Sequence[CampaignMeasurement]) -> str:
+    """The campaign measurements, one line per worker count, and the speed-up."""
+    if not results:
+        return "campaign: nothing measured"
+    lines = [f"campaign: {results[0].contender}, {results[0].description}",
+             f"  {'workers':>7}{'scenes':>9}{'primitives':>12}{'seconds':>9}{'scenes/s':>10}{'primitives/s':>14}"
+             f"{'per worker':>12}{'speed-up':>10}{'startup s':>11}"]
+    for m in results:
+        lines.append(f"  {m.workers:>7}{m.scenes:>9,}{m.primitives:>12,}{m.seconds:>9.1f}{m.scenes_per_second:>10.1f}"
+                     f"{m.primitives_per_second:>14,.0f}{m.per_worker:>12,.0f}{m.speedup:>9.2f}x{m.startup_seconds:>11.1f}"
+                     + (f"   runs: {', '.join(f'{r:.1f}' for r in m.runs)} s" if len(m.runs) > 1 else ""))
+    if len(results) > 1:
+        last = results[-1]
+        verdict = "met" if last.speedup >= CAMPAIGN_GOAL else "NOT met"
+        lines.append(f"speed-up from {results[0].workers} to {last.workers} workers: {last.speedup:.2f}x "
+                     f"(goal >= {CAMPAIGN_GOAL}x: {verdict})")
+    return "\n".join(lines)

@@ -25,7 +25,9 @@ ends when the worker is gone (:func:`_prepare_process`).
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
+import io
 import json
 import logging
 import math
@@ -47,7 +49,7 @@ from harness.api import AnyScene, Rasterizer, Scene, convention_for, takes
 from harness.case import Case, MotionCase, case_from_json, case_to_json, save_case
 from harness.checks import Result
 from harness.conventions import Convention
-from harness.files import atomic_write_text, prepare_folder, safe_name
+from harness.files import atomic_write_bytes, atomic_write_text, prepare_folder, safe_name
 from harness.isolation import Outcome
 
 if TYPE_CHECKING:
@@ -60,6 +62,10 @@ __all__ = ["Batch", "CampaignTask", "Finding", "BatchResult", "CampaignState", "
 
 SCHEMA = 1
 STATE_FILE = "campaign.json"
+# the identified convention of a rasterizer that declares none, as its workers received it
+# (a pickled :class:`harness.identify.Fingerprint` without its probes' raw data): the page
+# draws its repros' covered pixels by it; a cache, rewritten by every run
+IDENTIFIED_FILE = "identified.pickle"
 REPROS = "repros"
 EXAMPLES = 20  # scene points kept per signature
 HISTORY_POINTS = 2000  # beyond this the history is thinned (every other point kept)
@@ -355,6 +361,20 @@ class CampaignState:
         state.spec, state.seed = spec, seed
         return state
 
+    def judged(self, rasterizer: Rasterizer) -> Rasterizer:
+        """``rasterizer`` as the campaign judged it: wrapped in the convention identified for
+        it when it declares none (read from :data:`IDENTIFIED_FILE`); as it is otherwise,
+        or when that file is missing or unreadable (written by another version)."""
+        if rasterizer.convention is not None:
+            return rasterizer
+        from harness.identify import Fingerprint, Identified
+
+        try:
+            fingerprint = _FingerprintUnpickler(io.BytesIO((Path(self.directory) / IDENTIFIED_FILE).read_bytes())).load()
+        except Exception:  # noqa: BLE001 - a cache: without it the repros are drawn without covered pixels
+            return rasterizer
+        return Identified(rasterizer, fingerprint) if isinstance(fingerprint, Fingerprint) else rasterizer
+
     # -- questions
 
     @property
@@ -477,6 +497,9 @@ class CampaignState:
         for (f, s), ranges in other.done.items():
             for a, b in ranges:
                 self.done[(f, s)] = add_interval(self.done.get((f, s), []), a, b)
+        identified = Path(other.directory) / IDENTIFIED_FILE
+        if identified.is_file() and not (Path(self.directory) / IDENTIFIED_FILE).exists():
+            shutil.copyfile(identified, Path(self.directory) / IDENTIFIED_FILE)
         wall, scenes, findings = self.wall_seconds, self.scenes, self.findings
         self.scenes += other.scenes
         self.primitives += other.primitives
@@ -648,10 +671,11 @@ def _worker_name() -> str:
 def _classified(result: Result, case: Case | MotionCase, loaded: _Loaded) -> tuple[Result, Signature]:
     """A failing or erroring result with its signature (a failing conformance or invariance
     check probed first: does it pass on a grown screen, or as the library receives its
-    input? :func:`harness.signatures.with_probes`)."""
+    input? a flicker: does the frame that leaves the oracle fail conformance, and why?
+    :func:`harness.signatures.with_probes`)."""
     from harness.signatures import signature, with_probes
 
-    if result.status == "fail" and isinstance(case, Case):
+    if result.status == "fail":
         result = with_probes(result, case, loaded.judge, loaded.rasterizer)
     return result, signature(result, case, loaded.convention(case))
 
@@ -756,6 +780,24 @@ def shrink_finding(spec: str, fingerprint: Any | None, finding: Finding, timeout
 
 # ---------------------------------------------------------------------------------------------
 # The coordinator
+
+
+class _FingerprintUnpickler(pickle.Unpickler):
+    """Reads :data:`IDENTIFIED_FILE` (a state folder may come from elsewhere): only the
+    harness's record classes (dataclasses), plain containers and numpy arrays; any other
+    global -- a function a crafted file would call -- is refused."""
+
+    PLAIN = {("builtins", n) for n in ("tuple", "list", "dict", "set", "frozenset", "complex")} | {
+        (m, n) for m in ("numpy", "numpy.core.multiarray", "numpy._core.multiarray") for n in ("ndarray", "dtype", "_reconstruct", "scalar")}
+
+    def find_class(self, module: str, name: str) -> Any:
+        if (module, name) in self.PLAIN:
+            return super().find_class(module, name)
+        if module == "harness" or module.startswith("harness."):
+            found = super().find_class(module, name)
+            if isinstance(found, type) and dataclasses.is_dataclass(found):
+                return found
+        raise pickle.UnpicklingError(f"{module}.{name} is not a record of the identified convention")
 
 
 def _portable_spec(spec: str) -> str:
@@ -1106,6 +1148,8 @@ def run_campaign(spec: str, *, budget_seconds: float | None = None, budget_scene
     fingerprint, identified = _identify(rasterizer, timeout)
     if identified is not None:
         state.identified = identified
+    if fingerprint is not None:
+        atomic_write_bytes(Path(state.directory) / IDENTIFIED_FILE, pickle.dumps(fingerprint))
     kept, skipped = _taken_families(rasterizer, families, seed)
     state.families = tuple(dict.fromkeys(state.families + families))
     state.skipped.update(skipped)

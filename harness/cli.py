@@ -1,4 +1,4 @@
-"""The ``rastercheck`` command: run, gate, compare, identify, replay, bench, list.
+"""The ``rastercheck`` command: run, gate, compare, identify, replay, bench, fuzz, list.
 
 Exit codes: 0 everything passes, 1 a check fails or errors (for ``gate``: a regression),
 2 a usage or configuration error, reported in one line without a traceback.
@@ -10,11 +10,13 @@ import argparse
 import math
 import json
 import os
+import re
 import sys
+import threading
 import time
 from concurrent.futures import ThreadPoolExecutor, TimeoutError
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 __all__ = ["main"]
 
@@ -363,13 +365,20 @@ def _gate(args: argparse.Namespace) -> int:
             baseline = load_baseline(path)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    campaigns = _known_campaigns(args.known_campaign or [])
+
     def same_rasterizers(rasterizers: list[Any]) -> None:
-        """Before any work: a baseline of other rasterizers is a usage error now, not after the suite."""
+        """Before any work: a baseline (or a known campaign) of other rasterizers is a usage
+        error now, not after the suite."""
         known = {key.split("|", 1)[0] for key in baseline}
         names = {r.name for r in rasterizers}
         if known and not args.update_baseline and not known & names:
             raise UsageError(f"{path}: the baseline is of {', '.join(sorted(known))}, this run of {', '.join(sorted(names))}: "
                              "no rasterizer in common (another --baseline, or --update-baseline to start one)")
+        for campaign in campaigns:
+            if campaign.rasterizer not in names:
+                raise UsageError(f"--known-campaign {campaign.directory}: a campaign on {campaign.rasterizer}, and this run "
+                                 f"is of {', '.join(sorted(names))}: its findings would apply to none of them")
 
     try:
         rasterizers, results, seconds, fingerprints = _execute(args, loaded=same_rasterizers)
@@ -380,8 +389,14 @@ def _gate(args: argparse.Namespace) -> int:
         before = path.read_bytes() if path.exists() else None
         save_baseline(path, results, baseline, keep_missing=args.allow_missing)
         baseline = load_baseline(path)
+    known_failure = None
+    if campaigns:
+        from harness.gate import campaign_known, result_signature
+
+        by_name = {r.name: r for r in rasterizers}
+        known_failure = campaign_known(campaigns, lambda r: result_signature(r, by_name.get(r.rasterizer)))
     try:
-        verdict = compare_with_baseline(results, baseline, allow_missing=args.allow_missing)
+        verdict = compare_with_baseline(results, baseline, allow_missing=args.allow_missing, known_failure=known_failure)
     except ValueError as exc:
         raise UsageError(f"{path}: {exc}") from None
     _write_outputs(argparse.Namespace(**{**vars(args), "junit": None}), rasterizers, results, seconds, fingerprints)
@@ -396,10 +411,26 @@ def _gate(args: argparse.Namespace) -> int:
     if fixed:
         print(f"to accept the {len(fixed)} unexpected passes as the new baseline: {_update_command(args)}")
     absent = len(verdict.of("absent"))
+    from_campaigns = sum(f.reason.startswith("known from the campaign") for f in verdict.of("known"))
     print(f"gate: {len(verdict.regressions)} regressions ({len(verdict.of('missing'))} missing), {len(fixed)} unexpectedly passing, "
-          f"{len(verdict.of('known'))} known failures, {len(verdict.of('new'))} new"
+          f"{len(verdict.of('known'))} known failures"
+          + (f" ({from_campaigns} known from campaigns)" if campaigns else "") + f", {len(verdict.of('new'))} new"
           + (f", {absent} not run (missing allowed)" if absent else ""))
     return 0 if verdict.ok else 1
+
+
+def _known_campaigns(directories: list[str]) -> list[Any]:
+    """The findings of each ``--known-campaign`` folder (:class:`harness.gate.CampaignFindings`);
+    a folder that holds no readable campaign is a usage error naming it."""
+    from harness.gate import CampaignFindings
+
+    out = []
+    for directory in directories:
+        try:
+            out.append(CampaignFindings.load(directory))
+        except ValueError as exc:
+            raise UsageError(f"--known-campaign {directory}: {exc}") from None
+    return out
 
 
 def _write_repros(out: Path, results: list[Any]) -> int:
@@ -531,6 +562,10 @@ def _replay(args: argparse.Namespace) -> int:
 def _bench(args: argparse.Namespace) -> int:
     from harness.bench import format_table, run_bench, workloads, write_json
 
+    if args.campaign:
+        return _bench_campaign(args)
+    if args.scenes is not None or args.repeats is not None:
+        raise UsageError("--scenes and --repeats are for bench --campaign: give --campaign too")
     names = args.rasterizer
     if names:
         _load_all(names)  # fail early, with a usage error, on a bad spec
@@ -542,6 +577,321 @@ def _bench(args: argparse.Namespace) -> int:
         write_json(results, Path(args.json))
         print(f"json: {args.json}")
     return 0
+
+
+def _bench_campaign(args: argparse.Namespace) -> int:
+    """``bench --campaign``: the same fixed scene budget on one local worker, then two;
+    checked primitives per second per worker and the speed-up, as a table and JSON."""
+    from harness.bench import (CAMPAIGN_REFERENCE, CAMPAIGN_REPEATS, CAMPAIGN_SCENES, campaign_summary, format_campaign_table,
+                               run_campaign_bench, write_json)
+    from harness.files import prepare_file
+
+    if args.rasterizer and len(args.rasterizer) > 1:
+        raise UsageError("bench --campaign measures one rasterizer: give --rasterizer once")
+    spec = args.rasterizer[0] if args.rasterizer else CAMPAIGN_REFERENCE
+    if args.json:
+        try:
+            prepare_file(args.json, "--json")
+        except ValueError as exc:
+            raise UsageError(str(exc)) from None
+    _load_all([spec])  # fail early, with a usage error, on a bad spec
+    started = time.perf_counter()
+    results = run_campaign_bench(spec, scenes=args.scenes or CAMPAIGN_SCENES, repeats=args.repeats or CAMPAIGN_REPEATS, timeout=60.0,
+                                 progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}",
+                                                             file=sys.stderr, flush=True))
+    print(format_campaign_table(results))
+    if args.json:
+        write_json(results, Path(args.json), summary=campaign_summary(results))
+        print(f"json: {args.json}")
+    return 0
+
+
+# -- fuzz: campaigns ------------------------------------------------------------------------------
+
+_DURATION = re.compile(r"(?:(?P<h>\d+(?:\.\d+)?)h)?(?:(?P<m>\d+(?:\.\d+)?)m(?:in)?)?(?:(?P<s>\d+(?:\.\d+)?)s)?")
+_BUDGET_HELP = "a duration (90s, 10m, 1h, 1h30m) or a number of scenes (5000)"
+
+
+class Budget(NamedTuple):
+    """A campaign's budget: seconds or scenes (the other None), and as it was written."""
+
+    seconds: float | None
+    scenes: int | None
+    text: str
+
+
+def _budget(text: str) -> Budget:
+    """``--budget``: seconds for a duration such as ``90s``, ``10m``, ``1h`` or ``1h30m``;
+    scenes for a whole number; else a usage error naming it.
+
+    >>> _budget("10m")[:2], _budget("1h30m")[:2], _budget("5000")[:2]
+    ((600.0, None), (5400.0, None), (None, 5000))
+    """
+    value = text.strip().lower().replace(" ", "")
+    if value.isdigit():
+        scenes = int(value)
+        if scenes < 1:
+            raise argparse.ArgumentTypeError(f"expected {_BUDGET_HELP}, at least 1 scene, not {text!r}")
+        return Budget(None, scenes, f"{scenes:,} scenes")
+    match = _DURATION.fullmatch(value)
+    if not value or match is None or not any(match.groupdict().values()):
+        raise argparse.ArgumentTypeError(f"expected {_BUDGET_HELP}, not {text!r}")
+    seconds = sum(float(match.group(unit) or 0) * scale for unit, scale in (("h", 3600.0), ("m", 60.0), ("s", 1.0)))
+    if not (math.isfinite(seconds) and seconds > 0):
+        raise argparse.ArgumentTypeError(f"expected {_BUDGET_HELP} longer than nothing, not {text!r}")
+    return Budget(seconds, None, text.strip())
+
+
+def _families(text: str) -> list[str]:
+    """``--families a,b``: fuzz families of :data:`cases.fuzz.FAMILIES`, each named once."""
+    from cases.fuzz import FAMILIES
+
+    names = [f.strip() for f in text.split(",") if f.strip()]
+    unknown = [f for f in names if f not in FAMILIES]
+    if unknown or not names:
+        what = f"unknown famil{'ies' if len(unknown) > 1 else 'y'} {', '.join(map(repr, unknown))}" if unknown else "no family"
+        raise argparse.ArgumentTypeError(f"{what} in {text!r} (families: {','.join(FAMILIES)})")
+    return list(dict.fromkeys(names))
+
+
+def _seed(text: str) -> int:
+    """``--seed``: a whole number >= 0 (fuzz scenes are drawn from non-negative seeds)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, not {text!r}")
+    return value
+
+
+def _clock(seconds: float | None) -> str:
+    """``1:02:03``, ``4:05``, ``--`` for an unknown span."""
+    if seconds is None or not math.isfinite(seconds):
+        return "--"
+    total = int(round(max(seconds, 0.0)))
+    hours, rest = divmod(total, 3600)
+    minutes, secs = divmod(rest, 60)
+    return f"{hours}:{minutes:02d}:{secs:02d}" if hours else f"{minutes}:{secs:02d}"
+
+
+class _FuzzProgress:
+    """A campaign's progress: a live table on a terminal (scenes/s, primitives/s, findings
+    by signature, ETA against the budget), plain lines every ``every`` seconds otherwise
+    (and one at once for each new signature)."""
+
+    def __init__(self, budget: str, quiet: bool, every: float = 10.0) -> None:
+        self.budget, self.quiet, self.every = budget, quiet, every
+        self.event: Any = None
+        self.started = time.monotonic()
+        self.lock = threading.Lock()
+        self.done = threading.Event()
+        self.live: Any = None
+        self.thread: threading.Thread | None = None
+
+    def __enter__(self) -> _FuzzProgress:
+        if self.quiet:
+            self.thread = threading.Thread(target=self._plain_loop, name="rastercheck-fuzz-progress", daemon=True)
+            self.thread.start()
+        else:
+            from rich.console import Console
+            from rich.live import Live
+
+            self.live = Live(self, console=Console(stderr=True), refresh_per_second=2, transient=False)
+            self.live.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.done.set()
+        if self.live is not None:
+            self.live.stop()
+        if self.thread is not None:
+            self.thread.join(timeout=1.0)
+
+    def __call__(self, event: Any) -> None:
+        """The campaign's ``on_progress``: kept for the display; a new signature is said at once in plain mode."""
+        with self.lock:
+            self.event = event
+        if self.quiet:
+            for key in event.new_signatures:
+                where = next((f for f in event.batch_findings if f.signature_key == key), None)
+                at = f" on scene {where.family}/{where.seed}/{where.index}" if where is not None else ""
+                print(f"fuzz: new signature {key}{at}", file=sys.stderr, flush=True)
+
+    def line(self) -> str:
+        with self.lock:
+            event = self.event
+        if event is None:
+            return f"fuzz: starting the workers ({time.monotonic() - self.started:.0f} s)"
+        top = sorted(event.signatures.items(), key=lambda kv: -kv[1])[:3]
+        kinds = "; ".join(f"{k} {n:,}" for k, n in top) + (" ..." if len(event.signatures) > 3 else "")
+        return (f"fuzz: {event.scenes:,} scenes, {event.primitives:,} primitives in {event.elapsed:.0f} s "
+                f"({event.scenes_per_second:,.1f} scenes/s, {event.primitives_per_second:,.0f} primitives/s, "
+                f"{event.workers} worker{'s' if event.workers != 1 else ''}); {event.findings:,} findings in "
+                f"{len(event.signatures)} signature{'s' if len(event.signatures) != 1 else ''}"
+                + (f" ({kinds})" if kinds else "") + f"; budget {self.budget}, ETA {_clock(event.eta)}")
+
+    def _plain_loop(self) -> None:
+        while not self.done.wait(self.every):
+            print(self.line(), file=sys.stderr, flush=True)
+
+    def __rich__(self) -> Any:
+        from rich.console import Group
+        from rich.table import Table
+        from rich.text import Text
+
+        with self.lock:
+            event = self.event
+        if event is None:
+            return Text(f"fuzz: starting the workers ... {time.monotonic() - self.started:.0f} s")
+        head = Text.assemble(
+            ("fuzz ", "bold"), f"{event.scenes:,} scenes this run ({event.total_scenes:,} in the campaign), "
+            f"{event.scenes_per_second:,.1f} scenes/s, {event.primitives_per_second:,.0f} primitives/s on {event.workers} "
+            f"worker{'s' if event.workers != 1 else ''}\n",
+            f"elapsed {_clock(event.elapsed)}, ETA {_clock(event.eta)} (budget {self.budget}); ",
+            (f"{event.findings:,} findings in {len(event.signatures)} signature{'s' if len(event.signatures) != 1 else ''}",
+             "bold red" if event.findings else "green"))
+        table = Table(show_header=False, box=None, padding=(0, 1), pad_edge=False)
+        table.add_column(justify="right", no_wrap=True)
+        table.add_column(overflow="fold")
+        ranked = sorted(event.signatures.items(), key=lambda kv: (-kv[1], kv[0]))
+        for key, count in ranked[:10]:
+            table.add_row(f"{count:,}", key)
+        if len(ranked) > 10:
+            table.add_row("", f"... {len(ranked) - 10} more")
+        return Group(head, table) if ranked else head
+
+
+def _fuzz_summary(state: Any, run: dict[str, Any] | None) -> None:
+    """The campaign in a few lines: this run's figures, then each signature with its count,
+    first scene and repro."""
+    if run is not None:
+        print(f"fuzz {state.rasterizer}: {run['scenes']:,} scenes ({run['primitives']:,} primitives) in {run['seconds']:.1f} s "
+              f"on {run['workers']} worker{'s' if run['workers'] != 1 else ''}: {run['scenes_per_second']:,.1f} scenes/s, "
+              f"{run['primitives_per_second']:,.0f} primitives/s; the campaign has checked {state.scenes:,} scenes")
+    else:
+        print(f"campaign {state.rasterizer}: {state.scenes:,} scenes, {state.primitives:,} primitives")
+    for family, why in sorted(state.skipped.items()):
+        print(f"  skipped {family}: {why}")
+    if not state.signatures:
+        print("no findings")
+        return
+    print(f"{state.findings:,} finding{'s' if state.findings != 1 else ''} in {len(state.signatures)} signature{'s' if len(state.signatures) != 1 else ''}:")
+    for key, entry in sorted(state.signatures.items(), key=lambda kv: (-int(kv[1]["count"]), kv[0])):
+        first = entry["first"]
+        repro = Path(state.directory) / entry["repro"] if entry.get("repro") else None
+        print(f"  {int(entry['count']):>8,}  {key}  first {first['family']}/{first['seed']}/{first['index']}, "
+              + (f"repro {repro}" if repro is not None else "no repro yet"))
+
+
+def _fuzz_outputs(args: argparse.Namespace, state: Any, run: dict[str, Any] | None) -> None:
+    """The campaign page under --out and the JSON (--json), each written atomically."""
+    from harness.files import atomic_write_text
+    from harness.report import campaign_json, write_campaign_page
+
+    rasterizer = None
+    try:
+        from harness.registry import load
+
+        rasterizer = state.judged(load(state.spec))  # its convention draws the covered pixels on each repro
+    except Exception:  # noqa: BLE001 - the page is written without them
+        rasterizer = None
+    page = write_campaign_page(args.out, state, rasterizer=rasterizer, run=run)
+    if args.json:
+        atomic_write_text(args.json, json.dumps(campaign_json(state, run, page), indent=1))
+    _fuzz_summary(state, run)
+    print(f"page: {page}" + (f"; json: {args.json}" if args.json else ""))
+    print(f"state: {state.directory} (rerun with the same --state to continue: no scene is checked twice)")
+
+
+def _fuzz(args: argparse.Namespace) -> int:
+    """Run a campaign (or merge campaigns' states); exit 1 when the campaign holds findings."""
+    from harness.files import prepare_file, prepare_folder
+
+    if args.merge is not None:
+        if args.rasterizer or args.budget:
+            raise UsageError("fuzz --merge takes state folders and --state, not --rasterizer or --budget")
+    elif not args.rasterizer or not args.budget:
+        raise UsageError("fuzz needs --rasterizer SPEC and --budget (10m, 90s, 1h or a number of scenes); "
+                         "or --merge DIR ... --state OUT")
+    try:
+        prepare_folder(args.out, "--out")
+        if args.json:
+            prepare_file(args.json, "--json")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    if args.merge is not None:
+        return _fuzz_merge(args)
+    from harness.campaign import CampaignError, run_campaign
+    from harness.report import campaign_run
+
+    seconds, scenes, budget_text = args.budget
+    progress = _FuzzProgress(budget_text, _quiet())
+    interrupted = False
+    try:
+        with progress:
+            state = run_campaign(args.rasterizer, budget_seconds=seconds, budget_scenes=scenes, families=args.families,
+                                 seed=args.seed, state_dir=args.state, scheduler=args.scheduler, workers=args.workers,
+                                 batch_size=args.batch, only=args.check, timeout=args.timeout, on_progress=progress)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    except CampaignError as exc:
+        print(f"rastercheck: campaign stopped: {exc}", file=sys.stderr)
+        state = _saved_state(args.state)
+        if state is not None:
+            _fuzz_outputs(args, state, campaign_run(progress.event))
+        return 2
+    except KeyboardInterrupt:
+        interrupted = True
+        state = _saved_state(args.state)
+        if state is None:
+            print("rastercheck: interrupted before any batch was merged", file=sys.stderr)
+            return 130
+    _fuzz_outputs(args, state, campaign_run(progress.event))
+    if interrupted:
+        print(f"rastercheck: interrupted; the state in {args.state} keeps every batch merged: rerun to continue", file=sys.stderr)
+        return 130
+    return 1 if state.signatures else 0
+
+
+def _saved_state(directory: str) -> Any:
+    """The campaign state saved in ``directory``, or None when there is none yet."""
+    from harness.campaign import CampaignState
+
+    try:
+        return CampaignState.load(directory)
+    except ValueError:
+        return None
+
+
+def _fuzz_merge(args: argparse.Namespace) -> int:
+    """``fuzz --merge A B ... --state OUT``: each campaign's scenes and findings added to
+    OUT (created from the first when it holds none); a clash (another rasterizer, scenes
+    checked twice) is a usage error naming both."""
+    from harness.campaign import CampaignState
+
+    target = Path(args.state)
+    sources = [Path(d) for d in args.merge if Path(d).resolve() != target.resolve()]
+    if not sources:
+        raise UsageError("fuzz --merge: name at least one state folder other than --state")
+    try:
+        states = [CampaignState.load(d) for d in sources]
+        existing = _saved_state(str(target))
+        if existing is None:
+            first = states[0]
+            existing = CampaignState.open(target, first.spec, first.rasterizer, first.seed, first.only)
+            existing.identified = first.identified
+            existing.batch_size = first.batch_size
+        for other in states:
+            existing.merge(other)
+            if existing.identified is None:
+                existing.identified = other.identified
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    existing.save()
+    print(f"merged {', '.join(map(str, sources))} into {target}")
+    _fuzz_outputs(args, existing, None)
+    return 1 if existing.signatures else 0
 
 
 def _diff(args: argparse.Namespace) -> int:
@@ -659,6 +1009,9 @@ def build_parser() -> argparse.ArgumentParser:
     gate.add_argument("--allow-missing", action="store_true",
                       help="a result of the baseline missing from the run is no regression (a partial run: --case, --check, "
                            "--shard, fewer rasterizers); with --update-baseline, such entries are kept")
+    gate.add_argument("--known-campaign", action="append", metavar="DIR",
+                      help="a campaign's state folder (rastercheck fuzz --state): a failure it found (its case and check, "
+                           "or its signature) is a known failure, not a regression (repeatable)")
     gate.set_defaults(func=_gate)
     cmp = sub.add_parser("compare", help="pixel differences between rasterizers, and the convention that separates them")
     cmp.add_argument("specs", nargs="+", metavar="SPEC")
@@ -682,7 +1035,32 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--json", metavar="FILE", help="write the measurements as JSON")
     bench.add_argument("--scale", type=_positive_seconds, default=1.0, help="shrink the workloads (smoke tests)")
     bench.add_argument("--budget", type=_non_negative_seconds, default=1.0, help="seconds of repeats per contender")
+    bench.add_argument("--campaign", action="store_true",
+                       help="instead: a campaign of a fixed scene budget on 1, then 2 local workers (a built-in reference, "
+                            "or --rasterizer): checked primitives/s per worker and the speed-up")
+    bench.add_argument("--scenes", type=_positive_int, metavar="N", help="the scene budget of --campaign (default 1500)")
+    bench.add_argument("--repeats", type=_positive_int, metavar="N",
+                       help="rounds of --campaign over 1 and 2 workers, the fastest run of each kept (default 2)")
     bench.set_defaults(func=_bench)
+    fuzz = sub.add_parser("fuzz", help="a campaign: search generated scenes for failures until a budget, grouped by cause",
+                          description="Search generated scenes for failures (on a local Dask cluster, or --scheduler), group "
+                                      "them by signature, shrink one repro per signature. Rerun with the same --state to "
+                                      "continue; exit 1 when the campaign holds findings.")
+    fuzz.add_argument("--rasterizer", metavar="SPEC", help="built-in name, module:attr or file.py:attr")
+    fuzz.add_argument("--budget", type=_budget, metavar="BUDGET", help=_BUDGET_HELP)
+    fuzz.add_argument("--families", type=_families, metavar="A,B", help="fuzz families (default all the rasterizer takes)")
+    fuzz.add_argument("--seed", type=_seed, default=0)
+    fuzz.add_argument("--state", default=str(Path("reports") / "campaign"), metavar="DIR",
+                      help="the campaign's state folder (default reports/campaign): rerun to continue")
+    fuzz.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://host:8786); default a local cluster")
+    fuzz.add_argument("--workers", type=_positive_int, metavar="N", help="local worker processes (default one per core)")
+    fuzz.add_argument("--batch", type=_positive_int, metavar="N", help="scenes per batch (default about a second of work)")
+    fuzz.add_argument("--check", action="append", metavar="NAME", help="only this check (repeatable)")
+    fuzz.add_argument("--timeout", type=_positive_seconds, default=60.0, help="seconds one rasterize call may take")
+    fuzz.add_argument("--json", metavar="FILE", help="also write the campaign as JSON")
+    fuzz.add_argument("--out", default="reports", help="folder for campaign.html (default reports/)")
+    fuzz.add_argument("--merge", nargs="+", metavar="DIR", help="merge these campaigns' state folders into --state")
+    fuzz.set_defaults(func=_fuzz)
     dif = sub.add_parser("diff", help="what changed between two runs' --json files (regressions, fixes, new, removed, metrics)")
     dif.add_argument("before", metavar="A.json")
     dif.add_argument("after", metavar="B.json")

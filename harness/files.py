@@ -7,7 +7,7 @@ import re
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_write_text", "safe_name", "prepare_folder", "prepare_file", "sweep_partial"]
+__all__ = ["atomic_write_text", "atomic_write_bytes", "safe_name", "prepare_folder", "prepare_file", "sweep_partial"]
 
 
 def safe_name(text: str) -> str:
@@ -76,12 +76,17 @@ def atomic_write_text(path: Path | str, text: str) -> None:
     """Write ``text`` to a temporary file beside ``path``, then rename it into place (a
     write killed half-way leaves a ``.<name>.<pid>.*.partial`` file that the next
     :func:`sweep_partial` of the folder removes)."""
+    atomic_write_bytes(path, text.encode("utf-8"))
+
+
+def atomic_write_bytes(path: Path | str, data: bytes) -> None:
+    """:func:`atomic_write_text` for bytes."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}.", suffix=".partial", dir=path.parent)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data)
         os.chmod(tmp, 0o644)  # mkstemp makes 0600; reports are meant to be read
         os.replace(tmp, path)
     except BaseException:

@@ -16,13 +16,22 @@ unchanged run rewrites it byte for byte::
 
 Only gated metrics (:func:`harness.checks.metric_tolerance`) that are not timings
 (:func:`harness.checks.timing_metrics`) are stored. Fields may be added to an entry in a later schema-1 file.
+
+A campaign's findings (``rastercheck fuzz``, :mod:`harness.campaign`) can be taken as known
+failures too (:class:`CampaignFindings`, ``rastercheck gate --known-campaign DIR``): a
+failing or erroring result of the campaign's rasterizer that would be a regression is
+reported as known instead when its ``(check, case)`` is one the campaign saw fail (a
+scene among a signature's examples, or a saved repro, by its id or the id of the case it
+was shrunk from), or when its own signature (:func:`harness.signatures.signature`) is one
+the campaign found. The baseline is not changed by it: a known failure of the baseline
+whose metrics worsened is a regression as before.
 """
 
 from __future__ import annotations
 
 import json
 import re
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -31,7 +40,7 @@ from harness.checks import timing_metrics, Result, check_names, metric_tolerance
 from harness.files import atomic_write_text
 
 __all__ = ["BASELINE_SCHEMA", "Finding", "Verdict", "compare_with_baseline", "gated_metrics", "key",
-           "load_baseline", "save_baseline"]
+           "load_baseline", "save_baseline", "CampaignFindings", "campaign_known", "result_signature"]
 
 SCHEMA = 1
 BAD = ("fail", "error")
@@ -289,8 +298,13 @@ def _worse(r: Result, before: dict[str, Any], gated: dict[str, tuple[float, floa
     return out
 
 
-def compare_with_baseline(results: list[Result], baseline: dict[str, dict[str, Any]], allow_missing: bool = False) -> Verdict:
+def compare_with_baseline(results: list[Result], baseline: dict[str, dict[str, Any]], allow_missing: bool = False,
+                          known_failure: Callable[[Result], str | None] | None = None) -> Verdict:
     """The gate's verdict on ``results`` against the baseline's entries.
+
+    ``known_failure`` (e.g. :func:`campaign_known`) is asked about each failing or erroring
+    result that would otherwise be a regression by its status (new, or passing before): a
+    reason makes it a known failure instead.
 
     Raises ValueError (one line) when both name rasterizers and none in common: the run
     was of another rasterizer than the baseline's.
@@ -310,6 +324,8 @@ def compare_with_baseline(results: list[Result], baseline: dict[str, dict[str, A
         if before is None:
             if r.status in BAD and "flaky" in r.evidence:
                 verdict.findings.append(Finding(k, "flaky", f"new, {' / '.join(r.evidence['flaky'])} on reruns: {r.message}"))
+            elif r.status in BAD and (why := _known(known_failure, r)):
+                verdict.findings.append(Finding(k, "known", f"new, {r.status}: {why}", why))
             elif r.status in BAD:
                 verdict.findings.append(Finding(k, "regression", f"new, {r.status}: {r.message}"))
             else:
@@ -320,6 +336,8 @@ def compare_with_baseline(results: list[Result], baseline: dict[str, dict[str, A
         worse = _worse(r, before, gated)
         if r.status in BAD and not was_bad and "flaky" in r.evidence:  # the reruns disagree: a flake, shown
             verdict.findings.append(Finding(k, "flaky", f"was {status}, now {' / '.join(r.evidence['flaky'])} on reruns: {r.message}"))
+        elif r.status in BAD and not was_bad and (why := _known(known_failure, r)):
+            verdict.findings.append(Finding(k, "known", f"was {status}, now {r.status}: {why}", why))
         elif r.status in BAD and not was_bad:
             verdict.findings.append(Finding(k, "regression", "; ".join([f"was {status}, now {r.status}: {r.message}", *worse])))
         elif worse:
@@ -334,3 +352,127 @@ def compare_with_baseline(results: list[Result], baseline: dict[str, dict[str, A
         verdict.findings.append(Finding(k, "absent" if allow_missing else "missing",
                                         f"in the baseline ({baseline[k].get('status')}), not in this run"))
     return verdict
+
+
+def _known(known_failure: Callable[[Result], str | None] | None, r: Result) -> str | None:
+    return known_failure(r) if known_failure is not None else None
+
+
+# -- a campaign's findings as known failures ----------------------------------------------------
+
+
+@dataclass(frozen=True)
+class CampaignFindings:
+    """What a campaign found (its state folder, :class:`harness.campaign.CampaignState`), as
+    the gate reads it.
+
+    ``signatures`` maps each signature key to its entry in the state (``count``,
+    ``repro``, ...); ``cases`` maps each ``(check, case id)`` the campaign saw fail --
+    every example scene of a signature (:func:`cases.fuzz.scene_id`) and every saved
+    repro, by its own id and by the id of the case it was shrunk from -- to its
+    signature key.
+    """
+
+    directory: Path
+    rasterizer: str
+    signatures: dict[str, dict[str, Any]]
+    cases: dict[tuple[str, str], str]
+
+    @classmethod
+    def load(cls, directory: Path | str) -> CampaignFindings:
+        """The findings of the campaign saved in ``directory``; ValueError in one line
+        naming the folder (or the repro file) that cannot be read."""
+        from cases.fuzz import scene_id
+        from harness.campaign import CampaignState
+
+        state = CampaignState.load(directory)
+        cases: dict[tuple[str, str], str] = {}
+        for signature_key, entry in state.signatures.items():
+            if not isinstance(entry, dict) or not isinstance(entry.get("check"), str) or not isinstance(entry.get("examples", []), list):
+                raise ValueError(f"{state.path}: malformed signature {signature_key!r} (its check and examples expected)")
+            checks = {str(entry.get("result_check") or entry["check"]), str(entry["check"])}
+            for point in entry.get("examples", []):
+                try:
+                    family, seed, index = point
+                except (TypeError, ValueError):
+                    continue  # not a scene point: nothing to match
+                try:
+                    case_id = scene_id(family, int(seed), int(index))
+                except (KeyError, TypeError, ValueError):
+                    continue  # a family this version does not know: its repro may still match
+                for check in checks:
+                    cases.setdefault((check, case_id), signature_key)
+            if entry.get("repro"):
+                path = Path(directory) / entry["repro"]
+                try:
+                    repro = json.loads(path.read_text(encoding="utf-8"))
+                except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+                    raise ValueError(f"{path}: cannot read this campaign repro ({exc})") from None
+                if not isinstance(repro, dict):
+                    raise ValueError(f"{path}: not a campaign repro (a JSON object expected)")
+                for check in checks | {str(repro.get("check") or entry["check"])}:
+                    for named in (repro.get("id"), repro.get("original_case")):
+                        if isinstance(named, str):
+                            cases.setdefault((check, named), signature_key)
+        return cls(Path(directory), state.rasterizer, dict(state.signatures), cases)
+
+    def reason(self, signature_key: str) -> str:
+        """Why a result of this signature is known: the campaign, the signature, how often
+        it was found and where its repro is."""
+        entry = self.signatures[signature_key]
+        count = int(entry.get("count", 0))
+        repro = f"; repro {self.directory / entry['repro']}" if entry.get("repro") else ""
+        return (f"known from the campaign in {self.directory}: {signature_key} "
+                f"({count} finding{'' if count == 1 else 's'}{repro})")
+
+
+def result_signature(result: Result, rasterizer: Any | None) -> str:
+    """The signature key (:func:`harness.signatures.signature`) of a failing or erroring
+    result, judged on the case its drawing holds under ``rasterizer``'s convention for that
+    case (declared or identified), as a campaign judges its scenes; its probes' evidence
+    (input format, viewport edge: the runner's repro) is read as a campaign reads it."""
+    from harness.api import convention_for
+    from harness.case import MotionCase
+    from harness.signatures import signature
+
+    case = result.drawing.case if result.drawing is not None else None
+    convention = None
+    if rasterizer is not None and case is not None:
+        try:
+            convention = rasterizer.convention if isinstance(case, MotionCase) else convention_for(rasterizer, case.scene)
+        except Exception:  # noqa: BLE001 - a rasterizer whose convention cannot be read: judged without one
+            convention = None
+    return signature(result, case, convention).key
+
+
+def campaign_known(campaigns: Sequence[CampaignFindings],
+                   signature_of: Callable[[Result], str | None] = lambda r: result_signature(r, None)
+                   ) -> Callable[[Result], str | None]:
+    """A ``known_failure`` for :func:`compare_with_baseline`: the reason a failing result
+    is known from one of ``campaigns`` of its rasterizer -- its ``(check, case)`` seen
+    failing there, else its signature (``signature_of``, computed only for a rasterizer
+    that has a campaign) found there -- or None.
+
+    >>> found = CampaignFindings(Path("c"), "r", {"run|hang|none": {"count": 2, "repro": None}}, {})
+    >>> known = campaign_known([found])
+    >>> known(Result("r", "lattice/a", "run", "error", "timeout: no answer within 2 s"))
+    'known from the campaign in c: run|hang|none (2 findings)'
+    >>> known(Result("other", "lattice/a", "run", "error", "timeout: no answer within 2 s")) is None
+    True
+    """
+
+    def known(r: Result) -> str | None:
+        mine = [c for c in campaigns if c.rasterizer == r.rasterizer]
+        if not mine or r.status not in BAD:
+            return None
+        for campaign in mine:
+            found = campaign.cases.get((r.check, r.case))
+            if found is not None:
+                return campaign.reason(found)
+        signature_key = signature_of(r)
+        for campaign in mine:
+            if signature_key is not None and signature_key in campaign.signatures:
+                return campaign.reason(signature_key)
+        return None
+
+    return known

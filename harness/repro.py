@@ -23,7 +23,7 @@ from harness.api import AnyScene, Rasterizer, Scene, received_of
 from harness.case import Case, case_to_json
 from harness.checks import Result
 
-__all__ = ["ddmin", "shrink", "attach_repro", "whole_case_repro", "input_precision_probe", "viewport_edge_probe",
+__all__ = ["ddmin", "shrink", "attach_repro", "whole_case_repro", "input_precision_probe", "viewport_edge_probe", "viewport_edge_trial",
            "grown_screen", "Judge"]
 
 # The checks of one rasterizer on a case, restricted to one check by name.
@@ -208,6 +208,16 @@ def viewport_edge_probe(case: Case, check: str, judge: Judge, largest: int = 819
     when no vertex is off-screen, the case has a region, the grown screen would exceed
     ``largest`` pixels a side, or it still fails (the deviation is not the edge's).
     """
+    trial = viewport_edge_trial(case, check, judge, largest)
+    if trial is None or not trial.pop("passes"):
+        return None
+    return trial
+
+
+def viewport_edge_trial(case: Case, check: str, judge: Judge, largest: int = 8192) -> dict[str, Any] | None:
+    """:func:`viewport_edge_probe`'s trial, told either way: ``{"margin", "screen",
+    "passes"}`` when the grown case was checked (``passes`` False: it still fails, so the
+    viewport edge is not the cause), None when the probe does not apply."""
     scene = case.scene
     lo, hi, finite = scene.primitive_boxes()
     if case.region is not None or not finite.any():
@@ -221,4 +231,4 @@ def viewport_edge_probe(case: Case, check: str, judge: Judge, largest: int = 819
     if grown is None:
         return None
     passes = _passes(replace(case, id=f"{case.id}/inside", scene=grown), check, judge)
-    return {"margin": margin, "screen": [grown.width, grown.height]} if passes else None
+    return {"margin": margin, "screen": [grown.width, grown.height], "passes": passes}

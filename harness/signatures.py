@@ -64,7 +64,9 @@ class                            convention part     when
 ``watertight``: ``hole``, ``double-hit``, ``hole-and-double-hit`` or ``stray`` (tie-rule when
 every hole and double hit has its sample exactly on the blamed shared edge), ``near-tie``
 when every one lies within float rounding of it, ``non-finite-input`` and ``overflow-...``
-as above. Motion: ``backward-jump``, ``flicker``, ``texel-mismatch``,
+as above. Motion: a jaggy failure whose first frame off the oracle fails conformance
+(probed) takes that frame's conformance class and part (a flicker of a wrong tie rule is
+the tie rule's), else ``backward-jump``, ``flicker``; ``texel-mismatch``,
 ``texel-backward-step``, ``perspective-error``, ``missing-attributes``, ``popping``. Lines:
 ``gap``, ``break``, ``double-step`` (connectivity), ``joint-vertex``, ``joint-overlap``,
 ``reversal``, ``last-pixel`` (a segment one pixel long or short), ``length``,
@@ -94,10 +96,11 @@ from numpy.typing import NDArray
 
 from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene
 from harness.case import Case, MotionCase
+from harness.checks.records import Result
 from harness.conventions import SNAP_ROUNDINGS, Convention, SnapRounding
 from harness.exact import orientation
 
-__all__ = ["Signature", "signature", "CONVENTION_PARTS", "OVERFLOW_EDGES", "overflow_class", "with_probes"]
+__all__ = ["Signature", "signature", "CONVENTION_PARTS", "OVERFLOW_EDGES", "overflow_class", "with_probes", "frame_case"]
 
 CONVENTION_PARTS = ("tie-rule", "sample-point", "snapping", "culling", "fill-rule", "line-rule", "none")
 # Powers of two where arithmetic gives out: 2**12 is huge beside any viewport here,
@@ -232,16 +235,20 @@ def overflow_class(magnitude: float) -> str | None:
     return f"overflow-2^{OVERFLOW_EDGES[-1]}+"
 
 
-def with_probes(result: Any, case: Case, judge: Callable[[Case, str], list[Any]], rasterizer: Any) -> Any:
-    """The failing ``result`` with the probes' evidence added when they apply and hold:
-    ``viewport_edge`` (:func:`harness.repro.viewport_edge_probe`: the case passes moved into
-    a grown screen) and ``input_precision`` (:func:`harness.repro.input_precision_probe`:
-    it passes rounded as the library receives it). Each costs a call of the rasterizer and
-    the check; :func:`signature` then reads them as facts instead of guessing. Conformance
-    and invariance failures only; any other result comes back as it is. Never raises."""
-    from harness.repro import input_precision_probe, viewport_edge_probe
+def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case, str], list[Any]], rasterizer: Any) -> Any:
+    """The failing ``result`` with the probes' evidence added when they apply: for
+    conformance and invariance, ``viewport_edge`` (:func:`harness.repro.viewport_edge_probe`:
+    the case passes moved into a grown screen; ``viewport_edge_refuted`` when it still
+    fails) and ``input_precision`` (:func:`harness.repro.input_precision_probe`: it passes
+    rounded as the library receives it); for jaggy, ``frame_conformance`` (the first frame
+    off the oracle fails conformance: that failure, probed). Each costs a call of the
+    rasterizer and the check; :func:`signature` then reads them as facts instead of
+    guessing. Any other result comes back as it is. Never raises."""
+    from harness.repro import input_precision_probe, viewport_edge_trial
 
     try:
+        if getattr(result, "status", None) == "fail" and result.check == "jaggy" and isinstance(case, MotionCase):
+            return _with_frame_conformance(result, case, judge, rasterizer)
         if getattr(result, "status", None) != "fail" or result.check not in ("conformance", "invariance") or not isinstance(case, Case):
             return result
         evidence = dict(result.evidence)
@@ -250,12 +257,39 @@ def with_probes(result: Any, case: Case, judge: Callable[[Case, str], list[Any]]
             if found is not None:
                 evidence["input_precision"] = found
         if "viewport_edge" not in evidence and "input_precision" not in evidence:
-            found = viewport_edge_probe(case, result.check, judge)
-            if found is not None:
-                evidence["viewport_edge"] = found
+            trial = viewport_edge_trial(case, result.check, judge)
+            if trial is not None:
+                # it passes on a grown screen: the edge's fault; it still fails: not the edge's
+                evidence["viewport_edge" if trial.pop("passes") else "viewport_edge_refuted"] = trial
         return replace(result, evidence=evidence)
     except Exception:
         return result
+
+
+def frame_case(case: MotionCase, frame: int) -> Case:
+    """Frame ``frame`` (0-based) of a motion sequence as a still case, judged as the jaggy
+    check judges frames: every deviation from the oracle counts, none excused as a near
+    tie (``lattice``: conformance's strict reading)."""
+    return Case(f"{case.id}/frame/{frame}", case.frames[frame], lattice=True)
+
+
+def _with_frame_conformance(result: Any, case: MotionCase, judge: Callable[[Case, str], list[Any]], rasterizer: Any) -> Any:
+    """A failing jaggy result with ``frame_conformance`` added: the conformance failure
+    (probed) of the first frame whose coverage differs from the oracle's, when it fails --
+    so a flicker caused by a wrong tie rule is named by that cause. One more call."""
+    evidence = dict(result.evidence)
+    frames = evidence.get("oracle_mismatch_frames") or []
+    if "frame_conformance" in evidence or not frames:
+        return result
+    frame = int(frames[0])
+    still = frame_case(case, frame)
+    failed = [r for r in judge(still, "conformance") if r.status == "fail"]
+    if not failed:
+        return result
+    probed = with_probes(failed[0], still, judge, rasterizer)
+    evidence["frame_conformance"] = {"frame": frame, "message": probed.message, "metrics": dict(probed.metrics),
+                                     "evidence": dict(probed.evidence)}
+    return replace(result, evidence=evidence)
 
 
 # -- errors ----------------------------------------------------------------------------------
@@ -498,14 +532,17 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
     overflow = overflow_class(magnitude)
     if overflow is not None:
         return overflow, "none"
-    dropped = _dropped(result, scene, prims, wrong, snapped, lambda sc: judged.snap(sc.positions))
+    # a primitive wholly missing whose only wrong samples are exact ties is a tie rule's
+    # error (a sliver whose one sample lies on its edge), not a dropped primitive
+    dropped = None if exact else _dropped(result, scene, prims, wrong, snapped, lambda sc: judged.snap(sc.positions))
     if dropped is not None:
         return dropped
     found = _hypothesis(result, scene, prims, judged, near, exact)
     if found is not None:
         return found
     kinds = {f.tie for f in facts if f.tie is not None}
-    if all(f.border for f in facts) and (not kinds or (complete and _ties_right_inside(scene, edges, judged, kinds, wrong))):
+    if "viewport_edge_refuted" not in evidence and all(f.border for f in facts) \
+            and (not kinds or (complete and _ties_right_inside(scene, edges, judged, kinds, wrong))):
         # every wrong sample decided by an edge that leaves the screen, and (for ties) the
         # same kind of tie decided right on an edge inside it: a clipper's work
         return "viewport-edge", "none"
@@ -749,6 +786,20 @@ def _by_metrics(options: tuple[tuple[str, str], ...], otherwise: str, part: str 
     return lambda result, case, convention: (_first_positive(result, options, otherwise), part)
 
 
+def _jaggy(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    """A frame's conformance failure (:func:`with_probes` adds it) names the cause; else
+    flicker or backward jumps."""
+    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    frame = evidence.get("frame_conformance")
+    if isinstance(frame, dict) and isinstance(case, MotionCase):
+        still = Result(result.rasterizer, "", "conformance", "fail", str(frame.get("message", "")),
+                       dict(frame.get("metrics", {})), dict(frame.get("evidence", {})))
+        found = _conformance(still, frame_case(case, int(frame["frame"])), convention)
+        if found[0] != "other":
+            return found
+    return _first_positive(result, (("flicker", "flicker"), ("backward_jumps", "backward-jump")), "other"), "none"
+
+
 def _length(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
     evidence = result.evidence if isinstance(result.evidence, dict) else {}
     rows = evidence.get("segments", [])
@@ -764,7 +815,7 @@ _CLASSIFIERS: dict[str, Callable[[Any, Any, Convention | None], tuple[str, str]]
     "degenerate": _degenerate,
     "closed": _closed,
     "invariance": _invariance,
-    "jaggy": _by_metrics((("flicker", "flicker"), ("backward_jumps", "backward-jump")), "other"),
+    "jaggy": _jaggy,
     "texel": _by_metrics((("frames_without_attributes", "missing-attributes"), ("swim_backward_steps", "texel-backward-step"),
                           ("texel_mismatches", "texel-mismatch")), "other"),
     "perspective": _by_metrics((("frames_without_attributes", "missing-attributes"),), "perspective-error"),

@@ -152,6 +152,10 @@ def jaggy(case_id: str, coverages: list[Coverage], oracles: list[Coverage], n_tr
     metrics = {"flicker": float(excess.sum()), "flicker_pixels": float(len(flicker)), "backward_jumps": float(n_jumps),
                "frames": float(len(coverages))}
     evidence: dict[str, Any] = {"series": per_frame}
+    # the frames (0-based) whose coverage differs from the oracle's: where a cause is read
+    mismatched = np.flatnonzero((got != want).any(axis=(1, 2)))
+    if mismatched.size:
+        evidence["oracle_mismatch_frames"] = mismatched[:EVIDENCE_LIMIT].tolist()
     if len(flicker):
         evidence["flicker"] = [[int(x + window[0]), int(y + window[1]), int(changes_got[y, x]), int(changes_want[y, x])]
                                for y, x in flicker[:EVIDENCE_LIMIT]]

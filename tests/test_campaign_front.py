@@ -1,0 +1,283 @@
+"""The campaign's front end: ``rastercheck fuzz`` (budgets, progress, state, page, JSON,
+exit codes, merging), the campaign page, ``gate --known-campaign`` and ``bench
+--campaign``. The campaigns run on one Dask LocalCluster of one worker process shared by
+the module (``--scheduler``; a second worker would double the cost of starting them:
+tests/test_campaign.py runs two, and kills one); the known-bad campaign runs once and its
+result is read by every test that needs one."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import logging
+import os
+import time
+from contextlib import contextmanager
+from html.parser import HTMLParser
+from pathlib import Path
+from typing import Any, Iterator
+
+import pytest
+
+from harness.campaign import Batch, BatchResult, CampaignState, Finding, ProgressEvent
+from harness.checks import Result
+from harness.cli import _budget, _FuzzProgress, main
+from harness.gate import CampaignFindings, campaign_known, compare_with_baseline
+from harness.report import write_campaign_page
+from tests.known_bad.edge_functions import EdgeFunctionBug
+from tests.warm import safe_numba_cache
+
+distributed = pytest.importorskip("distributed")
+
+SPEC = "tests.test_campaign_front:inclusive"
+TIE = "conformance|exact-tie-slanted-edge|tie-rule"
+
+
+def inclusive() -> EdgeFunctionBug:
+    """Every edge owns its ties (tinyrenderer's ``< 0``): a zero-argument spec."""
+    return EdgeFunctionBug("inclusive")
+
+
+VOID = {"area", "base", "br", "col", "embed", "hr", "img", "input", "link", "meta", "source", "track", "wbr"}
+
+
+class _Balance(HTMLParser):
+    """Every element opened is closed, in order (void elements aside)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.stack: list[str] = []
+        self.faults: list[str] = []
+
+    def handle_starttag(self, tag: str, attrs: Any) -> None:
+        if tag not in VOID:
+            self.stack.append(tag)
+
+    def handle_endtag(self, tag: str) -> None:
+        if not self.stack or self.stack[-1] != tag:
+            self.faults.append(f"</{tag}> closes {self.stack[-1:] or 'nothing'}")
+        else:
+            self.stack.pop()
+
+
+def _well_formed(html: str) -> None:
+    parser = _Balance()
+    parser.feed(html)
+    parser.close()
+    assert html.startswith("<!doctype html>") and not parser.faults and not parser.stack, (parser.faults, parser.stack)
+
+
+@pytest.fixture(scope="module")
+def scheduler() -> Iterator[str]:
+    """One LocalCluster of one single-threaded worker process for the module: its address."""
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  silence_logs=logging.ERROR) as local, distributed.Client(local) as client:
+        client.run(safe_numba_cache)
+        yield str(local.scheduler_address)
+
+
+@pytest.fixture(scope="module")
+def campaign(scheduler: str, tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """The known-bad campaign, run once through the command: its exit code, output and files."""
+    root = tmp_path_factory.mktemp("campaign")
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        code = main(["fuzz", "--rasterizer", SPEC, "--budget", "16", "--families", "lattice,float", "--scheduler", scheduler,
+                     "--state", str(root / "state"), "--out", str(root / "out"), "--json", str(root / "campaign.json")])
+    return {"code": code, "stdout": out.getvalue(), "root": root, "state": root / "state"}
+
+
+# -- usage ---------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("argv, culprit", [
+    (["--rasterizer", "pineda_topleft", "--budget", "10x"], "'10x'"),
+    (["--rasterizer", "pineda_topleft", "--budget", "0"], "'0'"),
+    (["--rasterizer", "pineda_topleft", "--budget", "0s"], "'0s'"),
+    (["--rasterizer", "pineda_topleft", "--budget", "m"], "'m'"),
+    (["--rasterizer", "pineda_topleft", "--budget", "5", "--families", "lattice,cubes"], "'cubes'"),
+    (["--rasterizer", "pineda_topleft", "--budget", "5", "--seed", "-1"], "'-1'"),
+    (["--rasterizer", "pineda_topleft", "--budget", "5", "--workers", "0"], "'0'"),
+])
+def test_a_bad_argument_is_a_usage_error_naming_it(argv: list[str], culprit: str, capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as info:
+        main(["fuzz", *argv])
+    assert info.value.code == 2 and culprit in capsys.readouterr().err
+
+
+def test_a_missing_or_conflicting_option_is_a_usage_error(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["fuzz", "--rasterizer", "pineda_topleft"]) == 2
+    assert "--budget" in capsys.readouterr().err
+    assert main(["fuzz", "--merge", str(tmp_path), "--rasterizer", "pineda_topleft"]) == 2
+    assert "--merge" in capsys.readouterr().err
+    (tmp_path / "file").write_text("")
+    assert main(["fuzz", "--rasterizer", "pineda_topleft", "--budget", "5", "--out", str(tmp_path / "file")]) == 2
+    assert "is a file" in capsys.readouterr().err
+    assert main(["fuzz", "--rasterizer", "no_such_rasterizer", "--budget", "5", "--state", str(tmp_path / "s"),
+                 "--out", str(tmp_path)]) == 2
+    assert "no_such_rasterizer" in capsys.readouterr().err
+    assert main(["bench", "--scenes", "5"]) == 2
+    assert "--campaign" in capsys.readouterr().err
+
+
+def test_budgets_read_as_durations_or_scenes() -> None:
+    assert _budget("90s")[:2] == (90.0, None) and _budget("10m")[:2] == (600.0, None) and _budget("1h")[:2] == (3600.0, None)
+    assert _budget("1h30m")[:2] == (5400.0, None) and _budget("2.5m")[:2] == (150.0, None)
+    assert _budget("5000") == (None, 5000, "5,000 scenes")
+
+
+def test_progress_in_ci_is_a_plain_line_every_few_seconds_and_new_signatures_at_once(capsys: pytest.CaptureFixture[str]) -> None:
+    finding = Finding("lattice", 0, 7, "conformance", "fail", "wrong", TIE, "exact-tie-slanted-edge", "tie-rule", "conformance")
+    event = ProgressEvent(120, 3400, 10.0, 12.0, 340.0, 150, 3, {TIE: 3}, 50.0, 2, Batch("lattice", 0, 0, 8), "w",
+                          (finding,), (TIE,))
+    with _FuzzProgress("1 min", quiet=True, every=0.05) as progress:
+        progress(event)
+        time.sleep(0.2)
+    err = capsys.readouterr().err
+    assert f"fuzz: new signature {TIE} on scene lattice/0/7" in err
+    assert "fuzz: 120 scenes, 3,400 primitives in 10 s (12.0 scenes/s, 340 primitives/s, 2 workers); 3 findings in 1 signature" in err
+    assert "budget 1 min, ETA 0:50" in err
+    from rich.console import Console
+
+    console = Console(record=True, width=100)
+    console.print(progress)
+    shown = console.export_text()
+    assert "120 scenes this run (150 in the campaign)" in shown and "ETA 0:50" in shown and TIE in shown
+
+
+# -- a campaign through the command --------------------------------------------------------------
+
+
+def test_a_campaign_on_a_known_bad_rasterizer_writes_state_page_and_json_and_exits_1(campaign: dict[str, Any]) -> None:
+    assert campaign["code"] == 1
+    state = CampaignState.load(campaign["state"])
+    assert state.scenes == 16 and state.rasterizer == "bad_inclusive" and TIE in state.signatures
+    repro = campaign["state"] / state.signatures[TIE]["repro"]
+    assert repro.is_file()
+    # the summary: each signature with its count and repro
+    assert TIE in campaign["stdout"] and str(repro) in campaign["stdout"]
+    page = (campaign["root"] / "out" / "campaign.html").read_text()
+    _well_formed(page)
+    assert "<svg" in page and "findings (cumulative" in page and TIE in page
+    assert 'src="data:image/' in page  # the repro drawn
+    assert "rastercheck replay" in page and "generate(&#39;lattice&#39;, 0," in page
+    href = os.path.relpath(repro, campaign["root"] / "out")
+    assert f'href="{href}"' in page
+    data = json.loads((campaign["root"] / "campaign.json").read_text())
+    assert data["schema"] == 1 and data["rasterizer"] == "bad_inclusive" and data["totals"]["scenes"] == 16
+    assert data["signatures"][TIE]["count"] == state.signatures[TIE]["count"] and data["run"]["scenes"] == 16
+    assert data["described"][TIE]["replay"].startswith("rastercheck replay")
+
+
+def test_a_correct_built_in_exits_0_and_a_rerun_continues(scheduler: str, tmp_path: Path,
+                                                          capsys: pytest.CaptureFixture[str]) -> None:
+    args = ["fuzz", "--rasterizer", "pineda_topleft", "--budget", "6", "--families", "lattice", "--scheduler", scheduler,
+            "--state", str(tmp_path / "state"), "--out", str(tmp_path), "--batch", "3"]
+    assert main(args) == 0
+    assert main(args) == 0  # resumed: the next six scenes
+    state = CampaignState.load(tmp_path / "state")
+    assert state.done == {("lattice", 0): [(0, 12)]} and not state.signatures
+    assert "no findings" in capsys.readouterr().out
+    _well_formed((tmp_path / "campaign.html").read_text())
+
+
+def _fake(directory: Path, seed: int, keys: dict[int, str], rasterizer: str = "bad_inclusive") -> CampaignState:
+    state = CampaignState(directory, SPEC, rasterizer, seed=seed)
+    batch = Batch("lattice", seed, 0, 10)
+    findings = tuple(Finding("lattice", seed, i, "conformance", "fail", f"<b>wrong</b> at {i}", k, k.split("|")[1],
+                             k.split("|")[2], "conformance") for i, k in keys.items())
+    state.record(BatchResult(batch, 10, 100, 1.0, findings, "here"), 1.0)
+    state.save()
+    return state
+
+
+def test_campaigns_merge_and_an_overlap_is_a_usage_error(campaign: dict[str, Any], tmp_path: Path,
+                                                         capsys: pytest.CaptureFixture[str]) -> None:
+    other = _fake(tmp_path / "other", 1, {3: TIE, 4: "conformance|near-tie|none"})
+    merged = tmp_path / "merged"
+    code = main(["fuzz", "--merge", str(campaign["state"]), str(other.directory), "--state", str(merged), "--out", str(tmp_path)])
+    assert code == 1
+    state = CampaignState.load(merged)
+    first = CampaignState.load(campaign["state"])
+    assert state.scenes == first.scenes + 10
+    assert state.signatures[TIE]["count"] == first.signatures[TIE]["count"] + 1
+    assert (merged / state.signatures[TIE]["repro"]).is_file()  # the repro came along
+    assert "conformance|near-tie|none" in capsys.readouterr().out
+    assert main(["fuzz", "--merge", str(other.directory), "--state", str(merged), "--out", str(tmp_path)]) == 2
+    assert "both checked lattice/1 scenes 0..9" in capsys.readouterr().err
+    _fake(tmp_path / "theirs", 2, {}, rasterizer="someone_else")
+    assert main(["fuzz", "--merge", str(tmp_path / "theirs"), "--state", str(merged), "--out", str(tmp_path)]) == 2
+    assert "someone_else" in capsys.readouterr().err
+
+
+def test_the_page_escapes_what_the_state_says(tmp_path: Path) -> None:
+    state = _fake(tmp_path / "state", 0, {1: "conformance|<i>odd</i>|none"})
+    state.signatures["conformance|<i>odd</i>|none"]["repro"] = "repros/missing.json"
+    page = write_campaign_page(tmp_path / "out", state).read_text()
+    _well_formed(page)
+    assert "<b>wrong" not in page and "&lt;b&gt;wrong" in page and "<i>odd" not in page
+    assert "the repro cannot be read" in page
+
+
+# -- gate ----------------------------------------------------------------------------------------
+
+
+def test_the_gate_takes_a_campaigns_findings_as_known_failures(campaign: dict[str, Any], tmp_path: Path,
+                                                               capsys: pytest.CaptureFixture[str]) -> None:
+    baseline = tmp_path / "baseline.json"
+    baseline.write_text(json.dumps({"schema": 1, "entries": {}}))
+    args = ["gate", "--rasterizer", SPEC, "--case", "lattice/bits-0", "--check", "conformance", "--no-fingerprints",
+            "--baseline", str(baseline), "--out", str(tmp_path / "out")]
+    assert main([*args, "--known-campaign", str(campaign["state"])]) == 0  # the same cause: known (without it: new, failing)
+    said = capsys.readouterr().out
+    assert "0 regressions" in said and "known failures (1 known from campaigns)" in said
+    assert main([*args, "--known-campaign", str(tmp_path / "nowhere")]) == 2
+    assert "no campaign state here" in capsys.readouterr().err
+    _fake(tmp_path / "theirs", 0, {1: TIE}, rasterizer="someone_else")
+    assert main([*args, "--known-campaign", str(tmp_path / "theirs")]) == 2
+    assert "someone_else" in capsys.readouterr().err
+
+
+def test_known_failures_match_by_case_and_check_or_by_signature(tmp_path: Path) -> None:
+    _fake(tmp_path / "c", 0, {3: TIE})
+    found = CampaignFindings.load(tmp_path / "c")
+    assert found.cases[("conformance", "lattice/fuzz/lattice/0/3")] == TIE
+    known = campaign_known([found], lambda r: {"a": TIE, "c": TIE}.get(r.case, "conformance|other|none"))
+    run = [Result("bad_inclusive", "lattice/fuzz/lattice/0/3", "conformance", "fail", "x"),  # its scene
+           Result("bad_inclusive", "a", "conformance", "fail", "x"),  # its signature
+           Result("bad_inclusive", "b", "conformance", "fail", "x"),  # another cause: a regression
+           Result("bad_inclusive", "c", "conformance", "fail", "x"),  # passed before: known now
+           Result("someone_else", "a", "conformance", "fail", "x")]  # another rasterizer's
+    verdict = compare_with_baseline(run, {"bad_inclusive|c|conformance": {"status": "pass"}}, known_failure=known)
+    kinds = {f.key: f.kind for f in verdict.findings}
+    assert kinds == {"bad_inclusive|lattice/fuzz/lattice/0/3|conformance": "known", "bad_inclusive|a|conformance": "known",
+                     "bad_inclusive|b|conformance": "regression", "bad_inclusive|c|conformance": "known",
+                     "someone_else|a|conformance": "regression"}
+    assert all("known from the campaign" in f.reason for f in verdict.of("known"))
+
+
+# -- bench ---------------------------------------------------------------------------------------
+
+
+def test_bench_campaign_reports_both_worker_counts_as_json(scheduler: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                           capsys: pytest.CaptureFixture[str]) -> None:
+    """On the module's cluster for both counts (no cluster started here): the plumbing, not the timings."""
+    import harness.bench
+
+    @contextmanager
+    def shared(workers: int) -> Iterator[Any]:
+        with distributed.Client(scheduler) as client:
+            yield client
+
+    monkeypatch.setattr(harness.bench, "local_cluster", shared)
+    monkeypatch.setattr(harness.bench, "CAMPAIGN_FAMILIES", ("lattice",))
+    out = tmp_path / "bench.json"
+    assert main(["bench", "--campaign", "--scenes", "4", "--repeats", "1", "--json", str(out)]) == 0
+    said = capsys.readouterr().out
+    assert "speed-up from 1 to 2 workers" in said and "primitives/s" in said
+    data = json.loads(out.read_text())
+    assert data["schema"] == 1 and [r["workers"] for r in data["results"]] == [1, 2]
+    assert all(r["scenes"] == 4 and r["primitives"] > 0 and r["unit"] == "primitives" and len(r["runs"]) == 1
+               for r in data["results"])
+    assert data["summary"]["goal"] == 1.7 and "speedup" in data["summary"]
