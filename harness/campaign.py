@@ -58,7 +58,7 @@ if TYPE_CHECKING:
     from harness.signatures import Signature
 
 __all__ = ["Batch", "CampaignTask", "Finding", "BatchResult", "CampaignState", "ProgressEvent", "CampaignError", "run_batch",
-           "shrink_finding", "run_campaign", "local_cluster", "add_interval", "overlap", "SCHEMA", "QUIET_DASK"]
+           "shrink_finding", "run_campaign", "attribute_causes", "CONSEQUENT_CHECKS", "local_cluster", "add_interval", "overlap", "SCHEMA", "QUIET_DASK"]
 
 SCHEMA = 1
 STATE_FILE = "campaign.json"
@@ -135,7 +135,9 @@ class Finding:
 
     ``check`` is the check of the result (``run`` for a call that crashed, hung or raised),
     ``check_name`` the check its signature names; ``signature_key`` is
-    :attr:`harness.signatures.Signature.key`.
+    :attr:`harness.signatures.Signature.key`; ``cause`` the cause it is counted under
+    (:func:`attribute_causes`; empty: its signature's own,
+    :attr:`~harness.signatures.Signature.cause`).
     """
 
     family: str
@@ -148,6 +150,13 @@ class Finding:
     failure_class: str
     convention_part: str
     check_name: str
+    cause: str = ""
+
+    @property
+    def signature(self) -> Signature:
+        from harness.signatures import Signature
+
+        return Signature(self.check_name, self.failure_class, self.convention_part)
 
     @property
     def point(self) -> tuple[str, int, int]:
@@ -382,6 +391,26 @@ class CampaignState:
         """Every finding counted so far (all signatures)."""
         return sum(int(s["count"]) for s in self.signatures.values())
 
+    def causes(self) -> list[dict[str, Any]]:
+        """The signatures grouped by cause -- each under the cause most of its findings were
+        counted under (:func:`attribute_causes`), else its own
+        (:attr:`harness.signatures.Signature.cause`) -- most findings first: ``cause``, ``findings``, ``signatures`` (keys, most findings
+        first) and ``checks`` (the checks that saw it)."""
+        from harness.signatures import Signature
+
+        groups: dict[str, dict[str, Any]] = {}
+        for key, entry in sorted(self.signatures.items(), key=lambda kv: (-int(kv[1].get("count", 0)), kv[0])):
+            counted = entry.get("causes") or {}
+            # the cause most of its findings were counted under (:func:`attribute_causes`)
+            cause = max(sorted(counted), key=lambda c: counted[c]) if counted else Signature(
+                str(entry.get("check", "")), str(entry.get("failure_class", "")), str(entry.get("convention_part", ""))).cause
+            group = groups.setdefault(cause, {"cause": cause, "findings": 0, "signatures": [], "checks": []})
+            group["findings"] += int(entry.get("count", 0))
+            group["signatures"].append(key)
+            if entry.get("check") not in group["checks"]:
+                group["checks"].append(entry.get("check"))
+        return sorted(groups.values(), key=lambda g: (-g["findings"], g["cause"]))
+
     def is_done(self, family: str, seed: int, index: int) -> bool:
         return _covered(self.done.get((family, seed), []), index, index + 1)
 
@@ -445,6 +474,9 @@ class CampaignState:
             entry["count"] += 1
             entry["last"] = point
             entry["examples"] = _lowest([*entry["examples"], list(finding.point)])
+            causes = entry.setdefault("causes", {})
+            cause = finding.cause or finding.signature.cause
+            causes[cause] = causes.get(cause, 0) + 1
         self.history.append([round(at, 3), self.scenes, self.findings])
         if len(self.history) > HISTORY_POINTS:
             self.history = self.history[:-1:2] + self.history[-1:]
@@ -511,6 +543,9 @@ class CampaignState:
                 entry = self.signatures[key] = {**theirs_entry, "repro": None}
             else:
                 entry["count"] += theirs_entry["count"]
+                causes = entry.setdefault("causes", {})
+                for cause, count in theirs_entry.get("causes", {}).items():
+                    causes[cause] = causes.get(cause, 0) + count
                 entry["first"] = min(entry["first"], theirs_entry["first"], key=lambda p: p["when"])
                 entry["last"] = max(entry["last"], theirs_entry["last"], key=lambda p: p["when"])
                 entry["examples"] = _lowest(entry["examples"] + theirs_entry["examples"])
@@ -686,6 +721,36 @@ def _finding(result: Result, case: Case | MotionCase, loaded: _Loaded, family: s
                    found.convention_part, found.check)
 
 
+# checks of coverage whose failure on a scene that also fails conformance is that failure's
+# consequence: a triangle dropped leaves a hole (watertight), a front-only mesh (closed) and a
+# change under flipped winding (invariance) -- one cause, not four
+CONSEQUENT_CHECKS = frozenset({"watertight", "closed", "invariance", "degenerate", "overdraw", "seams", "triangulation",
+                               "connectivity", "joints", "reversal", "length"})
+# and of other checks, the failure classes that are coverage's too (hygiene's attribute
+# failures, say, are not)
+CONSEQUENT_CLASSES = frozenset({("hygiene", "outside-primitive")})
+
+
+def attribute_causes(findings: list[Finding]) -> list[Finding]:
+    """One scene's findings, each with its cause: when the scene fails conformance, the
+    failures of :data:`CONSEQUENT_CHECKS` (and :data:`CONSEQUENT_CLASSES`) on it are counted under the conformance
+    failure's cause (the exact oracle says what is wrong; the others see its effects); any
+    other finding keeps its own signature's cause.
+
+    >>> f = Finding("lattice", 0, 1, "conformance", "fail", "", "", "culling", "culling", "conformance")
+    >>> g = Finding("lattice", 0, 1, "watertight", "fail", "", "", "hole", "none", "watertight")
+    >>> [x.cause for x in attribute_causes([f, g])]
+    ['culling', 'culling']
+    """
+    conformance = next((f for f in findings if f.check_name == "conformance" and f.status == "fail"), None)
+    root = conformance.signature.cause if conformance is not None else None
+    def consequent(f: Finding) -> bool:
+        return f.check_name in CONSEQUENT_CHECKS or (f.check_name, f.failure_class) in CONSEQUENT_CLASSES
+
+    return [replace(f, cause=root if root is not None and consequent(f) else f.signature.cause) if not f.cause else f
+            for f in findings]
+
+
 def _harness_fault(exc: BaseException, family: str, seed: int, index: int) -> Finding:
     """A scene the harness itself could not generate or check: a finding of its own kind
     (check ``harness``), so that the campaign goes on and the fault is seen."""
@@ -717,7 +782,8 @@ def run_batch(task: CampaignTask) -> BatchResult:
             results = loaded.check(case, only)
             if any(r.status != "skip" for r in results):  # checked, not only handed over
                 counted += primitives(case)
-            findings += [_finding(r, case, loaded, family, seed, index) for r in results if r.status in ("fail", "error")]
+            findings += attribute_causes([_finding(r, case, loaded, family, seed, index) for r in results
+                                          if r.status in ("fail", "error")])
         except Exception as exc:
             findings.append(_harness_fault(exc, family, seed, index))
     return BatchResult(task.batch, scenes, counted, time.perf_counter() - start, tuple(findings), _worker_name(), setup)

@@ -776,12 +776,17 @@ def _fuzz_summary(state: Any, run: dict[str, Any] | None) -> None:
     if not state.signatures:
         print("no findings")
         return
-    print(f"{state.findings:,} finding{'s' if state.findings != 1 else ''} in {len(state.signatures)} signature{'s' if len(state.signatures) != 1 else ''}:")
-    for key, entry in sorted(state.signatures.items(), key=lambda kv: (-int(kv[1]["count"]), kv[0])):
-        first = entry["first"]
-        repro = Path(state.directory) / entry["repro"] if entry.get("repro") else None
-        print(f"  {int(entry['count']):>8,}  {key}  first {first['family']}/{first['seed']}/{first['index']}, "
-              + (f"repro {repro}" if repro is not None else "no repro yet"))
+    causes = state.causes()
+    print(f"{state.findings:,} finding{'s' if state.findings != 1 else ''} in {len(state.signatures)} signature{'s' if len(state.signatures) != 1 else ''}"
+          f" of {len(causes)} cause{'s' if len(causes) != 1 else ''}:")
+    for group in causes:
+        print(f"  {group['cause']}: {group['findings']:,} finding{'s' if group['findings'] != 1 else ''}, seen by {', '.join(group['checks'])}")
+        for key in group["signatures"]:
+            entry = state.signatures[key]
+            first = entry["first"]
+            repro = Path(state.directory) / entry["repro"] if entry.get("repro") else None
+            print(f"    {int(entry['count']):>8,}  {key}  first {first['family']}/{first['seed']}/{first['index']}, "
+                  + (f"repro {repro}" if repro is not None else "no repro yet"))
 
 
 def _fuzz_outputs(args: argparse.Namespace, state: Any, run: dict[str, Any] | None) -> None:

@@ -841,10 +841,13 @@ def write_campaign_page(out_dir: Path | str, state: CampaignState, *, rasterizer
         "done": [{"family": f, "seed": s, "ranges": ", ".join(f"{a}..{b - 1}" for a, b in ranges), "scenes": sum(b - a for a, b in ranges)}
                  for (f, s), ranges in sorted(state.done.items())],
     }
+    anchors = {row["key"]: row["anchor"] for row in rows}
+    causes = [{**group, "signatures": [(key, anchors.get(key, "")) for key in group["signatures"]]} for group in state.causes()]
+    header["causes"] = len(causes)
     meta = page_meta("campaign", state.seed, wall)
     chart = Markup(findings_chart(state))  # built here from numbers and fixed words only
     html = _environment().get_template("campaign.html").render(
-        header=header, run=run, rows=rows, chart=chart, meta=meta, state_dir=str(state.directory),
+        header=header, run=run, rows=rows, causes=causes, chart=chart, meta=meta, state_dir=str(state.directory),
         crop_legend=CROP_LEGEND.items(), path_legend=PATH_LEGEND.items(), line_legend=LINE_LEGEND.items(),
         any_paths=any(r["repro"].get("paths") for r in rows), any_lines=any(r["repro"].get("lines") for r in rows),
         resume=f"rastercheck fuzz --rasterizer {shlex.quote(state.spec)} --state {shlex.quote(str(state.directory))} --budget 10m")
@@ -870,4 +873,4 @@ def campaign_json(state: CampaignState, run: dict[str, Any] | None = None, page:
                           "replay": (f"rastercheck replay {shlex.quote(str(repro))} --rasterizer {shlex.quote(state.spec)}"
                                      if repro is not None else None)}
     return {**data, "state_dir": str(state.directory), "run": run, "page": None if page is None else str(page),
-            "described": described}
+            "described": described, "causes": state.causes()}

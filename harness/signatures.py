@@ -107,6 +107,8 @@ CONVENTION_PARTS = ("tie-rule", "sample-point", "snapping", "culling", "fill-rul
 # 2**24 and 2**53 where float32 and float64 stop holding every integer, 2**31 and 2**63
 # where int32 and int64 overflow, 2**128 where float32 overflows to infinity.
 OVERFLOW_EDGES = (12, 24, 31, 53, 63, 128)
+# failure classes of attributes missing or wrong: one cause (:attr:`Signature.cause`)
+ATTRIBUTE_CLASSES = ("missing-attributes", "bad-attributes", "nan-attributes")
 # near-tie: |E| within float32 rounding of the edge function (about 2**-19 M**2 for an
 # evaluation in float32 from float32 inputs; four times that), and at most 2**-8 px away
 FLOAT32_EDGE_ROUNDING = 2.0**-17
@@ -173,6 +175,24 @@ class Signature:
     def key(self) -> str:
         """``check|failure_class|convention_part``: the finding's identity."""
         return f"{self.check}|{self.failure_class}|{self.convention_part}"
+
+    @property
+    def cause(self) -> str:
+        """The cause the signature points at, which several signatures may share: the
+        convention part when one is involved (a wrong tie rule is one cause whichever check,
+        edge direction or frame shows it), else the failure class -- the overflow ranges as
+        one (``overflow``), the attribute failures as one (``attributes``).
+
+        >>> Signature("jaggy", "exact-tie-vertex", "tie-rule").cause, Signature("watertight", "overflow-2^53..2^63", "none").cause
+        ('tie-rule', 'overflow')
+        """
+        if self.convention_part != "none":
+            return self.convention_part
+        if self.failure_class.startswith("overflow-"):
+            return "overflow"
+        if self.failure_class in ATTRIBUTE_CLASSES:
+            return "attributes"
+        return self.failure_class
 
     def describe(self) -> str:
         """One line for people."""

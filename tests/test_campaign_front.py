@@ -10,7 +10,6 @@ from __future__ import annotations
 import contextlib
 import io
 import json
-import logging
 import os
 import time
 from contextlib import contextmanager
@@ -20,7 +19,7 @@ from typing import Any, Iterator
 
 import pytest
 
-from harness.campaign import Batch, BatchResult, CampaignState, Finding, ProgressEvent
+from harness.campaign import Batch, BatchResult, CampaignState, Finding, ProgressEvent, local_cluster
 from harness.checks import Result
 from harness.cli import _budget, _FuzzProgress, main
 from harness.gate import CampaignFindings, campaign_known, compare_with_baseline
@@ -71,10 +70,9 @@ def _well_formed(html: str) -> None:
 @pytest.fixture(scope="module")
 def scheduler() -> Iterator[str]:
     """One LocalCluster of one single-threaded worker process for the module: its address."""
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
-                                  silence_logs=logging.ERROR) as local, distributed.Client(local) as client:
+    with local_cluster(1) as client:  # as a campaign makes its own: no port of its own fixed (8787 may be held)
         client.run(safe_numba_cache)
-        yield str(local.scheduler_address)
+        yield str(client.scheduler.address)
 
 
 @pytest.fixture(scope="module")
@@ -281,3 +279,31 @@ def test_bench_campaign_reports_both_worker_counts_as_json(scheduler: str, tmp_p
     assert all(r["scenes"] == 4 and r["primitives"] > 0 and r["unit"] == "primitives" and len(r["runs"]) == 1
                for r in data["results"])
     assert data["summary"]["goal"] == 1.7 and "speedup" in data["summary"]
+
+
+def test_findings_of_one_cause_seen_by_several_checks_are_one_cause(tmp_path: Path) -> None:
+    """A scene failing conformance for culling: its watertight hole and invariance change
+    are counted under culling; a hygiene attribute failure on it is its own cause; a hole
+    on a scene where conformance passes stays a hole. Merged states add the counts up."""
+    from harness.campaign import attribute_causes
+
+    def finding(index: int, check: str, failure_class: str, part: str = "none") -> Finding:
+        return Finding("lattice", 0, index, check, "fail", "m", f"{check}|{failure_class}|{part}", failure_class, part, check)
+
+    scene = attribute_causes([finding(0, "conformance", "culling", "culling"), finding(0, "watertight", "hole"),
+                              finding(0, "invariance", "changes-under-flip-winding"), finding(0, "hygiene", "bad-attributes")])
+    assert [f.cause for f in scene] == ["culling", "culling", "culling", "attributes"]
+    alone = attribute_causes([finding(1, "watertight", "hole")])
+    assert [f.cause for f in alone] == ["hole"]
+    states = []
+    for k in range(2):
+        state = CampaignState.open(tmp_path / f"s{k}", "spec", "r")
+        state.record(BatchResult(Batch("lattice", 0, 10 * k, 10 * k + 2), 2, 20, 1.0, tuple(scene + alone), "here"), 1.0)
+        states.append(state)
+    causes = {g["cause"]: g for g in states[0].causes()}
+    # the watertight hole signature, counted once under culling and once under its own, is
+    # listed under the cause most of its findings had (a tie: the first by name)
+    assert set(causes) == {"culling", "attributes"}
+    assert set(causes["culling"]["checks"]) == {"conformance", "watertight", "invariance"} and causes["culling"]["findings"] == 4
+    states[0].merge(states[1])
+    assert states[0].signatures["watertight|hole|none"]["causes"] == {"culling": 2, "hole": 2}

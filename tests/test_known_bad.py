@@ -231,3 +231,10 @@ def test_every_failure_replays_as_the_same_check_from_its_repro(bad, flagged, tm
         shrunk = payload.get("note") is None and primitives < payload["original_triangles"]
         if shrunk and named != "watertight":
             assert payload["message"].split(";")[0] == mine[0].message.split(";")[0], (payload["message"], mine[0].message)
+
+def test_the_catalogue_holds_the_table():
+    """The campaigns run on tests/known_bad/catalogue.py's rasterizers: the table's are there."""
+    from tests.known_bad.catalogue import KNOWN_BAD
+
+    assert {bad.name for bad in TABLE} <= set(KNOWN_BAD)
+    assert all(type(KNOWN_BAD[bad.name]) is type(bad) for bad in TABLE)

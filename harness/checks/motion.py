@@ -152,8 +152,11 @@ def jaggy(case_id: str, coverages: list[Coverage], oracles: list[Coverage], n_tr
     metrics = {"flicker": float(excess.sum()), "flicker_pixels": float(len(flicker)), "backward_jumps": float(n_jumps),
                "frames": float(len(coverages))}
     evidence: dict[str, Any] = {"series": per_frame}
-    # the frames (0-based) whose coverage differs from the oracle's: where a cause is read
-    mismatched = np.flatnonzero((got != want).any(axis=(1, 2)))
+    # the frames (0-based) whose coverage differs from the oracle's, on the screen or in a
+    # triangle's own spans (a double hit leaves the screen's union alike): where a cause is read
+    with np.errstate(invalid="ignore"):
+        ends_differ = ((left != left_o) & ~(np.isnan(left) & np.isnan(left_o))) | ((right != right_o) & ~(np.isnan(right) & np.isnan(right_o)))
+    mismatched = np.flatnonzero((got != want).any(axis=(1, 2)) | ends_differ.any(axis=(1, 2)))
     if mismatched.size:
         evidence["oracle_mismatch_frames"] = mismatched[:EVIDENCE_LIMIT].tolist()
     if len(flicker):

@@ -1,0 +1,54 @@
+"""Every deliberately broken rasterizer by name, as a plugin spec can name it: a campaign
+on one of them is ``rastercheck fuzz --rasterizer tests/known_bad/catalogue.py:<name>``
+(``bad_inclusive``, ``bad_rare_slope_tie``, ...; :data:`NAMES` lists them).
+
+tests/test_known_bad.py keeps its table's rasterizers in here (a test says so), so the
+campaigns of the README's table and the known-bad tests are of the same rasterizers.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from tests.known_bad.antialiasing import (
+    BiasedArea, CoarseSupersampleClaimsAnalytic, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, SwappedSampleBits,
+)
+from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
+from tests.known_bad.edge_functions import BUGS as EDGE_BUGS, EdgeFunctionBug
+from tests.known_bad.lines import BackwardPrestep, BothEndPixels, Float32DDA, LeftmostFirst, OffByOneLast, RoundingDDA, YMajorAlongX
+from tests.known_bad.misc import (
+    ClipsBeforeSnapping, Float32Input, HangsOnEpsilon, Int32FixedPoint, NaNAttributes, Raises, ReturnsGarbage, SlowOnEpsilon,
+    WrongTieClaim,
+)
+from tests.known_bad.paths import BUGS as PATH_BUGS, PathFillBug, TwoFillers
+from tests.known_bad.rare import RareSlopeTie
+from tests.known_bad.scanlines import BUGS as SCANLINE_BUGS, ScanlineBug
+
+__all__ = ["KNOWN_BAD", "NAMES"]
+
+
+def _all() -> list[Any]:
+    return [
+        *(EdgeFunctionBug(bug) for bug in EDGE_BUGS),
+        *(ScanlineBug(bug) for bug in SCANLINE_BUGS if bug != "none"),
+        *(PathFillBug(bug) for bug in PATH_BUGS), TwoFillers(),
+        WrongTieClaim(), YFirstClaimsXFirst(), HalfAwayClaimsNearestEven(), DropsHuge(), Int32FixedPoint(), NaNAttributes(),
+        SlowOnEpsilon(), Raises(), ReturnsGarbage(), HangsOnEpsilon(), ClipsBeforeSnapping(), Float32Input(tell=True),
+        MirroredPattern(), SwappedSampleBits(), InclusiveSampleTies(), BiasedArea(), PerEdgeMethodSwitch(),
+        CoarseSupersampleClaimsAnalytic(),
+        RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep(),
+        RareSlopeTie(),
+    ]
+
+
+# name -> rasterizer
+KNOWN_BAD: dict[str, Any] = {bad.name: bad for bad in _all()}
+NAMES = tuple(KNOWN_BAD)
+
+
+def __getattr__(name: str) -> Any:
+    """``catalogue.py:<name>``: the known-bad rasterizer of that name."""
+    try:
+        return KNOWN_BAD[name]
+    except KeyError:
+        raise AttributeError(f"no known-bad rasterizer named {name!r} (known: {', '.join(NAMES)})") from None
