@@ -307,3 +307,36 @@ def test_findings_of_one_cause_seen_by_several_checks_are_one_cause(tmp_path: Pa
     assert set(causes["culling"]["checks"]) == {"conformance", "watertight", "invariance"} and causes["culling"]["findings"] == 4
     states[0].merge(states[1])
     assert states[0].signatures["watertight|hole|none"]["causes"] == {"culling": 2, "hole": 2}
+
+
+def test_the_identified_convention_is_read_back_and_nothing_else(tmp_path: Path) -> None:
+    """A black box's identified convention, kept beside the state, wraps it again for the
+    page; a file naming any other global (a crafted pickle calling a function) is refused
+    and the rasterizer comes back as it is."""
+    import pickle
+
+    from harness.campaign import IDENTIFIED_FILE
+    from harness.conventions import Convention
+    from harness.identify import Fingerprint
+
+    class BlackBox:
+        name = "black_box"
+        convention = None
+
+        def rasterize(self, scene: Any) -> Any:
+            raise NotImplementedError
+
+    state = CampaignState.open(tmp_path, "spec", "black_box")
+    box = BlackBox()
+    assert state.judged(box) is box  # nothing identified yet
+    (tmp_path / IDENTIFIED_FILE).write_bytes(pickle.dumps(Fingerprint("black_box", Convention(sample=(1.0, 1.0)), 0, 10)))
+    judged = state.judged(box)
+    assert judged is not box and judged.convention == Convention(sample=(1.0, 1.0))
+
+    class Crafted:
+        def __reduce__(self) -> tuple[Any, ...]:
+            return (os.remove, (str(tmp_path / "victim"),))
+
+    (tmp_path / "victim").write_text("still here")
+    (tmp_path / IDENTIFIED_FILE).write_bytes(pickle.dumps(Crafted()))
+    assert state.judged(box) is box and (tmp_path / "victim").read_text() == "still here"
