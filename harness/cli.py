@@ -654,17 +654,6 @@ def _families(text: str) -> list[str]:
     return list(dict.fromkeys(names))
 
 
-def _seed(text: str) -> int:
-    """``--seed``: a whole number >= 0 (fuzz scenes are drawn from non-negative seeds)."""
-    try:
-        value = int(text)
-    except ValueError:
-        value = -1
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 0, not {text!r}")
-    return value
-
-
 def _clock(seconds: float | None) -> str:
     """``1:02:03``, ``4:05``, ``--`` for an unknown span."""
     if seconds is None or not math.isfinite(seconds):
@@ -946,7 +935,7 @@ def _positive_int(text: str) -> int:
 
 
 def _non_negative_int(text: str) -> int:
-    """A whole number >= 0 (``--rerun``)."""
+    """A whole number >= 0 (``--rerun``; fuzz's ``--seed``: scenes are drawn from non-negative seeds)."""
     try:
         value = int(text)
     except ValueError:
@@ -1054,7 +1043,7 @@ def build_parser() -> argparse.ArgumentParser:
     fuzz.add_argument("--rasterizer", metavar="SPEC", help="built-in name, module:attr or file.py:attr")
     fuzz.add_argument("--budget", type=_budget, metavar="BUDGET", help=_BUDGET_HELP)
     fuzz.add_argument("--families", type=_families, metavar="A,B", help="fuzz families (default all the rasterizer takes)")
-    fuzz.add_argument("--seed", type=_seed, default=0)
+    fuzz.add_argument("--seed", type=_non_negative_int, default=0)
     fuzz.add_argument("--state", default=str(Path("reports") / "campaign"), metavar="DIR",
                       help="the campaign's state folder (default reports/campaign): rerun to continue")
     fuzz.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://host:8786); default a local cluster")

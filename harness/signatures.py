@@ -838,7 +838,9 @@ _CLASSIFIERS: dict[str, Callable[[Any, Any, Convention | None], tuple[str, str]]
     "jaggy": _jaggy,
     "texel": _by_metrics((("frames_without_attributes", "missing-attributes"), ("swim_backward_steps", "texel-backward-step"),
                           ("texel_mismatches", "texel-mismatch")), "other"),
-    "perspective": _by_metrics((("frames_without_attributes", "missing-attributes"),), "perspective-error"),
+    "perspective": lambda result, case, convention: (
+        ("nan-attributes", "none") if _metric(result, "max_uv_error_texels") == math.inf  # u, v not finite: not a perspective error
+        else (_first_positive(result, (("frames_without_attributes", "missing-attributes"),), "perspective-error"), "none")),
     "accuracy": _by_metrics((("over_tolerance", "alpha-error"), ("off_level", "off-level")), "other"),
     "seams": _by_metrics((("seam_pixels", "seam"), ("strays", "stray")), "other"),
     "popping": _fixed("popping"),

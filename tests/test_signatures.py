@@ -3,6 +3,7 @@ signature, different bugs are different ones, errors classify, odd input never r
 and the held-out rare bug (tests/known_bad/rare.py) passes the quick suite."""
 
 import collections
+import math
 from dataclasses import replace
 
 import numpy as np
@@ -238,3 +239,14 @@ def test_a_flicker_is_named_by_the_frame_that_leaves_the_oracle():
     frame = probed.evidence["frame_conformance"]["frame"]
     assert flipped_samples(case.frames[frame])
     assert signature(probed, case, bad.convention).key == "jaggy|exact-tie-slanted-edge|tie-rule"
+
+
+def test_a_perspective_error_of_non_finite_attributes_is_an_attribute_failure():
+    """u, v that are NaN are no perspective error: the same cause as the degenerate check's
+    NaN attribute rows."""
+    nan = Result("r", "c", "perspective", "fail", "x", metrics={"max_uv_error_texels": math.inf})
+    off = Result("r", "c", "perspective", "fail", "x", metrics={"max_uv_error_texels": 3.0})
+    assert signature(nan, None, None).key == "perspective|nan-attributes|none"
+    assert signature(nan, None, None).cause == signature(Result("r", "c", "degenerate", "fail", "x", metrics={
+        "nan_attribute_rows": 2.0}), None, None).cause == "attributes"
+    assert signature(off, None, None).key == "perspective|perspective-error|none"
