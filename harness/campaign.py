@@ -726,24 +726,27 @@ def _finding(result: Result, case: Case | MotionCase, loaded: _Loaded, family: s
 # change under flipped winding (invariance) -- one cause, not four
 CONSEQUENT_CHECKS = frozenset({"watertight", "closed", "invariance", "degenerate", "overdraw", "seams", "triangulation",
                                "connectivity", "joints", "reversal", "length"})
+# the checks against the exact oracle whose failure names a scene's cause
+ROOT_CHECKS = ("conformance", "accuracy")
 # and of other checks, the failure classes that are coverage's too (hygiene's attribute
 # failures, say, are not)
 CONSEQUENT_CLASSES = frozenset({("hygiene", "outside-primitive")})
 
 
 def attribute_causes(findings: list[Finding]) -> list[Finding]:
-    """One scene's findings, each with its cause: when the scene fails conformance, the
-    failures of :data:`CONSEQUENT_CHECKS` (and :data:`CONSEQUENT_CLASSES`) on it are counted under the conformance
-    failure's cause (the exact oracle says what is wrong; the others see its effects); any
-    other finding keeps its own signature's cause.
+    """One scene's findings, each with its cause: when the scene fails one of
+    :data:`ROOT_CHECKS` (conformance, or accuracy for anti-aliased coverage), the failures
+    of :data:`CONSEQUENT_CHECKS` (and :data:`CONSEQUENT_CLASSES`) on it are counted under
+    that failure's cause (the exact oracle says what is wrong; the others see its effects);
+    any other finding keeps its own signature's cause.
 
     >>> f = Finding("lattice", 0, 1, "conformance", "fail", "", "", "culling", "culling", "conformance")
     >>> g = Finding("lattice", 0, 1, "watertight", "fail", "", "", "hole", "none", "watertight")
     >>> [x.cause for x in attribute_causes([f, g])]
     ['culling', 'culling']
     """
-    conformance = next((f for f in findings if f.check_name == "conformance" and f.status == "fail"), None)
-    root = conformance.signature.cause if conformance is not None else None
+    verdict = next((f for f in findings if f.check_name in ROOT_CHECKS and f.status == "fail"), None)
+    root = verdict.signature.cause if verdict is not None else None
     def consequent(f: Finding) -> bool:
         return f.check_name in CONSEQUENT_CHECKS or (f.check_name, f.failure_class) in CONSEQUENT_CLASSES
 
