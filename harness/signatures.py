@@ -260,7 +260,9 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case, str
     conformance and invariance, ``viewport_edge`` (:func:`harness.repro.viewport_edge_probe`:
     the case passes moved into a grown screen; ``viewport_edge_refuted`` when it still
     fails) and ``input_precision`` (:func:`harness.repro.input_precision_probe`: it passes
-    rounded as the library receives it); for jaggy, ``frame_conformance`` (the first frame
+    rounded as the library receives it), ``tie_trial`` (wrong only exactly on edges: do the
+    wrong triangles pass shifted off them? :func:`_tie_trial`); for jaggy,
+    ``frame_conformance`` (the first frame
     off the oracle fails conformance: that failure, probed). Each costs a call of the
     rasterizer and the check; :func:`signature` then reads them as facts instead of
     guessing. Any other result comes back as it is. Never raises."""
@@ -281,9 +283,41 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case, str
             if trial is not None:
                 # it passes on a grown screen: the edge's fault; it still fails: not the edge's
                 evidence["viewport_edge" if trial.pop("passes") else "viewport_edge_refuted"] = trial
+        if "tie_trial" not in evidence and "input_precision" not in evidence:
+            tie = _tie_trial(result, case, judge)
+            if tie is not None:
+                evidence["tie_trial"] = tie
         return replace(result, evidence=evidence)
     except Exception:
         return result
+
+
+# the tie trial's shift: dyadic, well beyond float rounding, and off every line of small
+# denominator through a sample (a shifted edge holding a sample again is as rare as a generic one)
+TIE_SHIFT = (1 / 64 + 1 / 4096, 1 / 128 + 1 / 65536)
+
+
+def _tie_trial(result: Any, case: Case, judge: Callable[[Case, str], list[Any]]) -> dict[str, Any] | None:
+    """Whether a conformance failure whose wrong samples all lie exactly on edges is the
+    tie rule's: the wrong triangles alone, shifted by :data:`TIE_SHIFT` one way and the
+    other (every such sample then strictly inside or outside), pass strictly both times.
+    A missing prestep or a dropped sliver that merely put its wrong samples on edges still
+    fails one of them. Two calls; None when it does not apply (triangles only)."""
+    scene = case.scene
+    if result.check != "conformance" or not isinstance(scene, Scene):
+        return None
+    wrong = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict) and not p.get("near_tie")]
+    if not wrong or any(p.get("distance") != 0.0 or not isinstance(p.get("triangle"), int) for p in wrong):
+        return None
+    subset = scene.subset(np.array(sorted({int(p["triangle"]) for p in wrong}), dtype=np.int64))
+    if not np.isfinite(subset.coordinates).all():
+        return None
+    passes = []
+    for sign in (1.0, -1.0):
+        shifted = subset.with_coordinates(subset.coordinates + sign * np.array(TIE_SHIFT))
+        results = judge(Case(f"{case.id}/tie-shift/{'+' if sign > 0 else '-'}", shifted, lattice=True), "conformance")
+        passes.append(bool(results) and all(r.status in ("pass", "skip") for r in results))
+    return {"shift": list(TIE_SHIFT), "passes": all(passes)}
 
 
 def frame_case(case: MotionCase, frame: int) -> Case:
@@ -547,6 +581,10 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
     edges = _edges_of(scene, judged)
     facts = [_edge_facts(*edges[k], np.array([x + judged.sample[0], y + judged.sample[1]]), _magnitude([snapped[k]]),
                          scene.width, scene.height) for k, x, y, _, _ in wrong]
+    trial = evidence.get("tie_trial")
+    if isinstance(trial, dict) and trial.get("passes") is False:
+        # shifted off the edges it is still wrong: the samples were on edges by chance
+        facts = [replace(f, tie=None) for f in facts]
     exact = all(f.tie is not None for f in facts)
     near = all(f.near for f in facts)
     overflow = overflow_class(magnitude)

@@ -250,3 +250,30 @@ def test_a_perspective_error_of_non_finite_attributes_is_an_attribute_failure():
     assert signature(nan, None, None).cause == signature(Result("r", "c", "degenerate", "fail", "x", metrics={
         "nan_attribute_rows": 2.0}), None, None).cause == "attributes"
     assert signature(off, None, None).key == "perspective|perspective-error|none"
+
+
+@pytest.mark.parametrize("name, family, index, expected", [
+    ("bad_no-prestep", "partitions", 0, "conformance|far-from-edge|sample-point"),  # its wrong samples happen to lie on edges
+    ("bad_min-area", "lattice", 4, "conformance|dropped-primitive|none"),  # a sliver whose one sample lies on its edge
+    ("bad_min-area", "lattice", 43, "conformance|dropped-primitive|none"),
+    ("bad_rare_slope_tie", "lattice", 61, "conformance|exact-tie-slanted-edge|tie-rule"),  # a tie rule's: shifted off, right
+    ("bad_inclusive", "partitions", 57, "conformance|exact-tie-vertex|tie-rule"),
+])
+def test_the_tie_trial_tells_a_tie_rule_from_samples_on_edges_by_chance(name, family, index, expected):
+    """Wrong only on samples exactly on edges reads as the tie rule's, until the wrong
+    triangles shifted off their edges (both ways) are still wrong: then it was not the tie."""
+    from tests.known_bad.catalogue import KNOWN_BAD
+
+    bad = KNOWN_BAD[name]
+    case = generate(family, 0, index)
+    worker = InProcess(bad)
+
+    def judge(candidate, check):
+        return check_case(candidate, bad, worker.rasterize, only={check})
+
+    failed = [r for r in run_suite([bad], cases=[case], isolate=False, identify=False, repros=False, only={"conformance"})
+              if r.status == "fail"]
+    assert len(failed) == 1
+    probed = with_probes(failed[0], case, judge, bad)
+    assert probed.evidence["tie_trial"]["passes"] is expected.endswith("tie-rule")
+    assert signature(probed, case, bad.convention).key == expected
