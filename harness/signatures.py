@@ -94,7 +94,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene
+from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, convention_for
 from harness.case import Case, MotionCase
 from harness.checks.records import Result
 from harness.conventions import SNAP_ROUNDINGS, Convention, SnapRounding
@@ -284,7 +284,7 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case, str
                 # it passes on a grown screen: the edge's fault; it still fails: not the edge's
                 evidence["viewport_edge" if trial.pop("passes") else "viewport_edge_refuted"] = trial
         if "tie_trial" not in evidence and "input_precision" not in evidence:
-            tie = _tie_trial(result, case, judge)
+            tie = _tie_trial(result, case, judge, convention_for(rasterizer, case.scene))
             if tie is not None:
                 evidence["tie_trial"] = tie
         return replace(result, evidence=evidence)
@@ -297,14 +297,17 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case, str
 TIE_SHIFT = (1 / 64 + 1 / 4096, 1 / 128 + 1 / 65536)
 
 
-def _tie_trial(result: Any, case: Case, judge: Callable[[Case, str], list[Any]]) -> dict[str, Any] | None:
+def _tie_trial(result: Any, case: Case, judge: Callable[[Case, str], list[Any]], convention: Convention | None
+               ) -> dict[str, Any] | None:
     """Whether a conformance failure whose wrong samples all lie exactly on edges is the
     tie rule's: the wrong triangles alone, shifted by :data:`TIE_SHIFT` one way and the
     other (every such sample then strictly inside or outside), pass strictly both times.
     A missing prestep or a dropped sliver that merely put its wrong samples on edges still
-    fails one of them. Two calls; None when it does not apply (triangles only)."""
+    fails one of them. Two calls; None when it does not apply: triangles only, and not
+    under snapping (the shift, snapped to the grid, would run along the edges of one slope
+    and keep their samples on them)."""
     scene = case.scene
-    if result.check != "conformance" or not isinstance(scene, Scene):
+    if result.check != "conformance" or not isinstance(scene, Scene) or convention is None or convention.subpixel_bits is not None:
         return None
     wrong = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict) and not p.get("near_tie")]
     if not wrong or any(p.get("distance") != 0.0 or not isinstance(p.get("triangle"), int) for p in wrong):
