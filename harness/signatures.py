@@ -295,19 +295,31 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case, str
 # the tie trial's shift: dyadic, well beyond float rounding, and off every line of small
 # denominator through a sample (a shifted edge holding a sample again is as rare as a generic one)
 TIE_SHIFT = (1 / 64 + 1 / 4096, 1 / 128 + 1 / 65536)
+# under snapping to 1/2**bits px, two shifts of whole grid steps, not parallel: a snapped
+# shift runs along the edges of its own slope and keeps their samples on them, so the tie
+# stands when either shift passes both ways
+TIE_GRID_SHIFTS = ((5, 3), (-3, 5))
+
+
+def _tie_shifts(convention: Convention) -> list[tuple[float, float]]:
+    """The shifts the tie trial tries (:data:`TIE_SHIFT`, or :data:`TIE_GRID_SHIFTS` in
+    steps of the convention's snapping grid)."""
+    if convention.subpixel_bits is None:
+        return [TIE_SHIFT]
+    step = 2.0 ** -convention.subpixel_bits
+    return [(a * step, b * step) for a, b in TIE_GRID_SHIFTS]
 
 
 def _tie_trial(result: Any, case: Case, judge: Callable[[Case, str], list[Any]], convention: Convention | None
                ) -> dict[str, Any] | None:
     """Whether a conformance failure whose wrong samples all lie exactly on edges is the
-    tie rule's: the wrong triangles alone, shifted by :data:`TIE_SHIFT` one way and the
-    other (every such sample then strictly inside or outside), pass strictly both times.
-    A missing prestep or a dropped sliver that merely put its wrong samples on edges still
-    fails one of them. Two calls; None when it does not apply: triangles only, and not
-    under snapping (the shift, snapped to the grid, would run along the edges of one slope
-    and keep their samples on them)."""
+    tie rule's: the wrong triangles alone, shifted one way and the other (every such
+    sample then strictly inside or outside), pass strictly both times -- for one of
+    :func:`_tie_shifts`. A missing prestep or a dropped sliver that merely put its wrong
+    samples on edges still fails. Two calls per shift; None when it does not apply
+    (triangles only)."""
     scene = case.scene
-    if result.check != "conformance" or not isinstance(scene, Scene) or convention is None or convention.subpixel_bits is not None:
+    if result.check != "conformance" or not isinstance(scene, Scene) or convention is None:
         return None
     wrong = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict) and not p.get("near_tie")]
     if not wrong or any(p.get("distance") != 0.0 or not isinstance(p.get("triangle"), int) for p in wrong):
@@ -315,12 +327,19 @@ def _tie_trial(result: Any, case: Case, judge: Callable[[Case, str], list[Any]],
     subset = scene.subset(np.array(sorted({int(p["triangle"]) for p in wrong}), dtype=np.int64))
     if not np.isfinite(subset.coordinates).all():
         return None
-    passes = []
-    for sign in (1.0, -1.0):
-        shifted = subset.with_coordinates(subset.coordinates + sign * np.array(TIE_SHIFT))
-        results = judge(Case(f"{case.id}/tie-shift/{'+' if sign > 0 else '-'}", shifted, lattice=True), "conformance")
-        passes.append(bool(results) and all(r.status in ("pass", "skip") for r in results))
-    return {"shift": list(TIE_SHIFT), "passes": all(passes)}
+    tried = []
+    for shift in _tie_shifts(convention):
+        passes = True
+        for sign in (1.0, -1.0):
+            shifted = subset.with_coordinates(subset.coordinates + sign * np.array(shift))
+            results = judge(Case(f"{case.id}/tie-shift/{'+' if sign > 0 else '-'}", shifted, lattice=True), "conformance")
+            passes = passes and bool(results) and all(r.status in ("pass", "skip") for r in results)
+            if not passes:
+                break
+        tried.append(list(shift))
+        if passes:
+            return {"shift": list(shift), "tried": tried, "passes": True}
+    return {"shift": tried[-1], "tried": tried, "passes": False}
 
 
 def frame_case(case: MotionCase, frame: int) -> Case:
