@@ -262,10 +262,10 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case, str
     fails) and ``input_precision`` (:func:`harness.repro.input_precision_probe`: it passes
     rounded as the library receives it), ``tie_trial`` (wrong only exactly on edges: do the
     wrong triangles pass shifted off them? :func:`_tie_trial`); for jaggy,
-    ``frame_conformance`` (the first frame
-    off the oracle fails conformance: that failure, probed). Each costs a call of the
-    rasterizer and the check; :func:`signature` then reads them as facts instead of
-    guessing. Any other result comes back as it is. Never raises."""
+    ``frame_conformance`` (the first frame off the oracle fails conformance: that failure,
+    probed). Each costs a call or two of the rasterizer and the check; :func:`signature`
+    then reads them as facts instead of guessing. Any other result comes back as it is.
+    Never raises."""
     from harness.repro import input_precision_probe, viewport_edge_trial
 
     try:
