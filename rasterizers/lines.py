@@ -47,13 +47,14 @@ draw as given (another line width, another kind of scene) raises
     tests ``dot(d, p - a) > 0`` and ``dot(-d, p - b) > 0``, solved per row for the first
     and last column by floor division (a tie owned by the rule is a bias of 0, else -1,
     as in :mod:`rasterizers.fixed_point`), and the sides are ``4c**2 < W**2 |d|**2`` with
-    W = 256 w: c and |d|**2 are exact integers below 2**53, W a float, decided by a float
-    filter and, near a tie, an exact sum of error-free products
-    (:func:`harness.exact._two_product`). The sides' columns on a row start from a float
-    estimate (a square root) that the exact test then corrects a column at a time: no
-    square root decides anything. Range:
-    coordinates within +-2**15 px (32,768) and widths up to 2**15 px keep
-    ``2|c| < 2**51`` and ``|d|**2 < 2**50``.
+    W = 256 w: c and |d|**2 are exact int64 integers (below 2**62), W a float; each side is
+    decided by a float filter and, near a tie, an exact sum of error-free products
+    (:func:`harness.exact._two_product`) of c and |d|**2 split into two floats each. The
+    sides' columns on a row start from a float estimate (a square root) that the exact
+    test then corrects a column at a time: no square root decides anything. Range:
+    coordinates within +-2**21 px (2,097,152), any line width: ``|c|``, the caps' dot
+    products and ``|d|**2`` then stay below 2**62 at every sample of the largest viewport
+    (2**20 px).
 
 Conventions: ``bresenham_lines`` -- ``LineRule("bresenham")`` (nearest-even end points,
 ties step, both end points drawn), no snapping; ``diamond_exit_dda`` -- ``LineRule()``
@@ -86,13 +87,13 @@ SUBPIXEL_BITS = 8
 SUBPIXEL_ONE = 1 << SUBPIXEL_BITS
 SUBPIXEL_HALF = SUBPIXEL_ONE // 2
 DDA_LIMIT = 2.0**22
-# Rectangles: |x|, |y| <= 2**15 px (2**23 fixed) and w <= 2**15 px keep every cross product
-# at a considered sample below 2**50 (2|c| < 2**51 < 2**53: exact as a float) and
-# |d|**2 <= 2**49.
-RECTANGLE_LIMIT = 2.0**15
-# Below W = 2**-24 (w = 2**-32 px) W**2 |d|**2 < 2**-48 * 2**49 < 4 <= 4c**2 whenever c != 0.
-_TINY_W = 2.0**-24
-# Float filter margin for 4c**2 against W**2 |d|**2: each side errs by at most 3 roundings.
+# Rectangles: |x|, |y| <= 2**21 px (2**29 fixed) and samples within MAX_VIEWPORT = 2**20 px
+# (2**28 fixed) keep |d| components <= 2**30 and |p - a| components < 2**29.6, so every
+# cross and dot product at a sample is below 2**60.6, 2|c| < 2**61.6 and |d|**2 <= 2**61.
+RECTANGLE_LIMIT = 2.0**21
+# Below W = 2**-31, W**2 |d|**2 < 2**-62 * 2**61 < 4 <= 4c**2 whenever c != 0.
+_TINY_W = 2.0**-31
+# Float filter margin for 4c**2 against W**2 |d|**2: each side errs by at most 4 roundings.
 _FILTER = 2.0**-48
 
 _ROUNDING_CODES = {"floor": 0, "nearest-even": 1, "half-away": 2, "toward-zero": 3}
@@ -464,23 +465,38 @@ def _owned(gx, gy, tx, ty, y_first):  # type: ignore[no-untyped-def]
     return gx * tx > 0 if gx != 0 else gy * ty > 0
 
 
+@numba.njit(cache=True, inline="always")
+def _split_int(v):  # type: ignore[no-untyped-def]
+    """An int64 v (|v| < 2**63) as floats hi + lo exactly: hi = float(v), lo = v - hi
+    (|lo| <= 2**9)."""
+    hi = float(v)
+    return hi, float(v - np.int64(hi))
+
+
 @numba.njit(cache=True)
 def _sides_sign(q, big_s, w2_hi, w2_lo, scratch):  # type: ignore[no-untyped-def]
-    """Exact sign of W**2 * S - q**2 (q, S integers below 2**53 given as floats, W**2 =
-    w2_hi + w2_lo exactly): a float filter, then the six error-free products summed as a
-    nonoverlapping expansion (its largest component carries the sign)."""
-    lhs = w2_hi * big_s
-    rhs = q * q
+    """Exact sign of W**2 * S - q**2 (q, S int64 below 2**62, W**2 = w2_hi + w2_lo
+    exactly): a float filter, then the seven error-free products of the split factors
+    summed as a nonoverlapping expansion (its largest component carries the sign)."""
+    q_hi, q_lo = _split_int(q)
+    s_hi, s_lo = _split_int(big_s)
+    lhs = w2_hi * s_hi
+    rhs = q_hi * q_hi
     if lhs * (1.0 - _FILTER) > rhs * (1.0 + _FILTER):
         return 1
     if rhs * (1.0 - _FILTER) > lhs * (1.0 + _FILTER):
         return -1
-    scratch[0], scratch[1] = _two_product(w2_hi, big_s)
-    scratch[2], scratch[3] = _two_product(w2_lo, big_s)
-    scratch[4], scratch[5] = _two_product(-q, q)
+    # W**2 S - q**2 = (w2_hi + w2_lo)(s_hi + s_lo) - (q_hi**2 + 2 q_hi q_lo + q_lo**2)
+    scratch[0], scratch[1] = _two_product(w2_hi, s_hi)
+    scratch[2], scratch[3] = _two_product(w2_hi, s_lo)
+    scratch[4], scratch[5] = _two_product(w2_lo, s_hi)
+    scratch[6], scratch[7] = _two_product(w2_lo, s_lo)
+    scratch[8], scratch[9] = _two_product(-q_hi, q_hi)
+    scratch[10], scratch[11] = _two_product(-2.0 * q_hi, q_lo)
+    scratch[12], scratch[13] = _two_product(-q_lo, q_lo)
     length = 0
-    h = scratch[6:]
-    for t in range(6):
+    h = scratch[14:]
+    for t in range(14):
         length = grow_expansion(h, length, scratch[t])
     return expansion_sign(h, length)
 
@@ -493,7 +509,7 @@ def _between_sides(c, dx, dy, big_s, w_fixed, w2_hi, w2_lo, tx, ty, y_first, scr
         return True  # on the segment's line: W > 0 and |d| > 0
     if w_fixed < _TINY_W:
         return False  # W**2 |d|**2 < 4 <= 4c**2
-    sign = _sides_sign(2.0 * abs(c), big_s, w2_hi, w2_lo, scratch)
+    sign = _sides_sign(2 * abs(c), big_s, w2_hi, w2_lo, scratch)
     if sign != 0:
         return sign > 0
     # on a side: c = h, inside function h - c (gradient (dy, -dx)); or c = -h, c + h (-dy, dx)
@@ -544,8 +560,8 @@ def _rect_kernel(a, b, keep, w_fixed, tx, ty, y_first, width, height, out_s, out
     """Every segment's rectangle, one span per row (fixed point, 1/256 px). Returns the
     span count."""
     n = 0
-    w2_hi, w2_lo = _two_product(w_fixed, w_fixed)  # W**2 exactly (W >= 2**-24: no underflow)
-    scratch = np.empty(6 + 12)
+    w2_hi, w2_lo = _two_product(w_fixed, w_fixed)  # W**2 exactly (W >= 2**-31: no underflow)
+    scratch = np.empty(14 + 14)
     half_w = 0.5 * w_fixed
     for s in range(a.shape[0]):
         if not keep[s]:
@@ -555,7 +571,7 @@ def _rect_kernel(a, b, keep, w_fixed, tx, ty, y_first, width, height, out_s, out
         dy = by - ay
         if dx == 0 and dy == 0:
             continue  # no length, no rectangle
-        big_s = float(dx * dx + dy * dy)  # |d|**2 <= 2**49: exact
+        big_s = dx * dx + dy * dy  # |d|**2 <= 2**61: exact in int64
         # the caps' inside functions have gradients d (at a) and -d (at b)
         bias_a = 0 if _owned(_sign(dx), _sign(dy), tx, ty, y_first) else -1
         bias_b = 0 if _owned(-_sign(dx), -_sign(dy), tx, ty, y_first) else -1
@@ -564,7 +580,7 @@ def _rect_kernel(a, b, keep, w_fixed, tx, ty, y_first, width, height, out_s, out
         if col_first > col_last:
             continue
         # float estimates of where a row crosses the sides (exactly corrected below)
-        half_span = w_fixed * math.sqrt(big_s) / (2.0 * SUBPIXEL_ONE * abs(dy)) if dy != 0 else 0.0
+        half_span = w_fixed * math.sqrt(float(big_s)) / (2.0 * SUBPIXEL_ONE * abs(dy)) if dy != 0 else 0.0
         for j in range(row_first, row_last + 1):
             ys = j * SUBPIXEL_ONE + SUBPIXEL_HALF
             lo, hi = _cap_columns(dx, dy, ax, ay, ys, bias_a, col_first, col_last)
@@ -646,11 +662,8 @@ class RectangleLines:
 
     def rasterize(self, scene: AnyScene) -> Coverage:
         lines = _line_scene(scene, self.name)
-        if lines.line_width > RECTANGLE_LIMIT:
-            raise ValueError(f"{self.name}: line_width {lines.line_width:g} is beyond {RECTANGLE_LIMIT:g} px, "
-                             "where the int64 and float expansions stop being exact")
         a, b, keep = _segments(lines, RECTANGLE_LIMIT, self.name,
-                               "exact squared distances in 24.8 fixed point need coordinates within +/-2**15 px")
+                               "exact squared distances in 24.8 fixed point need coordinates within +/-2**21 px")
         fa, fb = _fixed(a, self.convention, keep), _fixed(b, self.convention, keep)
         w_fixed = lines.line_width * SUBPIXEL_ONE
         capacity = int(_rect_capacity(fa, fb, keep, w_fixed, lines.height))

@@ -4,14 +4,16 @@ paths (Unsupported, refusals naming the segment, non-finite segments)."""
 
 from __future__ import annotations
 
+from decimal import Decimal, localcontext
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, example, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
-from harness.api import LineScene, Rasterizer, Scene, Unsupported
+from harness.api import MAX_VIEWPORT, LineScene, Rasterizer, Scene, Unsupported
 from harness.case import Case
 from harness.conventions import Convention, LineRule
 from harness.oracle import exact_coverage
@@ -167,14 +169,81 @@ def test_coordinates_beyond_the_range_are_refused_naming_the_segment(rasterizer,
         rasterizer.rasterize(beyond)
 
 
-def test_rectangles_refuse_a_width_beyond_their_range():
-    scene = LineScene.from_segments(8, 8, [[1, 1]], [[6, 3]], line_width=2 * RECTANGLE_LIMIT)
-    with pytest.raises(ValueError, match="line_width"):
-        RectangleLines().rasterize(scene)
+def test_rectangles_draw_every_width_exactly():
+    scene = LineScene.from_segments(8, 8, [[1, 1]], [[6, 3]], line_width=float(MAX_VIEWPORT))  # the widest a scene takes
+    assert RectangleLines().rasterize(scene) == exact_coverage(scene, RectangleLines().convention)
+    i, j = np.meshgrid(np.arange(8), np.arange(8))  # so wide every sample between the caps (no ties on them)
+    assert RectangleLines().rasterize(scene).counts(8, 8).tolist() == ((5 * i + 2 * j > 3.5) & (5 * i + 2 * j < 32.5)).astype(int).tolist()
     tiny = scene.with_line_width(1e-300)  # a hair: only samples exactly on the segment
     hair = LineScene.from_segments(8, 8, [[0.5, 0.5]], [[6.5, 6.5]], line_width=1e-300)
     assert RectangleLines().rasterize(tiny) == exact_coverage(tiny, RectangleLines().convention)
     assert RectangleLines().rasterize(hair).counts(8, 8).sum() == 6
+
+
+# Pythagorean directions: a sample at distance 5s (or 13s, 17s) from the segment's line lies
+# exactly on a side of width 10s (26s, 34s), with dyadic end points far off screen.
+_TRIPLES = [(3, 4, 5), (5, 12, 13), (8, 15, 17)]
+
+
+@st.composite
+def far_tie_segments(draw):  # type: ignore[no-untyped-def]
+    """(a, b, width): one segment with end points up to ~2**21 px away whose side passes
+    exactly through a pixel centre of the 8x8 viewport."""
+    u, v, h = draw(st.sampled_from(_TRIPLES))
+    if draw(st.booleans()):
+        u, v = v, u
+    u, v = u * draw(st.sampled_from([1, -1])), v * draw(st.sampled_from([1, -1]))
+    s = draw(st.sampled_from([0.25, 0.5, 1.0, 2.0**-6]))
+    side = draw(st.sampled_from([1, -1]))
+    q = np.array([draw(st.integers(0, SIZE - 1)) + 0.5, draw(st.integers(0, SIZE - 1)) + 0.5])
+    foot = q - side * s * np.array([v, -u])  # the normal (v, -u) has length h
+    reach = int(RECTANGLE_LIMIT) // (2 * max(abs(u), abs(v)))
+    t0, t1 = draw(st.integers(1, reach)), draw(st.integers(0, reach))
+    return (foot - t0 * np.array([u, v]))[None], (foot + t1 * np.array([u, v]))[None], 2.0 * h * s
+
+
+@QUICK
+@given(far_tie_segments())
+def test_rectangles_equal_the_oracle_on_far_segments_through_ties(segment):
+    a, b, width = segment
+    scene = LineScene.from_segments(SIZE, SIZE, a, b, line_width=width)
+    for rasterizer in [RectangleLines(), RectangleLines("bottom-left-y-first")]:
+        assert rasterizer.rasterize(scene) == exact_coverage(scene, rasterizer.convention), rasterizer.name
+
+
+@QUICK
+@given(st.integers(-2**29 + 2**12, 2**29 - 2**12), st.integers(-2**29 + 2**12, 2**29 - 2**12), st.integers(0, SIZE - 1), st.integers(0, SIZE - 1),
+       st.integers(-2, 2))
+def test_rectangles_decide_samples_within_an_ulp_of_a_side(ax, ay, i, j, ulps):
+    # a far end point a (1/256 px grid), b = a's mirror through the viewport's centre; the
+    # width is the float nearest twice the distance of the sample (i, j) from the line,
+    # moved by a few ulps: the two sides of the inequality agree to ~2**-53, past any float test
+    a = np.array([[ax / 256.0, ay / 256.0]])
+    b = np.array([[SIZE - ax / 256.0, SIZE - ay / 256.0 + 1.0]])
+    (dx, dy), (px, py) = (b - a)[0], (np.array([i + 0.5, j + 0.5]) - a[0])
+    cross, length = Fraction(dx) * Fraction(py) - Fraction(dy) * Fraction(px), Fraction(dx) ** 2 + Fraction(dy) ** 2
+    assume(length > 0)
+    with localcontext() as context:
+        context.prec = 60
+        width = float(2 * abs(Decimal(cross.numerator) / Decimal(cross.denominator)) / (Decimal(length.numerator).sqrt()
+                                                                                            / Decimal(length.denominator).sqrt()))
+    for _ in range(abs(ulps)):
+        width = np.nextafter(width, np.inf if ulps > 0 else 0.0)
+    assume(0.0 < width <= MAX_VIEWPORT)
+    scene = LineScene.from_segments(SIZE, SIZE, a, b, line_width=float(width))
+    for rasterizer in [RectangleLines(), RectangleLines("bottom-right")]:
+        assert rasterizer.rasterize(scene) == exact_coverage(scene, rasterizer.convention), rasterizer.name
+
+
+@QUICK
+@given(st.tuples(st.floats(-2.0**21, 2.0**21), st.floats(-2.0**21, 2.0**21)), st.floats(0.5, SIZE - 0.5),
+       st.floats(0.5, SIZE - 0.5), st.floats(0.0, 1.0), st.floats(0.01, 4.0))
+def test_rectangles_equal_the_oracle_on_far_float_segments(far, x, y, along, width):
+    # a segment from far away through (x, y) on screen, ending beyond it or short of it
+    a = np.array([far])
+    b = np.clip(a + (np.array([[x, y]]) - a) * (1.0 + along), -2.0**21, 2.0**21)
+    scene = LineScene.from_segments(SIZE, SIZE, a, b, line_width=width)
+    assert RectangleLines().rasterize(scene) == exact_coverage(scene, RectangleLines().convention)
 
 
 def test_non_finite_segments_cover_nothing_and_the_others_are_drawn():
