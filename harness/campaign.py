@@ -659,10 +659,9 @@ class _Loaded:
             return check_motion(case, self.rasterizer, self.call, only=only, call_all=self.call_all)
         return check_case(case, self.rasterizer, self.call, only=only)
 
-    def judge(self, case: Case, check: str) -> list[Result]:
-        from harness.runner import check_case
-
-        return check_case(case, self.rasterizer, self.call, only={check})
+    def judge(self, case: Case | MotionCase, check: str) -> list[Result]:
+        """The one check on a (changed) case: the probes' and the shrinker's question."""
+        return self.check(case, {check})
 
     def convention(self, case: Case | MotionCase) -> Convention | None:
         if isinstance(case, MotionCase):

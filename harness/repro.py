@@ -20,14 +20,14 @@ from numpy.typing import NDArray
 
 from harness import checks
 from harness.api import AnyScene, Rasterizer, Scene, received_of
-from harness.case import Case, case_to_json
+from harness.case import Case, MotionCase, case_to_json
 from harness.checks import Result
 
 __all__ = ["ddmin", "shrink", "attach_repro", "whole_case_repro", "input_precision_probe", "viewport_edge_probe", "viewport_edge_trial",
            "grown_screen", "Judge"]
 
 # The checks of one rasterizer on a case, restricted to one check by name.
-Judge = Callable[[Case, str], list[Result]]
+Judge = Callable[[Case | MotionCase, str], list[Result]]
 
 
 def ddmin(items: list[int], fails: Callable[[list[int]], bool], budget: int) -> list[int]:
@@ -165,23 +165,27 @@ def _passes(case: Case, check: str, judge: Judge) -> bool:
     return bool(found) and all(r.status == "pass" for r in found)
 
 
-def input_precision_probe(case: Case, check: str, judge: Judge, rasterizer: Rasterizer) -> dict[str, Any] | None:
-    """Whether a failing case passes once its coordinates are rounded the way the library
-    receives them, for a rasterizer that says how (an optional ``received(scene) -> Scene``
-    member, e.g. float32 positions at the GL API). Returns ``{"moved": n}`` (how many
-    coordinates the rounding changed) when it then passes, else None."""
+def input_precision_probe(case: Case | MotionCase, check: str, judge: Judge, rasterizer: Rasterizer) -> dict[str, Any] | None:
+    """Whether a failing case (still, or a motion sequence: every frame) passes once its
+    coordinates are rounded the way the library receives them, for a rasterizer that says
+    how (an optional ``received(scene) -> Scene`` member, e.g. float32 positions at the GL
+    API). Returns ``{"moved": n}`` (how many coordinates the rounding changed) when it
+    then passes, else None."""
     received = received_of(rasterizer)
-    if received is None or not isinstance(case.scene, Scene):
+    scenes = [s for s in (case.frames if isinstance(case, MotionCase) else [case.scene]) if isinstance(s, Scene)]
+    if received is None or not scenes or len(scenes) != (len(case.frames) if isinstance(case, MotionCase) else 1):
         return None
     try:
-        scene = received(case.scene)
+        rounded = [received(s) for s in scenes]
     except Exception:
         return None
-    before, after = case.scene.coordinates, scene.coordinates
-    moved = int(np.sum((before != after) & ~(np.isnan(before) & np.isnan(after))))
+    moved = sum(int(np.sum((s.coordinates != r.coordinates) & ~(np.isnan(s.coordinates) & np.isnan(r.coordinates))))
+                for s, r in zip(scenes, rounded))
     if moved == 0:
         return None
-    return {"moved": moved} if _passes(replace(case, id=f"{case.id}/as-received", scene=scene), check, judge) else None
+    again = (replace(case, id=f"{case.id}/as-received", frames=tuple(rounded)) if isinstance(case, MotionCase)
+             else replace(case, id=f"{case.id}/as-received", scene=rounded[0]))
+    return {"moved": moved} if _passes(again, check, judge) else None  # type: ignore[arg-type]
 
 
 def grown_screen(scene: AnyScene, margin: int, largest: int = 8192) -> AnyScene | None:

@@ -191,14 +191,14 @@ def run_suite(
         worker: Worker | InProcess = Worker(rasterizer, timeout) if isolate else InProcess(rasterizer)
         call = worker.rasterize
 
-        def judge(candidate: Case, check: str, rasterizer: Rasterizer = rasterizer, call: AnyCall = call) -> list[Result]:
-            return check_case(candidate, rasterizer, call, tolerance, only={check})
-
         def one_case(case: Case | MotionCase, only: set[str] | None, rasterizer: Rasterizer = rasterizer, call: AnyCall = call,
                      call_all: Callable[[list[Scene]], list[Outcome]] = worker.rasterize_all) -> list[Result]:
             if isinstance(case, MotionCase):
                 return check_motion(case, rasterizer, call, tolerance, only, call_all)
             return check_case(case, rasterizer, call, tolerance, only=only)
+
+        def judge(candidate: Case | MotionCase, check: str, one_case: Callable[..., list[Result]] = one_case) -> list[Result]:
+            return one_case(candidate, {check})
 
         shrink_until = time.monotonic() + repro_seconds
         try:

@@ -30,12 +30,18 @@ class                            convention part     when
                                                      2^31 (int32), 2^53 (float64's integers), 2^63
                                                      (int64), 2^128 (float32's range), beyond
 ``culling``                      culling             every wrong deviation is a missing fragment of a
-                                                     primitive drawn not at all, and every triangle of
-                                                     their winding is missing, some of the other drawn
-``dropped-primitive``            none                ... whole primitives missing otherwise
+                                                     primitive drawn not at all, and moved by quarter
+                                                     pixels it is never drawn, its other winding is
+                                                     (evidence ``dropped_trial``); or, untried, every
+                                                     triangle of their winding is missing, some of
+                                                     the other drawn
+``dropped-primitive``            none                ... whole primitives missing otherwise -- unless
+                                                     a moved copy is drawn: then missed, not dropped
+                                                     (the classes below name how)
 ``snapping``                     snapping            the wrong primitives are drawn exactly as the
                                                      oracle draws them under another rounding of the
-                                                     same snapping (one oracle call)
+                                                     same snapping (an oracle call per other
+                                                     rounding that moves a vertex: two at most)
 ``fill-rule``                    fill-rule           (paths wrong away from their edges) ... under the
                                                      other fill rule (one oracle call)
 ``viewport-edge``                none                every wrong sample lies exactly on, or (beyond
@@ -79,8 +85,8 @@ Errors: ``hang`` (a timeout), ``crash`` (the worker process died), ``not-run``,
 ``exception-<Type>``.
 
 Anything else, or anything the classification cannot read, is ``other``:
-:func:`signature` never raises. It makes at most one oracle call (a hypothesis test on the
-wrong primitives alone).
+:func:`signature` never raises. Its oracle calls are hypothesis tests on the wrong
+primitives alone: the other snap roundings (two at most), or the other fill rule (one).
 """
 
 from __future__ import annotations
@@ -96,7 +102,6 @@ from numpy.typing import NDArray
 
 from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, convention_for
 from harness.case import Case, MotionCase
-from harness.checks.records import Result
 from harness.conventions import SNAP_ROUNDINGS, Convention, SnapRounding
 from harness.exact import orientation
 
@@ -212,7 +217,7 @@ def signature(result: Any, case: Case | MotionCase | Any, convention: Convention
     """The signature of a failing or erroring result of ``case``, judged under
     ``convention`` (the rasterizer's, declared or identified; None without one).
 
-    Deterministic, at most one oracle call, never raises: what it cannot read is ``other``.
+    Deterministic, at most two oracle calls (on the wrong primitives alone), never raises: what it cannot read is ``other``.
 
     >>> from harness.checks import Result
     >>> signature(Result("r", "c", "run", "error", "timeout: no answer within 2 s"), None, None).key
@@ -255,22 +260,26 @@ def overflow_class(magnitude: float) -> str | None:
     return f"overflow-2^{OVERFLOW_EDGES[-1]}+"
 
 
-def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case, str], list[Any]], rasterizer: Any) -> Any:
+def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case | MotionCase, str], list[Any]], rasterizer: Any) -> Any:
     """The failing ``result`` with the probes' evidence added when they apply: for
     conformance and invariance, ``viewport_edge`` (:func:`harness.repro.viewport_edge_probe`:
     the case passes moved into a grown screen; ``viewport_edge_refuted`` when it still
     fails) and ``input_precision`` (:func:`harness.repro.input_precision_probe`: it passes
     rounded as the library receives it), ``tie_trial`` (wrong only exactly on edges: do the
-    wrong triangles pass shifted off them? :func:`_tie_trial`); for jaggy,
-    ``frame_conformance`` (the first frame off the oracle fails conformance: that failure,
-    probed). Each costs a call or two of the rasterizer and the check; :func:`signature`
+    wrong triangles pass shifted off them? :func:`_tie_trial`); for the motion checks
+    (jaggy, texel, perspective, popping), ``input_precision`` as above for the whole
+    sequence, else ``frame_failure`` (a frame the failure names, judged alone, fails
+    conformance -- or accuracy, for anti-aliased coverage: that failure, probed and
+    classified; :func:`_with_frame_failure`), else for texel and perspective
+    ``snapping_trial`` (:func:`_snapping_trial`). Each costs a call or two of the
+    rasterizer and the check; :func:`signature`
     then reads them as facts instead of guessing. Any other result comes back as it is.
     Never raises."""
     from harness.repro import input_precision_probe, viewport_edge_trial
 
     try:
-        if getattr(result, "status", None) == "fail" and result.check == "jaggy" and isinstance(case, MotionCase):
-            return _with_frame_conformance(result, case, judge, rasterizer)
+        if getattr(result, "status", None) == "fail" and result.check in MOTION_CHECKS and isinstance(case, MotionCase):
+            return _with_frame_failure(result, case, judge, rasterizer)
         if getattr(result, "status", None) != "fail" or result.check not in ("conformance", "invariance") or not isinstance(case, Case):
             return result
         evidence = dict(result.evidence)
@@ -287,6 +296,10 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case, str
             tie = _tie_trial(result, case, judge, convention_for(rasterizer, case.scene))
             if tie is not None:
                 evidence["tie_trial"] = tie
+        if "dropped_trial" not in evidence and "input_precision" not in evidence:
+            dropped = _dropped_trial(result, case, judge, convention_for(rasterizer, case.scene))
+            if dropped is not None:
+                evidence["dropped_trial"] = dropped
         return replace(result, evidence=evidence)
     except Exception:
         return result
@@ -310,7 +323,7 @@ def _tie_shifts(convention: Convention) -> list[tuple[float, float]]:
     return [(a * step, b * step) for a, b in TIE_GRID_SHIFTS]
 
 
-def _tie_trial(result: Any, case: Case, judge: Callable[[Case, str], list[Any]], convention: Convention | None
+def _tie_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str], list[Any]], convention: Convention | None
                ) -> dict[str, Any] | None:
     """Whether a conformance failure whose wrong samples all lie exactly on edges is the
     tie rule's: the wrong triangles alone, shifted one way and the other (every such
@@ -342,6 +355,63 @@ def _tie_trial(result: Any, case: Case, judge: Callable[[Case, str], list[Any]],
     return {"shift": tried[-1], "tried": tried, "passes": False}
 
 
+# the dropped trial's copies: each missing triangle moved by (i/4, j/4) px, i, j in 0..3
+DROPPED_SHIFTS = tuple((i / 4, j / 4) for j in range(4) for i in range(4))
+
+
+def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str], list[Any]],
+                   convention: Convention | None) -> dict[str, Any] | None:
+    """Whether triangles missing whole are dropped as such, culled, or missed by another
+    bug: the missing triangles, each in 16 copies moved by quarter pixels
+    (:data:`DROPPED_SHIFTS`) and 16 more of the other winding (two vertices swapped), drawn
+    in one call. A dropper (too small) draws none of the copies the oracle covers; a culler
+    draws the other winding's only; a wrong sample point or edge test that missed a
+    sliver's only sample draws some of the same winding. Returns ``{"copies": n, "drawn":
+    k, "flipped_copies": m, "flipped_drawn": j}`` (copies the oracle covers, and of them
+    those the rasterizer drew something of), None when it does not apply (triangles
+    missing whole, finite)."""
+    from harness.oracle import exact_coverage
+
+    scene = case.scene
+    answer = _answer(result)
+    if result.check != "conformance" or not isinstance(scene, Scene) or convention is None or answer is None:
+        return None
+    wrong = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict)]
+    if not wrong or any(p.get("kind") != "missing" or not isinstance(p.get("triangle"), int) for p in wrong):
+        return None
+    prims = np.array(sorted({int(p["triangle"]) for p in wrong}), dtype=np.int64)
+    if np.isin(answer.pixels()[0], prims).any():
+        return None  # drawn in part: not missing whole
+    subset = scene.subset(prims)
+    if not np.isfinite(subset.positions).all():
+        return None
+    swap = [0, 2, 1]  # the other winding, same triangle
+    copies_of = len(DROPPED_SHIFTS) * len(subset)
+    shifts = np.repeat(np.array(DROPPED_SHIFTS), len(subset), axis=0)[:, None, :]
+
+    def tiled(a: NDArray | None, flip: bool) -> NDArray | None:
+        return None if a is None else np.concatenate([a[:, swap] if flip else a] * len(DROPPED_SHIFTS))
+    positions = np.concatenate([tiled(subset.positions, False) + shifts, tiled(subset.positions, True) + shifts])
+    both = lambda a: None if a is None else np.concatenate([tiled(a, False), tiled(a, True)])  # noqa: E731
+    copies = Scene(scene.width, scene.height, positions, both(subset.attributes), both(subset.w))
+    n = len(copies)
+    want = np.bincount(exact_coverage(copies, convention).pixels()[0], minlength=n)[:n] > 0
+    verdicts = [r for r in judge(Case(f"{case.id}/dropped-copies", copies, lattice=True), "conformance")
+                if r.check == "conformance"]
+    if not verdicts:
+        return None
+    if verdicts[0].status == "pass":
+        got = want
+    elif (drawn := _answer(verdicts[0])) is not None:
+        pixels = drawn.pixels()[0]
+        got = np.bincount(pixels[(pixels >= 0) & (pixels < n)], minlength=n)[:n] > 0
+    else:
+        return None
+    same, flipped = slice(0, copies_of), slice(copies_of, n)
+    return {"copies": int(want[same].sum()), "drawn": int((want & got)[same].sum()),
+            "flipped_copies": int(want[flipped].sum()), "flipped_drawn": int((want & got)[flipped].sum())}
+
+
 def frame_case(case: MotionCase, frame: int) -> Case:
     """Frame ``frame`` (0-based) of a motion sequence as a still case, judged as the jaggy
     check judges frames: every deviation from the oracle counts, none excused as a near
@@ -349,23 +419,103 @@ def frame_case(case: MotionCase, frame: int) -> Case:
     return Case(f"{case.id}/frame/{frame}", case.frames[frame], lattice=True)
 
 
-def _with_frame_conformance(result: Any, case: MotionCase, judge: Callable[[Case, str], list[Any]], rasterizer: Any) -> Any:
-    """A failing jaggy result with ``frame_conformance`` added: the conformance failure
-    (probed) of the first frame whose coverage differs from the oracle's, when it fails --
-    so a flicker caused by a wrong tie rule is named by that cause. One more call."""
+# the motion checks whose failures are read through a frame's still verdict, and those
+# verdicts: conformance for aliased coverage, accuracy for anti-aliased (one applies)
+MOTION_CHECKS = ("jaggy", "texel", "perspective", "popping")
+FRAME_CHECKS = ("conformance", "accuracy")
+# frames judged alone per failing motion result, at most
+FRAMES_TRIED = 3
+
+
+def _named_frames(result: Any) -> list[int]:
+    """The frames (0-based) a failing motion result names, in its evidence's order: the
+    frames off the oracle (jaggy), of texel mismatches and backward steps (texel; a step
+    names its frame and the one before), of the worst u, v error (perspective), of the
+    worst alpha steps (popping); at most :data:`FRAMES_TRIED`."""
+    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    frames: list[int] = []
+    if result.check == "jaggy":
+        frames += [int(f) for f in evidence.get("oracle_mismatch_frames") or []][:1]
+    for key, step in (("mismatches", False), ("backward_steps", True), ("steps", True)):
+        for row in evidence.get(key) or []:
+            if isinstance(row, dict) and isinstance(row.get("frame"), int):
+                frames += [row["frame"], row["frame"] - 1] if step else [row["frame"]]
+    worst = evidence.get("worst")
+    if isinstance(worst, dict) and isinstance(worst.get("frame"), int):
+        frames.append(worst["frame"])
+    return list(dict.fromkeys(f for f in frames if f >= 0))[:FRAMES_TRIED]
+
+
+def _with_frame_failure(result: Any, case: MotionCase, judge: Callable[[Case | MotionCase, str], list[Any]], rasterizer: Any) -> Any:
+    """A failing motion result with ``frame_failure`` added: the first of its named frames
+    (:func:`_named_frames`) that fails conformance (or accuracy) judged alone, that failure
+    probed -- so a flicker, a swimming texel or a pop caused by a wrong tie rule, snapping
+    or alpha is named by that cause. A call per frame tried."""
+    from harness.repro import input_precision_probe
+
     evidence = dict(result.evidence)
-    frames = evidence.get("oracle_mismatch_frames") or []
-    if "frame_conformance" in evidence or not frames:
+    if "frame_failure" in evidence or "input_precision" in evidence or "snapping_trial" in evidence:
         return result
-    frame = int(frames[0])
-    still = frame_case(case, frame)
-    failed = [r for r in judge(still, "conformance") if r.status == "fail"]
-    if not failed:
-        return result
-    probed = with_probes(failed[0], still, judge, rasterizer)
-    evidence["frame_conformance"] = {"frame": frame, "message": probed.message, "metrics": dict(probed.metrics),
-                                     "evidence": dict(probed.evidence)}
-    return replace(result, evidence=evidence)
+    found = input_precision_probe(case, result.check, judge, rasterizer)
+    if found is not None:  # the whole sequence passes as the library receives it
+        evidence["input_precision"] = found
+        return replace(result, evidence=evidence)
+    for frame in _named_frames(result):
+        if frame >= len(case.frames):
+            continue
+        still = frame_case(case, frame)
+        for check in FRAME_CHECKS:
+            verdicts = judge(still, check)
+            failed = [r for r in verdicts if r.status == "fail"]
+            if failed:
+                probed = with_probes(failed[0], still, judge, rasterizer)
+                # classified here, where the frame's answer is at hand (the snapping and
+                # fill-rule hypotheses compare it)
+                named = signature(probed, still, convention_for(rasterizer, still.scene))
+                evidence["frame_failure"] = {"frame": frame, "check": check, "message": probed.message,
+                                             "signature": named.key, "metrics": dict(probed.metrics),
+                                             "evidence": dict(probed.evidence)}
+                return replace(result, evidence=evidence)
+            if any(r.status == "pass" for r in verdicts):
+                break  # this frame passes its verdict: try the next
+    trial = _snapping_trial(result, case, convention_for(rasterizer, case.frames[0]))
+    if trial is not None:
+        evidence["snapping_trial"] = trial
+        return replace(result, evidence=evidence)
+    return result
+
+
+def _snapping_trial(result: Any, case: MotionCase, convention: Convention | None) -> dict[str, Any] | None:
+    """For a texel or perspective failure whose frames all pass conformance, under a
+    snapping convention: the other roundings that move a vertex (fewest moved first), the
+    check run again on the same answers against that rounding's exact oracles. The first
+    under which it passes (``{"rounding": ..., "passes": True}``): the u, v came from vertices
+    snapped that way -- the snapping's fault, which the coverage did not show. None when
+    none passes or it does not apply. No rasterizer call: an oracle per frame per rounding."""
+    from harness.checks.motion import perspective, texel_swimming
+    from harness.oracle import exact_coverage
+
+    if result.check not in ("texel", "perspective") or convention is None or convention.subpixel_bits is None:
+        return None
+    coverages = list(getattr(getattr(result, "drawing", None), "coverages", None) or [])
+    frames = list(case.frames)
+    if len(coverages) != len(frames) or not all(isinstance(f, Scene) and np.isfinite(f.positions).all() for f in frames):
+        return None
+    positions = np.concatenate([f.positions for f in frames])
+    declared = convention.snap(positions)
+    others = []
+    for rounding in SNAP_ROUNDINGS:
+        moved = int(np.sum(replace(convention, snap_rounding=rounding).snap(positions) != declared))
+        if rounding != convention.snap_rounding and moved:
+            others.append((moved, rounding))
+    for _, rounding in sorted(others):
+        other = replace(convention, snap_rounding=rounding)
+        oracles = [exact_coverage(f, other) for f in frames]
+        again = (texel_swimming(case.id, coverages, oracles, case.texels or 1) if result.check == "texel"
+                 else perspective(case.id, coverages, oracles, case.texels or 1))
+        if again.status == "pass":
+            return {"rounding": rounding, "passes": True}
+    return None
 
 
 # -- errors ----------------------------------------------------------------------------------
@@ -531,9 +681,10 @@ def _same_as(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], varian
 
 def _hypothesis(result: Any, scene: AnyScene, prims: NDArray[np.int64], convention: Convention,
                 near: bool, exact: bool) -> tuple[str, str] | None:
-    """The one alternative worth an oracle call, tested on the wrong primitives alone:
-    another rounding of the convention's snapping (when it snaps), or the other fill rule
-    (paths wrong away from their edges)."""
+    """The alternatives worth an oracle call, tested on the wrong primitives alone: the
+    other roundings of the convention's snapping that move a vertex (when it snaps: the
+    fewest moved first, each tried -- exact halves move under half-away as under no other,
+    and floor may move fewer), or the other fill rule (paths wrong away from their edges)."""
     answer = _answer(result)
     if answer is None or not prims.size:
         return None
@@ -543,17 +694,17 @@ def _hypothesis(result: Any, scene: AnyScene, prims: NDArray[np.int64], conventi
         return None
     if convention.subpixel_bits is not None:
         declared = convention.snap(coordinates)
-        best: tuple[int, SnapRounding] | None = None
+        others: list[tuple[int, SnapRounding]] = []
         for rounding in SNAP_ROUNDINGS:
             if rounding == convention.snap_rounding:
                 continue
             moved = int(np.sum(replace(convention, snap_rounding=rounding).snap(coordinates) != declared))
-            if moved and (best is None or moved < best[0]):
-                best = (moved, rounding)
-        if best is None:
-            return None
-        other = replace(convention, snap_rounding=best[1])
-        return ("snapping", "snapping") if _same_as(answer, scene, prims, subset, other) else None
+            if moved:
+                others.append((moved, rounding))
+        for _, rounding in sorted(others):
+            if _same_as(answer, scene, prims, subset, replace(convention, snap_rounding=rounding)):
+                return "snapping", "snapping"
+        return None
     if isinstance(subset, PathScene) and not near and not exact:
         flipped = subset.with_fill_rule("evenodd" if subset.fill_rule == "nonzero" else "nonzero")
         return ("fill-rule", "fill-rule") if _same_as(answer, scene, prims, flipped, convention) else None
@@ -614,7 +765,15 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         return overflow, "none"
     # a primitive wholly missing whose only wrong samples are exact ties is a tie rule's
     # error (a sliver whose one sample lies on its edge), not a dropped primitive
-    dropped = None if exact else _dropped(result, scene, prims, wrong, snapped, lambda sc: judged.snap(sc.positions))
+    copies = evidence.get("dropped_trial")
+    copies = copies if isinstance(copies, dict) else {}
+    if not exact and not int(copies.get("drawn", 0)) and int(copies.get("flipped_drawn", 0)):
+        return "culling", "culling"  # moved a little, never drawn; the other winding is
+    drawn_elsewhere = int(copies.get("drawn", 0)) > 0  # moved a little, some copy is drawn: not dropped
+    # the other winding not drawn either: not culled
+    culls = not (int(copies.get("flipped_copies", 0)) and not int(copies.get("flipped_drawn", 0)))
+    dropped = None if exact or drawn_elsewhere else _dropped(result, scene, prims, wrong, snapped,
+                                                              lambda sc: judged.snap(sc.positions), culls)
     if dropped is not None:
         return dropped
     found = _hypothesis(result, scene, prims, judged, near, exact)
@@ -707,15 +866,16 @@ def _samples_on(p: NDArray, q: NDArray, sx: float, sy: float) -> list[tuple[int,
 
 
 def _dropped(result: Any, scene: AnyScene, prims: NDArray[np.int64], wrong: list[tuple[int, int, int, str, float]],
-             snapped: dict[int, NDArray], snap_all: Callable[[Scene], NDArray]) -> tuple[str, str] | None:
-    """culling or dropped-primitive when every wrong deviation is a missing fragment of a
-    primitive the answer holds nothing of."""
+             snapped: dict[int, NDArray], snap_all: Callable[[Scene], NDArray], culls: bool = True) -> tuple[str, str] | None:
+    """culling (unless ``culls`` is False: the dropped trial refuted it) or
+    dropped-primitive when every wrong deviation is a missing fragment of a primitive the
+    answer holds nothing of."""
     answer = _answer(result)
     if answer is None or any(kind != "missing" for _, _, _, kind, _ in wrong):
         return None
     if np.isin(answer.pixels()[0], prims).any():
         return None
-    if isinstance(scene, Scene) and prims.size:
+    if culls and isinstance(scene, Scene) and prims.size:
         # culling: every triangle of the wrong ones' winding missing, some of the other drawn
         signs = set(orientation(np.stack([snapped[int(k)] for k in prims])).tolist())
         every = orientation(snap_all(scene))
@@ -866,18 +1026,29 @@ def _by_metrics(options: tuple[tuple[str, str], ...], otherwise: str, part: str 
     return lambda result, case, convention: (_first_positive(result, options, otherwise), part)
 
 
-def _jaggy(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
-    """A frame's conformance failure (:func:`with_probes` adds it) names the cause; else
-    flicker or backward jumps."""
+def _frame_cause(result: Any) -> tuple[str, str] | None:
+    """The class and part of a motion failure read through :func:`with_probes`' facts:
+    ``input-format`` when the sequence passes as the library receives it
+    (``input_precision``), ``snapping`` when its ``snapping_trial`` passed, else its frame
+    verdict's (``frame_failure``) when that reads as one; else None."""
     evidence = result.evidence if isinstance(result.evidence, dict) else {}
-    frame = evidence.get("frame_conformance")
-    if isinstance(frame, dict) and isinstance(case, MotionCase):
-        still = Result(result.rasterizer, "", "conformance", "fail", str(frame.get("message", "")),
-                       dict(frame.get("metrics", {})), dict(frame.get("evidence", {})))
-        found = _conformance(still, frame_case(case, int(frame["frame"])), convention)
-        if found[0] != "other":
-            return found
-    return _first_positive(result, (("flicker", "flicker"), ("backward_jumps", "backward-jump")), "other"), "none"
+    if "input_precision" in evidence:
+        return "input-format", "none"
+    trial = evidence.get("snapping_trial")
+    if isinstance(trial, dict) and trial.get("passes") is True:
+        return "snapping", "snapping"
+    frame = evidence.get("frame_failure")
+    key = frame.get("signature") if isinstance(frame, dict) else None
+    if not isinstance(key, str) or key.count("|") != 2:
+        return None
+    _, failure_class, part = key.split("|")
+    return (failure_class, part) if failure_class != "other" else None
+
+
+def _through_frame(own: Callable[[Any, Any, Convention | None], tuple[str, str]]
+                   ) -> Callable[[Any, Any, Convention | None], tuple[str, str]]:
+    """A motion check's classifier: its frame verdict's cause when there is one, else ``own``."""
+    return lambda result, case, convention: _frame_cause(result) or own(result, case, convention)
 
 
 def _length(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
@@ -895,15 +1066,15 @@ _CLASSIFIERS: dict[str, Callable[[Any, Any, Convention | None], tuple[str, str]]
     "degenerate": _degenerate,
     "closed": _closed,
     "invariance": _invariance,
-    "jaggy": _jaggy,
-    "texel": _by_metrics((("frames_without_attributes", "missing-attributes"), ("swim_backward_steps", "texel-backward-step"),
-                          ("texel_mismatches", "texel-mismatch")), "other"),
-    "perspective": lambda result, case, convention: (
+    "jaggy": _through_frame(_by_metrics((("flicker", "flicker"), ("backward_jumps", "backward-jump")), "other")),
+    "texel": _through_frame(_by_metrics((("frames_without_attributes", "missing-attributes"), ("swim_backward_steps", "texel-backward-step"),
+                          ("texel_mismatches", "texel-mismatch")), "other")),
+    "perspective": _through_frame(lambda result, case, convention: (
         ("nan-attributes", "none") if _metric(result, "max_uv_error_texels") == math.inf  # u, v not finite: not a perspective error
-        else (_first_positive(result, (("frames_without_attributes", "missing-attributes"),), "perspective-error"), "none")),
+        else (_first_positive(result, (("frames_without_attributes", "missing-attributes"),), "perspective-error"), "none"))),
     "accuracy": _by_metrics((("over_tolerance", "alpha-error"), ("off_level", "off-level")), "other"),
     "seams": _by_metrics((("seam_pixels", "seam"), ("strays", "stray")), "other"),
-    "popping": _fixed("popping"),
+    "popping": _through_frame(_fixed("popping")),
     "triangulation": _by_metrics((("triangulation_double_hits", "triangulation-double-hit"),), "triangulation-mismatch"),
     "connectivity": _by_metrics((("line_gaps", "gap"), ("line_breaks", "break"), ("line_doubles", "double-step")), "other",
                                 "line-rule"),

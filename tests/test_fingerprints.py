@@ -21,7 +21,7 @@ from harness.probes import epsilon, non_finite, vertex_sweep, viewport_edge
 from harness.registry import load
 from harness.runner import run_suite
 from tests.known_bad.edge_functions import EdgeFunctionBug
-from tests.known_bad.misc import ClipsBeforeSnapping, DropsAttributes, Float32Input
+from tests.known_bad.misc import ClipsBeforeSnapping, DropsAttributes, Float32Input, NaNAttributes
 from tests.test_identify import BlackBox
 
 
@@ -92,6 +92,18 @@ def test_a_coverage_only_rasterizer_says_so_or_fails():
     assert all(r.status == "skip" and "interpolates = False" in r.message for r in by(declared, "texel"))
     assert all(r.status == "fail" for r in by(silent, "hygiene"))
     assert all(r.status == "fail" and "without one attribute row" in r.message for r in by(silent, "texel"))
+
+
+def test_texel_and_perspective_alike_fail_an_answer_without_u_and_v():
+    """One attribute column where the case interpolates u and v: both attribute checks fail
+    it by the missing columns (perspective once compared a column it did not get by
+    broadcasting, and called it a perspective error)."""
+    sequence = next(c for c in motion_cases(0) if c.texels and c.perspective)
+    results = run_suite([NaNAttributes()], cases=[sequence], isolate=False, only={"texel", "perspective"})
+    assert sorted(r.check for r in results) == ["perspective", "texel"]
+    for r in results:
+        assert r.status == "fail" and "fewer than the two attribute columns" in r.message, r
+        assert r.metrics["frames_without_attributes"] == len(sequence.frames)
 
 
 def test_watertight_says_whether_failures_sit_at_vertices():

@@ -16,8 +16,10 @@ from harness.case import Case, MotionCase
 from harness.checks import Result
 from harness.conventions import Convention
 from harness.isolation import InProcess, Outcome
-from harness.runner import _error, check_case
+from harness.runner import _error, check_case, check_motion
+from rasterizers.fixed_point import FixedPoint
 from harness.signatures import Signature, overflow_class, signature, with_probes
+from tests.known_bad.antialiasing import BiasedArea
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.known_bad.lines import BothEndPixels, YMajorAlongX
 from tests.known_bad.misc import ClipsBeforeSnapping, Float32Input, Raises
@@ -236,9 +238,65 @@ def test_a_flicker_is_named_by_the_frame_that_leaves_the_oracle():
         return check_case(candidate, bad, worker.rasterize, only={check})
 
     probed = with_probes(failed[0], case, judge, bad)
-    frame = probed.evidence["frame_conformance"]["frame"]
+    frame = probed.evidence["frame_failure"]["frame"]
     assert flipped_samples(case.frames[frame])
     assert signature(probed, case, bad.convention).key == "jaggy|exact-tie-slanted-edge|tie-rule"
+
+
+def _judge_of(bad):
+    """The probes' judge for ``bad`` in process: still cases and motion sequences."""
+    worker = InProcess(bad)
+
+    def judge(candidate, check):
+        if isinstance(candidate, MotionCase):
+            return check_motion(candidate, bad, worker.rasterize, only={check})
+        return check_case(candidate, bad, worker.rasterize, only={check})
+    return judge
+
+
+@pytest.mark.parametrize("bad, check, index, own, probed", [
+    # half-away snapping under a nearest-even claim: a frame's conformance names the snapping
+    # (floor moves fewer of its half-step vertices, and is tried too); its texel and u, v
+    # errors, on frames whose coverage is right, pass against half-away's exact u, v
+    (HalfAwayClaimsNearestEven(), "jaggy", 51, "jaggy|flicker|none", "jaggy|snapping|snapping"),
+    (HalfAwayClaimsNearestEven(), "texel", 15, "texel|texel-backward-step|none", "texel|snapping|snapping"),
+    (HalfAwayClaimsNearestEven(), "perspective", 15, "perspective|perspective-error|none", "perspective|snapping|snapping"),
+    # float32 positions: the whole sequence passes as the library receives it
+    (Float32Input(), "perspective", 15, "perspective|perspective-error|none", "perspective|input-format|none"),
+    # biased alpha: the frame's accuracy fails, the pops are its consequence
+    (BiasedArea(), "popping", 0, "popping|popping|none", "popping|alpha-error|none"),
+], ids=["jaggy-snapping", "texel-snapping", "perspective-snapping", "perspective-float32", "popping-alpha"])
+def test_motion_failures_are_named_by_their_cause(bad, check, index, own, probed):
+    """Campaigns found each of these motion failures counted as a cause of its own beside
+    the bug's (a second cause in the known-bad table); probed, each names the bug's."""
+    case = generate("motion", 0, index)
+    judge = _judge_of(bad)
+    failed = [r for r in judge(case, check) if r.status == "fail"]
+    assert len(failed) == 1
+    assert signature(failed[0], case, bad.convention).key == own
+    assert signature(with_probes(failed[0], case, judge, bad), case, bad.convention).key == probed
+
+
+def test_a_correct_motion_answer_is_not_explained_away():
+    """The probes add facts only where they hold: a perspective error of u, v that are
+    simply wrong (no snapping, no input rounding, coverage right) stays a perspective error."""
+    class OffUV:
+        """fixed_point (snapped to 8 bits) with u, v 1% too large."""
+
+        name = "off_uv"
+        convention = FixedPoint().convention
+
+        def rasterize(self, scene):
+            cov = FixedPoint().rasterize(scene)
+            return replace(cov, attributes=None if cov.attributes is None else cov.attributes * 1.01)
+    bad = OffUV()
+    case = generate("motion", 0, 15)
+    judge = _judge_of(bad)
+    failed = [r for r in judge(case, "perspective") if r.status == "fail"]
+    assert len(failed) == 1
+    probed = with_probes(failed[0], case, judge, bad)
+    assert "snapping_trial" not in probed.evidence and "frame_failure" not in probed.evidence
+    assert signature(probed, case, bad.convention).key == "perspective|perspective-error|none"
 
 
 def test_a_perspective_error_of_non_finite_attributes_is_an_attribute_failure():
@@ -280,4 +338,35 @@ def test_the_tie_trial_tells_a_tie_rule_from_samples_on_edges_by_chance(name, fa
     assert len(failed) == 1
     probed = with_probes(failed[0], case, judge, bad)
     assert probed.evidence["tie_trial"]["passes"] is expected.endswith("tie-rule")
+    assert signature(probed, case, bad.convention).key == expected
+
+
+@pytest.mark.parametrize("name, family, index, unprobed, expected", [
+    # one triangle of the culled winding alone on screen: nothing else tells culling from a
+    # drop; its copies of the other winding are drawn
+    ("bad_one-winding", "lattice", 88, "conformance|dropped-primitive|none", "conformance|culling|culling"),
+    # small triangles whose one sample the wrong edge test misses: moved a little, drawn
+    ("bad_top-edge-eval", "float", 206, "conformance|dropped-primitive|none", "conformance|far-from-edge|sample-point"),
+    # missing whole with every triangle of its winding: read as culling, but neither its
+    # copies nor their other winding are ever drawn
+    ("bad_no-prestep", "lattice", 157, "conformance|culling|culling", "conformance|dropped-primitive|none"),
+    # a dropper drops every copy, of either winding (unprobed, the sliver's one sample on its
+    # edge reads as a tie)
+    ("bad_min-area", "lattice", 43, "conformance|exact-tie-slanted-edge|tie-rule", "conformance|dropped-primitive|none"),
+])
+def test_the_dropped_trial_tells_a_drop_from_culling_and_from_a_miss(name, family, index, unprobed, expected):
+    """Triangles missing whole read as dropped (or culled, when their winding is all gone);
+    the dropped trial draws them again moved by quarter pixels, in both windings, and names
+    what it sees (campaigns counted these as second causes of the bugs)."""
+    from tests.known_bad.catalogue import KNOWN_BAD
+
+    bad = KNOWN_BAD[name]
+    case = generate(family, 0, index)
+    judge = _judge_of(bad)
+    failed = [r for r in judge(case, "conformance") if r.status == "fail"]
+    assert len(failed) == 1
+    assert signature(failed[0], case, bad.convention).key == unprobed
+    probed = with_probes(failed[0], case, judge, bad)
+    trial = probed.evidence["dropped_trial"]
+    assert trial["copies"] > 0 and trial["flipped_copies"] > 0
     assert signature(probed, case, bad.convention).key == expected

@@ -201,6 +201,18 @@ def _lacking_attributes(case_id: str, check: str, coverages: list[Coverage]) -> 
                    {"frames_without_attributes": missing[:EVIDENCE_LIMIT]})
 
 
+def _without_uv(case_id: str, check: str, coverages: list[Coverage]) -> Result | None:
+    """A failed result when some frame's attribute rows hold fewer than the two columns
+    (u, v) the check compares, else None."""
+    narrow = [f for f, c in enumerate(coverages) if c.attributes is not None and c.n_pixels and c.attributes.shape[1] < 2]
+    if not narrow:
+        return None
+    return result(case_id, check, False,
+                  f"{len(narrow)} of {len(coverages)} frames came back with fewer than the two attribute columns (u, v) "
+                  f"interpolated (first: frame {narrow[0]}, {coverages[narrow[0]].attributes.shape[1]} columns)",  # type: ignore[union-attr]
+                  {"frames_without_attributes": float(len(narrow))}, {"frames_without_attributes": narrow[:EVIDENCE_LIMIT]})
+
+
 def _backward_texel_steps(tracked: list[tuple[NDArray, NDArray, NDArray, NDArray]]) -> list[dict[str, Any]]:
     """At each pixel (triangle, x, y), followed over the frames that cover it, the steps
     from one frame to the next where the texel index moves against the oracle's (whose
@@ -256,12 +268,9 @@ def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Covera
     lacking = _lacking_attributes(case_id, "texel", coverages)
     if lacking is not None:
         return lacking
-    narrow = [f for f, c in enumerate(coverages) if c.attributes is not None and c.n_pixels and c.attributes.shape[1] < 2]
-    if narrow:  # no u, v to take a texel from
-        return result(case_id, "texel", False,
-                      f"{len(narrow)} of {len(coverages)} frames came back with fewer than the two attribute columns (u, v) "
-                      f"interpolated (first: frame {narrow[0]}, {coverages[narrow[0]].attributes.shape[1]} columns)",  # type: ignore[union-attr]
-                      {"frames_without_attributes": float(len(narrow))}, {"frames_without_attributes": narrow[:EVIDENCE_LIMIT]})
+    narrow = _without_uv(case_id, "texel", coverages)
+    if narrow is not None:  # no u, v to take a texel from
+        return narrow
     mismatches = 0
     worst = 0.0
     per_frame_mismatch = []
@@ -307,7 +316,7 @@ def perspective(case_id: str, coverages: list[Coverage], oracles: list[Coverage]
                 tolerance: Tolerance = Tolerance()) -> Result:
     """u, v against the exact perspective-correct values, in texels: the largest error may
     not exceed ``tolerance.uv_error`` texels."""
-    lacking = _lacking_attributes(case_id, "perspective", coverages)
+    lacking = _lacking_attributes(case_id, "perspective", coverages) or _without_uv(case_id, "perspective", coverages)
     if lacking is not None:
         return lacking
     worst = 0.0
