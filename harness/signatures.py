@@ -70,10 +70,14 @@ class                            convention part     when
 ``watertight``: ``hole``, ``double-hit``, ``hole-and-double-hit`` or ``stray`` (tie-rule when
 every hole and double hit has its sample exactly on the blamed shared edge), ``near-tie``
 when every one lies within float rounding of it, ``non-finite-input`` and ``overflow-...``
-as above. Motion: a jaggy failure whose first frame off the oracle fails conformance
-(probed) takes that frame's conformance class and part (a flicker of a wrong tie rule is
-the tie rule's), else ``backward-jump``, ``flicker``; ``texel-mismatch``,
-``texel-backward-step``, ``perspective-error``, ``missing-attributes``, ``popping``. Lines:
+as above. Motion (jaggy, texel, perspective, popping), first that holds
+(:func:`with_probes` finds the facts): ``input-format`` when the whole sequence passes as
+the library receives it; the class and part of a frame the failure names that fails
+conformance, or accuracy, judged alone (a flicker of a wrong tie rule is the tie rule's, a
+pop of a biased alpha is ``alpha-error``); ``snapping`` when texel or perspective pass on
+the same answers against another snap rounding's exact u, v; else ``backward-jump``,
+``flicker``; ``texel-mismatch``, ``texel-backward-step``, ``perspective-error``,
+``missing-attributes``, ``popping``. Lines:
 ``gap``, ``break``, ``double-step`` (connectivity), ``joint-vertex``, ``joint-overlap``,
 ``reversal``, ``last-pixel`` (a segment one pixel long or short), ``length``,
 ``backward-step``. Others: ``hygiene``'s flaw (``outside-viewport``, ...), ``degenerate``'s
@@ -327,8 +331,9 @@ def _tie_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str]
                ) -> dict[str, Any] | None:
     """Whether a conformance failure whose wrong samples all lie exactly on edges is the
     tie rule's: the wrong triangles alone, shifted one way and the other (every such
-    sample then strictly inside or outside), pass strictly both times -- for one of
-    :func:`_tie_shifts`. A missing prestep or a dropped sliver that merely put its wrong
+    sample then strictly inside or outside), pass strictly both times -- each triangle
+    under one of :func:`_tie_shifts` at least (a shift parallel to one triangle's edge
+    keeps its samples on it). A missing prestep or a dropped sliver that merely put its wrong
     samples on edges still fails. Two calls per shift; None when it does not apply
     (triangles only)."""
     scene = case.scene
@@ -341,18 +346,36 @@ def _tie_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str]
     if not np.isfinite(subset.coordinates).all():
         return None
     tried = []
+    unexplained = set(range(len(subset)))  # wrong triangles no shift has yet cleared
     for shift in _tie_shifts(convention):
-        passes = True
+        failing: set[int] = set()
         for sign in (1.0, -1.0):
             shifted = subset.with_coordinates(subset.coordinates + sign * np.array(shift))
             results = judge(Case(f"{case.id}/tie-shift/{'+' if sign > 0 else '-'}", shifted, lattice=True), "conformance")
-            passes = passes and bool(results) and all(r.status in ("pass", "skip") for r in results)
-            if not passes:
-                break
+            failing |= _failing_triangles(results, len(subset))
         tried.append(list(shift))
-        if passes:
+        if not failing:
+            return {"shift": list(shift), "tried": tried, "passes": True}
+        # a shift runs along the edges of its own slope: each triangle needs one that clears it
+        unexplained &= failing
+        if not unexplained:
             return {"shift": list(shift), "tried": tried, "passes": True}
     return {"shift": tried[-1], "tried": tried, "passes": False}
+
+
+def _failing_triangles(results: list[Any], n: int) -> set[int]:
+    """The triangles (of n) a conformance verdict finds wrong: all n when there is no pass
+    and the evidence does not list every wrong sample (or names none)."""
+    if results and all(r.status in ("pass", "skip") for r in results):
+        return set()
+    failed = [r for r in results if r.status == "fail"]
+    if len(failed) != 1:
+        return set(range(n))
+    pixels = [p for p in failed[0].evidence.get("pixels", []) if isinstance(p, dict) and not p.get("near_tie")]
+    named = {int(p["triangle"]) for p in pixels if isinstance(p.get("triangle"), int)}
+    if not named or _metric(failed[0], "wrong") > len(pixels):
+        return set(range(n))
+    return named
 
 
 # the dropped trial's copies: each missing triangle moved by (i/4, j/4) px, i, j in 0..3

@@ -320,6 +320,10 @@ def test_a_perspective_error_of_non_finite_attributes_is_an_attribute_failure():
     # on them (at 8 bits the unsnapped shift became (4, 2)/256: y-first ties on slope-1/2
     # edges were refuted); of two non-parallel shifts one moves them off
     ("bad_y_first_tie", "lattice", 10, "conformance|exact-tie-slanted-edge|tie-rule"),
+    # 14 wrong triangles: one has an edge along the first shift (its samples stay on it),
+    # another's edge meets a sample again under the second; each shift clears the other
+    # (the trial once asked one shift to clear all, and named far-from-edge)
+    ("bad_y_first_tie", "lattice", 247, "conformance|exact-tie-slanted-edge|tie-rule"),
 ])
 def test_the_tie_trial_tells_a_tie_rule_from_samples_on_edges_by_chance(name, family, index, expected):
     """Wrong only on samples exactly on edges reads as the tie rule's, until the wrong
