@@ -60,8 +60,10 @@ class                            convention part     when
                                                      an edge of its primitive (|E| <= 2^-17 M^2, M the
                                                      largest |coordinate|) and within 2^-8 px of it
 ``end-pixel``                    line-rule           (lines) every wrong pixel is next to an end point
-``vertex-row``                   fill-rule           (paths) every wrong sample on a row through one of
-                                                     its path's vertices
+``vertex-row``                   tie-rule            (paths) every wrong sample on a row through one of
+                                                     its path's vertices: how the ray's crossings
+                                                     there count is the tie rule's (the perturbed
+                                                     sample's row meets no vertex), not the fill's
 ``winding``                      fill-rule           (paths) none of the above
 ``far-from-edge``                sample-point        (triangles) none of the above
 ``far-from-tie``                 line-rule           (lines) none of the above
@@ -817,9 +819,9 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         return "near-tie", "none"
     if isinstance(scene, PathScene):
         # every wrong sample on a row through one of its path's vertices (exact: float
-        # comparisons): crossings counted at the vertices, not the fill
+        # comparisons): crossings counted at the vertices -- a tie in y, not the fill
         rows = all(bool(np.any(snapped[k][:, 1] == y + judged.sample[1])) for k, _, y, _, _ in wrong)
-        return ("vertex-row" if rows else "winding"), "fill-rule"
+        return ("vertex-row", "tie-rule") if rows else ("winding", "fill-rule")
     return "far-from-edge", "sample-point"
 
 

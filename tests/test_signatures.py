@@ -374,3 +374,14 @@ def test_the_dropped_trial_tells_a_drop_from_culling_and_from_a_miss(name, famil
     trial = probed.evidence["dropped_trial"]
     assert trial["copies"] > 0 and trial["flipped_copies"] > 0
     assert signature(probed, case, bad.convention).key == expected
+
+
+def test_a_crossing_rule_bug_is_one_cause_on_triangles_and_paths():
+    """Edges crossing rows with both ends inclusive: on triangles, samples exactly on
+    horizontal edges; on paths, rows through vertices counted twice. Both are how a tie is
+    decided (a row meeting a vertex is a tie in y), so one cause: the tie rule."""
+    bad = PathFillBug("inclusive-ends")
+    on_paths, _ = failures(bad, "paths", 40, {"conformance"})
+    on_triangles, _ = failures(bad, "lattice", 30, {"conformance"})
+    assert "conformance|vertex-row|tie-rule" in on_paths and on_triangles
+    assert {Signature(*key.split("|")).cause for key in on_paths + on_triangles} == {"tie-rule"}
