@@ -286,6 +286,8 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case | Mo
     try:
         if getattr(result, "status", None) == "fail" and result.check in MOTION_CHECKS and isinstance(case, MotionCase):
             return _with_frame_failure(result, case, judge, rasterizer)
+        if getattr(result, "status", None) == "fail" and result.check == "seams" and isinstance(case, Case):
+            return _with_order_dependence(result, case, judge)
         if getattr(result, "status", None) != "fail" or result.check not in ("conformance", "invariance") or not isinstance(case, Case):
             return result
         evidence = dict(result.evidence)
@@ -435,6 +437,29 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
     same, flipped = slice(0, copies_of), slice(copies_of, n)
     return {"copies": int(want[same].sum()), "drawn": int((want & got)[same].sum()),
             "flipped_copies": int(want[flipped].sum()), "flipped_drawn": int((want & got)[flipped].sum())}
+
+
+# the invariance variants that reverse the direction in which a triangle runs along its
+# edges: a coverage that changes under them differs on the two sides of a shared edge
+EDGE_DIRECTION_VARIANTS = ("flip-winding", "rotate-vertices")
+
+
+def _with_order_dependence(result: Any, case: Case, judge: Callable[[Case | MotionCase, str], list[Any]]) -> Any:
+    """A failing seams result with ``order_dependence`` added when the same case fails
+    invariance under a variant of :data:`EDGE_DIRECTION_VARIANTS`: two triangles run along
+    their shared edge in opposite directions, so a coverage that depends on the direction
+    leaves a seam there -- the seam is that dependence, one cause with the invariance
+    failure. One call."""
+    evidence = dict(result.evidence)
+    if "order_dependence" in evidence:
+        return result
+    for verdict in judge(case, "invariance"):
+        if verdict.status == "fail" and verdict.check == "invariance":
+            found, _ = _invariance(verdict, case, None)
+            if found.removeprefix("changes-under-") in EDGE_DIRECTION_VARIANTS:
+                evidence["order_dependence"] = found
+                return replace(result, evidence=evidence)
+    return result
 
 
 def frame_case(case: MotionCase, frame: int) -> Case:
@@ -1098,7 +1123,10 @@ _CLASSIFIERS: dict[str, Callable[[Any, Any, Convention | None], tuple[str, str]]
         ("nan-attributes", "none") if _metric(result, "max_uv_error_texels") == math.inf  # u, v not finite: not a perspective error
         else (_first_positive(result, (("frames_without_attributes", "missing-attributes"),), "perspective-error"), "none"))),
     "accuracy": _by_metrics((("over_tolerance", "alpha-error"), ("off_level", "off-level")), "other"),
-    "seams": _by_metrics((("seam_pixels", "seam"), ("strays", "stray")), "other"),
+    "seams": lambda result, case, convention: (
+        (str(result.evidence["order_dependence"]), "none") if isinstance(result.evidence, dict)
+        and isinstance(result.evidence.get("order_dependence"), str)  # a seam of the edge direction (with_probes)
+        else (_first_positive(result, (("seam_pixels", "seam"), ("strays", "stray")), "other"), "none")),
     "popping": _through_frame(_fixed("popping")),
     "triangulation": _by_metrics((("triangulation_double_hits", "triangulation-double-hit"),), "triangulation-mismatch"),
     "connectivity": _by_metrics((("line_gaps", "gap"), ("line_breaks", "break"), ("line_doubles", "double-step")), "other",

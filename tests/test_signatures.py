@@ -385,3 +385,28 @@ def test_a_crossing_rule_bug_is_one_cause_on_triangles_and_paths():
     on_triangles, _ = failures(bad, "lattice", 30, {"conformance"})
     assert "conformance|vertex-row|tie-rule" in on_paths and on_triangles
     assert {Signature(*key.split("|")).cause for key in on_paths + on_triangles} == {"tie-rule"}
+
+
+def test_a_seam_of_the_edge_direction_is_one_cause_with_the_invariance_failure():
+    """Coverage computed by a method chosen per edge direction: the two triangles of a
+    shared edge run along it in opposite directions, so it leaves a seam there, and the
+    coverage changes under flipped winding. Probed, the seam names that dependence: one
+    cause (campaigns counted ``seam`` and ``changes-under-flip-winding`` apart)."""
+    from tests.known_bad.antialiasing import PerEdgeMethodSwitch
+
+    bad = PerEdgeMethodSwitch()
+    case = generate("partitions", 0, 0)
+    judge = _judge_of(bad)
+    seams = [r for r in judge(case, "seams") if r.status == "fail"]
+    flipped = [r for r in judge(generate("float", 0, 0), "invariance") if r.status == "fail"]
+    assert len(seams) == 1 and len(flipped) == 1
+    assert signature(seams[0], case, bad.convention).key == "seams|seam|none"
+    probed = signature(with_probes(seams[0], case, judge, bad), case, bad.convention)
+    assert probed.key == "seams|changes-under-flip-winding|none"
+    assert probed.cause == signature(flipped[0], generate("float", 0, 0), bad.convention).cause
+    # a seam of a biased alpha, whose coverage does not change under flipped winding, stays a seam
+    biased = BiasedArea()
+    judge = _judge_of(biased)
+    seam = [r for r in judge(case, "seams") if r.status == "fail"]
+    assert len(seam) == 1 and [r.status for r in judge(case, "invariance")] == ["pass"]
+    assert signature(with_probes(seam[0], case, judge, biased), case, biased.convention).key == "seams|seam|none"
