@@ -288,6 +288,8 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case | Mo
             return _with_frame_failure(result, case, judge, rasterizer)
         if getattr(result, "status", None) == "fail" and result.check == "seams" and isinstance(case, Case):
             return _with_order_dependence(result, case, judge)
+        if getattr(result, "status", None) == "fail" and result.check == "triangulation" and isinstance(case, Case):
+            return _with_triangles_failure(result, case, judge, rasterizer)
         if getattr(result, "status", None) != "fail" or result.check not in ("conformance", "invariance") or not isinstance(case, Case):
             return result
         evidence = dict(result.evidence)
@@ -460,6 +462,28 @@ def _with_order_dependence(result: Any, case: Case, judge: Callable[[Case | Moti
                 evidence["order_dependence"] = found
                 return replace(result, evidence=evidence)
     return result
+
+
+def _with_triangles_failure(result: Any, case: Case, judge: Callable[[Case | MotionCase, str], list[Any]],
+                            rasterizer: Any) -> Any:
+    """A failing triangulation result with ``triangles_failure`` added when the paths'
+    triangulation, drawn as triangles, fails conformance itself: the mismatch is that
+    failure's (a tie rule wrong on the triangles' flat edges), probed and classified. One
+    call (more for that failure's probes)."""
+    from harness.checks.paths import triangulated
+
+    evidence = dict(result.evidence)
+    made = triangulated(case.scene) if isinstance(case.scene, PathScene) and "triangles_failure" not in evidence else None
+    if made is None:
+        return result
+    triangles = Case(f"{case.id}/triangulated", made[0], lattice=True)  # strict: the check excuses no near tie
+    failed = [r for r in judge(triangles, "conformance") if r.status == "fail" and r.check == "conformance"]
+    if not failed:
+        return result
+    probed = with_probes(failed[0], triangles, judge, rasterizer)
+    named = signature(probed, triangles, convention_for(rasterizer, triangles.scene))
+    evidence["triangles_failure"] = {"message": probed.message, "signature": named.key}
+    return replace(result, evidence=evidence)
 
 
 def frame_case(case: MotionCase, frame: int) -> Case:
@@ -1087,11 +1111,18 @@ def _frame_cause(result: Any) -> tuple[str, str] | None:
     trial = evidence.get("snapping_trial")
     if isinstance(trial, dict) and trial.get("passes") is True:
         return "snapping", "snapping"
-    frame = evidence.get("frame_failure")
-    key = frame.get("signature") if isinstance(frame, dict) else None
-    if not isinstance(key, str) or key.count("|") != 2:
+    return _sub_verdict(result, "frame_failure")
+
+
+def _sub_verdict(result: Any, key: str) -> tuple[str, str] | None:
+    """The class and part of a verdict a probe classified and kept under ``key`` (a dict
+    with its ``signature``), when it reads as one; else None."""
+    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    found = evidence.get(key)
+    signature_key = found.get("signature") if isinstance(found, dict) else None
+    if not isinstance(signature_key, str) or signature_key.count("|") != 2:
         return None
-    _, failure_class, part = key.split("|")
+    _, failure_class, part = signature_key.split("|")
     return (failure_class, part) if failure_class != "other" else None
 
 
@@ -1128,7 +1159,8 @@ _CLASSIFIERS: dict[str, Callable[[Any, Any, Convention | None], tuple[str, str]]
         and isinstance(result.evidence.get("order_dependence"), str)  # a seam of the edge direction (with_probes)
         else (_first_positive(result, (("seam_pixels", "seam"), ("strays", "stray")), "other"), "none")),
     "popping": _through_frame(_fixed("popping")),
-    "triangulation": _by_metrics((("triangulation_double_hits", "triangulation-double-hit"),), "triangulation-mismatch"),
+    "triangulation": lambda result, case, convention: _sub_verdict(result, "triangles_failure") or _by_metrics(
+        (("triangulation_double_hits", "triangulation-double-hit"),), "triangulation-mismatch")(result, case, convention),
     "connectivity": _by_metrics((("line_gaps", "gap"), ("line_breaks", "break"), ("line_doubles", "double-step")), "other",
                                 "line-rule"),
     "joints": lambda result, case, convention: (

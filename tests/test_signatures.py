@@ -410,3 +410,22 @@ def test_a_seam_of_the_edge_direction_is_one_cause_with_the_invariance_failure()
     seam = [r for r in judge(case, "seams") if r.status == "fail"]
     assert len(seam) == 1 and [r.status for r in judge(case, "invariance")] == ["pass"]
     assert signature(with_probes(seam[0], case, judge, biased), case, biased.convention).key == "seams|seam|none"
+
+
+def test_a_triangulation_mismatch_is_named_by_the_triangles_own_failure():
+    """Horizontal edges kept in the edge table: the path passes (its float scene excuses
+    near ties), its triangulation drawn as triangles decides samples exactly on their flat
+    edges wrongly -- the tie rule, one cause with its conformance failures. Two fillers
+    that disagree, each right on its own, stay a triangulation mismatch."""
+    from tests.known_bad.paths import TwoFillers
+
+    case = generate("paths", 0, 0)
+    for bad, own, probed in ((PathFillBug("horizontal-crossings"), "triangulation|triangulation-mismatch|none",
+                              "triangulation|exact-tie-horizontal-edge|tie-rule"),
+                             (TwoFillers(), "triangulation|triangulation-mismatch|none", None)):
+        judge = _judge_of(bad)
+        failed = [r for r in judge(case, "triangulation") if r.status == "fail"]
+        assert len(failed) == 1, bad.name
+        found = failed[0]
+        assert signature(found, case, bad.convention).key == own
+        assert signature(with_probes(found, case, judge, bad), case, bad.convention).key == (probed or own)
