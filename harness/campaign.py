@@ -590,8 +590,8 @@ def _prepare_process() -> None:
     process only (its nanny still ends it). Forking a Dask worker, which runs a few
     threads, is safe here: the child only reads scenes from its pipe and calls the
     rasterizer. A child whose parent is killed (a lost worker) would wait on its pipe
-    forever, as its siblings hold copies of that pipe's other end: each child forked from
-    here watches its parent and ends when it is gone.
+    forever, as its siblings hold copies of that pipe's other end: each isolated child
+    watches its parent and ends when it is gone (:func:`harness.isolation._exit_with_parent`).
     """
     global _PREPARED
     if _PREPARED:
@@ -603,18 +603,7 @@ def _prepare_process() -> None:
         except AssertionError as exc:  # pragma: no cover - multiprocessing's own guard
             raise CampaignError("this Dask worker process is daemonic and cannot start the rasterizer's isolated process; "
                                 "start the workers with DASK_DISTRIBUTED__WORKER__DAEMON=False") from exc
-    parent = os.getpid()
-    os.register_at_fork(after_in_child=lambda: _watch_parent(parent))
     _PREPARED = True
-
-
-def _watch_parent(parent: int) -> None:  # pragma: no cover - runs in the forked child
-    def watch() -> None:
-        while os.getppid() == parent:
-            time.sleep(1.0)
-        os._exit(0)
-
-    threading.Thread(target=watch, name="rastercheck-parent-watch", daemon=True).start()
 
 
 class _Loaded:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import bisect
 import multiprocessing
+import os
 import pickle
 import time
 import traceback
@@ -153,10 +154,27 @@ def each_until_error(call: Call, scenes: list[Scene]) -> list[Outcome]:
     return outcomes
 
 
+def _exit_with_parent(period: float = 1.0) -> None:  # pragma: no cover - runs in the child
+    """Exit this (forked) process once its parent is gone, even in the middle of a call that
+    never returns: a killed harness leaves no rasterizer process behind. A daemon thread
+    polls the parent's pid (it becomes another's when the parent dies)."""
+    import threading
+
+    parent = os.getppid()
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(period)
+        os._exit(0)
+
+    threading.Thread(target=watch, name="rastercheck-parent-watch", daemon=True).start()
+
+
 def _serve(rasterizer: Rasterizer, conn: Any) -> None:  # pragma: no cover - runs in the child
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    _exit_with_parent()
     while True:
         try:
             request = conn.recv()

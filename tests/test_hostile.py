@@ -159,3 +159,60 @@ def test_frames_in_one_go_keep_each_call_limit_and_the_worker_in_step():
             assert words in f"{type(outcomes[1].error).__name__}: {outcomes[1].error}", outcomes[1].error
             assert time.monotonic() - start < 10  # the frame's adapted limit (>= 1 s), not the 30 s one
             assert worker.rasterize(plain[2]).coverage == inline.rasterize(plain[2]).coverage  # in step
+
+
+HARNESS_KILLED_MID_CALL = """
+import sys, time
+from harness.api import Scene
+from harness.isolation import Worker
+
+class Stuck:
+    name = "stuck"
+    convention = None
+
+    def rasterize(self, scene):
+        time.sleep(600)
+
+worker = Worker(Stuck(), timeout=600.0)
+worker.rasterize(Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]]))  # never returns
+"""
+
+
+def test_a_killed_harness_leaves_no_rasterizer_process_behind(tmp_path):
+    """The harness killed (SIGKILL: no cleanup runs) while its isolated rasterizer is in a
+    call that never returns: the rasterizer's process sees its parent gone and exits."""
+    import os
+    import signal
+    import time
+
+    script = tmp_path / "stuck.py"
+    script.write_text(HARNESS_KILLED_MID_CALL)
+    harness = subprocess.Popen([sys.executable, str(script)], cwd=os.getcwd(), env={**os.environ, "PYTHONPATH": os.getcwd()})
+    try:
+        children: list[int] = []
+        deadline = time.monotonic() + 60
+        while not children and time.monotonic() < deadline:  # the isolated process, once forked
+            time.sleep(0.2)
+            found = subprocess.run(["pgrep", "-P", str(harness.pid)], capture_output=True, text=True).stdout.split()
+            children = [int(pid) for pid in found]
+        assert children, "the harness forked no rasterizer process"
+        time.sleep(1.0)  # the call is under way
+        os.kill(harness.pid, signal.SIGKILL)
+        harness.wait()
+        deadline = time.monotonic() + 10
+        alive = children
+        while alive and time.monotonic() < deadline:
+            time.sleep(0.2)
+            alive = [pid for pid in children if os.path.exists(f"/proc/{pid}") and "zombie" not in _state(pid)]
+        assert not alive, f"rasterizer processes {alive} outlived their killed harness"
+    finally:
+        if harness.poll() is None:
+            harness.kill()
+
+
+def _state(pid: int) -> str:
+    try:
+        with open(f"/proc/{pid}/status") as status:
+            return next((line for line in status if line.startswith("State:")), "").lower()
+    except OSError:
+        return "zombie"
