@@ -429,3 +429,24 @@ def test_a_triangulation_mismatch_is_named_by_the_triangles_own_failure():
         found = failed[0]
         assert signature(found, case, bad.convention).key == own
         assert signature(with_probes(found, case, judge, bad), case, bad.convention).key == (probed or own)
+
+
+def test_a_rounding_that_moves_with_the_screen_is_snapping_not_the_viewport_edge():
+    """Half away from zero rounds a half step down left of 0 and up right of it: moved into
+    a grown screen (the viewport probe), an off-screen vertex rounds the other way and the
+    case may pass by chance. The answer equals half-away's exact coverage: snapping (a
+    campaign named 13 such findings ``viewport-edge``). The clipper's own stays the edge's."""
+    bad = HalfAwayClaimsNearestEven()
+    case = generate("lattice", 0, 587)
+    judge = _judge_of(bad)
+    failed = [r for r in judge(case, "conformance") if r.status == "fail"]
+    assert len(failed) == 1
+    probed = with_probes(failed[0], case, judge, bad)
+    assert "viewport_edge" in probed.evidence  # the probe passed...
+    assert signature(probed, case, bad.convention).key == "conformance|snapping|snapping"  # ...by chance
+    clipper = ClipsBeforeSnapping()
+    found, failed = failures(clipper, "lattice", 50, {"conformance"})
+    judge = _judge_of(clipper)
+    cases = scenes("lattice", 50)
+    assert {signature(with_probes(r, cases[r.case], judge, clipper), cases[r.case], clipper.convention).key
+            for r in failed} == {"conformance|viewport-edge|none"}
