@@ -318,10 +318,11 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case | Mo
 # the tie trial's shift: dyadic, well beyond float rounding, and off every line of small
 # denominator through a sample (a shifted edge holding a sample again is as rare as a generic one)
 TIE_SHIFT = (1 / 64 + 1 / 4096, 1 / 128 + 1 / 65536)
-# under snapping to 1/2**bits px, two shifts of whole grid steps, not parallel: a snapped
-# shift runs along the edges of its own slope and keeps their samples on them, so the tie
-# stands when either shift passes both ways
-TIE_GRID_SHIFTS = ((5, 3), (-3, 5))
+# under snapping to 1/2**bits px, three shifts of whole grid steps, no two parallel: a
+# snapped shift runs along the edges of its own slope and keeps their samples on them, or
+# moves an edge by exactly one row of samples (a (47, 7) edge under (3, -5)/256), so the
+# tie stands when each wrong triangle passes both ways under one of them
+TIE_GRID_SHIFTS = ((5, 3), (-3, 5), (7, -2))
 
 
 def _tie_shifts(convention: Convention) -> list[tuple[float, float]]:

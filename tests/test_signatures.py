@@ -324,6 +324,9 @@ def test_a_perspective_error_of_non_finite_attributes_is_an_attribute_failure():
     # another's edge meets a sample again under the second; each shift clears the other
     # (the trial once asked one shift to clear all, and named far-from-edge)
     ("bad_y_first_tie", "lattice", 247, "conformance|exact-tie-slanted-edge|tie-rule"),
+    # one triangle has a (5, 3) edge, and (3, -5)/256 moves its (47, 7) edge onto the next row
+    # of samples exactly: the third shift clears it
+    ("bad_y_first_tie", "lattice", 1397, "conformance|exact-tie-slanted-edge|tie-rule"),
 ])
 def test_the_tie_trial_tells_a_tie_rule_from_samples_on_edges_by_chance(name, family, index, expected):
     """Wrong only on samples exactly on edges reads as the tie rule's, until the wrong
