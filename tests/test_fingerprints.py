@@ -116,6 +116,35 @@ def test_watertight_says_whether_failures_sit_at_vertices():
     assert "the rest along edges" in message, message
 
 
+def test_a_double_hit_of_the_snapped_mesh_itself_is_the_conventions_own():
+    """Snapped to 1/16 px, a sliver of a fuzz partition folds over its neighbour: the
+    convention's exact answer hits one pixel twice, so a correct fixed-point rasterizer
+    does too. Watertight (and overdraw) excuse it, counted apart; a scanline rounding its
+    left edges up still fails, and unsnapped the excuse never applies."""
+    from cases.fuzz import generate
+    from harness.checks.watertight import overdraw
+    from harness.oracle import exact_coverage
+    from rasterizers.fixed_point import FixedPoint
+
+    case = generate("partitions", 0, 7868)
+    right = FixedPoint(4)
+    coverage = right.rasterize(case.scene)
+    oracle = exact_coverage(case.scene, right.convention)
+    assert coverage == oracle and (oracle.counts(case.scene.width, case.scene.height) > 1).sum() == 1
+    bare = watertight(case, coverage)  # convention-free: the fold reads as a double hit
+    assert bare.status == "fail" and bare.metrics["double_hits"] == 1
+    judged = watertight(case, coverage, right.convention, lambda: oracle)
+    assert judged.status == "pass" and judged.metrics["snapped_own"] == 1 and "snapping folds" in judged.message
+    assert overdraw(case, coverage, right.convention, lambda: oracle).status == "pass"
+    assert overdraw(case, coverage).status == "fail"
+    from tests.known_bad.catalogue import KNOWN_BAD
+
+    wrong = KNOWN_BAD["bad_ceil-left"].rasterize(case.scene)  # left edges rounded up: holes all along
+    assert watertight(case, wrong, right.convention, lambda: oracle).status == "fail"
+    exact = watertight(case, coverage, Convention(), lambda: exact_coverage(case.scene, Convention()))
+    assert "snapped_own" not in exact.metrics
+
+
 def test_fingerprint_page_puts_everyone_side_by_side(tmp_path):
     from harness.cli import main
 

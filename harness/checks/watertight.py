@@ -1,8 +1,12 @@
 """watertight and overdraw: a planar partition covers every pixel inside it exactly once,
-nothing outside, and no pixel twice; convention-free."""
+nothing outside, and no pixel twice; convention-free -- but for snapping: snapped to a
+grid, a sliver of the partition can fold over its neighbour or vanish, and the
+convention's exact answer itself then has a double hit or a hole there. Such a pixel,
+hit as the oracle hits it, is the convention's own and is excused (counted apart)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -10,6 +14,7 @@ from numpy.typing import NDArray
 
 from harness.case import Case
 from harness.api import AnyScene, Coverage, LineScene
+from harness.conventions import Convention
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, register, result, skip
 from harness.exact import orientation
 
@@ -41,21 +46,41 @@ def _pixel_classes(region: NDArray, width: int, height: int) -> tuple[NDArray, N
     return inside, outside
 
 
-def watertight(case: Case, coverage: Coverage) -> Result:
+def _snapping_own(counts: NDArray, oracle: Callable[[], Coverage] | None, convention: Convention | None,
+                  width: int, height: int) -> NDArray:
+    """(H, W) bool: pixels hit exactly as the convention's exact answer hits them, where
+    that answer is not watertight itself -- only under snapping (a folded or vanished
+    sliver); all False otherwise. ``oracle`` is called only then."""
+    if oracle is None or convention is None or convention.subpixel_bits is None:
+        return np.zeros((height, width), dtype=bool)
+    want = oracle().counts(width, height)
+    return (counts == want) & (want != 1)
+
+
+def watertight(case: Case, coverage: Coverage, convention: Convention | None = None,
+               oracle: Callable[[], Coverage] | None = None) -> Result:
     """On a planar partition (of triangles, or of paths: one path per cell),
     convention-free: pixels wholly inside the union hit exactly once, pixels wholly
     outside never, and no pixel twice. Each hole and double hit is blamed on an edge and
-    the primitives that share it."""
+    the primitives that share it. Under a snapping ``convention``, a hole or double hit
+    that its exact answer (``oracle()``, computed only then) has too is excused
+    (``snapped_own``: the snapped mesh folds there)."""
     if case.region is None:
         return skip(case, "watertight", "not a planar partition")
     scene = case.scene
     counts = coverage.counts(scene.width, scene.height)
     inside, outside = _pixel_classes(case.region, scene.width, scene.height)
-    holes = np.argwhere(inside & (counts == 0))
-    doubles = np.argwhere(counts > 1)
+    empty, twice = inside & (counts == 0), counts > 1
+    own = _snapping_own(counts, oracle, convention, scene.width, scene.height) if (empty | twice).any() else None
+    if own is not None:
+        excused = (empty | twice) & own
+        empty, twice = empty & ~own, twice & ~own
+    holes, doubles = np.argwhere(empty), np.argwhere(twice)
     strays = np.argwhere(outside & (counts > 0))
     metrics = {"holes": float(len(holes)), "double_hits": float(len(doubles)), "strays": float(len(strays)),
                "inside_pixels": float(inside.sum())}
+    if own is not None and excused.any():
+        metrics["snapped_own"] = float(excused.sum())
     evidence: dict[str, Any] = {}
     if len(holes) or len(doubles):
         evidence["blame"] = blame(scene, coverage, holes[:EVIDENCE_LIMIT], doubles[:EVIDENCE_LIMIT])
@@ -63,6 +88,9 @@ def watertight(case: Case, coverage: Coverage) -> Result:
         evidence["strays"] = [[int(x), int(y)] for y, x in strays[:EVIDENCE_LIMIT]]
     ok = not (len(holes) or len(doubles) or len(strays))
     message = "every inside pixel hit exactly once" if ok else f"{len(holes)} holes, {len(doubles)} double hits, {len(strays)} stray hits outside"
+    if "snapped_own" in metrics:
+        message += (f"; {int(metrics['snapped_own'])} holes or double hits excused: the convention's own, where snapping "
+                    "folds the mesh")
     if len(holes) or len(doubles):
         at_vertex = _holds_vertex(scene.coordinates, scene.width, scene.height)
         on_vertex = int(at_vertex[holes[:, 0], holes[:, 1]].sum() + at_vertex[doubles[:, 0], doubles[:, 1]].sum())
@@ -89,11 +117,17 @@ def _holds_vertex(positions: NDArray, width: int, height: int) -> NDArray:
     return grid
 
 
-def overdraw(case: Case, coverage: Coverage) -> Result:
+def overdraw(case: Case, coverage: Coverage, convention: Convention | None = None,
+             oracle: Callable[[], Coverage] | None = None) -> Result:
     """No pixel hit twice: for triangles that tile a region without overlapping, or any
-    subset of them (the form of ``watertight`` that survives shrinking)."""
-    counts = coverage.counts(case.scene.width, case.scene.height)
-    doubles = np.argwhere(counts > 1)
+    subset of them (the form of ``watertight`` that survives shrinking); under snapping, a
+    double hit of the convention's own excused as in :func:`watertight`."""
+    width, height = case.scene.width, case.scene.height
+    counts = coverage.counts(width, height)
+    twice = counts > 1
+    if twice.any():
+        twice &= ~_snapping_own(counts, oracle, convention, width, height)
+    doubles = np.argwhere(twice)
     evidence = {"pixels": [[int(x), int(y)] for y, x in doubles[:EVIDENCE_LIMIT]]} if len(doubles) else {}
     return result(case.id, "overdraw", not len(doubles), f"{len(doubles)} double hits" if len(doubles) else "no double hits",
                    {"double_hits": float(len(doubles))}, evidence)
@@ -154,12 +188,12 @@ def blame(scene: AnyScene, coverage: Coverage, holes: NDArray, doubles: NDArray)
 pixel_classes = _pixel_classes
 
 register(Check(
-    "watertight", lambda s: watertight(s.case, s.coverage), lambda case: getattr(case, "region", None) is not None,
+    "watertight", lambda s: watertight(s.case, s.coverage, s.convention, lambda: s.oracle), lambda case: getattr(case, "region", None) is not None,
     metrics={"holes": (1.0, 0.0), "double_hits": (1.0, 0.0), "strays": (1.0, 0.0)},
     caption="on a planar partition: inside pixels hit exactly once, outside never, no double hit",
 ))
 register(Check(
-    "overdraw", lambda s: overdraw(s.case, s.coverage),
+    "overdraw", lambda s: overdraw(s.case, s.coverage, s.convention, lambda: s.oracle),
     # lines cross and share end pixels by rule: a double hit there is no overdraw (see the joints check)
     lambda case: not hasattr(case, "frames") and not isinstance(getattr(case, "scene", None), LineScene), shrinks=True,
     metrics={"double_hits": (1.0, 0.0)}, on_request=True,
