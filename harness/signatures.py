@@ -847,8 +847,11 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
     # error (a sliver whose one sample lies on its edge), not a dropped primitive
     copies = evidence.get("dropped_trial")
     copies = copies if isinstance(copies, dict) else {}
-    if not exact and not int(copies.get("drawn", 0)) and int(copies.get("flipped_drawn", 0)):
-        return "culling", "culling"  # moved a little, never drawn; the other winding is
+    if int(copies.get("copies", 0)) and not int(copies.get("drawn", 0)):
+        # moved a little it covers samples and is never drawn: dropped (culled, if its other
+        # winding is drawn) -- whatever ties its own samples are (a sliver thinner than the
+        # tie trial's shift passes that trial vacuously)
+        return ("culling", "culling") if int(copies.get("flipped_drawn", 0)) else ("dropped-primitive", "none")
     drawn_elsewhere = int(copies.get("drawn", 0)) > 0  # moved a little, some copy is drawn: not dropped
     # the other winding not drawn either: not culled
     culls = not (int(copies.get("flipped_copies", 0)) and not int(copies.get("flipped_drawn", 0)))
