@@ -254,6 +254,15 @@ def _judge_of(bad):
     return judge
 
 
+def _one_failure(bad, family: str, index: int, check: str):
+    """(case, judge, its one failing result of ``check``, that result probed)."""
+    case = generate(family, 0, index)
+    judge = _judge_of(bad)
+    failed = [r for r in judge(case, check) if r.status == "fail"]
+    assert len(failed) == 1
+    return case, judge, failed[0], with_probes(failed[0], case, judge, bad)
+
+
 @pytest.mark.parametrize("bad, check, index, own, probed", [
     # half-away snapping under a nearest-even claim: a frame's conformance names the snapping
     # (floor moves fewer of its half-step vertices, and is tried too); its texel and u, v
@@ -269,12 +278,9 @@ def _judge_of(bad):
 def test_motion_failures_are_named_by_their_cause(bad, check, index, own, probed):
     """Campaigns found each of these motion failures counted as a cause of its own beside
     the bug's (a second cause in the known-bad table); probed, each names the bug's."""
-    case = generate("motion", 0, index)
-    judge = _judge_of(bad)
-    failed = [r for r in judge(case, check) if r.status == "fail"]
-    assert len(failed) == 1
-    assert signature(failed[0], case, bad.convention).key == own
-    assert signature(with_probes(failed[0], case, judge, bad), case, bad.convention).key == probed
+    case, _, failed, probed_result = _one_failure(bad, "motion", index, check)
+    assert signature(failed, case, bad.convention).key == own
+    assert signature(probed_result, case, bad.convention).key == probed
 
 
 def test_a_correct_motion_answer_is_not_explained_away():
@@ -290,11 +296,7 @@ def test_a_correct_motion_answer_is_not_explained_away():
             cov = FixedPoint().rasterize(scene)
             return replace(cov, attributes=None if cov.attributes is None else cov.attributes * 1.01)
     bad = OffUV()
-    case = generate("motion", 0, 15)
-    judge = _judge_of(bad)
-    failed = [r for r in judge(case, "perspective") if r.status == "fail"]
-    assert len(failed) == 1
-    probed = with_probes(failed[0], case, judge, bad)
+    case, _, _, probed = _one_failure(bad, "motion", 15, "perspective")
     assert "snapping_trial" not in probed.evidence and "frame_failure" not in probed.evidence
     assert signature(probed, case, bad.convention).key == "perspective|perspective-error|none"
 
@@ -371,12 +373,8 @@ def test_the_dropped_trial_tells_a_drop_from_culling_and_from_a_miss(name, famil
     from tests.known_bad.catalogue import KNOWN_BAD
 
     bad = KNOWN_BAD[name]
-    case = generate(family, 0, index)
-    judge = _judge_of(bad)
-    failed = [r for r in judge(case, "conformance") if r.status == "fail"]
-    assert len(failed) == 1
-    assert signature(failed[0], case, bad.convention).key == unprobed
-    probed = with_probes(failed[0], case, judge, bad)
+    case, _, failed, probed = _one_failure(bad, family, index, "conformance")
+    assert signature(failed, case, bad.convention).key == unprobed
     trial = probed.evidence["dropped_trial"]
     assert trial["copies"] > 0 and trial["flipped_copies"] > 0
     assert signature(probed, case, bad.convention).key == expected
@@ -443,11 +441,7 @@ def test_a_rounding_that_moves_with_the_screen_is_snapping_not_the_viewport_edge
     case may pass by chance. The answer equals half-away's exact coverage: snapping (a
     campaign named 13 such findings ``viewport-edge``). The clipper's own stays the edge's."""
     bad = HalfAwayClaimsNearestEven()
-    case = generate("lattice", 0, 587)
-    judge = _judge_of(bad)
-    failed = [r for r in judge(case, "conformance") if r.status == "fail"]
-    assert len(failed) == 1
-    probed = with_probes(failed[0], case, judge, bad)
+    case, _, _, probed = _one_failure(bad, "lattice", 587, "conformance")
     assert "viewport_edge" in probed.evidence  # the probe passed...
     assert signature(probed, case, bad.convention).key == "conformance|snapping|snapping"  # ...by chance
     clipper = ClipsBeforeSnapping()
