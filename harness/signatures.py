@@ -714,8 +714,11 @@ def _edge_facts(edges_a: NDArray, edges_b: NDArray, sample: NDArray, magnitude: 
         e = d[:, 0] * (sample[1] - edges_a[:, 1]) - d[:, 1] * (sample[0] - edges_a[:, 0])
         length = np.hypot(d[:, 0], d[:, 1])
         m = max(magnitude, float(np.abs(sample).max()), 1.0)
-        close = (np.abs(e) <= FLOAT32_EDGE_ROUNDING * m * m) & (np.abs(e) <= NEAR_PIXELS * length) & (length > 0)
-        distance = np.where(length > 0, np.abs(e) / length, np.inf)
+        along = d[:, 0] * (sample[0] - edges_a[:, 0]) + d[:, 1] * (sample[1] - edges_a[:, 1])
+        past = np.maximum(0.0, np.maximum(-along, along - length * length))  # beyond an end, times the length
+        close = ((np.abs(e) <= FLOAT32_EDGE_ROUNDING * m * m) & (np.abs(e) <= NEAR_PIXELS * length)
+                 & (past <= NEAR_PIXELS * length) & (length > 0))  # near the edge, not its line past a vertex
+        distance = np.where(length > 0, np.hypot(e, past) / length, np.inf)
     distance = np.where(np.isnan(distance), np.inf, distance)
     nearest = int(np.argmin(distance))
     near = bool(np.any(close & np.isfinite(e)))

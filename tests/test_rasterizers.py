@@ -217,3 +217,34 @@ def test_counting_mismatches_span_by_span_equals_the_deviations(got, want):
     got_coverage, want_coverage = coverage(got), coverage(want)
     missing, extra = deviations(got_coverage, want_coverage, 6, 5)
     assert FragmentCounter(got_coverage, 6, 5).mismatches(want_coverage) == missing.shape[1] + extra.shape[1]
+
+
+def test_edge_distance_is_to_the_edge_not_its_line_past_a_vertex():
+    """A sample exactly on an edge's line but beyond its ends is as far from the triangle
+    as from the nearer end: no tie, and no near tie to excuse (a scanline drawing one row
+    too many puts its extra samples there)."""
+    positions = np.array([[[0.0, 0.0], [4.0, 0.0], [0.5, 4.0]]])
+    at = lambda x, y, sample: edge_distance(positions, np.array([[0], [x], [y]]), sample)[0]  # noqa: E731
+    assert at(5, -1, (0.5, 1.0)) == pytest.approx(1.5 / 4)  # (5.5, 0): on the line y = 0, past (4, 0)
+    assert at(2, -1, (0.5, 1.0)) == 0.0  # (2.5, 0): on the edge
+    assert at(5, -1, (0.5, 0.5)) == pytest.approx(np.hypot(1.5, 0.5) / 4)  # (5.5, -0.5): nearest is (4, 0)
+
+
+def test_an_extra_pixel_on_an_edge_line_past_its_vertex_fails_conformance():
+    """Default tolerance excuses near ties on float cases: a fragment exactly on the line of
+    an edge, two pixels past its vertex, is not one."""
+    from harness.case import Case
+    from harness.checks import conformance
+
+    third = 1.0 / 3.0  # non-dyadic: a float case
+    scene = Scene(8, 8, np.array([[[0.5, 0.5], [4.5, 4.5], [0.5 + third, 4.5]]]))
+    convention = Convention()
+    oracle = exact_coverage(scene, convention)
+    t, x, y = oracle.pixels()
+    # centre (6.5, 6.5): on the edge's line y = x, past the vertex (4.5, 4.5)
+    extra = Coverage(np.append(t, 0), np.append(y, 6), np.append(x, 6), np.append(x, 6) + 1)
+    case = Case("float/past-vertex", scene)
+    result = conformance(case, extra, oracle, convention)
+    assert result.status == "fail"
+    assert [(p["x"], p["y"], p["near_tie"]) for p in result.evidence["pixels"]] == [(6, 6, False)]
+    assert conformance(case, oracle, oracle, convention).status == "pass"

@@ -166,14 +166,17 @@ def _merge_spans(got, counts, start, stop):  # type: ignore[no-untyped-def]
 
 
 def edge_distance(positions: NDArray, fragments: NDArray, sample: tuple[float, float]) -> NDArray:
-    """Distance from each fragment's sample point to the nearest edge line of its
-    triangle, relative to max(1, largest |coordinate|) of that triangle.
+    """Distance from each fragment's sample point to the nearest edge of its triangle
+    (the closed segment, not its line: a sample on an edge's extension beyond a vertex is
+    as far from the triangle as from that vertex), relative to max(1, largest
+    |coordinate|) of that triangle.
 
-    Never an underestimate: each edge function is evaluated in float with Shewchuk's
-    rigorous error bound added, and divided by a lower bound on the edge's length. It is
-    exactly 0 only when the exact predicate puts the sample on an edge line, and inf for a
-    triangle with a non-finite coordinate (or an overflowing one): a float that cancels to
-    zero never passes for a tie.
+    Never an underestimate: each edge function, and each overshoot past an end along the
+    edge, is evaluated in float with Shewchuk's rigorous error bound added and divided by
+    a lower bound on the edge's length. It is exactly 0 only when the exact predicate puts
+    the sample on an edge (on its line, within its ends), and inf for a triangle with a
+    non-finite coordinate (or an overflowing one): a float that cancels to zero never
+    passes for a tie.
 
     Parameters
     ----------
@@ -201,13 +204,23 @@ def edge_distance(positions: NDArray, fragments: NDArray, sample: tuple[float, f
             right = (a[:, 1] - py) * (b[:, 0] - px)
             bound = np.abs(left - right) + _ORIENT_ERROR * (np.abs(left) + np.abs(right)) + _UNDERFLOW
             length = np.hypot(b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]) * (1.0 - 2.0**-50)
-            best = np.minimum(best, np.where(np.isfinite(bound) & (length > 0), bound / length, np.inf))
+            # past an end: (p - a).(b - a) < 0 or (p - b).(a - b) < 0, bounded as an orientation is
+            past = np.zeros_like(bound)
+            for s, e in ((a, b), (b, a)):
+                x_part = (px - s[:, 0]) * (e[:, 0] - s[:, 0])
+                y_part = (py - s[:, 1]) * (e[:, 1] - s[:, 1])
+                error = _ORIENT_ERROR * (np.abs(x_part) + np.abs(y_part)) + _UNDERFLOW
+                past = np.maximum(past, np.maximum(0.0, error - (x_part + y_part)))
+            segment = np.hypot(bound, past) * (1.0 + 2.0**-50)
+            best = np.minimum(best, np.where(np.isfinite(segment) & (length > 0), segment / length, np.inf))
         relative = best / np.maximum(1.0, np.abs(p).max(axis=(1, 2)))
     relative[~finite] = np.inf
     samples = np.stack([px, py], axis=-1)
     for k in range(3):
-        on_line = orientation(np.stack([p[:, k], p[:, (k + 1) % 3], samples], axis=1)) == 0
-        relative[on_line & finite] = 0.0
+        a, b = p[:, k], p[:, (k + 1) % 3]
+        on_line = orientation(np.stack([a, b, samples], axis=1)) == 0
+        within = np.all((np.minimum(a, b) <= samples) & (samples <= np.maximum(a, b)), axis=1)
+        relative[on_line & within & finite] = 0.0
     out[ok] = np.where(np.isnan(relative), np.inf, relative)
     return out
 
