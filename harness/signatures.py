@@ -1078,8 +1078,45 @@ def _hygiene(result: Any, case: Any, convention: Convention | None) -> tuple[str
 
 
 def _degenerate(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
-    return _first_positive(result, (("degenerate_triangles_drawn", "zero-area-drawn"), ("nan_attribute_rows", "nan-attributes"),
-                                    ("work_ratio", "slow")), "other"), "none"
+    found = _first_positive(result, (("degenerate_triangles_drawn", "zero-area-drawn"), ("nan_attribute_rows", "nan-attributes"),
+                                     ("work_ratio", "slow")), "other")
+    if found == "zero-area-drawn" and _drawn_on_own_edges(result, case, convention):
+        return found, "tie-rule"
+    return found, "none"
+
+
+def _drawn_on_own_edges(result: Any, case: Any, convention: Convention | None) -> bool:
+    """Whether every zero-area triangle the degenerate check names is finite and drew only
+    samples exactly on its own (snapped) line -- where its three edge functions are all 0:
+    an edge test that keeps a sample on an edge on both sides (or a kept horizontal edge)
+    draws them, the tie rule's fault rather than a drawing of nothing. Exact: each sample's
+    orientation against the longest edge (or equality with a triangle that is a point)."""
+    answer = _answer(result)
+    scene = getattr(case, "scene", None)
+    named = result.evidence.get("triangles") if isinstance(result.evidence, dict) else None
+    if answer is None or not isinstance(scene, Scene) or not isinstance(named, list) or not named:
+        return False
+    offenders = np.array([int(t) for t in named if isinstance(t, int) and 0 <= t < len(scene)], dtype=np.int64)
+    if offenders.size != len(named) or np.isin(offenders, scene.non_finite()).any():
+        return False
+    judged = _judged_convention(result, convention)
+    snapped = judged.snap(scene.positions[offenders])
+    t, x, y = answer.pixels()
+    for k, positions in zip(offenders, snapped):
+        mine = t == k
+        if not mine.any():
+            return False
+        samples = np.stack([x[mine] + judged.sample[0], y[mine] + judged.sample[1]], axis=-1).astype(np.float64)
+        spans = [(positions[i], positions[(i + 1) % 3]) for i in range(3)]
+        a, b = max(spans, key=lambda e: float(np.abs(e[1] - e[0]).max()))
+        if np.array_equal(a, b):  # a point: its one sample
+            on = np.all(samples == a, axis=1)
+        else:
+            on = orientation(np.stack([np.broadcast_to(a, samples.shape), np.broadcast_to(b, samples.shape), samples],
+                                      axis=1)) == 0
+        if not on.all():
+            return False
+    return True
 
 
 def _closed(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:

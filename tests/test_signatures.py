@@ -450,3 +450,44 @@ def test_a_rounding_that_moves_with_the_screen_is_snapping_not_the_viewport_edge
     cases = scenes("lattice", 50)
     assert {signature(with_probes(r, cases[r.case], judge, clipper), cases[r.case], clipper.convention).key
             for r in failed} == {"conformance|viewport-edge|none"}
+
+
+def test_a_flat_triangle_drawn_on_its_own_edge_is_the_tie_rules():
+    """An inclusive edge test draws a zero-area triangle's samples that lie exactly on its
+    edges: the degenerate check sees the tie rule's fault. A rasterizer drawing a flat
+    triangle's pixels off its edges draws something from nothing: no tie."""
+    from harness.api import Coverage
+
+    class DrawsBesideFlat:
+        name = "bad_draws_beside_flat"
+        convention = Convention()
+
+        def rasterize(self, scene):
+            return Coverage(np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64), np.zeros(1, dtype=np.int64),
+                            np.ones(1, dtype=np.int64))
+
+    flat = Scene(8, 8, np.array([[[0.5, 2.5], [6.5, 2.5], [3.0, 2.5]]]))  # centres (0.5..6.5, 2.5) on it
+    case = Case("degenerate/flat-through-centres", flat)
+    keys = {}
+    for bad in (EdgeFunctionBug("inclusive"), DrawsBesideFlat()):
+        failed = [r for r in _judge_of(bad)(case, "degenerate") if r.status == "fail"]
+        assert len(failed) == 1
+        keys[bad.name] = signature(failed[0], case, bad.convention).key
+    assert keys == {"bad_inclusive": "degenerate|zero-area-drawn|tie-rule",
+                    "bad_draws_beside_flat": "degenerate|zero-area-drawn|none"}
+
+
+@pytest.mark.parametrize("family, index, check", [("meshes", 311, "conformance"), ("motion", 15, "jaggy")])
+def test_a_wrong_sample_near_an_off_screen_edge_is_tried_in_a_grown_screen(family, index, check):
+    """A mirrored sample pattern's wrong samples that happen to lie within a sixteenth of a
+    pixel of edges leaving the screen, on floats of full precision (the exact move into a
+    grown screen would round them): the move rounds, the grown scene still fails, so the
+    cause is the sample point, not the viewport edge (campaigns had counted such scenes as
+    a second cause)."""
+    from tests.known_bad.antialiasing import MirroredPattern
+
+    bad = MirroredPattern()
+    case, judge, failed, probed = _one_failure(bad, family, index, check)
+    evidence = probed.evidence.get("frame_failure", {}).get("evidence", probed.evidence)
+    assert evidence["viewport_edge_refuted"]["rounded"] is True
+    assert signature(probed, case, bad.convention).key == f"{check}|far-from-edge|sample-point"
