@@ -243,8 +243,10 @@ def viewport_edge_trial(case: Case, check: str, judge: Judge, largest: int = 819
     rounded = grown is None
     if rounded:
         grown = grown_screen(scene, margin, largest, rounding=True)
-        if grown is None or case.lattice and _passes(replace(case, lattice=False), check, judge):
+        if grown is not None and case.lattice and _passes(replace(case, lattice=False), check, judge):
             return None  # wrong only within rounding (a strict reading): the rounded move cannot tell
         case = replace(case, lattice=False)  # its roundings excused, as the original's were
+    if grown is None:
+        return None
     passes = _passes(replace(case, id=f"{case.id}/inside", scene=grown), check, judge)
     return {"margin": margin, "screen": [grown.width, grown.height], "passes": passes, "rounded": rounded}
