@@ -37,7 +37,9 @@ class                            convention part     when
                                                      the other drawn
 ``dropped-primitive``            none                ... whole primitives missing otherwise -- unless
                                                      a moved copy is drawn: then missed, not dropped
-                                                     (the classes below name how)
+                                                     (the classes below name how); or, grown three
+                                                     pixels thick, they are drawn wrong: that
+                                                     failure's class (evidence ``grown``)
 ``snapping``                     snapping            the wrong primitives are drawn exactly as the
                                                      oracle draws them under another rounding of the
                                                      same snapping (an oracle call per other
@@ -438,8 +440,64 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
     else:
         return None
     same, flipped = slice(0, copies_of), slice(copies_of, n)
-    return {"copies": int(want[same].sum()), "drawn": int((want & got)[same].sum()),
-            "flipped_copies": int(want[flipped].sum()), "flipped_drawn": int((want & got)[flipped].sum())}
+    found = {"copies": int(want[same].sum()), "drawn": int((want & got)[same].sum()),
+             "flipped_copies": int(want[flipped].sum()), "flipped_drawn": int((want & got)[flipped].sum())}
+    if found["copies"] and not found["drawn"] and not found["flipped_drawn"]:
+        grown = _grown_trial(subset, case, judge, convention)
+        if grown is not None:
+            found["grown"] = grown
+    return found
+
+
+# the grown trial: each never-drawn triangle made this many pixels thick and long
+GROWN_THICKNESS = 3.0
+
+
+def _grown_trial(subset: Scene, case: Case, judge: Callable[[Case | MotionCase, str], list[Any]],
+                 convention: Convention) -> dict[str, Any] | None:
+    """Whether triangles never drawn at any small move (the dropped trial) are dropped for
+    their size or missed by the bug seen elsewhere: each grown -- scaled about its centroid
+    by a power of two until its longest edge is :data:`GROWN_THICKNESS` pixels long, then
+    its far vertex moved away from that edge until it is as thick -- in the same screen,
+    judged once. A dropper (too small) draws the grown copies right; an edge test that
+    starts spans a column late, or samples off the pixel, draws them wrong -- that failure,
+    classified here, names the cause. Returns ``{"scales": [...], "drawn": k, "passes":
+    bool, "signature": key}`` (the signature when it fails), None when it does not apply."""
+    p = subset.positions
+    if not np.isfinite(p).all() or np.abs(p).max(initial=0.0) > 2.0**20:
+        return None
+    with np.errstate(all="ignore"):
+        sides = p[:, [1, 2, 0]] - p
+        lengths = np.hypot(sides[..., 0], sides[..., 1])
+        longest = lengths.max(axis=1)
+        if not (longest > 0).all():
+            return None
+        scales = 2.0 ** np.ceil(np.log2(np.maximum(GROWN_THICKNESS / longest, 1.0)))
+        centroid = p.mean(axis=1, keepdims=True)
+        grown = centroid + (p - centroid) * scales[:, None, None]
+        rows = np.arange(len(p))
+        k = lengths.argmax(axis=1)
+        a, b, c = grown[rows, k], grown[rows, (k + 1) % 3], grown[rows, (k + 2) % 3]
+        d = b - a
+        length = np.hypot(d[:, 0], d[:, 1])
+        cross = d[:, 0] * (c[:, 1] - a[:, 1]) - d[:, 1] * (c[:, 0] - a[:, 0])
+        side = np.where(cross < 0, -1.0, 1.0)
+        normal = np.stack([-d[:, 1], d[:, 0]], axis=-1) / length[:, None] * side[:, None]
+        thickness = np.abs(cross) / length
+        grown[rows, (k + 2) % 3] = c + normal * np.maximum(GROWN_THICKNESS - thickness, 0.0)[:, None]
+    if not np.isfinite(grown).all():
+        return None
+    grown_case = Case(f"{case.id}/grown", subset.with_coordinates(grown))
+    verdicts = [r for r in judge(grown_case, "conformance") if r.check == "conformance"]
+    if not verdicts:
+        return None
+    found: dict[str, Any] = {"scales": scales.tolist(), "passes": verdicts[0].status == "pass"}
+    answer = _answer(verdicts[0])
+    drawn = answer.pixels()[0] if answer is not None else np.zeros(0, dtype=np.int64)
+    found["drawn"] = len(grown) if found["passes"] else int(np.unique(drawn[(drawn >= 0) & (drawn < len(grown))]).size)
+    if verdicts[0].status == "fail":
+        found["signature"] = signature(verdicts[0], grown_case, convention).key
+    return found
 
 
 # the invariance variants that reverse the direction in which a triangle runs along its
@@ -853,7 +911,11 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
     if int(copies.get("copies", 0)) and not int(copies.get("drawn", 0)):
         # moved a little it covers samples and is never drawn: dropped (culled, if its other
         # winding is drawn) -- whatever ties its own samples are (a sliver thinner than the
-        # tie trial's shift passes that trial vacuously)
+        # tie trial's shift passes that trial vacuously); unless grown thick it is drawn,
+        # and wrong: the bug that draws it wrong missed it (a span started a column late)
+        grown = _sub_verdict(copies, "grown")
+        if grown is not None and grown[1] not in ("none", "culling") and int(copies.get("grown", {}).get("drawn", 0)):
+            return grown  # a convention part's error: the sample point, the tie rule, the snapping
         return ("culling", "culling") if int(copies.get("flipped_drawn", 0)) else ("dropped-primitive", "none")
     drawn_elsewhere = int(copies.get("drawn", 0)) > 0  # moved a little, some copy is drawn: not dropped
     # the other winding not drawn either: not culled
@@ -1165,8 +1227,9 @@ def _frame_cause(result: Any) -> tuple[str, str] | None:
 
 def _sub_verdict(result: Any, key: str) -> tuple[str, str] | None:
     """The class and part of a verdict a probe classified and kept under ``key`` (a dict
-    with its ``signature``), when it reads as one; else None."""
-    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    with its ``signature``) of a result's evidence (or of a probe's own dict), when it
+    reads as one; else None."""
+    evidence = result if isinstance(result, dict) else result.evidence if isinstance(result.evidence, dict) else {}
     found = evidence.get(key)
     signature_key = found.get("signature") if isinstance(found, dict) else None
     if not isinstance(signature_key, str) or signature_key.count("|") != 2:
