@@ -441,7 +441,7 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
         return None
     same, flipped = slice(0, copies_of), slice(copies_of, n)
     found: dict[str, Any] = {"copies": int(want[same].sum()), "drawn": int((want & got)[same].sum()),
-             "flipped_copies": int(want[flipped].sum()), "flipped_drawn": int((want & got)[flipped].sum())}
+                             "flipped_copies": int(want[flipped].sum()), "flipped_drawn": int((want & got)[flipped].sum())}
     if found["copies"] and not found["drawn"] and not found["flipped_drawn"]:
         grown = _grown_trial(subset, case, judge, convention)
         if grown is not None:
