@@ -340,3 +340,18 @@ def test_the_identified_convention_is_read_back_and_nothing_else(tmp_path: Path)
     (tmp_path / "victim").write_text("still here")
     (tmp_path / IDENTIFIED_FILE).write_bytes(pickle.dumps(Crafted()))
     assert state.judged(box) is box and (tmp_path / "victim").read_text() == "still here"
+
+
+def test_the_docs_table_row_reads_a_campaigns_state(campaign: dict[str, Any]) -> None:
+    """docs/campaign_table.py (the tables of docs/campaigns.md): the known-bad's scenes,
+    findings and causes as its state holds them, and whether its table's checks saw it."""
+    import runpy
+
+    table = runpy.run_path(str(Path(__file__).parent.parent / "docs" / "campaign_table.py"))
+    state = CampaignState.load(campaign["state"])
+    line = table["row"]("bad_inclusive", state, {"bad_inclusive": {"conformance", "degenerate"}})
+    cells = [c.strip() for c in line.strip("|").split("|")]
+    assert cells[:4] == ["`bad_inclusive`", "16", f"{state.findings:,}", str(len(state.signatures))]
+    assert cells[5] == "yes: conformance (not degenerate)"  # lattice and float only: no degenerate scene
+    assert cells[7].startswith(f"tie-rule {state.causes()[0]['findings']:,} (conformance")
+    assert table["row"]("other", state, {}).split("|")[6].strip() == "-"
