@@ -72,9 +72,11 @@ class                            convention part     when
 ===============================  ==================  ==============================================
 
 ``watertight``: ``hole``, ``double-hit``, ``hole-and-double-hit`` or ``stray`` (tie-rule when
-every hole and double hit has its sample exactly on the blamed shared edge), ``near-tie``
-when every one lies within float rounding of it, ``non-finite-input`` and ``overflow-...``
-as above. Motion (jaggy, texel, perspective, popping), first that holds
+every hole and double hit has its sample exactly on the blamed shared edge -- on a float
+partition, only if the same tie rebuilt on a lattice fails too: evidence ``lattice_twin``),
+``near-tie`` when every one lies within float rounding of it, ``non-finite-input`` and
+``overflow-...`` as above. ``degenerate``'s ``zero-area-drawn`` is the tie rule's when every
+flat triangle drew only samples exactly on its own line. Motion (jaggy, texel, perspective, popping), first that holds
 (:func:`with_probes` finds the facts): ``input-format`` when the whole sequence passes as
 the library receives it; the class and part of a frame the failure names that fails
 conformance, or accuracy, judged alone (a flicker of a wrong tie rule is the tie rule's, a
@@ -292,6 +294,8 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case | Mo
             return _with_order_dependence(result, case, judge)
         if getattr(result, "status", None) == "fail" and result.check == "triangulation" and isinstance(case, Case):
             return _with_triangles_failure(result, case, judge, rasterizer)
+        if getattr(result, "status", None) == "fail" and result.check == "watertight" and isinstance(case, Case):
+            return _with_lattice_twin(result, case, judge, convention_for(rasterizer, case.scene))
         if getattr(result, "status", None) != "fail" or result.check not in ("conformance", "invariance") or not isinstance(case, Case):
             return result
         evidence = dict(result.evidence)
@@ -521,6 +525,76 @@ def _with_order_dependence(result: Any, case: Case, judge: Callable[[Case | Moti
                 evidence["order_dependence"] = found
                 return replace(result, evidence=evidence)
     return result
+
+
+# the lattice twin's edge: the shared edge's direction as a ratio of integers up to this
+LATTICE_TWIN_DENOMINATOR = 16
+
+
+def _with_lattice_twin(result: Any, case: Case, judge: Callable[[Case | MotionCase, str], list[Any]],
+                       convention: Convention | None) -> Any:
+    """A failing watertight result of a float partition whose holes and double hits all lie
+    exactly on shared edges, with ``lattice_twin`` added: whether the same tie, rebuilt on a
+    lattice (two triangles sharing an edge of the same direction -- as a ratio of small
+    integers -- through a sample, in each vertex rotation and both windings: float
+    arithmetic exact there), fails too. It does: the tie rule's fault. It never does: the
+    float case's rounding decided the tie (float32 edge functions), a near tie that merely
+    fell exactly on the edge. Up to six calls of the rasterizer and the check."""
+    evidence = dict(result.evidence)
+    if case.lattice or "lattice_twin" in evidence or _watertight(result, case, convention)[1] != "tie-rule":
+        return result
+    judged = _judged_convention(result, convention)
+    edges: list[Any] = [b["edge"] for b in evidence.get("blame", []) if isinstance(b, dict) and b.get("edge")]
+    if not edges or isinstance(case.scene, PathScene):
+        return result
+    a, b = (judged.snap(np.asarray(v, dtype=np.float64)) for v in edges[0])
+    step, twins = _lattice_twins(b - a, judged)
+    if not twins:
+        return result
+    fails = False
+    for twin in twins:
+        verdicts = [r for r in judge(twin, "watertight") if r.check == "watertight"]
+        if verdicts and verdicts[0].status == "fail":
+            fails = True
+            break
+    evidence["lattice_twin"] = {"direction": step.tolist(), "fails": fails}
+    return replace(result, evidence=evidence)
+
+
+def _lattice_twins(direction: NDArray, judged: Convention) -> tuple[NDArray, list[Case]]:
+    """Two triangles sharing an edge of ``direction`` (its slope as a ratio of integers up
+    to :data:`LATTICE_TWIN_DENOMINATOR`, its signs kept) whose midpoint is a sample, in a
+    48-pixel screen: one case per vertex rotation and winding, each a planar partition (its
+    region the rhombus they make), and the edge's lattice direction. No case when the
+    direction is not finite or zero, or the snapping grid cannot hold the twin."""
+    from fractions import Fraction
+
+    dx, dy = float(direction[0]), float(direction[1])
+    if not (math.isfinite(dx) and math.isfinite(dy)) or dx == dy == 0.0:
+        return np.zeros(2), []
+    if dx == 0.0 or dy == 0.0:
+        step = np.array([math.copysign(2.0, dx) if dx else 0.0, math.copysign(2.0, dy) if dy else 0.0])
+    else:
+        slope = Fraction(abs(dy) / abs(dx)).limit_denominator(LATTICE_TWIN_DENOMINATOR)
+        if slope == 0 or slope.numerator > LATTICE_TWIN_DENOMINATOR:
+            slope = Fraction(1, LATTICE_TWIN_DENOMINATOR) if slope == 0 else Fraction(LATTICE_TWIN_DENOMINATOR, 1)
+        step = np.array([math.copysign(slope.denominator, dx), math.copysign(slope.numerator, dy)])
+    sample = np.array([24.0 + judged.sample[0], 24.0 + judged.sample[1]])
+    normal = np.array([-step[1], step[0]])
+    a, b, left, right = sample - step, sample + step, sample + normal, sample - normal
+    if not np.array_equal(judged.snap(np.stack([a, b, left, right])), np.stack([a, b, left, right])):
+        return step, []  # the snapping grid is coarser than the sample's offset: no exact twin
+    region = np.stack([a, left, b, right])
+    cases = []
+    for flip in (False, True):
+        pair = np.array([[a, b, left], [b, a, right]])
+        if flip:
+            pair = pair[:, [0, 2, 1]]
+        for turn in range(3):
+            rotated = np.roll(pair, turn, axis=1)
+            cases.append(Case(f"lattice-twin/{'flipped' if flip else 'kept'}/{turn}", Scene(48, 48, rotated),
+                              lattice=True, region=region))
+    return step, cases
 
 
 def _with_triangles_failure(result: Any, case: Case, judge: Callable[[Case | MotionCase, str], list[Any]],
@@ -1107,8 +1181,9 @@ def _watertight(result: Any, case: Any, convention: Convention | None) -> tuple[
             a, z = judged.snap(start[mine]), judged.snap(end[mine])
         x, y = b["pixel"]
         facts.append(_edge_facts(a, z, np.array([x + judged.sample[0], y + judged.sample[1]]), _magnitude([a, z]), scene.width, scene.height))
-    if all(f.tie is not None for f in facts):
-        return kind, "tie-rule"
+    twin = evidence.get("lattice_twin")
+    if all(f.tie is not None for f in facts) and not (isinstance(twin, dict) and twin.get("fails") is False):
+        return kind, "tie-rule"  # (unless the same tie on a lattice is decided right: rounding's)
     if all(f.near or f.tie is not None for f in facts):
         return "near-tie", "none"
     return kind, "none"

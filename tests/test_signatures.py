@@ -496,3 +496,25 @@ def test_a_wrong_sample_near_an_off_screen_edge_is_tried_in_a_grown_screen(famil
     evidence = probed.evidence.get("frame_failure", {}).get("evidence", probed.evidence)
     assert evidence["viewport_edge_refuted"]["rounded"] is True
     assert signature(probed, case, bad.convention).key == f"{check}|far-from-edge|sample-point"
+
+
+@pytest.mark.parametrize("bug, index, expected, twin_fails", [
+    # float32 edge functions on full-precision floats: the exact tie rounds either way; the
+    # same tie on a lattice (float32 exact there) is decided right
+    ("float32", 263, "watertight|near-tie|none", False),
+    # an inclusive edge test double-hits the same tie on the lattice too
+    ("inclusive", 53, "watertight|double-hit|tie-rule", True),
+])
+def test_a_tie_on_a_float_partition_is_rebuilt_on_a_lattice(bug, index, expected, twin_fails):
+    """Holes and double hits exactly on shared edges of a float partition are the tie rule's
+    only when the same tie fails where arithmetic is exact (campaigns had counted float32's
+    rounding at exact ties as the tie rule, beside its near ties)."""
+    bad = EdgeFunctionBug(bug)
+    case = generate("partitions", 0, index)
+    judge = _judge_of(bad)
+    failed = [r for r in judge(case, "watertight") if r.status == "fail"]
+    assert len(failed) == 1 and not case.lattice
+    assert signature(failed[0], case, bad.convention).convention_part == "tie-rule"
+    probed = with_probes(failed[0], case, judge, bad)
+    assert probed.evidence["lattice_twin"]["fails"] is twin_fails
+    assert signature(probed, case, bad.convention).key == expected
