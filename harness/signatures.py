@@ -403,9 +403,11 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
     in one call. A dropper (too small) draws none of the copies the oracle covers; a culler
     draws the other winding's only; a wrong sample point or edge test that missed a
     sliver's only sample draws some of the same winding. Returns ``{"copies": n, "drawn":
-    k, "flipped_copies": m, "flipped_drawn": j}`` (copies the oracle covers, and of them
-    those the rasterizer drew something of), None when it does not apply (triangles
-    missing whole, finite)."""
+    k, "flipped_copies": m, "flipped_drawn": j, "flipped_right": r}`` (copies the oracle
+    covers, of them those the rasterizer drew something of, and of the other winding's
+    those it drew exactly right: a culler's), and ``grown`` (:func:`_grown_trial`) when
+    none is drawn and the other winding is not drawn right; None when it does not apply
+    (triangles missing whole, finite)."""
     from harness.oracle import exact_coverage
 
     scene = case.scene
@@ -431,26 +433,40 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
     both = lambda a: None if a is None else np.concatenate([tiled(a, False), tiled(a, True)])  # noqa: E731
     copies = Scene(scene.width, scene.height, positions, both(subset.attributes), both(subset.w))
     n = len(copies)
-    want = np.bincount(exact_coverage(copies, convention).pixels()[0], minlength=n)[:n] > 0
+    oracle = exact_coverage(copies, convention)
+    want = np.bincount(oracle.pixels()[0], minlength=n)[:n] > 0
     verdicts = [r for r in judge(Case(f"{case.id}/dropped-copies", copies, lattice=True), "conformance")
                 if r.check == "conformance"]
     if not verdicts:
         return None
     if verdicts[0].status == "pass":
-        got = want
+        got, right = want, want
     elif (drawn := _answer(verdicts[0])) is not None:
         pixels = drawn.pixels()[0]
         got = np.bincount(pixels[(pixels >= 0) & (pixels < n)], minlength=n)[:n] > 0
+        right = want & _drawn_exactly(drawn, oracle, n, scene.width, scene.height)
     else:
         return None
     same, flipped = slice(0, copies_of), slice(copies_of, n)
     found: dict[str, Any] = {"copies": int(want[same].sum()), "drawn": int((want & got)[same].sum()),
-                             "flipped_copies": int(want[flipped].sum()), "flipped_drawn": int((want & got)[flipped].sum())}
-    if found["copies"] and not found["drawn"] and not found["flipped_drawn"]:
+                             "flipped_copies": int(want[flipped].sum()), "flipped_drawn": int((want & got)[flipped].sum()),
+                             "flipped_right": int(right[flipped].sum())}
+    culled = found["flipped_drawn"] > 0 and found["flipped_right"] == found["flipped_drawn"]
+    if found["copies"] and not found["drawn"] and not culled:  # a culler draws the other winding right
         grown = _grown_trial(subset, case, judge, convention)
         if grown is not None:
             found["grown"] = grown
     return found
+
+
+def _drawn_exactly(answer: Coverage, oracle: Coverage, n: int, width: int, height: int) -> NDArray[np.bool_]:
+    """(n,) bool: the primitives whose fragments in the viewport are exactly the oracle's."""
+    def keys(coverage: Coverage) -> NDArray[np.int64]:
+        t, x, y = coverage.pixels()
+        keep = (t >= 0) & (t < n) & (x >= 0) & (x < width) & (y >= 0) & (y < height)
+        return np.unique((t[keep] * height + y[keep]) * width + x[keep])
+    differ = np.setxor1d(keys(answer), keys(oracle), assume_unique=True) // (width * height)
+    return np.bincount(differ, minlength=n)[:n] == 0
 
 
 # the grown trial: each never-drawn triangle made this many pixels thick and long
@@ -990,7 +1006,10 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         grown = _sub_verdict(copies, "grown")
         if grown is not None and grown[1] not in ("none", "culling") and int(copies.get("grown", {}).get("drawn", 0)):
             return grown  # a convention part's error: the sample point, the tie rule, the snapping
-        return ("culling", "culling") if int(copies.get("flipped_drawn", 0)) else ("dropped-primitive", "none")
+        # culled: its other winding is drawn, and right ("flipped_right" absent: an older trial's)
+        flipped_drawn = int(copies.get("flipped_drawn", 0))
+        culled = flipped_drawn > 0 and int(copies.get("flipped_right", flipped_drawn)) == flipped_drawn
+        return ("culling", "culling") if culled else ("dropped-primitive", "none")
     drawn_elsewhere = int(copies.get("drawn", 0)) > 0  # moved a little, some copy is drawn: not dropped
     # the other winding not drawn either: not culled
     culls = not (int(copies.get("flipped_copies", 0)) and not int(copies.get("flipped_drawn", 0)))
