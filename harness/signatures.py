@@ -947,10 +947,12 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
     if "viewport_edge" in evidence:
         # it passes moved into a grown screen -- unless the answer is exactly another snap
         # rounding's: a rounding that is not translation-invariant (half away from zero)
-        # rounds the moved vertices otherwise, and passed there by chance
+        # rounds the moved vertices otherwise, and passed there by chance; or a wrong
+        # primitive lies wholly in the screen: float arithmetic rounds moved coordinates
+        # otherwise too, and the edge of the screen decided nothing there
         rest = replace(result, evidence={k: v for k, v in evidence.items() if k != "viewport_edge"})
         without = _conformance(rest, case, convention)
-        return without if without[1] == "snapping" else ("viewport-edge", "none")
+        return without if without[1] == "snapping" or not _wrong_reach_beyond(result, case.scene) else ("viewport-edge", "none")
     scene = case.scene
     n = len(scene)
     wrong = _wrong_pixels(result, scene.noun, n)
@@ -1039,6 +1041,19 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         rows = all(bool(np.any(snapped[k][:, 1] == y + judged.sample[1])) for k, _, y, _, _ in wrong)
         return ("vertex-row", "tie-rule") if rows else ("winding", "fill-rule")
     return "far-from-edge", "sample-point"
+
+
+def _wrong_reach_beyond(result: Any, scene: AnyScene) -> bool:
+    """Whether every primitive with a wrong sample reaches beyond the screen [0, width] x
+    [0, height] (or has a coordinate that is not finite): only those meet its edge."""
+    wrong = _wrong_pixels(result, scene.noun, len(scene))
+    prims = np.array(sorted({w[0] for w in wrong}), dtype=np.int64)
+    for c in _primitive_coordinates(scene, prims):
+        with np.errstate(invalid="ignore"):
+            inside = np.isfinite(c).all() and (c >= 0).all() and (c[:, 0] <= scene.width).all() and (c[:, 1] <= scene.height).all()
+        if inside:
+            return False
+    return bool(prims.size)
 
 
 def _edges_of(scene: AnyScene, judged: Convention) -> dict[int, tuple[NDArray, NDArray]]:

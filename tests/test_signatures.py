@@ -518,3 +518,17 @@ def test_a_tie_on_a_float_partition_is_rebuilt_on_a_lattice(bug, index, expected
     probed = with_probes(failed[0], case, judge, bad)
     assert probed.evidence["lattice_twin"]["fails"] is twin_fails
     assert signature(probed, case, bad.convention).key == expected
+
+
+@pytest.mark.parametrize("index, expected", [(2, "conformance|near-tie|none"),
+                                             (100, "conformance|exact-tie-slanted-segment|line-rule")])
+def test_a_primitive_wholly_on_screen_is_not_the_viewport_edges(index, expected):
+    """A float32 DDA rounds a moved scene otherwise: the scene passes in the grown screen,
+    yet a wrong segment lies wholly inside the screen, whose edge decided nothing there
+    (campaigns had counted 39 such scenes as the viewport edge's)."""
+    from tests.known_bad.lines import Float32DDA
+
+    bad = Float32DDA()
+    case, judge, failed, probed = _one_failure(bad, "lines", index, "conformance")
+    assert "viewport_edge" in probed.evidence  # the grown screen passed
+    assert signature(probed, case, bad.convention).key == expected
