@@ -350,7 +350,11 @@ def _tie_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str]
     samples on edges still fails. Two calls per shift; None when it does not apply
     (triangles only)."""
     scene = case.scene
-    if result.check != "conformance" or not isinstance(scene, Scene) or convention is None:
+    if result.check != "conformance" or convention is None:
+        return None
+    if isinstance(scene, PathScene):
+        return _vertex_row_trial(result, case, judge, convention)
+    if not isinstance(scene, Scene):
         return None
     wrong = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict) and not p.get("near_tie")]
     if not wrong or any(p.get("distance") != 0.0 or not isinstance(p.get("triangle"), int) for p in wrong):
@@ -374,6 +378,36 @@ def _tie_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str]
         if not unexplained:
             return {"shift": list(shift), "tried": tried, "passes": True}
     return {"shift": tried[-1], "tried": tried, "passes": False}
+
+
+def _vertex_row_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str], list[Any]],
+                      convention: Convention) -> dict[str, Any] | None:
+    """The tie trial for paths whose wrong samples all lie exactly on their edges or on rows
+    through one of their path's vertices (where the crossings' count is the tie rule's):
+    the wrong paths alone, shifted one way and the other by :data:`TIE_SHIFT` (no sample
+    then lies on an edge or meets a vertex's row), pass both times -- else those samples
+    were wrong there by chance and the fill is. Two calls; None when it does not apply
+    (under snapping the shift would snap away)."""
+    scene = case.scene
+    if convention.subpixel_bits is not None or not isinstance(scene, PathScene):
+        return None
+    wrong = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict) and not p.get("near_tie")]
+    if not wrong or any(not isinstance(p.get("path"), int) or not 0 <= p["path"] < len(scene) for p in wrong):
+        return None
+    sy = convention.sample[1]
+    if not all(p.get("distance") == 0.0 or any(np.any(c[:, 1] == p["y"] + sy) for c in scene.contours_of(int(p["path"])))
+               for p in wrong):
+        return None  # some wrong sample neither on an edge nor on a vertex's row: no tie
+    subset = scene.subset(np.array(sorted({int(p["path"]) for p in wrong}), dtype=np.int64))
+    if not np.isfinite(subset.coordinates).all():
+        return None
+    shift = np.array(TIE_SHIFT)
+    for sign in (1.0, -1.0):
+        shifted = subset.with_coordinates(subset.coordinates + sign * shift)
+        verdicts = judge(Case(f"{case.id}/tie-shift/{'+' if sign > 0 else '-'}", shifted, lattice=True), "conformance")
+        if not verdicts or any(r.status == "fail" for r in verdicts):
+            return {"shift": list(TIE_SHIFT), "tried": [list(TIE_SHIFT)], "passes": False, "vertex_rows": True}
+    return {"shift": list(TIE_SHIFT), "tried": [list(TIE_SHIFT)], "passes": True, "vertex_rows": True}
 
 
 def _failing_triangles(results: list[Any], n: int) -> set[int]:
@@ -1039,7 +1073,9 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         # every wrong sample on a row through one of its path's vertices (exact: float
         # comparisons): crossings counted at the vertices -- a tie in y, not the fill
         rows = all(bool(np.any(snapped[k][:, 1] == y + judged.sample[1])) for k, _, y, _, _ in wrong)
-        return ("vertex-row", "tie-rule") if rows else ("winding", "fill-rule")
+        # (unless, shifted off those rows, the paths still fail: the fill's, on such rows by chance)
+        refuted = isinstance(trial, dict) and trial.get("vertex_rows") and trial.get("passes") is False
+        return ("vertex-row", "tie-rule") if rows and not refuted else ("winding", "fill-rule")
     return "far-from-edge", "sample-point"
 
 

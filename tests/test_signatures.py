@@ -532,3 +532,16 @@ def test_a_primitive_wholly_on_screen_is_not_the_viewport_edges(index, expected)
     case, judge, failed, probed = _one_failure(bad, "lines", index, "conformance")
     assert "viewport_edge" in probed.evidence  # the grown screen passed
     assert signature(probed, case, bad.convention).key == expected
+
+
+@pytest.mark.parametrize("index", [415, 939])
+def test_a_fill_bug_on_a_vertex_row_or_an_edge_is_the_fills(index):
+    """Crossings counted without their direction fill gaps; on a scene whose only wrong
+    samples lie on a row through a vertex (415) or exactly on an edge (939) that read as the
+    tie rule. Shifted off those rows and edges the paths still fail: the fill's (campaigns
+    had counted six such scenes as a second cause)."""
+    bad = PathFillBug("unsigned-crossings")
+    case, _, failed, probed = _one_failure(bad, "paths", index, "conformance")
+    assert signature(failed, case, bad.convention).convention_part == "tie-rule"
+    assert probed.evidence["tie_trial"]["passes"] is False
+    assert signature(probed, case, bad.convention).key == "conformance|winding|fill-rule"
