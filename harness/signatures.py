@@ -944,7 +944,9 @@ def _hypothesis(result: Any, scene: AnyScene, prims: NDArray[np.int64], conventi
     """The alternatives worth an oracle call, tested on the wrong primitives alone: the
     other roundings of the convention's snapping that move a vertex (when it snaps: the
     fewest moved first, each tried -- exact halves move under half-away as under no other,
-    and floor may move fewer), or the other fill rule (paths wrong away from their edges)."""
+    and floor may move fewer), the other fill rule (paths wrong away from their edges), or
+    the other last-pixel choice or direction (lines wrong within rounding of the rule's
+    boundary)."""
     answer = _answer(result)
     if answer is None or not prims.size:
         return None
@@ -968,7 +970,30 @@ def _hypothesis(result: Any, scene: AnyScene, prims: NDArray[np.int64], conventi
     if isinstance(subset, PathScene) and not near and not exact:
         flipped = subset.with_fill_rule("evenodd" if subset.fill_rule == "nonzero" else "nonzero")
         return ("fill-rule", "fill-rule") if _same_as(answer, scene, prims, flipped, convention) else None
+    line = convention.line
+    if isinstance(subset, LineScene) and near and line is not None:
+        # a decision near the rule's boundary drawn exactly as the rule draws it with the
+        # other last-pixel choice, or each segment drawn the other way: that choice, not rounding
+        if isinstance(line.last_pixel, bool) and _same_as(answer, scene, prims, subset,
+                                                          replace(convention, line=replace(line, last_pixel=not line.last_pixel))):
+            return "end-pixel", "line-rule"
+        if _same_reversed(answer, scene, prims, subset, convention):
+            return "reversal", "line-rule"
     return None
+
+
+def _same_reversed(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], subset: LineScene,
+                   convention: Convention) -> bool:
+    """Whether the answer's fragments of segments ``prims`` are exactly the oracle's of
+    ``subset`` (those segments) with every strip drawn backwards: one oracle call."""
+    from harness.oracle import exact_coverage
+
+    backwards, origin = subset.reversed()
+    t, x, y = exact_coverage(backwards, convention).pixels()
+    keep = (x >= 0) & (x < scene.width) & (y >= 0) & (y < scene.height)
+    expected = {(int(origin[a]), int(b), int(c)) for a, b, c in zip(t[keep], x[keep], y[keep])}
+    remap = {int(k): i for i, k in enumerate(prims)}
+    return _pixel_set(answer, prims, remap, scene.width, scene.height) == expected
 
 
 # -- conformance -----------------------------------------------------------------------------

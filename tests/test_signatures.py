@@ -545,3 +545,19 @@ def test_a_fill_bug_on_a_vertex_row_or_an_edge_is_the_fills(index):
     assert signature(failed, case, bad.convention).convention_part == "tie-rule"
     assert probed.evidence["tie_trial"]["passes"] is False
     assert signature(probed, case, bad.convention).key == "conformance|winding|fill-rule"
+
+
+@pytest.mark.parametrize("name, index, expected", [
+    ("BothEndPixels", 2, "conformance|end-pixel|line-rule"),  # the last pixel drawn, its end near a diamond's edge
+    ("LeftmostFirst", 125, "conformance|reversal|line-rule"),  # drawn from the other end, near a tie
+    ("Float32DDA", 16, "conformance|near-tie|none"),  # float32 steps: rounding indeed
+])
+def test_a_line_wrong_near_the_rules_boundary_is_told_from_rounding(name, index, expected):
+    """Wrong pixels within rounding of the line rule's boundary: drawn exactly as the rule
+    with the other last-pixel choice, or backwards, they are that choice (campaigns had
+    counted them as near ties beside the bug); otherwise rounding."""
+    import tests.known_bad.lines as lines
+
+    bad = getattr(lines, name)()
+    case, _, failed, probed = _one_failure(bad, "lines", index, "conformance")
+    assert signature(probed, case, bad.convention).key == expected
