@@ -896,17 +896,32 @@ def _edge_facts(edges_a: NDArray, edges_b: NDArray, sample: NDArray, magnitude: 
         e = d[:, 0] * (sample[1] - edges_a[:, 1]) - d[:, 1] * (sample[0] - edges_a[:, 0])
         length = np.hypot(d[:, 0], d[:, 1])
         m = max(magnitude, float(np.abs(sample).max()), 1.0)
-        along = d[:, 0] * (sample[0] - edges_a[:, 0]) + d[:, 1] * (sample[1] - edges_a[:, 1])
-        past = np.maximum(0.0, np.maximum(-along, along - length * length))  # beyond an end, times the length
-        close = ((np.abs(e) <= FLOAT32_EDGE_ROUNDING * m * m) & (np.abs(e) <= NEAR_PIXELS * length)
-                 & (past <= NEAR_PIXELS * length) & (length > 0))  # near the edge, not its line past a vertex
-        distance = np.where(length > 0, np.hypot(e, past) / length, np.inf)
+        close = (np.abs(e) <= FLOAT32_EDGE_ROUNDING * m * m) & (np.abs(e) <= NEAR_PIXELS * length) & (length > 0)
+        distance = np.where(length > 0, np.abs(e) / length, np.inf)
     distance = np.where(np.isnan(distance), np.inf, distance)
     nearest = int(np.argmin(distance))
-    near = bool(np.any(close & np.isfinite(e)))
+    close &= np.isfinite(e)
+    violated = _violated_edges(edges_a, edges_b, sample)
+    # outside the triangle, rounding takes it in only if it rounds every edge it lies outside
+    # of (one on an edge's extension past a vertex lies clearly outside another); else any
+    near = bool(close[violated].all()) if violated.any() else bool(np.any(close))
     # a clipper's error: beyond float rounding, yet close to an edge that leaves the screen
     border = not near and bool(outside[nearest]) and bool(distance[nearest] <= CLIPPER_PIXELS)
     return _Sample(None, near, border)
+
+
+def _violated_edges(edges_a: NDArray, edges_b: NDArray, sample: NDArray) -> NDArray[np.bool_]:
+    """(E,) bool: for a triangle's three edges a -> b (closed, nonzero area), those the
+    sample lies strictly outside of (exact orientations); all False for anything else."""
+    none = np.zeros(edges_a.shape[0], dtype=bool)
+    if edges_a.shape[0] != 3 or not np.isfinite(edges_a).all() \
+            or not (np.array_equal(edges_b[:2], edges_a[1:]) and np.array_equal(edges_b[2], edges_a[0])):
+        return none
+    winding = int(orientation(np.stack([edges_a[0], edges_a[1], edges_a[2]])[None])[0])
+    if winding == 0:
+        return none
+    sides = orientation(np.stack([edges_a, edges_b, np.broadcast_to(sample, edges_a.shape)], axis=1))
+    return sides == -winding
 
 
 def _wrong_pixels(result: Any, noun: str, n: int) -> list[tuple[int, int, int, str, float]]:
@@ -1035,7 +1050,10 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
     else:
         flat = set()
     if all(k in flat for k, *_ in wrong):
-        return "degenerate", "none"
+        # drawn only where all three edge functions are 0: the tie rule's (an inclusive test)
+        on_line = all(bool(_on_flat_line(snapped[k], np.array([[x + judged.sample[0], y + judged.sample[1]]]))[0])
+                      for k, x, y, kind, _ in wrong if kind == "extra") and all(kind == "extra" for *_, kind, _ in wrong)
+        return "degenerate", "tie-rule" if on_line and isinstance(scene, Scene) else "none"
     if flat:
         wrong = [w for w in wrong if w[0] not in flat]
         prims = np.array(sorted({w[0] for w in wrong}), dtype=np.int64)
@@ -1319,10 +1337,10 @@ def _degenerate(result: Any, case: Any, convention: Convention | None) -> tuple[
 
 def _drawn_on_own_edges(result: Any, case: Any, convention: Convention | None) -> bool:
     """Whether every zero-area triangle the degenerate check names is finite and drew only
-    samples exactly on its own (snapped) line -- where its three edge functions are all 0:
-    an edge test that keeps a sample on an edge on both sides (or a kept horizontal edge)
-    draws them, the tie rule's fault rather than a drawing of nothing. Exact: each sample's
-    orientation against the longest edge (or equality with a triangle that is a point)."""
+    samples exactly on its own (snapped) line -- where its three edge functions are all 0
+    (:func:`_on_flat_line`): an edge test that keeps a sample on an edge on both sides (or
+    a kept horizontal edge) draws them, the tie rule's fault rather than a drawing of
+    nothing."""
     answer = _answer(result)
     scene = getattr(case, "scene", None)
     named = result.evidence.get("triangles") if isinstance(result.evidence, dict) else None
@@ -1339,16 +1357,20 @@ def _drawn_on_own_edges(result: Any, case: Any, convention: Convention | None) -
         if not mine.any():
             return False
         samples = np.stack([x[mine] + judged.sample[0], y[mine] + judged.sample[1]], axis=-1).astype(np.float64)
-        spans = [(positions[i], positions[(i + 1) % 3]) for i in range(3)]
-        a, b = max(spans, key=lambda e: float(np.abs(e[1] - e[0]).max()))
-        if np.array_equal(a, b):  # a point: its one sample
-            on = np.all(samples == a, axis=1)
-        else:
-            on = orientation(np.stack([np.broadcast_to(a, samples.shape), np.broadcast_to(b, samples.shape), samples],
-                                      axis=1)) == 0
-        if not on.all():
+        if not _on_flat_line(positions, samples).all():
             return False
     return True
+
+
+def _on_flat_line(positions: NDArray, samples: NDArray) -> NDArray[np.bool_]:
+    """(M,) bool: which samples ((M, 2)) make all three edge functions of the zero-area
+    triangle ``positions`` ((3, 2)) exactly 0 -- those on its line, or, for a triangle that
+    is a point, every sample (its edge functions vanish everywhere). Exact."""
+    spans = [(positions[i], positions[(i + 1) % 3]) for i in range(3)]
+    a, b = max(spans, key=lambda e: float(np.abs(e[1] - e[0]).max()))
+    if np.array_equal(a, b):
+        return np.ones(samples.shape[0], dtype=bool)
+    return orientation(np.stack([np.broadcast_to(a, samples.shape), np.broadcast_to(b, samples.shape), samples], axis=1)) == 0
 
 
 def _closed(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:

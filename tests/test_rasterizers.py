@@ -219,15 +219,26 @@ def test_counting_mismatches_span_by_span_equals_the_deviations(got, want):
     assert FragmentCounter(got_coverage, 6, 5).mismatches(want_coverage) == missing.shape[1] + extra.shape[1]
 
 
-def test_edge_distance_is_to_the_edge_not_its_line_past_a_vertex():
-    """A sample exactly on an edge's line but beyond its ends is as far from the triangle
-    as from the nearer end: no tie, and no near tie to excuse (a scanline drawing one row
-    too many puts its extra samples there)."""
+def test_edge_distance_past_a_vertex_is_from_the_edge_it_lies_outside():
+    """A sample exactly on an edge's line but beyond its ends lies clearly outside another
+    edge: rounding that edge function would not take it in, so it is that far from a tie
+    (a scanline drawing one row too many puts its extra samples there). Outside two edges,
+    the farther decides; on the boundary, 0."""
     positions = np.array([[[0.0, 0.0], [4.0, 0.0], [0.5, 4.0]]])
     at = lambda x, y, sample: edge_distance(positions, np.array([[0], [x], [y]]), sample)[0]  # noqa: E731
-    assert at(5, -1, (0.5, 1.0)) == pytest.approx(1.5 / 4)  # (5.5, 0): on the line y = 0, past (4, 0)
+    slanted = np.hypot(3.5, 4.0)  # the edge (4, 0) -> (0.5, 4)
+    assert at(5, -1, (0.5, 1.0)) == pytest.approx(6.0 / slanted / 4)  # (5.5, 0): on y = 0, past (4, 0)
     assert at(2, -1, (0.5, 1.0)) == 0.0  # (2.5, 0): on the edge
-    assert at(5, -1, (0.5, 0.5)) == pytest.approx(np.hypot(1.5, 0.5) / 4)  # (5.5, -0.5): nearest is (4, 0)
+    assert at(5, -1, (0.5, 0.5)) == pytest.approx(4.25 / slanted / 4)  # (5.5, -0.5): outside both
+    assert at(1, 0, (0.5, 0.5)) == pytest.approx(0.5 / 4)  # (1.5, 0.5): inside, the nearest edge y = 0
+
+
+def test_a_sliver_within_rounding_of_a_sample_past_its_vertex_is_a_near_tie():
+    """A sliver whose third vertex lies within float rounding of its long edge: a sample on
+    that edge's extension lies outside the short edges only by rounding -- a float edge
+    function may take it in (an inclusive test on the degenerate family's slivers)."""
+    positions = np.array([[[0.5, -6.5], [22.5, 15.5], [11.500000000000002, 4.499999999999998]]])
+    assert edge_distance(positions, np.array([[0], [23], [16]]), (0.5, 0.5))[0] <= NEAR_TIE
 
 
 def test_an_extra_pixel_on_an_edge_line_past_its_vertex_fails_conformance():

@@ -166,17 +166,20 @@ def _merge_spans(got, counts, start, stop):  # type: ignore[no-untyped-def]
 
 
 def edge_distance(positions: NDArray, fragments: NDArray, sample: tuple[float, float]) -> NDArray:
-    """Distance from each fragment's sample point to the nearest edge of its triangle
-    (the closed segment, not its line: a sample on an edge's extension beyond a vertex is
-    as far from the triangle as from that vertex), relative to max(1, largest
-    |coordinate|) of that triangle.
+    """How far each fragment's sample point is from having its inside/outside decision
+    flipped by rounding an edge function of its triangle, relative to max(1, largest
+    |coordinate|) of that triangle: for a sample outside the triangle, the farthest of the
+    edge lines it lies strictly outside of (every one must round the other way to take it
+    in: a sample on an edge's extension past a vertex lies clearly outside another edge,
+    unless the triangle is a sliver within rounding of it); for a sample inside, or on the
+    boundary, or of a zero-area triangle, the nearest edge line.
 
-    Never an underestimate: each edge function, and each overshoot past an end along the
-    edge, is evaluated in float with Shewchuk's rigorous error bound added and divided by
-    a lower bound on the edge's length. It is exactly 0 only when the exact predicate puts
-    the sample on an edge (on its line, within its ends), and inf for a triangle with a
-    non-finite coordinate (or an overflowing one): a float that cancels to zero never
-    passes for a tie.
+    Never an underestimate: each edge function is evaluated in float with Shewchuk's
+    rigorous error bound added, and divided by a lower bound on the edge's length; which
+    edges a sample lies outside of is decided exactly. It is exactly 0 only when the exact
+    predicates put the sample on the triangle's boundary (or on a zero-area triangle's
+    line), and inf for a triangle with a non-finite coordinate (or an overflowing one): a
+    float that cancels to zero never passes for a tie.
 
     Parameters
     ----------
@@ -196,7 +199,11 @@ def edge_distance(positions: NDArray, fragments: NDArray, sample: tuple[float, f
     px = fragments[1, ok] + sample[0]
     py = fragments[2, ok] + sample[1]
     finite = np.all(np.isfinite(p), axis=(1, 2))
-    best = np.full(p.shape[0], np.inf)
+    samples = np.stack([px, py], axis=-1)
+    winding = np.where(finite, orientation(np.where(finite[:, None, None], p, 0.0)), 0)
+    nearest = np.full(p.shape[0], np.inf)
+    farthest_violated = np.full(p.shape[0], -np.inf)
+    on_line = np.zeros((3, p.shape[0]), dtype=bool)
     with np.errstate(all="ignore"):
         for k in range(3):
             a, b = p[:, k], p[:, (k + 1) % 3]
@@ -204,23 +211,17 @@ def edge_distance(positions: NDArray, fragments: NDArray, sample: tuple[float, f
             right = (a[:, 1] - py) * (b[:, 0] - px)
             bound = np.abs(left - right) + _ORIENT_ERROR * (np.abs(left) + np.abs(right)) + _UNDERFLOW
             length = np.hypot(b[:, 0] - a[:, 0], b[:, 1] - a[:, 1]) * (1.0 - 2.0**-50)
-            # past an end: (p - a).(b - a) < 0 or (p - b).(a - b) < 0, bounded as an orientation is
-            past = np.zeros_like(bound)
-            for s, e in ((a, b), (b, a)):
-                x_part = (px - s[:, 0]) * (e[:, 0] - s[:, 0])
-                y_part = (py - s[:, 1]) * (e[:, 1] - s[:, 1])
-                error = _ORIENT_ERROR * (np.abs(x_part) + np.abs(y_part)) + _UNDERFLOW
-                past = np.maximum(past, np.maximum(0.0, error - (x_part + y_part)))
-            segment = np.hypot(bound, past) * (1.0 + 2.0**-50)
-            best = np.minimum(best, np.where(np.isfinite(segment) & (length > 0), segment / length, np.inf))
+            distance = np.where(np.isfinite(bound) & (length > 0), bound / length, np.inf)
+            side = orientation(np.stack([np.where(finite[:, None], a, 0.0), np.where(finite[:, None], b, 0.0), samples], axis=1))
+            on_line[k] = side == 0
+            nearest = np.minimum(nearest, distance)
+            violated = (winding != 0) & (side == -winding)  # strictly outside this edge
+            farthest_violated = np.where(violated, np.maximum(farthest_violated, distance), farthest_violated)
+        best = np.where(farthest_violated > -np.inf, farthest_violated, nearest)
         relative = best / np.maximum(1.0, np.abs(p).max(axis=(1, 2)))
     relative[~finite] = np.inf
-    samples = np.stack([px, py], axis=-1)
-    for k in range(3):
-        a, b = p[:, k], p[:, (k + 1) % 3]
-        on_line = orientation(np.stack([a, b, samples], axis=1)) == 0
-        within = np.all((np.minimum(a, b) <= samples) & (samples <= np.maximum(a, b)), axis=1)
-        relative[on_line & within & finite] = 0.0
+    # on the boundary (on an edge's line, outside none) or on a zero-area triangle's line: a tie
+    relative[on_line.any(axis=0) & (farthest_violated == -np.inf) & finite] = 0.0
     out[ok] = np.where(np.isnan(relative), np.inf, relative)
     return out
 
