@@ -19,9 +19,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness import checks
-from harness.api import AnyScene, Rasterizer, Scene, received_of
+from harness.api import AnyScene, LineScene, Rasterizer, Scene, received_of
 from harness.case import Case, MotionCase, case_to_json
 from harness.checks import Result
+from harness.exact import orientation
 
 __all__ = ["ddmin", "shrink", "attach_repro", "whole_case_repro", "input_precision_probe", "viewport_edge_probe", "viewport_edge_trial",
            "grown_screen", "Judge"]
@@ -220,6 +221,20 @@ def viewport_edge_probe(case: Case, check: str, judge: Judge, largest: int = 819
     return trial
 
 
+def _same_shapes(scene: AnyScene, moved: AnyScene) -> bool:
+    """Whether a rounded move kept every triangle's orientation (a sliver within rounding
+    of flat may collapse or flip) and every segment's being a point or not. Exact."""
+    if isinstance(scene, Scene) and isinstance(moved, Scene):
+        finite: NDArray[np.bool_] = np.asarray(np.isfinite(scene.positions).all(axis=(1, 2)))
+        before = orientation(np.where(finite[:, None, None], scene.positions, 0.0))
+        after = orientation(np.where(finite[:, None, None], moved.positions, 0.0))
+        return bool(np.array_equal(before, after))
+    if isinstance(scene, LineScene) and isinstance(moved, LineScene):
+        (a, b), (c, d) = scene.segments(), moved.segments()
+        return bool(np.array_equal(np.all(a == b, axis=1), np.all(c == d, axis=1)))
+    return True
+
+
 def viewport_edge_trial(case: Case, check: str, judge: Judge, largest: int = 8192) -> dict[str, Any] | None:
     """:func:`viewport_edge_probe`'s trial, told either way: ``{"margin", "screen",
     "passes", "rounded"}`` when the grown case was checked (``passes`` False: it still
@@ -243,6 +258,8 @@ def viewport_edge_trial(case: Case, check: str, judge: Judge, largest: int = 819
     rounded = grown is None
     if rounded:
         grown = grown_screen(scene, margin, largest, rounding=True)
+        if grown is not None and not _same_shapes(scene, grown):
+            return None  # a sliver within rounding of flat collapsed (or flipped): another scene
         if grown is not None and case.lattice and _passes(replace(case, lattice=False), check, judge):
             return None  # wrong only within rounding (a strict reading): the rounded move cannot tell
         case = replace(case, lattice=False)  # its roundings excused, as the original's were

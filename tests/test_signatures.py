@@ -561,3 +561,16 @@ def test_a_line_wrong_near_the_rules_boundary_is_told_from_rounding(name, index,
     bad = getattr(lines, name)()
     case, _, failed, probed = _one_failure(bad, "lines", index, "conformance")
     assert signature(probed, case, bad.convention).key == expected
+
+
+def test_a_sliver_the_rounded_move_would_flatten_gets_no_viewport_trial():
+    """A sliver a few ulps thick, reaching past the screen: moving it into a grown screen
+    rounds it flat, which a scanline skips -- another scene, so no verdict on the viewport
+    edge; the extra row it drew is the sample point's (campaigns had counted 15 such scenes
+    as the viewport edge's)."""
+    from tests.known_bad.catalogue import KNOWN_BAD
+
+    bad = KNOWN_BAD["bad_rows-plus-one"]
+    case, _, failed, probed = _one_failure(bad, "degenerate", 182, "conformance")
+    assert "viewport_edge" not in probed.evidence and "viewport_edge_refuted" not in probed.evidence
+    assert signature(probed, case, bad.convention).key == "conformance|far-from-edge|sample-point"
