@@ -426,6 +426,7 @@ def _failing_triangles(results: list[Any], n: int) -> set[int]:
 
 
 # the dropped trial's copies: each missing triangle moved by (i/4, j/4) px, i, j in 0..3
+# (plus the tie trial's first shift)
 DROPPED_SHIFTS = tuple((i / 4, j / 4) for j in range(4) for i in range(4))
 
 
@@ -459,7 +460,9 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
         return None
     swap = [0, 2, 1]  # the other winding, same triangle
     copies_of = len(DROPPED_SHIFTS) * len(subset)
-    shifts = np.repeat(np.array(DROPPED_SHIFTS), len(subset), axis=0)[:, None, :]
+    # off the quarter-pixel grid by the tie trial's shift: a sliver whose samples all lie on its
+    # edges (a horizontal edge on a sample row) covers samples strictly inside in some copy
+    shifts = np.repeat(np.array(DROPPED_SHIFTS) + np.array(_tie_shifts(convention)[0]), len(subset), axis=0)[:, None, :]
 
     def tiled(a: NDArray | None, flip: bool) -> NDArray | None:
         return None if a is None else np.concatenate([a[:, swap] if flip else a] * len(DROPPED_SHIFTS))
@@ -902,9 +905,15 @@ def _edge_facts(edges_a: NDArray, edges_b: NDArray, sample: NDArray, magnitude: 
     nearest = int(np.argmin(distance))
     close &= np.isfinite(e)
     violated = _violated_edges(edges_a, edges_b, sample)
-    # outside the triangle, rounding takes it in only if it rounds every edge it lies outside
-    # of (one on an edge's extension past a vertex lies clearly outside another); else any
-    near = bool(close[violated].all()) if violated.any() else bool(np.any(close))
+    if violated.any():
+        # outside a triangle, rounding takes it in only if it rounds every edge it lies
+        # outside of (one on an edge's extension past a vertex lies clearly outside another)
+        near = bool(close[violated].all())
+    else:  # inside, or a path: near an edge itself, not its line past its ends
+        with np.errstate(all="ignore"):
+            along = d[:, 0] * (sample[0] - edges_a[:, 0]) + d[:, 1] * (sample[1] - edges_a[:, 1])
+            past = np.maximum(0.0, np.maximum(-along, along - length * length))  # beyond an end, times the length
+        near = bool(np.any(close & (past <= NEAR_PIXELS * length)))
     # a clipper's error: beyond float rounding, yet close to an edge that leaves the screen
     border = not near and bool(outside[nearest]) and bool(distance[nearest] <= CLIPPER_PIXELS)
     return _Sample(None, near, border)

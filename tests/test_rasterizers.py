@@ -259,3 +259,17 @@ def test_an_extra_pixel_on_an_edge_line_past_its_vertex_fails_conformance():
     assert result.status == "fail"
     assert [(p["x"], p["y"], p["near_tie"]) for p in result.evidence["pixels"]] == [(6, 6, False)]
     assert conformance(case, oracle, oracle, convention).status == "pass"
+
+
+def test_a_path_sample_on_a_horizontal_edges_row_past_its_end_is_no_tie():
+    """Path distances take the edges whose y-range holds the sample: a horizontal edge on
+    the sample's row is measured along it -- exactly 0 on it, not on its line past its
+    ends (a filler counting horizontal edges as crossings had its wrong samples there read
+    as ties)."""
+    from harness.api import PathScene
+    from harness.checks.conformance import path_edge_distance
+
+    path = PathScene(8, 8, np.array([[2.0, 2.5], [6.0, 2.5], [4.0, 6.5]]), np.array([3]), np.array([0]), "nonzero")
+    at = lambda x, y: path_edge_distance(path, Convention(), np.array([[0], [x], [y]]))[0]  # noqa: E731
+    assert at(4, 2) == 0.0  # (4.5, 2.5): on the horizontal edge
+    assert at(7, 2) == pytest.approx(6.0 / np.hypot(2.0, 4.0) / 6.5)  # (7.5, 2.5): the slanted edge is nearer than its end

@@ -239,6 +239,10 @@ def _path_distance_kernel(ax, ay, bx, by, first, last, magnitude, fragment_path,
         for e in range(first[p], last[p]):
             if py[f] < min(ay[e], by[e]) or py[f] > max(ay[e], by[e]):
                 continue
+            if ay[e] == by[e]:  # horizontal, on the sample's row: how far along it (exact 0 on it)
+                gap = max(min(ax[e], bx[e]) - px[f], px[f] - max(ax[e], bx[e]), 0.0)
+                best = min(best, gap * (1.0 + 2.0**-50))
+                continue
             left = (ax[e] - px[f]) * (by[e] - py[f])
             right = (ay[e] - py[f]) * (bx[e] - px[f])
             value = abs(left - right)
@@ -258,7 +262,8 @@ def _path_distance_kernel(ax, ay, bx, by, first, last, magnitude, fragment_path,
 def path_edge_distance(scene: PathScene, convention: Convention, fragments: NDArray) -> NDArray:
     """:func:`edge_distance` for a path scene: from each fragment's sample point to the
     nearest edge of its path among those whose y-range holds the sample (the edges that
-    decide it), relative to max(1, largest |coordinate|) of the path; never an
+    decide it; a horizontal one on the sample's row, along it: on its line past its ends is
+    no tie), relative to max(1, largest |coordinate|) of the path; never an
     underestimate, exactly 0 only when the exact predicate puts the sample on such an edge,
     inf for a path with a non-finite coordinate.
 
