@@ -25,6 +25,15 @@ class                            convention part     when
 ``non-finite-input``             none                every wrong primitive has a NaN or infinity
 ``degenerate``                   none                every wrong triangle has zero area after
                                                      snapping (segment: zero length)
+``open-contour``                 none                the wrong primitives are drawn exactly as with
+                                                     each contour's closing edge (last vertex to
+                                                     first; a triangle's third) left out, a row left
+                                                     inside ending at its last crossing or at the
+                                                     screen's edge, and differently from the oracle
+                                                     and from nothing (:func:`harness.winding.
+                                                     open_outline_coverage`); missing whole: their
+                                                     copies of the other winding are so drawn
+                                                     (evidence ``dropped_trial``). At any magnitude
 ``overflow-2^a..2^b``            none                a wrong primitive's largest |coordinate| lies in
                                                      [2^a, 2^b): 2^12, 2^24 (float32's integers),
                                                      2^31 (int32), 2^53 (float64's integers), 2^63
@@ -96,7 +105,8 @@ Errors: ``hang`` (a timeout), ``crash`` (the worker process died), ``not-run``,
 
 Anything else, or anything the classification cannot read, is ``other``:
 :func:`signature` never raises. Its oracle calls are hypothesis tests on the wrong
-primitives alone: the other snap roundings (two at most), or the other fill rule (one).
+primitives alone: the open outline (three: the oracle and two open fills), the other snap
+roundings (two at most), or the other fill rule (one).
 """
 
 from __future__ import annotations
@@ -148,6 +158,7 @@ _WORDS = {
     "degenerate": "a zero-area triangle (zero-length segment) drawn wrongly",
     "culling": "whole primitives of one winding missing",
     "dropped-primitive": "whole primitives missing",
+    "open-contour": "drawn as if each contour's closing edge were missing",
     "far-from-edge": "samples away from every edge decided wrongly",
     "far-from-tie": "pixels away from the rule's ties drawn wrongly",
     "end-pixel": "pixels at a segment's end drawn wrongly",
@@ -227,7 +238,7 @@ def signature(result: Any, case: Case | MotionCase | Any, convention: Convention
     """The signature of a failing or erroring result of ``case``, judged under
     ``convention`` (the rasterizer's, declared or identified; None without one).
 
-    Deterministic, at most two oracle calls (on the wrong primitives alone), never raises: what it cannot read is ``other``.
+    Deterministic, at most five oracle calls (hypothesis tests on the wrong primitives alone), never raises: what it cannot read is ``other``.
 
     >>> from harness.checks import Result
     >>> signature(Result("r", "c", "run", "error", "timeout: no answer within 2 s"), None, None).key
@@ -434,22 +445,26 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
                    convention: Convention | None) -> dict[str, Any] | None:
     """Whether triangles missing whole are dropped as such, culled, or missed by another
     bug: the missing triangles, each in 16 copies moved by quarter pixels
-    (:data:`DROPPED_SHIFTS`) and 16 more of the other winding (two vertices swapped), drawn
-    in one call. A dropper (too small) draws none of the copies the oracle covers; a culler
-    draws the other winding's only; a wrong sample point or edge test that missed a
-    sliver's only sample draws some of the same winding. Returns ``{"copies": n, "drawn":
-    k, "flipped_copies": m, "flipped_drawn": j, "flipped_right": r}`` (copies the oracle
-    covers, of them those the rasterizer drew something of, and of the other winding's
-    those it drew exactly right: a culler's), and ``grown`` (:func:`_grown_trial`) when
-    none is drawn and the other winding is not drawn right; None when it does not apply
-    (triangles missing whole, finite)."""
+    (:data:`DROPPED_SHIFTS`), 16 more of the other winding (two vertices swapped) and 32
+    of the same winding started at its other vertices, drawn in one call. A dropper (too
+    small) draws none of the copies the oracle covers; a culler draws the other winding's
+    only, right; a wrong sample point or edge test that missed a sliver's only sample draws
+    some of the same winding; an open outline draws some orders. Returns ``{"copies": n,
+    "drawn": k, "flipped_copies": m, "flipped_drawn": j, "flipped_right": r,
+    "rotated_copies": q, "rotated_drawn": i}`` (copies the oracle covers, of them those the
+    rasterizer drew something of, and of the other winding's those it drew exactly right:
+    a culler's), ``open_contour`` (another order drawn: all drawn exactly as with each
+    triangle's closing edge left out, :func:`_open_outline`), and ``grown``
+    (:func:`_grown_trial`) when none is drawn, the triangles are not culled and not so
+    explained; None when it does not apply (triangles missing whole, near ties aside, finite)."""
     from harness.oracle import exact_coverage
 
     scene = case.scene
     answer = _answer(result)
     if result.check != "conformance" or not isinstance(scene, Scene) or convention is None or answer is None:
         return None
-    wrong = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict)]
+    listed = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict)]
+    wrong = [p for p in listed if not p.get("near_tie")] or listed  # near ties excused, as the classes read them
     if not wrong or any(p.get("kind") != "missing" or not isinstance(p.get("triangle"), int) for p in wrong):
         return None
     prims = np.array(sorted({int(p["triangle"]) for p in wrong}), dtype=np.int64)
@@ -458,17 +473,18 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
     subset = scene.subset(prims)
     if not np.isfinite(subset.positions).all():
         return None
-    swap = [0, 2, 1]  # the other winding, same triangle
+    # the same triangle as given, of the other winding, and of its winding started at its
+    # second and third vertex: 16 copies each
+    orders = ([0, 1, 2], [0, 2, 1], [1, 2, 0], [2, 0, 1])
     copies_of = len(DROPPED_SHIFTS) * len(subset)
     # off the quarter-pixel grid by the tie trial's shift: a sliver whose samples all lie on its
     # edges (a horizontal edge on a sample row) covers samples strictly inside in some copy
     shifts = np.repeat(np.array(DROPPED_SHIFTS) + np.array(_tie_shifts(convention)[0]), len(subset), axis=0)[:, None, :]
 
-    def tiled(a: NDArray | None, flip: bool) -> NDArray | None:
-        return None if a is None else np.concatenate([a[:, swap] if flip else a] * len(DROPPED_SHIFTS))
-    positions = np.concatenate([tiled(subset.positions, False) + shifts, tiled(subset.positions, True) + shifts])
-    both = lambda a: None if a is None else np.concatenate([tiled(a, False), tiled(a, True)])  # noqa: E731
-    copies = Scene(scene.width, scene.height, positions, both(subset.attributes), both(subset.w))
+    def tiled(a: NDArray | None) -> NDArray | None:
+        return None if a is None else np.concatenate([np.concatenate([a[:, order]] * len(DROPPED_SHIFTS)) for order in orders])
+    positions = tiled(subset.positions) + np.concatenate([shifts] * len(orders))
+    copies = Scene(scene.width, scene.height, positions, tiled(subset.attributes), tiled(subset.w))
     n = len(copies)
     oracle = exact_coverage(copies, convention)
     want = np.bincount(oracle.pixels()[0], minlength=n)[:n] > 0
@@ -484,12 +500,19 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
         right = want & _drawn_exactly(drawn, oracle, n, scene.width, scene.height)
     else:
         return None
-    same, flipped = slice(0, copies_of), slice(copies_of, n)
+    same, flipped, rotated = slice(0, copies_of), slice(copies_of, 2 * copies_of), slice(2 * copies_of, n)
     found: dict[str, Any] = {"copies": int(want[same].sum()), "drawn": int((want & got)[same].sum()),
                              "flipped_copies": int(want[flipped].sum()), "flipped_drawn": int((want & got)[flipped].sum()),
-                             "flipped_right": int(right[flipped].sum())}
-    culled = found["flipped_drawn"] > 0 and found["flipped_right"] == found["flipped_drawn"]
-    if found["copies"] and not found["drawn"] and not culled:  # a culler draws the other winding right
+                             "flipped_right": int(right[flipped].sum()),
+                             "rotated_copies": int(want[rotated].sum()), "rotated_drawn": int((want & got)[rotated].sum())}
+    # a culler draws the other winding right, and its own from no vertex
+    culled = found["flipped_drawn"] > 0 and found["flipped_right"] == found["flipped_drawn"] and not found["rotated_drawn"]
+    if (found["flipped_drawn"] or found["rotated_drawn"]) and verdicts[0].status == "fail" and drawn is not None:
+        # another order drawn: as with each triangle's closing edge left out (it runs
+        # between two other vertices now), and not as a culler draws it (the other winding right)?
+        found["open_contour"] = _open_outline(drawn, copies, np.arange(n), convention,
+                                              lambda right: {f for f in right if copies_of <= f[0] < 2 * copies_of})
+    if found["copies"] and not found["drawn"] and not culled and not found.get("open_contour"):  # a culler draws the other winding right
         grown = _grown_trial(subset, case, judge, convention)
         if grown is not None:
             found["grown"] = grown
@@ -963,6 +986,40 @@ def _same_as(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], varian
     return got == expected
 
 
+def _open_outline(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], convention: Convention,
+                  unlike: Callable[[set[tuple[int, int, int]]], set[tuple[int, int, int]]] | None = None) -> bool:
+    """Whether the answer's fragments of ``prims`` -- some at least -- are exactly what a
+    filler draws that leaves every contour open (:func:`harness.winding.open_outline_coverage`,
+    under either rule for the rows that then stay inside), and not what another explanation
+    draws: ``unlike`` gives that from the oracle's fragments of ``prims`` (as
+    (index in ``prims``, x, y)), e.g. a culler's. Two oracle calls, a third for ``unlike``;
+    single-sample triangles without culling, and paths."""
+    from harness.oracle import exact_coverage
+    from harness.winding import UNBALANCED_ROWS, open_outline_coverage
+
+    if convention.kind != "single" or (isinstance(scene, Scene) and convention.cull != "none") \
+            or not isinstance(scene, (Scene, PathScene)) or not prims.size:
+        return False
+    subset = scene.subset(prims)
+    if not np.isfinite(subset.coordinates).all():
+        return False
+    remap = {int(k): i for i, k in enumerate(prims)}
+    identity = {i: i for i in range(len(prims))}
+    got = _pixel_set(answer, prims, remap, scene.width, scene.height)
+    if not got:
+        return False  # dropped whole: no evidence
+    for rule in UNBALANCED_ROWS:
+        try:
+            predicted = _pixel_set(open_outline_coverage(subset, convention, rule), np.arange(len(prims)), identity,
+                                   scene.width, scene.height)
+        except ValueError:  # beyond the exact predicates' range
+            return False
+        if predicted == got:
+            return unlike is None or got != unlike(_pixel_set(exact_coverage(subset, convention), np.arange(len(prims)),
+                                                              identity, scene.width, scene.height))
+    return False
+
+
 def _hypothesis(result: Any, scene: AnyScene, prims: NDArray[np.int64], convention: Convention,
                 near: bool, exact: bool) -> tuple[str, str] | None:
     """The alternatives worth an oracle call, tested on the wrong primitives alone: the
@@ -1035,7 +1092,8 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         # otherwise too, and the edge of the screen decided nothing there
         rest = replace(result, evidence={k: v for k, v in evidence.items() if k != "viewport_edge"})
         without = _conformance(rest, case, convention)
-        return without if without[1] == "snapping" or not _wrong_reach_beyond(result, case.scene) else ("viewport-edge", "none")
+        return without if without[1] == "snapping" or without[0] == "open-contour" or not _wrong_reach_beyond(result, case.scene) \
+            else ("viewport-edge", "none")
     scene = case.scene
     n = len(scene)
     wrong = _wrong_pixels(result, scene.noun, n)
@@ -1070,6 +1128,13 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
     magnitude = _magnitude(coordinates)
     if isinstance(scene, LineScene):
         return _line_conformance(result, scene, wrong, prims, snapped, judged, magnitude)
+    copies = evidence.get("dropped_trial")
+    copies = copies if isinstance(copies, dict) else {}
+    answer = _answer(result)
+    if copies.get("open_contour") or (answer is not None and _open_outline(answer, scene, prims, judged)):
+        # drawn exactly as with each contour's closing edge left out (missing whole: their
+        # copies of the other winding are): the outline, at any magnitude
+        return "open-contour", "none"
     edges = _edges_of(scene, judged)
     facts = [_edge_facts(*edges[k], np.array([x + judged.sample[0], y + judged.sample[1]]), _magnitude([snapped[k]]),
                          scene.width, scene.height) for k, x, y, _, _ in wrong]
@@ -1084,8 +1149,6 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         return overflow, "none"
     # a primitive wholly missing whose only wrong samples are exact ties is a tie rule's
     # error (a sliver whose one sample lies on its edge), not a dropped primitive
-    copies = evidence.get("dropped_trial")
-    copies = copies if isinstance(copies, dict) else {}
     if int(copies.get("copies", 0)) and not int(copies.get("drawn", 0)):
         # moved a little it covers samples and is never drawn: dropped (culled, if its other
         # winding is drawn) -- whatever ties its own samples are (a sliver thinner than the
@@ -1094,9 +1157,11 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         grown = _sub_verdict(copies, "grown")
         if grown is not None and grown[1] not in ("none", "culling") and int(copies.get("grown", {}).get("drawn", 0)):
             return grown  # a convention part's error: the sample point, the tie rule, the snapping
-        # culled: its other winding is drawn, and right ("flipped_right" absent: an older trial's)
+        # culled: its other winding is drawn, and right ("flipped_right" absent: an older
+        # trial's), its own from no vertex
         flipped_drawn = int(copies.get("flipped_drawn", 0))
-        culled = flipped_drawn > 0 and int(copies.get("flipped_right", flipped_drawn)) == flipped_drawn
+        culled = flipped_drawn > 0 and int(copies.get("flipped_right", flipped_drawn)) == flipped_drawn \
+            and not int(copies.get("rotated_drawn", 0))
         return ("culling", "culling") if culled else ("dropped-primitive", "none")
     drawn_elsewhere = int(copies.get("drawn", 0)) > 0  # moved a little, some copy is drawn: not dropped
     # the other winding not drawn either: not culled

@@ -68,12 +68,13 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from harness.api import Coverage, PathScene
+from harness.api import Coverage, PathScene, Scene
 from harness.conventions import FILL_RULES, Convention, FillRule  # the fill rules are defined beside the tie rules
 from harness.exact import SAFE_MAX, SAFE_MIN, frozen
 from harness.oracle_kernels import _bound, _edge_setup, _row_range, shares_of_layers
 
-__all__ = ["FILL_RULES", "FillRule", "path_spans", "path_spans_rational", "path_coverage"]
+__all__ = ["FILL_RULES", "FillRule", "UNBALANCED_ROWS", "path_spans", "path_spans_rational", "path_coverage",
+           "open_outline_coverage"]
 
 
 Spans = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]
@@ -99,7 +100,7 @@ def _tie_right(ax, ay, bx, by, tx, ty, y_first):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, evenodd, width, height,
+def _paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, evenodd, to_edge, width, height,
                   keys, row_start, row_end, out_p, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
     """Every path's spans, one path at a time, with no global sort: the path's crossings
     bucketed by row (each row's bucket as large as the number of the path's edges whose y
@@ -108,7 +109,9 @@ def _paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, evenodd, width, hei
     runs from ``a[k]`` to ``b[k]`` ((E, 2) each); edges are grouped by path: path p owns
     edges ``first_edge[p] .. first_edge[p + 1] - 1``. ``keys`` holds one path's crossings
     (as ``2 * column + (dir > 0)``), ``row_start`` and ``row_end`` height + 2 ints each.
-    Returns the number of spans written."""
+    A row whose winding is still inside after its last crossing (only when the edges do
+    not close: :func:`open_outline_coverage`) is filled to the viewport's edge when
+    ``to_edge``, else up to that last crossing. Returns the number of spans written."""
     n = 0
     for p in range(first_edge.size - 1):
         e0, e1 = first_edge[p], first_edge[p + 1]
@@ -178,6 +181,7 @@ def _paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, evenodd, width, hei
             wind = 0
             is_open = False
             start = 0
+            end = width
             i = s0
             while i < s1:
                 c = keys[i] >> 1
@@ -186,6 +190,8 @@ def _paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, evenodd, width, hei
                 while i < s1 and (keys[i] >> 1) == c:
                     wind += 1 if (keys[i] & 1) == 1 else -1
                     i += 1
+                if i == s1 and not to_edge:
+                    end = c  # the row's last crossing
                 inside = (wind & 1) == 1 if evenodd else wind != 0
                 if inside and not is_open:
                     start = c
@@ -197,11 +203,11 @@ def _paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, evenodd, width, hei
                     out_x1[n] = c
                     n += 1
                     is_open = False
-            if is_open:
+            if is_open and end > start:
                 out_p[n] = p
                 out_y[n] = lo + r
                 out_x0[n] = start
-                out_x1[n] = width
+                out_x1[n] = end
                 n += 1
     return n
 
@@ -361,8 +367,10 @@ def path_spans(
 
 
 def _spans(vertices: NDArray[np.float64], lengths: NDArray[np.int64], paths: NDArray[np.int64], keep: NDArray[np.bool_],
-           fill_rule: str, convention: Convention, width: int, height: int) -> Spans:
-    """:func:`path_spans` on flat, snapped contours."""
+           fill_rule: str, convention: Convention, width: int, height: int, unbalanced: str | None = None) -> Spans:
+    """:func:`path_spans` on flat, snapped contours; with ``unbalanced`` (``"to-edge"`` or
+    ``"last-crossing"``), :func:`open_outline_coverage`'s spans instead: the contours left
+    open, rows that stay inside after their last crossing filled as it says."""
     if not keep.any() or width == 0 or height == 0:
         return _empty()
     # edge k runs from vertex k to the next of its contour (the last back to the first)
@@ -370,10 +378,13 @@ def _spans(vertices: NDArray[np.float64], lengths: NDArray[np.int64], paths: NDA
     following = np.arange(1, vertices.shape[0] + 1)
     closing = lengths > 0
     following[ends[closing] - 1] = (ends - lengths)[closing]
-    if keep.all():
+    kept = np.repeat(keep, lengths)
+    if unbalanced is not None:
+        kept[ends[closing] - 1] = False  # left open: no edge from a contour's last vertex back to its first
+    if kept.all():
         a, b = vertices, np.take(vertices, following, axis=0)  # take: 2-D fancy indexing is 15x slower
     else:
-        used = np.flatnonzero(np.repeat(keep, lengths))
+        used = np.flatnonzero(kept)
         a, b = np.take(vertices, used, axis=0), np.take(vertices, following[used], axis=0)
     # paths by rank (0 .. P - 1) in the kernel, their own ids on the way out; the kernel
     # takes each path's edges together. A PathScene's contours name 0 .. P - 1, most often
@@ -382,11 +393,11 @@ def _spans(vertices: NDArray[np.float64], lengths: NDArray[np.int64], paths: NDA
     in_order = paths.size > 0 and paths[0] == 0 and bool(np.all((step == 0) | (step == 1)))
     if in_order:
         n_paths = int(paths[-1]) + 1
-        edge_path = np.repeat(paths, lengths) if keep.all() else np.repeat(paths, lengths)[used]
+        edge_path = np.repeat(paths, lengths) if kept.all() else np.repeat(paths, lengths)[used]
     else:
         names, rank = np.unique(paths, return_inverse=True)
         n_paths = names.size
-        edge_path = np.repeat(rank.reshape(-1), lengths) if keep.all() else np.repeat(rank.reshape(-1), lengths)[used]
+        edge_path = np.repeat(rank.reshape(-1), lengths) if kept.all() else np.repeat(rank.reshape(-1), lengths)[used]
         if edge_path.size and np.any(edge_path[1:] < edge_path[:-1]):
             order = np.argsort(edge_path, kind="stable")
             a, b, edge_path = np.take(a, order, axis=0), np.take(b, order, axis=0), edge_path[order]
@@ -401,10 +412,45 @@ def _spans(vertices: NDArray[np.float64], lengths: NDArray[np.int64], paths: NDA
     keys = np.empty(int(per_path.max(initial=0)), dtype=np.int64)
     capacity = int(per_path.sum())  # a row's spans are at most half its crossings
     out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
-    m = int(_paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, fill_rule == "evenodd", width, height,
+    m = int(_paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, fill_rule == "evenodd", unbalanced != "last-crossing",
+                          width, height,
                           keys, np.empty(height + 2, dtype=np.int64), np.empty(height + 2, dtype=np.int64), *out))
     p = out[0][:m] if in_order else names[out[0][:m]]
     return p, out[1][:m], out[2][:m], out[3][:m]
+
+
+UNBALANCED_ROWS = ("last-crossing", "to-edge")
+
+
+def open_outline_coverage(scene: Scene | PathScene, convention: Convention, unbalanced: str) -> Coverage:
+    """What a filler draws that builds its edges from consecutive vertex pairs only and so
+    leaves every contour (every triangle: its edge from the third vertex back to the first)
+    open -- the classic "forgot to close the path" bug, as the oracle of a hypothesis.
+
+    Without its closing edge a contour's crossings need not balance: a row may stay inside
+    after its last crossing. ``unbalanced`` says what is drawn there: ``"last-crossing"``
+    (nothing right of a row's last crossing, as a trapezoid or active-edge filler emits
+    spans between crossings) or ``"to-edge"`` (a span left open runs to the viewport's
+    right edge, as a scanline filler that fills until the winding returns to zero).
+    Everything else is :func:`path_coverage`'s: the same crossings, ties, snapping and
+    fill rule (triangles: one path each, nonzero; culling ignored). Single-sample only.
+
+    >>> from harness.api import Scene
+    >>> tri = Scene(4, 4, np.array([[[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]]))  # closing edge: (0, 4) -> (0, 0)
+    >>> [len(open_outline_coverage(tri, Convention(), rule)) for rule in UNBALANCED_ROWS]  # 4 rows, each crossing once
+    [0, 4]
+    """
+    if unbalanced not in UNBALANCED_ROWS:
+        raise ValueError(f"unbalanced must be one of {', '.join(UNBALANCED_ROWS)}, not {unbalanced!r}")
+    if convention.kind != "single":
+        raise ValueError(f"open_outline_coverage takes a single-sample convention, not kind {convention.kind!r}")
+    if isinstance(scene, PathScene):
+        vertices, sizes, paths, fill_rule = scene.vertices, scene.contour_sizes, scene.contour_path, scene.fill_rule
+    else:
+        n = len(scene)
+        vertices, sizes, paths, fill_rule = scene.positions.reshape(-1, 2), np.full(n, 3), np.arange(n), "nonzero"
+    vertices, lengths, paths, keep = _snapped(vertices, sizes, paths, convention, True)
+    return Coverage(*_spans(vertices, lengths, paths, keep, fill_rule, convention, scene.width, scene.height, unbalanced))
 
 
 def path_spans_rational(

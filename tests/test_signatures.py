@@ -385,6 +385,44 @@ def test_the_dropped_trial_tells_a_drop_from_culling_and_from_a_miss(name, famil
         assert trial["grown"]["passes"] is True
 
 
+@pytest.mark.parametrize("family, index, unprobed", [
+    # drawn in part: the answer alone tells (campaigns read the fill rule, the sample point)
+    ("paths", 0, "conformance|open-contour|none"),
+    ("degenerate", 3, "conformance|open-contour|none"),
+    # missing whole: its other vertex orders are drawn
+    ("degenerate", 0, "conformance|dropped-primitive|none"),
+    ("degenerate", 290, "conformance|culling|culling"),  # its other winding drawn right in part
+    # ... in whole (its sibling, read alone in the campaign: culling); its own winding,
+    # started at another vertex, is drawn
+    ("degenerate", 673, "conformance|dropped-primitive|none"),
+])
+def test_a_filler_that_leaves_its_contours_open_is_one_cause(family, index, unprobed):
+    """A path filler that drops each contour's closing edge (a triangle's third) draws rows
+    that cross it wrong or not at all, depending on which vertex comes first: read as the
+    sample point, the fill rule, a drop or culling (campaigns: four causes). Its answer is
+    exactly the open outline's (:func:`harness.winding.open_outline_coverage`); missing
+    whole, its copies in other vertex orders are."""
+    bad = PathFillBug("open-contours")
+    case, _, failed, probed = _one_failure(bad, family, index, "conformance")
+    assert signature(failed, case, bad.convention).key == unprobed
+    assert signature(probed, case, bad.convention).key == "conformance|open-contour|none"
+    if unprobed != "conformance|open-contour|none":
+        assert probed.evidence["dropped_trial"]["open_contour"] is True
+
+
+def test_a_culler_is_not_an_open_outline():
+    """The other side: a culler's missing triangle draws the other winding right and its
+    own from no vertex -- culling, though the open outline draws a sliver's other winding
+    right too."""
+    from tests.known_bad.catalogue import KNOWN_BAD
+
+    bad = KNOWN_BAD["bad_one-winding"]
+    case, _, failed, probed = _one_failure(bad, "lattice", 88, "conformance")
+    trial = probed.evidence["dropped_trial"]
+    assert trial["rotated_copies"] > 0 and trial["rotated_drawn"] == 0 and not trial.get("open_contour")
+    assert signature(probed, case, bad.convention).key == "conformance|culling|culling"
+
+
 def test_a_crossing_rule_bug_is_one_cause_on_triangles_and_paths():
     """Edges crossing rows with both ends inclusive: on triangles, samples exactly on
     horizontal edges; on paths, rows through vertices counted twice. Both are how a tie is

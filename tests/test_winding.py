@@ -221,3 +221,37 @@ def test_a_last_path_with_a_non_finite_or_out_of_range_vertex_leaves_the_others_
         assert got.take(np.flatnonzero(got.primitive == 0)) == first
     else:
         assert got == first
+
+
+def test_an_open_outline_is_what_a_filler_that_forgets_the_closing_edge_draws():
+    """:func:`open_outline_coverage` is the hypothesis the signatures test an answer
+    against: on triangles and paths of the fuzz families, exactly the known-bad trapezoid
+    filler that builds its edges from consecutive vertex pairs (rows left inside end at
+    their last crossing), and never the oracle's on all of them (the open outline differs)."""
+    from cases.fuzz import generate
+    from harness.api import PathScene
+    from harness.winding import UNBALANCED_ROWS, open_outline_coverage
+    from tests.known_bad.paths import PathFillBug
+
+    bad = PathFillBug("open-contours")
+
+    def fragments(coverage, scene):
+        t, x, y = coverage.pixels()
+        inside = (x >= 0) & (x < scene.width) & (y >= 0) & (y < scene.height)
+        return set(zip(t[inside].tolist(), x[inside].tolist(), y[inside].tolist()))
+    differs = 0
+    for family in ("lattice", "float", "paths"):
+        for index in range(12):
+            scene = generate(family, 0, index).scene
+            assert isinstance(scene, (Scene, PathScene))
+            predicted = fragments(open_outline_coverage(scene, bad.convention, "last-crossing"), scene)
+            assert predicted == fragments(bad.rasterize(scene), scene), (family, index)
+            differs += predicted != fragments(exact_coverage(scene, bad.convention), scene)
+    assert differs >= 30
+    # the other rule fills a row left inside to the screen's edge
+    tri = Scene(8, 4, np.array([[[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]]))
+    spans = {rule: open_outline_coverage(tri, Convention(), rule) for rule in UNBALANCED_ROWS}
+    assert len(spans["last-crossing"]) == 0
+    assert spans["to-edge"].x1.tolist() == [8, 8, 8, 8] and spans["to-edge"].x0.tolist() == [3, 2, 1, 0]
+    with pytest.raises(ValueError, match="unbalanced"):
+        open_outline_coverage(tri, Convention(), "both")
