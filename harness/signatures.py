@@ -38,6 +38,11 @@ class                            convention part     when
                                                      [2^a, 2^b): 2^12, 2^24 (float32's integers),
                                                      2^31 (int32), 2^53 (float64's integers), 2^63
                                                      (int64), 2^128 (float32's range), beyond
+``overflow-below-2^12``          none                (triangles) not every wrong sample on or near an
+                                                     edge, and the wrong triangles, each at least
+                                                     64 px long, are drawn right scaled down under
+                                                     that (evidence ``size_trial``): a range that gives
+                                                     out early (int32 products of fixed point)
 ``culling``                      culling             every wrong deviation is a missing fragment of a
                                                      primitive drawn not at all, and moved by quarter
                                                      pixels it is never drawn, its other winding is
@@ -159,6 +164,7 @@ _WORDS = {
     "culling": "whole primitives of one winding missing",
     "dropped-primitive": "whole primitives missing",
     "open-contour": "drawn as if each contour's closing edge were missing",
+    "overflow-below-2^12": "wrong on large triangles, right made smaller (a range that gives out below 2^12)",
     "far-from-edge": "samples away from every edge decided wrongly",
     "far-from-tie": "pixels away from the rule's ties drawn wrongly",
     "end-pixel": "pixels at a segment's end drawn wrongly",
@@ -286,7 +292,8 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case | Mo
     conformance and invariance, ``viewport_edge`` (:func:`harness.repro.viewport_edge_probe`:
     the case passes moved into a grown screen; ``viewport_edge_refuted`` when it still
     fails) and ``input_precision`` (:func:`harness.repro.input_precision_probe`: it passes
-    rounded as the library receives it), ``tie_trial`` (wrong only exactly on edges: do the
+    rounded as the library receives it), ``size_trial`` (:func:`_size_trial`: large wrong
+    triangles scaled down), ``tie_trial`` (wrong only exactly on edges: do the
     wrong triangles pass shifted off them? :func:`_tie_trial`); for the motion checks
     (jaggy, texel, perspective, popping), ``input_precision`` as above for the whole
     sequence, else ``frame_failure`` (a frame the failure names, judged alone, fails
@@ -323,7 +330,12 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case | Mo
             tie = _tie_trial(result, case, judge, convention_for(rasterizer, case.scene))
             if tie is not None:
                 evidence["tie_trial"] = tie
-        if "dropped_trial" not in evidence and "input_precision" not in evidence:
+        if "size_trial" not in evidence and "input_precision" not in evidence:
+            size = _size_trial(result, case, judge, convention_for(rasterizer, case.scene))
+            if size is not None:
+                evidence["size_trial"] = size
+        if "dropped_trial" not in evidence and "input_precision" not in evidence \
+                and not evidence.get("size_trial", {}).get("passes"):
             dropped = _dropped_trial(result, case, judge, convention_for(rasterizer, case.scene))
             if dropped is not None:
                 evidence["dropped_trial"] = dropped
@@ -519,6 +531,68 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
     return found
 
 
+# the size trial: wrong triangles at least this long (px, their bounding box's longer
+# side) and below the overflow classes (2**12) are tried scaled down under it
+SIZE_TRIAL_EXTENT = 64.0
+
+
+def _size_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str], list[Any]],
+                convention: Convention | None) -> dict[str, Any] | None:
+    """Whether triangles wrong at their size are right made smaller: a range that gives out
+    early -- int32 edge functions of 8-bit fixed point wrap from about 181 px, long before
+    any coordinate reaches the overflow classes' 2**12 -- rather than a convention part's
+    error, which shows at any size. Each wrong triangle (near ties aside) at least
+    :data:`SIZE_TRIAL_EXTENT` px long and under 2**12 px from the origin is scaled by the
+    power of two bringing it under that length, moved by whole pixels to the screen's
+    centre, made :data:`GROWN_THICKNESS` px thick (:func:`_thickened`: a size, not a
+    shape, is tried), in 16 copies moved by quarter pixels
+    (:data:`DROPPED_SHIFTS`), judged in one call. Returns ``{"scales": [...], "copies": n,
+    "right": k, "passes": bool}`` (copies the oracle covers, those drawn exactly right;
+    passes when 4 copies at least cover samples and all are right); None when it does not
+    apply."""
+    from harness.oracle import exact_coverage
+
+    scene = case.scene
+    if result.check != "conformance" or convention is None or not isinstance(scene, Scene):
+        return None
+    wrong = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict) and isinstance(p.get("triangle"), int)
+             and not p.get("near_tie")]
+    if not wrong:
+        return None
+    prims = np.array(sorted({int(p["triangle"]) for p in wrong}), dtype=np.int64)
+    subset = scene.subset(prims)
+    positions = subset.positions
+    if not np.isfinite(positions).all() or np.abs(positions).max(initial=0.0) >= 2.0**OVERFLOW_EDGES[0]:
+        return None
+    extent = (positions.max(axis=1) - positions.min(axis=1)).max(axis=1)
+    if not (extent >= SIZE_TRIAL_EXTENT).all():
+        return None  # a small one wrong too: not (only) its size
+    scales = 2.0 ** -(np.floor(np.log2(extent / SIZE_TRIAL_EXTENT)) + 1)  # under it, by a power of two
+    # about its centroid's pixel, moved by whole pixels to the screen's centre, made thick
+    # as a grown copy (a sliver scaled down covers no sample)
+    centroid = np.floor(positions.mean(axis=1, keepdims=True))
+    centre = np.array([scene.width // 2, scene.height // 2], dtype=np.float64)
+    smaller = _thickened(centre + (positions - centroid) * scales[:, None, None], GROWN_THICKNESS)
+    shifts = np.repeat(np.array(DROPPED_SHIFTS), len(subset), axis=0)[:, None, :]
+    tile = lambda a: None if a is None else np.concatenate([a] * len(DROPPED_SHIFTS))  # noqa: E731
+    copies = Scene(scene.width, scene.height, tile(smaller) + shifts, tile(subset.attributes), tile(subset.w))
+    n = len(copies)
+    oracle = exact_coverage(copies, convention)
+    want = np.bincount(oracle.pixels()[0], minlength=n)[:n] > 0
+    verdicts = [r for r in judge(Case(f"{case.id}/smaller", copies, lattice=True), "conformance") if r.check == "conformance"]
+    if not verdicts:
+        return None
+    if verdicts[0].status == "pass":
+        right = want
+    elif (drawn := _answer(verdicts[0])) is not None:
+        right = want & _drawn_exactly(drawn, oracle, n, scene.width, scene.height)
+    else:
+        return None
+    found: dict[str, Any] = {"scales": scales.tolist(), "copies": int(want.sum()), "right": int(right.sum())}
+    found["passes"] = found["copies"] >= 4 and found["right"] == found["copies"]
+    return found
+
+
 def _drawn_exactly(answer: Coverage, oracle: Coverage, n: int, width: int, height: int) -> NDArray[np.bool_]:
     """(n,) bool: the primitives whose fragments in the viewport are exactly the oracle's."""
     def keys(coverage: Coverage) -> NDArray[np.int64]:
@@ -527,6 +601,25 @@ def _drawn_exactly(answer: Coverage, oracle: Coverage, n: int, width: int, heigh
         return np.unique((t[keep] * height + y[keep]) * width + x[keep])
     differ = np.setxor1d(keys(answer), keys(oracle), assume_unique=True) // (width * height)
     return np.bincount(differ, minlength=n)[:n] == 0
+
+
+def _thickened(p: NDArray[np.float64], thickness: float) -> NDArray[np.float64]:
+    """(N, 3, 2) triangles with each far vertex moved away from its longest edge until
+    the triangle is at least ``thickness`` px thick there (its winding kept; a flat one's
+    far vertex goes to the edge's left)."""
+    p = p.copy()
+    with np.errstate(all="ignore"):
+        sides = p[:, [1, 2, 0]] - p
+        rows = np.arange(len(p))
+        k = np.hypot(sides[..., 0], sides[..., 1]).argmax(axis=1)
+        a, b, c = p[rows, k], p[rows, (k + 1) % 3], p[rows, (k + 2) % 3]
+        d = b - a
+        length = np.hypot(d[:, 0], d[:, 1])
+        cross = d[:, 0] * (c[:, 1] - a[:, 1]) - d[:, 1] * (c[:, 0] - a[:, 0])
+        side = np.where(cross < 0, -1.0, 1.0)
+        normal = np.stack([-d[:, 1], d[:, 0]], axis=-1) / length[:, None] * side[:, None]
+        p[rows, (k + 2) % 3] = c + normal * np.maximum(thickness - np.abs(cross) / length, 0.0)[:, None]
+    return p
 
 
 # the grown trial: each never-drawn triangle made this many pixels thick and long
@@ -548,23 +641,12 @@ def _grown_trial(subset: Scene, case: Case, judge: Callable[[Case | MotionCase, 
         return None
     with np.errstate(all="ignore"):
         sides = p[:, [1, 2, 0]] - p
-        lengths = np.hypot(sides[..., 0], sides[..., 1])
-        longest = lengths.max(axis=1)
+        longest = np.hypot(sides[..., 0], sides[..., 1]).max(axis=1)
         if not (longest > 0).all():
             return None
         scales = 2.0 ** np.ceil(np.log2(np.maximum(GROWN_THICKNESS / longest, 1.0)))
         centroid = p.mean(axis=1, keepdims=True)
-        grown = centroid + (p - centroid) * scales[:, None, None]
-        rows = np.arange(len(p))
-        k = lengths.argmax(axis=1)
-        a, b, c = grown[rows, k], grown[rows, (k + 1) % 3], grown[rows, (k + 2) % 3]
-        d = b - a
-        length = np.hypot(d[:, 0], d[:, 1])
-        cross = d[:, 0] * (c[:, 1] - a[:, 1]) - d[:, 1] * (c[:, 0] - a[:, 0])
-        side = np.where(cross < 0, -1.0, 1.0)
-        normal = np.stack([-d[:, 1], d[:, 0]], axis=-1) / length[:, None] * side[:, None]
-        thickness = np.abs(cross) / length
-        grown[rows, (k + 2) % 3] = c + normal * np.maximum(GROWN_THICKNESS - thickness, 0.0)[:, None]
+        grown = _thickened(centroid + (p - centroid) * scales[:, None, None], GROWN_THICKNESS)
     if not np.isfinite(grown).all():
         return None
     grown_case = Case(f"{case.id}/grown", subset.with_coordinates(grown))
@@ -1147,6 +1229,10 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
     overflow = overflow_class(magnitude)
     if overflow is not None:
         return overflow, "none"
+    size = evidence.get("size_trial")
+    if isinstance(size, dict) and size.get("passes") and not exact and not near:
+        # wrong at its size, right made smaller: a range that gives out below 2**12
+        return "overflow-below-2^12", "none"
     # a primitive wholly missing whose only wrong samples are exact ties is a tie rule's
     # error (a sliver whose one sample lies on its edge), not a dropped primitive
     if int(copies.get("copies", 0)) and not int(copies.get("drawn", 0)):
