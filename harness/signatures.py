@@ -31,9 +31,10 @@ class                            convention part     when
                                                      inside ending at its last crossing or at the
                                                      screen's edge, and differently from the oracle
                                                      and from nothing (:func:`harness.winding.
-                                                     open_outline_coverage`); missing whole: their
-                                                     copies of the other winding are so drawn
-                                                     (evidence ``dropped_trial``). At any magnitude
+                                                     open_outline_coverage`); missing whole: with
+                                                     their copies in other vertex orders, drawn in
+                                                     part, they are so drawn (evidence
+                                                     ``dropped_trial``). At any magnitude
 ``overflow-2^a..2^b``            none                a wrong primitive's largest |coordinate| lies in
                                                      [2^a, 2^b): 2^12, 2^24 (float32's integers),
                                                      2^31 (int32), 2^53 (float64's integers), 2^63
@@ -213,15 +214,21 @@ class Signature:
         """The cause the signature points at, which several signatures may share: the
         convention part when one is involved (a wrong tie rule is one cause whichever check,
         edge direction or frame shows it), else the failure class -- the overflow ranges as
-        one (``overflow``), the attribute failures as one (``attributes``).
+        one (``overflow``), the attribute failures as one (``attributes``), a call slower
+        than its peers and one with no answer in time as one (``slow``: a rasterizer slow on
+        some input goes past the time limit on a loaded machine).
 
         >>> Signature("jaggy", "exact-tie-vertex", "tie-rule").cause, Signature("watertight", "overflow-2^53..2^63", "none").cause
         ('tie-rule', 'overflow')
+        >>> Signature("run", "hang", "none").cause, Signature("degenerate", "slow", "none").cause
+        ('slow', 'slow')
         """
         if self.convention_part != "none":
             return self.convention_part
         if self.failure_class.startswith("overflow-"):
             return "overflow"
+        if self.failure_class in ("slow", "hang"):
+            return "slow"
         if self.failure_class in ATTRIBUTE_CLASSES:
             return "attributes"
         return self.failure_class
@@ -473,7 +480,11 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
 
     scene = case.scene
     answer = _answer(result)
-    if result.check != "conformance" or not isinstance(scene, Scene) or convention is None or answer is None:
+    if result.check != "conformance" or convention is None or answer is None:
+        return None
+    if isinstance(scene, PathScene):
+        return _path_orders_trial(result, case, judge, convention, answer)
+    if not isinstance(scene, Scene):
         return None
     listed = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict)]
     wrong = [p for p in listed if not p.get("near_tie")] or listed  # near ties excused, as the classes read them
@@ -590,6 +601,54 @@ def _size_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str
         return None
     found: dict[str, Any] = {"scales": scales.tolist(), "copies": int(want.sum()), "right": int(right.sum())}
     found["passes"] = found["copies"] >= 4 and found["right"] == found["copies"]
+    return found
+
+
+def _path_orders_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str], list[Any]],
+                       convention: Convention, answer: Coverage) -> dict[str, Any] | None:
+    """The dropped trial of paths missing whole (near ties aside): the same paths with
+    every contour started at its second and at its third vertex, drawn in one call with
+    the paths as given. A dropper draws none; an open outline (:func:`_open_outline`) draws
+    some, all exactly as it predicts. Returns ``{"rotated_copies": n, "rotated_drawn": k, "open_contour": bool}``
+    (copies the oracle covers, those drawn something of), None when it does not apply."""
+    from harness.oracle import exact_coverage
+
+    scene = case.scene
+    listed = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict)]
+    wrong = [p for p in listed if not p.get("near_tie")] or listed
+    if not wrong or any(p.get("kind") != "missing" or not isinstance(p.get("path"), int) for p in wrong):
+        return None
+    prims = np.array(sorted({int(p["path"]) for p in wrong}), dtype=np.int64)
+    if np.isin(answer.pixels()[0], prims).any():
+        return None  # drawn in part: not missing whole
+    subset = scene.subset(prims)
+    if not isinstance(subset, PathScene) or not np.isfinite(subset.vertices).all():
+        return None
+    starts = np.concatenate([[0], np.cumsum(subset.contour_sizes)])
+    contours = [subset.vertices[a:b] for a, b in zip(starts[:-1], starts[1:])]
+    rotations = (0, 1, 2)  # with the paths as given: missing, as the hypothesis must predict too
+    vertices = np.concatenate([np.roll(c, -r, axis=0) for r in rotations for c in contours])
+    owner = np.concatenate([subset.contour_path + k * len(subset) for k in range(len(rotations))])
+    copies = PathScene(scene.width, scene.height, vertices, np.tile(subset.contour_sizes, len(rotations)), owner,
+                       subset.fill_rule)
+    n = len(copies)
+    want = np.bincount(exact_coverage(copies, convention).pixels()[0], minlength=n)[:n] > 0
+    verdicts = [r for r in judge(Case(f"{case.id}/other-orders", copies, lattice=True), "conformance")
+                if r.check == "conformance"]
+    if not verdicts:
+        return None
+    got = _answer(verdicts[0])
+    if verdicts[0].status == "pass" or got is None:
+        if verdicts[0].status != "pass":
+            return None
+        drawn = want
+    else:
+        pixels = got.pixels()[0]
+        drawn = np.bincount(pixels[(pixels >= 0) & (pixels < n)], minlength=n)[:n] > 0
+    rotated = slice(len(subset), n)
+    found: dict[str, Any] = {"rotated_copies": int(want[rotated].sum()), "rotated_drawn": int((want & drawn)[rotated].sum())}
+    found["open_contour"] = bool(found["rotated_drawn"]) and verdicts[0].status == "fail" and got is not None \
+        and _open_outline(got, copies, np.arange(n), convention)
     return found
 
 
@@ -1094,7 +1153,7 @@ def _open_outline(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], c
         try:
             predicted = _pixel_set(open_outline_coverage(subset, convention, rule), np.arange(len(prims)), identity,
                                    scene.width, scene.height)
-        except ValueError:  # beyond the exact predicates' range
+        except ValueError:  # a scene it cannot take
             return False
         if predicted == got:
             return unlike is None or got != unlike(_pixel_set(exact_coverage(subset, convention), np.arange(len(prims)),

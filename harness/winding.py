@@ -433,7 +433,8 @@ def open_outline_coverage(scene: Scene | PathScene, convention: Convention, unba
     spans between crossings) or ``"to-edge"`` (a span left open runs to the viewport's
     right edge, as a scanline filler that fills until the winding returns to zero).
     Everything else is :func:`path_coverage`'s: the same crossings, ties, snapping and
-    fill rule (triangles: one path each, nonzero; culling ignored). Single-sample only.
+    fill rule (triangles: one path each, nonzero; culling ignored), for any finite float.
+    Single-sample only.
 
     >>> from harness.api import Scene
     >>> tri = Scene(4, 4, np.array([[[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]]))  # closing edge: (0, 4) -> (0, 0)
@@ -449,8 +450,25 @@ def open_outline_coverage(scene: Scene | PathScene, convention: Convention, unba
     else:
         n = len(scene)
         vertices, sizes, paths, fill_rule = scene.positions.reshape(-1, 2), np.full(n, 3), np.arange(n), "nonzero"
-    vertices, lengths, paths, keep = _snapped(vertices, sizes, paths, convention, True)
-    return Coverage(*_spans(vertices, lengths, paths, keep, fill_rule, convention, scene.width, scene.height, unbalanced))
+    vertices, lengths, paths, keep = _snapped(vertices, sizes, paths, convention, False)
+    beyond = _beyond(vertices) & np.repeat(keep, lengths)
+    unsafe = np.unique(np.repeat(paths, lengths)[beyond])
+    p, y, x0, x1 = _spans(vertices, lengths, paths, keep & ~np.isin(paths, unsafe), fill_rule, convention,
+                          scene.width, scene.height, unbalanced)
+    if unsafe.size:  # beyond the float filter: row by row in rational arithmetic, as path_coverage
+        ends = np.cumsum(lengths)
+        extra = [(int(path), j, a, b) for path in unsafe
+                 for j, a, b in _rows_rational([(float(u[0]), float(u[1]), float(v[0]), float(v[1]))
+                                                for c in np.flatnonzero(paths == path)
+                                                for u, v in zip(vertices[ends[c] - lengths[c]:ends[c] - 1],
+                                                                vertices[ends[c] - lengths[c] + 1:ends[c]])],
+                                               fill_rule, convention, scene.width, scene.height, unbalanced)]
+        if extra:
+            more = np.array(extra, dtype=np.int64).T
+            p, y, x0, x1 = (np.concatenate([u, w]) for u, w in zip((p, y, x0, x1), more))
+        order = np.lexsort((x0, y, p))
+        p, y, x0, x1 = p[order], y[order], x0[order], x1[order]
+    return Coverage(p, y, x0, x1)
 
 
 def path_spans_rational(
@@ -533,10 +551,12 @@ def path_spans_rational(
 
 
 def _rows_rational(edges: list[tuple[float, float, float, float]], fill_rule: str, convention: Convention,
-                   width: int, height: int) -> list[tuple[int, int, int]]:
+                   width: int, height: int, unbalanced: str | None = None) -> list[tuple[int, int, int]]:
     """One path's spans (row, x0, x1) row by row in exact rational arithmetic: the same
     method as the kernels (crossings per sample row, placed exactly), for any finite
-    float -- the oracle's way for paths whose coordinates the float filter cannot take."""
+    float -- the oracle's way for paths whose coordinates the float filter cannot take.
+    A row still inside after its last crossing (edges that do not close) ends at that
+    crossing when ``unbalanced`` is ``"last-crossing"``, else at the viewport's edge."""
     sx, sy = (Fraction(v) for v in convention.sample)
     tx, ty, y_first = convention.tie_perturbation
     exact = [tuple(Fraction(c) for c in e) for e in edges if e[1] != e[3]]  # horizontal edges never cross
@@ -572,8 +592,9 @@ def _rows_rational(edges: list[tuple[float, float, float, float]], fill_rule: st
                 if column > start:
                     out.append((j, start, column))
                 start = None
-        if start is not None and width > start:
-            out.append((j, start, width))
+        end = events[-1][0] if unbalanced == "last-crossing" and events else width
+        if start is not None and end > start:
+            out.append((j, start, end))
     return out
 
 

@@ -388,6 +388,8 @@ def test_the_dropped_trial_tells_a_drop_from_culling_and_from_a_miss(name, famil
 @pytest.mark.parametrize("family, index, unprobed", [
     # drawn in part: the answer alone tells (campaigns read the fill rule, the sample point)
     ("paths", 0, "conformance|open-contour|none"),
+    # a path missing whole: started at another vertex it is drawn (campaigns: a drop)
+    ("paths", 3, "conformance|dropped-primitive|none"),
     ("degenerate", 3, "conformance|open-contour|none"),
     # missing whole: its other vertex orders are drawn
     ("degenerate", 0, "conformance|dropped-primitive|none"),
@@ -408,6 +410,39 @@ def test_a_filler_that_leaves_its_contours_open_is_one_cause(family, index, unpr
     assert signature(probed, case, bad.convention).key == "conformance|open-contour|none"
     if unprobed != "conformance|open-contour|none":
         assert probed.evidence["dropped_trial"]["open_contour"] is True
+
+
+class _DropsFewVertexPaths:
+    """Broken on purpose: the oracle's coverage without the paths of fewer than five
+    vertices -- whichever vertex their contours start at."""
+
+    convention = Convention()
+    scene_kinds = ("paths",)
+    fill_rules = ("nonzero", "evenodd")
+    interpolates = False
+    name = "drops_few_vertex_paths"
+
+    def rasterize(self, scene):
+        from harness.oracle import exact_coverage
+
+        full = exact_coverage(scene, self.convention)
+        small = np.bincount(scene.contour_path, weights=scene.contour_sizes, minlength=len(scene)) < 5
+        return full.take(np.flatnonzero(~small[full.primitive]))
+
+
+def test_a_path_dropper_is_not_an_open_outline():
+    """The other side for paths: a path dropped whatever its start vertex stays a drop."""
+    bad = _DropsFewVertexPaths()
+    judge = _judge_of(bad)
+    for index in range(40):
+        case = generate("paths", 0, index)
+        failed = [r for r in judge(case, "conformance") if r.status == "fail"]
+        if failed:
+            break
+    probed = with_probes(failed[0], case, judge, bad)
+    trial = probed.evidence["dropped_trial"]
+    assert trial["rotated_copies"] > 0 and trial["rotated_drawn"] == 0 and trial["open_contour"] is False
+    assert signature(probed, case, bad.convention).key == "conformance|dropped-primitive|none"
 
 
 def test_a_culler_is_not_an_open_outline():

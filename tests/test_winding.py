@@ -255,3 +255,15 @@ def test_an_open_outline_is_what_a_filler_that_forgets_the_closing_edge_draws():
     assert spans["to-edge"].x1.tolist() == [8, 8, 8, 8] and spans["to-edge"].x0.tolist() == [3, 2, 1, 0]
     with pytest.raises(ValueError, match="unbalanced"):
         open_outline_coverage(tri, Convention(), "both")
+
+
+def test_an_open_outline_beyond_the_float_filter_is_decided_in_rationals():
+    """A vertex beyond 2**450 takes the rational row-by-row way, with the same rule for
+    rows left inside: the same spans as a vertex at 2**40, whose edge is as steep here."""
+    from harness.winding import UNBALANCED_ROWS, open_outline_coverage
+
+    for rule in UNBALANCED_ROWS:
+        spans = [open_outline_coverage(Scene(12, 4, np.array([[[0.0, 0.0], [8.0, 0.0], [0.0, 2.0**k]]])), Convention(), rule)
+                 for k in (40, 500)]
+        assert [(c.y.tolist(), c.x0.tolist(), c.x1.tolist()) for c in spans] == \
+            [([], [], []) if rule == "last-crossing" else ([0, 1, 2, 3], [8] * 4, [12] * 4)] * 2
