@@ -555,12 +555,13 @@ def _size_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str
     error, which shows at any size. Each wrong triangle (near ties aside) at least
     :data:`SIZE_TRIAL_EXTENT` px long and under 2**12 px from the origin is scaled by the
     power of two bringing it under that length, moved by whole pixels to the screen's
-    centre, made :data:`GROWN_THICKNESS` px thick (:func:`_thickened`: a size, not a
-    shape, is tried), in 16 copies moved by quarter pixels
-    (:data:`DROPPED_SHIFTS`), judged in one call. Returns ``{"scales": [...], "copies": n,
-    "right": k, "passes": bool}`` (copies the oracle covers, those drawn exactly right;
-    passes when 4 copies at least cover samples and all are right); None when it does not
-    apply."""
+    centre, in 16 copies moved by quarter pixels (:data:`DROPPED_SHIFTS`) and 16 more made
+    :data:`GROWN_THICKNESS` px thick (:func:`_thickened`: a sliver scaled down covers
+    few samples), judged in one call. Returns ``{"scales": [...], "shaped": m,
+    "shaped_right": j, "copies": n, "right": k, "passes": bool}`` (copies the oracle
+    covers, of them those drawn exactly right, in shape and thick; passes when every one
+    is right, one in shape and four thick at least -- a dropper of small areas drops the
+    ones in shape); None when it does not apply."""
     from harness.oracle import exact_coverage
 
     scene = case.scene
@@ -583,10 +584,14 @@ def _size_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str
     # as a grown copy (a sliver scaled down covers no sample)
     centroid = np.floor(positions.mean(axis=1, keepdims=True))
     centre = np.array([scene.width // 2, scene.height // 2], dtype=np.float64)
-    smaller = _thickened(centre + (positions - centroid) * scales[:, None, None], GROWN_THICKNESS)
+    smaller = centre + (positions - centroid) * scales[:, None, None]
+    # each in its shape and made thick: a dropper of small areas drops the first, and a
+    # sliver's first may cover no sample
     shifts = np.repeat(np.array(DROPPED_SHIFTS), len(subset), axis=0)[:, None, :]
-    tile = lambda a: None if a is None else np.concatenate([a] * len(DROPPED_SHIFTS))  # noqa: E731
-    copies = Scene(scene.width, scene.height, tile(smaller) + shifts, tile(subset.attributes), tile(subset.w))
+    tile = lambda a: None if a is None else np.concatenate([a] * len(DROPPED_SHIFTS) * 2)  # noqa: E731
+    both = np.concatenate([np.concatenate([smaller] * len(DROPPED_SHIFTS)) + shifts,
+                           np.concatenate([_thickened(smaller, GROWN_THICKNESS)] * len(DROPPED_SHIFTS)) + shifts])
+    copies = Scene(scene.width, scene.height, both, tile(subset.attributes), tile(subset.w))
     n = len(copies)
     oracle = exact_coverage(copies, convention)
     want = np.bincount(oracle.pixels()[0], minlength=n)[:n] > 0
@@ -599,8 +604,11 @@ def _size_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str
         right = want & _drawn_exactly(drawn, oracle, n, scene.width, scene.height)
     else:
         return None
-    found: dict[str, Any] = {"scales": scales.tolist(), "copies": int(want.sum()), "right": int(right.sum())}
-    found["passes"] = found["copies"] >= 4 and found["right"] == found["copies"]
+    shaped, thick = slice(0, n // 2), slice(n // 2, n)
+    found: dict[str, Any] = {"scales": scales.tolist(), "shaped": int(want[shaped].sum()), "shaped_right": int(right[shaped].sum()),
+                             "copies": int(want[thick].sum()), "right": int(right[thick].sum())}
+    found["passes"] = found["copies"] >= 4 and found["right"] == found["copies"] \
+        and found["shaped"] >= 1 and found["shaped_right"] == found["shaped"]
     return found
 
 

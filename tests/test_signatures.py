@@ -458,24 +458,26 @@ def test_a_culler_is_not_an_open_outline():
     assert signature(probed, case, bad.convention).key == "conformance|culling|culling"
 
 
-@pytest.mark.parametrize("name, index, unprobed, expected", [
+@pytest.mark.parametrize("name, family, index, unprobed, expected", [
     # int32 edge functions of 8-bit fixed point wrap on triangles a few hundred pixels
     # long, far below 2**12: campaigns read the sample point and drops
-    ("bad_int32_fixed_point", 12, "conformance|far-from-edge|sample-point", "conformance|overflow-below-2^12|none"),
-    ("bad_int32_fixed_point", 28, "conformance|dropped-primitive|none", "conformance|overflow-below-2^12|none"),
+    ("bad_int32_fixed_point", "meshes", 12, "conformance|far-from-edge|sample-point", "conformance|overflow-below-2^12|none"),
+    ("bad_int32_fixed_point", "meshes", 28, "conformance|dropped-primitive|none", "conformance|overflow-below-2^12|none"),
     # a missing prestep is wrong at any size: scaled down, still wrong
-    ("bad_no-prestep", 12, "conformance|far-from-edge|sample-point", "conformance|far-from-edge|sample-point"),
+    ("bad_no-prestep", "meshes", 12, "conformance|far-from-edge|sample-point", "conformance|far-from-edge|sample-point"),
+    # a long sliver of small area: made thick it is drawn, in its shape still dropped
+    ("bad_min-area", "float", 3920, "conformance|dropped-primitive|none", "conformance|dropped-primitive|none"),
 ])
-def test_the_size_trial_tells_a_range_that_gives_out_early(name, index, unprobed, expected):
-    """Large wrong triangles scaled under 64 px (and made thick, moved on screen): right
-    then, the failure is the arithmetic's range, not a convention part's."""
+def test_the_size_trial_tells_a_range_that_gives_out_early(name, family, index, unprobed, expected):
+    """Large wrong triangles scaled under 64 px (in shape and made thick, moved on
+    screen): right then, the failure is the arithmetic's range, not a convention part's."""
     from tests.known_bad.catalogue import KNOWN_BAD
 
     bad = KNOWN_BAD[name]
-    case, _, failed, probed = _one_failure(bad, "meshes", index, "conformance")
+    case, _, failed, probed = _one_failure(bad, family, index, "conformance")
     assert signature(failed, case, bad.convention).key == unprobed
     trial = probed.evidence["size_trial"]
-    assert trial["copies"] >= 16 and trial["passes"] is (expected != unprobed)
+    assert trial["copies"] >= 16 and trial["shaped"] >= 1 and trial["passes"] is (expected != unprobed)
     assert signature(probed, case, bad.convention).key == expected
 
 
