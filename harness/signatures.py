@@ -486,13 +486,9 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
         return _path_orders_trial(result, case, judge, convention, answer)
     if not isinstance(scene, Scene):
         return None
-    listed = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict)]
-    wrong = [p for p in listed if not p.get("near_tie")] or listed  # near ties excused, as the classes read them
-    if not wrong or any(p.get("kind") != "missing" or not isinstance(p.get("triangle"), int) for p in wrong):
+    prims = _missing_whole(result, answer, "triangle")
+    if prims is None:
         return None
-    prims = np.array(sorted({int(p["triangle"]) for p in wrong}), dtype=np.int64)
-    if np.isin(answer.pixels()[0], prims).any():
-        return None  # drawn in part: not missing whole
     subset = scene.subset(prims)
     if not np.isfinite(subset.positions).all():
         return None
@@ -612,6 +608,18 @@ def _size_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str
     return found
 
 
+def _missing_whole(result: Any, answer: Coverage, noun: str) -> NDArray[np.int64] | None:
+    """The primitives (``noun``: triangle or path) a conformance failure finds wrong, when
+    every wrong deviation -- near ties excused, as the classes read them -- is a missing
+    fragment of a primitive the answer draws nothing of; else None."""
+    listed = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict)]
+    wrong = [p for p in listed if not p.get("near_tie")] or listed
+    if not wrong or any(p.get("kind") != "missing" or not isinstance(p.get(noun), int) for p in wrong):
+        return None
+    prims = np.array(sorted({int(p[noun]) for p in wrong}), dtype=np.int64)
+    return None if np.isin(answer.pixels()[0], prims).any() else prims  # drawn in part: not missing whole
+
+
 def _path_orders_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str], list[Any]],
                        convention: Convention, answer: Coverage) -> dict[str, Any] | None:
     """The dropped trial of paths missing whole (near ties aside): the same paths with
@@ -622,13 +630,9 @@ def _path_orders_trial(result: Any, case: Case, judge: Callable[[Case | MotionCa
     from harness.oracle import exact_coverage
 
     scene = case.scene
-    listed = [p for p in result.evidence.get("pixels", []) if isinstance(p, dict)]
-    wrong = [p for p in listed if not p.get("near_tie")] or listed
-    if not wrong or any(p.get("kind") != "missing" or not isinstance(p.get("path"), int) for p in wrong):
+    prims = _missing_whole(result, answer, "path")
+    if prims is None:
         return None
-    prims = np.array(sorted({int(p["path"]) for p in wrong}), dtype=np.int64)
-    if np.isin(answer.pixels()[0], prims).any():
-        return None  # drawn in part: not missing whole
     subset = scene.subset(prims)
     if not isinstance(subset, PathScene) or not np.isfinite(subset.vertices).all():
         return None
