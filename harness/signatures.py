@@ -531,7 +531,7 @@ def _dropped_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, 
         # between two other vertices now), and not as a culler draws it (the other winding right)?
         found["open_contour"] = _open_outline(drawn, copies, np.arange(n), convention,
                                               lambda right: {f for f in right if copies_of <= f[0] < 2 * copies_of})
-    if found["copies"] and not found["drawn"] and not culled and not found.get("open_contour"):  # a culler draws the other winding right
+    if found["copies"] and not found["drawn"] and not culled and not found.get("open_contour"):
         grown = _grown_trial(subset, case, judge, convention)
         if grown is not None:
             found["grown"] = grown
@@ -649,18 +649,14 @@ def _path_orders_trial(result: Any, case: Case, judge: Callable[[Case | MotionCa
                 if r.check == "conformance"]
     if not verdicts:
         return None
-    got = _answer(verdicts[0])
-    if verdicts[0].status == "pass" or got is None:
-        if verdicts[0].status != "pass":
-            return None
-        drawn = want
-    else:
-        pixels = got.pixels()[0]
-        drawn = np.bincount(pixels[(pixels >= 0) & (pixels < n)], minlength=n)[:n] > 0
+    got = None if verdicts[0].status == "pass" else _answer(verdicts[0])
+    if got is None and verdicts[0].status != "pass":
+        return None
+    pixels = got.pixels()[0] if got is not None else np.zeros(0, dtype=np.int64)
+    drawn = want if got is None else np.bincount(pixels[(pixels >= 0) & (pixels < n)], minlength=n)[:n] > 0
     rotated = slice(len(subset), n)
     found: dict[str, Any] = {"rotated_copies": int(want[rotated].sum()), "rotated_drawn": int((want & drawn)[rotated].sum())}
-    found["open_contour"] = bool(found["rotated_drawn"]) and verdicts[0].status == "fail" and got is not None \
-        and _open_outline(got, copies, np.arange(n), convention)
+    found["open_contour"] = got is not None and bool(found["rotated_drawn"]) and _open_outline(got, copies, np.arange(n), convention)
     return found
 
 
@@ -1165,7 +1161,7 @@ def _open_outline(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], c
         try:
             predicted = _pixel_set(open_outline_coverage(subset, convention, rule), np.arange(len(prims)), identity,
                                    scene.width, scene.height)
-        except ValueError:  # a scene it cannot take
+        except ValueError:  # a convention or scene it does not take
             return False
         if predicted == got:
             return unlike is None or got != unlike(_pixel_set(exact_coverage(subset, convention), np.arange(len(prims)),
@@ -1286,7 +1282,7 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
     answer = _answer(result)
     if copies.get("open_contour") or (answer is not None and _open_outline(answer, scene, prims, judged)):
         # drawn exactly as with each contour's closing edge left out (missing whole: their
-        # copies of the other winding are): the outline, at any magnitude
+        # copies in other vertex orders are): the outline, at any magnitude
         return "open-contour", "none"
     edges = _edges_of(scene, judged)
     facts = [_edge_facts(*edges[k], np.array([x + judged.sample[0], y + judged.sample[1]]), _magnitude([snapped[k]]),
