@@ -3,6 +3,9 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+# the real-rasterizer adapters' extras that `make` tries, each on its own (CI's bare-machine
+# stage sets none: `make test ADAPTERS=`)
+ADAPTERS ?= skia gl cairo
 
 .PHONY: report test bench clean
 
@@ -12,7 +15,7 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e '.[test]'
 	@# each real-rasterizer adapter on its own, where this machine can build it: one that
 	@# cannot (pycairo without libcairo2-dev) costs only itself, and the report says why
-	@for adapter in skia gl cairo; do \
+	@for adapter in $(ADAPTERS); do \
 		$(BIN)/pip install --quiet -e ".[$$adapter]" >$(VENV)/install-$$adapter.log 2>&1 \
 		|| echo "note: the $$adapter adapter could not be installed (see $(VENV)/install-$$adapter.log and README, Real rasterizers); it is skipped"; \
 	done

@@ -83,6 +83,7 @@ from PIL import Image, ImageDraw
 from harness.api import AnyScene, LineScene, PathScene, Scene, takes
 from harness.campaign import local_cluster
 from harness.conventions import Convention
+from harness.optional import missing
 from harness.oracle import exact_coverage
 from harness.registry import builtins, load
 from cases.scenes import random_triangles
@@ -288,20 +289,14 @@ def _skia_aa(scene: Scene) -> np.ndarray:
 
 
 def _installed(candidates: tuple[tuple[str, str, Callable[[Any], object]], ...]) -> list[tuple[str, Callable[[Any], object]]]:
-    """The (label, fill) of ``candidates`` whose module imports here."""
-    peers: list[tuple[str, Callable[[Any], object]]] = []
-    for label, module, fill in candidates:
-        try:
-            __import__(module)
-        except Exception:  # noqa: BLE001 - not installed (or broken): no peer, the table says which ran
-            continue
-        peers.append((label, fill))
-    return peers
+    """The (label, fill) of ``candidates`` whose module imports here (the others:
+    :func:`missing_peers`)."""
+    return [(label, fill) for label, module, fill in candidates if missing(module) is None]
 
 
 def _library_peers() -> list[tuple[str, Callable[[Scene], object]]]:
     """The anti-aliased library fills that are installed here."""
-    return _installed((("cairo_aa_fill", "cairo", _cairo_aa), ("skia_aa_fill", "skia", _skia_aa)))
+    return _installed(_AA_PEERS)
 
 
 # -- the path peers: each path filled in one call into one 8-bit surface ------------------------
@@ -464,14 +459,33 @@ def _skia_lines(scene: LineScene) -> _Surface:
 
 def _line_peers() -> list[tuple[str, Callable[[LineScene], object]]]:
     """The aliased library line drawers that are installed here."""
-    return _installed((("skimage_line", "skimage", _skimage_lines), ("cairo_line", "cairo", _cairo_lines),
-                       ("skia_hairline", "skia", _skia_lines)))
+    return _installed(_LINE_PEERS)
 
 
 def _path_peers() -> list[tuple[str, Callable[[PathScene], object]]]:
     """The aliased library path fills that are installed here."""
-    return _installed((("cairo_fill", "cairo", _cairo_paths), ("skia_fill", "skia", _skia_paths),
-                       ("skimage_polygon", "skimage", _skimage_paths)))
+    return _installed(_PATH_PEERS)
+
+
+# Every library peer, once: its label, the module it needs, and how it draws a workload.
+_AA_PEERS = (("cairo_aa_fill", "cairo", _cairo_aa), ("skia_aa_fill", "skia", _skia_aa))
+_LINE_PEERS = (("skimage_line", "skimage", _skimage_lines), ("cairo_line", "cairo", _cairo_lines),
+               ("skia_hairline", "skia", _skia_lines))
+_PATH_PEERS = (("cairo_fill", "cairo", _cairo_paths), ("skia_fill", "skia", _skia_paths),
+               ("skimage_polygon", "skimage", _skimage_paths))
+
+
+def missing_peers() -> dict[str, str]:
+    """Each library peer not measured here because its module is missing, with the
+    sentence naming the module and its install (:func:`harness.optional.missing`).
+
+    Returns
+    -------
+    dict of str to str
+        ``{label: why}``, empty when every peer is installed.
+    """
+    peers = (*_AA_PEERS, *_LINE_PEERS, *_PATH_PEERS)
+    return {label: why for label, module, _ in peers if (why := missing(module)) is not None}
 
 
 # scikit-image's polygon tests every pixel of a contour's bounding box against each of its
@@ -616,9 +630,11 @@ def format_table(results: list[Measurement], descriptions: dict[str, str]) -> st
     return "\n".join(lines)
 
 
-def write_json(results: Sequence[Measurement | CampaignMeasurement], path: Path, summary: dict[str, Any] | None = None) -> None:
+def write_json(results: Sequence[Measurement | CampaignMeasurement], path: Path, summary: dict[str, Any] | None = None,
+               not_measured: dict[str, str] | None = None) -> None:
     """The measurements as JSON (schema 1), with the machine and the date; ``summary``
-    (e.g. the campaign's speed-up, :func:`campaign_summary`) goes in as ``"summary"``."""
+    (e.g. the campaign's speed-up, :func:`campaign_summary`) goes in as ``"summary"``,
+    and the peers not measured, with why (:func:`missing_peers`), as ``"not_measured"``."""
     from harness.files import atomic_write_text
 
     payload: dict[str, Any] = {
@@ -629,6 +645,8 @@ def write_json(results: Sequence[Measurement | CampaignMeasurement], path: Path,
     }
     if summary is not None:
         payload["summary"] = summary
+    if not_measured:
+        payload["not_measured"] = not_measured
     atomic_write_text(path, json.dumps(payload, indent=2))
 
 

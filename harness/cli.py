@@ -560,7 +560,7 @@ def _replay(args: argparse.Namespace) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
-    from harness.bench import format_table, run_bench, workloads, write_json
+    from harness.bench import format_table, missing_peers, run_bench, workloads, write_json
 
     if args.campaign:
         return _bench_campaign(args)
@@ -573,8 +573,11 @@ def _bench(args: argparse.Namespace) -> int:
     results = run_bench(names, scale=args.scale, budget=args.budget,
                         progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}", file=sys.stderr, flush=True))
     print(format_table(results, {w.name: w.description for w in workloads(args.scale)}))
+    not_measured = missing_peers()
+    for label, why in not_measured.items():  # a library that is not installed costs only its own rows, and says so
+        print(f"not measured: {label}: {why}")
     if args.json:
-        write_json(results, Path(args.json))
+        write_json(results, Path(args.json), not_measured=not_measured)
         print(f"json: {args.json}")
     return 0
 

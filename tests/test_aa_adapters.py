@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from cases.scenes import lattice_triangles, random_triangles
+from tests.optional import need
 from harness.api import Scene
 from harness.area import area_coverage
 from harness.registry import GROUP, Unavailable
@@ -24,7 +25,7 @@ ENTRY_POINTS = {"cairo_aa": "CairoAntialiased", "skia_aa": "SkiaAntialiased", "m
 @pytest.fixture(params=sorted(ALPHA_ADAPTERS))
 def alpha_adapter(request):
     cls, module = ALPHA_ADAPTERS[request.param]
-    pytest.importorskip(module)
+    need(module)
     return getattr(adapters, cls)()
 
 
@@ -159,7 +160,7 @@ def test_edge_sweeps_show_each_grid(alpha_adapter):
 
 
 def test_cairo_keeps_its_declared_tolerance():
-    pytest.importorskip("cairo")
+    need("cairo")
     cairo = adapters.CairoAntialiased()
     convention = cairo.convention
     for scene in (Scene(64, 64, lattice_triangles(60, 64, 2, 1)), Scene(64, 64, random_triangles(60, 40.0, 64, 2))):
@@ -177,7 +178,7 @@ def pixel_keyed(cov, scene):
 def test_cairo_wraps_a_negative_coverage_on_a_sliver():
     """cairo 1.16's scan converter, on a sliver of the quick suite's strip-24 whose two long
     edges meet at a tip: -5/255 of coverage at the tip's pixel, stored as 251/255."""
-    cairo_module = pytest.importorskip("cairo")
+    cairo_module = need("cairo")
     if cairo_module.cairo_version_string() != "1.16.0":
         pytest.skip(f"measured with cairo 1.16.0, not {cairo_module.cairo_version_string()}")
     sliver = [[35.02531253054519, 43.75], [35.047223827580794, 43.75], [48.46737173529964, 20.25]]
@@ -241,7 +242,7 @@ def test_llvmpipe_multisample_equals_the_exact_oracle_of_its_convention():
     """Per-sample coverage read through gl_SampleMaskIn, at the positions GL reports,
     equals the exact multisample oracle (top-left ties, 8 bits) on lattice scenes that hit
     ties on samples; in a fresh process (Mesa picks its driver once per process)."""
-    pytest.importorskip("moderngl")
+    need("moderngl")
     done = subprocess.run([sys.executable, "-c", MULTISAMPLE], capture_output=True, text=True, timeout=120, cwd=ROOT)
     assert done.returncode == 0, done.stdout + done.stderr
     if done.stdout.startswith("UNAVAILABLE"):

@@ -5,7 +5,6 @@ reason saying how to install it.
 """
 
 import json
-import shutil
 import subprocess
 from pathlib import Path
 
@@ -19,8 +18,9 @@ from harness.report import write_report
 from harness.runner import run_suite
 from tests.known_bad.interpolation import InterpolationBug
 from tests.known_bad.misc import WrongTieClaim
+from tests.optional import NO_CHROMIUM, chromium
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser") or shutil.which("google-chrome")
+CHROMIUM = chromium()
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
          "--disable-background-networking", "--disable-component-update", "--disable-sync", "--hide-scrollbars"]
 KEEP = Path(__file__).parent.parent / "reports" / "browser"
@@ -48,7 +48,7 @@ next(0);
 </script></body></html>"""
 
 
-@pytest.mark.skipif(CHROMIUM is None, reason="no Chromium: install Debian's chromium (apt-get install chromium) to run the browser test")
+@pytest.mark.skipif(CHROMIUM is None, reason=NO_CHROMIUM)
 def test_report_renders_in_a_real_browser(tmp_path):
     static = [c for c in suite("quick") if c.id in ("lattice/bits-0", "watertight/fan-8/centre")]
     moving = [c for c in motion_cases(0) if c.id == "motion/textured-64/quad/translate-x-1/64"]

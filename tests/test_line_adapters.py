@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.optional import need
 from harness.api import Coverage, LineScene, PathScene, Scene, Unsupported, takes
 from harness.conventions import Convention, LineRule
 from harness.oracle import exact_coverage
@@ -167,7 +168,7 @@ def test_declared_kinds():
 
 def test_adapters_that_take_no_lines_refuse_them():
     for cls, module in (("CairoAntialiased", "cairo"), ("SkiaAntialiased", "skia")):
-        pytest.importorskip(module)
+        need(module)
         with pytest.raises(ValueError, match="takes triangles scenes, not LineScene"):
             getattr(adapters, cls)().rasterize(ELBOW)
 
@@ -270,7 +271,7 @@ def test_pillow_is_bresenham_between_truncated_end_points():
     stepping, both end pixels: exactly, on floats, lattices, coordinates below zero
     (where truncation is not floor: the floor oracle differs) and segments from thousands
     of pixels off-screen (each drawn into an image of its visible box only)."""
-    pytest.importorskip("PIL")
+    need("PIL")
     pillow = adapters.PillowPolygon()
     rule = RULES["bresenham/floor"]
     for scene in (random_scene(5), random_scene(6, grid=0.5), random_scene(7, low=-6.0, high=30.0), far_scene()):
@@ -285,7 +286,7 @@ def test_skimage_is_bresenham_between_nearest_pixels():
     """scikit-image after the adapter's rounding to the nearest pixel centre (halves to
     even): Bresenham with both end pixels, exactly; on a half-pixel lattice end points lie
     on pixel borders, where floor differs."""
-    pytest.importorskip("skimage")
+    need("skimage")
     skimage = adapters.SkimagePolygon()
     rule = RULES["bresenham/nearest-even"]
     for scene in (random_scene(5), random_scene(6, grid=0.5), random_scene(7, low=-6.0, high=30.0), far_scene()):
@@ -302,7 +303,7 @@ def test_cairo_strokes_rectangles_under_its_fill_rule():
     lattice (end points, caps and sides through pixel centres) top-left ties fit best of
     the four x-first rules (measured: 18 of 4,913 pairs differ; right ties 234 and more,
     bottom-left 146: cairo's ties on slanted edges are not a clean rule)."""
-    cairo = pytest.importorskip("cairo")
+    cairo = need("cairo")
     r = adapters.CairoFill()
     if r.hairlines:
         pytest.skip(f"cairo {cairo.cairo_version_string()} draws hairlines")
@@ -334,7 +335,7 @@ def test_skia_hairlines_are_their_own_rule():
     nearest (measured, skia-python 144.1, float polylines: 101 (segment, pixel) pairs for
     2,163 pixels; the rectangle rule 275, Bresenham 948 and more), and skia draws every
     segment the same in both directions."""
-    pytest.importorskip("skia")
+    need("skia")
     r = adapters.SkiaPath()
     scene = random_scene(10)
     cov = r.rasterize(scene)

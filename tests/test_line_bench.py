@@ -15,7 +15,7 @@ import pytest
 
 from harness.api import LineScene
 from harness.bench import (LINE_ORACLES, _contenders, _line_peers, _pillow_lines, _Surface, format_table, line_workloads,
-                           run_bench, write_json)
+                           missing_peers, run_bench, write_json)
 from harness.conventions import Convention
 from harness.oracle import exact_coverage
 
@@ -137,7 +137,7 @@ NEAREST = {"pillow": ("oracle_bresenham", True), "skimage_line": ("oracle_bresen
 def test_the_library_peers_draw_the_same_segments(peer: str) -> None:
     draws = {"pillow": _pillow_lines, **dict(_line_peers())}
     if peer not in draws:
-        pytest.skip(f"{peer}: its library is not installed")
+        pytest.skip(f"{peer}: {missing_peers().get(peer, 'its library is not installed')}")
     for work in line_workloads(SCALE):
         scene = work.scene
         drawn = _drawn(draws[peer](scene))

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.optional import need
 from harness.api import Coverage, PathScene, Scene, takes
 from harness.conventions import TIE_RULES, Convention
 from harness.oracle import exact_coverage
@@ -204,7 +205,7 @@ def test_cairo_fills_a_one_pixel_gap():
     winding returns to zero only if the next edge lies more than one pixel further
     (``I(next->x.quo) > xend + 1``): a one-pixel gap between two slanted edges is filled,
     a two-pixel one is not (rectilinear paths go elsewhere and keep the gap)."""
-    cairo = pytest.importorskip("cairo")
+    cairo = need("cairo")
     if cairo.cairo_version_string() != "1.16.0":
         pytest.skip(f"measured with cairo 1.16.0, not {cairo.cairo_version_string()}")
     for gap, filled in ((1.0, True), (2.0, False)):
@@ -218,7 +219,7 @@ def test_cairo_fills_a_one_pixel_gap():
 
 
 def test_cairo_fills_column_0_where_a_crossing_path_leaves_the_surface():
-    cairo = pytest.importorskip("cairo")
+    cairo = need("cairo")
     if cairo.cairo_version_string() != "1.16.0":
         pytest.skip(f"measured with cairo 1.16.0, not {cairo.cairo_version_string()}")
     scene = scenes("nonzero")["offscreen"]
@@ -246,7 +247,7 @@ def test_a_path_of_one_triangle_is_the_triangle(two_d):
 
 
 def test_pillow_refuses_what_it_cannot_fill():
-    pytest.importorskip("PIL")
+    need("PIL")
     pillow = adapters.PillowPolygon()
     with pytest.raises(ValueError, match="pillow: path 1 has 2 contours"):
         pillow.rasterize(PathScene.from_paths(W, H, [[star(8, 8, 6)], [OCTAGON, HOLE]], "evenodd"))
@@ -258,7 +259,7 @@ def test_skimage_bridges_add_no_crossing():
     """scikit-image fills one polygon: the path's contours joined by bridges walked both
     ways. Away from the edges that is exactly the parity of the contours: the XOR of each
     contour filled alone."""
-    pytest.importorskip("skimage")
+    need("skimage")
     skimage = adapters.SkimagePolygon()
     rng = np.random.default_rng(3)
     for _ in range(5):
@@ -274,8 +275,8 @@ def test_a_bridge_is_exact_for_skimage_not_for_pillow():
     (:func:`rasterizers.real.adapters.bridged`): scikit-image fills exactly the two
     squares, Pillow also the pixels along the bridge (it fills edges inclusively), which
     is why the Pillow adapter refuses paths of several contours rather than bridge them."""
-    pytest.importorskip("PIL")
-    pytest.importorskip("skimage")
+    need("PIL")
+    need("skimage")
     from PIL import Image, ImageDraw
 
     left = np.array([[2.0, 2.0], [8.0, 3.0], [7.0, 9.0], [3.0, 8.0]])
@@ -296,7 +297,7 @@ def test_a_bridge_is_exact_for_skimage_not_for_pillow():
 def test_skia_builds_the_path_it_would_build_vertex_by_vertex():
     """The serialized path read in one call is byte for byte the path of moveTo, lineTo
     and close per contour (a NaN vertex too)."""
-    skia = pytest.importorskip("skia")
+    skia = need("skia")
     contours = [star(16, 16, 14), np.array([[1.0, 2.0], [np.nan, 3.0], [5.0, 1e6]]), np.array([[4.0, 4.0]])]
     for rule, fill_type in (("nonzero", skia.PathFillType.kWinding), ("evenodd", skia.PathFillType.kEvenOdd)):
         path = skia.Path()

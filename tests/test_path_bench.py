@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from harness.api import PathScene
-from harness.bench import _contenders, _path_peers, format_table, path_workloads, run_bench, stars, write_json
+from harness.bench import _contenders, _path_peers, missing_peers, format_table, path_workloads, run_bench, stars, write_json
 from harness.conventions import Convention
 from harness.oracle import exact_coverage
 
@@ -99,7 +99,7 @@ def test_the_library_peers_fill_under_the_rule_asked(peer, rule):
     even-odd takes about 2 more pixels at each): far closer to it than to the other rule's."""
     fills = dict(_path_peers())
     if peer not in fills:
-        pytest.skip(f"{peer}: its library is not installed")
+        pytest.skip(f"{peer}: {missing_peers().get(peer, 'its library is not installed')}")
     scene = path_workloads(SCALE)[0].scene.with_fill_rule(rule)
     drawn = fills[peer](scene).read() > 0
     union = exact_coverage(scene, Convention()).counts(512, 512) > 0

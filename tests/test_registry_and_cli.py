@@ -7,6 +7,7 @@ import pytest
 
 from harness.api import Rasterizer
 from harness.cli import main
+from harness.optional import missing
 from harness.registry import available, load
 
 BUILTIN_NAMES = ["centre_scanline", "fixed_point", "floor_scanline", "pineda_topleft"]
@@ -96,8 +97,38 @@ def test_cli_list_and_bench(tmp_path, capsys):
     assert "pillow" in out and "oracle" in out
     data = json.loads((tmp_path / "b.json").read_text())
     oracles = {"oracle", "oracle_area", "oracle_msaa4", "oracle_msaa8"}
-    assert {r["contender"] for r in data["results"]} >= {"pillow", *oracles, "cairo_aa_fill", "skia_aa_fill", "centre_scanline",
-                                                         "area_scanline"}
+    measured = {r["contender"] for r in data["results"]}
+    assert measured >= {"pillow", *oracles, "centre_scanline", "area_scanline"}
+    # a library peer is measured where its library is installed, and otherwise named with
+    # its install, in the table and the JSON: never silently left out
+    for peer, module in (("cairo_aa_fill", "cairo"), ("skia_aa_fill", "skia")):
+        why = missing(module)
+        if why is None:
+            assert peer in measured and peer not in data.get("not_measured", {})
+        else:
+            assert peer not in measured and data["not_measured"][peer] == why
+            assert f"not measured: {peer}: {module} is not installed" in out and "pip install" in why
+
+
+def test_a_peer_whose_library_is_missing_is_named_with_its_install(monkeypatch):
+    """Whatever this machine has installed: a library that does not import costs only its
+    own peers, each named with the sentence that says how to install it."""
+    import harness.bench as bench
+    import harness.optional as optional
+
+    real_import = __import__
+
+    def no_cairo(name, *args, **kwargs):
+        if name == "cairo":
+            raise ModuleNotFoundError("No module named 'cairo'")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr("builtins.__import__", no_cairo)
+    absent = bench.missing_peers()
+    assert set(absent) >= {"cairo_aa_fill", "cairo_fill", "cairo_line"}
+    assert all("apt-get install libcairo2-dev" in absent[p] for p in ("cairo_aa_fill", "cairo_fill", "cairo_line"))
+    assert "cairo_aa_fill" not in dict(bench._library_peers())
+    assert optional.missing("cairo").startswith("cairo is not installed (ModuleNotFoundError): apt-get install")
 
 
 def test_console_script_entry_point():

@@ -11,6 +11,7 @@ from numpy.typing import NDArray
 
 from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, Unsupported
 from harness.conventions import Convention
+from harness.optional import missing
 from harness.registry import Unavailable
 from rasterizers.real._lines import MesaLines
 from rasterizers.real._masks import (
@@ -22,32 +23,12 @@ __all__ = ["PillowPolygon", "SkimagePolygon", "SkiaPath", "CairoFill", "MesaLlvm
            "CairoAntialiased", "SkiaAntialiased", "MesaMultisample"]
 
 
-# The pip extra that installs each adapter's module (``make`` installs each on its own
-# and keeps pip's log as .venv/install-<extra>.log).
-_EXTRAS = {"cairo": "cairo", "skia": "skia", "moderngl": "gl"}
-
-
-def _install_failure(module: str) -> str:
-    """Why ``make`` could not install the module here: the last error line of its log."""
-    import sys
-    from pathlib import Path
-
-    extra = _EXTRAS.get(module)
-    log = Path(sys.prefix) / f"install-{extra}.log"
-    try:
-        text = log.read_text(errors="replace").splitlines()
-    except OSError:
-        return ""
-    # the build's own error (e.g. meson's "ERROR: Dependency "cairo" not found") says most
-    lines = [line.strip() for line in text if "ERROR:" in line] or [line.strip() for line in text if "rror" in line]
-    return f"; its install failed on this machine ({lines[0][:160]}; see {log})" if lines else ""
-
-
-def _need(module: str, hint: str) -> Any:
-    try:
-        return __import__(module)
-    except Exception as exc:
-        raise Unavailable(f"{module} is not installed ({type(exc).__name__}): {hint}{_install_failure(module)}") from None
+def _need(module: str) -> Any:
+    """The module, imported; :class:`Unavailable` naming the install when it is missing."""
+    why = missing(module)
+    if why is not None:
+        raise Unavailable(why)
+    return __import__(module)
 
 
 def _skia_path(skia: Any, contours: list[NDArray], fill_rule: str = "nonzero") -> Any:
@@ -216,7 +197,7 @@ class PillowPolygon(_OneAtATime):
     fill_rules = ("evenodd",)
 
     def __init__(self) -> None:
-        self._pil = _need("PIL", "pip install pillow")
+        self._pil = _need("PIL")
         from PIL import Image, ImageDraw
 
         self._Image, self._Draw = Image, ImageDraw
@@ -286,7 +267,7 @@ class SkimagePolygon(_OneAtATime):
     fill_rules = ("evenodd",)
 
     def __init__(self) -> None:
-        _need("skimage", "pip install scikit-image")
+        _need("skimage")
         from skimage.draw import line, polygon
 
         self._polygon, self._line = polygon, line
@@ -371,7 +352,7 @@ class SkiaPath(_OneAtATime):
     name = "skia"
 
     def __init__(self) -> None:
-        self._skia = _need("skia", "pip install skia-python   (or pip install '.[real]')")
+        self._skia = _need("skia")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _skia_fill(self._skia, [p], w, h, antialias=False) > 0
@@ -425,7 +406,7 @@ class CairoFill(_OneAtATime):
     name = "cairo"
 
     def __init__(self) -> None:
-        self._cairo = _need("cairo", "apt-get install libcairo2-dev pkg-config && pip install pycairo   (or pip install '.[real]')")
+        self._cairo = _need("cairo")
         major, minor = (int(v) for v in self._cairo.cairo_version_string().split(".")[:2])
         self.hairlines = hasattr(self._cairo.Context, "set_hairline") and (major, minor) >= (1, 18)
         # a hairline is one pixel wide; cairo 1.16's rectangular strokes take any width
@@ -500,7 +481,7 @@ class CairoAntialiased(_AlphaOneTriangleAtATime):
     convention = Convention(coverage="area", levels=256, subpixel_bits=8, tolerance=1 / 15 + 1 / 256 + 1 / 510)
 
     def __init__(self) -> None:
-        self._cairo = _need("cairo", "apt-get install libcairo2-dev pkg-config && pip install pycairo   (or pip install '.[real]')")
+        self._cairo = _need("cairo")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _cairo_fill(self._cairo, [p], w, h, self._cairo.ANTIALIAS_DEFAULT) / 255.0
@@ -530,7 +511,7 @@ class SkiaAntialiased(_AlphaOneTriangleAtATime):
     convention = None
 
     def __init__(self) -> None:
-        self._skia = _need("skia", "pip install skia-python   (or pip install '.[real]')")
+        self._skia = _need("skia")
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _skia_fill(self._skia, [p], w, h, antialias=True) / 255.0
@@ -703,7 +684,7 @@ class _Mesa:
     LISTED_BOX = 2048  # px: larger boxes are drawn one at a time
 
     def __init__(self) -> None:
-        self._moderngl = _need("moderngl", "pip install moderngl   (or pip install '.[real]'), with Mesa's EGL: apt-get install libegl1 libgl1-mesa-dri")
+        self._moderngl = _need("moderngl")
         self._ctx: Any = None
         self._pid = -1
         self._paths: StencilPaths | None = None
