@@ -71,3 +71,39 @@ def safe_numba_cache() -> None:
 
     cls.save = save  # type: ignore[method-assign]
     cls._rastercheck_safe = True  # type: ignore[attr-defined]
+    _compile_one_at_a_time(_lock)
+
+
+def _compile_one_at_a_time(lock):  # type: ignore[no-untyped-def]
+    """Let one process at a time compile (or load) each cached kernel.
+
+    Two processes that miss the cache for one kernel at once both compile it and both save
+    it; a third then loads one's build beside callers compiled against the other's (session
+    12 saw the trapezoid fill crash so, in a caller cached beside ``harness.exact``'s
+    kernels compiled twice). Here a process takes a lock file beside the kernel's index
+    before it looks in the cache, so a second process waits and loads the first one's
+    build instead of compiling its own. Locks are taken callee after caller along the call
+    graph (a kernel's compile compiles its callees), which has no cycle: no deadlock. A
+    kernel already being compiled in this process (recursion, or a second thread) is not
+    locked again."""
+    from numba.core import dispatcher
+
+    cls = getattr(dispatcher, "Dispatcher", None)
+    if cls is None or getattr(cls, "_rastercheck_one_at_a_time", False) or not hasattr(cls, "compile"):
+        return
+    original = cls.compile
+    held: set[str] = set()  # the index files whose lock this process holds
+
+    def compile(self, sig):  # type: ignore[no-untyped-def]
+        index = getattr(getattr(getattr(self, "_cache", None), "_cache_file", None), "_index_path", None)
+        if not isinstance(index, str) or index in held:  # not cached on disk, or ours already
+            return original(self, sig)
+        with lock(index + ".compile.lock"):
+            held.add(index)
+            try:
+                return original(self, sig)
+            finally:
+                held.discard(index)
+
+    cls.compile = compile
+    cls._rastercheck_one_at_a_time = True
