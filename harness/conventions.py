@@ -252,7 +252,8 @@ class LineRule:
         as Wikipedia's ``plotLineLow``/``plotLineHigh`` and tinyrenderer's ``line`` do.
         Then the walk's ties are ``ties`` and its last pixel (the end it walks to, not
         necessarily the given one) is drawn when ``last_pixel``: a normalising drawer
-        draws a segment and its reverse alike.
+        draws a segment and its reverse alike (but for the omitted end of one whose end
+        pixels share their x, walked from the smaller x: it keeps its given order).
 
     The convention's snapping (``subpixel_bits``, ``snap_rounding``) applies to line end
     points first, as to triangle vertices.

@@ -101,8 +101,9 @@ Bresenham (:func:`bresenham_spans`)
       ``plotLine`` with ``plotLineLow``/``plotLineHigh``, tinyrenderer's ``line``). Then the
       same walk runs from that end point, with the same ``ties`` and ``last_pixel`` (the
       end walked to is the one omitted): such a drawer draws a segment and its reverse
-      alike, and only differs from ``as-given`` on segments it reverses, at a tie or at the
-      omitted end. :func:`walks_backwards` says which it reverses.
+      alike (but for the omitted end of a vertical one walked from the smaller x, kept in
+      its given order), and only differs from ``as-given`` on segments it reverses, at a tie
+      or at the omitted end. :func:`walks_backwards` says which it reverses.
     * Rounded end points must lie within +-2**30 (every product k*M then fits int64).
 
 Rectangular lines (:func:`rectangle_spans`)

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from cases.lines import line_cases
@@ -126,6 +126,9 @@ def tie_segment(draw):  # type: ignore[no-untyped-def]
 @QUICK
 @given(tie_segment(), st.sampled_from(BRESENHAM_ROUNDINGS), st.sampled_from(BRESENHAM_TIES), st.booleans(),
        st.sampled_from(LINE_DIRECTIONS))
+@example(((9.5, 5.5), (1.5, 1.5)), "nearest-even", "step", True, "smaller-x")  # right to left through ties
+@example(((9.5, 0.5), (5.5, 8.5)), "floor", "stay", False, "smaller-major")  # y-major from the smaller x, larger y
+@example(((6.0, 8.5), (6.0, 1.5)), "floor", "step", False, "smaller-x")  # vertical: the given order kept
 def test_the_oracle_walks_as_the_definition_says(seg, rounding, ties, last_pixel, direction) -> None:  # type: ignore[no-untyped-def]
     a, b = seg
     want = _brute_force(a, b, rounding, ties, last_pixel, direction)
@@ -134,8 +137,13 @@ def test_the_oracle_walks_as_the_definition_says(seg, rounding, ties, last_pixel
     rule = LineRule("bresenham", last_pixel=last_pixel, rounding=rounding, ties=ties, direction=direction)
     scene = LineScene.from_segments(SIZE, SIZE, [a], [b])
     assert _pixels(exact_coverage(scene, Convention(line=rule))) == want
-    if direction != "as-given":  # a normalising drawer draws a segment and its reverse alike
-        assert _spans_pixels(bresenham_spans([b], [a], SIZE, SIZE, rounding, ties, last_pixel, direction)) == want
+    backwards = _spans_pixels(bresenham_spans([b], [a], SIZE, SIZE, rounding, ties, last_pixel, direction))
+    assert backwards == _brute_force(b, a, rounding, ties, last_pixel, direction)
+    same_x = _round_pixel_rational(Fraction(a[0]), rounding) == _round_pixel_rational(Fraction(b[0]), rounding)
+    if direction == "smaller-major" or (direction == "smaller-x" and (last_pixel or not same_x)):
+        # a normalising drawer draws a segment and its reverse alike (walking from the smaller x, one whose end
+        # pixels share their x keeps its given order: the end pixel it omits is its own)
+        assert backwards == want
 
 
 @QUICK
