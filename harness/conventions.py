@@ -106,7 +106,9 @@ A convention's coverage is one of three kinds (:attr:`Convention.kind`)
 
 Lines (line scenes) are drawn by the convention's :class:`LineRule`
     ``diamond-exit`` (D3D11, GL; the last pixel omitted or drawn), ``bresenham`` (seed 003's
-    integer algorithm, end points to pixels by a declared rounding) or ``rectangle``
+    integer algorithm, end points to pixels by a declared rounding, walked from the first
+    end point or, as textbooks' ``plotLine``, from the one with smaller x or smaller major
+    coordinate) or ``rectangle``
     (Vulkan: the samples inside a w-wide rectangle around the segment, under the sample
     point and tie rule above), each after snapping; defined in :mod:`harness.lines`.
 
@@ -151,6 +153,8 @@ __all__ = [
     "BRESENHAM_TIES",
     "BresenhamRounding",
     "BresenhamTies",
+    "LINE_DIRECTIONS",
+    "LineDirection",
 ]
 
 TieRule = Literal[
@@ -164,6 +168,10 @@ BresenhamRounding = Literal["nearest-even", "half-away", "floor", "toward-zero"]
 BresenhamTies = Literal["step", "stay"]
 BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor", "toward-zero")
 BRESENHAM_TIES: tuple[BresenhamTies, ...] = ("step", "stay")
+# Where a Bresenham walk starts: at the first end point as given, or (textbook plotLine)
+# at the end point with the smaller x, or with the smaller major-axis coordinate.
+LineDirection = Literal["as-given", "smaller-x", "smaller-major"]
+LINE_DIRECTIONS: tuple[LineDirection, ...] = ("as-given", "smaller-x", "smaller-major")
 CoverageKind = Literal["single", "multisample", "area"]
 COVERAGE_KINDS: tuple[CoverageKind, ...] = ("single", "multisample", "area")
 # The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
@@ -233,7 +241,19 @@ class LineRule:
         halves to even or away from zero; ``floor``; or ``toward-zero``, C's ``(int)`` cast,
         as softpipe and Pillow do: pixel 0 for -1 < x < 1).
     ties : {"step", "stay"}
-        bresenham: the minor coordinate on a tie of the decision variable.
+        bresenham: the minor coordinate on a tie of the decision variable (of the walk,
+        once ``direction`` has chosen where it starts).
+    direction : {"as-given", "smaller-x", "smaller-major"}
+        bresenham: where the walk starts. ``as-given``: at the segment's first end point
+        (seed 003, softpipe, Pillow). ``smaller-x``: at the end point whose pixel has the
+        smaller x (the given order when equal), as textbooks' ``plotLine`` that swap the end
+        points to always walk towards +x. ``smaller-major``: at the end point whose pixel
+        has the smaller major-axis coordinate (x for x-major segments, y for y-major ones),
+        as Wikipedia's ``plotLineLow``/``plotLineHigh`` and tinyrenderer's ``line`` do.
+        Then the walk's ties are ``ties`` and its last pixel (the end it walks to, not
+        necessarily the given one) is drawn when ``last_pixel``: a normalising drawer
+        draws a segment and its reverse alike (but for the omitted end of one whose end
+        pixels share their x, walked from the smaller x: it keeps its given order).
 
     The convention's snapping (``subpixel_bits``, ``snap_rounding``) applies to line end
     points first, as to triangle vertices.
@@ -241,15 +261,18 @@ class LineRule:
     Examples
     --------
     >>> LineRule()
-    LineRule(rule='diamond-exit', last_pixel=False, rounding='nearest-even', ties='step')
+    LineRule(rule='diamond-exit', last_pixel=False, rounding='nearest-even', ties='step', direction='as-given')
     >>> LineRule("bresenham", rounding="floor").describe()
     'Bresenham lines, end points to pixels by floor, ties step, last pixel drawn'
+    >>> LineRule("bresenham", ties="stay", direction="smaller-x").describe()
+    'Bresenham lines walked from the end point with smaller x, end points to pixels by nearest-even, ties stay, last pixel drawn'
     """
 
     rule: LineRuleName = "diamond-exit"
     last_pixel: bool | None = None
     rounding: BresenhamRounding = "nearest-even"
     ties: BresenhamTies = "step"
+    direction: LineDirection = "as-given"
 
     def __post_init__(self) -> None:
         if self.rule not in LINE_RULES:
@@ -263,6 +286,17 @@ class LineRule:
             raise ValueError(f"LineRule.rounding must be one of {', '.join(BRESENHAM_ROUNDINGS)}, not {self.rounding!r}")
         if self.ties not in BRESENHAM_TIES:
             raise ValueError(f"LineRule.ties must be one of {', '.join(BRESENHAM_TIES)}, not {self.ties!r}")
+        if self.direction not in LINE_DIRECTIONS:
+            raise ValueError(f"LineRule.direction must be one of {', '.join(LINE_DIRECTIONS)}, not {self.direction!r}")
+        if self.direction != "as-given" and self.rule != "bresenham":
+            raise ValueError(f"LineRule.direction {self.direction!r} is a Bresenham option; {self.rule} lines are drawn "
+                             "as given (use rule='bresenham', or leave direction='as-given')")
+
+    @property
+    def walk(self) -> str:
+        """Where the walk starts, for people ("" when as given)."""
+        return {"as-given": "", "smaller-x": "walked from the end point with smaller x",
+                "smaller-major": "walked from the end point with smaller major coordinate"}[self.direction]
 
     def describe(self) -> str:
         """One line for people."""
@@ -271,7 +305,10 @@ class LineRule:
         last = "last pixel drawn" if self.last_pixel else "last pixel omitted"
         if self.rule == "diamond-exit":
             return f"diamond-exit lines, {last}"
-        return f"Bresenham lines, end points to pixels by {self.rounding}, ties {self.ties}, {last}"
+        walk = f" {self.walk}" if self.walk else ""
+        if walk and not self.last_pixel:
+            last += " (the end walked to)"
+        return f"Bresenham lines{walk}, end points to pixels by {self.rounding}, ties {self.ties}, {last}"
 
 
 @dataclass(frozen=True, slots=True, repr=False)

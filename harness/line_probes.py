@@ -10,7 +10,9 @@ zero and no other candidate's is:
 
 1. *The rule* (diamond-exit, Bresenham or rectangle), with diamond-exit's and
    Bresenham's last-pixel rule, Bresenham's end point rounding (nearest-even, half-away,
-   floor) and tie direction (step, stay), and the rectangle's sample point and tie rule
+   floor, toward-zero), tie direction (step, stay) and direction of travel (as given, or
+   from the end point with smaller x or smaller major coordinate, as textbooks'
+   ``plotLine``), and the rectangle's sample point and tie rule
    (the 9 usual sample points x the 8 tie rules): :data:`LINE_RULES_TRIED` x those, scored
    on scenes whose end points are multiples of 1/4 px (no candidate snapping of 2 bits or
    more moves them) -- :func:`crafted_lines`, where the candidates part on purpose, and
@@ -21,6 +23,11 @@ zero and no other candidate's is:
      Bresenham's tie (the ideal line halfway between two pixel centres) comes at every
      other step of slope 1/2, diamond-exit's corner rules on lines through diamond
      corners (a horizontal line on y = j runs through every bottom corner);
+   * every segment both ways round: a drawer that walks as given breaks a tie towards the
+     end it walks to and omits that end's pixel, so its two drawings differ, and a drawer
+     that normalises the direction draws both alike; slope -2 segments (y-major, the
+     smaller x at the larger y) part walking from the smaller x from walking from the
+     smaller y;
    * segments entirely inside one pixel: in its corner (no diamond met, so diamond-exit
      draws nothing where Bresenham draws the pixel), across its diamond, inside it; and
      zero-length ones (the last-pixel rules part there);
@@ -39,7 +46,7 @@ zero and no other candidate's is:
    is not seen, and need not be: the two conventions draw alike.
 
 3. The rule is then ranked again with the fitted snapping on every scene drawn: the
-   runner-up (the best candidate differing in rule, last pixel, rounding, ties, or for
+   runner-up (the best candidate differing in rule, last pixel, rounding, ties, direction, or for
    rectangles sample point or tie rule) and each rule's best score on the lattice scenes
    are the evidence.
 
@@ -65,7 +72,8 @@ from numpy.typing import NDArray
 from harness.api import Coverage, LineScene
 from harness.checks import FragmentCounter
 from harness.conventions import (
-    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, LINE_RULES, SNAP_ROUNDINGS, TIE_RULES, Convention, LineRule, SnapRounding,
+    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, LINE_DIRECTIONS, LINE_RULES, SNAP_ROUNDINGS, TIE_RULES, Convention, LineRule,
+    SnapRounding,
 )
 from harness.isolation import Call, Outcome, describe
 from harness.oracle import exact_coverage
@@ -83,15 +91,17 @@ WIDE = 3.0
 
 def line_rules_tried() -> tuple[LineRule, ...]:
     """The line rules :func:`fit_lines` tries, rectangles aside: diamond-exit with the last
-    pixel omitted or drawn, and Bresenham with each rounding, tie direction and last-pixel
-    rule (the rule's own setting first).
+    pixel omitted or drawn, and Bresenham with each rounding, tie direction, last-pixel
+    rule and direction of travel (as given, or normalised as textbook plotLine does: from
+    the smaller x, from the smaller major coordinate), the rule's own setting first.
 
     >>> len(line_rules_tried()), line_rules_tried()[0].describe()
-    (18, 'diamond-exit lines, last pixel omitted')
+    (50, 'diamond-exit lines, last pixel omitted')
     """
     rules = [LineRule("diamond-exit", last_pixel=False), LineRule("diamond-exit", last_pixel=True)]
-    rules += [LineRule("bresenham", last_pixel=last, rounding=rounding, ties=ties)
-              for rounding in BRESENHAM_ROUNDINGS for ties in BRESENHAM_TIES for last in (True, False)]
+    rules += [LineRule("bresenham", last_pixel=last, rounding=rounding, ties=ties, direction=direction)
+              for direction in LINE_DIRECTIONS for rounding in BRESENHAM_ROUNDINGS for ties in BRESENHAM_TIES
+              for last in (True, False)]
     return tuple(rules)
 
 
@@ -107,8 +117,8 @@ def line_candidates(base: Convention | None = None) -> list[Convention]:
     that agrees with the triangles equal to the triangle convention with its line rule.
 
     >>> candidates = line_candidates()
-    >>> len(candidates), candidates[0].line.rule, candidates[18].line.rule, candidates[18].sample
-    (90, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    >>> len(candidates), candidates[0].line.rule, candidates[50].line.rule, candidates[50].sample
+    (122, 'diamond-exit', 'rectangle', (0.5, 0.5))
     """
     single = base if base is not None and base.kind == "single" else Convention()
     unsnapped = replace(single, subpixel_bits=None, snap_rounding="nearest-even")
@@ -457,7 +467,7 @@ class LineFit:
     """The convention that best explains the rasterizer's lines (its ``line`` the
     :class:`~harness.conventions.LineRule`, its snapping, and for rectangles its sample
     point and tie rule), with its mismatches (``residual``) over ``pixels`` drawn on every
-    probe scene; the runner-up (another rule, last pixel, rounding, ties, or rectangle
+    probe scene; the runner-up (another rule, last pixel, rounding, ties, direction, or rectangle
     sample point or tie rule) and its mismatches; the snap roundings it could not tell
     apart (``ambiguous``); each rule's best score on the lattice scenes of step 1
     (``rule_scores``, unsnapped); the triangle

@@ -91,6 +91,19 @@ Bresenham (:func:`bresenham_spans`)
       minor offset at major step k is ``round(k*M/K)`` with halves rounded up (``step``) or
       down (``stay``). Both end points are drawn (K + 1 pixels); ``last_pixel=False``
       drops the last (K pixels, none for a zero-length segment).
+    * Direction of travel (``direction``). The walk above starts at ``a`` (``as-given``), and
+      its ties and its last pixel belong to the walk: drawn backwards, a tie steps the other
+      way (``step`` from b is ``stay`` from a) and the other end pixel is the last. Textbook
+      drawers normalise the direction first, on the end points' *pixels*: ``smaller-x``
+      walks from the end point whose pixel has the smaller x (Hearn & Baker's ``lineBres``,
+      the usual "if x0 > x1: swap" ``plotLine``; the given order when the x are equal),
+      ``smaller-major`` from the one whose pixel has the smaller major coordinate (Wikipedia's
+      ``plotLine`` with ``plotLineLow``/``plotLineHigh``, tinyrenderer's ``line``). Then the
+      same walk runs from that end point, with the same ``ties`` and ``last_pixel`` (the
+      end walked to is the one omitted): such a drawer draws a segment and its reverse
+      alike (but for the omitted end of a vertical one walked from the smaller x, kept in
+      its given order), and only differs from ``as-given`` on segments it reverses, at a tie
+      or at the omitted end. :func:`walks_backwards` says which it reverses.
     * Rounded end points must lie within +-2**30 (every product k*M then fits int64).
 
 Rectangular lines (:func:`rectangle_spans`)
@@ -131,7 +144,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from harness.api import MAX_VIEWPORT
 from harness.conventions import (
-    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, BresenhamRounding, BresenhamTies, Convention, TieRule,
+    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, LINE_DIRECTIONS, BresenhamRounding, BresenhamTies, Convention, LineDirection, TieRule,
 )
 from harness.spans import expand
 from harness.exact import CCW_ERRBOUND_A, SAFE_MAX, SAFE_MIN, _two_product, _two_sum, frozen, orient2d_sign
@@ -148,6 +161,7 @@ __all__ = [
     "is_x_major",
     "diamond_holding",
     "end_point_pixels",
+    "walks_backwards",
     "BRESENHAM_ROUNDINGS",
     "BRESENHAM_TIES",
     "RECT_SAFE_MIN",
@@ -920,13 +934,44 @@ def end_point_pixels(p: NDArray[np.float64], rounding: str) -> NDArray[np.float6
     return np.where(on_boundary, tie, f)
 
 
-def _bresenham_prepare(a: ArrayLike, b: ArrayLike, width: int, height: int, rounding: str,
-                       ties: str) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_], int, int]:
+def walks_backwards(p0: NDArray[Any], p1: NDArray[Any], direction: str) -> NDArray[np.bool_]:
+    """(N,) bool: which Bresenham walks between end point pixels ``p0`` -> ``p1`` ((N, 2)
+    integers: int64, or Python integers in an object array) run from ``p1`` to ``p0`` under ``direction`` (see the
+    module docstring): never (``as-given``); where x0 > x1 (``smaller-x``); where the major
+    coordinate of p0 exceeds p1's (``smaller-major``; x-major when |x1 - x0| >= |y1 - y0|).
+
+    >>> p0, p1 = np.array([[5, 0], [0, 5], [3, 9]]), np.array([[0, 2], [2, 0], [3, 1]])
+    >>> [walks_backwards(p0, p1, d).tolist() for d in ("as-given", "smaller-x", "smaller-major")]
+    [[False, False, False], [True, False, False], [True, True, True]]
+    """
+    if direction not in LINE_DIRECTIONS:
+        raise ValueError(f"direction must be one of {', '.join(LINE_DIRECTIONS)}, not {direction!r}")
+    p0, p1 = np.asarray(p0), np.asarray(p1)
+    if direction == "as-given":
+        return np.zeros(p0.shape[0], dtype=np.bool_)
+    if direction == "smaller-x":
+        return np.asarray(p0[:, 0] > p1[:, 0], dtype=np.bool_)
+    x_major = np.abs(p1[:, 0] - p0[:, 0]) >= np.abs(p1[:, 1] - p0[:, 1])
+    return np.asarray(np.where(x_major, p0[:, 0] > p1[:, 0], p0[:, 1] > p1[:, 1]), dtype=np.bool_)
+
+
+def _walk_ends(p0: NDArray[Any], p1: NDArray[Any], direction: str) -> tuple[NDArray[Any], NDArray[Any]]:
+    """The walks' (start, end) pixels: ``p0, p1`` swapped where :func:`walks_backwards`."""
+    back = walks_backwards(p0, p1, direction)[:, None]
+    return np.where(back, p1, p0), np.where(back, p0, p1)
+
+
+def _bresenham_prepare(a: ArrayLike, b: ArrayLike, width: int, height: int, rounding: str, ties: str,
+                       direction: str) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_], int, int]:
+    """The walks' start and end pixels (int64, (N, 2) each: the rounded end points, in
+    the order ``direction`` walks them), which segments are finite, and the viewport."""
     width, height = _viewport(width, height)
     if rounding not in BRESENHAM_ROUNDINGS:
         raise ValueError(f"rounding must be one of {', '.join(BRESENHAM_ROUNDINGS)}, not {rounding!r}")
     if ties not in BRESENHAM_TIES:
         raise ValueError(f"ties must be one of {', '.join(BRESENHAM_TIES)}, not {ties!r}")
+    if direction not in LINE_DIRECTIONS:
+        raise ValueError(f"direction must be one of {', '.join(LINE_DIRECTIONS)}, not {direction!r}")
     a_arr, b_arr, keep = _endpoints(a, b)
     with np.errstate(invalid="ignore"):
         p0 = np.where(keep[:, None], end_point_pixels(a_arr, rounding), 0.0)
@@ -935,11 +980,12 @@ def _bresenham_prepare(a: ArrayLike, b: ArrayLike, width: int, height: int, roun
     if beyond.any():
         k = int(np.flatnonzero(beyond)[0])
         raise ValueError(f"segment {k} has a rounded end point beyond +-2**30 pixels")
+    p0, p1 = _walk_ends(p0, p1, direction)
     return p0.astype(np.int64), p1.astype(np.int64), keep, width, height
 
 
 def bresenham_spans(a: ArrayLike, b: ArrayLike, width: int, height: int, rounding: BresenhamRounding = "nearest-even",
-                    ties: BresenhamTies = "step", last_pixel: bool = True) -> Spans:
+                    ties: BresenhamTies = "step", last_pixel: bool = True, direction: LineDirection = "as-given") -> Spans:
     """The pixels integer Bresenham draws from ``a[k]`` to ``b[k]`` (seed 003).
 
     Parameters
@@ -952,7 +998,10 @@ def bresenham_spans(a: ArrayLike, b: ArrayLike, width: int, height: int, roundin
     ties : {"step", "stay"}
         Decision variable zero: step the minor coordinate (``p >= 0``) or keep it (``p > 0``).
     last_pixel : bool
-        Draw the end point's pixel (True) or stop one step short.
+        Draw the pixel the walk ends in (True) or stop one step short.
+    direction : {"as-given", "smaller-x", "smaller-major"}
+        Where the walk starts (:func:`walks_backwards`): at ``a[k]``, or at the end point
+        whose pixel has the smaller x, or the smaller major coordinate (textbook plotLine).
 
     Returns
     -------
@@ -967,8 +1016,18 @@ def bresenham_spans(a: ArrayLike, b: ArrayLike, width: int, height: int, roundin
     >>> s, y, x0, x1 = bresenham_spans([[0.5, 0.5]], [[4.5, 2.5]], 6, 4, ties="stay")
     >>> [(int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1)]
     [(0, 0, 2), (1, 2, 4), (2, 4, 5)]
+
+    Drawn right to left, the ties step the other way; a drawer walking from the smaller x
+    draws it as left to right:
+
+    >>> s, y, x0, x1 = bresenham_spans([[4.5, 2.5]], [[0.5, 0.5]], 6, 4)
+    >>> [(int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1)]
+    [(0, 0, 2), (1, 2, 4), (2, 4, 5)]
+    >>> s, y, x0, x1 = bresenham_spans([[4.5, 2.5]], [[0.5, 0.5]], 6, 4, direction="smaller-x")
+    >>> [(int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1)]
+    [(0, 0, 1), (1, 1, 3), (2, 3, 5)]
     """
-    p0, p1, keep, width, height = _bresenham_prepare(a, b, width, height, rounding, ties)
+    p0, p1, keep, width, height = _bresenham_prepare(a, b, width, height, rounding, ties, direction)
     if not keep.any() or width == 0 or height == 0:
         return _empty()
     p0, p1, keep_f = frozen(p0, np.int64), frozen(p1, np.int64), frozen(keep, np.bool_)
@@ -998,19 +1057,24 @@ def _round_pixel_rational(v: Fraction, rounding: str) -> int:
 
 def bresenham_spans_rational(a: ArrayLike, b: ArrayLike, width: int, height: int,
                              rounding: BresenhamRounding = "nearest-even", ties: BresenhamTies = "step",
-                             last_pixel: bool = True) -> Spans:
+                             last_pixel: bool = True, direction: LineDirection = "as-given") -> Spans:
     """The same pixels as :func:`bresenham_spans` by the literal algorithm: end points
-    rounded in rational arithmetic, then the incremental decision variable walked pixel
-    by pixel from the first end point (small coordinates only)."""
+    rounded in rational arithmetic, swapped as a textbook plotLine swaps them
+    (``direction``), then the incremental decision variable walked pixel by pixel from
+    the first (small coordinates only)."""
     width, height = _viewport(width, height)
-    if rounding not in BRESENHAM_ROUNDINGS or ties not in BRESENHAM_TIES:
-        raise ValueError(f"bad rounding {rounding!r} or ties {ties!r}")
+    if rounding not in BRESENHAM_ROUNDINGS or ties not in BRESENHAM_TIES or direction not in LINE_DIRECTIONS:
+        raise ValueError(f"bad rounding {rounding!r}, ties {ties!r} or direction {direction!r}")
     a_arr, b_arr, keep = _endpoints(a, b)
     out: list[tuple[int, int, int, int]] = []
     for s in np.flatnonzero(keep):
         x0, y0 = (_round_pixel_rational(Fraction(float(v)), rounding) for v in a_arr[s])
         x1, y1 = (_round_pixel_rational(Fraction(float(v)), rounding) for v in b_arr[s])
         x_major = abs(x1 - x0) >= abs(y1 - y0)
+        if direction == "smaller-x" and x0 > x1:
+            x0, y0, x1, y1 = x1, y1, x0, y0
+        if direction == "smaller-major" and ((x_major and x0 > x1) or (not x_major and y0 > y1)):
+            x0, y0, x1, y1 = x1, y1, x0, y0
         u, v, du, dv = (x0, y0, x1 - x0, y1 - y0) if x_major else (y0, x0, y1 - y0, x1 - x0)
         su, sv = (1 if du >= 0 else -1), (1 if dv >= 0 else -1)
         big_k, big_m = abs(du), abs(dv)
@@ -1250,7 +1314,7 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
 
     The end points are snapped by the convention first; then each segment is drawn by the
     convention's :class:`~harness.conventions.LineRule`: :func:`diamond_exit_spans`,
-    :func:`bresenham_spans` or :func:`rectangle_spans` (the scene's ``line_width``, the
+    :func:`bresenham_spans` (walked in the rule's ``direction``) or :func:`rectangle_spans` (the scene's ``line_width``, the
     convention's sample point and tie rule). Segments beyond the compiled kernels' range
     are decided by the rational references (Bresenham's by its closed form in Python
     integers, clipped to the viewport): exact for every finite float64.
@@ -1305,9 +1369,12 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
         far = (np.abs(np.concatenate([p0, p1], axis=1)) > BRESENHAM_MAX).any(axis=1) & finite
         near = finite & ~far
         spans = bresenham_spans(np.where(near[:, None], a, np.nan), np.where(near[:, None], b, np.nan), width, height,
-                                rule.rounding, rule.ties, rule.last_pixel)
+                                rule.rounding, rule.ties, rule.last_pixel, rule.direction)
         for k in np.flatnonzero(far):
-            _bresenham_far(int(k), (int(p0[k, 0]), int(p0[k, 1])), (int(p1[k, 0]), int(p1[k, 1])), width, height, rule.ties,
+            # the end pixels as Python integers: the walk's direction decided exactly
+            start, end = (np.array([[int(p[k, 0]), int(p[k, 1])]], dtype=object) for p in (p0, p1))
+            start, end = _walk_ends(start, end, rule.direction)
+            _bresenham_far(int(k), (start[0, 0], start[0, 1]), (end[0, 0], end[0, 1]), width, height, rule.ties,
                            rule.last_pixel, extra)
     else:
         values = np.concatenate([ends, np.full((n, 1), scene.line_width)], axis=1)

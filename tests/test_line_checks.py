@@ -83,6 +83,10 @@ RULES = {
     "diamond-exit-last": Convention(line=LineRule("diamond-exit", last_pixel=True), subpixel_bits=4),
     "bresenham": Convention(line="bresenham"),
     "bresenham-floor-stay": Convention(line=LineRule("bresenham", rounding="floor", ties="stay", last_pixel=False)),
+    # textbook plotLine: the direction of travel normalised (issue 28)
+    "bresenham-smaller-x": Convention(line=LineRule("bresenham", ties="stay", last_pixel=False, direction="smaller-x"),
+                                      subpixel_bits=4),
+    "bresenham-smaller-major": Convention(line=LineRule("bresenham", rounding="floor", direction="smaller-major")),
     "rectangle": Convention(line="rectangle"),
     "rectangle-bottom-right": Convention(line="rectangle", tie="bottom-right", sample=(0.25, 0.75), subpixel_bits=4),
 }
@@ -122,6 +126,13 @@ def test_the_exact_oracle_passes_every_check_on_lines(label: str) -> None:
         assert by["lines/star/lattice", "reversal"].metrics["reversal_pixels"] > 0  # the other end pixel omitted
     if label == "bresenham":
         assert by["lines/ties/lattice", "reversal"].metrics["reversal_pixels"] > 0  # ties step towards the end point
+    if convention.line.direction != "as-given":
+        # a normalised walk draws backwards as forwards, ties and end pixel alike (no vertical segment in the star:
+        # walking from the smaller x, those keep their given order, and their omitted end pixel)
+        assert by["lines/star/lattice", "reversal"].metrics["reversal_pixels"] == 0
+        ties = by["lines/ties/lattice", "reversal"].metrics["reversal_pixels"]
+        # the vertical (6, 11.5) -> (6, 3.5) keeps its given order from the smaller x: each way omits its own end
+        assert ties == 0 if convention.line.direction == "smaller-major" else ties == 2
 
 
 # known-bad -> (the check it fails, the case it shows on)

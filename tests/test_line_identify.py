@@ -63,8 +63,9 @@ class Refuses(LineBox):
         raise Unsupported("no lines today")
 
 
-# each rule; Bresenham's three roundings, two tie directions and two last-pixel rules in six
-# boxes (every value of each at least once, in different company); snapping in front of each rule
+# each rule; Bresenham's roundings, two tie directions, two last-pixel rules and three directions
+# of travel in eight boxes (every value of each at least once, in different company); snapping
+# in front of each rule
 DECLARED = [
     Convention(line=LineRule("diamond-exit")),
     Convention(line=LineRule("diamond-exit", last_pixel=True), subpixel_bits=8),
@@ -74,6 +75,10 @@ DECLARED = [
     Convention(line=LineRule("bresenham", last_pixel=True, rounding="half-away", ties="stay")),
     Convention(line=LineRule("bresenham", last_pixel=True, rounding="floor", ties="step")),
     Convention(line=LineRule("bresenham", last_pixel=False, rounding="floor", ties="stay")),
+    # textbook plotLine: the direction of travel normalised (issue 28)
+    Convention(line=LineRule("bresenham", last_pixel=False, rounding="toward-zero", ties="step", direction="smaller-x")),
+    Convention(line=LineRule("bresenham", last_pixel=True, rounding="half-away", ties="stay", direction="smaller-major"),
+               subpixel_bits=4),
     Convention(line="rectangle"),
     Convention(sample=(0.0, 0.0), tie="bottom-right-y-first", line="rectangle", subpixel_bits=4, snap_rounding="half-away"),
 ]

@@ -508,7 +508,7 @@ def _bresenham_margins(a: NDArray, b: NDArray, x: NDArray, y: NDArray, rule: Any
     def drawn(ends_px: NDArray) -> NDArray:
         """Sorted keys (segment, y, x) of the pixels the rule draws between these end pixels."""
         p0, p1 = np.where(usable[:, None], ends_px[:, :2] + 0.5, np.nan), np.where(usable[:, None], ends_px[:, 2:] + 0.5, np.nan)
-        spans = bresenham_spans(p0, p1, width, height, "floor", rule.ties, rule.last_pixel)
+        spans = bresenham_spans(p0, p1, width, height, "floor", rule.ties, rule.last_pixel, rule.direction)
         seg, px, py = Coverage(*spans).pixels()
         return np.sort((seg * height + py) * width + px)
 

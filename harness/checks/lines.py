@@ -9,7 +9,9 @@ the artifacts of aliased lines, each judged against what the declared
   omitted, twice when drawn: a fact), and the pixels both segments draw are the rule's.
 * **reversal**: every strip drawn backwards differs from the forward drawing exactly as the
   rule predicts (the diamond-exit rule omits the other end pixel, Bresenham breaks ties
-  towards the other end); the predicted difference is reported as a fact.
+  towards the other end, unless it normalises its direction of travel); the predicted
+  difference is reported as a fact, and a Bresenham drawer whose two drawings are exactly
+  its rule's under another ``direction`` is told to declare that one.
 * **length**: each segment draws as many pixels as the rule, strictly (an off-by-one last
   pixel shows even where conformance excuses a near tie).
 * **line-motion**: under sub-pixel translation (16 steps of 1/16 px along x, then along y)
@@ -25,6 +27,7 @@ loop per pixel.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 import numba
@@ -36,7 +39,7 @@ from harness.case import Case
 from harness.checks.conformance import near_ties_of, undefined_width
 from harness.checks.motion import filled_direction
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
-from harness.conventions import Convention
+from harness.conventions import LINE_DIRECTIONS, Convention
 from harness.lines import end_point_pixels, diamond_holding, is_x_major
 from harness.oracle import exact_coverage
 
@@ -413,12 +416,37 @@ def reversal(case: Case, coverage: Coverage, backward: Coverage, origin: NDArray
         message = (f"{wrong.size} pixels differ between forwards and backwards otherwise than {_rule(convention)} "
                    f"predicts, in {np.unique(s).size} {noun}s (first: {noun} {first[noun]} pixel ({first['x']}, {first['y']}) "
                    f"drawn {first['drawn']}, the rule {first['rule']})")
+        direction = _direction_drawn(scene, reversed_scene, origin, forward, back, convention)
+        if direction is not None:
+            evidence["direction"] = direction
+            walk = replace(convention.line, direction=direction).walk or "walked as given"
+            message += f"; both ways it draws exactly the rule {walk}: declare LineRule(..., direction={direction!r})"
     elif metrics["reversal_pixels"]:
         message = (f"reversed, {int(metrics['reversal_pixels'])} pixels differ, as {_rule(convention)} predicts "
                    f"(in {np.unique(_unkey(everything[want != 0], w, h)[0]).size} {noun}s)")
     else:
         message = f"reversed, the same pixels, as {_rule(convention)} predicts"
     return result(case.id, "reversal", not wrong.size, message, metrics, evidence)
+
+
+def _direction_drawn(scene: LineScene, reversed_scene: LineScene, origin: NDArray[np.int64], forward: NDArray,
+                     back: NDArray, convention: Convention) -> str | None:
+    """The other direction of travel (:data:`~harness.conventions.LINE_DIRECTIONS`) under
+    which the declared Bresenham rule draws exactly ``forward`` and ``back`` (keys of the
+    scene and of its reversal, as :func:`reversal` has them): a drawer that normalises its
+    direction (textbook plotLine) declared as walking as given, or the other way round.
+    None when no other direction explains both (or the rule is not Bresenham)."""
+    line = convention.line
+    if line.rule != "bresenham":
+        return None
+    for direction in LINE_DIRECTIONS:
+        if direction == line.direction:
+            continue
+        other = replace(convention, line=replace(line, direction=direction))
+        if (np.array_equal(_mapped_keys(exact_coverage(scene, other), None, scene), forward)
+                and np.array_equal(_mapped_keys(exact_coverage(reversed_scene, other), origin, scene), back)):
+            return direction
+    return None
 
 
 def _run_reversal(s: Subject) -> Result:

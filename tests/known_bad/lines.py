@@ -16,10 +16,11 @@ from numpy.typing import NDArray
 from harness.api import Coverage, LineScene, Unsupported
 from harness.conventions import Convention, LineRule
 from harness.oracle import exact_coverage
+from tests.textbook_lines import plot_lines
 
 __all__ = [
     "RoundingDDA", "BothEndPixels", "YMajorAlongX", "OffByOneLast", "Float32DDA", "LeftmostFirst", "BackwardPrestep",
-    "LINE_BADS",
+    "SwapsShallowOnly", "LINE_BADS",
 ]
 
 DIAMOND = Convention()  # diamond-exit, last pixel omitted (D3D11, GL)
@@ -224,4 +225,23 @@ class BackwardPrestep:
         return _from_cells(scene, seg, u, major, v)
 
 
-LINE_BADS = (RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep())
+class SwapsShallowOnly:
+    """A textbook plotLine that normalises its direction inconsistently: it swaps the end
+    points to walk towards +x in its shallow branch (|dy| <= |dx|) only, as Hearn & Baker's
+    ``lineBres`` (written for 0 < slope < 1) extended to steep lines by a copy of the loop
+    without the swap; steep segments are walked as given. Claims
+    ``LineRule("bresenham", rounding="floor", direction="smaller-x")`` (ties step, both ends
+    drawn), which it follows for every shallow segment and every steep one given from its
+    smaller x: steep segments given from the larger x break their ties the other way."""
+
+    name = "bad_swaps_shallow_only"
+    convention = Convention(line=LineRule("bresenham", rounding="floor", ties="step", direction="smaller-x"))
+    scene_kinds = ("lines",)
+    interpolates = False
+
+    def rasterize(self, scene: LineScene) -> Coverage:
+        return plot_lines(scene, swap_steep=False, name=self.name)
+
+
+LINE_BADS = (RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep(),
+             SwapsShallowOnly())
