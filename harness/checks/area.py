@@ -13,6 +13,14 @@ accuracy
     supersampled convention, the share of samples covered (exact). A verdict the bound
     leaves open is decided with :func:`harness.area.exact_area`. Alphas off the declared
     quantisation (not a multiple of 1/(levels - 1) up to float representation) fail too.
+    An alpha beyond the tolerance that float rounding explains is a near tie, counted apart
+    as conformance counts its own: the rasterizer's geometry moved by at most what
+    conformance calls rounding (:func:`rounding_reach`) has a model value the alpha is
+    within the tolerance of -- the exact area moves by at most
+    :func:`harness.area.displaced_area_bound` of it (so only an area that close to a level's
+    rounding boundary can round the other way), and each sample within rounding of an
+    edge (:func:`harness.checks.conformance.near_ties`) may count either way. Decided
+    exactly; none on a lattice case, none allowed in strict mode.
 seams
     On a planar partition the exact areas (or sample shares) of the pieces in a pixel
     wholly inside the region sum to exactly 1, so the pieces' alphas, as integer levels,
@@ -29,6 +37,8 @@ popping
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import replace
 from fractions import Fraction
 from typing import Any
@@ -37,14 +47,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene
-from harness.area import area_coverage, area_error_bound, exact_area
+from harness.area import area_coverage, area_error_bound, displaced_area_bound, exact_area
 from harness.case import Case
-from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, register, result, skip
+from harness.checks.conformance import near_ties
+from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
 from harness.checks.watertight import pixel_classes
 from harness.conventions import Convention
 from harness.exact import orientation
+from harness.oracle import exact_samples
 
-__all__ = ["accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "LEVEL_NOISE", "DISPLAY_LEVELS"]
+__all__ = ["accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "rounding_reach", "LEVEL_NOISE",
+           "DISPLAY_LEVELS"]
 
 AREA_KINDS: frozenset[str] = frozenset({"area"})
 # An alpha meant as level k of L is k/(L-1) rounded to float64 (or computed as k * (1/(L-1)),
@@ -148,6 +161,121 @@ def _model_words(convention: Convention) -> str:
     return "the share of samples covered" if convention.samples is not None else "the exact area"
 
 
+# -- near ties: float rounding ----------------------------------------------------------------
+
+
+def rounding_reach(positions: NDArray, convention: Convention, tolerance: Tolerance) -> NDArray:
+    """Per triangle, how far float rounding may move its geometry, in pixels: the error
+    model of conformance's near ties (:func:`harness.checks.conformance.near_ties`),
+    ``tolerance.near_tie`` relative to max(1, largest |coordinate|) of the snapped
+    triangle, never more than ``tolerance.near_tie_pixels``; 0 for a triangle with a
+    non-finite coordinate or one the convention culls (no rounding draws either).
+
+    Parameters
+    ----------
+    positions : (N, 3, 2) float64
+        The scene's positions as given (snapped here).
+    convention : Convention
+    tolerance : Tolerance
+
+    Returns
+    -------
+    (N,) float64
+
+    >>> tris = np.array([[[0, 0], [4, 0], [0, 4]], [[0, 0], [2.0**30, 0], [0, 1]], [[0, 0], [0, 4], [4, 0]]], float)
+    >>> (rounding_reach(tris, Convention(coverage="area", cull="ccw"), Tolerance()) * 2**40).tolist()  # the last one culled
+    [4.0, 1048576.0, 0.0]
+    """
+    snapped = convention.snap(positions)
+    finite = np.all(np.isfinite(snapped), axis=(1, 2))
+    with np.errstate(invalid="ignore"):
+        magnitude = np.maximum(1.0, np.abs(np.where(finite[:, None, None], snapped, 0.0)).max(axis=(1, 2), initial=0.0))
+    reach = np.where(finite, np.minimum(tolerance.near_tie * magnitude, tolerance.near_tie_pixels), 0.0)
+    if convention.cull != "none":
+        culled = orientation(np.where(finite[:, None, None], snapped, 0.0)) == (1 if convention.cull == "cw" else -1)
+        reach[culled] = 0.0
+    return reach  # type: ignore[no-any-return]
+
+
+def _inside_samples(scene: Scene, convention: Convention, fragments: NDArray) -> NDArray:
+    """(S, M) bool: which samples of each (triangle, x, y) of ``fragments`` (3, M) the
+    triangle covers exactly under a supersampled convention (its oracle, on those
+    triangles alone)."""
+    width, height = scene.width, scene.height
+    triangles = np.unique(fragments[0])
+    alone = Scene(width, height, scene.positions[triangles])
+    single = replace(convention, coverage="sample", samples=None, levels=256, tolerance=None)
+    wanted = (np.searchsorted(triangles, fragments[0]) * height + fragments[2]) * width + fragments[1]
+    inside = np.zeros((convention.n_samples, fragments.shape[1]), dtype=bool)
+    for s, layer in enumerate(exact_samples(alone, single, convention.samples)):
+        t, x, y = layer.pixels()
+        inside[s] = np.isin(wanted, (t * height + y) * width + x)
+    return inside
+
+
+def _near_ties(case: Case, convention: Convention, tolerance: Tolerance, triangle: NDArray, x: NDArray, y: NDArray,
+               alpha: NDArray, error: NDArray, margin: NDArray, over: NDArray,
+               exact_at: Callable[[int], Fraction]) -> NDArray:
+    """Which pixels beyond the tolerance (``over``) float rounding explains: geometry moved
+    by at most :func:`rounding_reach` has a model value the alpha is within the tolerance
+    of. Decided exactly (the reach is the error model's bound, not a slack of the decision).
+
+    * Exact area: the area moves by at most :func:`harness.area.displaced_area_bound` of
+      the reach, so the pixel is a near tie when ``|alpha - area| <= tolerance + that``
+      (for a half-level tolerance: the area within that of a rounding boundary
+      (k + 1/2) / (levels - 1)).
+    * Share of samples: each sample within rounding of an edge (conformance's
+      :func:`harness.checks.conformance.near_ties` at its offset) may count either way, the
+      others as the exact oracle counts them; the pixel is a near tie when some count so
+      reached is within the tolerance of the alpha.
+
+    ``error`` is the float |alpha - oracle| and ``margin`` a bound on its error (the
+    oracle's, the differences' and the sum's roundings); ``exact_at(i)`` the exact model.
+    No near ties on a lattice case (float arithmetic is exact there, as in conformance).
+    """
+    near = np.zeros(over.size, dtype=bool)
+    if case.lattice:
+        return near
+    scene = case.scene
+    assert isinstance(scene, Scene), "area coverage is judged on triangle scenes"
+    reach = rounding_reach(scene.positions, convention, tolerance)
+    limit = convention.alpha_tolerance
+    with np.errstate(invalid="ignore"):
+        candidates = np.flatnonzero(over & np.isfinite(alpha) & (reach[triangle] > 0))
+    if not candidates.size:
+        return near
+    if convention.samples is None:
+        shift = displaced_area_bound(reach)[triangle[candidates]]
+        allowed = limit + shift  # its rounding is inside the margin
+        e, m = error[candidates], margin[candidates]
+        near[candidates[e + m <= allowed]] = True
+        for k in np.flatnonzero((e + m > allowed) & ~(e - m > allowed)):  # open: the rationals decide
+            i = int(candidates[k])
+            near[i] = abs(Fraction(float(alpha[i])) - exact_at(i)) <= Fraction(limit) + Fraction(float(shift[k]))
+        return near
+    n = convention.n_samples
+    snapped = convention.snap(scene.positions)
+    fragments = np.stack([triangle[candidates], x[candidates], y[candidates]])
+    close = np.zeros((n, candidates.size), dtype=bool)
+    for s, offset in enumerate(convention.samples):
+        close[s] = near_ties(snapped, fragments, offset, tolerance)[0]
+    some = np.flatnonzero(close.any(axis=0))
+    if not some.size:
+        return near
+    inside = _inside_samples(scene, convention, fragments[:, some])
+    spread = Fraction(limit) * n
+    for column, c in enumerate(some):
+        i = int(candidates[c])
+        count = int(exact_at(i) * n)  # the exact share's count
+        may_leave = int((close[:, c] & inside[:, column]).sum())
+        may_join = int((close[:, c] & ~inside[:, column]).sum())
+        level = Fraction(float(alpha[i])) * n
+        lowest = max(count - may_leave, math.ceil(level - spread))
+        highest = min(count + may_join, math.floor(level + spread))
+        near[i] = lowest <= highest
+    return near
+
+
 # -- accuracy ---------------------------------------------------------------------------------
 
 
@@ -163,7 +291,8 @@ def off_level(alpha: NDArray, levels: int) -> NDArray:
         return ~(np.abs(q - np.rint(q)) <= LEVEL_NOISE * np.maximum(1.0, np.abs(q)))  # type: ignore[no-any-return]
 
 
-def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Convention) -> Result:
+def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Convention,
+             tolerance: Tolerance = Tolerance()) -> Result:
     """|alpha - model| per (triangle, pixel) against ``convention.alpha_tolerance``; a
     pixel either side leaves out has alpha 0. Alphas off the declared levels fail too.
 
@@ -171,10 +300,19 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     rounding of the difference) leaves the verdict open, the exact rational model decides
     (:func:`exact_model`): no epsilon decides.
 
+    A pixel beyond the tolerance that float rounding explains -- geometry moved by at most
+    what conformance calls rounding (:func:`rounding_reach`) has a model value within the
+    tolerance of the alpha: the exact area within reach of a level's rounding boundary, or
+    samples within rounding of an edge counted the other way (:func:`_near_ties`) -- is a
+    near tie (float rounding): counted apart, not a failure in the default mode, a failure
+    in strict mode (``tolerance.mode``), never on a lattice case.
+
     Metrics: ``max_error``, ``mean_error`` (over the (triangle, pixel)s where either side
-    is nonzero), ``over_tolerance``, ``pixels``, ``off_level``, ``exact_decisions``.
-    Evidence (on failure): ``pixels``, worst first, ``{triangle, x, y, alpha, area,
-    error}`` (``area``: the model's value, a share for a supersampled convention); and
+    is nonzero, near ties left out), ``over_tolerance`` (near ties left out), ``near_tie``,
+    ``near_tie_error`` (the largest error of a near tie), ``pixels``, ``off_level``,
+    ``exact_decisions``. Evidence (on failure, or with near ties): ``pixels``, failures
+    first, then near ties, each worst first, ``{triangle, x, y, alpha, area, error, over,
+    near_tie}`` (``area``: the model's value, a share for a supersampled convention); and
     ``off_level``, ``{triangle, x, y, alpha, level}`` (level: alpha * (levels - 1)).
     """
     scene = case.scene
@@ -186,7 +324,7 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     with np.errstate(invalid="ignore"):
         error = np.abs(alpha - model)
     error[np.isnan(error)] = np.inf
-    tolerance = convention.alpha_tolerance
+    limit = convention.alpha_tolerance
     triangle = keys // (width * height)
     finite = np.isfinite(alpha)
     magnitude = np.maximum(1.0, np.abs(np.where(finite, alpha, 0.0)))
@@ -194,49 +332,75 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     # the exact error lies in [error - slack, error + slack]: beyond the tolerance for
     # sure, within it for sure, or open -- then the rationals decide (a NaN or infinite
     # alpha is beyond any tolerance)
-    over = (error - slack > tolerance) | ~finite
-    open_ = np.flatnonzero(~over & (error + slack > tolerance))
+    over = (error - slack > limit) | ~finite
+    open_ = np.flatnonzero(~over & (error + slack > limit))
     x, y = keys % width, keys // width % height
+    exact: dict[int, Fraction] = {}
+
+    def exact_at(i: int) -> Fraction:
+        """The exact model at pixel ``i`` (computed once)."""
+        if i not in exact:
+            exact[i] = exact_model(scene.positions, convention, int(triangle[i]), int(x[i]), int(y[i]), float(model[i]))
+        return exact[i]
+
     if open_.size:
-        limit = Fraction(tolerance)
+        bound = Fraction(limit)
         for i in open_:
-            exact = exact_model(scene.positions, convention, int(triangle[i]), int(x[i]), int(y[i]), float(model[i]))
-            over[i] = abs(Fraction(float(alpha[i])) - exact) > limit
+            over[i] = abs(Fraction(float(alpha[i])) - exact_at(int(i))) > bound
+    margin = slack + _DIFFERENCE_ROUNDING * max(1.0, limit)
+    near = _near_ties(case, convention, tolerance, triangle, x, y, alpha, error, margin, over, exact_at)
+    over &= ~near
     off = off_level(alpha, convention.levels)
-    count, n_off = int(over.sum()), int(off.sum())
-    worst = float(error.max(initial=0.0))
+    count, n_off, n_near = int(over.sum()), int(off.sum()), int(near.sum())
+    plain = error[~near]
+    worst = float(plain.max(initial=0.0))
+    worst_near = float(error[near].max(initial=0.0))
     metrics = {
         "max_error": worst,
-        "mean_error": float(error.mean()) if error.size else 0.0,
+        "mean_error": float(plain.mean()) if plain.size else 0.0,
         "over_tolerance": float(count),
+        "near_tie": float(n_near),
+        "near_tie_error": worst_near,
         "pixels": float(keys.size),
         "off_level": float(n_off),
         "exact_decisions": float(open_.size),
     }
-    ok = not count and not n_off
+    ok = not count and not n_off and not (n_near and tolerance.mode == "strict")
     step = convention.level_step
     what = _model_words(convention)
     evidence: dict[str, Any] = {}
-    if not ok:
-        order = np.argsort(-error, kind="stable")[:EVIDENCE_LIMIT]
+    if not ok or n_near:
+        # failures first, then near ties, each worst first
+        order = np.lexsort((-error, ~over, ~(over | near)))[:EVIDENCE_LIMIT]
         evidence["pixels"] = [{"triangle": int(triangle[i]), "x": int(x[i]), "y": int(y[i]), "alpha": float(alpha[i]),
-                               "area": float(model[i]), "error": float(error[i]), "over": bool(over[i])} for i in order]
+                               "area": float(model[i]), "error": float(error[i]), "over": bool(over[i]),
+                               "near_tie": bool(near[i])} for i in order]
         evidence["model"] = what
-        evidence["tolerance"] = tolerance
+        evidence["tolerance"] = limit
         if n_off:
             shown = np.flatnonzero(off)[:EVIDENCE_LIMIT]
             evidence["off_level"] = [{"triangle": int(triangle[i]), "x": int(x[i]), "y": int(y[i]), "alpha": float(alpha[i]),
                                       "level": float(alpha[i] * (convention.levels - 1))} for i in shown]
-    if ok:
-        message = (f"within {tolerance:.3g} of {what} at all {keys.size} pixels (largest error {worst:.3g}, "
+    ties = ""
+    if n_near:
+        why = ("samples within rounding of an edge" if convention.samples is not None
+               else "the area within rounding of a level's boundary")
+        ties = f"{n_near} near ties (float rounding: {why}; up to {worst_near / step:.1f} levels)"
+    if not count and not n_off:
+        within = f"all {keys.size}" if not n_near else f"{keys.size - n_near} of {keys.size}"
+        message = (f"within {limit:.3g} of {what} at {within} pixels (largest error {worst:.3g}, "
                    f"{worst / step:.2f} levels)")
+        if ties:
+            message += f"; {ties}" + (", not allowed in strict mode" if tolerance.mode == "strict" else "")
     else:
         parts = []
         if count:
-            parts.append(f"{count} of {keys.size} pixels beyond {tolerance:.3g} of {what} "
+            parts.append(f"{count} of {keys.size} pixels beyond {limit:.3g} of {what} "
                          f"(largest error {worst:.3g}, {worst / step:.1f} levels)")
         if n_off:
             parts.append(f"{n_off} alphas on none of the {convention.levels} declared levels")
+        if ties:
+            parts.append(ties)
         message = "; ".join(parts)
     return result(case.id, "accuracy", ok, message, metrics, evidence)
 
@@ -521,7 +685,7 @@ def _popping(s: Subject) -> Result:
 
 
 register(Check(
-    "accuracy", lambda s: accuracy(s.case, s.coverage, s.oracle, s.convention),  # type: ignore[arg-type]
+    "accuracy", lambda s: accuracy(s.case, s.coverage, s.oracle, s.convention, s.tolerance),  # type: ignore[arg-type]
     _is_static, needs_convention=True, shrinks=True, kinds=AREA_KINDS, per_sample=False,
     metrics={"over_tolerance": (1.0, 0.0), "off_level": (1.0, 0.0), "max_error": (1.5, 2.0**-9)},
     caption="area coverage: every alpha within the declared tolerance of the exact area (or share of samples), "
