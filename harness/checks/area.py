@@ -24,8 +24,9 @@ accuracy
 seams
     On a planar partition the exact areas (or sample shares) of the pieces in a pixel
     wholly inside the region sum to exactly 1, so the pieces' alphas, as integer levels,
-    must sum to levels - 1 within half a level per piece; outside the region they must
-    sum to 0. The depth of the seam after compositing the pieces with ``over`` (the
+    must sum to levels - 1 within what each piece's rounding may lose (the declared
+    tolerance, at most one level: :func:`piece_allowance`), decided exactly; outside the
+    region they must sum to 0. The depth of the seam after compositing the pieces with ``over`` (the
     background left showing, prod(1 - alpha)) is reported as an artifact, never a failure.
 popping
     Under a sub-pixel motion, each (triangle, pixel)'s alpha change from frame to frame
@@ -56,8 +57,8 @@ from harness.conventions import Convention
 from harness.exact import orientation
 from harness.oracle import exact_samples
 
-__all__ = ["accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "rounding_reach", "LEVEL_NOISE",
-           "DISPLAY_LEVELS"]
+__all__ = ["accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "level_values", "exact_alpha",
+           "exact_tolerance", "piece_allowance", "rounding_reach", "LEVEL_NOISE", "DISPLAY_LEVELS"]
 
 AREA_KINDS: frozenset[str] = frozenset({"area"})
 # An alpha meant as level k of L is k/(L-1) rounded to float64 (or computed as k * (1/(L-1)),
@@ -215,7 +216,7 @@ def _inside_samples(scene: Scene, convention: Convention, fragments: NDArray) ->
 
 def _near_ties(case: Case, convention: Convention, tolerance: Tolerance, triangle: NDArray, x: NDArray, y: NDArray,
                alpha: NDArray, error: NDArray, margin: NDArray, over: NDArray,
-               exact_at: Callable[[int], Fraction]) -> NDArray:
+               exact_at: Callable[[int], Fraction], limit: Fraction) -> NDArray:
     """Which pixels beyond the tolerance (``over``) float rounding explains: geometry moved
     by at most :func:`rounding_reach` has a model value the alpha is within the tolerance
     of. Decided exactly (the reach is the error model's bound, not a slack of the decision).
@@ -229,8 +230,10 @@ def _near_ties(case: Case, convention: Convention, tolerance: Tolerance, triangl
       others as the exact oracle counts them; the pixel is a near tie when some count so
       reached is within the tolerance of the alpha.
 
-    ``error`` is the float |alpha - oracle| and ``margin`` a bound on its error (the
-    oracle's, the differences' and the sum's roundings); ``exact_at(i)`` the exact model.
+    ``error`` is the float |level value - oracle| (:func:`level_values`) and ``margin`` a
+    bound on its error (the oracle's, the differences' and the sum's roundings);
+    ``exact_at(i)`` the exact model; ``limit`` the exact tolerance (:func:`exact_tolerance`);
+    each alpha stands for :func:`exact_alpha`.
     No near ties on a lattice case (float arithmetic is exact there, as in conformance).
     """
     near = np.zeros(over.size, dtype=bool)
@@ -239,19 +242,19 @@ def _near_ties(case: Case, convention: Convention, tolerance: Tolerance, triangl
     scene = case.scene
     assert isinstance(scene, Scene), "area coverage is judged on triangle scenes"
     reach = rounding_reach(scene.positions, convention, tolerance)
-    limit = convention.alpha_tolerance
+    levels = convention.levels
     with np.errstate(invalid="ignore"):
         candidates = np.flatnonzero(over & np.isfinite(alpha) & (reach[triangle] > 0))
     if not candidates.size:
         return near
     if convention.samples is None:
         shift = displaced_area_bound(reach)[triangle[candidates]]
-        allowed = limit + shift  # its rounding is inside the margin
+        allowed = float(limit) + shift  # its roundings are inside the margin
         e, m = error[candidates], margin[candidates]
         near[candidates[e + m <= allowed]] = True
         for k in np.flatnonzero((e + m > allowed) & ~(e - m > allowed)):  # open: the rationals decide
             i = int(candidates[k])
-            near[i] = abs(Fraction(float(alpha[i])) - exact_at(i)) <= Fraction(limit) + Fraction(float(shift[k]))
+            near[i] = abs(exact_alpha(float(alpha[i]), levels) - exact_at(i)) <= limit + Fraction(float(shift[k]))
         return near
     n = convention.n_samples
     snapped = convention.snap(scene.positions)
@@ -263,13 +266,13 @@ def _near_ties(case: Case, convention: Convention, tolerance: Tolerance, triangl
     if not some.size:
         return near
     inside = _inside_samples(scene, convention, fragments[:, some])
-    spread = Fraction(limit) * n
+    spread = limit * n
     for column, c in enumerate(some):
         i = int(candidates[c])
         count = int(exact_at(i) * n)  # the exact share's count
         may_leave = int((close[:, c] & inside[:, column]).sum())
         may_join = int((close[:, c] & ~inside[:, column]).sum())
-        level = Fraction(float(alpha[i])) * n
+        level = exact_alpha(float(alpha[i]), levels) * n
         lowest = max(count - may_leave, math.ceil(level - spread))
         highest = min(count + may_join, math.floor(level + spread))
         near[i] = lowest <= highest
@@ -291,13 +294,63 @@ def off_level(alpha: NDArray, levels: int) -> NDArray:
         return ~(np.abs(q - np.rint(q)) <= LEVEL_NOISE * np.maximum(1.0, np.abs(q)))  # type: ignore[no-any-return]
 
 
+def level_values(alpha: NDArray, levels: int) -> NDArray:
+    """What each alpha stands for, in float: level k's value k/(levels - 1) (rounded once)
+    for an alpha on a level (:func:`off_level`), the alpha itself otherwise. Within 2**-53
+    relative of :func:`exact_alpha`.
+
+    >>> level_values(np.array([142 * (1 / 255), 0.3]), 256).tolist() == [142 / 255, 0.3]
+    True
+    """
+    q = alpha * (levels - 1)
+    return np.where(off_level(alpha, levels), alpha, np.rint(q) / (levels - 1))  # type: ignore[no-any-return]
+
+
+def exact_alpha(alpha: float, levels: int) -> Fraction:
+    """The number an alpha stands for, exactly: k/(levels - 1) for an alpha on level k
+    (a float representation of it, :func:`off_level`), its own value otherwise.
+
+    >>> exact_alpha(143 / 255, 256), exact_alpha(0.3, 256) == Fraction(0.3)
+    (Fraction(143, 255), True)
+    """
+    if off_level(np.array([alpha]), levels)[0]:
+        return Fraction(alpha)
+    return Fraction(round(alpha * (levels - 1)), levels - 1)
+
+
+def exact_tolerance(convention: Convention) -> Fraction:
+    """The declared tolerance as the number it stands for: exactly half a level when none
+    is declared; a declared float that is a multiple of half a level up to float
+    representation (as alphas are read as levels: :data:`LEVEL_NOISE`) that multiple
+    exactly; any other float its own value.
+
+    >>> [exact_tolerance(Convention(coverage="area", tolerance=t)) for t in (None, 1 / 255, 0.25)]
+    [Fraction(1, 510), Fraction(1, 255), Fraction(1, 4)]
+    >>> exact_tolerance(Convention(coverage="area", tolerance=0.5 / 255 + 2.0**-24)) == Fraction(0.5 / 255 + 2.0**-24)
+    True
+    """
+    half = Fraction(1, 2 * (convention.levels - 1))
+    if convention.tolerance is None:
+        return half
+    declared = float(convention.tolerance)
+    q = declared * 2 * (convention.levels - 1)
+    m = round(q)
+    if m >= 1 and abs(q - m) <= LEVEL_NOISE * max(1.0, q):
+        return m * half
+    return Fraction(declared)
+
+
 def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Convention,
              tolerance: Tolerance = Tolerance()) -> Result:
-    """|alpha - model| per (triangle, pixel) against ``convention.alpha_tolerance``; a
-    pixel either side leaves out has alpha 0. Alphas off the declared levels fail too.
+    """|alpha - model| per (triangle, pixel) against the declared tolerance; a pixel either
+    side leaves out has alpha 0. Alphas off the declared levels fail too.
 
-    The float oracle is within :func:`model_bound` of the model; where that bound (and the
-    rounding of the difference) leaves the verdict open, the exact rational model decides
+    Each alpha is the number it stands for, level k's k/(levels - 1) (:func:`exact_alpha`),
+    and the tolerance the one declared (:func:`exact_tolerance`: exactly half a level by
+    default), so an area exactly halfway between two levels is within the tolerance of
+    either, and an error exactly at the tolerance is within it. The float oracle is within
+    :func:`model_bound` of the model; where that bound (and the roundings of the level's
+    value and of the difference) leaves the verdict open, the exact rational model decides
     (:func:`exact_model`): no epsilon decides.
 
     A pixel beyond the tolerance that float rounding explains -- geometry moved by at most
@@ -321,19 +374,23 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     keys, alpha, model = _aligned(*_keyed(coverage, width, height, n), *_keyed(oracle, width, height, n))
     present = (alpha != 0) | (model != 0)  # NaN counts as present
     keys, alpha, model = keys[present], alpha[present], model[present]
+    levels = convention.levels
     with np.errstate(invalid="ignore"):
-        error = np.abs(alpha - model)
+        error = np.abs(level_values(alpha, levels) - model)
     error[np.isnan(error)] = np.inf
-    limit = convention.alpha_tolerance
+    limit = exact_tolerance(convention)
+    bound = float(limit)
     triangle = keys // (width * height)
     finite = np.isfinite(alpha)
     magnitude = np.maximum(1.0, np.abs(np.where(finite, alpha, 0.0)))
-    slack = model_bound(scene.positions, convention, width, height)[triangle] + _DIFFERENCE_ROUNDING * magnitude
-    # the exact error lies in [error - slack, error + slack]: beyond the tolerance for
-    # sure, within it for sure, or open -- then the rationals decide (a NaN or infinite
-    # alpha is beyond any tolerance)
-    over = (error - slack > limit) | ~finite
-    open_ = np.flatnonzero(~over & (error + slack > limit))
+    # the exact error lies within ``margin`` of ``error``: the oracle's bound, the rounding
+    # of the level's value and of the difference, and that of the tolerance's float
+    margin = (model_bound(scene.positions, convention, width, height)[triangle] + _DIFFERENCE_ROUNDING * magnitude
+              + _DIFFERENCE_ROUNDING * max(1.0, bound))
+    # beyond the tolerance for sure, within it for sure, or open -- then the rationals
+    # decide (a NaN or infinite alpha is beyond any tolerance)
+    over = (error - margin > bound) | ~finite
+    open_ = np.flatnonzero(~over & (error + margin > bound))
     x, y = keys % width, keys // width % height
     exact: dict[int, Fraction] = {}
 
@@ -343,12 +400,9 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
             exact[i] = exact_model(scene.positions, convention, int(triangle[i]), int(x[i]), int(y[i]), float(model[i]))
         return exact[i]
 
-    if open_.size:
-        bound = Fraction(limit)
-        for i in open_:
-            over[i] = abs(Fraction(float(alpha[i])) - exact_at(int(i))) > bound
-    margin = slack + _DIFFERENCE_ROUNDING * max(1.0, limit)
-    near = _near_ties(case, convention, tolerance, triangle, x, y, alpha, error, margin, over, exact_at)
+    for i in open_:
+        over[i] = abs(exact_alpha(float(alpha[i]), levels) - exact_at(int(i))) > limit
+    near = _near_ties(case, convention, tolerance, triangle, x, y, alpha, error, margin, over, exact_at, limit)
     over &= ~near
     off = off_level(alpha, convention.levels)
     count, n_off, n_near = int(over.sum()), int(off.sum()), int(near.sum())
@@ -376,7 +430,7 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
                                "area": float(model[i]), "error": float(error[i]), "over": bool(over[i]),
                                "near_tie": bool(near[i])} for i in order]
         evidence["model"] = what
-        evidence["tolerance"] = limit
+        evidence["tolerance"] = bound
         if n_off:
             shown = np.flatnonzero(off)[:EVIDENCE_LIMIT]
             evidence["off_level"] = [{"triangle": int(triangle[i]), "x": int(x[i]), "y": int(y[i]), "alpha": float(alpha[i]),
@@ -388,14 +442,14 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
         ties = f"{n_near} near ties (float rounding: {why}; up to {worst_near / step:.1f} levels)"
     if not count and not n_off:
         within = f"all {keys.size}" if not n_near else f"{keys.size - n_near} of {keys.size}"
-        message = (f"within {limit:.3g} of {what} at {within} pixels (largest error {worst:.3g}, "
+        message = (f"within {bound:.3g} of {what} at {within} pixels (largest error {worst:.3g}, "
                    f"{worst / step:.2f} levels)")
         if ties:
             message += f"; {ties}" + (", not allowed in strict mode" if tolerance.mode == "strict" else "")
     else:
         parts = []
         if count:
-            parts.append(f"{count} of {keys.size} pixels beyond {limit:.3g} of {what} "
+            parts.append(f"{count} of {keys.size} pixels beyond {bound:.3g} of {what} "
                          f"(largest error {worst:.3g}, {worst / step:.1f} levels)")
         if n_off:
             parts.append(f"{n_off} alphas on none of the {convention.levels} declared levels")
@@ -420,16 +474,42 @@ def _classes(region: NDArray, convention: Convention, width: int, height: int) -
     return inside, outside
 
 
+def piece_allowance(convention: Convention) -> Fraction:
+    """How far, in levels, each piece's alpha may round off its exact area in a seam's
+    sum: the declared tolerance (:func:`exact_tolerance`; half a level by default, one for
+    a convention that rounds either way), but never more than one level -- no rounding to
+    levels errs by a whole level, and a larger tolerance declares an approximation, whose
+    errors the two sides of a shared edge must cancel (cairo's 2010 seam is two sides that
+    do not). Exact.
+
+    >>> [piece_allowance(Convention(coverage="area", tolerance=t)) for t in (None, 1 / 255, 0.375)]
+    [Fraction(1, 2), Fraction(1, 1), Fraction(1, 1)]
+    """
+    return min(exact_tolerance(convention), Fraction(1, convention.levels - 1)) * (convention.levels - 1)
+
+
+def _seam_allowance(pieces: NDArray, convention: Convention) -> NDArray:
+    """Per pixel, the largest |sum of the pieces' levels - (levels - 1)| their roundings
+    allow: floor(pieces * :func:`piece_allowance`), exactly (the sum is an integer)."""
+    each = piece_allowance(convention)
+    counts = pieces.astype(np.int64)
+    out = np.zeros(counts.size)
+    for k in np.unique(counts):
+        out[counts == k] = math.floor(int(k) * each)
+    return out
+
+
 def seams(case: Case, coverage: Coverage, convention: Convention, oracle: Coverage) -> Result:
     """On a planar partition: at each pixel wholly inside the region the pieces' alphas,
-    as levels ``rint(alpha * (levels - 1))``, sum to ``levels - 1`` within half a level per
-    piece present there (each may round by half a level; exact sample shares sum to
-    exactly 1 too, so the rule is the same for a supersampled convention); at each pixel
-    wholly outside, to 0 (a stray).
+    as levels ``rint(alpha * (levels - 1))``, sum to ``levels - 1`` within
+    :func:`piece_allowance` per piece present there, floored (the sum is an integer; each
+    piece may round by the declared tolerance -- half a level by default -- but by no
+    more than one level; exact sample shares sum to exactly 1 too, so the rule is the same
+    for a supersampled convention); at each pixel wholly outside, to 0 (a stray).
 
     A piece is present where the rasterizer gives it a nonzero alpha or the oracle a
     nonzero area: a sliver that rounds to level 0 still takes its area from the sum, and
-    the half level it may lose must be allowed for (the float oracle's zero areas are
+    what it may lose must be allowed for (the float oracle's zero areas are
     below 2**-24 each, which no integer sum of levels can tell).
 
     Metrics: ``seam_pixels``, ``max_sum_error`` (largest |sum of alphas - 1| inside, in
@@ -467,8 +547,9 @@ def seams(case: Case, coverage: Coverage, convention: Convention, oracle: Covera
     present = keys[(got != 0) | (want != 0)] % size
     pieces = np.bincount(present, minlength=size).astype(float)
     off = level_sum - top
+    allowed = _seam_allowance(pieces, convention)
     with np.errstate(invalid="ignore"):
-        seam = inside & ~(np.abs(off) <= pieces / 2)  # NaN is a seam
+        seam = inside & ~(np.abs(off) <= allowed)  # NaN is a seam
         stray = outside & ~(level_abs == 0)
         sum_error = np.where(np.isnan(alpha_sum), np.inf, np.abs(alpha_sum - 1.0) * top)
     n_inside = int(inside.sum())
@@ -494,7 +575,8 @@ def seams(case: Case, coverage: Coverage, convention: Convention, oracle: Covera
     gaps = (f"compositing with over leaves up to {metrics['max_over_gap']:.3g} of the background showing "
             f"(mean {metrics['mean_over_gap']:.3g}: conflation)")
     if ok:
-        message = f"the pieces' alphas sum to 1 within their quantisation at all {n_inside} inside pixels; {gaps}"
+        message = (f"the pieces' alphas sum to 1 within their rounding ({float(piece_allowance(convention)):.3g} levels "
+                   f"per piece) at all {n_inside} inside pixels; {gaps}")
     else:
         message = (f"{int(seam.sum())} seam pixels (the pieces' alphas off 1 by up to {metrics['max_sum_error']:.2f} levels), "
                    f"{int(stray.sum())} stray pixels outside; {gaps}")
@@ -528,9 +610,10 @@ _CHUNK_ENTRIES = 1 << 21
 def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracles: list[Coverage],
             convention: Convention, areas: list[Coverage] | None = None) -> Result:
     """Per (triangle, pixel) and frame step, the alpha change against the declared
-    model's (the oracle of each frame): beyond ``2 * alpha_tolerance`` (what the declared
-    accuracy allows at the two frames) the alpha jumped on its own -- a failure, decided
-    exactly where the oracle's bound leaves it open. Per pixel, the change of the summed
+    model's (the oracle of each frame): beyond twice the declared tolerance (what the
+    declared accuracy allows at the two frames; :func:`exact_tolerance`, each alpha the
+    level it stands for, :func:`exact_alpha`) the alpha jumped on its own -- a failure,
+    decided exactly where the oracle's bound leaves it open. Per pixel, the change of the summed
     alpha against the exact area's (``areas``, computed when None) is the popping
     artifact, in 8-bit levels (:data:`DISPLAY_LEVELS`).
 
@@ -550,7 +633,9 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
     width, height, n = scenes[0].width, scenes[0].height, len(scenes[0])
     if areas is None:
         areas = oracles if convention.samples is None else _exact_areas(scenes, convention)
-    got = [_fragments(c, width, height, n) for c in coverages]
+    levels = convention.levels
+    # each alpha as the level it stands for (exact_alpha), in float
+    got = [(t, x, y, level_values(a, levels)) for t, x, y, a in (_fragments(c, width, height, n) for c in coverages)]
     want = [_fragments(c, width, height, n) for c in oracles]
     true = want if areas is oracles else [_fragments(c, width, height, n) for c in areas]
     x0, y0, x1, y1 = _window(got + want + true)
@@ -559,7 +644,8 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
     # window-local pixel index of every fragment, per frame
     where = {name: [(part[2] - y0) * span + (part[1] - x0) for part in parts] for name, parts in (("got", got), ("want", want))}
     where["true"] = where["want"] if true is want else [(part[2] - y0) * span + (part[1] - x0) for part in true]
-    tolerance = 2.0 * convention.alpha_tolerance
+    limit = 2 * exact_tolerance(convention)
+    tolerance = float(limit)
     unit = 1.0 / DISPLAY_LEVELS
     bounds: dict[int, NDArray] = {}
 
@@ -625,7 +711,7 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
                     a0, a1, o0, o1 = before[0][candidates], now[0][candidates], before[1][candidates], now[1][candidates]
                     finite = np.isfinite(a0) & np.isfinite(a1)
                     magnitude = np.maximum(1.0, np.abs(np.where(finite, a0, 0.0)) + np.abs(np.where(finite, a1, 0.0)))
-                    slack = bound(f - 1)[t] + bound(f)[t] + _DIFFERENCE_ROUNDING * magnitude
+                    slack = bound(f - 1)[t] + bound(f)[t] + _DIFFERENCE_ROUNDING * (magnitude + max(1.0, tolerance))
                     d = diff[candidates]
                     sure = (d - slack > tolerance) | ~finite  # a NaN or infinite alpha jumps beyond any limit
                     for k in np.flatnonzero(~sure & (d + slack > tolerance)):  # open: the rationals decide
@@ -634,8 +720,8 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
                         x, y = x0 + p % span, y0 + p // span
                         step_model = (exact_model(scenes[f].positions, convention, int(t[k]), x, y, float(o1[k]))
                                       - exact_model(scenes[f - 1].positions, convention, int(t[k]), x, y, float(o0[k])))
-                        step_alpha = Fraction(float(a1[k])) - Fraction(float(a0[k]))
-                        sure[k] = abs(step_alpha - step_model) > Fraction(tolerance)
+                        step_alpha = exact_alpha(float(a1[k]), levels) - exact_alpha(float(a0[k]), levels)
+                        sure[k] = abs(step_alpha - step_model) > limit
                     hits = np.flatnonzero(sure)
                     jumps += hits.size
                     for k in hits[np.argsort(-d[hits], kind="stable")][:EVIDENCE_LIMIT]:
@@ -695,7 +781,7 @@ register(Check(
     "seams", lambda s: seams(s.case, s.coverage, s.convention, s.oracle),  # type: ignore[arg-type]
     lambda case: _is_static(case) and getattr(case, "region", None) is not None, needs_convention=True,
     kinds=AREA_KINDS, per_sample=False, metrics={"seam_pixels": (1.0, 0.0), "strays": (1.0, 0.0)},
-    caption="area coverage on a planar partition: the pieces' alphas sum to 1 inside (within their quantisation), "
+    caption="area coverage on a planar partition: the pieces' alphas sum to 1 inside (within their rounding), "
             "0 outside; the seam left by compositing with over reported",
 ))
 register(Check(
