@@ -224,7 +224,10 @@ def _near_ties(case: Case, convention: Convention, tolerance: Tolerance, triangl
     * Exact area: the area moves by at most :func:`harness.area.displaced_area_bound` of
       the reach, so the pixel is a near tie when ``|alpha - area| <= tolerance + that``
       (for a half-level tolerance: the area within that of a rounding boundary
-      (k + 1/2) / (levels - 1)).
+      (k + 1/2) / (levels - 1)). A float rasterizer's own arithmetic on the area and its
+      quantisation errs by some u M (u = 2**-53, M the largest local coordinate; the
+      float oracle's bound is about 70 u M), far inside that reach of 8.5 * 2**-40 per unit
+      of max(1, M) (or 8.5 * 2**-20 at the cap).
     * Share of samples: each sample within rounding of an edge (conformance's
       :func:`harness.checks.conformance.near_ties` at its offset) may count either way, the
       others as the exact oracle counts them; the pixel is a near tie when some count so
