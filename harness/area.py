@@ -108,7 +108,7 @@ from harness.exact import orientation
 from harness.spans import expand, pixel_offsets
 
 __all__ = ["UNIT_ROUNDOFF", "GUARD_LIMIT", "exact_area", "exact_pixel_areas", "pixel_areas", "area_error_bound",
-           "area_coverage"]
+           "displaced_area_bound", "area_coverage"]
 
 UNIT_ROUNDOFF = 2.0**-53
 # Triangles with a coordinate beyond this are clipped exactly to the viewport first; below
@@ -583,6 +583,48 @@ def area_error_bound(positions: ArrayLike, width: int = MAX_VIEWPORT, height: in
     out[near] = bound(3, extent[near] + 1.0, 0.0)
     out[active & ~near] = bound(_MAX_VERTICES, side, side)
     return out
+
+
+def displaced_area_bound(delta: ArrayLike) -> NDArray[np.float64]:
+    """How much the area of triangle ∩ pixel square can change, at any pixel, when every
+    vertex of the triangle moves by at most ``delta`` (Euclidean): at most
+    ``3 (2 sqrt(2) (1 + 2 delta) delta + pi delta**2)``, and never more than 1.
+
+    This is how far float rounding can move an anti-aliased alpha before it is quantised:
+    a rasterizer computing in float answers for geometry a rounding away from the exact
+    one, and the area is continuous in the vertices.
+
+    Proof. Let T' be the moved triangle. A point ``sum l_k v'_k`` of T' lies within delta
+    of ``sum l_k v_k`` in T (convex weights l_k), so T' lies within delta of T. The
+    support function of T' is ``max_k v'_k . u >= max_k v_k . u - delta``, at least
+    that of T eroded by the disc of radius delta (a point p of the erosion has
+    ``p + delta u`` in T): the erosion lies inside T'. So every point of T Δ T' is within
+    delta of the boundary of T, and ``|area(T ∩ B) - area(T' ∩ B)|`` is at most the area
+    of the points of B within delta of it. Their nearest boundary points lie in B grown by
+    delta on each side, which each of the three edges meets in a segment no longer than
+    its diagonal, ``sqrt(2) (1 + 2 delta)``; the points within delta of a segment of length
+    L cover ``2 delta L + pi delta**2``.
+
+    Parameters
+    ----------
+    delta : float or (N,) float64
+        How far the vertices may move, >= 0.
+
+    Returns
+    -------
+    float64, shaped as ``delta``
+        The bound, rounded up (the float evaluation's own error is covered).
+
+    Examples
+    --------
+    >>> round(float(displaced_area_bound(2.0**-40) * 2**40), 4)  # about 6 sqrt(2) = 8.48528...
+    8.4853
+    >>> displaced_area_bound([0.0, 1.0]).tolist()
+    [0.0, 1.0]
+    """
+    d = np.asarray(delta, dtype=np.float64)
+    bound = 3.0 * (2.0 * math.sqrt(2.0) * (1.0 + 2.0 * d) * d + math.pi * d * d) * (1.0 + 2.0**-50)
+    return np.minimum(bound, 1.0)
 
 
 def area_coverage(scene: Scene, convention: Convention) -> Coverage:

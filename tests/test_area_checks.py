@@ -7,6 +7,7 @@ fail the per-sample checks the same way."""
 from __future__ import annotations
 
 import fnmatch
+from dataclasses import replace
 from fractions import Fraction
 from functools import cache
 from typing import Any
@@ -20,8 +21,10 @@ from harness.api import Coverage, Scene
 from harness.area import area_coverage, exact_area
 from harness.case import Case, MotionCase
 from harness.checks import Result, accuracy, checks, popping, seams
+from harness.checks.records import Tolerance
 from harness.conventions import Convention
 from harness.oracle import exact_coverage, sample_shares
+from harness.samples import STANDARD_PATTERNS
 from tests.known_bad.antialiasing import (
     GRID_4X4, BiasedArea, CoarseSupersampleClaimsAnalytic, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch,
     SwappedSampleBits,
@@ -54,6 +57,55 @@ class Shares4x4:
 
     def rasterize(self, scene: Scene) -> Coverage:
         return sample_shares(scene, self.convention)
+
+
+class FloatSupersampler:
+    """A correct 4 x 4 supersampler computing in float64, as a plugin author writes one:
+    each sample tested against the three edge functions (evaluated from the edge's
+    smaller end point, so that a shared edge is evaluated alike from both sides), top-left
+    ties, alpha the share of its 16 samples. Where a sample lies within rounding of an
+    edge the float sign may differ from the exact one: near ties, not errors. Sampling at
+    other offsets than it declares (``offsets``) makes it a known-bad."""
+
+    name = "float_supersampler"
+    convention = Convention(coverage="area", samples=GRID_4X4, levels=17)
+    interpolates = False
+
+    def __init__(self, offsets: tuple[tuple[float, float], ...] = GRID_4X4) -> None:
+        self.offsets = np.array(offsets, dtype=np.float64)
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        parts: list[tuple[int, np.ndarray, np.ndarray, np.ndarray]] = []
+        for t, p in enumerate(scene.positions):
+            if not np.all(np.isfinite(p)):
+                continue
+            area = (p[1, 0] - p[0, 0]) * (p[2, 1] - p[0, 1]) - (p[1, 1] - p[0, 1]) * (p[2, 0] - p[0, 0])
+            if area == 0:
+                continue
+            if area < 0:  # the interior to the left of every edge (y down)
+                p = p[[0, 2, 1]]
+            x0, x1 = max(int(np.floor(p[:, 0].min())), 0), min(int(np.ceil(p[:, 0].max())), scene.width)
+            y0, y1 = max(int(np.floor(p[:, 1].min())), 0), min(int(np.ceil(p[:, 1].max())), scene.height)
+            if x0 >= x1 or y0 >= y1:
+                continue
+            xs, ys = np.meshgrid(np.arange(x0, x1), np.arange(y0, y1))
+            px, py = xs[..., None] + self.offsets[:, 0], ys[..., None] + self.offsets[:, 1]
+            inside = np.ones(px.shape, dtype=bool)
+            for k in range(3):
+                a, b = p[k], p[(k + 1) % 3]
+                lo, hi, sign = (a, b, 1.0) if tuple(a) <= tuple(b) else (b, a, -1.0)
+                e = sign * ((hi[0] - lo[0]) * (py - lo[1]) - (hi[1] - lo[1]) * (px - lo[0]))
+                top_left = b[1] < a[1] or (b[1] == a[1] and b[0] > a[0])
+                inside &= (e > 0) | ((e == 0) & top_left)
+            count = inside.sum(axis=-1)
+            hit = count > 0
+            parts.append((t, xs[hit], ys[hit], count[hit] / len(self.offsets)))
+        if not parts:
+            return Coverage.empty()
+        t = np.concatenate([np.full(x.size, k) for k, x, _, _ in parts])
+        return Coverage.from_pixels(t, np.concatenate([x for _, x, _, _ in parts]),
+                                    np.concatenate([y for _, _, y, _ in parts]),
+                                    alpha=np.concatenate([a for _, _, _, a in parts]))
 
 
 @cache
@@ -132,13 +184,15 @@ def test_accuracy_passes_an_alpha_exactly_at_the_tolerance():
     beyond = accuracy(case, _alone(scene, convention, 0, 0, 0.5 + 2 * 2.0**-7), oracle, convention)
     assert beyond.status == "fail" and beyond.metrics["over_tolerance"] == 1
     assert beyond.evidence["pixels"][0] == {"triangle": 0, "x": 0, "y": 0, "alpha": 0.5 + 2**-6, "area": 0.5,
-                                            "error": 2**-6, "over": True}
+                                            "error": 2**-6, "over": True, "near_tie": False}
 
 
 def test_accuracy_decides_at_the_last_bit_where_the_float_oracle_cannot():
     """Pixel (0, 0) holds 5/6 of a pixel, which no float is; the float oracle errs by
     1/2**54.6 or so. The floats on either side of 5/6 + 1/128 are judged by the rationals:
-    the one above is beyond the tolerance although its float error equals it exactly."""
+    the one above is beyond the tolerance although its float error equals it exactly (on
+    the integer lattice, where no float rounding excuses it; off a lattice the last bit is
+    a near tie)."""
     scene = Scene(2, 4, [[[0, 0], [1, 0], [0, 3]]])
     convention = Convention(coverage="area", tolerance=2.0**-7)
     limit = exact_area(scene.positions[0], 0, 0) + Fraction(2.0**-7)
@@ -146,12 +200,15 @@ def test_accuracy_decides_at_the_last_bit_where_the_float_oracle_cannot():
     below = float(limit) if Fraction(float(limit)) <= limit else float(np.nextafter(float(limit), 0.0))
     above = float(np.nextafter(below, 2.0))
     assert Fraction(below) < limit < Fraction(above)
-    case = Case("exact/last-bit", scene)
+    case = Case("exact/last-bit", scene, lattice=True)
     oracle = exact_coverage(scene, convention)
     assert oracle.alpha is not None and not abs(above - oracle.alpha[0]) > 2.0**-7  # the float difference says "within"
     for alpha, over in ((below, 0), (above, 1)):
         verdict = accuracy(case, _alone(scene, convention, 0, 0, alpha), oracle, convention)
         assert verdict.metrics["over_tolerance"] == over and verdict.metrics["exact_decisions"] == 1, (alpha, verdict.message)
+        assert verdict.metrics["near_tie"] == 0
+    off_lattice = accuracy(replace(case, lattice=False), _alone(scene, convention, 0, 0, above), oracle, convention)
+    assert off_lattice.metrics["over_tolerance"] == 0 and off_lattice.metrics["near_tie"] == 1
 
 
 def test_accuracy_fails_alphas_off_the_declared_levels_and_nothing_else():
@@ -191,6 +248,156 @@ def test_an_answer_without_alphas_fails_every_area_check():
     oracles = [exact_coverage(s, convention) for s in frames]
     bares = [Coverage(o.triangle, o.y, o.x0, o.x1) for o in oracles]
     assert popping(motion.id, frames, bares, oracles, convention).metrics["alpha_jumps"] > 0
+
+
+def test_an_area_exactly_halfway_between_levels_may_round_to_either():
+    """Issue 29: the triangle's area at pixel (22, 23) is 19/34 = 142.5/255 exactly. Level
+    142 and level 143 are each exactly half a level from it: within the default tolerance,
+    exactly at it, whichever way a rasterizer rounds (the decision is on the numbers the
+    floats 142/255 and 0.5/255 stand for, not on the floats); a level further is not. On
+    its half-pixel lattice, with no near tie to hide behind."""
+    scene = Scene(40, 40, [[[22, 22], [30, 23.5], [24.5, 30.5]]])
+    assert exact_area(scene.positions[0], 22, 23) == Fraction(285, 510)
+    convention = Convention(coverage="area")
+    case = Case("exact/halfway", scene, lattice=True)
+    oracle = exact_coverage(scene, convention)
+    assert oracle.alpha is not None
+    level = oracle.alpha * 255
+    for rounded in (np.floor(level + 0.5), np.ceil(level - 0.5), np.rint(level)):  # halves up, down, to even
+        verdict = accuracy(case, Coverage(oracle.triangle, oracle.y, oracle.x0, oracle.x1, alpha=rounded / 255),
+                           oracle, convention)
+        assert verdict.status == "pass" and verdict.metrics["near_tie"] == 0, verdict.message
+        assert verdict.metrics["max_error"] == pytest.approx(0.5 / 255) and verdict.metrics["exact_decisions"] >= 1
+    for beyond in (141 / 255, 144 / 255):
+        verdict = accuracy(case, _alone(scene, convention, 22, 23, beyond), oracle, convention)
+        assert verdict.status == "fail" and verdict.metrics["over_tolerance"] == 1, verdict.message
+
+
+class Truncated8Bit:
+    """The area truncated to 8 bits (a converter that floors), declared as what it is:
+    within one level of the area."""
+
+    name = "area_8bit_truncated"
+    convention = Convention(coverage="area", tolerance=1 / 255)
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        exact = area_coverage(scene, self.convention)
+        assert exact.alpha is not None
+        return Coverage(exact.triangle, exact.y, exact.x0, exact.x1, alpha=np.floor(exact.alpha * 255) / 255)
+
+
+def test_seams_allow_each_piece_the_declared_tolerance():
+    """Issue 29: a truncating converter loses up to a level per piece, which it declares;
+    where many pieces meet (a fan's centre, a grid's corners) the sum falls short by more
+    than half a level per piece. Declared one level, no seam; declared half a level, seams
+    (the same answer); a piece missing is a seam under either."""
+    rasterizer = Truncated8Bit()
+    for case in cases("watertight/fan-8/centre", "watertight/grid-6x6-main/float"):
+        assert isinstance(case, Case) and case.region is not None
+        answer = rasterizer.rasterize(case.scene)
+        one_level = rasterizer.convention
+        oracle = exact_coverage(case.scene, one_level)
+        verdict = seams(case, answer, one_level, oracle)
+        assert verdict.status == "pass" and "(1 levels per piece)" in verdict.message, (case.id, verdict.message)
+        assert accuracy(case, answer, oracle, one_level).metrics["over_tolerance"] == 0
+        half_level = replace(one_level, tolerance=None)
+        strict = seams(case, answer, half_level, oracle)
+        assert strict.status == "fail" and strict.metrics["seam_pixels"] >= 1, case.id
+        worst = strict.evidence["pixels"][0]
+        assert worst["pieces"] / 2 < -worst["levels_off"] <= worst["pieces"]  # short by more than half a level each
+        dropped = answer.take(np.flatnonzero(answer.triangle != 3))
+        assert seams(case, dropped, one_level, oracle).metrics["seam_pixels"] > 0, case.id
+
+
+# -- near ties (float rounding) ----------------------------------------------------------------
+
+
+NON_DYADIC = "watertight/grid-12x12-main/non-dyadic"  # lines at non-dyadic spacing: samples within rounding of edges
+
+
+def test_a_float_supersampler_passes_with_its_samples_within_rounding_of_an_edge_as_near_ties():
+    """Issue 28: a correct float supersampler counts some samples lying ~1e-15 px from an
+    edge the other way. Each such pixel is reached by flipping samples within rounding of
+    an edge of its triangle: a near tie (float rounding), not a failure; strict mode
+    allows none."""
+    case = quick()[NON_DYADIC]
+    assert isinstance(case, Case) and not case.lattice
+    rasterizer = FloatSupersampler()
+    convention = rasterizer.convention
+    answer, oracle = rasterizer.rasterize(case.scene), exact_coverage(case.scene, convention)
+    verdict = accuracy(case, answer, oracle, convention)
+    metrics = verdict.metrics
+    assert verdict.status == "pass" and metrics["over_tolerance"] == 0 and metrics["max_error"] == 0, verdict.message
+    assert metrics["near_tie"] >= 10 and metrics["near_tie_error"] >= 2 / 16, metrics
+    assert f"{int(metrics['near_tie'])} near ties (float rounding: samples within rounding of an edge" in verdict.message
+    listed = verdict.evidence["pixels"]  # near ties first, then the rest, each worst first
+    ties = listed[: int(metrics["near_tie"])]
+    assert all(p["near_tie"] and not p["over"] for p in ties) and not any(p["near_tie"] for p in listed[len(ties):])
+    assert all(abs(p["alpha"] - p["area"]) > convention.alpha_tolerance for p in ties)  # beyond the tolerance, each
+    strict = accuracy(case, answer, oracle, convention, Tolerance(mode="strict"))
+    assert strict.status == "fail" and strict.metrics["near_tie"] == metrics["near_tie"] and "strict" in strict.message
+    # through the runner, which hands the check its tolerance: the same near ties
+    through = judged(rasterizer, [case], {"accuracy"})["accuracy"][case.id]
+    assert through.status == "pass" and through.metrics["near_tie"] == metrics["near_tie"]
+
+
+def test_a_supersampler_sampling_elsewhere_still_fails_by_real_error():
+    """The same float supersampler at the D3D11 16x offsets while it declares the 4 x 4
+    grid: samples a sixteenth of a pixel from where they should be are no rounding."""
+    case = quick()[NON_DYADIC]
+    assert isinstance(case, Case)
+    verdict = judged(FloatSupersampler(STANDARD_PATTERNS[16]), [case], {"accuracy"})["accuracy"][case.id]
+    assert verdict.status == "fail" and verdict.metrics["over_tolerance"] > 1000
+    # pixels with a declared sample on (or within rounding of) an edge may count it either way, as in conformance
+    assert verdict.metrics["over_tolerance"] > 4 * verdict.metrics["near_tie"]
+    worst = verdict.evidence["pixels"][0]
+    assert worst["over"] and not worst["near_tie"] and worst["error"] >= 2 / 16
+
+
+def _vertical_edge(a: float) -> Scene:
+    """Pixels (0, 0) and (0, 1) covered left of x = a: the exact area of each is ``a``."""
+    return Scene(2, 2, [[[a, -5], [a, 5], [a - 20, 0]]])
+
+
+def test_an_area_within_rounding_of_a_rounding_boundary_is_a_near_tie():
+    """The float nearest 65.5/255 lies 2.7e-17 below it, so level 65 is the exact
+    rounding; the float product a * 255 is exactly 65.5 and rounds (to even) to 66, half a
+    level and 2.7e-17 away: beyond the exact half-level tolerance by far less than the area
+    moves when the triangle moves by a rounding. A near tie, not an error; one level off an
+    area no rounding brings to a boundary is an error."""
+    convention = Convention(coverage="area")  # the tolerance: exactly half a level
+    a = float(Fraction(131, 510))
+    scene = _vertical_edge(a)
+    assert exact_area(scene.positions[0], 0, 0) == Fraction(a) < Fraction(131, 510) and a * 255 == 65.5
+    oracle = exact_coverage(scene, convention)
+    answer = Coverage.from_pixels([0, 0], [0, 0], [0, 1], alpha=np.rint(oracle.alpha * 255) / 255)  # type: ignore[operator]
+    case = Case("near-tie/half-level", scene)
+    verdict = accuracy(case, answer, oracle, convention)
+    assert verdict.status == "pass" and verdict.metrics["near_tie"] == 2 and verdict.metrics["over_tolerance"] == 0
+    assert verdict.evidence["pixels"] == [{"triangle": 0, "x": 0, "y": y, "alpha": 66 / 255, "area": a,
+                                           "error": 66 / 255 - a, "over": False, "near_tie": True} for y in (0, 1)]
+    assert "2 near ties (float rounding: the area within rounding of a level's boundary" in verdict.message
+    assert accuracy(case, answer, oracle, convention, Tolerance(mode="strict")).status == "fail"
+    assert accuracy(replace(case, lattice=True), answer, oracle, convention).metrics["over_tolerance"] == 2
+    far = _vertical_edge(65.4 / 255)
+    wrong = Coverage.from_pixels([0, 0], [0, 0], [0, 1], alpha=[66 / 255, 65 / 255])
+    verdict = accuracy(Case("near-tie/far", far), wrong, exact_coverage(far, convention), convention)
+    assert verdict.status == "fail" and verdict.metrics["over_tolerance"] == 1 and verdict.metrics["near_tie"] == 0
+    assert verdict.evidence["pixels"][0]["over"] and (verdict.evidence["pixels"][0]["x"], verdict.evidence["pixels"][0]["y"]) == (0, 0)
+
+
+def test_known_bad_anti_aliasers_fail_accuracy_by_real_error_off_the_lattice():
+    """Off the lattice, where near ties are allowed, the known-bads' errors are no rounding
+    (the coarse supersampler's half-covered pixels on a diagonal within rounding of the
+    pixel's own, 8/16 written as 128/255 where the area is 127.5/255 - 1e-32, are)."""
+    case = quick()[NON_DYADIC]
+    for bad in (BiasedArea(), CoarseSupersampleClaimsAnalytic()):
+        verdict = judged(bad, [case], {"accuracy"})["accuracy"][case.id]
+        metrics = verdict.metrics
+        assert verdict.status == "fail" and metrics["over_tolerance"] > 1000, (bad.name, verdict.message)
+        assert metrics["near_tie"] <= metrics["over_tolerance"] / 100 and metrics["near_tie_error"] <= 0.5 / 255 + 1e-9
+        assert metrics["max_error"] > 1.5 / 255 and verdict.evidence["pixels"][0]["over"], bad.name
 
 
 # -- seams ------------------------------------------------------------------------------------

@@ -13,11 +13,20 @@ accuracy
     supersampled convention, the share of samples covered (exact). A verdict the bound
     leaves open is decided with :func:`harness.area.exact_area`. Alphas off the declared
     quantisation (not a multiple of 1/(levels - 1) up to float representation) fail too.
+    An alpha beyond the tolerance that float rounding explains is a near tie, counted apart
+    as conformance counts its own: the rasterizer's geometry moved by at most what
+    conformance calls rounding (:func:`rounding_reach`) has a model value the alpha is
+    within the tolerance of -- the exact area moves by at most
+    :func:`harness.area.displaced_area_bound` of it (so only an area that close to a level's
+    rounding boundary can round the other way), and each sample within rounding of an
+    edge (:func:`harness.checks.conformance.near_ties`) may count either way. Decided
+    exactly; none on a lattice case, none allowed in strict mode.
 seams
     On a planar partition the exact areas (or sample shares) of the pieces in a pixel
     wholly inside the region sum to exactly 1, so the pieces' alphas, as integer levels,
-    must sum to levels - 1 within half a level per piece; outside the region they must
-    sum to 0. The depth of the seam after compositing the pieces with ``over`` (the
+    must sum to levels - 1 within what each piece's rounding may lose (the declared
+    tolerance, at most one level: :func:`piece_allowance`), decided exactly; outside the
+    region they must sum to 0. The depth of the seam after compositing the pieces with ``over`` (the
     background left showing, prod(1 - alpha)) is reported as an artifact, never a failure.
 popping
     Under a sub-pixel motion, each (triangle, pixel)'s alpha change from frame to frame
@@ -29,6 +38,8 @@ popping
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import replace
 from fractions import Fraction
 from typing import Any
@@ -37,14 +48,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene
-from harness.area import area_coverage, area_error_bound, exact_area
+from harness.area import area_coverage, area_error_bound, displaced_area_bound, exact_area
 from harness.case import Case
-from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, register, result, skip
+from harness.checks.conformance import near_ties
+from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
 from harness.checks.watertight import pixel_classes
 from harness.conventions import Convention
 from harness.exact import orientation
+from harness.oracle import exact_samples
 
-__all__ = ["accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "LEVEL_NOISE", "DISPLAY_LEVELS"]
+__all__ = ["accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "level_values", "exact_alpha",
+           "exact_tolerance", "piece_allowance", "rounding_reach", "LEVEL_NOISE", "DISPLAY_LEVELS"]
 
 AREA_KINDS: frozenset[str] = frozenset({"area"})
 # An alpha meant as level k of L is k/(L-1) rounded to float64 (or computed as k * (1/(L-1)),
@@ -148,6 +162,126 @@ def _model_words(convention: Convention) -> str:
     return "the share of samples covered" if convention.samples is not None else "the exact area"
 
 
+# -- near ties: float rounding ----------------------------------------------------------------
+
+
+def rounding_reach(positions: NDArray, convention: Convention, tolerance: Tolerance) -> NDArray:
+    """Per triangle, how far float rounding may move its geometry, in pixels: the error
+    model of conformance's near ties (:func:`harness.checks.conformance.near_ties`),
+    ``tolerance.near_tie`` relative to max(1, largest |coordinate|) of the snapped
+    triangle, never more than ``tolerance.near_tie_pixels``; 0 for a triangle with a
+    non-finite coordinate or one the convention culls (no rounding draws either).
+
+    Parameters
+    ----------
+    positions : (N, 3, 2) float64
+        The scene's positions as given (snapped here).
+    convention : Convention
+    tolerance : Tolerance
+
+    Returns
+    -------
+    (N,) float64
+
+    >>> tris = np.array([[[0, 0], [4, 0], [0, 4]], [[0, 0], [2.0**30, 0], [0, 1]], [[0, 0], [0, 4], [4, 0]]], float)
+    >>> (rounding_reach(tris, Convention(coverage="area", cull="ccw"), Tolerance()) * 2**40).tolist()  # the last one culled
+    [4.0, 1048576.0, 0.0]
+    """
+    snapped = convention.snap(positions)
+    finite = np.all(np.isfinite(snapped), axis=(1, 2))
+    with np.errstate(invalid="ignore"):
+        magnitude = np.maximum(1.0, np.abs(np.where(finite[:, None, None], snapped, 0.0)).max(axis=(1, 2), initial=0.0))
+    reach = np.where(finite, np.minimum(tolerance.near_tie * magnitude, tolerance.near_tie_pixels), 0.0)
+    if convention.cull != "none":
+        culled = orientation(np.where(finite[:, None, None], snapped, 0.0)) == (1 if convention.cull == "cw" else -1)
+        reach[culled] = 0.0
+    return reach  # type: ignore[no-any-return]
+
+
+def _inside_samples(scene: Scene, convention: Convention, fragments: NDArray) -> NDArray:
+    """(S, M) bool: which samples of each (triangle, x, y) of ``fragments`` (3, M) the
+    triangle covers exactly under a supersampled convention (its oracle, on those
+    triangles alone)."""
+    width, height = scene.width, scene.height
+    triangles = np.unique(fragments[0])
+    alone = Scene(width, height, scene.positions[triangles])
+    single = replace(convention, coverage="sample", samples=None, levels=256, tolerance=None)
+    wanted = (np.searchsorted(triangles, fragments[0]) * height + fragments[2]) * width + fragments[1]
+    inside = np.zeros((convention.n_samples, fragments.shape[1]), dtype=bool)
+    for s, layer in enumerate(exact_samples(alone, single, convention.samples)):
+        t, x, y = layer.pixels()
+        inside[s] = np.isin(wanted, (t * height + y) * width + x)
+    return inside
+
+
+def _near_ties(case: Case, convention: Convention, tolerance: Tolerance, triangle: NDArray, x: NDArray, y: NDArray,
+               alpha: NDArray, error: NDArray, margin: NDArray, over: NDArray,
+               exact_at: Callable[[int], Fraction], limit: Fraction) -> NDArray:
+    """Which pixels beyond the tolerance (``over``) float rounding explains: geometry moved
+    by at most :func:`rounding_reach` has a model value the alpha is within the tolerance
+    of. Decided exactly (the reach is the error model's bound, not a slack of the decision).
+
+    * Exact area: the area moves by at most :func:`harness.area.displaced_area_bound` of
+      the reach, so the pixel is a near tie when ``|alpha - area| <= tolerance + that``
+      (for a half-level tolerance: the area within that of a rounding boundary
+      (k + 1/2) / (levels - 1)). A float rasterizer's own arithmetic on the area and its
+      quantisation errs by some u M (u = 2**-53, M the largest local coordinate; the
+      float oracle's bound is about 70 u M), far inside that reach of 8.5 * 2**-40 per unit
+      of max(1, M) (or 8.5 * 2**-20 at the cap).
+    * Share of samples: each sample within rounding of an edge (conformance's
+      :func:`harness.checks.conformance.near_ties` at its offset) may count either way, the
+      others as the exact oracle counts them; the pixel is a near tie when some count so
+      reached is within the tolerance of the alpha.
+
+    ``error`` is the float |level value - oracle| (:func:`level_values`) and ``margin`` a
+    bound on its error (the oracle's, the differences' and the sum's roundings);
+    ``exact_at(i)`` the exact model; ``limit`` the exact tolerance (:func:`exact_tolerance`);
+    each alpha stands for :func:`exact_alpha`.
+    No near ties on a lattice case (float arithmetic is exact there, as in conformance).
+    """
+    near = np.zeros(over.size, dtype=bool)
+    if case.lattice:
+        return near
+    scene = case.scene
+    assert isinstance(scene, Scene), "area coverage is judged on triangle scenes"
+    reach = rounding_reach(scene.positions, convention, tolerance)
+    levels = convention.levels
+    with np.errstate(invalid="ignore"):
+        candidates = np.flatnonzero(over & np.isfinite(alpha) & (reach[triangle] > 0))
+    if not candidates.size:
+        return near
+    if convention.samples is None:
+        shift = displaced_area_bound(reach)[triangle[candidates]]
+        allowed = float(limit) + shift  # its roundings are inside the margin
+        e, m = error[candidates], margin[candidates]
+        near[candidates[e + m <= allowed]] = True
+        for k in np.flatnonzero((e + m > allowed) & ~(e - m > allowed)):  # open: the rationals decide
+            i = int(candidates[k])
+            near[i] = abs(exact_alpha(float(alpha[i]), levels) - exact_at(i)) <= limit + Fraction(float(shift[k]))
+        return near
+    n = convention.n_samples
+    snapped = convention.snap(scene.positions)
+    fragments = np.stack([triangle[candidates], x[candidates], y[candidates]])
+    close = np.zeros((n, candidates.size), dtype=bool)
+    for s, offset in enumerate(convention.samples):
+        close[s] = near_ties(snapped, fragments, offset, tolerance)[0]
+    some = np.flatnonzero(close.any(axis=0))
+    if not some.size:
+        return near
+    inside = _inside_samples(scene, convention, fragments[:, some])
+    spread = limit * n
+    for column, c in enumerate(some):
+        i = int(candidates[c])
+        count = int(exact_at(i) * n)  # the exact share's count
+        may_leave = int((close[:, c] & inside[:, column]).sum())
+        may_join = int((close[:, c] & ~inside[:, column]).sum())
+        level = exact_alpha(float(alpha[i]), levels) * n
+        lowest = max(count - may_leave, math.ceil(level - spread))
+        highest = min(count + may_join, math.floor(level + spread))
+        near[i] = lowest <= highest
+    return near
+
+
 # -- accuracy ---------------------------------------------------------------------------------
 
 
@@ -163,18 +297,78 @@ def off_level(alpha: NDArray, levels: int) -> NDArray:
         return ~(np.abs(q - np.rint(q)) <= LEVEL_NOISE * np.maximum(1.0, np.abs(q)))  # type: ignore[no-any-return]
 
 
-def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Convention) -> Result:
-    """|alpha - model| per (triangle, pixel) against ``convention.alpha_tolerance``; a
-    pixel either side leaves out has alpha 0. Alphas off the declared levels fail too.
+def level_values(alpha: NDArray, levels: int) -> NDArray:
+    """What each alpha stands for, in float: level k's value k/(levels - 1) (rounded once)
+    for an alpha on a level (:func:`off_level`), the alpha itself otherwise. Within 2**-53
+    relative of :func:`exact_alpha`.
 
-    The float oracle is within :func:`model_bound` of the model; where that bound (and the
-    rounding of the difference) leaves the verdict open, the exact rational model decides
+    >>> level_values(np.array([142 * (1 / 255), 0.3]), 256).tolist() == [142 / 255, 0.3]
+    True
+    """
+    q = alpha * (levels - 1)
+    return np.where(off_level(alpha, levels), alpha, np.rint(q) / (levels - 1))  # type: ignore[no-any-return]
+
+
+def exact_alpha(alpha: float, levels: int) -> Fraction:
+    """The number an alpha stands for, exactly: k/(levels - 1) for an alpha on level k
+    (a float representation of it, :func:`off_level`), its own value otherwise.
+
+    >>> exact_alpha(143 / 255, 256), exact_alpha(0.3, 256) == Fraction(0.3)
+    (Fraction(143, 255), True)
+    """
+    if off_level(np.array([alpha]), levels)[0]:
+        return Fraction(alpha)
+    return Fraction(round(alpha * (levels - 1)), levels - 1)
+
+
+def exact_tolerance(convention: Convention) -> Fraction:
+    """The declared tolerance as the number it stands for: exactly half a level when none
+    is declared; a declared float that is a multiple of half a level up to float
+    representation (as alphas are read as levels: :data:`LEVEL_NOISE`) that multiple
+    exactly; any other float its own value.
+
+    >>> [exact_tolerance(Convention(coverage="area", tolerance=t)) for t in (None, 1 / 255, 0.25)]
+    [Fraction(1, 510), Fraction(1, 255), Fraction(1, 4)]
+    >>> exact_tolerance(Convention(coverage="area", tolerance=0.5 / 255 + 2.0**-24)) == Fraction(0.5 / 255 + 2.0**-24)
+    True
+    """
+    half = Fraction(1, 2 * (convention.levels - 1))
+    if convention.tolerance is None:
+        return half
+    declared = float(convention.tolerance)
+    q = declared * 2 * (convention.levels - 1)
+    m = round(q)
+    if m >= 1 and abs(q - m) <= LEVEL_NOISE * max(1.0, q):
+        return m * half
+    return Fraction(declared)
+
+
+def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Convention,
+             tolerance: Tolerance = Tolerance()) -> Result:
+    """|alpha - model| per (triangle, pixel) against the declared tolerance; a pixel either
+    side leaves out has alpha 0. Alphas off the declared levels fail too.
+
+    Each alpha is the number it stands for, level k's k/(levels - 1) (:func:`exact_alpha`),
+    and the tolerance the one declared (:func:`exact_tolerance`: exactly half a level by
+    default), so an area exactly halfway between two levels is within the tolerance of
+    either, and an error exactly at the tolerance is within it. The float oracle is within
+    :func:`model_bound` of the model; where that bound (and the roundings of the level's
+    value and of the difference) leaves the verdict open, the exact rational model decides
     (:func:`exact_model`): no epsilon decides.
 
+    A pixel beyond the tolerance that float rounding explains -- geometry moved by at most
+    what conformance calls rounding (:func:`rounding_reach`) has a model value within the
+    tolerance of the alpha: the exact area within reach of a level's rounding boundary, or
+    samples within rounding of an edge counted the other way (:func:`_near_ties`) -- is a
+    near tie (float rounding): counted apart, not a failure in the default mode, a failure
+    in strict mode (``tolerance.mode``), never on a lattice case.
+
     Metrics: ``max_error``, ``mean_error`` (over the (triangle, pixel)s where either side
-    is nonzero), ``over_tolerance``, ``pixels``, ``off_level``, ``exact_decisions``.
-    Evidence (on failure): ``pixels``, worst first, ``{triangle, x, y, alpha, area,
-    error}`` (``area``: the model's value, a share for a supersampled convention); and
+    is nonzero, near ties left out), ``over_tolerance`` (near ties left out), ``near_tie``,
+    ``near_tie_error`` (the largest error of a near tie), ``pixels``, ``off_level``,
+    ``exact_decisions``. Evidence (on failure, or with near ties): ``pixels``, failures
+    first, then near ties, each worst first, ``{triangle, x, y, alpha, area, error, over,
+    near_tie}`` (``area``: the model's value, a share for a supersampled convention); and
     ``off_level``, ``{triangle, x, y, alpha, level}`` (level: alpha * (levels - 1)).
     """
     scene = case.scene
@@ -183,60 +377,87 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     keys, alpha, model = _aligned(*_keyed(coverage, width, height, n), *_keyed(oracle, width, height, n))
     present = (alpha != 0) | (model != 0)  # NaN counts as present
     keys, alpha, model = keys[present], alpha[present], model[present]
+    levels = convention.levels
     with np.errstate(invalid="ignore"):
-        error = np.abs(alpha - model)
+        error = np.abs(level_values(alpha, levels) - model)
     error[np.isnan(error)] = np.inf
-    tolerance = convention.alpha_tolerance
+    limit = exact_tolerance(convention)
+    bound = float(limit)
     triangle = keys // (width * height)
     finite = np.isfinite(alpha)
     magnitude = np.maximum(1.0, np.abs(np.where(finite, alpha, 0.0)))
-    slack = model_bound(scene.positions, convention, width, height)[triangle] + _DIFFERENCE_ROUNDING * magnitude
-    # the exact error lies in [error - slack, error + slack]: beyond the tolerance for
-    # sure, within it for sure, or open -- then the rationals decide (a NaN or infinite
-    # alpha is beyond any tolerance)
-    over = (error - slack > tolerance) | ~finite
-    open_ = np.flatnonzero(~over & (error + slack > tolerance))
+    # the exact error lies within ``margin`` of ``error``: the oracle's bound, the rounding
+    # of the level's value and of the difference, and that of the tolerance's float
+    margin = (model_bound(scene.positions, convention, width, height)[triangle] + _DIFFERENCE_ROUNDING * magnitude
+              + _DIFFERENCE_ROUNDING * max(1.0, bound))
+    # beyond the tolerance for sure, within it for sure, or open -- then the rationals
+    # decide (a NaN or infinite alpha is beyond any tolerance)
+    over = (error - margin > bound) | ~finite
+    open_ = np.flatnonzero(~over & (error + margin > bound))
     x, y = keys % width, keys // width % height
-    if open_.size:
-        limit = Fraction(tolerance)
-        for i in open_:
-            exact = exact_model(scene.positions, convention, int(triangle[i]), int(x[i]), int(y[i]), float(model[i]))
-            over[i] = abs(Fraction(float(alpha[i])) - exact) > limit
+    exact: dict[int, Fraction] = {}
+
+    def exact_at(i: int) -> Fraction:
+        """The exact model at pixel ``i`` (computed once)."""
+        if i not in exact:
+            exact[i] = exact_model(scene.positions, convention, int(triangle[i]), int(x[i]), int(y[i]), float(model[i]))
+        return exact[i]
+
+    for i in open_:
+        over[i] = abs(exact_alpha(float(alpha[i]), levels) - exact_at(int(i))) > limit
+    near = _near_ties(case, convention, tolerance, triangle, x, y, alpha, error, margin, over, exact_at, limit)
+    over &= ~near
     off = off_level(alpha, convention.levels)
-    count, n_off = int(over.sum()), int(off.sum())
-    worst = float(error.max(initial=0.0))
+    count, n_off, n_near = int(over.sum()), int(off.sum()), int(near.sum())
+    plain = error[~near]
+    worst = float(plain.max(initial=0.0))
+    worst_near = float(error[near].max(initial=0.0))
     metrics = {
         "max_error": worst,
-        "mean_error": float(error.mean()) if error.size else 0.0,
+        "mean_error": float(plain.mean()) if plain.size else 0.0,
         "over_tolerance": float(count),
+        "near_tie": float(n_near),
+        "near_tie_error": worst_near,
         "pixels": float(keys.size),
         "off_level": float(n_off),
         "exact_decisions": float(open_.size),
     }
-    ok = not count and not n_off
+    ok = not count and not n_off and not (n_near and tolerance.mode == "strict")
     step = convention.level_step
     what = _model_words(convention)
     evidence: dict[str, Any] = {}
-    if not ok:
-        order = np.argsort(-error, kind="stable")[:EVIDENCE_LIMIT]
+    if not ok or n_near:
+        # failures first, then near ties, each worst first
+        order = np.lexsort((-error, ~over, ~(over | near)))[:EVIDENCE_LIMIT]
         evidence["pixels"] = [{"triangle": int(triangle[i]), "x": int(x[i]), "y": int(y[i]), "alpha": float(alpha[i]),
-                               "area": float(model[i]), "error": float(error[i]), "over": bool(over[i])} for i in order]
+                               "area": float(model[i]), "error": float(error[i]), "over": bool(over[i]),
+                               "near_tie": bool(near[i])} for i in order]
         evidence["model"] = what
-        evidence["tolerance"] = tolerance
+        evidence["tolerance"] = bound
         if n_off:
             shown = np.flatnonzero(off)[:EVIDENCE_LIMIT]
             evidence["off_level"] = [{"triangle": int(triangle[i]), "x": int(x[i]), "y": int(y[i]), "alpha": float(alpha[i]),
                                       "level": float(alpha[i] * (convention.levels - 1))} for i in shown]
-    if ok:
-        message = (f"within {tolerance:.3g} of {what} at all {keys.size} pixels (largest error {worst:.3g}, "
+    ties = ""
+    if n_near:
+        why = ("samples within rounding of an edge" if convention.samples is not None
+               else "the area within rounding of a level's boundary")
+        ties = f"{n_near} near ties (float rounding: {why}; up to {worst_near / step:.1f} levels)"
+    if not count and not n_off:
+        within = f"all {keys.size}" if not n_near else f"{keys.size - n_near} of {keys.size}"
+        message = (f"within {bound:.3g} of {what} at {within} pixels (largest error {worst:.3g}, "
                    f"{worst / step:.2f} levels)")
+        if ties:
+            message += f"; {ties}" + (", not allowed in strict mode" if tolerance.mode == "strict" else "")
     else:
         parts = []
         if count:
-            parts.append(f"{count} of {keys.size} pixels beyond {tolerance:.3g} of {what} "
+            parts.append(f"{count} of {keys.size} pixels beyond {bound:.3g} of {what} "
                          f"(largest error {worst:.3g}, {worst / step:.1f} levels)")
         if n_off:
             parts.append(f"{n_off} alphas on none of the {convention.levels} declared levels")
+        if ties:
+            parts.append(ties)
         message = "; ".join(parts)
     return result(case.id, "accuracy", ok, message, metrics, evidence)
 
@@ -256,16 +477,42 @@ def _classes(region: NDArray, convention: Convention, width: int, height: int) -
     return inside, outside
 
 
+def piece_allowance(convention: Convention) -> Fraction:
+    """How far, in levels, each piece's alpha may round off its exact area in a seam's
+    sum: the declared tolerance (:func:`exact_tolerance`; half a level by default, one for
+    a convention that rounds either way), but never more than one level -- no rounding to
+    levels errs by a whole level, and a larger tolerance declares an approximation, whose
+    errors the two sides of a shared edge must cancel (cairo's 2010 seam is two sides that
+    do not). Exact.
+
+    >>> [piece_allowance(Convention(coverage="area", tolerance=t)) for t in (None, 1 / 255, 0.375)]
+    [Fraction(1, 2), Fraction(1, 1), Fraction(1, 1)]
+    """
+    return min(exact_tolerance(convention), Fraction(1, convention.levels - 1)) * (convention.levels - 1)
+
+
+def _seam_allowance(pieces: NDArray, convention: Convention) -> NDArray:
+    """Per pixel, the largest |sum of the pieces' levels - (levels - 1)| their roundings
+    allow: floor(pieces * :func:`piece_allowance`), exactly (the sum is an integer)."""
+    each = piece_allowance(convention)
+    counts = pieces.astype(np.int64)
+    out = np.zeros(counts.size)
+    for k in np.unique(counts):
+        out[counts == k] = math.floor(int(k) * each)
+    return out
+
+
 def seams(case: Case, coverage: Coverage, convention: Convention, oracle: Coverage) -> Result:
     """On a planar partition: at each pixel wholly inside the region the pieces' alphas,
-    as levels ``rint(alpha * (levels - 1))``, sum to ``levels - 1`` within half a level per
-    piece present there (each may round by half a level; exact sample shares sum to
-    exactly 1 too, so the rule is the same for a supersampled convention); at each pixel
-    wholly outside, to 0 (a stray).
+    as levels ``rint(alpha * (levels - 1))``, sum to ``levels - 1`` within
+    :func:`piece_allowance` per piece present there, floored (the sum is an integer; each
+    piece may round by the declared tolerance -- half a level by default -- but by no
+    more than one level; exact sample shares sum to exactly 1 too, so the rule is the same
+    for a supersampled convention); at each pixel wholly outside, to 0 (a stray).
 
     A piece is present where the rasterizer gives it a nonzero alpha or the oracle a
     nonzero area: a sliver that rounds to level 0 still takes its area from the sum, and
-    the half level it may lose must be allowed for (the float oracle's zero areas are
+    what it may lose must be allowed for (the float oracle's zero areas are
     below 2**-24 each, which no integer sum of levels can tell).
 
     Metrics: ``seam_pixels``, ``max_sum_error`` (largest |sum of alphas - 1| inside, in
@@ -303,8 +550,9 @@ def seams(case: Case, coverage: Coverage, convention: Convention, oracle: Covera
     present = keys[(got != 0) | (want != 0)] % size
     pieces = np.bincount(present, minlength=size).astype(float)
     off = level_sum - top
+    allowed = _seam_allowance(pieces, convention)
     with np.errstate(invalid="ignore"):
-        seam = inside & ~(np.abs(off) <= pieces / 2)  # NaN is a seam
+        seam = inside & ~(np.abs(off) <= allowed)  # NaN is a seam
         stray = outside & ~(level_abs == 0)
         sum_error = np.where(np.isnan(alpha_sum), np.inf, np.abs(alpha_sum - 1.0) * top)
     n_inside = int(inside.sum())
@@ -330,7 +578,8 @@ def seams(case: Case, coverage: Coverage, convention: Convention, oracle: Covera
     gaps = (f"compositing with over leaves up to {metrics['max_over_gap']:.3g} of the background showing "
             f"(mean {metrics['mean_over_gap']:.3g}: conflation)")
     if ok:
-        message = f"the pieces' alphas sum to 1 within their quantisation at all {n_inside} inside pixels; {gaps}"
+        message = (f"the pieces' alphas sum to 1 within their rounding ({float(piece_allowance(convention)):.3g} levels "
+                   f"per piece) at all {n_inside} inside pixels; {gaps}")
     else:
         message = (f"{int(seam.sum())} seam pixels (the pieces' alphas off 1 by up to {metrics['max_sum_error']:.2f} levels), "
                    f"{int(stray.sum())} stray pixels outside; {gaps}")
@@ -364,9 +613,10 @@ _CHUNK_ENTRIES = 1 << 21
 def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracles: list[Coverage],
             convention: Convention, areas: list[Coverage] | None = None) -> Result:
     """Per (triangle, pixel) and frame step, the alpha change against the declared
-    model's (the oracle of each frame): beyond ``2 * alpha_tolerance`` (what the declared
-    accuracy allows at the two frames) the alpha jumped on its own -- a failure, decided
-    exactly where the oracle's bound leaves it open. Per pixel, the change of the summed
+    model's (the oracle of each frame): beyond twice the declared tolerance (what the
+    declared accuracy allows at the two frames; :func:`exact_tolerance`, each alpha the
+    level it stands for, :func:`exact_alpha`) the alpha jumped on its own -- a failure,
+    decided exactly where the oracle's bound leaves it open. Per pixel, the change of the summed
     alpha against the exact area's (``areas``, computed when None) is the popping
     artifact, in 8-bit levels (:data:`DISPLAY_LEVELS`).
 
@@ -386,7 +636,9 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
     width, height, n = scenes[0].width, scenes[0].height, len(scenes[0])
     if areas is None:
         areas = oracles if convention.samples is None else _exact_areas(scenes, convention)
-    got = [_fragments(c, width, height, n) for c in coverages]
+    levels = convention.levels
+    # each alpha as the level it stands for (exact_alpha), in float
+    got = [(t, x, y, level_values(a, levels)) for t, x, y, a in (_fragments(c, width, height, n) for c in coverages)]
     want = [_fragments(c, width, height, n) for c in oracles]
     true = want if areas is oracles else [_fragments(c, width, height, n) for c in areas]
     x0, y0, x1, y1 = _window(got + want + true)
@@ -395,7 +647,8 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
     # window-local pixel index of every fragment, per frame
     where = {name: [(part[2] - y0) * span + (part[1] - x0) for part in parts] for name, parts in (("got", got), ("want", want))}
     where["true"] = where["want"] if true is want else [(part[2] - y0) * span + (part[1] - x0) for part in true]
-    tolerance = 2.0 * convention.alpha_tolerance
+    limit = 2 * exact_tolerance(convention)
+    tolerance = float(limit)
     unit = 1.0 / DISPLAY_LEVELS
     bounds: dict[int, NDArray] = {}
 
@@ -461,7 +714,7 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
                     a0, a1, o0, o1 = before[0][candidates], now[0][candidates], before[1][candidates], now[1][candidates]
                     finite = np.isfinite(a0) & np.isfinite(a1)
                     magnitude = np.maximum(1.0, np.abs(np.where(finite, a0, 0.0)) + np.abs(np.where(finite, a1, 0.0)))
-                    slack = bound(f - 1)[t] + bound(f)[t] + _DIFFERENCE_ROUNDING * magnitude
+                    slack = bound(f - 1)[t] + bound(f)[t] + _DIFFERENCE_ROUNDING * (magnitude + max(1.0, tolerance))
                     d = diff[candidates]
                     sure = (d - slack > tolerance) | ~finite  # a NaN or infinite alpha jumps beyond any limit
                     for k in np.flatnonzero(~sure & (d + slack > tolerance)):  # open: the rationals decide
@@ -470,8 +723,8 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
                         x, y = x0 + p % span, y0 + p // span
                         step_model = (exact_model(scenes[f].positions, convention, int(t[k]), x, y, float(o1[k]))
                                       - exact_model(scenes[f - 1].positions, convention, int(t[k]), x, y, float(o0[k])))
-                        step_alpha = Fraction(float(a1[k])) - Fraction(float(a0[k]))
-                        sure[k] = abs(step_alpha - step_model) > Fraction(tolerance)
+                        step_alpha = exact_alpha(float(a1[k]), levels) - exact_alpha(float(a0[k]), levels)
+                        sure[k] = abs(step_alpha - step_model) > limit
                     hits = np.flatnonzero(sure)
                     jumps += hits.size
                     for k in hits[np.argsort(-d[hits], kind="stable")][:EVIDENCE_LIMIT]:
@@ -521,7 +774,7 @@ def _popping(s: Subject) -> Result:
 
 
 register(Check(
-    "accuracy", lambda s: accuracy(s.case, s.coverage, s.oracle, s.convention),  # type: ignore[arg-type]
+    "accuracy", lambda s: accuracy(s.case, s.coverage, s.oracle, s.convention, s.tolerance),  # type: ignore[arg-type]
     _is_static, needs_convention=True, shrinks=True, kinds=AREA_KINDS, per_sample=False,
     metrics={"over_tolerance": (1.0, 0.0), "off_level": (1.0, 0.0), "max_error": (1.5, 2.0**-9)},
     caption="area coverage: every alpha within the declared tolerance of the exact area (or share of samples), "
@@ -531,7 +784,7 @@ register(Check(
     "seams", lambda s: seams(s.case, s.coverage, s.convention, s.oracle),  # type: ignore[arg-type]
     lambda case: _is_static(case) and getattr(case, "region", None) is not None, needs_convention=True,
     kinds=AREA_KINDS, per_sample=False, metrics={"seam_pixels": (1.0, 0.0), "strays": (1.0, 0.0)},
-    caption="area coverage on a planar partition: the pieces' alphas sum to 1 inside (within their quantisation), "
+    caption="area coverage on a planar partition: the pieces' alphas sum to 1 inside (within their rounding), "
             "0 outside; the seam left by compositing with over reported",
 ))
 register(Check(
