@@ -1,0 +1,116 @@
+"""Refusals that teach (issue 28, point 6): a plugin whose declarations contradict each other
+or its answers gets one line saying what to add, not an error per case; `run_suite` and
+`rastercheck run` agree; correct plugins are unaffected."""
+
+import json
+
+import pytest
+
+from cases.suites import suite
+from harness import Coverage, Convention, LineRule, Scene, run_suite
+from harness.case import MotionCase
+from harness.cli import main
+from harness.declarations import REFUSED, answer_problem, declaration_problem
+from harness.registry import builtins, load
+from tests.known_bad import antialiasing, declarations, lines, paths
+from tests.known_bad.declarations import ANSWER_BADS, LOAD_BADS, DiamondDrawerNoLines
+
+FILE = "tests/known_bad/declarations.py"
+
+
+@pytest.fixture(scope="module")
+def few_cases():
+    """Three triangle scenes and a motion sequence: enough to see 'once, not per case'."""
+    every = suite("quick", 0)
+    still = [c for c in every if c.id in ("lattice/bits-0", "lattice/bits-8", "watertight/grid-6x6-main/lattice")]
+    motion = [c for c in every if isinstance(c, MotionCase)][:1]
+    return still + motion
+
+
+@pytest.mark.parametrize("bad", list(LOAD_BADS), ids=lambda b: b.name)
+def test_a_contradicting_declaration_is_refused_at_load_in_one_line(bad) -> None:
+    text = LOAD_BADS[bad]
+    spec = f"{FILE}:{bad.__name__}"
+    with pytest.raises(ValueError) as loading:
+        load(spec)
+    with pytest.raises(ValueError) as running:  # an object handed to run_suite: the same words
+        run_suite([bad()], cases=[], identify=False)
+    for message, culprit in ((str(loading.value), spec), (str(running.value), bad.name)):
+        assert message.startswith(f"{culprit}: {REFUSED}: ") and text in message and "\n" not in message
+
+
+def test_the_command_line_refuses_it_in_one_line_exit_2(tmp_path, capsys) -> None:
+    code = main(["run", "--rasterizer", f"{FILE}:LineRuleNoLines", "--no-fingerprints", "--out", str(tmp_path)])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and LOAD_BADS[declarations.LineRuleNoLines] in err[0]
+
+
+@pytest.mark.parametrize("bad", list(ANSWER_BADS), ids=lambda b: b.name)
+def test_a_contradicting_answer_gives_one_line_and_no_more_calls(bad, few_cases) -> None:
+    calls = []
+
+    class Counted(bad):
+        def rasterize(self, scene):
+            calls.append(scene)
+            return super().rasterize(scene)
+
+    results = run_suite([Counted()], cases=few_cases, identify=False, isolate=False, repros=False)
+    assert len(results) == 1, [(r.case, r.check, r.message) for r in results]
+    (only,) = results
+    assert only.status == "error" and only.check == "run" and only.evidence == {"refused": "triangles"}
+    assert only.message.startswith(f"{REFUSED}: ") and ANSWER_BADS[bad] in only.message and "\n" not in only.message
+    assert only.case == "lattice/bits-0" and "traceback" not in only.evidence
+    assert len(calls) == 1  # the first answer said it all: nothing else was handed to it
+
+
+def test_run_suite_and_the_command_line_agree(tmp_path, capsys) -> None:
+    """`rastercheck run` on the drawer that forgot its scene kinds: the same one result,
+    one line in the terminal, exit 1."""
+    out = tmp_path / "r.json"
+    code = main(["run", "--rasterizer", f"{FILE}:DiamondDrawerNoLines", "--case", "lattice/bits-*", "--no-fingerprints",
+                 "--out", str(tmp_path / "rep"), "--json", str(out)])
+    printed = capsys.readouterr().out
+    from_cli = [(r["case"], r["check"], r["status"], r["message"]) for r in json.loads(out.read_text())["results"]]
+    cases = [c for c in suite("quick", 0) if c.id.startswith("lattice/bits-")]
+    from_library = [(r.case, r.check, r.status, r.message) for r in run_suite([DiamondDrawerNoLines()], cases=cases, identify=False)]
+    assert code == 1 and from_cli == from_library and len(from_cli) == 1
+    assert printed.count(ANSWER_BADS[DiamondDrawerNoLines]) == 1 and "Traceback" not in printed
+
+
+def _rasterizers(module):
+    return [value for value in vars(module).values()
+            if isinstance(value, type) and callable(getattr(value, "rasterize", None)) and isinstance(getattr(value, "name", None), str)
+            and value.__module__ == module.__name__ and not value.__name__.startswith("_")]
+
+
+def test_correct_declarations_are_unaffected() -> None:
+    """The built-ins and the other known-bads (wrong drawing, right declaration) load and
+    agree with themselves; a correct answer of each coverage kind passes."""
+    for name in builtins():
+        assert declaration_problem(load(name)) is None, name
+    for module in (lines, paths, antialiasing):
+        for cls in _rasterizers(module):
+            try:
+                r = cls()
+            except TypeError:  # one that needs arguments
+                continue
+            assert declaration_problem(r) is None, cls.__name__
+    spans = Coverage([0], [0], [0], [2])
+    assert answer_problem(Convention(), spans) is None
+    assert answer_problem(Convention(samples=4), Coverage([0], [0], [0], [2], sample=[3])) is None
+    assert answer_problem(Convention(coverage="area"), Coverage([0], [0], [0], [2], alpha=[0.5, 1.0])) is None
+    assert answer_problem(Convention(coverage="area"), Coverage.empty()) is None  # nothing drawn contradicts nothing
+    assert answer_problem(None, Coverage([0], [0], [0], [2], sample=[1])) is None  # undeclared: identify reads the kind
+
+
+def test_line_and_area_conventions_need_what_their_scene_kinds_allow() -> None:
+    class Mixed:
+        name, scene_kinds = "mixed", ("triangles", "lines")
+        convention = Convention(samples=4)
+
+        def rasterize(self, scene: Scene) -> Coverage:
+            return Coverage.empty()
+
+    assert "line_convention = Convention(line=...)" in (declaration_problem(Mixed()) or "")
+    Mixed.line_convention = Convention(line=LineRule("bresenham"))
+    assert declaration_problem(Mixed()) is None
