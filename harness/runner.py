@@ -82,9 +82,9 @@ def check_case(case: Case, rasterizer: Rasterizer, call: AnyCall,
     if outcome.coverage is None:
         if isinstance(outcome.error, Unsupported):  # cannot draw this scene as given: it says so
             return [Result(name, case.id, "run", "skip", f"unsupported: {outcome.error}", {"seconds": outcome.seconds})]
-        refused = checks.refusal(case, outcome.error) if outcome.error is not None else None
-        if refused is not None:
-            return [replace(refused, rasterizer=name)]
+        declined = checks.refusal(case, outcome.error) if outcome.error is not None else None
+        if declined is not None:
+            return [replace(declined, rasterizer=name)]
         return [_error(case, name, outcome)]
     coverage = outcome.coverage
     subject = checks.Subject(case, name, convention, [coverage], call, tolerance, interpolates_of(rasterizer), outcome.seconds,
