@@ -3,12 +3,14 @@ or its answers gets one line saying what to add, not an error per case; `run_sui
 `rastercheck run` agree; correct plugins are unaffected."""
 
 import json
+from pathlib import Path
 
 import pytest
 
 from cases.suites import suite
 from harness import Coverage, Convention, LineRule, Scene, run_suite
 from harness.case import MotionCase
+from harness.checks import checks
 from harness.cli import main
 from harness.declarations import REFUSED, answer_problem, declaration_problem
 from harness.registry import builtins, load
@@ -114,3 +116,20 @@ def test_line_and_area_conventions_need_what_their_scene_kinds_allow() -> None:
     assert "line_convention = Convention(line=...)" in (declaration_problem(Mixed()) or "")
     Mixed.line_convention = Convention(line=LineRule("bresenham"))
     assert declaration_problem(Mixed()) is None
+
+
+def test_pytest_items_say_it_once_too(tmp_path, capsys, monkeypatch) -> None:
+    """``pytest --rasterizer``: the first case's items fail with the one line (no
+    traceback), the other cases of that kind are skipped, not handed to it; a
+    declaration that contradicts itself is a usage error in one line."""
+    from tests.test_pytest_plugin import plugin_run_here
+
+    spec = f"{Path(__file__).resolve().parents[1] / FILE}"
+    proc = plugin_run_here(tmp_path, capsys, monkeypatch, "-q", "-rfs", "--rasterizer", f"{spec}:DiamondDrawerNoLines",
+                           "-k", "lattice/bits-0 or lattice/bits-2")
+    first = len(checks(next(c for c in suite("quick", 0) if c.id == "lattice/bits-0"), kind="single"))
+    assert proc.returncode == 1 and f"{first} failed" in proc.stdout and f"{first} skipped" in proc.stdout, proc.stdout[-3000:]
+    assert ANSWER_BADS[DiamondDrawerNoLines] in proc.stdout and "Traceback" not in proc.stdout
+    assert "not handed to it: its answer on lattice/bits-0 contradicted its declaration" in proc.stdout
+    proc = plugin_run_here(tmp_path, capsys, monkeypatch, "-q", "--rasterizer", f"{spec}:LineRuleNoLines")
+    assert proc.returncode == 4 and LOAD_BADS[declarations.LineRuleNoLines] in proc.stderr
