@@ -147,7 +147,8 @@ def scene_kind_problem(rasterizer: Rasterizer, scene: AnyScene, error: BaseExcep
     """When a rasterizer's error says it asked ``scene`` for a member only another scene
     kind has (``'Scene' object has no attribute 'segments'``: a line drawer handed
     triangles), one line saying which kind it draws and what to add to its
-    ``scene_kinds``; None otherwise.
+    ``scene_kinds`` (or, when it lists that kind already, to leave this one out); None
+    otherwise.
 
     >>> class Drawer:
     ...     name, convention = "mine", None
@@ -162,11 +163,15 @@ def scene_kind_problem(rasterizer: Rasterizer, scene: AnyScene, error: BaseExcep
         return None
     member = match.group(2)
     kinds = scene_kinds_of(rasterizer)
-    wanted = [k for k in SCENE_KINDS if k != scene.kind and k not in kinds and member in _MEMBERS[k]
-              and member not in _MEMBERS[scene.kind]]
-    if not wanted:
+    owners = [k for k in SCENE_KINDS if k != scene.kind and member in _MEMBERS[k] and member not in _MEMBERS[scene.kind]]
+    if not owners:
         return None
-    kind = wanted[0]
     noun = {"triangles": "triangle", "paths": "path", "lines": "line"}
-    return (f"{REFUSED}: it asked a {noun[scene.kind]} scene for `{member}`, which {noun[kind]} scenes have, but its "
-            f"scene_kinds {_tuple(kinds)} lack \"{kind}\": add {_adding(kinds, kind)}")
+    asked = f"{REFUSED}: it asked a {noun[scene.kind]} scene for `{member}`, which {' and '.join(noun[k] for k in owners)} scenes have"
+    missing = [k for k in owners if k not in kinds]
+    if not missing:  # it lists this kind but draws it as another: the kind is listed in error
+        rest = tuple(k for k in kinds if k != scene.kind)
+        return (f"{asked}: it lists \"{scene.kind}\" in scene_kinds but does not draw them: leave \"{scene.kind}\" out "
+                f"(scene_kinds = {_tuple(rest)}), or read a {type(scene).__name__}'s own arrays")
+    lacking = " and ".join(f'"{k}"' for k in missing)
+    return f"{asked}, but its scene_kinds {_tuple(kinds)} lack {lacking}: add " + " or ".join(_adding(kinds, k) for k in missing)

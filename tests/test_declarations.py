@@ -133,3 +133,24 @@ def test_pytest_items_say_it_once_too(tmp_path, capsys, monkeypatch) -> None:
     assert "not handed to it: its answer on lattice/bits-0 contradicted its declaration" in proc.stdout
     proc = plugin_run_here(tmp_path, capsys, monkeypatch, "-q", "--rasterizer", f"{spec}:LineRuleNoLines")
     assert proc.returncode == 4 and LOAD_BADS[declarations.LineRuleNoLines] in proc.stderr
+
+
+def test_a_kind_listed_but_drawn_as_another_is_named() -> None:
+    """A triangle filler that lists paths too reads ``positions`` of a path scene: leave
+    "paths" out; a member two kinds have names both."""
+    from harness import PathScene
+    from harness.declarations import scene_kind_problem
+
+    class Filler:
+        name, convention, scene_kinds = "filler", Convention(), ("triangles", "paths")
+
+    square = PathScene.from_paths(4, 4, [[[[0, 0], [2, 0], [2, 2], [0, 2]]]])
+    said = scene_kind_problem(Filler(), square, AttributeError("'PathScene' object has no attribute 'positions'"))
+    assert said is not None and 'lists "paths" in scene_kinds but does not draw them: leave "paths" out (scene_kinds = ("triangles",))' in said
+    triangle = Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]])
+    said = scene_kind_problem(Filler(), triangle, AttributeError("'Scene' object has no attribute 'strip_sizes'"))
+    assert said is not None and 'lack "lines": add "lines" (scene_kinds = ("triangles", "paths", "lines"))' in said
+    both = scene_kind_problem(Filler(), triangle, AttributeError("'Scene' object has no attribute 'vertices'"))
+    assert both is not None and "which path and line scenes have" in both and 'lack "lines"' in both
+    assert scene_kind_problem(Filler(), triangle, AttributeError("'Scene' object has no attribute 'frobnicate'")) is None
+    assert scene_kind_problem(Filler(), triangle, KeyError("segments")) is None
