@@ -65,7 +65,10 @@ def declaration_problem(rasterizer: Rasterizer) -> str | None:
     raw_kinds = getattr(rasterizer, "scene_kinds", None)
     if isinstance(raw_kinds, str):
         return f"{REFUSED}: scene_kinds = {raw_kinds!r} is one string, not a tuple of kinds: write scene_kinds = {_tuple((raw_kinds,))}"
-    kinds = scene_kinds_of(rasterizer)
+    try:
+        kinds = scene_kinds_of(rasterizer)
+    except TypeError:
+        return f"{REFUSED}: scene_kinds = {raw_kinds!r} is not a tuple of kinds: list some of {_tuple(SCENE_KINDS)}"
     unknown = [k for k in kinds if k not in SCENE_KINDS]
     if unknown:
         return (f"{REFUSED}: scene_kinds names {', '.join(repr(k) for k in unknown)}, which is no scene kind: "
@@ -76,7 +79,10 @@ def declaration_problem(rasterizer: Rasterizer) -> str | None:
     if raw_rules is not None:
         if isinstance(raw_rules, str):
             return f"{REFUSED}: fill_rules = {raw_rules!r} is one string, not a tuple of rules: write fill_rules = {_tuple((raw_rules,))}"
-        rules = tuple(str(r) for r in raw_rules)
+        try:
+            rules = tuple(str(r) for r in raw_rules)
+        except TypeError:
+            return f"{REFUSED}: fill_rules = {raw_rules!r} is not a tuple of rules: list some of {_tuple(FILL_RULES)}"
         bad = [r for r in rules if r not in FILL_RULES]
         if bad:
             return f"{REFUSED}: fill_rules names {', '.join(repr(r) for r in bad)}, which is no fill rule: list some of {_tuple(FILL_RULES)}"

@@ -154,3 +154,18 @@ def test_a_kind_listed_but_drawn_as_another_is_named() -> None:
     assert both is not None and "which path and line scenes have" in both and 'lack "lines"' in both
     assert scene_kind_problem(Filler(), triangle, AttributeError("'Scene' object has no attribute 'frobnicate'")) is None
     assert scene_kind_problem(Filler(), triangle, KeyError("segments")) is None
+
+
+@pytest.mark.parametrize(("members", "said"), [
+    ({"scene_kinds": 3}, "scene_kinds = 3 is not a tuple of kinds"),
+    ({"scene_kinds": ("triangle",)}, "scene_kinds names 'triangle', which is no scene kind"),
+    ({"scene_kinds": ()}, "scene_kinds is empty, so no scene would reach it"),
+    ({"scene_kinds": ("paths",), "fill_rules": "evenodd"}, 'fill_rules = \'evenodd\' is one string, not a tuple of rules: write fill_rules = ("evenodd",)'),
+    ({"scene_kinds": ("paths",), "fill_rules": ("even-odd",)}, "fill_rules names 'even-odd', which is no fill rule"),
+    ({"scene_kinds": ("paths",), "fill_rules": ()}, "fill_rules is empty, so no path scene would reach it"),
+    ({"scene_kinds": ("paths",), "convention": Convention(coverage="area")}, "analytic area coverage, which is not defined for paths"),
+])
+def test_each_self_contradiction_is_named(members, said) -> None:
+    plugin = type("Plugin", (), {"name": "plugin", "convention": Convention(), "rasterize": lambda self, scene: None, **members})()
+    problem = declaration_problem(plugin)
+    assert problem is not None and problem.startswith(f"{REFUSED}: ") and said in problem, problem
