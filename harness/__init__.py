@@ -14,7 +14,7 @@ from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from harness.api import SCENE_KINDS, AnyScene, Coverage, LineScene, PathScene, Rasterizer, Scene, Unsupported
+from harness.api import SCENE_KINDS, AnyScene, Coverage, LineScene, PathScene, Rasterizer, Scene, Unsupported, span_buffers
 from harness.conventions import COVERAGE_KINDS, FILL_RULES, LINE_RULES, TIE_RULES, Convention, LineRule
 from harness.numba_cache import safe_numba_cache
 from harness.samples import STANDARD_PATTERNS, pattern
@@ -22,6 +22,7 @@ from harness.samples import STANDARD_PATTERNS, pattern
 if TYPE_CHECKING:  # imported when first used (the runner and the checks take a second to import)
     from harness.case import Case, MotionCase
     from harness.checks.records import Result, Tolerance
+    from harness.testing import assert_conforms
 
 # every process that imports rastercheck loads (and may compile) its kernels side by side
 # with others: make numba's on-disk cache safe for that first
@@ -30,18 +31,18 @@ safe_numba_cache()
 __all__ = [
     # what rasterize receives
     "Scene", "PathScene", "LineScene", "AnyScene", "SCENE_KINDS",
-    # what it returns, and may raise instead
-    "Coverage", "Unsupported",
+    # what it returns (span_buffers: four int64 arrays for a compiled kernel to fill), and may raise instead
+    "Coverage", "span_buffers", "Unsupported",
     # what it declares
     "Rasterizer", "Convention", "LineRule", "TIE_RULES", "FILL_RULES", "LINE_RULES", "COVERAGE_KINDS",
     "STANDARD_PATTERNS", "pattern",
     # running it
-    "run_suite", "replay", "Result", "Tolerance",
+    "run_suite", "replay", "Result", "Tolerance", "assert_conforms",
 ]
 __version__ = "0.1.0"
 
 # names imported on first use (module __getattr__): they pull in the checks
-_LAZY = {"Result": "harness.checks.records", "Tolerance": "harness.checks.records"}
+_LAZY = {"Result": "harness.checks.records", "Tolerance": "harness.checks.records", "assert_conforms": "harness.testing"}
 
 
 def __getattr__(name: str) -> Any:

@@ -85,12 +85,18 @@ def test_a_broken_copy_of_a_readme_plugin_fails(plugins: Path, tmp_path: Path) -
 
 def test_harness_exports_what_a_plugin_uses() -> None:
     for name in ("Scene", "PathScene", "LineScene", "AnyScene", "SCENE_KINDS", "Coverage", "Unsupported", "Rasterizer",
-                 "Convention", "LineRule", "STANDARD_PATTERNS", "pattern", "run_suite", "replay", "Result", "Tolerance"):
+                 "Convention", "LineRule", "STANDARD_PATTERNS", "pattern", "run_suite", "replay", "Result", "Tolerance",
+                 "assert_conforms", "span_buffers"):
         assert name in harness.__all__ and getattr(harness, name) is not None, name
     from harness.api import LineScene, Unsupported
     from harness.conventions import LineRule
 
+    from harness.testing import assert_conforms
+
     assert (harness.LineScene, harness.Unsupported, harness.LineRule) == (LineScene, Unsupported, LineRule)
+    assert harness.assert_conforms is assert_conforms
+    with pytest.raises(AttributeError, match="no attribute 'nothing_here'"):
+        harness.nothing_here  # noqa: B018
 
 
 @pytest.mark.parametrize("name", ["run_suite", "replay"])
