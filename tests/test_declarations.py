@@ -90,13 +90,11 @@ def test_correct_declarations_are_unaffected() -> None:
     agree with themselves; a correct answer of each coverage kind passes."""
     for name in builtins():
         assert declaration_problem(load(name)) is None, name
-    for module in (lines, paths, antialiasing):
-        for cls in _rasterizers(module):
-            try:
-                r = cls()
-            except TypeError:  # one that needs arguments
-                continue
-            assert declaration_problem(r) is None, cls.__name__
+    plugins = [*lines.LINE_BADS, *(paths.PathFillBug(bug) for bug in paths.BUGS), paths.TwoFillers(),
+               *(cls() for cls in _rasterizers(antialiasing))]
+    assert len(plugins) >= 19
+    for r in plugins:
+        assert declaration_problem(r) is None, r.name
     spans = Coverage([0], [0], [0], [2])
     assert answer_problem(Convention(), spans) is None
     assert answer_problem(Convention(samples=4), Coverage([0], [0], [0], [2], sample=[3])) is None
@@ -169,3 +167,15 @@ def test_each_self_contradiction_is_named(members, said) -> None:
     plugin = type("Plugin", (), {"name": "plugin", "convention": Convention(), "rasterize": lambda self, scene: None, **members})()
     problem = declaration_problem(plugin)
     assert problem is not None and problem.startswith(f"{REFUSED}: ") and said in problem, problem
+
+
+def test_a_second_copy_keeps_what_it_declares() -> None:
+    """Two line drawers of one name: the second, renamed, still takes lines (and is not
+    refused for a line rule without them)."""
+    from harness.registry import distinct_names
+    from rasterizers.lines import BresenhamLines
+    first, second = distinct_names([BresenhamLines(), BresenhamLines()])
+    assert second.name == "bresenham_lines#2" and second.scene_kinds == ("lines",) and declaration_problem(second) is None
+    filler = paths.PathFillBug("open-contours")
+    renamed = distinct_names([filler, filler])[1]
+    assert renamed.scene_kinds == filler.scene_kinds and getattr(renamed, "fill_rules", None) == getattr(filler, "fill_rules", None)
