@@ -322,8 +322,17 @@ def _run(args: argparse.Namespace) -> int:
     except Interrupted as stopped:
         return _interrupted(args, stopped)
     _summary(rasterizers, results)
+    _refusals(results)
     _write_outputs(args, rasterizers, results, seconds, fingerprints)
     return 1 if any(x.status in ("fail", "error") for x in results) else 0
+
+
+def _refusals(results: list[Any]) -> None:
+    """One line per rasterizer and scene kind refused for answers that contradict what it
+    declares (:mod:`harness.declarations`): what to add, said once."""
+    for x in results:
+        if x.status == "error" and "refused" in x.evidence:
+            print(f"{x.rasterizer}: {x.message}")
 
 
 def _update_command(args: argparse.Namespace) -> str:

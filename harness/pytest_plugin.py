@@ -92,6 +92,9 @@ class _Rasterizer(pytest.Collector):
         self.ready: Rasterizer | None = None  # after identification
         self.identified: dict[str, Any] | None = None
         self.shrink_seconds = SHRINK_SECONDS
+        # scene kind -> the case whose answer contradicted the declaration (harness.declarations):
+        # said once there, and no more scenes of the kind are handed to it
+        self.refused: dict[str, str] = {}
 
     def collect(self) -> list[pytest.Item | pytest.Collector]:
         if self.given.rasterizer is None:
@@ -148,6 +151,11 @@ class _Case(pytest.Collector):
         """The result of ``check``, running the case first unless a sibling did."""
         owner = self.parent
         assert isinstance(owner, _Rasterizer) and owner.ready is not None
+        kind = self.case.frames[0].kind if isinstance(self.case, MotionCase) and self.case.frames else getattr(
+            getattr(self.case, "scene", None), "kind", "")
+        if self.results is None and kind in owner.refused:
+            self.results = [Result(owner.ready.name, self.case.id, "run", "skip",
+                                   f"not handed to it: its answer on {owner.refused[kind]} contradicted its declaration")]
         if self.results is None:
             from harness.runner import run_suite
 
@@ -157,6 +165,9 @@ class _Case(pytest.Collector):
             if any(r.status == "fail" for r in results):  # it shrank: the run counts against the budget
                 owner.shrink_seconds -= time.monotonic() - start
             self.results = [replace(r, drawing=None) for r in results]  # no pictures here: keep no coverages
+            for r in results:
+                if r.status == "error" and "refused" in r.evidence:
+                    owner.refused[str(r.evidence["refused"])] = self.case.id
         for r in self.results:
             if r.check == check:
                 return r

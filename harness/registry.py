@@ -81,7 +81,9 @@ def available() -> list[str]:
 
 def as_rasterizer(obj: Any, spec: str) -> Rasterizer:
     """Turn what a spec names into a ready rasterizer: an object is used as is, a class or
-    a zero-argument factory is called. Raises ValueError naming the spec otherwise."""
+    a zero-argument factory is called. Raises ValueError naming the spec otherwise, and
+    when its declarations contradict each other
+    (:func:`harness.declarations.declaration_problem`)."""
     candidate = obj
     if isinstance(candidate, type) or (not hasattr(candidate, "rasterize") and callable(candidate)):
         try:
@@ -100,6 +102,11 @@ def as_rasterizer(obj: Any, spec: str) -> Rasterizer:
         problems.append("a `rasterize(scene)` method")
     if problems:
         raise ValueError(f"{spec}: {candidate!r} is not a rasterizer: it lacks {', '.join(problems)}")
+    from harness.declarations import declaration_problem
+
+    contradiction = declaration_problem(candidate)
+    if contradiction is not None:  # refused now, in one line, rather than by an error on every case
+        raise ValueError(f"{spec}: {contradiction}")
     return candidate  # type: ignore[no-any-return]
 
 
@@ -240,7 +247,7 @@ class Renamed:
 
     def __init__(self, inner: Rasterizer, name: str) -> None:
         self.inner, self.name, self.convention = inner, name, inner.convention
-        for optional in ("interpolates", "received", "fingerprint"):
+        for optional in ("interpolates", "received", "fingerprint", "scene_kinds", "fill_rules", "path_convention", "line_convention"):
             if hasattr(inner, optional):
                 setattr(self, optional, getattr(inner, optional))
 

@@ -19,7 +19,8 @@ from pathlib import Path
 from cases.suites import suite as suite_cases
 from harness.case import Case, MotionCase, read_case_file
 from harness import checks, repro
-from harness.api import LineScene, Rasterizer, Scene, Unsupported, convention_for, fingerprint_of, interpolates_of, scene_kinds_of, takes
+from harness.api import AnyScene, LineScene, Rasterizer, Scene, Unsupported, convention_for, fingerprint_of, interpolates_of, scene_kinds_of, takes
+from harness.declarations import answer_problem, declaration_problem, scene_kind_problem
 from harness.checks import Drawing, Result, Tolerance
 
 from harness.isolation import AnyCall, InProcess, Outcome, Worker, describe, each_until_error
@@ -35,26 +36,55 @@ def _error(case: Case, rasterizer: str, outcome: Outcome, check: str = "run") ->
                   {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
 
 
+def _refusal(case: Case | MotionCase, rasterizer: Rasterizer, scene: AnyScene, outcome: Outcome,
+             refused: dict[str, str] | None, frame: int | None = None) -> Result | None:
+    """The one error result of an answer (or error) that contradicts what the rasterizer
+    declares (:mod:`harness.declarations`), recorded in ``refused`` under the scene kind so
+    that no more scenes of that kind are handed to it; None when nothing contradicts."""
+    if outcome.coverage is not None:
+        problem = answer_problem(convention_for(rasterizer, scene) if fingerprint_of(rasterizer) is None else None,
+                                 outcome.received if outcome.received is not None else outcome.coverage)
+    else:
+        problem = scene_kind_problem(rasterizer, scene, outcome.error)
+    if problem is None:
+        return None
+    where = "" if frame is None else f" (frame {frame})"
+    message = f"{problem}; its answer on {case.id}{where} was its last: no more {scene.kind} were handed to it"
+    if refused is not None:
+        refused[scene.kind] = message
+    return Result(rasterizer.name, case.id, "run", "error", message, {"seconds": outcome.seconds},
+                  {"refused": scene.kind})
+
+
 def check_case(case: Case, rasterizer: Rasterizer, call: AnyCall,
                tolerance: Tolerance = Tolerance(), invariance: bool = True,
-               only: set[str] | None = None) -> list[Result]:
+               only: set[str] | None = None, refused: dict[str, str] | None = None) -> list[Result]:
     """All applicable checks of one rasterizer on one case (or those named in ``only``;
-    when none of them applies, the rasterizer is not called and there is no result)."""
+    when none of them applies, the rasterizer is not called and there is no result).
+
+    ``refused`` (scene kind -> message) holds the scene kinds whose answers contradicted
+    the rasterizer's declaration: such a scene is not handed to it (no result), and an
+    answer that contradicts it adds its kind and gives the one error result saying so."""
     name = rasterizer.name
     if not takes(rasterizer, case.scene):
         return []  # a scene kind (or fill rule) it does not take: not handed to it
+    if refused is not None and case.scene.kind in refused:
+        return []  # its answers contradicted its declaration already: said once, not per case
     convention = convention_for(rasterizer, case.scene)
     kind = convention.kind if convention is not None else "single"
     applicable = [check for check in checks.checks(case, only, kind) if invariance or check.name != "invariance"]
     if not applicable:
         return []
     outcome = call(case.scene)
+    contradiction = _refusal(case, rasterizer, case.scene, outcome, refused)
+    if contradiction is not None:
+        return [contradiction]
     if outcome.coverage is None:
         if isinstance(outcome.error, Unsupported):  # cannot draw this scene as given: it says so
             return [Result(name, case.id, "run", "skip", f"unsupported: {outcome.error}", {"seconds": outcome.seconds})]
-        refused = checks.refusal(case, outcome.error) if outcome.error is not None else None
-        if refused is not None:
-            return [replace(refused, rasterizer=name)]
+        declined = checks.refusal(case, outcome.error) if outcome.error is not None else None
+        if declined is not None:
+            return [replace(declined, rasterizer=name)]
         return [_error(case, name, outcome)]
     coverage = outcome.coverage
     subject = checks.Subject(case, name, convention, [coverage], call, tolerance, interpolates_of(rasterizer), outcome.seconds,
@@ -68,12 +98,16 @@ def check_case(case: Case, rasterizer: Rasterizer, call: AnyCall,
 
 def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
                  tolerance: Tolerance = Tolerance(), only: set[str] | None = None,
-                 call_all: Callable[[list[Scene]], list[Outcome]] | None = None) -> list[Result]:
+                 call_all: Callable[[list[Scene]], list[Outcome]] | None = None,
+                 refused: dict[str, str] | None = None) -> list[Result]:
     """The motion checks of one rasterizer on one frame sequence (or those named in
-    ``only``; when none of them applies, no frame is drawn and there is no result)."""
+    ``only``; when none of them applies, no frame is drawn and there is no result).
+    ``refused`` as for :func:`check_case`."""
     name = rasterizer.name
     if not case.frames or not takes(rasterizer, case.frames[0]):
         return []  # triangles it does not take (a line drawer): not handed to it
+    if refused is not None and case.frames[0].kind in refused:
+        return []
     convention = rasterizer.convention
     applicable = checks.checks(case, only, convention.kind if convention is not None else "single")
     if not applicable:
@@ -86,6 +120,9 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
     outcomes = call_all(frames) if call_all is not None else each_until_error(call, frames)
     for f, outcome in enumerate(outcomes):
         scene = frames[f]
+        contradiction = _refusal(case, rasterizer, scene, outcome, refused, frame=f)
+        if contradiction is not None:
+            return [contradiction]
         if outcome.coverage is None:
             failed = _error(Case(case.id, scene), name, outcome)
             return [replace(failed, message=f"frame {f}: {failed.message}")]
@@ -178,11 +215,20 @@ def run_suite(
     -------
     list of Result
         Records with ``rasterizer``, ``case``, ``check``, ``status``, ``message``,
-        ``metrics`` and ``evidence``.
+        ``metrics`` and ``evidence``. A rasterizer whose answers on a scene kind
+        contradict its declared convention (:func:`harness.declarations.answer_problem`)
+        has one error result for that kind, ``evidence["refused"]`` naming it, and is
+        handed no more scenes of the kind.
+
+    Raises
+    ------
+    ValueError
+        In one line naming it, for a rasterizer that cannot be loaded or whose
+        declarations contradict each other (:func:`harness.declarations.declaration_problem`).
     """
     selected = list(cases) if cases is not None else suite_cases(suite, seed)
     results: list[Result] = []
-    loaded = distinct_names([load(spec) if isinstance(spec, str) else spec for spec in rasterizers])
+    loaded = distinct_names([load(spec) if isinstance(spec, str) else _declared(spec) for spec in rasterizers])
     if identify:
         from harness.identify import identify_all
 
@@ -190,12 +236,14 @@ def run_suite(
     for rasterizer in loaded:
         worker: Worker | InProcess = Worker(rasterizer, timeout) if isolate else InProcess(rasterizer)
         call = worker.rasterize
+        refused: dict[str, str] = {}  # scene kinds whose answers contradicted its declaration
 
         def one_case(case: Case | MotionCase, only: set[str] | None, rasterizer: Rasterizer = rasterizer, call: AnyCall = call,
-                     call_all: Callable[[list[Scene]], list[Outcome]] = worker.rasterize_all) -> list[Result]:
+                     call_all: Callable[[list[Scene]], list[Outcome]] = worker.rasterize_all,
+                     refused: dict[str, str] = refused) -> list[Result]:
             if isinstance(case, MotionCase):
-                return check_motion(case, rasterizer, call, tolerance, only, call_all)
-            return check_case(case, rasterizer, call, tolerance, only=only)
+                return check_motion(case, rasterizer, call, tolerance, only, call_all, refused)
+            return check_case(case, rasterizer, call, tolerance, only=only, refused=refused)
 
         def judge(candidate: Case | MotionCase, check: str, one_case: Callable[..., list[Result]] = one_case) -> list[Result]:
             return one_case(candidate, {check})
@@ -210,7 +258,8 @@ def run_suite(
                     break
                 found = one_case(case, only)
                 if rerun:
-                    found = [_rerun(r, case, one_case, rerun) if r.status in ("fail", "error") else r for r in found]
+                    found = [_rerun(r, case, one_case, rerun) if r.status in ("fail", "error") and "refused" not in r.evidence
+                             else r for r in found]
                 if stop is not None and stop.is_set():
                     break  # the case was cut short by the stop: its results are not to be trusted
                 for result in found:
@@ -227,6 +276,15 @@ def run_suite(
         finally:
             worker.close()
     return results
+
+
+def _declared(rasterizer: Rasterizer) -> Rasterizer:
+    """A rasterizer object whose declarations agree, as :func:`harness.registry.load`
+    checks a spec's; ValueError naming it in one line otherwise."""
+    problem = declaration_problem(rasterizer)
+    if problem is not None:
+        raise ValueError(f"{getattr(rasterizer, 'name', rasterizer)!s}: {problem}")
+    return rasterizer
 
 
 def _not_run(cases: Sequence[Case | MotionCase], rasterizer: str, why: str,

@@ -11,7 +11,7 @@ from cases.suites import suite
 from harness import run_suite
 from harness.api import Coverage, Scene
 from harness.case import Case
-from harness.checks import checks
+from harness.checks import checks, hygiene
 from harness.conventions import Convention
 from harness.oracle import exact_coverage, exact_samples
 from harness.samples import pattern
@@ -131,8 +131,10 @@ def test_hygiene_names_sample_indices_outside_the_pattern_and_missing_alphas():
 
     (beyond,) = run_suite([NoSampleIds()], cases=[case], isolate=False, repros=False, identify=False, only={"hygiene"})
     assert beyond.status == "fail" and beyond.metrics["bad_sample"] > 0
+    assert "no alphas" in hygiene(case, NoAlpha().rasterize(case.scene), convention=NoAlpha.convention).message
+    # run, the declaration it contradicts is refused once (harness.declarations), not judged per case
     (alphaless,) = run_suite([NoAlpha()], cases=[case], isolate=False, repros=False, identify=False, only={"hygiene"})
-    assert alphaless.status == "fail" and "no alphas" in alphaless.message
+    assert alphaless.status == "error" and "carries no alphas" in alphaless.message and alphaless.evidence == {"refused": "triangles"}
 
 
 def test_area_rasterizers_get_only_the_checks_that_judge_area_coverage():
