@@ -19,6 +19,7 @@ from pathlib import Path
 from cases.suites import suite as suite_cases
 from harness.case import Case, MotionCase, read_case_file
 from harness import checks, repro
+from harness.causes import signed
 from harness.api import LineScene, Rasterizer, Scene, Unsupported, convention_for, fingerprint_of, interpolates_of, scene_kinds_of, takes
 from harness.checks import Drawing, Result, Tolerance
 
@@ -220,7 +221,7 @@ def run_suite(
                         else:  # budget used up: the whole case is the repro
                             result = repro.whole_case_repro(result, case, rasterizer.name,
                                                             "not shrunk: the shrinking time budget was used up")
-                    result = _qualified(result, rasterizer, case)
+                    result = signed(_qualified(result, rasterizer, case), case, rasterizer)
                     results.append(result)
                     if on_result is not None:
                         on_result(result)
