@@ -4,10 +4,12 @@ both show.
 
 Each failing or erroring result of :func:`harness.run_suite` carries its signature
 (evidence ``signature``: :attr:`harness.signatures.Signature.key`), found by :func:`signed`
-while the run still holds the case and the rasterizer's convention -- without the probes'
-extra rasterizer calls (:func:`harness.signatures.with_probes`): the signature reads the
-evidence the run already has (the repro's input-format and viewport-edge probes, the
-rasterizer's answer) and at most a few oracle calls on the wrong primitives alone.
+while the run still holds the case, the rasterizer's answer and its convention -- without
+the probes' extra rasterizer calls (:func:`harness.signatures.with_probes`, which a
+campaign can afford and a run, which has many failures to classify, cannot): the signature
+reads the evidence the run already has (the repro's input-format and viewport-edge
+probes), the answer, a few oracle calls on the wrong primitives alone, and, for a failing
+motion check, the frame it names judged alone on the answer already drawn.
 
 :func:`by_cause` groups such results as the campaign page does
 (:meth:`harness.campaign.CampaignState.causes`): on each case, the failures of the checks
@@ -74,8 +76,13 @@ def frame_verdict(result: Result, case: MotionCase, rasterizer: Any) -> Result:
         if frame >= len(case.frames):
             continue
         still = frame_case(case, frame)
+        drawn = answers[frame]
+
+        def answer(scene: Any, drawn: Any = drawn) -> Outcome:  # the answer the run has: no call
+            return Outcome(drawn)
+
         for check in FRAME_CHECKS:
-            verdicts = check_case(still, rasterizer, lambda scene, drawn=answers[frame]: Outcome(drawn), only={check})
+            verdicts = check_case(still, rasterizer, answer, only={check})
             failed = [r for r in verdicts if r.status == "fail"]
             if failed:
                 named = signature(failed[0], still, convention_for(rasterizer, still.scene))

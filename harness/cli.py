@@ -327,8 +327,9 @@ def _failures(results: list[Any], out: Path, shown: int) -> None:
         for found in group.signatures[:SIGNATURES_SHOWN]:
             print(f"    {found.count:>4} {found.status} {found.describe()}")
         if len(group.signatures) > SIGNATURES_SHOWN:
-            rest = group.signatures[SIGNATURES_SHOWN:]
-            print(f"         ... {len(rest)} more signature{'' if len(rest) == 1 else 's'} ({sum(g.count for g in rest)} failing)")
+            unnamed = group.signatures[SIGNATURES_SHOWN:]
+            print(f"         ... {len(unnamed)} more signature{'' if len(unnamed) == 1 else 's'} "
+                  f"({sum(g.count for g in unnamed)} failing)")
         repro = group.repro_path()
         print(f"    repro: {out / repro}" if repro is not None else f"    case: {group.results[0].case} (no minimal repro)")
     if len(groups) > shown:

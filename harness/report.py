@@ -1,7 +1,8 @@
 """The HTML report: an index with the summary matrix, convention cards, the rasterizers
 that were skipped and why, and links to the other pages of the folder; one page per
-rasterizer with its failures grouped by check and cause (a table of contents with counts,
-filters by check and status that are CSS ``:target`` rules), each with its pictures, its
+rasterizer with its failures grouped by cause and signature as the campaign page and the
+terminal group them (:func:`harness.causes.by_cause`; a table of contents with counts, the
+signatures' words whole, filters by check and status that are CSS ``:target`` rules), each with its pictures, its
 minimal repro drawn, its evidence as tables and the command that replays it. Static,
 self-contained (images as data URIs), rendered on the server side with Jinja2 autoescape,
 without JavaScript.
@@ -283,10 +284,10 @@ def _causes(results: list[Result], problems: list[dict[str, Any]]) -> list[dict[
     group them (:func:`harness.causes.by_cause`): the largest cause first, within it each
     signature (one check, one status) with its words whole and an anchor."""
     problem_of = {id(r): p for r, p in zip((x for x in results if x.status in ("fail", "error")), problems)}
-    out = []
+    out: list[dict[str, Any]] = []
     groups = 0
     for k, found in enumerate(by_cause(results)):
-        signatures = []
+        signatures: list[dict[str, Any]] = []
         for group in found.signatures:
             signatures.append({"id": f"group-{groups}", "status": group.status, "check": group.signature.check,
                                "slug": _slug(group.signature.check), "key": group.signature.key, "describe": group.describe(),

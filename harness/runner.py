@@ -179,7 +179,9 @@ def run_suite(
     -------
     list of Result
         Records with ``rasterizer``, ``case``, ``check``, ``status``, ``message``,
-        ``metrics`` and ``evidence``.
+        ``metrics`` and ``evidence``; a failing or erroring one's evidence names its
+        ``signature`` (:func:`harness.causes.signed`), which
+        :func:`harness.causes.by_cause` groups by.
     """
     selected = list(cases) if cases is not None else suite_cases(suite, seed)
     results: list[Result] = []
