@@ -5,11 +5,13 @@ both show.
 Each failing or erroring result of :func:`harness.run_suite` carries its signature
 (evidence ``signature``: :attr:`harness.signatures.Signature.key`), found by :func:`signed`
 while the run still holds the case, the rasterizer's answer and its convention -- without
-the probes' extra rasterizer calls (:func:`harness.signatures.with_probes`, which a
-campaign can afford and a run, which has many failures to classify, cannot): the signature
-reads the evidence the run already has (the repro's input-format and viewport-edge
-probes), the answer, a few oracle calls on the wrong primitives alone, and, for a failing
-motion check, the frame it names judged alone on the answer already drawn.
+most of the probes' extra rasterizer calls (:func:`harness.signatures.with_probes`, which a
+campaign can afford and a run, with many failures to classify, cannot: a run of the quick
+suite would take several times as long): the signature reads the evidence the run already
+has (the repro's input-format and viewport-edge probes), the answer, a few oracle calls on
+the wrong primitives alone, for a failing motion check the frame it names judged alone on
+the answer already drawn, and the one cheap probe that tells a tie rule from samples on
+edges by chance (the tie trial).
 
 :func:`by_cause` groups such results as the campaign page does
 (:meth:`harness.campaign.CampaignState.causes`): on each case, the failures of the checks
@@ -23,7 +25,7 @@ signatures, most results first. One bug is one cause, whichever checks and headi
 from __future__ import annotations
 
 from collections import Counter
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -31,7 +33,9 @@ from harness.api import convention_for
 from harness.case import Case, MotionCase
 from harness.checks import Result
 from harness.isolation import Outcome
-from harness.signatures import FRAME_CHECKS, MOTION_CHECKS, Signature, _named_frames, frame_case, signature
+from harness.signatures import FRAME_CHECKS, MOTION_CHECKS, Signature, _named_frames, _tie_trial, frame_case, signature
+
+Judge = Callable[[Case | MotionCase, str], list[Result]]
 
 __all__ = ["SIGNATURE", "SignatureGroup", "CauseGroup", "signed", "frame_verdict", "signature_of", "by_cause"]
 
@@ -39,14 +43,19 @@ SIGNATURE = "signature"  # the evidence key of a failing or erroring result's si
 BAD = ("fail", "error")
 
 
-def signed(result: Result, case: Case | MotionCase, rasterizer: Any) -> Result:
+def signed(result: Result, case: Case | MotionCase, rasterizer: Any, judge: Judge | None = None) -> Result:
     """``result`` with its signature (evidence ``signature``) when it fails or errs,
     judged under ``rasterizer``'s convention for ``case`` (declared or identified; for a
     motion case its convention) as a campaign judges its scenes, from what the run has: a
     failing motion check is read through a frame it names that fails conformance (or
     accuracy) judged alone on the answer already drawn (:func:`frame_verdict`), as the
-    campaign's probe reads it, but without calling the rasterizer again. Any other result
-    comes back as it is. Never raises (what cannot be read is ``other``).
+    campaign's probe reads it, but without calling the rasterizer again. Of the campaign's
+    probes only the cheap one that tells the tie rule from chance runs, given ``judge``
+    (the one check on a changed case, as :func:`harness.signatures.with_probes` takes it):
+    a conformance failure whose wrong samples all lie exactly on edges is drawn again, its
+    wrong triangles alone shifted off them (evidence ``tie_trial``: two calls per shift, at
+    most six). Any other result comes back as it is. Never raises (what cannot be read is
+    ``other``).
 
     >>> signed(Result("r", "c", "run", "error", "timeout: no answer within 2 s"), None, None).evidence
     {'signature': 'run|hang|none'}
@@ -56,6 +65,10 @@ def signed(result: Result, case: Case | MotionCase, rasterizer: Any) -> Result:
     try:
         convention = rasterizer.convention if isinstance(case, MotionCase) else convention_for(rasterizer, case.scene)
         read = frame_verdict(result, case, rasterizer) if isinstance(case, MotionCase) else result
+        if judge is not None and isinstance(case, Case) and "tie_trial" not in result.evidence:
+            tie = _tie_trial(result, case, judge, convention)
+            if tie is not None:
+                result = read = replace(result, evidence={**result.evidence, "tie_trial": tie})
     except Exception:  # noqa: BLE001 - no case, or a convention that cannot be read: judged without one
         convention, read = None, result
     return replace(result, evidence={**result.evidence, SIGNATURE: signature(read, case, convention).key})

@@ -223,7 +223,7 @@ def run_suite(
                         else:  # budget used up: the whole case is the repro
                             result = repro.whole_case_repro(result, case, rasterizer.name,
                                                             "not shrunk: the shrinking time budget was used up")
-                    result = signed(_qualified(result, rasterizer, case), case, rasterizer)
+                    result = signed(_qualified(result, rasterizer, case), case, rasterizer, judge)
                     results.append(result)
                     if on_result is not None:
                         on_result(result)

@@ -132,3 +132,28 @@ def test_a_passing_rasterizer_prints_no_failure_block(tmp_path, capsys):
                  "--out", str(tmp_path)])
     printed = capsys.readouterr().out
     assert code == 0 and "failing" not in printed and "cause" not in printed and "report: " in printed
+
+
+def test_an_error_without_a_repro_names_its_case(tmp_path, capsys):
+    code = main(["run", "--rasterizer", "tests.known_bad.misc:Raises", "--no-fingerprints", "--case", "lattice/bits-0",
+                 "--out", str(tmp_path)])
+    lines = capsys.readouterr().out.splitlines()
+    assert code == 1 and lines[-4:] == [
+        "1 failing result in 1 cause, most first:",
+        "  bad_raises: exception-RuntimeError -- 1 failing, seen by run",
+        "       1 error run: raised RuntimeError",
+        "    case: lattice/bits-0 (no minimal repro)"]
+
+
+def test_samples_on_edges_by_chance_are_not_a_tie_rule_cause():
+    """A scanline filler without its prestep whose wrong samples on a mesh all happen to lie
+    exactly on edges: the run draws the wrong triangles again shifted off them (the tie
+    trial, as a campaign does), they are still wrong, and the failure goes under the
+    sample point with the filler's others -- one cause, not a tie rule besides."""
+    from tests.known_bad.scanlines import ScanlineBug
+
+    cases = [c for c in suite("quick") if c.id in ("watertight/grid-6x6-anti/none", "lattice/bits-0")]
+    results = run_suite([ScanlineBug("no-prestep")], cases=cases, isolate=False, identify=False, repros=False)
+    on_edges = next(r for r in results if r.case == "watertight/grid-6x6-anti/none" and r.check == "conformance")
+    assert on_edges.evidence["tie_trial"]["passes"] is False
+    assert [g.cause for g in by_cause(results)] == ["sample-point"]
