@@ -190,6 +190,8 @@ _WORDS = {
     "backward-jump": "edges jumping backwards as the scene moves",
     "popping": "the summed alpha jumping as the scene moves",
     "zero-area-drawn": "zero-area triangles drew pixels",
+    **{f"exact-tie-{direction}-segment": f"pixels exactly on the line rule's boundary decided wrongly ({direction} segments)"
+       for direction in ("slanted", "diagonal", "vertical", "horizontal")},
     "other": "unclassified",
 }
 
