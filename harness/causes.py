@@ -64,13 +64,19 @@ def signed(result: Result, case: Case | MotionCase, rasterizer: Any, judge: Judg
         return result
     try:
         convention = rasterizer.convention if isinstance(case, MotionCase) else convention_for(rasterizer, case.scene)
-        read = frame_verdict(result, case, rasterizer) if isinstance(case, MotionCase) else result
-        if judge is not None and isinstance(case, Case) and "tie_trial" not in result.evidence:
-            tie = _tie_trial(result, case, judge, convention)
-            if tie is not None:
-                result = read = replace(result, evidence={**result.evidence, "tie_trial": tie})
     except Exception:  # noqa: BLE001 - no case, or a convention that cannot be read: judged without one
-        convention, read = None, result
+        convention = None
+    read = result  # what the signature reads: the result, and the facts found for it
+    try:
+        if isinstance(case, MotionCase):
+            # read, not kept: the campaign's probe (with_probes) adds its own, probed, verdict
+            read = frame_verdict(result, case, rasterizer)
+        elif judge is not None and isinstance(case, Case) and "tie_trial" not in result.evidence:
+            tie = _tie_trial(result, case, judge, convention)
+            if tie is not None:  # kept: the probe's own fact, as a campaign's probe keeps it
+                result = read = replace(result, evidence={**result.evidence, "tie_trial": tie})
+    except Exception:  # noqa: BLE001 - a fact that cannot be had: classified without it
+        pass
     return replace(result, evidence={**result.evidence, SIGNATURE: signature(read, case, convention).key})
 
 
