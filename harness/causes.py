@@ -17,7 +17,7 @@ edges by chance (the tie trial).
 (:meth:`harness.campaign.CampaignState.causes`): on each case, the failures of the checks
 that only see the effects of a wrong coverage (watertight, closed, invariance, the line
 checks, ...) are counted under the cause of that case's conformance (or accuracy) failure
-(:func:`harness.campaign.attribute_causes`); each signature goes under the cause most of its
+(:func:`attributed`, as :func:`harness.campaign.attribute_causes` counts a campaign's); each signature goes under the cause most of its
 results were counted under; the causes come most results first, and within each its
 signatures, most results first. One bug is one cause, whichever checks and headings show it.
 """
@@ -29,27 +29,59 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from typing import Any
 
-from harness.api import convention_for
+from harness.api import Coverage, convention_for
 from harness.case import Case, MotionCase
 from harness.checks import Result
-from harness.isolation import Outcome
 from harness.signatures import FRAME_CHECKS, MOTION_CHECKS, Signature, _named_frames, _tie_trial, frame_case, signature
 
-Judge = Callable[[Case | MotionCase, str], list[Result]]
+Judge = Callable[[Case | MotionCase, str], list[Result]]  # the one check on a (changed) case
+Answered = Callable[[Case, Coverage, str], list[Result]]  # the one check on a case, judged on a given answer
 
-__all__ = ["SIGNATURE", "SignatureGroup", "CauseGroup", "signed", "frame_verdict", "signature_of", "by_cause"]
+__all__ = ["SIGNATURE", "SignatureGroup", "CauseGroup", "signed", "frame_verdict", "signature_of", "by_cause", "attributed",
+           "ROOT_CHECKS", "CONSEQUENT_CHECKS", "CONSEQUENT_CLASSES"]
 
 SIGNATURE = "signature"  # the evidence key of a failing or erroring result's signature key
 BAD = ("fail", "error")
+# checks of coverage whose failure on a scene that also fails conformance is that failure's
+# consequence: a triangle dropped leaves a hole (watertight), a front-only mesh (closed) and a
+# change under flipped winding (invariance) -- one cause, not four
+CONSEQUENT_CHECKS = frozenset({"watertight", "closed", "invariance", "degenerate", "overdraw", "seams", "triangulation",
+                               "connectivity", "joints", "reversal", "length"})
+# the checks against the exact oracle whose failure names a scene's cause
+ROOT_CHECKS = ("conformance", "accuracy")
+# and of other checks, the failure classes that are coverage's too (hygiene's attribute
+# failures, say, are not)
+CONSEQUENT_CLASSES = frozenset({("hygiene", "outside-primitive")})
 
 
-def signed(result: Result, case: Case | MotionCase, rasterizer: Any, judge: Judge | None = None) -> Result:
+def attributed(found: list[tuple[str, Signature]]) -> list[str]:
+    """The cause each of one scene's failures (status, signature) is counted under: when
+    the scene fails one of :data:`ROOT_CHECKS` (conformance, or accuracy for anti-aliased
+    coverage), the failures of :data:`CONSEQUENT_CHECKS` (and :data:`CONSEQUENT_CLASSES`)
+    are counted under that failure's cause (the exact oracle says what is wrong; the others
+    see its effects); any other keeps its own signature's cause. A campaign's findings
+    (:func:`harness.campaign.attribute_causes`) and a run's results (:func:`by_cause`) alike.
+
+    >>> attributed([("fail", Signature("conformance", "culling", "culling")), ("fail", Signature("watertight", "hole", "none"))])
+    ['culling', 'culling']
+    """
+    root = next((s.cause for status, s in found if s.check in ROOT_CHECKS and status == "fail"), None)
+
+    def consequent(s: Signature) -> bool:
+        return s.check in CONSEQUENT_CHECKS or (s.check, s.failure_class) in CONSEQUENT_CLASSES
+
+    return [root if root is not None and consequent(s) else s.cause for _, s in found]
+
+
+def signed(result: Result, case: Case | MotionCase, rasterizer: Any, judge: Judge | None = None,
+           answered: Answered | None = None) -> Result:
     """``result`` with its signature (evidence ``signature``) when it fails or errs,
     judged under ``rasterizer``'s convention for ``case`` (declared or identified; for a
     motion case its convention) as a campaign judges its scenes, from what the run has: a
-    failing motion check is read through a frame it names that fails conformance (or
-    accuracy) judged alone on the answer already drawn (:func:`frame_verdict`), as the
-    campaign's probe reads it, but without calling the rasterizer again. Of the campaign's
+    failing motion check is read, given ``answered``, through a frame it names that fails
+    conformance (or accuracy) judged alone on the answer already drawn
+    (:func:`frame_verdict`), as the campaign's probe reads it, but without calling the
+    rasterizer again. Of the campaign's
     probes only the cheap one that tells the tie rule from chance runs, given ``judge``
     (the one check on a changed case, as :func:`harness.signatures.with_probes` takes it):
     a conformance failure whose wrong samples all lie exactly on edges is drawn again, its
@@ -68,9 +100,9 @@ def signed(result: Result, case: Case | MotionCase, rasterizer: Any, judge: Judg
         convention = None
     read = result  # what the signature reads: the result, and the facts found for it
     try:
-        if isinstance(case, MotionCase):
+        if isinstance(case, MotionCase) and answered is not None:
             # read, not kept: the campaign's probe (with_probes) adds its own, probed, verdict
-            read = frame_verdict(result, case, rasterizer)
+            read = frame_verdict(result, case, rasterizer, answered)
         elif judge is not None and isinstance(case, Case) and "tie_trial" not in result.evidence:
             tie = _tie_trial(result, case, judge, convention)
             if tie is not None:  # kept: the probe's own fact, as a campaign's probe keeps it
@@ -80,14 +112,13 @@ def signed(result: Result, case: Case | MotionCase, rasterizer: Any, judge: Judg
     return replace(result, evidence={**result.evidence, SIGNATURE: signature(read, case, convention).key})
 
 
-def frame_verdict(result: Result, case: MotionCase, rasterizer: Any) -> Result:
+def frame_verdict(result: Result, case: MotionCase, rasterizer: Any, answered: Answered) -> Result:
     """A failing motion result with ``frame_failure`` (as
     :func:`harness.signatures.with_probes` adds it, unprobed): the first frame it names
-    that fails conformance, or accuracy, judged alone on the rasterizer's answer for that
-    frame kept in its drawing, with that failure's signature -- a flicker of a wrong tie
-    rule is the tie rule's. No rasterizer call. Any other result as it is."""
-    from harness.runner import check_case
-
+    that fails conformance, or accuracy, judged alone (``answered``: the one check on a
+    case, judged on a given answer) on the rasterizer's answer for that frame kept in its
+    drawing, with that failure's signature -- a flicker of a wrong tie rule is the tie
+    rule's. No rasterizer call. Any other result as it is."""
     answers = result.drawing.coverages if result.drawing is not None else ()
     if result.status != "fail" or result.check not in MOTION_CHECKS or len(answers) != len(case.frames):
         return result
@@ -95,13 +126,8 @@ def frame_verdict(result: Result, case: MotionCase, rasterizer: Any) -> Result:
         if frame >= len(case.frames):
             continue
         still = frame_case(case, frame)
-        drawn = answers[frame]
-
-        def answer(scene: Any, drawn: Any = drawn) -> Outcome:  # the answer the run has: no call
-            return Outcome(drawn)
-
         for check in FRAME_CHECKS:
-            verdicts = check_case(still, rasterizer, answer, only={check})
+            verdicts = answered(still, answers[frame], check)
             failed = [r for r in verdicts if r.status == "fail"]
             if failed:
                 named = signature(failed[0], still, convention_for(rasterizer, still.scene))
@@ -204,8 +230,6 @@ def by_cause(results: Iterable[Result]) -> list[CauseGroup]:
     >>> [(g.cause, g.count, g.reason()) for g in by_cause(bad)]
     [('slow', 2, 'run: no answer within the time limit'), ('exception-RuntimeError', 1, 'run: raised RuntimeError')]
     """
-    from harness.campaign import Finding, attribute_causes
-
     bad = [r for r in results if r.status in BAD]
     signatures = [signature_of(r) for r in bad]
     # each result's cause: on one case, the consequent checks' under the root check's
@@ -214,10 +238,8 @@ def by_cause(results: Iterable[Result]) -> list[CauseGroup]:
         by_case.setdefault((r.rasterizer, r.case), []).append(k)
     counted: list[str] = [""] * len(bad)
     for members in by_case.values():
-        findings = [Finding("", 0, 0, bad[k].check, bad[k].status, "", s.key, s.failure_class, s.convention_part, s.check)
-                    for k, s in ((k, signatures[k]) for k in members)]
-        for k, finding in zip(members, attribute_causes(findings)):
-            counted[k] = finding.cause
+        for k, cause in zip(members, attributed([(bad[k].status, signatures[k]) for k in members])):
+            counted[k] = cause
     # each signature under the cause most of its results were counted under
     members_of: dict[tuple[str, str, str], list[int]] = {}
     for k, r in enumerate(bad):

@@ -20,7 +20,7 @@ from cases.suites import suite as suite_cases
 from harness.case import Case, MotionCase, read_case_file
 from harness import checks, repro
 from harness.causes import signed
-from harness.api import LineScene, Rasterizer, Scene, Unsupported, convention_for, fingerprint_of, interpolates_of, scene_kinds_of, takes
+from harness.api import Coverage, LineScene, Rasterizer, Scene, Unsupported, convention_for, fingerprint_of, interpolates_of, scene_kinds_of, takes
 from harness.checks import Drawing, Result, Tolerance
 
 from harness.isolation import AnyCall, InProcess, Outcome, Worker, describe, each_until_error
@@ -203,6 +203,10 @@ def run_suite(
         def judge(candidate: Case | MotionCase, check: str, one_case: Callable[..., list[Result]] = one_case) -> list[Result]:
             return one_case(candidate, {check})
 
+        def answered(still: Case, drawn: Coverage, check: str, rasterizer: Rasterizer = rasterizer) -> list[Result]:
+            """The one check on ``still``, judged on ``drawn`` (an answer the run has): no call."""
+            return check_case(still, rasterizer, lambda scene: Outcome(drawn), tolerance, only={check})
+
         shrink_until = time.monotonic() + repro_seconds
         try:
             for k, case in enumerate(selected):
@@ -223,7 +227,7 @@ def run_suite(
                         else:  # budget used up: the whole case is the repro
                             result = repro.whole_case_repro(result, case, rasterizer.name,
                                                             "not shrunk: the shrinking time budget was used up")
-                    result = signed(_qualified(result, rasterizer, case), case, rasterizer, judge)
+                    result = signed(_qualified(result, rasterizer, case), case, rasterizer, judge, answered)
                     results.append(result)
                     if on_result is not None:
                         on_result(result)
