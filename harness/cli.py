@@ -305,6 +305,39 @@ def _summary(rasterizers: list[Any], results: list[Any]) -> None:
         print(f"{r.name:<22} {len(mine) - bad}/{len(mine)} pass or skip" + (f", {bad} failing" if bad else ""))
 
 
+SIGNATURES_SHOWN = 3  # signatures named per cause in the terminal; the rest are counted
+
+
+def _failures(results: list[Any], out: Path, shown: int) -> None:
+    """The failing results by cause (:func:`harness.causes.by_cause`, as the report and the
+    campaign page group them), the largest first: per cause its rasterizer, count and
+    checks, its signatures' words with their counts and a minimal repro (the file ``run``
+    wrote; a case without one is named); ``shown`` causes at most, the rest counted and
+    sent to the report. Nothing when nothing fails."""
+    from harness.causes import by_cause
+
+    groups = by_cause(results)
+    if not groups:
+        return
+    failing = sum(g.count for g in groups)
+    print(f"{failing} failing result{'' if failing == 1 else 's'} in {len(groups)} cause{'' if len(groups) == 1 else 's'}, "
+          "most first:")
+    for group in groups[:shown]:
+        print(f"  {group.rasterizer}: {group.cause} -- {group.count} failing, seen by {', '.join(group.checks)}")
+        for found in group.signatures[:SIGNATURES_SHOWN]:
+            print(f"    {found.count:>4} {found.status} {found.describe()}")
+        if len(group.signatures) > SIGNATURES_SHOWN:
+            unnamed = group.signatures[SIGNATURES_SHOWN:]
+            print(f"         ... {len(unnamed)} more signature{'' if len(unnamed) == 1 else 's'} "
+                  f"({sum(g.count for g in unnamed)} failing)")
+        repro = group.repro_path()
+        print(f"    repro: {out / repro}" if repro is not None else f"    case: {group.results[0].case} (no minimal repro)")
+    if len(groups) > shown:
+        rest = groups[shown:]
+        print(f"  ... {len(rest)} more cause{'' if len(rest) == 1 else 's'} ({sum(g.count for g in rest)} failing) "
+              f"in {out / 'index.html'}")
+
+
 def _interrupted(args: argparse.Namespace, stopped: Interrupted) -> int:
     """Ctrl-C: the partial report and JSON of what finished, one line, exit 130."""
     rasterizers, results, seconds, fingerprints = stopped.partial
@@ -324,6 +357,7 @@ def _run(args: argparse.Namespace) -> int:
     _summary(rasterizers, results)
     _refusals(results)
     _write_outputs(args, rasterizers, results, seconds, fingerprints)
+    _failures(results, Path(args.out), args.causes)
     return 1 if any(x.status in ("fail", "error") for x in results) else 0
 
 
@@ -1006,6 +1040,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="run the suite and write the HTML report")
     _selection(run)
+    run.add_argument("--causes", type=_non_negative_int, default=8, metavar="N",
+                     help="failure causes named in the terminal, the largest first (default 8; the report has all)")
     run.set_defaults(func=_run)
     gate = sub.add_parser("gate", help="fail only on regressions against a baseline (for CI)")
     _selection(gate)

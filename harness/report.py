@@ -1,7 +1,8 @@
 """The HTML report: an index with the summary matrix, convention cards, the rasterizers
 that were skipped and why, and links to the other pages of the folder; one page per
-rasterizer with its failures grouped by check and cause (a table of contents with counts,
-filters by check and status that are CSS ``:target`` rules), each with its pictures, its
+rasterizer with its failures grouped by cause and signature as the campaign page and the
+terminal group them (:func:`harness.causes.by_cause`; a table of contents with counts, the
+signatures' words whole, filters by check and status that are CSS ``:target`` rules), each with its pictures, its
 minimal repro drawn, its evidence as tables and the command that replays it. Static,
 self-contained (images as data URIs), rendered on the server side with Jinja2 autoescape,
 without JavaScript.
@@ -49,6 +50,7 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 import harness
 from harness.api import LineScene, PathScene, convention_for, fill_rules_of, scene_kinds_of
 from harness.case import Case
+from harness.causes import SIGNATURE, by_cause
 from harness.checks import EVIDENCE_LIMIT, Check, Result, check_names
 from harness.checks import checks as registered_checks
 from harness.files import atomic_write_text, safe_name
@@ -58,7 +60,7 @@ from harness.pictures import (ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEN
 if TYPE_CHECKING:
     from harness.campaign import CampaignState, ProgressEvent
 
-__all__ = ["write_report", "write_comparison", "link_pages", "page_name", "cause", "evidence_table", "capabilities",
+__all__ = ["write_report", "write_comparison", "link_pages", "page_name", "evidence_table", "capabilities",
            "on_paths", "on_lines", "caption", "line_checks", "write_campaign_page", "campaign_json", "campaign_run",
            "findings_chart", "CAMPAIGN_PAGE"]
 
@@ -187,54 +189,9 @@ def _cell(results: list[Result]) -> dict[str, str]:
     return {"status": status, "text": " / ".join(str(counts[s]) for s in ("pass", "fail", "error", "skip"))}
 
 
-def cause(r: Result) -> str:
-    """What went wrong, in words shared by failures with the same cause, to group them: for
-    an error its kind (the exception's type, ``timeout``, ``not run``); for conformance
-    which pixels deviate (missing, extra) and whether their samples lie exactly on edges;
-    otherwise the first clause of the message that counts something not zero, its numbers
-    replaced by N.
-
-    >>> from harness.checks import Result
-    >>> cause(Result("r", "c", "watertight", "fail", "0 holes, 3 double hits, 0 stray hits outside"))
-    'N double hits'
-    >>> cause(Result("r", "c", "run", "error", "RuntimeError: rasterizer exploded"))
-    'RuntimeError'
-    """
-    if r.status == "error":
-        kind, colon, _ = r.message.partition(":")
-        return kind.strip() if colon and kind.strip() and len(kind) <= 60 else _gist(r.message)
-    if r.check == "conformance" and ("missing" in r.metrics or "extra" in r.metrics):
-        missing, extra = r.metrics.get("missing", 0.0), r.metrics.get("extra", 0.0)
-        kinds = " and ".join(k for k, n in (("missing", missing), ("extra", extra)) if n) or "no"
-        ties = r.metrics.get("exact_ties", 0.0)
-        where = (", every one with its sample exactly on an edge" if ties and ties == missing + extra
-                 else ", some with the sample exactly on an edge" if ties else "")
-        return f"{kinds} pixels{where}"
-    return _gist(r.message)
-
-
-_NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?")
-
-
-def _counts_zero(clause: str) -> bool:
-    number = _NUMBER.match(clause)
-    return number is not None and float(number.group()) == 0.0
-
-
-def _gist(message: str) -> str:
-    """The first clause of ``message`` that does not count zero, its numbers as N, lists
-    as […], parentheses with numbers dropped (see :func:`cause`)."""
-    text = re.sub(r"\[[^\]]*\]", "[…]", message)
-    clauses = [c.strip() for c in re.split(r";|, ", text) if c.strip()]
-    telling = [c for c in clauses if not _counts_zero(c)] or clauses or [message]
-    gist = re.sub(r"\s*\([^)]*\d[^)]*\)", "", telling[0])
-    gist = _NUMBER.sub("N", gist)
-    return " ".join(gist.split()) or message
-
-
 ROWS_SHOWN = 50  # rows of a table (items of a list) shown; the rest are counted
 INLINE_ITEMS = 8  # items of a list inside a table cell
-HIDDEN = ("traceback", "repro", "repro_path")
+HIDDEN = ("traceback", "repro", "repro_path", SIGNATURE)
 
 
 def _plain(value: Any) -> Any:
@@ -309,7 +266,7 @@ def _problem(r: Result, index: int, spec: str) -> dict[str, Any]:
         size = len(shapes) if isinstance(shapes, list) else 0
     paths = on_paths(r)
     return {"case": r.case, "check": r.check, "status": r.status, "message": r.message, "anchor": f"failure-{index}",
-            "cause": cause(r), "images": images, "evidence": table, "evidence_open": table is not None and _rows(table) <= 16,
+            "images": images, "evidence": table, "evidence_open": table is not None and _rows(table) <= 16,
             "evidence_keys": list(evidence), "traceback": r.evidence.get("traceback"),
             "repro_picture": drawn[0] if drawn else None, "repro_caption": drawn[1] if drawn else None,
             "repro_path": path, "repro_size": size, "repro_of": repro.get("original_triangles"),
@@ -321,24 +278,34 @@ def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_-]+", "-", text).strip("-") or "x"
 
 
-def _sections(problems: list[dict[str, Any]], order: list[str]) -> list[dict[str, Any]]:
-    """The failures by check (in ``order``), and within a check by status and cause, the
-    largest group first; each group with an anchor."""
-    sections = []
+def _causes(results: list[Result], problems: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The failures of ``results`` (one rasterizer's; ``problems`` are their failing and
+    erroring ones, in order) by cause and signature, as the terminal and the campaign page
+    group them (:func:`harness.causes.by_cause`): the largest cause first, within it each
+    signature (one check, one status) with its words whole and an anchor."""
+    problem_of = {id(r): p for r, p in zip((x for x in results if x.status in ("fail", "error")), problems)}
+    out: list[dict[str, Any]] = []
     groups = 0
+    for k, found in enumerate(by_cause(results)):
+        signatures: list[dict[str, Any]] = []
+        for group in found.signatures:
+            signatures.append({"id": f"group-{groups}", "status": group.status, "check": group.signature.check,
+                               "slug": _slug(group.signature.check), "key": group.signature.key, "describe": group.describe(),
+                               "count": group.count, "problems": [problem_of[id(r)] for r in group.results]})
+            groups += 1
+        out.append({"id": f"cause-{k}", "cause": found.cause, "count": found.count, "signatures": signatures,
+                    "checks": list(dict.fromkeys(g["slug"] for g in signatures)),
+                    "statuses": sorted({g["status"] for g in signatures})})
+    return out
+
+
+def _failing_checks(problems: list[dict[str, Any]], order: list[str]) -> list[dict[str, Any]]:
+    """The checks with failing or erroring results (in ``order``): each with its count and statuses."""
+    out = []
     for check in sorted({p["check"] for p in problems}, key=lambda c: (order.index(c) if c in order else len(order), c)):
         mine = [p for p in problems if p["check"] == check]
-        by_cause: dict[tuple[str, str], list[dict[str, Any]]] = {}
-        for p in mine:
-            by_cause.setdefault((p["status"], p["cause"]), []).append(p)
-        ranked = sorted(by_cause.items(), key=lambda kv: (kv[0][0] != "fail", -len(kv[1]), kv[0][1]))
-        out = []
-        for (status, why), members in ranked:
-            out.append({"id": f"group-{groups}", "status": status, "cause": why, "count": len(members), "problems": members})
-            groups += 1
-        sections.append({"check": check, "slug": _slug(check), "count": len(mine), "groups": out,
-                         "statuses": sorted({p["status"] for p in mine})})
-    return sections
+        out.append({"check": check, "slug": _slug(check), "count": len(mine), "statuses": sorted({p["status"] for p in mine})})
+    return out
 
 
 def _filters(sections: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -392,13 +359,14 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
         mine = [r for r in results if r.rasterizer == name]
         spec = (specs or {}).get(name, name)
         problems = [_problem(r, i, spec) for i, r in enumerate(x for x in mine if x.status in ("fail", "error"))]
-        sections = _sections(problems, checks)
+        sections = _failing_checks(problems, checks)
         row: dict[str, Any] = {
             "name": name, "convention": convention, "total": len(mine), "problems": problems, "page": page_name(name),
             "counts": {s: sum(r.status == s for r in mine) for s in ("pass", "fail", "error", "skip")},
             "cells": [_cell([r for r in mine if r.check == c]) for c in checks],
             "fingerprint": fingerprints.get(name), "kind": (kinds or {}).get(name, ""),
-            "declared": (declared or {}).get(name, convention), "sections": sections, "filters": _filters(sections),
+            "declared": (declared or {}).get(name, convention), "sections": sections, "causes": _causes(mine, problems),
+            "filters": _filters(sections),
             "figures": coverage_figures(mine),
             "pattern": svg_pattern((patterns or {})[name]) if (patterns or {}).get(name) else None,
         }

@@ -176,6 +176,22 @@ _WORDS = {
     "double-hit": "pixels hit twice in a partition",
     "hole-and-double-hit": "holes and double hits in a partition",
     "stray": "pixels hit outside a partition",
+    "last-pixel": "segments drawn one pixel longer or shorter than the rule",
+    "length": "segments drawn with another number of pixels than the rule",
+    "reversal": "pixels that change when a segment is drawn the other way",
+    "joint-vertex": "the pixel where two segments meet drawn otherwise than the rule",
+    "joint-overlap": "pixels drawn by both segments of a joint otherwise than the rule",
+    "gap": "steps missing along a line",
+    "break": "breaks between the segments of a strip",
+    "double-step": "steps drawn twice along a line",
+    "alpha-error": "alphas off the exact area beyond the tolerance",
+    "off-level": "alphas on none of the declared levels",
+    "flicker": "pixels changing more often than the exact coverage as the scene moves",
+    "backward-jump": "edges jumping backwards as the scene moves",
+    "popping": "the summed alpha jumping as the scene moves",
+    "zero-area-drawn": "zero-area triangles drew pixels",
+    **{f"exact-tie-{direction}-segment": f"pixels exactly on the line rule's boundary decided wrongly ({direction} segments)"
+       for direction in ("slanted", "diagonal", "vertical", "horizontal")},
     "other": "unclassified",
 }
 
