@@ -16,6 +16,11 @@ rule the last part of the id (``.../nonzero``, ``.../evenodd``):
   Neighbours share identical vertex floats and no vertex lies inside another cell's edge
   (no T-junctions); every partition is proven exact (:func:`partition_flaws`) before it
   is used, and its ``region`` is its exact convex outline.
+  ``path-partitions/triangles/<partition>/<rule>`` are the triangle partitions of
+  :func:`cases.partitions.partition_cases` with each triangle its own one-contour path
+  (:func:`triangles_as_paths`): the very scenes ``identify`` sends a rasterizer that takes
+  paths but no triangles when it asks whether it is watertight, so that ``run`` fails
+  where ``identify`` says it is not.
 - ``path-degenerate/<kind>/<detail>/<rule>``: zero-area and retracing contours, figure
   eights, duplicate contours, non-finite vertices, contours of one vertex. Paths 0 and 1
   of each scene are ordinary, so that a rasterizer that mishandles the bad paths cannot
@@ -36,13 +41,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import Delaunay, Voronoi
 
-from harness.api import PathScene
+from cases.partitions import partition_cases
+from harness.api import PathScene, Scene
 from harness.case import Case
 from harness.exact import orientation
 from harness.winding import FILL_RULES
 
 __all__ = ["star", "rectangle", "regular", "is_simple", "polygon_sign", "partition_flaws", "voronoi_cells", "quad_grid",
-           "merged_polygons", "shape_cases", "path_partition_cases", "path_degenerate_cases", "path_cases", "PATH_FAMILIES"]
+           "merged_polygons", "shape_cases", "path_partition_cases", "triangles_as_paths", "triangle_partition_cases", "path_degenerate_cases", "path_cases", "PATH_FAMILIES"]
 
 PATH_FAMILIES = ("paths", "path-partitions", "path-degenerate")
 
@@ -409,7 +415,31 @@ def path_partition_cases(seed: int, full: bool = False) -> list[Case]:
     add("polygons-30/float", lambda r: merged_polygons(30, r, False), False, True)
     add("polygons-30/lattice", lambda r: merged_polygons(30, r, True), True, False)
     add("polygons-80/float", lambda r: merged_polygons(80, r, False), False, False)
-    return cases
+    return cases + triangle_partition_cases(seed, full)
+
+
+def triangles_as_paths(scene: Scene, fill_rule: str = "nonzero") -> PathScene:
+    """The triangles of ``scene`` as a path scene: path k is triangle k, one contour of its
+    three vertices in their order, so its coverage names the same primitives. A
+    triangle's winding number is 0 or +-1 everywhere: both rules give it the same pixels.
+
+    >>> tri = Scene(8, 8, [[[1, 1], [7, 1], [1, 7]], [[2, 2], [2, 6], [6, 6]]])
+    >>> paths = triangles_as_paths(tri)
+    >>> len(paths), paths.contour_sizes.tolist(), paths.vertices.shape
+    (2, [3, 3], (6, 2))
+    """
+    n = len(scene)
+    return PathScene(scene.width, scene.height, scene.positions.reshape(-1, 2), np.full(n, 3, dtype=np.int64),
+                     np.arange(n, dtype=np.int64), fill_rule)
+
+
+def triangle_partition_cases(seed: int, full: bool = False) -> list[Case]:
+    """``path-partitions/triangles/<partition>/<rule>``: every triangle partition of the
+    suite (``watertight/<partition>``, :func:`cases.partitions.partition_cases`) with each
+    triangle its own one-contour path, under both rules; the same region and lattice."""
+    return [Case(f"path-partitions/triangles/{case.id.split('/', 1)[1]}/{rule}", triangles_as_paths(case.scene, rule),
+                 lattice=case.lattice, region=None if case.region is None else case.region.copy())
+            for case in partition_cases(seed, full) if isinstance(case.scene, Scene) for rule in FILL_RULES]
 
 
 # -- the shape catalogue -------------------------------------------------------------------

@@ -163,7 +163,7 @@ class Fingerprint:
     def card(self) -> str:
         lines = [f"rasterizer   {self.rasterizer}",
                  f"convention   {self.convention.describe_lines() if self.lines_only else self.convention.describe()}",
-                 f"             {self.convention!r}",
+                 f"             {_compact_repr(self.convention)}",
                  f"residual     {self.residual} mismatching pixels of {self.pixels}"
                  + ("  (identified exactly)" if self.exact
                     else f"  (ambiguous between {' and '.join(self.ambiguous)})" if self.residual == 0 and self.ambiguous
@@ -175,6 +175,20 @@ class Fingerprint:
         for k, v in self.facts.items():
             lines.append(f"{k:<12} {v}")
         return "\n".join(lines)
+
+
+def _compact_repr(convention: Convention) -> str:
+    """The card's ``Convention(...)`` line with a sample pattern in a few words (the JSON
+    keeps its offsets): ``samples=4`` for a standard one (as it is declared), else its
+    description (:func:`harness.samples.describe_pattern`) in angle brackets."""
+    samples = convention.samples
+    if samples is None:
+        return repr(convention)
+    from harness.samples import describe_pattern
+
+    said = repr(samples) if len(samples) <= 2 else \
+        str(len(samples)) if STANDARD_PATTERNS.get(len(samples)) == samples else f"<{describe_pattern(samples)}>"
+    return repr(convention).replace(f"samples={samples!r}", f"samples={said}")
 
 
 def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) -> Fingerprint:
