@@ -45,21 +45,35 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Union
 
 from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, fill_rules_of, interpolates_of, received_of, scene_kinds_of
 from harness.conventions import Convention, CoverageKind, LineRule
 from harness.coverage_probes import CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions
 from harness.isolation import Call, InProcess, Outcome, Worker
-from harness.probes import (Fact, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, unanswered, viewport_edge,
+from harness.probes import (Defect, Fact, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, unanswered, viewport_edge,
                             watertight_partitions, zero_area)
 from harness.samples import STANDARD_PATTERNS
 
 if TYPE_CHECKING:  # the path and line probes are imported when a rasterizer taking those is identified
+    from harness.case import Case, MotionCase
     from harness.line_probes import LineFit
     from harness.path_probes import PathFit
 
-__all__ = ["Fingerprint", "identify", "identify_isolated", "identify_all", "Identified"]
+__all__ = ["Fingerprint", "identify", "identify_isolated", "identify_all", "Identified", "VERDICT_CHECKS", "verdict_cases",
+           "repro_size"]
+
+# defects shown on the card per probe (--json and the fingerprint page have them all)
+CARD_DEFECTS = 3
+
+# The checks that judge a declared convention of each coverage kind, run on identify's own
+# probe scenes (and the suite's scenes those checks need: partitions for seams, sub-pixel
+# motion for popping) before identify calls a declaration confirmed or consistent.
+VERDICT_CHECKS: dict[CoverageKind, tuple[str, ...]] = {
+    "single": ("conformance",),
+    "multisample": ("conformance",),  # judged sample by sample
+    "area": ("accuracy", "seams", "popping"),
+}
 
 
 @dataclass
@@ -124,6 +138,12 @@ class Fingerprint:
         return (self.residual == 0 and not (self.runner_up is not None and self.runner_up[1] == 0)
                 and not self.ambiguous)
 
+    @property
+    def defects(self) -> dict[str, tuple[Defect, ...]]:
+        """Probe label -> the scenes on which it saw a defect (:class:`harness.probes.Defect`:
+        the suite's case, the check, the evidence, a minimal repro); empty when none did."""
+        return {label: tuple(found) for label, fact in self.probes.items() if (found := getattr(fact, "defects", ()))}
+
     def to_dict(self) -> dict[str, Any]:
         """Plain data for JSON and the report."""
         out: dict[str, Any] = {
@@ -155,6 +175,8 @@ class Fingerprint:
                            "differences": list(fit.differences) if fit is not None else [],
                            "genuine_paths": None if fit is None or fit.lattice is None else
                            [{"fill_rule": r, "mismatches": m, "pixels": px} for r, m, px in fit.lattice.scores]})
+        if self.defects:  # each defect's scenes, evidence and minimal repro (added field)
+            out["defects"] = {label: [d.to_dict() for d in found] for label, found in self.defects.items()}
         if self.line_fit is not None:  # a line-taking rasterizer's (added fields)
             out.update(line_rule=None if self.line_rule is None else self.line_rule.describe(),
                        line_convention=_line_convention_dict(self.line_fit))
@@ -174,7 +196,21 @@ class Fingerprint:
                          + ("line probes)" if self.lines_only else "tie scenes)"))
         for k, v in self.facts.items():
             lines.append(f"{k:<12} {v}")
+        for label, found in self.defects.items():
+            for d in found[:CARD_DEFECTS]:
+                repro = d.repro
+                shrunk = "" if repro is None else (
+                    f"; minimal repro: {repro_size(repro)} of {repro.get('original_triangles')} primitives, in --json")
+                lines.append(f"{'evidence':<12} {label}: {d.case}: {d.message} "
+                             f"(in the suite: rastercheck run --case '{d.case}' fails {d.check}{shrunk})")
+            if len(found) > CARD_DEFECTS:
+                lines.append(f"{'':<12} ... {len(found) - CARD_DEFECTS} more {label} scenes in --json")
         return "\n".join(lines)
+
+
+def repro_size(payload: dict[str, Any]) -> int:
+    """The primitives of a repro's case JSON (triangles, paths or line strips)."""
+    return len(payload.get("positions") or payload.get("paths") or payload.get("lines") or [])
 
 
 def _compact_repr(convention: Convention) -> str:
@@ -217,8 +253,11 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
     return fingerprint
 
 
-def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Scene], Scene] | None) -> Fingerprint:
-    """:func:`identify` on triangles (``call`` takes triangle scenes)."""
+def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Scene], Scene] | None,
+                        partitions: tuple[list[Case], Call] | None = None) -> Fingerprint:
+    """:func:`identify` on triangles (``call`` takes triangle scenes); watertightness on the
+    suite's triangle partitions, or on ``partitions`` (the cases and the call that draws
+    them: a paths-only rasterizer's are the same partitions as paths, as its suite has them)."""
     kind = coverage_kind(call)
     if kind.kind in ("area", "multisample"):
         return _identify_coverage(name, call, seed, kind)
@@ -237,7 +276,8 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
         "epsilon": epsilon(call, convention, received),
         "zero area": zero_area(call),
         "non-finite": non_finite(call),
-        "watertight": watertight_partitions(call, seed),
+        "watertight": (watertight_partitions(call, seed, convention=convention, name=name) if partitions is None
+                       else watertight_partitions(partitions[1], seed, partitions[0], convention, name)),
         "snapping": snapping,
         "vertex sweep": ties.vertex.judged(snapping.bits, snapping.rounding),
         "unanswered": unanswered(drawn),
@@ -266,7 +306,12 @@ def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprin
             path = fit_path_convention(call, seed, rule, fingerprint.convention)
     else:
         # it takes paths only: every triangle probe goes through one-contour paths
-        fingerprint = _identify_triangles(rasterizer.name, as_paths(call, rule), seed, _received_as_triangles(received, rule))
+        from cases.paths import triangle_partition_cases
+
+        # watertight on the suite's own path partitions of triangles, under the rule fitted
+        partitions = [c for c in triangle_partition_cases(seed) if isinstance(c.scene, PathScene) and c.scene.fill_rule == rule]
+        fingerprint = _identify_triangles(rasterizer.name, as_paths(call, rule), seed, _received_as_triangles(received, rule),
+                                          (partitions, call))
         path = None
         if fingerprint.kind == "single":
             path = path_fit_of(fingerprint.convention, fingerprint.residual, fingerprint.pixels, fingerprint.runner_up,
@@ -410,6 +455,45 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
     lines |= {"zero area": probes["zero area"].text, "non-finite": probes["non-finite"].text,
               "calls": f"{call.calls + 1} rasterizer calls"}  # and the one that read the kind
     return Fingerprint(name, convention, residual, pixels, runner_up, lines, (), probes, kind=kind.kind or "single")
+
+
+def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, ...],
+                  kind: CoverageKind) -> list[Union[Case, MotionCase]]:
+    """The scenes a declared convention of coverage ``kind`` is judged on before identify
+    calls it confirmed or consistent (:data:`VERDICT_CHECKS`): the probe scenes identify
+    drew for that kind (the alpha sweeps, the multisample pattern's scenes) as cases
+    ``identify/<probe>/<k>``, then the suite's lattice and float triangles, its planar
+    partitions (seams; per-sample watertight scenes) and, for area coverage, its sub-pixel
+    translations (popping); for a line drawer its line segments, for a path filler its
+    path shapes. Each rasterizer is handed only the kinds it takes."""
+    from cases.lines import line_cases
+    from cases.motion import motion_cases
+    from cases.partitions import partition_cases
+    from cases.paths import path_cases
+    from cases.suites import conformance_cases
+    from harness.case import Case
+
+    cases: list[Case | MotionCase] = []
+    drawn: dict[str, tuple[Any, ...]] = {}
+    sweeps, pattern = fingerprint.probes.get("sweeps"), fingerprint.probes.get("pattern")
+    if kind == "area" and sweeps is not None:
+        drawn["sweeps"] = tuple(getattr(sweeps, "drawn", ()))
+    if kind == "multisample" and pattern is not None:
+        drawn["pattern"] = tuple(d for group in getattr(pattern, "drawn", ()) for d in group)
+    for probe, scenes in drawn.items():
+        cases += [Case(f"identify/{probe}/{k}", d.scene) for k, d in enumerate(scenes) if isinstance(d.scene, Scene)]
+    if "triangles" in scene_kinds:
+        cases += conformance_cases(seed)
+        if kind != "single":
+            cases += partition_cases(seed)
+        if kind == "area":
+            # the plain geometries' sixteenth-pixel translations (no texture, no projected mesh)
+            cases += [m for m in motion_cases(seed) if m.id.endswith("-1/16") and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
+    if "paths" in scene_kinds and kind == "single":
+        cases += [c for c in path_cases(seed) if c.family == "paths"]
+    if "lines" in scene_kinds and kind == "single":
+        cases += [c for c in line_cases(seed) if c.family == "lines"]
+    return cases
 
 
 def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0,

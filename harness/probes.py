@@ -16,19 +16,20 @@ and ``compare`` both explain a rasterizer with it, so they cannot disagree.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
-from typing import Literal, Protocol
+from typing import Any, Literal, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from cases.partitions import partition_cases
 from cases.scenes import lattice_triangles, random_triangles
-from harness.api import Coverage, Scene
-from harness.checks import FragmentCounter, deviations, watertight
+from harness.api import AnyScene, Coverage, Scene
+from harness.case import Case, MotionCase
+from harness.checks import FragmentCounter, Result, deviations, watertight
 from harness.conventions import MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Convention, CullMode, SnapRounding
 from harness.exact import orientation
 from harness.isolation import Call, Outcome, describe
@@ -38,7 +39,7 @@ from harness.repro import grown_screen
 __all__ = [
     "SAMPLES", "CANDIDATES", "SNAP_BITS", "RAW_PIXELS", "Fact", "Drawn", "draw",
     "Culling", "SampleSweep", "VertexSweep", "TieFit", "RoundingFit", "SnapFit", "ResidualLies", "ViewportEdge",
-    "Epsilon", "ZeroArea", "NonFinite", "Watertight", "Unanswered",
+    "Epsilon", "ZeroArea", "NonFinite", "Watertight", "Defect", "Unanswered",
     "culling", "sample_sweep", "vertex_sweep", "fit_ties", "fit_snapping", "residual_lies", "viewport_edge", "epsilon",
     "zero_area", "non_finite", "watertight_partitions", "unanswered",
 ]
@@ -145,6 +146,11 @@ class Drawn:
 def draw(call: Call, scene: Scene) -> Drawn:
     """``scene`` and the rasterizer's answer to it."""
     return Drawn(scene, call(scene))
+
+
+def send(call: Call, scene: AnyScene) -> Outcome:
+    """``call`` on a scene of any kind (a path-taking rasterizer's call takes path scenes)."""
+    return call(scene)  # type: ignore[arg-type]
 
 
 def _fit_score(drawn: list[Drawn], convention: Convention) -> int:
@@ -822,14 +828,36 @@ def non_finite(call: Call) -> NonFinite:
 
 
 @dataclass(frozen=True, slots=True)
+class Defect:
+    """One scene on which a probe saw a defect: the suite's case it is (``case``, so that
+    ``rastercheck run --case`` fails there too), the check that judges it, what is wrong
+    (``message``), the check's evidence (the offending pixels and the primitives blamed),
+    and a minimal repro (case JSON naming the check, :func:`harness.repro.attach_repro`;
+    None when none was made)."""
+
+    case: str
+    check: str
+    message: str
+    evidence: dict[str, Any] = field(default_factory=dict, compare=False)
+    repro: dict[str, Any] | None = field(default=None, compare=False)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for JSON and the fingerprint page."""
+        return {"case": self.case, "check": self.check, "message": self.message, "evidence": dict(self.evidence),
+                "repro": self.repro}
+
+
+@dataclass(frozen=True, slots=True)
 class Watertight:
     """Holes and double hits over the planar partitions (``unanswered`` of them gave an
-    error and were not judged)."""
+    error and were not judged); ``defects`` the partitions that leak, each with its
+    evidence and, for the first few, a minimal repro."""
 
     holes: int
     doubles: int
     partitions: int
     unanswered: int = 0
+    defects: tuple[Defect, ...] = field(default=(), compare=False)
 
     @property
     def text(self) -> str:
@@ -842,20 +870,81 @@ class Watertight:
         return f"no: {self.holes} holes, {self.doubles} double hits on {judged} partitions{unjudged}"
 
 
-def watertight_partitions(call: Call, seed: int) -> Watertight:
-    """Every planar partition family: holes and double hits, convention-free."""
+# leaking scenes shrunk to a minimal repro per probe (each shrink redraws its scene's parts)
+REPROS = 2
+
+
+def watertight_partitions(call: Call, seed: int, cases: Sequence[Case] | None = None, convention: Convention | None = None,
+                          name: str = "identify", repros: int = REPROS) -> Watertight:
+    """Every planar partition of the suite (``cases``: :func:`cases.partitions.partition_cases`
+    unless given, e.g. the same partitions as paths for a paths-only rasterizer): holes and
+    double hits, judged as the suite's watertight check judges them (under ``convention``,
+    a hole or double hit its own snapped answer has too is excused). The first ``repros``
+    leaking partitions are shrunk to a minimal repro (:func:`harness.repro.attach_repro`)."""
     holes = doubles = unanswered = 0
-    partitions = partition_cases(seed)
+    partitions = list(partition_cases(seed) if cases is None else cases)
+    defects: list[Defect] = []
     for case in partitions:
-        assert isinstance(case.scene, Scene)
-        cov = draw(call, case.scene).coverage
+        cov = send(call, case.scene).coverage
         if cov is None:
             unanswered += 1
             continue
-        r = watertight(case, cov)
+        r = _watertight(case, cov, convention)
         holes += int(r.metrics.get("holes", 0))
         doubles += int(r.metrics.get("double_hits", 0))
-    return Watertight(holes, doubles, len(partitions), unanswered)
+        if r.status == "fail":
+            defects.append(Defect(case.id, "watertight", r.message, {k: v for k, v in r.evidence.items() if k in ("blame", "strays")},
+                                  _repro(r, case, call, convention, name) if len(defects) < repros else None))
+    return Watertight(holes, doubles, len(partitions), unanswered, tuple(defects))
+
+
+
+def _watertight(case: Case, coverage: Coverage, convention: Convention | None) -> Result:
+    """The suite's watertight verdict on ``case`` (see :func:`harness.checks.watertight`)."""
+    if convention is None or convention.kind != "single":
+        return watertight(case, coverage)
+    return watertight(case, coverage, convention, lambda: exact_coverage(case.scene, convention))
+
+
+class _Named:
+    """The name :func:`harness.repro.attach_repro` writes into a repro (it asks nothing else
+    of the rasterizer for the watertight and overdraw checks)."""
+
+    convention = None
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def rasterize(self, scene: Any) -> Coverage:  # never called: the probe's call draws
+        raise NotImplementedError
+
+
+def _repro(result: Result, case: Case, call: Call, convention: Convention | None, name: str) -> dict[str, Any] | None:
+    """A failing partition shrunk to a minimal repro as replayable case JSON: double hits
+    shrink to the primitives that overlap (``overdraw``), a hole keeps every cell (no
+    subset of a partition is one)."""
+    from harness import checks
+    from harness.checks import Subject, Tolerance
+    from harness.repro import attach_repro
+
+    def judge(candidate: Case | MotionCase, check: str) -> list[Result]:
+        if not isinstance(candidate, Case):
+            return []
+        cov = send(call, candidate.scene).coverage
+        if cov is None:
+            return []
+        if check == "watertight":
+            return [_watertight(candidate, cov, convention)]
+        subject = Subject(candidate, name, convention, [cov], call, Tolerance(), False,
+                          scene_kinds=(candidate.scene.kind,))
+        return [c.verdict(subject) for c in checks.checks(candidate, {check}, "single")]
+
+    try:
+        shrunk = attach_repro(replace(result, rasterizer=name, case=case.id), case, judge, _Named(name), budget=40, seconds=5.0)
+    except Exception:  # a repro is evidence besides the verdict: the probe's answer stands without it
+        return None
+    payload = shrunk.evidence.get("repro")
+    return payload if isinstance(payload, dict) else None
 
 
 # --- unanswered fit scenes -----------------------------------------------------------------------
