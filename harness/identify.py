@@ -51,8 +51,9 @@ from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, fill_r
 from harness.conventions import Convention, CoverageKind, LineRule
 from harness.coverage_probes import CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions
 from harness.isolation import Call, InProcess, Outcome, Worker
-from harness.probes import (Defect, Fact, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, unanswered, viewport_edge,
-                            watertight_partitions, zero_area)
+from harness.probes import (NON_FINITE_CASES, ZERO_AREA_CASE, Defect, Fact, NonFinite, ViewportEdge, Watertight, ZeroArea,
+                            epsilon, fit_snapping, fit_ties, non_finite, residual_lies, suite_defects, unanswered,
+                            viewport_edge, watertight_partitions, zero_area)
 from harness.samples import STANDARD_PATTERNS
 
 if TYPE_CHECKING:  # the path and line probes are imported when a rasterizer taking those is identified
@@ -253,11 +254,25 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
     return fingerprint
 
 
+# The suite's cases for a rasterizer's scene kind of the triangle cases a probe drew, and the
+# call that draws them (a paths-only rasterizer's: the same triangles as paths).
+SuiteView = Callable[[list["Case"]], tuple[list["Case"], Call]]
+
+
 def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Scene], Scene] | None,
-                        partitions: tuple[list[Case], Call] | None = None) -> Fingerprint:
-    """:func:`identify` on triangles (``call`` takes triangle scenes); watertightness on the
-    suite's triangle partitions, or on ``partitions`` (the cases and the call that draws
-    them: a paths-only rasterizer's are the same partitions as paths, as its suite has them)."""
+                        suite: SuiteView | None = None) -> Fingerprint:
+    """:func:`identify` on triangles (``call`` takes triangle scenes). Where a probe saw a
+    defect (not watertight, the viewport edge, zero-area or non-finite triangles drawn),
+    the suite's cases it drew are judged as ``run`` judges them, each failure kept as
+    evidence with a minimal repro (:func:`harness.probes.suite_defects`); ``suite`` gives
+    those cases for the rasterizer's scene kind (the triangle cases themselves unless given)."""
+    from cases.degenerate import degenerate_cases
+    from cases.partitions import partition_cases
+    from cases.paths import viewport_cases
+
+    def view(cases: list[Case]) -> tuple[list[Case], Call]:
+        return (cases, call) if suite is None else suite(cases)
+
     kind = coverage_kind(call)
     if kind.kind in ("area", "multisample"):
         return _identify_coverage(name, call, seed, kind)
@@ -276,16 +291,38 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
         "epsilon": epsilon(call, convention, received),
         "zero area": zero_area(call),
         "non-finite": non_finite(call),
-        "watertight": (watertight_partitions(call, seed, convention=convention, name=name) if partitions is None
-                       else watertight_partitions(partitions[1], seed, partitions[0], convention, name)),
+        "watertight": _watertight_of(view(partition_cases(seed)), seed, convention, name),
         "snapping": snapping,
         "vertex sweep": ties.vertex.judged(snapping.bits, snapping.rounding),
         "unanswered": unanswered(drawn),
     }
+    # the suite's cases behind each defect seen, judged as run judges them
+    degenerate = {c.id: c for c in degenerate_cases(seed)}
+    edge, flat, nan = probes["viewport edge"], probes["zero area"], probes["non-finite"]
+    if isinstance(edge, ViewportEdge) and edge.changed:
+        probes["viewport edge"] = replace(edge, defects=suite_defects(*_swap(view(viewport_cases(seed))), {"conformance"},
+                                                                       convention, name))
+    if isinstance(flat, ZeroArea) and flat.pixels:
+        probes["zero area"] = replace(flat, defects=suite_defects(*_swap(view([degenerate[ZERO_AREA_CASE]])), {"conformance"},
+                                                                   convention, name))
+    if isinstance(nan, NonFinite) and nan.wrong:
+        probes["non-finite"] = replace(nan, defects=suite_defects(
+            *_swap(view([degenerate[c] for c in NON_FINITE_CASES.values()])), {"conformance"}, convention, name))
     found = {label: fact for label, fact in probes.items() if fact is not None}
     return Fingerprint(name, convention, residual, sum(d.pixels for d in drawn),
                        (ties.runner_up.describe(), ties.runner_up_mismatches), {k: f.text for k, f in found.items()},
                        snapping.ambiguous, found)
+
+
+def _swap(view: tuple[list[Case], Call]) -> tuple[Call, list[Case]]:
+    """(cases, call) as (call, cases), the order the probes take them in."""
+    return view[1], view[0]
+
+
+def _watertight_of(view: tuple[list[Case], Call], seed: int, convention: Convention, name: str) -> Watertight:
+    """The watertight probe on the suite's partitions for the rasterizer's scene kind."""
+    cases, call = view
+    return watertight_partitions(call, seed, cases, convention, name)
 
 
 def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprint:
@@ -306,12 +343,14 @@ def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprin
             path = fit_path_convention(call, seed, rule, fingerprint.convention)
     else:
         # it takes paths only: every triangle probe goes through one-contour paths
-        from cases.paths import triangle_partition_cases
+        from cases.paths import triangle_cases_as_paths
 
-        # watertight on the suite's own path partitions of triangles, under the rule fitted
-        partitions = [c for c in triangle_partition_cases(seed) if isinstance(c.scene, PathScene) and c.scene.fill_rule == rule]
+        def as_suite(cases: list[Case]) -> tuple[list[Case], Call]:
+            # the path suite's own cases of these triangles, under the rule fitted
+            return triangle_cases_as_paths(cases, (rule,)), call
+
         fingerprint = _identify_triangles(rasterizer.name, as_paths(call, rule), seed, _received_as_triangles(received, rule),
-                                          (partitions, call))
+                                          as_suite)
         path = None
         if fingerprint.kind == "single":
             path = path_fit_of(fingerprint.convention, fingerprint.residual, fingerprint.pixels, fingerprint.runner_up,

@@ -41,7 +41,7 @@ __all__ = [
     "Culling", "SampleSweep", "VertexSweep", "TieFit", "RoundingFit", "SnapFit", "ResidualLies", "ViewportEdge",
     "Epsilon", "ZeroArea", "NonFinite", "Watertight", "Defect", "Unanswered",
     "culling", "sample_sweep", "vertex_sweep", "fit_ties", "fit_snapping", "residual_lies", "viewport_edge", "epsilon",
-    "zero_area", "non_finite", "watertight_partitions", "unanswered",
+    "zero_area", "non_finite", "watertight_partitions", "unanswered", "suite_defects", "ZERO_AREA_CASE", "NON_FINITE_CASES",
 ]
 
 # The nine usual sample points: the centre, the four corners and the four edge midpoints.
@@ -661,6 +661,7 @@ class ViewportEdge:
     changed: int
     total: int
     error: str = ""
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
 
     @property
     def text(self) -> str:
@@ -673,14 +674,18 @@ class ViewportEdge:
 
 
 def viewport_edge(call: Call, seed: int, margin: int = 8) -> ViewportEdge:
-    """Whether triangles crossing the viewport edge cover the same on-screen pixels as when
-    the screen is grown (:func:`harness.repro.grown_screen`) so that nothing crosses it:
+    """Whether triangles crossing the viewport edge (the suite's ``lattice/bits-{0,2,4}``)
+    cover the same on-screen pixels as when the screen is grown
+    (:func:`harness.repro.grown_screen`) so that nothing crosses it:
     convention-free, the rasterizer against itself (a clipper that moves vertices before
     snapping shows up here)."""
+    from cases.paths import viewport_cases
+
     changed = total = 0
-    size = 64  # a power of two, as framebuffers, tiles and guard bands often are
-    for bits in (0, 2, 4):
-        crossing = Scene(size, size, lattice_triangles(120, size, bits, seed + 7 + bits))
+    for case in viewport_cases(seed):  # the suite's lattice/bits-{0,2,4}: 64 px, a power of two, as tiles often are
+        crossing = case.scene
+        assert isinstance(crossing, Scene)
+        size = crossing.width
         grown = grown_screen(crossing, margin)
         if not isinstance(grown, Scene):  # never for these scenes: whole-pixel moves of small dyadic numbers are exact
             return ViewportEdge(0, 0, "the grown screen would round the scene")
@@ -763,6 +768,7 @@ class ZeroArea:
 
     pixels: int | None
     error: str = ""
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
 
     @property
     def text(self) -> str:
@@ -771,10 +777,21 @@ class ZeroArea:
         return "draws nothing" if self.pixels == 0 else f"draws {self.pixels} pixels"
 
 
+# the suite's cases identify's degenerate probes draw (:func:`cases.degenerate.probe_scenes`)
+ZERO_AREA_CASE = "degenerate/zero-area/probe"
+NON_FINITE_CASES = {"NaN": "degenerate/non-finite/probe-nan", "inf": "degenerate/non-finite/probe-inf"}
+
+
+def _probe_scene(case_id: str) -> Scene:
+    from cases.degenerate import probe_scenes
+
+    return probe_scenes()[case_id.removeprefix("degenerate/")][0]
+
+
 def zero_area(call: Call) -> ZeroArea:
-    """A collinear triangle and one with two equal vertices: an exact rasterizer draws nothing."""
-    drawn = draw(call, Scene(32, 32, np.array([[[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[8, 8], [8, 8], [20, 14]]],
-                                              dtype=np.float64)))
+    """A collinear triangle and one with two equal vertices (the suite's
+    ``degenerate/zero-area/probe``): an exact rasterizer draws nothing."""
+    drawn = draw(call, _probe_scene(ZERO_AREA_CASE))
     if drawn.coverage is None:
         return ZeroArea(None, type(drawn.error).__name__)
     return ZeroArea(drawn.pixels)
@@ -803,18 +820,24 @@ class NonFinite:
     """What a NaN and an infinite coordinate do."""
 
     answers: tuple[NonFiniteAnswer, ...]
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
 
     @property
     def text(self) -> str:
         return "; ".join(a.text for a in self.answers)
 
+    @property
+    def wrong(self) -> bool:
+        """Some non-finite triangle drew pixels, or took the finite one with it."""
+        return any(not a.error and (a.covered or not a.rest_drawn) for a in self.answers)
+
 
 def non_finite(call: Call) -> NonFinite:
-    """A triangle with a NaN (then an infinite) coordinate beside a finite triangle."""
+    """A triangle with a NaN (then an infinite) coordinate beside a finite triangle (the
+    suite's ``degenerate/non-finite/probe-nan`` and ``-inf``)."""
     answers = []
-    for label, value in (("NaN", np.nan), ("inf", np.inf)):
-        bad = Scene(32, 32, np.array([[[value, 4], [10, 10], [4, 20]], [[4.5, 4.5], [20.5, 4.5], [4.5, 20.5]]]))
-        drawn = draw(call, bad)
+    for label, case_id in NON_FINITE_CASES.items():
+        drawn = draw(call, _probe_scene(case_id))
         cov = drawn.coverage
         if cov is None:
             answers.append(NonFiniteAnswer(label, error=describe(drawn.error)))
@@ -893,7 +916,7 @@ def watertight_partitions(call: Call, seed: int, cases: Sequence[Case] | None = 
         holes += int(r.metrics.get("holes", 0))
         doubles += int(r.metrics.get("double_hits", 0))
         if r.status == "fail":
-            defects.append(Defect(case.id, "watertight", r.message, {k: v for k, v in r.evidence.items() if k in ("blame", "strays")},
+            defects.append(Defect(case.id, "watertight", r.message, _evidence_of(r),
                                   _repro(r, case, call, convention, name) if len(defects) < repros else None))
     return Watertight(holes, doubles, len(partitions), unanswered, tuple(defects))
 
@@ -919,25 +942,58 @@ class _Named:
         raise NotImplementedError
 
 
+def _judged(case: Case, coverage: Coverage, wanted: set[str], convention: Convention | None, call: Call,
+            name: str) -> list[Result]:
+    """The suite's checks ``wanted`` (those that apply) on ``coverage``, ``call``'s answer to ``case``."""
+    from harness import checks
+    from harness.checks import Subject, Tolerance
+
+    if "watertight" in wanted:
+        return [_watertight(case, coverage, convention)]
+    needs = {c.name for c in checks.checks() if c.needs_convention}
+    if convention is None and wanted & needs:
+        return []
+    subject = Subject(case, name, convention, [coverage], call, Tolerance(), False, scene_kinds=(case.scene.kind,))
+    return [c.verdict(subject) for c in checks.checks(case, wanted, "single")]
+
+
+def suite_defects(call: Call, cases: Sequence[Case], wanted: set[str], convention: Convention | None, name: str,
+                  repros: int = REPROS) -> tuple[Defect, ...]:
+    """The suite's cases behind a probe that saw a defect, judged as ``run`` judges them:
+    each (case, check of ``wanted``) that fails is a :class:`Defect` with the check's
+    evidence and, for the first ``repros``, a minimal repro. ``call`` draws the cases (a
+    paths-only rasterizer's: the path versions the path suite holds)."""
+    defects: list[Defect] = []
+    for case in cases:
+        coverage = send(call, case.scene).coverage
+        if coverage is None:
+            continue  # the probe reports the error itself
+        for r in _judged(case, coverage, wanted, convention, call, name):
+            if r.status == "fail":
+                defects.append(Defect(case.id, r.check, r.message, _evidence_of(r),
+                                      _repro(r, case, call, convention, name) if len(defects) < repros else None))
+    return tuple(defects)
+
+
+def _evidence_of(result: Result) -> dict[str, Any]:
+    """The offending pixels and primitives of a check's evidence (at most EVIDENCE_LIMIT each)."""
+    from harness.checks import EVIDENCE_LIMIT
+
+    return {k: v[:EVIDENCE_LIMIT] if isinstance(v, list) else v for k, v in result.evidence.items()
+            if k in ("blame", "strays", "pixels", "triangles")}
+
+
 def _repro(result: Result, case: Case, call: Call, convention: Convention | None, name: str) -> dict[str, Any] | None:
     """A failing partition shrunk to a minimal repro as replayable case JSON: double hits
     shrink to the primitives that overlap (``overdraw``), a hole keeps every cell (no
     subset of a partition is one)."""
-    from harness import checks
-    from harness.checks import Subject, Tolerance
     from harness.repro import attach_repro
 
     def judge(candidate: Case | MotionCase, check: str) -> list[Result]:
         if not isinstance(candidate, Case):
             return []
         cov = send(call, candidate.scene).coverage
-        if cov is None:
-            return []
-        if check == "watertight":
-            return [_watertight(candidate, cov, convention)]
-        subject = Subject(candidate, name, convention, [cov], call, Tolerance(), False,
-                          scene_kinds=(candidate.scene.kind,))
-        return [c.verdict(subject) for c in checks.checks(candidate, {check}, "single")]
+        return [] if cov is None else _judged(candidate, cov, {check}, convention, call, name)
 
     try:
         shrunk = attach_repro(replace(result, rasterizer=name, case=case.id), case, judge, _Named(name), budget=40, seconds=5.0)

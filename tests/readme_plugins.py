@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import NDArray
 
 from harness.api import Coverage, PathScene, Scene
 from harness.conventions import Convention
@@ -82,10 +83,10 @@ class InclusiveSupersampler:
 
     def rasterize(self, scene: Scene) -> Coverage:
         offsets = np.array(GRID_4X4)
-        triangle: list[int] = []
-        rows: list[int] = []
-        starts: list[int] = []
-        alphas: list[float] = []
+        triangle: list[NDArray[np.int64]] = []
+        rows: list[NDArray[np.int64]] = []
+        starts: list[NDArray[np.int64]] = []
+        alphas: list[NDArray[np.float64]] = []
         for t, corners in enumerate(scene.positions):
             if not np.isfinite(corners).all():
                 continue
@@ -96,16 +97,22 @@ class InclusiveSupersampler:
             sign = 1.0 if area > 0 else -1.0
             x_lo, x_hi = max(0, math.floor(corners[:, 0].min())), min(scene.width, math.ceil(corners[:, 0].max()) + 1)
             y_lo, y_hi = max(0, math.floor(corners[:, 1].min())), min(scene.height, math.ceil(corners[:, 1].max()) + 1)
-            for y in range(y_lo, y_hi):
-                for x in range(x_lo, x_hi):
-                    px, py = x + offsets[:, 0], y + offsets[:, 1]
-                    inside = np.ones(len(offsets), dtype=bool)
-                    for (x0, y0), (x1, y1) in (((ax, ay), (bx, by)), ((bx, by), (cx, cy)), ((cx, cy), (ax, ay))):
-                        inside &= sign * ((x1 - x0) * (py - y0) - (y1 - y0) * (px - x0)) >= 0  # every edge inclusive
-                    if inside.any():
-                        triangle.append(t)
-                        rows.append(y)
-                        starts.append(x)
-                        alphas.append(float(inside.sum()) / len(offsets))
-        ids, ys, xs = (np.array(v, dtype=np.int64) for v in (triangle, rows, starts))
-        return Coverage(ids, ys, xs, xs + 1, alpha=np.array(alphas, dtype=np.float64))
+            if x_hi <= x_lo or y_hi <= y_lo:
+                continue
+            y, x = np.mgrid[y_lo:y_hi, x_lo:x_hi]
+            px = x[..., None] + offsets[:, 0]  # (rows, columns, 16) sample points
+            py = y[..., None] + offsets[:, 1]
+            inside = np.ones(px.shape, dtype=bool)
+            for (x0, y0), (x1, y1) in (((ax, ay), (bx, by)), ((bx, by), (cx, cy)), ((cx, cy), (ax, ay))):
+                inside &= sign * ((x1 - x0) * (py - y0) - (y1 - y0) * (px - x0)) >= 0  # every edge inclusive
+            count = inside.sum(axis=-1)
+            hit = count > 0
+            triangle.append(np.full(int(hit.sum()), t, dtype=np.int64))
+            rows.append(y[hit].astype(np.int64))
+            starts.append(x[hit].astype(np.int64))
+            alphas.append(count[hit] / len(offsets))
+        if not triangle:
+            none = np.zeros(0, dtype=np.int64)
+            return Coverage(none, none, none, none, alpha=np.zeros(0))
+        xs = np.concatenate(starts)
+        return Coverage(np.concatenate(triangle), np.concatenate(rows), xs, xs + 1, alpha=np.concatenate(alphas))
