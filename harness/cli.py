@@ -507,7 +507,7 @@ def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: flo
             pixels = sum(int(r.metrics.get("missing", 0) + r.metrics.get("extra", 0)) for r in failing)
             said = f"{len(failing)} of {len(cases)} conformance cases fail against it ({pixels} pixels)"
         return f"NOT what it does: {said}, e.g. {failing[0].case}: {failing[0].message}", True
-    checked = " and ".join(names) + f" pass against it on {len(cases)} cases"
+    checked = " and ".join(names) + (" pass" if len(names) > 1 else " passes") + f" against it on {len(cases)} cases"
     if same:
         return f"confirmed ({checked})", False
     if declared == fingerprint.convention:

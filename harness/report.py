@@ -467,7 +467,7 @@ def _fingerprint_card(out_dir: Path, name: str, fingerprint: Any, declared: str,
     same_samples = (pattern is None and samples is None) or (
         pattern is not None and samples is not None and [list(o) for o in pattern] == [list(o) for o in samples])
     offsets = None
-    if samples and "irregular" in describe_pattern([tuple(o) for o in samples]):
+    if samples and "listed in" in describe_pattern([tuple(o) for o in samples]):  # the words do not spell them
         offsets = [f"({x:g}, {y:g})" for x, y in samples]
     return {"defects": defects, "offsets": offsets,
             "confirmed": bool(declared == fingerprint.get("convention") and fingerprint.get("exact") and same_samples)}

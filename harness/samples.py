@@ -156,25 +156,37 @@ def regular_grid(offsets: Sequence[tuple[float, float]]) -> tuple[int, int, str]
     >>> regular_grid([(0.25, 0.25), (0.25, 0.75), (0.75, 0.25), (0.75, 0.75)]) is None  # column by column
     True
     """
+    grid = _grid(offsets)
+    if grid is None or not grid[3]:
+        return None
+    return grid[:3]
+
+
+def _grid(offsets: Sequence[tuple[float, float]]) -> tuple[int, int, str, bool] | None:
+    """(columns, rows, where, listed row by row?) when ``offsets`` are, in some order, a
+    regular grid (see :func:`regular_grid`); None otherwise."""
     if len(offsets) < 2:
         return None
     xs = sorted({Fraction(x) for x, _ in offsets})
     ys = sorted({Fraction(y) for _, y in offsets})
-    if len(xs) * len(ys) != len(offsets):
-        return None
-    if [(Fraction(x), Fraction(y)) for x, y in offsets] != [(x, y) for y in ys for x in xs]:
+    if len(xs) * len(ys) != len(offsets) or len(set(offsets)) != len(offsets):
         return None
     axes = []
     for values in (xs, ys):
         steps = {b - a for a, b in zip(values, values[1:])}
         if len(steps) > 1:
             return None
-        axes.append((values[0], steps.pop() if steps else Fraction(1)))
+        axes.append((values[0], steps.pop() if steps else None))
+
+    def words(first: Fraction, step: Fraction | None, index: str) -> str:
+        return _fraction_words(first) if step is None else _axis_words(first, step, index)  # one column (row): its offset
+
     if axes[0] == axes[1]:
-        where = f"({_axis_words(*axes[0], 'k')})"
+        where = f"({words(*axes[0], 'k')})"
     else:
-        where = f"({_axis_words(*axes[0], 'i')}, {_axis_words(*axes[1], 'j')})"
-    return len(xs), len(ys), where
+        where = f"({words(*axes[0], 'i')}, {words(*axes[1], 'j')})"
+    row_by_row = [(Fraction(x), Fraction(y)) for x, y in offsets] == [(x, y) for y in ys for x in xs]
+    return len(xs), len(ys), where, row_by_row
 
 
 def describe_pattern(offsets: Sequence[tuple[float, float]]) -> str:
@@ -188,12 +200,17 @@ def describe_pattern(offsets: Sequence[tuple[float, float]]) -> str:
     '4x4 grid at (1/8 + k/4)'
     >>> describe_pattern([(0.25, 0.5), (0.75, 0.25), (0.5, 0.875)])
     '3 samples at irregular offsets (listed in --json and the report)'
+    >>> describe_pattern([((i + 0.5) / 16, (j + 0.5) / 4) for j in range(4) for i in range(16)])
+    '16x4 grid at (1/32 + i/16, 1/8 + j/4)'
     """
     offsets = tuple((float(x), float(y)) for x, y in offsets)
     if STANDARD_PATTERNS.get(len(offsets)) == offsets:
         return f"D3D11 {len(offsets)}x"
-    grid = regular_grid(offsets)
+    grid = _grid(offsets)
     if grid is not None:
-        columns, rows, where = grid
-        return f"{columns}x{rows} grid at {where}"
+        columns, rows, where, row_by_row = grid
+        if row_by_row:
+            return f"{columns}x{rows} grid at {where}"
+        # the order is the sample indices' (multisample): say that it is not row by row
+        return f"{columns}x{rows} grid at {where}, samples in another order (listed in --json and the report)"
     return f"{len(offsets)} samples at irregular offsets (listed in --json and the report)"
