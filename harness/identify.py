@@ -64,7 +64,7 @@ if TYPE_CHECKING:  # the path and line probes are imported when a rasterizer tak
 __all__ = ["Fingerprint", "identify", "identify_isolated", "identify_all", "Identified", "VERDICT_CHECKS", "verdict_cases",
            "repro_size"]
 
-# defects shown on the card per probe (--json and the fingerprint page have them all)
+# scenes with a defect shown on the card (--json and the fingerprint page have them all)
 CARD_DEFECTS = 3
 
 # The checks that judge a declared convention of each coverage kind, run on identify's own
@@ -197,15 +197,16 @@ class Fingerprint:
                          + ("line probes)" if self.lines_only else "tie scenes)"))
         for k, v in self.facts.items():
             lines.append(f"{k:<12} {v}")
-        for label, found in self.defects.items():
-            for d in found[:CARD_DEFECTS]:
-                repro = d.repro
-                shrunk = "" if repro is None else (
-                    f"; minimal repro: {repro_size(repro)} of {repro.get('original_triangles')} primitives, in --json")
-                lines.append(f"{'evidence':<12} {label}: {d.case}: {d.message} "
-                             f"(in the suite: rastercheck run --case '{d.case}' fails {d.check}{shrunk})")
-            if len(found) > CARD_DEFECTS:
-                lines.append(f"{'':<12} ... {len(found) - CARD_DEFECTS} more {label} scenes in --json")
+        every = [(label, d) for label, found in self.defects.items() for d in found]
+        for label, d in every[:CARD_DEFECTS]:
+            repro = d.repro
+            shrunk = "" if repro is None else (
+                f"; minimal repro: {repro_size(repro)} of {repro.get('original_triangles')} primitives, in --json")
+            lines.append(f"{'evidence':<12} {label}: {d.case}: {d.message} "
+                         f"(in the suite: rastercheck run --case '{d.case}' fails {d.check}{shrunk})")
+        if len(every) > CARD_DEFECTS:
+            lines.append(f"{'':<12} ... {len(every) - CARD_DEFECTS} more scenes with a defect, each with its evidence, "
+                         "in --json and on the fingerprint page (rastercheck run)")
         return "\n".join(lines)
 
 
@@ -479,7 +480,9 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
         if pattern.vertex is not None:
             probes["vertex sweep"] = pattern.vertex
             lines["vertex sweep"] = pattern.vertex.text + " (sample 0)"
-        tight = [watertight_partitions(layered(call, s), seed) for s in range(n)]
+        # sample by sample, as the suite's watertight check judges a multisample answer
+        at = [pattern.convention.at_sample(s) if pattern.convention is not None else None for s in range(n)]
+        tight = [watertight_partitions(layered(call, s), seed, convention=at[s], name=name) for s in range(n)]
         probes |= {f"watertight {s}": w for s, w in enumerate(tight)}
         leaky = [f"sample {s}: {w.text}" for s, w in enumerate(tight) if w.holes or w.doubles or w.unanswered]
         if tight:

@@ -13,16 +13,21 @@ import json
 
 import pytest
 
+from cases.degenerate import degenerate_cases
 from cases.paths import path_cases
+from cases.suites import suite as quick_suite
 from harness.api import Coverage, PathScene
-from harness.case import case_from_json
+from harness.case import Case, case_from_json
 from harness.cli import main
 from harness.conventions import Convention
 from harness.identify import Fingerprint, identify
+from harness.isolation import InProcess
+from harness.probes import NON_FINITE_CASES, ZERO_AREA_CASE, non_finite, suite_defects
 from harness.registry import load
 from harness.report import write_report
 from harness.runner import replay, run_suite
 from harness.samples import STANDARD_PATTERNS
+from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.readme_plugins import GRID_4X4, EvenOddScanline
 
 IRREGULAR = ((0.25, 0.5), (0.75, 0.25), (0.5, 0.875))
@@ -97,6 +102,32 @@ def test_a_correct_paths_only_filler_has_no_defect():
     fingerprint = identify(ExactEvenOdd())
     assert fingerprint.exact and not fingerprint.defects, fingerprint.card()
     assert fingerprint.facts["watertight"].startswith("yes") and "defects" not in fingerprint.to_dict()
+
+
+def test_every_defect_identify_reports_is_a_suite_case_that_run_fails():
+    """Inclusive edges (undeclared, so identify fits a convention) leak on partitions and draw
+    zero-area triangles; each scene identify blames is a case of the triangle suite, and
+    run fails the same check there against what the rasterizer declares."""
+    from tests.test_fingerprints import _inclusive
+
+    fingerprint = _inclusive()
+    assert {"watertight", "zero area"} <= set(fingerprint.defects), fingerprint.card()
+    suite = {c.id: c for c in quick_suite("quick") if isinstance(c, Case)}
+    for label, found in fingerprint.defects.items():
+        for d in found:
+            results = run_suite([EdgeFunctionBug("inclusive")], cases=[suite[d.case]], only={d.check}, isolate=False,
+                                repros=False, identify=False)
+            assert [r.status for r in results if r.check == d.check] == ["fail"], (label, d.case)
+    assert fingerprint.defects["zero area"][0].case == ZERO_AREA_CASE
+
+
+def test_non_finite_triangles_drawn_are_suite_cases_that_fail():
+    bad, good = EdgeFunctionBug("nan-to-num"), load("floor_scanline")
+    cases = [c for c in degenerate_cases(0) if c.id in NON_FINITE_CASES.values()]
+    assert len(cases) == 2 and non_finite(InProcess(bad)).wrong and not non_finite(InProcess(good)).wrong
+    found = suite_defects(InProcess(bad), cases, {"conformance"}, bad.convention, bad.name)
+    assert [d.case for d in found] == [c.id for c in cases] and all(d.repro is not None for d in found)
+    assert not suite_defects(InProcess(good), cases, {"conformance"}, good.convention, good.name)
 
 
 def test_identify_does_not_call_an_inclusive_anti_aliaser_consistent(tmp_path, capsys):
