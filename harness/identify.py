@@ -51,7 +51,7 @@ from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, fill_r
 from harness.conventions import Convention, CoverageKind, LineRule
 from harness.coverage_probes import CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions
 from harness.isolation import Call, InProcess, Outcome, Worker
-from harness.probes import (NON_FINITE_CASES, ZERO_AREA_CASE, Defect, Fact, NonFinite, ViewportEdge, Watertight, ZeroArea,
+from harness.probes import (NON_FINITE_CASES, REPROS, ZERO_AREA_CASE, Defect, Fact, NonFinite, ViewportEdge, Watertight, ZeroArea,
                             epsilon, fit_snapping, fit_ties, non_finite, residual_lies, suite_defects, unanswered,
                             viewport_edge, watertight_partitions, zero_area)
 from harness.samples import STANDARD_PATTERNS
@@ -482,7 +482,11 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
             lines["vertex sweep"] = pattern.vertex.text + " (sample 0)"
         # sample by sample, as the suite's watertight check judges a multisample answer
         at = [pattern.convention.at_sample(s) if pattern.convention is not None else None for s in range(n)]
-        tight = [watertight_partitions(layered(call, s), seed, convention=at[s], name=name) for s in range(n)]
+        tight: list[Watertight] = []
+        for s in range(n):  # repros for the first leaking sample only: the others leak on the same scenes
+            leaked = any(w.defects for w in tight)
+            tight.append(watertight_partitions(layered(call, s), seed, convention=at[s], name=name,
+                                               repros=0 if leaked else REPROS))
         probes |= {f"watertight {s}": w for s, w in enumerate(tight)}
         leaky = [f"sample {s}: {w.text}" for s, w in enumerate(tight) if w.holes or w.doubles or w.unanswered]
         if tight:

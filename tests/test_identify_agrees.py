@@ -8,7 +8,9 @@ The plugins are the ones a new user wrote from the README (:mod:`tests.readme_pl
 
 from __future__ import annotations
 
+import contextlib
 import functools
+import io
 import json
 
 import pytest
@@ -53,6 +55,15 @@ class ExactEvenOdd:
 @functools.cache
 def scanline() -> Fingerprint:
     return identify(EvenOddScanline())
+
+
+@functools.cache
+def identify_cli(*args: str) -> tuple[int, str]:
+    """``rastercheck identify ARGS``: the exit code and what it printed (once per module)."""
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        code = main(["identify", *args])
+    return code, printed.getvalue()
 
 
 def test_identify_and_run_agree_on_a_scanline_path_filler(tmp_path):
@@ -130,26 +141,25 @@ def test_non_finite_triangles_drawn_are_suite_cases_that_fail():
     assert not suite_defects(InProcess(good), cases, {"conformance"}, good.convention, good.name)
 
 
-def test_identify_does_not_call_an_inclusive_anti_aliaser_consistent(tmp_path, capsys):
+def test_identify_does_not_call_an_inclusive_anti_aliaser_consistent(tmp_path):
     out = tmp_path / "f.json"
-    assert main(["identify", "tests/readme_plugins.py:InclusiveSupersampler", "--json", str(out)]) == 1
-    said = capsys.readouterr().out
+    code, said = identify_cli("tests/readme_plugins.py:InclusiveSupersampler", "--json", str(out))
+    assert code == 1
     declared = next(line for line in said.splitlines() if line.startswith("declared"))
     assert "NOT what it does" in declared and "consistent" not in declared and "confirmed" not in declared
     for check in ("accuracy", "seams", "popping"):
         assert f"{check} fails on" in declared, declared
     assert json.loads(out.read_text())["contradicted"] is True
     # the same grid with top-left ties per sample, as declared: confirmed, the checks named
-    assert main(["identify", "supersample4"]) == 0
-    said = capsys.readouterr().out
-    assert "(confirmed (accuracy and seams and popping pass against it on" in said
+    code, said = identify_cli("supersample4")
+    assert code == 0 and "(confirmed (accuracy and seams and popping pass against it on" in said
 
 
-def test_a_supersampling_grid_prints_in_a_few_words(capsys):
+def test_a_supersampling_grid_prints_in_a_few_words():
     grid = Convention(coverage="area", samples=GRID_4X4, levels=17)
     assert "(4x4 grid at (1/8 + k/4))" in grid.describe() and "0.125" not in grid.describe()
-    assert main(["identify", "supersample4"]) == 0
-    said = capsys.readouterr().out
+    code, said = identify_cli("supersample4")
+    assert code == 0
     lines = {line[:12].strip(): line for line in said.splitlines() if line[:12].strip()}
     for label in ("convention", "declared"):
         assert "4x4 grid at (1/8 + k/4)" in lines[label] and "0.125" not in lines[label] and len(lines[label]) < 250
