@@ -51,8 +51,8 @@ from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, fill_r
 from harness.conventions import Convention, CoverageKind, LineRule
 from harness.coverage_probes import CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions
 from harness.isolation import Call, InProcess, Outcome, Worker
-from harness.probes import (NON_FINITE_CASES, REPROS, ZERO_AREA_CASE, Defect, Fact, NonFinite, ViewportEdge, Watertight, ZeroArea,
-                            epsilon, fit_snapping, fit_ties, non_finite, residual_lies, suite_defects, unanswered,
+from harness.probes import (EPSILON_CASE, NON_FINITE_CASES, REPROS, ZERO_AREA_CASE, Defect, Epsilon, Fact, NonFinite,
+                            ViewportEdge, Watertight, ZeroArea, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, suite_defects, unanswered,
                             viewport_edge, watertight_partitions, zero_area)
 from harness.samples import STANDARD_PATTERNS
 
@@ -299,7 +299,11 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
     }
     # the suite's cases behind each defect seen, judged as run judges them
     degenerate = {c.id: c for c in degenerate_cases(seed)}
-    edge, flat, nan = probes["viewport edge"], probes["zero area"], probes["non-finite"]
+    edge, flat, nan, tiny = probes["viewport edge"], probes["zero area"], probes["non-finite"], probes["epsilon"]
+    if isinstance(tiny, Epsilon) and tiny.wrong:
+        # the suite holds the probe's scene at pixel centres: judged there against the convention fitted
+        probes["epsilon"] = replace(tiny, defects=suite_defects(*_swap(view([degenerate[EPSILON_CASE]])), {"conformance"},
+                                                                 convention, name))
     if isinstance(edge, ViewportEdge) and edge.changed:
         probes["viewport edge"] = replace(edge, defects=suite_defects(*_swap(view(viewport_cases(seed))), {"conformance"},
                                                                        convention, name))

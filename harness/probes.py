@@ -41,7 +41,7 @@ __all__ = [
     "Culling", "SampleSweep", "VertexSweep", "TieFit", "RoundingFit", "SnapFit", "ResidualLies", "ViewportEdge",
     "Epsilon", "ZeroArea", "NonFinite", "Watertight", "Defect", "Unanswered",
     "culling", "sample_sweep", "vertex_sweep", "fit_ties", "fit_snapping", "residual_lies", "viewport_edge", "epsilon",
-    "zero_area", "non_finite", "watertight_partitions", "unanswered", "suite_defects", "ZERO_AREA_CASE", "NON_FINITE_CASES",
+    "zero_area", "non_finite", "watertight_partitions", "unanswered", "suite_defects", "ZERO_AREA_CASE", "NON_FINITE_CASES", "EPSILON_CASE",
 ]
 
 # The nine usual sample points: the centre, the four corners and the four edge midpoints.
@@ -717,6 +717,7 @@ class Epsilon:
     wrong: int
     as_received: bool | None = None
     error: str = ""
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
 
     @property
     def text(self) -> str:
@@ -736,13 +737,10 @@ def epsilon(call: Call, convention: Convention, received: Callable[[Scene], Scen
     holding their sample strictly inside and half just missing it, against the exact
     answer of ``convention``; ``received`` is the rasterizer's own account of how its input
     format rounds a scene (:func:`harness.api.received_of`)."""
-    sx, sy = convention.sample
-    triangles = []
-    for k, size in enumerate(np.repeat(10.0 ** -np.arange(3, 10), 8)):
-        x, y = 4.0 + (k % 12) * 4.0 + sx, 4.0 + (k // 12) * 4.0 + sy
-        shift = 0.0 if k % 2 == 0 else 2.0 * size  # odd ones sit just to the right of the sample
-        triangles.append([[x - size + shift, y - size], [x + size + shift, y - size], [x + shift, y + size]])
-    scene = Scene(56, 32, np.array(triangles))
+    from cases.degenerate import epsilon_scene
+
+    scene = epsilon_scene(convention.sample)  # at pixel centres the suite's degenerate/epsilon/probe
+    triangles = scene.positions
     got = draw(call, scene)
     if got.coverage is None:
         return Epsilon(len(triangles), 0, 0, error=describe(got.error))
@@ -779,6 +777,7 @@ class ZeroArea:
 
 # the suite's cases identify's degenerate probes draw (:func:`cases.degenerate.probe_scenes`)
 ZERO_AREA_CASE = "degenerate/zero-area/probe"
+EPSILON_CASE = "degenerate/epsilon/probe"  # the epsilon probe's scene at pixel centres
 NON_FINITE_CASES = {"NaN": "degenerate/non-finite/probe-nan", "inf": "degenerate/non-finite/probe-inf"}
 
 
