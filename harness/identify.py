@@ -38,6 +38,16 @@ a line to a rasterizer that does not list lines.
 
 It prints a convention card and the :class:`Convention` that best explains the rasterizer
 with the residual mismatch; it says "identified" only when the residual is zero.
+
+identify and ``run`` agree: the probes that can see a defect (watertight, the viewport
+edge, zero-area, non-finite and tiny triangles) draw the suite's own cases for the
+rasterizer's scene kind (a paths-only filler's: the same triangles as one-contour paths,
+:func:`cases.paths.triangle_cases_as_paths`), and each case on which a probe saw a defect
+is judged as ``run`` judges it (:func:`harness.probes.suite_defects`): a
+:class:`~harness.probes.Defect` with the check's evidence and a minimal repro
+(:attr:`Fingerprint.defects`, on the card, in ``--json`` and on the fingerprint page). A
+declared convention is judged by the checks of its coverage kind (:data:`VERDICT_CHECKS`)
+on the probe scenes (:func:`verdict_cases`) before it is called confirmed or consistent.
 """
 
 from __future__ import annotations
