@@ -502,7 +502,7 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
             tight.append(watertight_partitions(layered(call, s), seed, convention=at[s], name=name,
                                                repros=0 if leaked else REPROS))
         probes |= {f"watertight {s}": w for s, w in enumerate(tight)}
-        leaky = [f"sample {s}: {w.text}" for s, w in enumerate(tight) if w.holes or w.doubles or w.unanswered]
+        leaky = [f"sample {s}: {w.text}" for s, w in enumerate(tight) if w.holes or w.doubles or w.strays or w.unanswered]
         if tight:
             lines["watertight"] = "; ".join(leaky) if leaky else f"every sample: {tight[0].text}"
         if pattern.convention is None:

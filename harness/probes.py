@@ -880,6 +880,7 @@ class Watertight:
     partitions: int
     unanswered: int = 0
     defects: tuple[Defect, ...] = field(default=(), compare=False)
+    strays: int = 0  # pixels wholly outside the union drawn
 
     @property
     def text(self) -> str:
@@ -887,9 +888,10 @@ class Watertight:
         if judged == 0:
             return f"not measured: the rasterizer raised on all {self.partitions} partitions"
         unjudged = f" ({self.unanswered} more unanswered)" if self.unanswered else ""
-        if self.holes == self.doubles == 0:
+        if self.holes == self.doubles == self.strays == 0:
             return f"yes (no hole, no double hit on {judged} partitions){unjudged}"
-        return f"no: {self.holes} holes, {self.doubles} double hits on {judged} partitions{unjudged}"
+        strays = f", {self.strays} stray hits outside" if self.strays else ""
+        return f"no: {self.holes} holes, {self.doubles} double hits{strays} on {judged} partitions{unjudged}"
 
 
 # leaking scenes shrunk to a minimal repro per probe (each shrink redraws its scene's parts)
@@ -903,7 +905,7 @@ def watertight_partitions(call: Call, seed: int, cases: Sequence[Case] | None = 
     double hits, judged as the suite's watertight check judges them (under ``convention``,
     a hole or double hit its own snapped answer has too is excused). The first ``repros``
     leaking partitions are shrunk to a minimal repro (:func:`harness.repro.attach_repro`)."""
-    holes = doubles = unanswered = 0
+    holes = doubles = strays = unanswered = 0
     partitions = list(partition_cases(seed) if cases is None else cases)
     defects: list[Defect] = []
     for case in partitions:
@@ -914,10 +916,11 @@ def watertight_partitions(call: Call, seed: int, cases: Sequence[Case] | None = 
         r = _watertight(case, cov, convention)
         holes += int(r.metrics.get("holes", 0))
         doubles += int(r.metrics.get("double_hits", 0))
+        strays += int(r.metrics.get("strays", 0))
         if r.status == "fail":
             defects.append(Defect(case.id, "watertight", r.message, _evidence_of(r),
                                   _repro(r, case, call, convention, name) if len(defects) < repros else None))
-    return Watertight(holes, doubles, len(partitions), unanswered, tuple(defects))
+    return Watertight(holes, doubles, len(partitions), unanswered, tuple(defects), strays)
 
 
 
