@@ -35,6 +35,7 @@ example scenes, each replayable from its three numbers."""
 
 from __future__ import annotations
 
+import json
 import os
 import platform
 import re
@@ -379,6 +380,9 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
             line_legend=LINE_LEGEND.items())
         atomic_write_text(out_dir / row["page"], html)
     if fingerprints:
+        for row in rows:
+            row.update(_fingerprint_card(out_dir, row["name"], fingerprints.get(row["name"]), row["declared"],
+                                         (patterns or {}).get(row["name"])))
         ordered = sorted(rows, key=lambda row: KIND_ORDER.get(row["kind"], 3))
         facts = [*FACTS, *sorted({k for f in fingerprints.values() if isinstance(f, dict) and isinstance(f.get("facts"), dict)
                                   for k in f["facts"] if "line" in k and k not in FACTS})]
@@ -396,6 +400,45 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
 
 
 PATH_LINKS = 10  # failures linked per check in the table of polygon fillers; the rest are counted
+
+
+def _fingerprint_card(out_dir: Path, name: str, fingerprint: Any, declared: str,
+                      pattern: tuple[tuple[float, float], ...] | None) -> dict[str, Any]:
+    """The fingerprint page's fields of one rasterizer: ``defects``, every scene a probe of
+    identify saw a defect on (the suite's case, the check, what is wrong, the offending
+    pixels and the primitives blamed) with its minimal repro written to
+    ``repros/<rasterizer>/identify--<probe>--<k>.json``; ``confirmed``, whether the declared
+    convention is the one identified exactly (sample offsets compared one by one: the words
+    name a pattern in short); ``offsets``, the identified sample offsets when the words do
+    not spell them (an irregular pattern), for the page to list."""
+    from harness.identify import repro_size
+    from harness.samples import describe_pattern
+
+    if not isinstance(fingerprint, dict) or fingerprint.get("error"):
+        return {"defects": [], "confirmed": False, "offsets": None}
+    defects = []
+    for label, found in (fingerprint.get("defects") or {}).items():
+        for k, d in enumerate(found):
+            entry = {"probe": label, "case": d["case"], "check": d["check"], "message": d["message"],
+                     "pixels": [f"{b['kind']} at ({b['pixel'][0]}, {b['pixel'][1]}), "
+                                f"{' and '.join(str(p) for p in b.get('paths', b.get('triangles', [])))} on one edge"
+                                for b in d.get("evidence", {}).get("blame", [])][:EVIDENCE_LIMIT],
+                     "repro_path": None, "repro_size": None, "repro_of": None}
+            repro = d.get("repro")
+            if isinstance(repro, dict):
+                path = out_dir / "repros" / safe_name(name) / f"identify--{safe_name(label)}--{k}.json"
+                atomic_write_text(path, json.dumps(repro, indent=1))
+                entry.update(repro_path=str(path.relative_to(out_dir)), repro_size=repro_size(repro),
+                             repro_of=repro.get("original_triangles"))
+            defects.append(entry)
+    samples = fingerprint.get("samples")
+    same_samples = (pattern is None and samples is None) or (
+        pattern is not None and samples is not None and [list(o) for o in pattern] == [list(o) for o in samples])
+    offsets = None
+    if samples and "listed in" in describe_pattern([tuple(o) for o in samples]):  # the words do not spell them
+        offsets = [f"({x:g}, {y:g})" for x, y in samples]
+    return {"defects": defects, "offsets": offsets,
+            "confirmed": bool(declared == fingerprint.get("convention") and fingerprint.get("exact") and same_samples)}
 
 
 def _fingerprint_field(fingerprint: Any, name: str) -> Any:
