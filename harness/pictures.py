@@ -38,13 +38,14 @@ import base64
 import io
 import math
 import textwrap
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from PIL import Image
 
-from harness.api import Coverage, LineScene, PathScene
+from harness.api import AnyScene, Coverage, LineScene, PathScene
 from harness.case import Case, MotionCase, case_from_json
 from harness.checks import EVIDENCE_LIMIT, Result, deviations, pixel_classes
 from harness.checks.records import Drawing
@@ -56,7 +57,7 @@ __all__ = ["draw", "draw_repro", "motion_animation", "heatmap", "oracle_diff", "
            "series_label", "window_around", "svg_pattern", "LEGEND", "HEAT_LEGEND", "DIFF_LEGEND", "CROP_LEGEND", "ALPHA_LEGEND", "alpha_map", "MAX_REPRO_TRIANGLES",
            "MAX_REPRO_SIDE", "PATH_LEGEND", "winding_numbers", "rule_fills", "focus_path", "numbered_path", "MAX_NUMBERED_SIDE",
            "MAX_DRAWN_VERTICES", "LINE_LEGEND", "line_focus", "focus_segment", "numbered_segment",
-           "LINE_CROP_SIDE"]
+           "LINE_CROP_SIDE", "SAMPLE_LEGEND", "Samples", "sample_hits"]
 
 
 def draw(result: Result) -> dict[str, str]:
@@ -266,8 +267,15 @@ LEGEND = {
 }
 ALPHA_LEGEND = {"exact (white)": (255, 255, 255), "too much alpha (full red: the scale)": (200, 30, 30),
                 "too little alpha (full blue: the scale)": (30, 80, 200), "stray (outside the region, alpha > 0)": (0, 0, 0)}
-CROP_LEGEND = {"covered by the rasterizer (crops)": (200, 200, 200), "covered by the convention (repros)": (230, 205, 140),
+_DRAWN = "drawn by the rasterizer (crops, and the left picture of a repro; anti-aliased: shaded by its alpha)"
+_CONVENTION = "covered by the convention (the right picture of a repro; anti-aliased: shaded by its alpha)"
+CROP_LEGEND = {_DRAWN: (200, 200, 200), _CONVENTION: (230, 205, 140),
                "offending pixel (outlined)": (221, 0, 0), "triangle (outlined)": (0, 80, 200)}
+# multisample and supersampled pictures: each sample of the convention's pattern in each
+# pixel, over CROP_LEGEND's pixels
+SAMPLE_LEGEND = {"sample covered (dot)": (25, 25, 25), "sample not covered (ring)": (140, 140, 140),
+                 "sample where the rasterizer and the convention differ (thick ring)": (221, 0, 0)}
+_HIT, _MISS, _DIFFERS = SAMPLE_LEGEND
 # path crops and repros, over CROP_LEGEND's pixels and marks: the fill is the outline's
 # colour at PATH_FILL_OPACITY (its swatch: that over white)
 PATH_FILL_OPACITY = 0.16
@@ -443,11 +451,11 @@ def svg_crop(positions: NDArray | PathScene | LineScene, coverage: Coverage, sam
     covered = np.zeros((y1 - y0, x1 - x0), dtype=bool)
     covered[y[inside] - y0, x[inside] - x0] = True
     if not isinstance(positions, LineScene):
-        return svg_window(positions, covered, CROP_LEGEND["covered by the rasterizer (crops)"], sample, window, marks,
+        return svg_window(positions, covered, CROP_LEGEND[_DRAWN], sample, window, marks,
                           numbered=numbered, convention=convention)
     hits = np.zeros((y1 - y0, x1 - x0), dtype=np.int64)
     np.add.at(hits, (y[inside] - y0, x[inside] - x0), 1)
-    fills = [(covered, CROP_LEGEND["covered by the rasterizer (crops)"])]
+    fills = [(covered, CROP_LEGEND[_DRAWN])]
     if oracle is not None:
         classes = []
         for fragments in deviations(coverage, oracle, positions.width, positions.height):  # missing, then extra
@@ -459,7 +467,7 @@ def svg_crop(positions: NDArray | PathScene | LineScene, coverage: Coverage, sam
         missing, extra = classes
         fills = [(covered & ~missing & ~extra, DIFF_LEGEND["both"]), (missing & ~extra, DIFF_LEGEND["missing (oracle only)"]),
                  (extra, DIFF_LEGEND["extra (rasterizer only)"])]
-    return svg_window(positions, None, CROP_LEGEND["covered by the rasterizer (crops)"], sample, window, marks,
+    return svg_window(positions, None, CROP_LEGEND[_DRAWN], sample, window, marks,
                       numbered=numbered, convention=convention, fills=fills, hits=hits)
 
 
@@ -507,11 +515,27 @@ def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | No
     hits : (y1 - y0, x1 - x0) int, optional
         Lines: how many segments drew each pixel; written where more than one did.
     """
+    text = _svg_window_text(positions, covered, fill, sample, window, marks, fit, numbered, convention, fills, hits)
+    return "data:image/svg+xml;base64," + base64.b64encode(text.encode()).decode("ascii")
+
+
+def _svg_window_text(positions: NDArray | PathScene | LineScene, covered: NDArray | None, fill: tuple[int, int, int],
+                     sample: tuple[float, float] | None, window: tuple[int, int, int, int], marks: list[tuple[int, int]],
+                     fit: int = 384, numbered: int | None = None, convention: Convention | None = None,
+                     fills: list[tuple[NDArray, tuple[int, int, int]]] | None = None, hits: NDArray | None = None,
+                     samples: Samples | None = None, alpha: NDArray | None = None,
+                     at: tuple[float, float] | None = None, windings: bool = True) -> str:
+    """:func:`svg_window`'s picture as SVG text (placed ``at`` (x, y) screen px in an
+    enclosing SVG when given), with two layers more: ``samples`` (:class:`Samples`, drawn
+    instead of ``sample``) and ``alpha`` ((rows, cols) float: each pixel filled with
+    ``fill`` at that opacity, for anti-aliased coverage); ``windings`` False writes no
+    winding numbers (a path scene's)."""
     x0, y0, x1, y1 = window
     cols, rows = x1 - x0, y1 - y0
     scale = min(24.0, fit / max(cols, rows, 1))  # screen px per pixel
     thin = 'vector-effect="non-scaling-stroke"'
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{round(cols * scale)}" height="{round(rows * scale)}" '
+    place = "" if at is None else f'x="{at[0]:g}" y="{at[1]:g}" '
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" {place}width="{round(cols * scale)}" height="{round(rows * scale)}" '
              f'viewBox="{x0} {y0} {cols} {rows}">',
              f'<rect x="{x0}" y="{y0}" width="{cols}" height="{rows}" fill="white"/>']
     if covered is not None and covered.any():
@@ -521,6 +545,10 @@ def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | No
         colour = _hex(fill)
         parts.extend(f'<rect x="{x0 + a}" y="{y0 + j}" width="{b - a}" height="1" fill="{colour}"/>'
                      for (j, a), (_, b) in zip(starts.tolist(), ends.tolist()))
+    if alpha is not None:
+        colour = _hex(fill)
+        parts.extend(f'<rect x="{x0 + i}" y="{y0 + j}" width="1" height="1" fill="{colour}" fill-opacity="{min(a, 1.0):.3f}">'
+                     f'<title>alpha {a:.4g}</title></rect>' for (j, i), a in np.ndenumerate(alpha) if a > 0)
     for mask, rgb in fills or ():
         if mask.any():
             runs = np.diff(np.pad(mask.astype(np.int8), ((0, 0), (1, 1))), axis=1)
@@ -531,7 +559,9 @@ def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | No
                      for i in range(cols + 1))
         parts.extend(f'<line x1="{x0}" y1="{y0 + j}" x2="{x1}" y2="{y0 + j}" stroke="#999" stroke-width="0.5" {thin}/>'
                      for j in range(rows + 1))
-    if sample is not None and scale >= 8:
+    if samples is not None and scale >= 8:
+        parts.extend(_svg_samples(samples, window, scale))
+    elif sample is not None and scale >= 8:
         parts.extend(f'<circle cx="{x0 + i + sample[0]:g}" cy="{y0 + j + sample[1]:g}" r="{1.5 / scale:.4f}" fill="#333"/>'
                      for i in range(cols) for j in range(rows))
     inset = min(1.0 / scale, 0.25)
@@ -542,17 +572,17 @@ def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | No
                          f'fill="none" stroke="{red}" stroke-width="2" {thin}/>')
     if isinstance(positions, PathScene):
         parts.extend(_svg_paths(positions, window, scale, numbered))
-        if numbered is not None and max(cols, rows) <= MAX_NUMBERED_SIDE and scale >= 10:
+        if windings and numbered is not None and max(cols, rows) <= MAX_NUMBERED_SIDE and scale >= 10:
             chosen = convention if convention is not None else Convention(sample=sample or (0.5, 0.5))
             parts.extend(_svg_windings(positions, numbered, chosen, window, scale))
         parts.append("</svg>")
-        return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
+        return "".join(parts)
     if isinstance(positions, LineScene):
         parts.extend(_svg_lines(positions, window, scale, numbered, convention, marks))
         if hits is not None and scale >= 10:
             parts.extend(_svg_hits(hits, window, scale))
         parts.append("</svg>")
-        return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
+        return "".join(parts)
     finite = np.all(np.isfinite(positions), axis=(1, 2))
     near = finite & np.any((positions[..., 0] > x0 - 64) & (positions[..., 0] < x1 + 64), axis=1)
     blue = _hex(CROP_LEGEND["triangle (outlined)"])
@@ -560,7 +590,69 @@ def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | No
         pts = " ".join(f"{vx:.6g},{vy:.6g}" for vx, vy in np.clip(tri, -1e6, 1e6))
         parts.append(f'<polygon points="{pts}" fill="none" stroke="{blue}" stroke-width="1" {thin}/>')
     parts.append("</svg>")
-    return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
+    return "".join(parts)
+
+
+@dataclass(frozen=True, slots=True)
+class Samples:
+    """The samples of a window drawn in its pixels (SAMPLE_LEGEND).
+
+    Parameters
+    ----------
+    offsets : (S, 2) float64
+        The pattern: each sample's position in its pixel.
+    hits : (rows, cols, S) bool
+        Which samples of each pixel of the window are covered.
+    differs : (rows, cols, S) bool or None
+        The samples where the rasterizer and the convention disagree (ringed thick).
+    """
+
+    offsets: NDArray[np.float64]
+    hits: NDArray[np.bool_]
+    differs: NDArray[np.bool_] | None = None
+
+
+def sample_hits(scene: AnyScene, convention: Convention, window: tuple[int, int, int, int],
+                coverage: Coverage | None = None) -> NDArray[np.bool_]:
+    """(rows, cols, S) bool: which samples of the convention's pattern each pixel of the
+    window has covered: by ``coverage`` (a multisample answer, its sample indices the
+    pattern's), else by the convention itself (its exact oracle, sample by sample: for a
+    supersampled area convention too).
+
+    >>> from harness.api import Scene
+    >>> square = Scene(2, 1, [[[0, 0], [1, 0], [0, 1]]])
+    >>> sample_hits(square, Convention(samples=4), (0, 0, 2, 1))[0].astype(int).tolist()
+    [[1, 0, 1, 0], [0, 0, 0, 0]]
+    """
+    x0, y0, x1, y1 = window
+    count = convention.n_samples
+    out = np.zeros((y1 - y0, x1 - x0, count), dtype=bool)
+    for k in range(count):
+        layer = coverage.layer(k) if coverage is not None else exact_coverage(scene, convention.at_sample(k))
+        out[..., k] = layer.counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+    return out
+
+
+def _svg_samples(samples: Samples, window: tuple[int, int, int, int], scale: float) -> list[str]:
+    """Each sample of each pixel of the window: a dot where covered, a ring where not, a
+    thick red ring around those where the rasterizer and the convention differ."""
+    x0, y0, _, _ = window
+    count = samples.offsets.shape[0]
+    r = min(0.09, max(1.2 / scale, 0.35 / math.sqrt(count) / 2))
+    thin = 'vector-effect="non-scaling-stroke"'
+    hit, miss, red = _hex(SAMPLE_LEGEND[_HIT]), _hex(SAMPLE_LEGEND[_MISS]), _hex(SAMPLE_LEGEND[_DIFFERS])
+    out = []
+    for (j, i, k), covered in np.ndenumerate(samples.hits):
+        cx, cy = x0 + i + float(samples.offsets[k, 0]), y0 + j + float(samples.offsets[k, 1])
+        if covered:
+            out.append(f'<circle cx="{cx:.6g}" cy="{cy:.6g}" r="{r:.4f}" fill="{hit}"/>')
+        else:
+            out.append(f'<circle cx="{cx:.6g}" cy="{cy:.6g}" r="{r * 0.8:.4f}" fill="none" stroke="{miss}" stroke-width="1" {thin}/>')
+        if samples.differs is not None and samples.differs[j, i, k]:
+            out.append(f'<circle cx="{cx:.6g}" cy="{cy:.6g}" r="{r * 1.9:.4f}" fill="none" stroke="{red}" stroke-width="2" {thin}>'
+                       f'<title>sample {k} of pixel ({x0 + i}, {y0 + j}): {"covered" if covered else "not covered"} here, '
+                       f'the other way in the other picture</title></circle>')
+    return out
 
 
 def svg_pattern(offsets: tuple[tuple[float, float], ...], side: int = 160) -> str:
@@ -1352,13 +1444,20 @@ def _repro_numbered(result: Result, scene: PathScene, marks: list[tuple[int, int
 def draw_repro(result: Result) -> tuple[str | None, str] | None:
     """The failure's minimal repro (``evidence["repro"]``, case JSON) drawn, with its
     caption: its triangles (or paths) over the pixel grid and, given a convention (the
-    drawing's), the pixels that convention covers; the pixels the evidence names (on the
-    whole case) within a pixel and a half of the repro's triangles (paths' boxes)
-    outlined. A path repro small enough shows the winding numbers of one of its paths
-    (:func:`svg_window`). The rasterizer's own answer on the repro is not known here and
-    not drawn.
+    drawing's), the pixels that convention covers.
 
-    A line repro draws its segments as the crops do (:func:`_line_repro`).
+    A repro that keeps the rasterizer's answer on it (``answer``, and the check's evidence
+    on it, ``evidence``: :func:`harness.repro.attach_repro` writes both) is drawn twice
+    side by side: on the left what the rasterizer drew, on the right what the convention
+    says, the pixels that evidence names outlined on both (:func:`_repro_panels`); a
+    multisample or supersampled convention's samples are drawn in every pixel, covered or
+    not, those where the two differ ringed. An older repro, without them, is drawn once
+    with the convention's pixels, and the pixels the evidence names (on the whole case)
+    within a pixel and a half of the repro's primitives outlined.
+
+    A path repro small enough shows the winding numbers of one of its paths
+    (:func:`svg_window`); a line repro draws its segments as the crops do
+    (:func:`_line_repro`).
 
     Returns None without a repro; (None, why) when it is not drawn (a motion case, a malformed
     one, or more than :data:`MAX_REPRO_TRIANGLES` triangles (paths, segments) or
@@ -1389,8 +1488,9 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
         return None, (f"minimal repro: {triangles} of {scene.vertices.shape[0]} vertices, not drawn (pictures are drawn up to "
                       f"{MAX_DRAWN_VERTICES} vertices)")
     convention = result.drawing.convention if result.drawing is not None else None
+    seen = _seen_on_repro(result, case, payload, convention)
     if isinstance(scene, LineScene):
-        return _line_repro(result, scene, convention, triangles)
+        return _line_repro(result, scene, convention, triangles, seen)
     if isinstance(scene, PathScene):
         finite_path = scene.primitive_boxes()[2]
         drawn = scene.vertices[np.repeat(finite_path[scene.contour_path], scene.contour_sizes)]  # of the finite paths
@@ -1398,25 +1498,39 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
     else:
         window = _repro_window(scene.positions, scene.width, scene.height)
     x0, y0, x1, y1 = window
-    covered = None
+    oracle = None
     if convention is not None:
         try:
-            covered = exact_coverage(scene, convention).counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+            oracle = exact_coverage(scene, convention)
         except ValueError:  # no oracle of this kind for paths (analytic area): no coverage drawn
-            covered = None
-    named = _focus(result)[:EVIDENCE_LIMIT]
-    marks = _near_paths(named, scene) if isinstance(scene, PathScene) else _near_triangles(named, scene.positions)
-    fill = CROP_LEGEND["covered by the convention (repros)"]
+            oracle = None
+    covered = None if oracle is None else oracle.counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+    if seen is not None:
+        marks = [(x, y) for x, y in _focus(seen)[:EVIDENCE_LIMIT] if x0 <= x < x1 and y0 <= y < y1]
+    else:
+        named = _focus(result)[:EVIDENCE_LIMIT]
+        marks = _near_paths(named, scene) if isinstance(scene, PathScene) else _near_triangles(named, scene.positions)
+    fill = CROP_LEGEND[_CONVENTION]
     sample = convention.sample if convention is not None else None
     numbers = ""
+    numbered = chosen = None
     if isinstance(scene, PathScene):
         chosen = _numbering_convention(convention)
         numbered = _repro_numbered(result, scene, marks)
-        uri = svg_window(scene, covered, fill, chosen.sample, window, marks, numbered=numbered, convention=chosen)
         if numbered is not None and max(x1 - x0, y1 - y0) <= MAX_NUMBERED_SIDE:
             at = ("its centre (no convention known: top-left ties)" if convention is None else
                   "its first sample" if convention.samples is not None else "its sample")
             numbers = f"; in each pixel the winding number of {at} around path {numbered}"
+    if seen is not None and seen.drawing is not None and seen.drawing.coverages:
+        uri = _repro_panels(scene, seen.drawing.coverages[0], oracle, convention, window, marks, numbered, chosen)
+        said = f"the convention ({convention.describe()})" if convention is not None and oracle is not None else ""
+        where = ("; left: what the rasterizer drew, right: what " + said + " says" if said else
+                 "; what the rasterizer drew (" + ("no convention known" if convention is None else "no oracle of its kind")
+                 + ", so nothing beside it)")
+        outlined = f"; outlined: {len(marks)} pixel{'' if len(marks) == 1 else 's'} the failure names on the repro" if marks else ""
+        return uri, f"minimal repro: its {triangles}{where}{numbers if said else ''}{outlined}"
+    if isinstance(scene, PathScene):
+        uri = svg_window(scene, covered, fill, (chosen or Convention()).sample, window, marks, numbered=numbered, convention=chosen)
     else:
         uri = svg_window(scene.positions, covered, fill, sample, window, marks)
     outlined = f"; outlined: {len(marks)} of the pixels the failure names, next to these {noun}s" if marks else ""
@@ -1424,6 +1538,84 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
         why = "no convention known" if convention is None else "no oracle of its kind for paths"
         return uri, f"minimal repro: its {triangles}; {why}, so no coverage drawn{numbers}{outlined}"
     return uri, f"minimal repro: its {triangles}, the pixels the convention covers{numbers}{outlined}"
+
+
+def _seen_on_repro(result: Result, case: Case, payload: dict[str, Any], convention: Convention | None) -> Result | None:
+    """The failure on the repro itself, as its file keeps it (the check's ``evidence`` and
+    the rasterizer's ``answer`` there: :func:`harness.repro.attach_repro`), as a result
+    with a drawing of the repro; None for a file without them."""
+    from harness.repro import answer_from_json
+
+    evidence = payload.get("evidence")
+    answer = answer_from_json(payload.get("answer"))
+    if not isinstance(evidence, dict) or answer is None:
+        return None
+    return Result(result.rasterizer, case.id, str(payload.get("check", result.check)), "fail", str(payload.get("message", "")),
+                  {}, evidence, Drawing(case, (answer,), convention))
+
+
+PANEL_FIT = 300  # screen px: the longer side of each of a repro's two pictures
+_PANEL_GAP, _PANEL_TITLE = 16, 20  # screen px between the pictures, and above them for their titles
+
+
+def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, convention: Convention | None,
+                  window: tuple[int, int, int, int], marks: list[tuple[int, int]], numbered: int | None = None,
+                  chosen: Convention | None = None) -> str:
+    """A repro drawn twice side by side as one SVG data URI: on the left the rasterizer's
+    ``answer``, on the right the convention's ``oracle`` (left out when None), the same
+    window of the same primitives with the same pixels outlined. Anti-aliased coverage
+    shades each pixel by its alpha; a multisample or supersampled convention draws its
+    samples in each pixel (:class:`Samples`: the rasterizer's own where it says which it
+    covered, the convention's on the right), ringed where the two differ. A path scene's
+    winding numbers (around path ``numbered``, by the ``chosen`` convention) are written
+    on the right; a line scene's left picture writes how many segments drew each pixel."""
+    x0, y0, x1, y1 = window
+    w, h = scene.width, scene.height
+    area = convention is not None and convention.kind == "area"
+    pattern = convention is not None and convention.samples is not None
+
+    def layers(coverage: Coverage | None) -> dict[str, Any]:
+        if coverage is None:
+            return {}
+        if area:
+            got = _alpha_per_pixel(coverage, w, h)[y0:y1, x0:x1]
+            return {"covered": None, "alpha": got}
+        return {"covered": coverage.counts(w, h)[y0:y1, x0:x1] > 0}
+
+    theirs, ours = layers(answer), layers(oracle)
+    samples: list[Samples | None] = [None, None]
+    if pattern and convention is not None:
+        offsets = np.asarray(convention.samples, dtype=np.float64)
+        want = sample_hits(scene, convention, window)
+        got = sample_hits(scene, convention, window, answer) if convention.kind == "multisample" else None
+        differs = None if got is None else got != want
+        samples = [None if got is None else Samples(offsets, got, differs), Samples(offsets, want, differs)]
+    lines = isinstance(scene, LineScene)
+    sample = _line_sample(convention) if lines else convention.sample if convention is not None else (0.5, 0.5)
+    positions: NDArray | PathScene | LineScene = scene if isinstance(scene, (PathScene, LineScene)) else scene.positions
+    hits = answer.counts(w, h)[y0:y1, x0:x1] if lines else None
+    cols, rows = x1 - x0, y1 - y0
+    scale = min(24.0, PANEL_FIT / max(cols, rows, 1))
+    pw, ph = round(cols * scale), round(rows * scale)
+    panels = [("what the rasterizer drew", theirs, CROP_LEGEND[_DRAWN], samples[0], hits, numbered)]
+    if oracle is not None:
+        panels.append(("what the convention says", ours, CROP_LEGEND[_CONVENTION], samples[1], None, numbered))
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{len(panels) * pw + (len(panels) - 1) * _PANEL_GAP}" '
+             f'height="{ph + _PANEL_TITLE}">']
+    for index, (title, layer, fill, shown, counts, number) in enumerate(panels):
+        left = index * (pw + _PANEL_GAP)
+        parts.append(f'<text x="{left}" y="{_PANEL_TITLE - 6}" font-size="13" font-family="sans-serif" fill="#222">{title}</text>')
+        if isinstance(positions, LineScene):
+            parts.append(_svg_window_text(positions, layer.get("covered"), fill, sample, window, marks, PANEL_FIT,
+                                          numbered=number, convention=convention, hits=counts, samples=shown,
+                                          alpha=layer.get("alpha"), at=(left, _PANEL_TITLE)))
+        else:
+            parts.append(_svg_window_text(positions, layer.get("covered"), fill, sample, window, marks, PANEL_FIT,
+                                          numbered=number if isinstance(positions, PathScene) else None, convention=chosen,
+                                          samples=shown, alpha=layer.get("alpha"), at=(left, _PANEL_TITLE),
+                                          windings=index == 1))
+    parts.append("</svg>")
+    return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
 
 
 def _repro_segment(result: Result, scene: LineScene, marks: list[tuple[int, int]]) -> int | None:
@@ -1443,30 +1635,67 @@ def _repro_segment(result: Result, scene: LineScene, marks: list[tuple[int, int]
     return _segment_at(scene, *marks[0]) if marks else None
 
 
-def _line_repro(result: Result, scene: LineScene, convention: Convention | None, what: str) -> tuple[str | None, str]:
+def _line_repro(result: Result, scene: LineScene, convention: Convention | None, what: str,
+                seen: Result | None = None) -> tuple[str | None, str]:
     """A line repro drawn (``what``: its segments counted): its segments over the pixel
-    grid as in the crops, the pixels the convention draws (its line rule), the pixels the
-    whole case's evidence names near its segments outlined, one segment thick."""
+    grid as in the crops; given the failure ``seen`` on the repro itself, what the
+    rasterizer drew beside what the convention draws (:func:`_repro_panels`) with the
+    pixels that failure names outlined, else the pixels the convention draws (its line
+    rule) with the pixels the whole case's evidence names within a pixel and a half of
+    the segments outlined; one segment thick."""
     a, b = scene.segments()
     finite = scene.primitive_boxes()[2]
     window = _points_window(np.concatenate([a[finite], b[finite]]), scene.width, scene.height)
     x0, y0, x1, y1 = window
-    covered = None
+    oracle = None
     if convention is not None:
         try:
-            covered = exact_coverage(scene, convention).counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+            oracle = exact_coverage(scene, convention)
         except ValueError:  # lines are single-sample only: no oracle for a multisample or area convention
-            covered = None
-    marks = _near_paths(line_focus(result)[:EVIDENCE_LIMIT], scene)
-    numbered = _repro_segment(result, scene, marks)
-    uri = svg_window(scene, covered, CROP_LEGEND["covered by the convention (repros)"], _line_sample(convention), window, marks,
-                     numbered=numbered, convention=convention)
+            oracle = None
+    covered = None if oracle is None else oracle.counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+    if seen is not None:
+        marks = [(x, y) for x, y in line_focus(seen)[:EVIDENCE_LIMIT] if x0 <= x < x1 and y0 <= y < y1]
+        numbered = numbered_segment(seen)
+        if numbered is None:
+            numbered = _repro_segment(result, scene, marks)
+    else:
+        marks = _near_segments(line_focus(result)[:EVIDENCE_LIMIT], scene)
+        numbered = _repro_segment(result, scene, marks)
     thick = f"; segment {numbered} thick" if numbered is not None and len(scene) > 1 else ""
+    if seen is not None and seen.drawing is not None and seen.drawing.coverages:
+        uri = _repro_panels(scene, seen.drawing.coverages[0], oracle, convention, window, marks, numbered)
+        outlined = f"; outlined: {len(marks)} pixel{'' if len(marks) == 1 else 's'} the failure names on the repro" if marks else ""
+        if convention is None or oracle is None:
+            why = "no convention known" if convention is None else "no line oracle for its coverage kind"
+            return uri, f"minimal repro: its {what}; what the rasterizer drew ({why}, so nothing beside it){thick}{outlined}"
+        return uri, (f"minimal repro: its {what}; left: what the rasterizer drew, right: what the convention draws "
+                     f"({convention.describe_lines()}){thick}{outlined}")
+    uri = svg_window(scene, covered, CROP_LEGEND[_CONVENTION], _line_sample(convention), window, marks,
+                     numbered=numbered, convention=convention)
     outlined = f"; outlined: {len(marks)} of the pixels the failure names, next to these segments" if marks else ""
     if convention is None or covered is None:
         why = "no convention known" if convention is None else "no line oracle for its coverage kind"
         return uri, f"minimal repro: its {what}; {why}, so no pixels drawn{thick}{outlined}"
     return uri, f"minimal repro: its {what}, the pixels the convention draws ({convention.describe_lines()}){thick}{outlined}"
+
+
+def _near_segments(marks: list[tuple[int, int]], scene: LineScene, reach: float = 1.5) -> list[tuple[int, int]]:
+    """The marked pixels whose centre lies within ``reach`` px (plus half the line width)
+    of one of the (finite) segments -- not of their boxes: a diagonal segment's box holds
+    pixels far from it."""
+    a, b = scene.segments()
+    finite = scene.primitive_boxes()[2]
+    a, b = a[finite], b[finite]
+    if not marks or not a.shape[0]:
+        return []
+    p = np.asarray(marks, dtype=float)[:, None, :] + 0.5  # (M, 1, 2)
+    with np.errstate(all="ignore"):  # huge or degenerate segments: a picture, not a verdict
+        d = (b - a)[None]  # (1, K, 2)
+        t = np.clip(np.nan_to_num(((p - a[None]) * d).sum(-1) / (d * d).sum(-1)), 0.0, 1.0)
+        distance = np.hypot(*np.moveaxis(p - a[None] - t[..., None] * d, -1, 0))  # (M, K)
+    near = np.any(distance <= reach + 0.5 * scene.line_width, axis=1)
+    return [m for m, ok in zip(marks, near.tolist()) if ok]
 
 
 # -- per-frame series ----------------------------------------------------------------------

@@ -19,12 +19,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness import checks
-from harness.api import AnyScene, LineScene, Rasterizer, Scene, received_of
+from harness.api import AnyScene, Coverage, LineScene, Rasterizer, Scene, received_of
 from harness.case import Case, MotionCase, case_to_json
 from harness.checks import Result
 from harness.exact import orientation
 
-__all__ = ["ddmin", "shrink", "attach_repro", "whole_case_repro", "input_precision_probe", "viewport_edge_probe", "viewport_edge_trial",
+__all__ = ["ddmin", "shrink", "attach_repro", "whole_case_repro", "answer_json", "answer_from_json", "MAX_ANSWER_FRAGMENTS", "input_precision_probe", "viewport_edge_probe", "viewport_edge_trial",
            "grown_screen", "Judge"]
 
 # The checks of one rasterizer on a case, restricted to one check by name.
@@ -131,8 +131,9 @@ def attach_repro(result: Result, case: Case, judge: Judge, rasterizer: Rasterize
     evidence = dict(result.evidence)
     message = result.message  # the whole case's, for the result
     said = result.message  # the shrunk case's, for the repro file
+    seen: Result | None = result  # the failure on the repro itself: what its picture shows
     if minimal is not case:
-        again = failed(minimal)
+        seen = again = failed(minimal)
         if again is not None:
             said = again.message
     if check in ("conformance", "invariance"):
@@ -150,15 +151,74 @@ def attach_repro(result: Result, case: Case, judge: Judge, rasterizer: Rasterize
                     "triangles pass: the deviation appears only where triangles cross the viewport edge")
             message, said = message + note, said + note
     payload = case_to_json(minimal, check=check, rasterizer=rasterizer.name, message=said,
-                           original_case=case.id, original_triangles=len(case.scene))
+                           original_case=case.id, original_triangles=len(case.scene), **_seen(seen))
     return replace(result, message=message, evidence={**evidence, "repro": payload})
 
 
 def whole_case_repro(result: Result, case: Case, rasterizer: str, note: str) -> Result:
     """The whole case attached as the repro, unshrunk, with the reason."""
     payload = case_to_json(case, check=result.check, rasterizer=rasterizer, message=result.message,
-                           original_case=case.id, original_triangles=len(case.scene), note=note)
+                           original_case=case.id, original_triangles=len(case.scene), note=note, **_seen(result))
     return replace(result, evidence={**result.evidence, "repro": payload})
+
+
+MAX_ANSWER_FRAGMENTS = 20_000  # a repro file keeps the rasterizer's answer up to this many fragments
+
+
+def answer_json(coverage: Coverage) -> dict[str, Any] | None:
+    """A rasterizer's answer on a repro as JSON, to draw beside the convention's: its spans
+    (``primitive``, ``y``, ``x0``, ``x1``), each span's ``sample`` index (multisample) and
+    each pixel's ``alpha`` (area coverage), attributes left out; None beyond
+    :data:`MAX_ANSWER_FRAGMENTS` fragments (or samples).
+
+    >>> answer_json(Coverage([0], [2], [1], [3], alpha=[0.25, 1.0]))
+    {'primitive': [0], 'y': [2], 'x0': [1], 'x1': [3], 'alpha': [0.25, 1.0]}
+    """
+    if int(np.maximum(coverage.x1 - coverage.x0, 0).sum()) > MAX_ANSWER_FRAGMENTS:
+        return None
+    out: dict[str, Any] = {name: getattr(coverage, name).tolist() for name in ("primitive", "y", "x0", "x1")}
+    if coverage.sample is not None:
+        out["sample"] = coverage.sample.tolist()
+    if coverage.alpha is not None:
+        out["alpha"] = [float(a) if np.isfinite(a) else str(a) for a in coverage.alpha.tolist()]
+    return out
+
+
+def answer_from_json(data: Any) -> Coverage | None:
+    """The coverage :func:`answer_json` wrote; None for anything else (a file from
+    elsewhere: a picture, not a verdict, depends on it).
+
+    >>> answer_from_json(answer_json(Coverage([0, 1], [2, 2], [1, 4], [3, 5], sample=[0, 3]))).pixels()
+    (array([0, 0, 1]), array([1, 2, 4]), array([2, 2, 2]))
+    >>> answer_from_json({"primitive": [0]}) is None
+    True
+    """
+    if not isinstance(data, dict):
+        return None
+    try:
+        alpha = data.get("alpha")
+        return Coverage(*(np.asarray(data[k], dtype=np.int64).reshape(-1) for k in ("primitive", "y", "x0", "x1")),
+                        sample=None if data.get("sample") is None else np.asarray(data["sample"], dtype=np.int64),
+                        alpha=None if alpha is None else np.asarray(alpha, dtype=np.float64))
+    except (KeyError, TypeError, ValueError):
+        return None
+
+
+def _seen(result: Result | None) -> dict[str, Any]:
+    """What a repro file keeps of the failure on the repro itself, for its picture: the
+    rasterizer's answer (``answer``, :func:`answer_json`) and the check's evidence
+    (``evidence``: the offending pixels, on the repro's own coordinates)."""
+    if result is None:
+        return {}
+    from harness.output import _clean  # the results file's own JSON-safe form
+
+    out: dict[str, Any] = {"evidence": _clean({k: v for k, v in result.evidence.items()
+                                               if k not in ("repro", "repro_path", "traceback")})}
+    if result.drawing is not None and result.drawing.coverages:
+        answer = answer_json(result.drawing.coverages[0])
+        if answer is not None:
+            out["answer"] = answer
+    return out
 
 
 def _passes(case: Case, check: str, judge: Judge) -> bool:
