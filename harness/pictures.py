@@ -63,7 +63,9 @@ __all__ = ["draw", "draw_repro", "motion_animation", "heatmap", "oracle_diff", "
 def draw(result: Result) -> dict[str, str]:
     """The pictures of a failure, caption key -> data URI, in the order the report shows
     them: ``heatmap``, ``diff`` (given a convention) and ``crop`` for a still case;
-    ``animation`` and, when the evidence has a series, ``plot`` for a motion case. Nothing
+    ``animation`` and, when the evidence has a series, ``plot`` for a motion case
+    (and ``samples`` after them for a multisample answer judged sample by sample; area
+    coverage: ``alpha error``, ``alpha sum`` and ``samples``). Nothing
     for a result without a drawing (a pass, an error, one read back from JSON)."""
     drawing = result.drawing
     if drawing is None:
@@ -185,8 +187,9 @@ def alpha_map(values: NDArray, scale: float, window: tuple[int, int, int, int] |
 
 def _area_pictures(case: Case, drawing: Drawing, result: Result, window: tuple[int, int, int, int]) -> dict[str, str]:
     """Area coverage: the alpha error against the oracle (scaled to the declared
-    tolerance, or to the largest error when that is larger) and, on a partition, the sum
-    of the pieces' alphas minus 1 (scaled to one level) with stray pixels marked."""
+    tolerance, or to the largest error when that is larger), on a partition the sum of
+    the pieces' alphas minus 1 (scaled to one level) with stray pixels marked, and the
+    crop of the samples (:func:`_sample_crop`)."""
     scene = case.scene
     coverage = drawing.coverages[0]
     images: dict[str, str] = {}
@@ -200,12 +203,51 @@ def _area_pictures(case: Case, drawing: Drawing, result: Result, window: tuple[i
         total = _alpha_per_pixel(coverage, scene.width, scene.height)
         images["alpha sum"] = alpha_map(np.where(inside, total - 1.0, 0.0), drawing.convention.level_step, window,
                                         outside & (total > 0))
+    if oracles is not None:
+        images["samples"] = _sample_crop(case, drawing, result, oracles[0])
     return images
 
 
+def _sample_crop(case: Case, drawing: Drawing, result: Result, oracle: Coverage | None) -> str:
+    """A multisample or anti-aliased failure's crop (12 px a side around its first
+    offending pixel): what the rasterizer drew beside what the convention says
+    (:func:`_repro_panels`: each sample of the pattern in each pixel, covered or not,
+    ringed where the two differ; alphas as shades), the offending pixels outlined."""
+    scene = case.scene
+    marks = [(int(x), int(y)) for x, y in _focus(result)[:EVIDENCE_LIMIT]]
+    fx, fy = marks[0] if marks else (scene.width // 2, scene.height // 2)
+    crop = window_around(fx, fy, scene.width, scene.height, 12)
+    numbered = numbered_path(result) if isinstance(scene, PathScene) else None
+    chosen = _numbering_convention(drawing.convention) if isinstance(scene, PathScene) else None
+    only = _named_primitives(result, scene)
+    if only is not None:  # the pixels the failure names of those primitives
+        rows = [p for p in result.evidence["pixels"] if isinstance(p, dict) and "x" in p and "y" in p]
+        marks = [(int(p["x"]), int(p["y"])) for p in rows
+                 if set(np.atleast_1d(p.get("triangle", p.get("path", p.get("triangles", p.get("paths", -1))))).tolist()) & set(only)]
+    return _repro_panels(scene, drawing.coverages[0], oracle, drawing.convention, crop, marks, numbered, chosen, only)
+
+
+def _named_primitives(result: Result, scene: AnyScene) -> list[int] | None:
+    """The primitives the first offending pixel of a failure names (``triangle``,
+    ``path``, ``triangles`` or ``paths`` of its first ``pixels`` row), when its scene is no
+    partition (where the pieces' sum is what counts); None otherwise: all of them."""
+    pixels = result.evidence.get("pixels")
+    case = result.drawing.case if result.drawing is not None else None
+    if not pixels or not isinstance(pixels[0], dict) or getattr(case, "region", None) is not None:
+        return None
+    for key in ("triangle", "path", "triangles", "paths"):
+        named = pixels[0].get(key)
+        values = named if isinstance(named, list) else [named]
+        if named is not None and all(isinstance(v, int) and 0 <= v < len(scene) for v in values):
+            return sorted(set(values))
+    return None
+
+
 def _still_pictures(case: Case, drawing: Drawing, result: Result) -> dict[str, str]:
-    """Heat map, oracle diff and an SVG crop around the first offending pixel (for area
-    coverage: the alpha error and alpha sum maps)."""
+    """Heat map, oracle diff and an SVG crop around the first offending pixel (and, for one
+    sample's layer of a multisample answer, the crop of all its samples,
+    :func:`_sample_crop`; for area coverage: the alpha error and alpha sum maps and the
+    crop of the samples)."""
     scene = case.scene
     if isinstance(scene, LineScene):
         return _line_pictures(scene, drawing, result)
@@ -231,9 +273,12 @@ def _still_pictures(case: Case, drawing: Drawing, result: Result) -> dict[str, s
         convention = _numbering_convention(drawing.convention)
         numbered = numbered_path(result)
         images["crop"] = svg_crop(scene, coverage, convention.sample, crop, shown, numbered=numbered, convention=convention)
-        return images
-    sample = drawing.convention.sample if drawing.convention is not None else (0.5, 0.5)
-    images["crop"] = svg_crop(scene.positions, coverage, sample, crop, shown)
+    else:
+        sample = drawing.convention.sample if drawing.convention is not None else (0.5, 0.5)
+        images["crop"] = svg_crop(scene.positions, coverage, sample, crop, shown)
+    if drawing.whole is not None and drawing.whole.coverages:  # one sample's layer of a multisample answer: all its samples
+        whole_oracles = _oracles(drawing.whole, [scene])
+        images["samples"] = _sample_crop(case, drawing.whole, result, whole_oracles[0] if whole_oracles else None)
     return images
 
 
@@ -274,8 +319,9 @@ CROP_LEGEND = {_DRAWN: (200, 200, 200), _CONVENTION: (230, 205, 140),
 # multisample and supersampled pictures: each sample of the convention's pattern in each
 # pixel, over CROP_LEGEND's pixels
 SAMPLE_LEGEND = {"sample covered (dot)": (25, 25, 25), "sample not covered (ring)": (140, 140, 140),
-                 "sample where the rasterizer and the convention differ (thick ring)": (221, 0, 0)}
-_HIT, _MISS, _DIFFERS = SAMPLE_LEGEND
+                 "sample where the rasterizer and the convention differ (thick ring)": (221, 0, 0),
+                 "alpha of an offending pixel (anti-aliased; k/N: k of the N samples)": (0, 40, 170)}
+_HIT, _MISS, _DIFFERS, _ALPHA = SAMPLE_LEGEND
 # path crops and repros, over CROP_LEGEND's pixels and marks: the fill is the outline's
 # colour at PATH_FILL_OPACITY (its swatch: that over white)
 PATH_FILL_OPACITY = 0.16
@@ -524,12 +570,14 @@ def _svg_window_text(positions: NDArray | PathScene | LineScene, covered: NDArra
                      fit: int = 384, numbered: int | None = None, convention: Convention | None = None,
                      fills: list[tuple[NDArray, tuple[int, int, int]]] | None = None, hits: NDArray | None = None,
                      samples: Samples | None = None, alpha: NDArray | None = None,
-                     at: tuple[float, float] | None = None, windings: bool = True) -> str:
+                     at: tuple[float, float] | None = None, windings: bool = True,
+                     labels: dict[tuple[int, int], str] | None = None) -> str:
     """:func:`svg_window`'s picture as SVG text (placed ``at`` (x, y) screen px in an
     enclosing SVG when given), with two layers more: ``samples`` (:class:`Samples`, drawn
     instead of ``sample``) and ``alpha`` ((rows, cols) float: each pixel filled with
     ``fill`` at that opacity, for anti-aliased coverage); ``windings`` False writes no
-    winding numbers (a path scene's)."""
+    winding numbers (a path scene's); ``labels`` ((x, y) -> text) writes a pixel's alpha
+    in it (SAMPLE_LEGEND)."""
     x0, y0, x1, y1 = window
     cols, rows = x1 - x0, y1 - y0
     scale = min(24.0, fit / max(cols, rows, 1))  # screen px per pixel
@@ -564,6 +612,12 @@ def _svg_window_text(positions: NDArray | PathScene | LineScene, covered: NDArra
     elif sample is not None and scale >= 8:
         parts.extend(f'<circle cx="{x0 + i + sample[0]:g}" cy="{y0 + j + sample[1]:g}" r="{1.5 / scale:.4f}" fill="#333"/>'
                      for i in range(cols) for j in range(rows))
+    if labels and scale >= 10:
+        font = min(max(9.0 / scale, 0.22), 0.4)
+        parts.extend(f'<text x="{x + 0.5:g}" y="{y + 0.08 + font * 0.75:.4f}" font-size="{font:.3f}" font-family="sans-serif" '
+                     f'font-weight="bold" text-anchor="middle" fill="{_hex(SAMPLE_LEGEND[_ALPHA])}" stroke="white" '
+                     f'stroke-width="2" paint-order="stroke" {thin}><title>alpha of pixel ({x}, {y})</title>{text}</text>'
+                     for (x, y), text in labels.items() if x0 <= x < x1 and y0 <= y < y1)
     inset = min(1.0 / scale, 0.25)
     red = _hex(CROP_LEGEND["offending pixel (outlined)"])
     for mx, my in marks:
@@ -613,11 +667,11 @@ class Samples:
 
 
 def sample_hits(scene: AnyScene, convention: Convention, window: tuple[int, int, int, int],
-                coverage: Coverage | None = None) -> NDArray[np.bool_]:
+                coverage: Coverage | None = None, only: list[int] | None = None) -> NDArray[np.bool_]:
     """(rows, cols, S) bool: which samples of the convention's pattern each pixel of the
     window has covered: by ``coverage`` (a multisample answer, its sample indices the
     pattern's), else by the convention itself (its exact oracle, sample by sample: for a
-    supersampled area convention too).
+    supersampled area convention too); by the primitives ``only`` when given.
 
     >>> from harness.api import Scene
     >>> square = Scene(2, 1, [[[0, 0], [1, 0], [0, 1]]])
@@ -629,8 +683,13 @@ def sample_hits(scene: AnyScene, convention: Convention, window: tuple[int, int,
     out = np.zeros((y1 - y0, x1 - x0, count), dtype=bool)
     for k in range(count):
         layer = coverage.layer(k) if coverage is not None else exact_coverage(scene, convention.at_sample(k))
-        out[..., k] = layer.counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+        out[..., k] = _of(layer, only).counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
     return out
+
+
+def _of(coverage: Coverage, only: list[int] | None) -> Coverage:
+    """The coverage of the primitives ``only`` (all of it for None)."""
+    return coverage if only is None else coverage.take(np.flatnonzero(np.isin(coverage.primitive, only)))
 
 
 def _svg_samples(samples: Samples, window: tuple[int, int, int, int], scale: float) -> list[str]:
@@ -1487,7 +1546,8 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
     if isinstance(scene, PathScene) and scene.vertices.shape[0] > MAX_DRAWN_VERTICES:
         return None, (f"minimal repro: {triangles} of {scene.vertices.shape[0]} vertices, not drawn (pictures are drawn up to "
                       f"{MAX_DRAWN_VERTICES} vertices)")
-    convention = result.drawing.convention if result.drawing is not None else None
+    drawing = result.drawing.whole or result.drawing if result.drawing is not None else None  # a layer's: the pattern's
+    convention = drawing.convention if drawing is not None else None
     seen = _seen_on_repro(result, case, payload, convention)
     if isinstance(scene, LineScene):
         return _line_repro(result, scene, convention, triangles, seen)
@@ -1522,7 +1582,13 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
                   "its first sample" if convention.samples is not None else "its sample")
             numbers = f"; in each pixel the winding number of {at} around path {numbered}"
     if seen is not None and seen.drawing is not None and seen.drawing.coverages:
+        zoom = ""
+        if convention is not None and convention.samples is not None and max(x1 - x0, y1 - y0) > SAMPLES_SIDE and marks:
+            window = window_around(*marks[0], scene.width, scene.height, SAMPLES_SIDE)  # samples drawn large enough to see
+            zoom = f"; {SAMPLES_SIDE} px around its first offending pixel, to show the samples"
+            marks = [(x, y) for x, y in marks if window[0] <= x < window[2] and window[1] <= y < window[3]]
         uri = _repro_panels(scene, seen.drawing.coverages[0], oracle, convention, window, marks, numbered, chosen)
+        triangles += zoom
         said = f"the convention ({convention.describe()})" if convention is not None and oracle is not None else ""
         where = ("; left: what the rasterizer drew, right: what " + said + " says" if said else
                  "; what the rasterizer drew (" + ("no convention known" if convention is None else "no oracle of its kind")
@@ -1555,12 +1621,13 @@ def _seen_on_repro(result: Result, case: Case, payload: dict[str, Any], conventi
 
 
 PANEL_FIT = 300  # screen px: the longer side of each of a repro's two pictures
+SAMPLES_SIDE = 16  # px: a repro with a sample pattern wider than this is drawn around its first offending pixel
 _PANEL_GAP, _PANEL_TITLE = 16, 20  # screen px between the pictures, and above them for their titles
 
 
 def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, convention: Convention | None,
                   window: tuple[int, int, int, int], marks: list[tuple[int, int]], numbered: int | None = None,
-                  chosen: Convention | None = None) -> str:
+                  chosen: Convention | None = None, only: list[int] | None = None) -> str:
     """A repro drawn twice side by side as one SVG data URI: on the left the rasterizer's
     ``answer``, on the right the convention's ``oracle`` (left out when None), the same
     window of the same primitives with the same pixels outlined. Anti-aliased coverage
@@ -1568,8 +1635,12 @@ def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, co
     samples in each pixel (:class:`Samples`: the rasterizer's own where it says which it
     covered, the convention's on the right), ringed where the two differ. A path scene's
     winding numbers (around path ``numbered``, by the ``chosen`` convention) are written
-    on the right; a line scene's left picture writes how many segments drew each pixel."""
+    on the right; a line scene's left picture writes how many segments drew each pixel.
+    Given ``only``, the coverage of those primitives alone is drawn (their number in the
+    titles): one triangle's alphas in a scene of overlapping ones, say."""
     x0, y0, x1, y1 = window
+    answer = _of(answer, only)
+    oracle = None if oracle is None else _of(oracle, only)
     w, h = scene.width, scene.height
     area = convention is not None and convention.kind == "area"
     pattern = convention is not None and convention.samples is not None
@@ -1586,34 +1657,52 @@ def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, co
     samples: list[Samples | None] = [None, None]
     if pattern and convention is not None:
         offsets = np.asarray(convention.samples, dtype=np.float64)
-        want = sample_hits(scene, convention, window)
+        want = sample_hits(scene, convention, window, only=only)
         got = sample_hits(scene, convention, window, answer) if convention.kind == "multisample" else None
         differs = None if got is None else got != want
         samples = [None if got is None else Samples(offsets, got, differs), Samples(offsets, want, differs)]
     lines = isinstance(scene, LineScene)
-    sample = _line_sample(convention) if lines else convention.sample if convention is not None else (0.5, 0.5)
-    positions: NDArray | PathScene | LineScene = scene if isinstance(scene, (PathScene, LineScene)) else scene.positions
+    sample: tuple[float, float] | None = (_line_sample(convention) if lines else convention.sample if convention is not None
+                                          else (0.5, 0.5))
+    positions: NDArray | PathScene | LineScene = (scene if isinstance(scene, (PathScene, LineScene)) else
+                                                  scene.positions if only is None else scene.positions[only])
     hits = answer.counts(w, h)[y0:y1, x0:x1] if lines else None
     cols, rows = x1 - x0, y1 - y0
     scale = min(24.0, PANEL_FIT / max(cols, rows, 1))
     pw, ph = round(cols * scale), round(rows * scale)
-    panels = [("what the rasterizer drew", theirs, CROP_LEGEND[_DRAWN], samples[0], hits, numbered)]
+    of = "" if only is None else f" ({scene.noun}{'' if len(only) == 1 else 's'} {', '.join(map(str, only))})"
+    panels = [("what the rasterizer drew" + of, theirs, CROP_LEGEND[_DRAWN], samples[0], hits, numbered)]
     if oracle is not None:
-        panels.append(("what the convention says", ours, CROP_LEGEND[_CONVENTION], samples[1], None, numbered))
+        panels.append(("what the convention says" + of, ours, CROP_LEGEND[_CONVENTION], samples[1], None, numbered))
     parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{len(panels) * pw + (len(panels) - 1) * _PANEL_GAP}" '
              f'height="{ph + _PANEL_TITLE}">']
+    count = convention.n_samples if convention is not None else 1
+
+    def alphas(layer: dict[str, Any]) -> dict[tuple[int, int], str] | None:
+        values = layer.get("alpha")
+        if values is None:
+            return None
+        out = {}
+        for x, y in marks:
+            if x0 <= x < x1 and y0 <= y < y1:
+                a = float(values[y - y0, x - x0])
+                k = a * count
+                out[(x, y)] = f"{round(k)}/{count}" if pattern and abs(k - round(k)) < 1e-9 else f"{a:.3g}"
+        return out
+
     for index, (title, layer, fill, shown, counts, number) in enumerate(panels):
         left = index * (pw + _PANEL_GAP)
+        dot = None if (area or pattern) and shown is None else sample  # an alpha says nothing of its samples
         parts.append(f'<text x="{left}" y="{_PANEL_TITLE - 6}" font-size="13" font-family="sans-serif" fill="#222">{title}</text>')
         if isinstance(positions, LineScene):
-            parts.append(_svg_window_text(positions, layer.get("covered"), fill, sample, window, marks, PANEL_FIT,
+            parts.append(_svg_window_text(positions, layer.get("covered"), fill, dot, window, marks, PANEL_FIT,
                                           numbered=number, convention=convention, hits=counts, samples=shown,
-                                          alpha=layer.get("alpha"), at=(left, _PANEL_TITLE)))
+                                          alpha=layer.get("alpha"), at=(left, _PANEL_TITLE), labels=alphas(layer)))
         else:
-            parts.append(_svg_window_text(positions, layer.get("covered"), fill, sample, window, marks, PANEL_FIT,
+            parts.append(_svg_window_text(positions, layer.get("covered"), fill, dot, window, marks, PANEL_FIT,
                                           numbered=number if isinstance(positions, PathScene) else None, convention=chosen,
                                           samples=shown, alpha=layer.get("alpha"), at=(left, _PANEL_TITLE),
-                                          windings=index == 1))
+                                          windings=index == 1, labels=alphas(layer)))
     parts.append("</svg>")
     return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
 

@@ -65,7 +65,10 @@ __all__ = ["write_report", "write_comparison", "link_pages", "page_name", "cause
 CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop: triangles over the pixel grid",
             "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics",
             "alpha error": "alpha minus the oracle's, per pixel (the worst triangle there)",
-            "alpha sum": "sum of the pieces' alphas minus 1, inside the partition (full colour: one level)"}
+            "alpha sum": "sum of the pieces' alphas minus 1, inside the partition (full colour: one level)",
+            "samples": ("crop: what the rasterizer drew (left) beside what the convention says (right), offending pixels "
+                        "outlined; each sample of the pattern in each pixel, a dot where covered, a ring where not, ringed "
+                        "red where the two differ; anti-aliased pixels shaded by their alpha")}
 
 
 def caption(key: str, r: Result) -> str:

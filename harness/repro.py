@@ -214,8 +214,11 @@ def _seen(result: Result | None) -> dict[str, Any]:
 
     out: dict[str, Any] = {"evidence": _clean({k: v for k, v in result.evidence.items()
                                                if k not in ("repro", "repro_path", "traceback")})}
-    if result.drawing is not None and result.drawing.coverages:
-        answer = answer_json(result.drawing.coverages[0])
+    drawing = result.drawing
+    if drawing is not None and drawing.whole is not None:  # one sample's layer: the whole multisample answer
+        drawing = drawing.whole
+    if drawing is not None and drawing.coverages:
+        answer = answer_json(drawing.coverages[0])
         if answer is not None:
             out["answer"] = answer
     return out
