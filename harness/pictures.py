@@ -315,7 +315,9 @@ ALPHA_LEGEND = {"exact (white)": (255, 255, 255), "too much alpha (full red: the
 _DRAWN = "drawn by the rasterizer (crops, and the left picture of a repro; anti-aliased: shaded by its alpha)"
 _CONVENTION = "covered by the convention (the right picture of a repro; anti-aliased: shaded by its alpha)"
 CROP_LEGEND = {_DRAWN: (200, 200, 200), _CONVENTION: (230, 205, 140),
-               "offending pixel (outlined)": (221, 0, 0), "triangle (outlined)": (0, 80, 200)}
+               "offending pixel (outlined)": (221, 0, 0), "triangle (outlined)": (0, 80, 200),
+               "region of a partition (dotted; every pixel wholly inside it must be hit)": (0, 130, 100)}
+_REGION = list(CROP_LEGEND)[-1]
 # multisample and supersampled pictures: each sample of the convention's pattern in each
 # pixel, over CROP_LEGEND's pixels
 SAMPLE_LEGEND = {"sample covered (dot)": (25, 25, 25), "sample not covered (ring)": (140, 140, 140),
@@ -571,13 +573,13 @@ def _svg_window_text(positions: NDArray | PathScene | LineScene, covered: NDArra
                      fills: list[tuple[NDArray, tuple[int, int, int]]] | None = None, hits: NDArray | None = None,
                      samples: Samples | None = None, alpha: NDArray | None = None,
                      at: tuple[float, float] | None = None, windings: bool = True,
-                     labels: dict[tuple[int, int], str] | None = None) -> str:
+                     labels: dict[tuple[int, int], str] | None = None, region: NDArray | None = None) -> str:
     """:func:`svg_window`'s picture as SVG text (placed ``at`` (x, y) screen px in an
     enclosing SVG when given), with two layers more: ``samples`` (:class:`Samples`, drawn
     instead of ``sample``) and ``alpha`` ((rows, cols) float: each pixel filled with
     ``fill`` at that opacity, for anti-aliased coverage); ``windings`` False writes no
     winding numbers (a path scene's); ``labels`` ((x, y) -> text) writes a pixel's alpha
-    in it (SAMPLE_LEGEND)."""
+    in it (SAMPLE_LEGEND); ``region`` ((M, 2) float64) outlines a partition's region."""
     x0, y0, x1, y1 = window
     cols, rows = x1 - x0, y1 - y0
     scale = min(24.0, fit / max(cols, rows, 1))  # screen px per pixel
@@ -612,6 +614,10 @@ def _svg_window_text(positions: NDArray | PathScene | LineScene, covered: NDArra
     elif sample is not None and scale >= 8:
         parts.extend(f'<circle cx="{x0 + i + sample[0]:g}" cy="{y0 + j + sample[1]:g}" r="{1.5 / scale:.4f}" fill="#333"/>'
                      for i in range(cols) for j in range(rows))
+    if region is not None and np.isfinite(region).all():
+        points = " ".join(f"{vx:.9g},{vy:.9g}" for vx, vy in np.clip(region, -1e6, 1e6))
+        parts.append(f'<polygon points="{points}" fill="none" stroke="{_hex(CROP_LEGEND[_REGION])}" stroke-width="2" '
+                     f'stroke-dasharray="2 3" {thin}><title>the region of the partition</title></polygon>')
     if labels and scale >= 10:
         font = min(max(9.0 / scale, 0.22), 0.4)
         parts.extend(f'<text x="{x + 0.5:g}" y="{y + 0.08 + font * 0.75:.4f}" font-size="{font:.3f}" font-family="sans-serif" '
@@ -1587,8 +1593,11 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
             window = window_around(*marks[0], scene.width, scene.height, SAMPLES_SIDE)  # samples drawn large enough to see
             zoom = f"; {SAMPLES_SIDE} px around its first offending pixel, to show the samples"
             marks = [(x, y) for x, y in marks if window[0] <= x < window[2] and window[1] <= y < window[3]]
-        uri = _repro_panels(scene, seen.drawing.coverages[0], oracle, convention, window, marks, numbered, chosen)
+        uri = _repro_panels(scene, seen.drawing.coverages[0], oracle, convention, window, marks, numbered, chosen,
+                            region=case.region)
         triangles += zoom
+        if case.region is not None:
+            triangles += ", the region every pixel inside which they must hit dotted"
         said = f"the convention ({convention.describe()})" if convention is not None and oracle is not None else ""
         where = ("; left: what the rasterizer drew, right: what " + said + " says" if said else
                  "; what the rasterizer drew (" + ("no convention known" if convention is None else "no oracle of its kind")
@@ -1627,7 +1636,7 @@ _PANEL_GAP, _PANEL_TITLE = 16, 20  # screen px between the pictures, and above t
 
 def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, convention: Convention | None,
                   window: tuple[int, int, int, int], marks: list[tuple[int, int]], numbered: int | None = None,
-                  chosen: Convention | None = None, only: list[int] | None = None) -> str:
+                  chosen: Convention | None = None, only: list[int] | None = None, region: NDArray | None = None) -> str:
     """A repro drawn twice side by side as one SVG data URI: on the left the rasterizer's
     ``answer``, on the right the convention's ``oracle`` (left out when None), the same
     window of the same primitives with the same pixels outlined. Anti-aliased coverage
@@ -1637,7 +1646,8 @@ def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, co
     winding numbers (around path ``numbered``, by the ``chosen`` convention) are written
     on the right; a line scene's left picture writes how many segments drew each pixel.
     Given ``only``, the coverage of those primitives alone is drawn (their number in the
-    titles): one triangle's alphas in a scene of overlapping ones, say."""
+    titles): one triangle's alphas in a scene of overlapping ones, say; given a
+    partition's ``region``, it is outlined."""
     x0, y0, x1, y1 = window
     answer = _of(answer, only)
     oracle = None if oracle is None else _of(oracle, only)
@@ -1697,12 +1707,13 @@ def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, co
         if isinstance(positions, LineScene):
             parts.append(_svg_window_text(positions, layer.get("covered"), fill, dot, window, marks, PANEL_FIT,
                                           numbered=number, convention=convention, hits=counts, samples=shown,
-                                          alpha=layer.get("alpha"), at=(left, _PANEL_TITLE), labels=alphas(layer)))
+                                          alpha=layer.get("alpha"), at=(left, _PANEL_TITLE), labels=alphas(layer),
+                                          region=region))
         else:
             parts.append(_svg_window_text(positions, layer.get("covered"), fill, dot, window, marks, PANEL_FIT,
                                           numbered=number if isinstance(positions, PathScene) else None, convention=chosen,
                                           samples=shown, alpha=layer.get("alpha"), at=(left, _PANEL_TITLE),
-                                          windings=index == 1, labels=alphas(layer)))
+                                          windings=index == 1, labels=alphas(layer), region=region))
     parts.append("</svg>")
     return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
 
