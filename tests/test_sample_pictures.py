@@ -6,7 +6,6 @@ alphas of the offending pixels as shares of the samples."""
 import base64
 import xml.etree.ElementTree as ET
 
-import numpy as np
 import pytest
 
 from harness import pictures
