@@ -222,9 +222,23 @@ def _sample_crop(case: Case, drawing: Drawing, result: Result, oracle: Coverage 
     only = _named_primitives(result, scene)
     if only is not None:  # the pixels the failure names of those primitives
         rows = [p for p in result.evidence["pixels"] if isinstance(p, dict) and "x" in p and "y" in p]
-        marks = [(int(p["x"]), int(p["y"])) for p in rows
-                 if set(np.atleast_1d(p.get("triangle", p.get("path", p.get("triangles", p.get("paths", -1))))).tolist()) & set(only)]
+        marks = [(int(p["x"]), int(p["y"])) for p in rows if set(_primitives_of(p)) & set(only)]
     return _repro_panels(scene, drawing.coverages[0], oracle, drawing.convention, crop, marks, numbered, chosen, only)
+
+
+def _primitives_of(row: dict[str, Any]) -> list[int]:
+    """The primitives an evidence row names (``triangle``, ``path``, ``triangles``, ``paths``).
+
+    >>> _primitives_of({"x": 1, "y": 2, "triangles": [3, 4]}), _primitives_of({"path": 2})
+    ([3, 4], [2])
+    """
+    for key in ("triangle", "path", "triangles", "paths"):
+        named = row.get(key)
+        if isinstance(named, list):
+            return [int(v) for v in named if isinstance(v, int)]
+        if isinstance(named, int):
+            return [named]
+    return []
 
 
 def _named_primitives(result: Result, scene: AnyScene) -> list[int] | None:

@@ -249,9 +249,9 @@ def answer_from_json(data: Any) -> Coverage | None:
     if not isinstance(data, dict):
         return None
     try:
+        primitive, y, x0, x1 = (np.asarray(data[k], dtype=np.int64).reshape(-1) for k in ("primitive", "y", "x0", "x1"))
         alpha = data.get("alpha")
-        return Coverage(*(np.asarray(data[k], dtype=np.int64).reshape(-1) for k in ("primitive", "y", "x0", "x1")),
-                        sample=None if data.get("sample") is None else np.asarray(data["sample"], dtype=np.int64),
+        return Coverage(primitive, y, x0, x1, sample=None if data.get("sample") is None else np.asarray(data["sample"], dtype=np.int64),
                         alpha=None if alpha is None else np.asarray(alpha, dtype=np.float64))
     except (KeyError, TypeError, ValueError):
         return None
