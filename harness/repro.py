@@ -116,7 +116,13 @@ def attach_repro(result: Result, case: Case, judge: Judge, rasterizer: Rasterize
                  budget: int = 60, seconds: float = 10.0) -> Result:
     """Shrink the case to a minimal one that still fails the same check and attach it, as
     replayable JSON naming that check, to the result's evidence. The result keeps the
-    whole case's message; the repro file carries the check's own on the shrunk case."""
+    whole case's message; the repro file carries the check's own on the shrunk case, its
+    evidence there (``evidence``) and what the rasterizer drew there (``answer``,
+    :func:`answer_json`: a multisample answer whole), for its picture.
+
+    Watertight's double hits shrink as ``overdraw``; its holes are cut down to the pieces
+    around one of them as ``holes`` (:func:`hole_repro`), the whole case kept when that
+    fails."""
     check = result.check
     start = case  # what is shrunk
     if check == "watertight" and result.metrics.get("double_hits", 0) > 0:
