@@ -170,8 +170,9 @@ def hole_repro(case: Case, result: Result, judge: Judge, tries: int = 4) -> Case
     """A watertight failure's hole cut down to the partition's pieces around it: for one
     of the first holes it blames, the region becomes pixel (x, y) grown by a dyadic margin
     (1/4 px, halved until it lies wholly inside the partition's open region: exact), and
-    the pieces those whose box meets it -- every piece that covers part of it, so their
-    union covers it and its pixel must be hit under any tie rule. Returned when the
+    the pieces those whose box meets it grown by a pixel -- every piece that covers part of
+    it, snapped or not, so their union covers it and its pixel must be hit under any tie
+    rule. Returned when the
     ``holes`` check (:func:`harness.checks.watertight.holes`) fails there; None when no
     blamed hole does (a rasterizer whose pieces' answers depend on each other).
     """
@@ -203,7 +204,7 @@ def hole_repro(case: Case, result: Result, judge: Judge, tries: int = 4) -> Case
                 break
         else:
             continue
-        box_lo, box_hi = square[0], square[2]
+        box_lo, box_hi = square[0] - 1.0, square[2] + 1.0  # a pixel more: snapping moves a vertex by at most half of one
         meets = finite & np.all(lo <= box_hi, axis=1) & np.all(hi >= box_lo, axis=1)
         keep = np.flatnonzero(meets).tolist()
         if not keep or len(keep) == len(case.scene):
