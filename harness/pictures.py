@@ -7,7 +7,18 @@ No colour means two things across the pictures: the heat map is drawn in greys a
 (:data:`HEAT_LEGEND`), the diff against the oracle in green, red, orange and yellow
 (:data:`DIFF_LEGEND`), and the animations use the diff's colours for the same meanings
 (:data:`LEGEND`); the crops and repros have theirs (:data:`CROP_LEGEND`), for path
-scenes :data:`PATH_LEGEND`, and for line scenes :data:`LINE_LEGEND`.
+scenes :data:`PATH_LEGEND`, for line scenes :data:`LINE_LEGEND`, and for the samples of
+multisample and supersampled conventions :data:`SAMPLE_LEGEND`.
+
+A minimal repro whose file keeps the rasterizer's answer on it (:func:`draw_repro`) is
+drawn twice side by side over the same window: what the rasterizer drew, and what the
+convention says, with the pixels its failure names on the repro outlined on both and its
+primitives drawn over both. A multisample or supersampled failure draws each sample of
+the pattern in each pixel, a dot where covered and a ring where not, ringed in red where
+the rasterizer and the convention differ (:class:`Samples`); anti-aliased pixels are
+shaded by their alpha, the offending ones labelled with it (``k/N`` of the samples). A
+crop of a multisample failure judged sample by sample, or of an anti-aliased one, is
+drawn the same way (``samples``).
 
 A path scene's crop draws each path as one SVG ``<path>`` under the scene's fill rule
 (a faint fill where the rule fills it, arrows along the edges, a ring at each contour's
