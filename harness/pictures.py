@@ -1654,7 +1654,7 @@ def _seen_on_repro(result: Result, case: Case, payload: dict[str, Any], conventi
                   {}, evidence, Drawing(case, (answer,), convention))
 
 
-PANEL_FIT = 300  # screen px: the longer side of each of a repro's two pictures
+PANEL_FIT = 400  # screen px: the longer side of each of a repro's two pictures
 SAMPLES_SIDE = 16  # px: a repro with a sample pattern wider than this is drawn around its first offending pixel
 _PANEL_GAP, _PANEL_TITLE = 16, 20  # screen px between the pictures, and above them for their titles
 
