@@ -96,11 +96,27 @@ def _oracles(drawing: Drawing, scenes: list[Any]) -> tuple[Coverage, ...] | None
     return tuple(exact_coverage(scene, drawing.convention) for scene in scenes)
 
 
+def _offending_rows(evidence: dict[str, Any]) -> list[dict[str, Any]]:
+    """The rows of ``evidence["pixels"]`` (dicts with ``x`` and ``y``) that are offending:
+    all but those that say they are within tolerance (``over`` False: accuracy lists its
+    worst pixels, and those of them within tolerance are not wrong); accuracy's
+    ``off_level`` rows when no other is.
+
+    >>> _offending_rows({"pixels": [{"x": 1, "y": 2, "over": True}, {"x": 3, "y": 4, "over": False}]})
+    [{'x': 1, 'y': 2, 'over': True}]
+    """
+    rows = [p for p in evidence.get("pixels") or () if isinstance(p, dict) and "x" in p and "y" in p]
+    wrong = [p for p in rows if p.get("over") is not False]
+    if not wrong and rows:
+        wrong = [p for p in evidence.get("off_level") or () if isinstance(p, dict) and "x" in p and "y" in p]
+    return wrong
+
+
 def _focus(result: Result) -> list[tuple[int, int]]:
     """The offending pixels a failure names, first the most telling."""
     e = result.evidence
     if "pixels" in e and e["pixels"] and isinstance(e["pixels"][0], dict):
-        return [(p["x"], p["y"]) for p in e["pixels"]]
+        return [(int(p["x"]), int(p["y"])) for p in _offending_rows(e)]
     if "blame" in e:
         return [(int(b["pixel"][0]), int(b["pixel"][1])) for b in e["blame"]]
     for key in ("strays", "pixels"):
@@ -232,8 +248,7 @@ def _sample_crop(case: Case, drawing: Drawing, result: Result, oracle: Coverage 
     chosen = _numbering_convention(drawing.convention) if isinstance(scene, PathScene) else None
     only = _named_primitives(result, scene)
     if only is not None:  # the pixels the failure names of those primitives
-        rows = [p for p in result.evidence["pixels"] if isinstance(p, dict) and "x" in p and "y" in p]
-        marks = [(int(p["x"]), int(p["y"])) for p in rows if set(_primitives_of(p)) & set(only)]
+        marks = [(int(p["x"]), int(p["y"])) for p in _offending_rows(result.evidence) if set(_primitives_of(p)) & set(only)]
     return _repro_panels(scene, drawing.coverages[0], oracle, drawing.convention, crop, marks, numbered, chosen, only)
 
 

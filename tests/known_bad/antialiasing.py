@@ -139,7 +139,7 @@ class InclusiveSupersampledTies:
     made inclusive)."""
 
     name = "bad_inclusive_supersampled_ties"
-    convention = Convention(coverage="area", samples=GRID_4X4)
+    convention = Convention(coverage="area", samples=GRID_4X4, levels=17)  # alphas k/16
     interpolates = False
 
     def rasterize(self, scene: Scene) -> Coverage:
