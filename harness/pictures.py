@@ -1637,7 +1637,7 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
                             region=case.region)
         triangles += zoom
         if case.region is not None:
-            triangles += ", the region every pixel inside which they must hit dotted"
+            triangles += " (dotted: the region whose every pixel they must hit)"
         said = f"the convention ({convention.describe()})" if convention is not None and oracle is not None else ""
         where = ("; left: what the rasterizer drew, right: what " + said + " says" if said else
                  "; what the rasterizer drew (" + ("no convention known" if convention is None else "no oracle of its kind")
