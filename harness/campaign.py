@@ -772,7 +772,9 @@ def shrink_finding(spec: str, fingerprint: Any | None, finding: Finding, timeout
 
     The scene is regenerated from ``(family, seed, index)`` and checked again; a failing
     check is shrunk by :func:`harness.repro.attach_repro` (ddmin over the triangles, then
-    coarsening, and the input-format and viewport-edge probes), a crash or exception by
+    coarsening, and the input-format and viewport-edge probes; a partition's hole cut down
+    to the pieces around it, :func:`harness.repro.hole_repro`; the file keeps what the
+    rasterizer drew on the repro, for its picture), a crash or exception by
     ddmin keeping the same signature; a hang or a motion case is kept whole, as is a
     finding that no longer shows (said in ``note``).
     """
@@ -803,8 +805,8 @@ def shrink_finding(spec: str, fingerprint: Any | None, finding: Finding, timeout
         return out
 
     # ddmin over the primitives and coarsening, keeping the signature (a subset that fails
-    # the same check for another cause is no repro of this one); holes and closed meshes
-    # need the whole case
+    # the same check for another cause is no repro of this one); closed meshes need the
+    # whole case, and a partition's hole is cut down to the pieces around it by attach_repro
     shrinks = not registered or any(c.shrinks for c in registered)
     minimal = repro.shrink(case, lambda candidate: bool(same_cause(candidate)), budget=60, seconds=seconds) if shrinks else case
     shown = same_cause(minimal)

@@ -55,7 +55,7 @@ from harness.causes import SIGNATURE, by_cause
 from harness.checks import EVIDENCE_LIMIT, Check, Result, check_names
 from harness.checks import checks as registered_checks
 from harness.files import atomic_write_text, safe_name
-from harness.pictures import (ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, LINE_LEGEND, PATH_LEGEND, draw,
+from harness.pictures import (ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, LINE_LEGEND, PATH_LEGEND, SAMPLE_LEGEND, draw,
                               draw_repro, numbered_path, numbered_segment, svg_pattern)
 
 if TYPE_CHECKING:
@@ -68,7 +68,10 @@ __all__ = ["write_report", "write_comparison", "link_pages", "page_name", "evide
 CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop: triangles over the pixel grid",
             "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics",
             "alpha error": "alpha minus the oracle's, per pixel (the worst triangle there)",
-            "alpha sum": "sum of the pieces' alphas minus 1, inside the partition (full colour: one level)"}
+            "alpha sum": "sum of the pieces' alphas minus 1, inside the partition (full colour: one level)",
+            "samples": ("crop: what the rasterizer drew (left) beside what the convention says (right), offending pixels "
+                        "outlined; each sample of the pattern in each pixel, a dot where covered, a ring where not, ringed "
+                        "red where the two differ; anti-aliased pixels shaded by their alpha")}
 
 
 def caption(key: str, r: Result) -> str:
@@ -377,7 +380,7 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
         html = env.get_template("rasterizer.html").render(
             row=row, meta=meta, heat_legend=HEAT_LEGEND.items(), diff_legend=DIFF_LEGEND.items(), motion_legend=LEGEND.items(),
             crop_legend=CROP_LEGEND.items(), alpha_legend=ALPHA_LEGEND.items(), path_legend=PATH_LEGEND.items(),
-            line_legend=LINE_LEGEND.items())
+            line_legend=LINE_LEGEND.items(), sample_legend=SAMPLE_LEGEND.items())
         atomic_write_text(out_dir / row["page"], html)
     if fingerprints:
         for row in rows:
@@ -860,6 +863,7 @@ def write_campaign_page(out_dir: Path | str, state: CampaignState, *, rasterizer
     html = _environment().get_template("campaign.html").render(
         header=header, run=run, rows=rows, causes=causes, chart=chart, meta=meta, state_dir=str(state.directory),
         crop_legend=CROP_LEGEND.items(), path_legend=PATH_LEGEND.items(), line_legend=LINE_LEGEND.items(),
+        sample_legend=SAMPLE_LEGEND.items(),
         any_paths=any(r["repro"].get("paths") for r in rows), any_lines=any(r["repro"].get("lines") for r in rows),
         resume=f"rastercheck fuzz --rasterizer {shlex.quote(state.spec)} --state {shlex.quote(str(state.directory))} --budget 10m")
     path = out_dir / CAMPAIGN_PAGE

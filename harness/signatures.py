@@ -1690,6 +1690,7 @@ _CLASSIFIERS: dict[str, Callable[[Any, Any, Convention | None], tuple[str, str]]
     "conformance": _conformance,
     "watertight": _watertight,
     "overdraw": _fixed("double-hit"),
+    "holes": _fixed("hole"),
     "hygiene": _hygiene,
     "degenerate": _degenerate,
     "closed": _closed,

@@ -141,10 +141,10 @@ def test_each_failure_draws_its_minimal_repro(report, results):
     repro = next(r for r in results if "repro" in r.evidence)
     n = len(repro.evidence["repro"]["positions"])
     assert figure.group(2).startswith(f"minimal repro: its {n} triangle")
-    assert "the pixels the convention covers" in figure.group(2)
+    assert "left: what the rasterizer drew, right: what the convention" in figure.group(2)
     svg = _decoded(figure.group(1)).decode()
-    assert svg.startswith("<svg") and svg.count("<polygon") == n
-    covered = "#{:02x}{:02x}{:02x}".format(*pictures.CROP_LEGEND["covered by the convention (repros)"])
+    assert svg.startswith("<svg") and svg.count("<polygon") == 2 * n  # the triangles in both pictures
+    covered = "#{:02x}{:02x}{:02x}".format(*pictures.CROP_LEGEND[pictures._CONVENTION])
     assert f'fill="{covered}"' in svg
 
 
