@@ -112,7 +112,7 @@ def test_a_multisample_crop_rings_the_samples_where_the_rasterizer_and_the_conve
 
 def test_a_multisample_repro_is_drawn_with_its_samples(ms_failure: Result) -> None:
     uri, caption = pictures.draw_repro(ms_failure)
-    assert "left: what the rasterizer drew, right: what the convention (4 samples" in caption
+    assert "left: what the rasterizer drew, right: what the convention (D3D11 4x, top-left ties" in caption
     left, right = _panels(uri)
     red = _hex(pictures.SAMPLE_LEGEND[pictures._DIFFERS])
     assert _dots(left, stroke=red) and _dots(left, stroke=red) == _dots(right, stroke=red)
