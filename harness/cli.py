@@ -299,10 +299,15 @@ def _convention_text(r: Any) -> str:
 
 
 def _summary(rasterizers: list[Any], results: list[Any]) -> None:
+    from harness.output import call_failures, call_failures_text
+
+    calls = call_failures(results)
     for r in rasterizers:
         mine = [x for x in results if x.rasterizer == r.name]
         bad = sum(x.status in ("fail", "error") for x in mine)
         print(f"{r.name:<22} {len(mine) - bad}/{len(mine)} pass or skip" + (f", {bad} failing" if bad else ""))
+        if r.name in calls:  # calls that timed out or failed, and which, said whatever else is
+            print(f"{'':<22} calls: {call_failures_text(calls[r.name])}")
 
 
 def _interrupted(args: argparse.Namespace, stopped: Interrupted) -> int:

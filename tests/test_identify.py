@@ -2,6 +2,7 @@
 libraries are installed and are skipped with the install hint elsewhere."""
 
 import functools
+import re
 
 import pytest
 
@@ -467,7 +468,10 @@ def test_identify_isolated_goes_on_past_a_dying_call_and_agrees_with_identify():
     assert isolated.exact and isolated.convention == Convention(), isolated.card()
     assert "NaN: raises RuntimeError: the rasterizer's worker process died (exit code 3)" in isolated.facts["non-finite"]
     plain = _identified("centre_scanline").to_dict()
-    assert {**isolated.to_dict(), "rasterizer": None, "facts": None} == {**plain, "rasterizer": None, "facts": None}
+    # the dying call is named on the card, and is the one difference
+    assert [f["error"] for f in isolated.to_dict()["calls"]["failed"]] == ["RuntimeError: the rasterizer's worker process died (exit code 3)"]
+    assert re.search(r"^1 of [0-9,]+ probe calls failed: #[0-9]+ \(2 triangles on 32 x 32 px: RuntimeError", isolated.facts["calls"]) and plain["calls"]["failed"] == []
+    assert {**isolated.to_dict(), "rasterizer": None, "facts": None, "calls": None} == {**plain, "rasterizer": None, "facts": None, "calls": None}
 
 
 class Sluggish:
