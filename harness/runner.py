@@ -159,8 +159,10 @@ def _qualified(result: Result, rasterizer: Rasterizer, case: Case | MotionCase) 
         exact, residual, what = fingerprint.exact, fingerprint.residual, "convention"
     if exact:
         return result
+    unanswered = getattr(fingerprint, "unanswered", 0)
+    why = (f"; {unanswered} of its fit scenes went unanswered: calls failed" if unanswered and what == "convention" else "")
     return replace(result, message=(f"against the best-guess {what} (declared by nobody; identify's residual "
-                                    f"{residual} px): {result.message}"))
+                                    f"{residual} px{why}): {result.message}"))
 
 
 def run_suite(

@@ -129,6 +129,16 @@ def test_a_call_that_hangs_always_is_a_timeout_after_exactly_one_retry(tmp_path:
     results = run_suite([HangsAlways(tmp_path / "run")], cases=[case], timeout=policy, repros=False, identify=False)
     assert [(r.status, r.message) for r in results] == [("error", "timeout: no answer within 0.3 s, nor within 0.6 s when asked again")]
     assert len(list((tmp_path / "run").iterdir())) == 2
+    # the run JSON, the report and the terminal count the call and name its case
+    from harness.output import call_failures, call_failures_text, results_to_json
+    from harness.report import write_report
+
+    assert results_to_json(results, "custom", 0, {"hangs_always": "top-left"})["call_failures"] == {
+        "hangs_always": {"timed_out": [case.id], "failed": [], "retried": []}}
+    said = call_failures_text(call_failures(results)["hangs_always"])
+    assert said == f"1 call timed out (each asked twice): {case.id}"
+    index = write_report(tmp_path / "report", {"hangs_always": "top-left"}, results, 0).read_text()
+    assert f"calls: {said}" in index
 
 
 class HangsOnQuarters:
