@@ -1,8 +1,9 @@
 """The runner: every rasterizer on every case of a suite, each call isolated.
 
 Each rasterizer runs in a worker process of its own. An exception becomes an ``error``
-result carrying the traceback; a call that outlives the per-case time limit becomes a
-``timeout`` error, the worker is replaced, and the run goes on. Results already computed
+result carrying the traceback; a call cut off by its time limit
+(:class:`harness.isolation.TimeLimit`) is asked again once with a longer one, and one cut
+off twice becomes a ``timeout`` error, the worker is replaced, and the run goes on. Results already computed
 are never lost: ``on_result`` sees each one as soon as it exists.
 """
 
