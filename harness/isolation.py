@@ -32,8 +32,8 @@ import numpy as np
 
 from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene
 
-__all__ = ["Outcome", "TimeLimit", "scene_work", "layer_of", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "samples_of", "samples_seen", "CallTally", "Call", "AnyCall", "PluginError",
-           "kill_all"]
+__all__ = ["Outcome", "layer_of", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call", "AnyCall", "PluginError",
+           "kill_all", "TimeLimit", "scene_work", "samples_of", "samples_seen", "CallTally"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -170,7 +170,8 @@ class CallTally:
         n = len(scene)
         what = f"{n:,} {scene.noun}{'' if n == 1 else 's'} on {scene.width} x {scene.height} px"
         if outcome.coverage is None:
-            (self.timed_out if outcome.timed_out else self.failed).append((self.calls, what, describe(outcome.error, kind=not outcome.timed_out)))
+            error = describe(outcome.error, kind=not outcome.timed_out)
+            (self.timed_out if outcome.timed_out else self.failed).append((self.calls, what, error))
         elif outcome.retried is not None:
             self.retried.append((self.calls, what, outcome.retry_text))
         return outcome
@@ -265,6 +266,7 @@ def _serve(rasterizer: Rasterizer, conn: Any) -> None:  # pragma: no cover - run
                 conn.send(outcome)
             if outcome.coverage is None:
                 break
+
 
 # Samples per pixel an answer of alphas stands for in the work of a call: an exact area
 # costs a pixel about what a few sample tests do, a supersampler as many as its samples.

@@ -141,12 +141,12 @@ def test_a_call_that_hangs_always_is_a_timeout_after_exactly_one_retry(tmp_path:
     assert f"calls: {said}" in index
 
 
-class HangsOnQuarters:
+class HangsOnSixteenths:
     """centre_scanline, declaring no convention, except that it hangs on a scene of 120
-    triangles with a vertex on an odd multiple of 1/4 px: two of identify's four lattice
-    fit scenes."""
+    triangles with a vertex on an odd multiple of 1/16 px: one of identify's four lattice
+    fit scenes (and the other probes' scenes like it)."""
 
-    name = "hangs_on_quarters"
+    name = "hangs_on_sixteenths"
     convention = None
 
     def __init__(self) -> None:
@@ -154,7 +154,7 @@ class HangsOnQuarters:
 
     def rasterize(self, scene):  # type: ignore[no-untyped-def]
         p = scene.positions
-        if len(scene) == 120 and np.any(np.isfinite(p) & (np.mod(p * 4.0, 2.0) == 1.0)):
+        if len(scene) == 120 and np.any(np.isfinite(p) & (np.mod(p * 16.0, 2.0) == 1.0)):
             time.sleep(600)
         return self.inner.rasterize(scene)
 
@@ -163,10 +163,9 @@ def test_identify_leaves_timed_out_probe_calls_out_of_the_fit_and_says_so() -> N
     from harness.identify import identify_isolated
 
     policy = TimeLimit(cap=60.0, base=1.0, rate=0.0, retry=2.0)
-    fingerprint = identify_isolated(HangsOnQuarters(), call_timeout=policy)
+    fingerprint = identify_isolated(HangsOnSixteenths(), call_timeout=policy)
     tally = fingerprint.calls
     assert tally is not None and len(tally.timed_out) >= fingerprint.unanswered >= 1  # fit scenes, and others (the viewport edge)
-    print(fingerprint.card())
     said = fingerprint.facts["calls"]
     assert f"{len(tally.timed_out)} of {tally.calls} probe calls timed out (each asked twice): #" in said, said
     assert "120 triangles on 56 x 56 px: no answer within 1 s, nor within 2 s when asked again" in said, said
@@ -177,3 +176,35 @@ def test_identify_leaves_timed_out_probe_calls_out_of_the_fit_and_says_so() -> N
     assert not fingerprint.exact
     assert "best guess only because calls failed" in fingerprint.card()
     assert fingerprint.to_dict()["calls"]["timed_out"][0]["scene"] == "120 triangles on 56 x 56 px"
+
+
+class HiddenMultisampleHangingOnSixteenths:
+    """The exact 16x multisample oracle, declaring no convention, except that it hangs on the
+    lattice fit scene with a vertex on an odd multiple of 1/16 px (as a slow 16x rasterizer
+    on a busy machine once seemed to)."""
+
+    name = "hidden_16x_hanging"
+    convention = None
+
+    def rasterize(self, scene):  # type: ignore[no-untyped-def]
+        from harness.oracle import exact_coverage
+
+        p = scene.positions
+        if len(scene) == 120 and np.any(np.isfinite(p) & (np.mod(p * 16.0, 2.0) == 1.0)):
+            time.sleep(600)
+        return exact_coverage(scene, Convention(samples=16))
+
+
+def test_identify_of_a_multisample_rasterizer_reports_no_residual_of_drew_nothing() -> None:
+    from harness.identify import identify_isolated
+    from harness.oracle import exact_coverage
+
+    exact_coverage(SMALL, Convention(samples=16))  # compiled here: every worker inherits it
+    policy = TimeLimit(cap=60.0, base=1.0, rate=0.0, retry=2.0)
+    fingerprint = identify_isolated(HiddenMultisampleHangingOnSixteenths(), call_timeout=policy)
+    assert fingerprint.kind == "multisample" and fingerprint.unanswered >= 1, fingerprint.card()
+    # the pattern and its tie rule are fitted on what it answered: the 16x pattern, with no
+    # mismatch (the scenes it never answered counted as drawing nothing would be ~10^5)
+    assert fingerprint.convention == Convention(samples=16) and fingerprint.residual == 0, fingerprint.card()
+    assert not fingerprint.exact and "best guess only because calls failed" in fingerprint.card()
+    assert "probe calls timed out (each asked twice): #" in fingerprint.facts["calls"]
