@@ -12,7 +12,7 @@ import numpy as np
 from harness.case import Case
 from harness.api import Scene
 
-__all__ = ["degenerate_cases"]
+__all__ = ["degenerate_cases", "probe_scenes", "epsilon_scene"]
 
 SIZE = 32
 ULP = np.spacing(10.5)
@@ -24,6 +24,35 @@ _ANCHORS = np.array([[[1.25, 1.25], [9.75, 2.5], [3.5, 9.0]], [[22.0, 22.0], [30
 
 def _scene(*triangles) -> Scene:  # type: ignore[no-untyped-def]
     return Scene(SIZE, SIZE, np.concatenate([_ANCHORS, np.array(triangles, dtype=float).reshape(-1, 3, 2)]))
+
+
+def epsilon_scene(sample: tuple[float, float] = (0.5, 0.5)) -> Scene:
+    """identify's epsilon probe (:func:`harness.probes.epsilon`): 56 tiny triangles (1e-3
+    down to 1e-9 px across, eight of each size) around the sample points at ``sample`` of
+    a row of pixels, the even ones holding their sample strictly inside, the odd ones
+    just to the right of it."""
+    sx, sy = sample
+    triangles = []
+    for k, size in enumerate(np.repeat(10.0 ** -np.arange(3, 10), 8)):
+        x, y = 4.0 + (k % 12) * 4.0 + sx, 4.0 + (k // 12) * 4.0 + sy
+        shift = 0.0 if k % 2 == 0 else 2.0 * size  # odd ones sit just to the right of the sample
+        triangles.append([[x - size + shift, y - size], [x + size + shift, y - size], [x + shift, y + size]])
+    return Scene(56, 32, np.array(triangles))
+
+
+def probe_scenes() -> dict[str, tuple[Scene, bool]]:
+    """The scenes of identify's degenerate probes (:func:`harness.probes.zero_area`,
+    :func:`harness.probes.non_finite`), as the suite holds them: ``degenerate/<name>`` ->
+    (scene, lattice). A collinear triangle and one with two equal vertices; a triangle with
+    a NaN (an infinite) coordinate beside a finite one; the epsilon probe's tiny triangles
+    around pixel centres (:func:`epsilon_scene`)."""
+    nan, inf = np.nan, np.inf
+    finite = [[4.5, 4.5], [20.5, 4.5], [4.5, 20.5]]
+    return {"zero-area/probe": (Scene(SIZE, SIZE, np.array([[[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[8, 8], [8, 8], [20, 14]]],
+                                                          dtype=np.float64)), True),
+            "non-finite/probe-nan": (Scene(SIZE, SIZE, np.array([[[nan, 4], [10, 10], [4, 20]], finite])), False),
+            "non-finite/probe-inf": (Scene(SIZE, SIZE, np.array([[[inf, 4], [10, 10], [4, 20]], finite])), False),
+            "epsilon/probe": (epsilon_scene(), False)}
 
 
 def degenerate_cases(seed: int, full: bool = False) -> list[Case]:
@@ -75,4 +104,7 @@ def degenerate_cases(seed: int, full: bool = False) -> list[Case]:
     nan, inf = np.nan, np.inf
     add("non-finite/mixed", _scene([[nan, 4], [10, 10], [4, 20]], [[4, 4], [inf, 10], [4, 20]], [[4, 4], [10, 10], [4, -inf]],
                                     [[nan, nan], [nan, nan], [nan, nan]], [[12.5, 12.5], [20.5, 12.5], [12.5, 20.5]]))
+    # identify's own probe scenes: run fails where its card says they are drawn wrongly
+    for name, (scene, lattice) in probe_scenes().items():
+        add(name, scene, lattice=lattice)
     return cases

@@ -16,6 +16,13 @@ rule the last part of the id (``.../nonzero``, ``.../evenodd``):
   Neighbours share identical vertex floats and no vertex lies inside another cell's edge
   (no T-junctions); every partition is proven exact (:func:`partition_flaws`) before it
   is used, and its ``region`` is its exact convex outline.
+  ``path-partitions/triangles/<partition>/<rule>`` are the triangle partitions of
+  :func:`cases.partitions.partition_cases` with each triangle its own one-contour path
+  (:func:`triangles_as_paths`): the very scenes ``identify`` sends a rasterizer that takes
+  paths but no triangles when it asks whether it is watertight, so that ``run`` fails
+  where ``identify`` says it is not. Likewise ``paths/triangles/bits-<b>/<rule>`` (the
+  lattice triangles of its viewport-edge probe) and ``path-degenerate/triangles/...``
+  (its zero-area and non-finite probes).
 - ``path-degenerate/<kind>/<detail>/<rule>``: zero-area and retracing contours, figure
   eights, duplicate contours, non-finite vertices, contours of one vertex. Paths 0 and 1
   of each scene are ordinary, so that a rasterizer that mishandles the bad paths cannot
@@ -36,13 +43,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import Delaunay, Voronoi
 
-from harness.api import PathScene
+from cases.partitions import partition_cases
+from harness.api import PathScene, Scene
 from harness.case import Case
 from harness.exact import orientation
 from harness.winding import FILL_RULES
 
 __all__ = ["star", "rectangle", "regular", "is_simple", "polygon_sign", "partition_flaws", "voronoi_cells", "quad_grid",
-           "merged_polygons", "shape_cases", "path_partition_cases", "path_degenerate_cases", "path_cases", "PATH_FAMILIES"]
+           "merged_polygons", "shape_cases", "path_partition_cases", "triangles_as_paths", "triangle_partition_cases",
+           "AS_PATHS", "path_case_id", "triangle_cases_as_paths", "viewport_cases", "VIEWPORT_CASES", "path_degenerate_cases", "path_cases", "PATH_FAMILIES"]
 
 PATH_FAMILIES = ("paths", "path-partitions", "path-degenerate")
 
@@ -409,7 +418,64 @@ def path_partition_cases(seed: int, full: bool = False) -> list[Case]:
     add("polygons-30/float", lambda r: merged_polygons(30, r, False), False, True)
     add("polygons-30/lattice", lambda r: merged_polygons(30, r, True), True, False)
     add("polygons-80/float", lambda r: merged_polygons(80, r, False), False, False)
-    return cases
+    return cases + triangle_partition_cases(seed, full)
+
+
+def triangles_as_paths(scene: Scene, fill_rule: str = "nonzero") -> PathScene:
+    """The triangles of ``scene`` as a path scene: path k is triangle k, one contour of its
+    three vertices in their order, so its coverage names the same primitives. A
+    triangle's winding number is 0 or +-1 everywhere: both rules give it the same pixels.
+
+    >>> tri = Scene(8, 8, [[[1, 1], [7, 1], [1, 7]], [[2, 2], [2, 6], [6, 6]]])
+    >>> paths = triangles_as_paths(tri)
+    >>> len(paths), paths.contour_sizes.tolist(), paths.vertices.shape
+    (2, [3, 3], (6, 2))
+    """
+    n = len(scene)
+    return PathScene(scene.width, scene.height, scene.positions.reshape(-1, 2), np.full(n, 3, dtype=np.int64),
+                     np.arange(n, dtype=np.int64), fill_rule)
+
+
+# the triangle families identify draws through a paths-only rasterizer's paths -> where the
+# path suite holds them (``<path family>/triangles/<rest of the id>/<rule>``)
+AS_PATHS = {"watertight": "path-partitions", "degenerate": "path-degenerate", "lattice": "paths"}
+
+
+def path_case_id(triangle_id: str, fill_rule: str) -> str:
+    """The id the path suite gives triangle case ``triangle_id`` sent as one-contour paths
+    under ``fill_rule`` (:data:`AS_PATHS`).
+
+    >>> path_case_id("watertight/fan-8/centre", "evenodd"), path_case_id("lattice/bits-2", "nonzero")
+    ('path-partitions/triangles/fan-8/centre/evenodd', 'paths/triangles/bits-2/nonzero')
+    """
+    family, rest = triangle_id.split("/", 1)
+    return f"{AS_PATHS[family]}/triangles/{rest}/{fill_rule}"
+
+
+def triangle_cases_as_paths(cases: Sequence[Case], rules: Sequence[str] = FILL_RULES) -> list[Case]:
+    """Triangle ``cases`` with each triangle its own one-contour path, under each of
+    ``rules``, named by :func:`path_case_id`; the same region and lattice."""
+    return [Case(path_case_id(case.id, rule), triangles_as_paths(case.scene, rule), lattice=case.lattice,
+                 region=None if case.region is None else case.region.copy())
+            for case in cases if isinstance(case.scene, Scene) for rule in rules]
+
+
+def viewport_cases(seed: int) -> list[Case]:
+    """The suite's lattice triangles that identify's viewport-edge probe draws
+    (:func:`harness.probes.viewport_edge`): ``lattice/bits-{0,2,4}``, crossing every edge."""
+    from cases.conformance import conformance_cases
+
+    return [c for c in conformance_cases(seed) if c.id in VIEWPORT_CASES]
+
+
+VIEWPORT_CASES = ("lattice/bits-0", "lattice/bits-2", "lattice/bits-4")
+
+
+def triangle_partition_cases(seed: int, full: bool = False) -> list[Case]:
+    """``path-partitions/triangles/<partition>/<rule>``: every triangle partition of the
+    suite (``watertight/<partition>``, :func:`cases.partitions.partition_cases`) with each
+    triangle its own one-contour path, under both rules; the same region and lattice."""
+    return triangle_cases_as_paths(partition_cases(seed, full))
 
 
 # -- the shape catalogue -------------------------------------------------------------------
@@ -539,7 +605,7 @@ def shape_cases(seed: int, full: bool = False) -> list[Case]:
     for k in range(3):
         add(f"random/lattice-{k}", lambda r: _random_paths(r, 4), lattice=True)
         add(f"random/float-{k}", lambda r: _random_paths(r, None))
-    return cases
+    return cases + triangle_cases_as_paths(viewport_cases(seed))  # identify's viewport-edge scenes
 
 
 def _random_paths(rng: np.random.Generator, scale: int | None) -> list[list[Contour]]:
@@ -589,7 +655,10 @@ def path_degenerate_cases(seed: int, full: bool = False) -> list[Case]:
                              [[[12.5, 12.5], [20.5, 12.5], [12.5, 20.5]]]], quick=("nonzero",))
     # a contour of one vertex (on a sample, on a corner) and one of two: nothing
     add("one-vertex/on-sample", [[[[10.5, 10.5]]], [[[16.0, 16.0]]], [[[6.5, 20.5], [26.5, 20.5]]]], lattice=True, quick=("nonzero",))
-    return cases
+    from cases.degenerate import degenerate_cases, probe_scenes  # identify's degenerate probe scenes
+
+    probes = {f"degenerate/{name}" for name in probe_scenes()}
+    return cases + triangle_cases_as_paths([c for c in degenerate_cases(seed) if c.id in probes])
 
 
 def path_cases(seed: int, full: bool = False) -> list[Case]:

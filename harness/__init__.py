@@ -23,7 +23,6 @@ if TYPE_CHECKING:  # imported when first used (the runner and the checks take a 
     from harness.case import Case, MotionCase
     from harness.checks.records import Result, Tolerance
     from harness.isolation import TimeLimit
-    from harness.testing import assert_conforms
 
 # every process that imports rastercheck loads (and may compile) its kernels side by side
 # with others: make numba's on-disk cache safe for that first

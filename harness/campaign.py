@@ -47,6 +47,7 @@ from typing import TYPE_CHECKING, Any
 
 from harness.api import AnyScene, Rasterizer, Scene, convention_for, takes
 from harness.case import Case, MotionCase, case_from_json, case_to_json, save_case
+from harness.causes import CONSEQUENT_CHECKS, attributed
 from harness.checks import Result
 from harness.conventions import Convention
 from harness.files import atomic_write_bytes, atomic_write_text, prepare_folder, safe_name
@@ -704,37 +705,21 @@ def _finding(result: Result, case: Case | MotionCase, loaded: _Loaded, family: s
                    found.convention_part, found.check)
 
 
-# checks of coverage whose failure on a scene that also fails conformance is that failure's
-# consequence: a triangle dropped leaves a hole (watertight), a front-only mesh (closed) and a
-# change under flipped winding (invariance) -- one cause, not four
-CONSEQUENT_CHECKS = frozenset({"watertight", "closed", "invariance", "degenerate", "overdraw", "seams", "triangulation",
-                               "connectivity", "joints", "reversal", "length"})
-# the checks against the exact oracle whose failure names a scene's cause
-ROOT_CHECKS = ("conformance", "accuracy")
-# and of other checks, the failure classes that are coverage's too (hygiene's attribute
-# failures, say, are not)
-CONSEQUENT_CLASSES = frozenset({("hygiene", "outside-primitive")})
-
-
 def attribute_causes(findings: list[Finding]) -> list[Finding]:
-    """One scene's findings, each with its cause: when the scene fails one of
-    :data:`ROOT_CHECKS` (conformance, or accuracy for anti-aliased coverage), the failures
-    of :data:`CONSEQUENT_CHECKS` (and :data:`CONSEQUENT_CLASSES`) on it are counted under
-    that failure's cause (the exact oracle says what is wrong; the others see its effects);
-    any other finding keeps its own signature's cause.
+    """One scene's findings, each with its cause (:func:`harness.causes.attributed`, the
+    rule a run's results are grouped by too): when the scene fails conformance (or accuracy
+    for anti-aliased coverage), the failures of :data:`CONSEQUENT_CHECKS` (watertight,
+    closed, ...) on it are counted under that failure's cause (the exact oracle says what is
+    wrong; the others see its effects); any other finding keeps its own signature's cause.
+    A finding already counted under a cause keeps it.
 
     >>> f = Finding("lattice", 0, 1, "conformance", "fail", "", "", "culling", "culling", "conformance")
     >>> g = Finding("lattice", 0, 1, "watertight", "fail", "", "", "hole", "none", "watertight")
     >>> [x.cause for x in attribute_causes([f, g])]
     ['culling', 'culling']
     """
-    verdict = next((f for f in findings if f.check_name in ROOT_CHECKS and f.status == "fail"), None)
-    root = verdict.signature.cause if verdict is not None else None
-    def consequent(f: Finding) -> bool:
-        return f.check_name in CONSEQUENT_CHECKS or (f.check_name, f.failure_class) in CONSEQUENT_CLASSES
-
-    return [replace(f, cause=root if root is not None and consequent(f) else f.signature.cause) if not f.cause else f
-            for f in findings]
+    counted = attributed([(f.status, f.signature) for f in findings])  # the rule: harness.causes
+    return [replace(f, cause=cause) if not f.cause else f for f, cause in zip(findings, counted)]
 
 
 def _harness_fault(exc: BaseException, family: str, seed: int, index: int) -> Finding:
@@ -782,7 +767,9 @@ def shrink_finding(spec: str, fingerprint: Any | None, finding: Finding, timeout
 
     The scene is regenerated from ``(family, seed, index)`` and checked again; a failing
     check is shrunk by :func:`harness.repro.attach_repro` (ddmin over the triangles, then
-    coarsening, and the input-format and viewport-edge probes), a crash or exception by
+    coarsening, and the input-format and viewport-edge probes; a partition's hole cut down
+    to the pieces around it, :func:`harness.repro.hole_repro`; the file keeps what the
+    rasterizer drew on the repro, for its picture), a crash or exception by
     ddmin keeping the same signature; a hang or a motion case is kept whole, as is a
     finding that no longer shows (said in ``note``).
     """
@@ -813,8 +800,8 @@ def shrink_finding(spec: str, fingerprint: Any | None, finding: Finding, timeout
         return out
 
     # ddmin over the primitives and coarsening, keeping the signature (a subset that fails
-    # the same check for another cause is no repro of this one); holes and closed meshes
-    # need the whole case
+    # the same check for another cause is no repro of this one); closed meshes need the
+    # whole case, and a partition's hole is cut down to the pieces around it by attach_repro
     shrinks = not registered or any(c.shrinks for c in registered)
     minimal = repro.shrink(case, lambda candidate: bool(same_cause(candidate)), budget=60, seconds=seconds) if shrinks else case
     shown = same_cause(minimal)

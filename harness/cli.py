@@ -313,6 +313,39 @@ def _summary(rasterizers: list[Any], results: list[Any]) -> None:
             print(f"{'':<22} calls: {call_failures_text(calls[r.name])}")
 
 
+SIGNATURES_SHOWN = 3  # signatures named per cause in the terminal; the rest are counted
+
+
+def _failures(results: list[Any], out: Path, shown: int) -> None:
+    """The failing results by cause (:func:`harness.causes.by_cause`, as the report and the
+    campaign page group them), the largest first: per cause its rasterizer, count and
+    checks, its signatures' words with their counts and a minimal repro (the file ``run``
+    wrote; a case without one is named); ``shown`` causes at most, the rest counted and
+    sent to the report. Nothing when nothing fails."""
+    from harness.causes import by_cause
+
+    groups = by_cause(results)
+    if not groups:
+        return
+    failing = sum(g.count for g in groups)
+    print(f"{failing} failing result{'' if failing == 1 else 's'} in {len(groups)} cause{'' if len(groups) == 1 else 's'}, "
+          "most first:")
+    for group in groups[:shown]:
+        print(f"  {group.rasterizer}: {group.cause} -- {group.count} failing, seen by {', '.join(group.checks)}")
+        for found in group.signatures[:SIGNATURES_SHOWN]:
+            print(f"    {found.count:>4} {found.status} {found.describe()}")
+        if len(group.signatures) > SIGNATURES_SHOWN:
+            unnamed = group.signatures[SIGNATURES_SHOWN:]
+            print(f"         ... {len(unnamed)} more signature{'' if len(unnamed) == 1 else 's'} "
+                  f"({sum(g.count for g in unnamed)} failing)")
+        repro = group.repro_path()
+        print(f"    repro: {out / repro}" if repro is not None else f"    case: {group.results[0].case} (no minimal repro)")
+    if len(groups) > shown:
+        rest = groups[shown:]
+        print(f"  ... {len(rest)} more cause{'' if len(rest) == 1 else 's'} ({sum(g.count for g in rest)} failing) "
+              f"in {out / 'index.html'}")
+
+
 def _interrupted(args: argparse.Namespace, stopped: Interrupted) -> int:
     """Ctrl-C: the partial report and JSON of what finished, one line, exit 130."""
     rasterizers, results, seconds, fingerprints = stopped.partial
@@ -332,6 +365,7 @@ def _run(args: argparse.Namespace) -> int:
     _summary(rasterizers, results)
     _refusals(results)
     _write_outputs(args, rasterizers, results, seconds, fingerprints)
+    _failures(results, Path(args.out), args.causes)
     return 1 if any(x.status in ("fail", "error") for x in results) else 0
 
 
@@ -493,39 +527,50 @@ def _compare(args: argparse.Namespace) -> int:
 def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: float) -> tuple[str, bool]:
     """What identify says of a declared convention: (the words, contradicted?).
 
-    Confirmed when identify finds exactly the declared convention; contradicted when the
-    rasterizer fails conformance to its own declared convention on the lattice and float
-    cases (and the line cases, for a line drawer) (measured directly, so that a convention outside identify's candidates is judged
-    fairly); otherwise consistent but not pinned down."""
-    from cases.lines import line_cases
-    from cases.suites import conformance_cases
+    Contradicted when any check of its coverage kind (:data:`harness.identify.VERDICT_CHECKS`:
+    conformance for one sample, conformance sample by sample for multisample, accuracy,
+    seams and popping for area coverage) fails against the declaration on identify's probe
+    scenes and the suite's scenes of those checks (:func:`harness.identify.verdict_cases`),
+    measured directly, so that a convention outside identify's candidates is judged fairly:
+    the words name each failing check. Otherwise confirmed when identify found exactly the
+    declared convention, else consistent but not pinned down. A single-sample declaration
+    identified exactly is confirmed without more (its conformance on the probes is the
+    residual, 0)."""
     from harness.api import scene_kinds_of
+    from harness.identify import VERDICT_CHECKS, verdict_cases
     from harness.runner import run_suite
 
     declared = rasterizer.convention
-    if declared == fingerprint.convention and fingerprint.exact:
+    kind = declared.kind
+    same = declared == fingerprint.convention and fingerprint.exact
+    if same and kind == "single":
         return "confirmed", False
-    kinds = scene_kinds_of(rasterizer)
-    # the lattice and float triangles, and the line segments of a line drawer (each handed
-    # only the kinds it takes)
-    cases = (conformance_cases(seed) if "triangles" in kinds else []) + \
-        ([c for c in line_cases(seed) if c.family == "lines"] if "lines" in kinds else [])
-    failing = [r for r in run_suite([rasterizer], cases=cases, only={"conformance"}, repros=False, identify=False,
-                                    timeout=timeout) if r.status in ("fail", "error")]
+    cases = verdict_cases(fingerprint, seed, scene_kinds_of(rasterizer), kind)
+    names = VERDICT_CHECKS[kind]
+    results = run_suite([rasterizer], cases=cases, only=set(names), repros=False, identify=False, timeout=timeout)
+    failing = [r for r in results if r.status in ("fail", "error") and r.check in (*names, "run")]
     if failing:
-        pixels = sum(int(r.metrics.get("missing", 0) + r.metrics.get("extra", 0)) for r in failing)
-        return (f"NOT what it does: {len(failing)} of {len(cases)} conformance cases fail against it "
-                f"({pixels} pixels), e.g. {failing[0].case}: {failing[0].message}"), True
+        judged = {check: len({r.case for r in results if r.check == check}) for check in (*names, "run")}
+        counts = [f"{check} fails on {sum(r.check == check for r in failing)} of {judged[check]} cases"
+                  for check in (*names, "run") if any(r.check == check for r in failing)]
+        said = "; ".join(counts)
+        if kind == "single":
+            pixels = sum(int(r.metrics.get("missing", 0) + r.metrics.get("extra", 0)) for r in failing)
+            said = f"{len(failing)} of {len(cases)} conformance cases fail against it ({pixels} pixels)"
+        return f"NOT what it does: {said}, e.g. {failing[0].case}: {failing[0].message}", True
+    checked = " and ".join(names) + (" pass" if len(names) > 1 else " passes") + f" against it on {len(cases)} cases"
+    if same:
+        return f"confirmed ({checked})", False
     if declared == fingerprint.convention:
-        return "consistent (conformance passes; identify could not tell it from " + (
+        return f"consistent ({checked}; identify could not tell it from " + (
             " and ".join(fingerprint.ambiguous) or "the runner-up") + ")", False
-    return (f"consistent: conformance passes against it on {len(cases)} cases, though identify's best fit is "
-            f"{fingerprint.convention.describe()}"), False
+    return f"consistent: {checked}, though identify's best fit is {fingerprint.convention.describe()}", False
 
 
 def _identify(args: argparse.Namespace) -> int:
     """The fingerprint card; exit 1 when the rasterizer's declared convention is
-    contradicted, 2 when it cannot be loaded; ``--json`` writes the fingerprint."""
+    contradicted or a probe saw a defect the suite's checks fail on too (each with its
+    evidence on the card), 2 when it cannot be loaded; ``--json`` writes the fingerprint."""
     from harness.api import scene_kinds_of
     from harness.files import atomic_write_text, prepare_file
     from harness.identify import identify_isolated
@@ -554,6 +599,11 @@ def _identify(args: argparse.Namespace) -> int:
     contradicted = False
     if declared is not None:
         words, contradicted = _declared_verdict(rasterizer, fingerprint, args.seed, args.timeout)
+        defects = fingerprint.defects
+        if defects:  # the suite fails on these very scenes: identify says so as run does
+            words += "; but " + "; ".join(f"{label} fails on {len(found)} of its scenes (evidence above)"
+                                          for label, found in defects.items())
+            contradicted = True
         print(f"declared     {words_of(declared)} ({words})")
         payload.update(verdict=words, contradicted=contradicted)
     if args.json:
@@ -1014,6 +1064,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     run = sub.add_parser("run", help="run the suite and write the HTML report")
     _selection(run)
+    run.add_argument("--causes", type=_non_negative_int, default=8, metavar="N",
+                     help="failure causes named in the terminal, the largest first (default 8; the report has all)")
     run.set_defaults(func=_run)
     gate = sub.add_parser("gate", help="fail only on regressions against a baseline (for CI)")
     _selection(gate)

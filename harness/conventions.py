@@ -355,7 +355,9 @@ class Convention:
     >>> Convention(sample=(1, 1), tie="bottom-right").describe()
     'sample (1, 1), bottom-right ties, no snapping, no culling'
     >>> Convention(samples=4).describe()
-    '4 samples (standard pattern), top-left ties, no snapping, no culling'
+    'D3D11 4x, top-left ties, no snapping, no culling'
+    >>> Convention(coverage="area", samples=[((i + 0.5) / 4, (j + 0.5) / 4) for j in range(4) for i in range(4)], levels=17).describe()
+    'area coverage, 17 levels, within 0.0312 of the share of the samples covered (4x4 grid at (1/8 + k/4)), top-left ties, no snapping, no culling'
     >>> Convention(coverage="area", subpixel_bits=8).describe()
     'area coverage, 256 levels, within 0.00196 of the exact area, snapped to 1/256 px (8 bits), no culling'
     >>> Convention(tie="top-middle")
@@ -529,20 +531,19 @@ class Convention:
                 + {"nearest-even": ")", "half-away": ", half away from zero)", "floor": ", rounding down)"}[self.snap_rounding])
 
     def describe(self) -> str:
-        """One line for people: sample point, ties, snapping, culling."""
+        """One line for people: sample point, ties, snapping, culling; a sample pattern in a
+        few words (:func:`harness.samples.describe_pattern`)."""
         sx, sy = (f"{v:g}" for v in self.sample)
         snapping = self._snapping_words()
         culling = "no culling" if self.cull == "none" else f"culls {self.cull}"
         tie = self._tie_words()
         where = ""
         if self.samples is not None:
-            from harness.samples import STANDARD_PATTERNS
+            from harness.samples import describe_pattern
 
-            standard = STANDARD_PATTERNS.get(len(self.samples)) == self.samples
-            where = f"{len(self.samples)} samples (" + ("standard pattern" if standard else
-                                                        "pattern " + " ".join(f"({x:g}, {y:g})" for x, y in self.samples)) + ")"
+            where = describe_pattern(self.samples)  # never the offsets one by one: the JSON keeps them
         if self.kind == "area":
-            what = "the exact area" if self.samples is None else f"the share of {where} covered, {tie}"
+            what = "the exact area" if self.samples is None else f"the share of the samples covered ({where}), {tie}"
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
         if self.samples is not None:
             return f"{where}, {tie}, {snapping}, {culling}"

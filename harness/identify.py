@@ -38,6 +38,16 @@ a line to a rasterizer that does not list lines.
 
 It prints a convention card and the :class:`Convention` that best explains the rasterizer
 with the residual mismatch; it says "identified" only when the residual is zero.
+
+identify and ``run`` agree: the probes that can see a defect (watertight, the viewport
+edge, zero-area, non-finite and tiny triangles) draw the suite's own cases for the
+rasterizer's scene kind (a paths-only filler's: the same triangles as one-contour paths,
+:func:`cases.paths.triangle_cases_as_paths`), and each case on which a probe saw a defect
+is judged as ``run`` judges it (:func:`harness.probes.suite_defects`): a
+:class:`~harness.probes.Defect` with the check's evidence and a minimal repro
+(:attr:`Fingerprint.defects`, on the card, in ``--json`` and on the fingerprint page). A
+declared convention is judged by the checks of its coverage kind (:data:`VERDICT_CHECKS`)
+on the probe scenes (:func:`verdict_cases`) before it is called confirmed or consistent.
 """
 
 from __future__ import annotations
@@ -45,21 +55,36 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Union
 
 from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, fill_rules_of, interpolates_of, received_of, scene_kinds_of
 from harness.conventions import Convention, CoverageKind, LineRule
 from harness.coverage_probes import CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions
 from harness.isolation import Call, CallTally, InProcess, Outcome, TimeLimit, Worker
-from harness.probes import (Fact, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, unanswered, viewport_edge,
-                            watertight_partitions, zero_area)
+from harness.probes import (EPSILON_CASE, NON_FINITE_CASES, REPROS, ZERO_AREA_CASE, Defect, Epsilon, Fact, NonFinite,
+                            ViewportEdge, Watertight, ZeroArea, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, suite_defects, unanswered,
+                            viewport_edge, watertight_partitions, zero_area)
 from harness.samples import STANDARD_PATTERNS
 
 if TYPE_CHECKING:  # the path and line probes are imported when a rasterizer taking those is identified
+    from harness.case import Case, MotionCase
     from harness.line_probes import LineFit
     from harness.path_probes import PathFit
 
-__all__ = ["Fingerprint", "identify", "identify_isolated", "identify_all", "Identified"]
+__all__ = ["Fingerprint", "identify", "identify_isolated", "identify_all", "Identified", "VERDICT_CHECKS", "verdict_cases",
+           "repro_size"]
+
+# scenes with a defect shown on the card (--json and the fingerprint page have them all)
+CARD_DEFECTS = 3
+
+# The checks that judge a declared convention of each coverage kind, run on identify's own
+# probe scenes (and the suite's scenes those checks need: partitions for seams, sub-pixel
+# motion for popping) before identify calls a declaration confirmed or consistent.
+VERDICT_CHECKS: dict[CoverageKind, tuple[str, ...]] = {
+    "single": ("conformance",),
+    "multisample": ("conformance",),  # judged sample by sample
+    "area": ("accuracy", "seams", "popping"),
+}
 
 
 @dataclass
@@ -131,6 +156,12 @@ class Fingerprint:
         return (self.residual == 0 and not (self.runner_up is not None and self.runner_up[1] == 0)
                 and not self.ambiguous and not self.unanswered)
 
+    @property
+    def defects(self) -> dict[str, tuple[Defect, ...]]:
+        """Probe label -> the scenes on which it saw a defect (:class:`harness.probes.Defect`:
+        the suite's case, the check, the evidence, a minimal repro); empty when none did."""
+        return {label: tuple(found) for label, fact in self.probes.items() if (found := getattr(fact, "defects", ()))}
+
     def to_dict(self) -> dict[str, Any]:
         """Plain data for JSON and the report."""
         out: dict[str, Any] = {
@@ -164,6 +195,8 @@ class Fingerprint:
                            "differences": list(fit.differences) if fit is not None else [],
                            "genuine_paths": None if fit is None or fit.lattice is None else
                            [{"fill_rule": r, "mismatches": m, "pixels": px} for r, m, px in fit.lattice.scores]})
+        if self.defects:  # each defect's scenes, evidence and minimal repro (added field)
+            out["defects"] = {label: [d.to_dict() for d in found] for label, found in self.defects.items()}
         if self.line_fit is not None:  # a line-taking rasterizer's (added fields)
             out.update(line_rule=None if self.line_rule is None else self.line_rule.describe(),
                        line_convention=_line_convention_dict(self.line_fit))
@@ -172,7 +205,7 @@ class Fingerprint:
     def card(self) -> str:
         lines = [f"rasterizer   {self.rasterizer}",
                  f"convention   {self.convention.describe_lines() if self.lines_only else self.convention.describe()}",
-                 f"             {self.convention!r}",
+                 f"             {_compact_repr(self.convention)}",
                  f"residual     {self.residual} mismatching pixels of {self.pixels}"
                  + ("  (identified exactly)" if self.exact
                     else f"  (best guess only because calls failed: {self.unanswered} fit scene"
@@ -186,7 +219,36 @@ class Fingerprint:
                          + ("line probes)" if self.lines_only else "tie scenes)"))
         for k, v in self.facts.items():
             lines.append(f"{k:<12} {v}")
+        every = [(label, d) for label, found in self.defects.items() for d in found]
+        for label, d in every[:CARD_DEFECTS]:
+            repro = d.repro
+            shrunk = "" if repro is None else (
+                f"; minimal repro: {repro_size(repro)} of {repro.get('original_triangles')} primitives, in --json")
+            lines.append(f"{'evidence':<12} {label}: {d.case}: {d.message} "
+                         f"(in the suite: rastercheck run --case '{d.case}' fails {d.check}{shrunk})")
+        if len(every) > CARD_DEFECTS:
+            lines.append(f"{'':<12} ... {len(every) - CARD_DEFECTS} more scenes with a defect, each with its evidence, "
+                         "in --json and on the fingerprint page (rastercheck run)")
         return "\n".join(lines)
+
+
+def repro_size(payload: dict[str, Any]) -> int:
+    """The primitives of a repro's case JSON (triangles, paths or line strips)."""
+    return len(payload.get("positions") or payload.get("paths") or payload.get("lines") or [])
+
+
+def _compact_repr(convention: Convention) -> str:
+    """The card's ``Convention(...)`` line with a sample pattern in a few words (the JSON
+    keeps its offsets): ``samples=4`` for a standard one (as it is declared), else its
+    description (:func:`harness.samples.describe_pattern`) in angle brackets."""
+    samples = convention.samples
+    if samples is None:
+        return repr(convention)
+    from harness.samples import describe_pattern
+
+    said = repr(samples) if len(samples) <= 2 else \
+        str(len(samples)) if STANDARD_PATTERNS.get(len(samples)) == samples else f"<{describe_pattern(samples)}>"
+    return repr(convention).replace(f"samples={samples!r}", f"samples={said}")
 
 
 def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) -> Fingerprint:
@@ -220,8 +282,25 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
     return fingerprint
 
 
-def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Scene], Scene] | None) -> Fingerprint:
-    """:func:`identify` on triangles (``call`` takes triangle scenes)."""
+# The suite's cases for a rasterizer's scene kind of the triangle cases a probe drew, and the
+# call that draws them (a paths-only rasterizer's: the same triangles as paths).
+SuiteView = Callable[[list["Case"]], tuple[list["Case"], Call]]
+
+
+def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Scene], Scene] | None,
+                        suite: SuiteView | None = None) -> Fingerprint:
+    """:func:`identify` on triangles (``call`` takes triangle scenes). Where a probe saw a
+    defect (not watertight, the viewport edge, zero-area or non-finite triangles drawn),
+    the suite's cases it drew are judged as ``run`` judges them, each failure kept as
+    evidence with a minimal repro (:func:`harness.probes.suite_defects`); ``suite`` gives
+    those cases for the rasterizer's scene kind (the triangle cases themselves unless given)."""
+    from cases.degenerate import degenerate_cases
+    from cases.partitions import partition_cases
+    from cases.paths import viewport_cases
+
+    def view(cases: list[Case]) -> tuple[list[Case], Call]:
+        return (cases, call) if suite is None else suite(cases)
+
     kind = coverage_kind(call)
     if kind.kind in ("area", "multisample"):
         return _identify_coverage(name, call, seed, kind)
@@ -240,15 +319,42 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
         "epsilon": epsilon(call, convention, received),
         "zero area": zero_area(call),
         "non-finite": non_finite(call),
-        "watertight": watertight_partitions(call, seed),
+        "watertight": _watertight_of(view(partition_cases(seed)), seed, convention, name),
         "snapping": snapping,
         "vertex sweep": ties.vertex.judged(snapping.bits, snapping.rounding),
         "unanswered": unanswered(drawn),
     }
+    # the suite's cases behind each defect seen, judged as run judges them
+    degenerate = {c.id: c for c in degenerate_cases(seed)}
+    edge, flat, nan, tiny = probes["viewport edge"], probes["zero area"], probes["non-finite"], probes["epsilon"]
+    if isinstance(tiny, Epsilon) and tiny.wrong:
+        # the suite holds the probe's scene at pixel centres: judged there against the convention fitted
+        probes["epsilon"] = replace(tiny, defects=suite_defects(*_swap(view([degenerate[EPSILON_CASE]])), {"conformance"},
+                                                                 convention, name))
+    if isinstance(edge, ViewportEdge) and edge.changed:
+        probes["viewport edge"] = replace(edge, defects=suite_defects(*_swap(view(viewport_cases(seed))), {"conformance"},
+                                                                       convention, name))
+    if isinstance(flat, ZeroArea) and flat.pixels:
+        probes["zero area"] = replace(flat, defects=suite_defects(*_swap(view([degenerate[ZERO_AREA_CASE]])), {"conformance"},
+                                                                   convention, name))
+    if isinstance(nan, NonFinite) and nan.wrong:
+        probes["non-finite"] = replace(nan, defects=suite_defects(
+            *_swap(view([degenerate[c] for c in NON_FINITE_CASES.values()])), {"conformance"}, convention, name))
     found = {label: fact for label, fact in probes.items() if fact is not None}
     return Fingerprint(name, convention, residual, sum(d.pixels for d in drawn),
                        (ties.runner_up.describe(), ties.runner_up_mismatches), {k: f.text for k, f in found.items()},
                        snapping.ambiguous, found, unanswered=len({id(d) for d in drawn if d.coverage is None}))
+
+
+def _swap(view: tuple[list[Case], Call]) -> tuple[Call, list[Case]]:
+    """(cases, call) as (call, cases), the order the probes take them in."""
+    return view[1], view[0]
+
+
+def _watertight_of(view: tuple[list[Case], Call], seed: int, convention: Convention, name: str) -> Watertight:
+    """The watertight probe on the suite's partitions for the rasterizer's scene kind."""
+    cases, call = view
+    return watertight_partitions(call, seed, cases, convention, name)
 
 
 def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprint:
@@ -269,7 +375,14 @@ def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprin
             path = fit_path_convention(call, seed, rule, fingerprint.convention)
     else:
         # it takes paths only: every triangle probe goes through one-contour paths
-        fingerprint = _identify_triangles(rasterizer.name, as_paths(call, rule), seed, _received_as_triangles(received, rule))
+        from cases.paths import triangle_cases_as_paths
+
+        def as_suite(cases: list[Case]) -> tuple[list[Case], Call]:
+            # the path suite's own cases of these triangles, under the rule fitted
+            return triangle_cases_as_paths(cases, (rule,)), call
+
+        fingerprint = _identify_triangles(rasterizer.name, as_paths(call, rule), seed, _received_as_triangles(received, rule),
+                                          as_suite)
         path = None
         if fingerprint.kind == "single":
             path = path_fit_of(fingerprint.convention, fingerprint.residual, fingerprint.pixels, fingerprint.runner_up,
@@ -402,9 +515,15 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
         if pattern.vertex is not None:
             probes["vertex sweep"] = pattern.vertex
             lines["vertex sweep"] = pattern.vertex.text + " (sample 0)"
-        tight = [watertight_partitions(layered(call, s), seed) for s in range(n)]
+        # sample by sample, as the suite's watertight check judges a multisample answer
+        at = [pattern.convention.at_sample(s) if pattern.convention is not None else None for s in range(n)]
+        tight: list[Watertight] = []
+        for s in range(n):  # repros for the first leaking sample only: the others leak on the same scenes
+            leaked = any(w.defects for w in tight)
+            tight.append(watertight_partitions(layered(call, s), seed, convention=at[s], name=name,
+                                               repros=0 if leaked else REPROS))
         probes |= {f"watertight {s}": w for s, w in enumerate(tight)}
-        leaky = [f"sample {s}: {w.text}" for s, w in enumerate(tight) if w.holes or w.doubles or w.unanswered]
+        leaky = [f"sample {s}: {w.text}" for s, w in enumerate(tight) if w.holes or w.doubles or w.strays or w.unanswered]
         if tight:
             lines["watertight"] = "; ".join(leaky) if leaky else f"every sample: {tight[0].text}"
         if pattern.convention is None:
@@ -418,6 +537,45 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
               "calls": f"{call.calls + 1} rasterizer calls"}  # and the one that read the kind
     return Fingerprint(name, convention, residual, pixels, runner_up, lines, (), probes, kind=kind.kind or "single",
                        unanswered=unanswered)
+
+
+def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, ...],
+                  kind: CoverageKind) -> list[Union[Case, MotionCase]]:
+    """The scenes a declared convention of coverage ``kind`` is judged on before identify
+    calls it confirmed or consistent (:data:`VERDICT_CHECKS`): the probe scenes identify
+    drew for that kind (the alpha sweeps, the multisample pattern's scenes) as cases
+    ``identify/<probe>/<k>``, then the suite's lattice and float triangles, its planar
+    partitions (seams; per-sample watertight scenes) and, for area coverage, its sub-pixel
+    translations (popping); for a line drawer its line segments, for a path filler its
+    path shapes. Each rasterizer is handed only the kinds it takes."""
+    from cases.lines import line_cases
+    from cases.motion import motion_cases
+    from cases.partitions import partition_cases
+    from cases.paths import path_cases
+    from cases.suites import conformance_cases
+    from harness.case import Case
+
+    cases: list[Case | MotionCase] = []
+    drawn: dict[str, tuple[Any, ...]] = {}
+    sweeps, pattern = fingerprint.probes.get("sweeps"), fingerprint.probes.get("pattern")
+    if kind == "area" and sweeps is not None:
+        drawn["sweeps"] = tuple(getattr(sweeps, "drawn", ()))
+    if kind == "multisample" and pattern is not None:
+        drawn["pattern"] = tuple(d for group in getattr(pattern, "drawn", ()) for d in group)
+    for probe, scenes in drawn.items():
+        cases += [Case(f"identify/{probe}/{k}", d.scene) for k, d in enumerate(scenes) if isinstance(d.scene, Scene)]
+    if "triangles" in scene_kinds:
+        cases += conformance_cases(seed)
+        if kind != "single":
+            cases += partition_cases(seed)
+        if kind == "area":
+            # the plain geometries' sixteenth-pixel translations (no texture, no projected mesh)
+            cases += [m for m in motion_cases(seed) if m.id.endswith("-1/16") and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
+    if "paths" in scene_kinds and kind == "single":
+        cases += [c for c in path_cases(seed) if c.family == "paths"]
+    if "lines" in scene_kinds and kind == "single":
+        cases += [c for c in line_cases(seed) if c.family == "lines"]
+    return cases
 
 
 def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0,

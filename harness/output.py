@@ -32,7 +32,7 @@ JSON schema 1::
          "status": "pass" | "fail" | "error" | "skip",
          "message": str,
          "metrics": {str: number},          # totals; "seconds" is the rasterize time
-         "evidence": {str: ...}}            # pixels, blame, series, repro
+         "evidence": {str: ...}}            # pixels, blame, series, repro; a failing or erroring one its "signature" (harness.causes)
       ]
     }
 

@@ -7,7 +7,18 @@ No colour means two things across the pictures: the heat map is drawn in greys a
 (:data:`HEAT_LEGEND`), the diff against the oracle in green, red, orange and yellow
 (:data:`DIFF_LEGEND`), and the animations use the diff's colours for the same meanings
 (:data:`LEGEND`); the crops and repros have theirs (:data:`CROP_LEGEND`), for path
-scenes :data:`PATH_LEGEND`, and for line scenes :data:`LINE_LEGEND`.
+scenes :data:`PATH_LEGEND`, for line scenes :data:`LINE_LEGEND`, and for the samples of
+multisample and supersampled conventions :data:`SAMPLE_LEGEND`.
+
+A minimal repro whose file keeps the rasterizer's answer on it (:func:`draw_repro`) is
+drawn twice side by side over the same window: what the rasterizer drew, and what the
+convention says, with the pixels its failure names on the repro outlined on both and its
+primitives drawn over both. A multisample or supersampled failure draws each sample of
+the pattern in each pixel, a dot where covered and a ring where not, ringed in red where
+the rasterizer and the convention differ (:class:`Samples`); anti-aliased pixels are
+shaded by their alpha, the offending ones labelled with it (``k/N`` of the samples). A
+crop of a multisample failure judged sample by sample, or of an anti-aliased one, is
+drawn the same way (``samples``).
 
 A path scene's crop draws each path as one SVG ``<path>`` under the scene's fill rule
 (a faint fill where the rule fills it, arrows along the edges, a ring at each contour's
@@ -38,13 +49,14 @@ import base64
 import io
 import math
 import textwrap
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from PIL import Image
 
-from harness.api import Coverage, LineScene, PathScene
+from harness.api import AnyScene, Coverage, LineScene, PathScene
 from harness.case import Case, MotionCase, case_from_json
 from harness.checks import EVIDENCE_LIMIT, Result, deviations, pixel_classes
 from harness.checks.records import Drawing
@@ -56,13 +68,15 @@ __all__ = ["draw", "draw_repro", "motion_animation", "heatmap", "oracle_diff", "
            "series_label", "window_around", "svg_pattern", "LEGEND", "HEAT_LEGEND", "DIFF_LEGEND", "CROP_LEGEND", "ALPHA_LEGEND", "alpha_map", "MAX_REPRO_TRIANGLES",
            "MAX_REPRO_SIDE", "PATH_LEGEND", "winding_numbers", "rule_fills", "focus_path", "numbered_path", "MAX_NUMBERED_SIDE",
            "MAX_DRAWN_VERTICES", "LINE_LEGEND", "line_focus", "focus_segment", "numbered_segment",
-           "LINE_CROP_SIDE"]
+           "LINE_CROP_SIDE", "SAMPLE_LEGEND", "Samples", "sample_hits"]
 
 
 def draw(result: Result) -> dict[str, str]:
     """The pictures of a failure, caption key -> data URI, in the order the report shows
     them: ``heatmap``, ``diff`` (given a convention) and ``crop`` for a still case;
-    ``animation`` and, when the evidence has a series, ``plot`` for a motion case. Nothing
+    ``animation`` and, when the evidence has a series, ``plot`` for a motion case
+    (and ``samples`` after them for a multisample answer judged sample by sample; area
+    coverage: ``alpha error``, ``alpha sum`` and ``samples``). Nothing
     for a result without a drawing (a pass, an error, one read back from JSON)."""
     drawing = result.drawing
     if drawing is None:
@@ -82,11 +96,27 @@ def _oracles(drawing: Drawing, scenes: list[Any]) -> tuple[Coverage, ...] | None
     return tuple(exact_coverage(scene, drawing.convention) for scene in scenes)
 
 
+def _offending_rows(evidence: dict[str, Any]) -> list[dict[str, Any]]:
+    """The rows of ``evidence["pixels"]`` (dicts with ``x`` and ``y``) that are offending:
+    all but those that say they are within tolerance (``over`` False: accuracy lists its
+    worst pixels, and those of them within tolerance are not wrong); accuracy's
+    ``off_level`` rows when no other is.
+
+    >>> _offending_rows({"pixels": [{"x": 1, "y": 2, "over": True}, {"x": 3, "y": 4, "over": False}]})
+    [{'x': 1, 'y': 2, 'over': True}]
+    """
+    rows = [p for p in evidence.get("pixels") or () if isinstance(p, dict) and "x" in p and "y" in p]
+    wrong = [p for p in rows if p.get("over") is not False]
+    if not wrong and rows:
+        wrong = [p for p in evidence.get("off_level") or () if isinstance(p, dict) and "x" in p and "y" in p]
+    return wrong
+
+
 def _focus(result: Result) -> list[tuple[int, int]]:
     """The offending pixels a failure names, first the most telling."""
     e = result.evidence
     if "pixels" in e and e["pixels"] and isinstance(e["pixels"][0], dict):
-        return [(p["x"], p["y"]) for p in e["pixels"]]
+        return [(int(p["x"]), int(p["y"])) for p in _offending_rows(e)]
     if "blame" in e:
         return [(int(b["pixel"][0]), int(b["pixel"][1])) for b in e["blame"]]
     for key in ("strays", "pixels"):
@@ -184,8 +214,9 @@ def alpha_map(values: NDArray, scale: float, window: tuple[int, int, int, int] |
 
 def _area_pictures(case: Case, drawing: Drawing, result: Result, window: tuple[int, int, int, int]) -> dict[str, str]:
     """Area coverage: the alpha error against the oracle (scaled to the declared
-    tolerance, or to the largest error when that is larger) and, on a partition, the sum
-    of the pieces' alphas minus 1 (scaled to one level) with stray pixels marked."""
+    tolerance, or to the largest error when that is larger), on a partition the sum of
+    the pieces' alphas minus 1 (scaled to one level) with stray pixels marked, and the
+    crop of the samples (:func:`_sample_crop`)."""
     scene = case.scene
     coverage = drawing.coverages[0]
     images: dict[str, str] = {}
@@ -199,12 +230,64 @@ def _area_pictures(case: Case, drawing: Drawing, result: Result, window: tuple[i
         total = _alpha_per_pixel(coverage, scene.width, scene.height)
         images["alpha sum"] = alpha_map(np.where(inside, total - 1.0, 0.0), drawing.convention.level_step, window,
                                         outside & (total > 0))
+    if oracles is not None:
+        images["samples"] = _sample_crop(case, drawing, result, oracles[0])
     return images
 
 
+def _sample_crop(case: Case, drawing: Drawing, result: Result, oracle: Coverage | None) -> str:
+    """A multisample or anti-aliased failure's crop (12 px a side around its first
+    offending pixel): what the rasterizer drew beside what the convention says
+    (:func:`_repro_panels`: each sample of the pattern in each pixel, covered or not,
+    ringed where the two differ; alphas as shades), the offending pixels outlined."""
+    scene = case.scene
+    marks = [(int(x), int(y)) for x, y in _focus(result)[:EVIDENCE_LIMIT]]
+    fx, fy = marks[0] if marks else (scene.width // 2, scene.height // 2)
+    crop = window_around(fx, fy, scene.width, scene.height, 12)
+    numbered = numbered_path(result) if isinstance(scene, PathScene) else None
+    chosen = _numbering_convention(drawing.convention) if isinstance(scene, PathScene) else None
+    only = _named_primitives(result, scene)
+    if only is not None:  # the pixels the failure names of those primitives
+        marks = [(int(p["x"]), int(p["y"])) for p in _offending_rows(result.evidence) if set(_primitives_of(p)) & set(only)]
+    return _repro_panels(scene, drawing.coverages[0], oracle, drawing.convention, crop, marks, numbered, chosen, only)
+
+
+def _primitives_of(row: dict[str, Any]) -> list[int]:
+    """The primitives an evidence row names (``triangle``, ``path``, ``triangles``, ``paths``).
+
+    >>> _primitives_of({"x": 1, "y": 2, "triangles": [3, 4]}), _primitives_of({"path": 2})
+    ([3, 4], [2])
+    """
+    for key in ("triangle", "path", "triangles", "paths"):
+        named = row.get(key)
+        if isinstance(named, list):
+            return [int(v) for v in named if isinstance(v, int)]
+        if isinstance(named, int):
+            return [named]
+    return []
+
+
+def _named_primitives(result: Result, scene: AnyScene) -> list[int] | None:
+    """The primitives the first offending pixel of a failure names (``triangle``,
+    ``path``, ``triangles`` or ``paths`` of its first ``pixels`` row), when its scene is no
+    partition (where the pieces' sum is what counts); None otherwise: all of them."""
+    pixels = result.evidence.get("pixels")
+    case = result.drawing.case if result.drawing is not None else None
+    if not pixels or not isinstance(pixels[0], dict) or getattr(case, "region", None) is not None:
+        return None
+    for key in ("triangle", "path", "triangles", "paths"):
+        named = pixels[0].get(key)
+        values = named if isinstance(named, list) else [named]
+        if named is not None and all(isinstance(v, int) and 0 <= v < len(scene) for v in values):
+            return sorted(set(values))
+    return None
+
+
 def _still_pictures(case: Case, drawing: Drawing, result: Result) -> dict[str, str]:
-    """Heat map, oracle diff and an SVG crop around the first offending pixel (for area
-    coverage: the alpha error and alpha sum maps)."""
+    """Heat map, oracle diff and an SVG crop around the first offending pixel (and, for one
+    sample's layer of a multisample answer, the crop of all its samples,
+    :func:`_sample_crop`; for area coverage: the alpha error and alpha sum maps and the
+    crop of the samples)."""
     scene = case.scene
     if isinstance(scene, LineScene):
         return _line_pictures(scene, drawing, result)
@@ -230,9 +313,12 @@ def _still_pictures(case: Case, drawing: Drawing, result: Result) -> dict[str, s
         convention = _numbering_convention(drawing.convention)
         numbered = numbered_path(result)
         images["crop"] = svg_crop(scene, coverage, convention.sample, crop, shown, numbered=numbered, convention=convention)
-        return images
-    sample = drawing.convention.sample if drawing.convention is not None else (0.5, 0.5)
-    images["crop"] = svg_crop(scene.positions, coverage, sample, crop, shown)
+    else:
+        sample = drawing.convention.sample if drawing.convention is not None else (0.5, 0.5)
+        images["crop"] = svg_crop(scene.positions, coverage, sample, crop, shown)
+    if drawing.whole is not None and drawing.whole.coverages:  # one sample's layer of a multisample answer: all its samples
+        whole_oracles = _oracles(drawing.whole, [scene])
+        images["samples"] = _sample_crop(case, drawing.whole, result, whole_oracles[0] if whole_oracles else None)
     return images
 
 
@@ -266,8 +352,18 @@ LEGEND = {
 }
 ALPHA_LEGEND = {"exact (white)": (255, 255, 255), "too much alpha (full red: the scale)": (200, 30, 30),
                 "too little alpha (full blue: the scale)": (30, 80, 200), "stray (outside the region, alpha > 0)": (0, 0, 0)}
-CROP_LEGEND = {"covered by the rasterizer (crops)": (200, 200, 200), "covered by the convention (repros)": (230, 205, 140),
-               "offending pixel (outlined)": (221, 0, 0), "triangle (outlined)": (0, 80, 200)}
+_DRAWN = "drawn by the rasterizer (crops, and the left picture of a repro; anti-aliased: shaded by its alpha)"
+_CONVENTION = "covered by the convention (the right picture of a repro; anti-aliased: shaded by its alpha)"
+CROP_LEGEND = {_DRAWN: (200, 200, 200), _CONVENTION: (230, 205, 140),
+               "offending pixel (outlined)": (221, 0, 0), "triangle (outlined)": (0, 80, 200),
+               "region of a partition (dotted; every pixel wholly inside it must be hit)": (0, 130, 100)}
+_REGION = list(CROP_LEGEND)[-1]
+# multisample and supersampled pictures: each sample of the convention's pattern in each
+# pixel, over CROP_LEGEND's pixels
+SAMPLE_LEGEND = {"sample covered (dot)": (25, 25, 25), "sample not covered (ring)": (140, 140, 140),
+                 "sample where the rasterizer and the convention differ (thick ring)": (221, 0, 0),
+                 "alpha of an offending pixel (anti-aliased; k/N: k of the N samples)": (0, 40, 170)}
+_HIT, _MISS, _DIFFERS, _ALPHA = SAMPLE_LEGEND
 # path crops and repros, over CROP_LEGEND's pixels and marks: the fill is the outline's
 # colour at PATH_FILL_OPACITY (its swatch: that over white)
 PATH_FILL_OPACITY = 0.16
@@ -443,11 +539,11 @@ def svg_crop(positions: NDArray | PathScene | LineScene, coverage: Coverage, sam
     covered = np.zeros((y1 - y0, x1 - x0), dtype=bool)
     covered[y[inside] - y0, x[inside] - x0] = True
     if not isinstance(positions, LineScene):
-        return svg_window(positions, covered, CROP_LEGEND["covered by the rasterizer (crops)"], sample, window, marks,
+        return svg_window(positions, covered, CROP_LEGEND[_DRAWN], sample, window, marks,
                           numbered=numbered, convention=convention)
     hits = np.zeros((y1 - y0, x1 - x0), dtype=np.int64)
     np.add.at(hits, (y[inside] - y0, x[inside] - x0), 1)
-    fills = [(covered, CROP_LEGEND["covered by the rasterizer (crops)"])]
+    fills = [(covered, CROP_LEGEND[_DRAWN])]
     if oracle is not None:
         classes = []
         for fragments in deviations(coverage, oracle, positions.width, positions.height):  # missing, then extra
@@ -459,7 +555,7 @@ def svg_crop(positions: NDArray | PathScene | LineScene, coverage: Coverage, sam
         missing, extra = classes
         fills = [(covered & ~missing & ~extra, DIFF_LEGEND["both"]), (missing & ~extra, DIFF_LEGEND["missing (oracle only)"]),
                  (extra, DIFF_LEGEND["extra (rasterizer only)"])]
-    return svg_window(positions, None, CROP_LEGEND["covered by the rasterizer (crops)"], sample, window, marks,
+    return svg_window(positions, None, CROP_LEGEND[_DRAWN], sample, window, marks,
                       numbered=numbered, convention=convention, fills=fills, hits=hits)
 
 
@@ -507,11 +603,29 @@ def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | No
     hits : (y1 - y0, x1 - x0) int, optional
         Lines: how many segments drew each pixel; written where more than one did.
     """
+    text = _svg_window_text(positions, covered, fill, sample, window, marks, fit, numbered, convention, fills, hits)
+    return "data:image/svg+xml;base64," + base64.b64encode(text.encode()).decode("ascii")
+
+
+def _svg_window_text(positions: NDArray | PathScene | LineScene, covered: NDArray | None, fill: tuple[int, int, int],
+                     sample: tuple[float, float] | None, window: tuple[int, int, int, int], marks: list[tuple[int, int]],
+                     fit: int = 384, numbered: int | None = None, convention: Convention | None = None,
+                     fills: list[tuple[NDArray, tuple[int, int, int]]] | None = None, hits: NDArray | None = None,
+                     samples: Samples | None = None, alpha: NDArray | None = None,
+                     at: tuple[float, float] | None = None, windings: bool = True,
+                     labels: dict[tuple[int, int], str] | None = None, region: NDArray | None = None) -> str:
+    """:func:`svg_window`'s picture as SVG text (placed ``at`` (x, y) screen px in an
+    enclosing SVG when given), with two layers more: ``samples`` (:class:`Samples`, drawn
+    instead of ``sample``) and ``alpha`` ((rows, cols) float: each pixel filled with
+    ``fill`` at that opacity, for anti-aliased coverage); ``windings`` False writes no
+    winding numbers (a path scene's); ``labels`` ((x, y) -> text) writes a pixel's alpha
+    in it (SAMPLE_LEGEND); ``region`` ((M, 2) float64) outlines a partition's region."""
     x0, y0, x1, y1 = window
     cols, rows = x1 - x0, y1 - y0
     scale = min(24.0, fit / max(cols, rows, 1))  # screen px per pixel
     thin = 'vector-effect="non-scaling-stroke"'
-    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{round(cols * scale)}" height="{round(rows * scale)}" '
+    place = "" if at is None else f'x="{at[0]:g}" y="{at[1]:g}" '
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" {place}width="{round(cols * scale)}" height="{round(rows * scale)}" '
              f'viewBox="{x0} {y0} {cols} {rows}">',
              f'<rect x="{x0}" y="{y0}" width="{cols}" height="{rows}" fill="white"/>']
     if covered is not None and covered.any():
@@ -521,6 +635,10 @@ def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | No
         colour = _hex(fill)
         parts.extend(f'<rect x="{x0 + a}" y="{y0 + j}" width="{b - a}" height="1" fill="{colour}"/>'
                      for (j, a), (_, b) in zip(starts.tolist(), ends.tolist()))
+    if alpha is not None:
+        colour = _hex(fill)
+        parts.extend(f'<rect x="{x0 + i}" y="{y0 + j}" width="1" height="1" fill="{colour}" fill-opacity="{min(a, 1.0):.3f}">'
+                     f'<title>alpha {a:.4g}</title></rect>' for (j, i), a in np.ndenumerate(alpha) if a > 0)
     for mask, rgb in fills or ():
         if mask.any():
             runs = np.diff(np.pad(mask.astype(np.int8), ((0, 0), (1, 1))), axis=1)
@@ -531,9 +649,21 @@ def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | No
                      for i in range(cols + 1))
         parts.extend(f'<line x1="{x0}" y1="{y0 + j}" x2="{x1}" y2="{y0 + j}" stroke="#999" stroke-width="0.5" {thin}/>'
                      for j in range(rows + 1))
-    if sample is not None and scale >= 8:
+    if samples is not None and scale >= 8:
+        parts.extend(_svg_samples(samples, window, scale))
+    elif sample is not None and scale >= 8:
         parts.extend(f'<circle cx="{x0 + i + sample[0]:g}" cy="{y0 + j + sample[1]:g}" r="{1.5 / scale:.4f}" fill="#333"/>'
                      for i in range(cols) for j in range(rows))
+    if region is not None and np.isfinite(region).all():
+        points = " ".join(f"{vx:.9g},{vy:.9g}" for vx, vy in np.clip(region, -1e6, 1e6))
+        parts.append(f'<polygon points="{points}" fill="none" stroke="{_hex(CROP_LEGEND[_REGION])}" stroke-width="2" '
+                     f'stroke-dasharray="2 3" {thin}><title>the region of the partition</title></polygon>')
+    if labels and scale >= 10:
+        font = min(max(9.0 / scale, 0.22), 0.4)
+        parts.extend(f'<text x="{x + 0.5:g}" y="{y + 0.08 + font * 0.75:.4f}" font-size="{font:.3f}" font-family="sans-serif" '
+                     f'font-weight="bold" text-anchor="middle" fill="{_hex(SAMPLE_LEGEND[_ALPHA])}" stroke="white" '
+                     f'stroke-width="2" paint-order="stroke" {thin}><title>alpha of pixel ({x}, {y})</title>{text}</text>'
+                     for (x, y), text in labels.items() if x0 <= x < x1 and y0 <= y < y1)
     inset = min(1.0 / scale, 0.25)
     red = _hex(CROP_LEGEND["offending pixel (outlined)"])
     for mx, my in marks:
@@ -542,17 +672,17 @@ def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | No
                          f'fill="none" stroke="{red}" stroke-width="2" {thin}/>')
     if isinstance(positions, PathScene):
         parts.extend(_svg_paths(positions, window, scale, numbered))
-        if numbered is not None and max(cols, rows) <= MAX_NUMBERED_SIDE and scale >= 10:
+        if windings and numbered is not None and max(cols, rows) <= MAX_NUMBERED_SIDE and scale >= 10:
             chosen = convention if convention is not None else Convention(sample=sample or (0.5, 0.5))
             parts.extend(_svg_windings(positions, numbered, chosen, window, scale))
         parts.append("</svg>")
-        return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
+        return "".join(parts)
     if isinstance(positions, LineScene):
         parts.extend(_svg_lines(positions, window, scale, numbered, convention, marks))
         if hits is not None and scale >= 10:
             parts.extend(_svg_hits(hits, window, scale))
         parts.append("</svg>")
-        return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
+        return "".join(parts)
     finite = np.all(np.isfinite(positions), axis=(1, 2))
     near = finite & np.any((positions[..., 0] > x0 - 64) & (positions[..., 0] < x1 + 64), axis=1)
     blue = _hex(CROP_LEGEND["triangle (outlined)"])
@@ -560,7 +690,74 @@ def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | No
         pts = " ".join(f"{vx:.6g},{vy:.6g}" for vx, vy in np.clip(tri, -1e6, 1e6))
         parts.append(f'<polygon points="{pts}" fill="none" stroke="{blue}" stroke-width="1" {thin}/>')
     parts.append("</svg>")
-    return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
+    return "".join(parts)
+
+
+@dataclass(frozen=True, slots=True)
+class Samples:
+    """The samples of a window drawn in its pixels (SAMPLE_LEGEND).
+
+    Parameters
+    ----------
+    offsets : (S, 2) float64
+        The pattern: each sample's position in its pixel.
+    hits : (rows, cols, S) bool
+        Which samples of each pixel of the window are covered.
+    differs : (rows, cols, S) bool or None
+        The samples where the rasterizer and the convention disagree (ringed thick).
+    """
+
+    offsets: NDArray[np.float64]
+    hits: NDArray[np.bool_]
+    differs: NDArray[np.bool_] | None = None
+
+
+def sample_hits(scene: AnyScene, convention: Convention, window: tuple[int, int, int, int],
+                coverage: Coverage | None = None, only: list[int] | None = None) -> NDArray[np.bool_]:
+    """(rows, cols, S) bool: which samples of the convention's pattern each pixel of the
+    window has covered: by ``coverage`` (a multisample answer, its sample indices the
+    pattern's), else by the convention itself (its exact oracle, sample by sample: for a
+    supersampled area convention too); by the primitives ``only`` when given.
+
+    >>> from harness.api import Scene
+    >>> square = Scene(2, 1, [[[0, 0], [1, 0], [0, 1]]])
+    >>> sample_hits(square, Convention(samples=4), (0, 0, 2, 1))[0].astype(int).tolist()
+    [[1, 0, 1, 0], [0, 0, 0, 0]]
+    """
+    x0, y0, x1, y1 = window
+    count = convention.n_samples
+    out = np.zeros((y1 - y0, x1 - x0, count), dtype=bool)
+    for k in range(count):
+        layer = coverage.layer(k) if coverage is not None else exact_coverage(scene, convention.at_sample(k))
+        out[..., k] = _of(layer, only).counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+    return out
+
+
+def _of(coverage: Coverage, only: list[int] | None) -> Coverage:
+    """The coverage of the primitives ``only`` (all of it for None)."""
+    return coverage if only is None else coverage.take(np.flatnonzero(np.isin(coverage.primitive, only)))
+
+
+def _svg_samples(samples: Samples, window: tuple[int, int, int, int], scale: float) -> list[str]:
+    """Each sample of each pixel of the window: a dot where covered, a ring where not, a
+    thick red ring around those where the rasterizer and the convention differ."""
+    x0, y0, _, _ = window
+    count = samples.offsets.shape[0]
+    r = min(0.09, max(1.2 / scale, 0.35 / math.sqrt(count) / 2))
+    thin = 'vector-effect="non-scaling-stroke"'
+    hit, miss, red = _hex(SAMPLE_LEGEND[_HIT]), _hex(SAMPLE_LEGEND[_MISS]), _hex(SAMPLE_LEGEND[_DIFFERS])
+    out = []
+    for (j, i, k), covered in np.ndenumerate(samples.hits):
+        cx, cy = x0 + i + float(samples.offsets[k, 0]), y0 + j + float(samples.offsets[k, 1])
+        if covered:
+            out.append(f'<circle cx="{cx:.6g}" cy="{cy:.6g}" r="{r:.4f}" fill="{hit}"/>')
+        else:
+            out.append(f'<circle cx="{cx:.6g}" cy="{cy:.6g}" r="{r * 0.8:.4f}" fill="none" stroke="{miss}" stroke-width="1" {thin}/>')
+        if samples.differs is not None and samples.differs[j, i, k]:
+            out.append(f'<circle cx="{cx:.6g}" cy="{cy:.6g}" r="{r * 1.9:.4f}" fill="none" stroke="{red}" stroke-width="2" {thin}>'
+                       f'<title>sample {k} of pixel ({x0 + i}, {y0 + j}): {"covered" if covered else "not covered"} here, '
+                       f'the other way in the other picture</title></circle>')
+    return out
 
 
 def svg_pattern(offsets: tuple[tuple[float, float], ...], side: int = 160) -> str:
@@ -1352,13 +1549,20 @@ def _repro_numbered(result: Result, scene: PathScene, marks: list[tuple[int, int
 def draw_repro(result: Result) -> tuple[str | None, str] | None:
     """The failure's minimal repro (``evidence["repro"]``, case JSON) drawn, with its
     caption: its triangles (or paths) over the pixel grid and, given a convention (the
-    drawing's), the pixels that convention covers; the pixels the evidence names (on the
-    whole case) within a pixel and a half of the repro's triangles (paths' boxes)
-    outlined. A path repro small enough shows the winding numbers of one of its paths
-    (:func:`svg_window`). The rasterizer's own answer on the repro is not known here and
-    not drawn.
+    drawing's), the pixels that convention covers.
 
-    A line repro draws its segments as the crops do (:func:`_line_repro`).
+    A repro that keeps the rasterizer's answer on it (``answer``, and the check's evidence
+    on it, ``evidence``: :func:`harness.repro.attach_repro` writes both) is drawn twice
+    side by side: on the left what the rasterizer drew, on the right what the convention
+    says, the pixels that evidence names outlined on both (:func:`_repro_panels`); a
+    multisample or supersampled convention's samples are drawn in every pixel, covered or
+    not, those where the two differ ringed. An older repro, without them, is drawn once
+    with the convention's pixels, and the pixels the evidence names (on the whole case)
+    within a pixel and a half of the repro's primitives outlined.
+
+    A path repro small enough shows the winding numbers of one of its paths
+    (:func:`svg_window`); a line repro draws its segments as the crops do
+    (:func:`_line_repro`).
 
     Returns None without a repro; (None, why) when it is not drawn (a motion case, a malformed
     one, or more than :data:`MAX_REPRO_TRIANGLES` triangles (paths, segments) or
@@ -1388,9 +1592,11 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
     if isinstance(scene, PathScene) and scene.vertices.shape[0] > MAX_DRAWN_VERTICES:
         return None, (f"minimal repro: {triangles} of {scene.vertices.shape[0]} vertices, not drawn (pictures are drawn up to "
                       f"{MAX_DRAWN_VERTICES} vertices)")
-    convention = result.drawing.convention if result.drawing is not None else None
+    drawing = result.drawing.whole or result.drawing if result.drawing is not None else None  # a layer's: the pattern's
+    convention = drawing.convention if drawing is not None else None
+    seen = _seen_on_repro(result, case, payload, convention)
     if isinstance(scene, LineScene):
-        return _line_repro(result, scene, convention, triangles)
+        return _line_repro(result, scene, convention, triangles, seen)
     if isinstance(scene, PathScene):
         finite_path = scene.primitive_boxes()[2]
         drawn = scene.vertices[np.repeat(finite_path[scene.contour_path], scene.contour_sizes)]  # of the finite paths
@@ -1398,25 +1604,48 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
     else:
         window = _repro_window(scene.positions, scene.width, scene.height)
     x0, y0, x1, y1 = window
-    covered = None
+    oracle = None
     if convention is not None:
         try:
-            covered = exact_coverage(scene, convention).counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+            oracle = exact_coverage(scene, convention)
         except ValueError:  # no oracle of this kind for paths (analytic area): no coverage drawn
-            covered = None
-    named = _focus(result)[:EVIDENCE_LIMIT]
-    marks = _near_paths(named, scene) if isinstance(scene, PathScene) else _near_triangles(named, scene.positions)
-    fill = CROP_LEGEND["covered by the convention (repros)"]
+            oracle = None
+    covered = None if oracle is None else oracle.counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+    if seen is not None:
+        marks = [(x, y) for x, y in _focus(seen)[:EVIDENCE_LIMIT] if x0 <= x < x1 and y0 <= y < y1]
+    else:
+        named = _focus(result)[:EVIDENCE_LIMIT]
+        marks = _near_paths(named, scene) if isinstance(scene, PathScene) else _near_triangles(named, scene.positions)
+    fill = CROP_LEGEND[_CONVENTION]
     sample = convention.sample if convention is not None else None
     numbers = ""
+    numbered = chosen = None
     if isinstance(scene, PathScene):
         chosen = _numbering_convention(convention)
         numbered = _repro_numbered(result, scene, marks)
-        uri = svg_window(scene, covered, fill, chosen.sample, window, marks, numbered=numbered, convention=chosen)
         if numbered is not None and max(x1 - x0, y1 - y0) <= MAX_NUMBERED_SIDE:
             at = ("its centre (no convention known: top-left ties)" if convention is None else
                   "its first sample" if convention.samples is not None else "its sample")
             numbers = f"; in each pixel the winding number of {at} around path {numbered}"
+    if seen is not None and seen.drawing is not None and seen.drawing.coverages:
+        zoom = ""
+        if convention is not None and convention.samples is not None and max(x1 - x0, y1 - y0) > SAMPLES_SIDE and marks:
+            window = window_around(*marks[0], scene.width, scene.height, SAMPLES_SIDE)  # samples drawn large enough to see
+            zoom = f"; {SAMPLES_SIDE} px around its first offending pixel, to show the samples"
+            marks = [(x, y) for x, y in marks if window[0] <= x < window[2] and window[1] <= y < window[3]]
+        uri = _repro_panels(scene, seen.drawing.coverages[0], oracle, convention, window, marks, numbered, chosen,
+                            region=case.region)
+        triangles += zoom
+        if case.region is not None:
+            triangles += " (dotted: the region whose every pixel they must hit)"
+        said = f"the convention ({convention.describe()})" if convention is not None and oracle is not None else ""
+        where = ("; left: what the rasterizer drew, right: what " + said + " says" if said else
+                 "; what the rasterizer drew (" + ("no convention known" if convention is None else "no oracle of its kind")
+                 + ", so nothing beside it)")
+        outlined = f"; outlined: {len(marks)} pixel{'' if len(marks) == 1 else 's'} the failure names on the repro" if marks else ""
+        return uri, f"minimal repro: its {triangles}{where}{numbers if said else ''}{outlined}"
+    if isinstance(scene, PathScene):
+        uri = svg_window(scene, covered, fill, (chosen or Convention()).sample, window, marks, numbered=numbered, convention=chosen)
     else:
         uri = svg_window(scene.positions, covered, fill, sample, window, marks)
     outlined = f"; outlined: {len(marks)} of the pixels the failure names, next to these {noun}s" if marks else ""
@@ -1424,6 +1653,109 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
         why = "no convention known" if convention is None else "no oracle of its kind for paths"
         return uri, f"minimal repro: its {triangles}; {why}, so no coverage drawn{numbers}{outlined}"
     return uri, f"minimal repro: its {triangles}, the pixels the convention covers{numbers}{outlined}"
+
+
+def _seen_on_repro(result: Result, case: Case, payload: dict[str, Any], convention: Convention | None) -> Result | None:
+    """The failure on the repro itself, as its file keeps it (the check's ``evidence`` and
+    the rasterizer's ``answer`` there: :func:`harness.repro.attach_repro`), as a result
+    with a drawing of the repro; None for a file without them."""
+    from harness.repro import answer_from_json
+
+    evidence = payload.get("evidence")
+    answer = answer_from_json(payload.get("answer"))
+    if not isinstance(evidence, dict) or answer is None:
+        return None
+    return Result(result.rasterizer, case.id, str(payload.get("check", result.check)), "fail", str(payload.get("message", "")),
+                  {}, evidence, Drawing(case, (answer,), convention))
+
+
+PANEL_FIT = 400  # screen px: the longer side of each of a repro's two pictures
+SAMPLES_SIDE = 16  # px: a repro with a sample pattern wider than this is drawn around its first offending pixel
+_PANEL_GAP, _PANEL_TITLE = 16, 20  # screen px between the pictures, and above them for their titles
+
+
+def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, convention: Convention | None,
+                  window: tuple[int, int, int, int], marks: list[tuple[int, int]], numbered: int | None = None,
+                  chosen: Convention | None = None, only: list[int] | None = None, region: NDArray | None = None) -> str:
+    """A repro drawn twice side by side as one SVG data URI: on the left the rasterizer's
+    ``answer``, on the right the convention's ``oracle`` (left out when None), the same
+    window of the same primitives with the same pixels outlined. Anti-aliased coverage
+    shades each pixel by its alpha; a multisample or supersampled convention draws its
+    samples in each pixel (:class:`Samples`: the rasterizer's own where it says which it
+    covered, the convention's on the right), ringed where the two differ. A path scene's
+    winding numbers (around path ``numbered``, by the ``chosen`` convention) are written
+    on the right; a line scene's left picture writes how many segments drew each pixel.
+    Given ``only``, the coverage of those primitives alone is drawn (their number in the
+    titles): one triangle's alphas in a scene of overlapping ones, say; given a
+    partition's ``region``, it is outlined."""
+    x0, y0, x1, y1 = window
+    answer = _of(answer, only)
+    oracle = None if oracle is None else _of(oracle, only)
+    w, h = scene.width, scene.height
+    area = convention is not None and convention.kind == "area"
+    pattern = convention is not None and convention.samples is not None
+
+    def layers(coverage: Coverage | None) -> dict[str, Any]:
+        if coverage is None:
+            return {}
+        if area:
+            got = _alpha_per_pixel(coverage, w, h)[y0:y1, x0:x1]
+            return {"covered": None, "alpha": got}
+        return {"covered": coverage.counts(w, h)[y0:y1, x0:x1] > 0}
+
+    theirs, ours = layers(answer), layers(oracle)
+    samples: list[Samples | None] = [None, None]
+    if pattern and convention is not None:
+        offsets = np.asarray(convention.samples, dtype=np.float64)
+        want = sample_hits(scene, convention, window, only=only)
+        got = sample_hits(scene, convention, window, answer) if convention.kind == "multisample" else None
+        differs = None if got is None else got != want
+        samples = [None if got is None else Samples(offsets, got, differs), Samples(offsets, want, differs)]
+    lines = isinstance(scene, LineScene)
+    sample: tuple[float, float] | None = (_line_sample(convention) if lines else convention.sample if convention is not None
+                                          else (0.5, 0.5))
+    positions: NDArray | PathScene | LineScene = (scene if isinstance(scene, (PathScene, LineScene)) else
+                                                  scene.positions if only is None else scene.positions[only])
+    hits = answer.counts(w, h)[y0:y1, x0:x1] if lines else None
+    cols, rows = x1 - x0, y1 - y0
+    scale = min(24.0, PANEL_FIT / max(cols, rows, 1))
+    pw, ph = round(cols * scale), round(rows * scale)
+    of = "" if only is None else f" ({scene.noun}{'' if len(only) == 1 else 's'} {', '.join(map(str, only))})"
+    panels = [("what the rasterizer drew" + of, theirs, CROP_LEGEND[_DRAWN], samples[0], hits, numbered)]
+    if oracle is not None:
+        panels.append(("what the convention says" + of, ours, CROP_LEGEND[_CONVENTION], samples[1], None, numbered))
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{len(panels) * pw + (len(panels) - 1) * _PANEL_GAP}" '
+             f'height="{ph + _PANEL_TITLE}">']
+    count = convention.n_samples if convention is not None else 1
+
+    def alphas(layer: dict[str, Any]) -> dict[tuple[int, int], str] | None:
+        values = layer.get("alpha")
+        if values is None:
+            return None
+        out = {}
+        for x, y in marks:
+            if x0 <= x < x1 and y0 <= y < y1:
+                a = float(values[y - y0, x - x0])
+                k = a * count
+                out[(x, y)] = f"{round(k)}/{count}" if pattern and abs(k - round(k)) < 1e-9 else f"{a:.3g}"
+        return out
+
+    for index, (title, layer, fill, shown, counts, number) in enumerate(panels):
+        left = index * (pw + _PANEL_GAP)
+        dot = None if (area or pattern) and shown is None else sample  # an alpha says nothing of its samples
+        parts.append(f'<text x="{left}" y="{_PANEL_TITLE - 6}" font-size="13" font-family="sans-serif" fill="#222">{title}</text>')
+        if isinstance(positions, LineScene):
+            parts.append(_svg_window_text(positions, layer.get("covered"), fill, dot, window, marks, PANEL_FIT,
+                                          numbered=number, convention=convention, hits=counts, samples=shown,
+                                          alpha=layer.get("alpha"), at=(left, _PANEL_TITLE), labels=alphas(layer),
+                                          region=region))
+        else:
+            parts.append(_svg_window_text(positions, layer.get("covered"), fill, dot, window, marks, PANEL_FIT,
+                                          numbered=number if isinstance(positions, PathScene) else None, convention=chosen,
+                                          samples=shown, alpha=layer.get("alpha"), at=(left, _PANEL_TITLE),
+                                          windings=index == 1, labels=alphas(layer), region=region))
+    parts.append("</svg>")
+    return "data:image/svg+xml;base64," + base64.b64encode("".join(parts).encode()).decode("ascii")
 
 
 def _repro_segment(result: Result, scene: LineScene, marks: list[tuple[int, int]]) -> int | None:
@@ -1443,30 +1775,67 @@ def _repro_segment(result: Result, scene: LineScene, marks: list[tuple[int, int]
     return _segment_at(scene, *marks[0]) if marks else None
 
 
-def _line_repro(result: Result, scene: LineScene, convention: Convention | None, what: str) -> tuple[str | None, str]:
+def _line_repro(result: Result, scene: LineScene, convention: Convention | None, what: str,
+                seen: Result | None = None) -> tuple[str | None, str]:
     """A line repro drawn (``what``: its segments counted): its segments over the pixel
-    grid as in the crops, the pixels the convention draws (its line rule), the pixels the
-    whole case's evidence names near its segments outlined, one segment thick."""
+    grid as in the crops; given the failure ``seen`` on the repro itself, what the
+    rasterizer drew beside what the convention draws (:func:`_repro_panels`) with the
+    pixels that failure names outlined, else the pixels the convention draws (its line
+    rule) with the pixels the whole case's evidence names within a pixel and a half of
+    the segments outlined; one segment thick."""
     a, b = scene.segments()
     finite = scene.primitive_boxes()[2]
     window = _points_window(np.concatenate([a[finite], b[finite]]), scene.width, scene.height)
     x0, y0, x1, y1 = window
-    covered = None
+    oracle = None
     if convention is not None:
         try:
-            covered = exact_coverage(scene, convention).counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+            oracle = exact_coverage(scene, convention)
         except ValueError:  # lines are single-sample only: no oracle for a multisample or area convention
-            covered = None
-    marks = _near_paths(line_focus(result)[:EVIDENCE_LIMIT], scene)
-    numbered = _repro_segment(result, scene, marks)
-    uri = svg_window(scene, covered, CROP_LEGEND["covered by the convention (repros)"], _line_sample(convention), window, marks,
-                     numbered=numbered, convention=convention)
+            oracle = None
+    covered = None if oracle is None else oracle.counts(scene.width, scene.height)[y0:y1, x0:x1] > 0
+    if seen is not None:
+        marks = [(x, y) for x, y in line_focus(seen)[:EVIDENCE_LIMIT] if x0 <= x < x1 and y0 <= y < y1]
+        numbered = numbered_segment(seen)
+        if numbered is None:
+            numbered = _repro_segment(result, scene, marks)
+    else:
+        marks = _near_segments(line_focus(result)[:EVIDENCE_LIMIT], scene)
+        numbered = _repro_segment(result, scene, marks)
     thick = f"; segment {numbered} thick" if numbered is not None and len(scene) > 1 else ""
+    if seen is not None and seen.drawing is not None and seen.drawing.coverages:
+        uri = _repro_panels(scene, seen.drawing.coverages[0], oracle, convention, window, marks, numbered)
+        outlined = f"; outlined: {len(marks)} pixel{'' if len(marks) == 1 else 's'} the failure names on the repro" if marks else ""
+        if convention is None or oracle is None:
+            why = "no convention known" if convention is None else "no line oracle for its coverage kind"
+            return uri, f"minimal repro: its {what}; what the rasterizer drew ({why}, so nothing beside it){thick}{outlined}"
+        return uri, (f"minimal repro: its {what}; left: what the rasterizer drew, right: what the convention draws "
+                     f"({convention.describe_lines()}){thick}{outlined}")
+    uri = svg_window(scene, covered, CROP_LEGEND[_CONVENTION], _line_sample(convention), window, marks,
+                     numbered=numbered, convention=convention)
     outlined = f"; outlined: {len(marks)} of the pixels the failure names, next to these segments" if marks else ""
     if convention is None or covered is None:
         why = "no convention known" if convention is None else "no line oracle for its coverage kind"
         return uri, f"minimal repro: its {what}; {why}, so no pixels drawn{thick}{outlined}"
     return uri, f"minimal repro: its {what}, the pixels the convention draws ({convention.describe_lines()}){thick}{outlined}"
+
+
+def _near_segments(marks: list[tuple[int, int]], scene: LineScene, reach: float = 1.5) -> list[tuple[int, int]]:
+    """The marked pixels whose centre lies within ``reach`` px (plus half the line width)
+    of one of the (finite) segments -- not of their boxes: a diagonal segment's box holds
+    pixels far from it."""
+    a, b = scene.segments()
+    finite = scene.primitive_boxes()[2]
+    a, b = a[finite], b[finite]
+    if not marks or not a.shape[0]:
+        return []
+    p = np.asarray(marks, dtype=float)[:, None, :] + 0.5  # (M, 1, 2)
+    with np.errstate(all="ignore"):  # huge or degenerate segments: a picture, not a verdict
+        d = (b - a)[None]  # (1, K, 2)
+        t = np.clip(np.nan_to_num(((p - a[None]) * d).sum(-1) / (d * d).sum(-1)), 0.0, 1.0)
+        distance = np.hypot(*np.moveaxis(p - a[None] - t[..., None] * d, -1, 0))  # (M, K)
+    near = np.any(distance <= reach + 0.5 * scene.line_width, axis=1)
+    return [m for m, ok in zip(marks, near.tolist()) if ok]
 
 
 # -- per-frame series ----------------------------------------------------------------------

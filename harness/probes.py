@@ -16,19 +16,20 @@ and ``compare`` both explain a rasterizer with it, so they cannot disagree.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from functools import cached_property
-from typing import Literal, Protocol
+from typing import Any, Literal, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
 
 from cases.partitions import partition_cases
 from cases.scenes import lattice_triangles, random_triangles
-from harness.api import Coverage, Scene
-from harness.checks import FragmentCounter, deviations, watertight
+from harness.api import AnyScene, Coverage, Scene
+from harness.case import Case, MotionCase
+from harness.checks import FragmentCounter, Result, deviations, watertight
 from harness.conventions import MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Convention, CullMode, SnapRounding
 from harness.exact import orientation
 from harness.isolation import Call, Outcome, describe
@@ -38,9 +39,9 @@ from harness.repro import grown_screen
 __all__ = [
     "SAMPLES", "CANDIDATES", "SNAP_BITS", "RAW_PIXELS", "Fact", "Drawn", "draw",
     "Culling", "SampleSweep", "VertexSweep", "TieFit", "RoundingFit", "SnapFit", "ResidualLies", "ViewportEdge",
-    "Epsilon", "ZeroArea", "NonFinite", "Watertight", "Unanswered",
+    "Epsilon", "ZeroArea", "NonFinite", "Watertight", "Defect", "Unanswered",
     "culling", "sample_sweep", "vertex_sweep", "fit_ties", "fit_snapping", "residual_lies", "viewport_edge", "epsilon",
-    "zero_area", "non_finite", "watertight_partitions", "unanswered",
+    "zero_area", "non_finite", "watertight_partitions", "unanswered", "suite_defects", "ZERO_AREA_CASE", "NON_FINITE_CASES", "EPSILON_CASE",
 ]
 
 # The nine usual sample points: the centre, the four corners and the four edge midpoints.
@@ -149,6 +150,11 @@ class Drawn:
 def draw(call: Call, scene: Scene) -> Drawn:
     """``scene`` and the rasterizer's answer to it."""
     return Drawn(scene, call(scene))
+
+
+def send(call: Call, scene: AnyScene) -> Outcome:
+    """``call`` on a scene of any kind (a path-taking rasterizer's call takes path scenes)."""
+    return call(scene)  # type: ignore[arg-type]
 
 
 def _fit_score(drawn: list[Drawn], convention: Convention) -> int:
@@ -659,6 +665,7 @@ class ViewportEdge:
     changed: int
     total: int
     error: str = ""
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
 
     @property
     def text(self) -> str:
@@ -671,14 +678,18 @@ class ViewportEdge:
 
 
 def viewport_edge(call: Call, seed: int, margin: int = 8) -> ViewportEdge:
-    """Whether triangles crossing the viewport edge cover the same on-screen pixels as when
-    the screen is grown (:func:`harness.repro.grown_screen`) so that nothing crosses it:
+    """Whether triangles crossing the viewport edge (the suite's ``lattice/bits-{0,2,4}``)
+    cover the same on-screen pixels as when the screen is grown
+    (:func:`harness.repro.grown_screen`) so that nothing crosses it:
     convention-free, the rasterizer against itself (a clipper that moves vertices before
     snapping shows up here)."""
+    from cases.paths import viewport_cases
+
     changed = total = 0
-    size = 64  # a power of two, as framebuffers, tiles and guard bands often are
-    for bits in (0, 2, 4):
-        crossing = Scene(size, size, lattice_triangles(120, size, bits, seed + 7 + bits))
+    for case in viewport_cases(seed):  # the suite's lattice/bits-{0,2,4}: 64 px, a power of two, as tiles often are
+        crossing = case.scene
+        assert isinstance(crossing, Scene)
+        size = crossing.width
         grown = grown_screen(crossing, margin)
         if not isinstance(grown, Scene):  # never for these scenes: whole-pixel moves of small dyadic numbers are exact
             return ViewportEdge(0, 0, "the grown screen would round the scene")
@@ -710,6 +721,7 @@ class Epsilon:
     wrong: int
     as_received: bool | None = None
     error: str = ""
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
 
     @property
     def text(self) -> str:
@@ -729,13 +741,10 @@ def epsilon(call: Call, convention: Convention, received: Callable[[Scene], Scen
     holding their sample strictly inside and half just missing it, against the exact
     answer of ``convention``; ``received`` is the rasterizer's own account of how its input
     format rounds a scene (:func:`harness.api.received_of`)."""
-    sx, sy = convention.sample
-    triangles = []
-    for k, size in enumerate(np.repeat(10.0 ** -np.arange(3, 10), 8)):
-        x, y = 4.0 + (k % 12) * 4.0 + sx, 4.0 + (k // 12) * 4.0 + sy
-        shift = 0.0 if k % 2 == 0 else 2.0 * size  # odd ones sit just to the right of the sample
-        triangles.append([[x - size + shift, y - size], [x + size + shift, y - size], [x + shift, y + size]])
-    scene = Scene(56, 32, np.array(triangles))
+    from cases.degenerate import epsilon_scene
+
+    scene = epsilon_scene(convention.sample)  # at pixel centres the suite's degenerate/epsilon/probe
+    triangles = scene.positions
     got = draw(call, scene)
     if got.coverage is None:
         return Epsilon(len(triangles), 0, 0, error=describe(got.error))
@@ -761,6 +770,7 @@ class ZeroArea:
 
     pixels: int | None
     error: str = ""
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
 
     @property
     def text(self) -> str:
@@ -769,10 +779,22 @@ class ZeroArea:
         return "draws nothing" if self.pixels == 0 else f"draws {self.pixels} pixels"
 
 
+# the suite's cases identify's degenerate probes draw (:func:`cases.degenerate.probe_scenes`)
+ZERO_AREA_CASE = "degenerate/zero-area/probe"
+EPSILON_CASE = "degenerate/epsilon/probe"  # the epsilon probe's scene at pixel centres
+NON_FINITE_CASES = {"NaN": "degenerate/non-finite/probe-nan", "inf": "degenerate/non-finite/probe-inf"}
+
+
+def _probe_scene(case_id: str) -> Scene:
+    from cases.degenerate import probe_scenes
+
+    return probe_scenes()[case_id.removeprefix("degenerate/")][0]
+
+
 def zero_area(call: Call) -> ZeroArea:
-    """A collinear triangle and one with two equal vertices: an exact rasterizer draws nothing."""
-    drawn = draw(call, Scene(32, 32, np.array([[[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[8, 8], [8, 8], [20, 14]]],
-                                              dtype=np.float64)))
+    """A collinear triangle and one with two equal vertices (the suite's
+    ``degenerate/zero-area/probe``): an exact rasterizer draws nothing."""
+    drawn = draw(call, _probe_scene(ZERO_AREA_CASE))
     if drawn.coverage is None:
         return ZeroArea(None, type(drawn.error).__name__)
     return ZeroArea(drawn.pixels)
@@ -801,18 +823,24 @@ class NonFinite:
     """What a NaN and an infinite coordinate do."""
 
     answers: tuple[NonFiniteAnswer, ...]
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
 
     @property
     def text(self) -> str:
         return "; ".join(a.text for a in self.answers)
 
+    @property
+    def wrong(self) -> bool:
+        """Some non-finite triangle drew pixels, or took the finite one with it."""
+        return any(not a.error and (a.covered or not a.rest_drawn) for a in self.answers)
+
 
 def non_finite(call: Call) -> NonFinite:
-    """A triangle with a NaN (then an infinite) coordinate beside a finite triangle."""
+    """A triangle with a NaN (then an infinite) coordinate beside a finite triangle (the
+    suite's ``degenerate/non-finite/probe-nan`` and ``-inf``)."""
     answers = []
-    for label, value in (("NaN", np.nan), ("inf", np.inf)):
-        bad = Scene(32, 32, np.array([[[value, 4], [10, 10], [4, 20]], [[4.5, 4.5], [20.5, 4.5], [4.5, 20.5]]]))
-        drawn = draw(call, bad)
+    for label, case_id in NON_FINITE_CASES.items():
+        drawn = draw(call, _probe_scene(case_id))
         cov = drawn.coverage
         if cov is None:
             answers.append(NonFiniteAnswer(label, error=describe(drawn.error)))
@@ -826,14 +854,37 @@ def non_finite(call: Call) -> NonFinite:
 
 
 @dataclass(frozen=True, slots=True)
+class Defect:
+    """One scene on which a probe saw a defect: the suite's case it is (``case``, so that
+    ``rastercheck run --case`` fails there too), the check that judges it, what is wrong
+    (``message``), the check's evidence (the offending pixels and the primitives blamed),
+    and a minimal repro (case JSON naming the check, :func:`harness.repro.attach_repro`;
+    None when none was made)."""
+
+    case: str
+    check: str
+    message: str
+    evidence: dict[str, Any] = field(default_factory=dict, compare=False)
+    repro: dict[str, Any] | None = field(default=None, compare=False)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for JSON and the fingerprint page."""
+        return {"case": self.case, "check": self.check, "message": self.message, "evidence": dict(self.evidence),
+                "repro": self.repro}
+
+
+@dataclass(frozen=True, slots=True)
 class Watertight:
     """Holes and double hits over the planar partitions (``unanswered`` of them gave an
-    error and were not judged)."""
+    error and were not judged); ``defects`` the partitions that leak, each with its
+    evidence and, for the first few, a minimal repro."""
 
     holes: int
     doubles: int
     partitions: int
     unanswered: int = 0
+    defects: tuple[Defect, ...] = field(default=(), compare=False)
+    strays: int = 0  # pixels wholly outside the union drawn
 
     @property
     def text(self) -> str:
@@ -841,25 +892,121 @@ class Watertight:
         if judged == 0:
             return f"not measured: the rasterizer raised on all {self.partitions} partitions"
         unjudged = f" ({self.unanswered} more unanswered)" if self.unanswered else ""
-        if self.holes == self.doubles == 0:
+        if self.holes == self.doubles == self.strays == 0:
             return f"yes (no hole, no double hit on {judged} partitions){unjudged}"
-        return f"no: {self.holes} holes, {self.doubles} double hits on {judged} partitions{unjudged}"
+        strays = f", {self.strays} stray hits outside" if self.strays else ""
+        return f"no: {self.holes} holes, {self.doubles} double hits{strays} on {judged} partitions{unjudged}"
 
 
-def watertight_partitions(call: Call, seed: int) -> Watertight:
-    """Every planar partition family: holes and double hits, convention-free."""
-    holes = doubles = unanswered = 0
-    partitions = partition_cases(seed)
+# leaking scenes shrunk to a minimal repro per probe (each shrink redraws its scene's parts)
+REPROS = 2
+
+
+def watertight_partitions(call: Call, seed: int, cases: Sequence[Case] | None = None, convention: Convention | None = None,
+                          name: str = "identify", repros: int = REPROS) -> Watertight:
+    """Every planar partition of the suite (``cases``: :func:`cases.partitions.partition_cases`
+    unless given, e.g. the same partitions as paths for a paths-only rasterizer): holes and
+    double hits, judged as the suite's watertight check judges them (under ``convention``,
+    a hole or double hit its own snapped answer has too is excused). The first ``repros``
+    leaking partitions are shrunk to a minimal repro (:func:`harness.repro.attach_repro`)."""
+    holes = doubles = strays = unanswered = 0
+    partitions = list(partition_cases(seed) if cases is None else cases)
+    defects: list[Defect] = []
     for case in partitions:
-        assert isinstance(case.scene, Scene)
-        cov = draw(call, case.scene).coverage
+        cov = send(call, case.scene).coverage
         if cov is None:
             unanswered += 1
             continue
-        r = watertight(case, cov)
+        r = _watertight(case, cov, convention)
         holes += int(r.metrics.get("holes", 0))
         doubles += int(r.metrics.get("double_hits", 0))
-    return Watertight(holes, doubles, len(partitions), unanswered)
+        strays += int(r.metrics.get("strays", 0))
+        if r.status == "fail":
+            defects.append(Defect(case.id, "watertight", r.message, _evidence_of(r),
+                                  _repro(r, case, call, convention, name) if len(defects) < repros else None))
+    return Watertight(holes, doubles, len(partitions), unanswered, tuple(defects), strays)
+
+
+
+def _watertight(case: Case, coverage: Coverage, convention: Convention | None) -> Result:
+    """The suite's watertight verdict on ``case`` (see :func:`harness.checks.watertight`)."""
+    if convention is None or convention.kind != "single":
+        return watertight(case, coverage)
+    return watertight(case, coverage, convention, lambda: exact_coverage(case.scene, convention))
+
+
+class _Named:
+    """The name :func:`harness.repro.attach_repro` writes into a repro (it asks nothing else
+    of the rasterizer for the watertight and overdraw checks)."""
+
+    convention = None
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def rasterize(self, scene: Any) -> Coverage:  # never called: the probe's call draws
+        raise NotImplementedError
+
+
+def _judged(case: Case, coverage: Coverage, wanted: set[str], convention: Convention | None, call: Call,
+            name: str) -> list[Result]:
+    """The suite's checks ``wanted`` (those that apply) on ``coverage``, ``call``'s answer to ``case``."""
+    from harness import checks
+    from harness.checks import Subject, Tolerance
+
+    if "watertight" in wanted:
+        return [_watertight(case, coverage, convention)]
+    needs = {c.name for c in checks.checks() if c.needs_convention}
+    if convention is None and wanted & needs:
+        return []
+    subject = Subject(case, name, convention, [coverage], call, Tolerance(), False, scene_kinds=(case.scene.kind,))
+    return [c.verdict(subject) for c in checks.checks(case, wanted, "single")]
+
+
+def suite_defects(call: Call, cases: Sequence[Case], wanted: set[str], convention: Convention | None, name: str,
+                  repros: int = REPROS) -> tuple[Defect, ...]:
+    """The suite's cases behind a probe that saw a defect, judged as ``run`` judges them:
+    each (case, check of ``wanted``) that fails is a :class:`Defect` with the check's
+    evidence and, for the first ``repros``, a minimal repro. ``call`` draws the cases (a
+    paths-only rasterizer's: the path versions the path suite holds)."""
+    defects: list[Defect] = []
+    for case in cases:
+        coverage = send(call, case.scene).coverage
+        if coverage is None:
+            continue  # the probe reports the error itself
+        for r in _judged(case, coverage, wanted, convention, call, name):
+            if r.status == "fail":
+                defects.append(Defect(case.id, r.check, r.message, _evidence_of(r),
+                                      _repro(r, case, call, convention, name) if len(defects) < repros else None))
+    return tuple(defects)
+
+
+def _evidence_of(result: Result) -> dict[str, Any]:
+    """The offending pixels and primitives of a check's evidence (at most EVIDENCE_LIMIT each)."""
+    from harness.checks import EVIDENCE_LIMIT
+
+    return {k: v[:EVIDENCE_LIMIT] if isinstance(v, list) else v for k, v in result.evidence.items()
+            if k in ("blame", "strays", "pixels", "triangles")}
+
+
+def _repro(result: Result, case: Case, call: Call, convention: Convention | None, name: str) -> dict[str, Any] | None:
+    """A failing partition shrunk to a minimal repro as replayable case JSON: double hits
+    shrink to the primitives that overlap (``overdraw``), a hole keeps every cell (no
+    subset of a partition is one)."""
+    from harness.repro import attach_repro
+
+    def judge(candidate: Case | MotionCase, check: str) -> list[Result]:
+        if not isinstance(candidate, Case):
+            return []
+        cov = send(call, candidate.scene).coverage
+        return [] if cov is None else _judged(candidate, cov, {check}, convention, call, name)
+
+    try:
+        shrunk = attach_repro(replace(result, rasterizer=name, case=case.id), case, judge, _Named(name), budget=40, seconds=5.0)
+    except Exception:  # a repro is evidence besides the verdict: the probe's answer stands without it
+        return None
+    payload = shrunk.evidence.get("repro")
+    return payload if isinstance(payload, dict) else None
 
 
 # --- unanswered fit scenes -----------------------------------------------------------------------

@@ -120,10 +120,49 @@ def _describe(exc: BaseException) -> str:
     return describe(exc)
 
 
+def _module_name(path: Path) -> str:
+    """The name a plugin file is imported under: the same in every process, and the one
+    other code imports it by where there is one -- numba's on-disk cache records the
+    module of each cached kernel by name, and a process that loads the cache must find
+    that module (a name that changed from run to run made a plugin's second run fail
+    with ``ModuleNotFoundError``).
+
+    Its dotted name from a ``sys.path`` entry when every folder on the way is a package
+    (``tests/known_bad/antialiasing.py`` from the project: ``tests.known_bad.antialiasing``),
+    else its stem when no other module answers to it, else a name made from a hash of its
+    path."""
+    import hashlib
+
+    resolved = path.resolve()
+    for entry in sys.path:
+        try:
+            parts = resolved.relative_to(Path(entry or ".").resolve()).with_suffix("").parts
+        except (ValueError, OSError):
+            continue
+        folders = [resolved.parent.joinpath(*[".."] * k) for k in range(len(parts) - 1)]
+        if parts and all(part.isidentifier() for part in parts) and all((f / "__init__.py").is_file() for f in folders):
+            name = ".".join(parts)
+            known = sys.modules.get(name)
+            if known is None or Path(getattr(known, "__file__", "") or "").resolve() == resolved:
+                return name
+    stem = resolved.stem
+    if stem.isidentifier() and stem not in sys.modules:
+        try:
+            found = importlib.util.find_spec(stem)
+        except (ImportError, ValueError):
+            found = None
+        if found is None or (found.origin is not None and Path(found.origin).resolve() == resolved):
+            return stem
+    return f"rastercheck_user_{hashlib.sha256(str(resolved).encode()).hexdigest()[:16]}"
+
+
 def _import_file(path: Path) -> Any:
     if not path.is_file():
         raise ValueError(f"{path}: no such file")
-    module_name = f"rastercheck_user_{abs(hash(str(path.resolve())))}"
+    module_name = _module_name(path)
+    known = sys.modules.get(module_name)
+    if known is not None and Path(getattr(known, "__file__", "") or "").resolve() == path.resolve():
+        return known  # imported already, by this name: the same module, not a second copy of its classes
     spec = importlib.util.spec_from_file_location(module_name, path)
     if spec is None or spec.loader is None:
         raise ValueError(f"{path}: cannot be imported as Python")

@@ -1,7 +1,8 @@
 """The HTML report: an index with the summary matrix, convention cards, the rasterizers
 that were skipped and why, and links to the other pages of the folder; one page per
-rasterizer with its failures grouped by check and cause (a table of contents with counts,
-filters by check and status that are CSS ``:target`` rules), each with its pictures, its
+rasterizer with its failures grouped by cause and signature as the campaign page and the
+terminal group them (:func:`harness.causes.by_cause`; a table of contents with counts, the
+signatures' words whole, filters by check and status that are CSS ``:target`` rules), each with its pictures, its
 minimal repro drawn, its evidence as tables and the command that replays it. Static,
 self-contained (images as data URIs), rendered on the server side with Jinja2 autoescape,
 without JavaScript.
@@ -34,6 +35,7 @@ example scenes, each replayable from its three numbers."""
 
 from __future__ import annotations
 
+import json
 import os
 import platform
 import re
@@ -49,24 +51,28 @@ from jinja2 import Environment, PackageLoader, select_autoescape
 import harness
 from harness.api import LineScene, PathScene, convention_for, fill_rules_of, scene_kinds_of
 from harness.case import Case
+from harness.causes import SIGNATURE, by_cause
 from harness.checks import EVIDENCE_LIMIT, Check, Result, check_names
 from harness.checks import checks as registered_checks
 from harness.files import atomic_write_text, safe_name
 from harness.output import call_failures, call_failures_text
-from harness.pictures import (ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, LINE_LEGEND, PATH_LEGEND, draw,
+from harness.pictures import (ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, LINE_LEGEND, PATH_LEGEND, SAMPLE_LEGEND, draw,
                               draw_repro, numbered_path, numbered_segment, svg_pattern)
 
 if TYPE_CHECKING:
     from harness.campaign import CampaignState, ProgressEvent
 
-__all__ = ["write_report", "write_comparison", "link_pages", "page_name", "cause", "evidence_table", "capabilities",
+__all__ = ["write_report", "write_comparison", "link_pages", "page_name", "evidence_table", "capabilities",
            "on_paths", "on_lines", "caption", "line_checks", "write_campaign_page", "campaign_json", "campaign_run",
            "findings_chart", "CAMPAIGN_PAGE"]
 
 CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop: triangles over the pixel grid",
             "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics",
             "alpha error": "alpha minus the oracle's, per pixel (the worst triangle there)",
-            "alpha sum": "sum of the pieces' alphas minus 1, inside the partition (full colour: one level)"}
+            "alpha sum": "sum of the pieces' alphas minus 1, inside the partition (full colour: one level)",
+            "samples": ("crop: what the rasterizer drew (left) beside what the convention says (right), offending pixels "
+                        "outlined; each sample of the pattern in each pixel, a dot where covered, a ring where not, ringed "
+                        "red where the two differ; anti-aliased pixels shaded by their alpha")}
 
 
 def caption(key: str, r: Result) -> str:
@@ -188,54 +194,9 @@ def _cell(results: list[Result]) -> dict[str, str]:
     return {"status": status, "text": " / ".join(str(counts[s]) for s in ("pass", "fail", "error", "skip"))}
 
 
-def cause(r: Result) -> str:
-    """What went wrong, in words shared by failures with the same cause, to group them: for
-    an error its kind (the exception's type, ``timeout``, ``not run``); for conformance
-    which pixels deviate (missing, extra) and whether their samples lie exactly on edges;
-    otherwise the first clause of the message that counts something not zero, its numbers
-    replaced by N.
-
-    >>> from harness.checks import Result
-    >>> cause(Result("r", "c", "watertight", "fail", "0 holes, 3 double hits, 0 stray hits outside"))
-    'N double hits'
-    >>> cause(Result("r", "c", "run", "error", "RuntimeError: rasterizer exploded"))
-    'RuntimeError'
-    """
-    if r.status == "error":
-        kind, colon, _ = r.message.partition(":")
-        return kind.strip() if colon and kind.strip() and len(kind) <= 60 else _gist(r.message)
-    if r.check == "conformance" and ("missing" in r.metrics or "extra" in r.metrics):
-        missing, extra = r.metrics.get("missing", 0.0), r.metrics.get("extra", 0.0)
-        kinds = " and ".join(k for k, n in (("missing", missing), ("extra", extra)) if n) or "no"
-        ties = r.metrics.get("exact_ties", 0.0)
-        where = (", every one with its sample exactly on an edge" if ties and ties == missing + extra
-                 else ", some with the sample exactly on an edge" if ties else "")
-        return f"{kinds} pixels{where}"
-    return _gist(r.message)
-
-
-_NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?")
-
-
-def _counts_zero(clause: str) -> bool:
-    number = _NUMBER.match(clause)
-    return number is not None and float(number.group()) == 0.0
-
-
-def _gist(message: str) -> str:
-    """The first clause of ``message`` that does not count zero, its numbers as N, lists
-    as […], parentheses with numbers dropped (see :func:`cause`)."""
-    text = re.sub(r"\[[^\]]*\]", "[…]", message)
-    clauses = [c.strip() for c in re.split(r";|, ", text) if c.strip()]
-    telling = [c for c in clauses if not _counts_zero(c)] or clauses or [message]
-    gist = re.sub(r"\s*\([^)]*\d[^)]*\)", "", telling[0])
-    gist = _NUMBER.sub("N", gist)
-    return " ".join(gist.split()) or message
-
-
 ROWS_SHOWN = 50  # rows of a table (items of a list) shown; the rest are counted
 INLINE_ITEMS = 8  # items of a list inside a table cell
-HIDDEN = ("traceback", "repro", "repro_path")
+HIDDEN = ("traceback", "repro", "repro_path", SIGNATURE)
 
 
 def _plain(value: Any) -> Any:
@@ -310,7 +271,7 @@ def _problem(r: Result, index: int, spec: str) -> dict[str, Any]:
         size = len(shapes) if isinstance(shapes, list) else 0
     paths = on_paths(r)
     return {"case": r.case, "check": r.check, "status": r.status, "message": r.message, "anchor": f"failure-{index}",
-            "cause": cause(r), "images": images, "evidence": table, "evidence_open": table is not None and _rows(table) <= 16,
+            "images": images, "evidence": table, "evidence_open": table is not None and _rows(table) <= 16,
             "evidence_keys": list(evidence), "traceback": r.evidence.get("traceback"),
             "repro_picture": drawn[0] if drawn else None, "repro_caption": drawn[1] if drawn else None,
             "repro_path": path, "repro_size": size, "repro_of": repro.get("original_triangles"),
@@ -322,24 +283,34 @@ def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_-]+", "-", text).strip("-") or "x"
 
 
-def _sections(problems: list[dict[str, Any]], order: list[str]) -> list[dict[str, Any]]:
-    """The failures by check (in ``order``), and within a check by status and cause, the
-    largest group first; each group with an anchor."""
-    sections = []
+def _causes(results: list[Result], problems: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The failures of ``results`` (one rasterizer's; ``problems`` are their failing and
+    erroring ones, in order) by cause and signature, as the terminal and the campaign page
+    group them (:func:`harness.causes.by_cause`): the largest cause first, within it each
+    signature (one check, one status) with its words whole and an anchor."""
+    problem_of = {id(r): p for r, p in zip((x for x in results if x.status in ("fail", "error")), problems)}
+    out: list[dict[str, Any]] = []
     groups = 0
+    for k, found in enumerate(by_cause(results)):
+        signatures: list[dict[str, Any]] = []
+        for group in found.signatures:
+            signatures.append({"id": f"group-{groups}", "status": group.status, "check": group.signature.check,
+                               "slug": _slug(group.signature.check), "key": group.signature.key, "describe": group.describe(),
+                               "count": group.count, "problems": [problem_of[id(r)] for r in group.results]})
+            groups += 1
+        out.append({"id": f"cause-{k}", "cause": found.cause, "count": found.count, "signatures": signatures,
+                    "checks": list(dict.fromkeys(g["slug"] for g in signatures)),
+                    "statuses": sorted({g["status"] for g in signatures})})
+    return out
+
+
+def _failing_checks(problems: list[dict[str, Any]], order: list[str]) -> list[dict[str, Any]]:
+    """The checks with failing or erroring results (in ``order``): each with its count and statuses."""
+    out = []
     for check in sorted({p["check"] for p in problems}, key=lambda c: (order.index(c) if c in order else len(order), c)):
         mine = [p for p in problems if p["check"] == check]
-        by_cause: dict[tuple[str, str], list[dict[str, Any]]] = {}
-        for p in mine:
-            by_cause.setdefault((p["status"], p["cause"]), []).append(p)
-        ranked = sorted(by_cause.items(), key=lambda kv: (kv[0][0] != "fail", -len(kv[1]), kv[0][1]))
-        out = []
-        for (status, why), members in ranked:
-            out.append({"id": f"group-{groups}", "status": status, "cause": why, "count": len(members), "problems": members})
-            groups += 1
-        sections.append({"check": check, "slug": _slug(check), "count": len(mine), "groups": out,
-                         "statuses": sorted({p["status"] for p in mine})})
-    return sections
+        out.append({"check": check, "slug": _slug(check), "count": len(mine), "statuses": sorted({p["status"] for p in mine})})
+    return out
 
 
 def _filters(sections: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -394,13 +365,14 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
         mine = [r for r in results if r.rasterizer == name]
         spec = (specs or {}).get(name, name)
         problems = [_problem(r, i, spec) for i, r in enumerate(x for x in mine if x.status in ("fail", "error"))]
-        sections = _sections(problems, checks)
+        sections = _failing_checks(problems, checks)
         row: dict[str, Any] = {
             "name": name, "convention": convention, "total": len(mine), "problems": problems, "page": page_name(name),
             "counts": {s: sum(r.status == s for r in mine) for s in ("pass", "fail", "error", "skip")},
             "cells": [_cell([r for r in mine if r.check == c]) for c in checks],
             "fingerprint": fingerprints.get(name), "kind": (kinds or {}).get(name, ""),
-            "declared": (declared or {}).get(name, convention), "sections": sections, "filters": _filters(sections),
+            "declared": (declared or {}).get(name, convention), "sections": sections, "causes": _causes(mine, problems),
+            "filters": _filters(sections),
             "figures": coverage_figures(mine),
             "pattern": svg_pattern((patterns or {})[name]) if (patterns or {}).get(name) else None,
             "calls": call_failures_text(calls[name]) if name in calls else "",
@@ -411,9 +383,12 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
         html = env.get_template("rasterizer.html").render(
             row=row, meta=meta, heat_legend=HEAT_LEGEND.items(), diff_legend=DIFF_LEGEND.items(), motion_legend=LEGEND.items(),
             crop_legend=CROP_LEGEND.items(), alpha_legend=ALPHA_LEGEND.items(), path_legend=PATH_LEGEND.items(),
-            line_legend=LINE_LEGEND.items())
+            line_legend=LINE_LEGEND.items(), sample_legend=SAMPLE_LEGEND.items())
         atomic_write_text(out_dir / row["page"], html)
     if fingerprints:
+        for row in rows:
+            row.update(_fingerprint_card(out_dir, row["name"], fingerprints.get(row["name"]), row["declared"],
+                                         (patterns or {}).get(row["name"])))
         ordered = sorted(rows, key=lambda row: KIND_ORDER.get(row["kind"], 3))
         facts = [*FACTS, *sorted({k for f in fingerprints.values() if isinstance(f, dict) and isinstance(f.get("facts"), dict)
                                   for k in f["facts"] if "line" in k and k not in FACTS})]
@@ -431,6 +406,45 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
 
 
 PATH_LINKS = 10  # failures linked per check in the table of polygon fillers; the rest are counted
+
+
+def _fingerprint_card(out_dir: Path, name: str, fingerprint: Any, declared: str,
+                      pattern: tuple[tuple[float, float], ...] | None) -> dict[str, Any]:
+    """The fingerprint page's fields of one rasterizer: ``defects``, every scene a probe of
+    identify saw a defect on (the suite's case, the check, what is wrong, the offending
+    pixels and the primitives blamed) with its minimal repro written to
+    ``repros/<rasterizer>/identify--<probe>--<k>.json``; ``confirmed``, whether the declared
+    convention is the one identified exactly (sample offsets compared one by one: the words
+    name a pattern in short); ``offsets``, the identified sample offsets when the words do
+    not spell them (an irregular pattern), for the page to list."""
+    from harness.identify import repro_size
+    from harness.samples import describe_pattern
+
+    if not isinstance(fingerprint, dict) or fingerprint.get("error"):
+        return {"defects": [], "confirmed": False, "offsets": None}
+    defects = []
+    for label, found in (fingerprint.get("defects") or {}).items():
+        for k, d in enumerate(found):
+            entry = {"probe": label, "case": d["case"], "check": d["check"], "message": d["message"],
+                     "pixels": [f"{b['kind']} at ({b['pixel'][0]}, {b['pixel'][1]}), "
+                                f"{' and '.join(str(p) for p in b.get('paths', b.get('triangles', [])))} on one edge"
+                                for b in d.get("evidence", {}).get("blame", [])][:EVIDENCE_LIMIT],
+                     "repro_path": None, "repro_size": None, "repro_of": None}
+            repro = d.get("repro")
+            if isinstance(repro, dict):
+                path = out_dir / "repros" / safe_name(name) / f"identify--{safe_name(label)}--{k}.json"
+                atomic_write_text(path, json.dumps(repro, indent=1))
+                entry.update(repro_path=str(path.relative_to(out_dir)), repro_size=repro_size(repro),
+                             repro_of=repro.get("original_triangles"))
+            defects.append(entry)
+    samples = fingerprint.get("samples")
+    same_samples = (pattern is None and samples is None) or (
+        pattern is not None and samples is not None and [list(o) for o in pattern] == [list(o) for o in samples])
+    offsets = None
+    if samples and "listed in" in describe_pattern([tuple(o) for o in samples]):  # the words do not spell them
+        offsets = [f"({x:g}, {y:g})" for x, y in samples]
+    return {"defects": defects, "offsets": offsets,
+            "confirmed": bool(declared == fingerprint.get("convention") and fingerprint.get("exact") and same_samples)}
 
 
 def _fingerprint_field(fingerprint: Any, name: str) -> Any:
@@ -852,6 +866,7 @@ def write_campaign_page(out_dir: Path | str, state: CampaignState, *, rasterizer
     html = _environment().get_template("campaign.html").render(
         header=header, run=run, rows=rows, causes=causes, chart=chart, meta=meta, state_dir=str(state.directory),
         crop_legend=CROP_LEGEND.items(), path_legend=PATH_LEGEND.items(), line_legend=LINE_LEGEND.items(),
+        sample_legend=SAMPLE_LEGEND.items(),
         any_paths=any(r["repro"].get("paths") for r in rows), any_lines=any(r["repro"].get("lines") for r in rows),
         resume=f"rastercheck fuzz --rasterizer {shlex.quote(state.spec)} --state {shlex.quote(str(state.directory))} --budget 10m")
     path = out_dir / CAMPAIGN_PAGE

@@ -19,12 +19,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness import checks
-from harness.api import AnyScene, LineScene, Rasterizer, Scene, received_of
+from harness.api import AnyScene, Coverage, LineScene, Rasterizer, Scene, received_of
 from harness.case import Case, MotionCase, case_to_json
 from harness.checks import Result
 from harness.exact import orientation
 
-__all__ = ["ddmin", "shrink", "attach_repro", "whole_case_repro", "input_precision_probe", "viewport_edge_probe", "viewport_edge_trial",
+__all__ = ["ddmin", "shrink", "attach_repro", "hole_repro", "whole_case_repro", "answer_json", "answer_from_json", "MAX_ANSWER_FRAGMENTS", "input_precision_probe", "viewport_edge_probe", "viewport_edge_trial",
            "grown_screen", "Judge"]
 
 # The checks of one rasterizer on a case, restricted to one check by name.
@@ -116,23 +116,35 @@ def attach_repro(result: Result, case: Case, judge: Judge, rasterizer: Rasterize
                  budget: int = 60, seconds: float = 10.0) -> Result:
     """Shrink the case to a minimal one that still fails the same check and attach it, as
     replayable JSON naming that check, to the result's evidence. The result keeps the
-    whole case's message; the repro file carries the check's own on the shrunk case."""
+    whole case's message; the repro file carries the check's own on the shrunk case, its
+    evidence there (``evidence``) and what the rasterizer drew there (``answer``,
+    :func:`answer_json`: a multisample answer whole), for its picture.
+
+    Watertight's double hits shrink as ``overdraw``; its holes are cut down to the pieces
+    around one of them as ``holes`` (:func:`hole_repro`), the whole case kept when that
+    fails."""
     check = result.check
+    start = case  # what is shrunk
     if check == "watertight" and result.metrics.get("double_hits", 0) > 0:
         check = "overdraw"  # double hits stay double hits in any subset of the triangles
+    elif check == "watertight" and result.metrics.get("holes", 0) > 0:
+        around = hole_repro(case, result, judge)  # the pieces around one hole, and a region as small
+        if around is not None:
+            check, start = "holes", around
 
     def failed(candidate: Case) -> Result | None:
         return next((r for r in judge(candidate, check) if r.check == check and r.status == "fail"), None)
 
     if check not in {c.name for c in checks.checks(only={check}) if c.shrinks}:
-        minimal = case  # holes and closed meshes need the whole case: no smaller one is valid
+        minimal = start  # closed meshes need the whole case, a partition the pieces around its hole: no smaller one is valid
     else:
-        minimal = shrink(case, lambda candidate: failed(candidate) is not None, budget=budget, seconds=seconds)
+        minimal = shrink(start, lambda candidate: failed(candidate) is not None, budget=budget, seconds=seconds)
     evidence = dict(result.evidence)
     message = result.message  # the whole case's, for the result
     said = result.message  # the shrunk case's, for the repro file
+    seen: Result | None = result  # the failure on the repro itself: what its picture shows
     if minimal is not case:
-        again = failed(minimal)
+        seen = again = failed(minimal)
         if again is not None:
             said = again.message
     if check in ("conformance", "invariance"):
@@ -150,15 +162,139 @@ def attach_repro(result: Result, case: Case, judge: Judge, rasterizer: Rasterize
                     "triangles pass: the deviation appears only where triangles cross the viewport edge")
             message, said = message + note, said + note
     payload = case_to_json(minimal, check=check, rasterizer=rasterizer.name, message=said,
-                           original_case=case.id, original_triangles=len(case.scene))
+                           original_case=case.id, original_triangles=len(case.scene), **_seen(seen))
     return replace(result, message=message, evidence={**evidence, "repro": payload})
+
+
+def hole_repro(case: Case, result: Result, judge: Judge, tries: int = 4) -> Case | None:
+    """A watertight failure's hole cut down to the partition's pieces around it: for one
+    of the first holes it blames, the region becomes pixel (x, y) grown by a dyadic margin
+    (1/4 px, halved until it lies wholly inside the partition's open region: exact), and
+    the pieces those whose box meets it grown by a pixel -- every piece that covers part of
+    it, snapped or not, so their union covers it and its pixel must be hit under any tie
+    rule. Returned when the
+    ``holes`` check (:func:`harness.checks.watertight.holes`) fails there; None when no
+    blamed hole does (a rasterizer whose pieces' answers depend on each other).
+    """
+    if case.region is None:
+        return None
+    region = case.region
+    m = region.shape[0]
+    turns = orientation(np.stack([region, np.roll(region, -1, axis=0), np.roll(region, -2, axis=0)], axis=1))
+    if not turns.any():
+        return None
+    area_sign = int(turns[np.flatnonzero(turns)[0]])
+
+    def strictly_inside(points: NDArray[np.float64]) -> bool:
+        for k in range(m):
+            a = np.broadcast_to(region[k], points.shape)
+            b = np.broadcast_to(region[(k + 1) % m], points.shape)
+            if not np.all(orientation(np.stack([a, b, points], axis=1)) * area_sign > 0):
+                return False
+        return True
+
+    blamed = [e["pixel"] for e in result.evidence.get("blame", []) if isinstance(e, dict) and e.get("kind") == "hole"]
+    lo, hi, finite = case.scene.primitive_boxes()
+    for x, y in blamed[:tries]:
+        for bits in range(2, 21):
+            margin = 2.0**-bits
+            square = np.array([[x - margin, y - margin], [x + 1 + margin, y - margin], [x + 1 + margin, y + 1 + margin],
+                               [x - margin, y + 1 + margin]], dtype=np.float64)
+            if strictly_inside(square):
+                break
+        else:
+            continue
+        box_lo, box_hi = square[0] - 1.0, square[2] + 1.0  # a pixel more: snapping moves a vertex by at most half of one
+        meets = finite & np.all(lo <= box_hi, axis=1) & np.all(hi >= box_lo, axis=1)
+        keep = np.flatnonzero(meets).tolist()
+        if not keep or len(keep) == len(case.scene):
+            continue
+        around = replace(_subcase(case, keep), id=f"{case.id}/repro", region=square)
+        if any(r.check == "holes" and r.status == "fail" for r in judge(around, "holes")):
+            return around
+    return None
 
 
 def whole_case_repro(result: Result, case: Case, rasterizer: str, note: str) -> Result:
     """The whole case attached as the repro, unshrunk, with the reason."""
     payload = case_to_json(case, check=result.check, rasterizer=rasterizer, message=result.message,
-                           original_case=case.id, original_triangles=len(case.scene), note=note)
+                           original_case=case.id, original_triangles=len(case.scene), note=note, **_seen(result))
     return replace(result, evidence={**result.evidence, "repro": payload})
+
+
+MAX_ANSWER_FRAGMENTS = 20_000  # a repro file keeps the rasterizer's answer up to this many fragments
+
+
+def answer_json(coverage: Coverage) -> dict[str, Any] | None:
+    """A rasterizer's answer on a repro as JSON, to draw beside the convention's: its spans
+    (``primitive``, ``y``, ``x0``, ``x1``), each span's ``sample`` index (multisample) and
+    each pixel's ``alpha`` (area coverage), attributes left out; None beyond
+    :data:`MAX_ANSWER_FRAGMENTS` fragments (or samples).
+
+    >>> answer_json(Coverage([0], [2], [1], [3], alpha=[0.25, 1.0]))
+    {'primitive': [0], 'y': [2], 'x0': [1], 'x1': [3], 'alpha': [0.25, 1.0]}
+    """
+    if int(np.maximum(coverage.x1 - coverage.x0, 0).sum()) > MAX_ANSWER_FRAGMENTS:
+        return None
+    out: dict[str, Any] = {name: getattr(coverage, name).tolist() for name in ("primitive", "y", "x0", "x1")}
+    if coverage.sample is not None:
+        out["sample"] = coverage.sample.tolist()
+    if coverage.alpha is not None:
+        out["alpha"] = [float(a) if np.isfinite(a) else str(a) for a in coverage.alpha.tolist()]
+    return out
+
+
+def answer_from_json(data: Any) -> Coverage | None:
+    """The coverage :func:`answer_json` wrote; None for anything else (a file from
+    elsewhere: a picture, not a verdict, depends on it).
+
+    >>> answer_from_json(answer_json(Coverage([0, 1], [2, 2], [1, 4], [3, 5], sample=[0, 3]))).pixels()
+    (array([0, 0, 1]), array([1, 2, 4]), array([2, 2, 2]))
+    >>> answer_from_json({"primitive": [0]}) is None
+    True
+    """
+    if not isinstance(data, dict):
+        return None
+    try:
+        primitive, y, x0, x1 = (np.asarray(data[k], dtype=np.int64).reshape(-1) for k in ("primitive", "y", "x0", "x1"))
+        alpha = data.get("alpha")
+        return Coverage(primitive, y, x0, x1, sample=None if data.get("sample") is None else np.asarray(data["sample"], dtype=np.int64),
+                        alpha=None if alpha is None else np.asarray(alpha, dtype=np.float64))
+    except (KeyError, TypeError, ValueError):
+        return None
+
+
+def _json_safe(value: Any) -> Any:
+    """Evidence as the results file writes it: non-finite floats as strings ("inf", "nan").
+
+    >>> _json_safe({"d": [1.5, float("inf")]})
+    {'d': [1.5, 'inf']}
+    """
+    if isinstance(value, float) and not np.isfinite(value):
+        return str(value)
+    if isinstance(value, dict):
+        return {str(k): _json_safe(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_json_safe(v) for v in value]
+    return value
+
+
+def _seen(result: Result | None) -> dict[str, Any]:
+    """What a repro file keeps of the failure on the repro itself, for its picture: the
+    rasterizer's answer (``answer``, :func:`answer_json`) and the check's evidence
+    (``evidence``: the offending pixels, on the repro's own coordinates)."""
+    if result is None:
+        return {}
+    out: dict[str, Any] = {"evidence": _json_safe({k: v for k, v in result.evidence.items()
+                                                   if k not in ("repro", "repro_path", "traceback")})}
+    drawing = result.drawing
+    if drawing is not None and drawing.whole is not None:  # one sample's layer: the whole multisample answer
+        drawing = drawing.whole
+    if drawing is not None and drawing.coverages:
+        answer = answer_json(drawing.coverages[0])
+        if answer is not None:
+            out["answer"] = answer
+    return out
 
 
 def _passes(case: Case, check: str, judge: Judge) -> bool:

@@ -20,7 +20,9 @@ from pathlib import Path
 from cases.suites import suite as suite_cases
 from harness.case import Case, MotionCase, read_case_file
 from harness import checks, repro
-from harness.api import AnyScene, LineScene, Rasterizer, Scene, Unsupported, convention_for, fingerprint_of, interpolates_of, scene_kinds_of, takes
+from harness.api import (AnyScene, Coverage, LineScene, Rasterizer, Scene, Unsupported, convention_for, fingerprint_of,
+                         interpolates_of, scene_kinds_of, takes)
+from harness.causes import signed
 from harness.declarations import answer_problem, declaration_problem, scene_kind_problem
 from harness.checks import Drawing, Result, Tolerance
 
@@ -228,8 +230,10 @@ def run_suite(
     -------
     list of Result
         Records with ``rasterizer``, ``case``, ``check``, ``status``, ``message``,
-        ``metrics`` and ``evidence``. A rasterizer whose answers on a scene kind
-        contradict its declared convention (:func:`harness.declarations.answer_problem`)
+        ``metrics`` and ``evidence``; a failing or erroring one's evidence names its
+        ``signature`` (:func:`harness.causes.signed`), which
+        :func:`harness.causes.by_cause` groups by. A rasterizer whose answers on a scene
+        kind contradict its declared convention (:func:`harness.declarations.answer_problem`)
         has one error result for that kind, ``evidence["refused"]`` naming it, and is
         handed no more scenes of the kind.
 
@@ -261,6 +265,10 @@ def run_suite(
         def judge(candidate: Case | MotionCase, check: str, one_case: Callable[..., list[Result]] = one_case) -> list[Result]:
             return one_case(candidate, {check})
 
+        def answered(still: Case, drawn: Coverage, check: str, rasterizer: Rasterizer = rasterizer) -> list[Result]:
+            """The one check on ``still``, judged on ``drawn`` (an answer the run has): no call."""
+            return check_case(still, rasterizer, lambda scene: Outcome(drawn), tolerance, only={check})
+
         shrink_until = time.monotonic() + repro_seconds
         try:
             for k, case in enumerate(selected):
@@ -282,7 +290,7 @@ def run_suite(
                         else:  # budget used up: the whole case is the repro
                             result = repro.whole_case_repro(result, case, rasterizer.name,
                                                             "not shrunk: the shrinking time budget was used up")
-                    result = _qualified(result, rasterizer, case)
+                    result = signed(_qualified(result, rasterizer, case), case, rasterizer, judge, answered)
                     results.append(result)
                     if on_result is not None:
                         on_result(result)

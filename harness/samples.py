@@ -25,7 +25,7 @@ from fractions import Fraction
 
 import numpy as np
 
-__all__ = ["FRACTION_BITS", "STANDARD_PATTERNS", "pattern"]
+__all__ = ["FRACTION_BITS", "STANDARD_PATTERNS", "pattern", "describe_pattern", "regular_grid"]
 
 # Offsets have at most 32 fraction bits: with i < MAX_VIEWPORT = 2**20, i + sx fits in 52 bits.
 FRACTION_BITS = 32
@@ -131,3 +131,86 @@ def pattern(spec: int | Iterable[Sequence[float]]) -> tuple[tuple[float, float],
     if not offsets:
         raise ValueError("a sample pattern needs at least one sample")
     return tuple(offsets)
+
+
+def _fraction_words(value: Fraction) -> str:
+    """A dyadic fraction as people write it: ``0``, ``1/8``, ``3/16``."""
+    return str(value.numerator) if value.denominator == 1 else f"{value.numerator}/{value.denominator}"
+
+
+def _axis_words(first: Fraction, step: Fraction, index: str) -> str:
+    """``1/8 + k/4``: the first offset along an axis plus ``index`` steps."""
+    steps = f"{index}/{step.denominator}" if step.numerator == 1 else f"{_fraction_words(step)} {index}"
+    return steps if first == 0 else f"{_fraction_words(first)} + {steps}"
+
+
+def regular_grid(offsets: Sequence[tuple[float, float]]) -> tuple[int, int, str] | None:
+    """(columns, rows, where) when ``offsets`` are a regular grid listed row by row (y
+    outer, x inner, as :func:`rasterizers.supersample.grid_pattern` lists them): evenly
+    spaced columns and rows, every crossing a sample once; ``where`` is the offsets in
+    words (``1/8 + k/4`` when both axes agree, else ``(1/32 + i/16, 1/8 + j/4)``). None
+    for anything else (or a single sample).
+
+    >>> regular_grid([(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)])
+    (2, 2, '(1/4 + k/2)')
+    >>> regular_grid([(0.25, 0.25), (0.25, 0.75), (0.75, 0.25), (0.75, 0.75)]) is None  # column by column
+    True
+    """
+    grid = _grid(offsets)
+    if grid is None or not grid[3]:
+        return None
+    return grid[:3]
+
+
+def _grid(offsets: Sequence[tuple[float, float]]) -> tuple[int, int, str, bool] | None:
+    """(columns, rows, where, listed row by row?) when ``offsets`` are, in some order, a
+    regular grid (see :func:`regular_grid`); None otherwise."""
+    if len(offsets) < 2:
+        return None
+    xs = sorted({Fraction(x) for x, _ in offsets})
+    ys = sorted({Fraction(y) for _, y in offsets})
+    if len(xs) * len(ys) != len(offsets) or len(set(offsets)) != len(offsets):
+        return None
+    axes = []
+    for values in (xs, ys):
+        steps = {b - a for a, b in zip(values, values[1:])}
+        if len(steps) > 1:
+            return None
+        axes.append((values[0], steps.pop() if steps else None))
+
+    def words(first: Fraction, step: Fraction | None, index: str) -> str:
+        return _fraction_words(first) if step is None else _axis_words(first, step, index)  # one column (row): its offset
+
+    if axes[0] == axes[1]:
+        where = f"({words(*axes[0], 'k')})"
+    else:
+        where = f"({words(*axes[0], 'i')}, {words(*axes[1], 'j')})"
+    row_by_row = [(Fraction(x), Fraction(y)) for x, y in offsets] == [(x, y) for y in ys for x in xs]
+    return len(xs), len(ys), where, row_by_row
+
+
+def describe_pattern(offsets: Sequence[tuple[float, float]]) -> str:
+    """A sample pattern in a few words, never its offsets one by one: a standard pattern by
+    its name, a regular grid by its size and where it lies, anything else by its count and
+    where the offsets are listed (the JSON and the report keep them in full).
+
+    >>> describe_pattern(pattern(4))
+    'D3D11 4x'
+    >>> describe_pattern([((i + 0.5) / 4, (j + 0.5) / 4) for j in range(4) for i in range(4)])
+    '4x4 grid at (1/8 + k/4)'
+    >>> describe_pattern([(0.25, 0.5), (0.75, 0.25), (0.5, 0.875)])
+    '3 samples at irregular offsets (listed in --json and the report)'
+    >>> describe_pattern([((i + 0.5) / 16, (j + 0.5) / 4) for j in range(4) for i in range(16)])
+    '16x4 grid at (1/32 + i/16, 1/8 + j/4)'
+    """
+    offsets = tuple((float(x), float(y)) for x, y in offsets)
+    if STANDARD_PATTERNS.get(len(offsets)) == offsets:
+        return f"D3D11 {len(offsets)}x"
+    grid = _grid(offsets)
+    if grid is not None:
+        columns, rows, where, row_by_row = grid
+        if row_by_row:
+            return f"{columns}x{rows} grid at {where}"
+        # the order is the sample indices' (multisample): say that it is not row by row
+        return f"{columns}x{rows} grid at {where}, samples in another order (listed in --json and the report)"
+    return f"{len(offsets)} samples at irregular offsets (listed in --json and the report)"

@@ -57,13 +57,13 @@ from harness.exact import SAFE_MAX, SAFE_MIN, frozen, orient2d_sign
 __all__ = ["TrapezoidFill", "outline", "trapezoid_spans", "crossing_column", "edge_table"]
 
 
-# Compiled in each process, not cached on disk: xdist workers crashed (segfault) inside
-# _sweep when loading these kernels from numba's cache (CI only; never in one process,
-# nor under NUMBA_BOUNDSCHECK over every quick case). A race in numba's cache index
-# between processes compiling side by side was found and closed
-# (harness.numba_cache.safe_numba_cache), but with the cache on, CI's workers still
-# crashed here; until the cause is known these kernels pay their compile in each process.
-_CACHE = False
+# Cached on disk like every kernel. They were compiled in each process for a while: xdist
+# workers crashed (segfault) inside _sweep when two processes had compiled and saved the
+# same callee (harness.exact's kernels) side by side and a third loaded both builds.
+# harness.numba_cache now lets one process at a time compile each cached kernel, so the
+# second loads the first one's build (the crash's recipe from session 12, a side-by-side
+# warm-up then the path fillers in one process: 3 crashes in 3 tries before, none in 3 after).
+_CACHE = True
 
 Spans = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]
 

@@ -57,6 +57,11 @@ def test_viewport_edge_fact_tells_a_clipper_from_an_exact_rasterizer():
     assert viewport_edge(InProcess(load("centre_scanline")), 0).text.startswith("exact")
     fingerprint = identify(ClipsBeforeSnapping())
     assert "change when triangles cross it" in fingerprint.facts["viewport edge"], fingerprint.card()
+    # each scene that changes is the suite's own lattice case, failing conformance there with a repro
+    moved = fingerprint.defects["viewport edge"]
+    assert moved and {d.case for d in moved} <= {"lattice/bits-0", "lattice/bits-2", "lattice/bits-4"}
+    assert all(d.check == "conformance" and d.evidence["pixels"] for d in moved) and moved[0].repro is not None
+    assert "lattice/bits-0' fails conformance" in fingerprint.card()
     # away from the edge it is exactly its convention
     assert fingerprint.convention == Convention(subpixel_bits=8) and fingerprint.exact, fingerprint.card()
 

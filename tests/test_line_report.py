@@ -232,23 +232,51 @@ def test_the_crop_draws_what_the_line_rule_needs(rule: str, results: list[Result
 
 
 def test_a_line_repro_is_drawn_with_its_segments_and_the_pixels_the_rule_draws(results: list[Result]) -> None:
+    """What the rasterizer drew on the repro (kept in its file) on the left, what the rule
+    draws on the right, the pixels the failure names on the repro outlined on both, and the
+    segment drawn where it is (through the pixels the rule draws)."""
     failure = _failure(results, CASES[0].id)
     repro = case_from_json(failure.evidence["repro"])
     assert isinstance(repro.scene, LineScene) and len(repro.scene) < len(failure.drawing.case.scene)
     uri, caption = pictures.draw_repro(failure)
     n = len(repro.scene)
     assert caption.startswith(f"minimal repro: its {n} segment{'s' if n > 1 else ''} (of 4)")
-    assert "the pixels the convention draws (diamond-exit lines, last pixel omitted, no snapping)" in caption
-    svg = _svg(uri)
-    x0, y0, w, h = (int(float(v)) for v in svg.get("viewBox").split())
-    covered = exact_coverage(repro.scene, DIAMOND).counts(repro.scene.width, repro.scene.height)
-    assert _pixel_fills(svg) == {(x, y): _hex(pictures.CROP_LEGEND["covered by the convention (repros)"])
-                                 for y in range(y0, y0 + h) for x in range(x0, x0 + w) if covered[y, x]}
-    assert list(svg.iter(SVG + "polyline"))
-    # read back from JSON (no drawing, no convention): drawn without pixels, and said so
+    assert ("left: what the rasterizer drew, right: what the convention draws (diamond-exit lines, last pixel omitted, "
+            "no snapping)") in caption
+    left, right = _svg(uri).findall(SVG + "svg")
+    x0, y0, w, h = (int(float(v)) for v in right.get("viewBox").split())
+    want = exact_coverage(repro.scene, DIAMOND).counts(repro.scene.width, repro.scene.height)
+    got = LastPixelLines().rasterize(repro.scene).counts(repro.scene.width, repro.scene.height)
+    inside = [(x, y) for y in range(y0, y0 + h) for x in range(x0, x0 + w)]
+    assert _pixel_fills(right) == {(x, y): _hex(pictures.CROP_LEGEND[pictures._CONVENTION]) for x, y in inside if want[y, x]}
+    assert _pixel_fills(left) == {(x, y): _hex(pictures.CROP_LEGEND[pictures._DRAWN]) for x, y in inside if got[y, x]}
+    # outlined: exactly the pixels where the two differ (the failure's own, on the repro)
+    differ = {(x, y) for x, y in inside if bool(got[y, x]) != bool(want[y, x])}
+    red = _hex(pictures.CROP_LEGEND["offending pixel (outlined)"])
+    for panel in (left, right):
+        outlined = {(int(float(r.get("x"))), int(float(r.get("y")))) for r in panel.iter(SVG + "rect") if r.get("stroke") == red}
+        assert outlined == differ and differ
+    a, b = repro.scene.segments()
+    line = next(e for e in right.iter(SVG + "line") if e.get("stroke-width") == "3")  # the segment, thick
+    assert [float(line.get(k)) for k in ("x1", "y1", "x2", "y2")] == [*a[0].tolist(), *b[0].tolist()]
+    # read back from JSON (no drawing, no convention): what the rasterizer drew alone, and said so
     bare = results_from_json(json.loads(json.dumps(results_to_json([failure], "custom", 0, {}))))[0]
     uri, caption = pictures.draw_repro(bare)
-    assert uri is not None and "no convention known, so no pixels drawn" in caption and not _pixel_fills(_svg(uri))
+    assert uri is not None and "what the rasterizer drew (no convention known, so nothing beside it)" in caption
+    assert len(_svg(uri).findall(SVG + "svg")) == 1
+    # a repro file from before the answer was kept: the rule's pixels alone, the whole case's marks near the segment
+    old = {k: v for k, v in failure.evidence["repro"].items() if k not in ("answer", "evidence")}
+    uri, caption = pictures.draw_repro(replace(failure, evidence={**failure.evidence, "repro": old}))
+    assert "the pixels the convention draws (diamond-exit lines, last pixel omitted, no snapping)" in caption
+    assert _pixel_fills(_svg(uri)) == {(x, y): _hex(pictures.CROP_LEGEND[pictures._CONVENTION]) for x, y in inside if want[y, x]}
+
+
+def test_an_old_line_repros_marks_are_those_near_its_segments_not_in_their_box() -> None:
+    """A diagonal segment's box holds pixels far from it: the whole case's offending pixels
+    there are not the repro's (the issue's 25 pixels outlined away from a one-segment repro)."""
+    scene = LineScene.from_strips(32, 32, [[[1.5, 1.5], [25.5, 25.5]]])
+    near, far = (10, 10), (20, 3)
+    assert pictures._near_segments([near, far], scene) == [near]
 
 
 def test_the_failures_of_every_check_that_judges_lines_are_drawn(line_check: Check) -> None:

@@ -13,7 +13,7 @@ ROOT = Path(__file__).parent.parent
 
 # A kernel long enough that two processes' compiles of it overlap when they start together.
 KERNEL = "import numba\n\n@numba.njit(cache=True)\ndef busy(x):\n    s = 0.0\n" + "".join(
-    f"    if x > {i}:\n        s += x * {i} - {i % 7}\n    else:\n        s -= {i}\n" for i in range(150)) + "    return s\n"
+    f"    if x > {i}:\n        s += x * {i} - {i % 7}\n    else:\n        s -= {i}\n" for i in range(40)) + "    return s\n"
 
 # Each process waits for the start file, then calls the kernel and says whether it compiled.
 CALLER = textwrap.dedent("""
@@ -22,6 +22,7 @@ CALLER = textwrap.dedent("""
     if sys.argv[3] == "safe":  # importing harness makes the cache safe; "plain" is numba alone
         import harness
     import busy_kernel
+    print("ready", flush=True)
     while not os.path.exists(sys.argv[2]):
         time.sleep(0.01)
     busy_kernel.busy(3.0)
@@ -37,7 +38,8 @@ def _race(tmp_path: Path, mode: str) -> list[dict[str, int]]:
     start = tmp_path / "start"
     processes = [subprocess.Popen([sys.executable, "-c", CALLER, str(tmp_path), str(start), mode], cwd=ROOT,
                                   stdout=subprocess.PIPE, text=True) for _ in range(2)]
-    time.sleep(3.0)  # both imported and waiting (not a measurement: only so that they start together)
+    for p in processes:  # both imported and waiting, so that they start together
+        assert p.stdout is not None and p.stdout.readline().strip() == "ready"
     start.write_text("go")
     outputs = [p.communicate(timeout=300)[0] for p in processes]
     assert all(p.returncode == 0 for p in processes), outputs
@@ -71,7 +73,8 @@ def test_a_process_waits_for_the_build_under_way_and_loads_it(tmp_path):
         fcntl.flock(held, fcntl.LOCK_EX)
         waiting = subprocess.Popen([sys.executable, "-c", CALLER, str(tmp_path), str(start), "safe"], cwd=ROOT,
                                    stdout=subprocess.PIPE, text=True)
-        time.sleep(3.0)  # it has imported and reached the kernel (only ordering, nothing measured)
+        assert waiting.stdout is not None and waiting.stdout.readline().strip() == "ready"
+        time.sleep(0.5)  # it reaches the kernel and the lock (only ordering, nothing measured)
         assert waiting.poll() is None, "the process did not wait for the lock"
         plain = subprocess.run([sys.executable, "-c", CALLER, str(tmp_path), str(start), "plain"], cwd=ROOT,
                                capture_output=True, text=True, timeout=300)

@@ -14,6 +14,7 @@ import numpy as np
 from hypothesis import given, settings
 from numpy.typing import NDArray
 
+from cases.partitions import partition_cases
 from cases.paths import PATH_FAMILIES, partition_flaws, path_cases, quad_grid, rectangle, star
 from cases.strategies import path_scenes
 from cases.suites import suite
@@ -80,9 +81,10 @@ def test_every_case_is_a_small_valid_path_scene_that_round_trips_exactly():
         # through the constructor again: every field valid
         PathScene(scene.width, scene.height, scene.vertices, scene.contour_sizes, scene.contour_path, scene.fill_rule)
         assert all(0 <= p < len(scene) for p in case.refusable), case.id
-        if case.lattice:  # small multiples of 1/8: float arithmetic on them is exact
-            v = scene.vertices
-            assert np.isfinite(v).all() and np.all(v * 8 == np.round(v * 8)) and np.abs(v).max() <= 64, case.id
+        if case.lattice:  # small multiples of 1/8 (1/16: the triangle partitions'): float arithmetic on them is exact
+            # (the triangle scenes as paths: the triangle suite's lattices, 1/16 px, reaching 2 px beyond the screen)
+            v, scale, reach = (scene.vertices, 16, 66) if "/triangles/" in case.id else (scene.vertices, 8, 64)
+            assert np.isfinite(v).all() and np.all(v * scale == np.round(v * scale)) and np.abs(v).max() <= reach, case.id
         back = case_from_json(json.loads(json.dumps(case_to_json(case)), parse_float=Decimal))
         assert isinstance(back, Case) and same_case(case, back), case.id
         exact_coverage(scene, Convention())  # the oracle takes it (no coordinate beyond its fast range)
@@ -100,7 +102,9 @@ def test_ids_are_unique_stable_and_free_of_the_seed():
     # a quick case is its full namesake, bit for bit, in the full suite's order
     quick = path_cases(0)
     assert [c.id for c in quick] == [i for i in ids if i in {c.id for c in quick}]
-    assert all(same_case(c, by_id()[c.id]) for c in quick)
+    # (the triangle partitions as paths follow the triangle suite's watertight/ family, drawn
+    # from one generator in turn: a quick one is its quick namesake, tested below)
+    assert all(same_case(c, by_id()[c.id]) for c in quick if not c.id.startswith("path-partitions/triangles/"))
     assert {c.family for c in quick} == set(PATH_FAMILIES)
 
 
@@ -115,7 +119,7 @@ def test_every_case_comes_under_both_rules_in_the_full_suite():
 
 
 def test_the_suites_hold_the_path_families_between_the_triangles_and_the_lines():
-    for name, count in (("quick", (25, 45)), ("full", (100, 160))):
+    for name, count in (("quick", (95, 115)), ("full", (200, 240))):  # with the triangle scenes as paths
         cases = suite(name)
         ids = [c.id for c in cases]
         assert len(ids) == len(set(ids)), name
@@ -156,7 +160,7 @@ def tiling_errors(scene: PathScene, region: NDArray[np.float64], convention: Con
 
 
 def test_partitions_tile_their_region_exactly():
-    partitions = matching("path-partitions/*")
+    partitions = [c for c in matching("path-partitions/*") if not c.id.startswith("path-partitions/triangles/")]
     assert len(partitions) == 18
     for case in partitions:
         scene, region = case.scene, case.region
@@ -170,6 +174,22 @@ def test_partitions_tile_their_region_exactly():
             assert not any(errors.values()), (case.id, convention.tie, convention.sample, errors)
             inside_pixels += int(sample_classes(region, scene.width, scene.height, convention.sample)[0].sum())
         assert inside_pixels > 4 * 900, case.id  # most of the 48 x 48 viewport: the check has teeth
+
+
+def test_the_triangle_partitions_come_as_paths_the_way_identify_sends_them():
+    """Every triangle partition of the suite, each triangle a one-contour path under each
+    rule: the scenes identify's watertight probe sends a paths-only rasterizer."""
+    from harness.path_probes import triangle_paths
+
+    for complete in (False, True):
+        triangles = partition_cases(0, complete)
+        as_paths = {c.id: c for c in path_cases(0, complete) if c.id.startswith("path-partitions/triangles/")}
+        assert len(as_paths) == 2 * len(triangles)
+        for case in triangles:
+            for rule in ("nonzero", "evenodd"):
+                twin = as_paths[f"path-partitions/triangles/{case.id.split('/', 1)[1]}/{rule}"]
+                assert bits(twin.scene) == bits(triangle_paths(case.scene, rule))
+                assert twin.lattice == case.lattice and np.array_equal(twin.region, case.region)
 
 
 def test_the_tiling_checks_fail_on_broken_partitions():
@@ -203,7 +223,7 @@ DIFFER = ["paths/star-*", "paths/ring/*hole-same/*", "paths/overlap/squares-same
 # ... or they agree (windings 0 and +-1 only)
 AGREE = ["paths/simple/*", "paths/bow-tie/*", "paths/ring/*hole-opposite/*", "paths/overlap/squares-opposite/*", "paths/collinear/*",
          "paths/zero-length-edges/closed-*", "paths/spike/*", "paths/tiny-contours/*", "paths/huge/wedge-*", "paths/epsilon/triangles-*",
-         "path-partitions/*", "path-degenerate/*"]
+         "path-partitions/*", "path-degenerate/*", "paths/triangles/*"]
 
 
 def test_evenodd_covers_a_subset_of_nonzero_and_they_differ_exactly_where_they_should():
@@ -257,6 +277,8 @@ def test_degenerate_contours_change_nothing():
     expected = masks(anchors)
     assert expected.any(axis=(1, 2)).all()
     for case in matching("path-degenerate/*"):
+        if case.id.startswith("path-degenerate/triangles/"):
+            continue  # identify's triangle probes as paths: no anchors (the triangle suite's degenerate/.../probe*)
         got = masks(case.scene)
         assert (got[:2] == expected).all(), case.id
         covering = [p for p in range(2, len(case.scene)) if got[p].any()]

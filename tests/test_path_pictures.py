@@ -289,7 +289,7 @@ def test_a_path_repro_is_drawn_with_its_winding_numbers(results: list[Result]) -
     x0, y0, w, h = (int(float(v)) for v in svg.get("viewBox").split())
     want = _path_mask(repro.scene, 0, Convention(), (x0, y0, x0 + w, y0 + h))
     assert numbers and all(bold == bool(want[y - y0, x - x0]) for (x, y), (_, bold) in numbers.items())
-    covered = "#{:02x}{:02x}{:02x}".format(*pictures.CROP_LEGEND["covered by the convention (repros)"])
+    covered = "#{:02x}{:02x}{:02x}".format(*pictures.CROP_LEGEND[pictures._CONVENTION])
     assert f'fill="{covered}"' in base64.b64decode(uri.split(",", 1)[1]).decode()
 
 

@@ -283,3 +283,56 @@ def test_a_plugin_that_ends_the_process_in_rasterize_is_an_error_result(tmp_path
     assert code == 1
     assert all(r["status"] == "error" for r in results if r["rasterizer"] == "ends_later")
     assert all(r["status"] == "pass" for r in results if r["rasterizer"] == "centre_scanline")
+
+
+NUMBA_PLUGIN = '''
+import numba
+from harness import Convention, Coverage
+
+
+@numba.njit(cache=True)
+def double(x):
+    return 2.0 * x
+
+
+class Doubler:
+    name = "doubler"
+    convention = Convention()
+
+    def rasterize(self, scene):
+        double(1.0)
+        return Coverage.empty()
+'''
+
+
+def test_a_plugin_file_with_cached_kernels_loads_again_in_a_new_process(tmp_path):
+    """numba's cache names each cached kernel's module: a plugin file loaded by path gets
+    the same module name in every process, so its second run finds it (it failed with
+    ModuleNotFoundError: rastercheck_user_...)."""
+    (tmp_path / "numba_plugin.py").write_text(NUMBA_PLUGIN)
+    code = ("import numpy as np; from harness import Scene; from harness.registry import load; "
+            f"r = load({str(tmp_path / 'numba_plugin.py:Doubler')!r}); r.rasterize(Scene(4, 4, np.zeros((1, 3, 2)))); "
+            "print(type(r).__module__)")
+    for run in range(2):
+        done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+        assert done.returncode == 0, (run, done.stderr[-2000:])
+        assert done.stdout.strip() == "numba_plugin"
+
+
+def test_a_plugin_file_is_imported_by_a_stable_name(tmp_path, monkeypatch):
+    from harness.registry import _module_name
+
+    package = tmp_path / "mine" / "sub"
+    package.mkdir(parents=True)
+    for folder in (tmp_path / "mine", package):
+        (folder / "__init__.py").write_text("")
+    (package / "raster.py").write_text("")
+    (tmp_path / "json.py").write_text("")  # a stem another module answers to
+    monkeypatch.syspath_prepend(str(tmp_path))
+    assert _module_name(package / "raster.py") == "mine.sub.raster"  # as the code beside it imports it
+    clash = _module_name(tmp_path / "json.py")
+    assert clash.startswith("rastercheck_user_") and clash == _module_name(tmp_path / "json.py")
+    lone = tmp_path / "elsewhere"
+    lone.mkdir()
+    (lone / "lone_raster.py").write_text("")
+    assert _module_name(lone / "lone_raster.py") == "lone_raster"

@@ -1,4 +1,4 @@
-"""The HTML report says what is wrong: failures grouped by check and cause under a table
+"""The HTML report says what is wrong: failures grouped by cause and signature under a table
 of contents with counts, filters by check and status without JavaScript, each failure's
 minimal repro drawn, its evidence as tables, motion series plotted with axes and units,
 replay commands quoting the spec the user gave, skipped rasterizers listed with why, and
@@ -25,7 +25,8 @@ from harness.checks import Result
 from harness.cli import main
 from harness.output import results_from_json, results_to_json
 from harness.registry import Unavailable
-from harness.report import cause, evidence_table, write_comparison, write_report
+from harness.report import evidence_table, write_comparison, write_report
+from harness.signatures import Signature
 from harness.runner import run_suite
 from tests.known_bad.misc import Raises, WrongTieClaim
 from tests.known_bad.scanlines import ScanlineBug
@@ -74,19 +75,21 @@ def _decoded(uri: str) -> bytes:
     return base64.b64decode(uri.split(",", 1)[1])
 
 
-def test_the_contents_list_each_check_and_cause_with_counts_and_link_to_them(report):
+def test_the_contents_list_each_cause_and_signature_with_counts_and_link_to_them(report):
+    """Grouped as the campaign page groups (harness.causes.by_cause): a cause, then its
+    signatures in their own words, whole."""
     html = (report / TIE_PAGE).read_text()
     assert '<h2 id="contents">Failures by cause</h2>' in html
-    assert '<a href="#check-conformance">conformance</a> <span class="count">1</span>' in html
-    group = re.search(r'<a href="#(group-\d+)">fail · (missing and extra pixels[^<]*)</a> <span class="count">1</span>', html)
-    assert group, html[:3000]
-    assert f'<section id="{group.group(1)}" class="group s-fail">' in html
-    assert "every one with its sample exactly on an edge" in group.group(2)  # a tie rule, said as such
+    assert '<a href="#cause-0">tie-rule</a> <span class="count">1</span> — seen by conformance' in html
+    words = Signature("conformance", "exact-tie-slanted-edge", "tie-rule").describe()
+    group = re.search(r'<a href="#(group-\d+)">fail · ([^<]*)</a> <span class="count">1</span>', html)
+    assert group and group.group(2) == words.replace("'", "&#39;"), html[:3000]
+    assert f'<section id="{group.group(1)}" class="group c-conformance s-fail">' in html
     crashes = (report / RAISES_PAGE).read_text()
-    assert '<a href="#check-run">run</a> <span class="count">2</span>' in crashes
-    assert re.search(r'<a href="#group-\d+">error · RuntimeError</a> <span class="count">2</span>', crashes)
-    motion = (report / MOTION_PAGE).read_text()
-    assert re.search(r'<a href="#group-\d+">fail · N extra changes at N pixels \(flicker\)</a> <span class="count">1</span>', motion)
+    assert '<a href="#cause-0">exception-RuntimeError</a> <span class="count">2</span> — seen by run' in crashes
+    assert re.search(r'<a href="#group-\d+">error · run: raised RuntimeError</a> <span class="count">2</span>', crashes)
+    motion = (report / MOTION_PAGE).read_text()  # a flicker read through the frame that fails conformance
+    assert re.search(r'<a href="#cause-0">sample-point</a> <span class="count">1</span> — seen by jaggy', motion)
 
 
 def test_the_filters_are_css_targets_and_the_page_reads_without_them(report):
@@ -96,11 +99,14 @@ def test_the_filters_are_css_targets_and_the_page_reads_without_them(report):
         for target in (f"only-{check}", f"only-status-{status}"):
             assert f'<a href="#{target}">' in html and f'<span id="{target}" class="filter-target"></span>' in html
             assert f"#{target}:target ~ #failures" in html  # a CSS rule hides the rest
-        assert f"#only-{check}:target ~ #failures .check:not(.c-{check})" in html
-        assert f'class="check c-{check} has-{status}"' in html
+        assert f"#only-{check}:target ~ #failures .group:not(.c-{check})" in html
+        assert f"#only-{check}:target ~ #failures .cause:not(.has-c-{check})" in html
+        assert re.search(f'<section id="cause-0" class="cause has-c-{check} has-{status}">', html)
         # nothing is hidden until a filter is chosen: no rule applies without :target
         rules = re.findall(r"^[^{\n]*\{ display: none; \}", html.split("<style>")[2].split("</style>")[0], re.M)
         assert rules and all(":target" in rule for rule in rules)
+    index = (report / "index.html").read_text()
+    assert f'href="{TIE_PAGE}#only-conformance"' in index
 
 
 def test_the_evidence_is_tables_never_json_cut_short(report):
@@ -135,10 +141,10 @@ def test_each_failure_draws_its_minimal_repro(report, results):
     repro = next(r for r in results if "repro" in r.evidence)
     n = len(repro.evidence["repro"]["positions"])
     assert figure.group(2).startswith(f"minimal repro: its {n} triangle")
-    assert "the pixels the convention covers" in figure.group(2)
+    assert "left: what the rasterizer drew, right: what the convention" in figure.group(2)
     svg = _decoded(figure.group(1)).decode()
-    assert svg.startswith("<svg") and svg.count("<polygon") == n
-    covered = "#{:02x}{:02x}{:02x}".format(*pictures.CROP_LEGEND["covered by the convention (repros)"])
+    assert svg.startswith("<svg") and svg.count("<polygon") == 2 * n  # the triangles in both pictures
+    covered = "#{:02x}{:02x}{:02x}".format(*pictures.CROP_LEGEND[pictures._CONVENTION])
     assert f'fill="{covered}"' in svg
 
 
@@ -228,23 +234,6 @@ def test_index_links_the_comparison_and_diff_pages_whenever_they_exist(results, 
     write_report(tmp_path, CONVENTIONS, results, seed=0)
     html = (tmp_path / "index.html").read_text()
     assert 'href="compare.html"' in html and 'href="diff.html"' in html
-
-
-def test_cause_groups_messages_by_what_they_say():
-    def fail(check, message, **metrics):
-        return Result("r", "c", check, "fail", message, metrics)
-
-    assert cause(fail("conformance", "3 missing, 0 extra", missing=3.0, extra=0.0)) == "missing pixels"
-    assert cause(fail("watertight", "0 holes, 4 double hits, 1 stray hits outside")) == "N double hits"
-    assert cause(fail("texel", "0 texel mismatches outside exact ties, 2 backward texel steps, largest u, v error 0.5 texels")) \
-        == "N backward texel steps"
-    assert cause(fail("degenerate", "triangles [3, 7] have zero area or non-finite coordinates but drew pixels")) \
-        == "triangles […] have zero area or non-finite coordinates but drew pixels"
-    assert cause(fail("invariance", "changed under rotate-vertices (5 pixels), translate (2 pixels)")) == "changed under rotate-vertices"
-    assert cause(fail("texel", "3 of 16 frames came back without one attribute row per covered pixel (first: frame 2)")) \
-        == "N of N frames came back without one attribute row per covered pixel"
-    assert cause(Result("r", "c", "run", "error", "timeout: took longer than 60 s")) == "timeout"
-    assert cause(Result("r", "c", "run", "error", "not run: the run's budget of 5 s was used up")) == "not run"
 
 
 def test_the_command_line_passes_specs_and_skipped_rasterizers_to_the_report(tmp_path, monkeypatch, capsys):

@@ -11,10 +11,14 @@ from cases.suites import suite
 from harness import run_suite
 from harness.api import Scene
 from harness.case import case_from_json, case_to_json, load_case, save_case
-from harness.repro import ddmin
+from cases.fuzz import generate
+from harness.conventions import Convention
+from harness.oracle import exact_coverage
+from harness.repro import answer_from_json, ddmin
 from harness.runner import replay
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.known_bad.misc import WrongTieClaim
+from tests.known_bad.paths import PathFillBug
 
 
 @given(st.sets(st.integers(0, 40), min_size=1, max_size=4), st.integers(1, 60))
@@ -107,6 +111,47 @@ def test_failures_shrink_to_small_replayable_cases(bad, case_id, check, tmp_path
     shrunk_check = payload["check"]
     assert any(r.status == "fail" for r in replayed if r.check in (shrunk_check, "conformance", "watertight"))
     assert all(r.status in ("pass", "skip") for r in replay(path, "centre_scanline") if r.check != "conformance")
+
+
+class _ExactPaths:
+    """The oracle itself, for triangles and paths: every hole check passes on it."""
+
+    name = "exact_paths"
+    convention = Convention()
+    scene_kinds = ("triangles", "paths")
+    fill_rules = ("nonzero", "evenodd")
+    interpolates = False
+
+    def rasterize(self, scene):
+        return exact_coverage(scene, self.convention)
+
+
+@pytest.mark.parametrize("bad, case", [
+    (EdgeFunctionBug("exclusive"), next(c for c in suite("quick") if c.id == "watertight/grid-6x6-on-centres/lattice")),
+    (PathFillBug("horizontal-crossings"), generate("paths", 0, 77)),  # a 4 x 4 quad grid of paths, a campaign's scene
+])
+def test_a_hole_is_cut_down_to_the_pieces_around_it(bad, case, tmp_path):
+    """A partition's hole is no subset's hole -- but the pieces that meet a region one pixel
+    wide around it still cover that region: the repro keeps those, the region, and the
+    failure (the on-request holes check), which the exact answer passes."""
+    failing = [r for r in run_suite([bad], cases=[case], isolate=False, identify=False, only={"watertight"})
+               if r.status == "fail"]
+    assert failing and failing[0].metrics["holes"] > 0
+    payload = failing[0].evidence["repro"]
+    cut = case_from_json(payload)
+    assert payload["check"] == "holes" and payload["original_triangles"] == len(case.scene) > len(cut.scene) >= 1
+    x, y = payload["evidence"]["pixels"][0]  # the hole on the repro, one of those the whole case's blames
+    assert [x, y] in [e["pixel"] for e in failing[0].evidence["blame"] if e["kind"] == "hole"]
+    low, high = cut.region.min(axis=0), cut.region.max(axis=0)
+    assert cut.region.shape == (4, 2) and low.tolist() > [x - 1, y - 1] and high.tolist() < [x + 2, y + 2]
+    path = tmp_path / "repro.json"
+    path.write_text(json.dumps(payload))
+    assert [r.status for r in replay(path, bad, identify=False) if r.check == "holes"] == ["fail"]
+    assert [r.status for r in replay(path, _ExactPaths(), identify=False) if r.check == "holes"] == ["pass"]
+    # the repro file keeps what the rasterizer drew on it, for its picture
+    answer = answer_from_json(payload["answer"])
+    assert np.array_equal(answer.counts(cut.scene.width, cut.scene.height),
+                          bad.rasterize(cut.scene).counts(cut.scene.width, cut.scene.height))
 
 
 def test_saved_case_replays_identically(tmp_path):

@@ -105,12 +105,17 @@ class Drawing:
     oracles : tuple of Coverage or None
         The convention's exact coverage of each scene when a check computed it already;
         None when none did (whoever draws computes it, if at all).
+    whole : Drawing or None
+        For a multisample answer judged sample by sample (this drawing one sample's
+        layer): the drawing of the whole answer under the pattern's convention, whose
+        samples the pictures show; None otherwise.
     """
 
     case: Case | MotionCase
     coverages: tuple[Coverage, ...]
     convention: Convention | None = None
     oracles: tuple[Coverage, ...] | None = None
+    whole: Drawing | None = None
 
     @classmethod
     def of(cls, subject: Subject) -> Drawing:
@@ -279,7 +284,11 @@ class Check:
             whole = Subject(subject.case, subject.rasterizer, subject.convention, subject.coverages, _once_per_scene(subject.call),
                             subject.tolerance, subject.interpolates, subject.seconds, subject.received, subject.scene_kinds)
             layers = [whole.layer(s) for s in range(subject.convention.n_samples)]
-            return merge_samples([(layer, self.run(layer)) for layer in layers])
+            merged = merge_samples([(layer, self.run(layer)) for layer in layers])
+            if merged.drawing is None or merged.status != "fail":
+                return merged
+            return replace(merged, drawing=replace(merged.drawing, whole=Drawing(subject.case, tuple(subject.coverages),
+                                                                                 subject.convention)))
         return self.run(subject)
 
 

@@ -18,7 +18,7 @@ from harness.conventions import Convention
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, register, result, skip
 from harness.exact import orientation
 
-__all__ = ["watertight", "overdraw", "blame", "pixel_classes"]
+__all__ = ["watertight", "overdraw", "holes", "blame", "pixel_classes"]
 
 
 def _pixel_classes(region: NDArray, width: int, height: int) -> tuple[NDArray, NDArray]:
@@ -133,6 +133,24 @@ def overdraw(case: Case, coverage: Coverage, convention: Convention | None = Non
                    {"double_hits": float(len(doubles))}, evidence)
 
 
+def holes(case: Case, coverage: Coverage) -> Result:
+    """On a planar partition's pieces around a region, convention-free: every pixel whose
+    closed square lies inside the (open, convex) region hit at least once -- watertight's
+    holes alone, the form that survives cutting a partition down to the pieces that meet
+    a small region around a hole (:func:`harness.repro.hole_repro`): pieces that reach
+    beyond that region draw there, and that is no stray."""
+    if case.region is None:
+        return skip(case, "holes", "no region")
+    scene = case.scene
+    inside, _ = _pixel_classes(case.region, scene.width, scene.height)
+    empty = np.argwhere(inside & (coverage.counts(scene.width, scene.height) == 0))
+    evidence = {"pixels": [[int(x), int(y)] for y, x in empty[:EVIDENCE_LIMIT]]} if len(empty) else {}
+    n, of = len(empty), int(inside.sum())
+    said = (f"{n} hole{'' if n == 1 else 's'} ({of} pixel{'' if of == 1 else 's'} inside the region)" if n
+            else f"every one of {of} inside pixels hit")
+    return result(case.id, "holes", not n, said, {"holes": float(n)}, evidence)
+
+
 def _shared_edge(edges: tuple[NDArray, NDArray, NDArray], a: int, b: int) -> list[list[float]] | None:
     """An edge (pair of vertices) that primitives a and b have in common, either way round."""
     start, end, owner = edges
@@ -198,4 +216,9 @@ register(Check(
     lambda case: not hasattr(case, "frames") and not isinstance(getattr(case, "scene", None), LineScene), shrinks=True,
     metrics={"double_hits": (1.0, 0.0)}, on_request=True,
     caption="no pixel hit twice (watertight's double hits, in a form that survives shrinking)",
+))
+register(Check(
+    "holes", lambda s: holes(s.case, s.coverage), lambda case: getattr(case, "region", None) is not None,
+    metrics={"holes": (1.0, 0.0)}, on_request=True,
+    caption="every pixel inside the region hit (watertight's holes, in a form that survives cutting the partition down)",
 ))

@@ -20,8 +20,8 @@ from harness.exact import frozen
 from harness.oracle import exact_coverage, sample_shares
 from harness.area import edge_integral as _exact_integral  # the area oracle's exact edge integral (Green's theorem)
 
-__all__ = ["MirroredPattern", "SwappedSampleBits", "InclusiveSampleTies", "BiasedArea", "PerEdgeMethodSwitch",
-           "CoarseSupersampleClaimsAnalytic", "GRID_4X4"]
+__all__ = ["MirroredPattern", "SwappedSampleBits", "InclusiveSampleTies", "InclusiveSupersampledTies", "BiasedArea",
+           "PerEdgeMethodSwitch", "CoarseSupersampleClaimsAnalytic", "GRID_4X4"]
 
 # the largest |coordinate| the per-edge kernel accepts (a float kernel's limit, as area_scanline's)
 MAX_COORDINATE = 2.0**24
@@ -130,6 +130,29 @@ class InclusiveSampleTies:
         if not t.size:
             return Coverage.empty()
         return Coverage.from_pixels(t, x, y, sample=s)
+
+
+class InclusiveSupersampledTies:
+    """Declares anti-aliased coverage as the share of a 4 x 4 grid's samples (top-left
+    ties), counts every sample with ``E >= 0``: a sample exactly on an edge is inside, and
+    a pixel's alpha is off by 1/16 for each (the issue's supersampled plugin with every edge
+    made inclusive)."""
+
+    name = "bad_inclusive_supersampled_ties"
+    convention = Convention(coverage="area", samples=GRID_4X4, levels=17)  # alphas k/16
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        offsets = frozen(np.array(GRID_4X4, dtype=np.float64))
+        with np.errstate(all="ignore"):
+            t, s, x, y = _inclusive_kernel(frozen(scene.positions), offsets, scene.width, scene.height)
+        if not t.size:
+            return Coverage.empty()
+        key = (t * scene.height + y) * scene.width + x
+        keys, counts = np.unique(key, return_counts=True)
+        triangle, pixel = np.divmod(keys, scene.height * scene.width)
+        row, column = np.divmod(pixel, scene.width)
+        return Coverage.from_pixels(triangle, column, row, alpha=counts / len(GRID_4X4))
 
 
 class BiasedArea:
