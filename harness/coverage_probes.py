@@ -704,6 +704,12 @@ class PatternFact:
     culling: Culling | None = None
     calls: int = 0
     drawn: tuple[tuple[Drawn, ...], ...] = field(default=(), repr=False, compare=False)
+    error: str = ""  # why the bisection stopped: a call gave no answer
+
+    @property
+    def unanswered(self) -> int:
+        """Fit scenes it gave no answer for (left out of the fit and the residual)."""
+        return sum(1 for layers in self.drawn if layers and layers[0].coverage is None)
 
     @property
     def pattern(self) -> tuple[tuple[float, float], ...] | None:
@@ -715,6 +721,8 @@ class PatternFact:
         if self.convention is None or self.pattern is None:
             if not self.offsets:
                 return "not recovered: no sample index seen in a pixel a triangle covers whole"
+            if self.error:
+                return f"not recovered: a bisection call gave no answer ({self.error})"[:200]
             missing = [str(s) for s, o in enumerate(self.offsets) if o is None]
             if missing:
                 return f"not recovered: sample {', '.join(missing)} never flipped under a sweeping edge"
@@ -737,7 +745,7 @@ class PatternFact:
 
 
 def _bisect_samples(call: Call, n: int, cull: CullMode, resolution: int) -> tuple[
-        NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+        NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], str]:
     """For every sample s and axis, the offsets (lo, hi], 2**-resolution px apart, between
     which a left (top) edge sweeping the pixel stops covering sample s: every sample at
     once, one call per halving, probe 2 s + axis reading sample s.
@@ -748,32 +756,37 @@ def _bisect_samples(call: Call, n: int, cull: CullMode, resolution: int) -> tupl
     found : (n, 2) bool
         False where sample s is not covered with the edge 1 px before the pixel or still
         covered with it 1 px past it (or an answer was missing).
+    error : str
+        The error of the call that gave no answer ("" when all answered).
     """
     lo = np.full((n, 2), -1.0)
     hi = np.full((n, 2), 1.0)
+    errors: list[str] = []
 
     def covered(offsets: NDArray[np.float64]) -> NDArray[np.bool_] | None:
         shapes = np.array([_corner(offsets[s, 0], -2.0) if axis == 0 else _corner(-2.0, offsets[s, 1])
                            for s in range(n) for axis in (0, 1)])
         probes = _probe_scene(shapes, cull)
-        cov = call(probes.scene).coverage
+        outcome = call(probes.scene)
+        cov = outcome.coverage
         if cov is None:
+            errors.append(describe(outcome.error))
             return None
         seen = _samples_at(cov, probes, n)
         return seen[np.arange(2 * n), np.repeat(np.arange(n), 2)].reshape(n, 2)
 
     at_lo, at_hi = covered(lo), covered(hi)
     if at_lo is None or at_hi is None:
-        return lo, hi, np.zeros((n, 2), dtype=bool)
+        return lo, hi, np.zeros((n, 2), dtype=bool), errors[0]
     found = at_lo & ~at_hi
     while np.any(hi - lo > 2.0**-resolution):
         mid = (lo + hi) / 2.0  # exact: dyadic
         at_mid = covered(mid)
         if at_mid is None:
-            return lo, hi, np.zeros((n, 2), dtype=bool)
+            return lo, hi, np.zeros((n, 2), dtype=bool), errors[0]
         lo = np.where(at_mid, mid, lo)
         hi = np.where(at_mid, hi, mid)
-    return lo, hi, found
+    return lo, hi, found, ""
 
 
 def sample_positions(call: Call, n: int, seed: int = 0, resolution: int = 20) -> PatternFact:
@@ -815,11 +828,11 @@ def sample_positions(call: Call, n: int, seed: int = 0, resolution: int = 20) ->
     # positions on the snapping grid are not moved by it (a grid of 2**-g seen means
     # rounding to nearest on 2**-(g-1) or truncating on 2**-g: both keep 2**-(g-1))
     bits = resolution if vertex.grid is None else max(0, vertex.grid - 1)
-    lo, hi, flips = _bisect_samples(calls, n, cull, bits)
+    lo, hi, flips, error = _bisect_samples(calls, n, cull, bits)
     offsets = tuple((_offset(lo[s, 0], hi[s, 0]), _offset(lo[s, 1], hi[s, 1])) if flips[s].all() else None
                     for s in range(n))
     if not flips.all():
-        return PatternFact(offsets, None, 0, 0, None, bits, vertex, found, calls.calls)
+        return PatternFact(offsets, None, 0, 0, None, bits, vertex, found, calls.calls, error=error)
     pattern = [o for o in offsets if o is not None]
     if len(set(pattern)) < n:
         return PatternFact(offsets, None, 0, 0, None, bits, vertex, found, calls.calls)

@@ -334,8 +334,8 @@ def _send(call: Call, scene: LineScene) -> Outcome:
 @dataclass(frozen=True)
 class LineDrawn:
     """A line scene and the rasterizer's answer to it, scored against candidate
-    conventions (missing plus extra pixels, with multiplicity; an unanswered scene counts
-    as drawing nothing). The answer is seen tidied (:meth:`harness.api.Coverage.tidy`),
+    conventions (missing plus extra pixels, with multiplicity; an unanswered scene says
+    nothing: no pixels, no mismatches, left out of every fit and residual). The answer is seen tidied (:meth:`harness.api.Coverage.tidy`),
     the pixels the tidying dropped counted as extra (``dropped``)."""
 
     scene: LineScene
@@ -388,7 +388,10 @@ class LineDrawn:
         return replace(convention, subpixel_bits=None, snap_rounding="nearest-even") if self._still[bits, rounding] else convention
 
     def mismatches(self, convention: Convention) -> int:
-        """Missing plus extra pixels against the exact oracle of ``convention``."""
+        """Missing plus extra pixels against the exact oracle of ``convention`` (0 when
+        unanswered: no answer is not an answer of nothing)."""
+        if self.coverage is None:
+            return 0
         seen = self._seen_as(convention)
         if seen not in self._scores:
             judged = self.scene if self.judged is None else self.judged
@@ -494,9 +497,9 @@ class LineFit:
 
     @property
     def exact(self) -> bool:
-        """No mismatch, a runner-up with some, no ambiguity."""
+        """No mismatch, a runner-up with some, no ambiguity, every probe scene answered."""
         return (self.convention is not None and self.residual == 0 and not (self.runner_up is not None and self.runner_up[1] == 0)
-                and not self.ambiguous)
+                and not self.ambiguous and not self.unanswered)
 
     @property
     def differences(self) -> tuple[str, ...]:
@@ -520,7 +523,9 @@ class LineFit:
     def text(self) -> str:
         if self.convention is None:
             return f"not fitted: {self.skipped}"
-        quality = ("" if self.exact else " (best guess only)" if self.residual else
+        quality = ("" if self.exact else
+                   f" (best guess only: {len(self.unanswered)} probe scenes unanswered, left out of the fit)" if self.unanswered else
+                   " (best guess only)" if self.residual else
                    f" (ambiguous between {' and '.join(self.ambiguous)})" if self.ambiguous else
                    " (ambiguous: the next best explains it as well)")
         said = f"{self.convention.describe_lines()}, {self.residual:,} mismatches of {self.pixels:,} pixels{quality}"
@@ -530,7 +535,7 @@ class LineFit:
         if same is False:
             said += f"; DIFFERS from triangles: {', '.join(self.differences)}"
         if self.unanswered:
-            said += f"; {len(self.unanswered)} of {self.scenes} probe scenes unanswered: {self.unanswered[0]}"
+            said += f"; {len(self.unanswered)} of {self.scenes} probe scenes unanswered (fit on the rest): {self.unanswered[0]}"
         return said
 
     @property

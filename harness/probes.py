@@ -77,7 +77,8 @@ class Drawn:
     tidied (:meth:`harness.api.Coverage.tidy`) with the pixels the tidying dropped --
     off-screen, beyond a triangle's reach, or emitted twice -- counted (``dropped``):
     against any oracle they are extra, so the mismatches are the same either way. An
-    unanswered scene counts as drawing nothing.
+    unanswered scene (an error, a crash, a timeout) says nothing of the convention: it has
+    no pixels and no mismatches, and is left out of every fit and residual.
     """
 
     scene: Scene
@@ -136,7 +137,10 @@ class Drawn:
         return replace(convention, subpixel_bits=None, snap_rounding="nearest-even") if self._still[bits, rounding] else convention
 
     def mismatches(self, convention: Convention) -> int:
-        """Missing plus extra pixels against the exact oracle of ``convention``."""
+        """Missing plus extra pixels against the exact oracle of ``convention`` (0 when
+        unanswered: no answer is not an answer of nothing)."""
+        if self.coverage is None:
+            return 0
         seen = self._seen_as(convention)
         if seen not in self._scores:
             self._scores[seen] = self._counter.mismatches(exact_coverage(self.scene, seen)) + self.dropped
@@ -155,7 +159,7 @@ def send(call: Call, scene: AnyScene) -> Outcome:
 
 def _fit_score(drawn: list[Drawn], convention: Convention) -> int:
     """Mismatches on the answered scenes: an unanswered one says nothing of the convention,
-    so it never steers a fit (the mismatches reported count it as drawing nothing)."""
+    so it never steers a fit (nor counts in a residual)."""
     return sum(d.mismatches(convention) for d in drawn if d.coverage is not None)
 
 
@@ -451,8 +455,8 @@ def fit_ties(call: Call, seed: int = 0) -> TieFit:
     sample points plus the measured one, x the 8 tie rules, x no snapping and the
     snappings the sweep's grid allows. Each is scored by its mismatches on four lattice
     scenes, then on tie triangles and pinwheels at the best sample point so far; ties in
-    the score go to the earlier candidate. Only answered scenes steer the fit; the
-    mismatches reported count an unanswered one as drawing nothing.
+    the score go to the earlier candidate. Only answered scenes steer the fit and count in
+    the mismatches reported.
 
     Parameters
     ----------
@@ -1010,7 +1014,8 @@ def _repro(result: Result, case: Case, call: Call, convention: Convention | None
 
 @dataclass(frozen=True, slots=True)
 class Unanswered:
-    """Fit scenes the rasterizer gave an error for (counted as drawing nothing)."""
+    """Fit scenes the rasterizer gave no answer for (an error, a crash, a timeout): left
+    out of the fit and the residual."""
 
     count: int
     of: int
@@ -1018,7 +1023,7 @@ class Unanswered:
 
     @property
     def text(self) -> str:
-        return f"{self.count} of {self.of} fit scenes unanswered, counted as drawing nothing; first: {self.first}"[:200]
+        return f"{self.count} of {self.of} fit scenes unanswered, left out of the fit and the residual; first: {self.first}"[:200]
 
 
 def unanswered(drawn: list[Drawn]) -> Unanswered | None:
