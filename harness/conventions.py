@@ -105,7 +105,8 @@ A convention's coverage is one of three kinds (:attr:`Convention.kind`)
         measure (popping), not a broken promise.
 
 Lines (line scenes) are drawn by the convention's :class:`LineRule`
-    ``diamond-exit`` (D3D11, GL; the last pixel omitted or drawn), ``bresenham`` (seed 003's
+    ``diamond-exit`` (D3D11; the last pixel omitted or drawn), ``diamond-exit-gl`` (GL's
+    perturbed end points), ``bresenham`` (seed 003's
     integer algorithm, end points to pixels by a declared rounding, walked from the first
     end point or, as textbooks' ``plotLine``, from the one with smaller x or smaller major
     coordinate) or ``rectangle``
@@ -149,6 +150,7 @@ __all__ = [
     "LineRule",
     "LineRuleName",
     "LINE_RULES",
+    "DIAMOND_RULES",
     "BRESENHAM_ROUNDINGS",
     "BRESENHAM_TIES",
     "BresenhamRounding",
@@ -162,8 +164,10 @@ TieRule = Literal[
     "top-left-y-first", "top-right-y-first", "bottom-left-y-first", "bottom-right-y-first",
 ]
 CullMode = Literal["none", "cw", "ccw"]
-LineRuleName = Literal["diamond-exit", "bresenham", "rectangle"]
-LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "bresenham", "rectangle")
+LineRuleName = Literal["diamond-exit", "diamond-exit-gl", "bresenham", "rectangle"]
+LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl", "bresenham", "rectangle")
+# The diamond rules: D3D11's test areas, and GL's open diamonds with perturbed end points.
+DIAMOND_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl")
 BresenhamRounding = Literal["nearest-even", "half-away", "floor", "toward-zero"]
 BresenhamTies = Literal["step", "stay"]
 BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor", "toward-zero")
@@ -226,9 +230,13 @@ class LineRule:
 
     Parameters
     ----------
-    rule : {"diamond-exit", "bresenham", "rectangle"}
+    rule : {"diamond-exit", "diamond-exit-gl", "bresenham", "rectangle"}
         ``diamond-exit``: a pixel is drawn when the segment leaves its diamond test area
-        (D3D11 3.4.3, GL's half-open lines); width 1. ``bresenham``: seed 003's integer
+        (D3D11 3.4.3: lower edges and bottom corner in, y-major lines also the right
+        corner); width 1. ``diamond-exit-gl``: GL's (OpenGL 4.6 14.5.1): the segment with
+        both end points moved by -(eps, eps**2) meets the open diamond and its end point
+        does not lie in it (right edges and right corner in, window y taken as rows);
+        width 1. ``bresenham``: seed 003's integer
         algorithm between the end points' pixels; width 1. ``rectangle``: the samples
         inside the ``line_width``-wide rectangle around the segment, under the
         convention's sample point and tie rule (Vulkan's rectangular lines).
@@ -305,6 +313,8 @@ class LineRule:
         last = "last pixel drawn" if self.last_pixel else "last pixel omitted"
         if self.rule == "diamond-exit":
             return f"diamond-exit lines, {last}"
+        if self.rule == "diamond-exit-gl":
+            return f"GL diamond-exit lines (end points moved by -(eps, eps^2)), {last}"
         walk = f" {self.walk}" if self.walk else ""
         if walk and not self.last_pixel:
             last += " (the end walked to)"

@@ -8,7 +8,7 @@ the snapping in front of it, each by the exact oracle of every candidate convent
 pixels, as for triangles -- the best explaining it, "identified" only when its residual is
 zero and no other candidate's is:
 
-1. *The rule* (diamond-exit, Bresenham or rectangle), with diamond-exit's and
+1. *The rule* (D3D's or GL's diamond-exit, Bresenham or rectangle), with diamond-exit's and
    Bresenham's last-pixel rule, Bresenham's end point rounding (nearest-even, half-away,
    floor, toward-zero), tie direction (step, stay) and direction of travel (as given, or
    from the end point with smaller x or smaller major coordinate, as textbooks'
@@ -72,7 +72,7 @@ from numpy.typing import NDArray
 from harness.api import Coverage, LineScene
 from harness.checks import FragmentCounter
 from harness.conventions import (
-    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, LINE_DIRECTIONS, LINE_RULES, SNAP_ROUNDINGS, TIE_RULES, Convention, LineRule,
+    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, DIAMOND_RULES, LINE_DIRECTIONS, LINE_RULES, SNAP_ROUNDINGS, TIE_RULES, Convention, LineRule,
     SnapRounding,
 )
 from harness.isolation import Call, Outcome, describe
@@ -90,15 +90,15 @@ WIDE = 3.0
 
 
 def line_rules_tried() -> tuple[LineRule, ...]:
-    """The line rules :func:`fit_lines` tries, rectangles aside: diamond-exit with the last
-    pixel omitted or drawn, and Bresenham with each rounding, tie direction, last-pixel
+    """The line rules :func:`fit_lines` tries, rectangles aside: diamond-exit (D3D's test
+    areas and GL's perturbed end points) with the last pixel omitted or drawn, and Bresenham with each rounding, tie direction, last-pixel
     rule and direction of travel (as given, or normalised as textbook plotLine does: from
     the smaller x, from the smaller major coordinate), the rule's own setting first.
 
     >>> len(line_rules_tried()), line_rules_tried()[0].describe()
-    (50, 'diamond-exit lines, last pixel omitted')
+    (52, 'diamond-exit lines, last pixel omitted')
     """
-    rules = [LineRule("diamond-exit", last_pixel=False), LineRule("diamond-exit", last_pixel=True)]
+    rules = [LineRule(rule, last_pixel=last) for rule in DIAMOND_RULES for last in (False, True)]
     rules += [LineRule("bresenham", last_pixel=last, rounding=rounding, ties=ties, direction=direction)
               for direction in LINE_DIRECTIONS for rounding in BRESENHAM_ROUNDINGS for ties in BRESENHAM_TIES
               for last in (True, False)]
@@ -117,8 +117,8 @@ def line_candidates(base: Convention | None = None) -> list[Convention]:
     that agrees with the triangles equal to the triangle convention with its line rule.
 
     >>> candidates = line_candidates()
-    >>> len(candidates), candidates[0].line.rule, candidates[50].line.rule, candidates[50].sample
-    (122, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    >>> len(candidates), candidates[0].line.rule, candidates[52].line.rule, candidates[52].sample
+    (124, 'diamond-exit', 'rectangle', (0.5, 0.5))
     """
     single = base if base is not None and base.kind == "single" else Convention()
     unsnapped = replace(single, subpixel_bits=None, snap_rounding="nearest-even")

@@ -40,7 +40,7 @@ from harness.checks.conformance import near_ties_of, undefined_width
 from harness.checks.motion import filled_direction
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
 from harness.conventions import LINE_DIRECTIONS, Convention
-from harness.lines import end_point_pixels, diamond_holding, is_x_major
+from harness.lines import end_point_pixels, is_x_major, area_holding
 from harness.oracle import exact_coverage
 
 __all__ = [
@@ -234,9 +234,9 @@ def _run_connectivity(s: Subject) -> Result:
 
 
 @numba.njit(cache=True)
-def _diamond_vertex_kernel(v, y_major, width, height, out):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+def _diamond_vertex_kernel(v, y_major, gl, width, height, out):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
     for k in range(v.shape[0]):
-        i, j, found = diamond_holding(v[k, 0], v[k, 1], y_major[k], width, height)
+        i, j, found = area_holding(v[k, 0], v[k, 1], y_major[k], gl, width, height)
         if found:
             out[k, 0] = i
             out[k, 1] = j
@@ -246,7 +246,7 @@ def vertex_pixels(scene: LineScene, convention: Convention, pairs: NDArray[np.in
     """(J, 2) int64: per joint (k, m) the pixel the rule ties to its shared vertex v, or
     (-1, -1) when none (inside the viewport).
 
-    diamond-exit: the pixel whose test area holds v, for the major axis of m (the segment
+    diamond-exit (D3D's or GL's): the pixel whose test area holds v, for the major axis of m (the segment
     starting there, which draws it; the one ending there omits it); Bresenham: the pixel v
     rounds to (both segments start or end there); rectangles: none.
     """
@@ -263,7 +263,7 @@ def vertex_pixels(scene: LineScene, convention: Convention, pairs: NDArray[np.in
         return out
     y_major = ~x_major_of(scene, convention)[pairs[:, 1]]
     _diamond_vertex_kernel(np.ascontiguousarray(np.where(finite[:, None], v, -2.0)), y_major.astype(np.bool_),
-                           scene.width, scene.height, out)
+                           convention.line.rule == "diamond-exit-gl", scene.width, scene.height, out)
     return out
 
 
