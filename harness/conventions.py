@@ -157,6 +157,8 @@ __all__ = [
     "BresenhamTies",
     "LINE_DIRECTIONS",
     "LineDirection",
+    "WIDE_LINES",
+    "WideLines",
 ]
 
 TieRule = Literal[
@@ -176,6 +178,10 @@ BRESENHAM_TIES: tuple[BresenhamTies, ...] = ("step", "stay")
 # at the end point with the smaller x, or with the smaller major-axis coordinate.
 LineDirection = Literal["as-given", "smaller-x", "smaller-major"]
 LINE_DIRECTIONS: tuple[LineDirection, ...] = ("as-given", "smaller-x", "smaller-major")
+# How a diamond rule draws lines wider than 1: not at all, or (GL's wide lines) by
+# replicating each fragment along the minor axis, integer widths.
+WideLines = Literal["none", "replicate"]
+WIDE_LINES: tuple[WideLines, ...] = ("none", "replicate")
 CoverageKind = Literal["single", "multisample", "area"]
 COVERAGE_KINDS: tuple[CoverageKind, ...] = ("single", "multisample", "area")
 # The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
@@ -262,6 +268,13 @@ class LineRule:
         necessarily the given one) is drawn when ``last_pixel``: a normalising drawer
         draws a segment and its reverse alike (but for the omitted end of one whose end
         pixels share their x, walked from the smaller x: it keeps its given order).
+    wide : {"none", "replicate"}
+        The diamond rules: ``none`` draws width 1 only (a wider scene is undefined);
+        ``replicate`` draws an integer width w as GL's wide lines do (OpenGL 4.6, 14.5.2
+        "Other Line Segment Features", wide lines): the segment moved by -(w - 1)/2 along
+        its minor axis is drawn by the width-1 rule, and each fragment becomes w along the
+        minor axis, the width-1 one first (rows y .. y + w - 1 of an x-major segment,
+        columns x .. x + w - 1 of a y-major one, window y taken as rows).
 
     The convention's snapping (``subpixel_bits``, ``snap_rounding``) applies to line end
     points first, as to triangle vertices.
@@ -269,7 +282,7 @@ class LineRule:
     Examples
     --------
     >>> LineRule()
-    LineRule(rule='diamond-exit', last_pixel=False, rounding='nearest-even', ties='step', direction='as-given')
+    LineRule(rule='diamond-exit', last_pixel=False, rounding='nearest-even', ties='step', direction='as-given', wide='none')
     >>> LineRule("bresenham", rounding="floor").describe()
     'Bresenham lines, end points to pixels by floor, ties step, last pixel drawn'
     >>> LineRule("bresenham", ties="stay", direction="smaller-x").describe()
@@ -281,6 +294,7 @@ class LineRule:
     rounding: BresenhamRounding = "nearest-even"
     ties: BresenhamTies = "step"
     direction: LineDirection = "as-given"
+    wide: WideLines = "none"
 
     def __post_init__(self) -> None:
         if self.rule not in LINE_RULES:
@@ -299,6 +313,23 @@ class LineRule:
         if self.direction != "as-given" and self.rule != "bresenham":
             raise ValueError(f"LineRule.direction {self.direction!r} is a Bresenham option; {self.rule} lines are drawn "
                              "as given (use rule='bresenham', or leave direction='as-given')")
+        if self.wide not in WIDE_LINES:
+            raise ValueError(f"LineRule.wide must be one of {', '.join(WIDE_LINES)}, not {self.wide!r}")
+        if self.wide != "none" and self.rule not in DIAMOND_RULES:
+            raise ValueError(f"LineRule.wide {self.wide!r} is a diamond-exit option; {self.rule} lines "
+                             + ("have their own width" if self.rule == "rectangle" else "are 1 px wide"))
+
+    def undefined_width(self, line_width: float) -> str:
+        """Why the rule draws no lines ``line_width`` wide ("" when it does): rectangles take
+        any width, replicated diamond lines an integer one, the others width 1 only."""
+        if self.rule == "rectangle" or line_width == 1.0:
+            return ""
+        if self.wide == "replicate":
+            if line_width == math.floor(line_width) and 1.0 <= line_width <= 2.0**20:
+                return ""
+            return (f"{self.describe()} have integer widths, not {line_width:g}: the rule does not define it "
+                    "(GL rounds the width first: round it in the scene)")
+        return f"{self.describe()} have width 1, not {line_width:g}: the rule does not define wider lines"
 
     @property
     def walk(self) -> str:
@@ -311,10 +342,11 @@ class LineRule:
         if self.rule == "rectangle":
             return "rectangular lines"
         last = "last pixel drawn" if self.last_pixel else "last pixel omitted"
+        wide = ", wide lines by replication along the minor axis" if self.wide == "replicate" else ""
         if self.rule == "diamond-exit":
-            return f"diamond-exit lines, {last}"
+            return f"diamond-exit lines, {last}{wide}"
         if self.rule == "diamond-exit-gl":
-            return f"GL diamond-exit lines (end points moved by -(eps, eps^2)), {last}"
+            return f"GL diamond-exit lines (end points moved by -(eps, eps^2)), {last}{wide}"
         walk = f" {self.walk}" if self.walk else ""
         if walk and not self.last_pixel:
             last += " (the end walked to)"

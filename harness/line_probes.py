@@ -52,8 +52,10 @@ zero and no other candidate's is:
 
 4. *Wide lines* (:func:`wide_lines`): lattice segments of width 3, against the fitted
    rectangular lines (for a width-1 rule, the best rectangle of step 1, and the rule
-   itself at width 1: a drawer that ignores the width). The width-1 rules have no other
-   width: refusing is right for them.
+   itself at width 1: a drawer that ignores the width; for a diamond rule, the rule
+   replicated along the minor axis as GL's wide lines: a drawer doing that exactly is
+   identified with ``LineRule(wide="replicate")``). Otherwise the width-1 rules have no
+   other width: refusing is right for them.
 
 Only segments as the oracle defines them are judged: a rasterizer whose answers carry
 alphas or sample indices is not fitted (the line rules are aliased, single-sample).
@@ -447,6 +449,7 @@ class WideLines:
     rectangle: Convention | None = None
     mismatches: int = 0
     thin: int | None = None
+    replicated: int | None = None
 
     @property
     def text(self) -> str:
@@ -456,6 +459,9 @@ class WideLines:
         said += "rectangular lines" if self.rectangle is None else self.rectangle.describe_lines()
         if self.thin is not None:
             said += f"; {self.thin:,} against its rule at width 1" + (" (it ignores the width)" if self.thin == 0 else "")
+        if self.replicated is not None:
+            said += (f"; {self.replicated:,} against its rule replicated along the minor axis"
+                     + (" (GL's wide lines)" if self.replicated == 0 else ""))
         return said
 
 
@@ -546,15 +552,18 @@ def wide_lines(call: Call, seed: int, fitted: Convention, rectangle: Convention,
                received: Callable[[Any], Any] | None = None) -> WideLines:
     """Lattice segments of width :data:`WIDE` against ``rectangle`` (the best rectangular-line
     candidate of the fit), and for a width-1 rule (``fitted``) against that rule on the same
-    segments at width 1."""
+    segments at width 1; for a diamond rule, also against it replicated along the minor
+    axis (GL's wide lines, ``LineRule(wide="replicate")``)."""
     scene = lattice_lines(seed + 3, 60).with_line_width(WIDE)
     drawn = _draw(call, scene, received)
     if drawn.coverage is None:
         return WideLines(WIDE, describe(drawn.error))
-    thin = None
+    thin = replicated = None
     if fitted.line.rule != "rectangle":
         thin = drawn._counter.mismatches(exact_coverage(scene.with_line_width(1.0), fitted)) + drawn.dropped
-    return WideLines(WIDE, "", drawn.pixels, rectangle, drawn.mismatches(rectangle), thin)
+    if fitted.line.rule in DIAMOND_RULES:
+        replicated = drawn.mismatches(replace(fitted, line=replace(fitted.line, wide="replicate")))
+    return WideLines(WIDE, "", drawn.pixels, rectangle, drawn.mismatches(rectangle), thin, replicated)
 
 
 def _aliased(drawn: list[LineDrawn]) -> str:
@@ -642,8 +651,10 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
     runner = _snapped(candidates[order[totals[1][1]]], bits, rounding)
     ambiguous = (tuple(f"{bits} bits {r}" for r in rounding_fit.tied)
                  if rounding_fit is not None and len(rounding_fit.tied) > 1 else ())
+    wide = wide_lines(call, seed, best, rectangle, received)
+    if wide.replicated == 0 and wide.pixels:  # it draws wide lines as GL does: part of its rule
+        best = replace(best, line=replace(best.line, wide="replicate"))
     return LineFit(best, sum(d.mismatches(best) for d in drawn), sum(d.pixels for d in drawn),
                    (runner.describe_lines(), sum(d.mismatches(runner) for d in drawn)), ambiguous,
-                   tuple(per_rule.items()), rounding_fit,
-                   wide_lines(call, seed, best, rectangle, received), triangles, len(drawn),
+                   tuple(per_rule.items()), rounding_fit, wide, triangles, len(drawn),
                    tuple(describe(d.error) for d in drawn if d.coverage is None), drawn=tuple(drawn))

@@ -186,6 +186,8 @@ __all__ = [
     "is_x_major",
     "diamond_holding",
     "area_holding",
+    "diamond_wide_spans",
+    "diamond_wide_spans_rational",
     "end_point_pixels",
     "walks_backwards",
     "BRESENHAM_ROUNDINGS",
@@ -1429,6 +1431,12 @@ def _diamond_far(segment: int, a: NDArray[np.float64], b: NDArray[np.float64], w
     (the module docstring's method), and its neighbours, tested from the definition."""
     pa = (Fraction(float(a[0])), Fraction(float(a[1])))
     pb = (Fraction(float(b[0])), Fraction(float(b[1])))
+    _diamond_far_exact(segment, pa, pb, width, height, last_pixel, out, gl)
+
+
+def _diamond_far_exact(segment: int, pa: tuple[Fraction, Fraction], pb: tuple[Fraction, Fraction], width: int, height: int,
+                       last_pixel: bool, out: list[tuple[int, int, int, int]], gl: bool) -> None:
+    """:func:`_diamond_far` on rational end points."""
     fx, fy = pb[0] - pa[0], pb[1] - pa[1]
     if fx == 0 and fy == 0:
         if last_pixel:  # the pixel whose test area holds the point, if any
@@ -1458,6 +1466,166 @@ def _diamond_far(segment: int, a: NDArray[np.float64], b: NDArray[np.float64], w
                     last_pixel or not _in_diamond_rational(pb[0], pb[1], xc, yc, y_major, gl)):
                 hits.append((j, i))
     out.extend((segment, j, i, i + 1) for j, i in sorted(hits))
+
+
+# -- wide diamond lines: GL's replication ------------------------------------------------------
+
+
+@numba.njit(cache=True)
+def _x_major_all(a, b, out):  # type: ignore[no-untyped-def]
+    for k in range(a.shape[0]):
+        out[k] = is_x_major(a[k, 0], a[k, 1], b[k, 0], b[k, 1])
+
+
+def _line_width_of(line_width: float) -> int:
+    w = float(line_width)
+    if not (math.isfinite(w) and w == math.floor(w) and 1.0 <= w <= MAX_VIEWPORT):
+        raise ValueError(f"replicated lines have an integer width in 1..{MAX_VIEWPORT}, not {line_width!r}")
+    return int(w)
+
+
+def diamond_wide_spans(a: ArrayLike, b: ArrayLike, line_width: float, width: int, height: int, last_pixel: bool = False,
+                       rule: str = "diamond-exit") -> Spans:
+    """Exactly which pixels each segment draws as a wide line of integer width w under a
+    diamond rule, by GL's replication (OpenGL 4.6, 14.5.2, wide lines): the segment moved by
+    -(w - 1)/2 along its minor axis (y for an x-major segment) is drawn by the width-1 rule,
+    and each of its fragments becomes w, along the minor axis from it (rows y .. y + w - 1,
+    or columns x .. x + w - 1). The major axis is the segment's (the move keeps it).
+
+    Method: moving the segment by +(w - 1)/2 instead is the same drawing w - 1 pixels
+    further along the minor axis (the pixel lattice is invariant under whole-pixel moves),
+    so the moved segment runs through :func:`diamond_exit_spans` in a viewport w - 1 pixels
+    longer on that axis, and each fragment at minor coordinate m stands for m - (w - 1) ..
+    m. The move is exact in float64 for most inputs (checked: Knuth's two-sum error is
+    zero) and the segment stays in the kernel's range; any other segment (the move rounds,
+    or coordinates beyond 2**+-450) is drawn in rational arithmetic. Any finite float64.
+
+    Parameters
+    ----------
+    a, b : (N, 2) float64
+    line_width : float
+        An integer w >= 1 (w = 1: :func:`diamond_exit_spans`).
+    width, height : int
+    last_pixel : bool
+    rule : {"diamond-exit", "diamond-exit-gl"}
+
+    Returns
+    -------
+    (segment, y, x0, x1) : four (S,) int64 arrays
+        Spans sorted by segment, row and x0.
+
+    Examples
+    --------
+    A horizontal segment through the centres of row 2, width 3: rows 1 to 3 (moved up by one,
+    then replicated down); width 2: the segment moved by -1/2 runs on the row boundary y = 2,
+    whose bottom corners are row 1's, replicated to rows 1 and 2.
+
+    >>> for w in (3, 2):
+    ...     s, y, x0, x1 = diamond_wide_spans([[0.5, 2.5]], [[3.5, 2.5]], w, 5, 5)
+    ...     print(w, [(int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1)])
+    3 [(1, 0, 3), (2, 0, 3), (3, 0, 3)]
+    2 [(1, 0, 3), (2, 0, 3)]
+    """
+    from harness.api import Coverage
+
+    gl = _gl_flag(rule)
+    w = _line_width_of(line_width)
+    width, height = _viewport(width, height)
+    a_arr, b_arr, keep = _endpoints(a, b)
+    if not keep.any() or width == 0 or height == 0:
+        return _empty()
+    n = a_arr.shape[0]
+    x_major = np.ones(n, dtype=np.bool_)
+    if keep.any():
+        chosen = np.zeros(int(keep.sum()), dtype=np.bool_)
+        _x_major_all(np.ascontiguousarray(a_arr[keep]), np.ascontiguousarray(b_arr[keep]), chosen)
+        x_major[keep] = chosen
+    half = (w - 1) / 2.0
+    minor = np.where(x_major, 1, 0)
+    moved_a, moved_b = a_arr.copy(), b_arr.copy()
+    exact = keep.copy()
+    rows = np.arange(n)
+    for moved in (moved_a, moved_b):
+        with np.errstate(invalid="ignore", over="ignore"):
+            v = moved[rows, minor]
+            total = v + half  # Knuth's two-sum: the rounding error of v + half, exactly
+            back = total - v
+            error = (v - (total - back)) + (half - back)
+            exact &= np.isfinite(total) & (error == 0.0)
+            moved[rows, minor] = np.where(keep, total, 0.0)
+    exact &= ~_beyond(np.concatenate([moved_a, moved_b], axis=1), SAFE_MIN, SAFE_MAX)
+    pixels: list[tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]] = []
+    for major in (True, False):
+        group = exact & (x_major == major)
+        w_ext, h_ext = (width, height + w - 1) if major else (width + w - 1, height)
+        if group.any():
+            nan = np.full((n, 2), np.nan)
+            spans = diamond_exit_spans(np.where(group[:, None], moved_a, nan), np.where(group[:, None], moved_b, nan),
+                                       w_ext, h_ext, last_pixel, rule)
+            pixels.append(_replicate(spans, w, major))
+        extra: list[tuple[int, int, int, int]] = []
+        for k in np.flatnonzero(keep & ~exact & (x_major == major)):
+            shift = Fraction(w - 1, 2)
+            pa = [Fraction(float(v)) for v in a_arr[k]]
+            pb = [Fraction(float(v)) for v in b_arr[k]]
+            pa[1 if major else 0] += shift
+            pb[1 if major else 0] += shift
+            _diamond_far_exact(int(k), (pa[0], pa[1]), (pb[0], pb[1]), w_ext, h_ext, last_pixel, extra, gl)
+        if extra:
+            pixels.append(_replicate(_as_spans(extra), w, major))
+    if not pixels:
+        return _empty()
+    seg, x, y = (np.concatenate(parts) for parts in zip(*pixels))
+    inside = (x >= 0) & (x < width) & (y >= 0) & (y < height)
+    cov = Coverage.from_pixels(seg[inside], x[inside], y[inside])
+    return cov.primitive, cov.y, cov.x0, cov.x1
+
+
+def _replicate(spans: Spans, w: int, x_major: bool) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
+    """(segment, x, y) of the w pixels each base fragment (drawn w - 1 pixels further along
+    the minor axis) stands for: minor coordinates m - (w - 1) .. m."""
+    s, y, x0, x1 = spans
+    lengths = x1 - x0
+    seg, x, yy = np.repeat(s, lengths), expand(x0, lengths), np.repeat(y, lengths)
+    k = np.arange(w)
+    seg = np.repeat(seg, w)
+    if x_major:
+        return seg, np.repeat(x, w), (yy[:, None] - k[None, :]).ravel()
+    return seg, (x[:, None] - k[None, :]).ravel(), np.repeat(yy, w)
+
+
+def diamond_wide_spans_rational(a: ArrayLike, b: ArrayLike, line_width: float, width: int, height: int,
+                                last_pixel: bool = False, rule: str = "diamond-exit") -> Spans:
+    """The same spans as :func:`diamond_wide_spans` from GL's words, by brute force in
+    rational arithmetic: pixel (i, j) is covered when one of (i, j - k) (x-major; (i - k, j)
+    y-major), 0 <= k < w, is drawn by the width-1 rule (:func:`diamond_exit_spans_rational`'s
+    tests) on the segment moved by -(w - 1)/2 along its minor axis. Small viewports only."""
+    gl = _gl_flag(rule)
+    w = _line_width_of(line_width)
+    width, height = _viewport(width, height)
+    a_arr, b_arr, keep = _endpoints(a, b)
+    out: list[tuple[int, int, int, int]] = []
+    half = Fraction(1, 2)
+    shift = Fraction(w - 1, 2)
+    for s in np.flatnonzero(keep):
+        pa = [Fraction(float(v)) for v in a_arr[s]]
+        pb = [Fraction(float(v)) for v in b_arr[s]]
+        y_major = abs(pb[1] - pa[1]) > abs(pb[0] - pa[0])
+        axis = 0 if y_major else 1
+        pa[axis] -= shift
+        pb[axis] -= shift
+        ta, tb = (pa[0], pa[1]), (pb[0], pb[1])
+
+        def base(i: int, j: int, ta: tuple[Fraction, Fraction] = ta, tb: tuple[Fraction, Fraction] = tb,
+                 y_major: bool = y_major) -> bool:
+            xc, yc = i + half, j + half
+            return _meets_diamond_rational(ta, tb, xc, yc, y_major, gl) and (
+                bool(last_pixel) or not _in_diamond_rational(tb[0], tb[1], xc, yc, y_major, gl))
+
+        covered = [[any(base(i - k, j) if y_major else base(i, j - k) for k in range(w)) for i in range(width)]
+                   for j in range(height)]
+        _spans_from_mask(int(s), covered, out)
+    return _as_spans(out)
 
 
 def line_coverage(scene: Any, convention: Convention) -> Any:
@@ -1503,9 +1671,13 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
     width, height = scene.width, scene.height
     finite = np.asarray(np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1), dtype=np.bool_)
     ends = np.concatenate([a, b], axis=1)
-    if rule.rule != "rectangle" and scene.line_width != 1.0:
-        raise ValueError(f"{rule.describe()} have width 1, not {scene.line_width:g}: use the rectangle rule for wide lines")
+    why = rule.undefined_width(scene.line_width)
+    if why:
+        raise ValueError(why + ("" if rule.rule not in DIAMOND_RULES or rule.wide == "replicate" else
+                                " (LineRule(wide='replicate') draws integer widths as GL does; the rectangle rule any width)"))
     extra: list[tuple[int, int, int, int]] = []
+    if rule.rule in DIAMOND_RULES and scene.line_width != 1.0:
+        return Coverage(*diamond_wide_spans(a, b, scene.line_width, width, height, rule.last_pixel, rule.rule))
     if rule.rule in DIAMOND_RULES:
         far = _beyond(ends, SAFE_MIN, SAFE_MAX) & finite
         near = finite & ~far

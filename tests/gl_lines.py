@@ -17,6 +17,10 @@ diamond R meet unless some axis n -- a diamond normal (+-1, +-1) or the segment'
 lexicographically (its sign as eps -> 0+): no epsilon value, no float decision. The end
 point test is ``s.(b' - c) < 1/2`` for the four diagonals s, likewise.
 
+With ``wide=True`` it draws integer widths w as GL's wide lines (OpenGL 4.6, 14.5.2): the
+end points moved by -(w - 1)/2 along the minor axis (in fixed point: exact), each
+fragment replicated w times along it, the width-1 one first.
+
 :class:`PerturbedUpwards` (known bad) moves the end points by +(eps, eps**2) instead: the
 diamonds then own their left edges and left corners, not their right ones -- it agrees
 with GL everywhere but at exact ties (lines along diamond edges, through corners, end
@@ -34,7 +38,7 @@ from harness.api import AnyScene, Coverage, LineScene, Unsupported
 from harness.conventions import Convention, LineRule
 from harness.exact import frozen
 
-__all__ = ["GLDiamondLines", "PerturbedUpwards", "LIMIT"]
+__all__ = ["GLDiamondLines", "PerturbedUpwards", "WideNotMoved", "LIMIT"]
 
 ONE = 256
 HALF = 128
@@ -87,14 +91,22 @@ def _holds(px, py, cx, cy, sign):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _gl_kernel(a, b, keep, sign, last_pixel, width, height):  # type: ignore[no-untyped-def]
-    """(M, 3) int64 rows (segment, x, y) of every segment's fragments (fixed point ends)."""
+def _gl_kernel(a, b, keep, sign, last_pixel, width, height, line_width, shift):  # type: ignore[no-untyped-def]
+    """(M, 3) int64 rows (segment, x, y) of every segment's fragments (fixed point ends),
+    wide lines (integer ``line_width`` w) by GL's replication: the segment moved by
+    ``-shift`` units along its minor axis, each fragment then w along it."""
     out = []
     for s in range(a.shape[0]):
         if not keep[s]:
             continue
         ax, ay, bx, by = a[s, 0], a[s, 1], b[s, 0], b[s, 1]
         x_major = abs(bx - ax) >= abs(by - ay)
+        if x_major:
+            ay -= shift
+            by -= shift
+        else:
+            ax -= shift
+            bx -= shift
         au, av, bu, bv = (ax, ay, bx, by) if x_major else (ay, ax, by, bx)
         extent, across = (width, height) if x_major else (height, width)
         lo = max(min(au, bu) // ONE - 1, 0)
@@ -107,12 +119,15 @@ def _gl_kernel(a, b, keep, sign, last_pixel, width, height):  # type: ignore[no-
                 v = av + (uc - au) * ((bv - av) / (bu - au))
             m = int(math.floor(v / ONE))
             for k in range(m - 1, m + 2):
-                if k < 0 or k >= across:
+                if k < 1 - line_width or k >= across:
                     continue
                 x, y = (c, k) if x_major else (k, c)
                 cx, cy = x * ONE + HALF, y * ONE + HALF
                 if _meets(ax, ay, bx, by, cx, cy, sign) and (last_pixel or not _holds(bx, by, cx, cy, sign)):
-                    out.append((s, x, y))
+                    for r in range(line_width):  # the width-1 fragment first, then along the minor axis
+                        u, v = (x, y + r) if x_major else (x + r, y)
+                        if 0 <= u < width and 0 <= v < height:
+                            out.append((s, u, v))
     result = np.empty((len(out), 3), dtype=np.int64)
     for i in range(len(out)):
         result[i, 0], result[i, 1], result[i, 2] = out[i]
@@ -133,18 +148,24 @@ class GLDiamondLines:
     scene_kinds = ("lines",)
     interpolates = False
     sign = 1
+    shift_error = 0  # whole pixels the known-bad wide drawer adds to GL's move
 
-    def __init__(self, last_pixel: bool = False) -> None:
+    def __init__(self, last_pixel: bool = False, wide: bool = False) -> None:
         self.last_pixel = bool(last_pixel)
-        self.convention = Convention(subpixel_bits=8, line=LineRule("diamond-exit-gl", last_pixel=self.last_pixel))
+        self.wide = bool(wide)
+        self.convention = Convention(subpixel_bits=8, line=LineRule("diamond-exit-gl", last_pixel=self.last_pixel,
+                                                                    wide="replicate" if wide else "none"))
         if self.last_pixel:
             self.name += "_last_pixel"
+        if self.wide:
+            self.name += "_wide"
 
     def rasterize(self, scene: AnyScene) -> Coverage:
         if not isinstance(scene, LineScene):
             raise Unsupported(f"{self.name} draws line scenes only, not {scene.kind}")
-        if scene.line_width != 1.0:
-            raise Unsupported(f"{self.name} draws lines 1 px wide only, not {scene.line_width:g}")
+        w = scene.line_width
+        if w != 1.0 and not (self.wide and w == math.floor(w) and 1.0 <= w <= 64.0):
+            raise Unsupported(f"{self.name} draws lines {'of integer width' if self.wide else '1 px wide'} only, not {w:g}")
         a, b = scene.segments()
         ends = np.concatenate([a, b], axis=1)
         finite = np.isfinite(ends).all(axis=1)
@@ -152,7 +173,9 @@ class GLDiamondLines:
         if beyond.any():
             raise ValueError(f"{self.name}: segment {int(np.flatnonzero(beyond)[0])} has a coordinate beyond +-2**21 px")
         fixed = [frozen(self.convention.snap(np.where(finite[:, None], p, 0.0)) * ONE, np.int64) for p in (a, b)]
-        out = _gl_kernel(fixed[0], fixed[1], frozen(finite, np.bool_), self.sign, self.last_pixel, scene.width, scene.height)
+        w = int(w)
+        out = _gl_kernel(fixed[0], fixed[1], frozen(finite, np.bool_), self.sign, self.last_pixel, scene.width, scene.height,
+                         w, (w - 1) * HALF + self.shift_error * ONE)
         return Coverage.from_pixels(out[:, 0], out[:, 1], out[:, 2])
 
 
@@ -161,3 +184,25 @@ class PerturbedUpwards(GLDiamondLines):
 
     name = "bad_gl_perturbed_upwards"
     sign = -1
+
+
+class WideNotMoved(GLDiamondLines):
+    """Known bad: GL's wide lines replicated from the segment not moved by the whole
+    pixels of -(w - 1)/2 (one pixel for w = 3 or 4; none for w = 2), so the line is drawn
+    off centre, claiming GL's replication."""
+
+    name = "bad_gl_wide_not_moved"
+
+    def __init__(self) -> None:
+        super().__init__(wide=True)
+        self.name = "bad_gl_wide_not_moved"
+
+    def rasterize(self, scene: AnyScene) -> Coverage:
+        if not isinstance(scene, LineScene) or scene.line_width == 1.0:
+            return super().rasterize(scene)
+        w = int(scene.line_width)
+        self.shift_error = -((w - 1) // 2)  # cancel GL's move (whole pixels of it)
+        try:
+            return super().rasterize(scene)
+        finally:
+            self.shift_error = 0

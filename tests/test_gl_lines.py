@@ -16,11 +16,12 @@ from cases.lines import line_cases
 from harness.api import LineScene
 from harness.conventions import DIAMOND_RULES, LINE_RULES, Convention, LineRule
 from harness.identify import identify
-from harness.lines import diamond_exit_spans, diamond_exit_spans_rational
+from harness.case import Case
+from harness.lines import diamond_exit_spans, diamond_exit_spans_rational, diamond_wide_spans, diamond_wide_spans_rational
 from harness.oracle import exact_coverage
 from harness.runner import run_suite
 from rasterizers.lines import DiamondExitDDA
-from tests.gl_lines import GLDiamondLines, PerturbedUpwards
+from tests.gl_lines import GLDiamondLines, PerturbedUpwards, WideNotMoved
 from tests.test_lines import QUICK, SIZE, _pixels, _same, _sorted, segments
 
 GL = "diamond-exit-gl"
@@ -208,3 +209,75 @@ def test_identify_tells_gl_from_d3d() -> None:
         assert fp.to_dict()["line_convention"]["rule"] == rule.rule
     fp = identify(PerturbedUpwards())
     assert not fp.line_fit.exact and fp.line_fit.residual > 0, fp.card()
+
+
+# -- wide lines: GL's replication along the minor axis ------------------------------------------
+
+
+def test_replication_is_one_option_of_the_diamond_rules() -> None:
+    rule = LineRule(GL, wide="replicate")
+    assert "replication" in rule.describe() and rule.undefined_width(3.0) == "" and rule.undefined_width(1.0) == ""
+    assert "integer widths, not 2.5" in rule.undefined_width(2.5)
+    assert "width 1, not 3" in LineRule(GL).undefined_width(3.0) and LineRule("rectangle").undefined_width(2.5) == ""
+    for other in ("bresenham", "rectangle"):
+        with pytest.raises(ValueError, match="diamond-exit option"):
+            LineRule(other, wide="replicate")
+    with pytest.raises(ValueError, match="wide must be one of none, replicate"):
+        LineRule(GL, wide="smooth")
+    scene = LineScene.from_segments(6, 6, [[0.5, 2.5]], [[4.5, 2.5]], 3.0)
+    with pytest.raises(ValueError, match="wide='replicate'"):
+        exact_coverage(scene, Convention(line=LineRule(GL)))
+    assert exact_coverage(scene, Convention(line=rule)).counts(6, 6).sum() == 12  # 4 columns x 3 rows
+
+
+@QUICK
+@given(segments, st.integers(1, 4), st.booleans(), st.sampled_from(DIAMOND_RULES))
+@example((np.array([[0.5, 2.5]]), np.array([[3.5, 2.5]])), 2, False, GL)  # moved onto a row boundary
+@example((np.array([[2.5, 0.5]]), np.array([[2.5, 4.5]])), 2, False, GL)  # y-major: onto a column boundary
+@example((np.array([[0.1, 2.5]]), np.array([[3.5, 2.7]])), 2, False, GL)  # the move rounds: the rational path
+@example((np.array([[0.5, 1.0]]), np.array([[3.5, 4.0]])), 3, True, "diamond-exit")
+def test_wide_oracle_matches_its_rational_reference(segs, w, last_pixel, rule) -> None:  # type: ignore[no-untyped-def]
+    a, b = segs
+    fast = diamond_wide_spans(a, b, w, SIZE, SIZE, last_pixel, rule)
+    _same(fast, diamond_wide_spans_rational(a, b, w, SIZE, SIZE, last_pixel, rule))
+    _sorted(fast)
+    if w == 1:
+        _same(fast, diamond_exit_spans(a, b, SIZE, SIZE, last_pixel, rule))
+
+
+@QUICK
+@given(segments, st.integers(2, 4))
+def test_the_wide_gl_drawer_draws_what_the_oracle_says(segs, w) -> None:  # type: ignore[no-untyped-def]
+    a, b = segs
+    scene = LineScene.from_segments(SIZE, SIZE, a, b, float(w))
+    drawer = GLDiamondLines(wide=True)
+    assert (drawer.rasterize(scene).counts(SIZE, SIZE) == exact_coverage(scene, drawer.convention).counts(SIZE, SIZE)).all()
+
+
+@pytest.fixture(scope="module")
+def wide_lines(quick_lines) -> list:  # type: ignore[no-untyped-def]
+    """The quick suite's lattice cases of width 1, at widths 2 and 3."""
+    chosen = [c for c in quick_lines if c.lattice and c.scene.line_width == 1.0 and len(c.scene) <= 120][:12]
+    return [Case(f"{c.id}@w{w}", c.scene.with_line_width(float(w)), lattice=True) for c in chosen for w in (2, 3)]
+
+
+def test_a_wide_gl_drawer_passes_wide_cases_and_a_bad_one_fails(wide_lines) -> None:  # type: ignore[no-untyped-def]
+    results, failing = _failing(GLDiamondLines(wide=True), wide_lines)
+    assert not failing, [(r.case, r.check, r.message) for r in failing]
+    assert {"conformance", "length", "reversal"} <= {r.check for r in results if r.status == "pass"}
+    assert all(r.status == "skip" for r in results if r.check == "connectivity")
+    _, failing = _failing(WideNotMoved(), wide_lines)
+    assert {"conformance", "length"} & {r.check for r in failing} and all("@w3" in r.case for r in failing)
+    # the width-1 drawer refuses them: skipped, not failed
+    results, failing = _failing(GLDiamondLines(), wide_lines[:4])
+    assert not failing and results and all(r.status == "skip" for r in results)
+
+
+def test_identify_finds_gl_replication() -> None:
+    fp = identify(GLDiamondLines(wide=True))
+    fit = fp.line_fit
+    assert fit.exact and fp.line_rule == LineRule(GL, wide="replicate"), fp.card()
+    assert fit.wide.replicated == 0 and "GL's wide lines" in fp.facts["wide lines"]
+    assert fp.to_dict()["line_convention"]["wide"] == "replicate"
+    fp = identify(WideNotMoved())  # off centre at width 3: not replication
+    assert fp.line_rule == LineRule(GL) and fp.line_fit.wide.replicated > 0, fp.card()

@@ -227,6 +227,8 @@ def _run_connectivity(s: Subject) -> Result:
     assert s.convention is not None
     if s.convention.line.rule == "rectangle":
         return skip(s.case, "connectivity", "rectangular lines are filled rectangles: no rule of one pixel per major step")
+    if s.case.scene.line_width != 1.0:
+        return skip(s.case, "connectivity", "replicated wide lines draw w pixels per major step: no rule of one")
     return connectivity(s.case, s.coverage, s.convention)
 
 
