@@ -111,7 +111,9 @@ Lines (line scenes) are drawn by the convention's :class:`LineRule`
     end point or, as textbooks' ``plotLine``, from the one with smaller x or smaller major
     coordinate) or ``rectangle``
     (Vulkan: the samples inside a w-wide rectangle around the segment, under the sample
-    point and tie rule above), each after snapping; defined in :mod:`harness.lines`.
+    point and tie rule above), each after snapping; defined in :mod:`harness.lines`. Under
+    a multisample convention lines are rectangles sampled at every sample of the pattern
+    (GL 14.5.4 "Line Multisample Rasterization", dEQP): ``line=LineRule("rectangle")``.
 
 Every decision is exact: the sign of an edge function is the sign of the exact real
 number (floats are dyadic rationals). No epsilon appears in any coverage decision.
@@ -245,7 +247,9 @@ class LineRule:
         width 1. ``bresenham``: seed 003's integer
         algorithm between the end points' pixels; width 1. ``rectangle``: the samples
         inside the ``line_width``-wide rectangle around the segment, under the
-        convention's sample point and tie rule (Vulkan's rectangular lines).
+        convention's sample point and tie rule (Vulkan's rectangular lines); under a
+        multisample convention, at each sample of its pattern (GL's multisample lines,
+        the only rule defined there).
     last_pixel : bool or None
         diamond-exit and bresenham: also draw the pixel the segment ends in (a polyline's
         shared vertices are then drawn twice). None: the rule's own (diamond-exit omits

@@ -572,7 +572,8 @@ def _aliased(drawn: list[LineDrawn]) -> str:
         if d.coverage is not None and d.coverage.alpha is not None:
             return "its lines carry alphas (anti-aliased); the line rules are aliased"
         if d.coverage is not None and d.coverage.sample is not None:
-            return "its lines carry sample indices (multisample); the line rules are single-sample"
+            return ("its lines carry sample indices (multisample): rectangles per sample, judged against the declared "
+                    "rule, not fitted here")
     return ""
 
 

@@ -1628,6 +1628,24 @@ def diamond_wide_spans_rational(a: ArrayLike, b: ArrayLike, line_width: float, w
     return _as_spans(out)
 
 
+def _multisample_lines(scene: Any, convention: Convention) -> Any:
+    """Multisample lines (OpenGL 4.6, 14.5.4 "Line Multisample Rasterization"; dEQP's
+    ``MultiSampleLineRasterizer``): the samples of the convention's pattern inside the
+    ``line_width``-wide rectangle around each segment, each sample decided exactly at its
+    own offset under the tie rule and snapping (:meth:`Convention.at_sample`), as the
+    rectangle rule decides a pixel centre. Spans carry their sample index, sorted by
+    segment, sample and row (as :func:`harness.oracle.exact_multisample`)."""
+    from harness.api import Coverage
+
+    if convention.line.rule != "rectangle":
+        raise ValueError(f"multisample lines are rectangles sampled per sample (GL 14.5.4), not {convention.line.describe()}: "
+                         "declare Convention(samples=..., line=LineRule('rectangle'))")
+    layers = [line_coverage(scene, convention.at_sample(k)) for k in range(convention.n_samples)]
+    joined = Coverage.concat([Coverage(c.primitive, c.y, c.x0, c.x1, sample=np.full(len(c), k, dtype=np.int64))
+                              for k, c in enumerate(layers)])
+    return joined.take(np.argsort(joined.primitive, kind="stable"))
+
+
 def line_coverage(scene: Any, convention: Convention) -> Any:
     """The exact coverage of a line scene (:func:`harness.oracle.exact_coverage` for lines).
 
@@ -1642,7 +1660,9 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
     ----------
     scene : harness.api.LineScene
     convention : harness.conventions.Convention
-        Single-sample only (a multisample or area convention: ValueError).
+        Single-sample, or multisample with the rectangle rule (each sample of the pattern
+        at its own offset: :func:`_multisample_lines`); an area convention, or a width-1
+        rule under a multisample one: ValueError.
 
     Returns
     -------
@@ -1662,8 +1682,10 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
     """
     from harness.api import Coverage
 
+    if convention.kind == "multisample":
+        return _multisample_lines(scene, convention)
     if convention.kind != "single":
-        raise ValueError(f"lines are defined for single-sample conventions only, not {convention.kind} coverage")
+        raise ValueError(f"lines are defined for single-sample and multisample conventions, not {convention.kind} coverage")
     rule = convention.line
     a, b = scene.segments()
     a, b = convention.snap(a), convention.snap(b)

@@ -681,8 +681,10 @@ def _run_line_motion(s: Subject) -> Result:
 
 # -- registration --------------------------------------------------------------------------------
 
-# lines are single-sample only (harness.lines): a multisample or area answer gets none of these
-_SINGLE = frozenset({"single"})
+# lines are single-sample, or multisample rectangles (harness.lines): a multisample answer is
+# judged sample by sample (each layer a single-sample rectangle rule at its offset); an area
+# answer gets none of these
+_SINGLE = frozenset({"single", "multisample"})
 
 register(Check(
     "connectivity", _guarded("connectivity", _run_connectivity), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
