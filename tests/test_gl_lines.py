@@ -281,3 +281,16 @@ def test_identify_finds_gl_replication() -> None:
     assert fp.to_dict()["line_convention"]["wide"] == "replicate"
     fp = identify(WideNotMoved())  # off centre at width 3: not replication
     assert fp.line_rule == LineRule(GL) and fp.line_fit.wide.replicated > 0, fp.card()
+
+
+def test_a_gl_failure_picture_draws_gl_test_areas() -> None:
+    import base64
+
+    from harness import pictures
+
+    case = Case("lines/gl-along-edges", LineScene.from_segments(8, 8, [[0.5, 0.0]], [[3.5, 3.0]]), lattice=True)
+    results = run_suite([PerturbedUpwards()], cases=[case], isolate=False, identify=False, only={"conformance"})
+    failure = next(r for r in results if r.check == "conformance")
+    assert failure.status == "fail"
+    svg = base64.b64decode(pictures.draw(failure)["crop"].split(",", 1)[1]).decode()
+    assert "GL test area of pixel" in svg and "right edges and right corner in" in svg and "lower edges and bottom" not in svg
