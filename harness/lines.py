@@ -150,6 +150,22 @@ Rectangular lines (:func:`rectangle_spans`)
     then a multiple of 2**-808 and below 2**610: no underflow, no overflow); beyond,
     ValueError. A zero-length segment covers nothing.
 
+Wide diamond lines (:func:`diamond_wide_spans`)
+    ``LineRule(wide="replicate")``: GL's wide lines (OpenGL 4.6, 14.5.2 "Other Line Segment
+    Features"; Direct3D 10+ has no wide aliased lines): an integer width w, the segment
+    moved by -(w - 1)/2 along its minor axis drawn by the width-1 diamond rule, each
+    fragment replicated w times along that axis, the width-1 one first (rows y .. y + w - 1
+    of an x-major segment; window y taken as rows). GL rounds a width to the nearest
+    integer first; here a non-integer width is undefined (a rasterizer refuses it).
+
+Multisample lines (:func:`line_coverage` under a multisample convention)
+    OpenGL 4.6, 14.5.4 "Line Multisample Rasterization" (dEQP's ``MultiSampleLineRasterizer``
+    likewise): the samples inside the rectangle of the line's width centred on the segment
+    (two edges parallel to it at half the width, two through the end points), i.e. the
+    rectangle rule at every sample of the pattern, each decided exactly at its own offset
+    under the tie rule and snapping (:meth:`harness.conventions.Convention.at_sample`).
+    The only line rule defined under a multisample convention.
+
 The ``*_rational`` functions are the slow references, in :class:`fractions.Fraction`
 arithmetic for any finite float (small viewports and coordinates only): the diamond and
 rectangle ones decide every pixel (sample) of the viewport from the definitions above; the
@@ -1536,10 +1552,9 @@ def diamond_wide_spans(a: ArrayLike, b: ArrayLike, line_width: float, width: int
         return _empty()
     n = a_arr.shape[0]
     x_major = np.ones(n, dtype=np.bool_)
-    if keep.any():
-        chosen = np.zeros(int(keep.sum()), dtype=np.bool_)
-        _x_major_all(np.ascontiguousarray(a_arr[keep]), np.ascontiguousarray(b_arr[keep]), chosen)
-        x_major[keep] = chosen
+    chosen = np.zeros(int(keep.sum()), dtype=np.bool_)
+    _x_major_all(np.ascontiguousarray(a_arr[keep]), np.ascontiguousarray(b_arr[keep]), chosen)
+    x_major[keep] = chosen
     half = (w - 1) / 2.0
     minor = np.where(x_major, 1, 0)
     moved_a, moved_b = a_arr.copy(), b_arr.copy()
