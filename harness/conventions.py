@@ -557,13 +557,25 @@ class Convention:
         'diamond-exit lines, last pixel omitted, snapped to 1/256 px (8 bits)'
         >>> Convention(line="rectangle").describe_lines()
         'rectangular lines, sample (0.5, 0.5), top-left ties, no snapping'
+        >>> Convention(samples=4, line="rectangle").describe_lines()
+        'rectangular lines, at 4 samples (standard pattern), top-left ties, no snapping'
         """
         parts = [self.line.describe()]
-        if self.line.rule == "rectangle":
+        if self.line.rule == "rectangle" and self.samples is not None:
+            parts.append(f"at {self._pattern_words()}, {self._tie_words()}")
+        elif self.line.rule == "rectangle":
             sx, sy = (f"{v:g}" for v in self.sample)
             parts.append(f"sample ({sx}, {sy}), {self._tie_words()}")
         parts.append(self._snapping_words())
         return ", ".join(parts)
+
+    def _pattern_words(self) -> str:
+        """The sample pattern for people: ``4 samples (standard pattern)`` or its offsets."""
+        from harness.samples import STANDARD_PATTERNS
+
+        standard = STANDARD_PATTERNS.get(len(self.samples)) == self.samples
+        return f"{len(self.samples)} samples (" + ("standard pattern" if standard else
+                                                   "pattern " + " ".join(f"({x:g}, {y:g})" for x, y in self.samples)) + ")"
 
     def _tie_words(self) -> str:
         return self.tie.removesuffix("-y-first") + " ties" + (" (y first)" if self.tie.endswith("-y-first") else "")
@@ -580,13 +592,7 @@ class Convention:
         snapping = self._snapping_words()
         culling = "no culling" if self.cull == "none" else f"culls {self.cull}"
         tie = self._tie_words()
-        where = ""
-        if self.samples is not None:
-            from harness.samples import STANDARD_PATTERNS
-
-            standard = STANDARD_PATTERNS.get(len(self.samples)) == self.samples
-            where = f"{len(self.samples)} samples (" + ("standard pattern" if standard else
-                                                        "pattern " + " ".join(f"({x:g}, {y:g})" for x, y in self.samples)) + ")"
+        where = self._pattern_words() if self.samples is not None else ""
         if self.kind == "area":
             what = "the exact area" if self.samples is None else f"the share of {where} covered, {tie}"
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
