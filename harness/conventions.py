@@ -319,7 +319,7 @@ class LineRule:
                              "as given (use rule='bresenham', or leave direction='as-given')")
         if self.wide not in WIDE_LINES:
             raise ValueError(f"LineRule.wide must be one of {', '.join(WIDE_LINES)}, not {self.wide!r}")
-        if self.wide != "none" and self.rule not in DIAMOND_RULES:
+        if self.wide != "none" and not self.diamond:
             raise ValueError(f"LineRule.wide {self.wide!r} is a diamond-exit option; {self.rule} lines "
                              + ("have their own width" if self.rule == "rectangle" else "are 1 px wide"))
 
@@ -334,6 +334,16 @@ class LineRule:
             return (f"{self.describe()} have integer widths, not {line_width:g}: the rule does not define it "
                     "(GL rounds the width first: round it in the scene)")
         return f"{self.describe()} have width 1, not {line_width:g}: the rule does not define wider lines"
+
+    @property
+    def diamond(self) -> bool:
+        """A diamond-exit rule (D3D's or GL's)."""
+        return self.rule in DIAMOND_RULES
+
+    @property
+    def gl(self) -> bool:
+        """GL's diamond-exit rule (end points perturbed by -(eps, eps**2))."""
+        return self.rule == "diamond-exit-gl"
 
     @property
     def walk(self) -> str:

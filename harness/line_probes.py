@@ -561,7 +561,7 @@ def wide_lines(call: Call, seed: int, fitted: Convention, rectangle: Convention,
     thin = replicated = None
     if fitted.line.rule != "rectangle":
         thin = drawn._counter.mismatches(exact_coverage(scene.with_line_width(1.0), fitted)) + drawn.dropped
-    if fitted.line.rule in DIAMOND_RULES:
+    if fitted.line.diamond:
         replicated = drawn.mismatches(replace(fitted, line=replace(fitted.line, wide="replicate")))
     return WideLines(WIDE, "", drawn.pixels, rectangle, drawn.mismatches(rectangle), thin, replicated)
 

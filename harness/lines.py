@@ -1710,12 +1710,12 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
     ends = np.concatenate([a, b], axis=1)
     why = rule.undefined_width(scene.line_width)
     if why:
-        raise ValueError(why + ("" if rule.rule not in DIAMOND_RULES or rule.wide == "replicate" else
+        raise ValueError(why + ("" if not rule.diamond or rule.wide == "replicate" else
                                 " (LineRule(wide='replicate') draws integer widths as GL does; the rectangle rule any width)"))
     extra: list[tuple[int, int, int, int]] = []
-    if rule.rule in DIAMOND_RULES and scene.line_width != 1.0:
+    if rule.diamond and scene.line_width != 1.0:
         return Coverage(*diamond_wide_spans(a, b, scene.line_width, width, height, rule.last_pixel, rule.rule))
-    if rule.rule in DIAMOND_RULES:
+    if rule.diamond:
         far = _beyond(ends, SAFE_MIN, SAFE_MAX) & finite
         near = finite & ~far
         spans = diamond_exit_spans(np.where(near[:, None], a, np.nan), np.where(near[:, None], b, np.nan), width, height,

@@ -1117,16 +1117,17 @@ def _svg_lines(scene: LineScene, window: tuple[int, int, int, int], scale: float
     t0, t1 = _clip_parameters(np.where(finite[:, None], a, 0.0), np.where(finite[:, None], b, 0.0), box)
     seen = finite & (lo[:, 0] <= box[2]) & (hi[:, 0] >= box[0]) & (lo[:, 1] <= box[3]) & (hi[:, 1] >= box[1])
     rule = convention.line.rule if convention is not None else None
+    gl = convention is not None and convention.line.gl
     wide = rule == "rectangle"
     in_view = np.flatnonzero(seen & ((t0 <= t1) | wide))
     if named is not None and named in in_view:  # the named segment is drawn, whatever the budget
         in_view = np.concatenate([[named], in_view[in_view != named]])
     shown, left_out = np.sort(in_view[:MAX_DRAWN_SEGMENTS]), max(in_view.size - MAX_DRAWN_SEGMENTS, 0)
-    if rule in ("diamond-exit", "diamond-exit-gl"):
+    if convention is not None and convention.line.diamond:
         d = b[named] - a[named] if named is not None and finite[named] else np.zeros(2)
         y_major = bool(abs(d[1]) > abs(d[0]))  # the y-major test area holds its right corner too
         for mx, my in [m for m in marks if x0 <= m[0] < x1 and y0 <= m[1] < y1][:8]:
-            parts.extend(_svg_diamond(mx, my, y_major, thin, rule == "diamond-exit-gl"))
+            parts.extend(_svg_diamond(mx, my, y_major, thin, gl))
     colour_of = {k: _NAMED_SEGMENT if k == named else _OTHER_SEGMENT for k in shown.tolist()}
     if wide:  # the rectangle of each segment: its sides at half the width, no end caps beyond the end points
         half = 0.5 * scene.line_width

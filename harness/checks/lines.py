@@ -265,7 +265,7 @@ def vertex_pixels(scene: LineScene, convention: Convention, pairs: NDArray[np.in
         return out
     y_major = ~x_major_of(scene, convention)[pairs[:, 1]]
     _diamond_vertex_kernel(np.ascontiguousarray(np.where(finite[:, None], v, -2.0)), y_major.astype(np.bool_),
-                           convention.line.rule == "diamond-exit-gl", scene.width, scene.height, out)
+                           convention.line.gl, scene.width, scene.height, out)
     return out
 
 
