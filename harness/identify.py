@@ -460,6 +460,7 @@ def _line_convention_dict(fit: LineFit) -> dict[str, Any] | None:
             "rounding": rule.rounding if rule.rule == "bresenham" else None,
             "ties": rule.ties if rule.rule == "bresenham" else None,
             "direction": rule.direction if rule.rule == "bresenham" else None,
+            "wide": rule.wide if rule.diamond else None,
             "sample": list(line.sample) if rule.rule == "rectangle" else None,
             "tie": line.tie if rule.rule == "rectangle" else None,
             "subpixel_bits": line.subpixel_bits, "snap_rounding": line.snap_rounding,

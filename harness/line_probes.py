@@ -8,7 +8,7 @@ the snapping in front of it, each by the exact oracle of every candidate convent
 pixels, as for triangles -- the best explaining it, "identified" only when its residual is
 zero and no other candidate's is:
 
-1. *The rule* (diamond-exit, Bresenham or rectangle), with diamond-exit's and
+1. *The rule* (D3D's or GL's diamond-exit, Bresenham or rectangle), with diamond-exit's and
    Bresenham's last-pixel rule, Bresenham's end point rounding (nearest-even, half-away,
    floor, toward-zero), tie direction (step, stay) and direction of travel (as given, or
    from the end point with smaller x or smaller major coordinate, as textbooks'
@@ -52,8 +52,10 @@ zero and no other candidate's is:
 
 4. *Wide lines* (:func:`wide_lines`): lattice segments of width 3, against the fitted
    rectangular lines (for a width-1 rule, the best rectangle of step 1, and the rule
-   itself at width 1: a drawer that ignores the width). The width-1 rules have no other
-   width: refusing is right for them.
+   itself at width 1: a drawer that ignores the width; for a diamond rule, the rule
+   replicated along the minor axis as GL's wide lines: a drawer doing that exactly is
+   identified with ``LineRule(wide="replicate")``). Otherwise the width-1 rules have no
+   other width: refusing is right for them.
 
 Only segments as the oracle defines them are judged: a rasterizer whose answers carry
 alphas or sample indices is not fitted (the line rules are aliased, single-sample).
@@ -72,7 +74,7 @@ from numpy.typing import NDArray
 from harness.api import Coverage, LineScene
 from harness.checks import FragmentCounter
 from harness.conventions import (
-    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, LINE_DIRECTIONS, LINE_RULES, SNAP_ROUNDINGS, TIE_RULES, Convention, LineRule,
+    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, DIAMOND_RULES, LINE_DIRECTIONS, LINE_RULES, SNAP_ROUNDINGS, TIE_RULES, Convention, LineRule,
     SnapRounding,
 )
 from harness.isolation import Call, Outcome, describe
@@ -90,15 +92,15 @@ WIDE = 3.0
 
 
 def line_rules_tried() -> tuple[LineRule, ...]:
-    """The line rules :func:`fit_lines` tries, rectangles aside: diamond-exit with the last
-    pixel omitted or drawn, and Bresenham with each rounding, tie direction, last-pixel
+    """The line rules :func:`fit_lines` tries, rectangles aside: diamond-exit (D3D's test
+    areas and GL's perturbed end points) with the last pixel omitted or drawn, and Bresenham with each rounding, tie direction, last-pixel
     rule and direction of travel (as given, or normalised as textbook plotLine does: from
     the smaller x, from the smaller major coordinate), the rule's own setting first.
 
     >>> len(line_rules_tried()), line_rules_tried()[0].describe()
-    (50, 'diamond-exit lines, last pixel omitted')
+    (52, 'diamond-exit lines, last pixel omitted')
     """
-    rules = [LineRule("diamond-exit", last_pixel=False), LineRule("diamond-exit", last_pixel=True)]
+    rules = [LineRule(rule, last_pixel=last) for rule in DIAMOND_RULES for last in (False, True)]
     rules += [LineRule("bresenham", last_pixel=last, rounding=rounding, ties=ties, direction=direction)
               for direction in LINE_DIRECTIONS for rounding in BRESENHAM_ROUNDINGS for ties in BRESENHAM_TIES
               for last in (True, False)]
@@ -117,8 +119,8 @@ def line_candidates(base: Convention | None = None) -> list[Convention]:
     that agrees with the triangles equal to the triangle convention with its line rule.
 
     >>> candidates = line_candidates()
-    >>> len(candidates), candidates[0].line.rule, candidates[50].line.rule, candidates[50].sample
-    (122, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    >>> len(candidates), candidates[0].line.rule, candidates[52].line.rule, candidates[52].sample
+    (124, 'diamond-exit', 'rectangle', (0.5, 0.5))
     """
     single = base if base is not None and base.kind == "single" else Convention()
     unsnapped = replace(single, subpixel_bits=None, snap_rounding="nearest-even")
@@ -450,6 +452,7 @@ class WideLines:
     rectangle: Convention | None = None
     mismatches: int = 0
     thin: int | None = None
+    replicated: int | None = None
 
     @property
     def text(self) -> str:
@@ -459,6 +462,9 @@ class WideLines:
         said += "rectangular lines" if self.rectangle is None else self.rectangle.describe_lines()
         if self.thin is not None:
             said += f"; {self.thin:,} against its rule at width 1" + (" (it ignores the width)" if self.thin == 0 else "")
+        if self.replicated is not None:
+            said += (f"; {self.replicated:,} against its rule replicated along the minor axis"
+                     + (" (GL's wide lines)" if self.replicated == 0 else ""))
         return said
 
 
@@ -551,15 +557,18 @@ def wide_lines(call: Call, seed: int, fitted: Convention, rectangle: Convention,
                received: Callable[[Any], Any] | None = None) -> WideLines:
     """Lattice segments of width :data:`WIDE` against ``rectangle`` (the best rectangular-line
     candidate of the fit), and for a width-1 rule (``fitted``) against that rule on the same
-    segments at width 1."""
+    segments at width 1; for a diamond rule, also against it replicated along the minor
+    axis (GL's wide lines, ``LineRule(wide="replicate")``)."""
     scene = lattice_lines(seed + 3, 60).with_line_width(WIDE)
     drawn = _draw(call, scene, received)
     if drawn.coverage is None:
         return WideLines(WIDE, describe(drawn.error))
-    thin = None
+    thin = replicated = None
     if fitted.line.rule != "rectangle":
         thin = drawn._counter.mismatches(exact_coverage(scene.with_line_width(1.0), fitted)) + drawn.dropped
-    return WideLines(WIDE, "", drawn.pixels, rectangle, drawn.mismatches(rectangle), thin)
+    if fitted.line.diamond:
+        replicated = drawn.mismatches(replace(fitted, line=replace(fitted.line, wide="replicate")))
+    return WideLines(WIDE, "", drawn.pixels, rectangle, drawn.mismatches(rectangle), thin, replicated)
 
 
 def _aliased(drawn: list[LineDrawn]) -> str:
@@ -568,7 +577,8 @@ def _aliased(drawn: list[LineDrawn]) -> str:
         if d.coverage is not None and d.coverage.alpha is not None:
             return "its lines carry alphas (anti-aliased); the line rules are aliased"
         if d.coverage is not None and d.coverage.sample is not None:
-            return "its lines carry sample indices (multisample); the line rules are single-sample"
+            return ("its lines carry sample indices (multisample): rectangles per sample, judged against the declared "
+                    "rule, not fitted here")
     return ""
 
 
@@ -647,8 +657,10 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
     runner = _snapped(candidates[order[totals[1][1]]], bits, rounding)
     ambiguous = (tuple(f"{bits} bits {r}" for r in rounding_fit.tied)
                  if rounding_fit is not None and len(rounding_fit.tied) > 1 else ())
+    wide = wide_lines(call, seed, best, rectangle, received)
+    if wide.replicated == 0 and wide.pixels:  # it draws wide lines as GL does: part of its rule
+        best = replace(best, line=replace(best.line, wide="replicate"))
     return LineFit(best, sum(d.mismatches(best) for d in drawn), sum(d.pixels for d in drawn),
                    (runner.describe_lines(), sum(d.mismatches(runner) for d in drawn)), ambiguous,
-                   tuple(per_rule.items()), rounding_fit,
-                   wide_lines(call, seed, best, rectangle, received), triangles, len(drawn),
+                   tuple(per_rule.items()), rounding_fit, wide, triangles, len(drawn),
                    tuple(describe(d.error) for d in drawn if d.coverage is None), drawn=tuple(drawn))
