@@ -121,3 +121,21 @@ def test_the_deep_winding_cases_wind_that_deep_and_cannot_be_passed_by_drawing_n
     # the rules part where the winding is even (N): nonzero fills it, even-odd leaves it
     nonzero, evenodd = (exact_coverage(DEEP[n].scene, TrapezoidFill.convention) for n in ("deep-256", "deep-256-evenodd"))
     assert 0 < evenodd.n_pixels < nonzero.n_pixels
+
+
+def test_the_winding_fuzz_family_catches_wrapping_counters() -> None:
+    """On the first winding fuzz scenes, fillers whose winding counter wraps in 8 or 16
+    bits fail conformance where the reference passes (the family's campaigns find them)."""
+    from cases.fuzz import generate
+
+    winding = [generate("winding", 5, index) for index in range(12)]
+
+    def failing(rasterizer: object) -> set[str]:
+        results = run_suite([rasterizer], cases=winding, isolate=False, identify=False, repros=False,  # type: ignore[list-item]
+                            only={"conformance"})
+        assert len(results) == len(winding), [(r.case, r.check, r.status) for r in results]
+        return {r.case for r in results if r.status != "pass"}
+
+    assert not failing(TrapezoidFill())
+    wrapped = {bits: failing(PathFillBug(f"int{bits}-winding")) for bits in (8, 16)}
+    assert wrapped[16] and wrapped[16] < wrapped[8]  # what wraps in 16 bits wraps in 8, and more does
