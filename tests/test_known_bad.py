@@ -89,8 +89,11 @@ WHERE_IT_SHOWS = {"bad_mirrored_pattern": ("lattice", "float"), "bad_swapped_sam
                   "bad_both_end_pixels": ("line-strips",), "bad_float32_dda": ("lines",)}
 
 
-# a timing check's failure (slow_on_epsilon's) is no repro to replay exactly
-SHRINKING = [bad for bad, wanted in TABLE.items() if "run" not in wanted and bad.name != "bad_slow_on_epsilon"]
+# a timing check's failure (slow_on_epsilon's) is no repro to replay exactly; a 16-bit
+# winding counter fails only on a path of 196,000 vertices, whose case file takes tens of
+# seconds to read back (the 8-bit one replays the same failure on 770)
+SHRINKING = [bad for bad, wanted in TABLE.items()
+             if "run" not in wanted and bad.name not in ("bad_slow_on_epsilon", "bad_int16-winding")]
 
 
 # whose failures are read case by case (every huge case), not only the first of each
