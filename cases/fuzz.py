@@ -37,10 +37,11 @@ Each family reuses its suite family's building blocks with the scene's own gener
 - ``tall``: one to three triangles over 2,048 px tall at x past 1,024 px on a screen
   1,152 px wide and 2,064 .. 2,560 tall (:func:`cases.scenes.tall_triangles`), where an
   edge stepped down the rows in float32 drifts by a tenth of a pixel.
-- ``winding``: one path of a triangle or square traced N times over (N around 128, 256,
-  32,768 and 65,536, where 8- and 16-bit winding counters wrap or saturate, or anywhere
-  up to 300) with one to three other contours overlapping it, wound either way, under a
-  random fill rule, on an 8 or 16 px screen (:func:`cases.paths.wound`).
+- ``winding``: one path of a triangle or rectangle traced N times over (N either side of
+  128, 256, 32,768 and 65,536, where 8- and 16-bit winding counters wrap or saturate, or
+  anywhere from 2 to 300) and one to three other such contours traced once to three
+  times, each wound either way, on the 1/4 or 1/2 px lattice or not, under a random fill
+  rule, on an 8 or 16 px screen (:func:`cases.paths.wound`).
 
 Scenes are small (mostly 3 .. 64 primitives -- meshes up to 120 -- in a 24 .. 64 px
 viewport; the tall triangles and the tall motion sliver excepted, and the deep-winding
