@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from cases.scenes import lattice_triangles, random_triangles
+from cases.scenes import TALL_SCREEN, TALL_TRIANGLES, lattice_triangles, random_triangles
 from harness.api import Scene
 from harness.case import Case
 
@@ -15,7 +15,8 @@ __all__ = ["conformance_cases"]
 
 
 def conformance_cases(seed: int, full: bool = False) -> list[Case]:
-    """``lattice/...`` (ties on purpose, exact arithmetic) and ``float/...`` scenes."""
+    """``lattice/...`` (ties on purpose, exact arithmetic) and ``float/...`` scenes (the
+    last, ``float/tall-triangles-2048px``, three triangles over 2,048 px tall)."""
     count = 400 if full else 150
     cases = [
         Case(f"lattice/bits-{bits}", Scene(64, 64, lattice_triangles(count, 64, bits, seed + bits)), lattice=True)
@@ -31,4 +32,6 @@ def conformance_cases(seed: int, full: bool = False) -> list[Case]:
     cases.append(Case("float/near-ties-1e-6", Scene(64, 64, nudged)))
     cases.append(Case("float/random-50px", Scene(128, 128, random_triangles(count * 2, 50.0, 128, seed))))
     cases.append(Case("float/random-2000px", Scene(128, 128, random_triangles(count // 10, 2000.0, 128, seed + 1))))
+    # over 2,048 rows tall, far right: where an edge stepped down the rows in float32 drifts
+    cases.append(Case("float/tall-triangles-2048px", Scene(*TALL_SCREEN, TALL_TRIANGLES)))
     return cases

@@ -11,7 +11,8 @@ from __future__ import annotations
 from typing import Any
 
 from tests.known_bad.antialiasing import (
-    BiasedArea, CoarseSupersampleClaimsAnalytic, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, SwappedSampleBits,
+    BiasedArea, CoarseSupersampleClaimsAnalytic, Float32EdgeStepping, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch,
+    SwappedSampleBits,
 )
 from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.edge_functions import BUGS as EDGE_BUGS, EdgeFunctionBug
@@ -35,7 +36,7 @@ def _all() -> list[Any]:
         WrongTieClaim(), YFirstClaimsXFirst(), HalfAwayClaimsNearestEven(), DropsHuge(), Int32FixedPoint(), NaNAttributes(),
         SlowOnEpsilon(), Raises(), ReturnsGarbage(), HangsOnEpsilon(), ClipsBeforeSnapping(), Float32Input(tell=True),
         MirroredPattern(), SwappedSampleBits(), InclusiveSampleTies(), BiasedArea(), PerEdgeMethodSwitch(),
-        CoarseSupersampleClaimsAnalytic(),
+        CoarseSupersampleClaimsAnalytic(), Float32EdgeStepping(),
         RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep(),
         RareSlopeTie(),
     ]
