@@ -521,6 +521,47 @@ def _offset(lo: float, hi: float) -> float:
     return lo if _fraction_bits(lo) <= _fraction_bits(hi) else hi
 
 
+def _part(drawn: Drawn, keep: range) -> Drawn:
+    """The triangles ``keep`` of a drawn scene, with the answer's fragments of them (renumbered)."""
+    scene = drawn.scene.subset(np.arange(keep.start, keep.stop))
+    coverage = drawn.coverage
+    if coverage is None:
+        return Drawn(scene, drawn.outcome)
+    spans = np.flatnonzero((coverage.primitive >= keep.start) & (coverage.primitive < keep.stop))
+    taken = coverage.take(spans)
+    return Drawn(scene, Outcome(Coverage(taken.primitive - keep.start, taken.y, taken.x0, taken.x1)))
+
+
+def _readings(lo: float, hi: float, grid: int | None) -> tuple[float, ...]:
+    """The offsets a sample may have, under snapping to 2**-``grid`` px, when an edge
+    swept across it stops covering it somewhere in (lo, hi]: either end (a sample at lo
+    under a rule whose left (top) edges own their samples, at hi under one whose edges do
+    not: the bisection stopped at the snapping step, and the snapped edges of other
+    scenes tell the two apart), the end with fewer fraction bits first (:func:`_offset`),
+    then the multiples of 2**-``grid`` px strictly inside (a grid finer than the bisection
+    stopped at: truncation to 2**-g shows as the vertex sweep's grid g, as rounding to
+    2**-(g - 1) does). Only offsets within the pixel, [0, 1), are kept. Without snapping (``grid`` None) the bisection went to 2**-20 px and
+    the two ends are a tie rule apart on any scene of coarser vertices: the end with
+    fewer fraction bits only.
+
+    >>> _readings(77 / 256, 78 / 256, 8)  # 78/256 first, then 77/256
+    (0.3046875, 0.30078125)
+    >>> _readings(0.25, 0.5, 3), _readings(0.375 - 2**-20, 0.375, None)
+    ((0.5, 0.25, 0.375), (0.375,))
+    """
+    first = _offset(lo, hi)
+    if grid is None:
+        return (first,) if 0.0 <= first < 1.0 else ()
+    inside: list[float] = []
+    if hi - lo > 2.0**-grid:
+        step = 2.0**-grid
+        k = math.floor(lo / step) + 1
+        while k * step < hi and len(inside) < 3:
+            inside.append(k * step)
+            k += 1
+    return tuple(v for v in dict.fromkeys([first, hi if first == lo else lo, *inside]) if 0.0 <= v < 1.0)
+
+
 def _wheels(pattern: Sequence[tuple[float, float]]) -> NDArray[np.float64]:
     """(16 K, 3, 2): pinwheels of 1 and 2 px around every offset of ``pattern``, one to a cell."""
     return np.concatenate([_wheel(offset, size) for offset in pattern for size in (1.0, 2.0)])
@@ -684,10 +725,11 @@ def _count_cells(call: Call, cull: CullMode, columns: Sequence[tuple[float, floa
 class PatternFact:
     """A multisample pattern measured from outside.
 
-    ``offsets``: sample s's offset, in the rasterizer's sample order (None for a sample
-    that never flipped). ``convention``: the best candidate (the offsets as its tie rule
-    reads the bisection, with the snapping the vertex sweep allows), None when a sample
-    was not found; ``residual`` its mismatching fragments of ``fragments`` over the fit
+    ``offsets``: sample s's offset as first read (the end of its bisection interval with
+    fewer fraction bits), in the rasterizer's sample order (None for a sample that never
+    flipped). ``convention``: the best candidate (each sample at the reading of its
+    interval that explains it best, with a tie rule and the snapping the vertex sweep
+    allows), None when a sample was not found or two share an offset; ``residual`` its mismatching fragments of ``fragments`` over the fit
     scenes (every sample judged with the single-sample oracle at its offset);
     ``runner_up`` the best candidate with another tie rule. ``resolution``:
     the bisection stopped at 2**-resolution px (a snapping grid's spacing, when the
@@ -784,14 +826,21 @@ def sample_positions(call: Call, n: int, seed: int = 0, resolution: int = 20) ->
     (:func:`harness.probes.vertex_sweep`, about 300 calls) sees snapping, and the bisection
     then stops at the snapping grid's spacing (positions on it are never moved), else at
     2**-``resolution`` px. Each sample's flip under a sweeping left (top) edge is bisected,
-    every sample and both axes at once (``resolution + 3`` calls), and read as the end of
-    its last interval with fewer fraction bits (:func:`_offset`). The candidates -- those
-    offsets under each tie rule, x the snappings the vertex sweep allows -- are scored
-    sample by sample (:meth:`Convention.at_sample`) on four lattice scenes, one scene of
-    edges exactly through every sample's column and row and pinwheels around every
-    sample (every tie rule draws a different triangle there) and, with snapping, two
-    float scenes and their half-step versions, where the roundings part. Ties in the
-    score go to the earlier candidate (no snapping first).
+    every sample and both axes at once (``resolution + 3`` calls), to an interval (lo, hi]
+    one step wide. With snapping the true offset may be either end (the coverage changes
+    when the *snapped* edge crosses the sample: dEQP's 2x samples at 77/256 under 8-bit
+    snapping end intervals at 77/256 and at 78/256 alike), so each axis of each sample
+    is read at both ends, and at the points of a finer snapping grid inside
+    (:func:`_readings`). The candidates -- each tie rule x the snappings the vertex
+    sweep allows, every sample at its best reading for them -- are scored sample by
+    sample (:meth:`Convention.at_sample`; the score is a sum over samples, so each
+    sample's reading is chosen on its own) on four lattice scenes, one scene of edges
+    exactly through every reading's column and row and pinwheels around every reading
+    (every tie rule draws a different triangle there, and a sample off its wheel's centre
+    sits inside one of its triangles) and, with snapping, two float scenes and their
+    half-step versions, where the roundings part. Ties in the score go to the earlier
+    candidate (no snapping first) and the earlier reading (the end with fewer fraction
+    bits, :func:`_offset`).
 
     Parameters
     ----------
@@ -820,34 +869,98 @@ def sample_positions(call: Call, n: int, seed: int = 0, resolution: int = 20) ->
                     for s in range(n))
     if not flips.all():
         return PatternFact(offsets, None, 0, 0, None, bits, vertex, found, calls.calls)
-    pattern = [o for o in offsets if o is not None]
-    if len(set(pattern)) < n:
-        return PatternFact(offsets, None, 0, 0, None, bits, vertex, found, calls.calls)
     snaps = _snap_candidates(vertex.grid)
-    candidates = [Convention(samples=pattern, tie=tie, cull=cull, subpixel_bits=b, snap_rounding=r)
-                  for b, r in snaps for tie in TIE_RULES]
+    # each axis of each sample read at either end of its interval (and, under a snapping
+    # finer than the bisection stopped at, at that grid's points inside it)
+    readings = {snap: [[_readings(lo[s, axis], hi[s, axis], snap[0]) for axis in (0, 1)] for s in range(n)]
+                for snap in snaps}
     scenes = [Scene(56, 56, lattice_triangles(120, 48, b, seed + b) + 4.0) for b in (0, 1, 2, 4)]
-    # the tie rule: edges exactly through every sample's column and row, pinwheels around every sample
-    ties = np.concatenate([[_corner(x, -2.0) for x, _ in pattern], [_corner(-2.0, y) for _, y in pattern], _wheels(pattern)])
-    scenes.append(_probe_scene(ties, cull).scene)
+    # the tie rule and the reading: for each sample, edges exactly through every reading's
+    # column and row and pinwheels around every reading; sample s is scored on its own part
+    parts: list[NDArray[np.float64]] = []
+    for s in range(n):
+        points = sorted({(x, y) for per_sample in readings.values() for x in per_sample[s][0] for y in per_sample[s][1]})
+        parts.append(np.concatenate([[_corner(x, -2.0) for x in sorted({x for x, _ in points})],
+                                     [_corner(-2.0, y) for y in sorted({y for _, y in points})], _wheels(points)]))
+    scenes.append(_probe_scene(np.concatenate(parts), cull).scene)
     if any(b is not None for b, _ in snaps):
         floats = [Scene(48, 48, random_triangles(150, 60.0, 48, seed + k)) for k in range(2)]
         scenes += floats + [_half_steps(f, b) for f in floats for b in sorted({b for b, _ in snaps if b is not None})]
     drawn = [tuple(Drawn(scene, layer_of(outcome, s)) for s in range(n)) for scene, outcome in ((sc, calls(sc)) for sc in scenes)]
+    tied_scene = 4  # the scene of edges and pinwheels through the readings: where wrong readings show first
+    starts = np.cumsum([0] + [len(p) for p in parts])
+    scored = [list(layers) for layers in drawn]
+    scored[tied_scene] = [_part(drawn[tied_scene][s], range(int(starts[s]), int(starts[s + 1]))) for s in range(n)]
+    order = [tied_scene] + [k for k in range(len(drawn)) if k != tied_scene]
 
-    def score(convention: Convention) -> int:
-        return sum(d.mismatches(convention.at_sample(s)) for layers in drawn for s, d in enumerate(layers)
-                   if d.coverage is not None)
+    def best_reading(s: int, base: Convention, xs: tuple[float, ...], ys: tuple[float, ...],
+                     cap: float) -> tuple[int, tuple[float, float] | None]:
+        """Sample ``s``'s reading with the fewest mismatches under ``base`` (ties to the
+        earlier reading), and that score; (more than ``cap``, None) when every reading
+        has more. A reading is dropped once its partial sum, the tie scene first, cannot
+        win (scores only grow)."""
+        answered = [k for k in order if scored[k][s].coverage is not None]
+        options = [(x, y) for x in xs for y in ys]
+        if not options:
+            return 0, None
+        best: tuple[int, int] | None = None  # (score, reading index)
+        over = 0
+        for i, option in enumerate(options):
+            single = replace(base, sample=option)
+            total = 0
+            for k in answered:
+                total += scored[k][s].mismatches(single)
+                if total > cap or (best is not None and (total, i) > best):
+                    break
+            else:
+                best = (total, i) if best is None else min(best, (total, i))
+            over = max(over, total)
+        if best is None:
+            return over, None
+        return best[0], options[best[1]]
 
-    scores = sorted((score(c), i) for i, c in enumerate(candidates))
-    best = candidates[scores[0][1]]
-    runner = next(((s, candidates[i]) for s, i in scores if candidates[i].tie != best.tie), None)  # another tie rule
+    # each (snapping, tie rule) scored with every sample at its best reading; the totals are
+    # exact for the best candidate and the best of another tie rule (all that is kept):
+    # one is given up once it exceeds the second best per tie rule so far, cheap guesses first
+    plan = [(b, r, tie) for b, r in snaps for tie in TIE_RULES]
+    guess = [scored[tied_scene][0].mismatches(Convention(sample=(xs[0], ys[0]), tie=tie, cull=cull, subpixel_bits=b,
+                                                         snap_rounding=r)) if xs and ys else 0
+             for b, r, tie in plan for xs, ys in readings[b, r][:1]]
+    per_tie: dict[str, int] = {}
+    candidates: list[tuple[int, int, Convention]] = []  # (score, order, convention)
+    for index in sorted(range(len(plan)), key=lambda i: (guess[i], i)):
+        b, r, tie = plan[index]
+        base = Convention(sample=(0.5, 0.5), tie=tie, cull=cull, subpixel_bits=b, snap_rounding=r)
+        leaders = sorted(per_tie.values())
+        cap = leaders[1] if len(leaders) >= 2 else math.inf
+        total, chosen = 0, []
+        for s in range(n):
+            # ties in the score go to the earlier reading: the end with fewer fraction bits first
+            score, reading = best_reading(s, base, *readings[b, r][s], cap - total)
+            total += score
+            if reading is None or total > cap:
+                break
+            chosen.append(reading)
+        else:
+            if len(set(chosen)) == n:
+                candidates.append((total, index, replace(base, samples=chosen)))
+                per_tie[tie] = min(per_tie.get(tie, total), total)
+    if not candidates:
+        return PatternFact(offsets, None, 0, 0, None, bits, vertex, found, calls.calls)
+    candidates.sort(key=lambda c: c[:2])
+    best = candidates[0][2]
+    runner = next((c for _, _, c in candidates if c.tie != best.tie), None)  # another tie rule
     fragments = sum(d.pixels for layers in drawn for d in layers)
-    residual = sum(d.mismatches(best.at_sample(s)) for layers in drawn for s, d in enumerate(layers))
+
+    def residual_of(convention: Convention) -> int:
+        return sum(d.mismatches(convention.at_sample(s)) for layers in drawn for s, d in enumerate(layers))
+
+    residual = residual_of(best)
     said = None
     if runner is not None:
-        other = runner[1]
+        other = runner
         snapping = "" if (other.subpixel_bits, other.snap_rounding) == (best.subpixel_bits, best.snap_rounding) else (
             ", no snapping" if other.subpixel_bits is None else f", {other.subpixel_bits} sub-pixel bits {other.snap_rounding}")
-        said = (f"the same samples, {other.tie} ties{snapping}", runner[0])
+        moved = "" if other.samples == best.samples else " (the samples read at other ends of their intervals)"
+        said = (f"the same samples{moved}, {other.tie} ties{snapping}", residual_of(other))
     return PatternFact(offsets, best, residual, fragments, said, bits, vertex, found, calls.calls, tuple(drawn))

@@ -61,6 +61,9 @@ class Supersampler:
 GRID4 = tuple(((i + 0.5) / 4, (j + 0.5) / 4) for j in range(4) for i in range(4))
 MIRRORED = tuple((1.0 - x, y) for x, y in STANDARD_PATTERNS[4])  # the known-bad "mirrored sample pattern"
 SWAPPED = tuple(STANDARD_PATTERNS[4][k] for k in (1, 0, 3, 2))  # the standard offsets, sample bits swapped
+# dEQP's 2x pattern (rrRasterizer.cpp: samples at 0.3 and 0.7, snapped to its 8 sub-pixel
+# bits: 77/256 and 179/256, odd multiples of the snapping step)
+DEQP2 = ((77 / 256, 77 / 256), (179 / 256, 179 / 256))
 
 
 def test_coverage_kind_reads_what_the_answer_carries():
@@ -86,6 +89,11 @@ def test_coverage_kind_reads_what_the_answer_carries():
     (Convention(samples=SWAPPED), "the standard 4x offsets in ANOTHER ORDER"),
     (Convention(samples=8, tie="bottom-right-y-first"), "the standard 8x pattern"),
     (Convention(samples=4, subpixel_bits=8), "bisected to 2^-8 px"),  # the snapping grid's spacing
+    # each sample read at the end of its bisection interval that explains it (not the coarser one)
+    (Convention(samples=DEQP2, subpixel_bits=8, snap_rounding="half-away"), "2 samples"),
+    # truncation to 1/8 px shows as the vertex sweep's grid of 1/8, as rounding to 1/4 would: the
+    # bisection stops at 1/4 and the samples at odd eighths lie inside their intervals
+    (Convention(samples=4, subpixel_bits=3, snap_rounding="floor"), "the standard 4x pattern"),
     (Convention(samples=[(0.25, 0.5), (0.75, 0.25), (0.5, 0.875)], tie="top-right", cull="cw"), "3 samples"),
 ], ids=lambda c: c.describe() if isinstance(c, Convention) else "")
 def test_identify_recovers_a_multisample_pattern_exactly_in_its_order(hidden, said):
