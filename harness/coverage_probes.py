@@ -44,7 +44,7 @@ from numpy.typing import NDArray
 
 from cases.scenes import lattice_triangles, random_triangles
 from harness.api import Coverage, Scene
-from harness.conventions import MAX_AREA_SAMPLES, TIE_RULES, Convention, CoverageKind, CullMode
+from harness.conventions import MAX_AREA_SAMPLES, MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Convention, CoverageKind, CullMode, SnapRounding
 from harness.isolation import Call, Outcome, describe, layer_of
 from harness.oracle import exact_coverage
 from harness.probes import Culling, Drawn, VertexSweep, _half_steps, _snap_candidates, culling, vertex_sweep
@@ -306,12 +306,21 @@ class _AlphaDrawn:
     scene: Scene
     outcome: Outcome
     _cache: dict[Convention, NDArray[np.float64]] = field(default_factory=dict, repr=False, compare=False)
+    _still: dict[tuple[int | None, str], bool] = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def coverage(self) -> Coverage | None:
         return self.outcome.coverage
 
     def differences(self, convention: Convention) -> NDArray[np.float64]:
+        """alpha - the oracle's alpha of ``convention`` at every (triangle, pixel) either
+        holds; a snapping that moves no vertex of the scene shares the unsnapped oracle."""
+        snapping = (convention.subpixel_bits, convention.snap_rounding)
+        if snapping[0] is not None:
+            if snapping not in self._still:
+                self._still[snapping] = bool(np.array_equal(convention.snap(self.scene.positions), self.scene.positions))
+            if self._still[snapping]:
+                convention = replace(convention, subpixel_bits=None, snap_rounding="nearest-even")
         if convention not in self._cache:
             self._cache[convention] = _alpha_differences(self.coverage or Coverage.empty(),
                                                          exact_coverage(self.scene, convention), self.scene)
@@ -371,6 +380,7 @@ class SweepFact:
     than half a level from the candidate's oracle (a measured tolerance is reported,
     never claimed: such a rasterizer is a best guess), ``max_residual`` the largest
     |alpha - oracle|; ``runner_up``: the next supersampled candidate (another tie rule).
+    ``grid``: the input grid fitted (:func:`input_grid`; the convention's snapping).
     ``calls``: the rasterizer calls made.
     """
 
@@ -390,6 +400,7 @@ class SweepFact:
     runner_up: tuple[str, int] | None = None
     calls: int = 0
     error: str = ""
+    grid: InputGrid | None = None
     drawn: tuple[_AlphaDrawn, ...] = field(default=(), repr=False, compare=False)
 
     @property
@@ -437,7 +448,8 @@ class SweepFact:
         return {"model": f"{self.model}: {self.grid_text}", "levels": self.levels_text,
                 "area error": f"|alpha - exact area| max {self.max_error:.3g}, mean {self.mean_error:.3g} over {self.pixels} "
                               "(triangle, pixel)s",
-                "sweeps": "; ".join(s.text for s in (self.vertical, self.horizontal, self.slanted) if s is not None)}
+                "sweeps": "; ".join(s.text for s in (self.vertical, self.horizontal, self.slanted) if s is not None)} | (
+                {} if self.grid is None else {"input grid": self.grid.text})
 
 
 def _sweep_shapes() -> tuple[NDArray[np.float64], slice, slice, slice, NDArray[np.float64], NDArray[np.float64]]:
@@ -678,16 +690,105 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
         convention = candidates[scores[0][1]]
         runner_up = (f"the same samples, {candidates[scores[1][1]].tie} ties", scores[1][0])  # another tie rule
     else:
-        half = 0.5 / (levels - 1) if levels is not None else 0.5 / (CONTINUOUS_LEVELS - 1)
-        tolerance = None if max_error <= half + SLACK else _rounded_up(max_error)
-        convention = Convention(coverage="area", levels=levels or CONTINUOUS_LEVELS, tolerance=tolerance, cull=cull)
+        convention = Convention(coverage="area", levels=levels or CONTINUOUS_LEVELS, cull=cull)
+    # the input grid: the snapping applied to the vertices before the area (or the share
+    # of the samples) is taken, fitted on the sweeps and the float scenes
+    grid = input_grid(calls, convention, [sweep, *drawn[1:3]], drawn)
+    convention = replace(convention, subpixel_bits=grid.bits, snap_rounding=grid.rounding)
+    if not candidates:
+        # the tolerance measured against the oracle of the snapped scene
+        error = max((float(np.abs(x.differences(convention)).max(initial=0.0)) for x in answered), default=0.0)
+        tolerance = None if error <= convention.alpha_tolerance + SLACK else _rounded_up(error)
+        convention = replace(convention, tolerance=tolerance)
     # a tolerance measured on these very probes explains them by construction: the
     # residual counts what lies beyond half a level of the oracle, which rounding to the
     # levels keeps within
     residual = sum(x.beyond(replace(convention, tolerance=None)) for x in answered)
     max_residual = max((float(np.abs(x.differences(convention)).max(initial=0.0)) for x in answered), default=0.0)
     return SweepFact(model, sweeps[0], sweeps[1], sweeps[2], levels, max_error, mean_error, pattern, layout, convention,
-                     residual, max_residual, pixels, runner_up, calls.calls, drawn=tuple(drawn))
+                     residual, max_residual, pixels, runner_up, calls.calls, grid=grid, drawn=tuple(drawn))
+
+
+# --- area: the input grid ------------------------------------------------------------------------
+
+_ROUNDING_WORDS = {"nearest-even": "half to even", "half-away": "half away from zero", "floor": "rounding down"}
+# a snapping is taken over none only when it leaves at most this share of the (triangle,
+# pixel)s beyond the tolerance that none leaves (a rasterizer whose error is not a
+# snapping gains little from any, and by chance)
+_GRID_GAIN = 0.5
+# the grids scored on every scene: the best on one float scene
+_GRID_SHORTLIST = 6
+
+
+@dataclass(frozen=True, slots=True)
+class InputGrid:
+    """The snapping an anti-aliaser applies to its vertices before it takes the area (or
+    the share of its samples), fitted from outside: ``bits`` (None: none seen) and
+    ``rounding``; ``beyond`` the (triangle, pixel)s beyond the tolerance against the exact
+    oracle of the scenes so snapped, ``unsnapped`` against the unsnapped ones, ``error``
+    the summed |alpha - oracle| of each; ``tied`` the roundings that explain the answers
+    as well (on scenes whose every vertex is a half step of the grid, where they part)."""
+
+    bits: int | None
+    rounding: SnapRounding
+    beyond: int
+    error: float
+    unsnapped: int
+    unsnapped_error: float
+    tied: tuple[SnapRounding, ...] = ()
+
+    @property
+    def text(self) -> str:
+        against = (f"{self.beyond} (triangle, pixel)s beyond the tolerance against the snapped scenes' exact area, "
+                   f"{self.unsnapped} against the unsnapped ones")
+        if self.bits is None:
+            return f"none detected (the exact area of the vertices as given: {self.unsnapped} (triangle, pixel)s beyond the tolerance)"
+        rounding = _ROUNDING_WORDS[self.rounding]
+        if len(self.tied) > 1:
+            rounding += " (or " + ", ".join(_ROUNDING_WORDS[r] for r in self.tied if r != self.rounding) + ": as well)"
+        return f"1/{2**self.bits} px ({32 - self.bits}.{self.bits}), rounding {rounding}; {against}"
+
+
+def _grid_key(scenes: Sequence[_AlphaDrawn], convention: Convention) -> tuple[int, float]:
+    """(triangle, pixel)s beyond the tolerance and the summed |alpha - oracle| on ``scenes``."""
+    answered = [x for x in scenes if x.coverage is not None]
+    return (sum(x.beyond(convention) for x in answered),
+            float(sum(np.abs(x.differences(convention)).sum() for x in answered)))
+
+
+def input_grid(call: Call, base: Convention, scenes: Sequence[_AlphaDrawn], drawn: list[_AlphaDrawn]) -> InputGrid:
+    """The input grid of an anti-aliaser: with ``base`` (the area or supersampled
+    candidate, its tolerance half a level), every snapping of 0..16 bits x each rounding,
+    and none, scored on ``scenes`` (the sweeps, whose vertices sit on 1/256 px and on
+    coarser grids, and random floats) by the (triangle, pixel)s beyond the tolerance
+    against the exact oracle of the snapped scene, then by the summed |alpha - oracle|
+    (every grid on the first float scene, the best few on all); ties prefer no snapping, then the coarser grid, then rounding to nearest even. A
+    snapping is kept only when it leaves at most half of the pixels beyond the tolerance
+    that none does (a rasterizer whose error is something else gains little from any, and
+    only by chance). With a grid found, the float scenes are drawn again with every vertex
+    on a half step of it (two calls, appended to ``drawn``), where nearest-even,
+    half-away and truncation part, and the rounding is fitted there too."""
+    exact = replace(base, tolerance=None, subpixel_bits=None, snap_rounding="nearest-even")
+    none = _grid_key(scenes, exact)
+    grids = [(b, r) for b in range(MAX_SUBPIXEL_BITS + 1) for r in SNAP_ROUNDINGS]
+    # every grid on the first float scene, the few best of them on every scene
+    first = [x for x in scenes[1:2] if x.coverage is not None]
+    if first:
+        grids = sorted(grids, key=lambda g: _grid_key(first, replace(exact, subpixel_bits=g[0], snap_rounding=g[1])))[:_GRID_SHORTLIST]
+    ranked = sorted((_grid_key(scenes, replace(exact, subpixel_bits=b, snap_rounding=r)), b, SNAP_ROUNDINGS.index(r), r)
+                    for b, r in grids)
+    (beyond, error), bits, _, rounding = ranked[0]
+    if not (beyond < none[0] and beyond <= _GRID_GAIN * none[0] and error < none[1]):
+        return InputGrid(None, "nearest-even", none[0], none[1], none[0], none[1])
+    floats = [x for x in scenes[1:] if x.coverage is not None]
+    halves = [_AlphaDrawn(half, call(half)) for half in (_half_steps(x.scene, bits) for x in floats)]
+    drawn += halves
+    parted = sorted((_grid_key([*scenes, *halves], replace(exact, subpixel_bits=bits, snap_rounding=r)), SNAP_ROUNDINGS.index(r), r)
+                    for r in SNAP_ROUNDINGS)
+    rounding = parted[0][2]
+    tied = tuple(r for key, _, r in parted if key[0] == parted[0][0][0])
+    final = _grid_key(scenes, replace(exact, subpixel_bits=bits, snap_rounding=rounding))
+    return InputGrid(bits, rounding, final[0], final[1], none[0], none[1], tied if len(tied) > 1 else ())
 
 
 def _count_cells(call: Call, cull: CullMode, columns: Sequence[tuple[float, float, float]],
@@ -936,7 +1037,8 @@ def sample_positions(call: Call, n: int, seed: int = 0, resolution: int = 20) ->
         total, chosen = 0, []
         for s in range(n):
             # ties in the score go to the earlier reading: the end with fewer fraction bits first
-            score, reading = best_reading(s, base, *readings[b, r][s], cap - total)
+            xs, ys = readings[b, r][s]
+            score, reading = best_reading(s, base, xs, ys, cap - total)
             total += score
             if reading is None or total > cap:
                 break

@@ -58,6 +58,24 @@ class Supersampler:
         return Coverage.from_pixels(t, rest % w, rest // w, alpha=count / len(self.grid))
 
 
+class SnappedArea:
+    """An anti-aliaser that rounds its input to 1/2**bits px (half to even, as FreeType's
+    26.6 outline from a caller's lrint) and returns the exact area of the rounded scene
+    (:mod:`harness.area`, through the exact oracle of that scene), in 256 levels."""
+
+    convention = None
+
+    def __init__(self, bits: int = 6) -> None:
+        self.bits = bits
+        self.name = f"area-input-grid-{bits}"
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        scale = 2.0**self.bits
+        rounded = Scene(scene.width, scene.height, np.rint(scene.positions * scale) / scale)
+        cov = exact_coverage(rounded, Convention(coverage="area"))
+        return Coverage(cov.triangle, cov.y, cov.x0, cov.x1, alpha=np.round(cov.alpha * 255) / 255)
+
+
 GRID4 = tuple(((i + 0.5) / 4, (j + 0.5) / 4) for j in range(4) for i in range(4))
 MIRRORED = tuple((1.0 - x, y) for x, y in STANDARD_PATTERNS[4])  # the known-bad "mirrored sample pattern"
 SWAPPED = tuple(STANDARD_PATTERNS[4][k] for k in (1, 0, 3, 2))  # the standard offsets, sample bits swapped
@@ -123,6 +141,19 @@ def test_identify_recovers_analytic_area_and_its_levels(levels):
     assert sweeps.vertical.levels >= 256 and sweeps.horizontal.levels >= 256  # about a level per 1/256 px step
     assert sweeps.max_error <= (0.5 / 255 if levels else 2.0**-24)
     assert fingerprint.to_dict()["levels"] == (levels or CONTINUOUS_LEVELS)
+    assert fingerprint.facts["input grid"].startswith("none detected")  # no snapping read into rounding noise
+
+
+def test_identify_finds_an_anti_aliasers_input_grid():
+    # FreeType's 26.6 input: the sweeps step in 64ths, at odd multiples of 1/128 px; against the
+    # exact area of the vertices as given many alphas lie beyond half a level, against that of
+    # the scene rounded to 1/64 px none
+    fingerprint = identify(SnappedArea(6))
+    grid = fingerprint.probes["sweeps"].grid
+    assert fingerprint.convention == Convention(coverage="area", levels=256, subpixel_bits=6), fingerprint.card()
+    assert fingerprint.exact and (grid.bits, grid.rounding, grid.beyond) == (6, "nearest-even", 0) and grid.unsnapped > 0
+    assert fingerprint.facts["input grid"].startswith("1/64 px (26.6), rounding half to even;")
+    assert "snapped to 1/64 px (6 bits)" in fingerprint.card()
 
 
 @pytest.mark.parametrize("hidden, levels, layout, sweep_levels", [
