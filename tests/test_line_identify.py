@@ -81,6 +81,9 @@ DECLARED = [
                subpixel_bits=4),
     Convention(line="rectangle"),
     Convention(sample=(0.0, 0.0), tie="bottom-right-y-first", line="rectangle", subpixel_bits=4, snap_rounding="half-away"),
+    # off the 9 usual sample points: measured by a segment's end swept across a pixel (issue 29)
+    Convention(sample=(0.25, 0.75), line="rectangle"),
+    Convention(sample=(0.375, 0.125), tie="top-right", line="rectangle", subpixel_bits=8, snap_rounding="half-away"),
 ]
 
 
