@@ -606,7 +606,11 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
     samples=pattern, tie=..., levels=...)``. Otherwise, and when the pattern has more
     than :data:`~harness.conventions.MAX_AREA_SAMPLES` samples, the candidate is
     ``Convention(coverage="area", levels=..., tolerance=...)`` with the largest measured
-    |alpha - area| rounded up (None when it is within half a level).
+    |alpha - area| rounded up (None when it is within half a level). Either way the
+    input grid -- the snapping applied to the vertices before the area or the share is
+    taken -- is fitted (:func:`input_grid`; a supersampler's steps read again under each
+    snapping their grid allows first, :func:`_snapped_reading`), and the tolerance is
+    measured against the oracle of the snapped scene.
 
     Parameters
     ----------
@@ -673,7 +677,12 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
             pattern = tuple((xs[i], ys[j]) for i, j in cells)  # row by row
             layout = _layout(pattern)
             if len(pattern) <= MAX_AREA_SAMPLES:
-                candidates = [Convention(coverage="area", samples=pattern, tie=tie, cull=cull) for tie in TIE_RULES]
+                # under an input grid, the steps lie where the snapped edge crosses a sample
+                xs, ys, snapping = _snapped_reading(xs, ys, cells, cull, (first or CONTINUOUS_LEVELS - 1) + 1, drawn[1:3])
+                pattern = tuple((xs[i], ys[j]) for i, j in cells)
+                layout = _layout(pattern)
+                candidates = [Convention(coverage="area", samples=pattern, tie=tie, cull=cull, subpixel_bits=snapping[0],
+                                         snap_rounding=snapping[1]) for tie in TIE_RULES]
                 # the tie rule: edges exactly through every sample column and row, and pinwheels around every sample
                 shapes = np.concatenate([[_corner(x, -2.0) for x in xs], [_corner(-2.0, y) for y in ys], _wheels(pattern)])
                 ties = _probe_scene(shapes, cull)
@@ -711,13 +720,18 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
 
 # --- area: the input grid ------------------------------------------------------------------------
 
-_ROUNDING_WORDS = {"nearest-even": "half to even", "half-away": "half away from zero", "floor": "rounding down"}
+_ROUNDING_WORDS = {"nearest-even": "rounding half to even", "half-away": "rounding half away from zero",
+                   "floor": "truncating (rounding down)"}
 # a snapping is taken over none only when it leaves at most this share of the (triangle,
 # pixel)s beyond the tolerance that none leaves (a rasterizer whose error is not a
 # snapping gains little from any, and by chance)
 _GRID_GAIN = 0.5
 # the grids scored on every scene: the best on one float scene
 _GRID_SHORTLIST = 6
+# a supersampler's readings under snapping: each on the first SHORT_PART triangles of a
+# float scene, the best few on both float scenes
+_SHORT_PART = 40
+_READING_SHORTLIST = 3
 
 
 @dataclass(frozen=True, slots=True)
@@ -746,7 +760,7 @@ class InputGrid:
         rounding = _ROUNDING_WORDS[self.rounding]
         if len(self.tied) > 1:
             rounding += " (or " + ", ".join(_ROUNDING_WORDS[r] for r in self.tied if r != self.rounding) + ": as well)"
-        return f"1/{2**self.bits} px ({32 - self.bits}.{self.bits}), rounding {rounding}; {against}"
+        return f"1/{2**self.bits} px ({32 - self.bits}.{self.bits}), {rounding}; {against}"
 
 
 def _grid_key(scenes: Sequence[_AlphaDrawn], convention: Convention) -> tuple[int, float]:
@@ -754,6 +768,64 @@ def _grid_key(scenes: Sequence[_AlphaDrawn], convention: Convention) -> tuple[in
     answered = [x for x in scenes if x.coverage is not None]
     return (sum(x.beyond(convention) for x in answered),
             float(sum(np.abs(x.differences(convention)).sum() for x in answered)))
+
+
+def _snapped_reading(xs: list[float], ys: list[float], cells: Sequence[tuple[int, int]], cull: CullMode, levels: int,
+                     floats: Sequence[_AlphaDrawn]) -> tuple[list[float], list[float], tuple[int | None, SnapRounding]]:
+    """A supersampler's sample columns ``xs`` and rows ``ys`` as read from its steps, and
+    its input grid, read again with snapping: when every step lies on a grid of 2**-k px
+    (k <= 16), the vertices may be snapped, rounding to 2**-(k - 1) px or truncating to
+    2**-k (:func:`harness.probes._snap_candidates`), and a step is then where the
+    snapped edge crosses a sample: a sample on the grid lies half a grid step from its
+    step when rounding (either side, as its tie rule has it), on it or one step below
+    when truncating, and one off the grid acts as any point between its grid points.
+    Each snapping, with every column (row) read shifted alike by each of those, is
+    scored on the ``floats`` scenes with
+    top-left ties (a tie is rare there); the best is kept when it leaves at most half of
+    the (triangle, pixel)s beyond the tolerance that the unsnapped reading does and less
+    error (as :func:`input_grid` decides), else the reading as it was, unsnapped.
+
+    Returns
+    -------
+    xs, ys : list of float
+    snapping : (bits or None, rounding)
+    """
+    k = max(_fraction_bits(v) for v in [*xs, *ys])
+
+    def convention(px: list[float], py: list[float], bits: int | None, rounding: SnapRounding) -> Convention:
+        return Convention(coverage="area", samples=[(px[i], py[j]) for i, j in cells], cull=cull, levels=levels,
+                          subpixel_bits=bits, snap_rounding=rounding)
+
+    unsnapped = _grid_key(floats, convention(xs, ys, None, "nearest-even"))
+    readings: list[tuple[list[float], list[float], int, SnapRounding]] = []
+    for bits, rounding in _snap_candidates(k if k <= MAX_SUBPIXEL_BITS + 1 else None):
+        if bits is None:
+            continue
+        step = 2.0**-bits
+        # a sample on the grid steps half a grid step from it when rounding (after it when its
+        # edge owns it, before it when not), one step after it when truncating by an edge
+        # that owns it, on it when not; one off the grid behaves as any point between its grid points
+        shifts = (0.0, -step / 2.0, -step) if rounding == "floor" else (0.0, -step / 2.0, step / 2.0)
+        readings += [([x + dx for x in xs], [y + dy for y in ys], bits, rounding) for dx in shifts for dy in shifts
+                     if all(0.0 <= x + dx < 1.0 for x in xs) and all(0.0 <= y + dy < 1.0 for y in ys)]
+    if not readings:
+        return xs, ys, (None, "nearest-even")
+    # every reading on a part of the first float scene, the best few on both
+    part = [_alpha_part(x, _SHORT_PART) for x in floats[:1] if x.coverage is not None]
+    if part:
+        readings = sorted(readings, key=lambda c: _grid_key(part, convention(*c)))[:_READING_SHORTLIST]
+    key, px, py, bits, rounding = min(((_grid_key(floats, convention(*c)), *c) for c in readings), key=lambda c: c[0])
+    if not (key[0] < unsnapped[0] and key[0] <= _GRID_GAIN * unsnapped[0] and key[1] < unsnapped[1]):
+        return xs, ys, (None, "nearest-even")
+    return px, py, (bits, rounding)
+
+
+def _alpha_part(drawn: _AlphaDrawn, count: int) -> _AlphaDrawn:
+    """The first ``count`` triangles of an answered scene and the answer's (triangle, pixel)s of them."""
+    coverage = drawn.coverage
+    assert coverage is not None
+    spans = np.flatnonzero(coverage.primitive < count)
+    return _AlphaDrawn(drawn.scene.subset(np.arange(min(count, len(drawn.scene.positions)))), Outcome(coverage.take(spans)))
 
 
 def input_grid(call: Call, base: Convention, scenes: Sequence[_AlphaDrawn], drawn: list[_AlphaDrawn]) -> InputGrid:

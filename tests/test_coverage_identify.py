@@ -159,7 +159,9 @@ def test_identify_finds_an_anti_aliasers_input_grid():
 @pytest.mark.parametrize("hidden, levels, layout, sweep_levels", [
     (Convention(coverage="area", samples=GRID4), 17, "regular 4 x 4 grid (16 samples)", (5, 5)),
     (Convention(coverage="area", samples=4), 5, "4-rooks (every sample in a column and row of its own)", (5, 5)),
-], ids=["4x4 grid", "4-rooks"])
+    # an input grid of 1/256 px: the steps lie half a grid step from the samples (issue 29)
+    (Convention(coverage="area", samples=GRID4, subpixel_bits=8), 17, "regular 4 x 4 grid (16 samples)", (5, 5)),
+], ids=["4x4 grid", "4-rooks", "4x4 grid, 8 bits"])
 def test_identify_recovers_a_supersampling_grid(hidden, levels, layout, sweep_levels):
     fingerprint = identify(Hidden(hidden))
     sweeps = fingerprint.probes["sweeps"]
