@@ -47,7 +47,14 @@ zero and no other candidate's is:
    changes no pixel of any input (floor snapping in front of Bresenham's floor rounding)
    is not seen, and need not be: the two conventions draw alike.
 
-3. The rule is then ranked again with the fitted snapping on every scene drawn: the
+   For rectangles, the measured sample point was swept with a snapped end, so it lies up to
+   a grid step off: the grid points either side of it, on the grid found and its
+   neighbours (:func:`harness.probes.grid_sides`), join the candidates, and the snapping is
+   fitted again with each of them.
+
+3. The rule is then ranked again with the fitted snapping on every scene drawn (and, for
+   rectangles at a sample point off the 9 usual ones, on :func:`rectangle_tie_lines`,
+   whose sides and caps run through samples there, as for triangles' tie scenes): the
    runner-up (the best candidate differing in rule, last pixel, rounding, ties, direction, or for
    rectangles sample point or tie rule) and each rule's best score on the lattice scenes
    are the evidence.
@@ -74,15 +81,15 @@ from numpy.typing import NDArray
 from harness.api import Coverage, LineScene
 from harness.checks import FragmentCounter
 from harness.conventions import (
-    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, LINE_DIRECTIONS, LINE_RULES, SNAP_ROUNDINGS, TIE_RULES, Convention, LineRule,
-    SnapRounding,
+    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, LINE_DIRECTIONS, LINE_RULES, MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES,
+    Convention, LineRule, SnapRounding,
 )
 from harness.isolation import Call, Outcome, describe
 from harness.oracle import exact_coverage
-from harness.probes import SNAP_BITS, _fraction_bits, _sample_candidates
+from harness.probes import SAMPLES, SNAP_BITS, _fraction_bits, _sample_candidates, grid_sides
 
 __all__ = ["LINE_RULES_TRIED", "PROBE_SIZE", "WIDE", "LineDrawn", "LineRounding", "WideLines", "LineFit", "LineSampleSweep",
-           "line_sample_sweep",
+           "line_sample_sweep", "rectangle_tie_lines",
            "line_rules_tried", "line_candidates", "crafted_lines", "lattice_lines", "nudged_lines", "float_lines",
            "half_step_lines", "wide_lines", "fit_lines"]
 
@@ -316,6 +323,39 @@ def float_lines(seed: int, count: int = 120) -> LineScene:
     a = rng.uniform(-2.0, PROBE_SIZE + 2.0, size=(count, 2))
     b = np.clip(a + rng.uniform(-20.0, 20.0, size=(count, 2)) * rng.random((count, 1)), -2.0, PROBE_SIZE + 2.0)
     return LineScene.from_segments(PROBE_SIZE, PROBE_SIZE, a, b)
+
+
+def rectangle_tie_lines(sample: tuple[float, float]) -> LineScene:
+    """Width-1 axis-aligned segments whose sides and caps run exactly through sample points
+    at ``sample`` (for rectangles at a sample point off the lattice, which no other probe
+    scene meets exactly): at 25 sample points, a horizontal segment with its top side
+    through the sample row and one with its bottom side through it, a vertical one with
+    its left side and one with its right side through the sample column, each starting
+    with its cap through the sample (a corner on it), 4 px long, and four diagonal ones
+    whose starting cap (a diagonal edge) runs through the sample, each way round: the
+    tie rules part there (the y-first ones on the diagonal caps, as on piglit's
+    pinwheels).
+
+    >>> len(rectangle_tie_lines((0.25, 0.75)))
+    400
+    """
+    sx, sy = sample
+    a: list[tuple[float, float]] = []
+    b: list[tuple[float, float]] = []
+    for i in range(2, 33, 7):
+        for j in range(2, 33, 7):
+            x, y = i + sx, j + sy
+            for p, q in (((x, y + 0.5), (x + 4.0, y + 0.5)), ((x, y - 0.5), (x + 4.0, y - 0.5)),
+                         ((x + 0.5, y), (x + 0.5, y + 4.0)), ((x - 0.5, y), (x - 0.5, y + 4.0))):
+                a.append(p)
+                b.append(q)
+            # diagonal ones whose starting cap, a diagonal edge, runs through the sample
+            for dx, dy in ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)):
+                p = (x + 0.25 * dy, y - 0.25 * dx)
+                a.append(p)
+                b.append((p[0] + 3.0 * dx, p[1] + 3.0 * dy))
+    start, end = np.array(a), np.array(b)
+    return LineScene.from_segments(PROBE_SIZE, PROBE_SIZE, np.concatenate([start, end]), np.concatenate([end, start]))
 
 
 def half_step_lines(seed: int, bits: int) -> LineScene:
@@ -677,7 +717,6 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
         return LineFit(None, triangles=triangles, scenes=len(ruled), skipped=odd, drawn=tuple(ruled))
     lattice = [_fit_score(ruled, c) for c in candidates]
     order = sorted(range(len(candidates)), key=lambda i: (lattice[i], i))
-    per_rule = {rule: min((lattice[i] for i, c in enumerate(candidates) if c.line.rule == rule), default=0) for rule in LINE_RULES}
     best = candidates[order[0]]
     # 2. snapping, on end points next to decision boundaries and on floats
     floats = [_draw(call, nudged_lines(seed), received), _draw(call, float_lines(seed), received)]
@@ -693,6 +732,22 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
 
     scored = sorted((_fit_score(floats, _snapped(best, b, r)), preference(b, r), k) for k, (b, r) in enumerate(snaps))
     bits, rounding = snaps[scored[0][2]]
+    if sweep.offset is not None and best.line.rule == "rectangle" and bits is not None:
+        # a rectangle's flip, swept with a snapped end, lies up to a grid step off its
+        # sample: the grid points either side of it near the grid found join the
+        # candidates, and the snapping is fitted again with each of them (the lattice
+        # scenes cannot tell them apart: their end points are never moved)
+        near = [b for b in (bits - 1, bits, bits + 1) if 0 <= b <= MAX_SUBPIXEL_BITS]
+        known = {(c.sample, c.tie) for c in candidates if c.line.rule == "rectangle"}
+        extra = [replace(candidates[order[0]], sample=s, tie=t) for s in grid_sides(sweep.offset, near)
+                 for t in TIE_RULES if (s, t) not in known]
+        candidates += extra
+        lattice += [_fit_score(ruled, c) for c in extra]
+        order = sorted(range(len(candidates)), key=lambda i: (lattice[i], i))
+        trials = [(best, *snaps[scored[0][2]])] + [(c, b, r) for c in extra if c.tie == best.tie
+                                                   for b in near for r in SNAP_ROUNDINGS]
+        _, _, _, best, bits, rounding = min(((_fit_score(floats, _snapped(c, b, r)), preference(b, r), k, c, b, r)
+                                            for k, (c, b, r) in enumerate(trials)), key=lambda t: t[:3])
     rounding_fit = None
     if bits is not None:
         floats.append(_draw(call, half_step_lines(seed, bits), received))
@@ -701,10 +756,14 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
         rounding_fit = LineRounding(bits, tuple((r, sum(d.mismatches(_snapped(best, bits, r)) for d in floats))
                                                 for _, _, r in ranked),
                                     tuple(r for score, _, r in ranked if score == ranked[0][0]))
+    per_rule = {rule: min((lattice[i] for i, c in enumerate(candidates) if c.line.rule == rule), default=0) for rule in LINE_RULES}
     # 3. the rule again, with that snapping, on every scene; a candidate's score on the
     # lattice scenes bounds its total from below (no snapping of 2 bits or more moves a
     # multiple of 1/4), so one that cannot beat the runner-up so far is passed over
     drawn = ruled + floats
+    if best.line.rule == "rectangle" and best.sample not in SAMPLES:
+        # ties at its sample point, which the lattice scenes do not meet (as identify does for triangles)
+        drawn.append(_draw(call, rectangle_tie_lines(best.sample), received))
     totals: list[tuple[int, int]] = []
     for rank, i in enumerate(order):
         candidate = _snapped(candidates[i], bits, rounding)

@@ -412,14 +412,28 @@ def _sample_candidates(measured: tuple[float, float] | None, grid: int | None = 
         if (sx, sy) not in samples:
             samples.append((sx, sy))
     if grid is not None:
-        for bits in (grid - 1, grid):
-            if not 0 <= bits <= 12:
-                continue
-            scale = 2.0**bits
-            sides = [sorted({min(1.0, max(0.0, math.floor(v * scale) / scale)), min(1.0, max(0.0, math.ceil(v * scale) / scale))})
-                     for v in measured]
-            samples += [(sx, sy) for sx in sides[0] for sy in sides[1] if (sx, sy) not in samples]
+        samples += [s for s in grid_sides(measured, (grid - 1, grid)) if s not in samples]
     return samples
+
+
+def grid_sides(measured: tuple[float, float], grids: Sequence[int]) -> list[tuple[float, float]]:
+    """The points of each 2**-b px grid (b in ``grids``, 0..12 only: a valid
+    :class:`Convention` sample) on either side of a measured sample point in each axis,
+    clipped to [0, 1]: where a sample lies whose flip, measured with snapped edges, is
+    up to a grid step off.
+
+    >>> grid_sides((0.3027, 0.5), [8])
+    [(0.30078125, 0.5), (0.3046875, 0.5)]
+    """
+    out: list[tuple[float, float]] = []
+    for bits in grids:
+        if not 0 <= bits <= 12:
+            continue
+        scale = 2.0**bits
+        sides = [sorted({min(1.0, max(0.0, math.floor(v * scale) / scale)), min(1.0, max(0.0, math.ceil(v * scale) / scale))})
+                 for v in measured]
+        out += [(sx, sy) for sx in sides[0] for sy in sides[1] if (sx, sy) not in out]
+    return out
 
 
 def _snap_candidates(grid: int | None) -> list[tuple[int | None, SnapRounding]]:
