@@ -726,7 +726,7 @@ _ROUNDING_WORDS = {"nearest-even": "rounding half to even", "half-away": "roundi
 # pixel)s beyond the tolerance that none leaves (a rasterizer whose error is not a
 # snapping gains little from any, and by chance)
 _GRID_GAIN = 0.5
-# the grids scored on every scene: the best on one float scene
+# the grids scored on every scene: the best on part of one float scene
 _GRID_SHORTLIST = 6
 # a supersampler's readings under snapping: each on the first SHORT_PART triangles of a
 # float scene, the best few on both float scenes
@@ -834,7 +834,7 @@ def input_grid(call: Call, base: Convention, scenes: Sequence[_AlphaDrawn], draw
     and none, scored on ``scenes`` (the sweeps, whose vertices sit on 1/256 px and on
     coarser grids, and random floats) by the (triangle, pixel)s beyond the tolerance
     against the exact oracle of the snapped scene, then by the summed |alpha - oracle|
-    (every grid on the first float scene, the best few on all); ties prefer no snapping, then the coarser grid, then rounding to nearest even. A
+    (every grid on part of the first float scene, the best few on all); ties prefer no snapping, then the coarser grid, then rounding to nearest even. A
     snapping is kept only when it leaves at most half of the pixels beyond the tolerance
     that none does (a rasterizer whose error is something else gains little from any, and
     only by chance). With a grid found, the float scenes are drawn again with every vertex
@@ -843,8 +843,8 @@ def input_grid(call: Call, base: Convention, scenes: Sequence[_AlphaDrawn], draw
     exact = replace(base, tolerance=None, subpixel_bits=None, snap_rounding="nearest-even")
     none = _grid_key(scenes, exact)
     grids = [(b, r) for b in range(MAX_SUBPIXEL_BITS + 1) for r in SNAP_ROUNDINGS]
-    # every grid on the first float scene, the few best of them on every scene
-    first = [x for x in scenes[1:2] if x.coverage is not None]
+    # every grid on part of the first float scene, the few best of them on every scene
+    first = [_alpha_part(x, _SHORT_PART) for x in scenes[1:2] if x.coverage is not None]
     if first:
         grids = sorted(grids, key=lambda g: _grid_key(first, replace(exact, subpixel_bits=g[0], snap_rounding=g[1])))[:_GRID_SHORTLIST]
     ranked = sorted((_grid_key(scenes, replace(exact, subpixel_bits=b, snap_rounding=r)), b, SNAP_ROUNDINGS.index(r), r)
