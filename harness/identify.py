@@ -443,6 +443,8 @@ def _record_lines(fingerprint: Fingerprint, fit: LineFit) -> None:
         fingerprint.facts["line rules"] = fit.rules_text
     if fit.rounding is not None:
         fingerprint.facts["line snap"] = fit.rounding.text
+    if fit.sweep is not None and fit.rule is not None and fit.rule.rule == "rectangle":
+        fingerprint.facts["line sample"] = fit.sweep.text
     if fit.wide is not None:
         fingerprint.facts["wide lines"] = fit.wide.text
         fingerprint.probes["wide lines"] = fit.wide

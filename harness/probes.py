@@ -16,6 +16,7 @@ and ``compare`` both explain a rasterizer with it, so they cannot disagree.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
@@ -395,16 +396,48 @@ def _pinwheels(sample: tuple[float, float], sizes: tuple[int, ...] = (1, 2, 3)) 
     return np.array(wheels)
 
 
-def _sample_candidates(measured: tuple[float, float] | None) -> list[tuple[float, float]]:
+def _sample_candidates(measured: tuple[float, float] | None, grid: int | None = None) -> list[tuple[float, float]]:
     """The 9 usual sample points, plus the measured one at a few dyadic precisions (each
-    clipped to [0, 1] and a multiple of 2**-12: a valid :class:`Convention` sample)."""
+    clipped to [0, 1] and a multiple of 2**-12: a valid :class:`Convention` sample); with
+    a vertex-sweep ``grid`` (snapping to 2**-(grid - 1) px rounding, or 2**-grid
+    truncating), also the points of those grids on either side of it in each axis: a
+    flip is where the *snapped* edge crosses the sample, up to a grid step from it, and
+    rounding the measured point may pick the wrong side (dEQP's 77/256 under 8-bit
+    snapping flips at 76.5/256).
+
+    >>> _sample_candidates((0.2988, 0.5), 9)[9:]  # 77/256 under 8-bit snapping is the last
+    [(0.25, 0.5), (0.3125, 0.5), (0.296875, 0.5), (0.298828125, 0.5), (0.30078125, 0.5)]
+    """
     samples = list(SAMPLES)
-    if measured is not None:
-        for bits in (1, 2, 3, 4, 6, 8, 12):
-            sx, sy = (min(1.0, max(0.0, round(v * 2**bits) / 2**bits)) for v in measured)
-            if (sx, sy) not in samples:
-                samples.append((sx, sy))
+    if measured is None:
+        return samples
+    for bits in (1, 2, 3, 4, 6, 8, 12):
+        sx, sy = (min(1.0, max(0.0, round(v * 2**bits) / 2**bits)) for v in measured)
+        if (sx, sy) not in samples:
+            samples.append((sx, sy))
+    if grid is not None:
+        samples += [s for s in grid_sides(measured, (grid - 1, grid)) if s not in samples]
     return samples
+
+
+def grid_sides(measured: tuple[float, float], grids: Sequence[int]) -> list[tuple[float, float]]:
+    """The points of each 2**-b px grid (b in ``grids``, 0..12 only: a valid
+    :class:`Convention` sample) on either side of a measured sample point in each axis,
+    clipped to [0, 1]: where a sample lies whose flip, measured with snapped edges, is
+    up to a grid step off.
+
+    >>> grid_sides((0.3027, 0.5), [8])
+    [(0.30078125, 0.5), (0.3046875, 0.5)]
+    """
+    out: list[tuple[float, float]] = []
+    for bits in grids:
+        if not 0 <= bits <= 12:
+            continue
+        scale = 2.0**bits
+        sides = [sorted({min(1.0, max(0.0, math.floor(v * scale) / scale)), min(1.0, max(0.0, math.ceil(v * scale) / scale))})
+                 for v in measured]
+        out += [(sx, sy) for sx in sides[0] for sy in sides[1] if (sx, sy) not in out]
+    return out
 
 
 def _snap_candidates(grid: int | None) -> list[tuple[int | None, SnapRounding]]:
@@ -473,7 +506,7 @@ def fit_ties(call: Call, seed: int = 0) -> TieFit:
     sweep = sample_sweep(call)
     vertex = vertex_sweep(call)
     candidates = [Convention(sample=sample, tie=tie, cull=found.cull, subpixel_bits=b, snap_rounding=r)
-                  for b, r in _snap_candidates(vertex.grid) for sample in _sample_candidates(sweep.offset)
+                  for b, r in _snap_candidates(vertex.grid) for sample in _sample_candidates(sweep.offset, vertex.grid)
                   for tie in TIE_RULES]
     # lattice triangles reach 2 px past a 48 px square; moved 4 px into a 56 px screen
     # (exactly) nothing crosses the viewport edge, so clipping cannot blur the convention

@@ -59,6 +59,9 @@ def test_identify_recovers_each_builtin(name):
     Convention(tie="bottom-left", sample=(0.25, 0.75)),
     Convention(tie="top-right", sample=(0.375, 0.125), subpixel_bits=4),
     Convention(tie="bottom-right", sample=(0.0, 1.0), subpixel_bits=5, snap_rounding="floor"),
+    # odd multiples of the snapping step: the sweep flips where the snapped edge crosses them,
+    # half a step off (76.5/256), and the candidates hold the grid points either side (issue 29)
+    Convention(sample=(77 / 256, 179 / 256), subpixel_bits=8, snap_rounding="half-away"),
 ], ids=str)
 def test_identify_recovers_hidden_conventions(hidden):
     fingerprint = _identified_hidden(hidden)
