@@ -570,7 +570,7 @@ class Convention:
         >>> Convention(line="rectangle").describe_lines()
         'rectangular lines, sample (0.5, 0.5), top-left ties, no snapping'
         >>> Convention(samples=4, line="rectangle").describe_lines()
-        'rectangular lines, at 4 samples (standard pattern), top-left ties, no snapping'
+        'rectangular lines, at D3D11 4x, top-left ties, no snapping'
         """
         parts = [self.line.describe()]
         if self.line.rule == "rectangle" and self.samples is not None:
