@@ -72,3 +72,24 @@ def test_fan_strategy_is_a_partition(case):
     assert (orientation(case.scene.positions) != 0).any()
     counts = exact_coverage(case.scene, Convention()).counts(case.scene.width, case.scene.height)
     assert counts.max() <= 1
+
+
+def test_a_fault_deep_in_a_long_contour_is_named_where_it_is():
+    """Long runs of valid points are checked by the schema's own test of a point and cut
+    short for the validator; a run with a fault is left whole, so the fault is still
+    named exactly where it is (and a long valid path reads back exactly)."""
+    import pytest
+
+    from harness.api import PathScene
+    from harness.case import Case, case_from_json, case_to_json
+
+    ring = [[float(k % 7), float(k % 5)] for k in range(1000)]
+    data = case_to_json(Case("paths/long", PathScene.from_paths(8, 8, [[ring]], "nonzero")))
+    back = case_from_json(data)
+    assert back.scene.vertices.tolist() == ring
+    data["paths"][0][0][700][1] = "0.1x"
+    with pytest.raises(ValueError, match=r"malformed at paths\[0\]\[0\]\[700\]\[1\]: '0.1x'"):
+        case_from_json(data)
+    data["paths"][0][0][700] = ["1", "2", "3"]
+    with pytest.raises(ValueError, match=r"malformed at paths\[0\]\[0\]\[700\]"):
+        case_from_json(data)
