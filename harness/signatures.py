@@ -104,7 +104,10 @@ the same answers against another snap rounding's exact u, v; else ``backward-jum
 ``backward-step``. Others: ``hygiene``'s flaw (``outside-viewport``, ...), ``degenerate``'s
 (``zero-area-drawn``, ``nan-attributes``, ``slow``), ``invariance``'s first changed variant
 (``changes-under-flip-winding``, ...), ``closed``'s ``front-only``/``back-only``/``unbalanced``,
-``accuracy``'s ``alpha-error``/``off-level``, ``seam``, ``triangulation-mismatch``.
+``accuracy``'s cause named from facts about its errors, first that holds
+(:func:`harness.checks.area.alpha_cause`: ``truncated-levels``, ``coarse-levels``,
+``alpha-bias``, ``gamma``, ``sub-pixel-shift``, ``drift``), else ``alpha-error``/``off-level``;
+``seam``, ``triangulation-mismatch``.
 
 Errors: ``hang`` (a timeout), ``crash`` (the worker process died), ``not-run``,
 ``exception-<Type>``.
@@ -128,6 +131,7 @@ from numpy.typing import NDArray
 
 from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, convention_for
 from harness.case import Case, MotionCase
+from harness.checks.area import ALPHA_CAUSES, alpha_cause
 from harness.conventions import SNAP_ROUNDINGS, Convention, SnapRounding
 from harness.exact import orientation
 
@@ -185,6 +189,7 @@ _WORDS = {
     "break": "breaks between the segments of a strip",
     "double-step": "steps drawn twice along a line",
     "alpha-error": "alphas off the exact area beyond the tolerance",
+    **ALPHA_CAUSES,
     "off-level": "alphas on none of the declared levels",
     "flicker": "pixels changing more often than the exact coverage as the scene moves",
     "backward-jump": "edges jumping backwards as the scene moves",
@@ -1646,6 +1651,16 @@ def _by_metrics(options: tuple[tuple[str, str], ...], otherwise: str, part: str 
     return lambda result, case, convention: (_first_positive(result, options, otherwise), part)
 
 
+def _alpha_cause(result: Any) -> tuple[str, str] | None:
+    """An accuracy failure's cause named from the facts about its errors
+    (:func:`harness.checks.area.alpha_cause`, read again from ``alpha_facts``): truncation,
+    coarse levels, a bias, gamma, a sub-pixel shift or drift; None when none holds."""
+    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    facts = evidence.get("alpha_facts")
+    found = alpha_cause(facts) if isinstance(facts, dict) else None
+    return (found[0], "none") if found is not None else None
+
+
 def _frame_cause(result: Any) -> tuple[str, str] | None:
     """The class and part of a motion failure read through :func:`with_probes`' facts:
     ``input-format`` when the sequence passes as the library receives it
@@ -1701,7 +1716,8 @@ _CLASSIFIERS: dict[str, Callable[[Any, Any, Convention | None], tuple[str, str]]
     "perspective": _through_frame(lambda result, case, convention: (
         ("nan-attributes", "none") if _metric(result, "max_uv_error_texels") == math.inf  # u, v not finite: not a perspective error
         else (_first_positive(result, (("frames_without_attributes", "missing-attributes"),), "perspective-error"), "none"))),
-    "accuracy": _by_metrics((("over_tolerance", "alpha-error"), ("off_level", "off-level")), "other"),
+    "accuracy": lambda result, case, convention: _alpha_cause(result) or _by_metrics(
+        (("over_tolerance", "alpha-error"), ("off_level", "off-level")), "other")(result, case, convention),
     "seams": lambda result, case, convention: (
         (str(result.evidence["order_dependence"]), "none") if isinstance(result.evidence, dict)
         and isinstance(result.evidence.get("order_dependence"), str)  # a seam of the edge direction (with_probes)

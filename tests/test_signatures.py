@@ -273,7 +273,7 @@ def _one_failure(bad, family: str, index: int, check: str):
     # float32 positions: the whole sequence passes as the library receives it
     (Float32Input(), "perspective", 15, "perspective|perspective-error|none", "perspective|input-format|none"),
     # biased alpha: the frame's accuracy fails, the pops are its consequence
-    (BiasedArea(), "popping", 0, "popping|popping|none", "popping|alpha-error|none"),
+    (BiasedArea(), "popping", 0, "popping|popping|none", "popping|alpha-bias|none"),
 ], ids=["jaggy-snapping", "texel-snapping", "perspective-snapping", "perspective-float32", "popping-alpha"])
 def test_motion_failures_are_named_by_their_cause(bad, check, index, own, probed):
     """Campaigns found each of these motion failures counted as a cause of its own beside

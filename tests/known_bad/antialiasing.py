@@ -21,7 +21,8 @@ from harness.oracle import exact_coverage, sample_shares
 from harness.area import edge_integral as _exact_integral  # the area oracle's exact edge integral (Green's theorem)
 
 __all__ = ["MirroredPattern", "SwappedSampleBits", "InclusiveSampleTies", "InclusiveSupersampledTies", "BiasedArea",
-           "PerEdgeMethodSwitch", "CoarseSupersampleClaimsAnalytic", "GRID_4X4"]
+           "PerEdgeMethodSwitch", "CoarseSupersampleClaimsAnalytic", "GRID_4X4",
+           "GammaEncodedArea", "HalfPixelShiftedArea", "TruncatedArea", "FourBitArea", "DriftingStepArea"]
 
 # the largest |coordinate| the per-edge kernel accepts (a float kernel's limit, as area_scanline's)
 MAX_COORDINATE = 2.0**24
@@ -279,3 +280,120 @@ class CoarseSupersampleClaimsAnalytic:
         alpha = _eight_bit(shares.alpha)
         return Coverage(shares.triangle, shares.y, shares.x0, shares.x1, alpha=alpha)
 
+
+
+# -- area coverage with one classic cause each (issue 29 point 4): accuracy names it ---------
+
+
+def _exact_area(scene: Scene, convention: Convention) -> Coverage:
+    """The exact area of each (triangle, pixel) under ``convention``'s snapping (unquantised)."""
+    return area_coverage(_geometry(scene), convention)
+
+
+class GammaEncodedArea:
+    """Declares analytic area coverage on 256 levels; writes each alpha gamma-encoded, as
+    a colour value would be: round(255 * area^(1/2.2)) -- an edge pixel half covered
+    reads 186, not 128."""
+
+    name = "bad_gamma_encoded_area"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        exact = _exact_area(scene, self.convention)
+        assert exact.alpha is not None
+        return Coverage(exact.triangle, exact.y, exact.x0, exact.x1, alpha=_eight_bit(exact.alpha ** (1.0 / 2.2)))
+
+
+class HalfPixelShiftedArea:
+    """Declares analytic area coverage; takes pixel (x, y) to be the square centred on
+    (x, y) instead of [x, x + 1] x [y, y + 1]: every alpha is the area of the triangle moved
+    by (+1/2, +1/2) px."""
+
+    name = "bad_half_pixel_shifted_area"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        moved = Scene(scene.width, scene.height, scene.positions + 0.5)
+        exact = _exact_area(moved, self.convention)
+        assert exact.alpha is not None
+        return Coverage(exact.triangle, exact.y, exact.x0, exact.x1, alpha=_eight_bit(exact.alpha))
+
+
+class TruncatedArea:
+    """Declares analytic area coverage rounded to 256 levels (half a level's tolerance);
+    converts with ``int(a * 255)``: truncates, up to a level low."""
+
+    name = "bad_truncated_area"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        exact = _exact_area(scene, self.convention)
+        assert exact.alpha is not None
+        alpha = np.floor(exact.alpha * 255.0) / 255.0
+        keep = alpha > 0
+        if not keep.any():
+            return Coverage.empty()
+        t, x, y = exact.pixels()
+        return Coverage.from_pixels(t[keep], x[keep], y[keep], alpha=alpha[keep])
+
+
+class FourBitArea:
+    """Declares analytic area coverage on 256 levels; computes it on 16 (a 4-bit coverage
+    buffer scaled up): every alpha a multiple of 17/255, up to half of that off."""
+
+    name = "bad_four_bit_area"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        exact = _exact_area(scene, self.convention)
+        assert exact.alpha is not None
+        alpha = np.rint(exact.alpha * 15.0) / 15.0
+        keep = alpha > 0
+        if not keep.any():
+            return Coverage.empty()
+        t, x, y = exact.pixels()
+        return Coverage.from_pixels(t[keep], x[keep], y[keep], alpha=alpha[keep])
+
+
+# the drifting stepper's error per row stepped: a slope kept in too few fractional bits
+DRIFT_PER_ROW = 2.0**-9
+
+
+class DriftingStepArea:
+    """Declares analytic area coverage; steps each triangle's edges down from its top row
+    with an increment 2^-9 px too large (a slope kept in too few fractional bits, as a
+    float32 or fixed-point stepper accumulates): row k of a triangle (counted from its first row
+    on screen) is drawn as the triangle moved right by k * 2^-9 px. Right at its top, a level or more off some
+    rows down, and worse the further down."""
+
+    name = "bad_drifting_step_area"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        geometry = _geometry(scene)
+        with np.errstate(invalid="ignore"):
+            # stepping starts at the first row drawn: the triangle's top, or the screen's
+            top = np.maximum(np.floor(np.nanmin(geometry.positions[:, :, 1], axis=1, initial=np.inf)), 0.0)
+        finite = np.isfinite(top)
+        parts = []
+        for k in range(scene.height):
+            moved = Scene(scene.width, scene.height, geometry.positions + np.array([k * DRIFT_PER_ROW, 0.0]))
+            cov = _exact_area(moved, self.convention)
+            t, x, y = cov.pixels()
+            assert cov.alpha is not None
+            mine = finite[t] & (y - np.where(finite[t], top[t], 0.0) == k)
+            if mine.any():
+                parts.append((t[mine], x[mine], y[mine], cov.alpha[mine]))
+        if not parts:
+            return Coverage.empty()
+        t, x, y, a = (np.concatenate([p[i] for p in parts]) for i in range(4))
+        alpha = _eight_bit(a)
+        keep = alpha > 0
+        if not keep.any():
+            return Coverage.empty()
+        return Coverage.from_pixels(t[keep], x[keep], y[keep], alpha=alpha[keep])

@@ -11,7 +11,8 @@ from __future__ import annotations
 from typing import Any
 
 from tests.known_bad.antialiasing import (
-    BiasedArea, CoarseSupersampleClaimsAnalytic, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, SwappedSampleBits,
+    BiasedArea, CoarseSupersampleClaimsAnalytic, DriftingStepArea, FourBitArea, GammaEncodedArea, HalfPixelShiftedArea,
+    InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, SwappedSampleBits, TruncatedArea,
 )
 from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.edge_functions import BUGS as EDGE_BUGS, EdgeFunctionBug
@@ -35,7 +36,8 @@ def _all() -> list[Any]:
         WrongTieClaim(), YFirstClaimsXFirst(), HalfAwayClaimsNearestEven(), DropsHuge(), Int32FixedPoint(), NaNAttributes(),
         SlowOnEpsilon(), Raises(), ReturnsGarbage(), HangsOnEpsilon(), ClipsBeforeSnapping(), Float32Input(tell=True),
         MirroredPattern(), SwappedSampleBits(), InclusiveSampleTies(), BiasedArea(), PerEdgeMethodSwitch(),
-        CoarseSupersampleClaimsAnalytic(),
+        CoarseSupersampleClaimsAnalytic(), GammaEncodedArea(), HalfPixelShiftedArea(), TruncatedArea(), FourBitArea(),
+        DriftingStepArea(),
         RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep(),
         RareSlopeTie(),
     ]
