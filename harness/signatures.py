@@ -81,6 +81,10 @@ class                            convention part     when
                                                      its path's vertices: how the ray's crossings
                                                      there count is the tie rule's (the perturbed
                                                      sample's row meets no vertex), not the fill's
+``later-contours-dropped``       none                (paths wrong away from their edges) drawn as
+                                                     the oracle draws each one's first contour alone
+``holes-ignored``                fill-rule           ... as each contour filled on its own (the union);
+                                                     either only where the two differ
 ``winding``                      fill-rule           (paths) none of the above
 ``far-from-edge``                sample-point        (triangles) none of the above
 ``far-from-tie``                 line-rule           (lines) none of the above
@@ -115,7 +119,8 @@ Errors: ``hang`` (a timeout), ``crash`` (the worker process died), ``not-run``,
 Anything else, or anything the classification cannot read, is ``other``:
 :func:`signature` never raises. Its oracle calls are hypothesis tests on the wrong
 primitives alone: the open outline (three: the oracle and two open fills), the other snap
-roundings (two at most), or the other fill rule (one).
+roundings (two at most), or the other fill rule, the first contours alone and each contour
+alone (one each).
 """
 
 from __future__ import annotations
@@ -157,12 +162,14 @@ _WORDS = {
     "exact-tie-vertical-edge": "samples exactly on a vertical edge decided wrongly",
     "exact-tie-slanted-edge": "samples exactly on a slanted edge decided wrongly",
     "exact-tie-vertex": "samples exactly on a vertex decided wrongly",
-    "near-tie": "samples within float rounding of an edge decided wrongly",
+    "near-tie": "decided wrongly within float rounding of a tie (an edge; a line rule's boundary)",
     "viewport-edge": "wrong only where primitives cross the viewport's edge",
     "input-format": "right on the input as the library receives it: the input format",
     "snapping": "right under another rounding of the same snapping",
     "fill-rule": "right under the other fill rule",
     "winding": "samples away from every edge decided wrongly: the winding or fill",
+    "later-contours-dropped": "drawn as if each path had only its first contour: the contours after it dropped",
+    "holes-ignored": "drawn as each contour filled on its own (their union): holes ignored",
     "vertex-row": "samples on rows through a vertex decided wrongly: crossings counted at vertices",
     "non-finite-input": "a primitive with a NaN or infinite coordinate drawn wrongly",
     "degenerate": "a zero-area triangle (zero-length segment) drawn wrongly",
@@ -1217,10 +1224,13 @@ def _hypothesis(result: Any, scene: AnyScene, prims: NDArray[np.int64], conventi
         for _, rounding in sorted(others):
             if _same_as(answer, scene, prims, subset, replace(convention, snap_rounding=rounding)):
                 return "snapping", "snapping"
-        return None
+        if not isinstance(subset, PathScene):
+            return None
     if isinstance(subset, PathScene) and not near and not exact:
         flipped = subset.with_fill_rule("evenodd" if subset.fill_rule == "nonzero" else "nonzero")
-        return ("fill-rule", "fill-rule") if _same_as(answer, scene, prims, flipped, convention) else None
+        if _same_as(answer, scene, prims, flipped, convention):
+            return "fill-rule", "fill-rule"
+        return _contours_hypothesis(answer, scene, prims, subset, convention)
     line = convention.line
     if isinstance(subset, LineScene) and near and line is not None:
         # a decision near the rule's boundary drawn exactly as the rule draws it with the
@@ -1230,6 +1240,38 @@ def _hypothesis(result: Any, scene: AnyScene, prims: NDArray[np.int64], conventi
             return "end-pixel", "line-rule"
         if _same_reversed(answer, scene, prims, subset, convention):
             return "reversal", "line-rule"
+    return None
+
+
+def _contours_hypothesis(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], subset: PathScene,
+                         convention: Convention) -> tuple[str, str] | None:
+    """Paths of several contours wrong away from their edges, drawn exactly as the oracle
+    draws each one's first contour alone (``later-contours-dropped``), or each contour
+    filled on its own, their union (``holes-ignored``) -- when the two differ (a hole
+    filled within the first contour is either, or a fill counting crossings unsigned:
+    none is named); else None. Two oracle calls, only for paths of several contours."""
+    from harness.oracle import exact_coverage
+
+    sizes = subset.contour_sizes
+    if not (np.bincount(subset.contour_path, minlength=len(subset)) > 1).any():
+        return None
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    first = np.flatnonzero(np.concatenate([[True], subset.contour_path[1:] != subset.contour_path[:-1]]))
+    keep = np.concatenate([np.arange(starts[c], starts[c] + sizes[c]) for c in first])
+    alone = PathScene(scene.width, scene.height, subset.vertices[keep], sizes[first], subset.contour_path[first], subset.fill_rule)
+    each = PathScene(scene.width, scene.height, subset.vertices, sizes, np.arange(sizes.size), subset.fill_rule)
+    identity = {i: i for i in range(len(subset))}
+    firsts = _pixel_set(exact_coverage(alone, convention), np.arange(len(subset)), identity, scene.width, scene.height)
+    t, x, y = exact_coverage(each, convention).pixels()
+    on = (x >= 0) & (x < scene.width) & (y >= 0) & (y < scene.height)
+    union = {(int(subset.contour_path[a]), int(b), int(c)) for a, b, c in zip(t[on], x[on], y[on])}
+    if firsts == union:
+        return None  # every later contour within the first (a hole filled): the two cannot be told apart
+    got = _pixel_set(answer, prims, {int(k): i for i, k in enumerate(prims)}, scene.width, scene.height)
+    if got == firsts:
+        return "later-contours-dropped", "none"
+    if got == union:
+        return "holes-ignored", "fill-rule"
     return None
 
 

@@ -45,6 +45,8 @@ SHOWS = {
     "horizontal-crossings": (["row-rectangle"], ["row-diamond", "pentagram", "ring-opposite"]),
     "inclusive-ends": (["row-diamond", "row-rectangle"], ["quad", "pentagram", "ring-opposite"]),
     "open-contours": (["triangle", "pentagram", "ring-opposite"], []),
+    "first-contour-only": (["ring-opposite", "ring-opposite-evenodd"], ["triangle", "pentagram", "ring-same", "quad"]),
+    "contours-apart": (["ring-opposite", "ring-opposite-evenodd"], ["triangle", "pentagram", "ring-same", "quad"]),
 }
 
 

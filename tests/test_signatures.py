@@ -177,7 +177,7 @@ def test_signature_never_raises_on_odd_input():
 
 def test_describe_reads_as_a_sentence():
     assert Signature("conformance", "near-tie", "none").describe() == \
-        "conformance: samples within float rounding of an edge decided wrongly"
+        "conformance: decided wrongly within float rounding of a tie (an edge; a line rule's boundary)"
     assert "2^53..2^63" in Signature("conformance", "overflow-2^53..2^63", "none").describe()
     assert Signature("run", "exception-KeyError", "none").describe() == "run: raised KeyError"
 
@@ -670,3 +670,34 @@ def test_a_sliver_the_rounded_move_would_flatten_gets_no_viewport_trial():
     case, _, failed, probed = _one_failure(bad, "degenerate", 182, "conformance")
     assert "viewport_edge" not in probed.evidence and "viewport_edge_refuted" not in probed.evidence
     assert signature(probed, case, bad.convention).key == "conformance|far-from-edge|sample-point"
+
+
+def test_dropped_contours_are_not_ignored_holes():
+    """Issue 29: a filler drawing each path's first contour alone is named
+    ``later-contours-dropped``; one filling each contour apart (their union)
+    ``holes-ignored``; a fill that counts crossings unsigned, filling a hole within the
+    first contour just as both would, neither (the two cannot be told apart there). The
+    message speaks of no sample on an edge: the wrong ones lie inside the hole too."""
+    from harness.api import PathScene
+
+    outer = [[2.25, 2.25], [20.75, 2.25], [20.75, 20.75], [2.25, 20.75]]
+    hole = [[8.25, 8.25], [8.25, 14.75], [14.75, 14.75], [14.75, 8.25]]  # wound against the outer square
+    beside = [[24.25, 4.25], [30.75, 4.25], [30.75, 18.75], [24.25, 18.75]]  # outside it, on the same rows
+    ring = Case("paths/ring-and-beside/nonzero", PathScene.from_paths(32, 24, [[np.array(outer), np.array(hole),
+                                                                                np.array(beside)]], "nonzero"), lattice=True)
+    only_ring = Case("paths/ring/nonzero", PathScene.from_paths(32, 24, [[np.array(outer), np.array(hole)]], "nonzero"),
+                     lattice=True)
+    for bug, case, expected in (("first-contour-only", ring, "conformance|later-contours-dropped|none"),
+                                ("contours-apart", ring, "conformance|holes-ignored|fill-rule"),
+                                ("unsigned-crossings", only_ring, "conformance|winding|fill-rule"),
+                                ("contours-apart", only_ring, "conformance|winding|fill-rule")):
+        bad = PathFillBug(bug)
+        judge = _judge_of(bad)
+        failed = [r for r in judge(case, "conformance") if r.status == "fail"]
+        assert failed, bug
+        probed = with_probes(failed[0], case, judge, bad)
+        assert signature(probed, case, bad.convention).key == expected, (bug, case.id, failed[0].message)
+        assert "exactly on" not in failed[0].message, failed[0].message
+    from rasterizers.trapezoid import TrapezoidFill
+
+    assert all(r.status == "pass" for r in _judge_of(TrapezoidFill())(ring, "conformance"))

@@ -22,7 +22,8 @@ from harness.area import edge_integral as _exact_integral  # the area oracle's e
 
 __all__ = ["MirroredPattern", "SwappedSampleBits", "InclusiveSampleTies", "InclusiveSupersampledTies", "BiasedArea",
            "PerEdgeMethodSwitch", "CoarseSupersampleClaimsAnalytic", "GRID_4X4",
-           "GammaEncodedArea", "HalfPixelShiftedArea", "TruncatedArea", "FourBitArea", "DriftingStepArea"]
+           "GammaEncodedArea", "HalfPixelShiftedArea", "TruncatedArea", "FourBitArea", "DriftingStepArea",
+           "RejectsNearEdges", "CentreSamples"]
 
 # the largest |coordinate| the per-edge kernel accepts (a float kernel's limit, as area_scanline's)
 MAX_COORDINATE = 2.0**24
@@ -397,3 +398,60 @@ class DriftingStepArea:
         if not keep.any():
             return Coverage.empty()
         return Coverage.from_pixels(t[keep], x[keep], y[keep], alpha=alpha[keep])
+
+
+# -- multisample: samples dropped near edges, all samples at the centre (issue 29 point 4) ---
+
+# the near-edge rejecter's margin: a pixel whose centre lies farther than this outside an
+# edge is rejected whole; every sample of the standard 4x pattern is within 0.28 px of the
+# centre along a normal, and sqrt(2)/2 covers any
+REJECT_MARGIN = 0.125
+
+
+class RejectsNearEdges:
+    """Declares the standard 4x pattern and tests each sample exactly -- but first rejects
+    a pixel whole when its centre lies more than 1/8 px outside an edge (a trivial-reject
+    margin too small for the samples' reach): samples inside the triangle in pixels just
+    past an edge are dropped; the pattern itself is right."""
+
+    name = "bad_rejects_near_edges"
+    convention = Convention(samples=4)
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        cov = exact_coverage(_geometry(scene), Convention(samples=4))
+        if not cov.n_pixels:
+            return cov
+        t, x, y = cov.pixels()
+        s = cov.fragment_samples()
+        p = scene.positions[t]  # (F, 3, 2)
+        with np.errstate(all="ignore"):
+            area = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0])
+            sign = np.where(area < 0, -1.0, 1.0)
+            centre = np.stack([x + 0.5, y + 0.5], axis=-1).astype(np.float64)
+            rejected = np.zeros(t.size, dtype=bool)
+            for k in range(3):
+                a, b = p[:, k], p[:, (k + 1) % 3]
+                d = b - a
+                e = (d[:, 0] * (centre[:, 1] - a[:, 1]) - d[:, 1] * (centre[:, 0] - a[:, 0])) * sign
+                rejected |= e < -REJECT_MARGIN * np.hypot(d[:, 0], d[:, 1])  # the centre that far outside
+        keep = ~rejected
+        if not keep.any():
+            return Coverage.empty()
+        return Coverage.from_pixels(t[keep], x[keep], y[keep], sample=s[keep])
+
+
+class CentreSamples:
+    """Declares the standard 4x pattern; puts all four samples at the pixel centre (a
+    sample table of zeros): each pixel's four samples are covered together or not at all."""
+
+    name = "bad_centre_samples"
+    convention = Convention(samples=4)
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        cov = exact_coverage(_geometry(scene), Convention())
+        if not cov.n_pixels:
+            return Coverage.empty()
+        t, x, y = cov.pixels()
+        return Coverage.from_pixels(np.repeat(t, 4), np.repeat(x, 4), np.repeat(y, 4), sample=np.tile(np.arange(4), t.size))
