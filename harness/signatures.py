@@ -86,6 +86,11 @@ class                            convention part     when
 ``holes-ignored``                fill-rule           ... as each contour filled on its own (the union);
                                                      either only where the two differ
 ``winding``                      fill-rule           (paths) none of the above
+``dropped-near-edges``           none                (multisample) every wrong sample missing (none
+                                                     extra, of every layer: the metrics), within
+                                                     a pixel of an edge, its pixel's centre outside
+                                                     the triangle (exact): pixels rejected whole near
+                                                     an edge
 ``far-from-edge``                sample-point        (triangles) none of the above
 ``far-from-tie``                 line-rule           (lines) none of the above
 ===============================  ==================  ==============================================
@@ -156,6 +161,9 @@ NEAR_PIXELS = 2.0**-8
 # viewport-edge: a wrong sample off every edge counts as a clipper's when it lies within
 # this of an edge leaving the screen (a clipped vertex rounded to a coarse grid)
 CLIPPER_PIXELS = 2.0**-4
+# dropped-near-edges: a multisample layer's missing samples all this close to an edge of
+# their triangle (a pixel's reach: a tolerance by nature, named as one)
+NEAR_EDGE_PIXELS = 1.0
 
 _WORDS = {
     "exact-tie-horizontal-edge": "samples exactly on a horizontal edge decided wrongly",
@@ -178,6 +186,8 @@ _WORDS = {
     "open-contour": "drawn as if each contour's closing edge were missing",
     "overflow-below-2^12": "wrong on large triangles, right made smaller (a range that gives out below 2^12)",
     "far-from-edge": "samples away from every edge decided wrongly",
+    "dropped-near-edges": "samples just inside an edge missing in pixels whose centre lies outside (none extra): "
+                          "dropped near edges, not a wrong pattern",
     "far-from-tie": "pixels away from the rule's ties drawn wrongly",
     "end-pixel": "pixels at a segment's end drawn wrongly",
     "crash": "the rasterizer's process died",
@@ -1402,6 +1412,9 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         return "exact-tie-vertex", "tie-rule"
     if near:
         return "near-tie", "none"
+    if isinstance(convention, Convention) and convention.kind == "multisample" and isinstance(scene, Scene) \
+            and _metric(result, "extra") == 0 and _dropped_near_edges(wrong, edges, judged):
+        return "dropped-near-edges", "none"
     if isinstance(scene, PathScene):
         # every wrong sample on a row through one of its path's vertices (exact: float
         # comparisons): crossings counted at the vertices -- a tie in y, not the fill
@@ -1410,6 +1423,30 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         refuted = isinstance(trial, dict) and trial.get("vertex_rows") and trial.get("passes") is False
         return ("vertex-row", "tie-rule") if rows and not refuted else ("winding", "fill-rule")
     return "far-from-edge", "sample-point"
+
+
+def _dropped_near_edges(wrong: list[tuple[int, int, int, str, float]], edges: dict[int, tuple[NDArray, NDArray]],
+                        judged: Convention) -> bool:
+    """Whether every wrong sample of a multisample layer is missing (none extra), lies
+    within :data:`NEAR_EDGE_PIXELS` of an edge of its triangle, and its pixel's centre
+    strictly outside the triangle (exact orientations): samples dropped where a pixel
+    was rejected whole near an edge, not a pattern read wrong (which puts samples in where
+    it leaves others out)."""
+    if not wrong or any(kind != "missing" for _, _, _, kind, _ in wrong):
+        return False
+    for k, x, y, _, _ in wrong:
+        a, b = edges[k]
+        centre = np.array([x + 0.5, y + 0.5])
+        if not _violated_edges(a, b, centre).any():
+            return False
+        sample = np.array([x + judged.sample[0], y + judged.sample[1]])
+        with np.errstate(all="ignore"):
+            d = b - a
+            t = np.clip(((sample - a) * d).sum(axis=1) / (d * d).sum(axis=1), 0.0, 1.0)
+            reach = np.hypot(*(a + t[:, None] * d - sample).T)
+        if not (reach <= NEAR_EDGE_PIXELS).any():
+            return False
+    return True
 
 
 def _wrong_reach_beyond(result: Any, scene: AnyScene) -> bool:

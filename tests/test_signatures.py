@@ -701,3 +701,20 @@ def test_dropped_contours_are_not_ignored_holes():
     from rasterizers.trapezoid import TrapezoidFill
 
     assert all(r.status == "pass" for r in _judge_of(TrapezoidFill())(ring, "conformance"))
+
+
+@pytest.mark.parametrize("family", ["lattice", "float"])
+def test_samples_dropped_near_edges_are_not_a_wrong_pattern(family):
+    """Issue 29: a multisample rasterizer rejecting pixels whose centre lies just outside
+    an edge is named ``dropped-near-edges``; a wrong pattern (mirrored, every sample at the
+    centre), which puts samples in where it leaves others out, stays the sample point's."""
+    from tests.known_bad.antialiasing import CentreSamples, MirroredPattern, RejectsNearEdges
+
+    case = generate(family, 0, 0)
+    for bad, expected in ((RejectsNearEdges(), "conformance|dropped-near-edges|none"),
+                          (CentreSamples(), "conformance|far-from-edge|sample-point"),
+                          (MirroredPattern(), "conformance|far-from-edge|sample-point")):
+        judge = _judge_of(bad)
+        failed = [r for r in judge(case, "conformance") if r.status == "fail"]
+        assert failed, bad.name
+        assert signature(with_probes(failed[0], case, judge, bad), case, bad.convention).key == expected, bad.name

@@ -11,8 +11,9 @@ from __future__ import annotations
 from typing import Any
 
 from tests.known_bad.antialiasing import (
-    BiasedArea, CoarseSupersampleClaimsAnalytic, DriftingStepArea, FourBitArea, GammaEncodedArea, HalfPixelShiftedArea,
-    InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, SwappedSampleBits, TruncatedArea,
+    BiasedArea, CentreSamples, CoarseSupersampleClaimsAnalytic, DriftingStepArea, FourBitArea, GammaEncodedArea,
+    HalfPixelShiftedArea, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, RejectsNearEdges, SwappedSampleBits,
+    TruncatedArea,
 )
 from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.edge_functions import BUGS as EDGE_BUGS, EdgeFunctionBug
@@ -37,7 +38,7 @@ def _all() -> list[Any]:
         SlowOnEpsilon(), Raises(), ReturnsGarbage(), HangsOnEpsilon(), ClipsBeforeSnapping(), Float32Input(tell=True),
         MirroredPattern(), SwappedSampleBits(), InclusiveSampleTies(), BiasedArea(), PerEdgeMethodSwitch(),
         CoarseSupersampleClaimsAnalytic(), GammaEncodedArea(), HalfPixelShiftedArea(), TruncatedArea(), FourBitArea(),
-        DriftingStepArea(),
+        DriftingStepArea(), RejectsNearEdges(), CentreSamples(),
         RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep(),
         RareSlopeTie(),
     ]
