@@ -785,7 +785,7 @@ def sample_sides(call: Call, offsets: Sequence[tuple[float, float] | None], cull
         return SampleSides()
     shapes = []
     for _, (x, y) in found:
-        for axis, (a, b) in (("x", (x + SIDE_STEP, 3.0)), ("y", (3.0, y + SIDE_STEP))):
+        for a, b in ((x + SIDE_STEP, 3.0), (3.0, y + SIDE_STEP)):  # a right edge past it, a bottom one
             shapes.append(np.array([[a, b], [a - _LEG, b], [a, b - _LEG]]))  # the corner turned half round
     probes = _probe_scene(np.array(shapes), cull)
     outcome = call(probes.scene)

@@ -718,3 +718,17 @@ def test_samples_dropped_near_edges_are_not_a_wrong_pattern(family):
         failed = [r for r in judge(case, "conformance") if r.status == "fail"]
         assert failed, bad.name
         assert signature(with_probes(failed[0], case, judge, bad), case, bad.convention).key == expected, bad.name
+
+
+def test_line_messages_speak_of_lines():
+    """Issue 29: a line drawer's wrong pixels on the rule's boundary are said to lie on the
+    line rule's boundary -- no sample on an edge, no triangle -- and its signature is the
+    line rule's."""
+    from cases.lines import line_cases
+
+    case = next(c for c in line_cases(0) if c.id == "lines/octants/edge-midpoints")
+    bad = BothEndPixels()
+    failed = [r for r in _judge_of(bad)(case, "conformance") if r.status == "fail"]
+    assert failed and "exactly on the line rule's boundary" in failed[0].message, failed
+    assert "sample" not in failed[0].message and "triangle" not in failed[0].message
+    assert signature(failed[0], case, bad.convention).convention_part == "line-rule"
