@@ -431,6 +431,19 @@ def test_an_accuracy_failure_names_its_cause_from_facts(bad, cause, words):
         assert not named, (verdict.message, named)
 
 
+def test_errors_no_fact_explains_name_no_cause():
+    """Alphas a sample or two off (inclusive ties of a 4 x 4 supersampler), or a coarse
+    supersampler's, are on levels and may happen to sit on a coarser grid: no truncation,
+    coarse levels or other cause is named for them."""
+    from tests.known_bad.antialiasing import InclusiveSupersampledTies
+
+    selected = cases("lattice/*", "watertight/grid-6x6-*")
+    for bad in (InclusiveSupersampledTies(), CoarseSupersampleClaimsAnalytic()):
+        failed = [r for r in judged(bad, selected, {"accuracy"})["accuracy"].values() if r.status == "fail"]
+        assert len(failed) >= 4, bad.name
+        assert all("alpha_cause" not in r.evidence for r in failed), [(r.case, r.message) for r in failed]
+
+
 def test_accuracy_names_no_cause_where_it_passes():
     """The correct anti-aliasers pass accuracy with no cause in the message (the facts are
     taken on failure only)."""

@@ -488,6 +488,8 @@ ALPHA_CAUSES: dict[str, str] = {
 }
 # a fact holds when it explains this share of the edge pixels (partially covered) at least
 CAUSE_SHARE = 0.9
+# coarse levels: at least this many seen, half of them in use
+COARSE_LEVELS_MIN = 5
 # gamma: an exponent this far from 1 at least, its fit within a level of every edge pixel
 GAMMA_MIN = 0.05
 # drift: the errors' correlation with the rows (columns) stepped from the triangle's top
@@ -505,8 +507,10 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
     near ties, left out), in levels of the convention: ``bias`` (the median signed error
     of the edge pixels -- the model strictly between 0 and 1 -- and ``bias_share``, the
     share of them within the tolerance plus half a level of it); ``residue`` (min and max
-    of model - alpha on the edge pixels: truncation leaves [0, 1), rounding [-1/2, 1/2]);
-    ``levels_seen`` (the fewest levels dividing the declared ones every alpha lies on);
+    of model - alpha on the edge pixels: truncation leaves [0, 1), rounding [-1/2, 1/2]; and
+    ``between_levels``, the share of them not a whole number of levels);
+    ``levels_seen`` (the fewest levels dividing the declared ones every alpha lies on,
+    ``distinct_alphas`` the values in use, ``declared_levels``);
     ``gamma`` (the exponent g of alpha = area^g fitted by least squares on logarithms,
     and ``gamma_error``, the fit's largest error); ``drift`` (the correlation of |error| with
     the rows stepped from each triangle's top and with the columns from its left, and the
@@ -533,8 +537,12 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
     facts["bias_share"] = float(np.mean(np.abs(s - bias) <= tolerance + 0.5))
     residue = -s
     facts["residue"] = [float(residue.min()), float(residue.max())]
+    facts["between_levels"] = float(np.mean(np.abs(residue - np.rint(residue)) > 1e-6))
     on = alpha[keep]
-    for d in sorted(k for k in range(1, levels) if levels % k == 0):
+    facts["declared_levels"] = convention.levels
+    facts["distinct_alphas"] = int(np.unique(on).size)
+    small = [k for k in range(1, math.isqrt(levels) + 1) if levels % k == 0]
+    for d in sorted({*small, *(levels // k for k in small)} - {levels}):  # the divisors of levels - 1 below it
         if not off_level(on, d + 1).any():
             facts["levels_seen"] = d + 1
             break
@@ -601,7 +609,7 @@ def alpha_cause(facts: dict[str, Any]) -> tuple[str, str] | None:
 
     >>> alpha_cause({"edge_pixels": 9, "tolerance": 0.5, "bias": 2.0, "bias_share": 1.0, "residue": [-2.5, -1.5]})
     ('alpha-bias', 'alphas 2.0 levels high on average')
-    >>> alpha_cause({"edge_pixels": 9, "tolerance": 0.5, "residue": [0.0, 0.99]})
+    >>> alpha_cause({"edge_pixels": 9, "tolerance": 0.5, "residue": [0.0, 0.99], "between_levels": 0.9})
     ('truncated-levels', 'alphas truncated to the levels (up to 0.99 levels low), not rounded')
     """
     tolerance = float(facts.get("tolerance", 0.5))
@@ -609,13 +617,20 @@ def alpha_cause(facts: dict[str, Any]) -> tuple[str, str] | None:
         return None
     low, high = facts.get("residue", [0.0, 0.0])
     slack = 1e-6
-    if low >= -slack and high < 1.0 + slack and high > tolerance:
+    # truncation leaves the area less than a level above the alpha -- read where the areas
+    # fall between levels (whole levels off are samples or levels too many, not a rounding)
+    between = facts.get("between_levels", 0.0) >= 0.5
+    if between and low >= -slack and high < 1.0 + slack and high > tolerance:
         return "truncated-levels", f"alphas truncated to the levels (up to {high:.2f} levels low), not rounded"
-    if high <= slack and low > -1.0 - slack and -low > tolerance:
+    if between and high <= slack and low > -1.0 - slack and -low > tolerance:
         return "truncated-levels", f"alphas rounded up to the levels (up to {-low:.2f} levels high), not to the nearest"
-    seen = facts.get("levels_seen")
-    if isinstance(seen, int) and seen > 1 and max(abs(low), abs(high)) > tolerance:
-        return "coarse-levels", f"alphas on {seen} levels only"
+    seen, distinct = facts.get("levels_seen"), facts.get("distinct_alphas", 0)
+    if isinstance(seen, int) and seen >= COARSE_LEVELS_MIN and 2 * distinct >= seen and max(abs(low), abs(high)) > tolerance:
+        # many of the coarse levels in use (not a few alphas on a coarse grid by chance),
+        # each within half a coarse level of the area: the area rounded to them
+        coarse = (facts.get("declared_levels", 256) - 1) / (seen - 1)
+        if max(abs(low), abs(high)) <= coarse / 2 + tolerance:
+            return "coarse-levels", f"alphas on {seen} levels only"
     bias = facts.get("bias")
     if isinstance(bias, float) and abs(bias) > tolerance and facts.get("bias_share", 0.0) >= CAUSE_SHARE:
         return "alpha-bias", f"alphas {abs(bias):.1f} levels {'high' if bias > 0 else 'low'} on average"
