@@ -567,7 +567,8 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
             facts[f"drift_{name}"] = {"correlation": float(np.corrcoef(steps, error)[0, 1]),
                                       "first": float(error[first].mean()), "last": float(error[last].mean()),
                                       "steps": int(span)}
-    if alpha_cause(facts) is None and convention.cull == "none":
+    named = alpha_cause(facts)
+    if (named is None or named[0] == "drift") and convention.cull == "none":  # a shift is named before drift
         facts.update(_shift_facts(scene, convention, triangle, x, y, value, model, keep, tolerance, exact_coverage))
     return facts
 
@@ -576,11 +577,19 @@ def _shift_facts(scene: Scene, convention: Convention, triangle: NDArray, x: NDA
                  model: NDArray, keep: NDArray, tolerance: float, oracle: Callable[..., Coverage]) -> dict[str, Any]:
     """``shift``: the move of the scene under whose oracle every alpha is within the
     tolerance, tried at the centroids' difference rounded to each of :data:`SHIFT_GRIDS`
-    (alpha-weighted pixel centres against the model's); ``shift_tried``: those tried."""
+    (alpha-weighted pixel centres against the model's, over the triangles a pixel inside
+    the screen when there are some: a cut one's centroid moves otherwise); ``shift_tried``:
+    those tried."""
     n, width, height = len(scene), scene.width, scene.height
     weight_a = np.bincount(triangle[keep], weights=value[keep], minlength=n)
     weight_m = np.bincount(triangle[keep], weights=model[keep], minlength=n)
     fine = (weight_a > 0) & (weight_m > 0)
+    with np.errstate(invalid="ignore"):  # the triangles a pixel inside the screen: no part of them cut off
+        p = scene.positions
+        inside = np.isfinite(p).all(axis=(1, 2)) & (p.min(axis=(1, 2)) >= 1) & (p[:, :, 0].max(axis=1) <= width - 1) \
+            & (p[:, :, 1].max(axis=1) <= height - 1)
+    if (fine & inside).any():
+        fine &= inside
     if not fine.any():
         return {}
     moved = []
