@@ -490,6 +490,8 @@ ALPHA_CAUSES: dict[str, str] = {
 CAUSE_SHARE = 0.9
 # coarse levels: at least this many seen, half of them in use
 COARSE_LEVELS_MIN = 5
+# a bias or gamma: read over edge pixels whose areas span this much at least
+AREA_SPREAD = 0.5
 # gamma: an exponent this far from 1 at least, its fit within a level of every edge pixel
 GAMMA_MIN = 0.05
 # drift: the errors' correlation with the rows (columns) stepped from the triangle's top
@@ -506,7 +508,8 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
     names the cause. Over the (triangle, pixel)s either side covers ((P,) each; ``near``:
     near ties, left out), in levels of the convention: ``bias`` (the median signed error
     of the edge pixels -- the model strictly between 0 and 1 -- and ``bias_share``, the
-    share of them within the tolerance plus half a level of it); ``residue`` (min and max
+    share of them within the tolerance plus half a level of it; ``area_spread``, the range of
+    their areas, over which a bias and gamma are told apart); ``residue`` (min and max
     of model - alpha on the edge pixels: truncation leaves [0, 1), rounding [-1/2, 1/2]; and
     ``between_levels``, the share of them not a whole number of levels);
     ``levels_seen`` (the fewest levels dividing the declared ones every alpha lies on,
@@ -532,6 +535,7 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
     if not edge.any():
         return facts
     s = signed[edge]
+    facts["area_spread"] = float(model[edge].max() - model[edge].min())
     bias = float(np.median(s))
     facts["bias"] = bias
     facts["bias_share"] = float(np.mean(np.abs(s - bias) <= tolerance + 0.5))
@@ -616,7 +620,8 @@ def alpha_cause(facts: dict[str, Any]) -> tuple[str, str] | None:
     """The cause of an accuracy failure its facts (:func:`alpha_facts`) name, first that
     holds: (class of :data:`ALPHA_CAUSES`, the facts in words), else None.
 
-    >>> alpha_cause({"edge_pixels": 9, "tolerance": 0.5, "bias": 2.0, "bias_share": 1.0, "residue": [-2.5, -1.5]})
+    >>> alpha_cause({"edge_pixels": 9, "tolerance": 0.5, "bias": 2.0, "bias_share": 1.0, "residue": [-2.5, -1.5],
+    ...              "area_spread": 0.9})
     ('alpha-bias', 'alphas 2.0 levels high on average')
     >>> alpha_cause({"edge_pixels": 9, "tolerance": 0.5, "residue": [0.0, 0.99], "between_levels": 0.9})
     ('truncated-levels', 'alphas truncated to the levels (up to 0.99 levels low), not rounded')
@@ -640,11 +645,14 @@ def alpha_cause(facts: dict[str, Any]) -> tuple[str, str] | None:
         coarse = (facts.get("declared_levels", 256) - 1) / (seen - 1)
         if max(abs(low), abs(high)) <= coarse / 2 + tolerance:
             return "coarse-levels", f"alphas on {seen} levels only"
+    # a bias and gamma are told apart only over areas of many sizes (over half-covered
+    # pixels alone a power of the area is off by one number of levels, as a bias is)
+    spread = facts.get("area_spread", 0.0) >= AREA_SPREAD
     bias = facts.get("bias")
-    if isinstance(bias, float) and abs(bias) > tolerance and facts.get("bias_share", 0.0) >= CAUSE_SHARE:
+    if spread and isinstance(bias, float) and abs(bias) > tolerance and facts.get("bias_share", 0.0) >= CAUSE_SHARE:
         return "alpha-bias", f"alphas {abs(bias):.1f} levels {'high' if bias > 0 else 'low'} on average"
     g = facts.get("gamma")
-    if isinstance(g, float) and abs(g - 1.0) >= GAMMA_MIN and facts.get("gamma_error", math.inf) <= tolerance + 1.0:
+    if spread and isinstance(g, float) and abs(g - 1.0) >= GAMMA_MIN and facts.get("gamma_error", math.inf) <= tolerance + 1.0:
         return "gamma", f"alphas the area to the power {g:.2f} (gamma {1 / g:.2f}): error a function of alpha"
     shift = facts.get("shift")
     if isinstance(shift, list):
