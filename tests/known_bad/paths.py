@@ -94,7 +94,7 @@ class PathFillBug:
         evenodd = bug == EVENODD_FOR_NONZERO or (isinstance(scene, PathScene) and scene.fill_rule == "evenodd")
         ax, ay, bx, by = (frozen(c[order]) for c in (a[:, 0], a[:, 1], b[:, 0], b[:, 1]))
         drawn = Coverage(*_spans(ax, ay, bx, by, bounds, bug, evenodd, scene.width, scene.height))
-        if n == len(scene):
+        if owner is primitive:
             return drawn
         assert isinstance(scene, PathScene)
         t, x, y = drawn.pixels()
