@@ -34,9 +34,18 @@ Each family reuses its suite family's building blocks with the scene's own gener
   doubled vertices under a random fill rule; quad-grid partitions (:mod:`cases.paths`).
 - ``lines``: fans in every octant, lattice, float, near-tie and sub-pixel segments,
   polylines (walks, spirals, zig-zags, stars) and bad segments (:mod:`cases.lines`).
+- ``tall``: one to three triangles over 2,048 px tall at x past 1,024 px on a screen
+  1,152 px wide and 2,064 .. 2,560 tall (:func:`cases.scenes.tall_triangles`), where an
+  edge stepped down the rows in float32 drifts by a tenth of a pixel.
+- ``winding``: one path of a triangle or rectangle traced N times over (N either side of
+  128, 256, 32,768 and 65,536, where 8- and 16-bit winding counters wrap or saturate, or
+  anywhere from 2 to 300) and one to three other such contours traced once to three
+  times, each wound either way, on the 1/4 or 1/2 px lattice or not, under a random fill
+  rule, on an 8 or 16 px screen (:func:`cases.paths.wound`).
 
 Scenes are small (mostly 3 .. 64 primitives -- meshes up to 120 -- in a 24 .. 64 px
-viewport; the tall motion sliver excepted) so that a campaign checks hundreds a second per
+viewport; the tall triangles and the tall motion sliver excepted, and the deep-winding
+paths' up to 262,000 vertices) so that a campaign checks hundreds a second per
 worker; generating one takes 0.3 .. 1.3 ms.
 
 >>> case = generate("lattice", 0, 7)
@@ -59,23 +68,25 @@ from numpy.typing import NDArray
 from cases import lines as line_shapes
 from cases.partitions import _mix_windings, delaunay, fan, grid, sliver_fan, strip
 from cases.paths import _on_lattice as _path_lattice
-from cases.paths import _random_contours, quad_grid, rectangle, regular, star
-from cases.scenes import lattice_triangles, random_triangles
+from cases.paths import _random_contours, quad_grid, rectangle, regular, star, wound
+from cases.scenes import lattice_triangles, random_triangles, tall_triangles
 from harness.api import LineScene, PathScene, Scene
 from harness.case import Case, MotionCase
 
 __all__ = ["FAMILIES", "FAMILY_CODE", "SUITE_FAMILY", "generate", "scene_id", "scene_point", "primitives", "REFUSABLE_FROM"]
 
-FAMILIES: tuple[str, ...] = ("lattice", "float", "partitions", "meshes", "degenerate", "motion", "paths", "lines")
+FAMILIES: tuple[str, ...] = ("lattice", "float", "partitions", "meshes", "degenerate", "motion", "paths", "lines", "tall",
+                             "winding")
 # The first word of each scene's seed sequence: fixed forever (a new family takes a new
 # code), so that adding a family never changes another family's scenes.
 FAMILY_CODE: dict[str, int] = {"lattice": 1, "float": 2, "partitions": 3, "meshes": 4, "degenerate": 5, "motion": 6,
-                               "paths": 7, "lines": 8}
+                               "paths": 7, "lines": 8, "tall": 9, "winding": 10}
 # The suite family each fuzz family stands for: the checks gated on a case's family
 # (invariance, triangulation, degenerate) know the suites' names, and a fuzz case's own
 # family (``Case.family``, the id's first part) is ``fuzz``.
 SUITE_FAMILY: dict[str, str] = {"lattice": "lattice", "float": "float", "partitions": "watertight", "meshes": "mesh",
-                                "degenerate": "degenerate", "motion": "motion", "paths": "paths", "lines": "lines"}
+                                "degenerate": "degenerate", "motion": "motion", "paths": "paths", "lines": "lines",
+                                "tall": "float", "winding": "paths"}
 # |coordinate| from which a primitive may be refused (ValueError naming it), as in the suites
 REFUSABLE_FROM = 1e6
 
@@ -94,7 +105,7 @@ def generate(family: str, seed: int, index: int) -> Case | MotionCase:
     >>> generate("cubes", 0, 0)
     Traceback (most recent call last):
     ...
-    ValueError: unknown fuzz family 'cubes': choose one of lattice, float, partitions, meshes, degenerate, motion, paths, lines
+    ValueError: unknown fuzz family 'cubes': choose one of lattice, float, partitions, meshes, degenerate, motion, paths, lines, tall, winding
     """
     build = _BUILDERS.get(family) if isinstance(family, str) else None
     if build is None:
@@ -532,8 +543,48 @@ def _lines(case_id: str, rng: np.random.Generator) -> Case:
     return Case(case_id, scene, lattice=_on_lattice(scene.vertices, 4), refusable=refusable)
 
 
+# -- tall triangles --------------------------------------------------------------------------
+
+TALL_WIDTH = 1152
+
+
+def _tall(case_id: str, rng: np.random.Generator) -> Case:
+    height = int(_choice(rng, (2064, 2112, 2560)))
+    tris = tall_triangles(int(rng.integers(1, 4)), TALL_WIDTH, height, rng)
+    return Case(case_id, Scene(TALL_WIDTH, height, tris), lattice=_on_lattice(tris, 2))
+
+
+# -- deep winding ----------------------------------------------------------------------------
+
+# windings either side of where 8- and 16-bit counters wrap or saturate (weighted), or small
+_DEEP = (127, 128, 129, 255, 256, 257, 32767, 32768, 65535, 65536, 65537)
+
+
+def _winding(case_id: str, rng: np.random.Generator) -> Case:
+    size = int(_choice(rng, (8, 16)))
+    turns = int(_choice(rng, _DEEP, (2, 3, 2, 2, 3, 2, 1, 1, 1, 2, 1))) if rng.random() < 0.8 else int(rng.integers(2, 301))
+    scale = _choice(rng, (4, 2, None))
+
+    def shape() -> Positions:
+        if rng.random() < 0.5:
+            lo = rng.uniform(0.5, size / 2, 2)
+            contour = rectangle(lo[0], lo[1], *rng.uniform(lo + 2, size - 0.5, 2))
+        else:
+            contour = regular(3, rng.uniform(size / 2 - 1, size / 2 + 1, 2), float(rng.uniform(size / 4, size / 2)),
+                              float(rng.uniform(0, 2 * np.pi)))
+        contour = _path_lattice(contour, scale) if scale else contour
+        return contour[:: _choice(rng, (1, -1))]
+
+    deep = wound(shape(), turns)
+    # others overlapping it, once or a few times over, either way round: windings next to
+    # the deep one's (even-odd fills some where it leaves the deep one's out)
+    others = [wound(shape(), int(_choice(rng, (1, 1, 2, 3)))) for _ in range(int(rng.integers(1, 4)))]
+    scene = PathScene.from_paths(size, size, [[deep, *others]], _choice(rng, ("nonzero", "evenodd")))
+    return Case(case_id, scene, lattice=_on_lattice(scene.vertices))
+
+
 _BUILDERS: dict[str, Callable[[str, np.random.Generator], Case | MotionCase]] = {
     "lattice": _lattice, "float": _float, "partitions": _partitions, "meshes": _meshes, "degenerate": _degenerate,
-    "motion": _motion, "paths": _paths, "lines": _lines,
+    "motion": _motion, "paths": _paths, "lines": _lines, "tall": _tall, "winding": _winding,
 }
 assert set(_BUILDERS) == set(FAMILIES) == set(FAMILY_CODE) == set(SUITE_FAMILY)

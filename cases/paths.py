@@ -7,9 +7,11 @@ rule the last part of the id (``.../nonzero``, ``.../evenodd``):
   whose hole runs the same or the opposite way, overlapping contours, collinear and
   repeated vertices (zero-length edges), spikes, contours of one and two vertices, huge
   contours (1e4 .. 1e30, reaching far beyond the viewport), epsilon contours (1e-9 px),
-  several paths in one scene, random contours. ``lattice`` shapes lie on a 1/4 or 1/2 px
-  lattice (exact ties: vertices on sample rows and columns, edges through samples);
-  ``float`` ones do not. Shapes that cross or overlap themselves come under both rules.
+  several paths in one scene, random contours, and deep winding (``paths/deep-winding/<N>``:
+  a triangle traced N = 128, 256 or 65,536 times, where a narrow winding counter wraps).
+  ``lattice`` shapes lie on a 1/4 or 1/2 px lattice (exact ties: vertices on sample rows
+  and columns, edges through samples); ``float`` ones do not. Shapes that cross or
+  overlap themselves come under both rules.
 - ``path-partitions/<tiling>/<detail>/<rule>``: planar partitions, each cell its own
   one-contour path, under both rules (the same coverage: cells are simple): clipped
   Voronoi cells, grids of irregular quads, polygons merged from a triangulation.
@@ -51,7 +53,8 @@ from harness.winding import FILL_RULES
 
 __all__ = ["star", "rectangle", "regular", "is_simple", "polygon_sign", "partition_flaws", "voronoi_cells", "quad_grid",
            "merged_polygons", "shape_cases", "path_partition_cases", "triangles_as_paths", "triangle_partition_cases",
-           "AS_PATHS", "path_case_id", "triangle_cases_as_paths", "viewport_cases", "VIEWPORT_CASES", "path_degenerate_cases", "path_cases", "PATH_FAMILIES"]
+           "AS_PATHS", "path_case_id", "triangle_cases_as_paths", "viewport_cases", "VIEWPORT_CASES", "path_degenerate_cases", "path_cases",
+           "PATH_FAMILIES", "wound", "deep_winding", "deep_winding_cases", "DEEP_WINDINGS"]
 
 PATH_FAMILIES = ("paths", "path-partitions", "path-degenerate")
 
@@ -463,7 +466,7 @@ def triangle_cases_as_paths(cases: Sequence[Case], rules: Sequence[str] = FILL_R
 def viewport_cases(seed: int) -> list[Case]:
     """The suite's lattice triangles that identify's viewport-edge probe draws
     (:func:`harness.probes.viewport_edge`): ``lattice/bits-{0,2,4}``, crossing every edge."""
-    from cases.suites import conformance_cases
+    from cases.conformance import conformance_cases
 
     return [c for c in conformance_cases(seed) if c.id in VIEWPORT_CASES]
 
@@ -605,7 +608,50 @@ def shape_cases(seed: int, full: bool = False) -> list[Case]:
     for k in range(3):
         add(f"random/lattice-{k}", lambda r: _random_paths(r, 4), lattice=True)
         add(f"random/float-{k}", lambda r: _random_paths(r, None))
+    cases += deep_winding_cases()
     return cases + triangle_cases_as_paths(viewport_cases(seed))  # identify's viewport-edge scenes
+
+
+# -- deep winding ----------------------------------------------------------------------------
+
+# The windings of the deep-winding cases: the first a signed 8-bit counter cannot hold, the
+# first it wraps to 0, the first a 16-bit one wraps to 0.
+DEEP_WINDINGS = (128, 256, 65536)
+DEEP_SIZE = 16
+# a triangle on the 1/4 lattice with no sample on an edge, and a square overlapping it,
+# both wound alike: anticlockwise on screen, so that the crossings left of a sample count
+# up (+1 each: :mod:`harness.winding`), to +N, one past the largest signed 8-bit integer
+# at N = 128 (-128 is one)
+DEEP_TRIANGLE = np.array([[0.75, 0.75], [1.25, 7.25], [7.25, 1.25]])
+DEEP_SQUARE = rectangle(3, 3, 7, 7)[::-1]
+
+
+def wound(contour: Contour, turns: int) -> Contour:
+    """(K * turns, 2): ``contour`` traced ``turns`` times over as one contour -- winding
+    +/- ``turns`` inside it, from K * turns vertices (a contour of K vertices per turn:
+    the fewest that wind that often).
+
+    >>> wound(np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]), 2).shape
+    (6, 2)
+    """
+    return np.tile(np.asarray(contour, dtype=np.float64), (turns, 1))
+
+
+def deep_winding(turns: int, fill_rule: str, size: int = DEEP_SIZE) -> PathScene:
+    """One path of winding ``turns`` at most: :data:`DEEP_TRIANGLE` traced ``turns - 1``
+    times and :data:`DEEP_SQUARE` once, alike wound. The samples the triangle shares with
+    the square have winding ``turns``, the triangle's others ``turns - 1``, the square's
+    own 1: the rules differ on both deep windings (one odd, one even), the answer is
+    neither the square's nor the triangle's alone, and a winding counter that wraps (to
+    0 at 256 in 8 bits, at 65,536 in 16) or saturates (at 127) shows."""
+    return PathScene.from_paths(size, size, [[wound(DEEP_TRIANGLE, turns - 1), DEEP_SQUARE]], fill_rule)
+
+
+def deep_winding_cases() -> list[Case]:
+    """``paths/deep-winding/<turns>/<rule>`` for each of :data:`DEEP_WINDINGS`, under
+    both rules (quick and full suites alike): 16 x 16 px, 3 * turns + 1 vertices."""
+    return [Case(f"paths/deep-winding/{turns}/{rule}", deep_winding(turns, rule), lattice=True)
+            for turns in DEEP_WINDINGS for rule in FILL_RULES]
 
 
 def _random_paths(rng: np.random.Generator, scale: int | None) -> list[list[Contour]]:

@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import functools
 
-import numpy as np
-
 from cases.degenerate import degenerate_cases
 from cases.lines import line_cases
 from cases.meshes import mesh_cases
@@ -19,32 +17,11 @@ from cases.motion import motion_cases
 from cases.partitions import partition_cases
 from cases.paths import path_cases
 from harness.case import Case, MotionCase
-from cases.scenes import lattice_triangles, random_triangles
-from harness.api import Scene
+from cases.conformance import conformance_cases
 
 __all__ = ["SUITES", "suite", "conformance_cases"]
 
 SUITES = ("quick", "full")
-
-
-def conformance_cases(seed: int, full: bool = False) -> list[Case]:
-    """``lattice/...`` (ties on purpose, exact arithmetic) and ``float/...`` scenes."""
-    count = 400 if full else 150
-    cases = [
-        Case(f"lattice/bits-{bits}", Scene(64, 64, lattice_triangles(count, 64, bits, seed + bits)), lattice=True)
-        for bits in (0, 2, 4, 8)
-    ]
-    rng = np.random.default_rng(seed + 5)
-    centres = np.floor(rng.uniform(1, 31, size=(300, 1, 2))) + 0.5
-    small = centres + rng.integers(-12, 13, size=(300, 3, 2)) / 16  # areas below a pixel
-    cases.append(Case("lattice/sub-pixel-triangles", Scene(32, 32, small), lattice=True))
-    # lattice triangles nudged by about a micro-pixel: samples just off the edges, where
-    # single precision or a sloppy epsilon decides wrongly
-    nudged = lattice_triangles(count, 64, 2, seed + 9) + rng.uniform(-2e-6, 2e-6, size=(count, 3, 2))
-    cases.append(Case("float/near-ties-1e-6", Scene(64, 64, nudged)))
-    cases.append(Case("float/random-50px", Scene(128, 128, random_triangles(count * 2, 50.0, 128, seed))))
-    cases.append(Case("float/random-2000px", Scene(128, 128, random_triangles(count // 10, 2000.0, 128, seed + 1))))
-    return cases
 
 
 def suite(name: str, seed: int = 0) -> list[Case | MotionCase]:

@@ -22,7 +22,7 @@ from harness.samples import STANDARD_PATTERNS, pattern
 if TYPE_CHECKING:  # imported when first used (the runner and the checks take a second to import)
     from harness.case import Case, MotionCase
     from harness.checks.records import Result, Tolerance
-    from harness.testing import assert_conforms
+    from harness.isolation import TimeLimit
 
 # every process that imports rastercheck loads (and may compile) its kernels side by side
 # with others: make numba's on-disk cache safe for that first
@@ -60,7 +60,7 @@ def run_suite(
     *,
     cases: Sequence[Case | MotionCase] | None = None,
     tolerance: Tolerance | None = None,
-    timeout: float = 60.0,
+    timeout: float | TimeLimit = 60.0,
     isolate: bool = True,
     repros: bool = True,
     repro_seconds: float = 120.0,
@@ -82,7 +82,7 @@ def run_suite(
 
 
 def replay(path: Path | str, rasterizer: Rasterizer | str, isolate: bool = False, identify: bool = True,
-           timeout: float = 60.0) -> list[Result]:
+           timeout: float | TimeLimit = 60.0) -> list[Result]:
     """Run the checks of a saved case or minimal repro on a rasterizer; see
     :func:`harness.runner.replay`."""
     from harness.runner import replay as run

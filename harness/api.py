@@ -364,7 +364,8 @@ class LineScene:
         The number of vertices of each strip, each at least 2.
     line_width : float
         Width in pixels, finite and positive: the rectangle's width for rectangular
-        lines; the diamond-exit and Bresenham rules draw width 1 only.
+        lines; the diamond rules draw width 1, or integer widths by GL's replication
+        (``LineRule(wide="replicate")``); Bresenham width 1 only.
 
     Examples
     --------

@@ -613,7 +613,7 @@ class _Loaded:
 
     def __init__(self, spec: str, fingerprint: Any | None, timeout: float) -> None:
         from harness.identify import Identified
-        from harness.isolation import Worker
+        from harness.isolation import TimeLimit, Worker
         from harness.registry import load
 
         _prepare_process()
@@ -621,21 +621,16 @@ class _Loaded:
         if fingerprint is not None and rasterizer.convention is None:
             rasterizer = Identified(rasterizer, fingerprint)
         self.rasterizer: Rasterizer = rasterizer
-        self.worker = Worker(rasterizer, timeout)
-        self.first_call: float | None = max(timeout, FIRST_CALL_SECONDS)
+        # the first call of a scene kind in this process may take longer than the limit (a
+        # JIT compiling its kernels, which later processes load from its cache)
+        limits = TimeLimit.of(timeout)
+        self.worker = Worker(rasterizer, replace(limits, first=max(limits.first or limits.cap, FIRST_CALL_SECONDS)))
 
     def call(self, scene: AnyScene) -> Outcome:
-        """One isolated rasterize call; the first in this process may take longer than the
-        time limit (a JIT compiling its kernels, which later processes load from its cache)."""
-        if self.first_call is not None:
-            limit, self.first_call = self.first_call, None
-            return self.worker.rasterize(scene, timeout=limit)
+        """One isolated rasterize call (:class:`harness.isolation.TimeLimit`)."""
         return self.worker.rasterize(scene)
 
     def call_all(self, scenes: list[Scene]) -> list[Outcome]:
-        if self.first_call is not None and scenes:
-            first = self.call(scenes[0])
-            return [first] if first.coverage is None else [first, *self.worker.rasterize_all(scenes[1:])]
         return self.worker.rasterize_all(scenes)
 
     def check(self, case: Case | MotionCase, only: set[str] | None) -> list[Result]:

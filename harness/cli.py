@@ -296,16 +296,24 @@ def _convention_text(r: Any) -> str:
         if getattr(fingerprint, "pattern_missing", False):  # a stand-in, never called identified
             return (f"none declared; no multisample pattern recovered ({fingerprint.facts.get('pattern', '')}); "
                     f"checked against {r.convention.describe()}, a stand-in")
-        quality = "exactly" if fingerprint.exact else f"best guess, residual {fingerprint.residual} pixels"
+        quality = ("exactly" if fingerprint.exact else
+                   f"best guess only because calls failed: {fingerprint.unanswered} fit scenes unanswered, residual "
+                   f"{fingerprint.residual} pixels over the rest" if getattr(fingerprint, "unanswered", 0) else
+                   f"best guess, residual {fingerprint.residual} pixels")
         return f"none declared; identified as {r.convention.describe()} ({quality}), used for the convention-bound checks"
     return r.convention.describe() if r.convention else "none declared"
 
 
 def _summary(rasterizers: list[Any], results: list[Any]) -> None:
+    from harness.output import call_failures, call_failures_text
+
+    calls = call_failures(results)
     for r in rasterizers:
         mine = [x for x in results if x.rasterizer == r.name]
         bad = sum(x.status in ("fail", "error") for x in mine)
         print(f"{r.name:<22} {len(mine) - bad}/{len(mine)} pass or skip" + (f", {bad} failing" if bad else ""))
+        if r.name in calls:  # calls that timed out or failed, and which, said whatever else is
+            print(f"{'':<22} calls: {call_failures_text(calls[r.name])}")
 
 
 SIGNATURES_SHOWN = 3  # signatures named per cause in the terminal; the rest are counted
@@ -1041,7 +1049,7 @@ def _selection(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--suite", default="quick", help="quick or full (default quick)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--jobs", type=_positive_int, default=1, help="rasterizers checked side by side")
-    parser.add_argument("--timeout", type=_positive_seconds, default=60.0, help="seconds one rasterize call may take")
+    parser.add_argument("--timeout", type=_positive_seconds, default=60.0, help="the most seconds one rasterize call may take (the cap of its scaled limit; see README, Reliability)")
     parser.add_argument("--out", default="reports", help="report directory (default reports/)")
     parser.add_argument("--json", metavar="FILE", help="also write results as JSON (schema 1)")
     parser.add_argument("--junit", metavar="FILE", help="also write JUnit XML")
@@ -1086,7 +1094,7 @@ def build_parser() -> argparse.ArgumentParser:
     ide = sub.add_parser("identify", help="fingerprint a rasterizer's convention from outside")
     ide.add_argument("spec", metavar="SPEC")
     ide.add_argument("--seed", type=int, default=0)
-    ide.add_argument("--timeout", type=_positive_seconds, default=60.0, help="seconds one rasterize call may take")
+    ide.add_argument("--timeout", type=_positive_seconds, default=60.0, help="the most seconds one rasterize call may take (the cap of its scaled limit; see README, Reliability)")
     ide.add_argument("--json", metavar="FILE", help="also write the fingerprint (and the verdict on a declared convention) as JSON")
     ide.set_defaults(func=_identify)
     rep = sub.add_parser("replay", help="run the checks of a saved case (a minimal repro) on a rasterizer")
@@ -1120,7 +1128,7 @@ def build_parser() -> argparse.ArgumentParser:
     fuzz.add_argument("--workers", type=_positive_int, metavar="N", help="local worker processes (default one per core)")
     fuzz.add_argument("--batch", type=_positive_int, metavar="N", help="scenes per batch (default about a second of work)")
     fuzz.add_argument("--check", action="append", metavar="NAME", help="only this check (repeatable)")
-    fuzz.add_argument("--timeout", type=_positive_seconds, default=60.0, help="seconds one rasterize call may take")
+    fuzz.add_argument("--timeout", type=_positive_seconds, default=60.0, help="the most seconds one rasterize call may take (the cap of its scaled limit; see README, Reliability)")
     fuzz.add_argument("--json", metavar="FILE", help="also write the campaign as JSON")
     fuzz.add_argument("--out", default="reports", help="folder for campaign.html (default reports/)")
     fuzz.add_argument("--merge", nargs="+", metavar="DIR", help="merge these campaigns' state folders into --state")

@@ -22,7 +22,7 @@ from cases.suites import conformance_cases
 from harness.api import Coverage, Rasterizer, Scene
 from harness.case import Case
 from harness.conventions import Convention
-from harness.isolation import Call, InProcess, Worker
+from harness.isolation import Call, InProcess, TimeLimit, Worker
 from harness.probes import CANDIDATES, fit_ties
 
 __all__ = ["CANDIDATES", "Explanation", "Comparison", "explain", "compare", "as_dict"]
@@ -109,7 +109,7 @@ def _separation(a: Explanation, b: Explanation) -> str:
 
 
 def compare(rasterizers: list[Rasterizer], seed: int = 0, isolate: bool = True,
-            timeout: float = 60.0) -> tuple[list[Explanation], list[Comparison]]:
+            timeout: float | TimeLimit = 60.0) -> tuple[list[Explanation], list[Comparison]]:
     """Explain each rasterizer as identify does and compare every pair on the same lattice
     cases (a case a rasterizer gives an error for counts as drawing nothing). Each
     rasterizer is called in a worker process of its own (``isolate``), as in a run."""

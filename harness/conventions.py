@@ -105,12 +105,15 @@ A convention's coverage is one of three kinds (:attr:`Convention.kind`)
         measure (popping), not a broken promise.
 
 Lines (line scenes) are drawn by the convention's :class:`LineRule`
-    ``diamond-exit`` (D3D11, GL; the last pixel omitted or drawn), ``bresenham`` (seed 003's
+    ``diamond-exit`` (D3D11; the last pixel omitted or drawn), ``diamond-exit-gl`` (GL's
+    perturbed end points), ``bresenham`` (seed 003's
     integer algorithm, end points to pixels by a declared rounding, walked from the first
     end point or, as textbooks' ``plotLine``, from the one with smaller x or smaller major
     coordinate) or ``rectangle``
     (Vulkan: the samples inside a w-wide rectangle around the segment, under the sample
-    point and tie rule above), each after snapping; defined in :mod:`harness.lines`.
+    point and tie rule above), each after snapping; defined in :mod:`harness.lines`. Under
+    a multisample convention lines are rectangles sampled at every sample of the pattern
+    (GL 14.5.4 "Line Multisample Rasterization", dEQP): ``line=LineRule("rectangle")``.
 
 Every decision is exact: the sign of an edge function is the sign of the exact real
 number (floats are dyadic rationals). No epsilon appears in any coverage decision.
@@ -149,12 +152,15 @@ __all__ = [
     "LineRule",
     "LineRuleName",
     "LINE_RULES",
+    "DIAMOND_RULES",
     "BRESENHAM_ROUNDINGS",
     "BRESENHAM_TIES",
     "BresenhamRounding",
     "BresenhamTies",
     "LINE_DIRECTIONS",
     "LineDirection",
+    "WIDE_LINES",
+    "WideLines",
 ]
 
 TieRule = Literal[
@@ -162,8 +168,10 @@ TieRule = Literal[
     "top-left-y-first", "top-right-y-first", "bottom-left-y-first", "bottom-right-y-first",
 ]
 CullMode = Literal["none", "cw", "ccw"]
-LineRuleName = Literal["diamond-exit", "bresenham", "rectangle"]
-LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "bresenham", "rectangle")
+LineRuleName = Literal["diamond-exit", "diamond-exit-gl", "bresenham", "rectangle"]
+LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl", "bresenham", "rectangle")
+# The diamond rules: D3D11's test areas, and GL's open diamonds with perturbed end points.
+DIAMOND_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl")
 BresenhamRounding = Literal["nearest-even", "half-away", "floor", "toward-zero"]
 BresenhamTies = Literal["step", "stay"]
 BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor", "toward-zero")
@@ -172,6 +180,10 @@ BRESENHAM_TIES: tuple[BresenhamTies, ...] = ("step", "stay")
 # at the end point with the smaller x, or with the smaller major-axis coordinate.
 LineDirection = Literal["as-given", "smaller-x", "smaller-major"]
 LINE_DIRECTIONS: tuple[LineDirection, ...] = ("as-given", "smaller-x", "smaller-major")
+# How a diamond rule draws lines wider than 1: not at all, or (GL's wide lines) by
+# replicating each fragment along the minor axis, integer widths.
+WideLines = Literal["none", "replicate"]
+WIDE_LINES: tuple[WideLines, ...] = ("none", "replicate")
 CoverageKind = Literal["single", "multisample", "area"]
 COVERAGE_KINDS: tuple[CoverageKind, ...] = ("single", "multisample", "area")
 # The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
@@ -226,12 +238,18 @@ class LineRule:
 
     Parameters
     ----------
-    rule : {"diamond-exit", "bresenham", "rectangle"}
+    rule : {"diamond-exit", "diamond-exit-gl", "bresenham", "rectangle"}
         ``diamond-exit``: a pixel is drawn when the segment leaves its diamond test area
-        (D3D11 3.4.3, GL's half-open lines); width 1. ``bresenham``: seed 003's integer
+        (D3D11 3.4.3: lower edges and bottom corner in, y-major lines also the right
+        corner); width 1. ``diamond-exit-gl``: GL's (OpenGL 4.6 14.5.1): the segment with
+        both end points moved by -(eps, eps**2) meets the open diamond and its end point
+        does not lie in it (right edges and right corner in, window y taken as rows);
+        width 1. ``bresenham``: seed 003's integer
         algorithm between the end points' pixels; width 1. ``rectangle``: the samples
         inside the ``line_width``-wide rectangle around the segment, under the
-        convention's sample point and tie rule (Vulkan's rectangular lines).
+        convention's sample point and tie rule (Vulkan's rectangular lines); under a
+        multisample convention, at each sample of its pattern (GL's multisample lines,
+        the only rule defined there).
     last_pixel : bool or None
         diamond-exit and bresenham: also draw the pixel the segment ends in (a polyline's
         shared vertices are then drawn twice). None: the rule's own (diamond-exit omits
@@ -254,6 +272,13 @@ class LineRule:
         necessarily the given one) is drawn when ``last_pixel``: a normalising drawer
         draws a segment and its reverse alike (but for the omitted end of one whose end
         pixels share their x, walked from the smaller x: it keeps its given order).
+    wide : {"none", "replicate"}
+        The diamond rules: ``none`` draws width 1 only (a wider scene is undefined);
+        ``replicate`` draws an integer width w as GL's wide lines do (OpenGL 4.6, 14.5.2
+        "Other Line Segment Features", wide lines): the segment moved by -(w - 1)/2 along
+        its minor axis is drawn by the width-1 rule, and each fragment becomes w along the
+        minor axis, the width-1 one first (rows y .. y + w - 1 of an x-major segment,
+        columns x .. x + w - 1 of a y-major one, window y taken as rows).
 
     The convention's snapping (``subpixel_bits``, ``snap_rounding``) applies to line end
     points first, as to triangle vertices.
@@ -261,7 +286,7 @@ class LineRule:
     Examples
     --------
     >>> LineRule()
-    LineRule(rule='diamond-exit', last_pixel=False, rounding='nearest-even', ties='step', direction='as-given')
+    LineRule(rule='diamond-exit', last_pixel=False, rounding='nearest-even', ties='step', direction='as-given', wide='none')
     >>> LineRule("bresenham", rounding="floor").describe()
     'Bresenham lines, end points to pixels by floor, ties step, last pixel drawn'
     >>> LineRule("bresenham", ties="stay", direction="smaller-x").describe()
@@ -273,6 +298,7 @@ class LineRule:
     rounding: BresenhamRounding = "nearest-even"
     ties: BresenhamTies = "step"
     direction: LineDirection = "as-given"
+    wide: WideLines = "none"
 
     def __post_init__(self) -> None:
         if self.rule not in LINE_RULES:
@@ -291,6 +317,33 @@ class LineRule:
         if self.direction != "as-given" and self.rule != "bresenham":
             raise ValueError(f"LineRule.direction {self.direction!r} is a Bresenham option; {self.rule} lines are drawn "
                              "as given (use rule='bresenham', or leave direction='as-given')")
+        if self.wide not in WIDE_LINES:
+            raise ValueError(f"LineRule.wide must be one of {', '.join(WIDE_LINES)}, not {self.wide!r}")
+        if self.wide != "none" and not self.diamond:
+            raise ValueError(f"LineRule.wide {self.wide!r} is a diamond-exit option; {self.rule} lines "
+                             + ("have their own width" if self.rule == "rectangle" else "are 1 px wide"))
+
+    def undefined_width(self, line_width: float) -> str:
+        """Why the rule draws no lines ``line_width`` wide ("" when it does): rectangles take
+        any width, replicated diamond lines an integer one, the others width 1 only."""
+        if self.rule == "rectangle" or line_width == 1.0:
+            return ""
+        if self.wide == "replicate":
+            if line_width == math.floor(line_width) and 1.0 <= line_width <= 2.0**20:
+                return ""
+            return (f"{self.describe()} have integer widths, not {line_width:g}: the rule does not define it "
+                    "(GL rounds the width first: round it in the scene)")
+        return f"{self.describe()} have width 1, not {line_width:g}: the rule does not define wider lines"
+
+    @property
+    def diamond(self) -> bool:
+        """A diamond-exit rule (D3D's or GL's)."""
+        return self.rule in DIAMOND_RULES
+
+    @property
+    def gl(self) -> bool:
+        """GL's diamond-exit rule (end points perturbed by -(eps, eps**2))."""
+        return self.rule == "diamond-exit-gl"
 
     @property
     def walk(self) -> str:
@@ -303,8 +356,11 @@ class LineRule:
         if self.rule == "rectangle":
             return "rectangular lines"
         last = "last pixel drawn" if self.last_pixel else "last pixel omitted"
+        wide = ", wide lines by replication along the minor axis" if self.wide == "replicate" else ""
         if self.rule == "diamond-exit":
-            return f"diamond-exit lines, {last}"
+            return f"diamond-exit lines, {last}{wide}"
+        if self.rule == "diamond-exit-gl":
+            return f"GL diamond-exit lines (end points moved by -(eps, eps^2)), {last}{wide}"
         walk = f" {self.walk}" if self.walk else ""
         if walk and not self.last_pixel:
             last += " (the end walked to)"
@@ -513,13 +569,25 @@ class Convention:
         'diamond-exit lines, last pixel omitted, snapped to 1/256 px (8 bits)'
         >>> Convention(line="rectangle").describe_lines()
         'rectangular lines, sample (0.5, 0.5), top-left ties, no snapping'
+        >>> Convention(samples=4, line="rectangle").describe_lines()
+        'rectangular lines, at 4 samples (standard pattern), top-left ties, no snapping'
         """
         parts = [self.line.describe()]
-        if self.line.rule == "rectangle":
+        if self.line.rule == "rectangle" and self.samples is not None:
+            parts.append(f"at {self._pattern_words()}, {self._tie_words()}")
+        elif self.line.rule == "rectangle":
             sx, sy = (f"{v:g}" for v in self.sample)
             parts.append(f"sample ({sx}, {sy}), {self._tie_words()}")
         parts.append(self._snapping_words())
         return ", ".join(parts)
+
+    def _pattern_words(self) -> str:
+        """The sample pattern for people, in a few words (``D3D11 4x``, ``4x4 grid at (1/8 +
+        k/4)``: :func:`harness.samples.describe_pattern`), never the offsets one by one (the
+        JSON keeps them)."""
+        from harness.samples import describe_pattern
+
+        return describe_pattern(self.samples)
 
     def _tie_words(self) -> str:
         return self.tie.removesuffix("-y-first") + " ties" + (" (y first)" if self.tie.endswith("-y-first") else "")
@@ -537,11 +605,7 @@ class Convention:
         snapping = self._snapping_words()
         culling = "no culling" if self.cull == "none" else f"culls {self.cull}"
         tie = self._tie_words()
-        where = ""
-        if self.samples is not None:
-            from harness.samples import describe_pattern
-
-            where = describe_pattern(self.samples)  # never the offsets one by one: the JSON keeps them
+        where = self._pattern_words() if self.samples is not None else ""
         if self.kind == "area":
             what = "the exact area" if self.samples is None else f"the share of the samples covered ({where}), {tie}"
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"

@@ -44,7 +44,7 @@ from numpy.typing import NDArray
 
 from cases.scenes import lattice_triangles, random_triangles
 from harness.api import Coverage, Scene
-from harness.conventions import MAX_AREA_SAMPLES, TIE_RULES, Convention, CoverageKind, CullMode
+from harness.conventions import MAX_AREA_SAMPLES, MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Convention, CoverageKind, CullMode, SnapRounding
 from harness.isolation import Call, Outcome, describe, layer_of
 from harness.oracle import exact_coverage
 from harness.probes import Culling, Drawn, VertexSweep, _half_steps, _snap_candidates, culling, vertex_sweep
@@ -306,12 +306,21 @@ class _AlphaDrawn:
     scene: Scene
     outcome: Outcome
     _cache: dict[Convention, NDArray[np.float64]] = field(default_factory=dict, repr=False, compare=False)
+    _still: dict[tuple[int | None, str], bool] = field(default_factory=dict, repr=False, compare=False)
 
     @property
     def coverage(self) -> Coverage | None:
         return self.outcome.coverage
 
     def differences(self, convention: Convention) -> NDArray[np.float64]:
+        """alpha - the oracle's alpha of ``convention`` at every (triangle, pixel) either
+        holds; a snapping that moves no vertex of the scene shares the unsnapped oracle."""
+        snapping = (convention.subpixel_bits, convention.snap_rounding)
+        if snapping[0] is not None:
+            if snapping not in self._still:
+                self._still[snapping] = bool(np.array_equal(convention.snap(self.scene.positions), self.scene.positions))
+            if self._still[snapping]:
+                convention = replace(convention, subpixel_bits=None, snap_rounding="nearest-even")
         if convention not in self._cache:
             self._cache[convention] = _alpha_differences(self.coverage or Coverage.empty(),
                                                          exact_coverage(self.scene, convention), self.scene)
@@ -371,6 +380,7 @@ class SweepFact:
     than half a level from the candidate's oracle (a measured tolerance is reported,
     never claimed: such a rasterizer is a best guess), ``max_residual`` the largest
     |alpha - oracle|; ``runner_up``: the next supersampled candidate (another tie rule).
+    ``grid``: the input grid fitted (:func:`input_grid`; the convention's snapping).
     ``calls``: the rasterizer calls made.
     """
 
@@ -390,6 +400,7 @@ class SweepFact:
     runner_up: tuple[str, int] | None = None
     calls: int = 0
     error: str = ""
+    grid: InputGrid | None = None
     drawn: tuple[_AlphaDrawn, ...] = field(default=(), repr=False, compare=False)
 
     @property
@@ -437,7 +448,8 @@ class SweepFact:
         return {"model": f"{self.model}: {self.grid_text}", "levels": self.levels_text,
                 "area error": f"|alpha - exact area| max {self.max_error:.3g}, mean {self.mean_error:.3g} over {self.pixels} "
                               "(triangle, pixel)s",
-                "sweeps": "; ".join(s.text for s in (self.vertical, self.horizontal, self.slanted) if s is not None)}
+                "sweeps": "; ".join(s.text for s in (self.vertical, self.horizontal, self.slanted) if s is not None)} | (
+                {} if self.grid is None else {"input grid": self.grid.text})
 
 
 def _sweep_shapes() -> tuple[NDArray[np.float64], slice, slice, slice, NDArray[np.float64], NDArray[np.float64]]:
@@ -521,6 +533,47 @@ def _offset(lo: float, hi: float) -> float:
     return lo if _fraction_bits(lo) <= _fraction_bits(hi) else hi
 
 
+def _part(drawn: Drawn, keep: range) -> Drawn:
+    """The triangles ``keep`` of a drawn scene, with the answer's fragments of them (renumbered)."""
+    scene = drawn.scene.subset(np.arange(keep.start, keep.stop))
+    coverage = drawn.coverage
+    if coverage is None:
+        return Drawn(scene, drawn.outcome)
+    spans = np.flatnonzero((coverage.primitive >= keep.start) & (coverage.primitive < keep.stop))
+    taken = coverage.take(spans)
+    return Drawn(scene, Outcome(Coverage(taken.primitive - keep.start, taken.y, taken.x0, taken.x1)))
+
+
+def _readings(lo: float, hi: float, grid: int | None) -> tuple[float, ...]:
+    """The offsets a sample may have, under snapping to 2**-``grid`` px, when an edge
+    swept across it stops covering it somewhere in (lo, hi]: either end (a sample at lo
+    under a rule whose left (top) edges own their samples, at hi under one whose edges do
+    not: the bisection stopped at the snapping step, and the snapped edges of other
+    scenes tell the two apart), the end with fewer fraction bits first (:func:`_offset`),
+    then the multiples of 2**-``grid`` px strictly inside (a grid finer than the bisection
+    stopped at: truncation to 2**-g shows as the vertex sweep's grid g, as rounding to
+    2**-(g - 1) does). Only offsets within the pixel, [0, 1), are kept. Without snapping (``grid`` None) the bisection went to 2**-20 px and
+    the two ends are a tie rule apart on any scene of coarser vertices: the end with
+    fewer fraction bits only.
+
+    >>> _readings(77 / 256, 78 / 256, 8)  # 78/256 first, then 77/256
+    (0.3046875, 0.30078125)
+    >>> _readings(0.25, 0.5, 3), _readings(0.375 - 2**-20, 0.375, None)
+    ((0.5, 0.25, 0.375), (0.375,))
+    """
+    first = _offset(lo, hi)
+    if grid is None:
+        return (first,) if 0.0 <= first < 1.0 else ()
+    inside: list[float] = []
+    if hi - lo > 2.0**-grid:
+        step = 2.0**-grid
+        k = math.floor(lo / step) + 1
+        while k * step < hi and len(inside) < 3:
+            inside.append(k * step)
+            k += 1
+    return tuple(v for v in dict.fromkeys([first, hi if first == lo else lo, *inside]) if 0.0 <= v < 1.0)
+
+
 def _wheels(pattern: Sequence[tuple[float, float]]) -> NDArray[np.float64]:
     """(16 K, 3, 2): pinwheels of 1 and 2 px around every offset of ``pattern``, one to a cell."""
     return np.concatenate([_wheel(offset, size) for offset in pattern for size in (1.0, 2.0)])
@@ -553,7 +606,11 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
     samples=pattern, tie=..., levels=...)``. Otherwise, and when the pattern has more
     than :data:`~harness.conventions.MAX_AREA_SAMPLES` samples, the candidate is
     ``Convention(coverage="area", levels=..., tolerance=...)`` with the largest measured
-    |alpha - area| rounded up (None when it is within half a level).
+    |alpha - area| rounded up (None when it is within half a level). Either way the
+    input grid -- the snapping applied to the vertices before the area or the share is
+    taken -- is fitted (:func:`input_grid`; a supersampler's steps read again under each
+    snapping their grid allows first, :func:`_snapped_reading`), and the tolerance is
+    measured against the oracle of the snapped scene.
 
     Parameters
     ----------
@@ -620,7 +677,12 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
             pattern = tuple((xs[i], ys[j]) for i, j in cells)  # row by row
             layout = _layout(pattern)
             if len(pattern) <= MAX_AREA_SAMPLES:
-                candidates = [Convention(coverage="area", samples=pattern, tie=tie, cull=cull) for tie in TIE_RULES]
+                # under an input grid, the steps lie where the snapped edge crosses a sample
+                xs, ys, snapping = _snapped_reading(xs, ys, cells, cull, (first or CONTINUOUS_LEVELS - 1) + 1, drawn[1:3])
+                pattern = tuple((xs[i], ys[j]) for i, j in cells)
+                layout = _layout(pattern)
+                candidates = [Convention(coverage="area", samples=pattern, tie=tie, cull=cull, subpixel_bits=snapping[0],
+                                         snap_rounding=snapping[1]) for tie in TIE_RULES]
                 # the tie rule: edges exactly through every sample column and row, and pinwheels around every sample
                 shapes = np.concatenate([[_corner(x, -2.0) for x in xs], [_corner(-2.0, y) for y in ys], _wheels(pattern)])
                 ties = _probe_scene(shapes, cull)
@@ -637,16 +699,168 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
         convention = candidates[scores[0][1]]
         runner_up = (f"the same samples, {candidates[scores[1][1]].tie} ties", scores[1][0])  # another tie rule
     else:
-        half = 0.5 / (levels - 1) if levels is not None else 0.5 / (CONTINUOUS_LEVELS - 1)
-        tolerance = None if max_error <= half + SLACK else _rounded_up(max_error)
-        convention = Convention(coverage="area", levels=levels or CONTINUOUS_LEVELS, tolerance=tolerance, cull=cull)
+        convention = Convention(coverage="area", levels=levels or CONTINUOUS_LEVELS, cull=cull)
+    # the input grid: the snapping applied to the vertices before the area (or the share
+    # of the samples) is taken, fitted on the sweeps and the float scenes
+    grid = input_grid(calls, convention, [sweep, *drawn[1:3]], drawn)
+    convention = replace(convention, subpixel_bits=grid.bits, snap_rounding=grid.rounding)
+    if not candidates:
+        # the tolerance measured against the oracle of the snapped scene
+        error = max((float(np.abs(x.differences(convention)).max(initial=0.0)) for x in answered), default=0.0)
+        tolerance = None if error <= convention.alpha_tolerance + SLACK else _rounded_up(error)
+        convention = replace(convention, tolerance=tolerance)
     # a tolerance measured on these very probes explains them by construction: the
     # residual counts what lies beyond half a level of the oracle, which rounding to the
     # levels keeps within
     residual = sum(x.beyond(replace(convention, tolerance=None)) for x in answered)
     max_residual = max((float(np.abs(x.differences(convention)).max(initial=0.0)) for x in answered), default=0.0)
     return SweepFact(model, sweeps[0], sweeps[1], sweeps[2], levels, max_error, mean_error, pattern, layout, convention,
-                     residual, max_residual, pixels, runner_up, calls.calls, drawn=tuple(drawn))
+                     residual, max_residual, pixels, runner_up, calls.calls, grid=grid, drawn=tuple(drawn))
+
+
+# --- area: the input grid ------------------------------------------------------------------------
+
+_ROUNDING_WORDS = {"nearest-even": "rounding half to even", "half-away": "rounding half away from zero",
+                   "floor": "truncating (rounding down)"}
+# a snapping is taken over none only when it leaves at most this share of the (triangle,
+# pixel)s beyond the tolerance that none leaves (a rasterizer whose error is not a
+# snapping gains little from any, and by chance)
+_GRID_GAIN = 0.5
+# the grids scored on every scene: the best on part of one float scene
+_GRID_SHORTLIST = 6
+# a supersampler's readings under snapping: each on the first SHORT_PART triangles of a
+# float scene, the best few on both float scenes
+_SHORT_PART = 40
+_READING_SHORTLIST = 3
+
+
+@dataclass(frozen=True, slots=True)
+class InputGrid:
+    """The snapping an anti-aliaser applies to its vertices before it takes the area (or
+    the share of its samples), fitted from outside: ``bits`` (None: none seen) and
+    ``rounding``; ``beyond`` the (triangle, pixel)s beyond the tolerance against the exact
+    oracle of the scenes so snapped, ``unsnapped`` against the unsnapped ones, ``error``
+    the summed |alpha - oracle| of each; ``tied`` the roundings that explain the answers
+    as well (on scenes whose every vertex is a half step of the grid, where they part)."""
+
+    bits: int | None
+    rounding: SnapRounding
+    beyond: int
+    error: float
+    unsnapped: int
+    unsnapped_error: float
+    tied: tuple[SnapRounding, ...] = ()
+
+    @property
+    def text(self) -> str:
+        against = (f"{self.beyond} (triangle, pixel)s beyond the tolerance against the snapped scenes' exact area, "
+                   f"{self.unsnapped} against the unsnapped ones")
+        if self.bits is None:
+            return f"none detected (the exact area of the vertices as given: {self.unsnapped} (triangle, pixel)s beyond the tolerance)"
+        rounding = _ROUNDING_WORDS[self.rounding]
+        if len(self.tied) > 1:
+            rounding += " (or " + ", ".join(_ROUNDING_WORDS[r] for r in self.tied if r != self.rounding) + ": as well)"
+        return f"1/{2**self.bits} px ({32 - self.bits}.{self.bits}), {rounding}; {against}"
+
+
+def _grid_key(scenes: Sequence[_AlphaDrawn], convention: Convention) -> tuple[int, float]:
+    """(triangle, pixel)s beyond the tolerance and the summed |alpha - oracle| on ``scenes``."""
+    answered = [x for x in scenes if x.coverage is not None]
+    return (sum(x.beyond(convention) for x in answered),
+            float(sum(np.abs(x.differences(convention)).sum() for x in answered)))
+
+
+def _snapped_reading(xs: list[float], ys: list[float], cells: Sequence[tuple[int, int]], cull: CullMode, levels: int,
+                     floats: Sequence[_AlphaDrawn]) -> tuple[list[float], list[float], tuple[int | None, SnapRounding]]:
+    """A supersampler's sample columns ``xs`` and rows ``ys`` as read from its steps, and
+    its input grid, read again with snapping: when every step lies on a grid of 2**-k px
+    (k <= 16), the vertices may be snapped, rounding to 2**-(k - 1) px or truncating to
+    2**-k (:func:`harness.probes._snap_candidates`), and a step is then where the
+    snapped edge crosses a sample: a sample on the grid lies half a grid step from its
+    step when rounding (either side, as its tie rule has it), on it or one step below
+    when truncating, and one off the grid acts as any point between its grid points.
+    Each snapping, with every column (row) read shifted alike by each of those, is
+    scored on the ``floats`` scenes with
+    top-left ties (a tie is rare there); the best is kept when it leaves at most half of
+    the (triangle, pixel)s beyond the tolerance that the unsnapped reading does and less
+    error (as :func:`input_grid` decides), else the reading as it was, unsnapped.
+
+    Returns
+    -------
+    xs, ys : list of float
+    snapping : (bits or None, rounding)
+    """
+    k = max(_fraction_bits(v) for v in [*xs, *ys])
+
+    def convention(px: list[float], py: list[float], bits: int | None, rounding: SnapRounding) -> Convention:
+        return Convention(coverage="area", samples=[(px[i], py[j]) for i, j in cells], cull=cull, levels=levels,
+                          subpixel_bits=bits, snap_rounding=rounding)
+
+    unsnapped = _grid_key(floats, convention(xs, ys, None, "nearest-even"))
+    readings: list[tuple[list[float], list[float], int, SnapRounding]] = []
+    for bits, rounding in _snap_candidates(k if k <= MAX_SUBPIXEL_BITS + 1 else None):
+        if bits is None:
+            continue
+        step = 2.0**-bits
+        # a sample on the grid steps half a grid step from it when rounding (after it when its
+        # edge owns it, before it when not), one step after it when truncating by an edge
+        # that owns it, on it when not; one off the grid behaves as any point between its grid points
+        shifts = (0.0, -step / 2.0, -step) if rounding == "floor" else (0.0, -step / 2.0, step / 2.0)
+        readings += [([x + dx for x in xs], [y + dy for y in ys], bits, rounding) for dx in shifts for dy in shifts
+                     if all(0.0 <= x + dx < 1.0 for x in xs) and all(0.0 <= y + dy < 1.0 for y in ys)]
+    if not readings:
+        return xs, ys, (None, "nearest-even")
+    # every reading on a part of the first float scene, the best few on both
+    part = [_alpha_part(x, _SHORT_PART) for x in floats[:1] if x.coverage is not None]
+    if part:
+        readings = sorted(readings, key=lambda c: _grid_key(part, convention(*c)))[:_READING_SHORTLIST]
+    key, px, py, bits, rounding = min(((_grid_key(floats, convention(*c)), *c) for c in readings), key=lambda c: c[0])
+    if not (key[0] < unsnapped[0] and key[0] <= _GRID_GAIN * unsnapped[0] and key[1] < unsnapped[1]):
+        return xs, ys, (None, "nearest-even")
+    return px, py, (bits, rounding)
+
+
+def _alpha_part(drawn: _AlphaDrawn, count: int) -> _AlphaDrawn:
+    """The first ``count`` triangles of an answered scene and the answer's (triangle, pixel)s of them."""
+    coverage = drawn.coverage
+    assert coverage is not None
+    spans = np.flatnonzero(coverage.primitive < count)
+    return _AlphaDrawn(drawn.scene.subset(np.arange(min(count, len(drawn.scene.positions)))), Outcome(coverage.take(spans)))
+
+
+def input_grid(call: Call, base: Convention, scenes: Sequence[_AlphaDrawn], drawn: list[_AlphaDrawn]) -> InputGrid:
+    """The input grid of an anti-aliaser: with ``base`` (the area or supersampled
+    candidate, its tolerance half a level), every snapping of 0..16 bits x each rounding,
+    and none, scored on ``scenes`` (the sweeps, whose vertices sit on 1/256 px and on
+    coarser grids, and random floats) by the (triangle, pixel)s beyond the tolerance
+    against the exact oracle of the snapped scene, then by the summed |alpha - oracle|
+    (every grid on part of the first float scene, the best few on all); ties prefer no snapping, then the coarser grid, then rounding to nearest even. A
+    snapping is kept only when it leaves at most half of the pixels beyond the tolerance
+    that none does (a rasterizer whose error is something else gains little from any, and
+    only by chance). With a grid found, the float scenes are drawn again with every vertex
+    on a half step of it (two calls, appended to ``drawn``), where nearest-even,
+    half-away and truncation part, and the rounding is fitted there too."""
+    exact = replace(base, tolerance=None, subpixel_bits=None, snap_rounding="nearest-even")
+    none = _grid_key(scenes, exact)
+    grids = [(b, r) for b in range(MAX_SUBPIXEL_BITS + 1) for r in SNAP_ROUNDINGS]
+    # every grid on part of the first float scene, the few best of them on every scene
+    first = [_alpha_part(x, _SHORT_PART) for x in scenes[1:2] if x.coverage is not None]
+    if first:
+        grids = sorted(grids, key=lambda g: _grid_key(first, replace(exact, subpixel_bits=g[0], snap_rounding=g[1])))[:_GRID_SHORTLIST]
+    ranked = sorted((_grid_key(scenes, replace(exact, subpixel_bits=b, snap_rounding=r)), b, SNAP_ROUNDINGS.index(r), r)
+                    for b, r in grids)
+    (beyond, error), bits, _, rounding = ranked[0]
+    if not (beyond < none[0] and beyond <= _GRID_GAIN * none[0] and error < none[1]):
+        return InputGrid(None, "nearest-even", none[0], none[1], none[0], none[1])
+    floats = [x for x in scenes[1:] if x.coverage is not None]
+    halves = [_AlphaDrawn(half, call(half)) for half in (_half_steps(x.scene, bits) for x in floats)]
+    drawn += halves
+    parted = sorted((_grid_key([*scenes, *halves], replace(exact, subpixel_bits=bits, snap_rounding=r)), SNAP_ROUNDINGS.index(r), r)
+                    for r in SNAP_ROUNDINGS)
+    rounding = parted[0][2]
+    tied = tuple(r for key, _, r in parted if key[0] == parted[0][0][0])
+    final = _grid_key(scenes, replace(exact, subpixel_bits=bits, snap_rounding=rounding))
+    return InputGrid(bits, rounding, final[0], final[1], none[0], none[1], tied if len(tied) > 1 else ())
 
 
 def _count_cells(call: Call, cull: CullMode, columns: Sequence[tuple[float, float, float]],
@@ -684,10 +898,11 @@ def _count_cells(call: Call, cull: CullMode, columns: Sequence[tuple[float, floa
 class PatternFact:
     """A multisample pattern measured from outside.
 
-    ``offsets``: sample s's offset, in the rasterizer's sample order (None for a sample
-    that never flipped). ``convention``: the best candidate (the offsets as its tie rule
-    reads the bisection, with the snapping the vertex sweep allows), None when a sample
-    was not found; ``residual`` its mismatching fragments of ``fragments`` over the fit
+    ``offsets``: sample s's offset as first read (the end of its bisection interval with
+    fewer fraction bits), in the rasterizer's sample order (None for a sample that never
+    flipped). ``convention``: the best candidate (each sample at the reading of its
+    interval that explains it best, with a tie rule and the snapping the vertex sweep
+    allows), None when a sample was not found or two share an offset; ``residual`` its mismatching fragments of ``fragments`` over the fit
     scenes (every sample judged with the single-sample oracle at its offset);
     ``runner_up`` the best candidate with another tie rule. ``resolution``:
     the bisection stopped at 2**-resolution px (a snapping grid's spacing, when the
@@ -704,6 +919,12 @@ class PatternFact:
     culling: Culling | None = None
     calls: int = 0
     drawn: tuple[tuple[Drawn, ...], ...] = field(default=(), repr=False, compare=False)
+    error: str = ""  # why the bisection stopped: a call gave no answer
+
+    @property
+    def unanswered(self) -> int:
+        """Fit scenes it gave no answer for (left out of the fit and the residual)."""
+        return sum(1 for layers in self.drawn if layers and layers[0].coverage is None)
 
     @property
     def pattern(self) -> tuple[tuple[float, float], ...] | None:
@@ -715,6 +936,8 @@ class PatternFact:
         if self.convention is None or self.pattern is None:
             if not self.offsets:
                 return "not recovered: no sample index seen in a pixel a triangle covers whole"
+            if self.error:
+                return f"not recovered: a bisection call gave no answer ({self.error})"[:200]
             missing = [str(s) for s, o in enumerate(self.offsets) if o is None]
             if missing:
                 return f"not recovered: sample {', '.join(missing)} never flipped under a sweeping edge"
@@ -801,7 +1024,7 @@ def sample_sides(call: Call, offsets: Sequence[tuple[float, float] | None], cull
 
 
 def _bisect_samples(call: Call, n: int, cull: CullMode, resolution: int) -> tuple[
-        NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+        NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], str]:
     """For every sample s and axis, the offsets (lo, hi], 2**-resolution px apart, between
     which a left (top) edge sweeping the pixel stops covering sample s: every sample at
     once, one call per halving, probe 2 s + axis reading sample s.
@@ -812,32 +1035,37 @@ def _bisect_samples(call: Call, n: int, cull: CullMode, resolution: int) -> tupl
     found : (n, 2) bool
         False where sample s is not covered with the edge 1 px before the pixel or still
         covered with it 1 px past it (or an answer was missing).
+    error : str
+        The error of the call that gave no answer ("" when all answered).
     """
     lo = np.full((n, 2), -1.0)
     hi = np.full((n, 2), 1.0)
+    errors: list[str] = []
 
     def covered(offsets: NDArray[np.float64]) -> NDArray[np.bool_] | None:
         shapes = np.array([_corner(offsets[s, 0], -2.0) if axis == 0 else _corner(-2.0, offsets[s, 1])
                            for s in range(n) for axis in (0, 1)])
         probes = _probe_scene(shapes, cull)
-        cov = call(probes.scene).coverage
+        outcome = call(probes.scene)
+        cov = outcome.coverage
         if cov is None:
+            errors.append(describe(outcome.error))
             return None
         seen = _samples_at(cov, probes, n)
         return seen[np.arange(2 * n), np.repeat(np.arange(n), 2)].reshape(n, 2)
 
     at_lo, at_hi = covered(lo), covered(hi)
     if at_lo is None or at_hi is None:
-        return lo, hi, np.zeros((n, 2), dtype=bool)
+        return lo, hi, np.zeros((n, 2), dtype=bool), errors[0]
     found = at_lo & ~at_hi
     while np.any(hi - lo > 2.0**-resolution):
         mid = (lo + hi) / 2.0  # exact: dyadic
         at_mid = covered(mid)
         if at_mid is None:
-            return lo, hi, np.zeros((n, 2), dtype=bool)
+            return lo, hi, np.zeros((n, 2), dtype=bool), errors[0]
         lo = np.where(at_mid, mid, lo)
         hi = np.where(at_mid, hi, mid)
-    return lo, hi, found
+    return lo, hi, found, ""
 
 
 def sample_positions(call: Call, n: int, seed: int = 0, resolution: int = 20) -> PatternFact:
@@ -848,14 +1076,21 @@ def sample_positions(call: Call, n: int, seed: int = 0, resolution: int = 20) ->
     (:func:`harness.probes.vertex_sweep`, about 300 calls) sees snapping, and the bisection
     then stops at the snapping grid's spacing (positions on it are never moved), else at
     2**-``resolution`` px. Each sample's flip under a sweeping left (top) edge is bisected,
-    every sample and both axes at once (``resolution + 3`` calls), and read as the end of
-    its last interval with fewer fraction bits (:func:`_offset`). The candidates -- those
-    offsets under each tie rule, x the snappings the vertex sweep allows -- are scored
-    sample by sample (:meth:`Convention.at_sample`) on four lattice scenes, one scene of
-    edges exactly through every sample's column and row and pinwheels around every
-    sample (every tie rule draws a different triangle there) and, with snapping, two
-    float scenes and their half-step versions, where the roundings part. Ties in the
-    score go to the earlier candidate (no snapping first).
+    every sample and both axes at once (``resolution + 3`` calls), to an interval (lo, hi]
+    one step wide. With snapping the true offset may be either end (the coverage changes
+    when the *snapped* edge crosses the sample: dEQP's 2x samples at 77/256 under 8-bit
+    snapping end intervals at 77/256 and at 78/256 alike), so each axis of each sample
+    is read at both ends, and at the points of a finer snapping grid inside
+    (:func:`_readings`). The candidates -- each tie rule x the snappings the vertex
+    sweep allows, every sample at its best reading for them -- are scored sample by
+    sample (:meth:`Convention.at_sample`; the score is a sum over samples, so each
+    sample's reading is chosen on its own) on four lattice scenes, one scene of edges
+    exactly through every reading's column and row and pinwheels around every reading
+    (every tie rule draws a different triangle there, and a sample off its wheel's centre
+    sits inside one of its triangles) and, with snapping, two float scenes and their
+    half-step versions, where the roundings part. Ties in the score go to the earlier
+    candidate (no snapping first) and the earlier reading (the end with fewer fraction
+    bits, :func:`_offset`).
 
     Parameters
     ----------
@@ -879,39 +1114,104 @@ def sample_positions(call: Call, n: int, seed: int = 0, resolution: int = 20) ->
     # positions on the snapping grid are not moved by it (a grid of 2**-g seen means
     # rounding to nearest on 2**-(g-1) or truncating on 2**-g: both keep 2**-(g-1))
     bits = resolution if vertex.grid is None else max(0, vertex.grid - 1)
-    lo, hi, flips = _bisect_samples(calls, n, cull, bits)
+    lo, hi, flips, error = _bisect_samples(calls, n, cull, bits)
     offsets = tuple((_offset(lo[s, 0], hi[s, 0]), _offset(lo[s, 1], hi[s, 1])) if flips[s].all() else None
                     for s in range(n))
     if not flips.all():
-        return PatternFact(offsets, None, 0, 0, None, bits, vertex, found, calls.calls)
-    pattern = [o for o in offsets if o is not None]
-    if len(set(pattern)) < n:
-        return PatternFact(offsets, None, 0, 0, None, bits, vertex, found, calls.calls)
+        return PatternFact(offsets, None, 0, 0, None, bits, vertex, found, calls.calls, error=error)
     snaps = _snap_candidates(vertex.grid)
-    candidates = [Convention(samples=pattern, tie=tie, cull=cull, subpixel_bits=b, snap_rounding=r)
-                  for b, r in snaps for tie in TIE_RULES]
+    # each axis of each sample read at either end of its interval (and, under a snapping
+    # finer than the bisection stopped at, at that grid's points inside it)
+    readings = {snap: [[_readings(lo[s, axis], hi[s, axis], snap[0]) for axis in (0, 1)] for s in range(n)]
+                for snap in snaps}
     scenes = [Scene(56, 56, lattice_triangles(120, 48, b, seed + b) + 4.0) for b in (0, 1, 2, 4)]
-    # the tie rule: edges exactly through every sample's column and row, pinwheels around every sample
-    ties = np.concatenate([[_corner(x, -2.0) for x, _ in pattern], [_corner(-2.0, y) for _, y in pattern], _wheels(pattern)])
-    scenes.append(_probe_scene(ties, cull).scene)
+    # the tie rule and the reading: for each sample, edges exactly through every reading's
+    # column and row and pinwheels around every reading; sample s is scored on its own part
+    parts: list[NDArray[np.float64]] = []
+    for s in range(n):
+        points = sorted({(x, y) for per_sample in readings.values() for x in per_sample[s][0] for y in per_sample[s][1]})
+        parts.append(np.concatenate([[_corner(x, -2.0) for x in sorted({x for x, _ in points})],
+                                     [_corner(-2.0, y) for y in sorted({y for _, y in points})], _wheels(points)]))
+    scenes.append(_probe_scene(np.concatenate(parts), cull).scene)
     if any(b is not None for b, _ in snaps):
         floats = [Scene(48, 48, random_triangles(150, 60.0, 48, seed + k)) for k in range(2)]
         scenes += floats + [_half_steps(f, b) for f in floats for b in sorted({b for b, _ in snaps if b is not None})]
     drawn = [tuple(Drawn(scene, layer_of(outcome, s)) for s in range(n)) for scene, outcome in ((sc, calls(sc)) for sc in scenes)]
+    tied_scene = 4  # the scene of edges and pinwheels through the readings: where wrong readings show first
+    starts = np.cumsum([0] + [len(p) for p in parts])
+    scored = [list(layers) for layers in drawn]
+    scored[tied_scene] = [_part(drawn[tied_scene][s], range(int(starts[s]), int(starts[s + 1]))) for s in range(n)]
+    order = [tied_scene] + [k for k in range(len(drawn)) if k != tied_scene]
 
-    def score(convention: Convention) -> int:
-        return sum(d.mismatches(convention.at_sample(s)) for layers in drawn for s, d in enumerate(layers)
-                   if d.coverage is not None)
+    def best_reading(s: int, base: Convention, xs: tuple[float, ...], ys: tuple[float, ...],
+                     cap: float) -> tuple[int, tuple[float, float] | None]:
+        """Sample ``s``'s reading with the fewest mismatches under ``base`` (ties to the
+        earlier reading), and that score; (more than ``cap``, None) when every reading
+        has more. A reading is dropped once its partial sum, the tie scene first, cannot
+        win (scores only grow)."""
+        answered = [k for k in order if scored[k][s].coverage is not None]
+        options = [(x, y) for x in xs for y in ys]
+        if not options:
+            return 0, None
+        best: tuple[int, int] | None = None  # (score, reading index)
+        over = 0
+        for i, option in enumerate(options):
+            single = replace(base, sample=option)
+            total = 0
+            for k in answered:
+                total += scored[k][s].mismatches(single)
+                if total > cap or (best is not None and (total, i) > best):
+                    break
+            else:
+                best = (total, i) if best is None else min(best, (total, i))
+            over = max(over, total)
+        if best is None:
+            return over, None
+        return best[0], options[best[1]]
 
-    scores = sorted((score(c), i) for i, c in enumerate(candidates))
-    best = candidates[scores[0][1]]
-    runner = next(((s, candidates[i]) for s, i in scores if candidates[i].tie != best.tie), None)  # another tie rule
+    # each (snapping, tie rule) scored with every sample at its best reading; the totals are
+    # exact for the best candidate and the best of another tie rule (all that is kept):
+    # one is given up once it exceeds the second best per tie rule so far, cheap guesses first
+    plan = [(b, r, tie) for b, r in snaps for tie in TIE_RULES]
+    guess = [scored[tied_scene][0].mismatches(Convention(sample=(xs[0], ys[0]), tie=tie, cull=cull, subpixel_bits=b,
+                                                         snap_rounding=r)) if xs and ys else 0
+             for b, r, tie in plan for xs, ys in readings[b, r][:1]]
+    per_tie: dict[str, int] = {}
+    candidates: list[tuple[int, int, Convention]] = []  # (score, order, convention)
+    for index in sorted(range(len(plan)), key=lambda i: (guess[i], i)):
+        b, r, tie = plan[index]
+        base = Convention(sample=(0.5, 0.5), tie=tie, cull=cull, subpixel_bits=b, snap_rounding=r)
+        leaders = sorted(per_tie.values())
+        cap = leaders[1] if len(leaders) >= 2 else math.inf
+        total, chosen = 0, []
+        for s in range(n):
+            # ties in the score go to the earlier reading: the end with fewer fraction bits first
+            xs, ys = readings[b, r][s]
+            score, reading = best_reading(s, base, xs, ys, cap - total)
+            total += score
+            if reading is None or total > cap:
+                break
+            chosen.append(reading)
+        else:
+            if len(set(chosen)) == n:
+                candidates.append((total, index, replace(base, samples=chosen)))
+                per_tie[tie] = min(per_tie.get(tie, total), total)
+    if not candidates:
+        return PatternFact(offsets, None, 0, 0, None, bits, vertex, found, calls.calls)
+    candidates.sort(key=lambda c: c[:2])
+    best = candidates[0][2]
+    runner = next((c for _, _, c in candidates if c.tie != best.tie), None)  # another tie rule
     fragments = sum(d.pixels for layers in drawn for d in layers)
-    residual = sum(d.mismatches(best.at_sample(s)) for layers in drawn for s, d in enumerate(layers))
+
+    def residual_of(convention: Convention) -> int:
+        return sum(d.mismatches(convention.at_sample(s)) for layers in drawn for s, d in enumerate(layers))
+
+    residual = residual_of(best)
     said = None
     if runner is not None:
-        other = runner[1]
+        other = runner
         snapping = "" if (other.subpixel_bits, other.snap_rounding) == (best.subpixel_bits, best.snap_rounding) else (
             ", no snapping" if other.subpixel_bits is None else f", {other.subpixel_bits} sub-pixel bits {other.snap_rounding}")
-        said = (f"the same samples, {other.tie} ties{snapping}", runner[0])
+        moved = "" if other.samples == best.samples else " (the samples read at other ends of their intervals)"
+        said = (f"the same samples{moved}, {other.tie} ties{snapping}", residual_of(other))
     return PatternFact(offsets, best, residual, fragments, said, bits, vertex, found, calls.calls, tuple(drawn))

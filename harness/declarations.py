@@ -47,7 +47,7 @@ def declaration_problem(rasterizer: Rasterizer) -> str | None:
 
     The convention read is the plugin's own (one identify found for it is not checked):
     its ``line`` rule needs ``"lines"`` in ``scene_kinds``; ``fill_rules`` need
-    ``"paths"``; lines are drawn with one sample per pixel, and paths have no analytic
+    ``"paths"``; lines are drawn with one sample per pixel (multisample: rectangles per sample), and paths have no analytic
     area coverage, unless ``line_convention`` (``path_convention``) says how.
 
     Examples
@@ -98,10 +98,14 @@ def declaration_problem(rasterizer: Rasterizer) -> str | None:
         return (f"{REFUSED}: its convention declares {convention.line.describe()}, but its scene_kinds {_tuple(kinds)} lack "
                 f"\"lines\", so no line scene would reach it: add {_adding(kinds, 'lines')}")
     line = getattr(rasterizer, "line_convention", None)
-    if "lines" in kinds and not isinstance(line, Convention) and convention.kind != "single":
-        return (f"{REFUSED}: it takes lines, which are drawn with one sample per pixel, but its convention declares "
-                f"{convention.kind} coverage: give it line_convention = Convention(line=...) for its lines, or leave \"lines\" "
-                f"out of scene_kinds")
+    if ("lines" in kinds and not isinstance(line, Convention) and convention.kind != "single"
+            and not (convention.kind == "multisample" and convention.line.rule == "rectangle")):
+        return (f"{REFUSED}: it takes lines, which are drawn with one sample per pixel (or, multisample, as rectangles "
+                f"per sample), but its convention declares {convention.kind} coverage"
+                + (" with " + convention.line.describe() if convention.kind == "multisample" else "")
+                + ": give it line_convention = Convention(line=...) for its lines"
+                + (", or line=LineRule(\"rectangle\") for multisample lines" if convention.kind == "multisample" else "")
+                + ", or leave \"lines\" out of scene_kinds")
     path = getattr(rasterizer, "path_convention", None)
     if "paths" in kinds and not isinstance(path, Convention) and convention.kind == "area" and convention.samples is None:
         return (f"{REFUSED}: it takes paths, but its convention declares analytic area coverage, which is not defined for "

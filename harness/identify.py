@@ -62,7 +62,7 @@ from harness.conventions import Convention, CoverageKind, LineRule
 from harness.coverage_probes import (
     CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions, sample_sides,
 )
-from harness.isolation import Call, InProcess, Outcome, Worker
+from harness.isolation import Call, CallTally, InProcess, Outcome, TimeLimit, Worker
 from harness.probes import (EPSILON_CASE, NON_FINITE_CASES, REPROS, ZERO_AREA_CASE, Defect, Epsilon, Fact, NonFinite,
                             ViewportEdge, Watertight, ZeroArea, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, suite_defects, unanswered,
                             viewport_edge, watertight_partitions, zero_area)
@@ -113,7 +113,12 @@ class Fingerprint:
     point and tie rule), and ``line_fit``, the fit behind them (residual, runner-up, each
     rule's score, wide lines: :class:`harness.line_probes.LineFit`). For a rasterizer that
     takes only lines, ``convention``, ``residual``, ``pixels``, ``runner_up`` and
-    ``ambiguous`` are the line fit's."""
+    ``ambiguous`` are the line fit's.
+
+    ``unanswered``: the fit scenes the rasterizer gave no answer for (an error, a crash, a
+    call cut off twice by its time limit), left out of the fit and of the residual: a
+    fingerprint with any is never exact, and its card says why. ``calls``: every call
+    made, and which timed out, failed or were answered only when asked again."""
 
     rasterizer: str
     convention: Convention
@@ -130,6 +135,8 @@ class Fingerprint:
     line_rule: LineRule | None = None
     line_convention: Convention | None = None
     line_fit: LineFit | None = field(default=None, repr=False, compare=False)
+    unanswered: int = 0
+    calls: CallTally | None = field(default=None, repr=False, compare=False)
 
     @property
     def lines_only(self) -> bool:
@@ -145,11 +152,11 @@ class Fingerprint:
 
     @property
     def exact(self) -> bool:
-        """No mismatch, the runner-up (another sample point or tie rule) has some, and no
-        other snap rounding explains it as well: a candidate that only ties with another
-        is never claimed."""
+        """No mismatch, the runner-up (another sample point or tie rule) has some, no
+        other snap rounding explains it as well, and every fit scene answered: a candidate
+        that only ties with another, or fits only what was answered, is never claimed."""
         return (self.residual == 0 and not (self.runner_up is not None and self.runner_up[1] == 0)
-                and not self.ambiguous)
+                and not self.ambiguous and not self.unanswered)
 
     @property
     def defects(self) -> dict[str, tuple[Defect, ...]]:
@@ -167,7 +174,9 @@ class Fingerprint:
             "cull": self.convention.cull,
             "exact": self.exact, "residual": self.residual, "pixels": self.pixels,
             "runner_up": list(self.runner_up) if self.runner_up else None, "facts": dict(self.facts),
-            "ambiguous": list(self.ambiguous)}
+            "ambiguous": list(self.ambiguous), "unanswered": self.unanswered}
+        if self.calls is not None:  # added fields (schema 1 allows them)
+            out["calls"] = self.calls.to_dict()
         if self.kind != "single":  # added fields (schema 1 allows them)
             samples = self.convention.samples
             out.update(kind=self.kind, samples=None if samples is None else [list(o) for o in samples],
@@ -211,6 +220,9 @@ class Fingerprint:
                     f"             {_compact_repr(self.convention)}",
                     f"residual     {self.residual} mismatching pixels of {self.pixels}"
                     + ("  (identified exactly)" if self.exact
+                       else f"  (best guess only because calls failed: {self.unanswered} fit scene"
+                            f"{'' if self.unanswered == 1 else 's'} unanswered, left out of the fit and the residual; see calls)"
+                       if self.unanswered
                        else f"  (ambiguous between {' and '.join(self.ambiguous)})" if self.residual == 0 and self.ambiguous
                        else "  (ambiguous: the next best explains it as well)" if self.residual == 0
                        else "  (best guess only: no candidate explains it exactly)")]
@@ -265,16 +277,21 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
         process (:class:`harness.isolation.InProcess`). An outcome with an error counts as
         the rasterizer raising: each probe reports it, and nothing here raises for it.
     """
-    call = InProcess(rasterizer) if call is None else call
+    tally = CallTally(InProcess(rasterizer) if call is None else call)
+    call = tally
     kinds = scene_kinds_of(rasterizer)
     if "lines" in kinds and "triangles" not in kinds and "paths" not in kinds:
-        return _identify_lines_only(rasterizer.name, call, seed, received_of(rasterizer))
-    if "paths" in kinds:
-        fingerprint = _identify_paths(rasterizer, call, seed)
+        fingerprint = _identify_lines_only(rasterizer.name, call, seed, received_of(rasterizer))
     else:
-        fingerprint = _identify_triangles(rasterizer.name, call, seed, received_of(rasterizer))
-    if "lines" in kinds:
-        _with_lines(fingerprint, call, seed, received_of(rasterizer))
+        if "paths" in kinds:
+            fingerprint = _identify_paths(rasterizer, call, seed)
+        else:
+            fingerprint = _identify_triangles(rasterizer.name, call, seed, received_of(rasterizer))
+        if "lines" in kinds:
+            _with_lines(fingerprint, call, seed, received_of(rasterizer))
+    # how many calls timed out or failed, and which: the card always says
+    fingerprint.calls = tally
+    fingerprint.facts["calls"] = tally.text + ("; the fit is on the rest" if fingerprint.unanswered else "")
     return fingerprint
 
 
@@ -339,7 +356,7 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
     found = {label: fact for label, fact in probes.items() if fact is not None}
     return Fingerprint(name, convention, residual, sum(d.pixels for d in drawn),
                        (ties.runner_up.describe(), ties.runner_up_mismatches), {k: f.text for k, f in found.items()},
-                       snapping.ambiguous, found)
+                       snapping.ambiguous, found, unanswered=len({id(d) for d in drawn if d.coverage is None}))
 
 
 def _swap(view: tuple[list[Case], Call]) -> tuple[Call, list[Case]]:
@@ -382,7 +399,7 @@ def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprin
         path = None
         if fingerprint.kind == "single":
             path = path_fit_of(fingerprint.convention, fingerprint.residual, fingerprint.pixels, fingerprint.runner_up,
-                               fingerprint.ambiguous, None, rule)
+                               fingerprint.ambiguous, None, rule, fingerprint.unanswered)
     if path is None:
         path = PathFit(None, rule=rule, skipped=f"{fingerprint.kind} coverage (the path fit is single-sample)")
     else:
@@ -410,7 +427,8 @@ def _identify_lines_only(name: str, call: Call, seed: int, received: Callable[[A
     residual = fit.residual
     if fit.convention is None:  # nothing measured: never claimed
         residual, runner_up = max(1, fit.pixels), ("any line convention: " + fit.skipped, 0)
-    fingerprint = Fingerprint(name, convention, residual, fit.pixels, runner_up, {}, fit.ambiguous)
+    fingerprint = Fingerprint(name, convention, residual, fit.pixels, runner_up, {}, fit.ambiguous,
+                              unanswered=len(fit.unanswered))
     _record_lines(fingerprint, fit)
     return fingerprint
 
@@ -438,6 +456,8 @@ def _record_lines(fingerprint: Fingerprint, fit: LineFit) -> None:
         fingerprint.facts["line rules"] = fit.rules_text
     if fit.rounding is not None:
         fingerprint.facts["line snap"] = fit.rounding.text
+    if fit.sweep is not None and fit.rule is not None and fit.rule.rule == "rectangle":
+        fingerprint.facts["line sample"] = fit.sweep.text
     if fit.wide is not None:
         fingerprint.facts["wide lines"] = fit.wide.text
         fingerprint.probes["wide lines"] = fit.wide
@@ -455,6 +475,7 @@ def _line_convention_dict(fit: LineFit) -> dict[str, Any] | None:
             "rounding": rule.rounding if rule.rule == "bresenham" else None,
             "ties": rule.ties if rule.rule == "bresenham" else None,
             "direction": rule.direction if rule.rule == "bresenham" else None,
+            "wide": rule.wide if rule.diamond else None,
             "sample": list(line.sample) if rule.rule == "rectangle" else None,
             "tie": line.tie if rule.rule == "rectangle" else None,
             "subpixel_bits": line.subpixel_bits, "snap_rounding": line.snap_rounding,
@@ -498,11 +519,13 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
         lines |= sweeps.lines()
         convention = sweeps.convention or Convention(coverage="area")
         residual, pixels, runner_up = sweeps.residual, sweeps.pixels, sweeps.runner_up
+        unanswered = sum(x.coverage is None for x in sweeps.drawn)
         if sweeps.model is None:  # nothing measured: never claimed
             runner_up = ("any area convention: the sweeps were not answered", 0)
     else:
         n = max(kind.indices, default=-1) + 1
         pattern = sample_positions(call, n, seed)
+        unanswered = pattern.unanswered + bool(pattern.error)
         probes["pattern"] = pattern
         lines["pattern"] = pattern.text
         # the offsets read under left and top edges, seen from the other side: a sample
@@ -536,7 +559,8 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
     probes |= {"zero area": zero_area(call), "non-finite": non_finite(call)}
     lines |= {"zero area": probes["zero area"].text, "non-finite": probes["non-finite"].text,
               "calls": f"{call.calls + 1} rasterizer calls"}  # and the one that read the kind
-    return Fingerprint(name, convention, residual, pixels, runner_up, lines, (), probes, kind=kind.kind or "single")
+    return Fingerprint(name, convention, residual, pixels, runner_up, lines, (), probes, kind=kind.kind or "single",
+                       unanswered=unanswered)
 
 
 def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, ...],
@@ -579,30 +603,30 @@ def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, .
 
 
 def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0,
-                      call_timeout: float | None = None) -> Fingerprint:
+                      call_timeout: float | TimeLimit | None = None) -> Fingerprint:
     """:func:`identify` with every rasterize call in a forked worker process
     (:class:`harness.isolation.Worker`), so that a library's process-wide state (an EGL
     display, a crash, a hang) stays out of the caller: a call that crashes or hangs counts
-    as raising, and identification goes on.
+    as raising, and identification goes on (the probes fit on the calls answered, and the
+    card counts and names the others).
 
     ``timeout`` bounds the whole identification: it is checked between calls, and a call
-    never runs past it (then TimeoutError, naming the rasterizer); ``call_timeout`` bounds
-    each call (``timeout`` when None; the worker may cut a call off sooner when it takes
-    far longer than the rasterizer's typical call for its size).
+    never runs past it (then TimeoutError, naming the rasterizer); ``call_timeout`` is the
+    time-limit policy of each call (:class:`harness.isolation.TimeLimit`; a number is its
+    cap, ``timeout`` when None): a call cut off by its limit is asked again once with a
+    longer one before it counts as a timeout.
     """
     deadline = time.monotonic() + timeout
 
     def expired() -> TimeoutError:
         return TimeoutError(f"identify {rasterizer.name}: no answer within {timeout:g} s")
 
-    with Worker(rasterizer, call_timeout or timeout) as worker:
+    with Worker(rasterizer, call_timeout or timeout, deadline=deadline) as worker:
 
         def call(scene: Scene) -> Outcome:
-            remaining = deadline - time.monotonic()
-            if remaining <= 0:
+            if time.monotonic() >= deadline:
                 raise expired()
-            limit, _ = worker.limit(scene)
-            outcome = worker.rasterize(scene, timeout=remaining) if remaining < limit else worker.rasterize(scene)
+            outcome = worker.rasterize(scene)
             if outcome.timed_out and time.monotonic() >= deadline:
                 raise expired()
             return outcome
@@ -640,7 +664,7 @@ class Identified:
         return self.inner.rasterize(scene)  # type: ignore[arg-type]
 
 
-def identify_all(rasterizers: list[Rasterizer], seed: int = 0, *, everyone: bool = False, call_timeout: float = 60.0,
+def identify_all(rasterizers: list[Rasterizer], seed: int = 0, *, everyone: bool = False, call_timeout: float | TimeLimit = 60.0,
                  report: Callable[[str], None] | None = None) -> tuple[list[Rasterizer], dict[str, dict[str, Any]]]:
     """Identify the rasterizers that declare no convention (all of them with
     ``everyone``), each in a process of its own; one that declares none is then checked
@@ -659,7 +683,8 @@ def identify_all(rasterizers: list[Rasterizer], seed: int = 0, *, everyone: bool
             out.append(r)
             continue
         try:
-            fingerprint = identify_isolated(r, seed, timeout=max(300.0, 10 * call_timeout), call_timeout=call_timeout)
+            fingerprint = identify_isolated(r, seed, timeout=max(300.0, 10 * TimeLimit.of(call_timeout).cap),
+                                            call_timeout=call_timeout)
         except Exception as exc:
             fingerprints[r.name] = {"error": f"{type(exc).__name__}: {exc}"}
             if report is not None:

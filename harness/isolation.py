@@ -7,15 +7,17 @@ the process boundary, or whose ``__str__`` itself raises, is carried as text. A 
 that outlives its time limit, or a worker that dies (a segfault, ``os._exit``), becomes
 an outcome too; the worker is then replaced and the caller goes on.
 
-The time limit adapts: after a few calls, a call that takes far longer than the
-rasterizer's own typical call for a scene of its size (``patience`` times the median
-rate, never below ``floor`` seconds, never above the absolute ``timeout``) counts as
-hung, so that a rasterizer that hangs is known in seconds rather than minutes.
+Every call's time limit comes from one policy, :class:`TimeLimit`: a base plus a rate
+times the work the scene implies (its primitives, the pixels of their bounding boxes
+times the samples per pixel the rasterizer's convention, declared or seen in its
+answers, implies, the edges' rows), never above the user's cap (``--timeout``). A call
+cut off by its limit is asked again once, in a fresh process, with a longer limit before
+it counts as a timeout: the machine's load never turns a slow answer into a verdict.
 """
 
 from __future__ import annotations
 
-import bisect
+import math
 import multiprocessing
 import os
 import pickle
@@ -26,10 +28,12 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
+import numpy as np
+
 from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene
 
 __all__ = ["Outcome", "layer_of", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call", "AnyCall", "PluginError",
-           "kill_all"]
+           "kill_all", "TimeLimit", "scene_work", "samples_of", "samples_seen", "CallTally"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -49,6 +53,16 @@ class Outcome:
     timed_out: bool = False
     received: Coverage | None = None
     flaws: dict[str, Any] | None = None
+    retried: float | None = None  # the limit (s) of a first ask that was cut off, when it was asked again
+
+    @property
+    def retry_text(self) -> str:
+        """How the call was asked again, in words ("" when it was asked once)."""
+        if self.retried is None:
+            return ""
+        if self.coverage is None and self.timed_out:
+            return f"cut off after {self.retried:.3g} s, asked again: {describe(self.error, kind=False)}"
+        return f"cut off after {self.retried:.3g} s, answered when asked again (in {self.seconds:.3g} s)"
 
 
 def layer_of(outcome: Outcome, index: int) -> Outcome:
@@ -65,7 +79,7 @@ def _tidied(outcome: Outcome, scene: AnyScene) -> Outcome:
     usable, flaws = outcome.coverage.tidy(scene)
     if usable is outcome.coverage:
         return outcome
-    return Outcome(usable, seconds=outcome.seconds, received=outcome.coverage, flaws=flaws)
+    return Outcome(usable, seconds=outcome.seconds, received=outcome.coverage, flaws=flaws, retried=outcome.retried)
 
 
 # What the checks and probes hold: the rasterizer again, as a function of a scene.
@@ -122,6 +136,66 @@ def span_limit(scene: AnyScene) -> int:
     span per row, a path one per row for every two edges (16 allowed, for one per sample of
     a 16x multisample pattern)."""
     return 16 * (_pieces(scene) + 1) * scene.height + 1024
+
+
+def _listed(items: list[str], most: int = 4) -> str:
+    """The first ``most`` of ``items``, comma-separated, and how many more."""
+    shown = ", ".join(items[:most])
+    return shown + (f" and {len(items) - most} more" if len(items) > most else "")
+
+
+class CallTally:
+    """A :data:`Call` that passes each call on and keeps count: how many calls were made,
+    which gave no answer (timed out after the second ask, or failed: raised, crashed) and
+    which were answered only when asked again. Each is named by its number (1 for the
+    first call) and its scene's size.
+
+    >>> from harness.api import Scene
+    >>> tally = CallTally(lambda scene: Outcome(None, TimeoutError("no answer within 2 s"), timed_out=True))
+    >>> _ = tally(Scene(8, 8, [[[0, 0], [4, 0], [0, 4]]]))
+    >>> tally.text
+    '1 of 1 probe calls timed out (each asked twice): #1 (1 triangle on 8 x 8 px: no answer within 2 s)'
+    """
+
+    def __init__(self, call: Callable[[Any], Outcome]) -> None:
+        self.call = call
+        self.calls = 0
+        self.timed_out: list[tuple[int, str, str]] = []  # (number, scene, error)
+        self.failed: list[tuple[int, str, str]] = []
+        self.retried: list[tuple[int, str, str]] = []
+
+    def __call__(self, scene: AnyScene) -> Outcome:
+        self.calls += 1
+        outcome = self.call(scene)
+        n = len(scene)
+        what = f"{n:,} {scene.noun}{'' if n == 1 else 's'} on {scene.width} x {scene.height} px"
+        if outcome.coverage is None:
+            error = describe(outcome.error, kind=not outcome.timed_out)
+            (self.timed_out if outcome.timed_out else self.failed).append((self.calls, what, error))
+        elif outcome.retried is not None:
+            self.retried.append((self.calls, what, outcome.retry_text))
+        return outcome
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data: the count and each call that timed out, failed or was asked again."""
+        def listed(found: list[tuple[int, str, str]]) -> list[dict[str, Any]]:
+            return [{"call": k, "scene": what, "error": error} for k, what, error in found]
+
+        return {"calls": self.calls, "timed_out": listed(self.timed_out), "failed": listed(self.failed),
+                "retried": listed(self.retried)}
+
+    @property
+    def text(self) -> str:
+        """The card's line: how many calls timed out or failed, and which."""
+        parts = []
+        for found, said in ((self.timed_out, "timed out (each asked twice)"), (self.failed, "failed")):
+            if found:
+                parts.append(f"{len(found)} of {self.calls:,} probe calls {said}: "
+                             + _listed([f"#{k} ({what}: {error})"[:160] for k, what, error in found]))
+        if self.retried:
+            parts.append(f"{len(self.retried)} answered only when asked again: "
+                         + _listed([f"#{k} ({what}: {said})" for k, what, said in self.retried]))
+        return "; ".join(parts) if parts else f"{self.calls:,} probe calls, every one answered"
 
 
 def call_in_process(rasterizer: Rasterizer, scene: AnyScene) -> Outcome:
@@ -194,6 +268,124 @@ def _serve(rasterizer: Rasterizer, conn: Any) -> None:  # pragma: no cover - run
                 break
 
 
+# Samples per pixel an answer of alphas stands for in the work of a call: an exact area
+# costs a pixel about what a few sample tests do, a supersampler as many as its samples.
+AREA_SAMPLES = 16
+
+
+def scene_work(scene: AnyScene, samples: int = 1) -> float:
+    """The work a call on ``scene`` implies, in sample tests: the viewport's pixels, 16 per
+    primitive, the pixels of each primitive's bounding box (clipped to the viewport; the
+    whole viewport for a non-finite one) times ``samples`` per pixel, and the rows each edge
+    spans (a path filler's scanlines meet every edge on every row it crosses).
+
+    >>> from harness.api import Scene
+    >>> scene = Scene(8, 8, [[[0, 0], [4, 0], [0, 4]]])
+    >>> scene_work(scene), scene_work(scene, 16)
+    (104.0, 344.0)
+    """
+    width, height = float(scene.width), float(scene.height)
+    lo, hi, finite = scene.primitive_boxes()
+    size = np.array([width, height])
+    with np.errstate(invalid="ignore"):
+        lo = np.clip(np.floor(np.nan_to_num(lo, nan=0.0)), 0.0, size)
+        hi = np.clip(np.ceil(np.nan_to_num(hi, nan=size.max())), 0.0, size)
+    box = np.where(finite, np.maximum(hi - lo, 0.0).prod(axis=1), width * height)
+    a, b, _ = scene.edges()
+    with np.errstate(invalid="ignore"):
+        rows = np.abs(np.clip(np.nan_to_num(a[:, 1], nan=0.0), 0.0, height) - np.clip(np.nan_to_num(b[:, 1], nan=height), 0.0, height))
+    return float(width * height + 16 * len(box) + samples * box.sum() + np.ceil(rows).sum())
+
+
+def samples_of(convention: Any) -> int:
+    """The samples per pixel a convention implies for :func:`scene_work` (1 without one)."""
+    if convention is None:
+        return 1
+    if getattr(convention, "coverage", "sample") == "area":
+        pattern = getattr(convention, "samples", None)
+        return max(AREA_SAMPLES, len(pattern)) if pattern is not None else AREA_SAMPLES
+    pattern = getattr(convention, "samples", None)
+    return 1 if pattern is None else len(pattern)
+
+
+def samples_seen(coverage: Coverage) -> int:
+    """The samples per pixel an answer shows: its highest sample index + 1, or
+    :data:`AREA_SAMPLES` for alphas (1 for a single-sample answer)."""
+    if coverage.alpha is not None:
+        return AREA_SAMPLES
+    if coverage.sample is not None and len(coverage.sample):
+        return int(np.max(coverage.sample)) + 1
+    return 1
+
+
+@dataclass(frozen=True, slots=True)
+class TimeLimit:
+    """How long one rasterize call may take: the one time-limit policy, shared by every
+    worker (run, identify, compare, campaigns).
+
+    A call on a scene gets ``base + rate * work`` seconds (:func:`scene_work`, with the
+    samples per pixel the convention implies), at most ``cap``; the first call of each
+    scene kind a worker makes (imports, a JIT compiling its kernels) gets ``first`` (the
+    cap when None). A call cut off by its limit is asked again once, in a fresh process,
+    with ``retry`` times that limit (at most the cap): only a call cut off twice is a
+    timeout. Nothing depends on how fast earlier calls were, so a busy machine can only
+    make a slow call slower, never a verdict out of it.
+
+    Parameters
+    ----------
+    cap : float
+        The most any call may take, in seconds (``--timeout``).
+    base : float
+        Seconds every call gets (the process round trip, setup).
+    rate : float
+        Seconds per unit of work (a sample test): 2 us, a pure-Python loop's pace with
+        room to spare on a loaded machine.
+    retry : float
+        The second ask's limit, as a multiple of the first's.
+    first : float or None
+        The limit of the first call of each scene kind; None: ``cap``.
+
+    Examples
+    --------
+    >>> from harness.api import Scene
+    >>> limits = TimeLimit(cap=60.0)
+    >>> scene = Scene(8, 8, [[[0, 0], [4, 0], [0, 4]]])
+    >>> limits.limit(scene) < limits.limit(scene, samples=16) < limits.retry_limit(limits.limit(scene, samples=16))
+    True
+    """
+
+    cap: float = 60.0
+    base: float = 2.0
+    rate: float = 2e-6
+    retry: float = 4.0
+    first: float | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("cap", "base", "retry"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f"TimeLimit.{name} must be a finite number > 0, not {value!r}")
+        if not (math.isfinite(self.rate) and self.rate >= 0):
+            raise ValueError(f"TimeLimit.rate must be a finite number >= 0, not {self.rate!r}")
+
+    @classmethod
+    def of(cls, timeout: float | TimeLimit) -> TimeLimit:
+        """The policy of a ``timeout`` argument: a number is the cap of the default policy."""
+        return timeout if isinstance(timeout, TimeLimit) else cls(cap=float(timeout))
+
+    def limit(self, scene: AnyScene, samples: int = 1) -> float:
+        """The first ask's limit on ``scene`` (seconds), ``samples`` per pixel."""
+        return min(self.cap, self.base + self.rate * scene_work(scene, samples))
+
+    def first_limit(self) -> float:
+        """The limit of the first call of a scene kind."""
+        return self.cap if self.first is None else self.first
+
+    def retry_limit(self, limit: float) -> float:
+        """The second ask's limit, after a first one of ``limit`` seconds was cut off."""
+        return max(limit, min(self.cap, self.retry * limit))
+
+
 _LIVE: weakref.WeakSet[Worker] = weakref.WeakSet()
 
 
@@ -209,28 +401,36 @@ def kill_all() -> int:
 
 
 class Worker:
-    """A rasterizer in a forked process of its own, called with a time limit.
+    """A rasterizer in a forked process of its own, each call within the time limit of
+    :class:`TimeLimit`.
 
     Parameters
     ----------
     rasterizer : Rasterizer
-    timeout : float
-        The absolute limit of one call, in seconds.
-    patience : float or None
-        After ``warmup`` answered calls, a call may take at most ``patience`` times the
-        median seconds per unit of work (triangles, plus screen pixels / 256) times its
-        scene's work, but never less than ``floor`` seconds; None keeps the absolute
-        limit only.
+    timeout : float or TimeLimit
+        The time-limit policy; a number is the cap of the default one.
+    deadline : float or None
+        A ``time.monotonic()`` no call runs past (then the call is cut off there, and not
+        asked again): a bound on a whole job (identify's).
+
+    The samples per pixel that scale a call's limit are its convention's (declared), or
+    the most its answers showed so far (an undeclared rasterizer being identified).
     """
 
-    def __init__(self, rasterizer: Rasterizer, timeout: float = 60.0, *, patience: float | None = 20.0,
-                 floor: float = 2.0, warmup: int = 5) -> None:
+    def __init__(self, rasterizer: Rasterizer, timeout: float | TimeLimit = 60.0, *, deadline: float | None = None) -> None:
         self.rasterizer = rasterizer
-        self.timeout, self.patience, self.floor, self.warmup = timeout, patience, floor, warmup
-        self._rates: list[float] = []
+        self.limits = TimeLimit.of(timeout)
+        self.deadline = deadline
+        self._samples = samples_of(getattr(rasterizer, "convention", None))
+        self._kinds: set[str] = set()  # scene kinds it has answered (their first call may compile)
         self._context = multiprocessing.get_context("fork")
         self._start()
         _LIVE.add(self)
+
+    @property
+    def timeout(self) -> float:
+        """The cap of one call, in seconds."""
+        return self.limits.cap
 
     def _start(self) -> None:
         self._conn, child = self._context.Pipe()
@@ -238,37 +438,52 @@ class Worker:
         self._process.start()
         child.close()
 
-    @staticmethod
-    def _work(scene: AnyScene) -> float:
-        return _pieces(scene) + scene.width * scene.height / 256 + 1
-
     def limit(self, scene: AnyScene) -> tuple[float, str]:
-        """The time limit of a call on ``scene``, and how it was set."""
-        if self.patience is None or len(self._rates) < self.warmup:
-            return self.timeout, f"{self.timeout:g} s"
-        rates, n = self._rates, len(self._rates)
-        expected = (rates[(n - 1) // 2] + rates[n // 2]) / 2 * self._work(scene)  # the median
-        adaptive = max(self.floor, self.patience * expected)
-        if adaptive >= self.timeout:
-            return self.timeout, f"{self.timeout:g} s"
-        return adaptive, (f"{adaptive:.3g} s, {self.patience:g} times its typical call on a scene this size "
-                          f"(the absolute limit is {self.timeout:g} s)")
+        """The time limit of a first ask on ``scene``, and how it was set."""
+        if scene.kind not in self._kinds:
+            limit = self.limits.first_limit()
+            return limit, f"{limit:.3g} s (the first call on {scene.kind}, which may compile)"
+        limit = self.limits.limit(scene, self._samples)
+        if limit >= self.limits.cap:
+            return limit, f"{limit:.3g} s"
+        return limit, (f"{limit:.3g} s for {len(scene):,} {scene.noun}s on {scene.width} x {scene.height} px"
+                       + (f" at {self._samples} samples per pixel" if self._samples > 1 else "")
+                       + f", at most {self.limits.cap:g} s")
 
-    def rasterize(self, scene: AnyScene, timeout: float | None = None) -> Outcome:
-        """One call in the worker; ``timeout`` overrides the limit (absolute, not adaptive)."""
+    def rasterize(self, scene: AnyScene) -> Outcome:
+        """One call in the worker; one cut off by its limit is asked again once, with a
+        longer limit (:meth:`TimeLimit.retry_limit`), before it is a timeout."""
+        limit, said = self.limit(scene)
+        outcome = self._ask(scene, limit, said)
+        return self._again(scene, limit, outcome)
+
+    def _ask(self, scene: AnyScene, limit: float, said: str) -> Outcome:
         try:
             self._conn.send(scene)
         except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
             return self._died(time.perf_counter())
-        return self._answer(scene, timeout)
+        return self._answer(scene, limit, said)
+
+    def _again(self, scene: AnyScene, limit: float, outcome: Outcome) -> Outcome:
+        """``outcome`` of a first ask of ``limit`` seconds, or, when the limit cut it off
+        (and not the deadline), the second ask's."""
+        if not outcome.timed_out or self._past_deadline():
+            return outcome
+        longer = self.limits.retry_limit(limit)
+        again = self._ask(scene, longer, f"{limit:.3g} s, nor within {longer:.3g} s when asked again")
+        return replace(again, retried=limit)
+
+    def _past_deadline(self) -> bool:
+        return self.deadline is not None and time.monotonic() >= self.deadline
 
     def rasterize_all(self, scenes: list[Scene]) -> list[Outcome]:
         """One call per scene, in order, up to and including the first that gives no
         coverage. The scenes go to the worker at once and it answers each as soon as it
         is drawn, so the worker draws the next while this process reads the last; each
-        call keeps its own time limit. Until the limit has adapted, calls go one by one."""
+        call keeps its own time limit (and is asked again alone when cut off, the rest then
+        sent anew). The first call of a scene kind goes alone."""
         outcomes: list[Outcome] = []
-        while len(outcomes) < len(scenes) and len(self._rates) < self.warmup:
+        while len(outcomes) < len(scenes) and scenes[len(outcomes)].kind not in self._kinds:
             outcomes.append(self.rasterize(scenes[len(outcomes)]))
             if outcomes[-1].coverage is None:
                 return outcomes
@@ -279,9 +494,17 @@ class Worker:
             self._conn.send(list(rest))
         except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
             return [*outcomes, self._died(time.perf_counter())]
-        for scene in rest:
-            outcomes.append(self._answer(scene, None))
-            if outcomes[-1].coverage is None:
+        for k, scene in enumerate(rest):
+            limit, said = self.limit(scene)
+            outcome = self._answer(scene, limit, said)
+            if outcome.timed_out:  # the worker was replaced: this one asked again, the rest sent anew
+                outcome = self._again(scene, limit, outcome)
+                outcomes.append(outcome)
+                if outcome.coverage is None:
+                    return outcomes
+                return outcomes + self.rasterize_all(list(rest[k + 1:]))
+            outcomes.append(outcome)
+            if outcome.coverage is None:
                 break
         return outcomes
 
@@ -293,9 +516,12 @@ class Worker:
         return Outcome(None, RuntimeError(f"the rasterizer's worker process died (exit code {code})"), "",
                        time.perf_counter() - start)
 
-    def _answer(self, scene: AnyScene, timeout: float | None) -> Outcome:
-        """The worker's answer on ``scene`` (already sent), within its time limit."""
-        limit, said = (timeout, f"{timeout:g} s") if timeout is not None else self.limit(scene)
+    def _answer(self, scene: AnyScene, limit: float, said: str) -> Outcome:
+        """The worker's answer on ``scene`` (already sent), within ``limit`` seconds (and
+        the deadline); ``said`` is how the limit reads in a timeout's message."""
+        if self.deadline is not None and self.deadline - time.monotonic() < limit:
+            limit = max(0.0, self.deadline - time.monotonic())
+            said = f"{limit:.3g} s (the time left)"
         start = time.perf_counter()
         try:
             if self._conn.poll(limit):
@@ -307,7 +533,8 @@ class Worker:
                     return Outcome(None, PluginError(f"the rasterizer's answer cannot be read back ({describe(exc)})"),
                                    "", time.perf_counter() - start)
                 if outcome.coverage is not None:
-                    bisect.insort(self._rates, outcome.seconds / self._work(scene))  # kept sorted
+                    self._kinds.add(scene.kind)
+                    self._samples = max(self._samples, samples_seen(outcome.coverage))
                 return _tidied(outcome, scene)
         except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
             return self._died(start)
@@ -338,7 +565,7 @@ class InProcess:
     def __init__(self, rasterizer: Rasterizer) -> None:
         self.rasterizer = rasterizer
 
-    def rasterize(self, scene: AnyScene, timeout: float | None = None) -> Outcome:
+    def rasterize(self, scene: AnyScene) -> Outcome:
         return _tidied(call_in_process(self.rasterizer, scene), scene)
 
     def rasterize_all(self, scenes: list[Scene]) -> list[Outcome]:

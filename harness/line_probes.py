@@ -8,12 +8,14 @@ the snapping in front of it, each by the exact oracle of every candidate convent
 pixels, as for triangles -- the best explaining it, "identified" only when its residual is
 zero and no other candidate's is:
 
-1. *The rule* (diamond-exit, Bresenham or rectangle), with diamond-exit's and
+1. *The rule* (D3D's or GL's diamond-exit, Bresenham or rectangle), with diamond-exit's and
    Bresenham's last-pixel rule, Bresenham's end point rounding (nearest-even, half-away,
    floor, toward-zero), tie direction (step, stay) and direction of travel (as given, or
    from the end point with smaller x or smaller major coordinate, as textbooks'
-   ``plotLine``), and the rectangle's sample point and tie rule
-   (the 9 usual sample points x the 8 tie rules): :data:`LINE_RULES_TRIED` x those, scored
+   ``plotLine``), and the rectangle's sample point and tie rule (the 9 usual sample points,
+   and the one measured by sweeping a segment's end across a pixel,
+   :func:`line_sample_sweep`, at a few dyadic precisions, as for triangles, x the 8 tie
+   rules): :data:`LINE_RULES_TRIED` x those, scored
    on scenes whose end points are multiples of 1/4 px (no candidate snapping of 2 bits or
    more moves them) -- :func:`crafted_lines`, where the candidates part on purpose, and
    random lattice segments and polylines (:func:`lattice_lines`):
@@ -45,15 +47,24 @@ zero and no other candidate's is:
    changes no pixel of any input (floor snapping in front of Bresenham's floor rounding)
    is not seen, and need not be: the two conventions draw alike.
 
-3. The rule is then ranked again with the fitted snapping on every scene drawn: the
+   For rectangles, the measured sample point was swept with a snapped end, so it lies up to
+   a grid step off: the grid points either side of it, on the grid found and its
+   neighbours (:func:`harness.probes.grid_sides`), join the candidates, and the snapping is
+   fitted again with each of them.
+
+3. The rule is then ranked again with the fitted snapping on every scene drawn (and, for
+   rectangles at a sample point off the 9 usual ones, on :func:`rectangle_tie_lines`,
+   whose sides and caps run through samples there, as for triangles' tie scenes): the
    runner-up (the best candidate differing in rule, last pixel, rounding, ties, direction, or for
    rectangles sample point or tie rule) and each rule's best score on the lattice scenes
    are the evidence.
 
 4. *Wide lines* (:func:`wide_lines`): lattice segments of width 3, against the fitted
    rectangular lines (for a width-1 rule, the best rectangle of step 1, and the rule
-   itself at width 1: a drawer that ignores the width). The width-1 rules have no other
-   width: refusing is right for them.
+   itself at width 1: a drawer that ignores the width; for a diamond rule, the rule
+   replicated along the minor axis as GL's wide lines: a drawer doing that exactly is
+   identified with ``LineRule(wide="replicate")``). Otherwise the width-1 rules have no
+   other width: refusing is right for them.
 
 Only segments as the oracle defines them are judged: a rasterizer whose answers carry
 alphas or sample indices is not fitted (the line rules are aliased, single-sample).
@@ -72,14 +83,15 @@ from numpy.typing import NDArray
 from harness.api import Coverage, LineScene
 from harness.checks import FragmentCounter
 from harness.conventions import (
-    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, LINE_DIRECTIONS, LINE_RULES, SNAP_ROUNDINGS, TIE_RULES, Convention, LineRule,
-    SnapRounding,
+    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, DIAMOND_RULES, LINE_DIRECTIONS, LINE_RULES, MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES,
+    Convention, LineRule, SnapRounding,
 )
 from harness.isolation import Call, Outcome, describe
 from harness.oracle import exact_coverage
-from harness.probes import SAMPLES, SNAP_BITS
+from harness.probes import SAMPLES, SNAP_BITS, _fraction_bits, _sample_candidates, grid_sides
 
-__all__ = ["LINE_RULES_TRIED", "PROBE_SIZE", "WIDE", "LineDrawn", "LineRounding", "WideLines", "LineFit",
+__all__ = ["LINE_RULES_TRIED", "PROBE_SIZE", "WIDE", "LineDrawn", "LineRounding", "WideLines", "LineFit", "LineSampleSweep",
+           "line_sample_sweep", "rectangle_tie_lines",
            "line_rules_tried", "line_candidates", "crafted_lines", "lattice_lines", "nudged_lines", "float_lines",
            "half_step_lines", "wide_lines", "fit_lines"]
 
@@ -90,15 +102,15 @@ WIDE = 3.0
 
 
 def line_rules_tried() -> tuple[LineRule, ...]:
-    """The line rules :func:`fit_lines` tries, rectangles aside: diamond-exit with the last
-    pixel omitted or drawn, and Bresenham with each rounding, tie direction, last-pixel
+    """The line rules :func:`fit_lines` tries, rectangles aside: diamond-exit (D3D's test
+    areas and GL's perturbed end points) with the last pixel omitted or drawn, and Bresenham with each rounding, tie direction, last-pixel
     rule and direction of travel (as given, or normalised as textbook plotLine does: from
     the smaller x, from the smaller major coordinate), the rule's own setting first.
 
     >>> len(line_rules_tried()), line_rules_tried()[0].describe()
-    (50, 'diamond-exit lines, last pixel omitted')
+    (52, 'diamond-exit lines, last pixel omitted')
     """
-    rules = [LineRule("diamond-exit", last_pixel=False), LineRule("diamond-exit", last_pixel=True)]
+    rules = [LineRule(rule, last_pixel=last) for rule in DIAMOND_RULES for last in (False, True)]
     rules += [LineRule("bresenham", last_pixel=last, rounding=rounding, ties=ties, direction=direction)
               for direction in LINE_DIRECTIONS for rounding in BRESENHAM_ROUNDINGS for ties in BRESENHAM_TIES
               for last in (True, False)]
@@ -108,23 +120,27 @@ def line_rules_tried() -> tuple[LineRule, ...]:
 LINE_RULES_TRIED = line_rules_tried()
 
 
-def line_candidates(base: Convention | None = None) -> list[Convention]:
+def line_candidates(base: Convention | None = None, measured: tuple[float, float] | None = None) -> list[Convention]:
     """Every candidate line convention, unsnapped: ``base`` (the triangle convention when
     there is one and it is single-sample; else the default) with each of
-    :data:`LINE_RULES_TRIED`, then with rectangles at the 9 usual sample points x the 8 tie
+    :data:`LINE_RULES_TRIED`, then with rectangles at the 9 usual sample points, and the
+    ``measured`` one (:func:`line_sample_sweep`) at a few dyadic precisions
+    (:func:`harness.probes._sample_candidates`, as for triangles), x the 8 tie
     rules, ``base``'s own first (a tie in the score goes to the earlier candidate). The
     rest of ``base`` (culling) plays no part in lines; keeping it makes a line convention
     that agrees with the triangles equal to the triangle convention with its line rule.
 
     >>> candidates = line_candidates()
-    >>> len(candidates), candidates[0].line.rule, candidates[50].line.rule, candidates[50].sample
-    (122, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    >>> len(candidates), candidates[0].line.rule, candidates[52].line.rule, candidates[52].sample
+    (124, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    >>> len(line_candidates(measured=(0.25, 0.75))), line_candidates(measured=(0.25, 0.75))[-1].sample
+    (132, (0.25, 0.75))
     """
     single = base if base is not None and base.kind == "single" else Convention()
     unsnapped = replace(single, subpixel_bits=None, snap_rounding="nearest-even")
     out = [replace(unsnapped, line=rule) for rule in LINE_RULES_TRIED]
     first = (single.sample, single.tie)
-    pairs = [first] + [(s, t) for s in SAMPLES for t in TIE_RULES if (s, t) != first]
+    pairs = [first] + [(s, t) for s in _sample_candidates(measured) for t in TIE_RULES if (s, t) != first]
     return out + [replace(unsnapped, sample=s, tie=t, line=LineRule("rectangle")) for s, t in pairs]
 
 
@@ -311,6 +327,39 @@ def float_lines(seed: int, count: int = 120) -> LineScene:
     return LineScene.from_segments(PROBE_SIZE, PROBE_SIZE, a, b)
 
 
+def rectangle_tie_lines(sample: tuple[float, float]) -> LineScene:
+    """Width-1 axis-aligned segments whose sides and caps run exactly through sample points
+    at ``sample`` (for rectangles at a sample point off the lattice, which no other probe
+    scene meets exactly): at 25 sample points, a horizontal segment with its top side
+    through the sample row and one with its bottom side through it, a vertical one with
+    its left side and one with its right side through the sample column, each starting
+    with its cap through the sample (a corner on it), 4 px long, and four diagonal ones
+    whose starting cap (a diagonal edge) runs through the sample, each way round: the
+    tie rules part there (the y-first ones on the diagonal caps, as on piglit's
+    pinwheels).
+
+    >>> len(rectangle_tie_lines((0.25, 0.75)))
+    400
+    """
+    sx, sy = sample
+    a: list[tuple[float, float]] = []
+    b: list[tuple[float, float]] = []
+    for i in range(2, 33, 7):
+        for j in range(2, 33, 7):
+            x, y = i + sx, j + sy
+            for p, q in (((x, y + 0.5), (x + 4.0, y + 0.5)), ((x, y - 0.5), (x + 4.0, y - 0.5)),
+                         ((x + 0.5, y), (x + 0.5, y + 4.0)), ((x - 0.5, y), (x - 0.5, y + 4.0))):
+                a.append(p)
+                b.append(q)
+            # diagonal ones whose starting cap, a diagonal edge, runs through the sample
+            for dx, dy in ((1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)):
+                p = (x + 0.25 * dy, y - 0.25 * dx)
+                a.append(p)
+                b.append((p[0] + 3.0 * dx, p[1] + 3.0 * dy))
+    start, end = np.array(a), np.array(b)
+    return LineScene.from_segments(PROBE_SIZE, PROBE_SIZE, np.concatenate([start, end]), np.concatenate([end, start]))
+
+
 def half_step_lines(seed: int, bits: int) -> LineScene:
     """:func:`crafted_lines` and a :func:`lattice_lines` scene with every coordinate moved
     by +-2**-(bits + 1): a half step of the 2**-bits grid next to a decision boundary,
@@ -334,8 +383,8 @@ def _send(call: Call, scene: LineScene) -> Outcome:
 @dataclass(frozen=True)
 class LineDrawn:
     """A line scene and the rasterizer's answer to it, scored against candidate
-    conventions (missing plus extra pixels, with multiplicity; an unanswered scene counts
-    as drawing nothing). The answer is seen tidied (:meth:`harness.api.Coverage.tidy`),
+    conventions (missing plus extra pixels, with multiplicity; an unanswered scene says
+    nothing: no pixels, no mismatches, left out of every fit and residual). The answer is seen tidied (:meth:`harness.api.Coverage.tidy`),
     the pixels the tidying dropped counted as extra (``dropped``)."""
 
     scene: LineScene
@@ -388,7 +437,10 @@ class LineDrawn:
         return replace(convention, subpixel_bits=None, snap_rounding="nearest-even") if self._still[bits, rounding] else convention
 
     def mismatches(self, convention: Convention) -> int:
-        """Missing plus extra pixels against the exact oracle of ``convention``."""
+        """Missing plus extra pixels against the exact oracle of ``convention`` (0 when
+        unanswered: no answer is not an answer of nothing)."""
+        if self.coverage is None:
+            return 0
         seen = self._seen_as(convention)
         if seen not in self._scores:
             judged = self.scene if self.judged is None else self.judged
@@ -447,6 +499,7 @@ class WideLines:
     rectangle: Convention | None = None
     mismatches: int = 0
     thin: int | None = None
+    replicated: int | None = None
 
     @property
     def text(self) -> str:
@@ -456,6 +509,9 @@ class WideLines:
         said += "rectangular lines" if self.rectangle is None else self.rectangle.describe_lines()
         if self.thin is not None:
             said += f"; {self.thin:,} against its rule at width 1" + (" (it ignores the width)" if self.thin == 0 else "")
+        if self.replicated is not None:
+            said += (f"; {self.replicated:,} against its rule replicated along the minor axis"
+                     + (" (GL's wide lines)" if self.replicated == 0 else ""))
         return said
 
 
@@ -472,7 +528,8 @@ class LineFit:
     apart (``ambiguous``); each rule's best score on the lattice scenes of step 1
     (``rule_scores``, unsnapped); the triangle
     convention compared (``triangles``; None when it takes none); the wide-line probe;
-    ``skipped``, why no fit was made."""
+    ``skipped``, why no fit was made; ``sweep``, the sample point measured
+    (:func:`line_sample_sweep`)."""
 
     convention: Convention | None
     residual: int = 0
@@ -486,6 +543,7 @@ class LineFit:
     scenes: int = 0
     unanswered: tuple[str, ...] = ()
     skipped: str = ""
+    sweep: LineSampleSweep | None = None
     drawn: tuple[LineDrawn, ...] = field(default=(), repr=False, compare=False)
 
     @property
@@ -494,9 +552,9 @@ class LineFit:
 
     @property
     def exact(self) -> bool:
-        """No mismatch, a runner-up with some, no ambiguity."""
+        """No mismatch, a runner-up with some, no ambiguity, every probe scene answered."""
         return (self.convention is not None and self.residual == 0 and not (self.runner_up is not None and self.runner_up[1] == 0)
-                and not self.ambiguous)
+                and not self.ambiguous and not self.unanswered)
 
     @property
     def differences(self) -> tuple[str, ...]:
@@ -520,7 +578,9 @@ class LineFit:
     def text(self) -> str:
         if self.convention is None:
             return f"not fitted: {self.skipped}"
-        quality = ("" if self.exact else " (best guess only)" if self.residual else
+        quality = ("" if self.exact else
+                   f" (best guess only: {len(self.unanswered)} probe scenes unanswered, left out of the fit)" if self.unanswered else
+                   " (best guess only)" if self.residual else
                    f" (ambiguous between {' and '.join(self.ambiguous)})" if self.ambiguous else
                    " (ambiguous: the next best explains it as well)")
         said = f"{self.convention.describe_lines()}, {self.residual:,} mismatches of {self.pixels:,} pixels{quality}"
@@ -530,7 +590,7 @@ class LineFit:
         if same is False:
             said += f"; DIFFERS from triangles: {', '.join(self.differences)}"
         if self.unanswered:
-            said += f"; {len(self.unanswered)} of {self.scenes} probe scenes unanswered: {self.unanswered[0]}"
+            said += f"; {len(self.unanswered)} of {self.scenes} probe scenes unanswered (fit on the rest): {self.unanswered[0]}"
         return said
 
     @property
@@ -542,19 +602,87 @@ class LineFit:
 # --- the probes ---------------------------------------------------------------------------------
 
 
+@dataclass(frozen=True, slots=True)
+class LineSampleSweep:
+    """Where a rectangular line's end, swept across a pixel, stops covering it: the sample
+    point, up to the snapping grid (x from a horizontal segment's start, y from a
+    vertical one's); None when the pixel never flips (the rasterizer raised, draws
+    nothing there, or draws no rectangles)."""
+
+    offset: tuple[float, float] | None
+    resolution: int = 20
+
+    @property
+    def text(self) -> str:
+        if self.offset is None:
+            return "no flip found under a segment's end swept across a pixel (not rectangular lines, or nothing drawn)"
+        return (f"a segment's end swept across a pixel flips it at offset ({self.offset[0]:.6g}, {self.offset[1]:.6g}) "
+                f"(bisected to 2^-{self.resolution} px; snapping moves it by up to one grid step)")
+
+
+# The sweep's segments, as functions of the end's offset t into the probe pixel: a
+# horizontal one on y = 30.25 and 30.75 (a width-1 rectangle holds the samples of row 30
+# with y offsets in (-0.25, 0.75), (0.25, 1.25): one of them holds any), read at pixel
+# (8, 30); a vertical one on x = 30.25 and 30.75, read at pixel (30, 8).
+_SWEPT = ((0, 30.25), (0, 30.75), (1, 30.25), (1, 30.75))
+
+
+def line_sample_sweep(call: Call, resolution: int = 20) -> LineSampleSweep:
+    """The sample point of rectangular lines, measured directly as the triangles' sample
+    sweep does (:func:`harness.probes.sample_sweep`), anywhere on the dyadic grid: the
+    start of a long horizontal (vertical) segment moved from half a pixel before pixel
+    (8, 30) ((30, 8)) to half a pixel past it, bisected (every segment in one scene, one
+    call per halving) to where the pixel stops being covered. Each offset is read as the
+    end of its last interval with fewer fraction bits; the fit tries it at a few dyadic
+    precisions besides the 9 usual points, which absorbs the snapping's error."""
+    def covered(t: NDArray[np.float64]) -> NDArray[np.bool_] | None:
+        a = np.array([[8.0 + t[k], line] if axis == 0 else [line, 8.0 + t[k]] for k, (axis, line) in enumerate(_SWEPT)])
+        b = np.array([[40.0, line] if axis == 0 else [line, 40.0] for axis, line in _SWEPT])
+        got = _send(call, LineScene.from_segments(48, 48, a, b)).coverage
+        if got is None:
+            return None
+        k, x, y = got.pixels()
+        want = np.array([[8, 30] if axis == 0 else [30, 8] for axis, _ in _SWEPT])
+        return np.array([bool(np.any((k == i) & (x == want[i, 0]) & (y == want[i, 1]))) for i in range(len(_SWEPT))])
+
+    lo, hi = np.full(len(_SWEPT), -0.5), np.full(len(_SWEPT), 1.5)
+    at_lo, at_hi = covered(lo), covered(hi)
+    if at_lo is None or at_hi is None:
+        return LineSampleSweep(None, resolution)
+    flips = at_lo & ~at_hi
+    if not (flips[0] or flips[1]) or not (flips[2] or flips[3]):
+        return LineSampleSweep(None, resolution)
+    while hi[0] - lo[0] > 2.0**-resolution:
+        mid = (lo + hi) / 2.0  # exact: dyadic
+        at_mid = covered(mid)
+        if at_mid is None:
+            return LineSampleSweep(None, resolution)
+        lo, hi = np.where(at_mid, mid, lo), np.where(at_mid, hi, mid)
+    found = []
+    for axis in (0, 1):
+        k = 2 * axis if flips[2 * axis] else 2 * axis + 1
+        low, high = float(lo[k]), float(hi[k])
+        found.append(low if _fraction_bits(low) <= _fraction_bits(high) else high)
+    return LineSampleSweep((found[0], found[1]), resolution)
+
+
+
 def wide_lines(call: Call, seed: int, fitted: Convention, rectangle: Convention,
                received: Callable[[Any], Any] | None = None) -> WideLines:
     """Lattice segments of width :data:`WIDE` against ``rectangle`` (the best rectangular-line
     candidate of the fit), and for a width-1 rule (``fitted``) against that rule on the same
-    segments at width 1."""
+    segments at width 1; for a diamond rule, also against it replicated along the minor
+    axis (GL's wide lines, ``LineRule(wide="replicate")``)."""
     scene = lattice_lines(seed + 3, 60).with_line_width(WIDE)
     drawn = _draw(call, scene, received)
     if drawn.coverage is None:
         return WideLines(WIDE, describe(drawn.error))
-    thin = None
+    thin = replicated = None
     if fitted.line.rule != "rectangle":
         thin = drawn._counter.mismatches(exact_coverage(scene.with_line_width(1.0), fitted)) + drawn.dropped
-    return WideLines(WIDE, "", drawn.pixels, rectangle, drawn.mismatches(rectangle), thin)
+    if fitted.line.diamond:
+        replicated = drawn.mismatches(replace(fitted, line=replace(fitted.line, wide="replicate")))
+    return WideLines(WIDE, "", drawn.pixels, rectangle, drawn.mismatches(rectangle), thin, replicated)
 
 
 def _aliased(drawn: list[LineDrawn]) -> str:
@@ -563,7 +691,8 @@ def _aliased(drawn: list[LineDrawn]) -> str:
         if d.coverage is not None and d.coverage.alpha is not None:
             return "its lines carry alphas (anti-aliased); the line rules are aliased"
         if d.coverage is not None and d.coverage.sample is not None:
-            return "its lines carry sample indices (multisample); the line rules are single-sample"
+            return ("its lines carry sample indices (multisample): rectangles per sample, judged against the declared "
+                    "rule, not fitted here")
     return ""
 
 
@@ -590,7 +719,8 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
     -------
     LineFit
     """
-    candidates = line_candidates(triangles)
+    sweep = line_sample_sweep(call)
+    candidates = line_candidates(triangles, sweep.offset)
     # 1. the rule, on end points no candidate snapping moves
     ruled = [_draw(call, s, received) for s in (crafted_lines(), lattice_lines(seed), lattice_lines(seed, 60, strips=True))]
     answered = [d for d in ruled if d.coverage is not None]
@@ -602,7 +732,6 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
         return LineFit(None, triangles=triangles, scenes=len(ruled), skipped=odd, drawn=tuple(ruled))
     lattice = [_fit_score(ruled, c) for c in candidates]
     order = sorted(range(len(candidates)), key=lambda i: (lattice[i], i))
-    per_rule = {rule: min((lattice[i] for i, c in enumerate(candidates) if c.line.rule == rule), default=0) for rule in LINE_RULES}
     best = candidates[order[0]]
     # 2. snapping, on end points next to decision boundaries and on floats
     floats = [_draw(call, nudged_lines(seed), received), _draw(call, float_lines(seed), received)]
@@ -618,6 +747,22 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
 
     scored = sorted((_fit_score(floats, _snapped(best, b, r)), preference(b, r), k) for k, (b, r) in enumerate(snaps))
     bits, rounding = snaps[scored[0][2]]
+    if sweep.offset is not None and best.line.rule == "rectangle" and bits is not None:
+        # a rectangle's flip, swept with a snapped end, lies up to a grid step off its
+        # sample: the grid points either side of it near the grid found join the
+        # candidates, and the snapping is fitted again with each of them (the lattice
+        # scenes cannot tell them apart: their end points are never moved)
+        near = [b for b in (bits - 1, bits, bits + 1) if 0 <= b <= MAX_SUBPIXEL_BITS]
+        known = {(c.sample, c.tie) for c in candidates if c.line.rule == "rectangle"}
+        extra = [replace(candidates[order[0]], sample=s, tie=t) for s in grid_sides(sweep.offset, near)
+                 for t in TIE_RULES if (s, t) not in known]
+        candidates += extra
+        lattice += [_fit_score(ruled, c) for c in extra]
+        order = sorted(range(len(candidates)), key=lambda i: (lattice[i], i))
+        trials = [(best, *snaps[scored[0][2]])] + [(c, b, r) for c in extra if c.tie == best.tie
+                                                   for b in near for r in SNAP_ROUNDINGS]
+        _, _, _, best, bits, rounding = min(((_fit_score(floats, _snapped(c, b, r)), preference(b, r), k, c, b, r)
+                                            for k, (c, b, r) in enumerate(trials)), key=lambda t: t[:3])
     rounding_fit = None
     if bits is not None:
         floats.append(_draw(call, half_step_lines(seed, bits), received))
@@ -626,10 +771,14 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
         rounding_fit = LineRounding(bits, tuple((r, sum(d.mismatches(_snapped(best, bits, r)) for d in floats))
                                                 for _, _, r in ranked),
                                     tuple(r for score, _, r in ranked if score == ranked[0][0]))
+    per_rule = {rule: min((lattice[i] for i, c in enumerate(candidates) if c.line.rule == rule), default=0) for rule in LINE_RULES}
     # 3. the rule again, with that snapping, on every scene; a candidate's score on the
     # lattice scenes bounds its total from below (no snapping of 2 bits or more moves a
     # multiple of 1/4), so one that cannot beat the runner-up so far is passed over
     drawn = ruled + floats
+    if best.line.rule == "rectangle" and best.sample not in SAMPLES:
+        # ties at its sample point, which the lattice scenes do not meet (as identify does for triangles)
+        drawn.append(_draw(call, rectangle_tie_lines(best.sample), received))
     totals: list[tuple[int, int]] = []
     for rank, i in enumerate(order):
         candidate = _snapped(candidates[i], bits, rounding)
@@ -642,8 +791,10 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
     runner = _snapped(candidates[order[totals[1][1]]], bits, rounding)
     ambiguous = (tuple(f"{bits} bits {r}" for r in rounding_fit.tied)
                  if rounding_fit is not None and len(rounding_fit.tied) > 1 else ())
+    wide = wide_lines(call, seed, best, rectangle, received)
+    if wide.replicated == 0 and wide.pixels:  # it draws wide lines as GL does: part of its rule
+        best = replace(best, line=replace(best.line, wide="replicate"))
     return LineFit(best, sum(d.mismatches(best) for d in drawn), sum(d.pixels for d in drawn),
                    (runner.describe_lines(), sum(d.mismatches(runner) for d in drawn)), ambiguous,
-                   tuple(per_rule.items()), rounding_fit,
-                   wide_lines(call, seed, best, rectangle, received), triangles, len(drawn),
-                   tuple(describe(d.error) for d in drawn if d.coverage is None), drawn=tuple(drawn))
+                   tuple(per_rule.items()), rounding_fit, wide, triangles, len(drawn),
+                   tuple(describe(d.error) for d in drawn if d.coverage is None), sweep=sweep, drawn=tuple(drawn))

@@ -78,6 +78,38 @@ def _clean(value: Any) -> Any:
     return value
 
 
+def call_failures(results: Iterable[Result]) -> dict[str, dict[str, list[str]]]:
+    """Per rasterizer, the cases whose call timed out (cut off twice by its time limit), the
+    cases whose call failed (raised, crashed) and the cases whose call was answered only
+    when asked again; only rasterizers with any appear.
+
+    >>> call_failures([Result("r", "a", "run", "error", "timeout: no answer within 2 s, nor within 8 s when asked again"),
+    ...                Result("r", "b", "conformance", "pass", "ok", {}, {"retried": "cut off after 2 s, answered ..."})])
+    {'r': {'timed_out': ['a'], 'failed': [], 'retried': ['b']}}
+    """
+    out: dict[str, dict[str, list[str]]] = {}
+    for r in results:
+        kind = ("timed_out" if r.status == "error" and "timeout: " in r.message[:40] else
+                "failed" if r.status == "error" and "traceback" in r.evidence else
+                "retried" if "retried" in r.evidence else None)
+        if kind is None:
+            continue
+        found = out.setdefault(r.rasterizer, {"timed_out": [], "failed": [], "retried": []})[kind]
+        if r.case not in found:
+            found.append(r.case)
+    return out
+
+
+def call_failures_text(found: dict[str, list[str]], most: int = 5) -> str:
+    """One line of :func:`call_failures`' entry for a rasterizer."""
+    said = {"timed_out": "timed out (each asked twice)", "failed": "failed (raised or crashed)",
+            "retried": "answered only when asked again"}
+    parts = [f"{len(cases)} call{'' if len(cases) == 1 else 's'} {said[kind]}: " + ", ".join(cases[:most])
+             + (f" and {len(cases) - most} more" if len(cases) > most else "")
+             for kind, cases in found.items() if cases]
+    return "; ".join(parts)
+
+
 def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizers: dict[str, str],
                     fingerprints: dict[str, dict[str, Any]] | None = None, *,
                     scene_kinds: dict[str, tuple[str, ...]] | None = None, fill_rules: dict[str, tuple[str, ...]] | None = None,
@@ -91,7 +123,9 @@ def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizer
     ({'r': ['lines']}, {'r': 'rectangular lines'}, False)
     """
     # built from the fields (no asdict: it would deep-copy a drawing's arrays only to drop them)
+    results = list(results)
     rows = [_clean({name: getattr(r, name) for name in _FIELDS}) for r in results]
+    failures = call_failures(results)
     known = {"scene_kinds": scene_kinds, "fill_rules": fill_rules, "line_rules": line_rules}
     return {
         "schema": SCHEMA,
@@ -102,6 +136,7 @@ def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizer
         "rasterizers": rasterizers,
         **({"fingerprints": _clean(fingerprints)} if fingerprints else {}),
         **{field: _clean(value) for field, value in known.items() if value is not None},
+        **({"call_failures": failures} if failures else {}),  # per rasterizer: cases whose call timed out, failed, was asked again
         "results": rows,
     }
 

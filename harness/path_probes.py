@@ -469,12 +469,14 @@ class PathFit:
     lattice: LatticePaths | None = None
     skipped: str = ""
     probes: dict[str, object] = field(default_factory=dict, repr=False, compare=False)
+    unanswered: int = 0  # fit scenes it gave no answer for (left out of the fit and the residual)
 
     @property
     def exact(self) -> bool:
-        """No mismatch, a runner-up with some, no ambiguity, and none on genuine paths."""
+        """No mismatch, a runner-up with some, no ambiguity, none on genuine paths, and
+        every fit scene answered."""
         return (self.convention is not None and self.residual == 0 and not (self.runner_up is not None and self.runner_up[1] == 0)
-                and not self.ambiguous and (self.lattice is None or self.lattice.mismatches == 0))
+                and not self.ambiguous and (self.lattice is None or self.lattice.mismatches == 0) and not self.unanswered)
 
     @property
     def differences(self) -> tuple[str, ...]:
@@ -499,7 +501,9 @@ class PathFit:
         if self.convention is None:
             return f"not fitted: {self.skipped}"
         fit = (f"{self.convention.describe()}, {self.residual:,} mismatches of {self.pixels:,} pixels"
-               + ("" if self.exact else " (best guess only)" if self.residual else
+               + ("" if self.exact else
+                  f" (best guess only: {self.unanswered} fit scenes unanswered, left out of the fit)" if self.unanswered else
+                  " (best guess only)" if self.residual else
                   f" (ambiguous between {' and '.join(self.ambiguous)})" if self.ambiguous else
                   " (ambiguous: the next best explains it as well)" if self.lattice is None or not self.lattice.mismatches
                   else " (genuine paths disagree)"))
@@ -513,10 +517,10 @@ class PathFit:
 
 
 def path_fit_of(convention: Convention, residual: int, pixels: int, runner_up: tuple[str, int] | None,
-                ambiguous: tuple[str, ...], triangles: Convention | None, rule: str) -> PathFit:
+                ambiguous: tuple[str, ...], triangles: Convention | None, rule: str, unanswered: int = 0) -> PathFit:
     """A :class:`PathFit` from a fit already made (a rasterizer that takes only paths is
     identified through :func:`as_paths` in the first place)."""
-    return PathFit(convention, residual, pixels, runner_up, ambiguous, triangles, rule)
+    return PathFit(convention, residual, pixels, runner_up, ambiguous, triangles, rule, unanswered=unanswered)
 
 
 def fit_path_convention(call: Call, seed: int, rule: str, triangles: Convention | None) -> PathFit:
@@ -532,7 +536,8 @@ def fit_path_convention(call: Call, seed: int, rule: str, triangles: Convention 
     drawn = [*ties.drawn, *snapping.drawn]
     residual = sum(d.mismatches(convention) for d in drawn)
     return PathFit(convention, residual, sum(d.pixels for d in drawn), (ties.runner_up.describe(), ties.runner_up_mismatches),
-                   snapping.ambiguous, triangles, rule, probes={"ties": ties, "snapping": snapping})
+                   snapping.ambiguous, triangles, rule, probes={"ties": ties, "snapping": snapping},
+                   unanswered=len({id(d) for d in drawn if d.coverage is None}))
 
 
 def with_lattice(fit: PathFit, call: Call, rules: Sequence[str], seed: int) -> PathFit:

@@ -1314,16 +1314,17 @@ def _svg_lines(scene: LineScene, window: tuple[int, int, int, int], scale: float
     t0, t1 = _clip_parameters(np.where(finite[:, None], a, 0.0), np.where(finite[:, None], b, 0.0), box)
     seen = finite & (lo[:, 0] <= box[2]) & (hi[:, 0] >= box[0]) & (lo[:, 1] <= box[3]) & (hi[:, 1] >= box[1])
     rule = convention.line.rule if convention is not None else None
+    gl = convention is not None and convention.line.gl
     wide = rule == "rectangle"
     in_view = np.flatnonzero(seen & ((t0 <= t1) | wide))
     if named is not None and named in in_view:  # the named segment is drawn, whatever the budget
         in_view = np.concatenate([[named], in_view[in_view != named]])
     shown, left_out = np.sort(in_view[:MAX_DRAWN_SEGMENTS]), max(in_view.size - MAX_DRAWN_SEGMENTS, 0)
-    if rule == "diamond-exit":
+    if convention is not None and convention.line.diamond:
         d = b[named] - a[named] if named is not None and finite[named] else np.zeros(2)
         y_major = bool(abs(d[1]) > abs(d[0]))  # the y-major test area holds its right corner too
         for mx, my in [m for m in marks if x0 <= m[0] < x1 and y0 <= m[1] < y1][:8]:
-            parts.extend(_svg_diamond(mx, my, y_major, thin))
+            parts.extend(_svg_diamond(mx, my, y_major, thin, gl))
     colour_of = {k: _NAMED_SEGMENT if k == named else _OTHER_SEGMENT for k in shown.tolist()}
     if wide:  # the rectangle of each segment: its sides at half the width, no end caps beyond the end points
         half = 0.5 * scene.line_width
@@ -1374,11 +1375,12 @@ def _svg_lines(scene: LineScene, window: tuple[int, int, int, int], scale: float
     return parts
 
 
-def _svg_diamond(i: int, j: int, y_major: bool, thin: str) -> list[str]:
+def _svg_diamond(i: int, j: int, y_major: bool, thin: str, gl: bool = False) -> list[str]:
     """The diamond-exit rule's test area of pixel (i, j) (:mod:`harness.lines`): the diamond
     |x - xc| + |y - yc| < 1/2 with its lower-left and lower-right edges and its bottom
     corner included (solid, a filled dot), its upper edges and top and left corners
-    excluded (dashed, rings), its right corner included only for a y-major segment."""
+    excluded (dashed, rings), its right corner included only for a y-major segment. GL's
+    (``gl``): its right edges and right corner in, the rest out, for every segment."""
     colour = _hex(LINE_LEGEND[_DIAMOND])
     top, right, bottom, left = (i + 0.5, j), (i + 1.0, j + 0.5), (i + 0.5, j + 1.0), (i, j + 0.5)
 
@@ -1389,6 +1391,13 @@ def _svg_diamond(i: int, j: int, y_major: bool, thin: str) -> list[str]:
         style = f'fill="{colour}"' if included else f'fill="white" stroke="{colour}" stroke-width="1" {thin}'
         return f'<circle cx="{v[0]:g}" cy="{v[1]:g}" r="0.06" {style}/>'
 
+    if gl:
+        return [f'<g><title>GL test area of pixel ({i}, {j}) (end points moved by -(eps, eps^2)): right edges and right '
+                f'corner in, left edges, top, bottom and left corners out</title>',
+                f'<path d="M{at(top)} L{at(right)} L{at(bottom)}" fill="none" stroke="{colour}" stroke-width="2" {thin}/>',
+                f'<path d="M{at(bottom)} L{at(left)} L{at(top)}" fill="none" stroke="{colour}" stroke-width="1.5" '
+                f'stroke-dasharray="3 2" {thin}/>',
+                corner(right, True), corner(bottom, False), corner(top, False), corner(left, False), "</g>"]
     return [f'<g><title>diamond test area of pixel ({i}, {j}): lower edges and bottom corner in, upper edges, top and '
             f'left corners out, right corner {"in (a y-major segment)" if y_major else "out (an x-major segment)"}</title>',
             f'<path d="M{at(right)} L{at(bottom)} L{at(left)}" fill="none" stroke="{colour}" stroke-width="2" {thin}/>',

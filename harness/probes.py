@@ -16,6 +16,7 @@ and ``compare`` both explain a rasterizer with it, so they cannot disagree.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
@@ -77,7 +78,8 @@ class Drawn:
     tidied (:meth:`harness.api.Coverage.tidy`) with the pixels the tidying dropped --
     off-screen, beyond a triangle's reach, or emitted twice -- counted (``dropped``):
     against any oracle they are extra, so the mismatches are the same either way. An
-    unanswered scene counts as drawing nothing.
+    unanswered scene (an error, a crash, a timeout) says nothing of the convention: it has
+    no pixels and no mismatches, and is left out of every fit and residual.
     """
 
     scene: Scene
@@ -136,7 +138,10 @@ class Drawn:
         return replace(convention, subpixel_bits=None, snap_rounding="nearest-even") if self._still[bits, rounding] else convention
 
     def mismatches(self, convention: Convention) -> int:
-        """Missing plus extra pixels against the exact oracle of ``convention``."""
+        """Missing plus extra pixels against the exact oracle of ``convention`` (0 when
+        unanswered: no answer is not an answer of nothing)."""
+        if self.coverage is None:
+            return 0
         seen = self._seen_as(convention)
         if seen not in self._scores:
             self._scores[seen] = self._counter.mismatches(exact_coverage(self.scene, seen)) + self.dropped
@@ -155,7 +160,7 @@ def send(call: Call, scene: AnyScene) -> Outcome:
 
 def _fit_score(drawn: list[Drawn], convention: Convention) -> int:
     """Mismatches on the answered scenes: an unanswered one says nothing of the convention,
-    so it never steers a fit (the mismatches reported count it as drawing nothing)."""
+    so it never steers a fit (nor counts in a residual)."""
     return sum(d.mismatches(convention) for d in drawn if d.coverage is not None)
 
 
@@ -391,16 +396,48 @@ def _pinwheels(sample: tuple[float, float], sizes: tuple[int, ...] = (1, 2, 3)) 
     return np.array(wheels)
 
 
-def _sample_candidates(measured: tuple[float, float] | None) -> list[tuple[float, float]]:
+def _sample_candidates(measured: tuple[float, float] | None, grid: int | None = None) -> list[tuple[float, float]]:
     """The 9 usual sample points, plus the measured one at a few dyadic precisions (each
-    clipped to [0, 1] and a multiple of 2**-12: a valid :class:`Convention` sample)."""
+    clipped to [0, 1] and a multiple of 2**-12: a valid :class:`Convention` sample); with
+    a vertex-sweep ``grid`` (snapping to 2**-(grid - 1) px rounding, or 2**-grid
+    truncating), also the points of those grids on either side of it in each axis: a
+    flip is where the *snapped* edge crosses the sample, up to a grid step from it, and
+    rounding the measured point may pick the wrong side (dEQP's 77/256 under 8-bit
+    snapping flips at 76.5/256).
+
+    >>> _sample_candidates((0.2988, 0.5), 9)[9:]  # 77/256 under 8-bit snapping is the last
+    [(0.25, 0.5), (0.3125, 0.5), (0.296875, 0.5), (0.298828125, 0.5), (0.30078125, 0.5)]
+    """
     samples = list(SAMPLES)
-    if measured is not None:
-        for bits in (1, 2, 3, 4, 6, 8, 12):
-            sx, sy = (min(1.0, max(0.0, round(v * 2**bits) / 2**bits)) for v in measured)
-            if (sx, sy) not in samples:
-                samples.append((sx, sy))
+    if measured is None:
+        return samples
+    for bits in (1, 2, 3, 4, 6, 8, 12):
+        sx, sy = (min(1.0, max(0.0, round(v * 2**bits) / 2**bits)) for v in measured)
+        if (sx, sy) not in samples:
+            samples.append((sx, sy))
+    if grid is not None:
+        samples += [s for s in grid_sides(measured, (grid - 1, grid)) if s not in samples]
     return samples
+
+
+def grid_sides(measured: tuple[float, float], grids: Sequence[int]) -> list[tuple[float, float]]:
+    """The points of each 2**-b px grid (b in ``grids``, 0..12 only: a valid
+    :class:`Convention` sample) on either side of a measured sample point in each axis,
+    clipped to [0, 1]: where a sample lies whose flip, measured with snapped edges, is
+    up to a grid step off.
+
+    >>> grid_sides((0.3027, 0.5), [8])
+    [(0.30078125, 0.5), (0.3046875, 0.5)]
+    """
+    out: list[tuple[float, float]] = []
+    for bits in grids:
+        if not 0 <= bits <= 12:
+            continue
+        scale = 2.0**bits
+        sides = [sorted({min(1.0, max(0.0, math.floor(v * scale) / scale)), min(1.0, max(0.0, math.ceil(v * scale) / scale))})
+                 for v in measured]
+        out += [(sx, sy) for sx in sides[0] for sy in sides[1] if (sx, sy) not in out]
+    return out
 
 
 def _snap_candidates(grid: int | None) -> list[tuple[int | None, SnapRounding]]:
@@ -451,8 +488,8 @@ def fit_ties(call: Call, seed: int = 0) -> TieFit:
     sample points plus the measured one, x the 8 tie rules, x no snapping and the
     snappings the sweep's grid allows. Each is scored by its mismatches on four lattice
     scenes, then on tie triangles and pinwheels at the best sample point so far; ties in
-    the score go to the earlier candidate. Only answered scenes steer the fit; the
-    mismatches reported count an unanswered one as drawing nothing.
+    the score go to the earlier candidate. Only answered scenes steer the fit and count in
+    the mismatches reported.
 
     Parameters
     ----------
@@ -469,7 +506,7 @@ def fit_ties(call: Call, seed: int = 0) -> TieFit:
     sweep = sample_sweep(call)
     vertex = vertex_sweep(call)
     candidates = [Convention(sample=sample, tie=tie, cull=found.cull, subpixel_bits=b, snap_rounding=r)
-                  for b, r in _snap_candidates(vertex.grid) for sample in _sample_candidates(sweep.offset)
+                  for b, r in _snap_candidates(vertex.grid) for sample in _sample_candidates(sweep.offset, vertex.grid)
                   for tie in TIE_RULES]
     # lattice triangles reach 2 px past a 48 px square; moved 4 px into a 56 px screen
     # (exactly) nothing crosses the viewport edge, so clipping cannot blur the convention
@@ -1010,7 +1047,8 @@ def _repro(result: Result, case: Case, call: Call, convention: Convention | None
 
 @dataclass(frozen=True, slots=True)
 class Unanswered:
-    """Fit scenes the rasterizer gave an error for (counted as drawing nothing)."""
+    """Fit scenes the rasterizer gave no answer for (an error, a crash, a timeout): left
+    out of the fit and the residual."""
 
     count: int
     of: int
@@ -1018,7 +1056,7 @@ class Unanswered:
 
     @property
     def text(self) -> str:
-        return f"{self.count} of {self.of} fit scenes unanswered, counted as drawing nothing; first: {self.first}"[:200]
+        return f"{self.count} of {self.of} fit scenes unanswered, left out of the fit and the residual; first: {self.first}"[:200]
 
 
 def unanswered(drawn: list[Drawn]) -> Unanswered | None:

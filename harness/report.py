@@ -55,6 +55,7 @@ from harness.causes import SIGNATURE, by_cause
 from harness.checks import EVIDENCE_LIMIT, Check, Result, check_names
 from harness.checks import checks as registered_checks
 from harness.files import atomic_write_text, safe_name
+from harness.output import call_failures, call_failures_text
 from harness.pictures import (ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, LINE_LEGEND, PATH_LEGEND, SAMPLE_LEGEND, draw,
                               draw_repro, numbered_path, numbered_segment, svg_pattern)
 
@@ -325,7 +326,7 @@ def _filters(sections: list[dict[str, Any]]) -> list[dict[str, Any]]:
 
 
 FACTS = ("coverage", "model", "levels", "area error", "sweeps", "pattern", "residual lies", "sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep",
-         "fill rules", "paths", "real paths")
+         "fill rules", "paths", "real paths", "calls")
 KIND_ORDER = {"built-in": 0, "real library": 1, "plugin": 2}
 
 
@@ -358,6 +359,7 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
     judging_lines = line_checks(results)
     meta = page_meta(suite, seed, seconds)
     env = _environment()
+    calls = call_failures(results)  # the cases whose call timed out, failed or was asked again
     rows: list[dict[str, Any]] = []
     for name, convention in conventions.items():
         mine = [r for r in results if r.rasterizer == name]
@@ -373,6 +375,7 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
             "filters": _filters(sections),
             "figures": coverage_figures(mine),
             "pattern": svg_pattern((patterns or {})[name]) if (patterns or {}).get(name) else None,
+            "calls": call_failures_text(calls[name]) if name in calls else "",
         }
         row.update(_scene_card(name, mine, problems, fingerprints.get(name), scene_kinds, fill_rules))
         row.update(_line_card(name, mine, problems, fingerprints.get(name), judging_lines, line_rules, row["declared"]))

@@ -1,8 +1,9 @@
 """The runner: every rasterizer on every case of a suite, each call isolated.
 
 Each rasterizer runs in a worker process of its own. An exception becomes an ``error``
-result carrying the traceback; a call that outlives the per-case time limit becomes a
-``timeout`` error, the worker is replaced, and the run goes on. Results already computed
+result carrying the traceback; a call cut off by its time limit
+(:class:`harness.isolation.TimeLimit`) is asked again once with a longer one, and one cut
+off twice becomes a ``timeout`` error, the worker is replaced, and the run goes on. Results already computed
 are never lost: ``on_result`` sees each one as soon as it exists.
 """
 
@@ -25,7 +26,7 @@ from harness.causes import signed
 from harness.declarations import answer_problem, declaration_problem, scene_kind_problem
 from harness.checks import Drawing, Result, Tolerance
 
-from harness.isolation import AnyCall, InProcess, Outcome, Worker, describe, each_until_error
+from harness.isolation import AnyCall, InProcess, Outcome, TimeLimit, Worker, describe, each_until_error
 from harness.registry import distinct_names, load
 
 __all__ = ["run_suite", "check_case", "check_motion", "replay"]
@@ -94,8 +95,16 @@ def check_case(case: Case, rasterizer: Rasterizer, call: AnyCall,
                              scene_kinds=scene_kinds_of(rasterizer))
     results = [check.verdict(subject) for check in applicable]
     drawing = Drawing.of(subject)  # references only (and the oracle if a check computed it): the report draws
-    return [replace(r, rasterizer=name, metrics={**r.metrics, "seconds": outcome.seconds},
-                    drawing=(r.drawing or drawing) if r.status == "fail" else None) for r in results]
+    return [_retried(replace(r, rasterizer=name, metrics={**r.metrics, "seconds": outcome.seconds},
+                             drawing=(r.drawing or drawing) if r.status == "fail" else None), [outcome]) for r in results]
+
+
+def _retried(result: Result, outcomes: Sequence[Outcome]) -> Result:
+    """``result``, its evidence saying which of the calls behind it were cut off by their time
+    limit and answered only when asked again (``retried``), when any were."""
+    said = [o.retry_text if len(outcomes) == 1 else f"frame {f}: {o.retry_text}"
+            for f, o in enumerate(outcomes) if o.retried is not None]
+    return replace(result, evidence={**result.evidence, "retried": "; ".join(said)}) if said else result
 
 
 def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
@@ -133,8 +142,8 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
     subject = checks.Subject(case, name, convention, coverages, call, tolerance, interpolates_of(rasterizer), seconds)
     results = [check.verdict(subject) for check in applicable]
     drawing = Drawing.of(subject)
-    return [replace(r, rasterizer=name, metrics={**r.metrics, "seconds": seconds},
-                    drawing=(r.drawing or drawing) if r.status == "fail" else None) for r in results]
+    return [_retried(replace(r, rasterizer=name, metrics={**r.metrics, "seconds": seconds},
+                             drawing=(r.drawing or drawing) if r.status == "fail" else None), outcomes) for r in results]
 
 
 def _qualified(result: Result, rasterizer: Rasterizer, case: Case | MotionCase) -> Result:
@@ -153,8 +162,10 @@ def _qualified(result: Result, rasterizer: Rasterizer, case: Case | MotionCase) 
         exact, residual, what = fingerprint.exact, fingerprint.residual, "convention"
     if exact:
         return result
+    unanswered = getattr(fingerprint, "unanswered", 0)
+    why = (f"; {unanswered} of its fit scenes went unanswered: calls failed" if unanswered and what == "convention" else "")
     return replace(result, message=(f"against the best-guess {what} (declared by nobody; identify's residual "
-                                    f"{residual} px): {result.message}"))
+                                    f"{residual} px{why}): {result.message}"))
 
 
 def run_suite(
@@ -164,7 +175,7 @@ def run_suite(
     *,
     cases: Sequence[Case | MotionCase] | None = None,
     tolerance: Tolerance = Tolerance(),
-    timeout: float = 60.0,
+    timeout: float | TimeLimit = 60.0,
     isolate: bool = True,
     repros: bool = True,
     repro_seconds: float = 120.0,
@@ -185,8 +196,10 @@ def run_suite(
     cases : list of Case, optional
         Run these instead of the suite's.
     tolerance : Tolerance
-    timeout : float
-        Seconds one rasterize call may take before it counts as hung.
+    timeout : float or TimeLimit
+        The time-limit policy of one rasterize call (:class:`harness.isolation.TimeLimit`;
+        a number is its cap, in seconds): a call cut off by its limit is asked again once
+        with a longer one, and only then is it a ``timeout`` error.
     isolate : bool
         Run each rasterizer in a worker process (default); False calls it in-process
         (no time limit), for debugging.
@@ -323,7 +336,7 @@ def _rerun(result: Result, case: Case | MotionCase, one_case: Callable[[Case | M
 
 
 def replay(path: Path | str, rasterizer: Rasterizer | str, isolate: bool = False, identify: bool = True,
-           timeout: float = 60.0) -> list[Result]:
+           timeout: float | TimeLimit = 60.0) -> list[Result]:
     """Replay a saved case (:func:`harness.case.save_case`, or a repro from a run): the
     check it names (plus hygiene), or, when it names none, every check that applies."""
     case, extra = read_case_file(path)

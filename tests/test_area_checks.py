@@ -26,8 +26,9 @@ from harness.conventions import Convention
 from harness.oracle import exact_coverage, sample_shares
 from harness.samples import STANDARD_PATTERNS
 from tests.known_bad.antialiasing import (
-    GRID_4X4, BiasedArea, CoarseSupersampleClaimsAnalytic, DriftingStepArea, FourBitArea, GammaEncodedArea,
-    HalfPixelShiftedArea, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, SwappedSampleBits, TruncatedArea,
+    GRID_4X4, BiasedArea, CoarseSupersampleClaimsAnalytic, DriftingStepArea, Float32EdgeStepping, FourBitArea,
+    GammaEncodedArea, HalfPixelShiftedArea, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, SwappedSampleBits,
+    TruncatedArea,
 )
 
 AREA_CHECKS = {"accuracy", "seams", "popping"}
@@ -581,3 +582,78 @@ def test_the_multisample_known_bads_are_well_formed(rasterizer):
     case = quick()["watertight/fan-8/centre"]
     results = judged(rasterizer, [case], {"hygiene"})
     assert results["hygiene"][case.id].status == "pass"
+
+
+# -- accuracy on every motion frame, and on triangles over 2,048 px tall (issue 29) ------------
+
+TALL = "float/tall-triangles-2048px"
+TALL_MOTION = "motion/tall-triangle/translate-x-1/64"
+
+
+def _errors_by_row(rasterizer: Any, scene: Scene) -> tuple[np.ndarray, np.ndarray]:
+    """(y, |alpha - exact area| in levels) of every (triangle, pixel) either side covers."""
+    width, height = scene.width, scene.height
+    got, want = rasterizer.rasterize(scene), exact_coverage(scene, rasterizer.convention)
+    keys, values = [], []
+    for cov in (got, want):
+        t, x, y = cov.pixels()
+        keys.append((t * height + y) * width + x)
+        values.append(cov.alpha)
+    union = np.union1d(*keys)
+    alpha, area = np.zeros(union.size), np.zeros(union.size)
+    alpha[np.searchsorted(union, keys[0])] = values[0]
+    area[np.searchsorted(union, keys[1])] = values[1]
+    return union // width % height, np.abs(alpha - area) * 255
+
+
+def test_an_edge_stepped_in_float32_drifts_down_the_tall_triangles_and_fails_accuracy():
+    """Far right, each row's float32 step rounds the same way: the error is about a
+    level (a rounding) near the top and tens of levels near the bottom, where accuracy finds it (no
+    near tie); the built-in anti-aliasers pass the same case."""
+    case = quick()[TALL]
+    assert isinstance(case, Case) and np.ptp(case.scene.positions[..., 1], axis=1).min() >= 2048
+    bad = Float32EdgeStepping()
+    verdict = judged(bad, [case], {"accuracy"})["accuracy"][TALL]
+    assert verdict.status == "fail" and verdict.metrics["max_error"] * 255 >= 10 and verdict.metrics["near_tie"] == 0
+    assert all(p["y"] > 1024 for p in verdict.evidence["pixels"][:10])
+    y, error = _errors_by_row(bad, case.scene)
+    assert error[y < 64].max() < 1.5 and error[y > 2000].max() >= 10
+    from rasterizers.area_scanline import AreaScanline
+    from rasterizers.supersample import Supersampler4
+
+    for good in (AreaScanline(), Supersampler4()):
+        assert judged(good, [case], {"accuracy"})["accuracy"][TALL].status == "pass", good.name
+
+
+def test_accuracy_judges_every_frame_of_a_motion_case_and_names_the_failing_ones():
+    """The tall sliver's drift fails accuracy in its frames (popping alone saw only pops);
+    a bias of two levels fails every frame of a small triangle's; the exact area in 8
+    bits passes every frame. Frames are named, counted and plotted."""
+    full = quick()[TALL_MOTION]
+    assert isinstance(full, MotionCase)
+    tall = MotionCase(full.id, full.frames[:6])  # six of its 129 frames: the drift is in each
+    verdict = judged(Float32EdgeStepping(), [tall], {"accuracy"})["accuracy"][tall.id]
+    assert verdict.status == "fail" and verdict.metrics["frames"] == 6 and verdict.metrics["failing_frames"] == 6
+    assert verdict.metrics["max_error"] * 255 >= 10 and verdict.message.startswith("6 of 6 frames fail (first: frame 0)")
+    worst = verdict.evidence["frame"]
+    assert f"frame {worst}:" in verdict.message and all(p["frame"] == worst for p in verdict.evidence["pixels"])
+    assert len(verdict.evidence["series"]["max_error_levels"]) == 6 and verdict.evidence["failing_frames"] == list(range(6))
+    small = cases("motion/triangle/translate-x-1/16")
+    biased = judged(BiasedArea(), small, {"accuracy"})["accuracy"]["motion/triangle/translate-x-1/16"]
+    frames = len(small[0].frames)  # type: ignore[union-attr]
+    assert biased.status == "fail" and biased.metrics["failing_frames"] == frames
+    assert 2.0 <= biased.metrics["max_error"] * 255 <= 2.5 + 1e-9  # two levels over, and the rounding
+    exact = judged(Quantised8Bit(), [tall, *small], {"accuracy"})["accuracy"]
+    assert {r.status for r in exact.values()} == {"pass"} and exact[tall.id].metrics["frames"] == 6
+    assert exact[tall.id].message.startswith("all 6 frames within the tolerance")
+
+
+def test_the_tall_fuzz_family_catches_float32_stepping() -> None:
+    """On the first tall fuzz scenes the float32 stepper fails accuracy every time, and
+    the reference passes."""
+    from cases.fuzz import generate
+    from rasterizers.area_scanline import AreaScanline
+
+    tall: list[Case | MotionCase] = [generate("tall", 5, index) for index in range(3)]
+    assert {r.status for r in judged(AreaScanline(), tall, {"accuracy"})["accuracy"].values()} == {"pass"}
+    assert {r.status for r in judged(Float32EdgeStepping(), tall, {"accuracy"})["accuracy"].values()} == {"fail"}

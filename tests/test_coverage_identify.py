@@ -58,9 +58,30 @@ class Supersampler:
         return Coverage.from_pixels(t, rest % w, rest // w, alpha=count / len(self.grid))
 
 
+class SnappedArea:
+    """An anti-aliaser that rounds its input to 1/2**bits px (half to even, as FreeType's
+    26.6 outline from a caller's lrint) and returns the exact area of the rounded scene
+    (:mod:`harness.area`, through the exact oracle of that scene), in 256 levels."""
+
+    convention = None
+
+    def __init__(self, bits: int = 6) -> None:
+        self.bits = bits
+        self.name = f"area-input-grid-{bits}"
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        scale = 2.0**self.bits
+        rounded = Scene(scene.width, scene.height, np.rint(scene.positions * scale) / scale)
+        cov = exact_coverage(rounded, Convention(coverage="area"))
+        return Coverage(cov.triangle, cov.y, cov.x0, cov.x1, alpha=np.round(cov.alpha * 255) / 255)
+
+
 GRID4 = tuple(((i + 0.5) / 4, (j + 0.5) / 4) for j in range(4) for i in range(4))
 MIRRORED = tuple((1.0 - x, y) for x, y in STANDARD_PATTERNS[4])  # the known-bad "mirrored sample pattern"
 SWAPPED = tuple(STANDARD_PATTERNS[4][k] for k in (1, 0, 3, 2))  # the standard offsets, sample bits swapped
+# dEQP's 2x pattern (rrRasterizer.cpp: samples at 0.3 and 0.7, snapped to its 8 sub-pixel
+# bits: 77/256 and 179/256, odd multiples of the snapping step)
+DEQP2 = ((77 / 256, 77 / 256), (179 / 256, 179 / 256))
 
 
 def test_coverage_kind_reads_what_the_answer_carries():
@@ -86,6 +107,11 @@ def test_coverage_kind_reads_what_the_answer_carries():
     (Convention(samples=SWAPPED), "the standard 4x offsets in ANOTHER ORDER"),
     (Convention(samples=8, tie="bottom-right-y-first"), "the standard 8x pattern"),
     (Convention(samples=4, subpixel_bits=8), "bisected to 2^-8 px"),  # the snapping grid's spacing
+    # each sample read at the end of its bisection interval that explains it (not the coarser one)
+    (Convention(samples=DEQP2, subpixel_bits=8, snap_rounding="half-away"), "2 samples"),
+    # truncation to 1/8 px shows as the vertex sweep's grid of 1/8, as rounding to 1/4 would: the
+    # bisection stops at 1/4 and the samples at odd eighths lie inside their intervals
+    (Convention(samples=4, subpixel_bits=3, snap_rounding="floor"), "the standard 4x pattern"),
     (Convention(samples=[(0.25, 0.5), (0.75, 0.25), (0.5, 0.875)], tie="top-right", cull="cw"), "3 samples"),
 ], ids=lambda c: c.describe() if isinstance(c, Convention) else "")
 def test_identify_recovers_a_multisample_pattern_exactly_in_its_order(hidden, said):
@@ -155,12 +181,27 @@ def test_identify_recovers_analytic_area_and_its_levels(levels):
     assert sweeps.vertical.levels >= 256 and sweeps.horizontal.levels >= 256  # about a level per 1/256 px step
     assert sweeps.max_error <= (0.5 / 255 if levels else 2.0**-24)
     assert fingerprint.to_dict()["levels"] == (levels or CONTINUOUS_LEVELS)
+    assert fingerprint.facts["input grid"].startswith("none detected")  # no snapping read into rounding noise
+
+
+def test_identify_finds_an_anti_aliasers_input_grid():
+    # FreeType's 26.6 input: the sweeps step in 64ths, at odd multiples of 1/128 px; against the
+    # exact area of the vertices as given many alphas lie beyond half a level, against that of
+    # the scene rounded to 1/64 px none
+    fingerprint = identify(SnappedArea(6))
+    grid = fingerprint.probes["sweeps"].grid
+    assert fingerprint.convention == Convention(coverage="area", levels=256, subpixel_bits=6), fingerprint.card()
+    assert fingerprint.exact and (grid.bits, grid.rounding, grid.beyond) == (6, "nearest-even", 0) and grid.unsnapped > 0
+    assert fingerprint.facts["input grid"].startswith("1/64 px (26.6), rounding half to even;")
+    assert "snapped to 1/64 px (6 bits)" in fingerprint.card()
 
 
 @pytest.mark.parametrize("hidden, levels, layout, sweep_levels", [
     (Convention(coverage="area", samples=GRID4), 17, "regular 4 x 4 grid (16 samples)", (5, 5)),
     (Convention(coverage="area", samples=4), 5, "4-rooks (every sample in a column and row of its own)", (5, 5)),
-], ids=["4x4 grid", "4-rooks"])
+    # an input grid of 1/256 px: the steps lie half a grid step from the samples (issue 29)
+    (Convention(coverage="area", samples=GRID4, subpixel_bits=8), 17, "regular 4 x 4 grid (16 samples)", (5, 5)),
+], ids=["4x4 grid", "4-rooks", "4x4 grid, 8 bits"])
 def test_identify_recovers_a_supersampling_grid(hidden, levels, layout, sweep_levels):
     fingerprint = identify(Hidden(hidden))
     sweeps = fingerprint.probes["sweeps"]

@@ -82,32 +82,18 @@ def test_hostile_catalogue_is_complete():
     assert len(HOSTILE) == 10
 
 
-class _HangsAfterSix:
-    name = "hangs_after_six"
+def test_a_hang_is_known_in_the_scaled_limit_and_one_retry_not_after_the_cap():
+    """Under a 60 s cap, a call on a small scene gets the policy's scaled limit and, cut off,
+    one more ask with a longer one: a rasterizer that hangs is known in seconds."""
+    from harness.isolation import TimeLimit
+    from tests.known_bad.misc import HangsOnEpsilon
 
-    def __init__(self):
-        from rasterizers.centre_scanline import CentreScanline
-
-        self.inner, self.calls = CentreScanline(), 0
-        self.convention = self.inner.convention
-
-    def rasterize(self, scene):
-        import time
-
-        self.calls += 1
-        if self.calls > 6:
-            time.sleep(3600)
-        return self.inner.rasterize(scene)
-
-
-def test_a_hang_is_known_in_seconds_not_after_the_absolute_timeout():
-    cases = [c for c in _quick() if c.family == "lattice"][:4]
-    results = run_suite([_HangsAfterSix()], cases=cases, timeout=60.0, repros=False, identify=False)
+    cases = [c for c in _quick() if c.family == "degenerate"][:12]
+    policy = TimeLimit(cap=60.0, base=0.3, rate=0.0, retry=2.0, first=60.0)
+    results = run_suite([HangsOnEpsilon()], cases=cases, timeout=policy, repros=False, identify=False)
     hung = [r for r in results if r.status == "error"]
-    assert hung and all("typical call" in r.message for r in hung), [r.message for r in results]
-    # the limit applied: seconds, from the rasterizer's own typical call, not the 60 s one
-    limits = [float(r.message.split("no answer within ")[1].split(" s")[0]) for r in hung]
-    assert all(limit < 10 for limit in limits), limits
+    assert hung and all(r.message == "timeout: no answer within 0.3 s, nor within 0.6 s when asked again" for r in hung), \
+        [r.message for r in hung]
 
 
 class _FrameFaults:
@@ -143,13 +129,13 @@ def test_frames_in_one_go_keep_each_call_limit_and_the_worker_in_step():
     import time
 
     from harness.api import Scene
-    from harness.isolation import InProcess, Worker
+    from harness.isolation import InProcess, TimeLimit, Worker
 
     def frame(x):
         return Scene(16, 16, [[[x, 1.0], [x + 6.5, 2.0], [x + 1.0, 9.5]]])
 
     plain = [frame(x) for x in (0.25, 1.5, 2.75, 3.0, 4.5, 5.0, 6.25)]
-    with Worker(_FrameFaults(), timeout=30.0, floor=1.0) as worker:
+    with Worker(_FrameFaults(), TimeLimit(cap=30.0, base=0.5, rate=0.0)) as worker:
         inline = InProcess(_FrameFaults())
         assert [o.coverage for o in worker.rasterize_all(plain)] == [o.coverage for o in inline.rasterize_all(plain)]
         for fault, words in ((7, "ValueError"), (8, "TimeoutError"), (9, "died")):
@@ -157,7 +143,7 @@ def test_frames_in_one_go_keep_each_call_limit_and_the_worker_in_step():
             outcomes = worker.rasterize_all([plain[0], frame(fault), plain[1]])
             assert len(outcomes) == 2 and outcomes[0].coverage is not None and outcomes[1].coverage is None
             assert words in f"{type(outcomes[1].error).__name__}: {outcomes[1].error}", outcomes[1].error
-            assert time.monotonic() - start < 10  # the frame's adapted limit (>= 1 s), not the 30 s one
+            assert time.monotonic() - start < 10  # the frame's limit and one retry (0.5 + 2 s), not the 30 s cap
             assert worker.rasterize(plain[2]).coverage == inline.rasterize(plain[2]).coverage  # in step
 
 

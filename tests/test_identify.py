@@ -2,6 +2,7 @@
 libraries are installed and are skipped with the install hint elsewhere."""
 
 import functools
+import re
 
 import pytest
 
@@ -58,6 +59,9 @@ def test_identify_recovers_each_builtin(name):
     Convention(tie="bottom-left", sample=(0.25, 0.75)),
     Convention(tie="top-right", sample=(0.375, 0.125), subpixel_bits=4),
     Convention(tie="bottom-right", sample=(0.0, 1.0), subpixel_bits=5, snap_rounding="floor"),
+    # odd multiples of the snapping step: the sweep flips where the snapped edge crosses them,
+    # half a step off (76.5/256), and the candidates hold the grid points either side (issue 29)
+    Convention(sample=(77 / 256, 179 / 256), subpixel_bits=8, snap_rounding="half-away"),
 ], ids=str)
 def test_identify_recovers_hidden_conventions(hidden):
     fingerprint = _identified_hidden(hidden)
@@ -423,17 +427,24 @@ def test_identify_gives_a_lying_rasterizer_a_residual_not_an_exception(index):
 
     rasterizer = _lying()[index]
     fingerprint = identify(rasterizer)
-    assert isinstance(fingerprint, Fingerprint) and not fingerprint.exact and fingerprint.residual > 0
+    # a residual over what it answered; fit scenes it did not answer are left out and named
+    assert isinstance(fingerprint, Fingerprint) and not fingerprint.exact and (fingerprint.residual > 0 or fingerprint.unanswered > 0)
     assert "best guess only" in fingerprint.card()
+    if fingerprint.unanswered:
+        assert "best guess only because calls failed" in fingerprint.card() and " probe calls failed: #" in fingerprint.facts["calls"]
     assert all(isinstance(text, str) for text in fingerprint.facts.values())
     json.dumps(fingerprint.to_dict())
 
 
 def test_identify_reports_fit_scenes_the_rasterizer_did_not_answer():
     fingerprint = identify(RaisesOnBigScenes())
-    assert not fingerprint.exact and fingerprint.residual > 0, fingerprint.card()
+    # no answer is not an answer of nothing: no residual from the scenes it did not answer,
+    # and no claim either
+    assert not fingerprint.exact and fingerprint.residual == 0 and fingerprint.unanswered == 8, fingerprint.card()
+    assert "(best guess only because calls failed: 8 fit scenes unanswered" in fingerprint.card()
     # 4 lattice scenes, tie triangles, pinwheels and 2 float scenes (no snapping seen: no half steps)
-    assert fingerprint.facts["unanswered"].startswith("8 of 8 fit scenes unanswered"), fingerprint.card()
+    assert fingerprint.facts["unanswered"].startswith("8 of 8 fit scenes unanswered, left out of the fit"), fingerprint.card()
+    assert "probe calls failed: #" in fingerprint.facts["calls"] and fingerprint.facts["calls"].endswith("the fit is on the rest")
     assert "MemoryError: too many triangles" in fingerprint.facts["unanswered"]
     # nothing it did not answer steers the guess, and what it did answer is still measured
     assert fingerprint.convention == Convention()
@@ -467,7 +478,10 @@ def test_identify_isolated_goes_on_past_a_dying_call_and_agrees_with_identify():
     assert isolated.exact and isolated.convention == Convention(), isolated.card()
     assert "NaN: raises RuntimeError: the rasterizer's worker process died (exit code 3)" in isolated.facts["non-finite"]
     plain = _identified("centre_scanline").to_dict()
-    assert {**isolated.to_dict(), "rasterizer": None, "facts": None} == {**plain, "rasterizer": None, "facts": None}
+    # the dying call is named on the card, and is the one difference
+    assert [f["error"] for f in isolated.to_dict()["calls"]["failed"]] == ["RuntimeError: the rasterizer's worker process died (exit code 3)"]
+    assert re.search(r"^1 of [0-9,]+ probe calls failed: #[0-9]+ \(2 triangles on 32 x 32 px: RuntimeError", isolated.facts["calls"]) and plain["calls"]["failed"] == []
+    assert {**isolated.to_dict(), "rasterizer": None, "facts": None, "calls": None} == {**plain, "rasterizer": None, "facts": None, "calls": None}
 
 
 class Sluggish:

@@ -138,12 +138,15 @@ def test_each_rule_draws_its_own_pixels() -> None:
     assert rectangle.sum() >= 1 and not np.array_equal(rectangle, bresenham)
 
 
-def test_wide_lines_are_for_the_rectangle_rule_only() -> None:
+def test_wide_lines_are_for_the_rectangle_rule_and_replicated_diamonds_only() -> None:
     scene = LineScene.from_segments(8, 8, [[1, 1]], [[6, 5]], line_width=2.5)
     assert exact_coverage(scene, Convention(line="rectangle")).n_pixels > 5
     with pytest.raises(ValueError, match="width 1, not 2.5"):
         exact_coverage(scene, Convention())
-    with pytest.raises(ValueError, match="single-sample"):
+    with pytest.raises(ValueError, match="integer widths, not 2.5"):
+        exact_coverage(scene, Convention(line=LineRule(wide="replicate")))
+    # multisample lines are rectangles per sample: a width-1 rule there is refused
+    with pytest.raises(ValueError, match="rectangles sampled per sample"):
         exact_coverage(LineScene.from_segments(8, 8, [[1, 1]], [[6, 5]]), Convention(samples=4))
 
 

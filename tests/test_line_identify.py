@@ -81,6 +81,11 @@ DECLARED = [
                subpixel_bits=4),
     Convention(line="rectangle"),
     Convention(sample=(0.0, 0.0), tie="bottom-right-y-first", line="rectangle", subpixel_bits=4, snap_rounding="half-away"),
+    # off the 9 usual sample points: measured by a segment's end swept across a pixel (issue 29)
+    Convention(sample=(0.25, 0.75), line="rectangle"),
+    Convention(sample=(0.375, 0.125), tie="top-right", line="rectangle", subpixel_bits=8, snap_rounding="half-away"),
+    # odd multiples of the snapping step: the swept end flips half a step off them (76.5/256)
+    Convention(sample=(77 / 256, 179 / 256), line="rectangle", subpixel_bits=8, snap_rounding="half-away"),
 ]
 
 

@@ -3,10 +3,14 @@ passes, and passes a control case its bug does not touch (so the failure is the 
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
-from harness.api import PathScene
+from cases.paths import DEEP_WINDINGS, deep_winding
+from harness.api import Coverage, PathScene
 from harness.case import Case
+from harness.checks import conformance
+from harness.oracle import exact_coverage
 from harness.runner import run_suite
 from rasterizers.trapezoid import TrapezoidFill
 from tests.known_bad.paths import BUGS, PathFillBug
@@ -26,7 +30,13 @@ def _case(name: str, contours: list, fill_rule: str) -> Case:  # type: ignore[ty
     return Case(f"paths/{name}/{fill_rule}", PathScene.from_paths(SIZE, SIZE, [contours], fill_rule), lattice=True)
 
 
+# the deep-winding cases (16 x 16 px): windings N, N - 1 and 1
+DEEP = {f"deep-{turns}{'' if rule == 'nonzero' else '-evenodd'}": Case(f"paths/deep-winding/{turns}/{rule}",
+                                                                       deep_winding(turns, rule), lattice=True)
+        for turns in DEEP_WINDINGS for rule in ("nonzero", "evenodd")}
+
 CASES = {
+    **DEEP,
     "pentagram": _case("pentagram", [PENTAGRAM], "nonzero"),
     "pentagram-evenodd": _case("pentagram", [PENTAGRAM], "evenodd"),
     "ring-same": _case("ring-same", [OUTER, HOLE], "nonzero"),
@@ -45,6 +55,13 @@ SHOWS = {
     "horizontal-crossings": (["row-rectangle"], ["row-diamond", "pentagram", "ring-opposite"]),
     "inclusive-ends": (["row-diamond", "row-rectangle"], ["quad", "pentagram", "ring-opposite"]),
     "open-contours": (["triangle", "pentagram", "ring-opposite"], []),
+    # a wrap adds a multiple of 2**bits: only a nonzero winding that is such a multiple
+    # reads as 0, and parity never changes
+    "int8-winding": (["deep-256", "deep-65536"], ["deep-128", "deep-128-evenodd", "deep-256-evenodd", "deep-65536-evenodd",
+                                                  "pentagram", "ring-same"]),
+    "int16-winding": (["deep-65536"], ["deep-128", "deep-256", "deep-65536-evenodd", "pentagram"]),
+    # a saturated counter is off by the crossings it dropped: wrong from 128 on, either rule
+    "int8-saturating": (list(DEEP), ["pentagram", "pentagram-evenodd", "ring-same", "ring-opposite"]),
     "first-contour-only": (["ring-opposite", "ring-opposite-evenodd"], ["triangle", "pentagram", "ring-same", "quad"]),
     "contours-apart": (["ring-opposite", "ring-opposite-evenodd"], ["triangle", "pentagram", "ring-same", "quad"]),
 }
@@ -80,3 +97,47 @@ def test_known_bads_declare_the_reference_convention() -> None:
         assert bad.convention == TrapezoidFill.convention and bad.scene_kinds == TrapezoidFill.scene_kinds
     with pytest.raises(ValueError, match="bug"):
         PathFillBug("none")
+
+
+def test_the_deep_winding_cases_wind_that_deep_and_cannot_be_passed_by_drawing_nothing() -> None:
+    """Each deep-winding case has samples of winding N, N - 1 and 1 (counted here edge by
+    edge: no sample lies on an edge), and drawing nothing, only the square or only the
+    deep triangle fails it: no deep-winding case passes vacuously."""
+    for name, case in DEEP.items():
+        assert isinstance(case.scene, PathScene)
+        turns = int(name.split("-")[1])
+        assert case.scene.vertices.shape[0] == 3 * turns + 1
+        a, b, _ = case.scene.edges()
+        for (px, py), winding in (((1.5, 1.5), turns - 1), ((3.5, 3.5), turns), ((5.5, 5.5), 1), ((0.5, 6.5), 0)):
+            crosses = (a[:, 1] <= py) != (b[:, 1] <= py)
+            at = a[crosses, 0] + (py - a[crosses, 1]) * (b[crosses, 0] - a[crosses, 0]) / (b[crosses, 1] - a[crosses, 1])
+            down = np.sign(b[crosses, 1] - a[crosses, 1])
+            assert abs(int(down[at < px].sum())) == winding, (name, px, py)
+        oracle = exact_coverage(case.scene, TrapezoidFill.convention)
+        assert oracle.n_pixels >= 16, name
+        assert conformance(case, Coverage.empty(), oracle, TrapezoidFill.convention).status == "fail", name
+        for contour in case.scene.contours():
+            part = PathScene.from_paths(case.scene.width, case.scene.height, [[contour]], case.scene.fill_rule)
+            alone = exact_coverage(part, TrapezoidFill.convention)
+            assert conformance(case, alone, oracle, TrapezoidFill.convention).status == "fail", name
+    # the rules part where the winding is even (N): nonzero fills it, even-odd leaves it
+    nonzero, evenodd = (exact_coverage(DEEP[n].scene, TrapezoidFill.convention) for n in ("deep-256", "deep-256-evenodd"))
+    assert 0 < evenodd.n_pixels < nonzero.n_pixels
+
+
+def test_the_winding_fuzz_family_catches_wrapping_counters() -> None:
+    """On the first winding fuzz scenes, fillers whose winding counter wraps in 8 or 16
+    bits fail conformance where the reference passes (the family's campaigns find them)."""
+    from cases.fuzz import generate
+
+    winding = [generate("winding", 5, index) for index in range(12)]
+
+    def failing(rasterizer: object) -> set[str]:
+        results = run_suite([rasterizer], cases=winding, isolate=False, identify=False, repros=False,  # type: ignore[list-item]
+                            only={"conformance"})
+        assert len(results) == len(winding), [(r.case, r.check, r.status) for r in results]
+        return {r.case for r in results if r.status != "pass"}
+
+    assert not failing(TrapezoidFill())
+    wrapped = {bits: failing(PathFillBug(f"int{bits}-winding")) for bits in (8, 16)}
+    assert wrapped[16] and wrapped[16] < wrapped[8]  # what wraps in 16 bits wraps in 8, and more does

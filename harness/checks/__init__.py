@@ -13,7 +13,8 @@ only where the exact predicate puts the sample on an edge line.
 
 Registration order is the order results come in: hygiene, conformance, watertight,
 overdraw (on request), closed, degenerate, invariance; jaggy, texel, perspective on motion
-cases; then accuracy, seams (still cases) and popping (motion cases), which judge area
+cases; then accuracy (still cases, and each frame of a motion case), seams (still
+cases) and popping (motion cases), which judge area
 (anti-aliased) coverage only; then triangulation (path cases: a path against its
 triangles); then the line checks (line cases, :mod:`harness.checks.lines`): connectivity,
 joints, reversal, length, line-motion. Checks that mean nothing for lines (watertight,
@@ -38,7 +39,7 @@ from harness.checks.closed import closed_balance
 from harness.checks.degenerate import control_scene, degenerate, measure_work, refusal
 from harness.checks.invariance import invariance, invariance_variants
 from harness.checks.motion import jaggy, perspective, texel_swimming
-from harness.checks.area import accuracy, popping, seams
+from harness.checks.area import accuracy, motion_accuracy, popping, seams
 from harness.checks.paths import triangulation
 from harness.checks.lines import connectivity, joints, length, line_motion, reversal
 
@@ -47,7 +48,7 @@ __all__ = [
     "Check", "Subject", "register", "registered", "checks", "check_names", "metric_tolerance", "timing_metrics", "result", "skip",
     "deviations", "FragmentCounter", "edge_distance", "near_ties", "hygiene", "conformance", "watertight",
     "pixel_classes", "blame", "overdraw", "closed_balance", "degenerate", "control_scene", "measure_work", "refusal",
-    "invariance", "invariance_variants", "jaggy", "texel_swimming", "perspective", "accuracy", "seams", "popping",
+    "invariance", "invariance_variants", "jaggy", "texel_swimming", "perspective", "accuracy", "motion_accuracy", "seams", "popping",
     "triangulation", "connectivity", "joints", "reversal", "length", "line_motion",
 ]
 

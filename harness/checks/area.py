@@ -20,7 +20,8 @@ accuracy
     :func:`harness.area.displaced_area_bound` of it (so only an area that close to a level's
     rounding boundary can round the other way), and each sample within rounding of an
     edge (:func:`harness.checks.conformance.near_ties`) may count either way. Decided
-    exactly; none on a lattice case, none allowed in strict mode.
+    exactly; none on a lattice case, none allowed in strict mode. On a motion case,
+    every frame is judged so (:func:`motion_accuracy`), and the failing frames named.
     A failure names its cause from facts about its errors when one holds
     (:func:`alpha_cause`): truncation, coarse levels, a bias, gamma, a sub-pixel shift, drift.
 seams
@@ -51,7 +52,7 @@ from numpy.typing import NDArray
 
 from harness.api import Coverage, Scene
 from harness.area import area_coverage, area_error_bound, displaced_area_bound, exact_area
-from harness.case import Case
+from harness.case import Case, MotionCase
 from harness.checks.conformance import near_ties
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
 from harness.checks.watertight import pixel_classes
@@ -59,9 +60,9 @@ from harness.conventions import Convention
 from harness.exact import orientation
 from harness.oracle import exact_samples
 
-__all__ = ["accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "level_values", "exact_alpha",
-           "exact_tolerance", "piece_allowance", "rounding_reach", "alpha_facts", "alpha_cause", "ALPHA_CAUSES", "LEVEL_NOISE",
-           "DISPLAY_LEVELS"]
+__all__ = ["accuracy", "motion_accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "level_values",
+           "exact_alpha", "exact_tolerance", "piece_allowance", "rounding_reach", "alpha_facts", "alpha_cause", "ALPHA_CAUSES",
+           "LEVEL_NOISE", "DISPLAY_LEVELS"]
 
 AREA_KINDS: frozenset[str] = frozenset({"area"})
 # An alpha meant as level k of L is k/(L-1) rounded to float64 (or computed as k * (1/(L-1)),
@@ -666,6 +667,64 @@ def alpha_cause(facts: dict[str, Any]) -> tuple[str, str] | None:
     return None
 
 
+def motion_accuracy(case: MotionCase, coverages: list[Coverage], oracles: list[Coverage], convention: Convention,
+                    tolerance: Tolerance = Tolerance()) -> Result:
+    """:func:`accuracy` on every frame of a motion sequence, each frame a still case of
+    its own (no lattice claim: a frame's near ties are float rounding as on any case);
+    the sequence fails when a frame does, and the result names the frames.
+
+    Parameters
+    ----------
+    case : MotionCase
+    coverages, oracles : list of Coverage
+        One per frame: the answers and the convention's oracle (the one popping reads).
+    convention : Convention
+        An area convention.
+    tolerance : Tolerance
+
+    Returns
+    -------
+    Result
+        Metrics summed over the frames (``over_tolerance``, ``off_level``, ``near_tie``,
+        ``pixels``, ``exact_decisions``), the largest of ``max_error`` and
+        ``near_tie_error``, ``mean_error`` over every frame's pixels, ``frames`` and
+        ``failing_frames``. Evidence: the worst failing frame's accuracy evidence (each
+        pixel with its ``frame``), ``frame`` (0-based), ``failing_frames`` (the first
+        few) and ``series`` per frame (``over_tolerance_pixels``, ``max_error_levels``,
+        ready to plot); on a pass, the series only.
+    """
+    verdicts = [accuracy(Case(case.id, scene), coverage, oracle, convention, tolerance)
+                for scene, coverage, oracle in zip(case.frames, coverages, oracles)]
+    summed = ("over_tolerance", "off_level", "near_tie", "pixels", "exact_decisions")
+    metrics = {key: float(sum(r.metrics[key] for r in verdicts)) for key in summed}
+    metrics["max_error"] = max((r.metrics["max_error"] for r in verdicts), default=0.0)
+    metrics["near_tie_error"] = max((r.metrics["near_tie_error"] for r in verdicts), default=0.0)
+    plain = [(r.metrics["pixels"] - r.metrics["near_tie"], r.metrics["mean_error"]) for r in verdicts]
+    counted = sum(n for n, _ in plain)
+    metrics["mean_error"] = float(sum(n * m for n, m in plain) / counted) if counted else 0.0
+    failing = [f for f, r in enumerate(verdicts) if r.status == "fail"]
+    metrics["frames"], metrics["failing_frames"] = float(len(verdicts)), float(len(failing))
+    step = convention.level_step
+    evidence: dict[str, Any] = {"series": {"over_tolerance_pixels": [r.metrics["over_tolerance"] for r in verdicts],
+                                           "max_error_levels": [r.metrics["max_error"] / step for r in verdicts]}}
+    if not failing:
+        first = verdicts[0].message if verdicts else "no frames"
+        message = f"every frame of {len(verdicts)}: {first}" if len(verdicts) == 1 else (
+            f"all {len(verdicts)} frames within the tolerance (largest error {metrics['max_error']:.3g}, "
+            f"{metrics['max_error'] / step:.2f} levels" + (f"; {int(metrics['near_tie'])} near ties" if metrics["near_tie"] else "")
+            + ")")
+        return result(case.id, "accuracy", True, message, metrics, evidence)
+    worst = max(failing, key=lambda f: (verdicts[f].metrics["max_error"], -f))
+    shown = verdicts[worst]
+    evidence.update({key: value for key, value in shown.evidence.items() if key != "pixels"})
+    evidence["pixels"] = [{**pixel, "frame": worst} for pixel in shown.evidence.get("pixels", [])]
+    evidence["frame"] = worst
+    evidence["failing_frames"] = failing[:EVIDENCE_LIMIT]
+    message = (f"{len(failing)} of {len(verdicts)} frames fail (first: frame {failing[0]}); worst, frame {worst}: "
+               f"{shown.message}")
+    return result(case.id, "accuracy", False, message, metrics, evidence)
+
+
 # -- seams ------------------------------------------------------------------------------------
 
 
@@ -977,12 +1036,18 @@ def _popping(s: Subject) -> Result:
     return popping(s.case.id, list(s.case.frames), s.coverages, s.oracles, s.convention)
 
 
+def _accuracy(s: Subject) -> Result:
+    assert s.convention is not None
+    if isinstance(s.case, MotionCase):
+        return motion_accuracy(s.case, s.coverages, s.oracles, s.convention, s.tolerance)
+    return accuracy(s.case, s.coverage, s.oracle, s.convention, s.tolerance)
+
+
 register(Check(
-    "accuracy", lambda s: accuracy(s.case, s.coverage, s.oracle, s.convention, s.tolerance),  # type: ignore[arg-type]
-    _is_static, needs_convention=True, shrinks=True, kinds=AREA_KINDS, per_sample=False,
+    "accuracy", _accuracy, lambda case: True, needs_convention=True, shrinks=True, kinds=AREA_KINDS, per_sample=False,
     metrics={"over_tolerance": (1.0, 0.0), "off_level": (1.0, 0.0), "max_error": (1.5, 2.0**-9)},
     caption="area coverage: every alpha within the declared tolerance of the exact area (or share of samples), "
-            "on the declared levels",
+            "on the declared levels (on every frame of a motion case)",
 ))
 register(Check(
     "seams", lambda s: seams(s.case, s.coverage, s.convention, s.oracle),  # type: ignore[arg-type]

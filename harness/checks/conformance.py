@@ -541,9 +541,10 @@ def line_edge_distance(scene: LineScene, convention: Convention | None, fragment
     segment (snapped). Never an underestimate; exactly 0 only where the exact predicate sits
     on its boundary; inf for a segment with a non-finite coordinate.
 
-    * ``diamond-exit``: the least of how far the segment is from meeting the pixel's
+    * ``diamond-exit`` (D3D's and GL's: the same diamond): the least of how far the segment is from meeting the pixel's
       diamond, or from leaving it (its penetration depth), and (last pixel omitted) how far
-      the end point is from the diamond's boundary (:func:`_diamond_margins`).
+      the end point is from the diamond's boundary (:func:`_diamond_margins`); inf for
+      replicated wide lines (no bound: none excused).
     * ``bresenham``: how far the end points of the segment are from the roundings that
       would draw or leave the fragment (:func:`_bresenham_margins`).
     * ``rectangle``: the sample's distance to the nearest boundary line of the rectangle
@@ -595,6 +596,10 @@ def line_edge_distance(scene: LineScene, convention: Convention | None, fragment
                                                   scene.width, scene.height)
         elif rule.rule == "rectangle":
             absolute = _rectangle_margins(a, b, x + convention.sample[0], y + convention.sample[1], scene.line_width)
+        elif scene.line_width != 1.0:
+            # replicated wide lines: a pixel inside a run stays as its base moves; no bound
+            # here, so no near tie is excused
+            absolute = np.full(a.shape[0], np.inf)
         else:
             absolute = _diamond_margins(a, b, x + 0.5, y + 0.5, bool(rule.last_pixel))
         relative = absolute / _segment_magnitude(scene, convention)[segment[ok]]
@@ -701,8 +706,8 @@ def undefined_width(scene: AnyScene, convention: Convention) -> str:
     """Why the convention defines no answer on ``scene`` ("" when it does): its line rule
     draws width 1 only and the lines are wider (a rasterizer should refuse such a scene,
     raising :class:`harness.api.Unsupported`)."""
-    if isinstance(scene, LineScene) and convention.line.rule != "rectangle" and scene.line_width != 1.0:
-        return f"{convention.line.describe()} have width 1, not {scene.line_width:g}: the rule does not define wider lines"
+    if isinstance(scene, LineScene):
+        return convention.line.undefined_width(scene.line_width)
     return ""
 
 

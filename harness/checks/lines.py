@@ -40,7 +40,7 @@ from harness.checks.conformance import near_ties_of, undefined_width
 from harness.checks.motion import filled_direction
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
 from harness.conventions import LINE_DIRECTIONS, Convention
-from harness.lines import end_point_pixels, diamond_holding, is_x_major
+from harness.lines import end_point_pixels, is_x_major, area_holding
 from harness.oracle import exact_coverage
 
 __all__ = [
@@ -227,6 +227,8 @@ def _run_connectivity(s: Subject) -> Result:
     assert s.convention is not None
     if s.convention.line.rule == "rectangle":
         return skip(s.case, "connectivity", "rectangular lines are filled rectangles: no rule of one pixel per major step")
+    if s.case.scene.line_width != 1.0:
+        return skip(s.case, "connectivity", "replicated wide lines draw w pixels per major step: no rule of one")
     return connectivity(s.case, s.coverage, s.convention)
 
 
@@ -234,9 +236,9 @@ def _run_connectivity(s: Subject) -> Result:
 
 
 @numba.njit(cache=True)
-def _diamond_vertex_kernel(v, y_major, width, height, out):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+def _diamond_vertex_kernel(v, y_major, gl, width, height, out):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
     for k in range(v.shape[0]):
-        i, j, found = diamond_holding(v[k, 0], v[k, 1], y_major[k], width, height)
+        i, j, found = area_holding(v[k, 0], v[k, 1], y_major[k], gl, width, height)
         if found:
             out[k, 0] = i
             out[k, 1] = j
@@ -246,7 +248,7 @@ def vertex_pixels(scene: LineScene, convention: Convention, pairs: NDArray[np.in
     """(J, 2) int64: per joint (k, m) the pixel the rule ties to its shared vertex v, or
     (-1, -1) when none (inside the viewport).
 
-    diamond-exit: the pixel whose test area holds v, for the major axis of m (the segment
+    diamond-exit (D3D's or GL's): the pixel whose test area holds v, for the major axis of m (the segment
     starting there, which draws it; the one ending there omits it); Bresenham: the pixel v
     rounds to (both segments start or end there); rectangles: none.
     """
@@ -263,7 +265,7 @@ def vertex_pixels(scene: LineScene, convention: Convention, pairs: NDArray[np.in
         return out
     y_major = ~x_major_of(scene, convention)[pairs[:, 1]]
     _diamond_vertex_kernel(np.ascontiguousarray(np.where(finite[:, None], v, -2.0)), y_major.astype(np.bool_),
-                           scene.width, scene.height, out)
+                           convention.line.gl, scene.width, scene.height, out)
     return out
 
 
@@ -679,8 +681,10 @@ def _run_line_motion(s: Subject) -> Result:
 
 # -- registration --------------------------------------------------------------------------------
 
-# lines are single-sample only (harness.lines): a multisample or area answer gets none of these
-_SINGLE = frozenset({"single"})
+# lines are single-sample, or multisample rectangles (harness.lines): a multisample answer is
+# judged sample by sample (each layer a single-sample rectangle rule at its offset); an area
+# answer gets none of these
+_SINGLE = frozenset({"single", "multisample"})
 
 register(Check(
     "connectivity", _guarded("connectivity", _run_connectivity), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,

@@ -1,7 +1,8 @@
 """Known-bad multisample and anti-aliasing rasterizers (issue 14): each gets one classic
 thing wrong -- the sample table, the sample bits, the tie rule at the samples, the 8-bit
-conversion, the method per edge (cairo's 2010 seam), the promise of analytic coverage --
-and must fail the check that judges it, for that reason.
+conversion, the method per edge (cairo's 2010 seam), the promise of analytic coverage, the
+precision of an edge stepped down the rows -- and must fail the check that judges it, for
+that reason.
 
 The exact oracles are the building blocks where the bug lies elsewhere (a mirrored table
 is the exact coverage of the mirrored pattern; a coarse supersampler is the exact share of
@@ -9,6 +10,8 @@ a 4 x 4 grid); the tie and per-edge bugs have kernels of their own.
 """
 
 from __future__ import annotations
+
+import math
 
 import numba
 import numpy as np
@@ -19,9 +22,11 @@ from harness.conventions import Convention
 from harness.exact import frozen
 from harness.oracle import exact_coverage, sample_shares
 from harness.area import edge_integral as _exact_integral  # the area oracle's exact edge integral (Green's theorem)
+from rasterizers._common import screen_triangles
+from rasterizers.area_scanline import _accumulate_piece, emit_row, first_capacity
 
 __all__ = ["MirroredPattern", "SwappedSampleBits", "InclusiveSampleTies", "InclusiveSupersampledTies", "BiasedArea",
-           "PerEdgeMethodSwitch", "CoarseSupersampleClaimsAnalytic", "GRID_4X4",
+           "PerEdgeMethodSwitch", "CoarseSupersampleClaimsAnalytic", "Float32EdgeStepping", "GRID_4X4",
            "GammaEncodedArea", "HalfPixelShiftedArea", "TruncatedArea", "FourBitArea", "DriftingStepArea",
            "RejectsNearEdges", "CentreSamples"]
 
@@ -281,6 +286,108 @@ class CoarseSupersampleClaimsAnalytic:
         alpha = _eight_bit(shares.alpha)
         return Coverage(shares.triangle, shares.y, shares.x0, shares.x1, alpha=alpha)
 
+
+
+@numba.njit(cache=True)
+def _stepped_x(state, k, xa, ya, xb, yb, line):  # type: ignore[no-untyped-def]
+    """Edge k's x on the band line y = ``line`` as a float32 DDA has it: the exact
+    crossing of the first line asked for, rounded to float32, then ``x += dxdy`` in
+    float32 once per row (``state[k]``: x, the line it is on, dxdy); kept within the
+    edge's x range as the reference keeps its crossings."""
+    if state[k, 1] > line:  # first line of this edge: start exactly (to float32)
+        state[k, 0] = np.float32(xa + (line - ya) * ((xb - xa) / (yb - ya)))
+        state[k, 1] = line
+        state[k, 2] = np.float32((xb - xa) / (yb - ya))
+    while state[k, 1] < line:  # BUG: one float32 rounding per row, accumulated down the edge
+        state[k, 0] = np.float32(np.float32(state[k, 0]) + np.float32(state[k, 2]))
+        state[k, 1] += 1.0
+    return min(max(float(state[k, 0]), min(xa, xb)), max(xa, xb))
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _drift_kernel(positions, sign, width, height, steps, block, alpha):  # type: ignore[no-untyped-def]
+    """:mod:`rasterizers.area_scanline`'s kernel with its band crossings stepped in
+    float32 (:func:`_stepped_x`) instead of computed afresh in float64 on every row."""
+    cells = np.zeros(width + 2)
+    values = np.zeros(width)
+    edges = np.empty((3, 5))
+    state = np.empty((3, 3))
+    n = 0
+    m = 0
+    for t in range(positions.shape[0]):
+        if sign[t] == 0:
+            continue
+        p = positions[t]
+        count = 0
+        for k in range(3):
+            ax, ay, bx, by = p[k, 0], p[k, 1], p[(k + 1) % 3, 0], p[(k + 1) % 3, 1]
+            if ay == by:
+                continue
+            if ay < by:
+                edges[count, 0], edges[count, 1], edges[count, 2], edges[count, 3], edges[count, 4] = ax, ay, bx, by, 1.0
+            else:
+                edges[count, 0], edges[count, 1], edges[count, 2], edges[count, 3], edges[count, 4] = bx, by, ax, ay, -1.0
+            state[count, 1] = math.inf
+            count += 1
+        ymin = min(p[0, 1], p[1, 1], p[2, 1])
+        ymax = max(p[0, 1], p[1, 1], p[2, 1])
+        if ymax <= 0.0 or ymin >= height:
+            continue
+        r0 = int(math.floor(max(ymin, 0.0)))
+        r1 = int(math.ceil(min(ymax, float(height)))) - 1
+        for j in range(r0, r1 + 1):
+            top = float(j)
+            lo = math.inf
+            hi = -math.inf
+            for k in range(count):
+                xa, ya, xb, yb, d = edges[k, 0], edges[k, 1], edges[k, 2], edges[k, 3], edges[k, 4]
+                if yb <= top or ya >= top + 1.0:
+                    continue
+                if ya >= top:
+                    x0, y0 = xa, ya - top
+                else:
+                    x0, y0 = _stepped_x(state, k, xa, ya, xb, yb, top), 0.0
+                if yb <= top + 1.0:
+                    x1, y1 = xb, yb - top
+                else:
+                    x1, y1 = _stepped_x(state, k, xa, ya, xb, yb, top + 1.0), 1.0
+                _accumulate_piece(cells, x0, y0, x1, y1, d, width)
+                lo = min(lo, x0, x1)
+                hi = max(hi, x0, x1)
+            if lo > hi:
+                continue
+            c0 = int(math.floor(min(max(lo, 0.0), width - 1.0)))
+            c1 = int(math.floor(min(max(hi, 0.0), width - 1.0)))
+            acc = 0.0
+            for i in range(c0, c1 + 1):
+                acc += cells[i]
+                values[i] = np.rint(min(abs(acc), 1.0) * steps) / steps
+            for i in range(c0, c1 + 2):
+                cells[i] = 0.0
+            block, alpha, n, m = emit_row(t, j, values, c0, c1, block, alpha, n, m)
+    return block, alpha, n, m
+
+
+class Float32EdgeStepping:
+    """stb_truetype's (v2) drift: the signed-area accumulation of
+    :mod:`rasterizers.area_scanline`, but each edge's x on the next row is the last
+    row's plus dx/dy, in float32 (a DDA down the edge), as a rasterizer written for
+    glyphs steps it. Far right on a tall screen (x about 1,000 px, a float32 step of
+    2**-14 px) every row adds up to half that in rounding, the same way each row: down
+    2,000 rows an edge lies a tenth of a pixel off, a few dozen levels of alpha. On small
+    scenes near the origin it stays well within a level."""
+
+    name = "bad_float32_edge_stepping"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        sign = screen_triangles(scene, MAX_COORDINATE, self.name, "float32 holds a pixel's fraction only that far")
+        positions = frozen(scene.positions)
+        spans, pixels = first_capacity(positions, sign, scene.width, scene.height)
+        block, alpha = np.empty((4, spans), dtype=np.int64), np.empty(pixels)
+        block, alpha, n, m = _drift_kernel(positions, sign, scene.width, scene.height, 255.0, block, alpha)
+        return Coverage(block[0, :n], block[1, :n], block[2, :n], block[3, :n], alpha=alpha[:m])
 
 
 # -- area coverage with one classic cause each (issue 29 point 4): accuracy names it ---------

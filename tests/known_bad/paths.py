@@ -24,9 +24,9 @@ from rasterizers.trapezoid import _CACHE, crossing_column, outline
 __all__ = ["PathFillBug", "BUGS", "TwoFillers"]
 
 BUGS = ("evenodd-for-nonzero", "unsigned-crossings", "horizontal-crossings", "inclusive-ends", "open-contours",
-        "first-contour-only", "contours-apart")
-(EVENODD_FOR_NONZERO, UNSIGNED_CROSSINGS, HORIZONTAL_CROSSINGS, INCLUSIVE_ENDS, OPEN_CONTOURS, FIRST_CONTOUR_ONLY,
- CONTOURS_APART) = range(7)
+        "int8-winding", "int16-winding", "int8-saturating", "first-contour-only", "contours-apart")
+(EVENODD_FOR_NONZERO, UNSIGNED_CROSSINGS, HORIZONTAL_CROSSINGS, INCLUSIVE_ENDS, OPEN_CONTOURS, INT8_WINDING, INT16_WINDING,
+ INT8_SATURATING, FIRST_CONTOUR_ONLY, CONTOURS_APART) = range(10)
 
 
 class PathFillBug:
@@ -51,6 +51,14 @@ class PathFillBug:
                               span -- and a row through a bottom edge is drawn
       "open-contours"         the edge list is built from consecutive vertex pairs only,
                               dropping each contour's closing edge (last -> first)
+      "int8-winding"          the winding counter is a signed 8-bit integer and wraps:
+                              a winding of 256 (or any multiple) reads as 0, so nonzero
+                              leaves it out; even-odd is unaffected (a wrap keeps parity)
+      "int16-winding"         the same in 16 bits: 65,536 reads as 0
+      "int8-saturating"       a signed 8-bit counter that saturates (a SIMD saturating
+                              add): past 127 crossings it stops counting, and the
+                              crossings back down then leave it wrong -- a winding of
+                              128 reads as 127 (odd), the outside right of it as below 0
       "first-contour-only"    the edge list holds each path's first contour only (a loop
                               over contours that stops after one): holes, and every
                               further contour, dropped
@@ -108,7 +116,9 @@ class PathFillBug:
 @numba.njit(cache=_CACHE, error_model="numpy")
 def _spans(ax, ay, bx, by, bounds, bug, evenodd, width, height):  # type: ignore[no-untyped-def]
     """Spans (path, y, x0, x1), row by row, over each path's edges ``bounds[p]:bounds[p + 1]``."""
-    capacity = height * ax.size  # per row and path at most ceil(crossings / 2) spans, a path has an edge at least
+    # a span starts and ends at two crossings of its path's row, but the last may end at the
+    # start of the next: per row and path at most crossings / 2 + 1 spans
+    capacity = height * (ax.size // 2 + bounds.size)
     out_p = np.empty(capacity, dtype=np.int64)
     out_y = np.empty(capacity, dtype=np.int64)
     out_x0 = np.empty(capacity, dtype=np.int64)
@@ -145,6 +155,12 @@ def _spans(ax, ay, bx, by, bounds, bug, evenodd, width, height):  # type: ignore
                 c = column[order[k]]
                 while k < m and column[order[k]] == c:
                     wind += winding[order[k]]
+                    if bug == INT8_WINDING:  # BUG: a signed 8-bit counter wraps
+                        wind = ((wind + 128) & 255) - 128
+                    elif bug == INT16_WINDING:  # BUG: a signed 16-bit counter wraps
+                        wind = ((wind + 32768) & 65535) - 32768
+                    elif bug == INT8_SATURATING:  # BUG: a signed 8-bit counter saturates
+                        wind = min(max(wind, -128), 127)
                     k += 1
                 inside = (wind & 1) == 1 if evenodd else wind != 0
                 if inside and start < 0:
