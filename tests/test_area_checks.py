@@ -616,6 +616,11 @@ def test_an_edge_stepped_in_float32_drifts_down_the_tall_triangles_and_fails_acc
     verdict = judged(bad, [case], {"accuracy"})["accuracy"][TALL]
     assert verdict.status == "fail" and verdict.metrics["max_error"] * 255 >= 10 and verdict.metrics["near_tie"] == 0
     assert all(p["y"] > 1024 for p in verdict.evidence["pixels"][:10])
+    from harness.signatures import signature
+
+    # issue 29: the cause named from the facts, drift down the triangle
+    assert signature(verdict, case, bad.convention).key == "accuracy|drift|none", verdict.message
+    assert "error growing down the triangle" in verdict.message
     y, error = _errors_by_row(bad, case.scene)
     assert error[y < 64].max() < 1.5 and error[y > 2000].max() >= 10
     from rasterizers.area_scanline import AreaScanline
