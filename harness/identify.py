@@ -530,7 +530,8 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
         lines["pattern"] = pattern.text
         # the offsets read under left and top edges, seen from the other side: a sample
         # dropped near edges is no wrong pattern
-        sides = sample_sides(call, pattern.offsets, pattern.culling.cull if pattern.culling is not None else "none")
+        sides = sample_sides(call, pattern.offsets, pattern.culling.cull if pattern.culling is not None else "none",
+                             pattern.resolution)
         probes["sample sides"] = sides
         if sides.dropped:
             lines["pattern"] = f"{sides.text}; as read under left and top edges: {pattern.text}".replace(
