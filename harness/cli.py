@@ -293,6 +293,9 @@ def _convention_text(r: Any) -> str:
 
     fingerprint = fingerprint_of(r)
     if fingerprint is not None:
+        if getattr(fingerprint, "pattern_missing", False):  # a stand-in, never called identified
+            return (f"none declared; no multisample pattern recovered ({fingerprint.facts.get('pattern', '')}); "
+                    f"checked against {r.convention.describe()}, a stand-in")
         quality = ("exactly" if fingerprint.exact else
                    f"best guess only because calls failed: {fingerprint.unanswered} fit scenes unanswered, residual "
                    f"{fingerprint.residual} pixels over the rest" if getattr(fingerprint, "unanswered", 0) else
@@ -542,7 +545,8 @@ def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: flo
 
     declared = rasterizer.convention
     kind = declared.kind
-    same = declared == fingerprint.convention and fingerprint.exact
+    stand_in = getattr(fingerprint, "pattern_missing", False)  # its convention no finding: never compared as one
+    same = declared == fingerprint.convention and fingerprint.exact and not stand_in
     if same and kind == "single":
         return "confirmed", False
     cases = verdict_cases(fingerprint, seed, scene_kinds_of(rasterizer), kind)
@@ -561,6 +565,8 @@ def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: flo
     checked = " and ".join(names) + (" pass" if len(names) > 1 else " passes") + f" against it on {len(cases)} cases"
     if same:
         return f"confirmed ({checked})", False
+    if stand_in:
+        return f"consistent: {checked}, though identify recovered no pattern to compare", False
     if declared == fingerprint.convention:
         return f"consistent ({checked}; identify could not tell it from " + (
             " and ".join(fingerprint.ambiguous) or "the runner-up") + ")", False

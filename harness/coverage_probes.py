@@ -941,7 +941,12 @@ class PatternFact:
             missing = [str(s) for s, o in enumerate(self.offsets) if o is None]
             if missing:
                 return f"not recovered: sample {', '.join(missing)} never flipped under a sweeping edge"
-            return "not recovered: two samples share an offset"
+            groups: dict[tuple[float, float], list[str]] = {}
+            for s, o in enumerate(self.offsets):
+                if o is not None:
+                    groups.setdefault(o, []).append(str(s))
+            shared = "; ".join(f"samples {', '.join(who)} all at ({o[0]:g}, {o[1]:g})" for o, who in groups.items() if len(who) > 1)
+            return f"not recovered: {shared} -- samples sharing an offset make no pattern"
         pattern = self.pattern
         said = f"{len(pattern)} samples, in the rasterizer's order: " + " ".join(f"({x:g}, {y:g})" for x, y in pattern)
         standard = STANDARD_PATTERNS.get(len(pattern))
@@ -957,6 +962,70 @@ class PatternFact:
             else:
                 said += f" -- not the standard {len(pattern)}x pattern"
         return said + f"; {_layout(pattern)}; bisected to 2^-{self.resolution} px"
+
+
+# the sides check's step past a sample, at least (a coarser bisection's step when the
+# pattern was read on a snapping grid: past one grid step, a snapped edge stays past it)
+SIDE_STEP = 1.0 / 16.0
+
+
+@dataclass(frozen=True)
+class SampleSides:
+    """Whether each sample found under left and top edges (:class:`PatternFact`'s offsets)
+    is where right and bottom edges find it too: an edge a step (``step``) to its other
+    side, the sample inside, must cover it. ``dropped``: (sample, axis, offset) of those
+    not covered -- a sample's coverage that depends on which side the edge comes from is
+    no pattern at all: samples dropped near edges (a pixel rejected whole when its centre
+    lies outside an edge, by too small a margin), not a wrong pattern. ``calls``: 1 (0
+    when no offset was measured)."""
+
+    dropped: tuple[tuple[int, str, float], ...] = ()
+    checked: int = 0
+    calls: int = 0
+    error: str = ""
+    step: float = SIDE_STEP
+
+    @property
+    def text(self) -> str:
+        if self.error:
+            return f"not measured: {self.error}"
+        if not self.checked:
+            return "not measured: no sample offset recovered"
+        if not self.dropped:
+            return f"each of {self.checked} samples covered by edges from either side at its offset"
+        shown = ", ".join(f"sample {s} (at {o:g} in {axis} under a {'left' if axis == 'x' else 'top'} edge)"
+                          for s, axis, o in self.dropped[:4])
+        return (f"SAMPLES DROPPED NEAR EDGES: {shown} not covered by an edge {self.step:g} px past it on the other "
+                "side (a right edge for x, a bottom one for y) -- whether a sample counts depends on the side its edge "
+                "comes from, so no pattern explains it (not a wrong pattern)")
+
+
+def sample_sides(call: Call, offsets: Sequence[tuple[float, float] | None], cull: CullMode,
+                 resolution: int = 20) -> SampleSides:
+    """:class:`SampleSides` of the offsets measured under left and top edges (bisected to
+    2**-``resolution`` px): for every sample and axis, one mirrored corner probe (covering
+    x < offset + step within the pixel, or y < ...; the step :data:`SIDE_STEP`, or the
+    bisection's when coarser: the pattern was read on a snapping grid, and an edge one
+    step past the sample snaps past it still), all in one call."""
+    step = max(SIDE_STEP, 2.0 ** -resolution)
+    found = [(s, o) for s, o in enumerate(offsets) if o is not None]
+    if not found:
+        return SampleSides(step=step)
+    shapes = []
+    for _, (x, y) in found:
+        for a, b in ((x + step, 3.0), (3.0, y + step)):  # a right edge past it, a bottom one
+            shapes.append(np.array([[a, b], [a - _LEG, b], [a, b - _LEG]]))  # the corner turned half round
+    probes = _probe_scene(np.array(shapes), cull)
+    outcome = call(probes.scene)
+    if outcome.coverage is None:
+        return SampleSides(error=describe(outcome.error), calls=1, step=step)
+    seen = _samples_at(outcome.coverage, probes, len(offsets))
+    dropped = []
+    for k, (s, (x, y)) in enumerate(found):
+        for j, (axis, o) in enumerate((("x", x), ("y", y))):
+            if not seen[2 * k + j, s]:
+                dropped.append((s, axis, o))
+    return SampleSides(tuple(dropped), len(found), 1, step=step)
 
 
 def _bisect_samples(call: Call, n: int, cull: CullMode, resolution: int) -> tuple[

@@ -59,7 +59,9 @@ from typing import TYPE_CHECKING, Any, Union
 
 from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, fill_rules_of, interpolates_of, received_of, scene_kinds_of
 from harness.conventions import Convention, CoverageKind, LineRule
-from harness.coverage_probes import CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions
+from harness.coverage_probes import (
+    CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions, sample_sides,
+)
 from harness.isolation import Call, CallTally, InProcess, Outcome, TimeLimit, Worker
 from harness.probes import (EPSILON_CASE, NON_FINITE_CASES, REPROS, ZERO_AREA_CASE, Defect, Epsilon, Fact, NonFinite,
                             ViewportEdge, Watertight, ZeroArea, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, suite_defects, unanswered,
@@ -202,18 +204,29 @@ class Fingerprint:
                        line_convention=_line_convention_dict(self.line_fit))
         return out
 
+    @property
+    def pattern_missing(self) -> bool:
+        """A multisample rasterizer whose pattern was not recovered: its convention is a
+        stand-in (the standard pattern of its count), never a finding."""
+        pattern = self.probes.get("pattern")
+        return self.kind == "multisample" and pattern is not None and getattr(pattern, "convention", None) is None
+
     def card(self) -> str:
-        lines = [f"rasterizer   {self.rasterizer}",
-                 f"convention   {self.convention.describe_lines() if self.lines_only else self.convention.describe()}",
-                 f"             {_compact_repr(self.convention)}",
-                 f"residual     {self.residual} mismatching pixels of {self.pixels}"
-                 + ("  (identified exactly)" if self.exact
-                    else f"  (best guess only because calls failed: {self.unanswered} fit scene"
-                         f"{'' if self.unanswered == 1 else 's'} unanswered, left out of the fit and the residual; see calls)"
-                    if self.unanswered
-                    else f"  (ambiguous between {' and '.join(self.ambiguous)})" if self.residual == 0 and self.ambiguous
-                    else "  (ambiguous: the next best explains it as well)" if self.residual == 0
-                    else "  (best guess only: no candidate explains it exactly)")]
+        if self.pattern_missing:  # nothing recovered is claimed: the card says what stands in
+            head = [f"convention   NOT RECOVERED (the pattern: see below); checked against {self.convention.describe()}, "
+                    "a stand-in", "residual     not scored: no pattern to score"]
+        else:
+            head = [f"convention   {self.convention.describe_lines() if self.lines_only else self.convention.describe()}",
+                    f"             {_compact_repr(self.convention)}",
+                    f"residual     {self.residual} mismatching pixels of {self.pixels}"
+                    + ("  (identified exactly)" if self.exact
+                       else f"  (best guess only because calls failed: {self.unanswered} fit scene"
+                            f"{'' if self.unanswered == 1 else 's'} unanswered, left out of the fit and the residual; see calls)"
+                       if self.unanswered
+                       else f"  (ambiguous between {' and '.join(self.ambiguous)})" if self.residual == 0 and self.ambiguous
+                       else "  (ambiguous: the next best explains it as well)" if self.residual == 0
+                       else "  (best guess only: no candidate explains it exactly)")]
+        lines = [f"rasterizer   {self.rasterizer}", *head]
         if self.runner_up:
             lines.append(f"next best    {self.runner_up[0]} ({self.runner_up[1]} mismatches on the "
                          + ("line probes)" if self.lines_only else "tie scenes)"))
@@ -515,6 +528,14 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
         unanswered = pattern.unanswered + bool(pattern.error)
         probes["pattern"] = pattern
         lines["pattern"] = pattern.text
+        # the offsets read under left and top edges, seen from the other side: a sample
+        # dropped near edges is no wrong pattern
+        sides = sample_sides(call, pattern.offsets, pattern.culling.cull if pattern.culling is not None else "none",
+                             pattern.resolution)
+        probes["sample sides"] = sides
+        if sides.dropped:
+            lines["pattern"] = f"{sides.text}; as read under left and top edges: {pattern.text}".replace(
+                f" -- not the standard {n}x pattern", "")
         if pattern.vertex is not None:
             probes["vertex sweep"] = pattern.vertex
             lines["vertex sweep"] = pattern.vertex.text + " (sample 0)"
@@ -530,6 +551,7 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
         if tight:
             lines["watertight"] = "; ".join(leaky) if leaky else f"every sample: {tight[0].text}"
         if pattern.convention is None:
+            # none recovered: a stand-in for the checks, which the card names as one
             convention = Convention(samples=n) if n in STANDARD_PATTERNS else Convention()
             residual, pixels, runner_up = max(1, pattern.fragments), pattern.fragments, None
         else:

@@ -16,7 +16,8 @@ Two questions, asked from outside in this order:
    integer, and a pixel counts only when its centre lies more than 1.5 px from every edge
    of its path and of its path's convex hull: its whole square is then on one side of
    each); the model with no mismatch names what it drew: ``nonzero``, ``evenodd``, or
-   neither (``fills the outline's hull``, ``ignores holes``, ...), with the pixel counts
+   neither (``fills the outline's hull``, ``ignores holes``, ``drops the contours after each
+   path's first`` -- the overlapping squares tell the last two apart --, ...), with the pixel counts
    as the evidence.
 2. *The convention for paths* (:func:`fit_path_convention`). A triangle is a one-contour
    path, so the triangle probes -- :func:`harness.probes.fit_ties` (sample point, tie
@@ -123,6 +124,7 @@ FILL_MODELS: dict[str, str] = {
     "nonzero": "nonzero",
     "evenodd": "even-odd",
     "contours": "ignores holes (fills each contour on its own, the union)",
+    "first": "drops the contours after each path's first (fills the first alone, under the rule asked)",
     "hull": "fills the outline's hull (each path's convex hull)",
     "positive": "fills one orientation only (winding number > 0)",
     "negative": "fills one orientation only (winding number < 0)",
@@ -214,6 +216,7 @@ def _probe_models(scene: PathScene, margin: float = 1.5) -> _Models:
         answers["nonzero"][p] = w != 0
         answers["evenodd"][p] = (w & 1) == 1
         answers["contours"][p] = np.any(per_contour != 0, axis=0)
+        answers["first"][p] = per_contour[0] != 0 if scene.fill_rule == "nonzero" else (per_contour[0] & 1) == 1
         answers["hull"][p] = inside_hull
         answers["positive"][p] = w > 0
         answers["negative"][p] = w < 0

@@ -151,15 +151,17 @@ def attach_repro(result: Result, case: Case, judge: Judge, rasterizer: Rasterize
         as_received = input_precision_probe(minimal, check, judge, rasterizer)
         if as_received is not None:
             evidence["input_precision"] = as_received
+            noun = f"{minimal.scene.noun}s"
             note = ("; with its coordinates rounded the way the library receives them (rasterizer.received), the "
-                    f"same triangles pass: the deviation comes from the input format ({as_received['moved']} "
-                    "coordinates move), not from the fill rule")
+                    f"same {noun} pass: the deviation comes from the input format ({as_received['moved']} "
+                    "coordinates move), not from the convention")
             message, said = message + note, said + note
         inside = viewport_edge_probe(minimal, check, judge)
         if inside is not None:
             evidence["viewport_edge"] = inside
+            noun = f"{minimal.scene.noun}s"
             note = (f"; moved {inside['margin']} px into a screen {inside['margin']} px larger on each side, the same "
-                    "triangles pass: the deviation appears only where triangles cross the viewport edge")
+                    f"{noun} pass: the deviation appears only where {noun} cross the viewport edge")
             message, said = message + note, said + note
     payload = case_to_json(minimal, check=check, rasterizer=rasterizer.name, message=said,
                            original_case=case.id, original_triangles=len(case.scene), **_seen(seen))

@@ -81,7 +81,16 @@ class                            convention part     when
                                                      its path's vertices: how the ray's crossings
                                                      there count is the tie rule's (the perturbed
                                                      sample's row meets no vertex), not the fill's
+``later-contours-dropped``       none                (paths wrong away from their edges) drawn as
+                                                     the oracle draws each one's first contour alone
+``holes-ignored``                fill-rule           ... as each contour filled on its own (the union);
+                                                     either only where the two differ
 ``winding``                      fill-rule           (paths) none of the above
+``dropped-near-edges``           none                (multisample) every wrong sample missing (none
+                                                     extra, of every layer: the metrics), within
+                                                     a pixel of an edge, its pixel's centre outside
+                                                     the triangle (exact): pixels rejected whole near
+                                                     an edge
 ``far-from-edge``                sample-point        (triangles) none of the above
 ``far-from-tie``                 line-rule           (lines) none of the above
 ===============================  ==================  ==============================================
@@ -104,7 +113,10 @@ the same answers against another snap rounding's exact u, v; else ``backward-jum
 ``backward-step``. Others: ``hygiene``'s flaw (``outside-viewport``, ...), ``degenerate``'s
 (``zero-area-drawn``, ``nan-attributes``, ``slow``), ``invariance``'s first changed variant
 (``changes-under-flip-winding``, ...), ``closed``'s ``front-only``/``back-only``/``unbalanced``,
-``accuracy``'s ``alpha-error``/``off-level``, ``seam``, ``triangulation-mismatch``.
+``accuracy``'s cause named from facts about its errors, first that holds
+(:func:`harness.checks.area.alpha_cause`: ``truncated-levels``, ``coarse-levels``,
+``alpha-bias``, ``gamma``, ``sub-pixel-shift``, ``drift``), else ``alpha-error``/``off-level``;
+``seam``, ``triangulation-mismatch``.
 
 Errors: ``hang`` (a timeout), ``crash`` (the worker process died), ``not-run``,
 ``exception-<Type>``.
@@ -112,7 +124,8 @@ Errors: ``hang`` (a timeout), ``crash`` (the worker process died), ``not-run``,
 Anything else, or anything the classification cannot read, is ``other``:
 :func:`signature` never raises. Its oracle calls are hypothesis tests on the wrong
 primitives alone: the open outline (three: the oracle and two open fills), the other snap
-roundings (two at most), or the other fill rule (one).
+roundings (two at most), or the other fill rule, the first contours alone and each contour
+alone (one each).
 """
 
 from __future__ import annotations
@@ -128,6 +141,7 @@ from numpy.typing import NDArray
 
 from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, convention_for
 from harness.case import Case, MotionCase
+from harness.checks.area import ALPHA_CAUSES, alpha_cause
 from harness.conventions import SNAP_ROUNDINGS, Convention, SnapRounding
 from harness.exact import orientation
 
@@ -147,18 +161,23 @@ NEAR_PIXELS = 2.0**-8
 # viewport-edge: a wrong sample off every edge counts as a clipper's when it lies within
 # this of an edge leaving the screen (a clipped vertex rounded to a coarse grid)
 CLIPPER_PIXELS = 2.0**-4
+# dropped-near-edges: a multisample layer's missing samples all this close to an edge of
+# their triangle (a pixel's reach: a tolerance by nature, named as one)
+NEAR_EDGE_PIXELS = 1.0
 
 _WORDS = {
     "exact-tie-horizontal-edge": "samples exactly on a horizontal edge decided wrongly",
     "exact-tie-vertical-edge": "samples exactly on a vertical edge decided wrongly",
     "exact-tie-slanted-edge": "samples exactly on a slanted edge decided wrongly",
     "exact-tie-vertex": "samples exactly on a vertex decided wrongly",
-    "near-tie": "samples within float rounding of an edge decided wrongly",
+    "near-tie": "decided wrongly within float rounding of a tie (an edge; a line rule's boundary)",
     "viewport-edge": "wrong only where primitives cross the viewport's edge",
     "input-format": "right on the input as the library receives it: the input format",
     "snapping": "right under another rounding of the same snapping",
     "fill-rule": "right under the other fill rule",
     "winding": "samples away from every edge decided wrongly: the winding or fill",
+    "later-contours-dropped": "drawn as if each path had only its first contour: the contours after it dropped",
+    "holes-ignored": "drawn as each contour filled on its own (their union): holes ignored",
     "vertex-row": "samples on rows through a vertex decided wrongly: crossings counted at vertices",
     "non-finite-input": "a primitive with a NaN or infinite coordinate drawn wrongly",
     "degenerate": "a zero-area triangle (zero-length segment) drawn wrongly",
@@ -167,6 +186,8 @@ _WORDS = {
     "open-contour": "drawn as if each contour's closing edge were missing",
     "overflow-below-2^12": "wrong on large triangles, right made smaller (a range that gives out below 2^12)",
     "far-from-edge": "samples away from every edge decided wrongly",
+    "dropped-near-edges": "samples just inside an edge missing in pixels whose centre lies outside (none extra): "
+                          "dropped near edges, not a wrong pattern",
     "far-from-tie": "pixels away from the rule's ties drawn wrongly",
     "end-pixel": "pixels at a segment's end drawn wrongly",
     "crash": "the rasterizer's process died",
@@ -186,6 +207,7 @@ _WORDS = {
     "double-step": "steps drawn twice along a line",
     "alpha-error": "alphas off the exact area beyond the tolerance",
     "seam": "pixels where the alphas of a partition's pieces do not add up to 1 (a seam)",
+    **ALPHA_CAUSES,
     "off-level": "alphas on none of the declared levels",
     "flicker": "pixels changing more often than the exact coverage as the scene moves",
     "backward-jump": "edges jumping backwards as the scene moves",
@@ -1221,10 +1243,13 @@ def _hypothesis(result: Any, scene: AnyScene, prims: NDArray[np.int64], conventi
         for _, rounding in sorted(others):
             if _same_as(answer, scene, prims, subset, replace(convention, snap_rounding=rounding)):
                 return "snapping", "snapping"
-        return None
+        if not isinstance(subset, PathScene):
+            return None
     if isinstance(subset, PathScene) and not near and not exact:
         flipped = subset.with_fill_rule("evenodd" if subset.fill_rule == "nonzero" else "nonzero")
-        return ("fill-rule", "fill-rule") if _same_as(answer, scene, prims, flipped, convention) else None
+        if _same_as(answer, scene, prims, flipped, convention):
+            return "fill-rule", "fill-rule"
+        return _contours_hypothesis(answer, scene, prims, subset, convention)
     line = convention.line
     if isinstance(subset, LineScene) and near and line is not None:
         # a decision near the rule's boundary drawn exactly as the rule draws it with the
@@ -1234,6 +1259,38 @@ def _hypothesis(result: Any, scene: AnyScene, prims: NDArray[np.int64], conventi
             return "end-pixel", "line-rule"
         if _same_reversed(answer, scene, prims, subset, convention):
             return "reversal", "line-rule"
+    return None
+
+
+def _contours_hypothesis(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], subset: PathScene,
+                         convention: Convention) -> tuple[str, str] | None:
+    """Paths of several contours wrong away from their edges, drawn exactly as the oracle
+    draws each one's first contour alone (``later-contours-dropped``), or each contour
+    filled on its own, their union (``holes-ignored``) -- when the two differ (a hole
+    filled within the first contour is either, or a fill counting crossings unsigned:
+    none is named); else None. Two oracle calls, only for paths of several contours."""
+    from harness.oracle import exact_coverage
+
+    sizes = subset.contour_sizes
+    if not (np.bincount(subset.contour_path, minlength=len(subset)) > 1).any():
+        return None
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    first = np.flatnonzero(np.concatenate([[True], subset.contour_path[1:] != subset.contour_path[:-1]]))
+    keep = np.concatenate([np.arange(starts[c], starts[c] + sizes[c]) for c in first])
+    alone = PathScene(scene.width, scene.height, subset.vertices[keep], sizes[first], subset.contour_path[first], subset.fill_rule)
+    each = PathScene(scene.width, scene.height, subset.vertices, sizes, np.arange(sizes.size), subset.fill_rule)
+    identity = {i: i for i in range(len(subset))}
+    firsts = _pixel_set(exact_coverage(alone, convention), np.arange(len(subset)), identity, scene.width, scene.height)
+    t, x, y = exact_coverage(each, convention).pixels()
+    on = (x >= 0) & (x < scene.width) & (y >= 0) & (y < scene.height)
+    union = {(int(subset.contour_path[a]), int(b), int(c)) for a, b, c in zip(t[on], x[on], y[on])}
+    if firsts == union:
+        return None  # every later contour within the first (a hole filled): the two cannot be told apart
+    got = _pixel_set(answer, prims, {int(k): i for i, k in enumerate(prims)}, scene.width, scene.height)
+    if got == firsts:
+        return "later-contours-dropped", "none"
+    if got == union:
+        return "holes-ignored", "fill-rule"
     return None
 
 
@@ -1364,6 +1421,9 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         return "exact-tie-vertex", "tie-rule"
     if near:
         return "near-tie", "none"
+    if isinstance(convention, Convention) and convention.kind == "multisample" and isinstance(scene, Scene) \
+            and _metric(result, "extra") == 0 and _dropped_near_edges(wrong, edges, judged):
+        return "dropped-near-edges", "none"
     if isinstance(scene, PathScene):
         # every wrong sample on a row through one of its path's vertices (exact: float
         # comparisons): crossings counted at the vertices -- a tie in y, not the fill
@@ -1372,6 +1432,30 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         refuted = isinstance(trial, dict) and trial.get("vertex_rows") and trial.get("passes") is False
         return ("vertex-row", "tie-rule") if rows and not refuted else ("winding", "fill-rule")
     return "far-from-edge", "sample-point"
+
+
+def _dropped_near_edges(wrong: list[tuple[int, int, int, str, float]], edges: dict[int, tuple[NDArray, NDArray]],
+                        judged: Convention) -> bool:
+    """Whether every wrong sample of a multisample layer is missing (none extra), lies
+    within :data:`NEAR_EDGE_PIXELS` of an edge of its triangle, and its pixel's centre
+    strictly outside the triangle (exact orientations): samples dropped where a pixel
+    was rejected whole near an edge, not a pattern read wrong (which puts samples in where
+    it leaves others out)."""
+    if not wrong or any(kind != "missing" for _, _, _, kind, _ in wrong):
+        return False
+    for k, x, y, _, _ in wrong:
+        a, b = edges[k]
+        centre = np.array([x + 0.5, y + 0.5])
+        if not _violated_edges(a, b, centre).any():
+            return False
+        sample = np.array([x + judged.sample[0], y + judged.sample[1]])
+        with np.errstate(all="ignore"):
+            d = b - a
+            t = np.clip(((sample - a) * d).sum(axis=1) / (d * d).sum(axis=1), 0.0, 1.0)
+            reach = np.hypot(*(a + t[:, None] * d - sample).T)
+        if not (reach <= NEAR_EDGE_PIXELS).any():
+            return False
+    return True
 
 
 def _wrong_reach_beyond(result: Any, scene: AnyScene) -> bool:
@@ -1655,6 +1739,16 @@ def _by_metrics(options: tuple[tuple[str, str], ...], otherwise: str, part: str 
     return lambda result, case, convention: (_first_positive(result, options, otherwise), part)
 
 
+def _alpha_cause(result: Any) -> tuple[str, str] | None:
+    """An accuracy failure's cause named from the facts about its errors
+    (:func:`harness.checks.area.alpha_cause`, read again from ``alpha_facts``): truncation,
+    coarse levels, a bias, gamma, a sub-pixel shift or drift; None when none holds."""
+    evidence = result.evidence if isinstance(result.evidence, dict) else {}
+    facts = evidence.get("alpha_facts")
+    found = alpha_cause(facts) if isinstance(facts, dict) else None
+    return (found[0], "none") if found is not None else None
+
+
 def _frame_cause(result: Any) -> tuple[str, str] | None:
     """The class and part of a motion failure read through :func:`with_probes`' facts:
     ``input-format`` when the sequence passes as the library receives it
@@ -1710,7 +1804,8 @@ _CLASSIFIERS: dict[str, Callable[[Any, Any, Convention | None], tuple[str, str]]
     "perspective": _through_frame(lambda result, case, convention: (
         ("nan-attributes", "none") if _metric(result, "max_uv_error_texels") == math.inf  # u, v not finite: not a perspective error
         else (_first_positive(result, (("frames_without_attributes", "missing-attributes"),), "perspective-error"), "none"))),
-    "accuracy": _by_metrics((("over_tolerance", "alpha-error"), ("off_level", "off-level")), "other"),
+    "accuracy": lambda result, case, convention: _alpha_cause(result) or _by_metrics(
+        (("over_tolerance", "alpha-error"), ("off_level", "off-level")), "other")(result, case, convention),
     "seams": lambda result, case, convention: (
         (str(result.evidence["order_dependence"]), "none") if isinstance(result.evidence, dict)
         and isinstance(result.evidence.get("order_dependence"), str)  # a seam of the edge direction (with_probes)

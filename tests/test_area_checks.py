@@ -26,8 +26,9 @@ from harness.conventions import Convention
 from harness.oracle import exact_coverage, sample_shares
 from harness.samples import STANDARD_PATTERNS
 from tests.known_bad.antialiasing import (
-    GRID_4X4, BiasedArea, CoarseSupersampleClaimsAnalytic, Float32EdgeStepping, InclusiveSampleTies, MirroredPattern,
-    PerEdgeMethodSwitch, SwappedSampleBits,
+    GRID_4X4, BiasedArea, CoarseSupersampleClaimsAnalytic, DriftingStepArea, Float32EdgeStepping, FourBitArea,
+    GammaEncodedArea, HalfPixelShiftedArea, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, SwappedSampleBits,
+    TruncatedArea,
 )
 
 AREA_CHECKS = {"accuracy", "seams", "popping"}
@@ -400,6 +401,59 @@ def test_known_bad_anti_aliasers_fail_accuracy_by_real_error_off_the_lattice():
         assert metrics["max_error"] > 1.5 / 255 and verdict.evidence["pixels"][0]["over"], bad.name
 
 
+# the cause each area known-bad's accuracy failure names, and words its message says
+AREA_CAUSES = [
+    (BiasedArea(), "alpha-bias", "2.0 levels high on average"),
+    (GammaEncodedArea(), "gamma", "(gamma 2.2"),
+    (HalfPixelShiftedArea(), "sub-pixel-shift", "moved by (+0.5, +0.5) px"),
+    (TruncatedArea(), "truncated-levels", "truncated to the levels"),
+    (FourBitArea(), "coarse-levels", "on 16 levels only"),
+    (DriftingStepArea(), "drift", "error growing down the triangle"),
+    (CoarseSupersampleClaimsAnalytic(), "alpha-error", ""),  # none of those: the error alone
+]
+
+
+@pytest.mark.parametrize("bad, cause, words", AREA_CAUSES, ids=[b.name for b, _, _ in AREA_CAUSES])
+def test_an_accuracy_failure_names_its_cause_from_facts(bad, cause, words):
+    """Issue 29: each classic anti-aliasing bug's accuracy failure names its cause -- a
+    bias, gamma, a sub-pixel shift, truncation, coarse levels, drift down the triangle --
+    in its message and its signature, on a lattice and a float scene; an error none of
+    them explains (a 4 x 4 supersampler claiming the exact area) is named by none."""
+    from harness.signatures import signature
+
+    selected = cases("lattice/bits-2", "float/random-50px")
+    verdicts = judged(bad, selected, {"accuracy"})["accuracy"]
+    for case in selected:
+        verdict = verdicts[case.id]
+        assert verdict.status == "fail", (bad.name, case.id)
+        assert signature(verdict, case, bad.convention).key == f"accuracy|{cause}|none", (case.id, verdict.message)
+        assert words in verdict.message, verdict.message
+        named = [text for other, _, text in AREA_CAUSES if text and other is not bad and text in verdict.message]
+        assert not named, (verdict.message, named)
+
+
+def test_errors_no_fact_explains_name_no_cause():
+    """Alphas a sample or two off (inclusive ties of a 4 x 4 supersampler), or a coarse
+    supersampler's, are on levels and may happen to sit on a coarser grid: no truncation,
+    coarse levels or other cause is named for them."""
+    from tests.known_bad.antialiasing import InclusiveSupersampledTies
+
+    selected = cases("lattice/*", "watertight/grid-6x6-*")
+    for bad in (InclusiveSupersampledTies(), CoarseSupersampleClaimsAnalytic()):
+        failed = [r for r in judged(bad, selected, {"accuracy"})["accuracy"].values() if r.status == "fail"]
+        assert len(failed) >= 4, bad.name
+        assert all("alpha_cause" not in r.evidence for r in failed), [(r.case, r.message) for r in failed]
+
+
+def test_accuracy_names_no_cause_where_it_passes():
+    """The correct anti-aliasers pass accuracy with no cause in the message (the facts are
+    taken on failure only)."""
+    selected = cases("lattice/bits-2", "float/random-50px")
+    for rasterizer in (Quantised8Bit(), Shares4x4()):
+        for verdict in judged(rasterizer, selected, {"accuracy"})["accuracy"].values():
+            assert verdict.status == "pass" and "alpha_facts" not in verdict.evidence, verdict.message
+
+
 # -- seams ------------------------------------------------------------------------------------
 
 
@@ -562,6 +616,11 @@ def test_an_edge_stepped_in_float32_drifts_down_the_tall_triangles_and_fails_acc
     verdict = judged(bad, [case], {"accuracy"})["accuracy"][TALL]
     assert verdict.status == "fail" and verdict.metrics["max_error"] * 255 >= 10 and verdict.metrics["near_tie"] == 0
     assert all(p["y"] > 1024 for p in verdict.evidence["pixels"][:10])
+    from harness.signatures import signature
+
+    # issue 29: the cause named from the facts, drift down the triangle
+    assert signature(verdict, case, bad.convention).key == "accuracy|drift|none", verdict.message
+    assert "error growing down the triangle" in verdict.message
     y, error = _errors_by_row(bad, case.scene)
     assert error[y < 64].max() < 1.5 and error[y > 2000].max() >= 10
     from rasterizers.area_scanline import AreaScanline

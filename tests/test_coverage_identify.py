@@ -122,6 +122,46 @@ def test_identify_recovers_a_multisample_pattern_exactly_in_its_order(hidden, sa
     if hidden.cull == "none":  # culling leaves half a partition out
         assert fingerprint.facts["watertight"].startswith("every sample: yes")
     assert fingerprint.to_dict()["samples"] == [list(o) for o in hidden.samples]
+    assert not fingerprint.probes["sample sides"].dropped  # a pattern, mirrored or not, is seen alike from both sides
+
+
+def _undeclared(bad):
+    """The known-bad with its declaration taken away: identify reads it from outside."""
+    bad.convention = None
+    return bad
+
+
+def test_samples_dropped_near_edges_are_no_wrong_pattern():
+    """Issue 29: a multisample rasterizer rejecting pixels whose centre lies just outside an
+    edge (a margin too small for its samples' reach) drops samples next to edges; read
+    under left and top edges its offsets look like another pattern, but right and bottom
+    edges find them elsewhere: the card says samples are dropped near edges, not that the
+    pattern is not the standard one."""
+    from tests.known_bad.antialiasing import RejectsNearEdges
+
+    fingerprint = identify(_undeclared(RejectsNearEdges()))
+    said = fingerprint.facts["pattern"]
+    assert said.startswith("SAMPLES DROPPED NEAR EDGES") and "not the standard" not in said, said
+    assert fingerprint.probes["sample sides"].dropped and not fingerprint.exact
+
+
+def test_a_card_with_samples_sharing_an_offset_never_claims_a_pattern():
+    """Issue 29: all four samples at the pixel centre: the pattern is not recovered, and
+    the card says so everywhere -- no standard pattern identified, no residual scored, the
+    convention checked against named a stand-in."""
+    from tests.known_bad.antialiasing import CentreSamples
+
+    fingerprint = identify(_undeclared(CentreSamples()))
+    card = fingerprint.card()
+    assert fingerprint.pattern_missing and not fingerprint.exact
+    assert "samples 0, 1, 2, 3 all at (0.5, 0.5)" in fingerprint.facts["pattern"], card
+    assert "NOT RECOVERED" in card and "a stand-in" in card and "not scored" in card, card
+    assert "identified" not in card and "best guess" not in card and "standard 4x pattern" not in card, card
+    from harness.cli import _convention_text
+    from harness.identify import Identified
+
+    said = _convention_text(Identified(CentreSamples(), fingerprint))  # what run prints for it
+    assert "no multisample pattern recovered" in said and "a stand-in" in said and "identified" not in said, said
 
 
 def test_sample_positions_bisects_every_sample_at_once():

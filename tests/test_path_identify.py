@@ -127,6 +127,20 @@ def test_fills_that_are_neither_rule_are_named(box, drawn):
     assert "draws NEITHER" in rules.text
 
 
+def test_dropping_later_contours_is_not_ignoring_holes():
+    """Issue 29: a filler that drops every contour after a path's first is named so, not
+    "ignores holes" (the overlapping squares tell them apart: the second square is drawn
+    by the one, not by the other); one that fills each contour apart, its union, still
+    ignores holes (asked nonzero: the model fills each contour by its winding)."""
+    from tests.known_bad.paths import PathFillBug
+
+    first = fill_rules(InProcess(PathFillBug("first-contour-only")))
+    words = "neither: drops the contours after each path's first (fills the first alone, under the rule asked)"
+    assert first.drawn == {"nonzero": words, "evenodd": words}, first.text
+    apart = fill_rules(InProcess(PathFillBug("contours-apart")))
+    assert apart.drawn["nonzero"] == "neither: ignores holes (fills each contour on its own, the union)", apart.text
+
+
 def test_the_fill_rule_probe_does_not_depend_on_the_convention():
     # the sure pixels are the same under any sample point, tie rule and snapping
     odd = Convention(sample=(1.0, 1.0), tie="bottom-right", subpixel_bits=0, snap_rounding="floor")

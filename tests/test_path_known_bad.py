@@ -62,6 +62,8 @@ SHOWS = {
     "int16-winding": (["deep-65536"], ["deep-128", "deep-256", "deep-65536-evenodd", "pentagram"]),
     # a saturated counter is off by the crossings it dropped: wrong from 128 on, either rule
     "int8-saturating": (list(DEEP), ["pentagram", "pentagram-evenodd", "ring-same", "ring-opposite"]),
+    "first-contour-only": (["ring-opposite", "ring-opposite-evenodd"], ["triangle", "pentagram", "ring-same", "quad"]),
+    "contours-apart": (["ring-opposite", "ring-opposite-evenodd"], ["triangle", "pentagram", "ring-same", "quad"]),
 }
 
 

@@ -177,7 +177,7 @@ def test_signature_never_raises_on_odd_input():
 
 def test_describe_reads_as_a_sentence():
     assert Signature("conformance", "near-tie", "none").describe() == \
-        "conformance: samples within float rounding of an edge decided wrongly"
+        "conformance: decided wrongly within float rounding of a tie (an edge; a line rule's boundary)"
     assert "2^53..2^63" in Signature("conformance", "overflow-2^53..2^63", "none").describe()
     assert Signature("run", "exception-KeyError", "none").describe() == "run: raised KeyError"
 
@@ -273,7 +273,7 @@ def _one_failure(bad, family: str, index: int, check: str):
     # float32 positions: the whole sequence passes as the library receives it
     (Float32Input(), "perspective", 15, "perspective|perspective-error|none", "perspective|input-format|none"),
     # biased alpha: the frame's accuracy fails, the pops are its consequence
-    (BiasedArea(), "popping", 0, "popping|popping|none", "popping|alpha-error|none"),
+    (BiasedArea(), "popping", 0, "popping|popping|none", "popping|alpha-bias|none"),
 ], ids=["jaggy-snapping", "texel-snapping", "perspective-snapping", "perspective-float32", "popping-alpha"])
 def test_motion_failures_are_named_by_their_cause(bad, check, index, own, probed):
     """Campaigns found each of these motion failures counted as a cause of its own beside
@@ -670,3 +670,65 @@ def test_a_sliver_the_rounded_move_would_flatten_gets_no_viewport_trial():
     case, _, failed, probed = _one_failure(bad, "degenerate", 182, "conformance")
     assert "viewport_edge" not in probed.evidence and "viewport_edge_refuted" not in probed.evidence
     assert signature(probed, case, bad.convention).key == "conformance|far-from-edge|sample-point"
+
+
+def test_dropped_contours_are_not_ignored_holes():
+    """Issue 29: a filler drawing each path's first contour alone is named
+    ``later-contours-dropped``; one filling each contour apart (their union)
+    ``holes-ignored``; a fill that counts crossings unsigned, filling a hole within the
+    first contour just as both would, neither (the two cannot be told apart there). The
+    message speaks of no sample on an edge: the wrong ones lie inside the hole too."""
+    from harness.api import PathScene
+
+    outer = [[2.25, 2.25], [20.75, 2.25], [20.75, 20.75], [2.25, 20.75]]
+    hole = [[8.25, 8.25], [8.25, 14.75], [14.75, 14.75], [14.75, 8.25]]  # wound against the outer square
+    beside = [[24.25, 4.25], [30.75, 4.25], [30.75, 18.75], [24.25, 18.75]]  # outside it, on the same rows
+    ring = Case("paths/ring-and-beside/nonzero", PathScene.from_paths(32, 24, [[np.array(outer), np.array(hole),
+                                                                                np.array(beside)]], "nonzero"), lattice=True)
+    only_ring = Case("paths/ring/nonzero", PathScene.from_paths(32, 24, [[np.array(outer), np.array(hole)]], "nonzero"),
+                     lattice=True)
+    for bug, case, expected in (("first-contour-only", ring, "conformance|later-contours-dropped|none"),
+                                ("contours-apart", ring, "conformance|holes-ignored|fill-rule"),
+                                ("unsigned-crossings", only_ring, "conformance|winding|fill-rule"),
+                                ("contours-apart", only_ring, "conformance|winding|fill-rule")):
+        bad = PathFillBug(bug)
+        judge = _judge_of(bad)
+        failed = [r for r in judge(case, "conformance") if r.status == "fail"]
+        assert failed, bug
+        probed = with_probes(failed[0], case, judge, bad)
+        assert signature(probed, case, bad.convention).key == expected, (bug, case.id, failed[0].message)
+        assert "exactly on" not in failed[0].message, failed[0].message
+    from rasterizers.trapezoid import TrapezoidFill
+
+    assert all(r.status == "pass" for r in _judge_of(TrapezoidFill())(ring, "conformance"))
+
+
+@pytest.mark.parametrize("family", ["lattice", "float"])
+def test_samples_dropped_near_edges_are_not_a_wrong_pattern(family):
+    """Issue 29: a multisample rasterizer rejecting pixels whose centre lies just outside
+    an edge is named ``dropped-near-edges``; a wrong pattern (mirrored, every sample at the
+    centre), which puts samples in where it leaves others out, stays the sample point's."""
+    from tests.known_bad.antialiasing import CentreSamples, MirroredPattern, RejectsNearEdges
+
+    case = generate(family, 0, 0)
+    for bad, expected in ((RejectsNearEdges(), "conformance|dropped-near-edges|none"),
+                          (CentreSamples(), "conformance|far-from-edge|sample-point"),
+                          (MirroredPattern(), "conformance|far-from-edge|sample-point")):
+        judge = _judge_of(bad)
+        failed = [r for r in judge(case, "conformance") if r.status == "fail"]
+        assert failed, bad.name
+        assert signature(with_probes(failed[0], case, judge, bad), case, bad.convention).key == expected, bad.name
+
+
+def test_line_messages_speak_of_lines():
+    """Issue 29: a line drawer's wrong pixels on the rule's boundary are said to lie on the
+    line rule's boundary -- no sample on an edge, no triangle -- and its signature is the
+    line rule's."""
+    from cases.lines import line_cases
+
+    case = next(c for c in line_cases(0) if c.id == "lines/octants/edge-midpoints")
+    bad = BothEndPixels()
+    failed = [r for r in _judge_of(bad)(case, "conformance") if r.status == "fail"]
+    assert failed and "exactly on the line rule's boundary" in failed[0].message, failed
+    assert "sample" not in failed[0].message and "triangle" not in failed[0].message
+    assert signature(failed[0], case, bad.convention).convention_part == "line-rule"

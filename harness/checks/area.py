@@ -22,6 +22,8 @@ accuracy
     edge (:func:`harness.checks.conformance.near_ties`) may count either way. Decided
     exactly; none on a lattice case, none allowed in strict mode. On a motion case,
     every frame is judged so (:func:`motion_accuracy`), and the failing frames named.
+    A failure names its cause from facts about its errors when one holds
+    (:func:`alpha_cause`): truncation, coarse levels, a bias, gamma, a sub-pixel shift, drift.
 seams
     On a planar partition the exact areas (or sample shares) of the pieces in a pixel
     wholly inside the region sum to exactly 1, so the pieces' alphas, as integer levels,
@@ -58,8 +60,9 @@ from harness.conventions import Convention
 from harness.exact import orientation
 from harness.oracle import exact_samples
 
-__all__ = ["accuracy", "motion_accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "level_values", "exact_alpha",
-           "exact_tolerance", "piece_allowance", "rounding_reach", "LEVEL_NOISE", "DISPLAY_LEVELS"]
+__all__ = ["accuracy", "motion_accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "level_values",
+           "exact_alpha", "exact_tolerance", "piece_allowance", "rounding_reach", "alpha_facts", "alpha_cause", "ALPHA_CAUSES",
+           "LEVEL_NOISE", "DISPLAY_LEVELS"]
 
 AREA_KINDS: frozenset[str] = frozenset({"area"})
 # An alpha meant as level k of L is k/(L-1) rounded to float64 (or computed as k * (1/(L-1)),
@@ -370,7 +373,9 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     ``exact_decisions``. Evidence (on failure, or with near ties): ``pixels``, failures
     first, then near ties, each worst first, ``{triangle, x, y, alpha, area, error, over,
     near_tie}`` (``area``: the model's value, a share for a supersampled convention); and
-    ``off_level``, ``{triangle, x, y, alpha, level}`` (level: alpha * (levels - 1)).
+    ``off_level``, ``{triangle, x, y, alpha, level}`` (level: alpha * (levels - 1)). With
+    pixels beyond the tolerance, ``alpha_facts`` (:func:`alpha_facts`) and, when they name
+    one, ``alpha_cause`` (:func:`alpha_cause`), whose words end the message.
     """
     scene = case.scene
     assert isinstance(scene, Scene), "area coverage is judged on triangle scenes"
@@ -457,10 +462,209 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
                          f"(largest error {worst:.3g}, {worst / step:.1f} levels)")
         if n_off:
             parts.append(f"{n_off} alphas on none of the {convention.levels} declared levels")
+        if count:
+            # the cause, named from facts about the errors (alpha_cause)
+            facts = alpha_facts(case, convention, triangle, x, y, alpha, model, near)
+            cause = alpha_cause(facts)
+            evidence["alpha_facts"] = facts
+            if cause is not None:
+                evidence["alpha_cause"] = cause[0]
+                parts.append(cause[1])
         if ties:
             parts.append(ties)
         message = "; ".join(parts)
     return result(case.id, "accuracy", ok, message, metrics, evidence)
+
+
+# -- accuracy's causes ------------------------------------------------------------------------
+
+# The causes accuracy names from facts about its errors, first that holds (class, words):
+ALPHA_CAUSES: dict[str, str] = {
+    "truncated-levels": "alphas truncated to the levels, not rounded",
+    "coarse-levels": "alphas on fewer levels than declared",
+    "alpha-bias": "alphas biased: off by about the same number of levels everywhere",
+    "gamma": "alphas a power of the area: gamma-encoded (error a function of alpha)",
+    "sub-pixel-shift": "alphas of the shape moved by a sub-pixel shift",
+    "drift": "alpha error growing along a row or down a triangle: stepping accumulates error",
+}
+# a fact holds when it explains this share of the edge pixels (partially covered) at least
+CAUSE_SHARE = 0.9
+# coarse levels: at least this many seen, half of them in use
+COARSE_LEVELS_MIN = 5
+# a bias or gamma: read over edge pixels whose areas span this much at least
+AREA_SPREAD = 0.5
+# gamma: an exponent this far from 1 at least, its fit within a level of every edge pixel
+GAMMA_MIN = 0.05
+# drift: the errors' correlation with the rows (columns) stepped from the triangle's top
+# (left), and how much larger the mean error of the last quarter of them is than the first's
+DRIFT_CORRELATION = 0.3
+DRIFT_GROWTH = 3.0
+# the shifts tried: the centroids' difference rounded to these grids (px)
+SHIFT_GRIDS = (1 / 16, 1 / 8, 1 / 4, 1 / 2)
+
+
+def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArray, y: NDArray, alpha: NDArray,
+                model: NDArray, near: NDArray) -> dict[str, Any]:
+    """Facts about a failing accuracy verdict's errors, from which :func:`alpha_cause`
+    names the cause. Over the (triangle, pixel)s either side covers ((P,) each; ``near``:
+    near ties, left out), in levels of the convention: ``bias`` (the median signed error
+    of the edge pixels -- the model strictly between 0 and 1 -- and ``bias_share``, the
+    share of them within the tolerance plus half a level of it; ``area_spread``, the range of
+    their areas, over which a bias and gamma are told apart); ``residue`` (min and max
+    of model - alpha on the edge pixels: truncation leaves [0, 1), rounding [-1/2, 1/2]; and
+    ``between_levels``, the share of them not a whole number of levels);
+    ``levels_seen`` (the fewest levels dividing the declared ones every alpha lies on,
+    ``distinct_alphas`` the values in use, ``declared_levels``);
+    ``gamma`` (the exponent g of alpha = area^g fitted by least squares on logarithms,
+    and ``gamma_error``, the fit's largest error); ``drift`` (the correlation of |error| with
+    the rows stepped from each triangle's top and with the columns from its left, and the
+    mean |error| of the first and the last quarter of those); ``shift`` (the shift of the
+    scene whose oracle the alphas are within the tolerance of: the centroids' difference,
+    rounded to :data:`SHIFT_GRIDS`, each tried -- an oracle call each, only when no cheaper
+    fact names a cause). Numpy on the evidence pixels."""
+    from harness.oracle import exact_coverage
+
+    scene = case.scene
+    assert isinstance(scene, Scene)
+    levels = convention.levels - 1
+    tolerance = float(exact_tolerance(convention)) * levels
+    keep = ~near & np.isfinite(alpha)
+    value = level_values(alpha, convention.levels)
+    signed = (value - model) * levels
+    edge = keep & (model > 0) & (model < 1)
+    facts: dict[str, Any] = {"edge_pixels": int(edge.sum()), "tolerance": tolerance}
+    if not edge.any():
+        return facts
+    s = signed[edge]
+    facts["area_spread"] = float(model[edge].max() - model[edge].min())
+    bias = float(np.median(s))
+    facts["bias"] = bias
+    facts["bias_share"] = float(np.mean(np.abs(s - bias) <= tolerance + 0.5))
+    residue = -s
+    facts["residue"] = [float(residue.min()), float(residue.max())]
+    facts["between_levels"] = float(np.mean(np.abs(residue - np.rint(residue)) > 1e-6))
+    on = alpha[keep]
+    facts["declared_levels"] = convention.levels
+    facts["distinct_alphas"] = int(np.unique(on).size)
+    small = [k for k in range(1, math.isqrt(levels) + 1) if levels % k == 0]
+    for d in sorted({*small, *(levels // k for k in small)} - {levels}):  # the divisors of levels - 1 below it
+        if not off_level(on, d + 1).any():
+            facts["levels_seen"] = d + 1
+            break
+    m, a = model[edge], value[edge]
+    inner = (a > 0) & (a < 1)
+    if inner.sum() >= 3:
+        lm, la = np.log(m[inner]), np.log(a[inner])
+        g = float(np.sum(lm * la) / np.sum(lm * lm))
+        facts["gamma"] = g
+        facts["gamma_error"] = float(np.abs(m ** g - a).max() * levels)
+    # the rows (columns) stepped from each triangle's top (left), its snapped vertices'
+    positions = convention.snap(scene.positions)
+    with np.errstate(invalid="ignore"):
+        top = np.maximum(np.floor(np.nanmin(positions[:, :, 1], axis=1)), 0.0)  # stepped from the first row drawn
+        left = np.maximum(np.floor(np.nanmin(positions[:, :, 0], axis=1)), 0.0)
+    error = np.abs(signed[edge])
+    for name, steps in (("rows", y[edge] - top[triangle[edge]]), ("columns", x[edge] - left[triangle[edge]])):
+        steps = steps.astype(np.float64)
+        if error.size >= 8 and np.isfinite(steps).all() and steps.std() > 0 and error.std() > 0:
+            span = float(steps.max() - steps.min())
+            first, last = steps <= steps.min() + span / 4, steps >= steps.max() - span / 4
+            facts[f"drift_{name}"] = {"correlation": float(np.corrcoef(steps, error)[0, 1]),
+                                      "first": float(error[first].mean()), "last": float(error[last].mean()),
+                                      "steps": int(span)}
+    named = alpha_cause(facts)
+    if (named is None or named[0] == "drift") and convention.cull == "none":  # a shift is named before drift
+        facts.update(_shift_facts(scene, convention, triangle, x, y, value, model, keep, tolerance, exact_coverage))
+    return facts
+
+
+def _shift_facts(scene: Scene, convention: Convention, triangle: NDArray, x: NDArray, y: NDArray, value: NDArray,
+                 model: NDArray, keep: NDArray, tolerance: float, oracle: Callable[..., Coverage]) -> dict[str, Any]:
+    """``shift``: the move of the scene under whose oracle every alpha is within the
+    tolerance, tried at the centroids' difference rounded to each of :data:`SHIFT_GRIDS`
+    (alpha-weighted pixel centres against the model's, over the triangles a pixel inside
+    the screen when there are some: a cut one's centroid moves otherwise); ``shift_tried``:
+    those tried."""
+    n, width, height = len(scene), scene.width, scene.height
+    weight_a = np.bincount(triangle[keep], weights=value[keep], minlength=n)
+    weight_m = np.bincount(triangle[keep], weights=model[keep], minlength=n)
+    fine = (weight_a > 0) & (weight_m > 0)
+    with np.errstate(invalid="ignore"):  # the triangles a pixel inside the screen: no part of them cut off
+        p = scene.positions
+        inside = np.isfinite(p).all(axis=(1, 2)) & (p.min(axis=(1, 2)) >= 1) & (p[:, :, 0].max(axis=1) <= width - 1) \
+            & (p[:, :, 1].max(axis=1) <= height - 1)
+    if (fine & inside).any():
+        fine &= inside
+    if not fine.any():
+        return {}
+    moved = []
+    for c in (x, y):
+        centre = c[keep] + 0.5
+        a = np.bincount(triangle[keep], weights=value[keep] * centre, minlength=n)[fine] / weight_a[fine]
+        b = np.bincount(triangle[keep], weights=model[keep] * centre, minlength=n)[fine] / weight_m[fine]
+        moved.append(float(np.average(a - b, weights=weight_m[fine])))
+    tried: list[list[float]] = []
+    for grid in SHIFT_GRIDS:
+        shift = [round(d / grid) * grid for d in moved]
+        if shift in tried or shift == [0.0, 0.0]:
+            continue
+        tried.append(shift)
+        other = oracle(scene.with_coordinates(scene.coordinates + np.array(shift)), convention)
+        keys, got, want = _aligned(*_keyed(Coverage(triangle, y, x, x + 1, alpha=np.where(keep, value, 0.0)), width, height, n),
+                                   *_keyed(other, width, height, n))
+        if np.abs(got - want).max(initial=0.0) * (convention.levels - 1) <= tolerance * (1 + 1e-9) + 1e-9:
+            return {"shift": shift, "shift_tried": tried}
+    return {"shift_tried": tried} if tried else {}
+
+
+def alpha_cause(facts: dict[str, Any]) -> tuple[str, str] | None:
+    """The cause of an accuracy failure its facts (:func:`alpha_facts`) name, first that
+    holds: (class of :data:`ALPHA_CAUSES`, the facts in words), else None.
+
+    >>> alpha_cause({"edge_pixels": 9, "tolerance": 0.5, "bias": 2.0, "bias_share": 1.0, "residue": [-2.5, -1.5],
+    ...              "area_spread": 0.9})
+    ('alpha-bias', 'alphas 2.0 levels high on average')
+    >>> alpha_cause({"edge_pixels": 9, "tolerance": 0.5, "residue": [0.0, 0.99], "between_levels": 0.9})
+    ('truncated-levels', 'alphas truncated to the levels (up to 0.99 levels low), not rounded')
+    """
+    tolerance = float(facts.get("tolerance", 0.5))
+    if not facts.get("edge_pixels"):
+        return None
+    low, high = facts.get("residue", [0.0, 0.0])
+    slack = 1e-6
+    # truncation leaves the area less than a level above the alpha -- read where the areas
+    # fall between levels (whole levels off are samples or levels too many, not a rounding)
+    between = facts.get("between_levels", 0.0) >= 0.5
+    if between and low >= -slack and high < 1.0 + slack and high > tolerance:
+        return "truncated-levels", f"alphas truncated to the levels (up to {high:.2f} levels low), not rounded"
+    if between and high <= slack and low > -1.0 - slack and -low > tolerance:
+        return "truncated-levels", f"alphas rounded up to the levels (up to {-low:.2f} levels high), not to the nearest"
+    seen, distinct = facts.get("levels_seen"), facts.get("distinct_alphas", 0)
+    if isinstance(seen, int) and seen >= COARSE_LEVELS_MIN and 2 * distinct >= seen and max(abs(low), abs(high)) > tolerance:
+        # many of the coarse levels in use (not a few alphas on a coarse grid by chance),
+        # each within half a coarse level of the area: the area rounded to them
+        coarse = (facts.get("declared_levels", 256) - 1) / (seen - 1)
+        if max(abs(low), abs(high)) <= coarse / 2 + tolerance:
+            return "coarse-levels", f"alphas on {seen} levels only"
+    # a bias and gamma are told apart only over areas of many sizes (over half-covered
+    # pixels alone a power of the area is off by one number of levels, as a bias is)
+    spread = facts.get("area_spread", 0.0) >= AREA_SPREAD
+    bias = facts.get("bias")
+    if spread and isinstance(bias, float) and abs(bias) > tolerance and facts.get("bias_share", 0.0) >= CAUSE_SHARE:
+        return "alpha-bias", f"alphas {abs(bias):.1f} levels {'high' if bias > 0 else 'low'} on average"
+    g = facts.get("gamma")
+    if spread and isinstance(g, float) and abs(g - 1.0) >= GAMMA_MIN and facts.get("gamma_error", math.inf) <= tolerance + 1.0:
+        return "gamma", f"alphas the area to the power {g:.2f} (gamma {1 / g:.2f}): error a function of alpha"
+    shift = facts.get("shift")
+    if isinstance(shift, list):
+        return "sub-pixel-shift", f"alphas of the shape moved by ({shift[0]:+g}, {shift[1]:+g}) px"
+    for name, where in (("rows", "down the triangle"), ("columns", "along a row")):
+        drift = facts.get(f"drift_{name}")
+        if isinstance(drift, dict) and drift["correlation"] >= DRIFT_CORRELATION and drift["last"] > tolerance \
+                and drift["last"] >= DRIFT_GROWTH * max(drift["first"], 1e-9):
+            return "drift", (f"error growing {where}: {drift['first']:.1f} levels in its first {name} on average, "
+                             f"{drift['last']:.1f} in its last ({drift['steps']} {name} stepped)")
+    return None
 
 
 def motion_accuracy(case: MotionCase, coverages: list[Coverage], oracles: list[Coverage], convention: Convention,

@@ -692,8 +692,13 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
         message = "pixel-exact"
     else:
         message = f"{missing.shape[1]} missing, {extra.shape[1]} extra; {int(near.sum())} near ties (float rounding), {int(wrong.sum())} wrong"
-        if metrics["exact_ties"]:
-            message += f"; {int(metrics['exact_ties'])} samples exactly on an edge"
+        ties = int((distance[wrong] == 0.0).sum())
+        if ties and ties == int(wrong.sum()):
+            # every wrong one a tie: where the rule decides, said in the primitive's words
+            # (a missing hole's or a dropped contour's samples lie away from every edge too)
+            what = "pixels" if isinstance(scene, LineScene) else "samples"
+            where = "the line rule's boundary" if isinstance(scene, LineScene) else f"an edge of their {scene.noun}"
+            message += f"; all {ties} wrong {what} lie exactly on {where}"
     return result(case.id, "conformance", allowed, message, metrics, evidence)
 
 

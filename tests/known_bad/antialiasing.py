@@ -26,7 +26,9 @@ from rasterizers._common import screen_triangles
 from rasterizers.area_scanline import _accumulate_piece, emit_row, first_capacity
 
 __all__ = ["MirroredPattern", "SwappedSampleBits", "InclusiveSampleTies", "InclusiveSupersampledTies", "BiasedArea",
-           "PerEdgeMethodSwitch", "CoarseSupersampleClaimsAnalytic", "Float32EdgeStepping", "GRID_4X4"]
+           "PerEdgeMethodSwitch", "CoarseSupersampleClaimsAnalytic", "Float32EdgeStepping", "GRID_4X4",
+           "GammaEncodedArea", "HalfPixelShiftedArea", "TruncatedArea", "FourBitArea", "DriftingStepArea",
+           "RejectsNearEdges", "CentreSamples"]
 
 # the largest |coordinate| the per-edge kernel accepts (a float kernel's limit, as area_scanline's)
 MAX_COORDINATE = 2.0**24
@@ -386,3 +388,177 @@ class Float32EdgeStepping:
         block, alpha = np.empty((4, spans), dtype=np.int64), np.empty(pixels)
         block, alpha, n, m = _drift_kernel(positions, sign, scene.width, scene.height, 255.0, block, alpha)
         return Coverage(block[0, :n], block[1, :n], block[2, :n], block[3, :n], alpha=alpha[:m])
+
+
+# -- area coverage with one classic cause each (issue 29 point 4): accuracy names it ---------
+
+
+def _exact_area(scene: Scene, convention: Convention) -> Coverage:
+    """The exact area of each (triangle, pixel) under ``convention``'s snapping (unquantised)."""
+    return area_coverage(_geometry(scene), convention)
+
+
+class GammaEncodedArea:
+    """Declares analytic area coverage on 256 levels; writes each alpha gamma-encoded, as
+    a colour value would be: round(255 * area^(1/2.2)) -- an edge pixel half covered
+    reads 186, not 128."""
+
+    name = "bad_gamma_encoded_area"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        exact = _exact_area(scene, self.convention)
+        assert exact.alpha is not None
+        return Coverage(exact.triangle, exact.y, exact.x0, exact.x1, alpha=_eight_bit(exact.alpha ** (1.0 / 2.2)))
+
+
+class HalfPixelShiftedArea:
+    """Declares analytic area coverage; takes pixel (x, y) to be the square centred on
+    (x, y) instead of [x, x + 1] x [y, y + 1]: every alpha is the area of the triangle moved
+    by (+1/2, +1/2) px."""
+
+    name = "bad_half_pixel_shifted_area"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        moved = Scene(scene.width, scene.height, scene.positions + 0.5)
+        exact = _exact_area(moved, self.convention)
+        assert exact.alpha is not None
+        return Coverage(exact.triangle, exact.y, exact.x0, exact.x1, alpha=_eight_bit(exact.alpha))
+
+
+class TruncatedArea:
+    """Declares analytic area coverage rounded to 256 levels (half a level's tolerance);
+    converts with ``int(a * 255)``: truncates, up to a level low."""
+
+    name = "bad_truncated_area"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        exact = _exact_area(scene, self.convention)
+        assert exact.alpha is not None
+        alpha = np.floor(exact.alpha * 255.0) / 255.0
+        keep = alpha > 0
+        if not keep.any():
+            return Coverage.empty()
+        t, x, y = exact.pixels()
+        return Coverage.from_pixels(t[keep], x[keep], y[keep], alpha=alpha[keep])
+
+
+class FourBitArea:
+    """Declares analytic area coverage on 256 levels; computes it on 16 (a 4-bit coverage
+    buffer scaled up): every alpha a multiple of 17/255, up to half of that off."""
+
+    name = "bad_four_bit_area"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        exact = _exact_area(scene, self.convention)
+        assert exact.alpha is not None
+        alpha = np.rint(exact.alpha * 15.0) / 15.0
+        keep = alpha > 0
+        if not keep.any():
+            return Coverage.empty()
+        t, x, y = exact.pixels()
+        return Coverage.from_pixels(t[keep], x[keep], y[keep], alpha=alpha[keep])
+
+
+# the drifting stepper's error per row stepped: a slope kept in too few fractional bits
+DRIFT_PER_ROW = 2.0**-9
+
+
+class DriftingStepArea:
+    """Declares analytic area coverage; steps each triangle's edges down from its top row
+    with an increment 2^-9 px too large (a slope kept in too few fractional bits, as a
+    float32 or fixed-point stepper accumulates): row k of a triangle (counted from its first row
+    on screen) is drawn as the triangle moved right by k * 2^-9 px. Right at its top, a level or more off some
+    rows down, and worse the further down."""
+
+    name = "bad_drifting_step_area"
+    convention = Convention(coverage="area")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        geometry = _geometry(scene)
+        with np.errstate(invalid="ignore"):
+            # stepping starts at the first row drawn: the triangle's top, or the screen's
+            top = np.maximum(np.floor(np.nanmin(geometry.positions[:, :, 1], axis=1, initial=np.inf)), 0.0)
+        finite = np.isfinite(top)
+        parts = []
+        for k in range(scene.height):
+            moved = Scene(scene.width, scene.height, geometry.positions + np.array([k * DRIFT_PER_ROW, 0.0]))
+            cov = _exact_area(moved, self.convention)
+            t, x, y = cov.pixels()
+            assert cov.alpha is not None
+            mine = finite[t] & (y - np.where(finite[t], top[t], 0.0) == k)
+            if mine.any():
+                parts.append((t[mine], x[mine], y[mine], cov.alpha[mine]))
+        if not parts:
+            return Coverage.empty()
+        t, x, y, a = (np.concatenate([p[i] for p in parts]) for i in range(4))
+        alpha = _eight_bit(a)
+        keep = alpha > 0
+        if not keep.any():
+            return Coverage.empty()
+        return Coverage.from_pixels(t[keep], x[keep], y[keep], alpha=alpha[keep])
+
+
+# -- multisample: samples dropped near edges, all samples at the centre (issue 29 point 4) ---
+
+# the near-edge rejecter's margin: a pixel whose centre lies farther than this outside an
+# edge is rejected whole; every sample of the standard 4x pattern is within 0.28 px of the
+# centre along a normal, and sqrt(2)/2 covers any
+REJECT_MARGIN = 0.125
+
+
+class RejectsNearEdges:
+    """Declares the standard 4x pattern and tests each sample exactly -- but first rejects
+    a pixel whole when its centre lies more than 1/8 px outside an edge (a trivial-reject
+    margin too small for the samples' reach): samples inside the triangle in pixels just
+    past an edge are dropped; the pattern itself is right."""
+
+    name = "bad_rejects_near_edges"
+    convention = Convention(samples=4)
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        cov = exact_coverage(_geometry(scene), Convention(samples=4))
+        if not cov.n_pixels:
+            return cov
+        t, x, y = cov.pixels()
+        s = cov.fragment_samples()
+        p = scene.positions[t]  # (F, 3, 2)
+        with np.errstate(all="ignore"):
+            area = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0])
+            sign = np.where(area < 0, -1.0, 1.0)
+            centre = np.stack([x + 0.5, y + 0.5], axis=-1).astype(np.float64)
+            rejected = np.zeros(t.size, dtype=bool)
+            for k in range(3):
+                a, b = p[:, k], p[:, (k + 1) % 3]
+                d = b - a
+                e = (d[:, 0] * (centre[:, 1] - a[:, 1]) - d[:, 1] * (centre[:, 0] - a[:, 0])) * sign
+                rejected |= e < -REJECT_MARGIN * np.hypot(d[:, 0], d[:, 1])  # the centre that far outside
+        keep = ~rejected
+        if not keep.any():
+            return Coverage.empty()
+        return Coverage.from_pixels(t[keep], x[keep], y[keep], sample=s[keep])
+
+
+class CentreSamples:
+    """Declares the standard 4x pattern; puts all four samples at the pixel centre (a
+    sample table of zeros): each pixel's four samples are covered together or not at all."""
+
+    name = "bad_centre_samples"
+    convention = Convention(samples=4)
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        cov = exact_coverage(_geometry(scene), Convention())
+        if not cov.n_pixels:
+            return Coverage.empty()
+        t, x, y = cov.pixels()
+        return Coverage.from_pixels(np.repeat(t, 4), np.repeat(x, 4), np.repeat(y, 4), sample=np.tile(np.arange(4), t.size))

@@ -11,8 +11,9 @@ from __future__ import annotations
 from typing import Any
 
 from tests.known_bad.antialiasing import (
-    BiasedArea, CoarseSupersampleClaimsAnalytic, Float32EdgeStepping, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch,
-    SwappedSampleBits,
+    BiasedArea, CentreSamples, CoarseSupersampleClaimsAnalytic, DriftingStepArea, Float32EdgeStepping, FourBitArea,
+    GammaEncodedArea, HalfPixelShiftedArea, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, RejectsNearEdges,
+    SwappedSampleBits, TruncatedArea,
 )
 from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.edge_functions import BUGS as EDGE_BUGS, EdgeFunctionBug
@@ -36,7 +37,8 @@ def _all() -> list[Any]:
         WrongTieClaim(), YFirstClaimsXFirst(), HalfAwayClaimsNearestEven(), DropsHuge(), Int32FixedPoint(), NaNAttributes(),
         SlowOnEpsilon(), Raises(), ReturnsGarbage(), HangsOnEpsilon(), ClipsBeforeSnapping(), Float32Input(tell=True),
         MirroredPattern(), SwappedSampleBits(), InclusiveSampleTies(), BiasedArea(), PerEdgeMethodSwitch(),
-        CoarseSupersampleClaimsAnalytic(), Float32EdgeStepping(),
+        CoarseSupersampleClaimsAnalytic(), Float32EdgeStepping(), GammaEncodedArea(), HalfPixelShiftedArea(), TruncatedArea(),
+        FourBitArea(), DriftingStepArea(), RejectsNearEdges(), CentreSamples(),
         RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep(),
         RareSlopeTie(),
     ]

@@ -24,9 +24,9 @@ from rasterizers.trapezoid import _CACHE, crossing_column, outline
 __all__ = ["PathFillBug", "BUGS", "TwoFillers"]
 
 BUGS = ("evenodd-for-nonzero", "unsigned-crossings", "horizontal-crossings", "inclusive-ends", "open-contours",
-        "int8-winding", "int16-winding", "int8-saturating")
+        "int8-winding", "int16-winding", "int8-saturating", "first-contour-only", "contours-apart")
 (EVENODD_FOR_NONZERO, UNSIGNED_CROSSINGS, HORIZONTAL_CROSSINGS, INCLUSIVE_ENDS, OPEN_CONTOURS, INT8_WINDING, INT16_WINDING,
- INT8_SATURATING) = range(8)
+ INT8_SATURATING, FIRST_CONTOUR_ONLY, CONTOURS_APART) = range(10)
 
 
 class PathFillBug:
@@ -59,6 +59,11 @@ class PathFillBug:
                               add): past 127 crossings it stops counting, and the
                               crossings back down then leave it wrong -- a winding of
                               128 reads as 127 (odd), the outside right of it as below 0
+      "first-contour-only"    the edge list holds each path's first contour only (a loop
+                              over contours that stops after one): holes, and every
+                              further contour, dropped
+      "contours-apart"        each contour filled on its own and the union drawn (an edge
+                              list per contour): holes ignored, whatever their winding
     """
 
     convention = Convention(sample=(0.5, 0.5), tie="top-left")
@@ -84,11 +89,28 @@ class PathFillBug:
         bug = BUGS.index(self.bug)
         if bug == OPEN_CONTOURS:
             keep &= ~closing
-        order = np.flatnonzero(keep)[np.argsort(primitive[keep], kind="stable")]
-        bounds = np.searchsorted(primitive[order], np.arange(len(scene) + 1)).astype(np.int64)
+        owner, n = primitive, len(scene)
+        if isinstance(scene, PathScene) and bug in (FIRST_CONTOUR_ONLY, CONTOURS_APART):
+            contour = np.repeat(np.arange(scene.contour_sizes.size), scene.contour_sizes)  # each edge's contour
+            if bug == FIRST_CONTOUR_ONLY:  # BUG: the contours after each path's first left out
+                first = np.concatenate([[True], scene.contour_path[1:] != scene.contour_path[:-1]])
+                keep &= first[contour]
+            else:  # BUG: each contour a primitive of its own, the union drawn
+                owner, n = contour, scene.contour_sizes.size
+        order = np.flatnonzero(keep)[np.argsort(owner[keep], kind="stable")]
+        bounds = np.searchsorted(owner[order], np.arange(n + 1)).astype(np.int64)
         evenodd = bug == EVENODD_FOR_NONZERO or (isinstance(scene, PathScene) and scene.fill_rule == "evenodd")
         ax, ay, bx, by = (frozen(c[order]) for c in (a[:, 0], a[:, 1], b[:, 0], b[:, 1]))
-        return Coverage(*_spans(ax, ay, bx, by, bounds, bug, evenodd, scene.width, scene.height))
+        drawn = Coverage(*_spans(ax, ay, bx, by, bounds, bug, evenodd, scene.width, scene.height))
+        if owner is primitive:
+            return drawn
+        assert isinstance(scene, PathScene)
+        t, x, y = drawn.pixels()
+        keys = np.unique((scene.contour_path[t] * scene.height + y) * scene.width + x)  # the union per path
+        if not keys.size:
+            return Coverage.empty()
+        path, pixel = np.divmod(keys, scene.height * scene.width)
+        return Coverage.from_pixels(path, pixel % scene.width, pixel // scene.width)
 
 
 @numba.njit(cache=_CACHE, error_model="numpy")
