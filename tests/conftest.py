@@ -21,12 +21,13 @@ os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 # The longest modules first: `make test` hands whole modules to its workers in collection
 # order (--dist loadfile), so a long module collected last would leave one worker running
 # it alone at the end.
-# (CPU seconds each, measured: identify 45, oracle 22, runner 18, known_bad 17, registry_and_cli
-# 17, aa_references 13, fingerprints 12, area 12, coverage_identify 12, cli_run 11, browser 11,
-# pytest_plugin 11; every other module 10 or less)
-LONGEST_FIRST = ["test_identify.py", "test_oracle.py", "test_runner.py", "test_known_bad.py", "test_registry_and_cli.py",
-                 "test_aa_references.py", "test_fingerprints.py", "test_area.py", "test_coverage_identify.py", "test_cli_run.py",
-                 "test_browser.py", "test_pytest_plugin.py"]
+# (seconds each on 2 cores, measured from make test's junit times: identify 31, known_bad 24,
+# fingerprints 23, campaign 18, signatures 16, oracle 14, runner 13, registry_and_cli 13,
+# hostile 13, time_limits 12, coverage_identify 10, browser 10, area_checks 10, path_cases 9,
+# pytest_plugin 9; every other module 7 or less)
+LONGEST_FIRST = ["test_identify.py", "test_known_bad.py", "test_fingerprints.py", "test_campaign.py", "test_signatures.py",
+                 "test_oracle.py", "test_runner.py", "test_registry_and_cli.py", "test_hostile.py", "test_time_limits.py",
+                 "test_coverage_identify.py", "test_browser.py", "test_area_checks.py", "test_path_cases.py", "test_pytest_plugin.py"]
 
 
 def pytest_collection_modifyitems(items):

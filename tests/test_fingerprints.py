@@ -198,13 +198,14 @@ def test_identify_and_run_go_on_past_a_call_that_hangs(tmp_path, capsys):
 
     path = tmp_path / "hang.py"
     path.write_text(HANGS_ON_NAN)
-    # a plain scene answers in milliseconds: 2 s leaves room for a loaded machine (at 0.5 s
-    # one of identify's fit scenes once went unanswered beside two campaigns)
-    assert main(["identify", f"{path}:HangsOnNaN", "--timeout", "2"]) == 0
+    # a plain scene answers in milliseconds: 1 s, and a second ask in a fresh process for a
+    # call cut off (harness.isolation.TimeLimit), leave room for a loaded machine (at 0.5 s
+    # and no second ask, one of identify's fit scenes once went unanswered beside two campaigns)
+    assert main(["identify", f"{path}:HangsOnNaN", "--timeout", "1"]) == 0
     card = capsys.readouterr().out
     assert "NaN: raises TimeoutError" in card and "identified exactly" in card, card
     out = tmp_path / "rep"
-    code = main(["run", "--rasterizer", f"{path}:HangsOnNaN", "--timeout", "2", "--out", str(out), "--case", "degenerate/*",
+    code = main(["run", "--rasterizer", f"{path}:HangsOnNaN", "--timeout", "1", "--out", str(out), "--case", "degenerate/*",
                  "--json", str(tmp_path / "r.json")])
     assert code == 1
     data = json.loads((tmp_path / "r.json").read_text())

@@ -94,8 +94,12 @@ def engine() -> None:
     # the anti-aliased reference (here, to balance the two parts; the multisample ones and
     # the supersampler are drawn by one test module only, which compiles them itself)
     from rasterizers.area_scanline import AreaScanline
+    from tests.known_bad.paths import BUGS, PathFillBug, TwoFillers
 
-    _draw_each_family([AreaScanline()])
+    # and the trapezoid fill's known-bads (here, to balance the two parts: the built-in
+    # trapezoid fill is the other part's, and whichever compiles a kernel first, the other
+    # loads it: harness.numba_cache)
+    _draw_each_family([AreaScanline(), *[PathFillBug(bug) for bug in BUGS], TwoFillers()])
 
 
 def rasterizers() -> None:
@@ -112,13 +116,6 @@ def rasterizers() -> None:
     beyond_one_sample = {r.name for r in (PinedaMSAA4(), PinedaMSAA8(), AreaScanline(), Supersampler4())}
     everyone = [load(name) for name in builtins() if name not in beyond_one_sample]  # those: the engine part's
     everyone += [EdgeFunctionBug("inclusive"), ScanlineBug("no-prestep"), DeqpReference(), PiglitReference()]
-    from rasterizers.trapezoid import _CACHE
-    from tests.known_bad.paths import BUGS, PathFillBug, TwoFillers
-
-    if _CACHE:
-        everyone += [PathFillBug(bug) for bug in BUGS] + [TwoFillers()]
-    else:  # not cached on disk (see rasterizers.trapezoid): compiling them here would be lost
-        everyone = [r for r in everyone if r.name != "trapezoid_fill"]
     _draw_each_family(everyone)
     # the Mesa path adapter's layering kernel, and the exact line oracles
     from harness.lines import bresenham_spans, diamond_exit_spans, rectangle_spans
