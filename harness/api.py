@@ -278,12 +278,14 @@ class PathScene:
 
     def contours(self) -> list[NDArray[np.float64]]:
         """Every contour's (K, 2) vertices (views), in order."""
-        return np.split(self.vertices, np.cumsum(self.contour_sizes)[:-1]) if self.contour_sizes.size else []
+        ends = np.cumsum(self.contour_sizes).tolist()
+        return [self.vertices[end - size:end] for end, size in zip(ends, self.contour_sizes.tolist())]
 
     def contours_of(self, path: int) -> list[NDArray[np.float64]]:
-        """Path ``path``'s contours, in order."""
-        every = self.contours()
-        return [every[c] for c in np.flatnonzero(self.contour_path == path)]
+        """Path ``path``'s contours (views), in order: only its own are sliced, so that a
+        scene's paths taken one by one cost the scene's size, not its square."""
+        ends = np.cumsum(self.contour_sizes)
+        return [self.vertices[ends[c] - self.contour_sizes[c]:ends[c]] for c in np.flatnonzero(self.contour_path == path)]
 
     def edges(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
         """Every edge ``a -> b`` ((E, 2) each; E = V, the last vertex of each contour
@@ -461,7 +463,8 @@ class LineScene:
 
     def strips(self) -> list[NDArray[np.float64]]:
         """Every strip's (K, 2) vertices (views), in order."""
-        return np.split(self.vertices, np.cumsum(self.strip_sizes)[:-1]) if self.strip_sizes.size else []
+        ends = np.cumsum(self.strip_sizes).tolist()
+        return [self.vertices[end - size:end] for end, size in zip(ends, self.strip_sizes.tolist())]
 
     def joints(self, closed: bool = False) -> NDArray[np.int64]:
         """(J, 2) int64: pairs (k, m) of segments where k ends at the vertex m starts at --
