@@ -94,12 +94,16 @@ def engine() -> None:
     # the anti-aliased reference (here, to balance the two parts; the multisample ones and
     # the supersampler are drawn by one test module only, which compiles them itself)
     from rasterizers.area_scanline import AreaScanline
-    from tests.known_bad.paths import BUGS, PathFillBug, TwoFillers
 
-    # and the trapezoid fill's known-bads (here, to balance the two parts: the built-in
-    # trapezoid fill is the other part's, and whichever compiles a kernel first, the other
-    # loads it: harness.numba_cache)
-    _draw_each_family([AreaScanline(), *[PathFillBug(bug) for bug in BUGS], TwoFillers()])
+    _draw_each_family([AreaScanline()])
+    # the exact line oracles (here, to balance the two parts; no kernel of the other part's
+    # calls them, so neither part waits on the other's compile: harness.numba_cache)
+    from harness.lines import bresenham_spans, diamond_exit_spans, rectangle_spans
+
+    a, b = np.array([[0.5, 0.5], [1.0, 7.0]]), np.array([[7.5, 3.25], [6.0, 0.5]])
+    diamond_exit_spans(a, b, 8, 8)
+    rectangle_spans(a, b, 1.0, width=8, height=8)
+    bresenham_spans(a, b, 8, 8)
 
 
 def rasterizers() -> None:
@@ -116,16 +120,14 @@ def rasterizers() -> None:
     beyond_one_sample = {r.name for r in (PinedaMSAA4(), PinedaMSAA8(), AreaScanline(), Supersampler4())}
     everyone = [load(name) for name in builtins() if name not in beyond_one_sample]  # those: the engine part's
     everyone += [EdgeFunctionBug("inclusive"), ScanlineBug("no-prestep"), DeqpReference(), PiglitReference()]
+    from tests.known_bad.paths import BUGS, PathFillBug, TwoFillers
+
+    everyone += [PathFillBug(bug) for bug in BUGS] + [TwoFillers()]  # the trapezoid fill's kernels, as the built-in's
     _draw_each_family(everyone)
-    # the Mesa path adapter's layering kernel, and the exact line oracles
-    from harness.lines import bresenham_spans, diamond_exit_spans, rectangle_spans
+    # the Mesa path adapter's layering kernel
     from rasterizers.real._stencil import layers
 
     layers(np.array([[0, 0, 1, 1]]))
-    a, b = np.array([[0.5, 0.5], [1.0, 7.0]]), np.array([[7.5, 3.25], [6.0, 0.5]])
-    diamond_exit_spans(a, b, 8, 8)
-    rectangle_spans(a, b, 1.0, width=8, height=8)
-    bresenham_spans(a, b, 8, 8)
 
 
 def _draw_each_family(everyone: list) -> None:  # type: ignore[type-arg]
