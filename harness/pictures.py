@@ -360,6 +360,10 @@ CROP_LEGEND = {_DRAWN: (200, 200, 200), _CONVENTION: (230, 205, 140),
 _REGION = list(CROP_LEGEND)[-1]
 # multisample and supersampled pictures: each sample of the convention's pattern in each
 # pixel, over CROP_LEGEND's pixels
+# The most samples one repro panel draws (a dot or ring each): 16 a pixel keep a 12 px
+# crop, 64 (a 16x4 grid) a 6 px one.
+SAMPLE_BUDGET = 2400
+
 SAMPLE_LEGEND = {"sample covered (dot)": (25, 25, 25), "sample not covered (ring)": (140, 140, 140),
                  "sample where the rasterizer and the convention differ (thick ring)": (221, 0, 0),
                  "alpha of an offending pixel (anti-aliased; k/N: k of the N samples)": (0, 40, 170)}
@@ -1697,12 +1701,20 @@ def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, co
     Given ``only``, the coverage of those primitives alone is drawn (their number in the
     titles): one triangle's alphas in a scene of overlapping ones, say; given a
     partition's ``region``, it is outlined."""
-    x0, y0, x1, y1 = window
-    answer = _of(answer, only)
-    oracle = None if oracle is None else _of(oracle, only)
     w, h = scene.width, scene.height
     area = convention is not None and convention.kind == "area"
     pattern = convention is not None and convention.samples is not None
+    if pattern and convention is not None:
+        # every sample of every pixel is drawn: a window of at most SAMPLE_BUDGET samples
+        # around the first offending pixel (a 16x4 supersampler's 12 px crop was 4 MB of SVG)
+        count = convention.n_samples
+        x0, y0, x1, y1 = window
+        if (x1 - x0) * (y1 - y0) * count > SAMPLE_BUDGET:
+            fx, fy = marks[0] if marks else ((x0 + x1) // 2, (y0 + y1) // 2)
+            window = window_around(fx, fy, w, h, max(2, int(math.sqrt(SAMPLE_BUDGET / count))))
+    x0, y0, x1, y1 = window
+    answer = _of(answer, only)
+    oracle = None if oracle is None else _of(oracle, only)
 
     def layers(coverage: Coverage | None) -> dict[str, Any]:
         if coverage is None:
