@@ -1,0 +1,223 @@
+"""dEQP's reference rasterizer at 2, 4, 8 and 16 samples (:mod:`tests.peers.deqp`): the port
+decides every sample as the original compiled from ``tests/peers/src/deqp`` does, identify
+recovers each pattern exactly from outside (offsets, tie rule, half-away 8-bit snapping),
+and the quick suite judges the port against what was identified without a false alarm.
+
+``RASTERCHECK_PEER_SCENES=N`` raises the random scenes per pattern of the cross-check (and
+runs every check of the quick suite on every pattern). Measured with N = 20,000 (80,000
+scenes, 2x to 16x): 0 differing samples.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import functools
+import hashlib
+import os
+
+import numpy as np
+import pytest
+from numpy.typing import NDArray
+
+from harness.api import Coverage, Scene
+from harness.conventions import Convention
+from tests.peers.compiled import SOURCES, load
+from tests.peers.deqp import DeqpMultisample, to_subpixel
+
+PATTERNS = (2, 4, 8, 16)
+LONG = int(os.environ.get("RASTERCHECK_PEER_SCENES", "0"))
+SCENES = LONG or 200  # per pattern
+
+# What rrRasterizer.cpp's sample tables become through its own toSubpixelCoord (float32:
+# 0.3f * 256 = 76.8000031 -> 77, 0.7f * 256 = 179.199997 -> 179; the others are exact),
+# in sample order; 8 subpixel bits, half away from zero, ties as initEdgeCCW's FILL_LEFT
+# and FILL_BOTTOM give them in the harness's y-down screen: top-left.
+DEQP_PATTERNS = {
+    2: ((77 / 256, 77 / 256), (179 / 256, 179 / 256)),
+    4: ((0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)),
+    8: ((7 / 16, 9 / 16), (9 / 16, 13 / 16), (11 / 16, 3 / 16), (13 / 16, 11 / 16),
+        (1 / 16, 7 / 16), (5 / 16, 1 / 16), (15 / 16, 5 / 16), (3 / 16, 15 / 16)),
+    16: tuple(((2 * i + 1) / 8, (2 * j + 1) / 8) for j in range(4) for i in range(4)),
+}
+
+
+def expected_convention(samples: int) -> Convention:
+    return Convention(samples=DEQP_PATTERNS[samples], tie="top-left", subpixel_bits=8, snap_rounding="half-away")
+
+
+# -- the compiled original ---------------------------------------------------------------------
+
+
+@functools.cache
+def _original() -> ctypes.CDLL:
+    folder = SOURCES / "deqp"
+    # the build is cached by its sources and flags: the headers (.hpp) enter through a define
+    headers = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(folder.glob("*.hpp")))).hexdigest()[:16]
+    library = load("deqp", [folder / "rrRasterizer.cpp", folder / "shim.cpp"], language="c++",
+                   flags=("-std=c++17", f"-DRASTERCHECK_HEADERS=0x{headers}"))
+    pointer, size = ctypes.c_void_p, ctypes.c_int
+    library.deqp_triangles.argtypes = [pointer, size, size, size, size, size, pointer, ctypes.c_int64]
+    library.deqp_triangles.restype = ctypes.c_int64
+    return library
+
+
+def original_fragments(scene: Scene, samples: int) -> NDArray[np.int64]:
+    """The compiled original's covered samples, as sorted keys (see :func:`keys`); the
+    scene's positions go to it as float32, as a dEQP caller passes ``tcu::Vec4``."""
+    library = _original()
+    xy = np.ascontiguousarray(scene.positions.reshape(-1, 6), dtype=np.float32)
+    capacity = 4096
+    while True:
+        out = np.zeros((capacity, 4), dtype=np.int32)
+        n = library.deqp_triangles(xy.ctypes.data, len(scene), scene.width, scene.height, samples, 8,
+                                   out.ctypes.data, capacity)
+        if n <= capacity:
+            break
+        capacity = int(n)
+    out = out[:n].astype(np.int64)
+    bit = (out[:, 3:4] >> np.arange(samples)) & 1
+    rows, sample = np.nonzero(bit)
+    t, x, y = out[rows, 0], out[rows, 1], out[rows, 2]
+    return np.sort(((t * samples + sample) * scene.height + y) * scene.width + x)
+
+
+def keys(coverage: Coverage, scene: Scene, samples: int) -> NDArray[np.int64]:
+    """Each covered (triangle, sample, y, x) as one sorted int64 key."""
+    parts = []
+    for s in range(samples):
+        t, x, y = coverage.layer(s).pixels()
+        parts.append(((t * samples + s) * scene.height + y) * scene.width + x)
+    return np.sort(np.concatenate(parts)) if parts else np.zeros(0, dtype=np.int64)
+
+
+# -- random scenes with ties, huge and tiny triangles ------------------------------------------
+
+
+def random_scene(rng: np.random.Generator) -> Scene:
+    """A few triangles of one kind on a small screen: float32-exact floats; vertices on
+    the 1/256 grid or at its half steps (snapping ties) or on coarse grids (samples exactly
+    on edges); huge triangles (to 2**20 px); tiny ones; degenerate ones; float64 input;
+    triangles on a screen reaching past 32,768 or 49,152 px, where float32 rounding moves
+    odd 1/256 steps."""
+    width, height = int(rng.integers(1, 40)), int(rng.integers(1, 40))
+    n = int(rng.integers(1, 7))
+    kind = int(rng.integers(0, 8))
+    lo, hi = -4.0, max(width, height) + 4.0
+    p = rng.uniform(lo, hi, (n, 3, 2))
+    if kind == 0:  # the 1/256 grid
+        p = np.round(p * 256) / 256
+    elif kind == 1:  # half steps of the snapping grid: round half away
+        p = np.round(p * 256) / 256 + rng.choice([-1, 1], p.shape) / 512
+    elif kind == 2:  # coarse grids: samples (at k/16 or 77/256) exactly on edges
+        step = float(rng.choice([1, 2, 4, 8, 16, 256]))
+        p = np.round(p * step) / step
+    elif kind == 3:  # huge: one or two vertices far away
+        far = rng.choice([2.0**10, 2.0**15, 2.0**16, 2.0**20], p.shape) * rng.choice([-1, 1], p.shape)
+        mask = rng.random(p.shape[:2]) < 0.5
+        p = np.where(mask[:, :, None], np.round((p + far) * 256) / 256, p)
+        p = np.clip(p, 1 / 256 - 2**20, 2**20 - 1 / 256)
+        odd = np.floor(p * 128) / 128 + 1 / 256  # odd multiples of 1/256 (float32-exact below 65536)
+        p = np.where(rng.random(p.shape) < 0.5, odd, p)
+    elif kind == 4:  # tiny: within a pixel or two
+        base = rng.uniform(lo, hi, (n, 1, 2))
+        p = base + rng.uniform(-1, 1, (n, 3, 2)) * float(rng.choice([1 / 256, 1 / 32, 0.5, 2]))
+        p = np.round(p * 1024) / 1024
+    elif kind == 5:  # degenerate: collinear or repeated vertices
+        p[:, 2] = p[:, 0] + (p[:, 1] - p[:, 0]) * rng.choice([0.0, 0.5, 1.0, 2.0], (n, 1))
+        p = np.round(p * 256) / 256
+    elif kind == 6:  # float64 input: the caller's conversion to float32 rounds it
+        pass
+    elif kind == 7:  # far from the origin: from 32,768 px float32 moves odd 1/256 steps by one
+        far = 32768.0 + float(rng.integers(0, 2)) * 16384
+        p = np.round(p * 256) / 256
+        axis = int(rng.integers(0, 2))
+        p[:, :, axis] += far
+        width, height = (width + int(far), height) if axis == 0 else (width, height + int(far))
+    if kind != 6:
+        p = p.astype(np.float32).astype(np.float64)
+    return Scene(width, height, p)
+
+
+def differing(samples: int, scenes: int, seed: int, port: DeqpMultisample | None = None) -> tuple[int, int]:
+    """(differing samples, samples compared) over ``scenes`` random scenes."""
+    rng = np.random.default_rng(seed)
+    port = port or DeqpMultisample(samples)
+    diff = total = 0
+    for _ in range(scenes):
+        scene = random_scene(rng)
+        want, got = original_fragments(scene, samples), keys(port.rasterize(scene), scene, samples)
+        diff += int(np.setxor1d(want, got).size) + (want.size - np.unique(want).size) + (got.size - np.unique(got).size)
+        total += int(want.size)
+    return diff, total
+
+
+@pytest.mark.parametrize("samples", PATTERNS)
+def test_the_port_decides_every_sample_as_the_original(samples):
+    diff, total = differing(samples, SCENES, seed=samples)
+    assert total > 1000 and diff == 0, f"{diff} of {total} samples differ"
+
+
+class ExactSnapping(DeqpMultisample):
+    """Broken on purpose: snaps the float64 input half away from zero exactly, without
+    dEQP's float32 conversion and float32 ``v * 256 + 0.5``."""
+
+    def snap(self, positions: NDArray[np.float64]) -> NDArray[np.int64]:
+        scaled = positions * 2.0**self.bits
+        return np.trunc(scaled + np.where(scaled < 0, -0.5, 0.5)).astype(np.int64)
+
+
+class MisreadTwoX(DeqpMultisample):
+    """Broken on purpose: dEQP's 2x samples at 78/256 and 180/256 (0.3 and 0.7 rounded
+    from float64, not float32), as identify once misread them."""
+
+    def __init__(self) -> None:
+        super().__init__(2)
+        self.offsets = np.array([[78, 78], [180, 180]], dtype=np.int64)
+
+
+@pytest.mark.parametrize("broken", [ExactSnapping(2), ExactSnapping(8), MisreadTwoX()], ids=["exact-snapping-2x", "exact-snapping-8x", "2x-at-78-180"])
+def test_the_cross_check_tells_a_port_that_is_off_by_one_step(broken):
+    """The random scenes reach the places where the original's float32 arithmetic and
+    sample tables matter: a port that gets either slightly wrong differs."""
+    diff, _ = differing(broken.samples, 40, seed=7, port=broken)
+    assert diff > 0
+
+
+def test_to_subpixel_is_the_originals_float32_rounding():
+    # half away from zero; float32's own rounding at 2**23 and just below 1/512
+    values = np.array([1.5 / 256, -1.5 / 256, 2.5 / 256, (32768 * 256 + 1) / 256, np.float32(0.5 - 2**-25) / 256])
+    assert to_subpixel(values, 8).tolist() == [2, -2, 3, 32768 * 256 + 2, 1]
+
+
+# -- identify and the quick suite ---------------------------------------------------------------
+
+
+@functools.cache
+def _identified(samples: int):  # type: ignore[no-untyped-def]
+    from harness.identify import identify
+
+    port = DeqpMultisample(samples)
+    return port, identify(port)
+
+
+@pytest.mark.parametrize("samples", PATTERNS)
+def test_identify_recovers_deqps_pattern_exactly(samples):
+    _, fingerprint = _identified(samples)
+    assert fingerprint.kind == "multisample"
+    assert fingerprint.exact and fingerprint.convention == expected_convention(samples), fingerprint.card()
+    assert DeqpMultisample(samples).offsets.tolist() == [[round(x * 256), round(y * 256)] for x, y in DEQP_PATTERNS[samples]]
+
+
+@pytest.mark.parametrize("samples", PATTERNS)
+def test_the_port_passes_the_quick_suite_as_identified(samples):
+    """Conformance, where an identified convention could fail falsely at ties and half
+    steps; every check of the quick suite in a long run (``RASTERCHECK_PEER_SCENES``)."""
+    from harness import run_suite
+    from harness.identify import Identified
+
+    port, fingerprint = _identified(samples)
+    only = None if LONG else {"conformance"}
+    results = run_suite([Identified(port, fingerprint)], suite="quick", repros=False, only=only, isolate=False)
+    bad = [f"{r.case} {r.check}: {r.message}" for r in results if r.status in ("fail", "error")]
+    assert not bad, bad[:5]
+    assert sum(r.check == "conformance" and r.status == "pass" for r in results) > 50
