@@ -19,10 +19,11 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene
-from harness.conventions import Convention
+from harness.api import Coverage, LineScene, Scene
+from harness.conventions import Convention, LineRule
+from harness.lines import diamond_exit_spans
 from tests.peers.compiled import SOURCES, load
-from tests.peers.deqp import DeqpMultisample, to_subpixel
+from tests.peers.deqp import DeqpLines, DeqpMultisample, to_subpixel
 
 PATTERNS = (2, 4, 8, 16)
 LONG = int(os.environ.get("RASTERCHECK_PEER_SCENES", "0"))
@@ -58,6 +59,8 @@ def _original() -> ctypes.CDLL:
     pointer, size = ctypes.c_void_p, ctypes.c_int
     library.deqp_triangles.argtypes = [pointer, size, size, size, size, size, pointer, ctypes.c_int64]
     library.deqp_triangles.restype = ctypes.c_int64
+    library.deqp_lines.argtypes = [pointer, size, size, size, size, ctypes.c_float, pointer, ctypes.c_int64]
+    library.deqp_lines.restype = ctypes.c_int64
     return library
 
 
@@ -221,3 +224,168 @@ def test_the_port_passes_the_quick_suite_as_identified(samples):
     bad = [f"{r.case} {r.check}: {r.message}" for r in results if r.status in ("fail", "error")]
     assert not bad, bad[:5]
     assert sum(r.check == "conformance" and r.status == "pass" for r in results) > 50
+
+
+# -- aliased lines: SingleSampleLineRasterizer ------------------------------------------------------
+
+GL_LINES = Convention(subpixel_bits=8, snap_rounding="half-away", line=LineRule("diamond-exit-gl", wide="replicate"))
+"""What dEQP's line rasterizer means to draw: GL's aliased lines (OpenGL ES 3.2 13.7.2.1,
+OpenGL 4.6 14.5.1), on its 8-bit subpixel grid, wide lines by replication."""
+
+
+def original_line_pixels(scene: LineScene) -> NDArray[np.int64]:
+    """The compiled original's fragments of a line scene as sorted keys (segment, y, x)."""
+    library = _original()
+    a, b = scene.segments()
+    xy = np.ascontiguousarray(np.concatenate([a, b], axis=1), dtype=np.float32)
+    capacity = 4096
+    while True:
+        out = np.zeros((capacity, 4), dtype=np.int32)
+        n = library.deqp_lines(xy.ctypes.data, len(a), scene.width, scene.height, 8, scene.line_width,
+                               out.ctypes.data, capacity)
+        if n <= capacity:
+            break
+        capacity = int(n)
+    t, x, y = (out[:n, k].astype(np.int64) for k in range(3))
+    return np.sort((t * scene.height + y) * scene.width + x)
+
+
+def line_keys(coverage: Coverage, scene: LineScene) -> NDArray[np.int64]:
+    t, x, y = coverage.pixels()
+    return np.sort((t * scene.height + y) * scene.width + x)
+
+
+def random_line_scene(rng: np.random.Generator) -> LineScene:
+    """Strips of a few segments: end points on the half-pixel lattice (centres, corners,
+    diamond corners: every tie of the diamond test), on the 1/256 grid and its half steps,
+    float32 floats, float64 floats, far out (to 2**14 px); widths 1, and 0.5 to 4 (dEQP
+    replicates floor(w + 0.5) copies); zero-length segments."""
+    width, height = int(rng.integers(1, 33)), int(rng.integers(1, 33))
+    strips = []
+    for _ in range(int(rng.integers(1, 5))):
+        v = rng.uniform(-3, max(width, height) + 3, (int(rng.integers(2, 5)), 2))
+        kind = int(rng.integers(0, 6))
+        if kind == 0:
+            v = np.round(v * 2) / 2
+        elif kind == 1:
+            v = np.round(v * 256) / 256
+        elif kind == 2:
+            v = np.round(v * 256) / 256 + rng.choice([-1, 1], v.shape) / 512
+        elif kind == 3:
+            v[int(rng.integers(0, len(v)))] = np.round(rng.uniform(-2.0**14, 2.0**14, 2) * 2) / 2
+        elif kind == 4:
+            v[1] = v[0]
+        if kind != 5:
+            v = v.astype(np.float32).astype(np.float64)
+        strips.append(v)
+    line_width = float(rng.choice([1.0, 1.0, 1.0, 0.5, 1.4, 2.0, 2.6, 3.0, 4.0]))
+    return LineScene.from_strips(width, height, strips, line_width=line_width)
+
+
+def differing_lines(scenes: int, seed: int, port) -> tuple[int, int]:  # type: ignore[no-untyped-def]
+    rng = np.random.default_rng(seed)
+    diff = total = 0
+    for _ in range(scenes):
+        scene = random_line_scene(rng)
+        want, got = original_line_pixels(scene), line_keys(port.rasterize(scene), scene)
+        diff += int(np.setxor1d(want, got).size) + (want.size - np.unique(want).size) + (got.size - np.unique(got).size)
+        total += int(want.size)
+    return diff, total
+
+
+def test_the_line_port_draws_every_pixel_as_the_original():
+    diff, total = differing_lines(SCENES, seed=29, port=DeqpLines())
+    assert total > 1000 and diff == 0, f"{diff} of {total} pixels differ"
+
+
+class GLRule:
+    """Not dEQP: GL's own rule, exactly (:func:`harness.lines.diamond_exit_spans`), width 1."""
+
+    def rasterize(self, scene: LineScene) -> Coverage:
+        a, b = scene.segments()
+        s, y, x0, x1 = diamond_exit_spans(GL_LINES.snap(a), GL_LINES.snap(b), scene.width, scene.height,
+                                          rule="diamond-exit-gl")
+        return Coverage(s, y, x0, x1)
+
+
+def test_the_line_cross_check_tells_dEQP_from_GLs_rule():
+    """The random scenes reach the ties where dEQP's corner rules part from GL's."""
+    rng = np.random.default_rng(3)
+    diff = 0
+    for _ in range(40):
+        scene = random_line_scene(rng)
+        scene = LineScene(scene.width, scene.height, scene.vertices, scene.strip_sizes, 1.0)
+        diff += int(np.setxor1d(original_line_pixels(scene), line_keys(GLRule().rasterize(scene), scene)).size)
+    assert diff > 0
+
+
+# dEQP's bugs against GL's rule, each a segment whose pixels follow from the source
+# (LineRasterUtil::doesLineSegmentExitDiamond, window y taken as rows, the end points moved
+# by -(eps, eps**2) as GL says):
+DEQP_LINE_BUGS = {
+    # the segment enters the diamond of (5, 4) through its right corner (6, 4.5) and ends at
+    # its centre: GL omits the pixel (the end point lies in it); dEQP's corner rule
+    # CORNER_EDGE_CASE_HIT counts any segment through the right corner as exiting
+    "end pixel drawn right to left through a diamond corner": ([(8.5, 4.5), (5.5, 4.5)], {(5, 4)}, set()),
+    # the same through the bottom corner (CORNER_EDGE_CASE_HIT_FIRST_QUARTER, dx * dy <= 0)
+    "end pixel drawn upwards through a diamond corner": ([(9.5, 7.5), (9.5, 4.5)], {(9, 4)}, set()),
+    # a segment running along a diamond's upper-right edge into its right corner: moved by
+    # -(eps, eps**2) it runs inside and ends inside, so GL omits the pixel; dEQP draws it
+    # (through the top corner, CORNER_EDGE_CASE_HIT_SECOND_QUARTER)
+    "end pixel drawn along a diamond edge": ([(5.5, 6.0), (8.0, 8.5)], {(7, 8)}, set()),
+    # ending on a top corner (5.5, 5.0) coming from below right: moved, the segment crosses
+    # the diamond of (5, 5) and its end lies outside, so GL draws it; dEQP's end rule for
+    # that corner (CORNER_END_CASE_DIRECTION_AND_SECOND_QUARTER) takes dx > 0, dy > 0, the
+    # opposite quarter: it omits this one ...
+    "top-corner end rule mirrored (pixel omitted)": ([(9.5, 7.5), (5.5, 5.0)], set(), {(5, 5)}),
+    # ... and draws (7, 6) for a segment from above left ending on its top corner (7.5, 6),
+    # which moved stays above the diamond
+    "top-corner end rule mirrored (pixel drawn)": ([(5.5, 4.5), (7.5, 6.0)], {(7, 6)}, set()),
+    # ending on a bottom corner, right to left and horizontal: moved, the segment runs just
+    # inside the diamond of (4, 6) and ends outside it, so GL draws it; dEQP's end rule
+    # (CORNER_END_CASE_DIRECTION_AND_FIRST_QUARTER) wants dy > 0, not dy >= 0
+    "bottom-corner end rule misses horizontal lines": ([(6.5, 7.0), (4.5, 7.0)], set(), {(4, 6)}),
+}
+
+
+@pytest.mark.parametrize("bug", sorted(DEQP_LINE_BUGS))
+def test_dEQPs_line_bugs_are_found_by_conformance(bug):
+    """Each bug: the compiled original draws (omits) the pixel, the port too, GL's rule
+    does not (does), and the harness's conformance check, judging the port against GL's
+    aliased-line convention, fails on that pixel -- while GL's own drawer
+    (:class:`tests.gl_lines.GLDiamondLines`) passes the same case."""
+    from harness import run_suite
+    from harness.case import Case
+    from tests.gl_lines import GLDiamondLines
+
+    segment, extra, missing = DEQP_LINE_BUGS[bug]
+    scene = LineScene.from_strips(16, 12, [segment])
+    original = {(int(k % 16), int(k // 16)) for k in original_line_pixels(scene)}
+    gl = {(int(x), int(y)) for _, x, y in zip(*GLRule().rasterize(scene).pixels())}
+    assert original - gl == extra and gl - original == missing, (sorted(original), sorted(gl))
+    assert set(zip(*(a.tolist() for a in DeqpLines().rasterize(scene).pixels()[1:]))) == original
+
+    case = Case(f"deqp/{bug}", scene, lattice=True)
+    judged = DeclaredGL()
+    results = run_suite([judged, GLDiamondLines()], cases=[case], only={"conformance"}, isolate=False, repros=False)
+    verdict = {r.rasterizer: r for r in results}
+    said = verdict[judged.name].message
+    assert verdict[judged.name].status == "fail" and f"{len(missing)} missing, {len(extra)} extra" in said, said
+    assert verdict["gl_diamond_lines"].status == "pass"
+
+
+class DeclaredGL(DeqpLines):
+    """dEQP's line rasterizer declaring the convention it means to follow: GL's."""
+
+    name = "deqp_lines_as_gl"
+    convention = GL_LINES
+
+
+def test_identify_makes_no_exact_claim_for_dEQPs_lines():
+    """No line rule explains dEQP's corner bugs: identify's nearest is GL's rule, as a best
+    guess with its residual, never an exact convention."""
+    from harness.identify import identify
+
+    fingerprint = identify(DeqpLines())
+    line = fingerprint.facts["lines"]
+    assert not fingerprint.exact and "GL diamond-exit" in line and "best guess" in line, fingerprint.card()

@@ -43,11 +43,11 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene
+from harness.api import AnyScene, Coverage, LineScene, Scene, Unsupported
 from harness.exact import frozen
 from rasterizers._common import check_range
 
-__all__ = ["SAMPLE_POINTS", "SUBPIXEL_BITS", "DeqpMultisample", "to_subpixel", "sample_offsets"]
+__all__ = ["SAMPLE_POINTS", "SUBPIXEL_BITS", "DeqpMultisample", "DeqpLines", "exits_diamond", "to_subpixel", "sample_offsets"]
 
 SUBPIXEL_BITS = 8
 """dEQP's GLES and Vulkan tests build the rasterizer with 8 subpixel bits."""
@@ -227,3 +227,225 @@ class DeqpMultisample:
         runs = _multisample_kernel(frozen(fixed, np.int64), frozen(drawn, np.bool_), frozen(self.offsets, np.int64),
                                    self.bits, scene.width, scene.height)
         return Coverage(runs[:, 0], runs[:, 2], runs[:, 3], runs[:, 4], sample=runs[:, 1])
+
+
+# -- aliased lines: SingleSampleLineRasterizer and LineRasterUtil::doesLineSegmentExitDiamond ---
+
+LINE_LIMIT = 2.0**14
+"""Beyond +-2**14 px the original's ``2 * dotProduct * dotProduct`` (a segment's direction
+times a corner's normal, squared) may overflow int64: undefined, so the port refuses."""
+
+_FLOOR_SQRT_MAX_INT64 = 3037000499
+# the four corners of the diamond, in the original's order: offset (in half pixels),
+# pointInclusive, lineBehavior (0 NONE, 1 HIT, 2 HIT_FIRST_QUARTER, 3 HIT_SECOND_QUARTER),
+# startBehavior (0 NONE, 1 OUTSIDE, 2 POSITIVE_Y_45, 3 NEGATIVE_Y_45), endBehavior
+# (0 NONE, 1 DIRECTION, 2 DIRECTION_AND_FIRST_QUARTER, 3 DIRECTION_AND_SECOND_QUARTER)
+_CORNERS = frozen(np.array([[0, -1, 0, 3, 2, 3], [-1, 0, 0, 0, 0, 1], [0, 1, 0, 2, 3, 2], [1, 0, 1, 1, 1, 0]]), np.int64)
+# the four bounds p0 -> p1 (in half pixels) and edgeInclusive
+_BOUNDS = frozen(np.array([[0, -1, -1, 0, 0], [-1, 0, 0, 1, 0], [0, 1, 1, 0, 1], [1, 0, 0, -1, 1]]), np.int64)
+
+
+@numba.njit(cache=True, inline="always")
+def _bit_length(value):  # type: ignore[no-untyped-def]
+    """64 - deClz64(value) for value >= 0."""
+    n = 0
+    while value > 0:
+        value >>= 1
+        n += 1
+    return n
+
+
+@numba.njit(cache=True, inline="always")
+def _cross(ux, uy, vx, vy):  # type: ignore[no-untyped-def]
+    return ux * vy - uy * vx
+
+
+@numba.njit(cache=True, inline="always")
+def _in_corner_angle(dx, dy, nx, ny):  # type: ignore[no-untyped-def]
+    """lineInCornerAngleRange."""
+    dot = dx * nx + dy * ny
+    if dot < 0:
+        return False
+    return 2 * dot * dot > (dx * dx + dy * dy) * (nx * nx + ny * ny)
+
+
+@numba.njit(cache=True, inline="always")
+def _in_corner_outside_angle(dx, dy, nx, ny):  # type: ignore[no-untyped-def]
+    """lineInCornerOutsideAngleRange."""
+    dot = dx * nx + dy * ny
+    if dot >= 0:
+        return True
+    return 2 * (-dot) * (-dot) < (dx * dx + dy * dy) * (nx * nx + ny * ny)
+
+
+@numba.njit(cache=True, inline="always")
+def _side(px, py, ax, ay, dx, dy):  # type: ignore[no-untyped-def]
+    """getVertexSide: 1 left (cross < 0), 2 right (cross > 0), 0 on the line."""
+    cross = _cross(dx, dy, px - ax, py - ay)
+    return 1 if cross < 0 else (2 if cross > 0 else 0)
+
+
+@numba.njit(cache=True)
+def exits_diamond(ax, ay, bx, by, cx, cy, half, corners, bounds):  # type: ignore[no-untyped-def]
+    """doesLineSegmentExitDiamond: the segment a -> b (subpixel units) and the diamond
+    centred at c of half-diagonal ``half``."""
+    dx, dy = bx - ax, by - ay
+    # Reject distant diamonds early (with the original's overflow guards)
+    cross = _cross(dx, dy, cx - ax, cy - ay)
+    reject_squared = (2 * half) * (2 * half)
+    cross_overflows = cross > _FLOOR_SQRT_MAX_INT64 or cross < -_FLOOR_SQRT_MAX_INT64
+    cross_squared = 0 if cross_overflows else cross * cross
+    length_squared = dx * dx + dy * dy
+    limit_overflows = _bit_length(length_squared) + _bit_length(reject_squared) > 63
+    limit = 0 if limit_overflows else length_squared * reject_squared
+    if cross_overflows and not limit_overflows:
+        return False
+    if not cross_overflows and not limit_overflows and cross_squared > limit:
+        return False
+    # Corner cases at the corners
+    for k in range(4):
+        nx, ny = corners[k, 0] * half, corners[k, 1] * half
+        px, py = cx + nx, cy + ny
+        inclusive, line_case, start_case, end_case = corners[k, 2], corners[k, 3], corners[k, 4], corners[k, 5]
+        # vertexOnLineSegment
+        if _cross(dx, dy, px - ax, py - ay) != 0 or (dx == 0 and dy == 0):
+            continue
+        if not (dx * (px - ax) + dy * (py - ay) >= 0 and -dx * (px - bx) - dy * (py - by) >= 0):
+            continue
+        at_start = px == ax and py == ay
+        at_end = px == bx and py == by
+        if not at_start and not at_end:
+            if line_case == 1:
+                return True
+            if line_case == 2 and dx * dy <= 0:
+                return True
+            if line_case == 3 and dx * dy > 0:
+                return True
+        if _in_corner_angle(dx, dy, nx, ny):
+            start_inside = inclusive == 1 or not at_start
+            end_outside = inclusive == 0 or not at_end
+            if start_inside and end_outside:
+                return True
+        if at_end:
+            if end_case != 0 and _in_corner_angle(dx, dy, nx, ny):
+                return True
+            if end_case == 2 and dx < 0 and dy > 0:
+                return True
+            if end_case == 3 and dx > 0 and dy > 0:
+                return True
+        if at_start:
+            if start_case == 1 and _in_corner_outside_angle(dx, dy, nx, ny):
+                return True
+            if start_case == 2 and dx > 0 and dy > 0 and dy <= dx:
+                return True
+            if start_case == 3 and dx > 0 and dy <= 0 and -dy <= dx:
+                return True
+    # Does the line intersect a boundary at its left: it exits the diamond
+    for k in range(4):
+        p0x, p0y = cx + bounds[k, 0] * half, cy + bounds[k, 1] * half
+        p1x, p1y = cx + bounds[k, 2] * half, cy + bounds[k, 3] * half
+        ux, uy = p1x - p0x, p1y - p0y
+        start_cross = _cross(ux, uy, ax - p0x, ay - p0y)
+        end_cross = _cross(ux, uy, bx - p0x, by - p0y)
+        start_inside = start_cross < 0 or (bounds[k, 4] == 1 and start_cross == 0)
+        end_inside = end_cross < 0 or (bounds[k, 4] == 1 and end_cross == 0)
+        if not start_inside or end_inside:
+            continue
+        side0 = _side(p0x, p0y, ax, ay, dx, dy)
+        side1 = _side(p1x, p1y, ax, ay, dx, dy)
+        if side0 != 0 and side1 != 0 and side0 != side1:
+            return True
+    return False
+
+
+@numba.njit(cache=True)
+def _line_kernel(a, b, drawn, x_major, widths, bits, width, height, corners, bounds):  # type: ignore[no-untyped-def]
+    """(segment, x, y) of every fragment: SingleSampleLineRasterizer::init and rasterize,
+    no stipple; ``a``, ``b`` (N, 2) int64 subpixel end points, ``widths`` (N,) the
+    replication count ``lineWidthPixels``."""
+    out = []
+    one = 1 << bits
+    half = 1 << (bits - 1)
+    for n in range(a.shape[0]):
+        if not drawn[n]:
+            continue
+        w = widths[n]
+        shift = ((w - 1) << bits) // 2  # toSubpixelCoord(lineWidthPixels - 1) / 2, exact: even
+        mx, my = (0, 1) if x_major[n] else (1, 0)  # minorDirection
+        x0, y0 = a[n, 0] - mx * shift, a[n, 1] - my * shift
+        x1, y1 = b[n, 0] - mx * shift, b[n, 1] - my * shift
+        bx0 = _floor_pixel(min(x0, x1) - one, bits, True)
+        bx1 = _ceil_pixel(max(x0, x1) + one, bits, True)
+        by0 = _floor_pixel(min(y0, y1) - one, bits, True)
+        by1 = _ceil_pixel(max(y0, y1) + one, bits, True)
+        if x_major[n]:  # the major axis clamped to the viewport, the minor one padded by w
+            bx0, bx1 = min(max(bx0, 0), width - 1), min(max(bx1, 0), width - 1)
+            by0, by1 = min(max(by0, -w), height - 1), min(max(by1, -w), height - 1)
+            lo, hi = 0, height
+        else:
+            by0, by1 = min(max(by0, 0), height - 1), min(max(by1, 0), height - 1)
+            bx0, bx1 = min(max(bx0, -w), width - 1), min(max(bx1, -w), width - 1)
+            lo, hi = 0, width
+        for y in range(by0, by1 + 1):
+            for x in range(bx0, bx1 + 1):
+                if not exits_diamond(x0, y0, x1, y1, (x << bits) + half, (y << bits) + half, half, corners, bounds):
+                    continue
+                location = y if x_major[n] else x
+                for r in range(max(0, lo - location), min(hi - location, w)):
+                    out.append((n, x + mx * r, y + my * r))
+    result = np.empty((len(out), 3), dtype=np.int64)
+    for i in range(len(out)):
+        result[i, 0], result[i, 1], result[i, 2] = out[i]
+    return result
+
+
+class DeqpLines:
+    """dEQP's ``SingleSampleLineRasterizer``: aliased lines by its diamond-exit test
+    (``LineRasterUtil::doesLineSegmentExitDiamond``), 8 subpixel bits, wide lines
+    replicated along the minor axis, no stipple.
+
+    Ported from the same file and commit as :class:`DeqpMultisample`. End points are
+    ``tcu::Vec4`` floats snapped by ``toSubpixelCoord`` (:func:`to_subpixel`); the major
+    axis is ``|dx| >= |dy|`` in float32; a line of width w > 1 is drawn as
+    ``floor(w + 0.5)`` copies, the segment first moved by ``-(copies - 1) / 2`` px along
+    the minor axis. Each segment of a strip is drawn on its own, as dEQP draws
+    ``GL_LINE_STRIP``. Declares no convention.
+
+    Examples
+    --------
+    >>> from harness.api import LineScene
+    >>> DeqpLines().rasterize(LineScene.from_strips(4, 2, [[[0.5, 0.5], [3.5, 0.5]]])).counts(4, 2).tolist()
+    [[1, 1, 1, 0], [0, 0, 0, 0]]
+    """
+
+    convention = None
+    scene_kinds = ("lines",)
+    interpolates = False
+    name = "deqp_lines"
+
+    def __init__(self) -> None:
+        self.bits = SUBPIXEL_BITS
+
+    def rasterize(self, scene: AnyScene) -> Coverage:
+        if not isinstance(scene, LineScene):
+            raise Unsupported(f"{self.name} draws line scenes only, not {scene.kind}")
+        a, b = scene.segments()
+        ends = np.concatenate([a, b], axis=1)
+        drawn = np.isfinite(ends).all(axis=1)
+        beyond = drawn & (np.abs(np.where(drawn[:, None], ends, 0.0)) > LINE_LIMIT).any(axis=1)
+        if beyond.any():
+            raise ValueError(f"{self.name}: segment {int(np.flatnonzero(beyond)[0])} has a coordinate beyond "
+                             f"+-2**14 px; the original's int64 products may overflow beyond that")
+        a, b = (np.where(drawn[:, None], p, 0.0) for p in (a, b))
+        delta = b.astype(np.float32) - a.astype(np.float32)  # (m_v1 - m_v0) in float32
+        x_major = np.abs(delta[:, 0]) >= np.abs(delta[:, 1])
+        w = np.float32(scene.line_width)
+        copies = int(np.floor(w + np.float32(0.5))) if w > np.float32(1.0) else 1
+        out = _line_kernel(frozen(self.snap(a), np.int64), frozen(self.snap(b), np.int64), frozen(drawn, np.bool_),
+                           frozen(x_major, np.bool_), frozen(np.full(len(a), copies), np.int64), self.bits,
+                           scene.width, scene.height, _CORNERS, _BOUNDS)
+        return Coverage.from_pixels(out[:, 0], out[:, 1], out[:, 2])
+
+    def snap(self, positions: NDArray[np.float64]) -> NDArray[np.int64]:
+        """The end points in 1/256 px (:func:`to_subpixel`)."""
+        return to_subpixel(positions, self.bits)
