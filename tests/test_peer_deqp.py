@@ -23,7 +23,7 @@ from harness.api import Coverage, LineScene, Scene
 from harness.conventions import Convention, LineRule
 from harness.lines import diamond_exit_spans
 from tests.peers.compiled import SOURCES, load
-from tests.peers.deqp import DeqpLines, DeqpMultisample, to_subpixel
+from tests.peers.deqp import DeqpLines, DeqpMultisample, DeqpMultisampleLines, to_subpixel
 
 PATTERNS = (2, 4, 8, 16)
 LONG = int(os.environ.get("RASTERCHECK_PEER_SCENES", "0"))
@@ -61,6 +61,9 @@ def _original() -> ctypes.CDLL:
     library.deqp_triangles.restype = ctypes.c_int64
     library.deqp_lines.argtypes = [pointer, size, size, size, size, ctypes.c_float, pointer, ctypes.c_int64]
     library.deqp_lines.restype = ctypes.c_int64
+    library.deqp_lines_multisample.argtypes = [pointer, size, size, size, size, size, ctypes.c_float, pointer,
+                                               ctypes.c_int64]
+    library.deqp_lines_multisample.restype = ctypes.c_int64
     return library
 
 
@@ -158,6 +161,29 @@ def differing(samples: int, scenes: int, seed: int, port: DeqpMultisample | None
 def test_the_port_decides_every_sample_as_the_original(samples):
     diff, total = differing(samples, SCENES, seed=samples)
     assert total > 1000 and diff == 0, f"{diff} of {total} samples differ"
+
+
+def test_the_single_sample_port_of_tests_ports_is_the_original_below_32768_px():
+    """:class:`tests.ports.DeqpReference` (``rasterizeSingleSample``, exact half-away
+    snapping of float64 input) equals the original wherever float32 arithmetic is exact:
+    on float32 input below 32,768 px (beyond, the original's float32 ``v * 256 + 0.5``
+    moves odd 1/256 steps, which that port does not do)."""
+    from tests.ports import DeqpReference
+
+    rng = np.random.default_rng(1)
+    port = DeqpReference()
+    diff = total = scenes = 0
+    while scenes < SCENES // 4:
+        scene = random_scene(rng)
+        p = scene.positions
+        if np.any(np.abs(p) >= 32768) or np.any(p != p.astype(np.float32)):
+            continue
+        scenes += 1
+        t, x, y = port.rasterize(scene).pixels()
+        got, want = np.sort((t * scene.height + y) * scene.width + x), original_fragments(scene, 1)
+        diff += int(np.setxor1d(want, got).size)
+        total += int(want.size)
+    assert total > 1000 and diff == 0, f"{diff} of {total} pixels differ"
 
 
 class ExactSnapping(DeqpMultisample):
@@ -389,3 +415,81 @@ def test_identify_makes_no_exact_claim_for_dEQPs_lines():
     fingerprint = identify(DeqpLines())
     line = fingerprint.facts["lines"]
     assert not fingerprint.exact and "GL diamond-exit" in line and "best guess" in line, fingerprint.card()
+
+
+# -- multisample lines: MultiSampleLineRasterizer -----------------------------------------------------
+
+
+def original_multisample_line_fragments(scene: LineScene, samples: int) -> NDArray[np.int64]:
+    """The compiled original's covered samples of a line scene, as sorted keys (:func:`keys`)."""
+    library = _original()
+    a, b = scene.segments()
+    xy = np.ascontiguousarray(np.concatenate([a, b], axis=1), dtype=np.float32)
+    capacity = 4096
+    while True:
+        out = np.zeros((capacity, 4), dtype=np.int32)
+        n = library.deqp_lines_multisample(xy.ctypes.data, len(a), scene.width, scene.height, samples, 8,
+                                           scene.line_width, out.ctypes.data, capacity)
+        if n <= capacity:
+            break
+        capacity = int(n)
+    out = out[:n].astype(np.int64)
+    rows, sample = np.nonzero((out[:, 3:4] >> np.arange(samples)) & 1)
+    t, x, y = out[rows, 0], out[rows, 1], out[rows, 2]
+    return np.sort(((t * samples + sample) * scene.height + y) * scene.width + x)
+
+
+@pytest.mark.parametrize("samples", PATTERNS)
+def test_the_multisample_line_port_decides_every_sample_as_the_original(samples):
+    """Zero-length segments left out: the original divides by their zero length (NaN corners)."""
+    rng = np.random.default_rng(100 + samples)
+    port = DeqpMultisampleLines(samples)
+    diff = total = scenes = 0
+    while scenes < SCENES // 4:
+        scene = random_line_scene(rng)
+        a, b = scene.segments()
+        if np.any(np.all(a.astype(np.float32) == b.astype(np.float32), axis=1)):
+            continue
+        scenes += 1
+        want, got = original_multisample_line_fragments(scene, samples), keys(port.rasterize(scene), scene, samples)
+        diff += int(np.setxor1d(want, got).size) + (want.size - np.unique(want).size) + (got.size - np.unique(got).size)
+        total += int(want.size)
+    assert total > 1000 and diff == 0, f"{diff} of {total} samples differ"
+
+
+def multisample_lines_as_gl(samples: int) -> DeqpMultisampleLines:
+    """dEQP's multisample lines declaring what they mean to draw: GL's multisample lines
+    (OpenGL ES 3.2 13.7.4, OpenGL 4.6 14.5.4), the samples inside the rectangle, under
+    dEQP's pattern and tie rule, end points on its 8-bit grid."""
+    port = DeqpMultisampleLines(samples)
+    port.convention = Convention(samples=DEQP_PATTERNS[samples], subpixel_bits=8, snap_rounding="half-away",
+                                 line=LineRule("rectangle"))
+    port.name += "_as_gl"
+    return port
+
+
+def test_dEQPs_multisample_lines_are_gls_rectangles_where_float32_is_exact():
+    """Axis-aligned lines on a lattice (the float32 normal exactly (0, +-1) or (+-1, 0), the
+    corners exact) pass conformance against GL's rectangles at every pattern; a slanted
+    one fails at a few samples next to its long sides: dEQP computes the corners in
+    float32 and snaps each to 1/256 px, moving the sides by up to ~1/362 px (not a rule
+    any convention expresses)."""
+    from harness import run_suite
+    from harness.case import Case
+
+    rng = np.random.default_rng(0)
+    cases = []
+    for line_width in (1.0, 2.0, 2.5, 0.5):
+        starts = np.round(rng.uniform(-2, 26, (24, 2)) * 4) / 4
+        lengths = np.round(rng.uniform(-20, 20, 24) * 4) / 4
+        moves = np.where(np.arange(24)[:, None] % 2 == 0, [[1.0, 0.0]], [[0.0, 1.0]]) * lengths[:, None]
+        strips = [[a, a + d] for a, d in zip(starts, moves) if np.any(d != 0)]
+        cases.append(Case(f"axis-aligned/{line_width}", LineScene.from_strips(24, 24, strips, line_width=line_width),
+                          lattice=True))
+    for samples in PATTERNS:
+        results = run_suite([multisample_lines_as_gl(samples)], cases=cases, only={"conformance"}, isolate=False,
+                            repros=False)
+        assert len(results) == len(cases) and all(r.status == "pass" for r in results), [r.message for r in results]
+    slanted = Case("slanted", LineScene.from_strips(24, 24, [[(1.5, 1.5), (20.0, 9.0)]]), lattice=True)
+    result, = run_suite([multisample_lines_as_gl(4)], cases=[slanted], only={"conformance"}, isolate=False, repros=False)
+    assert result.status == "fail" and "sample 2 (0.25, 0.75): 0 missing, 2 extra" in result.message, result.message
