@@ -54,6 +54,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import AnyScene, Coverage, LineScene, Scene, Unsupported
+from harness.conventions import Convention
 from harness.exact import frozen
 from rasterizers._common import check_range
 
@@ -214,7 +215,7 @@ class DeqpMultisample:
     [[1, 1, 1, 1], [1, 1, 1, 0], [1, 1, 1, 0], [1, 1, 1, 0]]
     """
 
-    convention = None
+    convention: Convention | None = None
     interpolates = False  # coverage only, as dEQP's tests compare coverage
 
     def __init__(self, samples: int = 4) -> None:
@@ -428,7 +429,7 @@ class DeqpLines:
     [[1, 1, 1, 0], [0, 0, 0, 0]]
     """
 
-    convention = None
+    convention: Convention | None = None
     scene_kinds = ("lines",)
     interpolates = False
     name = "deqp_lines"
@@ -498,7 +499,7 @@ class DeqpMultisampleLines:
     convention.
     """
 
-    convention = None
+    convention: Convention | None = None
     scene_kinds = ("lines",)
     interpolates = False
 
