@@ -9,8 +9,9 @@ with ``LineRasterUtil::doesLineSegmentExitDiamond``, and ``MultiSampleLineRaster
 with the default ``RasterizationState`` (counter-clockwise winding, ``FILL_LEFT``,
 ``FILL_BOTTOM``) and 8 subpixel bits, as dEQP's GLES and Vulkan tests drive it. The
 original, compiled from ``tests/peers/src/deqp``, decides every sample and pixel alike
-(:mod:`tests.test_peer_deqp`; long run: 20,000 random scenes per pattern, 80,000 in all,
-0 differing samples).
+(:mod:`tests.test_peer_deqp`; long run: triangles 80,000 random scenes at 2x to 16x,
+83,930,017 covered samples; aliased lines 20,000 scenes, 935,023 pixels; multisample lines
+20,000 scenes, 7,707,418 samples: 0 differing).
 
 What the original does with triangles, and the port with it:
 
