@@ -260,6 +260,26 @@ def test_the_port_passes_the_quick_suite_as_identified(samples):
     assert sum(r.check == "conformance" and r.status == "pass" for r in results) > 50
 
 
+def test_dEQPs_float32_snapping_beyond_32768_px_is_found():
+    """dEQP's one triangle bug: ``v * 256.0f + 0.5f`` in float32 rounds an odd multiple of
+    1/256 at 32,768 px or more up by one step (the sum's half is not representable: ties
+    to even). A left edge at 32768 + 77/256 px is snapped to 78/256, leaving out the 2x
+    samples that lie on it (at 77/256), which its own convention (half away from zero)
+    gives the triangle. Judged against its identified convention, conformance fails on
+    exactly those samples; the same triangle one step to the left (an even step) passes."""
+    from harness import run_suite
+    from harness.case import Case
+    from harness.identify import Identified
+
+    port, fingerprint = _identified(2)
+    cases = [Case(f"far/{name}", Scene(32772, 4, [[[x, 0.0], [x, 4.0], [32771.0, 0.0]]]), lattice=True)
+             for name, x in (("odd-step", 32768 + 77 / 256), ("even-step", 32768 + 76 / 256))]
+    odd, even = run_suite([Identified(port, fingerprint)], cases=cases, only={"conformance"}, isolate=False,
+                          repros=False)
+    assert odd.status == "fail" and "sample 0 (0.300781, 0.300781): 4 missing, 0 extra" in odd.message, odd.message
+    assert even.status == "pass", even.message
+
+
 # -- aliased lines: SingleSampleLineRasterizer ------------------------------------------------------
 
 GL_LINES = Convention(subpixel_bits=8, snap_rounding="half-away", line=LineRule("diamond-exit-gl", wide="replicate"))
