@@ -192,26 +192,30 @@ def test_the_bugs_the_suite_finds_are_the_originals():
         assert CompiledStb().rasterize(scene) == StbTruetype().rasterize(scene), case_id
 
 
-def tall_case() -> Case:
-    return Case("float/tall-triangles-2048px", Scene(*TALL_SCREEN, TALL_TRIANGLES))
+def tall_cases() -> list[Case]:
+    """The quick suite's tall triangles, and frame 40 of its tall sliver in motion (x near
+    1,500 px), as still cases."""
+    motion = next(c for c in quick() if c.id == "motion/tall-triangle/translate-x-1/64")
+    assert isinstance(motion, MotionCase)
+    return [Case("float/tall-triangles-2048px", Scene(*TALL_SCREEN, TALL_TRIANGLES)), Case(f"{motion.id}#40", motion.frames[40])]
 
 
 def test_stepping_drifts_down_tall_triangles_drawn_from_the_screens_left_edge():
-    """Drawn into bitmaps from the screen's left edge (x near 1,050 px: a float32 step of
-    2**-13 px) the tall triangles drift by 26 levels down their 2,000 rows, and accuracy
-    names it; the original draws the same. In their own boxes (x near 0) they do not
-    (the quick suite passes them)."""
-    case = tall_case()
-    scene = case.scene
-    assert isinstance(scene, Scene)
-    screen = StbTruetype("screen")
-    drawn = screen.rasterize(scene)
-    assert drawn == CompiledStb("screen").rasterize(scene)
-    [verdict] = run_suite([screen], cases=[case], isolate=False, identify=False, repros=False, only={"accuracy"})
-    assert verdict.status == "fail" and verdict.evidence["signature"] == "accuracy|drift|none", verdict.message
-    assert 25 < verdict.metrics["max_error"] * 255 < 27
-    boxed = {r.case: r for r in judged() if r.check == "accuracy"}[case.id]
-    assert boxed.status == "pass" and boxed.metrics["max_error"] * 255 < 1
+    """Drawn into bitmaps from the screen's left edge (x past 1,024 px: a float32 step of
+    2**-13 px or coarser) the tall triangles drift down their 2,000 rows, by 26 levels and,
+    on the tall sliver at x 1,500, by 32; accuracy names it drift. The original draws the
+    same alphas. In their own boxes (x near 0) they do not drift beyond the tolerance (the
+    quick suite passes both cases)."""
+    screen, boxed = StbTruetype("screen"), StbTruetype()
+    for case, levels in zip(tall_cases(), (26, 32)):
+        scene = case.scene
+        assert isinstance(scene, Scene)
+        assert screen.rasterize(scene) == CompiledStb("screen").rasterize(scene), case.id
+        [verdict] = run_suite([screen], cases=[case], isolate=False, identify=False, repros=False, only={"accuracy"})
+        assert verdict.status == "fail" and verdict.evidence["signature"] == "accuracy|drift|none", verdict.message
+        assert levels - 1 < verdict.metrics["max_error"] * 255 < levels + 0.5, (case.id, verdict.message)
+        [kept] = run_suite([boxed], cases=[case], isolate=False, identify=False, repros=False, only={"accuracy"})
+        assert kept.status == "pass" and kept.metrics["max_error"] * 255 < 1, kept.message
 
 
 def test_where_the_errors_lie_names_the_cause_before_what_they_are():
@@ -229,7 +233,7 @@ def test_where_the_errors_lie_names_the_cause_before_what_they_are():
 def test_the_declared_convention():
     convention = StbTruetype.convention
     assert convention.kind == "area" and convention.levels == 256 and convention.subpixel_bits is None
-    assert convention.alpha_tolerance == pytest.approx(1 / 510 + 30 * 2.0**-13)
+    assert convention.alpha_tolerance == pytest.approx(1 / 510 + 55 * 2.0**-13)
     with pytest.raises(ValueError, match="bitmap must be 'box' or 'screen'"):
         StbTruetype("glyph")
     empty = StbTruetype().rasterize(Scene(8, 8, np.zeros((0, 3, 2))))
