@@ -486,8 +486,9 @@ ALPHA_CAUSES: dict[str, str] = {
     "gamma": "alphas a power of the area: gamma-encoded (error a function of alpha)",
     "sub-pixel-shift": "alphas of the shape moved by a sub-pixel shift",
     "drift": "alpha error growing along a row or down a triangle: stepping accumulates error",
-    "non-finite-input": "alphas drawn for triangles with a NaN or infinite coordinate, which cover nothing",
-    "viewport-edge": "alpha error only in the screen's border rows or columns, on triangles crossing that edge",
+    # where the errors lie: the classes (and words) conformance names the same facts by
+    "non-finite-input": "a primitive with a NaN or infinite coordinate drawn wrongly",
+    "viewport-edge": "wrong only where primitives cross the viewport's edge",
 }
 # a fact holds when it explains this share of the edge pixels (partially covered) at least
 CAUSE_SHARE = 0.9
