@@ -3,7 +3,10 @@
 suite, judging it against the convention it declares, finds stb's own bugs only -- each
 named by its cause: row 0 of a bitmap at the screen's top (``viewport-edge``), a triangle
 with an infinite coordinate (``non-finite-input``), and, drawn into screen-wide bitmaps,
-the x stepped down 2,000 rows in float32 (``drift``)."""
+the x stepped down 2,000 rows in float32 (``drift``).
+
+The cross-check against the original draws ``RASTERCHECK_PEER_SCENES`` random triangles
+(300 by default; 100,000 measured: 0 differing alphas of 2,720,261,330)."""
 
 from __future__ import annotations
 
@@ -20,6 +23,7 @@ from harness import run_suite
 from harness.api import Coverage, Scene
 from harness.area import area_coverage
 from harness.case import Case, MotionCase
+from harness.causes import by_cause
 from harness.checks import Result
 from harness.checks.area import alpha_cause
 from tests.peers import compiled
@@ -165,6 +169,9 @@ def judged() -> tuple[Result, ...]:
 
 
 def test_the_quick_suite_finds_stbs_bugs_only_each_named_by_its_cause():
+    """Judged against the convention it declares, the port fails accuracy on the 7 cases
+    of stb's two bugs and nowhere else (seams: none), each failure's signature and message
+    naming the cause, grouped as a run's report groups them."""
     results = judged()
     assert {r.check for r in results if r.status != "skip"} == {"accuracy", "seams"}
     failing = {(r.case, r.check): r.evidence.get("signature") for r in results if r.status in ("fail", "error")}
@@ -176,6 +183,7 @@ def test_the_quick_suite_finds_stbs_bugs_only_each_named_by_its_cause():
                 assert facts["over_border"] == {"top": facts["over_pixels"]}, (r.case, facts)
                 assert all(p["y"] == 0 for p in r.evidence["pixels"] if p["over"])
             assert "on triangles reaching past" in r.message or "NaN or infinite" in r.message, r.message
+    assert {group.cause: group.count for group in by_cause(results)} == {"viewport-edge": 6, "non-finite-input": 1}
     # away from its bugs stb keeps the tolerance derived from its float32 arithmetic, and needs it: its
     # worst alpha is more than half a level off
     worst = max(r.metrics["max_error"] for r in results if r.check == "accuracy" and (r.case, r.check) not in STB_BUGS)
