@@ -464,7 +464,7 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
             parts.append(f"{n_off} alphas on none of the {convention.levels} declared levels")
         if count:
             # the cause, named from facts about the errors (alpha_cause)
-            facts = alpha_facts(case, convention, triangle, x, y, alpha, model, near)
+            facts = alpha_facts(case, convention, triangle, x, y, alpha, model, near, over)
             cause = alpha_cause(facts)
             evidence["alpha_facts"] = facts
             if cause is not None:
@@ -486,6 +486,9 @@ ALPHA_CAUSES: dict[str, str] = {
     "gamma": "alphas a power of the area: gamma-encoded (error a function of alpha)",
     "sub-pixel-shift": "alphas of the shape moved by a sub-pixel shift",
     "drift": "alpha error growing along a row or down a triangle: stepping accumulates error",
+    # where the errors lie: the classes (and words) conformance names the same facts by
+    "non-finite-input": "a primitive with a NaN or infinite coordinate drawn wrongly",
+    "viewport-edge": "wrong only where primitives cross the viewport's edge",
 }
 # a fact holds when it explains this share of the edge pixels (partially covered) at least
 CAUSE_SHARE = 0.9
@@ -504,7 +507,7 @@ SHIFT_GRIDS = (1 / 16, 1 / 8, 1 / 4, 1 / 2)
 
 
 def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArray, y: NDArray, alpha: NDArray,
-                model: NDArray, near: NDArray) -> dict[str, Any]:
+                model: NDArray, near: NDArray, over: NDArray | None = None) -> dict[str, Any]:
     """Facts about a failing accuracy verdict's errors, from which :func:`alpha_cause`
     names the cause. Over the (triangle, pixel)s either side covers ((P,) each; ``near``:
     near ties, left out), in levels of the convention: ``bias`` (the median signed error
@@ -521,7 +524,11 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
     mean |error| of the first and the last quarter of those); ``shift`` (the shift of the
     scene whose oracle the alphas are within the tolerance of: the centroids' difference,
     rounded to :data:`SHIFT_GRIDS`, each tried -- an oracle call each, only when no cheaper
-    fact names a cause). Numpy on the evidence pixels."""
+    fact names a cause). Where the errors are, over the pixels beyond the tolerance
+    (``over``, (P,) bool): ``over_pixels``, the share of them on triangles with a NaN or
+    infinite coordinate (``over_non_finite``), and the sides of the screen (``over_border``:
+    ``{side: count}``) whose border row or column they lie in on a triangle crossing that
+    side, with the share of them that do (``over_border_share``). Numpy on the evidence pixels."""
     from harness.oracle import exact_coverage
 
     scene = case.scene
@@ -533,6 +540,8 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
     signed = (value - model) * levels
     edge = keep & (model > 0) & (model < 1)
     facts: dict[str, Any] = {"edge_pixels": int(edge.sum()), "tolerance": tolerance}
+    if over is not None and over.any():
+        facts.update(_where_facts(scene, triangle[over], x[over], y[over]))
     if not edge.any():
         return facts
     s = signed[edge]
@@ -560,9 +569,10 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
         facts["gamma_error"] = float(np.abs(m ** g - a).max() * levels)
     # the rows (columns) stepped from each triangle's top (left), its snapped vertices'
     positions = convention.snap(scene.positions)
-    with np.errstate(invalid="ignore"):
-        top = np.maximum(np.floor(np.nanmin(positions[:, :, 1], axis=1)), 0.0)  # stepped from the first row drawn
-        left = np.maximum(np.floor(np.nanmin(positions[:, :, 0], axis=1)), 0.0)
+    with np.errstate(invalid="ignore"):  # NaN skipped (an all-NaN triangle's top is inf: no steps), without nanmin's warning
+        unset = np.where(np.isnan(positions), np.inf, positions)
+        top = np.maximum(np.floor(unset[:, :, 1].min(axis=1)), 0.0)  # stepped from the first row drawn
+        left = np.maximum(np.floor(unset[:, :, 0].min(axis=1)), 0.0)
     error = np.abs(signed[edge])
     for name, steps in (("rows", y[edge] - top[triangle[edge]]), ("columns", x[edge] - left[triangle[edge]])):
         steps = steps.astype(np.float64)
@@ -575,6 +585,27 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
     named = alpha_cause(facts)
     if (named is None or named[0] == "drift") and convention.cull == "none":  # a shift is named before drift
         facts.update(_shift_facts(scene, convention, triangle, x, y, value, model, keep, tolerance, exact_coverage))
+    return facts
+
+
+def _where_facts(scene: Scene, triangle: NDArray, x: NDArray, y: NDArray) -> dict[str, Any]:
+    """Where the pixels beyond the tolerance ((K,) each) lie: ``over_pixels``,
+    ``over_non_finite`` (the share on triangles with a NaN or infinite coordinate) and, of
+    the others, those in a border row or column of the screen on a triangle reaching past
+    that side (``over_border``, per side, and ``over_border_share``)."""
+    p = scene.positions[triangle]
+    finite = np.isfinite(p).all(axis=(1, 2))
+    facts: dict[str, Any] = {"over_pixels": int(triangle.size), "over_non_finite": float(np.mean(~finite))}
+    with np.errstate(invalid="ignore"):
+        lo, hi = p.min(axis=1), p.max(axis=1)
+    sides = {"top": finite & (y == 0) & (lo[:, 1] < 0), "bottom": finite & (y == scene.height - 1) & (hi[:, 1] > scene.height),
+             "left": finite & (x == 0) & (lo[:, 0] < 0), "right": finite & (x == scene.width - 1) & (hi[:, 0] > scene.width)}
+    border = np.zeros(triangle.size, dtype=bool)
+    for name in sides:  # a corner pixel counts under the first side it lies on
+        sides[name] &= ~border
+        border |= sides[name]
+    facts["over_border"] = {name: int(side.sum()) for name, side in sides.items() if side.any()}
+    facts["over_border_share"] = float(np.mean(border))
     return facts
 
 
@@ -628,6 +659,17 @@ def alpha_cause(facts: dict[str, Any]) -> tuple[str, str] | None:
     ('truncated-levels', 'alphas truncated to the levels (up to 0.99 levels low), not rounded')
     """
     tolerance = float(facts.get("tolerance", 0.5))
+    # where the errors are, before what they are: every one on a non-finite triangle, or
+    # in the border row or column of a screen side its triangle crosses
+    if facts.get("over_pixels") and facts.get("over_non_finite") == 1.0:
+        return "non-finite-input", (f"every alpha beyond the tolerance ({facts['over_pixels']}) on a triangle with a NaN "
+                                    "or infinite coordinate, which covers nothing")
+    border = facts.get("over_border")
+    if facts.get("over_pixels") and facts.get("over_border_share") == 1.0 and isinstance(border, dict):
+        rows = {"top": "top row", "bottom": "bottom row", "left": "left column", "right": "right column"}
+        where = " and ".join(f"the screen's {rows[side]}" for side in border)
+        return "viewport-edge", (f"every alpha beyond the tolerance ({facts['over_pixels']}) in {where}, on triangles "
+                                 "reaching past that edge of the screen")
     if not facts.get("edge_pixels"):
         return None
     low, high = facts.get("residue", [0.0, 0.0])
