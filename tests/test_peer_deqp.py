@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import ctypes
 import functools
-import hashlib
 import os
 
 import numpy as np
@@ -59,10 +58,7 @@ def expected_convention(samples: int) -> Convention:
 @functools.cache
 def _original() -> ctypes.CDLL:
     folder = SOURCES / "deqp"
-    # the build is cached by its sources and flags: the headers (.hpp) enter through a define
-    headers = hashlib.sha256(b"".join(p.read_bytes() for p in sorted(folder.glob("*.hpp")))).hexdigest()[:16]
-    library = load("deqp", [folder / "rrRasterizer.cpp", folder / "shim.cpp"], language="c++",
-                   flags=("-std=c++17", f"-DRASTERCHECK_HEADERS=0x{headers}"))
+    library = load("deqp", [folder / "rrRasterizer.cpp", folder / "shim.cpp"], language="c++", flags=("-std=c++17",))
     pointer, size = ctypes.c_void_p, ctypes.c_int
     library.deqp_triangles.argtypes = [pointer, size, size, size, size, size, pointer, ctypes.c_int64]
     library.deqp_triangles.restype = ctypes.c_int64

@@ -2,7 +2,7 @@
 
 The tests that check a port against its original call :func:`load`; with no compiler on
 the machine they skip, naming the install. Builds are cached by the hash of the sources
-and flags in the temporary directory and written atomically, so that pytest-xdist
+and flags (headers, ``*.h`` and ``*.hpp``, beside them included) in the temporary directory and written atomically, so that pytest-xdist
 workers building the same library at once each get a whole file.
 """
 
@@ -55,7 +55,7 @@ def load(name: str, sources: Sequence[Path], language: str = "c", flags: Sequenc
     digest = hashlib.sha256()
     for part in (language, *flags, *(Path(s).read_bytes() for s in sources)):
         digest.update(part if isinstance(part, bytes) else part.encode())
-    for header in sorted({h for s in sources for h in Path(s).parent.glob("*.h")}):
+    for header in sorted({h for s in sources for pattern in ("*.h", "*.hpp") for h in Path(s).parent.glob(pattern)}):
         digest.update(header.read_bytes())
     folder = Path(tempfile.gettempdir()) / "rastercheck-peers"
     folder.mkdir(exist_ok=True)
