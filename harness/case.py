@@ -174,7 +174,14 @@ def _text(value: float) -> str:
 
 
 def _hex(array: NDArray | None) -> Any:
-    return None if array is None else np.vectorize(_text, otypes=[object])(array).tolist()
+    if array is None:
+        return None
+    # each distinct float written once (a path of 65,536 copies of a square has 4): by bit
+    # pattern, so that -0.0 and 0.0 stay apart
+    values = np.ascontiguousarray(array, dtype=np.float64)
+    bits, inverse = np.unique(values.view(np.uint64), return_inverse=True)
+    texts = np.array([_text(v) for v in bits.view(np.float64).tolist()], dtype=object)
+    return texts[inverse.reshape(values.shape)].tolist()
 
 
 def _number(value: Any) -> float:
@@ -200,7 +207,12 @@ def _unhex(data: Any, field: str = "") -> NDArray | None:
         raise ValueError(f"case JSON is malformed at {field}: its rows are of different lengths")
     if array.size == 0:
         return array.astype(np.float64)
-    return np.vectorize(_number, otypes=[float])(array)
+    flat = array.ravel().tolist()
+    try:
+        number = {value: _number(value) for value in set(flat)}  # each distinct text read once
+    except TypeError:  # an unhashable value (a dict): _number names it
+        return np.vectorize(_number, otypes=[float])(array)
+    return np.array([number[value] for value in flat], dtype=np.float64).reshape(array.shape)
 
 
 def _scene_to_json(scene: AnyScene) -> dict[str, Any]:
@@ -284,8 +296,13 @@ def _is_number(value: Any) -> bool:
 
 def _valid_points(points: Any) -> bool:
     """Whether ``points`` is a list of [x, y] pairs valid under :data:`_POINT`."""
-    return isinstance(points, list) and all(
-        isinstance(p, list) and len(p) == 2 and _is_number(p[0]) and _is_number(p[1]) for p in points)
+    if not (isinstance(points, list) and all(isinstance(p, list) and len(p) == 2 for p in points)):
+        return False
+    try:
+        distinct = {value for p in points for value in p}  # each distinct value tested once
+    except TypeError:  # an unhashable value (a list, a dict) is no number
+        return False
+    return all(_is_number(value) for value in distinct)
 
 
 def _skeleton(data: dict[str, Any]) -> dict[str, Any]:
