@@ -1,5 +1,6 @@
 """FreeType's smooth rasterizer, ported (:mod:`tests.peers.freetype`), against its original
-(``tests/peers/src/freetype``: ``ftgrays.c`` 2.14.3 built standalone with ``FT_INT64``), and
+(``tests/peers/src/freetype``: ``ftgrays.c`` 2.14.3 built standalone, with ``FT_INT64`` as
+every 64-bit build has it, and without: the two line walks), and
 judged by the harness against the convention it declares: no accuracy or seams failure
 but FreeType's own bugs, each found and named by its cause.
 
@@ -25,22 +26,24 @@ from harness.area import exact_area
 from harness.case import Case
 from rasterizers.real._masks import LIMIT
 from tests.peers.compiled import SOURCES, load
-from tests.peers.freetype import FreetypeSmooth, render_outline, to_26_6
+from tests.peers.freetype import LINE_WALKS, FreetypeSmooth, render_outline, to_26_6
 
 SCENES = int(os.environ.get("RASTERCHECK_PEER_SCENES", "300"))
 FOLDER = SOURCES / "freetype"
-# standalone, FALL_THROUGH (compiler-macros.h's) supplied, FT_INT64 as every 64-bit build has it
-FLAGS = ("-DSTANDALONE_", "-DFALL_THROUGH=(void)0", "-DFT_INT64=long", "-DFT_Int64=long", "-DFT_UInt64=unsigned long",
-         "-DFT_UInt=unsigned int")
+# standalone, with FALL_THROUGH (compiler-macros.h's, which a standalone build lacks)
+STANDALONE = ("-DSTANDALONE_", "-DFALL_THROUGH=(void)0")
+# the flags of each line walk: FT_INT64 as every 64-bit build defines it, or not at all
+FLAGS = {"int64": (*STANDALONE, "-DFT_INT64=long", "-DFT_Int64=long", "-DFT_UInt64=unsigned long", "-DFT_UInt=unsigned int"),
+         "scanline": STANDALONE}
 
 Original = Callable[..., NDArray[np.uint8]]
 
 
-@pytest.fixture(scope="module")
-def original() -> Original:
-    """The compiled original: ``render(points 26.6 (P, 2), ends (C,), width, height, evenodd,
-    direct)`` -> (height, width) uint8."""
-    library = load("freetype", [FOLDER / "ftgrays.c", FOLDER / "freetype_shim.c"], flags=FLAGS)
+@cache
+def _original(walk: str) -> Original:
+    """The compiled original with ``walk``'s flags: ``render(points 26.6 (P, 2), ends (C,),
+    width, height, evenodd, direct)`` -> (height, width) uint8."""
+    library = load(f"freetype-{walk}", [FOLDER / "ftgrays.c", FOLDER / "freetype_shim.c"], flags=FLAGS[walk])
     function = library.rastercheck_ftgrays_render
     function.restype = ctypes.c_int
     function.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p, ctypes.c_int, ctypes.c_int, ctypes.c_int,
@@ -57,6 +60,12 @@ def original() -> Original:
         return out
 
     return render
+
+
+@pytest.fixture(scope="module")
+def original() -> Original:
+    """The original as every 64-bit build compiles it (``FT_INT64``): the port's default."""
+    return _original("int64")
 
 
 def _random_triangles(count: int, seed: int = 29) -> list[tuple[str, NDArray[np.float64], int, int]]:
@@ -86,17 +95,24 @@ def _random_triangles(count: int, seed: int = 29) -> list[tuple[str, NDArray[np.
     return out
 
 
-def test_the_port_equals_the_original_on_random_triangles(original: Original) -> None:
+# (evenodd, direct): the gray bitmap under both rules, and direct spans
+MODES = ((False, False), (True, False), (False, True))
+
+
+@pytest.mark.parametrize("walk", list(LINE_WALKS))
+def test_the_port_equals_the_original_on_random_triangles(walk: str) -> None:
     """Every alpha of every triangle, both windings, both fill rules, both sweeps: equal
-    (a huge triangle, whose edges are walked over up to 2**21 cells, in one fill rule and
-    sweep: the walk is what it tests, the sweep and rule are the others')."""
+    (a huge triangle, whose edges are walked over up to 2**21 cells, and the scanline walk
+    in one fill rule and sweep: the walk is what they test, the sweep and the rules are
+    the same code as the default walk's)."""
+    original = _original(walk)
     differing: dict[str, int] = {}
     compared = 0
     for kind, p, width, height in _random_triangles(SCENES):
         for points in (to_26_6(p), to_26_6(p[::-1])):
-            for evenodd, direct in ((False, False),) if kind == "huge" else ((False, False), (True, False), (False, True)):
+            for evenodd, direct in ((False, False),) if kind == "huge" or walk != "int64" else MODES:
                 want = original(points, [2], width, height, evenodd, direct)
-                got = render_outline(points, np.array([2]), width, height, evenodd)
+                got = render_outline(points, np.array([2]), width, height, evenodd, walk)
                 differing[kind] = differing.get(kind, 0) + int(np.count_nonzero(got != want))
                 compared += want.size
     assert compared > 0 and not any(differing.values()), f"alphas differing by kind of triangle: {differing}, of {compared}"
@@ -166,15 +182,19 @@ def test_the_original_rounds_a_half_covered_pixel_by_its_winding(original: Origi
         assert original(square, [3], 1, 1, evenodd)[0, 0] == original(square[::-1], [3], 1, 1, evenodd)[0, 0] == 255
 
 
-def test_the_originals_crossings_lose_precision_on_long_edges(original: Original) -> None:
+def test_the_originals_crossings_lose_precision_on_long_edges() -> None:
     """``FT_UDIV``'s 32-bit reciprocal: the quick suite's wedge from x = -1e6 to 1e6 errs by
-    12 levels; made 100 times smaller, by under two (the quantisation's one and a little)."""
-    errors = []
-    for big in (1e4, 1e6):
-        wedge = np.array([[-big, 6.25], [big, 9.75], [16.5, 27.0]])
-        alpha = original(to_26_6(wedge), [2], 32, 32) / 255.0
-        errors.append(max(abs(float(alpha[y, x]) - float(exact_area(wedge, x, y))) for y in range(32) for x in range(32)))
-    assert errors[0] * 255 < 2.0 and errors[1] * 255 >= 11.0, errors
+    12 levels; made 100 times smaller, by under two (the quantisation's one and a little);
+    built without ``FT_INT64`` (exact ``FT_DIV_MOD``), by under two at either size."""
+    errors: dict[str, list[float]] = {}
+    for walk in LINE_WALKS:
+        for big in (1e4, 1e6):
+            wedge = np.array([[-big, 6.25], [big, 9.75], [16.5, 27.0]])
+            alpha = _original(walk)(to_26_6(wedge), [2], 32, 32) / 255.0
+            errors.setdefault(walk, []).append(
+                max(abs(float(alpha[y, x]) - float(exact_area(wedge, x, y))) * 255 for y in range(32) for x in range(32)))
+    assert errors["int64"][0] < 2.0 and errors["int64"][1] >= 11.0, errors
+    assert max(errors["scanline"]) < 2.0, errors
 
 
 # the quick suite's failures of the port under its declared convention: FreeType's two bugs
@@ -236,3 +256,9 @@ def test_accuracy_names_errors_confined_to_huge_triangles_by_their_magnitude() -
     assert named(magnitude=1e6) == "overflow-2^12..2^24"
     assert named(magnitude=4000.0) == "drift"
     assert named(magnitude=1e6, bias=9.0, bias_share=1.0) == "alpha-bias"
+
+
+def test_an_unknown_line_walk_is_refused_by_name() -> None:
+    with pytest.raises(ValueError, match="'int32'"):
+        FreetypeSmooth("int32")
+    assert FreetypeSmooth("scanline").name == "freetype_scanline" and FreetypeSmooth().name == "freetype"

@@ -1,7 +1,10 @@
 """A faithful port of FreeType's smooth ("gray") anti-aliased rasterizer, for straight
 outlines: ``src/smooth/ftgrays.c`` of FreeType 2.14.3 (tag ``VER-2-14-3``, commit
-0a0221a1347e2f1e07c395263540026e9a0aa7c7), the line renderer FreeType compiles where
-``FT_INT64`` is defined (every 64-bit build: ``include/freetype/config/integer-types.h``).
+0a0221a1347e2f1e07c395263540026e9a0aa7c7). ``ftgrays.c`` holds two line renderers, chosen
+when it is compiled: by default the port follows the one compiled where ``FT_INT64`` is
+defined (every 64-bit build: ``include/freetype/config/integer-types.h``), and
+``FreetypeSmooth(walk="scanline")`` the other (:data:`LINE_WALKS`), which a standalone
+build without ``FT_INT64`` compiles.
 
 What is ported, function by function (names are the original's):
 
@@ -15,6 +18,10 @@ What is ported, function by function (names are the original's):
   truncated reciprocal ``0xFFFFFFFF / d`` and a shift by 32, never above the exact quotient);
   each piece adds ``FT_INTEGRATE``: ``cover += dy``, ``area += dy * (fx1 + fx2)``, both in
   wrapping 32-bit ints (``ADD_INT``); vertical clipping skips lines wholly above or below.
+- ``gray_render_line`` and ``gray_render_scanline`` (without ``FT_INT64``): the line cut at
+  each row, the row's crossing x the floor of the exact one (``FT_DIV_MOD``, quotient and
+  remainder cast to ``int``, the remainder carried from row to row), then each row's piece
+  cut at each column the same way.
 - ``gray_sweep``: per row, the running cover (``cover * 2 * ONE_PIXEL``) and each cell's
   ``cover - area``; ``FT_FILL_RULE``: ``coverage = area >> 9``, complemented (``~coverage``)
   when the fill bit is set (the sign bit for nonzero, bit 8 for even-odd), clamped to 255 for
@@ -34,12 +41,14 @@ The caller's part: vertices to 26.6 fixed point by rounding to nearest, ties to 
 (``np.rint(64 x)``, exact in float64), FreeType's input grid; our y grows downwards and is
 passed unchanged (the bitmap's pitch negative, so that its row y is FreeType's row y).
 
-Checked against the original (``tests/peers/src/freetype``, built standalone with
-``FT_INT64``; ``tests/test_peer_freetype.py``): 0 differing alphas of 40,995,822 on 12,000
-random triangles (``RASTERCHECK_PEER_SCENES=12000``: ordinary, tiny, huge to 2**20 px,
-partly outside, lattice and degenerate ones, each in both windings, under both fill rules
-and through both sweeps; 300 by default), on polygons of several contours, and on every
-still scene of the quick suite drawn through the adapter.
+Checked against the original (``tests/peers/src/freetype``, built standalone with and
+without ``FT_INT64``; ``tests/test_peer_freetype.py``), ``RASTERCHECK_PEER_SCENES=12000``
+random triangles (ordinary, tiny, huge to 2**20 px, partly outside, lattice and degenerate
+ones, each in both windings; 300 by default): with ``FT_INT64``, 0 differing alphas of
+36,378,010 (both fill rules, both sweeps; huge ones in one), and of 40,995,822 in an
+earlier run with every mode for the huge ones too; without, 0 of 13,665,274 (the bitmap,
+nonzero). Also equal on polygons of several contours and on every still scene of the
+quick suite drawn through the adapter.
 """
 
 from __future__ import annotations
@@ -52,7 +61,7 @@ from harness.api import Coverage, Scene
 from harness.conventions import Convention
 from rasterizers.real._masks import finite_within_limit
 
-__all__ = ["FreetypeSmooth", "to_26_6", "render_outline"]
+__all__ = ["FreetypeSmooth", "LINE_WALKS", "to_26_6", "render_outline"]
 
 PIXEL_BITS = 8
 ONE_PIXEL = 1 << PIXEL_BITS
@@ -189,6 +198,134 @@ def _render_line(state: NDArray[np.int64], cover: NDArray[np.int64], area: NDArr
 
 
 @numba.njit(cache=True, inline="always")
+def _div_mod(dividend: int, divisor: int) -> tuple[int, int]:
+    """``FT_DIV_MOD( TCoord, ... )``: C's quotient and remainder, each cast to ``int``, the
+    remainder made non-negative (the quotient lowered)."""
+    quotient = _i32(_trunc_div(dividend, divisor))
+    remainder = _i32(dividend - _trunc_div(dividend, divisor) * divisor)
+    if remainder < 0:
+        quotient -= 1
+        remainder = _i32(remainder + _i32(divisor))
+    return quotient, remainder
+
+
+@numba.njit(cache=True)
+def _render_scanline(state: NDArray[np.int64], cover: NDArray[np.int64], area: NDArray[np.int64], ey: int,
+                     x1: int, y1: int, x2: int, y2: int, width: int, height: int) -> None:
+    """``gray_render_scanline`` (without ``FT_INT64``): the piece of a line within row ey,
+    from (x1, y1) to (x2, y2), y1 and y2 within the row (0 .. ONE_PIXEL)."""
+    ex1 = _i32(x1 >> PIXEL_BITS)
+    ex2 = _i32(x2 >> PIXEL_BITS)
+    if y1 == y2:  # trivial case
+        _set_cell(state, ex2, ey, width, height)
+        return
+    fx1 = x1 & (ONE_PIXEL - 1)
+    fx2 = x2 & (ONE_PIXEL - 1)
+    if ex1 != ex2:  # a run of adjacent cells on the same scanline
+        dx = x2 - x1
+        dy = y2 - y1
+        if dx > 0:
+            p = (ONE_PIXEL - fx1) * dy
+            first = ONE_PIXEL
+            incr = 1
+        else:
+            p = fx1 * dy
+            first = 0
+            incr = -1
+            dx = -dx
+        delta, mod = _div_mod(p, dx)
+        _integrate(state, cover, area, delta, fx1 + first)
+        y1 += delta
+        ex1 += incr
+        _set_cell(state, ex1, ey, width, height)
+        if ex1 != ex2:
+            lift, rem = _div_mod(ONE_PIXEL * dy, dx)
+            while True:
+                delta = lift
+                mod += rem
+                if mod >= _i32(dx):
+                    mod -= _i32(dx)
+                    delta += 1
+                _integrate(state, cover, area, delta, ONE_PIXEL)
+                y1 += delta
+                ex1 += incr
+                _set_cell(state, ex1, ey, width, height)
+                if ex1 == ex2:
+                    break
+        fx1 = ONE_PIXEL - first
+    _integrate(state, cover, area, y2 - y1, fx1 + fx2)
+
+
+@numba.njit(cache=True)
+def _render_line_scanlines(state: NDArray[np.int64], cover: NDArray[np.int64], area: NDArray[np.int64],
+                           to_x: int, to_y: int, width: int, height: int) -> None:
+    """``gray_render_line`` without ``FT_INT64``: the line cut into scanlines, each row's
+    crossing x the floor of the exact one (``FT_DIV_MOD``, its remainder carried), each
+    scanline rendered by :func:`_render_scanline`."""
+    x, y = state[2], state[3]
+    ey1 = _i32(y >> PIXEL_BITS)
+    ey2 = _i32(to_y >> PIXEL_BITS)
+    if not ((ey1 >= height and ey2 >= height) or (ey1 < 0 and ey2 < 0)):  # vertical clipping
+        fy1 = y & (ONE_PIXEL - 1)
+        fy2 = to_y & (ONE_PIXEL - 1)
+        dx = to_x - x
+        dy = to_y - y
+        if ey1 == ey2:  # everything on a single scanline
+            _render_scanline(state, cover, area, ey1, x, fy1, to_x, fy2, width, height)
+        elif dx == 0:  # vertical line
+            ex = _i32(x >> PIXEL_BITS)
+            two_fx = (x & (ONE_PIXEL - 1)) << 1
+            if dy > 0:
+                first = ONE_PIXEL
+                incr = 1
+            else:
+                first = 0
+                incr = -1
+            _integrate(state, cover, area, first - fy1, two_fx)
+            ey1 += incr
+            _set_cell(state, ex, ey1, width, height)
+            delta = first + first - ONE_PIXEL
+            while ey1 != ey2:
+                _integrate(state, cover, area, delta, two_fx)
+                ey1 += incr
+                _set_cell(state, ex, ey1, width, height)
+            _integrate(state, cover, area, fy2 - ONE_PIXEL + first, two_fx)
+        else:  # several scanlines
+            if dy > 0:
+                p = (ONE_PIXEL - fy1) * dx
+                first = ONE_PIXEL
+                incr = 1
+            else:
+                p = fy1 * dx
+                first = 0
+                incr = -1
+                dy = -dy
+            delta, mod = _div_mod(p, dy)
+            cx = x + delta
+            _render_scanline(state, cover, area, ey1, x, fy1, cx, first, width, height)
+            ey1 += incr
+            _set_cell(state, _i32(cx >> PIXEL_BITS), ey1, width, height)
+            if ey1 != ey2:
+                lift, rem = _div_mod(ONE_PIXEL * dx, dy)
+                while True:
+                    delta = lift
+                    mod += rem
+                    if mod >= _i32(dy):
+                        mod -= _i32(dy)
+                        delta += 1
+                    x2 = cx + delta
+                    _render_scanline(state, cover, area, ey1, cx, ONE_PIXEL - first, x2, first, width, height)
+                    cx = x2
+                    ey1 += incr
+                    _set_cell(state, _i32(cx >> PIXEL_BITS), ey1, width, height)
+                    if ey1 == ey2:
+                        break
+            _render_scanline(state, cover, area, ey1, cx, ONE_PIXEL - first, to_x, fy2, width, height)
+    state[2] = to_x
+    state[3] = to_y
+
+
+@numba.njit(cache=True, inline="always")
 def _fill_rule(value: int, fill: int) -> int:
     """``FT_FILL_RULE`` and the cast to ``unsigned char``."""
     coverage = _i32(value >> (PIXEL_BITS * 2 + 1 - 8))
@@ -200,10 +337,12 @@ def _fill_rule(value: int, fill: int) -> int:
 
 
 @numba.njit(cache=True)
-def _render(points: NDArray[np.int64], ends: NDArray[np.int64], evenodd: bool, out: NDArray[np.uint8]) -> None:
+def _render(points: NDArray[np.int64], ends: NDArray[np.int64], evenodd: bool, out: NDArray[np.uint8],
+            scanlines: bool) -> None:
     """``FT_Outline_Decompose`` of straight contours (move to the first point, a line to each
-    next, a line back to the first), ``gray_render_line`` for each, ``gray_sweep`` into
-    ``out`` ((height, width) uint8, overwritten)."""
+    next, a line back to the first), ``gray_render_line`` for each (``scanlines``: the one
+    compiled without ``FT_INT64``), ``gray_sweep`` into ``out`` ((height, width) uint8,
+    overwritten)."""
     height, width = out.shape
     cover = np.zeros((height, width + 1), dtype=np.int64)
     area = np.zeros((height, width + 1), dtype=np.int64)
@@ -215,9 +354,13 @@ def _render(points: NDArray[np.int64], ends: NDArray[np.int64], evenodd: bool, o
         _set_cell(state, _i32(x0 >> PIXEL_BITS), _i32(y0 >> PIXEL_BITS), width, height)  # gray_move_to
         state[2] = x0
         state[3] = y0
-        for k in range(first + 1, last + 1):
-            _render_line(state, cover, area, points[k, 0] * (ONE_PIXEL >> 6), points[k, 1] * (ONE_PIXEL >> 6), width, height)
-        _render_line(state, cover, area, x0, y0, width, height)  # close the contour
+        for k in range(first + 1, last + 2):
+            x1 = points[k, 0] * (ONE_PIXEL >> 6) if k <= last else x0  # the last: close the contour
+            y1 = points[k, 1] * (ONE_PIXEL >> 6) if k <= last else y0
+            if scanlines:
+                _render_line_scanlines(state, cover, area, x1, y1, width, height)
+            else:
+                _render_line(state, cover, area, x1, y1, width, height)
         first = last + 1
     fill = 0x100 if evenodd else _INT_MIN
     for row in range(height):
@@ -231,7 +374,7 @@ def _render(points: NDArray[np.int64], ends: NDArray[np.int64], evenodd: bool, o
 
 @numba.njit(cache=True)
 def _render_triangles(points: NDArray[np.int64], boxes: NDArray[np.int64], drawn: NDArray[np.int64],
-                      room: int) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.uint8]]:
+                      room: int, scanlines: bool) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.uint8]]:
     """Each drawn triangle alone into a bitmap of its box (:func:`_render`, its 26.6 points
     moved to the box's origin: whole pixels, exact), its nonzero values kept: (triangle, x,
     y, value) with x, y on the screen, at most ``room`` of them."""
@@ -248,7 +391,7 @@ def _render_triangles(points: NDArray[np.int64], boxes: NDArray[np.int64], drawn
             local[k, 0] = points[t, k, 0] - 64 * x0
             local[k, 1] = points[t, k, 1] - 64 * y0
         out = np.zeros((y1 - y0, x1 - x0), dtype=np.uint8)
-        _render(local, ends, False, out)
+        _render(local, ends, False, out, scanlines)
         for row in range(y1 - y0):
             for column in range(x1 - x0):
                 if out[row, column] != 0:
@@ -267,7 +410,7 @@ def to_26_6(points: NDArray[np.float64]) -> NDArray[np.int64]:
 
 
 def render_outline(points: NDArray[np.int64], ends: NDArray[np.int64], width: int, height: int,
-                   evenodd: bool = False) -> NDArray[np.uint8]:
+                   evenodd: bool = False, walk: str = "int64") -> NDArray[np.uint8]:
     """FreeType's gray bitmap of straight contours.
 
     Parameters
@@ -279,17 +422,30 @@ def render_outline(points: NDArray[np.int64], ends: NDArray[np.int64], width: in
     width, height : int
     evenodd : bool
         ``FT_OUTLINE_EVEN_ODD_FILL``.
+    walk : {"int64", "scanline"}
+        The line renderer (:data:`LINE_WALKS`).
 
     Returns
     -------
     (height, width) uint8
     """
     out = np.zeros((height, width), dtype=np.uint8)
-    _render(np.ascontiguousarray(points, dtype=np.int64), np.ascontiguousarray(ends, dtype=np.int64), bool(evenodd), out)
+    _render(np.ascontiguousarray(points, dtype=np.int64), np.ascontiguousarray(ends, dtype=np.int64), bool(evenodd), out,
+            _scanlines(walk))
     return out
 
 
 _ONE_TRIANGLE = np.array([2], dtype=np.int64)
+LINE_WALKS = {"int64": "gray_render_line with FT_INT64 (every 64-bit build): exit side by prod, crossings by FT_UDIV",
+              "scanline": "gray_render_line and gray_render_scanline without FT_INT64: crossings by FT_DIV_MOD"}
+"""The two line renderers ``ftgrays.c`` compiles, by whether ``FT_INT64`` is defined."""
+
+
+def _scanlines(walk: str) -> bool:
+    """Whether ``walk`` is the scanline renderer; ValueError for neither of :data:`LINE_WALKS`."""
+    if walk not in LINE_WALKS:
+        raise ValueError(f"FreeType's line walk must be one of {', '.join(LINE_WALKS)}, not {walk!r}")
+    return walk == "scanline"
 
 
 class FreetypeSmooth:
@@ -316,9 +472,15 @@ class FreetypeSmooth:
       crossing by delta along a pixel's side changes that pixel's area by at most delta/2
       (a triangle with base delta on the side and its apex within the pixel), and a triangle
       crosses a pixel's border at most 6 times (3 edges, 2 each): 6 x (2/256)/2 = 6/256.
+      The scanline walk (``walk="scanline"``) keeps the same bound another way: each row's
+      crossing is the floor of the exact one (``FT_DIV_MOD``: under 1/256 px), so each
+      row's piece lies within 1/256 px horizontally of the edge (at most 1/256 of a pixel's
+      area between them), and its column crossings are floors again (under 1/256 px, 1/512
+      each): 2/256 per edge, 6/256 for three; its ``int`` quotients wrap only on edges
+      flatter than 1 in 2**23.
 
     Measured on the quick suite: within 1.97 levels (0.0077) wherever it passes, motion
-    frames included. Longer edges lose precision in ``FT_UDIV`` (the reciprocal has 32
+    frames included (the scanline walk: 2.2 levels, and no check fails). Longer edges lose precision in ``FT_UDIV`` (the reciprocal has 32
     bits, and the comment in ``ftgrays.c`` asks for the divisor to be ``PIXEL_BITS``
     narrower than the shift): beyond 2**16 px a crossing may be off by 1 + 256 d / 2**32
     units, up to 17/256 px at d = 2**28. The quick suite's sliver and wedge from x = -1e6 to
@@ -336,6 +498,12 @@ class FreetypeSmooth:
     convention = Convention(coverage="area", levels=256, subpixel_bits=6, snap_rounding="nearest-even", tolerance=7 / 256)
     interpolates = False  # coverage only: FreeType draws no varyings
 
+    def __init__(self, walk: str = "int64") -> None:
+        _scanlines(walk)  # a clear error for an unknown walk
+        self.walk = walk
+        if walk != "int64":
+            self.name = f"freetype_{walk}"
+
     def rasterize(self, scene: Scene) -> Coverage:
         """What :func:`~rasterizers.real._masks.draw_each_alpha` with :meth:`draw_one` gives
         (each triangle alone into a bitmap of its box widened by 2 px and clipped to the
@@ -350,7 +518,8 @@ class FreetypeSmooth:
         last = np.clip(np.ceil(positions.max(axis=1)) + 2, 0, size).astype(np.int64)
         drawn = np.flatnonzero(finite & np.all(first < last, axis=1))
         room = int(np.prod(last[drawn] - first[drawn], axis=1).sum())
-        t, x, y, value = _render_triangles(to_26_6(positions), np.concatenate([first, last], axis=1), drawn, room)
+        t, x, y, value = _render_triangles(to_26_6(positions), np.concatenate([first, last], axis=1), drawn, room,
+                                           self.walk == "scanline")
         if not t.size:
             return Coverage.empty()
         return Coverage.from_pixels(t, x, y, alpha=value / 255.0)
@@ -361,4 +530,4 @@ class FreetypeSmooth:
         value to give FreeType)."""
         if not np.all(np.isfinite(p)):
             return np.zeros((h, w))
-        return render_outline(to_26_6(p), _ONE_TRIANGLE, w, h) / 255.0
+        return render_outline(to_26_6(p), _ONE_TRIANGLE, w, h, walk=self.walk) / 255.0
