@@ -262,3 +262,29 @@ def test_an_unknown_line_walk_is_refused_by_name() -> None:
     with pytest.raises(ValueError, match="'int32'"):
         FreetypeSmooth("int32")
     assert FreetypeSmooth("scanline").name == "freetype_scanline" and FreetypeSmooth().name == "freetype"
+
+
+def test_the_adapter_draws_as_one_triangle_at_a_time_in_any_chunks(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The compiled loop over triangles gives what ``draw_each_alpha`` gives with
+    ``draw_one`` (each triangle into its own box's bitmap), however the triangles are
+    chunked; a NaN triangle draws nothing."""
+    from harness.api import Coverage
+    from rasterizers.real._masks import draw_each_alpha
+    from tests.peers import freetype
+
+    rng = np.random.default_rng(3)
+    positions = rng.uniform(-10, 70, (40, 3, 2))
+    positions[5, 0, 0] = np.nan
+    scene = Scene(64, 48, positions)
+    rasterizer = FreetypeSmooth()
+
+    def rows(coverage: Coverage) -> NDArray[np.int64]:
+        t, x, y = coverage.pixels()
+        assert coverage.alpha is not None
+        return _sorted(np.stack([t, x, y, np.rint(coverage.alpha * 255).astype(np.int64)], axis=1))
+
+    whole = rows(rasterizer.rasterize(scene))
+    assert np.array_equal(whole, rows(draw_each_alpha(scene, "freetype", rasterizer.draw_one)))
+    assert whole.shape[0] > 1000 and not np.any(whole[:, 0] == 5)
+    monkeypatch.setattr(freetype, "CHUNK", 100)
+    assert np.array_equal(rows(rasterizer.rasterize(scene)), whole)

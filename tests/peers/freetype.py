@@ -436,6 +436,7 @@ def render_outline(points: NDArray[np.int64], ends: NDArray[np.int64], width: in
 
 
 _ONE_TRIANGLE = np.array([2], dtype=np.int64)
+CHUNK = 1 << 22  # the box pixels one compiled call draws at most (the fragments it may keep)
 LINE_WALKS = {"int64": "gray_render_line with FT_INT64 (every 64-bit build): exit side by prod, crossings by FT_UDIV",
               "scanline": "gray_render_line and gray_render_scanline without FT_INT64: crossings by FT_DIV_MOD"}
 """The two line renderers ``ftgrays.c`` compiles, by whether ``FT_INT64`` is defined."""
@@ -497,6 +498,7 @@ class FreetypeSmooth:
     # floor(256 A) read as /255 (1/256), 6 crossings per pixel each within 2/256 px (6/256)
     convention = Convention(coverage="area", levels=256, subpixel_bits=6, snap_rounding="nearest-even", tolerance=7 / 256)
     interpolates = False  # coverage only: FreeType draws no varyings
+    scene_kinds = ("triangles",)
 
     def __init__(self, walk: str = "int64") -> None:
         _scanlines(walk)  # a clear error for an unknown walk
@@ -517,11 +519,18 @@ class FreetypeSmooth:
         first = np.clip(np.floor(positions.min(axis=1)) - 2, 0, size).astype(np.int64)
         last = np.clip(np.ceil(positions.max(axis=1)) + 2, 0, size).astype(np.int64)
         drawn = np.flatnonzero(finite & np.all(first < last, axis=1))
-        room = int(np.prod(last[drawn] - first[drawn], axis=1).sum())
-        t, x, y, value = _render_triangles(to_26_6(positions), np.concatenate([first, last], axis=1), drawn, room,
-                                           self.walk == "scanline")
-        if not t.size:
+        rooms = np.prod(last[drawn] - first[drawn], axis=1)
+        points, boxes = to_26_6(positions), np.concatenate([first, last], axis=1)
+        parts = []
+        start = 0
+        while start < drawn.size:  # triangles in chunks of boxes up to CHUNK pixels (one at least)
+            stop = start + max(1, int(np.searchsorted(np.cumsum(rooms[start:]), CHUNK, side="right")))
+            parts.append(_render_triangles(points, boxes, drawn[start:stop], int(rooms[start:stop].sum()),
+                                           self.walk == "scanline"))
+            start = stop
+        if not parts or not sum(part[0].size for part in parts):
             return Coverage.empty()
+        t, x, y, value = (np.concatenate([part[i] for part in parts]) for i in range(4))
         return Coverage.from_pixels(t, x, y, alpha=value / 255.0)
 
     def draw_one(self, p: NDArray[np.float64], w: int, h: int, origin: tuple[int, int]) -> NDArray[np.float64]:
