@@ -115,7 +115,8 @@ the same answers against another snap rounding's exact u, v; else ``backward-jum
 (``changes-under-flip-winding``, ...), ``closed``'s ``front-only``/``back-only``/``unbalanced``,
 ``accuracy``'s cause named from facts about its errors, first that holds
 (:func:`harness.checks.area.alpha_cause`: ``truncated-levels``, ``coarse-levels``,
-``alpha-bias``, ``gamma``, ``sub-pixel-shift``, ``drift``), else ``alpha-error``/``off-level``;
+``alpha-bias``, ``gamma``, ``overflow-2^a..2^b`` when only triangles beyond 2^12 err,
+``sub-pixel-shift``, ``drift``), else ``alpha-error``/``off-level``;
 ``seam``, ``triangulation-mismatch``.
 
 Errors: ``hang`` (a timeout), ``crash`` (the worker process died), ``not-run``,

@@ -23,7 +23,8 @@ accuracy
     exactly; none on a lattice case, none allowed in strict mode. On a motion case,
     every frame is judged so (:func:`motion_accuracy`), and the failing frames named.
     A failure names its cause from facts about its errors when one holds
-    (:func:`alpha_cause`): truncation, coarse levels, a bias, gamma, a sub-pixel shift, drift.
+    (:func:`alpha_cause`): truncation, coarse levels, a bias, gamma, large coordinates, a
+    sub-pixel shift, drift.
 seams
     On a planar partition the exact areas (or sample shares) of the pieces in a pixel
     wholly inside the region sum to exactly 1, so the pieces' alphas, as integer levels,
@@ -521,7 +522,9 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
     ``gamma`` (the exponent g of alpha = area^g fitted by least squares on logarithms,
     and ``gamma_error``, the fit's largest error); ``drift`` (the correlation of |error| with
     the rows stepped from each triangle's top and with the columns from its left, and the
-    mean |error| of the first and the last quarter of those); ``shift`` (the shift of the
+    mean |error| of the first and the last quarter of those); ``magnitude`` (the
+    smallest largest |coordinate| of the snapped triangles holding a pixel beyond the
+    tolerance); ``shift`` (the shift of the
     scene whose oracle the alphas are within the tolerance of: the centroids' difference,
     rounded to :data:`SHIFT_GRIDS`, each tried -- an oracle call each, only when no cheaper
     fact names a cause). Where the errors are, over the pixels beyond the tolerance
@@ -569,6 +572,10 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
         facts["gamma_error"] = float(np.abs(m ** g - a).max() * levels)
     # the rows (columns) stepped from each triangle's top (left), its snapped vertices'
     positions = convention.snap(scene.positions)
+    beyond = keep & (np.abs(signed) > tolerance)
+    if beyond.any():  # the smallest of the largest |coordinate| of the triangles beyond the tolerance
+        magnitude = np.where(np.isfinite(positions), np.abs(positions), 0.0).max(axis=(1, 2), initial=1.0)
+        facts["magnitude"] = float(magnitude[np.unique(triangle[beyond])].min())
     with np.errstate(invalid="ignore"):  # NaN skipped (an all-NaN triangle's top is inf: no steps), without nanmin's warning
         unset = np.where(np.isnan(positions), np.inf, positions)
         top = np.maximum(np.floor(unset[:, :, 1].min(axis=1)), 0.0)  # stepped from the first row drawn
@@ -650,7 +657,10 @@ def _shift_facts(scene: Scene, convention: Convention, triangle: NDArray, x: NDA
 
 def alpha_cause(facts: dict[str, Any]) -> tuple[str, str] | None:
     """The cause of an accuracy failure its facts (:func:`alpha_facts`) name, first that
-    holds: (class of :data:`ALPHA_CAUSES`, the facts in words), else None.
+    holds: (class of :data:`ALPHA_CAUSES`, the facts in words), else None. Errors only on
+    triangles with a coordinate beyond 2**12 px, none of the level causes holding, are named
+    by that magnitude as conformance names them (``overflow-2^a..2^b``), before a shift or
+    drift: geometry off there is the range of the arithmetic.
 
     >>> alpha_cause({"edge_pixels": 9, "tolerance": 0.5, "bias": 2.0, "bias_share": 1.0, "residue": [-2.5, -1.5],
     ...              "area_spread": 0.9})
@@ -697,6 +707,14 @@ def alpha_cause(facts: dict[str, Any]) -> tuple[str, str] | None:
     g = facts.get("gamma")
     if spread and isinstance(g, float) and abs(g - 1.0) >= GAMMA_MIN and facts.get("gamma_error", math.inf) <= tolerance + 1.0:
         return "gamma", f"alphas the area to the power {g:.2f} (gamma {1 / g:.2f}): error a function of alpha"
+    magnitude = facts.get("magnitude")
+    if isinstance(magnitude, float) and magnitude >= 2.0**12:
+        # geometry wrong only on triangles beyond 2**12 px: the range of the rasterizer's
+        # arithmetic, as conformance names it (harness.signatures.overflow_class)
+        from harness.signatures import overflow_class
+
+        return str(overflow_class(magnitude)), (f"errors only on triangles with coordinates of magnitude {magnitude:.3g} px "
+                                                "or more: precision that gives out at large coordinates")
     shift = facts.get("shift")
     if isinstance(shift, list):
         return "sub-pixel-shift", f"alphas of the shape moved by ({shift[0]:+g}, {shift[1]:+g}) px"
