@@ -47,6 +47,7 @@ from harness.api import Coverage, Scene
 from harness.conventions import MAX_AREA_SAMPLES, MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Convention, CoverageKind, CullMode, SnapRounding
 from harness.isolation import Call, Outcome, describe, layer_of
 from harness.oracle import exact_coverage
+from harness.keys import union
 from harness.probes import Culling, Drawn, VertexSweep, _half_steps, _snap_candidates, culling, vertex_sweep
 from harness.samples import STANDARD_PATTERNS
 
@@ -290,7 +291,7 @@ def _alpha_differences(got: Coverage, want: Coverage, scene: Scene) -> NDArray[n
     """alpha - wanted alpha at every (triangle, pixel) either holds (a missing one has 0)."""
     kg, ag = _keyed(got, scene)
     kw, aw = _keyed(want, scene)
-    keys = np.union1d(kg, kw)
+    keys = union(kg, kw)
     g = np.zeros(keys.size)
     w = np.zeros(keys.size)
     np.add.at(g, np.searchsorted(keys, kg), ag)

@@ -143,16 +143,13 @@ from numpy.typing import NDArray
 from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, convention_for
 from harness.case import Case, MotionCase
 from harness.checks.area import ALPHA_CAUSES, alpha_cause
+from harness.checks.records import OVERFLOW_EDGES, overflow_class
 from harness.conventions import SNAP_ROUNDINGS, Convention, SnapRounding
 from harness.exact import orientation
 
 __all__ = ["Signature", "signature", "CONVENTION_PARTS", "OVERFLOW_EDGES", "overflow_class", "with_probes", "frame_case"]
 
 CONVENTION_PARTS = ("tie-rule", "sample-point", "snapping", "culling", "fill-rule", "line-rule", "none")
-# Powers of two where arithmetic gives out: 2**12 is huge beside any viewport here,
-# 2**24 and 2**53 where float32 and float64 stop holding every integer, 2**31 and 2**63
-# where int32 and int64 overflow, 2**128 where float32 overflows to infinity.
-OVERFLOW_EDGES = (12, 24, 31, 53, 63, 128)
 # failure classes of attributes missing or wrong: one cause (:attr:`Signature.cause`)
 ATTRIBUTE_CLASSES = ("missing-attributes", "bad-attributes", "nan-attributes")
 # near-tie: |E| within float32 rounding of the edge function (about 2**-19 M**2 for an
@@ -324,22 +321,6 @@ def signature(result: Any, case: Case | MotionCase | Any, convention: Convention
         return Signature(check, failure_class, part)
     except Exception:  # anything unreadable: never raise
         return Signature(check, "other", "none")
-
-
-def overflow_class(magnitude: float) -> str | None:
-    """``overflow-2^a..2^b`` for a largest |coordinate| at or beyond 2**12 (its bucket
-    between :data:`OVERFLOW_EDGES`), None below.
-
-    >>> overflow_class(100.0), overflow_class(1e6), overflow_class(2.0**53), overflow_class(1e300)
-    (None, 'overflow-2^12..2^24', 'overflow-2^53..2^63', 'overflow-2^128+')
-    """
-    if not magnitude >= 2.0 ** OVERFLOW_EDGES[0]:  # NaN too
-        return None
-    exponent = math.frexp(magnitude)[1] - 1 if math.isfinite(magnitude) else 10**6  # floor(log2), exactly
-    for low, high in zip(OVERFLOW_EDGES, OVERFLOW_EDGES[1:]):
-        if low <= exponent < high:
-            return f"overflow-2^{low}..2^{high}"
-    return f"overflow-2^{OVERFLOW_EDGES[-1]}+"
 
 
 def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case | MotionCase, str], list[Any]], rasterizer: Any) -> Any:

@@ -55,10 +55,11 @@ from harness.api import Coverage, Scene
 from harness.area import area_coverage, area_error_bound, displaced_area_bound, exact_area
 from harness.case import Case, MotionCase
 from harness.checks.conformance import near_ties
-from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
+from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, overflow_class, register, result, skip
 from harness.checks.watertight import pixel_classes
 from harness.conventions import Convention
 from harness.exact import orientation
+from harness.keys import union, unique_inverse
 from harness.oracle import exact_samples
 
 __all__ = ["accuracy", "motion_accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "level_values",
@@ -99,13 +100,13 @@ def _fragments(coverage: Coverage, width: int, height: int, n: int) -> tuple[NDA
 def _keyed(coverage: Coverage, width: int, height: int, n: int) -> tuple[NDArray, NDArray]:
     """Sorted unique keys ``(t * H + y) * W + x`` and the summed alpha of each."""
     t, x, y, alpha = _fragments(coverage, width, height, n)
-    keys, where = np.unique((t * height + y) * width + x, return_inverse=True)
+    keys, where = unique_inverse((t * height + y) * width + x)
     return keys, np.bincount(where, weights=alpha, minlength=keys.size)
 
 
 def _aligned(keys_a: NDArray, a: NDArray, keys_b: NDArray, b: NDArray) -> tuple[NDArray, NDArray, NDArray]:
     """Union of two sorted key sets and the values of each side on it (0 where absent)."""
-    keys = np.union1d(keys_a, keys_b)
+    keys = union(keys_a, keys_b)
     out_a, out_b = np.zeros(keys.size), np.zeros(keys.size)
     out_a[np.searchsorted(keys, keys_a)] = a
     out_b[np.searchsorted(keys, keys_b)] = b
@@ -710,9 +711,7 @@ def alpha_cause(facts: dict[str, Any]) -> tuple[str, str] | None:
     magnitude = facts.get("magnitude")
     if isinstance(magnitude, float) and magnitude >= 2.0**12:
         # geometry wrong only on triangles beyond 2**12 px: the range of the rasterizer's
-        # arithmetic, as conformance names it (harness.signatures.overflow_class)
-        from harness.signatures import overflow_class
-
+        # arithmetic, as conformance names it (harness.checks.records.overflow_class)
         return str(overflow_class(magnitude)), (f"errors only on triangles with coordinates of magnitude {magnitude:.3g} px "
                                                 "or more: precision that gives out at large coordinates")
     shift = facts.get("shift")

@@ -23,6 +23,7 @@ from harness.api import AnyScene, Coverage, LineScene, PathScene
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
 from harness.conventions import Convention
 from harness.exact import orientation
+from harness.keys import union, unique_counts
 
 __all__ = ["deviations", "FragmentCounter", "edge_distance", "path_edge_distance", "line_edge_distance", "near_ties",
            "near_ties_of", "undefined_width", "conformance"]
@@ -49,9 +50,9 @@ def deviations(coverage: Coverage, oracle: Coverage, width: int, height: int) ->
     key_got = (tri[inside] * height + y[inside]) * width + x[inside]
     o_tri, o_x, o_y = oracle.pixels()
     key_want = (o_tri * height + o_y) * width + o_x
-    got_keys, got_counts = np.unique(key_got, return_counts=True)
-    want_keys, want_counts = np.unique(key_want, return_counts=True)
-    keys = np.union1d(got_keys, want_keys)
+    got_keys, got_counts = unique_counts(key_got)
+    want_keys, want_counts = unique_counts(key_want)
+    keys = union(got_keys, want_keys)
     delta = np.zeros(keys.size, dtype=np.int64)
     delta[np.searchsorted(keys, got_keys)] += got_counts
     delta[np.searchsorted(keys, want_keys)] -= want_counts
@@ -86,7 +87,7 @@ class FragmentCounter:
         tri, x, y = coverage.pixels()
         inside = (x >= 0) & (x < width) & (y >= 0) & (y < height) & (tri >= 0)
         self.width, self.height = width, height
-        self.keys, self.counts = np.unique((tri[inside] * height + y[inside]) * width + x[inside], return_counts=True)
+        self.keys, self.counts = unique_counts((tri[inside] * height + y[inside]) * width + x[inside])
         self.outside = int((~inside).sum())
 
     def mismatches(self, oracle: Coverage) -> int:

@@ -11,6 +11,7 @@ known-bad test) only.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
@@ -27,7 +28,7 @@ from harness.conventions import Convention
 __all__ = [
     "Status", "Result", "Drawing", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "result", "skip", "first",
     "Subject", "Check", "register", "registered", "checks", "check_names", "metric_tolerance", "merge_samples",
-    "POINT_KINDS", "ALL_KINDS",
+    "POINT_KINDS", "ALL_KINDS", "OVERFLOW_EDGES", "overflow_class",
 ]
 
 Status = Literal["pass", "fail", "error", "skip"]
@@ -410,3 +411,25 @@ def metric_tolerance() -> dict[str, tuple[float, float]]:
     for check in _REGISTRY.values():
         out.update(check.metrics)
     return out
+
+
+# Powers of two where arithmetic gives out: 2**12 is huge beside any viewport here,
+# 2**24 and 2**53 where float32 and float64 stop holding every integer, 2**31 and 2**63
+# where int32 and int64 overflow, 2**128 where float32 overflows to infinity.
+OVERFLOW_EDGES = (12, 24, 31, 53, 63, 128)
+
+
+def overflow_class(magnitude: float) -> str | None:
+    """``overflow-2^a..2^b`` for a largest |coordinate| at or beyond 2**12 (its bucket
+    between :data:`OVERFLOW_EDGES`), None below.
+
+    >>> overflow_class(100.0), overflow_class(1e6), overflow_class(2.0**53), overflow_class(1e300)
+    (None, 'overflow-2^12..2^24', 'overflow-2^53..2^63', 'overflow-2^128+')
+    """
+    if not magnitude >= 2.0 ** OVERFLOW_EDGES[0]:  # NaN too
+        return None
+    exponent = math.frexp(magnitude)[1] - 1 if math.isfinite(magnitude) else 10**6  # floor(log2), exactly
+    for low, high in zip(OVERFLOW_EDGES, OVERFLOW_EDGES[1:]):
+        if low <= exponent < high:
+            return f"overflow-2^{low}..2^{high}"
+    return f"overflow-2^{OVERFLOW_EDGES[-1]}+"
