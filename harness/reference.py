@@ -1,7 +1,8 @@
 """A slow, obviously correct reference for the oracle: every pixel, rational arithmetic.
 
 For each triangle and each pixel of its bounding box (clipped to the viewport) the sample
-point is tested against the three edges with :class:`fractions.Fraction`. Ties are decided
+point is tested against the three edges in exact rational arithmetic (the dyadic
+coordinates scaled by their common denominator to Python integers). Ties are decided
 straight from the definition in :mod:`harness.conventions` -- the sample moved by the tie
 rule's symbolic perturbation, E(p + d(eps)) expanded as a polynomial in eps whose first
 nonzero coefficient gives the sign -- independently of how the oracle classifies edges.
@@ -55,22 +56,30 @@ def brute_force_coverage(scene: Scene, convention: Convention) -> Coverage:
             continue
         if convention.cull == "cw" and area > 0 or convention.cull == "ccw" and area < 0:
             continue
-        edges = [(v[k], v[(k + 1) % 3]) for k in range(3)]
         sign = 1 if area > 0 else -1
+        # every number here is dyadic: scaled by the common denominator, the same tests in integers
+        scale = math.lcm(sx.denominator, sy.denominator, *(c.denominator for q in v for c in q))
+        w = [(int(q[0] * scale), int(q[1] * scale)) for q in v]
+        edges = []
+        for k in range(3):
+            a, b = w[k], w[(k + 1) % 3]
+            # E(p + d) = E(p) + dE/dx * d_x + dE/dy * d_y, as coefficients of 1, eps, eps**2: the
+            # coefficients of eps and eps**2 do not depend on p; the first nonzero one decides E(p) = 0
+            gx, gy = -(b[1] - a[1]), b[0] - a[0]
+            ties = [sign * (gx * move_x[power] + gy * move_y[power]) for power in (1, 2)]
+            edges.append((a, b, next((c for c in ties if c != 0), 0) > 0))
         x_lo = max(0, math.floor(min(q[0] for q in v) - sx))
         x_hi = min(scene.width - 1, math.ceil(max(q[0] for q in v) - sx))
         y_lo = max(0, math.floor(min(q[1] for q in v) - sy))
         y_hi = min(scene.height - 1, math.ceil(max(q[1] for q in v) - sy))
         for j in range(y_lo, y_hi + 1):
+            py = j * scale + int(sy * scale)
             for i in range(x_lo, x_hi + 1):
-                sample = (i + sx, j + sy)
+                px = i * scale + int(sx * scale)
                 inside = True
-                for a, b in edges:
-                    # E(p + d) = E(p) + dE/dx * d_x + dE/dy * d_y, as coefficients of 1, eps, eps**2
-                    gx, gy = -(b[1] - a[1]), b[0] - a[0]
-                    terms = [sign * (_side(a, b, sample) if k == 0 else gx * move_x[k] + gy * move_y[k]) for k in range(3)]
-                    leading = next((c for c in terms if c != 0), Fraction(0))
-                    if leading <= 0:
+                for a, b, tie_owned in edges:
+                    e = sign * ((b[0] - a[0]) * (py - a[1]) - (b[1] - a[1]) * (px - a[0]))
+                    if e < 0 or e == 0 and not tie_owned:
                         inside = False
                         break
                 if inside:
