@@ -35,6 +35,7 @@ from harness.conventions import MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Co
 from harness.exact import orientation
 from harness.isolation import Call, Outcome, describe
 from harness.oracle import exact_coverage
+from harness.keys import unique
 from harness.repro import grown_screen
 
 __all__ = [
@@ -733,10 +734,16 @@ def viewport_edge(call: Call, seed: int, margin: int = 8) -> ViewportEdge:
         tb, xb, yb = b.coverage.pixels()
         xb, yb = xb - margin, yb - margin
         keep = (xb >= 0) & (xb < size) & (yb >= 0) & (yb < size)
-        mine = set(zip(ta.tolist(), xa.tolist(), ya.tolist()))
-        inside = set(zip(tb[keep].tolist(), xb[keep].tolist(), yb[keep].tolist()))
-        changed += len(mine ^ inside)
-        total += len(inside)
+        base = 4 * (size + 2 * margin)  # room for any on-screen or grown-screen pixel
+
+        def keys(t: NDArray, x: NDArray, y: NDArray, base: int = base) -> NDArray:
+            return unique((t * base + (y + margin)) * base + (x + margin))
+
+        mine, inside = keys(ta, xa, ya), keys(tb[keep], xb[keep], yb[keep])
+        merged = np.sort(np.concatenate([mine, inside]))
+        common = int(np.count_nonzero(merged[1:] == merged[:-1]))  # in both (each set has no repeats)
+        changed += mine.size + inside.size - 2 * common
+        total += inside.size
     return ViewportEdge(changed, total)
 
 
