@@ -21,13 +21,16 @@ os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 # The longest modules first: `make test` hands whole modules to its workers in collection
 # order (--dist loadfile), so a long module collected last would leave one worker running
 # it alone at the end.
-# (seconds each on 2 cores, measured from make test's junit times: identify 31, known_bad 24,
-# fingerprints 23, campaign 18, signatures 16, oracle 14, runner 13, registry_and_cli 13,
-# hostile 13, time_limits 12, coverage_identify 10, browser 10, area_checks 10, path_cases 9,
-# pytest_plugin 9; every other module 7 or less)
-LONGEST_FIRST = ["test_identify.py", "test_known_bad.py", "test_fingerprints.py", "test_campaign.py", "test_signatures.py",
-                 "test_oracle.py", "test_runner.py", "test_registry_and_cli.py", "test_hostile.py", "test_time_limits.py",
-                 "test_coverage_identify.py", "test_browser.py", "test_area_checks.py", "test_path_cases.py", "test_pytest_plugin.py"]
+# (seconds of test time each, 3 workers on 2 cores, measured per test: identify 41, runner 23,
+# known_bad 22, campaign 22, registry_and_cli 21, fingerprints 19, signatures 17,
+# coverage_identify 15, pytest_plugin 15, identify_agrees 14, hostile 14, peer_freetype 13,
+# time_limits 13, area_checks 13, browser 12, path_cases 12, line_direction 11, peer_deqp 9,
+# winding 9, gl_lines 8, cli_run 8, line_identify 8; every other module less)
+LONGEST_FIRST = ["test_identify.py", "test_runner.py", "test_known_bad.py", "test_campaign.py", "test_registry_and_cli.py",
+                 "test_fingerprints.py", "test_signatures.py", "test_coverage_identify.py", "test_pytest_plugin.py",
+                 "test_identify_agrees.py", "test_hostile.py", "test_peer_freetype.py", "test_time_limits.py",
+                 "test_area_checks.py", "test_browser.py", "test_path_cases.py", "test_line_direction.py",
+                 "test_peer_deqp.py", "test_winding.py", "test_gl_lines.py", "test_cli_run.py", "test_line_identify.py"]
 
 
 def pytest_collection_modifyitems(items):
