@@ -9,12 +9,14 @@ import pytest
 
 HERE = Path(__file__).parent / "typing"
 ROOT = Path(__file__).parent.parent
+# run by `make types`, after mypy has filled its cache (cold, this module's mypy takes 17 s)
+pytestmark = pytest.mark.types
 
 
 @pytest.fixture(scope="module")
 def mypy() -> subprocess.CompletedProcess:
     """One mypy run over both files: its lines name their file. With the project's options
-    and its cache (``.mypy_cache``, which ``make test``'s own mypy run has just filled), so
+    and its cache (``.mypy_cache``, which ``make types``' own mypy run has just filled), so
     that only these two files are checked afresh (under a second), not every module they
     import (several seconds); those modules' own errors, if any, are that run's to report."""
     pytest.importorskip("mypy", reason="mypy is in the test extras: pip install -e '.[test]'")
