@@ -2,6 +2,10 @@
 rasterizer, case and check, with readable failure messages and minimal repro paths.
 
 Registered through the ``pytest11`` entry point; inert unless ``--rasterizer`` is given.
+With ``--rasterizer`` and no path on the command line, only the rastercheck items are
+collected (not the project's own tests from ``testpaths`` or the current directory, which
+cost seconds to import and collect before one case runs); name paths to collect them too:
+``pytest tests --rasterizer X``.
 
 Collection builds the items from the case list and the check registry alone and calls no
 rasterizer: the work happens when an item runs, so ``-k`` and ``--deselect`` skip what
@@ -29,8 +33,8 @@ from harness.api import Rasterizer
 from harness.case import Case, MotionCase
 from harness.checks import Result
 
-__all__ = ["pytest_addoption", "pytest_collection_modifyitems", "pytest_collection_finish", "pytest_terminal_summary",
-           "RastercheckFailure", "RastercheckItem"]
+__all__ = ["pytest_addoption", "pytest_ignore_collect", "pytest_report_header", "pytest_collection_modifyitems",
+           "pytest_collection_finish", "pytest_terminal_summary", "RastercheckFailure", "RastercheckItem"]
 
 ROOT = "rastercheck"
 BAD = ("fail", "error")
@@ -51,6 +55,21 @@ def pytest_addoption(parser: Any) -> None:
                          "error) are xfail with the baseline's reason; one that passes now is XPASS, which does not fail "
                          "the run (strict=False whatever xfail_strict says). Metrics are not compared: `rastercheck "
                          "gate` does that")
+
+
+def _suite_only(config: pytest.Config) -> bool:
+    """``--rasterizer`` given and no path named: the rastercheck items alone."""
+    return bool(config.getoption("--rasterizer")) and config.args_source != pytest.Config.ArgsSource.ARGS
+
+
+def pytest_ignore_collect(collection_path: Path, config: pytest.Config) -> bool | None:
+    return True if _suite_only(config) else None
+
+
+def pytest_report_header(config: pytest.Config) -> str | None:
+    if _suite_only(config):
+        return "rastercheck: the suite's items only (name paths to collect your tests too: pytest tests --rasterizer ...)"
+    return None
 
 
 class RastercheckFailure(Exception):

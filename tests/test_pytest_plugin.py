@@ -57,7 +57,6 @@ COUNTING = textwrap.dedent('''
         def rasterize(self, scene):
             return CentreScanline().rasterize(scene)
 ''')
-pytest_plugins = ["pytester"]
 KNOWN_BAD = ["--rasterizer", "tests.known_bad.misc:WrongTieClaim", "--rasterizer", "tests.known_bad.misc:Raises"]
 
 
@@ -137,6 +136,20 @@ def test_a_one_case_selection_runs_one_item_in_seconds(tmp_path):
     # (how long it takes is measured, not asserted: about 5 s here, interpreter and imports included)
 
 
+def test_with_no_path_named_only_the_suite_is_collected(tmp_path, capsys, monkeypatch):
+    """``pytest --rasterizer X`` collects the suite's items, not the project's own tests
+    (seconds of imports before one case runs); naming a path collects its tests too."""
+    (tmp_path / "test_mine.py").write_text("def test_mine():\n    pass\n")
+    only = plugin_run_here(tmp_path, capsys, monkeypatch, "--collect-only", "-q", "--rasterizer", "centre_scanline",
+                           "-k", "lattice/bits-0")
+    assert only.returncode == 0 and "test_mine" not in only.stdout and "rastercheck::centre_scanline" in only.stdout
+    both = plugin_run_here(tmp_path, capsys, monkeypatch, "--collect-only", "-q", "test_mine.py", "--rasterizer",
+                           "centre_scanline")
+    assert both.returncode == 0 and "test_mine.py::test_mine" in both.stdout and "rastercheck::centre_scanline" in both.stdout
+    mine = plugin_run_here(tmp_path, capsys, monkeypatch, "--collect-only", "-q")  # no --rasterizer: as ever
+    assert "test_mine.py::test_mine" in mine.stdout and "rastercheck::" not in mine.stdout
+
+
 def test_failures_read_well_with_their_repro_and_traceback(tmp_path, capsys, monkeypatch):
     proc = plugin_run_here(tmp_path, capsys, monkeypatch, *KNOWN_BAD, "-k", "lattice/bits-0")
     assert proc.returncode == 1
@@ -176,10 +189,11 @@ def test_a_baseline_makes_known_failures_xfail(tmp_path, capsys, monkeypatch):
     (["--rasterizer", "centre_scanline", "--rastercheck-baseline", "none.json"], "--rastercheck-baseline: none.json: no such baseline"),
     (["--rasterizer", "centre_scanline", "--rastercheck-suite", "huge"], "--rastercheck-suite: unknown suite 'huge'"),
 ])
-def test_usage_errors(pytester, args, said):
-    pytester.makeini(INI)
-    result = pytester.runpytest_inprocess("-p", "no:cacheprovider", *args)
-    assert result.ret == pytest.ExitCode.USAGE_ERROR and said in result.stderr.str()
+def test_usage_errors(tmp_path, capsys, monkeypatch, args, said):
+    # in this process as plugin_run_here runs it (pytester's inline run forgot the modules
+    # it imported, and the next test to compile a kernel in this worker failed on numba's own)
+    result = plugin_run_here(tmp_path, capsys, monkeypatch, *args)
+    assert result.returncode == pytest.ExitCode.USAGE_ERROR and said in result.stderr, result.stderr
 
 
 @functools.cache
