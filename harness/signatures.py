@@ -100,7 +100,8 @@ every hole and double hit has its sample exactly on the blamed shared edge -- on
 partition, only if the same tie rebuilt on a lattice fails too: evidence ``lattice_twin``),
 ``near-tie`` when every one lies within float rounding of it, ``non-finite-input`` and
 ``overflow-...`` as above. ``degenerate``'s ``zero-area-drawn`` is the tie rule's when every
-flat triangle drew only samples exactly on its own line. Motion (jaggy, texel, perspective, popping), first that holds
+flat triangle drew only samples exactly on its own line, and ``non-finite-input`` when every
+triangle it names has a NaN or infinite coordinate. Motion (jaggy, texel, perspective, popping), first that holds
 (:func:`with_probes` finds the facts): ``input-format`` when the whole sequence passes as
 the library receives it; the class and part of a frame the failure names that fails
 conformance, or accuracy, judged alone (a flicker of a wrong tie rule is the tie rule's, a
@@ -1648,9 +1649,20 @@ def _hygiene(result: Any, case: Any, convention: Convention | None) -> tuple[str
 def _degenerate(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
     found = _first_positive(result, (("degenerate_triangles_drawn", "zero-area-drawn"), ("nan_attribute_rows", "nan-attributes"),
                                      ("work_ratio", "slow")), "other")
+    if found == "zero-area-drawn" and _all_non_finite(result, case):
+        return "non-finite-input", "none"  # as conformance and accuracy name the same drawing
     if found == "zero-area-drawn" and _drawn_on_own_edges(result, case, convention):
         return found, "tie-rule"
     return found, "none"
+
+
+def _all_non_finite(result: Any, case: Any) -> bool:
+    """Whether every triangle the degenerate check names has a NaN or infinite coordinate."""
+    scene = getattr(case, "scene", None)
+    named = result.evidence.get("triangles") if isinstance(result.evidence, dict) else None
+    if not isinstance(scene, Scene) or not isinstance(named, list) or not named:
+        return False
+    return set(named) <= set(scene.non_finite())
 
 
 def _drawn_on_own_edges(result: Any, case: Any, convention: Convention | None) -> bool:

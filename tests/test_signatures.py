@@ -578,6 +578,17 @@ def test_a_flat_triangle_drawn_on_its_own_edge_is_the_tie_rules():
                     "bad_draws_beside_flat": "degenerate|zero-area-drawn|none"}
 
 
+def test_non_finite_triangles_drawn_are_non_finite_input_not_zero_area():
+    """A triangle with an infinite coordinate that draws fails degenerate as non-finite input
+    (as conformance and accuracy name it), not as a zero-area triangle drawn."""
+    bad = EdgeFunctionBug("nan-to-num")
+    scene = Scene(8, 8, np.array([[[0.5, 0.5], [np.inf, 0.5], [0.5, 6.5]], [[1.0, 1.0], [7.0, 1.0], [1.0, 7.0]]]))
+    case = Case("degenerate/non-finite/inf", scene)
+    failed = [r for r in _judge_of(bad)(case, "degenerate") if r.status == "fail"]
+    assert len(failed) == 1 and failed[0].evidence["triangles"] == [0], failed
+    assert signature(failed[0], case, bad.convention).key == "degenerate|non-finite-input|none"
+
+
 @pytest.mark.parametrize("family, index, check", [("meshes", 311, "conformance"), ("motion", 15, "jaggy")])
 def test_a_wrong_sample_near_an_off_screen_edge_is_tried_in_a_grown_screen(family, index, check):
     """A mirrored sample pattern's wrong samples that happen to lie within a sixteenth of a
