@@ -17,6 +17,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from harness.conventions import FILL_RULES, Convention
 from harness.exact import frozen
+from harness.keys import lexsort
 from harness.spans import already_tidy, expand, pixel_offsets, run_tails, span_buffers, tidy
 
 __all__ = ["Scene", "PathScene", "LineScene", "AnyScene", "SCENE_KINDS", "Coverage", "Convention", "Rasterizer", "span_buffers", "interpolates_of", "received_of", "fingerprint_of",
@@ -723,7 +724,7 @@ class Coverage:
         if samples is not None and samples.size != tri.size:
             raise ValueError("Coverage.from_pixels needs one sample index per fragment")
         keys = (xs, ys, tri) if samples is None else (xs, ys, samples, tri)
-        order = np.lexsort(keys)
+        order = lexsort(keys)
         tri, xs, ys = tri[order], xs[order], ys[order]
         if samples is not None:
             samples = samples[order]
@@ -969,7 +970,7 @@ class Coverage:
         length = self.x1 - self.x0
         keep = np.flatnonzero(length > 0)
         keys = [self.x1[keep], self.x0[keep], self.y[keep]] + ([] if self.sample is None else [self.sample[keep]])
-        order = keep[np.lexsort((*keys, self.primitive[keep]))]
+        order = keep[lexsort((*keys, self.primitive[keep]))]
         sorted_ = self.take(order)
         tri, y, x0, x1 = sorted_.primitive, sorted_.y, sorted_.x0, sorted_.x1
         joins = np.zeros(tri.size, dtype=bool)

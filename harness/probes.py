@@ -740,7 +740,7 @@ def viewport_edge(call: Call, seed: int, margin: int = 8) -> ViewportEdge:
             return unique((t * base + (y + margin)) * base + (x + margin))
 
         mine, inside = keys(ta, xa, ya), keys(tb[keep], xb[keep], yb[keep])
-        merged = np.sort(np.concatenate([mine, inside]))
+        merged = np.sort(np.concatenate([mine, inside]), kind="stable")  # two sorted runs: linear
         common = int(np.count_nonzero(merged[1:] == merged[:-1]))  # in both (each set has no repeats)
         changed += mine.size + inside.size - 2 * common
         total += inside.size
