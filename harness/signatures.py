@@ -145,6 +145,7 @@ from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, convent
 from harness.case import Case, MotionCase
 from harness.checks.area import ALPHA_CAUSES, alpha_cause
 from harness.checks.records import OVERFLOW_EDGES, overflow_class
+from harness.keys import unique
 from harness.conventions import SNAP_ROUNDINGS, Convention, SnapRounding
 from harness.exact import orientation
 
@@ -1150,7 +1151,11 @@ def _pixel_set(coverage: Coverage, prims: NDArray[np.int64], remap: dict[int, in
     """(remapped primitive, x, y) of the coverage's fragments of ``prims`` in the viewport."""
     t, x, y = coverage.pixels()
     keep = np.isin(t, prims) & (x >= 0) & (x < width) & (y >= 0) & (y < height)
-    return {(remap[int(a)], int(b), int(c)) for a, b, c in zip(t[keep], x[keep], y[keep])}
+    t, x, y = t[keep], x[keep], y[keep]
+    distinct = unique(t)  # remapped once each, then by lookup (a Python int per fragment was the cost)
+    index = np.array([remap[v] for v in distinct.tolist()], dtype=np.int64)
+    mapped = index[np.searchsorted(distinct, t)]
+    return set(zip(mapped.tolist(), x.tolist(), y.tolist()))
 
 
 def _same_as(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], variant: AnyScene, convention: Convention) -> bool:
@@ -1266,7 +1271,7 @@ def _contours_hypothesis(answer: Coverage, scene: AnyScene, prims: NDArray[np.in
     firsts = _pixel_set(exact_coverage(alone, convention), np.arange(len(subset)), identity, scene.width, scene.height)
     t, x, y = exact_coverage(each, convention).pixels()
     on = (x >= 0) & (x < scene.width) & (y >= 0) & (y < scene.height)
-    union = {(int(subset.contour_path[a]), int(b), int(c)) for a, b, c in zip(t[on], x[on], y[on])}
+    union = set(zip(subset.contour_path[t[on]].tolist(), x[on].tolist(), y[on].tolist()))
     if firsts == union:
         return None  # every later contour within the first (a hole filled): the two cannot be told apart
     got = _pixel_set(answer, prims, {int(k): i for i, k in enumerate(prims)}, scene.width, scene.height)
@@ -1286,7 +1291,7 @@ def _same_reversed(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], 
     backwards, origin = subset.reversed()
     t, x, y = exact_coverage(backwards, convention).pixels()
     keep = (x >= 0) & (x < scene.width) & (y >= 0) & (y < scene.height)
-    expected = {(int(origin[a]), int(b), int(c)) for a, b, c in zip(t[keep], x[keep], y[keep])}
+    expected = set(zip(np.asarray(origin)[t[keep]].tolist(), x[keep].tolist(), y[keep].tolist()))
     remap = {int(k): i for i, k in enumerate(prims)}
     return _pixel_set(answer, prims, remap, scene.width, scene.height) == expected
 
