@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["unique", "unique_counts", "unique_inverse", "union", "lexsort"]
+__all__ = ["unique", "unique_counts", "unique_inverse", "union", "composite", "lexsort"]
 
 
 def _starts(ordered: NDArray) -> NDArray[np.bool_]:
@@ -65,22 +65,30 @@ def union(a: NDArray, b: NDArray) -> NDArray:
     return unique(np.concatenate([a.ravel(), b.ravel()]))
 
 
-def lexsort(keys: tuple[NDArray, ...]) -> NDArray[np.int64]:
-    """``np.lexsort(keys)`` (the last key primary, stable) for integer keys of equal length:
-    by one composite key when their ranges' product fits in 62 bits (one stable sort,
-    linear on keys in order already, where lexsort makes a pass per key), else lexsort.
-
-    >>> lexsort((np.array([2, 1, 0]), np.array([1, 1, 0]))).tolist()
-    [2, 1, 0]
-    """
-    if not keys or keys[0].size == 0:
-        return np.lexsort(keys) if keys else np.zeros(0, dtype=np.int64)
-    composite = np.zeros(keys[0].size, dtype=np.int64)
+def composite(keys: tuple[NDArray, ...]) -> NDArray[np.int64] | None:
+    """(K,) one int64 key ordered as the integer keys of equal length are ordered
+    lexicographically (the last key primary, as for ``np.lexsort``), or None when their
+    ranges' product does not fit in 62 bits."""
+    out = np.zeros(keys[0].size if keys else 0, dtype=np.int64)
+    if not out.size:
+        return out
     room = 1
     for key in reversed(keys):  # the primary key first
         lo, hi = int(key.min()), int(key.max())
         room *= hi - lo + 1
         if room >= 1 << 62:
-            return np.lexsort(keys)
-        composite = composite * (hi - lo + 1) + (key - lo)
-    return np.argsort(composite, kind="stable")
+            return None
+        out = out * (hi - lo + 1) + (key - lo)
+    return out
+
+
+def lexsort(keys: tuple[NDArray, ...]) -> NDArray[np.int64]:
+    """``np.lexsort(keys)`` (the last key primary, stable) for integer keys of equal length:
+    by one :func:`composite` key where there is one (one stable sort, linear on keys in
+    order already, where lexsort makes a pass per key), else lexsort.
+
+    >>> lexsort((np.array([2, 1, 0]), np.array([1, 1, 0]))).tolist()
+    [2, 1, 0]
+    """
+    whole = composite(keys)
+    return np.lexsort(keys) if whole is None else np.argsort(whole, kind="stable")

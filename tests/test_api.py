@@ -70,6 +70,11 @@ def test_canonical_merges_and_keeps_duplicates(pixels):
     assert canon.n_pixels == len(pixels)
     assert cov == canon
     assert np.array_equal(canon.counts(10, 8), cov.counts(10, 8))
+    # a canonical coverage is its own canonical form; no other is
+    assert canon.canonical() is canon
+    spans = np.stack([canon.primitive, canon.y, canon.x0, canon.x1])
+    assert (cov.canonical() is cov) == (spans.shape == (4, len(cov)) and np.array_equal(
+        spans, np.stack([cov.primitive, cov.y, cov.x0, cov.x1])))
 
 
 def test_from_mask_and_counts_clip():
