@@ -86,8 +86,10 @@ def plugin_run_here(tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypa
     for name in [k for k in os.environ if k.startswith(("PYTEST_", "COV_")) and k != "PYTEST_CURRENT_TEST"]:
         monkeypatch.delenv(name)
     capsys.readouterr()
-    code = pytest.main(["-p", "no:cacheprovider", "-p", "no:hypothesispytest", "--rastercheck-repros", str(tmp_path / "repros"),
-                        *args])
+    # (without the unraisable-exception plugin: its cleanup collects garbage five times over
+    # this process's whole heap at the end of every inner run, a third of a second each)
+    code = pytest.main(["-p", "no:cacheprovider", "-p", "no:hypothesispytest", "-p", "no:unraisableexception",
+                        "--rastercheck-repros", str(tmp_path / "repros"), *args])
     out, err = capsys.readouterr()
     return SimpleNamespace(returncode=int(code), stdout=out, stderr=err)
 

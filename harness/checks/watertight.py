@@ -30,12 +30,13 @@ def _pixel_classes(region: NDArray, width: int, height: int) -> tuple[NDArray, N
     area_sign = int(turns[np.flatnonzero(turns)[0]])
     cy, cx = np.mgrid[0 : height + 1, 0 : width + 1]
     corners = np.stack([cx.ravel(), cy.ravel()], axis=-1).astype(float)
-    side = np.empty((m, corners.shape[0]), dtype=np.int8)
-    for k in range(m):
-        a = np.broadcast_to(region[k], corners.shape)
-        b = np.broadcast_to(region[(k + 1) % m], corners.shape)
-        # positive: the corner lies on the region's side of edge k
-        side[k] = orientation(np.stack([a, b, corners], axis=1)) * area_sign
+    # positive: the corner lies on the region's side of edge k (every edge and corner at once)
+    n = corners.shape[0]
+    triangles = np.empty((m, n, 3, 2))
+    triangles[:, :, 0] = region[:, None, :]
+    triangles[:, :, 1] = np.roll(region, -1, axis=0)[:, None, :]
+    triangles[:, :, 2] = corners[None, :, :]
+    side = orientation(triangles.reshape(m * n, 3, 2)).reshape(m, n) * area_sign
     sides = side.reshape(m, height + 1, width + 1)
     quads = np.stack([sides[:, :-1, :-1], sides[:, :-1, 1:], sides[:, 1:, :-1], sides[:, 1:, 1:]])
     inside = np.all(quads > 0, axis=(0, 1))
