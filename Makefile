@@ -38,14 +38,16 @@ TEST_WORKERS ?= $(shell $(PYTHON) -c 'import os; print((os.cpu_count() or 1) + 1
 # lint first (a second); then the two parts of compiling the numba kernels once into
 # numba's cache, side by side (else every test worker compiles them again on a fresh clone);
 # then the tests on every core and one more (a module's tests stay together, so its shared
-# fixtures are built once). Types are `make types`: mypy, then the tests of the static
+# fixtures are built once), the longest modules first (tests/conftest.py: LONGEST_FIRST;
+# xdist would otherwise hand out the modules with the most tests first, and the browser's
+# module, started last, ran 10 s alone). Types are `make types`: mypy, then the tests of the static
 # checks (marked `types`), which reuse its cache (CI runs both; `make check` does too):
 # on a fresh clone mypy takes one core for 23 s, the static tests 17 s more without its cache.
 test: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/python -m tests.warm engine & engine=$$!; $(BIN)/python -m tests.warm rasterizers & others=$$!; \
 	wait $$engine && wait $$others
-	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist loadfile --durations=15 -m "not types"
+	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist loadfile --no-loadscope-reorder --durations=15 -m "not types"
 
 types: $(STAMP)
 	$(BIN)/python -m mypy

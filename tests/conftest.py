@@ -19,18 +19,19 @@ safe_numba_cache()
 os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
 # The longest modules first: `make test` hands whole modules to its workers in collection
-# order (--dist loadfile), so a long module collected last would leave one worker running
-# it alone at the end.
-# (seconds of test time each, 3 workers on 2 cores, measured per test: identify 41, runner 23,
-# known_bad 22, campaign 22, registry_and_cli 21, fingerprints 19, signatures 17,
-# coverage_identify 15, pytest_plugin 15, identify_agrees 14, hostile 14, peer_freetype 13,
-# time_limits 13, area_checks 13, browser 12, path_cases 12, line_direction 11, peer_deqp 9,
-# winding 9, gl_lines 8, cli_run 8, line_identify 8; every other module less)
-LONGEST_FIRST = ["test_identify.py", "test_runner.py", "test_known_bad.py", "test_campaign.py", "test_registry_and_cli.py",
-                 "test_fingerprints.py", "test_signatures.py", "test_coverage_identify.py", "test_pytest_plugin.py",
-                 "test_identify_agrees.py", "test_hostile.py", "test_peer_freetype.py", "test_time_limits.py",
-                 "test_area_checks.py", "test_browser.py", "test_path_cases.py", "test_line_direction.py",
-                 "test_peer_deqp.py", "test_winding.py", "test_gl_lines.py", "test_cli_run.py", "test_line_identify.py"]
+# order (--dist loadfile --no-loadscope-reorder), so a long module collected last would
+# leave one worker running it alone at the end.
+# (seconds of test time each on a fresh clone, 3 workers on 2 cores, measured per test:
+# identify 31, known_bad 26, campaign 21, runner 20, fingerprints 20, peer_freetype 19 (its
+# kernels compile in it), registry_and_cli 17, coverage_identify 16, area_checks 16,
+# signatures 15, hostile 15, peer_deqp 14, time_limits 13, peer_stb 13, gl_lines 11,
+# line_direction 11, area 10, browser 10, pytest_plugin 9, identify_agrees 9,
+# line_identify 8, msaa_lines 8; every other module less)
+LONGEST_FIRST = ["test_identify.py", "test_known_bad.py", "test_campaign.py", "test_runner.py", "test_fingerprints.py",
+                 "test_peer_freetype.py", "test_registry_and_cli.py", "test_coverage_identify.py", "test_area_checks.py",
+                 "test_signatures.py", "test_hostile.py", "test_peer_deqp.py", "test_time_limits.py", "test_peer_stb.py",
+                 "test_gl_lines.py", "test_line_direction.py", "test_area.py", "test_browser.py", "test_pytest_plugin.py",
+                 "test_identify_agrees.py", "test_line_identify.py", "test_msaa_lines.py"]
 
 
 def pytest_collection_modifyitems(items):
