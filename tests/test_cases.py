@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-import trimesh
 from hypothesis import given
 
 from cases.meshes import MeshFileError, clip_near, load_mesh_file, mesh_file_case
@@ -40,6 +39,8 @@ def test_near_plane_clipping_keeps_what_is_in_front():
 
 
 def test_mesh_files_load_and_fail_clearly(tmp_path):
+    import trimesh  # here, not at collection: every test worker collects every module
+
     good = tmp_path / "box.stl"
     trimesh.creation.box().export(good)
     case = mesh_file_case(good, seed=1)
