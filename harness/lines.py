@@ -460,7 +460,8 @@ def _diamond_kernel(a, b, keep, width, height, last_pixel, gl, out_s, out_y, out
         if ax == bx and ay == by:
             # Zero length: it never exits; with the last pixel drawn, the pixel holding it.
             if last_pixel:
-                i, j, found = area_holding(ax, ay, False, gl, width, height)
+                # np.bool_, not the literal False: numba compiles a callee once per literal argument
+                i, j, found = area_holding(ax, ay, np.bool_(False), gl, width, height)
                 if found:
                     n = emit_pixel(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
             continue
@@ -615,7 +616,7 @@ def _dot_sign(ax, ay, bx, by, px, py):  # type: ignore[no-untyped-def]
     if -total > bound:
         return -1
     h = np.empty(16)
-    length = 0
+    length = np.int64(0)  # np.int64, not the literal 0: numba compiles a callee once per literal argument
     for u, v in ((bx, px), (-bx, ax), (-ax, px), (ax, ax), (by, py), (-by, ay), (-ay, py), (ay, ay)):
         hi, lo = _two_product(u, v)
         length = grow_expansion(h, length, lo)
@@ -643,13 +644,13 @@ def _strip_sign(ax, ay, bx, by, px, py, w):  # type: ignore[no-untyped-def]
     # Exact: 2c as an expansion (orient2d's six products, doubled: exact), then
     # w**2 * (dx**2 + dy**2) - (2c)**2 summed term by term.
     cc = np.empty(16)
-    nc = 0
+    nc = np.int64(0)  # np.int64, not the literal 0: numba compiles a callee once per literal argument
     for u, v in ((ax, by), (-ay, bx), (bx, py), (-by, px), (px, ay), (-py, ax)):
         hi, lo = _two_product(2.0 * u, v)
         nc = grow_expansion(cc, nc, lo)
         nc = grow_expansion(cc, nc, hi)
     dd = np.empty(32)
-    nd = 0
+    nd = np.int64(0)
     dxh, dxl = _two_sum(bx, -ax)
     dyh, dyl = _two_sum(by, -ay)
     for u, v in ((dxh, dxh), (dxh, dxl), (dxh, dxl), (dxl, dxl), (dyh, dyh), (dyh, dyl), (dyh, dyl), (dyl, dyl)):
@@ -658,7 +659,7 @@ def _strip_sign(ax, ay, bx, by, px, py, w):  # type: ignore[no-untyped-def]
         nd = grow_expansion(dd, nd, hi)
     wh, wl = _two_product(w, w)
     acc = np.empty(2 * nc * nc + 4 * nd + 8)
-    na = 0
+    na = np.int64(0)
     for k in range(nd):
         for part in (wh, wl):
             if part != 0.0:

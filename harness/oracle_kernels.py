@@ -140,9 +140,13 @@ def _apply_edge(ax, ay, bx, by, y_lo, y_hi, slope, delta, owned, sx, ys, width, 
         if not owned:
             return left, 0
         return left, right
-    if by < ay:  # E grows with x: this edge bounds the run from the left
-        return max(left, _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, True)), right
-    return left, min(right, _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, False))
+    # one runtime flag, not the constants True and False: numba compiles _settle once for
+    # each literal it is called with (three copies of it, a second each, with the path oracle's)
+    lower = by < ay
+    column = _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, lower)
+    if lower:  # E grows with x: this edge bounds the run from the left
+        return max(left, column), right
+    return left, min(right, column)
 
 
 def shares_of_layers(single: list[Coverage], height: int, n_samples: int) -> Coverage:

@@ -200,8 +200,8 @@ def _kernel(positions, sign, width, height, steps, block, alpha):  # type: ignor
     cells = np.zeros(width + 2)
     values = np.zeros(width)
     edges = np.empty((3, 5))
-    n = 0
-    m = 0
+    n = np.int64(0)  # np.int64, not the literal 0: numba compiles a callee once per literal argument
+    m = np.int64(0)
     for t in range(positions.shape[0]):
         if sign[t] == 0:
             continue  # zero area or non-finite: nothing

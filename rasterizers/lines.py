@@ -335,7 +335,7 @@ def _dda_kernel(a, b, keep, last_pixel, width, height, out_s, out_y, out_x0, out
             if last_pixel and ax % SUBPIXEL_ONE != 0:
                 i = ax // SUBPIXEL_ONE
                 j = -((-ay) // SUBPIXEL_ONE) - 1
-                if 0 <= i < width and 0 <= j < height and _in_test_area(ax, ay, i, j, False):
+                if 0 <= i < width and 0 <= j < height and _in_test_area(ax, ay, i, j, np.bool_(False)):
                     n = emit_pixel(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
             continue
         x_major = abs(bx - ax) >= abs(by - ay)
@@ -494,7 +494,7 @@ def _sides_sign(q, big_s, w2_hi, w2_lo, scratch):  # type: ignore[no-untyped-def
     scratch[8], scratch[9] = _two_product(-q_hi, q_hi)
     scratch[10], scratch[11] = _two_product(-2.0 * q_hi, q_lo)
     scratch[12], scratch[13] = _two_product(-q_lo, q_lo)
-    length = 0
+    length = np.int64(0)  # np.int64, not the literal 0: numba compiles a callee once per literal argument
     h = scratch[14:]
     for t in range(14):
         length = grow_expansion(h, length, scratch[t])

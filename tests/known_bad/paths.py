@@ -143,7 +143,9 @@ def _spans(ax, ay, bx, by, bounds, bug, evenodd, width, height):  # type: ignore
                     crosses = (ay[e] <= ys) != (by[e] <= ys)
                 if not crosses:
                     continue
-                column[m] = crossing_column(ax[e], ay[e], bx[e], by[e], True, 0.5, ys, width)
+                # tie_right = crosses (True here): a runtime flag, not the literal True, so that the
+                # built-in fill's compiled crossing_column serves (numba compiles one per literal)
+                column[m] = crossing_column(ax[e], ay[e], bx[e], by[e], crosses, 0.5, ys, width)
                 # BUG (unsigned-crossings): the direction is lost, every crossing adds +1
                 winding[m] = 1 if bug == UNSIGNED_CROSSINGS or by[e] > ay[e] else -1
                 m += 1
