@@ -391,7 +391,7 @@ def _render_triangles(points: NDArray[np.int64], boxes: NDArray[np.int64], drawn
             local[k, 0] = points[t, k, 0] - 64 * x0
             local[k, 1] = points[t, k, 1] - 64 * y0
         out = np.zeros((y1 - y0, x1 - x0), dtype=np.uint8)
-        _render(local, ends, False, out, scanlines)
+        _render(local, ends, np.bool_(False), out, scanlines)  # (np.bool_: no recompile for the literal False)
         for row in range(y1 - y0):
             for column in range(x1 - x0):
                 if out[row, column] != 0:

@@ -89,16 +89,17 @@ def _fill_active_edges(buf: NDArray, length: int, active: NDArray, n_active: int
     fill = length + 1
     y_bottom = y_top + np.float32(1.0)
     one = np.float32(1.0)
+    zero = np.int64(0)  # the C's 0 as a runtime value: numba compiles a callee once per literal argument
     for a in range(n_active):
         e = active[a]
         if fdx[e] == np.float32(0.0):
             x0 = fx[e]
             if x0 < np.float32(length):
                 if x0 >= np.float32(0.0):
-                    _handle_clipped_edge(buf, 0, _c_int(x0), sy[e], ey[e], direction[e], x0, y_top, x0, y_bottom)
+                    _handle_clipped_edge(buf, zero, _c_int(x0), sy[e], ey[e], direction[e], x0, y_top, x0, y_bottom)
                     _handle_clipped_edge(buf, fill - 1, _c_int(x0) + 1, sy[e], ey[e], direction[e], x0, y_top, x0, y_bottom)
                 else:
-                    _handle_clipped_edge(buf, fill - 1, 0, sy[e], ey[e], direction[e], x0, y_top, x0, y_bottom)
+                    _handle_clipped_edge(buf, fill - 1, zero, sy[e], ey[e], direction[e], x0, y_top, x0, y_bottom)
             continue
         x0 = fx[e]
         dx = fdx[e]
@@ -163,27 +164,27 @@ def _fill_active_edges(buf: NDArray, length: int, active: NDArray, n_active: int
                 y2 = (np.float32(x + 1) - x0) / dx + y_top
                 s, t, d = sy[e], ey[e], direction[e]
                 if x0 < px1 and x3 > px2:
-                    _handle_clipped_edge(buf, 0, x, s, t, d, x0, y0, px1, y1)
-                    _handle_clipped_edge(buf, 0, x, s, t, d, px1, y1, px2, y2)
-                    _handle_clipped_edge(buf, 0, x, s, t, d, px2, y2, x3, y3)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, px1, y1)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, px1, y1, px2, y2)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, px2, y2, x3, y3)
                 elif x3 < px1 and x0 > px2:
-                    _handle_clipped_edge(buf, 0, x, s, t, d, x0, y0, px2, y2)
-                    _handle_clipped_edge(buf, 0, x, s, t, d, px2, y2, px1, y1)
-                    _handle_clipped_edge(buf, 0, x, s, t, d, px1, y1, x3, y3)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, px2, y2)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, px2, y2, px1, y1)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, px1, y1, x3, y3)
                 elif x0 < px1 and x3 > px1:
-                    _handle_clipped_edge(buf, 0, x, s, t, d, x0, y0, px1, y1)
-                    _handle_clipped_edge(buf, 0, x, s, t, d, px1, y1, x3, y3)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, px1, y1)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, px1, y1, x3, y3)
                 elif x3 < px1 and x0 > px1:
-                    _handle_clipped_edge(buf, 0, x, s, t, d, x0, y0, px1, y1)
-                    _handle_clipped_edge(buf, 0, x, s, t, d, px1, y1, x3, y3)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, px1, y1)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, px1, y1, x3, y3)
                 elif x0 < px2 and x3 > px2:
-                    _handle_clipped_edge(buf, 0, x, s, t, d, x0, y0, px2, y2)
-                    _handle_clipped_edge(buf, 0, x, s, t, d, px2, y2, x3, y3)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, px2, y2)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, px2, y2, x3, y3)
                 elif x3 < px2 and x0 > px2:
-                    _handle_clipped_edge(buf, 0, x, s, t, d, x0, y0, px2, y2)
-                    _handle_clipped_edge(buf, 0, x, s, t, d, px2, y2, x3, y3)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, px2, y2)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, px2, y2, x3, y3)
                 else:
-                    _handle_clipped_edge(buf, 0, x, s, t, d, x0, y0, x3, y3)
+                    _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, x3, y3)
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -318,7 +319,7 @@ def _draw_all(points: NDArray[np.float32], boxes: NDArray[np.int64], from_left: 
         if x0 >= x1 or y0 >= y1:
             continue
         if from_left:
-            bitmap = rasterize_polygon(points[t], x1, y1 - y0, 0, y0)[:, x0:]
+            bitmap = rasterize_polygon(points[t], x1, y1 - y0, np.int64(0), y0)[:, x0:]  # (np.int64: no literal recompile)
         else:
             bitmap = rasterize_polygon(points[t], x1 - x0, y1 - y0, x0, y0)
         for j in range(y1 - y0):
