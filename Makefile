@@ -36,7 +36,10 @@ report: $(STAMP)
 TEST_WORKERS ?= $(shell $(PYTHON) -c 'import os; print((os.cpu_count() or 1) + 1)')
 
 # lint first (a second); then the two parts of compiling the numba kernels once into
-# numba's cache, side by side (else every test worker compiles them again on a fresh clone);
+# numba's cache, side by side (else every test worker compiles them again on a fresh clone),
+# and beside them one collection of the tests, which writes their assertion-rewritten
+# modules once (on a fresh clone each test worker rewrote every test module itself: 6 s
+# each; a collection error shows in the run that follows);
 # then the tests on every core and one more (a module's tests stay together, so its shared
 # fixtures are built once), the longest modules first (tests/conftest.py: LONGEST_FIRST;
 # xdist would otherwise hand out the modules with the most tests first, and the browser's
@@ -46,7 +49,8 @@ TEST_WORKERS ?= $(shell $(PYTHON) -c 'import os; print((os.cpu_count() or 1) + 1
 test: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/python -m tests.warm engine & engine=$$!; $(BIN)/python -m tests.warm rasterizers & others=$$!; \
-	wait $$engine && wait $$others
+	$(BIN)/python -m pytest --collect-only -q -m "not types" >/dev/null 2>&1 & \
+	wait $$engine && wait $$others && wait
 	$(BIN)/python -m pytest -n $(TEST_WORKERS) --dist loadfile --no-loadscope-reorder --durations=15 -m "not types"
 
 types: $(STAMP)

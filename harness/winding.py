@@ -71,6 +71,7 @@ from numpy.typing import ArrayLike, NDArray
 from harness.api import Coverage, PathScene, Scene
 from harness.conventions import FILL_RULES, Convention, FillRule  # the fill rules are defined beside the tie rules
 from harness.exact import SAFE_MAX, SAFE_MIN, frozen
+from harness.kernel_sorts import heapsort  # (numba's own sort compiles slowly)
 from harness.oracle_kernels import _bound, _edge_setup, _row_range, shares_of_layers
 
 __all__ = ["FILL_RULES", "FillRule", "UNBALANCED_ROWS", "path_spans", "path_spans_rational", "path_coverage",
@@ -177,7 +178,7 @@ def _paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, evenodd, to_edge, w
                         m -= 1
                     keys[m + 1] = k
             else:
-                keys[s0:s1].sort()
+                heapsort(keys, s0, s1)
             wind = 0
             is_open = False
             start = 0

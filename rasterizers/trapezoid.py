@@ -53,6 +53,7 @@ from numpy.typing import NDArray
 from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, Unsupported
 from harness.conventions import TIE_RULES, Convention, TieRule
 from harness.exact import SAFE_MAX, SAFE_MIN, frozen, orient2d_sign
+from harness.kernel_sorts import heapsort_pairs
 
 __all__ = ["TrapezoidFill", "outline", "trapezoid_spans", "crossing_column", "edge_table"]
 
@@ -210,21 +211,11 @@ def _insertion_sort(column, active, lo, hi):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=_CACHE, inline="always")
-def _sort_apart(column, active, lo, hi, spare_column, spare_active):  # type: ignore[no-untyped-def]
-    """Sort active[lo:hi] by column[lo:hi] in place, in O(k log k) whatever their order."""
-    by_column = np.argsort(column[lo:hi])
-    for k in range(hi - lo):
-        spare_column[k] = column[lo + by_column[k]]
-        spare_active[k] = active[lo + by_column[k]]
-    column[lo:hi] = spare_column[: hi - lo]
-    active[lo:hi] = spare_active[: hi - lo]
-
-
-@numba.njit(cache=_CACHE, inline="always")
 def _merge(column, active, mid, hi, spare_column, spare_active):  # type: ignore[no-untyped-def]
     """Merge the sorted runs [0, mid) and [mid, hi) of (column, active) in place."""
-    spare_column[:mid] = column[:mid]
-    spare_active[:mid] = active[:mid]
+    for k in range(mid):  # (element by element: a slice assignment compiled numba's shape-error path, 2.5 s)
+        spare_column[k] = column[k]
+        spare_active[k] = active[k]
     i, k, out = 0, mid, 0
     while i < mid:
         if k < hi and column[k] < spare_column[i]:
@@ -280,7 +271,7 @@ def _sweep(ax, ay, bx, by, winding, tie_right, first, last, order, bounds, sx, s
                     # the band's first row: the edges kept keep nearly their order, the
                     # entering ones (in contour order) are sorted apart and merged in
                     _insertion_sort(column, active, 0, n_before)
-                    _sort_apart(column, active, n_before, n_active, spare_column, spare_active)
+                    heapsort_pairs(column, active, n_before, n_active)  # O(k log k) whatever their order
                     _merge(column, active, n_before, n_active, spare_column, spare_active)
                 else:
                     _insertion_sort(column, active, 0, n_active)  # the last row's order is nearly right

@@ -3,6 +3,8 @@ bounding box, compiled, with one classic bug each (selected by the constructor).
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
 
@@ -66,7 +68,10 @@ def _pixels(positions, width, height, bug, sx, sy, y_first):  # type: ignore[no-
     out_t, out_x, out_y = [], [], []
     for t in range(positions.shape[0]):
         p = positions[t].copy()
-        if not np.all(np.isfinite(p)):
+        finite = True
+        for i in range(3):
+            finite = finite and math.isfinite(p[i, 0]) and math.isfinite(p[i, 1])
+        if not finite:
             continue
         if f32:
             for i in range(3):
@@ -75,12 +80,13 @@ def _pixels(positions, width, height, bug, sx, sy, y_first):  # type: ignore[no-
         area = (p[1, 0] - p[0, 0]) * (p[2, 1] - p[0, 1]) - (p[1, 1] - p[0, 1]) * (p[2, 0] - p[0, 0])
         if (area == 0 and bug != 0) or (bug == 5 and abs(area) / 2 < 1.0) or (bug == 6 and area < 0):
             continue
-        if area < 0:
-            p = p[np.array([0, 2, 1])]
-        x0 = int(max(np.floor(p[:, 0].min()), 0.0))
-        x1 = int(min(np.ceil(p[:, 0].max()) + 1, width))
-        y0 = int(max(np.floor(p[:, 1].min()), 0.0))
-        y1 = int(min(np.ceil(p[:, 1].max()) + 1, height))
+        if area < 0:  # (scalar code throughout: numpy's reductions and fancy indexing compile slowly)
+            for j in range(2):
+                p[1, j], p[2, j] = p[2, j], p[1, j]
+        x0 = int(max(np.floor(min(p[0, 0], p[1, 0], p[2, 0])), 0.0))
+        x1 = int(min(np.ceil(max(p[0, 0], p[1, 0], p[2, 0])) + 1, width))
+        y0 = int(max(np.floor(min(p[0, 1], p[1, 1], p[2, 1])), 0.0))
+        y1 = int(min(np.ceil(max(p[0, 1], p[1, 1], p[2, 1])) + 1, height))
         owned = np.zeros(3, dtype=np.bool_)
         for k in range(3):
             ax, ay, bx, by = p[k, 0], p[k, 1], p[(k + 1) % 3, 0], p[(k + 1) % 3, 1]

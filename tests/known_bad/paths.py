@@ -19,6 +19,7 @@ import numpy as np
 from harness.api import AnyScene, Coverage, PathScene
 from harness.conventions import Convention
 from harness.exact import frozen
+from harness.kernel_sorts import stable_argsort
 from rasterizers.trapezoid import _CACHE, crossing_column, outline
 
 __all__ = ["PathFillBug", "BUGS", "TwoFillers"]
@@ -126,6 +127,8 @@ def _spans(ax, ay, bx, by, bounds, bug, evenodd, width, height):  # type: ignore
     n = 0
     column = np.empty(ax.size, dtype=np.int64)
     winding = np.empty(ax.size, dtype=np.int64)
+    order = np.empty(ax.size, dtype=np.int64)
+    spare = np.empty(ax.size, dtype=np.int64)
     for p in range(bounds.size - 1):
         for j in range(height):
             ys = j + 0.5
@@ -149,7 +152,7 @@ def _spans(ax, ay, bx, by, bounds, bug, evenodd, width, height):  # type: ignore
                 # BUG (unsigned-crossings): the direction is lost, every crossing adds +1
                 winding[m] = 1 if bug == UNSIGNED_CROSSINGS or by[e] > ay[e] else -1
                 m += 1
-            order = np.argsort(column[:m], kind="mergesort")
+            stable_argsort(column, m, order, spare)  # order[:m]
             wind = 0
             start = -1
             k = 0
