@@ -18,6 +18,7 @@ the scene has ``w``.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import replace
@@ -419,7 +420,14 @@ def exact_samples(scene: Scene, convention: Convention, samples: int | Sequence[
     >>> [cov.counts(2, 2).tolist() for cov in exact_samples(scene, Convention(), 4)]
     [[[1, 1], [1, 0]], [[1, 0], [0, 0]], [[1, 1], [1, 0]], [[1, 0], [0, 0]]]
     """
-    return [exact_coverage(scene, replace(convention, sample=offset)) for offset in pattern(samples)]
+    return [exact_coverage(scene, at_offset) for at_offset in _at_each_offset(convention, pattern(samples))]
+
+
+@functools.lru_cache(maxsize=512)
+def _at_each_offset(convention: Convention, offsets: tuple[tuple[float, float], ...]) -> tuple[Convention, ...]:
+    """``convention`` sampled at each offset (built once: identify asks for the same few
+    patterns thousands of times)."""
+    return tuple(replace(convention, sample=offset) for offset in offsets)
 
 
 
@@ -434,8 +442,10 @@ def exact_multisample(scene: Scene, convention: Convention) -> Coverage:
     """
     offsets = convention.samples if convention.samples is not None else (convention.sample,)
     layers = exact_samples(scene, replace(convention, samples=None), offsets)
-    marked = [Coverage(c.triangle, c.y, c.x0, c.x1, c.attributes, np.full(len(c), s)) for s, c in enumerate(layers)]
-    joined = Coverage.concat(marked)
+    sample = np.repeat(np.arange(len(layers), dtype=np.int64), [len(c) for c in layers])
+    spans = [np.concatenate([getattr(c, f) for c in layers]) for f in ("triangle", "y", "x0", "x1")]
+    attributes = None if scene.attributes is None else np.concatenate([c.attributes for c in layers])
+    joined = Coverage(*spans, attributes, sample)
     # each layer is sorted by (triangle, row) and the layers follow in sample order: a
     # stable sort on the triangle gives (triangle, sample, row)
     order = np.argsort(joined.triangle, kind="stable")

@@ -19,6 +19,7 @@ locations: all five agree entry for entry, in order.
 
 from __future__ import annotations
 
+import functools
 import numbers
 from collections.abc import Iterable, Sequence
 from fractions import Fraction
@@ -112,6 +113,18 @@ def pattern(spec: int | Iterable[Sequence[float]]) -> tuple[tuple[float, float],
             raise ValueError(f"no standard pattern has {count} samples; the standard counts are "
                              f"{', '.join(map(str, STANDARD_PATTERNS))}")
         return STANDARD_PATTERNS[count]
+    if isinstance(spec, tuple) and all(type(o) is tuple and len(o) == 2 and type(o[0]) is float
+                                       and type(o[1]) is float for o in spec):
+        return _float_pattern(spec)  # a pattern as conventions hold it: validated once
+    return _validated(spec)
+
+
+@functools.lru_cache(maxsize=256)
+def _float_pattern(spec: tuple[tuple[float, float], ...]) -> tuple[tuple[float, float], ...]:
+    return _validated(spec)
+
+
+def _validated(spec: Iterable[Sequence[float]]) -> tuple[tuple[float, float], ...]:
     offsets: list[tuple[float, float]] = []
     first_index: dict[tuple[float, float], int] = {}
     for index, offset in enumerate(spec):
