@@ -5,11 +5,12 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import example, given, settings, strategies as st
+from hypothesis import assume, example, given, settings, strategies as st
 
 from cases.partitions import fan, grid
 from cases.strategies import float_scenes, lattice_scenes, thin_scenes
 from harness.api import MAX_VIEWPORT
+from harness.exact import orientation
 from harness.area import (
     GUARD_LIMIT,
     UNIT_ROUNDOFF,
@@ -279,10 +280,12 @@ def test_square_split_on_a_diagonal_has_no_seam(lo16, size16, anti, flip):
        st.sampled_from(["main", "anti", "mixed"]), st.integers(0, 16), st.integers(16, 32))
 @settings(max_examples=15)
 def test_jittered_grid_has_no_seam(cells, seed, jitter, diagonal, lo16, step16):
-    # cells of at least a pixel: the jitter (under 3/8 px) keeps every triangle positive
     rng = np.random.default_rng(seed)
     lo, hi = lo16 / 16, (lo16 + cells * step16) / 16
     tris = grid(cells, lo, hi, jitter, diagonal, rng)
+    # a partition only while no triangle folds over: jitter up to 3/8 px can fold a cell
+    # under 2.7 px (seed 2408: three jittered corners of a 1 px cell turned a triangle over)
+    assume(bool(np.all(orientation(tris) == orientation(tris[:1]))))  # exact signs
     flip = rng.random(len(tris)) < 0.5
     tris[flip] = tris[flip][:, ::-1]
     union_check(tris, square_overlap(lo, hi), SIZE, SIZE)
