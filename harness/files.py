@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 import tempfile
@@ -12,14 +13,23 @@ __all__ = ["atomic_write_text", "atomic_write_bytes", "safe_name", "prepare_fold
 
 def safe_name(text: str) -> str:
     """A name (a rasterizer's, a case's) made safe to be one path component: letters,
-    digits, ``_ . -`` kept, anything else (``/``, NUL, spaces) replaced by ``_``, and a
-    leading dot escaped, so that no name can climb out of its folder or hide.
+    digits, ``_ . -`` kept, anything else (``/``, NUL, spaces) replaced by ``_``, a leading
+    dot escaped, so that no name can climb out of its folder or hide; a name this changed
+    (or cut to 100 characters) ends with a short hash of itself, so that two names never
+    share a file (``a/b`` and ``a b`` would both be ``a_b``).
 
-    >>> safe_name("../../../escaped"), safe_name("lattice/bits-0"), safe_name("")
-    ('_.._.._.._escaped', 'lattice_bits-0', '_')
+    >>> safe_name("../../../escaped"), safe_name("lattice/bits-0"), safe_name("centre_scanline")
+    ('_.._.._.._escaped-e9d20ae4', 'lattice_bits-0-fa1f4ff3', 'centre_scanline')
+    >>> safe_name("a/b") != safe_name("a b"), safe_name("")
+    (True, '_-e3b0c442')
     """
     name = re.sub(r"[^A-Za-z0-9_.-]", "_", text)
-    return "_" + name if not name or name.startswith(".") else name
+    if not name or name.startswith("."):
+        name = "_" + name
+    if name != text or len(name) > 100:
+        digest = hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()[:8]
+        name = f"{name[:100]}-{digest}"
+    return name
 
 
 def _alive(pid: int) -> bool:

@@ -22,6 +22,7 @@ import pytest
 
 from cases.suites import suite
 from harness.checks import checks
+from harness.files import safe_name
 from harness.gate import key, save_baseline
 from harness.runner import run_suite
 from harness.testing import assert_conforms
@@ -159,7 +160,7 @@ def test_failures_read_well_with_their_repro_and_traceback(tmp_path, capsys, mon
     assert "4 failed, 2 passed" in out
     assert "_ bad_wrong_tie_claim lattice/bits-0 [conformance] _" in out
     assert "bad_wrong_tie_claim lattice/bits-0 [conformance] fail: " in out
-    repro = tmp_path / "repros" / "bad_wrong_tie_claim" / "lattice_bits-0--conformance.json"
+    repro = tmp_path / "repros" / "bad_wrong_tie_claim" / f"{safe_name('lattice/bits-0')}--conformance.json"
     assert f"minimal repro: {repro} (rastercheck replay {repro} --rasterizer tests.known_bad.misc:WrongTieClaim)" in out
     assert repro.is_file()
     # a rasterizer that raises: each check of the case shows the run's error and its traceback

@@ -224,6 +224,33 @@ def test_a_hostile_name_never_becomes_a_path_outside_out(tmp_path):
     assert not (tmp_path / "escaped_repros").exists() and not (tmp_path / "deep" / "escaped_repros").exists()
 
 
+def test_names_that_sanitise_alike_keep_their_own_pages_and_repros(tmp_path):
+    """'my rast' and 'my/rast' are both my_rast as a path: each keeps its own page and
+    repro folder (a hash of the name tells them apart), neither overwrites the other's."""
+    from harness.cli import main
+
+    plugin = tmp_path / "twins.py"
+    plugin.write_text(
+        "from harness.conventions import Convention\n"
+        "from harness.oracle import exact_coverage\n"
+        "class Space:\n"
+        "    name = 'my rast'\n"
+        "    convention = Convention()\n"
+        "    def rasterize(self, scene):\n"
+        "        return exact_coverage(scene, Convention(tie='bottom-right'))\n"
+        "class Slash(Space):\n"
+        "    name = 'my/rast'\n"
+    )
+    out = tmp_path / "rep"
+    assert main(["run", "--rasterizer", f"{plugin}:Space", "--rasterizer", f"{plugin}:Slash", "--case", "lattice/bits-0",
+                 "--out", str(out), "--no-fingerprints"]) == 1
+    pages = sorted(p.name for p in out.glob("rasterizer-*.html"))
+    assert len(pages) == 2 and all(p.startswith("rasterizer-my_rast-") for p in pages), pages
+    assert "my rast" in (out / pages[0]).read_text() or "my rast" in (out / pages[1]).read_text()
+    folders = sorted(p.name for p in (out / "repros").iterdir())
+    assert len(folders) == 2 and all(list((out / "repros" / f).glob("*.json")) for f in folders), folders
+
+
 def test_two_rasterizers_of_one_name_are_told_apart():
     from harness import run_suite
     from harness.registry import distinct_names, load
