@@ -63,6 +63,7 @@ __all__ = ["Batch", "CampaignTask", "Finding", "BatchResult", "CampaignState", "
 
 SCHEMA = 1
 STATE_FILE = "campaign.json"
+LOCK_FILE = "campaign.lock"  # held by the one campaign (or merge) writing the state
 # the identified convention of a rasterizer that declares none, as its workers received it
 # (a pickled :class:`harness.identify.Fingerprint` without its probes' raw data): the page
 # draws its repros' covered pixels by it; a cache, rewritten by every run
@@ -560,6 +561,39 @@ class CampaignState:
         self.history += [[round(wall + w, 3), scenes + n, findings + k] for w, n, k in other.history]
         self.families = tuple(dict.fromkeys(self.families + other.families))
         self.skipped = {**other.skipped, **self.skipped}
+
+
+@contextmanager
+def state_lock(directory: Path | str) -> Iterator[None]:
+    """Hold the campaign state in ``directory`` for this process alone while the block runs.
+
+    Two campaigns on one state would each merge their batches into their own copy and
+    save it over the other's (the second's scenes were lost): a second campaign, or a merge
+    into it, refuses instead, with a ValueError in one line naming the holder. The lock is
+    the kernel's (``flock``): it ends with the process that held it, however it ended.
+    """
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - no flock (Windows): one campaign per state is the user's to keep
+        yield
+        return
+    folder = prepare_folder(directory, "the campaign state folder")
+    handle = open(folder / LOCK_FILE, "a+", encoding="utf-8")
+    try:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            handle.seek(0)
+            holder = handle.read().strip() or "another process"
+            raise ValueError(f"{folder}: another campaign is running on this state ({holder}); wait for it, or give "
+                             "another --state folder and join the two afterwards with fuzz --merge") from None
+        handle.seek(0)
+        handle.truncate()
+        handle.write(f"pid {os.getpid()}, since {_now()}\n")
+        handle.flush()
+        yield
+    finally:
+        handle.close()  # (closing the file releases the lock)
 
 
 def _lowest(points: list[list[Any]]) -> list[list[Any]]:
@@ -1183,6 +1217,16 @@ def run_campaign(spec: str, *, budget_seconds: float | None = None, budget_scene
                              f"(known: {', '.join(c.name for c in checks())})")
     spec = _portable_spec(spec)
     rasterizer = load(spec)
+    with state_lock(state_dir):
+        return _run_locked(spec, rasterizer, budget_seconds, budget_scenes, families, seed, state_dir, scheduler, workers,
+                           batch_size, only, timeout, on_progress)
+
+
+def _run_locked(spec: str, rasterizer: Rasterizer, budget_seconds: float | None, budget_scenes: int | None,
+                families: tuple[str, ...], seed: int, state_dir: Path | str, scheduler: str | Client | None,
+                workers: int | None, batch_size: int | None, only: Sequence[str] | None, timeout: float,
+                on_progress: Callable[[ProgressEvent], None] | None) -> CampaignState:
+    """:func:`run_campaign` once its arguments are checked and its state is locked."""
     state = CampaignState.open(state_dir, spec, rasterizer.name, seed, only)
     fingerprint, identified = _identify(rasterizer, timeout)
     if identified is not None:

@@ -938,12 +938,23 @@ def _fuzz_merge(args: argparse.Namespace) -> int:
     """``fuzz --merge A B ... --state OUT``: each campaign's scenes and findings added to
     OUT (created from the first when it holds none); a clash (another rasterizer, scenes
     checked twice) is a usage error naming both."""
-    from harness.campaign import CampaignState
+    from harness.campaign import state_lock
 
     target = Path(args.state)
     sources = [Path(d) for d in args.merge if Path(d).resolve() != target.resolve()]
     if not sources:
         raise UsageError("fuzz --merge: name at least one state folder other than --state")
+    try:
+        with state_lock(target):
+            return _merge_locked(args, target, sources)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def _merge_locked(args: argparse.Namespace, target: Path, sources: list[Path]) -> int:
+    """:func:`_fuzz_merge` with the target state locked."""
+    from harness.campaign import CampaignState
+
     try:
         states = [CampaignState.load(d) for d in sources]
         existing = _saved_state(str(target))

@@ -180,6 +180,41 @@ def test_a_correct_built_in_exits_0_and_a_rerun_continues(scheduler: str, tmp_pa
     _well_formed((tmp_path / "campaign.html").read_text())
 
 
+def test_a_second_campaign_on_a_state_in_use_refuses_naming_the_holder(tmp_path: Path,
+                                                                      capsys: pytest.CaptureFixture[str]) -> None:
+    """Two campaigns on one state each saved their own copy over the other's (the second's
+    12 scenes were lost): the second refuses, a merge into it too, before any work; the
+    lock is the kernel's, so a holder killed with SIGKILL leaves the state free."""
+    import signal
+    import subprocess
+    import sys
+
+    from harness.campaign import state_lock
+
+    state = tmp_path / "state"
+    args = ["fuzz", "--rasterizer", "pineda_topleft", "--budget", "6", "--families", "lattice", "--state", str(state),
+            "--out", str(tmp_path)]
+    with state_lock(state):  # a campaign running on it
+        assert main(args) == 2
+        err = capsys.readouterr().err.strip()
+        assert err.count("\n") == 0 and f"another campaign is running on this state (pid {os.getpid()}, since " in err
+        assert main(["fuzz", "--merge", str(tmp_path / "other"), "--state", str(state), "--out", str(tmp_path)]) == 2
+        assert "another campaign is running on this state" in capsys.readouterr().err
+    assert not (state / "campaign.json").exists()  # nothing was started
+    holder = subprocess.Popen([sys.executable, "-c", "import sys, time\nfrom harness.campaign import state_lock\n"
+                               f"with state_lock({str(state)!r}):\n    print('held', flush=True)\n    time.sleep(120)"],
+                              stdout=subprocess.PIPE, text=True, cwd=Path(__file__).resolve().parents[1])
+    try:
+        assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
+        assert main(args) == 2 and f"(pid {holder.pid}, since " in capsys.readouterr().err
+    finally:
+        holder.send_signal(signal.SIGKILL)
+        holder.wait(30)
+        holder.stdout.close()
+    with state_lock(state):  # free again
+        pass
+
+
 def _fake(directory: Path, seed: int, keys: dict[int, str], rasterizer: str = "bad_inclusive") -> CampaignState:
     state = CampaignState(directory, SPEC, rasterizer, seed=seed)
     batch = Batch("lattice", seed, 0, 10)
