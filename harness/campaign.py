@@ -895,7 +895,7 @@ def _identify(rasterizer: Rasterizer, timeout: float) -> tuple[Any | None, dict[
         return None, {"error": card.get("error", "not identified")}
     fingerprint = wrapped[0].fingerprint
     summary = {"convention": card.get("convention"), "exact": card.get("exact"), "residual": card.get("residual")}
-    return replace(fingerprint, probes={}), summary
+    return replace(fingerprint, probes={}, calls=None), summary  # (the call tally holds the local call: not picklable)
 
 
 def _taken_families(rasterizer: Rasterizer, families: Sequence[str], seed: int) -> tuple[list[str], dict[str, str]]:

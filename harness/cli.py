@@ -898,6 +898,8 @@ def _fuzz(args: argparse.Namespace) -> int:
     seconds, scenes, budget_text = args.budget
     progress = _FuzzProgress(budget_text, _quiet())
     interrupted = False
+    before = _saved_state(args.state)
+    judged_before, scenes_before = (before.primitives, before.scenes) if before is not None else (0, 0)
     try:
         with progress:
             state = run_campaign(args.rasterizer, budget_seconds=seconds, budget_scenes=scenes, families=args.families,
@@ -921,7 +923,23 @@ def _fuzz(args: argparse.Namespace) -> int:
     if interrupted:
         print(f"rastercheck: interrupted; the state in {args.state} keeps every batch merged: rerun to continue", file=sys.stderr)
         return 130
+    if state.primitives == judged_before:  # no scene of this run had a check judge it: no verdict to give
+        print(f"rastercheck: nothing checked: {_why_nothing(state, args.families, state.scenes - scenes_before)}",
+              file=sys.stderr)
+        return 1
     return 1 if state.signatures else 0
+
+
+def _why_nothing(state: Any, families: list[str] | None, handed: int) -> str:
+    """Why a campaign run that handed over ``handed`` scenes judged none, in one line."""
+    asked = families or list(state.families)
+    skipped = [f"{f} ({state.skipped[f]})" for f in asked if f in state.skipped]
+    if len(skipped) == len(asked):
+        return f"{state.rasterizer} takes no scene of the families asked: {'; '.join(skipped)}"
+    if handed:
+        return (f"{state.rasterizer} was handed {handed} scenes but every check skipped them (it raised Unsupported, or takes "
+                "none of what they hold)" + (f"; skipped families: {'; '.join(skipped)}" if skipped else ""))
+    return "the budget ended before one batch of scenes was checked: give a larger --budget"
 
 
 def _saved_state(directory: str) -> Any:

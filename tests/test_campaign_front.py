@@ -215,6 +215,35 @@ def test_a_second_campaign_on_a_state_in_use_refuses_naming_the_holder(tmp_path:
         pass
 
 
+class _RefusesEverything:
+    """Raises Unsupported for every scene: handed scenes, it has none judged."""
+
+    name = "refuses_everything"
+    convention = None
+
+    def rasterize(self, scene: Any) -> Any:
+        from harness.api import Unsupported
+
+        raise Unsupported("draws nothing at all")
+
+
+def refuses_everything() -> _RefusesEverything:
+    return _RefusesEverything()
+
+
+@pytest.mark.parametrize("spec, families, why", [
+    ("pineda_topleft", "lines", "pineda_topleft takes no scene of the families asked: lines ("),
+    ("tests.test_campaign_front:refuses_everything", "lattice", "refuses_everything was handed 4 scenes but every check "
+                                                                 "skipped them"),
+])
+def test_a_campaign_that_judges_nothing_exits_1_saying_why(scheduler: str, tmp_path: Path, spec: str, families: str,
+                                                          why: str, capsys: pytest.CaptureFixture[str]) -> None:
+    code = main(["fuzz", "--rasterizer", spec, "--budget", "4", "--families", families, "--scheduler", scheduler,
+                 "--state", str(tmp_path / "state"), "--out", str(tmp_path), "--batch", "4"])
+    err = capsys.readouterr().err
+    assert code == 1 and f"rastercheck: nothing checked: {why}" in err, err
+
+
 def _fake(directory: Path, seed: int, keys: dict[int, str], rasterizer: str = "bad_inclusive") -> CampaignState:
     state = CampaignState(directory, SPEC, rasterizer, seed=seed)
     batch = Batch("lattice", seed, 0, 10)
