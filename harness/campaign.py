@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import functools
 import io
 import json
 import logging
@@ -221,6 +222,70 @@ class ProgressEvent:
 # Scene ranges: sorted, disjoint, non-adjacent [start, stop) intervals
 
 
+_POINT = {"type": "object", "required": ["family", "seed", "index"],
+          "properties": {"family": {"type": "string"}, "seed": {"type": "integer", "minimum": 0},
+                         "index": {"type": "integer", "minimum": 0}, "at": {"type": "number"}, "when": {"type": "string"}}}
+_COUNT = {"type": "integer", "minimum": 0}
+_SECONDS = {"type": "number", "minimum": 0}
+
+CAMPAIGN_SCHEMA: dict[str, Any] = {
+    "$schema": "https://json-schema.org/draft/2020-12/schema",
+    "title": "rastercheck campaign state (campaign.json)",
+    "type": "object",
+    "required": ["schema", "spec", "rasterizer", "seed", "families", "done", "totals", "signatures", "history"],
+    "properties": {
+        "schema": {"const": SCHEMA},
+        "spec": {"type": "string"}, "rasterizer": {"type": "string"}, "seed": {"type": "integer", "minimum": 0},
+        "families": {"type": "array", "items": {"type": "string"}},
+        "batch_size": {"type": ["integer", "null"], "minimum": 1},
+        "done": {"type": "array", "items": {
+            "type": "object", "required": ["family", "seed", "intervals"],
+            "properties": {"family": {"type": "string"}, "seed": {"type": "integer", "minimum": 0},
+                           "intervals": {"type": "array", "items": {"type": "array", "items": _COUNT,
+                                                                    "minItems": 2, "maxItems": 2}}}}},
+        "totals": {"type": "object", "required": ["scenes", "primitives", "worker_seconds", "wall_seconds"],
+                   "properties": {"scenes": _COUNT, "primitives": _COUNT, "findings": _COUNT,
+                                  "worker_seconds": _SECONDS, "wall_seconds": _SECONDS}},
+        "signatures": {"type": "object", "additionalProperties": {
+            "type": "object", "required": ["check", "failure_class", "convention_part", "count", "first", "last", "examples"],
+            "properties": {"check": {"type": "string"}, "failure_class": {"type": "string"},
+                           "convention_part": {"type": "string"}, "count": _COUNT, "first": _POINT, "last": _POINT,
+                           "examples": {"type": "array", "items": {"type": "array", "minItems": 3, "maxItems": 3,
+                                                                   "prefixItems": [{"type": "string"}, _COUNT, _COUNT]}},
+                           "message": {"type": "string"},
+                           "repro": {"anyOf": [{"type": "null"}, {"type": "string", "pattern": "^repros/[A-Za-z0-9_-][A-Za-z0-9_.-]*$"}]},
+                           "status": {"type": "string"}, "result_check": {"type": "string"},
+                           "causes": {"type": "object", "additionalProperties": _COUNT}}}},
+        "history": {"type": "array", "items": {"type": "array", "minItems": 3, "maxItems": 3,
+                                               "prefixItems": [{"type": "number"}, _COUNT, _COUNT]}},
+        "identified": {"type": ["object", "null"]},
+        "skipped": {"type": "object", "additionalProperties": {"type": "string"}},
+        "only": {"type": ["array", "null"], "items": {"type": "string"}},
+    },
+}
+"""The JSON Schema of ``campaign.json`` (:meth:`CampaignState.load` checks a state, and
+each state ``fuzz --merge`` reads, against it before using anything in it)."""
+
+
+def _schema_fault(data: Any) -> str | None:
+    """The first way ``data`` breaks :data:`CAMPAIGN_SCHEMA`, in words, or None."""
+    import jsonschema
+
+    error = jsonschema.exceptions.best_match(_state_validator().iter_errors(data))
+    if error is None:
+        return None
+    where = "".join(f"[{p!r}]" if isinstance(p, str) else f"[{p}]" for p in error.absolute_path) or "the top level"
+    shown = repr(error.instance)
+    return f"{where}: {shown if len(shown) <= 60 else shown[:57] + '...'} is not valid ({error.message:.120})"
+
+
+@functools.lru_cache(maxsize=1)
+def _state_validator() -> Any:
+    import jsonschema
+
+    return jsonschema.Draft202012Validator(CAMPAIGN_SCHEMA)
+
+
 def add_interval(intervals: list[tuple[int, int]], start: int, stop: int) -> list[tuple[int, int]]:
     """``intervals`` with ``[start, stop)`` added, merged with those it touches.
 
@@ -337,6 +402,12 @@ class CampaignState:
             raise ValueError(f"{path}: cannot read the campaign state ({exc})") from None
         if not isinstance(data, dict) or data.get("schema") != SCHEMA:
             raise ValueError(f"{path}: not a rastercheck campaign state (schema {SCHEMA} expected)")
+        fault = _schema_fault(data)
+        if fault is not None:
+            raise ValueError(f"{path}: malformed campaign state at {fault}")
+        repros = directory / "repros"
+        if repros.exists() and not repros.is_dir():
+            raise ValueError(f"{repros}: a file where the campaign keeps its repros (a folder)")
         try:
             done: dict[tuple[str, int], list[tuple[int, int]]] = {}
             for entry in data["done"]:
@@ -360,6 +431,8 @@ class CampaignState:
         checks), or a new one when there is none; ValueError when it belongs to another."""
         directory = prepare_folder(directory, "the campaign state folder")
         checks = None if only is None else tuple(sorted(set(only)))
+        if (directory / "repros").exists() and not (directory / "repros").is_dir():
+            raise ValueError(f"{directory / 'repros'}: a file where the campaign keeps its repros (a folder)")
         if not (directory / STATE_FILE).exists():
             return cls(directory, spec, rasterizer, seed, only=checks)
         state = cls.load(directory)

@@ -273,6 +273,47 @@ def test_campaigns_merge_and_an_overlap_is_a_usage_error(campaign: dict[str, Any
     assert "someone_else" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("field, value, said", [
+    (("signatures", TIE), "a string", "[\'signatures\'][\'conformance|exact-tie-slanted-edge|tie-rule\']: \'a string\' is not valid"),
+    (("signatures", TIE, "count"), "3", "[\'count\']: \'3\' is not valid"),
+    (("signatures", TIE, "first"), None, "[\'first\']: None is not valid"),
+    (("signatures", TIE, "repro"), "../../../etc/passwd", "[\'repro\']: \'../../../etc/passwd\' is not valid"),
+    (("history",), {"a": 1}, "[\'history\']: {\'a\': 1} is not valid"),
+    (("history", 0), [1.0, "x", 0], "[\'history\'][0][1]: \'x\' is not valid"),
+    (("totals", "scenes"), -4, "[\'totals\'][\'scenes\']: -4 is not valid"),
+    (("done",), None, "[\'done\']: None is not valid"),
+])
+def test_a_malformed_state_is_refused_in_one_line_naming_file_and_field(tmp_path: Path, field: tuple[Any, ...], value: Any,
+                                                                       said: str, capsys: pytest.CaptureFixture[str]) -> None:
+    """A state whose entries are of the wrong type or lack a key was a traceback when
+    resumed or merged: it is refused before use, by schema, with the file and the field."""
+    state = _fake(tmp_path / "bad", 1, {3: TIE})
+    data = json.loads(state.path.read_text())
+    where = data
+    for key in field[:-1]:
+        where = where[key]
+    if field[-1] == "first" and value is None:
+        del where["first"]
+        said = "[\'conformance|exact-tie-slanted-edge|tie-rule\']: "
+    else:
+        where[field[-1]] = value
+    state.path.write_text(json.dumps(data))
+    for argv in (["fuzz", "--merge", str(state.directory), "--state", str(tmp_path / "merged"), "--out", str(tmp_path)],
+                 ["fuzz", "--rasterizer", "pineda_topleft", "--budget", "2", "--state", str(state.directory), "--out",
+                  str(tmp_path)]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err.strip()
+        assert err.count("\n") == 0 and f"{state.path}: malformed campaign state at " in err and said in err, err
+
+
+def test_a_file_where_the_repros_folder_belongs_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (tmp_path / "state").mkdir()
+    (tmp_path / "state" / "repros").write_text("not a folder")
+    assert main(["fuzz", "--rasterizer", "pineda_topleft", "--budget", "2", "--state", str(tmp_path / "state"), "--out",
+                 str(tmp_path)]) == 2
+    assert "a file where the campaign keeps its repros (a folder)" in capsys.readouterr().err
+
+
 def test_the_page_escapes_what_the_state_says(tmp_path: Path) -> None:
     state = _fake(tmp_path / "state", 0, {1: "conformance|<i>odd</i>|none"})
     state.signatures["conformance|<i>odd</i>|none"]["repro"] = "repros/missing.json"
