@@ -51,7 +51,7 @@ from harness.case import Case, MotionCase, case_from_json, case_to_json, save_ca
 from harness.causes import CONSEQUENT_CHECKS, attributed
 from harness.checks import Result
 from harness.conventions import Convention
-from harness.files import atomic_write_bytes, atomic_write_text, prepare_folder, safe_name
+from harness.files import atomic_write_bytes, atomic_write_text, prepare_folder, read_input, safe_name
 from harness.isolation import Outcome
 
 if TYPE_CHECKING:
@@ -395,7 +395,7 @@ class CampaignState:
         directory = Path(directory)
         path = directory / STATE_FILE
         try:
-            data = json.loads(path.read_text(encoding="utf-8"))
+            data = json.loads(read_input(path, "the campaign state").decode("utf-8"))
         except FileNotFoundError:
             raise ValueError(f"{path}: no campaign state here") from None
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:

@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import MAX_VIEWPORT, AnyScene, LineScene, PathScene, Scene
+from harness.files import read_input
 from harness.files import atomic_write_text
 
 __all__ = ["Case", "MotionCase", "case_to_json", "case_from_json", "save_case", "load_case", "read_case_file", "SCHEMA", "CASE_SCHEMA",
@@ -416,7 +417,7 @@ def read_case_file(path: Path | str) -> tuple[Case | MotionCase, dict[str, Any]]
     ``rasterizer``, ``message`` of a repro); ValueError naming the file and the fault."""
     path = Path(path)
     try:
-        data = json.loads(path.read_text(encoding="utf-8"), parse_float=Decimal)  # numbers read exactly
+        data = json.loads(read_input(path, "the case").decode("utf-8"), parse_float=Decimal)  # numbers read exactly
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise ValueError(f"{path}: cannot read the case ({exc})") from None
     except RecursionError:

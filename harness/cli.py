@@ -76,9 +76,11 @@ def _prepare_outputs(args: argparse.Namespace) -> None:
 def _skip_list(path: str) -> list[tuple[str, str]]:
     """A skip list: one ``GLOB  # reason`` per line (a case id glob, optionally
     ``rasterizer:case-glob``); blank lines and lines starting with # are ignored."""
+    from harness.files import read_input
+
     try:
-        lines = Path(path).read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError) as exc:
+        lines = read_input(path, "the skip list").decode("utf-8").splitlines()
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
         raise UsageError(f"--skip {path}: cannot read it ({exc})") from None
     out = []
     for number, line in enumerate(lines, 1):

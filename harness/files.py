@@ -4,11 +4,13 @@ from __future__ import annotations
 
 import hashlib
 import os
+import stat
 import re
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_write_text", "atomic_write_bytes", "safe_name", "prepare_folder", "prepare_file", "sweep_partial"]
+__all__ = ["atomic_write_text", "atomic_write_bytes", "safe_name", "prepare_folder", "prepare_file", "sweep_partial",
+           "read_input", "MAX_INPUT_MB"]
 
 
 def safe_name(text: str) -> str:
@@ -30,6 +32,46 @@ def safe_name(text: str) -> str:
         digest = hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()[:8]
         name = f"{name[:100]}-{digest}"
     return name
+
+
+MAX_INPUT_MB = 256
+"""The largest input file read (a case, repro, baseline, campaign state, skip list), in
+MiB; ``RASTERCHECK_MAX_INPUT_MB`` raises it."""
+
+
+def read_input(path: Path | str, what: str) -> bytes:
+    """The bytes of the input file ``path`` (``what`` it is, for messages).
+
+    ValueError in one line, before reading, for what is not a regular file (a FIFO would
+    wait for a writer forever, ``/dev/zero`` never ends) or is larger than
+    :data:`MAX_INPUT_MB` (or ``RASTERCHECK_MAX_INPUT_MB``); OSError as ``open`` raises it
+    (no such file, a folder, no permission), for the caller to word.
+    """
+    path = Path(path)
+    limit = _input_limit()
+    info = os.stat(path)
+    if stat.S_ISDIR(info.st_mode):
+        raise IsADirectoryError(21, "a folder, not a file", str(path))
+    if not stat.S_ISREG(info.st_mode):
+        kind = "a FIFO" if stat.S_ISFIFO(info.st_mode) else "a device" if stat.S_ISCHR(info.st_mode) or \
+            stat.S_ISBLK(info.st_mode) else "a socket" if stat.S_ISSOCK(info.st_mode) else "not a regular file"
+        raise ValueError(f"{path}: {what} is {kind}, not a regular file: refused (it could block or never end)")
+    if info.st_size > limit * 2**20:
+        raise ValueError(f"{path}: {what} holds {info.st_size / 2**20:.0f} MiB, more than the {limit} MiB an input "
+                         "may hold (RASTERCHECK_MAX_INPUT_MB raises the limit)")
+    with open(path, "rb") as handle:
+        data = handle.read(limit * 2**20 + 1)  # (a file that grew since: cut at the limit)
+    if len(data) > limit * 2**20:
+        raise ValueError(f"{path}: {what} grew past the {limit} MiB an input may hold while it was read")
+    return data
+
+
+def _input_limit() -> int:
+    raw = os.environ.get("RASTERCHECK_MAX_INPUT_MB", "")
+    try:
+        return max(int(raw), 1) if raw else MAX_INPUT_MB
+    except ValueError:
+        raise ValueError(f"RASTERCHECK_MAX_INPUT_MB={raw!r} is not a whole number of MiB") from None
 
 
 def _alive(pid: int) -> bool:

@@ -37,7 +37,7 @@ from pathlib import Path
 from typing import Any, Literal
 
 from harness.checks import timing_metrics, Result, check_names, metric_tolerance
-from harness.files import atomic_write_text
+from harness.files import atomic_write_text, read_input
 
 __all__ = ["BASELINE_SCHEMA", "Finding", "Verdict", "compare_with_baseline", "gated_metrics", "key",
            "load_baseline", "save_baseline", "CampaignFindings", "campaign_known", "result_signature"]
@@ -226,7 +226,7 @@ def load_baseline(path: Path | str) -> dict[str, dict[str, Any]]:
     if path.is_dir():
         raise ValueError(f"{path}: a folder, not a baseline file")
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(read_input(path, "the baseline").decode("utf-8"))
     except FileNotFoundError:
         raise ValueError(f"{path}: no such baseline (create one with --update-baseline)") from None
     except (OSError, UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
@@ -405,7 +405,7 @@ class CampaignFindings:
             if entry.get("repro"):
                 path = Path(directory) / entry["repro"]
                 try:
-                    repro = json.loads(path.read_text(encoding="utf-8"))
+                    repro = json.loads(read_input(path, "the campaign repro").decode("utf-8"))
                 except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
                     raise ValueError(f"{path}: cannot read this campaign repro ({exc})") from None
                 if not isinstance(repro, dict):

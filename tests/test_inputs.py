@@ -1,0 +1,77 @@
+"""Input files are read bounded: what is not a regular file (a FIFO, a device) or is larger
+than the limit is refused in one line before any of it is read (issue 30: `gate
+--known-campaign /dev/zero` reached 3.4 GB, a FIFO hung)."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from harness.files import MAX_INPUT_MB, read_input
+
+REPO = Path(__file__).resolve().parents[1]
+
+
+def test_a_regular_file_is_read_whole(tmp_path: Path) -> None:
+    path = tmp_path / "case.json"
+    path.write_bytes(b"x" * 1000)
+    assert read_input(path, "the case") == b"x" * 1000
+
+
+def test_a_device_or_fifo_is_refused_before_reading(tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match=r"^/dev/zero: the baseline is a device, not a regular file: refused"):
+        read_input("/dev/zero", "the baseline")
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)  # opening it to read would wait for a writer forever
+    with pytest.raises(ValueError, match="the case is a FIFO, not a regular file"):
+        read_input(fifo, "the case")
+    with pytest.raises(IsADirectoryError):
+        read_input(tmp_path, "the case")
+
+
+def test_a_file_over_the_limit_is_refused_naming_the_limit_and_how_to_raise_it(tmp_path: Path,
+                                                                              monkeypatch: pytest.MonkeyPatch) -> None:
+    path = tmp_path / "huge.json"
+    path.write_bytes(b" " * (2 * 2**20 + 1))
+    monkeypatch.setenv("RASTERCHECK_MAX_INPUT_MB", "2")
+    with pytest.raises(ValueError, match=r"the campaign state holds 2 MiB, more than the 2 MiB an input may hold "
+                                         r"\(RASTERCHECK_MAX_INPUT_MB raises the limit\)"):
+        read_input(path, "the campaign state")
+    monkeypatch.setenv("RASTERCHECK_MAX_INPUT_MB", "3")
+    assert len(read_input(path, "the campaign state")) == 2 * 2**20 + 1
+    assert MAX_INPUT_MB >= 64  # the default takes any real case, baseline or state
+
+
+@pytest.mark.parametrize("argv, culprit", [
+    (["replay", "{fifo}", "--rasterizer", "centre_scanline"], "the case is a FIFO"),
+    (["gate", "--baseline", "{fifo}", "--rasterizer", "centre_scanline", "--case", "lattice/bits-0", "--out", "{rep}"],
+     "the baseline is a FIFO"),
+    (["run", "--rasterizer", "centre_scanline", "--skip", "{fifo}", "--case", "lattice/bits-0", "--out", "{rep}"],
+     "the skip list is a FIFO"),
+    (["fuzz", "--merge", "{state}", "--state", "{out}", "--out", "{rep}"], "the campaign state is a FIFO"),
+])
+def test_commands_refuse_a_fifo_at_once_in_one_line(tmp_path: Path, argv: list[str], culprit: str) -> None:
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    (tmp_path / "state").mkdir()
+    os.mkfifo(tmp_path / "state" / "campaign.json")
+    args = [a.format(fifo=fifo, state=tmp_path / "state", out=tmp_path / "merged", rep=tmp_path / "rep") for a in argv]
+    proc = subprocess.run([sys.executable, "-m", "harness.cli", *args], capture_output=True,
+                          text=True, cwd=REPO, timeout=120, env={**os.environ, "PYTHONPATH": str(REPO)})
+    err = proc.stderr.strip()
+    assert proc.returncode == 2 and culprit in err and err.count("\n") == 0, (proc.returncode, err)
+
+
+def test_the_case_reader_refuses_a_huge_file_naming_it(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from harness.case import read_case_file
+
+    path = tmp_path / "big.json"
+    path.write_text(json.dumps({"schema": 1, "id": "x", "width": 8, "height": 8, "positions": [[0, 0]] * 150000}))
+    monkeypatch.setenv("RASTERCHECK_MAX_INPUT_MB", "1")
+    with pytest.raises(ValueError, match=rf"^{path}: the case holds \d+ MiB, more than the 1 MiB"):
+        read_case_file(path)
