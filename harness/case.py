@@ -12,8 +12,10 @@ from __future__ import annotations
 import json
 import functools
 import math
+import os
 import re
-from decimal import Decimal
+import sys
+from decimal import Decimal, InvalidOperation
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -187,12 +189,31 @@ def _hex(array: NDArray | None) -> Any:
 
 
 def _number(value: Any) -> float:
-    """A coordinate back, exactly; ValueError when the text or number is not exactly a float."""
-    if isinstance(value, str) and ("x" in value or value.lstrip("-") in ("inf", "nan")):
-        return float.fromhex(value)
-    exact = Decimal(value) if isinstance(value, (str, Decimal)) else Decimal(value)
+    """A coordinate back, exactly; ValueError when the text or number is not exactly a
+    float: inexact, beyond float64's range (it would silently be an infinity: ``"inf"``
+    says so), or no number at all."""
+    if isinstance(value, str) and value.lstrip("-") in ("inf", "nan"):
+        return float(value)
+    if isinstance(value, str) and "x" in value:
+        try:
+            return float.fromhex(value)
+        except OverflowError:
+            raise ValueError(f"{value} is beyond float64's range (its largest is {float.hex(sys.float_info.max)}); "
+                             "write \"inf\" for an infinity") from None
+        except ValueError:
+            raise ValueError(f"{value!r} is not a float.hex number") from None
+    if isinstance(value, bool) or not isinstance(value, (str, Decimal, int, float)):
+        raise ValueError(f"{value!r} is not a number")
+    try:
+        exact = Decimal(value)
+    except (InvalidOperation, ValueError):
+        raise ValueError(f"{value!r} is not a number") from None
+    if not exact.is_finite():  # a JSON NaN or Infinity literal (not JSON): the words say it
+        raise ValueError(f"{value} is not a JSON number: write \"nan\", \"inf\" or \"-inf\"")
     number = float(exact)
-    if math.isfinite(number) and Decimal(number) != exact:
+    if not math.isfinite(number):
+        raise ValueError(f"{value} is beyond float64's range (it would be read as {number}); write \"inf\" for an infinity")
+    if Decimal(number) != exact:
         raise ValueError(f"{value} is not exactly a float64 (the nearest is {float.hex(number)}): write it exactly")
     return number
 
@@ -211,9 +232,12 @@ def _unhex(data: Any, field: str = "") -> NDArray | None:
         return array.astype(np.float64)
     flat = array.ravel().tolist()
     try:
-        number = {value: _number(value) for value in set(flat)}  # each distinct text read once
-    except TypeError:  # an unhashable value (a dict): _number names it
-        return np.vectorize(_number, otypes=[float])(array)
+        try:
+            number = {value: _number(value) for value in set(flat)}  # each distinct text read once
+        except TypeError:  # an unhashable value (a dict): _number names it
+            return np.vectorize(_number, otypes=[float])(array)
+    except ValueError as exc:
+        raise ValueError(f"case JSON is malformed at {field}: {exc}" if field else str(exc)) from None
     return np.array([number[value] for value in flat], dtype=np.float64).reshape(array.shape)
 
 
@@ -261,15 +285,49 @@ def _where(error: Any) -> str:
     return path or "the top level"
 
 
+# The most a case file may hold, so that a file's cost is bounded before any of it is used
+# (a million contours, or 200,000 paths, ran past two minutes on one rasterizer; 65,536 paths
+# take half a minute): triangles, paths, their contours and vertices, line strips and their
+# vertices. RASTERCHECK_MAX_CASE_SCALE=k multiplies every limit by k.
+MAX_CASE_SIZES = {"triangles": 1 << 20, "paths": 1 << 16, "contours": 1 << 18, "path vertices": 1 << 20,
+                  "line strips": 1 << 18, "line vertices": 1 << 20}
+
+
+def _case_sizes(data: dict[str, Any]) -> dict[str, int]:
+    """What the scene in ``data`` holds, counted from its lists before any is read."""
+    if "lines" in data:
+        return {"line strips": len(data["lines"]), "line vertices": sum(len(strip) for strip in data["lines"])}
+    if "paths" in data:
+        contours = [c for path in data["paths"] for c in path]
+        return {"paths": len(data["paths"]), "contours": len(contours), "path vertices": sum(len(c) for c in contours)}
+    return {"triangles": len(data["positions"])}
+
+
+def _check_sizes(data: dict[str, Any], where: str) -> None:
+    raw = os.environ.get("RASTERCHECK_MAX_CASE_SCALE", "")
+    try:
+        scale = max(int(raw), 1) if raw else 1
+    except ValueError:
+        raise ValueError(f"RASTERCHECK_MAX_CASE_SCALE={raw!r} is not a whole number") from None
+    for what, count in _case_sizes(data).items():
+        if count > MAX_CASE_SIZES[what] * scale:
+            raise ValueError(f"{where}the case holds {count:,} {what}, more than the {MAX_CASE_SIZES[what] * scale:,} a case "
+                             "may hold (RASTERCHECK_MAX_CASE_SCALE=k allows k times more)")
+
+
 def _scene_from_json(data: dict[str, Any], where: str) -> AnyScene:
     width, height = int(data["width"]), int(data["height"])
     if width * height > MAX_CASE_PIXELS:
         raise ValueError(f"{where}a {width} x {height} viewport is more than the {MAX_CASE_PIXELS} pixels (8192 x 8192) "
                          "a case may cover: the checks count hits on every pixel of the screen")
+    _check_sizes(data, where)
     try:
         if "lines" in data:
             strips = [_unhex(strip, f"lines[{k}]") for k, strip in enumerate(data["lines"])]
-            line_width = _number(data.get("line_width", 1))
+            try:
+                line_width = _number(data.get("line_width", 1))
+            except ValueError as exc:
+                raise ValueError(f"case JSON is malformed at line_width: {exc}") from None
             return LineScene.from_strips(width, height, strips, line_width)  # type: ignore[arg-type]
         if "paths" in data:
             paths = [[_unhex(c, f"paths[{p}][{k}]") for k, c in enumerate(path)] for p, path in enumerate(data["paths"])]
@@ -394,6 +452,8 @@ def case_from_json(data: Any) -> Case | MotionCase:
         return MotionCase(data["id"], triangles, texels=data.get("texels"), perspective=bool(data.get("perspective", False)))
     scene = _scene_from_json(data, "")
     region = _unhex(data.get("region"), "region")
+    if region is not None and not np.isfinite(region).all():
+        raise ValueError("case JSON is malformed at region: the region a partition covers has a non-finite corner")
     if any(t >= len(scene) for t in data.get("refusable", ())):
         raise ValueError(f"case JSON is malformed at refusable: names triangles past the last ({len(scene) - 1})")
     return Case(data["id"], scene, lattice=bool(data.get("lattice", False)), region=region,

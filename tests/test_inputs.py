@@ -10,6 +10,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from harness.files import MAX_INPUT_MB, read_input
@@ -75,3 +76,43 @@ def test_the_case_reader_refuses_a_huge_file_naming_it(tmp_path: Path, monkeypat
     monkeypatch.setenv("RASTERCHECK_MAX_INPUT_MB", "1")
     with pytest.raises(ValueError, match=rf"^{path}: the case holds \d+ MiB, more than the 1 MiB"):
         read_case_file(path)
+
+
+TRIANGLE = '{"schema": 1, "id": "t", "width": 8, "height": 8, "positions": [[[%s, 0], [4, 0], [0, 4]]]%s}'
+
+
+@pytest.mark.parametrize("text, said", [
+    (TRIANGLE % ('"0x1p+2000"', ""), "at positions: 0x1p+2000 is beyond float64's range (its largest is "
+                                     "0x1.fffffffffffffp+1023); write \"inf\" for an infinity"),
+    (TRIANGLE % ("1e400", ""), "at positions: 1E+400 is beyond float64's range (it would be read as inf)"),
+    (TRIANGLE % ("NaN", ""), "at positions: nan is not a JSON number: write \"nan\", \"inf\" or \"-inf\""),
+    (TRIANGLE % ("0", ', "region": [[0, 0], ["nan", 0], [0, 4]]'), "at region: the region a partition covers has a "
+                                                                   "non-finite corner"),
+    ('{"schema": 1, "id": "t", "width": 8, "height": 8, "lines": [[[0, 0], [4, 4]]], "line_width": "abc"}',
+     "at line_width: 'abc' is not a number"),
+    ('{"schema": 1, "id": "t", "width": 8, "height": 8, "fill_rule": "nonzero", "paths": [[[[1e400, 0], [4, 0], [0, 4]]]]}',
+     "at paths[0][0]: 1E+400 is beyond float64's range"),
+    ('{"schema": 1, "id": "t", "width": 8, "height": 8, "fill_rule": "nonzero", "paths": [%s]}'
+     % ", ".join(['[[[1, 1], [5, 1], [1, 5]]]'] * 65537), "the case holds 65,537 paths, more than the 65,536 a case may "
+                                                         "hold (RASTERCHECK_MAX_CASE_SCALE=k allows k times more)"),
+    ('{"schema": 1, "id": "t", "width": 8, "height": 8, "lines": [[[0, 0], [1, 1]]%s]}' % (", [[0, 0], [1, 1]]" * 262144),
+     "the case holds 262,145 line strips, more than the 262,144"),
+])
+def test_a_malformed_case_file_is_one_line_naming_the_field(tmp_path: Path, text: str, said: str) -> None:
+    from harness.case import read_case_file
+
+    path = tmp_path / "case.json"
+    path.write_text(text)
+    with pytest.raises(ValueError) as refused:
+        read_case_file(path)
+    message = str(refused.value)
+    assert message.startswith(f"{path}: ") and said in message and "\n" not in message, message
+
+
+def test_words_and_hex_still_give_infinities_and_nans(tmp_path: Path) -> None:
+    from harness.case import read_case_file
+
+    path = tmp_path / "case.json"
+    path.write_text((TRIANGLE % ('"inf"', "")).replace("[4, 0]", '["-inf", "nan"]'))
+    positions = read_case_file(path)[0].scene.positions
+    assert positions[0, 0, 0] == float("inf") and positions[0, 1, 0] == -float("inf") and np.isnan(positions[0, 1, 1])
