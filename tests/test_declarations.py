@@ -179,3 +179,21 @@ def test_a_second_copy_keeps_what_it_declares() -> None:
     filler = paths.PathFillBug("open-contours")
     renamed = distinct_names([filler, filler])[1]
     assert renamed.scene_kinds == filler.scene_kinds and getattr(renamed, "fill_rules", None) == getattr(filler, "fill_rules", None)
+
+
+def test_every_registered_rasterizer_declares_consistently() -> None:
+    """Each built-in and adapter (those whose library is here) passes the check `run` applies
+    at load: mesa_llvmpipe_msaa4 inherited llvmpipe's fill rules without its paths and was
+    skipped by every run ("contradicts its declaration") while its own tests, which build it
+    directly, passed."""
+    from harness.registry import Unavailable, _entry_points
+
+    checked = []
+    for name, entry in sorted(_entry_points().items()):
+        try:
+            rasterizer = entry.load()()
+        except Unavailable:
+            continue  # its library is not installed here: `run` skips it saying so
+        assert declaration_problem(rasterizer) is None, (name, declaration_problem(rasterizer))
+        checked.append(name)
+    assert set(builtins()) <= set(checked)

@@ -900,6 +900,7 @@ class MesaMultisample(_Mesa):
     name = "mesa_llvmpipe_msaa4"
     driver = "llvmpipe"
     scene_kinds = ("triangles",)  # paths and lines: single-sample only (MesaLlvmpipe)
+    fill_rules = None  # type: ignore[assignment]  # (no paths: the base class's rules would contradict scene_kinds)
     SAMPLES = 4
     convention = Convention(samples=_LLVMPIPE_4X, tie="top-left", subpixel_bits=8)
     # fragments per draw: 16 bytes each, so 64 MiB of storage at most
