@@ -1064,6 +1064,16 @@ def _finite(text: str, zero_allowed: bool) -> float:
     return value
 
 
+def _path(text: str) -> str:
+    """An output or input path option: not empty (``--json ''`` wrote nothing, silently),
+    no NUL (no file can be named so)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError("an empty path")
+    if "\0" in text:
+        raise argparse.ArgumentTypeError(f"{text!r} holds a NUL character, which no path can")
+    return text
+
+
 def _positive_seconds(text: str) -> float:
     """``--timeout``, ``--scale``: a finite number > 0."""
     return _finite(text, zero_allowed=False)
@@ -1081,9 +1091,9 @@ def _selection(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--jobs", type=_positive_int, default=1, help="rasterizers checked side by side")
     parser.add_argument("--timeout", type=_positive_seconds, default=60.0, help="the most seconds one rasterize call may take (the cap of its scaled limit; see README, Reliability)")
-    parser.add_argument("--out", default="reports", help="report directory (default reports/)")
-    parser.add_argument("--json", metavar="FILE", help="also write results as JSON (schema 1)")
-    parser.add_argument("--junit", metavar="FILE", help="also write JUnit XML")
+    parser.add_argument("--out", type=_path, default="reports", help="report directory (default reports/)")
+    parser.add_argument("--json", type=_path, metavar="FILE", help="also write results as JSON (schema 1)")
+    parser.add_argument("--junit", type=_path, metavar="FILE", help="also write JUnit XML")
     parser.add_argument("--no-fingerprints", action="store_true",
                         help="identify only rasterizers that declare no convention (faster; no side-by-side fingerprints)")
     parser.add_argument("--case", action="append", metavar="GLOB", help="only cases whose id matches (repeatable)")
@@ -1106,7 +1116,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.set_defaults(func=_run)
     gate = sub.add_parser("gate", help="fail only on regressions against a baseline (for CI)")
     _selection(gate)
-    gate.add_argument("--baseline", required=True, metavar="FILE")
+    gate.add_argument("--baseline", type=_path, required=True, metavar="FILE")
     gate.add_argument("--update-baseline", action="store_true",
                       help="write this run as the new baseline (the reasons of failures that remain are kept)")
     gate.add_argument("--allow-missing", action="store_true",
@@ -1119,14 +1129,14 @@ def build_parser() -> argparse.ArgumentParser:
     cmp = sub.add_parser("compare", help="pixel differences between rasterizers, and the convention that separates them")
     cmp.add_argument("specs", nargs="+", metavar="SPEC")
     cmp.add_argument("--seed", type=int, default=0)
-    cmp.add_argument("--out", default="reports")
-    cmp.add_argument("--json", metavar="FILE")
+    cmp.add_argument("--out", type=_path, default="reports")
+    cmp.add_argument("--json", type=_path, metavar="FILE")
     cmp.set_defaults(func=_compare)
     ide = sub.add_parser("identify", help="fingerprint a rasterizer's convention from outside")
     ide.add_argument("spec", metavar="SPEC")
     ide.add_argument("--seed", type=int, default=0)
     ide.add_argument("--timeout", type=_positive_seconds, default=60.0, help="the most seconds one rasterize call may take (the cap of its scaled limit; see README, Reliability)")
-    ide.add_argument("--json", metavar="FILE", help="also write the fingerprint (and the verdict on a declared convention) as JSON")
+    ide.add_argument("--json", type=_path, metavar="FILE", help="also write the fingerprint (and the verdict on a declared convention) as JSON")
     ide.set_defaults(func=_identify)
     rep = sub.add_parser("replay", help="run the checks of a saved case (a minimal repro) on a rasterizer")
     rep.add_argument("case", help="a case JSON file, as written under reports/repros/")
@@ -1153,21 +1163,21 @@ def build_parser() -> argparse.ArgumentParser:
     fuzz.add_argument("--budget", type=_budget, metavar="BUDGET", help=_BUDGET_HELP)
     fuzz.add_argument("--families", type=_families, metavar="A,B", help="fuzz families (default all the rasterizer takes)")
     fuzz.add_argument("--seed", type=_non_negative_int, default=0)
-    fuzz.add_argument("--state", default=str(Path("reports") / "campaign"), metavar="DIR",
+    fuzz.add_argument("--state", type=_path, default=str(Path("reports") / "campaign"), metavar="DIR",
                       help="the campaign's state folder (default reports/campaign): rerun to continue")
     fuzz.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://host:8786); default a local cluster")
     fuzz.add_argument("--workers", type=_positive_int, metavar="N", help="local worker processes (default one per core)")
     fuzz.add_argument("--batch", type=_positive_int, metavar="N", help="scenes per batch (default about a second of work)")
     fuzz.add_argument("--check", action="append", metavar="NAME", help="only this check (repeatable)")
     fuzz.add_argument("--timeout", type=_positive_seconds, default=60.0, help="the most seconds one rasterize call may take (the cap of its scaled limit; see README, Reliability)")
-    fuzz.add_argument("--json", metavar="FILE", help="also write the campaign as JSON")
-    fuzz.add_argument("--out", default="reports", help="folder for campaign.html (default reports/)")
+    fuzz.add_argument("--json", type=_path, metavar="FILE", help="also write the campaign as JSON")
+    fuzz.add_argument("--out", type=_path, default="reports", help="folder for campaign.html (default reports/)")
     fuzz.add_argument("--merge", nargs="+", metavar="DIR", help="merge these campaigns' state folders into --state")
     fuzz.set_defaults(func=_fuzz)
     dif = sub.add_parser("diff", help="what changed between two runs' --json files (regressions, fixes, new, removed, metrics)")
     dif.add_argument("before", metavar="A.json")
     dif.add_argument("after", metavar="B.json")
-    dif.add_argument("--out", default="reports", help="folder for diff.html (default reports/)")
+    dif.add_argument("--out", type=_path, default="reports", help="folder for diff.html (default reports/)")
     dif.set_defaults(func=_diff)
     lst = sub.add_parser("list", help="rasterizers with their conventions, suites, checks")
     lst.set_defaults(func=_list)

@@ -116,3 +116,23 @@ def test_words_and_hex_still_give_infinities_and_nans(tmp_path: Path) -> None:
     path.write_text((TRIANGLE % ('"inf"', "")).replace("[4, 0]", '["-inf", "nan"]'))
     positions = read_case_file(path)[0].scene.positions
     assert positions[0, 0, 0] == float("inf") and positions[0, 1, 0] == -float("inf") and np.isnan(positions[0, 1, 1])
+
+
+@pytest.mark.parametrize("argv", [
+    ["run", "--rasterizer", "centre_scanline", "--json", ""],
+    ["run", "--rasterizer", "centre_scanline", "--junit", " "],
+    ["run", "--rasterizer", "centre_scanline", "--out", ""],
+    ["gate", "--baseline", "", "--rasterizer", "centre_scanline"],
+    ["identify", "--rasterizer", "centre_scanline", "--json", ""],
+    ["compare", "--rasterizer", "centre_scanline", "--rasterizer", "pineda_topleft", "--json", ""],
+    ["fuzz", "--rasterizer", "centre_scanline", "--budget", "4", "--state", ""],
+    ["run", "--rasterizer", "centre_scanline", "--json", "a\0b"],
+])
+def test_an_empty_path_is_a_usage_error_before_any_work(argv: list[str], capsys: pytest.CaptureFixture[str]) -> None:
+    """`--json ''` was accepted and wrote nothing, silently."""
+    from harness.cli import main
+
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and ("an empty path" in err or "holds a NUL character" in err), err
