@@ -331,10 +331,13 @@ def rebuilt_error(name: str, base: str, text: str) -> BaseException:
 
 def _plain_coverage(coverage: Coverage) -> Coverage:  # runs in the child
     """``coverage`` rebuilt as a plain :class:`Coverage` of plain ndarrays: its fields read
-    through Coverage's own slots (a subclass's overrides are not asked), each copied."""
+    through Coverage's own slots (a subclass's overrides are not asked), each copied (the
+    float ones by Coverage itself)."""
     def field(name: str) -> Any:
         value = Coverage.__dict__[name].__get__(coverage, Coverage)
-        return None if value is None else np.array(value, copy=True, subok=False)
+        if value is None:
+            return None
+        return np.asarray(value) if name in ("attributes", "alpha") else np.array(value, copy=True, subok=False)
 
     return Coverage(*(field(f) for f in _SPAN_FIELDS), **{f: field(f) for f in _OPTIONAL_FIELDS})
 
@@ -419,11 +422,11 @@ def _decoded_coverage(which: str, present: Any, arrays: dict[str, Any], used: se
         return None
     if not isinstance(present, dict) or set(present) != set(_OPTIONAL_FIELDS) or not all(isinstance(v, bool) for v in present.values()):
         raise WireError(f"{which} does not say which of {', '.join(_OPTIONAL_FIELDS)} it holds")
-    spans = [_array(arrays, f"{which}.{f}", np.int64, 1, used) for f in _SPAN_FIELDS]
+    primitive, y, x0, x1 = (_array(arrays, f"{which}.{f}", np.int64, 1, used) for f in _SPAN_FIELDS)
     extra = {f: _array(arrays, f"{which}.{f}", dtype, ndim, used) if present[f] else None
              for f, (dtype, ndim) in _OPTIONAL_FIELDS.items()}
     try:
-        return Coverage(*spans, **extra)
+        return Coverage(primitive, y, x0, x1, attributes=extra["attributes"], sample=extra["sample"], alpha=extra["alpha"])
     except ValueError as exc:
         raise WireError(f"{which}: {exc}") from None
 

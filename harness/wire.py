@@ -53,7 +53,7 @@ def pack(fields: Mapping[str, Any], arrays: Mapping[str, NDArray[Any] | None]) -
         header that is too large.
     """
     described: list[dict[str, Any]] = []
-    buffers: list[bytes] = []
+    buffers: list[Any] = []  # bytes-like: each array's memory, copied once into the message
     for name, value in arrays.items():
         if value is None:
             continue
@@ -64,7 +64,7 @@ def pack(fields: Mapping[str, Any], arrays: Mapping[str, NDArray[Any] | None]) -
             raise WireError(f"array {name!r}: {array.dtype} of {array.ndim} dimensions cannot be sent "
                             f"(int64 or float64, at most {MAX_DIMENSIONS} dimensions)")
         described.append({"name": str(name), "dtype": dtype, "shape": [int(n) for n in array.shape]})
-        buffers.append(memoryview(array).cast("B") if array.size else b"")
+        buffers.append(array.data.cast("B") if array.size else b"")
     header = json.dumps({"fields": fields, "arrays": described}, allow_nan=False, separators=(",", ":")).encode("utf-8")
     if len(header) > MAX_HEADER_BYTES:
         raise WireError(f"the header is {len(header):,} bytes, more than {MAX_HEADER_BYTES:,}")

@@ -112,6 +112,18 @@ def test_an_exit_at_unpickling_would_end_the_run_0_and_now_ends_nothing(tmp_path
     assert not home, f"hostile code ran in processes {home}"
 
 
+def test_the_registry_probe_sends_back_plain_text_only(tmp_path, monkeypatch):
+    from harness.registry import Unavailable, load
+
+    marker = tmp_path / "detonated"
+    monkeypatch.setenv("HOSTILE_PICKLES_MARKER", str(marker))
+    monkeypatch.setenv("HOSTILE_PICKLES_HOME", str(os.getpid()))
+    with pytest.raises(Unavailable) as refused:
+        load("tests.known_bad.hostile_pickles:refuses_to_load")
+    assert not _ran_here(marker), "the probe's answer was unpickled in the harness's process"
+    assert str(refused.value) == "the plugin will not load" and type(str(refused.value)) is str
+
+
 # -- errors rebuilt from plain data ------------------------------------------------------------
 
 

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from harness.api import Coverage, Scene
+from harness.registry import Unavailable
 from rasterizers.pineda_topleft import PinedaTopLeft
 
 
@@ -121,6 +122,30 @@ class RaisesUnprintableDetonating(_Base):
 
     def rasterize(self, scene: Scene) -> Coverage:
         raise UnprintableError(self.trap)
+
+
+class _DetonatingText(str):
+    """Text whose pickle detonates."""
+
+    trap: tuple[str, int, bool] = ("", 0, False)
+
+    def __reduce__(self) -> Any:
+        return detonate, self.trap
+
+
+class _RefusalWithTrappedText(Unavailable):
+    def __str__(self) -> str:
+        text = _DetonatingText("the plugin will not load")
+        text.trap = (os.environ["HOSTILE_PICKLES_MARKER"], int(os.environ["HOSTILE_PICKLES_HOME"]), False)
+        return text
+
+
+def refuses_to_load() -> Any:
+    """A factory (``tests.known_bad.hostile_pickles:refuses_to_load``) that raises an
+    Unavailable (passed on as it is, not wrapped) whose text is a str subclass whose pickle
+    detonates: what the registry's import probe sends back must be plain text. The marker and the harness's pid come from
+    the environment (HOSTILE_PICKLES_MARKER, HOSTILE_PICKLES_HOME)."""
+    raise _RefusalWithTrappedText()
 
 
 HOSTILE_PICKLES = (ArraysDetonate, CoverageDetonates, RaisesDetonating, RaisesUnprintableDetonating)
