@@ -239,8 +239,8 @@ _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,99}")
 
 
 def _error_bases() -> dict[str, type[BaseException]]:
-    """Python's builtin exceptions a carried error may derive from, by name: those built
-    from one message (``cls("text")``); exception groups and the Unicode errors' five
+    """Python's builtin exceptions a carried error may derive from, by name: those a
+    subclass of can be built from one message (``cls("text")``); exception groups and the Unicode errors' five
     arguments leave theirs to a base above them."""
     found: dict[str, type[BaseException]] = {}
     for name, value in vars(builtins).items():
@@ -248,8 +248,8 @@ def _error_bases() -> dict[str, type[BaseException]]:
                 or issubclass(value, BaseExceptionGroup):
             continue
         try:
-            value("text")
-        except Exception:  # noqa: S112 - not buildable from one message: a base above it serves
+            type("Probe", (value,), {})("text")
+        except Exception:  # noqa: S112 - not buildable from one message (or not a base): one above it serves
             continue
         found[name] = value
     return found
@@ -743,7 +743,9 @@ class Worker:
             if self._conn.poll(limit):
                 message = self._conn.recv_bytes()
                 try:
-                    outcome = decode_outcome(message)
+                    sent = decode_outcome(message)
+                    # a worker sends a call's answer alone: timeouts, retries and flaws are this process's to say
+                    outcome = Outcome(sent.coverage, sent.error, sent.traceback, sent.seconds)
                     if outcome.coverage is not None and len(outcome.coverage) > span_limit(scene):
                         raise _too_many_spans(len(outcome.coverage), scene)  # (the worker refuses these: a tampered one)
                 except (WireError, PluginError) as exc:  # the answer arrived whole but is not what a worker sends

@@ -24,7 +24,7 @@ from harness.isolation import (
 )
 from harness.wire import WireError, pack, unpack
 from tests.known_bad.hostile_pickles import (
-    HOSTILE_PICKLES, ArraysDetonate, CoverageDetonates, RaisesDetonating, RaisesUnprintableDetonating,
+    HOSTILE_PICKLES, ArraysDetonate, ClaimsTimedOut, CoverageDetonates, RaisesDetonating, RaisesUnprintableDetonating, SendsJunk,
 )
 
 SCENE = Scene(16, 16, [[[0.25, 1.0], [6.75, 2.0], [1.0, 9.5]], [[8.0, 8.0], [15.0, 9.0], [9.0, 15.0]]],
@@ -110,6 +110,17 @@ def test_an_exit_at_unpickling_would_end_the_run_0_and_now_ends_nothing(tmp_path
     assert "('centre_scanline', 'pass')" in said
     home = [line for line in (marker.read_text().split() if marker.exists() else [])]
     assert not home, f"hostile code ran in processes {home}"
+
+
+def test_a_tampered_message_is_an_error_and_what_only_the_parent_says_is_not_taken_from_the_worker():
+    with Worker(SendsJunk("unused"), timeout=60) as worker:
+        junk = worker.rasterize(SCENE)
+        assert junk.coverage is None and isinstance(junk.error, PluginError)
+        assert describe(junk.error).startswith("PluginError: the rasterizer's answer cannot be read back (WireError: ")
+        assert worker.rasterize(SCENE).coverage is None  # the worker goes on, in step, still patched
+    with Worker(ClaimsTimedOut("unused"), timeout=60) as worker:
+        claimed = worker.rasterize(SCENE)
+        assert claimed.coverage is not None and not claimed.timed_out and claimed.retried is None and claimed.flaws is None
 
 
 def test_the_registry_probe_sends_back_plain_text_only(tmp_path, monkeypatch):

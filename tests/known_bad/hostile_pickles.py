@@ -124,6 +124,33 @@ class RaisesUnprintableDetonating(_Base):
         raise UnprintableError(self.trap)
 
 
+class SendsJunk(_Base):
+    """Answers right, having first replaced, in its worker, the harness's encoder with
+    one that sends bytes that are no message."""
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        import harness.isolation
+
+        harness.isolation.encode_outcome = lambda outcome: b"\x10\0\0\0\0\0\0\0not a header at all"
+        return PinedaTopLeft().rasterize(scene)
+
+
+class ClaimsTimedOut(_Base):
+    """Answers right, its worker's encoder patched to say every answer timed out and was
+    retried, with flaws: what only the parent may say."""
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        import dataclasses
+
+        import harness.isolation
+
+        encode = harness.isolation.__dict__.get("_true_encode", harness.isolation.encode_outcome)
+        harness.isolation._true_encode = encode  # type: ignore[attr-defined]
+        flaws = {"repeated": np.arange(3)}
+        harness.isolation.encode_outcome = lambda outcome: encode(dataclasses.replace(outcome, timed_out=True, retried=1.0, flaws=flaws))
+        return PinedaTopLeft().rasterize(scene)
+
+
 class _DetonatingText(str):
     """Text whose pickle detonates."""
 
