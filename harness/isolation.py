@@ -2,8 +2,12 @@
 
 The one place where rastercheck calls a plugin. An exception (any ``BaseException``,
 ``KeyboardInterrupt`` and ``SystemExit`` raised by the plugin included) becomes an
-:class:`Outcome` carrying its type, text and traceback; an exception that cannot cross
-the process boundary, or whose ``__str__`` itself raises, is carried as text. A call
+:class:`Outcome` carrying its type, text and traceback (text even when its ``__str__``
+raises). Nothing the plugin made crosses back by pickle: the worker sends each outcome as
+plain data (:func:`encode_outcome`, :mod:`harness.wire`), and the parent rebuilds the
+coverage from checked int64 and float64 buffers and the error as an exception of the
+plugin's type name deriving from its nearest builtin or harness base (:func:`decode_outcome`),
+so no code of the plugin's runs in the parent. A call
 that outlives its time limit, or a worker that dies (a segfault, ``os._exit``), becomes
 an outcome too; the worker is then replaced and the caller goes on.
 
@@ -17,10 +21,12 @@ it counts as a timeout: the machine's load never turns a slow answer into a verd
 
 from __future__ import annotations
 
+import builtins
+import functools
 import math
 import multiprocessing
 import os
-import pickle
+import re
 import time
 import traceback
 import weakref
@@ -30,10 +36,12 @@ from typing import Any
 
 import numpy as np
 
-from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene
+from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, Unsupported
+from harness.wire import WireError, pack, unpack
 
 __all__ = ["Outcome", "layer_of", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call", "AnyCall", "PluginError",
-           "kill_all", "TimeLimit", "scene_work", "samples_of", "samples_seen", "CallTally"]
+           "kill_all", "TimeLimit", "scene_work", "samples_of", "samples_seen", "CallTally", "encode_outcome", "decode_outcome",
+           "ERROR_BASES"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -107,22 +115,8 @@ def describe(error: BaseException | None, kind: bool = True) -> str:
 
 
 class PluginError(RuntimeError):
-    """An exception of the plugin's that could not be carried as itself (it cannot be
-    pickled or unpickled, or its text cannot be shown): its type name and text."""
-
-
-def _portable(outcome: Outcome) -> Outcome:
-    """The outcome with its exception replaced by a PluginError carrying its text when it
-    would not survive the trip to the parent process."""
-    error = outcome.error
-    if error is None:
-        return outcome
-    try:
-        str(error)
-        pickle.loads(pickle.dumps(error))
-    except BaseException:  # noqa: B036
-        error = PluginError(describe(error))
-    return Outcome(None, error, outcome.traceback, outcome.seconds)
+    """The harness's error about a plugin's answer: refused (too many spans), or one that
+    cannot be sent back or read back as plain data."""
 
 
 def _pieces(scene: AnyScene) -> int:
@@ -198,6 +192,12 @@ class CallTally:
         return "; ".join(parts) if parts else f"{self.calls:,} probe calls, every one answered"
 
 
+def _too_many_spans(spans: int, scene: AnyScene) -> PluginError:
+    """The refusal of an answer of ``spans`` spans, more than :func:`span_limit`."""
+    return PluginError(f"refused an answer of {spans:,} spans: {len(scene):,} {scene.noun}s on {scene.height:,} "
+                       f"rows need at most {span_limit(scene):,}")
+
+
 def call_in_process(rasterizer: Rasterizer, scene: AnyScene) -> Outcome:
     """One rasterize call, in this process, with any exception captured. An answer of
     more spans than :func:`span_limit` is refused at once, with its size."""
@@ -207,8 +207,7 @@ def call_in_process(rasterizer: Rasterizer, scene: AnyScene) -> Outcome:
         if not isinstance(coverage, Coverage):
             raise TypeError(f"rasterize returned {type(coverage).__name__}, not a harness.Coverage")
         if len(coverage) > span_limit(scene):
-            raise PluginError(f"refused an answer of {len(coverage):,} spans: {len(scene):,} {scene.noun}s on {scene.height:,} "
-                              f"rows need at most {16 * (_pieces(scene) + 1) * scene.height + 1024:,}")
+            raise _too_many_spans(len(coverage), scene)
     except BaseException as exc:  # noqa: B036 - a plugin's KeyboardInterrupt or SystemExit is its failure
         try:
             trace = traceback.format_exc()
@@ -226,6 +225,228 @@ def each_until_error(call: Call, scenes: list[Scene]) -> list[Outcome]:
         if outcomes[-1].coverage is None:
             break
     return outcomes
+
+
+# -- the wire: an outcome as plain data, worker to parent without pickle ------------------
+
+# Texts an outcome carries (an error's message, a traceback) are cut to this many characters.
+MAX_TEXT = 200_000
+_SPAN_FIELDS = ("primitive", "y", "x0", "x1")
+_OPTIONAL_FIELDS = {"attributes": (np.float64, 2), "sample": (np.int64, 1), "alpha": (np.float64, 1)}
+_COVERAGES = ("coverage", "received")
+_OUTCOME_FIELDS = {"seconds", "timed_out", "traceback", "retried", "error", "coverage", "received", "flaws"}
+_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,99}")
+
+
+def _error_bases() -> dict[str, type[BaseException]]:
+    """Python's builtin exceptions a carried error may derive from, by name: those a
+    subclass of can be built from one message (``cls("text")``); exception groups and the Unicode errors' five
+    arguments leave theirs to a base above them."""
+    found: dict[str, type[BaseException]] = {}
+    for name, value in vars(builtins).items():
+        if not (isinstance(value, type) and issubclass(value, BaseException)) or value.__name__ != name \
+                or issubclass(value, BaseExceptionGroup):
+            continue
+        try:
+            type("Probe", (value,), {})("text")
+        except Exception:  # noqa: S112 - not buildable from one message (or not a base): one above it serves
+            continue
+        found[name] = value
+    return found
+
+
+# What an error rebuilt in the parent derives from: the nearest of these in the plugin's
+# exception's MRO (Python's builtin exceptions and the harness's own).
+ERROR_BASES: dict[str, type[BaseException]] = {**_error_bases(), "Unsupported": Unsupported, "PluginError": PluginError}
+_BASE_NAMES: dict[type[BaseException], str] = {cls: name for name, cls in ERROR_BASES.items()}
+
+
+def _plain_text(text: str, most: int = MAX_TEXT) -> str:
+    """``text`` as a plain ``str`` (not a subclass of the plugin's), cut to ``most`` characters."""
+    plain = str.__str__(text) if isinstance(text, str) else "<not text>"
+    if len(plain) > most:
+        plain = f"{plain[:most]}... ({len(plain) - most:,} more characters)"
+    return plain
+
+
+def _identifier(name: str) -> str:
+    """``name`` made a Python identifier of at most 100 characters (other characters become _)."""
+    name = re.sub(r"[^A-Za-z0-9_]", "_", _plain_text(name, 100)) or "PluginError"
+    return name if _NAME.fullmatch(name) else f"_{name}"[:100]
+
+
+def _error_fields(error: BaseException) -> dict[str, str]:
+    """An exception as plain data: its type's name, its nearest base in :data:`ERROR_BASES`
+    and its text (:func:`describe`)."""
+    try:
+        kind = type(error)
+        name = _identifier(kind.__name__)
+        base = next((_BASE_NAMES[cls] for cls in type.__dict__["__mro__"].__get__(kind) if cls in _BASE_NAMES), "BaseException")
+    except BaseException:  # noqa: B036 - a type built to refuse being looked at
+        name, base = "PluginError", "PluginError"
+    return {"type": name, "base": base, "text": _plain_text(describe(error, kind=False))}
+
+
+def _keeps_text(cls: type[BaseException]) -> bool:
+    """Whether ``str(cls(text))`` is ``text`` (not so for KeyError, which quotes it)."""
+    try:
+        return str(cls("text")) == "text"
+    except Exception:
+        return False
+
+
+def _carried_text(error: BaseException) -> str:
+    return str(error.args[0]) if error.args else ""
+
+
+def _carried_reduce(error: BaseException) -> tuple[Any, ...]:
+    return rebuilt_error, (type(error).__name__, getattr(type(error), "carried_base", "PluginError"), _carried_text(error))
+
+
+@functools.lru_cache(maxsize=1024)
+def _error_class(name: str, base: str) -> type[BaseException]:
+    """The class of a rebuilt error: ``base`` itself when the plugin raised exactly it, else
+    a class named ``name`` deriving from it, whose text is the carried one."""
+    known = ERROR_BASES[base]
+    if name == base and _keeps_text(known):
+        return known
+    return type(name, (known,), {"__str__": _carried_text, "__reduce__": _carried_reduce, "__module__": __name__,
+                                 "__qualname__": name, "carried_base": base,
+                                 "__doc__": f"A plugin's {name} ({base}), rebuilt from its name and text."})
+
+
+def rebuilt_error(name: str, base: str, text: str) -> BaseException:
+    """The parent's copy of a plugin's exception: an instance of a class named ``name``
+    (made an identifier) that derives from ``ERROR_BASES[base]`` (PluginError for an
+    unknown base), whose ``str`` is ``text``.
+
+    >>> error = rebuilt_error("TriangleTooLarge", "ValueError", "triangle 3 is huge")
+    >>> isinstance(error, ValueError), describe(error)
+    (True, 'TriangleTooLarge: triangle 3 is huge')
+    >>> type(rebuilt_error("ValueError", "ValueError", "bad")) is ValueError
+    True
+    """
+    return _error_class(_identifier(name), base if base in ERROR_BASES else "PluginError")(_plain_text(text))
+
+
+def _plain_coverage(coverage: Coverage) -> Coverage:  # runs in the child
+    """``coverage`` rebuilt as a plain :class:`Coverage` of plain ndarrays: its fields read
+    through Coverage's own slots (a subclass's overrides are not asked), each copied (the
+    float ones by Coverage itself)."""
+    def field(name: str) -> Any:
+        value = Coverage.__dict__[name].__get__(coverage, Coverage)
+        if value is None:
+            return None
+        return np.asarray(value) if name in ("attributes", "alpha") else np.array(value, copy=True, subok=False)
+
+    return Coverage(*(field(f) for f in _SPAN_FIELDS), **{f: field(f) for f in _OPTIONAL_FIELDS})
+
+
+def encode_outcome(outcome: Outcome) -> bytes:
+    """``outcome`` as one :mod:`harness.wire` message of plain data: its coverages' arrays
+    (int64 spans, float64 attributes and alphas), the flaws' int64 arrays, its seconds,
+    traceback text and error (:func:`decode_outcome` rebuilds it).
+
+    >>> cov = Coverage.from_pixels([0, 0], [1, 2], [3, 3])
+    >>> back = decode_outcome(encode_outcome(Outcome(cov, seconds=0.25)))
+    >>> back.coverage.x0, back.coverage.x1, back.seconds, back.error
+    (array([1]), array([3]), 0.25, None)
+    """
+    arrays: dict[str, Any] = {}
+    fields: dict[str, Any] = {"seconds": float(outcome.seconds), "timed_out": bool(outcome.timed_out),
+                              "traceback": _plain_text(outcome.traceback),
+                              "retried": None if outcome.retried is None else float(outcome.retried),
+                              "error": None if outcome.error is None else _error_fields(outcome.error), "flaws": None}
+    for which in _COVERAGES:
+        coverage = getattr(outcome, which)
+        fields[which] = None
+        if coverage is not None:
+            plain = _plain_coverage(coverage)
+            fields[which] = {f: getattr(plain, f) is not None for f in _OPTIONAL_FIELDS}
+            arrays.update({f"{which}.{f}": getattr(plain, f) for f in (*_SPAN_FIELDS, *_OPTIONAL_FIELDS)})
+    if outcome.flaws is not None:
+        fields["flaws"] = [_plain_text(str(kind), 100) for kind in outcome.flaws]
+        for kind, value in zip(fields["flaws"], outcome.flaws.values(), strict=True):
+            arrays[f"flaws.{kind}"] = np.array(value, dtype=np.int64, copy=True).reshape(-1)
+    return pack(fields, arrays)
+
+
+def decode_outcome(message: bytes) -> Outcome:
+    """The :class:`Outcome` an :func:`encode_outcome` message holds, every part checked:
+    no pickle, only :mod:`harness.wire`'s int64 and float64 buffers and JSON.
+
+    Raises
+    ------
+    WireError
+        Saying what in the message is not as :func:`encode_outcome` writes it.
+    """
+    fields, arrays = unpack(message)
+    if set(fields) != _OUTCOME_FIELDS:
+        raise WireError(f"the outcome's fields are {sorted(fields)[:10]}, not {sorted(_OUTCOME_FIELDS)}")
+    seconds, retried = fields["seconds"], fields["retried"]
+    if not _is_number(seconds) or not (retried is None or _is_number(retried)):
+        raise WireError("seconds or retried is not a number")
+    if not isinstance(fields["timed_out"], bool) or not isinstance(fields["traceback"], str):
+        raise WireError("timed_out is not true or false, or the traceback is not text")
+    used: set[str] = set()
+    coverages = {which: _decoded_coverage(which, fields[which], arrays, used) for which in _COVERAGES}
+    flaws = None
+    if fields["flaws"] is not None:
+        if not isinstance(fields["flaws"], list) or not all(isinstance(k, str) for k in fields["flaws"]):
+            raise WireError("flaws is not a list of names")
+        flaws = {kind: _array(arrays, f"flaws.{kind}", np.int64, 1, used) for kind in fields["flaws"]}
+    if set(arrays) != used:
+        raise WireError(f"arrays not part of the outcome: {sorted(set(arrays) - used)[:5]}")
+    error = _decoded_error(fields["error"])
+    if (coverages["coverage"] is None) == (error is None):
+        raise WireError("an outcome holds a coverage or an error, not both or neither")
+    return Outcome(coverages["coverage"], error, _plain_text(fields["traceback"]), float(seconds), fields["timed_out"],
+                   coverages["received"], flaws, None if retried is None else float(retried))
+
+
+def _is_number(value: Any) -> bool:
+    return type(value) in (int, float) and math.isfinite(value) and value >= 0
+
+
+def _array(arrays: dict[str, Any], name: str, dtype: Any, ndim: int, used: set[str]) -> Any:
+    array = arrays.get(name)
+    if array is None or array.dtype != dtype or array.ndim != ndim:
+        what = "missing" if array is None else f"{array.dtype} of {array.ndim} dimensions"
+        raise WireError(f"array {name!r}: {what}, not {np.dtype(dtype)} of {ndim}")
+    used.add(name)
+    return array
+
+
+def _decoded_coverage(which: str, present: Any, arrays: dict[str, Any], used: set[str]) -> Coverage | None:
+    if present is None:
+        return None
+    if not isinstance(present, dict) or set(present) != set(_OPTIONAL_FIELDS) or not all(isinstance(v, bool) for v in present.values()):
+        raise WireError(f"{which} does not say which of {', '.join(_OPTIONAL_FIELDS)} it holds")
+    primitive, y, x0, x1 = (_array(arrays, f"{which}.{f}", np.int64, 1, used) for f in _SPAN_FIELDS)
+    extra = {f: _array(arrays, f"{which}.{f}", dtype, ndim, used) if present[f] else None
+             for f, (dtype, ndim) in _OPTIONAL_FIELDS.items()}
+    try:
+        return Coverage(primitive, y, x0, x1, attributes=extra["attributes"], sample=extra["sample"], alpha=extra["alpha"])
+    except ValueError as exc:
+        raise WireError(f"{which}: {exc}") from None
+
+
+def _decoded_error(fields: Any) -> BaseException | None:
+    if fields is None:
+        return None
+    if not isinstance(fields, dict) or set(fields) != {"type", "base", "text"} or not all(isinstance(v, str) for v in fields.values()):
+        raise WireError("the error is not {type, base, text} of text")
+    return rebuilt_error(fields["type"], fields["base"], fields["text"])
+
+
+def _answer_message(outcome: Outcome) -> tuple[bytes, bool]:  # pragma: no cover - runs in the child
+    """The message of ``outcome`` and whether it holds a coverage; an answer that cannot be
+    made plain data (a bypassed Coverage's fields, ...) is sent as an error saying why."""
+    try:
+        return encode_outcome(outcome), outcome.coverage is not None
+    except BaseException as exc:  # noqa: B036 - whatever the plugin's objects raise
+        error = PluginError(f"the rasterizer's answer cannot be sent back ({_plain_text(describe(exc), 500)})")
+        return encode_outcome(Outcome(None, error, "", outcome.seconds)), False
 
 
 def _exit_with_parent(period: float = 1.0) -> None:  # pragma: no cover - runs in the child
@@ -257,14 +478,9 @@ def _serve(rasterizer: Rasterizer, conn: Any) -> None:  # pragma: no cover - run
         # one scene, or a sequence (a motion case's frames): each answer is sent as soon as
         # it is ready, up to the first error
         for scene in request if isinstance(request, list) else [request]:
-            outcome = _portable(call_in_process(rasterizer, scene))
-            try:
-                conn.send(outcome)
-            except Exception:  # a coverage that cannot be pickled
-                outcome = Outcome(None, PluginError("the rasterizer's answer cannot be sent back (it cannot be pickled)"),
-                                  "", outcome.seconds)
-                conn.send(outcome)
-            if outcome.coverage is None:
+            message, answered = _answer_message(call_in_process(rasterizer, scene))
+            conn.send_bytes(message)
+            if not answered:
                 break
 
 
@@ -525,11 +741,14 @@ class Worker:
         start = time.perf_counter()
         try:
             if self._conn.poll(limit):
+                message = self._conn.recv_bytes()
                 try:
-                    outcome: Outcome = self._conn.recv()
-                except (EOFError, OSError):
-                    raise
-                except Exception as exc:  # the answer arrived whole but cannot be unpickled
+                    sent = decode_outcome(message)
+                    # a worker sends a call's answer alone: timeouts, retries and flaws are this process's to say
+                    outcome = Outcome(sent.coverage, sent.error, sent.traceback, sent.seconds)
+                    if outcome.coverage is not None and len(outcome.coverage) > span_limit(scene):
+                        raise _too_many_spans(len(outcome.coverage), scene)  # (the worker refuses these: a tampered one)
+                except (WireError, PluginError) as exc:  # the answer arrived whole but is not what a worker sends
                     return Outcome(None, PluginError(f"the rasterizer's answer cannot be read back ({describe(exc)})"),
                                    "", time.perf_counter() - start)
                 if outcome.coverage is not None:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import json
 import os
 import sys
 import warnings
@@ -179,6 +180,32 @@ def _import_file(path: Path) -> Any:
     return module
 
 
+def _said(spec: str, exc: BaseException) -> list[str]:  # pragma: no cover - runs in the probe's child
+    """What the probe's child says of a plugin that failed to load: ``[kind, text]`` as
+    plain strings (``str.__str__``: a text of the plugin's, not a subclass of its)."""
+    from harness.isolation import describe
+
+    try:
+        if isinstance(exc, Unavailable):
+            return ["unavailable", str.__str__(describe(exc, kind=False))]
+        if isinstance(exc, ValueError):
+            return ["error", str.__str__(describe(exc, kind=False))]
+        return ["error", str.__str__(f"{spec}: {_describe(exc)}")]
+    except BaseException:  # noqa: B036 - a type built to refuse being looked at
+        return ["error", f"{spec}: loading the plugin failed with an exception that cannot be described"]
+
+
+def _heard(spec: str, message: bytes) -> tuple[str, str]:
+    """The probe child's ``(kind, text)``, checked: JSON of two strings, a known kind."""
+    try:
+        said = json.loads(message.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError, RecursionError):
+        said = None
+    if not (isinstance(said, list) and len(said) == 2 and said[0] in ("ok", "unavailable", "error") and isinstance(said[1], str)):
+        raise ValueError(f"{spec}: the process loading the plugin sent back something unreadable")
+    return said[0], said[1]
+
+
 def _probe(spec: str, seconds: float = 120.0) -> None:
     """Load ``spec`` once in a forked child first, so that a plugin that ends the process
     while it is imported or built (``os._exit``, a signal, a crash in native code) ends
@@ -191,13 +218,14 @@ def _probe(spec: str, seconds: float = 120.0) -> None:
     parent, child = context.Pipe(duplex=False)
 
     def attempt() -> None:  # pragma: no cover - runs in the child
+        # what the child says is plain text sent as JSON: nothing the plugin made is
+        # pickled, so nothing of its runs in this process when the answer is read
         try:
             _load(spec)
-            child.send(("ok", ""))
-        except Unavailable as exc:
-            child.send(("unavailable", str(exc)))
+            said = ["ok", ""]
         except BaseException as exc:  # noqa: B036
-            child.send(("error", str(exc) if isinstance(exc, ValueError) else f"{spec}: {_describe(exc)}"))
+            said = _said(spec, exc)
+        child.send_bytes(json.dumps(said).encode("utf-8"))
 
     process = context.Process(target=attempt, daemon=True)
     process.start()
@@ -205,7 +233,7 @@ def _probe(spec: str, seconds: float = 120.0) -> None:
     try:
         if not parent.poll(seconds):
             raise ValueError(f"{spec}: loading the plugin did not finish within {seconds:g} s")
-        kind, text = parent.recv()
+        kind, text = _heard(spec, parent.recv_bytes())
     except EOFError:
         process.join(5)
         code = process.exitcode
