@@ -50,6 +50,11 @@ oracle's) and skia's (``skia_hairline``: ``drawLine`` with stroke width 0, no
 anti-aliasing: nearest the diamond-exit oracle's), when installed; and each rasterizer
 that takes lines. Rates are in segments per second.
 
+Every contender is measured in a forked process of its own, each call within a time limit
+(``--timeout``; see the section on isolation below): a crash, a hang, a raise or an answer
+that is no coverage is that contender's row (:attr:`Measurement.fault`), and the others go
+on. The clock times the drawing call alone, in that process, as it did in one.
+
 The campaign workload (``rastercheck bench --campaign``; :func:`run_campaign_bench`): a
 campaign (:func:`harness.campaign.run_campaign`) of a fixed scene budget on a built-in
 reference (``pineda_topleft``: it passes, so nothing is shrunk) over every fuzz family it
@@ -793,7 +798,7 @@ def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float 
     from harness.registry import distinct_names
 
     names = names if names is not None else builtins()
-    rasterizers = distinct_names([load(n) for n in names])
+    rasterizers: list[Any] = distinct_names([load(n) for n in names])  # a path or line scene only to those that take it
     chosen = ((workloads(scale) if triangles else []) + (path_workloads(scale) if paths else [])
               + (line_workloads(scale) if lines else []))
     # each contender's calls, by workload: the key of a rasterizer is its place (a name of its
@@ -801,11 +806,11 @@ def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float 
     lineup: list[list[tuple[str, str, bool]]] = []  # per workload: (key, label, plugin)
     calls: dict[str, dict[str, tuple[Callable[[], object], AnyScene]]] = {}
     for work in chosen:
-        row = [(label, label, False, fn) for label, fn in _fixed_contenders(work)]
-        row += [(f"rasterizer {k}", r.name, True, partial(r.rasterize, work.scene)) for k, r in enumerate(rasterizers)
-                if takes(r, work.scene)]
-        lineup.append([(key, label, plugin) for key, label, plugin, _ in row])
-        for key, _, _, fn in row:
+        entries = [(label, label, False, fn) for label, fn in _fixed_contenders(work)]
+        entries += [(f"rasterizer {k}", r.name, True, partial(r.rasterize, work.scene)) for k, r in enumerate(rasterizers)
+                    if takes(r, work.scene)]
+        lineup.append([(key, label, plugin) for key, label, plugin, _ in entries])
+        for key, _, _, fn in entries:
             calls.setdefault(key, {})[work.name] = (fn, work.scene)
     last = {key: k for k, row in enumerate(lineup) for key, _, _ in row}
     isolated: dict[str, _Isolated] = {}

@@ -211,3 +211,16 @@ def test_the_campaign_bench_of_a_rasterizer_raising_on_every_call_measures_nothi
     lines = [line for line in said.err.splitlines() if line.startswith("rastercheck:")]
     assert len(lines) == 1 and f"{HOSTILE}:BenchRaises: nothing measured" in lines[0] and "ValueError: refuses" in lines[0]
     assert not out_json.exists()
+
+
+def test_a_garbage_answer_is_refused_or_counted_without_its_malformed_spans(capsys: pytest.CaptureFixture[str]) -> None:
+    """A million copies of one span: beyond the span limit of W2's one triangle (refused, its
+    row the fault), within W1's (measured, the copies not counted, and said)."""
+    code, out, err = _bench(capsys, "--kinds", "triangles", "--timeout", "30",
+                            "--rasterizer", "tests.known_bad.hostile:MillionCopies", "--rasterizer", GOOD)
+    assert code == 1 and "Traceback" not in out + err
+    rows = _rows(out)
+    assert rows["W2"]["MillionCopies"].startswith("garbage: an answer of 1,000,")
+    assert "not counted: 1,000,000 spans repeated" in rows["W1"]["MillionCopies"]
+    assert rows["W1"]["MillionCopies"].split()[4] == rows["W1"][GOOD].split()[4]  # the same pixels: the copies left out
+    assert "failed: MillionCopies: garbage: an answer of" in out and "(W2); measured on W1" in out
