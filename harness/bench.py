@@ -827,7 +827,9 @@ def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float 
             for place, (key, label, plugin) in enumerate(row):
                 if progress is not None:
                     progress(f"{work.name} {label}: measuring ...")
-                contender = isolated.get(key) or isolated.setdefault(key, _Isolated(calls[key], plugin, timeout))
+                if key not in isolated:
+                    isolated[key] = _Isolated(calls[key], plugin, timeout)
+                contender = isolated[key]
                 answer = contender.measure(work.name, budget)
                 if last[key] == k:
                     contender.close()
