@@ -50,6 +50,11 @@ oracle's) and skia's (``skia_hairline``: ``drawLine`` with stroke width 0, no
 anti-aliasing: nearest the diamond-exit oracle's), when installed; and each rasterizer
 that takes lines. Rates are in segments per second.
 
+Every contender is measured in a forked process of its own, each call within a time limit
+(``--timeout``; see the section on isolation below): a crash, a hang, a raise or an answer
+that is no coverage is that contender's row (:attr:`Measurement.fault`), and the others go
+on. The clock times the drawing call alone, in that process, as it did in one.
+
 The campaign workload (``rastercheck bench --campaign``; :func:`run_campaign_bench`): a
 campaign (:func:`harness.campaign.run_campaign`) of a fixed scene budget on a built-in
 reference (``pineda_topleft``: it passes, so nothing is shrunk) over every fuzz family it
@@ -67,8 +72,11 @@ from __future__ import annotations
 from functools import partial
 
 import json
+import math
+import multiprocessing
 import os
 import platform
+import signal
 import tempfile
 import time
 from collections.abc import Callable, Sequence
@@ -80,9 +88,10 @@ import numpy as np
 from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
-from harness.api import AnyScene, LineScene, PathScene, Scene, takes
+from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, takes
 from harness.campaign import local_cluster
 from harness.conventions import Convention
+from harness.isolation import _exit_with_parent, describe, span_limit
 from harness.optional import missing
 from harness.oracle import exact_coverage
 from harness.registry import builtins, load
@@ -94,11 +103,12 @@ if TYPE_CHECKING:
 __all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "short_segments", "long_segments", "stars",
            "wiggly_outline", "run_bench", "format_table", "LINE_ORACLES", "CampaignMeasurement", "run_campaign_bench",
            "format_campaign_table", "campaign_summary", "CAMPAIGN_REFERENCE", "CAMPAIGN_SCENES", "CAMPAIGN_GOAL",
-           "CAMPAIGN_BATCH", "CAMPAIGN_FAMILIES", "CAMPAIGN_REPEATS"]
+           "CAMPAIGN_BATCH", "CAMPAIGN_FAMILIES", "CAMPAIGN_REPEATS", "DEFAULT_TIMEOUT", "NothingMeasured", "failures_by_contender"]
 
 SIZE = 1024
 PATH_SIZE = 512
 LINE_SIZE = 1024
+DEFAULT_TIMEOUT = 60.0  # seconds one call of a contender may take (``--timeout``; as ``run``'s)
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,7 +125,11 @@ class Workload:
 @dataclass(frozen=True, slots=True)
 class Measurement:
     """One contender on one workload. ``triangles_per_second`` is primitives per second:
-    paths for a path workload, segments for a line workload (``unit``)."""
+    paths for a path workload, segments for a line workload (``unit``).
+
+    ``fault`` says why nothing was measured ("crashed (signal 11, SIGSEGV)", "timed out
+    after 60 s", "raised ValueError: ...", "no coverage ..."; the figures are then NaN);
+    ``note`` what was not counted of a measured answer (malformed spans)."""
 
     workload: str
     contender: str
@@ -126,6 +140,8 @@ class Measurement:
     pixels: int
     unit: str = "triangles"
     description: str = ""
+    fault: str = ""
+    note: str = ""
 
 
 def workloads(scale: float = 1.0) -> list[Workload]:
@@ -537,16 +553,21 @@ def _pixels(result: object) -> int:
     return int(result.n_pixels)  # type: ignore[attr-defined]
 
 
-def _time(fn: Callable[[], object], budget: float) -> tuple[float, float, int, int]:
+def _time(fn: Callable[[], object], budget: float, count: Callable[[object], int] = _pixels,
+          heard: Callable[[float, object], None] | None = None) -> tuple[float, float, int, int]:
     """(cold seconds, best seconds, pixels, warm runs): only the drawing call is timed.
 
     Warm repeats run while the next one fits in the ``budget`` (at least one -- the cold
     call pays for compilation and is no throughput -- at most 50): the budget caps the
-    time of the repeats, not only their count."""
+    time of the repeats, not only their count. ``count`` turns the cold call's answer into
+    its pixels; ``heard`` hears each call's seconds and answer (outside the clock) as soon
+    as it is made: the isolated contender's heartbeat (:func:`_serve_contender`)."""
     start = time.perf_counter()
     result = fn()
     cold = time.perf_counter() - start
-    pixels = _pixels(result)
+    pixels = count(result)
+    if heard is not None:
+        heard(cold, result)
     best = float("inf")
     runs = 0
     deadline = time.perf_counter() + budget
@@ -555,15 +576,18 @@ def _time(fn: Callable[[], object], budget: float) -> tuple[float, float, int, i
         if runs >= 1 and best > left:
             break  # the next repeat would overrun the budget
         start = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - start)
+        again = fn()
+        seconds = time.perf_counter() - start
+        best = min(best, seconds)
         runs += 1
+        if heard is not None:
+            heard(seconds, again)
     return cold, best, pixels, runs
 
 
-def _contenders(work: Workload, rasterizers: list[Any]) -> list[tuple[str, Callable[[], object]]]:
-    """Pillow first (the yardstick), the oracles, the library peers, then each rasterizer
-    that takes the workload's scene."""
+def _fixed_contenders(work: Workload) -> list[tuple[str, Callable[[], object]]]:
+    """Pillow first (the yardstick), the oracles, then the library peers of the workload's
+    scene kind."""
     scene = work.scene
     if isinstance(scene, LineScene):
         contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow_lines, scene))]
@@ -576,78 +600,335 @@ def _contenders(work: Workload, rasterizers: list[Any]) -> list[tuple[str, Calla
         contenders = [("pillow", partial(_pillow, scene))]
         contenders += [(label, partial(exact_coverage, scene, convention)) for label, convention in ORACLES.items()]
         contenders += [(label, partial(fill, scene)) for label, fill in _library_peers()]
-    contenders += [(r.name, partial(r.rasterize, scene)) for r in rasterizers if takes(r, scene)]
     return contenders
+
+
+def _contenders(work: Workload, rasterizers: list[Any]) -> list[tuple[str, Callable[[], object]]]:
+    """Pillow first (the yardstick), the oracles, the library peers, then each rasterizer
+    that takes the workload's scene."""
+    scene = work.scene
+    return _fixed_contenders(work) + [(r.name, partial(r.rasterize, scene)) for r in rasterizers if takes(r, scene)]
+
+
+# -- isolation: every contender measured in a process of its own -------------------------------
+#
+# A rasterizer under bench is a plugin: it may raise, answer garbage, segfault, end its
+# process or never answer. Every contender -- Pillow, the oracles, the library peers and the
+# rasterizers alike -- is therefore measured in a forked process of its own (one per
+# contender, kept from workload to workload so that kernels compiled or loaded by its first
+# call stay loaded, as they did in one process; replaced after a crash or a timeout), each of
+# its calls within the time limit (``--timeout``). The child runs the very timing loop the
+# bench ran in its own process (:func:`_time`: the clock around the drawing call alone, a
+# cold call first, then the warm repeats within the budget) and reports each call as it
+# ends, so the figures and their ratios to Pillow are measured as before: the process's
+# start-up, the pipe and the checks of an answer are outside the clock, and the parent
+# waits idle while a child measures.
+#
+# Not :class:`harness.isolation.Worker` itself: a Worker sends each scene and gets each
+# answer back as a Coverage, while the library peers draw into surfaces that cannot cross
+# a pipe (cairo's, skia's) and are counted where they were drawn. A rasterizer's answer is
+# checked as a Worker's is (a Coverage, within :func:`harness.isolation.span_limit` spans,
+# tidied: :meth:`harness.api.Coverage.tidy`), outside the clock, and its exceptions are
+# described as the Worker's (:func:`harness.isolation.describe`).
+
+
+class _Unusable(Exception):
+    """A contender's answer that is no measurement (its text is the row's fault)."""
+
+
+def _one_line(text: str, most: int = 200) -> str:
+    """``text`` on one line, at most ``most`` characters."""
+    flat = " ".join(text.split())
+    return flat if len(flat) <= most else flat[: most - 3] + "..."
+
+
+def _counted(answer: object, scene: AnyScene) -> tuple[int, str]:
+    """A rasterizer's first answer on ``scene``: its fragments once tidied (malformed spans
+    not counted) and what was not counted, in words ("" when nothing); :class:`_Unusable`
+    when it is no Coverage or holds more than :func:`span_limit` spans."""
+    if not isinstance(answer, Coverage):
+        raise _Unusable(f"no coverage (rasterize returned {type(answer).__name__}, not a harness.Coverage)")
+    if len(answer) > span_limit(scene):
+        raise _Unusable(f"garbage: an answer of {len(answer):,} spans ({len(scene):,} {scene.noun}s on "
+                        f"{scene.height:,} rows need at most {span_limit(scene):,})")
+    usable, flaws = answer.tidy(scene)
+    if usable is answer:
+        return int(usable.n_pixels), ""
+    kinds = {kind: len(spans) for kind, spans in flaws.items() if kind != "repeated_pixels" and len(spans)}
+    return int(usable.n_pixels), "not counted: " + ", ".join(f"{n:,} span{'s' if n > 1 else ''} {kind.replace('_', ' ')}"
+                                                             for kind, n in kinds.items())
+
+
+def _measure_here(fn: Callable[[], object], scene: AnyScene, budget: float, plugin: bool,
+                  send: Callable[[tuple[Any, ...]], None]) -> tuple[Any, ...]:
+    """In the contender's process: :func:`_time` on ``fn``, ``("call", seconds)`` sent
+    after each call; ``("done", cold, best, pixels, runs, note)`` or ``("fault", text)``.
+    A rasterizer's answers (``plugin``) must be Coverages, the first within the span limit."""
+    notes: list[str] = []
+
+    def count(answer: object) -> int:
+        if not plugin:
+            return _pixels(answer)
+        pixels, note = _counted(answer, scene)
+        notes.append(note)
+        return pixels
+
+    def heard(seconds: float, answer: object) -> None:
+        if plugin and not isinstance(answer, Coverage):
+            raise _Unusable(f"no coverage on a warm run (rasterize returned {type(answer).__name__}, not a harness.Coverage)")
+        send(("call", seconds))
+
+    try:
+        cold, best, pixels, runs = _time(fn, budget, count, heard)
+    except _Unusable as exc:
+        return ("fault", str(exc))
+    except BaseException as exc:  # noqa: B036 - a plugin's KeyboardInterrupt or SystemExit is its failure
+        return ("fault", f"raised {describe(exc)}")
+    return ("done", cold, best, pixels, runs, notes[0] if notes else "")
+
+
+def _serve_contender(calls: dict[str, tuple[Callable[[], object], AnyScene]], plugin: bool, conn: Any) -> None:  # pragma: no cover - runs in the child
+    """The child of :class:`_Isolated`: for each workload asked (its name and the budget),
+    :func:`_measure_here` on the call of that workload."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle
+    _exit_with_parent()
+    while True:
+        try:
+            work, budget = conn.recv()
+        except (EOFError, OSError):
+            return
+        fn, scene = calls[work]
+        conn.send(_measure_here(fn, scene, budget, plugin, conn.send))
+
+
+def _exit_fault(code: int | None) -> str:
+    """A contender's process that ended without answering, in words.
+
+    >>> _exit_fault(-11), _exit_fault(0)
+    ('crashed (signal 11, SIGSEGV)', 'its process exited with code 0 without answering')
+    """
+    if code is not None and code < 0:
+        try:
+            name = f", {signal.Signals(-code).name}"
+        except ValueError:
+            name = ""
+        return f"crashed (signal {-code}{name})"
+    return f"its process exited with code {code} without answering"
+
+
+class _Isolated:
+    """One contender in a forked process of its own (started at its first workload,
+    replaced after a crash or a timeout), each call within ``timeout`` seconds.
+
+    Parameters
+    ----------
+    calls : dict
+        ``{workload name: (the call, its scene)}``, inherited by the child (nothing is sent
+        but the workload's name).
+    plugin : bool
+        The contender is a rasterizer: its answer must be a Coverage within the span limit.
+    timeout : float
+        The most seconds one call may take.
+    """
+
+    def __init__(self, calls: dict[str, tuple[Callable[[], object], AnyScene]], plugin: bool, timeout: float) -> None:
+        self.calls = calls
+        self.plugin = plugin
+        self.timeout = timeout
+        self._context = multiprocessing.get_context("fork")
+        self._process: Any = None
+        self._conn: Any = None
+
+    def _start(self) -> None:
+        self._conn, child = self._context.Pipe()
+        self._process = self._context.Process(target=_serve_contender, args=(self.calls, self.plugin, child), daemon=True)
+        self._process.start()
+        child.close()
+
+    def measure(self, work: str, budget: float) -> tuple[Any, ...]:
+        """``("done", cold, best, pixels, runs, note)`` or ``("fault", text)`` of the
+        contender on ``work``."""
+        if self._process is None:
+            self._start()
+        try:
+            self._conn.send((work, budget))
+        except OSError:
+            return self._died()
+        while True:
+            try:
+                if not self._conn.poll(self.timeout):
+                    self.close()
+                    return ("fault", f"timed out after {self.timeout:g} s")
+                message = self._conn.recv()
+            except (EOFError, OSError):
+                return self._died()
+            if message[0] != "call":
+                return tuple(message)
+
+    def _died(self) -> tuple[str, str]:
+        self._process.join(5)
+        code = self._process.exitcode
+        self.close()
+        return ("fault", _exit_fault(code))
+
+    def close(self) -> None:
+        """End the contender's process (a new one starts at the next workload)."""
+        if self._process is None:
+            return
+        if self._process.is_alive():
+            self._process.kill()
+        self._process.join(5)
+        self._conn.close()
+        self._process = self._conn = None
 
 
 def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float = 1.0,
               progress: Callable[[str], None] | None = None, paths: bool = True, lines: bool = True,
-              triangles: bool = True) -> list[Measurement]:
+              triangles: bool = True, timeout: float = DEFAULT_TIMEOUT) -> list[Measurement]:
     """Measure Pillow, the oracle and each rasterizer on W1 and W2 (with ``triangles``),
     then (with ``paths``) Pillow, the winding oracle, the library path fills and each
     path-taking rasterizer on the path workloads, then (with ``lines``) Pillow, the three
     line oracles, the library line drawers and each line-taking rasterizer on the line
-    workloads, in this process; ``progress`` hears a line before and after each contender."""
+    workloads, each contender in a process of its own, each call within ``timeout``
+    seconds; ``progress`` hears a line before and after each contender.
+
+    A contender that crashes, hangs, raises or answers garbage on a workload is that
+    workload's row (:attr:`Measurement.fault`) and the others go on; a workload whose
+    Pillow failed has no ratios (NaN)."""
+    from harness.registry import distinct_names
+
     names = names if names is not None else builtins()
-    rasterizers = [load(n) for n in names]
-    results = []
+    rasterizers: list[Any] = distinct_names([load(n) for n in names])  # a path or line scene only to those that take it
     chosen = ((workloads(scale) if triangles else []) + (path_workloads(scale) if paths else [])
               + (line_workloads(scale) if lines else []))
+    # each contender's calls, by workload: the key of a rasterizer is its place (a name of its
+    # own may be any, "pillow" or "oracle" too)
+    lineup: list[list[tuple[str, str, bool]]] = []  # per workload: (key, label, plugin)
+    calls: dict[str, dict[str, tuple[Callable[[], object], AnyScene]]] = {}
     for work in chosen:
-        contenders = _contenders(work, rasterizers)
-        unit = {"paths": "paths", "lines": "segments"}.get(work.scene.kind, "triangles")
-        if progress is not None and isinstance(work.scene, PathScene):
-            for label, _ in _path_peers():
-                if _unmeasured(label, work.scene):
-                    progress(f"{work.name} {label}: {_unmeasured(label, work.scene)}")
-        pillow_rate = None
-        for label, fn in contenders:
-            if progress is not None:
-                progress(f"{work.name} {label}: measuring ...")
-            cold, seconds, pixels, runs = _time(fn, budget)
-            if progress is not None:
-                progress(f"{work.name} {label}: best {seconds * 1e3:.1f} ms of {runs} warm runs (cold {cold:.2f} s)")
-            rate = len(work.scene) / seconds
-            if pillow_rate is None:
-                pillow_rate = rate
-            results.append(Measurement(work.name, label, cold, seconds, rate, rate / pillow_rate, pixels, unit, work.description))
+        entries = [(label, label, False, fn) for label, fn in _fixed_contenders(work)]
+        entries += [(f"rasterizer {k}", r.name, True, partial(r.rasterize, work.scene)) for k, r in enumerate(rasterizers)
+                    if takes(r, work.scene)]
+        lineup.append([(key, label, plugin) for key, label, plugin, _ in entries])
+        for key, _, _, fn in entries:
+            calls.setdefault(key, {})[work.name] = (fn, work.scene)
+    last = {key: k for k, row in enumerate(lineup) for key, _, _ in row}
+    isolated: dict[str, _Isolated] = {}
+    results = []
+    nan = float("nan")
+    try:
+        for k, (work, row) in enumerate(zip(chosen, lineup)):
+            unit = {"paths": "paths", "lines": "segments"}.get(work.scene.kind, "triangles")
+            if progress is not None and isinstance(work.scene, PathScene):
+                for label, _ in _path_peers():
+                    if _unmeasured(label, work.scene):
+                        progress(f"{work.name} {label}: {_unmeasured(label, work.scene)}")
+            pillow_rate = nan
+            for place, (key, label, plugin) in enumerate(row):
+                if progress is not None:
+                    progress(f"{work.name} {label}: measuring ...")
+                if key not in isolated:
+                    isolated[key] = _Isolated(calls[key], plugin, timeout)
+                contender = isolated[key]
+                answer = contender.measure(work.name, budget)
+                if last[key] == k:
+                    contender.close()
+                if answer[0] == "fault":
+                    fault = _one_line(answer[1])
+                    if progress is not None:
+                        progress(f"{work.name} {label}: {fault}")
+                    results.append(Measurement(work.name, label, nan, nan, nan, nan, 0, unit, work.description, fault=fault))
+                    continue
+                _, cold, seconds, pixels, runs, note = answer
+                if progress is not None:
+                    progress(f"{work.name} {label}: best {seconds * 1e3:.1f} ms of {runs} warm runs (cold {cold:.2f} s)")
+                rate = len(work.scene) / seconds
+                if place == 0:
+                    pillow_rate = rate
+                results.append(Measurement(work.name, label, cold, seconds, rate, rate / pillow_rate, pixels, unit,
+                                           work.description, note=note))
+    finally:
+        for contender in isolated.values():
+            contender.close()
     return results
+
+
+def failures_by_contender(results: Sequence[Measurement]) -> dict[str, str]:
+    """One line per contender that failed on some workload: its faults and where, and
+    whether anything of it was measured.
+
+    >>> bad = Measurement("W1", "mine", 0, 0, 0, 0, 0, fault="raised ValueError: no")
+    >>> failures_by_contender([bad, replace(bad, workload="W2")])
+    {'mine': 'nothing measured: raised ValueError: no (W1, W2)'}
+    """
+    out = {}
+    for contender in dict.fromkeys(m.contender for m in results if m.fault):
+        mine = [m for m in results if m.contender == contender]
+        by_fault: dict[str, list[str]] = {}
+        for m in mine:
+            if m.fault:
+                by_fault.setdefault(m.fault, []).append(m.workload)
+        said = "; ".join(f"{fault} ({', '.join(works)})" for fault, works in by_fault.items())
+        measured = [m.workload for m in mine if not m.fault]
+        out[contender] = (f"{said}; measured on {', '.join(measured)}" if measured else f"nothing measured: {said}")
+    return out
+
+
+def _figure(value: float, spec: str) -> str:
+    """``value`` formatted by ``spec``, or ``-`` when it is not a number."""
+    return format(value, spec) if math.isfinite(value) else "-"
 
 
 def format_table(results: list[Measurement], descriptions: dict[str, str]) -> str:
     """One block per workload: each contender's rate, ratio to Pillow, best and cold time
-    and pixels; a workload missing from ``descriptions`` is described by its measurements."""
+    and pixels, or why it has none; a workload missing from ``descriptions`` is described
+    by its measurements."""
     lines = []
     for work in dict.fromkeys(m.workload for m in results):
         mine = [m for m in results if m.workload == work]
         lines.append(f"{work}: {descriptions.get(work) or mine[0].description}")
         lines.append(f"  {'contender':<18}{mine[0].unit + '/s':>14}{'x Pillow':>10}{'best ms':>10}{'cold s':>9}{'pixels':>11}")
         for m in mine:
+            if m.fault:
+                lines.append(f"  {m.contender:<18}  {m.fault}")
+                continue
             lines.append(
-                f"  {m.contender:<18}{m.triangles_per_second:>14,.0f}{m.ratio_to_pillow:>10.2f}"
-                f"{m.seconds * 1e3:>10.2f}{m.cold_seconds:>9.2f}{m.pixels:>11,}"
+                f"  {m.contender:<18}{m.triangles_per_second:>14,.0f}{_figure(m.ratio_to_pillow, '>10.2f'):>10}"
+                f"{m.seconds * 1e3:>10.2f}{m.cold_seconds:>9.2f}{m.pixels:>11,}" + (f"   ({m.note})" if m.note else "")
             )
     return "\n".join(lines)
+
+
+def _finite(row: dict[str, Any]) -> dict[str, Any]:
+    """``row`` with every non-finite float as None (JSON has no NaN)."""
+    return {k: None if isinstance(v, float) and not math.isfinite(v) else v for k, v in row.items()}
 
 
 def write_json(results: Sequence[Measurement | CampaignMeasurement], path: Path, summary: dict[str, Any] | None = None,
                not_measured: dict[str, str] | None = None) -> None:
     """The measurements as JSON (schema 1), with the machine and the date; ``summary``
     (e.g. the campaign's speed-up, :func:`campaign_summary`) goes in as ``"summary"``,
-    and the peers not measured, with why (:func:`missing_peers`), as ``"not_measured"``."""
+    the peers not measured, with why (:func:`missing_peers`), as ``"not_measured"``, and
+    the rows of contenders that failed (their ``fault``) as ``"failed"``, not among the
+    ``"results"``."""
     from harness.files import atomic_write_text
 
     payload: dict[str, Any] = {
         "schema": 1,
         "machine": {"platform": platform.platform(), "python": platform.python_version(), "cpus": os.cpu_count()},
         "date": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-        "results": [asdict(m) for m in results],
+        "results": [_finite(asdict(m)) for m in results if not getattr(m, "fault", "")],
     }
+    failed = [{"workload": m.workload, "contender": m.contender, "fault": m.fault} for m in results
+              if isinstance(m, Measurement) and m.fault]
+    if failed:
+        payload["failed"] = failed
     if summary is not None:
         payload["summary"] = summary
     if not_measured:
         payload["not_measured"] = not_measured
     atomic_write_text(path, json.dumps(payload, indent=2))
+
 
 
 # -- campaigns: end-to-end checked primitives per second, one worker against two ---------------
@@ -689,18 +970,44 @@ class CampaignMeasurement:
     unit: str = "primitives"
     description: str = ""
     runs: tuple[float, ...] = ()
+    failed_calls: int = 0
+
+
+class NothingMeasured(RuntimeError):
+    """The rasterizer under a campaign bench failed every call of its warm-up: there is no
+    throughput to measure (its text is the one line that says so)."""
+
+
+def _failed_call(finding: Any) -> bool:
+    """A finding of a rasterize call that crashed, hung or raised (or answered no
+    coverage): the ``run`` check's errors (:func:`harness.campaign.run_batch`)."""
+    return bool(finding.status == "error" and finding.check_name == "run")
 
 
 def _warm(client: Client, spec: str, families: Sequence[str], timeout: float) -> None:
     """Every worker imports the harness, loads ``spec`` and checks one scene of each
-    family (kernels loaded, trimesh imported), so that the clock measures the search."""
+    family (kernels loaded, trimesh imported), so that the clock measures the search.
+
+    Raises :class:`NothingMeasured` when every one of those scenes' rasterize calls failed
+    (crashed, hung, raised, answered no coverage): a campaign of failed calls would time
+    failures, not checks."""
     from harness.campaign import Batch, CampaignTask, run_batch
 
     addresses = sorted(client.scheduler_info()["workers"])
     futures = [client.submit(run_batch, CampaignTask(spec, Batch(family, WARM_SEED, 0, 1), timeout=timeout),
                              workers=[address], allow_other_workers=False, pure=False)
                for address in addresses for family in families]
-    client.gather(futures)
+    batches = client.gather(futures)
+    failed = [f for batch in batches for f in batch.findings if _failed_call(f)]
+    if batches and all(any(_failed_call(f) for f in batch.findings) for batch in batches):
+        faults = list(dict.fromkeys(_one_line(f.message, 160) for f in failed))
+        raise NothingMeasured(f"{spec}: nothing measured: every rasterize call of the warm-up failed "
+                              f"({len(batches)} scene{'s' if len(batches) > 1 else ''}: {'; '.join(faults[:3])})")
+
+
+def _failed_calls(signatures: dict[str, dict[str, Any]]) -> int:
+    """The findings of failed rasterize calls among a campaign's ``signatures``."""
+    return sum(int(entry.get("count", 0)) for entry in signatures.values() if entry.get("check") == "run")
 
 
 def run_campaign_bench(spec: str = CAMPAIGN_REFERENCE, scenes: int = CAMPAIGN_SCENES, worker_counts: Sequence[int] = (1, 2),
@@ -736,6 +1043,11 @@ def run_campaign_bench(spec: str = CAMPAIGN_REFERENCE, scenes: int = CAMPAIGN_SC
     -------
     list of CampaignMeasurement
         One per worker count, in order: its fastest run (``runs``: the seconds of each).
+
+    Raises
+    ------
+    NothingMeasured
+        When every rasterize call of the warm-up failed (:func:`_warm`).
     """
     from cases.fuzz import FAMILIES
     from harness.campaign import ProgressEvent, run_campaign
@@ -770,7 +1082,7 @@ def run_campaign_bench(spec: str = CAMPAIGN_REFERENCE, scenes: int = CAMPAIGN_SC
             taken = [f for f in chosen if f not in state.skipped]
             measured = CampaignMeasurement(
                 "campaign", spec, workers, checked, primitives, state.findings, seconds, startup,
-                checked / seconds if seconds > 0 else 0.0, rate, rate / workers, 0.0,
+                checked / seconds if seconds > 0 else 0.0, rate, rate / workers, 0.0, failed_calls=_failed_calls(state.signatures),
                 description=(f"{scenes:,} fuzz scenes of {', '.join(taken) or 'no family'} (seed {CAMPAIGN_SEED}, batches of "
                              f"{batch_size}), checked end to end; the fastest of {repeats} run{'s' if repeats > 1 else ''}"))
             if workers not in best or measured.primitives_per_second > best[workers].primitives_per_second:
@@ -783,13 +1095,25 @@ def run_campaign_bench(spec: str = CAMPAIGN_REFERENCE, scenes: int = CAMPAIGN_SC
             for n in dict.fromkeys(worker_counts)]
 
 
+def _unjudged(results: Sequence[CampaignMeasurement]) -> str:
+    """Why no speed-up can be judged from ``results`` ("" when one can): rasterize calls
+    that failed in them."""
+    failed = sum(m.failed_calls for m in results)
+    if not failed:
+        return ""
+    return (f"{failed:,} finding{'s' if failed > 1 else ''} of failed rasterize calls (crashed, hung or raised) "
+            f"in the campaigns: the figures time failures")
+
+
 def campaign_summary(results: Sequence[CampaignMeasurement]) -> dict[str, Any]:
-    """The speed-up from the first worker count to the last, against the goal."""
+    """The speed-up from the first worker count to the last, against the goal (not met,
+    and why, when rasterize calls failed in the campaigns)."""
     if len(results) < 2:
         return {"goal": CAMPAIGN_GOAL}
     first, last = results[0], results[-1]
+    why = _unjudged(results)
     return {"from_workers": first.workers, "to_workers": last.workers, "speedup": round(last.speedup, 3),
-            "goal": CAMPAIGN_GOAL, "met": last.speedup >= CAMPAIGN_GOAL}
+            "goal": CAMPAIGN_GOAL, "met": not why and last.speedup >= CAMPAIGN_GOAL, **({"not_judged": why} if why else {})}
 
 
 def format_campaign_table(results: Sequence[CampaignMeasurement]) -> str:
@@ -803,7 +1127,10 @@ def format_campaign_table(results: Sequence[CampaignMeasurement]) -> str:
         lines.append(f"  {m.workers:>7}{m.scenes:>9,}{m.primitives:>12,}{m.seconds:>9.1f}{m.scenes_per_second:>10.1f}"
                      f"{m.primitives_per_second:>14,.0f}{m.per_worker:>12,.0f}{m.speedup:>9.2f}x{m.startup_seconds:>11.1f}"
                      + (f"   runs: {', '.join(f'{r:.1f}' for r in m.runs)} s" if len(m.runs) > 1 else ""))
-    if len(results) > 1:
+    why = _unjudged(results)
+    if why:
+        lines.append(f"speed-up not judged: {why}")
+    elif len(results) > 1:
         last = results[-1]
         verdict = "met" if last.speedup >= CAMPAIGN_GOAL else "NOT met"
         lines.append(f"speed-up from {results[0].workers} to {last.workers} workers: {last.speedup:.2f}x "

@@ -634,9 +634,46 @@ def _replay(args: argparse.Namespace) -> int:
     return 1 if any(r.status in ("fail", "error") for r in results) else 0
 
 
-def _bench(args: argparse.Namespace) -> int:
-    from harness.bench import format_table, missing_peers, run_bench, workloads, write_json
+_BENCH_KINDS = ("triangles", "paths", "lines")
 
+
+def _bench_kinds(text: str) -> tuple[str, ...]:
+    """``bench --kinds``: comma-separated workload kinds, each of triangles, paths, lines."""
+    kinds = tuple(dict.fromkeys(k.strip() for k in text.split(",") if k.strip()))
+    unknown = [k for k in kinds if k not in _BENCH_KINDS]
+    if unknown or not kinds:
+        raise argparse.ArgumentTypeError(f"{text!r}: give workload kinds among {', '.join(_BENCH_KINDS)}")
+    return kinds
+
+
+def _bench_json(text: str | None) -> None:
+    """``bench --json``: a file that can be written in a folder that exists, checked before
+    any work; UsageError in one line naming it otherwise (a bench takes minutes: no
+    traceback at its end, no folder made on a typo)."""
+    from harness.files import prepare_file
+
+    if not text:
+        return
+    path = Path(text)
+    folder = path.parent if str(path.parent) else Path(".")
+    if not path.is_dir() and not folder.is_dir():
+        raise UsageError(f"--json {path}: its folder {folder} "
+                         f"{'is a file' if folder.exists() else 'does not exist'}")
+    try:
+        prepare_file(path, "--json")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+
+
+def _bench(args: argparse.Namespace) -> int:
+    """``bench``: the table of every contender on every workload, each measured in a
+    process of its own within ``--timeout`` per call. Exit 0 when every row was measured,
+    1 when a contender failed on a workload (each named with its fault, one line each)."""
+    from harness.bench import failures_by_contender, format_table, missing_peers, run_bench, workloads, write_json
+
+    if args.kinds is not None and args.campaign:
+        raise UsageError("--kinds chooses the workloads of bench, not of --campaign")
+    _bench_json(args.json)
     if args.campaign:
         return _bench_campaign(args)
     if args.scenes is not None or args.repeats is not None:
@@ -645,42 +682,52 @@ def _bench(args: argparse.Namespace) -> int:
     if names:
         _load_all(names)  # fail early, with a usage error, on a bad spec
     started = time.perf_counter()
-    results = run_bench(names, scale=args.scale, budget=args.budget,
+    kinds = args.kinds or _BENCH_KINDS
+    results = run_bench(names, scale=args.scale, budget=args.budget, timeout=args.timeout, triangles="triangles" in kinds,
+                        paths="paths" in kinds, lines="lines" in kinds,
                         progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}", file=sys.stderr, flush=True))
     print(format_table(results, {w.name: w.description for w in workloads(args.scale)}))
     not_measured = missing_peers()
     for label, why in not_measured.items():  # a library that is not installed costs only its own rows, and says so
         print(f"not measured: {label}: {why}")
+    failed = failures_by_contender(results)
+    for label, why in failed.items():  # a contender that failed costs only its own rows, and says so
+        print(f"failed: {label}: {why}")
     if args.json:
         write_json(results, Path(args.json), not_measured=not_measured)
         print(f"json: {args.json}")
-    return 0
+    return 1 if failed else 0
 
 
 def _bench_campaign(args: argparse.Namespace) -> int:
     """``bench --campaign``: the same fixed scene budget on one local worker, then two;
-    checked primitives per second per worker and the speed-up, as a table and JSON."""
-    from harness.bench import (CAMPAIGN_REFERENCE, CAMPAIGN_REPEATS, CAMPAIGN_SCENES, campaign_summary, format_campaign_table,
-                               run_campaign_bench, write_json)
-    from harness.files import prepare_file
+    checked primitives per second per worker and the speed-up, as a table and JSON. Exit 1
+    when the rasterizer's calls failed (every call of the warm-up: nothing measured; some
+    in the campaigns: no speed-up judged)."""
+    from harness.bench import (CAMPAIGN_REFERENCE, CAMPAIGN_REPEATS, CAMPAIGN_SCENES, NothingMeasured, campaign_summary,
+                               format_campaign_table, run_campaign_bench, write_json)
 
     if args.rasterizer and len(args.rasterizer) > 1:
         raise UsageError("bench --campaign measures one rasterizer: give --rasterizer once")
     spec = args.rasterizer[0] if args.rasterizer else CAMPAIGN_REFERENCE
-    if args.json:
-        try:
-            prepare_file(args.json, "--json")
-        except ValueError as exc:
-            raise UsageError(str(exc)) from None
     _load_all([spec])  # fail early, with a usage error, on a bad spec
     started = time.perf_counter()
-    results = run_campaign_bench(spec, scenes=args.scenes or CAMPAIGN_SCENES, repeats=args.repeats or CAMPAIGN_REPEATS, timeout=60.0,
-                                 progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}",
-                                                             file=sys.stderr, flush=True))
+    try:
+        results = run_campaign_bench(spec, scenes=args.scenes or CAMPAIGN_SCENES, repeats=args.repeats or CAMPAIGN_REPEATS,
+                                     timeout=args.timeout, progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}",
+                                                                                        file=sys.stderr, flush=True))
+    except NothingMeasured as exc:
+        print(f"rastercheck: bench --campaign: {exc}", file=sys.stderr)
+        return 1
     print(format_campaign_table(results))
+    summary = campaign_summary(results)
     if args.json:
-        write_json(results, Path(args.json), summary=campaign_summary(results))
+        write_json(results, Path(args.json), summary=summary)
         print(f"json: {args.json}")
+    if "not_judged" in summary or any(m.failed_calls for m in results):
+        print(f"rastercheck: bench --campaign: {spec}: rasterize calls failed in the campaigns: no speed-up judged",
+              file=sys.stderr)
+        return 1
     return 0
 
 
@@ -1148,6 +1195,10 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--json", metavar="FILE", help="write the measurements as JSON")
     bench.add_argument("--scale", type=_positive_seconds, default=1.0, help="shrink the workloads (smoke tests)")
     bench.add_argument("--budget", type=_non_negative_seconds, default=1.0, help="seconds of repeats per contender")
+    bench.add_argument("--kinds", type=_bench_kinds, metavar="A,B",
+                       help="only these workload kinds: triangles (W1, W2), paths (P1, P2), lines (L1, L2); default all")
+    bench.add_argument("--timeout", type=_positive_seconds, default=60.0,
+                       help="the most seconds one call of a contender may take (each contender runs in a process of its own)")
     bench.add_argument("--campaign", action="store_true",
                        help="instead: a campaign of a fixed scene budget on 1, then 2 local workers (a built-in reference, "
                             "or --rasterizer): checked primitives/s per worker and the speed-up")
