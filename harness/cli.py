@@ -673,6 +673,9 @@ def _identify(args: argparse.Namespace) -> int:
         payload.update(verdict=words, contradicted=contradicted)
     if args.json:
         atomic_write_text(args.json, json.dumps(payload, indent=1))
+    if contradicted:
+        print(f"rastercheck: identify {rasterizer.name}: its declared convention is contradicted by what it does "
+              "(the 'declared' line above)", file=sys.stderr)
     return 1 if contradicted else 0
 
 

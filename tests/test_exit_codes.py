@@ -130,6 +130,13 @@ def test_a_check_that_applies_to_no_case_checks_nothing(tmp_path, capsys):
         "rastercheck: centre_scanline: nothing checked: no selected check applies to the 1 cases of the kinds it takes"]
 
 
+def test_a_run_whose_budget_ran_out_is_a_verdict(tmp_path, capsys):
+    """--max-seconds: the cases not started are errors ("not run"), never a pass."""
+    assert main(run_args(tmp_path, "centre_scanline", cases=("lattice/*",)) + ["--max-seconds", "0.001"]) == 1
+    captured = capsys.readouterr()
+    assert "not run" in captured.out + captured.err
+
+
 def test_a_budget_used_up_before_any_case_is_said_so():
     from harness.case import Case
     from harness.checks import Result
@@ -181,8 +188,11 @@ def test_a_fingerprint_of_calls_that_all_timed_out_claims_nothing():
 
 def test_identify_contradicts_area_coverage_drawn_as_samples(capsys):
     assert main(["identify", spec("AreaDrawsSamples")]) == 1
-    out = capsys.readouterr().out
-    assert "NOT what it does" in out and "carries no alphas" in out
+    captured = capsys.readouterr()
+    assert "NOT what it does" in captured.out and "carries no alphas" in captured.out
+    assert said(captured.err, "area_draws_samples") == [
+        "rastercheck: identify area_draws_samples: its declared convention is contradicted by what it does "
+        "(the 'declared' line above)"]
 
 
 # -- compare: never ranks a rasterizer that answered nothing ----------------------------------
@@ -199,6 +209,8 @@ def test_compare_does_not_rank_a_rasterizer_without_answers(tmp_path, capsys):
     silent = next(e for e in data["explanations"] if e["rasterizer"] == "segfaults_always")
     assert silent["answered"] is False and silent["convention"] is None and not silent["exact"]
     assert data["comparisons"] == []
+    page = (tmp_path / "compare.html").read_text()
+    assert "no answers, not ranked: every one of its 6 fit calls failed" in page
 
 
 # -- replay ----------------------------------------------------------------------------------
