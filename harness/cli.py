@@ -330,7 +330,10 @@ def _summary(rasterizers: list[Any], results: list[Any]) -> None:
     for r in rasterizers:
         mine = [x for x in results if x.rasterizer == r.name]
         bad = sum(x.status in ("fail", "error") for x in mine)
-        print(f"{r.name:<22} {len(mine) - bad}/{len(mine)} pass or skip" + (f", {bad} failing" if bad else ""))
+        if not any(x.status in ("pass", "fail") for x in mine):  # why, in one line, after the report is written
+            print(f"{r.name:<22} nothing checked: {len(mine)} result{'' if len(mine) == 1 else 's'}, none a pass or a fail")
+        else:
+            print(f"{r.name:<22} {len(mine) - bad}/{len(mine)} pass or skip" + (f", {bad} failing" if bad else ""))
         if r.name in calls:  # calls that timed out or failed, and which, said whatever else is
             print(f"{'':<22} calls: {call_failures_text(calls[r.name])}")
 
