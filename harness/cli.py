@@ -29,6 +29,10 @@ class UsageError(Exception):
 # (spec -> why), for the report: its replay commands quote the spec, its index lists the skipped
 _loaded_specs: list[str] = []
 _skipped: dict[str, str] = {}
+# what the last _execute selected: the cases (after --case and --shard) and the registered
+# plugins that failed to load (each a usage error once the others' results are written)
+_selected: list[Any] = []
+_broken: list[str] = []
 
 
 def _load_all(specs: list[str] | None) -> tuple[list[Any], list[str]]:
@@ -105,8 +109,20 @@ def _select_cases(args: argparse.Namespace, cases: list[Any]) -> list[Any]:
             raise UsageError(f"--case {' '.join(args.case)}: no case of the suite matches")
     if getattr(args, "shard", None):
         k, n = args.shard
+        before = len(cases)
         cases = cases[k - 1::n]
+        if not cases:
+            raise UsageError(f"--shard {k}/{n}: no case falls in this share of the {before} selected: nothing would be checked")
     return cases
+
+
+def _refuse_same_names(rasterizers: list[Any]) -> None:
+    """Two selected rasterizers of one name: a usage error naming both specs."""
+    from harness.registry import same_names
+
+    clash = same_names(rasterizers, _loaded_specs)
+    if clash is not None:
+        raise UsageError(clash)
 
 
 def _shard(text: str) -> tuple[int, int]:
@@ -159,7 +175,10 @@ def _execute(args: argparse.Namespace, loaded: Any = None) -> tuple[list[Any], l
     if not rasterizers:
         raise UsageError("no rasterizer could be loaded: nothing was checked"
                          + (f" ({'; '.join(problems)})" if problems else ""))
+    _refuse_same_names(rasterizers)
     rasterizers = distinct_names(rasterizers)
+    _selected[:] = cases
+    _broken[:] = problems
     if loaded is not None:
         loaded(rasterizers)  # e.g. the gate's check that the baseline is of these rasterizers
     for problem in problems:
@@ -313,7 +332,10 @@ def _summary(rasterizers: list[Any], results: list[Any]) -> None:
     for r in rasterizers:
         mine = [x for x in results if x.rasterizer == r.name]
         bad = sum(x.status in ("fail", "error") for x in mine)
-        print(f"{r.name:<22} {len(mine) - bad}/{len(mine)} pass or skip" + (f", {bad} failing" if bad else ""))
+        if not any(x.status in ("pass", "fail") for x in mine):  # why, in one line, after the report is written
+            print(f"{r.name:<22} nothing checked: {len(mine)} result{'' if len(mine) == 1 else 's'}, none a pass or a fail")
+        else:
+            print(f"{r.name:<22} {len(mine) - bad}/{len(mine)} pass or skip" + (f", {bad} failing" if bad else ""))
         if r.name in calls:  # calls that timed out or failed, and which, said whatever else is
             print(f"{'':<22} calls: {call_failures_text(calls[r.name])}")
 
@@ -371,7 +393,25 @@ def _run(args: argparse.Namespace) -> int:
     _refusals(results)
     _write_outputs(args, rasterizers, results, seconds, fingerprints)
     _failures(results, Path(args.out), args.causes)
-    return 1 if any(x.status in ("fail", "error") for x in results) else 0
+    return _verdict(rasterizers, results, _selected, _broken)
+
+
+def _verdict(rasterizers: list[Any], results: list[Any], cases: list[Any], broken: list[str]) -> int:
+    """The exit code of a run whose outputs are written, with one line (on stderr) per
+    rasterizer that nothing judged (:func:`harness.runner.nothing_checked`) and per
+    registered plugin that failed to load: 2 when a plugin failed to load (an input
+    error), else 1 when a check failed or errored or a rasterizer was not checked at all,
+    else 0."""
+    from harness.runner import nothing_checked
+
+    unchecked = [why for r in rasterizers if (why := nothing_checked(r, results, cases)) is not None]
+    for why in unchecked:
+        print(f"rastercheck: {why}", file=sys.stderr)
+    for problem in broken:
+        print(f"rastercheck: not checked: a registered plugin failed to load: {problem}", file=sys.stderr)
+    if broken:
+        return 2
+    return 1 if unchecked or any(x.status in ("fail", "error") for x in results) else 0
 
 
 def _refusals(results: list[Any]) -> None:
@@ -514,9 +554,21 @@ def _compare(args: argparse.Namespace) -> int:
     if len(args.specs) < 2:
         raise UsageError("compare needs at least two rasterizers")
     rasterizers, _ = _load_all(args.specs)
+    if len(rasterizers) < len(args.specs):
+        raise UsageError(f"compare: {len(args.specs) - len(rasterizers)} of the rasterizers could not be loaded (see above): "
+                         "nothing to compare them with")
+    _refuse_same_names(rasterizers)
     explanations, comparisons = compare(rasterizers, seed=args.seed)
+    silent = []
     for e in explanations:
-        verdict = "exactly" if e.exact else f"best, with {e.mismatches} mismatching pixels of {e.pixels}"
+        if not e.answered:  # no fit, no ranking: nothing of it was seen
+            silent.append(f"{e.rasterizer}: no answers: {e.silence}")
+            print(f"{e.rasterizer:<22} no answers, not ranked: {e.silence}")
+            continue
+        verdict = ("exactly" if e.exact else
+                   f"best guess only because calls failed: {e.unanswered} of {e.scenes} fit scenes unanswered, "
+                   f"{e.mismatches} mismatching pixels of {e.pixels} over the rest" if e.unanswered else
+                   f"best, with {e.mismatches} mismatching pixels of {e.pixels}")
         print(f"{e.rasterizer:<22} {e.convention.describe()} ({verdict})")
     for c in comparisons:
         print(f"{c.a} vs {c.b}: {c.differing_pixels} pixels differ; {c.separation}")
@@ -526,7 +578,9 @@ def _compare(args: argparse.Namespace) -> int:
     if args.json:
         atomic_write_text(Path(args.json), json.dumps({"schema": 1, **data}, indent=1))
     print(f"report: {path}")
-    return 0
+    for line in silent:
+        print(f"rastercheck: compare {line}", file=sys.stderr)
+    return 1 if silent else 0
 
 
 def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: float) -> tuple[str, bool]:
@@ -599,6 +653,14 @@ def _identify(args: argparse.Namespace) -> int:
         print(f"identify {rasterizer.name}: {type(exc).__name__}: {exc}", file=sys.stderr)
         return 1
     print(fingerprint.card())
+    silence = fingerprint.no_answers
+    if silence is not None:  # nothing to fit, nothing to judge a declaration by: no verdict but this one
+        if args.json:
+            atomic_write_text(args.json, json.dumps({"schema": 1, "fingerprint": fingerprint.to_dict(), "no_answers": silence,
+                                                     "declared": None if rasterizer.convention is None
+                                                     else rasterizer.convention.describe()}, indent=1))
+        print(f"rastercheck: identify {rasterizer.name}: no answers, nothing identified: {silence}", file=sys.stderr)
+        return 1
     declared = rasterizer.convention
     # a line drawer's declaration in line words
     words_of = (lambda c: c.describe_lines()) if scene_kinds_of(rasterizer) == ("lines",) else (lambda c: c.describe())
@@ -616,21 +678,39 @@ def _identify(args: argparse.Namespace) -> int:
         payload.update(verdict=words, contradicted=contradicted)
     if args.json:
         atomic_write_text(args.json, json.dumps(payload, indent=1))
+    if contradicted:
+        print(f"rastercheck: identify {rasterizer.name}: its declared convention is contradicted by what it does "
+              "(the 'declared' line above)", file=sys.stderr)
     return 1 if contradicted else 0
 
 
 def _replay(args: argparse.Namespace) -> int:
-    from harness.case import read_case_file
-    from harness.runner import replay
+    from harness.api import PathScene, fill_rules_of, scene_kinds_of, takes
+    from harness.case import MotionCase, read_case_file
+    from harness.runner import nothing_checked, replay
 
     try:
         read_case_file(args.case)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     rasterizers, _ = _load_all([args.rasterizer])
+    if not rasterizers:
+        return 2  # unavailable: reported as skipped with its install hint; nothing was replayed
+    case, _ = read_case_file(args.case)
+    scene = case.frames[0] if isinstance(case, MotionCase) else case.scene
+    if not takes(rasterizers[0], scene):
+        kinds = scene_kinds_of(rasterizers[0])
+        rule = f" under the {scene.fill_rule} fill rule" if isinstance(scene, PathScene) and scene.kind in kinds else ""
+        raise UsageError(f"replay {args.case}: a case of {scene.kind}{rule}, which {rasterizers[0].name} does not take "
+                         f"(scene_kinds={kinds!r}" + (f", fill_rules={fill_rules_of(rasterizers[0])!r}" if rule else "")
+                         + "): nothing to replay")
     results = replay(args.case, rasterizers[0], isolate=True, timeout=args.timeout)
     for r in results:
         print(f"{r.status:<6} {r.check:<12} {r.message}")
+    why = nothing_checked(rasterizers[0], results, [case])
+    if why is not None:
+        print(f"rastercheck: replay {args.case}: {why}", file=sys.stderr)
+        return 1
     return 1 if any(r.status in ("fail", "error") for r in results) else 0
 
 

@@ -40,10 +40,20 @@ class Explanation:
     pixels: int
     runner_up: tuple[Convention, int] | None = None
     candidates: int = 0
+    scenes: int = 0
+    unanswered: int = 0
+    silence: str = ""
+
+    @property
+    def answered(self) -> bool:
+        """Whether any fit scene was answered: one that none was has no explanation (its
+        convention is the first candidate, chosen by nothing) and is never ranked."""
+        return self.unanswered < self.scenes or not self.scenes
 
     @property
     def exact(self) -> bool:
-        return self.mismatches == 0
+        """No mismatch on the fit's scenes, every one of them answered."""
+        return self.mismatches == 0 and not self.unanswered
 
 
 @dataclass
@@ -70,8 +80,15 @@ def explain(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) -> 
     """The fit identify makes of ``rasterizer`` (called through ``call``; in this process
     when None), as an explanation."""
     fit = fit_ties(InProcess(rasterizer) if call is None else call, seed)
+    errors = [d.error for d in fit.drawn if d.coverage is None]
+    silence = ""
+    if errors:
+        from harness.isolation import describe
+
+        silence = (f"every one of its {len(fit.drawn)} fit calls failed" if len(errors) == len(fit.drawn)
+                   else f"{len(errors)} of its {len(fit.drawn)} fit calls failed") + f", first: {describe(errors[0])}"
     return Explanation(rasterizer.name, fit.best, fit.mismatches, fit.pixels, (fit.runner_up, fit.runner_up_mismatches),
-                       fit.candidates)
+                       fit.candidates, len(fit.drawn), len(errors), silence[:300])
 
 
 def _snapping(c: Convention) -> str:
@@ -112,7 +129,8 @@ def compare(rasterizers: list[Rasterizer], seed: int = 0, isolate: bool = True,
             timeout: float | TimeLimit = 60.0) -> tuple[list[Explanation], list[Comparison]]:
     """Explain each rasterizer as identify does and compare every pair on the same lattice
     cases (a case a rasterizer gives an error for counts as drawing nothing). Each
-    rasterizer is called in a worker process of its own (``isolate``), as in a run."""
+    rasterizer is called in a worker process of its own (``isolate``), as in a run. One
+    that answered none of the fit's scenes (:attr:`Explanation.answered`) is in no pair."""
     cases = _cases(seed)
     coverages: dict[str, dict[str, Coverage]] = {}
     explanations = []
@@ -122,7 +140,8 @@ def compare(rasterizers: list[Rasterizer], seed: int = 0, isolate: bool = True,
             coverages[r.name] = {c.id: call(c.scene).coverage or Coverage.empty() for c in cases}
     by_name = {e.rasterizer: e for e in explanations}
     comparisons = []
-    for ra, rb in combinations(rasterizers, 2):
+    # a rasterizer that answered no fit scene is compared with nothing: its "pixels" are none it drew
+    for ra, rb in combinations([r for r in rasterizers if by_name[r.name].answered], 2):
         per_case = {}
         total = 0
         where = None
@@ -142,8 +161,10 @@ def compare(rasterizers: list[Rasterizer], seed: int = 0, isolate: bool = True,
 def as_dict(explanations: list[Explanation], comparisons: list[Comparison]) -> dict[str, Any]:
     """Plain data for JSON and the comparison page."""
     return {
-        "explanations": [{"rasterizer": e.rasterizer, "convention": e.convention.describe(), "mismatches": e.mismatches,
-                          "pixels": e.pixels, "exact": e.exact} for e in explanations],
+        "explanations": [{"rasterizer": e.rasterizer, "convention": e.convention.describe() if e.answered else None,
+                          "mismatches": e.mismatches if e.answered else None, "pixels": e.pixels, "exact": e.exact,
+                          "answered": e.answered, "unanswered": e.unanswered, "scenes": e.scenes,
+                          **({"no_answers": e.silence} if not e.answered else {})} for e in explanations],
         "comparisons": [{"a": c.a, "b": c.b, "differing_pixels": c.differing_pixels, "total_pixels": c.total_pixels,
                          "per_case": c.per_case, "separation": c.separation} for c in comparisons],
     }

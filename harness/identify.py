@@ -64,8 +64,8 @@ from harness.coverage_probes import (
 )
 from harness.isolation import Call, CallTally, InProcess, Outcome, TimeLimit, Worker
 from harness.probes import (EPSILON_CASE, NON_FINITE_CASES, REPROS, ZERO_AREA_CASE, Defect, Epsilon, Fact, NonFinite,
-                            ViewportEdge, Watertight, ZeroArea, epsilon, fit_snapping, fit_ties, non_finite, residual_lies, suite_defects, unanswered,
-                            viewport_edge, watertight_partitions, zero_area)
+                            Unanswered, ViewportEdge, Watertight, ZeroArea, epsilon, fit_snapping, fit_ties, non_finite, residual_lies,
+                            suite_defects, unanswered, viewport_edge, watertight_partitions, zero_area)
 from harness.samples import STANDARD_PATTERNS
 
 if TYPE_CHECKING:  # the path and line probes are imported when a rasterizer taking those is identified
@@ -175,6 +175,8 @@ class Fingerprint:
             "exact": self.exact, "residual": self.residual, "pixels": self.pixels,
             "runner_up": list(self.runner_up) if self.runner_up else None, "facts": dict(self.facts),
             "ambiguous": list(self.ambiguous), "unanswered": self.unanswered}
+        if self.no_answers is not None:  # nothing identified: no convention is claimed (added field)
+            out.update(convention=f"none identified: no answers ({self.no_answers})", no_answers=self.no_answers)
         if self.calls is not None:  # added fields (schema 1 allows them)
             out["calls"] = self.calls.to_dict()
         if self.kind != "single":  # added fields (schema 1 allows them)
@@ -205,6 +207,23 @@ class Fingerprint:
         return out
 
     @property
+    def no_answers(self) -> str | None:
+        """Why nothing was identified, when no probe call was answered (each raised, crashed
+        or timed out), or no fit scene was: then ``convention`` and ``residual`` are the
+        first candidate's, chosen by nothing, and are never claimed (the card and ``identify``
+        say there were no answers). None when there were answers to fit."""
+        tally = self.calls
+        if tally is not None and tally.calls and len(tally.failed) + len(tally.timed_out) == tally.calls:
+            first = (tally.failed or tally.timed_out)[0][2]
+            how = ("failed" if not tally.timed_out else "timed out (each asked twice)" if not tally.failed
+                   else "failed or timed out")
+            return f"every one of its {tally.calls} calls {how}, first: {first}"[:300]
+        fit = self.probes.get("unanswered")
+        if isinstance(fit, Unanswered) and fit.count >= fit.of:
+            return f"none of its {fit.of} fit scenes was answered, first: {fit.first}"[:300]
+        return None
+
+    @property
     def pattern_missing(self) -> bool:
         """A multisample rasterizer whose pattern was not recovered: its convention is a
         stand-in (the standard pattern of its count), never a finding."""
@@ -212,7 +231,10 @@ class Fingerprint:
         return self.kind == "multisample" and pattern is not None and getattr(pattern, "convention", None) is None
 
     def card(self) -> str:
-        if self.pattern_missing:  # nothing recovered is claimed: the card says what stands in
+        silence = self.no_answers
+        if silence is not None:  # no fit: no convention, no residual
+            head = [f"convention   none identified: no answers ({silence})", "residual     not scored: nothing was answered"]
+        elif self.pattern_missing:  # nothing recovered is claimed: the card says what stands in
             head = [f"convention   NOT RECOVERED (the pattern: see below); checked against {self.convention.describe()}, "
                     "a stand-in", "residual     not scored: no pattern to score"]
         else:
@@ -227,7 +249,7 @@ class Fingerprint:
                        else "  (ambiguous: the next best explains it as well)" if self.residual == 0
                        else "  (best guess only: no candidate explains it exactly)")]
         lines = [f"rasterizer   {self.rasterizer}", *head]
-        if self.runner_up:
+        if self.runner_up and silence is None:
             lines.append(f"next best    {self.runner_up[0]} ({self.runner_up[1]} mismatches on the "
                          + ("line probes)" if self.lines_only else "tie scenes)"))
         for k, v in self.facts.items():
@@ -291,7 +313,8 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
             _with_lines(fingerprint, call, seed, received_of(rasterizer))
     # how many calls timed out or failed, and which: the card always says
     fingerprint.calls = tally
-    fingerprint.facts["calls"] = tally.text + ("; the fit is on the rest" if fingerprint.unanswered else "")
+    fingerprint.facts["calls"] = tally.text + ("; the fit is on the rest" if fingerprint.unanswered and fingerprint.no_answers is None
+                                               else "")
     return fingerprint
 
 

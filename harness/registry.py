@@ -11,7 +11,6 @@ import importlib.util
 import json
 import os
 import sys
-import warnings
 from importlib.metadata import EntryPoint, entry_points
 from pathlib import Path
 from typing import Any
@@ -19,7 +18,8 @@ from typing import Any
 from harness.api import Rasterizer
 from harness.conventions import Convention
 
-__all__ = ["GROUP", "available", "builtins", "load", "as_rasterizer", "BUILTIN_MODULE", "Unavailable", "distinct_names", "Renamed"]
+__all__ = ["GROUP", "available", "builtins", "load", "as_rasterizer", "BUILTIN_MODULE", "Unavailable", "distinct_names", "Renamed",
+           "registered_twice", "same_names"]
 
 GROUP = "rastercheck.rasterizers"
 BUILTIN_MODULE = "rasterizers"
@@ -51,22 +51,27 @@ def _scan() -> tuple[EntryPoint, ...]:
     return scan
 
 
+def _enabled_entry_points() -> list[EntryPoint]:
+    """The group's entry points, third-party ones only when plugins are enabled."""
+    return [ep for ep in _scan()
+            if ep.value.split(":")[0].split(".")[0] == BUILTIN_MODULE or _plugins_enabled()]
+
+
 def _entry_points() -> dict[str, EntryPoint]:
+    """Name -> entry point, the first of each name (:func:`registered_twice` names the
+    others: loading such a name is refused)."""
     found: dict[str, EntryPoint] = {}
-    for ep in _scan():
-        builtin = ep.value.split(":")[0].split(".")[0] == BUILTIN_MODULE
-        if not builtin and not _plugins_enabled():
-            continue
-        if ep.name in found:
-            if found[ep.name].value != ep.value:
-                warnings.warn(
-                    f"rasterizer name {ep.name!r} is registered twice ({found[ep.name].value} and "
-                    f"{ep.value}); keeping the first",
-                    stacklevel=2,
-                )
-            continue
-        found[ep.name] = ep
+    for ep in _enabled_entry_points():
+        found.setdefault(ep.name, ep)
     return found
+
+
+def registered_twice(name: str) -> list[str]:
+    """The distinct targets (``module:attr``) registered under ``name`` when there are
+    two or more, else an empty list: a name that means two rasterizers is refused when
+    loaded, rather than one of them being run under it silently."""
+    values = list(dict.fromkeys(ep.value for ep in _enabled_entry_points() if ep.name == name))
+    return values if len(values) > 1 else []
 
 
 def builtins() -> list[str]:
@@ -273,6 +278,10 @@ def load(spec: str) -> Rasterizer:
     A spec that is not one of rastercheck's own rasterizers is loaded in a forked child
     first (:func:`_probe`), so that no plugin can end rastercheck while it loads.
     """
+    twice = registered_twice(spec)
+    if twice:
+        raise ValueError(f"{spec}: registered twice in the entry-point group {GROUP} ({' and '.join(twice)}): "
+                         "uninstall one, or give it another name")
     ours = _entry_points().get(spec)
     if ours is None or not ours.value.startswith(BUILTIN_MODULE + "."):
         _probe(spec)
@@ -331,3 +340,18 @@ def distinct_names(rasterizers: list[Rasterizer]) -> list[Rasterizer]:
         count = seen[r.name] = seen.get(r.name, 0) + 1
         out.append(r if count == 1 else Renamed(r, f"{r.name}#{count}"))
     return out
+
+
+def same_names(rasterizers: list[Rasterizer], specs: list[str]) -> str | None:
+    """One line naming the first name two of ``rasterizers`` share (loaded from ``specs``,
+    in order) and the specs that gave it; None when every name is distinct. A command line
+    that selects two rasterizers of one name is refused with it: their results would be
+    told apart only by a suffix, and a report of ``centre_scanline`` would not say which."""
+    seen: dict[str, str] = {}
+    for r, spec in zip(rasterizers, specs):
+        if r.name in seen:
+            first = seen[r.name]
+            how = f"{first} twice" if first == spec else f"{first} and {spec}"
+            return f"two rasterizers are named {r.name!r} ({how}): select each once, or give one another `name`"
+        seen[r.name] = spec
+    return None

@@ -29,7 +29,7 @@ from harness.checks import Drawing, Result, Tolerance
 from harness.isolation import AnyCall, InProcess, Outcome, TimeLimit, Worker, describe, each_until_error
 from harness.registry import distinct_names, load
 
-__all__ = ["run_suite", "check_case", "check_motion", "replay"]
+__all__ = ["run_suite", "check_case", "check_motion", "replay", "nothing_checked"]
 
 
 def _error(case: Case, rasterizer: str, outcome: Outcome, check: str = "run") -> Result:
@@ -345,3 +345,60 @@ def replay(path: Path | str, rasterizer: Rasterizer | str, isolate: bool = False
     only = {str(named), "hygiene"} if known else None
     return run_suite([rasterizer], cases=[case], isolate=isolate, identify=identify, repros=False, only=only,
                      timeout=timeout)
+
+
+def _first_scene(case: Case | MotionCase) -> AnyScene | None:
+    if isinstance(case, MotionCase):
+        return case.frames[0] if case.frames else None
+    return case.scene
+
+
+def nothing_checked(rasterizer: Rasterizer, results: Sequence[Result], cases: Sequence[Case | MotionCase]) -> str | None:
+    """Why no check judged ``rasterizer`` on ``cases``, in one line naming it, or None when
+    at least one check passed or failed on an answer of its: a run, a replay or a gate
+    that checked nothing must never pass.
+
+    The reasons: none of the cases is of a scene kind it takes (nor, for paths, under a
+    fill rule it honours); no selected check applies to them; every call failed (an
+    error, a crash, a time-out: no answer to judge); its time budget ran out first; every
+    case was skipped (``Unsupported`` for each, or a skip list); else a mixture of these.
+
+    Examples
+    --------
+    >>> from harness.api import Scene
+    >>> from harness.case import Case
+    >>> class Lines:
+    ...     name, convention, scene_kinds = "lines_only", None, ("lines",)
+    >>> print(nothing_checked(Lines(), [], [Case("lattice/one", Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]]))]))
+    lines_only: nothing checked: none of the 1 selected cases is of a scene kind it takes (scene_kinds=('lines',))
+    """
+    name = rasterizer.name
+    mine = [r for r in results if r.rasterizer == name]
+    if any(r.status in ("pass", "fail") for r in mine):
+        return None
+    head = f"{name}: nothing checked"
+    if not mine:
+        handed = [c for c in cases if (scene := _first_scene(c)) is not None and takes(rasterizer, scene)]
+        if not handed:
+            kinds = scene_kinds_of(rasterizer)
+            rules = getattr(rasterizer, "fill_rules", None)
+            said = f"scene_kinds={kinds!r}" + (f", fill_rules={tuple(rules)!r}" if "paths" in kinds and rules is not None else "")
+            if not cases:
+                return f"{head}: no case was selected"
+            return f"{head}: none of the {len(cases)} selected cases is of a scene kind it takes ({said})"
+        return f"{head}: no selected check applies to the {len(handed)} cases of the kinds it takes"
+    errors = [r for r in mine if r.status == "error"]
+    skips = [r for r in mine if r.status == "skip"]
+    refused = [r for r in errors if "refused" in r.evidence]
+    if refused:
+        return f"{head}: {refused[0].message}"[:400]
+    if errors and not skips:
+        not_run = [r for r in errors if r.message.startswith("not run")]
+        if len(not_run) == len(errors):
+            return f"{head}: {not_run[0].message.removeprefix('not run: ')} before any of its {len(errors)} cases started"
+        calls = len({r.case for r in errors})
+        return f"{head}: every one of its {calls} calls failed: {errors[0].message}"[:400]
+    if skips and not errors:
+        return f"{head}: every one of its {len(skips)} cases was skipped, e.g. {skips[0].case}: {skips[0].message}"[:400]
+    return (f"{head}: of its {len({r.case for r in mine})} cases, {len(skips)} were skipped and {len(errors)} gave no answer "
+            f"(e.g. {errors[0].case}: {errors[0].message})")[:400]
