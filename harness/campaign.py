@@ -35,6 +35,7 @@ import math
 import multiprocessing
 import os
 import pickle
+import re
 import shutil
 import threading
 import time
@@ -1010,8 +1011,65 @@ def local_cluster(workers: int | None = None) -> Iterator[Client]:
         cluster.close()
 
 
+SCHEDULER_TIMEOUT = 10.0
+"""Seconds a connection to a Dask scheduler may take, handshake included (``--scheduler-timeout``)."""
+
+
+def scheduler_address(text: str) -> str:
+    """A Dask scheduler's address as a campaign connects to it, ``tcp://HOST:PORT`` (a bare
+    ``HOST:PORT`` is TCP); ValueError in one line for anything else.
+
+    >>> scheduler_address("10.0.0.5:8786"), scheduler_address("tcp://[::1]:8786")
+    ('tcp://10.0.0.5:8786', 'tcp://[::1]:8786')
+    >>> scheduler_address("tls://sched:8786")
+    Traceback (most recent call last):
+    ...
+    ValueError: --scheduler tls://sched:8786: tls:// is not a transport a campaign connects over: give tcp://HOST:PORT (tls:// needs certificates rastercheck does not configure, ucx:// a UCX install, inproc:// lives inside one process)
+    """
+    scheme, separator, rest = text.partition("://")
+    if not separator:
+        scheme, rest = "tcp", text
+    if scheme != "tcp":
+        raise ValueError(f"--scheduler {text}: {scheme}:// is not a transport a campaign connects over: give tcp://HOST:PORT "
+                         "(tls:// needs certificates rastercheck does not configure, ucx:// a UCX install, inproc:// lives "
+                         "inside one process)")
+    match = re.fullmatch(r"(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+):([0-9]{1,5})", rest)
+    if match is None or not 1 <= int(match.group(2)) <= 65535:
+        raise ValueError(f"--scheduler {text}: not HOST:PORT (a Dask scheduler's address, as tcp://10.0.0.5:8786)")
+    return f"tcp://{rest}"
+
+
+def connect(address: str, seconds: float = SCHEDULER_TIMEOUT) -> Client:
+    """A client of the Dask scheduler at ``address`` (:func:`scheduler_address`), within
+    ``seconds``; ValueError in one line naming the address when it cannot be reached, does
+    not answer in time, or answers what no scheduler would (garbage, a frame of exabytes)."""
+    from distributed import Client
+
+    address = scheduler_address(address)
+    outcome: dict[str, Any] = {}
+
+    def attempt() -> None:
+        try:
+            outcome["client"] = Client(address, timeout=f"{seconds}s")
+        except BaseException as exc:  # noqa: B036 - whatever the peer's bytes make of the client
+            outcome["error"] = exc
+
+    thread = threading.Thread(target=attempt, name="rastercheck-connect", daemon=True)
+    thread.start()
+    thread.join(seconds + 5.0)  # (Dask's own timeout first; this, when it does not hold)
+    if thread.is_alive() or isinstance(outcome.get("error"), TimeoutError):
+        raise ValueError(f"the Dask scheduler at {address} gave no answer within {seconds:g} s "
+                         "(--scheduler-timeout S waits longer)")
+    if "error" in outcome:
+        error = outcome["error"]
+        raise ValueError(f"cannot connect to the Dask scheduler at {address}: "
+                         f"{type(error).__name__}: {str(error).splitlines()[0] if str(error) else 'no reason given'}"[:300])
+    return outcome["client"]  # type: ignore[no-any-return]
+
+
 @contextmanager
-def _dask(scheduler: str | Client | None, workers: int | None) -> Iterator[Client]:
+def _dask(scheduler: str | Client | None, workers: int | None,
+          scheduler_timeout: float = SCHEDULER_TIMEOUT) -> Iterator[Client]:
     """A Dask client: to ``scheduler`` (an address, or a client already made), else to a
     :func:`local_cluster` of ``workers`` processes."""
     from distributed import Client
@@ -1019,11 +1077,7 @@ def _dask(scheduler: str | Client | None, workers: int | None) -> Iterator[Clien
     if isinstance(scheduler, Client):
         yield scheduler
     elif scheduler is not None:
-        try:
-            client = Client(scheduler, timeout="30s")
-        except OSError as exc:
-            raise ValueError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
-        with client:
+        with connect(scheduler, scheduler_timeout) as client:
             yield client
     else:
         with local_cluster(workers) as client:
@@ -1231,7 +1285,8 @@ def run_campaign(spec: str, *, budget_seconds: float | None = None, budget_scene
                  families: Sequence[str] | None = None, seed: int = 0, state_dir: Path | str,
                  scheduler: str | Client | None = None, workers: int | None = None, batch_size: int | None = None,
                  only: Sequence[str] | None = None, timeout: float = 60.0,
-                 on_progress: Callable[[ProgressEvent], None] | None = None) -> CampaignState:
+                 on_progress: Callable[[ProgressEvent], None] | None = None,
+                 scheduler_timeout: float = SCHEDULER_TIMEOUT) -> CampaignState:
     """Search generated scenes for failures of one rasterizer until the budget, on Dask.
 
     Parameters
@@ -1259,6 +1314,8 @@ def run_campaign(spec: str, *, budget_seconds: float | None = None, budget_scene
         Seconds one rasterize call may take before it counts as hung.
     on_progress : callable, optional
         Called with a :class:`ProgressEvent` after each merged batch and at the end.
+    scheduler_timeout : float
+        Seconds the connection to ``scheduler`` (an address) may take.
 
     Returns
     -------
@@ -1288,17 +1345,19 @@ def run_campaign(spec: str, *, budget_seconds: float | None = None, budget_scene
         if set(only) - known:
             raise ValueError(f"unknown check{'s' if len(set(only) - known) > 1 else ''} {', '.join(sorted(set(only) - known))} "
                              f"(known: {', '.join(c.name for c in checks())})")
+    if isinstance(scheduler, str):
+        scheduler = scheduler_address(scheduler)  # (before any work)
     spec = _portable_spec(spec)
     rasterizer = load(spec)
     with state_lock(state_dir):
         return _run_locked(spec, rasterizer, budget_seconds, budget_scenes, families, seed, state_dir, scheduler, workers,
-                           batch_size, only, timeout, on_progress)
+                           batch_size, only, timeout, on_progress, scheduler_timeout)
 
 
 def _run_locked(spec: str, rasterizer: Rasterizer, budget_seconds: float | None, budget_scenes: int | None,
                 families: tuple[str, ...], seed: int, state_dir: Path | str, scheduler: str | Client | None,
                 workers: int | None, batch_size: int | None, only: Sequence[str] | None, timeout: float,
-                on_progress: Callable[[ProgressEvent], None] | None) -> CampaignState:
+                on_progress: Callable[[ProgressEvent], None] | None, scheduler_timeout: float) -> CampaignState:
     """:func:`run_campaign` once its arguments are checked and its state is locked."""
     state = CampaignState.open(state_dir, spec, rasterizer.name, seed, only)
     fingerprint, identified = _identify(rasterizer, timeout)
@@ -1313,7 +1372,7 @@ def _run_locked(spec: str, rasterizer: Rasterizer, budget_seconds: float | None,
     state.save()
     if not kept:
         return state
-    with _dask(scheduler, workers) as client:
+    with _dask(scheduler, workers, scheduler_timeout) as client:
         _Coordinator(client, state, spec, fingerprint, kept, budget_seconds, budget_scenes, batch_size,
                      None if only is None else frozenset(only), timeout, on_progress).run()
     return state

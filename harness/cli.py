@@ -1033,6 +1033,7 @@ def _fuzz(args: argparse.Namespace) -> int:
         with progress:
             state = run_campaign(args.rasterizer, budget_seconds=seconds, budget_scenes=scenes, families=args.families,
                                  seed=args.seed, state_dir=args.state, scheduler=args.scheduler, workers=args.workers,
+                                 scheduler_timeout=args.scheduler_timeout,
                                  batch_size=args.batch, only=args.check, timeout=args.timeout, on_progress=progress)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
@@ -1201,6 +1202,16 @@ def _path(text: str) -> str:
     return text
 
 
+def _scheduler(text: str) -> str:
+    """``--scheduler``: a Dask scheduler's tcp:// address (:func:`harness.campaign.scheduler_address`)."""
+    from harness.campaign import scheduler_address
+
+    try:
+        return scheduler_address(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc).removeprefix(f"--scheduler {text}: ")) from None
+
+
 def _positive_seconds(text: str) -> float:
     """``--timeout``, ``--scale``: a finite number > 0."""
     return _finite(text, zero_allowed=False)
@@ -1296,7 +1307,10 @@ def build_parser() -> argparse.ArgumentParser:
     fuzz.add_argument("--seed", type=_non_negative_int, default=0)
     fuzz.add_argument("--state", type=_path, default=str(Path("reports") / "campaign"), metavar="DIR",
                       help="the campaign's state folder (default reports/campaign): rerun to continue")
-    fuzz.add_argument("--scheduler", metavar="ADDRESS", help="a Dask scheduler (tcp://host:8786); default a local cluster")
+    fuzz.add_argument("--scheduler", type=_scheduler, metavar="ADDRESS",
+                      help="a Dask scheduler (tcp://host:8786); default a local cluster")
+    fuzz.add_argument("--scheduler-timeout", type=_positive_seconds, default=10.0, metavar="S",
+                      help="seconds the connection to --scheduler may take (default 10)")
     fuzz.add_argument("--workers", type=_positive_int, metavar="N", help="local worker processes (default one per core)")
     fuzz.add_argument("--batch", type=_positive_int, metavar="N", help="scenes per batch (default about a second of work)")
     fuzz.add_argument("--check", action="append", metavar="NAME", help="only this check (repeatable)")

@@ -445,7 +445,7 @@ def exact_multisample(scene: Scene, convention: Convention) -> Coverage:
     sample = np.repeat(np.arange(len(layers), dtype=np.int64), [len(c) for c in layers])
     spans = [np.concatenate([getattr(c, f) for c in layers]) for f in ("triangle", "y", "x0", "x1")]
     attributes = None if scene.attributes is None else np.concatenate([c.attributes for c in layers])
-    joined = Coverage(*spans, attributes, sample)
+    joined = Coverage(spans[0], spans[1], spans[2], spans[3], attributes, sample)
     # each layer is sorted by (triangle, row) and the layers follow in sample order: a
     # stable sort on the triangle gives (triangle, sample, row)
     order = np.argsort(joined.triangle, kind="stable")
