@@ -1056,7 +1056,7 @@ def connect(address: str, seconds: float = SCHEDULER_TIMEOUT) -> Client:
 
     thread = threading.Thread(target=attempt, name="rastercheck-connect", daemon=True)
     thread.start()
-    thread.join(seconds + 5.0)  # (Dask's own timeout first; this, when it does not hold)
+    thread.join(seconds + 1.0)  # (Dask's own timeout first; this, when it does not hold: a peer that never answers)
     if thread.is_alive() or isinstance(outcome.get("error"), TimeoutError):
         raise ValueError(f"the Dask scheduler at {address} gave no answer within {seconds:g} s "
                          "(--scheduler-timeout S waits longer)")
