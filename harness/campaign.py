@@ -725,7 +725,7 @@ class _Loaded:
         from harness.registry import load
 
         _prepare_process()
-        rasterizer = load(spec)
+        rasterizer = load(spec, import_timeout=timeout)
         if fingerprint is not None and rasterizer.convention is None:
             rasterizer = Identified(rasterizer, fingerprint)
         self.rasterizer: Rasterizer = rasterizer
@@ -1348,7 +1348,7 @@ def run_campaign(spec: str, *, budget_seconds: float | None = None, budget_scene
     if isinstance(scheduler, str):
         scheduler = scheduler_address(scheduler)  # (before any work)
     spec = _portable_spec(spec)
-    rasterizer = load(spec)
+    rasterizer = load(spec, import_timeout=timeout)
     with state_lock(state_dir):
         return _run_locked(spec, rasterizer, budget_seconds, budget_scenes, families, seed, state_dir, scheduler, workers,
                            batch_size, only, timeout, on_progress, scheduler_timeout)

@@ -35,7 +35,9 @@ _selected: list[Any] = []
 _broken: list[str] = []
 
 
-def _load_all(specs: list[str] | None) -> tuple[list[Any], list[str]]:
+def _load_all(specs: list[str] | None, timeout: float = 120.0) -> tuple[list[Any], list[str]]:
+    """The rasterizers of ``specs`` (default every registered one), each given ``timeout``
+    seconds to import and build, and the problems of those that could not be loaded."""
     from harness.registry import Unavailable, available, load
 
     names = specs or available()
@@ -44,7 +46,7 @@ def _load_all(specs: list[str] | None) -> tuple[list[Any], list[str]]:
     _skipped.clear()
     for spec in names:
         try:
-            loaded.append(load(spec))
+            loaded.append(load(spec, import_timeout=timeout))
             _loaded_specs.append(spec)
         except Unavailable as exc:  # a missing library: skipped with its install hint, never fatal
             print(f"skipped {spec}: {exc}", file=sys.stderr)
@@ -171,7 +173,7 @@ def _execute(args: argparse.Namespace, loaded: Any = None) -> tuple[list[Any], l
         cases = _select_cases(args, suite(args.suite, args.seed))
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    rasterizers, problems = _load_all(args.rasterizer)
+    rasterizers, problems = _load_all(args.rasterizer, getattr(args, "timeout", 120.0))
     if not rasterizers:
         raise UsageError("no rasterizer could be loaded: nothing was checked"
                          + (f" ({'; '.join(problems)})" if problems else ""))
@@ -642,7 +644,7 @@ def _identify(args: argparse.Namespace) -> int:
             prepare_file(args.json, "--json")
         except ValueError as exc:
             raise UsageError(str(exc)) from None
-    rasterizers, _ = _load_all([args.spec])
+    rasterizers, _ = _load_all([args.spec], args.timeout)
     if not rasterizers:
         return 2  # unavailable: reported as skipped with its install hint; nothing was identified
     rasterizer = rasterizers[0]
@@ -693,7 +695,7 @@ def _replay(args: argparse.Namespace) -> int:
         read_case_file(args.case)
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    rasterizers, _ = _load_all([args.rasterizer])
+    rasterizers, _ = _load_all([args.rasterizer], args.timeout)
     if not rasterizers:
         return 2  # unavailable: reported as skipped with its install hint; nothing was replayed
     case, _ = read_case_file(args.case)

@@ -255,7 +255,7 @@ def _probe(spec: str, seconds: float = 120.0) -> None:
         raise ValueError(text)
 
 
-def load(spec: str) -> Rasterizer:
+def load(spec: str, import_timeout: float = 120.0) -> Rasterizer:
     """A ready rasterizer for ``spec``.
 
     Parameters
@@ -264,6 +264,9 @@ def load(spec: str) -> Rasterizer:
         A registered name (``centre_scanline``), ``package.module:attr``, or
         ``path/to/file.py:attr``. ``attr`` may be a rasterizer object, a class, or a
         zero-argument factory.
+    import_timeout : float
+        Seconds a plugin may take to import and build (the commands pass their
+        ``--timeout``: a module that hangs at import is given what a call is).
 
     Raises
     ------
@@ -284,7 +287,7 @@ def load(spec: str) -> Rasterizer:
                          "uninstall one, or give it another name")
     ours = _entry_points().get(spec)
     if ours is None or not ours.value.startswith(BUILTIN_MODULE + "."):
-        _probe(spec)
+        _probe(spec, import_timeout)
     return _load(spec)
 
 

@@ -153,3 +153,19 @@ def test_an_empty_path_is_a_usage_error_before_any_work(argv: list[str], capsys:
         main(argv)
     err = capsys.readouterr().err
     assert info.value.code == 2 and ("an empty path" in err or "holds a NUL character" in err), err
+
+
+def test_a_plugin_that_hangs_at_import_is_given_the_calls_time_limit(tmp_path: Path,
+                                                                    capsys: pytest.CaptureFixture[str]) -> None:
+    """A module that hangs when imported took 122 s before its error (a fixed 120 s probe):
+    it is given --timeout, as a call is."""
+    import time
+
+    from harness.cli import main
+
+    plugin = tmp_path / "hangs.py"
+    plugin.write_text("import time\ntime.sleep(600)\nclass Never:\n    pass\n")
+    start = time.monotonic()
+    assert main(["run", "--rasterizer", f"{plugin}:Never", "--timeout", "2", "--out", str(tmp_path / "rep")]) == 2
+    assert time.monotonic() - start < 30
+    assert f"{plugin}:Never: loading the plugin did not finish within 2 s" in capsys.readouterr().err
