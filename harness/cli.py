@@ -550,11 +550,17 @@ def _write_repros(out: Path, results: list[Any]) -> int:
 
 def _compare(args: argparse.Namespace) -> int:
     from harness.compare import CANDIDATES, as_dict, compare
-    from harness.files import atomic_write_text
+    from harness.files import atomic_write_text, prepare_file, prepare_folder
     from harness.report import write_comparison
 
     if len(args.specs) < 2:
         raise UsageError("compare needs at least two rasterizers")
+    try:  # the outputs, before any work (--out a file, --json a folder were tracebacks after it)
+        prepare_folder(args.out, "--out")
+        if args.json:
+            prepare_file(args.json, "--json")
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
     rasterizers, _ = _load_all(args.specs)
     if len(rasterizers) < len(args.specs):
         raise UsageError(f"compare: {len(args.specs) - len(rasterizers)} of the rasterizers could not be loaded (see above): "

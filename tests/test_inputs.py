@@ -141,7 +141,7 @@ def test_words_and_hex_still_give_infinities_and_nans(tmp_path: Path) -> None:
     ["run", "--rasterizer", "centre_scanline", "--out", ""],
     ["gate", "--baseline", "", "--rasterizer", "centre_scanline"],
     ["identify", "--rasterizer", "centre_scanline", "--json", ""],
-    ["compare", "--rasterizer", "centre_scanline", "--rasterizer", "pineda_topleft", "--json", ""],
+    ["compare", "centre_scanline", "pineda_topleft", "--json", ""],
     ["fuzz", "--rasterizer", "centre_scanline", "--budget", "4", "--state", ""],
     ["run", "--rasterizer", "centre_scanline", "--json", "a\0b"],
 ])
@@ -169,3 +169,16 @@ def test_a_plugin_that_hangs_at_import_is_given_the_calls_time_limit(tmp_path: P
     assert main(["run", "--rasterizer", f"{plugin}:Never", "--timeout", "2", "--out", str(tmp_path / "rep")]) == 2
     assert time.monotonic() - start < 30
     assert f"{plugin}:Never: loading the plugin did not finish within 2 s" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("option, kind", [("--out", "a file"), ("--json", "a folder")])
+def test_compare_checks_its_outputs_before_any_work(tmp_path: Path, option: str, kind: str,
+                                                   capsys: pytest.CaptureFixture[str]) -> None:
+    """`compare --out FILE` and `compare --json DIR` were tracebacks, after the work."""
+    from harness.cli import main
+
+    target = tmp_path / "taken"
+    target.write_text("") if kind == "a file" else target.mkdir()
+    assert main(["compare", "centre_scanline", "pineda_topleft", option, str(target)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"{option} {target} is {kind}" in err and err.count("\n") == 0, err
