@@ -413,7 +413,7 @@ class CampaignState:
             done: dict[tuple[str, int], list[tuple[int, int]]] = {}
             for entry in data["done"]:
                 ranges = [(int(a), int(b)) for a, b in entry["intervals"]]
-                if any(a >= b or a < 0 for a, b in ranges) or ranges != sorted(ranges) or overlap(ranges[:-1], ranges[1:]):
+                if any(a >= b or a < 0 for a, b in ranges) or any(b > c for (_, b), (c, _) in zip(ranges, ranges[1:])):
                     raise ValueError(f"the done ranges of {entry['family']}/{entry['seed']} are not sorted disjoint [start, stop)")
                 done[(str(entry["family"]), int(entry["seed"]))] = ranges
             totals = data["totals"]
@@ -988,6 +988,27 @@ def _taken_families(rasterizer: Rasterizer, families: Sequence[str], seed: int) 
 
 
 @contextmanager
+def _children_ignore_ctrl_c() -> Iterator[None]:
+    """Start processes that ignore Ctrl-C: the terminal sends SIGINT to the whole process
+    group, and each Dask worker and nanny printed a KeyboardInterrupt traceback of its own
+    (four on two workers) while this process, which stops them, said what was kept. An
+    ignored signal stays ignored in a child, across ``exec`` and Python's start-up, so
+    SIGINT is ignored here only while the cluster's processes start (a Ctrl-C meanwhile is
+    lost: the cluster is up in seconds, and the next one stops the campaign)."""
+    import signal
+
+    try:
+        previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:  # not the main thread: its children keep the default
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+@contextmanager
 def local_cluster(workers: int | None = None) -> Iterator[Client]:
     """A client of a fresh Dask ``LocalCluster`` of ``workers`` worker processes (default
     one per core) of one thread each, closed on leaving: what a campaign runs on unless it
@@ -1000,7 +1021,7 @@ def local_cluster(workers: int | None = None) -> Iterator[Client]:
     import dask
     from distributed import Client, LocalCluster
 
-    with dask.config.set(QUIET_DASK):
+    with dask.config.set(QUIET_DASK), _children_ignore_ctrl_c():
         cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
                                dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
                                silence_logs=logging.ERROR)
