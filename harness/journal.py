@@ -18,8 +18,10 @@ line are dropped, and ``run --resume`` runs that pair again.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import sys
 import tempfile
 import threading
 import time
@@ -207,20 +209,29 @@ class JournalWriter:
         with self._lock:
             if self._file is None or not text:
                 return
-            self._file.write(text)
-            self._file.flush()  # in the kernel's hands: a killed process loses none of it
-            if sync and time.monotonic() - self._synced >= SYNC_SECONDS:
-                os.fsync(self._file.fileno())
-                self._synced = time.monotonic()
+            try:
+                self._file.write(text)
+                self._file.flush()  # in the kernel's hands: a killed process loses none of it
+                if sync and time.monotonic() - self._synced >= SYNC_SECONDS:
+                    os.fsync(self._file.fileno())
+                    self._synced = time.monotonic()
+            except OSError as exc:  # a full disk: the run goes on, its report and JSON still written at the end
+                print(f"rastercheck: the run journal {self.path} cannot be written ({exc}): the results from now on "
+                      "are not journaled", file=sys.stderr)
+                with contextlib.suppress(OSError):
+                    self._file.close()
+                self._file = None
 
     def close(self) -> None:
         """Sync and close (idempotent)."""
         with self._lock:
             if self._file is None:
                 return
-            self._file.flush()
-            os.fsync(self._file.fileno())
-            self._file.close()
+            with contextlib.suppress(OSError):  # said by _append already, if the disk is full
+                self._file.flush()
+                os.fsync(self._file.fileno())
+            with contextlib.suppress(OSError):
+                self._file.close()
             self._file = None
 
     def __enter__(self) -> JournalWriter:
