@@ -91,6 +91,8 @@ def test_resume_refuses_a_journal_of_other_parameters_and_a_new_run_replaces_it(
                      "--out", str(out), *extra])
 
     assert run() == 0
+    assert run("--resume") == 0  # a finished run resumed: nothing left to run, the same pairs
+    assert read_journal(out / JOURNAL_NAME).complete == {("centre_scanline", "lattice/bits-0")}
     capsys.readouterr()
     for resumed, named in ((lambda: run("--seed", "1", "--resume"), "--seed was 0, is now 1"),
                            (lambda: run("--resume", case="lattice/bits-2"), "--case was lattice/bits-0, is now lattice/bits-2"),
