@@ -147,11 +147,40 @@ class Interrupted(Exception):
         self.partial = (rasterizers, results, seconds, fingerprints)
 
 
-def _execute(args: argparse.Namespace, loaded: Any = None) -> tuple[list[Any], list[Any], float, dict[str, dict[str, Any]]]:
+def _journal_of(args: argparse.Namespace, skips: list[tuple[str, str]]) -> tuple[dict[str, Any], Any]:
+    """The run's parameters as its journal's header holds them, and, under ``--resume``,
+    what the journal in ``--out`` holds (:class:`harness.journal.Recorded`); a usage error
+    in one line when there is none, it is malformed, or it is of other parameters."""
+    import harness
+    from harness.journal import journal_path, parameter_difference, read_journal, run_parameters
+
+    parameters = run_parameters(harness.__version__, args.rasterizer, args.suite, args.seed, getattr(args, "case", None),
+                                getattr(args, "check", None), getattr(args, "shard", None), skips, getattr(args, "rerun", 0))
+    if not getattr(args, "resume", False):
+        return parameters, None
+    path = journal_path(args.out)
+    if not path.exists():
+        raise UsageError(f"--resume: there is no run journal {path} to resume (run without --resume)")
+    try:
+        recorded = read_journal(path)
+    except ValueError as exc:
+        raise UsageError(f"--resume: {exc}") from None
+    difference = parameter_difference(recorded.parameters, parameters)
+    if difference is not None:
+        raise UsageError(f"--resume: the run journal {path} is of another run: {difference} (run without --resume to start over)")
+    return parameters, recorded
+
+
+def _execute(args: argparse.Namespace, loaded: Any = None,
+             journal: bool = False) -> tuple[list[Any], list[Any], float, dict[str, dict[str, Any]]]:
     """Run the selected rasterizers over the suite, side by side with --jobs, showing
     progress (a bar on a terminal, a plain line every 30 s in CI). Ctrl-C raises
     :class:`Interrupted` carrying what finished. Returns (rasterizers, results,
-    seconds, fingerprints)."""
+    seconds, fingerprints).
+
+    With ``journal``, each result is appended to ``<out>/run.journal.jsonl`` as it comes
+    (:mod:`harness.journal`); under ``--resume`` the (rasterizer, case) pairs complete in
+    it are not run again, and its results are among those returned."""
     import fnmatch
     import threading
 
@@ -173,6 +202,7 @@ def _execute(args: argparse.Namespace, loaded: Any = None) -> tuple[list[Any], l
         cases = _select_cases(args, suite(args.suite, args.seed))
     except ValueError as exc:
         raise UsageError(str(exc)) from None
+    parameters, recorded = _journal_of(args, skips) if journal else ({}, None)
     rasterizers, problems = _load_all(args.rasterizer, getattr(args, "timeout", 120.0))
     if not rasterizers:
         raise UsageError("no rasterizer could be loaded: nothing was checked"
@@ -199,6 +229,18 @@ def _execute(args: argparse.Namespace, loaded: Any = None) -> tuple[list[Any], l
     stop = threading.Event()
     collected: list[Any] = []
     lock = threading.Lock()
+    ids = {c.id: k for k, c in enumerate(cases)}
+    names = {r.name for r in rasterizers}
+    done = {pair for pair in recorded.complete if pair[0] in names and pair[1] in ids} if recorded is not None else set()
+    recorder = kept = None
+    if journal:
+        from harness.journal import JournalWriter, Recorded, journal_path
+
+        kept = Recorded(parameters, [x for x in recorded.results if (x.rasterizer, x.case) in done], done) if recorded else None
+        try:
+            recorder = JournalWriter(journal_path(args.out), parameters, kept)
+        except OSError as exc:
+            raise UsageError(f"the run journal {journal_path(args.out)} cannot be written ({exc})") from None
     progress = None
     if not _quiet():
         from rich.progress import Progress
@@ -208,7 +250,9 @@ def _execute(args: argparse.Namespace, loaded: Any = None) -> tuple[list[Any], l
     tasks = {r.name: progress.add_task(r.name, total=len(cases)) if progress else None for r in rasterizers}
     seen: dict[str, set[str]] = {r.name: set() for r in rasterizers}
 
-    def tick(result: Any) -> None:
+    def tick(result: Any, journaled: bool = False) -> None:
+        if recorder is not None and not journaled:
+            recorder.result(result)
         with lock:
             collected.append(result)
             task = tasks[result.rasterizer]
@@ -216,6 +260,9 @@ def _execute(args: argparse.Namespace, loaded: Any = None) -> tuple[list[Any], l
                 seen[result.rasterizer].add(result.case)
                 if progress is not None and task is not None:
                     progress.advance(task)
+
+    for result in kept.results if kept is not None else []:
+        tick(result, journaled=True)  # what the resumed journal holds: a result of this run, not run again
 
     def skipped(r: Any) -> tuple[list[Any], list[Any]]:
         """The cases this rasterizer runs, and a skip result for each one the list names."""
@@ -231,10 +278,15 @@ def _execute(args: argparse.Namespace, loaded: Any = None) -> tuple[list[Any], l
 
     def one(r: Any) -> None:
         mine, skips_of_r = skipped(r)
+        mine = [c for c in mine if (r.name, c.id) not in done]
         for result in skips_of_r:
-            tick(result)
+            if (r.name, result.case) not in done:
+                tick(result)
+                if recorder is not None:
+                    recorder.complete(r.name, result.case)
         run_suite([r], cases=mine, timeout=args.timeout, on_result=tick, identify=False, only=only,
-                  rerun=getattr(args, "rerun", 0), stop=stop, deadline=deadline)
+                  rerun=getattr(args, "rerun", 0), stop=stop, deadline=deadline,
+                  on_case=recorder.complete if recorder is not None else None)
 
     def report_progress() -> None:
         while not finished.wait(30.0):
@@ -268,8 +320,12 @@ def _execute(args: argparse.Namespace, loaded: Any = None) -> tuple[list[Any], l
         pool.shutdown(wait=False)
         if progress is not None:
             progress.stop()
+        if recorder is not None:
+            recorder.close()
     order = {r.name: k for k, r in enumerate(rasterizers)}
     results = sorted(collected, key=lambda x: order.get(x.rasterizer, len(order)))  # stable: per rasterizer, in run order
+    if done:  # resumed: the journal's results and the new ones in suite order, as a run in one go gives them
+        results.sort(key=lambda x: (order.get(x.rasterizer, len(order)), ids.get(x.case, len(ids))))
     return rasterizers, results, time.perf_counter() - start, fingerprints
 
 
@@ -388,7 +444,7 @@ def _interrupted(args: argparse.Namespace, stopped: Interrupted) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     try:
-        rasterizers, results, seconds, fingerprints = _execute(args)
+        rasterizers, results, seconds, fingerprints = _execute(args, journal=True)
     except Interrupted as stopped:
         return _interrupted(args, stopped)
     _summary(rasterizers, results)
@@ -1259,6 +1315,8 @@ def build_parser() -> argparse.ArgumentParser:
     _selection(run)
     run.add_argument("--causes", type=_non_negative_int, default=8, metavar="N",
                      help="failure causes named in the terminal, the largest first (default 8; the report has all)")
+    run.add_argument("--resume", action="store_true",
+                     help="go on with the run whose journal is in --out (run.journal.jsonl): what it completed is not run again")
     run.set_defaults(func=_run)
     gate = sub.add_parser("gate", help="fail only on regressions against a baseline (for CI)")
     _selection(gate)

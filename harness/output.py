@@ -60,7 +60,7 @@ from harness.files import atomic_write_text
 if TYPE_CHECKING:
     from harness.gate import Finding, Verdict
 
-__all__ = ["SCHEMA", "results_to_json", "results_from_json", "write_json", "write_junit"]
+__all__ = ["SCHEMA", "results_to_json", "results_from_json", "result_row", "result_from_row", "write_json", "write_junit"]
 
 SCHEMA = 1
 # the record's fields but its drawing (references for the report's pictures, not data)
@@ -122,9 +122,8 @@ def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizer
     >>> doc["scene_kinds"], doc["line_rules"], "fill_rules" in doc
     ({'r': ['lines']}, {'r': 'rectangular lines'}, False)
     """
-    # built from the fields (no asdict: it would deep-copy a drawing's arrays only to drop them)
     results = list(results)
-    rows = [_clean({name: getattr(r, name) for name in _FIELDS}) for r in results]
+    rows = [result_row(r) for r in results]
     failures = call_failures(results)
     known = {"scene_kinds": scene_kinds, "fill_rules": fill_rules, "line_rules": line_rules}
     return {
@@ -146,13 +145,26 @@ def results_from_json(data: dict[str, Any]) -> list[Result]:
     if not isinstance(data, dict) or data.get("schema") != SCHEMA:
         raise ValueError(f"not a rastercheck results file of schema {SCHEMA}")
     try:
-        return [
-            Result(r["rasterizer"], r["case"], r["check"], r["status"], r["message"],
-                   r.get("metrics", {}), r.get("evidence", {}))
-            for r in data["results"]
-        ]
+        return [result_from_row(r) for r in data["results"]]
     except (KeyError, TypeError) as exc:
         raise ValueError(f"malformed results: {exc}") from None
+
+
+def result_row(result: Result) -> dict[str, Any]:
+    """One result as the schema's ``results`` entry (the run journal's result lines too).
+
+    >>> result_row(Result("r", "a", "conformance", "pass", "ok", {"seconds": float("inf")}))["metrics"]
+    {'seconds': 'inf'}
+    """
+    # built from the fields (no asdict: it would deep-copy a drawing's arrays only to drop them)
+    return _clean({name: getattr(result, name) for name in _FIELDS})
+
+
+def result_from_row(row: dict[str, Any]) -> Result:
+    """A result back from its :func:`result_row` (no drawing); KeyError or TypeError for a
+    row that is not one."""
+    return Result(row["rasterizer"], row["case"], row["check"], row["status"], row["message"],
+                  row.get("metrics", {}), row.get("evidence", {}))
 
 
 def write_json(path: Path | str, results: Iterable[Result], suite: str, seed: int, rasterizers: dict[str, str],

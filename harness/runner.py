@@ -185,6 +185,7 @@ def run_suite(
     rerun: int = 0,
     stop: threading.Event | None = None,
     deadline: float | None = None,
+    on_case: Callable[[str, str], None] | None = None,
 ) -> list[Result]:
     """Run a suite's checks on each rasterizer.
 
@@ -225,6 +226,10 @@ def run_suite(
     deadline : float, optional
         A ``time.monotonic()`` after which no case starts; each case left is an error
         result ("not run"), so that a capped run never passes.
+    on_case : callable, optional
+        Called with the rasterizer's name and the case's id once every result of that
+        case is given to ``on_result`` (also when it gave none; never for a case cut
+        short or not run): what the run journal (:mod:`harness.journal`) marks complete.
 
     Returns
     -------
@@ -294,6 +299,8 @@ def run_suite(
                     results.append(result)
                     if on_result is not None:
                         on_result(result)
+                if on_case is not None:
+                    on_case(rasterizer.name, case.id)
         finally:
             worker.close()
     return results
