@@ -70,6 +70,7 @@ def run_suite(
     rerun: int = 0,
     stop: threading.Event | None = None,
     deadline: float | None = None,
+    on_case: Callable[[str, str], None] | None = None,
 ) -> list[Result]:
     """Run a suite's checks on each rasterizer; see :func:`harness.runner.run_suite` for
     the parameters (``tolerance`` None: the default :class:`Tolerance`)."""
@@ -78,7 +79,7 @@ def run_suite(
 
     return run(rasterizers, suite, seed, cases=cases, tolerance=Tolerance() if tolerance is None else tolerance,
                timeout=timeout, isolate=isolate, repros=repros, repro_seconds=repro_seconds, on_result=on_result,
-               identify=identify, only=only, rerun=rerun, stop=stop, deadline=deadline)
+               identify=identify, only=only, rerun=rerun, stop=stop, deadline=deadline, on_case=on_case)
 
 
 def replay(path: Path | str, rasterizer: Rasterizer | str, isolate: bool = False, identify: bool = True,

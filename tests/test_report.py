@@ -241,10 +241,10 @@ def test_the_command_line_passes_specs_and_skipped_rasterizers_to_the_report(tmp
 
     real = harness.registry.load
 
-    def load(spec):
+    def load(spec, **options):
         if spec == "cairo_like":
             raise Unavailable("libcairo_like is not installed: pip install cairo_like")
-        return real(spec)
+        return real(spec, **options)
 
     monkeypatch.setattr(harness.registry, "load", load)
     out = tmp_path / "rep"
