@@ -89,7 +89,7 @@ def _udiv(a: int, reciprocal: int) -> int:
     return _i32(np.int64(product >> np.uint64(32)))
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _set_cell(state: NDArray[np.int64], ex: int, ey: int, width: int, height: int) -> None:
     """``gray_set_cell`` for the band [0, width) x [0, height): state[0] the current cell's
     row, state[1] its column + 1 (column 0: ``min_ex - 1``), state[0] = -1: the null cell."""
@@ -100,7 +100,7 @@ def _set_cell(state: NDArray[np.int64], ex: int, ey: int, width: int, height: in
         state[1] = max(ex, -1) + 1
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _integrate(state: NDArray[np.int64], cover: NDArray[np.int64], area: NDArray[np.int64], a: int, b: int) -> None:
     """``FT_INTEGRATE``: the current cell's cover += a, area += a * b (32-bit wrapping)."""
     if state[0] >= 0:
@@ -197,7 +197,7 @@ def _render_line(state: NDArray[np.int64], cover: NDArray[np.int64], area: NDArr
     state[3] = to_y
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _div_mod(dividend: int, divisor: int) -> tuple[int, int]:
     """``FT_DIV_MOD( TCoord, ... )``: C's quotient and remainder, each cast to ``int``, the
     remainder made non-negative (the quotient lowered)."""
