@@ -617,12 +617,12 @@ def _compare(args: argparse.Namespace) -> int:
             prepare_file(args.json, "--json")
     except ValueError as exc:
         raise UsageError(str(exc)) from None
-    rasterizers, _ = _load_all(args.specs)
+    rasterizers, _ = _load_all(args.specs, args.timeout)
     if len(rasterizers) < len(args.specs):
         raise UsageError(f"compare: {len(args.specs) - len(rasterizers)} of the rasterizers could not be loaded (see above): "
                          "nothing to compare them with")
     _refuse_same_names(rasterizers)
-    explanations, comparisons = compare(rasterizers, seed=args.seed)
+    explanations, comparisons = compare(rasterizers, seed=args.seed, timeout=args.timeout)
     silent = []
     for e in explanations:
         if not e.answered:  # no fit, no ranking: nothing of it was seen
@@ -1335,6 +1335,8 @@ def build_parser() -> argparse.ArgumentParser:
     cmp.add_argument("--seed", type=int, default=0)
     cmp.add_argument("--out", type=_path, default="reports")
     cmp.add_argument("--json", type=_path, metavar="FILE")
+    cmp.add_argument("--timeout", type=_positive_seconds, default=60.0,
+                     help="the most seconds one rasterize call (and a plugin's import) may take (default 60)")
     cmp.set_defaults(func=_compare)
     ide = sub.add_parser("identify", help="fingerprint a rasterizer's convention from outside")
     ide.add_argument("spec", metavar="SPEC")

@@ -155,10 +155,11 @@ def test_an_empty_path_is_a_usage_error_before_any_work(argv: list[str], capsys:
     assert info.value.code == 2 and ("an empty path" in err or "holds a NUL character" in err), err
 
 
-def test_a_plugin_that_hangs_at_import_is_given_the_calls_time_limit(tmp_path: Path,
+@pytest.mark.parametrize("command", ["run", "compare"])
+def test_a_plugin_that_hangs_at_import_is_given_the_calls_time_limit(tmp_path: Path, command: str,
                                                                     capsys: pytest.CaptureFixture[str]) -> None:
     """A module that hangs when imported took 122 s before its error (a fixed 120 s probe):
-    it is given --timeout, as a call is."""
+    it is given --timeout, as a call is (compare had no --timeout at all)."""
     import time
 
     from harness.cli import main
@@ -166,7 +167,8 @@ def test_a_plugin_that_hangs_at_import_is_given_the_calls_time_limit(tmp_path: P
     plugin = tmp_path / "hangs.py"
     plugin.write_text("import time\ntime.sleep(600)\nclass Never:\n    pass\n")
     start = time.monotonic()
-    assert main(["run", "--rasterizer", f"{plugin}:Never", "--timeout", "2", "--out", str(tmp_path / "rep")]) == 2
+    argv = (["run", "--rasterizer", f"{plugin}:Never"] if command == "run" else ["compare", f"{plugin}:Never", "centre_scanline"])
+    assert main([*argv, "--timeout", "2", "--out", str(tmp_path / "rep")]) == 2
     assert time.monotonic() - start < 30
     assert f"{plugin}:Never: loading the plugin did not finish within 2 s" in capsys.readouterr().err
 
