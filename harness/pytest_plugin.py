@@ -48,6 +48,9 @@ def pytest_addoption(parser: Any) -> None:
                          "check, node ids rastercheck::<rasterizer>::<case>::<check>; select with -k")
     group.addoption("--rastercheck-suite", default="quick", help="quick or full")
     group.addoption("--rastercheck-seed", type=int, default=0)
+    group.addoption("--rastercheck-timeout", type=_seconds, default=60.0, metavar="S",
+                    help="the most seconds one rasterize call (and the plugin's import) may take, as `rastercheck run "
+                         "--timeout` (default 60)")
     group.addoption("--rastercheck-repros", default="reports/pytest-repros",
                     help="directory for minimal repros of failures")
     group.addoption("--rastercheck-baseline", default=None, metavar="FILE",
@@ -55,6 +58,20 @@ def pytest_addoption(parser: Any) -> None:
                          "error) are xfail with the baseline's reason; one that passes now is XPASS, which does not fail "
                          "the run (strict=False whatever xfail_strict says). Metrics are not compared: `rastercheck "
                          "gate` does that")
+
+
+def _seconds(text: str) -> float:
+    """``--rastercheck-timeout``: a finite number of seconds above 0."""
+    import argparse
+    import math
+
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not math.isfinite(value) or value <= 0:
+        raise argparse.ArgumentTypeError(f"{text!r}: give a finite number of seconds above 0")
+    return value
 
 
 def _suite_only(config: pytest.Config) -> bool:
@@ -180,7 +197,8 @@ class _Case(pytest.Collector):
 
             start = time.monotonic()
             results = run_suite([owner.ready], cases=[self.case], seed=self.config.getoption("--rastercheck-seed"),
-                                only=self.selected | {check}, identify=False, repro_seconds=max(0.0, owner.shrink_seconds))
+                                only=self.selected | {check}, identify=False, repro_seconds=max(0.0, owner.shrink_seconds),
+                                timeout=self.config.getoption("--rastercheck-timeout"))
             if any(r.status == "fail" for r in results):  # it shrank: the run counts against the budget
                 owner.shrink_seconds -= time.monotonic() - start
             self.results = [replace(r, drawing=None) for r in results]  # no pictures here: keep no coverages
@@ -274,7 +292,7 @@ def _given(config: pytest.Config) -> list[_Given]:
     loaded: list[tuple[str, Rasterizer | str]] = []
     for text in config.getoption("--rasterizer"):
         try:
-            loaded.append((text, load(text)))
+            loaded.append((text, load(text, import_timeout=config.getoption("--rastercheck-timeout"))))
         except Unavailable as exc:  # a missing library: its items are skipped with the install hint
             loaded.append((text, str(exc)))
         except ValueError as exc:

@@ -227,3 +227,19 @@ def test_assert_conforms_lets_a_baselines_known_failures_through(tmp_path):
     assert f"{failing[0].rasterizer} {failing[0].case} [{failing[0].check}] fail" in text
     with pytest.raises(ValueError, match="no such baseline"):
         assert_conforms(WrongTieClaim(), cases=lattice_cases(), baseline=tmp_path / "none.json")
+
+
+def test_the_time_limit_is_an_option(tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    """A rasterizer that hangs took 63 s an item (the fixed 60 s cap): --rastercheck-timeout
+    sets it, as `rastercheck run --timeout` does; a cap of 0 is refused."""
+    plugin = tmp_path / "hangs.py"
+    plugin.write_text("import time\nfrom rasterizers.centre_scanline import CentreScanline\n"
+                      "class Hangs(CentreScanline):\n    name = 'hangs'\n"
+                      "    def rasterize(self, scene):\n        time.sleep(600)\n")
+    start = time.monotonic()
+    proc = plugin_run_here(tmp_path, capsys, monkeypatch, "--rasterizer", f"{plugin}:Hangs", "--rastercheck-timeout", "1",
+                           "-k", "lattice/bits-0 and conformance")
+    assert proc.returncode == 1 and time.monotonic() - start < 30, proc.stdout[-2000:]
+    assert "no answer within 1 s" in proc.stdout, proc.stdout[-2000:]
+    proc = plugin_run_here(tmp_path, capsys, monkeypatch, "--rasterizer", "centre_scanline", "--rastercheck-timeout", "0")
+    assert proc.returncode == 4 and "give a finite number of seconds above 0" in proc.stderr, proc.stderr
