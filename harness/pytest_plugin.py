@@ -61,17 +61,10 @@ def pytest_addoption(parser: Any) -> None:
 
 
 def _seconds(text: str) -> float:
-    """``--rastercheck-timeout``: a finite number of seconds above 0."""
-    import argparse
-    import math
+    """``--rastercheck-timeout``: as ``rastercheck run --timeout`` reads it."""
+    from harness.cli import _positive_seconds
 
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
-    if not math.isfinite(value) or value <= 0:
-        raise argparse.ArgumentTypeError(f"{text!r}: give a finite number of seconds above 0")
-    return value
+    return _positive_seconds(text)
 
 
 def _suite_only(config: pytest.Config) -> bool:

@@ -242,4 +242,4 @@ def test_the_time_limit_is_an_option(tmp_path: Path, capsys: pytest.CaptureFixtu
     assert proc.returncode == 1 and time.monotonic() - start < 30, proc.stdout[-2000:]
     assert "no answer within 1 s" in proc.stdout, proc.stdout[-2000:]
     proc = plugin_run_here(tmp_path, capsys, monkeypatch, "--rasterizer", "centre_scanline", "--rastercheck-timeout", "0")
-    assert proc.returncode == 4 and "give a finite number of seconds above 0" in proc.stderr, proc.stderr
+    assert proc.returncode == 4 and "expected a finite number > 0, not '0'" in proc.stderr, proc.stderr
