@@ -1024,7 +1024,7 @@ def local_cluster(workers: int | None = None) -> Iterator[Client]:
     with dask.config.set(QUIET_DASK), _children_ignore_ctrl_c():
         cluster = LocalCluster(n_workers=workers or os.cpu_count() or 1, threads_per_worker=1, processes=True,
                                dashboard_address="127.0.0.1:0", scheduler_kwargs={"dashboard": False},
-                               silence_logs=logging.ERROR)
+                               silence_logs=logging.CRITICAL)  # (a worker outliving the scheduler at Ctrl-C logged a traceback)
     try:
         with Client(cluster) as client:
             yield client
