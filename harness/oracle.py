@@ -18,8 +18,13 @@ the scene has ``w``.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
+import hashlib
 import math
+import os
+import threading
+from collections import OrderedDict
 from collections.abc import Sequence
 from dataclasses import replace
 from fractions import Fraction
@@ -277,6 +282,71 @@ def _vertex_values(scene: Scene, prepared: PreparedTriangles) -> tuple[NDArray, 
     return frozen(values), frozen(inv_w)
 
 
+class _RecentAnswers:
+    """The oracle's recent answers, keyed by the scene's contents and the convention, within
+    a budget of bytes (least recently used out first); safe across threads.
+
+    A scene is judged by several checks, candidates and rasterizers with one convention
+    (identify scores about 80 candidate conventions on the same probe scenes for every
+    rasterizer it fingerprints; a suite's cases meet every rasterizer that declares the same
+    convention), so the same answer was computed again and again. An answer is the same
+    object each time: a :class:`Coverage` is frozen and its arrays read-only.
+    """
+
+    def __init__(self, budget: int) -> None:
+        self.budget = budget
+        self._answers: OrderedDict[tuple[bytes, Convention], Coverage] = OrderedDict()
+        self._bytes = 0
+        self._lock = threading.Lock()
+
+    def get(self, key: tuple[bytes, Convention]) -> Coverage | None:
+        with self._lock:
+            answer = self._answers.get(key)
+            if answer is not None:
+                self._answers.move_to_end(key)
+            return answer
+
+    def put(self, key: tuple[bytes, Convention], answer: Coverage) -> None:
+        size = _footprint(answer)
+        if size > self.budget // 8:  # a huge answer would push out everything else
+            return
+        with self._lock:
+            if key in self._answers:
+                return
+            self._answers[key] = answer
+            self._bytes += size
+            while self._bytes > self.budget:
+                _, old = self._answers.popitem(last=False)
+                self._bytes -= _footprint(old)
+
+    def clear(self) -> None:
+        with self._lock:
+            self._answers.clear()
+            self._bytes = 0
+
+
+def _footprint(coverage: Coverage) -> int:
+    return sum(a.nbytes for a in (coverage.primitive, coverage.y, coverage.x0, coverage.x1,
+                                  coverage.attributes, coverage.sample, coverage.alpha) if a is not None) + 200
+
+
+def scene_digest(scene: AnyScene) -> bytes:
+    """A digest of everything a scene holds (its kind, sizes, arrays and options): two
+    scenes with equal digests are the same scene to the oracle."""
+    digest = hashlib.blake2b(type(scene).__name__.encode(), digest_size=20)
+    for field in dataclasses.fields(scene):
+        value = getattr(scene, field.name)
+        if isinstance(value, np.ndarray):
+            digest.update(f"|{field.name}:{value.dtype.str}{value.shape}:".encode())
+            digest.update(np.ascontiguousarray(value).data)
+        else:
+            digest.update(f"|{field.name}={value!r}".encode())
+    return digest.digest()
+
+
+RECENT_ANSWERS = _RecentAnswers(int(os.environ.get("RASTERCHECK_ORACLE_CACHE_MB", "64")) << 20)
+
+
 def exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
     """Exactly what ``convention`` says ``scene`` covers, with reference attributes.
 
@@ -313,6 +383,15 @@ def exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
            [1, 1, 0, 0],
            [1, 0, 0, 0]], dtype=int32)
     """
+    key = (scene_digest(scene), convention)
+    answer = RECENT_ANSWERS.get(key)
+    if answer is None:
+        answer = _exact_coverage(scene, convention)
+        RECENT_ANSWERS.put(key, answer)
+    return answer
+
+
+def _exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
     if isinstance(scene, PathScene):
         from harness.winding import path_coverage
 

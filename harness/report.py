@@ -35,6 +35,7 @@ example scenes, each replayable from its three numbers."""
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 import platform
@@ -178,7 +179,10 @@ def page_meta(suite: str, seed: Any, seconds: float | None = None) -> dict[str, 
     return meta
 
 
+@functools.cache
 def _environment() -> Environment:
+    """The templates' one environment: each template is compiled once per process (every
+    page of a report, every campaign page written again, rendered from the same one)."""
     return Environment(loader=PackageLoader("harness", "templates"), autoescape=select_autoescape(["html"]))
 
 

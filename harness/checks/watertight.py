@@ -6,6 +6,7 @@ hit as the oracle hits it, is the convention's own and is excused (counted apart
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import Any
 
@@ -22,8 +23,25 @@ __all__ = ["watertight", "overdraw", "holes", "blame", "pixel_classes"]
 
 
 def _pixel_classes(region: NDArray, width: int, height: int) -> tuple[NDArray, NDArray]:
-    """(inside, outside), (H, W) bool: pixels whose closed square lies in the open convex
-    region, and pixels whose closed square misses the closed region; decided exactly."""
+    """(inside, outside), (H, W) bool, read-only: pixels whose closed square lies in the
+    open convex region, and pixels whose closed square misses the closed region; decided
+    exactly. A case's classes are worked out once per process (every rasterizer judged on
+    the case asks for them again)."""
+    region = np.asarray(region, dtype=np.float64)
+    if width * height > 2**18:  # (kept: at most 64 viewports of 512 x 512)
+        return _classes(region, width, height)
+    return _classes_of(region.tobytes(), region.shape, width, height)
+
+
+@functools.lru_cache(maxsize=64)
+def _classes_of(data: bytes, shape: tuple[int, ...], width: int, height: int) -> tuple[NDArray, NDArray]:
+    inside, outside = _classes(np.frombuffer(data, dtype=np.float64).reshape(shape), width, height)
+    inside.setflags(write=False)
+    outside.setflags(write=False)
+    return inside, outside
+
+
+def _classes(region: NDArray, width: int, height: int) -> tuple[NDArray, NDArray]:
     m = region.shape[0]
     # the outline's winding, exactly (a float shoelace overflows for huge outlines)
     turns = orientation(np.stack([region, np.roll(region, -1, axis=0), np.roll(region, -2, axis=0)], axis=1))
