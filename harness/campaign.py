@@ -79,7 +79,6 @@ FIRST_BATCH = 4  # scenes in a family's first batch, before its cost is known
 MAX_BATCH = 4096
 IN_FLIGHT_PER_WORKER = 2
 SAVE_EVERY = 0.5  # seconds between writes of the state (a new signature or repro is written at once)
-FIRST_CALL_SECONDS = 120.0  # the first call in a worker process may compile (numba): it gets at least this long
 SHRINK_SECONDS = 10.0  # the shrinker's own time budget, per representative
 SHRINK_GRACE = 60.0  # after the search stops, how long the representatives still being shrunk are waited for
 # The LocalCluster's background work, turned down: Dask's defaults sample every worker's
@@ -729,10 +728,9 @@ class _Loaded:
         if fingerprint is not None and rasterizer.convention is None:
             rasterizer = Identified(rasterizer, fingerprint)
         self.rasterizer: Rasterizer = rasterizer
-        # the first call of a scene kind in this process may take longer than the limit (a
-        # JIT compiling its kernels, which later processes load from its cache)
-        limits = TimeLimit.of(timeout)
-        self.worker = Worker(rasterizer, replace(limits, first=max(limits.first or limits.cap, FIRST_CALL_SECONDS)))
+        # run's policy: the first call of a scene kind (a JIT compiling its kernels) gets the
+        # cap, --timeout, as every call may; no allowance beyond what the user asked
+        self.worker = Worker(rasterizer, TimeLimit.of(timeout))
 
     def call(self, scene: AnyScene) -> Outcome:
         """One isolated rasterize call (:class:`harness.isolation.TimeLimit`)."""
