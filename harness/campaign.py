@@ -61,7 +61,8 @@ if TYPE_CHECKING:
     from harness.signatures import Signature
 
 __all__ = ["Batch", "CampaignTask", "Finding", "BatchResult", "CampaignState", "ProgressEvent", "CampaignError", "run_batch",
-           "shrink_finding", "run_campaign", "attribute_causes", "CONSEQUENT_CHECKS", "local_cluster", "add_interval", "overlap", "SCHEMA", "QUIET_DASK"]
+           "shrink_finding", "run_campaign", "attribute_causes", "CONSEQUENT_CHECKS", "local_cluster", "add_interval", "overlap", "SCHEMA", "QUIET_DASK",
+           "plain_data"]
 
 SCHEMA = 1
 STATE_FILE = "campaign.json"
@@ -79,7 +80,6 @@ FIRST_BATCH = 4  # scenes in a family's first batch, before its cost is known
 MAX_BATCH = 4096
 IN_FLIGHT_PER_WORKER = 2
 SAVE_EVERY = 0.5  # seconds between writes of the state (a new signature or repro is written at once)
-FIRST_CALL_SECONDS = 120.0  # the first call in a worker process may compile (numba): it gets at least this long
 SHRINK_SECONDS = 10.0  # the shrinker's own time budget, per representative
 SHRINK_GRACE = 60.0  # after the search stops, how long the representatives still being shrunk are waited for
 # The LocalCluster's background work, turned down: Dask's defaults sample every worker's
@@ -729,10 +729,9 @@ class _Loaded:
         if fingerprint is not None and rasterizer.convention is None:
             rasterizer = Identified(rasterizer, fingerprint)
         self.rasterizer: Rasterizer = rasterizer
-        # the first call of a scene kind in this process may take longer than the limit (a
-        # JIT compiling its kernels, which later processes load from its cache)
-        limits = TimeLimit.of(timeout)
-        self.worker = Worker(rasterizer, replace(limits, first=max(limits.first or limits.cap, FIRST_CALL_SECONDS)))
+        # run's policy: the first call of a scene kind (a JIT compiling its kernels) gets the
+        # cap, --timeout, as every call may; no allowance beyond what the user asked
+        self.worker = Worker(rasterizer, TimeLimit.of(timeout))
 
     def call(self, scene: AnyScene) -> Outcome:
         """One isolated rasterize call (:class:`harness.isolation.TimeLimit`)."""
@@ -838,6 +837,49 @@ def _harness_fault(exc: BaseException, family: str, seed: int, index: int) -> Fi
                    f"harness-fault-{kind}", "none", "harness")
 
 
+def plain_data(value: Any, where: str = "the answer") -> Any:
+    """``value`` rebuilt of exact builtin types only (None, bool, int, float, str, and lists,
+    tuples and str-keyed dicts of them): what a Dask worker sends the coordinator, by
+    pickle. A str, int or float of a subclass (a plugin's name, a message's text) becomes
+    a plain copy, read through the builtin's own slot (none of the subclass's methods run,
+    here or where it is unpickled); anything else is refused.
+
+    >>> class Sly(str):
+    ...     def __reduce__(self):
+    ...         raise AssertionError("pickled")
+    >>> back = plain_data({"rasterizer": Sly("mine"), "scene": ("lattice", 0, 3)})
+    >>> back, type(back["rasterizer"]) is str
+    ({'rasterizer': 'mine', 'scene': ('lattice', 0, 3)}, True)
+
+    Raises
+    ------
+    TypeError
+        Naming where in ``value`` a value of another type is.
+    """
+    kind = type(value)
+    if value is None or kind in (bool, int, float, str):
+        return value
+    if isinstance(value, str):
+        return str.__str__(value)
+    if isinstance(value, int) and not isinstance(value, bool):
+        return int.__index__(value)
+    if isinstance(value, float):
+        return float.__float__(value)
+    if kind in (list, tuple):
+        return kind(plain_data(item, f"{where}[{k}]") for k, item in enumerate(value))
+    if kind is dict:
+        if not all(isinstance(key, str) for key in value):
+            raise TypeError(f"{where}: a dict keyed by other than text")
+        return {str.__str__(key): plain_data(item, f"{where}.{str.__str__(key)}") for key, item in value.items()}
+    raise TypeError(f"{where}: a {kind.__name__} is not plain data")
+
+
+def _plain_finding(finding: Finding) -> Finding:
+    """``finding`` with every field plain (:func:`plain_data`; read field by field, not by
+    ``asdict``, which would deep-copy, and so pickle, what it holds)."""
+    return Finding(**{f.name: plain_data(getattr(finding, f.name), f"finding.{f.name}") for f in dataclasses.fields(Finding)})
+
+
 def run_batch(task: CampaignTask) -> BatchResult:
     """Run one batch (on a Dask worker, or anywhere): generate each scene, run the checks
     with every rasterize call isolated, and classify each failing or erroring result.
@@ -865,7 +907,9 @@ def run_batch(task: CampaignTask) -> BatchResult:
                                           if r.status in ("fail", "error")])
         except Exception as exc:
             findings.append(_harness_fault(exc, family, seed, index))
-    return BatchResult(task.batch, scenes, counted, time.perf_counter() - start, tuple(findings), _worker_name(), setup)
+    # plain data only goes back to the coordinator: nothing of the plugin's is unpickled there
+    return BatchResult(task.batch, scenes, int(counted), time.perf_counter() - start,
+                       tuple(_plain_finding(f) for f in findings), str.__str__(_worker_name()), setup)
 
 
 def shrink_finding(spec: str, fingerprint: Any | None, finding: Finding, timeout: float = 60.0,
@@ -880,7 +924,15 @@ def shrink_finding(spec: str, fingerprint: Any | None, finding: Finding, timeout
     rasterizer drew on the repro, for its picture), a crash or exception by
     ddmin keeping the same signature; a hang or a motion case is kept whole, as is a
     finding that no longer shows (said in ``note``).
+
+    The repro is plain data (:func:`plain_data`): nothing of the plugin's (its name, a
+    message's text) is unpickled where it is sent.
     """
+    return plain_data(_shrunk(spec, fingerprint, finding, timeout, seconds), "the repro")  # type: ignore[no-any-return]
+
+
+def _shrunk(spec: str, fingerprint: Any | None, finding: Finding, timeout: float, seconds: float) -> dict[str, Any]:
+    """The repro of :func:`shrink_finding`, before it is made plain data."""
     from cases.fuzz import generate
     from harness import repro
     from harness.checks import checks

@@ -696,7 +696,23 @@ def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: flo
 def _identify(args: argparse.Namespace) -> int:
     """The fingerprint card; exit 1 when the rasterizer's declared convention is
     contradicted or a probe saw a defect the suite's checks fail on too (each with its
-    evidence on the card), 2 when it cannot be loaded; ``--json`` writes the fingerprint."""
+    evidence on the card), 2 when it cannot be loaded; ``--json`` writes the fingerprint.
+    Ctrl-C: every worker killed at once, one line, exit 130 (nothing is identified from
+    part of the probes)."""
+    from harness.isolation import kill_all
+
+    start = time.monotonic()
+    try:
+        return _identify_card(args)
+    except KeyboardInterrupt:
+        kill_all()
+        print(f"rastercheck: identify {args.spec}: interrupted after {time.monotonic() - start:.0f} s; nothing identified",
+              file=sys.stderr)
+        return 130
+
+
+def _identify_card(args: argparse.Namespace) -> int:
+    """:func:`_identify`'s work: load, probe, print the card, judge the declaration."""
     from harness.api import scene_kinds_of
     from harness.files import atomic_write_text, prepare_file
     from harness.identify import identify_isolated

@@ -37,10 +37,10 @@ from typing import Any
 import numpy as np
 
 from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, Unsupported
-from harness.wire import WireError, pack, unpack
+from harness.wire import MAX_HEADER_BYTES, WireError, pack, unpack
 
 __all__ = ["Outcome", "layer_of", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call", "AnyCall", "PluginError",
-           "kill_all", "TimeLimit", "scene_work", "samples_of", "samples_seen", "CallTally", "encode_outcome", "decode_outcome",
+           "kill_all", "TimeLimit", "answer_bytes_limit", "MAX_ANSWER_BYTES", "scene_work", "samples_of", "samples_seen", "CallTally", "encode_outcome", "decode_outcome",
            "ERROR_BASES"]
 
 
@@ -130,6 +130,33 @@ def span_limit(scene: AnyScene) -> int:
     span per row, a path one per row for every two edges (16 allowed, for one per sample of
     a 16x multisample pattern)."""
     return 16 * (_pieces(scene) + 1) * scene.height + 1024
+
+
+# The most bytes one answer may take on the worker's pipe, whatever the scene (1 GiB: a
+# coverage of 20 million spans), and the least any scene is allowed (the header's texts and
+# a small scene's answer with room to spare): :func:`answer_bytes_limit`.
+MAX_ANSWER_BYTES = 2**30
+MIN_ANSWER_BYTES = 64 * 2**20
+_SPAN_BYTES = 8 * 6  # primitive, y, x0, x1, sample, and a share of the header's entries
+
+
+def answer_bytes_limit(scene: AnyScene) -> int:
+    """The most bytes the worker's message answering ``scene`` may take on the pipe: a
+    coverage of :func:`span_limit` spans (int64 fields and sample ids), one float64 alpha
+    and the scene's attributes per pixel of spans as wide as the viewport, and the header
+    (:data:`harness.wire.MAX_HEADER_BYTES`: the texts of an error); at least
+    :data:`MIN_ANSWER_BYTES`, at most :data:`MAX_ANSWER_BYTES`. The parent refuses a frame
+    announcing more before reading it: a plugin writing a frame header of its own on the
+    pipe cannot make the parent allocate gigabytes.
+
+    >>> from harness.api import Scene
+    >>> answer_bytes_limit(Scene(8, 8, [[[0, 0], [4, 0], [0, 4]]])) == MIN_ANSWER_BYTES
+    True
+    """
+    spans = span_limit(scene)
+    per_pixel = 8 * (1 + scene.n_attributes)
+    derived = MAX_HEADER_BYTES + 64 + spans * (_SPAN_BYTES + per_pixel * max(1, int(scene.width)))
+    return int(min(MAX_ANSWER_BYTES, max(MIN_ANSWER_BYTES, derived)))
 
 
 def _listed(items: list[str], most: int = 4) -> str:
@@ -732,6 +759,16 @@ class Worker:
         return Outcome(None, RuntimeError(f"the rasterizer's worker process died (exit code {code})"), "",
                        time.perf_counter() - start)
 
+    def _refused_frame(self, scene: AnyScene, most: int, start: float) -> Outcome:
+        """The outcome of a frame announcing more than ``most`` bytes (refused unread): the
+        worker, whose pipe is out of step, is replaced."""
+        self.close()
+        self._start()
+        n = len(scene)
+        return Outcome(None, PluginError(f"refused an answer of more than {most:,} bytes on the worker's pipe, the most "
+                                         f"one on {n:,} {scene.noun}{'' if n == 1 else 's'} on {scene.width} x {scene.height} px "
+                                         f"may take"), "", time.perf_counter() - start)
+
     def _answer(self, scene: AnyScene, limit: float, said: str) -> Outcome:
         """The worker's answer on ``scene`` (already sent), within ``limit`` seconds (and
         the deadline); ``said`` is how the limit reads in a timeout's message."""
@@ -741,7 +778,14 @@ class Worker:
         start = time.perf_counter()
         try:
             if self._conn.poll(limit):
-                message = self._conn.recv_bytes()
+                most = answer_bytes_limit(scene)
+                try:
+                    message = self._conn.recv_bytes(most)
+                except OSError:
+                    if not self._conn.closed and self._conn.readable:  # a reset pipe: the worker died
+                        raise
+                    # multiprocessing marks a connection unreadable (or closes it) on a frame over `most`
+                    return self._refused_frame(scene, most, start)
                 try:
                     sent = decode_outcome(message)
                     # a worker sends a call's answer alone: timeouts, retries and flaws are this process's to say

@@ -356,3 +356,32 @@ def test_a_state_with_three_disjoint_done_ranges_loads_again(tmp_path):
     state.path.write_text(json.dumps(data))
     with pytest.raises(ValueError, match="not sorted disjoint"):
         CampaignState.load(tmp_path)
+
+
+@pytest.mark.parametrize("hostile", ["ArraysDetonate", "CoverageDetonates", "RaisesDetonating", "RaisesUnprintableDetonating",
+                                     "NamedDetonating"])
+def test_nothing_a_plugin_returns_is_unpickled_in_the_coordinator_or_a_dask_worker(cluster, tmp_path: Path,
+                                                                                  hostile: str) -> None:  # type: ignore[no-untyped-def]
+    """A campaign's Dask workers send the coordinator batches and repros, by pickle: only
+    plain data may be in them. Hostile answers (tests/known_bad/hostile_pickles.py: a
+    coverage, its arrays, an exception or its text, the rasterizer's name, whose
+    ``__reduce__`` writes the unpickling process's pid to a marker) run nowhere: not in the
+    coordinator (this process), not in a Dask worker, and the campaign's findings are the
+    plugin's (a correct answer none, a raise one signature with a repro)."""
+    local, client = cluster
+    marker = tmp_path / "detonated"
+    plugin = tmp_path / f"hostile_{hostile.lower()}.py"
+    plugin.write_text(f"from tests.known_bad.hostile_pickles import {hostile}\n\n\n"
+                      f"def make():\n    return {hostile}({str(marker)!r})\n")
+    state = run_campaign(f"{plugin}:make", budget_scenes=4, families=["lattice"], state_dir=tmp_path / "state",
+                         scheduler=local.scheduler_address, batch_size=2, only=["conformance"])
+    ran = marker.read_text().split() if marker.exists() else []
+    homes = {str(os.getpid()): "the coordinator", **{str(pid): f"Dask worker {where}" for where, pid in client.run(os.getpid).items()}}
+    assert not ran, f"hostile code ran in {[homes.get(pid, f'process {pid}') for pid in ran]}"
+    assert state.scenes == 4
+    if hostile in ("ArraysDetonate", "CoverageDetonates"):
+        assert state.signatures == {}
+    else:
+        assert len(state.signatures) == 1
+        (entry,) = state.signatures.values()
+        assert (tmp_path / "state" / entry["repro"]).is_file()

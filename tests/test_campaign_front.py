@@ -244,6 +244,43 @@ def test_a_campaign_that_judges_nothing_exits_1_saying_why(scheduler: str, tmp_p
     assert code == 1 and f"rastercheck: nothing checked: {why}" in err, err
 
 
+class _HangsAlways:
+    """Declares the exact convention and never answers: every call, the first included, hangs."""
+
+    name = "hangs_always"
+    interpolates = False
+
+    def __init__(self) -> None:
+        from harness.conventions import Convention
+
+        self.convention = Convention()
+
+    def rasterize(self, scene: Any) -> Any:
+        while True:
+            time.sleep(0.05)
+
+
+def hangs_always() -> _HangsAlways:
+    return _HangsAlways()
+
+
+def test_a_campaign_workers_first_call_honours_timeout(scheduler: str, tmp_path: Path,
+                                                       capsys: pytest.CaptureFixture[str]) -> None:
+    """The first call in a campaign's worker got 120 s whatever --timeout said (asked twice:
+    4 minutes a hanging scene): it follows run's policy, the cap, so two scenes that hang take
+    about 2 x (2 + 2) s."""
+    start = time.monotonic()
+    code = main(["fuzz", "--rasterizer", "tests.test_campaign_front:hangs_always", "--budget", "2", "--families", "lattice",
+                 "--scheduler", scheduler, "--state", str(tmp_path / "state"), "--out", str(tmp_path), "--batch", "2",
+                 "--check", "conformance", "--timeout", "2"])
+    took = time.monotonic() - start
+    assert code == 1, capsys.readouterr().err
+    assert took < 60, f"the campaign took {took:.0f} s"
+    state = CampaignState.load(tmp_path / "state")
+    assert state.scenes == 2 and "run|hang|none" in state.signatures
+    assert "no answer within 2 s" in state.signatures["run|hang|none"]["message"]
+
+
 def _fake(directory: Path, seed: int, keys: dict[int, str], rasterizer: str = "bad_inclusive") -> CampaignState:
     state = CampaignState(directory, SPEC, rasterizer, seed=seed)
     batch = Batch("lattice", seed, 0, 10)

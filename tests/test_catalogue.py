@@ -1,5 +1,6 @@
 """The catalogue of bad input (issue 13): every row a command line and the files it reads,
-with the outcome it must end in -- one line and exit 2 for bad input, never a traceback.
+with the outcome it must end in -- one line and exit 2 for bad input, never a traceback --
+within 60 s and 2 GB (tests/bounded.py).
 
 Hostile plugins (that raise, hang, exit, lie or return garbage) have their own tests in
 test_hostile.py, test_registry_and_cli.py and test_cli_run.py; baselines in test_gate.py.
@@ -12,6 +13,7 @@ import pytest
 from harness.case import case_to_json
 from harness.cli import main
 from cases.suites import suite
+from tests.bounded import bounded, run_bounded
 
 
 def _case(**changes):
@@ -77,10 +79,35 @@ def test_bad_input_ends_in_one_line_not_a_traceback(tmp_path, monkeypatch, capsy
         (tmp_path / name).write_text(content)
     if argv[0] == "replay":
         argv = [*argv, "--rasterizer", "centre_scanline"]
-    try:
-        got = main(argv)
-    except SystemExit as exc:  # argparse's own usage errors
-        got = exc.code
+    with bounded():  # under 60 s and 2 GB allocated
+        try:
+            got = main(argv)
+        except SystemExit as exc:  # argparse's own usage errors
+            got = exc.code
     err = capsys.readouterr().err
     assert got == code, err
     assert words in err and "Traceback" not in err
+
+
+def test_the_bounds_catch_a_row_that_takes_too_much():
+    """The measure the rows are held to fails a block or a process that allocates or takes
+    more than its bound."""
+    import sys
+    import time
+
+    import numpy as np
+
+    with pytest.raises(AssertionError, match=r"rose 1\d\d MB at its peak, more than 100 MB"):
+        with bounded(megabytes=100):
+            big = np.ones(20 * 2**20)  # 160 MiB, every page written
+            time.sleep(0.05)  # sampled, should this process have been larger before
+            del big
+    with pytest.raises(AssertionError, match="more than 0.5 s"):
+        with bounded(seconds=0.5):
+            time.sleep(0.6)
+    with bounded(megabytes=100):
+        np.ones(2**20)  # 8 MiB
+    script = "import numpy as np; a = np.ones(40 * 2**20); print(a.sum() > 0)"  # 320 MiB, every page written
+    with pytest.raises(AssertionError, match=r"reached \d+ MB, more than 200 MB"):
+        run_bounded([sys.executable, "-c", script], megabytes=200)
+    assert run_bounded([sys.executable, "-c", script], megabytes=2048).stdout.strip() == "True"

@@ -1,5 +1,5 @@
 """The run command a CI user leans on: filters, shards, skip lists, reruns, budgets,
-output paths checked first, Ctrl-C (issues 12 and 13)."""
+output paths checked first, Ctrl-C (issues 12 and 13; Ctrl-C on identify: issue 30)."""
 
 import contextlib
 import json
@@ -171,6 +171,55 @@ def test_ctrl_c_stops_a_parallel_run_within_seconds_and_keeps_what_finished(tmp_
     assert "interrupted" in err and "Traceback" not in err
     results = _json(out / "r.json")  # the partial results were written: the slow one's first case at least
     assert "slow" in {r["rasterizer"] for r in results}, results
+    left = subprocess.run(["pgrep", "-f", token], capture_output=True, text=True).stdout.split()
+    assert not left, f"worker processes left behind: {left}"
+
+
+def test_ctrl_c_stops_identify_within_seconds_leaving_no_process(tmp_path):
+    """Ctrl-C while ``identify`` probes a slow rasterizer (in its forked worker): exit
+    non-zero within 5 s, one line and no traceback, no worker left. The interrupt comes once
+    the worker has answered a call (a marker file), not after a fixed time."""
+    token = f"ctrlc-identify-{os.getpid()}"
+    marker = tmp_path / "answered"
+    plugin = tmp_path / f"{token}.py"
+    plugin.write_text(
+        "import time\n"
+        "from rasterizers.centre_scanline import CentreScanline\n"
+        "class Slow(CentreScanline):\n"
+        "    name = 'slow'\n"
+        "    convention = None\n"
+        "    def rasterize(self, scene):\n"
+        f"        open({str(marker)!r}, 'w').close()\n"
+        "        time.sleep(0.3)\n"
+        "        return super().rasterize(scene)\n"
+    )
+    cli = ("import runpy, signal; signal.signal(signal.SIGINT, signal.default_int_handler); "
+           "runpy.run_module('harness.cli', run_name='__main__', alter_sys=True)")
+    proc = subprocess.Popen([sys.executable, "-c", cli, "identify", f"{plugin}:Slow"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=os.getcwd(), start_new_session=True)
+    try:
+        waited = time.monotonic()
+        while not marker.exists():  # hundreds of probe calls of 0.3 s: identify is still going
+            assert proc.poll() is None, proc.communicate()
+            assert time.monotonic() - waited < 120, "the slow rasterizer was not called in 120 s"
+            time.sleep(0.05)
+        time.sleep(0.5)  # in the middle of a call or between two
+        proc.send_signal(signal.SIGINT)
+        sent = time.monotonic()
+        try:
+            _, err = proc.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            raise AssertionError("identify still running 30 s after Ctrl-C") from None
+        took = time.monotonic() - sent
+    finally:
+        if proc.poll() is None:  # a failure above: leave nothing running
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
+    assert took < 5, f"identify took {took:.1f} s to stop"
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err and err.strip().count("\n") == 0 and "interrupted" in err, err
+    time.sleep(0.5)  # a worker watching for its parent's end polls every second at most
     left = subprocess.run(["pgrep", "-f", token], capture_output=True, text=True).stdout.split()
     assert not left, f"worker processes left behind: {left}"
 

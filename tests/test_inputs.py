@@ -1,13 +1,13 @@
 """Input files are read bounded: what is not a regular file (a FIFO, a device) or is larger
 than the limit is refused in one line before any of it is read (issue 30: `gate
---known-campaign /dev/zero` reached 3.4 GB, a FIFO hung)."""
+--known-campaign /dev/zero` reached 3.4 GB, a FIFO hung). Each command line and file read
+here is held to 60 s and 2 GB (tests/bounded.py)."""
 
 from __future__ import annotations
 
 import json
 import os
 import signal
-import subprocess
 import sys
 from pathlib import Path
 
@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 from harness.files import MAX_INPUT_MB, read_input
+from tests.bounded import bounded, run_bounded
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -65,8 +66,7 @@ def test_commands_refuse_a_fifo_at_once_in_one_line(tmp_path: Path, argv: list[s
     os.mkfifo(tmp_path / "state" / "campaign.json")
     args = [a.format(fifo=fifo, state=tmp_path / "state", out=tmp_path / "merged", rep=tmp_path / "rep") for a in argv]
     if argv[0] == "replay":  # one in a process of its own, as a user runs it
-        proc = subprocess.run([sys.executable, "-m", "harness.cli", *args], capture_output=True,
-                              text=True, cwd=REPO, timeout=120, env={**os.environ, "PYTHONPATH": str(REPO)})
+        proc = run_bounded([sys.executable, "-m", "harness.cli", *args], cwd=REPO, env={**os.environ, "PYTHONPATH": str(REPO)})
         code, err = proc.returncode, proc.stderr.strip()
     else:  # the rest here, an alarm standing in for the timeout (a FIFO opened would wait forever)
         from harness.cli import main
@@ -77,7 +77,8 @@ def test_commands_refuse_a_fifo_at_once_in_one_line(tmp_path: Path, argv: list[s
         previous = signal.signal(signal.SIGALRM, stuck)
         signal.alarm(60)
         try:
-            code = main(args)
+            with bounded():
+                code = main(args)
         finally:
             signal.alarm(0)
             signal.signal(signal.SIGALRM, previous)
@@ -91,7 +92,7 @@ def test_the_case_reader_refuses_a_huge_file_naming_it(tmp_path: Path, monkeypat
     path = tmp_path / "big.json"
     path.write_text(json.dumps({"schema": 1, "id": "x", "width": 8, "height": 8, "positions": [[0, 0]] * 150000}))
     monkeypatch.setenv("RASTERCHECK_MAX_INPUT_MB", "1")
-    with pytest.raises(ValueError, match=rf"^{path}: the case holds \d+ MiB, more than the 1 MiB"):
+    with bounded(), pytest.raises(ValueError, match=rf"^{path}: the case holds \d+ MiB, more than the 1 MiB"):
         read_case_file(path)
 
 
@@ -120,7 +121,7 @@ def test_a_malformed_case_file_is_one_line_naming_the_field(tmp_path: Path, text
 
     path = tmp_path / "case.json"
     path.write_text(text)
-    with pytest.raises(ValueError) as refused:
+    with bounded(), pytest.raises(ValueError) as refused:
         read_case_file(path)
     message = str(refused.value)
     assert message.startswith(f"{path}: ") and said in message and "\n" not in message, message
@@ -149,7 +150,7 @@ def test_an_empty_path_is_a_usage_error_before_any_work(argv: list[str], capsys:
     """`--json ''` was accepted and wrote nothing, silently."""
     from harness.cli import main
 
-    with pytest.raises(SystemExit) as info:
+    with bounded(), pytest.raises(SystemExit) as info:
         main(argv)
     err = capsys.readouterr().err
     assert info.value.code == 2 and ("an empty path" in err or "holds a NUL character" in err), err
@@ -168,7 +169,8 @@ def test_a_plugin_that_hangs_at_import_is_given_the_calls_time_limit(tmp_path: P
     plugin.write_text("import time\ntime.sleep(600)\nclass Never:\n    pass\n")
     start = time.monotonic()
     argv = (["run", "--rasterizer", f"{plugin}:Never"] if command == "run" else ["compare", f"{plugin}:Never", "centre_scanline"])
-    assert main([*argv, "--timeout", "2", "--out", str(tmp_path / "rep")]) == 2
+    with bounded(seconds=30):
+        assert main([*argv, "--timeout", "2", "--out", str(tmp_path / "rep")]) == 2
     assert time.monotonic() - start < 30
     assert f"{plugin}:Never: loading the plugin did not finish within 2 s" in capsys.readouterr().err
 
@@ -181,6 +183,7 @@ def test_compare_checks_its_outputs_before_any_work(tmp_path: Path, option: str,
 
     target = tmp_path / "taken"
     target.write_text("") if kind == "a file" else target.mkdir()
-    assert main(["compare", "centre_scanline", "pineda_topleft", option, str(target)]) == 2
+    with bounded():
+        assert main(["compare", "centre_scanline", "pineda_topleft", option, str(target)]) == 2
     err = capsys.readouterr().err.strip()
     assert f"{option} {target} is {kind}" in err and err.count("\n") == 0, err

@@ -7,6 +7,7 @@ marker file naming the process that ran it: the parent's pid must never be in it
 from __future__ import annotations
 
 import functools
+import json
 import os
 import subprocess
 import sys
@@ -121,6 +122,41 @@ def test_a_tampered_message_is_an_error_and_what_only_the_parent_says_is_not_tak
     with Worker(ClaimsTimedOut("unused"), timeout=60) as worker:
         claimed = worker.rasterize(SCENE)
         assert claimed.coverage is not None and not claimed.timed_out and claimed.retried is None and claimed.flaws is None
+
+
+def test_a_frame_header_announcing_gigabytes_is_refused_unread_and_the_worker_replaced():
+    """A plugin writing its own frame header on the worker's pipe (tests/known_bad/hostile_frames.py):
+    one announcing 2**40 bytes (the parent used to try to allocate it: MemoryError, the run
+    lost), one announcing 512 MiB and writing them (the parent used to read them all into its
+    own memory). Each is that call's one-line error, the parent's peak memory stays within
+    64 MB of what it was, and the next call is answered. Run as its own process, whose peak
+    memory (ru_maxrss) is this test's alone."""
+    script = (
+        "import json, resource\n"
+        "from harness.api import Scene\n"
+        "from harness.isolation import Worker, answer_bytes_limit, describe\n"
+        "from tests.known_bad.hostile_frames import AnnouncesHugeFrame\n"
+        "two = Scene(16, 16, [[[0, 0], [9, 0], [0, 9]], [[9, 9], [15, 9], [9, 15]]])\n"
+        "one = Scene(16, 16, [[[0, 0], [9, 0], [0, 9]]])\n"
+        "said = []\n"
+        "for announced, written in ((2**40, 0), (512 * 2**20, 512 * 2**20)):\n"
+        "    with Worker(AnnouncesHugeFrame(announced, written), timeout=60) as worker:\n"
+        "        before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
+        "        refused = worker.rasterize(two)\n"
+        "        grown = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before\n"
+        "        after = worker.rasterize(one)\n"
+        "        said.append({'error': describe(refused.error), 'grown_kb': grown, 'then': after.coverage is not None,\n"
+        "                     'limit': answer_bytes_limit(two)})\n"
+        "print(json.dumps(said))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=300,
+                          cwd=Path(__file__).resolve().parent.parent)
+    assert done.returncode == 0, done.stderr[-2000:]
+    for said in json.loads(done.stdout):
+        assert said["error"] == (f"PluginError: refused an answer of more than {said['limit']:,} bytes on the worker's pipe, "
+                                 "the most one on 2 triangles on 16 x 16 px may take")
+        assert said["grown_kb"] < 64 * 1024, f"the parent's peak memory grew by {said['grown_kb']:,} KB"
+        assert said["then"], "the worker was not replaced: the next call was not answered"
 
 
 def test_the_registry_probe_sends_back_plain_text_only(tmp_path, monkeypatch):

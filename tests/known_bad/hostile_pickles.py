@@ -167,6 +167,21 @@ class _RefusalWithTrappedText(Unavailable):
         return text
 
 
+class NamedDetonating(_Base):
+    """Raises a ValueError on every scene (a finding a campaign shrinks) and is named by
+    text whose pickle detonates: the name rides in what a campaign's worker sends back (the
+    shrunk repro's ``rasterizer``)."""
+
+    def __init__(self, marker: str, exit_home: bool = False) -> None:
+        super().__init__(marker, exit_home)
+        name = _DetonatingText("named_detonating")
+        name.trap = self.trap
+        self.name = name
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        raise ValueError("triangle 0 is not welcome here")
+
+
 def refuses_to_load() -> Any:
     """A factory (``tests.known_bad.hostile_pickles:refuses_to_load``) that raises an
     Unavailable (passed on as it is, not wrapped) whose text is a str subclass whose pickle
