@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import os
 import resource
+import signal
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -89,28 +91,44 @@ class Finished:
     megabytes: float
 
 
+# A process forked from this one starts as large as this one (a test worker: a gigabyte),
+# and Linux keeps that high-water mark in the ``ru_maxrss`` of whatever it then executes. So
+# the command runs under a small Python that reports its child's peak on a pipe: forked from
+# that, the command starts small and its peak is its own.
+_LAUNCHER = """import os, resource, signal, subprocess, sys
+code = subprocess.call(sys.argv[2:])
+os.write(int(sys.argv[1]), str(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss).encode())
+if code < 0:
+    signal.signal(-code, signal.SIG_DFL)
+    os.kill(os.getpid(), -code)
+sys.exit(code)
+"""
+
+
 def run_bounded(args: list[str], *, seconds: float = SECONDS, megabytes: float = MEGABYTES, **popen: Any) -> Finished:
     """Run ``args`` as a process (``popen``: cwd, env, ...), kill it past ``seconds``, and
     assert it finished within ``seconds`` with a peak resident memory (its own
     ``ru_maxrss``, and that of any child it waited for) under ``megabytes``."""
+    read_end, write_end = os.pipe()
     with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
         start = time.monotonic()
-        proc = subprocess.Popen(args, stdout=out, stderr=err, **popen)
-        while True:
-            pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
-            if pid:
-                break
-            if time.monotonic() - start > seconds:
-                proc.kill()
-                pid, status, usage = os.wait4(proc.pid, 0)
-                break
-            time.sleep(0.02)
+        try:
+            proc = subprocess.Popen([sys.executable, "-c", _LAUNCHER, str(write_end), *args], stdout=out, stderr=err,
+                                    pass_fds=(write_end,), start_new_session=True, **popen)
+        finally:
+            os.close(write_end)
+        try:
+            proc.wait(seconds)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)  # the command with its launcher
+            proc.wait()
         took = time.monotonic() - start
-        proc.returncode = os.waitstatus_to_exitcode(status)  # reaped here: Popen must not wait for it again
+        with os.fdopen(read_end, "rb") as said:
+            kilobytes = int(said.read() or 0)
         out.seek(0)
         err.seek(0)
         done = Finished(proc.returncode, out.read().decode(errors="replace"), err.read().decode(errors="replace"), took,
-                        usage.ru_maxrss / 1024)
+                        kilobytes / 1024)
     assert done.seconds < seconds, f"{args[:4]} took {done.seconds:.1f} s, more than {seconds:g} s (killed)"
     assert done.megabytes < megabytes, f"{args[:4]} reached {done.megabytes:,.0f} MB, more than {megabytes:g} MB"
     return done
