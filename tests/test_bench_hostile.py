@@ -49,18 +49,36 @@ def _rows(out: str) -> dict[str, dict[str, str]]:
     return rows
 
 
-@pytest.mark.parametrize("name, fault", [
-    ("BenchRaises", "raised ValueError: refuses"),
-    ("BenchAnswersNone", "no coverage (rasterize returned NoneType, not a harness.Coverage)"),
-    ("BenchSegfaults", "crashed (signal 11, SIGSEGV)"),
-    ("BenchExits", "its process exited with code 0 without answering"),
-    ("BenchCrashesWhenWarm", "crashed (signal 11, SIGSEGV)"),
-])
-def test_a_failing_rasterizer_is_its_own_row_and_the_others_are_measured(name: str, fault: str, tmp_path: Path,
-                                                                         capsys: pytest.CaptureFixture[str]) -> None:
-    out_json = tmp_path / "bench.json"
-    code, out, err = _bench(capsys, "--kinds", "triangles", "--timeout", "30", "--rasterizer", f"{HOSTILE}:{name}",
-                            "--rasterizer", GOOD, "--json", str(out_json))
+FAULTS = {
+    "BenchRaises": "raised ValueError: refuses",
+    "BenchAnswersNone": "no coverage (rasterize returned NoneType, not a harness.Coverage)",
+    "BenchSegfaults": "crashed (signal 11, SIGSEGV)",
+    "BenchExits": "its process exited with code 0 without answering",
+    "BenchCrashesWhenWarm": "crashed (signal 11, SIGSEGV)",
+}
+
+
+@pytest.fixture(scope="module")
+def failing_bench(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """One bench of every failing contender of FAULTS beside a well-behaved one (each is
+    forked on its own: one's fault cannot touch another's row)."""
+    import contextlib
+    import io
+
+    out_json = tmp_path_factory.mktemp("bench") / "bench.json"
+    argv = ["--kinds", "triangles", "--timeout", "30", "--json", str(out_json), "--rasterizer", GOOD]
+    for name in FAULTS:
+        argv += ["--rasterizer", f"{HOSTILE}:{name}"]
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(["bench", *SMALL, *argv])
+    return {"code": code, "out": out.getvalue(), "err": err.getvalue(), "json": json.loads(out_json.read_text())}
+
+
+@pytest.mark.parametrize("name, fault", FAULTS.items())
+def test_a_failing_rasterizer_is_its_own_row_and_the_others_are_measured(name: str, fault: str,
+                                                                         failing_bench: dict[str, Any]) -> None:
+    code, out, err = failing_bench["code"], failing_bench["out"], failing_bench["err"]
     assert code == 1, (out, err)
     assert "Traceback" not in out + err
     rows = _rows(out)
@@ -71,11 +89,12 @@ def test_a_failing_rasterizer_is_its_own_row_and_the_others_are_measured(name: s
         for label in TRIANGLE_ROWS | {GOOD}:  # measured: a rate, a ratio, times and pixels
             figures = row[label].replace(",", "").split()
             assert len(figures) == 5 and all(math.isfinite(float(f)) for f in figures), (work, label, row[label])
-    said = [line for line in out.splitlines() if line.startswith("failed:")]
+    said = [line for line in out.splitlines() if line.startswith(f"failed: {name}:")]
     assert said == [f"failed: {name}: nothing measured: {said[0].split('nothing measured: ', 1)[1]}"]
     assert fault in said[0] and "W1" in said[0] and "W2" in said[0]
-    data = json.loads(out_json.read_text())
-    assert {(r["workload"], r["contender"]) for r in data["failed"]} == {("W1", name), ("W2", name)}
+    data = failing_bench["json"]
+    assert {(r["workload"], r["contender"]) for r in data["failed"] if r["contender"] == name} == {("W1", name), ("W2", name)}
+    assert {r["contender"] for r in data["failed"]} == set(FAULTS)  # and no other
     measured = {r["contender"] for r in data["results"]}
     assert measured >= TRIANGLE_ROWS | {GOOD} and name not in measured
     assert all(r["fault"] == "" and r["seconds"] > 0 for r in data["results"])
