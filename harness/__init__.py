@@ -22,6 +22,7 @@ from harness.samples import STANDARD_PATTERNS, pattern
 if TYPE_CHECKING:  # imported when first used (the runner and the checks take a second to import)
     from harness.case import Case, MotionCase
     from harness.checks.records import Result, Tolerance
+    from harness.causes import by_cause
     from harness.isolation import TimeLimit
 
 # every process that imports rastercheck loads (and may compile) its kernels side by side
@@ -38,11 +39,14 @@ __all__ = [
     "STANDARD_PATTERNS", "pattern",
     # running it
     "run_suite", "replay", "Result", "Tolerance", "assert_conforms",
+    # reading the results: the failures grouped by cause, as the terminal and the report show them
+    "by_cause",
 ]
 __version__ = "0.1.0"
 
 # names imported on first use (module __getattr__): they pull in the checks
-_LAZY = {"Result": "harness.checks.records", "Tolerance": "harness.checks.records", "assert_conforms": "harness.testing"}
+_LAZY = {"Result": "harness.checks.records", "Tolerance": "harness.checks.records", "assert_conforms": "harness.testing",
+         "by_cause": "harness.causes"}
 
 
 def __getattr__(name: str) -> Any:

@@ -388,7 +388,7 @@ class CampaignState:
     def save(self) -> None:
         """Write ``campaign.json`` atomically (a reader, or a resumed campaign, sees the
         state before or after a batch, never half of one)."""
-        atomic_write_text(self.path, json.dumps(self.to_json(), indent=1))
+        atomic_write_text(self.path, json.dumps(self.to_json(), indent=1), durable=True)
 
     @classmethod
     def load(cls, directory: Path | str) -> CampaignState:

@@ -124,14 +124,15 @@ def prepare_file(path: Path | str, what: str) -> Path:
     return path
 
 
-def atomic_write_text(path: Path | str, text: str) -> None:
+def atomic_write_text(path: Path | str, text: str, *, durable: bool = False) -> None:
     """Write ``text`` to a temporary file beside ``path``, then rename it into place (a
     write killed half-way leaves a ``.<name>.<pid>.*.partial`` file that the next
-    :func:`sweep_partial` of the folder removes)."""
-    atomic_write_bytes(path, text.encode("utf-8"))
+    :func:`sweep_partial` of the folder removes). ``durable``: the file and the rename are
+    synced to the disk before returning (a state that a power cut must not empty)."""
+    atomic_write_bytes(path, text.encode("utf-8"), durable=durable)
 
 
-def atomic_write_bytes(path: Path | str, data: bytes) -> None:
+def atomic_write_bytes(path: Path | str, data: bytes, *, durable: bool = False) -> None:
     """:func:`atomic_write_text` for bytes."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -139,8 +140,27 @@ def atomic_write_bytes(path: Path | str, data: bytes) -> None:
     try:
         with os.fdopen(fd, "wb") as handle:
             handle.write(data)
+            if durable:
+                handle.flush()
+                os.fsync(handle.fileno())
         os.chmod(tmp, 0o644)  # mkstemp makes 0600; reports are meant to be read
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+    if durable:
+        sync_folder(path.parent)
+
+
+def sync_folder(folder: Path | str) -> None:
+    """Make a rename or a new file in ``folder`` durable (where the platform allows)."""
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)

@@ -283,7 +283,7 @@ def save_baseline(path: Path | str, results: list[Result], previous: dict[str, d
     if keep_missing:
         entries = {**{k: v for k, v in previous.items() if k not in entries}, **entries}
     path = Path(path)
-    atomic_write_text(path, json.dumps({"schema": SCHEMA, "entries": entries}, indent=1, sort_keys=True) + "\n")
+    atomic_write_text(path, json.dumps({"schema": SCHEMA, "entries": entries}, indent=1, sort_keys=True) + "\n", durable=True)
     return path
 
 

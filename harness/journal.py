@@ -22,7 +22,6 @@ import contextlib
 import json
 import os
 import sys
-import tempfile
 import threading
 import time
 from collections.abc import Iterable
@@ -31,7 +30,7 @@ from pathlib import Path
 from typing import IO, Any
 
 from harness.checks import Result
-from harness.files import read_input
+from harness.files import atomic_write_text, read_input
 from harness.output import result_from_row, result_row
 
 __all__ = ["JOURNAL_NAME", "FORMAT", "SYNC_SECONDS", "Recorded", "JournalWriter", "journal_path", "run_parameters",
@@ -179,19 +178,7 @@ class JournalWriter:
 
     def _write_new(self, text: str) -> None:
         """``text`` as the whole journal: a temporary file beside it, synced, renamed over it."""
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=f".{self.path.name}.{os.getpid()}.", suffix=".partial", dir=self.path.parent)
-        try:
-            with os.fdopen(fd, "w", encoding="utf-8") as handle:
-                handle.write(text)
-                handle.flush()
-                os.fsync(handle.fileno())
-            os.chmod(tmp, 0o644)
-            os.replace(tmp, self.path)
-        except BaseException:
-            Path(tmp).unlink(missing_ok=True)
-            raise
-        _sync_folder(self.path.parent)
+        atomic_write_text(self.path, text, durable=True)
 
     def result(self, result: Result) -> None:
         """Append one result line, flushed."""
@@ -244,17 +231,3 @@ class JournalWriter:
 def _line(entry: dict[str, Any]) -> str:
     # one physical line: json.dumps escapes every newline inside strings
     return json.dumps(entry, separators=(",", ":")) + "\n"
-
-
-def _sync_folder(folder: Path) -> None:
-    """Make a rename in ``folder`` durable (where the platform allows)."""
-    try:
-        fd = os.open(folder, os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)

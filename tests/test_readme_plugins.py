@@ -86,7 +86,7 @@ def test_a_broken_copy_of_a_readme_plugin_fails(plugins: Path, tmp_path: Path) -
 def test_harness_exports_what_a_plugin_uses() -> None:
     for name in ("Scene", "PathScene", "LineScene", "AnyScene", "SCENE_KINDS", "Coverage", "Unsupported", "Rasterizer",
                  "Convention", "LineRule", "STANDARD_PATTERNS", "pattern", "run_suite", "replay", "Result", "Tolerance",
-                 "assert_conforms", "span_buffers"):
+                 "assert_conforms", "span_buffers", "by_cause"):
         assert name in harness.__all__ and getattr(harness, name) is not None, name
     from harness.api import LineScene, Unsupported
     from harness.conventions import LineRule
@@ -95,6 +95,9 @@ def test_harness_exports_what_a_plugin_uses() -> None:
 
     assert (harness.LineScene, harness.Unsupported, harness.LineRule) == (LineScene, Unsupported, LineRule)
     assert harness.assert_conforms is assert_conforms
+    from harness.causes import by_cause
+
+    assert harness.by_cause is by_cause
     with pytest.raises(AttributeError, match="no attribute 'nothing_here'"):
         harness.nothing_here  # noqa: B018
 
