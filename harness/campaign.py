@@ -54,6 +54,7 @@ from harness.checks import Result
 from harness.conventions import Convention
 from harness.files import atomic_write_bytes, atomic_write_text, prepare_folder, read_input, safe_name
 from harness.isolation import Outcome
+from harness.schemas import schema_fault
 
 if TYPE_CHECKING:
     from distributed import Client, Future
@@ -268,18 +269,6 @@ CAMPAIGN_SCHEMA: dict[str, Any] = {
 each state ``fuzz --merge`` reads, against it before using anything in it)."""
 
 
-def _schema_fault(data: Any) -> str | None:
-    """The first way ``data`` breaks :data:`CAMPAIGN_SCHEMA`, in words, or None."""
-    import jsonschema
-
-    error = jsonschema.exceptions.best_match(_state_validator().iter_errors(data))
-    if error is None:
-        return None
-    where = "".join(f"[{p!r}]" if isinstance(p, str) else f"[{p}]" for p in error.absolute_path) or "the top level"
-    shown = repr(error.instance)
-    return f"{where}: {shown if len(shown) <= 60 else shown[:57] + '...'} is not valid ({error.message:.120})"
-
-
 @functools.lru_cache(maxsize=1)
 def _state_validator() -> Any:
     import jsonschema
@@ -403,9 +392,9 @@ class CampaignState:
             raise ValueError(f"{path}: cannot read the campaign state ({exc})") from None
         if not isinstance(data, dict) or data.get("schema") != SCHEMA:
             raise ValueError(f"{path}: not a rastercheck campaign state (schema {SCHEMA} expected)")
-        fault = _schema_fault(data)
+        fault = schema_fault(_state_validator(), data)
         if fault is not None:
-            raise ValueError(f"{path}: malformed campaign state at {fault}")
+            raise ValueError(f"{path}: malformed campaign state {fault}")
         repros = directory / "repros"
         if repros.exists() and not repros.is_dir():
             raise ValueError(f"{repros}: a file where the campaign keeps its repros (a folder)")

@@ -24,8 +24,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import MAX_VIEWPORT, AnyScene, LineScene, PathScene, Scene
-from harness.files import read_input
-from harness.files import atomic_write_text
+from harness.files import atomic_write_text, read_input
+from harness.schemas import first_error
+from harness.schemas import what as problem
+from harness.schemas import where as field_path
 
 __all__ = ["Case", "MotionCase", "case_to_json", "case_from_json", "save_case", "load_case", "read_case_file", "SCHEMA", "CASE_SCHEMA",
            "MAX_CASE_PIXELS"]
@@ -280,11 +282,6 @@ def case_to_json(case: Case | MotionCase, **extra: Any) -> dict[str, Any]:
     }
 
 
-def _where(error: Any) -> str:
-    path = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in error.absolute_path).lstrip(".")
-    return path or "the top level"
-
-
 # The most a case file may hold, so that a file's cost is bounded before any of it is used
 # (a million contours, or 200,000 paths, ran past two minutes on one rasterizer; 65,536 paths
 # take half a minute): triangles, paths, their contours and vertices, line strips and their
@@ -422,12 +419,10 @@ def _validator() -> Any:
 def case_from_json(data: Any) -> Case | MotionCase:
     """The exact case back from :func:`case_to_json`, after checking it against
     :data:`CASE_SCHEMA`; ValueError naming the field that is wrong and where."""
-    import jsonschema
-
     if not isinstance(data, dict) or data.get("schema") != SCHEMA:
         raise ValueError(f"not a rastercheck case (schema {SCHEMA} expected)")
     skeleton = _skeleton(data)
-    error = jsonschema.exceptions.best_match(_validator().iter_errors(skeleton))
+    error = first_error(_validator(), skeleton)
     if error is not None and error.validator == "oneOf" and not error.absolute_path and not {"positions", "paths", "lines"} & set(data):
         raise ValueError("case JSON lacks the field 'positions' (or 'paths' and 'fill_rule' for a path case, 'lines' for a line case)")
     if error is not None and error.validator == "oneOf" and not error.absolute_path:
@@ -440,10 +435,8 @@ def case_from_json(data: Any) -> Case | MotionCase:
             if error.instance is skeleton and data.get("kind") != "motion" and not {"positions", "paths", "lines"} & set(data):
                 missing.append("positions")  # (or "paths" and "fill_rule", for a path case)
             raise ValueError(f"case JSON lacks the field{'s' if len(missing) > 1 else ''} {', '.join(map(repr, missing))}"
-                             + ("" if not error.absolute_path else f" at {_where(error)}"))
-        shown = repr(error.instance)
-        raise ValueError(f"case JSON is malformed at {_where(error)}: "
-                         f"{shown if len(shown) <= 60 else shown[:57] + '...'} is not valid ({error.validator} {error.validator_value!r:.80})")
+                             + ("" if not error.absolute_path else f" at {field_path(error.absolute_path)}"))
+        raise ValueError(f"case JSON is malformed at {field_path(error.absolute_path)}: {problem(error)}")
     if data.get("kind") == "motion":
         frames = tuple(_scene_from_json(f, f"frame {k}: ") for k, f in enumerate(data["frames"]))
         if any(not isinstance(f, Scene) for f in frames):

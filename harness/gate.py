@@ -30,7 +30,6 @@ whose metrics worsened is a regression as before.
 from __future__ import annotations
 
 import json
-import re
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -38,6 +37,7 @@ from typing import Any, Literal
 
 from harness.checks import timing_metrics, Result, check_names, metric_tolerance
 from harness.files import atomic_write_text, read_input
+from harness.schemas import schema_fault
 
 __all__ = ["BASELINE_SCHEMA", "Finding", "Verdict", "compare_with_baseline", "gated_metrics", "key",
            "load_baseline", "save_baseline", "CampaignFindings", "campaign_known", "result_signature"]
@@ -204,19 +204,6 @@ class Verdict:
         return out
 
 
-def _where(path: Iterable[Any]) -> str:
-    """``entries["a|b|c"].metrics.wrong``: a JSON path for people."""
-    out = ""
-    for p in path:
-        if isinstance(p, int):
-            out += f"[{p}]"
-        elif re.fullmatch(r"[A-Za-z_]\w*", str(p)):
-            out += f".{p}"
-        else:
-            out += f"[{json.dumps(p)}]"
-    return out.lstrip(".") or "the top level"
-
-
 def load_baseline(path: Path | str) -> dict[str, dict[str, Any]]:
     """The entries of a baseline file, checked against :data:`BASELINE_SCHEMA`;
     ValueError in one line naming the file (and the field) that is wrong."""
@@ -233,24 +220,18 @@ def load_baseline(path: Path | str) -> dict[str, dict[str, Any]]:
         raise ValueError(f"{path}: unreadable baseline ({exc})") from None
     if not isinstance(data, dict) or data.get("schema") != SCHEMA:
         raise ValueError(f"{path}: not a rastercheck baseline of schema {SCHEMA}")
-    error = jsonschema.exceptions.best_match(jsonschema.Draft202012Validator(BASELINE_SCHEMA).iter_errors(data))
-    if error is not None:
-        shown = repr(error.instance)
-        shown = shown if len(shown) <= 60 else shown[:57] + "..."
-        if error.validator == "required":
-            missing = [f for f in error.validator_value if isinstance(error.instance, dict) and f not in error.instance]
-            what = f"lacks {', '.join(map(repr, missing))}"
-        elif "propertyNames" in error.absolute_schema_path:
-            what = f"{shown} is not a key of the form rasterizer|case|check"
-        elif error.validator == "type":
-            what = f"{shown} is not of type {error.validator_value!r}"
-        elif error.validator == "enum":
-            what = f"{shown} is not one of {', '.join(map(repr, error.validator_value))}"
-        else:
-            what = f"{shown} is not valid ({error.validator} {error.validator_value!r:.80})"
-        raise ValueError(f"{path}: malformed baseline at {_where(error.absolute_path)}: {what}")
+    fault = schema_fault(jsonschema.Draft202012Validator(BASELINE_SCHEMA), data, _baseline_words)
+    if fault is not None:
+        raise ValueError(f"{path}: malformed baseline {fault}")
     entries: dict[str, dict[str, Any]] = data["entries"]
     return entries
+
+
+def _baseline_words(error: Any) -> str | None:
+    if "propertyNames" in error.absolute_schema_path:
+        shown = repr(error.instance)
+        return f"{shown if len(shown) <= 60 else shown[:57] + '...'} is not a key of the form rasterizer|case|check"
+    return None
 
 
 def _entry(r: Result, previous: dict[str, dict[str, Any]], gated: dict[str, tuple[float, float]]) -> dict[str, Any]:
