@@ -130,7 +130,7 @@ class _Rasterizer(pytest.Collector):
         # scene kind -> the case whose answer contradicted the declaration (harness.declarations):
         # said once there, and no more scenes of the kind are handed to it
         self.refused: dict[str, str] = {}
-        self._session: Session | None = None
+        self._rastercheck_session: Session | None = None
 
     def collect(self) -> list[pytest.Item | pytest.Collector]:
         if self.given.rasterizer is None:
@@ -161,24 +161,25 @@ class _Rasterizer(pytest.Collector):
             line = f"{self.name}: checked against the convention identified for it: {found.get('convention')}{guess}"
         self.config.stash.setdefault(_IDENTIFIED, []).append(line)
 
-    def session(self) -> Session:
-        """The rasterizer's session (its worker process), started for its first case and
-        kept for the others: one per rasterizer and pytest session, closed when pytest ends.
-        A call cut off by its time limit, or a worker that died, leaves a fresh worker for
-        the next case (:class:`harness.isolation.Worker` replaces itself)."""
-        if self._session is None:
+    def open_session(self) -> Session:
+        """The rasterizer's :class:`harness.session.Session` (its worker process), started
+        for its first case and kept for the others: one per rasterizer and pytest session,
+        closed when pytest ends. A call cut off by its time limit, or a worker that died,
+        leaves a fresh worker for the next case (:class:`harness.isolation.Worker` replaces
+        itself). (Not ``session``: a node's ``session`` is pytest's.)"""
+        if self._rastercheck_session is None:
             from harness.runner import declared
             from harness.session import Session
 
             assert self.ready is not None
-            self._session = Session(declared(self.ready), self.config.getoption("--rastercheck-timeout"))
+            self._rastercheck_session = Session(declared(self.ready), self.config.getoption("--rastercheck-timeout"))
             self.config.add_cleanup(self._close_session)
-        return self._session
+        return self._rastercheck_session
 
     def _close_session(self) -> None:
-        if self._session is not None:
-            self._session.close()
-            self._session = None
+        if self._rastercheck_session is not None:
+            self._rastercheck_session.close()
+            self._rastercheck_session = None
 
 
 class _Case(pytest.Collector):
@@ -215,7 +216,7 @@ class _Case(pytest.Collector):
             from harness.runner import run_session
 
             start = time.monotonic()
-            results = run_session(owner.session(), [self.case], only=self.selected | {check},
+            results = run_session(owner.open_session(), [self.case], only=self.selected | {check},
                                   repro_seconds=max(0.0, owner.shrink_seconds))
             if any(r.status == "fail" for r in results):  # it shrank: the run counts against the budget
                 owner.shrink_seconds -= time.monotonic() - start

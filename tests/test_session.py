@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -111,3 +114,47 @@ def test_a_session_closed_twice_is_closed_once(isolate: bool) -> None:
     session = Session(CentreScanline(), isolate=isolate)
     session.close()
     session.close()
+
+
+PID_LOGGING = '''
+import os
+import time
+
+from rasterizers.centre_scanline import CentreScanline
+
+LOG = os.path.join(os.path.dirname(os.path.abspath(__file__)), "pids.log")
+
+
+class PidLogging(CentreScanline):
+    """centre_scanline, logging the process of every call; it hangs on a 32 x 32 px scene
+    (lattice/sub-pixel-triangles)."""
+
+    name = "pid_logging"
+
+    def rasterize(self, scene):
+        with open(LOG, "a") as log:
+            log.write(f"{os.getpid()}\\n")
+        if scene.width == 32:
+            time.sleep(600)
+        return super().rasterize(scene)
+'''
+
+
+def test_the_pytest_plugin_keeps_one_worker_per_rasterizer_and_replaces_a_hung_one(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+    """Every case of a rasterizer is drawn by one worker process (it started one per case);
+    a case that hangs is cut off (asked again once, in a fresh process) and the next case
+    is drawn by a fresh worker; the last worker is ended with the pytest session."""
+    from tests.test_pytest_plugin import plugin_run_here
+
+    plugin = tmp_path / "pid_logging.py"
+    plugin.write_text(PID_LOGGING)
+    proc = plugin_run_here(tmp_path, capsys, monkeypatch, "-q", "--rasterizer", f"{plugin}:PidLogging",
+                           "--rastercheck-timeout", "1", "-k", "(lattice/ or float/random-50px) and conformance")
+    assert proc.returncode == 1, proc.stdout[-3000:]
+    assert "1 failed, 5 passed" in proc.stdout and "no answer within 1 s" in proc.stdout, proc.stdout[-3000:]
+    pids = [int(line) for line in (tmp_path / "pids.log").read_text().split()]
+    # bits-0, -2, -4, -8 and the hang's first ask in one worker; the ask again in a fresh one; the next case in another
+    assert len(pids) == 7 and len(set(pids[:5])) == 1 and len(set(pids)) == 3 and pids[5] != pids[6], pids
+    with pytest.raises(ProcessLookupError):
+        os.kill(pids[-1], 0)  # closed (and reaped) when the pytest session ended
