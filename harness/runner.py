@@ -1,10 +1,12 @@
 """The runner: every rasterizer on every case of a suite, each call isolated.
 
-Each rasterizer runs in a worker process of its own. An exception becomes an ``error``
-result carrying the traceback; a call cut off by its time limit
+Each rasterizer runs in a worker process of its own, through a
+:class:`harness.session.Session` (which also holds the checks of one case,
+:func:`check_case` and :func:`check_motion`, named here too). An exception becomes an
+``error`` result carrying the traceback; a call cut off by its time limit
 (:class:`harness.isolation.TimeLimit`) is asked again once with a longer one, and one cut
-off twice becomes a ``timeout`` error, the worker is replaced, and the run goes on. Results already computed
-are never lost: ``on_result`` sees each one as soon as it exists.
+off twice becomes a ``timeout`` error, the worker is replaced, and the run goes on. Results
+already computed are never lost: ``on_result`` sees each one as soon as it exists.
 """
 
 from __future__ import annotations
@@ -213,7 +215,7 @@ def _not_run(cases: Sequence[Case | MotionCase], rasterizer: str, why: str,
     return out
 
 
-def _rerun(result: Result, case: Case | MotionCase, one_case: Callable[[Case | MotionCase, set[str] | None], list[Result]],
+def _rerun(result: Result, case: Case | MotionCase, check: Callable[[Case | MotionCase, set[str] | None], list[Result]],
            times: int) -> Result:
     """Rerun the check behind an unexpected result ``times`` times; when the status
     changes, the result is marked flaky (``evidence["flaky"]``: the statuses seen, first
@@ -221,7 +223,7 @@ def _rerun(result: Result, case: Case | MotionCase, one_case: Callable[[Case | M
     statuses: list[str] = [result.status]
     only = None if result.check == "run" else {result.check}
     for _ in range(times):
-        again = [r for r in one_case(case, only) if r.check == result.check]
+        again = [r for r in check(case, only) if r.check == result.check]
         statuses.append(again[0].status if again else "missing")
     if len(set(statuses)) == 1:
         return replace(result, evidence={**result.evidence, "reruns": statuses})
