@@ -47,14 +47,13 @@ from datetime import datetime, timezone
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from harness.api import AnyScene, Rasterizer, Scene, convention_for, takes
+from harness.api import Rasterizer, takes
 from harness.case import Case, MotionCase, case_from_json, case_to_json, save_case
 from harness.causes import CONSEQUENT_CHECKS, attributed
 from harness.checks import Result
-from harness.conventions import Convention
 from harness.files import atomic_write_bytes, atomic_write_text, prepare_folder, read_input, safe_name
-from harness.isolation import Outcome
 from harness.schemas import schema_fault
+from harness.session import Session
 
 if TYPE_CHECKING:
     from distributed import Client, Future
@@ -704,58 +703,30 @@ def _prepare_process() -> None:
     _PREPARED = True
 
 
-class _Loaded:
-    """A rasterizer loaded in this process from its spec (wrapped by the coordinator's
-    fingerprint when it declares no convention) and its isolated worker process."""
+def _session(spec: str, fingerprint: Any | None, timeout: float) -> Session:
+    """The session of the rasterizer of ``spec``, loaded in this process (wrapped by the
+    coordinator's fingerprint when it declares no convention), its calls in an isolated
+    worker process. Every scene is handed to it: a campaign's scene is a finding of its
+    own, even after an answer contradicted the rasterizer's declaration."""
+    from harness.identify import Identified
+    from harness.isolation import TimeLimit
+    from harness.registry import load
 
-    def __init__(self, spec: str, fingerprint: Any | None, timeout: float) -> None:
-        from harness.identify import Identified
-        from harness.isolation import TimeLimit, Worker
-        from harness.registry import load
-
-        _prepare_process()
-        rasterizer = load(spec, import_timeout=timeout)
-        if fingerprint is not None and rasterizer.convention is None:
-            rasterizer = Identified(rasterizer, fingerprint)
-        self.rasterizer: Rasterizer = rasterizer
-        # run's policy: the first call of a scene kind (a JIT compiling its kernels) gets the
-        # cap, --timeout, as every call may; no allowance beyond what the user asked
-        self.worker = Worker(rasterizer, TimeLimit.of(timeout))
-
-    def call(self, scene: AnyScene) -> Outcome:
-        """One isolated rasterize call (:class:`harness.isolation.TimeLimit`)."""
-        return self.worker.rasterize(scene)
-
-    def call_all(self, scenes: list[Scene]) -> list[Outcome]:
-        return self.worker.rasterize_all(scenes)
-
-    def check(self, case: Case | MotionCase, only: set[str] | None) -> list[Result]:
-        """Every applicable check (those in ``only``) of the rasterizer on the case; [] for
-        a case whose scenes it does not take."""
-        from harness.runner import check_case, check_motion
-
-        if isinstance(case, MotionCase):
-            if not case.frames or not takes(self.rasterizer, case.frames[0]):
-                return []
-            return check_motion(case, self.rasterizer, self.call, only=only, call_all=self.call_all)
-        return check_case(case, self.rasterizer, self.call, only=only)
-
-    def judge(self, case: Case | MotionCase, check: str) -> list[Result]:
-        """The one check on a (changed) case: the probes' and the shrinker's question."""
-        return self.check(case, {check})
-
-    def convention(self, case: Case | MotionCase) -> Convention | None:
-        if isinstance(case, MotionCase):
-            return self.rasterizer.convention
-        return convention_for(self.rasterizer, case.scene)
+    _prepare_process()
+    rasterizer = load(spec, import_timeout=timeout)
+    if fingerprint is not None and rasterizer.convention is None:
+        rasterizer = Identified(rasterizer, fingerprint)
+    # run's policy: the first call of a scene kind (a JIT compiling its kernels) gets the
+    # cap, --timeout, as every call may; no allowance beyond what the user asked
+    return Session(rasterizer, TimeLimit.of(timeout), remembers_refusals=False)
 
 
-_LOADED: dict[tuple[str, bytes, float, int], _Loaded] = {}
+_LOADED: dict[tuple[str, bytes, float, int], Session] = {}
 _LOADED_LOCK = threading.Lock()
 KEEP_LOADED = 4  # rasterizers kept loaded per worker process (a long-lived cluster serves many campaigns)
 
 
-def _loaded(spec: str, fingerprint: Any | None, timeout: float) -> _Loaded:
+def _loaded(spec: str, fingerprint: Any | None, timeout: float) -> Session:
     """The rasterizer of ``spec`` in this process, loaded once per process (and thread:
     a worker running several tasks at once gives each its own isolated process); each
     thread's least recently used beyond :data:`KEEP_LOADED` are closed."""
@@ -764,13 +735,13 @@ def _loaded(spec: str, fingerprint: Any | None, timeout: float) -> _Loaded:
     with _LOADED_LOCK:
         found = _LOADED.pop(key, None)
     if found is None:
-        found = _Loaded(spec, fingerprint, timeout)
+        found = _session(spec, fingerprint, timeout)
     with _LOADED_LOCK:
         _LOADED[key] = found  # the most recently used last
         mine = [k for k in _LOADED if k[3] == key[3]]  # only this thread's: another's may be in use
         closing = [_LOADED.pop(k) for k in mine[:-KEEP_LOADED]]
     for old in closing:
-        old.worker.close()
+        old.close()
     return found
 
 
@@ -783,7 +754,7 @@ def _worker_name() -> str:
         return f"local:{os.getpid()}"
 
 
-def _classified(result: Result, case: Case | MotionCase, loaded: _Loaded) -> tuple[Result, Signature]:
+def _classified(result: Result, case: Case | MotionCase, loaded: Session) -> tuple[Result, Signature]:
     """A failing or erroring result with its signature (a failing conformance or invariance
     check probed first: does it pass on a grown screen, or as the library receives its
     input? a flicker: does the frame that leaves the oracle fail conformance, and why?
@@ -795,7 +766,7 @@ def _classified(result: Result, case: Case | MotionCase, loaded: _Loaded) -> tup
     return result, signature(result, case, loaded.convention(case))
 
 
-def _finding(result: Result, case: Case | MotionCase, loaded: _Loaded, family: str, seed: int, index: int) -> Finding:
+def _finding(result: Result, case: Case | MotionCase, loaded: Session, family: str, seed: int, index: int) -> Finding:
     result, found = _classified(result, case, loaded)
     return Finding(family, seed, index, result.check, result.status, result.message, found.key, found.failure_class,
                    found.convention_part, found.check)

@@ -188,7 +188,8 @@ def _execute(args: argparse.Namespace, loaded: Any = None,
     from harness.checks import Result, check_names
     from harness.isolation import kill_all
     from harness.registry import distinct_names
-    from harness.runner import run_suite
+    from harness.runner import declared, run_session
+    from harness.session import Session
 
     _prepare_outputs(args)
     only = None
@@ -284,9 +285,9 @@ def _execute(args: argparse.Namespace, loaded: Any = None,
                 tick(result)
                 if recorder is not None:
                     recorder.complete(r.name, result.case)
-        run_suite([r], cases=mine, timeout=args.timeout, on_result=tick, identify=False, only=only,
-                  rerun=getattr(args, "rerun", 0), stop=stop, deadline=deadline,
-                  on_case=recorder.complete if recorder is not None else None)
+        with Session(declared(r), args.timeout) as session:  # its worker process, closed when its cases are done
+            run_session(session, mine, on_result=tick, only=only, rerun=getattr(args, "rerun", 0), stop=stop,
+                        deadline=deadline, on_case=recorder.complete if recorder is not None else None)
 
     def report_progress() -> None:
         while not finished.wait(30.0):

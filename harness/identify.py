@@ -62,7 +62,7 @@ from harness.conventions import Convention, CoverageKind, LineRule
 from harness.coverage_probes import (
     CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions, sample_sides,
 )
-from harness.isolation import Call, CallTally, InProcess, Outcome, TimeLimit, Worker
+from harness.isolation import Call, CallTally, InProcess, Outcome, TimeLimit
 from harness.probes import (EPSILON_CASE, NON_FINITE_CASES, REPROS, ZERO_AREA_CASE, Defect, Epsilon, Fact, NonFinite,
                             Unanswered, ViewportEdge, Watertight, ZeroArea, epsilon, fit_snapping, fit_ties, non_finite, residual_lies,
                             suite_defects, unanswered, viewport_edge, watertight_partitions, zero_area)
@@ -628,8 +628,8 @@ def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, .
 
 def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0,
                       call_timeout: float | TimeLimit | None = None) -> Fingerprint:
-    """:func:`identify` with every rasterize call in a forked worker process
-    (:class:`harness.isolation.Worker`), so that a library's process-wide state (an EGL
+    """:func:`identify` with every rasterize call in a forked worker process (a
+    :class:`harness.session.Session`'s :class:`harness.isolation.Worker`), so that a library's process-wide state (an EGL
     display, a crash, a hang) stays out of the caller: a call that crashes or hangs counts
     as raising, and identification goes on (the probes fit on the calls answered, and the
     card counts and names the others).
@@ -645,12 +645,14 @@ def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 60
     def expired() -> TimeoutError:
         return TimeoutError(f"identify {rasterizer.name}: no answer within {timeout:g} s")
 
-    with Worker(rasterizer, call_timeout or timeout, deadline=deadline) as worker:
+    from harness.session import Session
+
+    with Session(rasterizer, call_timeout or timeout, deadline=deadline) as session:
 
         def call(scene: Scene) -> Outcome:
             if time.monotonic() >= deadline:
                 raise expired()
-            outcome = worker.rasterize(scene)
+            outcome = session.call(scene)
             if outcome.timed_out and time.monotonic() >= deadline:
                 raise expired()
             return outcome

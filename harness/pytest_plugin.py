@@ -14,7 +14,10 @@ they leave out. The tree is ``rastercheck / <rasterizer> / <case id> / <check>``
     rastercheck::centre_scanline::lattice/bits-0::conformance
 
 The first item of a case runs it (the case's selected checks, one
-:func:`harness.runner.run_suite` call); the other items of the case read its results.
+:func:`harness.runner.run_session` call); the other items of the case read its results.
+Each rasterizer runs in one worker process for the whole pytest session (a
+:class:`harness.session.Session`, started for its first case and closed when pytest ends),
+not one per case; a call cut off by its time limit leaves a fresh worker for the next.
 A rasterizer that declares no convention is identified once, when its first item is set
 up (so the time shows as that item's setup). With ``--rastercheck-baseline FILE``, the
 baseline's known failures are expected to fail (xfail, not strict).
@@ -25,13 +28,16 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import pytest
 
 from harness.api import Rasterizer
 from harness.case import Case, MotionCase
 from harness.checks import Result
+
+if TYPE_CHECKING:
+    from harness.session import Session
 
 __all__ = ["pytest_addoption", "pytest_ignore_collect", "pytest_report_header", "pytest_collection_modifyitems",
            "pytest_collection_finish", "pytest_terminal_summary", "RastercheckFailure", "RastercheckItem"]
@@ -124,6 +130,7 @@ class _Rasterizer(pytest.Collector):
         # scene kind -> the case whose answer contradicted the declaration (harness.declarations):
         # said once there, and no more scenes of the kind are handed to it
         self.refused: dict[str, str] = {}
+        self._rastercheck_session: Session | None = None
 
     def collect(self) -> list[pytest.Item | pytest.Collector]:
         if self.given.rasterizer is None:
@@ -153,6 +160,26 @@ class _Rasterizer(pytest.Collector):
             guess = "" if found.get("exact") else f" (a best guess: residual {found.get('residual')} px)"
             line = f"{self.name}: checked against the convention identified for it: {found.get('convention')}{guess}"
         self.config.stash.setdefault(_IDENTIFIED, []).append(line)
+
+    def open_session(self) -> Session:
+        """The rasterizer's :class:`harness.session.Session` (its worker process), started
+        for its first case and kept for the others: one per rasterizer and pytest session,
+        closed when pytest ends. A call cut off by its time limit, or a worker that died,
+        leaves a fresh worker for the next case (:class:`harness.isolation.Worker` replaces
+        itself). (Not ``session``: a node's ``session`` is pytest's.)"""
+        if self._rastercheck_session is None:
+            from harness.runner import declared
+            from harness.session import Session
+
+            assert self.ready is not None
+            self._rastercheck_session = Session(declared(self.ready), self.config.getoption("--rastercheck-timeout"))
+            self.config.add_cleanup(self._close_session)
+        return self._rastercheck_session
+
+    def _close_session(self) -> None:
+        if self._rastercheck_session is not None:
+            self._rastercheck_session.close()
+            self._rastercheck_session = None
 
 
 class _Case(pytest.Collector):
@@ -186,12 +213,11 @@ class _Case(pytest.Collector):
             self.results = [Result(owner.ready.name, self.case.id, "run", "skip",
                                    f"not handed to it: its answer on {owner.refused[kind]} contradicted its declaration")]
         if self.results is None:
-            from harness.runner import run_suite
+            from harness.runner import run_session
 
             start = time.monotonic()
-            results = run_suite([owner.ready], cases=[self.case], seed=self.config.getoption("--rastercheck-seed"),
-                                only=self.selected | {check}, identify=False, repro_seconds=max(0.0, owner.shrink_seconds),
-                                timeout=self.config.getoption("--rastercheck-timeout"))
+            results = run_session(owner.open_session(), [self.case], only=self.selected | {check},
+                                  repro_seconds=max(0.0, owner.shrink_seconds))
             if any(r.status == "fail" for r in results):  # it shrank: the run counts against the budget
                 owner.shrink_seconds -= time.monotonic() - start
             self.results = [replace(r, drawing=None) for r in results]  # no pictures here: keep no coverages

@@ -1,10 +1,12 @@
 """The runner: every rasterizer on every case of a suite, each call isolated.
 
-Each rasterizer runs in a worker process of its own. An exception becomes an ``error``
-result carrying the traceback; a call cut off by its time limit
+Each rasterizer runs in a worker process of its own, through a
+:class:`harness.session.Session` (which also holds the checks of one case,
+:func:`check_case` and :func:`check_motion`, named here too). An exception becomes an
+``error`` result carrying the traceback; a call cut off by its time limit
 (:class:`harness.isolation.TimeLimit`) is asked again once with a longer one, and one cut
-off twice becomes a ``timeout`` error, the worker is replaced, and the run goes on. Results already computed
-are never lost: ``on_result`` sees each one as soon as it exists.
+off twice becomes a ``timeout`` error, the worker is replaced, and the run goes on. Results
+already computed are never lost: ``on_result`` sees each one as soon as it exists.
 """
 
 from __future__ import annotations
@@ -15,135 +17,18 @@ from collections.abc import Callable, Iterable, Sequence
 from dataclasses import replace
 from pathlib import Path
 
-
-
 from cases.suites import suite as suite_cases
-from harness.case import Case, MotionCase, read_case_file
 from harness import checks, repro
-from harness.api import (AnyScene, Coverage, LineScene, Rasterizer, Scene, Unsupported, convention_for, fingerprint_of,
-                         interpolates_of, scene_kinds_of, takes)
+from harness.api import AnyScene, LineScene, Rasterizer, fingerprint_of, scene_kinds_of, takes
+from harness.case import Case, MotionCase, read_case_file
 from harness.causes import signed
-from harness.declarations import answer_problem, declaration_problem, scene_kind_problem
-from harness.checks import Drawing, Result, Tolerance
-
-from harness.isolation import AnyCall, InProcess, Outcome, TimeLimit, Worker, describe, each_until_error
+from harness.checks import Result, Tolerance
+from harness.declarations import declaration_problem
+from harness.isolation import TimeLimit
 from harness.registry import distinct_names, load
+from harness.session import Session, _error, check_case, check_motion  # noqa: F401 (check_case, _error: this module's names too)
 
-__all__ = ["run_suite", "check_case", "check_motion", "replay", "nothing_checked"]
-
-
-def _error(case: Case, rasterizer: str, outcome: Outcome, check: str = "run") -> Result:
-    kind = "timeout" if outcome.timed_out else type(outcome.error).__name__
-    text = describe(outcome.error, kind=False)
-    return Result(rasterizer, case.id, check, "error", f"{kind}: {text}",
-                  {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
-
-
-def _refusal(case: Case | MotionCase, rasterizer: Rasterizer, scene: AnyScene, outcome: Outcome,
-             refused: dict[str, str] | None, frame: int | None = None) -> Result | None:
-    """The one error result of an answer (or error) that contradicts what the rasterizer
-    declares (:mod:`harness.declarations`), recorded in ``refused`` under the scene kind so
-    that no more scenes of that kind are handed to it; None when nothing contradicts."""
-    if outcome.coverage is not None:
-        problem = answer_problem(convention_for(rasterizer, scene) if fingerprint_of(rasterizer) is None else None,
-                                 outcome.received if outcome.received is not None else outcome.coverage)
-    else:
-        problem = scene_kind_problem(rasterizer, scene, outcome.error)
-    if problem is None:
-        return None
-    where = "" if frame is None else f" (frame {frame})"
-    message = f"{problem}; its answer on {case.id}{where} was its last: no more {scene.kind} were handed to it"
-    if refused is not None:
-        refused[scene.kind] = message
-    return Result(rasterizer.name, case.id, "run", "error", message, {"seconds": outcome.seconds},
-                  {"refused": scene.kind})
-
-
-def check_case(case: Case, rasterizer: Rasterizer, call: AnyCall,
-               tolerance: Tolerance = Tolerance(), invariance: bool = True,
-               only: set[str] | None = None, refused: dict[str, str] | None = None) -> list[Result]:
-    """All applicable checks of one rasterizer on one case (or those named in ``only``;
-    when none of them applies, the rasterizer is not called and there is no result).
-
-    ``refused`` (scene kind -> message) holds the scene kinds whose answers contradicted
-    the rasterizer's declaration: such a scene is not handed to it (no result), and an
-    answer that contradicts it adds its kind and gives the one error result saying so."""
-    name = rasterizer.name
-    if not takes(rasterizer, case.scene):
-        return []  # a scene kind (or fill rule) it does not take: not handed to it
-    if refused is not None and case.scene.kind in refused:
-        return []  # its answers contradicted its declaration already: said once, not per case
-    convention = convention_for(rasterizer, case.scene)
-    kind = convention.kind if convention is not None else "single"
-    applicable = [check for check in checks.checks(case, only, kind) if invariance or check.name != "invariance"]
-    if not applicable:
-        return []
-    outcome = call(case.scene)
-    contradiction = _refusal(case, rasterizer, case.scene, outcome, refused)
-    if contradiction is not None:
-        return [contradiction]
-    if outcome.coverage is None:
-        if isinstance(outcome.error, Unsupported):  # cannot draw this scene as given: it says so
-            return [Result(name, case.id, "run", "skip", f"unsupported: {outcome.error}", {"seconds": outcome.seconds})]
-        declined = checks.refusal(case, outcome.error) if outcome.error is not None else None
-        if declined is not None:
-            return [replace(declined, rasterizer=name)]
-        return [_error(case, name, outcome)]
-    coverage = outcome.coverage
-    subject = checks.Subject(case, name, convention, [coverage], call, tolerance, interpolates_of(rasterizer), outcome.seconds,
-                             received=[outcome.received if outcome.received is not None else coverage],
-                             scene_kinds=scene_kinds_of(rasterizer))
-    results = [check.verdict(subject) for check in applicable]
-    drawing = Drawing.of(subject)  # references only (and the oracle if a check computed it): the report draws
-    return [_retried(replace(r, rasterizer=name, metrics={**r.metrics, "seconds": outcome.seconds},
-                             drawing=(r.drawing or drawing) if r.status == "fail" else None), [outcome]) for r in results]
-
-
-def _retried(result: Result, outcomes: Sequence[Outcome]) -> Result:
-    """``result``, its evidence saying which of the calls behind it were cut off by their time
-    limit and answered only when asked again (``retried``), when any were."""
-    said = [o.retry_text if len(outcomes) == 1 else f"frame {f}: {o.retry_text}"
-            for f, o in enumerate(outcomes) if o.retried is not None]
-    return replace(result, evidence={**result.evidence, "retried": "; ".join(said)}) if said else result
-
-
-def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene], Outcome],
-                 tolerance: Tolerance = Tolerance(), only: set[str] | None = None,
-                 call_all: Callable[[list[Scene]], list[Outcome]] | None = None,
-                 refused: dict[str, str] | None = None) -> list[Result]:
-    """The motion checks of one rasterizer on one frame sequence (or those named in
-    ``only``; when none of them applies, no frame is drawn and there is no result).
-    ``refused`` as for :func:`check_case`."""
-    name = rasterizer.name
-    if not case.frames or not takes(rasterizer, case.frames[0]):
-        return []  # triangles it does not take (a line drawer): not handed to it
-    if refused is not None and case.frames[0].kind in refused:
-        return []
-    convention = rasterizer.convention
-    applicable = checks.checks(case, only, convention.kind if convention is not None else "single")
-    if not applicable:
-        return []
-    coverages = []
-    seconds = 0.0
-    frames = list(case.frames)
-    # every frame in one go when the caller can (a worker draws the next frame while this
-    # process reads the last), else one call each; either way up to the first error
-    outcomes = call_all(frames) if call_all is not None else each_until_error(call, frames)
-    for f, outcome in enumerate(outcomes):
-        scene = frames[f]
-        contradiction = _refusal(case, rasterizer, scene, outcome, refused, frame=f)
-        if contradiction is not None:
-            return [contradiction]
-        if outcome.coverage is None:
-            failed = _error(Case(case.id, scene), name, outcome)
-            return [replace(failed, message=f"frame {f}: {failed.message}")]
-        coverages.append(outcome.coverage)
-        seconds += outcome.seconds
-    subject = checks.Subject(case, name, convention, coverages, call, tolerance, interpolates_of(rasterizer), seconds)
-    results = [check.verdict(subject) for check in applicable]
-    drawing = Drawing.of(subject)
-    return [_retried(replace(r, rasterizer=name, metrics={**r.metrics, "seconds": seconds},
-                             drawing=(r.drawing or drawing) if r.status == "fail" else None), outcomes) for r in results]
+__all__ = ["run_suite", "run_session", "declared", "check_case", "check_motion", "replay", "nothing_checked"]
 
 
 def _qualified(result: Result, rasterizer: Rasterizer, case: Case | MotionCase) -> Result:
@@ -250,63 +135,67 @@ def run_suite(
     """
     selected = list(cases) if cases is not None else suite_cases(suite, seed)
     results: list[Result] = []
-    loaded = distinct_names([load(spec) if isinstance(spec, str) else _declared(spec) for spec in rasterizers])
+    loaded = distinct_names([load(spec) if isinstance(spec, str) else declared(spec) for spec in rasterizers])
     if identify:
         from harness.identify import identify_all
 
         loaded, _ = identify_all(loaded, seed, call_timeout=timeout)
     for rasterizer in loaded:
-        worker: Worker | InProcess = Worker(rasterizer, timeout) if isolate else InProcess(rasterizer)
-        call = worker.rasterize
-        refused: dict[str, str] = {}  # scene kinds whose answers contradicted its declaration
-
-        def one_case(case: Case | MotionCase, only: set[str] | None, rasterizer: Rasterizer = rasterizer, call: AnyCall = call,
-                     call_all: Callable[[list[Scene]], list[Outcome]] = worker.rasterize_all,
-                     refused: dict[str, str] = refused) -> list[Result]:
-            if isinstance(case, MotionCase):
-                return check_motion(case, rasterizer, call, tolerance, only, call_all, refused)
-            return check_case(case, rasterizer, call, tolerance, only=only, refused=refused)
-
-        def judge(candidate: Case | MotionCase, check: str, one_case: Callable[..., list[Result]] = one_case) -> list[Result]:
-            return one_case(candidate, {check})
-
-        def answered(still: Case, drawn: Coverage, check: str, rasterizer: Rasterizer = rasterizer) -> list[Result]:
-            """The one check on ``still``, judged on ``drawn`` (an answer the run has): no call."""
-            return check_case(still, rasterizer, lambda scene: Outcome(drawn), tolerance, only={check})
-
-        shrink_until = time.monotonic() + repro_seconds
-        try:
-            for k, case in enumerate(selected):
-                if stop is not None and stop.is_set():
-                    break
-                if deadline is not None and time.monotonic() > deadline:
-                    results += _not_run(selected[k:], rasterizer.name, "the run's time budget was used up", on_result)
-                    break
-                found = one_case(case, only)
-                if rerun:
-                    found = [_rerun(r, case, one_case, rerun) if r.status in ("fail", "error") and "refused" not in r.evidence
-                             else r for r in found]
-                if stop is not None and stop.is_set():
-                    break  # the case was cut short by the stop: its results are not to be trusted
-                for result in found:
-                    if repros and result.status == "fail" and isinstance(case, Case) and "flaky" not in result.evidence:
-                        if time.monotonic() < shrink_until:
-                            result = repro.attach_repro(result, case, judge, rasterizer)
-                        else:  # budget used up: the whole case is the repro
-                            result = repro.whole_case_repro(result, case, rasterizer.name,
-                                                            "not shrunk: the shrinking time budget was used up")
-                    result = signed(_qualified(result, rasterizer, case), case, rasterizer, judge, answered)
-                    results.append(result)
-                    if on_result is not None:
-                        on_result(result)
-                if on_case is not None:
-                    on_case(rasterizer.name, case.id)
-        finally:
-            worker.close()
+        with Session(rasterizer, timeout, isolate=isolate, tolerance=tolerance) as session:
+            results += run_session(session, selected, repros=repros, repro_seconds=repro_seconds, on_result=on_result,
+                                   only=only, rerun=rerun, stop=stop, deadline=deadline, on_case=on_case)
     return results
 
 
-def _declared(rasterizer: Rasterizer) -> Rasterizer:
+def run_session(
+    session: Session,
+    cases: Sequence[Case | MotionCase],
+    *,
+    repros: bool = True,
+    repro_seconds: float = 120.0,
+    on_result: Callable[[Result], None] | None = None,
+    only: set[str] | None = None,
+    rerun: int = 0,
+    stop: threading.Event | None = None,
+    deadline: float | None = None,
+    on_case: Callable[[str, str], None] | None = None,
+) -> list[Result]:
+    """The cases on one session's rasterizer, one after another: each case's checks, its
+    reruns, its failures shrunk and signed (:func:`run_suite` runs this for each of its
+    rasterizers; the pytest plugin for each case, on the session it keeps per rasterizer).
+    The parameters are :func:`run_suite`'s; the session is left open."""
+    rasterizer = session.rasterizer
+    results: list[Result] = []
+    shrink_until = time.monotonic() + repro_seconds
+    for k, case in enumerate(cases):
+        if stop is not None and stop.is_set():
+            break
+        if deadline is not None and time.monotonic() > deadline:
+            results += _not_run(cases[k:], rasterizer.name, "the run's time budget was used up", on_result)
+            break
+        found = session.check(case, only)
+        if rerun:
+            found = [_rerun(r, case, session.check, rerun) if r.status in ("fail", "error") and "refused" not in r.evidence
+                     else r for r in found]
+        if stop is not None and stop.is_set():
+            break  # the case was cut short by the stop: its results are not to be trusted
+        for result in found:
+            if repros and result.status == "fail" and isinstance(case, Case) and "flaky" not in result.evidence:
+                if time.monotonic() < shrink_until:
+                    result = repro.attach_repro(result, case, session.judge, rasterizer)
+                else:  # budget used up: the whole case is the repro
+                    result = repro.whole_case_repro(result, case, rasterizer.name,
+                                                    "not shrunk: the shrinking time budget was used up")
+            result = signed(_qualified(result, rasterizer, case), case, rasterizer, session.judge, session.answered)
+            results.append(result)
+            if on_result is not None:
+                on_result(result)
+        if on_case is not None:
+            on_case(rasterizer.name, case.id)
+    return results
+
+
+def declared(rasterizer: Rasterizer) -> Rasterizer:
     """A rasterizer object whose declarations agree, as :func:`harness.registry.load`
     checks a spec's; ValueError naming it in one line otherwise."""
     problem = declaration_problem(rasterizer)
@@ -326,7 +215,7 @@ def _not_run(cases: Sequence[Case | MotionCase], rasterizer: str, why: str,
     return out
 
 
-def _rerun(result: Result, case: Case | MotionCase, one_case: Callable[[Case | MotionCase, set[str] | None], list[Result]],
+def _rerun(result: Result, case: Case | MotionCase, check: Callable[[Case | MotionCase, set[str] | None], list[Result]],
            times: int) -> Result:
     """Rerun the check behind an unexpected result ``times`` times; when the status
     changes, the result is marked flaky (``evidence["flaky"]``: the statuses seen, first
@@ -334,7 +223,7 @@ def _rerun(result: Result, case: Case | MotionCase, one_case: Callable[[Case | M
     statuses: list[str] = [result.status]
     only = None if result.check == "run" else {result.check}
     for _ in range(times):
-        again = [r for r in one_case(case, only) if r.check == result.check]
+        again = [r for r in check(case, only) if r.check == result.check]
         statuses.append(again[0].status if again else "missing")
     if len(set(statuses)) == 1:
         return replace(result, evidence={**result.evidence, "reruns": statuses})
