@@ -171,6 +171,124 @@ def _journal_of(args: argparse.Namespace, skips: list[tuple[str, str]]) -> tuple
     return parameters, recorded
 
 
+def _selected_checks(args: argparse.Namespace) -> set[str] | None:
+    """The checks ``--check`` names (``hygiene`` only when named), None for every one;
+    UsageError for a name that is no check."""
+    from harness.checks import check_names
+
+    if not getattr(args, "check", None):
+        return None
+    unknown = sorted(set(args.check) - set(check_names()) - {"overdraw"})
+    if unknown:
+        raise UsageError(f"--check {', '.join(unknown)}: no such check (checks: {', '.join(check_names())})")
+    return {*args.check, "hygiene"} if "hygiene" in args.check else set(args.check)
+
+
+def _loaded_rasterizers(args: argparse.Namespace, loaded: Any) -> list[Any]:
+    """The ``--rasterizer`` specs loaded, names made distinct; a plugin that cannot be
+    loaded is said on stderr and kept in :data:`_broken` (UsageError when none loads)."""
+    from harness.registry import distinct_names
+
+    rasterizers, problems = _load_all(args.rasterizer, getattr(args, "timeout", 120.0))
+    if not rasterizers:
+        raise UsageError("no rasterizer could be loaded: nothing was checked"
+                         + (f" ({'; '.join(problems)})" if problems else ""))
+    _refuse_same_names(rasterizers)
+    rasterizers = distinct_names(rasterizers)
+    _broken[:] = problems
+    if loaded is not None:
+        loaded(rasterizers)  # e.g. the gate's check that the baseline is of these rasterizers
+    for problem in problems:
+        print(f"skipped plugin: {problem}", file=sys.stderr)
+    return rasterizers
+
+
+def _run_and_skipped(cases: list[Any], skips: list[tuple[str, str]], name: str) -> tuple[list[Any], list[Any]]:
+    """The cases rasterizer ``name`` runs, and a skip result for each one the skip list
+    names (a glob of the case id, or of ``name:case id``)."""
+    import fnmatch
+
+    from harness.checks import Result
+
+    keep, out = [], []
+    for case in cases:
+        reason = next((why for glob, why in skips
+                       if fnmatch.fnmatchcase(case.id, glob) or fnmatch.fnmatchcase(f"{name}:{case.id}", glob)), None)
+        if reason is None:
+            keep.append(case)
+        else:
+            out.append(Result(name, case.id, "run", "skip", f"skipped: {reason}"))
+    return keep, out
+
+
+class _Collected:
+    """The results of a run as they come from its threads: kept, journaled (when the run
+    keeps a journal), and counted on the progress bar (on a terminal) or in a plain line
+    every 30 s (in CI)."""
+
+    def __init__(self, rasterizers: list[Any], cases: list[Any], recorder: Any, start: float) -> None:
+        import threading
+
+        self.results: list[Any] = []
+        self.lock = threading.Lock()
+        self.recorder = recorder
+        self.start = start
+        self._total = len(cases) * len(rasterizers)
+        self._seen: dict[str, set[str]] = {r.name: set() for r in rasterizers}
+        self._finished = threading.Event()
+        self._progress = None
+        if not _quiet():
+            from rich.progress import Progress
+
+            self._progress = Progress(transient=True)
+            self._progress.start()
+        else:
+            threading.Thread(target=self._report, daemon=True).start()
+        self._tasks = {r.name: self._progress.add_task(r.name, total=len(cases)) if self._progress else None
+                       for r in rasterizers}
+
+    def __call__(self, result: Any, journaled: bool = False) -> None:
+        """One result: ``journaled`` when it comes from the resumed journal itself."""
+        if self.recorder is not None and not journaled:
+            self.recorder.result(result)
+        with self.lock:
+            self.results.append(result)
+            seen = self._seen[result.rasterizer]
+            if result.case not in seen:
+                seen.add(result.case)
+                task = self._tasks[result.rasterizer]
+                if self._progress is not None and task is not None:
+                    self._progress.advance(task)
+
+    def _report(self) -> None:
+        while not self._finished.wait(30.0):
+            with self.lock:
+                done = sum(len(s) for s in self._seen.values())
+                failing = sum(x.status in ("fail", "error") for x in self.results)
+            print(f"progress: {done}/{self._total} cases, {failing} failing results, "
+                  f"{time.perf_counter() - self.start:.0f} s", file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        self._finished.set()
+        if self._progress is not None:
+            self._progress.stop()
+        if self.recorder is not None:
+            self.recorder.close()
+
+
+def _journal_writer(args: argparse.Namespace, parameters: dict[str, Any], recorded: Any,
+                    done: set[tuple[str, str]]) -> tuple[Any, Any]:
+    """The run journal's writer, and what it carries over from the journal resumed (its
+    complete pairs' results), or None for either; UsageError when it cannot be written."""
+    from harness.journal import JournalWriter, Recorded, journal_path
+
+    kept = Recorded(parameters, [x for x in recorded.results if (x.rasterizer, x.case) in done], done) if recorded else None
+    try:
+        return JournalWriter(journal_path(args.out), parameters, kept), kept
+    except OSError as exc:
+        raise UsageError(f"the run journal {journal_path(args.out)} cannot be written ({exc})") from None
+
+
 def _execute(args: argparse.Namespace, loaded: Any = None,
              journal: bool = False) -> tuple[list[Any], list[Any], float, dict[str, dict[str, Any]]]:
     """Run the selected rasterizers over the suite, side by side with --jobs, showing
@@ -181,43 +299,24 @@ def _execute(args: argparse.Namespace, loaded: Any = None,
     With ``journal``, each result is appended to ``<out>/run.journal.jsonl`` as it comes
     (:mod:`harness.journal`); under ``--resume`` the (rasterizer, case) pairs complete in
     it are not run again, and its results are among those returned."""
-    import fnmatch
     import threading
 
     from cases.suites import suite
-    from harness.checks import Result, check_names
+    from harness.identify import identify_all
     from harness.isolation import kill_all
-    from harness.registry import distinct_names
     from harness.runner import declared, run_session
     from harness.session import Session
 
     _prepare_outputs(args)
-    only = None
-    if getattr(args, "check", None):
-        unknown = sorted(set(args.check) - set(check_names()) - {"overdraw"})
-        if unknown:
-            raise UsageError(f"--check {', '.join(unknown)}: no such check (checks: {', '.join(check_names())})")
-        only = {*args.check, "hygiene"} if "hygiene" in args.check else set(args.check)
+    only = _selected_checks(args)
     skips = _skip_list(args.skip) if getattr(args, "skip", None) else []
     try:
         cases = _select_cases(args, suite(args.suite, args.seed))
     except ValueError as exc:
         raise UsageError(str(exc)) from None
     parameters, recorded = _journal_of(args, skips) if journal else ({}, None)
-    rasterizers, problems = _load_all(args.rasterizer, getattr(args, "timeout", 120.0))
-    if not rasterizers:
-        raise UsageError("no rasterizer could be loaded: nothing was checked"
-                         + (f" ({'; '.join(problems)})" if problems else ""))
-    _refuse_same_names(rasterizers)
-    rasterizers = distinct_names(rasterizers)
+    rasterizers = _loaded_rasterizers(args, loaded)
     _selected[:] = cases
-    _broken[:] = problems
-    if loaded is not None:
-        loaded(rasterizers)  # e.g. the gate's check that the baseline is of these rasterizers
-    for problem in problems:
-        print(f"skipped plugin: {problem}", file=sys.stderr)
-    from harness.identify import identify_all
-
     start = time.perf_counter()
     try:
         rasterizers, fingerprints = identify_all(rasterizers, args.seed, everyone=not getattr(args, "no_fingerprints", False),
@@ -228,82 +327,29 @@ def _execute(args: argparse.Namespace, loaded: Any = None,
     budget = getattr(args, "max_seconds", None)
     deadline = time.monotonic() + budget if budget else None
     stop = threading.Event()
-    collected: list[Any] = []
-    lock = threading.Lock()
     ids = {c.id: k for k, c in enumerate(cases)}
     names = {r.name for r in rasterizers}
     done = {pair for pair in recorded.complete if pair[0] in names and pair[1] in ids} if recorded is not None else set()
-    recorder = kept = None
-    if journal:
-        from harness.journal import JournalWriter, Recorded, journal_path
-
-        kept = Recorded(parameters, [x for x in recorded.results if (x.rasterizer, x.case) in done], done) if recorded else None
-        try:
-            recorder = JournalWriter(journal_path(args.out), parameters, kept)
-        except OSError as exc:
-            raise UsageError(f"the run journal {journal_path(args.out)} cannot be written ({exc})") from None
-    progress = None
-    if not _quiet():
-        from rich.progress import Progress
-
-        progress = Progress(transient=True)
-        progress.start()
-    tasks = {r.name: progress.add_task(r.name, total=len(cases)) if progress else None for r in rasterizers}
-    seen: dict[str, set[str]] = {r.name: set() for r in rasterizers}
-
-    def tick(result: Any, journaled: bool = False) -> None:
-        if recorder is not None and not journaled:
-            recorder.result(result)
-        with lock:
-            collected.append(result)
-            task = tasks[result.rasterizer]
-            if result.case not in seen[result.rasterizer]:
-                seen[result.rasterizer].add(result.case)
-                if progress is not None and task is not None:
-                    progress.advance(task)
-
+    recorder, kept = _journal_writer(args, parameters, recorded, done) if journal else (None, None)
+    collected = _Collected(rasterizers, cases, recorder, start)
     for result in kept.results if kept is not None else []:
-        tick(result, journaled=True)  # what the resumed journal holds: a result of this run, not run again
-
-    def skipped(r: Any) -> tuple[list[Any], list[Any]]:
-        """The cases this rasterizer runs, and a skip result for each one the list names."""
-        keep, out = [], []
-        for case in cases:
-            reason = next((why for glob, why in skips
-                           if fnmatch.fnmatchcase(case.id, glob) or fnmatch.fnmatchcase(f"{r.name}:{case.id}", glob)), None)
-            if reason is None:
-                keep.append(case)
-            else:
-                out.append(Result(r.name, case.id, "run", "skip", f"skipped: {reason}"))
-        return keep, out
+        collected(result, journaled=True)  # what the resumed journal holds: a result of this run, not run again
 
     def one(r: Any) -> None:
-        mine, skips_of_r = skipped(r)
+        mine, skips_of_r = _run_and_skipped(cases, skips, r.name)
         mine = [c for c in mine if (r.name, c.id) not in done]
         for result in skips_of_r:
             if (r.name, result.case) not in done:
-                tick(result)
+                collected(result)
                 if recorder is not None:
                     recorder.complete(r.name, result.case)
         with Session(declared(r), args.timeout) as session:  # its worker process, closed when its cases are done
-            run_session(session, mine, on_result=tick, only=only, rerun=getattr(args, "rerun", 0), stop=stop,
+            run_session(session, mine, on_result=collected, only=only, rerun=getattr(args, "rerun", 0), stop=stop,
                         deadline=deadline, on_case=recorder.complete if recorder is not None else None)
 
-    def report_progress() -> None:
-        while not finished.wait(30.0):
-            with lock:
-                done = sum(len(s) for s in seen.values())
-                failing = sum(x.status in ("fail", "error") for x in collected)
-            print(f"progress: {done}/{len(cases) * len(rasterizers)} cases, {failing} failing results, "
-                  f"{time.perf_counter() - start:.0f} s", file=sys.stderr, flush=True)
-
-    finished = threading.Event()
-    if progress is None:
-        threading.Thread(target=report_progress, daemon=True).start()
     pool = ThreadPoolExecutor(max_workers=args.jobs)
     try:
-        futures = [pool.submit(one, r) for r in rasterizers]
-        for future in futures:
+        for future in [pool.submit(one, r) for r in rasterizers]:
             while True:
                 try:
                     future.result(timeout=0.2)
@@ -314,17 +360,13 @@ def _execute(args: argparse.Namespace, loaded: Any = None,
         stop.set()
         kill_all()
         pool.shutdown(wait=True, cancel_futures=True)
-        with lock:
-            raise Interrupted(rasterizers, list(collected), time.perf_counter() - start, fingerprints) from None
+        with collected.lock:
+            raise Interrupted(rasterizers, list(collected.results), time.perf_counter() - start, fingerprints) from None
     finally:
-        finished.set()
         pool.shutdown(wait=False)
-        if progress is not None:
-            progress.stop()
-        if recorder is not None:
-            recorder.close()
+        collected.close()
     order = {r.name: k for k, r in enumerate(rasterizers)}
-    results = sorted(collected, key=lambda x: order.get(x.rasterizer, len(order)))  # stable: per rasterizer, in run order
+    results = sorted(collected.results, key=lambda x: order.get(x.rasterizer, len(order)))  # stable: per rasterizer, in run order
     if done:  # resumed: the journal's results and the new ones in suite order, as a run in one go gives them
         results.sort(key=lambda x: (order.get(x.rasterizer, len(order)), ids.get(x.case, len(ids))))
     return rasterizers, results, time.perf_counter() - start, fingerprints
