@@ -1,0 +1,62 @@
+"""The oracle's recent answers (harness.oracle.RECENT_ANSWERS): the same scene under the same
+convention is answered once per process, anything that changes the answer is another key,
+and the budget holds."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from harness.api import LineScene, PathScene, Scene
+from harness.conventions import Convention
+from harness.oracle import RECENT_ANSWERS, _RecentAnswers, exact_coverage, scene_digest
+
+TRIANGLE = [[[0.5, 0.5], [7.0, 1.0], [2.0, 6.5]]]
+
+
+def test_the_same_scene_and_convention_is_answered_once() -> None:
+    first = exact_coverage(Scene(8, 8, TRIANGLE), Convention())
+    again = exact_coverage(Scene(8, 8, np.array(TRIANGLE)), Convention())  # another object, the same contents
+    assert again is first
+    assert not first.x0.flags.writeable  # shared, so read-only
+    other = exact_coverage(Scene(8, 8, TRIANGLE), Convention(tie="bottom-right"))
+    assert other is not first
+
+
+@pytest.mark.parametrize("a, b", [
+    (Scene(8, 8, TRIANGLE), Scene(9, 8, TRIANGLE)),
+    (Scene(8, 8, TRIANGLE), Scene(8, 8, np.array(TRIANGLE) + 2.0**-40)),
+    (Scene(8, 8, TRIANGLE), Scene(8, 8, TRIANGLE, attributes=np.ones((1, 3, 1)))),
+    (Scene(8, 8, TRIANGLE, attributes=np.ones((1, 3, 1))), Scene(8, 8, TRIANGLE, attributes=np.ones((1, 3, 1)),
+                                                                 w=np.array([[1.0, 2.0, 4.0]]))),
+    (PathScene.from_paths(8, 8, [[TRIANGLE[0]]]), PathScene.from_paths(8, 8, [[TRIANGLE[0]]]).with_fill_rule("evenodd")),
+    (LineScene.from_strips(8, 8, [TRIANGLE[0]]), LineScene.from_strips(8, 8, [TRIANGLE[0]], line_width=2.0)),
+], ids=["width", "a last-bit move", "attributes", "w", "fill rule", "line width"])
+def test_whatever_changes_the_answer_changes_the_key(a: object, b: object) -> None:
+    assert scene_digest(a) != scene_digest(b)  # type: ignore[arg-type]
+
+
+def test_the_kinds_never_share_a_key() -> None:
+    path = PathScene.from_paths(8, 8, [[TRIANGLE[0]]])
+    strip = LineScene.from_strips(8, 8, [TRIANGLE[0]])
+    assert len({scene_digest(Scene(8, 8, TRIANGLE)), scene_digest(path), scene_digest(strip)}) == 3
+
+
+def test_the_budget_holds_and_the_least_recent_goes_first() -> None:
+    from harness.oracle import _footprint
+
+    scenes = [Scene(64, 64, np.array(TRIANGLE) * 4 + [k, 0]) for k in range(12)]  # moved along x: the same size
+    size = _footprint(exact_coverage(scenes[0], Convention()))
+    answers = _RecentAnswers(budget=8 * size)  # 8 answers (an answer over an eighth of the budget is not kept)
+    for k, scene in enumerate(scenes):
+        answers.put((scene_digest(scene), Convention()), exact_coverage(scene, Convention()))
+        if k == 7:
+            assert answers.get((scene_digest(scenes[0]), Convention())) is not None  # now the most recent
+    assert answers._bytes <= 8 * size
+    assert answers.get((scene_digest(scenes[-1]), Convention())) is not None
+    assert answers.get((scene_digest(scenes[0]), Convention())) is not None  # used at k == 7: kept
+    assert answers.get((scene_digest(scenes[1]), Convention())) is None  # the least recently used went first
+    nothing = _RecentAnswers(budget=0)  # RASTERCHECK_ORACLE_CACHE_MB=0
+    nothing.put((scene_digest(scenes[0]), Convention()), exact_coverage(scenes[0], Convention()))
+    assert nothing.get((scene_digest(scenes[0]), Convention())) is None
+    assert RECENT_ANSWERS.budget > 0
