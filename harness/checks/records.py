@@ -35,7 +35,7 @@ __all__ = [
     "Status", "Result", "Drawing", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "result", "skip", "first",
     "Subject", "Check", "Figure", "Classifier", "CauseRole", "MotionRole", "ROLE_FIELDS", "register", "registered", "checks",
     "check_names", "metric_tolerance", "merge_samples",
-    "POINT_KINDS", "ALL_KINDS", "OVERFLOW_EDGES", "overflow_class", "check_named", "root_checks", "is_consequent",
+    "POINT_KINDS", "ALL_KINDS", "OVERFLOW_EDGES", "overflow_class", "every_check", "check_named", "root_checks", "is_consequent",
     "motion_checks", "frame_checks", "figures",
 ]
 
@@ -478,6 +478,11 @@ def checks(case: Any = None, only: set[str] | None = None, kind: str | None = No
             continue
         out.append(check)
     return out
+
+
+def every_check() -> tuple[Check, ...]:
+    """Every registered check in order, on-request ones too."""
+    return tuple(_REGISTRY.values())
 
 
 def check_named(name: str) -> Check | None:
