@@ -52,8 +52,9 @@ def attributed(found: list[tuple[str, Signature]]) -> list[str]:
     front-only mesh in closed, a change under flipped winding in invariance -- one cause,
     not four; and a check's ``consequent_classes``, such as hygiene's
     ``outside-primitive``) are counted under that failure's cause (the exact oracle says
-    what is wrong; the others see its effects); any other keeps its own signature's cause. A campaign's findings
-    (:func:`harness.campaign.attribute_causes`) and a run's results (:func:`by_cause`) alike.
+    what is wrong; the others see its effects); any other keeps its own signature's cause.
+    A campaign's findings (:func:`harness.campaign.attribute_causes`) and a run's results
+    (:func:`by_cause`) alike.
 
     >>> attributed([("fail", Signature("conformance", "culling", "culling")), ("fail", Signature("watertight", "hole", "none"))])
     ['culling', 'culling']

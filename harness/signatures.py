@@ -317,7 +317,7 @@ def signature(result: Any, case: Case | MotionCase | Any, convention: Convention
         if status != "fail":
             return Signature(check, "other", "none")
         registered = check_named(check)
-        classify = registered.classify() if registered is not None else None
+        classify = registered.classifier_function() if registered is not None else None
         if classify is None:  # no such check, or one registered without a classifier
             return Signature(check, "other", "none")
         # a motion check read through its frames: the frame verdict's cause when there is one

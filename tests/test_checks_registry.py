@@ -99,7 +99,7 @@ def test_every_registered_check_says_how_its_failures_are_read():
     figures are declared where it is registered, none left to a list kept elsewhere."""
     assert not _undeclared(), _undeclared()
     for check in every_check():
-        assert callable(check.classify()), check.name  # a dotted name resolves
+        assert callable(check.classifier_function()), check.name  # a dotted name resolves
         assert check.cause_role in ("root", "consequent", "own") and check.motion_role in ("frame", "through-frames", "none")
         assert all(isinstance(f, Figure) and f.how in ("max", "sum", "mean") for f in check.figures), check.name
     # the detector itself: a check registered without them is named, with what it lacks

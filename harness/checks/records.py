@@ -350,7 +350,7 @@ class Check:
         """The fields of :data:`ROLE_FIELDS` this check leaves undeclared (None)."""
         return tuple(name for name in ROLE_FIELDS if getattr(self, name) is None)
 
-    def classify(self) -> Classifier | None:
+    def classifier_function(self) -> Classifier | None:
         """Its classifier as a function (a dotted name imported now), None without one."""
         if isinstance(self.classifier, str):
             return _imported(self.classifier)
