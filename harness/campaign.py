@@ -49,7 +49,7 @@ from typing import TYPE_CHECKING, Any
 
 from harness.api import Rasterizer, takes
 from harness.case import Case, MotionCase, case_from_json, case_to_json, save_case
-from harness.causes import CONSEQUENT_CHECKS, attributed
+from harness.causes import attributed
 from harness.checks import Result
 from harness.files import atomic_write_bytes, atomic_write_text, prepare_folder, read_input, safe_name
 from harness.schemas import schema_fault
@@ -61,7 +61,7 @@ if TYPE_CHECKING:
     from harness.signatures import Signature
 
 __all__ = ["Batch", "CampaignTask", "Finding", "BatchResult", "CampaignState", "ProgressEvent", "CampaignError", "run_batch",
-           "shrink_finding", "run_campaign", "attribute_causes", "CONSEQUENT_CHECKS", "local_cluster", "add_interval", "overlap", "SCHEMA", "QUIET_DASK",
+           "shrink_finding", "run_campaign", "attribute_causes", "local_cluster", "add_interval", "overlap", "SCHEMA", "QUIET_DASK",
            "plain_data"]
 
 SCHEMA = 1
@@ -775,9 +775,10 @@ def _finding(result: Result, case: Case | MotionCase, loaded: Session, family: s
 def attribute_causes(findings: list[Finding]) -> list[Finding]:
     """One scene's findings, each with its cause (:func:`harness.causes.attributed`, the
     rule a run's results are grouped by too): when the scene fails conformance (or accuracy
-    for anti-aliased coverage), the failures of :data:`CONSEQUENT_CHECKS` (watertight,
-    closed, ...) on it are counted under that failure's cause (the exact oracle says what is
-    wrong; the others see its effects); any other finding keeps its own signature's cause.
+    for anti-aliased coverage), the failures of the consequent checks (watertight, closed,
+    ...: :attr:`harness.checks.records.Check.cause_role`) on it are counted under that
+    failure's cause (the exact oracle says what is wrong; the others see its effects); any
+    other finding keeps its own signature's cause.
     A finding already counted under a cause keeps it.
 
     >>> f = Finding("lattice", 0, 1, "conformance", "fail", "", "", "culling", "culling", "conformance")

@@ -32,45 +32,36 @@ from typing import Any
 from harness.api import Coverage, convention_for
 from harness.case import Case, MotionCase
 from harness.checks import Result
-from harness.signatures import FRAME_CHECKS, MOTION_CHECKS, Signature, _named_frames, _tie_trial, frame_case, signature
+from harness.checks.records import frame_checks, is_consequent, motion_checks, root_checks
+from harness.signatures import Signature, _named_frames, _tie_trial, frame_case, signature
 
 Judge = Callable[[Case | MotionCase, str], list[Result]]  # the one check on a (changed) case
 Answered = Callable[[Case, Coverage, str], list[Result]]  # the one check on a case, judged on a given answer
 
-__all__ = ["SIGNATURE", "SignatureGroup", "CauseGroup", "signed", "frame_verdict", "signature_of", "by_cause", "attributed",
-           "ROOT_CHECKS", "CONSEQUENT_CHECKS", "CONSEQUENT_CLASSES"]
+__all__ = ["SIGNATURE", "SignatureGroup", "CauseGroup", "signed", "frame_verdict", "signature_of", "by_cause", "attributed"]
 
 SIGNATURE = "signature"  # the evidence key of a failing or erroring result's signature key
 BAD = ("fail", "error")
-# checks of coverage whose failure on a scene that also fails conformance is that failure's
-# consequence: a triangle dropped leaves a hole (watertight), a front-only mesh (closed) and a
-# change under flipped winding (invariance) -- one cause, not four
-CONSEQUENT_CHECKS = frozenset({"watertight", "closed", "invariance", "degenerate", "overdraw", "seams", "triangulation",
-                               "connectivity", "joints", "reversal", "length"})
-# the checks against the exact oracle whose failure names a scene's cause
-ROOT_CHECKS = ("conformance", "accuracy")
-# and of other checks, the failure classes that are coverage's too (hygiene's attribute
-# failures, say, are not)
-CONSEQUENT_CLASSES = frozenset({("hygiene", "outside-primitive")})
 
 
 def attributed(found: list[tuple[str, Signature]]) -> list[str]:
     """The cause each of one scene's failures (status, signature) is counted under: when
-    the scene fails one of :data:`ROOT_CHECKS` (conformance, or accuracy for anti-aliased
-    coverage), the failures of :data:`CONSEQUENT_CHECKS` (and :data:`CONSEQUENT_CLASSES`)
-    are counted under that failure's cause (the exact oracle says what is wrong; the others
-    see its effects); any other keeps its own signature's cause. A campaign's findings
-    (:func:`harness.campaign.attribute_causes`) and a run's results (:func:`by_cause`) alike.
+    the scene fails a root check (:attr:`Check.cause_role <harness.checks.records.Check>`
+    ``root``: conformance, or accuracy for anti-aliased coverage), the failures of its
+    consequent checks (``consequent``: a triangle dropped leaves a hole in watertight, a
+    front-only mesh in closed, a change under flipped winding in invariance -- one cause,
+    not four; and a check's ``consequent_classes``, such as hygiene's
+    ``outside-primitive``) are counted under that failure's cause (the exact oracle says
+    what is wrong; the others see its effects); any other keeps its own signature's cause.
+    A campaign's findings (:func:`harness.campaign.attribute_causes`) and a run's results
+    (:func:`by_cause`) alike.
 
     >>> attributed([("fail", Signature("conformance", "culling", "culling")), ("fail", Signature("watertight", "hole", "none"))])
     ['culling', 'culling']
     """
-    root = next((s.cause for status, s in found if s.check in ROOT_CHECKS and status == "fail"), None)
-
-    def consequent(s: Signature) -> bool:
-        return s.check in CONSEQUENT_CHECKS or (s.check, s.failure_class) in CONSEQUENT_CLASSES
-
-    return [root if root is not None and consequent(s) else s.cause for _, s in found]
+    roots = root_checks()
+    root = next((s.cause for status, s in found if s.check in roots and status == "fail"), None)
+    return [root if root is not None and is_consequent(s.check, s.failure_class) else s.cause for _, s in found]
 
 
 def signed(result: Result, case: Case | MotionCase, rasterizer: Any, judge: Judge | None = None,
@@ -120,13 +111,13 @@ def frame_verdict(result: Result, case: MotionCase, rasterizer: Any, answered: A
     drawing, with that failure's signature -- a flicker of a wrong tie rule is the tie
     rule's. No rasterizer call. Any other result as it is."""
     answers = result.drawing.coverages if result.drawing is not None else ()
-    if result.status != "fail" or result.check not in MOTION_CHECKS or len(answers) != len(case.frames):
+    if result.status != "fail" or result.check not in motion_checks() or len(answers) != len(case.frames):
         return result
     for frame in _named_frames(result):
         if frame >= len(case.frames):
             continue
         still = frame_case(case, frame)
-        for check in FRAME_CHECKS:
+        for check in frame_checks():
             verdicts = answered(still, answers[frame], check)
             failed = [r for r in verdicts if r.status == "fail"]
             if failed:

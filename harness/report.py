@@ -54,6 +54,7 @@ from harness.api import LineScene, PathScene, convention_for, fill_rules_of, sce
 from harness.case import Case
 from harness.causes import SIGNATURE, by_cause
 from harness.checks import EVIDENCE_LIMIT, Check, Result, check_names
+from harness.checks.records import figures
 from harness.checks import checks as registered_checks
 from harness.files import atomic_write_text, safe_name
 from harness.output import call_failures, call_failures_text
@@ -571,27 +572,13 @@ def _line_card(name: str, mine: list[Result], problems: list[dict[str, Any]], fi
             "line_cells": cells}
 
 
-# (check, metric, how to combine over cases, label): the anti-aliasing and multisample
-# figures a rasterizer's page and the index show, from its results' metrics.
-FIGURES = (
-    ("accuracy", "max_error", "max", "largest |alpha - area|"),
-    ("accuracy", "mean_error", "mean", "mean |alpha - area|"),
-    ("accuracy", "over_tolerance", "sum", "pixels beyond the declared tolerance"),
-    ("seams", "seam_pixels", "sum", "seam pixels (alphas not summing to 1)"),
-    ("seams", "max_sum_error", "max", "largest seam (levels of its quantisation)"),
-    ("seams", "max_over_gap", "max", "deepest seam after compositing with over"),
-    ("popping", "max_pop_levels", "max", "largest pop against the exact area (in 1/255 levels)"),
-    ("popping", "pops", "sum", "pops of more than 1/255 (pixel-steps)"),
-    ("popping", "alpha_jumps", "sum", "alpha jumps beyond the declared tolerance"),
-    ("conformance", "failing_samples", "sum", "samples failing conformance (summed over cases)"),
-)
-
-
 def coverage_figures(results: list[Result]) -> list[tuple[str, str]]:
     """The anti-aliasing and multisample figures of one rasterizer's results, (label,
-    value) for each figure some result measured (:data:`FIGURES`), combined over cases."""
+    value) for each figure some result measured, combined over cases: the figures the
+    checks declare (:attr:`Check.figures`), in registry order."""
     out = []
-    for check, metric, how, label in FIGURES:
+    for check, figure in figures():
+        metric, how, label = figure.metric, figure.how, figure.label
         values = [r.metrics[metric] for r in results if r.check == check and metric in r.metrics]
         if not values:
             continue

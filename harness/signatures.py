@@ -144,7 +144,7 @@ from numpy.typing import NDArray
 from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, convention_for
 from harness.case import Case, MotionCase
 from harness.checks.area import ALPHA_CAUSES, alpha_cause
-from harness.checks.records import OVERFLOW_EDGES, overflow_class
+from harness.checks.records import OVERFLOW_EDGES, check_named, frame_checks, motion_checks, overflow_class
 from harness.keys import unique
 from harness.conventions import SNAP_ROUNDINGS, Convention, SnapRounding
 from harness.exact import orientation
@@ -316,10 +316,13 @@ def signature(result: Any, case: Case | MotionCase | Any, convention: Convention
             return Signature(check, _error_class(str(getattr(result, "message", ""))), "none")
         if status != "fail":
             return Signature(check, "other", "none")
-        classify = _CLASSIFIERS.get(check)
-        if classify is None:
+        registered = check_named(check)
+        classify = registered.classifier_function() if registered is not None else None
+        if classify is None:  # no such check, or one registered without a classifier
             return Signature(check, "other", "none")
-        failure_class, part = classify(result, case, convention)
+        # a motion check read through its frames: the frame verdict's cause when there is one
+        through = _frame_cause(result) if registered is not None and registered.motion_role == "through-frames" else None
+        failure_class, part = through or classify(result, case, convention)
         return Signature(check, failure_class, part)
     except Exception:  # anything unreadable: never raise
         return Signature(check, "other", "none")
@@ -344,7 +347,7 @@ def with_probes(result: Any, case: Case | MotionCase, judge: Callable[[Case | Mo
     from harness.repro import input_precision_probe, viewport_edge_trial
 
     try:
-        if getattr(result, "status", None) == "fail" and result.check in MOTION_CHECKS and isinstance(case, MotionCase):
+        if getattr(result, "status", None) == "fail" and result.check in motion_checks() and isinstance(case, MotionCase):
             return _with_frame_failure(result, case, judge, rasterizer)
         if getattr(result, "status", None) == "fail" and result.check == "seams" and isinstance(case, Case):
             return _with_order_dependence(result, case, judge)
@@ -776,7 +779,7 @@ def _with_order_dependence(result: Any, case: Case, judge: Callable[[Case | Moti
         return result
     for verdict in judge(case, "invariance"):
         if verdict.status == "fail" and verdict.check == "invariance":
-            found, _ = _invariance(verdict, case, None)
+            found, _ = classify_invariance(verdict, case, None)
             if found.removeprefix("changes-under-") in EDGE_DIRECTION_VARIANTS:
                 evidence["order_dependence"] = found
                 return replace(result, evidence=evidence)
@@ -797,7 +800,7 @@ def _with_lattice_twin(result: Any, case: Case, judge: Callable[[Case | MotionCa
     float case's rounding decided the tie (float32 edge functions), a near tie that merely
     fell exactly on the edge. Up to six calls of the rasterizer and the check."""
     evidence = dict(result.evidence)
-    if case.lattice or "lattice_twin" in evidence or _watertight(result, case, convention)[1] != "tie-rule":
+    if case.lattice or "lattice_twin" in evidence or classify_watertight(result, case, convention)[1] != "tie-rule":
         return result
     judged = _judged_convention(result, convention)
     edges: list[Any] = [b["edge"] for b in evidence.get("blame", []) if isinstance(b, dict) and b.get("edge")]
@@ -883,9 +886,8 @@ def frame_case(case: MotionCase, frame: int) -> Case:
 
 
 # the motion checks whose failures are read through a frame's still verdict, and those
-# verdicts: conformance for aliased coverage, accuracy for anti-aliased (one applies)
-MOTION_CHECKS = ("jaggy", "texel", "perspective", "popping")
-FRAME_CHECKS = ("conformance", "accuracy")
+# verdicts (conformance for aliased coverage, accuracy for anti-aliased: one applies) are
+# the registry's: :func:`harness.checks.records.motion_checks`, :func:`~harness.checks.records.frame_checks`
 # frames judged alone per failing motion result, at most
 FRAMES_TRIED = 3
 
@@ -927,7 +929,7 @@ def _with_frame_failure(result: Any, case: MotionCase, judge: Callable[[Case | M
         if frame >= len(case.frames):
             continue
         still = frame_case(case, frame)
-        for check in FRAME_CHECKS:
+        for check in frame_checks():
             verdicts = judge(still, check)
             failed = [r for r in verdicts if r.status == "fail"]
             if failed:
@@ -1299,7 +1301,7 @@ def _same_reversed(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], 
 # -- conformance -----------------------------------------------------------------------------
 
 
-def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+def classify_conformance(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
     evidence = result.evidence if isinstance(result.evidence, dict) else {}
     if "input_precision" in evidence:
         return "input-format", "none"
@@ -1310,7 +1312,7 @@ def _conformance(result: Any, case: Any, convention: Convention | None) -> tuple
         # primitive lies wholly in the screen: float arithmetic rounds moved coordinates
         # otherwise too, and the edge of the screen decided nothing there
         rest = replace(result, evidence={k: v for k, v in evidence.items() if k != "viewport_edge"})
-        without = _conformance(rest, case, convention)
+        without = classify_conformance(rest, case, convention)
         return without if without[1] == "snapping" or without[0] == "open-contour" or not _wrong_reach_beyond(result, case.scene) \
             else ("viewport-edge", "none")
     scene = case.scene
@@ -1587,7 +1589,7 @@ def _line_conformance(result: Any, scene: LineScene, wrong: list[tuple[int, int,
 # -- watertight ------------------------------------------------------------------------------
 
 
-def _watertight(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+def classify_watertight(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
     metrics = result.metrics if isinstance(result.metrics, dict) else {}
     evidence = result.evidence if isinstance(result.evidence, dict) else {}
     holes, doubles = metrics.get("holes", 0) > 0, metrics.get("double_hits", 0) > 0
@@ -1642,7 +1644,7 @@ def _first_positive(result: Any, options: tuple[tuple[str, str], ...], otherwise
     return otherwise
 
 
-def _hygiene(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+def classify_hygiene(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
     flaws = (("outside_viewport", "outside-viewport"), ("outside_primitive", "outside-primitive"),
              ("bad_primitive_id", "bad-primitive-id"), ("empty_or_reversed", "empty-or-reversed-span"),
              ("bad_sample", "bad-sample"), ("repeated_pixels", "repeated-pixel"))
@@ -1651,7 +1653,7 @@ def _hygiene(result: Any, case: Any, convention: Convention | None) -> tuple[str
     return _first_positive(result, flaws, fallback), "none"
 
 
-def _degenerate(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+def classify_degenerate(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
     found = _first_positive(result, (("degenerate_triangles_drawn", "zero-area-drawn"), ("nan_attribute_rows", "nan-attributes"),
                                      ("work_ratio", "slow")), "other")
     if found == "zero-area-drawn" and _all_non_finite(result, case):
@@ -1708,7 +1710,7 @@ def _on_flat_line(positions: NDArray, samples: NDArray) -> NDArray[np.bool_]:
     return orientation(np.stack([np.broadcast_to(a, samples.shape), np.broadcast_to(b, samples.shape), samples], axis=1)) == 0
 
 
-def _closed(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+def classify_closed(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
     evidence = result.evidence if isinstance(result.evidence, dict) else {}
     signs = {int(np.sign(p[2])) for p in evidence.get("pixels", []) if isinstance(p, list) and len(p) == 3}
     if signs == {1}:
@@ -1718,7 +1720,7 @@ def _closed(result: Any, case: Any, convention: Convention | None) -> tuple[str,
     return "unbalanced", "none"
 
 
-def _invariance(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+def classify_invariance(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
     evidence = result.evidence if isinstance(result.evidence, dict) else {}
     order = ("rotate-vertices", "flip-winding", "permute-triangles", "rotate-start-vertex", "reverse-every-contour",
              "reverse-one-contour", "reorder-contours", "permute-paths", "reorder-strips", "split-strips", "translate")
@@ -1775,49 +1777,50 @@ def _sub_verdict(result: Any, key: str) -> tuple[str, str] | None:
     return (failure_class, part) if failure_class != "other" else None
 
 
-def _through_frame(own: Callable[[Any, Any, Convention | None], tuple[str, str]]
-                   ) -> Callable[[Any, Any, Convention | None], tuple[str, str]]:
-    """A motion check's classifier: its frame verdict's cause when there is one, else ``own``."""
-    return lambda result, case, convention: _frame_cause(result) or own(result, case, convention)
-
-
-def _length(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+def classify_length(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
     evidence = result.evidence if isinstance(result.evidence, dict) else {}
     rows = evidence.get("segments", [])
     off = {int(r.get("drawn", 0)) - int(r.get("rule", 0)) for r in rows if isinstance(r, dict)}
     return ("last-pixel" if off and off <= {1, -1} else "length"), "line-rule"
 
 
-_CLASSIFIERS: dict[str, Callable[[Any, Any, Convention | None], tuple[str, str]]] = {
-    "conformance": _conformance,
-    "watertight": _watertight,
-    "overdraw": _fixed("double-hit"),
-    "holes": _fixed("hole"),
-    "hygiene": _hygiene,
-    "degenerate": _degenerate,
-    "closed": _closed,
-    "invariance": _invariance,
-    "jaggy": _through_frame(_by_metrics((("flicker", "flicker"), ("backward_jumps", "backward-jump")), "other")),
-    "texel": _through_frame(_by_metrics((("frames_without_attributes", "missing-attributes"), ("swim_backward_steps", "texel-backward-step"),
-                          ("texel_mismatches", "texel-mismatch")), "other")),
-    "perspective": _through_frame(lambda result, case, convention: (
-        ("nan-attributes", "none") if _metric(result, "max_uv_error_texels") == math.inf  # u, v not finite: not a perspective error
-        else (_first_positive(result, (("frames_without_attributes", "missing-attributes"),), "perspective-error"), "none"))),
-    "accuracy": lambda result, case, convention: _alpha_cause(result) or _by_metrics(
-        (("over_tolerance", "alpha-error"), ("off_level", "off-level")), "other")(result, case, convention),
-    "seams": lambda result, case, convention: (
-        (str(result.evidence["order_dependence"]), "none") if isinstance(result.evidence, dict)
-        and isinstance(result.evidence.get("order_dependence"), str)  # a seam of the edge direction (with_probes)
-        else (_first_positive(result, (("seam_pixels", "seam"), ("strays", "stray")), "other"), "none")),
-    "popping": _through_frame(_fixed("popping")),
-    "triangulation": lambda result, case, convention: _sub_verdict(result, "triangles_failure") or _by_metrics(
-        (("triangulation_double_hits", "triangulation-double-hit"),), "triangulation-mismatch")(result, case, convention),
-    "connectivity": _by_metrics((("line_gaps", "gap"), ("line_breaks", "break"), ("line_doubles", "double-step")), "other",
-                                "line-rule"),
-    "joints": lambda result, case, convention: (
-        "joint-vertex" if any(isinstance(r, dict) and "drawn" in r and r["drawn"] != r.get("rule")
-                              for r in (result.evidence or {}).get("joints", [])) else "joint-overlap", "line-rule"),
-    "reversal": _fixed("reversal", "line-rule"),
-    "length": _length,
-    "line-motion": _fixed("backward-step", "line-rule"),
-}
+# the classifiers of the other built-in checks (those above are functions of their own);
+# a motion check's own is read after its frame verdict (:func:`signature`, its motion_role)
+classify_overdraw = _fixed("double-hit")
+classify_holes = _fixed("hole")
+classify_jaggy = _by_metrics((("flicker", "flicker"), ("backward_jumps", "backward-jump")), "other")
+classify_texel = _by_metrics((("frames_without_attributes", "missing-attributes"), ("swim_backward_steps", "texel-backward-step"),
+                              ("texel_mismatches", "texel-mismatch")), "other")
+classify_popping = _fixed("popping")
+classify_connectivity = _by_metrics((("line_gaps", "gap"), ("line_breaks", "break"), ("line_doubles", "double-step")), "other",
+                                    "line-rule")
+classify_reversal = _fixed("reversal", "line-rule")
+classify_line_motion = _fixed("backward-step", "line-rule")
+
+
+def classify_perspective(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    if _metric(result, "max_uv_error_texels") == math.inf:  # u, v not finite: not a perspective error
+        return "nan-attributes", "none"
+    return _first_positive(result, (("frames_without_attributes", "missing-attributes"),), "perspective-error"), "none"
+
+
+def classify_accuracy(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    return _alpha_cause(result) or _by_metrics((("over_tolerance", "alpha-error"), ("off_level", "off-level")), "other")(
+        result, case, convention)
+
+
+def classify_seams(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    if isinstance(result.evidence, dict) and isinstance(result.evidence.get("order_dependence"), str):
+        return str(result.evidence["order_dependence"]), "none"  # a seam of the edge direction (with_probes)
+    return _first_positive(result, (("seam_pixels", "seam"), ("strays", "stray")), "other"), "none"
+
+
+def classify_triangulation(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    return _sub_verdict(result, "triangles_failure") or _by_metrics(
+        (("triangulation_double_hits", "triangulation-double-hit"),), "triangulation-mismatch")(result, case, convention)
+
+
+def classify_joints(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    joints = (result.evidence or {}).get("joints", [])
+    wrong_vertex = any(isinstance(r, dict) and "drawn" in r and r["drawn"] != r.get("rule") for r in joints)
+    return ("joint-vertex" if wrong_vertex else "joint-overlap"), "line-rule"

@@ -3,7 +3,9 @@
 No I/O, no plotting. One family per module, each registering its checks once
 (:class:`harness.checks.records.Check`); every list of checks elsewhere -- the runner's
 dispatch, the convention-bound ones, the shrinkable ones, the gate's metrics, the report's
-columns and captions, ``rastercheck list`` -- is derived from that registry.
+columns, captions and figures, ``rastercheck list``, the signatures' classifiers, the
+campaign's root and consequent checks, the motion checks read through their frames -- is
+derived from that registry.
 
 Tolerances are data (:class:`Tolerance`): ``strict`` allows no deviation at all,
 ``default`` excuses deviations at near ties (the sample within ``near_tie`` of an edge,
@@ -29,8 +31,8 @@ every kind, and the area checks anti-aliased coverage.
 from __future__ import annotations
 
 from harness.checks.records import (
-    EVIDENCE_LIMIT, NEAR_TIE, NEAR_TIE_PIXELS, Check, Drawing, Result, Status, Subject, Tolerance, check_names, checks,
-    metric_tolerance, register, registered, result, skip, timing_metrics,
+    EVIDENCE_LIMIT, NEAR_TIE, NEAR_TIE_PIXELS, Check, Drawing, Figure, Result, Status, Subject, Tolerance, check_names, checks,
+    every_check, metric_tolerance, register, registered, result, skip, timing_metrics,
 )
 from harness.checks.hygiene import hygiene
 from harness.checks.conformance import FragmentCounter, conformance, deviations, edge_distance, near_ties
@@ -45,7 +47,7 @@ from harness.checks.lines import connectivity, joints, length, line_motion, reve
 
 __all__ = [
     "Result", "Drawing", "Status", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "CHECKS",
-    "Check", "Subject", "register", "registered", "checks", "check_names", "metric_tolerance", "timing_metrics", "result", "skip",
+    "Check", "Figure", "Subject", "register", "registered", "checks", "every_check", "check_names", "metric_tolerance", "timing_metrics", "result", "skip",
     "deviations", "FragmentCounter", "edge_distance", "near_ties", "hygiene", "conformance", "watertight",
     "pixel_classes", "blame", "overdraw", "closed_balance", "degenerate", "control_scene", "measure_work", "refusal",
     "invariance", "invariance_variants", "jaggy", "texel_swimming", "perspective", "accuracy", "motion_accuracy", "seams", "popping",

@@ -55,7 +55,7 @@ from harness.api import Coverage, Scene
 from harness.area import area_coverage, area_error_bound, displaced_area_bound, exact_area
 from harness.case import Case, MotionCase
 from harness.checks.conformance import near_ties
-from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, overflow_class, register, result, skip
+from harness.checks.records import EVIDENCE_LIMIT, Check, Figure, Result, Subject, Tolerance, overflow_class, register, result, skip
 from harness.checks.watertight import pixel_classes
 from harness.conventions import Convention
 from harness.exact import orientation
@@ -1107,6 +1107,10 @@ register(Check(
     metrics={"over_tolerance": (1.0, 0.0), "off_level": (1.0, 0.0), "max_error": (1.5, 2.0**-9)},
     caption="area coverage: every alpha within the declared tolerance of the exact area (or share of samples), "
             "on the declared levels (on every frame of a motion case)",
+    # root: against the exact area, its failure names the scene's cause; the frame verdict of popping
+    classifier="harness.signatures:classify_accuracy", cause_role="root", motion_role="frame",
+    figures=(Figure("max_error", "max", "largest |alpha - area|"), Figure("mean_error", "mean", "mean |alpha - area|"),
+             Figure("over_tolerance", "sum", "pixels beyond the declared tolerance")),
 ))
 register(Check(
     "seams", lambda s: seams(s.case, s.coverage, s.convention, s.oracle),  # type: ignore[arg-type]
@@ -1114,10 +1118,18 @@ register(Check(
     kinds=AREA_KINDS, per_sample=False, metrics={"seam_pixels": (1.0, 0.0), "strays": (1.0, 0.0)},
     caption="area coverage on a planar partition: the pieces' alphas sum to 1 inside (within their rounding), "
             "0 outside; the seam left by compositing with over reported",
+    classifier="harness.signatures:classify_seams", cause_role="consequent", motion_role="none",
+    figures=(Figure("seam_pixels", "sum", "seam pixels (alphas not summing to 1)"),
+             Figure("max_sum_error", "max", "largest seam (levels of its quantisation)"),
+             Figure("max_over_gap", "max", "deepest seam after compositing with over")),
 ))
 register(Check(
     "popping", _popping, lambda case: hasattr(case, "frames"), needs_convention=True, kinds=AREA_KINDS,
     per_sample=False, metrics={"alpha_jumps": (1.0, 0.0)},
     caption="area coverage under sub-pixel motion: no alpha changes beyond what the declared tolerance allows; "
             "pops against the exact area reported",
+    classifier="harness.signatures:classify_popping", cause_role="own", motion_role="through-frames",
+    figures=(Figure("max_pop_levels", "max", "largest pop against the exact area (in 1/255 levels)"),
+             Figure("pops", "sum", "pops of more than 1/255 (pixel-steps)"),
+             Figure("alpha_jumps", "sum", "alpha jumps beyond the declared tolerance")),
 ))

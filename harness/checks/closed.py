@@ -39,4 +39,5 @@ def closed_balance(case: Case, coverage: Coverage, convention: Convention | None
 register(Check(
     "closed", lambda s: closed_balance(s.case, s.coverage, s.convention), lambda case: bool(getattr(case, "closed", False)),
     metrics={"unbalanced_pixels": (1.0, 0.0)}, caption="on a closed mesh: front-facing minus back-facing hits is zero everywhere",
+    classifier="harness.signatures:classify_closed", cause_role="consequent", motion_role="none", figures=(),
 ))

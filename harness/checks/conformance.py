@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from harness.case import Case
 from harness.api import AnyScene, Coverage, LineScene, PathScene
-from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
+from harness.checks.records import EVIDENCE_LIMIT, Check, Figure, Result, Subject, Tolerance, register, result, skip
 from harness.conventions import Convention
 from harness.exact import orientation
 from harness.keys import union, unique_counts
@@ -724,4 +724,7 @@ register(Check(
     "conformance", _run,
     lambda case: not hasattr(case, "frames"), needs_convention=True, shrinks=True, metrics={"wrong": (1.0, 0.0)},
     caption="pixel-exact against the exact oracle of the convention",
+    # root: against the exact oracle, its failure names the scene's cause; the frame verdict of jaggy, texel, perspective
+    classifier="harness.signatures:classify_conformance", cause_role="root", motion_role="frame",
+    figures=(Figure("failing_samples", "sum", "samples failing conformance (summed over cases)"),),
 ))

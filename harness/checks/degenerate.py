@@ -111,4 +111,5 @@ register(Check(
     lambda case: getattr(case, "family", "") == "degenerate" and isinstance(getattr(case, "scene", None), Scene),
     shrinks=True, timings=("work_ratio",), kinds=ALL_KINDS, per_sample=False,  # any sample drawn is drawn; times are the whole call's  # a ratio of times: judged by its own limit, never across runs
     caption="zero-area and non-finite triangles draw nothing, no NaN attribute, bounded work",
+    classifier="harness.signatures:classify_degenerate", cause_role="consequent", motion_role="none", figures=(),
 ))

@@ -87,4 +87,8 @@ register(Check(
     kinds=ALL_KINDS, per_sample=False,
     caption="spans inside the viewport and their triangle's reach, valid triangle ids, x0 < x1, no pixel twice per triangle, "
             "one finite attribute row per pixel (per sample: valid sample ids; area: one alpha in [0, 1] per pixel)",
+    # its own cause, but for pixels drawn outside their primitive: coverage's fault too (its
+    # attribute failures, say, are not)
+    classifier="harness.signatures:classify_hygiene", cause_role="own", consequent_classes=frozenset({"outside-primitive"}),
+    motion_role="none", figures=(),
 ))

@@ -241,4 +241,5 @@ register(Check(
     "invariance", _run, _applies, shrinks=True, kinds=ALL_KINDS,
     caption="vertex rotation, winding flip, triangle permutation and whole-pixel translation change nothing but the shift "
             "(paths: start vertex, contour reversal and order, path order; lines: strip order, strips split)",
+    classifier="harness.signatures:classify_invariance", cause_role="consequent", motion_role="none", figures=(),
 ))

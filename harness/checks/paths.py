@@ -207,4 +207,5 @@ register(Check(
     "triangulation", _run, _applies, shrinks=True,
     metrics={"path_only": (1.0, 0.0), "triangles_only": (1.0, 0.0), "triangulation_double_hits": (1.0, 0.0)},
     caption="a simple polygon covers exactly the samples of the union of a triangulation of it (paths against triangles)",
+    classifier="harness.signatures:classify_triangulation", cause_role="consequent", motion_role="none", figures=(),
 ))

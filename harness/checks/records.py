@@ -4,13 +4,19 @@ the command line's) is derived from.
 
 A check is registered once, as a :class:`Check`: its name, the cases it applies to,
 whether it needs a convention, whether its failures survive shrinking, the metrics the
-gate compares (with their tolerances), a caption for people, and the function from a
-:class:`Subject` to a :class:`Result`. Adding a check touches its own module (and its
-known-bad test) only.
+gate compares (with their tolerances), a caption for people, the function from a
+:class:`Subject` to a :class:`Result`, and how the rest of the harness reads its failures:
+its classifier (the signature's failure class and convention part), its campaign role
+(a root cause, a consequent of one, or its own), its motion role (a frame verdict, a
+motion check read through frames, or neither) and the figures the report shows of it.
+Adding a check touches its own module (and its known-bad test) only; a test
+(``tests/test_checks_registry.py``) fails when a registered check leaves any of these
+undeclared.
 """
 
 from __future__ import annotations
 
+import importlib
 import math
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
@@ -27,8 +33,10 @@ from harness.conventions import Convention
 
 __all__ = [
     "Status", "Result", "Drawing", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "result", "skip", "first",
-    "Subject", "Check", "register", "registered", "checks", "check_names", "metric_tolerance", "merge_samples",
-    "POINT_KINDS", "ALL_KINDS", "OVERFLOW_EDGES", "overflow_class",
+    "Subject", "Check", "Figure", "Classifier", "CauseRole", "MotionRole", "ROLE_FIELDS", "register", "registered", "checks",
+    "check_names", "metric_tolerance", "merge_samples",
+    "POINT_KINDS", "ALL_KINDS", "OVERFLOW_EDGES", "overflow_class", "every_check", "check_named", "root_checks", "is_consequent",
+    "motion_checks", "frame_checks", "figures",
 ]
 
 Status = Literal["pass", "fail", "error", "skip"]
@@ -218,6 +226,44 @@ class Subject:
         return self.oracles[0]
 
 
+# ``classify(result, case, convention) -> (failure class, convention part)``: what a failing
+# result of a check is, read from its evidence (see :mod:`harness.signatures`)
+Classifier = Callable[[Any, Any, Any], tuple[str, str]]
+# a check's part in naming a scene's cause (:func:`harness.causes.attributed`): "root" -- a
+# check against the exact oracle whose failure names the scene's cause; "consequent" -- a
+# check whose failure on a scene that fails a root check is that failure's consequence (a
+# dropped triangle leaves a hole), counted under its cause; "own" -- neither: its failures
+# keep their own cause
+CauseRole = Literal["root", "consequent", "own"]
+# a check's part in reading motion failures (:func:`harness.signatures.with_probes`):
+# "frame" -- its verdict on one frame judged alone names a motion failure's cause
+# (conformance, or accuracy for anti-aliased coverage); "through-frames" -- a motion check
+# whose failures are read through the frames they name; "none" -- neither
+MotionRole = Literal["frame", "through-frames", "none"]
+# the fields that say how the rest of the harness reads a check's failures: each built-in
+# check declares every one (None is undeclared)
+ROLE_FIELDS = ("classifier", "cause_role", "motion_role", "figures")
+
+
+@dataclass(frozen=True, slots=True)
+class Figure:
+    """A figure the report shows of a check's results on a rasterizer's page: one metric,
+    combined over cases.
+
+    Parameters
+    ----------
+    metric : str
+    how : {"max", "sum", "mean"}
+        How the metric is combined over the cases that measured it.
+    label : str
+        What it is, for people (shown after the check's name).
+    """
+
+    metric: str
+    how: Literal["max", "sum", "mean"]
+    label: str
+
+
 @dataclass(frozen=True)
 class Check:
     """A registered check.
@@ -255,6 +301,22 @@ class Check:
         sample's layer (:meth:`Subject.layer`) as on a single-sample rasterizer, and the
         results are merged (:func:`merge_samples`). False: the check reads every sample
         at once.
+    classifier : callable or str or None
+        ``classify(result, case, convention) -> (failure class, convention part)`` of a
+        failing result (:func:`harness.signatures.signature`), or its dotted name
+        ``"module:function"``, imported on first use (the classifiers of the built-in
+        checks live in :mod:`harness.signatures`, which imports the check modules). None:
+        undeclared -- every failure is ``other``.
+    cause_role : {"root", "consequent", "own"} or None
+        Its part in naming a scene's cause (:data:`CauseRole`); None: undeclared (own).
+    consequent_classes : frozenset of str
+        Failure classes of a check that is not ``consequent`` which still count under a
+        root failure's cause (hygiene's ``outside-primitive``: coverage's fault too).
+    motion_role : {"frame", "through-frames", "none"} or None
+        Its part in reading motion failures (:data:`MotionRole`); None: undeclared (none).
+    figures : tuple of Figure or None
+        What the report shows of its results on a rasterizer's page (often none: ``()``);
+        None: undeclared.
     """
 
     name: str
@@ -269,6 +331,30 @@ class Check:
     timings: tuple[str, ...] = ()
     kinds: frozenset[str] = POINT_KINDS
     per_sample: bool = True
+    classifier: Classifier | str | None = None
+    cause_role: CauseRole | None = None
+    consequent_classes: frozenset[str] = frozenset()
+    motion_role: MotionRole | None = None
+    figures: tuple[Figure, ...] | None = None
+
+    def __post_init__(self) -> None:
+        if self.cause_role not in (None, "root", "consequent", "own"):
+            raise ValueError(f"check {self.name!r}: cause_role must be 'root', 'consequent' or 'own', not {self.cause_role!r}")
+        if self.motion_role not in (None, "frame", "through-frames", "none"):
+            raise ValueError(f"check {self.name!r}: motion_role must be 'frame', 'through-frames' or 'none', "
+                             f"not {self.motion_role!r}")
+        if isinstance(self.classifier, str) and self.classifier.count(":") != 1:
+            raise ValueError(f"check {self.name!r}: classifier must be a function or 'module:function', not {self.classifier!r}")
+
+    def undeclared(self) -> tuple[str, ...]:
+        """The fields of :data:`ROLE_FIELDS` this check leaves undeclared (None)."""
+        return tuple(name for name in ROLE_FIELDS if getattr(self, name) is None)
+
+    def classifier_function(self) -> Classifier | None:
+        """Its classifier as a function (a dotted name imported now), None without one."""
+        if isinstance(self.classifier, str):
+            return _imported(self.classifier)
+        return self.classifier
 
     def verdict(self, subject: Subject) -> Result:
         """The check's result, or its skip when the subject lacks what it needs; a
@@ -392,6 +478,57 @@ def checks(case: Any = None, only: set[str] | None = None, kind: str | None = No
             continue
         out.append(check)
     return out
+
+
+def every_check() -> tuple[Check, ...]:
+    """Every registered check in order, on-request ones too."""
+    return tuple(_REGISTRY.values())
+
+
+def check_named(name: str) -> Check | None:
+    """The registered check of that name (on-request ones too), None when there is none."""
+    return _REGISTRY.get(name)
+
+
+def root_checks() -> tuple[str, ...]:
+    """The checks whose failure names a scene's cause (``cause_role`` root), in order."""
+    return tuple(c.name for c in _REGISTRY.values() if c.cause_role == "root")
+
+
+def is_consequent(check: str, failure_class: str) -> bool:
+    """Whether a failure of ``check`` of that class counts under a root failure's cause on
+    the same scene: the check is ``consequent``, or the class one of its
+    ``consequent_classes``. Unregistered checks (``run``, ``harness``) are not."""
+    found = _REGISTRY.get(check)
+    return found is not None and (found.cause_role == "consequent" or failure_class in found.consequent_classes)
+
+
+def motion_checks() -> tuple[str, ...]:
+    """The motion checks whose failures are read through the frames they name
+    (``motion_role`` through-frames), in order."""
+    return tuple(c.name for c in _REGISTRY.values() if c.motion_role == "through-frames")
+
+
+def frame_checks() -> tuple[str, ...]:
+    """The checks whose verdict on one frame judged alone names a motion failure's cause
+    (``motion_role`` frame), in order: at most one applies to a rasterizer's coverage."""
+    return tuple(c.name for c in _REGISTRY.values() if c.motion_role == "frame")
+
+
+def figures() -> list[tuple[str, Figure]]:
+    """Every figure the report shows, (check, figure), in registry order."""
+    return [(c.name, f) for c in _REGISTRY.values() for f in c.figures or ()]
+
+
+_IMPORTED: dict[str, Classifier] = {}
+
+
+def _imported(dotted: str) -> Classifier:
+    """The function a ``"module:function"`` name names, imported once."""
+    if dotted not in _IMPORTED:
+        module, _, attribute = dotted.partition(":")
+        _IMPORTED[dotted] = getattr(importlib.import_module(module), attribute)
+    return _IMPORTED[dotted]
 
 
 def check_names() -> tuple[str, ...]:

@@ -228,6 +228,8 @@ register(Check(
     "watertight", lambda s: watertight(s.case, s.coverage, s.convention, lambda: s.oracle), lambda case: getattr(case, "region", None) is not None,
     metrics={"holes": (1.0, 0.0), "double_hits": (1.0, 0.0), "strays": (1.0, 0.0)},
     caption="on a planar partition: inside pixels hit exactly once, outside never, no double hit",
+    # consequent: a triangle dropped (conformance) leaves a hole here -- one cause, not two
+    classifier="harness.signatures:classify_watertight", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
     "overdraw", lambda s: overdraw(s.case, s.coverage, s.convention, lambda: s.oracle),
@@ -235,9 +237,11 @@ register(Check(
     lambda case: not hasattr(case, "frames") and not isinstance(getattr(case, "scene", None), LineScene), shrinks=True,
     metrics={"double_hits": (1.0, 0.0)}, on_request=True,
     caption="no pixel hit twice (watertight's double hits, in a form that survives shrinking)",
+    classifier="harness.signatures:classify_overdraw", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
     "holes", lambda s: holes(s.case, s.coverage), lambda case: getattr(case, "region", None) is not None,
     metrics={"holes": (1.0, 0.0)}, on_request=True,
     caption="every pixel inside the region hit (watertight's holes, in a form that survives cutting the partition down)",
+    classifier="harness.signatures:classify_holes", cause_role="own", motion_role="none", figures=(),
 ))
