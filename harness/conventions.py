@@ -124,7 +124,7 @@ number (floats are dyadic rationals). No epsilon appears in any coverage decisio
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Any, Literal, cast
 
 import numba
@@ -439,8 +439,6 @@ class Convention:
     tolerance: float | None = None
     # line scenes only (a LineRule, or its rule's name)
     line: Any = LineRule()
-    # chosen once from coverage and samples (harness.coverage_models.model_for)
-    model: CoverageModel = field(init=False, repr=False, compare=False)
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -452,6 +450,18 @@ class Convention:
             extra += f", line={self.line!r}"
         return (f"Convention(sample={self.sample!r}, tie={self.tie!r}, subpixel_bits={self.subpixel_bits!r}, "
                 f"cull={self.cull!r}{extra})")
+
+    @property
+    def model(self) -> CoverageModel:
+        """Its coverage model (:mod:`harness.coverage_models`), the one object the engine
+        asks about its coverage: chosen from ``coverage`` and ``samples`` alone, by
+        :func:`~harness.coverage_models.model_for` (derived, not stored: a convention
+        pickles, compares and hashes as its declaration).
+
+        >>> Convention().model, Convention(coverage="area").model
+        (CoverageModel('single'), CoverageModel('area'))
+        """
+        return model_for(self.coverage, self.samples is not None)
 
     @property
     def kind(self) -> CoverageKind:
@@ -555,7 +565,6 @@ class Convention:
         object.__setattr__(self, "line", line)
         if self.coverage not in DECLARED_COVERAGES:
             raise ValueError(f"Convention.coverage must be 'sample' or 'area', not {self.coverage!r}")
-        object.__setattr__(self, "model", model_for(self.coverage, self.samples is not None))
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
             raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")

@@ -1,8 +1,8 @@
 """The coverage models: what one sample per pixel, a multisample pattern and anti-aliased
 area coverage each mean to the engine, one object each.
 
-A convention's coverage (:attr:`harness.conventions.Convention.coverage` and
-``samples``) chooses its model once, :attr:`Convention.model
+A convention's declaration (its ``coverage`` and whether it has ``samples``) chooses its
+model in one place, :func:`model_for`, behind :attr:`Convention.model
 <harness.conventions.Convention.model>`; the engine then asks the model, never compares
 its name:
 
