@@ -703,17 +703,17 @@ def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: flo
     identified exactly is confirmed without more (its conformance on the probes is the
     residual, 0)."""
     from harness.api import scene_kinds_of
-    from harness.identify import VERDICT_CHECKS, verdict_cases
+    from harness.identify import verdict_cases
     from harness.runner import run_suite
 
     declared = rasterizer.convention
-    kind = declared.kind
+    model = declared.model
     stand_in = getattr(fingerprint, "pattern_missing", False)  # its convention no finding: never compared as one
     same = declared == fingerprint.convention and fingerprint.exact and not stand_in
-    if same and kind == "single":
+    if same and model.single_sample:
         return "confirmed", False
-    cases = verdict_cases(fingerprint, seed, scene_kinds_of(rasterizer), kind)
-    names = VERDICT_CHECKS[kind]
+    cases = verdict_cases(fingerprint, seed, scene_kinds_of(rasterizer), declared.kind)
+    names = model.verdict_checks
     results = run_suite([rasterizer], cases=cases, only=set(names), repros=False, identify=False, timeout=timeout)
     failing = [r for r in results if r.status in ("fail", "error") and r.check in (*names, "run")]
     if failing:
@@ -721,7 +721,7 @@ def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: flo
         counts = [f"{check} fails on {sum(r.check == check for r in failing)} of {judged[check]} cases"
                   for check in (*names, "run") if any(r.check == check for r in failing)]
         said = "; ".join(counts)
-        if kind == "single":
+        if model.single_sample:
             pixels = sum(int(r.metrics.get("missing", 0) + r.metrics.get("extra", 0)) for r in failing)
             said = f"{len(failing)} of {len(cases)} conformance cases fail against it ({pixels} pixels)"
         return f"NOT what it does: {said}, e.g. {failing[0].case}: {failing[0].message}", True

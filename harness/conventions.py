@@ -84,7 +84,9 @@ A convention is sample point + tie rule + snapping (+ culling)
     4. Culling ``none | cw | ccw``: ``cw`` removes triangles with snapped A > 0 (clockwise
        on screen), ``ccw`` those with A < 0.
 
-A convention's coverage is one of three kinds (:attr:`Convention.kind`)
+A convention's coverage is one of three kinds (:attr:`Convention.kind`), each a coverage
+model (:attr:`Convention.model`, :mod:`harness.coverage_models`: area coverage with a
+sample pattern is the supersampled area model)
     ``single``
         One sample per pixel at ``sample``: a fragment is a (triangle, pixel).
     ``multisample``
@@ -128,6 +130,17 @@ from typing import Any, Literal, cast
 import numba
 import numpy as np
 from numpy.typing import NDArray
+
+# the coverage models, their kinds and sample limits (re-exported: defined beside them)
+from harness.coverage_models import (
+    COVERAGE_KINDS,
+    DECLARED_COVERAGES,
+    MAX_AREA_SAMPLES,
+    MAX_SAMPLES,
+    CoverageKind,
+    CoverageModel,
+    model_for,
+)
 
 __all__ = [
     "TIE_RULES",
@@ -184,14 +197,6 @@ LINE_DIRECTIONS: tuple[LineDirection, ...] = ("as-given", "smaller-x", "smaller-
 # replicating each fragment along the minor axis, integer widths.
 WideLines = Literal["none", "replicate"]
 WIDE_LINES: tuple[WideLines, ...] = ("none", "replicate")
-CoverageKind = Literal["single", "multisample", "area"]
-COVERAGE_KINDS: tuple[CoverageKind, ...] = ("single", "multisample", "area")
-# The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
-# 64 with no standard locations; 32 keeps a garbage answer's span budget bounded).
-MAX_SAMPLES = 32
-# ... and a supersampled area convention (alpha = share of its samples) up to 16 x 16:
-# its answer is one alpha per pixel, however many samples stand behind it.
-MAX_AREA_SAMPLES = 256
 SnapRounding = Literal["nearest-even", "half-away", "floor"]
 
 # rule -> (sx, sy, y_first): the sample is decided as if moved by (sx*eps, sy*eps**2), or
@@ -447,11 +452,28 @@ class Convention:
                 f"cull={self.cull!r}{extra})")
 
     @property
+    def model(self) -> CoverageModel:
+        """Its coverage model (:mod:`harness.coverage_models`), the one object the engine
+        asks about its coverage: chosen from ``coverage`` and ``samples`` alone, by
+        :func:`~harness.coverage_models.model_for` (derived, not stored: a convention
+        pickles, compares and hashes as its declaration).
+
+        >>> Convention().model, Convention(coverage="area").model
+        (CoverageModel('single'), CoverageModel('area'))
+        """
+        return model_for(self.coverage, self.samples is not None)
+
+    @property
     def kind(self) -> CoverageKind:
-        """``single``, ``multisample`` or ``area`` (see the module docstring)."""
-        if self.coverage == "area":
-            return "area"
-        return "single" if self.samples is None else "multisample"
+        """``single``, ``multisample`` or ``area`` (see the module docstring): its
+        model's kind (:attr:`model`).
+
+        >>> Convention().kind, Convention(samples=4).kind, Convention(coverage="area", samples=4).kind
+        ('single', 'multisample', 'area')
+        >>> Convention(coverage="area", samples=4).model
+        CoverageModel('supersampled area')
+        """
+        return self.model.kind
 
     @property
     def n_samples(self) -> int:
@@ -531,16 +553,17 @@ class Convention:
             from harness.samples import pattern
 
             offsets = pattern(self.samples)
-            limit = MAX_AREA_SAMPLES if self.coverage == "area" else MAX_SAMPLES
+            patterned = model_for(self.coverage, True)
+            limit = patterned.max_samples
             if len(offsets) > limit:
                 raise ValueError(f"Convention.samples has {len(offsets)} samples; at most {limit} are supported"
-                                 + ("" if self.coverage == "area" else f" ({MAX_AREA_SAMPLES} for supersampled area coverage)"))
+                                 + ("" if patterned.alphas else f" ({MAX_AREA_SAMPLES} for supersampled area coverage)"))
             object.__setattr__(self, "samples", offsets)
         line = LineRule(cast(LineRuleName, self.line)) if isinstance(self.line, str) else self.line
         if not isinstance(line, LineRule):
             raise ValueError(f"Convention.line must be a LineRule or one of {', '.join(LINE_RULES)}, not {self.line!r}")
         object.__setattr__(self, "line", line)
-        if self.coverage not in ("sample", "area"):
+        if self.coverage not in DECLARED_COVERAGES:
             raise ValueError(f"Convention.coverage must be 'sample' or 'area', not {self.coverage!r}")
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
@@ -606,7 +629,7 @@ class Convention:
         culling = "no culling" if self.cull == "none" else f"culls {self.cull}"
         tie = self._tie_words()
         where = self._pattern_words() if self.samples is not None else ""
-        if self.kind == "area":
+        if self.model.alphas:
             what = "the exact area" if self.samples is None else f"the share of the samples covered ({where}), {tie}"
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
         if self.samples is not None:

@@ -45,6 +45,7 @@ from numpy.typing import NDArray
 from cases.scenes import lattice_triangles, random_triangles
 from harness.api import Coverage, Scene
 from harness.conventions import MAX_AREA_SAMPLES, MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Convention, CoverageKind, CullMode, SnapRounding
+from harness.coverage_models import AREA, MULTISAMPLE, SINGLE, CoverageModel, model_named
 from harness.isolation import Call, Outcome, describe, layer_of
 from harness.oracle import exact_coverage
 from harness.keys import union
@@ -217,14 +218,19 @@ class CoverageKindFact:
         return len(self.indices)
 
     @property
+    def model(self) -> CoverageModel | None:
+        """The coverage model of the kind seen (analytic area for alphas: the sweeps tell
+        a supersampler apart); None when the rasterizer gave an error."""
+        return None if self.kind is None else model_named(self.kind)
+
+    @property
     def text(self) -> str:
-        if self.kind is None:
+        model = self.model
+        if model is None:
             return f"not measured: the rasterizer raised {self.error}"[:120]
-        if self.kind == "area":
-            return "area: an alpha per pixel and triangle (anti-aliased)"
-        if self.kind == "single":
-            return "single: one sample per pixel"
-        said = f"multisample: {self.samples} samples per pixel (indices {', '.join(map(str, self.indices))})"
+        if not model.sample_ids:
+            return f"{model.kind}: {model.seen}"
+        said = f"{model.kind}: {self.samples} {model.seen} (indices {', '.join(map(str, self.indices))})"
         if len(set(self.per_pixel)) > 1:
             said += f"; whole pixels hold {min(self.per_pixel)} to {max(self.per_pixel)} of them"
         return said
@@ -242,16 +248,16 @@ def coverage_kind(call: Call) -> CoverageKindFact:
     if cov is None:
         return CoverageKindFact(None, error=describe(outcome.error))
     if cov.alpha is not None:
-        return CoverageKindFact("area")
+        return CoverageKindFact(AREA.kind)
     if cov.sample is None:
-        return CoverageKindFact("single")
+        return CoverageKindFact(SINGLE.kind)
     t, x, y = cov.pixels()
     s = cov.fragment_samples()
     whole = (t <= 1) & (x >= 4) & (x <= 10) & (y >= 4) & (y <= 10)  # inside either winding's 28 px triangle
     whole &= t == (t[whole].min() if whole.any() else 0)  # one winding: the first drawn
     key = y[whole] * 32 + x[whole]
     per_pixel = [len(set(s[whole][key == k].tolist())) for k in np.unique(key)]
-    return CoverageKindFact("multisample", tuple(sorted(set(s[whole].tolist()))), tuple(sorted(set(per_pixel))))
+    return CoverageKindFact(MULTISAMPLE.kind, tuple(sorted(set(s[whole].tolist()))), tuple(sorted(set(per_pixel))))
 
 
 # --- quantisation ----------------------------------------------------------------------------

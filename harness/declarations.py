@@ -98,16 +98,18 @@ def declaration_problem(rasterizer: Rasterizer) -> str | None:
         return (f"{REFUSED}: its convention declares {convention.line.describe()}, but its scene_kinds {_tuple(kinds)} lack "
                 f"\"lines\", so no line scene would reach it: add {_adding(kinds, 'lines')}")
     line = getattr(rasterizer, "line_convention", None)
-    if ("lines" in kinds and not isinstance(line, Convention) and convention.kind != "single"
-            and not (convention.kind == "multisample" and convention.line.rule == "rectangle")):
+    model = convention.model
+    # lines: one sample per pixel, or a pattern's samples in a rectangle
+    if ("lines" in kinds and not isinstance(line, Convention) and not model.single_sample
+            and not (model.lines and convention.line.rule == "rectangle")):
         return (f"{REFUSED}: it takes lines, which are drawn with one sample per pixel (or, multisample, as rectangles "
                 f"per sample), but its convention declares {convention.kind} coverage"
-                + (" with " + convention.line.describe() if convention.kind == "multisample" else "")
+                + (" with " + convention.line.describe() if model.lines else "")
                 + ": give it line_convention = Convention(line=...) for its lines"
-                + (", or line=LineRule(\"rectangle\") for multisample lines" if convention.kind == "multisample" else "")
+                + (", or line=LineRule(\"rectangle\") for multisample lines" if model.lines else "")
                 + ", or leave \"lines\" out of scene_kinds")
     path = getattr(rasterizer, "path_convention", None)
-    if "paths" in kinds and not isinstance(path, Convention) and convention.kind == "area" and convention.samples is None:
+    if "paths" in kinds and not isinstance(path, Convention) and not model.paths:
         return (f"{REFUSED}: it takes paths, but its convention declares analytic area coverage, which is not defined for "
                 f"paths: give the area convention a sample pattern (Convention(coverage=\"area\", samples=...)), or "
                 f"path_convention = Convention(...) for its paths, or leave \"paths\" out of scene_kinds")
@@ -129,11 +131,9 @@ def answer_problem(convention: Convention | None, coverage: Coverage) -> str | N
     """
     if convention is None or not len(coverage):
         return None
-    kind = convention.kind
-    declared = {"single": "one sample per pixel", "multisample": f"a multisample pattern of {convention.n_samples} samples",
-                "area": "area coverage"}[kind]
-    head = f"{REFUSED}: its convention declares {declared}, but its answer carries"
-    if kind == "area":
+    model = convention.model
+    head = f"{REFUSED}: its convention declares {model.declared_as(convention)}, but its answer carries"
+    if model.alphas:
         if coverage.sample is not None:
             return (f"{head} sample ids: return one alpha per pixel (Coverage(..., alpha=a)) without sample=, or declare the "
                     f"pattern without coverage=\"area\" (Convention(samples=...)) for multisample coverage")
@@ -144,10 +144,10 @@ def answer_problem(convention: Convention | None, coverage: Coverage) -> str | N
     if coverage.alpha is not None:
         return (f"{head} alphas: declare Convention(coverage=\"area\", ...) for anti-aliased coverage, or return the covered "
                 f"spans without alpha=")
-    if kind == "multisample" and coverage.sample is None:
+    if model.sample_ids and coverage.sample is None:
         return (f"{head} no sample ids: return Coverage(..., sample=s) with the sample of the pattern each span covers, or "
                 f"declare one sample per pixel (Convention(sample=(x, y)) without samples=)")
-    if kind == "single" and coverage.sample is not None:
+    if not model.sample_ids and coverage.sample is not None:
         return (f"{head} sample ids: declare the pattern (Convention(samples=n or [(x, y), ...])) for multisample coverage, "
                 f"or return the covered spans without sample=")
     return None

@@ -59,6 +59,7 @@ from typing import TYPE_CHECKING, Any, Union
 
 from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, fill_rules_of, interpolates_of, received_of, scene_kinds_of
 from harness.conventions import Convention, CoverageKind, LineRule
+from harness.coverage_models import COVERAGE_KINDS, SINGLE, CoverageModel, model_named
 from harness.coverage_probes import (
     CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions, sample_sides,
 )
@@ -82,11 +83,8 @@ CARD_DEFECTS = 3
 # The checks that judge a declared convention of each coverage kind, run on identify's own
 # probe scenes (and the suite's scenes those checks need: partitions for seams, sub-pixel
 # motion for popping) before identify calls a declaration confirmed or consistent.
-VERDICT_CHECKS: dict[CoverageKind, tuple[str, ...]] = {
-    "single": ("conformance",),
-    "multisample": ("conformance",),  # judged sample by sample
-    "area": ("accuracy", "seams", "popping"),
-}
+# Each kind's model says which (:attr:`harness.coverage_models.CoverageModel.verdict_checks`).
+VERDICT_CHECKS: dict[CoverageKind, tuple[str, ...]] = {kind: model_named(kind).verdict_checks for kind in COVERAGE_KINDS}
 
 
 @dataclass
@@ -139,6 +137,11 @@ class Fingerprint:
     calls: CallTally | None = field(default=None, repr=False, compare=False)
 
     @property
+    def model(self) -> CoverageModel:
+        """The coverage model of the kind seen (area's for alphas, analytic or not)."""
+        return model_named(self.kind)
+
+    @property
     def lines_only(self) -> bool:
         """Fingerprinted on lines alone (it takes no triangles or paths)."""
         return self.line_fit is not None and self.line_fit.triangles is None
@@ -179,11 +182,11 @@ class Fingerprint:
             out.update(convention=f"none identified: no answers ({self.no_answers})", no_answers=self.no_answers)
         if self.calls is not None:  # added fields (schema 1 allows them)
             out["calls"] = self.calls.to_dict()
-        if self.kind != "single":  # added fields (schema 1 allows them)
+        if not self.model.single_sample:  # added fields (schema 1 allows them)
             samples = self.convention.samples
             out.update(kind=self.kind, samples=None if samples is None else [list(o) for o in samples],
-                       levels=self.convention.levels if self.kind == "area" else None,
-                       tolerance=self.convention.tolerance if self.kind == "area" else None)
+                       levels=self.convention.levels if self.model.alphas else None,
+                       tolerance=self.convention.tolerance if self.model.alphas else None)
         if self.fill_rules is not None:  # a path-taking rasterizer's (added fields)
             fit = self.path_fit
             path = self.path_convention
@@ -228,7 +231,7 @@ class Fingerprint:
         """A multisample rasterizer whose pattern was not recovered: its convention is a
         stand-in (the standard pattern of its count), never a finding."""
         pattern = self.probes.get("pattern")
-        return self.kind == "multisample" and pattern is not None and getattr(pattern, "convention", None) is None
+        return self.model.sample_ids and pattern is not None and getattr(pattern, "convention", None) is None
 
     def card(self) -> str:
         silence = self.no_answers
@@ -338,7 +341,7 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
         return (cases, call) if suite is None else suite(cases)
 
     kind = coverage_kind(call)
-    if kind.kind in ("area", "multisample"):
+    if kind.model is not None and not kind.model.single_sample:
         return _identify_coverage(name, call, seed, kind)
     ties = fit_ties(call, seed)
     snapping = fit_snapping(call, seed, ties)
@@ -407,7 +410,7 @@ def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprin
     if "triangles" in scene_kinds_of(rasterizer):
         fingerprint = _identify_triangles(rasterizer.name, call, seed, received)
         path: PathFit | None = None
-        if fingerprint.kind == "single":
+        if fingerprint.model.single_sample:
             path = fit_path_convention(call, seed, rule, fingerprint.convention)
     else:
         # it takes paths only: every triangle probe goes through one-contour paths
@@ -420,7 +423,7 @@ def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprin
         fingerprint = _identify_triangles(rasterizer.name, as_paths(call, rule), seed, _received_as_triangles(received, rule),
                                           as_suite)
         path = None
-        if fingerprint.kind == "single":
+        if fingerprint.model.single_sample:
             path = path_fit_of(fingerprint.convention, fingerprint.residual, fingerprint.pixels, fingerprint.runner_up,
                                fingerprint.ambiguous, None, rule, fingerprint.unanswered)
     if path is None:
@@ -463,7 +466,7 @@ def _with_lines(fingerprint: Fingerprint, call: Call, seed: int, received: Calla
     from harness.line_probes import fit_lines
 
     fit = fit_lines(call, seed, fingerprint.convention, received)
-    if fit.convention is not None and fingerprint.convention.kind == "single":
+    if fit.convention is not None and fingerprint.convention.model.single_sample:
         fingerprint.convention = replace(fingerprint.convention, line=fit.convention.line)
     _record_lines(fingerprint, fit)
 
@@ -536,7 +539,7 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
     call = Remembered(call)
     probes: dict[str, Fact] = {"coverage": kind}
     lines = {"coverage": kind.text}
-    if kind.kind == "area":
+    if kind.model is not None and kind.model.alphas:
         sweeps = alpha_sweeps(call, seed)
         probes["sweeps"] = sweeps
         lines |= sweeps.lines()
@@ -583,7 +586,7 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
     probes |= {"zero area": zero_area(call), "non-finite": non_finite(call)}
     lines |= {"zero area": probes["zero area"].text, "non-finite": probes["non-finite"].text,
               "calls": f"{call.calls + 1} rasterizer calls"}  # and the one that read the kind
-    return Fingerprint(name, convention, residual, pixels, runner_up, lines, (), probes, kind=kind.kind or "single",
+    return Fingerprint(name, convention, residual, pixels, runner_up, lines, (), probes, kind=kind.kind or SINGLE.kind,
                        unanswered=unanswered)
 
 
@@ -605,23 +608,24 @@ def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, .
 
     cases: list[Case | MotionCase] = []
     drawn: dict[str, tuple[Any, ...]] = {}
+    model = model_named(kind)
     sweeps, pattern = fingerprint.probes.get("sweeps"), fingerprint.probes.get("pattern")
-    if kind == "area" and sweeps is not None:
+    if model.alphas and sweeps is not None:
         drawn["sweeps"] = tuple(getattr(sweeps, "drawn", ()))
-    if kind == "multisample" and pattern is not None:
+    if model.sample_ids and pattern is not None:
         drawn["pattern"] = tuple(d for group in getattr(pattern, "drawn", ()) for d in group)
     for probe, scenes in drawn.items():
         cases += [Case(f"identify/{probe}/{k}", d.scene) for k, d in enumerate(scenes) if isinstance(d.scene, Scene)]
     if "triangles" in scene_kinds:
         cases += conformance_cases(seed)
-        if kind != "single":
+        if not model.single_sample:
             cases += partition_cases(seed)
-        if kind == "area":
+        if model.alphas:
             # the plain geometries' sixteenth-pixel translations (no texture, no projected mesh)
             cases += [m for m in motion_cases(seed) if m.id.endswith("-1/16") and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
-    if "paths" in scene_kinds and kind == "single":
+    if "paths" in scene_kinds and model.single_sample:
         cases += [c for c in path_cases(seed) if c.family == "paths"]
-    if "lines" in scene_kinds and kind == "single":
+    if "lines" in scene_kinds and model.single_sample:
         cases += [c for c in line_cases(seed) if c.family == "lines"]
     return cases
 

@@ -544,7 +544,7 @@ def samples_of(convention: Any) -> int:
     """The samples per pixel a convention implies for :func:`scene_work` (1 without one)."""
     if convention is None:
         return 1
-    if getattr(convention, "coverage", "sample") == "area":
+    if getattr(getattr(convention, "model", None), "alphas", False):  # area coverage (its model: a Convention's)
         pattern = getattr(convention, "samples", None)
         return max(AREA_SAMPLES, len(pattern)) if pattern is not None else AREA_SAMPLES
     pattern = getattr(convention, "samples", None)

@@ -136,7 +136,7 @@ def line_candidates(base: Convention | None = None, measured: tuple[float, float
     >>> len(line_candidates(measured=(0.25, 0.75))), line_candidates(measured=(0.25, 0.75))[-1].sample
     (132, (0.25, 0.75))
     """
-    single = base if base is not None and base.kind == "single" else Convention()
+    single = base if base is not None and base.model.single_sample else Convention()
     unsnapped = replace(single, subpixel_bits=None, snap_rounding="nearest-even")
     out = [replace(unsnapped, line=rule) for rule in LINE_RULES_TRIED]
     first = (single.sample, single.tie)
@@ -560,7 +560,7 @@ class LineFit:
     def differences(self) -> tuple[str, ...]:
         """What differs from the triangle convention: snapping, and for rectangular lines
         the sample point and tie rule; each as ``part value (triangles: value)``."""
-        if self.convention is None or self.triangles is None or self.triangles.kind != "single":
+        if self.convention is None or self.triangles is None or not self.triangles.model.single_sample:
             return ()
         parts = _PARTS + ((("sample", "sample"), ("tie", "ties")) if self.convention.line.rule == "rectangle" else ())
         return tuple(f"{label} {getattr(self.convention, part)} (triangles: {getattr(self.triangles, part)})"
@@ -570,7 +570,7 @@ class LineFit:
     def same_as_triangles(self) -> bool | None:
         """Whether the line convention's snapping (and a rectangle's sample point and ties)
         are the triangle convention's; None when either is missing."""
-        if self.convention is None or self.triangles is None or self.triangles.kind != "single":
+        if self.convention is None or self.triangles is None or not self.triangles.model.single_sample:
             return None
         return not self.differences
 

@@ -1698,10 +1698,10 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
     """
     from harness.api import Coverage
 
-    if convention.kind == "multisample":
-        return _multisample_lines(scene, convention)
-    if convention.kind != "single":
+    if not convention.model.lines:
         raise ValueError(f"lines are defined for single-sample and multisample conventions, not {convention.kind} coverage")
+    if convention.model.layered:
+        return _multisample_lines(scene, convention)
     rule = convention.line
     a, b = scene.segments()
     a, b = convention.snap(a), convention.snap(b)

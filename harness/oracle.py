@@ -40,7 +40,7 @@ from harness.exact import frozen, orientation
 from harness.samples import pattern
 from harness.oracle_kernels import _apply_edge, _edge_setup, _row_range, shares_of_layers
 
-__all__ = ["exact_coverage", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
+__all__ = ["exact_coverage", "exact_single", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
 
 
 _CULL_CODES = {"none": 0, "cw": 1, "ccw": -1}
@@ -400,14 +400,19 @@ def _exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
         from harness.lines import line_coverage
 
         return line_coverage(scene, convention)
-    if convention.kind == "multisample":
-        return exact_multisample(scene, convention)
-    if convention.kind == "area" and convention.samples is not None:
-        return sample_shares(scene, convention)
-    if convention.kind == "area":
-        from harness.area import area_coverage
+    # triangles: the convention's coverage model names its oracle (exact_single,
+    # exact_multisample, sample_shares or harness.area.area_coverage)
+    return convention.model.exact_triangles(scene, convention)
 
-        return area_coverage(scene, convention)
+
+def exact_single(scene: Scene, convention: Convention) -> Coverage:
+    """The exact coverage of a triangle scene under a single-sample convention (the
+    oracle of :data:`harness.coverage_models.SINGLE`; :func:`exact_coverage` caches it):
+    spans sorted by triangle then row, with attributes interpolated at the sample point.
+
+    >>> exact_single(Scene(3, 3, [[[0, 0], [3, 0], [0, 3]]]), Convention()).counts(3, 3).tolist()  # top-left: no hypotenuse
+    [[1, 1, 0], [1, 0, 0], [0, 0, 0]]
+    """
     prepared = PreparedTriangles(scene, convention)
     sx, sy = convention.sample
     fast = prepared.active & prepared.safe

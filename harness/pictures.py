@@ -295,7 +295,7 @@ def _still_pictures(case: Case, drawing: Drawing, result: Result) -> dict[str, s
     marks = _focus(result)
     fx, fy = marks[0] if marks else (scene.width // 2, scene.height // 2)
     window = window_around(int(fx), int(fy), scene.width, scene.height, 64)
-    if drawing.convention is not None and drawing.convention.kind == "area":
+    if drawing.convention is not None and drawing.convention.model.alphas:
         return _area_pictures(case, drawing, result, window)
     counts = coverage.counts(scene.width, scene.height)
     holes = strays = None
@@ -847,7 +847,7 @@ def winding_numbers(scene: PathScene, path: int, convention: Convention, window:
            [0, 0, 2, 2, 0, 0],
            [0, 1, 1, 1, 1, 0]])
     """
-    if convention.kind != "single":
+    if not convention.model.single_sample:
         raise ValueError(f"winding_numbers takes a single-sample convention, not kind {convention.kind!r}")
     x0, y0, x1, y1 = window
     cols, rows = x1 - x0, y1 - y0
@@ -1702,7 +1702,7 @@ def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, co
     titles): one triangle's alphas in a scene of overlapping ones, say; given a
     partition's ``region``, it is outlined."""
     w, h = scene.width, scene.height
-    area = convention is not None and convention.kind == "area"
+    area = convention is not None and convention.model.alphas
     pattern = convention is not None and convention.samples is not None
     if pattern and convention is not None:
         # every sample of every pixel is drawn: a window of at most SAMPLE_BUDGET samples
@@ -1729,7 +1729,7 @@ def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, co
     if pattern and convention is not None:
         offsets = np.asarray(convention.samples, dtype=np.float64)
         want = sample_hits(scene, convention, window, only=only)
-        got = sample_hits(scene, convention, window, answer) if convention.kind == "multisample" else None
+        got = sample_hits(scene, convention, window, answer) if convention.model.sample_ids else None
         differs = None if got is None else got != want
         samples = [None if got is None else Samples(offsets, got, differs), Samples(offsets, want, differs)]
     lines = isinstance(scene, LineScene)

@@ -32,6 +32,7 @@ from harness.api import AnyScene, Coverage, Scene
 from harness.case import Case, MotionCase
 from harness.checks import FragmentCounter, Result, deviations, watertight
 from harness.conventions import MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Convention, CullMode, SnapRounding
+from harness.coverage_models import SINGLE
 from harness.exact import orientation
 from harness.isolation import Call, Outcome, describe
 from harness.oracle import exact_coverage
@@ -970,7 +971,7 @@ def watertight_partitions(call: Call, seed: int, cases: Sequence[Case] | None = 
 
 def _watertight(case: Case, coverage: Coverage, convention: Convention | None) -> Result:
     """The suite's watertight verdict on ``case`` (see :func:`harness.checks.watertight`)."""
-    if convention is None or convention.kind != "single":
+    if convention is None or not convention.model.single_sample:
         return watertight(case, coverage)
     return watertight(case, coverage, convention, lambda: exact_coverage(case.scene, convention))
 
@@ -1000,7 +1001,7 @@ def _judged(case: Case, coverage: Coverage, wanted: set[str], convention: Conven
     if convention is None and wanted & needs:
         return []
     subject = Subject(case, name, convention, [coverage], call, Tolerance(), False, scene_kinds=(case.scene.kind,))
-    return [c.verdict(subject) for c in checks.checks(case, wanted, "single")]
+    return [c.verdict(subject) for c in checks.checks(case, wanted, SINGLE.kind)]
 
 
 def suite_defects(call: Call, cases: Sequence[Case], wanted: set[str], convention: Convention | None, name: str,

@@ -251,7 +251,7 @@ def _flat(
     """
     if fill_rule not in FILL_RULES:
         raise ValueError(f"fill_rule must be one of {', '.join(FILL_RULES)}, not {fill_rule!r}")
-    if convention.kind != "single":
+    if not convention.model.single_sample:
         raise ValueError(f"path_spans takes a single-sample convention, not kind {convention.kind!r}")
     if width < 0 or height < 0:
         raise ValueError(f"viewport must be non-negative, not {width} x {height}")
@@ -444,7 +444,7 @@ def open_outline_coverage(scene: Scene | PathScene, convention: Convention, unba
     """
     if unbalanced not in UNBALANCED_ROWS:
         raise ValueError(f"unbalanced must be one of {', '.join(UNBALANCED_ROWS)}, not {unbalanced!r}")
-    if convention.kind != "single":
+    if not convention.model.single_sample:
         raise ValueError(f"open_outline_coverage takes a single-sample convention, not kind {convention.kind!r}")
     if isinstance(scene, PathScene):
         vertices, sizes, paths, fill_rule = scene.vertices, scene.contour_sizes, scene.contour_path, scene.fill_rule
@@ -613,15 +613,15 @@ def path_coverage(scene: PathScene, convention: Convention) -> Coverage:
     >>> path_coverage(square, Convention(samples=4)).sample.tolist()  # one span per row and sample
     [0, 0, 1, 1, 2, 2, 3, 3]
     """
-    if convention.kind == "area" and convention.samples is None:
+    if not convention.model.paths:
         raise ValueError("analytic area coverage of paths is not defined yet: give the area convention a sample pattern")
     offsets = convention.samples if convention.samples is not None else (convention.sample,)
     layers = [_path_layer(scene, replace(convention.at_sample(s) if convention.samples is not None else convention,
                                          sample=offset))
               for s, offset in enumerate(offsets)]
-    if convention.kind == "single":
+    if convention.model.single_sample:
         return layers[0]
-    if convention.kind == "area":
+    if convention.model.alphas:
         return shares_of_layers(layers, scene.height, convention.n_samples)
     marked = [Coverage(c.primitive, c.y, c.x0, c.x1, None, np.full(len(c), s)) for s, c in enumerate(layers)]
     joined = Coverage.concat(marked)

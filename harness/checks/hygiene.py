@@ -10,6 +10,7 @@ from harness.case import Case
 from harness.api import Coverage
 from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, first, register, result, Result
 from harness.conventions import Convention
+from harness.coverage_models import SINGLE
 
 __all__ = ["hygiene"]
 
@@ -28,7 +29,7 @@ def hygiene(case: Case, coverage: Coverage, interpolates: bool = True, conventio
     _, flaws = coverage.tidy(scene)
     t, y, x0, x1 = coverage.triangle, coverage.y, coverage.x0, coverage.x1
     kinds = ("outside_viewport", "outside_primitive", "bad_primitive_id", "empty_or_reversed", "bad_sample")
-    if convention is not None and convention.kind == "multisample" and coverage.sample is not None:
+    if convention is not None and convention.model.sample_ids and coverage.sample is not None:
         # a sample index of no sample of the declared pattern
         beyond = np.flatnonzero((coverage.sample >= convention.n_samples) & (coverage.sample >= 0))
         flaws["bad_sample"] = np.union1d(flaws["bad_sample"], beyond)
@@ -64,10 +65,10 @@ def hygiene(case: Case, coverage: Coverage, interpolates: bool = True, conventio
 
 def _kind_problem(coverage: Coverage, convention: Convention | None) -> str:
     """What is wrong with the answer's form for the declared coverage kind ("" if nothing)."""
-    kind = "single" if convention is None else convention.kind
-    if kind == "multisample" and coverage.sample is None and len(coverage):
+    model = SINGLE if convention is None else convention.model
+    if model.sample_ids and coverage.sample is None and len(coverage):
         return "no sample indices, but the convention declares a multisample pattern"
-    if kind == "area":
+    if model.alphas:
         if coverage.alpha is None:
             return "no alphas, but the convention declares area coverage" if coverage.n_pixels else ""
         if coverage.alpha.shape[0] != coverage.n_pixels:

@@ -223,7 +223,7 @@ def _run(s: Subject) -> Result:
             return Result("", s.case.id, "invariance", "error", f"{kind}: {outcome.error}",
                           {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
         variants.append((label, index, outcome.coverage))
-    if s.convention is not None and s.convention.kind == "area":
+    if s.convention is not None and s.convention.model.alphas:
         return area_invariance(s.case, s.coverage, variants, s.convention.level_step, shift_of(s.case.scene))
     sample = s.convention.sample if s.convention is not None else (0.5, 0.5)
     lines = isinstance(s.case.scene, LineScene)

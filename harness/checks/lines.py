@@ -40,6 +40,7 @@ from harness.checks.conformance import near_ties_of, undefined_width
 from harness.checks.motion import filled_direction
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
 from harness.conventions import LINE_DIRECTIONS, Convention
+from harness.coverage_models import COVERAGE_MODELS
 from harness.lines import end_point_pixels, is_x_major, area_holding
 from harness.oracle import exact_coverage
 
@@ -684,7 +685,7 @@ def _run_line_motion(s: Subject) -> Result:
 # lines are single-sample, or multisample rectangles (harness.lines): a multisample answer is
 # judged sample by sample (each layer a single-sample rectangle rule at its offset); an area
 # answer gets none of these
-_SINGLE = frozenset({"single", "multisample"})
+_SINGLE = frozenset(model.kind for model in COVERAGE_MODELS.values() if model.lines)
 
 register(Check(
     "connectivity", _guarded("connectivity", _run_connectivity), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
