@@ -1015,13 +1015,13 @@ def _judged_convention(result: Any, convention: Convention | None) -> Convention
     else ``convention``, else the default."""
     drawing = getattr(result, "drawing", None)
     judged = getattr(drawing, "convention", None)
-    if isinstance(judged, Convention) and judged.kind == "single":
+    if isinstance(judged, Convention) and judged.model.single_sample:
         return judged
     if isinstance(convention, Convention):
         index = result.evidence.get("sample") if isinstance(result.evidence, dict) else None
-        if convention.kind == "multisample" and isinstance(index, int) and 0 <= index < convention.n_samples:
+        if convention.model.sample_ids and isinstance(index, int) and 0 <= index < convention.n_samples:
             return convention.at_sample(index)
-        if convention.kind == "single":
+        if convention.model.single_sample:
             return convention
         return replace(convention, samples=None, coverage="sample", levels=256, tolerance=None)
     return Convention()
@@ -1183,7 +1183,7 @@ def _open_outline(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], c
     from harness.oracle import exact_coverage
     from harness.winding import UNBALANCED_ROWS, open_outline_coverage
 
-    if convention.kind != "single" or (isinstance(scene, Scene) and convention.cull != "none") \
+    if not convention.model.single_sample or (isinstance(scene, Scene) and convention.cull != "none") \
             or not isinstance(scene, (Scene, PathScene)) or not prims.size:
         return False
     subset = scene.subset(prims)
@@ -1411,7 +1411,7 @@ def classify_conformance(result: Any, case: Any, convention: Convention | None) 
         return "exact-tie-vertex", "tie-rule"
     if near:
         return "near-tie", "none"
-    if isinstance(convention, Convention) and convention.kind == "multisample" and isinstance(scene, Scene) \
+    if isinstance(convention, Convention) and convention.model.sample_ids and isinstance(scene, Scene) \
             and _metric(result, "extra") == 0 and _dropped_near_edges(wrong, edges, judged):
         return "dropped-near-edges", "none"
     if isinstance(scene, PathScene):

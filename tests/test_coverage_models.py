@@ -172,8 +172,8 @@ def test_the_words_a_model_gives_messages():
 _KIND = r"""["'](?:single|multisample|area)["']"""
 # x == "area", "area" != x, x in ("area", ...), x not in {"single", ...}
 COMPARE = re.compile(rf"(?:==|!=)\s*{_KIND}|{_KIND}\s*(?:==|!=)|\bin\s*[(\[{{][^)\]}}]*{_KIND}")
-# the module that owns the models, and the two another change of issue 31 converts
-EXEMPT = {"coverage_models.py", "signatures.py", "checks/records.py"}
+# the module that owns the models
+EXEMPT = {"coverage_models.py"}
 MOST = 3
 
 

@@ -366,8 +366,7 @@ class Check:
                                                   "coverage only, no u, v to compare")
         if subject.kind not in self.kinds:
             return skip(subject.case, self.name, f"judges {', '.join(sorted(self.kinds))} coverage, not {subject.kind}")
-        if subject.kind == "multisample" and self.per_sample:
-            assert subject.convention is not None
+        if subject.convention is not None and subject.convention.model.layered and self.per_sample:
             whole = Subject(subject.case, subject.rasterizer, subject.convention, subject.coverages, _once_per_scene(subject.call),
                             subject.tolerance, subject.interpolates, subject.seconds, subject.received, subject.scene_kinds)
             layers = [whole.layer(s) for s in range(subject.convention.n_samples)]
