@@ -6,6 +6,7 @@ contender's row and go on with the others."""
 from __future__ import annotations
 
 import ctypes
+import faulthandler
 import os
 import time
 
@@ -34,6 +35,7 @@ class BenchSegfaults(_Base):
     """Reads address 0: its process dies of SIGSEGV."""
 
     def rasterize(self, scene: Scene) -> Coverage:
+        faulthandler.disable()  # the crash alone, without pytest's dump of every thread
         ctypes.string_at(0)
         raise AssertionError("unreachable")
 
@@ -63,6 +65,7 @@ class BenchCrashesWhenWarm(_Base):
     def rasterize(self, scene: Scene) -> Coverage:
         self.calls += 1
         if self.calls > 1:
+            faulthandler.disable()  # (as BenchSegfaults)
             ctypes.string_at(0)
         return PinedaTopLeft().rasterize(scene)
 
