@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from harness.case import Case
 from harness.api import Scene
+from harness.case import Case
 
 __all__ = ["degenerate_cases", "probe_scenes", "epsilon_scene"]
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 
+from cases.conformance import conformance_cases
 from cases.degenerate import degenerate_cases
 from cases.lines import line_cases
 from cases.meshes import mesh_cases
@@ -17,7 +18,6 @@ from cases.motion import motion_cases
 from cases.partitions import partition_cases
 from cases.paths import path_cases
 from harness.case import Case, MotionCase
-from cases.conformance import conformance_cases
 
 __all__ = ["SUITES", "suite", "conformance_cases"]
 

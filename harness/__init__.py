@@ -21,8 +21,8 @@ from harness.samples import STANDARD_PATTERNS, pattern
 
 if TYPE_CHECKING:  # imported when first used (the runner and the checks take a second to import)
     from harness.case import Case, MotionCase
-    from harness.checks.records import Result, Tolerance
     from harness.causes import by_cause
+    from harness.checks.records import Result, Tolerance
     from harness.isolation import TimeLimit
 
 # every process that imports rastercheck loads (and may compile) its kernels side by side

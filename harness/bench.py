@@ -69,8 +69,6 @@ a campaign's steady state, which is what a long one runs in.
 
 from __future__ import annotations
 
-from functools import partial
-
 import json
 import math
 import multiprocessing
@@ -81,6 +79,7 @@ import tempfile
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, replace
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -88,6 +87,7 @@ import numpy as np
 from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
+from cases.scenes import random_triangles
 from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, takes
 from harness.campaign import local_cluster
 from harness.conventions import Convention
@@ -95,7 +95,6 @@ from harness.isolation import _exit_with_parent, describe, span_limit
 from harness.optional import missing
 from harness.oracle import exact_coverage
 from harness.registry import builtins, load
-from cases.scenes import random_triangles
 
 if TYPE_CHECKING:
     from distributed import Client

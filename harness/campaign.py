@@ -25,9 +25,10 @@ ends when the worker is gone (:func:`_prepare_process`).
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
-import hashlib
 import functools
+import hashlib
 import io
 import json
 import logging
@@ -43,7 +44,7 @@ import uuid
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field, replace
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -313,7 +314,7 @@ def _covered(intervals: list[tuple[int, int]], start: int, stop: int) -> bool:
 
 
 def _now() -> str:
-    return datetime.now(timezone.utc).isoformat(timespec="seconds")
+    return datetime.now(UTC).isoformat(timespec="seconds")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1152,10 +1153,8 @@ class _Coordinator:
         """Worker threads in the cluster (asked at most once a second; at least one)."""
         if time.monotonic() - self.slots_asked >= 1.0:
             self.slots_asked = time.monotonic()
-            try:
+            with contextlib.suppress(Exception):  # a scheduler between workers: keep going with what was known
                 self.slots = max(1, sum(self.client.nthreads().values()))
-            except Exception:  # a scheduler between workers: keep going with what was known
-                pass
         return self.slots
 
     def _size(self, family: str) -> int:

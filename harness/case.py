@@ -9,14 +9,14 @@ so that a replay sees exactly the same floats
 
 from __future__ import annotations
 
-import json
 import functools
+import json
 import math
 import os
 import re
 import sys
-from decimal import Decimal, InvalidOperation
 from dataclasses import dataclass, field
+from decimal import Decimal, InvalidOperation
 from pathlib import Path
 from typing import Any
 

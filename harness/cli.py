@@ -7,8 +7,8 @@ Exit codes: 0 everything passes, 1 a check fails or errors (for ``gate``: a regr
 from __future__ import annotations
 
 import argparse
-import math
 import json
+import math
 import os
 import re
 import sys
@@ -907,8 +907,16 @@ def _bench_campaign(args: argparse.Namespace) -> int:
     checked primitives per second per worker and the speed-up, as a table and JSON. Exit 1
     when the rasterizer's calls failed (every call of the warm-up: nothing measured; some
     in the campaigns: no speed-up judged)."""
-    from harness.bench import (CAMPAIGN_REFERENCE, CAMPAIGN_REPEATS, CAMPAIGN_SCENES, NothingMeasured, campaign_summary,
-                               format_campaign_table, run_campaign_bench, write_json)
+    from harness.bench import (
+        CAMPAIGN_REFERENCE,
+        CAMPAIGN_REPEATS,
+        CAMPAIGN_SCENES,
+        NothingMeasured,
+        campaign_summary,
+        format_campaign_table,
+        run_campaign_bench,
+        write_json,
+    )
 
     if args.rasterizer and len(args.rasterizer) > 1:
         raise UsageError("bench --campaign measures one rasterizer: give --rasterizer once")

@@ -44,11 +44,20 @@ from numpy.typing import NDArray
 
 from cases.scenes import lattice_triangles, random_triangles
 from harness.api import Coverage, Scene
-from harness.conventions import MAX_AREA_SAMPLES, MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Convention, CoverageKind, CullMode, SnapRounding
+from harness.conventions import (
+    MAX_AREA_SAMPLES,
+    MAX_SUBPIXEL_BITS,
+    SNAP_ROUNDINGS,
+    TIE_RULES,
+    Convention,
+    CoverageKind,
+    CullMode,
+    SnapRounding,
+)
 from harness.coverage_models import AREA, MULTISAMPLE, SINGLE, CoverageModel, model_named
 from harness.isolation import Call, Outcome, describe, layer_of
-from harness.oracle import exact_coverage
 from harness.keys import union
+from harness.oracle import exact_coverage
 from harness.probes import Culling, Drawn, VertexSweep, _half_steps, _snap_candidates, culling, vertex_sweep
 from harness.samples import STANDARD_PATTERNS
 

@@ -16,7 +16,6 @@ callers when to take the third tier, exact rational arithmetic in Python
 
 from __future__ import annotations
 
-
 import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray

@@ -35,7 +35,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
-from harness.checks import timing_metrics, Result, check_names, metric_tolerance
+from harness.checks import Result, check_names, metric_tolerance, timing_metrics
 from harness.files import atomic_write_text, read_input
 from harness.schemas import schema_fault
 

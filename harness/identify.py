@@ -55,18 +55,55 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any, Union
+from typing import TYPE_CHECKING, Any
 
-from harness.api import AnyScene, Coverage, PathScene, Rasterizer, Scene, fill_rules_of, interpolates_of, received_of, scene_kinds_of
+from harness.api import (
+    AnyScene,
+    Coverage,
+    PathScene,
+    Rasterizer,
+    Scene,
+    fill_rules_of,
+    interpolates_of,
+    received_of,
+    scene_kinds_of,
+)
 from harness.conventions import Convention, CoverageKind, LineRule
 from harness.coverage_models import COVERAGE_KINDS, SINGLE, CoverageModel, model_named
 from harness.coverage_probes import (
-    CoverageKindFact, alpha_sweeps, coverage_kind, layered, Remembered, sample_positions, sample_sides,
+    CoverageKindFact,
+    Remembered,
+    alpha_sweeps,
+    coverage_kind,
+    layered,
+    sample_positions,
+    sample_sides,
 )
 from harness.isolation import Call, CallTally, InProcess, Outcome, TimeLimit
-from harness.probes import (EPSILON_CASE, NON_FINITE_CASES, REPROS, ZERO_AREA_CASE, Defect, Epsilon, Fact, NonFinite,
-                            Unanswered, ViewportEdge, Watertight, ZeroArea, epsilon, fit_snapping, fit_ties, non_finite, residual_lies,
-                            suite_defects, unanswered, viewport_edge, watertight_partitions, zero_area)
+from harness.probes import (
+    EPSILON_CASE,
+    NON_FINITE_CASES,
+    REPROS,
+    ZERO_AREA_CASE,
+    Defect,
+    Epsilon,
+    Fact,
+    NonFinite,
+    Unanswered,
+    ViewportEdge,
+    Watertight,
+    ZeroArea,
+    epsilon,
+    fit_snapping,
+    fit_ties,
+    non_finite,
+    residual_lies,
+    suite_defects,
+    unanswered,
+    viewport_edge,
+    watertight_partitions,
+    zero_area,
+)
 from harness.samples import STANDARD_PATTERNS
 
 if TYPE_CHECKING:  # the path and line probes are imported when a rasterizer taking those is identified
@@ -591,7 +628,7 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
 
 
 def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, ...],
-                  kind: CoverageKind) -> list[Union[Case, MotionCase]]:
+                  kind: CoverageKind) -> list[Case | MotionCase]:
     """The scenes a declared convention of coverage ``kind`` is judged on before identify
     calls it confirmed or consistent (:data:`VERDICT_CHECKS`): the probe scenes identify
     drew for that kind (the alpha sweeps, the multisample pattern's scenes) as cases

@@ -83,8 +83,17 @@ from numpy.typing import NDArray
 from harness.api import Coverage, LineScene
 from harness.checks import FragmentCounter
 from harness.conventions import (
-    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, DIAMOND_RULES, LINE_DIRECTIONS, LINE_RULES, MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES,
-    Convention, LineRule, SnapRounding,
+    BRESENHAM_ROUNDINGS,
+    BRESENHAM_TIES,
+    DIAMOND_RULES,
+    LINE_DIRECTIONS,
+    LINE_RULES,
+    MAX_SUBPIXEL_BITS,
+    SNAP_ROUNDINGS,
+    TIE_RULES,
+    Convention,
+    LineRule,
+    SnapRounding,
 )
 from harness.isolation import Call, Outcome, describe
 from harness.oracle import exact_coverage

@@ -185,10 +185,18 @@ from numpy.typing import ArrayLike, NDArray
 
 from harness.api import MAX_VIEWPORT
 from harness.conventions import (
-    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, DIAMOND_RULES, LINE_DIRECTIONS, BresenhamRounding, BresenhamTies, Convention, LineDirection, TieRule,
+    BRESENHAM_ROUNDINGS,
+    BRESENHAM_TIES,
+    DIAMOND_RULES,
+    LINE_DIRECTIONS,
+    BresenhamRounding,
+    BresenhamTies,
+    Convention,
+    LineDirection,
+    TieRule,
 )
-from harness.spans import expand
 from harness.exact import CCW_ERRBOUND_A, SAFE_MAX, SAFE_MIN, _two_product, _two_sum, frozen, orient2d_sign
+from harness.spans import expand
 
 __all__ = [
     "diamond_exit_spans",

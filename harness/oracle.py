@@ -34,11 +34,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene
-from harness.spans import expand, pixel_offsets, span_buffers
 from harness.conventions import Convention, owns_edge
 from harness.exact import frozen, orientation
-from harness.samples import pattern
 from harness.oracle_kernels import _apply_edge, _edge_setup, _row_range, shares_of_layers
+from harness.samples import pattern
+from harness.spans import expand, pixel_offsets, span_buffers
 
 __all__ = ["exact_coverage", "exact_single", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
 

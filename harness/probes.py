@@ -35,8 +35,8 @@ from harness.conventions import MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Co
 from harness.coverage_models import SINGLE
 from harness.exact import orientation
 from harness.isolation import Call, Outcome, describe
-from harness.oracle import exact_coverage
 from harness.keys import unique
+from harness.oracle import exact_coverage
 from harness.repro import grown_screen
 
 __all__ = [

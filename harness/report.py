@@ -54,12 +54,25 @@ from harness.api import LineScene, PathScene, convention_for, fill_rules_of, sce
 from harness.case import Case
 from harness.causes import SIGNATURE, by_cause
 from harness.checks import EVIDENCE_LIMIT, Check, Result, check_names
-from harness.checks.records import figures
 from harness.checks import checks as registered_checks
+from harness.checks.records import figures
 from harness.files import atomic_write_text, safe_name
 from harness.output import call_failures, call_failures_text
-from harness.pictures import (ALPHA_LEGEND, CROP_LEGEND, DIFF_LEGEND, HEAT_LEGEND, LEGEND, LINE_LEGEND, PATH_LEGEND, SAMPLE_LEGEND, draw,
-                              draw_repro, numbered_path, numbered_segment, svg_pattern)
+from harness.pictures import (
+    ALPHA_LEGEND,
+    CROP_LEGEND,
+    DIFF_LEGEND,
+    HEAT_LEGEND,
+    LEGEND,
+    LINE_LEGEND,
+    PATH_LEGEND,
+    SAMPLE_LEGEND,
+    draw,
+    draw_repro,
+    numbered_path,
+    numbered_segment,
+    svg_pattern,
+)
 
 if TYPE_CHECKING:
     from harness.campaign import CampaignState, ProgressEvent

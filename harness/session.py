@@ -20,8 +20,18 @@ from collections.abc import Callable, Sequence
 from dataclasses import replace
 
 from harness import checks
-from harness.api import (AnyScene, Coverage, Rasterizer, Scene, Unsupported, convention_for, fingerprint_of,
-                         interpolates_of, scene_kinds_of, takes)
+from harness.api import (
+    AnyScene,
+    Coverage,
+    Rasterizer,
+    Scene,
+    Unsupported,
+    convention_for,
+    fingerprint_of,
+    interpolates_of,
+    scene_kinds_of,
+    takes,
+)
 from harness.case import Case, MotionCase
 from harness.checks import Drawing, Result, Tolerance
 from harness.conventions import Convention

@@ -145,9 +145,9 @@ from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, convent
 from harness.case import Case, MotionCase
 from harness.checks.area import ALPHA_CAUSES, alpha_cause
 from harness.checks.records import OVERFLOW_EDGES, check_named, frame_checks, motion_checks, overflow_class
-from harness.keys import unique
 from harness.conventions import SNAP_ROUNDINGS, Convention, SnapRounding
 from harness.exact import orientation
+from harness.keys import unique
 
 __all__ = ["Signature", "signature", "CONVENTION_PARTS", "OVERFLOW_EDGES", "overflow_class", "with_probes", "frame_case"]
 
@@ -1301,7 +1301,7 @@ def _same_reversed(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], 
 # -- conformance -----------------------------------------------------------------------------
 
 
-def classify_conformance(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+def classify_conformance(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:  # noqa: C901 - to split (issue 31, point 7)
     evidence = result.evidence if isinstance(result.evidence, dict) else {}
     if "input_precision" in evidence:
         return "input-format", "none"

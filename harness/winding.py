@@ -101,7 +101,7 @@ def _tie_right(ax, ay, bx, by, tx, ty, y_first):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, evenodd, to_edge, width, height,
+def _paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, evenodd, to_edge, width, height,  # noqa: C901 - a numba kernel: the sweep is one loop
                   keys, row_start, row_end, out_p, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
     """Every path's spans, one path at a time, with no global sort: the path's crossings
     bucketed by row (each row's bucket as large as the number of the path's edges whose y
@@ -575,9 +575,7 @@ def _rows_rational(edges: list[tuple[float, float, float, float]], fill_rule: st
             # says (see the module docstring)
             column = math.floor(crossing - sx)
             on = column + sx == crossing
-            if not on:
-                column += 1
-            elif not (tx > 0 if (not y_first or ax == bx) else (bx - ax) * (by - ay) * ty < 0):
+            if not on or not (tx > 0 if (not y_first or ax == bx) else (bx - ax) * (by - ay) * ty < 0):
                 column += 1
             events.append((min(max(column, 0), width), direction))
         events.sort()

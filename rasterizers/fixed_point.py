@@ -26,8 +26,8 @@ import numba
 import numpy as np
 
 from harness.api import Coverage, Scene
-from harness.spans import span_buffers
 from harness.conventions import TIE_RULES, Convention, SnapRounding, TieRule, owns_edge, snap
+from harness.spans import span_buffers
 from rasterizers._common import build_coverage, check_range, interpolate_barycentric
 
 __all__ = ["FixedPoint", "MAX_FIXED"]

@@ -72,7 +72,14 @@ from numpy.typing import NDArray
 
 from harness.api import AnyScene, Coverage, LineScene, Unsupported
 from harness.conventions import (
-    BRESENHAM_ROUNDINGS, BRESENHAM_TIES, TIE_RULES, BresenhamRounding, BresenhamTies, Convention, LineRule, TieRule,
+    BRESENHAM_ROUNDINGS,
+    BRESENHAM_TIES,
+    TIE_RULES,
+    BresenhamRounding,
+    BresenhamTies,
+    Convention,
+    LineRule,
+    TieRule,
 )
 from harness.exact import _two_product, frozen
 from harness.lines import emit_pixel, expansion_sign, grow_expansion

@@ -28,9 +28,9 @@ import numba
 import numpy as np
 
 from harness.api import Coverage, Scene
+from harness.conventions import TIE_RULES, Convention, TieRule, owns_edge
 from harness.exact import frozen
 from harness.spans import span_buffers
-from harness.conventions import TIE_RULES, Convention, TieRule, owns_edge
 from rasterizers._common import build_coverage, interpolate_barycentric, row_capacity, screen_triangles
 
 __all__ = ["PinedaTopLeft", "edge_setup"]

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 from cases.scenes import lattice_triangles, random_triangles
-from tests.optional import need
 from harness.api import Scene
 from harness.area import area_coverage
 from harness.registry import GROUP, Unavailable
 from rasterizers.real import adapters
+from tests.optional import need
 
 ROOT = Path(__file__).parent.parent
 ALPHA_ADAPTERS = {"cairo_aa": ("CairoAntialiased", "cairo"), "skia_aa": ("SkiaAntialiased", "skia")}

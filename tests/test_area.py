@@ -5,12 +5,12 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import assume, example, given, settings, strategies as st
+from hypothesis import assume, example, given, settings
+from hypothesis import strategies as st
 
 from cases.partitions import fan, grid
 from cases.strategies import float_scenes, lattice_scenes, thin_scenes
 from harness.api import MAX_VIEWPORT
-from harness.exact import orientation
 from harness.area import (
     GUARD_LIMIT,
     UNIT_ROUNDOFF,
@@ -22,6 +22,7 @@ from harness.area import (
     exact_pixel_areas,
     pixel_areas,
 )
+from harness.exact import orientation
 
 SIZE = 8
 BIG = float(np.finfo(np.float64).max)

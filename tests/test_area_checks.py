@@ -26,8 +26,18 @@ from harness.conventions import Convention
 from harness.oracle import exact_coverage, sample_shares
 from harness.samples import STANDARD_PATTERNS
 from tests.known_bad.antialiasing import (
-    GRID_4X4, BiasedArea, CoarseSupersampleClaimsAnalytic, DriftingStepArea, Float32EdgeStepping, FourBitArea,
-    GammaEncodedArea, HalfPixelShiftedArea, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, SwappedSampleBits,
+    GRID_4X4,
+    BiasedArea,
+    CoarseSupersampleClaimsAnalytic,
+    DriftingStepArea,
+    Float32EdgeStepping,
+    FourBitArea,
+    GammaEncodedArea,
+    HalfPixelShiftedArea,
+    InclusiveSampleTies,
+    MirroredPattern,
+    PerEdgeMethodSwitch,
+    SwappedSampleBits,
     TruncatedArea,
 )
 

@@ -212,8 +212,8 @@ def test_repro_pictures_mark_the_offending_pixels_and_draw_the_primitives_where_
     says they are; the samples where the rasterizer and the convention differ are ringed,
     dark where each covers them."""
     from harness.campaign import Batch, BatchResult, CampaignState, _finding, _loaded, shrink_finding
-    from harness.report import write_campaign_page
     from harness.pictures import CROP_LEGEND, LINE_LEGEND, PATH_LEGEND, SAMPLE_LEGEND
+    from harness.report import write_campaign_page
 
     red = CROP_LEGEND["offending pixel (outlined)"]
     line_case = next(c for c in line_cases(0) if c.id == LINE_CASE)

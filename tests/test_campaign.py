@@ -15,8 +15,18 @@ from typing import Any
 import pytest
 
 from harness.api import Coverage, Scene
-from harness.campaign import (Batch, BatchResult, CampaignState, CampaignTask, Finding, ProgressEvent, add_interval, local_cluster,
-                              run_batch, run_campaign)
+from harness.campaign import (
+    Batch,
+    BatchResult,
+    CampaignState,
+    CampaignTask,
+    Finding,
+    ProgressEvent,
+    add_interval,
+    local_cluster,
+    run_batch,
+    run_campaign,
+)
 from harness.conventions import Convention
 from harness.identify import Fingerprint
 from harness.oracle import exact_coverage

@@ -8,9 +8,9 @@ from cases.meshes import MeshFileError, clip_near, load_mesh_file, mesh_file_cas
 from cases.partitions import partition_cases
 from cases.strategies import fan_scenes, grid_scenes
 from harness.checks import pixel_classes as _pixel_classes
+from harness.conventions import Convention
 from harness.exact import orientation
 from harness.oracle import exact_coverage
-from harness.conventions import Convention
 
 
 def test_partition_regions_are_exactly_the_union():

@@ -57,8 +57,8 @@ def test_a_skip_list_skips_with_its_reasons(tmp_path):
 
 
 def test_rerun_tells_a_flake_from_a_failure(tmp_path):
-    from harness import run_suite
     from cases.suites import suite
+    from harness import run_suite
     from tests.known_bad.misc import Flaky, WrongTieClaim
 
     cases = [c for c in suite("quick") if c.id == "lattice/bits-0"]
@@ -70,8 +70,8 @@ def test_rerun_tells_a_flake_from_a_failure(tmp_path):
 
 
 def test_a_run_budget_makes_the_rest_errors_not_passes(tmp_path):
-    from harness import run_suite
     from cases.suites import suite
+    from harness import run_suite
 
     cases = suite("quick")[:30]
     results = run_suite(["centre_scanline"], cases=cases, deadline=time.monotonic() - 1)

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from cases.suites import suite
-from harness import Coverage, Convention, LineRule, Scene, run_suite
+from harness import Convention, Coverage, LineRule, Scene, run_suite
 from harness.case import MotionCase
 from harness.checks import checks
 from harness.cli import main

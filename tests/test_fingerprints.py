@@ -9,10 +9,10 @@ import json
 import numpy as np
 import pytest
 
-from cases.partitions import partition_cases
-from cases.suites import conformance_cases
 from cases.meshes import mesh_cases
 from cases.motion import motion_cases
+from cases.partitions import partition_cases
+from cases.suites import conformance_cases
 from harness.checks import watertight
 from harness.conventions import Convention, snap
 from harness.identify import identify

@@ -60,7 +60,7 @@ def test_every_family_generates_valid_cases(family, scenes):
             tall = case.scene.positions
             assert case.scene.width == 1152 and 2064 <= case.scene.height <= 2560 and len(case.scene) <= 3
             assert np.ptp(tall[..., 1], axis=1).min() >= max(2048, case.scene.height - 16)
-            assert 1024 <= tall[..., 0].min() and tall[..., 0].max() <= case.scene.width and tall[..., 1].max() <= case.scene.height
+            assert tall[..., 0].min() >= 1024 and tall[..., 0].max() <= case.scene.width and tall[..., 1].max() <= case.scene.height
         elif family == "winding":  # one path, a small screen, one contour traced over and over
             assert len(case.scene) == 1 and case.scene.width in (8, 16) and case.scene.vertices.shape[0] <= 4 * 65537 + 36
         else:

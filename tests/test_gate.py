@@ -14,9 +14,8 @@ from pathlib import Path
 import pytest
 
 from cases.suites import suite
-from harness.checks import Result
+from harness.checks import Result, timing_metrics
 from harness.cli import main
-from harness.checks import timing_metrics
 from harness.gate import compare_with_baseline, gated_metrics, key, load_baseline, save_baseline
 from harness.output import write_junit
 from harness.runner import run_suite

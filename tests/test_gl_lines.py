@@ -14,9 +14,9 @@ from hypothesis import strategies as st
 
 from cases.lines import line_cases
 from harness.api import LineScene
+from harness.case import Case
 from harness.conventions import DIAMOND_RULES, LINE_RULES, Convention, LineRule
 from harness.identify import identify
-from harness.case import Case
 from harness.lines import diamond_exit_spans, diamond_exit_spans_rational, diamond_wide_spans, diamond_wide_spans_rational
 from harness.oracle import exact_coverage
 from harness.runner import run_suite

@@ -10,8 +10,17 @@ import pytest
 from cases.suites import suite
 from harness import run_suite
 from tests.known_bad.hostile import (
-    HOSTILE, BeyondReach, Copies, ExitsWithSystemExit, FarAway, HugeSpan, MillionCopies, NaNEverywhere, RaisesKeyboardInterrupt,
-    RaisesUnpicklable, RaisesUnprintable,
+    HOSTILE,
+    BeyondReach,
+    Copies,
+    ExitsWithSystemExit,
+    FarAway,
+    HugeSpan,
+    MillionCopies,
+    NaNEverywhere,
+    RaisesKeyboardInterrupt,
+    RaisesUnpicklable,
+    RaisesUnprintable,
 )
 
 

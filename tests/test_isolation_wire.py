@@ -15,17 +15,31 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
 from cases.suites import suite
 from harness import run_suite
 from harness.api import Coverage, Scene, Unsupported
 from harness.isolation import (
-    ERROR_BASES, Outcome, PluginError, Worker, decode_outcome, describe, encode_outcome, rebuilt_error,
+    ERROR_BASES,
+    Outcome,
+    PluginError,
+    Worker,
+    decode_outcome,
+    describe,
+    encode_outcome,
+    rebuilt_error,
 )
 from harness.wire import WireError, pack, unpack
 from tests.known_bad.hostile_pickles import (
-    HOSTILE_PICKLES, ArraysDetonate, ClaimsTimedOut, CoverageDetonates, RaisesDetonating, RaisesUnprintableDetonating, SendsJunk,
+    HOSTILE_PICKLES,
+    ArraysDetonate,
+    ClaimsTimedOut,
+    CoverageDetonates,
+    RaisesDetonating,
+    RaisesUnprintableDetonating,
+    SendsJunk,
 )
 
 SCENE = Scene(16, 16, [[[0.25, 1.0], [6.75, 2.0], [1.0, 9.5]], [[8.0, 8.0], [15.0, 9.0], [9.0, 15.0]]],

@@ -1,7 +1,8 @@
 """harness.keys gives numpy's own answers (np.unique, np.union1d, np.lexsort), by sorting."""
 
 import numpy as np
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from harness import keys

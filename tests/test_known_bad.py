@@ -8,19 +8,41 @@ import json
 
 import pytest
 
-from harness.case import Case
 from cases.suites import suite
 from harness import run_suite
+from harness.case import Case
 from harness.checks import CHECKS, Result
 from tests.known_bad.antialiasing import (
-    BiasedArea, CoarseSupersampleClaimsAnalytic, Float32EdgeStepping, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch,
+    BiasedArea,
+    CoarseSupersampleClaimsAnalytic,
+    Float32EdgeStepping,
+    InclusiveSampleTies,
+    MirroredPattern,
+    PerEdgeMethodSwitch,
     SwappedSampleBits,
 )
 from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.edge_functions import EdgeFunctionBug
-from tests.known_bad.lines import BackwardPrestep, BothEndPixels, Float32DDA, LeftmostFirst, OffByOneLast, RoundingDDA, YMajorAlongX
-from tests.known_bad.paths import BUGS as PATH_BUGS, PathFillBug, TwoFillers
-from tests.known_bad.misc import HangsOnEpsilon, SlowOnEpsilon, Int32FixedPoint, NaNAttributes, Raises, ReturnsGarbage, WrongTieClaim
+from tests.known_bad.lines import (
+    BackwardPrestep,
+    BothEndPixels,
+    Float32DDA,
+    LeftmostFirst,
+    OffByOneLast,
+    RoundingDDA,
+    YMajorAlongX,
+)
+from tests.known_bad.misc import (
+    HangsOnEpsilon,
+    Int32FixedPoint,
+    NaNAttributes,
+    Raises,
+    ReturnsGarbage,
+    SlowOnEpsilon,
+    WrongTieClaim,
+)
+from tests.known_bad.paths import BUGS as PATH_BUGS
+from tests.known_bad.paths import PathFillBug, TwoFillers
 from tests.known_bad.scanlines import ScanlineBug
 
 

@@ -17,7 +17,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.optional import need
 from harness.api import Coverage, LineScene, PathScene, Scene, Unsupported, takes
 from harness.conventions import Convention, LineRule
 from harness.oracle import exact_coverage
@@ -25,6 +24,7 @@ from harness.registry import Unavailable
 from rasterizers.real import adapters
 from rasterizers.real._lines import RESTART, draw_lists
 from rasterizers.real._masks import LIMIT, draw_each_segment, segment_boxes
+from tests.optional import need
 
 ROOT = Path(__file__).parent.parent
 W = H = 48

@@ -14,8 +14,18 @@ import numpy as np
 import pytest
 
 from harness.api import LineScene
-from harness.bench import (LINE_ORACLES, _contenders, _line_peers, _pillow_lines, _Surface, format_table, line_workloads,
-                           missing_peers, run_bench, write_json)
+from harness.bench import (
+    LINE_ORACLES,
+    _contenders,
+    _line_peers,
+    _pillow_lines,
+    _Surface,
+    format_table,
+    line_workloads,
+    missing_peers,
+    run_bench,
+    write_json,
+)
 from harness.conventions import Convention
 from harness.oracle import exact_coverage
 
@@ -38,7 +48,7 @@ def test_the_line_workloads_are_short_and_long_segments_inside_the_screen() -> N
         assert (ends >= 0.5).all() and (ends <= 1023.5).all()  # no peer clips
         assert work.mean_area == pytest.approx(np.hypot(*(b - a).T).mean()) and f"{count:,} " in work.description
     lengths = [np.hypot(*np.subtract(*w.scene.segments()).T) for w in (short, long)]
-    assert 2.0 <= lengths[0].min() and lengths[0].max() <= 16.0 and lengths[1].min() >= 256.0
+    assert lengths[0].min() >= 2.0 and lengths[0].max() <= 16.0 and lengths[1].min() >= 256.0
     full = line_workloads(1.0)
     assert [len(w.scene) for w in full] == [100_000, 1_000]
 

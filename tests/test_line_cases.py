@@ -8,9 +8,9 @@ import json
 import numpy as np
 import pytest
 
+from cases.lines import LINE_FAMILIES, REFUSABLE_FROM, fan, line_cases, spiral, zigzag
 from harness.api import LineScene
 from harness.case import Case, case_from_json, case_to_json
-from cases.lines import LINE_FAMILIES, REFUSABLE_FROM, fan, line_cases, spiral, zigzag
 
 
 @pytest.fixture(scope="module")

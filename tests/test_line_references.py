@@ -13,11 +13,11 @@ import pytest
 from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
+from cases.lines import line_cases
 from harness.api import MAX_VIEWPORT, LineScene, Rasterizer, Scene, Unsupported
 from harness.case import Case
 from harness.conventions import Convention, LineRule
 from harness.oracle import exact_coverage
-from cases.lines import line_cases
 from rasterizers.lines import BRESENHAM_LIMIT, DDA_LIMIT, RECTANGLE_LIMIT, BresenhamLines, DiamondExitDDA, RectangleLines
 
 SIZE = 8

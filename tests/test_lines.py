@@ -19,11 +19,11 @@ from harness.lines import (
     BresenhamTies,
     _in_test_area_rational,
     _round_pixel_rational,
-    end_point_pixels,
     bresenham_spans,
     bresenham_spans_rational,
     diamond_exit_spans,
     diamond_exit_spans_rational,
+    end_point_pixels,
     rectangle_spans,
     rectangle_spans_rational,
 )

@@ -9,13 +9,13 @@ import pytest
 from PIL import Image
 
 from cases.motion import motion_cases, rotate, translate, zoom
-from harness.case import MotionCase
 from harness import pictures, run_suite
 from harness.api import Coverage
+from harness.case import MotionCase
 from harness.checks.motion import filled_direction, jaggy
+from tests.known_bad.antialiasing import CoarseSupersampleClaimsAnalytic
 from tests.known_bad.interpolation import Float32DDA, InterpolationBug
 from tests.known_bad.scanlines import ScanlineBug
-from tests.known_bad.antialiasing import CoarseSupersampleClaimsAnalytic
 
 MOTION = motion_cases(0)
 

@@ -4,7 +4,8 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import example, given, settings, strategies as st
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
 
 from cases.strategies import conventions, float_scenes, lattice_scenes, thin_scenes
 from harness.api import Scene

@@ -15,7 +15,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.optional import need
 from harness.api import Coverage, PathScene, Scene, takes
 from harness.conventions import TIE_RULES, Convention
 from harness.oracle import exact_coverage
@@ -23,6 +22,7 @@ from harness.registry import Unavailable
 from rasterizers.real import adapters
 from rasterizers.real._masks import coverage_from_fragments, draw_each_path, path_extents
 from rasterizers.real._stencil import cover_boxes, fan_indices, fans, layers
+from tests.optional import need
 
 ROOT = Path(__file__).parent.parent
 W = H = 32

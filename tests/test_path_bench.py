@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from harness.api import PathScene
-from harness.bench import _contenders, _path_peers, missing_peers, format_table, path_workloads, run_bench, stars, write_json
+from harness.bench import _contenders, _path_peers, format_table, missing_peers, path_workloads, run_bench, stars, write_json
 from harness.conventions import Convention
 from harness.oracle import exact_coverage
 

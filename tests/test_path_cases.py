@@ -299,7 +299,7 @@ def test_degenerate_contours_change_nothing():
 @given(path_scenes())
 def test_path_scenes_draw_lattice_paths_that_round_trip(scene):
     assert isinstance(scene, PathScene) and scene.fill_rule in FILL_RULES
-    assert 1 <= len(scene) <= 3 and 1 <= scene.contour_sizes.min() and scene.contour_sizes.max() <= 8
+    assert 1 <= len(scene) <= 3 and scene.contour_sizes.min() >= 1 and scene.contour_sizes.max() <= 8
     assert np.bincount(scene.contour_path).max() <= 3
     v = scene.vertices
     assert np.all(v * 4 == np.round(v * 4)) and v.min() >= -2 and v.max() <= 14

@@ -26,8 +26,8 @@ from harness.case import Case, MotionCase
 from harness.causes import by_cause
 from harness.checks import Result
 from harness.checks.area import alpha_cause
-from tests.peers import compiled
 from rasterizers.real._masks import draw_each_alpha
+from tests.peers import compiled
 from tests.peers.stb import MARGIN, StbTruetype, rasterize_polygon
 
 SCENES = int(os.environ.get("RASTERCHECK_PEER_SCENES", "300"))

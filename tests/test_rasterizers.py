@@ -12,7 +12,7 @@ from harness.checks import NEAR_TIE, FragmentCounter, deviations, edge_distance
 from harness.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention, snap
 from harness.oracle import exact_coverage
 from rasterizers.centre_scanline import CentreScanline
-from rasterizers.fixed_point import FixedPoint, MAX_FIXED
+from rasterizers.fixed_point import MAX_FIXED, FixedPoint
 from rasterizers.floor_scanline import FloorScanline
 from rasterizers.pineda_topleft import PinedaTopLeft
 
@@ -129,9 +129,9 @@ def test_attributes_match_the_oracle(rasterizer, perspective):
 def pineda_per_pixel(scene, tie="top-left"):
     """The Pineda test at every pixel of the screen, in numpy: the reference the edge
     walk must reproduce exactly (same float expression, same canonical edges)."""
-    from tests.known_bad import coverage_from_parts
     from harness.exact import frozen, orientation
     from rasterizers.pineda_topleft import edge_setup
+    from tests.known_bad import coverage_from_parts
 
     ys, xs = np.mgrid[0 : scene.height, 0 : scene.width] + 0.5
     finite = np.all(np.isfinite(scene.positions), axis=(1, 2))

@@ -90,7 +90,6 @@ def test_harness_exports_what_a_plugin_uses() -> None:
         assert name in harness.__all__ and getattr(harness, name) is not None, name
     from harness.api import LineScene, Unsupported
     from harness.conventions import LineRule
-
     from harness.testing import assert_conforms
 
     assert (harness.LineScene, harness.Unsupported, harness.LineRule) == (LineScene, Unsupported, LineRule)

@@ -26,8 +26,8 @@ from harness.cli import main
 from harness.output import results_from_json, results_to_json
 from harness.registry import Unavailable
 from harness.report import evidence_table, write_comparison, write_report
-from harness.signatures import Signature
 from harness.runner import run_suite
+from harness.signatures import Signature
 from tests.known_bad.misc import Raises, WrongTieClaim
 from tests.known_bad.scanlines import ScanlineBug
 

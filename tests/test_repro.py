@@ -4,14 +4,14 @@ import json
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
-from harness.case import Case
+from cases.fuzz import generate
 from cases.suites import suite
 from harness import run_suite
 from harness.api import Scene
-from harness.case import case_from_json, case_to_json, load_case, save_case
-from cases.fuzz import generate
+from harness.case import Case, case_from_json, case_to_json, load_case, save_case
 from harness.conventions import Convention
 from harness.oracle import exact_coverage
 from harness.repro import answer_from_json, ddmin

@@ -3,13 +3,12 @@
 import collections
 
 import numpy as np
-
 import pytest
 
 from cases.suites import suite
 from harness import run_suite
-from harness.checks import checks
 from harness.api import takes
+from harness.checks import checks
 from harness.registry import load
 
 BUILTINS = ["floor_scanline", "centre_scanline", "pineda_topleft", "fixed_point"]

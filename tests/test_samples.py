@@ -4,7 +4,8 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import given, strategies as st
+from hypothesis import given
+from hypothesis import strategies as st
 
 from harness.api import MAX_VIEWPORT
 from harness.samples import FRACTION_BITS, STANDARD_PATTERNS, pattern

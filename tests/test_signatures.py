@@ -17,13 +17,13 @@ from harness.checks import Result
 from harness.conventions import Convention
 from harness.isolation import InProcess, Outcome
 from harness.runner import _error, check_case, check_motion
-from rasterizers.fixed_point import FixedPoint
 from harness.signatures import Signature, overflow_class, signature, with_probes
+from rasterizers.fixed_point import FixedPoint
 from tests.known_bad.antialiasing import BiasedArea
+from tests.known_bad.conventions import HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.known_bad.lines import BothEndPixels, YMajorAlongX
 from tests.known_bad.misc import ClipsBeforeSnapping, Float32Input, Raises
-from tests.known_bad.conventions import HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.paths import PathFillBug
 from tests.known_bad.rare import RareSlopeTie, flipped_samples
 

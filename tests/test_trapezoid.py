@@ -11,8 +11,8 @@ from hypothesis import strategies as st
 
 from harness.api import PathScene, Rasterizer, Scene, scene_kinds_of, takes
 from harness.conventions import TIE_RULES, Convention
-from harness.oracle import exact_coverage
 from harness.exact import orient2d_fraction
+from harness.oracle import exact_coverage
 from rasterizers.trapezoid import TrapezoidFill, crossing_column
 
 SIZE = 8

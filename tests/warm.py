@@ -11,6 +11,7 @@ or both in turn without an argument.
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
 
@@ -143,10 +144,8 @@ def _draw_each_family(everyone: list) -> None:  # type: ignore[type-arg]
         for rasterizer in everyone:
             if not takes(rasterizer, scene):  # a path scene, to a triangle rasterizer: never handed one
                 continue
-            try:
+            with contextlib.suppress(ValueError):  # a refusal (coordinates out of its range): compiled all the same
                 rasterizer.rasterize(scene)
-            except ValueError:  # a refusal (coordinates out of its range): compiled all the same
-                pass
 
 
 PARTS = {"engine": engine, "rasterizers": rasterizers}

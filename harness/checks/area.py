@@ -55,7 +55,18 @@ from harness.api import Coverage, Scene
 from harness.area import area_coverage, area_error_bound, displaced_area_bound, exact_area
 from harness.case import Case, MotionCase
 from harness.checks.conformance import near_ties
-from harness.checks.records import EVIDENCE_LIMIT, Check, Figure, Result, Subject, Tolerance, overflow_class, register, result, skip
+from harness.checks.records import (
+    EVIDENCE_LIMIT,
+    Check,
+    Figure,
+    Result,
+    Subject,
+    Tolerance,
+    overflow_class,
+    register,
+    result,
+    skip,
+)
 from harness.checks.watertight import pixel_classes
 from harness.conventions import Convention
 from harness.exact import orientation
@@ -932,7 +943,7 @@ def _window(parts: list[tuple[NDArray, NDArray, NDArray, NDArray]]) -> tuple[int
 _CHUNK_ENTRIES = 1 << 21
 
 
-def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracles: list[Coverage],
+def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracles: list[Coverage],  # noqa: C901 - to split (issue 31, point 7)
             convention: Convention, areas: list[Coverage] | None = None) -> Result:
     """Per (triangle, pixel) and frame step, the alpha change against the declared
     model's (the oracle of each frame): beyond twice the declared tolerance (what the

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from harness.case import Case
 from harness.api import Coverage, Scene
-from harness.checks.records import EVIDENCE_LIMIT, Check, register, result, skip, Result
+from harness.case import Case
+from harness.checks.records import EVIDENCE_LIMIT, Check, Result, register, result, skip
 from harness.conventions import Convention
 from harness.exact import orientation
 

@@ -18,8 +18,8 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.case import Case
 from harness.api import AnyScene, Coverage, LineScene, PathScene
+from harness.case import Case
 from harness.checks.records import EVIDENCE_LIMIT, Check, Figure, Result, Subject, Tolerance, register, result, skip
 from harness.conventions import Convention
 from harness.exact import orientation
@@ -489,7 +489,7 @@ def _bresenham_margins(a: NDArray, b: NDArray, x: NDArray, y: NDArray, rule: Any
         Each fragment's pixel (inf outside the ``width`` x ``height`` viewport).
     rule : harness.conventions.LineRule
     """
-    from harness.lines import BRESENHAM_MAX, end_point_pixels, bresenham_spans
+    from harness.lines import BRESENHAM_MAX, bresenham_spans, end_point_pixels
 
     out = np.full(x.size, np.inf)
     ends = np.concatenate([a, b], axis=1)

@@ -8,8 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from harness.case import Case
 from harness.api import Coverage, Scene
+from harness.case import Case
 from harness.checks.records import ALL_KINDS, Check, Result, Subject, Tolerance, first, register, result
 from harness.conventions import Convention
 from harness.exact import orientation

@@ -6,9 +6,9 @@ from typing import Any
 
 import numpy as np
 
-from harness.case import Case
 from harness.api import Coverage
-from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, first, register, result, Result
+from harness.case import Case
+from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, Result, first, register, result
 from harness.conventions import Convention
 from harness.coverage_models import SINGLE
 

@@ -15,11 +15,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.case import Case
 from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene
-from harness.conventions import Convention
-from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
+from harness.case import Case
 from harness.checks.conformance import deviations, near_ties_of
+from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
+from harness.conventions import Convention
 
 __all__ = ["invariance_variants", "invariance", "area_invariance", "shift_of", "LINE_SHIFT"]
 

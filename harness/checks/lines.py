@@ -41,7 +41,7 @@ from harness.checks.motion import filled_direction
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
 from harness.conventions import LINE_DIRECTIONS, Convention
 from harness.coverage_models import COVERAGE_MODELS
-from harness.lines import end_point_pixels, is_x_major, area_holding
+from harness.lines import area_holding, end_point_pixels, is_x_major
 from harness.oracle import exact_coverage
 
 __all__ = [

@@ -13,10 +13,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.case import Case
 from harness.api import AnyScene, Coverage, LineScene
-from harness.conventions import Convention
+from harness.case import Case
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, register, result, skip
+from harness.conventions import Convention
 from harness.exact import orientation
 
 __all__ = ["watertight", "overdraw", "holes", "blame", "pixel_classes"]

@@ -15,7 +15,12 @@ from harness.optional import missing
 from harness.registry import Unavailable
 from rasterizers.real._lines import MesaLines
 from rasterizers.real._masks import (
-    coverage_from_sample_masks, draw_each, draw_each_alpha, draw_each_path, draw_each_segment, finite_within_limit,
+    coverage_from_sample_masks,
+    draw_each,
+    draw_each_alpha,
+    draw_each_path,
+    draw_each_segment,
+    finite_within_limit,
 )
 from rasterizers.real._stencil import StencilPaths
 

@@ -18,10 +18,10 @@ import numpy as np
 
 from harness.api import Coverage, Scene
 from harness.area import area_coverage
+from harness.area import edge_integral as _exact_integral  # the area oracle's exact edge integral (Green's theorem)
 from harness.conventions import Convention
 from harness.exact import frozen
 from harness.oracle import exact_coverage, sample_shares
-from harness.area import edge_integral as _exact_integral  # the area oracle's exact edge integral (Green's theorem)
 from rasterizers._common import screen_triangles
 from rasterizers.area_scanline import _accumulate_piece, emit_row, first_capacity
 

@@ -11,20 +11,49 @@ from __future__ import annotations
 from typing import Any
 
 from tests.known_bad.antialiasing import (
-    BiasedArea, CentreSamples, CoarseSupersampleClaimsAnalytic, DriftingStepArea, Float32EdgeStepping, FourBitArea,
-    GammaEncodedArea, HalfPixelShiftedArea, InclusiveSampleTies, MirroredPattern, PerEdgeMethodSwitch, RejectsNearEdges,
-    SwappedSampleBits, TruncatedArea,
+    BiasedArea,
+    CentreSamples,
+    CoarseSupersampleClaimsAnalytic,
+    DriftingStepArea,
+    Float32EdgeStepping,
+    FourBitArea,
+    GammaEncodedArea,
+    HalfPixelShiftedArea,
+    InclusiveSampleTies,
+    MirroredPattern,
+    PerEdgeMethodSwitch,
+    RejectsNearEdges,
+    SwappedSampleBits,
+    TruncatedArea,
 )
 from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
-from tests.known_bad.edge_functions import BUGS as EDGE_BUGS, EdgeFunctionBug
-from tests.known_bad.lines import BackwardPrestep, BothEndPixels, Float32DDA, LeftmostFirst, OffByOneLast, RoundingDDA, YMajorAlongX
+from tests.known_bad.edge_functions import BUGS as EDGE_BUGS
+from tests.known_bad.edge_functions import EdgeFunctionBug
+from tests.known_bad.lines import (
+    BackwardPrestep,
+    BothEndPixels,
+    Float32DDA,
+    LeftmostFirst,
+    OffByOneLast,
+    RoundingDDA,
+    YMajorAlongX,
+)
 from tests.known_bad.misc import (
-    ClipsBeforeSnapping, Float32Input, HangsOnEpsilon, Int32FixedPoint, NaNAttributes, Raises, ReturnsGarbage, SlowOnEpsilon,
+    ClipsBeforeSnapping,
+    Float32Input,
+    HangsOnEpsilon,
+    Int32FixedPoint,
+    NaNAttributes,
+    Raises,
+    ReturnsGarbage,
+    SlowOnEpsilon,
     WrongTieClaim,
 )
-from tests.known_bad.paths import BUGS as PATH_BUGS, PathFillBug, TwoFillers
+from tests.known_bad.paths import BUGS as PATH_BUGS
+from tests.known_bad.paths import PathFillBug, TwoFillers
 from tests.known_bad.rare import RareSlopeTie
-from tests.known_bad.scanlines import BUGS as SCANLINE_BUGS, ScanlineBug
+from tests.known_bad.scanlines import BUGS as SCANLINE_BUGS
+from tests.known_bad.scanlines import ScanlineBug
 
 __all__ = ["KNOWN_BAD", "NAMES"]
 

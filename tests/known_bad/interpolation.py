@@ -7,10 +7,10 @@ import math
 
 import numpy as np
 
-from tests.known_bad import coverage_from_spans
 from harness.api import Coverage, Scene
 from harness.conventions import Convention
 from rasterizers._scanline import scanline
+from tests.known_bad import coverage_from_spans
 
 __all__ = ["InterpolationBug", "Float32DDA"]
 

@@ -7,11 +7,11 @@ import time
 import numpy as np
 
 from harness.api import Coverage, Scene
-from tests.known_bad import coverage_from_parts
 from harness.conventions import Convention
 from harness.oracle import exact_coverage
 from rasterizers.centre_scanline import CentreScanline
 from rasterizers.pineda_topleft import PinedaTopLeft
+from tests.known_bad import coverage_from_parts
 
 __all__ = ["ClipsBeforeSnapping", "Float32Input", "DropsAttributes", "SlowOnEpsilon", "WrongTieClaim", "Raises", "ReturnsGarbage", "HangsOnEpsilon", "Int32FixedPoint", "NaNAttributes"]
 

@@ -171,16 +171,10 @@ def _fill_active_edges(buf: NDArray, length: int, active: NDArray, n_active: int
                     _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, px2, y2)
                     _handle_clipped_edge(buf, zero, x, s, t, d, px2, y2, px1, y1)
                     _handle_clipped_edge(buf, zero, x, s, t, d, px1, y1, x3, y3)
-                elif x0 < px1 and x3 > px1:
+                elif x0 < px1 and x3 > px1 or x3 < px1 and x0 > px1:
                     _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, px1, y1)
                     _handle_clipped_edge(buf, zero, x, s, t, d, px1, y1, x3, y3)
-                elif x3 < px1 and x0 > px1:
-                    _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, px1, y1)
-                    _handle_clipped_edge(buf, zero, x, s, t, d, px1, y1, x3, y3)
-                elif x0 < px2 and x3 > px2:
-                    _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, px2, y2)
-                    _handle_clipped_edge(buf, zero, x, s, t, d, px2, y2, x3, y3)
-                elif x3 < px2 and x0 > px2:
+                elif x0 < px2 and x3 > px2 or x3 < px2 and x0 > px2:
                     _handle_clipped_edge(buf, zero, x, s, t, d, x0, y0, px2, y2)
                     _handle_clipped_edge(buf, zero, x, s, t, d, px2, y2, x3, y3)
                 else:

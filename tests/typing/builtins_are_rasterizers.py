@@ -2,15 +2,15 @@
 assignable to the Rasterizer protocol."""
 
 from harness import Rasterizer
+from rasterizers.area_scanline import AreaScanline
 from rasterizers.centre_scanline import CentreScanline
 from rasterizers.fixed_point import FixedPoint
 from rasterizers.floor_scanline import FloorScanline
-from rasterizers.pineda_topleft import PinedaTopLeft
-from rasterizers.area_scanline import AreaScanline
+from rasterizers.lines import BresenhamLines, DiamondExitDDA, RectangleLines
 from rasterizers.multisample import MultisamplePineda, PinedaMSAA4, PinedaMSAA8
+from rasterizers.pineda_topleft import PinedaTopLeft
 from rasterizers.supersample import Supersampler, Supersampler4
 from rasterizers.trapezoid import TrapezoidFill
-from rasterizers.lines import BresenhamLines, DiamondExitDDA, RectangleLines
 
 floor: Rasterizer = FloorScanline()
 centre: Rasterizer = CentreScanline()
