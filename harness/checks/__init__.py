@@ -30,37 +30,23 @@ every kind, and the area checks anti-aliased coverage.
 
 from __future__ import annotations
 
-from harness.checks.area import accuracy, motion_accuracy, popping, seams
-from harness.checks.closed import closed_balance
-from harness.checks.conformance import FragmentCounter, conformance, deviations, edge_distance, near_ties
-from harness.checks.degenerate import control_scene, degenerate, measure_work, refusal
-from harness.checks.hygiene import hygiene
-from harness.checks.invariance import invariance, invariance_variants
-from harness.checks.lines import connectivity, joints, length, line_motion, reversal
-from harness.checks.motion import jaggy, perspective, texel_swimming
-from harness.checks.paths import triangulation
+# isort: off
+# in the order the checks run and are listed (each module registers its checks on import)
 from harness.checks.records import (
-    EVIDENCE_LIMIT,
-    NEAR_TIE,
-    NEAR_TIE_PIXELS,
-    Check,
-    Drawing,
-    Figure,
-    Result,
-    Status,
-    Subject,
-    Tolerance,
-    check_names,
-    checks,
-    every_check,
-    metric_tolerance,
-    register,
-    registered,
-    result,
-    skip,
-    timing_metrics,
+    EVIDENCE_LIMIT, NEAR_TIE, NEAR_TIE_PIXELS, Check, Drawing, Figure, Result, Status, Subject, Tolerance, check_names, checks,
+    every_check, metric_tolerance, register, registered, result, skip, timing_metrics,
 )
+from harness.checks.hygiene import hygiene
+from harness.checks.conformance import FragmentCounter, conformance, deviations, edge_distance, near_ties
 from harness.checks.watertight import blame, overdraw, pixel_classes, watertight
+from harness.checks.closed import closed_balance
+from harness.checks.degenerate import control_scene, degenerate, measure_work, refusal
+from harness.checks.invariance import invariance, invariance_variants
+from harness.checks.motion import jaggy, perspective, texel_swimming
+from harness.checks.area import accuracy, motion_accuracy, popping, seams
+from harness.checks.paths import triangulation
+from harness.checks.lines import connectivity, joints, length, line_motion, reversal
+# isort: on
 
 __all__ = [
     "Result", "Drawing", "Status", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "CHECKS",
