@@ -1301,20 +1301,75 @@ def _same_reversed(answer: Coverage, scene: AnyScene, prims: NDArray[np.int64], 
 # -- conformance -----------------------------------------------------------------------------
 
 
-def classify_conformance(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:  # noqa: C901 - to split (issue 31, point 7)
+def _viewport_edge_class(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
+    """A conformance failure that passes moved into a grown screen: the viewport's edge --
+    unless the answer is exactly another snap rounding's (a rounding that is not
+    translation-invariant, half away from zero, rounds the moved vertices otherwise, and
+    passed there by chance), or no wrong primitive reaches beyond the screen (float
+    arithmetic rounds moved coordinates otherwise too, and the edge decided nothing)."""
+    rest = replace(result, evidence={k: v for k, v in result.evidence.items() if k != "viewport_edge"})
+    without = classify_conformance(rest, case, convention)
+    if without[1] == "snapping" or without[0] == "open-contour" or not _wrong_reach_beyond(result, case.scene):
+        return without
+    return "viewport-edge", "none"
+
+
+def _flat_primitives(scene: Any, prims: NDArray[np.int64], snapped: dict[int, NDArray[np.float64]]) -> set[int]:
+    """The primitives of ``prims`` that snapping leaves without area (a triangle of zero
+    orientation, a segment of zero length); none for paths."""
+    if isinstance(scene, Scene):
+        return {int(k) for k, sign in zip(prims, orientation(np.stack([snapped[int(k)] for k in prims]))) if sign == 0}
+    if isinstance(scene, LineScene):
+        return {k for k, c in snapped.items() if np.array_equal(c[0], c[1])}
+    return set()
+
+
+def _degenerate_class(scene: Any, wrong: list[Any], snapped: dict[int, NDArray[np.float64]],
+                      judged: Convention) -> tuple[str, str]:
+    """Every wrong sample a flat primitive's: drawn only where all three edge functions are
+    0 is the tie rule's (an inclusive test); anything else is the degenerate case's own."""
+    extra = [(k, x, y) for k, x, y, kind, _ in wrong if kind == "extra"]
+    on_line = len(extra) == len(wrong) and all(
+        bool(_on_flat_line(snapped[k], np.array([[x + judged.sample[0], y + judged.sample[1]]]))[0]) for k, x, y in extra)
+    return "degenerate", "tie-rule" if on_line and isinstance(scene, Scene) else "none"
+
+
+def _exact_tie_class(kinds: set[str]) -> tuple[str, str]:
+    """Every wrong sample exactly on an edge or a vertex: the tie rule's error, named by the
+    first kind of edge among them (slanted, then vertical, then horizontal)."""
+    for kind in ("slanted", "vertical", "horizontal"):
+        if kind in kinds:
+            return f"exact-tie-{kind}-edge", "tie-rule"
+    return "exact-tie-vertex", "tie-rule"
+
+
+def _dropped_by_trial(copies: dict[str, Any]) -> tuple[str, str] | None:
+    """The dropped-primitive trial's class when no copy of the primitive, moved a little,
+    was drawn (None otherwise): its own convention part's error when a grown copy is drawn
+    wrong, culling when its other winding is drawn right, else a dropped primitive."""
+    if not (int(copies.get("copies", 0)) and not int(copies.get("drawn", 0))):
+        return None
+    # moved a little it covers samples and is never drawn: dropped (culled, if its other
+    # winding is drawn) -- whatever ties its own samples are (a sliver thinner than the
+    # tie trial's shift passes that trial vacuously); unless grown thick it is drawn,
+    # and wrong: the bug that draws it wrong missed it (a span started a column late)
+    grown = _sub_verdict(copies, "grown")
+    if grown is not None and grown[1] not in ("none", "culling") and int(copies.get("grown", {}).get("drawn", 0)):
+        return grown  # a convention part's error: the sample point, the tie rule, the snapping
+    # culled: its other winding is drawn, and right ("flipped_right" absent: an older
+    # trial's), its own from no vertex
+    flipped_drawn = int(copies.get("flipped_drawn", 0))
+    culled = flipped_drawn > 0 and int(copies.get("flipped_right", flipped_drawn)) == flipped_drawn \
+        and not int(copies.get("rotated_drawn", 0))
+    return ("culling", "culling") if culled else ("dropped-primitive", "none")
+
+
+def classify_conformance(result: Any, case: Any, convention: Convention | None) -> tuple[str, str]:
     evidence = result.evidence if isinstance(result.evidence, dict) else {}
     if "input_precision" in evidence:
         return "input-format", "none"
     if "viewport_edge" in evidence:
-        # it passes moved into a grown screen -- unless the answer is exactly another snap
-        # rounding's: a rounding that is not translation-invariant (half away from zero)
-        # rounds the moved vertices otherwise, and passed there by chance; or a wrong
-        # primitive lies wholly in the screen: float arithmetic rounds moved coordinates
-        # otherwise too, and the edge of the screen decided nothing there
-        rest = replace(result, evidence={k: v for k, v in evidence.items() if k != "viewport_edge"})
-        without = classify_conformance(rest, case, convention)
-        return without if without[1] == "snapping" or without[0] == "open-contour" or not _wrong_reach_beyond(result, case.scene) \
-            else ("viewport-edge", "none")
+        return _viewport_edge_class(result, case, convention)
     scene = case.scene
     n = len(scene)
     wrong = _wrong_pixels(result, scene.noun, n)
@@ -1331,17 +1386,9 @@ def classify_conformance(result: Any, case: Any, convention: Convention | None) 
     prims = np.array(sorted({w[0] for w in wrong}), dtype=np.int64)
     coordinates = _primitive_coordinates(scene, prims)
     snapped = {int(k): judged.snap(c) for k, c in zip(prims, coordinates)}
-    if isinstance(scene, Scene):
-        flat = {int(k) for k, sign in zip(prims, orientation(np.stack([snapped[int(k)] for k in prims]))) if sign == 0}
-    elif isinstance(scene, LineScene):
-        flat = {k for k, c in snapped.items() if np.array_equal(c[0], c[1])}
-    else:
-        flat = set()
+    flat = _flat_primitives(scene, prims, snapped)
     if all(k in flat for k, *_ in wrong):
-        # drawn only where all three edge functions are 0: the tie rule's (an inclusive test)
-        on_line = all(bool(_on_flat_line(snapped[k], np.array([[x + judged.sample[0], y + judged.sample[1]]]))[0])
-                      for k, x, y, kind, _ in wrong if kind == "extra") and all(kind == "extra" for *_, kind, _ in wrong)
-        return "degenerate", "tie-rule" if on_line and isinstance(scene, Scene) else "none"
+        return _degenerate_class(scene, wrong, snapped, judged)
     if flat:
         wrong = [w for w in wrong if w[0] not in flat]
         prims = np.array(sorted({w[0] for w in wrong}), dtype=np.int64)
@@ -1374,20 +1421,9 @@ def classify_conformance(result: Any, case: Any, convention: Convention | None) 
         return "overflow-below-2^12", "none"
     # a primitive wholly missing whose only wrong samples are exact ties is a tie rule's
     # error (a sliver whose one sample lies on its edge), not a dropped primitive
-    if int(copies.get("copies", 0)) and not int(copies.get("drawn", 0)):
-        # moved a little it covers samples and is never drawn: dropped (culled, if its other
-        # winding is drawn) -- whatever ties its own samples are (a sliver thinner than the
-        # tie trial's shift passes that trial vacuously); unless grown thick it is drawn,
-        # and wrong: the bug that draws it wrong missed it (a span started a column late)
-        grown = _sub_verdict(copies, "grown")
-        if grown is not None and grown[1] not in ("none", "culling") and int(copies.get("grown", {}).get("drawn", 0)):
-            return grown  # a convention part's error: the sample point, the tie rule, the snapping
-        # culled: its other winding is drawn, and right ("flipped_right" absent: an older
-        # trial's), its own from no vertex
-        flipped_drawn = int(copies.get("flipped_drawn", 0))
-        culled = flipped_drawn > 0 and int(copies.get("flipped_right", flipped_drawn)) == flipped_drawn \
-            and not int(copies.get("rotated_drawn", 0))
-        return ("culling", "culling") if culled else ("dropped-primitive", "none")
+    trialled = _dropped_by_trial(copies)
+    if trialled is not None:
+        return trialled
     drawn_elsewhere = int(copies.get("drawn", 0)) > 0  # moved a little, some copy is drawn: not dropped
     # the other winding not drawn either: not culled
     culls = not (int(copies.get("flipped_copies", 0)) and not int(copies.get("flipped_drawn", 0)))
@@ -1405,10 +1441,7 @@ def classify_conformance(result: Any, case: Any, convention: Convention | None) 
         # same kind of tie decided right on an edge inside it: a clipper's work
         return "viewport-edge", "none"
     if exact:
-        for kind in ("slanted", "vertical", "horizontal"):
-            if kind in kinds:
-                return f"exact-tie-{kind}-edge", "tie-rule"
-        return "exact-tie-vertex", "tie-rule"
+        return _exact_tie_class(kinds)
     if near:
         return "near-tie", "none"
     if isinstance(convention, Convention) and convention.model.sample_ids and isinstance(scene, Scene) \
