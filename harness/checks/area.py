@@ -943,7 +943,15 @@ def _window(parts: list[tuple[NDArray, NDArray, NDArray, NDArray]]) -> tuple[int
 _CHUNK_ENTRIES = 1 << 21
 
 
-def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracles: list[Coverage],  # noqa: C901 - to split (issue 31, point 7)
+def _pixel_series(parts: dict[str, tuple[list[Any], list[NDArray[np.int64]]]], pixel: int) -> dict[str, list[float]]:
+    """Per name, one pixel's value summed over the triangles in each frame: ``parts`` maps
+    a name to its fragments per frame (``(triangle, x, y, value)``) and their window-local
+    pixel indices per frame."""
+    return {name: [float(frame[3][local == pixel].sum()) for frame, local in zip(frames, where)]
+            for name, (frames, where) in parts.items()}
+
+
+def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracles: list[Coverage],
             convention: Convention, areas: list[Coverage] | None = None) -> Result:
     """Per (triangle, pixel) and frame step, the alpha change against the declared
     model's (the oracle of each frame): beyond twice the declared tolerance (what the
@@ -1073,10 +1081,8 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
 
     # the worst pixel's series: the worst failing step's pixel, else the deepest pop's
     focus = found[0][3] if found else pop_at
-    series: dict[str, list[float]] = {"alpha": [], "area": [], "oracle": []}
-    for f in range(frames):
-        for name, key, part in (("alpha", "got", got[f]), ("area", "true", true[f]), ("oracle", "want", want[f])):
-            series[name].append(float(part[3][where[key][f] == focus].sum()))
+    series = _pixel_series({"alpha": (got, where["got"]), "area": (true, where["true"]), "oracle": (want, where["want"])},
+                           focus)
     metrics = {"alpha_jumps": float(jumps), "max_step_error": worst_step, "max_pop_levels": pop_max / unit,
                "pops": float(pops), "frames": float(frames), "exact_decisions": float(open_count)}
     evidence: dict[str, Any] = {"series": series, "pixel": {"x": int(x0 + focus % span), "y": int(y0 + focus // span)}}
