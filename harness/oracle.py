@@ -18,6 +18,7 @@ the scene has ``w``.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import hashlib
@@ -25,7 +26,7 @@ import math
 import os
 import threading
 from collections import OrderedDict
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import replace
 from fractions import Fraction
 
@@ -323,6 +324,17 @@ class _RecentAnswers:
         with self._lock:
             self._answers.clear()
             self._bytes = 0
+
+    @contextlib.contextmanager
+    def off(self) -> Iterator[None]:
+        """Nothing kept or reused inside (and what was kept, dropped): every answer computed
+        -- what a benchmark must time (its repeats would otherwise time a lookup)."""
+        budget, self.budget = self.budget, 0
+        self.clear()
+        try:
+            yield
+        finally:
+            self.budget = budget
 
 
 def _footprint(coverage: Coverage) -> int:

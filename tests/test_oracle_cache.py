@@ -60,3 +60,27 @@ def test_the_budget_holds_and_the_least_recent_goes_first() -> None:
     nothing.put((scene_digest(scenes[0]), Convention()), exact_coverage(scenes[0], Convention()))
     assert nothing.get((scene_digest(scenes[0]), Convention())) is None
     assert RECENT_ANSWERS.budget > 0
+
+
+def test_the_bench_times_the_oracle_computing_not_a_lookup(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Its repeats of one scene would otherwise time the cache (an oracle 260x "faster")."""
+    from functools import partial
+
+    import harness.oracle as oracle
+    from harness.bench import _measure_here
+
+    computed = []
+    real = oracle._exact_coverage
+
+    def counting(scene: object, convention: Convention) -> object:
+        computed.append(1)
+        return real(scene, convention)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(oracle, "_exact_coverage", counting)
+    scene = Scene(64, 64, np.array(TRIANGLE) * 8)
+    exact_coverage(scene, Convention())  # kept before the bench starts: must not be reused either
+    computed.clear()
+    said = _measure_here(partial(exact_coverage, scene, Convention()), scene, 0.2, False, lambda message: None)
+    assert said[0] == "done" and said[4] >= 2, said
+    assert len(computed) == said[4] + 1  # every run computed its answer (and the cold call before them)
+    assert RECENT_ANSWERS.budget > 0  # and the cache is back on after
