@@ -84,3 +84,20 @@ def test_the_bench_times_the_oracle_computing_not_a_lookup(monkeypatch: pytest.M
     assert said[0] == "done" and said[4] >= 2, said
     assert len(computed) == said[4] + 1  # every run computed its answer (and the cold call before them)
     assert RECENT_ANSWERS.budget > 0  # and the cache is back on after
+
+
+def test_a_large_scene_is_not_kept_nor_hashed(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Hashing reads every byte: past KEPT_SCENE_BYTES the oracle computes at once (a
+    10,000-triangle workload spent a third of its time in the digest)."""
+    import harness.oracle as oracle
+
+    rng = np.random.default_rng(0)
+    big = Scene(256, 256, rng.uniform(0, 256, (2000, 3, 2)))
+    assert big.positions.nbytes > oracle.KEPT_SCENE_BYTES
+    hashed = []
+    monkeypatch.setattr(oracle, "scene_digest", lambda scene: hashed.append(scene) or b"")
+    assert exact_coverage(big, Convention()) is not exact_coverage(big, Convention())
+    assert not hashed
+    small = Scene(8, 8, TRIANGLE)
+    exact_coverage(small, Convention(tie="top-right"))
+    assert hashed == [small]
