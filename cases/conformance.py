@@ -8,8 +8,8 @@ from __future__ import annotations
 import numpy as np
 
 from cases.scenes import TALL_SCREEN, TALL_TRIANGLES, lattice_triangles, random_triangles
-from harness.api import Scene
-from harness.case import Case
+from harness.contract.case import Case
+from harness.contract.scenes import Scene
 
 __all__ = ["conformance_cases"]
 

@@ -70,8 +70,8 @@ from cases.partitions import _mix_windings, delaunay, fan, grid, sliver_fan, str
 from cases.paths import _on_lattice as _path_lattice
 from cases.paths import _random_contours, quad_grid, rectangle, regular, star, wound
 from cases.scenes import lattice_triangles, random_triangles, tall_triangles
-from harness.api import LineScene, PathScene, Scene
-from harness.case import Case, MotionCase
+from harness.contract.case import Case, MotionCase
+from harness.contract.scenes import LineScene, PathScene, Scene
 
 __all__ = ["FAMILIES", "FAMILY_CODE", "SUITE_FAMILY", "generate", "scene_id", "scene_point", "primitives", "REFUSABLE_FROM"]
 

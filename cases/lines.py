@@ -1,7 +1,7 @@
 """Line cases: segments, polylines and bad lines, for the three line rules (diamond exit,
-Bresenham, rectangles; :mod:`harness.lines`).
+Bresenham, rectangles; :mod:`harness.oracle.lines`).
 
-Three families, every case a :class:`~harness.api.LineScene`:
+Three families, every case a :class:`~harness.contract.scenes.LineScene`:
 
 - ``lines/<kind>/<detail>``: separate segments. Lattice fans from a pixel centre, a pixel
   corner and an edge midpoint to points of the same kind in every octant (slopes 0, +-1/2,
@@ -20,7 +20,7 @@ Three families, every case a :class:`~harness.api.LineScene`:
   infinite end points. Strips 0 and 1 of each scene are ordinary, so that a rasterizer that
   mishandles the bad segments cannot hide it by drawing nothing at all. Segments with a
   coordinate of 1e6 or more are ``refusable`` (a reference may decline them, naming the
-  segment); non-finite ones cover nothing (:attr:`harness.case.Case.non_finite`).
+  segment); non-finite ones cover nothing (:attr:`harness.contract.case.Case.non_finite`).
 
 ``lattice`` cases have every coordinate on a dyadic lattice of 1/16 px or coarser (exact
 in every arithmetic, ties on purpose). Every case draws from its own generator, seeded by
@@ -36,8 +36,8 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from harness.api import LineScene
-from harness.case import Case
+from harness.contract.case import Case
+from harness.contract.scenes import LineScene
 
 __all__ = ["line_cases", "segment_cases", "strip_cases", "line_degenerate_cases", "fan", "spiral", "zigzag", "LINE_FAMILIES"]
 

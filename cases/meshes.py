@@ -14,8 +14,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Scene
-from harness.case import Case
+from harness.contract.case import Case
+from harness.contract.scenes import Scene
 
 if TYPE_CHECKING:  # imported where a mesh is made or read: a second and more, that most
     import trimesh  # processes importing the suites (every command, every test worker) never need

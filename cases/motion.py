@@ -14,8 +14,8 @@ from numpy.typing import NDArray
 
 from cases.meshes import _rotation, _shapes, project
 from cases.partitions import fan, grid
-from harness.api import Scene
-from harness.case import MotionCase
+from harness.contract.case import MotionCase
+from harness.contract.scenes import Scene
 
 __all__ = ["MotionCase", "motion_cases", "translate", "rotate", "zoom"]
 

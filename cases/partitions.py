@@ -11,8 +11,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import ConvexHull, Delaunay
 
-from harness.api import Scene
-from harness.case import Case
+from harness.contract.case import Case
+from harness.contract.scenes import Scene
 
 __all__ = ["grid", "fan", "strip", "delaunay", "sliver_fan", "partition_cases"]
 

@@ -1,6 +1,6 @@
 """Path cases: closed contours filled under the nonzero and even-odd fill rules.
 
-Three families, every case a :class:`~harness.api.PathScene` carrying its fill rule, the
+Three families, every case a :class:`~harness.contract.scenes.PathScene` carrying its fill rule, the
 rule the last part of the id (``.../nonzero``, ``.../evenodd``):
 
 - ``paths/<shape>/<detail>/<rule>``: star polygons {5/2}, {7/3}, {10/3}, bow ties, rings
@@ -46,10 +46,10 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.spatial import Delaunay, Voronoi
 
 from cases.partitions import partition_cases
-from harness.api import PathScene, Scene
-from harness.case import Case
-from harness.exact import orientation
-from harness.winding import FILL_RULES
+from harness.contract.case import Case
+from harness.contract.scenes import PathScene, Scene
+from harness.geometry.exact import orientation
+from harness.oracle.winding import FILL_RULES
 
 __all__ = ["star", "rectangle", "regular", "is_simple", "polygon_sign", "partition_flaws", "voronoi_cells", "quad_grid",
            "merged_polygons", "shape_cases", "path_partition_cases", "triangles_as_paths", "triangle_partition_cases",
@@ -465,7 +465,7 @@ def triangle_cases_as_paths(cases: Sequence[Case], rules: Sequence[str] = FILL_R
 
 def viewport_cases(seed: int) -> list[Case]:
     """The suite's lattice triangles that identify's viewport-edge probe draws
-    (:func:`harness.probes.viewport_edge`): ``lattice/bits-{0,2,4}``, crossing every edge."""
+    (:func:`harness.identify.triangle_probes.viewport_edge`): ``lattice/bits-{0,2,4}``, crossing every edge."""
     from cases.conformance import conformance_cases
 
     return [c for c in conformance_cases(seed) if c.id in VIEWPORT_CASES]
@@ -620,7 +620,7 @@ DEEP_WINDINGS = (128, 256, 65536)
 DEEP_SIZE = 16
 # a triangle on the 1/4 lattice with no sample on an edge, and a square overlapping it,
 # both wound alike: anticlockwise on screen, so that the crossings left of a sample count
-# up (+1 each: :mod:`harness.winding`), to +N, one past the largest signed 8-bit integer
+# up (+1 each: :mod:`harness.oracle.winding`), to +N, one past the largest signed 8-bit integer
 # at N = 128 (-128 is one)
 DEEP_TRIANGLE = np.array([[0.75, 0.75], [1.25, 7.25], [7.25, 1.25]])
 DEEP_SQUARE = rectangle(3, 3, 7, 7)[::-1]

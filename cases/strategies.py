@@ -9,8 +9,8 @@ from __future__ import annotations
 import numpy as np
 from hypothesis import strategies as st
 
-from harness.api import Scene
-from harness.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention, SnapRounding
+from harness.contract.conventions import SNAP_ROUNDINGS, TIE_RULES, Convention, SnapRounding
+from harness.contract.scenes import Scene
 
 __all__ = ["conventions", "lattice_scenes", "float_scenes", "thin_scenes", "grid_scenes", "fan_scenes"]
 
@@ -66,7 +66,7 @@ def grid_scenes(draw, size: int = 24):  # type: ignore[no-untyped-def]
     """Planar partitions: a grid on a sub-pixel lattice, split on random diagonals, with
     lattice jitter and mixed windings (cases with their exact region)."""
     from cases.partitions import grid
-    from harness.case import Case
+    from harness.contract.case import Case
 
     bits = draw(st.integers(0, 4))
     scale = 2**bits
@@ -87,7 +87,7 @@ def grid_scenes(draw, size: int = 24):  # type: ignore[no-untyped-def]
 def fan_scenes(draw, size: int = 24):  # type: ignore[no-untyped-def]
     """Fans of 3..16 triangles around a pixel centre, a corner or a lattice point."""
     from cases.partitions import fan
-    from harness.case import Case
+    from harness.contract.case import Case
 
     count = draw(st.integers(3, 16))
     centre = np.array([draw(st.integers(16, 32 * 4 - 16)), draw(st.integers(16, 32 * 4 - 16))]) / 8 * size / 32
@@ -108,7 +108,7 @@ def path_scenes(draw, size: int = 12, bits: int = 2, max_vertices: int = 8, max_
     size x size viewport: 1..max_paths paths of 1..max_contours contours of
     1..max_vertices vertices each (one- and two-vertex contours, repeated and collinear
     vertices and self-intersections all come up), under a fill rule of ``fill_rules``."""
-    from harness.api import PathScene
+    from harness.contract.scenes import PathScene
 
     scale = 2**bits
     coord = st.integers(-2 * scale, (size + 2) * scale)

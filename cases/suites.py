@@ -17,7 +17,7 @@ from cases.meshes import mesh_cases
 from cases.motion import motion_cases
 from cases.partitions import partition_cases
 from cases.paths import path_cases
-from harness.case import Case, MotionCase
+from harness.contract.case import Case, MotionCase
 
 __all__ = ["SUITES", "suite", "conformance_cases"]
 

@@ -14,12 +14,12 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from harness.campaign import CampaignState
+from harness.campaign.campaign import CampaignState
 
 
 def _expected() -> dict[str, set[str]]:
     """The known-bad table: each known-bad's name and the checks that must flag it."""
-    from tests.test_known_bad import TABLE
+    from tests.acceptance.test_known_bad import TABLE
 
     return {bad.name: set(checks) for bad, checks in TABLE.items()}
 

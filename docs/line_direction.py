@@ -24,9 +24,9 @@ from numpy.typing import NDArray
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from harness.api import LineScene  # noqa: E402
-from harness.conventions import Convention, LineRule  # noqa: E402
-from harness.oracle import exact_coverage  # noqa: E402
+from harness.contract.conventions import Convention, LineRule  # noqa: E402
+from harness.contract.scenes import LineScene  # noqa: E402
+from harness.oracle.coverage import exact_coverage  # noqa: E402
 
 WIDTH, HEIGHT = 12, 7  # pixels per panel
 CELL = 22  # picture pixels per pixel

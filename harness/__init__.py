@@ -14,16 +14,19 @@ from collections.abc import Callable, Iterable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from harness.api import SCENE_KINDS, AnyScene, Coverage, LineScene, PathScene, Rasterizer, Scene, Unsupported, span_buffers
-from harness.conventions import COVERAGE_KINDS, FILL_RULES, LINE_RULES, TIE_RULES, Convention, LineRule
-from harness.numba_cache import safe_numba_cache
-from harness.samples import STANDARD_PATTERNS, pattern
+from harness.contract.conventions import COVERAGE_KINDS, FILL_RULES, LINE_RULES, TIE_RULES, Convention, LineRule
+from harness.contract.coverage import Coverage
+from harness.contract.protocol import Rasterizer
+from harness.contract.samples import STANDARD_PATTERNS, pattern
+from harness.contract.scenes import SCENE_KINDS, AnyScene, LineScene, PathScene, Scene, Unsupported
+from harness.geometry.numba_cache import safe_numba_cache
+from harness.geometry.spans import span_buffers
 
 if TYPE_CHECKING:  # imported when first used (the runner and the checks take a second to import)
-    from harness.case import Case, MotionCase
-    from harness.causes import by_cause
     from harness.checks.records import Result, Tolerance
-    from harness.isolation import TimeLimit
+    from harness.contract.case import Case, MotionCase
+    from harness.diagnose.causes import by_cause
+    from harness.engine.isolation import TimeLimit
 
 # every process that imports rastercheck loads (and may compile) its kernels side by side
 # with others: make numba's on-disk cache safe for that first
@@ -45,8 +48,8 @@ __all__ = [
 __version__ = "0.1.0"
 
 # names imported on first use (module __getattr__): they pull in the checks
-_LAZY = {"Result": "harness.checks.records", "Tolerance": "harness.checks.records", "assert_conforms": "harness.testing",
-         "by_cause": "harness.causes"}
+_LAZY = {"Result": "harness.checks.records", "Tolerance": "harness.checks.records", "assert_conforms": "harness.integrations.testing",
+         "by_cause": "harness.diagnose.causes"}
 
 
 def __getattr__(name: str) -> Any:
@@ -76,10 +79,10 @@ def run_suite(
     deadline: float | None = None,
     on_case: Callable[[str, str], None] | None = None,
 ) -> list[Result]:
-    """Run a suite's checks on each rasterizer; see :func:`harness.runner.run_suite` for
+    """Run a suite's checks on each rasterizer; see :func:`harness.engine.runner.run_suite` for
     the parameters (``tolerance`` None: the default :class:`Tolerance`)."""
     from harness.checks.records import Tolerance
-    from harness.runner import run_suite as run
+    from harness.engine.runner import run_suite as run
 
     return run(rasterizers, suite, seed, cases=cases, tolerance=Tolerance() if tolerance is None else tolerance,
                timeout=timeout, isolate=isolate, repros=repros, repro_seconds=repro_seconds, on_result=on_result,
@@ -89,7 +92,7 @@ def run_suite(
 def replay(path: Path | str, rasterizer: Rasterizer | str, isolate: bool = False, identify: bool = True,
            timeout: float | TimeLimit = 60.0) -> list[Result]:
     """Run the checks of a saved case or minimal repro on a rasterizer; see
-    :func:`harness.runner.replay`."""
-    from harness.runner import replay as run
+    :func:`harness.engine.runner.replay`."""
+    from harness.engine.runner import replay as run
 
     return run(path, rasterizer, isolate=isolate, identify=identify, timeout=timeout)

@@ -6,9 +6,10 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene
-from harness.exact import frozen, orientation
-from harness.oracle import interpolate_kernel as barycentric_kernel
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import frozen, orientation
+from harness.oracle.coverage import interpolate_kernel as barycentric_kernel
 
 __all__ = ["check_range", "screen_triangles", "row_capacity", "interpolate_planes", "interpolate_barycentric", "build_coverage"]
 

@@ -11,7 +11,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.exact import frozen
+from harness.geometry.exact import frozen
 
 # Float scanline arithmetic is accurate (errors far below 1/1000 px) up to 2**24 px;
 # beyond that a crossing's rounding error grows with the coordinates, so such triangles
@@ -98,7 +98,7 @@ def scanline_kernel(positions, orient, active, centre, width, height, out_t, out
 
 def scanline(scene, centre: bool, name: str):  # type: ignore[no-untyped-def]
     """Run the kernel over a scene: spans, the left edge x of each, and span count."""
-    from harness.spans import span_buffers
+    from harness.geometry.spans import span_buffers
     from rasterizers._common import row_capacity, screen_triangles
 
     sign = screen_triangles(  # zero-area and non-finite triangles draw nothing

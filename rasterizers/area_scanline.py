@@ -66,9 +66,10 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene
-from harness.conventions import Convention
-from harness.exact import frozen
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import frozen
 from rasterizers._common import screen_triangles
 
 __all__ = ["AreaScanline", "MAX_COORDINATE", "TOLERANCE", "LEVELS", "emit_row", "first_capacity"]

@@ -10,8 +10,9 @@ Convention: sample (0.5, 0.5), ``top-left`` ties.
 
 from __future__ import annotations
 
-from harness.api import Coverage, Scene
-from harness.conventions import Convention
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
 from rasterizers._common import build_coverage, interpolate_planes
 from rasterizers._scanline import scanline
 

@@ -25,9 +25,10 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.conventions import TIE_RULES, Convention, SnapRounding, TieRule, owns_edge, snap
-from harness.spans import span_buffers
+from harness.contract.conventions import TIE_RULES, Convention, SnapRounding, TieRule, owns_edge, snap
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.spans import span_buffers
 from rasterizers._common import build_coverage, check_range, interpolate_barycentric
 
 __all__ = ["FixedPoint", "MAX_FIXED"]
@@ -91,7 +92,7 @@ class FixedPoint:
     subpixel_bits : int
         Fractional bits of the vertex grid, 4..16 (default 8: 1/256 px).
     tie : str
-        Any of :data:`harness.conventions.TIE_RULES` (default top-left).
+        Any of :data:`harness.contract.conventions.TIE_RULES` (default top-left).
     snap_rounding : {"nearest-even", "half-away", "floor"}
         How vertices round onto the grid (default nearest-even).
 

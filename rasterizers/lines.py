@@ -1,14 +1,14 @@
 """Reference line rasterizers: integer Bresenham (seed 003), a fixed-point DDA under the
 diamond-exit rule, and Vulkan's rectangular lines.
 
-Each draws a :class:`~harness.api.LineScene` exactly as its convention's
-:class:`~harness.conventions.LineRule` says (the definitions are in :mod:`harness.lines`),
+Each draws a :class:`~harness.contract.scenes.LineScene` exactly as its convention's
+:class:`~harness.contract.conventions.LineRule` says (the definitions are in :mod:`harness.oracle.lines`),
 with its own arithmetic: none calls the oracle's kernels, so a test comparing the two
 compares two implementations. The primitive is the segment; a segment with a NaN or
 infinite end point covers nothing; a segment with a coordinate beyond a rasterizer's
 range is refused (ValueError naming it), never drawn wrong. A scene a rasterizer cannot
 draw as given (another line width, another kind of scene) raises
-:class:`harness.api.Unsupported`.
+:class:`harness.contract.scenes.Unsupported`.
 
 ``bresenham_lines`` (:class:`BresenhamLines`)
     Seed 003's integer algorithm. End points go to pixels by the declared rounding (the
@@ -29,7 +29,7 @@ draw as given (another line width, another kind of scene) raises
     offsets), plus the right corner ``(128, 0)`` for y-major lines (D3D11 3.4.3). A line
     with |slope| <= 1 meets at most one D per column -- the one whose row holds its height
     at the column centre, ``256j < y(xc) <= 256j + 256`` -- and a y-major line one per row
-    (:mod:`harness.lines` proves it), so the DDA walks the major axis one cell at a time
+    (:mod:`harness.oracle.lines` proves it), so the DDA walks the major axis one cell at a time
     and carries that height as an exact quotient and remainder (``N = Q*256*du + R``,
     stepped by the constant ``divmod(256*dv, 256*du)``): the candidate cell is
     ``ceil(N / (256*du)) - 1`` with no division in the loop. The segment meets the
@@ -49,7 +49,7 @@ draw as given (another line width, another kind of scene) raises
     as in :mod:`rasterizers.fixed_point`), and the sides are ``4c**2 < W**2 |d|**2`` with
     W = 256 w: c and |d|**2 are exact int64 integers (below 2**62), W a float; each side is
     decided by a float filter and, near a tie, an exact sum of error-free products
-    (:func:`harness.exact._two_product`) of c and |d|**2 split into two floats each. The
+    (:func:`harness.geometry.exact._two_product`) of c and |d|**2 split into two floats each. The
     sides' columns on a row start from a float estimate (a square root) that the exact
     test then corrects a column at a time: no square root decides anything. Range:
     coordinates within +-2**21 px (2,097,152), any line width: ``|c|``, the caps' dot
@@ -70,8 +70,7 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, LineScene, Unsupported
-from harness.conventions import (
+from harness.contract.conventions import (
     BRESENHAM_ROUNDINGS,
     BRESENHAM_TIES,
     TIE_RULES,
@@ -81,9 +80,11 @@ from harness.conventions import (
     LineRule,
     TieRule,
 )
-from harness.exact import _two_product, frozen
-from harness.lines import emit_pixel, expansion_sign, grow_expansion
-from harness.spans import span_buffers
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene, Unsupported
+from harness.geometry.exact import _two_product, frozen
+from harness.geometry.spans import span_buffers
+from harness.oracle.lines import emit_pixel, expansion_sign, grow_expansion
 
 __all__ = ["BresenhamLines", "DiamondExitDDA", "RectangleLines", "BRESENHAM_LIMIT", "DDA_LIMIT", "RECTANGLE_LIMIT"]
 
@@ -255,7 +256,7 @@ class BresenhamLines:
     Parameters
     ----------
     rounding : {"nearest-even", "half-away", "floor", "toward-zero"}
-        How an end point picks its pixel (:class:`harness.conventions.LineRule`).
+        How an end point picks its pixel (:class:`harness.contract.conventions.LineRule`).
     ties : {"step", "stay"}
         The minor coordinate when the decision variable is 0.
     last_pixel : bool
@@ -643,7 +644,7 @@ class RectangleLines:
     Parameters
     ----------
     tie : str
-        The tie rule for samples on the rectangle's boundary (:data:`harness.conventions.TIE_RULES`,
+        The tie rule for samples on the rectangle's boundary (:data:`harness.contract.conventions.TIE_RULES`,
         top-left by default, as Vulkan's triangles).
 
     Examples

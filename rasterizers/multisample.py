@@ -2,7 +2,7 @@
 multisample pattern, each sample decided exactly under the tie rule (issue 14).
 
 Sample s of pixel (i, j) is the point (i + sx_s, j + sy_s) of the pattern
-(:func:`harness.samples.pattern`: the D3D11 / Vulkan standard 4x and 8x locations, or any
+(:func:`harness.contract.samples.pattern`: the D3D11 / Vulkan standard 4x and 8x locations, or any
 dyadic offsets). For each triangle, sample and row, the edge walk of
 :mod:`rasterizers.pineda_topleft` finds the run of columns whose sample passes all three
 edge tests: along a row an edge's test is monotone in x, so each edge cuts the run from
@@ -10,12 +10,12 @@ one side, found from its float crossing and confirmed by stepping or bisecting.
 
 Unlike ``pineda_topleft``, whose float edge functions are exact on lattice input only,
 every test here is the exact sign of the edge function
-(:func:`harness.exact.orient2d_sign`: a float filter, then an exact expansion). Sample
+(:func:`harness.geometry.exact.orient2d_sign`: a float filter, then an exact expansion). Sample
 points are exact floats (offsets have at most 32 fraction bits, columns fewer than 2**20),
 so each sample obeys the tie rule exactly, and the answer equals
-:func:`harness.oracle.exact_coverage` on every triangle it accepts. The expansions are
+:func:`harness.oracle.coverage.exact_coverage` on every triangle it accepts. The expansions are
 exact for coordinates zero or of magnitude in [2**-450, 2**450]
-(:data:`harness.exact.SAFE_MIN`, :data:`harness.exact.SAFE_MAX`); a triangle with a finite
+(:data:`harness.geometry.exact.SAFE_MIN`, :data:`harness.geometry.exact.SAFE_MAX`); a triangle with a finite
 coordinate outside that range is refused (``ValueError`` naming it), never guessed.
 
 Spans come one per (triangle, sample, row), sorted by triangle, sample and row, each with
@@ -35,10 +35,11 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene
-from harness.conventions import TIE_RULES, Convention, TieRule, owns_edge
-from harness.exact import frozen, orient2d_sign, orientation
-from harness.spans import expand, pixel_offsets, span_buffers
+from harness.contract.conventions import TIE_RULES, Convention, TieRule, owns_edge
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import frozen, orient2d_sign, orientation
+from harness.geometry.spans import expand, pixel_offsets, span_buffers
 from rasterizers._common import interpolate_barycentric
 
 __all__ = ["MultisamplePineda", "PinedaMSAA4", "PinedaMSAA8", "screen_exact", "sample_run", "sample_rows",
@@ -61,7 +62,7 @@ def triangle_edges(p, sign, tie_x, tie_y, y_first, edges, owned):  # type: ignor
         ax, ay, bx, by = p[a, 0], p[a, 1], p[b, 0], p[b, 1]
         edges[k, 0], edges[k, 1], edges[k, 2], edges[k, 3] = ax, ay, bx, by
         # The tie rule: top-left owns top edges (horizontal, interior below) and left ones
-        # (interior to the right); any other rule by its perturbation (harness.conventions).
+        # (interior to the right); any other rule by its perturbation (harness.contract.conventions).
         owned[k] = owns_edge(ax, ay, bx, by, tie_x, tie_y, y_first)
 
 
@@ -237,9 +238,9 @@ class MultisamplePineda:
     ----------
     samples : int or sequence of (x, y)
         A standard pattern's count (1, 2, 4, 8, 16: D3D11 / Vulkan locations) or the
-        offsets themselves (:func:`harness.samples.pattern`). Default 4.
+        offsets themselves (:func:`harness.contract.samples.pattern`). Default 4.
     tie : str
-        Any of :data:`harness.conventions.TIE_RULES` (default top-left), applied at every
+        Any of :data:`harness.contract.conventions.TIE_RULES` (default top-left), applied at every
         sample.
 
     Examples

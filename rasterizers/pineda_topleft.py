@@ -27,10 +27,11 @@ import math
 import numba
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.conventions import TIE_RULES, Convention, TieRule, owns_edge
-from harness.exact import frozen
-from harness.spans import span_buffers
+from harness.contract.conventions import TIE_RULES, Convention, TieRule, owns_edge
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import frozen
+from harness.geometry.spans import span_buffers
 from rasterizers._common import build_coverage, interpolate_barycentric, row_capacity, screen_triangles
 
 __all__ = ["PinedaTopLeft", "edge_setup"]

@@ -10,7 +10,7 @@ into a row of cells; a prefix sum counts the samples covered in each pixel.
 
 Convention: area coverage *supersampled* on the n x n grid (``samples`` = the grid),
 ``top-left`` ties at every sample, judged exactly against the share of samples
-(:func:`harness.oracle.sample_shares`). How far the share strays from the true area --
+(:func:`harness.oracle.coverage.sample_shares`). How far the share strays from the true area --
 up to a whole pixel's worth along an edge, in n**2 coarse steps as it moves -- is what the
 popping and accuracy checks measure, not a broken promise. Triangles beyond the exact
 tests' range are refused as :class:`rasterizers.multisample.MultisamplePineda` refuses
@@ -22,9 +22,10 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.conventions import MAX_AREA_SAMPLES, TIE_RULES, Convention, TieRule
-from harness.exact import frozen
+from harness.contract.conventions import MAX_AREA_SAMPLES, TIE_RULES, Convention, TieRule
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import frozen
 from rasterizers.area_scanline import emit_row, first_capacity
 from rasterizers.multisample import sample_rows, sample_run, screen_exact, triangle_edges
 
@@ -96,10 +97,10 @@ class Supersampler:
     ----------
     n : int
         Samples per side, a power of two from 1 to 16 (a supersampled area convention
-        holds up to :data:`harness.conventions.MAX_AREA_SAMPLES` = 256; default 4: 16
+        holds up to :data:`harness.contract.conventions.MAX_AREA_SAMPLES` = 256; default 4: 16
         samples, 17 levels).
     tie : str
-        Any of :data:`harness.conventions.TIE_RULES` (default top-left).
+        Any of :data:`harness.contract.conventions.TIE_RULES` (default top-left).
 
     Examples
     --------

@@ -21,13 +21,13 @@ Each path is filled in one go, by the classic scanline over an edge table:
 Exactness. Which rows an edge crosses is decided by float comparisons of vertex heights
 with ``j + sy`` (exact). Where a row crosses an edge is computed in float with a
 rigorous error bound; when a sample lies within the bound, the exact predicate
-:func:`harness.exact.orient2d_sign` confirms the float guess at the two columns around
+:func:`harness.geometry.exact.orient2d_sign` confirms the float guess at the two columns around
 it (stepping or bisecting when the guess is off), so every decision is the exact one
 for coordinates of magnitude 0 or within [2**-450, 2**450]
-(:data:`harness.exact.SAFE_MIN`, :data:`~harness.exact.SAFE_MAX`); a path with a
+(:data:`harness.geometry.exact.SAFE_MIN`, :data:`~harness.geometry.exact.SAFE_MAX`); a path with a
 coordinate outside that range is refused (ValueError naming it).
 
-Ties follow the tie rule's symbolic perturbation (:mod:`harness.winding`): the sample
+Ties follow the tie rule's symbolic perturbation (:mod:`harness.oracle.winding`): the sample
 ``p`` is decided at ``q = p + d(eps)``. A vertex exactly on a sample row lies above q
 when q moves down (top rules: an edge crosses rows ``ylo <= ys < yhi``) and below it
 when q moves up (``ylo < ys <= yhi``). A sample exactly on an edge's line lies right of
@@ -50,18 +50,19 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, Unsupported
-from harness.conventions import TIE_RULES, Convention, TieRule
-from harness.exact import SAFE_MAX, SAFE_MIN, frozen, orient2d_sign
-from harness.kernel_sorts import heapsort_pairs
+from harness.contract.conventions import TIE_RULES, Convention, TieRule
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene, Unsupported
+from harness.geometry.exact import SAFE_MAX, SAFE_MIN, frozen, orient2d_sign
+from harness.geometry.kernel_sorts import heapsort_pairs
 
 __all__ = ["TrapezoidFill", "outline", "trapezoid_spans", "crossing_column", "edge_table"]
 
 
 # Cached on disk like every kernel. They were compiled in each process for a while: xdist
 # workers crashed (segfault) inside _sweep when two processes had compiled and saved the
-# same callee (harness.exact's kernels) side by side and a third loaded both builds.
-# harness.numba_cache now lets one process at a time compile each cached kernel, so the
+# same callee (harness.geometry.exact's kernels) side by side and a third loaded both builds.
+# harness.geometry.numba_cache now lets one process at a time compile each cached kernel, so the
 # second loads the first one's build (the crash's recipe from session 12, a side-by-side
 # warm-up then the path fillers in one process: 3 crashes in 3 tries before, none in 3 after).
 _CACHE = True
@@ -420,7 +421,7 @@ class TrapezoidFill:
     --------
     A square with a square hole wound the same way: nonzero fills the hole, even-odd not.
 
-    >>> from harness.api import PathScene
+    >>> from harness.contract.scenes import PathScene
     >>> outer, hole = [[0, 0], [4, 0], [4, 4], [0, 4]], [[1, 1], [3, 1], [3, 3], [1, 3]]
     >>> for rule in ("nonzero", "evenodd"):
     ...     print(rule, TrapezoidFill().rasterize(PathScene.from_paths(4, 4, [[outer, hole]], rule)).counts(4, 4)[1])

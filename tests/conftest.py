@@ -1,5 +1,6 @@
 import gc
 import os
+from pathlib import Path
 
 from hypothesis import HealthCheck, settings
 
@@ -28,16 +29,18 @@ os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 # signatures 15, hostile 15, peer_deqp 14, time_limits 13, peer_stb 13, gl_lines 11,
 # line_direction 11, area 10, browser 10, pytest_plugin 9, identify_agrees 9,
 # line_identify 8, msaa_lines 8; every other module less)
-LONGEST_FIRST = ["test_identify.py", "test_known_bad.py", "test_campaign.py", "test_runner.py", "test_fingerprints.py",
-                 "test_peer_freetype.py", "test_registry_and_cli.py", "test_coverage_identify.py", "test_area_checks.py",
-                 "test_signatures.py", "test_hostile.py", "test_peer_deqp.py", "test_time_limits.py", "test_peer_stb.py",
-                 "test_gl_lines.py", "test_line_direction.py", "test_area.py", "test_browser.py", "test_pytest_plugin.py",
-                 "test_identify_agrees.py", "test_line_identify.py", "test_msaa_lines.py"]
+LONGEST_FIRST = ["identify/test_fingerprint.py", "acceptance/test_known_bad.py", "campaign/test_campaign.py", "engine/test_runner.py", "identify/test_triangle_probes.py",
+                 "peers/test_freetype.py", "engine/test_registry.py", "identify/test_coverage_probes.py", "checks/test_area.py",
+                 "diagnose/test_signatures.py", "acceptance/test_hostile.py", "peers/test_deqp.py", "engine/test_isolation.py", "peers/test_stb.py",
+                 "oracle/test_gl_lines.py", "oracle/test_line_direction.py", "oracle/test_area.py", "acceptance/test_browser.py", "integrations/test_pytest_plugin.py",
+                 "identify/test_agrees_with_run.py", "identify/test_line_probes.py", "oracle/test_msaa_lines.py"]
 
 
 def pytest_collection_modifyitems(items):
+    tests = Path(__file__).parent
+
     def rank(item):
-        name = item.path.name
+        name = item.path.relative_to(tests).as_posix() if item.path.is_relative_to(tests) else item.path.name
         return LONGEST_FIRST.index(name) if name in LONGEST_FIRST else len(LONGEST_FIRST)
 
     items.sort(key=rank)  # stable: each module keeps its own order

@@ -34,9 +34,10 @@ import math
 import numba
 import numpy as np
 
-from harness.api import AnyScene, Coverage, LineScene, Unsupported
-from harness.conventions import Convention, LineRule
-from harness.exact import frozen
+from harness.contract.conventions import Convention, LineRule
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene, Unsupported
+from harness.geometry.exact import frozen
 
 __all__ = ["GLDiamondLines", "PerturbedUpwards", "WideNotMoved", "LIMIT"]
 

@@ -9,7 +9,7 @@ and the width must be multiples of 1/256 too (the standard 2, 4, 8 and 16 sample
 are), so that with d = b - a, for a sample p: the caps ``dot(d, p - a) > 0`` and
 ``dot(-d, p - b) > 0`` and the sides ``4 cross(d, p - a)**2 < W**2 |d|**2`` are integer
 comparisons. A sample exactly on the boundary is decided by the tie rule's symbolic
-perturbation (:data:`harness.conventions.TIE_PERTURBATION`): the sign of the boundary
+perturbation (:data:`harness.contract.conventions.TIE_PERTURBATION`): the sign of the boundary
 function's gradient along it (x-first: its x part, else its y part).
 
 :class:`ClosedRectangles` (known bad) takes every boundary sample in, whatever the tie
@@ -23,9 +23,10 @@ import math
 import numba
 import numpy as np
 
-from harness.api import AnyScene, Coverage, LineScene, Unsupported
-from harness.conventions import TIE_PERTURBATION, Convention, LineRule
-from harness.exact import frozen
+from harness.contract.conventions import TIE_PERTURBATION, Convention, LineRule
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene, Unsupported
+from harness.geometry.exact import frozen
 
 __all__ = ["MultisampleRectangleLines", "ClosedRectangles", "LIMIT"]
 

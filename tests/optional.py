@@ -1,7 +1,7 @@
 """Tests that need an optional library skip, naming it and its install.
 
 ``need("cairo")`` returns the module, or skips the test with
-:func:`harness.optional.missing`'s sentence (what is missing, the command that installs it,
+:func:`harness.engine.optional.missing`'s sentence (what is missing, the command that installs it,
 and why ``make``'s install failed here if it did) — never a bare "could not import".
 """
 
@@ -11,7 +11,7 @@ from typing import Any
 
 import pytest
 
-from harness.optional import missing
+from harness.engine.optional import missing
 
 
 def need(module: str) -> Any:

@@ -20,8 +20,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.exact import frozen
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import frozen
 from rasterizers._common import check_range
 
 __all__ = ["DeqpReference", "PiglitReference", "PIGLIT_CONVENTIONS"]

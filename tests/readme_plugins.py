@@ -24,8 +24,9 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, PathScene, Scene
-from harness.conventions import Convention
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import PathScene, Scene
 
 __all__ = ["EvenOddScanline", "InclusiveSupersampler", "GRID_4X4"]
 

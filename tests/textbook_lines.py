@@ -1,7 +1,7 @@
 """Textbook Bresenham line drawers, written as a new user writes them from a textbook
 (issue 28, point 7): each swaps its end points before it walks, so the direction of travel
 is normalised, and each declares what it does with
-:class:`~harness.conventions.LineRule`'s ``direction``.
+:class:`~harness.contract.conventions.LineRule`'s ``direction``.
 
 - :class:`TextbookPlotLine`: Hearn & Baker's ``lineBres`` made general, the usual
   "if x0 > x1: swap" ``plotLine``: end points to the pixels holding them (``floor``), then
@@ -27,9 +27,10 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, LineScene, Unsupported
-from harness.conventions import Convention, LineRule
-from harness.exact import frozen
+from harness.contract.conventions import Convention, LineRule
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import LineScene, Unsupported
+from harness.geometry.exact import frozen
 
 __all__ = ["TextbookPlotLine", "WikipediaPlotLine", "plot_lines", "LIMIT"]
 

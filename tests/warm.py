@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from harness.numba_cache import safe_numba_cache  # the tests import it from here too
+from harness.geometry.numba_cache import safe_numba_cache  # the tests import it from here too
 
 # attributes, affine and perspective-correct: the interpolation kernels
 POSITIONS = np.array([[[0.5, 0.5], [7.0, 1.0], [2.0, 6.5]]])
@@ -41,7 +41,7 @@ class _Oracle:
     kernels)."""
 
     def __init__(self, **convention: object) -> None:
-        from harness.conventions import Convention
+        from harness.contract.conventions import Convention
 
         self.convention = Convention(**convention)  # type: ignore[arg-type]
         self.name = f"oracle_{self.convention.kind}{'_shares' if self.convention.samples and self.convention.kind == 'area' else ''}"
@@ -49,7 +49,7 @@ class _Oracle:
         self.scene_kinds = ("triangles", "paths") if self.convention.kind == "single" else ("triangles",)
 
     def rasterize(self, scene):  # type: ignore[no-untyped-def]
-        from harness.oracle import exact_coverage
+        from harness.oracle.coverage import exact_coverage
 
         return exact_coverage(scene, self.convention)
 
@@ -57,12 +57,13 @@ class _Oracle:
 def engine() -> None:
     """Every check on the first case of each family; areas; identify's counts."""
     from harness import run_suite
-    from harness.api import Coverage, Scene
-    from harness.area import area_error_bound, pixel_areas
-    from harness.case import Case
     from harness.checks import FragmentCounter
-    from harness.conventions import Convention
-    from harness.oracle import exact_coverage
+    from harness.contract.case import Case
+    from harness.contract.conventions import Convention
+    from harness.contract.coverage import Coverage
+    from harness.contract.scenes import Scene
+    from harness.oracle.area import area_error_bound, pixel_areas
+    from harness.oracle.coverage import exact_coverage
 
     cases = _first_of_each_family()
     # every coverage kind: the oracles' and the area checks' kernels
@@ -78,14 +79,14 @@ def engine() -> None:
     counter.mismatches(Coverage([0], [1], [1], [4]))
     counter.mismatches(Coverage([0, 0], [1, 1], [1, 2], [4, 5]))
     # the near-tie distance of deviations on a path (conformance off the lattice)
-    from harness.api import PathScene
     from harness.checks.conformance import path_edge_distance
+    from harness.contract.scenes import PathScene
 
     star = PathScene.from_paths(8, 8, [[[[1.0, 1.0], [7.0, 2.0], [2.0, 7.0]]]])
     path_edge_distance(star, Convention(), np.array([[0, 0], [2, 3], [2, 3]]))
     # the line checks' own kernels (major axis, the pixel holding a joint)
-    from harness.api import LineScene
     from harness.checks.lines import vertex_pixels, x_major_of
+    from harness.contract.scenes import LineScene
 
     strip = LineScene.from_strips(8, 8, [[[0.5, 0.5], [6.0, 2.5], [2.0, 7.0]]])
     x_major_of(strip, Convention())
@@ -98,8 +99,8 @@ def engine() -> None:
 
     _draw_each_family([AreaScanline()])
     # the exact line oracles (here, to balance the two parts; no kernel of the other part's
-    # calls them, so neither part waits on the other's compile: harness.numba_cache)
-    from harness.lines import bresenham_spans, diamond_exit_spans, rectangle_spans
+    # calls them, so neither part waits on the other's compile: harness.geometry.numba_cache)
+    from harness.oracle.lines import bresenham_spans, diamond_exit_spans, rectangle_spans
 
     a, b = np.array([[0.5, 0.5], [1.0, 7.0]]), np.array([[7.5, 3.25], [6.0, 0.5]])
     diamond_exit_spans(a, b, 8, 8)
@@ -110,7 +111,7 @@ def engine() -> None:
 def rasterizers() -> None:
     """Each built-in, known-bad and ported rasterizer on one scene of each family, and on
     scenes with attributes (affine and perspective-correct)."""
-    from harness.registry import builtins, load
+    from harness.engine.registry import builtins, load
     from rasterizers.area_scanline import AreaScanline
     from rasterizers.multisample import PinedaMSAA4, PinedaMSAA8
     from rasterizers.supersample import Supersampler4
@@ -132,8 +133,9 @@ def rasterizers() -> None:
 
 
 def _draw_each_family(everyone: list) -> None:  # type: ignore[type-arg]
-    from harness.api import PathScene, Scene, takes
-    from harness.case import Case
+    from harness.contract.case import Case
+    from harness.contract.protocol import takes
+    from harness.contract.scenes import PathScene, Scene
 
     scenes = [Scene(8, 8, POSITIONS, attributes=VALUES, w=w) for w in (None, np.array([[1.0, 2.0, 4.0]]))]
     for case in _first_of_each_family():

@@ -8,16 +8,16 @@ few verdicts the float oracle's proven bound leaves open.
 
 accuracy
     |alpha - model| per (triangle, pixel) against the declared tolerance, where the model
-    is the convention's oracle (:func:`harness.oracle.exact_coverage`): the exact area
-    (float, within :func:`harness.area.area_error_bound` of the rational one) or, for a
+    is the convention's oracle (:func:`harness.oracle.coverage.exact_coverage`): the exact area
+    (float, within :func:`harness.oracle.area.area_error_bound` of the rational one) or, for a
     supersampled convention, the share of samples covered (exact). A verdict the bound
-    leaves open is decided with :func:`harness.area.exact_area`. Alphas off the declared
+    leaves open is decided with :func:`harness.oracle.area.exact_area`. Alphas off the declared
     quantisation (not a multiple of 1/(levels - 1) up to float representation) fail too.
     An alpha beyond the tolerance that float rounding explains is a near tie, counted apart
     as conformance counts its own: the rasterizer's geometry moved by at most what
     conformance calls rounding (:func:`rounding_reach`) has a model value the alpha is
     within the tolerance of -- the exact area moves by at most
-    :func:`harness.area.displaced_area_bound` of it (so only an area that close to a level's
+    :func:`harness.oracle.area.displaced_area_bound` of it (so only an area that close to a level's
     rounding boundary can round the other way), and each sample within rounding of an
     edge (:func:`harness.checks.conformance.near_ties`) may count either way. Decided
     exactly; none on a lattice case, none allowed in strict mode. On a motion case,
@@ -51,9 +51,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene
-from harness.area import area_coverage, area_error_bound, displaced_area_bound, exact_area
-from harness.case import Case, MotionCase
 from harness.checks.conformance import near_ties
 from harness.checks.records import (
     EVIDENCE_LIMIT,
@@ -68,10 +65,14 @@ from harness.checks.records import (
     skip,
 )
 from harness.checks.watertight import pixel_classes
-from harness.conventions import Convention
-from harness.exact import orientation
-from harness.keys import union, unique_inverse
-from harness.oracle import exact_samples
+from harness.contract.case import Case, MotionCase
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import orientation
+from harness.geometry.keys import union, unique_inverse
+from harness.oracle.area import area_coverage, area_error_bound, displaced_area_bound, exact_area
+from harness.oracle.coverage import exact_samples
 
 __all__ = ["accuracy", "motion_accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "level_values",
            "exact_alpha", "exact_tolerance", "piece_allowance", "rounding_reach", "alpha_facts", "alpha_cause", "ALPHA_CAUSES",
@@ -141,7 +142,7 @@ def model_bound(positions: NDArray, convention: Convention, width: int, height: 
     Returns
     -------
     (N,) float64
-        :func:`harness.area.area_error_bound` of the snapped triangles for the exact area;
+        :func:`harness.oracle.area.area_error_bound` of the snapped triangles for the exact area;
         for a supersampled convention the share count/n is exact but for the rounding of
         the division (2**-53).
 
@@ -238,7 +239,7 @@ def _near_ties(case: Case, convention: Convention, tolerance: Tolerance, triangl
     by at most :func:`rounding_reach` has a model value the alpha is within the tolerance
     of. Decided exactly (the reach is the error model's bound, not a slack of the decision).
 
-    * Exact area: the area moves by at most :func:`harness.area.displaced_area_bound` of
+    * Exact area: the area moves by at most :func:`harness.oracle.area.displaced_area_bound` of
       the reach, so the pixel is a near tie when ``|alpha - area| <= tolerance + that``
       (for a half-level tolerance: the area within that of a rounding boundary
       (k + 1/2) / (levels - 1)). A float rasterizer's own arithmetic on the area and its
@@ -544,7 +545,7 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
     infinite coordinate (``over_non_finite``), and the sides of the screen (``over_border``:
     ``{side: count}``) whose border row or column they lie in on a triangle crossing that
     side, with the share of them that do (``over_border_share``). Numpy on the evidence pixels."""
-    from harness.oracle import exact_coverage
+    from harness.oracle.coverage import exact_coverage
 
     scene = case.scene
     assert isinstance(scene, Scene)
@@ -1045,7 +1046,7 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
                 diff[np.isnan(diff)] = np.inf
                 worst_step = max(worst_step, float(diff.max(initial=0.0)))
                 # the exact step error lies within the two frames' oracle bounds (each below
-                # 2**-24: harness.area) and the rounding of the differences of diff: beyond
+                # 2**-24: harness.oracle.area) and the rounding of the differences of diff: beyond
                 # the limit for sure, or open; only the steps near or beyond it are looked at
                 with np.errstate(invalid="ignore"):
                     largest = np.nanmax(np.abs(now[0]), initial=0.0) + np.nanmax(np.abs(before[0]), initial=0.0)
@@ -1125,7 +1126,7 @@ register(Check(
     caption="area coverage: every alpha within the declared tolerance of the exact area (or share of samples), "
             "on the declared levels (on every frame of a motion case)",
     # root: against the exact area, its failure names the scene's cause; the frame verdict of popping
-    classifier="harness.signatures:classify_accuracy", cause_role="root", motion_role="frame",
+    classifier="harness.diagnose.signatures:classify_accuracy", cause_role="root", motion_role="frame",
     figures=(Figure("max_error", "max", "largest |alpha - area|"), Figure("mean_error", "mean", "mean |alpha - area|"),
              Figure("over_tolerance", "sum", "pixels beyond the declared tolerance")),
 ))
@@ -1135,7 +1136,7 @@ register(Check(
     kinds=AREA_KINDS, per_sample=False, metrics={"seam_pixels": (1.0, 0.0), "strays": (1.0, 0.0)},
     caption="area coverage on a planar partition: the pieces' alphas sum to 1 inside (within their rounding), "
             "0 outside; the seam left by compositing with over reported",
-    classifier="harness.signatures:classify_seams", cause_role="consequent", motion_role="none",
+    classifier="harness.diagnose.signatures:classify_seams", cause_role="consequent", motion_role="none",
     figures=(Figure("seam_pixels", "sum", "seam pixels (alphas not summing to 1)"),
              Figure("max_sum_error", "max", "largest seam (levels of its quantisation)"),
              Figure("max_over_gap", "max", "deepest seam after compositing with over")),
@@ -1145,7 +1146,7 @@ register(Check(
     per_sample=False, metrics={"alpha_jumps": (1.0, 0.0)},
     caption="area coverage under sub-pixel motion: no alpha changes beyond what the declared tolerance allows; "
             "pops against the exact area reported",
-    classifier="harness.signatures:classify_popping", cause_role="own", motion_role="through-frames",
+    classifier="harness.diagnose.signatures:classify_popping", cause_role="own", motion_role="through-frames",
     figures=(Figure("max_pop_levels", "max", "largest pop against the exact area (in 1/255 levels)"),
              Figure("pops", "sum", "pops of more than 1/255 (pixel-steps)"),
              Figure("alpha_jumps", "sum", "alpha jumps beyond the declared tolerance")),

@@ -5,11 +5,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.case import Case
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, register, result, skip
-from harness.conventions import Convention
-from harness.exact import orientation
+from harness.contract.case import Case
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import orientation
 
 __all__ = ["closed_balance"]
 
@@ -39,5 +40,5 @@ def closed_balance(case: Case, coverage: Coverage, convention: Convention | None
 register(Check(
     "closed", lambda s: closed_balance(s.case, s.coverage, s.convention), lambda case: bool(getattr(case, "closed", False)),
     metrics={"unbalanced_pixels": (1.0, 0.0)}, caption="on a closed mesh: front-facing minus back-facing hits is zero everywhere",
-    classifier="harness.signatures:classify_closed", cause_role="consequent", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_closed", cause_role="consequent", motion_role="none", figures=(),
 ))

@@ -18,12 +18,13 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, LineScene, PathScene
-from harness.case import Case
 from harness.checks.records import EVIDENCE_LIMIT, Check, Figure, Result, Subject, Tolerance, register, result, skip
-from harness.conventions import Convention
-from harness.exact import orientation
-from harness.keys import union, unique_counts
+from harness.contract.case import Case
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene, PathScene
+from harness.geometry.exact import orientation
+from harness.geometry.keys import union, unique_counts
 
 __all__ = ["deviations", "FragmentCounter", "edge_distance", "path_edge_distance", "line_edge_distance", "near_ties",
            "near_ties_of", "undefined_width", "conformance"]
@@ -94,7 +95,7 @@ class FragmentCounter:
         """Missing plus extra fragments (with multiplicity) against ``oracle``.
 
         An oracle's spans (inside the viewport, never overlapping: what
-        :func:`harness.oracle.exact_coverage` gives) are merged with the fragments span by
+        :func:`harness.oracle.coverage.exact_coverage` gives) are merged with the fragments span by
         span, without expanding them; any other coverage is expanded into fragments.
         """
         row = oracle.triangle * self.height + oracle.y
@@ -360,7 +361,7 @@ def _diamond_margins(a: NDArray, b: NDArray, px: NDArray, py: NDArray, last_pixe
     """How far each diamond-exit decision is from flipping, in pixels (an upper bound).
 
     The pixel with centre (px, py) is drawn when the segment meets its diamond D and the
-    end point b is not in D (:mod:`harness.lines`). By the separating axis theorem the
+    end point b is not in D (:mod:`harness.oracle.lines`). By the separating axis theorem the
     segment meets the closed diamond exactly when ``h(u) = h_D(u) + h_S(-u) >= 0`` for the
     normals u of the diamond (the four diagonals: ``1/2 - min(u.A, u.B)`` with A, B the end
     points relative to the centre) and of the segment (``max(|dx|, |dy|)/2 - |cross(d, A)|``).
@@ -487,9 +488,9 @@ def _bresenham_margins(a: NDArray, b: NDArray, x: NDArray, y: NDArray, rule: Any
         Each fragment's segment (snapped, finite).
     x, y : (M,) int64
         Each fragment's pixel (inf outside the ``width`` x ``height`` viewport).
-    rule : harness.conventions.LineRule
+    rule : harness.contract.conventions.LineRule
     """
-    from harness.lines import BRESENHAM_MAX, bresenham_spans, end_point_pixels
+    from harness.oracle.lines import BRESENHAM_MAX, bresenham_spans, end_point_pixels
 
     out = np.full(x.size, np.inf)
     ends = np.concatenate([a, b], axis=1)
@@ -570,7 +571,7 @@ def line_edge_distance(scene: LineScene, convention: Convention | None, fragment
     of row 0: it must move 0.5 px to leave pixel (1, 0)'s diamond, relative to its largest
     coordinate, 3:
 
-    >>> from harness.conventions import LineRule
+    >>> from harness.contract.conventions import LineRule
     >>> scene = LineScene.from_segments(4, 4, [[1.0, 0.5], [0.0, 0.5]], [[1.5, 1.0], [3.0, 0.5]])
     >>> line_edge_distance(scene, Convention(line=LineRule("diamond-exit", last_pixel=True)), np.array([[0, 1], [1, 1], [0, 0]]))
     array([0.        , 0.16666667])
@@ -706,7 +707,7 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
 def undefined_width(scene: AnyScene, convention: Convention) -> str:
     """Why the convention defines no answer on ``scene`` ("" when it does): its line rule
     draws width 1 only and the lines are wider (a rasterizer should refuse such a scene,
-    raising :class:`harness.api.Unsupported`)."""
+    raising :class:`harness.contract.scenes.Unsupported`)."""
     if isinstance(scene, LineScene):
         return convention.line.undefined_width(scene.line_width)
     return ""
@@ -725,6 +726,6 @@ register(Check(
     lambda case: not hasattr(case, "frames"), needs_convention=True, shrinks=True, metrics={"wrong": (1.0, 0.0)},
     caption="pixel-exact against the exact oracle of the convention",
     # root: against the exact oracle, its failure names the scene's cause; the frame verdict of jaggy, texel, perspective
-    classifier="harness.signatures:classify_conformance", cause_role="root", motion_role="frame",
+    classifier="harness.diagnose.signatures:classify_conformance", cause_role="root", motion_role="frame",
     figures=(Figure("failing_samples", "sum", "samples failing conformance (summed over cases)"),),
 ))

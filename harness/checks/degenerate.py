@@ -8,11 +8,12 @@ from typing import Any
 
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.case import Case
 from harness.checks.records import ALL_KINDS, Check, Result, Subject, Tolerance, first, register, result
-from harness.conventions import Convention
-from harness.exact import orientation
+from harness.contract.case import Case
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import orientation
 
 __all__ = ["control_scene", "degenerate", "refusal", "measure_work"]
 
@@ -111,5 +112,5 @@ register(Check(
     lambda case: getattr(case, "family", "") == "degenerate" and isinstance(getattr(case, "scene", None), Scene),
     shrinks=True, timings=("work_ratio",), kinds=ALL_KINDS, per_sample=False,  # any sample drawn is drawn; times are the whole call's  # a ratio of times: judged by its own limit, never across runs
     caption="zero-area and non-finite triangles draw nothing, no NaN attribute, bounded work",
-    classifier="harness.signatures:classify_degenerate", cause_role="consequent", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_degenerate", cause_role="consequent", motion_role="none", figures=(),
 ))

@@ -6,11 +6,11 @@ from typing import Any
 
 import numpy as np
 
-from harness.api import Coverage
-from harness.case import Case
 from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, Result, first, register, result
-from harness.conventions import Convention
-from harness.coverage_models import SINGLE
+from harness.contract.case import Case
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.coverage_models import SINGLE
 
 __all__ = ["hygiene"]
 
@@ -90,6 +90,6 @@ register(Check(
             "one finite attribute row per pixel (per sample: valid sample ids; area: one alpha in [0, 1] per pixel)",
     # its own cause, but for pixels drawn outside their primitive: coverage's fault too (its
     # attribute failures, say, are not)
-    classifier="harness.signatures:classify_hygiene", cause_role="own", consequent_classes=frozenset({"outside-primitive"}),
+    classifier="harness.diagnose.signatures:classify_hygiene", cause_role="own", consequent_classes=frozenset({"outside-primitive"}),
     motion_role="none", figures=(),
 ))

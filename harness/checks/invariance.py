@@ -15,11 +15,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene
-from harness.case import Case
 from harness.checks.conformance import deviations, near_ties_of
 from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
-from harness.conventions import Convention
+from harness.contract.case import Case
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 
 __all__ = ["invariance_variants", "invariance", "area_invariance", "shift_of", "LINE_SHIFT"]
 
@@ -241,5 +242,5 @@ register(Check(
     "invariance", _run, _applies, shrinks=True, kinds=ALL_KINDS,
     caption="vertex rotation, winding flip, triangle permutation and whole-pixel translation change nothing but the shift "
             "(paths: start vertex, contour reversal and order, path order; lines: strip order, strips split)",
-    classifier="harness.signatures:classify_invariance", cause_role="consequent", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_invariance", cause_role="consequent", motion_role="none", figures=(),
 ))

@@ -1,6 +1,6 @@
 """Line checks (seed 003, issue 16): connectivity, joints, reversal, length and line-motion --
 the artifacts of aliased lines, each judged against what the declared
-:class:`~harness.conventions.LineRule` promises (:mod:`harness.lines` defines the rules).
+:class:`~harness.contract.conventions.LineRule` promises (:mod:`harness.oracle.lines` defines the rules).
 
 * **connectivity** (diamond-exit, Bresenham): each segment's pixels are one per step of its
   major axis from its first to its last, 8-connected: no gap, no doubled step.
@@ -34,15 +34,16 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, LineScene, Unsupported
-from harness.case import Case
 from harness.checks.conformance import near_ties_of, undefined_width
 from harness.checks.motion import filled_direction
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
-from harness.conventions import LINE_DIRECTIONS, Convention
-from harness.coverage_models import COVERAGE_MODELS
-from harness.lines import area_holding, end_point_pixels, is_x_major
-from harness.oracle import exact_coverage
+from harness.contract.case import Case
+from harness.contract.conventions import LINE_DIRECTIONS, Convention
+from harness.contract.coverage import Coverage
+from harness.contract.coverage_models import COVERAGE_MODELS
+from harness.contract.scenes import LineScene, Unsupported
+from harness.oracle.coverage import exact_coverage
+from harness.oracle.lines import area_holding, end_point_pixels, is_x_major
 
 __all__ = [
     "x_major_of", "vertex_pixels", "connectivity", "joints", "reversal", "length", "line_motion", "motion_frames", "motion_oracles",
@@ -434,7 +435,7 @@ def reversal(case: Case, coverage: Coverage, backward: Coverage, origin: NDArray
 
 def _direction_drawn(scene: LineScene, reversed_scene: LineScene, origin: NDArray[np.int64], forward: NDArray,
                      back: NDArray, convention: Convention) -> str | None:
-    """The other direction of travel (:data:`~harness.conventions.LINE_DIRECTIONS`) under
+    """The other direction of travel (:data:`~harness.contract.conventions.LINE_DIRECTIONS`) under
     which the declared Bresenham rule draws exactly ``forward`` and ``back`` (keys of the
     scene and of its reversal, as :func:`reversal` has them): a drawer that normalises its
     direction (textbook plotLine) declared as walking as given, or the other way round.
@@ -682,7 +683,7 @@ def _run_line_motion(s: Subject) -> Result:
 
 # -- registration --------------------------------------------------------------------------------
 
-# lines are single-sample, or multisample rectangles (harness.lines): a multisample answer is
+# lines are single-sample, or multisample rectangles (harness.oracle.lines): a multisample answer is
 # judged sample by sample (each layer a single-sample rectangle rule at its offset); an area
 # answer gets none of these
 _SINGLE = frozenset(model.kind for model in COVERAGE_MODELS.values() if model.lines)
@@ -691,30 +692,30 @@ register(Check(
     "connectivity", _guarded("connectivity", _run_connectivity), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
     metrics={"line_gaps": (1.0, 0.0), "line_doubles": (1.0, 0.0), "line_breaks": (1.0, 0.0)},
     caption="each segment: one pixel per major-axis step from its first to its last, 8-connected (diamond-exit, Bresenham)",
-    classifier="harness.signatures:classify_connectivity", cause_role="consequent", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_connectivity", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
     "joints", _guarded("joints", _run_joints), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE, metrics={"joint_mismatches": (1.0, 0.0)},
     caption="at each polyline joint the vertex pixel is drawn as often as the rule says (once without the last pixel) "
             "and both segments draw the same pixels as the rule's",
-    classifier="harness.signatures:classify_joints", cause_role="consequent", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_joints", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
     "reversal", _guarded("reversal", _run_reversal), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE, metrics={"reversal_mismatches": (1.0, 0.0)},
     caption="drawn backwards, each segment differs from forwards exactly as the rule predicts (the difference a fact)",
-    classifier="harness.signatures:classify_reversal", cause_role="consequent", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_reversal", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
     "length", _guarded("length", lambda s: length(s.case, s.coverage, s.oracle, s.convention)),  # type: ignore[arg-type]
     _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
     metrics={"length_mismatches": (1.0, 0.0), "length_excess": (1.0, 0.0), "length_deficit": (1.0, 0.0)},
     caption="each segment draws exactly as many pixels as the rule, no near tie excused",
-    classifier="harness.signatures:classify_length", cause_role="consequent", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_length", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
     "line-motion", _guarded("line-motion", _run_line_motion), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
     metrics={"line_backward_steps": (1.0, 0.0), "line_end_backward_steps": (1.0, 0.0)},
     caption="under sub-pixel motion along x and y each segment's pixels, per major-axis cell, and its end cells never "
             "move against the motion",
-    classifier="harness.signatures:classify_line_motion", cause_role="own", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_line_motion", cause_role="own", motion_role="none", figures=(),
 ))

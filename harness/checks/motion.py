@@ -17,8 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
+from harness.contract.coverage import Coverage
 
 __all__ = ["jaggy", "texel_swimming", "perspective", "boundary_series", "filled_direction", "TIE"]
 
@@ -350,19 +350,19 @@ def _jaggy(s: Subject) -> Result:
 register(Check(
     "jaggy", _jaggy, _is_motion, needs_convention=True, metrics={"flicker": (1.0, 0.0), "backward_jumps": (1.0, 0.0)},
     caption="under sub-pixel motion no pixel flickers more than the exact answer and no span end jumps backwards",
-    classifier="harness.signatures:classify_jaggy", cause_role="own", motion_role="through-frames", figures=(),
+    classifier="harness.diagnose.signatures:classify_jaggy", cause_role="own", motion_role="through-frames", figures=(),
 ))
 register(Check(
     "texel", lambda s: texel_swimming(s.case.id, s.coverages, s.oracles, s.case.texels),
     lambda case: _is_motion(case) and bool(case.texels), needs_convention=True, needs_attributes=True,
     metrics={"texel_mismatches": (1.0, 0.0), "swim_backward_steps": (1.0, 0.0)},
     caption="the nearest texel is the exact one and never steps backwards under translation",
-    classifier="harness.signatures:classify_texel", cause_role="own", motion_role="through-frames", figures=(),
+    classifier="harness.diagnose.signatures:classify_texel", cause_role="own", motion_role="through-frames", figures=(),
 ))
 register(Check(
     "perspective", lambda s: perspective(s.case.id, s.coverages, s.oracles, s.case.texels or 1, s.tolerance),
     lambda case: _is_motion(case) and bool(case.perspective), needs_convention=True, needs_attributes=True,
     metrics={"max_uv_error_texels": (2.0, 1e-9)},
     caption="u, v against the exact perspective-correct values",
-    classifier="harness.signatures:classify_perspective", cause_role="own", motion_role="through-frames", figures=(),
+    classifier="harness.diagnose.signatures:classify_perspective", cause_role="own", motion_role="through-frames", figures=(),
 ))

@@ -5,7 +5,7 @@ fill to its triangle fill; convention-free.
 Why it must hold: a sample not on any edge is inside the polygon exactly when it is inside
 one triangle of the triangulation. A sample on the polygon's boundary is decided, for the
 path and for the one triangle whose edge it lies on, by the same symbolic perturbation of
-the sample (:mod:`harness.winding`, :mod:`harness.conventions`); a sample on an interior
+the sample (:mod:`harness.oracle.winding`, :mod:`harness.contract.conventions`); a sample on an interior
 diagonal is owned by exactly one of the two triangles sharing it, the one the perturbed
 sample lies in -- the polygon's own answer. (A triangulation without Steiner points has no
 interior vertices, so no sample sits where three or more triangles meet inside.) So under
@@ -20,9 +20,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, PathScene, Scene
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, register, result, skip
-from harness.exact import orientation
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import PathScene, Scene
+from harness.geometry.exact import orientation
 
 __all__ = ["simple_polygon_triangles", "triangulation"]
 
@@ -207,5 +208,5 @@ register(Check(
     "triangulation", _run, _applies, shrinks=True,
     metrics={"path_only": (1.0, 0.0), "triangles_only": (1.0, 0.0), "triangulation_double_hits": (1.0, 0.0)},
     caption="a simple polygon covers exactly the samples of the union of a triangulation of it (paths against triangles)",
-    classifier="harness.signatures:classify_triangulation", cause_role="consequent", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_triangulation", cause_role="consequent", motion_role="none", figures=(),
 ))

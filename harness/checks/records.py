@@ -10,7 +10,7 @@ its classifier (the signature's failure class and convention part), its campaign
 (a root cause, a consequent of one, or its own), its motion role (a frame verdict, a
 motion check read through frames, or neither) and the figures the report shows of it.
 Adding a check touches its own module (and its known-bad test) only; a test
-(``tests/test_checks_registry.py``) fails when a registered check leaves any of these
+(``tests/checks/test_records.py``) fails when a registered check leaves any of these
 undeclared.
 """
 
@@ -27,9 +27,10 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, Scene
-from harness.case import Case, MotionCase
-from harness.conventions import Convention
+from harness.contract.case import Case, MotionCase
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, Scene
 
 __all__ = [
     "Status", "Result", "Drawing", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "result", "skip", "first",
@@ -95,7 +96,7 @@ class Result:
     message: str
     metrics: dict[str, float] = field(default_factory=dict)
     evidence: dict[str, Any] = field(default_factory=dict)
-    # what a failure is drawn from (the report's business: see harness.pictures.draw); not
+    # what a failure is drawn from (the report's business: see harness.report.pictures.draw); not
     # part of the verdict, not compared, not written to JSON
     drawing: Drawing | None = field(default=None, compare=False, repr=False)
 
@@ -174,7 +175,7 @@ class Subject:
         The answers as the rasterizer gave them, when they differ from ``coverages``
         (which are tidied: see :meth:`Coverage.tidy`); the hygiene check judges these.
     scene_kinds : tuple of str
-        The scene kinds the rasterizer takes (:func:`harness.api.scene_kinds_of`): a check
+        The scene kinds the rasterizer takes (:func:`harness.contract.protocol.scene_kinds_of`): a check
         calling it on a scene of another kind must not.
     """
 
@@ -201,7 +202,7 @@ class Subject:
         """Sample ``index`` of a multisample subject as a single-sample subject: its
         answers' layer, the convention at that sample (:meth:`Convention.at_sample`), and
         the rasterizer again giving that layer."""
-        from harness.isolation import layer_of
+        from harness.engine.isolation import layer_of
 
         assert self.convention is not None
         call = self.call
@@ -216,7 +217,7 @@ class Subject:
     @cached_property
     def oracles(self) -> list[Coverage]:
         """The exact coverage of the convention for each scene (computed once)."""
-        from harness.oracle import exact_coverage
+        from harness.oracle.coverage import exact_coverage
 
         assert self.convention is not None
         return [exact_coverage(scene, self.convention) for scene in self.scenes]
@@ -227,15 +228,15 @@ class Subject:
 
 
 # ``classify(result, case, convention) -> (failure class, convention part)``: what a failing
-# result of a check is, read from its evidence (see :mod:`harness.signatures`)
+# result of a check is, read from its evidence (see :mod:`harness.diagnose.signatures`)
 Classifier = Callable[[Any, Any, Any], tuple[str, str]]
-# a check's part in naming a scene's cause (:func:`harness.causes.attributed`): "root" -- a
+# a check's part in naming a scene's cause (:func:`harness.diagnose.causes.attributed`): "root" -- a
 # check against the exact oracle whose failure names the scene's cause; "consequent" -- a
 # check whose failure on a scene that fails a root check is that failure's consequence (a
 # dropped triangle leaves a hole), counted under its cause; "own" -- neither: its failures
 # keep their own cause
 CauseRole = Literal["root", "consequent", "own"]
-# a check's part in reading motion failures (:func:`harness.signatures.with_probes`):
+# a check's part in reading motion failures (:func:`harness.diagnose.signatures.with_probes`):
 # "frame" -- its verdict on one frame judged alone names a motion failure's cause
 # (conformance, or accuracy for anti-aliased coverage); "through-frames" -- a motion check
 # whose failures are read through the frames they name; "none" -- neither
@@ -303,9 +304,9 @@ class Check:
         at once.
     classifier : callable or str or None
         ``classify(result, case, convention) -> (failure class, convention part)`` of a
-        failing result (:func:`harness.signatures.signature`), or its dotted name
+        failing result (:func:`harness.diagnose.signatures.signature`), or its dotted name
         ``"module:function"``, imported on first use (the classifiers of the built-in
-        checks live in :mod:`harness.signatures`, which imports the check modules). None:
+        checks live in :mod:`harness.diagnose.signatures`, which imports the check modules). None:
         undeclared -- every failure is ``other``.
     cause_role : {"root", "consequent", "own"} or None
         Its part in naming a scene's cause (:data:`CauseRole`); None: undeclared (own).

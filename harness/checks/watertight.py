@@ -13,11 +13,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, LineScene
-from harness.case import Case
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, register, result, skip
-from harness.conventions import Convention
-from harness.exact import orientation
+from harness.contract.case import Case
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene
+from harness.geometry.exact import orientation
 
 __all__ = ["watertight", "overdraw", "holes", "blame", "pixel_classes"]
 
@@ -156,7 +157,7 @@ def holes(case: Case, coverage: Coverage) -> Result:
     """On a planar partition's pieces around a region, convention-free: every pixel whose
     closed square lies inside the (open, convex) region hit at least once -- watertight's
     holes alone, the form that survives cutting a partition down to the pieces that meet
-    a small region around a hole (:func:`harness.repro.hole_repro`): pieces that reach
+    a small region around a hole (:func:`harness.diagnose.repro.hole_repro`): pieces that reach
     beyond that region draw there, and that is no stray."""
     if case.region is None:
         return skip(case, "holes", "no region")
@@ -229,7 +230,7 @@ register(Check(
     metrics={"holes": (1.0, 0.0), "double_hits": (1.0, 0.0), "strays": (1.0, 0.0)},
     caption="on a planar partition: inside pixels hit exactly once, outside never, no double hit",
     # consequent: a triangle dropped (conformance) leaves a hole here -- one cause, not two
-    classifier="harness.signatures:classify_watertight", cause_role="consequent", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_watertight", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
     "overdraw", lambda s: overdraw(s.case, s.coverage, s.convention, lambda: s.oracle),
@@ -237,11 +238,11 @@ register(Check(
     lambda case: not hasattr(case, "frames") and not isinstance(getattr(case, "scene", None), LineScene), shrinks=True,
     metrics={"double_hits": (1.0, 0.0)}, on_request=True,
     caption="no pixel hit twice (watertight's double hits, in a form that survives shrinking)",
-    classifier="harness.signatures:classify_overdraw", cause_role="consequent", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_overdraw", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
     "holes", lambda s: holes(s.case, s.coverage), lambda case: getattr(case, "region", None) is not None,
     metrics={"holes": (1.0, 0.0)}, on_request=True,
     caption="every pixel inside the region hit (watertight's holes, in a form that survives cutting the partition down)",
-    classifier="harness.signatures:classify_holes", cause_role="own", motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_holes", cause_role="own", motion_role="none", figures=(),
 ))

@@ -17,7 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, LineScene
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import LineScene
 from rasterizers.real._masks import coverage_from_fragments, segment_boxes
 
 __all__ = ["MesaLines", "LINE_FRAGMENT_LIST", "draw_lists", "RESTART"]

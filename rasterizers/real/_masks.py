@@ -9,7 +9,8 @@ from collections.abc import Callable, Iterator
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 
 __all__ = ["LIMIT", "draw_each", "draw_each_alpha", "draw_each_path", "draw_each_segment", "segment_boxes", "path_contours", "path_extents", "coverage_from_fragments",
            "coverage_from_sample_masks", "finite_within_limit"]
@@ -271,7 +272,7 @@ def draw_each_alpha(scene: Scene, name: str,
 
     Examples
     --------
-    >>> from harness.api import Scene
+    >>> from harness.contract.scenes import Scene
     >>> def half(p, w, h, origin):  # a "library" that gives every box pixel alpha 0.5
     ...     return np.full((h, w), 0.5)
     >>> cov = draw_each_alpha(Scene(4, 1, [[[1, 0], [2, 0], [1, 1]]]), "half", half, margin=0)

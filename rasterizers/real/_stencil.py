@@ -18,7 +18,8 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, PathScene
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import PathScene
 from rasterizers.real._masks import coverage_from_fragments, finite_within_limit, path_extents
 
 __all__ = ["StencilPaths", "fans", "fan_indices", "cover_boxes", "layers", "CHUNK", "TILE"]

@@ -9,10 +9,11 @@ from typing import Any, NoReturn
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, LineScene, PathScene, Scene, Unsupported
-from harness.conventions import Convention
-from harness.optional import missing
-from harness.registry import Unavailable
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene, Unsupported
+from harness.engine.optional import missing
+from harness.engine.registry import Unavailable
 from rasterizers.real._lines import MesaLines
 from rasterizers.real._masks import (
     coverage_from_sample_masks,
@@ -505,7 +506,7 @@ class SkiaAntialiased(_AlphaOneTriangleAtATime):
     across a pixel in 1/256 px steps, triangles inside the surface: 17 distinct alphas for
     a vertical edge (x on a 1/16 px grid), 5 for a horizontal one (4 sub-scanlines), 17 at
     30 degrees, for triangles of 4 to 256 px: a 16 x 4 supersampler, 64 samples, more than
-    a declared pattern may hold (:data:`harness.conventions.MAX_SAMPLES`). A path that
+    a declared pattern may hold (:data:`harness.contract.conventions.MAX_SAMPLES`). A path that
     leaves the surface on the right is drawn another way (256 distinct alphas for a
     vertical edge), and there shallow edges err by up to 0.08 and edges clipped at the
     left side by up to 0.31. On the quick suite's static cases the alphas are within 0.32
@@ -622,12 +623,12 @@ class _Mesa:
     number w: the cover passes where w != 0 (mod 256), or where w is odd. On edges: llvmpipe's
     triangle rule (identified exactly: top-left ties at pixel centres, vertices snapped to
     1/256 px, half to even) decides every triangle at one perturbed point q = p + (eps,
-    eps**2), eps -> 0+ (:mod:`harness.conventions`), and q lies on no line through two
+    eps**2), eps -> 0+ (:mod:`harness.contract.conventions`), and q lies on no line through two
     vertices, so the count at p is exactly the winding number at q. A sample on a
     diagonal shared by two fan triangles is thus counted once when they lie on opposite
     sides of it, and by both or neither (with opposite signs: they cancel) when they
     overlap; a sample on the path's own edge or vertex is decided at q, which is the
-    oracle's tie rule for paths (:mod:`harness.winding`); a fan triangle of zero area
+    oracle's tie rule for paths (:mod:`harness.oracle.winding`); a fan triangle of zero area
     after snapping is culled and holds no q. Facing comes from the snapped area (the
     window y flip reverses every facing, which negates all counts: neither rule cares).
     So llvmpipe's paths follow ``Convention(tie="top-left", subpixel_bits=8)`` exactly
@@ -643,7 +644,7 @@ class _Mesa:
     ``Convention(subpixel_bits=8)`` on 400 random path scenes (1-4 paths of 1-3 contours
     of 1-13 vertices, on 1/2, 1/4, 1/512 and 1 px lattices and in float, repeated and
     collinear vertices, both rules) and on the hand-made scenes of
-    ``tests/test_path_adapters.py``: 0 pixels differ. softpipe (the same passes, colour
+    ``tests/rasterizers/real/test_adapters_paths.py``: 0 pixels differ. softpipe (the same passes, colour
     read-back) fits centre samples, top-right ties, no snapping, as its triangles do:
     15 of 100 such scenes differ from it, by 21 px in all.
 
@@ -665,7 +666,7 @@ class _Mesa:
     trimmed to match, as a triangle (8-bit snapping, its triangles' tie rule). On float
     scenes that is the diamond-exit rule after snapping to 1/256 px
     (``Convention(subpixel_bits=8)``'s line rule): 0 of 2,096 (segment, pixel) pairs
-    differ on ``tests/test_line_adapters.py``'s float polylines, 11 of 15,275 on 1,500
+    differ on ``tests/rasterizers/real/test_adapters_lines.py``'s float polylines, 11 of 15,275 on 1,500
     random segments (lines within a rounding of a diamond corner). Where lines pass
     through diamond corners (lattice end points) the parallelogram's ties decide
     instead: a line through a column's bottom corner draws the lower pixel when it runs

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from harness.api import Coverage
+from harness.contract.coverage import Coverage
 
 
 def coverage_from_parts(tris: list, xs: list, ys: list) -> Coverage:  # type: ignore[type-arg]

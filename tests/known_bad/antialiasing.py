@@ -16,12 +16,13 @@ import math
 import numba
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.area import area_coverage
-from harness.area import edge_integral as _exact_integral  # the area oracle's exact edge integral (Green's theorem)
-from harness.conventions import Convention
-from harness.exact import frozen
-from harness.oracle import exact_coverage, sample_shares
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import frozen
+from harness.oracle.area import area_coverage
+from harness.oracle.area import edge_integral as _exact_integral  # the area oracle's exact edge integral (Green's theorem)
+from harness.oracle.coverage import exact_coverage, sample_shares
 from rasterizers._common import screen_triangles
 from rasterizers.area_scanline import _accumulate_piece, emit_row, first_capacity
 

@@ -1,4 +1,4 @@
-"""Hostile rasterizers for ``rastercheck bench`` (tests/test_bench_hostile.py): each fails
+"""Hostile rasterizers for ``rastercheck bench`` (tests/acceptance/test_bench_hostile.py): each fails
 its calls in one way -- a raise, a ``None`` answer, a segfault, ``os._exit(0)``, a hang,
 or a segfault only once it has answered -- and the bench must report it as that
 contender's row and go on with the others."""
@@ -10,7 +10,8 @@ import faulthandler
 import os
 import time
 
-from harness.api import Coverage, Scene
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
 from rasterizers.pineda_topleft import PinedaTopLeft
 from tests.known_bad.hostile import _Base  # a correct declaration, named after the class
 

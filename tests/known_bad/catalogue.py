@@ -2,7 +2,7 @@
 on one of them is ``rastercheck fuzz --rasterizer tests/known_bad/catalogue.py:<name>``
 (``bad_inclusive``, ``bad_rare_slope_tie``, ...; :data:`NAMES` lists them).
 
-tests/test_known_bad.py keeps its table's rasterizers in here (a test says so), so the
+tests/acceptance/test_known_bad.py keeps its table's rasterizers in here (a test says so), so the
 campaigns of the README's table and the known-bad tests are of the same rasterizers.
 """
 

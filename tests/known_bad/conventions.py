@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.conventions import Convention
-from harness.oracle import exact_coverage
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.oracle.coverage import exact_coverage
 from rasterizers.fixed_point import FixedPoint
 
 __all__ = ["YFirstClaimsXFirst", "HalfAwayClaimsNearestEven", "DropsHuge"]

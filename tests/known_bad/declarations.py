@@ -1,7 +1,7 @@
 """Known-bad declarations (issue 28, point 6): plugins whose convention, ``scene_kinds`` or
 ``fill_rules`` contradict each other or their answers. Each draws what the exact oracle
 says; only its declaration is wrong, and rastercheck must say so in one line
-(:mod:`harness.declarations`), not with an error on every case.
+(:mod:`harness.contract.declarations`), not with an error on every case.
 
 Refused when loaded (their declarations contradict each other):
 
@@ -23,9 +23,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from harness.api import AnyScene, Coverage, LineScene
-from harness.conventions import Convention, LineRule
-from harness.oracle import exact_coverage
+from harness.contract.conventions import Convention, LineRule
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene
+from harness.oracle.coverage import exact_coverage
 
 __all__ = ["LineRuleNoLines", "FillRulesNoPaths", "KindsAsString", "DiamondDrawerNoLines", "AreaWithoutAlphas",
            "SingleWithSampleIds", "MultisampleWithoutIds", "SingleWithAlphas", "LOAD_BADS", "ANSWER_BADS"]

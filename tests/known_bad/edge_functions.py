@@ -8,9 +8,10 @@ import math
 import numba
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.conventions import Convention, owns_edge
-from harness.exact import frozen
+from harness.contract.conventions import Convention, owns_edge
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import frozen
 
 __all__ = ["EdgeFunctionBug"]
 

@@ -1,14 +1,15 @@
 """Hostile plugins: answers and failures meant to exhaust or crash the harness.
 
 Each must end in a clear verdict or error naming it, within bounded time and memory,
-and the run must go on (tests/test_hostile.py).
+and the run must go on (tests/acceptance/test_hostile.py).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from harness.api import Coverage, Scene
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
 from rasterizers.pineda_topleft import PinedaTopLeft
 
 

@@ -4,7 +4,7 @@ huge answer, then as many bytes as it is told to, then ends its process.
 Unchecked, the parent would read the announced length and allocate (and fill) that much:
 a plugin could make the harness's own process take gigabytes, or fail with MemoryError
 and lose the run. The parent refuses a frame longer than the scene's answer could need
-(harness.isolation.answer_bytes_limit) before reading it (tests/test_isolation_wire.py).
+(harness.engine.isolation.answer_bytes_limit) before reading it (tests/engine/test_wire.py).
 """
 
 from __future__ import annotations
@@ -14,12 +14,13 @@ import struct
 import sys
 from typing import Any
 
-from harness.api import Coverage, Scene
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
 from rasterizers.pineda_topleft import PinedaTopLeft
 
 
 def _worker_pipe() -> Any:
-    """The connection the worker serves (``conn`` in :func:`harness.isolation._serve`, up
+    """The connection the worker serves (``conn`` in :func:`harness.engine.isolation._serve`, up
     the call stack): the one whose other end the parent reads."""
     frame = sys._getframe(1)
     while frame is not None:

@@ -3,8 +3,8 @@
 Each hands back an object whose ``__reduce__`` names :func:`detonate`: unpickled in the
 harness's process it writes that process's pid to a marker file and, when told to,
 ends the process with ``os._exit(0)`` -- a run that ends 0 and loses every other
-rasterizer's results. The worker sends answers as plain data (harness.wire), so none of
-this may ever run in the parent (tests/test_isolation_wire.py).
+rasterizer's results. The worker sends answers as plain data (harness.engine.wire), so none of
+this may ever run in the parent (tests/engine/test_wire.py).
 """
 
 from __future__ import annotations
@@ -14,8 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.registry import Unavailable
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.engine.registry import Unavailable
 from rasterizers.pineda_topleft import PinedaTopLeft
 
 
@@ -129,9 +130,9 @@ class SendsJunk(_Base):
     one that sends bytes that are no message."""
 
     def rasterize(self, scene: Scene) -> Coverage:
-        import harness.isolation
+        import harness.engine.isolation
 
-        harness.isolation.encode_outcome = lambda outcome: b"\x10\0\0\0\0\0\0\0not a header at all"
+        harness.engine.isolation.encode_outcome = lambda outcome: b"\x10\0\0\0\0\0\0\0not a header at all"
         return PinedaTopLeft().rasterize(scene)
 
 
@@ -142,12 +143,12 @@ class ClaimsTimedOut(_Base):
     def rasterize(self, scene: Scene) -> Coverage:
         import dataclasses
 
-        import harness.isolation
+        import harness.engine.isolation
 
-        encode = harness.isolation.__dict__.get("_true_encode", harness.isolation.encode_outcome)
-        harness.isolation._true_encode = encode  # type: ignore[attr-defined]
+        encode = harness.engine.isolation.__dict__.get("_true_encode", harness.engine.isolation.encode_outcome)
+        harness.engine.isolation._true_encode = encode  # type: ignore[attr-defined]
         flaws = {"repeated": np.arange(3)}
-        harness.isolation.encode_outcome = lambda outcome: encode(dataclasses.replace(outcome, timed_out=True, retried=1.0, flaws=flaws))
+        harness.engine.isolation.encode_outcome = lambda outcome: encode(dataclasses.replace(outcome, timed_out=True, retried=1.0, flaws=flaws))
         return PinedaTopLeft().rasterize(scene)
 
 

@@ -7,8 +7,9 @@ import math
 
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.conventions import Convention
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
 from rasterizers._scanline import scanline
 from tests.known_bad import coverage_from_spans
 
@@ -77,7 +78,7 @@ class Float32DDA:
     convention = Convention()
 
     def rasterize(self, scene: Scene) -> Coverage:
-        from harness.exact import orientation
+        from harness.geometry.exact import orientation
 
         sign = orientation(scene.positions)
         spans = []

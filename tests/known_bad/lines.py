@@ -1,8 +1,8 @@
 """Known-bad line drawers (issue 16): aliased lines with one classic bug each.
 
 Each takes line scenes only and declares the rule it claims to follow. Most are built on
-the exact oracle of that rule (:mod:`harness.lines`, through
-:func:`harness.oracle.exact_coverage`): they draw the rule's own major-axis cells -- one
+the exact oracle of that rule (:mod:`harness.oracle.lines`, through
+:func:`harness.oracle.coverage.exact_coverage`): they draw the rule's own major-axis cells -- one
 per column of an x-major segment, one per row of a y-major one -- and differ from it only
 through their bug, which decides the minor coordinate in each cell (or the cells, or the
 end points) another way. Test doubles: numpy per segment, not fast.
@@ -13,9 +13,10 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, LineScene, Unsupported
-from harness.conventions import Convention, LineRule
-from harness.oracle import exact_coverage
+from harness.contract.conventions import Convention, LineRule
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import LineScene, Unsupported
+from harness.oracle.coverage import exact_coverage
 from tests.textbook_lines import plot_lines
 
 __all__ = [

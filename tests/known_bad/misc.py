@@ -6,9 +6,10 @@ import time
 
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.conventions import Convention
-from harness.oracle import exact_coverage
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.oracle.coverage import exact_coverage
 from rasterizers.centre_scanline import CentreScanline
 from rasterizers.pineda_topleft import PinedaTopLeft
 from tests.known_bad import coverage_from_parts
@@ -72,7 +73,7 @@ class Int32FixedPoint:
     convention = Convention(subpixel_bits=8)
 
     def rasterize(self, scene: Scene) -> Coverage:
-        from harness.conventions import snap
+        from harness.contract.conventions import snap
 
         finite = np.all(np.isfinite(scene.positions), axis=(1, 2))
         small = finite & np.all(np.abs(scene.positions) < 2.0**22, axis=(1, 2))

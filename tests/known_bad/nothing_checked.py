@@ -1,6 +1,6 @@
 """Plugins that leave nothing to check (issue 30, point 3): each must make ``run``,
 ``identify``, ``compare`` or ``replay`` exit non-zero with one line naming it and why,
-never 0 with nothing checked (tests/test_exit_codes.py).
+never 0 with nothing checked (tests/acceptance/test_exit_codes.py).
 
 Refused when loaded (exit 2: their declarations leave no scene to hand them):
 
@@ -26,9 +26,10 @@ import os
 import signal
 import sys
 
-from harness.api import AnyScene, Coverage, Unsupported
-from harness.conventions import Convention
-from harness.oracle import exact_coverage
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, Unsupported
+from harness.oracle.coverage import exact_coverage
 
 __all__ = ["EmptyKinds", "BogusKinds", "KindsAsString", "KindsAsNumber", "BogusFillRules", "EmptyFillRules", "Impostor",
            "UnsupportedEverything", "LinesOnly", "CrashesAlways", "SegfaultsAlways", "ExitsAlways", "AreaDrawsSamples",

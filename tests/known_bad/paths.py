@@ -16,10 +16,11 @@ import math
 import numba
 import numpy as np
 
-from harness.api import AnyScene, Coverage, PathScene
-from harness.conventions import Convention
-from harness.exact import frozen
-from harness.kernel_sorts import stable_argsort
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, PathScene
+from harness.geometry.exact import frozen
+from harness.geometry.kernel_sorts import stable_argsort
 from rasterizers.trapezoid import _CACHE, crossing_column, outline
 
 __all__ = ["PathFillBug", "BUGS", "TwoFillers"]

@@ -10,7 +10,7 @@ of that exact slope *and* a pixel centre exactly on it.
 Over the fuzz families' triangles (:mod:`cases.fuzz`) that is about 1 triangle in 3400
 (34 of 114 661 triangles in the first 800 scenes of each triangle family, all but two in
 the ``lattice`` family); the quick suite's 5449 triangles hold none
-(tests/test_signatures.py proves that the quick suite passes it, and a campaign finds it).
+(tests/diagnose/test_signatures.py proves that the quick suite passes it, and a campaign finds it).
 """
 
 from __future__ import annotations
@@ -20,10 +20,11 @@ from fractions import Fraction
 
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.conventions import Convention
-from harness.exact import orientation
-from harness.oracle import exact_coverage
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import orientation
+from harness.oracle.coverage import exact_coverage
 
 __all__ = ["RareSlopeTie", "SLOPE", "flipped_samples"]
 

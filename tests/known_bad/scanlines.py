@@ -5,9 +5,10 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from harness.api import Coverage, Scene
-from harness.conventions import Convention
-from harness.exact import frozen, orientation
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.geometry.exact import frozen, orientation
 
 __all__ = ["ScanlineBug"]
 

@@ -9,7 +9,7 @@ with ``LineRasterUtil::doesLineSegmentExitDiamond``, and ``MultiSampleLineRaster
 with the default ``RasterizationState`` (counter-clockwise winding, ``FILL_LEFT``,
 ``FILL_BOTTOM``) and 8 subpixel bits, as dEQP's GLES and Vulkan tests drive it. The
 original, compiled from ``tests/peers/src/deqp``, decides every sample and pixel alike
-(:mod:`tests.test_peer_deqp`; long run: triangles 80,000 random scenes at 2x to 16x,
+(:mod:`tests.peers.test_deqp`; long run: triangles 80,000 random scenes at 2x to 16x,
 83,930,017 covered samples; aliased lines 20,000 scenes, 935,023 pixels; multisample lines
 20,000 scenes, 7,707,418 samples: 0 differing).
 
@@ -39,7 +39,7 @@ beyond 2**21 px (its int64 edge products overflow, its float-to-int64 conversion
 saturates) raises ValueError naming the triangle; a triangle with a non-finite coordinate
 (converted to an undefined int64 by the original) covers nothing.
 
-What identify and the quick suite find (:mod:`tests.test_peer_deqp`): the triangles'
+What identify and the quick suite find (:mod:`tests.peers.test_deqp`): the triangles'
 2x, 4x, 8x and 16x conventions are recovered exactly and pass (the float32 snapping
 beyond 32,768 px, which no quick-suite case reaches, fails conformance where a sample
 lies on an edge through such a vertex); the aliased lines part from
@@ -56,9 +56,10 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import AnyScene, Coverage, LineScene, Scene, Unsupported
-from harness.conventions import Convention
-from harness.exact import frozen
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene, Scene, Unsupported
+from harness.geometry.exact import frozen
 from rasterizers._common import check_range
 
 __all__ = ["SAMPLE_POINTS", "SUBPIXEL_BITS", "DeqpMultisample", "DeqpLines", "DeqpMultisampleLines", "line_quads", "exits_diamond", "to_subpixel", "sample_offsets"]
@@ -427,7 +428,7 @@ class DeqpLines:
 
     Examples
     --------
-    >>> from harness.api import LineScene
+    >>> from harness.contract.scenes import LineScene
     >>> DeqpLines().rasterize(LineScene.from_strips(4, 2, [[[0.5, 0.5], [3.5, 0.5]]])).counts(4, 2).tolist()
     [[1, 1, 1, 0], [0, 0, 0, 0]]
     """

@@ -35,14 +35,14 @@ overflows) changes no pixel: each band renders the same lines and keeps the cell
 and the clamped column carries the cover of everything left of it; so the port renders one
 band, the whole bitmap. Conic and cubic arcs, the direct-span sweep and the pool are not
 ported (a polygon draws no arc; the direct sweep writes the same values, checked against the
-original in ``tests/test_peer_freetype.py``).
+original in ``tests/peers/test_freetype.py``).
 
 The caller's part: vertices to 26.6 fixed point by rounding to nearest, ties to even
 (``np.rint(64 x)``, exact in float64), FreeType's input grid; our y grows downwards and is
 passed unchanged (the bitmap's pitch negative, so that its row y is FreeType's row y).
 
 Checked against the original (``tests/peers/src/freetype``, built standalone with and
-without ``FT_INT64``; ``tests/test_peer_freetype.py``), ``RASTERCHECK_PEER_SCENES=12000``
+without ``FT_INT64``; ``tests/peers/test_freetype.py``), ``RASTERCHECK_PEER_SCENES=12000``
 random triangles (ordinary, tiny, huge to 2**20 px, partly outside, lattice and degenerate
 ones, each in both windings; 300 by default): with ``FT_INT64``, 0 differing alphas of
 36,378,010 (both fill rules, both sweeps; huge ones in one), and of 40,995,822 in an
@@ -57,8 +57,9 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene
-from harness.conventions import Convention
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
 from rasterizers.real._masks import finite_within_limit
 
 __all__ = ["FreetypeSmooth", "LINE_WALKS", "to_26_6", "render_outline"]

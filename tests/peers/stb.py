@@ -12,8 +12,8 @@ and the brute-force clipped cases) and ``stbtt__handle_clipped_edge``. Every ope
 done in float32, in the C source's order, so that every rounding is the original's; C's
 ``(int)`` of a float is x86-64's (``cvttss2si``: truncation, and -2**31 for NaN or out
 of range, which ``(unsigned char)`` then stores as 0). The original is compiled from
-``tests/peers/src/stb`` and the port equals it (``tests/test_peer_stb.py``): measured,
-100,000 random triangles (:func:`tests.test_peer_stb.random_draws`: edges above and left
+``tests/peers/src/stb`` and the port equals it (``tests/peers/test_stb.py``): measured,
+100,000 random triangles (:func:`tests.peers.test_stb.random_draws`: edges above and left
 of the bitmap, tall, tiny, slivers, far-off vertices; 2,720,261,330 alphas) and every
 triangle scene of the quick suite, motion frames included, in both bitmap placements
 (4,706 scenes, 8,774,682 nonzero alphas), 0 differing alphas.
@@ -25,8 +25,9 @@ import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.api import Coverage, Scene
-from harness.conventions import Convention
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
 from rasterizers.real._masks import finite_within_limit
 from rasterizers.real.adapters import _AlphaOneTriangleAtATime
 
@@ -375,7 +376,7 @@ class StbTruetype(_AlphaOneTriangleAtATime):
     x's distance from ``off_x`` (random 1,024-px triangles: 1.6 levels), which the
     accuracy check names ``drift`` where it shows.
 
-    Its bugs, found by the quick suite (``tests/test_peer_stb.py``), the original's too:
+    Its bugs, found by the quick suite (``tests/peers/test_stb.py``), the original's too:
     row 0 of a bitmap starting at row 0 (``off_y`` == 0, so stb's ``if (j == 0 && off_y
     != 0)`` clamp of an edge's end is skipped) takes the signed height of any edge ending
     above it whose line crosses the row inside the bitmap -- the row is raised to 255 (or

@@ -1,4 +1,4 @@
-"""Checked by mypy in tests/test_typing.py: every built-in (and the known-bad ones) is
+"""Checked by mypy in tests/acceptance/test_typing.py: every built-in (and the known-bad ones) is
 assignable to the Rasterizer protocol."""
 
 from harness import Rasterizer

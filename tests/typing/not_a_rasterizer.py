@@ -1,4 +1,4 @@
-"""Checked by mypy in tests/test_typing.py: this must be rejected."""
+"""Checked by mypy in tests/acceptance/test_typing.py: this must be rejected."""
 
 from harness import Rasterizer
 

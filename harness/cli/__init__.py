@@ -1,0 +1,1 @@
+"""The ``rastercheck`` command line: one module per job, with ``main`` the entry point."""

@@ -1,0 +1,705 @@
+"""What "correct" means: screen space, sample points, tie rules, snapping and culling.
+
+This module states the definitions of a convention once; everything else in
+rastercheck (the oracle, the reference rasterizers, the checks) applies them.
+
+Screen space
+    x grows right, y grows down, units are pixels, row 0 is the top row. Pixel (i, j)
+    -- column i, row j -- is the unit square [i, i+1) x [j, j+1). Images are numpy
+    arrays indexed ``[y, x]`` with shape ``(height, width)``.
+
+Signed area
+    ``A = (x1-x0)*(y2-y0) - (y1-y0)*(x2-x0)``. With y down, A > 0 means the vertices run
+    clockwise as seen on screen. Both windings draw the same unless culling asks otherwise;
+    a triangle whose (snapped) area is exactly zero covers nothing, always.
+
+Edge function
+    For the edge from a to b, ``E_ab(p) = (bx-ax)*(py-ay) - (by-ay)*(px-ax)``. For a
+    triangle with A > 0 the interior is where all three of E_01, E_12, E_20 are positive.
+
+A convention is sample point + tie rule + snapping (+ culling)
+    1. Sample point ``(sx, sy)``: pixel (i, j) is covered when the point (i+sx, j+sy) is
+       inside the triangle. GL, D3D10+ and Vulkan use the centre (0.5, 0.5).
+    2. Tie rule: who owns a sample lying exactly on an edge or vertex, defined once for
+       every rule by symbolic perturbation: such a sample p is decided at p + d(eps),
+       eps -> 0+, with ``d = (sx*eps, sy*eps**2)`` for the *x-first* rules and
+       ``d = (sx*eps**2, sy*eps)`` for the *y-first* ones, sx, sy in {+1, -1} (y down).
+       E is linear, so ``E(p + d) = E(p) + dE/dx*d_x + dE/dy*d_y``: a sample exactly on
+       edge a-b (``E(p) = 0``; dE/dx = -(by-ay), dE/dy = bx-ax) is inside that edge when
+       ``sign(dE/dx * sx) > 0`` if dE/dx != 0, else ``sign(dE/dy * sy) > 0`` (x-first; swap
+       the roles of x and y for y-first). Each edge owns or does not own its samples, and
+       a sample on a vertex is inside only if it passes every edge test -- the perturbed
+       point's own test.
+
+       =====================  ========  ===================================================
+       rule                   d         owns the samples of
+       =====================  ========  ===================================================
+       ``top-left``           (+, +)    left edges (not horizontal, interior to the right)
+                                        and top edges (horizontal, interior below): D3D10+
+       ``top-right``          (-, +)    right edges and top edges
+       ``bottom-left``        (+, -)    left edges and bottom edges
+       ``bottom-right``       (-, -)    right edges and bottom edges (the floor scanline)
+       ``top-left-y-first``   (+, +)    top edges (not vertical, interior below) and left
+                                        edges (vertical, interior to the right)
+       ``top-right-y-first``  (-, +)    top edges and right (vertical) edges
+       ``bottom-left-y-first`` (+, -)   bottom edges (not vertical, interior above) and
+                                        left (vertical) edges
+       ``bottom-right-y-first`` (-, -)  bottom edges and right (vertical) edges
+       =====================  ========  ===================================================
+
+       x-first and y-first rules differ only on slanted edges: on horizontal and vertical
+       ones both ask the same question.
+
+       *Exactly once.* Two triangles sharing an edge lie on opposite sides of it, so their
+       edge functions are exact negatives and the perturbed sign is positive for exactly
+       one of them. More generally, for any planar partition the perturbed point p + d(eps)
+       lies on no edge line for small eps > 0 (the lowest-order term of E(p + d) is
+       nonzero, since an edge's gradient is not zero), so it is interior to exactly one
+       piece: no crack and no double hit, at edges and at vertices where any number of
+       triangles meet.
+
+       *Who uses which.* D3D10+ mandates top-left (y down); GL and Vulkan require only
+       that a shared edge's samples be produced once, and drivers pick a rule in their own
+       framebuffer orientation (llvmpipe: top-left with window row y taken as row y, as
+       rastercheck's Mesa adapter does). piglit's ``triangle-rasterization`` test names
+       eight conventions by which of its eight sub-pixel triangles around a pixel centre
+       (GL window coordinates, y up) is drawn: ``top_left``, ``top_right``,
+       ``bottom_left``, ``bottom_right`` are the x-first rules and ``left_top``,
+       ``right_top``, ``left_bottom``, ``right_bottom`` the y-first ones (the vertical
+       edges' owner first, then the others'). Read in GL's orientation (the image shown
+       with its origin at the bottom), each piglit name ``A_B`` is the rule of the same
+       sides: ``left_top`` is ``top-left-y-first``, ``top_right`` is ``top-right``. With
+       window y taken as rastercheck's y unflipped (row y = window row y), top and bottom
+       trade places: ``top_left`` is ``bottom-left``, ``left_top`` is
+       ``bottom-left-y-first`` (:data:`PIGLIT_NAMES`). piglit's own reference rasterizer
+       (``rast_triangle``) biases the y-first four the other way round -- its
+       ``left_bottom`` bias draws what its probe calls ``right_top`` and so on -- which
+       never shows on drivers that use an x-first rule.
+    3. Snapping ``subpixel_bits = n``: every coordinate c becomes ``round(c * 2**n) / 2**n``
+       before anything else, rounding half to even (``nearest-even``: D3D, GL drivers),
+       half away from zero (``half-away``: ``(int64)(v * 2**n +/- 0.5)``, dEQP's reference
+       renderer and piglit's reference rasterizer) or down (``floor``: truncating
+       fixed-point conversion, skia). ``None``: no snapping, decisions are exact on the
+       float64 input.
+    4. Culling ``none | cw | ccw``: ``cw`` removes triangles with snapped A > 0 (clockwise
+       on screen), ``ccw`` those with A < 0.
+
+A convention's coverage is one of three kinds (:attr:`Convention.kind`), each a coverage
+model (:attr:`Convention.model`, :mod:`harness.contract.coverage_models`: area coverage with a
+sample pattern is the supersampled area model)
+    ``single``
+        One sample per pixel at ``sample``: a fragment is a (triangle, pixel).
+    ``multisample``
+        ``samples`` is a pattern (:func:`harness.contract.samples.pattern`: D3D11/Vulkan standard
+        counts 1, 2, 4, 8, 16, or any dyadic offsets): sample s of pixel (i, j) is the point
+        (i + sx_s, j + sy_s), and each sample obeys the tie rule, snapping and culling on its
+        own, exactly as a single-sample convention at that offset
+        (:meth:`Convention.at_sample`). A fragment is a (triangle, sample, pixel).
+    ``area``
+        Anti-aliased: each (triangle, pixel) gets an alpha, the area of the (snapped)
+        triangle inside the pixel square [i, i+1] x [j, j+1], quantised to ``levels``
+        levels (alpha a multiple of 1/(levels - 1)) and within ``tolerance`` of the exact
+        area. Ties and the sample point mean nothing here: an edge has no area.
+        With ``samples`` too, the alpha is *supersampled*: the share of the pattern's
+        samples the triangle covers (a box-filter resolve: each sample under the tie rule,
+        snapping and culling), which is what a supersampling anti-aliaser computes and is
+        judged against exactly; its distance from the true area is an artifact the checks
+        measure (popping), not a broken promise.
+
+Lines (line scenes) are drawn by the convention's :class:`LineRule`
+    ``diamond-exit`` (D3D11; the last pixel omitted or drawn), ``diamond-exit-gl`` (GL's
+    perturbed end points), ``bresenham`` (seed 003's
+    integer algorithm, end points to pixels by a declared rounding, walked from the first
+    end point or, as textbooks' ``plotLine``, from the one with smaller x or smaller major
+    coordinate) or ``rectangle``
+    (Vulkan: the samples inside a w-wide rectangle around the segment, under the sample
+    point and tie rule above), each after snapping; defined in :mod:`harness.oracle.lines`. Under
+    a multisample convention lines are rectangles sampled at every sample of the pattern
+    (GL 14.5.4 "Line Multisample Rasterization", dEQP): ``line=LineRule("rectangle")``.
+
+Every decision is exact: the sign of an edge function is the sign of the exact real
+number (floats are dyadic rationals). No epsilon appears in any coverage decision.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Any, Literal, cast
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+# the coverage models, their kinds and sample limits (re-exported: defined beside them)
+from harness.contract.coverage_models import (
+    COVERAGE_KINDS,
+    DECLARED_COVERAGES,
+    MAX_AREA_SAMPLES,
+    MAX_SAMPLES,
+    CoverageKind,
+    CoverageModel,
+    model_for,
+)
+
+__all__ = [
+    "TIE_RULES",
+    "FILL_RULES",
+    "FillRule",
+    "TieRule",
+    "CullMode",
+    "SnapRounding",
+    "TIE_PERTURBATION",
+    "PIGLIT_NAMES",
+    "SNAP_ROUNDINGS",
+    "CULL_MODES",
+    "MAX_SUBPIXEL_BITS",
+    "SAMPLE_FRACTION_BITS",
+    "MAX_SAMPLES",
+    "MAX_AREA_SAMPLES",
+    "COVERAGE_KINDS",
+    "CoverageKind",
+    "Convention",
+    "snap",
+    "owns_edge",
+    "LineRule",
+    "LineRuleName",
+    "LINE_RULES",
+    "DIAMOND_RULES",
+    "BRESENHAM_ROUNDINGS",
+    "BRESENHAM_TIES",
+    "BresenhamRounding",
+    "BresenhamTies",
+    "LINE_DIRECTIONS",
+    "LineDirection",
+    "WIDE_LINES",
+    "WideLines",
+]
+
+TieRule = Literal[
+    "top-left", "top-right", "bottom-left", "bottom-right",
+    "top-left-y-first", "top-right-y-first", "bottom-left-y-first", "bottom-right-y-first",
+]
+CullMode = Literal["none", "cw", "ccw"]
+LineRuleName = Literal["diamond-exit", "diamond-exit-gl", "bresenham", "rectangle"]
+LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl", "bresenham", "rectangle")
+# The diamond rules: D3D11's test areas, and GL's open diamonds with perturbed end points.
+DIAMOND_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl")
+BresenhamRounding = Literal["nearest-even", "half-away", "floor", "toward-zero"]
+BresenhamTies = Literal["step", "stay"]
+BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor", "toward-zero")
+BRESENHAM_TIES: tuple[BresenhamTies, ...] = ("step", "stay")
+# Where a Bresenham walk starts: at the first end point as given, or (textbook plotLine)
+# at the end point with the smaller x, or with the smaller major-axis coordinate.
+LineDirection = Literal["as-given", "smaller-x", "smaller-major"]
+LINE_DIRECTIONS: tuple[LineDirection, ...] = ("as-given", "smaller-x", "smaller-major")
+# How a diamond rule draws lines wider than 1: not at all, or (GL's wide lines) by
+# replicating each fragment along the minor axis, integer widths.
+WideLines = Literal["none", "replicate"]
+WIDE_LINES: tuple[WideLines, ...] = ("none", "replicate")
+SnapRounding = Literal["nearest-even", "half-away", "floor"]
+
+# rule -> (sx, sy, y_first): the sample is decided as if moved by (sx*eps, sy*eps**2), or
+# by (sx*eps**2, sy*eps) when y_first (y down, eps -> 0+).
+TIE_PERTURBATION: dict[str, tuple[int, int, bool]] = {
+    "top-left": (1, 1, False),
+    "top-right": (-1, 1, False),
+    "bottom-left": (1, -1, False),
+    "bottom-right": (-1, -1, False),
+    "top-left-y-first": (1, 1, True),
+    "top-right-y-first": (-1, 1, True),
+    "bottom-left-y-first": (1, -1, True),
+    "bottom-right-y-first": (-1, -1, True),
+}
+TIE_RULES: tuple[TieRule, ...] = cast("tuple[TieRule, ...]", tuple(TIE_PERTURBATION))
+
+# The fill rules of paths (harness.oracle.winding): a sample is inside a path when its winding
+# number is nonzero, or odd.
+FillRule = Literal["nonzero", "evenodd"]
+FILL_RULES: tuple[FillRule, ...] = ("nonzero", "evenodd")
+# piglit's eight filling conventions (GL window coordinates, y up) -> rastercheck's rule
+# for that driver, with window y taken as rastercheck's y (row y = window row y).
+PIGLIT_NAMES: dict[str, str] = {
+    "top_left": "bottom-left", "top_right": "bottom-right",
+    "bottom_left": "top-left", "bottom_right": "top-right",
+    "left_top": "bottom-left-y-first", "right_top": "bottom-right-y-first",
+    "left_bottom": "top-left-y-first", "right_bottom": "top-right-y-first",
+}
+CULL_MODES: tuple[CullMode, ...] = ("none", "cw", "ccw")
+SNAP_ROUNDINGS: tuple[SnapRounding, ...] = ("nearest-even", "half-away", "floor")
+MAX_SUBPIXEL_BITS = 16
+# A sample offset must be a multiple of 2**-32 so that i + sx is exact for every pixel
+# column i of any viewport up to 2**20 pixels wide.
+SAMPLE_FRACTION_BITS = 32
+# At or above 2**52 every float64 is an integer, so snapping leaves it alone; below it,
+# c * 2**16 < 2**68 cannot overflow and the product is exact (a power-of-two scale).
+_SNAP_IDENTITY_ABOVE = 2.0**52
+
+
+@dataclass(frozen=True, slots=True)
+class LineRule:
+    """How a convention draws aliased lines (line scenes, :class:`harness.contract.scenes.LineScene`);
+    the definitions and their sources are in :mod:`harness.oracle.lines`.
+
+    Parameters
+    ----------
+    rule : {"diamond-exit", "diamond-exit-gl", "bresenham", "rectangle"}
+        ``diamond-exit``: a pixel is drawn when the segment leaves its diamond test area
+        (D3D11 3.4.3: lower edges and bottom corner in, y-major lines also the right
+        corner); width 1. ``diamond-exit-gl``: GL's (OpenGL 4.6 14.5.1): the segment with
+        both end points moved by -(eps, eps**2) meets the open diamond and its end point
+        does not lie in it (right edges and right corner in, window y taken as rows);
+        width 1. ``bresenham``: seed 003's integer
+        algorithm between the end points' pixels; width 1. ``rectangle``: the samples
+        inside the ``line_width``-wide rectangle around the segment, under the
+        convention's sample point and tie rule (Vulkan's rectangular lines); under a
+        multisample convention, at each sample of its pattern (GL's multisample lines,
+        the only rule defined there).
+    last_pixel : bool or None
+        diamond-exit and bresenham: also draw the pixel the segment ends in (a polyline's
+        shared vertices are then drawn twice). None: the rule's own (diamond-exit omits
+        it, seed 003's Bresenham draws both end points). Not used by ``rectangle``.
+    rounding : {"nearest-even", "half-away", "floor", "toward-zero"}
+        bresenham: how an end point picks its pixel (the pixel whose centre is nearest,
+        halves to even or away from zero; ``floor``; or ``toward-zero``, C's ``(int)`` cast,
+        as softpipe and Pillow do: pixel 0 for -1 < x < 1).
+    ties : {"step", "stay"}
+        bresenham: the minor coordinate on a tie of the decision variable (of the walk,
+        once ``direction`` has chosen where it starts).
+    direction : {"as-given", "smaller-x", "smaller-major"}
+        bresenham: where the walk starts. ``as-given``: at the segment's first end point
+        (seed 003, softpipe, Pillow). ``smaller-x``: at the end point whose pixel has the
+        smaller x (the given order when equal), as textbooks' ``plotLine`` that swap the end
+        points to always walk towards +x. ``smaller-major``: at the end point whose pixel
+        has the smaller major-axis coordinate (x for x-major segments, y for y-major ones),
+        as Wikipedia's ``plotLineLow``/``plotLineHigh`` and tinyrenderer's ``line`` do.
+        Then the walk's ties are ``ties`` and its last pixel (the end it walks to, not
+        necessarily the given one) is drawn when ``last_pixel``: a normalising drawer
+        draws a segment and its reverse alike (but for the omitted end of one whose end
+        pixels share their x, walked from the smaller x: it keeps its given order).
+    wide : {"none", "replicate"}
+        The diamond rules: ``none`` draws width 1 only (a wider scene is undefined);
+        ``replicate`` draws an integer width w as GL's wide lines do (OpenGL 4.6, 14.5.2
+        "Other Line Segment Features", wide lines): the segment moved by -(w - 1)/2 along
+        its minor axis is drawn by the width-1 rule, and each fragment becomes w along the
+        minor axis, the width-1 one first (rows y .. y + w - 1 of an x-major segment,
+        columns x .. x + w - 1 of a y-major one, window y taken as rows).
+
+    The convention's snapping (``subpixel_bits``, ``snap_rounding``) applies to line end
+    points first, as to triangle vertices.
+
+    Examples
+    --------
+    >>> LineRule()
+    LineRule(rule='diamond-exit', last_pixel=False, rounding='nearest-even', ties='step', direction='as-given', wide='none')
+    >>> LineRule("bresenham", rounding="floor").describe()
+    'Bresenham lines, end points to pixels by floor, ties step, last pixel drawn'
+    >>> LineRule("bresenham", ties="stay", direction="smaller-x").describe()
+    'Bresenham lines walked from the end point with smaller x, end points to pixels by nearest-even, ties stay, last pixel drawn'
+    """
+
+    rule: LineRuleName = "diamond-exit"
+    last_pixel: bool | None = None
+    rounding: BresenhamRounding = "nearest-even"
+    ties: BresenhamTies = "step"
+    direction: LineDirection = "as-given"
+    wide: WideLines = "none"
+
+    def __post_init__(self) -> None:
+        if self.rule not in LINE_RULES:
+            raise ValueError(f"LineRule.rule must be one of {', '.join(LINE_RULES)}, not {self.rule!r}")
+        if self.last_pixel is None:
+            object.__setattr__(self, "last_pixel", self.rule == "bresenham")
+        if not isinstance(self.last_pixel, (bool, np.bool_)):
+            raise ValueError(f"LineRule.last_pixel must be True, False or None, not {self.last_pixel!r}")
+        object.__setattr__(self, "last_pixel", bool(self.last_pixel))
+        if self.rounding not in BRESENHAM_ROUNDINGS:
+            raise ValueError(f"LineRule.rounding must be one of {', '.join(BRESENHAM_ROUNDINGS)}, not {self.rounding!r}")
+        if self.ties not in BRESENHAM_TIES:
+            raise ValueError(f"LineRule.ties must be one of {', '.join(BRESENHAM_TIES)}, not {self.ties!r}")
+        if self.direction not in LINE_DIRECTIONS:
+            raise ValueError(f"LineRule.direction must be one of {', '.join(LINE_DIRECTIONS)}, not {self.direction!r}")
+        if self.direction != "as-given" and self.rule != "bresenham":
+            raise ValueError(f"LineRule.direction {self.direction!r} is a Bresenham option; {self.rule} lines are drawn "
+                             "as given (use rule='bresenham', or leave direction='as-given')")
+        if self.wide not in WIDE_LINES:
+            raise ValueError(f"LineRule.wide must be one of {', '.join(WIDE_LINES)}, not {self.wide!r}")
+        if self.wide != "none" and not self.diamond:
+            raise ValueError(f"LineRule.wide {self.wide!r} is a diamond-exit option; {self.rule} lines "
+                             + ("have their own width" if self.rule == "rectangle" else "are 1 px wide"))
+
+    def undefined_width(self, line_width: float) -> str:
+        """Why the rule draws no lines ``line_width`` wide ("" when it does): rectangles take
+        any width, replicated diamond lines an integer one, the others width 1 only."""
+        if self.rule == "rectangle" or line_width == 1.0:
+            return ""
+        if self.wide == "replicate":
+            if line_width == math.floor(line_width) and 1.0 <= line_width <= 2.0**20:
+                return ""
+            return (f"{self.describe()} have integer widths, not {line_width:g}: the rule does not define it "
+                    "(GL rounds the width first: round it in the scene)")
+        return f"{self.describe()} have width 1, not {line_width:g}: the rule does not define wider lines"
+
+    @property
+    def diamond(self) -> bool:
+        """A diamond-exit rule (D3D's or GL's)."""
+        return self.rule in DIAMOND_RULES
+
+    @property
+    def gl(self) -> bool:
+        """GL's diamond-exit rule (end points perturbed by -(eps, eps**2))."""
+        return self.rule == "diamond-exit-gl"
+
+    @property
+    def walk(self) -> str:
+        """Where the walk starts, for people ("" when as given)."""
+        return {"as-given": "", "smaller-x": "walked from the end point with smaller x",
+                "smaller-major": "walked from the end point with smaller major coordinate"}[self.direction]
+
+    def describe(self) -> str:
+        """One line for people."""
+        if self.rule == "rectangle":
+            return "rectangular lines"
+        last = "last pixel drawn" if self.last_pixel else "last pixel omitted"
+        wide = ", wide lines by replication along the minor axis" if self.wide == "replicate" else ""
+        if self.rule == "diamond-exit":
+            return f"diamond-exit lines, {last}{wide}"
+        if self.rule == "diamond-exit-gl":
+            return f"GL diamond-exit lines (end points moved by -(eps, eps^2)), {last}{wide}"
+        walk = f" {self.walk}" if self.walk else ""
+        if walk and not self.last_pixel:
+            last += " (the end walked to)"
+        return f"Bresenham lines{walk}, end points to pixels by {self.rounding}, ties {self.ties}, {last}"
+
+
+@dataclass(frozen=True, slots=True, repr=False)
+class Convention:
+    """A fill convention: sample point, tie rule, vertex snapping and culling.
+
+    Parameters
+    ----------
+    sample : (float, float)
+        Offset of the sample point inside each pixel, each in [0, 1] and a multiple of
+        2**-32. (0.5, 0.5) is the centre; (1, 1) is the floor scanline's bottom-right corner.
+    tie : str
+        Which edges own the samples lying exactly on them: one of :data:`TIE_RULES`,
+        ``top-left``, ``top-right``, ``bottom-left``, ``bottom-right`` (x first) and the
+        same four with ``-y-first``.
+    subpixel_bits : int or None
+        Snap vertices to multiples of 2**-n, 0 <= n <= 16, or None.
+    cull : {"none", "cw", "ccw"}
+        Remove triangles running clockwise (A > 0) or counter-clockwise on screen.
+    snap_rounding : {"nearest-even", "half-away", "floor"}
+        How snapping rounds: to nearest, ties to even (D3D, GL drivers), to nearest, ties
+        away from zero (dEQP's and piglit's reference rasterizers), or down (truncating
+        fixed-point conversion, as skia's ``int(x * 64)``).
+    samples : int, sequence of (x, y) or None
+        A multisample pattern (:func:`harness.contract.samples.pattern`): a standard count (1, 2,
+        4, 8, 16) or up to :data:`MAX_SAMPLES` dyadic offsets in [0, 1)^2 (up to
+        :data:`MAX_AREA_SAMPLES` for supersampled area coverage); stored as the offsets. Each sample then follows ``tie``, snapping and culling at its own offset,
+        and ``sample`` is not used. None: one sample, at ``sample``.
+    coverage : {"sample", "area"}
+        ``area``: anti-aliased coverage, an alpha per pixel equal to the area of the
+        triangle inside the pixel (or, with ``samples``, the share of the samples it
+        covers), quantised and within ``tolerance`` (``sample`` is not used, nor ``tie``
+        without ``samples``).
+    levels : int
+        Area coverage only: alphas are multiples of 1/(levels - 1) (256: 8-bit alpha).
+    tolerance : float or None
+        Area coverage only: the largest |alpha - exact area| the rasterizer promises at any
+        pixel; None means half a level (the exact area rounded to the nearest level).
+
+    Examples
+    --------
+    >>> Convention()
+    Convention(sample=(0.5, 0.5), tie='top-left', subpixel_bits=None, cull='none')
+    >>> Convention(sample=(1, 1), tie="bottom-right").describe()
+    'sample (1, 1), bottom-right ties, no snapping, no culling'
+    >>> Convention(samples=4).describe()
+    'D3D11 4x, top-left ties, no snapping, no culling'
+    >>> Convention(coverage="area", samples=[((i + 0.5) / 4, (j + 0.5) / 4) for j in range(4) for i in range(4)], levels=17).describe()
+    'area coverage, 17 levels, within 0.0312 of the share of the samples covered (4x4 grid at (1/8 + k/4)), top-left ties, no snapping, no culling'
+    >>> Convention(coverage="area", subpixel_bits=8).describe()
+    'area coverage, 256 levels, within 0.00196 of the exact area, snapped to 1/256 px (8 bits), no culling'
+    >>> Convention(tie="top-middle")
+    Traceback (most recent call last):
+    ...
+    ValueError: Convention.tie must be one of top-left, top-right, bottom-left, bottom-right, top-left-y-first, top-right-y-first, bottom-left-y-first, bottom-right-y-first, not 'top-middle'
+    """
+
+    sample: tuple[float, float] = (0.5, 0.5)
+    tie: TieRule = "top-left"
+    subpixel_bits: int | None = None
+    cull: CullMode = "none"
+    snap_rounding: SnapRounding = "nearest-even"
+    # given as a count or offsets (harness.contract.samples.pattern), kept as a tuple of (x, y) offsets
+    samples: Any = None
+    coverage: Literal["sample", "area"] = "sample"
+    levels: int = 256
+    tolerance: float | None = None
+    # line scenes only (a LineRule, or its rule's name)
+    line: Any = LineRule()
+
+    def __repr__(self) -> str:
+        extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
+        if self.samples is not None:
+            extra += f", samples={self.samples!r}"
+        if self.coverage != "sample":
+            extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
+        if self.line != LineRule():
+            extra += f", line={self.line!r}"
+        return (f"Convention(sample={self.sample!r}, tie={self.tie!r}, subpixel_bits={self.subpixel_bits!r}, "
+                f"cull={self.cull!r}{extra})")
+
+    @property
+    def model(self) -> CoverageModel:
+        """Its coverage model (:mod:`harness.contract.coverage_models`), the one object the engine
+        asks about its coverage: chosen from ``coverage`` and ``samples`` alone, by
+        :func:`~harness.contract.coverage_models.model_for` (derived, not stored: a convention
+        pickles, compares and hashes as its declaration).
+
+        >>> Convention().model, Convention(coverage="area").model
+        (CoverageModel('single'), CoverageModel('area'))
+        """
+        return model_for(self.coverage, self.samples is not None)
+
+    @property
+    def kind(self) -> CoverageKind:
+        """``single``, ``multisample`` or ``area`` (see the module docstring): its
+        model's kind (:attr:`model`).
+
+        >>> Convention().kind, Convention(samples=4).kind, Convention(coverage="area", samples=4).kind
+        ('single', 'multisample', 'area')
+        >>> Convention(coverage="area", samples=4).model
+        CoverageModel('supersampled area')
+        """
+        return self.model.kind
+
+    @property
+    def n_samples(self) -> int:
+        """Samples per pixel: the pattern's length, else 1."""
+        return 1 if self.samples is None else len(self.samples)
+
+    def at_sample(self, index: int) -> Convention:
+        """The single-sample convention that sample ``index`` of the pattern obeys: this
+        one with ``sample`` moved to that offset (the same ties, snapping and culling).
+
+        >>> Convention(samples=4).at_sample(1)
+        Convention(sample=(0.875, 0.375), tie='top-left', subpixel_bits=None, cull='none')
+        """
+        if self.samples is None:
+            if index != 0:
+                raise IndexError(f"a single-sample convention has sample 0 only, not {index}")
+            return self
+        offsets: tuple[tuple[float, float], ...] = self.samples
+        return replace(self, sample=offsets[index], samples=None, coverage="sample", levels=256, tolerance=None)
+
+    @property
+    def level_step(self) -> float:
+        """Area coverage: the alpha quantum 1/(levels - 1)."""
+        return 1.0 / (self.levels - 1)
+
+    @property
+    def alpha_tolerance(self) -> float:
+        """Area coverage: the promised bound on |alpha - exact area| (half a level when
+        none is declared)."""
+        return 0.5 * self.level_step if self.tolerance is None else float(self.tolerance)
+
+    def snap(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The positions as this convention sees them: snapped (see :func:`snap`)."""
+        return snap(positions, self.subpixel_bits, self.snap_rounding)
+
+    def __post_init__(self) -> None:
+        try:
+            sx, sy = (float(v) for v in self.sample)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"Convention.sample must be a pair of numbers, not {self.sample!r}"
+            ) from None
+        for name, value in (("x", sx), ("y", sy)):
+            if not (0.0 <= value <= 1.0) or not math.isfinite(value):
+                raise ValueError(f"Convention.sample {name} must lie in [0, 1], not {value!r}")
+            if (value * 2.0**SAMPLE_FRACTION_BITS) % 1.0 != 0.0:
+                raise ValueError(
+                    f"Convention.sample {name} must be a multiple of 2**-{SAMPLE_FRACTION_BITS}, "
+                    f"not {value!r}"
+                )
+        object.__setattr__(self, "sample", (sx, sy))
+        if self.tie not in TIE_RULES:
+            raise ValueError(
+                f"Convention.tie must be one of {', '.join(TIE_RULES)}, not {self.tie!r}"
+            )
+        bits = self.subpixel_bits
+        if bits is not None and (
+            isinstance(bits, bool)
+            or not isinstance(bits, (int, np.integer))
+            or not 0 <= bits <= MAX_SUBPIXEL_BITS
+        ):
+            raise ValueError(
+                f"Convention.subpixel_bits must be None or an integer in 0..{MAX_SUBPIXEL_BITS}, "
+                f"not {bits!r}"
+            )
+        if bits is not None:
+            object.__setattr__(self, "subpixel_bits", int(bits))
+        if self.snap_rounding not in SNAP_ROUNDINGS:
+            raise ValueError(
+                f"Convention.snap_rounding must be one of {', '.join(SNAP_ROUNDINGS)}, not {self.snap_rounding!r}"
+            )
+        if self.cull not in CULL_MODES:
+            raise ValueError(
+                f"Convention.cull must be one of {', '.join(CULL_MODES)}, not {self.cull!r}"
+            )
+        if self.samples is not None:
+            from harness.contract.samples import pattern
+
+            offsets = pattern(self.samples)
+            patterned = model_for(self.coverage, True)
+            limit = patterned.max_samples
+            if len(offsets) > limit:
+                raise ValueError(f"Convention.samples has {len(offsets)} samples; at most {limit} are supported"
+                                 + ("" if patterned.alphas else f" ({MAX_AREA_SAMPLES} for supersampled area coverage)"))
+            object.__setattr__(self, "samples", offsets)
+        line = LineRule(cast(LineRuleName, self.line)) if isinstance(self.line, str) else self.line
+        if not isinstance(line, LineRule):
+            raise ValueError(f"Convention.line must be a LineRule or one of {', '.join(LINE_RULES)}, not {self.line!r}")
+        object.__setattr__(self, "line", line)
+        if self.coverage not in DECLARED_COVERAGES:
+            raise ValueError(f"Convention.coverage must be 'sample' or 'area', not {self.coverage!r}")
+        levels = self.levels
+        if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
+            raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
+        object.__setattr__(self, "levels", int(levels))
+        if self.tolerance is not None:
+            try:
+                tol = float(self.tolerance)
+            except (TypeError, ValueError):
+                raise ValueError(f"Convention.tolerance must be a number or None, not {self.tolerance!r}") from None
+            if not 0.0 <= tol <= 1.0:
+                raise ValueError(f"Convention.tolerance must lie in [0, 1], not {self.tolerance!r}")
+            object.__setattr__(self, "tolerance", tol)
+
+    @property
+    def tie_perturbation(self) -> tuple[int, int, bool]:
+        """(sx, sy, y_first): a sample on an edge is decided as if moved by
+        (sx*eps, sy*eps**2), or (sx*eps**2, sy*eps) when y_first."""
+        return TIE_PERTURBATION[self.tie]
+
+    def describe_lines(self) -> str:
+        """One line for people on how this convention draws lines: the line rule, with the
+        sample point and ties for rectangular lines, and snapping.
+
+        >>> Convention(subpixel_bits=8).describe_lines()
+        'diamond-exit lines, last pixel omitted, snapped to 1/256 px (8 bits)'
+        >>> Convention(line="rectangle").describe_lines()
+        'rectangular lines, sample (0.5, 0.5), top-left ties, no snapping'
+        >>> Convention(samples=4, line="rectangle").describe_lines()
+        'rectangular lines, at D3D11 4x, top-left ties, no snapping'
+        """
+        parts = [self.line.describe()]
+        if self.line.rule == "rectangle" and self.samples is not None:
+            parts.append(f"at {self._pattern_words()}, {self._tie_words()}")
+        elif self.line.rule == "rectangle":
+            sx, sy = (f"{v:g}" for v in self.sample)
+            parts.append(f"sample ({sx}, {sy}), {self._tie_words()}")
+        parts.append(self._snapping_words())
+        return ", ".join(parts)
+
+    def _pattern_words(self) -> str:
+        """The sample pattern for people, in a few words (``D3D11 4x``, ``4x4 grid at (1/8 +
+        k/4)``: :func:`harness.contract.samples.describe_pattern`), never the offsets one by one (the
+        JSON keeps them)."""
+        from harness.contract.samples import describe_pattern
+
+        return describe_pattern(self.samples)
+
+    def _tie_words(self) -> str:
+        return self.tie.removesuffix("-y-first") + " ties" + (" (y first)" if self.tie.endswith("-y-first") else "")
+
+    def _snapping_words(self) -> str:
+        if self.subpixel_bits is None:
+            return "no snapping"
+        return (f"snapped to 1/{2**self.subpixel_bits} px ({self.subpixel_bits} bits"
+                + {"nearest-even": ")", "half-away": ", half away from zero)", "floor": ", rounding down)"}[self.snap_rounding])
+
+    def describe(self) -> str:
+        """One line for people: sample point, ties, snapping, culling; a sample pattern in a
+        few words (:func:`harness.contract.samples.describe_pattern`)."""
+        sx, sy = (f"{v:g}" for v in self.sample)
+        snapping = self._snapping_words()
+        culling = "no culling" if self.cull == "none" else f"culls {self.cull}"
+        tie = self._tie_words()
+        where = self._pattern_words() if self.samples is not None else ""
+        if self.model.alphas:
+            what = "the exact area" if self.samples is None else f"the share of the samples covered ({where}), {tie}"
+            return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
+        if self.samples is not None:
+            return f"{where}, {tie}, {snapping}, {culling}"
+        return f"sample ({sx}, {sy}), {tie}, {snapping}, {culling}"
+
+
+def snap(positions: NDArray[np.float64], subpixel_bits: int | None, rounding: str = "nearest-even") -> NDArray[np.float64]:
+    """Snap coordinates to multiples of ``2**-subpixel_bits``, rounding to nearest with
+    ties to even (``"nearest-even"``), to nearest with ties away from zero
+    (``"half-away"``), or down (``"floor"``).
+
+    Exact for every float64: scaling by a power of two is exact, ``np.rint`` rounds half
+    to even, ``np.floor`` and ``np.trunc`` are exact, so is a float's fractional part
+    ``v - trunc(v)``, and values of magnitude 2**52 or more (already integers) are left
+    alone. Non-finite values pass through unchanged.
+
+    Parameters
+    ----------
+    positions : (..., 2) float64
+    subpixel_bits : int or None
+    rounding : {"nearest-even", "half-away", "floor"}
+
+    Returns
+    -------
+    (..., 2) float64
+
+    Examples
+    --------
+    >>> snap(np.array([0.125, 0.375, 1.0 / 3.0, -0.375]), 2)
+    array([ 0.  ,  0.5 ,  0.25, -0.5 ])
+    >>> snap(np.array([0.125, 0.375, -0.125, -0.375]), 2, "half-away")
+    array([ 0.25,  0.5 , -0.25, -0.5 ])
+    >>> snap(np.array([0.125, 0.375, -0.125, -0.375]), 2, "floor")
+    array([ 0.  ,  0.25, -0.25, -0.5 ])
+    """
+    positions = np.asarray(positions, dtype=np.float64)
+    if subpixel_bits is None:
+        return positions
+    if rounding not in SNAP_ROUNDINGS:
+        raise ValueError(f"snap rounding must be one of {', '.join(SNAP_ROUNDINGS)}, not {rounding!r}")
+    scale = 2.0**subpixel_bits
+    with np.errstate(invalid="ignore"):
+        small = np.abs(positions) < _SNAP_IDENTITY_ABOVE
+    snapped = positions.copy()
+    scaled = positions[small] * scale
+    if rounding == "floor":
+        rounded = np.floor(scaled)
+    elif rounding == "half-away":
+        # (int64)(v + 0.5) for v >= 0 and (int64)(v - 0.5) below, without the float sum's
+        # rounding: truncate, then step away from zero when the dropped part is >= 1/2.
+        whole = np.trunc(scaled)
+        rounded = whole + np.sign(scaled) * (np.abs(scaled - whole) >= 0.5)
+    else:
+        rounded = np.rint(scaled)
+    snapped[small] = rounded / scale
+    return snapped
+
+
+@numba.njit(cache=True, inline="always")
+def owns_edge(ax, ay, bx, by, tie_x, tie_y, y_first):  # type: ignore[no-untyped-def]
+    """Whether the edge a -> b of a triangle oriented with its interior where
+    ``E_ab > 0`` owns the samples lying exactly on it, under the tie rule with
+    perturbation ``(tie_x, tie_y, y_first)`` (:data:`TIE_PERTURBATION`).
+
+    dE/dx = -(by - ay) and dE/dy = bx - ax; the sign of the first nonzero term of
+    E(p + d) decides. Comparisons, not differences: nothing overflows.
+    """
+    if y_first and ax != bx:
+        return (bx > ax) == (tie_y > 0)  # sign(dE/dy * sy)
+    if not y_first and ay == by:
+        return (bx > ax) == (tie_y > 0)  # horizontal: dE/dx = 0, sign(dE/dy * sy)
+    return (by < ay) == (tie_x > 0)  # sign(dE/dx * sx)

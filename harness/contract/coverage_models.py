@@ -1,0 +1,201 @@
+"""The coverage models: what one sample per pixel, a multisample pattern and anti-aliased
+area coverage each mean to the engine, one object each.
+
+A convention's declaration (its ``coverage`` and whether it has ``samples``) chooses its
+model in one place, :func:`model_for`, behind :attr:`Convention.model
+<harness.contract.conventions.Convention.model>`; the engine then asks the model, never compares
+its name:
+
+==============  ===========  ===========================================================
+model           ``kind``     what a (triangle, pixel) gets
+==============  ===========  ===========================================================
+``single``      single       covered or not, at the convention's one sample point
+``multisample`` multisample  each sample of the pattern covered or not (a sample id each)
+``area``        area         an alpha, the exact area inside the pixel
+``supersampled  area         an alpha, the share of the pattern's samples covered (a
+area``                       box-filter resolve)
+==============  ===========  ===========================================================
+
+``kind`` is the coverage kind of :attr:`Convention.kind
+<harness.contract.conventions.Convention.kind>`, the word JSON, reports, the command line and
+:attr:`harness.checks.Check.kinds` use: supersampled area coverage is area coverage to
+them (its answers have the same form and the same checks judge it); it is a model of its
+own only where it differs (its oracle, and that it is defined for paths).
+
+Each model owns what differs per model: its triangle oracle (:meth:`CoverageModel.
+exact_triangles`), the form of its answers (sample ids, alphas, attributes), whether a
+check written for one sample judges it sample by sample (``layered``), whether paths and
+lines have an oracle under it, the checks that judge it (:meth:`CoverageModel.applies`;
+identify's verdict checks) and the words messages use. A new coverage model is one more
+object in :data:`COVERAGE_MODELS` (and its oracle).
+
+This module sits beside :mod:`harness.contract.conventions`, below everything that computes: it
+imports no other module of the harness. The oracles sit above the conventions they
+apply, so a model names its oracle (``"harness.oracle.coverage:exact_multisample"``) and resolves
+the name when first asked, as :mod:`harness` resolves its lazily imported names.
+
+>>> [m.name for m in COVERAGE_MODELS.values()]
+['single', 'multisample', 'area', 'supersampled area']
+>>> model_named("multisample").sample_ids, model_named("area").alphas
+(True, True)
+>>> model_named("conservative")
+Traceback (most recent call last):
+...
+ValueError: no coverage model is named 'conservative': single, multisample, area, supersampled area
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, Literal
+
+__all__ = ["CoverageModel", "CoverageKind", "COVERAGE_KINDS", "COVERAGE_MODELS", "DECLARED_COVERAGES", "SINGLE",
+           "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named", "model_for"]
+
+CoverageKind = Literal["single", "multisample", "area"]
+# what Convention.coverage may say: point samples (one, or a pattern's) or area
+DECLARED_COVERAGES: tuple[str, ...] = ("sample", "area")
+# The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
+# 64 with no standard locations; 32 keeps a garbage answer's span budget bounded).
+MAX_SAMPLES = 32
+# ... and a supersampled area convention (alpha = share of its samples) up to 16 x 16:
+# its answer is one alpha per pixel, however many samples stand behind it.
+MAX_AREA_SAMPLES = 256
+
+
+@dataclass(frozen=True, eq=False)
+class CoverageModel:
+    """One coverage model: a few facts the engine asks instead of comparing names.
+
+    Compared by identity (one object per model, kept one across processes: a pickled
+    model is unpickled as the same object).
+
+    Parameters
+    ----------
+    name : str
+        Its key in :data:`COVERAGE_MODELS`.
+    kind : {"single", "multisample", "area"}
+        The coverage kind it is (:attr:`Convention.kind
+        <harness.contract.conventions.Convention.kind>`, :attr:`harness.checks.Check.kinds`).
+    triangle_oracle : str
+        ``"module:function"``, its exact oracle of a triangle scene under a convention
+        of this model (:meth:`exact_triangles`).
+    declared : str
+        How a message says a convention declares it (``{n}``: the samples per pixel).
+    seen : str
+        How a message says what an answer of it carries.
+    single_sample : bool
+        One sample per pixel, at the convention's ``sample``: a fragment is a (triangle,
+        pixel) covered or not.
+    sample_ids : bool
+        Its answers carry a sample id per span (and no alphas).
+    alphas : bool
+        Its answers carry an alpha per pixel (and no sample ids).
+    layered : bool
+        A check written for one sample judges its answers sample by sample, each
+        sample's layer as a single-sample answer (:meth:`harness.checks.Subject.layer`).
+    interpolates : bool
+        Its oracle interpolates the scene's attributes at each covered sample (area
+        coverage has no sample to interpolate at).
+    paths : bool
+        The exact coverage of path scenes is defined under it.
+    lines : bool
+        The exact coverage of line scenes is defined under it.
+    max_samples : int
+        The most samples per pixel its convention's pattern may hold (0: it has none).
+    verdict_checks : tuple of str
+        The checks that judge a declared convention of it before identify calls the
+        declaration confirmed or consistent (:data:`harness.identify.fingerprint.VERDICT_CHECKS`).
+    """
+
+    name: str
+    kind: CoverageKind
+    triangle_oracle: str
+    declared: str
+    seen: str
+    single_sample: bool = False
+    sample_ids: bool = False
+    alphas: bool = False
+    layered: bool = False
+    interpolates: bool = False
+    paths: bool = True
+    lines: bool = False
+    max_samples: int = 0
+    verdict_checks: tuple[str, ...] = ()
+
+    def __repr__(self) -> str:
+        return f"CoverageModel({self.name!r})"
+
+    def __reduce__(self) -> tuple[Callable[[str], CoverageModel], tuple[str]]:
+        return model_named, (self.name,)
+
+    def applies(self, check: Any) -> bool:
+        """Whether ``check`` (a :class:`harness.checks.Check`) judges answers of this
+        model: its ``kinds`` name this model's kind."""
+        return self.kind in check.kinds
+
+    def declared_as(self, convention: Any) -> str:
+        """How a message says ``convention`` (of this model) declares it: ``one sample per
+        pixel``, ``a multisample pattern of 4 samples``, ``area coverage``."""
+        return self.declared.format(n=convention.n_samples)
+
+    def exact_triangles(self, scene: Any, convention: Any) -> Any:
+        """The exact coverage (a :class:`harness.contract.coverage.Coverage`) of the triangle scene
+        ``scene`` under ``convention``, a convention of this model: what
+        :func:`harness.oracle.coverage.exact_coverage` gives for triangles (uncached)."""
+        return _resolved(self.triangle_oracle)(scene, convention)
+
+
+@functools.cache
+def _resolved(spec: str) -> Callable[[Any, Any], Any]:
+    """The function ``"module:function"`` names (imported when first asked)."""
+    module, _, function = spec.partition(":")
+    found: Callable[[Any, Any], Any] = getattr(importlib.import_module(module), function)
+    return found
+
+
+SINGLE = CoverageModel(
+    "single", "single", "harness.oracle.coverage:exact_single", declared="one sample per pixel", seen="one sample per pixel",
+    single_sample=True, interpolates=True, lines=True, max_samples=1, verdict_checks=("conformance",))
+MULTISAMPLE = CoverageModel(
+    "multisample", "multisample", "harness.oracle.coverage:exact_multisample", declared="a multisample pattern of {n} samples",
+    seen="samples per pixel", sample_ids=True, layered=True, interpolates=True, lines=True, max_samples=MAX_SAMPLES,
+    verdict_checks=("conformance",))  # judged sample by sample
+AREA = CoverageModel(
+    "area", "area", "harness.oracle.area:area_coverage", declared="area coverage",
+    seen="an alpha per pixel and triangle (anti-aliased)", alphas=True, paths=False,
+    verdict_checks=("accuracy", "seams", "popping"))
+SUPERSAMPLED_AREA = CoverageModel(
+    "supersampled area", "area", "harness.oracle.coverage:sample_shares", declared="area coverage",
+    seen="an alpha per pixel and triangle (anti-aliased)", alphas=True, max_samples=MAX_AREA_SAMPLES,
+    verdict_checks=("accuracy", "seams", "popping"))
+
+COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA)}
+# the coverage kinds, in the models' order
+COVERAGE_KINDS: tuple[CoverageKind, ...] = tuple(dict.fromkeys(m.kind for m in COVERAGE_MODELS.values()))
+
+
+def model_named(name: str) -> CoverageModel:
+    """The model called ``name`` (a coverage kind names the model of that kind without a
+    pattern: ``area`` is analytic area); a ValueError naming the models otherwise."""
+    model = COVERAGE_MODELS.get(name)
+    if model is None:
+        raise ValueError(f"no coverage model is named {name!r}: {', '.join(COVERAGE_MODELS)}")
+    return model
+
+
+def model_for(coverage: str, pattern: bool) -> CoverageModel:
+    """The model a convention declaring ``coverage`` (``sample`` or ``area``:
+    :data:`DECLARED_COVERAGES`) chooses, with a sample pattern or without: the one place
+    a declaration becomes a model (any coverage but ``area`` is taken as ``sample``;
+    :class:`~harness.contract.conventions.Convention` refuses the others).
+
+    >>> model_for("sample", False), model_for("sample", True), model_for("area", False), model_for("area", True)
+    (CoverageModel('single'), CoverageModel('multisample'), CoverageModel('area'), CoverageModel('supersampled area'))
+    """
+    if coverage == "area":
+        return SUPERSAMPLED_AREA if pattern else AREA
+    return MULTISAMPLE if pattern else SINGLE

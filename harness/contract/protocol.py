@@ -1,0 +1,123 @@
+"""The contract every rasterizer implements: Scene in, Coverage out.
+
+A rasterizer is any object with ``name``, ``convention`` and ``rasterize(scene)`` (see
+:class:`Rasterizer`); there is no base class to inherit. The optional members are read
+only through the ``*_of`` functions here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, Protocol, runtime_checkable
+
+from harness.contract.conventions import FILL_RULES, Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
+
+
+@runtime_checkable
+class Rasterizer(Protocol):
+    """Anything that turns a Scene into a Coverage.
+
+    Attributes
+    ----------
+    name : str
+        Short identifier, shown in reports.
+    convention : Convention or None
+        The fill convention it claims to follow; None when it declares none.
+
+    Optional members, read only through :func:`interpolates_of`, :func:`received_of` and
+    :func:`fingerprint_of` (a plugin that lacks them is still a Rasterizer):
+
+    interpolates : bool
+        False for a coverage-only rasterizer (True when absent): its hygiene check then
+        accepts missing attribute rows, and the texel and perspective checks are skipped
+        with that reason instead of failing.
+    received : callable, ``received(scene) -> Scene``
+        The scene as the library really receives it (e.g. positions rounded to float32 at
+        the GL API): a failure that passes on it is blamed on the input format.
+    fingerprint : harness.identify.fingerprint.Fingerprint
+        Set by rastercheck on a rasterizer that declares no convention: what identify
+        found, so that verdicts against a best guess say so.
+    scene_kinds : tuple of str
+        The scene kinds it takes, of :data:`SCENE_KINDS` (``("triangles",)`` when absent):
+        one listing ``"paths"`` is handed :class:`PathScene` too, and fills each path in
+        one go under the scene's fill rule; one listing ``"lines"`` is handed
+        :class:`LineScene` and draws each segment by its convention's ``line`` rule
+        (:class:`harness.contract.conventions.LineRule`). Read by :func:`scene_kinds_of`.
+    fill_rules : tuple of str
+        The fill rules a path-taking rasterizer honours (both when absent): it is handed
+        only path scenes of these rules. Read by :func:`fill_rules_of`.
+    path_convention : Convention
+        The convention its path fills follow when not ``convention`` (set by identify on a
+        black box whose paths and triangles differ). Read by :func:`convention_for`.
+    line_convention : Convention
+        The convention its lines follow when not ``convention`` (set by identify on a
+        black box whose lines are snapped otherwise than its triangles, or drawn as
+        rectangles at another sample point or tie rule). Read by :func:`convention_for`.
+    """
+
+    # Read-only members: a plain class attribute or instance attribute of a narrower
+    # type (say ``convention = Convention()``) satisfies them.
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def convention(self) -> Convention | None: ...
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        """Cover the scene's triangles; attributes interpolated when the scene has them."""
+        ...
+
+
+def scene_kinds_of(rasterizer: Rasterizer) -> tuple[str, ...]:
+    """The scene kinds a rasterizer takes (``scene_kinds``; triangles only when absent)."""
+    kinds = getattr(rasterizer, "scene_kinds", None)
+    return ("triangles",) if kinds is None else tuple(str(k) for k in kinds)
+
+
+def convention_for(rasterizer: Rasterizer, scene: AnyScene) -> Convention | None:
+    """The convention a rasterizer's answer on ``scene`` is judged by: its
+    ``path_convention`` for a path scene when it has one (a black box whose path fills
+    identify found to follow another convention than its triangles), its
+    ``line_convention`` for a line scene when it has one (likewise for lines), else its
+    ``convention``."""
+    if isinstance(scene, PathScene):
+        path = getattr(rasterizer, "path_convention", None)
+        if isinstance(path, Convention):
+            return path
+    if isinstance(scene, LineScene):
+        line = getattr(rasterizer, "line_convention", None)
+        if isinstance(line, Convention):
+            return line
+    return rasterizer.convention
+
+
+def fill_rules_of(rasterizer: Rasterizer) -> tuple[str, ...]:
+    """The fill rules a path-taking rasterizer honours (``fill_rules``; both when absent)."""
+    rules = getattr(rasterizer, "fill_rules", None)
+    return tuple(FILL_RULES) if rules is None else tuple(str(r) for r in rules)
+
+
+def takes(rasterizer: Rasterizer, scene: AnyScene) -> bool:
+    """Whether the rasterizer is handed ``scene``: a kind it takes (and, for paths, a fill
+    rule it honours). The runner gives each rasterizer only such scenes."""
+    if scene.kind not in scene_kinds_of(rasterizer):
+        return False
+    return not isinstance(scene, PathScene) or scene.fill_rule in fill_rules_of(rasterizer)
+
+
+def interpolates_of(rasterizer: Rasterizer) -> bool:
+    """Whether the rasterizer interpolates attributes (``interpolates``, True when absent)."""
+    return bool(getattr(rasterizer, "interpolates", True))
+
+
+def received_of(rasterizer: Rasterizer) -> Callable[[Scene], Scene] | None:
+    """The rasterizer's ``received(scene) -> Scene``, or None when it has none."""
+    received = getattr(rasterizer, "received", None)
+    return received if callable(received) else None
+
+
+def fingerprint_of(rasterizer: Rasterizer) -> Any:
+    """What identify found for a rasterizer that declared no convention, or None."""
+    return getattr(rasterizer, "fingerprint", None)

@@ -1,0 +1,1074 @@
+"""identify's probes: small experiments on a black-box rasterizer, each giving one typed fact.
+
+A probe calls the rasterizer only through a :data:`~harness.engine.isolation.Call` (a scene in,
+an :class:`~harness.engine.isolation.Outcome` out: in this process, or in a worker process with
+a time limit) and returns a frozen record of what it measured; the record's ``text`` is
+the line the convention card prints. An outcome with an error -- the rasterizer raised,
+returned something that is not a coverage, timed out or died -- is something the probe
+saw and reports, never an exception of the probe's own. A garbage answer (spans of 10**8
+pixels, far off-screen, naming triangles the scene lacks) is used tidied
+(:meth:`harness.contract.coverage.Coverage.tidy`, see :class:`Drawn`), so that it costs time and memory
+in proportion to its spans, not to the pixels it claims.
+
+:func:`fit_ties` is the one fitting engine of sample point and tie rule: ``identify``
+and ``compare`` both explain a rasterizer with it, so they cannot disagree.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+from fractions import Fraction
+from functools import cached_property
+from typing import Any, Literal, Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cases.partitions import partition_cases
+from cases.scenes import lattice_triangles, random_triangles
+from harness.checks import FragmentCounter, Result, deviations, watertight
+from harness.contract.case import Case, MotionCase
+from harness.contract.conventions import MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Convention, CullMode, SnapRounding
+from harness.contract.coverage import Coverage
+from harness.contract.coverage_models import SINGLE
+from harness.contract.scenes import AnyScene, Scene
+from harness.diagnose.repro import grown_screen
+from harness.engine.isolation import Call, Outcome, describe
+from harness.geometry.exact import orientation
+from harness.geometry.keys import unique
+from harness.oracle.coverage import exact_coverage
+
+__all__ = [
+    "SAMPLES", "CANDIDATES", "SNAP_BITS", "RAW_PIXELS", "Fact", "Drawn", "draw",
+    "Culling", "SampleSweep", "VertexSweep", "TieFit", "RoundingFit", "SnapFit", "ResidualLies", "ViewportEdge",
+    "Epsilon", "ZeroArea", "NonFinite", "Watertight", "Defect", "Unanswered",
+    "culling", "sample_sweep", "vertex_sweep", "fit_ties", "fit_snapping", "residual_lies", "viewport_edge", "epsilon",
+    "zero_area", "non_finite", "watertight_partitions", "unanswered", "suite_defects", "ZERO_AREA_CASE", "NON_FINITE_CASES", "EPSILON_CASE",
+]
+
+# The nine usual sample points: the centre, the four corners and the four edge midpoints.
+SAMPLES: tuple[tuple[float, float], ...] = (
+    (0.5, 0.5), (0.0, 0.0), (1.0, 1.0), (0.0, 1.0), (1.0, 0.0), (0.5, 0.0), (0.0, 0.5), (0.5, 1.0), (1.0, 0.5))
+CANDIDATES = tuple(Convention(sample=s, tie=t) for s in SAMPLES for t in TIE_RULES)
+SNAP_BITS = (None, 2, 3, 4, 5, 6, 7, 8, 9, 10, 12, 14, 16)
+
+
+class Fact(Protocol):
+    """What a probe found; ``text`` is its line on the convention card."""
+
+    @property
+    def text(self) -> str: ...
+
+
+# An answer is seen as it came -- off-screen, out-of-reach and repeated pixels included,
+# as the hygiene check sees it -- when expanding it into pixels costs at most this many
+# (24 MB); a larger one, or one naming triangles the scene lacks, is seen tidied.
+RAW_PIXELS = 2**20
+
+
+def _claimed(coverage: Coverage) -> float:
+    """The pixels a coverage claims, in float64 (a garbage span's length may overflow an int64)."""
+    return float(np.maximum(coverage.x1.astype(np.float64) - coverage.x0.astype(np.float64), 0.0).sum())
+
+
+@dataclass(frozen=True)
+class Drawn:
+    """A scene and the rasterizer's answer to it.
+
+    The probes see the answer as it came when that is affordable (:data:`RAW_PIXELS`), else
+    tidied (:meth:`harness.contract.coverage.Coverage.tidy`) with the pixels the tidying dropped --
+    off-screen, beyond a triangle's reach, or emitted twice -- counted (``dropped``):
+    against any oracle they are extra, so the mismatches are the same either way. An
+    unanswered scene (an error, a crash, a timeout) says nothing of the convention: it has
+    no pixels and no mismatches, and is left out of every fit and residual.
+    """
+
+    scene: Scene
+    outcome: Outcome
+
+    @cached_property
+    def coverage(self) -> Coverage | None:
+        """The coverage the probes use, or None when the call gave an error."""
+        raw, kept = self.outcome.received, self.outcome.coverage
+        if raw is None or kept is None:
+            return kept
+        flaws = self.outcome.flaws or {}
+        if _claimed(raw) <= RAW_PIXELS and not len(flaws.get("bad_primitive_id", ())):
+            return raw
+        return kept
+
+    @property
+    def error(self) -> BaseException | None:
+        return self.outcome.error if self.outcome.coverage is None else None
+
+    @cached_property
+    def dropped(self) -> int:
+        """Pixels of the answer as it came that :attr:`coverage` lacks."""
+        raw, seen = self.outcome.received, self.coverage
+        if raw is None or seen is None or seen is raw:
+            return 0
+        return max(0, int(_claimed(raw)) - seen.n_pixels)
+
+    @property
+    def pixels(self) -> int:
+        """The pixels the rasterizer claimed (0 when unanswered)."""
+        return 0 if self.coverage is None else self.coverage.n_pixels + self.dropped
+
+    @cached_property
+    def _counter(self) -> FragmentCounter:
+        # the fragments are sorted once, then merged with each candidate's oracle
+        return FragmentCounter(self.coverage or Coverage.empty(), self.scene.width, self.scene.height)
+
+    @cached_property
+    def _scores(self) -> dict[Convention, int]:
+        return {}
+
+    @cached_property
+    def _still(self) -> dict[tuple[int, str], bool]:
+        return {}
+
+    def _seen_as(self, convention: Convention) -> Convention:
+        """``convention``, without its snapping when that moves no vertex of the scene (then
+        the oracle is the same: identify's candidates differing only there share one)."""
+        bits, rounding = convention.subpixel_bits, convention.snap_rounding
+        if bits is None:
+            return convention
+        if (bits, rounding) not in self._still:
+            positions = self.scene.positions
+            self._still[bits, rounding] = bool(np.array_equal(convention.snap(positions), positions, equal_nan=True))
+        return replace(convention, subpixel_bits=None, snap_rounding="nearest-even") if self._still[bits, rounding] else convention
+
+    def mismatches(self, convention: Convention) -> int:
+        """Missing plus extra pixels against the exact oracle of ``convention`` (0 when
+        unanswered: no answer is not an answer of nothing)."""
+        if self.coverage is None:
+            return 0
+        seen = self._seen_as(convention)
+        if seen not in self._scores:
+            self._scores[seen] = self._counter.mismatches(exact_coverage(self.scene, seen)) + self.dropped
+        return self._scores[seen]
+
+
+def draw(call: Call, scene: Scene) -> Drawn:
+    """``scene`` and the rasterizer's answer to it."""
+    return Drawn(scene, call(scene))
+
+
+def send(call: Call, scene: AnyScene) -> Outcome:
+    """``call`` on a scene of any kind (a path-taking rasterizer's call takes path scenes)."""
+    return call(scene)  # type: ignore[arg-type]
+
+
+def _fit_score(drawn: list[Drawn], convention: Convention) -> int:
+    """Mismatches on the answered scenes: an unanswered one says nothing of the convention,
+    so it never steers a fit (nor counts in a residual)."""
+    return sum(d.mismatches(convention) for d in drawn if d.coverage is not None)
+
+
+def _fraction_bits(value: float) -> int:
+    """The number of binary fraction digits of a float: 0 for an integer, 3 for 0.375.
+
+    >>> _fraction_bits(0.375), _fraction_bits(2.0)
+    (3, 0)
+    """
+    return max(0, value.as_integer_ratio()[1].bit_length() - 1)
+
+
+# --- culling ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class Culling:
+    """Which windings a large clockwise and counter-clockwise triangle draw.
+
+    ``seen`` is ``none`` (both drawn), ``cw`` or ``ccw`` (that one culled), ``both`` (neither
+    drawn), or None when the rasterizer gave an error (``error``).
+    """
+
+    seen: Literal["none", "cw", "ccw", "both"] | None
+    error: str = ""
+
+    @property
+    def cull(self) -> CullMode:
+        """The culling the fit assumes (none unless exactly one winding is culled)."""
+        return "cw" if self.seen == "cw" else "ccw" if self.seen == "ccw" else "none"
+
+    @property
+    def text(self) -> str:
+        if self.seen is None:
+            return f"not measured: the rasterizer raised {self.error}"[:120]
+        return {"none": "draws both windings", "cw": "culls clockwise", "ccw": "culls counter-clockwise",
+                "both": "draws neither winding"}[self.seen]
+
+
+def culling(call: Call) -> Culling:
+    """One large clockwise and one counter-clockwise triangle: which are drawn."""
+    cw = np.array([[[4.25, 4.5], [40.5, 6.25], [8.75, 40.5]]])
+    drawn = draw(call, Scene(48, 48, np.concatenate([cw, cw[:, ::-1] + np.array([2.0, 0.0])])))
+    cov = drawn.coverage
+    if cov is None:
+        return Culling(None, describe(drawn.error))
+    which = set(cov.triangle[cov.x1 > cov.x0].tolist())
+    return Culling("none" if which == {0, 1} else "cw" if which == {1} else "ccw" if which == {0} else "both")
+
+
+# --- the sample point, measured directly -------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class SampleSweep:
+    """Where an edge swept across a pixel flips it: the sample point, up to the snapping
+    grid; None when the pixel never flips (the rasterizer raised, or draws nothing there)."""
+
+    offset: tuple[float, float] | None
+    resolution: int = 20
+
+    @property
+    def text(self) -> str:
+        if self.offset is None:
+            return "no flip found (the pixel never changed)"
+        return (f"an edge swept across a pixel flips it at offset ({self.offset[0]:.6g}, {self.offset[1]:.6g}) "
+                f"(bisected to 2^-{self.resolution} px; snapping moves it by up to one grid step)")
+
+
+def sample_sweep(call: Call, resolution: int = 20) -> SampleSweep:
+    """Sweep a vertical edge, then a horizontal one, across pixel (8, 30) / (30, 8) and find
+    by bisection (to 2**-resolution px) the offset inside the pixel where its coverage
+    flips: the sample point, measured directly, even off the nine usual ones."""
+    found = []
+    for axis in (0, 1):
+        def covered(t: float, axis: int = axis) -> bool | None:
+            edge = 8.0 + t
+            tri = [[edge, 2.0], [edge, 60.0], [40.0, 31.0]] if axis == 0 else [[2.0, edge], [60.0, edge], [31.0, 40.0]]
+            got = draw(call, Scene(64, 64, np.array([tri]))).coverage
+            if got is None:
+                return None
+            _, x, y = got.pixels()
+            px, py = (8, 30) if axis == 0 else (30, 8)
+            return bool(np.any((x == px) & (y == py)))
+
+        lo, hi = -0.5, 1.5  # the pixel is inside at lo (edge left of it), outside at hi
+        if covered(lo) is not True or covered(hi) is not False:
+            return SampleSweep(None, resolution)
+        while hi - lo > 2.0**-resolution:
+            mid = (lo + hi) / 2.0
+            answer = covered(mid)
+            if answer is None:
+                return SampleSweep(None, resolution)
+            lo, hi = (mid, hi) if answer else (lo, mid)
+        found.append(lo if _fraction_bits(lo) <= _fraction_bits(hi) else hi)
+    return SampleSweep((found[0], found[1]), resolution)
+
+
+# --- the snapping grid, seen directly -------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class VertexSweep:
+    """Where the coverage changes as one vertex moves: every change at a multiple of
+    2**-grid px (``grid`` None when some change needs more than ``coarsest`` fraction bits:
+    no snapping seen), ``located`` changes found; judged against the snapping fitted on
+    float scenes once ``fitted`` is set (:meth:`judged`)."""
+
+    grid: int | None
+    located: int
+    fitted: tuple[int | None, SnapRounding] | None = None
+    resolution: int = 16
+    coarsest: int = 12
+
+    def judged(self, bits: int | None, rounding: SnapRounding) -> VertexSweep:
+        """The same sweep, judged against the fitted snapping."""
+        return replace(self, fitted=(bits, rounding))
+
+    @property
+    def text(self) -> str:
+        if self.located == 0:
+            return "no coverage change located (the rasterizer raised or drew nothing)"
+        if self.grid is None:
+            said = (f"{self.located} coverage changes at arbitrary offsets (bisected to 2^-{self.resolution} px): "
+                    f"no vertex snapping down to 2^-{self.coarsest} px")
+            if self.fitted is None:
+                return said
+            bits = self.fitted[0]
+            return said + (" (agrees)" if bits is None else f" (the fit's {bits} bits are NOT confirmed)")
+        nearest = self.grid - 1  # a grid rounded to nearest changes halfway between its points
+        said = f"{self.located} coverage changes, all at multiples of 2^-{self.grid} px: vertices snap to " + (
+            f"2^-{nearest} px rounding to nearest, or " if nearest >= 0 else "") + f"2^-{self.grid} px truncating"
+        if self.fitted is None:
+            return said
+        bits, rounding = self.fitted
+        fits = self.fitted in ((nearest, "nearest-even"), (nearest, "half-away"), (self.grid, "floor"))
+        return said + (" (agrees with the fit)" if fits else
+                       f" (the fit says {bits if bits is not None else 'none'}, {rounding}: not confirmed)")
+
+
+# Triangles whose moving vertex (index 0) drags two edges across many sample points; the
+# fixed vertices are off every coarse lattice, so without snapping the coverage changes at
+# non-dyadic offsets.
+_SWEEP_TRIANGLES = (
+    ([10.0, 10.0], [41.7, 30.1], [12.2, 50.9]),
+    ([30.0, 8.0], [9.3, 40.3], [50.1, 52.7]),
+    ([52.0, 40.0], [8.9, 12.6], [20.4, 55.3]),
+)
+
+
+def vertex_sweep(call: Call, changes: int = 6, resolution: int = 16, coarsest: int = 12) -> VertexSweep:
+    """Move one vertex along x (and, for the last triangle, y) and find, by bisection to
+    2**-resolution px, the offsets where the coverage changes.
+
+    The resolution stays coarser than float32's spacing at these coordinates (2**-18 below
+    64 px), so a library that rounds its input to float32 moves a change by less than one
+    step; unsnapped, a change lands within ``coarsest`` bits only by chance (1 in 8 each),
+    and 18 of them all do with odds below 1e-16."""
+    finest = 0
+    located = 0
+    for k, triangle in enumerate(_SWEEP_TRIANGLES):
+        base = np.array(triangle, dtype=np.float64)
+        axis = 1 if k == len(_SWEEP_TRIANGLES) - 1 else 0
+
+        def cover(t: float, base: NDArray[np.float64] = base, axis: int = axis) -> Coverage | None:
+            p = base.copy()
+            p[0, axis] += t
+            return draw(call, Scene(64, 64, p[None])).coverage
+
+        lo, start = 0.0, cover(0.0)
+        if start is None:
+            return VertexSweep(None, located, resolution=resolution, coarsest=coarsest)
+        for _ in range(changes):
+            hi = lo + 1.0
+            if cover(hi) == start:
+                break
+            while hi - lo > 2.0**-resolution:  # cover(lo) == start, cover(hi) differs
+                mid = (lo + hi) / 2.0
+                if cover(mid) == start:
+                    lo = mid
+                else:
+                    hi = mid
+            located += 1
+            finest = max(finest, min(_fraction_bits(lo), _fraction_bits(hi)))
+            lo, start = hi, cover(hi)
+            if start is None:
+                return VertexSweep(None, located, resolution=resolution, coarsest=coarsest)
+    return VertexSweep(finest if finest <= coarsest else None, located, resolution=resolution, coarsest=coarsest)
+
+
+# --- the fit of sample point and tie rule: the one fitting engine ---------------------------
+
+
+def _tie_triangles(sample: tuple[float, float], seed: int, count: int = 200) -> NDArray[np.float64]:
+    """Triangles whose vertices all sit on sample points (i + sx, j + sy) of a 48 px square
+    (moved 4 px in), each with a horizontal or a vertical edge, both windings: every tie
+    rule is exercised at this sample point.
+
+    Returns
+    -------
+    (count, 3, 2) float64
+    """
+    rng = np.random.default_rng(seed + 11)
+    base = rng.integers(6, 42, size=(count, 2)).astype(np.float64)
+    a = rng.integers(1, 7, size=count) * rng.choice([-1, 1], size=count)
+    c = rng.integers(-6, 7, size=(count, 2))
+    c[:, 1] = np.where(c[:, 1] == 0, 1, c[:, 1])
+    second = base.copy()
+    horizontal = rng.random(count) < 0.5
+    second[horizontal, 0] += a[horizontal]
+    second[~horizontal, 1] += a[~horizontal]
+    third = base + c
+    return np.stack([base, second, third], axis=1) + np.array(sample) + 4.0
+
+
+def _pinwheels(sample: tuple[float, float], sizes: tuple[int, ...] = (1, 2, 3)) -> NDArray[np.float64]:
+    """piglit's probe: eight triangles around a sample point (split by the axes and
+    diagonals, sizes in whole pixels), at 30 sample points of a 48 px square moved 4 px
+    in. The sample is every triangle's vertex and lies on two edges of each; each of the
+    eight tie rules gives it to exactly one triangle, a different one.
+
+    Returns
+    -------
+    (240, 3, 2) float64
+    """
+    wheels = []
+    rim = np.array([[1, 0], [1, 1], [0, 1], [-1, 1], [-1, 0], [-1, -1], [0, -1], [1, -1], [1, 0]], dtype=np.float64)
+    for k in range(30):
+        centre = np.array([6.0 + (k % 6) * 7.0, 6.0 + (k // 6) * 8.0]) + np.array(sample) + 4.0
+        size = sizes[k % len(sizes)]
+        for i in range(8):
+            wheels.append([centre + size * rim[i], centre + size * rim[i + 1], centre])
+    return np.array(wheels)
+
+
+def _sample_candidates(measured: tuple[float, float] | None, grid: int | None = None) -> list[tuple[float, float]]:
+    """The 9 usual sample points, plus the measured one at a few dyadic precisions (each
+    clipped to [0, 1] and a multiple of 2**-12: a valid :class:`Convention` sample); with
+    a vertex-sweep ``grid`` (snapping to 2**-(grid - 1) px rounding, or 2**-grid
+    truncating), also the points of those grids on either side of it in each axis: a
+    flip is where the *snapped* edge crosses the sample, up to a grid step from it, and
+    rounding the measured point may pick the wrong side (dEQP's 77/256 under 8-bit
+    snapping flips at 76.5/256).
+
+    >>> _sample_candidates((0.2988, 0.5), 9)[9:]  # 77/256 under 8-bit snapping is the last
+    [(0.25, 0.5), (0.3125, 0.5), (0.296875, 0.5), (0.298828125, 0.5), (0.30078125, 0.5)]
+    """
+    samples = list(SAMPLES)
+    if measured is None:
+        return samples
+    for bits in (1, 2, 3, 4, 6, 8, 12):
+        sx, sy = (min(1.0, max(0.0, round(v * 2**bits) / 2**bits)) for v in measured)
+        if (sx, sy) not in samples:
+            samples.append((sx, sy))
+    if grid is not None:
+        samples += [s for s in grid_sides(measured, (grid - 1, grid)) if s not in samples]
+    return samples
+
+
+def grid_sides(measured: tuple[float, float], grids: Sequence[int]) -> list[tuple[float, float]]:
+    """The points of each 2**-b px grid (b in ``grids``, 0..12 only: a valid
+    :class:`Convention` sample) on either side of a measured sample point in each axis,
+    clipped to [0, 1]: where a sample lies whose flip, measured with snapped edges, is
+    up to a grid step off.
+
+    >>> grid_sides((0.3027, 0.5), [8])
+    [(0.30078125, 0.5), (0.3046875, 0.5)]
+    """
+    out: list[tuple[float, float]] = []
+    for bits in grids:
+        if not 0 <= bits <= 12:
+            continue
+        scale = 2.0**bits
+        sides = [sorted({min(1.0, max(0.0, math.floor(v * scale) / scale)), min(1.0, max(0.0, math.ceil(v * scale) / scale))})
+                 for v in measured]
+        out += [(sx, sy) for sx in sides[0] for sy in sides[1] if (sx, sy) not in out]
+    return out
+
+
+def _snap_candidates(grid: int | None) -> list[tuple[int | None, SnapRounding]]:
+    """No snapping, and the snappings a vertex-sweep grid of 2**-grid px allows: rounding
+    to nearest on the grid one bit coarser, or truncating on it; only those a
+    :class:`Convention` can hold (0..16 bits: a garbage sweep may suggest others)."""
+    snaps: list[tuple[int | None, SnapRounding]] = [(None, "nearest-even")]
+    if grid is not None:
+        snaps += [(grid - 1, "nearest-even"), (grid - 1, "half-away"), (grid, "floor")]
+    return [(b, r) for b, r in snaps if b is None or 0 <= b <= MAX_SUBPIXEL_BITS]
+
+
+@dataclass(frozen=True)
+class TieFit:
+    """The candidate convention (sample point x tie rule x the snappings the vertex sweep
+    allows, with the measured culling) that best explains the rasterizer on the tie scenes,
+    and the runner-up that differs from it in sample point or tie rule.
+
+    ``drawn`` holds the scenes and answers: four lattice scenes, then tie triangles and
+    pinwheels at the best sample point; ``culling``, ``sweep`` and ``vertex`` the probes
+    that chose the candidates.
+    """
+
+    best: Convention
+    mismatches: int
+    runner_up: Convention
+    runner_up_mismatches: int
+    candidates: int
+    drawn: tuple[Drawn, ...] = field(repr=False)
+    culling: Culling
+    sweep: SampleSweep
+    vertex: VertexSweep
+
+    @property
+    def pixels(self) -> int:
+        return sum(d.pixels for d in self.drawn)
+
+    @property
+    def text(self) -> str:
+        """The runner-up, as the card's "next best" line says it."""
+        return f"{self.runner_up.describe()} ({self.runner_up_mismatches} mismatches on the tie scenes)"
+
+
+def fit_ties(call: Call, seed: int = 0) -> TieFit:
+    """Fit sample point and tie rule: the one fitting engine (identify and compare).
+
+    Culling, the sample sweep and the vertex sweep choose the candidates: the 9 usual
+    sample points plus the measured one, x the 8 tie rules, x no snapping and the
+    snappings the sweep's grid allows. Each is scored by its mismatches on four lattice
+    scenes, then on tie triangles and pinwheels at the best sample point so far; ties in
+    the score go to the earlier candidate. Only answered scenes steer the fit and count in
+    the mismatches reported.
+
+    Parameters
+    ----------
+    call : Call
+        The rasterizer, as a function of a scene.
+    seed : int
+        Seeds the lattice scenes and the tie triangles.
+
+    Returns
+    -------
+    TieFit
+    """
+    found = culling(call)
+    sweep = sample_sweep(call)
+    vertex = vertex_sweep(call)
+    candidates = [Convention(sample=sample, tie=tie, cull=found.cull, subpixel_bits=b, snap_rounding=r)
+                  for b, r in _snap_candidates(vertex.grid) for sample in _sample_candidates(sweep.offset, vertex.grid)
+                  for tie in TIE_RULES]
+    # lattice triangles reach 2 px past a 48 px square; moved 4 px into a 56 px screen
+    # (exactly) nothing crosses the viewport edge, so clipping cannot blur the convention
+    drawn = [draw(call, Scene(56, 56, lattice_triangles(120, 48, bits, seed + bits) + 4.0)) for bits in (0, 1, 2, 4)]
+    scores = sorted((_fit_score(drawn, cand), i) for i, cand in enumerate(candidates))
+    # then ties at the best sample point: vertices on samples, axis-aligned edges through
+    # rows of them, and pinwheels, so that every tie rule shows there
+    sample = candidates[scores[0][1]].sample
+    for ties in (_tie_triangles(sample, seed), _pinwheels(sample)):
+        drawn.append(draw(call, Scene(56, 56, ties)))
+        scores = sorted((score + _fit_score(drawn[-1:], candidates[i]), i) for score, i in scores)
+    best = candidates[scores[0][1]]
+    # the runner-up differs in sample point or tie rule (snapping cannot show on lattices)
+    runner = next(candidates[i] for _, i in scores if (candidates[i].sample, candidates[i].tie) != (best.sample, best.tie))
+    return TieFit(best, sum(d.mismatches(best) for d in drawn), runner, sum(d.mismatches(runner) for d in drawn),
+                  len(candidates), tuple(drawn), found, sweep, vertex)
+
+
+# --- snapping, fitted on floats ---------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class RoundingFit:
+    """Mismatches of each rounding with every vertex on a half step of the 2**-bits grid
+    (where the roundings part), best first; ``tied``, the roundings that explain it as well
+    as the best."""
+
+    bits: int
+    scores: tuple[tuple[SnapRounding, int], ...]
+    tied: tuple[SnapRounding, ...]
+
+    @property
+    def text(self) -> str:
+        return ("; ".join(f"{r}: {score} mismatches" for r, score in self.scores)
+                + f" (with every vertex on a half step of the 2^-{self.bits} grid)")
+
+
+@dataclass(frozen=True)
+class SnapFit:
+    """The sub-pixel bits and rounding that best explain the rasterizer on unconstrained
+    floats (with the fitted sample point and tie rule), and the final convention."""
+
+    convention: Convention
+    mismatches: int
+    rounding_fit: RoundingFit | None
+    drawn: tuple[Drawn, ...] = field(repr=False)
+
+    @property
+    def bits(self) -> int | None:
+        return self.convention.subpixel_bits
+
+    @property
+    def rounding(self) -> SnapRounding:
+        return self.convention.snap_rounding
+
+    @property
+    def ambiguous(self) -> tuple[str, ...]:
+        """The roundings that explain it equally well, when more than one does."""
+        tied = self.rounding_fit.tied if self.rounding_fit is not None else ()
+        return tuple(f"{self.bits} bits {r}" for r in tied) if len(tied) > 1 else ()
+
+    @property
+    def text(self) -> str:
+        said = "none detected" if self.bits is None else f"{self.bits} sub-pixel bits, " + {
+            "nearest-even": "half to even", "half-away": "half away from zero", "floor": "rounding down"}[self.rounding]
+        return said + f" ({self.mismatches} float mismatches)"
+
+
+def _half_steps(scene: Scene, bits: int) -> Scene:
+    """The scene with every coordinate moved onto an odd multiple of 2**-(bits+1) -- a half
+    step of the 2**-bits grid, where rounding to nearest must break a tie -- and kept at
+    least 1 px from the origin (a frame's rounding sign plays no part there)."""
+    scale = 2.0**bits
+    moved = (np.floor(np.abs(scene.positions) * scale) + 0.5) / scale + 1.0
+    return Scene(scene.width, scene.height, moved)
+
+
+def fit_snapping(call: Call, seed: int, ties: TieFit) -> SnapFit:
+    """With the fitted sample point and tie rule, the number of sub-pixel bits (or none)
+    and the rounding that best explain two scenes of unconstrained floats, where snapping
+    shows; then, with every vertex on a half step of that grid, where the roundings part,
+    the rounding again.
+
+    Parameters
+    ----------
+    call : Call
+    seed : int
+        Seeds the float scenes.
+    ties : TieFit
+        The fitted sample point, tie rule and culling (:func:`fit_ties`).
+
+    Returns
+    -------
+    SnapFit
+        Its ``convention`` is the one identify reports.
+    """
+    best = ties.best
+
+    def fitted(bits: int | None, rounding: SnapRounding) -> Convention:
+        return Convention(sample=best.sample, tie=best.tie, subpixel_bits=bits, cull=best.cull, snap_rounding=rounding)
+
+    floats = [draw(call, Scene(48, 48, random_triangles(150, 60.0, 48, seed + k))) for k in range(2)]
+    scores: list[tuple[int, int, int | None, SnapRounding]] = []
+    for bits in SNAP_BITS:
+        for rounding in SNAP_ROUNDINGS if bits is not None else ("nearest-even",):
+            score = _fit_score(floats, fitted(bits, rounding))
+            # ties prefer no snapping, then rounding to nearest even
+            scores.append((score, 0 if bits is None else 1 + SNAP_ROUNDINGS.index(rounding), bits, rounding))
+    scores.sort(key=lambda s: (s[0], s[1]))
+    _, _, bits, rounding = scores[0]
+    mismatches = sum(d.mismatches(fitted(bits, rounding)) for d in floats)
+    rounding_fit = None
+    if bits is not None:
+        # floats almost never sit on a half step, where nearest-even and half-away part:
+        # put every vertex on one, and fit the rounding there
+        floats += [draw(call, _half_steps(d.scene, bits)) for d in floats]
+        ranked = sorted((_fit_score(floats, fitted(bits, r)), SNAP_ROUNDINGS.index(r), r) for r in SNAP_ROUNDINGS)
+        rounding = ranked[0][2]
+        rounding_fit = RoundingFit(bits, tuple((r, sum(d.mismatches(fitted(bits, r)) for d in floats)) for _, _, r in ranked),
+                                   tuple(r for score, _, r in ranked if score == ranked[0][0]))
+    return SnapFit(fitted(bits, rounding), mismatches, rounding_fit, tuple(floats))
+
+
+# --- where the residual lies ------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class ResidualLies:
+    """Where the lattice residual lies: samples exactly at a vertex, exactly on an edge of
+    non-dyadic or of dyadic slope, or off every edge; and pixels that cannot be their
+    triangles' at all (off-screen, out of reach, repeated)."""
+
+    at_vertex: int
+    non_dyadic: int
+    dyadic: int
+    off: int
+    dropped: int = 0
+
+    @property
+    def text(self) -> str:
+        said = (f"{self.at_vertex} exactly at a vertex, {self.non_dyadic} exactly on edges of non-dyadic slope dx/dy, "
+                f"{self.dyadic} exactly on dyadic-slope edges, {self.off} off every edge")
+        if self.dropped:
+            said += f", {self.dropped} where they cannot belong (off-screen, out of reach or repeated)"
+        return said + " (lattice scenes)"
+
+
+def residual_lies(drawn: tuple[Drawn, ...], convention: Convention, limit: int = 5000) -> ResidualLies:
+    """Classify up to ``limit`` deviating pixels per scene against ``convention``: exactly
+    at a vertex (the vertex rule), exactly on an edge whose slope dx/dy is not a dyadic
+    fraction (an exact edge function decides those like any other; stepping x by dx/dy in
+    floating point rounds there), exactly on a dyadic-slope edge, or off every edge (a
+    different rule, not a tie). An unanswered scene deviates by all its oracle's pixels."""
+    at_vertex = non_dyadic = dyadic = off = 0
+    for d in drawn:
+        scene = d.scene
+        missing, extra = deviations(d.coverage or Coverage.empty(), exact_coverage(scene, convention),
+                                    scene.width, scene.height)
+        both = np.concatenate([missing, extra], axis=1)[:, :limit]
+        if not both.shape[1]:
+            continue
+        p = convention.snap(scene.positions)[both[0]]
+        samples = np.stack([both[1] + convention.sample[0], both[2] + convention.sample[1]], axis=-1)
+        kinds = np.zeros(both.shape[1], dtype=np.int8)  # 0 off, 1 dyadic slope, 2 non-dyadic
+        for k in range(3):
+            a, b = p[:, k], p[:, (k + 1) % 3]
+            on = orientation(np.stack([a, b, samples], axis=1)) == 0
+            for i in np.flatnonzero(on):
+                dx, dy = Fraction(float(b[i, 0] - a[i, 0])), Fraction(float(b[i, 1] - a[i, 1]))
+                slope_dyadic = dy == 0 or ((dx / dy).denominator & ((dx / dy).denominator - 1)) == 0
+                kinds[i] = max(kinds[i], 1 if slope_dyadic else 2)
+        vertex = np.any(np.all(p == samples[:, None, :], axis=2), axis=1)  # the sample is a vertex
+        at_vertex += int(vertex.sum())
+        non_dyadic += int(((kinds == 2) & ~vertex).sum())
+        dyadic += int(((kinds == 1) & ~vertex).sum())
+        off += int((kinds == 0).sum())
+    return ResidualLies(at_vertex, non_dyadic, dyadic, off, sum(d.dropped for d in drawn))
+
+
+# --- the viewport edge ------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class ViewportEdge:
+    """On-screen pixels that change when triangles cross the viewport edge, against the
+    same triangles in a grown screen (pixels drawn beyond the edge count as changes too);
+    ``error`` when it could not be measured."""
+
+    changed: int
+    total: int
+    error: str = ""
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
+
+    @property
+    def text(self) -> str:
+        if self.error:
+            return f"not measured: {self.error}"
+        if self.changed == 0:
+            return f"exact ({self.total} on-screen pixels compared)"
+        return (f"{self.changed} of {self.total} on-screen pixels change when triangles cross it: "
+                "it treats them differently (e.g. clips them before snapping)")
+
+
+def viewport_edge(call: Call, seed: int, margin: int = 8) -> ViewportEdge:
+    """Whether triangles crossing the viewport edge (the suite's ``lattice/bits-{0,2,4}``)
+    cover the same on-screen pixels as when the screen is grown
+    (:func:`harness.diagnose.repro.grown_screen`) so that nothing crosses it:
+    convention-free, the rasterizer against itself (a clipper that moves vertices before
+    snapping shows up here)."""
+    from cases.paths import viewport_cases
+
+    changed = total = 0
+    for case in viewport_cases(seed):  # the suite's lattice/bits-{0,2,4}: 64 px, a power of two, as tiles often are
+        crossing = case.scene
+        assert isinstance(crossing, Scene)
+        size = crossing.width
+        grown = grown_screen(crossing, margin)
+        if not isinstance(grown, Scene):  # never for these scenes: whole-pixel moves of small dyadic numbers are exact
+            return ViewportEdge(0, 0, "the grown screen would round the scene")
+        a, b = draw(call, crossing), draw(call, grown)
+        if a.coverage is None or b.coverage is None:
+            return ViewportEdge(0, 0, "the rasterizer raised")
+        ta, xa, ya = a.coverage.pixels()
+        tb, xb, yb = b.coverage.pixels()
+        xb, yb = xb - margin, yb - margin
+        keep = (xb >= 0) & (xb < size) & (yb >= 0) & (yb < size)
+        base = 4 * (size + 2 * margin)  # room for any on-screen or grown-screen pixel
+
+        def keys(t: NDArray, x: NDArray, y: NDArray, base: int = base) -> NDArray:
+            return unique((t * base + (y + margin)) * base + (x + margin))
+
+        mine, inside = keys(ta, xa, ya), keys(tb[keep], xb[keep], yb[keep])
+        merged = np.sort(np.concatenate([mine, inside]), kind="stable")  # two sorted runs: linear
+        common = int(np.count_nonzero(merged[1:] == merged[:-1]))  # in both (each set has no repeats)
+        changed += mine.size + inside.size - 2 * common
+        total += inside.size
+    return ViewportEdge(changed, total)
+
+
+# --- tiny triangles ---------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class Epsilon:
+    """Tiny triangles decided unlike the convention (``wrong`` of ``triangles``, of which
+    ``want`` should draw); ``as_received`` whether it is exact for the coordinates as the
+    library receives them (None when it does not say what it receives, or is exact)."""
+
+    triangles: int
+    want: int
+    wrong: int
+    as_received: bool | None = None
+    error: str = ""
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
+
+    @property
+    def text(self) -> str:
+        if self.error:
+            return f"raises {self.error}"[:120]
+        if self.wrong == 0:
+            return f"exact: {self.want} of {self.triangles} tiny triangles (1e-3..1e-9 px) drawn, as the convention says"
+        said = (f"{self.wrong} of {self.triangles} tiny triangles (1e-3..1e-9 px) decided unlike the convention "
+                f"({self.want} should draw)")
+        if self.as_received:
+            said += "; exact for the coordinates as the library receives them (its input format rounds them)"
+        return said
+
+
+def epsilon(call: Call, convention: Convention, received: Callable[[Scene], Scene] | None = None) -> Epsilon:
+    """Tiny triangles (1e-3 down to 1e-9 px across) around sample points, half of them
+    holding their sample strictly inside and half just missing it, against the exact
+    answer of ``convention``; ``received`` is the rasterizer's own account of how its input
+    format rounds a scene (:func:`harness.contract.protocol.received_of`)."""
+    from cases.degenerate import epsilon_scene
+
+    scene = epsilon_scene(convention.sample)  # at pixel centres the suite's degenerate/epsilon/probe
+    triangles = scene.positions
+    got = draw(call, scene)
+    if got.coverage is None:
+        return Epsilon(len(triangles), 0, 0, error=describe(got.error))
+    wrong = got.mismatches(convention)
+    want = exact_coverage(scene, convention).n_pixels
+    as_received = None
+    if wrong and received is not None:
+        try:
+            rounded = received(scene)
+        except Exception:  # a plugin's own account of its input may fail like anything else of it
+            rounded = None
+        if rounded is not None:
+            as_received = Drawn(rounded, got.outcome).mismatches(convention) == 0
+    return Epsilon(len(triangles), want, wrong, as_received)
+
+
+# --- degenerate and non-finite input ------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class ZeroArea:
+    """Pixels drawn for a line-like and a point-like triangle (None when it raised)."""
+
+    pixels: int | None
+    error: str = ""
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
+
+    @property
+    def text(self) -> str:
+        if self.pixels is None:
+            return f"raises {self.error}"
+        return "draws nothing" if self.pixels == 0 else f"draws {self.pixels} pixels"
+
+
+# the suite's cases identify's degenerate probes draw (:func:`cases.degenerate.probe_scenes`)
+ZERO_AREA_CASE = "degenerate/zero-area/probe"
+EPSILON_CASE = "degenerate/epsilon/probe"  # the epsilon probe's scene at pixel centres
+NON_FINITE_CASES = {"NaN": "degenerate/non-finite/probe-nan", "inf": "degenerate/non-finite/probe-inf"}
+
+
+def _probe_scene(case_id: str) -> Scene:
+    from cases.degenerate import probe_scenes
+
+    return probe_scenes()[case_id.removeprefix("degenerate/")][0]
+
+
+def zero_area(call: Call) -> ZeroArea:
+    """A collinear triangle and one with two equal vertices (the suite's
+    ``degenerate/zero-area/probe``): an exact rasterizer draws nothing."""
+    drawn = draw(call, _probe_scene(ZERO_AREA_CASE))
+    if drawn.coverage is None:
+        return ZeroArea(None, type(drawn.error).__name__)
+    return ZeroArea(drawn.pixels)
+
+
+@dataclass(frozen=True, slots=True)
+class NonFiniteAnswer:
+    """A triangle with a NaN or infinite coordinate beside a finite one: the pixels drawn
+    for it and whether the finite one was drawn, or the error."""
+
+    label: str
+    covered: int = 0
+    rest_drawn: bool = False
+    error: str = ""
+
+    @property
+    def text(self) -> str:
+        if self.error:
+            return f"{self.label}: raises {self.error}"[:120]
+        rest = "the rest drawn" if self.rest_drawn else "the finite triangle lost too"
+        return f"{self.label}: {'covers nothing' if self.covered == 0 else f'DRAWS {self.covered} pixels'}, {rest}"
+
+
+@dataclass(frozen=True, slots=True)
+class NonFinite:
+    """What a NaN and an infinite coordinate do."""
+
+    answers: tuple[NonFiniteAnswer, ...]
+    defects: tuple[Defect, ...] = field(default=(), compare=False)  # the suite's cases that fail for it
+
+    @property
+    def text(self) -> str:
+        return "; ".join(a.text for a in self.answers)
+
+    @property
+    def wrong(self) -> bool:
+        """Some non-finite triangle drew pixels, or took the finite one with it."""
+        return any(not a.error and (a.covered or not a.rest_drawn) for a in self.answers)
+
+
+def non_finite(call: Call) -> NonFinite:
+    """A triangle with a NaN (then an infinite) coordinate beside a finite triangle (the
+    suite's ``degenerate/non-finite/probe-nan`` and ``-inf``)."""
+    answers = []
+    for label, case_id in NON_FINITE_CASES.items():
+        drawn = draw(call, _probe_scene(case_id))
+        cov = drawn.coverage
+        if cov is None:
+            answers.append(NonFiniteAnswer(label, error=describe(drawn.error)))
+            continue
+        covered = int(np.sum((cov.triangle == 0) * np.maximum(cov.x1 - cov.x0, 0)))
+        answers.append(NonFiniteAnswer(label, covered, 1 in set(cov.triangle.tolist())))
+    return NonFinite(tuple(answers))
+
+
+# --- watertightness -----------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class Defect:
+    """One scene on which a probe saw a defect: the suite's case it is (``case``, so that
+    ``rastercheck run --case`` fails there too), the check that judges it, what is wrong
+    (``message``), the check's evidence (the offending pixels and the primitives blamed),
+    and a minimal repro (case JSON naming the check, :func:`harness.diagnose.repro.attach_repro`;
+    None when none was made)."""
+
+    case: str
+    check: str
+    message: str
+    evidence: dict[str, Any] = field(default_factory=dict, compare=False)
+    repro: dict[str, Any] | None = field(default=None, compare=False)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for JSON and the fingerprint page."""
+        return {"case": self.case, "check": self.check, "message": self.message, "evidence": dict(self.evidence),
+                "repro": self.repro}
+
+
+@dataclass(frozen=True, slots=True)
+class Watertight:
+    """Holes and double hits over the planar partitions (``unanswered`` of them gave an
+    error and were not judged); ``defects`` the partitions that leak, each with its
+    evidence and, for the first few, a minimal repro."""
+
+    holes: int
+    doubles: int
+    partitions: int
+    unanswered: int = 0
+    defects: tuple[Defect, ...] = field(default=(), compare=False)
+    strays: int = 0  # pixels wholly outside the union drawn
+
+    @property
+    def text(self) -> str:
+        judged = self.partitions - self.unanswered
+        if judged == 0:
+            return f"not measured: the rasterizer raised on all {self.partitions} partitions"
+        unjudged = f" ({self.unanswered} more unanswered)" if self.unanswered else ""
+        if self.holes == self.doubles == self.strays == 0:
+            return f"yes (no hole, no double hit on {judged} partitions){unjudged}"
+        strays = f", {self.strays} stray hits outside" if self.strays else ""
+        return f"no: {self.holes} holes, {self.doubles} double hits{strays} on {judged} partitions{unjudged}"
+
+
+# leaking scenes shrunk to a minimal repro per probe (each shrink redraws its scene's parts)
+REPROS = 2
+
+
+def watertight_partitions(call: Call, seed: int, cases: Sequence[Case] | None = None, convention: Convention | None = None,
+                          name: str = "identify", repros: int = REPROS) -> Watertight:
+    """Every planar partition of the suite (``cases``: :func:`cases.partitions.partition_cases`
+    unless given, e.g. the same partitions as paths for a paths-only rasterizer): holes and
+    double hits, judged as the suite's watertight check judges them (under ``convention``,
+    a hole or double hit its own snapped answer has too is excused). The first ``repros``
+    leaking partitions are shrunk to a minimal repro (:func:`harness.diagnose.repro.attach_repro`)."""
+    holes = doubles = strays = unanswered = 0
+    partitions = list(partition_cases(seed) if cases is None else cases)
+    defects: list[Defect] = []
+    for case in partitions:
+        cov = send(call, case.scene).coverage
+        if cov is None:
+            unanswered += 1
+            continue
+        r = _watertight(case, cov, convention)
+        holes += int(r.metrics.get("holes", 0))
+        doubles += int(r.metrics.get("double_hits", 0))
+        strays += int(r.metrics.get("strays", 0))
+        if r.status == "fail":
+            defects.append(Defect(case.id, "watertight", r.message, _evidence_of(r),
+                                  _repro(r, case, call, convention, name) if len(defects) < repros else None))
+    return Watertight(holes, doubles, len(partitions), unanswered, tuple(defects), strays)
+
+
+
+def _watertight(case: Case, coverage: Coverage, convention: Convention | None) -> Result:
+    """The suite's watertight verdict on ``case`` (see :func:`harness.checks.watertight`)."""
+    if convention is None or not convention.model.single_sample:
+        return watertight(case, coverage)
+    return watertight(case, coverage, convention, lambda: exact_coverage(case.scene, convention))
+
+
+class _Named:
+    """The name :func:`harness.diagnose.repro.attach_repro` writes into a repro (it asks nothing else
+    of the rasterizer for the watertight and overdraw checks)."""
+
+    convention = None
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def rasterize(self, scene: Any) -> Coverage:  # never called: the probe's call draws
+        raise NotImplementedError
+
+
+def _judged(case: Case, coverage: Coverage, wanted: set[str], convention: Convention | None, call: Call,
+            name: str) -> list[Result]:
+    """The suite's checks ``wanted`` (those that apply) on ``coverage``, ``call``'s answer to ``case``."""
+    from harness import checks
+    from harness.checks import Subject, Tolerance
+
+    if "watertight" in wanted:
+        return [_watertight(case, coverage, convention)]
+    needs = {c.name for c in checks.checks() if c.needs_convention}
+    if convention is None and wanted & needs:
+        return []
+    subject = Subject(case, name, convention, [coverage], call, Tolerance(), False, scene_kinds=(case.scene.kind,))
+    return [c.verdict(subject) for c in checks.checks(case, wanted, SINGLE.kind)]
+
+
+def suite_defects(call: Call, cases: Sequence[Case], wanted: set[str], convention: Convention | None, name: str,
+                  repros: int = REPROS) -> tuple[Defect, ...]:
+    """The suite's cases behind a probe that saw a defect, judged as ``run`` judges them:
+    each (case, check of ``wanted``) that fails is a :class:`Defect` with the check's
+    evidence and, for the first ``repros``, a minimal repro. ``call`` draws the cases (a
+    paths-only rasterizer's: the path versions the path suite holds)."""
+    defects: list[Defect] = []
+    for case in cases:
+        coverage = send(call, case.scene).coverage
+        if coverage is None:
+            continue  # the probe reports the error itself
+        for r in _judged(case, coverage, wanted, convention, call, name):
+            if r.status == "fail":
+                defects.append(Defect(case.id, r.check, r.message, _evidence_of(r),
+                                      _repro(r, case, call, convention, name) if len(defects) < repros else None))
+    return tuple(defects)
+
+
+def _evidence_of(result: Result) -> dict[str, Any]:
+    """The offending pixels and primitives of a check's evidence (at most EVIDENCE_LIMIT each)."""
+    from harness.checks import EVIDENCE_LIMIT
+
+    return {k: v[:EVIDENCE_LIMIT] if isinstance(v, list) else v for k, v in result.evidence.items()
+            if k in ("blame", "strays", "pixels", "triangles")}
+
+
+def _repro(result: Result, case: Case, call: Call, convention: Convention | None, name: str) -> dict[str, Any] | None:
+    """A failing partition shrunk to a minimal repro as replayable case JSON: double hits
+    shrink to the primitives that overlap (``overdraw``), a hole keeps every cell (no
+    subset of a partition is one)."""
+    from harness.diagnose.repro import attach_repro
+
+    def judge(candidate: Case | MotionCase, check: str) -> list[Result]:
+        if not isinstance(candidate, Case):
+            return []
+        cov = send(call, candidate.scene).coverage
+        return [] if cov is None else _judged(candidate, cov, {check}, convention, call, name)
+
+    try:
+        shrunk = attach_repro(replace(result, rasterizer=name, case=case.id), case, judge, _Named(name), budget=40, seconds=5.0)
+    except Exception:  # a repro is evidence besides the verdict: the probe's answer stands without it
+        return None
+    payload = shrunk.evidence.get("repro")
+    return payload if isinstance(payload, dict) else None
+
+
+# --- unanswered fit scenes -----------------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class Unanswered:
+    """Fit scenes the rasterizer gave no answer for (an error, a crash, a timeout): left
+    out of the fit and the residual."""
+
+    count: int
+    of: int
+    first: str
+
+    @property
+    def text(self) -> str:
+        return f"{self.count} of {self.of} fit scenes unanswered, left out of the fit and the residual; first: {self.first}"[:200]
+
+
+def unanswered(drawn: list[Drawn]) -> Unanswered | None:
+    """The fit scenes among ``drawn`` that gave an error, or None when all were answered."""
+    errors = [d.error for d in drawn if d.error is not None]
+    return Unanswered(len(errors), len(drawn), describe(errors[0])) if errors else None

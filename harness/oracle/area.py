@@ -1,0 +1,666 @@
+"""Area coverage: the area of triangle ∩ pixel square, exactly and in fast float64.
+
+The alpha of an anti-aliased triangle T at pixel (i, j) is ``area(T ∩ [i, i+1] x [j, j+1])``
+(screen space as in :mod:`harness.contract.conventions`: y down, pixel (i, j) is column i, row j).
+For float input it is a rational number:
+
+* :func:`exact_area` computes it exactly: the triangle is clipped against the pixel's
+  four half-planes (Sutherland-Hodgman) in :class:`fractions.Fraction`, then the shoelace
+  formula gives the area. :func:`exact_pixel_areas` applies it to every pixel of a scene:
+  the slow, obviously correct reference.
+* :func:`pixel_areas` computes it for every triangle of a scene and every pixel it
+  touches in compiled float64 code, with a proven error bound (:func:`area_error_bound`).
+
+The float method: one edge integral per edge
+    By Green's theorem the area of a polygon P inside the unit square B (in pixel-local
+    coordinates, the pixel's corner moved to the origin) is ``|sum_e s_e C_e|``, with, for
+    the edge e from a to b, ``s_e = sign(bx - ax)`` and::
+
+        C_e = integral over x in [min(ax, bx), max(ax, bx)] ∩ [0, 1] of clamp(L_e(x), 0, 1) dx
+
+    where L_e is the edge's line: C_e is the area of the part of B where y <= L_e(x) over
+    the edge's x-range (on screen, between the square's top side and the edge). Each
+    vertical line through B crosses the boundary of P as often going right as left, and
+    the signed sum of the clamped heights of its crossings is the length of its
+    intersection with P ∩ B. The terms are independent, so each is computed from the
+    float vertices directly: nothing compounds from one clip to the next, and every
+    quantity is at most 1 but for the local coordinates themselves.
+
+    Which pixels: per row, the columns within the bounding box and the row band's
+    x-extent, found from the float crossings of the edges with the band's lines and
+    widened by more than their error (about 5 u (extent + |x|)), so that a pixel left
+    out holds no area. Likewise the pixels wholly inside: where the polygon spans the
+    whole row band, the columns between its cross-sections at the band's top and bottom
+    (a convex polygon's left boundary is convex in y and its right one concave, so their
+    extremes over the band lie at its sides), narrowed by the same margin; their area is
+    exactly 1 and is written as such, with no error at all. Triangles of exactly zero
+    area (:func:`harness.geometry.exact.orientation`) and non-finite ones are dropped: they cover
+    nothing.
+
+    Per pixel and edge, in float64: local coordinates ``fl(x - i)``, ``fl(y - j)``; the
+    x-interval ``[xl, xr] = [max(lx, 0), min(rx, 1)]`` (exact); the heights at its ends,
+    ``yl = ly + fl(fl(xl - lx) / fl(rx - lx)) * fl(ry - ly)`` (the end point itself when
+    ``xl == lx``), likewise yr; then ``C = fl(xr - xl) * phi(yl, yr)`` where
+    ``phi = integral_0^1 clamp((1 - t) yl + t yr, 0, 1) dt`` has a closed form per case
+    (both heights below the band, above it, inside it, or crossing one or both of its
+    sides), each a quotient of differences of like-signed numbers (no cancellation).
+
+The error bound (u = 2**-53, round to nearest)
+    Let n be the polygon's number of edges (3 for a triangle), M the largest
+    ``|x_k - i|`` or ``|y_k - j|`` over its vertices and the pixels evaluated, and G = 0
+    (see "far triangles" below for G > 0). Then for every pixel::
+
+        |pixel_areas - exact_area| <= u * (n * (22 M + 11 G + 7) + n**2)
+
+    1. *Local coordinates.* ``fl(x - i)`` is within ``u |x - i| <= u M`` of ``x - i``
+       (subtraction is exact when subnormal), so the float polygon P' has every vertex
+       within delta = u M of the exact local one in each coordinate. Moving one end point of an
+       edge by delta changes C_e by at most the area of a vertical strip of width delta
+       inside B plus that of B ∩ triangle(a, a', b), which lies within r = sqrt(2) delta
+       of segment ab: ``delta + 2 r * sqrt(2) (1 + 2r) + pi r**2 <= 5.001 delta`` for
+       delta <= 2**-20. Both end points: 10.002 u M per edge. (Rounding is monotone, so
+       s_e never flips; it can become 0 only when |bx - ax| <= 2 delta, where C_e is at
+       most 2 delta either way.)
+    2. *Heights.* ``|t (ry - ly)| <= |ry - ly| <= 2M`` and ``|L(xl)| <= M``; five roundings
+       in the product and one in the sum give ``|yl - L(xl)| <= 2 gamma_5 (1 + u) M + u M
+       <= 11.01 u M``. C is 1/2-Lipschitz in each height times the width w <= 1:
+       <= 11.01 u M.
+    3. *Clamped mean.* Each case of phi is exact in its inputs up to at most five
+       roundings on a quantity below 1: ``|phi - phi_exact| <= 3.51 u``; with the width's
+       and the product's roundings, C is within 5.53 u of w * phi(yl, yr). Underflow adds
+       at most 2**-1050 per edge (products of numbers below 1 and below 2M), inside the
+       "+ 7".
+    4. *Sum.* n terms each below 1 + 6u: recursive summation errs by at most
+       ``gamma_(n-1) * n * (1 + 6u) <= n**2 u``; taking |S| and clamping it to [0, 1]
+       only brings it closer to the exact area, which lies in [0, 1].
+
+    Summing 10.002 + 11.01 < 22 per unit of u M and 5.53 + underflow < 7 per edge gives
+    the bound. For a triangle, M <= max(x extent, y extent) + 1 over the pixels its
+    bounding box spans, so the bound depends on the triangle's size, not its position.
+
+Far triangles (a coordinate beyond ±:data:`GUARD_LIMIT` = 2**21)
+    In float64 the position of an edge inside a pixel is only known to about
+    u * (the edge's length): far vertices would make the bound useless. Such triangles
+    are first clipped exactly (rationals) to the viewport rectangle [0, W] x [0, H], which
+    changes no pixel's area, and the clipped polygon (n <= 7 vertices) has its vertices
+    rounded to float64: each moves by at most u G with G = max(W, H), which step 1 covers
+    with ``10.002 u G`` per edge (11 G in the bound), and M <= max(W, H). A pixel the
+    rounded polygon leaves out then holds at most that much of the exact one.
+
+Near triangles have M <= 2**22 + 1, far ones M = G <= 2**20 (viewports up to
+``MAX_VIEWPORT``): for every finite triangle the bound is below 2**-24, far under 1/256,
+the step of an 8-bit alpha.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from fractions import Fraction
+
+import numba
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import MAX_VIEWPORT, Scene
+from harness.geometry.exact import orientation
+from harness.geometry.spans import expand, pixel_offsets
+
+__all__ = ["UNIT_ROUNDOFF", "GUARD_LIMIT", "exact_area", "exact_pixel_areas", "pixel_areas", "area_error_bound",
+           "displaced_area_bound", "area_coverage"]
+
+UNIT_ROUNDOFF = 2.0**-53
+# Triangles with a coordinate beyond this are clipped exactly to the viewport first; below
+# it, M <= 2**22 + 1 and the bound stays under 2**-24.
+GUARD_LIMIT = 2.0**21
+# A triangle clipped by the four sides of a rectangle has at most 3 + 4 vertices.
+_MAX_VERTICES = 7
+# Margin on a row's x-extent, per unit of (extent + |coordinate| + 1): the float crossing
+# of an edge with a row's band lines errs by at most gamma_4 * (edge extent) + u |x|
+# (about 5u per unit); 64u leaves room for the roundings of the margin arithmetic itself.
+_MARGIN_SCALE = 64.0 * UNIT_ROUNDOFF
+
+_Point = tuple[Fraction, Fraction]
+
+
+# -- the exact rational path ---------------------------------------------------------------
+
+
+def _clip(polygon: list[_Point], axis: int, bound: Fraction, keep: int) -> list[_Point]:
+    """Sutherland-Hodgman: the part of a convex polygon where ``keep * (p[axis] - bound) >= 0``."""
+    out: list[_Point] = []
+    for k, p in enumerate(polygon):
+        q = polygon[(k + 1) % len(polygon)]
+        dp = keep * (p[axis] - bound)
+        dq = keep * (q[axis] - bound)
+        if dp >= 0:
+            out.append(p)
+        if (dp > 0 > dq) or (dp < 0 < dq):  # a strict crossing: the new vertex lies between
+            t = dp / (dp - dq)
+            out.append((p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])))
+    return out
+
+
+def _clip_to_box(polygon: list[_Point], x0: Fraction, y0: Fraction, x1: Fraction, y1: Fraction) -> list[_Point]:
+    """The convex polygon clipped to [x0, x1] x [y0, y1] (closed), exactly."""
+    for axis, bound, keep in ((0, x0, 1), (0, x1, -1), (1, y0, 1), (1, y1, -1)):
+        if len(polygon) < 3:
+            return []
+        polygon = _clip(polygon, axis, bound, keep)
+    return polygon if len(polygon) >= 3 else []
+
+
+def _shoelace(polygon: list[_Point]) -> Fraction:
+    """|signed area| of a closed polygon."""
+    twice = Fraction(0)
+    for k, (x, y) in enumerate(polygon):
+        xn, yn = polygon[(k + 1) % len(polygon)]
+        twice += x * yn - xn * y
+    return abs(twice) / 2
+
+
+def _fraction_vertices(triangle: NDArray[np.float64]) -> list[_Point]:
+    return [(Fraction(float(x)), Fraction(float(y))) for x, y in triangle]
+
+
+def exact_area(triangle: ArrayLike, x: int, y: int) -> Fraction:
+    """Exact area of the closed triangle ∩ the pixel square [x, x+1] x [y, y+1].
+
+    Parameters
+    ----------
+    triangle : (3, 2) float64
+        Vertices in any order, possibly degenerate.
+    x, y : int
+        The pixel's column and row.
+
+    Returns
+    -------
+    Fraction
+        The area, in [0, 1].
+
+    Raises
+    ------
+    ValueError
+        If a coordinate is not finite, or ``triangle`` is not 3 x 2.
+
+    Examples
+    --------
+    >>> exact_area([[0, 0], [2, 0], [0, 2]], 1, 0)
+    Fraction(1, 2)
+    >>> exact_area([[0.25, 0.25], [1.75, 0.5], [0.5, 1.75]], 0, 0)
+    Fraction(15, 32)
+    """
+    tri = np.asarray(triangle, dtype=np.float64)
+    if tri.shape != (3, 2):
+        raise ValueError(f"a triangle is 3 x 2 coordinates, not shape {tri.shape}")
+    if not np.all(np.isfinite(tri)):
+        raise ValueError(f"triangle {tri.tolist()} has a coordinate that is not finite")
+    for value in (x, y):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+            raise ValueError(f"pixel coordinates are integers, not {value!r}")
+    fx, fy = Fraction(int(x)), Fraction(int(y))
+    return _shoelace(_clip_to_box(_fraction_vertices(tri), fx, fy, fx + 1, fy + 1))
+
+
+def exact_pixel_areas(positions: ArrayLike, width: int, height: int) -> dict[tuple[int, int, int], Fraction]:
+    """The slow reference for :func:`pixel_areas`: every nonzero area, exactly.
+
+    Parameters
+    ----------
+    positions : (N, 3, 2) float64
+    width, height : int
+
+    Returns
+    -------
+    dict of (triangle, x, y) -> Fraction
+        Every pixel of the viewport where a finite triangle covers a nonzero area.
+
+    Examples
+    --------
+    >>> exact_pixel_areas([[[0, 0], [2, 0], [0, 2]]], 2, 2)
+    {(0, 0, 0): Fraction(1, 1), (0, 1, 0): Fraction(1, 2), (0, 0, 1): Fraction(1, 2)}
+    """
+    tris = _positions(positions)
+    out: dict[tuple[int, int, int], Fraction] = {}
+    for t, tri in enumerate(tris):
+        if not np.all(np.isfinite(tri)):
+            continue
+        # Pixels that can hold area: i < xmax and i + 1 > xmin, within the viewport.
+        x0 = max(math.floor(tri[:, 0].min()), 0)
+        x1 = min(math.ceil(tri[:, 0].max()), width)
+        y0 = max(math.floor(tri[:, 1].min()), 0)
+        y1 = min(math.ceil(tri[:, 1].max()), height)
+        for j in range(y0, y1):
+            for i in range(x0, x1):
+                area = exact_area(tri, i, j)
+                if area:
+                    out[t, i, j] = area
+    return out
+
+
+def _positions(positions: ArrayLike) -> NDArray[np.float64]:
+    array = np.ascontiguousarray(positions, dtype=np.float64)
+    if array.ndim != 3 or array.shape[1:] != (3, 2):
+        raise ValueError(f"positions must have shape (N, 3, 2), not {array.shape}")
+    return array
+
+
+def _viewport(width: int, height: int) -> None:
+    for name, value in (("width", width), ("height", height)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 1 <= value <= MAX_VIEWPORT:
+            raise ValueError(f"{name} must be an integer in 1..{MAX_VIEWPORT}, not {value!r}")
+
+
+# -- the compiled float path ---------------------------------------------------------------
+
+
+@numba.njit(cache=True, inline="always")
+def clamped_mean(y0, y1):  # type: ignore[no-untyped-def]
+    """Mean of clamp(h, 0, 1) as h runs linearly from y0 to y1. Each case is a quotient of
+    differences of like-signed numbers: no cancellation, at most five roundings."""
+    lo = min(y0, y1)
+    hi = max(y0, y1)
+    if hi <= 0.0:
+        return 0.0
+    if lo >= 1.0:
+        return 1.0
+    if lo >= 0.0:
+        if hi <= 1.0:
+            return (lo + hi) * 0.5
+        # crosses the band's far side at t1 = (1 - lo) / (hi - lo)
+        r = 1.0 - lo
+        return 1.0 - (r / (hi - lo)) * r * 0.5
+    if hi <= 1.0:
+        # crosses the near side at t0 = -lo / (hi - lo), then rises to hi
+        return (hi / (hi - lo)) * hi * 0.5
+    # crosses both sides: a ramp of width 1 / (hi - lo), then full height
+    return (hi - 0.5) / (hi - lo)
+
+
+@numba.njit(cache=True, inline="always")
+def edge_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
+    """s_e * C_e for the edge a -> b in pixel-local coordinates (see the module docstring)."""
+    if ax == bx:
+        return 0.0  # vertical: crosses no vertical line
+    sign = 1.0
+    if bx < ax:
+        ax, ay, bx, by = bx, by, ax, ay
+        sign = -1.0
+    xl = max(ax, 0.0)
+    xr = min(bx, 1.0)
+    if xl >= xr:
+        return 0.0
+    dx = bx - ax
+    dy = by - ay
+    # fl(xl - ax) <= fl(dx) by monotone rounding, so the fraction stays in [0, 1]: no
+    # overflow however steep the edge.
+    yl = ay if xl == ax else ay + ((xl - ax) / dx) * dy
+    yr = by if xr == bx else ay + ((xr - ax) / dx) * dy
+    return sign * ((xr - xl) * clamped_mean(yl, yr))
+
+
+@numba.njit(cache=True, inline="always")
+def _x_at(ax, ay, bx, by, y):  # type: ignore[no-untyped-def]
+    """x of the edge a-b (ay < by) at height y in [ay, by]."""
+    if y == ay:
+        return ax
+    if y == by:
+        return bx
+    return ax + ((y - ay) / (by - ay)) * (bx - ax)
+
+
+@numba.njit(cache=True)
+def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out_i0, out_i1):  # type: ignore[no-untyped-def]
+    """Per polygon and row, the columns [x0, x1) that may hold area: the row band's
+    x-extent (reached on the edges' parts inside the band), widened by the crossings'
+    error bound, within the bounding box and the viewport; and the columns [i0, i1)
+    whose pixel lies wholly inside the polygon (area exactly 1): when the polygon spans
+    the whole band, its cross-sections at the band's top and bottom, intersected and
+    narrowed by the same bound (a convex polygon's left boundary is convex in y, the
+    right one concave: their extremes over the band are at its sides)."""
+    n = 0
+    for p in range(polys.shape[0]):
+        k = counts[p]
+        xmin = xmax = polys[p, 0, 0]
+        ymin = ymax = polys[p, 0, 1]
+        biggest = 0.0
+        for v in range(k):
+            x, y = polys[p, v, 0], polys[p, v, 1]
+            xmin, xmax = min(xmin, x), max(xmax, x)
+            ymin, ymax = min(ymin, y), max(ymax, y)
+            biggest = max(biggest, abs(x), abs(y))
+        margin = _MARGIN_SCALE * (max(xmax - xmin, ymax - ymin) + biggest + 1.0)
+        # A pixel holds area only if i < xmax and i + 1 > xmin: columns floor(xmin) ..
+        # ceil(xmax) - 1 (the same for rows). This also bounds M in the error bound.
+        col_lo = max(int(math.floor(xmin)), 0)
+        col_hi = min(int(math.ceil(xmax)) - 1, width - 1)
+        row_lo = max(int(math.floor(ymin)), 0)
+        row_hi = min(int(math.ceil(ymax)) - 1, height - 1)
+        for j in range(row_lo, row_hi + 1):
+            top = float(j)
+            bottom = top + 1.0
+            lo = math.inf
+            hi = -math.inf
+            for e in range(k):
+                f = e + 1 if e + 1 < k else 0
+                ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
+                if by < ay:
+                    ax, ay, bx, by = bx, by, ax, ay
+                if by < top or ay > bottom:
+                    continue
+                if ay == by:
+                    xa, xb = ax, bx
+                else:
+                    xa = _x_at(ax, ay, bx, by, max(ay, top))
+                    xb = _x_at(ax, ay, bx, by, min(by, bottom))
+                lo = min(lo, xa, xb)
+                hi = max(hi, xa, xb)
+            if lo > hi:
+                continue
+            first = max(int(math.floor(lo - margin)), col_lo)
+            last = min(int(math.ceil(hi + margin)) - 1, col_hi)
+            inner_lo = 0
+            inner_hi = 0
+            if ymin <= top and ymax >= bottom:
+                # cross-sections at y = top and y = bottom: [left, right] of each
+                left = -math.inf
+                right = math.inf
+                for side in (top, bottom):
+                    at_lo = math.inf
+                    at_hi = -math.inf
+                    for e in range(k):
+                        f = e + 1 if e + 1 < k else 0
+                        ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
+                        if by < ay:
+                            ax, ay, bx, by = bx, by, ax, ay
+                        if ay == by or side < ay or side > by:
+                            continue
+                        x = _x_at(ax, ay, bx, by, side)
+                        at_lo = min(at_lo, x)
+                        at_hi = max(at_hi, x)
+                    left = max(left, at_lo)
+                    right = min(right, at_hi)
+                # columns i with left + margin <= i and i + 1 <= right - margin
+                inner_lo = max(int(math.ceil(left + margin)), first)
+                inner_hi = min(int(math.floor(right - margin)), last + 1)
+                if inner_hi < inner_lo:
+                    inner_lo = inner_hi = 0
+            if first <= last:
+                out_p[n] = p
+                out_y[n] = j
+                out_x0[n] = first
+                out_x1[n] = last + 1
+                out_i0[n] = inner_lo
+                out_i1[n] = inner_hi
+                n += 1
+    return n
+
+
+@numba.njit(cache=True)
+def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):  # type: ignore[no-untyped-def]
+    """|sum of the edge integrals| of each span's pixels, clamped to [0, 1], in span order
+    (exactly 1 on the pixels [i0, i1) wholly inside)."""
+    local_x = np.empty(polys.shape[1])
+    local_y = np.empty(polys.shape[1])
+    m = 0
+    for s in range(span_p.size):
+        p = span_p[s]
+        k = counts[p]
+        j = span_y[s]
+        for v in range(k):
+            # pixel-local coordinates: every later quantity is at most 1 (or M)
+            local_y[v] = polys[p, v, 1] - j
+        for i in range(span_x0[s], span_x1[s]):
+            if span_i0[s] <= i < span_i1[s]:
+                out[m] = 1.0  # the whole pixel lies inside: exactly 1
+                m += 1
+                continue
+            for v in range(k):
+                local_x[v] = polys[p, v, 0] - i
+            total = 0.0
+            for e in range(k):
+                f = e + 1 if e + 1 < k else 0
+                total += edge_integral(local_x[e], local_y[e], local_x[f], local_y[f])
+            # Green's theorem gives the area up to the orientation's sign; the exact area is
+            # in [0, 1], so clamping only brings the float one closer.
+            out[m] = min(abs(total), 1.0)
+            m += 1
+
+
+def _polygons(positions: NDArray[np.float64], width: int, height: int) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]:
+    """The polygons the kernels work on: near triangles as they are, far ones clipped
+    exactly to the viewport and rounded; degenerate and non-finite ones dropped.
+
+    Returns
+    -------
+    polys : (P, 7, 2) float64
+        Vertices, padded with copies of the first.
+    counts : (P,) int64
+        Vertex counts (3 .. 7).
+    source : (P,) int64
+        The triangle each polygon comes from, increasing.
+    """
+    n = positions.shape[0]
+    # The exact orientation: 0 for non-finite or zero-area triangles, which cover nothing.
+    active = orientation(positions) != 0
+    near = active & np.all(np.abs(positions) <= GUARD_LIMIT, axis=(1, 2))
+    polys = np.empty((n, _MAX_VERTICES, 2))
+    polys[:, :3] = positions
+    polys[:, 3:] = positions[:, :1]
+    counts = np.where(near, 3, 0).astype(np.int64)
+    box = Fraction(0), Fraction(0), Fraction(width), Fraction(height)
+    for t in np.flatnonzero(active & ~near):
+        clipped = _clip_to_box(_fraction_vertices(positions[t]), *box)
+        if not clipped:
+            continue
+        if len(clipped) > _MAX_VERTICES:  # pragma: no cover - impossible for a convex polygon
+            raise AssertionError(f"clipping triangle {t} gave {len(clipped)} vertices")
+        # float(Fraction) rounds to nearest; vertices on the box's sides stay exact.
+        rounded = np.array([(float(x), float(y)) for x, y in clipped])
+        polys[t, : len(rounded)] = rounded
+        polys[t, len(rounded):] = rounded[0]
+        counts[t] = len(rounded)
+    source = np.flatnonzero(counts > 0)
+    return np.ascontiguousarray(polys[source]), counts[source], source
+
+
+def pixel_areas(
+    positions: ArrayLike, width: int, height: int
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
+    """Area of triangle ∩ pixel for every triangle and every viewport pixel it touches.
+
+    Float64 in compiled code, within :func:`area_error_bound` of :func:`exact_area` at
+    every pixel (see the module docstring for the method and the proof).
+
+    Parameters
+    ----------
+    positions : (N, 3, 2) float64
+        Triangles, any orientation. Non-finite and zero-area ones cover nothing.
+    width, height : int
+        The viewport, 1 .. ``MAX_VIEWPORT`` each.
+
+    Returns
+    -------
+    triangle, x, y : (P,) int64
+        Pixels with a nonzero float area, sorted by triangle, then row, then column.
+    area : (P,) float64
+        The area of the triangle inside each, in (0, 1].
+
+    Examples
+    --------
+    >>> t, x, y, area = pixel_areas(np.array([[[0, 0], [2, 0], [0, 2]], [[0.5, 0], [1, 1], [0, 1]]]), 2, 2)
+    >>> t.tolist(), x.tolist(), y.tolist(), area.tolist()
+    ([0, 0, 0, 1], [0, 1, 0, 0], [0, 0, 1, 0], [1.0, 0.5, 0.5, 0.5])
+    """
+    triangle, y, x0, x1, area = _area_spans(_positions(positions), width, height)
+    lengths = x1 - x0
+    keep = area > 0.0
+    return np.repeat(triangle, lengths)[keep], expand(x0, lengths)[keep], np.repeat(y, lengths)[keep], area[keep]
+
+
+@numba.njit(cache=True)
+def _trim_zeros(x0, x1, area, out_x0, out_x1, out_first):  # type: ignore[no-untyped-def]
+    """Each span cut to its first and last pixel of nonzero area (empty when none):
+    the new [x0, x1) and the index of its first area in ``area``."""
+    m = 0
+    for s in range(x0.size):
+        a = m
+        b = m + (x1[s] - x0[s])
+        m = b
+        while a < b and area[a] == 0.0:
+            a += 1
+        while b > a and area[b - 1] == 0.0:
+            b -= 1
+        out_first[s] = a
+        out_x0[s] = x0[s] + (a - (m - (x1[s] - x0[s])))
+        out_x1[s] = out_x0[s] + (b - a)
+
+
+def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[
+        NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
+    """(triangle, y, x0, x1, area): spans sorted by triangle and row, cut to their first
+    and last pixel of nonzero float area, with one area per pixel (zero only inside a
+    span, where a float area vanished)."""
+    _viewport(width, height)
+    polys, counts, source = _polygons(array, int(width), int(height))
+    # Rows a polygon can touch: floor(ymin) .. ceil(ymax) - 1 within the viewport.
+    ys = polys[:, :, 1]
+    rows = np.minimum(np.ceil(ys.max(axis=1)), height) - np.maximum(np.floor(ys.min(axis=1)), 0)
+    capacity = int(np.maximum(rows, 0).sum())
+    block = np.empty((6, capacity), dtype=np.int64)
+    spans = _span_kernel(polys, counts, int(width), int(height), *block)
+    span_p, span_y, span_x0, span_x1, span_i0, span_i1 = (np.ascontiguousarray(b[:spans]) for b in block)
+    area = np.empty(int(pixel_offsets(span_x0, span_x1)[-1]))
+    _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, area)
+    x0, x1, first = np.empty_like(span_x0), np.empty_like(span_x1), np.empty_like(span_x0)
+    _trim_zeros(span_x0, span_x1, area, x0, x1, first)
+    keep = x1 > x0
+    lengths = (x1 - x0)[keep]
+    return source[span_p[keep]], span_y[keep], x0[keep], x1[keep], area[expand(first[keep], lengths)]
+
+
+def area_error_bound(positions: ArrayLike, width: int = MAX_VIEWPORT, height: int = MAX_VIEWPORT) -> NDArray[np.float64]:
+    """Per triangle, a proven bound on ``|pixel_areas - exact_area|`` at every pixel.
+
+    ``u * (n * (22 M + 11 G + 7) + n**2)`` with u = 2**-53 (module docstring): for a
+    triangle within ±2**21, n = 3, G = 0 and M = max(x extent, y extent) + 1; beyond, the
+    clipped polygon's n <= 7, M <= max(W, H) and G = max(W, H). Zero for triangles that
+    cover nothing (non-finite or of zero area). The defaults give a bound valid for any
+    viewport. The constants round the derivation's up with room for the roundings of this
+    evaluation itself.
+
+    Parameters
+    ----------
+    positions : (N, 3, 2) float64
+    width, height : int, optional
+        The viewport (only far triangles depend on it).
+
+    Returns
+    -------
+    (N,) float64
+
+    Examples
+    --------
+    >>> bound = area_error_bound(np.array([[[0, 0], [4, 0], [0, 4]], [[-1e300, 0], [1e300, 1], [0, 2]]]))
+    >>> (bound * 2**53).tolist()  # 3 (22 * 5 + 7) + 9, then n = 7, M = G = 2**20
+    [360.0, 242221154.0]
+    >>> bool(bound.max() < 2**-24)
+    True
+    """
+    array = _positions(positions)
+    _viewport(width, height)
+    active = orientation(array) != 0
+    near = active & np.all(np.abs(array) <= GUARD_LIMIT, axis=(1, 2))
+    safe = np.where(near[:, None, None], array, 0.0)
+    extent = np.maximum(np.ptp(safe[:, :, 0], axis=1), np.ptp(safe[:, :, 1], axis=1))
+
+    def bound(n: int, m: NDArray[np.float64] | float, g: float) -> NDArray[np.float64]:
+        return np.asarray(UNIT_ROUNDOFF * (n * (22.0 * m + 11.0 * g + 7.0) + n * n), dtype=np.float64)
+
+    side = float(max(width, height))
+    out = np.zeros(array.shape[0])
+    out[near] = bound(3, extent[near] + 1.0, 0.0)
+    out[active & ~near] = bound(_MAX_VERTICES, side, side)
+    return out
+
+
+def displaced_area_bound(delta: ArrayLike) -> NDArray[np.float64]:
+    """How much the area of triangle ∩ pixel square can change, at any pixel, when every
+    vertex of the triangle moves by at most ``delta`` (Euclidean): at most
+    ``3 (2 sqrt(2) (1 + 2 delta) delta + pi delta**2)``, and never more than 1.
+
+    This is how far float rounding can move an anti-aliased alpha before it is quantised:
+    a rasterizer computing in float answers for geometry a rounding away from the exact
+    one, and the area is continuous in the vertices.
+
+    Proof. Let T' be the moved triangle. A point ``sum l_k v'_k`` of T' lies within delta
+    of ``sum l_k v_k`` in T (convex weights l_k), so T' lies within delta of T. The
+    support function of T' is ``max_k v'_k . u >= max_k v_k . u - delta``, at least
+    that of T eroded by the disc of radius delta (a point p of the erosion has
+    ``p + delta u`` in T): the erosion lies inside T'. So every point of T Δ T' is within
+    delta of the boundary of T, and ``|area(T ∩ B) - area(T' ∩ B)|`` is at most the area
+    of the points of B within delta of it. Their nearest boundary points lie in B grown by
+    delta on each side, which each of the three edges meets in a segment no longer than
+    its diagonal, ``sqrt(2) (1 + 2 delta)``; the points within delta of a segment of length
+    L cover ``2 delta L + pi delta**2``.
+
+    Parameters
+    ----------
+    delta : float or (N,) float64
+        How far the vertices may move, >= 0.
+
+    Returns
+    -------
+    float64, shaped as ``delta``
+        The bound, rounded up (the float evaluation's own error is covered).
+
+    Examples
+    --------
+    >>> round(float(displaced_area_bound(2.0**-40) * 2**40), 4)  # about 6 sqrt(2) = 8.48528...
+    8.4853
+    >>> displaced_area_bound([0.0, 1.0]).tolist()
+    [0.0, 1.0]
+    """
+    d = np.asarray(delta, dtype=np.float64)
+    bound = 3.0 * (2.0 * math.sqrt(2.0) * (1.0 + 2.0 * d) * d + math.pi * d * d) * (1.0 + 2.0**-50)
+    return np.minimum(bound, 1.0)
+
+
+def area_coverage(scene: Scene, convention: Convention) -> Coverage:
+    """The area oracle of an area-coverage convention: every (triangle, pixel) with a
+    nonzero area, its alpha the area of the snapped triangle inside the pixel square
+    (unquantised), within :func:`area_error_bound` of the exact area. (A supersampled
+    convention's oracle, the share of its samples covered, is
+    :func:`harness.oracle.coverage.exact_coverage`'s.)
+
+    Snapping and culling are the convention's; the tie rule and sample point mean nothing
+    here (an edge has no area). No attributes.
+
+    Parameters
+    ----------
+    scene : Scene
+    convention : Convention
+
+    Returns
+    -------
+    Coverage
+        Spans sorted by triangle, row and column, with ``alpha`` (P,) in (0, 1].
+
+    Examples
+    --------
+    >>> cov = area_coverage(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(coverage="area"))
+    >>> cov.x0.tolist(), cov.x1.tolist(), cov.alpha.tolist()
+    ([0, 0], [2, 1], [1.0, 0.5, 0.5])
+    """
+    if convention.samples is not None:
+        raise ValueError("area_coverage is the analytic area; a supersampled convention's oracle is "
+                         "harness.oracle.coverage.exact_coverage (the share of its samples covered)")
+    positions = convention.snap(scene.positions)
+    if convention.cull != "none":
+        sign = orientation(positions)
+        culled = sign == (1 if convention.cull == "cw" else -1)
+        positions = np.where(culled[:, None, None], np.nan, positions)  # non-finite: covers nothing
+    triangle, y, x0, x1, area = _area_spans(np.ascontiguousarray(positions), scene.width, scene.height)
+    return Coverage(triangle, y, x0, x1, alpha=area)

@@ -1,0 +1,171 @@
+"""identify on line-taking black boxes: the line rule (diamond-exit, Bresenham with its end
+point rounding, tie direction and last pixel, rectangle with its sample point and tie rule)
+and the snapping in front of it, recovered from outside; a box that takes only lines is sent
+nothing else; a line drawer that follows no rule gets a best guess with a residual.
+
+The black boxes are the exact oracles, declaring no convention."""
+
+import json
+
+import numpy as np
+import pytest
+
+from harness.contract.conventions import Convention, LineRule
+from harness.contract.coverage import Coverage
+from harness.contract.protocol import convention_for
+from harness.contract.scenes import LineScene, Unsupported
+from harness.engine.isolation import InProcess
+from harness.identify.fingerprint import Fingerprint, Identified, _with_lines, identify
+from harness.identify.line_probes import crafted_lines, line_candidates
+from harness.oracle.coverage import exact_coverage
+
+
+class LineBox:
+    """Lines by the exact oracle of ``lines`` (width 1 only unless rectangular: a wider
+    scene is refused, as a real width-1 drawer does); triangles, when given a convention
+    for them, by ``triangles``."""
+
+    convention = None
+
+    def __init__(self, lines, triangles=None, name="linebox"):
+        self.lines, self.triangles, self.name = lines, triangles, name
+        self.scene_kinds = ("lines",) if triangles is None else ("triangles", "lines")
+        self.kinds_seen = set()
+
+    def rasterize(self, scene):
+        self.kinds_seen.add(scene.kind)
+        if scene.kind != "lines":
+            return exact_coverage(scene, self.triangles)
+        if self.lines.line.rule != "rectangle" and scene.line_width != 1.0:
+            raise Unsupported(f"width 1 only, not {scene.line_width:g}")
+        return exact_coverage(scene, self.lines)
+
+
+class RoundingDDA(LineBox):
+    """Broken: a float DDA stepping max(|dx|, |dy|) + 1 points along the segment and taking
+    the pixel each lies in -- no rule's end points, ties or last pixel."""
+
+    def __init__(self):
+        super().__init__(Convention(line="bresenham"), name="rounding-dda")
+
+    def rasterize(self, scene):
+        self.kinds_seen.add(scene.kind)
+        a, b = scene.segments()
+        steps = np.ceil(np.abs(b - a).max(axis=1)).astype(np.int64)
+        prim = np.repeat(np.arange(len(scene)), steps + 1)
+        t = (np.arange(prim.size) - np.repeat(np.cumsum(steps + 1) - steps - 1, steps + 1)) / np.maximum(steps[prim], 1)
+        x, y = np.floor(a[prim] + t[:, None] * (b - a)[prim]).astype(np.int64).T
+        inside = (x >= 0) & (x < scene.width) & (y >= 0) & (y < scene.height)
+        key = np.unique((prim[inside] * scene.height + y[inside]) * scene.width + x[inside])
+        return Coverage.from_pixels(key // (scene.width * scene.height), key % scene.width, key // scene.width % scene.height)
+
+
+class Refuses(LineBox):
+    def rasterize(self, scene):
+        raise Unsupported("no lines today")
+
+
+# each rule; Bresenham's roundings, two tie directions, two last-pixel rules and three directions
+# of travel in eight boxes (every value of each at least once, in different company); snapping
+# in front of each rule
+DECLARED = [
+    Convention(line=LineRule("diamond-exit")),
+    Convention(line=LineRule("diamond-exit", last_pixel=True), subpixel_bits=8),
+    Convention(line=LineRule("bresenham", last_pixel=True, rounding="nearest-even", ties="step")),
+    Convention(line=LineRule("bresenham", last_pixel=False, rounding="nearest-even", ties="stay"), subpixel_bits=8),
+    Convention(line=LineRule("bresenham", last_pixel=False, rounding="half-away", ties="step")),
+    Convention(line=LineRule("bresenham", last_pixel=True, rounding="half-away", ties="stay")),
+    Convention(line=LineRule("bresenham", last_pixel=True, rounding="floor", ties="step")),
+    Convention(line=LineRule("bresenham", last_pixel=False, rounding="floor", ties="stay")),
+    # textbook plotLine: the direction of travel normalised (issue 28)
+    Convention(line=LineRule("bresenham", last_pixel=False, rounding="toward-zero", ties="step", direction="smaller-x")),
+    Convention(line=LineRule("bresenham", last_pixel=True, rounding="half-away", ties="stay", direction="smaller-major"),
+               subpixel_bits=4),
+    Convention(line="rectangle"),
+    Convention(sample=(0.0, 0.0), tie="bottom-right-y-first", line="rectangle", subpixel_bits=4, snap_rounding="half-away"),
+    # off the 9 usual sample points: measured by a segment's end swept across a pixel (issue 29)
+    Convention(sample=(0.25, 0.75), line="rectangle"),
+    Convention(sample=(0.375, 0.125), tie="top-right", line="rectangle", subpixel_bits=8, snap_rounding="half-away"),
+    # odd multiples of the snapping step: the swept end flips half a step off them (76.5/256)
+    Convention(sample=(77 / 256, 179 / 256), line="rectangle", subpixel_bits=8, snap_rounding="half-away"),
+]
+
+
+@pytest.mark.parametrize("declared", DECLARED, ids=[c.describe_lines() for c in DECLARED])
+def test_identify_recovers_the_declared_line_convention_exactly(declared):
+    box = LineBox(declared)
+    fp = identify(box)
+    assert fp.line_convention == declared and fp.line_rule == declared.line, fp.card()
+    assert fp.exact and fp.line_fit.exact and fp.residual == 0 and fp.runner_up[1] > 0, fp.card()
+    assert fp.convention == declared and fp.lines_only
+    assert box.kinds_seen == {"lines"}  # a lines-only box is sent nothing else
+    said = fp.to_dict()
+    json.dumps(said)
+    assert said["line_rule"] == declared.line.describe() and said["convention"] == declared.describe_lines()
+    line = said["line_convention"]
+    assert line["rule"] == declared.line.rule and line["exact"] and line["subpixel_bits"] == declared.subpixel_bits
+    assert dict(fp.line_fit.rule_scores)[declared.line.rule] == 0
+    assert "(identified exactly)" in fp.card() and fp.card().splitlines()[1].endswith(declared.describe_lines())
+    wide = fp.line_fit.wide  # width 3: drawn as rectangles, refused by a width-1 rule
+    if declared.line.rule == "rectangle":
+        assert wide.error == "" and wide.mismatches == 0 and wide.pixels > 0, wide.text
+    else:
+        assert wide.text.startswith("width 3: refused (Unsupported: width 1 only"), wide.text
+
+
+def test_the_probe_scenes_part_every_pair_of_candidate_rules():
+    """No two unsnapped candidates draw the crafted scene alike: the rule fit can tell each
+    from every other whatever the random lattice scenes hold."""
+    scene = crafted_lines()
+    seen = {}
+    for candidate in line_candidates():
+        prim, x, y = exact_coverage(scene, candidate).pixels()
+        key = (prim * scene.height + y) * scene.width + x
+        seen.setdefault(np.sort(key).tobytes(), []).append(candidate)
+    alike = [group for group in seen.values() if len(group) > 1]
+    assert not alike, [[c.describe_lines() + f" {c.sample} {c.tie}" for c in group] for group in alike]
+
+
+def test_a_dda_that_follows_no_rule_gets_a_best_guess_with_a_residual():
+    box = RoundingDDA()
+    fp = identify(box)
+    assert not fp.exact and fp.residual > 0 and fp.line_rule is not None, fp.card()
+    assert "best guess only" in fp.card() and "best guess only" in fp.facts["lines"]
+    assert not fp.to_dict()["line_convention"]["exact"]
+
+
+def test_a_box_that_refuses_every_line_is_never_claimed():
+    fp = identify(Refuses(Convention()))
+    assert fp.line_rule is None and fp.line_convention is None and not fp.exact and fp.residual > 0
+    assert fp.facts["lines"].startswith("not fitted: unanswered: Unsupported: no lines today")
+    assert fp.to_dict()["line_convention"] is None
+
+
+def test_triangles_and_lines_each_by_their_own_convention():
+    """A box that takes both: the triangle fingerprint as before, the line rule put in its
+    convention, and the line convention (its own snapping) kept apart and used to judge
+    lines."""
+    triangles = Convention(subpixel_bits=8)
+    lines = Convention(line=LineRule("bresenham", ties="stay"))
+    box = LineBox(lines, triangles)
+    fp = identify(box)
+    assert box.kinds_seen == {"triangles", "lines"}
+    assert fp.exact and fp.convention == Convention(subpixel_bits=8, line=lines.line), fp.card()
+    assert fp.line_convention == lines and fp.line_fit.exact and not fp.lines_only
+    assert fp.line_fit.differences == ("snapping bits None (triangles: 8)",)
+    assert fp.to_dict()["line_convention"]["same_as_triangles"] is False
+    judged = Identified(box, fp)
+    assert judged.line_convention == lines and not hasattr(judged, "path_convention")
+    assert convention_for(judged, LineScene.from_segments(4, 4, [[0, 0]], [[3, 1]])) == lines
+
+
+def test_a_snapping_no_line_shows_is_taken_to_be_the_triangles():
+    """Floor snapping in front of Bresenham's floor rounding changes no pixel: the line fit
+    then keeps the triangles' snapping, and the line convention is the triangle one with
+    its line rule (nothing apart to judge lines by)."""
+    triangles = Convention(subpixel_bits=8, snap_rounding="floor", cull="cw")
+    lines = Convention(line=LineRule("bresenham", rounding="floor"), subpixel_bits=8, snap_rounding="floor", cull="cw")
+    fp = Fingerprint("box", triangles, 0, 1, ("another", 3))
+    _with_lines(fp, InProcess(LineBox(lines, triangles)), 0)
+    assert fp.line_convention == lines and fp.convention == lines and fp.line_fit.same_as_triangles, fp.card()
+    assert not hasattr(Identified(LineBox(lines, triangles), fp), "line_convention")
