@@ -308,7 +308,8 @@ def _bad_triangle(rng: np.random.Generator, huge: bool) -> Positions:
             steps[1] = steps[0]
         elif shape == "point":
             steps[:] = 0.0
-        return p + steps[:, None] * d
+        collinear: Positions = p + steps[:, None] * d
+        return collinear
     if kind == "epsilon":
         # a long edge through sample points (along a row, a column or a diagonal), the third
         # vertex a tiny step off it, on either side
@@ -326,7 +327,8 @@ def _bad_triangle(rng: np.random.Generator, huge: bool) -> Positions:
         b = a + rng.uniform(-20, 20, 2)
         return np.array([a, b, a + (b - a) * 0.5 + [float(_choice(rng, (1e-3, 1e-6, 1e-9))), 0.0]])
     if kind == "on-samples":
-        return np.floor(rng.uniform(1, size - 1, (3, 2))) + _choice(rng, (0.0, 0.5))
+        on_samples: Positions = np.floor(rng.uniform(1, size - 1, (3, 2))) + _choice(rng, (0.0, 0.5))
+        return on_samples
     if kind == "huge":
         big = float(_choice(rng, (10.0 ** int(rng.integers(4, 40)), 2.0 ** int(rng.integers(12, 1024)),
                                   10.0 ** int(rng.integers(40, 308)))))

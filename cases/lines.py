@@ -250,7 +250,8 @@ def _walk(rng: np.random.Generator, count: int, size: int, reach: int, scale: in
     steps = rng.integers(-reach * scale, reach * scale + 1, size=(count - 1, 2)) / scale
     start = rng.integers(size // 4, 3 * size // 4, size=2).astype(np.float64)
     points = np.concatenate([start[None], start + np.cumsum(steps, axis=0)])
-    return np.mod(points, size - 1) + offset
+    walk: Points = np.mod(points, size - 1) + offset
+    return walk
 
 
 def _diamond_walk(rng: np.random.Generator, count: int, size: int) -> Points:
@@ -258,7 +259,8 @@ def _diamond_walk(rng: np.random.Generator, count: int, size: int) -> Points:
     plus a corner (+-1/2 along one axis) or an edge midpoint (+-1/4, +-1/4)."""
     centres = np.floor(rng.uniform(2, size - 2, size=(count, 2))) + 0.5
     boundary = np.array([[0.0, -0.5], [0.5, 0.0], [0.0, 0.5], [-0.5, 0.0], [0.25, -0.25], [0.25, 0.25], [-0.25, 0.25], [-0.25, -0.25]])
-    return centres + boundary[rng.integers(0, len(boundary), size=count)]
+    walk: Points = centres + boundary[rng.integers(0, len(boundary), size=count)]
+    return walk
 
 
 def strip_cases(seed: int, full: bool = False) -> list[Case]:

@@ -34,7 +34,8 @@ def _rotation(rng: np.random.Generator) -> NDArray[np.float64]:
     import trimesh
 
     q = rng.normal(size=4)
-    return trimesh.transformations.quaternion_matrix(q / np.linalg.norm(q))
+    rotation: NDArray[np.float64] = trimesh.transformations.quaternion_matrix(q / np.linalg.norm(q))  # type: ignore[no-untyped-call]
+    return rotation
 
 
 def _perspective(fov_y: float, aspect: float, near: float, far: float) -> NDArray[np.float64]:

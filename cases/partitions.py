@@ -105,7 +105,10 @@ def partition_cases(seed: int, full: bool = False) -> list[Case]:
         cases.append(Case(f"watertight/{name}", Scene(SIZE, SIZE, tris), lattice=lattice, region=np.asarray(region, float)))
 
     cells = (6, 10) if full else (6,)
-    square = lambda lo, hi: np.array([[lo, lo], [hi, lo], [hi, hi], [lo, hi]])  # noqa: E731
+
+    def square(lo: float, hi: float) -> NDArray:
+        return np.array([[lo, lo], [hi, lo], [hi, hi], [lo, hi]])
+
     for n in cells:
         for diagonal in ("main", "anti", "mixed"):
             for jitter in ("none", "lattice", "float"):

@@ -32,7 +32,8 @@ def random_triangles(count: int, mean_area: float, size: int, seed: int) -> NDAr
     angle = angle + rng.uniform(-0.3, 0.3, size=(count, 3))
     r = radius * rng.uniform(0.8, 1.2, size=(count, 3))
     offsets = np.stack([r * np.cos(angle), r * np.sin(angle)], axis=-1)
-    return centre + offsets
+    positions: NDArray[np.float64] = centre + offsets
+    return positions
 
 
 def lattice_triangles(count: int, size: int, bits: int, seed: int) -> NDArray[np.float64]:
@@ -41,7 +42,7 @@ def lattice_triangles(count: int, size: int, bits: int, seed: int) -> NDArray[np
     rng = np.random.default_rng(seed)
     scale = 2**bits
     ints = rng.integers(-2 * scale, (size + 2) * scale, size=(count, 3, 2))
-    positions = ints / scale
+    positions: NDArray[np.float64] = ints / scale
     on_centre = rng.random((count, 3)) < 0.3
     positions[on_centre] = np.floor(positions[on_centre]) + 0.5
     on_corner = rng.random((count, 3)) < 0.2

@@ -237,7 +237,8 @@ def _unhex(data: Any, field: str = "") -> NDArray | None:
         try:
             number = {value: _number(value) for value in set(flat)}  # each distinct text read once
         except TypeError:  # an unhashable value (a dict): _number names it
-            return np.vectorize(_number, otypes=[float])(array)
+            numbers: NDArray[np.float64] = np.vectorize(_number, otypes=[float])(array)
+            return numbers
     except ValueError as exc:
         raise ValueError(f"case JSON is malformed at {field}: {exc}" if field else str(exc)) from None
     return np.array([number[value] for value in flat], dtype=np.float64).reshape(array.shape)

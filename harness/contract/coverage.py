@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -87,6 +87,12 @@ class Coverage:
     attributes: NDArray[np.float64] | None = None
     sample: NDArray[np.int64] | None = None
     alpha: NDArray[np.float64] | None = None
+
+    # the constructor takes array-likes (lists too), which __post_init__ makes arrays
+    if TYPE_CHECKING:
+        def __init__(self, primitive: ArrayLike, y: ArrayLike, x0: ArrayLike, x1: ArrayLike,
+                     attributes: ArrayLike | None = None, sample: ArrayLike | None = None,
+                     alpha: ArrayLike | None = None) -> None: ...
 
     def __post_init__(self) -> None:
         fields = ("primitive", "y", "x0", "x1") + (("sample",) if self.sample is not None else ())

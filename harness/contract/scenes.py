@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -92,6 +92,11 @@ class Scene:
     kind: ClassVar[str] = "triangles"
     noun: ClassVar[str] = "triangle"  # what a primitive is called in messages and evidence
 
+    # the constructor takes array-likes (lists too), which __post_init__ makes arrays
+    if TYPE_CHECKING:
+        def __init__(self, width: int, height: int, positions: ArrayLike, attributes: ArrayLike | None = None,
+                     w: ArrayLike | None = None) -> None: ...
+
     def __post_init__(self) -> None:
         _set_viewport(self)
         positions = _real_array(self.positions, "positions", "Scene")
@@ -119,7 +124,7 @@ class Scene:
                 )
             object.__setattr__(self, "w", w)
 
-    def __reduce__(self) -> tuple[type, tuple]:  # type: ignore[type-arg]
+    def __reduce__(self) -> tuple[type, tuple]:
         # through the constructor: an unpickled scene (a worker's) is checked and frozen as
         # the original was, so kernels see one array type (see harness.geometry.exact.frozen)
         return Scene, (self.width, self.height, self.positions, self.attributes, self.w)
@@ -218,6 +223,11 @@ class PathScene:
     attributes: ClassVar[None] = None
     w: ClassVar[None] = None
 
+    # the constructor takes array-likes (lists too), which __post_init__ makes arrays
+    if TYPE_CHECKING:
+        def __init__(self, width: int, height: int, vertices: ArrayLike, contour_sizes: ArrayLike,
+                     contour_path: ArrayLike, fill_rule: str = "nonzero") -> None: ...
+
     def __post_init__(self) -> None:
         _set_viewport(self)
         vertices = _vertex_array(self.vertices, "PathScene")
@@ -253,7 +263,7 @@ class PathScene:
         return cls(width, height, vertices, np.array([c.shape[0] for c in contours], dtype=np.int64),
                    np.array(owner, dtype=np.int64), fill_rule)
 
-    def __reduce__(self) -> tuple[type, tuple]:  # type: ignore[type-arg]
+    def __reduce__(self) -> tuple[type, tuple]:
         return PathScene, (self.width, self.height, self.vertices, self.contour_sizes, self.contour_path, self.fill_rule)
 
     def __len__(self) -> int:
@@ -385,6 +395,11 @@ class LineScene:
     attributes: ClassVar[None] = None
     w: ClassVar[None] = None
 
+    # the constructor takes array-likes (lists too), which __post_init__ makes arrays
+    if TYPE_CHECKING:
+        def __init__(self, width: int, height: int, vertices: ArrayLike, strip_sizes: ArrayLike,
+                     line_width: float = 1.0) -> None: ...
+
     def __post_init__(self) -> None:
         _set_viewport(self)
         vertices = _vertex_array(self.vertices, "LineScene")
@@ -421,7 +436,7 @@ class LineScene:
         return cls(width, height, np.stack([a_arr, b_arr], axis=1).reshape(-1, 2), np.full(a_arr.shape[0], 2, dtype=np.int64),
                    line_width)
 
-    def __reduce__(self) -> tuple[type, tuple]:  # type: ignore[type-arg]
+    def __reduce__(self) -> tuple[type, tuple]:
         return LineScene, (self.width, self.height, self.vertices, self.strip_sizes, self.line_width)
 
     def __len__(self) -> int:

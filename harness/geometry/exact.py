@@ -170,7 +170,8 @@ def in_safe_range(values: NDArray[np.float64], axis: int | tuple[int, ...] = -1)
     """True where every value along ``axis`` is zero or of magnitude in [SAFE_MIN, SAFE_MAX]."""
     magnitude = np.abs(values)
     ok = (magnitude == 0.0) | ((magnitude >= SAFE_MIN) & (magnitude <= SAFE_MAX))
-    return np.all(ok, axis=axis)
+    safe: NDArray[np.bool_] = np.all(ok, axis=axis)
+    return safe
 
 
 @numba.njit(cache=True)

@@ -8,6 +8,10 @@ cache this closes (it crashed CI's test workers inside the trapezoid fill).
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from contextlib import AbstractContextManager
+from typing import Any
+
 __all__ = ["safe_numba_cache"]
 
 
@@ -38,7 +42,7 @@ def safe_numba_cache() -> None:
         return  # not the numba this was written for: leave it alone
     original = cls.save
 
-    def _lock(path: str):  # type: ignore[no-untyped-def]
+    def _lock(path: str) -> AbstractContextManager[None]:
         try:
             import fcntl
 
@@ -56,10 +60,11 @@ def safe_numba_cache() -> None:
 
         return _Held()
 
-    def save(self, key, data):  # type: ignore[no-untyped-def]
+    def save(self: Any, key: Any, data: bytes) -> None:
         pattern = getattr(self, "_data_name_pattern", None)
         if not isinstance(pattern, str) or "{number:d}" not in pattern or not hasattr(self, "_index_path"):
-            return original(self, key, data)
+            original(self, key, data)
+            return
         digest = hashlib.sha256(repr(key).encode()).hexdigest()[:20]
         name = pattern.replace("{number:d}", digest)
         self._save_data(name, data)  # (atomic: a temporary file, then os.replace)
@@ -69,12 +74,12 @@ def safe_numba_cache() -> None:
                 overloads[key] = name
                 self._save_index(overloads)
 
-    cls.save = save  # type: ignore[method-assign]
-    cls._rastercheck_safe = True  # type: ignore[attr-defined]
+    cls.save = save
+    cls._rastercheck_safe = True
     _compile_one_at_a_time(_lock)
 
 
-def _compile_one_at_a_time(lock):  # type: ignore[no-untyped-def]
+def _compile_one_at_a_time(lock: Callable[[str], AbstractContextManager[None]]) -> None:
     """Let one process at a time compile (or load) each cached kernel.
 
     Two processes that miss the cache for one kernel at once both compile it and both save
@@ -94,7 +99,7 @@ def _compile_one_at_a_time(lock):  # type: ignore[no-untyped-def]
     original = cls.compile
     held: set[str] = set()  # the index files whose lock this process holds
 
-    def compile(self, sig):  # type: ignore[no-untyped-def]
+    def compile(self: Any, sig: Any) -> Any:
         index = getattr(getattr(getattr(self, "_cache", None), "_cache_file", None), "_index_path", None)
         if not isinstance(index, str) or index in held:  # not cached on disk, or ours already
             return original(self, sig)

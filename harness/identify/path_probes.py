@@ -157,7 +157,8 @@ def _distance(a: NDArray[np.float64], b: NDArray[np.float64], px: NDArray[np.flo
     d = b - a
     length = float(d @ d)
     t = np.zeros(px.shape) if length == 0 else np.clip(((px - a[0]) * d[0] + (py - a[1]) * d[1]) / length, 0.0, 1.0)
-    return np.hypot(px - a[0] - t * d[0], py - a[1] - t * d[1])
+    distance: NDArray[np.float64] = np.hypot(px - a[0] - t * d[0], py - a[1] - t * d[1])
+    return distance
 
 
 def _hull(points: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -102,8 +102,8 @@ def _tie_right(ax, ay, bx, by, tx, ty, y_first):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, evenodd, to_edge, width, height,  # noqa: C901 - a numba kernel: the sweep is one loop
-                  keys, row_start, row_end, out_p, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+def _paths_kernel(a, b, first_edge, sx, sy, tx, ty, y_first, evenodd, to_edge, width, height,  # type: ignore[no-untyped-def]  # noqa: C901 - a numba kernel: the sweep is one loop
+                  keys, row_start, row_end, out_p, out_y, out_x0, out_x1):
     """Every path's spans, one path at a time, with no global sort: the path's crossings
     bucketed by row (each row's bucket as large as the number of the path's edges whose y
     extent spans it -- an upper bound, from a difference array: no counting pass), each
@@ -299,7 +299,8 @@ def _beyond(vertices: NDArray[np.float64]) -> NDArray[np.bool_]:
     (NaN is never beyond; an infinite one is, but its path is dropped anyway)."""
     magnitude = np.abs(vertices)
     out = (magnitude != 0.0) & ((magnitude < SAFE_MIN) | (magnitude > SAFE_MAX))
-    return out[:, 0] | out[:, 1]
+    beyond: NDArray[np.bool_] = out[:, 0] | out[:, 1]
+    return beyond
 
 
 def _prepare(

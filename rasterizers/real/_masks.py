@@ -33,13 +33,13 @@ def finite_within_limit(scene: AnyScene, name: str) -> NDArray[np.bool_]:
                              f"{hi[k].tolist()}); the library's coordinates would lose precision or overflow")
         return finite
     positions = scene.positions
-    finite = np.all(np.isfinite(positions), axis=(1, 2))
-    too_big = finite & np.any(np.abs(positions) > LIMIT, axis=(1, 2))
+    finite_triangles: NDArray[np.bool_] = np.all(np.isfinite(positions), axis=(1, 2))
+    too_big = finite_triangles & np.any(np.abs(positions) > LIMIT, axis=(1, 2))
     if too_big.any():
         t = int(np.flatnonzero(too_big)[0])
         raise ValueError(f"{name}: triangle {t} has a coordinate beyond +/-{LIMIT:g} px ({positions[t].tolist()}); "
                          "the library's coordinates would lose precision or overflow")
-    return finite
+    return finite_triangles
 
 
 def _boxes(scene: Scene, name: str, margin: int) -> Iterator[tuple[int, NDArray[np.float64], int, int, int, int]]:

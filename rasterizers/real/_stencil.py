@@ -465,4 +465,5 @@ def layers(boxes: NDArray[np.int64], tile: int = TILE) -> NDArray[np.int64]:
         return np.zeros(0, dtype=np.int64)
     tiles_x = int(boxes[:, 2].max() - 1) // tile + 1
     tiles_y = int(boxes[:, 3].max() - 1) // tile + 1
-    return _layer_kernel(boxes, tile, tiles_x, tiles_y)
+    layers: NDArray[np.int64] = _layer_kernel(boxes, tile, tiles_x, tiles_y)
+    return layers

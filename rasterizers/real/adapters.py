@@ -4,6 +4,7 @@ pixel (i, j) is the square [i, i+1) x [j, j+1), y down."""
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from typing import Any, NoReturn
 
 import numpy as np
@@ -276,7 +277,9 @@ class SkimagePolygon(_OneAtATime):
         _need("skimage")
         from skimage.draw import line, polygon
 
-        self._polygon, self._line = polygon, line
+        # skimage.draw is not annotated: both return (rows, cols) index arrays
+        self._polygon: Callable[..., tuple[NDArray, NDArray]] = polygon
+        self._line: Callable[..., tuple[NDArray, NDArray]] = line
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         rows, cols = self._polygon(p[:, 1] - 0.5, p[:, 0] - 0.5, shape=(h, w))
@@ -309,7 +312,8 @@ def nearest_pixel(p: NDArray) -> NDArray[np.int64]:
     """
     below = np.floor(p)
     odd_integer = (p == below) & (np.mod(below, 2.0) == 1.0)
-    return (below - odd_integer).astype(np.int64)
+    nearest: NDArray[np.int64] = (below - odd_integer).astype(np.int64)
+    return nearest
 
 
 def bridged(contours: list[NDArray]) -> NDArray:
