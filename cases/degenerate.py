@@ -60,14 +60,16 @@ def degenerate_cases(seed: int, full: bool = False) -> list[Case]:
     rng = np.random.default_rng(seed)
     cases: list[Case] = []
 
-    def add(name: str, scene: Scene, lattice: bool = False, refusable: tuple[int, ...] = (), region: np.ndarray | None = None) -> None:
+    def add(name: str, scene: Scene, lattice: bool = False, refusable: tuple[int, ...] = (),
+            region: np.ndarray | None = None) -> None:
         cases.append(Case(f"degenerate/{name}", scene, lattice=lattice, refusable=refusable, region=region))
 
     # zero area: nothing, always
     add("zero-area/collinear", _scene([[4.5, 4.5], [12.5, 12.5], [20.5, 20.5]], [[3, 20], [20, 3], [11.5, 11.5]]), lattice=True)
     add("zero-area/repeated-vertex", _scene([[4.5, 4.5], [4.5, 4.5], [20.5, 14.5]], [[10, 10], [20, 10], [20, 10]]), lattice=True)
     add("zero-area/single-point", _scene([[15.5, 15.5]] * 3, [[16, 16]] * 3), lattice=True)
-    add("zero-area/horizontal-line", _scene([[2.5, 15.5], [12.5, 15.5], [28.5, 15.5]], [[2, 16], [30, 16], [9, 16]]), lattice=True)
+    add("zero-area/horizontal-line", _scene([[2.5, 15.5], [12.5, 15.5], [28.5, 15.5]], [[2, 16], [30, 16], [9, 16]]),
+        lattice=True)
     add("zero-area/vertical-line", _scene([[15.5, 2.5], [15.5, 12.5], [15.5, 28.5]], [[16, 2], [16, 30], [16, 9]]), lattice=True)
     # epsilon heights and widths: a long edge through sample points, the third vertex a
     # tiny step off it, on either side
@@ -98,7 +100,8 @@ def degenerate_cases(seed: int, full: bool = False) -> list[Case]:
         add(f"huge/wedge-{label}", _scene([[-big, 6.25], [big, 9.75], [16.5, 27.0]]), refusable=(2,))
     # off-screen and negative coordinates
     add("offscreen/partly", _scene([[-10.5, -4.25], [20.0, 5.5], [6.5, 40.75]], [[25.0, 10.0], [50.0, 14.0], [28.0, 60.0]]))
-    add("offscreen/fully", _scene([[-40, -40], [-10, -35], [-30, -5]], [[40, 40], [60, 45], [50, 70]], [[5, -20], [25, -20], [15, -1]]))
+    add("offscreen/fully", _scene([[-40, -40], [-10, -35], [-30, -5]], [[40, 40], [60, 45], [50, 70]],
+                                  [[5, -20], [25, -20], [15, -1]]))
     add("offscreen/negative", _scene([[-3.5, -3.5], [12.5, -1.5], [-2.5, 14.5]]), lattice=True)
     # non-finite triangles among finite ones: nothing from them, the rest still right
     nan, inf = np.nan, np.inf

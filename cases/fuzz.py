@@ -102,10 +102,11 @@ def generate(family: str, seed: int, index: int) -> Case | MotionCase:
 
     >>> generate("partitions", 3, 0).id
     'watertight/fuzz/partitions/3/0'
-    >>> generate("cubes", 0, 0)
+    >>> generate("cubes", 0, 0)  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
-    ValueError: unknown fuzz family 'cubes': choose one of lattice, float, partitions, meshes, degenerate, motion, paths, lines, tall, winding
+    ValueError: unknown fuzz family 'cubes': choose one of lattice, float, partitions, meshes, degenerate, motion, paths, lines,
+    tall, winding
     """
     build = _BUILDERS.get(family) if isinstance(family, str) else None
     if build is None:
@@ -225,7 +226,8 @@ def _float(case_id: str, rng: np.random.Generator) -> Case:
     else:
         # lattice triangles nudged by about a micro-pixel: samples just off the edges
         amount = float(_choice(rng, (2e-6, 1e-9, 1e-12)))
-        tris = lattice_triangles(count, size, int(_choice(rng, (0, 1, 2, 4))), _seed(rng)) + rng.uniform(-amount, amount, (count, 3, 2))
+        lattice = lattice_triangles(count, size, int(_choice(rng, (0, 1, 2, 4))), _seed(rng))
+        tris = lattice + rng.uniform(-amount, amount, (count, 3, 2))
     return Case(case_id, Scene(size, size, tris), lattice=_on_lattice(tris))
 
 
@@ -298,7 +300,8 @@ ULP = float(np.spacing(10.5))
 def _bad_triangle(rng: np.random.Generator, huge: bool) -> Positions:
     """One degenerate or hostile triangle, (3, 2): a huge one, or one of the other kinds."""
     size = DEGENERATE_SIZE
-    kind = "huge" if huge else _choice(rng, ("zero-area", "epsilon", "sliver", "on-samples", "offscreen", "non-finite"), (3, 3, 2, 2, 1, 1))
+    kind = "huge" if huge else _choice(rng, ("zero-area", "epsilon", "sliver", "on-samples", "offscreen", "non-finite"),
+                                       (3, 3, 2, 2, 1, 1))
     if kind == "zero-area":
         p = np.floor(rng.uniform(2, size - 2, 2)) + _choice(rng, (0.0, 0.5))
         d = rng.integers(-6, 7, 2) / _choice(rng, (1.0, 2.0, 4.0))
@@ -337,7 +340,8 @@ def _bad_triangle(rng: np.random.Generator, huge: bool) -> Positions:
             return np.array([[-big, rng.uniform(4, 16)], [big, rng.uniform(16, 28)], [rng.uniform(4, 28), rng.uniform(12, 20)]])
         if shape == "wedge":
             return np.array([[-big, rng.uniform(2, 10)], [big, rng.uniform(2, 10)], rng.uniform(12, 30, 2)])
-        return np.array([rng.uniform(0, size, 2), rng.uniform(0, size, 2), [big * _choice(rng, (1.0, -1.0)), rng.uniform(0, size)]])
+        return np.array([rng.uniform(0, size, 2), rng.uniform(0, size, 2),
+                         [big * _choice(rng, (1.0, -1.0)), rng.uniform(0, size)]])
     if kind == "offscreen":
         p = rng.uniform(-size, 2 * size, (3, 2))
         return p
@@ -381,7 +385,8 @@ def _motion(case_id: str, rng: np.random.Generator) -> MotionCase:
         # a tall sliver far right on a large screen: two thousand rows down each long edge,
         # where single-precision stepping drifts by a visible fraction of a pixel
         x = float(rng.integers(1000, 1500)) + float(_choice(rng, (0.25, 0.5, 0.75)))
-        tall = np.array([[[x, 0.75], [x + float(rng.integers(16, 40)) + 0.5, 2040.25], [x + float(rng.integers(4, 14)) + 0.75, 2046.5]]])
+        tall = np.array([[[x, 0.75], [x + float(rng.integers(16, 40)) + 0.5, 2040.25],
+                          [x + float(rng.integers(4, 14)) + 0.75, 2046.5]]])
         scenes = tuple(Scene(1600, 2048, f) for f in translate(tall, (1 / 64, 0.0), int(rng.integers(17, 34))))
         return MotionCase(case_id, scenes)
     attributes, texels = None, None
@@ -395,7 +400,8 @@ def _motion(case_id: str, rng: np.random.Generator) -> MotionCase:
                 geometry = drawn
                 break
     elif kind == "fan":
-        geometry, _ = fan(int(rng.integers(4, 9)), np.floor(rng.uniform(9, 13, 2)) + _choice(rng, (0.0, 0.5)), float(rng.uniform(4, 8)), rng)
+        geometry, _ = fan(int(rng.integers(4, 9)), np.floor(rng.uniform(9, 13, 2)) + _choice(rng, (0.0, 0.5)),
+                          float(rng.uniform(4, 8)), rng)
     elif kind == "grid":
         geometry = grid(2, 3.0, float(_choice(rng, (15.0, 17.0, 18.5))), "lattice", "mixed", rng)
     else:
@@ -521,12 +527,14 @@ def _lines(case_id: str, rng: np.random.Generator) -> Case:
     elif kind == "strips":
         shape = _choice(rng, ("walk", "diamond-walk", "spiral", "zigzag", "star"))
         if shape == "walk":
-            strips = [line_shapes._walk(rng, int(rng.integers(4, 13)), size, int(rng.integers(2, 9)), int(_choice(rng, (1, 2, 8))),
+            strips = [line_shapes._walk(rng, int(rng.integers(4, 13)), size, int(rng.integers(2, 9)),
+                                        int(_choice(rng, (1, 2, 8))),
                                         float(_choice(rng, (0.0, 0.5)))) for _ in range(int(rng.integers(1, 4)))]
         elif shape == "diamond-walk":
             strips = [line_shapes._diamond_walk(rng, int(rng.integers(4, 11)), size) for _ in range(int(rng.integers(1, 4)))]
         elif shape == "spiral":
-            spiral = line_shapes.spiral(rng.uniform(14, 18, 2), float(rng.uniform(1, 4)), int(rng.integers(12, 48)), float(rng.uniform(6, 14)))
+            spiral = line_shapes.spiral(rng.uniform(14, 18, 2), float(rng.uniform(1, 4)), int(rng.integers(12, 48)),
+                                        float(rng.uniform(6, 14)))
             strips = [_path_lattice(spiral, 4) if rng.random() < 0.5 else spiral]
         elif shape == "zigzag":
             start = np.floor(rng.uniform(1, 6, 2)) + _choice(rng, (0.0, 0.5))

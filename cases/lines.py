@@ -97,7 +97,8 @@ def zigzag(start: ArrayLike, step: ArrayLike, count: int) -> Points:
     sx, sy = (float(v) for v in np.asarray(step, dtype=np.float64))
     moves = np.array([[abs(sx), sy if k % 2 == 0 else -sy] for k in range(count)]) if sx >= 0 else \
         np.array([[-sx if k % 2 == 0 else sx, abs(sy)] for k in range(count)])
-    return np.concatenate([np.asarray(start, dtype=np.float64)[None], np.asarray(start, dtype=np.float64) + np.cumsum(moves, axis=0)])
+    return np.concatenate([np.asarray(start, dtype=np.float64)[None],
+                           np.asarray(start, dtype=np.float64) + np.cumsum(moves, axis=0)])
 
 
 def _star(n: int, k: int, centre: ArrayLike, radius: float, turn: float = 0.0) -> Points:
@@ -258,7 +259,8 @@ def _diamond_walk(rng: np.random.Generator, count: int, size: int) -> Points:
     """(count, 2): a polyline whose vertices all lie on diamond boundaries: pixel centres
     plus a corner (+-1/2 along one axis) or an edge midpoint (+-1/4, +-1/4)."""
     centres = np.floor(rng.uniform(2, size - 2, size=(count, 2))) + 0.5
-    boundary = np.array([[0.0, -0.5], [0.5, 0.0], [0.0, 0.5], [-0.5, 0.0], [0.25, -0.25], [0.25, 0.25], [-0.25, 0.25], [-0.25, -0.25]])
+    boundary = np.array([[0.0, -0.5], [0.5, 0.0], [0.0, 0.5], [-0.5, 0.0], [0.25, -0.25], [0.25, 0.25], [-0.25, 0.25],
+                         [-0.25, -0.25]])
     walk: Points = centres + boundary[rng.integers(0, len(boundary), size=count)]
     return walk
 
@@ -280,22 +282,24 @@ def strip_cases(seed: int, full: bool = False) -> list[Case]:
     add("joints/diamond-edges", lambda r: [_diamond_walk(r, 10, SIZE) for _ in range(4)], quick=True, lattice=True)
     add("joints/lattice-1-8", lambda r: [_walk(r, 16, SIZE, 6, 8, 0.0) for _ in range(4)], lattice=True)
     add("joints/float", lambda r: [r.uniform(0, SIZE, size=(10, 2)) for _ in range(4)], quick=True)
-    add("joints/float-short-steps", lambda r: [np.cumsum(r.uniform(-1.5, 1.5, size=(40, 2)), axis=0) + SIZE / 2 for _ in range(3)])
+    add("joints/float-short-steps",
+        lambda r: [np.cumsum(r.uniform(-1.5, 1.5, size=(40, 2)), axis=0) + SIZE / 2 for _ in range(3)])
     # closed loops: the last vertex equals the first exactly
     square = np.array([[4.5, 4.5], [27.5, 4.5], [27.5, 27.5], [4.5, 27.5], [4.5, 4.5]])
     diamond = np.array([[16.0, 2.0], [30.0, 16.0], [16.0, 30.0], [2.0, 16.0], [16.0, 2.0]])
     add("closed/square-and-diamond", [square, diamond], quick=True, lattice=True)
     add("closed/polygons-lattice", lambda r: [_on_lattice(_star(n, 1, r.uniform(12, 20, 2), r.uniform(6, 12), r.uniform(0, 6)), 4)
                                               for n in (3, 5, 8)], lattice=True)
-    add("closed/polygons-float", lambda r: [_star(n, 1, r.uniform(12, 20, 2), r.uniform(6, 12), r.uniform(0, 6)) for n in (4, 7, 12)],
-        quick=True)
+    add("closed/polygons-float",
+        lambda r: [_star(n, 1, r.uniform(12, 20, 2), r.uniform(6, 12), r.uniform(0, 6)) for n in (4, 7, 12)], quick=True)
     # spirals: many short segments turning through every octant
     add("spiral/lattice", [_on_lattice(spiral((16, 16), 3.0, 60, 14.0), 4)], quick=True, lattice=True)
     add("spiral/float", lambda r: [spiral(r.uniform(15, 17, 2), 4.0, 90, 14.0)])
     add("spiral/tight-float", lambda r: [spiral(r.uniform(15, 17, 2), 6.0, 200, 6.0)])
     # zig-zags: slopes +-1 exactly (the x-major tie) and switching between the axes
     add("zigzag/diagonal-centres", [zigzag((2.5, 10.5), (3, 3), 9), zigzag((2.5, 20.5), (2, -2), 13)], quick=True, lattice=True)
-    add("zigzag/steep-and-shallow", [zigzag((1.0, 4.0), (5, 2), 6), zigzag((4.0, 1.0), (-2, 5), 6), zigzag((1.5, 28.5), (3, -1), 9)],
+    add("zigzag/steep-and-shallow",
+        [zigzag((1.0, 4.0), (5, 2), 6), zigzag((4.0, 1.0), (-2, 5), 6), zigzag((1.5, 28.5), (3, -1), 9)],
         quick=True, lattice=True)
     add("zigzag/float", lambda r: [zigzag(r.uniform(1, 3, 2), r.uniform(1, 4, 2), 8) for _ in range(2)])
     # star polygons, closed
@@ -331,7 +335,8 @@ def line_degenerate_cases(seed: int, full: bool = False) -> list[Case]:
     points = [[10.5, 10.5], [16.0, 16.0], [20.5, 6.0], [21.0, 12.5], [20.5, 19.0], [20.0, 24.5], [6.25, 20.25]]
     add("zero-length/lattice", [[p, p] for p in points] + [[[4.5, 26.5], [8.5, 26.5], [8.5, 26.5], [8.5, 29.5]]], quick=True,
         lattice=True)
-    add("zero-length/float", [[p, p] for p in rng.uniform(0, SIZE, size=(8, 2))] + [np.repeat(rng.uniform(4, 28, size=(3, 2)), 2, axis=0)])
+    add("zero-length/float",
+        [[p, p] for p in rng.uniform(0, SIZE, size=(8, 2))] + [np.repeat(rng.uniform(4, 28, size=(3, 2)), 2, axis=0)])
     # 1e-9 px segments: from a centre, from a corner, across a bottom corner, across a
     # left/right corner, from an edge midpoint along the edge, back across a right corner,
     # and a strip of two

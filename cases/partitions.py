@@ -113,15 +113,18 @@ def partition_cases(seed: int, full: bool = False) -> list[Case]:
         for diagonal in ("main", "anti", "mixed"):
             for jitter in ("none", "lattice", "float"):
                 # 60 = 6 * 10 and a multiple of 4: lines at exact multiples of 1, 1/2 ...
-                add(f"grid-{n}x{n}-{diagonal}/{jitter}", grid(n, 2.0, 62.0, jitter, diagonal, rng), square(2.0, 62.0), jitter != "float" and 60 % n == 0)
+                add(f"grid-{n}x{n}-{diagonal}/{jitter}", grid(n, 2.0, 62.0, jitter, diagonal, rng), square(2.0, 62.0),
+                    jitter != "float" and 60 % n == 0)
         for where, offset in (("centres", 0.5), ("corners", 0.0), ("samples-0.25", 0.25)):
             # every vertex on a sample point of the named kind
-            add(f"grid-{n}x{n}-on-{where}/lattice", grid(n, 2.0 + offset, 62.0 + offset, "none", "mixed", rng), square(2.0 + offset, 62.0 + offset), 60 % n == 0)
+            add(f"grid-{n}x{n}-on-{where}/lattice", grid(n, 2.0 + offset, 62.0 + offset, "none", "mixed", rng),
+                square(2.0 + offset, 62.0 + offset), 60 % n == 0)
     for diagonal in ("main", "anti"):
         # lines at non-dyadic spacing: many samples within rounding of an edge
         add(f"grid-12x12-{diagonal}/non-dyadic", grid(12, 1.0, 63.0, "none", diagonal, rng), square(1.0, 63.0), False)
     for count in (8, 32, 64) if full else (8, 32):
-        for where, centre in (("centre", np.array([31.5, 31.5])), ("corner", np.array([32.0, 32.0])), ("random", rng.uniform(28, 36, 2))):
+        for where, centre in (("centre", np.array([31.5, 31.5])), ("corner", np.array([32.0, 32.0])),
+                              ("random", rng.uniform(28, 36, 2))):
             tris, rim = fan(count, centre, 26.0, rng)
             add(f"fan-{count}/{where}", tris, rim, False)
     tris, rim = sliver_fan(24, np.array([31.5, 32.0]), 28.0, rng)

@@ -53,8 +53,8 @@ from harness.oracle.winding import FILL_RULES
 
 __all__ = ["star", "rectangle", "regular", "is_simple", "polygon_sign", "partition_flaws", "voronoi_cells", "quad_grid",
            "merged_polygons", "shape_cases", "path_partition_cases", "triangles_as_paths", "triangle_partition_cases",
-           "AS_PATHS", "path_case_id", "triangle_cases_as_paths", "viewport_cases", "VIEWPORT_CASES", "path_degenerate_cases", "path_cases",
-           "PATH_FAMILIES", "wound", "deep_winding", "deep_winding_cases", "DEEP_WINDINGS"]
+           "AS_PATHS", "path_case_id", "triangle_cases_as_paths", "viewport_cases", "VIEWPORT_CASES", "path_degenerate_cases",
+           "path_cases", "PATH_FAMILIES", "wound", "deep_winding", "deep_winding_cases", "DEEP_WINDINGS"]
 
 PATH_FAMILIES = ("paths", "path-partitions", "path-degenerate")
 
@@ -150,7 +150,8 @@ def is_simple(contour: ArrayLike) -> bool:
         return False
     i, j = np.triu_indices(k, 1)
     p1, q1, p2, q2 = v[i], nxt[i], v[j], nxt[j]
-    o1, o2, o3, o4 = (x.astype(np.int64) for x in (_orient(p1, q1, p2), _orient(p1, q1, q2), _orient(p2, q2, p1), _orient(p2, q2, q1)))
+    o1, o2, o3, o4 = (x.astype(np.int64) for x in (_orient(p1, q1, p2), _orient(p1, q1, q2), _orient(p2, q2, p1),
+                                                   _orient(p2, q2, q1)))
     follows = j == i + 1  # edge j starts where edge i ends (at q1)
     wraps = (i == 0) & (j == k - 1)  # edge j ends where edge i starts (at p1)
     # adjacent edges on one line overlap when the far ends lie on the same side of the
@@ -327,7 +328,8 @@ def _outline(triangles: NDArray[np.int64]) -> list[int] | None:
     return loop if len(loop) == len(rim) else None
 
 
-def merged_polygons(count: int, rng: np.random.Generator, lattice: bool, size: int = PARTITION_SIZE) -> tuple[list[Contour], Contour]:
+def merged_polygons(count: int, rng: np.random.Generator, lattice: bool,
+                    size: int = PARTITION_SIZE) -> tuple[list[Contour], Contour]:
     """Polygons of one to four triangles of a Delaunay triangulation, merged across shared
     edges (convex or not, each simple), and the convex octagon they tile: ``count`` random
     points inside it (on the 1/8 lattice when ``lattice``) and its corners. Every vertex
@@ -560,8 +562,8 @@ def shape_cases(seed: int, full: bool = False) -> list[Case]:
     add("collinear/square-extra-vertices/lattice",
         [[np.array([[4, 4], [10.5, 4], [16, 4], [28, 4], [28, 15.5], [28, 28], [16, 28], [4, 28], [4, 10]])]],
         quick=("nonzero",), lattice=True)
-    add("collinear/diagonal-through-samples/lattice", [[np.array([[2.5, 2.5], [8.5, 8.5], [17.5, 17.5], [29.5, 29.5], [2.5, 29.5]])]],
-        lattice=True)
+    add("collinear/diagonal-through-samples/lattice",
+        [[np.array([[2.5, 2.5], [8.5, 8.5], [17.5, 17.5], [29.5, 29.5], [2.5, 29.5]])]], lattice=True)
     # zero-length edges: every vertex doubled and the first repeated at the end (as closed
     # files write it)
     doubled = np.repeat(_on_lattice(star(7, 2, (SIZE / 2, SIZE / 2), 12.0)), 2, axis=0)
@@ -569,7 +571,8 @@ def shape_cases(seed: int, full: bool = False) -> list[Case]:
     add("zero-length-edges/closed-explicitly/float", lambda r: [[_closed(regular(9, float_centre(r), 12.0, 0.3))]])
     # spikes: zero-width excursions out of the square along a sample column and into it
     # along a sample row, and a slanted one; they cover nothing
-    spiked = np.array([[6, 6], [12.5, 6], [12.5, 0.5], [12.5, 6], [26, 6], [26, 16.5], [13.5, 16.5], [26, 16.5], [26, 26], [6, 26]])
+    spiked = np.array([[6, 6], [12.5, 6], [12.5, 0.5], [12.5, 6], [26, 6], [26, 16.5], [13.5, 16.5], [26, 16.5], [26, 26],
+                       [6, 26]])
     add("spike/out-and-in/lattice", [[spiked]], quick=both, lattice=True)
     add("spike/slanted/float", lambda r: [[np.array([[6, 6], [26, 6], [26, 17.3], r.uniform(0, 14, size=2), [26, 17.3], [26, 26],
                                                     [6, 26]])]])
@@ -601,7 +604,8 @@ def shape_cases(seed: int, full: bool = False) -> list[Case]:
     add("epsilon/hole-1e-9", [[rectangle(4, 4, 28, 28), star(3, 1, (15.5, 15.5), 1e-9)]])
     # several paths in one scene, overlapping: each covers its own pixels
     add("several/mixed/float", lambda r: [[star(5, 2, r.uniform(8, 12, 2), r.uniform(6, 9), r.uniform(0, 7))],
-                                          [regular(12, r.uniform(16, 22, 2), 9.0, 0.1), regular(7, r.uniform(16, 22, 2), 4.0, 0.2)],
+                                          [regular(12, r.uniform(16, 22, 2), 9.0, 0.1),
+                                           regular(7, r.uniform(16, 22, 2), 4.0, 0.2)],
                                           [r.uniform(0, 32, size=(4, 2))], _random_contours(r, 2, SIZE, None)], quick=both)
     add("several/lattice", lambda r: [[_on_lattice(star(7, 3, (12.5, 12.5), 10.0))], [outer, hole], [a, b[::-1]],
                                       _random_contours(r, 2, SIZE, 4)], lattice=True)
@@ -679,7 +683,8 @@ def path_degenerate_cases(seed: int, full: bool = False) -> list[Case]:
     rng = _rng(seed, "path-degenerate")
     # zero area: every vertex on one line (along a sample row, a sample column, a diagonal
     # through samples) -- nothing, under either rule
-    add("zero-area/collinear", [[[[2.5, 15.5], [12.5, 15.5], [28.5, 15.5], [7.5, 15.5]]], [[[15.5, 2.5], [15.5, 29.5], [15.5, 9.5]]],
+    add("zero-area/collinear",
+        [[[[2.5, 15.5], [12.5, 15.5], [28.5, 15.5], [7.5, 15.5]]], [[[15.5, 2.5], [15.5, 29.5], [15.5, 9.5]]],
                                 [[[3.5, 3.5], [20.5, 20.5], [11.5, 11.5], [27.5, 27.5]]]], lattice=True, quick=("nonzero",))
     add("zero-area/repeated-point", [[[[10.5, 20.5]] * 4], [[[12.0, 12.0]] * 3]], lattice=True)
     # a contour retracing itself, out and back: winding 0 everywhere
@@ -696,11 +701,13 @@ def path_degenerate_cases(seed: int, full: bool = False) -> list[Case]:
     add("duplicate-contours/same", [[pentagon, pentagon.copy()]], lattice=True, quick=FILL_RULES)
     add("duplicate-contours/reversed", [[pentagon, pentagon[::-1]]], lattice=True)
     # non-finite vertices: such a path covers nothing, the others are drawn as ever
-    add("non-finite/mixed", [[[[nan, 4.0], [20.0, 10.0], [4.0, 20.0]]], [rectangle(6, 6, 18, 18), np.array([[inf, 10], [12, 12], [10, 14]])],
+    add("non-finite/mixed",
+        [[[[nan, 4.0], [20.0, 10.0], [4.0, 20.0]]], [rectangle(6, 6, 18, 18), np.array([[inf, 10], [12, 12], [10, 14]])],
                              [[[4.0, 4.0], [10.0, 10.0], [4.0, -inf]]], [[[nan, nan], [nan, nan], [nan, nan]]], [[[nan, inf]]],
                              [[[12.5, 12.5], [20.5, 12.5], [12.5, 20.5]]]], quick=("nonzero",))
     # a contour of one vertex (on a sample, on a corner) and one of two: nothing
-    add("one-vertex/on-sample", [[[[10.5, 10.5]]], [[[16.0, 16.0]]], [[[6.5, 20.5], [26.5, 20.5]]]], lattice=True, quick=("nonzero",))
+    add("one-vertex/on-sample", [[[[10.5, 10.5]]], [[[16.0, 16.0]]], [[[6.5, 20.5], [26.5, 20.5]]]], lattice=True,
+        quick=("nonzero",))
     from cases.degenerate import degenerate_cases, probe_scenes  # identify's degenerate probe scenes
 
     probes = {f"degenerate/{name}" for name in probe_scenes()}

@@ -48,8 +48,8 @@ __all__ = [
 __version__ = "0.1.0"
 
 # names imported on first use (module __getattr__): they pull in the checks
-_LAZY = {"Result": "harness.checks.records", "Tolerance": "harness.checks.records", "assert_conforms": "harness.integrations.testing",
-         "by_cause": "harness.diagnose.causes"}
+_LAZY = {"Result": "harness.checks.records", "Tolerance": "harness.checks.records",
+         "assert_conforms": "harness.integrations.testing", "by_cause": "harness.diagnose.causes"}
 
 
 def __getattr__(name: str) -> Any:

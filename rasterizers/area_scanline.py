@@ -270,10 +270,11 @@ class AreaScanline:
     >>> cov = AreaScanline().rasterize(Scene(3, 2, [[[0, 0], [2, 0], [0, 2]]]))
     >>> cov.y.tolist(), cov.x0.tolist(), cov.x1.tolist(), cov.alpha.tolist()
     ([0, 1], [0, 0], [2, 1], [1.0, 0.5019607843137255, 0.5019607843137255])
-    >>> AreaScanline().rasterize(Scene(4, 4, [[[0, 0], [1e30, 0], [0, 1]]]))
+    >>> AreaScanline().rasterize(Scene(4, 4, [[[0, 0], [1e30, 0], [0, 1]]]))  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
-    ValueError: area_scanline: triangle 0 has a coordinate beyond +/-1.67772e+07 px ([[0.0, 0.0], [1e+30, 0.0], [0.0, 1.0]]); band crossings are within 2**-24 of a pixel only that far
+    ValueError: area_scanline: triangle 0 has a coordinate beyond +/-1.67772e+07 px ([[0.0, 0.0], [1e+30, 0.0], [0.0, 1.0]]); band
+    crossings are within 2**-24 of a pixel only that far
     """
 
     name = "area_scanline"

@@ -102,10 +102,11 @@ class FixedPoint:
     array([[1, 1, 1, 0],
            [1, 1, 0, 0],
            [0, 0, 0, 0]], dtype=int32)
-    >>> FixedPoint(16).rasterize(Scene(4, 3, [[[0, 0], [1e5, 0], [0, 1]]]))
+    >>> FixedPoint(16).rasterize(Scene(4, 3, [[[0, 0], [1e5, 0], [0, 1]]]))  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
-    ValueError: fixed_point_16: triangle 0 has a coordinate beyond +/-16384 px ([[0.0, 0.0], [100000.0, 0.0], [0.0, 1.0]]); 16 sub-pixel bits keep int64 edge functions exact only within +/-2**14 px
+    ValueError: fixed_point_16: triangle 0 has a coordinate beyond +/-16384 px ([[0.0, 0.0], [100000.0, 0.0], [0.0, 1.0]]); 16
+    sub-pixel bits keep int64 edge functions exact only within +/-2**14 px
     """
 
     name = "fixed_point"

@@ -278,7 +278,8 @@ class BresenhamLines:
     scene_kinds = ("lines",)
     interpolates = False
 
-    def __init__(self, rounding: BresenhamRounding = "nearest-even", ties: BresenhamTies = "step", last_pixel: bool = True) -> None:
+    def __init__(self, rounding: BresenhamRounding = "nearest-even", ties: BresenhamTies = "step",
+                 last_pixel: bool = True) -> None:
         if rounding not in BRESENHAM_ROUNDINGS:
             raise ValueError(f"bresenham_lines: rounding must be one of {', '.join(BRESENHAM_ROUNDINGS)}, not {rounding!r}")
         if ties not in BRESENHAM_TIES:

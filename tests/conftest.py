@@ -29,11 +29,13 @@ os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 # signatures 15, hostile 15, peer_deqp 14, time_limits 13, peer_stb 13, gl_lines 11,
 # line_direction 11, area 10, browser 10, pytest_plugin 9, identify_agrees 9,
 # line_identify 8, msaa_lines 8; every other module less)
-LONGEST_FIRST = ["identify/test_fingerprint.py", "acceptance/test_known_bad.py", "campaign/test_campaign.py", "engine/test_runner.py", "identify/test_triangle_probes.py",
-                 "peers/test_freetype.py", "engine/test_registry.py", "identify/test_coverage_probes.py", "checks/test_area.py",
-                 "diagnose/test_signatures.py", "acceptance/test_hostile.py", "peers/test_deqp.py", "engine/test_isolation.py", "peers/test_stb.py",
-                 "oracle/test_gl_lines.py", "oracle/test_line_direction.py", "oracle/test_area.py", "acceptance/test_browser.py", "integrations/test_pytest_plugin.py",
-                 "identify/test_agrees_with_run.py", "identify/test_line_probes.py", "oracle/test_msaa_lines.py"]
+LONGEST_FIRST = ["identify/test_fingerprint.py", "acceptance/test_known_bad.py", "campaign/test_campaign.py",
+                 "engine/test_runner.py", "identify/test_triangle_probes.py", "peers/test_freetype.py", "engine/test_registry.py",
+                 "identify/test_coverage_probes.py", "checks/test_area.py", "diagnose/test_signatures.py",
+                 "acceptance/test_hostile.py", "peers/test_deqp.py", "engine/test_isolation.py", "peers/test_stb.py",
+                 "oracle/test_gl_lines.py", "oracle/test_line_direction.py", "oracle/test_area.py", "acceptance/test_browser.py",
+                 "integrations/test_pytest_plugin.py", "identify/test_agrees_with_run.py", "identify/test_line_probes.py",
+                 "oracle/test_msaa_lines.py"]
 
 
 def pytest_collection_modifyitems(items):

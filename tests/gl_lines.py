@@ -48,7 +48,7 @@ LIMIT = 2.0**21
 
 
 @numba.njit(cache=True, inline="always")
-def _below(q0, q1, q2):  # type: ignore[no-untyped-def]
+def _below(q0, q1, q2):
     """q0 + q1*eps + q2*eps**2 < 0 as eps -> 0+."""
     if q0 != 0:
         return q0 < 0
@@ -58,7 +58,7 @@ def _below(q0, q1, q2):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _meets(ax, ay, bx, by, cx, cy, sign):  # type: ignore[no-untyped-def]
+def _meets(ax, ay, bx, by, cx, cy, sign):
     """Whether the segment a-b moved by -sign*(eps, eps**2) meets the open diamond of
     centre c (fixed point), by the separating axis theorem."""
     for sx in (-1, 1):
@@ -82,7 +82,7 @@ def _meets(ax, ay, bx, by, cx, cy, sign):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _holds(px, py, cx, cy, sign):  # type: ignore[no-untyped-def]
+def _holds(px, py, cx, cy, sign):
     """Whether p moved by -sign*(eps, eps**2) lies in the open diamond of centre c."""
     for sx in (-1, 1):
         for sy in (-1, 1):
@@ -92,7 +92,7 @@ def _holds(px, py, cx, cy, sign):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _gl_kernel(a, b, keep, sign, last_pixel, width, height, line_width, shift):  # type: ignore[no-untyped-def]
+def _gl_kernel(a, b, keep, sign, last_pixel, width, height, line_width, shift):
     """(M, 3) int64 rows (segment, x, y) of every segment's fragments (fixed point ends),
     wide lines (integer ``line_width`` w) by GL's replication: the segment moved by
     ``-shift`` units along its minor axis, each fragment then w along it."""

@@ -37,7 +37,7 @@ LIMIT = 2.0**21
 
 
 @numba.njit(cache=True)
-def _owned(gx, gy, tx, ty, y_first):  # type: ignore[no-untyped-def]
+def _owned(gx, gy, tx, ty, y_first):
     """A boundary sample is inside when the boundary function's gradient (gx, gy) points
     along the tie rule's perturbation: x-first its x part decides, else its y part."""
     if y_first:
@@ -46,12 +46,12 @@ def _owned(gx, gy, tx, ty, y_first):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _sign(v):  # type: ignore[no-untyped-def]
+def _sign(v):
     return (v > 0) - (v < 0)
 
 
 @numba.njit(cache=True)
-def _msaa_kernel(a, b, keep, big_w, offsets, tx, ty, y_first, closed, width, height):  # type: ignore[no-untyped-def]
+def _msaa_kernel(a, b, keep, big_w, offsets, tx, ty, y_first, closed, width, height):
     """Every segment's samples that pass the caps and may pass the sides, as rows (segment,
     sample, x, y, status) in int64: status 1 inside, 2 a sample whose side test the float
     filter cannot settle (ties among them), with its cross product in the second array."""

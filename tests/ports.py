@@ -63,7 +63,7 @@ def _fragments(out: np.ndarray) -> Coverage:
 
 
 @numba.njit(cache=True)
-def _deqp_kernel(v, finite, bits, left, bottom, width, height):  # type: ignore[no-untyped-def]
+def _deqp_kernel(v, finite, bits, left, bottom, width, height):
     half, one = 1 << (bits - 1), 1 << bits
     out = []
     edges = np.empty((3, 4), dtype=np.int64)
@@ -115,13 +115,13 @@ PIGLIT_CONVENTIONS = {
 
 
 @numba.njit(cache=True, inline="always")
-def _piglit_owns(dx, dy, code):  # type: ignore[no-untyped-def]
+def _piglit_owns(dx, dy, code):
     main, other = (dy, dx) if code[0] == 1 else (dx, dy)
     return main * code[1] > 0 or (main == 0 and other * code[2] > 0)
 
 
 @numba.njit(cache=True)
-def _piglit_kernel(v, finite, shift, code, width, height):  # type: ignore[no-untyped-def]
+def _piglit_kernel(v, finite, shift, code, width, height):
     out = []
     deltas = np.empty((3, 3), dtype=np.int64)
     for t in range(v.shape[0]):

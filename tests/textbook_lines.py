@@ -39,7 +39,7 @@ LIMIT = 2.0**30
 
 
 @numba.njit(cache=True)
-def _plot_line_kernel(p, finite, swap_steep, width, height):  # type: ignore[no-untyped-def]
+def _plot_line_kernel(p, finite, swap_steep, width, height):
     """Hearn & Baker's plotLine for every segment (p: (N, 4) int64 x0, y0, x1, y1): swap so
     that x0 <= x1 (the steep branch too unless ``swap_steep`` is False), then walk with the
     decision variable, ties stepping. (M, 3) int64 rows (segment, x, y) in the viewport."""
@@ -84,7 +84,7 @@ def _plot_line_kernel(p, finite, swap_steep, width, height):  # type: ignore[no-
 
 
 @numba.njit(cache=True)
-def _wikipedia_kernel(p, finite, width, height):  # type: ignore[no-untyped-def]
+def _wikipedia_kernel(p, finite, width, height):
     """Wikipedia's plotLine (plotLineLow / plotLineHigh, ``D > 0``) for every segment."""
     out = []
     for s in range(p.shape[0]):

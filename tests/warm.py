@@ -24,7 +24,7 @@ POSITIONS = np.array([[[0.5, 0.5], [7.0, 1.0], [2.0, 6.5]]])
 VALUES = np.arange(6, dtype=np.float64).reshape(1, 3, 2)
 
 
-def _first_of_each_family() -> list:  # type: ignore[type-arg]
+def _first_of_each_family() -> list:
     from cases.suites import suite
 
     cases, families = [], set()
@@ -44,7 +44,8 @@ class _Oracle:
         from harness.contract.conventions import Convention
 
         self.convention = Convention(**convention)  # type: ignore[arg-type]
-        self.name = f"oracle_{self.convention.kind}{'_shares' if self.convention.samples and self.convention.kind == 'area' else ''}"
+        shares = self.convention.samples and self.convention.kind == "area"
+        self.name = f"oracle_{self.convention.kind}{'_shares' if shares else ''}"
         self.interpolates = self.convention.kind != "area"
         self.scene_kinds = ("triangles", "paths") if self.convention.kind == "single" else ("triangles",)
 

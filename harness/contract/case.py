@@ -29,8 +29,8 @@ from harness.results.schemas import first_error
 from harness.results.schemas import what as problem
 from harness.results.schemas import where as field_path
 
-__all__ = ["Case", "MotionCase", "case_to_json", "case_from_json", "save_case", "load_case", "read_case_file", "SCHEMA", "CASE_SCHEMA",
-           "MAX_CASE_PIXELS"]
+__all__ = ["Case", "MotionCase", "case_to_json", "case_from_json", "save_case", "load_case", "read_case_file", "SCHEMA",
+           "CASE_SCHEMA", "MAX_CASE_PIXELS"]
 
 SCHEMA = 1
 
@@ -335,7 +335,8 @@ def _scene_from_json(data: dict[str, Any], where: str) -> AnyScene:
     positions = _unhex(data["positions"], "positions")
     assert positions is not None
     try:
-        return Scene(width, height, positions.reshape(-1, 3, 2), _unhex(data.get("attributes"), "attributes"), _unhex(data.get("w"), "w"))
+        return Scene(width, height, positions.reshape(-1, 3, 2), _unhex(data.get("attributes"), "attributes"),
+                     _unhex(data.get("w"), "w"))
     except ValueError as exc:
         raise ValueError(f"{where}{exc}") from None
 
@@ -424,8 +425,10 @@ def case_from_json(data: Any) -> Case | MotionCase:
         raise ValueError(f"not a rastercheck case (schema {SCHEMA} expected)")
     skeleton = _skeleton(data)
     error = first_error(_validator(), skeleton)
-    if error is not None and error.validator == "oneOf" and not error.absolute_path and not {"positions", "paths", "lines"} & set(data):
-        raise ValueError("case JSON lacks the field 'positions' (or 'paths' and 'fill_rule' for a path case, 'lines' for a line case)")
+    if error is not None and error.validator == "oneOf" and not error.absolute_path \
+            and not {"positions", "paths", "lines"} & set(data):
+        raise ValueError("case JSON lacks the field 'positions' (or 'paths' and 'fill_rule' for a path case, 'lines' for a line "
+                         "case)")
     if error is not None and error.validator == "oneOf" and not error.absolute_path:
         given = [f for f in ("positions", "paths", "lines") if f in data]
         if len(given) > 1:
@@ -480,6 +483,6 @@ def read_case_file(path: Path | str) -> tuple[Case | MotionCase, dict[str, Any]]
         case = case_from_json(data)
     except ValueError as exc:
         raise ValueError(f"{path}: {exc}") from None
-    known = {"schema", "kind", "id", "width", "height", "positions", "attributes", "w", "paths", "fill_rule", "lines", "line_width", "lattice",
-             "region", "closed", "refusable", "frames", "texels", "perspective"}
+    known = {"schema", "kind", "id", "width", "height", "positions", "attributes", "w", "paths", "fill_rule", "lines",
+             "line_width", "lattice", "region", "closed", "refusable", "frames", "texels", "perspective"}
     return case, {k: v for k, v in data.items() if k not in known}

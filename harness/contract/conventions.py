@@ -396,8 +396,9 @@ class Convention:
     samples : int, sequence of (x, y) or None
         A multisample pattern (:func:`harness.contract.samples.pattern`): a standard count (1, 2,
         4, 8, 16) or up to :data:`MAX_SAMPLES` dyadic offsets in [0, 1)^2 (up to
-        :data:`MAX_AREA_SAMPLES` for supersampled area coverage); stored as the offsets. Each sample then follows ``tie``, snapping and culling at its own offset,
-        and ``sample`` is not used. None: one sample, at ``sample``.
+        :data:`MAX_AREA_SAMPLES` for supersampled area coverage); stored as the offsets. Each
+        sample then follows ``tie``, snapping and culling at its own offset, and ``sample`` is
+        not used. None: one sample, at ``sample``.
     coverage : {"sample", "area"}
         ``area``: anti-aliased coverage, an alpha per pixel equal to the area of the
         triangle inside the pixel (or, with ``samples``, the share of the samples it
@@ -417,14 +418,17 @@ class Convention:
     'sample (1, 1), bottom-right ties, no snapping, no culling'
     >>> Convention(samples=4).describe()
     'D3D11 4x, top-left ties, no snapping, no culling'
-    >>> Convention(coverage="area", samples=[((i + 0.5) / 4, (j + 0.5) / 4) for j in range(4) for i in range(4)], levels=17).describe()
-    'area coverage, 17 levels, within 0.0312 of the share of the samples covered (4x4 grid at (1/8 + k/4)), top-left ties, no snapping, no culling'
+    >>> grid = [((i + 0.5) / 4, (j + 0.5) / 4) for j in range(4) for i in range(4)]
+    >>> Convention(coverage="area", samples=grid, levels=17).describe()  # doctest: +NORMALIZE_WHITESPACE
+    'area coverage, 17 levels, within 0.0312 of the share of the samples covered (4x4 grid at (1/8 + k/4)), top-left ties, no
+    snapping, no culling'
     >>> Convention(coverage="area", subpixel_bits=8).describe()
     'area coverage, 256 levels, within 0.00196 of the exact area, snapped to 1/256 px (8 bits), no culling'
-    >>> Convention(tie="top-middle")
+    >>> Convention(tie="top-middle")  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
-    ValueError: Convention.tie must be one of top-left, top-right, bottom-left, bottom-right, top-left-y-first, top-right-y-first, bottom-left-y-first, bottom-right-y-first, not 'top-middle'
+    ValueError: Convention.tie must be one of top-left, top-right, bottom-left, bottom-right, top-left-y-first, top-right-y-first,
+    bottom-left-y-first, bottom-right-y-first, not 'top-middle'
     """
 
     sample: tuple[float, float] = (0.5, 0.5)

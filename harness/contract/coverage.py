@@ -45,8 +45,8 @@ class Coverage:
     Span k covers pixels ``x0[k] <= x < x1[k]`` of row ``y[k]`` for primitive
     ``primitive[k]``: the scene's triangle k of a triangle scene, its path k of a path
     scene (:attr:`triangle` is the same array under its triangle-scene name). A triangle
-    covers one run per row, so cost grows with rows, not pixels. ``attributes`` has one row per covered pixel: the spans' pixels in span
-    order, left to right within a span.
+    covers one run per row, so cost grows with rows, not pixels. ``attributes`` has one row
+    per covered pixel: the spans' pixels in span order, left to right within a span.
 
     The same spans carry the two other kinds of coverage (:attr:`Convention.kind`):
 
@@ -404,7 +404,8 @@ class Coverage:
         y, x0, x1 = self.y, self.x0, self.x1
         outside = (y < 0) | (y >= scene.height) | (x0 < 0) | (x1 > scene.width)
         flaws["bad_sample"] = bad_sample
-        flaws["bad_primitive_id"] = np.setdiff1d(flaws["bad_primitive_id"], bad_sample[(self.primitive[bad_sample] >= 0) & (self.primitive[bad_sample] < n)])
+        flaws["bad_primitive_id"] = np.setdiff1d(flaws["bad_primitive_id"],
+                                                 bad_sample[(self.primitive[bad_sample] >= 0) & (self.primitive[bad_sample] < n)])
         off_screen = outside & (x0 < x1)
         flaws["outside_viewport"] = np.flatnonzero(off_screen)
         beyond = flaws["outside_primitive"]

@@ -59,14 +59,17 @@ def declaration_problem(rasterizer: Rasterizer) -> str | None:
     ...     name = "mine"
     ...     convention = Convention(line=LineRule("bresenham"))
     ...     def rasterize(self, scene): ...
-    >>> print(declaration_problem(Drawer()))
-    contradicts its declaration: its convention declares Bresenham lines, end points to pixels by nearest-even, ties step, last pixel drawn, but its scene_kinds ("triangles",) lack "lines", so no line scene would reach it: add scene_kinds = ("lines",) (or ("triangles", "lines") if it fills triangles too)
+    >>> print(declaration_problem(Drawer()))  # doctest: +NORMALIZE_WHITESPACE
+    contradicts its declaration: its convention declares Bresenham lines, end points to pixels by nearest-even, ties step, last
+    pixel drawn, but its scene_kinds ("triangles",) lack "lines", so no line scene would reach it: add scene_kinds = ("lines",)
+    (or ("triangles", "lines") if it fills triangles too)
     """
     if fingerprint_of(rasterizer) is not None:
         return None  # rastercheck's own wrapper of an identified black box, whose plugin was read when loaded
     raw_kinds = getattr(rasterizer, "scene_kinds", None)
     if isinstance(raw_kinds, str):
-        return f"{REFUSED}: scene_kinds = {raw_kinds!r} is one string, not a tuple of kinds: write scene_kinds = {_tuple((raw_kinds,))}"
+        return (f"{REFUSED}: scene_kinds = {raw_kinds!r} is one string, not a tuple of kinds: "
+                f"write scene_kinds = {_tuple((raw_kinds,))}")
     try:
         kinds = scene_kinds_of(rasterizer)
     except TypeError:
@@ -80,19 +83,22 @@ def declaration_problem(rasterizer: Rasterizer) -> str | None:
     raw_rules = getattr(rasterizer, "fill_rules", None)
     if raw_rules is not None:
         if isinstance(raw_rules, str):
-            return f"{REFUSED}: fill_rules = {raw_rules!r} is one string, not a tuple of rules: write fill_rules = {_tuple((raw_rules,))}"
+            return (f"{REFUSED}: fill_rules = {raw_rules!r} is one string, not a tuple of rules: "
+                    f"write fill_rules = {_tuple((raw_rules,))}")
         try:
             rules = tuple(str(r) for r in raw_rules)
         except TypeError:
             return f"{REFUSED}: fill_rules = {raw_rules!r} is not a tuple of rules: list some of {_tuple(FILL_RULES)}"
         bad = [r for r in rules if r not in FILL_RULES]
         if bad:
-            return f"{REFUSED}: fill_rules names {', '.join(repr(r) for r in bad)}, which is no fill rule: list some of {_tuple(FILL_RULES)}"
+            return (f"{REFUSED}: fill_rules names {', '.join(repr(r) for r in bad)}, which is no fill rule: "
+                    f"list some of {_tuple(FILL_RULES)}")
         if "paths" not in kinds:
             return (f"{REFUSED}: it declares fill_rules {_tuple(rules)} but its scene_kinds {_tuple(kinds)} lack \"paths\", "
                     f"so no path scene would reach it: add \"paths\" (scene_kinds = {_tuple((*kinds, 'paths'))})")
         if not rules:
-            return f"{REFUSED}: fill_rules is empty, so no path scene would reach it: list the rules it honours, of {_tuple(FILL_RULES)}"
+            return (f"{REFUSED}: fill_rules is empty, so no path scene would reach it: "
+                    f"list the rules it honours, of {_tuple(FILL_RULES)}")
     convention = rasterizer.convention
     if convention is None:
         return None
@@ -128,8 +134,9 @@ def answer_problem(convention: Convention | None, coverage: Coverage) -> str | N
     with every kind.
 
     >>> from harness.contract.conventions import Convention
-    >>> print(answer_problem(Convention(coverage="area"), Coverage([0], [0], [0], [2])))
-    contradicts its declaration: its convention declares area coverage, but its answer carries no alphas: return Coverage(..., alpha=a) with one alpha per pixel in span order, or declare one sample per pixel (Convention(coverage="sample"))
+    >>> print(answer_problem(Convention(coverage="area"), Coverage([0], [0], [0], [2])))  # doctest: +NORMALIZE_WHITESPACE
+    contradicts its declaration: its convention declares area coverage, but its answer carries no alphas: return Coverage(...,
+    alpha=a) with one alpha per pixel in span order, or declare one sample per pixel (Convention(coverage="sample"))
     """
     if convention is None or not len(coverage):
         return None
@@ -164,9 +171,10 @@ def scene_kind_problem(rasterizer: Rasterizer, scene: AnyScene, error: BaseExcep
 
     >>> class Drawer:
     ...     name, convention = "mine", None
-    >>> print(scene_kind_problem(Drawer(), Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]]),
+    >>> print(scene_kind_problem(Drawer(), Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]]),  # doctest: +NORMALIZE_WHITESPACE
     ...                          AttributeError("'Scene' object has no attribute 'segments'")))
-    contradicts its declaration: it asked a triangle scene for `segments`, which line scenes have, but its scene_kinds ("triangles",) lack "lines": add scene_kinds = ("lines",) (or ("triangles", "lines") if it fills triangles too)
+    contradicts its declaration: it asked a triangle scene for `segments`, which line scenes have, but its scene_kinds
+    ("triangles",) lack "lines": add scene_kinds = ("lines",) (or ("triangles", "lines") if it fills triangles too)
     """
     if not isinstance(error, AttributeError):
         return None
@@ -179,7 +187,8 @@ def scene_kind_problem(rasterizer: Rasterizer, scene: AnyScene, error: BaseExcep
     if not owners:
         return None
     noun = {"triangles": "triangle", "paths": "path", "lines": "line"}
-    asked = f"{REFUSED}: it asked a {noun[scene.kind]} scene for `{member}`, which {' and '.join(noun[k] for k in owners)} scenes have"
+    asked = (f"{REFUSED}: it asked a {noun[scene.kind]} scene for `{member}`, "
+             f"which {' and '.join(noun[k] for k in owners)} scenes have")
     missing = [k for k in owners if k not in kinds]
     if not missing:  # it lists this kind but draws it as another: the kind is listed in error
         rest = tuple(k for k in kinds if k != scene.kind)

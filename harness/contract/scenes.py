@@ -328,8 +328,8 @@ class PathScene:
 
     def with_coordinates(self, coordinates: ArrayLike) -> PathScene:
         """The same contours, paths and fill rule with these (V, 2) vertices."""
-        return PathScene(self.width, self.height, np.asarray(coordinates, dtype=np.float64), self.contour_sizes, self.contour_path,
-                         self.fill_rule)
+        return PathScene(self.width, self.height, np.asarray(coordinates, dtype=np.float64), self.contour_sizes,
+                         self.contour_path, self.fill_rule)
 
     def subset(self, keep: ArrayLike) -> PathScene:
         """Paths ``keep``, in that order (path k of the result is ``keep[k]``)."""

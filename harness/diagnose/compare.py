@@ -113,7 +113,8 @@ def _separation(a: Explanation, b: Explanation) -> str:
     parts = []
     if ca.sample != cb.sample:
         dx, dy = (cb.sample[0] - ca.sample[0], cb.sample[1] - ca.sample[1])
-        kind = "half-pixel" if {abs(dx), abs(dy)} <= {0.0, 0.5} else "whole-pixel" if {abs(dx), abs(dy)} <= {0.0, 1.0} else "sub-pixel"
+        steps = {abs(dx), abs(dy)}
+        kind = "half-pixel" if steps <= {0.0, 0.5} else "whole-pixel" if steps <= {0.0, 1.0} else "sub-pixel"
         parts.append(f"a {kind} shift of the sample point by ({dx:+g}, {dy:+g})")
     if ca.tie != cb.tie:
         (ax, ay, a_first), (bx, by, b_first) = ca.tie_perturbation, cb.tie_perturbation

@@ -26,8 +26,8 @@ from harness.contract.protocol import Rasterizer, received_of
 from harness.contract.scenes import AnyScene, LineScene, Scene
 from harness.geometry.exact import orientation
 
-__all__ = ["ddmin", "shrink", "attach_repro", "hole_repro", "whole_case_repro", "answer_json", "answer_from_json", "MAX_ANSWER_FRAGMENTS", "input_precision_probe", "viewport_edge_probe", "viewport_edge_trial",
-           "grown_screen", "Judge"]
+__all__ = ["ddmin", "shrink", "attach_repro", "hole_repro", "whole_case_repro", "answer_json", "answer_from_json",
+           "MAX_ANSWER_FRAGMENTS", "input_precision_probe", "viewport_edge_probe", "viewport_edge_trial", "grown_screen", "Judge"]
 
 # The checks of one rasterizer on a case, restricted to one check by name.
 Judge = Callable[[Case | MotionCase, str], list[Result]]
@@ -262,7 +262,8 @@ def answer_from_json(data: Any) -> Coverage | None:
     try:
         primitive, y, x0, x1 = (np.asarray(data[k], dtype=np.int64).reshape(-1) for k in ("primitive", "y", "x0", "x1"))
         alpha = data.get("alpha")
-        return Coverage(primitive, y, x0, x1, sample=None if data.get("sample") is None else np.asarray(data["sample"], dtype=np.int64),
+        return Coverage(primitive, y, x0, x1,
+                        sample=None if data.get("sample") is None else np.asarray(data["sample"], dtype=np.int64),
                         alpha=None if alpha is None else np.asarray(alpha, dtype=np.float64))
     except (KeyError, TypeError, ValueError):
         return None

@@ -18,8 +18,8 @@ from typing import Any
 from harness.contract.conventions import Convention
 from harness.contract.protocol import Rasterizer
 
-__all__ = ["GROUP", "available", "builtins", "load", "as_rasterizer", "BUILTIN_MODULE", "Unavailable", "distinct_names", "Renamed",
-           "registered_twice", "same_names"]
+__all__ = ["GROUP", "available", "builtins", "load", "as_rasterizer", "BUILTIN_MODULE", "Unavailable", "distinct_names",
+           "Renamed", "registered_twice", "same_names"]
 
 GROUP = "rastercheck.rasterizers"
 BUILTIN_MODULE = "rasterizers"
@@ -326,7 +326,8 @@ class Renamed:
 
     def __init__(self, inner: Rasterizer, name: str) -> None:
         self.inner, self.name, self.convention = inner, name, inner.convention
-        for optional in ("interpolates", "received", "fingerprint", "scene_kinds", "fill_rules", "path_convention", "line_convention"):
+        for optional in ("interpolates", "received", "fingerprint", "scene_kinds", "fill_rules", "path_convention",
+                         "line_convention"):
             if hasattr(inner, optional):
                 setattr(self, optional, getattr(inner, optional))
 

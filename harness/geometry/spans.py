@@ -61,7 +61,8 @@ def expand(starts: NDArray[np.int64], lengths: NDArray[np.int64]) -> NDArray[np.
 
 
 def tidy(triangle: NDArray[np.int64], y: NDArray[np.int64], x0: NDArray[np.int64], x1: NDArray[np.int64],
-         n_triangles: int, bounds: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], dict[str, NDArray[np.int64]], int]:
+         n_triangles: int, bounds: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64],
+                                                               dict[str, NDArray[np.int64]], int]:
     """What can be kept of a list of spans, found span by span (never pixel by pixel, so
     that the cost is bounded by the number of spans whatever their lengths).
 

@@ -16,8 +16,9 @@ composes them. It first reads the kind of coverage (:func:`harness.identify.cove
 an anti-aliaser (alphas) or a multisample rasterizer (sample indices) is fingerprinted by
 the probes of :mod:`harness.identify.coverage_probes` instead -- analytic area or supersampled, the
 grid and the levels (:func:`~harness.identify.coverage_probes.alpha_sweeps`), or the sample
-pattern and its tie rule (:func:`~harness.identify.coverage_probes.sample_positions`). The fit of sample point and tie rule is :func:`harness.identify.triangle_probes.fit_ties`,
-the one ``compare`` uses too. Every call of the rasterizer goes through a
+pattern and its tie rule (:func:`~harness.identify.coverage_probes.sample_positions`). The
+fit of sample point and tie rule is :func:`harness.identify.triangle_probes.fit_ties`, the
+one ``compare`` uses too. Every call of the rasterizer goes through a
 :data:`~harness.engine.isolation.Call`: in this process, or in a worker process
 (:func:`identify_isolated`).
 
@@ -345,7 +346,8 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
             _with_lines(fingerprint, call, seed, received_of(rasterizer))
     # how many calls timed out or failed, and which: the card always says
     fingerprint.calls = tally
-    fingerprint.facts["calls"] = tally.text + ("; the fit is on the rest" if fingerprint.unanswered and fingerprint.no_answers is None
+    fingerprint.facts["calls"] = tally.text + ("; the fit is on the rest" if fingerprint.unanswered
+                                               and fingerprint.no_answers is None
                                                else "")
     return fingerprint
 
@@ -651,7 +653,8 @@ def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, .
             cases += partition_cases(seed)
         if model.alphas:
             # the plain geometries' sixteenth-pixel translations (no texture, no projected mesh)
-            cases += [m for m in motion_cases(seed) if m.id.endswith("-1/16") and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
+            cases += [m for m in motion_cases(seed)
+                      if m.id.endswith("-1/16") and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
     if "paths" in scene_kinds and model.single_sample:
         cases += [c for c in path_cases(seed) if c.family == "paths"]
     if "lines" in scene_kinds and model.single_sample:
@@ -662,10 +665,10 @@ def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, .
 def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0,
                       call_timeout: float | TimeLimit | None = None) -> Fingerprint:
     """:func:`identify` with every rasterize call in a forked worker process (a
-    :class:`harness.engine.session.Session`'s :class:`harness.engine.isolation.Worker`), so that a library's process-wide state (an EGL
-    display, a crash, a hang) stays out of the caller: a call that crashes or hangs counts
-    as raising, and identification goes on (the probes fit on the calls answered, and the
-    card counts and names the others).
+    :class:`harness.engine.session.Session`'s :class:`harness.engine.isolation.Worker`), so
+    that a library's process-wide state (an EGL display, a crash, a hang) stays out of the
+    caller: a call that crashes or hangs counts as raising, and identification goes on (the
+    probes fit on the calls answered, and the card counts and names the others).
 
     ``timeout`` bounds the whole identification: it is checked between calls, and a call
     never runs past it (then TimeoutError, naming the rasterizer); ``call_timeout`` is the

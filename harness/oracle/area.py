@@ -429,7 +429,8 @@ def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
             m += 1
 
 
-def _polygons(positions: NDArray[np.float64], width: int, height: int) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64]]:
+def _polygons(positions: NDArray[np.float64], width: int, height: int) -> tuple[NDArray[np.float64], NDArray[np.int64],
+                                                                                NDArray[np.int64]]:
     """The polygons the kernels work on: near triangles as they are, far ones clipped
     exactly to the viewport and rounded; degenerate and non-finite ones dropped.
 

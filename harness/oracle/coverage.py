@@ -42,7 +42,8 @@ from harness.geometry.exact import frozen, orientation
 from harness.geometry.spans import expand, pixel_offsets, span_buffers
 from harness.oracle.kernels import _apply_edge, _edge_setup, _row_range, shares_of_layers
 
-__all__ = ["exact_coverage", "exact_single", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
+__all__ = ["exact_coverage", "exact_single", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python",
+           "prepare_triangles", "PreparedTriangles"]
 
 
 _CULL_CODES = {"none": 0, "cw": 1, "ccw": -1}
@@ -383,7 +384,8 @@ def exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
     Returns
     -------
     Coverage
-        Spans sorted by primitive then row (a path scene's: :func:`harness.oracle.winding.path_coverage`), clipped to the viewport. Non-finite,
+        Spans sorted by primitive then row (a path scene's:
+        :func:`harness.oracle.winding.path_coverage`), clipped to the viewport. Non-finite,
         zero-area and culled triangles cover nothing. ``attributes`` is (P, K) when the
         scene has attributes, interpolated at each covered sample (perspective-correct
         when the scene has ``w``). For a multisample convention, spans carry their sample

@@ -12,8 +12,8 @@ from numpy.typing import NDArray
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 
-__all__ = ["LIMIT", "draw_each", "draw_each_alpha", "draw_each_path", "draw_each_segment", "segment_boxes", "path_contours", "path_extents", "coverage_from_fragments",
-           "coverage_from_sample_masks", "finite_within_limit"]
+__all__ = ["LIMIT", "draw_each", "draw_each_alpha", "draw_each_path", "draw_each_segment", "segment_boxes", "path_contours",
+           "path_extents", "coverage_from_fragments", "coverage_from_sample_masks", "finite_within_limit"]
 
 # Libraries keep coordinates in float32 or fixed point: beyond this they are refused with a
 # ValueError naming the triangle (a guard band), never drawn wrong.

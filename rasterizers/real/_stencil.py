@@ -222,7 +222,8 @@ class StencilPaths:
         stencil = _U()
         gl["glGenRenderbuffers"](1, ctypes.byref(stencil))
         gl["glBindRenderbuffer"](GL_RENDERBUFFER, stencil)
-        for storage, attachment in ((GL_STENCIL_INDEX8, GL_STENCIL_ATTACHMENT), (GL_DEPTH24_STENCIL8, GL_DEPTH_STENCIL_ATTACHMENT)):
+        for storage, attachment in ((GL_STENCIL_INDEX8, GL_STENCIL_ATTACHMENT),
+                                    (GL_DEPTH24_STENCIL8, GL_DEPTH_STENCIL_ATTACHMENT)):
             gl["glRenderbufferStorage"](GL_RENDERBUFFER, storage, width, height)
             gl["glFramebufferRenderbuffer"](GL_FRAMEBUFFER, attachment, GL_RENDERBUFFER, stencil)
             if gl["glCheckFramebufferStatus"](GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE:

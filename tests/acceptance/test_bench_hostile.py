@@ -168,7 +168,8 @@ def test_a_json_in_a_missing_folder_is_refused_and_the_folder_not_made(tmp_path:
     assert f"--json {path}: its folder {path.parent} does not exist" in err and not path.parent.exists()
 
 
-def test_a_json_under_a_file_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_json_under_a_file_is_refused(tmp_path: Path, capsys: pytest.CaptureFixture[str],
+                                        monkeypatch: pytest.MonkeyPatch) -> None:
     (tmp_path / "a-file").write_text("")
     path = tmp_path / "a-file" / "bench.json"
     assert f"its folder {path.parent} is a file" in _refused(capsys, ["--json", str(path)], monkeypatch)
@@ -204,7 +205,8 @@ def test_failed_rows_print_their_fault_and_the_json_keeps_them_apart(tmp_path: P
                                            "mine": "timed out after 60 s (W2); measured on W1"}
     write_json(rows, tmp_path / "b.json")
     data = json.loads((tmp_path / "b.json").read_text())  # strict JSON: no NaN
-    assert [(r["workload"], r["contender"], r["ratio_to_pillow"]) for r in data["results"]] == [("W1", "mine", None), ("W2", "pillow", 1.0)]
+    assert [(r["workload"], r["contender"], r["ratio_to_pillow"]) for r in data["results"]] == [("W1", "mine", None),
+                                                                                                ("W2", "pillow", 1.0)]
     assert data["failed"] == [{"workload": "W1", "contender": "pillow", "fault": "crashed (signal 11, SIGSEGV)"},
                               {"workload": "W2", "contender": "mine", "fault": "timed out after 60 s"}]
 

@@ -74,7 +74,8 @@ def test_report_renders_in_a_real_browser(tmp_path):
                         isolate=False)
     conventions = {"bad_wrong_tie_claim": "claims bottom-right", "bad_no-subtexel": "top-left", "centre_scanline": "top-left"}
     out = tmp_path / "report"
-    fingerprints = {"bad_wrong_tie_claim": identify(WrongTieClaim()).to_dict(), "centre_scanline": identify(load("centre_scanline")).to_dict()}
+    fingerprints = {"bad_wrong_tie_claim": identify(WrongTieClaim()).to_dict(),
+                    "centre_scanline": identify(load("centre_scanline")).to_dict()}
     declared = {"bad_wrong_tie_claim": "sample (0.5, 0.5), bottom-right ties, no snapping, no culling"}
     write_report(out, conventions, results, seed=0, fingerprints=fingerprints, declared=declared,
                  kinds={"centre_scanline": "built-in", "bad_wrong_tie_claim": "plugin", "bad_no-subtexel": "plugin"})

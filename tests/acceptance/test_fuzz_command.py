@@ -135,7 +135,8 @@ def test_progress_in_ci_is_a_plain_line_every_few_seconds_and_new_signatures_at_
         time.sleep(0.2)
     err = capsys.readouterr().err
     assert f"fuzz: new signature {TIE} on scene lattice/0/7" in err
-    assert "fuzz: 120 scenes, 3,400 primitives in 10 s (12.0 scenes/s, 340 primitives/s, 2 workers); 3 findings in 1 signature" in err
+    assert ("fuzz: 120 scenes, 3,400 primitives in 10 s (12.0 scenes/s, 340 primitives/s, 2 workers); "
+            "3 findings in 1 signature") in err
     assert "budget 1 min, ETA 0:50" in err
     from rich.console import Console
 
@@ -271,8 +272,8 @@ def test_a_campaign_workers_first_call_honours_timeout(scheduler: str, tmp_path:
     4 minutes a hanging scene): it follows run's policy, the cap, so a scene that hangs takes
     about 2 + 2 s (asked again once)."""
     start = time.monotonic()
-    code = main(["fuzz", "--rasterizer", "tests.acceptance.test_fuzz_command:hangs_always", "--budget", "1", "--families", "lattice",
-                 "--scheduler", scheduler, "--state", str(tmp_path / "state"), "--out", str(tmp_path), "--batch", "1",
+    code = main(["fuzz", "--rasterizer", "tests.acceptance.test_fuzz_command:hangs_always", "--budget", "1", "--families",
+                 "lattice", "--scheduler", scheduler, "--state", str(tmp_path / "state"), "--out", str(tmp_path), "--batch", "1",
                  "--check", "conformance", "--timeout", "2"])
     took = time.monotonic() - start
     assert code == 1, capsys.readouterr().err
@@ -312,7 +313,8 @@ def test_campaigns_merge_and_an_overlap_is_a_usage_error(campaign: dict[str, Any
 
 
 @pytest.mark.parametrize("field, value, said", [
-    (("signatures", TIE), "a string", 'at signatures["conformance|exact-tie-slanted-edge|tie-rule"]: \'a string\' is not of type \'object\''),
+    (("signatures", TIE), "a string",
+     'at signatures["conformance|exact-tie-slanted-edge|tie-rule"]: \'a string\' is not of type \'object\''),
     (("signatures", TIE, "count"), "3", '"].count: \'3\' is not of type \'integer\''),
     (("signatures", TIE, "first"), None, '"]: lacks \'first\''),
     (("signatures", TIE, "repro"), "../../../etc/passwd", '"].repro: \'../../../etc/passwd\' is not valid (pattern'),

@@ -83,7 +83,8 @@ def test_garbage_costs_bounded_memory():
         "run_suite([MillionCopies(), Copies(), HugeSpan(), FarAway()], cases=cases, isolate=False, identify=False)\n"
         "print((resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before) // 1024)\n"
     )
-    grown = int(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=600).stdout.split()[-1])
+    grown = int(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                               timeout=600).stdout.split()[-1])
     assert grown < 1500, f"{grown} MiB"
 
 

@@ -66,7 +66,8 @@ def test_commands_refuse_a_fifo_at_once_in_one_line(tmp_path: Path, argv: list[s
     os.mkfifo(tmp_path / "state" / "campaign.json")
     args = [a.format(fifo=fifo, state=tmp_path / "state", out=tmp_path / "merged", rep=tmp_path / "rep") for a in argv]
     if argv[0] == "replay":  # one in a process of its own, as a user runs it
-        proc = run_bounded([sys.executable, "-m", "harness.cli.main", *args], cwd=REPO, env={**os.environ, "PYTHONPATH": str(REPO)})
+        proc = run_bounded([sys.executable, "-m", "harness.cli.main", *args], cwd=REPO,
+                           env={**os.environ, "PYTHONPATH": str(REPO)})
         code, err = proc.returncode, proc.stderr.strip()
     else:  # the rest here, an alarm standing in for the timeout (a FIFO opened would wait forever)
         from harness.cli.main import main

@@ -27,7 +27,7 @@ TRIANGLE = [[0.5, 0.25], [7.25, 2.75], [2.25, 7.5]]
 QUAD = [[1.25, 0.75], [6.75, 1.25], [7.25, 6.25], [0.75, 7.25]]  # no vertex or horizontal edge on a sample row
 
 
-def _case(name: str, contours: list, fill_rule: str) -> Case:  # type: ignore[type-arg]
+def _case(name: str, contours: list, fill_rule: str) -> Case:
     return Case(f"paths/{name}/{fill_rule}", PathScene.from_paths(SIZE, SIZE, [contours], fill_rule), lattice=True)
 
 

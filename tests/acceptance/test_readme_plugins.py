@@ -17,7 +17,8 @@ SECTION = "## What `rasterize` receives and returns"
 
 # each plugin of the section -> its class and a few quick cases of its kind
 PLUGINS = {
-    "centre_triangles": ("CentreTriangles", ["lattice/bits-8", "watertight/grid-6x6-main/lattice", "degenerate/non-finite/mixed"]),
+    "centre_triangles": ("CentreTriangles", ["lattice/bits-8", "watertight/grid-6x6-main/lattice",
+                                             "degenerate/non-finite/mixed"]),
     "msaa_triangles": ("MsaaTriangles", ["lattice/bits-2", "degenerate/non-finite/mixed"]),
     "supersampled_triangles": ("SupersampledTriangles", ["watertight/fan-8/centre", "degenerate/zero-area/collinear"]),
     "winding_paths": ("WindingPaths", ["paths/star-5-2/lattice/evenodd", "paths/ring/hole-opposite/lattice/nonzero",

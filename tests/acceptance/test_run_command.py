@@ -47,7 +47,8 @@ def test_a_skip_list_skips_with_its_reasons(tmp_path):
     skips = tmp_path / "skip.txt"
     skips.write_text("# known slow\nlattice/bits-0   # upstream bug 123\ncentre_scanline:lattice/bits-2\n")
     out = tmp_path / "r.json"
-    main(["run", "--rasterizer", "centre_scanline", *LATTICE, "--skip", str(skips), "--out", str(tmp_path / "rep"), "--json", str(out)])
+    main(["run", "--rasterizer", "centre_scanline", *LATTICE, "--skip", str(skips), "--out", str(tmp_path / "rep"), "--json",
+          str(out)])
     by_case = {}
     for r in _json(out):
         by_case.setdefault(r["case"], []).append(r)

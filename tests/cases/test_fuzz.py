@@ -60,7 +60,8 @@ def test_every_family_generates_valid_cases(family, scenes):
             tall = case.scene.positions
             assert case.scene.width == 1152 and 2064 <= case.scene.height <= 2560 and len(case.scene) <= 3
             assert np.ptp(tall[..., 1], axis=1).min() >= max(2048, case.scene.height - 16)
-            assert tall[..., 0].min() >= 1024 and tall[..., 0].max() <= case.scene.width and tall[..., 1].max() <= case.scene.height
+            assert tall[..., 0].min() >= 1024 and tall[..., 0].max() <= case.scene.width
+            assert tall[..., 1].max() <= case.scene.height
         elif family == "winding":  # one path, a small screen, one contour traced over and over
             assert len(case.scene) == 1 and case.scene.width in (8, 16) and case.scene.vertices.shape[0] <= 4 * 65537 + 36
         else:
@@ -74,7 +75,8 @@ def test_every_family_generates_valid_cases(family, scenes):
     marked = {"partitions": lambda c: c.region is not None, "meshes": lambda c: c.closed,
               "degenerate": lambda c: bool(c.refusable), "paths": lambda c: c.region is not None}.get(family)
     if marked is not None:
-        assert any(marked(c) for c in scenes[family]), f"no partition, closed mesh or refusable case among {SAMPLE} {family} scenes"
+        assert any(marked(c) for c in scenes[family]), \
+            f"no partition, closed mesh or refusable case among {SAMPLE} {family} scenes"
     if family == "partitions":
         assert all(c.region is not None for c in scenes[family])
 

@@ -25,8 +25,9 @@ def full() -> list[Case]:
 
 def _same_scene(a: LineScene, b: LineScene) -> bool:
     """Identical floats (NaN in the same places), strips, viewport and width."""
-    return (a.width, a.height, a.line_width) == (b.width, b.height, b.line_width) and np.array_equal(
-        a.strip_sizes, b.strip_sizes) and a.vertices.shape == b.vertices.shape and np.array_equal(a.vertices, b.vertices, equal_nan=True)
+    return (a.width, a.height, a.line_width) == (b.width, b.height, b.line_width) \
+        and np.array_equal(a.strip_sizes, b.strip_sizes) and a.vertices.shape == b.vertices.shape \
+        and np.array_equal(a.vertices, b.vertices, equal_nan=True)
 
 
 def _on_lattice(scene: LineScene, scale: int = 16) -> bool:

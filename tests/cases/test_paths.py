@@ -51,12 +51,12 @@ def masks(scene: AnyScene, convention: Convention = CONVENTIONS[0]) -> NDArray[n
     return out
 
 
-def alone(contours: list, like: PathScene) -> NDArray[np.bool_]:  # type: ignore[type-arg]
+def alone(contours: list, like: PathScene) -> NDArray[np.bool_]:
     """(H, W): what one path of these contours covers in a scene like ``like``."""
     return masks(PathScene.from_paths(like.width, like.height, [contours], like.fill_rule))[0]
 
 
-def bits(scene: PathScene) -> tuple:  # type: ignore[type-arg]
+def bits(scene: PathScene) -> tuple:
     """Everything that makes a path scene, bit for bit (NaN payloads and signed zeros too)."""
     return (scene.width, scene.height, scene.fill_rule, scene.vertices.shape, scene.vertices.view(np.int64).tobytes(),
             scene.contour_sizes.tolist(), scene.contour_path.tolist())
@@ -98,7 +98,8 @@ def test_ids_are_unique_stable_and_free_of_the_seed():
     assert all(same_case(a, b) for a, b in zip(full(), path_cases(0, full=True), strict=True))  # deterministic
     other = path_cases(7, full=True)
     assert [c.id for c in other] == ids  # the ids do not depend on the seed; the draws do
-    assert not same_case(by_id()["paths/star-7-3/float/nonzero"], next(c for c in other if c.id == "paths/star-7-3/float/nonzero"))
+    assert not same_case(by_id()["paths/star-7-3/float/nonzero"],
+                         next(c for c in other if c.id == "paths/star-7-3/float/nonzero"))
     # a quick case is its full namesake, bit for bit, in the full suite's order
     quick = path_cases(0)
     assert [c.id for c in quick] == [i for i in ids if i in {c.id for c in quick}]
@@ -140,7 +141,8 @@ def sample_classes(region: NDArray[np.float64], width: int, height: int, sample:
     y, x = np.mgrid[0:height, 0:width]
     p = np.stack([x.ravel() + sample[0], y.ravel() + sample[1]], axis=-1).astype(np.float64)
     m = region.shape[0]
-    side = np.array([orientation(np.stack([np.broadcast_to(region[k], p.shape), np.broadcast_to(region[(k + 1) % m], p.shape), p], axis=1))
+    side = np.array([orientation(np.stack([np.broadcast_to(region[k], p.shape),
+                                           np.broadcast_to(region[(k + 1) % m], p.shape), p], axis=1))
                      for k in range(m)])
     sign = orientation(region[None, :3])[0]  # a convex region's corners all turn its way
     return np.all(side == sign, axis=0).reshape(height, width), np.any(side == -sign, axis=0).reshape(height, width)
@@ -154,7 +156,8 @@ def tiling_errors(scene: PathScene, region: NDArray[np.float64], convention: Con
     inside, outside = sample_classes(region, scene.width, scene.height, convention.sample)
     whole = masks(PathScene.from_paths(scene.width, scene.height, [[region]], scene.fill_rule), convention)[0]
     square_in, square_out = pixel_classes(region, scene.width, scene.height)
-    return {"doubles": int((counts > 1).sum()), "holes": int((inside & (counts != 1)).sum()), "strays": int((outside & (counts > 0)).sum()),
+    return {"doubles": int((counts > 1).sum()), "holes": int((inside & (counts != 1)).sum()),
+            "strays": int((outside & (counts > 0)).sum()),
             "unlike_region": int((counts != whole).sum()), "square_holes": int((square_in & (counts != 1)).sum()),
             "square_strays": int((square_out & (counts > 0)).sum())}
 
@@ -211,7 +214,8 @@ def test_the_tiling_checks_fail_on_broken_partitions():
     # a rectangle's right half split in two: an exact tiling, but with a T-junction at (1, 1)
     t_junction = [rectangle(0, 0, 1, 2), rectangle(1, 0, 2, 1), rectangle(1, 1, 2, 2)]
     assert partition_flaws(t_junction, rectangle(0, 0, 2, 2)) is not None
-    assert partition_flaws([np.array([[0, 0], [2, 0], [0, 2], [2, 2]])], rectangle(0, 0, 2, 2)) == "cell 0 is not a simple polygon"
+    assert partition_flaws([np.array([[0, 0], [2, 0], [0, 2], [2, 2]])],
+                           rectangle(0, 0, 2, 2)) == "cell 0 is not a simple polygon"
 
 
 # -- fill rules ------------------------------------------------------------------------------
@@ -221,9 +225,9 @@ DIFFER = ["paths/star-*", "paths/ring/*hole-same/*", "paths/overlap/squares-same
           "paths/huge/ring-*", "paths/huge/star-*", "paths/epsilon/star-*", "paths/epsilon/hole-*", "paths/several/*",
           "path-degenerate/duplicate-contours/same/*", "paths/deep-winding/*"]
 # ... or they agree (windings 0 and +-1 only)
-AGREE = ["paths/simple/*", "paths/bow-tie/*", "paths/ring/*hole-opposite/*", "paths/overlap/squares-opposite/*", "paths/collinear/*",
-         "paths/zero-length-edges/closed-*", "paths/spike/*", "paths/tiny-contours/*", "paths/huge/wedge-*", "paths/epsilon/triangles-*",
-         "path-partitions/*", "path-degenerate/*", "paths/triangles/*"]
+AGREE = ["paths/simple/*", "paths/bow-tie/*", "paths/ring/*hole-opposite/*", "paths/overlap/squares-opposite/*",
+         "paths/collinear/*", "paths/zero-length-edges/closed-*", "paths/spike/*", "paths/tiny-contours/*", "paths/huge/wedge-*",
+         "paths/epsilon/triangles-*", "path-partitions/*", "path-degenerate/*", "paths/triangles/*"]
 
 
 def test_evenodd_covers_a_subset_of_nonzero_and_they_differ_exactly_where_they_should():

@@ -74,14 +74,16 @@ def test_run_suite_and_the_command_line_agree(tmp_path, capsys) -> None:
     printed = capsys.readouterr().out
     from_cli = [(r["case"], r["check"], r["status"], r["message"]) for r in json.loads(out.read_text())["results"]]
     cases = [c for c in suite("quick", 0) if c.id.startswith("lattice/bits-")]
-    from_library = [(r.case, r.check, r.status, r.message) for r in run_suite([DiamondDrawerNoLines()], cases=cases, identify=False)]
+    from_library = [(r.case, r.check, r.status, r.message) for r in run_suite([DiamondDrawerNoLines()], cases=cases,
+                                                                              identify=False)]
     assert code == 1 and from_cli == from_library and len(from_cli) == 1
     assert printed.count(ANSWER_BADS[DiamondDrawerNoLines]) == 1 and "Traceback" not in printed
 
 
 def _rasterizers(module):
     return [value for value in vars(module).values()
-            if isinstance(value, type) and callable(getattr(value, "rasterize", None)) and isinstance(getattr(value, "name", None), str)
+            if isinstance(value, type) and callable(getattr(value, "rasterize", None))
+            and isinstance(getattr(value, "name", None), str)
             and value.__module__ == module.__name__ and not value.__name__.startswith("_")]
 
 
@@ -144,7 +146,8 @@ def test_a_kind_listed_but_drawn_as_another_is_named() -> None:
 
     square = PathScene.from_paths(4, 4, [[[[0, 0], [2, 0], [2, 2], [0, 2]]]])
     said = scene_kind_problem(Filler(), square, AttributeError("'PathScene' object has no attribute 'positions'"))
-    assert said is not None and 'lists "paths" in scene_kinds but does not draw them: leave "paths" out (scene_kinds = ("triangles",))' in said
+    assert said is not None
+    assert 'lists "paths" in scene_kinds but does not draw them: leave "paths" out (scene_kinds = ("triangles",))' in said
     triangle = Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]])
     said = scene_kind_problem(Filler(), triangle, AttributeError("'Scene' object has no attribute 'strip_sizes'"))
     assert said is not None and 'lack "lines": add "lines" (scene_kinds = ("triangles", "paths", "lines"))' in said
@@ -158,13 +161,16 @@ def test_a_kind_listed_but_drawn_as_another_is_named() -> None:
     ({"scene_kinds": 3}, "scene_kinds = 3 is not a tuple of kinds"),
     ({"scene_kinds": ("triangle",)}, "scene_kinds names 'triangle', which is no scene kind"),
     ({"scene_kinds": ()}, "scene_kinds is empty, so no scene would reach it"),
-    ({"scene_kinds": ("paths",), "fill_rules": "evenodd"}, 'fill_rules = \'evenodd\' is one string, not a tuple of rules: write fill_rules = ("evenodd",)'),
+    ({"scene_kinds": ("paths",), "fill_rules": "evenodd"},
+     'fill_rules = \'evenodd\' is one string, not a tuple of rules: write fill_rules = ("evenodd",)'),
     ({"scene_kinds": ("paths",), "fill_rules": ("even-odd",)}, "fill_rules names 'even-odd', which is no fill rule"),
     ({"scene_kinds": ("paths",), "fill_rules": ()}, "fill_rules is empty, so no path scene would reach it"),
-    ({"scene_kinds": ("paths",), "convention": Convention(coverage="area")}, "analytic area coverage, which is not defined for paths"),
+    ({"scene_kinds": ("paths",), "convention": Convention(coverage="area")},
+     "analytic area coverage, which is not defined for paths"),
 ])
 def test_each_self_contradiction_is_named(members, said) -> None:
-    plugin = type("Plugin", (), {"name": "plugin", "convention": Convention(), "rasterize": lambda self, scene: None, **members})()
+    plugin = type("Plugin", (), {"name": "plugin", "convention": Convention(), "rasterize": lambda self, scene: None,
+                                 **members})()
     problem = declaration_problem(plugin)
     assert problem is not None and problem.startswith(f"{REFUSED}: ") and said in problem, problem
 
@@ -178,7 +184,8 @@ def test_a_second_copy_keeps_what_it_declares() -> None:
     assert second.name == "bresenham_lines#2" and second.scene_kinds == ("lines",) and declaration_problem(second) is None
     filler = paths.PathFillBug("open-contours")
     renamed = distinct_names([filler, filler])[1]
-    assert renamed.scene_kinds == filler.scene_kinds and getattr(renamed, "fill_rules", None) == getattr(filler, "fill_rules", None)
+    assert renamed.scene_kinds == filler.scene_kinds
+    assert getattr(renamed, "fill_rules", None) == getattr(filler, "fill_rules", None)
 
 
 def test_every_registered_rasterizer_declares_consistently() -> None:

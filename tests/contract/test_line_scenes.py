@@ -73,7 +73,7 @@ def test_boxes_grow_by_half_the_width_and_name_non_finite_segments() -> None:
     (lambda: LineScene(8, 8, [0, 0, 1, 1], [2]), "vertices must have shape (V, 2)"),
     (lambda: LineScene(0, 8, [[0, 0], [1, 1]], [2]), "width must lie in"),
 ])
-def test_bad_line_scenes_are_refused_by_name(make, words) -> None:  # type: ignore[no-untyped-def]
+def test_bad_line_scenes_are_refused_by_name(make, words) -> None:
     with pytest.raises(ValueError, match=None) as error:
         make()
     assert words in str(error.value)
@@ -83,13 +83,13 @@ def test_only_rasterizers_listing_lines_are_handed_them() -> None:
     class Drawer:
         name, convention, scene_kinds = "drawer", Convention(), ("lines",)
 
-        def rasterize(self, scene):  # type: ignore[no-untyped-def]
+        def rasterize(self, scene):
             return Coverage.empty()
 
     class Filler:
         name, convention = "filler", Convention()
 
-        def rasterize(self, scene):  # type: ignore[no-untyped-def]
+        def rasterize(self, scene):
             return Coverage.empty()
 
     assert scene_kinds_of(Drawer()) == ("lines",)
@@ -105,7 +105,8 @@ def test_line_rule_defaults_and_validation() -> None:
     assert Convention(line="rectangle").line.rule == "rectangle"
     assert "line=LineRule(rule='bresenham'" in repr(Convention(line="bresenham"))
     assert repr(Convention()) == "Convention(sample=(0.5, 0.5), tie='top-left', subpixel_bits=None, cull='none')"
-    assert Convention(subpixel_bits=4, line=LineRule("bresenham", rounding="floor", ties="stay", last_pixel=False)).describe_lines() \
+    assert Convention(subpixel_bits=4, line=LineRule("bresenham", rounding="floor", ties="stay",
+                                                     last_pixel=False)).describe_lines() \
         == "Bresenham lines, end points to pixels by floor, ties stay, last pixel omitted, snapped to 1/16 px (4 bits)"
     for bad, words in ((dict(rule="dda"), "LineRule.rule must be one of"), (dict(rounding="up"), "LineRule.rounding"),
                        (dict(ties="maybe"), "LineRule.ties"), (dict(last_pixel="yes"), "LineRule.last_pixel")):

@@ -102,7 +102,8 @@ def test_per_sample_oracle_is_watertight_on_a_partition_with_ties_at_samples(cou
 
     rng = np.random.default_rng(count)
     # interior vertices moved by random 1/16 steps; a shared vertex moves with all its triangles
-    moved = {tuple(v): v + rng.integers(-6, 7, 2) / 16 for v in grid_mesh(4, 10, 0.0, 0).reshape(-1, 2) if ((v > 1) & (v < 9)).all()}
+    moved = {tuple(v): v + rng.integers(-6, 7, 2) / 16 for v in grid_mesh(4, 10, 0.0, 0).reshape(-1, 2)
+             if ((v > 1) & (v < 9)).all()}
     mesh = np.array([[moved.get(tuple(v), v) for v in tri] for tri in grid_mesh(4, 10, 0.0, 0)])
     scene = Scene(10, 10, mesh)
     convention = Convention(tie=tie)

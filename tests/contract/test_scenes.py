@@ -112,7 +112,8 @@ def test_tidy_keeps_exactly_the_first_emission_of_each_pixel_within_reach(spans,
     triangle id is valid and it lies in the viewport and in the triangle's grown box."""
     scene = Scene(10, 9, [np.array(corners).reshape(3, 2), [[1, 1], [2, 1], [1, 2]]])
     arr = np.array(spans, dtype=np.int64).reshape(-1, 4)
-    cov = Coverage(arr[:, 0], arr[:, 1], arr[:, 2], arr[:, 3], np.arange(max(int(np.maximum(arr[:, 3] - arr[:, 2], 0).sum()), 0))[:, None].astype(float))
+    cov = Coverage(arr[:, 0], arr[:, 1], arr[:, 2], arr[:, 3],
+                   np.arange(max(int(np.maximum(arr[:, 3] - arr[:, 2], 0).sum()), 0))[:, None].astype(float))
     usable, flaws = cov.tidy(scene)
     box = [(np.floor(scene.positions[t].min(axis=0)) - 2, np.ceil(scene.positions[t].max(axis=0)) + 2) for t in range(2)]
     want: dict = {}

@@ -77,7 +77,8 @@ def test_cli_run_fails_on_a_wrong_rasterizer(tmp_path):
             name = "liar"
             convention = Convention(tie="bottom-right")  # claims what it does not do
     '''))
-    code = main(["run", "--rasterizer", f"{path}:Liar", "--case", "lattice/*", "--no-fingerprints", "--out", str(tmp_path / "rep")])
+    code = main(["run", "--rasterizer", f"{path}:Liar", "--case", "lattice/*", "--no-fingerprints", "--out",
+                 str(tmp_path / "rep")])
     assert code == 1
     assert "fail" in (tmp_path / "rep" / "index.html").read_text()
     assert "against the oracle" in (tmp_path / "rep" / "rasterizer-liar.html").read_text()
@@ -155,7 +156,8 @@ class Hobby:
             x0, y0 = np.clip(np.floor(p.min(axis=0)).astype(int), 0, [scene.width, scene.height])
             x1, y1 = np.clip(np.ceil(p.max(axis=0)).astype(int) + 1, 0, [scene.width, scene.height])
             ys, xs = np.mgrid[y0:y1, x0:x1] + 0.5
-            w = [(p[(k + 1) % 3, 0] - p[k, 0]) * (ys - p[k, 1]) - (p[(k + 1) % 3, 1] - p[k, 1]) * (xs - p[k, 0]) for k in range(3)]
+            w = [(p[(k + 1) % 3, 0] - p[k, 0]) * (ys - p[k, 1]) - (p[(k + 1) % 3, 1] - p[k, 1]) * (xs - p[k, 0])
+                 for k in range(3)]
             mask = (w[0] >= 0) & (w[1] >= 0) & (w[2] >= 0)   # one winding, every edge inclusive
             y, x = np.nonzero(mask)
             parts.append(Coverage.from_pixels(np.full(x.size, t), x + x0, y + y0))
@@ -217,8 +219,8 @@ def test_a_hostile_name_never_becomes_a_path_outside_out(tmp_path):
         "        return exact_coverage(scene, Convention(tie='bottom-right'))\n"
     )
     out = tmp_path / "deep" / "rep"
-    assert main(["run", "--rasterizer", f"{plugin}:Hostile", "--case", "lattice/*", "--case", "watertight/fan-*", "--out", str(out),
-                 "--no-fingerprints"]) == 1
+    assert main(["run", "--rasterizer", f"{plugin}:Hostile", "--case", "lattice/*", "--case", "watertight/fan-*", "--out",
+                 str(out), "--no-fingerprints"]) == 1
     written = [p for p in tmp_path.rglob("*.json")]
     assert written and all(out in p.parents for p in written), [str(p) for p in written if out not in p.parents][:3]
     assert not (tmp_path / "escaped_repros").exists() and not (tmp_path / "deep" / "escaped_repros").exists()
@@ -280,7 +282,8 @@ def test_a_plugin_that_exits_cannot_make_run_pass(tmp_path, capsys, where):
     assert "sys.exit(0)" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("ending", ["os._exit(0)", "os.kill(os.getpid(), signal.SIGKILL)", "os.kill(os.getpid(), signal.SIGTERM)"])
+@pytest.mark.parametrize("ending", ["os._exit(0)", "os.kill(os.getpid(), signal.SIGKILL)",
+                                    "os.kill(os.getpid(), signal.SIGTERM)"])
 @pytest.mark.parametrize("where", ["import", "factory"])
 def test_a_plugin_that_ends_the_process_while_loading_cannot_end_rastercheck(tmp_path, capsys, ending, where):
     """os._exit or a signal at import or construction ends a probe child, not the run:
@@ -296,13 +299,15 @@ def test_a_plugin_that_ends_the_process_while_loading_cannot_end_rastercheck(tmp
     assert "ended the process while being loaded" in err and "ends.py" in err
 
 
-@pytest.mark.parametrize("ending", ["os._exit(0)", "sys.exit(0)", "os.kill(os.getpid(), signal.SIGKILL)", "raise KeyboardInterrupt"])
+@pytest.mark.parametrize("ending", ["os._exit(0)", "sys.exit(0)", "os.kill(os.getpid(), signal.SIGKILL)",
+                                    "raise KeyboardInterrupt"])
 def test_a_plugin_that_ends_the_process_in_rasterize_is_an_error_result(tmp_path, ending):
     from harness.cli.main import main
 
     plugin = tmp_path / "ends_later.py"
     plugin.write_text("import os, signal, sys\nfrom rasterizers.centre_scanline import CentreScanline\n"
-                      f"class EndsLater(CentreScanline):\n    name = 'ends_later'\n    def rasterize(self, scene):\n        {ending}\n")
+                      "class EndsLater(CentreScanline):\n    name = 'ends_later'\n    def rasterize(self, scene):\n        "
+                      f"{ending}\n")
     out = tmp_path / "r.json"
     code = main(["run", "--rasterizer", f"{plugin}:EndsLater", "--rasterizer", "centre_scanline", "--case", "lattice/bits-0",
                  "--no-fingerprints", "--out", str(tmp_path / "rep"), "--json", str(out)])

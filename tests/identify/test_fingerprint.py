@@ -209,7 +209,8 @@ def test_run_identifies_an_undeclared_convention(tmp_path):
 
 def test_the_card_lists_every_fact():
     card = _identified("centre_scanline").card()
-    for fact in ("sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep"):
+    for fact in ("sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping",
+                 "vertex sweep"):
         assert f"\n{fact}" in card, card
 
 
@@ -369,7 +370,8 @@ def test_the_library_identifies_undeclared_rasterizers_as_the_command_does(tmp_p
     chosen = ["lattice/*", "float/*", "watertight/fan-*", "degenerate/zero-area/*", "mesh/box/*", "motion/triangle/*"]
     main(["run", "--rasterizer", spec, *(a for g in chosen for a in ("--case", g)), "--out", str(tmp_path / "rep"),
           "--json", str(tmp_path / "r.json")])
-    command = {(r["case"], r["check"]): (r["status"], r["message"]) for r in json.loads((tmp_path / "r.json").read_text())["results"]}
+    command = {(r["case"], r["check"]): (r["status"], r["message"])
+               for r in json.loads((tmp_path / "r.json").read_text())["results"]}
     import fnmatch
 
     from cases.suites import suite
@@ -432,7 +434,8 @@ def test_identify_gives_a_lying_rasterizer_a_residual_not_an_exception(index):
     rasterizer = _lying()[index]
     fingerprint = identify(rasterizer)
     # a residual over what it answered; fit scenes it did not answer are left out and named
-    assert isinstance(fingerprint, Fingerprint) and not fingerprint.exact and (fingerprint.residual > 0 or fingerprint.unanswered > 0)
+    assert isinstance(fingerprint, Fingerprint) and not fingerprint.exact and (fingerprint.residual > 0
+                                                                               or fingerprint.unanswered > 0)
     if fingerprint.no_answers is not None:  # no fit scene answered: no convention claimed, not even as a guess
         assert "convention   none identified: no answers" in fingerprint.card() and "mismatching pixels" not in fingerprint.card()
     else:
@@ -490,9 +493,12 @@ def test_identify_isolated_goes_on_past_a_dying_call_and_agrees_with_identify():
     assert "NaN: raises RuntimeError: the rasterizer's worker process died (exit code 3)" in isolated.facts["non-finite"]
     plain = _identified("centre_scanline").to_dict()
     # the dying call is named on the card, and is the one difference
-    assert [f["error"] for f in isolated.to_dict()["calls"]["failed"]] == ["RuntimeError: the rasterizer's worker process died (exit code 3)"]
-    assert re.search(r"^1 of [0-9,]+ probe calls failed: #[0-9]+ \(2 triangles on 32 x 32 px: RuntimeError", isolated.facts["calls"]) and plain["calls"]["failed"] == []
-    assert {**isolated.to_dict(), "rasterizer": None, "facts": None, "calls": None} == {**plain, "rasterizer": None, "facts": None, "calls": None}
+    assert [f["error"] for f in isolated.to_dict()["calls"]["failed"]] == ["RuntimeError: the rasterizer's worker process died "
+                                                                           "(exit code 3)"]
+    assert re.search(r"^1 of [0-9,]+ probe calls failed: #[0-9]+ \(2 triangles on 32 x 32 px: RuntimeError",
+                     isolated.facts["calls"]) and plain["calls"]["failed"] == []
+    assert {**isolated.to_dict(), "rasterizer": None, "facts": None, "calls": None} == {**plain, "rasterizer": None,
+                                                                                        "facts": None, "calls": None}
 
 
 class Sluggish:

@@ -214,7 +214,8 @@ def test_identify_and_run_go_on_past_a_call_that_hangs(tmp_path, capsys):
     # the terminal and the JSON count the calls that timed out (asked twice) and name their cases
     hung = data["call_failures"]["hangs_on_nan"]["timed_out"]
     assert hung and all(case.startswith("degenerate/") for case in hung)
-    assert f"calls: {len(hung)} call{'' if len(hung) == 1 else 's'} timed out (each asked twice): {hung[0]}" in capsys.readouterr().out
+    calls = f"{len(hung)} call{'' if len(hung) == 1 else 's'}"
+    assert f"calls: {calls} timed out (each asked twice): {hung[0]}" in capsys.readouterr().out
 
 
 class Undeclared:

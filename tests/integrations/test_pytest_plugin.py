@@ -69,7 +69,8 @@ def plugin_run(tmp_path: Path, *args: str) -> tuple[subprocess.CompletedProcess[
     env["PYTHONPATH"] = os.pathsep.join([str(REPO), *filter(None, [os.environ.get("PYTHONPATH")])])
     env["COLUMNS"] = "100"  # the summary lines are cut to the terminal's width: one width everywhere
     start = time.monotonic()
-    proc = subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-p", "no:hypothesispytest", "--rastercheck-repros",
+    proc = subprocess.run([sys.executable, "-m", "pytest", "-p", "no:cacheprovider", "-p", "no:hypothesispytest",
+                           "--rastercheck-repros",
                            str(tmp_path / "repros"), *args], capture_output=True, text=True, cwd=tmp_path, env=env, timeout=600)
     return proc, time.monotonic() - start
 
@@ -181,7 +182,8 @@ def test_a_baseline_makes_known_failures_xfail(tmp_path, capsys, monkeypatch):
                            str(baseline), "-rxX")
     assert proc.returncode == 0, proc.stdout[-3000:]
     out = proc.stdout
-    assert "1 passed, 618 deselected, 4 xfailed, 1 xpassed" in out  # 618: with identify's four degenerate probe cases and the six deep-winding paths
+    # 618: with identify's four degenerate probe cases and the six deep-winding paths
+    assert "1 passed, 618 deselected, 4 xfailed, 1 xpassed" in out
     assert "XFAIL rastercheck::bad_wrong_tie_claim::lattice/bits-0::conformance - claims bottom-right, draws top-left" in out
     assert "XPASS rastercheck::bad_wrong_tie_claim::lattice/bits-0::hygiene" in out
     assert "XFAIL rastercheck::bad_raises::lattice/bits-0::invariance - the case's run: " in out
@@ -189,7 +191,8 @@ def test_a_baseline_makes_known_failures_xfail(tmp_path, capsys, monkeypatch):
 
 @pytest.mark.parametrize("args, said", [
     (["--rasterizer", "nope"], "nope: not a registered rasterizer"),
-    (["--rasterizer", "centre_scanline", "--rastercheck-baseline", "none.json"], "--rastercheck-baseline: none.json: no such baseline"),
+    (["--rasterizer", "centre_scanline", "--rastercheck-baseline", "none.json"],
+     "--rastercheck-baseline: none.json: no such baseline"),
     (["--rasterizer", "centre_scanline", "--rastercheck-suite", "huge"], "--rastercheck-suite: unknown suite 'huge'"),
 ])
 def test_usage_errors(tmp_path, capsys, monkeypatch, args, said):

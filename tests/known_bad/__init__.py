@@ -7,7 +7,7 @@ import numpy as np
 from harness.contract.coverage import Coverage
 
 
-def coverage_from_parts(tris: list, xs: list, ys: list) -> Coverage:  # type: ignore[type-arg]
+def coverage_from_parts(tris: list, xs: list, ys: list) -> Coverage:
     """One Coverage from per-triangle lists of fragment arrays (empty when there are none)."""
     if not tris:
         return Coverage.empty()

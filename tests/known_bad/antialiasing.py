@@ -80,7 +80,7 @@ class SwappedSampleBits:
 
 
 @numba.njit(cache=True)
-def _inclusive_kernel(positions, offsets, width, height):  # type: ignore[no-untyped-def]
+def _inclusive_kernel(positions, offsets, width, height):
     """(triangle, sample, x, y) of every sample an edge-function test with ``>= 0`` puts
     inside: each edge takes the samples exactly on it (no tie rule)."""
     out_t = []
@@ -180,7 +180,7 @@ class BiasedArea:
 
 
 @numba.njit(cache=True, inline="always")
-def _sampled_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
+def _sampled_integral(ax, ay, bx, by):
     """The same signed area by 4 x 4 point sampling: the share of the grid's samples
     (x in the edge's half-open x-range, y above the edge)."""
     if ax == bx:
@@ -202,7 +202,7 @@ def _sampled_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _switch_kernel(positions, width, height):  # type: ignore[no-untyped-def]
+def _switch_kernel(positions, width, height):
     """(triangle, x, y, area) per pixel of each triangle's bounding box: |sum of the edge
     terms|, each edge integrated exactly when it runs down the screen (or level) and by
     4 x 4 point sampling when it runs up."""
@@ -290,7 +290,7 @@ class CoarseSupersampleClaimsAnalytic:
 
 
 @numba.njit(cache=True)
-def _stepped_x(state, k, xa, ya, xb, yb, line):  # type: ignore[no-untyped-def]
+def _stepped_x(state, k, xa, ya, xb, yb, line):
     """Edge k's x on the band line y = ``line`` as a float32 DDA has it: the exact
     crossing of the first line asked for, rounded to float32, then ``x += dxdy`` in
     float32 once per row (``state[k]``: x, the line it is on, dxdy); kept within the
@@ -306,7 +306,7 @@ def _stepped_x(state, k, xa, ya, xb, yb, line):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _drift_kernel(positions, sign, width, height, steps, block, alpha):  # type: ignore[no-untyped-def]
+def _drift_kernel(positions, sign, width, height, steps, block, alpha):
     """:mod:`rasterizers.area_scanline`'s kernel with its band crossings stepped in
     float32 (:func:`_stepped_x`) instead of computed afresh in float64 on every row."""
     cells = np.zeros(width + 2)

@@ -15,7 +15,8 @@ from harness.contract.scenes import Scene
 from rasterizers.pineda_topleft import PinedaTopLeft
 from tests.known_bad.hostile import _Base  # a correct declaration, named after the class
 
-__all__ = ["BenchRaises", "BenchAnswersNone", "BenchSegfaults", "BenchExits", "BenchHangs", "BenchCrashesWhenWarm", "BenchExitsOnPaths"]
+__all__ = ["BenchRaises", "BenchAnswersNone", "BenchSegfaults", "BenchExits", "BenchHangs", "BenchCrashesWhenWarm",
+           "BenchExitsOnPaths"]
 
 
 class BenchRaises(_Base):

@@ -113,7 +113,8 @@ LOAD_BADS: dict[type, str] = {
     KindsAsString: "is one string, not a tuple of kinds: write scene_kinds = (\"lines\",)",
 }
 ANSWER_BADS: dict[type, str] = {
-    DiamondDrawerNoLines: 'asked a triangle scene for `segments`, which line scenes have, but its scene_kinds ("triangles",) lack "lines"',
+    DiamondDrawerNoLines: 'asked a triangle scene for `segments`, which line scenes have, but its scene_kinds ("triangles",) '
+                          'lack "lines"',
     AreaWithoutAlphas: "declares area coverage, but its answer carries no alphas: return Coverage(..., alpha=a)",
     SingleWithSampleIds: "declares one sample per pixel, but its answer carries sample ids: declare the pattern",
     MultisampleWithoutIds: "declares a multisample pattern of 4 samples, but its answer carries no sample ids",

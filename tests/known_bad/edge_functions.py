@@ -54,14 +54,14 @@ BUGS = ("inclusive", "exclusive", "float32", "endpoint-order", "vertex-order-tie
 
 
 @numba.njit(cache=True)
-def _edge(ax, ay, bx, by, px, py, f32):  # type: ignore[no-untyped-def]
+def _edge(ax, ay, bx, by, px, py, f32):
     if f32:
         return np.float32(np.float32(bx - ax) * np.float32(py - ay)) - np.float32(np.float32(by - ay) * np.float32(px - ax))
     return (bx - ax) * (py - ay) - (by - ay) * (px - ax)
 
 
 @numba.njit(cache=True)
-def _pixels(positions, width, height, bug, sx, sy, y_first):  # type: ignore[no-untyped-def]
+def _pixels(positions, width, height, bug, sx, sy, y_first):
     """(triangle, x, y) of every pixel whose centre the buggy test puts inside: a plain
     per-pixel test over each triangle's bounding box, with the bug numbered ``bug`` in
     :data:`BUGS` (a compiled kernel: shrinking calls it thousands of times)."""

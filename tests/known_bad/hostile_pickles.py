@@ -148,7 +148,8 @@ class ClaimsTimedOut(_Base):
         encode = harness.engine.isolation.__dict__.get("_true_encode", harness.engine.isolation.encode_outcome)
         harness.engine.isolation._true_encode = encode  # type: ignore[attr-defined]
         flaws = {"repeated": np.arange(3)}
-        harness.engine.isolation.encode_outcome = lambda outcome: encode(dataclasses.replace(outcome, timed_out=True, retried=1.0, flaws=flaws))
+        harness.engine.isolation.encode_outcome = lambda outcome: encode(dataclasses.replace(outcome, timed_out=True, retried=1.0,
+                                                                                             flaws=flaws))
         return PinedaTopLeft().rasterize(scene)
 
 

@@ -14,7 +14,8 @@ from rasterizers.centre_scanline import CentreScanline
 from rasterizers.pineda_topleft import PinedaTopLeft
 from tests.known_bad import coverage_from_parts
 
-__all__ = ["ClipsBeforeSnapping", "Float32Input", "DropsAttributes", "SlowOnEpsilon", "WrongTieClaim", "Raises", "ReturnsGarbage", "HangsOnEpsilon", "Int32FixedPoint", "NaNAttributes"]
+__all__ = ["ClipsBeforeSnapping", "Float32Input", "DropsAttributes", "SlowOnEpsilon", "WrongTieClaim", "Raises", "ReturnsGarbage",
+           "HangsOnEpsilon", "Int32FixedPoint", "NaNAttributes"]
 
 
 class WrongTieClaim:
@@ -120,7 +121,8 @@ class NaNAttributes:
         values = np.zeros((cov.n_pixels, 1))
         p = scene.positions
         with np.errstate(all="ignore"):
-            area = np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
+            area = np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1])
+                          * (p[:, 2, 0] - p[:, 0, 0]))
         tri, _, _ = cov.pixels()
         values[area[tri] < 1.0] = np.nan
         return Coverage(cov.triangle, cov.y, cov.x0, cov.x1, values)
@@ -177,7 +179,8 @@ class ClipsBeforeSnapping:
         for t, p in enumerate(scene.positions):
             if not np.isfinite(p).all():
                 continue
-            inside = (p[:, 0].min() >= 0) & (p[:, 1].min() >= 0) & (p[:, 0].max() <= scene.width) & (p[:, 1].max() <= scene.height)
+            inside = (p[:, 0].min() >= 0) & (p[:, 1].min() >= 0) & (p[:, 0].max() <= scene.width) \
+                & (p[:, 1].max() <= scene.height)
             pieces = [p]
             if not inside:
                 polygon = _clip_to_screen([v for v in p], scene.width, scene.height)

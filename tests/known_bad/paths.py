@@ -116,7 +116,7 @@ class PathFillBug:
 
 
 @numba.njit(cache=_CACHE, error_model="numpy")
-def _spans(ax, ay, bx, by, bounds, bug, evenodd, width, height):  # type: ignore[no-untyped-def]
+def _spans(ax, ay, bx, by, bounds, bug, evenodd, width, height):
     """Spans (path, y, x0, x1), row by row, over each path's edges ``bounds[p]:bounds[p + 1]``."""
     # a span starts and ends at two crossings of its path's row, but the last may end at the
     # start of the next: per row and path at most crossings / 2 + 1 spans

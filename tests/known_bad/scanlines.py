@@ -48,7 +48,7 @@ NO_PRESTEP, ROWS_PLUS_ONE, CEIL_LEFT, ROUND_ENDS, TOP_EDGE_EVAL, NO_CLIP = range
 
 
 @numba.njit(cache=True, inline="always")
-def _edge_x(ax, ay, bx, by, j, sample, bug):  # type: ignore[no-untyped-def]
+def _edge_x(ax, ay, bx, by, j, sample, bug):
     if by == ay:
         return ax
     if bug == NO_PRESTEP:  # x from the top vertex, stepped per row
@@ -57,7 +57,7 @@ def _edge_x(ax, ay, bx, by, j, sample, bug):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _column(x, centre, bug):  # type: ignore[no-untyped-def]
+def _column(x, centre, bug):
     if bug == ROUND_ENDS:
         return np.rint(x)  # half to even, as Python's round
     if centre:
@@ -66,7 +66,7 @@ def _column(x, centre, bug):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _spans(positions, sign, bug, centre, width, height):  # type: ignore[no-untyped-def]
+def _spans(positions, sign, bug, centre, width, height):
     """Spans (triangle, y, x0, x1) row by row. Coordinates are clamped to a few pixels
     around the viewport before rounding (the same rows and columns survive the clipping);
     a NaN crossing (overflow) draws nothing on its row."""

@@ -74,7 +74,8 @@ def test_huge_coordinates_neither_overflow_nor_lose_pixels():
     big = np.finfo(np.float64).max
     for scale in (1e6, 1e9, 1e30, big):
         # a screen-covering pair of triangles with far-away vertices
-        tris = np.array([[[-scale, -scale], [scale, -scale], [-scale, scale]], [[scale, -scale], [scale, scale], [-scale, scale]]])
+        tris = np.array([[[-scale, -scale], [scale, -scale], [-scale, scale]],
+                         [[scale, -scale], [scale, scale], [-scale, scale]]])
         counts = exact_coverage(Scene(16, 16, tris), Convention()).counts(16, 16)
         assert (counts == 1).all(), scale
     sliver = np.array([[[-big, 3.25], [big, 3.75], [5.5, 3.5]]])

@@ -52,7 +52,7 @@ def test_gl_is_one_value_of_the_line_rule() -> None:
 @example((np.array([[0.5, 0.0]]), np.array([[4.5, 2.0]])), False)  # slope 1/2 through corners (y(xc) integer)
 @example((np.array([[4.5, 2.0]]), np.array([[0.5, 0.0]])), False)  # the same, drawn the other way
 @example((np.array([[1.5, 2.0]]), np.array([[1.5, 2.0]])), True)  # zero length on a top corner
-def test_gl_oracle_matches_its_rational_reference(segs, last_pixel) -> None:  # type: ignore[no-untyped-def]
+def test_gl_oracle_matches_its_rational_reference(segs, last_pixel) -> None:
     a, b = segs
     fast = diamond_exit_spans(a, b, SIZE, SIZE, last_pixel, rule=GL)
     _same(fast, diamond_exit_spans_rational(a, b, SIZE, SIZE, last_pixel, rule=GL))
@@ -95,14 +95,15 @@ def _spec_with_eps(a: tuple[float, float], b: tuple[float, float], size: int, la
 @given(segments, st.booleans())
 @example((np.array([[0.5, 0.0]]), np.array([[3.5, 3.0]])), False)
 @example((np.array([[0.5, 2.5]]), np.array([[3.0, 2.5]])), False)
-def test_the_rational_reference_is_the_spec_with_a_tiny_eps(segs, last_pixel) -> None:  # type: ignore[no-untyped-def]
+def test_the_rational_reference_is_the_spec_with_a_tiny_eps(segs, last_pixel) -> None:
     a, b = segs
     for k in range(a.shape[0]):
         if not np.isfinite([*a[k], *b[k]]).all() or (np.abs(a[k] * 8 - np.round(a[k] * 8)).max() > 0
                                                       or np.abs(b[k] * 8 - np.round(b[k] * 8)).max() > 0):
             continue  # the concrete eps is small enough on the 1/8 lattice only
         want = _spec_with_eps(tuple(a[k]), tuple(b[k]), SIZE, last_pixel)
-        got = {(x, y) for _, x, y in _pixels(diamond_exit_spans_rational(a[k:k + 1], b[k:k + 1], SIZE, SIZE, last_pixel, rule=GL))}
+        got = {(x, y) for _, x, y in _pixels(diamond_exit_spans_rational(a[k:k + 1], b[k:k + 1], SIZE, SIZE, last_pixel,
+                                                                         rule=GL))}
         assert got == want, (a[k], b[k])
 
 
@@ -112,7 +113,8 @@ def test_far_gl_segments_match_the_kernel() -> None:
     b = np.array([[3.5, 3.0], [1e300, 2.5], [1.5, 1e300]])
     cov = exact_coverage(LineScene.from_segments(6, 6, a, b), Convention(line=GL))
     pixels = {(int(s), x, int(y)) for s, y, x0, x1 in zip(cov.primitive, cov.y, cov.x0, cov.x1) for x in range(x0, x1)}
-    near = LineScene.from_segments(6, 6, np.array([[0.5, 0.0], [-8.0, 2.5], [1.5, -8.0]]), np.array([[3.5, 3.0], [8.0, 2.5], [1.5, 8.0]]))
+    near = LineScene.from_segments(6, 6, np.array([[0.5, 0.0], [-8.0, 2.5], [1.5, -8.0]]),
+                                   np.array([[3.5, 3.0], [8.0, 2.5], [1.5, 8.0]]))
     cov = exact_coverage(near, Convention(line=GL))
     assert pixels == {(int(s), x, int(y)) for s, y, x0, x1 in zip(cov.primitive, cov.y, cov.x0, cov.x1) for x in range(x0, x1)}
     # a horizontal line on a row boundary: the row above (its bottom corners); vertical on a column boundary: the left

@@ -43,7 +43,7 @@ def _pixels(coverage: Coverage) -> set[tuple[int, int, int]]:
     return set(zip(*(v.tolist() for v in coverage.pixels())))
 
 
-def _spans_pixels(spans) -> set[tuple[int, int, int]]:  # type: ignore[no-untyped-def]
+def _spans_pixels(spans) -> set[tuple[int, int, int]]:
     return {(int(s), x, int(y)) for s, y, x0, x1 in zip(*spans) for x in range(int(x0), int(x1))}
 
 
@@ -65,7 +65,7 @@ def test_direction_is_one_value_of_the_line_rule_validated_and_described() -> No
         LineRule("bresenham", direction="left")  # type: ignore[arg-type]
     for rule_name in ("diamond-exit", "rectangle"):
         with pytest.raises(ValueError, match=f"direction 'smaller-x' is a Bresenham option; {rule_name} lines"):
-            LineRule(rule_name, direction="smaller-x")  # type: ignore[arg-type]
+            LineRule(rule_name, direction="smaller-x")
     with pytest.raises(ValueError, match="direction must be one of"):
         bresenham_spans([[0, 0]], [[3, 1]], 4, 4, direction="backwards")  # type: ignore[arg-type]
 
@@ -112,7 +112,7 @@ quarter = st.integers(-8, 4 * SIZE + 8).map(lambda k: k / 4)
 
 
 @st.composite
-def tie_segment(draw):  # type: ignore[no-untyped-def]
+def tie_segment(draw):
     """A segment on the 1/4 px lattice, half of them an integer vector of slope +-1/2 or
     +-2 (a Bresenham tie every other step) or +-1, or axis-aligned, from anywhere."""
     a = (draw(quarter), draw(quarter))
@@ -130,7 +130,7 @@ def tie_segment(draw):  # type: ignore[no-untyped-def]
 @example(((9.5, 5.5), (1.5, 1.5)), "nearest-even", "step", True, "smaller-x")  # right to left through ties
 @example(((9.5, 0.5), (5.5, 8.5)), "floor", "stay", False, "smaller-major")  # y-major from the smaller x, larger y
 @example(((6.0, 8.5), (6.0, 1.5)), "floor", "step", False, "smaller-x")  # vertical: the given order kept
-def test_the_oracle_walks_as_the_definition_says(seg, rounding, ties, last_pixel, direction) -> None:  # type: ignore[no-untyped-def]
+def test_the_oracle_walks_as_the_definition_says(seg, rounding, ties, last_pixel, direction) -> None:
     a, b = seg
     want = _brute_force(a, b, rounding, ties, last_pixel, direction)
     assert _spans_pixels(bresenham_spans([a], [b], SIZE, SIZE, rounding, ties, last_pixel, direction)) == want
@@ -149,7 +149,7 @@ def test_the_oracle_walks_as_the_definition_says(seg, rounding, ties, last_pixel
 
 @QUICK
 @given(st.lists(tie_segment(), min_size=1, max_size=6))
-def test_the_textbook_drawers_draw_what_they_declare(segs) -> None:  # type: ignore[no-untyped-def]
+def test_the_textbook_drawers_draw_what_they_declare(segs) -> None:
     """Two implementations apart: the textbook kernels and the oracle."""
     scene = LineScene.from_segments(SIZE, SIZE, [s[0] for s in segs], [s[1] for s in segs])
     for drawer in (TextbookPlotLine(), WikipediaPlotLine()):
@@ -190,13 +190,13 @@ class AsGiven(TextbookPlotLine):
     convention = Convention(line=LineRule("bresenham", rounding="floor", ties="step"))
 
 
-def _failing(rasterizer, cases):  # type: ignore[no-untyped-def]
+def _failing(rasterizer, cases):
     results = run_suite([rasterizer], cases=cases, isolate=False, identify=False, repros=False)
     return results, [r for r in results if r.status not in ("pass", "skip")]
 
 
 @pytest.mark.parametrize("drawer", [TextbookPlotLine(), WikipediaPlotLine()], ids=lambda d: d.name)
-def test_a_textbook_plotline_declared_with_its_direction_passes_the_quick_line_suite(drawer, quick_lines) -> None:  # type: ignore[no-untyped-def]
+def test_a_textbook_plotline_declared_with_its_direction_passes_the_quick_line_suite(drawer, quick_lines) -> None:
     results, failing = _failing(drawer, quick_lines)
     assert not failing, [(r.case, r.check, r.message) for r in failing]
     assert {"conformance", "reversal", "joints", "length", "connectivity"} <= {r.check for r in results}
@@ -204,7 +204,7 @@ def test_a_textbook_plotline_declared_with_its_direction_passes_the_quick_line_s
     assert same and all(r.metrics["reversal_pixels"] == 0 for r in same)  # the same pixels both ways, as predicted
 
 
-def test_the_same_drawer_declared_as_walking_as_given_fails_and_is_told_the_direction(quick_lines) -> None:  # type: ignore[no-untyped-def]
+def test_the_same_drawer_declared_as_walking_as_given_fails_and_is_told_the_direction(quick_lines) -> None:
     _, failing = _failing(AsGiven(), quick_lines)
     checks = {r.check for r in failing}
     assert {"conformance", "reversal"} <= checks, checks
@@ -212,7 +212,7 @@ def test_the_same_drawer_declared_as_walking_as_given_fails_and_is_told_the_dire
     assert named and "walked from the end point with smaller x: declare LineRule(..., direction='smaller-x')" in named[0].message
 
 
-def test_a_drawer_that_normalises_inconsistently_fails(quick_lines) -> None:  # type: ignore[no-untyped-def]
+def test_a_drawer_that_normalises_inconsistently_fails(quick_lines) -> None:
     _, failing = _failing(SwapsShallowOnly(), quick_lines)
     assert {"conformance", "reversal"} <= {r.check for r in failing}
     # its steep segments given from the larger x break ties the other way: no direction explains it

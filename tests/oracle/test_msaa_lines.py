@@ -38,7 +38,7 @@ def test_multisample_lines_are_rectangles() -> None:
 @given(segments, st.sampled_from([0.25, 1.0, 2.5]), st.sampled_from(TIE_RULES), st.sampled_from([2, 4, 8]))
 @example((np.array([[0.5, 1.0]]), np.array([[4.5, 1.0]])), 0.25, "top-left", 4)  # samples on the sides (y = 7/8)
 @example((np.array([[0.375, 0.5]]), np.array([[0.375, 6.5]])), 1.0, "bottom-right", 4)  # a vertical through samples
-def test_each_sample_is_the_rectangle_rule_at_its_offset(segs, w, tie, n) -> None:  # type: ignore[no-untyped-def]
+def test_each_sample_is_the_rectangle_rule_at_its_offset(segs, w, tie, n) -> None:
     a, b = segs
     convention = Convention(samples=n, tie=tie, line=LineRule("rectangle"))
     cov = exact_coverage(LineScene.from_segments(SIZE, SIZE, a, b, w), convention)
@@ -50,7 +50,7 @@ def test_each_sample_is_the_rectangle_rule_at_its_offset(segs, w, tie, n) -> Non
 
 @QUICK
 @given(segments, st.sampled_from([0.25, 1.0, 2.5]), st.sampled_from(["top-left", "bottom-right-y-first"]))
-def test_the_multisample_drawer_draws_what_the_oracle_says(segs, w, tie) -> None:  # type: ignore[no-untyped-def]
+def test_the_multisample_drawer_draws_what_the_oracle_says(segs, w, tie) -> None:
     a, b = segs
     scene = LineScene.from_segments(SIZE, SIZE, a, b, w)
     drawer = MultisampleRectangleLines(4, tie)
@@ -64,12 +64,12 @@ def quick_lines() -> list:
     return line_cases(0)
 
 
-def _failing(rasterizer, cases):  # type: ignore[no-untyped-def]
+def _failing(rasterizer, cases):
     results = run_suite([rasterizer], cases=cases, isolate=False, identify=False, repros=False)
     return results, [r for r in results if r.status not in ("pass", "skip")]
 
 
-def test_a_multisample_line_drawer_passes_the_quick_line_suite_and_a_closed_one_fails(quick_lines) -> None:  # type: ignore[no-untyped-def]
+def test_a_multisample_line_drawer_passes_the_quick_line_suite_and_a_closed_one_fails(quick_lines) -> None:
     # the quick suite's cases of at most 48 segments: every family (octants, ties, wide
     # lines, strips, degenerate ones), at a quarter of the whole suite's time
     small = [c for c in quick_lines if len(c.scene) <= 48]

@@ -20,11 +20,11 @@ SIZE = 6
 QUICK = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
-def _same(a, b) -> None:  # type: ignore[no-untyped-def]
+def _same(a, b) -> None:
     assert [x.tolist() for x in a] == [x.tolist() for x in b]
 
 
-def _counts(spans, width: int, height: int) -> np.ndarray:  # type: ignore[no-untyped-def]
+def _counts(spans, width: int, height: int) -> np.ndarray:
     out = np.zeros((height, width), dtype=np.int64)
     for _, y, x0, x1 in zip(*spans):
         out[y, x0:x1] += 1
@@ -37,7 +37,7 @@ lattice = st.integers(-4, 4 * SIZE + 4)  # 1/4 lattice, a little beyond the view
 
 
 @st.composite
-def lattice_contour(draw):  # type: ignore[no-untyped-def]
+def lattice_contour(draw):
     """A random polygon on the 1/4 lattice, with repeated vertices (zero-length edges),
     horizontal edges and collinear runs mixed in."""
     n = draw(st.integers(1, 7))
@@ -59,7 +59,7 @@ def lattice_contour(draw):  # type: ignore[no-untyped-def]
 
 
 @st.composite
-def stars(draw):  # type: ignore[no-untyped-def]
+def stars(draw):
     """A star polygon {n/k} (pentagrams, heptagrams, ...) with float vertices."""
     n = draw(st.integers(5, 9))
     k = draw(st.integers(2, (n - 1) // 2))
@@ -71,7 +71,7 @@ def stars(draw):  # type: ignore[no-untyped-def]
 
 
 @st.composite
-def bow_ties(draw):  # type: ignore[no-untyped-def]
+def bow_ties(draw):
     x0, x1 = sorted((draw(lattice), draw(lattice)))
     y0, y1 = sorted((draw(lattice), draw(lattice)))
     return np.array([[x0, y0], [x1, y1], [x1, y0], [x0, y1]], dtype=np.float64) / 4
@@ -81,7 +81,7 @@ contour = st.one_of(lattice_contour(), stars(), bow_ties())
 
 
 @st.composite
-def paths(draw):  # type: ignore[no-untyped-def]
+def paths(draw):
     """1-4 contours in 1-2 paths; sometimes a second contour is a scaled copy of the first,
     with the same or the opposite orientation (rings, overlaps)."""
     cs = draw(st.lists(contour, min_size=1, max_size=3))
@@ -101,7 +101,7 @@ def paths(draw):  # type: ignore[no-untyped-def]
 @pytest.mark.parametrize("fill_rule", FILL_RULES)
 @QUICK
 @given(data=paths(), convention=conventions())
-def test_matches_rational(tie, fill_rule, data, convention) -> None:  # type: ignore[no-untyped-def]
+def test_matches_rational(tie, fill_rule, data, convention) -> None:
     cs, owner = data
     conv = replace(convention, tie=tie)
     _same(path_spans(cs, owner, fill_rule, conv, SIZE, SIZE),
@@ -112,7 +112,7 @@ def test_matches_rational(tie, fill_rule, data, convention) -> None:  # type: ig
 @settings(max_examples=40, deadline=None)
 @given(tri=st.lists(lattice, min_size=6, max_size=6), convention=conventions(),
        fill_rule=st.sampled_from(FILL_RULES))
-def test_one_triangle_is_the_triangle_oracle(tie, tri, convention, fill_rule) -> None:  # type: ignore[no-untyped-def]
+def test_one_triangle_is_the_triangle_oracle(tie, tri, convention, fill_rule) -> None:
     positions = np.array(tri, dtype=np.float64).reshape(1, 3, 2) / 4
     conv = replace(convention, tie=tie, cull="none")
     cov = exact_coverage(Scene(SIZE, SIZE, positions), conv)
@@ -125,7 +125,7 @@ def test_one_triangle_is_the_triangle_oracle(tie, tri, convention, fill_rule) ->
        flips=st.lists(st.booleans(), min_size=9, max_size=9),
        starts=st.lists(st.integers(0, 3), min_size=9, max_size=9),
        convention=conventions(), fill_rule=st.sampled_from(FILL_RULES), tie=st.sampled_from(TIE_RULES))
-def test_quad_grid_is_watertight(jitter, flips, starts, convention, fill_rule, tie) -> None:  # type: ignore[no-untyped-def]
+def test_quad_grid_is_watertight(jitter, flips, starts, convention, fill_rule, tie) -> None:
     """A 3 x 3 grid of irregular quads (interior vertices jittered on the 1/4 lattice),
     each its own path with a random orientation and start vertex, covers each sample of
     the outer square exactly once, whatever the tie rule, snapping and fill rule."""

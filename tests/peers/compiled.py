@@ -2,8 +2,9 @@
 
 The tests that check a port against its original call :func:`load`; with no compiler on
 the machine they skip, naming the install. Builds are cached by the hash of the sources
-and flags (headers, ``*.h`` and ``*.hpp``, beside them included) in the temporary directory and written atomically, so that pytest-xdist
-workers building the same library at once each get a whole file.
+and flags (headers, ``*.h`` and ``*.hpp``, beside them included) in the temporary directory
+and written atomically, so that pytest-xdist workers building the same library at once each
+get a whole file.
 """
 
 from __future__ import annotations

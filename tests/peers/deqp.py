@@ -62,7 +62,8 @@ from harness.contract.scenes import AnyScene, LineScene, Scene, Unsupported
 from harness.geometry.exact import frozen
 from rasterizers._common import check_range
 
-__all__ = ["SAMPLE_POINTS", "SUBPIXEL_BITS", "DeqpMultisample", "DeqpLines", "DeqpMultisampleLines", "line_quads", "exits_diamond", "to_subpixel", "sample_offsets"]
+__all__ = ["SAMPLE_POINTS", "SUBPIXEL_BITS", "DeqpMultisample", "DeqpLines", "DeqpMultisampleLines", "line_quads",
+           "exits_diamond", "to_subpixel", "sample_offsets"]
 
 SUBPIXEL_BITS = 8
 """dEQP's GLES and Vulkan tests build the rasterizer with 8 subpixel bits."""

@@ -375,7 +375,8 @@ def _render(points: NDArray[np.int64], ends: NDArray[np.int64], evenodd: bool, o
 
 @numba.njit(cache=True)
 def _render_triangles(points: NDArray[np.int64], boxes: NDArray[np.int64], drawn: NDArray[np.int64],
-                      room: int, scanlines: bool) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.uint8]]:
+                      room: int,
+                      scanlines: bool) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.uint8]]:
     """Each drawn triangle alone into a bitmap of its box (:func:`_render`, its 26.6 points
     moved to the box's origin: whole pixels, exact), its nonzero values kept: (triangle, x,
     y, value) with x, y on the screen, at most ``room`` of them."""
@@ -482,9 +483,9 @@ class FreetypeSmooth:
       flatter than 1 in 2**23.
 
     Measured on the quick suite: within 1.97 levels (0.0077) wherever it passes, motion
-    frames included (the scanline walk: 2.2 levels, and no check fails). Longer edges lose precision in ``FT_UDIV`` (the reciprocal has 32
-    bits, and the comment in ``ftgrays.c`` asks for the divisor to be ``PIXEL_BITS``
-    narrower than the shift): beyond 2**16 px a crossing may be off by 1 + 256 d / 2**32
+    frames included (the scanline walk: 2.2 levels, and no check fails). Longer edges lose
+    precision in ``FT_UDIV`` (the reciprocal has 32 bits, and the comment in ``ftgrays.c``
+    asks for the divisor to be ``PIXEL_BITS`` narrower than the shift): beyond 2**16 px a crossing may be off by 1 + 256 d / 2**32
     units, up to 17/256 px at d = 2**28. The quick suite's sliver and wedge from x = -1e6 to
     1e6 err by 12 levels there (the same wedge 100 times smaller: one level; ``ftgrays.c``
     built without ``FT_INT64``, whose ``gray_render_scanline`` divides exactly: one level

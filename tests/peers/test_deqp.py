@@ -208,7 +208,8 @@ class MisreadTwoX(DeqpMultisample):
         self.offsets = np.array([[78, 78], [180, 180]], dtype=np.int64)
 
 
-@pytest.mark.parametrize("broken", [ExactSnapping(2), ExactSnapping(8), MisreadTwoX()], ids=["exact-snapping-2x", "exact-snapping-8x", "2x-at-78-180"])
+@pytest.mark.parametrize("broken", [ExactSnapping(2), ExactSnapping(8), MisreadTwoX()],
+                         ids=["exact-snapping-2x", "exact-snapping-8x", "2x-at-78-180"])
 def test_the_cross_check_tells_a_port_that_is_off_by_one_step(broken):
     """The random scenes reach the places where the original's float32 arithmetic and
     sample tables matter: a port that gets either slightly wrong differs."""

@@ -95,7 +95,7 @@ def test_references_take_lines_only_and_declare_their_rule():
 
 
 @st.composite
-def lattice_segments(draw):  # type: ignore[no-untyped-def]
+def lattice_segments(draw):
     """Up to 4 segments with end points on the 1/2, 1/4, 1/8 or 1/256 lattice, in and around
     an 8 x 8 viewport."""
     den = draw(st.sampled_from([2, 4, 8, 256]))
@@ -107,7 +107,7 @@ def lattice_segments(draw):  # type: ignore[no-untyped-def]
 
 
 @st.composite
-def float_segments(draw):  # type: ignore[no-untyped-def]
+def float_segments(draw):
     """Up to 4 float segments, some short (within a pixel), some long."""
     coordinate = st.floats(-3.0, SIZE + 3.0, allow_nan=False)
     n = draw(st.integers(1, 4))
@@ -117,7 +117,7 @@ def float_segments(draw):  # type: ignore[no-untyped-def]
     return a, a + d
 
 
-def _agree(a, b, line_width: float = 1.0) -> None:  # type: ignore[no-untyped-def]
+def _agree(a, b, line_width: float = 1.0) -> None:
     scene = LineScene.from_segments(SIZE, SIZE, a, b)
     for rasterizer in [BresenhamLines(), BresenhamLines("half-away", "stay"), DiamondExitDDA(), DiamondExitDDA(True)]:
         assert rasterizer.rasterize(scene) == exact_coverage(scene, rasterizer.convention), rasterizer.name
@@ -157,7 +157,7 @@ def test_width_1_rules_do_not_draw_wide_lines_and_nobody_draws_triangles():
     triangles = Scene(8, 8, [[[0, 0], [4, 0], [0, 4]]])
     for rasterizer in REFERENCES:
         with pytest.raises(Unsupported, match="line scenes only"):
-            rasterizer.rasterize(triangles)  # type: ignore[arg-type]
+            rasterizer.rasterize(triangles)
 
 
 @pytest.mark.parametrize("rasterizer, limit", [(BresenhamLines(), BRESENHAM_LIMIT), (DiamondExitDDA(), DDA_LIMIT),
@@ -174,7 +174,8 @@ def test_rectangles_draw_every_width_exactly():
     scene = LineScene.from_segments(8, 8, [[1, 1]], [[6, 3]], line_width=float(MAX_VIEWPORT))  # the widest a scene takes
     assert RectangleLines().rasterize(scene) == exact_coverage(scene, RectangleLines().convention)
     i, j = np.meshgrid(np.arange(8), np.arange(8))  # so wide every sample between the caps (no ties on them)
-    assert RectangleLines().rasterize(scene).counts(8, 8).tolist() == ((5 * i + 2 * j > 3.5) & (5 * i + 2 * j < 32.5)).astype(int).tolist()
+    assert RectangleLines().rasterize(scene).counts(8, 8).tolist() == ((5 * i + 2 * j > 3.5)
+                                                                       & (5 * i + 2 * j < 32.5)).astype(int).tolist()
     tiny = scene.with_line_width(1e-300)  # a hair: only samples exactly on the segment
     hair = LineScene.from_segments(8, 8, [[0.5, 0.5]], [[6.5, 6.5]], line_width=1e-300)
     assert RectangleLines().rasterize(tiny) == exact_coverage(tiny, RectangleLines().convention)
@@ -213,8 +214,8 @@ def test_rectangles_equal_the_oracle_on_far_segments_through_ties(segment):
 
 
 @QUICK
-@given(st.integers(-2**29 + 2**12, 2**29 - 2**12), st.integers(-2**29 + 2**12, 2**29 - 2**12), st.integers(0, SIZE - 1), st.integers(0, SIZE - 1),
-       st.integers(-2, 2))
+@given(st.integers(-2**29 + 2**12, 2**29 - 2**12), st.integers(-2**29 + 2**12, 2**29 - 2**12), st.integers(0, SIZE - 1),
+       st.integers(0, SIZE - 1), st.integers(-2, 2))
 def test_rectangles_decide_samples_within_an_ulp_of_a_side(ax, ay, i, j, ulps):
     # a far end point a (1/256 px grid), b = a's mirror through the viewport's centre; the
     # width is the float nearest twice the distance of the sample (i, j) from the line,
@@ -249,7 +250,8 @@ def test_rectangles_equal_the_oracle_on_far_float_segments(far, x, y, along, wid
 
 def test_non_finite_segments_cover_nothing_and_the_others_are_drawn():
     nan, inf = np.nan, np.inf
-    scene = LineScene.from_strips(8, 8, [[[0.5, 0.5], [6.5, 2.5]], [[nan, 1.0], [3.0, 3.0], [6.5, 6.5]], [[1.0, 7.0], [inf, -inf]]])
+    scene = LineScene.from_strips(8, 8, [[[0.5, 0.5], [6.5, 2.5]], [[nan, 1.0], [3.0, 3.0], [6.5, 6.5]],
+                                         [[1.0, 7.0], [inf, -inf]]])
     for rasterizer in REFERENCES + VARIANTS:
         coverage = rasterizer.rasterize(scene)
         assert set(coverage.primitive.tolist()) == {0, 2}, rasterizer.name

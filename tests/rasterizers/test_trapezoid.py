@@ -34,7 +34,7 @@ def _agrees(scene: PathScene | Scene, tie: str = "top-left") -> None:
 
 
 @st.composite
-def lattice_contour(draw, denominator):  # type: ignore[no-untyped-def]
+def lattice_contour(draw, denominator):
     """A polygon of 1-8 lattice vertices (1 and 2 enclose nothing), with repeated vertices
     (zero-length edges), horizontal edges, collinear midpoints and vertices exactly on a
     sample row mixed in."""
@@ -58,7 +58,7 @@ def lattice_contour(draw, denominator):  # type: ignore[no-untyped-def]
 
 
 @st.composite
-def star(draw, denominator):  # type: ignore[no-untyped-def]
+def star(draw, denominator):
     """A self-intersecting star polygon {n/k}, its vertices rounded to the lattice (or not)."""
     n = draw(st.integers(5, 10))
     k = draw(st.integers(2, (n - 1) // 2))
@@ -79,7 +79,7 @@ def ring(contour: np.ndarray, reverse: bool) -> list[np.ndarray]:
 
 
 @st.composite
-def path_scenes(draw):  # type: ignore[no-untyped-def]
+def path_scenes(draw):
     """1-3 paths of 1-3 contours each; some rings with a hole of either orientation."""
     denominator = draw(st.sampled_from([4, 8]))
     contour = st.one_of(lattice_contour(denominator), star(denominator))
@@ -101,7 +101,8 @@ _PENTAGRAM = [[4, 0.25], [6.25, 7.5], [0.25, 2.75], [7.75, 2.75], [1.75, 7.5]]
 @example(scene=PathScene.from_paths(SIZE, SIZE, [[_PENTAGRAM]]), tie="top-left")
 @example(scene=PathScene.from_paths(SIZE, SIZE, [ring(np.array(_SQUARE, dtype=np.float64), False)]), tie="top-left")
 @example(scene=PathScene.from_paths(SIZE, SIZE, [ring(np.array(_SQUARE, dtype=np.float64), True)]), tie="bottom-right")
-@example(scene=PathScene.from_paths(SIZE, SIZE, [[[[4, 0.5], [7.5, 3.5], [4, 6.5], [0.5, 3.5]]]]), tie="top-left")  # vertices on rows and columns
+# vertices on rows and columns
+@example(scene=PathScene.from_paths(SIZE, SIZE, [[[[4, 0.5], [7.5, 3.5], [4, 6.5], [0.5, 3.5]]]]), tie="top-left")
 @example(scene=PathScene.from_paths(SIZE, SIZE, [[[[4, 0.5], [7.5, 3.5], [4, 6.5], [0.5, 3.5]]]]), tie="bottom-left-y-first")
 def test_paths_match_the_oracle(scene: PathScene, tie: str) -> None:
     _agrees(scene, tie)
@@ -137,7 +138,8 @@ def test_many_stars_in_one_viewport() -> None:
     stars = []
     for _ in range(40):
         cx, cy, r, phase = *rng.uniform(0, 64, 2), rng.uniform(2, 20), rng.uniform(0, 2 * math.pi)
-        stars.append([np.array([[cx + r * math.cos(phase + 2 * math.pi * 3 * i / 10), cy + r * math.sin(phase + 2 * math.pi * 3 * i / 10)]
+        stars.append([np.array([[cx + r * math.cos(phase + 2 * math.pi * 3 * i / 10),
+                                 cy + r * math.sin(phase + 2 * math.pi * 3 * i / 10)]
                                 for i in range(10)])])
     _agrees(PathScene.from_paths(64, 48, stars + [[np.concatenate([s[0] for s in stars])]]))
 
@@ -165,7 +167,8 @@ def test_refuses_coordinates_beyond_the_exact_range_and_skips_non_finite_paths()
     with pytest.raises(ValueError, match="triangle 1 "):
         fill.rasterize(Scene(SIZE, SIZE, np.array([[[0, 0], [4, 0], [0, 4]], [[0, 0], [2.0**-470, 0], [0, 4]]])))
     # a NaN in a path (even next to a huge coordinate) makes the path cover nothing
-    spans = fill.rasterize(PathScene.from_paths(SIZE, SIZE, [[square], [square, np.array([[np.nan, 0], [1e300, 0], [0, 1]])], [square]]))
+    spans = fill.rasterize(PathScene.from_paths(SIZE, SIZE, [[square], [square, np.array([[np.nan, 0], [1e300, 0], [0, 1]])],
+                                                             [square]]))
     assert sorted(set(spans.primitive.tolist())) == [0, 2]
     assert spans.n_pixels == 2 * 36
 

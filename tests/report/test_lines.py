@@ -169,7 +169,8 @@ def test_a_line_crop_draws_strips_joints_numbers_and_the_diamond_of_the_offendin
     assert any([tuple(v) for v in STRIP[1:]] == line[1:] for line in polylines)
     assert len(polylines) == 2
     # segment 0, named by the evidence, thick on top in its colour
-    thick = [line for line in svg.iter(SVG + "line") if line.get("stroke") == _hex(pictures.LINE_LEGEND[list(pictures.LINE_LEGEND)[0]])]
+    first_colour = _hex(pictures.LINE_LEGEND[list(pictures.LINE_LEGEND)[0]])
+    thick = [line for line in svg.iter(SVG + "line") if line.get("stroke") == first_colour]
     assert len(thick) == 1 and (float(thick[0].get("x2")), float(thick[0].get("y2"))) == (12.5, 5.5)
     assert pictures.numbered_segment(failure) == 0
     # every segment in view numbered, the joints dotted and named
@@ -180,7 +181,8 @@ def test_a_line_crop_draws_strips_joints_numbers_and_the_diamond_of_the_offendin
     # the diamond test area of each offending pixel in view, segment 0 x-major: its right corner out
     diamonds = [g.find(SVG + "title").text for g in svg.iter(SVG + "g") if g.find(SVG + "title") is not None
                 and g.find(SVG + "title").text.startswith("diamond")]
-    assert diamonds and diamonds[0].startswith("diamond test area of pixel (12, 5)") and "right corner out (an x-major" in diamonds[0]
+    assert diamonds and diamonds[0].startswith("diamond test area of pixel (12, 5)")
+    assert "right corner out (an x-major" in diamonds[0]
     outlined = {(int(float(r.get("x"))), int(float(r.get("y")))) for r in svg.iter(SVG + "rect") if r.get("stroke")}
     assert (12, 5) in outlined
 
@@ -373,7 +375,8 @@ def test_the_index_tabulates_the_line_drawers_with_their_rule_and_failures(repor
     assert columns == line_checks(results)
     assert "declared: diamond-exit lines, last pixel omitted, no snapping" in table
     # what identify found (escaped), and the other line_* fields as facts
-    assert "diamond-exit lines, last pixel drawn &lt;b&gt; (best guess, residual 3)<br>" in table and "rounding: nearest-even" in table
+    assert "diamond-exit lines, last pixel drawn &lt;b&gt; (best guess, residual 3)<br>" in table
+    assert "rounding: nearest-even" in table
     row = table[table.index(f'<tr><td><a href="rasterizer-{LastPixelLines.name}.html">'):]
     row = row[:row.index("</tr>")]
     cells = re.findall(r"<td[^>]*>(.*?)</td>", row, re.S)[4:]
@@ -383,7 +386,8 @@ def test_the_index_tabulates_the_line_drawers_with_their_rule_and_failures(repor
         mine = [r for r in failing if r.check == check]
         assert by_check[check].startswith(f"0 / {len(mine)} / 0 / 0")
         for r in mine:
-            assert re.search(rf'<a href="rasterizer-{LastPixelLines.name}.html#failure-\d+">{re.escape(r.case)}</a>', by_check[check])
+            assert re.search(rf'<a href="rasterizer-{LastPixelLines.name}.html#failure-\d+">{re.escape(r.case)}</a>',
+                             by_check[check])
     assert re.search(r'\(<a href="repros/[^"]+\.json" download>repro</a>\)', by_check[CHECK])
     assert "takes lines" in index and "; lines: diamond-exit lines, last pixel omitted, no snapping" in index
 
@@ -394,7 +398,8 @@ def test_the_rasterizer_page_shows_line_failures_with_pictures_and_the_line_lege
     assert "Scenes: takes lines" in page and "lines checked against: diamond-exit lines, last pixel omitted" in page
     assert "on line cases: 0 pass, 3 fail, 0 error, 0 skip" in page
     assert re.search(r"<figcaption>crop: the segments over the pixel grid \(diamond-exit lines, last pixel omitted, no "
-                     r"snapping\), each pixel coloured as against the oracle, segment by segment; segment 0 thick</figcaption>", page)
+                     r"snapping\), each pixel coloured as against the oracle, segment by segment; segment 0 thick</figcaption>",
+                     page)
     assert re.search(r'minimal repro</a> \(\d of 4 segments\)', page)
     for name, rgb in pictures.LINE_LEGEND.items():
         assert f'<span class="swatch" style="background: rgb({rgb[0]}, {rgb[1]}, {rgb[2]})"></span>{escape(name)}' in page
@@ -419,7 +424,8 @@ def test_an_exact_identification_confirms_or_refutes_the_declared_line_rule(resu
     assert ('<td class="pass">diamond-exit lines, last pixel omitted, no snapping (exactly): confirms the declared rule' in index)
 
 
-def test_told_nothing_the_report_reads_that_a_rasterizer_takes_lines_from_its_results(results: list[Result], tmp_path: Path) -> None:
+def test_told_nothing_the_report_reads_that_a_rasterizer_takes_lines_from_its_results(results: list[Result],
+                                                                                      tmp_path: Path) -> None:
     write_report(tmp_path, {LastPixelLines.name: "x"}, [r for r in results if r.rasterizer == LastPixelLines.name], seed=0)
     page = (tmp_path / f"rasterizer-{LastPixelLines.name}.html").read_text()
     assert 'takes lines <span class="count">(seen in its results)</span>' in page
@@ -460,7 +466,8 @@ def test_a_new_line_failure_is_a_regression_and_a_known_one_is_not(results: list
     assert any(line.startswith(f"{CHECK}: ") for line in verdict.lines())
     # a line failure not in the baseline is a regression too
     joints = [replace(r, rasterizer=ExactLines.name) for r in results if r.check == "joints"]
-    assert [f.kind for f in compare_with_baseline(good + joints, baseline).findings if f.key.endswith("|joints")] == ["regression"]
+    assert [f.kind for f in compare_with_baseline(good + joints, baseline).findings
+            if f.key.endswith("|joints")] == ["regression"]
     # once accepted, it is known; its metric growing beyond the check's tolerance regresses again
     accepted = load_baseline(save_baseline(tmp_path / "accepted.json", broken))
     assert compare_with_baseline(broken, accepted).ok and len(compare_with_baseline(broken, accepted).known) == len(CASES)

@@ -49,7 +49,8 @@ TOUCHING = [[[1.5, 1.5], [6.0, 1.5], [6.0, 6.0], [1.5, 6.0]], [[6.0, 6.0], [10.5
 SHAPES = {"pentagram": PENTAGRAM, "lattice-star": LATTICE_STAR, "ring-same": RING_SAME, "bow-tie": BOW_TIE, "touching": TOUCHING}
 # every tie rule once, with sample points on and off the lattice's ties, with and without snapping
 CONVENTIONS = [Convention(sample=sample, tie=tie, subpixel_bits=bits)
-               for tie, sample, bits in zip(TIE_RULES, [(0.5, 0.5), (0.0, 0.0), (1.0, 1.0), (0.5, 0.5)] * 2, [None, None, 1, None] * 2)]
+               for tie, sample, bits in zip(TIE_RULES, [(0.5, 0.5), (0.0, 0.0), (1.0, 1.0), (0.5, 0.5)] * 2,
+                                            [None, None, 1, None] * 2)]
 
 
 def _path_mask(scene: PathScene, path: int, convention: Convention, window: tuple[int, int, int, int]) -> np.ndarray:
@@ -173,7 +174,8 @@ class DoubleEdges(WrongRule):
     name = "double_edges"
 
     def rasterize(self, scene: PathScene) -> Coverage:
-        return Coverage.concat([exact_coverage(scene, self.convention), exact_coverage(scene, Convention(tie="bottom-right"))]).canonical()
+        return Coverage.concat([exact_coverage(scene, self.convention),
+                                exact_coverage(scene, Convention(tie="bottom-right"))]).canonical()
 
 
 CELLS = [[[[x, y], [x + 4.5, y], [x + 4.5, y + 4.5], [x, y + 4.5]]] for x in (1.0, 5.5) for y in (1.0, 5.5)]
@@ -232,7 +234,8 @@ def test_a_failing_path_case_draws_the_paths_and_the_oracles_winding_numbers(res
 
 
 @pytest.mark.parametrize("convention", [Convention(samples=4, tie="bottom-right"), None])
-def test_a_multisample_crop_numbers_the_first_sample_and_one_without_a_convention_the_centre(convention: Convention | None) -> None:
+def test_a_multisample_crop_numbers_the_first_sample_and_one_without_a_convention_the_centre(
+        convention: Convention | None) -> None:
     scene = PathScene.from_paths(12, 12, [LATTICE_STAR], "evenodd")
     case = Case("paths/lattice-star/lattice/evenodd", scene, lattice=True)
     failure = Result("r", case.id, "conformance", "fail", "m", {}, {"pixels": [{"path": 0, "x": 6, "y": 6, "kind": "extra"}]},
@@ -363,5 +366,6 @@ def test_the_report_shows_path_failures_fill_rules_and_the_polygon_fillers(resul
     assert "<th>fill rules asked → drawn</th>" in side and "<th>path convention</th>" in side
     # told nothing of the rasterizers, the report reads the scene kinds from the results
     write_report(tmp_path / "bare", conventions, results, seed=0)
-    assert "takes paths <span class=\"count\">(seen in its results)</span>" in (tmp_path / "bare" / "rasterizer-wrong_rule.html").read_text()
+    bare_page = (tmp_path / "bare" / "rasterizer-wrong_rule.html").read_text()
+    assert "takes paths <span class=\"count\">(seen in its results)</span>" in bare_page
     assert all(on_paths(r) for r in results)

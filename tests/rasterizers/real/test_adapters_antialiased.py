@@ -212,7 +212,8 @@ scenes.append(Scene(60, 60, random_triangles(150, 20.0, 60, 7)))
 # horizontal edges through sample rows (y = j + 1/8 ... 7/8), top and bottom ones: the
 # lattice scenes seldom have them, and only they tell top from bottom ties
 rows = np.arange(1, 8, 2) / 8
-boxes = [[[2 + 10 * k, 3 + k + a], [9 + 10 * k, 3 + k + a], [9 + 10 * k, 8 + k + b]] for k, (a, b) in enumerate(zip(rows, rows[::-1]))]
+boxes = [[[2 + 10 * k, 3 + k + a], [9 + 10 * k, 3 + k + a], [9 + 10 * k, 8 + k + b]]
+         for k, (a, b) in enumerate(zip(rows, rows[::-1]))]
 scenes.append(Scene(60, 60, [*boxes, *[[[x0, y1], [x1, y1], [x0, y0]] for (x0, y0), (x1, _), (_, y1) in boxes]]))
 others = {tie: 0 for tie in TIE_RULES if tie != conv.tie}
 for scene in scenes:

@@ -123,7 +123,8 @@ def test_draw_each_segment_attributes_every_pixel_to_its_segment():
         mask[0, :] = True
         return mask
 
-    scene = LineScene.from_strips(8, 6, [[[1.0, 1.0], [3.0, 1.0], [3.0, 4.0]], [[np.nan, 1.0], [2.0, 2.0]], [[6.0, 5.0], [9.0, 9.0]]])
+    scene = LineScene.from_strips(8, 6, [[[1.0, 1.0], [3.0, 1.0], [3.0, 4.0]], [[np.nan, 1.0], [2.0, 2.0]],
+                                         [[6.0, 5.0], [9.0, 9.0]]])
     cov = draw_each_segment(scene, "border", border, margin=1)
     assert [s[4] for s in seen] == [(0, 0), (1, 0), (4, 3)]  # the NaN segment (2) never reaches the library
     assert seen[0] == ([1.0, 1.0], [3.0, 1.0], 5, 3, (0, 0))  # box [0.5, 3.5] x [0.5, 1.5] grown by 1 px
@@ -360,8 +361,8 @@ from harness.contract.scenes import LineScene, Unsupported
 from harness.contract.conventions import Convention
 from harness.oracle.coverage import exact_coverage
 from harness.engine.registry import Unavailable, load
-from tests.rasterizers.real.test_adapters_lines import (ELBOW, JOINT, RULES, W, H, far_scene, hits, pixel_set, random_scene, residual,
-                                      segment_pixels, straight_scene, truncated)
+from tests.rasterizers.real.test_adapters_lines import (ELBOW, JOINT, RULES, W, H, far_scene, hits, pixel_set, random_scene,
+                                      residual, segment_pixels, straight_scene, truncated)
 try:
     r = load(sys.argv[1])
     r._context()

@@ -415,7 +415,8 @@ def test_pieces_of_the_stencil_adapter():
     for a in range(300):
         same = np.flatnonzero(layer == layer[a])
         same = same[same != a]
-        apart = (many[same, 2] <= many[a, 0]) | (many[a, 2] <= many[same, 0]) | (many[same, 3] <= many[a, 1]) | (many[a, 3] <= many[same, 1])
+        apart = (many[same, 2] <= many[a, 0]) | (many[a, 2] <= many[same, 0]) \
+            | (many[same, 3] <= many[a, 1]) | (many[a, 3] <= many[same, 1])
         assert apart.all()
     assert layer.max() < 40  # far fewer draws than paths
     path, x, y = rng.integers(0, 5, 400), rng.integers(0, 9, 400), rng.integers(0, 7, 400)  # repeats too
@@ -452,7 +453,8 @@ def differing(scene, cov, convention):
 hand = {}
 for rule in ("nonzero", "evenodd"):
     snap = PathScene.from_paths(W, H, [[np.array([[2.0, 2.0], [10.5 + 1 / 512, 2.0], [10.5 + 1 / 512, 8.0], [2.0, 8.0]])]], rule)
-    long = PathScene.from_paths(W, H, [[np.round(np.random.default_rng(4).uniform(-2, 34, (300, 2)) * 4) / 4]], rule)  # a fan of fans
+    # a fan of fans
+    long = PathScene.from_paths(W, H, [[np.round(np.random.default_rng(4).uniform(-2, 34, (300, 2)) * 4) / 4]], rule)
     for name, scene in {**scenes(rule), "snap": snap, "long": long}.items():
         cov = r.rasterize(scene)
         hand[f"{rule}/{name}"] = {"same": cov == exact_coverage(r.received(scene), Convention(subpixel_bits=8)),
