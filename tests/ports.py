@@ -31,7 +31,8 @@ __all__ = ["DeqpReference", "PiglitReference", "PIGLIT_CONVENTIONS"]
 def _half_away(scaled: np.ndarray) -> np.ndarray:
     """(int64)(v + 0.5) for v >= 0, (int64)(v - 0.5) below, exactly."""
     whole = np.trunc(scaled)
-    return (whole + np.sign(scaled) * (np.abs(scaled - whole) >= 0.5)).astype(np.int64)
+    rounded: np.ndarray = (whole + np.sign(scaled) * (np.abs(scaled - whole) >= 0.5)).astype(np.int64)
+    return rounded
 
 
 class DeqpReference:

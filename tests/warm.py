@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from harness.geometry.numba_cache import safe_numba_cache  # the tests import it from here too
+from harness.geometry.numba_cache import safe_numba_cache as safe_numba_cache  # the tests import it from here too
 
 # attributes, affine and perspective-correct: the interpolation kernels
 POSITIONS = np.array([[[0.5, 0.5], [7.0, 1.0], [2.0, 6.5]]])
@@ -49,7 +49,7 @@ class _Oracle:
         self.interpolates = self.convention.kind != "area"
         self.scene_kinds = ("triangles", "paths") if self.convention.kind == "single" else ("triangles",)
 
-    def rasterize(self, scene):  # type: ignore[no-untyped-def]
+    def rasterize(self, scene):
         from harness.oracle.coverage import exact_coverage
 
         return exact_coverage(scene, self.convention)
@@ -133,12 +133,12 @@ def rasterizers() -> None:
     layers(np.array([[0, 0, 1, 1]]))
 
 
-def _draw_each_family(everyone: list) -> None:  # type: ignore[type-arg]
+def _draw_each_family(everyone: list) -> None:
     from harness.contract.case import Case
     from harness.contract.protocol import takes
-    from harness.contract.scenes import PathScene, Scene
+    from harness.contract.scenes import LineScene, PathScene, Scene
 
-    scenes = [Scene(8, 8, POSITIONS, attributes=VALUES, w=w) for w in (None, np.array([[1.0, 2.0, 4.0]]))]
+    scenes: list[Scene | PathScene | LineScene] = [Scene(8, 8, POSITIONS, attributes=VALUES, w=w) for w in (None, np.array([[1.0, 2.0, 4.0]]))]
     for case in _first_of_each_family():
         scenes += case.frames[:1] if not isinstance(case, Case) else [case.scene]
     # paths under both rules (each rule a specialisation of some kernels)

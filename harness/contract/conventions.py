@@ -219,7 +219,7 @@ FillRule = Literal["nonzero", "evenodd"]
 FILL_RULES: tuple[FillRule, ...] = ("nonzero", "evenodd")
 # piglit's eight filling conventions (GL window coordinates, y up) -> rastercheck's rule
 # for that driver, with window y taken as rastercheck's y (row y = window row y).
-PIGLIT_NAMES: dict[str, str] = {
+PIGLIT_NAMES: dict[str, TieRule] = {
     "top_left": "bottom-left", "top_right": "bottom-right",
     "bottom_left": "top-left", "bottom_right": "top-right",
     "left_top": "bottom-left-y-first", "right_top": "bottom-right-y-first",

@@ -22,6 +22,7 @@ from __future__ import annotations
 import functools
 import numbers
 from collections.abc import Iterable, Sequence
+from typing import SupportsFloat
 from fractions import Fraction
 
 import numpy as np
@@ -69,7 +70,7 @@ def _coordinate(value: object, offset: object) -> float:
     return float(exact)  # exact: dyadic with few bits (and -0.0 becomes 0.0)
 
 
-def pattern(spec: int | Iterable[Sequence[float]]) -> tuple[tuple[float, float], ...]:
+def pattern(spec: int | Iterable[Sequence[SupportsFloat]]) -> tuple[tuple[float, float], ...]:
     """The sample offsets of a multisample pattern, validated.
 
     Parameters
@@ -124,7 +125,7 @@ def _float_pattern(spec: tuple[tuple[float, float], ...]) -> tuple[tuple[float, 
     return _validated(spec)
 
 
-def _validated(spec: Iterable[Sequence[float]]) -> tuple[tuple[float, float], ...]:
+def _validated(spec: Iterable[Sequence[SupportsFloat]]) -> tuple[tuple[float, float], ...]:
     offsets: list[tuple[float, float]] = []
     first_index: dict[tuple[float, float], int] = {}
     for index, offset in enumerate(spec):

@@ -79,6 +79,7 @@ def test_bad_input_ends_in_one_line_not_a_traceback(tmp_path, monkeypatch, capsy
         (tmp_path / name).write_text(content)
     if argv[0] == "replay":
         argv = [*argv, "--rasterizer", "centre_scanline"]
+    got: int | str | None
     with bounded():  # under 60 s and 2 GB allocated
         try:
             got = main(argv)

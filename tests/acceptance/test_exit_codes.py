@@ -67,7 +67,7 @@ def test_a_name_registered_twice_is_refused_not_chosen(tmp_path, monkeypatch, ca
 
     import harness.engine.registry as registry
 
-    real = registry.entry_points
+    real = registry.entry_points  # type: ignore[attr-defined]  # (its import, stood in for below)
 
     def with_impostor(group):
         return [*real(group=group), EntryPoint("centre_scanline", "tests.known_bad.nothing_checked:Impostor", group)]
@@ -94,7 +94,7 @@ def test_a_broken_registered_plugin_fails_the_run_after_the_others_are_written(t
 
     import harness.engine.registry as registry
 
-    real = registry.entry_points
+    real = registry.entry_points  # type: ignore[attr-defined]  # (its import, stood in for below)
     monkeypatch.setattr(registry, "entry_points",
                         lambda group: [*real(group=group), EntryPoint("broken_plugin", "no_such_module_xyz:Thing", group)])
     monkeypatch.setattr(registry, "available", lambda: ["centre_scanline", "broken_plugin"])

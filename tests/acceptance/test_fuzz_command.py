@@ -73,6 +73,7 @@ def scheduler() -> Iterator[str]:
     """One LocalCluster of one single-threaded worker process for the module: its address."""
     with local_cluster(1) as client:  # as a campaign makes its own: no port of its own fixed (8787 may be held)
         client.run(safe_numba_cache)
+        assert client.scheduler is not None
         yield str(client.scheduler.address)
 
 
@@ -212,7 +213,8 @@ def test_a_second_campaign_on_a_state_in_use_refuses_naming_the_holder(tmp_path:
     finally:
         holder.send_signal(signal.SIGKILL)
         holder.wait(30)
-        holder.stdout.close()
+        if holder.stdout is not None:
+            holder.stdout.close()
     with state_lock(state):  # free again
         pass
 

@@ -129,11 +129,14 @@ def test_a_malformed_case_file_is_one_line_naming_the_field(tmp_path: Path, text
 
 
 def test_words_and_hex_still_give_infinities_and_nans(tmp_path: Path) -> None:
-    from harness.contract.case import read_case_file
+    from harness.contract.case import Case, read_case_file
+    from harness.contract.scenes import Scene
 
     path = tmp_path / "case.json"
     path.write_text((TRIANGLE % ('"inf"', "")).replace("[4, 0]", '["-inf", "nan"]'))
-    positions = read_case_file(path)[0].scene.positions
+    case = read_case_file(path)[0]
+    assert isinstance(case, Case) and isinstance(case.scene, Scene)
+    positions = case.scene.positions
     assert positions[0, 0, 0] == float("inf") and positions[0, 1, 0] == -float("inf") and np.isnan(positions[0, 1, 1])
 
 

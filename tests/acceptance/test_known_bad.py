@@ -5,6 +5,7 @@ same check."""
 
 import functools
 import json
+from typing import Any
 
 import pytest
 
@@ -54,7 +55,7 @@ def static():
 
 
 # known-bad rasterizer -> the checks that must flag it ("run": an error or timeout result)
-TABLE = {
+TABLE: dict[Any, set[str]] = {  # (keys: known-bad rasterizers of many classes)
     **{PathFillBug(bug): {"conformance"} for bug in PATH_BUGS},
     TwoFillers(): {"triangulation"},
     EdgeFunctionBug("inclusive"): {"conformance", "watertight", "degenerate"},
@@ -135,7 +136,7 @@ def flagged():
 
     from harness.checks import checks
 
-    out = {}
+    out: dict[str, dict[str, list[Result]]] = {}
     for bad, wanted in TABLE.items():
         # only the cases and checks the table names (for "run", the degenerate cases, where
         # the raising, lying and hanging ones all show): what must flag it

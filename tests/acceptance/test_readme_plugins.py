@@ -40,7 +40,7 @@ def _section() -> str:
 
 
 @pytest.fixture(scope="module")
-def plugins(tmp_path_factory) -> Path:
+def plugins(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The section's python blocks that start with ``# name.py``, written side by side (a
     later one imports an earlier one, as a user's files would)."""
     folder = tmp_path_factory.mktemp("readme_plugins")

@@ -49,7 +49,7 @@ def test_a_skip_list_skips_with_its_reasons(tmp_path):
     out = tmp_path / "r.json"
     main(["run", "--rasterizer", "centre_scanline", *LATTICE, "--skip", str(skips), "--out", str(tmp_path / "rep"), "--json",
           str(out)])
-    by_case = {}
+    by_case: dict[str, list[dict]] = {}
     for r in _json(out):
         by_case.setdefault(r["case"], []).append(r)
     assert [r["message"] for r in by_case["lattice/bits-0"]] == ["skipped: upstream bug 123"]

@@ -17,6 +17,7 @@ def test_partition_regions_are_exactly_the_union():
     """Every oracle sample inside a region pixel is covered once; none outside."""
     for case in partition_cases(0):
         counts = exact_coverage(case.scene, Convention()).counts(64, 64)
+        assert case.region is not None
         inside, outside = _pixel_classes(case.region, 64, 64)
         assert (counts[inside] == 1).all(), case.id
         assert (counts[outside] == 0).all(), case.id
@@ -87,6 +88,7 @@ def test_a_fault_deep_in_a_long_contour_is_named_where_it_is():
     ring = [[float(k % 7), float(k % 5)] for k in range(1000)]
     data = case_to_json(Case("paths/long", PathScene.from_paths(8, 8, [[ring]], "nonzero")))
     back = case_from_json(data)
+    assert isinstance(back, Case) and isinstance(back.scene, PathScene)
     assert back.scene.vertices.tolist() == ring
     data["paths"][0][0][700][1] = "0.1x"
     with pytest.raises(ValueError, match=r"malformed at paths\[0\]\[0\]\[700\]\[1\]: '0.1x'"):

@@ -57,12 +57,14 @@ def test_every_family_generates_valid_cases(family, scenes):
         assert isinstance(case.scene, kind)
         assert primitives(case) == len(case.scene) >= 1
         if family == "tall":  # over 2,048 px tall, far right on a tall screen
+            assert isinstance(case.scene, Scene)
             tall = case.scene.positions
             assert case.scene.width == 1152 and 2064 <= case.scene.height <= 2560 and len(case.scene) <= 3
             assert np.ptp(tall[..., 1], axis=1).min() >= max(2048, case.scene.height - 16)
             assert tall[..., 0].min() >= 1024 and tall[..., 0].max() <= case.scene.width
             assert tall[..., 1].max() <= case.scene.height
         elif family == "winding":  # one path, a small screen, one contour traced over and over
+            assert isinstance(case.scene, PathScene)
             assert len(case.scene) == 1 and case.scene.width in (8, 16) and case.scene.vertices.shape[0] <= 4 * 65537 + 36
         else:
             assert max(case.scene.width, case.scene.height) <= 64 and len(case.scene) <= 130
@@ -115,7 +117,19 @@ def test_unknown_family_and_bad_numbers_are_refused_by_name():
     for seed, index, name in ((-1, 0, "seed"), (0, -3, "index"), (0.5, 0, "seed"), (0, True, "index")):
         with pytest.raises(ValueError, match=f"fuzz scene {name} must be a non-negative integer"):
             generate("lattice", seed, index)  # type: ignore[arg-type]
-    assert generate("lattice", np.int64(2), np.uint32(3)).id == "lattice/fuzz/lattice/2/3"
+    # numpy integers are taken too (a seed drawn from an array)
+    drawn = generate("lattice", np.int64(2), np.uint32(3))  # type: ignore[arg-type]
+    assert drawn.id == "lattice/fuzz/lattice/2/3"
+
+
+def _still(case: Case | MotionCase) -> Case:
+    assert isinstance(case, Case), case.id
+    return case
+
+
+def _moving(case: Case | MotionCase) -> MotionCase:
+    assert isinstance(case, MotionCase), case.id
+    return case
 
 
 def test_the_families_draw_what_their_checks_need(scenes):
@@ -128,14 +142,14 @@ def test_the_families_draw_what_their_checks_need(scenes):
         probes = case.scene.positions[:4]
         midpoints = (probes + probes[:, [1, 2, 0]]) / 2
         assert np.array_equal(midpoints % 1, np.full(midpoints.shape, 0.5))
-    degenerate = [generate("degenerate", 0, i) for i in range(60)]
+    degenerate = [_still(generate("degenerate", 0, i)) for i in range(60)]
     assert any(c.non_finite for c in degenerate) and any(c.refusable for c in degenerate)
     assert {c.scene.fill_rule for c in scenes["paths"]} == {"nonzero", "evenodd"}
     # deep windings either side of 2**7, 2**8 and 2**16 turns (a contour of 3 or 4 vertices a turn)
     turns = [c.scene.contour_sizes.max() / 4 for c in scenes["winding"]]
     assert min(turns) < 128 and any(t >= 256 for t in turns) and max(turns) >= 65536 / 4 * 3
     assert {c.scene.fill_rule for c in scenes["winding"]} == {"nonzero", "evenodd"}
-    motion = [generate("motion", 0, i) for i in range(100)]
+    motion = [_moving(generate("motion", 0, i)) for i in range(100)]
     assert any(c.texels for c in motion) and any(c.perspective for c in motion)
     assert any(c.frames[0].width > 1000 for c in motion)  # the tall sliver on a large screen
 

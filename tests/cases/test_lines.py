@@ -52,7 +52,7 @@ def test_cases_are_deterministic_and_the_quick_suite_is_part_of_the_full(quick, 
     assert [c.id for c in other_seed] == [c.id for c in quick]  # ids do not depend on the seed
     by_id = {c.id: c for c in full}
     for case in quick:
-        assert _same_scene(case.scene, by_id[case.id].scene), case.id  # type: ignore[arg-type]
+        assert _same_scene(case.scene, by_id[case.id].scene), case.id
     assert len(full) > len(quick)
 
 
@@ -87,15 +87,15 @@ def test_wide_cases_have_their_own_ids(full):
 def test_lattice_marks_are_honest(full):
     for case in full:
         if case.lattice:
-            assert _on_lattice(case.scene), case.id  # type: ignore[arg-type]
+            assert _on_lattice(case.scene), case.id
     # the test can fail: float cases are off the lattice
-    assert not _on_lattice(next(c for c in full if c.id == "lines/float/random-short").scene)  # type: ignore[arg-type]
+    assert not _on_lattice(next(c for c in full if c.id == "lines/float/random-short").scene)
     assert sum(c.lattice for c in full) >= len(full) // 2
 
 
 def test_refusable_segments_are_exactly_the_huge_ones(full):
     for case in full:
-        a, b = case.scene.segments()  # type: ignore[union-attr]
+        a, b = case.scene.segments()
         ends = np.abs(np.concatenate([a, b], axis=1))
         with np.errstate(invalid="ignore"):
             huge = np.flatnonzero(np.isfinite(ends).all(axis=1) & (ends >= REFUSABLE_FROM).any(axis=1))
@@ -105,7 +105,7 @@ def test_refusable_segments_are_exactly_the_huge_ones(full):
     # the anchors (segments 0 to 2) of every degenerate case are ordinary and on screen
     for case in full:
         if case.family == "line-degenerate":
-            a, b = case.scene.segments()  # type: ignore[union-attr]
+            a, b = case.scene.segments()
             assert np.isfinite(a[:3]).all() and np.isfinite(b[:3]).all() and not set(case.refusable) & {0, 1, 2}
 
 

@@ -21,7 +21,7 @@ from cases.suites import suite
 from harness.checks import pixel_classes
 from harness.contract.case import Case, case_from_json, case_to_json
 from harness.contract.conventions import Convention
-from harness.contract.scenes import AnyScene, PathScene
+from harness.contract.scenes import AnyScene, PathScene, Scene
 from harness.geometry.exact import orientation
 from harness.oracle.coverage import exact_coverage
 from harness.oracle.winding import FILL_RULES
@@ -53,7 +53,8 @@ def masks(scene: AnyScene, convention: Convention = CONVENTIONS[0]) -> NDArray[n
 
 def alone(contours: list, like: PathScene) -> NDArray[np.bool_]:
     """(H, W): what one path of these contours covers in a scene like ``like``."""
-    return masks(PathScene.from_paths(like.width, like.height, [contours], like.fill_rule))[0]
+    covered: NDArray[np.bool_] = masks(PathScene.from_paths(like.width, like.height, [contours], like.fill_rule))[0]
+    return covered
 
 
 def bits(scene: PathScene) -> tuple:
@@ -191,6 +192,8 @@ def test_the_triangle_partitions_come_as_paths_the_way_identify_sends_them():
         for case in triangles:
             for rule in ("nonzero", "evenodd"):
                 twin = as_paths[f"path-partitions/triangles/{case.id.split('/', 1)[1]}/{rule}"]
+                assert isinstance(twin.scene, PathScene) and isinstance(case.scene, Scene)
+                assert twin.region is not None and case.region is not None
                 assert bits(twin.scene) == bits(triangle_paths(case.scene, rule))
                 assert twin.lattice == case.lattice and np.array_equal(twin.region, case.region)
 
@@ -202,7 +205,7 @@ def test_the_tiling_checks_fail_on_broken_partitions():
     cells, region = quad_grid(5, 4.0, 44.0, "lattice", np.random.default_rng(3))
     assert partition_flaws(cells, region) is None
 
-    def scene(parts: list) -> PathScene:  # type: ignore[type-arg]
+    def scene(parts: list) -> PathScene:
         return PathScene.from_paths(48, 48, [[c] for c in parts], "nonzero")
 
     moved = [c.copy() for c in cells]
@@ -247,6 +250,7 @@ def test_evenodd_covers_a_subset_of_nonzero_and_they_differ_exactly_where_they_s
 
 def test_the_pentagram_centre_is_nonzero_only():
     for case in matching("paths/star-5-2/*/nonzero", "paths/epsilon/star-*/nonzero"):
+        assert isinstance(case.scene, PathScene)
         (centre,) = case.scene.contours()
         x, y = np.floor(centre.mean(axis=0)).astype(int)
         twin = by_id()[case.id.replace("/nonzero", "/evenodd")]
@@ -283,6 +287,7 @@ def test_degenerate_contours_change_nothing():
     for case in matching("path-degenerate/*"):
         if case.id.startswith("path-degenerate/triangles/"):
             continue  # identify's triangle probes as paths: no anchors (the triangle suite's degenerate/.../probe*)
+        assert isinstance(case.scene, PathScene)
         got = masks(case.scene)
         assert (got[:2] == expected).all(), case.id
         covering = [p for p in range(2, len(case.scene)) if got[p].any()]

@@ -55,7 +55,7 @@ class OracleArea:
 
 
 def test_multisample_coverage_round_trips_through_pixels_layers_and_canonical_form():
-    scene = Scene(6, 5, [[[0.3, 0.2], [5.7, 1.1], [1.2, 4.9]], [[5.5, 0.5], [6, 5], [2, 5]]])
+    scene = Scene(6, 5, [[[0.3, 0.2], [5.7, 1.1], [1.2, 4.9]], [[5.5, 0.5], [6.0, 5.0], [2.0, 5.0]]])
     convention = Convention(samples=8)
     cov = exact_coverage(scene, convention)
     assert cov.sample is not None and set(cov.sample.tolist()) <= set(range(8))
@@ -76,7 +76,7 @@ def test_tidy_keys_multisample_spans_on_triangle_and_sample():
     usable, flaws = cov.tidy(scene)
     assert flaws["repeated"].tolist() == [1] and flaws["bad_sample"].tolist() == [3]
     assert flaws["repeated_pixels"].tolist() == [1] and not flaws["bad_primitive_id"].size
-    assert usable.sample.tolist() == [1, 3] and usable.n_pixels == 4
+    assert usable.sample is not None and usable.sample.tolist() == [1, 3] and usable.n_pixels == 4
     clean = Coverage([0, 0], [1, 1], [0, 0], [3, 3], sample=[0, 1])
     assert clean.tidy(scene)[0] is clean  # the same pixel in two samples is no repeat
 
@@ -85,8 +85,10 @@ def test_alpha_rows_follow_their_pixels_through_tidy_and_canonical_form():
     scene = Scene(4, 2, [[[0, 0], [4, 0], [0, 2]]])
     cov = Coverage([0, 0], [1, 0], [0, 1], [2, 3], alpha=[0.5, 0.25, 1.0, 0.75])
     canonical = cov.canonical()
+    assert canonical.alpha is not None
     assert canonical.y.tolist() == [0, 1] and canonical.alpha.tolist() == [1.0, 0.75, 0.5, 0.25]
     clipped, flaws = Coverage([0], [0], [-2], [2], alpha=[0.1, 0.2, 0.3, 0.4]).tidy(scene)
+    assert clipped.alpha is not None
     assert flaws["outside_viewport"].tolist() == [0] and clipped.alpha.tolist() == [0.3, 0.4]
     assert cov == canonical and cov != Coverage([0, 0], [1, 0], [0, 1], [2, 3], alpha=[0.5, 0.25, 1.0, 0.5])
 
@@ -122,6 +124,7 @@ def test_hygiene_names_sample_indices_outside_the_pattern_and_missing_alphas():
 
         def rasterize(self, scene: Scene) -> Coverage:
             c = exact_coverage(scene, self.convention)
+            assert c.sample is not None
             return Coverage(c.triangle, c.y, c.x0, c.x1, sample=np.where(c.sample == 3, 5, c.sample))
 
     class NoAlpha(OracleArea):

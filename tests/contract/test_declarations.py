@@ -51,7 +51,7 @@ def test_the_command_line_refuses_it_in_one_line_exit_2(tmp_path, capsys) -> Non
 def test_a_contradicting_answer_gives_one_line_and_no_more_calls(bad, few_cases) -> None:
     calls = []
 
-    class Counted(bad):
+    class Counted(bad):  # type: ignore[misc]  # (a known-bad class, parametrized)
         def rasterize(self, scene):
             calls.append(scene)
             return super().rasterize(scene)
@@ -114,7 +114,7 @@ def test_line_and_area_conventions_need_what_their_scene_kinds_allow() -> None:
             return Coverage.empty()
 
     assert "line_convention = Convention(line=...)" in (declaration_problem(Mixed()) or "")
-    Mixed.line_convention = Convention(line=LineRule("bresenham"))
+    Mixed.line_convention = Convention(line=LineRule("bresenham"))  # type: ignore[attr-defined]  # declared afterwards
     assert declaration_problem(Mixed()) is None
 
 
@@ -181,10 +181,11 @@ def test_a_second_copy_keeps_what_it_declares() -> None:
     from harness.engine.registry import distinct_names
     from rasterizers.lines import BresenhamLines
     first, second = distinct_names([BresenhamLines(), BresenhamLines()])
-    assert second.name == "bresenham_lines#2" and second.scene_kinds == ("lines",) and declaration_problem(second) is None
+    assert second.name == "bresenham_lines#2" and getattr(second, "scene_kinds", None) == ("lines",)
+    assert declaration_problem(second) is None
     filler = paths.PathFillBug("open-contours")
     renamed = distinct_names([filler, filler])[1]
-    assert renamed.scene_kinds == filler.scene_kinds
+    assert getattr(renamed, "scene_kinds", None) == filler.scene_kinds
     assert getattr(renamed, "fill_rules", None) == getattr(filler, "fill_rules", None)
 
 

@@ -58,7 +58,7 @@ def test_reversed_retraces_every_segment() -> None:
 
 
 def test_boxes_grow_by_half_the_width_and_name_non_finite_segments() -> None:
-    scene = LineScene.from_segments(8, 8, [[1, 1], [np.nan, 2]], [[3, 2], [4, 4]], line_width=2.0)
+    scene = LineScene.from_segments(8, 8, [[1.0, 1.0], [np.nan, 2.0]], [[3, 2], [4, 4]], line_width=2.0)
     lo, hi, finite = scene.primitive_boxes()
     assert lo[0].tolist() == [0, 0] and hi[0].tolist() == [4, 3] and finite.tolist() == [True, False]
     assert scene.non_finite() == (1,)
@@ -69,7 +69,7 @@ def test_boxes_grow_by_half_the_width_and_name_non_finite_segments() -> None:
     (lambda: LineScene(8, 8, [[0, 0]], [1]), "strip 0 has fewer than 2 vertices"),
     (lambda: LineScene(8, 8, [[0, 0], [1, 1]], [2], line_width=0.0), "line_width must be positive"),
     (lambda: LineScene(8, 8, [[0, 0], [1, 1]], [2], line_width=float("nan")), "line_width must be positive"),
-    (lambda: LineScene(8, 8, [["a", "b"], [1, 1]], [2]), "vertices must hold real numbers"),
+    (lambda: LineScene(8, 8, [["a", "b"], [1, 1]], [2]), "vertices must hold real numbers"),  # type: ignore[arg-type]
     (lambda: LineScene(8, 8, [0, 0, 1, 1], [2]), "vertices must have shape (V, 2)"),
     (lambda: LineScene(0, 8, [[0, 0], [1, 1]], [2]), "width must lie in"),
 ])
@@ -156,7 +156,7 @@ def test_wide_lines_are_for_the_rectangle_rule_and_replicated_diamonds_only() ->
 @QUICK
 @given(st.sampled_from([1e200, 2.0**460, 3e9, 1e-300]), st.floats(-3, 3), st.floats(-3, 3), st.floats(0, 12), st.floats(0, 12),
        st.booleans())
-def test_far_diamond_segments_are_exact(big, dx, dy, cx, cy, last_pixel) -> None:  # type: ignore[no-untyped-def]
+def test_far_diamond_segments_are_exact(big, dx, dy, cx, cy, last_pixel) -> None:
     """Beyond the compiled kernel's range (2**450, 2**-450) a segment is decided in
     rationals: the same pixels as the brute-force reference."""
     a = np.array([[cx + dx * big, cy + dy * big]])
@@ -170,7 +170,7 @@ def test_far_diamond_segments_are_exact(big, dx, dy, cx, cy, last_pixel) -> None
 @QUICK
 @given(st.tuples(st.integers(-40, 50), st.integers(-40, 50)), st.tuples(st.integers(-40, 50), st.integers(-40, 50)),
        st.sampled_from(["step", "stay"]), st.booleans())
-def test_far_bresenham_walk_matches_the_kernel(p0, p1, ties, last_pixel) -> None:  # type: ignore[no-untyped-def]
+def test_far_bresenham_walk_matches_the_kernel(p0, p1, ties, last_pixel) -> None:
     """The closed-form walk used for end points beyond 2**30 (Python integers, clipped to
     the viewport by bisection) draws what the compiled walk draws."""
     out: list[tuple[int, int, int, int]] = []
@@ -194,7 +194,7 @@ def test_far_segments_of_every_rule_cross_the_viewport() -> None:
 
 
 def test_non_finite_segments_cover_nothing() -> None:
-    scene = LineScene.from_segments(6, 6, [[np.nan, 1], [0.5, 0.5], [np.inf, 2]], [[3, 3], [4.5, 0.5], [1, 1]])
+    scene = LineScene.from_segments(6, 6, [[np.nan, 1.0], [0.5, 0.5], [np.inf, 2.0]], [[3.0, 3.0], [4.5, 0.5], [1.0, 1.0]])
     for rule in ("diamond-exit", "bresenham", "rectangle"):
         assert set(exact_coverage(scene, Convention(line=rule)).primitive.tolist()) <= {1}, rule
 
@@ -203,7 +203,7 @@ def test_non_finite_segments_cover_nothing() -> None:
 
 
 def test_line_cases_round_trip_exactly() -> None:
-    scene = LineScene.from_strips(8, 8, [[[0.5, 0.1], [6.5, 2.5], [1, 7]], [[1e-300, 2], [np.inf, 3]]], line_width=1.5)
+    scene = LineScene.from_strips(8, 8, [[[0.5, 0.1], [6.5, 2.5], [1.0, 7.0]], [[1e-300, 2.0], [np.inf, 3.0]]], line_width=1.5)
     back = case_from_json(case_to_json(Case("lines/x", scene, refusable=(2,))))
     assert isinstance(back, Case) and isinstance(back.scene, LineScene)
     assert np.array_equal(back.scene.vertices, scene.vertices) and back.scene.strip_sizes.tolist() == [3, 2]

@@ -10,7 +10,7 @@ from harness.contract.scenes import _pixel_bounds
 def test_public_imports():
     from harness.oracle.coverage import exact_coverage  # noqa: F401
 
-    assert Rasterizer and Convention
+    assert Rasterizer is not None and Convention is not None
 
 
 @pytest.mark.parametrize(
@@ -31,7 +31,7 @@ def test_scene_validation_names_the_field(kwargs, field):
 
 
 def test_scene_allows_non_finite_and_is_read_only():
-    scene = Scene(4, 4, [[[np.nan, 0], [np.inf, 1], [0, 2]]])
+    scene = Scene(4, 4, [[[np.nan, 0.0], [np.inf, 1.0], [0.0, 2.0]]])
     assert not scene.positions.flags.writeable
     assert np.isnan(scene.positions[0, 0, 0])
 
@@ -55,6 +55,7 @@ def test_from_pixels_round_trip_and_counts(pixels):
     tri, x, y = cov.pixels()
     assert sorted(zip(tri.tolist(), x.tolist(), y.tolist())) == sorted(map(tuple, arr.tolist()))
     # attributes follow their pixels
+    assert cov.attributes is not None
     assert np.array_equal(cov.attributes[:, 0], tri)
     expected = np.zeros((8, 10), dtype=np.int32)
     np.add.at(expected, (arr[:, 2], arr[:, 1]), 1)
@@ -110,7 +111,7 @@ span_lists = st.lists(st.tuples(st.integers(-2, 3), st.integers(-3, 12), st.inte
 def test_tidy_keeps_exactly_the_first_emission_of_each_pixel_within_reach(spans, corners):
     """Against a pixel-by-pixel reference: a pixel is kept once per triangle when its
     triangle id is valid and it lies in the viewport and in the triangle's grown box."""
-    scene = Scene(10, 9, [np.array(corners).reshape(3, 2), [[1, 1], [2, 1], [1, 2]]])
+    scene = Scene(10, 9, [np.array(corners).reshape(3, 2), np.array([[1, 1], [2, 1], [1, 2]])])
     arr = np.array(spans, dtype=np.int64).reshape(-1, 4)
     cov = Coverage(arr[:, 0], arr[:, 1], arr[:, 2], arr[:, 3],
                    np.arange(max(int(np.maximum(arr[:, 3] - arr[:, 2], 0).sum()), 0))[:, None].astype(float))
@@ -124,9 +125,10 @@ def test_tidy_keeps_exactly_the_first_emission_of_each_pixel_within_reach(spans,
             if reach and 0 <= x < 10 and 0 <= y < 9:
                 want.setdefault((t, x, y), float(row))
             row += 1
-    tri, x, y = usable.pixels()
-    got = dict(zip(zip(tri.tolist(), x.tolist(), y.tolist()), usable.attributes[:, 0].tolist()))
-    assert got == want and len(tri) == len(want)  # each pixel once, with its first attribute row
+    kept, columns, rows = usable.pixels()
+    assert usable.attributes is not None
+    got = dict(zip(zip(kept.tolist(), columns.tolist(), rows.tolist()), usable.attributes[:, 0].tolist()))
+    assert got == want and len(kept) == len(want)  # each pixel once, with its first attribute row
     clean = not any(v.size for k, v in flaws.items() if k != "repeated_pixels")
     assert (usable is cov) == clean
 
@@ -139,7 +141,7 @@ def test_the_quick_tidiness_test_never_passes_what_tidying_would_change(spans, c
     whenever that pass says clean, the full tidying keeps every span whole, flags nothing."""
     from harness.geometry.spans import already_tidy, tidy
 
-    scene = Scene(10, 9, [np.array(corners).reshape(3, 2), [[1, 1], [2, 1], [np.inf, 2]]])
+    scene = Scene(10, 9, [np.array(corners).reshape(3, 2), np.array([[1, 1], [2, 1], [np.inf, 2]])])
     rows = sorted(spans) if ordered else spans
     t, y, x0, length = (np.array(column, dtype=np.int64) for column in zip(*rows)) if rows else [np.zeros(0, np.int64)] * 4
     x1 = x0 + length

@@ -129,7 +129,8 @@ def test_a_peer_whose_library_is_missing_is_named_with_its_install(monkeypatch):
     assert set(absent) >= {"cairo_aa_fill", "cairo_fill", "cairo_line"}
     assert all("apt-get install libcairo2-dev" in absent[p] for p in ("cairo_aa_fill", "cairo_fill", "cairo_line"))
     assert "cairo_aa_fill" not in dict(bench._library_peers())
-    assert optional.missing("cairo").startswith("cairo is not installed (ModuleNotFoundError): apt-get install")
+    said = optional.missing("cairo")
+    assert said is not None and said.startswith("cairo is not installed (ModuleNotFoundError): apt-get install")
 
 
 def test_console_script_entry_point():

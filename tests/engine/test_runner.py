@@ -7,7 +7,8 @@ import pytest
 
 from cases.suites import suite
 from harness import run_suite
-from harness.checks import checks
+from harness.checks import Result, checks
+from harness.contract.case import MotionCase
 from harness.contract.protocol import takes
 from harness.engine.registry import load
 
@@ -51,6 +52,7 @@ def test_every_check_ran_on_every_builtin(quick_results):
         ran[r.rasterizer].add(r.check)
     for name in BUILTINS:
         rasterizer = load(name)
+        assert rasterizer.convention is not None
         kind = rasterizer.convention.kind
         # every check of its coverage kind that applies to a case it is handed
         wanted = {c.name for case in suite("quick") if not hasattr(case, "scene") or takes(rasterizer, case.scene)
@@ -72,13 +74,13 @@ def test_suites_are_deterministic_and_ids_unique():
         assert [c.id for c in a] == [c.id for c in b]
         assert len({c.id for c in a}) == len(a)
         for x, y in zip(a, b):
-            scenes_x = getattr(x, "frames", None) or (x.scene,)
-            scenes_y = getattr(y, "frames", None) or (y.scene,)
+            scenes_x = x.frames if isinstance(x, MotionCase) else (x.scene,)
+            scenes_y = y.frames if isinstance(y, MotionCase) else (y.scene,)
             assert all(np.array_equal(p.coordinates, q.coordinates, equal_nan=True) for p, q in zip(scenes_x, scenes_y))
 
 
 def test_results_stream_as_they_come():
-    seen = []
+    seen: list[Result] = []
     results = run_suite(["centre_scanline"], cases=_quick()[:3], on_result=seen.append)
     assert seen == results
 
@@ -138,5 +140,7 @@ def test_the_references_beyond_one_sample_pass_every_check_that_judges_them(name
     results = run_suite([name], cases=still + motion, isolate=False, repros=False, identify=False)
     bad = [(r.case, r.check, r.message) for r in results if r.status in ("fail", "error")]
     assert not bad, bad[:5]
-    kind = load(name).convention.kind
+    convention = load(name).convention
+    assert convention is not None
+    kind = convention.kind
     assert {c.name for c in checks(kind=kind)} == {r.check for r in results}, name  # every check judged it

@@ -21,7 +21,7 @@ TRIANGLE = Scene(8, 8, [[[0, 0], [8, 0], [0, 8]]])
 # vertices on pixel centres, a lattice case (float arithmetic exact): which side owns a tie decides what is drawn
 TIES = Case("session/ties", Scene(8, 8, [[[0.5, 0.5], [6.5, 0.5], [0.5, 6.5]], [[6.5, 0.5], [6.5, 6.5], [0.5, 6.5]]]),
             lattice=True)
-THIN = Scene(8, 8, [[[0, 1], [8, 1 + 1e-8], [0, 1 + 2e-8]]])  # thinner than a micro-pixel: HangsOnEpsilon loops
+THIN = Scene(8, 8, [[[0.0, 1.0], [8.0, 1 + 1e-8], [0.0, 1 + 2e-8]]])  # thinner than a micro-pixel: HangsOnEpsilon loops
 
 
 def test_a_call_answers_in_the_worker_and_the_checks_judge_it() -> None:

@@ -249,7 +249,7 @@ _SHAPES = st.one_of(st.tuples(st.integers(0, 40)), st.tuples(st.integers(0, 12),
 @st.composite
 def _arrays(draw):
     names = draw(st.lists(st.text(min_size=1, max_size=8), unique=True, max_size=6))
-    found = {}
+    found: dict[str, np.ndarray | None] = {}
     for name in names:
         if draw(st.booleans()) and draw(st.booleans()):
             found[name] = None
@@ -277,7 +277,7 @@ def test_an_outcome_round_trips_with_every_optional_part(spans, with_attributes,
     rng = np.random.default_rng(spans * 7 + k)
     parts = [rng.integers(-5, 50, spans) for _ in range(4)]
     pixels = int(np.clip(parts[3] - parts[2], 0, None).sum())
-    coverage = Coverage(*parts, rng.standard_normal((pixels, k)) if with_attributes else None,
+    coverage = Coverage(parts[0], parts[1], parts[2], parts[3], rng.standard_normal((pixels, k)) if with_attributes else None,
                         sample=rng.integers(0, 4, spans) if kind == "sample" else None,
                         alpha=rng.random(pixels) if kind == "alpha" else None)
     flaws = {"repeated": np.arange(min(spans, 3)), "repeated_pixels": np.array([2])}

@@ -85,7 +85,8 @@ def test_identify_and_run_agree_on_a_scanline_path_filler(tmp_path):
     assert repro is not None and len(repro["paths"]) < len(cases[0].scene) and repro["original_case"] == leaks[0].case
     path = tmp_path / "repro.json"
     path.write_text(json.dumps(repro))
-    assert isinstance(case_from_json(repro).scene, PathScene)
+    replayed = case_from_json(repro)
+    assert isinstance(replayed, Case) and isinstance(replayed.scene, PathScene)
     assert any(r.status == "fail" and r.check == repro["check"] for r in replay(str(path), EvenOddScanline(), isolate=False))
     card = fingerprint.card()
     assert f"rastercheck run --case '{leaks[0].case}' fails watertight" in card and "minimal repro" in card

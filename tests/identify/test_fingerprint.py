@@ -6,7 +6,7 @@ import re
 
 import pytest
 
-from harness.contract.conventions import Convention
+from harness.contract.conventions import Convention, TieRule
 from harness.engine.registry import load
 from harness.identify.fingerprint import identify
 from harness.oracle.coverage import exact_coverage
@@ -160,7 +160,8 @@ def _verdict(text: str) -> None:
 def _in_this_process(script: str, part: str, *args: str) -> str:
     space: dict = {"__name__": "check"}
     exec(script, space)
-    return space[part](*args)
+    said: str = space[part](*args)
+    return said
 
 
 @pytest.fixture(scope="module")
@@ -306,7 +307,7 @@ def test_a_rounding_that_was_not_separated_is_never_claimed():
 
 # piglit's rast_triangle biases its y-first conventions the other way round from the
 # names its probe gives them (see harness.contract.conventions): what each port really draws.
-PIGLIT_PORT_DRAWS = {
+PIGLIT_PORT_DRAWS: dict[str, TieRule] = {
     "top_left": "bottom-left", "top_right": "bottom-right", "bottom_left": "top-left", "bottom_right": "top-right",
     "left_top": "top-right-y-first", "right_top": "top-left-y-first",
     "left_bottom": "bottom-right-y-first", "right_bottom": "bottom-left-y-first",

@@ -22,6 +22,7 @@ import pytest
 
 from cases.suites import suite
 from harness.checks import checks
+from harness.contract.case import Case
 from harness.engine.runner import run_suite
 from harness.integrations.testing import assert_conforms
 from harness.results.files import safe_name
@@ -111,14 +112,14 @@ def test_collection_builds_every_item_and_rasterizes_nothing(tmp_path, capsys, m
     cases = suite("quick")
     # a single-sample rasterizer's checks, on the scenes it takes (triangles)
     assert len(ids) == 2 * sum(len(checks(case, kind="single")) for case in cases
-                               if getattr(case, "scene", None) is None or case.scene.kind == "triangles")
+                               if not isinstance(case, Case) or case.scene.kind == "triangles")
     assert ids[:3] == ["rastercheck::counting::lattice/bits-0::hygiene", "rastercheck::counting::lattice/bits-0::conformance",
                        "rastercheck::counting::lattice/bits-0::invariance"]
     assert f"rastercheck::undeclared::{cases[-1].id}::" in proc.stdout
     assert not calls(tmp_path)  # no rasterizing, no identifying
     # -k leaves one item a case: each runs its own case and nothing else; the undeclared
     # rasterizer is identified once, before its first item
-    lattice = [case for case in cases if case.id.startswith("lattice/bits-")]
+    lattice = [case for case in cases if isinstance(case, Case) and case.id.startswith("lattice/bits-")]
     proc = plugin_run_here(tmp_path, capsys, monkeypatch, "-q", "--rasterizer", f"{plugin}:Counting", "--rasterizer",
                            f"{plugin}:Undeclared", "-k", "lattice/bits- and conformance")
     assert proc.returncode == 0, proc.stdout[-3000:]

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import SupportsInt
+
 import numpy as np
 
 from harness.contract.coverage import Coverage
@@ -14,7 +17,7 @@ def coverage_from_parts(tris: list, xs: list, ys: list) -> Coverage:
     return Coverage.from_pixels(np.concatenate(tris), np.concatenate(xs), np.concatenate(ys))
 
 
-def coverage_from_spans(spans: list[tuple[int, int, int, int]]) -> Coverage:
+def coverage_from_spans(spans: Sequence[tuple[SupportsInt, int, int, int]]) -> Coverage:
     """One Coverage from (triangle, y, x0, x1) tuples (empty when there are none)."""
     if not spans:
         return Coverage.empty()

@@ -45,7 +45,8 @@ def _geometry(scene: Scene) -> Scene:
 
 def _eight_bit(alpha: np.ndarray) -> np.ndarray:
     """An alpha in [0, 1] rounded to the nearest of 256 levels."""
-    return np.rint(np.clip(alpha, 0.0, 1.0) * 255.0) / 255.0
+    rounded: np.ndarray = np.rint(np.clip(alpha, 0.0, 1.0) * 255.0) / 255.0
+    return rounded
 
 
 class MirroredPattern:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import os
 import struct
 import sys
+from types import FrameType
 from typing import Any
 
 from harness.contract.coverage import Coverage
@@ -22,7 +23,7 @@ from rasterizers.pineda_topleft import PinedaTopLeft
 def _worker_pipe() -> Any:
     """The connection the worker serves (``conn`` in :func:`harness.engine.isolation._serve`, up
     the call stack): the one whose other end the parent reads."""
-    frame = sys._getframe(1)
+    frame: FrameType | None = sys._getframe(1)
     while frame is not None:
         if frame.f_code.co_name == "_serve" and "conn" in frame.f_locals:
             return frame.f_locals["conn"]

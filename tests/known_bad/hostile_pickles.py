@@ -70,6 +70,7 @@ class _DetonatingCoverage(Coverage):
     """A Coverage whose pickle detonates."""
 
     __slots__ = ("trap",)
+    trap: tuple[str, int, bool]
 
     def __reduce__(self) -> Any:
         return detonate, self.trap

@@ -46,7 +46,7 @@ class InterpolationBug:
         x = start + (np.arange(tri.size) - np.repeat(np.cumsum(lengths) - lengths, lengths))
         p = scene.positions[tri]
         perspective = scene.w is not None and self.bug != "affine"
-        inv_w = 1.0 / scene.w[tri] if perspective else np.ones((tri.size, 3))
+        inv_w = 1.0 / scene.w[tri] if perspective and scene.w is not None else np.ones((tri.size, 3))
         values = scene.attributes[tri] * inv_w[:, :, None]
         quantities = np.concatenate([values, inv_w[:, :, None]], axis=2)
         e1, e2 = p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]

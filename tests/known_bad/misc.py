@@ -44,7 +44,7 @@ class ReturnsGarbage:
     name = "bad_returns_garbage"
     convention = Convention()
 
-    def rasterize(self, scene: Scene):  # type: ignore[no-untyped-def]
+    def rasterize(self, scene: Scene):
         return [[1, 2, 3]]
 
 
@@ -190,10 +190,10 @@ class ClipsBeforeSnapping:
                 cov = exact_coverage(Scene(scene.width, scene.height, piece[None]), self.convention)
                 _, x, y = cov.pixels()
                 seen.update(zip(x.tolist(), y.tolist()))
-            for x, y in sorted(seen):
+            for column, row in sorted(seen):
                 tris.append(t)
-                xs.append(x)
-                ys.append(y)
+                xs.append(column)
+                ys.append(row)
         if not tris:
             return Coverage.empty()
         return Coverage.from_pixels(np.array(tris), np.array(xs), np.array(ys))

@@ -126,13 +126,13 @@ def test_exact_area_is_invariant_under_vertex_order_and_whole_pixel_shifts(scene
 
 def test_exact_area_refuses_what_it_cannot_measure():
     with pytest.raises(ValueError, match="not finite"):
-        exact_area([[0, 0], [1, np.nan], [0, 1]], 0, 0)
+        exact_area([[0.0, 0.0], [1.0, np.nan], [0.0, 1.0]], 0, 0)
     with pytest.raises(ValueError, match="not finite"):
-        exact_area([[0, 0], [np.inf, 0], [0, 1]], 0, 0)
+        exact_area([[0.0, 0.0], [np.inf, 0.0], [0.0, 1.0]], 0, 0)
     with pytest.raises(ValueError, match="3 x 2"):
         exact_area([[0, 0], [1, 0]], 0, 0)
     with pytest.raises(ValueError, match="integers"):
-        exact_area([[0, 0], [1, 0], [0, 1]], 0.5, 0)
+        exact_area([[0, 0], [1, 0], [0, 1]], 0.5, 0)  # type: ignore[arg-type]  # a float pixel, refused
 
 
 @given(lattice_scenes(max_bits=4, size=SIZE, max_triangles=2))

@@ -99,7 +99,7 @@ def test_non_finite_zero_area_and_culling():
 
 
 def test_snapping_can_collapse_a_triangle():
-    scene = Scene(8, 8, [[[0, 0], [8, 0.001], [0, 0.002]]])
+    scene = Scene(8, 8, [[[0.0, 0.0], [8.0, 0.001], [0.0, 0.002]]])
     assert exact_coverage(scene, Convention(subpixel_bits=4)).n_pixels == 0
     assert exact_coverage(scene, Convention()).n_pixels == 0  # and it covers no sample anyway
 
@@ -155,4 +155,5 @@ def test_reference_attributes_affine_and_perspective():
                 e = [e[i] / Fraction(w[0, i]) for i in range(3)]
             for c in range(2):
                 exact = sum(e[i] * Fraction(values[0, i, c]) for i in range(3)) / sum(e)
+                assert cov.attributes is not None
                 assert abs(cov.attributes[k, c] - float(exact)) <= 1e-12 * max(1.0, abs(float(exact)))

@@ -6,6 +6,7 @@ concrete tiny eps, the places it parts from D3D's, and an independent GL drawer
 from __future__ import annotations
 
 from fractions import Fraction
+from typing import Final
 
 import numpy as np
 import pytest
@@ -24,7 +25,7 @@ from rasterizers.lines import DiamondExitDDA
 from tests.gl_lines import GLDiamondLines, PerturbedUpwards, WideNotMoved
 from tests.oracle.test_lines import QUICK, SIZE, _pixels, _same, _sorted, segments
 
-GL = "diamond-exit-gl"
+GL: Final = "diamond-exit-gl"
 HALF = Fraction(1, 2)
 
 
@@ -125,7 +126,7 @@ def test_far_gl_segments_match_the_kernel() -> None:
 # -- where GL parts from D3D --------------------------------------------------------------------
 
 
-def _drawn(a, b, rule, last_pixel=False, size=6):  # type: ignore[no-untyped-def]
+def _drawn(a, b, rule, last_pixel=False, size=6):
     return {(x, y) for _, x, y in _pixels(diamond_exit_spans([a], [b], size, size, last_pixel, rule=rule))}
 
 
@@ -163,7 +164,7 @@ def test_gl_strips_draw_each_shared_vertex_once() -> None:
 
 @QUICK
 @given(segments)
-def test_the_gl_drawer_draws_what_the_oracle_says(segs) -> None:  # type: ignore[no-untyped-def]
+def test_the_gl_drawer_draws_what_the_oracle_says(segs) -> None:
     a, b = segs
     scene = LineScene.from_segments(SIZE, SIZE, a, b)
     for drawer in (GLDiamondLines(), GLDiamondLines(last_pixel=True)):
@@ -175,18 +176,18 @@ def quick_lines() -> list:
     return line_cases(0)
 
 
-def _failing(rasterizer, cases):  # type: ignore[no-untyped-def]
+def _failing(rasterizer, cases):
     results = run_suite([rasterizer], cases=cases, isolate=False, identify=False, repros=False)
     return results, [r for r in results if r.status not in ("pass", "skip")]
 
 
-def test_a_gl_drawer_passes_the_quick_line_suite(quick_lines) -> None:  # type: ignore[no-untyped-def]
+def test_a_gl_drawer_passes_the_quick_line_suite(quick_lines) -> None:
     results, failing = _failing(GLDiamondLines(), quick_lines)
     assert not failing, [(r.case, r.check, r.message) for r in failing]
     assert {"conformance", "reversal", "joints", "length", "connectivity", "line-motion"} <= {r.check for r in results}
 
 
-def test_a_gl_drawer_declared_as_d3d_fails(quick_lines) -> None:  # type: ignore[no-untyped-def]
+def test_a_gl_drawer_declared_as_d3d_fails(quick_lines) -> None:
     class DeclaredD3D(GLDiamondLines):
         name = "gl_declared_d3d"
 
@@ -196,7 +197,7 @@ def test_a_gl_drawer_declared_as_d3d_fails(quick_lines) -> None:  # type: ignore
     assert "conformance" in {r.check for r in failing}
 
 
-def test_the_known_bad_gl_drawer_fails(quick_lines) -> None:  # type: ignore[no-untyped-def]
+def test_the_known_bad_gl_drawer_fails(quick_lines) -> None:
     _, failing = _failing(PerturbedUpwards(), quick_lines)
     assert {"conformance", "length"} <= {r.check for r in failing}, [(r.case, r.check) for r in failing]
 
@@ -206,10 +207,12 @@ def test_identify_tells_gl_from_d3d() -> None:
                          (DiamondExitDDA(), LineRule("diamond-exit"))):
         fp = identify(drawer)
         fit = fp.line_fit
+        assert fit is not None and fp.line_convention is not None and fit.runner_up is not None
         assert fit.exact and fit.residual == 0 and fit.runner_up[1] > 0, fp.card()
         assert fp.line_rule == rule and fp.line_convention.subpixel_bits == 8, fp.card()
         assert fp.to_dict()["line_convention"]["rule"] == rule.rule
     fp = identify(PerturbedUpwards())
+    assert fp.line_fit is not None
     assert not fp.line_fit.exact and fp.line_fit.residual > 0, fp.card()
 
 
@@ -225,7 +228,7 @@ def test_replication_is_one_option_of_the_diamond_rules() -> None:
         with pytest.raises(ValueError, match="diamond-exit option"):
             LineRule(other, wide="replicate")
     with pytest.raises(ValueError, match="wide must be one of none, replicate"):
-        LineRule(GL, wide="smooth")
+        LineRule(GL, wide="smooth")  # type: ignore[arg-type]  # no such rule: refused
     scene = LineScene.from_segments(6, 6, [[0.5, 2.5]], [[4.5, 2.5]], 3.0)
     with pytest.raises(ValueError, match="wide='replicate'"):
         exact_coverage(scene, Convention(line=LineRule(GL)))
@@ -238,7 +241,7 @@ def test_replication_is_one_option_of_the_diamond_rules() -> None:
 @example((np.array([[2.5, 0.5]]), np.array([[2.5, 4.5]])), 2, False, GL)  # y-major: onto a column boundary
 @example((np.array([[0.1, 2.5]]), np.array([[3.5, 2.7]])), 2, False, GL)  # the move rounds: the rational path
 @example((np.array([[0.5, 1.0]]), np.array([[3.5, 4.0]])), 3, True, "diamond-exit")
-def test_wide_oracle_matches_its_rational_reference(segs, w, last_pixel, rule) -> None:  # type: ignore[no-untyped-def]
+def test_wide_oracle_matches_its_rational_reference(segs, w, last_pixel, rule) -> None:
     a, b = segs
     fast = diamond_wide_spans(a, b, w, SIZE, SIZE, last_pixel, rule)
     _same(fast, diamond_wide_spans_rational(a, b, w, SIZE, SIZE, last_pixel, rule))
@@ -249,7 +252,7 @@ def test_wide_oracle_matches_its_rational_reference(segs, w, last_pixel, rule) -
 
 @QUICK
 @given(segments, st.integers(2, 4))
-def test_the_wide_gl_drawer_draws_what_the_oracle_says(segs, w) -> None:  # type: ignore[no-untyped-def]
+def test_the_wide_gl_drawer_draws_what_the_oracle_says(segs, w) -> None:
     a, b = segs
     scene = LineScene.from_segments(SIZE, SIZE, a, b, float(w))
     drawer = GLDiamondLines(wide=True)
@@ -257,13 +260,13 @@ def test_the_wide_gl_drawer_draws_what_the_oracle_says(segs, w) -> None:  # type
 
 
 @pytest.fixture(scope="module")
-def wide_lines(quick_lines) -> list:  # type: ignore[no-untyped-def]
+def wide_lines(quick_lines) -> list:
     """The quick suite's lattice cases of width 1, at widths 2 and 3."""
     chosen = [c for c in quick_lines if c.lattice and c.scene.line_width == 1.0 and len(c.scene) <= 120][:12]
     return [Case(f"{c.id}@w{w}", c.scene.with_line_width(float(w)), lattice=True) for c in chosen for w in (2, 3)]
 
 
-def test_a_wide_gl_drawer_passes_wide_cases_and_a_bad_one_fails(wide_lines) -> None:  # type: ignore[no-untyped-def]
+def test_a_wide_gl_drawer_passes_wide_cases_and_a_bad_one_fails(wide_lines) -> None:
     results, failing = _failing(GLDiamondLines(wide=True), wide_lines)
     assert not failing, [(r.case, r.check, r.message) for r in failing]
     assert {"conformance", "length", "reversal"} <= {r.check for r in results if r.status == "pass"}
@@ -278,10 +281,12 @@ def test_a_wide_gl_drawer_passes_wide_cases_and_a_bad_one_fails(wide_lines) -> N
 def test_identify_finds_gl_replication() -> None:
     fp = identify(GLDiamondLines(wide=True))
     fit = fp.line_fit
+    assert fit is not None and fit.wide is not None
     assert fit.exact and fp.line_rule == LineRule(GL, wide="replicate"), fp.card()
     assert fit.wide.replicated == 0 and "GL's wide lines" in fp.facts["wide lines"]
     assert fp.to_dict()["line_convention"]["wide"] == "replicate"
     fp = identify(WideNotMoved())  # off centre at width 3: not replication
+    assert fp.line_fit is not None and fp.line_fit.wide is not None and fp.line_fit.wide.replicated is not None
     assert fp.line_rule == LineRule(GL) and fp.line_fit.wide.replicated > 0, fp.card()
 
 

@@ -23,7 +23,14 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from cases.lines import line_cases
-from harness.contract.conventions import BRESENHAM_ROUNDINGS, BRESENHAM_TIES, LINE_DIRECTIONS, Convention, LineRule
+from harness.contract.conventions import (
+    BRESENHAM_ROUNDINGS,
+    BRESENHAM_TIES,
+    LINE_DIRECTIONS,
+    Convention,
+    LineDirection,
+    LineRule,
+)
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene
 from harness.engine.runner import run_suite
@@ -163,7 +170,9 @@ def test_far_segments_are_walked_in_the_declared_direction() -> None:
     a = np.array([[2.0**40 + 0.5, 2.0**39 + 3.5], [9.5, 0.5], [-2.0**31 + 0.5, 4.5 - 2.0**30]])
     b = np.array([[0.5, 3.5], [9.5 - 2.0**43, 0.5 + 2.0**44], [9.5, 4.5]])
     scene = LineScene.from_segments(SIZE, SIZE, a, b)
-    for direction, backwards in (("smaller-x", [True, True, False]), ("smaller-major", [True, False, False])):
+    directions: tuple[tuple[LineDirection, list[bool]], ...] = (("smaller-x", [True, True, False]),
+                                                                ("smaller-major", [True, False, False]))
+    for direction, backwards in directions:
         rule = LineRule("bresenham", rounding="floor", ties="stay", last_pixel=False, direction=direction)
         as_given = Convention(line=replace(rule, direction="as-given"))
         back = walks_backwards(np.floor(a).astype(np.int64).astype(object), np.floor(b).astype(np.int64).astype(object),
@@ -218,6 +227,7 @@ def test_a_drawer_that_normalises_inconsistently_fails(quick_lines) -> None:
     # its steep segments given from the larger x break ties the other way: no direction explains it
     assert all("direction" not in r.evidence for r in failing if r.check == "reversal")
     fp = identify(SwapsShallowOnly())
+    assert fp.line_fit is not None
     assert not fp.line_fit.exact and fp.line_fit.residual > 0, fp.card()
 
 
@@ -225,6 +235,7 @@ def test_identify_tells_a_textbook_plotline_from_a_direction_preserving_bresenha
     for drawer in (TextbookPlotLine(), WikipediaPlotLine(), AsGiven()):
         fp = identify(drawer)
         fit = fp.line_fit
+        assert fit is not None and fit.runner_up is not None
         walked = TextbookPlotLine.convention if isinstance(drawer, TextbookPlotLine) else drawer.convention
         assert fit.exact and fit.residual == 0 and fit.runner_up[1] > 0, fp.card()
         assert fp.line_convention == walked, fp.card()  # AsGiven's declaration is not what it does
@@ -236,6 +247,7 @@ def test_identify_tells_a_textbook_plotline_from_a_direction_preserving_bresenha
         as_given = replace(walked, line=replace(walked.line, direction="as-given"))
         assert sum(d.mismatches(as_given) for d in fit.drawn if d.coverage is not None) > 0
     fp = identify(BresenhamLines(rounding="floor"))  # walks as given: not misread as normalising
+    assert fp.line_fit is not None
     assert fp.line_fit.exact and fp.line_rule == LineRule("bresenham", rounding="floor"), fp.card()
     assert fp.to_dict()["line_convention"]["direction"] == "as-given" and "walked" not in fp.facts["lines"]
 

@@ -29,6 +29,7 @@ def test_multisample_lines_are_rectangles() -> None:
     cov = exact_coverage(scene, Convention(samples=4, line=LineRule("rectangle")))
     # standard 4x samples 0..3 at y offsets 1/8, 3/8, 5/8, 7/8: the band 1/2 < y < 3/2 holds
     # row 1's samples 0 and 1 and row 0's samples 2 and 3
+    assert cov.sample is not None
     assert sorted({(int(s), int(y)) for s, y in zip(cov.sample, cov.y)}) == [(0, 1), (1, 1), (2, 0), (3, 0)]
     with pytest.raises(ValueError, match="area coverage"):
         exact_coverage(scene, Convention(coverage="area", line=LineRule("rectangle")))

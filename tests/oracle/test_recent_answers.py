@@ -95,7 +95,12 @@ def test_a_large_scene_is_not_kept_nor_hashed(monkeypatch: pytest.MonkeyPatch) -
     big = Scene(256, 256, rng.uniform(0, 256, (2000, 3, 2)))
     assert big.positions.nbytes > oracle.KEPT_SCENE_BYTES
     hashed = []
-    monkeypatch.setattr(oracle, "scene_digest", lambda scene: hashed.append(scene) or b"")
+
+    def digest(scene):
+        hashed.append(scene)
+        return b""
+
+    monkeypatch.setattr(oracle, "scene_digest", digest)
     assert exact_coverage(big, Convention()) is not exact_coverage(big, Convention())
     assert not hashed
     small = Scene(8, 8, TRIANGLE)

@@ -11,6 +11,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from cases.strategies import conventions
+from harness.contract.case import Case
 from harness.contract.conventions import TIE_RULES, Convention
 from harness.contract.scenes import Scene
 from harness.oracle.coverage import exact_coverage
@@ -214,7 +215,7 @@ def test_a_last_path_with_a_non_finite_or_out_of_range_vertex_leaves_the_others_
     usable edge (IndexError)."""
     from harness.contract.scenes import PathScene
 
-    scene = PathScene.from_paths(8, 8, [[[[1, 1], [6, 1], [1, 6]]], [[[bad, 1], [6, 1], [1, 6]]]])
+    scene = PathScene.from_paths(8, 8, [[[[1.0, 1.0], [6.0, 1.0], [1.0, 6.0]]], [[[bad, 1.0], [6.0, 1.0], [1.0, 6.0]]]])
     got = exact_coverage(scene, Convention())
     first = exact_coverage(scene.subset([0]), Convention())
     if bad == 1e300:  # finite: decided exactly, by the rational rows
@@ -242,7 +243,9 @@ def test_an_open_outline_is_what_a_filler_that_forgets_the_closing_edge_draws():
     differs = 0
     for family in ("lattice", "float", "paths"):
         for index in range(12):
-            scene = generate(family, 0, index).scene
+            case = generate(family, 0, index)
+            assert isinstance(case, Case)
+            scene = case.scene
             assert isinstance(scene, (Scene, PathScene))
             predicted = fragments(open_outline_coverage(scene, bad.convention, "last-crossing"), scene)
             assert predicted == fragments(bad.rasterize(scene), scene), (family, index)

@@ -54,7 +54,8 @@ def load(name: str, sources: Sequence[Path], language: str = "c", flags: Sequenc
     if cc is None:
         pytest.skip(NO_COMPILER)
     digest = hashlib.sha256()
-    for part in (language, *flags, *(Path(s).read_bytes() for s in sources)):
+    parts: list[str | bytes] = [language, *flags, *(Path(s).read_bytes() for s in sources)]
+    for part in parts:
         digest.update(part if isinstance(part, bytes) else part.encode())
     for header in sorted({h for s in sources for pattern in ("*.h", "*.hpp") for h in Path(s).parent.glob(pattern)}):
         digest.update(header.read_bytes())

@@ -102,7 +102,8 @@ def to_subpixel(values: NDArray[np.floating], bits: int) -> NDArray[np.int64]:
     half = np.where(v < np.float32(0.0), np.float32(-0.5), np.float32(0.5)).astype(np.float32)
     scaled = (v * np.float32(1 << bits)).astype(np.float32) + half  # float32 + float32: float32
     assert scaled.dtype == np.float32
-    return np.trunc(scaled).astype(np.int64)
+    subpixels: NDArray[np.int64] = np.trunc(scaled).astype(np.int64)
+    return subpixels
 
 
 def sample_offsets(samples: int, bits: int = SUBPIXEL_BITS) -> NDArray[np.int64]:
@@ -116,7 +117,7 @@ def sample_offsets(samples: int, bits: int = SUBPIXEL_BITS) -> NDArray[np.int64]
 
 
 @numba.njit(cache=True, inline="always")
-def _floor_pixel(coord, bits, fill_edge):  # type: ignore[no-untyped-def]
+def _floor_pixel(coord, bits, fill_edge):
     """floorSubpixelToPixelCoord (arithmetic shifts round toward -inf, as in C on int64)."""
     if coord >= 0:
         return (coord - (1 if fill_edge else 0)) >> bits
@@ -124,7 +125,7 @@ def _floor_pixel(coord, bits, fill_edge):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _ceil_pixel(coord, bits, fill_edge):  # type: ignore[no-untyped-def]
+def _ceil_pixel(coord, bits, fill_edge):
     """ceilSubpixelToPixelCoord."""
     if coord >= 0:
         return (coord + ((1 << bits) - (0 if fill_edge else 1))) >> bits
@@ -132,7 +133,7 @@ def _ceil_pixel(coord, bits, fill_edge):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _init_edge_ccw(edges, k, x0, y0, x1, y1):  # type: ignore[no-untyped-def]
+def _init_edge_ccw(edges, k, x0, y0, x1, y1):
     """initEdgeCCW with FILL_LEFT and FILL_BOTTOM: row k of ``edges`` = a, b, c, inclusive."""
     xd, yd = x1 - x0, y1 - y0
     if yd == 0:
@@ -146,7 +147,7 @@ def _init_edge_ccw(edges, k, x0, y0, x1, y1):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _multisample_kernel(v, drawn, offsets, bits, width, height):  # type: ignore[no-untyped-def]
+def _multisample_kernel(v, drawn, offsets, bits, width, height):
     """Runs ``(triangle, sample, y, x0, x1)`` of covered samples, sorted by triangle,
     sample and row; ``v`` (T, 3, 2) int64 subpixel vertices, ``drawn`` (T,) bool."""
     out = []
@@ -262,7 +263,7 @@ _BOUNDS = frozen(np.array([[0, -1, -1, 0, 0], [-1, 0, 0, 1, 0], [0, 1, 1, 0, 1],
 
 
 @numba.njit(cache=True, inline="always")
-def _bit_length(value):  # type: ignore[no-untyped-def]
+def _bit_length(value):
     """64 - deClz64(value) for value >= 0."""
     n = 0
     while value > 0:
@@ -272,12 +273,12 @@ def _bit_length(value):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _cross(ux, uy, vx, vy):  # type: ignore[no-untyped-def]
+def _cross(ux, uy, vx, vy):
     return ux * vy - uy * vx
 
 
 @numba.njit(cache=True, inline="always")
-def _in_corner_angle(dx, dy, nx, ny):  # type: ignore[no-untyped-def]
+def _in_corner_angle(dx, dy, nx, ny):
     """lineInCornerAngleRange."""
     dot = dx * nx + dy * ny
     if dot < 0:
@@ -286,7 +287,7 @@ def _in_corner_angle(dx, dy, nx, ny):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _in_corner_outside_angle(dx, dy, nx, ny):  # type: ignore[no-untyped-def]
+def _in_corner_outside_angle(dx, dy, nx, ny):
     """lineInCornerOutsideAngleRange."""
     dot = dx * nx + dy * ny
     if dot >= 0:
@@ -295,14 +296,14 @@ def _in_corner_outside_angle(dx, dy, nx, ny):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _side(px, py, ax, ay, dx, dy):  # type: ignore[no-untyped-def]
+def _side(px, py, ax, ay, dx, dy):
     """getVertexSide: 1 left (cross < 0), 2 right (cross > 0), 0 on the line."""
     cross = _cross(dx, dy, px - ax, py - ay)
     return 1 if cross < 0 else (2 if cross > 0 else 0)
 
 
 @numba.njit(cache=True)
-def exits_diamond(ax, ay, bx, by, cx, cy, half, corners, bounds):  # type: ignore[no-untyped-def]
+def exits_diamond(ax, ay, bx, by, cx, cy, half, corners, bounds):
     """doesLineSegmentExitDiamond: the segment a -> b (subpixel units) and the diamond
     centred at c of half-diagonal ``half``."""
     dx, dy = bx - ax, by - ay
@@ -375,7 +376,7 @@ def exits_diamond(ax, ay, bx, by, cx, cy, half, corners, bounds):  # type: ignor
 
 
 @numba.njit(cache=True)
-def _line_kernel(a, b, drawn, x_major, widths, bits, width, height, corners, bounds):  # type: ignore[no-untyped-def]
+def _line_kernel(a, b, drawn, x_major, widths, bits, width, height, corners, bounds):
     """(segment, x, y) of every fragment: SingleSampleLineRasterizer::init and rasterize,
     no stipple; ``a``, ``b`` (N, 2) int64 subpixel end points, ``widths`` (N,) the
     replication count ``lineWidthPixels``."""

@@ -87,7 +87,7 @@ def _trunc_div(a: int, b: int) -> int:
 def _udiv(a: int, reciprocal: int) -> int:
     """``FT_UDIV``: ``(TCoord)(((FT_UInt64)a * (FT_UInt64)reciprocal) >> 32)``."""
     product = np.uint64(a) * np.uint64(reciprocal)
-    return _i32(np.int64(product >> np.uint64(32)))
+    return _i32(np.int64(product >> np.uint64(32)))  # type: ignore[arg-type]  # (numba: an int64 is an int)
 
 
 @numba.njit(cache=True)
@@ -338,7 +338,7 @@ def _fill_rule(value: int, fill: int) -> int:
 
 
 @numba.njit(cache=True)
-def _render(points: NDArray[np.int64], ends: NDArray[np.int64], evenodd: bool, out: NDArray[np.uint8],
+def _render(points: NDArray[np.int64], ends: NDArray[np.int64], evenodd: bool | np.bool_, out: NDArray[np.uint8],
             scanlines: bool) -> None:
     """``FT_Outline_Decompose`` of straight contours (move to the first point, a line to each
     next, a line back to the first), ``gray_render_line`` for each (``scanlines``: the one
@@ -375,8 +375,7 @@ def _render(points: NDArray[np.int64], ends: NDArray[np.int64], evenodd: bool, o
 
 @numba.njit(cache=True)
 def _render_triangles(points: NDArray[np.int64], boxes: NDArray[np.int64], drawn: NDArray[np.int64],
-                      room: int,
-                      scanlines: bool) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.uint8]]:
+                      room: int, scanlines: bool) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.uint8]]:
     """Each drawn triangle alone into a bitmap of its box (:func:`_render`, its 26.6 points
     moved to the box's origin: whole pixels, exact), its nonzero values kept: (triangle, x,
     y, value) with x, y on the screen, at most ``room`` of them."""
@@ -408,7 +407,7 @@ def _render_triangles(points: NDArray[np.int64], boxes: NDArray[np.int64], drawn
 def to_26_6(points: NDArray[np.float64]) -> NDArray[np.int64]:
     """Float pixel coordinates to FreeType's 26.6 fixed point: round(64 x), ties to even
     (64 x is exact in float64, so this is the nearest multiple of 1/64 px)."""
-    return np.rint(np.asarray(points, dtype=np.float64) * 64.0).astype(np.int64)  # type: ignore[no-any-return]
+    return np.rint(np.asarray(points, dtype=np.float64) * 64.0).astype(np.int64)
 
 
 def render_outline(points: NDArray[np.int64], ends: NDArray[np.int64], width: int, height: int,

@@ -48,7 +48,7 @@ def _c_int(v: np.float32) -> int:
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _handle_clipped_edge(buf: NDArray, base: int, x: int, sy: np.float32, ey: np.float32, direction: np.float32,
+def _handle_clipped_edge(buf: NDArray, base: int | np.int64, x: int | np.int64, sy: np.float32, ey: np.float32, direction: np.float32,
                          x0: np.float32, y0: np.float32, x1: np.float32, y1: np.float32) -> None:
     """stbtt__handle_clipped_edge: the edge piece (x0, y0)-(x1, y1), which does not cross
     x or x + 1, clipped to the edge's [sy, ey], added to ``buf[base + x]``."""
@@ -183,7 +183,8 @@ def _fill_active_edges(buf: NDArray, length: int, active: NDArray, n_active: int
 
 
 @numba.njit(cache=True, error_model="numpy")
-def rasterize_polygon(points: NDArray[np.float32], width: int, height: int, off_x: int, off_y: int) -> NDArray[np.uint8]:
+def rasterize_polygon(points: NDArray[np.float32], width: int, height: int, off_x: int | np.int64,
+                      off_y: int) -> NDArray[np.uint8]:
     """One polygon (one winding) drawn as ``stbtt__rasterize`` draws it with scale 1,
     shift 0, ``invert`` 0 (y down as given) and vsubsample 1: the (height, width) uint8
     bitmap whose pixel (0, 0) is pixel (off_x, off_y) of the points' space.

@@ -91,7 +91,7 @@ def original_fragments(scene: Scene, samples: int) -> NDArray[np.int64]:
     return np.sort(((t * samples + sample) * scene.height + y) * scene.width + x)
 
 
-def keys(coverage: Coverage, scene: Scene, samples: int) -> NDArray[np.int64]:
+def keys(coverage: Coverage, scene: Scene | LineScene, samples: int) -> NDArray[np.int64]:
     """Each covered (triangle, sample, y, x) as one sorted int64 key."""
     parts = []
     for s in range(samples):
@@ -227,7 +227,7 @@ def test_to_subpixel_is_the_originals_float32_rounding():
 
 
 @functools.cache
-def _identified(samples: int):  # type: ignore[no-untyped-def]
+def _identified(samples: int):
     from harness.identify.fingerprint import identify
 
     port = DeqpMultisample(samples)
@@ -334,7 +334,7 @@ def random_line_scene(rng: np.random.Generator) -> LineScene:
     return LineScene.from_strips(width, height, strips, line_width=line_width)
 
 
-def differing_lines(scenes: int, seed: int, port) -> tuple[int, int]:  # type: ignore[no-untyped-def]
+def differing_lines(scenes: int, seed: int, port) -> tuple[int, int]:
     rng = np.random.default_rng(seed)
     diff = total = 0
     for _ in range(scenes):

@@ -153,6 +153,7 @@ def test_the_original_fills_row_0_right_of_an_edge_above_the_bitmap():
     exact = area_coverage(Scene(12, 8, moved.astype(np.float64)[None]), StbTruetype.convention)
     _, x, y = exact.pixels()
     first = np.zeros(12)
+    assert exact.alpha is not None
     first[x[y == 1]] = exact.alpha[y == 1]
     assert np.abs(original_draws(moved, 12, 7, 0, 1)[0] / 255 - first).max() <= StbTruetype.convention.alpha_tolerance
 
@@ -196,8 +197,9 @@ def test_the_bugs_the_suite_finds_are_the_originals():
     alphas, so the bugs are stb's and not the port's."""
     cases = {c.id: c for c in quick()}
     for case_id, _ in STB_BUGS:
-        scene = cases[case_id].scene
-        assert isinstance(scene, Scene)
+        case = cases[case_id]
+        assert isinstance(case, Case) and isinstance(case.scene, Scene)
+        scene = case.scene
         assert CompiledStb().rasterize(scene) == StbTruetype().rasterize(scene), case_id
 
 
@@ -235,7 +237,8 @@ def test_where_the_errors_lie_names_the_cause_before_what_they_are():
               "over_border_share": 1.0}
     assert alpha_cause(border) == ("viewport-edge", "every alpha beyond the tolerance (3) in the screen's top row, "
                                    "on triangles reaching past that edge of the screen")
-    assert alpha_cause({**border, "over_non_finite": 1.0})[0] == "non-finite-input"
+    non_finite = alpha_cause({**border, "over_non_finite": 1.0})
+    assert non_finite is not None and non_finite[0] == "non-finite-input"
     assert alpha_cause({**border, "over_border_share": 2 / 3}) is None
 
 

@@ -26,7 +26,7 @@ from rasterizers.area_scanline import MAX_COORDINATE, TOLERANCE, AreaScanline
 from rasterizers.multisample import MultisamplePineda, PinedaMSAA4, PinedaMSAA8
 from rasterizers.supersample import Supersampler, Supersampler4, grid_pattern
 
-REFERENCES = [PinedaMSAA4(), PinedaMSAA8(), AreaScanline(), Supersampler4()]
+REFERENCES: list[MultisamplePineda | AreaScanline | Supersampler] = [PinedaMSAA4(), PinedaMSAA8(), AreaScanline(), Supersampler4()]
 
 
 @cache
@@ -92,6 +92,7 @@ def test_multisample_equals_the_exact_oracle_on_the_quick_suite(rasterizer):
         spans = [Coverage(c.triangle, c.y, c.x0, c.x1, sample=c.sample) for c in (cov, ref)]
         assert spans[0] == spans[1], case.id
         a, b = cov.canonical().attributes, ref.canonical().attributes
+        assert a is not None and b is not None
         assert a.shape == b.shape and np.max(np.abs(a - b), initial=0.0) <= 1e-9, case.id
 
 
@@ -125,6 +126,8 @@ def test_multisample_interpolates_at_each_sample():
         scene = Scene(32, 32, positions, attributes=values, w=w)
         cov = PinedaMSAA4().rasterize(scene)
         ref = exact_coverage(scene, PinedaMSAA4().convention)
+        assert cov.attributes is not None and ref.attributes is not None
+        assert cov.sample is not None and ref.sample is not None
         assert cov.attributes.shape == (cov.n_pixels, 2)
         assert np.array_equal(cov.sample, ref.sample) and cov.x0.tolist() == ref.x0.tolist()
         assert np.max(np.abs(cov.attributes - ref.attributes)) <= 1e-9
@@ -142,6 +145,7 @@ def test_area_scanline_is_within_its_tolerance_on_the_quick_suite():
         if cov is None:
             continue
         scene = case.scene
+        assert isinstance(scene, Scene)
         ref = area_coverage(scene, r.convention)
         mine, exact = alpha_image(cov, scene), alpha_image(ref, scene)
         # the oracle is within area_error_bound of the exact area
@@ -184,6 +188,7 @@ def test_area_scanline_error_bound_far_out():
                                  np.empty((4, 8), dtype=np.int64), np.empty(8))
     cov = Coverage(block[0, :n], block[1, :n], block[2, :n], block[3, :n], alpha=alpha[:m])
     t, x, y = cov.pixels()
+    assert cov.alpha is not None
     worst = max(abs(Fraction(cov.alpha[k]) - exact_area(positions[t[k]], int(x[k]), int(y[k])))
                 for k in rng.choice(t.size, size=40, replace=False))
     assert worst <= 2.0**-26, float(worst)
@@ -215,7 +220,7 @@ def test_supersampler_rejects_other_grids_and_takes_up_to_16_x_16():
     for n in (3, 32, 0, True):
         with pytest.raises(ValueError, match="power of two"):
             Supersampler(n)
-    scene = Scene(6, 5, [[[0.3, 0.2], [5.7, 1.1], [1.2, 4.9]], [[5.5, 0.5], [6, 5], [2, 5]]])
+    scene = Scene(6, 5, [[[0.3, 0.2], [5.7, 1.1], [1.2, 4.9]], [[5.5, 0.5], [6.0, 5.0], [2.0, 5.0]]])
     fine = Supersampler(8)
     assert fine.rasterize(scene) == exact_coverage(scene, fine.convention)  # 64 samples: more than multisample holds
 
@@ -236,6 +241,7 @@ def test_partitions_have_no_seams(rasterizer):
         if cov is None:
             continue
         scene = case.scene
+        assert isinstance(scene, Scene) and case.region is not None
         inside, _ = pixel_classes(case.region, scene.width, scene.height)
         total = alpha_image(cov, scene).sum(axis=0)[inside]
         if isinstance(rasterizer, Supersampler):

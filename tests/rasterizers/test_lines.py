@@ -24,8 +24,9 @@ from rasterizers.lines import BRESENHAM_LIMIT, DDA_LIMIT, RECTANGLE_LIMIT, Brese
 SIZE = 8
 QUICK = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
-REFERENCES = [BresenhamLines(), DiamondExitDDA(), RectangleLines()]
-VARIANTS = [BresenhamLines("floor", "stay", last_pixel=False), BresenhamLines("half-away"), DiamondExitDDA(last_pixel=True),
+LineReference = BresenhamLines | DiamondExitDDA | RectangleLines
+REFERENCES: list[LineReference] = [BresenhamLines(), DiamondExitDDA(), RectangleLines()]
+VARIANTS: list[LineReference] = [BresenhamLines("floor", "stay", last_pixel=False), BresenhamLines("half-away"), DiamondExitDDA(last_pixel=True),
             RectangleLines("bottom-right"), RectangleLines("top-left-y-first")]
 
 
@@ -119,11 +120,13 @@ def float_segments(draw):
 
 def _agree(a, b, line_width: float = 1.0) -> None:
     scene = LineScene.from_segments(SIZE, SIZE, a, b)
-    for rasterizer in [BresenhamLines(), BresenhamLines("half-away", "stay"), DiamondExitDDA(), DiamondExitDDA(True)]:
+    width_1: list[BresenhamLines | DiamondExitDDA] = [BresenhamLines(), BresenhamLines("half-away", "stay"), DiamondExitDDA(),
+                                                      DiamondExitDDA(True)]
+    for rasterizer in width_1:
         assert rasterizer.rasterize(scene) == exact_coverage(scene, rasterizer.convention), rasterizer.name
     wide = scene.with_line_width(line_width)
-    for rasterizer in [RectangleLines(), RectangleLines("bottom-left-y-first")]:
-        assert rasterizer.rasterize(wide) == exact_coverage(wide, rasterizer.convention), rasterizer.name
+    for rectangles in [RectangleLines(), RectangleLines("bottom-left-y-first")]:
+        assert rectangles.rasterize(wide) == exact_coverage(wide, rectangles.convention), rectangles.name
 
 
 @QUICK
@@ -136,13 +139,13 @@ def _agree(a, b, line_width: float = 1.0) -> None:
 @example((np.array([[0.5, 0.5], [1.5, 2.0]]), np.array([[3.5, 4.5], [5.5, 5.0]])), 2.0)
 @example((np.array([[0.5, 1.0]]), np.array([[3.5, 1.0]])), 1.0)
 def test_references_equal_the_oracle_on_lattice_segments(segments, line_width):
-    _agree(*segments, line_width)
+    _agree(segments[0], segments[1], line_width)
 
 
 @QUICK
 @given(float_segments(), st.floats(0.05, 4.0))
 def test_references_equal_the_oracle_on_float_segments(segments, line_width):
-    _agree(*segments, line_width)
+    _agree(segments[0], segments[1], line_width)
 
 
 # -- errors, refusals and bad input ---------------------------------------------------------------
@@ -150,9 +153,9 @@ def test_references_equal_the_oracle_on_float_segments(segments, line_width):
 
 def test_width_1_rules_do_not_draw_wide_lines_and_nobody_draws_triangles():
     wide = LineScene.from_segments(8, 8, [[1, 1]], [[6, 3]], line_width=2.5)
-    for rasterizer in (BresenhamLines(), DiamondExitDDA()):
+    for width_1 in (BresenhamLines(), DiamondExitDDA()):
         with pytest.raises(Unsupported, match="width 1 only"):
-            rasterizer.rasterize(wide)
+            width_1.rasterize(wide)
     assert RectangleLines().rasterize(wide).counts(8, 8).sum() > 0
     triangles = Scene(8, 8, [[[0, 0], [4, 0], [0, 4]]])
     for rasterizer in REFERENCES:
@@ -188,7 +191,7 @@ _TRIPLES = [(3, 4, 5), (5, 12, 13), (8, 15, 17)]
 
 
 @st.composite
-def far_tie_segments(draw):  # type: ignore[no-untyped-def]
+def far_tie_segments(draw):
     """(a, b, width): one segment with end points up to ~2**21 px away whose side passes
     exactly through a pixel centre of the 8x8 viewport."""
     u, v, h = draw(st.sampled_from(_TRIPLES))

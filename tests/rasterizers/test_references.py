@@ -18,7 +18,8 @@ from rasterizers.fixed_point import MAX_FIXED, FixedPoint
 from rasterizers.floor_scanline import FloorScanline
 from rasterizers.pineda_topleft import PinedaTopLeft
 
-BUILTINS = [FloorScanline(), CentreScanline(), PinedaTopLeft(), FixedPoint()]
+BUILTINS: list[FloorScanline | CentreScanline | PinedaTopLeft | FixedPoint] = [FloorScanline(), CentreScanline(), PinedaTopLeft(),
+                                                                             FixedPoint()]
 ids = [r.name for r in BUILTINS]
 
 

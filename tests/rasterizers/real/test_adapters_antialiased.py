@@ -90,7 +90,7 @@ def test_a_half_pixel_strip_gets_half_alpha(alpha_adapter):
     row 2 (cairo rounds y = 2.5 to its 15-row grid, 8/15: 0.533; skia samples 4
     sub-scanlines), nothing elsewhere; a rectangle [1, 7] x [2, 5] is opaque where one
     triangle covers a whole pixel."""
-    strip = Scene(8, 8, [[[1, 2], [7, 2], [7, 2.5]], [[1, 2], [7, 2.5], [1, 2.5]]])
+    strip = Scene(8, 8, [[[1.0, 2.0], [7.0, 2.0], [7.0, 2.5]], [[1.0, 2.0], [7.0, 2.5], [1.0, 2.5]]])
     image = pixel_alphas(alpha_adapter.rasterize(strip), 8, 8)
     tolerance = 1 / 8 if alpha_adapter.convention is None else alpha_adapter.convention.alpha_tolerance
     assert image[2, 1:7] == pytest.approx(0.5, abs=tolerance)

@@ -138,7 +138,7 @@ def test_draw_each_segment_attributes_every_pixel_to_its_segment():
 
     with pytest.raises(RuntimeError, match=r"border: the library failed on segment 0 \[1.0, 1.0\] -> \[3.0, 1.0\]"):
         draw_each_segment(scene, "border", broken)
-    far = LineScene.from_segments(8, 6, [[1, 1], [0, 0]], [[2, 2], [2 * LIMIT, 0]])
+    far = LineScene.from_segments(8, 6, [[1.0, 1.0], [0.0, 0.0]], [[2.0, 2.0], [2 * LIMIT, 0.0]])
     with pytest.raises(ValueError, match="border: segment 1 has a coordinate beyond"):
         draw_each_segment(far, "border", border)
 
@@ -440,7 +440,8 @@ def _mesa(driver: str) -> dict:
     assert done.returncode == 0, done.stdout + done.stderr
     if done.stdout.startswith("UNAVAILABLE"):
         pytest.skip(done.stdout.strip())
-    return json.loads(done.stdout.strip().splitlines()[-1])
+    measured: dict = json.loads(done.stdout.strip().splitlines()[-1])
+    return measured
 
 
 @pytest.fixture(scope="module")

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from harness.contract.conventions import TIE_RULES, Convention
+from harness.contract.conventions import TIE_RULES, Convention, SnapRounding
 from harness.contract.coverage import Coverage
 from harness.contract.protocol import takes
 from harness.contract.scenes import PathScene, Scene
@@ -31,7 +31,7 @@ W = H = 32
 # class, module, the snapping its triangles were identified with (README), how far from the
 # path's edges (px) a pixel where it departs from its best-fitting convention may lie
 # (measured, Debian 12: cairo 1.16, skia-python 144.1, scikit-image 0.26, Pillow 13)
-TWO_D = {
+TWO_D: dict[str, tuple[str, str, tuple[int | None, SnapRounding], float]] = {
     "cairo": ("CairoFill", "cairo", (8, "nearest-even"), 1 / 16),  # 24.8 fixed point
     "skia": ("SkiaPath", "skia", (6, "floor"), 1 / 16),  # 26.6 fixed point, truncated
     "skimage": ("SkimagePolygon", "skimage", (None, "nearest-even"), 1 / 16),
@@ -93,7 +93,7 @@ def distance_to_edges(scene, k, x, y):
     return float(np.sqrt(((a + t[:, None] * d - p) ** 2).sum(axis=1)).min())
 
 
-def best_fit(drawn, snapping):
+def best_fit(drawn, snapping: tuple[int | None, SnapRounding]):
     """The convention among centre samples x the eight tie rules x (no snapping, the
     library's) with the fewest mismatching pixels over ``drawn`` ({(rule, name): (scene,
     coverage)}), and those mismatches."""
@@ -137,7 +137,8 @@ def test_declared_kinds_and_rules():
         assert r.scene_kinds == ("triangles", "paths", "lines") and r.fill_rules == ("evenodd",)
         assert takes(r, scenes("evenodd")["pentagram"]) and not takes(r, scenes("nonzero")["pentagram"])
     assert adapters.MesaMultisample.scene_kinds == ("triangles",)
-    assert not takes(adapters.MesaMultisample, scenes("nonzero")["pentagram"])
+    # the class itself (its declarations are class attributes; the library may be missing)
+    assert not takes(adapters.MesaMultisample, scenes("nonzero")["pentagram"])  # type: ignore[arg-type]
     for cls in ("CairoAntialiased", "SkiaAntialiased"):  # area coverage: triangles only, for now
         assert not takes(getattr(adapters, cls), scenes("nonzero")["pentagram"])
 
@@ -531,7 +532,8 @@ def _mesa(driver: str, random_scenes: int) -> dict:
     assert done.returncode == 0, done.stdout + done.stderr
     if done.stdout.startswith("UNAVAILABLE"):
         pytest.skip(done.stdout.strip())
-    return json.loads(done.stdout.strip().splitlines()[-1])
+    measured: dict = json.loads(done.stdout.strip().splitlines()[-1])
+    return measured
 
 
 @pytest.fixture(scope="module")
