@@ -22,8 +22,8 @@ from __future__ import annotations
 import functools
 import numbers
 from collections.abc import Iterable, Sequence
-from typing import SupportsFloat
 from fractions import Fraction
+from typing import SupportsFloat
 
 import numpy as np
 
