@@ -22,22 +22,31 @@ from cases.motion import motion_cases
 from cases.suites import suite
 from harness.checks import deviations
 from harness.contract.case import Case, case_from_json
-from harness.contract.scenes import Scene
+from harness.contract.scenes import LineScene, PathScene, Scene
 from harness.engine.registry import load
 from harness.engine.runner import run_suite
 from harness.identify.fingerprint import identify
 from harness.oracle.coverage import exact_coverage
 from harness.report import pictures
 from harness.report.pages import write_report
-from harness.report.pictures import draw, draw_repro
+from harness.report.pictures import draw
 from tests.known_bad.antialiasing import SwappedSampleBits
 from tests.known_bad.interpolation import InterpolationBug
 from tests.known_bad.lines import LeftmostFirst
 from tests.known_bad.misc import WrongTieClaim
 from tests.known_bad.paths import PathFillBug
 from tests.optional import NO_CHROMIUM, chromium
+from tests.report.pictured import attr, number, repro_picture
 
 CHROMIUM = chromium()
+
+
+def _chromium() -> str:
+    """The browser (the tests that run it are skipped without one)."""
+    assert CHROMIUM is not None, NO_CHROMIUM
+    return CHROMIUM
+
+
 FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
          "--disable-background-networking", "--disable-component-update", "--disable-sync", "--hide-scrollbars"]
 KEEP = Path(__file__).parents[2] / "reports" / "browser"
@@ -70,7 +79,7 @@ def test_report_renders_in_a_real_browser(tmp_path):
     static = [c for c in suite("quick") if c.id in ("lattice/bits-0", "watertight/fan-8/centre")]
     moving = [c for c in motion_cases(0) if c.id == "motion/textured-64/quad/translate-x-1/64"]
     # in this process: the pages are what is checked here, and the results are the same either way
-    results = run_suite([WrongTieClaim(), InterpolationBug("no-subtexel"), "centre_scanline"], cases=static + moving,
+    results = run_suite([WrongTieClaim(), InterpolationBug("no-subtexel"), "centre_scanline"], cases=[*static, *moving],
                         isolate=False)
     conventions = {"bad_wrong_tie_claim": "claims bottom-right", "bad_no-subtexel": "top-left", "centre_scanline": "top-left"}
     out = tmp_path / "report"
@@ -88,7 +97,7 @@ def test_report_renders_in_a_real_browser(tmp_path):
     # a cold browser profile, or a machine busy with the other test workers, can run out of
     # virtual time before the frames load (a fresh clone's CI once did, three times over)
     for attempt in range(6):
-        dom = subprocess.run([CHROMIUM, *FLAGS, f"--user-data-dir={tmp_path / f'profile-{attempt % 2}'}",
+        dom = subprocess.run([_chromium(), *FLAGS, f"--user-data-dir={tmp_path / f'profile-{attempt % 2}'}",
                               "--allow-file-access-from-files", f"--virtual-time-budget={60000 * (1 + attempt)}",
                               "--dump-dom", checker.as_uri()],
                              capture_output=True, text=True, timeout=120).stdout
@@ -103,7 +112,7 @@ def test_report_renders_in_a_real_browser(tmp_path):
     KEEP.mkdir(parents=True, exist_ok=True)
     for page in ("index.html", "rasterizer-bad_wrong_tie_claim.html", "fingerprints.html"):
         shot = KEEP / page.replace(".html", ".png")
-        subprocess.run([CHROMIUM, *FLAGS, f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1280,1600",
+        subprocess.run([_chromium(), *FLAGS, f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1280,1600",
                         f"--screenshot={shot}", (out / page).as_uri()], capture_output=True, timeout=120)
         assert shot.exists() and shot.stat().st_size > 10_000
 
@@ -153,8 +162,8 @@ def _panels(uri: str) -> list[tuple[float, float, float, tuple[float, float]]]:
     root = ET.fromstring(base64.b64decode(uri.split(",", 1)[1]))
     out = []
     for panel in root.findall("{http://www.w3.org/2000/svg}svg"):
-        x0, y0, w, _ = (float(v) for v in panel.get("viewBox").split())
-        out.append((float(panel.get("x")), float(panel.get("y")), float(panel.get("width")) / w, (x0, y0)))
+        x0, y0, w, _ = (float(v) for v in attr(panel, "viewBox").split())
+        out.append((number(panel, "x"), number(panel, "y"), number(panel, "width") / w, (x0, y0)))
     return out
 
 
@@ -192,7 +201,7 @@ def _probe(out: Path, probes: dict[str, list[tuple[int, list[list[float]]]]], pr
     checker.write_text(PROBE.replace("PROBES", json.dumps(probes)))
     text = "pending"
     for attempt in range(4):  # a machine busy with the other test workers can run out of virtual time
-        dom = subprocess.run([CHROMIUM, *FLAGS, f"--user-data-dir={profile}", "--allow-file-access-from-files",
+        dom = subprocess.run([_chromium(), *FLAGS, f"--user-data-dir={profile}", "--allow-file-access-from-files",
                               f"--virtual-time-budget={60000 * (1 + attempt)}", "--dump-dom", checker.as_uri()],
                              capture_output=True, text=True, timeout=120).stdout
         text = dom.split('<pre id="result">', 1)[-1].split("</pre>", 1)[0]
@@ -226,6 +235,7 @@ def test_repro_pictures_mark_the_offending_pixels_and_draw_the_primitives_where_
     # the campaign: the finding on its scene, shrunk as the campaign shrinks it, on the page
     spec = "tests.acceptance.test_browser:HOLES"
     scene_case = generate(*HOLE_SCENE)
+    assert isinstance(scene_case, Case)
     loaded = _loaded(spec, None, 60.0)
     hole = next(r for r in loaded.check(scene_case, {"watertight"}) if r.status == "fail")
     finding = _finding(hole, scene_case, loaded, *HOLE_SCENE)
@@ -237,9 +247,10 @@ def test_repro_pictures_mark_the_offending_pixels_and_draw_the_primitives_where_
 
     probes: dict[str, list[tuple[int, list[list[float]]]]] = {}
     # per image probed, per group of points: its colour, how many points, how many must show it (-1: none may)
-    expect: dict[str, list[list[tuple[tuple[int, int, int], int, int]]]] = {}
+    # (a colour, or a tuple of colours any of which may show: _near)
+    expect: dict[str, list[list[tuple[Any, int, int]]]] = {}
 
-    def probe(page: str, index: int, groups: list[tuple[list[list[float]], tuple[int, int, int], int]]) -> None:
+    def probe(page: str, index: int, groups: list[tuple[list[list[float]], Any, int]]) -> None:
         probes.setdefault(page, []).append((index, [p for points, _, _ in groups for p in points]))
         expect.setdefault(page, []).append([(rgb, len(points), least) for points, rgb, least in groups])
 
@@ -248,14 +259,15 @@ def test_repro_pictures_mark_the_offending_pixels_and_draw_the_primitives_where_
     html = (out / page).read_text()
     images = _images(html)
     line = next(r for r in results if r.rasterizer == "bad_leftmost_first" and r.status == "fail")
-    uri = images.index(draw_repro(line)[0])
+    uri = images.index(repro_picture(line)[0])
     repro = case_from_json(line.evidence["repro"])
+    assert isinstance(repro, Case) and isinstance(repro.scene, LineScene)
     missing, extra = deviations(LeftmostFirst().rasterize(repro.scene), exact_coverage(repro.scene, LeftmostFirst.convention),
                                 repro.scene.width, repro.scene.height)
     offending = sorted({(x, y) for _, x, y in np.concatenate([missing, extra], axis=1).T.tolist()})
     assert offending and len(repro.scene) == 1
     a, b = (v[0] for v in repro.scene.segments())
-    groups = []
+    groups: list[tuple[list[list[float]], Any, int]] = []
     for panel in _panels(images[uri]):
         groups += [(_outline_points(panel, x, y), red, 6) for x, y in offending]
         groups.append(([_on_image(panel, *(a + t * (b - a))) for t in (0.2, 0.35, 0.65, 0.8)],
@@ -268,6 +280,7 @@ def test_repro_pictures_mark_the_offending_pixels_and_draw_the_primitives_where_
     ms = next(r for r in results if r.rasterizer == "bad_swapped_sample_bits" and r.status == "fail")
     uri = images.index(draw(ms)["samples"])
     scene, pattern = MULTISAMPLE.scene, SwappedSampleBits.convention.samples
+    assert isinstance(scene, Scene)
     answer, oracle = SwappedSampleBits().rasterize(scene), exact_coverage(scene, SwappedSampleBits.convention)
     left_panel, right_panel = _panels(images[uri])
     x0, y0 = left_panel[3]
@@ -297,6 +310,7 @@ def test_repro_pictures_mark_the_offending_pixels_and_draw_the_primitives_where_
     images = _images((out / page).read_text())
     payload = json.loads((state.directory / state.signatures[finding.signature_key]["repro"]).read_text())
     cut = case_from_json(payload)
+    assert isinstance(cut, Case) and isinstance(cut.scene, PathScene)
     assert payload["check"] == "holes" and len(cut.scene) < len(scene_case.scene) == 16
     hole_pixels = [tuple(p) for p in payload["evidence"]["pixels"]]
     drawn = [u for u in images if u.startswith("data:image/svg+xml") and len(_panels(u)) == 2]
@@ -313,15 +327,15 @@ def test_repro_pictures_mark_the_offending_pixels_and_draw_the_primitives_where_
 
     found = _probe(out, probes, tmp_path / "profile")
     for page, images_expected in expect.items():
-        for blocks, groups in zip(found[page], images_expected):
+        for blocks, expected_groups in zip(found[page], images_expected):
             at = 0
-            for rgb, count, least in groups:
+            for rgb, count, least in expected_groups:
                 shown = sum(_near(block, rgb) for block in blocks[at : at + count])
                 assert shown >= least if least >= 0 else shown == 0, (page, rgb, shown, count, least)
                 at += count
     KEEP.mkdir(parents=True, exist_ok=True)
     for page in ("rasterizer-bad_leftmost_first.html", "rasterizer-bad_swapped_sample_bits.html", "campaign.html"):
         shot = KEEP / ("repro-" + page.replace(".html", ".png"))
-        subprocess.run([CHROMIUM, *FLAGS, f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1280,2400",
+        subprocess.run([_chromium(), *FLAGS, f"--user-data-dir={tmp_path / 'profile'}", "--window-size=1280,2400",
                         f"--screenshot={shot}", (out / page).as_uri()], capture_output=True, timeout=120)
         assert shot.exists() and shot.stat().st_size > 10_000

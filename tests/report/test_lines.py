@@ -37,6 +37,7 @@ from harness.report import pictures
 from harness.report.pages import capabilities, line_checks, on_lines, write_report
 from harness.results.gate import compare_with_baseline, load_baseline, save_baseline
 from harness.results.output import results_from_json, results_to_json, write_json
+from tests.report.pictured import attr, drawn_case, number, repro_picture, title_text, titled
 
 SVG = "{http://www.w3.org/2000/svg}"
 CHECK = "test-line-exact"  # registered by the fixture below, for this module only
@@ -126,8 +127,8 @@ def _pixel_fills(svg: ET.Element) -> dict[tuple[int, int], str]:
     out = {}
     for rect in svg.iter(SVG + "rect"):
         if rect.get("height") == "1":
-            x, y, w = int(float(rect.get("x"))), int(float(rect.get("y"))), int(float(rect.get("width")))
-            out.update({(x + i, y): rect.get("fill") for i in range(w)})
+            x, y, w = int(number(rect, "x")), int(number(rect, "y")), int(number(rect, "width"))
+            out.update({(x + i, y): attr(rect, "fill") for i in range(w)})
     return out
 
 
@@ -136,7 +137,7 @@ def _labels(svg: ET.Element, starting: str) -> dict[str, ET.Element]:
     out = {}
     for t in svg.iter(SVG + "text"):
         title = t.find(SVG + "title")
-        if title is not None and title.text.startswith(starting):
+        if title is not None and (title.text or "").startswith(starting):
             out[(title.tail or "").strip()] = t
     return out
 
@@ -162,36 +163,36 @@ def test_a_line_crop_draws_strips_joints_numbers_and_the_diamond_of_the_offendin
     drawn = pictures.draw(failure)
     assert list(drawn) == ["heatmap", "diff", "crop"]
     svg = _svg(drawn["crop"])
-    x0, y0, w, h = (int(float(v)) for v in svg.get("viewBox").split())
+    x0, y0, w, h = (int(float(v)) for v in attr(svg, "viewBox").split())
     assert (w, h) == (pictures.LINE_CROP_SIDE, pictures.LINE_CROP_SIDE) and x0 <= 12 < x0 + w and y0 <= 5 < y0 + h
     # the strip as one polyline through its vertices (all in view but the clipped start), the lone segment as another
-    polylines = [[tuple(float(v) for v in pt.split(",")) for pt in p.get("points").split()] for p in svg.iter(SVG + "polyline")]
+    polylines = [[tuple(float(v) for v in pt.split(",")) for pt in attr(p, "points").split()] for p in svg.iter(SVG + "polyline")]
     assert any([tuple(v) for v in STRIP[1:]] == line[1:] for line in polylines)
     assert len(polylines) == 2
     # segment 0, named by the evidence, thick on top in its colour
     first_colour = _hex(pictures.LINE_LEGEND[list(pictures.LINE_LEGEND)[0]])
     thick = [line for line in svg.iter(SVG + "line") if line.get("stroke") == first_colour]
-    assert len(thick) == 1 and (float(thick[0].get("x2")), float(thick[0].get("y2"))) == (12.5, 5.5)
+    assert len(thick) == 1 and (number(thick[0], "x2"), number(thick[0], "y2")) == (12.5, 5.5)
     assert pictures.numbered_segment(failure) == 0
     # every segment in view numbered, the joints dotted and named
     numbers = _labels(svg, "segment")
     assert set(numbers) == {"0", "1", "2", "3"} and numbers["0"].get("font-weight") == "bold"
-    joints = {c.find(SVG + "title").text for c in svg.iter(SVG + "circle") if c.find(SVG + "title") is not None}
+    joints = {title_text(c) for c in svg.iter(SVG + "circle") if c.find(SVG + "title") is not None}
     assert joints == {"joint: segment 0 ends where segment 1 starts", "joint: segment 1 ends where segment 2 starts"}
     # the diamond test area of each offending pixel in view, segment 0 x-major: its right corner out
-    diamonds = [g.find(SVG + "title").text for g in svg.iter(SVG + "g") if g.find(SVG + "title") is not None
-                and g.find(SVG + "title").text.startswith("diamond")]
+    diamonds = [title_text(g) for g in svg.iter(SVG + "g") if g.find(SVG + "title") is not None
+                and title_text(g).startswith("diamond")]
     assert diamonds and diamonds[0].startswith("diamond test area of pixel (12, 5)")
     assert "right corner out (an x-major" in diamonds[0]
-    outlined = {(int(float(r.get("x"))), int(float(r.get("y")))) for r in svg.iter(SVG + "rect") if r.get("stroke")}
+    outlined = {(int(number(r, "x")), int(number(r, "y"))) for r in svg.iter(SVG + "rect") if r.get("stroke")}
     assert (12, 5) in outlined
 
 
 def test_a_line_crop_colours_each_pixel_segment_by_segment_against_the_oracle(results: list[Result]) -> None:
     failure = _failure(results, CASES[0].id)
-    scene = failure.drawing.case.scene
+    scene = drawn_case(failure).scene
     svg = _svg(pictures.draw(failure)["crop"])
-    x0, y0, w, h = (int(float(v)) for v in svg.get("viewBox").split())
+    x0, y0, w, h = (int(float(v)) for v in attr(svg, "viewBox").split())
     fills = _pixel_fills(svg)
     got = exact_coverage(scene, LAST_PIXEL)
     want = exact_coverage(scene, DIAMOND)
@@ -203,7 +204,7 @@ def test_a_line_crop_colours_each_pixel_segment_by_segment_against_the_oracle(re
     # the joint pixel is drawn by the oracle too (segment 1 starts there), yet extra: segment 0 drew it
     assert fills[(12, 5)] == _hex(pictures.DIFF_LEGEND["extra (rasterizer only)"])
     # and it shows that two segments drew it
-    hits = {(int(float(t.get("x"))), int(float(t.get("y")))): t.find(SVG + "title").tail for t in svg.iter(SVG + "text")
+    hits = {(int(number(t, "x")), int(number(t, "y"))): titled(t).tail for t in svg.iter(SVG + "text")
             if t.get("fill") == _hex(pictures.LINE_LEGEND[list(pictures.LINE_LEGEND)[-1]])}
     counts = got.counts(scene.width, scene.height)
     assert hits == {(x, y): str(counts[y, x]) for y in range(y0, y0 + h) for x in range(x0, x0 + w) if counts[y, x] > 1}
@@ -214,18 +215,20 @@ def test_a_line_crop_colours_each_pixel_segment_by_segment_against_the_oracle(re
 def test_the_crop_draws_what_the_line_rule_needs(rule: str, results: list[Result]) -> None:
     failure = _failure(results, CASES[0].id)
     convention = Convention(line=rule, sample=(0.25, 0.75)) if rule == "rectangle" else Convention(line=rule)
-    scene = failure.drawing.case.scene.with_line_width(3.0) if rule == "rectangle" else failure.drawing.case.scene
+    original = drawn_case(failure).scene
+    assert isinstance(original, LineScene) and failure.drawing is not None
+    scene = original.with_line_width(3.0) if rule == "rectangle" else original
     case = Case(failure.case, scene, lattice=True)
     drawn = replace(failure, drawing=Drawing(case, failure.drawing.coverages, convention))
     svg = _svg(pictures.draw(drawn)["crop"])
-    titles = [g.find(SVG + "title").text for g in svg.iter(SVG + "g") if g.find(SVG + "title") is not None]
+    titles = [title_text(g) for g in svg.iter(SVG + "g") if g.find(SVG + "title") is not None]
     assert not [t for t in titles if t.startswith("diamond")]  # the diamond belongs to the diamond-exit rule only
     dotted = [p for p in svg.iter(SVG + "polygon") if p.get("stroke-dasharray")]
-    dots = {(round(float(c.get("cx")) % 1, 6), round(float(c.get("cy")) % 1, 6)) for c in svg.iter(SVG + "circle")
+    dots = {(round(number(c, "cx") % 1, 6), round(number(c, "cy") % 1, 6)) for c in svg.iter(SVG + "circle")
             if c.get("fill") == "#333"}
     if rule == "rectangle":
         assert len(dotted) == 4 and dots == {(0.25, 0.75)}  # each segment's rectangle; the convention's sample points
-        corners = [tuple(float(v) for v in pt.split(",")) for pt in dotted[1].get("points").split()]
+        corners = [tuple(float(v) for v in pt.split(",")) for pt in attr(dotted[1], "points").split()]
         # segment 1's rectangle (wholly in view): its corners 1.5 px either side of its end points
         assert len(corners) == 4 and all(min(np.hypot(cx - ex, cy - ey) for ex, ey in STRIP[1:3]) == pytest.approx(1.5)
                                          for cx, cy in corners)
@@ -239,14 +242,14 @@ def test_a_line_repro_is_drawn_with_its_segments_and_the_pixels_the_rule_draws(r
     segment drawn where it is (through the pixels the rule draws)."""
     failure = _failure(results, CASES[0].id)
     repro = case_from_json(failure.evidence["repro"])
-    assert isinstance(repro.scene, LineScene) and len(repro.scene) < len(failure.drawing.case.scene)
-    uri, caption = pictures.draw_repro(failure)
+    assert isinstance(repro, Case) and isinstance(repro.scene, LineScene) and len(repro.scene) < len(drawn_case(failure).scene)
+    uri, caption = repro_picture(failure)
     n = len(repro.scene)
     assert caption.startswith(f"minimal repro: its {n} segment{'s' if n > 1 else ''} (of 4)")
     assert ("left: what the rasterizer drew, right: what the convention draws (diamond-exit lines, last pixel omitted, "
             "no snapping)") in caption
     left, right = _svg(uri).findall(SVG + "svg")
-    x0, y0, w, h = (int(float(v)) for v in right.get("viewBox").split())
+    x0, y0, w, h = (int(float(v)) for v in attr(right, "viewBox").split())
     want = exact_coverage(repro.scene, DIAMOND).counts(repro.scene.width, repro.scene.height)
     got = LastPixelLines().rasterize(repro.scene).counts(repro.scene.width, repro.scene.height)
     inside = [(x, y) for y in range(y0, y0 + h) for x in range(x0, x0 + w)]
@@ -256,19 +259,19 @@ def test_a_line_repro_is_drawn_with_its_segments_and_the_pixels_the_rule_draws(r
     differ = {(x, y) for x, y in inside if bool(got[y, x]) != bool(want[y, x])}
     red = _hex(pictures.CROP_LEGEND["offending pixel (outlined)"])
     for panel in (left, right):
-        outlined = {(int(float(r.get("x"))), int(float(r.get("y")))) for r in panel.iter(SVG + "rect") if r.get("stroke") == red}
+        outlined = {(int(number(r, "x")), int(number(r, "y"))) for r in panel.iter(SVG + "rect") if r.get("stroke") == red}
         assert outlined == differ and differ
     a, b = repro.scene.segments()
     line = next(e for e in right.iter(SVG + "line") if e.get("stroke-width") == "3")  # the segment, thick
-    assert [float(line.get(k)) for k in ("x1", "y1", "x2", "y2")] == [*a[0].tolist(), *b[0].tolist()]
+    assert [number(line, k) for k in ("x1", "y1", "x2", "y2")] == [*a[0].tolist(), *b[0].tolist()]
     # read back from JSON (no drawing, no convention): what the rasterizer drew alone, and said so
     bare = results_from_json(json.loads(json.dumps(results_to_json([failure], "custom", 0, {}))))[0]
-    uri, caption = pictures.draw_repro(bare)
-    assert uri is not None and "what the rasterizer drew (no convention known, so nothing beside it)" in caption
+    uri, caption = repro_picture(bare)
+    assert "what the rasterizer drew (no convention known, so nothing beside it)" in caption
     assert len(_svg(uri).findall(SVG + "svg")) == 1
     # a repro file from before the answer was kept: the rule's pixels alone, the whole case's marks near the segment
     old = {k: v for k, v in failure.evidence["repro"].items() if k not in ("answer", "evidence")}
-    uri, caption = pictures.draw_repro(replace(failure, evidence={**failure.evidence, "repro": old}))
+    uri, caption = repro_picture(replace(failure, evidence={**failure.evidence, "repro": old}))
     assert "the pixels the convention draws (diamond-exit lines, last pixel omitted, no snapping)" in caption
     assert _pixel_fills(_svg(uri)) == {(x, y): _hex(pictures.CROP_LEGEND[pictures._CONVENTION]) for x, y in inside if want[y, x]}
 
@@ -297,8 +300,8 @@ def test_the_failures_of_every_check_that_judges_lines_are_drawn(line_check: Che
         assert pictures.numbered_segment(failure) is not None and list(svg.iter(SVG + "polyline")), failure.check
         assert [r for r in svg.iter(SVG + "rect") if r.get("stroke")], f"{failure.check}: no pixel marked"
         if "repro" in failure.evidence:
-            uri, _ = pictures.draw_repro(failure)
-            assert uri is not None and _svg(uri).tag == SVG + "svg"
+            uri, _ = repro_picture(failure)
+            assert _svg(uri).tag == SVG + "svg"
 
 
 def test_line_colours_mean_nothing_else_in_any_picture() -> None:
@@ -340,7 +343,7 @@ def report(results: list[Result], tmp_path_factory: pytest.TempPathFactory) -> P
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_text(json.dumps(r.evidence["repro"]))
             r.evidence["repro_path"] = str(path.relative_to(out))
-    rasterizers = [LastPixelLines(), ExactLines()]
+    rasterizers: list[LastPixelLines | ExactLines] = [LastPixelLines(), ExactLines()]
     conventions = {r.name: r.convention.describe() for r in rasterizers}
     write_report(out, conventions, results, seed=0, fingerprints={LastPixelLines.name: FINGERPRINT},
                  **capabilities(rasterizers))
@@ -370,7 +373,9 @@ def test_the_index_tabulates_the_line_drawers_with_their_rule_and_failures(repor
     table = index[index.index('<h2 id="line-drawers">'):index.index("<h2>Conventions</h2>")]
     for name in (LastPixelLines.name, ExactLines.name):
         assert f'<a href="rasterizer-{name}.html">{name}</a>' in table
-    header = re.search(r"<tr><th>rasterizer</th>.*?</tr>", table, re.S).group()
+    header_row = re.search(r"<tr><th>rasterizer</th>.*?</tr>", table, re.S)
+    assert header_row is not None
+    header = header_row.group()
     columns = re.findall(r'<th title="[^"]*">([^<]+)</th>', header)
     assert columns == line_checks(results)
     assert "declared: diamond-exit lines, last pixel omitted, no snapping" in table
@@ -411,7 +416,7 @@ def test_the_rasterizer_page_shows_line_failures_with_pictures_and_the_line_lege
 
 
 def test_an_exact_identification_confirms_or_refutes_the_declared_line_rule(results: list[Result], tmp_path: Path) -> None:
-    rasterizers = [LastPixelLines(), ExactLines()]
+    rasterizers: list[LastPixelLines | ExactLines] = [LastPixelLines(), ExactLines()]
     found = {LastPixelLines.name: "diamond-exit lines, last pixel drawn, no snapping",
              ExactLines.name: "diamond-exit lines, last pixel omitted, no snapping"}
     fingerprints = {name: {**FINGERPRINT, "rasterizer": name, "line_rule": None,
@@ -436,7 +441,7 @@ def test_told_nothing_the_report_reads_that_a_rasterizer_takes_lines_from_its_re
 
 
 def test_line_results_round_trip_through_json_with_the_scene_kinds_and_line_rules(results: list[Result], tmp_path: Path) -> None:
-    rasterizers = [LastPixelLines(), ExactLines()]
+    rasterizers: list[LastPixelLines | ExactLines] = [LastPixelLines(), ExactLines()]
     path = write_json(tmp_path / "run.json", results, "custom", 0, {r.name: r.convention.describe() for r in rasterizers},
                       {LastPixelLines.name: FINGERPRINT}, **capabilities(rasterizers))
     data = json.loads(path.read_text())
@@ -450,6 +455,7 @@ def test_line_results_round_trip_through_json_with_the_scene_kinds_and_line_rule
     assert failure.evidence["pixels"][0].keys() >= {"segment", "x", "y"}
     repro = case_from_json(failure.evidence["repro"])
     original = case_from_json(_failure(results, failure.case).evidence["repro"])
+    assert isinstance(repro, Case) and isinstance(original, Case) and isinstance(original.scene, LineScene)
     assert isinstance(repro.scene, LineScene) and np.array_equal(repro.scene.vertices, original.scene.vertices)
     assert all(on_lines(r) for r in back)  # read back, the line cases are known by their family
 

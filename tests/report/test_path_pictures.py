@@ -31,6 +31,7 @@ from harness.engine.runner import run_suite
 from harness.oracle.coverage import exact_coverage
 from harness.report import pictures
 from harness.report.pages import capabilities, on_paths, write_report
+from tests.report.pictured import attr, drawn_case, number, repro_picture
 
 SVG = "{http://www.w3.org/2000/svg}"
 
@@ -118,12 +119,13 @@ def test_the_numbers_say_what_each_rule_fills() -> None:
     w = pictures.winding_numbers(scene, 0, Convention(), (0, 0, 12, 12))
     assert w is not None and w[6, 6] == 2 and w[4, 1] == 1 and w[0, 0] == 0
     back = PathScene.from_paths(12, 12, [[PENTAGRAM[0][::-1]]], "nonzero")
-    assert np.array_equal(pictures.winding_numbers(back, 0, Convention(), (0, 0, 12, 12)), -w)
+    back_w = pictures.winding_numbers(back, 0, Convention(), (0, 0, 12, 12))
+    assert back_w is not None and np.array_equal(back_w, -w)
     ring = PathScene.from_paths(12, 12, [RING_SAME], "evenodd")
     w = pictures.winding_numbers(ring, 0, Convention(), (0, 0, 12, 12))
     assert w is not None and w[6, 6] == 2 and w[2, 2] == 1  # a hole wound like its ring: 2, even-odd leaves it
     assert not pictures.rule_fills(w, "evenodd")[6, 6] and pictures.rule_fills(w, "nonzero")[6, 6]
-    nan = PathScene.from_paths(4, 4, [[[[0, 0], [3, 0], [float("nan"), 3]]]], "nonzero")
+    nan = PathScene.from_paths(4, 4, [[[[0.0, 0.0], [3.0, 0.0], [float("nan"), 3.0]]]], "nonzero")
     assert pictures.winding_numbers(nan, 0, Convention(), (0, 0, 4, 4)) is None  # covers nothing: no number
 
 
@@ -145,7 +147,12 @@ def test_a_path_of_100000_vertices_costs_a_filter_and_a_few_exact_tests(monkeypa
     scene = PathScene.from_paths(512, 512, [[ring]], "nonzero")
     tested = []
     real = pictures.orientation
-    monkeypatch.setattr(pictures, "orientation", lambda p: (tested.append(len(p)), real(p))[1])
+
+    def counted(p):
+        tested.append(len(p))
+        return real(p)
+
+    monkeypatch.setattr(pictures, "orientation", counted)
     window = (50, 240, 82, 272)  # across the ring's left side
     w = pictures.winding_numbers(scene, 0, Convention(), window)
     assert w is not None and np.array_equal(pictures.rule_fills(w, "nonzero"), _path_mask(scene, 0, Convention(), window))
@@ -203,7 +210,7 @@ def _numbers(svg: ET.Element) -> dict[tuple[int, int], tuple[int, bool]]:
     out = {}
     for text in svg.iter(SVG + "text"):
         if text.text and re.fullmatch(r"-?\d+", text.text):
-            out[(math.floor(float(text.get("x"))), math.floor(float(text.get("y"))))] = (int(text.text),
+            out[(math.floor(number(text, "x")), math.floor(number(text, "y")))] = (int(text.text),
                                                                                           text.get("font-weight") == "bold")
     return out
 
@@ -212,25 +219,27 @@ def test_a_failing_path_case_draws_the_paths_and_the_oracles_winding_numbers(res
     failures = [r for r in results if r.status == "fail" and r.check == "conformance"]
     assert {r.case for r in failures} == {c.id for c in CASES}
     for failure in failures:
-        scene = failure.drawing.case.scene
+        scene = drawn_case(failure).scene
+        assert isinstance(scene, PathScene)
         drawn = pictures.draw(failure)
         assert list(drawn) == ["heatmap", "diff", "crop"]
         svg = _svg(drawn["crop"])
         paths = list(svg.iter(SVG + "path"))
         assert paths and {p.get("fill-rule") for p in paths} == {scene.fill_rule}  # one <path> per path, the scene's rule
-        assert all(p.get("d").startswith("M") and float(p.get("fill-opacity")) < 0.5 for p in paths)
+        assert all(attr(p, "d").startswith("M") and number(p, "fill-opacity") < 0.5 for p in paths)
         assert list(svg.iter(SVG + "polygon")), "arrowheads along the edges"
         path = pictures.numbered_path(failure)
-        assert path == failure.evidence["pixels"][0]["path"]
-        x0, y0, w, h = (int(float(v)) for v in svg.get("viewBox").split())
+        assert path is not None and path == failure.evidence["pixels"][0]["path"]
+        x0, y0, w, h = (int(float(v)) for v in attr(svg, "viewBox").split())
         window = (x0, y0, x0 + w, y0 + h)
         numbers = _numbers(svg)
         assert len(numbers) == w * h  # one per pixel of the window
         want = _path_mask(scene, path, Convention(), window)
         winding = pictures.winding_numbers(scene, path, Convention(), window)
-        for (x, y), (number, bold) in numbers.items():
-            assert number == winding[y - y0, x - x0]
-            assert bold == bool(want[y - y0, x - x0]) == bool(pictures.rule_fills(np.array([number]), scene.fill_rule)[0])
+        assert winding is not None
+        for (x, y), (written, bold) in numbers.items():
+            assert written == winding[y - y0, x - x0]
+            assert bold == bool(want[y - y0, x - x0]) == bool(pictures.rule_fills(np.array([written]), scene.fill_rule)[0])
 
 
 @pytest.mark.parametrize("convention", [Convention(samples=4, tie="bottom-right"), None])
@@ -242,11 +251,11 @@ def test_a_multisample_crop_numbers_the_first_sample_and_one_without_a_conventio
                      Drawing(case, (Coverage.empty(),), convention))
     numbered = convention.at_sample(0) if convention is not None else Convention()
     svg = _svg(pictures.draw(failure)["crop"])
-    x0, y0, w, h = (int(float(v)) for v in svg.get("viewBox").split())
+    x0, y0, w, h = (int(float(v)) for v in attr(svg, "viewBox").split())
     want = _path_mask(scene, 0, numbered, (x0, y0, x0 + w, y0 + h))
     numbers = _numbers(svg)
     assert len(numbers) == w * h and all(bold == bool(want[y - y0, x - x0]) for (x, y), (_, bold) in numbers.items())
-    dots = {(float(c.get("cx")) % 1, float(c.get("cy")) % 1) for c in svg.iter(SVG + "circle") if c.get("fill") == "#333"}
+    dots = {(number(c, "cx") % 1, number(c, "cy") % 1) for c in svg.iter(SVG + "circle") if c.get("fill") == "#333"}
     assert dots == {numbered.sample}
 
 
@@ -280,17 +289,18 @@ def test_the_evidence_of_each_path_check_names_the_path_to_number() -> None:
 
 def test_a_path_repro_is_drawn_with_its_winding_numbers(results: list[Result]) -> None:
     failure = next(r for r in results if r.check == "conformance" and r.case == "paths/ring-same/lattice/evenodd")
-    repro = Case("paths/ring-same/lattice/evenodd/repro", failure.drawing.case.scene.subset([0]), lattice=True)
+    repro = Case("paths/ring-same/lattice/evenodd/repro", drawn_case(failure).scene.subset([0]), lattice=True)
+    assert isinstance(repro.scene, PathScene)
     payload = case_to_json(repro, check="conformance", rasterizer="wrong_rule", message="m", original_case=failure.case,
                            original_triangles=2)
     with_repro = Result(failure.rasterizer, failure.case, failure.check, failure.status, failure.message, failure.metrics,
                         {**failure.evidence, "repro": payload}, failure.drawing)
-    uri, caption = pictures.draw_repro(with_repro)
-    assert uri is not None and caption.startswith("minimal repro: its 1 path (of 2) under the evenodd rule")
+    uri, caption = repro_picture(with_repro)
+    assert caption.startswith("minimal repro: its 1 path (of 2) under the evenodd rule")
     assert "winding number of its sample around path 0" in caption
     svg = _svg(uri)
     numbers = _numbers(svg)
-    x0, y0, w, h = (int(float(v)) for v in svg.get("viewBox").split())
+    x0, y0, w, h = (int(float(v)) for v in attr(svg, "viewBox").split())
     want = _path_mask(repro.scene, 0, Convention(), (x0, y0, x0 + w, y0 + h))
     assert numbers and all(bold == bool(want[y - y0, x - x0]) for (x, y), (_, bold) in numbers.items())
     covered = "#{:02x}{:02x}{:02x}".format(*pictures.CROP_LEGEND[pictures._CONVENTION])
@@ -324,7 +334,7 @@ def test_triangle_pictures_are_byte_for_byte_what_they_were() -> None:
     def digest(uri: str) -> str:
         return hashlib.sha256(base64.b64decode(uri.split(",", 1)[1])).hexdigest()
 
-    uri, caption = pictures.draw_repro(failure)
+    uri, caption = repro_picture(failure)
     got = {"svg_crop": digest(pictures.svg_crop(scene.positions, coverage, (0.5, 0.5), (2, 1, 14, 12), [(5, 6), (9, 3)])),
            "svg_window": digest(pictures.svg_window(scene.positions, None, (230, 205, 140), None, (0, 0, 16, 12), [(5, 6)])),
            "draw_crop": digest(pictures.draw(failure)["crop"]), "repro": digest(uri)}
@@ -337,7 +347,7 @@ def test_triangle_pictures_are_byte_for_byte_what_they_were() -> None:
 
 
 def test_the_report_shows_path_failures_fill_rules_and_the_polygon_fillers(results: list[Result], tmp_path: Any) -> None:
-    rasterizers = [WrongRule(), DoubleEdges()]
+    rasterizers: list[WrongRule | DoubleEdges] = [WrongRule(), DoubleEdges()]
     conventions = {r.name: r.convention.describe() for r in rasterizers}
     fingerprints = {"wrong_rule": {"rasterizer": "wrong_rule", "convention": "sample (0.5, 0.5), top-left ties", "exact": True,
                                    "residual": 0, "pixels": 10, "runner_up": None, "facts": {}, "ambiguous": [],

@@ -16,6 +16,7 @@ from harness.engine.runner import run_suite
 from harness.oracle.coverage import exact_coverage
 from harness.report import pictures
 from tests.known_bad.antialiasing import GRID_4X4, InclusiveSupersampledTies, SwappedSampleBits
+from tests.report.pictured import attr, number, repro_picture, title_text, titled
 
 SVG = "{http://www.w3.org/2000/svg}"
 # a right edge at x = 3.125 through a column of the 4 x 4 grid's samples: top-left ties
@@ -36,7 +37,7 @@ def _hex(rgb: tuple[int, int, int]) -> str:
 
 def _dots(panel: ET.Element, **attributes: str) -> set[tuple[float, float]]:
     """The centres of the circles with these attributes."""
-    return {(round(float(c.get("cx")), 6), round(float(c.get("cy")), 6)) for c in panel.iter(SVG + "circle")
+    return {(round(number(c, "cx"), 6), round(number(c, "cy"), 6)) for c in panel.iter(SVG + "circle")
             if all(c.get(k) == v for k, v in attributes.items())}
 
 
@@ -48,7 +49,7 @@ def _covered_samples(coverage_of_sample: list, window: tuple[int, int, int, int]
 
 
 def _window(panel: ET.Element) -> tuple[int, int, int, int]:
-    x0, y0, w, h = (int(float(v)) for v in panel.get("viewBox").split())
+    x0, y0, w, h = (int(float(v)) for v in attr(panel, "viewBox").split())
     return x0, y0, x0 + w, y0 + h
 
 
@@ -73,6 +74,7 @@ def test_an_anti_aliased_crop_draws_the_conventions_samples_and_both_alphas(aa_f
     left, right = _panels(images["samples"])
     window = _window(right)
     scene = ON_SAMPLES.scene
+    assert isinstance(scene, Scene)
     want = [exact_coverage(scene, Convention(sample=o)).counts(scene.width, scene.height) > 0 for o in GRID_4X4]
     hit = _hex(pictures.SAMPLE_LEGEND["sample covered (dot)"])
     assert _dots(right, fill=hit) == _covered_samples(want, window, GRID_4X4)
@@ -80,26 +82,29 @@ def test_an_anti_aliased_crop_draws_the_conventions_samples_and_both_alphas(aa_f
     # the offending pixels: outlined, and their alphas written as shares of the 16 samples, k/16
     offending = {(p["x"], p["y"]) for p in aa_failure.evidence["pixels"] if p["over"]}  # the rest: its worst, within tolerance
     got = InclusiveSupersampledTies().rasterize(scene)
+    assert got.alpha is not None
     got_alpha = {(x, y): a for x, y, a in zip(got.pixels()[1].tolist(), got.pixels()[2].tolist(), got.alpha.tolist())}
     for panel, share in ((left, lambda x, y: round(16 * got_alpha.get((x, y), 0.0))),
                          (right, lambda x, y: sum(int(w[y, x]) for w in want))):
-        labels = {t.find(SVG + "title").text: t.find(SVG + "title").tail for t in panel.iter(SVG + "text")
-                  if t.find(SVG + "title") is not None and t.find(SVG + "title").text.startswith("alpha of pixel")}
+        labels = {title_text(t): titled(t).tail for t in panel.iter(SVG + "text")
+                  if t.find(SVG + "title") is not None and title_text(t).startswith("alpha of pixel")}
         assert labels == {f"alpha of pixel ({x}, {y})": f"{share(x, y)}/16" for x, y in offending}
         red = _hex(pictures.CROP_LEGEND["offending pixel (outlined)"])
-        outlined = {(int(float(r.get("x"))), int(float(r.get("y")))) for r in panel.iter(SVG + "rect") if r.get("stroke") == red}
+        outlined = {(int(number(r, "x")), int(number(r, "y"))) for r in panel.iter(SVG + "rect") if r.get("stroke") == red}
         assert outlined == offending
     assert "off_level" not in aa_failure.evidence  # off by the samples on the edge, not off a level
     assert all(round(16 * got_alpha[p]) == sum(int(w[p[1], p[0]]) for w in want) + 4 for p in offending)
 
 
 def test_a_multisample_crop_rings_the_samples_where_the_rasterizer_and_the_convention_differ(ms_failure: Result) -> None:
+    assert ms_failure.drawing is not None
     assert ms_failure.drawing.whole is not None and ms_failure.drawing.whole.convention == SwappedSampleBits.convention
     images = pictures.draw(ms_failure)
     assert list(images) == ["heatmap", "diff", "crop", "samples"]
     left, right = _panels(images["samples"])
     window = _window(right)
     scene, pattern = SMALL.scene, SwappedSampleBits.convention.samples
+    assert isinstance(scene, Scene)
     answer, oracle = SwappedSampleBits().rasterize(scene), exact_coverage(scene, SwappedSampleBits.convention)
     got = [answer.layer(k).counts(scene.width, scene.height) > 0 for k in range(len(pattern))]
     want = [oracle.layer(k).counts(scene.width, scene.height) > 0 for k in range(len(pattern))]
@@ -111,7 +116,7 @@ def test_a_multisample_crop_rings_the_samples_where_the_rasterizer_and_the_conve
 
 
 def test_a_multisample_repro_is_drawn_with_its_samples(ms_failure: Result) -> None:
-    uri, caption = pictures.draw_repro(ms_failure)
+    uri, caption = repro_picture(ms_failure)
     assert "left: what the rasterizer drew, right: what the convention (D3D11 4x, top-left ties" in caption
     left, right = _panels(uri)
     red = _hex(pictures.SAMPLE_LEGEND[pictures._DIFFERS])
