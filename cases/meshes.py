@@ -34,7 +34,7 @@ def _rotation(rng: np.random.Generator) -> NDArray[np.float64]:
     import trimesh
 
     q = rng.normal(size=4)
-    rotation: NDArray[np.float64] = trimesh.transformations.quaternion_matrix(q / np.linalg.norm(q))  # type: ignore[no-untyped-call]
+    rotation: NDArray[np.float64] = trimesh.transformations.quaternion_matrix(q / np.linalg.norm(q))
     return rotation
 
 

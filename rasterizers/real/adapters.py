@@ -277,7 +277,7 @@ class SkimagePolygon(_OneAtATime):
         _need("skimage")
         from skimage.draw import line, polygon
 
-        # skimage.draw is not annotated: both return (rows, cols) index arrays
+        # (skimage.draw is not annotated: both give (rows, cols) index arrays)
         self._polygon: Callable[..., tuple[NDArray, NDArray]] = polygon
         self._line: Callable[..., tuple[NDArray, NDArray]] = line
 

@@ -36,6 +36,7 @@ from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.warm import safe_numba_cache
 
 distributed = pytest.importorskip("distributed")
+WorkerPlugin: Any = distributed.WorkerPlugin  # (a base class from a module that may be missing)
 
 INCLUSIVE = "tests.campaign.test_campaign:inclusive"
 RARE = "tests.known_bad.rare:RareSlopeTie"
@@ -80,7 +81,7 @@ class BottomRightBox:
         return exact_coverage(scene, Convention(tie="bottom-right"))
 
 
-class SafeNumbaCache(distributed.WorkerPlugin):
+class SafeNumbaCache(WorkerPlugin):  # type: ignore[misc]  # (Any: distributed is optional)
     """Numba's cache made safe for processes compiling side by side (as in every test
     worker: :func:`tests.warm.safe_numba_cache`), in each Dask worker as it starts."""
 
@@ -89,7 +90,7 @@ class SafeNumbaCache(distributed.WorkerPlugin):
 
 
 @pytest.fixture(scope="module")
-def cluster():  # type: ignore[no-untyped-def]
+def cluster():
     """One LocalCluster of two single-threaded worker processes for the module, as a
     campaign makes its own (:func:`harness.campaign.campaign.local_cluster`)."""
     with local_cluster(2) as client:
@@ -120,7 +121,7 @@ def _findings(findings: Any) -> list[tuple[Any, ...]]:
     return sorted((f.family, f.seed, f.index, f.check, f.status, f.signature_key) for f in findings)
 
 
-def test_a_resumed_campaign_repeats_no_scene_and_a_correct_rasterizer_has_no_finding(cluster, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+def test_a_resumed_campaign_repeats_no_scene_and_a_correct_rasterizer_has_no_finding(cluster, tmp_path: Path) -> None:
     local, _ = cluster
     first: list[ProgressEvent] = []
     second: list[ProgressEvent] = []
@@ -142,7 +143,7 @@ def test_a_resumed_campaign_repeats_no_scene_and_a_correct_rasterizer_has_no_fin
     assert second[-1].finished and second[-1].scenes_per_second > 0 and second[-1].primitives_per_second > 0
 
 
-def test_crashes_and_hangs_are_findings_and_the_campaign_finishes(cluster, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+def test_crashes_and_hangs_are_findings_and_the_campaign_finishes(cluster, tmp_path: Path) -> None:
     local, _ = cluster
     state = run_campaign("tests.campaign.test_campaign:Explosive", budget_scenes=12, families=["lattice"], state_dir=tmp_path,
                          scheduler=local.scheduler_address, batch_size=6, timeout=1.0, only=["conformance"])
@@ -152,7 +153,7 @@ def test_crashes_and_hangs_are_findings_and_the_campaign_finishes(cluster, tmp_p
     assert "died" in crash["message"] and (tmp_path / crash["repro"]).is_file()
 
 
-def test_the_held_out_rare_bug_is_found_within_a_modest_budget(cluster, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+def test_the_held_out_rare_bug_is_found_within_a_modest_budget(cluster, tmp_path: Path) -> None:
     local, _ = cluster
     state = run_campaign(RARE, budget_scenes=60, families=["lattice", "float", "degenerate", "paths"], state_dir=tmp_path,
                          scheduler=local.scheduler_address)
@@ -252,7 +253,7 @@ def test_bad_arguments_are_refused_naming_them(tmp_path: Path) -> None:
 # last: the cluster has one worker left after it
 
 
-def test_two_workers_find_the_bug_and_a_killed_worker_loses_no_finding(cluster, tmp_path: Path) -> None:  # type: ignore[no-untyped-def]
+def test_two_workers_find_the_bug_and_a_killed_worker_loses_no_finding(cluster, tmp_path: Path) -> None:
     local, client = cluster
     pids = client.run(os.getpid)
     killed: dict[str, Any] = {}
@@ -372,7 +373,7 @@ def test_a_state_with_three_disjoint_done_ranges_loads_again(tmp_path):
 @pytest.mark.parametrize("hostile", ["ArraysDetonate", "CoverageDetonates", "RaisesDetonating", "RaisesUnprintableDetonating",
                                      "NamedDetonating"])
 def test_nothing_a_plugin_returns_is_unpickled_in_the_coordinator_or_a_dask_worker(cluster, tmp_path: Path,
-                                                                                  hostile: str) -> None:  # type: ignore[no-untyped-def]
+                                                                                  hostile: str) -> None:
     """A campaign's Dask workers send the coordinator batches and repros, by pickle: only
     plain data may be in them. Hostile answers (tests/known_bad/hostile_pickles.py: a
     coverage, its arrays, an exception or its text, the rasterizer's name, whose

@@ -41,6 +41,7 @@ from tests.known_bad.antialiasing import (
     SwappedSampleBits,
     TruncatedArea,
 )
+from tests.narrow import triangles
 
 AREA_CHECKS = {"accuracy", "seams", "popping"}
 
@@ -114,8 +115,8 @@ class FloatSupersampler:
             parts.append((t, xs[hit], ys[hit], count[hit] / len(self.offsets)))
         if not parts:
             return Coverage.empty()
-        t = np.concatenate([np.full(x.size, k) for k, x, _, _ in parts])
-        return Coverage.from_pixels(t, np.concatenate([x for _, x, _, _ in parts]),
+        primitive = np.concatenate([np.full(x.size, k) for k, x, _, _ in parts])
+        return Coverage.from_pixels(primitive, np.concatenate([x for _, x, _, _ in parts]),
                                     np.concatenate([y for _, _, y, _ in parts]),
                                     alpha=np.concatenate([a for _, _, _, a in parts]))
 
@@ -228,8 +229,8 @@ def test_accuracy_fails_alphas_off_the_declared_levels_and_nothing_else():
     yet on none of the levels it declares."""
     case = quick()["lattice/bits-2"]
     convention = Convention(coverage="area")
-    oracle = exact_coverage(case.scene, convention)
     assert isinstance(case, Case)
+    oracle = exact_coverage(case.scene, convention)
     verdict = accuracy(case, oracle, oracle, convention)
     assert verdict.status == "fail" and verdict.metrics["over_tolerance"] == 0 and verdict.metrics["off_level"] > 100
     assert "declared levels" in verdict.message and verdict.evidence["off_level"][0].keys() >= {"x", "y", "alpha", "level"}
@@ -268,7 +269,7 @@ def test_an_area_exactly_halfway_between_levels_may_round_to_either():
     exactly at it, whichever way a rasterizer rounds (the decision is on the numbers the
     floats 142/255 and 0.5/255 stand for, not on the floats); a level further is not. On
     its half-pixel lattice, with no near tie to hide behind."""
-    scene = Scene(40, 40, [[[22, 22], [30, 23.5], [24.5, 30.5]]])
+    scene = Scene(40, 40, [[[22.0, 22.0], [30.0, 23.5], [24.5, 30.5]]])
     assert exact_area(scene.positions[0], 22, 23) == Fraction(285, 510)
     convention = Convention(coverage="area")
     case = Case("exact/halfway", scene, lattice=True)
@@ -307,7 +308,7 @@ def test_seams_allow_each_piece_the_declared_tolerance():
     rasterizer = Truncated8Bit()
     for case in cases("watertight/fan-8/centre", "watertight/grid-6x6-main/float"):
         assert isinstance(case, Case) and case.region is not None
-        answer = rasterizer.rasterize(case.scene)
+        answer = rasterizer.rasterize(triangles(case.scene))
         one_level = rasterizer.convention
         oracle = exact_coverage(case.scene, one_level)
         verdict = seams(case, answer, one_level, oracle)
@@ -337,7 +338,7 @@ def test_a_float_supersampler_passes_with_its_samples_within_rounding_of_an_edge
     assert isinstance(case, Case) and not case.lattice
     rasterizer = FloatSupersampler()
     convention = rasterizer.convention
-    answer, oracle = rasterizer.rasterize(case.scene), exact_coverage(case.scene, convention)
+    answer, oracle = rasterizer.rasterize(triangles(case.scene)), exact_coverage(case.scene, convention)
     verdict = accuracy(case, answer, oracle, convention)
     metrics = verdict.metrics
     assert verdict.status == "pass" and metrics["over_tolerance"] == 0 and metrics["max_error"] == 0, verdict.message
@@ -413,7 +414,7 @@ def test_known_bad_anti_aliasers_fail_accuracy_by_real_error_off_the_lattice():
 
 
 # the cause each area known-bad's accuracy failure names, and words its message says
-AREA_CAUSES = [
+AREA_CAUSES: list[tuple[Any, str, str]] = [  # (known-bad anti-aliasers of many classes)
     (BiasedArea(), "alpha-bias", "2.0 levels high on average"),
     (GammaEncodedArea(), "gamma", "(gamma 2.2"),
     (HalfPixelShiftedArea(), "sub-pixel-shift", "moved by (+0.5, +0.5) px"),
@@ -473,7 +474,7 @@ def test_seams_counts_a_missing_piece_and_a_stray():
     assert isinstance(case, Case) and case.region is not None
     rasterizer = Quantised8Bit()
     convention = rasterizer.convention
-    answer = rasterizer.rasterize(case.scene)
+    answer = rasterizer.rasterize(triangles(case.scene))
     oracle = exact_coverage(case.scene, convention)
     assert seams(case, answer, convention, oracle).status == "pass"
     dropped = answer.take(np.flatnonzero(answer.triangle != 7))
@@ -622,7 +623,7 @@ def test_an_edge_stepped_in_float32_drifts_down_the_tall_triangles_and_fails_acc
     level (a rounding) near the top and tens of levels near the bottom, where accuracy finds it (no
     near tie); the built-in anti-aliasers pass the same case."""
     case = quick()[TALL]
-    assert isinstance(case, Case) and np.ptp(case.scene.positions[..., 1], axis=1).min() >= 2048
+    assert isinstance(case, Case) and np.ptp(triangles(case.scene).positions[..., 1], axis=1).min() >= 2048
     bad = Float32EdgeStepping()
     verdict = judged(bad, [case], {"accuracy"})["accuracy"][TALL]
     assert verdict.status == "fail" and verdict.metrics["max_error"] * 255 >= 10 and verdict.metrics["near_tie"] == 0
@@ -632,7 +633,7 @@ def test_an_edge_stepped_in_float32_drifts_down_the_tall_triangles_and_fails_acc
     # issue 29: the cause named from the facts, drift down the triangle
     assert signature(verdict, case, bad.convention).key == "accuracy|drift|none", verdict.message
     assert "error growing down the triangle" in verdict.message
-    y, error = _errors_by_row(bad, case.scene)
+    y, error = _errors_by_row(bad, triangles(case.scene))
     assert error[y < 64].max() < 1.5 and error[y > 2000].max() >= 10
     from rasterizers.area_scanline import AreaScanline
     from rasterizers.supersample import Supersampler4

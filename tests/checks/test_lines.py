@@ -99,7 +99,7 @@ RULES = {
 }
 
 
-def _run(rasterizer, cases, only=None):  # type: ignore[no-untyped-def]
+def _run(rasterizer, cases, only=None):
     return run_suite([rasterizer], cases=cases, isolate=False, identify=False, repros=False, only=only)
 
 
@@ -155,7 +155,7 @@ KNOWN_BAD: list[tuple[Any, str, Case]] = [
 
 
 @pytest.mark.parametrize(("bad", "check", "case"), KNOWN_BAD, ids=[b.name for b, _, _ in KNOWN_BAD])
-def test_each_known_bad_fails_its_check_naming_the_segment(bad, check: str, case: Case) -> None:  # type: ignore[no-untyped-def]
+def test_each_known_bad_fails_its_check_naming_the_segment(bad, check: str, case: Case) -> None:
     (verdict,) = [r for r in _run(bad, [case], only={check}) if r.check == check]
     assert verdict.status == "fail", verdict.message
     assert '"segment' in json.dumps(verdict.evidence), verdict.evidence
@@ -255,7 +255,7 @@ def test_line_near_tie_distances_are_upper_bounds_and_zero_only_at_ties() -> Non
             n = np.array([-d[1], d[0]]) / np.hypot(*d)
             depth.append(max(abs(n[0]), abs(n[1])) / 2 - abs(n @ a))
         if min(depth) >= 0:
-            return min(depth)
+            return float(min(depth))
         edges = [(corners[0], corners[2]), (corners[2], corners[1]), (corners[1], corners[3]), (corners[3], corners[0])]
         outside = [min(to_segment(p, *e) for e in edges) for p in (a, b)]
         return min(*outside, *(to_segment(c, a, b) for c in corners))

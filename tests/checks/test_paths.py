@@ -30,7 +30,7 @@ ARROW = [[1.5, 1.5], [9.5, 1.5], [9.5, 9.5], [5.5, 4.5], [1.5, 9.5]]  # concave;
 class OracleFiller:
     """Fills exactly as the oracle says, paths and triangles; knobs make it wrong."""
 
-    scene_kinds = ("triangles", "paths")
+    scene_kinds: tuple[str, ...] = ("triangles", "paths")
     interpolates = False
 
     def __init__(self, name: str = "oracle_filler", convention: Convention = Convention(), triangles: Convention | None = None,
@@ -59,11 +59,11 @@ class OracleFiller:
         return cov.take(np.flatnonzero(np.isin(cov.primitive, keep)))
 
 
-def _results(rasterizer, cases, only=None):  # type: ignore[no-untyped-def]
+def _results(rasterizer, cases, only=None):
     return run_suite([rasterizer], cases=cases, isolate=False, identify=False, repros=False, only=only)
 
 
-def _status(results, check):  # type: ignore[no-untyped-def]
+def _status(results, check):
     return {r.case: r.status for r in results if r.check == check}
 
 
@@ -83,7 +83,7 @@ def test_the_oracle_filler_passes_every_path_check_and_a_wrong_rule_fails_confor
     assert _status(good, "triangulation")["paths/arrow/nonzero"] == "pass"
 
     class EvenOddAlways(OracleFiller):
-        def rasterize(self, scene):  # type: ignore[no-untyped-def]
+        def rasterize(self, scene):
             return super().rasterize(scene.with_fill_rule("evenodd") if isinstance(scene, PathScene) else scene)
 
     bad = _status(_results(EvenOddAlways("evenodd_always"), CASES, {"conformance"}), "conformance")
@@ -120,7 +120,7 @@ def test_path_partitions_are_judged_watertight() -> None:
     assert _results(OracleFiller(), [case], {"watertight"})[0].status == "pass"
 
     class Inclusive(OracleFiller):  # samples on shared edges drawn by both cells
-        def rasterize(self, scene):  # type: ignore[no-untyped-def]
+        def rasterize(self, scene):
             cov = super().rasterize(scene)
             extra = exact_coverage(scene, Convention(tie="bottom-right"))
             return Coverage.concat([cov, extra]).canonical() if isinstance(scene, PathScene) else cov
@@ -163,7 +163,7 @@ def test_path_cases_round_trip_and_the_oracle_equals_the_triangle_oracle_on_tria
         assert exact_coverage(paths, convention) == exact_coverage(Scene(8, 8, triangles), convention)
     case = Case("paths/two", paths)
     back = case_from_json(case_to_json(case))
-    assert isinstance(back.scene, PathScene) and back.scene.fill_rule == rule
+    assert isinstance(back, Case) and isinstance(back.scene, PathScene) and back.scene.fill_rule == rule
     assert np.array_equal(back.scene.vertices, paths.vertices) and np.array_equal(back.scene.contour_path, paths.contour_path)
 
 
@@ -182,7 +182,7 @@ def test_a_scene_a_rasterizer_cannot_draw_as_given_is_a_skip_saying_why() -> Non
     from harness.contract.scenes import Unsupported
 
     class OneContour(OracleFiller):
-        def rasterize(self, scene):  # type: ignore[no-untyped-def]
+        def rasterize(self, scene):
             if isinstance(scene, PathScene) and np.bincount(scene.contour_path).max() > 1:
                 raise Unsupported(f"{self.name}: path 0 has {len(scene.contour_sizes)} contours; one per call")
             return super().rasterize(scene)

@@ -101,6 +101,7 @@ def test_every_registered_check_says_how_its_failures_are_read():
     for check in every_check():
         assert callable(check.classifier_function()), check.name  # a dotted name resolves
         assert check.cause_role in ("root", "consequent", "own") and check.motion_role in ("frame", "through-frames", "none")
+        assert check.figures is not None, check.name
         assert all(isinstance(f, Figure) and f.how in ("max", "sum", "mean") for f in check.figures), check.name
     # the detector itself: a check registered without them is named, with what it lacks
     bare = Check("bare", _few_pixels, lambda case: True)
@@ -166,7 +167,7 @@ def test_a_classifier_named_by_a_dotted_path_resolves_on_first_use():
     with pytest.raises(ValueError, match="few_pixels_dotted.*module:function"):
         replace(FEW_PIXELS, name="few_pixels_dotted", classifier="harness.diagnose.signatures.classify_overdraw")
     with pytest.raises(ValueError, match="cause_role"):
-        replace(FEW_PIXELS, cause_role="cause")
+        replace(FEW_PIXELS, cause_role="cause")  # type: ignore[arg-type]  # no such role: refused
 
 
 def test_a_name_registers_once():
@@ -180,7 +181,7 @@ def test_a_name_registers_once():
 
 def _imports(path: Path, package: str) -> set[str]:
     tree = ast.parse(path.read_text())
-    out = set()
+    out: set[str] = set()
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
             out.update(a.name for a in node.names)

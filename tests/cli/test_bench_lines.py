@@ -28,6 +28,7 @@ from harness.cli.bench import (
 from harness.contract.conventions import Convention
 from harness.contract.scenes import LineScene
 from harness.oracle.coverage import exact_coverage
+from tests.narrow import lines
 
 SCALE = 0.01  # 1,000 short segments, 10 long ones
 
@@ -47,7 +48,7 @@ def test_the_line_workloads_are_short_and_long_segments_inside_the_screen() -> N
         ends = np.concatenate([a, b])
         assert (ends >= 0.5).all() and (ends <= 1023.5).all()  # no peer clips
         assert work.mean_area == pytest.approx(np.hypot(*(b - a).T).mean()) and f"{count:,} " in work.description
-    lengths = [np.hypot(*np.subtract(*w.scene.segments()).T) for w in (short, long)]
+    lengths = [np.hypot(*np.subtract(*lines(w.scene).segments()).T) for w in (short, long)]
     assert lengths[0].min() >= 2.0 and lengths[0].max() <= 16.0 and lengths[1].min() >= 256.0
     full = line_workloads(1.0)
     assert [len(w.scene) for w in full] == [100_000, 1_000]
@@ -64,7 +65,7 @@ def _bresenham_fragments(scene: LineScene) -> int:
 
 @pytest.mark.parametrize("work", [0, 1])
 def test_the_bresenham_oracle_draws_one_pixel_per_major_step(work: int) -> None:
-    scene = line_workloads(SCALE)[work].scene
+    scene = lines(line_workloads(SCALE)[work].scene)
     a, b = scene.segments()
     assert not (np.concatenate([a, b]) == np.floor(np.concatenate([a, b]))).any()
     assert exact_coverage(scene, LINE_ORACLES["oracle_bresenham"]).n_pixels == _bresenham_fragments(scene)
@@ -89,7 +90,7 @@ def test_run_bench_measures_the_line_workloads_against_pillow() -> None:
         assert ms[0].ratio_to_pillow == 1.0
         assert all(m.unit == "segments" and m.description and m.seconds > 0 and m.pixels > 0 for m in ms)
         assert all(m.ratio_to_pillow == pytest.approx(ms[0].seconds / m.seconds) for m in ms)
-    scene = line_workloads(SCALE)[0].scene
+    scene = lines(line_workloads(SCALE)[0].scene)
     oracle = {m.contender: m.pixels for m in by_work["L1"]}
     assert oracle["oracle_diamond_exit"] == SHORT_PIXELS["oracle_diamond_exit"]
     assert oracle["oracle_bresenham"] == _bresenham_fragments(scene)
@@ -126,7 +127,7 @@ def test_a_rasterizer_is_measured_on_the_line_workloads_when_it_takes_lines() ->
     labels = [label for label, _ in _contenders(short, [TakesLines(), TrianglesOnly()])]
     assert "takes-lines" in labels and "triangles-only" not in labels
     drawn = dict(_contenders(short, [TakesLines()]))["takes-lines"]()
-    assert drawn.n_pixels == _bresenham_fragments(short.scene)
+    assert drawn.n_pixels == _bresenham_fragments(lines(short.scene))
 
 
 def _drawn(result: object) -> np.ndarray:
@@ -149,7 +150,7 @@ def test_the_library_peers_draw_the_same_segments(peer: str) -> None:
     if peer not in draws:
         pytest.skip(f"{peer}: {missing_peers().get(peer, 'its library is not installed')}")
     for work in line_workloads(SCALE):
-        scene = work.scene
+        scene = lines(work.scene)
         drawn = _drawn(draws[peer](scene))
         differ = {label: int((drawn != (exact_coverage(scene, c).counts(1024, 1024) > 0)).sum()) for label, c in LINE_ORACLES.items()}
         nearest, exactly = NEAREST[peer]

@@ -11,6 +11,7 @@ from harness.cli.bench import _contenders, _path_peers, format_table, missing_pe
 from harness.contract.conventions import Convention
 from harness.contract.scenes import PathScene
 from harness.oracle.coverage import exact_coverage
+from tests.narrow import paths
 
 SCALE = 0.01  # 10 stars; an outline of 1,000 vertices
 
@@ -25,10 +26,10 @@ def test_the_path_workloads_are_stars_and_an_outline_under_both_rules():
     for w in works:
         assert isinstance(w.scene, PathScene) and (w.scene.width, w.scene.height) == (512, 512)
         assert w.scene.fill_rule == w.name.split("-")[1] and w.name.split("-")[1] in w.description
-    star, outline = works[0].scene, works[2].scene
+    star, outline = paths(works[0].scene), paths(works[2].scene)
     assert len(star) == 10 and star.contour_sizes.tolist() == [10] * 10
     assert len(outline) == 1 and outline.contour_sizes.tolist() == [1000]
-    assert len(path_workloads(1.0)[0].scene) == 1000 and path_workloads(1.0)[2].scene.vertices.shape == (100_000, 2)
+    assert len(path_workloads(1.0)[0].scene) == 1000 and paths(path_workloads(1.0)[2].scene).vertices.shape == (100_000, 2)
 
 
 def test_a_star_is_a_ten_three_star_polygon():
@@ -42,13 +43,13 @@ def test_a_star_is_a_ten_three_star_polygon():
 
 @pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
 def test_the_oracle_on_the_stars_equals_the_reference_count(rule):
-    scene = path_workloads(SCALE)[0].scene.with_fill_rule(rule)
+    scene = paths(path_workloads(SCALE)[0].scene).with_fill_rule(rule)
     assert exact_coverage(scene, Convention()).n_pixels == STAR_PIXELS[rule]
 
 
 def test_run_bench_measures_the_path_workloads_against_pillow():
     results = [m for m in run_bench(["centre_scanline"], scale=SCALE, budget=0.0) if m.workload.startswith("P")]
-    by_work = {}
+    by_work: dict[str, list] = {}
     for m in results:
         by_work.setdefault(m.workload, []).append(m)
     assert list(by_work) == ["P1-nonzero", "P1-evenodd", "P2-nonzero", "P2-evenodd"]
@@ -100,7 +101,7 @@ def test_the_library_peers_fill_under_the_rule_asked(peer, rule):
     fills = dict(_path_peers())
     if peer not in fills:
         pytest.skip(f"{peer}: {missing_peers().get(peer, 'its library is not installed')}")
-    scene = path_workloads(SCALE)[0].scene.with_fill_rule(rule)
+    scene = paths(path_workloads(SCALE)[0].scene).with_fill_rule(rule)
     drawn = fills[peer](scene).read() > 0
     union = exact_coverage(scene, Convention()).counts(512, 512) > 0
     other = exact_coverage(scene.with_fill_rule("evenodd" if rule == "nonzero" else "nonzero"), Convention()).counts(512, 512) > 0

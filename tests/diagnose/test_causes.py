@@ -10,6 +10,7 @@ import io
 import json
 import re
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -49,7 +50,7 @@ def run(tmp_path_factory):
 
 def _causes(lines):
     """The causes printed: (rasterizer, cause, count, checks, [(count, status, check, words)], repro)."""
-    found = []
+    found: list[list[Any]] = []
     for line in lines:
         if (m := CAUSE.match(line)) is not None:
             found.append([m.group(1), m.group(2), int(m.group(3)), m.group(4).split(", "), [], None])

@@ -19,6 +19,7 @@ from harness.oracle.coverage import exact_coverage
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.known_bad.misc import WrongTieClaim
 from tests.known_bad.paths import PathFillBug
+from tests.narrow import moving, still, triangles
 
 
 @given(st.sets(st.integers(0, 40), min_size=1, max_size=4), st.integers(1, 60))
@@ -35,9 +36,12 @@ def test_json_round_trip_is_exact():
     positions[3, 0, 1] = -np.inf
     scene = Scene(40, 30, positions, attributes=rng.normal(size=(7, 3, 2)), w=rng.uniform(0.5, 2, size=(7, 3)))
     case = Case("x/y", scene, lattice=False, region=np.array([[0.1, 0.2], [3, 4], [5, 0]]), refusable=(1,))
-    back = case_from_json(json.loads(json.dumps(case_to_json(case))))
-    assert np.array_equal(back.scene.positions, positions, equal_nan=True)
-    assert np.array_equal(back.scene.attributes, scene.attributes) and np.array_equal(back.scene.w, scene.w)
+    back = still(case_from_json(json.loads(json.dumps(case_to_json(case)))))
+    back_scene = triangles(back.scene)
+    assert back_scene.attributes is not None and back_scene.w is not None and back.region is not None
+    assert scene.attributes is not None and scene.w is not None and case.region is not None
+    assert np.array_equal(back_scene.positions, positions, equal_nan=True)
+    assert np.array_equal(back_scene.attributes, scene.attributes) and np.array_equal(back_scene.w, scene.w)
     assert np.array_equal(back.region, case.region) and back.refusable == (1,)
 
 
@@ -89,7 +93,7 @@ def test_motion_cases_round_trip_exactly(tmp_path):
     from cases.motion import motion_cases
 
     case = motion_cases(0)[0]
-    back = load_case(save_case(tmp_path / "m.json", case, check="jaggy"))
+    back = moving(load_case(save_case(tmp_path / "m.json", case, check="jaggy")))
     assert back.id == case.id and back.texels == case.texels and len(back.frames) == len(case.frames)
     assert all(np.array_equal(a.positions, b.positions) for a, b in zip(back.frames, case.frames))
 
@@ -99,7 +103,7 @@ def test_motion_cases_round_trip_exactly(tmp_path):
     (EdgeFunctionBug("inclusive"), "watertight/fan-32/centre", "watertight"),
 ])
 def test_failures_shrink_to_small_replayable_cases(bad, case_id, check, tmp_path):
-    case = next(c for c in suite("quick") if c.id == case_id)
+    case = still(next(c for c in suite("quick") if c.id == case_id))
     failing = [r for r in run_suite([bad], cases=[case]) if r.check == check and r.status == "fail"]
     assert failing
     payload = failing[0].evidence["repro"]
@@ -138,7 +142,8 @@ def test_a_hole_is_cut_down_to_the_pieces_around_it(bad, case, tmp_path):
                if r.status == "fail"]
     assert failing and failing[0].metrics["holes"] > 0
     payload = failing[0].evidence["repro"]
-    cut = case_from_json(payload)
+    cut = still(case_from_json(payload))
+    assert cut.region is not None
     assert payload["check"] == "holes" and payload["original_triangles"] == len(case.scene) > len(cut.scene) >= 1
     x, y = payload["evidence"]["pixels"][0]  # the hole on the repro, one of those the whole case's blames
     assert [x, y] in [e["pixel"] for e in failing[0].evidence["blame"] if e["kind"] == "hole"]
@@ -150,14 +155,15 @@ def test_a_hole_is_cut_down_to_the_pieces_around_it(bad, case, tmp_path):
     assert [r.status for r in replay(path, _ExactPaths(), identify=False) if r.check == "holes"] == ["pass"]
     # the repro file keeps what the rasterizer drew on it, for its picture
     answer = answer_from_json(payload["answer"])
+    assert answer is not None
     assert np.array_equal(answer.counts(cut.scene.width, cut.scene.height),
                           bad.rasterize(cut.scene).counts(cut.scene.width, cut.scene.height))
 
 
 def test_saved_case_replays_identically(tmp_path):
-    case = suite("quick")[0]
+    case = still(suite("quick")[0])
     path = save_case(tmp_path / "c.json", case)
-    assert np.array_equal(load_case(path).scene.positions, case.scene.positions)
+    assert np.array_equal(triangles(still(load_case(path)).scene).positions, triangles(case.scene).positions)
     assert [r.status for r in replay(path, "fixed_point")] == [r.status for r in run_suite(["fixed_point"], cases=[case])]
 
 
@@ -167,6 +173,6 @@ def test_coordinates_are_written_as_short_decimals_where_exact_and_read_back_exa
     assert data["positions"][0][0] == ["0.375", "1.5"] and data["positions"][0][1][0] == "12"
     assert data["positions"][0][1][1] == float.hex(0.1) and data["positions"][0][2][0] == float.hex(1e-300)
     back = load_case(save_case(tmp_path / "c.json", Case("x/y", scene)))
-    assert np.array_equal(back.scene.positions, scene.positions)
+    assert np.array_equal(triangles(still(back).scene).positions, scene.positions)
     data["positions"][0][0] = ["10", 1.5]  # "10" is ten (not hex sixteen); numbers are read exactly
-    assert case_from_json(data).scene.positions[0, 0].tolist() == [10.0, 1.5]
+    assert triangles(still(case_from_json(data)).scene).positions[0, 0].tolist() == [10.0, 1.5]

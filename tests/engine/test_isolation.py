@@ -52,7 +52,7 @@ def test_a_worker_scales_its_limit_by_the_declared_and_the_seen_samples() -> Non
         name = "undeclared"
         convention = None
 
-        def rasterize(self, scene):  # type: ignore[no-untyped-def]
+        def rasterize(self, scene):
             from harness.contract.coverage import Coverage
 
             return Coverage.from_pixels([0], [2], [3], sample=[7])  # one fragment, of sample 7 of 8
@@ -81,7 +81,7 @@ class SleepsOnItsFirstCall(CentreScanline):
         super().__init__()
         self.marker = marker
 
-    def rasterize(self, scene):  # type: ignore[no-untyped-def]
+    def rasterize(self, scene):
         if not self.marker.exists():
             self.marker.touch()
             time.sleep(600)
@@ -97,7 +97,7 @@ class HangsAlways(CentreScanline):
         super().__init__()
         self.calls = calls
 
-    def rasterize(self, scene):  # type: ignore[no-untyped-def]
+    def rasterize(self, scene):
         (self.calls / f"{os.getpid()}-{time.monotonic_ns()}").touch()
         time.sleep(600)
 
@@ -152,7 +152,7 @@ class HangsOnSixteenths:
     def __init__(self) -> None:
         self.inner = CentreScanline()
 
-    def rasterize(self, scene):  # type: ignore[no-untyped-def]
+    def rasterize(self, scene):
         p = scene.positions
         if len(scene) == 120 and np.any(np.isfinite(p) & (np.mod(p * 16.0, 2.0) == 1.0)):
             time.sleep(600)
@@ -186,7 +186,7 @@ class HiddenMultisampleHangingOnSixteenths:
     name = "hidden_16x_hanging"
     convention = None
 
-    def rasterize(self, scene):  # type: ignore[no-untyped-def]
+    def rasterize(self, scene):
         from harness.oracle.coverage import exact_coverage
 
         p = scene.positions

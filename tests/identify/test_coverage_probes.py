@@ -13,7 +13,14 @@ from harness.contract.coverage import Coverage
 from harness.contract.samples import STANDARD_PATTERNS
 from harness.contract.scenes import Scene
 from harness.engine.isolation import InProcess
-from harness.identify.coverage_probes import CONTINUOUS_LEVELS, alpha_sweeps, coverage_kind, sample_positions
+from harness.identify.coverage_probes import (
+    CONTINUOUS_LEVELS,
+    SampleSides,
+    SweepFact,
+    alpha_sweeps,
+    coverage_kind,
+    sample_positions,
+)
 from harness.identify.fingerprint import identify
 from harness.oracle.coverage import exact_coverage
 
@@ -33,6 +40,7 @@ class Hidden:
         if self.levels is None:
             return cov
         step = self.levels - 1
+        assert cov.alpha is not None
         return Coverage(cov.triangle, cov.y, cov.x0, cov.x1, alpha=np.round(cov.alpha * step) / step)
 
 
@@ -74,6 +82,7 @@ class SnappedArea:
         scale = 2.0**self.bits
         rounded = Scene(scene.width, scene.height, np.rint(scene.positions * scale) / scale)
         cov = exact_coverage(rounded, Convention(coverage="area"))
+        assert cov.alpha is not None
         return Coverage(cov.triangle, cov.y, cov.x0, cov.x1, alpha=np.round(cov.alpha * 255) / 255)
 
 
@@ -123,7 +132,9 @@ def test_identify_recovers_a_multisample_pattern_exactly_in_its_order(hidden, sa
     if hidden.cull == "none":  # culling leaves half a partition out
         assert fingerprint.facts["watertight"].startswith("every sample: yes")
     assert fingerprint.to_dict()["samples"] == [list(o) for o in hidden.samples]
-    assert not fingerprint.probes["sample sides"].dropped  # a pattern, mirrored or not, is seen alike from both sides
+    sides = fingerprint.probes["sample sides"]
+    assert isinstance(sides, SampleSides)
+    assert not sides.dropped  # a pattern, mirrored or not, is seen alike from both sides
 
 
 def _undeclared(bad):
@@ -143,7 +154,9 @@ def test_samples_dropped_near_edges_are_no_wrong_pattern():
     fingerprint = identify(_undeclared(RejectsNearEdges()))
     said = fingerprint.facts["pattern"]
     assert said.startswith("SAMPLES DROPPED NEAR EDGES") and "not the standard" not in said, said
-    assert fingerprint.probes["sample sides"].dropped and not fingerprint.exact
+    sides = fingerprint.probes["sample sides"]
+    assert isinstance(sides, SampleSides)
+    assert sides.dropped and not fingerprint.exact
 
 
 def test_a_card_with_samples_sharing_an_offset_never_claims_a_pattern():
@@ -176,9 +189,11 @@ def test_sample_positions_bisects_every_sample_at_once():
 def test_identify_recovers_analytic_area_and_its_levels(levels):
     fingerprint = identify(Hidden(Convention(coverage="area"), levels))
     sweeps = fingerprint.probes["sweeps"]
+    assert isinstance(sweeps, SweepFact)
     assert fingerprint.kind == "area" and sweeps.model == "analytic", fingerprint.card()
     assert fingerprint.convention == Convention(coverage="area", levels=levels or CONTINUOUS_LEVELS)
     assert fingerprint.exact and sweeps.levels == levels
+    assert sweeps.vertical is not None and sweeps.horizontal is not None
     assert sweeps.vertical.levels >= 256 and sweeps.horizontal.levels >= 256  # about a level per 1/256 px step
     assert sweeps.max_error <= (0.5 / 255 if levels else 2.0**-24)
     assert fingerprint.to_dict()["levels"] == (levels or CONTINUOUS_LEVELS)
@@ -190,7 +205,10 @@ def test_identify_finds_an_anti_aliasers_input_grid():
     # exact area of the vertices as given many alphas lie beyond half a level, against that of
     # the scene rounded to 1/64 px none
     fingerprint = identify(SnappedArea(6))
-    grid = fingerprint.probes["sweeps"].grid
+    swept = fingerprint.probes["sweeps"]
+    assert isinstance(swept, SweepFact)
+    grid = swept.grid
+    assert grid is not None
     assert fingerprint.convention == Convention(coverage="area", levels=256, subpixel_bits=6), fingerprint.card()
     assert fingerprint.exact and (grid.bits, grid.rounding, grid.beyond) == (6, "nearest-even", 0) and grid.unsnapped > 0
     assert fingerprint.facts["input grid"].startswith("1/64 px (26.6), rounding half to even;")
@@ -206,7 +224,9 @@ def test_identify_finds_an_anti_aliasers_input_grid():
 def test_identify_recovers_a_supersampling_grid(hidden, levels, layout, sweep_levels):
     fingerprint = identify(Hidden(hidden))
     sweeps = fingerprint.probes["sweeps"]
+    assert isinstance(sweeps, SweepFact)
     assert sweeps.model == "supersampled" and sweeps.layout == layout, fingerprint.card()
+    assert sweeps.vertical is not None and sweeps.horizontal is not None and sweeps.pattern is not None
     assert (sweeps.vertical.levels, sweeps.horizontal.levels) == sweep_levels  # n + 1 and m + 1
     assert set(sweeps.pattern) == set(hidden.samples)
     # the shares of 16 (4) samples are multiples of 1/16 (1/4): that is their quantisation
@@ -217,6 +237,7 @@ def test_identify_recovers_a_supersampling_grid(hidden, levels, layout, sweep_le
 def test_a_supersampler_quantised_to_8_bits_keeps_its_grid():
     fingerprint = identify(Hidden(Convention(coverage="area", samples=GRID4), 256))
     sweeps = fingerprint.probes["sweeps"]
+    assert isinstance(sweeps, SweepFact) and sweeps.pattern is not None
     assert sweeps.model == "supersampled" and set(sweeps.pattern) == set(GRID4), fingerprint.card()
     assert fingerprint.convention == Convention(coverage="area", samples=GRID4) and fingerprint.exact
 
@@ -227,6 +248,8 @@ def test_analytic_area_is_told_from_4x4_and_8x8_supersampling():
     fine = alpha_sweeps(InProcess(Supersampler(8)))
     assert analytic.model == "analytic" and coarse.model == fine.model == "supersampled"
     assert (coarse.layout, fine.layout) == ("regular 4 x 4 grid (16 samples)", "regular 8 x 8 grid (64 samples)")
+    assert fine.pattern is not None and fine.vertical is not None and fine.horizontal is not None
+    assert fine.convention is not None
     assert set(fine.pattern) == set(Supersampler(8).grid) and fine.levels == 65
     assert (fine.vertical.levels, fine.horizontal.levels) == (9, 9)
     # 64 samples, more than a multisample convention holds: a supersampled area convention

@@ -96,6 +96,7 @@ def test_identify_recovers_the_declared_line_convention_exactly(declared):
     box = LineBox(declared)
     fp = identify(box)
     assert fp.line_convention == declared and fp.line_rule == declared.line, fp.card()
+    assert fp.line_fit is not None and fp.runner_up is not None
     assert fp.exact and fp.line_fit.exact and fp.residual == 0 and fp.runner_up[1] > 0, fp.card()
     assert fp.convention == declared and fp.lines_only
     assert box.kinds_seen == {"lines"}  # a lines-only box is sent nothing else
@@ -107,6 +108,7 @@ def test_identify_recovers_the_declared_line_convention_exactly(declared):
     assert dict(fp.line_fit.rule_scores)[declared.line.rule] == 0
     assert "(identified exactly)" in fp.card() and fp.card().splitlines()[1].endswith(declared.describe_lines())
     wide = fp.line_fit.wide  # width 3: drawn as rectangles, refused by a width-1 rule
+    assert wide is not None
     if declared.line.rule == "rectangle":
         assert wide.error == "" and wide.mismatches == 0 and wide.pixels > 0, wide.text
     else:
@@ -117,7 +119,7 @@ def test_the_probe_scenes_part_every_pair_of_candidate_rules():
     """No two unsnapped candidates draw the crafted scene alike: the rule fit can tell each
     from every other whatever the random lattice scenes hold."""
     scene = crafted_lines()
-    seen = {}
+    seen: dict[bytes, list[Convention]] = {}
     for candidate in line_candidates():
         prim, x, y = exact_coverage(scene, candidate).pixels()
         key = (prim * scene.height + y) * scene.width + x
@@ -151,6 +153,7 @@ def test_triangles_and_lines_each_by_their_own_convention():
     fp = identify(box)
     assert box.kinds_seen == {"triangles", "lines"}
     assert fp.exact and fp.convention == Convention(subpixel_bits=8, line=lines.line), fp.card()
+    assert fp.line_fit is not None
     assert fp.line_convention == lines and fp.line_fit.exact and not fp.lines_only
     assert fp.line_fit.differences == ("snapping bits None (triangles: 8)",)
     assert fp.to_dict()["line_convention"]["same_as_triangles"] is False
@@ -167,5 +170,6 @@ def test_a_snapping_no_line_shows_is_taken_to_be_the_triangles():
     lines = Convention(line=LineRule("bresenham", rounding="floor"), subpixel_bits=8, snap_rounding="floor", cull="cw")
     fp = Fingerprint("box", triangles, 0, 1, ("another", 3))
     _with_lines(fp, InProcess(LineBox(lines, triangles)), 0)
+    assert fp.line_fit is not None
     assert fp.line_convention == lines and fp.convention == lines and fp.line_fit.same_as_triangles, fp.card()
     assert not hasattr(Identified(LineBox(lines, triangles), fp), "line_convention")

@@ -25,7 +25,8 @@ class PathBox:
     rule asked when None)."""
 
     convention = None
-    scene_kinds = ("triangles", "paths")
+    scene_kinds: tuple[str, ...] = ("triangles", "paths")
+    fill_rules: tuple[str, ...]  # (none unless set: then only these rules are asked)
 
     def __init__(self, triangles=Convention(), paths=None, draws=None, name="pathbox"):
         self.triangles, self.paths, self.draws, self.name = triangles, paths or triangles, draws, name
@@ -79,6 +80,7 @@ def test_an_honest_rasterizer_is_seen_to_honour_both_rules_and_one_convention():
     box = PathBox()
     fp = identify(box)
     assert fp.fill_rules == {"nonzero": "nonzero", "evenodd": "evenodd"}, fp.card()
+    assert fp.path_fit is not None
     assert fp.path_convention == Convention() and fp.path_fit.exact and fp.path_fit.same_as_triangles, fp.card()
     assert fp.exact and fp.convention == Convention()
     # the evidence: every rule's mismatches on the sure pixels, on the card and in the JSON
@@ -100,6 +102,7 @@ def test_always_even_odd_is_seen_and_the_runner_is_handed_only_even_odd():
     assert fp.honoured_fill_rules == ("evenodd",)
     assert "asked nonzero: draws EVENODD, not the rule asked" in fp.facts["fill rules"]
     # the path convention is fitted, and tried on genuine paths, under the honoured rule only
+    assert fp.path_fit is not None and fp.path_fit.lattice is not None
     assert fp.path_fit.rule == "evenodd" and [s[0] for s in fp.path_fit.lattice.scores] == ["evenodd"]
     assert fp.path_convention == Convention() and fp.path_fit.exact
     wrapped = Identified(box, fp)
@@ -113,6 +116,7 @@ def test_a_path_convention_unlike_the_triangle_one_is_a_finding():
     triangles, paths = Convention(), Convention(tie="top-right", sample=(0.0, 0.0), subpixel_bits=4)
     fp = identify(PathBox(triangles, paths))
     assert fp.convention == triangles and fp.exact, fp.card()
+    assert fp.path_fit is not None
     assert fp.path_convention == paths and fp.path_fit.exact and fp.path_fit.same_as_triangles is False, fp.card()
     assert "DIFFERS from triangles" in fp.facts["paths"]
     assert set(fp.to_dict()["path_convention"]["differences"]) == {
@@ -240,6 +244,7 @@ def test_a_paths_only_rasterizer_with_another_tie_rule_is_identified_through_one
     box.fill_rules = ("evenodd",)
     fp = identify(box)
     assert box.kinds_seen == {"paths"}
+    assert fp.path_fit is not None
     assert fp.convention == hidden and fp.exact and fp.path_convention == hidden and fp.path_fit.exact, fp.card()
     assert fp.path_fit.same_as_triangles is None and "it takes no triangles" in fp.facts["paths"]
     assert fp.facts["watertight"].startswith("yes")

@@ -34,16 +34,16 @@ QUICK = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCh
 HALF = Fraction(1, 2)
 
 
-def _same(a, b) -> None:  # type: ignore[no-untyped-def]
+def _same(a, b) -> None:
     assert [x.tolist() for x in a] == [x.tolist() for x in b]
 
 
-def _pixels(spans) -> set[tuple[int, int, int]]:  # type: ignore[no-untyped-def]
+def _pixels(spans) -> set[tuple[int, int, int]]:
     """(segment, x, y) of every covered pixel."""
     return {(int(s), x, int(y)) for s, y, x0, x1 in zip(*spans) for x in range(int(x0), int(x1))}
 
 
-def _sorted(spans) -> None:  # type: ignore[no-untyped-def]
+def _sorted(spans) -> None:
     s, y, x0, x1 = (v.tolist() for v in spans)
     keys = list(zip(s, y, x0))
     assert keys == sorted(keys) and all(u < v for u, v in zip(x0, x1))
@@ -51,18 +51,18 @@ def _sorted(spans) -> None:  # type: ignore[no-untyped-def]
 
 # -- strategies: end points on a 1/2, 1/4 or 1/8 lattice (ties on purpose), or floats -----------
 
-def _lattice(den: int):  # type: ignore[no-untyped-def]
+def _lattice(den: int):
     return st.integers(-den, (SIZE + 1) * den).map(lambda k: k / den)
 
 
 @st.composite
-def lattice_point(draw):  # type: ignore[no-untyped-def]
+def lattice_point(draw):
     den = draw(st.sampled_from([2, 4, 8]))
     return draw(_lattice(den)), draw(_lattice(den))
 
 
 @st.composite
-def segment(draw):  # type: ignore[no-untyped-def]
+def segment(draw):
     """One segment, of a kind chosen to hit the rules' ties: end points anywhere on the
     lattice, 45-degree lines (along diamond edges), horizontal and vertical lines (through
     diamond corners), zero length, end points on diamond corners or pixel centres, floats."""
@@ -114,7 +114,7 @@ def _holder(p: tuple[float, float], y_major: bool, width: int, height: int) -> t
     return found[0] if found else None
 
 
-def _inside(seg):  # type: ignore[no-untyped-def]
+def _inside(seg):
     """The segment moved by whole pixels (ties kept) two pixels inside a square viewport
     that holds all of it: (a, b, size)."""
     (ax, ay), (bx, by) = seg
@@ -133,7 +133,7 @@ def _inside(seg):  # type: ignore[no-untyped-def]
 @example((np.array([[1.0, 0.5]]), np.array([[4.0, 3.5]])), True)  # 45 degrees along lower-right edges
 @example((np.array([[2.0, 0.5]]), np.array([[2.0, 5.5]])), False)  # y-major through right corners
 @example((np.array([[3.0, 2.5]]), np.array([[3.25, 5.0]])), False)  # y-major, starting on a right corner
-def test_diamond_exit_matches_rational(segs, last_pixel) -> None:  # type: ignore[no-untyped-def]
+def test_diamond_exit_matches_rational(segs, last_pixel) -> None:
     a, b = segs
     fast = diamond_exit_spans(a, b, SIZE, SIZE, last_pixel)
     _same(fast, diamond_exit_spans_rational(a, b, SIZE, SIZE, last_pixel))
@@ -142,7 +142,7 @@ def test_diamond_exit_matches_rational(segs, last_pixel) -> None:  # type: ignor
 
 @QUICK
 @given(segment())
-def test_diamond_exit_one_pixel_per_major_step(seg) -> None:  # type: ignore[no-untyped-def]
+def test_diamond_exit_one_pixel_per_major_step(seg) -> None:
     """With the end pixel drawn, an x-major segment draws exactly one pixel in every column
     whose centre it reaches, at most one anywhere, in a contiguous run of columns (y-major:
     rows); the exit rule removes at most that end pixel -- the one whose test area holds b."""
@@ -165,7 +165,7 @@ def test_diamond_exit_one_pixel_per_major_step(seg) -> None:  # type: ignore[no-
 @given(lattice_point(), lattice_point(), lattice_point())
 @example((1.0, 1.0), (3.5, 2.5), (6.0, 2.0))  # the shared vertex at a pixel centre
 @example((1.0, 1.0), (3.5, 2.0), (6.0, 5.0))  # at a bottom corner
-def test_diamond_exit_strip_draws_shared_vertex_once(a, b, c) -> None:  # type: ignore[no-untyped-def]
+def test_diamond_exit_strip_draws_shared_vertex_once(a, b, c) -> None:
     """A polyline a -> b -> c: the first segment never draws the pixel whose test area holds
     b; the second draws it exactly when it leaves it, i.e. unless c is inside too."""
     first = {(x, y) for _, x, y in _pixels(diamond_exit_spans([a], [b], SIZE, SIZE))}
@@ -182,7 +182,7 @@ def test_diamond_exit_strip_draws_shared_vertex_once(a, b, c) -> None:  # type: 
 
 @QUICK
 @given(segment())
-def test_diamond_exit_reversal_changes_only_end_pixels(seg) -> None:  # type: ignore[no-untyped-def]
+def test_diamond_exit_reversal_changes_only_end_pixels(seg) -> None:
     """The rule predicts forward = M - {f_b} and reversed = M - {f_a}, M the pixels whose test
     areas the segment meets and f_p the pixel whose test area holds p: reversal swaps which
     end pixel is left out, and with the end pixel drawn it changes nothing."""
@@ -200,7 +200,7 @@ def test_diamond_exit_reversal_changes_only_end_pixels(seg) -> None:  # type: ig
 @QUICK
 @given(st.tuples(st.integers(-1, SIZE), st.integers(-1, SIZE)), st.tuples(st.integers(-1, SIZE), st.integers(-1, SIZE)),
        st.booleans())
-def test_diamond_exit_between_pixel_centres_is_half_open_bresenham(p, q, last_pixel) -> None:  # type: ignore[no-untyped-def]
+def test_diamond_exit_between_pixel_centres_is_half_open_bresenham(p, q, last_pixel) -> None:
     """GL: "When pa and pb lie on fragment centers, this characterization of fragments
     reduces to Bresenham's algorithm with one modification: lines produced in this
     description are half-open". The D3D11 test area breaks ties towards the smaller minor
@@ -246,7 +246,7 @@ def test_diamond_exit_far_end_points_and_near_ties() -> None:
 
 @QUICK
 @given(segments, st.sampled_from(BRESENHAM_ROUNDINGS), st.sampled_from(BRESENHAM_TIES), st.booleans())
-def test_bresenham_matches_rational(segs, rounding, ties, last_pixel) -> None:  # type: ignore[no-untyped-def]
+def test_bresenham_matches_rational(segs, rounding, ties, last_pixel) -> None:
     a, b = segs
     fast = bresenham_spans(a, b, SIZE, SIZE, rounding, ties, last_pixel)
     _same(fast, bresenham_spans_rational(a, b, SIZE, SIZE, rounding, ties, last_pixel))
@@ -255,7 +255,7 @@ def test_bresenham_matches_rational(segs, rounding, ties, last_pixel) -> None:  
 
 @QUICK
 @given(segment(), st.sampled_from(BRESENHAM_ROUNDINGS), st.sampled_from(BRESENHAM_TIES))
-def test_bresenham_is_eight_connected_one_pixel_per_step(seg, rounding, ties) -> None:  # type: ignore[no-untyped-def]
+def test_bresenham_is_eight_connected_one_pixel_per_step(seg, rounding, ties) -> None:
     a, b, size = _inside(seg)
     s, y, x0, x1 = bresenham_spans([a], [b], size, size, rounding, ties)
     pts = sorted((x, int(r)) for r, u, v in zip(y, x0, x1) for x in range(int(u), int(v)))
@@ -297,7 +297,7 @@ samples = st.tuples(st.integers(0, 8).map(lambda k: k / 8), st.integers(0, 8).ma
 @example((np.array([[0.5, 1.0]]), np.array([[3.5, 1.0]])), 1.0, (0.5, 0.5), "top-left")
 @example((np.array([[0.5, 0.5]]), np.array([[3.5, 4.5]])), 1.0, (0.5, 0.5), "bottom-right")  # 3-4-5: side ties
 @example((np.array([[1.0, 1.0]]), np.array([[5.0, 5.0]])), 1.0, (0.5, 0.5), "top-right-y-first")
-def test_rectangle_matches_rational(segs, w, sample, tie) -> None:  # type: ignore[no-untyped-def]
+def test_rectangle_matches_rational(segs, w, sample, tie) -> None:
     a, b = segs
     fast = rectangle_spans(a, b, w, sample, tie, width=SIZE, height=SIZE)
     _same(fast, rectangle_spans_rational(a, b, w, sample, tie, width=SIZE, height=SIZE))
@@ -307,7 +307,7 @@ def test_rectangle_matches_rational(segs, w, sample, tie) -> None:  # type: igno
 @QUICK
 @given(lattice_point(), st.integers(-3 * SIZE, 3 * SIZE), st.booleans(), st.sampled_from([0.5, 1.0, 1.5]),
        samples, st.sampled_from(TIE_RULES))
-def test_rectangle_of_axis_aligned_segment_is_two_triangles(a, length, horizontal, w, sample, tie) -> None:  # type: ignore[no-untyped-def]
+def test_rectangle_of_axis_aligned_segment_is_two_triangles(a, length, horizontal, w, sample, tie) -> None:
     """Width w along an axis-aligned segment: the rectangle's corners are floats, and the
     triangle oracle on its two triangles (sharing a diagonal: each sample once) under the
     same sample point and tie rule covers the same samples."""
@@ -330,7 +330,7 @@ def test_rectangle_of_axis_aligned_segment_is_two_triangles(a, length, horizonta
 @QUICK
 @given(lattice_point(), st.sampled_from([(1, 0), (0, 1), (3, 4), (-4, 3), (1, 1), (2, -1), (-1, -3)]),
        st.integers(1, 4), st.integers(1, 4), widths, samples, st.sampled_from(TIE_RULES))
-def test_rectangle_collinear_pieces_partition(a, direction, k, m, w, sample, tie) -> None:  # type: ignore[no-untyped-def]
+def test_rectangle_collinear_pieces_partition(a, direction, k, m, w, sample, tie) -> None:
     """a -> b and b -> c on one line cover exactly the samples of a -> c, each once: the
     shared cap's samples go to one side by the tie rule."""
     d = (direction[0] / 4, direction[1] / 4)
@@ -348,7 +348,7 @@ def test_rectangle_collinear_pieces_partition(a, direction, k, m, w, sample, tie
 @QUICK
 @given(lattice_point(), st.integers(-3 * SIZE, 3 * SIZE), st.booleans(), st.sampled_from([0.5, 1.0, 2.0]),
        samples, st.sampled_from(TIE_RULES))
-def test_rectangle_side_by_side_strips_partition(a, length, horizontal, w, sample, tie) -> None:  # type: ignore[no-untyped-def]
+def test_rectangle_side_by_side_strips_partition(a, length, horizontal, w, sample, tie) -> None:
     """Two strips of width w/2 either side of an axis-aligned segment cover its width-w
     rectangle, each sample once: the shared side's samples go to one strip."""
     d = (length / 4, 0.0) if horizontal else (0.0, length / 4)

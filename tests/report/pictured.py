@@ -49,3 +49,13 @@ def repro_picture(result: Result) -> tuple[str, str]:
     drawn = pictures.draw_repro(result)
     assert drawn is not None and drawn[0] is not None, result
     return drawn[0], drawn[1]
+
+
+def repro_drawn(result: Result) -> tuple[str | None, str]:
+    """What the report says of a failure's repro: its picture (None when too large to draw)
+    and the caption; the failure must have a repro."""
+    from harness.report import pictures
+
+    drawn = pictures.draw_repro(result)
+    assert drawn is not None, result
+    return drawn
