@@ -427,8 +427,8 @@ def case_from_json(data: Any) -> Case | MotionCase:
     error = first_error(_validator(), skeleton)
     if error is not None and error.validator == "oneOf" and not error.absolute_path \
             and not {"positions", "paths", "lines"} & set(data):
-        raise ValueError("case JSON lacks the field 'positions' (or 'paths' and 'fill_rule' for a path case, 'lines' for a line "
-                         "case)")
+        raise ValueError("case JSON lacks the field 'positions' "
+                         "(or 'paths' and 'fill_rule' for a path case, 'lines' for a line case)")
     if error is not None and error.validator == "oneOf" and not error.absolute_path:
         given = [f for f in ("positions", "paths", "lines") if f in data]
         if len(given) > 1:
