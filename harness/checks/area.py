@@ -213,7 +213,7 @@ def rounding_reach(positions: NDArray, convention: Convention, tolerance: Tolera
     if convention.cull != "none":
         culled = orientation(np.where(finite[:, None, None], snapped, 0.0)) == (1 if convention.cull == "cw" else -1)
         reach[culled] = 0.0
-    return reach  # type: ignore[no-any-return]
+    return reach
 
 
 def _inside_samples(scene: Scene, convention: Convention, fragments: NDArray) -> NDArray:
@@ -324,7 +324,7 @@ def level_values(alpha: NDArray, levels: int) -> NDArray:
     True
     """
     q = alpha * (levels - 1)
-    return np.where(off_level(alpha, levels), alpha, np.rint(q) / (levels - 1))  # type: ignore[no-any-return]
+    return np.where(off_level(alpha, levels), alpha, np.rint(q) / (levels - 1))
 
 
 def exact_alpha(alpha: float, levels: int) -> Fraction:

@@ -76,7 +76,8 @@ def _backward_jumps(series: NDArray, oracle: NDArray) -> NDArray:
     """(F-1, ...) bool: steps where the rasterizer's series moves against the oracle's."""
     step = np.diff(series, axis=0)
     direction = filled_direction(np.diff(oracle, axis=0))
-    return np.isfinite(step) & (step != 0) & (np.sign(step) == -direction) & (direction != 0)
+    backward: NDArray = np.isfinite(step) & (step != 0) & (np.sign(step) == -direction) & (direction != 0)
+    return backward
 
 
 def _window(coverages: list[Coverage], width: int, height: int) -> tuple[int, int, int, int]:

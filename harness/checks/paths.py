@@ -60,7 +60,8 @@ def _strictly_simple(p: NDArray) -> bool:
 
     def on(s: NDArray, t: NDArray, q: NDArray, o: NDArray) -> NDArray:
         lo, hi = np.minimum(s, t), np.maximum(s, t)
-        return (o == 0) & (q >= lo).all(axis=1) & (q <= hi).all(axis=1)
+        between: NDArray = (o == 0) & (q >= lo).all(axis=1) & (q <= hi).all(axis=1)
+        return between
 
     touching = on(a, b, c, o1) | on(a, b, d, o2) | on(c, d, a, o3) | on(c, d, b, o4)
     return not bool((crossing | touching).any())

@@ -74,7 +74,8 @@ def _snapping_own(counts: NDArray, oracle: Callable[[], Coverage] | None, conven
     if oracle is None or convention is None or convention.subpixel_bits is None:
         return np.zeros((height, width), dtype=bool)
     want = oracle().counts(width, height)
-    return (counts == want) & (want != 1)
+    own: NDArray = (counts == want) & (want != 1)
+    return own
 
 
 def watertight(case: Case, coverage: Coverage, convention: Convention | None = None,

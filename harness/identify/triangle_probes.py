@@ -376,7 +376,8 @@ def _tie_triangles(sample: tuple[float, float], seed: int, count: int = 200) -> 
     second[horizontal, 0] += a[horizontal]
     second[~horizontal, 1] += a[~horizontal]
     third = base + c
-    return np.stack([base, second, third], axis=1) + np.array(sample) + 4.0
+    triangles: NDArray[np.float64] = np.stack([base, second, third], axis=1) + np.array(sample) + 4.0
+    return triangles
 
 
 def _pinwheels(sample: tuple[float, float], sizes: tuple[int, ...] = (1, 2, 3)) -> NDArray[np.float64]:

@@ -157,7 +157,8 @@ def result_row(result: Result) -> dict[str, Any]:
     {'seconds': 'inf'}
     """
     # built from the fields (no asdict: it would deep-copy a drawing's arrays only to drop them)
-    return _clean({name: getattr(result, name) for name in _FIELDS})
+    row: dict[str, Any] = _clean({name: getattr(result, name) for name in _FIELDS})
+    return row
 
 
 def result_from_row(row: dict[str, Any]) -> Result:
