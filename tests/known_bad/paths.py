@@ -18,7 +18,7 @@ import numpy as np
 
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
-from harness.contract.scenes import AnyScene, PathScene
+from harness.contract.scenes import AnyScene, PathScene, Scene
 from harness.geometry.exact import frozen
 from harness.geometry.kernel_sorts import stable_argsort
 from rasterizers.trapezoid import _CACHE, crossing_column, outline
@@ -79,7 +79,7 @@ class PathFillBug:
         self.bug = bug
         self.name = f"bad_{bug}"
 
-    def rasterize(self, scene: AnyScene) -> Coverage:
+    def rasterize(self, scene: Scene | PathScene) -> Coverage:  # (the kinds it takes)
         a, b, primitive = outline(scene)
         if isinstance(scene, PathScene):
             closing = np.zeros(primitive.size, dtype=bool)
