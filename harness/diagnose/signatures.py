@@ -128,6 +128,12 @@ Anything else, or anything the classification cannot read, is ``other``:
 primitives alone: the open outline (three: the oracle and two open fills), the other snap
 roundings (two at most), or the other fill rule, the first contours alone and each contour
 alone (one each).
+
+This module is the vocabulary (:class:`Signature`, the classes above) and the
+classification; the exact facts about the wrong samples and the oracle's hypothesis tests
+are :mod:`harness.diagnose.facts`, the trials that call the rasterizer again on a failure
+:mod:`harness.diagnose.trials`, and what differs per scene kind each kind's hooks
+(:mod:`harness.kinds`: ``conformance_class``, ``hypotheses``, ``tie_trial``, ``dropped_trial``).
 """
 
 from __future__ import annotations
