@@ -66,9 +66,14 @@ class Rasterizer(Protocol):
     @property
     def convention(self) -> Convention | None: ...
 
-    def rasterize(self, scene: AnyScene) -> Coverage:
-        """Cover the scene's primitives (a kind it takes, ``scene_kinds``); attributes
-        interpolated when the scene has them."""
+    # ``scene`` is an AnyScene of a kind the rasterizer takes (``scene_kinds``). Typed Any, not
+    # AnyScene: a plugin annotates only the kinds it takes (``scene: Scene`` for triangles),
+    # and a parameter is contravariant -- against ``AnyScene`` no triangle-only plugin would
+    # satisfy the protocol statically (tests/typing/builtins_are_rasterizers.py).
+    def rasterize(self, scene: Any) -> Coverage:
+        """Cover the scene's primitives (a scene of a kind it takes, ``scene_kinds``:
+        :class:`~harness.contract.scenes.AnyScene`); attributes interpolated when the
+        scene has them."""
         ...
 
 
