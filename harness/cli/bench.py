@@ -56,10 +56,10 @@ that is no coverage is that contender's row (:attr:`Measurement.fault`), and the
 on. The clock times the drawing call alone, in that process, as it did in one.
 
 The campaign workload (``rastercheck bench --campaign``; :func:`run_campaign_bench`): a
-campaign (:func:`harness.campaign.campaign.run_campaign`) of a fixed scene budget on a built-in
+campaign (:func:`harness.campaign.coordinator.run_campaign`) of a fixed scene budget on a built-in
 reference (``pineda_topleft``: it passes, so nothing is shrunk) over every fuzz family it
 takes, first on a ``LocalCluster`` of one worker process, then of two
-(:func:`harness.campaign.campaign.local_cluster`, as a campaign starts by default): end-to-end checked
+(:func:`harness.campaign.cluster.local_cluster`, as a campaign starts by default): end-to-end checked
 primitives per second (generation, the isolated rasterize calls, every check against the
 exact oracle, the coordinator merging and saving the state) per worker, and the speed-up
 from one worker to two. The workers are started and warmed (the harness imported, the
@@ -88,7 +88,7 @@ from numpy.typing import NDArray
 from PIL import Image, ImageDraw
 
 from cases.scenes import random_triangles
-from harness.campaign.campaign import local_cluster
+from harness.campaign.cluster import local_cluster
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.protocol import takes
@@ -950,7 +950,7 @@ class CampaignMeasurement:
     """One campaign of the fixed scene budget on ``workers`` local worker processes.
 
     ``seconds`` runs from the first batch sent to the last one merged (the coordinator's
-    own clock, :class:`harness.campaign.campaign.ProgressEvent`); ``startup_seconds`` is what
+    own clock, :class:`harness.campaign.state.ProgressEvent`); ``startup_seconds`` is what
     starting and warming the workers took before it. ``primitives`` are those checked
     (triangles, and every frame's of a motion sequence); ``per_worker`` is
     ``primitives_per_second / workers``; ``speedup`` the primitives per second against
@@ -982,7 +982,7 @@ class NothingMeasured(RuntimeError):
 
 def _failed_call(finding: Any) -> bool:
     """A finding of a rasterize call that crashed, hung or raised (or answered no
-    coverage): the ``run`` check's errors (:func:`harness.campaign.campaign.run_batch`)."""
+    coverage): the ``run`` check's errors (:func:`harness.campaign.worker.run_batch`)."""
     return bool(finding.status == "error" and finding.check_name == "run")
 
 
@@ -993,7 +993,8 @@ def _warm(client: Client, spec: str, families: Sequence[str], timeout: float) ->
     Raises :class:`NothingMeasured` when every one of those scenes' rasterize calls failed
     (crashed, hung, raised, answered no coverage): a campaign of failed calls would time
     failures, not checks."""
-    from harness.campaign.campaign import Batch, CampaignTask, run_batch
+    from harness.campaign.state import Batch, CampaignTask
+    from harness.campaign.worker import run_batch
 
     addresses = sorted(client.scheduler_info()["workers"])
     futures = [client.submit(run_batch, CampaignTask(spec, Batch(family, WARM_SEED, 0, 1), timeout=timeout),
@@ -1052,7 +1053,8 @@ def run_campaign_bench(spec: str = CAMPAIGN_REFERENCE, scenes: int = CAMPAIGN_SC
         When every rasterize call of the warm-up failed (:func:`_warm`).
     """
     from cases.fuzz import FAMILIES
-    from harness.campaign.campaign import ProgressEvent, run_campaign
+    from harness.campaign.coordinator import run_campaign
+    from harness.campaign.state import ProgressEvent
 
     if scenes < 1:
         raise ValueError(f"the campaign bench needs at least one scene, not {scenes}")

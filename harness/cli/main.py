@@ -1153,7 +1153,8 @@ def _fuzz(args: argparse.Namespace) -> int:
         raise UsageError(str(exc)) from None
     if args.merge is not None:
         return _fuzz_merge(args)
-    from harness.campaign.campaign import CampaignError, run_campaign
+    from harness.campaign.coordinator import run_campaign
+    from harness.campaign.state import CampaignError
     from harness.report.pages import campaign_run
 
     seconds, scenes, budget_text = args.budget
@@ -1206,7 +1207,7 @@ def _why_nothing(state: Any, families: list[str] | None, handed: int) -> str:
 
 def _saved_state(directory: str) -> Any:
     """The campaign state saved in ``directory``, or None when there is none yet."""
-    from harness.campaign.campaign import CampaignState
+    from harness.campaign.state import CampaignState
 
     try:
         return CampaignState.load(directory)
@@ -1218,7 +1219,7 @@ def _fuzz_merge(args: argparse.Namespace) -> int:
     """``fuzz --merge A B ... --state OUT``: each campaign's scenes and findings added to
     OUT (created from the first when it holds none); a clash (another rasterizer, scenes
     checked twice) is a usage error naming both."""
-    from harness.campaign.campaign import state_lock
+    from harness.campaign.state import state_lock
 
     target = Path(args.state)
     sources = [Path(d) for d in args.merge if Path(d).resolve() != target.resolve()]
@@ -1233,7 +1234,7 @@ def _fuzz_merge(args: argparse.Namespace) -> int:
 
 def _merge_locked(args: argparse.Namespace, target: Path, sources: list[Path]) -> int:
     """:func:`_fuzz_merge` with the target state locked."""
-    from harness.campaign.campaign import CampaignState
+    from harness.campaign.state import CampaignState
 
     try:
         states = [CampaignState.load(d) for d in sources]
@@ -1335,8 +1336,8 @@ def _path(text: str) -> str:
 
 
 def _scheduler(text: str) -> str:
-    """``--scheduler``: a Dask scheduler's tcp:// address (:func:`harness.campaign.campaign.scheduler_address`)."""
-    from harness.campaign.campaign import scheduler_address
+    """``--scheduler``: a Dask scheduler's tcp:// address (:func:`harness.campaign.cluster.scheduler_address`)."""
+    from harness.campaign.cluster import scheduler_address
 
     try:
         return scheduler_address(text)

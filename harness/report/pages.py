@@ -28,7 +28,7 @@ drawers: the rule, the results on line cases, and a column per check that judges
 failures linked, each with its minimal repro.
 
 The campaign page (:func:`write_campaign_page`, ``campaign.html``) reads a campaign's
-state (:class:`harness.campaign.campaign.CampaignState`): what was searched and how fast, the
+state (:class:`harness.campaign.state.CampaignState`): what was searched and how fast, the
 findings over the scenes checked (an inline SVG), and one row per signature with its
 counts, first and last scene, message, repro (drawn as the main report draws a repro) and
 example scenes, each replayable from its three numbers."""
@@ -76,7 +76,7 @@ from harness.results.files import atomic_write_text, safe_name
 from harness.results.output import call_failures, call_failures_text
 
 if TYPE_CHECKING:
-    from harness.campaign.campaign import CampaignState, ProgressEvent
+    from harness.campaign.state import CampaignState, ProgressEvent
 
 __all__ = ["write_report", "write_comparison", "link_pages", "page_name", "evidence_table", "capabilities",
            "on_paths", "on_lines", "caption", "line_checks", "write_campaign_page", "campaign_json", "campaign_run",
@@ -666,7 +666,7 @@ CAMPAIGN_EXAMPLES = 8  # example scenes shown per signature (the state keeps up 
 
 
 def campaign_run(event: ProgressEvent | None) -> dict[str, Any] | None:
-    """This run's figures from a campaign's last :class:`~harness.campaign.campaign.ProgressEvent`
+    """This run's figures from a campaign's last :class:`~harness.campaign.state.ProgressEvent`
     (None without one): scenes, primitives, seconds, rates and workers."""
     if event is None:
         return None

@@ -17,7 +17,7 @@ unchanged run rewrites it byte for byte::
 Only gated metrics (:func:`harness.checks.metric_tolerance`) that are not timings
 (:func:`harness.checks.timing_metrics`) are stored. Fields may be added to an entry in a later schema-1 file.
 
-A campaign's findings (``rastercheck fuzz``, :mod:`harness.campaign.campaign`) can be taken as known
+A campaign's findings (``rastercheck fuzz``, :mod:`harness.campaign`) can be taken as known
 failures too (:class:`CampaignFindings`, ``rastercheck gate --known-campaign DIR``): a
 failing or erroring result of the campaign's rasterizer that would be a regression is
 reported as known instead when its ``(check, case)`` is one the campaign saw fail (a
@@ -344,7 +344,7 @@ def _known(known_failure: Callable[[Result], str | None] | None, r: Result) -> s
 
 @dataclass(frozen=True)
 class CampaignFindings:
-    """What a campaign found (its state folder, :class:`harness.campaign.campaign.CampaignState`), as
+    """What a campaign found (its state folder, :class:`harness.campaign.state.CampaignState`), as
     the gate reads it.
 
     ``signatures`` maps each signature key to its entry in the state (``count``,
@@ -364,7 +364,7 @@ class CampaignFindings:
         """The findings of the campaign saved in ``directory``; ValueError in one line
         naming the folder (or the repro file) that cannot be read."""
         from cases.fuzz import scene_id
-        from harness.campaign.campaign import CampaignState
+        from harness.campaign.state import CampaignState
 
         state = CampaignState.load(directory)
         cases: dict[tuple[str, str], str] = {}

@@ -29,7 +29,8 @@ FEW_PIXELS = Check("few_pixels", _few_pixels, lambda case: not hasattr(case, "fr
 
 
 def test_a_check_registered_in_a_test_reaches_run_json_gate_report_and_shrinker(tmp_path):
-    from harness.campaign.campaign import Finding, attribute_causes
+    from harness.campaign.state import SceneFinding
+    from harness.campaign.worker import attribute_causes
     from harness.diagnose.causes import by_cause, signature_of
     from harness.report.pages import coverage_figures, write_report
     from harness.results.gate import compare_with_baseline, load_baseline, save_baseline
@@ -60,9 +61,9 @@ def test_a_check_registered_in_a_test_reaches_run_json_gate_report_and_shrinker(
         unsigned = replace(mine[0], evidence={k: v for k, v in mine[0].evidence.items() if k != "signature"})
         assert signature_of(unsigned).key == "few_pixels|too-many-pixels|none"  # classified from its drawing, not read back
         assert [g.cause for g in by_cause(mine)] == ["too-many-pixels"]
-        conformance = Finding("lattice", 0, 1, "conformance", "fail", "", "conformance|culling|culling", "culling", "culling",
+        conformance = SceneFinding("lattice", 0, 1, "conformance", "fail", "", "conformance|culling|culling", "culling", "culling",
                               "conformance")
-        few = Finding("lattice", 0, 1, "few_pixels", "fail", "", "few_pixels|too-many-pixels|none", "too-many-pixels", "none",
+        few = SceneFinding("lattice", 0, 1, "few_pixels", "fail", "", "few_pixels|too-many-pixels|none", "too-many-pixels", "none",
                       "few_pixels")
         assert [f.cause for f in attribute_causes([conformance, few])] == ["culling", "culling"]  # a consequent of conformance
         assert ("few_pixels: most pixels drawn in a scene", f"{mine[0].metrics['drawn_pixels']:.4g}") in coverage_figures(results)
