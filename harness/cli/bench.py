@@ -932,7 +932,6 @@ def write_json(results: Sequence[Measurement | CampaignMeasurement], path: Path,
     atomic_write_text(path, json.dumps(payload, indent=2))
 
 
-
 # -- campaigns: end-to-end checked primitives per second, one worker against two ---------------
 
 CAMPAIGN_REFERENCE = "pineda_topleft"  # a built-in that passes: no finding, nothing shrunk

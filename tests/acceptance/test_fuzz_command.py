@@ -23,7 +23,8 @@ import pytest
 from harness.campaign.cluster import local_cluster
 from harness.campaign.state import Batch, BatchResult, CampaignState, ProgressEvent, SceneFinding
 from harness.checks import Result
-from harness.cli.main import _budget, _FuzzProgress, main
+from harness.cli.fuzz import _budget, _FuzzProgress
+from harness.cli.main import main
 from harness.report.pages import write_campaign_page
 from harness.results.gate import CampaignFindings, campaign_known, compare_with_baseline
 from tests.known_bad.edge_functions import EdgeFunctionBug

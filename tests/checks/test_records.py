@@ -253,7 +253,9 @@ def test_the_import_graph_has_no_cycle():
 
 # the layers, by folder: presentation (report pages and pictures, the command line, output
 # formats, the gate, the pytest plugin) sits on the engine, never under it
-PRESENTATION_PACKAGES = ("harness.report", "harness.cli.main", "harness.results.output", "harness.results.gate",
+PRESENTATION_PACKAGES = ("harness.report", "harness.cli.main", "harness.cli.common", "harness.cli.run", "harness.cli.gate",
+                         "harness.cli.compare", "harness.cli.identify", "harness.cli.replay", "harness.cli.bench_command",
+                         "harness.cli.fuzz", "harness.cli.diff", "harness.cli.listing", "harness.results.output", "harness.results.gate",
                          "harness.integrations.pytest_plugin")
 ENGINE_PACKAGES = ("harness.geometry", "harness.contract", "harness.oracle", "harness.checks", "harness.diagnose",
                    "harness.identify", "harness.engine", "harness.results.files", "harness.cli.bench", "cases", "rasterizers")

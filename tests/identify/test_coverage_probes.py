@@ -158,7 +158,7 @@ def test_a_card_with_samples_sharing_an_offset_never_claims_a_pattern():
     assert "samples 0, 1, 2, 3 all at (0.5, 0.5)" in fingerprint.facts["pattern"], card
     assert "NOT RECOVERED" in card and "a stand-in" in card and "not scored" in card, card
     assert "identified" not in card and "best guess" not in card and "standard 4x pattern" not in card, card
-    from harness.cli.main import _convention_text
+    from harness.cli.run import _convention_text
     from harness.identify.fingerprint import Identified
 
     said = _convention_text(Identified(CentreSamples(), fingerprint))  # what run prints for it
