@@ -15,8 +15,8 @@ Each of these is a probe of :mod:`harness.identify.triangle_probes` giving a typ
 composes them. It first reads the kind of coverage (:func:`harness.identify.coverage_probes.coverage_kind`):
 an anti-aliaser (alphas) or a multisample rasterizer (sample indices) is fingerprinted by
 the probes of :mod:`harness.identify.coverage_probes` instead -- analytic area or supersampled, the
-grid and the levels (:func:`~harness.identify.coverage_probes.alpha_sweeps`), or the sample
-pattern and its tie rule (:func:`~harness.identify.coverage_probes.sample_positions`). The fit of sample point and tie rule is :func:`harness.identify.triangle_probes.fit_ties`,
+grid and the levels (:func:`~harness.identify.area_probes.alpha_sweeps`), or the sample
+pattern and its tie rule (:func:`~harness.identify.sample_probes.sample_positions`). The fit of sample point and tie rule is :func:`harness.identify.triangle_probes.fit_ties`,
 the one ``compare`` uses too. Every call of the rasterizer goes through a
 :data:`~harness.engine.isolation.Call`: in this process, or in a worker process
 (:func:`identify_isolated`).
@@ -64,15 +64,9 @@ from harness.contract.protocol import Rasterizer, fill_rules_of, interpolates_of
 from harness.contract.samples import STANDARD_PATTERNS
 from harness.contract.scenes import AnyScene, PathScene, Scene
 from harness.engine.isolation import Call, CallTally, InProcess, Outcome, TimeLimit
-from harness.identify.coverage_probes import (
-    CoverageKindFact,
-    Remembered,
-    alpha_sweeps,
-    coverage_kind,
-    layered,
-    sample_positions,
-    sample_sides,
-)
+from harness.identify.area_probes import alpha_sweeps
+from harness.identify.coverage_probes import CoverageKindFact, Remembered, coverage_kind, layered
+from harness.identify.sample_probes import sample_positions, sample_sides
 from harness.identify.triangle_probes import (
     EPSILON_CASE,
     NON_FINITE_CASES,

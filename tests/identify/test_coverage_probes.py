@@ -13,8 +13,10 @@ from harness.contract.coverage import Coverage
 from harness.contract.samples import STANDARD_PATTERNS
 from harness.contract.scenes import Scene
 from harness.engine.isolation import InProcess
-from harness.identify.coverage_probes import CONTINUOUS_LEVELS, alpha_sweeps, coverage_kind, sample_positions
+from harness.identify.area_probes import CONTINUOUS_LEVELS, alpha_sweeps
+from harness.identify.coverage_probes import coverage_kind
 from harness.identify.fingerprint import identify
+from harness.identify.sample_probes import sample_positions
 from harness.oracle.coverage import exact_coverage
 
 
