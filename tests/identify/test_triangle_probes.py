@@ -19,7 +19,8 @@ from harness.engine.isolation import InProcess
 from harness.engine.registry import load
 from harness.engine.runner import run_suite
 from harness.identify.fingerprint import identify
-from harness.identify.triangle_probes import epsilon, non_finite, vertex_sweep, viewport_edge
+from harness.identify.triangle_defects import epsilon, non_finite, viewport_edge
+from harness.identify.triangle_probes import vertex_sweep
 from tests.identify.test_fingerprint import BlackBox
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.known_bad.misc import ClipsBeforeSnapping, DropsAttributes, Float32Input, NaNAttributes
