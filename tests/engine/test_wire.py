@@ -22,16 +22,8 @@ from cases.suites import suite
 from harness import run_suite
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene, Unsupported
-from harness.engine.isolation import (
-    ERROR_BASES,
-    Outcome,
-    PluginError,
-    Worker,
-    decode_outcome,
-    describe,
-    encode_outcome,
-    rebuilt_error,
-)
+from harness.engine.isolation import Worker
+from harness.engine.outcomes import ERROR_BASES, Outcome, PluginError, decode_outcome, describe, encode_outcome, rebuilt_error
 from harness.engine.wire import WireError, pack, unpack
 from tests.known_bad.hostile_pickles import (
     HOSTILE_PICKLES,
