@@ -188,7 +188,7 @@ def _fuzz_summary(state: Any, run: dict[str, Any] | None) -> None:
 
 def _fuzz_outputs(args: argparse.Namespace, state: Any, run: dict[str, Any] | None) -> None:
     """The campaign page under --out and the JSON (--json), each written atomically."""
-    from harness.report.pages import campaign_json, write_campaign_page
+    from harness.report.campaign_page import campaign_json, write_campaign_page
     from harness.results.files import atomic_write_text
 
     rasterizer = None
@@ -226,7 +226,7 @@ def _fuzz(args: argparse.Namespace) -> int:
         return _fuzz_merge(args)
     from harness.campaign.coordinator import run_campaign
     from harness.campaign.state import CampaignError
-    from harness.report.pages import campaign_run
+    from harness.report.campaign_page import campaign_run
 
     seconds, scenes, budget_text = args.budget
     progress = _FuzzProgress(budget_text, _quiet())

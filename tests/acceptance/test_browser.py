@@ -213,7 +213,7 @@ def test_repro_pictures_mark_the_offending_pixels_and_draw_the_primitives_where_
     dark where each covers them."""
     from harness.campaign.state import Batch, BatchResult, CampaignState
     from harness.campaign.worker import _finding, _loaded, shrink_finding
-    from harness.report.pages import write_campaign_page
+    from harness.report.campaign_page import write_campaign_page
     from harness.report.pictures import CROP_LEGEND, LINE_LEGEND, PATH_LEGEND, SAMPLE_LEGEND
 
     red = CROP_LEGEND["offending pixel (outlined)"]

@@ -25,7 +25,7 @@ from harness.campaign.state import Batch, BatchResult, CampaignState, ProgressEv
 from harness.checks import Result
 from harness.cli.fuzz import _budget, _FuzzProgress
 from harness.cli.main import main
-from harness.report.pages import write_campaign_page
+from harness.report.campaign_page import write_campaign_page
 from harness.results.gate import CampaignFindings, campaign_known, compare_with_baseline
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.warm import safe_numba_cache
