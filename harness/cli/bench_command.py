@@ -1,5 +1,5 @@
 """``rastercheck bench``: the throughput table against Pillow (or ``--campaign``: a campaign's
-speed-up from one worker to two), from the measuring of :mod:`harness.cli.bench`.
+speed-up from one worker to two), from the measuring of :mod:`harness.cli.bench` (and :mod:`harness.cli.bench_campaign`).
 """
 
 from __future__ import annotations
@@ -81,7 +81,8 @@ def _bench_campaign(args: argparse.Namespace) -> int:
     checked primitives per second per worker and the speed-up, as a table and JSON. Exit 1
     when the rasterizer's calls failed (every call of the warm-up: nothing measured; some
     in the campaigns: no speed-up judged)."""
-    from harness.cli.bench import (
+    from harness.cli.bench import write_json
+    from harness.cli.bench_campaign import (
         CAMPAIGN_REFERENCE,
         CAMPAIGN_REPEATS,
         CAMPAIGN_SCENES,
@@ -89,7 +90,6 @@ def _bench_campaign(args: argparse.Namespace) -> int:
         campaign_summary,
         format_campaign_table,
         run_campaign_bench,
-        write_json,
     )
 
     if args.rasterizer and len(args.rasterizer) > 1:

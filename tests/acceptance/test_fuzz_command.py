@@ -405,15 +405,15 @@ def test_known_failures_match_by_case_and_check_or_by_signature(tmp_path: Path) 
 def test_bench_campaign_reports_both_worker_counts_as_json(scheduler: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
                                                            capsys: pytest.CaptureFixture[str]) -> None:
     """On the module's cluster for both counts (no cluster started here): the plumbing, not the timings."""
-    import harness.cli.bench
+    import harness.cli.bench_campaign
 
     @contextmanager
     def shared(workers: int) -> Iterator[Any]:
         with distributed.Client(scheduler) as client:
             yield client
 
-    monkeypatch.setattr(harness.cli.bench, "local_cluster", shared)
-    monkeypatch.setattr(harness.cli.bench, "CAMPAIGN_FAMILIES", ("lattice",))
+    monkeypatch.setattr(harness.cli.bench_campaign, "local_cluster", shared)
+    monkeypatch.setattr(harness.cli.bench_campaign, "CAMPAIGN_FAMILIES", ("lattice",))
     out = tmp_path / "bench.json"
     assert main(["bench", "--campaign", "--scenes", "4", "--repeats", "1", "--json", str(out)]) == 0
     said = capsys.readouterr().out

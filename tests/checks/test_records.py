@@ -258,7 +258,8 @@ PRESENTATION_PACKAGES = ("harness.report", "harness.cli.main", "harness.cli.comm
                          "harness.cli.fuzz", "harness.cli.diff", "harness.cli.listing", "harness.results.output", "harness.results.gate",
                          "harness.integrations.pytest_plugin")
 ENGINE_PACKAGES = ("harness.geometry", "harness.contract", "harness.oracle", "harness.checks", "harness.diagnose",
-                   "harness.identify", "harness.engine", "harness.results.files", "harness.cli.bench", "cases", "rasterizers")
+                   "harness.identify", "harness.engine", "harness.results.files", "harness.cli.bench",
+                   "harness.cli.bench_workloads", "harness.cli.bench_peers", "harness.cli.bench_campaign", "cases", "rasterizers")
 
 
 def _under(name: str, packages: tuple[str, ...]) -> bool:
