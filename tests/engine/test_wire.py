@@ -91,7 +91,7 @@ def test_a_worker_hands_back_plain_classes_not_the_plugins(tmp_path):
         outcome = worker.rasterize(SCENE)
     error = outcome.error
     assert isinstance(error, ValueError) and type(error).__name__ == "DetonatingError"
-    assert type(error).__module__ == "harness.engine.isolation" and "DetonatingError" in outcome.traceback
+    assert type(error).__module__ == "harness.engine.outcomes" and "DetonatingError" in outcome.traceback
     assert describe(error) == "DetonatingError: triangle 0 is not welcome here"
     assert not _ran_here(marker)
 
