@@ -85,7 +85,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from PIL import Image
@@ -119,14 +119,9 @@ from harness.engine.isolation import _exit_with_parent, describe, span_limit
 from harness.engine.registry import builtins, load
 from harness.oracle.coverage import RECENT_ANSWERS, exact_coverage
 
-if TYPE_CHECKING:
-    from harness.cli.bench_campaign import CampaignMeasurement
-    pass
-
-
 __all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "short_segments", "long_segments", "stars",
            "wiggly_outline", "run_bench", "format_table", "LINE_ORACLES", "DEFAULT_TIMEOUT", "failures_by_contender", "Measurement",
-           "write_json", "missing_peers"]
+           "write_json", "missing_peers", "CampaignMeasurement"]
 
 
 DEFAULT_TIMEOUT = 60.0  # seconds one call of a contender may take (``--timeout``; as ``run``'s)
@@ -152,6 +147,36 @@ class Measurement:
     description: str = ""
     fault: str = ""
     note: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class CampaignMeasurement:
+    """One campaign of the fixed scene budget on ``workers`` local worker processes.
+
+    ``seconds`` runs from the first batch sent to the last one merged (the coordinator's
+    own clock, :class:`harness.campaign.state.ProgressEvent`); ``startup_seconds`` is what
+    starting and warming the workers took before it. ``primitives`` are those checked
+    (triangles, and every frame's of a motion sequence); ``per_worker`` is
+    ``primitives_per_second / workers``; ``speedup`` the primitives per second against
+    the first measurement's (one worker); ``runs`` the seconds of every run of this
+    count (the measurement is the fastest)."""
+
+    workload: str
+    contender: str
+    workers: int
+    scenes: int
+    primitives: int
+    findings: int
+    seconds: float
+    startup_seconds: float
+    scenes_per_second: float
+    primitives_per_second: float
+    per_worker: float
+    speedup: float
+    unit: str = "primitives"
+    description: str = ""
+    runs: tuple[float, ...] = ()
+    failed_calls: int = 0
 
 
 # The oracles of each coverage kind the bench measures.

@@ -13,11 +13,11 @@ from __future__ import annotations
 import tempfile
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
 from harness.campaign.cluster import local_cluster
-from harness.cli.bench import _one_line
+from harness.cli.bench import CampaignMeasurement, _one_line
 
 __all__ = ["CampaignMeasurement", "run_campaign_bench", "format_campaign_table", "campaign_summary", "CAMPAIGN_REFERENCE",
            "CAMPAIGN_SCENES", "CAMPAIGN_GOAL", "CAMPAIGN_BATCH", "CAMPAIGN_FAMILIES", "CAMPAIGN_REPEATS", "NothingMeasured"]
@@ -34,36 +34,6 @@ CAMPAIGN_BATCH = 25  # scenes per batch, fixed: both campaigns check the very sa
 CAMPAIGN_FAMILIES: tuple[str, ...] | None = None  # None: every fuzz family (those the rasterizer does not take are skipped)
 CAMPAIGN_SEED = 0
 WARM_SEED = 1  # the warm-up's scenes: not among those measured
-
-
-@dataclass(frozen=True, slots=True)
-class CampaignMeasurement:
-    """One campaign of the fixed scene budget on ``workers`` local worker processes.
-
-    ``seconds`` runs from the first batch sent to the last one merged (the coordinator's
-    own clock, :class:`harness.campaign.state.ProgressEvent`); ``startup_seconds`` is what
-    starting and warming the workers took before it. ``primitives`` are those checked
-    (triangles, and every frame's of a motion sequence); ``per_worker`` is
-    ``primitives_per_second / workers``; ``speedup`` the primitives per second against
-    the first measurement's (one worker); ``runs`` the seconds of every run of this
-    count (the measurement is the fastest)."""
-
-    workload: str
-    contender: str
-    workers: int
-    scenes: int
-    primitives: int
-    findings: int
-    seconds: float
-    startup_seconds: float
-    scenes_per_second: float
-    primitives_per_second: float
-    per_worker: float
-    speedup: float
-    unit: str = "primitives"
-    description: str = ""
-    runs: tuple[float, ...] = ()
-    failed_calls: int = 0
 
 
 class NothingMeasured(RuntimeError):
