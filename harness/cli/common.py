@@ -18,10 +18,6 @@ class UsageError(Exception):
 # (spec -> why), for the report: its replay commands quote the spec, its index lists the skipped
 _loaded_specs: list[str] = []
 _skipped: dict[str, str] = {}
-# what the last _execute selected: the cases (after --case and --shard) and the registered
-# plugins that failed to load (each a usage error once the others' results are written)
-_selected: list[Any] = []
-_broken: list[str] = []
 
 
 def _load_all(specs: list[str] | None, timeout: float = 120.0) -> tuple[list[Any], list[str]]:

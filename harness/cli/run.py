@@ -15,7 +15,12 @@ from concurrent.futures import ThreadPoolExecutor, TimeoutError
 from pathlib import Path
 from typing import Any
 
-from harness.cli.common import UsageError, _broken, _load_all, _loaded_specs, _quiet, _selected, _skipped
+from harness.cli.common import UsageError, _load_all, _loaded_specs, _quiet, _skipped
+
+# what the last _execute selected: the cases (after --case and --shard) and the registered
+# plugins that failed to load (each a usage error once the others' results are written)
+_selected: list[Any] = []
+_broken: list[str] = []
 
 
 def _prepare_outputs(args: argparse.Namespace) -> None:
