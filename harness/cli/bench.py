@@ -513,6 +513,7 @@ def failures_by_contender(results: Sequence[Measurement]) -> dict[str, str]:
     """One line per contender that failed on some workload: its faults and where, and
     whether anything of it was measured.
 
+    >>> from dataclasses import replace
     >>> bad = Measurement("W1", "mine", 0, 0, 0, 0, 0, fault="raised ValueError: no")
     >>> failures_by_contender([bad, replace(bad, workload="W2")])
     {'mine': 'nothing measured: raised ValueError: no (W1, W2)'}

@@ -233,6 +233,7 @@ def _layout(pattern: Sequence[tuple[float, float]]) -> str:
 
     >>> _layout([(0.25, 0.25), (0.75, 0.25), (0.25, 0.75), (0.75, 0.75)])
     'regular 2 x 2 grid (4 samples)'
+    >>> from harness.contract.samples import STANDARD_PATTERNS
     >>> _layout(STANDARD_PATTERNS[4])
     '4-rooks (every sample in a column and row of its own)'
     """
