@@ -392,8 +392,8 @@ def test_known_failures_match_by_case_and_check_or_by_signature(tmp_path: Path) 
            Result("bad_inclusive", "c", "conformance", "fail", "x"),  # passed before: known now
            Result("someone_else", "a", "conformance", "fail", "x")]  # another rasterizer's
     verdict = compare_with_baseline(run, {"bad_inclusive|c|conformance": {"status": "pass"}}, known_failure=known)
-    kinds = {f.key: f.kind for f in verdict.findings}
-    assert kinds == {"bad_inclusive|lattice/fuzz/lattice/0/3|conformance": "known", "bad_inclusive|a|conformance": "known",
+    verdicts = {f.key: f.verdict for f in verdict.findings}
+    assert verdicts == {"bad_inclusive|lattice/fuzz/lattice/0/3|conformance": "known", "bad_inclusive|a|conformance": "known",
                      "bad_inclusive|b|conformance": "regression", "bad_inclusive|c|conformance": "known",
                      "someone_else|a|conformance": "regression"}
     assert all("known from the campaign" in f.reason for f in verdict.of("known"))
