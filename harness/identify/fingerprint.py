@@ -15,10 +15,9 @@ Each of these is a probe of :mod:`harness.identify.triangle_probes` giving a typ
 composes them. It first reads the kind of coverage (:func:`harness.identify.coverage_probes.coverage_kind`):
 an anti-aliaser (alphas) or a multisample rasterizer (sample indices) is fingerprinted by
 the probes of :mod:`harness.identify.coverage_probes` instead -- analytic area or supersampled, the
-grid and the levels (:func:`~harness.identify.coverage_probes.alpha_sweeps`), or the sample
-pattern and its tie rule (:func:`~harness.identify.coverage_probes.sample_positions`). The
-fit of sample point and tie rule is :func:`harness.identify.triangle_probes.fit_ties`, the
-one ``compare`` uses too. Every call of the rasterizer goes through a
+grid and the levels (:func:`~harness.identify.area_probes.alpha_sweeps`), or the sample
+pattern and its tie rule (:func:`~harness.identify.sample_probes.sample_positions`). The fit of sample point and tie rule is :func:`harness.identify.triangle_probes.fit_ties`,
+the one ``compare`` uses too. Every call of the rasterizer goes through a
 :data:`~harness.engine.isolation.Call`: in this process, or in a worker process
 (:func:`identify_isolated`).
 
@@ -44,8 +43,8 @@ identify and ``run`` agree: the probes that can see a defect (watertight, the vi
 edge, zero-area, non-finite and tiny triangles) draw the suite's own cases for the
 rasterizer's scene kind (a paths-only filler's: the same triangles as one-contour paths,
 :func:`cases.paths.triangle_cases_as_paths`), and each case on which a probe saw a defect
-is judged as ``run`` judges it (:func:`harness.identify.triangle_probes.suite_defects`): a
-:class:`~harness.identify.triangle_probes.Defect` with the check's evidence and a minimal repro
+is judged as ``run`` judges it (:func:`harness.identify.triangle_defects.suite_defects`): a
+:class:`~harness.identify.triangle_defects.Defect` with the check's evidence and a minimal repro
 (:attr:`Fingerprint.defects`, on the card, in ``--json`` and on the fingerprint page). A
 declared convention is judged by the checks of its coverage kind (:data:`VERDICT_CHECKS`)
 on the probe scenes (:func:`verdict_cases`) before it is called confirmed or consistent.
@@ -65,39 +64,31 @@ from harness.contract.protocol import Rasterizer, fill_rules_of, interpolates_of
 from harness.contract.samples import STANDARD_PATTERNS
 from harness.contract.scenes import AnyScene, PathScene, Scene
 from harness.engine.isolation import Call, CallTally, InProcess, Outcome, TimeLimit
-from harness.identify.coverage_probes import (
-    CoverageKindFact,
-    Remembered,
-    alpha_sweeps,
-    coverage_kind,
-    layered,
-    sample_positions,
-    sample_sides,
-)
-from harness.identify.triangle_probes import (
+from harness.identify.area_probes import alpha_sweeps
+from harness.identify.coverage_probes import CoverageKindFact, Remembered, coverage_kind, layered
+from harness.identify.sample_probes import sample_positions, sample_sides
+from harness.identify.triangle_defects import (
     EPSILON_CASE,
     NON_FINITE_CASES,
     REPROS,
     ZERO_AREA_CASE,
     Defect,
     Epsilon,
-    Fact,
     NonFinite,
     Unanswered,
     ViewportEdge,
     Watertight,
     ZeroArea,
     epsilon,
-    fit_snapping,
-    fit_ties,
     non_finite,
-    residual_lies,
     suite_defects,
     unanswered,
     viewport_edge,
     watertight_partitions,
     zero_area,
 )
+from harness.identify.triangle_probes import Fact, fit_snapping, fit_ties, residual_lies
+from harness.kinds import KINDS, TRIANGLES
 
 if TYPE_CHECKING:  # the path and line probes are imported when a rasterizer taking those is identified
     from harness.contract.case import Case, MotionCase
@@ -193,7 +184,7 @@ class Fingerprint:
 
     @property
     def defects(self) -> dict[str, tuple[Defect, ...]]:
-        """Probe label -> the scenes on which it saw a defect (:class:`harness.identify.triangle_probes.Defect`:
+        """Probe label -> the scenes on which it saw a defect (:class:`harness.identify.triangle_defects.Defect`:
         the suite's case, the check, the evidence, a minimal repro); empty when none did."""
         return {label: tuple(found) for label, fact in self.probes.items() if (found := getattr(fact, "defects", ()))}
 
@@ -346,8 +337,7 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
             _with_lines(fingerprint, call, seed, received_of(rasterizer))
     # how many calls timed out or failed, and which: the card always says
     fingerprint.calls = tally
-    fingerprint.facts["calls"] = tally.text + ("; the fit is on the rest" if fingerprint.unanswered
-                                               and fingerprint.no_answers is None
+    fingerprint.facts["calls"] = tally.text + ("; the fit is on the rest" if fingerprint.unanswered and fingerprint.no_answers is None
                                                else "")
     return fingerprint
 
@@ -362,7 +352,7 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
     """:func:`identify` on triangles (``call`` takes triangle scenes). Where a probe saw a
     defect (not watertight, the viewport edge, zero-area or non-finite triangles drawn),
     the suite's cases it drew are judged as ``run`` judges them, each failure kept as
-    evidence with a minimal repro (:func:`harness.identify.triangle_probes.suite_defects`); ``suite`` gives
+    evidence with a minimal repro (:func:`harness.identify.triangle_defects.suite_defects`); ``suite`` gives
     those cases for the rasterizer's scene kind (the triangle cases themselves unless given)."""
     from cases.degenerate import degenerate_cases
     from cases.partitions import partition_cases
@@ -553,6 +543,7 @@ def _received_as_triangles(received: Callable[[Scene], Scene] | None, rule: str)
 
     def as_triangles(scene: Scene) -> Scene:
         got = paths_received(triangle_paths(scene, rule))
+        # isinstance: what a plugin's received() answered is checked for its class, not dispatched on
         if isinstance(got, PathScene):
             return Scene(got.width, got.height, got.vertices.reshape(-1, 3, 2))
         if not isinstance(got, Scene):
@@ -629,12 +620,8 @@ def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, .
     ``identify/<probe>/<k>``, then the suite's lattice and float triangles, its planar
     partitions (seams; per-sample watertight scenes) and, for area coverage, its sub-pixel
     translations (popping); for a line drawer its line segments, for a path filler its
-    path shapes. Each rasterizer is handed only the kinds it takes."""
-    from cases.lines import line_cases
-    from cases.motion import motion_cases
-    from cases.partitions import partition_cases
-    from cases.paths import path_cases
-    from cases.suites import conformance_cases
+    path shapes (each scene kind's ``verdict_cases`` hook, :mod:`harness.kinds`). Each rasterizer is
+    handed only the kinds it takes."""
     from harness.contract.case import Case
 
     cases: list[Case | MotionCase] = []
@@ -646,29 +633,51 @@ def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, .
     if model.sample_ids and pattern is not None:
         drawn["pattern"] = tuple(d for group in getattr(pattern, "drawn", ()) for d in group)
     for probe, scenes in drawn.items():
-        cases += [Case(f"identify/{probe}/{k}", d.scene) for k, d in enumerate(scenes) if isinstance(d.scene, Scene)]
-    if "triangles" in scene_kinds:
-        cases += conformance_cases(seed)
-        if not model.single_sample:
-            cases += partition_cases(seed)
-        if model.alphas:
-            # the plain geometries' sixteenth-pixel translations (no texture, no projected mesh)
-            cases += [m for m in motion_cases(seed)
-                      if m.id.endswith("-1/16") and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
-    if "paths" in scene_kinds and model.single_sample:
-        cases += [c for c in path_cases(seed) if c.family == "paths"]
-    if "lines" in scene_kinds and model.single_sample:
-        cases += [c for c in line_cases(seed) if c.family == "lines"]
+        cases += [Case(f"identify/{probe}/{k}", d.scene) for k, d in enumerate(scenes) if TRIANGLES.owns(d.scene)]
+    for name, primitive in KINDS.items():  # in SCENE_KINDS's order: triangles, paths, lines
+        if name in scene_kinds:
+            cases += primitive.hook("verdict_cases")(seed, model)
     return cases
+
+
+def triangle_verdict_cases(seed: int, model: CoverageModel) -> list[Case | MotionCase]:
+    """The triangles' ``verdict_cases`` hook (:func:`verdict_cases`): the suite's lattice
+    and float triangles, its planar partitions (seams; per-sample watertight scenes) and,
+    for area coverage, its sub-pixel translations (popping)."""
+    from cases.motion import motion_cases
+    from cases.partitions import partition_cases
+    from cases.suites import conformance_cases
+
+    cases: list[Case | MotionCase] = list(conformance_cases(seed))
+    if not model.single_sample:
+        cases += partition_cases(seed)
+    if model.alphas:
+        # the plain geometries' sixteenth-pixel translations (no texture, no projected mesh)
+        cases += [m for m in motion_cases(seed) if m.id.endswith("-1/16") and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
+    return cases
+
+
+def path_verdict_cases(seed: int, model: CoverageModel) -> list[Case | MotionCase]:
+    """The paths' ``verdict_cases`` hook: the suite's path shapes (single-sample only)."""
+    from cases.paths import path_cases
+
+    return [c for c in path_cases(seed) if c.family == "paths"] if model.single_sample else []
+
+
+def line_verdict_cases(seed: int, model: CoverageModel) -> list[Case | MotionCase]:
+    """The lines' ``verdict_cases`` hook: the suite's line segments (single-sample only)."""
+    from cases.lines import line_cases
+
+    return [c for c in line_cases(seed) if c.family == "lines"] if model.single_sample else []
 
 
 def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0,
                       call_timeout: float | TimeLimit | None = None) -> Fingerprint:
     """:func:`identify` with every rasterize call in a forked worker process (a
-    :class:`harness.engine.session.Session`'s :class:`harness.engine.isolation.Worker`), so
-    that a library's process-wide state (an EGL display, a crash, a hang) stays out of the
-    caller: a call that crashes or hangs counts as raising, and identification goes on (the
-    probes fit on the calls answered, and the card counts and names the others).
+    :class:`harness.engine.session.Session`'s :class:`harness.engine.isolation.Worker`), so that a library's process-wide state (an EGL
+    display, a crash, a hang) stays out of the caller: a call that crashes or hangs counts
+    as raising, and identification goes on (the probes fit on the calls answered, and the
+    card counts and names the others).
 
     ``timeout`` bounds the whole identification: it is checked between calls, and a call
     never runs past it (then TimeoutError, naming the rasterizer); ``call_timeout`` is the
@@ -723,7 +732,7 @@ class Identified:
             self.fill_rules = fill_rules_of(inner)
 
     def rasterize(self, scene: AnyScene) -> Coverage:
-        return self.inner.rasterize(scene)  # type: ignore[arg-type]
+        return self.inner.rasterize(scene)
 
 
 def identify_all(rasterizers: list[Rasterizer], seed: int = 0, *, everyone: bool = False, call_timeout: float | TimeLimit = 60.0,

@@ -27,11 +27,8 @@ drawers: the rule, the results on line cases, and a column per check that judges
 (those of the registry that apply to a line case, and any with results on one) with the
 failures linked, each with its minimal repro.
 
-The campaign page (:func:`write_campaign_page`, ``campaign.html``) reads a campaign's
-state (:class:`harness.campaign.campaign.CampaignState`): what was searched and how fast, the
-findings over the scenes checked (an inline SVG), and one row per signature with its
-counts, first and last scene, message, repro (drawn as the main report draws a repro) and
-example scenes, each replayable from its three numbers."""
+The campaign page is :mod:`harness.report.campaign_page`.
+"""
 
 from __future__ import annotations
 
@@ -42,6 +39,7 @@ import platform
 import re
 import shlex
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -57,6 +55,7 @@ from harness.contract.case import Case
 from harness.contract.protocol import convention_for, fill_rules_of, scene_kinds_of
 from harness.contract.scenes import LineScene, PathScene
 from harness.diagnose.causes import SIGNATURE, by_cause
+from harness.kinds import KINDS, LINES, PATHS, PrimitiveKind
 from harness.report.pictures import (
     ALPHA_LEGEND,
     CROP_LEGEND,
@@ -76,11 +75,13 @@ from harness.results.files import atomic_write_text, safe_name
 from harness.results.output import call_failures, call_failures_text
 
 if TYPE_CHECKING:
-    from harness.campaign.campaign import CampaignState, ProgressEvent
+    pass
+
 
 __all__ = ["write_report", "write_comparison", "link_pages", "page_name", "evidence_table", "capabilities",
-           "on_paths", "on_lines", "caption", "line_checks", "write_campaign_page", "campaign_json", "campaign_run",
-           "findings_chart", "CAMPAIGN_PAGE"]
+           "on_paths", "on_lines", "caption", "line_checks", "CAMPAIGN_PAGE"]
+
+CAMPAIGN_PAGE = "campaign.html"  # written by harness.report.campaign_page, linked from the index
 
 CAPTIONS = {"heatmap": "hit counts", "diff": "against the oracle", "crop": "crop: triangles over the pixel grid",
             "animation": "the sequence, offending pixels marked", "plot": "per-frame metrics",
@@ -96,15 +97,21 @@ def caption(key: str, r: Result) -> str:
     scene's crop, which says the fill rule and whose winding numbers it writes, and a line
     scene's, which says the line rule and the segment drawn thick."""
     scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
-    if key == "crop" and isinstance(scene, LineScene):
-        convention = r.drawing.convention if r.drawing is not None else None
-        rule = f" ({convention.describe_lines()})" if convention is not None else " (no convention known)"
-        segment = numbered_segment(r)
-        thick = f"; segment {segment} thick" if segment is not None else ""
-        return (f"crop: the segments over the pixel grid{rule}, each pixel coloured as against the oracle, "
-                f"segment by segment{thick}")
-    if key != "crop" or not isinstance(scene, PathScene):
+    if key != "crop" or scene is None or scene.kind not in _CROP_CAPTIONS:
         return CAPTIONS[key]
+    return _CROP_CAPTIONS[scene.kind](r, scene)
+
+
+def _line_crop_caption(r: Result, scene: LineScene) -> str:
+    convention = r.drawing.convention if r.drawing is not None else None
+    rule = f" ({convention.describe_lines()})" if convention is not None else " (no convention known)"
+    segment = numbered_segment(r)
+    thick = f"; segment {segment} thick" if segment is not None else ""
+    return (f"crop: the segments over the pixel grid{rule}, each pixel coloured as against the oracle, "
+            f"segment by segment{thick}")
+
+
+def _path_crop_caption(r: Result, scene: PathScene) -> str:
     path = numbered_path(r)
     convention = r.drawing.convention if r.drawing is not None else None
     at = ("its centre (no convention known)" if convention is None else
@@ -114,30 +121,35 @@ def caption(key: str, r: Result) -> str:
     return f"crop: the paths over the pixel grid under the {scene.fill_rule} rule{numbers}"
 
 
+# The crops whose caption says more than CAPTIONS's, per scene kind (the presentation's own
+# table, keyed by harness.kinds' names).
+_CROP_CAPTIONS: dict[str, Callable[[Result, Any], str]] = {"lines": _line_crop_caption, "paths": _path_crop_caption}
+
+
+def _on(r: Result, kind: PrimitiveKind[Any], family_prefix: str) -> bool:
+    """Whether a result is on a scene of ``kind``: its drawing's scene is one, its repro
+    holds its primitives, or (read back from JSON) its case family is the kind's name or
+    starts with ``family_prefix``."""
+    scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
+    if scene is not None:
+        return bool(scene.kind == kind.name)
+    repro = r.evidence.get("repro")
+    if isinstance(repro, dict) and any(k.json_key in repro for k in KINDS.values()):
+        return kind.json_key in repro
+    family = r.case.split("/", 1)[0]
+    return family == kind.name or family.startswith(family_prefix)
+
+
 def on_paths(r: Result) -> bool:
     """Whether a result is on a path scene: its drawing's scene is one, its repro holds
     paths, or (read back from JSON) its case family is ``paths`` or ``path-...``."""
-    scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
-    if scene is not None:
-        return isinstance(scene, PathScene)
-    repro = r.evidence.get("repro")
-    if isinstance(repro, dict) and ("paths" in repro or "positions" in repro):
-        return "paths" in repro
-    family = r.case.split("/", 1)[0]
-    return family == "paths" or family.startswith("path-")
+    return _on(r, PATHS, "path-")
 
 
 def on_lines(r: Result) -> bool:
     """Whether a result is on a line scene: its drawing's scene is one, its repro holds
     lines, or (read back from JSON) its case family is ``lines`` or ``line-...``."""
-    scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
-    if scene is not None:
-        return isinstance(scene, LineScene)
-    repro = r.evidence.get("repro")
-    if isinstance(repro, dict) and ("lines" in repro or "paths" in repro or "positions" in repro):
-        return "lines" in repro
-    family = r.case.split("/", 1)[0]
-    return family == "lines" or family.startswith("line-")
+    return _on(r, LINES, "line-")
 
 
 # A line case of each form a line check may look for: a strip with joints, a closed
@@ -656,244 +668,3 @@ def write_comparison(out_dir: Path, data: dict[str, Any], candidates: int, seed:
     atomic_write_text(path, html)
     link_pages(Path(out_dir))
     return path
-
-
-
-# -- the campaign page ---------------------------------------------------------------------------
-
-CAMPAIGN_PAGE = "campaign.html"
-CAMPAIGN_EXAMPLES = 8  # example scenes shown per signature (the state keeps up to 20)
-
-
-def campaign_run(event: ProgressEvent | None) -> dict[str, Any] | None:
-    """This run's figures from a campaign's last :class:`~harness.campaign.campaign.ProgressEvent`
-    (None without one): scenes, primitives, seconds, rates and workers."""
-    if event is None:
-        return None
-    return {"scenes": event.scenes, "primitives": event.primitives, "seconds": round(event.elapsed, 3),
-            "scenes_per_second": round(event.scenes_per_second, 3),
-            "primitives_per_second": round(event.primitives_per_second, 3), "workers": event.workers}
-
-
-def _duration(seconds: float) -> str:
-    """``2 h 05 min``, ``3 min 07 s``, ``12.3 s``.
-
-    >>> _duration(12.345), _duration(187), _duration(7500)
-    ('12.3 s', '3 min 07 s', '2 h 05 min')
-    """
-    if seconds < 60:
-        return f"{seconds:.1f} s"
-    minutes, secs = divmod(int(round(seconds)), 60)
-    if minutes < 60:
-        return f"{minutes} min {secs:02d} s"
-    hours, minutes = divmod(minutes, 60)
-    return f"{hours} h {minutes:02d} min"
-
-
-def _point_text(point: dict[str, Any] | list[Any] | tuple[Any, ...]) -> str:
-    """``family/seed/index`` of a scene point (a state's ``first``/``last`` or an example)."""
-    if isinstance(point, dict):
-        return f"{point.get('family')}/{point.get('seed')}/{point.get('index')}"
-    return "/".join(str(p) for p in point)
-
-
-def _scenes_at(history: list[list[float]], at: float) -> float:
-    """The campaign's scenes when its wall clock read ``at`` seconds: those of the first
-    history point at or after it (the batch that found a signature is merged, and its point
-    recorded, at the same reading)."""
-    for when, scenes, _ in history:
-        if when >= at:
-            return float(scenes)
-    return float(history[-1][1]) if history else 0.0
-
-
-def findings_chart(state: CampaignState, width: int = 640, height: int = 220) -> str:
-    """An inline SVG of the campaign's findings against the scenes checked, from its
-    ``history``: the findings (cumulative, red, left scale) and the distinct signatures (a
-    step each time one is first seen, blue, right scale). Empty without history."""
-    history = [[float(a), float(n), float(k)] for a, n, k in state.history]
-    if not history:
-        return ""
-    points = [[0.0, 0.0, 0.0], *history]
-    firsts = sorted(_scenes_at(history, float(entry["first"].get("at", 0.0))) for entry in state.signatures.values()
-                    if isinstance(entry.get("first"), dict))
-    left, right, top, bottom = 56, 44, 14, 34
-    plot_w, plot_h = width - left - right, height - top - bottom
-    max_scenes = max(p[1] for p in points) or 1.0
-    max_findings = max(p[2] for p in points) or 1.0
-    max_signatures = max(len(firsts), 1)
-
-    def x(scenes: float) -> float:
-        return left + plot_w * scenes / max_scenes
-
-    def y(value: float, top_value: float) -> float:
-        return top + plot_h * (1.0 - value / top_value)
-
-    found = " ".join(f"{x(n):.1f},{y(k, max_findings):.1f}" for _, n, k in points)
-    steps = [f"{x(0):.1f},{y(0, max_signatures):.1f}"]
-    for count, scenes in enumerate(firsts, 1):
-        steps += [f"{x(scenes):.1f},{y(count - 1, max_signatures):.1f}", f"{x(scenes):.1f},{y(count, max_signatures):.1f}"]
-    steps.append(f"{x(max_scenes):.1f},{y(len(firsts), max_signatures):.1f}")
-    red, blue, grey = "#c0392b", "#1f5fa8", "#888"
-    parts = [
-        f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}" '
-        f'role="img" aria-label="findings and distinct signatures against the scenes checked">',
-        f'<rect x="{left}" y="{top}" width="{plot_w}" height="{plot_h}" fill="white" stroke="{grey}"/>',
-        f'<polyline points="{found}" fill="none" stroke="{red}" stroke-width="2"/>',
-        f'<polyline points="{" ".join(steps)}" fill="none" stroke="{blue}" stroke-width="2" stroke-dasharray="5 3"/>',
-        f'<text x="{left - 6}" y="{top + 10}" text-anchor="end" font-size="11" fill="{red}">{max_findings:,.0f}</text>',
-        f'<text x="{left - 6}" y="{top + plot_h}" text-anchor="end" font-size="11" fill="{red}">0</text>',
-        f'<text x="{width - right + 6}" y="{top + 10}" font-size="11" fill="{blue}">{max_signatures}</text>',
-        f'<text x="{width - right + 6}" y="{top + plot_h}" font-size="11" fill="{blue}">0</text>',
-        f'<text x="{left}" y="{height - 18}" font-size="11" fill="{grey}">0</text>',
-        f'<text x="{left + plot_w}" y="{height - 18}" text-anchor="end" font-size="11" fill="{grey}">{max_scenes:,.0f}</text>',
-        f'<text x="{left + plot_w / 2:.0f}" y="{height - 4}" text-anchor="middle" font-size="11" fill="{grey}">scenes checked</text>',
-        f'<text x="12" y="{top + plot_h / 2:.0f}" font-size="11" fill="{red}" transform="rotate(-90 12 {top + plot_h / 2:.0f})" '
-        f'text-anchor="middle">findings</text>',
-        f'<text x="{width - 8}" y="{top + plot_h / 2:.0f}" font-size="11" fill="{blue}" '
-        f'transform="rotate(90 {width - 8} {top + plot_h / 2:.0f})" text-anchor="middle">signatures</text>',
-        "</svg>",
-    ]
-    return "".join(parts)
-
-
-def _campaign_repro(state: CampaignState, entry: dict[str, Any], page_dir: Path, rasterizer: Any | None,
-                    spec: str) -> dict[str, Any]:
-    """A signature's repro for the page: its link (relative to the page), its picture
-    (:func:`harness.report.pictures.draw_repro`, with the pixels the rasterizer's convention covers
-    when it is known), its size and the command that replays it; or why there is none."""
-    import json
-
-    from harness.checks import Drawing
-    from harness.contract.case import MotionCase, case_from_json
-    from harness.contract.scenes import AnyScene
-
-    relative = entry.get("repro")
-    if not relative:
-        why = entry.get("repro_error")
-        return {"note": f"not shrunk: {why}" if why else "no repro yet (shrunk when the campaign next runs)"}
-    path = Path(state.directory) / str(relative)
-    href = os.path.relpath(path.resolve(), page_dir.resolve())
-    out: dict[str, Any] = {"href": Path(href).as_posix(), "file": str(path),
-                           "replay": f"rastercheck replay {shlex.quote(str(path))} --rasterizer {shlex.quote(spec)}"}
-    try:
-        payload = json.loads(path.read_text(encoding="utf-8"))
-        case = case_from_json(payload)
-    except (OSError, UnicodeDecodeError, ValueError) as exc:
-        return {**out, "note": f"the repro cannot be read ({exc})"}
-    drawing = None
-    if rasterizer is not None and not isinstance(case, MotionCase):
-        try:
-            scene: AnyScene = case.scene
-            convention = convention_for(rasterizer, scene)
-        except Exception:  # noqa: BLE001 - a convention that cannot be read: the repro is drawn without one
-            convention = None
-        drawing = Drawing(case, (), convention) if convention is not None else None
-    probe = Result(state.rasterizer, case.id, str(payload.get("check", entry.get("check", ""))), "fail",
-                   str(payload.get("message", "")), evidence={"repro": payload}, drawing=drawing)
-    drawn = draw_repro(probe)
-    size = len(case.frames) if isinstance(case, MotionCase) else len(case.scene)
-    noun = "frame" if isinstance(case, MotionCase) else case.scene.noun
-    of = payload.get("original_triangles")
-    return {**out, "picture": drawn[0] if drawn else None, "caption": drawn[1] if drawn else None,
-            "size": f"{size} {noun}{'' if size == 1 else 's'}" + (f" (of {of})" if of else ""),
-            "message": str(payload.get("message", "")), "note": payload.get("note"), "check": payload.get("check"),
-            "paths": noun == "path", "lines": noun == "segment"}
-
-
-def _campaign_rows(state: CampaignState, page_dir: Path, rasterizer: Any | None) -> list[dict[str, Any]]:
-    from cases.fuzz import scene_id
-    from harness.diagnose.signatures import Signature
-
-    total = max(state.findings, 1)
-    rows = []
-    for key, entry in sorted(state.signatures.items(), key=lambda kv: (-int(kv[1].get("count", 0)), kv[0])):
-        signature = Signature(str(entry.get("check", "")), str(entry.get("failure_class", "")), str(entry.get("convention_part", "")))
-        examples = []
-        for point in list(entry.get("examples") or [])[:CAMPAIGN_EXAMPLES]:
-            try:
-                family, seed, index = point
-                case_id = scene_id(family, int(seed), int(index))
-            except (KeyError, TypeError, ValueError):
-                continue  # not a scene point of a family this version knows: nothing to replay
-            examples.append({"point": _point_text(point), "id": case_id, "call": f"generate({family!r}, {int(seed)}, {int(index)})"})
-        first, last = entry.get("first") or {}, entry.get("last") or {}
-        rows.append({
-            "key": key, "anchor": "signature-" + _slug(key), "check": signature.check, "failure_class": signature.failure_class,
-            "convention_part": signature.convention_part, "describe": signature.describe(), "count": int(entry.get("count", 0)),
-            "share": f"{100.0 * int(entry.get('count', 0)) / total:.1f}%",
-            "first": {"point": _point_text(first), "at": _duration(float(first.get("at", 0.0))), "when": first.get("when", "")},
-            "last": {"point": _point_text(last), "at": _duration(float(last.get("at", 0.0))), "when": last.get("when", "")},
-            "message": str(entry.get("message", "")), "status": entry.get("status", "fail"),
-            "examples": examples, "more_examples": max(len(entry.get("examples", [])) - CAMPAIGN_EXAMPLES, 0),
-            "repro": _campaign_repro(state, entry, page_dir, rasterizer, state.spec),
-        })
-    return rows
-
-
-def write_campaign_page(out_dir: Path | str, state: CampaignState, *, rasterizer: Any | None = None,
-                        run: dict[str, Any] | None = None) -> Path:
-    """Write ``campaign.html`` into ``out_dir`` atomically from a campaign's state.
-
-    Parameters
-    ----------
-    out_dir : path
-    state : CampaignState
-        What the campaign searched and found (its repros are read from its folder and
-        linked relative to the page).
-    rasterizer : Rasterizer, optional
-        Its convention for a repro's scene (declared, or identified) draws the pixels the
-        convention covers on each repro; without it the repros are drawn without them.
-    run : dict, optional
-        This run's figures (:func:`campaign_run`): scenes, primitives, seconds, rates,
-        workers.
-    """
-    from markupsafe import Markup
-
-    out_dir = Path(out_dir)
-    rows = _campaign_rows(state, out_dir, rasterizer)
-    wall = state.wall_seconds
-    header = {
-        "rasterizer": state.rasterizer, "spec": state.spec, "seed": state.seed, "families": list(state.families),
-        "skipped": dict(state.skipped), "scenes": state.scenes, "primitives": state.primitives, "findings": state.findings,
-        "signatures": len(state.signatures), "wall": _duration(wall), "worker_seconds": _duration(state.worker_seconds),
-        "scenes_per_second": state.scenes / wall if wall > 0 else 0.0,
-        "primitives_per_second": state.primitives / wall if wall > 0 else 0.0,
-        "identified": state.identified, "batch_size": state.batch_size,
-        "done": [{"family": f, "seed": s, "ranges": ", ".join(f"{a}..{b - 1}" for a, b in ranges), "scenes": sum(b - a for a, b in ranges)}
-                 for (f, s), ranges in sorted(state.done.items())],
-    }
-    anchors = {row["key"]: row["anchor"] for row in rows}
-    causes = [{**group, "signatures": [(key, anchors.get(key, "")) for key in group["signatures"]]} for group in state.causes()]
-    header["causes"] = len(causes)
-    meta = page_meta("campaign", state.seed, wall)
-    chart = Markup(findings_chart(state))  # built here from numbers and fixed words only
-    html = _environment().get_template("campaign.html").render(
-        header=header, run=run, rows=rows, causes=causes, chart=chart, meta=meta, state_dir=str(state.directory),
-        crop_legend=CROP_LEGEND.items(), path_legend=PATH_LEGEND.items(), line_legend=LINE_LEGEND.items(),
-        sample_legend=SAMPLE_LEGEND.items(),
-        any_paths=any(r["repro"].get("paths") for r in rows), any_lines=any(r["repro"].get("lines") for r in rows),
-        resume=f"rastercheck fuzz --rasterizer {shlex.quote(state.spec)} --state {shlex.quote(str(state.directory))} --budget 10m")
-    path = out_dir / CAMPAIGN_PAGE
-    atomic_write_text(path, html)
-    link_pages(out_dir)  # an index in the folder links the page (templates/pages.html)
-    return path
-
-
-def campaign_json(state: CampaignState, run: dict[str, Any] | None = None, page: Path | str | None = None) -> dict[str, Any]:
-    """A campaign as JSON (schema 1): its state (:meth:`CampaignState.to_json`: spec,
-    rasterizer, seed, families, done ranges, totals, signatures with their repros relative
-    to ``state_dir``, history), this run's figures (``run``) and the page, plus per
-    signature its one-line description and the command replaying its repro."""
-    from harness.diagnose.signatures import Signature
-
-    data = state.to_json()
-    described = {}
-    for key, entry in state.signatures.items():
-        signature = Signature(str(entry.get("check", "")), str(entry.get("failure_class", "")), str(entry.get("convention_part", "")))
-        repro = Path(state.directory) / entry["repro"] if entry.get("repro") else None
-        described[key] = {"describe": signature.describe(),
-                          "replay": (f"rastercheck replay {shlex.quote(str(repro))} --rasterizer {shlex.quote(state.spec)}"
-                                     if repro is not None else None)}
-    return {**data, "state_dir": str(state.directory), "run": run, "page": None if page is None else str(page),
-            "described": described, "causes": state.causes()}
