@@ -136,9 +136,9 @@ def rasterizers() -> None:
 def _draw_each_family(everyone: list) -> None:
     from harness.contract.case import Case
     from harness.contract.protocol import takes
-    from harness.contract.scenes import LineScene, PathScene, Scene
+    from harness.contract.scenes import AnyScene, PathScene, Scene
 
-    scenes: list[Scene | PathScene | LineScene] = [Scene(8, 8, POSITIONS, attributes=VALUES, w=w) for w in (None, np.array([[1.0, 2.0, 4.0]]))]
+    scenes: list[AnyScene] = [Scene(8, 8, POSITIONS, attributes=VALUES, w=w) for w in (None, np.array([[1.0, 2.0, 4.0]]))]
     for case in _first_of_each_family():
         scenes += case.frames[:1] if not isinstance(case, Case) else [case.scene]
     # paths under both rules (each rule a specialisation of some kernels)

@@ -451,7 +451,7 @@ class CampaignState:
         >>> [str(b) for b, _ in zip(state.next_batches(["a", "b"], 4), range(4))]
         ['a/0/0..1', 'b/0/0..3', 'a/0/5..8', 'b/0/4..7']
         """
-        size_of = batch_size if callable(batch_size) else (lambda family: int(batch_size))  # type: ignore[arg-type]
+        size_of = batch_size if callable(batch_size) else (lambda family: int(batch_size))
         cursor = dict.fromkeys(families, 0)
         while cursor:
             for family in list(cursor):

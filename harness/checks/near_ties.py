@@ -278,7 +278,7 @@ def _diamond_margins(a: NDArray, b: NDArray, px: NDArray, py: NDArray, last_pixe
     depth = np.min(np.where(used, (value + error) / np.where(used, length, 1.0), np.inf), axis=0) * _HIGH
     doubtful = used & (value - error <= 0)
     apart = _SQRT2_HIGH * np.max(np.where(doubtful, (np.abs(value) + error) / np.where(used, length, 1.0), 0.0), axis=0) * _HIGH
-    margin = np.where(sure_inside, depth, apart)
+    margin: NDArray = np.where(sure_inside, depth, apart)
     unsure = ~sure_inside & np.all((value + error >= 0) | ~used, axis=0) & np.isfinite(margin)
     for k in np.flatnonzero(unsure):
         if _diamond_touches_exactly(a[k], b[k], (px[k], py[k])):
@@ -327,7 +327,7 @@ def _rectangle_margins(a: NDArray, b: NDArray, px: NDArray, py: NDArray, line_wi
     q_high = (np.abs(det) + e_det) / low * _HIGH
     q_low = np.maximum(np.abs(det) - e_det, 0.0) / high * _LOW
     side = np.maximum(q_high - half, half - q_low) * _HIGH + _UNDERFLOW
-    margin = np.minimum(np.minimum(caps[0][0], caps[1][0]), side)
+    margin: NDArray = np.minimum(np.minimum(caps[0][0], caps[1][0]), side)
     margin[~(length > 0)] = np.inf
     # where the float cannot tell the sample off a boundary line, ask exactly
     doubtful = (np.abs(caps[0][1]) <= caps[0][2]) | (np.abs(caps[1][1]) <= caps[1][2]) | ((q_low <= half) & (half <= q_high))
@@ -451,8 +451,9 @@ def line_edge_distance(scene: LineScene, convention: Convention | None, fragment
     if not ok.any():
         return out
     if convention is None:
-        return np.minimum.reduce([line_edge_distance(scene, Convention(line=rule), fragments)
-                                  for rule in ("diamond-exit", "bresenham", "rectangle")])
+        nearest: NDArray = np.minimum.reduce([line_edge_distance(scene, Convention(line=rule), fragments)
+                                              for rule in ("diamond-exit", "bresenham", "rectangle")])
+        return nearest
     a, b = scene.segments()
     a, b = convention.snap(a)[segment[ok]], convention.snap(b)[segment[ok]]
     x = fragments[1, ok].astype(np.float64)

@@ -8,6 +8,7 @@ import argparse
 import json
 import sys
 import time
+from collections.abc import Callable
 from typing import Any
 
 from harness.cli.common import UsageError, _load_all
@@ -79,6 +80,7 @@ def _identify(args: argparse.Namespace) -> int:
 
 def _identify_card(args: argparse.Namespace) -> int:
     """:func:`_identify`'s work: load, probe, print the card, judge the declaration."""
+    from harness.contract.conventions import Convention
     from harness.contract.protocol import scene_kinds_of
     from harness.identify.fingerprint import identify_isolated
     from harness.results.files import atomic_write_text, prepare_file
@@ -109,7 +111,8 @@ def _identify_card(args: argparse.Namespace) -> int:
         return 1
     declared = rasterizer.convention
     # a line drawer's declaration in line words
-    words_of = (lambda c: c.describe_lines()) if scene_kinds_of(rasterizer) == ("lines",) else (lambda c: c.describe())
+    words_of: Callable[[Convention], str] = \
+        Convention.describe_lines if scene_kinds_of(rasterizer) == ("lines",) else Convention.describe
     payload: dict[str, Any] = {"schema": 1, "fingerprint": fingerprint.to_dict(),
                                "declared": words_of(declared) if declared is not None else None}
     contradicted = False

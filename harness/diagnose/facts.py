@@ -162,7 +162,8 @@ def _violated_edges(edges_a: NDArray, edges_b: NDArray, sample: NDArray) -> NDAr
     if winding == 0:
         return none
     sides = orientation(np.stack([edges_a, edges_b, np.broadcast_to(sample, edges_a.shape)], axis=1))
-    return sides == -winding
+    violated: NDArray[np.bool_] = sides == -winding
+    return violated
 
 
 def wrong_pixels(result: Any, noun: str, n: int) -> list[tuple[int, int, int, str, float]]:
@@ -492,4 +493,6 @@ def on_flat_line(positions: NDArray, samples: NDArray) -> NDArray[np.bool_]:
     a, b = max(spans, key=lambda e: float(np.abs(e[1] - e[0]).max()))
     if np.array_equal(a, b):
         return np.ones(samples.shape[0], dtype=bool)
-    return orientation(np.stack([np.broadcast_to(a, samples.shape), np.broadcast_to(b, samples.shape), samples], axis=1)) == 0
+    on_line: NDArray[np.bool_] = orientation(np.stack([np.broadcast_to(a, samples.shape), np.broadcast_to(b, samples.shape),
+                                                       samples], axis=1)) == 0
+    return on_line

@@ -334,7 +334,10 @@ def _size_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str
     # each in its shape and made thick: a dropper of small areas drops the first, and a
     # sliver's first may cover no sample
     shifts = np.repeat(np.array(DROPPED_SHIFTS), len(subset), axis=0)[:, None, :]
-    tile = lambda a: None if a is None else np.concatenate([a] * len(DROPPED_SHIFTS) * 2)  # noqa: E731
+
+    def tile(a: NDArray | None) -> NDArray | None:
+        return None if a is None else np.concatenate([a] * len(DROPPED_SHIFTS) * 2)
+
     both = np.concatenate([np.concatenate([smaller] * len(DROPPED_SHIFTS)) + shifts,
                            np.concatenate([_thickened(smaller, GROWN_THICKNESS)] * len(DROPPED_SHIFTS)) + shifts])
     copies = Scene(scene.width, scene.height, both, tile(subset.attributes), tile(subset.w))
@@ -417,7 +420,8 @@ def _drawn_exactly(answer: Coverage, oracle: Coverage, n: int, width: int, heigh
         keep = (t >= 0) & (t < n) & (x >= 0) & (x < width) & (y >= 0) & (y < height)
         return np.unique((t[keep] * height + y[keep]) * width + x[keep])
     differ = np.setxor1d(keys(answer), keys(oracle), assume_unique=True) // (width * height)
-    return np.bincount(differ, minlength=n)[:n] == 0
+    agree: NDArray[np.bool_] = np.bincount(differ, minlength=n)[:n] == 0
+    return agree
 
 
 def _thickened(p: NDArray[np.float64], thickness: float) -> NDArray[np.float64]:

@@ -92,7 +92,7 @@ def _lattice_steps(rng: np.random.Generator, count: int) -> NDArray[np.float64]:
     way), a third up to 6 px, a third up to 20 px; a quarter of them integer vectors of
     slope 1/2 or 2 (Bresenham's ties) and a tenth zero."""
     reach = np.choose(rng.integers(0, 3, size=count), [4, 24, 80])[:, None]
-    steps = np.round(rng.uniform(-1.0, 1.0, size=(count, 2)) * reach) / 4.0
+    steps: NDArray[np.float64] = np.round(rng.uniform(-1.0, 1.0, size=(count, 2)) * reach) / 4.0
     halves = rng.random(count) < 0.25
     k = rng.integers(1, 5, size=count) * rng.choice([-1, 1], size=count)
     m = rng.choice([-1, 1], size=count)

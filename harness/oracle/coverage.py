@@ -269,7 +269,8 @@ def _interpolate_python(
     weights = planes[:, 0][None, :] + x[:, None] * planes[:, 1] + y[:, None] * planes[:, 2]
     if inv_w is not None:
         weights = weights * inv_w[None, :]
-    return (weights @ values) / weights.sum(axis=1, keepdims=True)
+    interpolated: NDArray[np.float64] = (weights @ values) / weights.sum(axis=1, keepdims=True)
+    return interpolated
 
 
 # -- public entry points ------------------------------------------------------------------
@@ -428,7 +429,8 @@ def exact_triangles(scene: Scene, convention: Convention) -> Coverage:
     """The exact coverage of a triangle scene (the oracle of :data:`harness.kinds.TRIANGLES`):
     the convention's coverage model names its oracle (exact_single, exact_multisample,
     sample_shares or harness.oracle.area.area_coverage)."""
-    return convention.model.exact_triangles(scene, convention)
+    coverage: Coverage = convention.model.exact_triangles(scene, convention)
+    return coverage
 
 
 def exact_single(scene: Scene, convention: Convention) -> Coverage:

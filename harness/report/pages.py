@@ -41,7 +41,7 @@ import shlex
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypedDict
 
 import numba
 import numpy as np
@@ -177,7 +177,16 @@ def line_checks(results: list[Result] | None = None) -> list[str]:
     return named + sorted(seen - set(named))
 
 
-def capabilities(rasterizers: list[Any]) -> dict[str, dict[str, Any]]:
+class Capabilities(TypedDict):
+    """What :func:`capabilities` tells :func:`write_report` (and
+    :func:`harness.results.output.write_json`) of each rasterizer, by name."""
+
+    scene_kinds: dict[str, tuple[str, ...]]
+    fill_rules: dict[str, tuple[str, ...]]
+    line_rules: dict[str, str]
+
+
+def capabilities(rasterizers: list[Any]) -> Capabilities:
     """What :func:`write_report` is told of each rasterizer's scene kinds, fill rules and
     line rule: ``{"scene_kinds": name -> kinds, "fill_rules": name -> rules, "line_rules":
     name -> rule}`` (the fill rules of the path-taking ones only; the line rule, in words
@@ -185,7 +194,7 @@ def capabilities(rasterizers: list[Any]) -> dict[str, dict[str, Any]]:
     with :func:`harness.contract.protocol.scene_kinds_of`, :func:`harness.contract.protocol.fill_rules_of` and
     :func:`harness.contract.protocol.convention_for`; pass it on as ``write_report(..., **capabilities(rs))``."""
     kinds = {r.name: scene_kinds_of(r) for r in rasterizers}
-    lines = {}
+    lines: dict[str, str] = {}
     for r in rasterizers:
         convention = convention_for(r, _LINE_PROBE.scene) if "lines" in kinds[r.name] else None
         if convention is not None:

@@ -28,7 +28,8 @@ MAX_SIDE = 64  # pixels of the viewport shown: a window around the evidence
 def _texel_colours(ids: NDArray) -> NDArray:
     rng = np.random.default_rng(7)
     palette = rng.integers(60, 230, size=(4096, 3))
-    return palette[ids % 4096]
+    colours: NDArray = palette[ids % 4096]
+    return colours
 
 
 def motion_animation(coverages: list[Coverage], oracles: list[Coverage] | None, width: int, height: int,

@@ -144,7 +144,8 @@ def winding_numbers(scene: PathScene, path: int, convention: Convention, window:
 
     def below(v: NDArray[np.float64]) -> NDArray[np.bool_]:
         # the perturbed row moves up (ty < 0): a vertex on it lies below it
-        return (v[None, :] > ys[:, None]) | ((v[None, :] == ys[:, None]) & (ty < 0))
+        under: NDArray[np.bool_] = (v[None, :] > ys[:, None]) | ((v[None, :] == ys[:, None]) & (ty < 0))
+        return under
 
     row, edge = np.nonzero(below(a[:, 1]) != below(b[:, 1]))  # (edge, row) pairs that cross
     ea, eb, d = a[edge], b[edge], direction[edge]
@@ -254,7 +255,8 @@ def _clip_contour(points: NDArray[np.float64], box: tuple[float, float, float, f
     repeated = np.all(p == np.roll(p, 1, axis=0), axis=1)  # a vertex on the side is emitted twice
     if repeated.all():
         return p[:0]
-    return p[~repeated] * unit
+    corners: NDArray[np.float64] = p[~repeated] * unit
+    return corners
 
 
 def _svg_paths(scene: PathScene, window: tuple[int, int, int, int], scale: float, numbered: int | None) -> list[str]:

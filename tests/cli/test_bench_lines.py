@@ -16,16 +16,15 @@ import pytest
 from harness.cli.bench import (
     LINE_ORACLES,
     _contenders,
-    _line_peers,
-    _pillow_lines,
-    _Surface,
     format_table,
     line_workloads,
     missing_peers,
     run_bench,
     write_json,
 )
+from harness.cli.bench_peers import _line_peers, _pillow_lines, _Surface
 from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene
 from harness.oracle.coverage import exact_coverage
 from tests.narrow import lines
@@ -127,6 +126,7 @@ def test_a_rasterizer_is_measured_on_the_line_workloads_when_it_takes_lines() ->
     labels = [label for label, _ in _contenders(short, [TakesLines(), TrianglesOnly()])]
     assert "takes-lines" in labels and "triangles-only" not in labels
     drawn = dict(_contenders(short, [TakesLines()]))["takes-lines"]()
+    assert isinstance(drawn, Coverage)
     assert drawn.n_pixels == _bresenham_fragments(lines(short.scene))
 
 

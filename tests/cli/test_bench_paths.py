@@ -7,7 +7,8 @@ import json
 import numpy as np
 import pytest
 
-from harness.cli.bench import _contenders, _path_peers, format_table, missing_peers, path_workloads, run_bench, stars, write_json
+from harness.cli.bench import _contenders, format_table, missing_peers, path_workloads, run_bench, stars, write_json
+from harness.cli.bench_peers import _path_peers, _Surface
 from harness.contract.conventions import Convention
 from harness.contract.scenes import PathScene
 from harness.oracle.coverage import exact_coverage
@@ -102,7 +103,9 @@ def test_the_library_peers_fill_under_the_rule_asked(peer, rule):
     if peer not in fills:
         pytest.skip(f"{peer}: {missing_peers().get(peer, 'its library is not installed')}")
     scene = paths(path_workloads(SCALE)[0].scene).with_fill_rule(rule)
-    drawn = fills[peer](scene).read() > 0
+    surface = fills[peer](scene)
+    assert isinstance(surface, _Surface)
+    drawn = surface.read() > 0
     union = exact_coverage(scene, Convention()).counts(512, 512) > 0
     other = exact_coverage(scene.with_fill_rule("evenodd" if rule == "nonzero" else "nonzero"), Convention()).counts(512, 512) > 0
     assert (drawn != union).sum() < 0.15 * (other != union).sum()

@@ -16,6 +16,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.samples import pattern
 from harness.contract.scenes import Scene
 from harness.oracle.coverage import exact_coverage, exact_samples
+from tests.narrow import triangles
 
 QUICK = suite("quick")
 STATIC = [c for c in QUICK if isinstance(c, Case)]
@@ -136,7 +137,7 @@ def test_hygiene_names_sample_indices_outside_the_pattern_and_missing_alphas():
 
     (beyond,) = run_suite([NoSampleIds()], cases=[case], isolate=False, repros=False, identify=False, only={"hygiene"})
     assert beyond.status == "fail" and beyond.metrics["bad_sample"] > 0
-    assert "no alphas" in hygiene(case, NoAlpha().rasterize(case.scene), convention=NoAlpha.convention).message
+    assert "no alphas" in hygiene(case, NoAlpha().rasterize(triangles(case.scene)), convention=NoAlpha.convention).message
     # run, the declaration it contradicts is refused once (harness.contract.declarations), not judged per case
     (alphaless,) = run_suite([NoAlpha()], cases=[case], isolate=False, repros=False, identify=False, only={"hygiene"})
     assert alphaless.status == "error" and "carries no alphas" in alphaless.message

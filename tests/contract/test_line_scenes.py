@@ -14,8 +14,9 @@ from harness.contract.conventions import Convention, LineRule
 from harness.contract.coverage import Coverage
 from harness.contract.protocol import scene_kinds_of, takes
 from harness.contract.scenes import SCENE_KINDS, LineScene
+from harness.oracle.bresenham_lines import _bresenham_far
 from harness.oracle.coverage import exact_coverage
-from harness.oracle.lines import _bresenham_far, bresenham_spans, diamond_exit_spans_rational, rectangle_spans_rational
+from harness.oracle.lines import bresenham_spans, diamond_exit_spans_rational, rectangle_spans_rational
 
 QUICK = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 

@@ -5,6 +5,7 @@ and the held-out rare bug (tests/known_bad/rare.py) passes the quick suite."""
 import collections
 import math
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 import pytest
@@ -18,8 +19,10 @@ from harness.contract.scenes import Scene
 from harness.diagnose.signatures import Signature, overflow_class, signature
 from harness.diagnose.trials import with_trials
 from harness.engine.isolation import InProcess, Outcome
-from harness.engine.runner import _error, check_case, check_motion
+from harness.engine.runner import check_case, check_motion
+from harness.engine.session import _error
 from rasterizers.fixed_point import FixedPoint
+from tests import narrow
 from tests.known_bad.antialiasing import BiasedArea
 from tests.known_bad.conventions import HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.edge_functions import EdgeFunctionBug
@@ -47,7 +50,7 @@ def failures(bad, family: str, count: int, only: set[str]) -> tuple[collections.
     return collections.Counter(signature(r, cases[r.case], bad.convention).key for r in failed), failed
 
 
-ONE_SIGNATURE = [
+ONE_SIGNATURE: list[tuple[Any, str, int, set[str], str]] = [  # (known-bad rasterizers of many classes)
     # bug, family, scenes, the checks run, its one signature
     (EdgeFunctionBug("inclusive"), "lattice", 50, {"conformance"}, "conformance|exact-tie-slanted-edge|tie-rule"),
     (YFirstClaimsXFirst(), "lattice", 50, {"conformance"}, "conformance|exact-tie-slanted-edge|tie-rule"),
@@ -117,7 +120,7 @@ def test_probes_make_input_format_and_viewport_edge_facts():
             probed = with_trials(r, cases[r.case], judge, bad)
             assert signature(probed, cases[r.case], bad.convention).key == expected, probed.message
     plain = Result("r", "c", "hygiene", "fail", "x")
-    assert with_trials(plain, None, None, None) is plain  # only conformance and invariance failures are probed
+    assert with_trials(plain, None, None, None) is plain  # type: ignore[arg-type]  # only conformance and invariance failures are probed
 
 
 def test_errors_classify():
@@ -151,7 +154,7 @@ class _Hostile:
 
 
 def test_signature_never_raises_on_odd_input():
-    scene = Scene(8, 8, [[[1, 1], [7, 1], [1, 7]], [[np.nan, 1], [7, 1], [1, 7]]])
+    scene = Scene(8, 8, [[[1.0, 1.0], [7.0, 1.0], [1.0, 7.0]], [[np.nan, 1.0], [7.0, 1.0], [1.0, 7.0]]])
     case = Case("odd/case", scene)
     odd_results = [
         None, object(), _Hostile(), 42,
@@ -160,7 +163,8 @@ def test_signature_never_raises_on_odd_input():
         Result("r", "c", "conformance", "fail", "x", evidence={"pixels": [{"triangle": 99, "x": 1, "y": 1}, {"x": 2}, 5]}),
         Result("r", "c", "conformance", "fail", "x", evidence={"pixels": [{"triangle": 1, "x": 1, "y": 1, "kind": "extra"}]}),
         Result("r", "c", "conformance", "fail", "x", evidence={"pixels": [{"triangle": 0, "x": 10**30, "y": -5}]}),
-        Result("r", "c", "watertight", "fail", "x", metrics={"holes": "many"}, evidence={"blame": [{"pixel": "?"}]}),
+        Result("r", "c", "watertight", "fail", "x", metrics={"holes": "many"},  # type: ignore[dict-item]
+               evidence={"blame": [{"pixel": "?"}]}),
         Result("r", "c", "jaggy", "fail", "x", metrics=None),  # type: ignore[arg-type]
         Result("r", "c", "no-such-check", "fail", "x"),
         Result("r", "c", "conformance", "pass", "pixel-exact"),
@@ -192,7 +196,7 @@ def test_the_rare_bug_passes_the_quick_suite():
     from cases.suites import suite
 
     triangles = [c for c in suite("quick") if isinstance(c, Case) and isinstance(c.scene, Scene)]
-    assert len(triangles) > 70 and not any(flipped_samples(c.scene) for c in triangles)
+    assert len(triangles) > 70 and not any(flipped_samples(narrow.triangles(c.scene)) for c in triangles)
     results = run_suite([RareSlopeTie()], cases=triangles, isolate=False, identify=False, repros=False,
                         only={"conformance", "watertight"})
     assert {r.check for r in results} == {"conformance", "watertight"}
@@ -200,17 +204,17 @@ def test_the_rare_bug_passes_the_quick_suite():
 
 
 def test_the_rare_bug_is_rare_in_fuzz_scenes_and_named_a_slanted_tie():
-    lattice = [generate("lattice", 0, index) for index in range(300)]
+    lattice = [narrow.still(generate("lattice", 0, index)) for index in range(300)]
     triangles = sum(len(c.scene) for c in lattice)
-    hit = [c for c in lattice if flipped_samples(c.scene)]
-    wrong = sum(len({t for t, _, _ in flipped_samples(c.scene)}) for c in hit)
+    hit = [c for c in lattice if flipped_samples(narrow.triangles(c.scene))]
+    wrong = sum(len({t for t, _, _ in flipped_samples(narrow.triangles(c.scene))}) for c in hit)
     assert 1 <= len(hit) <= 30 and wrong / triangles < 2e-3, (len(hit), wrong, triangles)
     bad = RareSlopeTie()
     # and one signature for the one cause, probed as a campaign probes (tests/campaign/test_campaign.py
     # runs the campaign): also where the slope-3/4 edge leaves the screen (lattice 61, once
     # named a viewport edge: the probe's grown screen still fails) and where a sliver's only
     # sample lies on it (lattice 730, once a dropped primitive)
-    hit += [generate("lattice", 0, index) for index in (730,)]
+    hit += [narrow.still(generate("lattice", 0, index)) for index in (730,)]
     failed = [r for r in run_suite([bad], cases=hit, isolate=False, identify=False, repros=False, only={"conformance"})
               if r.status == "fail"]
     assert len(failed) == len(hit) and any(c.id.endswith("/61") for c in hit)
@@ -228,7 +232,7 @@ def test_a_flicker_is_named_by_the_frame_that_leaves_the_oracle():
     frame off the oracle fails conformance on the slope-3/4 tie, so the jaggy finding is the
     tie rule's, not a bare flicker; unprobed it is a flicker."""
     bad = RareSlopeTie()
-    case = generate("motion", 0, 1532)
+    case = narrow.moving(generate("motion", 0, 1532))
     failed = [r for r in run_suite([bad], cases=[case], isolate=False, identify=False, repros=False, only={"jaggy"})
               if r.status == "fail"]
     assert len(failed) == 1 and failed[0].evidence["oracle_mismatch_frames"]
@@ -618,7 +622,7 @@ def test_a_tie_on_a_float_partition_is_rebuilt_on_a_lattice(bug, index, expected
     only when the same tie fails where arithmetic is exact (campaigns had counted float32's
     rounding at exact ties as the tie rule, beside its near ties)."""
     bad = EdgeFunctionBug(bug)
-    case = generate("partitions", 0, index)
+    case = narrow.still(generate("partitions", 0, index))
     judge = _judge_of(bad)
     failed = [r for r in judge(case, "watertight") if r.status == "fail"]
     assert len(failed) == 1 and not case.lattice

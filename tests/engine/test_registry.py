@@ -115,6 +115,7 @@ def test_a_peer_whose_library_is_missing_is_named_with_its_install(monkeypatch):
     """Whatever this machine has installed: a library that does not import costs only its
     own peers, each named with the sentence that says how to install it."""
     import harness.cli.bench as bench
+    import harness.cli.bench_peers as bench_peers
     import harness.engine.optional as optional
 
     real_import = __import__
@@ -128,7 +129,7 @@ def test_a_peer_whose_library_is_missing_is_named_with_its_install(monkeypatch):
     absent = bench.missing_peers()
     assert set(absent) >= {"cairo_aa_fill", "cairo_fill", "cairo_line"}
     assert all("apt-get install libcairo2-dev" in absent[p] for p in ("cairo_aa_fill", "cairo_fill", "cairo_line"))
-    assert "cairo_aa_fill" not in dict(bench._library_peers())
+    assert "cairo_aa_fill" not in dict(bench_peers._library_peers())
     said = optional.missing("cairo")
     assert said is not None and said.startswith("cairo is not installed (ModuleNotFoundError): apt-get install")
 

@@ -68,7 +68,7 @@ class DiamondDrawerNoLines(_Oracle):
     name = "diamond_drawer_no_lines"
 
     def rasterize(self, scene: AnyScene) -> Coverage:
-        scene.segments()  # type: ignore[union-attr]  # the bug: it is handed triangles
+        scene.segments()  # type: ignore[attr-defined]  # the bug: it is handed triangles
         return exact_coverage(scene, self.convention)
 
 
