@@ -79,10 +79,11 @@ def scheduler_address(text: str) -> str:
 
     >>> scheduler_address("10.0.0.5:8786"), scheduler_address("tcp://[::1]:8786")
     ('tcp://10.0.0.5:8786', 'tcp://[::1]:8786')
-    >>> scheduler_address("tls://sched:8786")
+    >>> scheduler_address("tls://sched:8786")  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
-    ValueError: --scheduler tls://sched:8786: tls:// is not a transport a campaign connects over: give tcp://HOST:PORT (tls:// needs certificates rastercheck does not configure, ucx:// a UCX install, inproc:// lives inside one process)
+    ValueError: --scheduler tls://sched:8786: tls:// is not a transport a campaign connects over: give tcp://HOST:PORT (tls://
+    needs certificates rastercheck does not configure, ucx:// a UCX install, inproc:// lives inside one process)
     """
     scheme, separator, rest = text.partition("://")
     if not separator:

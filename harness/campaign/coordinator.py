@@ -138,7 +138,8 @@ class _Coordinator:
         else:
             size = round(TARGET_BATCH_SECONDS / max(self.seconds_per_scene[family], 1e-6))
             if self.deadline is not None:  # the last batches should not outlast the budget by much
-                size = min(size, round(max(self.deadline - time.monotonic(), 0.0) / 2 / max(self.seconds_per_scene[family], 1e-6)))
+                size = min(size, round(max(self.deadline - time.monotonic(), 0.0) / 2
+                                       / max(self.seconds_per_scene[family], 1e-6)))
             if self.budget_scenes is not None:  # keep every worker busy to the end
                 left = self.budget_scenes - self.submitted
                 size = min(size, math.ceil(left / (2 * self.slots)))
@@ -200,7 +201,8 @@ class _Coordinator:
                     continue
                 for future in self.completed.next_batch(block=False):
                     self.handle(future)
-                if self.searching and not self.batches and self.budget_scenes is not None and self.submitted >= self.budget_scenes:
+                spent = self.budget_scenes is not None and self.submitted >= self.budget_scenes
+                if self.searching and not self.batches and spent:
                     self.stop_search()
                 self.top_up()
         except BaseException:
@@ -265,7 +267,8 @@ class _Coordinator:
         for key, entry in self.state.signatures.items():
             if entry.get("repro") is None and not key.startswith("harness|"):
                 first = entry["first"]
-                self.shrink(SceneFinding(first["family"], first["seed"], first["index"], entry.get("result_check", entry["check"]),
+                self.shrink(SceneFinding(first["family"], first["seed"], first["index"],
+                                         entry.get("result_check", entry["check"]),
                                     entry.get("status", "fail"), entry["message"], key, entry["failure_class"],
                                     entry["convention_part"], entry["check"]))
 

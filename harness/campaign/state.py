@@ -214,7 +214,8 @@ CAMPAIGN_SCHEMA: dict[str, Any] = {
                            "examples": {"type": "array", "items": {"type": "array", "minItems": 3, "maxItems": 3,
                                                                    "prefixItems": [{"type": "string"}, _COUNT, _COUNT]}},
                            "message": {"type": "string"},
-                           "repro": {"anyOf": [{"type": "null"}, {"type": "string", "pattern": "^repros/[A-Za-z0-9_-][A-Za-z0-9_.-]*$"}]},
+                           "repro": {"anyOf": [{"type": "null"},
+                                               {"type": "string", "pattern": "^repros/[A-Za-z0-9_-][A-Za-z0-9_.-]*$"}]},
                            "status": {"type": "string"}, "result_check": {"type": "string"},
                            "causes": {"type": "object", "additionalProperties": _COUNT}}}},
         "history": {"type": "array", "items": {"type": "array", "minItems": 3, "maxItems": 3,
@@ -362,7 +363,8 @@ class CampaignState:
             for entry in data["done"]:
                 ranges = [(int(a), int(b)) for a, b in entry["intervals"]]
                 if any(a >= b or a < 0 for a, b in ranges) or any(b > c for (_, b), (c, _) in zip(ranges, ranges[1:])):
-                    raise ValueError(f"the done ranges of {entry['family']}/{entry['seed']} are not sorted disjoint [start, stop)")
+                    raise ValueError(f"the done ranges of {entry['family']}/{entry['seed']} "
+                                     "are not sorted disjoint [start, stop)")
                 done[(str(entry["family"]), int(entry["seed"]))] = ranges
             totals = data["totals"]
             return cls(directory, str(data["spec"]), str(data["rasterizer"]), int(data["seed"]), tuple(data["families"]),
@@ -418,8 +420,9 @@ class CampaignState:
     def causes(self) -> list[dict[str, Any]]:
         """The signatures grouped by cause -- each under the cause most of its findings were
         counted under (:func:`attribute_causes`), else its own
-        (:attr:`harness.diagnose.signatures.Signature.cause`) -- most findings first: ``cause``, ``findings``, ``signatures`` (keys, most findings
-        first) and ``checks`` (the checks that saw it)."""
+        (:attr:`harness.diagnose.signatures.Signature.cause`) -- most findings first:
+        ``cause``, ``findings``, ``signatures`` (keys, most findings first) and ``checks``
+        (the checks that saw it)."""
         from harness.diagnose.signatures import Signature
 
         groups: dict[str, dict[str, Any]] = {}
@@ -641,7 +644,8 @@ class _FingerprintUnpickler(pickle.Unpickler):
     global -- a function a crafted file would call -- is refused."""
 
     PLAIN = {("builtins", n) for n in ("tuple", "list", "dict", "set", "frozenset", "complex")} | {
-        (m, n) for m in ("numpy", "numpy.core.multiarray", "numpy._core.multiarray") for n in ("ndarray", "dtype", "_reconstruct", "scalar")}
+        (m, n) for m in ("numpy", "numpy.core.multiarray", "numpy._core.multiarray")
+        for n in ("ndarray", "dtype", "_reconstruct", "scalar")}
 
     def find_class(self, module: str, name: str) -> Any:
         if (module, name) in self.PLAIN:

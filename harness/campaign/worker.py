@@ -202,7 +202,8 @@ def plain_data(value: Any, where: str = "the answer") -> Any:
 def _plain_finding(finding: SceneFinding) -> SceneFinding:
     """``finding`` with every field plain (:func:`plain_data`; read field by field, not by
     ``asdict``, which would deep-copy, and so pickle, what it holds)."""
-    return SceneFinding(**{f.name: plain_data(getattr(finding, f.name), f"finding.{f.name}") for f in dataclasses.fields(SceneFinding)})
+    return SceneFinding(**{f.name: plain_data(getattr(finding, f.name), f"finding.{f.name}")
+                           for f in dataclasses.fields(SceneFinding)})
 
 
 def run_batch(task: CampaignTask) -> BatchResult:

@@ -50,11 +50,12 @@ from harness.checks.lines import connectivity, joints, length, line_motion, reve
 
 __all__ = [
     "Result", "Drawing", "Status", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "CHECKS",
-    "Check", "Figure", "Subject", "register", "registered", "checks", "every_check", "check_names", "metric_tolerance", "timing_metrics", "result", "skip",
+    "Check", "Figure", "Subject", "register", "registered", "checks", "every_check", "check_names", "metric_tolerance",
+    "timing_metrics", "result", "skip",
     "deviations", "FragmentCounter", "edge_distance", "near_ties", "hygiene", "conformance", "watertight",
     "pixel_classes", "blame", "overdraw", "closed_balance", "degenerate", "control_scene", "measure_work", "refusal",
-    "invariance", "invariance_variants", "jaggy", "texel_swimming", "perspective", "accuracy", "motion_accuracy", "seams", "popping",
-    "triangulation", "connectivity", "joints", "reversal", "length", "line_motion",
+    "invariance", "invariance_variants", "jaggy", "texel_swimming", "perspective", "accuracy", "motion_accuracy", "seams",
+    "popping", "triangulation", "connectivity", "joints", "reversal", "length", "line_motion",
 ]
 
 # The built-in checks, in order (a check registered later shows in check_names()).

@@ -313,7 +313,8 @@ def off_level(alpha: NDArray, levels: int) -> NDArray:
     """
     q = alpha * (levels - 1)
     with np.errstate(invalid="ignore"):
-        return ~(np.abs(q - np.rint(q)) <= LEVEL_NOISE * np.maximum(1.0, np.abs(q)))  # type: ignore[no-any-return]
+        off: NDArray[np.bool_] = ~(np.abs(q - np.rint(q)) <= LEVEL_NOISE * np.maximum(1.0, np.abs(q)))
+    return off
 
 
 def level_values(alpha: NDArray, levels: int) -> NDArray:
@@ -782,7 +783,8 @@ def motion_accuracy(case: MotionCase, coverages: list[Coverage], oracles: list[C
         first = verdicts[0].message if verdicts else "no frames"
         message = f"every frame of {len(verdicts)}: {first}" if len(verdicts) == 1 else (
             f"all {len(verdicts)} frames within the tolerance (largest error {metrics['max_error']:.3g}, "
-            f"{metrics['max_error'] / step:.2f} levels" + (f"; {int(metrics['near_tie'])} near ties" if metrics["near_tie"] else "")
+            f"{metrics['max_error'] / step:.2f} levels"
+            + (f"; {int(metrics['near_tie'])} near ties" if metrics["near_tie"] else "")
             + ")")
         return result(case.id, "accuracy", True, message, metrics, evidence)
     worst = max(failing, key=lambda f: (verdicts[f].metrics["max_error"], -f))

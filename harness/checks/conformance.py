@@ -25,7 +25,8 @@ __all__ = ["deviations", "FragmentCounter", "edge_distance", "path_edge_distance
            "near_ties_of", "undefined_width", "conformance"]
 
 
-def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Convention, tolerance: Tolerance = Tolerance()) -> Result:
+def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Convention,
+                tolerance: Tolerance = Tolerance()) -> Result:
     """Missing and extra pixels against the exact oracle of the declared convention.
 
     Deviations are near ties (float rounding: the sample within ``tolerance.near_tie`` of
@@ -59,7 +60,8 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
     if not both.shape[1]:
         message = "pixel-exact"
     else:
-        message = f"{missing.shape[1]} missing, {extra.shape[1]} extra; {int(near.sum())} near ties (float rounding), {int(wrong.sum())} wrong"
+        message = (f"{missing.shape[1]} missing, {extra.shape[1]} extra; {int(near.sum())} near ties (float rounding), "
+                   f"{int(wrong.sum())} wrong")
         ties = int((distance[wrong] == 0.0).sum())
         if ties and ties == int(wrong.sum()):
             # every wrong one a tie: where the rule decides, said in the primitive's words

@@ -65,7 +65,8 @@ def degenerate(case: Case, coverage: Coverage, convention: Convention | None,
         ratio = work[0] / max(work[1], 1e-9)
         metrics["work_ratio"] = ratio
         if ratio > tolerance.work_ratio:
-            parts.append(f"took {ratio:.0f}x the time of plain triangles with the same bounding boxes (limit {tolerance.work_ratio:g}x)")
+            parts.append(f"took {ratio:.0f}x the time of plain triangles with the same bounding boxes (limit "
+                         f"{tolerance.work_ratio:g}x)")
     evidence = {"triangles": first(offenders)} if offenders.size else {}
     return result(case.id, "degenerate", not parts, "; ".join(parts) or "degenerate triangles draw nothing", metrics, evidence)
 
@@ -111,7 +112,9 @@ register(Check(
     "degenerate", _run,
     # triangle scenes only: a zero-length or non-finite segment's pixels are the line oracle's (conformance)
     lambda case: getattr(case, "family", "") == "degenerate" and TRIANGLES.owns(getattr(case, "scene", None)),
-    shrinks=True, timings=("work_ratio",), kinds=ALL_KINDS, per_sample=False,  # any sample drawn is drawn; times are the whole call's  # a ratio of times: judged by its own limit, never across runs
+    # any sample drawn is drawn; times are the whole call's
+    # a ratio of times: judged by its own limit, never across runs
+    shrinks=True, timings=("work_ratio",), kinds=ALL_KINDS, per_sample=False,
     caption="zero-area and non-finite triangles draw nothing, no NaN attribute, bounded work",
     classifier="harness.diagnose.signatures:classify_degenerate", cause_role="consequent", motion_role="none", figures=(),
 ))

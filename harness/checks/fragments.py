@@ -80,7 +80,8 @@ class FragmentCounter:
         row = oracle.triangle * self.height + oracle.y
         start, stop = row * self.width + oracle.x0, row * self.width + oracle.x1
         order = np.argsort(start, kind="stable")
-        inside = (oracle.triangle >= 0) & (oracle.y >= 0) & (oracle.y < self.height) & (oracle.x0 >= 0) & (oracle.x1 <= self.width)
+        inside = (oracle.triangle >= 0) & (oracle.y >= 0) & (oracle.y < self.height) \
+            & (oracle.x0 >= 0) & (oracle.x1 <= self.width)
         if inside.all():
             total = int(_merge_spans(self.keys, self.counts, start[order], stop[order]))
             if total >= 0:

@@ -44,7 +44,8 @@ def hygiene(case: Case, coverage: Coverage, interpolates: bool = True, conventio
     if scene.attributes is not None and (interpolates or coverage.attributes is not None):
         if coverage.attributes is None:
             if coverage.n_pixels:  # no pixel needs no row
-                attribute_problem = f"no attribute rows for {coverage.n_pixels} pixels (the scene has {scene.n_attributes} per vertex)"
+                attribute_problem = (f"no attribute rows for {coverage.n_pixels} pixels "
+                                     f"(the scene has {scene.n_attributes} per vertex)")
         elif coverage.attributes.shape[0] != coverage.n_pixels:
             attribute_problem = f"{coverage.attributes.shape[0]} attribute rows for {coverage.n_pixels} pixels"
         elif coverage.attributes.shape[1] != scene.n_attributes:
@@ -59,7 +60,8 @@ def hygiene(case: Case, coverage: Coverage, interpolates: bool = True, conventio
     if attribute_problem:
         parts.append(attribute_problem)
         evidence["attributes"] = attribute_problem
-    quiet = "well-formed" if interpolates or scene.attributes is None else "well-formed (interpolates no attributes, as it declares)"
+    quiet = "well-formed" if interpolates or scene.attributes is None \
+        else "well-formed (interpolates no attributes, as it declares)"
     return result(case.id, "hygiene", not parts, "; ".join(parts) or quiet, metrics, evidence)
 
 
@@ -90,6 +92,6 @@ register(Check(
             "one finite attribute row per pixel (per sample: valid sample ids; area: one alpha in [0, 1] per pixel)",
     # its own cause, but for pixels drawn outside their primitive: coverage's fault too (its
     # attribute failures, say, are not)
-    classifier="harness.diagnose.signatures:classify_hygiene", cause_role="own", consequent_classes=frozenset({"outside-primitive"}),
-    motion_role="none", figures=(),
+    classifier="harness.diagnose.signatures:classify_hygiene", cause_role="own",
+    consequent_classes=frozenset({"outside-primitive"}), motion_role="none", figures=(),
 ))

@@ -134,7 +134,8 @@ def invariance(case: Case, coverage: Coverage, variants: list[tuple[str, NDArray
     """
     scene = case.scene
     shift = shift_of(scene) if shift is None else shift
-    judge = convention if convention is not None else (None if kind_of(scene).near_ties_by_own_rule else Convention(sample=sample))
+    judge = convention if convention is not None else (None if kind_of(scene).near_ties_by_own_rule
+                                                       else Convention(sample=sample))
     diffs: dict[str, int] = {}
     evidence: dict[str, Any] = {}
     for name, index, cov in variants:
@@ -155,11 +156,13 @@ def invariance(case: Case, coverage: Coverage, variants: list[tuple[str, NDArray
             diffs[name] = int(both.shape[1])
             evidence[name] = both.T[:EVIDENCE_LIMIT].tolist()
     metrics = {f"{name}_differences": float(diffs.get(name, 0)) for name, _, _ in variants}
-    message = "unchanged under " + ", ".join(n for n, _, _ in variants) if not diffs else "changed under " + ", ".join(f"{k} ({v} pixels)" for k, v in diffs.items())
+    message = "unchanged under " + ", ".join(n for n, _, _ in variants) if not diffs \
+        else "changed under " + ", ".join(f"{k} ({v} pixels)" for k, v in diffs.items())
     return result(case.id, "invariance", not diffs, message, metrics, evidence)
 
 
-def _alpha_map(coverage: Coverage, index: NDArray | None, shift: tuple[int, int], width: int, height: int) -> tuple[NDArray, NDArray]:
+def _alpha_map(coverage: Coverage, index: NDArray | None, shift: tuple[int, int], width: int,
+               height: int) -> tuple[NDArray, NDArray]:
     """Sorted (triangle, y, x) keys of the pixels with nonzero alpha, mapped back through
     ``index`` and ``shift``, and their alphas (a pixel listed twice: the sum)."""
     t, x, y = coverage.pixels()

@@ -47,8 +47,8 @@ from harness.oracle.coverage import exact_coverage
 from harness.oracle.lines import area_holding, end_point_pixels, is_x_major
 
 __all__ = [
-    "x_major_of", "vertex_pixels", "connectivity", "joints", "reversal", "length", "line_motion", "motion_frames", "motion_oracles",
-    "MOTION_STEPS",
+    "x_major_of", "vertex_pixels", "connectivity", "joints", "reversal", "length", "line_motion", "motion_frames",
+    "motion_oracles", "MOTION_STEPS",
 ]
 
 # line-motion: 16 steps of 1/16 px (exact for any coordinate on a 1/16 lattice, and a
@@ -81,7 +81,8 @@ def _pixels(coverage: Coverage, n: int) -> tuple[NDArray[np.int64], NDArray[np.i
 
 def _keys(seg: NDArray, x: NDArray, y: NDArray, width: int, height: int) -> NDArray[np.int64]:
     """One int64 per (segment, x, y): (segment * height + y) * width + x."""
-    return (seg.astype(np.int64) * height + y) * width + x  # type: ignore[no-any-return]
+    keys: NDArray[np.int64] = (seg.astype(np.int64) * height + y) * width + x
+    return keys
 
 
 def _unkey(keys: NDArray, width: int, height: int) -> tuple[NDArray, NDArray, NDArray]:
@@ -291,7 +292,8 @@ def _joint_counts(coverage: Coverage, scene: LineScene, pairs: NDArray, vertex: 
     return counts, np.intersect1d(sides[0], sides[1])
 
 
-def joints(case: Case, coverage: Coverage, oracle: Coverage, convention: Convention, tolerance: Tolerance = Tolerance()) -> Result:
+def joints(case: Case, coverage: Coverage, oracle: Coverage, convention: Convention,
+           tolerance: Tolerance = Tolerance()) -> Result:
     """At each joint (k, m) of a polyline (closed ones too: :meth:`LineScene.joints`), the
     vertex pixel (:func:`vertex_pixels`) is drawn by k and m together as often as the rule
     says -- once when it omits the last pixel, twice (a fact, not a failure) when it draws
@@ -575,10 +577,10 @@ def _against(series: NDArray, direction: NDArray, judged: NDArray, strict_zero: 
     ((F-1, K)): the opposite sign, or with ``strict_zero`` any move where it is 0."""
     step = np.diff(series, axis=0)
     moved = np.isfinite(step) & (step != 0) & judged
-    against = moved & (np.sign(step) == -direction) & (direction != 0)
+    against: NDArray = moved & (np.sign(step) == -direction) & (direction != 0)
     if strict_zero:
         against |= moved & (direction == 0)
-    return against  # type: ignore[no-any-return]
+    return against
 
 
 def line_motion(case: Case, sequences: list[tuple[str, list[LineScene], list[Coverage], list[Coverage]]],
@@ -690,19 +692,21 @@ def _run_line_motion(s: Subject) -> Result:
 _SINGLE = frozenset(model.kind for model in COVERAGE_MODELS.values() if model.lines)
 
 register(Check(
-    "connectivity", _guarded("connectivity", _run_connectivity), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
-    metrics={"line_gaps": (1.0, 0.0), "line_doubles": (1.0, 0.0), "line_breaks": (1.0, 0.0)},
+    "connectivity", _guarded("connectivity", _run_connectivity), _is_line_case, needs_convention=True, shrinks=True,
+    kinds=_SINGLE, metrics={"line_gaps": (1.0, 0.0), "line_doubles": (1.0, 0.0), "line_breaks": (1.0, 0.0)},
     caption="each segment: one pixel per major-axis step from its first to its last, 8-connected (diamond-exit, Bresenham)",
     classifier="harness.diagnose.signatures:classify_connectivity", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
-    "joints", _guarded("joints", _run_joints), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE, metrics={"joint_mismatches": (1.0, 0.0)},
+    "joints", _guarded("joints", _run_joints), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
+    metrics={"joint_mismatches": (1.0, 0.0)},
     caption="at each polyline joint the vertex pixel is drawn as often as the rule says (once without the last pixel) "
             "and both segments draw the same pixels as the rule's",
     classifier="harness.diagnose.signatures:classify_joints", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
-    "reversal", _guarded("reversal", _run_reversal), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE, metrics={"reversal_mismatches": (1.0, 0.0)},
+    "reversal", _guarded("reversal", _run_reversal), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
+    metrics={"reversal_mismatches": (1.0, 0.0)},
     caption="drawn backwards, each segment differs from forwards exactly as the rule predicts (the difference a fact)",
     classifier="harness.diagnose.signatures:classify_reversal", cause_role="consequent", motion_role="none", figures=(),
 ))

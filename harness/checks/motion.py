@@ -156,7 +156,8 @@ def jaggy(case_id: str, coverages: list[Coverage], oracles: list[Coverage], n_tr
     # the frames (0-based) whose coverage differs from the oracle's, on the screen or in a
     # triangle's own spans (a double hit leaves the screen's union alike): where a cause is read
     with np.errstate(invalid="ignore"):
-        ends_differ = ((left != left_o) & ~(np.isnan(left) & np.isnan(left_o))) | ((right != right_o) & ~(np.isnan(right) & np.isnan(right_o)))
+        ends_differ = ((left != left_o) & ~(np.isnan(left) & np.isnan(left_o))) \
+            | ((right != right_o) & ~(np.isnan(right) & np.isnan(right_o)))
     mismatched = np.flatnonzero((got != want).any(axis=(1, 2)) | ends_differ.any(axis=(1, 2)))
     if mismatched.size:
         evidence["oracle_mismatch_frames"] = mismatched[:EVIDENCE_LIMIT].tolist()
@@ -309,7 +310,8 @@ def texel_swimming(case_id: str, coverages: list[Coverage], oracles: list[Covera
         evidence["backward_steps"] = backward[:EVIDENCE_LIMIT]
     ok = mismatches == 0 and not backward
     message = (f"texels match the exact ones (largest u, v error {worst:.2g} texels)" if ok
-               else f"{mismatches} texel mismatches outside exact ties, {len(backward)} backward texel steps, largest u, v error {worst:.3g} texels")
+               else f"{mismatches} texel mismatches outside exact ties, {len(backward)} backward texel steps, largest u, v error "
+                    f"{worst:.3g} texels")
     return result(case_id, "texel", ok, message, metrics, evidence)
 
 

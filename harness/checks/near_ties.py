@@ -402,7 +402,8 @@ def _segment_magnitude(scene: LineScene, convention: Convention | None) -> NDArr
     if convention is not None:
         a, b = convention.snap(a), convention.snap(b)
     with np.errstate(invalid="ignore"):
-        return np.maximum(1.0, np.maximum(np.abs(a), np.abs(b)).max(axis=1, initial=0.0))  # type: ignore[no-any-return]
+        magnitude: NDArray = np.maximum(1.0, np.maximum(np.abs(a), np.abs(b)).max(axis=1, initial=0.0))
+    return magnitude
 
 
 def line_edge_distance(scene: LineScene, convention: Convention | None, fragments: NDArray) -> NDArray:
@@ -535,7 +536,8 @@ def triangle_near_ties(scene: Scene, convention: Convention | None, fragments: N
     return near_ties(convention.snap(scene.positions), fragments, convention.sample, tolerance)
 
 
-def near_ties(positions: NDArray, fragments: NDArray, sample: tuple[float, float], tolerance: Tolerance) -> tuple[NDArray, NDArray]:
+def near_ties(positions: NDArray, fragments: NDArray, sample: tuple[float, float],
+              tolerance: Tolerance) -> tuple[NDArray, NDArray]:
     """Which fragments are near ties under ``tolerance`` (within ``near_tie`` of an edge
     relative to the coordinates and within ``near_tie_pixels`` absolutely), and their
     :func:`edge_distance`. Non-finite triangles are never near ties.

@@ -148,7 +148,8 @@ def skip(case: Any, check: str, why: str) -> Result:
 
 def first(array: NDArray[Any] | list[Any], limit: int = EVIDENCE_LIMIT) -> list[Any]:
     """The first ``limit`` entries as plain lists, for evidence."""
-    return np.asarray(array)[:limit].tolist()  # type: ignore[no-any-return]
+    listed: list[Any] = np.asarray(array)[:limit].tolist()
+    return listed
 
 
 class Subject:
@@ -368,7 +369,8 @@ class Check:
         if subject.kind not in self.kinds:
             return skip(subject.case, self.name, f"judges {', '.join(sorted(self.kinds))} coverage, not {subject.kind}")
         if subject.convention is not None and subject.convention.model.layered and self.per_sample:
-            whole = Subject(subject.case, subject.rasterizer, subject.convention, subject.coverages, _once_per_scene(subject.call),
+            whole = Subject(subject.case, subject.rasterizer, subject.convention, subject.coverages,
+                            _once_per_scene(subject.call),
                             subject.tolerance, subject.interpolates, subject.seconds, subject.received, subject.scene_kinds)
             layers = [whole.layer(s) for s in range(subject.convention.n_samples)]
             merged = merge_samples([(layer, self.run(layer)) for layer in layers])

@@ -109,7 +109,8 @@ def watertight(case: Case, coverage: Coverage, convention: Convention | None = N
     if len(strays):
         evidence["strays"] = [[int(x), int(y)] for y, x in strays[:EVIDENCE_LIMIT]]
     ok = not (len(holes) or len(doubles) or len(strays))
-    message = "every inside pixel hit exactly once" if ok else f"{len(holes)} holes, {len(doubles)} double hits, {len(strays)} stray hits outside"
+    message = "every inside pixel hit exactly once" if ok \
+        else f"{len(holes)} holes, {len(doubles)} double hits, {len(strays)} stray hits outside"
     if "snapped_own" in metrics:
         message += (f"; {int(metrics['snapped_own'])} holes or double hits excused: the convention's own, where snapping "
                     "folds the mesh")
@@ -228,7 +229,8 @@ def blame(scene: AnyScene, coverage: Coverage, holes: NDArray, doubles: NDArray)
 pixel_classes = _pixel_classes
 
 register(Check(
-    "watertight", lambda s: watertight(s.case, s.coverage, s.convention, lambda: s.oracle), lambda case: getattr(case, "region", None) is not None,
+    "watertight", lambda s: watertight(s.case, s.coverage, s.convention, lambda: s.oracle),
+    lambda case: getattr(case, "region", None) is not None,
     metrics={"holes": (1.0, 0.0), "double_hits": (1.0, 0.0), "strays": (1.0, 0.0)},
     caption="on a planar partition: inside pixels hit exactly once, outside never, no double hit",
     # consequent: a triangle dropped (conformance) leaves a hole here -- one cause, not two

@@ -121,8 +121,8 @@ from harness.kinds import PATHS
 from harness.oracle.coverage import RECENT_ANSWERS, exact_coverage
 
 __all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "short_segments", "long_segments", "stars",
-           "wiggly_outline", "run_bench", "format_table", "LINE_ORACLES", "DEFAULT_TIMEOUT", "failures_by_contender", "Measurement",
-           "write_json", "missing_peers", "CampaignMeasurement"]
+           "wiggly_outline", "run_bench", "format_table", "LINE_ORACLES", "DEFAULT_TIMEOUT", "failures_by_contender",
+           "Measurement", "write_json", "missing_peers", "CampaignMeasurement"]
 
 
 DEFAULT_TIMEOUT = 60.0  # seconds one call of a contender may take (``--timeout``; as ``run``'s)
@@ -358,7 +358,8 @@ def _measure_here(fn: Callable[[], object], scene: AnyScene, budget: float, plug
     return ("done", cold, best, pixels, runs, notes[0] if notes else "")
 
 
-def _serve_contender(calls: dict[str, tuple[Callable[[], object], AnyScene]], plugin: bool, conn: Any) -> None:  # pragma: no cover - runs in the child
+def _serve_contender(calls: dict[str, tuple[Callable[[], object], AnyScene]], plugin: bool,  # pragma: no cover - the child's
+                     conn: Any) -> None:
     """The child of :class:`_Isolated`: for each workload asked (its name and the budget),
     :func:`_measure_here` on the call of that workload."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's to handle

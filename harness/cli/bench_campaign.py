@@ -27,7 +27,9 @@ if TYPE_CHECKING:
 
 
 CAMPAIGN_REFERENCE = "pineda_topleft"  # a built-in that passes: no finding, nothing shrunk
-CAMPAIGN_SCENES = 3000  # about 20 s of search on one worker here: a run long enough that its fixed costs (the first and last batches) weigh as little as in a campaign of minutes
+# about 20 s of search on one worker here: a run long enough that its fixed costs (the first and last batches) weigh as
+# little as in a campaign of minutes
+CAMPAIGN_SCENES = 3000
 CAMPAIGN_GOAL = 1.7  # the speed-up from one worker to two that the issue asks for
 CAMPAIGN_REPEATS = 3  # rounds of 1 then 2 workers; the fastest run of each is kept
 CAMPAIGN_BATCH = 25  # scenes per batch, fixed: both campaigns check the very same scenes (0.1 .. 0.7 s a batch here)
@@ -147,7 +149,8 @@ def run_campaign_bench(spec: str = CAMPAIGN_REFERENCE, scenes: int = CAMPAIGN_SC
             taken = [f for f in chosen if f not in state.skipped]
             measured = CampaignMeasurement(
                 "campaign", spec, workers, checked, primitives, state.findings, seconds, startup,
-                checked / seconds if seconds > 0 else 0.0, rate, rate / workers, 0.0, failed_calls=_failed_calls(state.signatures),
+                checked / seconds if seconds > 0 else 0.0, rate, rate / workers, 0.0,
+                failed_calls=_failed_calls(state.signatures),
                 description=(f"{scenes:,} fuzz scenes of {', '.join(taken) or 'no family'} (seed {CAMPAIGN_SEED}, batches of "
                              f"{batch_size}), checked end to end; the fastest of {repeats} run{'s' if repeats > 1 else ''}"))
             if workers not in best or measured.primitives_per_second > best[workers].primitives_per_second:

@@ -62,7 +62,8 @@ def _bench(args: argparse.Namespace) -> int:
     kinds = args.kinds or _BENCH_KINDS
     results = run_bench(names, scale=args.scale, budget=args.budget, timeout=args.timeout, triangles="triangles" in kinds,
                         paths="paths" in kinds, lines="lines" in kinds,
-                        progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}", file=sys.stderr, flush=True))
+                        progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}", file=sys.stderr,
+                                                    flush=True))
     print(format_table(results, {w.name: w.description for w in workloads(args.scale)}))
     not_measured = missing_peers()
     for label, why in not_measured.items():  # a library that is not installed costs only its own rows, and says so
@@ -99,7 +100,8 @@ def _bench_campaign(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     try:
         results = run_campaign_bench(spec, scenes=args.scenes or CAMPAIGN_SCENES, repeats=args.repeats or CAMPAIGN_REPEATS,
-                                     timeout=args.timeout, progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}",
+                                     timeout=args.timeout,
+                                     progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}",
                                                                                         file=sys.stderr, flush=True))
     except NothingMeasured as exc:
         print(f"rastercheck: bench --campaign: {exc}", file=sys.stderr)

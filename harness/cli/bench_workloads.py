@@ -15,8 +15,8 @@ from numpy.typing import NDArray
 from cases.scenes import random_triangles
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 
-__all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "short_segments", "long_segments", "stars", "wiggly_outline",
-           "SIZE", "PATH_SIZE", "LINE_SIZE"]
+__all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "short_segments", "long_segments", "stars",
+           "wiggly_outline", "SIZE", "PATH_SIZE", "LINE_SIZE"]
 
 if TYPE_CHECKING:
     pass
@@ -45,8 +45,10 @@ def workloads(scale: float = 1.0) -> list[Workload]:
         n = max(1, int(count * scale))
         positions = random_triangles(n, area, SIZE, seed)
         p = positions
-        areas = 0.5 * np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
-        out.append(Workload(name, f"{n} triangles, mean area {areas.mean():,.0f} px", Scene(SIZE, SIZE, positions), float(areas.mean())))
+        areas = 0.5 * np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1])
+                             * (p[:, 2, 0] - p[:, 0, 0]))
+        out.append(Workload(name, f"{n} triangles, mean area {areas.mean():,.0f} px", Scene(SIZE, SIZE, positions),
+                            float(areas.mean())))
     return out
 
 
@@ -84,7 +86,8 @@ def wiggly_outline(vertices: int, size: int) -> PathScene:
 def _signed_areas(scene: PathScene) -> NDArray[np.float64]:
     """(P,) each path's signed area (shoelace over its contours)."""
     a, b, path = scene.edges()
-    return np.asarray(np.bincount(path, weights=(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]) / 2.0, minlength=len(scene)), dtype=np.float64)
+    return np.asarray(np.bincount(path, weights=(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]) / 2.0, minlength=len(scene)),
+                      dtype=np.float64)
 
 
 def path_workloads(scale: float = 1.0) -> list[Workload]:
@@ -152,5 +155,6 @@ def line_workloads(scale: float = 1.0) -> list[Workload]:
         scene = make(n, LINE_SIZE, seed)
         a, b = scene.segments()
         length = float(np.hypot(*(b - a).T).mean())
-        out.append(Workload(name, f"{n:,} {what}, mean length {length:,.1f} px, width 1, {LINE_SIZE} x {LINE_SIZE}", scene, length))
+        out.append(Workload(name, f"{n:,} {what}, mean length {length:,.1f} px, width 1, {LINE_SIZE} x {LINE_SIZE}", scene,
+                            length))
     return out

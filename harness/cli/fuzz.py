@@ -174,10 +174,12 @@ def _fuzz_summary(state: Any, run: dict[str, Any] | None) -> None:
         print("no findings")
         return
     causes = state.causes()
-    print(f"{state.findings:,} finding{'s' if state.findings != 1 else ''} in {len(state.signatures)} signature{'s' if len(state.signatures) != 1 else ''}"
+    print(f"{state.findings:,} finding{'s' if state.findings != 1 else ''} in {len(state.signatures)} "
+          f"signature{'s' if len(state.signatures) != 1 else ''}"
           f" of {len(causes)} cause{'s' if len(causes) != 1 else ''}:")
     for group in causes:
-        print(f"  {group['cause']}: {group['findings']:,} finding{'s' if group['findings'] != 1 else ''}, seen by {', '.join(group['checks'])}")
+        print(f"  {group['cause']}: {group['findings']:,} finding{'s' if group['findings'] != 1 else ''}, seen by "
+              f"{', '.join(group['checks'])}")
         for key in group["signatures"]:
             entry = state.signatures[key]
             first = entry["first"]

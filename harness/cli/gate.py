@@ -98,8 +98,8 @@ def _gate(args: argparse.Namespace) -> int:
         print(f"to accept the {len(fixed)} unexpected passes as the new baseline: {_update_command(args)}")
     absent = len(verdict.of("absent"))
     from_campaigns = sum(f.reason.startswith("known from the campaign") for f in verdict.of("known"))
-    print(f"gate: {len(verdict.regressions)} regressions ({len(verdict.of('missing'))} missing), {len(fixed)} unexpectedly passing, "
-          f"{len(verdict.of('known'))} known failures"
+    print(f"gate: {len(verdict.regressions)} regressions ({len(verdict.of('missing'))} missing), "
+          f"{len(fixed)} unexpectedly passing, {len(verdict.of('known'))} known failures"
           + (f" ({from_campaigns} known from campaigns)" if campaigns else "") + f", {len(verdict.of('new'))} new"
           + (f", {absent} not run (missing allowed)" if absent else ""))
     return 0 if verdict.ok else 1

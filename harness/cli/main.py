@@ -26,6 +26,9 @@ from harness.cli.run import _run, _shard
 
 __all__ = ["main"]
 
+# the --timeout of run, identify and fuzz
+_TIMEOUT_HELP = "the most seconds one rasterize call may take (the cap of its scaled limit; see README, Reliability)"
+
 
 def _positive_int(text: str) -> int:
     """A whole number >= 1 (``--jobs``), else a usage error naming the value."""
@@ -97,7 +100,7 @@ def _selection(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--suite", default="quick", help="quick or full (default quick)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--jobs", type=_positive_int, default=1, help="rasterizers checked side by side")
-    parser.add_argument("--timeout", type=_positive_seconds, default=60.0, help="the most seconds one rasterize call may take (the cap of its scaled limit; see README, Reliability)")
+    parser.add_argument("--timeout", type=_positive_seconds, default=60.0, help=_TIMEOUT_HELP)
     parser.add_argument("--out", type=_path, default="reports", help="report directory (default reports/)")
     parser.add_argument("--json", type=_path, metavar="FILE", help="also write results as JSON (schema 1)")
     parser.add_argument("--junit", type=_path, metavar="FILE", help="also write JUnit XML")
@@ -146,8 +149,9 @@ def build_parser() -> argparse.ArgumentParser:
     ide = sub.add_parser("identify", help="fingerprint a rasterizer's convention from outside")
     ide.add_argument("spec", metavar="SPEC")
     ide.add_argument("--seed", type=int, default=0)
-    ide.add_argument("--timeout", type=_positive_seconds, default=60.0, help="the most seconds one rasterize call may take (the cap of its scaled limit; see README, Reliability)")
-    ide.add_argument("--json", type=_path, metavar="FILE", help="also write the fingerprint (and the verdict on a declared convention) as JSON")
+    ide.add_argument("--timeout", type=_positive_seconds, default=60.0, help=_TIMEOUT_HELP)
+    ide.add_argument("--json", type=_path, metavar="FILE",
+                     help="also write the fingerprint (and the verdict on a declared convention) as JSON")
     ide.set_defaults(func=_identify)
     rep = sub.add_parser("replay", help="run the checks of a saved case (a minimal repro) on a rasterizer")
     rep.add_argument("case", help="a case JSON file, as written under reports/repros/")
@@ -187,7 +191,7 @@ def build_parser() -> argparse.ArgumentParser:
     fuzz.add_argument("--workers", type=_positive_int, metavar="N", help="local worker processes (default one per core)")
     fuzz.add_argument("--batch", type=_positive_int, metavar="N", help="scenes per batch (default about a second of work)")
     fuzz.add_argument("--check", action="append", metavar="NAME", help="only this check (repeatable)")
-    fuzz.add_argument("--timeout", type=_positive_seconds, default=60.0, help="the most seconds one rasterize call may take (the cap of its scaled limit; see README, Reliability)")
+    fuzz.add_argument("--timeout", type=_positive_seconds, default=60.0, help=_TIMEOUT_HELP)
     fuzz.add_argument("--json", type=_path, metavar="FILE", help="also write the campaign as JSON")
     fuzz.add_argument("--out", type=_path, default="reports", help="folder for campaign.html (default reports/)")
     fuzz.add_argument("--merge", nargs="+", metavar="DIR", help="merge these campaigns' state folders into --state")

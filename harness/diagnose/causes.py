@@ -17,9 +17,10 @@ edges by chance (the tie trial).
 (:meth:`harness.campaign.state.CampaignState.causes`): on each case, the failures of the checks
 that only see the effects of a wrong coverage (watertight, closed, invariance, the line
 checks, ...) are counted under the cause of that case's conformance (or accuracy) failure
-(:func:`attributed`, as :func:`harness.campaign.worker.attribute_causes` counts a campaign's); each signature goes under the cause most of its
-results were counted under; the causes come most results first, and within each its
-signatures, most results first. One bug is one cause, whichever checks and headings show it.
+(:func:`attributed`, as :func:`harness.campaign.worker.attribute_causes` counts a campaign's);
+each signature goes under the cause most of its results were counted under; the causes come
+most results first, and within each its signatures, most results first. One bug is one cause,
+whichever checks and headings show it.
 """
 
 from __future__ import annotations

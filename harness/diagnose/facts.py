@@ -177,7 +177,8 @@ def wrong_pixels(result: Any, noun: str, n: int) -> list[tuple[int, int, int, st
     return [(int(p[noun]), int(p["x"]), int(p["y"]), str(p.get("kind", "")), float(p.get("distance", math.inf))) for p in wrong]
 
 
-def _pixel_set(coverage: Coverage, prims: NDArray[np.int64], remap: dict[int, int], width: int, height: int) -> set[tuple[int, int, int]]:
+def _pixel_set(coverage: Coverage, prims: NDArray[np.int64], remap: dict[int, int], width: int,
+               height: int) -> set[tuple[int, int, int]]:
     """(remapped primitive, x, y) of the coverage's fragments of ``prims`` in the viewport."""
     t, x, y = coverage.pixels()
     keep = np.isin(t, prims) & (x >= 0) & (x < width) & (y >= 0) & (y < height)
@@ -315,7 +316,8 @@ def _contours_hypothesis(answer: Coverage, scene: AnyScene, prims: NDArray[np.in
     starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     first = np.flatnonzero(np.concatenate([[True], subset.contour_path[1:] != subset.contour_path[:-1]]))
     keep = np.concatenate([np.arange(starts[c], starts[c] + sizes[c]) for c in first])
-    alone = PathScene(scene.width, scene.height, subset.vertices[keep], sizes[first], subset.contour_path[first], subset.fill_rule)
+    alone = PathScene(scene.width, scene.height, subset.vertices[keep], sizes[first], subset.contour_path[first],
+                      subset.fill_rule)
     each = PathScene(scene.width, scene.height, subset.vertices, sizes, np.arange(sizes.size), subset.fill_rule)
     identity = {i: i for i in range(len(subset))}
     firsts = _pixel_set(exact_coverage(alone, convention), np.arange(len(subset)), identity, scene.width, scene.height)
@@ -383,7 +385,8 @@ def wrong_reach_beyond(result: Any, scene: AnyScene) -> bool:
     prims = np.array(sorted({w[0] for w in wrong}), dtype=np.int64)
     for c in primitive_coordinates(scene, prims):
         with np.errstate(invalid="ignore"):
-            inside = np.isfinite(c).all() and (c >= 0).all() and (c[:, 0] <= scene.width).all() and (c[:, 1] <= scene.height).all()
+            inside = np.isfinite(c).all() and (c >= 0).all() \
+                and (c[:, 0] <= scene.width).all() and (c[:, 1] <= scene.height).all()
         if inside:
             return False
     return bool(prims.size)

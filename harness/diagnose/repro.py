@@ -28,8 +28,8 @@ from harness.contract.scenes import AnyScene
 from harness.geometry.exact import orientation
 from harness.kinds import TRIANGLES, kind_of
 
-__all__ = ["ddmin", "shrink", "attach_repro", "hole_repro", "whole_case_repro", "answer_json", "answer_from_json", "MAX_ANSWER_FRAGMENTS", "input_precision_trial", "grown_screen_passes", "viewport_edge_trial",
-           "grown_screen", "Judge"]
+__all__ = ["ddmin", "shrink", "attach_repro", "hole_repro", "whole_case_repro", "answer_json", "answer_from_json",
+           "MAX_ANSWER_FRAGMENTS", "input_precision_trial", "grown_screen_passes", "viewport_edge_trial", "grown_screen", "Judge"]
 
 # The checks of one rasterizer on a case, restricted to one check by name.
 Judge = Callable[[Case | MotionCase, str], list[Result]]
@@ -264,7 +264,8 @@ def answer_from_json(data: Any) -> Coverage | None:
     try:
         primitive, y, x0, x1 = (np.asarray(data[k], dtype=np.int64).reshape(-1) for k in ("primitive", "y", "x0", "x1"))
         alpha = data.get("alpha")
-        return Coverage(primitive, y, x0, x1, sample=None if data.get("sample") is None else np.asarray(data["sample"], dtype=np.int64),
+        return Coverage(primitive, y, x0, x1,
+                        sample=None if data.get("sample") is None else np.asarray(data["sample"], dtype=np.int64),
                         alpha=None if alpha is None else np.asarray(alpha, dtype=np.float64))
     except (KeyError, TypeError, ValueError):
         return None
@@ -315,7 +316,8 @@ def input_precision_trial(case: Case | MotionCase, check: str, judge: Judge, ras
     API). Returns ``{"moved": n}`` (how many coordinates the rounding changed) when it
     then passes, else None."""
     received = received_of(rasterizer)
-    scenes = [s for s in (case.frames if isinstance(case, MotionCase) else [case.scene]) if TRIANGLES.owns(s)]  # received() reads triangle scenes
+    # received() reads triangle scenes
+    scenes = [s for s in (case.frames if isinstance(case, MotionCase) else [case.scene]) if TRIANGLES.owns(s)]
     if received is None or not scenes or len(scenes) != (len(case.frames) if isinstance(case, MotionCase) else 1):
         return None
     try:

@@ -315,7 +315,8 @@ def signature(result: Any, case: Case | MotionCase | Any, convention: Convention
     """The signature of a failing or erroring result of ``case``, judged under
     ``convention`` (the rasterizer's, declared or identified; None without one).
 
-    Deterministic, at most five oracle calls (hypothesis tests on the wrong primitives alone), never raises: what it cannot read is ``other``.
+    Deterministic, at most five oracle calls (hypothesis tests on the wrong primitives alone), never
+    raises: what it cannot read is ``other``.
 
     >>> from harness.checks import Result
     >>> signature(Result("r", "c", "run", "error", "timeout: no answer within 2 s"), None, None).key
@@ -590,7 +591,8 @@ def classify_watertight(result: Any, case: Any, convention: Convention | None) -
             mine = np.isin(owner, [int(t) for t in b.get(noun, [])])
             a, z = judged.snap(start[mine]), judged.snap(end[mine])
         x, y = b["pixel"]
-        facts.append(edge_facts(a, z, np.array([x + judged.sample[0], y + judged.sample[1]]), magnitude_of([a, z]), scene.width, scene.height))
+        facts.append(edge_facts(a, z, np.array([x + judged.sample[0], y + judged.sample[1]]), magnitude_of([a, z]), scene.width,
+                                scene.height))
     twin = evidence.get("lattice_twin")
     if all(f.tie is not None for f in facts) and not (isinstance(twin, dict) and twin.get("fails") is False):
         return kind, "tie-rule"  # (unless the same tie on a lattice is decided right: rounding's)

@@ -34,7 +34,8 @@ from harness.kinds import PATHS, TRIANGLES, kind_of
 __all__ = ["with_trials", "tie_trial", "dropped_trial", "triangle_tie_trial", "vertex_row_trial", "triangle_dropped_trial",
            "path_orders_trial", "no_trial", "frame_case", "named_frames", "TIE_SHIFT", "DROPPED_SHIFTS"]
 
-def with_trials(result: Any, case: Case | MotionCase, judge: Callable[[Case | MotionCase, str], list[Any]], rasterizer: Any) -> Any:
+def with_trials(result: Any, case: Case | MotionCase, judge: Callable[[Case | MotionCase, str], list[Any]],
+                rasterizer: Any) -> Any:
     """The failing ``result`` with the trials' evidence added when they apply: for
     conformance and invariance, ``viewport_edge`` (:func:`harness.diagnose.repro.grown_screen_passes`:
     the case passes moved into a grown screen; ``viewport_edge_refuted`` when it still
@@ -61,7 +62,8 @@ def with_trials(result: Any, case: Case | MotionCase, judge: Callable[[Case | Mo
             return _with_triangles_failure(result, case, judge, rasterizer)
         if getattr(result, "status", None) == "fail" and result.check == "watertight" and isinstance(case, Case):
             return _with_lattice_twin(result, case, judge, convention_for(rasterizer, case.scene))
-        if getattr(result, "status", None) != "fail" or result.check not in ("conformance", "invariance") or not isinstance(case, Case):
+        if getattr(result, "status", None) != "fail" or result.check not in ("conformance", "invariance") \
+                or not isinstance(case, Case):
             return result
         evidence = dict(result.evidence)
         if "input_precision" not in evidence:
@@ -354,7 +356,8 @@ def _size_trial(result: Any, case: Case, judge: Callable[[Case | MotionCase, str
     else:
         return None
     shaped, thick = slice(0, n // 2), slice(n // 2, n)
-    found: dict[str, Any] = {"scales": scales.tolist(), "shaped": int(want[shaped].sum()), "shaped_right": int(right[shaped].sum()),
+    found: dict[str, Any] = {"scales": scales.tolist(), "shaped": int(want[shaped].sum()),
+                             "shaped_right": int(right[shaped].sum()),
                              "copies": int(want[thick].sum()), "right": int(right[thick].sum())}
     found["passes"] = found["copies"] >= 4 and found["right"] == found["copies"] \
         and found["shaped"] >= 1 and found["shaped_right"] == found["shaped"]
@@ -409,7 +412,8 @@ def path_orders_trial(result: Any, case: Case, judge: Callable[[Case | MotionCas
     drawn = want if got is None else np.bincount(pixels[(pixels >= 0) & (pixels < n)], minlength=n)[:n] > 0
     rotated = slice(len(subset), n)
     found: dict[str, Any] = {"rotated_copies": int(want[rotated].sum()), "rotated_drawn": int((want & drawn)[rotated].sum())}
-    found["open_contour"] = got is not None and bool(found["rotated_drawn"]) and open_outline(got, copies, np.arange(n), convention)
+    found["open_contour"] = got is not None and bool(found["rotated_drawn"]) and open_outline(got, copies, np.arange(n),
+                                                                                              convention)
     return found
 
 
@@ -631,7 +635,8 @@ def named_frames(result: Any) -> list[int]:
     return list(dict.fromkeys(f for f in frames if f >= 0))[:FRAMES_TRIED]
 
 
-def _with_frame_failure(result: Any, case: MotionCase, judge: Callable[[Case | MotionCase, str], list[Any]], rasterizer: Any) -> Any:
+def _with_frame_failure(result: Any, case: MotionCase, judge: Callable[[Case | MotionCase, str], list[Any]],
+                        rasterizer: Any) -> Any:
     """A failing motion result with ``frame_failure`` added: the first of its named frames
     (:func:`named_frames`) that fails conformance (or accuracy) judged alone, that failure
     tried -- so a flicker, a swimming texel or a pop caused by a wrong tie rule, snapping

@@ -44,9 +44,9 @@ from harness.engine.outcomes import (
 from harness.engine.time_limits import TimeLimit, samples_of, samples_seen, scene_work
 from harness.engine.wire import MAX_HEADER_BYTES, WireError
 
-__all__ = ["Outcome", "layer_of", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call", "AnyCall", "PluginError",
-           "kill_all", "TimeLimit", "answer_bytes_limit", "MAX_ANSWER_BYTES", "scene_work", "samples_of", "samples_seen", "CallTally", "encode_outcome", "decode_outcome",
-           "ERROR_BASES"]
+__all__ = ["Outcome", "layer_of", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call",
+           "AnyCall", "PluginError", "kill_all", "TimeLimit", "answer_bytes_limit", "MAX_ANSWER_BYTES", "scene_work",
+           "samples_of", "samples_seen", "CallTally", "encode_outcome", "decode_outcome", "ERROR_BASES"]
 
 
 # The most bytes one answer may take on the worker's pipe, whatever the scene (1 GiB: a

@@ -310,7 +310,8 @@ def _array(arrays: dict[str, Any], name: str, dtype: Any, ndim: int, used: set[s
 def _decoded_coverage(which: str, present: Any, arrays: dict[str, Any], used: set[str]) -> Coverage | None:
     if present is None:
         return None
-    if not isinstance(present, dict) or set(present) != set(_OPTIONAL_FIELDS) or not all(isinstance(v, bool) for v in present.values()):
+    if not isinstance(present, dict) or set(present) != set(_OPTIONAL_FIELDS) or not all(isinstance(v, bool)
+                                                                                         for v in present.values()):
         raise WireError(f"{which} does not say which of {', '.join(_OPTIONAL_FIELDS)} it holds")
     primitive, y, x0, x1 = (_array(arrays, f"{which}.{f}", np.int64, 1, used) for f in _SPAN_FIELDS)
     extra = {f: _array(arrays, f"{which}.{f}", dtype, ndim, used) if present[f] else None
@@ -324,6 +325,7 @@ def _decoded_coverage(which: str, present: Any, arrays: dict[str, Any], used: se
 def _decoded_error(fields: Any) -> BaseException | None:
     if fields is None:
         return None
-    if not isinstance(fields, dict) or set(fields) != {"type", "base", "text"} or not all(isinstance(v, str) for v in fields.values()):
+    if not isinstance(fields, dict) or set(fields) != {"type", "base", "text"} \
+            or not all(isinstance(v, str) for v in fields.values()):
         raise WireError("the error is not {type, base, text} of text")
     return rebuilt_error(fields["type"], fields["base"], fields["text"])

@@ -44,7 +44,8 @@ def scene_work(scene: AnyScene, samples: int = 1) -> float:
     box = np.where(finite, np.maximum(hi - lo, 0.0).prod(axis=1), width * height)
     a, b, _ = scene.edges()
     with np.errstate(invalid="ignore"):
-        rows = np.abs(np.clip(np.nan_to_num(a[:, 1], nan=0.0), 0.0, height) - np.clip(np.nan_to_num(b[:, 1], nan=height), 0.0, height))
+        rows = np.abs(np.clip(np.nan_to_num(a[:, 1], nan=0.0), 0.0, height)
+                      - np.clip(np.nan_to_num(b[:, 1], nan=height), 0.0, height))
     return float(width * height + 16 * len(box) + samples * box.sum() + np.ceil(rows).sum())
 
 

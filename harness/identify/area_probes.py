@@ -492,7 +492,8 @@ class InputGrid:
         against = (f"{self.beyond} (triangle, pixel)s beyond the tolerance against the snapped scenes' exact area, "
                    f"{self.unsnapped} against the unsnapped ones")
         if self.bits is None:
-            return f"none detected (the exact area of the vertices as given: {self.unsnapped} (triangle, pixel)s beyond the tolerance)"
+            return (f"none detected (the exact area of the vertices as given: {self.unsnapped} (triangle, pixel)s "
+                    "beyond the tolerance)")
         rounding = _ROUNDING_WORDS[self.rounding]
         if len(self.tied) > 1:
             rounding += " (or " + ", ".join(_ROUNDING_WORDS[r] for r in self.tied if r != self.rounding) + ": as well)"
@@ -570,19 +571,20 @@ def input_grid(call: Call, base: Convention, scenes: Sequence[_AlphaDrawn], draw
     and none, scored on ``scenes`` (the sweeps, whose vertices sit on 1/256 px and on
     coarser grids, and random floats) by the (triangle, pixel)s beyond the tolerance
     against the exact oracle of the snapped scene, then by the summed |alpha - oracle|
-    (every grid on part of the first float scene, the best few on all); ties prefer no snapping, then the coarser grid, then rounding to nearest even. A
-    snapping is kept only when it leaves at most half of the pixels beyond the tolerance
-    that none does (a rasterizer whose error is something else gains little from any, and
-    only by chance). With a grid found, the float scenes are drawn again with every vertex
-    on a half step of it (two calls, appended to ``drawn``), where nearest-even,
-    half-away and truncation part, and the rounding is fitted there too."""
+    (every grid on part of the first float scene, the best few on all); ties prefer no snapping, then the
+    coarser grid, then rounding to nearest even. A snapping is kept only when it leaves at most half of the
+    pixels beyond the tolerance that none does (a rasterizer whose error is something else gains little from
+    any, and only by chance). With a grid found, the float scenes are drawn again with every vertex on a half
+    step of it (two calls, appended to ``drawn``), where nearest-even, half-away and truncation part, and the
+    rounding is fitted there too."""
     exact = replace(base, tolerance=None, subpixel_bits=None, snap_rounding="nearest-even")
     none = _grid_key(scenes, exact)
     grids = [(b, r) for b in range(MAX_SUBPIXEL_BITS + 1) for r in SNAP_ROUNDINGS]
     # every grid on part of the first float scene, the few best of them on every scene
     first = [_alpha_part(x, _SHORT_PART) for x in scenes[1:2] if x.coverage is not None]
     if first:
-        grids = sorted(grids, key=lambda g: _grid_key(first, replace(exact, subpixel_bits=g[0], snap_rounding=g[1])))[:_GRID_SHORTLIST]
+        grids = sorted(grids, key=lambda g: _grid_key(first, replace(exact, subpixel_bits=g[0],
+                                                                     snap_rounding=g[1])))[:_GRID_SHORTLIST]
     ranked = sorted((_grid_key(scenes, replace(exact, subpixel_bits=b, snap_rounding=r)), b, SNAP_ROUNDINGS.index(r), r)
                     for b, r in grids)
     (beyond, error), bits, _, rounding = ranked[0]
@@ -591,7 +593,8 @@ def input_grid(call: Call, base: Convention, scenes: Sequence[_AlphaDrawn], draw
     floats = [x for x in scenes[1:] if x.coverage is not None]
     halves = [_AlphaDrawn(half, call(half)) for half in (_half_steps(x.scene, bits) for x in floats)]
     drawn += halves
-    parted = sorted((_grid_key([*scenes, *halves], replace(exact, subpixel_bits=bits, snap_rounding=r)), SNAP_ROUNDINGS.index(r), r)
+    parted = sorted((_grid_key([*scenes, *halves], replace(exact, subpixel_bits=bits, snap_rounding=r)),
+                     SNAP_ROUNDINGS.index(r), r)
                     for r in SNAP_ROUNDINGS)
     rounding = parted[0][2]
     tied = tuple(r for key, _, r in parted if key[0] == parted[0][0][0])
@@ -622,6 +625,7 @@ def _count_cells(call: Call, cull: CullMode, columns: Sequence[tuple[float, floa
     for slack in (step / 2.0, 2.0 * step):
         held = share > slack
         count = int(held.sum())
-        if 0 < count <= MAX_CELLS and np.all(np.abs(share[held] - 1.0 / count) <= slack) and np.all(np.abs(share[~held]) <= slack):
+        if 0 < count <= MAX_CELLS and np.all(np.abs(share[held] - 1.0 / count) <= slack) \
+                and np.all(np.abs(share[~held]) <= slack):
             return sorted(((int(i), int(j)) for i, j in zip(*np.nonzero(held))), key=lambda c: (c[1], c[0]))
     return None

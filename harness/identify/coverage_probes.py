@@ -283,9 +283,9 @@ def _readings(lo: float, hi: float, grid: int | None) -> tuple[float, ...]:
     scenes tell the two apart), the end with fewer fraction bits first (:func:`_offset`),
     then the multiples of 2**-``grid`` px strictly inside (a grid finer than the bisection
     stopped at: truncation to 2**-g shows as the vertex sweep's grid g, as rounding to
-    2**-(g - 1) does). Only offsets within the pixel, [0, 1), are kept. Without snapping (``grid`` None) the bisection went to 2**-20 px and
-    the two ends are a tie rule apart on any scene of coarser vertices: the end with
-    fewer fraction bits only.
+    2**-(g - 1) does). Only offsets within the pixel, [0, 1), are kept. Without snapping
+    (``grid`` None) the bisection went to 2**-20 px and the two ends are a tie rule apart
+    on any scene of coarser vertices: the end with fewer fraction bits only.
 
     >>> _readings(77 / 256, 78 / 256, 8)  # 78/256 first, then 77/256
     (0.3046875, 0.30078125)

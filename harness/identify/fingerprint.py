@@ -16,10 +16,10 @@ composes them. It first reads the kind of coverage (:func:`harness.identify.cove
 an anti-aliaser (alphas) or a multisample rasterizer (sample indices) is fingerprinted by
 the probes of :mod:`harness.identify.coverage_probes` instead -- analytic area or supersampled, the
 grid and the levels (:func:`~harness.identify.area_probes.alpha_sweeps`), or the sample
-pattern and its tie rule (:func:`~harness.identify.sample_probes.sample_positions`). The fit of sample point and tie rule is :func:`harness.identify.triangle_probes.fit_ties`,
-the one ``compare`` uses too. Every call of the rasterizer goes through a
-:data:`~harness.engine.isolation.Call`: in this process, or in a worker process
-(:func:`identify_isolated`).
+pattern and its tie rule (:func:`~harness.identify.sample_probes.sample_positions`). The fit of sample point
+and tie rule is :func:`harness.identify.triangle_probes.fit_ties`, the one ``compare`` uses too. Every call
+of the rasterizer goes through a :data:`~harness.engine.isolation.Call`: in this process, or in a worker
+process (:func:`identify_isolated`).
 
 A path-taking rasterizer (``"paths"`` in :func:`harness.contract.protocol.scene_kinds_of`) is asked
 first which fill rule it draws for each rule it declares (:func:`harness.identify.path_probes.fill_rules`),
@@ -337,7 +337,8 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
             _with_lines(fingerprint, call, seed, received_of(rasterizer))
     # how many calls timed out or failed, and which: the card always says
     fingerprint.calls = tally
-    fingerprint.facts["calls"] = tally.text + ("; the fit is on the rest" if fingerprint.unanswered and fingerprint.no_answers is None
+    fingerprint.facts["calls"] = tally.text + ("; the fit is on the rest" if fingerprint.unanswered
+                                               and fingerprint.no_answers is None
                                                else "")
     return fingerprint
 
@@ -653,7 +654,8 @@ def triangle_verdict_cases(seed: int, model: CoverageModel) -> list[Case | Motio
         cases += partition_cases(seed)
     if model.alphas:
         # the plain geometries' sixteenth-pixel translations (no texture, no projected mesh)
-        cases += [m for m in motion_cases(seed) if m.id.endswith("-1/16") and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
+        cases += [m for m in motion_cases(seed) if m.id.endswith("-1/16")
+                  and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
     return cases
 
 
@@ -674,10 +676,10 @@ def line_verdict_cases(seed: int, model: CoverageModel) -> list[Case | MotionCas
 def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0,
                       call_timeout: float | TimeLimit | None = None) -> Fingerprint:
     """:func:`identify` with every rasterize call in a forked worker process (a
-    :class:`harness.engine.session.Session`'s :class:`harness.engine.isolation.Worker`), so that a library's process-wide state (an EGL
-    display, a crash, a hang) stays out of the caller: a call that crashes or hangs counts
-    as raising, and identification goes on (the probes fit on the calls answered, and the
-    card counts and names the others).
+    :class:`harness.engine.session.Session`'s :class:`harness.engine.isolation.Worker`), so
+    that a library's process-wide state (an EGL display, a crash, a hang) stays out of the
+    caller: a call that crashes or hangs counts as raising, and identification goes on (the
+    probes fit on the calls answered, and the card counts and names the others).
 
     ``timeout`` bounds the whole identification: it is checked between calls, and a call
     never runs past it (then TimeoutError, naming the rasterizer); ``call_timeout`` is the

@@ -12,7 +12,8 @@ from numpy.typing import NDArray
 
 from harness.contract.scenes import LineScene
 
-__all__ = ["PROBE_SIZE", "crafted_lines", "lattice_lines", "nudged_lines", "float_lines", "rectangle_tie_lines", "half_step_lines"]
+__all__ = ["PROBE_SIZE", "crafted_lines", "lattice_lines", "nudged_lines", "float_lines", "rectangle_tie_lines",
+           "half_step_lines"]
 
 # The probe viewport: every probe segment lies within 2 px of it.
 PROBE_SIZE = 40

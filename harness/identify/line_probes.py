@@ -121,9 +121,10 @@ WIDE = 3.0
 
 def line_rules_tried() -> tuple[LineRule, ...]:
     """The line rules :func:`fit_lines` tries, rectangles aside: diamond-exit (D3D's test
-    areas and GL's perturbed end points) with the last pixel omitted or drawn, and Bresenham with each rounding, tie direction, last-pixel
-    rule and direction of travel (as given, or normalised as textbook plotLine does: from
-    the smaller x, from the smaller major coordinate), the rule's own setting first.
+    areas and GL's perturbed end points) with the last pixel omitted or drawn, and
+    Bresenham with each rounding, tie direction, last-pixel rule and direction of travel
+    (as given, or normalised as textbook plotLine does: from the smaller x, from the
+    smaller major coordinate), the rule's own setting first.
 
     >>> len(line_rules_tried()), line_rules_tried()[0].describe()
     (52, 'diamond-exit lines, last pixel omitted')
@@ -175,8 +176,9 @@ def _send(call: Call, scene: LineScene) -> Outcome:
 class LineDrawn:
     """A line scene and the rasterizer's answer to it, scored against candidate
     conventions (missing plus extra pixels, with multiplicity; an unanswered scene says
-    nothing: no pixels, no mismatches, left out of every fit and residual). The answer is seen tidied (:meth:`harness.contract.coverage.Coverage.tidy`),
-    the pixels the tidying dropped counted as extra (``dropped``)."""
+    nothing: no pixels, no mismatches, left out of every fit and residual). The answer
+    is seen tidied (:meth:`harness.contract.coverage.Coverage.tidy`), the pixels the
+    tidying dropped counted as extra (``dropped``)."""
 
     scene: LineScene
     outcome: Outcome
@@ -225,7 +227,9 @@ class LineDrawn:
         if (bits, rounding) not in self._still:
             v = self.scene.vertices
             self._still[bits, rounding] = bool(np.array_equal(convention.snap(v), v, equal_nan=True))
-        return replace(convention, subpixel_bits=None, snap_rounding="nearest-even") if self._still[bits, rounding] else convention
+        if not self._still[bits, rounding]:
+            return convention
+        return replace(convention, subpixel_bits=None, snap_rounding="nearest-even")
 
     def mismatches(self, convention: Convention) -> int:
         """Missing plus extra pixels against the exact oracle of ``convention`` (0 when
@@ -371,7 +375,8 @@ class LineFit:
         if self.convention is None:
             return f"not fitted: {self.skipped}"
         quality = ("" if self.exact else
-                   f" (best guess only: {len(self.unanswered)} probe scenes unanswered, left out of the fit)" if self.unanswered else
+                   f" (best guess only: {len(self.unanswered)} probe scenes unanswered, left out of the fit)"
+                   if self.unanswered else
                    " (best guess only)" if self.residual else
                    f" (ambiguous between {' and '.join(self.ambiguous)})" if self.ambiguous else
                    " (ambiguous: the next best explains it as well)")
@@ -562,7 +567,8 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
         rounding_fit = LineRounding(bits, tuple((r, sum(d.mismatches(_snapped(best, bits, r)) for d in floats))
                                                 for _, _, r in ranked),
                                     tuple(r for score, _, r in ranked if score == ranked[0][0]))
-    per_rule = {rule: min((lattice[i] for i, c in enumerate(candidates) if c.line.rule == rule), default=0) for rule in LINE_RULES}
+    per_rule = {rule: min((lattice[i] for i, c in enumerate(candidates) if c.line.rule == rule), default=0)
+                for rule in LINE_RULES}
     # 3. the rule again, with that snapping, on every scene; a candidate's score on the
     # lattice scenes bounds its total from below (no snapping of 2 bits or more moves a
     # multiple of 1/4), so one that cannot beat the runner-up so far is passed over

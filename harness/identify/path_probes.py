@@ -414,7 +414,8 @@ class LatticePaths:
             return "not measured: no fill rule is honoured"
         said = "; ".join(f"{rule}: {m:,} mismatches of {px:,} pixels" for rule, m, px in self.scores)
         if self.refused:
-            return f"{said} ({self.paths} one-contour paths per rule, vertices on samples; it refused several contours: {self.refused})"[:300]
+            return (f"{said} ({self.paths} one-contour paths per rule, vertices on samples; "
+                    f"it refused several contours: {self.refused})")[:300]
         return f"{said} ({self.paths} paths per rule, vertices on samples)"
 
 

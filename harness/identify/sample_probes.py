@@ -55,11 +55,12 @@ class PatternFact:
     fewer fraction bits), in the rasterizer's sample order (None for a sample that never
     flipped). ``convention``: the best candidate (each sample at the reading of its
     interval that explains it best, with a tie rule and the snapping the vertex sweep
-    allows), None when a sample was not found or two share an offset; ``residual`` its mismatching fragments of ``fragments`` over the fit
-    scenes (every sample judged with the single-sample oracle at its offset);
-    ``runner_up`` the best candidate with another tie rule. ``resolution``:
-    the bisection stopped at 2**-resolution px (a snapping grid's spacing, when the
-    vertex sweep saw one). ``calls``: the rasterizer calls made.
+    allows), None when a sample was not found or two share an offset; ``residual`` its
+    mismatching fragments of ``fragments`` over the fit scenes (every sample judged with
+    the single-sample oracle at its offset); ``runner_up`` the best candidate with
+    another tie rule. ``resolution``: the bisection stopped at 2**-resolution px (a
+    snapping grid's spacing, when the vertex sweep saw one). ``calls``: the rasterizer
+    calls made.
     """
 
     offsets: tuple[tuple[float, float] | None, ...]
@@ -98,7 +99,8 @@ class PatternFact:
             for s, o in enumerate(self.offsets):
                 if o is not None:
                     groups.setdefault(o, []).append(str(s))
-            shared = "; ".join(f"samples {', '.join(who)} all at ({o[0]:g}, {o[1]:g})" for o, who in groups.items() if len(who) > 1)
+            shared = "; ".join(f"samples {', '.join(who)} all at ({o[0]:g}, {o[1]:g})" for o, who in groups.items()
+                               if len(who) > 1)
             return f"not recovered: {shared} -- samples sharing an offset make no pattern"
         pattern = self.pattern
         said = f"{len(pattern)} samples, in the rasterizer's order: " + " ".join(f"({x:g}, {y:g})" for x, y in pattern)

@@ -75,7 +75,8 @@ def viewport_edge(call: Call, seed: int, margin: int = 8) -> ViewportEdge:
         crossing = TRIANGLES.narrow(case.scene)
         size = crossing.width
         grown = grown_screen(crossing, margin)
-        if grown is None or not TRIANGLES.owns(grown):  # never for these scenes: whole-pixel moves of small dyadic numbers are exact
+        # never for these scenes: whole-pixel moves of small dyadic numbers are exact
+        if grown is None or not TRIANGLES.owns(grown):
             return ViewportEdge(0, 0, "the grown screen would round the scene")
         a, b = draw(call, crossing), draw(call, grown)
         if a.coverage is None or b.coverage is None:

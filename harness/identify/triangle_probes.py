@@ -135,7 +135,9 @@ class Drawn:
         if (bits, rounding) not in self._still:
             positions = self.scene.positions
             self._still[bits, rounding] = bool(np.array_equal(convention.snap(positions), positions, equal_nan=True))
-        return replace(convention, subpixel_bits=None, snap_rounding="nearest-even") if self._still[bits, rounding] else convention
+        if not self._still[bits, rounding]:
+            return convention
+        return replace(convention, subpixel_bits=None, snap_rounding="nearest-even")
 
     def mismatches(self, convention: Convention) -> int:
         """Missing plus extra pixels against the exact oracle of ``convention`` (0 when

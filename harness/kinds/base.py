@@ -164,7 +164,8 @@ class PrimitiveKind(Generic[S]):
     def missing_hooks(self) -> list[str]:
         """The hooks (of :data:`HOOKS`) and callables that do not resolve: empty when the
         kind is whole."""
-        missing = [f.name for f in fields(self) if f.name in ("coordinates_of", "degenerate", "work_size", "keeps_shapes", "undefined")
+        missing = [f.name for f in fields(self)
+                   if f.name in ("coordinates_of", "degenerate", "work_size", "keeps_shapes", "undefined")
                    and not callable(getattr(self, f.name))]
         for name in HOOKS:
             try:

@@ -41,9 +41,10 @@ def _undefined(scene: LineScene, convention: Any) -> str:
 
 LINES: PrimitiveKind[LineScene] = PrimitiveKind(
     name="lines", scene_class=LineScene, json_key="lines", convention_attribute="line_convention",
-    own_fit=("line_fit", "line convention"), translate_shift=LINE_SHIFT, translate_needs_positive=True, near_ties_by_own_rule=True,
-    coordinates_of=_coordinates_of, degenerate=_degenerate, work_size=_work_size, keeps_shapes=_keeps_shapes, undefined=_undefined,
-    exact_tie_words=("pixels", "the line rule's boundary"),
+    own_fit=("line_fit", "line convention"), translate_shift=LINE_SHIFT, translate_needs_positive=True,
+    near_ties_by_own_rule=True,
+    coordinates_of=_coordinates_of, degenerate=_degenerate, work_size=_work_size, keeps_shapes=_keeps_shapes,
+    undefined=_undefined, exact_tie_words=("pixels", "the line rule's boundary"),
     to_json="harness.contract.case:lines_to_json", from_json="harness.contract.case:lines_from_json",
     json_sizes="harness.contract.case:line_sizes",
     oracle="harness.oracle.lines:line_coverage",

@@ -37,8 +37,8 @@ def _undefined(scene: PathScene, convention: Any) -> str:
 PATHS: PrimitiveKind[PathScene] = PrimitiveKind(
     name="paths", scene_class=PathScene, json_key="paths", convention_attribute="path_convention",
     own_fit=None, translate_shift=(3, 2), translate_needs_positive=False, near_ties_by_own_rule=False,
-    coordinates_of=_coordinates_of, degenerate=_degenerate, work_size=_work_size, keeps_shapes=_keeps_shapes, undefined=_undefined,
-    exact_tie_words=("samples", "an edge of their {noun}"),
+    coordinates_of=_coordinates_of, degenerate=_degenerate, work_size=_work_size, keeps_shapes=_keeps_shapes,
+    undefined=_undefined, exact_tie_words=("samples", "an edge of their {noun}"),
     to_json="harness.contract.case:paths_to_json", from_json="harness.contract.case:paths_from_json",
     json_sizes="harness.contract.case:path_sizes",
     oracle="harness.oracle.winding:path_coverage",

@@ -43,8 +43,8 @@ def _undefined(scene: Scene, convention: Any) -> str:
 TRIANGLES: PrimitiveKind[Scene] = PrimitiveKind(
     name="triangles", scene_class=Scene, json_key="positions", convention_attribute=None,
     own_fit=None, translate_shift=(3, 2), translate_needs_positive=False, near_ties_by_own_rule=False,
-    coordinates_of=_coordinates_of, degenerate=_degenerate, work_size=_work_size, keeps_shapes=_keeps_shapes, undefined=_undefined,
-    exact_tie_words=("samples", "an edge of their {noun}"),
+    coordinates_of=_coordinates_of, degenerate=_degenerate, work_size=_work_size, keeps_shapes=_keeps_shapes,
+    undefined=_undefined, exact_tie_words=("samples", "an edge of their {noun}"),
     to_json="harness.contract.case:triangles_to_json", from_json="harness.contract.case:triangles_from_json",
     json_sizes="harness.contract.case:triangle_sizes",
     # the convention's coverage model names the oracle (exact single, multisample, shares, area)

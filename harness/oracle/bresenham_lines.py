@@ -8,11 +8,12 @@ Bresenham (:func:`bresenham_spans`)
     * End point p -> pixel (i, j), exactly, by the declared ``rounding``: the pixel holding
       p. ``floor``: i = floor(px) (seed 000's floor). ``toward-zero``: i = trunc(px), C's
       ``(int)`` cast of the window coordinate (softpipe's ``sp_setup_line``, Pillow's
-      ``ImageDraw.line``): floor for px >= 0, but pixel 0 for -1 < px < 0. ``nearest-even``/``half-away``: i is the integer nearest to
-      px - 1/2, i.e. the pixel whose centre i + 1/2 is nearest to px; that is floor(px)
-      except when px is an integer (p on the boundary of pixels px - 1 and px), where
-      ``nearest-even`` takes the even one and ``half-away`` the one away from zero (px when
-      px - 1/2 > 0, px - 1 when px - 1/2 < 0). Likewise j from py.
+      ``ImageDraw.line``): floor for px >= 0, but pixel 0 for -1 < px < 0.
+      ``nearest-even``/``half-away``: i is the integer nearest to px - 1/2, i.e. the pixel
+      whose centre i + 1/2 is nearest to px; that is floor(px) except when px is an integer
+      (p on the boundary of pixels px - 1 and px), where ``nearest-even`` takes the even
+      one and ``half-away`` the one away from zero (px when px - 1/2 > 0, px - 1 when px -
+      1/2 < 0). Likewise j from py.
     * x-major when |x1 - x0| >= |y1 - y0| (integers), else y-major. With K = |major delta|,
       M = |minor delta|: the classic decision variable ``p = 2M - K``; after each pixel the
       major coordinate steps, and the minor one steps when ``p >= 0`` (then ``p += 2M - 2K``,

@@ -44,7 +44,8 @@ from harness.geometry.spans import expand, pixel_offsets, span_buffers
 from harness.kinds import kind_of
 from harness.oracle.kernels import _apply_edge, _edge_setup, _row_range, shares_of_layers
 
-__all__ = ["exact_coverage", "exact_single", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
+__all__ = ["exact_coverage", "exact_single", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python",
+           "prepare_triangles", "PreparedTriangles"]
 
 
 _CULL_CODES = {"none": 0, "cw": 1, "ccw": -1}
@@ -385,12 +386,13 @@ def exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
     Returns
     -------
     Coverage
-        Spans sorted by primitive then row (a path scene's: :func:`harness.oracle.winding.path_coverage`), clipped to the viewport. Non-finite,
-        zero-area and culled triangles cover nothing. ``attributes`` is (P, K) when the
-        scene has attributes, interpolated at each covered sample (perspective-correct
-        when the scene has ``w``). For a multisample convention, spans carry their sample
-        index (:func:`exact_multisample`); for area coverage, alphas
-        (:func:`harness.oracle.area.area_coverage`).
+        Spans sorted by primitive then row (a path scene's:
+        :func:`harness.oracle.winding.path_coverage`), clipped to the viewport.
+        Non-finite, zero-area and culled triangles cover nothing. ``attributes`` is (P,
+        K) when the scene has attributes, interpolated at each covered sample
+        (perspective-correct when the scene has ``w``). For a multisample convention,
+        spans carry their sample index (:func:`exact_multisample`); for area coverage,
+        alphas (:func:`harness.oracle.area.area_coverage`).
 
     Examples
     --------

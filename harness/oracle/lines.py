@@ -186,7 +186,8 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
         spans = rectangle_spans(np.where(near[:, None], a, np.nan), np.where(near[:, None], b, np.nan), scene.line_width,
                                 convention.sample, convention.tie, **kw)
         for k in np.flatnonzero(far):
-            s, y, x0, x1 = rectangle_spans_rational(a[k:k + 1], b[k:k + 1], scene.line_width, convention.sample, convention.tie, **kw)
+            s, y, x0, x1 = rectangle_spans_rational(a[k:k + 1], b[k:k + 1], scene.line_width, convention.sample, convention.tie,
+                                                    **kw)
             extra.extend((int(k), int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1))
     p, y, x0, x1 = spans
     if extra:

@@ -453,7 +453,8 @@ def open_outline_coverage(scene: AnyScene, convention: Convention, unbalanced: s
         vertices, sizes, paths, fill_rule = scene.vertices, scene.contour_sizes, scene.contour_path, scene.fill_rule
     else:  # each triangle a one-contour path (ValueError for lines: no outline to leave open)
         n = len(scene)
-        vertices, sizes, paths, fill_rule = TRIANGLES.narrow(scene).positions.reshape(-1, 2), np.full(n, 3), np.arange(n), "nonzero"
+        vertices, sizes, paths = TRIANGLES.narrow(scene).positions.reshape(-1, 2), np.full(n, 3), np.arange(n)
+        fill_rule = "nonzero"
     vertices, lengths, paths, keep = _snapped(vertices, sizes, paths, convention, False)
     beyond = _beyond(vertices) & np.repeat(keep, lengths)
     unsafe = np.unique(np.repeat(paths, lengths)[beyond])

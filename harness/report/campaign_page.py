@@ -119,7 +119,8 @@ def findings_chart(state: CampaignState, width: int = 640, height: int = 220) ->
         f'<text x="{width - right + 6}" y="{top + plot_h}" font-size="11" fill="{blue}">0</text>',
         f'<text x="{left}" y="{height - 18}" font-size="11" fill="{grey}">0</text>',
         f'<text x="{left + plot_w}" y="{height - 18}" text-anchor="end" font-size="11" fill="{grey}">{max_scenes:,.0f}</text>',
-        f'<text x="{left + plot_w / 2:.0f}" y="{height - 4}" text-anchor="middle" font-size="11" fill="{grey}">scenes checked</text>',
+        f'<text x="{left + plot_w / 2:.0f}" y="{height - 4}" text-anchor="middle" font-size="11" fill="{grey}">scenes '
+        'checked</text>',
         f'<text x="12" y="{top + plot_h / 2:.0f}" font-size="11" fill="{red}" transform="rotate(-90 12 {top + plot_h / 2:.0f})" '
         f'text-anchor="middle">findings</text>',
         f'<text x="{width - 8}" y="{top + plot_h / 2:.0f}" font-size="11" fill="{blue}" '
@@ -180,7 +181,8 @@ def _campaign_rows(state: CampaignState, page_dir: Path, rasterizer: Any | None)
     total = max(state.findings, 1)
     rows = []
     for key, entry in sorted(state.signatures.items(), key=lambda kv: (-int(kv[1].get("count", 0)), kv[0])):
-        signature = Signature(str(entry.get("check", "")), str(entry.get("failure_class", "")), str(entry.get("convention_part", "")))
+        signature = Signature(str(entry.get("check", "")), str(entry.get("failure_class", "")),
+                              str(entry.get("convention_part", "")))
         examples = []
         for point in list(entry.get("examples") or [])[:CAMPAIGN_EXAMPLES]:
             try:
@@ -188,7 +190,8 @@ def _campaign_rows(state: CampaignState, page_dir: Path, rasterizer: Any | None)
                 case_id = scene_id(family, int(seed), int(index))
             except (KeyError, TypeError, ValueError):
                 continue  # not a scene point of a family this version knows: nothing to replay
-            examples.append({"point": _point_text(point), "id": case_id, "call": f"generate({family!r}, {int(seed)}, {int(index)})"})
+            examples.append({"point": _point_text(point), "id": case_id,
+                             "call": f"generate({family!r}, {int(seed)}, {int(index)})"})
         first, last = entry.get("first") or {}, entry.get("last") or {}
         rows.append({
             "key": key, "anchor": "signature-" + _slug(key), "check": signature.check, "failure_class": signature.failure_class,
@@ -232,7 +235,8 @@ def write_campaign_page(out_dir: Path | str, state: CampaignState, *, rasterizer
         "scenes_per_second": state.scenes / wall if wall > 0 else 0.0,
         "primitives_per_second": state.primitives / wall if wall > 0 else 0.0,
         "identified": state.identified, "batch_size": state.batch_size,
-        "done": [{"family": f, "seed": s, "ranges": ", ".join(f"{a}..{b - 1}" for a, b in ranges), "scenes": sum(b - a for a, b in ranges)}
+        "done": [{"family": f, "seed": s, "ranges": ", ".join(f"{a}..{b - 1}" for a, b in ranges),
+                  "scenes": sum(b - a for a, b in ranges)}
                  for (f, s), ranges in sorted(state.done.items())],
     }
     anchors = {row["key"]: row["anchor"] for row in rows}
@@ -245,7 +249,8 @@ def write_campaign_page(out_dir: Path | str, state: CampaignState, *, rasterizer
         crop_legend=CROP_LEGEND.items(), path_legend=PATH_LEGEND.items(), line_legend=LINE_LEGEND.items(),
         sample_legend=SAMPLE_LEGEND.items(),
         any_paths=any(r["repro"].get("paths") for r in rows), any_lines=any(r["repro"].get("lines") for r in rows),
-        resume=f"rastercheck fuzz --rasterizer {shlex.quote(state.spec)} --state {shlex.quote(str(state.directory))} --budget 10m")
+        resume=f"rastercheck fuzz --rasterizer {shlex.quote(state.spec)} --state {shlex.quote(str(state.directory))} "
+               "--budget 10m")
     path = out_dir / CAMPAIGN_PAGE
     atomic_write_text(path, html)
     link_pages(out_dir)  # an index in the folder links the page (templates/pages.html)
@@ -262,7 +267,8 @@ def campaign_json(state: CampaignState, run: dict[str, Any] | None = None, page:
     data = state.to_json()
     described = {}
     for key, entry in state.signatures.items():
-        signature = Signature(str(entry.get("check", "")), str(entry.get("failure_class", "")), str(entry.get("convention_part", "")))
+        signature = Signature(str(entry.get("check", "")), str(entry.get("failure_class", "")),
+                              str(entry.get("convention_part", "")))
         repro = Path(state.directory) / entry["repro"] if entry.get("repro") else None
         described[key] = {"describe": signature.describe(),
                           "replay": (f"rastercheck replay {shlex.quote(str(repro))} --rasterizer {shlex.quote(state.spec)}"

@@ -365,7 +365,8 @@ def _filters(sections: list[dict[str, Any]]) -> list[dict[str, Any]]:
     return out
 
 
-FACTS = ("coverage", "model", "levels", "area error", "sweeps", "pattern", "residual lies", "sample sweep", "culling", "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep",
+FACTS = ("coverage", "model", "levels", "area error", "sweeps", "pattern", "residual lies", "sample sweep", "culling",
+         "zero area", "epsilon", "non-finite", "viewport edge", "watertight", "snapping", "vertex sweep",
          "fill rules", "paths", "real paths", "calls")
 KIND_ORDER = {"built-in": 0, "real library": 1, "plugin": 2}
 
@@ -662,12 +663,14 @@ def _pair_crops(comparisons: list[Any]) -> dict[str, list[tuple[str, str]]]:
         scene, a, b, pixels = c.where
         x, y = pixels[0]
         window = window_around(x, y, scene.width, scene.height, 12)
-        out[f"{c.a} · {c.b}"] = [(f"{name}: where they differ (outlined)", svg_crop(scene.positions, cov, (0.5, 0.5), window, pixels))
+        out[f"{c.a} · {c.b}"] = [(f"{name}: where they differ (outlined)",
+                                  svg_crop(scene.positions, cov, (0.5, 0.5), window, pixels))
                                  for name, cov in ((c.a, a), (c.b, b))]
     return out
 
 
-def write_comparison(out_dir: Path, data: dict[str, Any], candidates: int, seed: int, comparisons: list[Any] | None = None) -> Path:
+def write_comparison(out_dir: Path, data: dict[str, Any], candidates: int, seed: int,
+                     comparisons: list[Any] | None = None) -> Path:
     """Write ``compare.html`` (the comparison page) into ``out_dir`` atomically; with the
     ``comparisons`` themselves, each pair that differs is drawn where it first does."""
     meta = page_meta("lattice", seed)

@@ -22,8 +22,8 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene
 from harness.oracle.coverage import exact_coverage
 
-__all__ = ["LEGEND", "HEAT_LEGEND", "DIFF_LEGEND", "CROP_LEGEND", "ALPHA_LEGEND", "SAMPLE_LEGEND", "PATH_LEGEND", "LINE_LEGEND", "heatmap",
-           "oracle_diff", "window_around", "svg_pattern", "Samples", "sample_hits"]
+__all__ = ["LEGEND", "HEAT_LEGEND", "DIFF_LEGEND", "CROP_LEGEND", "ALPHA_LEGEND", "SAMPLE_LEGEND", "PATH_LEGEND", "LINE_LEGEND",
+           "heatmap", "oracle_diff", "window_around", "svg_pattern", "Samples", "sample_hits"]
 
 
 def _oracles(drawing: Drawing, scenes: list[Any]) -> tuple[Coverage, ...] | None:
@@ -171,7 +171,8 @@ def _hex(rgb: tuple[int, int, int]) -> str:
 
 
 def _png(rgb: NDArray, scale: int) -> str:
-    image = Image.fromarray(np.ascontiguousarray(rgb)).resize((rgb.shape[1] * scale, rgb.shape[0] * scale), Image.Resampling.NEAREST)
+    image = Image.fromarray(np.ascontiguousarray(rgb)).resize((rgb.shape[1] * scale, rgb.shape[0] * scale),
+                                                              Image.Resampling.NEAREST)
     buffer = io.BytesIO()
     image.save(buffer, format="PNG")
     return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")
@@ -212,7 +213,8 @@ def oracle_diff(width: int, height: int, got: NDArray, want: NDArray, pixels: li
     for p in pixels:
         x, y = int(p["x"]), int(p["y"])
         if 0 <= x < width and 0 <= y < height:
-            kind = "near tie" if p.get("near_tie") else ("missing (oracle only)" if p["kind"] == "missing" else "extra (rasterizer only)")
+            kind = "near tie" if p.get("near_tie") else ("missing (oracle only)" if p["kind"] == "missing"
+                                                         else "extra (rasterizer only)")
             rgb[y, x] = DIFF_LEGEND[kind]
     if window is not None:
         x0, y0, x1, y1 = window
@@ -279,9 +281,11 @@ def _svg_samples(samples: Samples, window: tuple[int, int, int, int], scale: flo
         if covered:
             out.append(f'<circle cx="{cx:.6g}" cy="{cy:.6g}" r="{r:.4f}" fill="{hit}"/>')
         else:
-            out.append(f'<circle cx="{cx:.6g}" cy="{cy:.6g}" r="{r * 0.8:.4f}" fill="none" stroke="{miss}" stroke-width="1" {thin}/>')
+            out.append(f'<circle cx="{cx:.6g}" cy="{cy:.6g}" r="{r * 0.8:.4f}" fill="none" stroke="{miss}" stroke-width="1" '
+                       f'{thin}/>')
         if samples.differs is not None and samples.differs[j, i, k]:
-            out.append(f'<circle cx="{cx:.6g}" cy="{cy:.6g}" r="{r * 1.9:.4f}" fill="none" stroke="{red}" stroke-width="2" {thin}>'
+            out.append(f'<circle cx="{cx:.6g}" cy="{cy:.6g}" r="{r * 1.9:.4f}" fill="none" stroke="{red}" stroke-width="2" '
+                       f'{thin}>'
                        f'<title>sample {k} of pixel ({x0 + i}, {y0 + j}): {"covered" if covered else "not covered"} here, '
                        f'the other way in the other picture</title></circle>')
     return out

@@ -46,7 +46,8 @@ def _pixel_rows(rows: list[Any], columns: Any) -> list[tuple[int, int]]:
                 if not isinstance(r, dict):
                     continue
                 named = [r[k] for k in ("pixel", "vertex_pixel") if isinstance(r.get(k), (list, tuple))]
-                named += [v for v in r.get("pixels", ()) if isinstance(v, (list, tuple))] if isinstance(r.get("pixels"), list) else []
+                if isinstance(r.get("pixels"), list):
+                    named += [v for v in r["pixels"] if isinstance(v, (list, tuple))]
                 out += [(int(v[0]), int(v[1])) for v in named if len(v) == 2]
             return list(dict.fromkeys(out))
         if not isinstance(head, (list, tuple)) or not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool)

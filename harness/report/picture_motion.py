@@ -73,11 +73,13 @@ def motion_animation(coverages: list[Coverage], oracles: list[Coverage] | None, 
             if int(m.get("frame", -1)) != f:
                 continue
             if "x" in m and "y" in m:
-                rgb[int(m["y"]) % height, int(m["x"]) % width] = LEGEND["texel swim" if "axis" in m or "texel" in m else "flicker or backward jump"]
+                rgb[int(m["y"]) % height, int(m["x"]) % width] = LEGEND["texel swim" if "axis" in m or "texel" in m
+                                                                        else "flicker or backward jump"]
             elif "row" in m and "column" in m:
                 rgb[int(m["row"]) % height, min(max(int(m["column"]), 0), width - 1)] = LEGEND["flicker or backward jump"]
         crop = rgb[wy0:wy1, wx0:wx1]
-        images.append(Image.fromarray(np.ascontiguousarray(crop)).resize(((wx1 - wx0) * scale, (wy1 - wy0) * scale), Image.Resampling.NEAREST))
+        images.append(Image.fromarray(np.ascontiguousarray(crop)).resize(((wx1 - wx0) * scale, (wy1 - wy0) * scale),
+                                                                         Image.Resampling.NEAREST))
     buffer = io.BytesIO()
     images[0].save(buffer, format="GIF", save_all=True, append_images=images[1:], duration=80, loop=0)
     return "data:image/gif;base64," + base64.b64encode(buffer.getvalue()).decode("ascii")

@@ -74,7 +74,8 @@ def _numbering_convention(convention: Convention | None) -> Convention:
     return convention.at_sample(0) if convention.samples is not None else convention
 
 
-def winding_numbers(scene: PathScene, path: int, convention: Convention, window: tuple[int, int, int, int]) -> NDArray[np.int64] | None:
+def winding_numbers(scene: PathScene, path: int, convention: Convention,
+                    window: tuple[int, int, int, int]) -> NDArray[np.int64] | None:
     """The exact winding number of every sample of a window around one path.
 
     Sample ``p = (i + sx, j + sy)`` of pixel (i, j) is taken at the tie rule's perturbed

@@ -244,10 +244,12 @@ def fill_repro(result: Result, case: Case, convention: Convention | None, what: 
         where = ("; left: what the rasterizer drew, right: what " + said + " says" if said else
                  "; what the rasterizer drew (" + ("no convention known" if convention is None else "no oracle of its kind")
                  + ", so nothing beside it)")
-        outlined = f"; outlined: {len(marks)} pixel{'' if len(marks) == 1 else 's'} the failure names on the repro" if marks else ""
+        outlined = f"; outlined: {len(marks)} pixel{'' if len(marks) == 1 else 's'} the failure names on the repro" \
+            if marks else ""
         return uri, f"minimal repro: its {triangles}{where}{numbers if said else ''}{outlined}"
     if PATHS.owns(scene):
-        uri = svg_window(scene, covered, fill, (chosen or Convention()).sample, window, marks, numbered=numbered, convention=chosen)
+        uri = svg_window(scene, covered, fill, (chosen or Convention()).sample, window, marks, numbered=numbered,
+                         convention=chosen)
     else:
         uri = svg_window(_drawn(scene), covered, fill, sample, window, marks)
     outlined = f"; outlined: {len(marks)} of the pixels the failure names, next to these {noun}s" if marks else ""
@@ -356,7 +358,8 @@ def _repro_panels(scene: AnyScene, answer: Coverage, oracle: Coverage | None, co
     for index, (title, layer, fill, shown, counts, number) in enumerate(panels):
         left = index * (pw + _PANEL_GAP)
         dot = None if (area or pattern) and shown is None else sample  # an alpha says nothing of its samples
-        parts.append(f'<text x="{left}" y="{_PANEL_TITLE - 6}" font-size="13" font-family="sans-serif" fill="#222">{title}</text>')
+        parts.append(f'<text x="{left}" y="{_PANEL_TITLE - 6}" font-size="13" font-family="sans-serif" '
+                     f'fill="#222">{title}</text>')
         if lines:
             parts.append(_svg_window_text(positions, layer.get("covered"), fill, dot, window, marks, PANEL_FIT,
                                           numbered=number, convention=convention, hits=counts, samples=shown,
@@ -418,7 +421,8 @@ def _line_repro(result: Result, scene: LineScene, convention: Convention | None,
     thick = f"; segment {numbered} thick" if numbered is not None and len(scene) > 1 else ""
     if seen is not None and seen.drawing is not None and seen.drawing.coverages:
         uri = _repro_panels(scene, seen.drawing.coverages[0], oracle, convention, window, marks, numbered)
-        outlined = f"; outlined: {len(marks)} pixel{'' if len(marks) == 1 else 's'} the failure names on the repro" if marks else ""
+        outlined = f"; outlined: {len(marks)} pixel{'' if len(marks) == 1 else 's'} the failure names on the repro" \
+            if marks else ""
         if convention is None or oracle is None:
             why = "no convention known" if convention is None else "no line oracle for its coverage kind"
             return uri, f"minimal repro: its {what}; what the rasterizer drew ({why}, so nothing beside it){thick}{outlined}"

@@ -74,8 +74,8 @@ def svg_crop(positions: NDArray | PathScene | LineScene, coverage: Coverage, sam
 
 
 def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | None, fill: tuple[int, int, int],
-               sample: tuple[float, float] | None, window: tuple[int, int, int, int], marks: list[tuple[int, int]], fit: int = 384,
-               numbered: int | None = None, convention: Convention | None = None,
+               sample: tuple[float, float] | None, window: tuple[int, int, int, int], marks: list[tuple[int, int]],
+               fit: int = 384, numbered: int | None = None, convention: Convention | None = None,
                fills: list[tuple[NDArray, tuple[int, int, int]]] | None = None, hits: NDArray | None = None) -> str:
     """A window of the viewport as an SVG data URI, scaled to fit ``fit`` px (at most 24 px
     a pixel): the covered pixels filled, the pixel grid and the sample points when the
@@ -182,7 +182,8 @@ def _svg_window_text(positions: NDArray | PathScene | LineScene, covered: NDArra
     red = _hex(CROP_LEGEND["offending pixel (outlined)"])
     for mx, my in marks:
         if x0 <= mx < x1 and y0 <= my < y1:
-            parts.append(f'<rect x="{mx + inset:.4f}" y="{my + inset:.4f}" width="{1 - 2 * inset:.4f}" height="{1 - 2 * inset:.4f}" '
+            parts.append(f'<rect x="{mx + inset:.4f}" y="{my + inset:.4f}" width="{1 - 2 * inset:.4f}" '
+                         f'height="{1 - 2 * inset:.4f}" '
                          f'fill="none" stroke="{red}" stroke-width="2" {thin}/>')
     kind = "triangles" if isinstance(positions, np.ndarray) else positions.kind
     parts.extend(_VECTORS[kind](Vectors(positions, window, scale, numbered, convention, sample, marks, hits, windings)))

@@ -103,7 +103,8 @@ from harness.report.picture_repro import MAX_REPRO_SIDE, MAX_REPRO_TRIANGLES, _n
 from harness.report.picture_svg import _drawn, svg_crop, svg_window
 
 __all__ = ["draw", "draw_repro", "motion_animation", "heatmap", "oracle_diff", "svg_crop", "svg_window", "series_plot",
-           "series_label", "window_around", "svg_pattern", "LEGEND", "HEAT_LEGEND", "DIFF_LEGEND", "CROP_LEGEND", "ALPHA_LEGEND", "alpha_map", "MAX_REPRO_TRIANGLES",
+           "series_label", "window_around", "svg_pattern", "LEGEND", "HEAT_LEGEND", "DIFF_LEGEND", "CROP_LEGEND", "ALPHA_LEGEND",
+           "alpha_map", "MAX_REPRO_TRIANGLES",
            "MAX_REPRO_SIDE", "PATH_LEGEND", "winding_numbers", "rule_fills", "focus_path", "numbered_path", "MAX_NUMBERED_SIDE",
            "MAX_DRAWN_VERTICES", "LINE_LEGEND", "line_focus", "focus_segment", "numbered_segment",
            "LINE_CROP_SIDE", "SAMPLE_LEGEND", "Samples", "sample_hits", "fill_pictures", "line_pictures",
@@ -280,7 +281,8 @@ def _line_pictures(scene: LineScene, drawing: Drawing, result: Result) -> dict[s
         fx, fy = marks[0]
     elif numbered is not None and numbered in np.flatnonzero(scene.primitive_boxes()[2]):
         a, b = scene.segments()
-        fx, fy = (int(np.clip(np.floor(v), -1, side)) for v, side in zip((a[numbered] + b[numbered]) / 2, (scene.width, scene.height)))
+        fx, fy = (int(np.clip(np.floor(v), -1, side))
+                  for v, side in zip((a[numbered] + b[numbered]) / 2, (scene.width, scene.height)))
     else:
         fx, fy = scene.width // 2, scene.height // 2
     counts = coverage.counts(scene.width, scene.height)

@@ -136,8 +136,8 @@ def write_diff_page(out: Path | str, diff: RunDiff) -> Path:
 
     counts = Counter(c.category for c in diff.changes)
     per = Counter((c.rasterizer, c.check, c.category) for c in diff.changes)
-    html = _environment().get_template("diff.html").render(diff=diff, categories=CATEGORIES, counts=counts, per=sorted(per.items()),
-                                                           meta=page_meta("diff", "-"))
+    html = _environment().get_template("diff.html").render(diff=diff, categories=CATEGORIES, counts=counts,
+                                                           per=sorted(per.items()), meta=page_meta("diff", "-"))
     path = Path(out) / "diff.html"
     atomic_write_text(path, html)
     link_pages(Path(out))  # index.html, when there is one, links the new page

@@ -176,7 +176,8 @@ class Verdict:
         n = {verdict: sum(f.verdict == verdict for f in mine)
              for verdict in ("regression", "missing", "fixed", "known", "new", "absent", "flaky", "dropped")}
         regressions = n["regression"] + n["missing"]
-        parts = [_plural(regressions, "regression") + (f" ({n['missing']} missing)" if n["missing"] else "")] if regressions else []
+        parts = [_plural(regressions, "regression")
+                 + (f" ({n['missing']} missing)" if n["missing"] else "")] if regressions else []
         parts += [f"{n['fixed']} unexpectedly passing"] if n["fixed"] else []
         parts += [_plural(n["known"], "known failure")] if n["known"] else []
         parts += [f"{n['new']} new"] if n["new"] else []
@@ -316,11 +317,13 @@ def compare_with_baseline(results: list[Result], baseline: dict[str, dict[str, A
         was_bad = status in BAD
         worse = _worse(r, before, gated)
         if r.status in BAD and not was_bad and "flaky" in r.evidence:  # the reruns disagree: a flake, shown
-            verdict.findings.append(GateFinding(k, "flaky", f"was {status}, now {' / '.join(r.evidence['flaky'])} on reruns: {r.message}"))
+            verdict.findings.append(GateFinding(k, "flaky", f"was {status}, now {' / '.join(r.evidence['flaky'])} on reruns: "
+                                                            f"{r.message}"))
         elif r.status in BAD and not was_bad and (why := _known(known_failure, r)):
             verdict.findings.append(GateFinding(k, "known", f"was {status}, now {r.status}: {why}", why))
         elif r.status in BAD and not was_bad:
-            verdict.findings.append(GateFinding(k, "regression", "; ".join([f"was {status}, now {r.status}: {r.message}", *worse])))
+            verdict.findings.append(GateFinding(k, "regression", "; ".join([f"was {status}, now {r.status}: {r.message}",
+                                                                            *worse])))
         elif worse:
             verdict.findings.append(GateFinding(k, "regression", "; ".join([f"{r.status} as before", *worse]), reason))
         elif was_bad and r.status == "pass":
@@ -369,7 +372,8 @@ class CampaignFindings:
         state = CampaignState.load(directory)
         cases: dict[tuple[str, str], str] = {}
         for signature_key, entry in state.signatures.items():
-            if not isinstance(entry, dict) or not isinstance(entry.get("check"), str) or not isinstance(entry.get("examples", []), list):
+            if not isinstance(entry, dict) or not isinstance(entry.get("check"), str) or not isinstance(entry.get("examples", []),
+                                                                                                        list):
                 raise ValueError(f"{state.path}: malformed signature {signature_key!r} (its check and examples expected)")
             checks = {str(entry.get("result_check") or entry["check"]), str(entry["check"])}
             for point in entry.get("examples", []):

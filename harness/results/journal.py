@@ -129,7 +129,8 @@ def read_journal(path: Path | str) -> Recorded:
             result = _result(value, where)
             pending.setdefault((result.rasterizer, result.case), []).append(result)
         elif kind == "complete":
-            if not isinstance(value, dict) or not isinstance(value.get("rasterizer"), str) or not isinstance(value.get("case"), str):
+            if not isinstance(value, dict) or not isinstance(value.get("rasterizer"), str) \
+                    or not isinstance(value.get("case"), str):
                 raise ValueError(f"{where}: a complete line names no rasterizer and case: malformed")
             pair = (value["rasterizer"], value["case"])
             if pair not in recorded.complete:

@@ -32,7 +32,8 @@ JSON schema 1::
          "status": "pass" | "fail" | "error" | "skip",
          "message": str,
          "metrics": {str: number},          # totals; "seconds" is the rasterize time
-         "evidence": {str: ...}}            # pixels, blame, series, repro; a failing or erroring one its "signature" (harness.diagnose.causes)
+         "evidence": {str: ...}}            # pixels, blame, series, repro; a failing or erroring one
+                                            # its "signature" (harness.diagnose.causes)
       ]
     }
 
@@ -135,8 +136,8 @@ def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizer
         "rasterizers": rasterizers,
         **({"fingerprints": _clean(fingerprints)} if fingerprints else {}),
         **{field: _clean(value) for field, value in known.items() if value is not None},
-        **({"call_failures": failures} if failures else {}),  # per rasterizer: cases whose call timed out, failed, was asked again
-        "results": rows,
+        # per rasterizer: cases whose call timed out, failed, was asked again
+        **({"call_failures": failures} if failures else {}), "results": rows,
     }
 
 
@@ -172,7 +173,8 @@ def write_json(path: Path | str, results: Iterable[Result], suite: str, seed: in
                fingerprints: dict[str, dict[str, Any]] | None = None, **capabilities: Any) -> Path:
     """:func:`results_to_json` written atomically (``capabilities``: its keyword fields)."""
     path = Path(path)
-    atomic_write_text(path, json.dumps(results_to_json(results, suite, seed, rasterizers, fingerprints, **capabilities), indent=1))
+    atomic_write_text(path, json.dumps(results_to_json(results, suite, seed, rasterizers, fingerprints, **capabilities),
+                                       indent=1))
     return path
 
 

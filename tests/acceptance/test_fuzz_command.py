@@ -130,7 +130,8 @@ def test_budgets_read_as_durations_or_scenes() -> None:
 
 
 def test_progress_in_ci_is_a_plain_line_every_few_seconds_and_new_signatures_at_once(capsys: pytest.CaptureFixture[str]) -> None:
-    finding = SceneFinding("lattice", 0, 7, "conformance", "fail", "wrong", TIE, "exact-tie-slanted-edge", "tie-rule", "conformance")
+    finding = SceneFinding("lattice", 0, 7, "conformance", "fail", "wrong", TIE, "exact-tie-slanted-edge", "tie-rule",
+                           "conformance")
     event = ProgressEvent(120, 3400, 10.0, 12.0, 340.0, 150, 3, {TIE: 3}, 50.0, 2, Batch("lattice", 0, 0, 8), "w",
                           (finding,), (TIE,))
     with _FuzzProgress("1 min", quiet=True, every=0.05) as progress:
@@ -436,7 +437,8 @@ def test_findings_of_one_cause_seen_by_several_checks_are_one_cause(tmp_path: Pa
     from harness.campaign.worker import attribute_causes
 
     def finding(index: int, check: str, failure_class: str, part: str = "none") -> SceneFinding:
-        return SceneFinding("lattice", 0, index, check, "fail", "m", f"{check}|{failure_class}|{part}", failure_class, part, check)
+        return SceneFinding("lattice", 0, index, check, "fail", "m", f"{check}|{failure_class}|{part}", failure_class, part,
+                            check)
 
     scene = attribute_causes([finding(0, "conformance", "culling", "culling"), finding(0, "watertight", "hole"),
                               finding(0, "invariance", "changes-under-flip-winding"), finding(0, "hygiene", "bad-attributes")])

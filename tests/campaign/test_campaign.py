@@ -343,7 +343,8 @@ def test_ctrl_c_stops_a_campaign_in_seconds_quietly_keeping_its_batches(tmp_path
     time.sleep(1)
     left = [p for p in subprocess.run(["pgrep", "-g", str(proc.pid)], capture_output=True, text=True).stdout.split()
             if subprocess.run(["ps", "-o", "stat=", "-p", p], capture_output=True, text=True).stdout.strip()[:1] not in ("Z", "")]
-    assert not left, f"processes left behind: {subprocess.run(['ps', '-o', 'pid,etime,cmd', *left], capture_output=True, text=True).stdout}"
+    listed = subprocess.run(["ps", "-o", "pid,etime,cmd", *left], capture_output=True, text=True).stdout if left else ""
+    assert not left, f"processes left behind: {listed}"
 
 
 def test_a_state_with_three_disjoint_done_ranges_loads_again(tmp_path):
@@ -380,7 +381,8 @@ def test_nothing_a_plugin_returns_is_unpickled_in_the_coordinator_or_a_dask_work
     state = run_campaign(f"{plugin}:make", budget_scenes=4, families=["lattice"], state_dir=tmp_path / "state",
                          scheduler=local.scheduler_address, batch_size=2, only=["conformance"])
     ran = marker.read_text().split() if marker.exists() else []
-    homes = {str(os.getpid()): "the coordinator", **{str(pid): f"Dask worker {where}" for where, pid in client.run(os.getpid).items()}}
+    homes = {str(os.getpid()): "the coordinator",
+             **{str(pid): f"Dask worker {where}" for where, pid in client.run(os.getpid).items()}}
     assert not ran, f"hostile code ran in {[homes.get(pid, f'process {pid}') for pid in ran]}"
     assert state.scenes == 4
     if hostile in ("ArraysDetonate", "CoverageDetonates"):

@@ -240,7 +240,8 @@ def test_biased_area_fails_accuracy_by_two_levels():
     verdict = judged(BiasedArea(), cases("lattice/bits-2"), {"accuracy"})["accuracy"]["lattice/bits-2"]
     assert verdict.status == "fail"
     metrics, worst = verdict.metrics, verdict.evidence["pixels"][0]
-    assert 1.5 / 255 < metrics["max_error"] <= 2.5 / 255 + 1e-12 and metrics["over_tolerance"] > 1000 and metrics["off_level"] == 0
+    assert 1.5 / 255 < metrics["max_error"] <= 2.5 / 255 + 1e-12
+    assert metrics["over_tolerance"] > 1000 and metrics["off_level"] == 0
     assert worst["over"] and worst["alpha"] > worst["area"]  # too much alpha: the bias
 
 
@@ -397,7 +398,8 @@ def test_an_area_within_rounding_of_a_rounding_boundary_is_a_near_tie():
     wrong = Coverage.from_pixels([0, 0], [0, 0], [0, 1], alpha=[66 / 255, 65 / 255])
     verdict = accuracy(Case("near-tie/far", far), wrong, exact_coverage(far, convention), convention)
     assert verdict.status == "fail" and verdict.metrics["over_tolerance"] == 1 and verdict.metrics["near_tie"] == 0
-    assert verdict.evidence["pixels"][0]["over"] and (verdict.evidence["pixels"][0]["x"], verdict.evidence["pixels"][0]["y"]) == (0, 0)
+    assert verdict.evidence["pixels"][0]["over"] and (verdict.evidence["pixels"][0]["x"],
+                                                      verdict.evidence["pixels"][0]["y"]) == (0, 0)
 
 
 def test_known_bad_anti_aliasers_fail_accuracy_by_real_error_off_the_lattice():

@@ -75,8 +75,8 @@ HAIRPIN: list[list[float]] = [[1.0, 9.0], [7.5, 11.5], [1.5, 9.25]]  # a sharp t
 FLOATS: list[list[list[float]]] = [[[0.37, 0.81], [8.93, 4.12], [11.28, 13.66], [2.04, 10.51], [6.77, 6.13]],
           [[15.4, 0.9], [9.1, 2.35], [14.6, 15.2]]]
 CASES = [
-    Case("lines/star/lattice", LineScene.from_strips(16, 16, [STAR, HAIRPIN, [[1.0, 8.0], [15.0, 9.5]], [[7.5, 15.5], [6.25, 2.0]]]),
-         lattice=True),
+    Case("lines/star/lattice",
+         LineScene.from_strips(16, 16, [STAR, HAIRPIN, [[1.0, 8.0], [15.0, 9.5]], [[7.5, 15.5], [6.25, 2.0]]]), lattice=True),
     Case("lines/strips/float", LineScene.from_strips(16, 16, FLOATS)),
     # 45 degrees, ties of the Bresenham decision variable, beyond the viewport
     Case("lines/ties/lattice", LineScene.from_segments(12, 12, [[0.5, 0.5], [11.0, 1.0], [-2.0, 5.5], [6.0, 11.5]],

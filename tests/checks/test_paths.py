@@ -114,7 +114,8 @@ def test_invariance_catches_a_winding_sign_bug_on_contour_reversal() -> None:
 def test_path_partitions_are_judged_watertight() -> None:
     # a 2 x 2 grid of quads sharing exact vertices, each its own path
     xs, ys = [1.0, 4.25, 9.0], [1.0, 5.5, 9.0]
-    cells = [[[[xs[i], ys[j]], [xs[i + 1], ys[j]], [xs[i + 1], ys[j + 1]], [xs[i], ys[j + 1]]]] for i in range(2) for j in range(2)]
+    cells = [[[[xs[i], ys[j]], [xs[i + 1], ys[j]], [xs[i + 1], ys[j + 1]], [xs[i], ys[j + 1]]]] for i in range(2)
+             for j in range(2)]
     region = np.array([[1.0, 1.0], [9.0, 1.0], [9.0, 9.0], [1.0, 9.0]])
     case = Case("path-partitions/grid-2x2", PathScene.from_paths(10, 10, cells, "nonzero"), lattice=True, region=region)
     assert _results(OracleFiller(), [case], {"watertight"})[0].status == "pass"

@@ -49,7 +49,8 @@ def test_a_check_registered_in_a_test_reaches_run_json_gate_report_and_shrinker(
         save_baseline(tmp_path / "base.json", results)
         baseline = load_baseline(tmp_path / "base.json")
         assert baseline["centre_scanline|lattice/bits-0|few_pixels"]["metrics"]["drawn_pixels"] == mine[0].metrics["drawn_pixels"]
-        worse = [replace(r, metrics={**r.metrics, "drawn_pixels": r.metrics["drawn_pixels"] + 1}) if r.check == "few_pixels" else r
+        worse = [replace(r, metrics={**r.metrics, "drawn_pixels": r.metrics["drawn_pixels"] + 1}) if r.check == "few_pixels"
+                 else r
                  for r in results]
         assert any("drawn_pixels worsened" in line for line in compare_with_baseline(worse, baseline).regressions)
         write_report(tmp_path / "rep", {"centre_scanline": "declared"}, results, 0)
@@ -61,9 +62,11 @@ def test_a_check_registered_in_a_test_reaches_run_json_gate_report_and_shrinker(
         unsigned = replace(mine[0], evidence={k: v for k, v in mine[0].evidence.items() if k != "signature"})
         assert signature_of(unsigned).key == "few_pixels|too-many-pixels|none"  # classified from its drawing, not read back
         assert [g.cause for g in by_cause(mine)] == ["too-many-pixels"]
-        conformance = SceneFinding("lattice", 0, 1, "conformance", "fail", "", "conformance|culling|culling", "culling", "culling",
+        conformance = SceneFinding("lattice", 0, 1, "conformance", "fail", "", "conformance|culling|culling", "culling",
+                                   "culling",
                               "conformance")
-        few = SceneFinding("lattice", 0, 1, "few_pixels", "fail", "", "few_pixels|too-many-pixels|none", "too-many-pixels", "none",
+        few = SceneFinding("lattice", 0, 1, "few_pixels", "fail", "", "few_pixels|too-many-pixels|none", "too-many-pixels",
+                           "none",
                       "few_pixels")
         assert [f.cause for f in attribute_causes([conformance, few])] == ["culling", "culling"]  # a consequent of conformance
         assert ("few_pixels: most pixels drawn in a scene", f"{mine[0].metrics['drawn_pixels']:.4g}") in coverage_figures(results)
@@ -74,9 +77,10 @@ def test_a_check_registered_in_a_test_reaches_run_json_gate_report_and_shrinker(
 
 def test_registry_answers_what_the_lists_used_to_say():
     lines = ("connectivity", "joints", "reversal", "length", "line-motion")
-    assert check_names() == ("hygiene", "conformance", "watertight", "closed", "degenerate", "invariance", "jaggy", "texel", "perspective",
-                             "accuracy", "seams", "popping", "triangulation", *lines)
-    assert {c.name for c in checks() if c.needs_convention} == {"conformance", "jaggy", "texel", "perspective", "accuracy", "seams",
+    assert check_names() == ("hygiene", "conformance", "watertight", "closed", "degenerate", "invariance", "jaggy", "texel",
+                             "perspective", "accuracy", "seams", "popping", "triangulation", *lines)
+    assert {c.name for c in checks() if c.needs_convention} == {"conformance", "jaggy", "texel", "perspective", "accuracy",
+                                                                "seams",
                                                                  "popping", *lines}
     # each coverage kind gets the checks that judge it; lines are single-sample, or
     # multisample rectangles judged sample by sample
@@ -196,8 +200,9 @@ def test_the_check_modules_import_no_runner_and_no_presentation():
     """Checks are pure: no runner, report, pictures or command line behind them."""
     root = Path(__file__).resolve().parents[2]
     for path in (root / "harness" / "checks").glob("*.py"):
-        bad = {m for m in _imports(path, "harness") if _under(m, ("harness.engine.runner", "harness.engine.session", "harness.report",
-                                                                  "harness.cli", "harness.campaign", "harness.results.output", "harness.results.gate"))}
+        bad = {m for m in _imports(path, "harness")
+               if _under(m, ("harness.engine.runner", "harness.engine.session", "harness.report", "harness.cli",
+                             "harness.campaign", "harness.results.output", "harness.results.gate"))}
         assert not bad, (path.name, bad)
 
 
@@ -256,10 +261,10 @@ def test_the_import_graph_has_no_cycle():
 # formats, the gate, the pytest plugin) sits on the engine, never under it
 PRESENTATION_PACKAGES = ("harness.report", "harness.cli.main", "harness.cli.common", "harness.cli.run", "harness.cli.gate",
                          "harness.cli.compare", "harness.cli.identify", "harness.cli.replay", "harness.cli.bench_command",
-                         "harness.cli.fuzz", "harness.cli.diff", "harness.cli.listing", "harness.results.output", "harness.results.gate",
-                         "harness.integrations.pytest_plugin")
-ENGINE_PACKAGES = ("harness.geometry", "harness.contract", "harness.kinds", "harness.oracle", "harness.checks", "harness.diagnose",
-                   "harness.identify", "harness.engine", "harness.results.files", "harness.cli.bench",
+                         "harness.cli.fuzz", "harness.cli.diff", "harness.cli.listing", "harness.results.output",
+                         "harness.results.gate", "harness.integrations.pytest_plugin")
+ENGINE_PACKAGES = ("harness.geometry", "harness.contract", "harness.kinds", "harness.oracle", "harness.checks",
+                   "harness.diagnose", "harness.identify", "harness.engine", "harness.results.files", "harness.cli.bench",
                    "harness.cli.bench_workloads", "harness.cli.bench_peers", "harness.cli.bench_campaign", "cases", "rasterizers")
 
 

@@ -152,7 +152,8 @@ def test_the_library_peers_draw_the_same_segments(peer: str) -> None:
     for work in line_workloads(SCALE):
         scene = lines(work.scene)
         drawn = _drawn(draws[peer](scene))
-        differ = {label: int((drawn != (exact_coverage(scene, c).counts(1024, 1024) > 0)).sum()) for label, c in LINE_ORACLES.items()}
+        differ = {label: int((drawn != (exact_coverage(scene, c).counts(1024, 1024) > 0)).sum())
+                  for label, c in LINE_ORACLES.items()}
         nearest, exactly = NEAREST[peer]
         assert min(differ, key=differ.__getitem__) == nearest, (work.name, differ)
         if exactly:

@@ -39,7 +39,8 @@ def test_a_star_is_a_ten_three_star_polygon():
     v = scene.vertices
     centre = v.mean(axis=0)
     angles = np.unwrap(np.arctan2(v[:, 1] - centre[1], v[:, 0] - centre[0]))
-    assert np.allclose(np.diff(angles), 2 * np.pi * 3 / 10) and np.allclose(np.hypot(*(v - centre).T), np.hypot(*(v - centre).T)[0])
+    assert np.allclose(np.diff(angles), 2 * np.pi * 3 / 10) and np.allclose(np.hypot(*(v - centre).T),
+                                                                            np.hypot(*(v - centre).T)[0])
 
 
 @pytest.mark.parametrize("rule", ["nonzero", "evenodd"])

@@ -136,7 +136,8 @@ def test_errors_classify():
     assert signature(framed, None, None).failure_class == "hang"
     checked = Result("r", "c", "reversal", "error", "ValueError on the reversed scene: segment 3 is huge")
     assert signature(checked, None, None).key == "reversal|exception-ValueError|none"
-    assert signature(Result("r", "c", "run", "error", "not run: the run's time budget was used up"), None, None).failure_class == "not-run"
+    assert signature(Result("r", "c", "run", "error", "not run: the run's time budget was used up"), None,
+                     None).failure_class == "not-run"
     raised = [r for r in run_suite([Raises()], cases=[generate("degenerate", 0, 1)], isolate=False, identify=False, repros=False)]
     assert [signature(r, None, None).key for r in raised] == ["run|exception-RuntimeError|none"]
 

@@ -59,7 +59,8 @@ def test_a_worker_scales_its_limit_by_the_declared_and_the_seen_samples() -> Non
 
     policy = TimeLimit(cap=1e6, rate=1e-3)
     big = Scene(512, 512, [[[0, 0], [512, 0], [0, 512]]])
-    with Worker(CentreScanline(), policy) as plain, Worker(Declares16(), policy) as declared, Worker(Undeclared(), policy) as seen:
+    with Worker(CentreScanline(), policy) as plain, Worker(Declares16(), policy) as declared, \
+            Worker(Undeclared(), policy) as seen:
         for worker in (plain, declared, seen):
             worker._kinds.add("triangles")  # past the first call of the kind (which gets the cap)
         assert declared.limit(big)[0] == policy.limit(big, 16) > plain.limit(big)[0] == policy.limit(big, 1)
@@ -127,7 +128,8 @@ def test_a_call_that_hangs_always_is_a_timeout_after_exactly_one_retry(tmp_path:
     case = next(c for c in suite("quick", 0) if c.family == "lattice")
     (tmp_path / "run").mkdir()
     results = run_suite([HangsAlways(tmp_path / "run")], cases=[case], timeout=policy, repros=False, identify=False)
-    assert [(r.status, r.message) for r in results] == [("error", "timeout: no answer within 0.3 s, nor within 0.6 s when asked again")]
+    assert [(r.status, r.message) for r in results] == [("error", "timeout: no answer within 0.3 s, nor within 0.6 s when asked "
+                                                                  "again")]
     assert len(list((tmp_path / "run").iterdir())) == 2
     # the run JSON, the report and the terminal count the call and name its case
     from harness.report.pages import write_report

@@ -268,7 +268,8 @@ def test_an_identified_black_box_is_judged_on_paths_by_its_path_convention():
     wrapped = Identified(box, identify(box))
     square = PathScene.from_paths(8, 8, [[[[1, 1], [6, 1], [6, 6], [1, 6]]]])
     assert convention_for(wrapped, square) == paths and convention_for(wrapped, Scene(8, 8, np.zeros((0, 3, 2)))) == triangles
-    cases = [Case("paths/square", square, lattice=True), Case("lattice/one", Scene(8, 8, [[[1, 1], [6, 1], [1, 6]]]), lattice=True)]
+    cases = [Case("paths/square", square, lattice=True),
+             Case("lattice/one", Scene(8, 8, [[[1, 1], [6, 1], [1, 6]]]), lattice=True)]
     verdicts = {r.case: r.status for r in run_suite([wrapped], cases=cases, isolate=False, identify=False, repros=False,
                                                      only={"conformance"})}
     assert verdicts == {"paths/square": "pass", "lattice/one": "pass"}

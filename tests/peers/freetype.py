@@ -374,8 +374,8 @@ def _render(points: NDArray[np.int64], ends: NDArray[np.int64], evenodd: bool | 
 
 
 @numba.njit(cache=True)
-def _render_triangles(points: NDArray[np.int64], boxes: NDArray[np.int64], drawn: NDArray[np.int64],
-                      room: int, scanlines: bool) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.uint8]]:
+def _render_triangles(points: NDArray[np.int64], boxes: NDArray[np.int64], drawn: NDArray[np.int64], room: int,
+                      scanlines: bool) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.uint8]]:
     """Each drawn triangle alone into a bitmap of its box (:func:`_render`, its 26.6 points
     moved to the box's origin: whole pixels, exact), its nonzero values kept: (triangle, x,
     y, value) with x, y on the screen, at most ``room`` of them."""

@@ -48,8 +48,8 @@ def _c_int(v: np.float32) -> int:
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _handle_clipped_edge(buf: NDArray, base: int | np.int64, x: int | np.int64, sy: np.float32, ey: np.float32, direction: np.float32,
-                         x0: np.float32, y0: np.float32, x1: np.float32, y1: np.float32) -> None:
+def _handle_clipped_edge(buf: NDArray, base: int | np.int64, x: int | np.int64, sy: np.float32, ey: np.float32,
+                         direction: np.float32, x0: np.float32, y0: np.float32, x1: np.float32, y1: np.float32) -> None:
     """stbtt__handle_clipped_edge: the edge piece (x0, y0)-(x1, y1), which does not cross
     x or x + 1, clipped to the edge's [sy, ey], added to ``buf[base + x]``."""
     if y0 == y1:

@@ -26,7 +26,8 @@ from rasterizers.area_scanline import MAX_COORDINATE, TOLERANCE, AreaScanline
 from rasterizers.multisample import MultisamplePineda, PinedaMSAA4, PinedaMSAA8
 from rasterizers.supersample import Supersampler, Supersampler4, grid_pattern
 
-REFERENCES: list[MultisamplePineda | AreaScanline | Supersampler] = [PinedaMSAA4(), PinedaMSAA8(), AreaScanline(), Supersampler4()]
+REFERENCES: list[MultisamplePineda | AreaScanline | Supersampler] = [PinedaMSAA4(), PinedaMSAA8(), AreaScanline(),
+                                                                     Supersampler4()]
 
 
 @cache

@@ -26,7 +26,8 @@ QUICK = settings(max_examples=25, deadline=None, suppress_health_check=[HealthCh
 
 LineReference = BresenhamLines | DiamondExitDDA | RectangleLines
 REFERENCES: list[LineReference] = [BresenhamLines(), DiamondExitDDA(), RectangleLines()]
-VARIANTS: list[LineReference] = [BresenhamLines("floor", "stay", last_pixel=False), BresenhamLines("half-away"), DiamondExitDDA(last_pixel=True),
+VARIANTS: list[LineReference] = [BresenhamLines("floor", "stay", last_pixel=False), BresenhamLines("half-away"),
+                                 DiamondExitDDA(last_pixel=True),
             RectangleLines("bottom-right"), RectangleLines("top-left-y-first")]
 
 

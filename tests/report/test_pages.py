@@ -136,8 +136,8 @@ def test_long_evidence_lists_show_their_first_rows_and_count_the_rest():
 
 def test_each_failure_draws_its_minimal_repro(report, results):
     failure = _failure((report / TIE_PAGE).read_text(), "failure-0")
-    figure = re.search(r'<figure><img src="(data:image/svg\+xml;base64,[^"]+)" alt="minimal repro"><figcaption>([^<]+)</figcaption>',
-                       failure)
+    figure = re.search(r'<figure><img src="(data:image/svg\+xml;base64,[^"]+)" alt="minimal '
+                       r'repro"><figcaption>([^<]+)</figcaption>', failure)
     assert figure, failure[:2000]
     repro = next(r for r in results if "repro" in r.evidence)
     n = len(repro.evidence["repro"]["positions"])

@@ -26,10 +26,12 @@ def run_args(tmp_path, *extra):
 
 
 def test_json_and_junit(tmp_path):
-    code = main(["run", "--rasterizer", "fixed_point", *run_args(tmp_path, "--json", str(tmp_path / "r.json"), "--junit", str(tmp_path / "r.xml"))])
+    code = main(["run", "--rasterizer", "fixed_point",
+                 *run_args(tmp_path, "--json", str(tmp_path / "r.json"), "--junit", str(tmp_path / "r.xml"))])
     assert code == 0
     data = json.loads((tmp_path / "r.json").read_text())
-    assert data["schema"] == 1 and data["rasterizers"] == {"fixed_point": "sample (0.5, 0.5), top-left ties, snapped to 1/256 px (8 bits), no culling"}
+    assert data["schema"] == 1 and data["rasterizers"] == {"fixed_point": "sample (0.5, 0.5), top-left ties, snapped to 1/256 px "
+                                                                          "(8 bits), no culling"}
     results = results_from_json(data)
     assert len(results) == len(data["results"]) and {r.status for r in results} <= {"pass", "skip"}
     root = ET.parse(tmp_path / "r.xml").getroot()
@@ -55,7 +57,8 @@ def test_list_shows_suites_and_checks(capsys):
 
 
 def test_compare_names_the_convention_that_separates(tmp_path, capsys):
-    assert main(["compare", "centre_scanline", "floor_scanline", "fixed_point", "--out", str(tmp_path), "--json", str(tmp_path / "c.json")]) == 0
+    assert main(["compare", "centre_scanline", "floor_scanline", "fixed_point", "--out", str(tmp_path), "--json",
+                 str(tmp_path / "c.json")]) == 0
     out = capsys.readouterr().out
     assert "centre_scanline vs floor_scanline" in out and "half-pixel shift of the sample point by (+0.5, +0.5)" in out
     assert "mirrored tie rule (top-left vs bottom-right)" in out
