@@ -28,7 +28,9 @@ def _spans(scene: PointScene, x0: np.ndarray, x1: np.ndarray, y0: np.ndarray, y1
 
 
 def _finite(scene: PointScene) -> np.ndarray:
-    return np.isfinite(scene.vertices).all(axis=1)
+    """The points these doubles draw: finite and within 2**24 px (the rest cover nothing)."""
+    with np.errstate(invalid="ignore"):
+        return np.isfinite(scene.vertices).all(axis=1) & (np.abs(scene.vertices) < 2.0**24).all(axis=1)
 
 
 class ClosedSquares(PointSprites):
