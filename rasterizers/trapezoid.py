@@ -52,7 +52,7 @@ from numpy.typing import NDArray
 
 from harness.contract.conventions import TIE_RULES, Convention, TieRule
 from harness.contract.coverage import Coverage
-from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene, Unsupported
+from harness.contract.scenes import AnyScene, PathScene, Scene, Unsupported
 from harness.geometry.exact import SAFE_MAX, SAFE_MIN, frozen, orient2d_sign
 from harness.geometry.kernel_sorts import heapsort_pairs
 
@@ -443,8 +443,8 @@ class TrapezoidFill:
             self.convention = Convention(sample=(0.5, 0.5), tie=tie)
 
     def rasterize(self, scene: AnyScene) -> Coverage:
-        if isinstance(scene, LineScene):
-            raise Unsupported(f"{self.name} fills triangles and paths, not lines")
+        if not isinstance(scene, (Scene, PathScene)):
+            raise Unsupported(f"{self.name} fills triangles and paths, not {scene.kind}")
         a, b, primitive = screen_edges(scene, self.name)
         evenodd = isinstance(scene, PathScene) and scene.fill_rule == "evenodd"
         return Coverage(*trapezoid_spans(a, b, primitive, len(scene), evenodd, self.convention, scene.width, scene.height))

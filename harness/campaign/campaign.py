@@ -759,11 +759,12 @@ def _classified(result: Result, case: Case | MotionCase, loaded: Session) -> tup
     """A failing or erroring result with its signature (a failing conformance or invariance
     check probed first: does it pass on a grown screen, or as the library receives its
     input? a flicker: does the frame that leaves the oracle fail conformance, and why?
-    :func:`harness.diagnose.signatures.with_probes`)."""
-    from harness.diagnose.signatures import signature, with_probes
+    `harness.diagnose.trials.with_trials`)."""
+    from harness.diagnose.signatures import signature
+    from harness.diagnose.trials import with_trials
 
     if result.status == "fail":
-        result = with_probes(result, case, loaded.judge, loaded.rasterizer)
+        result = with_trials(result, case, loaded.judge, loaded.rasterizer)
     return result, signature(result, case, loaded.convention(case))
 
 

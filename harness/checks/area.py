@@ -71,6 +71,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene
 from harness.geometry.exact import orientation
 from harness.geometry.keys import union, unique_inverse
+from harness.kinds import TRIANGLES
 from harness.oracle.area import area_coverage, area_error_bound, displaced_area_bound, exact_area
 from harness.oracle.coverage import exact_samples
 
@@ -261,7 +262,7 @@ def _near_ties(case: Case, convention: Convention, tolerance: Tolerance, triangl
     if case.lattice:
         return near
     scene = case.scene
-    assert isinstance(scene, Scene), "area coverage is judged on triangle scenes"
+    scene = TRIANGLES.narrow(scene)  # area coverage is judged on triangle scenes
     reach = rounding_reach(scene.positions, convention, tolerance)
     levels = convention.levels
     with np.errstate(invalid="ignore"):
@@ -392,7 +393,7 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     one, ``alpha_cause`` (:func:`alpha_cause`), whose words end the message.
     """
     scene = case.scene
-    assert isinstance(scene, Scene), "area coverage is judged on triangle scenes"
+    scene = TRIANGLES.narrow(scene)  # area coverage is judged on triangle scenes
     width, height, n = scene.width, scene.height, len(scene)
     keys, alpha, model = _aligned(*_keyed(coverage, width, height, n), *_keyed(oracle, width, height, n))
     present = (alpha != 0) | (model != 0)  # NaN counts as present
@@ -547,8 +548,7 @@ def alpha_facts(case: Case, convention: Convention, triangle: NDArray, x: NDArra
     side, with the share of them that do (``over_border_share``). Numpy on the evidence pixels."""
     from harness.oracle.coverage import exact_coverage
 
-    scene = case.scene
-    assert isinstance(scene, Scene)
+    scene = TRIANGLES.narrow(case.scene)
     levels = convention.levels - 1
     tolerance = float(exact_tolerance(convention)) * levels
     keep = ~near & np.isfinite(alpha)

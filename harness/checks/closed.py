@@ -9,8 +9,8 @@ from harness.checks.records import EVIDENCE_LIMIT, Check, Result, register, resu
 from harness.contract.case import Case
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
-from harness.contract.scenes import Scene
 from harness.geometry.exact import orientation
+from harness.kinds import TRIANGLES
 
 __all__ = ["closed_balance"]
 
@@ -22,7 +22,7 @@ def closed_balance(case: Case, coverage: Coverage, convention: Convention | None
     if not case.closed:
         return skip(case, "closed", "not a closed mesh")
     scene = case.scene
-    assert isinstance(scene, Scene), "closed meshes are triangle scenes"
+    scene = TRIANGLES.narrow(scene)  # closed meshes are triangle scenes
     sign = orientation(convention.snap(scene.positions) if convention is not None else scene.positions).astype(np.int64)
     valid = (coverage.triangle >= 0) & (coverage.triangle < len(scene))
     signed = Coverage(coverage.triangle[valid], coverage.y[valid], coverage.x0[valid], coverage.x1[valid])

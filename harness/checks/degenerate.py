@@ -14,6 +14,7 @@ from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene
 from harness.geometry.exact import orientation
+from harness.kinds import TRIANGLES
 
 __all__ = ["control_scene", "degenerate", "refusal", "measure_work"]
 
@@ -21,8 +22,8 @@ __all__ = ["control_scene", "degenerate", "refusal", "measure_work"]
 def control_scene(case: Case) -> Scene:
     """The work yardstick for a degenerate case: each finite triangle replaced by a plain
     right triangle over its bounding box, each side at least one pixel long."""
-    assert isinstance(case.scene, Scene), "degenerate cases are triangle scenes"
-    p = case.scene.positions
+    scene = TRIANGLES.narrow(case.scene)  # degenerate cases are triangle scenes
+    p = scene.positions
     finite = np.all(np.isfinite(p), axis=(1, 2))
     lo = p[finite].min(axis=1)
     hi = np.maximum(p[finite].max(axis=1), lo + 1.0)
@@ -37,7 +38,7 @@ def degenerate(case: Case, coverage: Coverage, convention: Convention | None,
     case, seconds for :func:`control_scene`), whose ratio may not exceed
     ``tolerance.work_ratio``."""
     scene = case.scene
-    assert isinstance(scene, Scene), "degenerate cases are triangle scenes"
+    scene = TRIANGLES.narrow(scene)  # degenerate cases are triangle scenes
     sign = orientation(convention.snap(scene.positions) if convention is not None else scene.positions)
     nothing = sign == 0  # zero area or non-finite
     tri = coverage.triangle
@@ -109,7 +110,7 @@ def _run(s: Subject) -> Result:
 register(Check(
     "degenerate", _run,
     # triangle scenes only: a zero-length or non-finite segment's pixels are the line oracle's (conformance)
-    lambda case: getattr(case, "family", "") == "degenerate" and isinstance(getattr(case, "scene", None), Scene),
+    lambda case: getattr(case, "family", "") == "degenerate" and TRIANGLES.owns(getattr(case, "scene", None)),
     shrinks=True, timings=("work_ratio",), kinds=ALL_KINDS, per_sample=False,  # any sample drawn is drawn; times are the whole call's  # a ratio of times: judged by its own limit, never across runs
     caption="zero-area and non-finite triangles draw nothing, no NaN attribute, bounded work",
     classifier="harness.diagnose.signatures:classify_degenerate", cause_role="consequent", motion_role="none", figures=(),

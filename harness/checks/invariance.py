@@ -9,7 +9,6 @@ rule's prediction."""
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -21,15 +20,14 @@ from harness.contract.case import Case
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
+from harness.kinds import LINES, kind_of
+from harness.kinds.lines import LINE_SHIFT
 
 __all__ = ["invariance_variants", "invariance", "area_invariance", "shift_of", "LINE_SHIFT"]
 
-# Lines move by an even number of pixels: a half-to-even rounding of an end point (snapping
-# to whole pixels, Bresenham's end point to its pixel) keeps its tie's side.
-LINE_SHIFT = (4, 2)
 
 
-def _path_variants(scene: PathScene, seed: int) -> list[tuple[str, AnyScene, NDArray]]:
+def path_variants(scene: PathScene, seed: int) -> list[tuple[str, AnyScene, NDArray]]:
     """The path scene's own variants: each contour starting at its next vertex, every
     contour reversed (the winding number negated: neither rule cares), for even-odd one
     contour per path reversed too (parity ignores orientation), contours listed in another
@@ -60,7 +58,7 @@ def _path_variants(scene: PathScene, seed: int) -> list[tuple[str, AnyScene, NDA
     return out
 
 
-def _line_variants(scene: LineScene, seed: int) -> list[tuple[str, AnyScene, NDArray]]:
+def line_variants(scene: LineScene, seed: int) -> list[tuple[str, AnyScene, NDArray]]:
     """The line scene's own variants: strips listed in another order, and every strip split
     into lone segments (its joints gone). Each rule decides every segment alone, so each
     segment draws the same pixels either way."""
@@ -77,41 +75,43 @@ def _line_variants(scene: LineScene, seed: int) -> list[tuple[str, AnyScene, NDA
 
 def shift_of(scene: AnyScene) -> tuple[int, int]:
     """The whole-pixel translation of the scene's ``translate`` variant."""
-    return LINE_SHIFT if isinstance(scene, LineScene) else (3, 2)
+    return kind_of(scene).translate_shift
 
 
 def invariance_variants(case: Case, shift: tuple[int, int] | None = None, seed: int = 0) -> list[tuple[str, AnyScene, NDArray]]:
     """Transformed scenes and, for each, the scene's primitive index of each variant
     primitive. Triangles: vertex order rotated, winding flipped, triangles permuted; paths
-    (:func:`_path_variants`): start vertex, contour reversal, contour order, path order;
-    lines (:func:`_line_variants`): strip order, strips split. All, when exact: translated
+    (:func:`path_variants`): start vertex, contour reversal, contour order, path order;
+    lines (:func:`line_variants`): strip order, strips split. All, when exact: translated
     by whole pixels (``shift``, by default :func:`shift_of`) into a viewport grown by the
     shift -- lines only when every coordinate is positive (a half-away-from-zero rounding
     of an end point at or left of 0 changes side under the shift)."""
     scene = case.scene
-    n = len(scene)
-    identity = np.arange(n)
-    shift = shift_of(scene) if shift is None else shift
-    out: list[tuple[str, AnyScene, NDArray]]
-    if isinstance(scene, PathScene):
-        out = _path_variants(scene, seed)
-    elif isinstance(scene, LineScene):
-        out = _line_variants(scene, seed)
-    else:
-        out = [
-            ("rotate-vertices", Scene(scene.width, scene.height, scene.positions[:, [1, 2, 0]]), identity),
-            ("flip-winding", Scene(scene.width, scene.height, scene.positions[:, [0, 2, 1]]), identity),
-        ]
-        perm = np.random.default_rng(seed).permutation(n)
-        out.append(("permute-triangles", Scene(scene.width, scene.height, scene.positions[perm]), perm))
+    kind = kind_of(scene)
+    identity = np.arange(len(scene))
+    shift = kind.translate_shift if shift is None else shift
+    out: list[tuple[str, AnyScene, NDArray]] = kind.hook("invariance_variants")(scene, seed)
     moved = scene.coordinates + np.array(shift, dtype=float)
     with np.errstate(invalid="ignore"):
         exact = np.array_equal(moved - np.array(shift, dtype=float), scene.coordinates, equal_nan=True)
-        if isinstance(scene, LineScene):
+        if kind.translate_needs_positive:
             exact &= not bool((scene.coordinates <= 0).any())  # NaN compares False
     if exact:
-        out.append(("translate", replace(scene.with_coordinates(moved), width=scene.width + shift[0],
-                                         height=scene.height + shift[1]), identity))
+        out.append(("translate", scene.with_coordinates(moved).with_viewport(scene.width + shift[0], scene.height + shift[1]),
+                    identity))
+    return out
+
+
+def triangle_variants(scene: Scene, seed: int) -> list[tuple[str, AnyScene, NDArray]]:
+    """The triangle scene's own variants: vertex order rotated, winding flipped, triangles
+    permuted."""
+    identity = np.arange(len(scene))
+    out: list[tuple[str, AnyScene, NDArray]] = [
+        ("rotate-vertices", Scene(scene.width, scene.height, scene.positions[:, [1, 2, 0]]), identity),
+        ("flip-winding", Scene(scene.width, scene.height, scene.positions[:, [0, 2, 1]]), identity),
+    ]
+    perm = np.random.default_rng(seed).permutation(len(scene))
+    out.append(("permute-triangles", Scene(scene.width, scene.height, scene.positions[perm]), perm))
     return out
 
 
@@ -134,7 +134,7 @@ def invariance(case: Case, coverage: Coverage, variants: list[tuple[str, NDArray
     """
     scene = case.scene
     shift = shift_of(scene) if shift is None else shift
-    judge = convention if convention is not None else (None if isinstance(scene, LineScene) else Convention(sample=sample))
+    judge = convention if convention is not None else (None if kind_of(scene).near_ties_by_own_rule else Convention(sample=sample))
     diffs: dict[str, int] = {}
     evidence: dict[str, Any] = {}
     for name, index, cov in variants:
@@ -227,15 +227,16 @@ def _run(s: Subject) -> Result:
     if s.convention is not None and s.convention.model.alphas:
         return area_invariance(s.case, s.coverage, variants, s.convention.level_step, shift_of(s.case.scene))
     sample = s.convention.sample if s.convention is not None else (0.5, 0.5)
-    lines = isinstance(s.case.scene, LineScene)
+    # judged by the rasterizer's convention where the kind's near ties need its rule (lines)
+    own = kind_of(s.case.scene).near_ties_by_own_rule
     return invariance(s.case, s.coverage, variants, tolerance=s.tolerance, sample=sample,
-                      convention=s.convention if lines else None)
+                      convention=s.convention if own else None)
 
 
 def _applies(case: Any) -> bool:
     if hasattr(case, "frames"):
         return False
-    return isinstance(case.scene, LineScene) or case.family in ("lattice", "float", "watertight", "paths", "path-partitions")
+    return LINES.owns(case.scene) or case.family in ("lattice", "float", "watertight", "paths", "path-partitions")
 
 
 register(Check(

@@ -42,6 +42,7 @@ from harness.contract.conventions import LINE_DIRECTIONS, Convention
 from harness.contract.coverage import Coverage
 from harness.contract.coverage_models import COVERAGE_MODELS
 from harness.contract.scenes import LineScene, Unsupported
+from harness.kinds import LINES
 from harness.oracle.coverage import exact_coverage
 from harness.oracle.lines import area_holding, end_point_pixels, is_x_major
 
@@ -59,7 +60,7 @@ MOTION_STEPS = 16
 
 
 def _is_line_case(case: Any) -> bool:
-    return not hasattr(case, "frames") and isinstance(getattr(case, "scene", None), LineScene)
+    return not hasattr(case, "frames") and LINES.owns(getattr(case, "scene", None))
 
 
 def _pixels(coverage: Coverage, n: int) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
@@ -161,7 +162,7 @@ def connectivity(case: Case, coverage: Coverage, convention: Convention) -> Resu
     viewport; a segment drawing nothing is judged by conformance and length, not here.
     """
     scene = case.scene
-    assert isinstance(scene, LineScene)
+    scene = LINES.narrow(scene)
     seg, x, y = _pixels(coverage, len(scene))
     major = x_major_of(scene, convention)
     along = major[seg]
@@ -298,7 +299,7 @@ def joints(case: Case, coverage: Coverage, oracle: Coverage, convention: Convent
     pixel drawn; for rectangles their overlap) are exactly the oracle's. Differences at near
     ties are excused on non-lattice cases in default mode."""
     scene = case.scene
-    assert isinstance(scene, LineScene)
+    scene = LINES.narrow(scene)
     pairs = scene.joints(closed=True)
     w, h = scene.width, scene.height
     noun = scene.noun
@@ -355,8 +356,8 @@ def joints(case: Case, coverage: Coverage, oracle: Coverage, convention: Convent
 
 
 def _run_joints(s: Subject) -> Result:
-    assert s.convention is not None and isinstance(s.case.scene, LineScene)
-    if not s.case.scene.joints(closed=True).shape[0]:
+    assert s.convention is not None
+    if not LINES.narrow(s.case.scene).joints(closed=True).shape[0]:
         return skip(s.case, "joints", "no polyline joints (every segment a strip of its own)")
     return joints(s.case, s.coverage, s.oracle, s.convention, s.tolerance)
 
@@ -386,7 +387,7 @@ def reversal(case: Case, coverage: Coverage, backward: Coverage, origin: NDArray
         Of the reversed scene, whose segment k retraces segment ``origin[k]``.
     """
     scene = case.scene
-    assert isinstance(scene, LineScene)
+    scene = LINES.narrow(scene)
     w, h = scene.width, scene.height
     forward, back = _mapped_keys(coverage, None, scene), _mapped_keys(backward, origin, scene)
     rule_forward, rule_back = _mapped_keys(oracle, None, scene), _mapped_keys(backward_oracle, origin, scene)
@@ -454,8 +455,8 @@ def _direction_drawn(scene: LineScene, reversed_scene: LineScene, origin: NDArra
 
 
 def _run_reversal(s: Subject) -> Result:
-    assert s.convention is not None and isinstance(s.case.scene, LineScene)
-    backward_scene, origin = s.case.scene.reversed()
+    assert s.convention is not None
+    backward_scene, origin = LINES.narrow(s.case.scene).reversed()
     outcome = s.call(backward_scene)
     failed = _diagnosis(s.case, "reversal", outcome, "the reversed scene")
     if failed is not None:
@@ -608,7 +609,7 @@ def line_motion(case: Case, sequences: list[tuple[str, list[LineScene], list[Cov
     sequences : list of (axis name "x" or "y", frames, coverages per frame, oracle coverages per frame)
     """
     scene = case.scene
-    assert isinstance(scene, LineScene)
+    scene = LINES.narrow(scene)
     n = len(scene)
     noun = scene.noun
     geometric = convention.line.rule != "rectangle"
@@ -667,9 +668,9 @@ def line_motion(case: Case, sequences: list[tuple[str, list[LineScene], list[Cov
 
 
 def _run_line_motion(s: Subject) -> Result:
-    assert s.convention is not None and isinstance(s.case.scene, LineScene)
+    assert s.convention is not None
     sequences = []
-    for axis, frames in motion_frames(s.case.scene):
+    for axis, frames in motion_frames(LINES.narrow(s.case.scene)):
         coverages = []
         for k, frame in enumerate(frames):
             outcome = s.call(frame)

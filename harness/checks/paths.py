@@ -24,6 +24,7 @@ from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, regis
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import PathScene, Scene
 from harness.geometry.exact import orientation
+from harness.kinds import PATHS
 
 __all__ = ["simple_polygon_triangles", "triangulation"]
 
@@ -182,7 +183,7 @@ def triangulated(scene: PathScene) -> tuple[Scene, NDArray, NDArray] | None:
 
 def _run(s: Subject) -> Result:
     scene = s.case.scene
-    assert isinstance(scene, PathScene)
+    scene = PATHS.narrow(scene)
     if "triangles" not in s.scene_kinds:
         return skip(s.case, "triangulation", f"{s.rasterizer} takes no triangle scenes")
     if s.convention is not None and s.convention.cull != "none":
@@ -201,7 +202,7 @@ def _run(s: Subject) -> Result:
 
 
 def _applies(case: Any) -> bool:
-    return isinstance(getattr(case, "scene", None), PathScene) and case.family in ("paths", "path-partitions")
+    return PATHS.owns(getattr(case, "scene", None)) and case.family in ("paths", "path-partitions")
 
 
 register(Check(

@@ -236,7 +236,7 @@ Classifier = Callable[[Any, Any, Any], tuple[str, str]]
 # dropped triangle leaves a hole), counted under its cause; "own" -- neither: its failures
 # keep their own cause
 CauseRole = Literal["root", "consequent", "own"]
-# a check's part in reading motion failures (:func:`harness.diagnose.signatures.with_probes`):
+# a check's part in reading motion failures (:func:`harness.diagnose.trials.with_trials`):
 # "frame" -- its verdict on one frame judged alone names a motion failure's cause
 # (conformance, or accuracy for anti-aliased coverage); "through-frames" -- a motion check
 # whose failures are read through the frames they name; "none" -- neither

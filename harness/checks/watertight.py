@@ -17,8 +17,9 @@ from harness.checks.records import EVIDENCE_LIMIT, Check, Result, register, resu
 from harness.contract.case import Case
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
-from harness.contract.scenes import AnyScene, LineScene
+from harness.contract.scenes import AnyScene
 from harness.geometry.exact import orientation
+from harness.kinds import LINES
 
 __all__ = ["watertight", "overdraw", "holes", "blame", "pixel_classes"]
 
@@ -235,7 +236,7 @@ register(Check(
 register(Check(
     "overdraw", lambda s: overdraw(s.case, s.coverage, s.convention, lambda: s.oracle),
     # lines cross and share end pixels by rule: a double hit there is no overdraw (see the joints check)
-    lambda case: not hasattr(case, "frames") and not isinstance(getattr(case, "scene", None), LineScene), shrinks=True,
+    lambda case: not hasattr(case, "frames") and not LINES.owns(getattr(case, "scene", None)), shrinks=True,
     metrics={"double_hits": (1.0, 0.0)}, on_request=True,
     caption="no pixel hit twice (watertight's double hits, in a form that survives shrinking)",
     classifier="harness.diagnose.signatures:classify_overdraw", cause_role="consequent", motion_role="none", figures=(),

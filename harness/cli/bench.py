@@ -96,6 +96,7 @@ from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 from harness.engine.isolation import _exit_with_parent, describe, span_limit
 from harness.engine.optional import missing
 from harness.engine.registry import builtins, load
+from harness.kinds import PATHS
 from harness.oracle.coverage import RECENT_ANSWERS, exact_coverage
 
 if TYPE_CHECKING:
@@ -514,7 +515,7 @@ SKIMAGE_WORK_LIMIT = 5e7
 
 def _unmeasured(label: str, scene: AnyScene) -> str:
     """Why a peer is not measured on ``scene`` ("" when it is)."""
-    if label != "skimage_polygon" or not isinstance(scene, PathScene):
+    if label != "skimage_polygon" or not PATHS.owns(scene):
         return ""
     lo = np.minimum.reduceat(scene.vertices, scene.contour_starts, axis=0)
     hi = np.maximum.reduceat(scene.vertices, scene.contour_starts, axis=0)
@@ -586,22 +587,36 @@ def _time(fn: Callable[[], object], budget: float, count: Callable[[object], int
     return cold, best, pixels, runs
 
 
+def _line_contenders(scene: LineScene) -> list[tuple[str, Callable[[], object]]]:
+    contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow_lines, scene))]
+    contenders += [(label, partial(exact_coverage, scene, convention)) for label, convention in LINE_ORACLES.items()]
+    contenders += [(label, partial(draw, scene)) for label, draw in _line_peers()]
+    return contenders
+
+
+def _path_contenders(scene: PathScene) -> list[tuple[str, Callable[[], object]]]:
+    contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow_paths, scene)),
+                                                          ("oracle", partial(exact_coverage, scene, ORACLES["oracle"]))]
+    contenders += [(label, partial(fill, scene)) for label, fill in _path_peers() if not _unmeasured(label, scene)]
+    return contenders
+
+
+def _triangle_contenders(scene: Scene) -> list[tuple[str, Callable[[], object]]]:
+    contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow, scene))]
+    contenders += [(label, partial(exact_coverage, scene, convention)) for label, convention in ORACLES.items()]
+    contenders += [(label, partial(fill, scene)) for label, fill in _library_peers()]
+    return contenders
+
+
+# The bench's contenders per scene kind: Pillow, the oracles, the kind's library peers.
+_CONTENDERS: dict[str, Callable[[Any], list[tuple[str, Callable[[], object]]]]] = {
+    "triangles": _triangle_contenders, "paths": _path_contenders, "lines": _line_contenders}
+
+
 def _fixed_contenders(work: Workload) -> list[tuple[str, Callable[[], object]]]:
     """Pillow first (the yardstick), the oracles, then the library peers of the workload's
     scene kind."""
-    scene = work.scene
-    if isinstance(scene, LineScene):
-        contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow_lines, scene))]
-        contenders += [(label, partial(exact_coverage, scene, convention)) for label, convention in LINE_ORACLES.items()]
-        contenders += [(label, partial(draw, scene)) for label, draw in _line_peers()]
-    elif isinstance(scene, PathScene):
-        contenders = [("pillow", partial(_pillow_paths, scene)), ("oracle", partial(exact_coverage, scene, ORACLES["oracle"]))]
-        contenders += [(label, partial(fill, scene)) for label, fill in _path_peers() if not _unmeasured(label, scene)]
-    else:
-        contenders = [("pillow", partial(_pillow, scene))]
-        contenders += [(label, partial(exact_coverage, scene, convention)) for label, convention in ORACLES.items()]
-        contenders += [(label, partial(fill, scene)) for label, fill in _library_peers()]
-    return contenders
+    return _CONTENDERS[work.scene.kind](work.scene)
 
 
 def _contenders(work: Workload, rasterizers: list[Any]) -> list[tuple[str, Callable[[], object]]]:
@@ -820,8 +835,8 @@ def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float 
     nan = float("nan")
     try:
         for k, (work, row) in enumerate(zip(chosen, lineup)):
-            unit = {"paths": "paths", "lines": "segments"}.get(work.scene.kind, "triangles")
-            if progress is not None and isinstance(work.scene, PathScene):
+            unit = f"{work.scene.noun}s"  # triangles, paths, segments
+            if progress is not None and PATHS.owns(work.scene):
                 for label, _ in _path_peers():
                     if _unmeasured(label, work.scene):
                         progress(f"{work.name} {label}: {_unmeasured(label, work.scene)}")

@@ -18,12 +18,13 @@ import sys
 from dataclasses import dataclass, field
 from decimal import Decimal, InvalidOperation
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from harness.contract.scenes import MAX_VIEWPORT, AnyScene, LineScene, PathScene, Scene
+from harness.kinds import TRIANGLES, kind_of, kind_of_json
 from harness.results.files import atomic_write_text, read_input
 from harness.results.schemas import first_error
 from harness.results.schemas import what as problem
@@ -244,14 +245,23 @@ def _unhex(data: Any, field: str = "") -> NDArray | None:
 
 
 def _scene_to_json(scene: AnyScene) -> dict[str, Any]:
-    if isinstance(scene, LineScene):
-        return {"width": scene.width, "height": scene.height, "line_width": _text(scene.line_width),
-                "lines": [_hex(strip) for strip in scene.strips()]}
-    if isinstance(scene, PathScene):
-        return {"width": scene.width, "height": scene.height, "fill_rule": scene.fill_rule,
-                "paths": [[_hex(c) for c in scene.contours_of(p)] for p in range(len(scene))]}
-    return {"width": scene.width, "height": scene.height, "positions": _hex(scene.positions),
-            "attributes": _hex(scene.attributes), "w": _hex(scene.w)}
+    fields: dict[str, Any] = kind_of(scene).hook("to_json")(scene)
+    return {"width": scene.width, "height": scene.height, **fields}
+
+
+def lines_to_json(scene: LineScene) -> dict[str, Any]:
+    """A line scene's case-JSON fields (the kind's codec, :data:`harness.kinds.LINES`)."""
+    return {"line_width": _text(scene.line_width), "lines": [_hex(strip) for strip in scene.strips()]}
+
+
+def paths_to_json(scene: PathScene) -> dict[str, Any]:
+    """A path scene's case-JSON fields (the kind's codec, :data:`harness.kinds.PATHS`)."""
+    return {"fill_rule": scene.fill_rule, "paths": [[_hex(c) for c in scene.contours_of(p)] for p in range(len(scene))]}
+
+
+def triangles_to_json(scene: Scene) -> dict[str, Any]:
+    """A triangle scene's case-JSON fields (the kind's codec, :data:`harness.kinds.TRIANGLES`)."""
+    return {"positions": _hex(scene.positions), "attributes": _hex(scene.attributes), "w": _hex(scene.w)}
 
 
 def case_to_json(case: Case | MotionCase, **extra: Any) -> dict[str, Any]:
@@ -292,11 +302,23 @@ MAX_CASE_SIZES = {"triangles": 1 << 20, "paths": 1 << 16, "contours": 1 << 18, "
 
 def _case_sizes(data: dict[str, Any]) -> dict[str, int]:
     """What the scene in ``data`` holds, counted from its lists before any is read."""
-    if "lines" in data:
-        return {"line strips": len(data["lines"]), "line vertices": sum(len(strip) for strip in data["lines"])}
-    if "paths" in data:
-        contours = [c for path in data["paths"] for c in path]
-        return {"paths": len(data["paths"]), "contours": len(contours), "path vertices": sum(len(c) for c in contours)}
+    sizes: dict[str, int] = kind_of_json(data).hook("json_sizes")(data)
+    return sizes
+
+
+def line_sizes(data: dict[str, Any]) -> dict[str, int]:
+    """What a line case's fields hold: strips and vertices."""
+    return {"line strips": len(data["lines"]), "line vertices": sum(len(strip) for strip in data["lines"])}
+
+
+def path_sizes(data: dict[str, Any]) -> dict[str, int]:
+    """What a path case's fields hold: paths, contours and vertices."""
+    contours = [c for path in data["paths"] for c in path]
+    return {"paths": len(data["paths"]), "contours": len(contours), "path vertices": sum(len(c) for c in contours)}
+
+
+def triangle_sizes(data: dict[str, Any]) -> dict[str, int]:
+    """What a triangle case's fields hold: triangles."""
     return {"triangles": len(data["positions"])}
 
 
@@ -318,19 +340,35 @@ def _scene_from_json(data: dict[str, Any], where: str) -> AnyScene:
         raise ValueError(f"{where}a {width} x {height} viewport is more than the {MAX_CASE_PIXELS} pixels (8192 x 8192) "
                          "a case may cover: the checks count hits on every pixel of the screen")
     _check_sizes(data, where)
+    scene: AnyScene = kind_of_json(data).hook("from_json")(data, width, height, where)
+    return scene
+
+
+def lines_from_json(data: dict[str, Any], width: int, height: int, where: str = "") -> LineScene:
+    """A line scene from its case-JSON fields (the kind's codec); ``where`` leads an error."""
     try:
-        if "lines" in data:
-            strips = [_unhex(strip, f"lines[{k}]") for k, strip in enumerate(data["lines"])]
-            try:
-                line_width = _number(data.get("line_width", 1))
-            except ValueError as exc:
-                raise ValueError(f"case JSON is malformed at line_width: {exc}") from None
-            return LineScene.from_strips(width, height, strips, line_width)  # type: ignore[arg-type]
-        if "paths" in data:
-            paths = [[_unhex(c, f"paths[{p}][{k}]") for k, c in enumerate(path)] for p, path in enumerate(data["paths"])]
-            return PathScene.from_paths(width, height, paths, data["fill_rule"])  # type: ignore[arg-type]
+        strips = [_unhex(strip, f"lines[{k}]") for k, strip in enumerate(data["lines"])]
+        try:
+            line_width = _number(data.get("line_width", 1))
+        except ValueError as exc:
+            raise ValueError(f"case JSON is malformed at line_width: {exc}") from None
+        return LineScene.from_strips(width, height, cast(list[NDArray], strips), line_width)
     except ValueError as exc:
         raise ValueError(f"{where}{exc}") from None
+
+
+def paths_from_json(data: dict[str, Any], width: int, height: int, where: str = "") -> PathScene:
+    """A path scene from its case-JSON fields (the kind's codec); ``where`` leads an error."""
+    try:
+        paths = [[_unhex(c, f"paths[{p}][{k}]") for k, c in enumerate(path)] for p, path in enumerate(data["paths"])]
+        return PathScene.from_paths(width, height, cast(list[list[NDArray]], paths), data["fill_rule"])
+    except ValueError as exc:
+        raise ValueError(f"{where}{exc}") from None
+
+
+def triangles_from_json(data: dict[str, Any], width: int, height: int, where: str = "") -> Scene:
+    """A triangle scene from its case-JSON fields (the kind's codec); ``where`` leads an
+    error of the scene's (not one of reading its numbers)."""
     positions = _unhex(data["positions"], "positions")
     assert positions is not None
     try:
@@ -439,9 +477,9 @@ def case_from_json(data: Any) -> Case | MotionCase:
         raise ValueError(f"case JSON is malformed at {field_path(error.absolute_path)}: {problem(error)}")
     if data.get("kind") == "motion":
         frames = tuple(_scene_from_json(f, f"frame {k}: ") for k, f in enumerate(data["frames"]))
-        if any(not isinstance(f, Scene) for f in frames):
+        if any(f.kind != TRIANGLES.name for f in frames):
             raise ValueError("case JSON is malformed at frames: a motion case's frames are triangle scenes")
-        triangles = tuple(f for f in frames if isinstance(f, Scene))
+        triangles = tuple(TRIANGLES.narrow(f) for f in frames)
         return MotionCase(data["id"], triangles, texels=data.get("texels"), perspective=bool(data.get("perspective", False)))
     scene = _scene_from_json(data, "")
     region = _unhex(data.get("region"), "region")

@@ -17,7 +17,8 @@ import re
 from harness.contract.conventions import FILL_RULES, Convention, LineRule
 from harness.contract.coverage import Coverage
 from harness.contract.protocol import Rasterizer, fingerprint_of, scene_kinds_of
-from harness.contract.scenes import SCENE_KINDS, AnyScene, LineScene, PathScene, Scene
+from harness.contract.scenes import SCENE_KINDS, AnyScene
+from harness.kinds import KINDS
 
 __all__ = ["REFUSED", "declaration_problem", "answer_problem", "scene_kind_problem"]
 
@@ -26,8 +27,7 @@ REFUSED = "contradicts its declaration"
 
 # the members only one scene kind has, by kind (a plugin asking another kind's scene for one
 # draws that kind: its scene_kinds forgot it)
-_MEMBERS = {kind: {m for m in dir(cls) if not m.startswith("_")} for kind, cls in
-            (("triangles", Scene), ("paths", PathScene), ("lines", LineScene))}
+_MEMBERS = {name: {m for m in dir(kind.scene_class) if not m.startswith("_")} for name, kind in KINDS.items()}
 _MISSING_MEMBER = re.compile(r"'(Scene|PathScene|LineScene)' object has no attribute '(\w+)'")
 
 
@@ -162,6 +162,7 @@ def scene_kind_problem(rasterizer: Rasterizer, scene: AnyScene, error: BaseExcep
     ``scene_kinds`` (or, when it lists that kind already, to leave this one out); None
     otherwise.
 
+    >>> from harness.contract.scenes import Scene
     >>> class Drawer:
     ...     name, convention = "mine", None
     >>> print(scene_kind_problem(Drawer(), Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]]),

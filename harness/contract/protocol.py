@@ -12,7 +12,8 @@ from typing import Any, Protocol, runtime_checkable
 
 from harness.contract.conventions import FILL_RULES, Convention
 from harness.contract.coverage import Coverage
-from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
+from harness.contract.scenes import AnyScene, Scene
+from harness.kinds import PATHS, kind_of
 
 
 @runtime_checkable
@@ -65,8 +66,14 @@ class Rasterizer(Protocol):
     @property
     def convention(self) -> Convention | None: ...
 
-    def rasterize(self, scene: Scene) -> Coverage:
-        """Cover the scene's triangles; attributes interpolated when the scene has them."""
+    # ``scene`` is an AnyScene of a kind the rasterizer takes (``scene_kinds``). Typed Any, not
+    # AnyScene: a plugin annotates only the kinds it takes (``scene: Scene`` for triangles),
+    # and a parameter is contravariant -- against ``AnyScene`` no triangle-only plugin would
+    # satisfy the protocol statically (tests/typing/builtins_are_rasterizers.py).
+    def rasterize(self, scene: Any) -> Coverage:
+        """Cover the scene's primitives (a scene of a kind it takes, ``scene_kinds``:
+        :class:`~harness.contract.scenes.AnyScene`); attributes interpolated when the
+        scene has them."""
         ...
 
 
@@ -82,14 +89,11 @@ def convention_for(rasterizer: Rasterizer, scene: AnyScene) -> Convention | None
     identify found to follow another convention than its triangles), its
     ``line_convention`` for a line scene when it has one (likewise for lines), else its
     ``convention``."""
-    if isinstance(scene, PathScene):
-        path = getattr(rasterizer, "path_convention", None)
-        if isinstance(path, Convention):
-            return path
-    if isinstance(scene, LineScene):
-        line = getattr(rasterizer, "line_convention", None)
-        if isinstance(line, Convention):
-            return line
+    attribute = kind_of(scene).convention_attribute
+    if attribute is not None:
+        own = getattr(rasterizer, attribute, None)
+        if isinstance(own, Convention):
+            return own
     return rasterizer.convention
 
 
@@ -104,7 +108,8 @@ def takes(rasterizer: Rasterizer, scene: AnyScene) -> bool:
     rule it honours). The runner gives each rasterizer only such scenes."""
     if scene.kind not in scene_kinds_of(rasterizer):
         return False
-    return not isinstance(scene, PathScene) or scene.fill_rule in fill_rules_of(rasterizer)
+    # a fill rule is a path's: only path scenes carry one
+    return not PATHS.owns(scene) or scene.fill_rule in fill_rules_of(rasterizer)
 
 
 def interpolates_of(rasterizer: Rasterizer) -> bool:

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass
-from typing import Any, ClassVar
+from dataclasses import dataclass, replace
+from typing import Any, ClassVar, Protocol
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -160,6 +160,9 @@ class Scene:
         """The same triangles (attributes, w) with these (N, 3, 2) positions."""
         return Scene(self.width, self.height, np.asarray(coordinates, dtype=np.float64), self.attributes, self.w)
 
+    def with_viewport(self, width: int, height: int) -> Scene:
+        """The same primitives on a ``width`` x ``height`` viewport."""
+        return replace(self, width=width, height=height)
     def subset(self, keep: ArrayLike) -> Scene:
         """Triangles ``keep``, in that order (triangle k of the result is ``keep[k]``)."""
         index = np.asarray(keep, dtype=np.int64)
@@ -321,6 +324,9 @@ class PathScene:
         return PathScene(self.width, self.height, np.asarray(coordinates, dtype=np.float64), self.contour_sizes, self.contour_path,
                          self.fill_rule)
 
+    def with_viewport(self, width: int, height: int) -> PathScene:
+        """The same primitives on a ``width`` x ``height`` viewport."""
+        return replace(self, width=width, height=height)
     def subset(self, keep: ArrayLike) -> PathScene:
         """Paths ``keep``, in that order (path k of the result is ``keep[k]``)."""
         index = np.asarray(keep, dtype=np.int64).reshape(-1)
@@ -509,6 +515,9 @@ class LineScene:
         """The same strips and width with these (V, 2) vertices."""
         return LineScene(self.width, self.height, np.asarray(coordinates, dtype=np.float64), self.strip_sizes, self.line_width)
 
+    def with_viewport(self, width: int, height: int) -> LineScene:
+        """The same primitives on a ``width`` x ``height`` viewport."""
+        return replace(self, width=width, height=height)
     def with_line_width(self, line_width: float) -> LineScene:
         """The same lines at another width."""
         return LineScene(self.width, self.height, self.vertices, self.strip_sizes, line_width)
@@ -548,10 +557,55 @@ class Unsupported(ValueError):
     message, naming what it cannot do, instead of an error."""
 
 
-# A scene of any kind: each has ``width``, ``height``, ``kind``, ``len()`` (its number of
-# primitives), ``primitive_boxes()``, ``non_finite()``, ``coordinates``,
-# ``with_coordinates(c)`` and ``subset(keep)``.
-AnyScene = Scene | PathScene | LineScene
+class AnyScene(Protocol):
+    """A scene of any kind (:data:`SCENE_KINDS`; :mod:`harness.kinds` holds what differs
+    between them): what every scene class has, so that shrinking, moving, hashing and
+    drawing a scene need not ask which kind it is."""
+
+    @property
+    def width(self) -> int: ...
+
+    @property
+    def height(self) -> int: ...
+
+    @property
+    def kind(self) -> str:
+        """Its kind's name, the key of :data:`harness.kinds.KINDS`."""
+        ...
+
+    @property
+    def noun(self) -> str:
+        """What one primitive is called in messages and evidence."""
+        ...
+
+    def __len__(self) -> int:
+        """Its number of primitives."""
+        ...
+
+    @property
+    def n_attributes(self) -> int: ...
+
+    def primitive_boxes(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]: ...
+
+    def non_finite(self) -> tuple[int, ...]: ...
+
+    def edges(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]: ...
+
+    @property
+    def coordinates(self) -> NDArray[np.float64]: ...
+
+    @property
+    def attributes(self) -> NDArray[np.float64] | None:
+        """Per-vertex values to interpolate (triangles only; None for the other kinds)."""
+        ...
+
+    def with_coordinates(self, coordinates: ArrayLike) -> AnyScene: ...
+
+    def with_viewport(self, width: int, height: int) -> AnyScene: ...
+
+    def subset(self, keep: ArrayLike) -> AnyScene: ...
+
+
 SCENE_KINDS = ("triangles", "paths", "lines")
 
 

@@ -5,12 +5,12 @@ both show.
 Each failing or erroring result of :func:`harness.run_suite` carries its signature
 (evidence ``signature``: :attr:`harness.diagnose.signatures.Signature.key`), found by :func:`signed`
 while the run still holds the case, the rasterizer's answer and its convention -- without
-most of the probes' extra rasterizer calls (:func:`harness.diagnose.signatures.with_probes`, which a
+most of the trials' extra rasterizer calls (:func:`harness.diagnose.trials.with_trials`, which a
 campaign can afford and a run, with many failures to classify, cannot: a run of the quick
 suite would take several times as long): the signature reads the evidence the run already
-has (the repro's input-format and viewport-edge probes), the answer, a few oracle calls on
+has (the repro's input-format and viewport-edge trials), the answer, a few oracle calls on
 the wrong primitives alone, for a failing motion check the frame it names judged alone on
-the answer already drawn, and the one cheap probe that tells a tie rule from samples on
+the answer already drawn, and the one cheap trial that tells a tie rule from samples on
 edges by chance (the tie trial).
 
 :func:`by_cause` groups such results as the campaign page does
@@ -34,7 +34,8 @@ from harness.checks.records import frame_checks, is_consequent, motion_checks, r
 from harness.contract.case import Case, MotionCase
 from harness.contract.coverage import Coverage
 from harness.contract.protocol import convention_for
-from harness.diagnose.signatures import Signature, _named_frames, _tie_trial, frame_case, signature
+from harness.diagnose.signatures import Signature, signature
+from harness.diagnose.trials import frame_case, named_frames, tie_trial
 
 Judge = Callable[[Case | MotionCase, str], list[Result]]  # the one check on a (changed) case
 Answered = Callable[[Case, Coverage, str], list[Result]]  # the one check on a case, judged on a given answer
@@ -72,10 +73,10 @@ def signed(result: Result, case: Case | MotionCase, rasterizer: Any, judge: Judg
     motion case its convention) as a campaign judges its scenes, from what the run has: a
     failing motion check is read, given ``answered``, through a frame it names that fails
     conformance (or accuracy) judged alone on the answer already drawn
-    (:func:`frame_verdict`), as the campaign's probe reads it, but without calling the
+    (:func:`frame_verdict`), as the campaign's trials read it, but without calling the
     rasterizer again. Of the campaign's
-    probes only the cheap one that tells the tie rule from chance runs, given ``judge``
-    (the one check on a changed case, as :func:`harness.diagnose.signatures.with_probes` takes it):
+    trials only the cheap one that tells the tie rule from chance runs, given ``judge``
+    (the one check on a changed case, as :func:`harness.diagnose.trials.with_trials` takes it):
     a conformance failure whose wrong samples all lie exactly on edges is drawn again, its
     wrong triangles alone shifted off them (evidence ``tie_trial``: two calls per shift, at
     most six). Any other result comes back as it is. Never raises (what cannot be read is
@@ -93,11 +94,11 @@ def signed(result: Result, case: Case | MotionCase, rasterizer: Any, judge: Judg
     read = result  # what the signature reads: the result, and the facts found for it
     try:
         if isinstance(case, MotionCase) and answered is not None:
-            # read, not kept: the campaign's probe (with_probes) adds its own, probed, verdict
+            # read, not kept: the campaign's trials (with_trials) add their own, tried, verdict
             read = frame_verdict(result, case, rasterizer, answered)
         elif judge is not None and isinstance(case, Case) and "tie_trial" not in result.evidence:
-            tie = _tie_trial(result, case, judge, convention)
-            if tie is not None:  # kept: the probe's own fact, as a campaign's probe keeps it
+            tie = tie_trial(result, case, judge, convention)
+            if tie is not None:  # kept: the trial's own fact, as a campaign's trials keep it
                 result = read = replace(result, evidence={**result.evidence, "tie_trial": tie})
     except Exception:  # noqa: BLE001 - a fact that cannot be had: classified without it
         pass
@@ -106,7 +107,7 @@ def signed(result: Result, case: Case | MotionCase, rasterizer: Any, judge: Judg
 
 def frame_verdict(result: Result, case: MotionCase, rasterizer: Any, answered: Answered) -> Result:
     """A failing motion result with ``frame_failure`` (as
-    :func:`harness.diagnose.signatures.with_probes` adds it, unprobed): the first frame it names
+    :func:`harness.diagnose.trials.with_trials` adds it, untried): the first frame it names
     that fails conformance, or accuracy, judged alone (``answered``: the one check on a
     case, judged on a given answer) on the rasterizer's answer for that frame kept in its
     drawing, with that failure's signature -- a flicker of a wrong tie rule is the tie
@@ -114,7 +115,7 @@ def frame_verdict(result: Result, case: MotionCase, rasterizer: Any, answered: A
     answers = result.drawing.coverages if result.drawing is not None else ()
     if result.status != "fail" or result.check not in motion_checks() or len(answers) != len(case.frames):
         return result
-    for frame in _named_frames(result):
+    for frame in named_frames(result):
         if frame >= len(case.frames):
             continue
         still = frame_case(case, frame)

@@ -26,6 +26,7 @@ from harness.contract.protocol import Rasterizer
 from harness.contract.scenes import Scene
 from harness.engine.isolation import Call, InProcess, TimeLimit, Worker
 from harness.identify.triangle_probes import CANDIDATES, fit_ties
+from harness.kinds import TRIANGLES
 
 __all__ = ["CANDIDATES", "Explanation", "Comparison", "explain", "compare", "as_dict"]
 
@@ -152,7 +153,7 @@ def compare(rasterizers: list[Rasterizer], seed: int = 0, isolate: bool = True,
             differs = a.counts(c.scene.width, c.scene.height) != b.counts(c.scene.width, c.scene.height)
             per_case[c.id] = int(differs.sum())
             total += a.n_pixels
-            if where is None and per_case[c.id] and isinstance(c.scene, Scene):
+            if where is None and per_case[c.id] and TRIANGLES.owns(c.scene):  # the pictured difference: triangles
                 ys, xs = np.nonzero(differs)
                 where = (c.scene, a, b, [(int(x), int(y)) for x, y in zip(xs[:20], ys[:20])])
         comparisons.append(Comparison(ra.name, rb.name, sum(per_case.values()), total, per_case,

@@ -1,5 +1,6 @@
 """Minimal repros: shrink a failing case to the smallest one that still fails the same
-check, and probe what the failure depends on.
+check, and try what the failure depends on (trials: the rasterizer called again on a
+changed case).
 
 Shrinking is delta debugging over the triangles (Zeller's ddmin), then coarsening every
 coordinate to the simplest dyadic lattice on which the check still fails. The repro is
@@ -23,10 +24,11 @@ from harness.checks import Result
 from harness.contract.case import Case, MotionCase, case_to_json
 from harness.contract.coverage import Coverage
 from harness.contract.protocol import Rasterizer, received_of
-from harness.contract.scenes import AnyScene, LineScene, Scene
+from harness.contract.scenes import AnyScene
 from harness.geometry.exact import orientation
+from harness.kinds import TRIANGLES, kind_of
 
-__all__ = ["ddmin", "shrink", "attach_repro", "hole_repro", "whole_case_repro", "answer_json", "answer_from_json", "MAX_ANSWER_FRAGMENTS", "input_precision_probe", "viewport_edge_probe", "viewport_edge_trial",
+__all__ = ["ddmin", "shrink", "attach_repro", "hole_repro", "whole_case_repro", "answer_json", "answer_from_json", "MAX_ANSWER_FRAGMENTS", "input_precision_trial", "grown_screen_passes", "viewport_edge_trial",
            "grown_screen", "Judge"]
 
 # The checks of one rasterizer on a case, restricted to one check by name.
@@ -150,7 +152,7 @@ def attach_repro(result: Result, case: Case, judge: Judge, rasterizer: Rasterize
         if again is not None:
             said = again.message
     if check in ("conformance", "invariance"):
-        as_received = input_precision_probe(minimal, check, judge, rasterizer)
+        as_received = input_precision_trial(minimal, check, judge, rasterizer)
         if as_received is not None:
             evidence["input_precision"] = as_received
             noun = f"{minimal.scene.noun}s"
@@ -158,7 +160,7 @@ def attach_repro(result: Result, case: Case, judge: Judge, rasterizer: Rasterize
                     f"same {noun} pass: the deviation comes from the input format ({as_received['moved']} "
                     "coordinates move), not from the convention")
             message, said = message + note, said + note
-        inside = viewport_edge_probe(minimal, check, judge)
+        inside = grown_screen_passes(minimal, check, judge)
         if inside is not None:
             evidence["viewport_edge"] = inside
             noun = f"{minimal.scene.noun}s"
@@ -306,14 +308,14 @@ def _passes(case: Case, check: str, judge: Judge) -> bool:
     return bool(found) and all(r.status == "pass" for r in found)
 
 
-def input_precision_probe(case: Case | MotionCase, check: str, judge: Judge, rasterizer: Rasterizer) -> dict[str, Any] | None:
+def input_precision_trial(case: Case | MotionCase, check: str, judge: Judge, rasterizer: Rasterizer) -> dict[str, Any] | None:
     """Whether a failing case (still, or a motion sequence: every frame) passes once its
     coordinates are rounded the way the library receives them, for a rasterizer that says
     how (an optional ``received(scene) -> Scene`` member, e.g. float32 positions at the GL
     API). Returns ``{"moved": n}`` (how many coordinates the rounding changed) when it
     then passes, else None."""
     received = received_of(rasterizer)
-    scenes = [s for s in (case.frames if isinstance(case, MotionCase) else [case.scene]) if isinstance(s, Scene)]
+    scenes = [s for s in (case.frames if isinstance(case, MotionCase) else [case.scene]) if TRIANGLES.owns(s)]  # received() reads triangle scenes
     if received is None or not scenes or len(scenes) != (len(case.frames) if isinstance(case, MotionCase) else 1):
         return None
     try:
@@ -344,10 +346,10 @@ def grown_screen(scene: AnyScene, margin: int, largest: int = 8192, rounding: bo
     with np.errstate(invalid="ignore", over="ignore"):
         if not rounding and not np.array_equal(moved - float(margin), p, equal_nan=True):
             return None
-    return replace(scene.with_coordinates(moved), width=width, height=height)
+    return scene.with_coordinates(moved).with_viewport(width, height)
 
 
-def viewport_edge_probe(case: Case, check: str, judge: Judge, largest: int = 8192) -> dict[str, Any] | None:
+def grown_screen_passes(case: Case, check: str, judge: Judge, largest: int = 8192) -> dict[str, Any] | None:
     """Whether a failing case with vertices off-screen passes once the screen is grown
     (:func:`grown_screen`) so that nothing crosses the viewport edge.
 
@@ -364,21 +366,14 @@ def viewport_edge_probe(case: Case, check: str, judge: Judge, largest: int = 819
 def _same_shapes(scene: AnyScene, moved: AnyScene) -> bool:
     """Whether a rounded move kept every triangle's orientation (a sliver within rounding
     of flat may collapse or flip) and every segment's being a point or not. Exact."""
-    if isinstance(scene, Scene) and isinstance(moved, Scene):
-        finite: NDArray[np.bool_] = np.asarray(np.isfinite(scene.positions).all(axis=(1, 2)))
-        before = orientation(np.where(finite[:, None, None], scene.positions, 0.0))
-        after = orientation(np.where(finite[:, None, None], moved.positions, 0.0))
-        return bool(np.array_equal(before, after))
-    if isinstance(scene, LineScene) and isinstance(moved, LineScene):
-        (a, b), (c, d) = scene.segments(), moved.segments()
-        return bool(np.array_equal(np.all(a == b, axis=1), np.all(c == d, axis=1)))
-    return True
+    kind = kind_of(scene)
+    return moved.kind != kind.name or kind.keeps_shapes(scene, moved)
 
 
 def viewport_edge_trial(case: Case, check: str, judge: Judge, largest: int = 8192) -> dict[str, Any] | None:
-    """:func:`viewport_edge_probe`'s trial, told either way: ``{"margin", "screen",
+    """:func:`grown_screen_passes`'s trial, told either way: ``{"margin", "screen",
     "passes", "rounded"}`` when the grown case was checked (``passes`` False: it still
-    fails, so the viewport edge is not the cause), None when the probe does not apply.
+    fails, so the viewport edge is not the cause), None when the trial does not apply.
     Where the exact move would round a coordinate (floats of full precision, a screen or
     so off-screen), the move rounds (``rounded``): it changes only samples within float
     rounding of an edge, which the check's default tolerance excuses (both cases are judged

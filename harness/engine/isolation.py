@@ -38,8 +38,9 @@ import numpy as np
 
 from harness.contract.coverage import Coverage
 from harness.contract.protocol import Rasterizer
-from harness.contract.scenes import AnyScene, PathScene, Scene, Unsupported
+from harness.contract.scenes import AnyScene, Scene, Unsupported
 from harness.engine.wire import MAX_HEADER_BYTES, WireError, pack, unpack
+from harness.kinds import kind_of
 
 __all__ = ["Outcome", "layer_of", "Worker", "InProcess", "call_in_process", "each_until_error", "describe", "span_limit", "Call", "AnyCall", "PluginError",
            "kill_all", "TimeLimit", "answer_bytes_limit", "MAX_ANSWER_BYTES", "scene_work", "samples_of", "samples_seen", "CallTally", "encode_outcome", "decode_outcome",
@@ -124,7 +125,7 @@ class PluginError(RuntimeError):
 def _pieces(scene: AnyScene) -> int:
     """Triangles, or for paths their vertices: a path needs at most one span per row for
     every two of its edges."""
-    return int(scene.vertices.shape[0]) if isinstance(scene, PathScene) else len(scene)
+    return kind_of(scene).work_size(scene)
 
 
 def span_limit(scene: AnyScene) -> int:
@@ -232,7 +233,7 @@ def call_in_process(rasterizer: Rasterizer, scene: AnyScene) -> Outcome:
     more spans than :func:`span_limit` is refused at once, with its size."""
     start = time.perf_counter()
     try:
-        coverage = rasterizer.rasterize(scene)  # type: ignore[arg-type]  # a path scene only to one that takes paths
+        coverage = rasterizer.rasterize(scene)  # a path (line) scene only to one that takes paths (lines)
         if not isinstance(coverage, Coverage):
             raise TypeError(f"rasterize returned {type(coverage).__name__}, not a harness.Coverage")
         if len(coverage) > span_limit(scene):

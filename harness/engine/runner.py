@@ -23,12 +23,13 @@ from harness.checks import Result, Tolerance
 from harness.contract.case import Case, MotionCase, read_case_file
 from harness.contract.declarations import declaration_problem
 from harness.contract.protocol import Rasterizer, fingerprint_of, scene_kinds_of, takes
-from harness.contract.scenes import AnyScene, LineScene
+from harness.contract.scenes import AnyScene
 from harness.diagnose import repro
 from harness.diagnose.causes import signed
 from harness.engine.isolation import TimeLimit
 from harness.engine.registry import distinct_names, load
 from harness.engine.session import Session, _error, check_case, check_motion  # noqa: F401 (check_case, _error: this module's names too)
+from harness.kinds import kind_of
 
 __all__ = ["run_suite", "run_session", "declared", "check_case", "check_motion", "replay", "nothing_checked"]
 
@@ -42,9 +43,10 @@ def _qualified(result: Result, rasterizer: Rasterizer, case: Case | MotionCase) 
     bound = {c.name for c in checks.checks() if c.needs_convention}
     if fingerprint is None or result.check not in bound or result.status != "fail":
         return result
-    line_fit = getattr(fingerprint, "line_fit", None)
-    if isinstance(case, Case) and isinstance(case.scene, LineScene) and line_fit is not None:
-        exact, residual, what = line_fit.exact, line_fit.residual, "line convention"
+    own_fit = kind_of(case.scene).own_fit if isinstance(case, Case) else None
+    fit = getattr(fingerprint, own_fit[0], None) if own_fit is not None else None
+    if own_fit is not None and fit is not None:
+        exact, residual, what = fit.exact, fit.residual, own_fit[1]
     else:
         exact, residual, what = fingerprint.exact, fingerprint.residual, "convention"
     if exact:

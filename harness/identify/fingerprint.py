@@ -97,6 +97,7 @@ from harness.identify.triangle_probes import (
     watertight_partitions,
     zero_area,
 )
+from harness.kinds import KINDS, TRIANGLES
 
 if TYPE_CHECKING:  # the path and line probes are imported when a rasterizer taking those is identified
     from harness.contract.case import Case, MotionCase
@@ -551,6 +552,7 @@ def _received_as_triangles(received: Callable[[Scene], Scene] | None, rule: str)
 
     def as_triangles(scene: Scene) -> Scene:
         got = paths_received(triangle_paths(scene, rule))
+        # isinstance: what a plugin's received() answered is checked for its class, not dispatched on
         if isinstance(got, PathScene):
             return Scene(got.width, got.height, got.vertices.reshape(-1, 3, 2))
         if not isinstance(got, Scene):
@@ -627,12 +629,8 @@ def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, .
     ``identify/<probe>/<k>``, then the suite's lattice and float triangles, its planar
     partitions (seams; per-sample watertight scenes) and, for area coverage, its sub-pixel
     translations (popping); for a line drawer its line segments, for a path filler its
-    path shapes. Each rasterizer is handed only the kinds it takes."""
-    from cases.lines import line_cases
-    from cases.motion import motion_cases
-    from cases.partitions import partition_cases
-    from cases.paths import path_cases
-    from cases.suites import conformance_cases
+    path shapes (each scene kind's ``verdict_cases`` hook, :mod:`harness.kinds`). Each rasterizer is
+    handed only the kinds it takes."""
     from harness.contract.case import Case
 
     cases: list[Case | MotionCase] = []
@@ -644,19 +642,42 @@ def verdict_cases(fingerprint: Fingerprint, seed: int, scene_kinds: tuple[str, .
     if model.sample_ids and pattern is not None:
         drawn["pattern"] = tuple(d for group in getattr(pattern, "drawn", ()) for d in group)
     for probe, scenes in drawn.items():
-        cases += [Case(f"identify/{probe}/{k}", d.scene) for k, d in enumerate(scenes) if isinstance(d.scene, Scene)]
-    if "triangles" in scene_kinds:
-        cases += conformance_cases(seed)
-        if not model.single_sample:
-            cases += partition_cases(seed)
-        if model.alphas:
-            # the plain geometries' sixteenth-pixel translations (no texture, no projected mesh)
-            cases += [m for m in motion_cases(seed) if m.id.endswith("-1/16") and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
-    if "paths" in scene_kinds and model.single_sample:
-        cases += [c for c in path_cases(seed) if c.family == "paths"]
-    if "lines" in scene_kinds and model.single_sample:
-        cases += [c for c in line_cases(seed) if c.family == "lines"]
+        cases += [Case(f"identify/{probe}/{k}", d.scene) for k, d in enumerate(scenes) if TRIANGLES.owns(d.scene)]
+    for name, primitive in KINDS.items():  # in SCENE_KINDS's order: triangles, paths, lines
+        if name in scene_kinds:
+            cases += primitive.hook("verdict_cases")(seed, model)
     return cases
+
+
+def triangle_verdict_cases(seed: int, model: CoverageModel) -> list[Case | MotionCase]:
+    """The triangles' ``verdict_cases`` hook (:func:`verdict_cases`): the suite's lattice
+    and float triangles, its planar partitions (seams; per-sample watertight scenes) and,
+    for area coverage, its sub-pixel translations (popping)."""
+    from cases.motion import motion_cases
+    from cases.partitions import partition_cases
+    from cases.suites import conformance_cases
+
+    cases: list[Case | MotionCase] = list(conformance_cases(seed))
+    if not model.single_sample:
+        cases += partition_cases(seed)
+    if model.alphas:
+        # the plain geometries' sixteenth-pixel translations (no texture, no projected mesh)
+        cases += [m for m in motion_cases(seed) if m.id.endswith("-1/16") and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
+    return cases
+
+
+def path_verdict_cases(seed: int, model: CoverageModel) -> list[Case | MotionCase]:
+    """The paths' ``verdict_cases`` hook: the suite's path shapes (single-sample only)."""
+    from cases.paths import path_cases
+
+    return [c for c in path_cases(seed) if c.family == "paths"] if model.single_sample else []
+
+
+def line_verdict_cases(seed: int, model: CoverageModel) -> list[Case | MotionCase]:
+    """The lines' ``verdict_cases`` hook: the suite's line segments (single-sample only)."""
+    from cases.lines import line_cases
+
+    return [c for c in line_cases(seed) if c.family == "lines"] if model.single_sample else []
 
 
 def identify_isolated(rasterizer: Rasterizer, seed: int = 0, timeout: float = 600.0,
@@ -720,7 +741,7 @@ class Identified:
             self.fill_rules = fill_rules_of(inner)
 
     def rasterize(self, scene: AnyScene) -> Coverage:
-        return self.inner.rasterize(scene)  # type: ignore[arg-type]
+        return self.inner.rasterize(scene)
 
 
 def identify_all(rasterizers: list[Rasterizer], seed: int = 0, *, everyone: bool = False, call_timeout: float | TimeLimit = 60.0,

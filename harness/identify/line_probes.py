@@ -465,6 +465,7 @@ def _draw(call: Call, scene: LineScene, received: Callable[[Any], Any] | None = 
             got = received(scene)
         except Exception:  # a received() that fails judges nothing: the scene as sent
             got = None
+        # isinstance: what a plugin's received() answered is checked for its class, not dispatched on
         judged = got if isinstance(got, LineScene) and got.strip_sizes.tolist() == scene.strip_sizes.tolist() else None
     return LineDrawn(scene, _send(call, scene), judged)
 

@@ -38,6 +38,7 @@ from harness.diagnose.repro import grown_screen
 from harness.engine.isolation import Call, Outcome, describe
 from harness.geometry.exact import orientation
 from harness.geometry.keys import unique
+from harness.kinds import TRIANGLES
 from harness.oracle.coverage import exact_coverage
 
 __all__ = [
@@ -723,11 +724,10 @@ def viewport_edge(call: Call, seed: int, margin: int = 8) -> ViewportEdge:
 
     changed = total = 0
     for case in viewport_cases(seed):  # the suite's lattice/bits-{0,2,4}: 64 px, a power of two, as tiles often are
-        crossing = case.scene
-        assert isinstance(crossing, Scene)
+        crossing = TRIANGLES.narrow(case.scene)
         size = crossing.width
         grown = grown_screen(crossing, margin)
-        if not isinstance(grown, Scene):  # never for these scenes: whole-pixel moves of small dyadic numbers are exact
+        if grown is None or not TRIANGLES.owns(grown):  # never for these scenes: whole-pixel moves of small dyadic numbers are exact
             return ViewportEdge(0, 0, "the grown screen would round the scene")
         a, b = draw(call, crossing), draw(call, grown)
         if a.coverage is None or b.coverage is None:

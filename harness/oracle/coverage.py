@@ -29,6 +29,7 @@ from collections import OrderedDict
 from collections.abc import Iterator, Sequence
 from dataclasses import replace
 from fractions import Fraction
+from typing import Any, cast
 
 import numba
 import numpy as np
@@ -37,9 +38,10 @@ from numpy.typing import NDArray
 from harness.contract.conventions import Convention, owns_edge
 from harness.contract.coverage import Coverage
 from harness.contract.samples import pattern
-from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
+from harness.contract.scenes import AnyScene, Scene
 from harness.geometry.exact import frozen, orientation
 from harness.geometry.spans import expand, pixel_offsets, span_buffers
+from harness.kinds import kind_of
 from harness.oracle.kernels import _apply_edge, _edge_setup, _row_range, shares_of_layers
 
 __all__ = ["exact_coverage", "exact_single", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python", "prepare_triangles", "PreparedTriangles"]
@@ -347,7 +349,7 @@ def scene_digest(scene: AnyScene) -> bytes:
     """A digest of everything a scene holds (its kind, sizes, arrays and options): two
     scenes with equal digests are the same scene to the oracle."""
     digest = hashlib.blake2b(type(scene).__name__.encode(), digest_size=20)
-    for field in dataclasses.fields(scene):
+    for field in dataclasses.fields(cast(Any, scene)):
         value = getattr(scene, field.name)
         if isinstance(value, np.ndarray):
             digest.update(f"|{field.name}:{value.dtype.str}{value.shape}:".encode())
@@ -364,7 +366,7 @@ KEPT_SCENE_BYTES = 1 << 16
 
 
 def _scene_bytes(scene: AnyScene) -> int:
-    return sum(getattr(scene, field.name).nbytes for field in dataclasses.fields(scene)
+    return sum(getattr(scene, field.name).nbytes for field in dataclasses.fields(cast(Any, scene))
                if isinstance(getattr(scene, field.name), np.ndarray))
 
 
@@ -418,16 +420,14 @@ def exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
 
 
 def _exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
-    if isinstance(scene, PathScene):
-        from harness.oracle.winding import path_coverage
+    coverage: Coverage = kind_of(scene).hook("oracle")(scene, convention)
+    return coverage
 
-        return path_coverage(scene, convention)
-    if isinstance(scene, LineScene):
-        from harness.oracle.lines import line_coverage
 
-        return line_coverage(scene, convention)
-    # triangles: the convention's coverage model names its oracle (exact_single,
-    # exact_multisample, sample_shares or harness.oracle.area.area_coverage)
+def exact_triangles(scene: Scene, convention: Convention) -> Coverage:
+    """The exact coverage of a triangle scene (the oracle of :data:`harness.kinds.TRIANGLES`):
+    the convention's coverage model names its oracle (exact_single, exact_multisample,
+    sample_shares or harness.oracle.area.area_coverage)."""
     return convention.model.exact_triangles(scene, convention)
 
 

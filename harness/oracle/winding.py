@@ -70,9 +70,10 @@ from numpy.typing import ArrayLike, NDArray
 
 from harness.contract.conventions import FILL_RULES, Convention, FillRule  # the fill rules are defined beside the tie rules
 from harness.contract.coverage import Coverage
-from harness.contract.scenes import PathScene, Scene
+from harness.contract.scenes import AnyScene, PathScene
 from harness.geometry.exact import SAFE_MAX, SAFE_MIN, frozen
 from harness.geometry.kernel_sorts import heapsort  # (numba's own sort compiles slowly)
+from harness.kinds import PATHS, TRIANGLES
 from harness.oracle.kernels import _bound, _edge_setup, _row_range, shares_of_layers
 
 __all__ = ["FILL_RULES", "FillRule", "UNBALANCED_ROWS", "path_spans", "path_spans_rational", "path_coverage",
@@ -424,7 +425,7 @@ def _spans(vertices: NDArray[np.float64], lengths: NDArray[np.int64], paths: NDA
 UNBALANCED_ROWS = ("last-crossing", "to-edge")
 
 
-def open_outline_coverage(scene: Scene | PathScene, convention: Convention, unbalanced: str) -> Coverage:
+def open_outline_coverage(scene: AnyScene, convention: Convention, unbalanced: str) -> Coverage:
     """What a filler draws that builds its edges from consecutive vertex pairs only and so
     leaves every contour (every triangle: its edge from the third vertex back to the first)
     open -- the classic "forgot to close the path" bug, as the oracle of a hypothesis.
@@ -447,11 +448,11 @@ def open_outline_coverage(scene: Scene | PathScene, convention: Convention, unba
         raise ValueError(f"unbalanced must be one of {', '.join(UNBALANCED_ROWS)}, not {unbalanced!r}")
     if not convention.model.single_sample:
         raise ValueError(f"open_outline_coverage takes a single-sample convention, not kind {convention.kind!r}")
-    if isinstance(scene, PathScene):
+    if PATHS.owns(scene):
         vertices, sizes, paths, fill_rule = scene.vertices, scene.contour_sizes, scene.contour_path, scene.fill_rule
-    else:
+    else:  # each triangle a one-contour path (ValueError for lines: no outline to leave open)
         n = len(scene)
-        vertices, sizes, paths, fill_rule = scene.positions.reshape(-1, 2), np.full(n, 3), np.arange(n), "nonzero"
+        vertices, sizes, paths, fill_rule = TRIANGLES.narrow(scene).positions.reshape(-1, 2), np.full(n, 3), np.arange(n), "nonzero"
     vertices, lengths, paths, keep = _snapped(vertices, sizes, paths, convention, False)
     beyond = _beyond(vertices) & np.repeat(keep, lengths)
     unsafe = np.unique(np.repeat(paths, lengths)[beyond])

@@ -42,6 +42,7 @@ import platform
 import re
 import shlex
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -57,6 +58,7 @@ from harness.contract.case import Case
 from harness.contract.protocol import convention_for, fill_rules_of, scene_kinds_of
 from harness.contract.scenes import LineScene, PathScene
 from harness.diagnose.causes import SIGNATURE, by_cause
+from harness.kinds import KINDS, LINES, PATHS, PrimitiveKind
 from harness.report.pictures import (
     ALPHA_LEGEND,
     CROP_LEGEND,
@@ -96,15 +98,21 @@ def caption(key: str, r: Result) -> str:
     scene's crop, which says the fill rule and whose winding numbers it writes, and a line
     scene's, which says the line rule and the segment drawn thick."""
     scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
-    if key == "crop" and isinstance(scene, LineScene):
-        convention = r.drawing.convention if r.drawing is not None else None
-        rule = f" ({convention.describe_lines()})" if convention is not None else " (no convention known)"
-        segment = numbered_segment(r)
-        thick = f"; segment {segment} thick" if segment is not None else ""
-        return (f"crop: the segments over the pixel grid{rule}, each pixel coloured as against the oracle, "
-                f"segment by segment{thick}")
-    if key != "crop" or not isinstance(scene, PathScene):
+    if key != "crop" or scene is None or scene.kind not in _CROP_CAPTIONS:
         return CAPTIONS[key]
+    return _CROP_CAPTIONS[scene.kind](r, scene)
+
+
+def _line_crop_caption(r: Result, scene: LineScene) -> str:
+    convention = r.drawing.convention if r.drawing is not None else None
+    rule = f" ({convention.describe_lines()})" if convention is not None else " (no convention known)"
+    segment = numbered_segment(r)
+    thick = f"; segment {segment} thick" if segment is not None else ""
+    return (f"crop: the segments over the pixel grid{rule}, each pixel coloured as against the oracle, "
+            f"segment by segment{thick}")
+
+
+def _path_crop_caption(r: Result, scene: PathScene) -> str:
     path = numbered_path(r)
     convention = r.drawing.convention if r.drawing is not None else None
     at = ("its centre (no convention known)" if convention is None else
@@ -114,30 +122,35 @@ def caption(key: str, r: Result) -> str:
     return f"crop: the paths over the pixel grid under the {scene.fill_rule} rule{numbers}"
 
 
+# The crops whose caption says more than CAPTIONS's, per scene kind (the presentation's own
+# table, keyed by harness.kinds' names).
+_CROP_CAPTIONS: dict[str, Callable[[Result, Any], str]] = {"lines": _line_crop_caption, "paths": _path_crop_caption}
+
+
+def _on(r: Result, kind: PrimitiveKind[Any], family_prefix: str) -> bool:
+    """Whether a result is on a scene of ``kind``: its drawing's scene is one, its repro
+    holds its primitives, or (read back from JSON) its case family is the kind's name or
+    starts with ``family_prefix``."""
+    scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
+    if scene is not None:
+        return bool(scene.kind == kind.name)
+    repro = r.evidence.get("repro")
+    if isinstance(repro, dict) and any(k.json_key in repro for k in KINDS.values()):
+        return kind.json_key in repro
+    family = r.case.split("/", 1)[0]
+    return family == kind.name or family.startswith(family_prefix)
+
+
 def on_paths(r: Result) -> bool:
     """Whether a result is on a path scene: its drawing's scene is one, its repro holds
     paths, or (read back from JSON) its case family is ``paths`` or ``path-...``."""
-    scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
-    if scene is not None:
-        return isinstance(scene, PathScene)
-    repro = r.evidence.get("repro")
-    if isinstance(repro, dict) and ("paths" in repro or "positions" in repro):
-        return "paths" in repro
-    family = r.case.split("/", 1)[0]
-    return family == "paths" or family.startswith("path-")
+    return _on(r, PATHS, "path-")
 
 
 def on_lines(r: Result) -> bool:
     """Whether a result is on a line scene: its drawing's scene is one, its repro holds
     lines, or (read back from JSON) its case family is ``lines`` or ``line-...``."""
-    scene = getattr(r.drawing.case, "scene", None) if r.drawing is not None else None
-    if scene is not None:
-        return isinstance(scene, LineScene)
-    repro = r.evidence.get("repro")
-    if isinstance(repro, dict) and ("lines" in repro or "paths" in repro or "positions" in repro):
-        return "lines" in repro
-    family = r.case.split("/", 1)[0]
-    return family == "lines" or family.startswith("line-")
+    return _on(r, LINES, "line-")
 
 
 # A line case of each form a line check may look for: a strip with joints, a closed

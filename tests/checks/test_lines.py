@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 from harness.checks import checks, conformance, line_motion
-from harness.checks.conformance import _diamond_margins, line_edge_distance, near_ties_of
 from harness.checks.invariance import invariance_variants
 from harness.checks.lines import motion_frames, motion_oracles
+from harness.checks.near_ties import _diamond_margins, line_edge_distance, near_ties_of
 from harness.checks.records import Tolerance
 from harness.contract.case import Case
 from harness.contract.conventions import Convention, LineRule

@@ -254,7 +254,7 @@ def test_the_import_graph_has_no_cycle():
 # formats, the gate, the pytest plugin) sits on the engine, never under it
 PRESENTATION_PACKAGES = ("harness.report", "harness.cli.main", "harness.results.output", "harness.results.gate",
                          "harness.integrations.pytest_plugin")
-ENGINE_PACKAGES = ("harness.geometry", "harness.contract", "harness.oracle", "harness.checks", "harness.diagnose",
+ENGINE_PACKAGES = ("harness.geometry", "harness.contract", "harness.kinds", "harness.oracle", "harness.checks", "harness.diagnose",
                    "harness.identify", "harness.engine", "harness.results.files", "harness.cli.bench", "cases", "rasterizers")
 
 

@@ -15,7 +15,8 @@ from harness.checks import Result
 from harness.contract.case import Case, MotionCase
 from harness.contract.conventions import Convention
 from harness.contract.scenes import Scene
-from harness.diagnose.signatures import Signature, overflow_class, signature, with_probes
+from harness.diagnose.signatures import Signature, overflow_class, signature
+from harness.diagnose.trials import with_trials
 from harness.engine.isolation import InProcess, Outcome
 from harness.engine.runner import _error, check_case, check_motion
 from rasterizers.fixed_point import FixedPoint
@@ -113,10 +114,10 @@ def test_probes_make_input_format_and_viewport_edge_facts():
                                        only={"conformance"}) if r.status == "fail"][:3]
         assert failed
         for r in failed:
-            probed = with_probes(r, cases[r.case], judge, bad)
+            probed = with_trials(r, cases[r.case], judge, bad)
             assert signature(probed, cases[r.case], bad.convention).key == expected, probed.message
     plain = Result("r", "c", "hygiene", "fail", "x")
-    assert with_probes(plain, None, None, None) is plain  # only conformance and invariance failures are probed
+    assert with_trials(plain, None, None, None) is plain  # only conformance and invariance failures are probed
 
 
 def test_errors_classify():
@@ -218,7 +219,7 @@ def test_the_rare_bug_is_rare_in_fuzz_scenes_and_named_a_slanted_tie():
     def judge(candidate, check):
         return check_case(candidate, bad, worker.rasterize, only={check})
 
-    keys = collections.Counter(signature(with_probes(r, c, judge, bad), c, bad.convention).key for r, c in zip(failed, hit))
+    keys = collections.Counter(signature(with_trials(r, c, judge, bad), c, bad.convention).key for r, c in zip(failed, hit))
     assert set(keys) == {"conformance|exact-tie-slanted-edge|tie-rule"}, keys
 
 
@@ -237,7 +238,7 @@ def test_a_flicker_is_named_by_the_frame_that_leaves_the_oracle():
     def judge(candidate, check):
         return check_case(candidate, bad, worker.rasterize, only={check})
 
-    probed = with_probes(failed[0], case, judge, bad)
+    probed = with_trials(failed[0], case, judge, bad)
     frame = probed.evidence["frame_failure"]["frame"]
     assert flipped_samples(case.frames[frame])
     assert signature(probed, case, bad.convention).key == "jaggy|exact-tie-slanted-edge|tie-rule"
@@ -260,7 +261,7 @@ def _one_failure(bad, family: str, index: int, check: str):
     judge = _judge_of(bad)
     failed = [r for r in judge(case, check) if r.status == "fail"]
     assert len(failed) == 1
-    return case, judge, failed[0], with_probes(failed[0], case, judge, bad)
+    return case, judge, failed[0], with_trials(failed[0], case, judge, bad)
 
 
 @pytest.mark.parametrize("bad, check, index, own, probed", [
@@ -345,7 +346,7 @@ def test_the_tie_trial_tells_a_tie_rule_from_samples_on_edges_by_chance(name, fa
     failed = [r for r in run_suite([bad], cases=[case], isolate=False, identify=False, repros=False, only={"conformance"})
               if r.status == "fail"]
     assert len(failed) == 1
-    probed = with_probes(failed[0], case, judge, bad)
+    probed = with_trials(failed[0], case, judge, bad)
     assert probed.evidence["tie_trial"]["passes"] is expected.endswith("tie-rule")
     assert signature(probed, case, bad.convention).key == expected
 
@@ -439,7 +440,7 @@ def test_a_path_dropper_is_not_an_open_outline():
         failed = [r for r in judge(case, "conformance") if r.status == "fail"]
         if failed:
             break
-    probed = with_probes(failed[0], case, judge, bad)
+    probed = with_trials(failed[0], case, judge, bad)
     trial = probed.evidence["dropped_trial"]
     assert trial["rotated_copies"] > 0 and trial["rotated_drawn"] == 0 and trial["open_contour"] is False
     assert signature(probed, case, bad.convention).key == "conformance|dropped-primitive|none"
@@ -506,7 +507,7 @@ def test_a_seam_of_the_edge_direction_is_one_cause_with_the_invariance_failure()
     flipped = [r for r in judge(generate("float", 0, 0), "invariance") if r.status == "fail"]
     assert len(seams) == 1 and len(flipped) == 1
     assert signature(seams[0], case, bad.convention).key == "seams|seam|none"
-    probed = signature(with_probes(seams[0], case, judge, bad), case, bad.convention)
+    probed = signature(with_trials(seams[0], case, judge, bad), case, bad.convention)
     assert probed.key == "seams|changes-under-flip-winding|none"
     assert probed.cause == signature(flipped[0], generate("float", 0, 0), bad.convention).cause
     # a seam of a biased alpha, whose coverage does not change under flipped winding, stays a seam
@@ -514,7 +515,7 @@ def test_a_seam_of_the_edge_direction_is_one_cause_with_the_invariance_failure()
     judge = _judge_of(biased)
     seam = [r for r in judge(case, "seams") if r.status == "fail"]
     assert len(seam) == 1 and [r.status for r in judge(case, "invariance")] == ["pass"]
-    assert signature(with_probes(seam[0], case, judge, biased), case, biased.convention).key == "seams|seam|none"
+    assert signature(with_trials(seam[0], case, judge, biased), case, biased.convention).key == "seams|seam|none"
 
 
 def test_a_triangulation_mismatch_is_named_by_the_triangles_own_failure():
@@ -533,7 +534,7 @@ def test_a_triangulation_mismatch_is_named_by_the_triangles_own_failure():
         assert len(failed) == 1, bad.name
         found = failed[0]
         assert signature(found, case, bad.convention).key == own
-        assert signature(with_probes(found, case, judge, bad), case, bad.convention).key == (probed or own)
+        assert signature(with_trials(found, case, judge, bad), case, bad.convention).key == (probed or own)
 
 
 def test_a_rounding_that_moves_with_the_screen_is_snapping_not_the_viewport_edge():
@@ -549,7 +550,7 @@ def test_a_rounding_that_moves_with_the_screen_is_snapping_not_the_viewport_edge
     found, failed = failures(clipper, "lattice", 50, {"conformance"})
     judge = _judge_of(clipper)
     cases = scenes("lattice", 50)
-    assert {signature(with_probes(r, cases[r.case], judge, clipper), cases[r.case], clipper.convention).key
+    assert {signature(with_trials(r, cases[r.case], judge, clipper), cases[r.case], clipper.convention).key
             for r in failed} == {"conformance|viewport-edge|none"}
 
 
@@ -622,7 +623,7 @@ def test_a_tie_on_a_float_partition_is_rebuilt_on_a_lattice(bug, index, expected
     failed = [r for r in judge(case, "watertight") if r.status == "fail"]
     assert len(failed) == 1 and not case.lattice
     assert signature(failed[0], case, bad.convention).convention_part == "tie-rule"
-    probed = with_probes(failed[0], case, judge, bad)
+    probed = with_trials(failed[0], case, judge, bad)
     assert probed.evidence["lattice_twin"]["fails"] is twin_fails
     assert signature(probed, case, bad.convention).key == expected
 
@@ -706,7 +707,7 @@ def test_dropped_contours_are_not_ignored_holes():
         judge = _judge_of(bad)
         failed = [r for r in judge(case, "conformance") if r.status == "fail"]
         assert failed, bug
-        probed = with_probes(failed[0], case, judge, bad)
+        probed = with_trials(failed[0], case, judge, bad)
         assert signature(probed, case, bad.convention).key == expected, (bug, case.id, failed[0].message)
         assert "exactly on" not in failed[0].message, failed[0].message
     from rasterizers.trapezoid import TrapezoidFill
@@ -728,7 +729,7 @@ def test_samples_dropped_near_edges_are_not_a_wrong_pattern(family):
         judge = _judge_of(bad)
         failed = [r for r in judge(case, "conformance") if r.status == "fail"]
         assert failed, bad.name
-        assert signature(with_probes(failed[0], case, judge, bad), case, bad.convention).key == expected, bad.name
+        assert signature(with_trials(failed[0], case, judge, bad), case, bad.convention).key == expected, bad.name
 
 
 def test_line_messages_speak_of_lines():

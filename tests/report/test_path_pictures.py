@@ -29,7 +29,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import PathScene, Scene
 from harness.engine.runner import run_suite
 from harness.oracle.coverage import exact_coverage
-from harness.report import pictures
+from harness.report import picture_paths, pictures
 from harness.report.pages import capabilities, on_paths, write_report
 
 SVG = "{http://www.w3.org/2000/svg}"
@@ -143,8 +143,8 @@ def test_a_path_of_100000_vertices_costs_a_filter_and_a_few_exact_tests(monkeypa
     ring = np.stack([256 + radius * np.cos(2 * np.pi * k / n), 256 + radius * np.sin(2 * np.pi * k / n)], axis=1)
     scene = PathScene.from_paths(512, 512, [[ring]], "nonzero")
     tested = []
-    real = pictures.orientation
-    monkeypatch.setattr(pictures, "orientation", lambda p: (tested.append(len(p)), real(p))[1])
+    real = picture_paths.orientation
+    monkeypatch.setattr(picture_paths, "orientation", lambda p: (tested.append(len(p)), real(p))[1])
     window = (50, 240, 82, 272)  # across the ring's left side
     w = pictures.winding_numbers(scene, 0, Convention(), window)
     assert w is not None and np.array_equal(pictures.rule_fills(w, "nonzero"), _path_mask(scene, 0, Convention(), window))

@@ -16,7 +16,7 @@ from PIL import Image
 from cases.motion import motion_cases
 from cases.suites import suite
 from harness.engine.runner import run_suite
-from harness.report import pictures
+from harness.report import picture_kit, pictures
 from harness.report.pages import write_report
 from harness.results.output import results_from_json, results_to_json
 from tests.known_bad.edge_functions import EdgeFunctionBug
@@ -60,7 +60,7 @@ def test_a_still_failure_draws_a_heat_map_a_diff_and_a_crop(tie_failure, monkeyp
     def no_second_oracle(*args, **kwargs):
         raise AssertionError("the oracle the check computed is computed again")
 
-    monkeypatch.setattr(pictures, "exact_coverage", no_second_oracle)
+    monkeypatch.setattr(picture_kit, "exact_coverage", no_second_oracle)
     drawn = pictures.draw(tie_failure)
     assert list(drawn) == ["heatmap", "diff", "crop"]  # the order the report shows them
     for key in ("heatmap", "diff"):
