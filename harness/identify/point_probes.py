@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -25,7 +26,7 @@ from harness.engine.isolation import Outcome
 from harness.kinds.points import PointScene
 from harness.oracle.points import point_coverage
 
-__all__ = ["SQUARE_TIES", "PointFit", "tie_points", "point_candidates", "fit_points"]
+__all__ = ["SQUARE_TIES", "PointFit", "tie_points", "point_candidates", "fit_points", "point_verdict_cases"]
 
 # the tie rules an axis-aligned square can tell apart (one per pair of owned sides)
 SQUARE_TIES = ("top-left", "top-right", "bottom-left", "bottom-right")
@@ -121,3 +122,13 @@ def fit_points(call: callable, triangles: Convention | None, seed: int = 0) -> P
     (best, _, convention), runner = scored[0], scored[1] if len(scored) > 1 else None
     pixels = sum(int(p.sum()) for _, p in drawn)
     return PointFit(convention, best, pixels, (runner[2].describe(), runner[0]) if runner else None, tuple(errors))
+
+
+def point_verdict_cases(seed: int, model: Any) -> list[Any]:
+    """The points' ``verdict_cases`` hook: the suite's point tilings and tie cases, for a
+    sample-based coverage model (points have no area oracle)."""
+    from cases.points import point_cases
+
+    if not (model.single_sample or model.layered):
+        return []
+    return [c for c in point_cases(seed) if c.id.split("/")[1] in ("tiles", "ties")]

@@ -19,14 +19,15 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from harness.contract.scenes import MAX_VIEWPORT, _set_viewport, _vertex_array
+from harness.kinds.base import JSON_NUMBER, JSON_POINT, PrimitiveKind
 
-__all__ = ["PointScene"]
+__all__ = ["PointScene", "POINTS", "points_to_json", "points_from_json", "point_sizes"]
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -90,6 +91,16 @@ class PointScene:
         """0: points carry no attributes."""
         return 0
 
+    def edges(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.int64]]:
+        """Every side of every square ``a -> b`` ((4N, 2) each, clockwise on screen from the
+        top left corner) and its point ((4N,) int64)."""
+        half = 0.5 * self.point_size
+        corners = np.array([[-half, -half], [half, -half], [half, half], [-half, half]])
+        with np.errstate(invalid="ignore", over="ignore"):
+            a = (self.vertices[:, None, :] + corners[None]).reshape(-1, 2)
+            b = (self.vertices[:, None, :] + np.roll(corners, -1, axis=0)[None]).reshape(-1, 2)
+        return a, b, np.repeat(np.arange(len(self), dtype=np.int64), 4)
+
     def primitive_boxes(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
         """Per point its square ``lo, hi`` ((N, 2) each), and whether its centre is finite
         ((N,) bool)."""
@@ -117,7 +128,75 @@ class PointScene:
         """The same points at another size."""
         return PointScene(self.width, self.height, self.vertices, point_size)
 
+    def with_viewport(self, width: int, height: int) -> PointScene:
+        """The same points on a ``width`` x ``height`` viewport."""
+        return PointScene(width, height, self.vertices, self.point_size)
+
     def subset(self, keep: ArrayLike) -> PointScene:
         """Points ``keep``, in that order (point k of the result is ``keep[k]``)."""
         index = np.asarray(keep, dtype=np.int64).reshape(-1)
         return PointScene(self.width, self.height, self.vertices[index].reshape(-1, 2), self.point_size)
+
+
+# -- the kind: what the harness does differently for point scenes ----------------------------
+
+# its case-file fields: the centres, and the squares' side
+JSON_FIELDS = {"points": {"type": "array", "items": JSON_POINT}, "point_size": {"anyOf": [JSON_NUMBER]}}
+
+
+def points_to_json(scene: PointScene) -> dict[str, Any]:
+    """A point scene's case-JSON fields (the kind's codec)."""
+    from harness.contract.case import _hex, _text
+
+    return {"point_size": _text(scene.point_size), "points": _hex(scene.vertices)}
+
+
+def points_from_json(data: dict[str, Any], width: int, height: int, where: str = "") -> PointScene:
+    """A point scene from its case-JSON fields; ``where`` leads an error."""
+    from harness.contract.case import _number, _unhex
+
+    try:
+        centres = _unhex(data["points"], "points")
+        try:
+            size = _number(data.get("point_size", 1))
+        except ValueError as exc:
+            raise ValueError(f"case JSON is malformed at point_size: {exc}") from None
+        return PointScene(width, height, np.zeros((0, 2)) if centres is None else centres, size)
+    except ValueError as exc:
+        raise ValueError(f"{where}{exc}") from None
+
+
+def point_sizes(data: dict[str, Any]) -> dict[str, int]:
+    """What a point case's fields hold: points."""
+    return {"points": len(data["points"])}
+
+
+def _coordinates_of(scene: PointScene, prims: NDArray[np.int64]) -> list[NDArray[np.float64]]:
+    return [scene.vertices[k][None, :] for k in prims]
+
+
+POINTS: PrimitiveKind[PointScene] = PrimitiveKind(
+    name="points", scene_class=PointScene, json_key="points", convention_attribute="point_convention",
+    own_fit=None, translate_shift=(3, 2), translate_needs_positive=False, near_ties_by_own_rule=False,
+    coordinates_of=_coordinates_of,
+    degenerate=lambda scene, snapped: set(),  # a finite point's square always has its area
+    work_size=len, keeps_shapes=lambda scene, moved: True, undefined=lambda scene, convention: "",
+    exact_tie_words=("samples", "a side of their {noun}'s square"),
+    case_word="point", may_overlap=True, json_fields=JSON_FIELDS, json_required=("points",),
+    size_limits={"points": 1 << 20}, caption_words=lambda scene: f" of size {scene.point_size:g}",
+    invariance_families=None,
+    to_json="harness.kinds.points:points_to_json", from_json="harness.kinds.points:points_from_json",
+    json_sizes="harness.kinds.points:point_sizes",
+    oracle="harness.oracle.points:point_coverage",
+    near_ties="harness.checks.points:point_near_ties",
+    invariance_variants="harness.checks.points:point_variants",
+    probes="harness.identify.point_probes:fit_points",
+    verdict_cases="harness.identify.point_probes:point_verdict_cases",
+    still_pictures="harness.report.pictures:fill_pictures",
+    repro_picture="harness.report.picture_repro:fill_repro",
+    conformance_class="harness.diagnose.signatures:fill_conformance",
+    hypotheses="harness.diagnose.facts:no_hypothesis",
+    tie_trial="harness.diagnose.trials:no_trial",
+    dropped_trial="harness.diagnose.trials:no_trial",
+    vectors="harness.report.picture_points:point_vectors",
+)

@@ -12,8 +12,8 @@ import pytest
 
 from harness.contract.case import Case, case_from_json, case_to_json
 from harness.contract.conventions import Convention
-from harness.contract.scenes import SCENE_KINDS, LineScene, PathScene, Scene
-from harness.kinds import HOOKS, KINDS, LINES, PATHS, TRIANGLES, PrimitiveKind, kind_named, kind_of, kind_of_json
+from harness.contract.scenes import LineScene, PathScene, Scene
+from harness.kinds import HOOKS, KINDS, LINES, PATHS, SCENE_KINDS, TRIANGLES, PrimitiveKind, kind_named, kind_of, kind_of_json
 
 TRIANGLE = Scene(8, 8, [[[1, 1], [7, 1], [1, 7]]])
 PATH = PathScene.from_paths(8, 8, [[[[1, 1], [7, 1], [7, 7], [1, 7]]]])

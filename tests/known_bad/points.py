@@ -14,7 +14,7 @@ from harness.contract.coverage import Coverage
 from harness.kinds.points import PointScene
 from rasterizers.points import PointSprites
 
-__all__ = ["ClosedSquares", "OwnsTheOtherSides", "Float32Sides", "RoundedCentres", "POINT_BADS"]
+__all__ = ["ClosedSquares", "OwnsTheOtherSides", "Float32Sides", "RoundedCentres", "DropsTheLast", "POINT_BADS"]
 
 
 def _spans(scene: PointScene, x0: np.ndarray, x1: np.ndarray, y0: np.ndarray, y1: np.ndarray) -> Coverage:
@@ -85,3 +85,17 @@ class RoundedCentres(PointSprites):
 
 
 POINT_BADS = (ClosedSquares, OwnsTheOtherSides, Float32Sides, RoundedCentres)
+
+
+class DropsTheLast(PointSprites):
+    """Stops one point short (``range(n - 1)``): the last point listed is never drawn, so
+    listing the points in another order drops another one."""
+
+    name = "bad_points_drops_the_last"
+
+    def rasterize(self, scene: PointScene) -> Coverage:  # type: ignore[override]
+        drawn = super().rasterize(scene)
+        return drawn.take(np.flatnonzero(drawn.primitive != len(scene) - 1))
+
+
+POINT_BADS = (*POINT_BADS, DropsTheLast)
