@@ -27,7 +27,7 @@ def _scene(*triangles) -> Scene:  # type: ignore[no-untyped-def]
 
 
 def epsilon_scene(sample: tuple[float, float] = (0.5, 0.5)) -> Scene:
-    """identify's epsilon probe (:func:`harness.identify.triangle_probes.epsilon`): 56 tiny triangles (1e-3
+    """identify's epsilon probe (:func:`harness.identify.triangle_defects.epsilon`): 56 tiny triangles (1e-3
     down to 1e-9 px across, eight of each size) around the sample points at ``sample`` of
     a row of pixels, the even ones holding their sample strictly inside, the odd ones
     just to the right of it."""
@@ -41,8 +41,8 @@ def epsilon_scene(sample: tuple[float, float] = (0.5, 0.5)) -> Scene:
 
 
 def probe_scenes() -> dict[str, tuple[Scene, bool]]:
-    """The scenes of identify's degenerate probes (:func:`harness.identify.triangle_probes.zero_area`,
-    :func:`harness.identify.triangle_probes.non_finite`), as the suite holds them: ``degenerate/<name>`` ->
+    """The scenes of identify's degenerate probes (:func:`harness.identify.triangle_defects.zero_area`,
+    :func:`harness.identify.triangle_defects.non_finite`), as the suite holds them: ``degenerate/<name>`` ->
     (scene, lattice). A collinear triangle and one with two equal vertices; a triangle with
     a NaN (an infinite) coordinate beside a finite one; the epsilon probe's tiny triangles
     around pixel centres (:func:`epsilon_scene`)."""

@@ -465,7 +465,7 @@ def triangle_cases_as_paths(cases: Sequence[Case], rules: Sequence[str] = FILL_R
 
 def viewport_cases(seed: int) -> list[Case]:
     """The suite's lattice triangles that identify's viewport-edge probe draws
-    (:func:`harness.identify.triangle_probes.viewport_edge`): ``lattice/bits-{0,2,4}``, crossing every edge."""
+    (:func:`harness.identify.triangle_defects.viewport_edge`): ``lattice/bits-{0,2,4}``, crossing every edge."""
     from cases.conformance import conformance_cases
 
     return [c for c in conformance_cases(seed) if c.id in VIEWPORT_CASES]

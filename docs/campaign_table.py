@@ -14,7 +14,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from harness.campaign.campaign import CampaignState
+from harness.campaign.state import CampaignState
 
 
 def _expected() -> dict[str, set[str]]:

@@ -84,7 +84,8 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, Unsupported
 from harness.geometry.exact import _two_product, frozen
 from harness.geometry.spans import span_buffers
-from harness.oracle.lines import emit_pixel, expansion_sign, grow_expansion
+from harness.oracle.line_spans import emit_pixel
+from harness.oracle.rectangle_lines import expansion_sign, grow_expansion
 
 __all__ = ["BresenhamLines", "DiamondExitDDA", "RectangleLines", "BRESENHAM_LIMIT", "DDA_LIMIT", "RECTANGLE_LIMIT"]
 

@@ -14,10 +14,10 @@ the answer already drawn, and the one cheap trial that tells a tie rule from sam
 edges by chance (the tie trial).
 
 :func:`by_cause` groups such results as the campaign page does
-(:meth:`harness.campaign.campaign.CampaignState.causes`): on each case, the failures of the checks
+(:meth:`harness.campaign.state.CampaignState.causes`): on each case, the failures of the checks
 that only see the effects of a wrong coverage (watertight, closed, invariance, the line
 checks, ...) are counted under the cause of that case's conformance (or accuracy) failure
-(:func:`attributed`, as :func:`harness.campaign.campaign.attribute_causes` counts a campaign's); each signature goes under the cause most of its
+(:func:`attributed`, as :func:`harness.campaign.worker.attribute_causes` counts a campaign's); each signature goes under the cause most of its
 results were counted under; the causes come most results first, and within each its
 signatures, most results first. One bug is one cause, whichever checks and headings show it.
 """
@@ -55,7 +55,7 @@ def attributed(found: list[tuple[str, Signature]]) -> list[str]:
     not four; and a check's ``consequent_classes``, such as hygiene's
     ``outside-primitive``) are counted under that failure's cause (the exact oracle says
     what is wrong; the others see its effects); any other keeps its own signature's cause.
-    A campaign's findings (:func:`harness.campaign.campaign.attribute_causes`) and a run's results
+    A campaign's findings (:func:`harness.campaign.worker.attribute_causes`) and a run's results
     (:func:`by_cause`) alike.
 
     >>> attributed([("fail", Signature("conformance", "culling", "culling")), ("fail", Signature("watertight", "hole", "none"))])

@@ -15,8 +15,8 @@ Each of these is a probe of :mod:`harness.identify.triangle_probes` giving a typ
 composes them. It first reads the kind of coverage (:func:`harness.identify.coverage_probes.coverage_kind`):
 an anti-aliaser (alphas) or a multisample rasterizer (sample indices) is fingerprinted by
 the probes of :mod:`harness.identify.coverage_probes` instead -- analytic area or supersampled, the
-grid and the levels (:func:`~harness.identify.coverage_probes.alpha_sweeps`), or the sample
-pattern and its tie rule (:func:`~harness.identify.coverage_probes.sample_positions`). The fit of sample point and tie rule is :func:`harness.identify.triangle_probes.fit_ties`,
+grid and the levels (:func:`~harness.identify.area_probes.alpha_sweeps`), or the sample
+pattern and its tie rule (:func:`~harness.identify.sample_probes.sample_positions`). The fit of sample point and tie rule is :func:`harness.identify.triangle_probes.fit_ties`,
 the one ``compare`` uses too. Every call of the rasterizer goes through a
 :data:`~harness.engine.isolation.Call`: in this process, or in a worker process
 (:func:`identify_isolated`).
@@ -43,8 +43,8 @@ identify and ``run`` agree: the probes that can see a defect (watertight, the vi
 edge, zero-area, non-finite and tiny triangles) draw the suite's own cases for the
 rasterizer's scene kind (a paths-only filler's: the same triangles as one-contour paths,
 :func:`cases.paths.triangle_cases_as_paths`), and each case on which a probe saw a defect
-is judged as ``run`` judges it (:func:`harness.identify.triangle_probes.suite_defects`): a
-:class:`~harness.identify.triangle_probes.Defect` with the check's evidence and a minimal repro
+is judged as ``run`` judges it (:func:`harness.identify.triangle_defects.suite_defects`): a
+:class:`~harness.identify.triangle_defects.Defect` with the check's evidence and a minimal repro
 (:attr:`Fingerprint.defects`, on the card, in ``--json`` and on the fingerprint page). A
 declared convention is judged by the checks of its coverage kind (:data:`VERDICT_CHECKS`)
 on the probe scenes (:func:`verdict_cases`) before it is called confirmed or consistent.
@@ -64,39 +64,30 @@ from harness.contract.protocol import Rasterizer, fill_rules_of, interpolates_of
 from harness.contract.samples import STANDARD_PATTERNS
 from harness.contract.scenes import AnyScene, PathScene, Scene
 from harness.engine.isolation import Call, CallTally, InProcess, Outcome, TimeLimit
-from harness.identify.coverage_probes import (
-    CoverageKindFact,
-    Remembered,
-    alpha_sweeps,
-    coverage_kind,
-    layered,
-    sample_positions,
-    sample_sides,
-)
-from harness.identify.triangle_probes import (
+from harness.identify.area_probes import alpha_sweeps
+from harness.identify.coverage_probes import CoverageKindFact, Remembered, coverage_kind, layered
+from harness.identify.sample_probes import sample_positions, sample_sides
+from harness.identify.triangle_defects import (
     EPSILON_CASE,
     NON_FINITE_CASES,
     REPROS,
     ZERO_AREA_CASE,
     Defect,
     Epsilon,
-    Fact,
     NonFinite,
     Unanswered,
     ViewportEdge,
     Watertight,
     ZeroArea,
     epsilon,
-    fit_snapping,
-    fit_ties,
     non_finite,
-    residual_lies,
     suite_defects,
     unanswered,
     viewport_edge,
     watertight_partitions,
     zero_area,
 )
+from harness.identify.triangle_probes import Fact, fit_snapping, fit_ties, residual_lies
 from harness.kinds import KINDS, TRIANGLES
 
 if TYPE_CHECKING:  # the path and line probes are imported when a rasterizer taking those is identified
@@ -193,7 +184,7 @@ class Fingerprint:
 
     @property
     def defects(self) -> dict[str, tuple[Defect, ...]]:
-        """Probe label -> the scenes on which it saw a defect (:class:`harness.identify.triangle_probes.Defect`:
+        """Probe label -> the scenes on which it saw a defect (:class:`harness.identify.triangle_defects.Defect`:
         the suite's case, the check, the evidence, a minimal repro); empty when none did."""
         return {label: tuple(found) for label, fact in self.probes.items() if (found := getattr(fact, "defects", ()))}
 
@@ -361,7 +352,7 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
     """:func:`identify` on triangles (``call`` takes triangle scenes). Where a probe saw a
     defect (not watertight, the viewport edge, zero-area or non-finite triangles drawn),
     the suite's cases it drew are judged as ``run`` judges them, each failure kept as
-    evidence with a minimal repro (:func:`harness.identify.triangle_probes.suite_defects`); ``suite`` gives
+    evidence with a minimal repro (:func:`harness.identify.triangle_defects.suite_defects`); ``suite`` gives
     those cases for the rasterizer's scene kind (the triangle cases themselves unless given)."""
     from cases.degenerate import degenerate_cases
     from cases.partitions import partition_cases

@@ -21,14 +21,15 @@ from harness.results.files import atomic_write_text
 __all__ = ["Change", "RunDiff", "diff_runs", "load_run", "write_diff_page"]
 
 BAD = ("fail", "error")
-KINDS = ("regression", "fix", "status change", "new", "removed")
+CATEGORIES = ("regression", "fix", "status change", "new", "removed")
 
 
 @dataclass(frozen=True)
 class Change:
-    """One (rasterizer, case, check) whose status or metrics differ between the runs."""
+    """One (rasterizer, case, check) whose status or metrics differ between the runs;
+    ``category`` is its class: one of :data:`CATEGORIES`, or ``metrics`` (only metrics moved)."""
 
-    kind: str
+    category: str
     rasterizer: str
     case: str
     check: str
@@ -47,24 +48,24 @@ class RunDiff:
     changes: list[Change] = field(default_factory=list)
     unchanged: int = 0
 
-    def of(self, kind: str) -> list[Change]:
-        return [c for c in self.changes if c.kind == kind]
+    def of(self, category: str) -> list[Change]:
+        return [c for c in self.changes if c.category == category]
 
     @property
     def metric_changes(self) -> list[Change]:
         return [c for c in self.changes if c.metrics]
 
     def lines(self) -> list[str]:
-        """The summary: counts by kind, then per rasterizer and check, then each change."""
-        counts = Counter(c.kind for c in self.changes if c.kind in KINDS)
-        out = [f"{self.a} -> {self.b}: " + ", ".join(f"{k}: {counts[k]}" for k in KINDS)
+        """The summary: counts by category, then per rasterizer and check, then each change."""
+        counts = Counter(c.category for c in self.changes if c.category in CATEGORIES)
+        out = [f"{self.a} -> {self.b}: " + ", ".join(f"{k}: {counts[k]}" for k in CATEGORIES)
                + f", metric changes: {len(self.metric_changes)}, unchanged: {self.unchanged}"]
-        per = Counter((c.rasterizer, c.check, c.kind) for c in self.changes if c.kind in KINDS)
-        for (rasterizer, check, kind), n in sorted(per.items()):
-            out.append(f"  {rasterizer:<22} {check:<12} {n:>5} {kind}")
+        per = Counter((c.rasterizer, c.check, c.category) for c in self.changes if c.category in CATEGORIES)
+        for (rasterizer, check, category), n in sorted(per.items()):
+            out.append(f"  {rasterizer:<22} {check:<12} {n:>5} {category}")
         for c in self.changes:
-            if c.kind in KINDS:
-                out.append(f"{c.kind.upper():<14} {c.rasterizer} {c.case} {c.check}: {c.before or '-'} -> {c.after or '-'}"
+            if c.category in CATEGORIES:
+                out.append(f"{c.category.upper():<14} {c.rasterizer} {c.case} {c.check}: {c.before or '-'} -> {c.after or '-'}"
                            + (f"  {c.message}" if c.message else ""))
         for c in self.metric_changes:
             moved = ", ".join(f"{name} {old} -> {new}" for name, (old, new) in c.metrics.items())
@@ -85,31 +86,31 @@ def diff_runs(a: list[Result], b: list[Result], a_name: str = "A", b_name: str =
     for key in sorted(before.keys() | after.keys()):
         old, new = before.get(key), after.get(key)
         if old is None and new is not None:
-            kind = "regression" if new.status in BAD else "new"
+            category = "regression" if new.status in BAD else "new"
         elif new is None and old is not None:
-            kind = "removed"
+            category = "removed"
         else:
             assert old is not None and new is not None
             if old.status == new.status:
-                kind = ""
+                category = ""
             elif new.status in BAD and old.status not in BAD:
-                kind = "regression"
+                category = "regression"
             elif old.status in BAD and new.status == "pass":
-                kind = "fix"
+                category = "fix"
             else:
-                kind = "status change"
+                category = "status change"
         metrics: dict[str, tuple[float | None, float | None]] = {}
         if old is not None and new is not None:
             for name in sorted((old.metrics.keys() | new.metrics.keys()) - timing):
                 x, y = old.metrics.get(name), new.metrics.get(name)
                 if x != y and not (isinstance(x, float) and isinstance(y, float) and x != x and y != y):
                     metrics[name] = (x, y)
-        if not kind and not metrics:
+        if not category and not metrics:
             diff.unchanged += 1
             continue
         shown = new if new is not None else old
         message = shown.message if shown is not None else ""
-        diff.changes.append(Change(kind or "metrics", *key, old.status if old else None, new.status if new else None,
+        diff.changes.append(Change(category or "metrics", *key, old.status if old else None, new.status if new else None,
                                    message, metrics))
     return diff
 
@@ -130,12 +131,12 @@ def load_run(path: Path | str) -> list[Result]:
 
 
 def write_diff_page(out: Path | str, diff: RunDiff) -> Path:
-    """``<out>/diff.html``: the changes by kind, per rasterizer and check."""
+    """``<out>/diff.html``: the changes by category, per rasterizer and check."""
     from harness.report.pages import _environment, link_pages, page_meta
 
-    counts = Counter(c.kind for c in diff.changes)
-    per = Counter((c.rasterizer, c.check, c.kind) for c in diff.changes)
-    html = _environment().get_template("diff.html").render(diff=diff, kinds=KINDS, counts=counts, per=sorted(per.items()),
+    counts = Counter(c.category for c in diff.changes)
+    per = Counter((c.rasterizer, c.check, c.category) for c in diff.changes)
+    html = _environment().get_template("diff.html").render(diff=diff, categories=CATEGORIES, counts=counts, per=sorted(per.items()),
                                                            meta=page_meta("diff", "-"))
     path = Path(out) / "diff.html"
     atomic_write_text(path, html)

@@ -17,7 +17,7 @@ unchanged run rewrites it byte for byte::
 Only gated metrics (:func:`harness.checks.metric_tolerance`) that are not timings
 (:func:`harness.checks.timing_metrics`) are stored. Fields may be added to an entry in a later schema-1 file.
 
-A campaign's findings (``rastercheck fuzz``, :mod:`harness.campaign.campaign`) can be taken as known
+A campaign's findings (``rastercheck fuzz``, :mod:`harness.campaign`) can be taken as known
 failures too (:class:`CampaignFindings`, ``rastercheck gate --known-campaign DIR``): a
 failing or erroring result of the campaign's rasterizer that would be a regression is
 reported as known instead when its ``(check, case)`` is one the campaign saw fail (a
@@ -39,7 +39,7 @@ from harness.checks import Result, check_names, metric_tolerance, timing_metrics
 from harness.results.files import atomic_write_text, read_input
 from harness.results.schemas import schema_fault
 
-__all__ = ["BASELINE_SCHEMA", "Finding", "Verdict", "compare_with_baseline", "gated_metrics", "key",
+__all__ = ["BASELINE_SCHEMA", "GateFinding", "Verdict", "compare_with_baseline", "gated_metrics", "key",
            "load_baseline", "save_baseline", "CampaignFindings", "campaign_known", "result_signature"]
 
 SCHEMA = 1
@@ -72,11 +72,11 @@ BASELINE_SCHEMA: dict[str, Any] = {
     },
 }
 
-Kind = Literal["regression", "missing", "fixed", "known", "new", "absent", "flaky", "dropped"]
-# How each kind of finding is labelled in the gate's output, and counted in a header.
+GateVerdict = Literal["regression", "missing", "fixed", "known", "new", "absent", "flaky", "dropped"]
+# How each verdict of the gate is labelled in the gate's output, and counted in a header.
 _LABEL = {"regression": "REGRESSION", "missing": "MISSING", "fixed": "UNEXPECTEDLY PASSING", "flaky": "FLAKY",
           "dropped": "NOW SKIPPED"}
-_SHOWN: tuple[Kind, ...] = ("regression", "missing", "fixed", "flaky", "dropped")
+_SHOWN: tuple[GateVerdict, ...] = ("regression", "missing", "fixed", "flaky", "dropped")
 
 
 def key(r: Result) -> str:
@@ -97,10 +97,10 @@ def gated_metrics() -> dict[str, tuple[float, float]]:
 
 
 @dataclass(frozen=True)
-class Finding:
+class GateFinding:
     """What the gate says of one ``rasterizer|case|check``.
 
-    kind : {"regression", "missing", "fixed", "known", "new", "absent", "flaky", "dropped"}
+    verdict : {"regression", "missing", "fixed", "known", "new", "absent", "flaky", "dropped"}
         ``missing``: in the baseline, not in the run (a regression); ``absent``: the same
         when missing results are allowed (not a regression); ``fixed``: a known failure
         that passes now; ``known``: a known failure that still fails; ``new``: not in the
@@ -114,7 +114,7 @@ class Finding:
     """
 
     key: str
-    kind: Kind
+    verdict: GateVerdict
     text: str
     reason: str = ""
 
@@ -140,19 +140,19 @@ def _plural(n: int, word: str) -> str:
 
 @dataclass
 class Verdict:
-    findings: list[Finding] = field(default_factory=list)
+    findings: list[GateFinding] = field(default_factory=list)
 
-    def of(self, kind: Kind) -> list[Finding]:
-        return [f for f in self.findings if f.kind == kind]
+    def of(self, verdict: GateVerdict) -> list[GateFinding]:
+        return [f for f in self.findings if f.verdict == verdict]
 
-    def by_key(self) -> dict[str, Finding]:
+    def by_key(self) -> dict[str, GateFinding]:
         """The finding on each key that has one (one key has at most one)."""
         return {f.key: f for f in self.findings}
 
     @property
     def regressions(self) -> list[str]:
         """One line per regressed result, missing ones included."""
-        return [str(f) for f in self.findings if f.kind in ("regression", "missing")]
+        return [str(f) for f in self.findings if f.verdict in ("regression", "missing")]
 
     @property
     def fixed(self) -> list[str]:
@@ -170,11 +170,11 @@ class Verdict:
     def ok(self) -> bool:
         return not self.regressions
 
-    def counts(self, findings: Iterable[Finding] | None = None) -> str:
+    def counts(self, findings: Iterable[GateFinding] | None = None) -> str:
         """``3 regressions, 1 unexpectedly passing, 2 known failures``: the nonzero counts."""
         mine = list(self.findings if findings is None else findings)
-        n = {kind: sum(f.kind == kind for f in mine)
-             for kind in ("regression", "missing", "fixed", "known", "new", "absent", "flaky", "dropped")}
+        n = {verdict: sum(f.verdict == verdict for f in mine)
+             for verdict in ("regression", "missing", "fixed", "known", "new", "absent", "flaky", "dropped")}
         regressions = n["regression"] + n["missing"]
         parts = [_plural(regressions, "regression") + (f" ({n['missing']} missing)" if n["missing"] else "")] if regressions else []
         parts += [f"{n['fixed']} unexpectedly passing"] if n["fixed"] else []
@@ -190,17 +190,17 @@ class Verdict:
         per regression, missing result and unexpected pass (known failures and new
         results are counted, not listed)."""
         order = {name: k for k, name in enumerate(check_names())}
-        groups: dict[str, list[Finding]] = {}
+        groups: dict[str, list[GateFinding]] = {}
         for f in self.findings:
             groups.setdefault(f.check, []).append(f)
         out = []
         for check in sorted(groups, key=lambda c: (order.get(c, len(order)), c)):
             mine = groups[check]
-            if not any(f.kind in _SHOWN or f.kind == "known" for f in mine):
+            if not any(f.verdict in _SHOWN or f.verdict == "known" for f in mine):
                 continue
             out.append(f"{check}: {self.counts(mine)}")
-            for kind in _SHOWN:
-                out += [f"  {_LABEL[kind]} {f}" for f in mine if f.kind == kind]
+            for verdict in _SHOWN:
+                out += [f"  {_LABEL[verdict]} {f}" for f in mine if f.verdict == verdict]
         return out
 
 
@@ -304,33 +304,33 @@ def compare_with_baseline(results: list[Result], baseline: dict[str, dict[str, A
         before = baseline.get(k)
         if before is None:
             if r.status in BAD and "flaky" in r.evidence:
-                verdict.findings.append(Finding(k, "flaky", f"new, {' / '.join(r.evidence['flaky'])} on reruns: {r.message}"))
+                verdict.findings.append(GateFinding(k, "flaky", f"new, {' / '.join(r.evidence['flaky'])} on reruns: {r.message}"))
             elif r.status in BAD and (why := _known(known_failure, r)):
-                verdict.findings.append(Finding(k, "known", f"new, {r.status}: {why}", why))
+                verdict.findings.append(GateFinding(k, "known", f"new, {r.status}: {why}", why))
             elif r.status in BAD:
-                verdict.findings.append(Finding(k, "regression", f"new, {r.status}: {r.message}"))
+                verdict.findings.append(GateFinding(k, "regression", f"new, {r.status}: {r.message}"))
             else:
-                verdict.findings.append(Finding(k, "new", f"new, {r.status}"))
+                verdict.findings.append(GateFinding(k, "new", f"new, {r.status}"))
             continue
         status, reason = before.get("status"), before.get("reason", "")
         was_bad = status in BAD
         worse = _worse(r, before, gated)
         if r.status in BAD and not was_bad and "flaky" in r.evidence:  # the reruns disagree: a flake, shown
-            verdict.findings.append(Finding(k, "flaky", f"was {status}, now {' / '.join(r.evidence['flaky'])} on reruns: {r.message}"))
+            verdict.findings.append(GateFinding(k, "flaky", f"was {status}, now {' / '.join(r.evidence['flaky'])} on reruns: {r.message}"))
         elif r.status in BAD and not was_bad and (why := _known(known_failure, r)):
-            verdict.findings.append(Finding(k, "known", f"was {status}, now {r.status}: {why}", why))
+            verdict.findings.append(GateFinding(k, "known", f"was {status}, now {r.status}: {why}", why))
         elif r.status in BAD and not was_bad:
-            verdict.findings.append(Finding(k, "regression", "; ".join([f"was {status}, now {r.status}: {r.message}", *worse])))
+            verdict.findings.append(GateFinding(k, "regression", "; ".join([f"was {status}, now {r.status}: {r.message}", *worse])))
         elif worse:
-            verdict.findings.append(Finding(k, "regression", "; ".join([f"{r.status} as before", *worse]), reason))
+            verdict.findings.append(GateFinding(k, "regression", "; ".join([f"{r.status} as before", *worse]), reason))
         elif was_bad and r.status == "pass":
-            verdict.findings.append(Finding(k, "fixed", f"was {status} ({reason}), now passes", reason))
+            verdict.findings.append(GateFinding(k, "fixed", f"was {status} ({reason}), now passes", reason))
         elif was_bad and r.status in BAD:
-            verdict.findings.append(Finding(k, "known", f"{r.status}: {reason or r.message}", reason or r.message))
+            verdict.findings.append(GateFinding(k, "known", f"{r.status}: {reason or r.message}", reason or r.message))
         elif status == "pass" and r.status == "skip":
-            verdict.findings.append(Finding(k, "dropped", f"was pass, now skipped: {r.message}"))
+            verdict.findings.append(GateFinding(k, "dropped", f"was pass, now skipped: {r.message}"))
     for k in sorted(baseline.keys() - seen):
-        verdict.findings.append(Finding(k, "absent" if allow_missing else "missing",
+        verdict.findings.append(GateFinding(k, "absent" if allow_missing else "missing",
                                         f"in the baseline ({baseline[k].get('status')}), not in this run"))
     return verdict
 
@@ -344,7 +344,7 @@ def _known(known_failure: Callable[[Result], str | None] | None, r: Result) -> s
 
 @dataclass(frozen=True)
 class CampaignFindings:
-    """What a campaign found (its state folder, :class:`harness.campaign.campaign.CampaignState`), as
+    """What a campaign found (its state folder, :class:`harness.campaign.state.CampaignState`), as
     the gate reads it.
 
     ``signatures`` maps each signature key to its entry in the state (``count``,
@@ -364,7 +364,7 @@ class CampaignFindings:
         """The findings of the campaign saved in ``directory``; ValueError in one line
         naming the folder (or the repro file) that cannot be read."""
         from cases.fuzz import scene_id
-        from harness.campaign.campaign import CampaignState
+        from harness.campaign.state import CampaignState
 
         state = CampaignState.load(directory)
         cases: dict[tuple[str, str], str] = {}

@@ -58,7 +58,7 @@ from harness.checks import Result
 from harness.results.files import atomic_write_text
 
 if TYPE_CHECKING:
-    from harness.results.gate import Finding, Verdict
+    from harness.results.gate import GateFinding, Verdict
 
 __all__ = ["SCHEMA", "results_to_json", "results_from_json", "result_row", "result_from_row", "write_json", "write_junit"]
 
@@ -200,20 +200,20 @@ def _known_failure(reason: str) -> str:
     return reason if reason.startswith("known failure") else f"known failure: {reason}"
 
 
-def _junit_case(suite: ET.Element, r: Result, finding: Finding | None, notes: list[str]) -> None:
+def _junit_case(suite: ET.Element, r: Result, finding: GateFinding | None, notes: list[str]) -> None:
     """One testcase: its outcome from the result's status, or, under the gate, from its
     finding (a known failure is skipped, a regression fails, an unexpected pass passes
     with a note)."""
     case = ET.SubElement(suite, "testcase", classname=_xml(f"{r.rasterizer}.{r.check}"), name=_xml(r.case),
                          time=f"{_junit_seconds(r):.6f}")
     repro = f"\nminimal repro: {r.evidence['repro_path']}" if "repro_path" in r.evidence else ""
-    regression = finding is not None and finding.kind == "regression"
+    regression = finding is not None and finding.verdict == "regression"
     message = finding.text if finding is not None and regression else r.message
-    if finding is not None and finding.kind == "known":
+    if finding is not None and finding.verdict == "known":
         ET.SubElement(case, "skipped", message=_xml(_known_failure(finding.reason)))
-    elif finding is not None and finding.kind == "fixed":
+    elif finding is not None and finding.verdict == "fixed":
         notes.append(f"UNEXPECTEDLY PASSING {finding}")
-    elif finding is not None and finding.kind == "flaky":  # neither a pass nor a regression: said, not failed
+    elif finding is not None and finding.verdict == "flaky":  # neither a pass nor a regression: said, not failed
         ET.SubElement(case, "skipped", message=_xml(f"flaky: {finding.text}"))
     elif r.status == "error":  # a crash or a timeout, new or regressed
         ET.SubElement(case, "error", type=_error_type(r.message), message=_xml(message)).text = _xml(
@@ -240,8 +240,8 @@ def write_junit(path: Path | str, results: Iterable[Result], verdict: Verdict | 
     by_rasterizer: dict[str, list[Result]] = {}
     for r in results:
         by_rasterizer.setdefault(r.rasterizer, []).append(r)
-    findings: dict[str, Finding] = {}
-    missing: dict[str, list[Finding]] = {}
+    findings: dict[str, GateFinding] = {}
+    missing: dict[str, list[GateFinding]] = {}
     if verdict is not None:
         findings = verdict.by_key()
         for f in verdict.of("missing"):

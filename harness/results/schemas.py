@@ -1,7 +1,7 @@
 """What a JSON document's first fault against its JSON Schema is, in one line.
 
 Every file rastercheck reads back -- a case or repro (:mod:`harness.contract.case`), a gate
-baseline (:mod:`harness.results.gate`), a campaign state (:mod:`harness.campaign.campaign`) -- is checked
+baseline (:mod:`harness.results.gate`), a campaign state (:mod:`harness.campaign.state`) -- is checked
 against its schema before anything in it is used, and refused with the file, the field and
 the problem. The field is written as a path into the document, ``paths[0][2]``,
 ``entries["r|a|conformance"].status``, or "the top level".

@@ -18,16 +18,8 @@ from typing import Any
 
 import pytest
 
-from harness.cli.bench import (
-    CAMPAIGN_GOAL,
-    CampaignMeasurement,
-    Measurement,
-    campaign_summary,
-    failures_by_contender,
-    format_campaign_table,
-    format_table,
-    write_json,
-)
+from harness.cli.bench import Measurement, failures_by_contender, format_table, write_json
+from harness.cli.bench_campaign import CAMPAIGN_GOAL, CampaignMeasurement, campaign_summary, format_campaign_table
 from harness.cli.main import main
 
 HOSTILE = "tests/known_bad/bench_hostile.py"
@@ -142,12 +134,13 @@ def test_well_behaved_contenders_exit_0(capsys: pytest.CaptureFixture[str]) -> N
 
 def _refused(capsys: pytest.CaptureFixture[str], argv: list[str], monkeypatch: pytest.MonkeyPatch) -> str:
     import harness.cli.bench
+    import harness.cli.bench_campaign
 
     def no_work(*args: Any, **kwargs: Any) -> Any:
         raise AssertionError("the bench started before its output path was checked")
 
     monkeypatch.setattr(harness.cli.bench, "run_bench", no_work)
-    monkeypatch.setattr(harness.cli.bench, "run_campaign_bench", no_work)
+    monkeypatch.setattr(harness.cli.bench_campaign, "run_campaign_bench", no_work)
     assert main(["bench", *argv]) == 2
     said = capsys.readouterr()
     assert said.out == "" and len(said.err.strip().splitlines()) == 1 and "Traceback" not in said.err
@@ -226,9 +219,9 @@ def test_the_campaign_bench_of_a_rasterizer_raising_on_every_call_measures_nothi
                                                                                    tmp_path: Path,
                                                                                    capsys: pytest.CaptureFixture[str]) -> None:
     pytest.importorskip("distributed")
-    import harness.cli.bench
+    import harness.cli.bench_campaign
 
-    monkeypatch.setattr(harness.cli.bench, "CAMPAIGN_FAMILIES", ("lattice",))
+    monkeypatch.setattr(harness.cli.bench_campaign, "CAMPAIGN_FAMILIES", ("lattice",))
     out_json = tmp_path / "campaign.json"
     code = main(["bench", "--campaign", "--rasterizer", f"{HOSTILE}:BenchRaises", "--scenes", "4", "--repeats", "1",
                  "--timeout", "30", "--json", str(out_json)])

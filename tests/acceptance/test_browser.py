@@ -211,8 +211,9 @@ def test_repro_pictures_mark_the_offending_pixels_and_draw_the_primitives_where_
     the outline is red on both sides; the segment and the paths are drawn where the repro
     says they are; the samples where the rasterizer and the convention differ are ringed,
     dark where each covers them."""
-    from harness.campaign.campaign import Batch, BatchResult, CampaignState, _finding, _loaded, shrink_finding
-    from harness.report.pages import write_campaign_page
+    from harness.campaign.state import Batch, BatchResult, CampaignState
+    from harness.campaign.worker import _finding, _loaded, shrink_finding
+    from harness.report.campaign_page import write_campaign_page
     from harness.report.pictures import CROP_LEGEND, LINE_LEGEND, PATH_LEGEND, SAMPLE_LEGEND
 
     red = CROP_LEGEND["offending pixel (outlined)"]

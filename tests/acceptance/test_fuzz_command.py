@@ -20,10 +20,12 @@ from typing import Any
 
 import pytest
 
-from harness.campaign.campaign import Batch, BatchResult, CampaignState, Finding, ProgressEvent, local_cluster
+from harness.campaign.cluster import local_cluster
+from harness.campaign.state import Batch, BatchResult, CampaignState, ProgressEvent, SceneFinding
 from harness.checks import Result
-from harness.cli.main import _budget, _FuzzProgress, main
-from harness.report.pages import write_campaign_page
+from harness.cli.fuzz import _budget, _FuzzProgress
+from harness.cli.main import main
+from harness.report.campaign_page import write_campaign_page
 from harness.results.gate import CampaignFindings, campaign_known, compare_with_baseline
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.warm import safe_numba_cache
@@ -127,7 +129,7 @@ def test_budgets_read_as_durations_or_scenes() -> None:
 
 
 def test_progress_in_ci_is_a_plain_line_every_few_seconds_and_new_signatures_at_once(capsys: pytest.CaptureFixture[str]) -> None:
-    finding = Finding("lattice", 0, 7, "conformance", "fail", "wrong", TIE, "exact-tie-slanted-edge", "tie-rule", "conformance")
+    finding = SceneFinding("lattice", 0, 7, "conformance", "fail", "wrong", TIE, "exact-tie-slanted-edge", "tie-rule", "conformance")
     event = ProgressEvent(120, 3400, 10.0, 12.0, 340.0, 150, 3, {TIE: 3}, 50.0, 2, Batch("lattice", 0, 0, 8), "w",
                           (finding,), (TIE,))
     with _FuzzProgress("1 min", quiet=True, every=0.05) as progress:
@@ -190,7 +192,7 @@ def test_a_second_campaign_on_a_state_in_use_refuses_naming_the_holder(tmp_path:
     import subprocess
     import sys
 
-    from harness.campaign.campaign import state_lock
+    from harness.campaign.state import state_lock
 
     state = tmp_path / "state"
     args = ["fuzz", "--rasterizer", "pineda_topleft", "--budget", "6", "--families", "lattice", "--state", str(state),
@@ -202,7 +204,7 @@ def test_a_second_campaign_on_a_state_in_use_refuses_naming_the_holder(tmp_path:
         assert main(["fuzz", "--merge", str(tmp_path / "other"), "--state", str(state), "--out", str(tmp_path)]) == 2
         assert "another campaign is running on this state" in capsys.readouterr().err
     assert not (state / "campaign.json").exists()  # nothing was started
-    holder = subprocess.Popen([sys.executable, "-c", "import sys, time\nfrom harness.campaign.campaign import state_lock\n"
+    holder = subprocess.Popen([sys.executable, "-c", "import sys, time\nfrom harness.campaign.state import state_lock\n"
                                f"with state_lock({str(state)!r}):\n    print('held', flush=True)\n    time.sleep(120)"],
                               stdout=subprocess.PIPE, text=True, cwd=Path(__file__).resolve().parents[2])
     try:
@@ -285,7 +287,7 @@ def test_a_campaign_workers_first_call_honours_timeout(scheduler: str, tmp_path:
 def _fake(directory: Path, seed: int, keys: dict[int, str], rasterizer: str = "bad_inclusive") -> CampaignState:
     state = CampaignState(directory, SPEC, rasterizer, seed=seed)
     batch = Batch("lattice", seed, 0, 10)
-    findings = tuple(Finding("lattice", seed, i, "conformance", "fail", f"<b>wrong</b> at {i}", k, k.split("|")[1],
+    findings = tuple(SceneFinding("lattice", seed, i, "conformance", "fail", f"<b>wrong</b> at {i}", k, k.split("|")[1],
                              k.split("|")[2], "conformance") for i, k in keys.items())
     state.record(BatchResult(batch, 10, 100, 1.0, findings, "here"), 1.0)
     state.save()
@@ -390,8 +392,8 @@ def test_known_failures_match_by_case_and_check_or_by_signature(tmp_path: Path) 
            Result("bad_inclusive", "c", "conformance", "fail", "x"),  # passed before: known now
            Result("someone_else", "a", "conformance", "fail", "x")]  # another rasterizer's
     verdict = compare_with_baseline(run, {"bad_inclusive|c|conformance": {"status": "pass"}}, known_failure=known)
-    kinds = {f.key: f.kind for f in verdict.findings}
-    assert kinds == {"bad_inclusive|lattice/fuzz/lattice/0/3|conformance": "known", "bad_inclusive|a|conformance": "known",
+    verdicts = {f.key: f.verdict for f in verdict.findings}
+    assert verdicts == {"bad_inclusive|lattice/fuzz/lattice/0/3|conformance": "known", "bad_inclusive|a|conformance": "known",
                      "bad_inclusive|b|conformance": "regression", "bad_inclusive|c|conformance": "known",
                      "someone_else|a|conformance": "regression"}
     assert all("known from the campaign" in f.reason for f in verdict.of("known"))
@@ -403,15 +405,15 @@ def test_known_failures_match_by_case_and_check_or_by_signature(tmp_path: Path) 
 def test_bench_campaign_reports_both_worker_counts_as_json(scheduler: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
                                                            capsys: pytest.CaptureFixture[str]) -> None:
     """On the module's cluster for both counts (no cluster started here): the plumbing, not the timings."""
-    import harness.cli.bench
+    import harness.cli.bench_campaign
 
     @contextmanager
     def shared(workers: int) -> Iterator[Any]:
         with distributed.Client(scheduler) as client:
             yield client
 
-    monkeypatch.setattr(harness.cli.bench, "local_cluster", shared)
-    monkeypatch.setattr(harness.cli.bench, "CAMPAIGN_FAMILIES", ("lattice",))
+    monkeypatch.setattr(harness.cli.bench_campaign, "local_cluster", shared)
+    monkeypatch.setattr(harness.cli.bench_campaign, "CAMPAIGN_FAMILIES", ("lattice",))
     out = tmp_path / "bench.json"
     assert main(["bench", "--campaign", "--scenes", "4", "--repeats", "1", "--json", str(out)]) == 0
     said = capsys.readouterr().out
@@ -427,10 +429,10 @@ def test_findings_of_one_cause_seen_by_several_checks_are_one_cause(tmp_path: Pa
     """A scene failing conformance for culling: its watertight hole and invariance change
     are counted under culling; a hygiene attribute failure on it is its own cause; a hole
     on a scene where conformance passes stays a hole. Merged states add the counts up."""
-    from harness.campaign.campaign import attribute_causes
+    from harness.campaign.worker import attribute_causes
 
-    def finding(index: int, check: str, failure_class: str, part: str = "none") -> Finding:
-        return Finding("lattice", 0, index, check, "fail", "m", f"{check}|{failure_class}|{part}", failure_class, part, check)
+    def finding(index: int, check: str, failure_class: str, part: str = "none") -> SceneFinding:
+        return SceneFinding("lattice", 0, index, check, "fail", "m", f"{check}|{failure_class}|{part}", failure_class, part, check)
 
     scene = attribute_causes([finding(0, "conformance", "culling", "culling"), finding(0, "watertight", "hole"),
                               finding(0, "invariance", "changes-under-flip-winding"), finding(0, "hygiene", "bad-attributes")])
@@ -457,7 +459,7 @@ def test_the_identified_convention_is_read_back_and_nothing_else(tmp_path: Path)
     and the rasterizer comes back as it is."""
     import pickle
 
-    from harness.campaign.campaign import IDENTIFIED_FILE
+    from harness.campaign.state import IDENTIFIED_FILE
     from harness.contract.conventions import Convention
     from harness.identify.fingerprint import Fingerprint
 

@@ -91,7 +91,7 @@ def test_bad_output_paths_are_usage_errors_before_any_work(tmp_path, capsys, mon
     def no_work(*args, **kwargs):
         raise AssertionError("work started before the output paths were checked")
 
-    monkeypatch.setattr("harness.cli.main._load_all", no_work)
+    monkeypatch.setattr("harness.cli.run._load_all", no_work)
     code = main(["run", "--rasterizer", "centre_scanline", "--no-fingerprints", option, str(target)]
                 + ([] if option == "--out" else ["--out", str(tmp_path / "rep")]))
     err = capsys.readouterr().err

@@ -14,18 +14,10 @@ from typing import Any
 
 import pytest
 
-from harness.campaign.campaign import (
-    Batch,
-    BatchResult,
-    CampaignState,
-    CampaignTask,
-    Finding,
-    ProgressEvent,
-    add_interval,
-    local_cluster,
-    run_batch,
-    run_campaign,
-)
+from harness.campaign.cluster import local_cluster
+from harness.campaign.coordinator import run_campaign
+from harness.campaign.state import Batch, BatchResult, CampaignState, CampaignTask, ProgressEvent, SceneFinding, add_interval
+from harness.campaign.worker import run_batch
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene
@@ -91,7 +83,7 @@ class SafeNumbaCache(distributed.WorkerPlugin):
 @pytest.fixture(scope="module")
 def cluster():  # type: ignore[no-untyped-def]
     """One LocalCluster of two single-threaded worker processes for the module, as a
-    campaign makes its own (:func:`harness.campaign.campaign.local_cluster`)."""
+    campaign makes its own (:func:`harness.campaign.cluster.local_cluster`)."""
     with local_cluster(2) as client:
         client.register_plugin(SafeNumbaCache())  # every worker, as every test worker, shares the numba cache safely
         # each worker imports the harness and loads the kernels once, before any test's clock runs
@@ -174,7 +166,7 @@ def test_the_held_out_rare_bug_is_found_within_a_modest_budget(cluster, tmp_path
 
 
 def _result(batch: Batch, keys: dict[int, str]) -> BatchResult:
-    findings = tuple(Finding(batch.family, batch.seed, i, "conformance", "fail", f"wrong at {i}", key, key.split("|")[1],
+    findings = tuple(SceneFinding(batch.family, batch.seed, i, "conformance", "fail", f"wrong at {i}", key, key.split("|")[1],
                              key.split("|")[2], "conformance") for i, key in sorted(keys.items()))
     return BatchResult(batch, batch.count, 10 * batch.count, 0.5, findings, "here")
 

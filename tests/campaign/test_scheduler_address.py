@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from harness.campaign.campaign import connect, scheduler_address
+from harness.campaign.cluster import connect, scheduler_address
 from harness.cli.main import main
 
 pytest.importorskip("distributed")

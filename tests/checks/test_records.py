@@ -29,7 +29,8 @@ FEW_PIXELS = Check("few_pixels", _few_pixels, lambda case: not hasattr(case, "fr
 
 
 def test_a_check_registered_in_a_test_reaches_run_json_gate_report_and_shrinker(tmp_path):
-    from harness.campaign.campaign import Finding, attribute_causes
+    from harness.campaign.state import SceneFinding
+    from harness.campaign.worker import attribute_causes
     from harness.diagnose.causes import by_cause, signature_of
     from harness.report.pages import coverage_figures, write_report
     from harness.results.gate import compare_with_baseline, load_baseline, save_baseline
@@ -60,9 +61,9 @@ def test_a_check_registered_in_a_test_reaches_run_json_gate_report_and_shrinker(
         unsigned = replace(mine[0], evidence={k: v for k, v in mine[0].evidence.items() if k != "signature"})
         assert signature_of(unsigned).key == "few_pixels|too-many-pixels|none"  # classified from its drawing, not read back
         assert [g.cause for g in by_cause(mine)] == ["too-many-pixels"]
-        conformance = Finding("lattice", 0, 1, "conformance", "fail", "", "conformance|culling|culling", "culling", "culling",
+        conformance = SceneFinding("lattice", 0, 1, "conformance", "fail", "", "conformance|culling|culling", "culling", "culling",
                               "conformance")
-        few = Finding("lattice", 0, 1, "few_pixels", "fail", "", "few_pixels|too-many-pixels|none", "too-many-pixels", "none",
+        few = SceneFinding("lattice", 0, 1, "few_pixels", "fail", "", "few_pixels|too-many-pixels|none", "too-many-pixels", "none",
                       "few_pixels")
         assert [f.cause for f in attribute_causes([conformance, few])] == ["culling", "culling"]  # a consequent of conformance
         assert ("few_pixels: most pixels drawn in a scene", f"{mine[0].metrics['drawn_pixels']:.4g}") in coverage_figures(results)
@@ -252,10 +253,13 @@ def test_the_import_graph_has_no_cycle():
 
 # the layers, by folder: presentation (report pages and pictures, the command line, output
 # formats, the gate, the pytest plugin) sits on the engine, never under it
-PRESENTATION_PACKAGES = ("harness.report", "harness.cli.main", "harness.results.output", "harness.results.gate",
+PRESENTATION_PACKAGES = ("harness.report", "harness.cli.main", "harness.cli.common", "harness.cli.run", "harness.cli.gate",
+                         "harness.cli.compare", "harness.cli.identify", "harness.cli.replay", "harness.cli.bench_command",
+                         "harness.cli.fuzz", "harness.cli.diff", "harness.cli.listing", "harness.results.output", "harness.results.gate",
                          "harness.integrations.pytest_plugin")
 ENGINE_PACKAGES = ("harness.geometry", "harness.contract", "harness.kinds", "harness.oracle", "harness.checks", "harness.diagnose",
-                   "harness.identify", "harness.engine", "harness.results.files", "harness.cli.bench", "cases", "rasterizers")
+                   "harness.identify", "harness.engine", "harness.results.files", "harness.cli.bench",
+                   "harness.cli.bench_workloads", "harness.cli.bench_peers", "harness.cli.bench_campaign", "cases", "rasterizers")
 
 
 def _under(name: str, packages: tuple[str, ...]) -> bool:

@@ -62,7 +62,7 @@ def test_a_convention_of_each_model_reads_back_where_only_records_may():
     a convention of each model still reads back (its model is derived, not pickled)."""
     import io
 
-    from harness.campaign.campaign import _FingerprintUnpickler
+    from harness.campaign.state import _FingerprintUnpickler
 
     for convention in CONVENTIONS.values():
         again = _FingerprintUnpickler(io.BytesIO(pickle.dumps(convention))).load()

@@ -22,16 +22,8 @@ from cases.suites import suite
 from harness import run_suite
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene, Unsupported
-from harness.engine.isolation import (
-    ERROR_BASES,
-    Outcome,
-    PluginError,
-    Worker,
-    decode_outcome,
-    describe,
-    encode_outcome,
-    rebuilt_error,
-)
+from harness.engine.isolation import Worker
+from harness.engine.outcomes import ERROR_BASES, Outcome, PluginError, decode_outcome, describe, encode_outcome, rebuilt_error
 from harness.engine.wire import WireError, pack, unpack
 from tests.known_bad.hostile_pickles import (
     HOSTILE_PICKLES,
@@ -99,7 +91,7 @@ def test_a_worker_hands_back_plain_classes_not_the_plugins(tmp_path):
         outcome = worker.rasterize(SCENE)
     error = outcome.error
     assert isinstance(error, ValueError) and type(error).__name__ == "DetonatingError"
-    assert type(error).__module__ == "harness.engine.isolation" and "DetonatingError" in outcome.traceback
+    assert type(error).__module__ == "harness.engine.outcomes" and "DetonatingError" in outcome.traceback
     assert describe(error) == "DetonatingError: triangle 0 is not welcome here"
     assert not _ran_here(marker)
 

@@ -28,7 +28,7 @@ from harness.engine.isolation import InProcess
 from harness.engine.registry import load
 from harness.engine.runner import replay, run_suite
 from harness.identify.fingerprint import Fingerprint, identify
-from harness.identify.triangle_probes import NON_FINITE_CASES, ZERO_AREA_CASE, non_finite, suite_defects
+from harness.identify.triangle_defects import NON_FINITE_CASES, ZERO_AREA_CASE, non_finite, suite_defects
 from harness.report.pages import write_report
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.readme_plugins import GRID_4X4, EvenOddScanline

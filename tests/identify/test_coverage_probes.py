@@ -13,8 +13,10 @@ from harness.contract.coverage import Coverage
 from harness.contract.samples import STANDARD_PATTERNS
 from harness.contract.scenes import Scene
 from harness.engine.isolation import InProcess
-from harness.identify.coverage_probes import CONTINUOUS_LEVELS, alpha_sweeps, coverage_kind, sample_positions
+from harness.identify.area_probes import CONTINUOUS_LEVELS, alpha_sweeps
+from harness.identify.coverage_probes import coverage_kind
 from harness.identify.fingerprint import identify
+from harness.identify.sample_probes import sample_positions
 from harness.oracle.coverage import exact_coverage
 
 
@@ -158,7 +160,7 @@ def test_a_card_with_samples_sharing_an_offset_never_claims_a_pattern():
     assert "samples 0, 1, 2, 3 all at (0.5, 0.5)" in fingerprint.facts["pattern"], card
     assert "NOT RECOVERED" in card and "a stand-in" in card and "not scored" in card, card
     assert "identified" not in card and "best guess" not in card and "standard 4x pattern" not in card, card
-    from harness.cli.main import _convention_text
+    from harness.cli.run import _convention_text
     from harness.identify.fingerprint import Identified
 
     said = _convention_text(Identified(CentreSamples(), fingerprint))  # what run prints for it

@@ -19,7 +19,12 @@ from harness.contract.scenes import LineScene
 from harness.engine.runner import run_suite
 from harness.identify.fingerprint import identify
 from harness.oracle.coverage import exact_coverage
-from harness.oracle.lines import diamond_exit_spans, diamond_exit_spans_rational, diamond_wide_spans, diamond_wide_spans_rational
+from harness.oracle.diamond_lines import (
+    diamond_exit_spans,
+    diamond_exit_spans_rational,
+    diamond_wide_spans,
+    diamond_wide_spans_rational,
+)
 from rasterizers.lines import DiamondExitDDA
 from tests.gl_lines import GLDiamondLines, PerturbedUpwards, WideNotMoved
 from tests.oracle.test_lines import QUICK, SIZE, _pixels, _same, _sorted, segments

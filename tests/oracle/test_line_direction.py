@@ -28,8 +28,8 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene
 from harness.engine.runner import run_suite
 from harness.identify.fingerprint import identify
+from harness.oracle.bresenham_lines import _round_pixel_rational, bresenham_spans, bresenham_spans_rational, walks_backwards
 from harness.oracle.coverage import exact_coverage
-from harness.oracle.lines import _round_pixel_rational, bresenham_spans, bresenham_spans_rational, walks_backwards
 from rasterizers.lines import BresenhamLines
 from tests.known_bad.lines import SwapsShallowOnly
 from tests.textbook_lines import TextbookPlotLine, WikipediaPlotLine

@@ -10,24 +10,12 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from harness.contract.conventions import TIE_RULES, Convention
+from harness.contract.conventions import BRESENHAM_ROUNDINGS, BRESENHAM_TIES, TIE_RULES, BresenhamTies, Convention
 from harness.contract.scenes import Scene
+from harness.oracle.bresenham_lines import _round_pixel_rational, bresenham_spans, bresenham_spans_rational, end_point_pixels
 from harness.oracle.coverage import exact_coverage
-from harness.oracle.lines import (
-    BRESENHAM_ROUNDINGS,
-    BRESENHAM_TIES,
-    RECT_SAFE_MIN,
-    BresenhamTies,
-    _in_test_area_rational,
-    _round_pixel_rational,
-    bresenham_spans,
-    bresenham_spans_rational,
-    diamond_exit_spans,
-    diamond_exit_spans_rational,
-    end_point_pixels,
-    rectangle_spans,
-    rectangle_spans_rational,
-)
+from harness.oracle.diamond_lines import _in_test_area_rational, diamond_exit_spans, diamond_exit_spans_rational
+from harness.oracle.rectangle_lines import RECT_SAFE_MIN, rectangle_spans, rectangle_spans_rational
 
 SIZE = 8
 QUICK = settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])

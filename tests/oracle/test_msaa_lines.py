@@ -17,7 +17,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene
 from harness.engine.runner import run_suite
 from harness.oracle.coverage import exact_coverage
-from harness.oracle.lines import rectangle_spans_rational
+from harness.oracle.rectangle_lines import rectangle_spans_rational
 from tests.msaa_lines import ClosedRectangles, MultisampleRectangleLines
 from tests.oracle.test_lines import QUICK, SIZE, segments
 

@@ -460,7 +460,7 @@ def test_a_new_line_failure_is_a_regression_and_a_known_one_is_not(results: list
     assert any(line.startswith(f"{CHECK}: ") for line in verdict.lines())
     # a line failure not in the baseline is a regression too
     joints = [replace(r, rasterizer=ExactLines.name) for r in results if r.check == "joints"]
-    assert [f.kind for f in compare_with_baseline(good + joints, baseline).findings if f.key.endswith("|joints")] == ["regression"]
+    assert [f.verdict for f in compare_with_baseline(good + joints, baseline).findings if f.key.endswith("|joints")] == ["regression"]
     # once accepted, it is known; its metric growing beyond the check's tolerance regresses again
     accepted = load_baseline(save_baseline(tmp_path / "accepted.json", broken))
     assert compare_with_baseline(broken, accepted).ok and len(compare_with_baseline(broken, accepted).known) == len(CASES)

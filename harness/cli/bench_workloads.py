@@ -1,0 +1,156 @@
+"""The bench's workloads (:mod:`harness.cli.bench`), fixed seeds: triangles (W1, W2;
+:func:`workloads`), paths ({10/3} stars and a wiggly outline, P1 and P2; :func:`path_workloads`)
+and lines (short and long segments, L1 and L2; :func:`line_workloads`), each a
+:class:`Workload` with its mean primitive size.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+from cases.scenes import random_triangles
+from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
+
+__all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "short_segments", "long_segments", "stars", "wiggly_outline",
+           "SIZE", "PATH_SIZE", "LINE_SIZE"]
+
+if TYPE_CHECKING:
+    pass
+
+
+SIZE = 1024
+PATH_SIZE = 512
+LINE_SIZE = 1024
+
+
+@dataclass(frozen=True, slots=True)
+class Workload:
+    """A scene to time; ``mean_area`` is per primitive (for a path, the magnitude of its
+    signed area: the integral of its winding number; for a segment, its length in px)."""
+
+    name: str
+    description: str
+    scene: AnyScene
+    mean_area: float
+
+
+def workloads(scale: float = 1.0) -> list[Workload]:
+    """W1 and W2; ``scale`` < 1 shrinks the triangle counts (for smoke tests)."""
+    out = []
+    for name, count, area, seed in (("W1", 10_000, 50.0, 1), ("W2", 100, 100_000.0, 2)):
+        n = max(1, int(count * scale))
+        positions = random_triangles(n, area, SIZE, seed)
+        p = positions
+        areas = 0.5 * np.abs((p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0]))
+        out.append(Workload(name, f"{n} triangles, mean area {areas.mean():,.0f} px", Scene(SIZE, SIZE, positions), float(areas.mean())))
+    return out
+
+
+def stars(count: int, size: int, seed: int) -> PathScene:
+    """``count`` {10/3} star polygons (10 vertices, one contour, each vertex joined to the
+    third next: the winding number reaches 3 at the centre) with random centres on the
+    ``size`` x ``size`` screen, radii 4 to 40 px and rotations; fill rule nonzero.
+
+    >>> scene = stars(3, 64, 0)
+    >>> len(scene), scene.contour_sizes.tolist()
+    (3, [10, 10, 10])
+    """
+    rng = np.random.default_rng(seed)
+    centre = rng.uniform(0.0, size, size=(count, 1, 2))
+    radius = rng.uniform(4.0, 40.0, size=(count, 1))
+    angle = rng.uniform(0.0, 2.0 * np.pi, size=(count, 1)) + 2.0 * np.pi * 3.0 * np.arange(10) / 10.0
+    vertices = centre + radius[..., None] * np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+    return PathScene(size, size, vertices.reshape(-1, 2), np.full(count, 10, dtype=np.int64), np.arange(count, dtype=np.int64))
+
+
+def wiggly_outline(vertices: int, size: int) -> PathScene:
+    """One closed curve of ``vertices`` vertices that winds twice around the screen's centre
+    with wiggles of two frequencies: it crosses itself, and where its two turns overlap the
+    winding number is 2 (filled by nonzero, not by even-odd); fill rule nonzero.
+
+    >>> wiggly_outline(1000, 512).vertices.shape
+    (1000, 2)
+    """
+    t = np.arange(vertices) * (4.0 * np.pi / vertices)  # two turns; every term below closes after them
+    r = 0.42 * size * (0.62 + 0.25 * np.sin(3.5 * t) + 0.08 * np.sin(61.0 * t) + 0.03 * np.sin(997.0 * t))
+    points = size / 2.0 + np.stack([r * np.cos(t), r * np.sin(t)], axis=-1)
+    return PathScene(size, size, points, np.array([vertices], dtype=np.int64), np.array([0], dtype=np.int64))
+
+
+def _signed_areas(scene: PathScene) -> NDArray[np.float64]:
+    """(P,) each path's signed area (shoelace over its contours)."""
+    a, b, path = scene.edges()
+    return np.asarray(np.bincount(path, weights=(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]) / 2.0, minlength=len(scene)), dtype=np.float64)
+
+
+def path_workloads(scale: float = 1.0) -> list[Workload]:
+    """P1 (stars) and P2 (the 100,000-vertex outline), each under nonzero then even-odd;
+    ``scale`` < 1 shrinks the star count and the outline's vertices (for smoke tests)."""
+    n = max(1, int(1000 * scale))
+    v = max(64, int(100_000 * scale))
+    out = []
+    for name, scene, what in (("P1", stars(n, PATH_SIZE, 3), f"{n} {{10/3}} stars of 10 vertices"),
+                              ("P2", wiggly_outline(v, PATH_SIZE), f"one self-intersecting outline of {v:,} vertices")):
+        area = float(np.abs(_signed_areas(scene)).mean())
+        for rule in ("nonzero", "evenodd"):
+            out.append(Workload(f"{name}-{rule}", f"{what}, {rule}, {PATH_SIZE} x {PATH_SIZE}", scene.with_fill_rule(rule), area))
+    return out
+
+
+def short_segments(count: int, size: int, seed: int) -> LineScene:
+    """``count`` segments of lengths 2 to 16 px in random directions, each a strip of its
+    own, their start points random and every end point inside the ``size`` x ``size``
+    screen (at least half a pixel from its border).
+
+    >>> scene = short_segments(4, 64, 0)
+    >>> len(scene), scene.strip_sizes.tolist()
+    (4, [2, 2, 2, 2])
+    """
+    rng = np.random.default_rng(seed)
+    angle = rng.uniform(0.0, 2.0 * np.pi, size=count)
+    length = rng.uniform(2.0, 16.0, size=count)
+    step = length[:, None] * np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    # the start far enough from each border that the end lands inside it
+    low, high = 0.5 - np.minimum(step, 0.0), size - 0.5 - np.maximum(step, 0.0)
+    start = low + rng.uniform(0.0, 1.0, size=(count, 2)) * (high - low)
+    return LineScene.from_segments(size, size, start, start + step)
+
+
+def long_segments(count: int, size: int, seed: int) -> LineScene:
+    """``count`` segments whose end points lie anywhere on the ``size`` x ``size`` screen
+    (at least half a pixel from its border) and at least ``size / 4`` px apart, each a
+    strip of its own.
+
+    >>> scene = long_segments(3, 512, 0)
+    >>> a, b = scene.segments()
+    >>> len(scene), bool((np.hypot(*(b - a).T) >= 128).all())
+    (3, True)
+    """
+    rng = np.random.default_rng(seed)
+    found: list[NDArray[np.float64]] = []
+    kept = 0
+    while kept < count:  # about 3 in 4 pairs are far enough apart: a few rounds at most
+        ends = rng.uniform(0.5, size - 0.5, size=(2 * count, 2, 2))
+        far = np.hypot(*(ends[:, 1] - ends[:, 0]).T) >= size / 4
+        found.append(ends[far][: count - kept])
+        kept += found[-1].shape[0]
+    ends = np.concatenate(found)
+    return LineScene.from_segments(size, size, ends[:, 0], ends[:, 1])
+
+
+def line_workloads(scale: float = 1.0) -> list[Workload]:
+    """L1 (100,000 short segments) and L2 (1,000 long ones); ``scale`` < 1 shrinks the
+    counts (for smoke tests)."""
+    out = []
+    for name, count, make, seed, what in (("L1", 100_000, short_segments, 4, "short segments"),
+                                          ("L2", 1_000, long_segments, 5, "long segments")):
+        n = max(1, int(count * scale))
+        scene = make(n, LINE_SIZE, seed)
+        a, b = scene.segments()
+        length = float(np.hypot(*(b - a).T).mean())
+        out.append(Workload(name, f"{n:,} {what}, mean length {length:,.1f} px, width 1, {LINE_SIZE} x {LINE_SIZE}", scene, length))
+    return out
