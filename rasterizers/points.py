@@ -69,11 +69,11 @@ class PointSprites:
         for k, (px, py) in enumerate(centres.tolist()):
             if not (math.isfinite(px) and math.isfinite(py)):
                 continue
-            x0, x1 = _bounds(Fraction(px), half, ox, tx)
-            y0, y1 = _bounds(Fraction(py), half, oy, ty)
+            first_x, stop_x = _bounds(Fraction(px), half, ox, tx)
+            first_y, stop_y = _bounds(Fraction(py), half, oy, ty)
             # clipped to the viewport (a far point's bounds are huge Python integers)
-            bounds[k] = (min(max(x0, 0), scene.width), max(min(x1, scene.width), 0),
-                         min(max(y0, 0), scene.height), max(min(y1, scene.height), 0))
+            bounds[k] = (min(max(first_x, 0), scene.width), max(min(stop_x, scene.width), 0),
+                         min(max(first_y, 0), scene.height), max(min(stop_y, scene.height), 0))
         x0, x1, y0, y1 = bounds.T
         rows = np.where(x1 > x0, np.maximum(y1 - y0, 0), 0)
         starts = np.cumsum(rows) - rows

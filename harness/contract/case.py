@@ -26,6 +26,7 @@ from numpy.typing import NDArray
 from harness.contract.scenes import MAX_VIEWPORT, AnyScene, LineScene, PathScene, Scene
 from harness.kinds import KINDS, TRIANGLES, PrimitiveKind, kind_of, kind_of_json
 from harness.kinds.base import JSON_NUMBER, JSON_POINT
+from harness.kinds.points import PointScene
 from harness.results.files import atomic_write_text, read_input
 from harness.results.schemas import first_error
 from harness.results.schemas import what as problem
@@ -238,6 +239,29 @@ def _scene_to_json(scene: AnyScene) -> dict[str, Any]:
 def lines_to_json(scene: LineScene) -> dict[str, Any]:
     """A line scene's case-JSON fields (the kind's codec, :data:`harness.kinds.LINES`)."""
     return {"line_width": _text(scene.line_width), "lines": [_hex(strip) for strip in scene.strips()]}
+
+
+def points_to_json(scene: PointScene) -> dict[str, Any]:
+    """A point scene's case-JSON fields (the kind's codec)."""
+    return {"point_size": _text(scene.point_size), "points": _hex(scene.vertices)}
+
+
+def points_from_json(data: dict[str, Any], width: int, height: int, where: str = "") -> PointScene:
+    """A point scene from its case-JSON fields; ``where`` leads an error."""
+    try:
+        centres = _unhex(data["points"], "points")
+        try:
+            size = _number(data.get("point_size", 1))
+        except ValueError as exc:
+            raise ValueError(f"case JSON is malformed at point_size: {exc}") from None
+        return PointScene(width, height, np.zeros((0, 2)) if centres is None else centres, size)
+    except ValueError as exc:
+        raise ValueError(f"{where}{exc}") from None
+
+
+def point_sizes(data: dict[str, Any]) -> dict[str, int]:
+    """What a point case's fields hold: points."""
+    return {"points": len(data["points"])}
 
 
 def paths_to_json(scene: PathScene) -> dict[str, Any]:

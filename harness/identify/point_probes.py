@@ -15,13 +15,13 @@ triangles' is a finding, as for paths and lines.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
-from harness.contract.conventions import Convention
+from harness.contract.conventions import Convention, TieRule
 from harness.engine.isolation import Outcome
 from harness.kinds.points import PointScene
 from harness.oracle.points import point_coverage
@@ -29,7 +29,7 @@ from harness.oracle.points import point_coverage
 __all__ = ["SQUARE_TIES", "PointFit", "tie_points", "point_candidates", "fit_points", "point_verdict_cases"]
 
 # the tie rules an axis-aligned square can tell apart (one per pair of owned sides)
-SQUARE_TIES = ("top-left", "top-right", "bottom-left", "bottom-right")
+SQUARE_TIES: tuple[TieRule, ...] = ("top-left", "top-right", "bottom-left", "bottom-right")
 SAMPLE_POINTS = ((0.5, 0.5), (0.0, 0.0), (0.5, 0.0), (0.0, 0.5))
 SIZE = 24
 
@@ -104,7 +104,7 @@ def _mismatches(coverage_pixels: np.ndarray, scene: PointScene, convention: Conv
     return int(np.count_nonzero(expected != coverage_pixels))
 
 
-def fit_points(call: callable, triangles: Convention | None, seed: int = 0) -> PointFit:  # type: ignore[valid-type]
+def fit_points(call: Callable[[PointScene], Outcome], triangles: Convention | None, seed: int = 0) -> PointFit:
     """Send :func:`tie_points` to ``call`` (scene -> :class:`harness.engine.isolation.Outcome`)
     and fit :func:`point_candidates` to what it drew (pixels drawn at least once)."""
     drawn: list[tuple[PointScene, np.ndarray]] = []

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from harness.contract.scenes import MAX_VIEWPORT, _set_viewport, _vertex_array
 from harness.kinds.base import JSON_NUMBER, JSON_POINT, PrimitiveKind
 
-__all__ = ["PointScene", "POINTS", "points_to_json", "points_from_json", "point_sizes"]
+__all__ = ["PointScene", "POINTS"]
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -144,33 +144,6 @@ class PointScene:
 JSON_FIELDS = {"points": {"type": "array", "items": JSON_POINT}, "point_size": {"anyOf": [JSON_NUMBER]}}
 
 
-def points_to_json(scene: PointScene) -> dict[str, Any]:
-    """A point scene's case-JSON fields (the kind's codec)."""
-    from harness.contract.case import _hex, _text
-
-    return {"point_size": _text(scene.point_size), "points": _hex(scene.vertices)}
-
-
-def points_from_json(data: dict[str, Any], width: int, height: int, where: str = "") -> PointScene:
-    """A point scene from its case-JSON fields; ``where`` leads an error."""
-    from harness.contract.case import _number, _unhex
-
-    try:
-        centres = _unhex(data["points"], "points")
-        try:
-            size = _number(data.get("point_size", 1))
-        except ValueError as exc:
-            raise ValueError(f"case JSON is malformed at point_size: {exc}") from None
-        return PointScene(width, height, np.zeros((0, 2)) if centres is None else centres, size)
-    except ValueError as exc:
-        raise ValueError(f"{where}{exc}") from None
-
-
-def point_sizes(data: dict[str, Any]) -> dict[str, int]:
-    """What a point case's fields hold: points."""
-    return {"points": len(data["points"])}
-
-
 def _coordinates_of(scene: PointScene, prims: NDArray[np.int64]) -> list[NDArray[np.float64]]:
     return [scene.vertices[k][None, :] for k in prims]
 
@@ -185,8 +158,8 @@ POINTS: PrimitiveKind[PointScene] = PrimitiveKind(
     case_word="point", may_overlap=True, json_fields=JSON_FIELDS, json_required=("points",),
     size_limits={"points": 1 << 20}, caption_words=lambda scene: f" of size {scene.point_size:g}",
     invariance_families=None,
-    to_json="harness.kinds.points:points_to_json", from_json="harness.kinds.points:points_from_json",
-    json_sizes="harness.kinds.points:point_sizes",
+    to_json="harness.contract.case:points_to_json", from_json="harness.contract.case:points_from_json",
+    json_sizes="harness.contract.case:point_sizes",
     oracle="harness.oracle.points:point_coverage",
     near_ties="harness.checks.points:point_near_ties",
     invariance_variants="harness.checks.points:point_variants",

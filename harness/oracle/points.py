@@ -199,4 +199,5 @@ def point_coverage_rational(scene: PointScene, convention: Convention) -> Covera
                 spans.append((k, j, covered[0], covered[-1] + 1))
     if not spans:
         return Coverage.empty()
-    return Coverage(*(np.array(column, dtype=np.int64) for column in zip(*spans)))
+    point, y, x0, x1 = (np.array(column, dtype=np.int64) for column in zip(*spans))
+    return Coverage(point, y, x0, x1)
