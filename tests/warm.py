@@ -46,7 +46,8 @@ class _Oracle:
         self.convention = Convention(**convention)  # type: ignore[arg-type]
         self.name = f"oracle_{self.convention.kind}{'_shares' if self.convention.samples and self.convention.kind == 'area' else ''}"
         self.interpolates = self.convention.kind != "area"
-        self.scene_kinds = ("triangles", "paths") if self.convention.kind == "single" else ("triangles",)
+        # single-sample: paths and points too (the winding oracle's, the path checks' and the points' kernels)
+        self.scene_kinds = ("triangles", "paths", "points") if self.convention.kind == "single" else ("triangles",)
 
     def rasterize(self, scene):  # type: ignore[no-untyped-def]
         from harness.oracle.coverage import exact_coverage
