@@ -3,7 +3,8 @@
 Triangle families first, then the path families (``paths``, ``path-partitions``,
 ``path-degenerate``: :mod:`cases.paths`; handed only to rasterizers that take paths), the
 line families (``lines``, ``line-strips``, ``line-degenerate``: :mod:`cases.lines`; handed
-only to rasterizers that take lines), then motion.
+only to rasterizers that take lines), the point families (``points``: :mod:`cases.points`),
+then motion.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from cases.meshes import mesh_cases
 from cases.motion import motion_cases
 from cases.partitions import partition_cases
 from cases.paths import path_cases
+from cases.points import point_cases
 from harness.contract.case import Case, MotionCase
 
 __all__ = ["SUITES", "suite", "conformance_cases"]
@@ -50,5 +52,6 @@ def build(name: str, seed: int) -> tuple[Case | MotionCase, ...]:
         *degenerate_cases(seed, full),
         *path_cases(seed, full),
         *line_cases(seed, full),
+        *point_cases(seed, full),
         *motion_cases(seed, full),
     )

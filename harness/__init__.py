@@ -18,9 +18,11 @@ from harness.contract.conventions import COVERAGE_KINDS, FILL_RULES, LINE_RULES,
 from harness.contract.coverage import Coverage
 from harness.contract.protocol import Rasterizer
 from harness.contract.samples import STANDARD_PATTERNS, pattern
-from harness.contract.scenes import SCENE_KINDS, AnyScene, LineScene, PathScene, Scene, Unsupported
+from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene, Unsupported
 from harness.geometry.numba_cache import safe_numba_cache
 from harness.geometry.spans import span_buffers
+from harness.kinds import SCENE_KINDS
+from harness.kinds.points import PointScene
 
 if TYPE_CHECKING:  # imported when first used (the runner and the checks take a second to import)
     from harness.checks.records import Result, Tolerance
@@ -34,7 +36,7 @@ safe_numba_cache()
 
 __all__ = [
     # what rasterize receives
-    "Scene", "PathScene", "LineScene", "AnyScene", "SCENE_KINDS",
+    "Scene", "PathScene", "LineScene", "PointScene", "AnyScene", "SCENE_KINDS",
     # what it returns (span_buffers: four int64 arrays for a compiled kernel to fill), and may raise instead
     "Coverage", "span_buffers", "Unsupported",
     # what it declares

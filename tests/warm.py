@@ -47,7 +47,8 @@ class _Oracle:
         shares = self.convention.samples and self.convention.kind == "area"
         self.name = f"oracle_{self.convention.kind}{'_shares' if shares else ''}"
         self.interpolates = self.convention.kind != "area"
-        self.scene_kinds = ("triangles", "paths") if self.convention.kind == "single" else ("triangles",)
+        # single-sample: paths and points too (the winding oracle's, the path checks' and the points' kernels)
+        self.scene_kinds = ("triangles", "paths", "points") if self.convention.kind == "single" else ("triangles",)
 
     def rasterize(self, scene):
         from harness.oracle.coverage import exact_coverage

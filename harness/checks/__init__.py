@@ -43,7 +43,9 @@ from harness.checks.closed import closed_balance
 from harness.checks.degenerate import control_scene, degenerate, measure_work, refusal
 from harness.checks.invariance import invariance, invariance_variants
 from harness.checks.motion import jaggy, perspective, texel_swimming
-from harness.checks.area import accuracy, motion_accuracy, popping, seams
+from harness.checks.area import accuracy, motion_accuracy
+from harness.checks.area_seams import seams
+from harness.checks.area_popping import popping
 from harness.checks.paths import triangulation
 from harness.checks.lines import connectivity, joints, length, line_motion, reversal
 # isort: on

@@ -29,7 +29,7 @@ seams
     On a planar partition the exact areas (or sample shares) of the pieces in a pixel
     wholly inside the region sum to exactly 1, so the pieces' alphas, as integer levels,
     must sum to levels - 1 within what each piece's rounding may lose (the declared
-    tolerance, at most one level: :func:`piece_allowance`), decided exactly; outside the
+    tolerance, at most one level: :func:`harness.checks.area_seams.piece_allowance`), decided exactly; outside the
     region they must sum to 0. The depth of the seam after compositing the pieces with ``over`` (the
     background left showing, prod(1 - alpha)) is reported as an artifact, never a failure.
 popping
@@ -62,9 +62,7 @@ from harness.checks.records import (
     overflow_class,
     register,
     result,
-    skip,
 )
-from harness.checks.watertight import pixel_classes
 from harness.contract.case import Case, MotionCase
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
@@ -72,11 +70,11 @@ from harness.contract.scenes import Scene
 from harness.geometry.exact import orientation
 from harness.geometry.keys import union, unique_inverse
 from harness.kinds import TRIANGLES
-from harness.oracle.area import area_coverage, area_error_bound, displaced_area_bound, exact_area
+from harness.oracle.area import area_error_bound, displaced_area_bound, exact_area
 from harness.oracle.coverage import exact_samples
 
-__all__ = ["accuracy", "motion_accuracy", "seams", "popping", "model_bound", "exact_model", "off_level", "level_values",
-           "exact_alpha", "exact_tolerance", "piece_allowance", "rounding_reach", "alpha_facts", "alpha_cause", "ALPHA_CAUSES",
+__all__ = ["accuracy", "motion_accuracy", "model_bound", "exact_model", "off_level", "level_values",
+           "exact_alpha", "exact_tolerance", "rounding_reach", "alpha_facts", "alpha_cause", "ALPHA_CAUSES",
            "LEVEL_NOISE", "DISPLAY_LEVELS"]
 
 AREA_KINDS: frozenset[str] = frozenset({"area"})
@@ -798,321 +796,7 @@ def motion_accuracy(case: MotionCase, coverages: list[Coverage], oracles: list[C
     return result(case.id, "accuracy", False, message, metrics, evidence)
 
 
-# -- seams ------------------------------------------------------------------------------------
-
-
-def _classes(region: NDArray, convention: Convention, width: int, height: int) -> tuple[NDArray, NDArray]:
-    """(inside, outside), (H, W) bool: pixels wholly inside (outside) the region both as
-    given and as the convention snaps it (the pieces' vertices, the region's among them,
-    move by snapping: a pixel counts only where both agree)."""
-    inside, outside = pixel_classes(region, width, height)
-    snapped = convention.snap(region)
-    if not np.array_equal(snapped, region):
-        inside_s, outside_s = pixel_classes(snapped, width, height)
-        inside, outside = inside & inside_s, outside & outside_s
-    return inside, outside
-
-
-def piece_allowance(convention: Convention) -> Fraction:
-    """How far, in levels, each piece's alpha may round off its exact area in a seam's
-    sum: the declared tolerance (:func:`exact_tolerance`; half a level by default, one for
-    a convention that rounds either way), but never more than one level -- no rounding to
-    levels errs by a whole level, and a larger tolerance declares an approximation, whose
-    errors the two sides of a shared edge must cancel (cairo's 2010 seam is two sides that
-    do not). Exact.
-
-    >>> [piece_allowance(Convention(coverage="area", tolerance=t)) for t in (None, 1 / 255, 0.375)]
-    [Fraction(1, 2), Fraction(1, 1), Fraction(1, 1)]
-    """
-    return min(exact_tolerance(convention), Fraction(1, convention.levels - 1)) * (convention.levels - 1)
-
-
-def _seam_allowance(pieces: NDArray, convention: Convention) -> NDArray:
-    """Per pixel, the largest |sum of the pieces' levels - (levels - 1)| their roundings
-    allow: floor(pieces * :func:`piece_allowance`), exactly (the sum is an integer)."""
-    each = piece_allowance(convention)
-    counts = pieces.astype(np.int64)
-    out = np.zeros(counts.size)
-    for k in np.unique(counts):
-        out[counts == k] = math.floor(int(k) * each)
-    return out
-
-
-def seams(case: Case, coverage: Coverage, convention: Convention, oracle: Coverage) -> Result:
-    """On a planar partition: at each pixel wholly inside the region the pieces' alphas,
-    as levels ``rint(alpha * (levels - 1))``, sum to ``levels - 1`` within
-    :func:`piece_allowance` per piece present there, floored (the sum is an integer; each
-    piece may round by the declared tolerance -- half a level by default -- but by no
-    more than one level; exact sample shares sum to exactly 1 too, so the rule is the same
-    for a supersampled convention); at each pixel wholly outside, to 0 (a stray).
-
-    A piece is present where the rasterizer gives it a nonzero alpha or the oracle a
-    nonzero area: a sliver that rounds to level 0 still takes its area from the sum, and
-    what it may lose must be allowed for (the float oracle's zero areas are
-    below 2**-24 each, which no integer sum of levels can tell).
-
-    Metrics: ``seam_pixels``, ``max_sum_error`` (largest |sum of alphas - 1| inside, in
-    levels), ``strays``, ``inside_pixels``, and the conflation artifact ``max_over_gap``,
-    ``mean_over_gap``: the background left showing, prod(1 - alpha), when the pieces are
-    composited in one colour with ``over`` (never a failure by itself). Evidence (on
-    failure): ``pixels``, worst first, ``{x, y, sum, levels_off, pieces, triangles,
-    nonzero}`` (``sum``: of the alphas; ``levels_off``: sum of levels - (levels - 1);
-    ``pieces``: present, as above; ``triangles``: those with nonzero alpha, at most 8;
-    ``nonzero``: their number); ``strays``, ``[x, y]`` pairs.
-    """
-    if case.region is None:
-        return skip(case, "seams", "not a planar partition")
-    if convention.cull != "none":
-        return skip(case, "seams", f"the convention culls {convention.cull} triangles: the pieces' sums mean nothing")
-    scene = case.scene
-    width, height = scene.width, scene.height
-    t, x, y, alpha = _fragments(coverage, width, height, len(scene))
-    pixel = y * width + x
-    top = convention.levels - 1
-    size = width * height
-    with np.errstate(invalid="ignore"):
-        levels = np.rint(alpha * top)
-        level_sum = np.bincount(pixel, weights=levels, minlength=size)
-        level_abs = np.bincount(pixel, weights=np.abs(levels), minlength=size)
-        alpha_sum = np.bincount(pixel, weights=alpha, minlength=size)
-        nonzero = np.bincount(pixel, weights=(alpha != 0).astype(float), minlength=size)
-        # over: each piece leaves (1 - alpha) of what is below; the product, by its logarithm
-        cleaned = np.clip(np.nan_to_num(alpha, nan=0.0), 0.0, 1.0)
-        with np.errstate(divide="ignore"):
-            gap = np.exp(np.bincount(pixel, weights=np.log1p(-cleaned), minlength=size))
-    inside, outside = (c.ravel() for c in _classes(case.region, convention, width, height))
-    # pieces present: nonzero alpha, or nonzero area in the oracle, per (triangle, pixel)
-    keys, got, want = _aligned(*_keyed(coverage, width, height, len(scene)), *_keyed(oracle, width, height, len(scene)))
-    present = keys[(got != 0) | (want != 0)] % size
-    pieces = np.bincount(present, minlength=size).astype(float)
-    off = level_sum - top
-    allowed = _seam_allowance(pieces, convention)
-    with np.errstate(invalid="ignore"):
-        seam = inside & ~(np.abs(off) <= allowed)  # NaN is a seam
-        stray = outside & ~(level_abs == 0)
-        sum_error = np.where(np.isnan(alpha_sum), np.inf, np.abs(alpha_sum - 1.0) * top)
-    n_inside = int(inside.sum())
-    metrics = {
-        "seam_pixels": float(seam.sum()),
-        "max_sum_error": float(sum_error[inside].max(initial=0.0)),
-        "strays": float(stray.sum()),
-        "inside_pixels": float(n_inside),
-        "max_over_gap": float(gap[inside].max(initial=0.0)),
-        "mean_over_gap": float(gap[inside].mean()) if n_inside else 0.0,
-    }
-    ok = not seam.any() and not stray.any()
-    evidence: dict[str, Any] = {}
-    if not ok:
-        bad = np.flatnonzero(seam)
-        bad = bad[np.argsort(-np.nan_to_num(np.abs(off[bad]), nan=np.inf), kind="stable")][:EVIDENCE_LIMIT]
-        evidence["pixels"] = [{"x": int(p % width), "y": int(p // width), "sum": float(alpha_sum[p]),
-                               "levels_off": float(off[p]), "pieces": int(pieces[p]),
-                               "triangles": sorted(set(t[(pixel == p) & (alpha != 0)].tolist()))[:8],
-                               "nonzero": int(nonzero[p])} for p in bad]
-        if stray.any():
-            evidence["strays"] = [[int(p % width), int(p // width)] for p in np.flatnonzero(stray)[:EVIDENCE_LIMIT]]
-    gaps = (f"compositing with over leaves up to {metrics['max_over_gap']:.3g} of the background showing "
-            f"(mean {metrics['mean_over_gap']:.3g}: conflation)")
-    if ok:
-        message = (f"the pieces' alphas sum to 1 within their rounding ({float(piece_allowance(convention)):.3g} levels "
-                   f"per piece) at all {n_inside} inside pixels; {gaps}")
-    else:
-        message = (f"{int(seam.sum())} seam pixels (the pieces' alphas off 1 by up to {metrics['max_sum_error']:.2f} levels), "
-                   f"{int(stray.sum())} stray pixels outside; {gaps}")
-    return result(case.id, "seams", ok, message, metrics, evidence)
-
-
-# -- popping ----------------------------------------------------------------------------------
-
-
-def _exact_areas(scenes: list[Scene], convention: Convention) -> list[Coverage]:
-    """The exact area (the float oracle) of each frame under ``convention``'s snapping
-    and culling, ignoring any sample pattern: what a viewer's eye integrates."""
-    analytic = replace(convention, samples=None, coverage="area")
-    return [area_coverage(scene, analytic) for scene in scenes]
-
-
-def _window(parts: list[tuple[NDArray, NDArray, NDArray, NDArray]]) -> tuple[int, int, int, int]:
-    """(x0, y0, x1, y1): the smallest rectangle holding every fragment of ``parts``."""
-    xs = [p[1] for p in parts if p[1].size]
-    ys = [p[2] for p in parts if p[2].size]
-    if not xs:
-        return 0, 0, 1, 1
-    return (min(int(a.min()) for a in xs), min(int(a.min()) for a in ys),
-            max(int(a.max()) for a in xs) + 1, max(int(a.max()) for a in ys) + 1)
-
-
-# dense per-frame arrays of (triangles in a chunk) x (window pixels) stay below this many entries
-_CHUNK_ENTRIES = 1 << 21
-
-
-def _pixel_series(parts: dict[str, tuple[list[Any], list[NDArray[np.int64]]]], pixel: int) -> dict[str, list[float]]:
-    """Per name, one pixel's value summed over the triangles in each frame: ``parts`` maps
-    a name to its fragments per frame (``(triangle, x, y, value)``) and their window-local
-    pixel indices per frame."""
-    return {name: [float(frame[3][local == pixel].sum()) for frame, local in zip(frames, where)]
-            for name, (frames, where) in parts.items()}
-
-
-def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracles: list[Coverage],
-            convention: Convention, areas: list[Coverage] | None = None) -> Result:
-    """Per (triangle, pixel) and frame step, the alpha change against the declared
-    model's (the oracle of each frame): beyond twice the declared tolerance (what the
-    declared accuracy allows at the two frames; :func:`exact_tolerance`, each alpha the
-    level it stands for, :func:`exact_alpha`) the alpha jumped on its own -- a failure,
-    decided exactly where the oracle's bound leaves it open. Per pixel, the change of the summed
-    alpha against the exact area's (``areas``, computed when None) is the popping
-    artifact, in 8-bit levels (:data:`DISPLAY_LEVELS`).
-
-    The verdict is per triangle: at a pixel that k triangles share, each may err by the
-    tolerance, so their summed alpha may step by up to 2 k times it against the model's
-    with every promise kept.
-
-    Metrics: ``alpha_jumps`` ((triangle, pixel, step)s beyond the bound), ``max_step_error``
-    (largest |d alpha - d model|), ``max_pop_levels``, ``pops`` (pixel-steps beyond one
-    8-bit level), ``frames``, ``exact_decisions``. Evidence: ``series``, the worst pixel's
-    per-frame ``alpha``, ``area`` (exact) and ``oracle`` (each summed over triangles;
-    ready to plot); ``pixel``, that pixel ``{x, y}``; and (on failure) ``steps``, worst
-    first, ``{frame, triangle, x, y, d_alpha, d_oracle}`` (frame: the later frame of the
-    step).
-    """
-    frames = len(scenes)
-    width, height, n = scenes[0].width, scenes[0].height, len(scenes[0])
-    if areas is None:
-        areas = oracles if convention.samples is None else _exact_areas(scenes, convention)
-    levels = convention.levels
-    # each alpha as the level it stands for (exact_alpha), in float
-    got = [(t, x, y, level_values(a, levels)) for t, x, y, a in (_fragments(c, width, height, n) for c in coverages)]
-    want = [_fragments(c, width, height, n) for c in oracles]
-    true = want if areas is oracles else [_fragments(c, width, height, n) for c in areas]
-    x0, y0, x1, y1 = _window(got + want + true)
-    span = x1 - x0
-    win = span * (y1 - y0)
-    # window-local pixel index of every fragment, per frame
-    where = {name: [(part[2] - y0) * span + (part[1] - x0) for part in parts] for name, parts in (("got", got), ("want", want))}
-    where["true"] = where["want"] if true is want else [(part[2] - y0) * span + (part[1] - x0) for part in true]
-    limit = 2 * exact_tolerance(convention)
-    tolerance = float(limit)
-    unit = 1.0 / DISPLAY_LEVELS
-    bounds: dict[int, NDArray] = {}
-
-    def bound(f: int) -> NDArray:
-        """:func:`model_bound` of frame ``f`` (computed when a step comes near the limit)."""
-        if f not in bounds:
-            bounds[f] = model_bound(scenes[f].positions, convention, width, height)
-        return bounds[f]
-
-    chunk = max(1, _CHUNK_ENTRIES // max(win, 1))
-    whole = chunk >= n  # one chunk: the per-pixel sums come from the per-triangle arrays
-
-    pop_max, pops, pop_at = 0.0, 0, 0
-    summed_before: tuple[NDArray, NDArray] | None = None
-
-    def pixel_step(summed: tuple[NDArray, NDArray]) -> None:
-        """The summed alpha's step against the exact area's, per pixel."""
-        nonlocal pop_max, pops, pop_at, summed_before
-        if summed_before is not None:
-            with np.errstate(invalid="ignore"):
-                # float even when no frame covers anything (empty sums come out integer)
-                pop = np.abs((summed[0] - summed_before[0]) - (summed[1] - summed_before[1])).astype(np.float64)
-            pop[np.isnan(pop)] = np.inf
-            pops += int((pop > unit).sum())
-            k = int(np.argmax(pop))
-            if pop[k] > pop_max:
-                pop_max, pop_at = float(pop[k]), k
-        summed_before = summed
-
-    found: list[tuple[float, int, int, int, float, float, float, float]] = []  # |step error|, frame, t, pixel, a0, a1, o0, o1
-    jumps, worst_step, open_count = 0, 0.0, 0
-    for t0 in range(0, n, chunk):
-        t1 = min(n, t0 + chunk)
-        size = (t1 - t0) * win
-        before: tuple[NDArray, NDArray] | None = None
-        for f in range(frames):
-            dense = []
-            for part, local in ((got[f], where["got"][f]), (want[f], where["want"][f])):
-                if whole:
-                    dense.append(np.bincount(part[0] * win + local, weights=part[3], minlength=size))
-                else:
-                    mine = (part[0] >= t0) & (part[0] < t1)
-                    dense.append(np.bincount((part[0][mine] - t0) * win + local[mine], weights=part[3][mine], minlength=size))
-            now = (dense[0], dense[1])
-            if whole:
-                alpha_sum = now[0].reshape(n, win).sum(axis=0)
-                area_sum = (now[1].reshape(n, win).sum(axis=0) if true is want
-                            else np.bincount(where["true"][f], weights=true[f][3], minlength=win))
-                pixel_step((alpha_sum, area_sum))
-            if before is not None:
-                with np.errstate(invalid="ignore"):
-                    diff = np.abs((now[0] - before[0]) - (now[1] - before[1])).astype(np.float64)
-                diff[np.isnan(diff)] = np.inf
-                worst_step = max(worst_step, float(diff.max(initial=0.0)))
-                # the exact step error lies within the two frames' oracle bounds (each below
-                # 2**-24: harness.oracle.area) and the rounding of the differences of diff: beyond
-                # the limit for sure, or open; only the steps near or beyond it are looked at
-                with np.errstate(invalid="ignore"):
-                    largest = np.nanmax(np.abs(now[0]), initial=0.0) + np.nanmax(np.abs(before[0]), initial=0.0)
-                candidates = np.flatnonzero(diff > tolerance - 2.0**-23 - _DIFFERENCE_ROUNDING * max(1.0, largest))
-                if candidates.size:
-                    t = t0 + candidates // win
-                    a0, a1, o0, o1 = before[0][candidates], now[0][candidates], before[1][candidates], now[1][candidates]
-                    finite = np.isfinite(a0) & np.isfinite(a1)
-                    magnitude = np.maximum(1.0, np.abs(np.where(finite, a0, 0.0)) + np.abs(np.where(finite, a1, 0.0)))
-                    slack = bound(f - 1)[t] + bound(f)[t] + _DIFFERENCE_ROUNDING * (magnitude + max(1.0, tolerance))
-                    d = diff[candidates]
-                    sure = (d - slack > tolerance) | ~finite  # a NaN or infinite alpha jumps beyond any limit
-                    for k in np.flatnonzero(~sure & (d + slack > tolerance)):  # open: the rationals decide
-                        open_count += 1
-                        p = int(candidates[k]) % win
-                        x, y = x0 + p % span, y0 + p // span
-                        step_model = (exact_model(scenes[f].positions, convention, int(t[k]), x, y, float(o1[k]))
-                                      - exact_model(scenes[f - 1].positions, convention, int(t[k]), x, y, float(o0[k])))
-                        step_alpha = exact_alpha(float(a1[k]), levels) - exact_alpha(float(a0[k]), levels)
-                        sure[k] = abs(step_alpha - step_model) > limit
-                    hits = np.flatnonzero(sure)
-                    jumps += hits.size
-                    for k in hits[np.argsort(-d[hits], kind="stable")][:EVIDENCE_LIMIT]:
-                        found.append((float(d[k]), f, int(t[k]), int(candidates[k]) % win,
-                                      float(a0[k]), float(a1[k]), float(o0[k]), float(o1[k])))
-            before = now
-    if not whole:
-        for f in range(frames):
-            pixel_step((np.bincount(where["got"][f], weights=got[f][3], minlength=win),
-                        np.bincount(where["true"][f], weights=true[f][3], minlength=win)))
-    found.sort(key=lambda item: (-item[0], item[1], item[2], item[3]))  # worst first; ties by frame, triangle, pixel
-    found = found[:EVIDENCE_LIMIT]
-
-    # the worst pixel's series: the worst failing step's pixel, else the deepest pop's
-    focus = found[0][3] if found else pop_at
-    series = _pixel_series({"alpha": (got, where["got"]), "area": (true, where["true"]), "oracle": (want, where["want"])},
-                           focus)
-    metrics = {"alpha_jumps": float(jumps), "max_step_error": worst_step, "max_pop_levels": pop_max / unit,
-               "pops": float(pops), "frames": float(frames), "exact_decisions": float(open_count)}
-    evidence: dict[str, Any] = {"series": series, "pixel": {"x": int(x0 + focus % span), "y": int(y0 + focus // span)}}
-    if found:
-        evidence["steps"] = [{"frame": f, "triangle": t, "x": int(x0 + p % span), "y": int(y0 + p // span),
-                              "d_alpha": a1 - a0, "d_oracle": o1 - o0} for _, f, t, p, a0, a1, o0, o1 in found]
-    what = _model_words(convention)
-    artifact = (f"against the exact area the summed alpha pops by up to {pop_max / unit:.1f} 8-bit levels in a step "
-                f"({pops} pixel-steps beyond one level)")
-    if not jumps:
-        message = f"every alpha change within {tolerance:.3g} of {what}'s; {artifact}"
-    else:
-        message = (f"{jumps} alpha changes beyond {tolerance:.3g} (twice the tolerance) of {what}'s, by up to "
-                   f"{worst_step:.3g}; {artifact}")
-    return result(case_id, "popping", not jumps, message, metrics, evidence)
-
-
 # -- registration -----------------------------------------------------------------------------
-
-
-def _is_static(case: Any) -> bool:
-    return not hasattr(case, "frames")
-
-
-def _popping(s: Subject) -> Result:
-    assert s.convention is not None
-    return popping(s.case.id, list(s.case.frames), s.coverages, s.oracles, s.convention)
 
 
 def _accuracy(s: Subject) -> Result:
@@ -1131,25 +815,4 @@ register(Check(
     classifier="harness.diagnose.signatures:classify_accuracy", cause_role="root", motion_role="frame",
     figures=(Figure("max_error", "max", "largest |alpha - area|"), Figure("mean_error", "mean", "mean |alpha - area|"),
              Figure("over_tolerance", "sum", "pixels beyond the declared tolerance")),
-))
-register(Check(
-    "seams", lambda s: seams(s.case, s.coverage, s.convention, s.oracle),  # type: ignore[arg-type]
-    lambda case: _is_static(case) and getattr(case, "region", None) is not None, needs_convention=True,
-    kinds=AREA_KINDS, per_sample=False, metrics={"seam_pixels": (1.0, 0.0), "strays": (1.0, 0.0)},
-    caption="area coverage on a planar partition: the pieces' alphas sum to 1 inside (within their rounding), "
-            "0 outside; the seam left by compositing with over reported",
-    classifier="harness.diagnose.signatures:classify_seams", cause_role="consequent", motion_role="none",
-    figures=(Figure("seam_pixels", "sum", "seam pixels (alphas not summing to 1)"),
-             Figure("max_sum_error", "max", "largest seam (levels of its quantisation)"),
-             Figure("max_over_gap", "max", "deepest seam after compositing with over")),
-))
-register(Check(
-    "popping", _popping, lambda case: hasattr(case, "frames"), needs_convention=True, kinds=AREA_KINDS,
-    per_sample=False, metrics={"alpha_jumps": (1.0, 0.0)},
-    caption="area coverage under sub-pixel motion: no alpha changes beyond what the declared tolerance allows; "
-            "pops against the exact area reported",
-    classifier="harness.diagnose.signatures:classify_popping", cause_role="own", motion_role="through-frames",
-    figures=(Figure("max_pop_levels", "max", "largest pop against the exact area (in 1/255 levels)"),
-             Figure("pops", "sum", "pops of more than 1/255 (pixel-steps)"),
-             Figure("alpha_jumps", "sum", "alpha jumps beyond the declared tolerance")),
 ))

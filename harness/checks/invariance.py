@@ -20,7 +20,7 @@ from harness.contract.case import Case
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
-from harness.kinds import LINES, kind_of
+from harness.kinds import kind_of
 from harness.kinds.lines import LINE_SHIFT
 
 __all__ = ["invariance_variants", "invariance", "area_invariance", "shift_of", "LINE_SHIFT"]
@@ -239,7 +239,8 @@ def _run(s: Subject) -> Result:
 def _applies(case: Any) -> bool:
     if hasattr(case, "frames"):
         return False
-    return LINES.owns(case.scene) or case.family in ("lattice", "float", "watertight", "paths", "path-partitions")
+    families = kind_of(case.scene).invariance_families
+    return families is None or case.family in families
 
 
 register(Check(

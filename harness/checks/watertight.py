@@ -19,7 +19,7 @@ from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene
 from harness.geometry.exact import orientation
-from harness.kinds import LINES
+from harness.kinds import kind_of
 
 __all__ = ["watertight", "overdraw", "holes", "blame", "pixel_classes"]
 
@@ -238,8 +238,8 @@ register(Check(
 ))
 register(Check(
     "overdraw", lambda s: overdraw(s.case, s.coverage, s.convention, lambda: s.oracle),
-    # lines cross and share end pixels by rule: a double hit there is no overdraw (see the joints check)
-    lambda case: not hasattr(case, "frames") and not LINES.owns(getattr(case, "scene", None)), shrinks=True,
+    # lines cross and share end pixels by rule, points' squares overlap: a double hit there is no overdraw
+    lambda case: not hasattr(case, "frames") and not kind_of(case.scene).may_overlap, shrinks=True,
     metrics={"double_hits": (1.0, 0.0)}, on_request=True,
     caption="no pixel hit twice (watertight's double hits, in a form that survives shrinking)",
     classifier="harness.diagnose.signatures:classify_overdraw", cause_role="consequent", motion_role="none", figures=(),

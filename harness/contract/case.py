@@ -24,7 +24,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.contract.scenes import MAX_VIEWPORT, AnyScene, LineScene, PathScene, Scene
-from harness.kinds import TRIANGLES, kind_of, kind_of_json
+from harness.kinds import KINDS, TRIANGLES, PrimitiveKind, kind_of, kind_of_json
+from harness.kinds.base import JSON_NUMBER, JSON_POINT
+from harness.kinds.points import PointScene
 from harness.results.files import atomic_write_text, read_input
 from harness.results.schemas import first_error
 from harness.results.schemas import what as problem
@@ -110,28 +112,16 @@ class MotionCase:
 # whole screen, and 2**26 pixels (8192 x 8192) is 256 MiB of them.
 MAX_CASE_PIXELS = 1 << 26
 
-# A coordinate: a decimal string that is exactly a float ("0.375"), a float.hex string
-# ("0x1.8p+1"), "inf", "-inf", "nan", or a JSON number (read exactly: an inexact one is
-# refused, never rounded).
-_NUMBER = {"anyOf": [
-    {"type": "string", "pattern": r"^-?(0x[0-9a-f]+(\.[0-9a-f]*)?(p[+-]?[0-9]+)?|inf|nan)$"},
-    {"type": "string", "pattern": r"^-?[0-9]+(\.[0-9]+)?$"},
-    {"type": "number"},
-]}
-_POINT = {"type": "array", "items": _NUMBER, "minItems": 2, "maxItems": 2}
-_TRIANGLES = {"type": "array", "items": {"type": "array", "items": _POINT, "minItems": 3, "maxItems": 3}}
-_VALUES = {"type": ["array", "null"], "items": {"type": "array", "minItems": 3, "maxItems": 3,
-                                                "items": {"type": "array", "items": _NUMBER}}}
-_W = {"type": ["array", "null"], "items": {"type": "array", "items": _NUMBER, "minItems": 3, "maxItems": 3}}
 _SIDE = {"type": "integer", "minimum": 1, "maximum": MAX_VIEWPORT}
-# paths: each a list of closed contours, each a list of points
-_PATHS = {"type": "array", "items": {"type": "array", "minItems": 1,
-                                     "items": {"type": "array", "items": _POINT, "minItems": 1}}}
-# lines: each a strip (polyline) of at least two points
-_LINES = {"type": "array", "items": {"type": "array", "items": _POINT, "minItems": 2}}
-_LINE_WIDTH = {"anyOf": [{"type": "number", "exclusiveMinimum": 0}, {"type": "string"}]}
 _FRAME = {"type": "object", "required": ["width", "height", "positions"],
-          "properties": {"width": _SIDE, "height": _SIDE, "positions": _TRIANGLES, "attributes": _VALUES, "w": _W}}
+          "properties": {"width": _SIDE, "height": _SIDE, **TRIANGLES.json_fields}}
+
+
+def _one_kind(kind: PrimitiveKind[Any]) -> dict[str, Any]:
+    """The schema's test that a case holds this kind's scene and no other's."""
+    others = [{"required": [other.json_key]} for other in KINDS.values() if other is not kind]
+    return {"required": list(kind.json_required), "not": {"anyOf": others}}
+
 
 # The JSON schema of a case file (a JSON Schema 2020-12 document): a still case, or a
 # motion case (``"kind": "motion"``) with its frames. Other fields (the check that
@@ -156,16 +146,13 @@ CASE_SCHEMA: dict[str, Any] = {
     "else": {
         "required": ["width", "height"],
         "properties": {
-            "width": _SIDE, "height": _SIDE, "positions": _TRIANGLES, "attributes": _VALUES, "w": _W,
-            "paths": _PATHS, "fill_rule": {"enum": ["nonzero", "evenodd"]}, "lines": _LINES, "line_width": _LINE_WIDTH,
+            "width": _SIDE, "height": _SIDE, **{f: schema for kind in KINDS.values() for f, schema in kind.json_fields.items()},
             "lattice": {"type": "boolean"}, "closed": {"type": "boolean"},
-            "region": {"type": ["array", "null"], "items": _POINT, "minItems": 3},
+            "region": {"type": ["array", "null"], "items": JSON_POINT, "minItems": 3},
             "refusable": {"type": "array", "items": {"type": "integer", "minimum": 0}},
         },
-        # triangles, paths with their fill rule, or lines
-        "oneOf": [{"required": ["positions"], "not": {"anyOf": [{"required": ["paths"]}, {"required": ["lines"]}]}},
-                  {"required": ["paths", "fill_rule"], "not": {"anyOf": [{"required": ["positions"]}, {"required": ["lines"]}]}},
-                  {"required": ["lines"], "not": {"anyOf": [{"required": ["positions"]}, {"required": ["paths"]}]}}],
+        # one kind of scene: triangles, paths with their fill rule, lines, ... (harness.kinds)
+        "oneOf": [_one_kind(kind) for kind in KINDS.values()],
     },
 }
 
@@ -255,6 +242,29 @@ def lines_to_json(scene: LineScene) -> dict[str, Any]:
     return {"line_width": _text(scene.line_width), "lines": [_hex(strip) for strip in scene.strips()]}
 
 
+def points_to_json(scene: PointScene) -> dict[str, Any]:
+    """A point scene's case-JSON fields (the kind's codec)."""
+    return {"point_size": _text(scene.point_size), "points": _hex(scene.vertices)}
+
+
+def points_from_json(data: dict[str, Any], width: int, height: int, where: str = "") -> PointScene:
+    """A point scene from its case-JSON fields; ``where`` leads an error."""
+    try:
+        centres = _unhex(data["points"], "points")
+        try:
+            size = _number(data.get("point_size", 1))
+        except ValueError as exc:
+            raise ValueError(f"case JSON is malformed at point_size: {exc}") from None
+        return PointScene(width, height, np.zeros((0, 2)) if centres is None else centres, size)
+    except ValueError as exc:
+        raise ValueError(f"{where}{exc}") from None
+
+
+def point_sizes(data: dict[str, Any]) -> dict[str, int]:
+    """What a point case's fields hold: points."""
+    return {"points": len(data["points"])}
+
+
 def paths_to_json(scene: PathScene) -> dict[str, Any]:
     """A path scene's case-JSON fields (the kind's codec, :data:`harness.kinds.PATHS`)."""
     return {"fill_rule": scene.fill_rule, "paths": [[_hex(c) for c in scene.contours_of(p)] for p in range(len(scene))]}
@@ -297,8 +307,7 @@ def case_to_json(case: Case | MotionCase, **extra: Any) -> dict[str, Any]:
 # (a million contours, or 200,000 paths, ran past two minutes on one rasterizer; 65,536 paths
 # take half a minute): triangles, paths, their contours and vertices, line strips and their
 # vertices. RASTERCHECK_MAX_CASE_SCALE=k multiplies every limit by k.
-MAX_CASE_SIZES = {"triangles": 1 << 20, "paths": 1 << 16, "contours": 1 << 18, "path vertices": 1 << 20,
-                  "line strips": 1 << 18, "line vertices": 1 << 20}
+MAX_CASE_SIZES = {what: most for kind in KINDS.values() for what, most in kind.size_limits.items()}
 
 
 def _case_sizes(data: dict[str, Any]) -> dict[str, int]:
@@ -379,12 +388,12 @@ def triangles_from_json(data: dict[str, Any], width: int, height: int, where: st
         raise ValueError(f"{where}{exc}") from None
 
 
-_HEX_OR_WORD = re.compile(_NUMBER["anyOf"][0]["pattern"])
-_DECIMAL = re.compile(_NUMBER["anyOf"][1]["pattern"])
+_HEX_OR_WORD = re.compile(JSON_NUMBER["anyOf"][0]["pattern"])
+_DECIMAL = re.compile(JSON_NUMBER["anyOf"][1]["pattern"])
 
 
 def _is_number(value: Any) -> bool:
-    """Whether ``value`` is valid under :data:`_NUMBER` (the same test, without the
+    """Whether ``value`` is valid under :data:`harness.kinds.base.JSON_NUMBER` (the same test, without the
     validator's cost per value)."""
     if isinstance(value, str):
         return _HEX_OR_WORD.search(value) is not None or _DECIMAL.search(value) is not None
@@ -392,7 +401,7 @@ def _is_number(value: Any) -> bool:
 
 
 def _valid_points(points: Any) -> bool:
-    """Whether ``points`` is a list of [x, y] pairs valid under :data:`_POINT`."""
+    """Whether ``points`` is a list of [x, y] pairs valid under :data:`harness.kinds.base.JSON_POINT`."""
     if not (isinstance(points, list) and all(isinstance(p, list) and len(p) == 2 for p in points)):
         return False
     try:
@@ -448,6 +457,11 @@ def _skeleton(data: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+def _fields_of(kind: PrimitiveKind[Any]) -> str:
+    """A kind's required case fields in words: ``'paths' and 'fill_rule'``."""
+    return " and ".join(repr(f) for f in kind.json_required)
+
+
 @functools.cache
 def _validator() -> Any:
     """The schema's validator, built once."""
@@ -463,18 +477,20 @@ def case_from_json(data: Any) -> Case | MotionCase:
         raise ValueError(f"not a rastercheck case (schema {SCHEMA} expected)")
     skeleton = _skeleton(data)
     error = first_error(_validator(), skeleton)
-    if error is not None and error.validator == "oneOf" and not error.absolute_path \
-            and not {"positions", "paths", "lines"} & set(data):
-        raise ValueError("case JSON lacks the field 'positions' "
-                         "(or 'paths' and 'fill_rule' for a path case, 'lines' for a line case)")
+    keys = [kind.json_key for kind in KINDS.values()]
+    if error is not None and error.validator == "oneOf" and not error.absolute_path and not set(keys) & set(data):
+        raise ValueError(f"case JSON lacks the field {_fields_of(TRIANGLES)} (or "
+                         + ", ".join(f"{_fields_of(kind)} for a {kind.case_word} case" for kind in KINDS.values()
+                                     if kind is not TRIANGLES)
+                         + ")")
     if error is not None and error.validator == "oneOf" and not error.absolute_path:
-        given = [f for f in ("positions", "paths", "lines") if f in data]
+        given = [f for f in keys if f in data]
         if len(given) > 1:
             raise ValueError(f"case JSON gives {' and '.join(map(repr, given))}: a case holds one kind of scene")
     if error is not None:
         if error.validator == "required":
             missing = [f for f in error.validator_value if isinstance(error.instance, dict) and f not in error.instance]
-            if error.instance is skeleton and data.get("kind") != "motion" and not {"positions", "paths", "lines"} & set(data):
+            if error.instance is skeleton and data.get("kind") != "motion" and not set(keys) & set(data):
                 missing.append("positions")  # (or "paths" and "fill_rule", for a path case)
             raise ValueError(f"case JSON lacks the field{'s' if len(missing) > 1 else ''} {', '.join(map(repr, missing))}"
                              + ("" if not error.absolute_path else f" at {field_path(error.absolute_path)}"))
@@ -521,6 +537,6 @@ def read_case_file(path: Path | str) -> tuple[Case | MotionCase, dict[str, Any]]
         case = case_from_json(data)
     except ValueError as exc:
         raise ValueError(f"{path}: {exc}") from None
-    known = {"schema", "kind", "id", "width", "height", "positions", "attributes", "w", "paths", "fill_rule", "lines",
-             "line_width", "lattice", "region", "closed", "refusable", "frames", "texels", "perspective"}
+    known = {"schema", "kind", "id", "width", "height", "lattice", "region", "closed", "refusable", "frames", "texels",
+             "perspective", *(f for kind in KINDS.values() for f in kind.json_fields)}
     return case, {k: v for k, v in data.items() if k not in known}

@@ -17,8 +17,8 @@ import re
 from harness.contract.conventions import FILL_RULES, Convention, LineRule
 from harness.contract.coverage import Coverage
 from harness.contract.protocol import Rasterizer, fingerprint_of, scene_kinds_of
-from harness.contract.scenes import SCENE_KINDS, AnyScene
-from harness.kinds import KINDS
+from harness.contract.scenes import AnyScene
+from harness.kinds import KINDS, SCENE_KINDS
 
 __all__ = ["REFUSED", "declaration_problem", "answer_problem", "scene_kind_problem"]
 
@@ -28,7 +28,8 @@ REFUSED = "contradicts its declaration"
 # the members only one scene kind has, by kind (a plugin asking another kind's scene for one
 # draws that kind: its scene_kinds forgot it)
 _MEMBERS = {name: {m for m in dir(kind.scene_class) if not m.startswith("_")} for name, kind in KINDS.items()}
-_MISSING_MEMBER = re.compile(r"'(Scene|PathScene|LineScene)' object has no attribute '(\w+)'")
+_MISSING_MEMBER = re.compile(r"'(" + "|".join(k.scene_class.__name__ for k in KINDS.values())
+                             + r")' object has no attribute '(\w+)'")
 
 
 def _tuple(kinds: tuple[str, ...]) -> str:
@@ -187,7 +188,7 @@ def scene_kind_problem(rasterizer: Rasterizer, scene: AnyScene, error: BaseExcep
     owners = [k for k in SCENE_KINDS if k != scene.kind and member in _MEMBERS[k] and member not in _MEMBERS[scene.kind]]
     if not owners:
         return None
-    noun = {"triangles": "triangle", "paths": "path", "lines": "line"}
+    noun = {name: kind.case_word for name, kind in KINDS.items()}
     asked = (f"{REFUSED}: it asked a {noun[scene.kind]} scene for `{member}`, "
              f"which {' and '.join(noun[k] for k in owners)} scenes have")
     missing = [k for k in owners if k not in kinds]

@@ -573,7 +573,7 @@ class Unsupported(ValueError):
 
 
 class AnyScene(Protocol):
-    """A scene of any kind (:data:`SCENE_KINDS`; :mod:`harness.kinds` holds what differs
+    """A scene of any kind (:data:`harness.kinds.SCENE_KINDS`; :mod:`harness.kinds` holds what differs
     between them): what every scene class has, so that shrinking, moving, hashing and
     drawing a scene need not ask which kind it is."""
 
@@ -621,7 +621,6 @@ class AnyScene(Protocol):
     def subset(self, keep: ArrayLike) -> AnyScene: ...
 
 
-SCENE_KINDS = ("triangles", "paths", "lines")
 
 
 def _counts_array(value: ArrayLike, field: str, owner: str = "PathScene") -> NDArray[np.int64]:

@@ -88,7 +88,7 @@ from harness.identify.triangle_defects import (
     zero_area,
 )
 from harness.identify.triangle_probes import Fact, fit_snapping, fit_ties, residual_lies
-from harness.kinds import KINDS, TRIANGLES
+from harness.kinds import KINDS, LINES, PATHS, TRIANGLES, PrimitiveKind
 
 if TYPE_CHECKING:  # the path and line probes are imported when a rasterizer taking those is identified
     from harness.contract.case import Case, MotionCase
@@ -134,6 +134,12 @@ class Fingerprint:
     takes only lines, ``convention``, ``residual``, ``pixels``, ``runner_up`` and
     ``ambiguous`` are the line fit's.
 
+    ``kind_fits``: for the scene kinds it takes beyond triangles, paths and lines (points),
+    each kind's own fit (its ``probes`` hook, :mod:`harness.kinds`: ``convention``,
+    ``residual``, ``pixels``, ``runner_up``, ``describe()``), by kind name. For a rasterizer
+    that takes only such kinds, ``convention``, ``residual``, ``pixels`` and ``runner_up`` are
+    its first kind's fit.
+
     ``unanswered``: the fit scenes the rasterizer gave no answer for (an error, a crash, a
     call cut off twice by its time limit), left out of the fit and of the residual: a
     fingerprint with any is never exact, and its card says why. ``calls``: every call
@@ -154,6 +160,7 @@ class Fingerprint:
     line_rule: LineRule | None = None
     line_convention: Convention | None = None
     line_fit: LineFit | None = field(default=None, repr=False, compare=False)
+    kind_fits: dict[str, Any] = field(default_factory=dict, repr=False, compare=False)
     unanswered: int = 0
     calls: CallTally | None = field(default=None, repr=False, compare=False)
 
@@ -228,6 +235,11 @@ class Fingerprint:
         if self.line_fit is not None:  # a line-taking rasterizer's (added fields)
             out.update(line_rule=None if self.line_rule is None else self.line_rule.describe(),
                        line_convention=_line_convention_dict(self.line_fit))
+        if self.kind_fits:  # the other kinds' own conventions (added field)
+            out["kind_conventions"] = {name: {
+                "convention": None if fit.convention is None else fit.convention.describe(), "exact": fit.exact,
+                "residual": fit.residual, "pixels": fit.pixels, "runner_up": list(fit.runner_up) if fit.runner_up else None,
+                "same_as_triangles": fit.convention == self.convention} for name, fit in self.kind_fits.items()}
         return out
 
     @property
@@ -326,7 +338,12 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
     tally = CallTally(InProcess(rasterizer) if call is None else call)
     call = tally
     kinds = scene_kinds_of(rasterizer)
-    if "lines" in kinds and "triangles" not in kinds and "paths" not in kinds:
+    # the kinds identify composes below; any other kind brings its own fit (its probes hook)
+    own = [KINDS[k] for k in kinds if k not in (TRIANGLES.name, PATHS.name, LINES.name)]
+    if own and len(own) == len(kinds):
+        fingerprint = _identify_own_kind_only(rasterizer.name, call, seed, own[0])
+        own = own[1:]
+    elif "lines" in kinds and "triangles" not in kinds and "paths" not in kinds:
         fingerprint = _identify_lines_only(rasterizer.name, call, seed, received_of(rasterizer))
     else:
         if "paths" in kinds:
@@ -335,11 +352,26 @@ def identify(rasterizer: Rasterizer, seed: int = 0, call: Call | None = None) ->
             fingerprint = _identify_triangles(rasterizer.name, call, seed, received_of(rasterizer))
         if "lines" in kinds:
             _with_lines(fingerprint, call, seed, received_of(rasterizer))
+    for kind in own:
+        fit = kind.hook("probes")(call, fingerprint.convention, seed)
+        fingerprint.kind_fits[kind.name] = fit
+        fingerprint.facts[kind.name] = fit.describe()
     # how many calls timed out or failed, and which: the card always says
     fingerprint.calls = tally
     fingerprint.facts["calls"] = tally.text + ("; the fit is on the rest" if fingerprint.unanswered
                                                and fingerprint.no_answers is None
                                                else "")
+    return fingerprint
+
+
+def _identify_own_kind_only(name: str, call: Call, seed: int, kind: PrimitiveKind[Any]) -> Fingerprint:
+    """:func:`identify` on a rasterizer that takes only a kind with a fit of its own
+    (points): that fit is the fingerprint's convention, residual and runner-up."""
+    fit = kind.hook("probes")(call, None, seed)
+    convention = Convention() if fit.convention is None else fit.convention
+    fingerprint = Fingerprint(name, convention, fit.residual if fit.convention is not None else max(1, fit.pixels), fit.pixels,
+                              fit.runner_up, {kind.name: fit.describe()}, (), {})
+    fingerprint.kind_fits[kind.name] = fit
     return fingerprint
 
 
@@ -725,6 +757,10 @@ class Identified:
         if fingerprint.line_convention is not None and fingerprint.line_convention != fingerprint.convention:
             # its lines are judged by what they follow (:func:`harness.contract.protocol.convention_for` reads this)
             self.line_convention = fingerprint.line_convention
+        for kind_name, fit in fingerprint.kind_fits.items():
+            attribute = KINDS[kind_name].convention_attribute
+            if attribute is not None and fit.convention is not None and fit.convention != fingerprint.convention:
+                setattr(self, attribute, fit.convention)  # its points are judged by what they follow (convention_for)
         honoured = fingerprint.honoured_fill_rules
         if honoured is not None:
             # handed only the path scenes of the rules it was seen to draw as asked

@@ -15,8 +15,8 @@ time it is asked for (:meth:`~harness.kinds.base.PrimitiveKind.hook`), then kept
 engine never imports the presentation through a kind, and a hook costs one dict lookup
 after its first use.
 
-Adding a primitive kind: a module here with its record, its entry in :data:`KINDS` (and
-``SCENE_KINDS``), and the functions its hooks name; ``tests/kinds/test_kinds.py`` fails
+Adding a primitive kind: a module here with its scene class and record, its entry in
+:data:`KINDS` (which makes :data:`SCENE_KINDS`), and the functions its hooks name; ``tests/kinds/test_kinds.py`` fails
 while any hook does not resolve.
 """
 
@@ -24,16 +24,19 @@ from __future__ import annotations
 
 from typing import Any
 
-from harness.contract.scenes import SCENE_KINDS, AnyScene
+from harness.contract.scenes import AnyScene
 from harness.kinds.base import HOOKS, PrimitiveKind
 from harness.kinds.lines import LINES
 from harness.kinds.paths import PATHS
+from harness.kinds.points import POINTS
 from harness.kinds.triangles import TRIANGLES
 
-__all__ = ["PrimitiveKind", "HOOKS", "KINDS", "TRIANGLES", "PATHS", "LINES", "kind_of", "kind_named", "kind_of_json"]
+__all__ = ["PrimitiveKind", "HOOKS", "KINDS", "SCENE_KINDS", "POINTS", "TRIANGLES", "PATHS", "LINES", "kind_of", "kind_named",
+           "kind_of_json"]
 
-KINDS: dict[str, PrimitiveKind[Any]] = {k.name: k for k in (TRIANGLES, PATHS, LINES)}
-assert tuple(KINDS) == SCENE_KINDS
+KINDS: dict[str, PrimitiveKind[Any]] = {k.name: k for k in (TRIANGLES, PATHS, LINES, POINTS)}
+# the scene kinds a rasterizer may list in its scene_kinds, in this order everywhere
+SCENE_KINDS: tuple[str, ...] = tuple(KINDS)
 
 
 def kind_of(scene: AnyScene) -> PrimitiveKind[Any]:

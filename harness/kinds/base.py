@@ -13,14 +13,24 @@ is drawn). A resolved hook is kept on the kind: a second use costs one dict look
 from __future__ import annotations
 
 import importlib
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields
 from typing import Any, Generic, TypeGuard, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["PrimitiveKind", "HOOKS", "resolve"]
+__all__ = ["PrimitiveKind", "HOOKS", "resolve", "JSON_NUMBER", "JSON_POINT"]
+
+# A coordinate in a case file: a decimal string that is exactly a float ("0.375"), a
+# float.hex string ("0x1.8p+1"), "inf", "-inf", "nan", or a JSON number (read exactly: an
+# inexact one is refused, never rounded). Each kind's JSON fields are built from these.
+JSON_NUMBER: dict[str, Any] = {"anyOf": [
+    {"type": "string", "pattern": r"^-?(0x[0-9a-f]+(\.[0-9a-f]*)?(p[+-]?[0-9]+)?|inf|nan)$"},
+    {"type": "string", "pattern": r"^-?[0-9]+(\.[0-9]+)?$"},
+    {"type": "number"},
+]}
+JSON_POINT: dict[str, Any] = {"type": "array", "items": JSON_NUMBER, "minItems": 2, "maxItems": 2}
 
 S = TypeVar("S")
 
@@ -40,6 +50,7 @@ HOOKS = (
     "hypotheses",           # (answer, scene, prims, subset, convention, near, exact) -> (class, part) or None: beyond snapping
     "tie_trial",            # (result, case, judge, convention) -> evidence dict or None: wrong only on edges, shifted off
     "dropped_trial",        # (result, case, judge, convention, answer) -> evidence dict or None: missing whole, moved copies
+    "vectors",              # (Vectors) -> [svg element]: a picture's vector layer of the kind's primitives
 )
 
 
@@ -100,8 +111,27 @@ class PrimitiveKind(Generic[S]):
     exact_tie_words : (str, str)
         How conformance says that every wrong fragment is an exact tie: what they are and
         where they lie (``{noun}`` is the primitive's noun).
+    case_word : str
+        What a message calls one of its scenes or cases: "a {case_word} scene", "a
+        {case_word} case" (``line`` for lines, whose primitive is the segment).
+    may_overlap : bool
+        Whether its primitives overlap by design (lines cross and share end pixels, points'
+        squares overlap): a pixel hit twice is then no overdraw.
+    json_fields : mapping of str to JSON Schema
+        Its scene's fields in a case file and each one's schema (the case schema's
+        properties and its one-kind-per-case rule are built from every kind's).
+    json_required : tuple of str
+        The fields a case of this kind must give (its ``json_key`` first).
+    size_limits : mapping of str to int
+        What its case fields may hold at most (``json_sizes`` counts them), per what.
+    invariance_families : tuple of str or None
+        The case families the invariance check judges (None: every family of the kind;
+        triangles leave out the degenerate and mesh families, paths their degenerate one).
+    caption_words : callable
+        ``scene -> str``: what a repro's caption adds to "N {noun}s" (paths: their fill
+        rule; lines: their strips; points: their size).
     to_json, from_json, json_sizes, oracle, near_ties, invariance_variants, probes, verdict_cases,
-    still_pictures, repro_picture, conformance_class, hypotheses, tie_trial, dropped_trial : str
+    still_pictures, repro_picture, conformance_class, hypotheses, tie_trial, dropped_trial, vectors : str
         The hooks of :data:`HOOKS`, each ``"module:function"``.
     """
 
@@ -119,6 +149,13 @@ class PrimitiveKind(Generic[S]):
     keeps_shapes: Callable[[S, S], bool]
     undefined: Callable[[S, Any], str]
     exact_tie_words: tuple[str, str]
+    case_word: str
+    may_overlap: bool
+    json_fields: Mapping[str, Any]
+    json_required: tuple[str, ...]
+    size_limits: Mapping[str, int]
+    invariance_families: tuple[str, ...] | None
+    caption_words: Callable[[S], str]
     to_json: str
     from_json: str
     json_sizes: str
@@ -133,6 +170,7 @@ class PrimitiveKind(Generic[S]):
     hypotheses: str
     tie_trial: str
     dropped_trial: str
+    vectors: str
     _resolved: dict[str, Callable[..., Any]] = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -165,7 +203,7 @@ class PrimitiveKind(Generic[S]):
         """The hooks (of :data:`HOOKS`) and callables that do not resolve: empty when the
         kind is whole."""
         missing = [f.name for f in fields(self)
-                   if f.name in ("coordinates_of", "degenerate", "work_size", "keeps_shapes", "undefined")
+                   if f.name in ("coordinates_of", "degenerate", "work_size", "keeps_shapes", "undefined", "caption_words")
                    and not callable(getattr(self, f.name))]
         for name in HOOKS:
             try:

@@ -9,9 +9,18 @@ from numpy.typing import NDArray
 
 from harness.contract.scenes import Scene
 from harness.geometry.exact import orientation
-from harness.kinds.base import PrimitiveKind
+from harness.kinds.base import JSON_NUMBER, JSON_POINT, PrimitiveKind
 
 __all__ = ["TRIANGLES"]
+
+
+# its case-file fields: the (N, 3, 2) positions, and the per-vertex values and w
+JSON_FIELDS = {
+    "positions": {"type": "array", "items": {"type": "array", "items": JSON_POINT, "minItems": 3, "maxItems": 3}},
+    "attributes": {"type": ["array", "null"], "items": {"type": "array", "minItems": 3, "maxItems": 3,
+                                                        "items": {"type": "array", "items": JSON_NUMBER}}},
+    "w": {"type": ["array", "null"], "items": {"type": "array", "items": JSON_NUMBER, "minItems": 3, "maxItems": 3}},
+}
 
 
 def _coordinates_of(scene: Scene, prims: NDArray[np.int64]) -> list[NDArray[np.float64]]:
@@ -45,6 +54,9 @@ TRIANGLES: PrimitiveKind[Scene] = PrimitiveKind(
     own_fit=None, translate_shift=(3, 2), translate_needs_positive=False, near_ties_by_own_rule=False,
     coordinates_of=_coordinates_of, degenerate=_degenerate, work_size=_work_size, keeps_shapes=_keeps_shapes,
     undefined=_undefined, exact_tie_words=("samples", "an edge of their {noun}"),
+    case_word="triangle", may_overlap=False, json_fields=JSON_FIELDS, json_required=("positions",),
+    size_limits={"triangles": 1 << 20}, caption_words=lambda scene: "",
+    invariance_families=("lattice", "float", "watertight"),
     to_json="harness.contract.case:triangles_to_json", from_json="harness.contract.case:triangles_from_json",
     json_sizes="harness.contract.case:triangle_sizes",
     # the convention's coverage model names the oracle (exact single, multisample, shares, area)
@@ -59,4 +71,5 @@ TRIANGLES: PrimitiveKind[Scene] = PrimitiveKind(
     hypotheses="harness.diagnose.facts:no_hypothesis",
     tie_trial="harness.diagnose.trials:triangle_tie_trial",
     dropped_trial="harness.diagnose.trials:triangle_dropped_trial",
+    vectors="harness.report.picture_svg:triangle_vectors",
 )

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import base64
 import math
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -44,17 +43,6 @@ MAX_REPRO_TRIANGLES = 200  # primitives: triangles, or paths
 
 
 MAX_REPRO_SIDE = 512  # px: larger viewports are not drawn (the report stays cheap)
-
-
-def _strips_words(scene: LineScene) -> str:
-    strips = scene.strip_sizes.size
-    return f" in {strips} strip{'' if strips == 1 else 's'}" if strips != len(scene) else ""
-
-
-# What a repro's caption adds to "N triangles (paths, segments)", per scene kind.
-_REPRO_WORDS: dict[str, Callable[[Any], str]] = {"triangles": lambda scene: "",
-                                                 "paths": lambda scene: f" under the {scene.fill_rule} rule",
-                                                 "lines": _strips_words}
 
 
 def _repro_window(positions: NDArray, width: int, height: int, least: int = 8) -> tuple[int, int, int, int]:
@@ -171,7 +159,7 @@ def draw_repro(result: Result) -> tuple[str | None, str] | None:
     noun = scene.noun
     n, of = len(scene), payload.get("original_triangles")
     triangles = f"{n} {noun}{'' if n == 1 else 's'}" + (f" (of {of})" if of else "")
-    triangles += _REPRO_WORDS[scene.kind](scene)
+    triangles += kind_of(scene).caption_words(scene)
     if n > MAX_REPRO_TRIANGLES or max(scene.width, scene.height) > MAX_REPRO_SIDE:
         return None, (f"minimal repro: {triangles} on a {scene.width} x {scene.height} viewport, not drawn (pictures are "
                       f"drawn up to {MAX_REPRO_TRIANGLES} {noun}s and {MAX_REPRO_SIDE} px a side)")

@@ -5,7 +5,6 @@ scene kind's layer by its own drawer (:data:`_VECTORS`, keyed by the kind's name
 from __future__ import annotations
 
 import base64
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, cast
 
@@ -16,7 +15,7 @@ from harness.checks import deviations
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, PathScene
-from harness.kinds import LINES, TRIANGLES
+from harness.kinds import LINES, TRIANGLES, kind_of
 from harness.report.picture_kit import (
     _ALPHA,
     _DRAWN,
@@ -34,7 +33,7 @@ from harness.report.picture_paths import MAX_NUMBERED_SIDE, _svg_paths, _svg_win
 __all__ = ["svg_crop", "svg_window", "Vectors"]
 
 
-def svg_crop(positions: NDArray | PathScene | LineScene, coverage: Coverage, sample: tuple[float, float],
+def svg_crop(positions: NDArray | AnyScene, coverage: Coverage, sample: tuple[float, float],
              window: tuple[int, int, int, int], marks: list[tuple[int, int]], numbered: int | None = None,
              convention: Convention | None = None, oracle: Coverage | None = None) -> str:
     """The pixel grid of a small window with its sample points, the covered pixels, the
@@ -73,7 +72,7 @@ def svg_crop(positions: NDArray | PathScene | LineScene, coverage: Coverage, sam
                       numbered=numbered, convention=convention, fills=fills, hits=hits)
 
 
-def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | None, fill: tuple[int, int, int],
+def svg_window(positions: NDArray | AnyScene, covered: NDArray | None, fill: tuple[int, int, int],
                sample: tuple[float, float] | None, window: tuple[int, int, int, int], marks: list[tuple[int, int]],
                fit: int = 384, numbered: int | None = None, convention: Convention | None = None,
                fills: list[tuple[NDArray, tuple[int, int, int]]] | None = None, hits: NDArray | None = None) -> str:
@@ -121,7 +120,7 @@ def svg_window(positions: NDArray | PathScene | LineScene, covered: NDArray | No
     return "data:image/svg+xml;base64," + base64.b64encode(text.encode()).decode("ascii")
 
 
-def _svg_window_text(positions: NDArray | PathScene | LineScene, covered: NDArray | None, fill: tuple[int, int, int],
+def _svg_window_text(positions: NDArray | AnyScene, covered: NDArray | None, fill: tuple[int, int, int],
                      sample: tuple[float, float] | None, window: tuple[int, int, int, int], marks: list[tuple[int, int]],
                      fit: int = 384, numbered: int | None = None, convention: Convention | None = None,
                      fills: list[tuple[NDArray, tuple[int, int, int]]] | None = None, hits: NDArray | None = None,
@@ -185,8 +184,9 @@ def _svg_window_text(positions: NDArray | PathScene | LineScene, covered: NDArra
             parts.append(f'<rect x="{mx + inset:.4f}" y="{my + inset:.4f}" width="{1 - 2 * inset:.4f}" '
                          f'height="{1 - 2 * inset:.4f}" '
                          f'fill="none" stroke="{red}" stroke-width="2" {thin}/>')
-    kind = "triangles" if isinstance(positions, np.ndarray) else positions.kind
-    parts.extend(_VECTORS[kind](Vectors(positions, window, scale, numbered, convention, sample, marks, hits, windings)))
+    # the kind's own vector layer (its "vectors" hook): triangles come as their positions
+    kind = TRIANGLES if isinstance(positions, np.ndarray) else kind_of(positions)
+    parts.extend(kind.hook("vectors")(Vectors(positions, window, scale, numbered, convention, sample, marks, hits, windings)))
     parts.append("</svg>")
     return "".join(parts)
 
@@ -209,7 +209,7 @@ class Vectors:
     windings: bool
 
 
-def _triangle_vectors(v: Vectors) -> list[str]:
+def triangle_vectors(v: Vectors) -> list[str]:
     """The triangles outlined (up to 200 near the window)."""
     x0, _, x1, _ = v.window
     positions = v.positions
@@ -224,7 +224,7 @@ def _triangle_vectors(v: Vectors) -> list[str]:
     return parts
 
 
-def _path_vectors(v: Vectors) -> list[str]:
+def path_vectors(v: Vectors) -> list[str]:
     """The paths under their fill rule, and path ``numbered``'s winding numbers in a
     window small enough (:func:`_svg_windings`)."""
     x0, y0, x1, y1 = v.window
@@ -235,18 +235,12 @@ def _path_vectors(v: Vectors) -> list[str]:
     return parts
 
 
-def _line_vectors(v: Vectors) -> list[str]:
+def line_vectors(v: Vectors) -> list[str]:
     """The strips as polylines (:func:`_svg_lines`) and each pixel's hit count."""
     parts = _svg_lines(v.positions, v.window, v.scale, v.numbered, v.convention, v.marks)
     if v.hits is not None and v.scale >= 10:
         parts.extend(_svg_hits(v.hits, v.window, v.scale))
     return parts
-
-
-# A picture's vector layer per scene kind (the presentation's own table, keyed by
-# harness.kinds' names: the engine never sees it).
-_VECTORS: dict[str, Callable[[Vectors], list[str]]] = {"triangles": _triangle_vectors, "paths": _path_vectors,
-                                                       "lines": _line_vectors}
 
 
 def _drawn(scene: AnyScene) -> NDArray | PathScene | LineScene:

@@ -548,7 +548,7 @@ def test_popping_allows_each_triangle_its_own_tolerance():
 def test_popping_in_triangle_chunks_agrees_with_popping_at_once(monkeypatch):
     """Large scenes are judged a few triangles at a time (bounded memory): same verdict,
     same metrics, same evidence."""
-    import harness.checks.area as area_checks
+    import harness.checks.area_popping as area_popping
 
     motion = quick()["motion/fan-8/translate-x-1/16"]
     assert isinstance(motion, MotionCase)
@@ -557,7 +557,7 @@ def test_popping_in_triangle_chunks_agrees_with_popping_at_once(monkeypatch):
     answers = [bad.rasterize(s) for s in frames]
     oracles = [exact_coverage(s, bad.convention) for s in frames]
     at_once = popping(motion.id, frames, answers, oracles, bad.convention)
-    monkeypatch.setattr(area_checks, "_CHUNK_ENTRIES", 1)  # one triangle per chunk
+    monkeypatch.setattr(area_popping, "_CHUNK_ENTRIES", 1)  # one triangle per chunk
     chunked = popping(motion.id, frames, answers, oracles, bad.convention)
     assert at_once.status == chunked.status == "fail" and at_once.metrics == chunked.metrics
     assert at_once.evidence == chunked.evidence

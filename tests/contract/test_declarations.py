@@ -156,7 +156,7 @@ def test_a_kind_listed_but_drawn_as_another_is_named() -> None:
     said = scene_kind_problem(Filler(), triangle, AttributeError("'Scene' object has no attribute 'strip_sizes'"))
     assert said is not None and 'lack "lines": add "lines" (scene_kinds = ("triangles", "paths", "lines"))' in said
     both = scene_kind_problem(Filler(), triangle, AttributeError("'Scene' object has no attribute 'vertices'"))
-    assert both is not None and "which path and line scenes have" in both and 'lack "lines"' in both
+    assert both is not None and "which path and line and point scenes have" in both and 'lack "lines"' in both
     assert scene_kind_problem(Filler(), triangle, AttributeError("'Scene' object has no attribute 'frobnicate'")) is None
     assert scene_kind_problem(Filler(), triangle, KeyError("segments")) is None
 

@@ -13,7 +13,8 @@ from harness.contract.case import Case, case_from_json, case_to_json
 from harness.contract.conventions import Convention, LineRule
 from harness.contract.coverage import Coverage
 from harness.contract.protocol import scene_kinds_of, takes
-from harness.contract.scenes import SCENE_KINDS, LineScene
+from harness.contract.scenes import LineScene
+from harness.kinds import SCENE_KINDS
 from harness.oracle.bresenham_lines import _bresenham_far
 from harness.oracle.coverage import exact_coverage
 from harness.oracle.lines import bresenham_spans, diamond_exit_spans_rational, rectangle_spans_rational

@@ -12,14 +12,16 @@ import pytest
 
 from harness.contract.case import Case, case_from_json, case_to_json
 from harness.contract.conventions import Convention
-from harness.contract.scenes import SCENE_KINDS, AnyScene, LineScene, PathScene, Scene
-from harness.kinds import HOOKS, KINDS, LINES, PATHS, TRIANGLES, PrimitiveKind, kind_named, kind_of, kind_of_json
+from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
+from harness.kinds import HOOKS, KINDS, LINES, PATHS, SCENE_KINDS, TRIANGLES, PrimitiveKind, kind_named, kind_of, kind_of_json
+from harness.kinds.points import PointScene
 from tests.narrow import still
 
 TRIANGLE = Scene(8, 8, [[[1, 1], [7, 1], [1, 7]]])
 PATH = PathScene.from_paths(8, 8, [[[[1, 1], [7, 1], [7, 7], [1, 7]]]])
 LINE = LineScene.from_segments(8, 8, [[1, 1]], [[7, 3]])
-SCENES: dict[str, AnyScene] = {"triangles": TRIANGLE, "paths": PATH, "lines": LINE}
+SCENES: dict[str, AnyScene] = {"triangles": TRIANGLE, "paths": PATH, "lines": LINE,
+                               "points": PointScene(8, 8, [[2.0, 3.5]], point_size=2.0)}
 
 
 def test_every_scene_kind_has_a_kind_with_every_hook_set():
@@ -53,8 +55,8 @@ def test_kind_of_each_scene_and_of_its_json():
         assert kind_of_json(case_to_json(Case("x/0", scene))) is kind
     with pytest.raises(ValueError, match="lines code handed a triangles scene"):
         LINES.narrow(TRIANGLE)
-    with pytest.raises(ValueError, match="no scene kind 'points'"):
-        kind_named("points")
+    with pytest.raises(ValueError, match="no scene kind 'curves'"):
+        kind_named("curves")
 
 
 def test_the_codec_round_trips_through_the_kind():
@@ -139,4 +141,4 @@ def test_the_kinds_import_only_the_scene_contract():
     for path in root.glob("*.py"):
         imported |= set(re.findall(r"^\s*(?:from|import) (harness[\w.]*)", path.read_text(), re.M))
     assert imported <= {"harness.contract.scenes", "harness.geometry.exact", "harness.kinds.base", "harness.kinds.lines",
-                        "harness.kinds.paths", "harness.kinds.triangles"}, imported
+                        "harness.kinds.paths", "harness.kinds.triangles", "harness.kinds.points"}, imported
