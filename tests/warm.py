@@ -44,11 +44,11 @@ class _Oracle:
         from harness.contract.conventions import Convention
 
         self.convention = Convention(**convention)  # type: ignore[arg-type]
-        shares = self.convention.samples and self.convention.kind == "area"
-        self.name = f"oracle_{self.convention.kind}{'_shares' if shares else ''}"
-        self.interpolates = self.convention.kind != "area"
+        shares = self.convention.samples and self.convention.coverage_kind == "area"
+        self.name = f"oracle_{self.convention.coverage_kind}{'_shares' if shares else ''}"
+        self.interpolates = self.convention.coverage_kind != "area"
         # single-sample: paths and points too (the winding oracle's, the path checks' and the points' kernels)
-        self.scene_kinds = ("triangles", "paths", "points") if self.convention.kind == "single" else ("triangles",)
+        self.scene_kinds = ("triangles", "paths", "points") if self.convention.coverage_kind == "single" else ("triangles",)
 
     def rasterize(self, scene):
         from harness.oracle.coverage import exact_coverage

@@ -22,7 +22,7 @@ triangles); then the line checks (line cases, :mod:`harness.checks.lines`): conn
 joints, reversal, length, line-motion. Checks that mean nothing for lines (watertight,
 closed, degenerate, triangulation, the area ones) do not apply to line cases.
 
-Each check says which coverage kinds it judges (:attr:`Check.kinds`): the sample-based
+Each check says which coverage kinds it judges (:attr:`Check.coverage_kinds`): the sample-based
 ones judge a multisample rasterizer sample by sample (each sample's layer against the
 convention at that sample, results merged), hygiene, degenerate and invariance judge
 every kind, and the area checks anti-aliased coverage.

@@ -77,7 +77,7 @@ __all__ = ["accuracy", "motion_accuracy", "model_bound", "exact_model", "off_lev
            "exact_alpha", "exact_tolerance", "rounding_reach", "alpha_facts", "alpha_cause", "ALPHA_CAUSES",
            "LEVEL_NOISE", "DISPLAY_LEVELS"]
 
-AREA_KINDS: frozenset[str] = frozenset({"area"})
+AREA_COVERAGE_KINDS: frozenset[str] = frozenset({"area"})
 # An alpha meant as level k of L is k/(L-1) rounded to float64 (or computed as k * (1/(L-1)),
 # a few units in the last place away): within about 2**-50 relative of the level. 1e-9
 # relative is far beyond any such rounding and far below a level's spacing (at most 2**24
@@ -807,7 +807,8 @@ def _accuracy(s: Subject) -> Result:
 
 
 register(Check(
-    "accuracy", _accuracy, lambda case: True, needs_convention=True, shrinks=True, kinds=AREA_KINDS, per_sample=False,
+    "accuracy", _accuracy, lambda case: True, needs_convention=True, shrinks=True, coverage_kinds=AREA_COVERAGE_KINDS,
+    per_sample=False,
     metrics={"over_tolerance": (1.0, 0.0), "off_level": (1.0, 0.0), "max_error": (1.5, 2.0**-9)},
     caption="area coverage: every alpha within the declared tolerance of the exact area (or share of samples), "
             "on the declared levels (on every frame of a motion case)",

@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 
 from harness.checks.area import (
     _DIFFERENCE_ROUNDING,
-    AREA_KINDS,
+    AREA_COVERAGE_KINDS,
     DISPLAY_LEVELS,
     _fragments,
     _model_words,
@@ -225,7 +225,7 @@ def _popping(s: Subject) -> Result:
 
 
 register(Check(
-    "popping", _popping, lambda case: hasattr(case, "frames"), needs_convention=True, kinds=AREA_KINDS,
+    "popping", _popping, lambda case: hasattr(case, "frames"), needs_convention=True, coverage_kinds=AREA_COVERAGE_KINDS,
     per_sample=False, metrics={"alpha_jumps": (1.0, 0.0)},
     caption="area coverage under sub-pixel motion: no alpha changes beyond what the declared tolerance allows; "
             "pops against the exact area reported",

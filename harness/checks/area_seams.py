@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.checks.area import AREA_KINDS, _aligned, _fragments, _keyed, exact_tolerance
+from harness.checks.area import AREA_COVERAGE_KINDS, _aligned, _fragments, _keyed, exact_tolerance
 from harness.checks.records import (
     EVIDENCE_LIMIT,
     Check,
@@ -155,7 +155,7 @@ def seams(case: Case, coverage: Coverage, convention: Convention, oracle: Covera
 register(Check(
     "seams", lambda s: seams(s.case, s.coverage, s.convention, s.oracle),  # type: ignore[arg-type]
     lambda case: not hasattr(case, "frames") and getattr(case, "region", None) is not None, needs_convention=True,
-    kinds=AREA_KINDS, per_sample=False, metrics={"seam_pixels": (1.0, 0.0), "strays": (1.0, 0.0)},
+    coverage_kinds=AREA_COVERAGE_KINDS, per_sample=False, metrics={"seam_pixels": (1.0, 0.0), "strays": (1.0, 0.0)},
     caption="area coverage on a planar partition: the pieces' alphas sum to 1 inside (within their rounding), "
             "0 outside; the seam left by compositing with over reported",
     classifier="harness.diagnose.signatures:classify_seams", cause_role="consequent", motion_role="none",

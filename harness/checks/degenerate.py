@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from harness.checks.records import ALL_KINDS, Check, Result, Subject, Tolerance, first, register, result
+from harness.checks.records import ALL_COVERAGE_KINDS, Check, Result, Subject, Tolerance, first, register, result
 from harness.contract.case import Case
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
@@ -114,7 +114,7 @@ register(Check(
     lambda case: getattr(case, "family", "") == "degenerate" and TRIANGLES.owns(getattr(case, "scene", None)),
     # any sample drawn is drawn; times are the whole call's
     # a ratio of times: judged by its own limit, never across runs
-    shrinks=True, timings=("work_ratio",), kinds=ALL_KINDS, per_sample=False,
+    shrinks=True, timings=("work_ratio",), coverage_kinds=ALL_COVERAGE_KINDS, per_sample=False,
     caption="zero-area and non-finite triangles draw nothing, no NaN attribute, bounded work",
     classifier="harness.diagnose.signatures:classify_degenerate", cause_role="consequent", motion_role="none", figures=(),
 ))

@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, Result, first, register, result
+from harness.checks.records import ALL_COVERAGE_KINDS, EVIDENCE_LIMIT, Check, Result, first, register, result
 from harness.contract.case import Case
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
@@ -87,7 +87,7 @@ def _is_static(case: Any) -> bool:
 
 register(Check(
     "hygiene", lambda s: hygiene(s.case, s.received[0], s.interpolates, s.convention), _is_static, shrinks=True,
-    kinds=ALL_KINDS, per_sample=False,
+    coverage_kinds=ALL_COVERAGE_KINDS, per_sample=False,
     caption="spans inside the viewport and their triangle's reach, valid triangle ids, x0 < x1, no pixel twice per triangle, "
             "one finite attribute row per pixel (per sample: valid sample ids; area: one alpha in [0, 1] per pixel)",
     # its own cause, but for pixels drawn outside their primitive: coverage's fault too (its

@@ -15,7 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.checks.conformance import deviations, near_ties_of
-from harness.checks.records import ALL_KINDS, EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
+from harness.checks.records import ALL_COVERAGE_KINDS, EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
 from harness.contract.case import Case
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
@@ -244,7 +244,7 @@ def _applies(case: Any) -> bool:
 
 
 register(Check(
-    "invariance", _run, _applies, shrinks=True, kinds=ALL_KINDS,
+    "invariance", _run, _applies, shrinks=True, coverage_kinds=ALL_COVERAGE_KINDS,
     caption="vertex rotation, winding flip, triangle permutation and whole-pixel translation change nothing but the shift "
             "(paths: start vertex, contour reversal and order, path order; lines: strip order, strips split)",
     classifier="harness.diagnose.signatures:classify_invariance", cause_role="consequent", motion_role="none", figures=(),

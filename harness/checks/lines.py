@@ -689,36 +689,37 @@ def _run_line_motion(s: Subject) -> Result:
 # lines are single-sample, or multisample rectangles (harness.oracle.lines): a multisample answer is
 # judged sample by sample (each layer a single-sample rectangle rule at its offset); an area
 # answer gets none of these
-_SINGLE = frozenset(model.kind for model in COVERAGE_MODELS.values() if model.lines)
+_SINGLE = frozenset(model.coverage_kind for model in COVERAGE_MODELS.values() if model.lines)
 
 register(Check(
     "connectivity", _guarded("connectivity", _run_connectivity), _is_line_case, needs_convention=True, shrinks=True,
-    kinds=_SINGLE, metrics={"line_gaps": (1.0, 0.0), "line_doubles": (1.0, 0.0), "line_breaks": (1.0, 0.0)},
+    coverage_kinds=_SINGLE, metrics={"line_gaps": (1.0, 0.0), "line_doubles": (1.0, 0.0), "line_breaks": (1.0, 0.0)},
     caption="each segment: one pixel per major-axis step from its first to its last, 8-connected (diamond-exit, Bresenham)",
     classifier="harness.diagnose.signatures:classify_connectivity", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
-    "joints", _guarded("joints", _run_joints), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
+    "joints", _guarded("joints", _run_joints), _is_line_case, needs_convention=True, shrinks=True, coverage_kinds=_SINGLE,
     metrics={"joint_mismatches": (1.0, 0.0)},
     caption="at each polyline joint the vertex pixel is drawn as often as the rule says (once without the last pixel) "
             "and both segments draw the same pixels as the rule's",
     classifier="harness.diagnose.signatures:classify_joints", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
-    "reversal", _guarded("reversal", _run_reversal), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
+    "reversal", _guarded("reversal", _run_reversal), _is_line_case, needs_convention=True, shrinks=True, coverage_kinds=_SINGLE,
     metrics={"reversal_mismatches": (1.0, 0.0)},
     caption="drawn backwards, each segment differs from forwards exactly as the rule predicts (the difference a fact)",
     classifier="harness.diagnose.signatures:classify_reversal", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
     "length", _guarded("length", lambda s: length(s.case, s.coverage, s.oracle, s.convention)),  # type: ignore[arg-type]
-    _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
+    _is_line_case, needs_convention=True, shrinks=True, coverage_kinds=_SINGLE,
     metrics={"length_mismatches": (1.0, 0.0), "length_excess": (1.0, 0.0), "length_deficit": (1.0, 0.0)},
     caption="each segment draws exactly as many pixels as the rule, no near tie excused",
     classifier="harness.diagnose.signatures:classify_length", cause_role="consequent", motion_role="none", figures=(),
 ))
 register(Check(
-    "line-motion", _guarded("line-motion", _run_line_motion), _is_line_case, needs_convention=True, shrinks=True, kinds=_SINGLE,
+    "line-motion", _guarded("line-motion", _run_line_motion), _is_line_case, needs_convention=True, shrinks=True,
+    coverage_kinds=_SINGLE,
     metrics={"line_backward_steps": (1.0, 0.0), "line_end_backward_steps": (1.0, 0.0)},
     caption="under sub-pixel motion along x and y each segment's pixels, per major-axis cell, and its end cells never "
             "move against the motion",

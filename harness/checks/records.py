@@ -36,7 +36,8 @@ __all__ = [
     "Status", "Result", "Drawing", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "result", "skip", "first",
     "Subject", "Check", "Figure", "Classifier", "CauseRole", "MotionRole", "ROLE_FIELDS", "register", "registered", "checks",
     "check_names", "metric_tolerance", "merge_samples",
-    "POINT_KINDS", "ALL_KINDS", "OVERFLOW_EDGES", "overflow_class", "every_check", "check_named", "root_checks", "is_consequent",
+    "SAMPLE_COVERAGE_KINDS", "ALL_COVERAGE_KINDS",
+    "OVERFLOW_EDGES", "overflow_class", "every_check", "check_named", "root_checks", "is_consequent",
     "motion_checks", "frame_checks", "figures",
 ]
 
@@ -53,8 +54,8 @@ NEAR_TIE_PIXELS = 2.0**-20
 EVIDENCE_LIMIT = 50
 # The coverage kinds of sample-based answers (one or several samples per pixel): what the
 # checks written for single-sample coverage judge, a multisample answer sample by sample.
-POINT_KINDS: frozenset[str] = frozenset({"single", "multisample"})
-ALL_KINDS: frozenset[str] = frozenset({"single", "multisample", "area"})
+SAMPLE_COVERAGE_KINDS: frozenset[str] = frozenset({"single", "multisample"})
+ALL_COVERAGE_KINDS: frozenset[str] = frozenset({"single", "multisample", "area"})
 
 
 @dataclass(frozen=True, slots=True)
@@ -195,9 +196,9 @@ class Subject:
         return self.coverages[0]
 
     @property
-    def kind(self) -> str:
+    def coverage_kind(self) -> str:
         """The coverage kind judged: the convention's (``single`` without one)."""
-        return "single" if self.convention is None else self.convention.kind
+        return "single" if self.convention is None else self.convention.coverage_kind
 
     def layer(self, index: int) -> Subject:
         """Sample ``index`` of a multisample subject as a single-sample subject: its
@@ -296,7 +297,7 @@ class Check:
         Metrics measured in time (they differ between any two runs): never stored in a
         baseline nor compared across runs.
     kinds : frozenset of str
-        The coverage kinds it judges (:attr:`Convention.kind`); a rasterizer of another
+        The coverage kinds it judges (:attr:`Convention.coverage_kind`); a rasterizer of another
         kind is not given it.
     per_sample : bool
         A multisample rasterizer is judged sample by sample: the check runs on each
@@ -331,7 +332,7 @@ class Check:
     needs_attributes: bool = False
     on_request: bool = False
     timings: tuple[str, ...] = ()
-    kinds: frozenset[str] = POINT_KINDS
+    coverage_kinds: frozenset[str] = SAMPLE_COVERAGE_KINDS
     per_sample: bool = True
     classifier: Classifier | str | None = None
     cause_role: CauseRole | None = None
@@ -366,8 +367,9 @@ class Check:
         if self.needs_attributes and not subject.interpolates:
             return skip(subject.case, self.name, f"{subject.rasterizer} declares interpolates = False: it returns "
                                                   "coverage only, no u, v to compare")
-        if subject.kind not in self.kinds:
-            return skip(subject.case, self.name, f"judges {', '.join(sorted(self.kinds))} coverage, not {subject.kind}")
+        if subject.coverage_kind not in self.coverage_kinds:
+            judged = ", ".join(sorted(self.coverage_kinds))
+            return skip(subject.case, self.name, f"judges {judged} coverage, not {subject.coverage_kind}")
         if subject.convention is not None and subject.convention.model.layered and self.per_sample:
             whole = Subject(subject.case, subject.rasterizer, subject.convention, subject.coverages,
                             _once_per_scene(subject.call),
@@ -464,15 +466,15 @@ def registered(check: Check) -> Iterator[Check]:
         _REGISTRY.pop(check.name, None)
 
 
-def checks(case: Any = None, only: set[str] | None = None, kind: str | None = None) -> list[Check]:
+def checks(case: Any = None, only: set[str] | None = None, coverage_kind: str | None = None) -> list[Check]:
     """The registered checks in order; with ``case``, those that apply to it (on-request
-    ones only when named in ``only``); with ``only``, those named; with ``kind``, those
+    ones only when named in ``only``); with ``only``, those named; with ``coverage_kind``, those
     that judge that coverage kind."""
     out = []
     for check in _REGISTRY.values():
         if only is not None and check.name not in only:
             continue
-        if kind is not None and kind not in check.kinds:
+        if coverage_kind is not None and coverage_kind not in check.coverage_kinds:
             continue
         if check.on_request and (only is None or check.name not in only):
             continue

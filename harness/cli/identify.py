@@ -36,7 +36,7 @@ def _declared_verdict(rasterizer: Any, fingerprint: Any, seed: int, timeout: flo
     same = declared == fingerprint.convention and fingerprint.exact and not stand_in
     if same and model.single_sample:
         return "confirmed", False
-    cases = verdict_cases(fingerprint, seed, scene_kinds_of(rasterizer), declared.kind)
+    cases = verdict_cases(fingerprint, seed, scene_kinds_of(rasterizer), declared.coverage_kind)
     names = model.verdict_checks
     results = run_suite([rasterizer], cases=cases, only=set(names), repros=False, identify=False, timeout=timeout)
     failing = [r for r in results if r.status in ("fail", "error") and r.check in (*names, "run")]

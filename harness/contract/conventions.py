@@ -84,7 +84,7 @@ A convention is sample point + tie rule + snapping (+ culling)
     4. Culling ``none | cw | ccw``: ``cw`` removes triangles with snapped A > 0 (clockwise
        on screen), ``ccw`` those with A < 0.
 
-A convention's coverage is one of three kinds (:attr:`Convention.kind`), each a coverage
+A convention's coverage is one of three kinds (:attr:`Convention.coverage_kind`), each a coverage
 model (:attr:`Convention.model`, :mod:`harness.contract.coverage_models`: area coverage with a
 sample pattern is the supersampled area model)
     ``single``
@@ -468,16 +468,16 @@ class Convention:
         return model_for(self.coverage, self.samples is not None)
 
     @property
-    def kind(self) -> CoverageKind:
+    def coverage_kind(self) -> CoverageKind:
         """``single``, ``multisample`` or ``area`` (see the module docstring): its
         model's kind (:attr:`model`).
 
-        >>> Convention().kind, Convention(samples=4).kind, Convention(coverage="area", samples=4).kind
+        >>> Convention().coverage_kind, Convention(samples=4).coverage_kind, Convention(coverage="area", samples=4).coverage_kind
         ('single', 'multisample', 'area')
         >>> Convention(coverage="area", samples=4).model
         CoverageModel('supersampled area')
         """
-        return self.model.kind
+        return self.model.coverage_kind
 
     @property
     def n_samples(self) -> int:

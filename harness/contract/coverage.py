@@ -48,7 +48,7 @@ class Coverage:
     covers one run per row, so cost grows with rows, not pixels. ``attributes`` has one row
     per covered pixel: the spans' pixels in span order, left to right within a span.
 
-    The same spans carry the two other kinds of coverage (:attr:`Convention.kind`):
+    The same spans carry the two other kinds of coverage (:attr:`Convention.coverage_kind`):
 
     * multisample: ``sample[k]`` says which sample of the pattern span k covers in each of
       its pixels (one run per primitive, sample and row); a fragment is then a (primitive,

@@ -16,9 +16,9 @@ model           ``kind``     what a (triangle, pixel) gets
 area``                       box-filter resolve)
 ==============  ===========  ===========================================================
 
-``kind`` is the coverage kind of :attr:`Convention.kind
-<harness.contract.conventions.Convention.kind>`, the word JSON, reports, the command line and
-:attr:`harness.checks.Check.kinds` use: supersampled area coverage is area coverage to
+``coverage_kind`` is the coverage kind of :attr:`Convention.coverage_kind
+<harness.contract.conventions.Convention.coverage_kind>`, the word JSON, reports, the command line and
+:attr:`harness.checks.Check.coverage_kinds` use: supersampled area coverage is area coverage to
 them (its answers have the same form and the same checks judge it); it is a model of its
 own only where it differs (its oracle, and that it is defined for paths).
 
@@ -77,9 +77,9 @@ class CoverageModel:
     ----------
     name : str
         Its key in :data:`COVERAGE_MODELS`.
-    kind : {"single", "multisample", "area"}
-        The coverage kind it is (:attr:`Convention.kind
-        <harness.contract.conventions.Convention.kind>`, :attr:`harness.checks.Check.kinds`).
+    coverage_kind : {"single", "multisample", "area"}
+        The coverage kind it is (:attr:`Convention.coverage_kind
+        <harness.contract.conventions.Convention.coverage_kind>`, :attr:`harness.checks.Check.coverage_kinds`).
     triangle_oracle : str
         ``"module:function"``, its exact oracle of a triangle scene under a convention
         of this model (:meth:`exact_triangles`).
@@ -112,7 +112,7 @@ class CoverageModel:
     """
 
     name: str
-    kind: CoverageKind
+    coverage_kind: CoverageKind
     triangle_oracle: str
     declared: str
     seen: str
@@ -134,8 +134,8 @@ class CoverageModel:
 
     def applies(self, check: Any) -> bool:
         """Whether ``check`` (a :class:`harness.checks.Check`) judges answers of this
-        model: its ``kinds`` name this model's kind."""
-        return self.kind in check.kinds
+        model: its ``coverage_kinds`` name this model's coverage kind."""
+        return self.coverage_kind in check.coverage_kinds
 
     def declared_as(self, convention: Any) -> str:
         """How a message says ``convention`` (of this model) declares it: ``one sample per
@@ -175,7 +175,7 @@ SUPERSAMPLED_AREA = CoverageModel(
 
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA)}
 # the coverage kinds, in the models' order
-COVERAGE_KINDS: tuple[CoverageKind, ...] = tuple(dict.fromkeys(m.kind for m in COVERAGE_MODELS.values()))
+COVERAGE_KINDS: tuple[CoverageKind, ...] = tuple(dict.fromkeys(m.coverage_kind for m in COVERAGE_MODELS.values()))
 
 
 def model_named(name: str) -> CoverageModel:

@@ -112,7 +112,7 @@ def declaration_problem(rasterizer: Rasterizer) -> str | None:
     if ("lines" in kinds and not isinstance(line, Convention) and not model.single_sample
             and not (model.lines and convention.line.rule == "rectangle")):
         return (f"{REFUSED}: it takes lines, which are drawn with one sample per pixel (or, multisample, as rectangles "
-                f"per sample), but its convention declares {convention.kind} coverage"
+                f"per sample), but its convention declares {convention.coverage_kind} coverage"
                 + (" with " + convention.line.describe() if model.lines else "")
                 + ": give it line_convention = Convention(line=...) for its lines"
                 + (", or line=LineRule(\"rectangle\") for multisample lines" if model.lines else "")

@@ -108,7 +108,7 @@ class CallTally:
         n = len(scene)
         what = f"{n:,} {scene.noun}{'' if n == 1 else 's'} on {scene.width} x {scene.height} px"
         if outcome.coverage is None:
-            error = describe(outcome.error, kind=not outcome.timed_out)
+            error = describe(outcome.error, with_type=not outcome.timed_out)
             (self.timed_out if outcome.timed_out else self.failed).append((self.calls, what, error))
         elif outcome.retried is not None:
             self.retried.append((self.calls, what, outcome.retry_text))

@@ -54,7 +54,7 @@ class Outcome:
         if self.retried is None:
             return ""
         if self.coverage is None and self.timed_out:
-            return f"cut off after {self.retried:.3g} s, asked again: {describe(self.error, kind=False)}"
+            return f"cut off after {self.retried:.3g} s, asked again: {describe(self.error, with_type=False)}"
         return f"cut off after {self.retried:.3g} s, answered when asked again (in {self.seconds:.3g} s)"
 
 
@@ -81,8 +81,8 @@ Call = Callable[[Scene], Outcome]
 AnyCall = Callable[[AnyScene], Outcome]
 
 
-def describe(error: BaseException | None, kind: bool = True) -> str:
-    """``Type: text`` of an exception (only its text without ``kind``), even when its
+def describe(error: BaseException | None, with_type: bool = True) -> str:
+    """``Type: text`` of an exception (only its text without ``with_type``), even when its
     ``__str__`` raises.
 
     >>> describe(ValueError("triangle 3 is huge"))
@@ -94,7 +94,7 @@ def describe(error: BaseException | None, kind: bool = True) -> str:
         text = str(error)
     except BaseException as inner:  # noqa: B036 - a plugin's __str__ may raise anything
         text = f"<its text cannot be shown: __str__ raised {type(inner).__name__}>"
-    if not kind:
+    if not with_type:
         return text
     return f"{type(error).__name__}: {text}" if text else type(error).__name__
 
@@ -174,7 +174,7 @@ def _error_fields(error: BaseException) -> dict[str, str]:
         base = next((_BASE_NAMES[cls] for cls in type.__dict__["__mro__"].__get__(kind) if cls in _BASE_NAMES), "BaseException")
     except BaseException:  # noqa: B036 - a type built to refuse being looked at
         name, base = "PluginError", "PluginError"
-    return {"type": name, "base": base, "text": _plain_text(describe(error, kind=False))}
+    return {"type": name, "base": base, "text": _plain_text(describe(error, with_type=False))}
 
 
 def _keeps_text(cls: type[BaseException]) -> bool:

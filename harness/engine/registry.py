@@ -192,9 +192,9 @@ def _said(spec: str, exc: BaseException) -> list[str]:  # pragma: no cover - run
 
     try:
         if isinstance(exc, Unavailable):
-            return ["unavailable", str.__str__(describe(exc, kind=False))]
+            return ["unavailable", str.__str__(describe(exc, with_type=False))]
         if isinstance(exc, ValueError):
-            return ["error", str.__str__(describe(exc, kind=False))]
+            return ["error", str.__str__(describe(exc, with_type=False))]
         return ["error", str.__str__(f"{spec}: {_describe(exc)}")]
     except BaseException:  # noqa: B036 - a type built to refuse being looked at
         return ["error", f"{spec}: loading the plugin failed with an exception that cannot be described"]

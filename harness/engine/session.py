@@ -118,7 +118,7 @@ class Session:
 
 def _error(case: Case, rasterizer: str, outcome: Outcome, check: str = "run") -> Result:
     kind = "timeout" if outcome.timed_out else type(outcome.error).__name__
-    text = describe(outcome.error, kind=False)
+    text = describe(outcome.error, with_type=False)
     return Result(rasterizer, case.id, check, "error", f"{kind}: {text}",
                   {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
 
@@ -158,7 +158,7 @@ def check_case(case: Case, rasterizer: Rasterizer, call: AnyCall,
     if refused is not None and case.scene.kind in refused:
         return []  # its answers contradicted its declaration already: said once, not per case
     convention = convention_for(rasterizer, case.scene)
-    kind = convention.kind if convention is not None else "single"
+    kind = convention.coverage_kind if convention is not None else "single"
     applicable = [check for check in checks.checks(case, only, kind) if invariance or check.name != "invariance"]
     if not applicable:
         return []
@@ -204,7 +204,7 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
     if refused is not None and case.frames[0].kind in refused:
         return []
     convention = rasterizer.convention
-    applicable = checks.checks(case, only, convention.kind if convention is not None else "single")
+    applicable = checks.checks(case, only, convention.coverage_kind if convention is not None else "single")
     if not applicable:
         return []
     coverages = []

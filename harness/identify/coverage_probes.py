@@ -174,7 +174,7 @@ class CoverageKindFact:
     indices seen in pixels a triangle covers whole, and how many there are per pixel), or
     neither (single); ``kind`` None when the rasterizer gave an error."""
 
-    kind: CoverageKind | None
+    coverage_kind: CoverageKind | None
     indices: tuple[int, ...] = ()
     per_pixel: tuple[int, ...] = ()
     error: str = ""
@@ -188,7 +188,7 @@ class CoverageKindFact:
     def model(self) -> CoverageModel | None:
         """The coverage model of the kind seen (analytic area for alphas: the sweeps tell
         a supersampler apart); None when the rasterizer gave an error."""
-        return None if self.kind is None else model_named(self.kind)
+        return None if self.coverage_kind is None else model_named(self.coverage_kind)
 
     @property
     def text(self) -> str:
@@ -196,8 +196,8 @@ class CoverageKindFact:
         if model is None:
             return f"not measured: the rasterizer raised {self.error}"[:120]
         if not model.sample_ids:
-            return f"{model.kind}: {model.seen}"
-        said = f"{model.kind}: {self.samples} {model.seen} (indices {', '.join(map(str, self.indices))})"
+            return f"{model.coverage_kind}: {model.seen}"
+        said = f"{model.coverage_kind}: {self.samples} {model.seen} (indices {', '.join(map(str, self.indices))})"
         if len(set(self.per_pixel)) > 1:
             said += f"; whole pixels hold {min(self.per_pixel)} to {max(self.per_pixel)} of them"
         return said
@@ -215,16 +215,16 @@ def coverage_kind(call: Call) -> CoverageKindFact:
     if cov is None:
         return CoverageKindFact(None, error=describe(outcome.error))
     if cov.alpha is not None:
-        return CoverageKindFact(AREA.kind)
+        return CoverageKindFact(AREA.coverage_kind)
     if cov.sample is None:
-        return CoverageKindFact(SINGLE.kind)
+        return CoverageKindFact(SINGLE.coverage_kind)
     t, x, y = cov.pixels()
     s = cov.fragment_samples()
     whole = (t <= 1) & (x >= 4) & (x <= 10) & (y >= 4) & (y <= 10)  # inside either winding's 28 px triangle
     whole &= t == (t[whole].min() if whole.any() else 0)  # one winding: the first drawn
     key = y[whole] * 32 + x[whole]
     per_pixel = [len(set(s[whole][key == k].tolist())) for k in np.unique(key)]
-    return CoverageKindFact(MULTISAMPLE.kind, tuple(sorted(set(s[whole].tolist()))), tuple(sorted(set(per_pixel))))
+    return CoverageKindFact(MULTISAMPLE.coverage_kind, tuple(sorted(set(s[whole].tolist()))), tuple(sorted(set(per_pixel))))
 
 
 def _layout(pattern: Sequence[tuple[float, float]]) -> str:

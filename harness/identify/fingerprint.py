@@ -153,7 +153,7 @@ class Fingerprint:
     facts: dict[str, Any] = field(default_factory=dict)
     ambiguous: tuple[str, ...] = ()
     probes: dict[str, Fact] = field(default_factory=dict, repr=False, compare=False)
-    kind: CoverageKind = "single"
+    coverage_kind: CoverageKind = "single"
     fill_rules: dict[str, str] | None = None
     path_convention: Convention | None = None
     path_fit: PathFit | None = field(default=None, repr=False, compare=False)
@@ -167,7 +167,7 @@ class Fingerprint:
     @property
     def model(self) -> CoverageModel:
         """The coverage model of the kind seen (area's for alphas, analytic or not)."""
-        return model_named(self.kind)
+        return model_named(self.coverage_kind)
 
     @property
     def lines_only(self) -> bool:
@@ -212,7 +212,7 @@ class Fingerprint:
             out["calls"] = self.calls.to_dict()
         if not self.model.single_sample:  # added fields (schema 1 allows them)
             samples = self.convention.samples
-            out.update(kind=self.kind, samples=None if samples is None else [list(o) for o in samples],
+            out.update(kind=self.coverage_kind, samples=None if samples is None else [list(o) for o in samples],
                        levels=self.convention.levels if self.model.alphas else None,
                        tolerance=self.convention.tolerance if self.model.alphas else None)
         if self.fill_rules is not None:  # a path-taking rasterizer's (added fields)
@@ -481,7 +481,7 @@ def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprin
             path = path_fit_of(fingerprint.convention, fingerprint.residual, fingerprint.pixels, fingerprint.runner_up,
                                fingerprint.ambiguous, None, rule, fingerprint.unanswered)
     if path is None:
-        path = PathFit(None, rule=rule, skipped=f"{fingerprint.kind} coverage (the path fit is single-sample)")
+        path = PathFit(None, rule=rule, skipped=f"{fingerprint.coverage_kind} coverage (the path fit is single-sample)")
     else:
         path = with_lattice(path, call, rules.honoured, seed)
     fingerprint.fill_rules = rules.drawn
@@ -641,7 +641,8 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
     probes |= {"zero area": zero_area(call), "non-finite": non_finite(call)}
     lines |= {"zero area": probes["zero area"].text, "non-finite": probes["non-finite"].text,
               "calls": f"{call.calls + 1} rasterizer calls"}  # and the one that read the kind
-    return Fingerprint(name, convention, residual, pixels, runner_up, lines, (), probes, kind=kind.kind or SINGLE.kind,
+    return Fingerprint(name, convention, residual, pixels, runner_up, lines, (), probes,
+                       coverage_kind=kind.coverage_kind or SINGLE.coverage_kind,
                        unanswered=unanswered)
 
 

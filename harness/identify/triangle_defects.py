@@ -350,7 +350,7 @@ def _judged(case: Case, coverage: Coverage, wanted: set[str], convention: Conven
     if convention is None and wanted & needs:
         return []
     subject = Subject(case, name, convention, [coverage], call, Tolerance(), False, scene_kinds=(case.scene.kind,))
-    return [c.verdict(subject) for c in checks.checks(case, wanted, SINGLE.kind)]
+    return [c.verdict(subject) for c in checks.checks(case, wanted, SINGLE.coverage_kind)]
 
 
 def suite_defects(call: Call, cases: Sequence[Case], wanted: set[str], convention: Convention | None, name: str,

@@ -200,8 +200,8 @@ class _Case(pytest.Collector):
         # single-sample until identify says otherwise; a check then skips, saying why)
         rasterizer = self.parent.given.rasterizer if isinstance(self.parent, _Rasterizer) else None
         convention = getattr(rasterizer, "convention", None)
-        kind = convention.kind if convention is not None else "single"
-        return [RastercheckItem.from_parent(self, name=check.name) for check in checks(self.case, kind=kind)]
+        kind = convention.coverage_kind if convention is not None else "single"
+        return [RastercheckItem.from_parent(self, name=check.name) for check in checks(self.case, coverage_kind=kind)]
 
     def result(self, check: str) -> Result:
         """The result of ``check``, running the case first unless a sibling did."""

@@ -140,7 +140,8 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
     from harness.contract.coverage import Coverage
 
     if not convention.model.lines:
-        raise ValueError(f"lines are defined for single-sample and multisample conventions, not {convention.kind} coverage")
+        raise ValueError(f"lines are defined for single-sample and multisample conventions, "
+                         f"not {convention.coverage_kind} coverage")
     if convention.model.layered:
         return _multisample_lines(scene, convention)
     rule = convention.line

@@ -254,7 +254,7 @@ def _flat(
     if fill_rule not in FILL_RULES:
         raise ValueError(f"fill_rule must be one of {', '.join(FILL_RULES)}, not {fill_rule!r}")
     if not convention.model.single_sample:
-        raise ValueError(f"path_spans takes a single-sample convention, not kind {convention.kind!r}")
+        raise ValueError(f"path_spans takes a single-sample convention, not kind {convention.coverage_kind!r}")
     if width < 0 or height < 0:
         raise ValueError(f"viewport must be non-negative, not {width} x {height}")
     paths = np.asarray(path_of_contour, dtype=np.int64).reshape(-1)
@@ -448,7 +448,7 @@ def open_outline_coverage(scene: AnyScene, convention: Convention, unbalanced: s
     if unbalanced not in UNBALANCED_ROWS:
         raise ValueError(f"unbalanced must be one of {', '.join(UNBALANCED_ROWS)}, not {unbalanced!r}")
     if not convention.model.single_sample:
-        raise ValueError(f"open_outline_coverage takes a single-sample convention, not kind {convention.kind!r}")
+        raise ValueError(f"open_outline_coverage takes a single-sample convention, not kind {convention.coverage_kind!r}")
     if PATHS.owns(scene):
         vertices, sizes, paths, fill_rule = scene.vertices, scene.contour_sizes, scene.contour_path, scene.fill_rule
     else:  # each triangle a one-contour path (ValueError for lines: no outline to leave open)

@@ -171,7 +171,7 @@ def line_checks(results: list[Result] | None = None) -> list[str]:
     line case (single-sample: lines have no other coverage), and any other that has a
     result on a line case among ``results`` (``run`` first, when one crashed)."""
     seen = {r.check for r in results or () if on_lines(r)}
-    registered = [c.name for c in registered_checks(kind="single") if _judges_lines(c)]
+    registered = [c.name for c in registered_checks(coverage_kind="single") if _judges_lines(c)]
     order = ["run", *check_names()]
     named = [c for c in order if c in registered or c in seen]
     return named + sorted(seen - set(named))

@@ -122,7 +122,7 @@ def winding_numbers(scene: PathScene, path: int, convention: Convention,
            [0, 1, 1, 1, 1, 0]])
     """
     if not convention.model.single_sample:
-        raise ValueError(f"winding_numbers takes a single-sample convention, not kind {convention.kind!r}")
+        raise ValueError(f"winding_numbers takes a single-sample convention, not kind {convention.coverage_kind!r}")
     x0, y0, x1, y1 = window
     cols, rows = x1 - x0, y1 - y0
     out = np.zeros((rows, cols), dtype=np.int64)

@@ -152,7 +152,7 @@ def flagged():
             results = run_suite([bad], cases=[c for c in static() if c.family == "degenerate"], timeout=0.5, identify=False,
                                 repros=False, isolate=True, on_result=seen_all, stop=stop)
         else:
-            kind = bad.convention.kind if bad.convention is not None else None
+            kind = bad.convention.coverage_kind if bad.convention is not None else None
             mine = [c for c in static() if any(check.name in wanted for check in checks(c))
                     and c.family in WHERE_IT_SHOWS.get(bad.name, (c.family,))]
             results = []

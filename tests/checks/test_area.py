@@ -586,8 +586,8 @@ def test_multisample_known_bads_fail_per_sample_for_their_reason():
 
 def test_the_area_checks_judge_area_coverage_only():
     for check in checks(only=AREA_CHECKS):
-        assert check.kinds == frozenset({"area"}) and check.needs_convention
-    judged_kinds = {check.name for check in checks(kind="multisample")}
+        assert check.coverage_kinds == frozenset({"area"}) and check.needs_convention
+    judged_kinds = {check.name for check in checks(coverage_kind="multisample")}
     assert not AREA_CHECKS & judged_kinds
 
 

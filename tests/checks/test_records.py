@@ -84,11 +84,12 @@ def test_registry_answers_what_the_lists_used_to_say():
                                                                  "popping", *lines}
     # each coverage kind gets the checks that judge it; lines are single-sample, or
     # multisample rectangles judged sample by sample
-    assert {c.name for c in checks(kind="area")} == {"hygiene", "degenerate", "invariance", "accuracy", "seams", "popping"}
-    points = {"hygiene", "conformance", "watertight", "closed", "degenerate", "invariance", "jaggy", "texel", "perspective",
-              "triangulation"}
-    assert {c.name for c in checks(kind="multisample")} == points | set(lines)
-    assert {c.name for c in checks(kind="single")} == points | set(lines)
+    area = {"hygiene", "degenerate", "invariance", "accuracy", "seams", "popping"}
+    assert {c.name for c in checks(coverage_kind="area")} == area
+    sampled = {"hygiene", "conformance", "watertight", "closed", "degenerate", "invariance", "jaggy", "texel", "perspective",
+               "triangulation"}
+    assert {c.name for c in checks(coverage_kind="multisample")} == sampled | set(lines)
+    assert {c.name for c in checks(coverage_kind="single")} == sampled | set(lines)
     assert {c.name for c in checks(only={"overdraw", "hygiene", "conformance", "degenerate", "invariance"}) if c.shrinks} == {
         "hygiene", "conformance", "degenerate", "invariance", "overdraw"}
 

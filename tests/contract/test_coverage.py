@@ -146,7 +146,7 @@ def test_hygiene_names_sample_indices_outside_the_pattern_and_missing_alphas():
 
 def test_area_rasterizers_get_only_the_checks_that_judge_area_coverage():
     for case in STATIC[:5]:
-        names = {c.name for c in checks(case, kind="area")}
+        names = {c.name for c in checks(case, coverage_kind="area")}
         assert not names & {"conformance", "watertight", "closed"}
         assert {"hygiene"} <= names
     results = run_suite([OracleArea()], cases=STATIC, isolate=False, repros=False, identify=False,

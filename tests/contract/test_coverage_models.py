@@ -42,9 +42,10 @@ SCENE = Scene(6, 5, np.array([[[0.0, 0.0], [6.0, 0.0], [0.0, 5.0]], [[5.5, 4.75]
 
 def test_a_convention_of_each_kind_gets_its_model():
     assert {name: c.model for name, c in CONVENTIONS.items()} == COVERAGE_MODELS
-    assert [CONVENTIONS[m.name].kind for m in COVERAGE_MODELS.values()] == [m.kind for m in COVERAGE_MODELS.values()]
+    models = COVERAGE_MODELS.values()
+    assert [CONVENTIONS[m.name].coverage_kind for m in models] == [m.coverage_kind for m in models]
     # the kinds keep their strings (JSON, reports, the command line); supersampled area is area to them
-    assert [c.kind for c in CONVENTIONS.values()] == ["single", "multisample", "area", "area"]
+    assert [c.coverage_kind for c in CONVENTIONS.values()] == ["single", "multisample", "area", "area"]
     assert COVERAGE_KINDS == ("single", "multisample", "area")
     # chosen again when the declaration changes, kept across processes (one object per model)
     assert replace(CONVENTIONS["multisample"], samples=None).model is SINGLE
@@ -151,7 +152,7 @@ def test_paths_and_lines_are_defined_where_the_model_says():
 def test_the_checks_that_apply_are_those_of_the_models_kind():
     registered = checks()
     for model in COVERAGE_MODELS.values():
-        assert [c.name for c in registered if model.applies(c)] == [c.name for c in checks(kind=model.kind)]
+        assert [c.name for c in registered if model.applies(c)] == [c.name for c in checks(coverage_kind=model.coverage_kind)]
     names = {m.name: {c.name for c in registered if m.applies(c)} for m in COVERAGE_MODELS.values()}
     assert "conformance" in names["single"] & names["multisample"] and "conformance" not in names["area"]
     assert "accuracy" in names["area"] and names["area"] == names["supersampled area"]

@@ -128,7 +128,7 @@ def test_pytest_items_say_it_once_too(tmp_path, capsys, monkeypatch) -> None:
     spec = f"{Path(__file__).resolve().parents[2] / FILE}"
     proc = plugin_run_here(tmp_path, capsys, monkeypatch, "-q", "-rfs", "--rasterizer", f"{spec}:DiamondDrawerNoLines",
                            "-k", "lattice/bits-0 or lattice/bits-2")
-    first = len(checks(next(c for c in suite("quick", 0) if c.id == "lattice/bits-0"), kind="single"))
+    first = len(checks(next(c for c in suite("quick", 0) if c.id == "lattice/bits-0"), coverage_kind="single"))
     assert proc.returncode == 1 and f"{first} failed" in proc.stdout and f"{first} skipped" in proc.stdout, proc.stdout[-3000:]
     assert ANSWER_BADS[DiamondDrawerNoLines] in proc.stdout and "Traceback" not in proc.stdout
     assert "not handed to it: its answer on lattice/bits-0 contradicted its declaration" in proc.stdout

@@ -204,7 +204,7 @@ def test_identify_of_a_multisample_rasterizer_reports_no_residual_of_drew_nothin
     exact_coverage(SMALL, Convention(samples=16))  # compiled here: every worker inherits it
     policy = TimeLimit(cap=60.0, base=1.0, rate=0.0, retry=2.0)
     fingerprint = identify_isolated(HiddenMultisampleHangingOnSixteenths(), call_timeout=policy)
-    assert fingerprint.kind == "multisample" and fingerprint.unanswered >= 1, fingerprint.card()
+    assert fingerprint.coverage_kind == "multisample" and fingerprint.unanswered >= 1, fingerprint.card()
     # the pattern and its tie rule are fitted on what it answered: the 16x pattern, with no
     # mismatch (the scenes it never answered counted as drawing nothing would be ~10^5)
     assert fingerprint.convention == Convention(samples=16) and fingerprint.residual == 0, fingerprint.card()

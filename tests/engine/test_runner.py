@@ -53,10 +53,10 @@ def test_every_check_ran_on_every_builtin(quick_results):
     for name in BUILTINS:
         rasterizer = load(name)
         assert rasterizer.convention is not None
-        kind = rasterizer.convention.kind
+        kind = rasterizer.convention.coverage_kind
         # every check of its coverage kind that applies to a case it is handed
         wanted = {c.name for case in suite("quick") if not hasattr(case, "scene") or takes(rasterizer, case.scene)
-                  for c in checks(case, kind=kind)}
+                  for c in checks(case, coverage_kind=kind)}
         assert wanted <= ran[name], name
 
 
@@ -142,5 +142,5 @@ def test_the_references_beyond_one_sample_pass_every_check_that_judges_them(name
     assert not bad, bad[:5]
     convention = load(name).convention
     assert convention is not None
-    kind = convention.kind
-    assert {c.name for c in checks(kind=kind)} == {r.check for r in results}, name  # every check judged it
+    kind = convention.coverage_kind
+    assert {c.name for c in checks(coverage_kind=kind)} == {r.check for r in results}, name  # every check judged it

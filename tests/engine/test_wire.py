@@ -204,7 +204,7 @@ class _Odd(KeyError):
 def test_an_error_comes_back_with_its_type_name_base_and_text(error, name, base):
     back = decode_outcome(encode_outcome(Outcome(None, error, "Traceback ...", 0.5))).error
     assert type(back).__name__ == name and isinstance(back, base)
-    assert describe(back, kind=False) == describe(error, kind=False)
+    assert describe(back, with_type=False) == describe(error, with_type=False)
     assert str(back) == str(error)
 
 

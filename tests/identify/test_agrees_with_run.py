@@ -184,7 +184,7 @@ def test_a_standard_pattern_prints_by_its_name_and_anything_else_as_a_count():
 @pytest.mark.parametrize("samples, linked", [(IRREGULAR, True), (STANDARD_PATTERNS[8], False)], ids=["irregular", "standard"])
 def test_the_fingerprint_page_links_the_offsets_words_do_not_spell(tmp_path, samples, linked):
     convention = Convention(samples=samples)
-    fingerprint = Fingerprint("ms", convention, 0, 100, runner_up=("another tie rule", 3), kind="multisample").to_dict()
+    fingerprint = Fingerprint("ms", convention, 0, 100, runner_up=("another tie rule", 3), coverage_kind="multisample").to_dict()
     assert fingerprint["samples"] == [list(o) for o in samples]  # the JSON keeps the offsets in full
     write_report(tmp_path, {"ms": convention.describe()}, [], 0, fingerprints={"ms": fingerprint},
                  declared={"ms": convention.describe()}, patterns={"ms": convention.samples})

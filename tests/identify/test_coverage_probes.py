@@ -28,7 +28,7 @@ class Hidden:
 
     def __init__(self, convention: Convention, levels: int | None = None) -> None:
         self.hidden, self.levels = convention, levels
-        self.name = f"hidden-{convention.kind}"
+        self.name = f"hidden-{convention.coverage_kind}"
 
     def rasterize(self, scene: Scene) -> Coverage:
         cov = exact_coverage(scene, self.hidden)
@@ -90,10 +90,10 @@ DEQP2 = ((77 / 256, 77 / 256), (179 / 256, 179 / 256))
 
 
 def test_coverage_kind_reads_what_the_answer_carries():
-    assert coverage_kind(InProcess(Hidden(Convention()))).kind == "single"
+    assert coverage_kind(InProcess(Hidden(Convention()))).coverage_kind == "single"
     eight = coverage_kind(InProcess(Hidden(Convention(samples=8))))
-    assert (eight.kind, eight.samples, eight.indices, eight.per_pixel) == ("multisample", 8, tuple(range(8)), (8,))
-    assert coverage_kind(InProcess(Hidden(Convention(coverage="area")))).kind == "area"
+    assert (eight.coverage_kind, eight.samples, eight.indices, eight.per_pixel) == ("multisample", 8, tuple(range(8)), (8,))
+    assert coverage_kind(InProcess(Hidden(Convention(coverage="area")))).coverage_kind == "area"
     assert coverage_kind(InProcess(Hidden(Convention(samples=4, cull="cw")))).samples == 4  # the other winding is read
 
     class Raises:
@@ -103,7 +103,7 @@ def test_coverage_kind_reads_what_the_answer_carries():
             raise RuntimeError("no")
 
     raised = coverage_kind(InProcess(Raises()))
-    assert raised.kind is None and "RuntimeError" in raised.text
+    assert raised.coverage_kind is None and "RuntimeError" in raised.text
 
 
 @pytest.mark.parametrize("hidden, said", [
@@ -121,7 +121,7 @@ def test_coverage_kind_reads_what_the_answer_carries():
 ], ids=lambda c: c.describe() if isinstance(c, Convention) else "")
 def test_identify_recovers_a_multisample_pattern_exactly_in_its_order(hidden, said):
     fingerprint = identify(Hidden(hidden))
-    assert fingerprint.kind == "multisample"
+    assert fingerprint.coverage_kind == "multisample"
     assert fingerprint.convention == hidden and fingerprint.exact, fingerprint.card()
     assert said in fingerprint.facts["pattern"]
     if hidden.cull == "none":  # culling leaves half a partition out
@@ -185,7 +185,7 @@ def test_identify_recovers_analytic_area_and_its_levels(levels):
     fingerprint = identify(Hidden(Convention(coverage="area"), levels))
     sweeps = fingerprint.probes["sweeps"]
     assert isinstance(sweeps, SweepFact)
-    assert fingerprint.kind == "area" and sweeps.model == "analytic", fingerprint.card()
+    assert fingerprint.coverage_kind == "area" and sweeps.model == "analytic", fingerprint.card()
     assert fingerprint.convention == Convention(coverage="area", levels=levels or CONTINUOUS_LEVELS)
     assert fingerprint.exact and sweeps.levels == levels
     assert sweeps.vertical is not None and sweeps.horizontal is not None
@@ -256,7 +256,7 @@ def test_analytic_area_is_told_from_4x4_and_8x8_supersampling():
 
 def test_single_sample_identify_is_unchanged():
     fingerprint = identify(Hidden(Convention()))
-    assert fingerprint.kind == "single" and "coverage" not in fingerprint.facts and "kind" not in fingerprint.to_dict()
+    assert fingerprint.coverage_kind == "single" and "coverage" not in fingerprint.facts and "kind" not in fingerprint.to_dict()
     assert fingerprint.exact and fingerprint.convention == Convention()
 
 
@@ -268,5 +268,5 @@ def test_an_anti_aliaser_that_raises_on_the_sweeps_is_never_claimed():
             return super().rasterize(scene)
 
     fingerprint = identify(RaisesOnBigScenes(Convention(coverage="area")))
-    assert fingerprint.kind == "area" and not fingerprint.exact
+    assert fingerprint.coverage_kind == "area" and not fingerprint.exact
     assert "MemoryError" in fingerprint.facts["model"]

@@ -111,7 +111,7 @@ def test_collection_builds_every_item_and_rasterizes_nothing(tmp_path, capsys, m
     ids = [line for line in proc.stdout.splitlines() if "::" in line]
     cases = suite("quick")
     # a single-sample rasterizer's checks, on the scenes it takes (triangles)
-    assert len(ids) == 2 * sum(len(checks(case, kind="single")) for case in cases
+    assert len(ids) == 2 * sum(len(checks(case, coverage_kind="single")) for case in cases
                                if not isinstance(case, Case) or case.scene.kind == "triangles")
     assert ids[:3] == ["rastercheck::counting::lattice/bits-0::hygiene", "rastercheck::counting::lattice/bits-0::conformance",
                        "rastercheck::counting::lattice/bits-0::invariance"]

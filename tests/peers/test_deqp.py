@@ -237,7 +237,7 @@ def _identified(samples: int):
 @pytest.mark.parametrize("samples", PATTERNS)
 def test_identify_recovers_deqps_pattern_exactly(samples):
     _, fingerprint = _identified(samples)
-    assert fingerprint.kind == "multisample"
+    assert fingerprint.coverage_kind == "multisample"
     assert fingerprint.exact and fingerprint.convention == expected_convention(samples), fingerprint.card()
     assert DeqpMultisample(samples).offsets.tolist() == [[round(x * 256), round(y * 256)] for x, y in DEQP_PATTERNS[samples]]
 

@@ -244,7 +244,7 @@ def test_where_the_errors_lie_names_the_cause_before_what_they_are():
 
 def test_the_declared_convention():
     convention = StbTruetype.convention
-    assert convention.kind == "area" and convention.levels == 256 and convention.subpixel_bits is None
+    assert convention.coverage_kind == "area" and convention.levels == 256 and convention.subpixel_bits is None
     assert convention.alpha_tolerance == pytest.approx(1 / 510 + 55 * 2.0**-13)
     with pytest.raises(ValueError, match="bitmap must be 'box' or 'screen'"):
         StbTruetype("glyph")

@@ -60,7 +60,7 @@ def test_each_reference_satisfies_the_protocol_and_declares_its_kind():
     for r in REFERENCES:
         typed: Rasterizer = r  # the static assignment a type checker verifies
         assert isinstance(typed, Rasterizer)
-        kinds.append(r.convention.kind)
+        kinds.append(r.convention.coverage_kind)
     assert kinds == ["multisample", "multisample", "area", "area"]
     assert REFERENCES[0].convention == Convention(samples=4) and REFERENCES[1].convention.n_samples == 8
     assert AreaScanline.convention.alpha_tolerance == TOLERANCE and 0.0 <= TOLERANCE <= 1.0

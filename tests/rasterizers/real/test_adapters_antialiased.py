@@ -64,11 +64,11 @@ def test_a_missing_library_makes_the_adapter_unavailable(monkeypatch, cls, modul
 
 def test_declared_conventions():
     cairo = adapters.CairoAntialiased.convention
-    assert cairo is not None and cairo.kind == "area" and cairo.levels == 256 and cairo.subpixel_bits == 8
+    assert cairo is not None and cairo.coverage_kind == "area" and cairo.levels == 256 and cairo.subpixel_bits == 8
     assert cairo.alpha_tolerance == pytest.approx(1 / 15 + 1 / 256 + 1 / 510)
     assert adapters.SkiaAntialiased.convention is None  # no bound follows from skia's methods: identified instead
     msaa = adapters.MesaMultisample.convention
-    assert msaa is not None and msaa.kind == "multisample" and msaa.n_samples == 4 and msaa.tie == "top-left"
+    assert msaa is not None and msaa.coverage_kind == "multisample" and msaa.n_samples == 4 and msaa.tie == "top-left"
 
 
 def test_alpha_coverage_is_well_formed(alpha_adapter):
