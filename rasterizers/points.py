@@ -55,10 +55,7 @@ class PointSprites:
             raise Unsupported(f"{self.name} draws points, not {scene.kind}")
         if not self.convention.model.layered:
             return self._layer(scene, self.convention)
-        layers = [self._layer(scene, self.convention.at_sample(k)) for k in range(self.convention.n_samples)]
-        joined = Coverage.concat([Coverage(c.primitive, c.y, c.x0, c.x1, sample=np.full(len(c), k, dtype=np.int64))
-                                  for k, c in enumerate(layers)])
-        return joined.take(np.argsort(joined.primitive, kind="stable"))
+        return Coverage.from_layers([self._layer(scene, self.convention.at_sample(k)) for k in range(self.convention.n_samples)])
 
     def _layer(self, scene: PointScene, convention: Convention) -> Coverage:
         centres = convention.snap(scene.vertices)

@@ -4,7 +4,7 @@ interpolated attributes, per-sample layers or area alphas, and its canonical for
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -270,6 +270,20 @@ class Coverage:
             joined[field] = np.concatenate([getattr(p, field) for p in parts]) if all(present) else None
         primitive, y, x0, x1 = (np.concatenate([getattr(p, f) for p in parts]) for f in ("primitive", "y", "x0", "x1"))
         return cls(primitive, y, x0, x1, joined["attributes"], joined["sample"], joined["alpha"])
+
+    @classmethod
+    def from_layers(cls, layers: Sequence[Coverage]) -> Coverage:
+        """One multisample answer from single-sample ones, layer k the answer at sample k
+        of the pattern: each span carries its layer's index, sorted by primitive (stably:
+        then by sample, then as each layer gave them).
+
+        >>> both = Coverage.from_layers([Coverage([1, 0], [0, 0], [0, 2], [1, 3]), Coverage([0], [0], [1], [2])])
+        >>> both.primitive, both.sample, both.x0
+        (array([0, 0, 1]), array([0, 1, 0]), array([2, 1, 0]))
+        """
+        joined = cls.concat([cls(c.primitive, c.y, c.x0, c.x1, sample=np.full(len(c), k, dtype=np.int64))
+                             for k, c in enumerate(layers)])
+        return joined.take(np.argsort(joined.primitive, kind="stable"))
 
     # -- views -----------------------------------------------------------------------
 

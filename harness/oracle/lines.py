@@ -97,10 +97,7 @@ def _multisample_lines(scene: Any, convention: Convention) -> Any:
     if convention.line.rule != "rectangle":
         raise ValueError(f"multisample lines are rectangles sampled per sample (GL 14.5.4), not {convention.line.describe()}: "
                          "declare Convention(samples=..., line=LineRule('rectangle'))")
-    layers = [line_coverage(scene, convention.at_sample(k)) for k in range(convention.n_samples)]
-    joined = Coverage.concat([Coverage(c.primitive, c.y, c.x0, c.x1, sample=np.full(len(c), k, dtype=np.int64))
-                              for k, c in enumerate(layers)])
-    return joined.take(np.argsort(joined.primitive, kind="stable"))
+    return Coverage.from_layers([line_coverage(scene, convention.at_sample(k)) for k in range(convention.n_samples)])
 
 
 def line_coverage(scene: Any, convention: Convention) -> Any:

@@ -162,10 +162,7 @@ def point_coverage(scene: PointScene, convention: Convention) -> Coverage:
                          f"not {convention.coverage_kind} coverage")
     if not convention.model.layered:
         return _single(scene, convention)
-    layers = [_single(scene, convention.at_sample(k)) for k in range(convention.n_samples)]
-    joined = Coverage.concat([Coverage(c.primitive, c.y, c.x0, c.x1, sample=np.full(len(c), k, dtype=np.int64))
-                              for k, c in enumerate(layers)])
-    return joined.take(np.argsort(joined.primitive, kind="stable"))
+    return Coverage.from_layers([_single(scene, convention.at_sample(k)) for k in range(convention.n_samples)])
 
 
 def _inside_rational(c: Fraction, p: Fraction, half: Fraction, tie: int) -> bool:
@@ -178,10 +175,8 @@ def point_coverage_rational(scene: PointScene, convention: Convention) -> Covera
     every pixel of each point's clipped bounding box, every sample of the convention
     (slow; the tests' twin of the fast oracle)."""
     if convention.model.layered:
-        layers = [point_coverage_rational(scene, convention.at_sample(k)) for k in range(convention.n_samples)]
-        joined = Coverage.concat([Coverage(c.primitive, c.y, c.x0, c.x1, sample=np.full(len(c), k, dtype=np.int64))
-                                  for k, c in enumerate(layers)])
-        return joined.take(np.argsort(joined.primitive, kind="stable"))
+        samples = range(convention.n_samples)
+        return Coverage.from_layers([point_coverage_rational(scene, convention.at_sample(k)) for k in samples])
     centres = convention.snap(scene.vertices)
     tx, ty, _ = convention.tie_perturbation
     ox, oy = (Fraction(v) for v in convention.sample)
