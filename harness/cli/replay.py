@@ -12,8 +12,8 @@ from harness.cli.common import UsageError, _load_all
 def _replay(args: argparse.Namespace) -> int:
     from harness.contract.case import MotionCase, read_case_file
     from harness.contract.protocol import fill_rules_of, scene_kinds_of, takes
-    from harness.contract.scenes import PathScene
     from harness.engine.runner import nothing_checked, replay
+    from harness.kinds import PATHS
 
     try:
         read_case_file(args.case)
@@ -26,7 +26,7 @@ def _replay(args: argparse.Namespace) -> int:
     scene = case.frames[0] if isinstance(case, MotionCase) else case.scene
     if not takes(rasterizers[0], scene):
         kinds = scene_kinds_of(rasterizers[0])
-        rule = f" under the {scene.fill_rule} fill rule" if isinstance(scene, PathScene) and scene.kind in kinds else ""
+        rule = f" under the {scene.fill_rule} fill rule" if PATHS.owns(scene) and scene.kind in kinds else ""
         raise UsageError(f"replay {args.case}: a case of {scene.kind}{rule}, which {rasterizers[0].name} does not take "
                          f"(scene_kinds={kinds!r}" + (f", fill_rules={fill_rules_of(rasterizers[0])!r}" if rule else "")
                          + "): nothing to replay")
