@@ -71,8 +71,4 @@ class PointSprites:
             # clipped to the viewport (a far point's bounds are huge Python integers)
             bounds[k] = (min(max(first_x, 0), scene.width), max(min(stop_x, scene.width), 0),
                          min(max(first_y, 0), scene.height), max(min(stop_y, scene.height), 0))
-        x0, x1, y0, y1 = bounds.T
-        rows = np.where(x1 > x0, np.maximum(y1 - y0, 0), 0)
-        starts = np.cumsum(rows) - rows
-        y = np.repeat(y0, rows) + np.arange(int(rows.sum()), dtype=np.int64) - np.repeat(starts, rows)
-        return Coverage(np.repeat(np.arange(len(scene), dtype=np.int64), rows), y, np.repeat(x0, rows), np.repeat(x1, rows))
+        return Coverage.from_boxes(*bounds.T)

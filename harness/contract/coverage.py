@@ -272,6 +272,21 @@ class Coverage:
         return cls(primitive, y, x0, x1, joined["attributes"], joined["sample"], joined["alpha"])
 
     @classmethod
+    def from_boxes(cls, x0: ArrayLike, x1: ArrayLike, y0: ArrayLike, y1: ArrayLike) -> Coverage:
+        """Primitive k covering the pixels ``x0[k] <= x < x1[k]`` of rows ``y0[k] <= y <
+        y1[k]`` ((N,) int64 each; an empty box covers nothing): one span per row, sorted by
+        primitive and row.
+
+        >>> c = Coverage.from_boxes([1, 0], [3, 0], [0, 2], [2, 3])
+        >>> c.primitive, c.y, c.x0, c.x1
+        (array([0, 0]), array([0, 1]), array([1, 1]), array([3, 3]))
+        """
+        x0, x1, y0, y1 = (np.asarray(v, dtype=np.int64) for v in (x0, x1, y0, y1))
+        rows = np.where(x1 > x0, np.maximum(y1 - y0, 0), 0)
+        primitive = np.repeat(np.arange(rows.size, dtype=np.int64), rows)
+        return cls(primitive, expand(y0, rows), np.repeat(x0, rows), np.repeat(x1, rows))
+
+    @classmethod
     def from_layers(cls, layers: Sequence[Coverage]) -> Coverage:
         """One multisample answer from single-sample ones, layer k the answer at sample k
         of the pattern: each span carries its layer's index, sorted by primitive (stably:

@@ -114,13 +114,8 @@ def _single(scene: PointScene, convention: Convention) -> Coverage:
     ox, oy = (float(v) for v in convention.sample)
     ranges = np.zeros((centres.shape[0], 4), dtype=np.int64)
     _ranges_kernel(centres, keep, float(scene.point_size), ox, oy, tx, ty, scene.width, scene.height, ranges)
-    x0, x1, y0, y1 = ranges.T
-    rows = np.where(x1 > x0, np.maximum(y1 - y0, 0), 0)
-    point = np.repeat(np.arange(centres.shape[0], dtype=np.int64), rows)
-    # each covered row of point k is one span: rows y0[k] .. y1[k] - 1
-    start = np.cumsum(rows) - rows
-    y = np.repeat(y0, rows) + (np.arange(int(rows.sum()), dtype=np.int64) - np.repeat(start, rows))
-    return Coverage(point, y, np.repeat(x0, rows), np.repeat(x1, rows))
+    # each covered row of point k is one span
+    return Coverage.from_boxes(*ranges.T)
 
 
 def point_coverage(scene: PointScene, convention: Convention) -> Coverage:

@@ -23,10 +23,7 @@ def _spans(scene: PointScene, x0: np.ndarray, x1: np.ndarray, y0: np.ndarray, y1
     """Per point the pixels ``x0 <= x < x1``, ``y0 <= y < y1`` (clipped): one span per row."""
     x0, x1 = np.clip(x0, 0, scene.width), np.clip(x1, 0, scene.width)
     y0, y1 = np.clip(y0, 0, scene.height), np.clip(y1, 0, scene.height)
-    rows = np.where(x1 > x0, np.maximum(y1 - y0, 0), 0).astype(np.int64)
-    starts = np.cumsum(rows) - rows
-    y = np.repeat(y0, rows) + np.arange(int(rows.sum()), dtype=np.int64) - np.repeat(starts, rows)
-    return Coverage(np.repeat(np.arange(len(scene), dtype=np.int64), rows), y, np.repeat(x0, rows), np.repeat(x1, rows))
+    return Coverage.from_boxes(x0, x1, y0, y1)
 
 
 def _finite(scene: PointScene) -> np.ndarray:
