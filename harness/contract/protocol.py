@@ -56,6 +56,12 @@ class Rasterizer(Protocol):
         The convention its lines follow when not ``convention`` (set by identify on a
         black box whose lines are snapped otherwise than its triangles, or drawn as
         rectangles at another sample point or tie rule). Read by :func:`convention_for`.
+    library, library_version : str
+        The library it drives (the same for each of the library's modes) and its version:
+        the atlas's rows. Read by :func:`library_of`.
+    coverage_kind : str
+        The coverage it returns, ``single``, ``multisample`` or ``area``, when it
+        declares no convention that says so. Read by :func:`coverage_kind_of`.
     """
 
     # Read-only members: a plain class attribute or instance attribute of a narrower
@@ -110,6 +116,21 @@ def takes(rasterizer: Rasterizer, scene: AnyScene) -> bool:
         return False
     # a fill rule is a path's: only path scenes carry one
     return not PATHS.owns(scene) or scene.fill_rule in fill_rules_of(rasterizer)
+
+
+def library_of(rasterizer: Rasterizer) -> tuple[str, str]:
+    """The library a rasterizer drives and its version (``library``, ``library_version``):
+    its own name and ``""`` when it names none (a reference rasterizer, a plugin)."""
+    library = getattr(rasterizer, "library", "") or rasterizer.name
+    return str(library), str(getattr(rasterizer, "library_version", "") or "")
+
+
+def coverage_kind_of(rasterizer: Rasterizer) -> str:
+    """The kind of coverage a rasterizer returns: its declared convention's, else its own
+    ``coverage_kind``, else ``single``."""
+    if rasterizer.convention is not None:
+        return str(rasterizer.convention.coverage_kind)
+    return str(getattr(rasterizer, "coverage_kind", "single") or "single")
 
 
 def interpolates_of(rasterizer: Rasterizer) -> bool:

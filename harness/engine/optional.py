@@ -44,6 +44,15 @@ INSTALLS: dict[str, Install] = {
     "skia": Install("skia", "pip install -e '.[skia]'   (skia-python; or '.[real]')"),
     "moderngl": Install("gl", "pip install -e '.[gl]'   (moderngl; or '.[real]'), with Mesa's EGL: "
                               "apt-get install libegl1 libgl1-mesa-dri"),
+    "wgpu": Install("vulkan", "pip install -e '.[vulkan]'   (wgpu), with Mesa's Vulkan driver lavapipe: "
+                              "apt-get install mesa-vulkan-drivers"),
+    "freetype": Install("freetype", "pip install -e '.[freetype]'   (freetype-py)"),
+    "aggdraw": Install("agg", "pip install -e '.[agg]'   (aggdraw)"),
+    "matplotlib": Install("matplotlib", "pip install -e '.[matplotlib]'"),
+    "PyQt6": Install("qt", "pip install -e '.[qt]'   (PyQt6)"),
+    "blend2d": Install("blend2d", "pip install -e '.[blend2d]'   (blend2d-python)"),
+    "resvg_py": Install("tiny_skia", "pip install -e '.[tiny_skia]'   (resvg-py: tiny-skia through resvg)"),
+    "pygame": Install("pygame", "pip install -e '.[pygame]'"),
     "PIL": Install(None, "pip install pillow"),
     "skimage": Install(None, "pip install scikit-image"),
 }

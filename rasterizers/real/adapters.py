@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from typing import Any, NoReturn
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -13,29 +13,18 @@ from numpy.typing import NDArray
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene, Unsupported
-from harness.engine.optional import missing
 from harness.engine.registry import Unavailable
+from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need, refuse_kind
 from rasterizers.real._lines import MesaLines
 from rasterizers.real._masks import (
     coverage_from_sample_masks,
     draw_each,
-    draw_each_alpha,
-    draw_each_path,
-    draw_each_segment,
     finite_within_limit,
 )
 from rasterizers.real._stencil import StencilPaths
 
 __all__ = ["PillowPolygon", "SkimagePolygon", "SkiaPath", "CairoFill", "MesaLlvmpipe", "MesaSoftpipe",
            "CairoAntialiased", "SkiaAntialiased", "MesaMultisample"]
-
-
-def _need(module: str) -> Any:
-    """The module, imported; :class:`Unavailable` naming the install when it is missing."""
-    why = missing(module)
-    if why is not None:
-        raise Unavailable(why)
-    return __import__(module)
 
 
 def _skia_path(skia: Any, contours: list[NDArray], fill_rule: str = "nonzero") -> Any:
@@ -106,67 +95,7 @@ def _cairo_fill(cairo: Any, contours: list[NDArray], w: int, h: int, antialias: 
     return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, stride)[:, :w]
 
 
-def _refuse_kind(name: str, scene: object, kinds: tuple[str, ...]) -> NoReturn:
-    """Raise ValueError for a scene of a kind the rasterizer does not take."""
-    raise ValueError(f"{name}: takes {', '.join(kinds)} scenes, not {type(scene).__name__}")
-
-
-class _OneAtATime:
-    """A 2D library drawing one triangle, one whole path (all its contours in one fill,
-    under the scene's fill rule) or one line segment at a time into a mask (``_draw``,
-    ``_draw_path``, ``_draw_segment``): coverage only, no declared convention.
-
-    Line scenes: each segment in its own call into an image around its box
-    (:func:`~rasterizers.real._masks.draw_each_segment`), so a pixel two segments of a
-    polyline draw is seen twice; a segment with a NaN or infinite end point covers
-    nothing (the library is not asked); one with a coordinate beyond
-    :data:`~rasterizers.real._masks.LIMIT` is refused (ValueError naming it). Libraries
-    that draw hairlines only (:attr:`line_widths` ``(1.0,)``) raise Unsupported for any
-    other ``line_width``."""
-
-    name = ""
-    convention = None
-    interpolates = False  # coverage only: the library draws no varyings
-    scene_kinds: tuple[str, ...] = ("triangles", "paths", "lines")
-    fill_rules: tuple[str, ...] = ("nonzero", "evenodd")
-    # the line widths the library draws; None: any
-    line_widths: tuple[float, ...] | None = (1.0,)
-
-    def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
-        raise NotImplementedError
-
-    def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
-        raise NotImplementedError
-
-    def _draw_segment(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
-        raise NotImplementedError
-
-    def _refuse_lines(self, scene: LineScene) -> None:
-        """Raise Unsupported for a line width the library does not draw."""
-        if self.line_widths is not None and scene.line_width not in self.line_widths:
-            raise Unsupported(f"{self.name}: draws hairlines (one pixel wide) only, not lines {scene.line_width:g} px wide")
-
-    def _refuse(self, scene: PathScene) -> None:
-        """Raise Unsupported for a path scene the library cannot fill (by default, a fill
-        rule it does not honour)."""
-        if scene.fill_rule not in self.fill_rules:
-            raise Unsupported(f"{self.name}: fills {' and '.join(self.fill_rules)} only, not {scene.fill_rule!r}")
-
-    def rasterize(self, scene: AnyScene) -> Coverage:
-        if isinstance(scene, LineScene):
-            self._refuse_lines(scene)
-            width = scene.line_width
-            return draw_each_segment(scene, self.name, lambda a, b, w, h, origin: self._draw_segment(a, b, width, w, h, origin))
-        if isinstance(scene, PathScene):
-            self._refuse(scene)
-            rule = scene.fill_rule
-            return draw_each_path(scene, self.name, lambda contours, w, h, origin: self._draw_path(contours, rule, w, h))
-        if not isinstance(scene, Scene):
-            _refuse_kind(self.name, scene, self.scene_kinds)
-        return draw_each(scene, self.name, self._draw)
-
-
-class PillowPolygon(_OneAtATime):
+class PillowPolygon(OneAtATime):
     """Pillow's ``ImageDraw.polygon``. Pillow puts pixel centres at integer coordinates,
     so our (x, y) is Pillow's (x - 0.5, y - 0.5).
 
@@ -201,10 +130,12 @@ class PillowPolygon(_OneAtATime):
     rounding: widths other than 1 are refused (Unsupported)."""
 
     name = "pillow"
+    library = "Pillow"
     fill_rules = ("evenodd",)
 
     def __init__(self) -> None:
-        self._pil = _need("PIL")
+        self._pil = need("PIL")
+        self.library_version = str(self._pil.__version__)
         from PIL import Image, ImageDraw
 
         self._Image, self._Draw = Image, ImageDraw
@@ -235,7 +166,7 @@ class PillowPolygon(_OneAtATime):
         return np.asarray(image) > 0
 
 
-class SkimagePolygon(_OneAtATime):
+class SkimagePolygon(OneAtATime):
     """scikit-image's ``draw.polygon(rows, cols)``: pixel centres at integers, so rows are
     y - 0.5 and columns x - 0.5.
 
@@ -271,10 +202,11 @@ class SkimagePolygon(_OneAtATime):
     polylines). Widths other than 1 are refused (Unsupported)."""
 
     name = "skimage"
+    library = "scikit-image"
     fill_rules = ("evenodd",)
 
     def __init__(self) -> None:
-        _need("skimage")
+        self.library_version = str(need("skimage").__version__)
         from skimage.draw import line, polygon
 
         # (skimage.draw is not annotated: both give (rows, cols) index arrays)
@@ -333,7 +265,7 @@ def bridged(contours: list[NDArray]) -> NDArray:
     return np.concatenate(pieces)
 
 
-class SkiaPath(_OneAtATime):
+class SkiaPath(OneAtATime):
     """skia-python, anti-aliasing off: skia's pixel (i, j) is our [i, i+1) x [j, j+1), so
     coordinates pass unchanged.
 
@@ -360,9 +292,11 @@ class SkiaPath(_OneAtATime):
     1 are refused (Unsupported: skia's wide strokes are another rule)."""
 
     name = "skia"
+    library = "skia"
 
     def __init__(self) -> None:
-        self._skia = _need("skia")
+        self._skia = need("skia")
+        self.library_version = f"skia-python {self._skia.__version__}"
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _skia_fill(self._skia, [p], w, h, antialias=False) > 0
@@ -383,7 +317,7 @@ class SkiaPath(_OneAtATime):
         return alpha > 0
 
 
-class CairoFill(_OneAtATime):
+class CairoFill(OneAtATime):
     """pycairo, ``ANTIALIAS_NONE`` fill: cairo's pixel (i, j) is our [i, i+1) x [j, j+1), so
     coordinates pass unchanged.
 
@@ -414,9 +348,11 @@ class CairoFill(_OneAtATime):
     cap (seen: 0.26 px beyond; the aliased scan converter's rounding of spans)."""
 
     name = "cairo"
+    library = "cairo"
 
     def __init__(self) -> None:
-        self._cairo = _need("cairo")
+        self._cairo = need("cairo")
+        self.library_version = str(self._cairo.cairo_version_string())
         major, minor = (int(v) for v in self._cairo.cairo_version_string().split(".")[:2])
         self.hairlines = hasattr(self._cairo.Context, "set_hairline") and (major, minor) >= (1, 18)
         # a hairline is one pixel wide; cairo 1.16's rectangular strokes take any width
@@ -445,24 +381,7 @@ class CairoFill(_OneAtATime):
         return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, surface.get_stride())[:, :w] > 0
 
 
-class _AlphaOneTriangleAtATime:
-    """An anti-aliasing 2D library drawing one triangle at a time into an 8-bit alpha
-    image (``_draw``): area coverage, alpha = pixel value / 255 per (triangle, pixel)."""
-
-    name = ""
-    convention: Convention | None = None
-    interpolates = False  # coverage only: the library draws no varyings
-
-    def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
-        raise NotImplementedError
-
-    def rasterize(self, scene: Scene) -> Coverage:
-        if not isinstance(scene, Scene):
-            _refuse_kind(self.name, scene, ("triangles",))
-        return draw_each_alpha(scene, self.name, self._draw)
-
-
-class CairoAntialiased(_AlphaOneTriangleAtATime):
+class CairoAntialiased(AlphaOneTriangleAtATime):
     """pycairo, ``ANTIALIAS_DEFAULT`` fill into an A8 image surface, one triangle at a
     time; cairo's pixel (i, j) is our [i, i+1) x [j, j+1), so coordinates pass unchanged.
     Alpha is the A8 value / 255. (``GRAY``, ``GOOD``, ``BEST`` and ``SUBPIXEL`` draw the
@@ -486,18 +405,20 @@ class CairoAntialiased(_AlphaOneTriangleAtATime):
     is ~0.001: a coverage of -5/255 wrapped to 8 bits."""
 
     name = "cairo_aa"
+    library = "cairo"
     # tor scan converter: 15 sub-rows (1/30 per boundary, two per column), x ends to 1/256,
     # 8-bit rounding of the grid area
     convention = Convention(coverage="area", levels=256, subpixel_bits=8, tolerance=1 / 15 + 1 / 256 + 1 / 510)
 
     def __init__(self) -> None:
-        self._cairo = _need("cairo")
+        self._cairo = need("cairo")
+        self.library_version = str(self._cairo.cairo_version_string())
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _cairo_fill(self._cairo, [p], w, h, self._cairo.ANTIALIAS_DEFAULT) / 255.0
 
 
-class SkiaAntialiased(_AlphaOneTriangleAtATime):
+class SkiaAntialiased(AlphaOneTriangleAtATime):
     """skia-python, a path per triangle filled with anti-aliasing on into an alpha-8
     surface; skia's pixel (i, j) is our [i, i+1) x [j, j+1), so coordinates pass unchanged.
     Alpha is the alpha-8 value / 255.
@@ -518,10 +439,12 @@ class SkiaAntialiased(_AlphaOneTriangleAtATime):
     average."""
 
     name = "skia_aa"
+    library = "skia"
     convention = None
 
     def __init__(self) -> None:
-        self._skia = _need("skia")
+        self._skia = need("skia")
+        self.library_version = f"skia-python {self._skia.__version__}"
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _skia_fill(self._skia, [p], w, h, antialias=True) / 255.0
@@ -684,6 +607,9 @@ class _Mesa:
 
     name = ""
     driver = ""
+    library = ""
+    library_version = ""  # GL_VERSION, once a context is made
+    coverage_kind = "single"
     convention: Convention | None = None
     interpolates = False  # coverage only: this adapter reads back no varyings (yet)
     scene_kinds: tuple[str, ...] = ("triangles", "paths", "lines")
@@ -694,7 +620,7 @@ class _Mesa:
     LISTED_BOX = 2048  # px: larger boxes are drawn one at a time
 
     def __init__(self) -> None:
-        self._moderngl = _need("moderngl")
+        self._moderngl = need("moderngl")
         self._ctx: Any = None
         self._pid = -1
         self._paths: StencilPaths | None = None
@@ -718,6 +644,7 @@ class _Mesa:
             raise RuntimeError(f"{self.name}: asked Mesa for {self.driver} but got {renderer!r} "
                                "(this process already made an EGL display; run each Mesa adapter in its own worker)")
         self._ctx, self._pid = ctx, os.getpid()
+        self.library_version = str(ctx.info["GL_VERSION"])
         self._program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT)
         if ctx.version_code >= 430 and self.batch:
             self._list_program = ctx.program(vertex_shader=_VERTEX, fragment_shader=_FRAGMENT_LIST)
@@ -771,7 +698,7 @@ class _Mesa:
         if isinstance(scene, PathScene):
             return self._stencil_paths(ctx).rasterize(scene, self._guard_band(scene, side), self.name)
         if not isinstance(scene, Scene):
-            _refuse_kind(self.name, scene, self.scene_kinds)
+            refuse_kind(self.name, scene, self.scene_kinds)
         if self._list_program is not None:
             return self._rasterize_listed(ctx, scene, side)
         return self._rasterize_each(ctx, scene, side)
@@ -846,12 +773,14 @@ class MesaLlvmpipe(_Mesa):
     __doc__ = _Mesa.__doc__
     name = "mesa_llvmpipe"
     driver = "llvmpipe"
+    library = "Mesa llvmpipe (OpenGL)"
 
 
 class MesaSoftpipe(_Mesa):
     __doc__ = _Mesa.__doc__
     name = "mesa_softpipe"
     driver = "softpipe"
+    library = "Mesa softpipe (OpenGL)"
 
 
 # GL >= 4.3 with multisampling: every fragment appends (primitive id, x, y, the samples of
@@ -909,6 +838,8 @@ class MesaMultisample(_Mesa):
 
     name = "mesa_llvmpipe_msaa4"
     driver = "llvmpipe"
+    library = "Mesa llvmpipe (OpenGL)"
+    coverage_kind = "multisample"
     scene_kinds = ("triangles",)  # paths and lines: single-sample only (MesaLlvmpipe)
     fill_rules = None  # type: ignore[assignment]  # (no paths: the base class's rules would contradict scene_kinds)
     SAMPLES = 4

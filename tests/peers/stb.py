@@ -28,8 +28,8 @@ from numpy.typing import NDArray
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene
+from rasterizers.real._bases import AlphaOneTriangleAtATime
 from rasterizers.real._masks import finite_within_limit
-from rasterizers.real.adapters import _AlphaOneTriangleAtATime
 
 __all__ = ["StbTruetype", "rasterize_polygon"]
 
@@ -340,7 +340,7 @@ EDGE_HALF_ULPS = 17
 ROW_HALF_ULPS = 4
 
 
-class StbTruetype(_AlphaOneTriangleAtATime):
+class StbTruetype(AlphaOneTriangleAtATime):
     """stb_truetype's anti-aliased rasterizer (version 2), a faithful port
     (:func:`rasterize_polygon`): each triangle drawn on its own, as ``stbtt__rasterize``
     draws a glyph's flattened outline (``stbtt_Rasterize``), into an 8-bit bitmap whose
