@@ -20,9 +20,11 @@ _loaded_specs: list[str] = []
 _skipped: dict[str, str] = {}
 
 
-def _load_all(specs: list[str] | None, timeout: float = 120.0) -> tuple[list[Any], list[str]]:
+def _load_all(specs: list[str] | None, timeout: float = 120.0, tolerant: bool = False) -> tuple[list[Any], list[str]]:
     """The rasterizers of ``specs`` (default every registered one), each given ``timeout``
-    seconds to import and build, and the problems of those that could not be loaded."""
+    seconds to import and build, and the problems of those that could not be loaded. A
+    spec the user named that is broken is a usage error, unless ``tolerant`` (the atlas,
+    which names every adapter itself)."""
     from harness.engine.registry import Unavailable, available, load
 
     names = specs or available()
@@ -37,7 +39,7 @@ def _load_all(specs: list[str] | None, timeout: float = 120.0) -> tuple[list[Any
             print(f"skipped {spec}: {exc}", file=sys.stderr)
             _skipped[spec] = str(exc)
         except ValueError as exc:
-            if specs:  # the user named it: a configuration error
+            if specs and not tolerant:  # the user named it: a configuration error
                 raise UsageError(str(exc)) from None
             problems.append(str(exc))  # a broken plugin is reported and skipped
             _skipped[spec] = f"broken plugin: {exc}"

@@ -13,6 +13,7 @@ import os
 import sys
 from pathlib import Path
 
+from harness.cli.atlas import add_atlas_parser
 from harness.cli.bench_command import _bench, _bench_kinds
 from harness.cli.common import UsageError
 from harness.cli.compare import _compare
@@ -201,6 +202,7 @@ def build_parser() -> argparse.ArgumentParser:
     dif.add_argument("after", metavar="B.json")
     dif.add_argument("--out", type=_path, default="reports", help="folder for diff.html (default reports/)")
     dif.set_defaults(func=_diff)
+    add_atlas_parser(sub, _positive_int, _positive_seconds, _path)
     lst = sub.add_parser("list", help="rasterizers with their conventions, suites, checks")
     lst.set_defaults(func=_list)
     return parser

@@ -149,7 +149,7 @@ def _loaded_rasterizers(args: argparse.Namespace, loaded: Any) -> list[Any]:
     loaded is said on stderr and kept in :data:`_broken` (UsageError when none loads)."""
     from harness.engine.registry import distinct_names
 
-    rasterizers, problems = _load_all(args.rasterizer, getattr(args, "timeout", 120.0))
+    rasterizers, problems = _load_all(args.rasterizer, getattr(args, "timeout", 120.0), tolerant=getattr(args, "tolerant", False))
     if not rasterizers:
         raise UsageError("no rasterizer could be loaded: nothing was checked"
                          + (f" ({'; '.join(problems)})" if problems else ""))
@@ -280,7 +280,8 @@ def _execute(args: argparse.Namespace, loaded: Any = None,
     start = time.perf_counter()
     try:
         rasterizers, fingerprints = identify_all(rasterizers, args.seed, everyone=not getattr(args, "no_fingerprints", False),
-                                                 call_timeout=args.timeout, report=lambda line: print(line, file=sys.stderr))
+                                                 call_timeout=args.timeout, report=lambda line: print(line, file=sys.stderr),
+                                                 jobs=getattr(args, "jobs", 1))
     except KeyboardInterrupt:
         kill_all()
         raise Interrupted(rasterizers, [], time.perf_counter() - start, {}) from None

@@ -121,8 +121,9 @@ def takes(rasterizer: Rasterizer, scene: AnyScene) -> bool:
 def library_of(rasterizer: Rasterizer) -> tuple[str, str]:
     """The library a rasterizer drives and its version (``library``, ``library_version``):
     its own name and ``""`` when it names none (a reference rasterizer, a plugin)."""
-    library = getattr(rasterizer, "library", "") or rasterizer.name
-    return str(library), str(getattr(rasterizer, "library_version", "") or "")
+    inner = getattr(rasterizer, "inner", rasterizer)  # an identified black box: the adapter it wraps
+    library = getattr(inner, "library", "") or rasterizer.name
+    return str(library), str(getattr(inner, "library_version", "") or "")
 
 
 def coverage_kind_of(rasterizer: Rasterizer) -> str:
@@ -130,7 +131,8 @@ def coverage_kind_of(rasterizer: Rasterizer) -> str:
     ``coverage_kind``, else ``single``."""
     if rasterizer.convention is not None:
         return str(rasterizer.convention.coverage_kind)
-    return str(getattr(rasterizer, "coverage_kind", "single") or "single")
+    inner = getattr(rasterizer, "inner", rasterizer)
+    return str(getattr(inner, "coverage_kind", "single") or "single")
 
 
 def interpolates_of(rasterizer: Rasterizer) -> bool:

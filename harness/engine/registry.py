@@ -80,6 +80,11 @@ def builtins() -> list[str]:
                   if ep.value.startswith(BUILTIN_MODULE + ".") and not ep.value.startswith(BUILTIN_MODULE + ".real"))
 
 
+def real_adapters() -> list[str]:
+    """Names of the registered adapters of real libraries (``rasterizers.real``), sorted."""
+    return sorted(name for name, ep in _entry_points().items() if ep.value.startswith(BUILTIN_MODULE + ".real."))
+
+
 def available() -> list[str]:
     """Names of the registered rasterizers, sorted: built-ins and enabled plugins."""
     return sorted(_entry_points())

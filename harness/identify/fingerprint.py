@@ -774,24 +774,27 @@ class Identified:
         return self.inner.rasterize(scene)
 
 
-def identify_all(rasterizers: list[Rasterizer], seed: int = 0, *, everyone: bool = False, call_timeout: float | TimeLimit = 60.0,
-                 report: Callable[[str], None] | None = None) -> tuple[list[Rasterizer], dict[str, dict[str, Any]]]:
+def identify_all(rasterizers: list[Rasterizer], seed: int = 0, *, everyone: bool = False,
+                 call_timeout: float | TimeLimit = 60.0, report: Callable[[str], None] | None = None,
+                 jobs: int = 1) -> tuple[list[Rasterizer], dict[str, dict[str, Any]]]:
     """Identify the rasterizers that declare no convention (all of them with
-    ``everyone``), each in a process of its own; one that declares none is then checked
-    against the one identified for it (:class:`Identified`). A failure to identify is kept
-    as an error entry, and that rasterizer runs without a convention.
+    ``everyone``), each in a process of its own, ``jobs`` of them side by side; one that
+    declares none is then checked against the one identified for it (:class:`Identified`).
+    A failure to identify is kept as an error entry, and that rasterizer runs without a
+    convention.
 
     Returns
     -------
-    rasterizers : the same, undeclared ones wrapped
+    rasterizers : the same, in the same order, undeclared ones wrapped
     fingerprints : name -> :meth:`Fingerprint.to_dict` or ``{"error": ...}``
     """
-    out: list[Rasterizer] = []
+    from concurrent.futures import ThreadPoolExecutor
+
     fingerprints: dict[str, dict[str, Any]] = {}
-    for r in rasterizers:
+
+    def one(r: Rasterizer) -> Rasterizer:
         if r.convention is not None and (not everyone or isinstance(r, Identified)):
-            out.append(r)
-            continue
+            return r
         try:
             fingerprint = identify_isolated(r, seed, timeout=max(300.0, 10 * TimeLimit.of(call_timeout).cap),
                                             call_timeout=call_timeout)
@@ -799,9 +802,12 @@ def identify_all(rasterizers: list[Rasterizer], seed: int = 0, *, everyone: bool
             fingerprints[r.name] = {"error": f"{type(exc).__name__}: {exc}"}
             if report is not None:
                 report(f"identify {r.name}: {type(exc).__name__}: {exc}")
-            out.append(r)
-            continue
+            return r
         fingerprints[r.name] = fingerprint.to_dict()
         # a rasterizer that declares no convention is checked against the one identified for it
-        out.append(Identified(r, fingerprint) if r.convention is None else r)
-    return out, fingerprints
+        return Identified(r, fingerprint) if r.convention is None else r
+
+    # each identify runs in a worker process of its own: threads only wait on them
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        out = list(pool.map(one, rasterizers))
+    return out, {r.name: fingerprints[r.name] for r in rasterizers if r.name in fingerprints}

@@ -263,7 +263,8 @@ def test_the_import_graph_has_no_cycle():
 PRESENTATION_PACKAGES = ("harness.report", "harness.cli.main", "harness.cli.common", "harness.cli.run", "harness.cli.gate",
                          "harness.cli.compare", "harness.cli.identify", "harness.cli.replay", "harness.cli.bench_command",
                          "harness.cli.fuzz", "harness.cli.diff", "harness.cli.listing", "harness.results.output",
-                         "harness.results.gate", "harness.integrations.pytest_plugin")
+                         "harness.results.gate", "harness.integrations.pytest_plugin",
+                         "harness.results.atlas", "harness.cli.atlas")
 ENGINE_PACKAGES = ("harness.geometry", "harness.contract", "harness.kinds", "harness.oracle", "harness.checks",
                    "harness.diagnose", "harness.identify", "harness.engine", "harness.results.files", "harness.cli.bench",
                    "harness.cli.bench_workloads", "harness.cli.bench_peers", "harness.cli.bench_campaign", "cases", "rasterizers")
