@@ -5,14 +5,14 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 # the real-rasterizer adapters' extras that `make` tries, each on its own (CI's bare-machine
 # stage sets none: `make test ADAPTERS=`)
-ADAPTERS ?= skia gl cairo
+ADAPTERS ?= skia gl cairo vulkan freetype agg matplotlib qt blend2d tiny_skia pygame
 # Python's compiled modules are written and reused: with PYTHONDONTWRITEBYTECODE set (some
 # shells and CI images set it) every process of a run -- each test worker, each isolated
 # rasterizer, each command a test starts -- compiles every module it imports again
 # (seconds each: a one-case pytest run took 6.9 s instead of 3.6 s)
 unexport PYTHONDONTWRITEBYTECODE
 
-.PHONY: report test types check bench clean
+.PHONY: report test types check bench atlas clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -58,6 +58,11 @@ types: $(STAMP)
 	$(BIN)/python -m pytest -q -m types
 
 check: types test
+
+# every installed real library in every mode, identified and judged on one page
+# (reports/atlas/atlas.html, its JSON twin atlas.json, the run report beside them)
+atlas: $(STAMP)
+	$(BIN)/rastercheck atlas --out reports/atlas
 
 bench: $(STAMP)
 	$(BIN)/rastercheck bench --json reports/bench.json

@@ -62,6 +62,9 @@ class Rasterizer(Protocol):
     coverage_kind : str
         The coverage it returns, ``single``, ``multisample`` or ``area``, when it
         declares no convention that says so. Read by :func:`coverage_kind_of`.
+    kinds_not_taken : dict of str to str
+        For the atlas: why it takes no scene of a kind (``{"lines": "the library draws
+        no lines"}``).
     """
 
     # Read-only members: a plain class attribute or instance attribute of a narrower

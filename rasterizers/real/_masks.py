@@ -352,6 +352,14 @@ def coverage_from_sample_masks(triangle: NDArray[np.int64], x: NDArray[np.int64]
     ...                                  np.array([0b01, 0b11, 0b10]), 4, 2)
     >>> cov.sample.tolist(), cov.x0.tolist(), cov.x1.tolist()
     ([0, 1, 1], [1, 1, 3], [3, 2, 4])
+
+    A sample no fragment covers (a thin triangle between samples), or no fragment at all:
+
+    >>> coverage_from_sample_masks(np.array([0]), np.array([1]), np.array([0]), np.array([0b10]), 4, 4).sample.tolist()
+    [1]
+    >>> empty = np.zeros(0, dtype=np.int64)
+    >>> coverage_from_sample_masks(empty, empty, empty, empty, 4, 4).n_pixels
+    0
     """
     triangle, x, y, mask = (np.asarray(a, dtype=np.int64) for a in (triangle, x, y, mask))
     height = int(y.max()) + 1 if y.size else 1
@@ -366,7 +374,8 @@ def coverage_from_sample_masks(triangle: NDArray[np.int64], x: NDArray[np.int64]
         head = np.ones(k.size, dtype=bool)
         head[1:] = (k[1:] != k[:-1] + 1) | (k[1:] % width == 0)
         starts = np.flatnonzero(head)
-        ends = np.append(starts[1:], k.size) - 1
+        # (a sample no fragment covers has no span: without this guard its one "end" was k[-1] of nothing)
+        ends = np.append(starts[1:], k.size) - 1 if starts.size else starts
         first = k[starts]
         rows = first // width
         parts.append((rows, np.full(starts.size, s), first % width, k[ends] % width + 1))

@@ -841,6 +841,8 @@ class MesaMultisample(_Mesa):
     library = "Mesa llvmpipe (OpenGL)"
     coverage_kind = "multisample"
     scene_kinds = ("triangles",)  # paths and lines: single-sample only (MesaLlvmpipe)
+    kinds_not_taken = {"paths": "multisampled paths are not adapted: mesa_llvmpipe fills them single-sample",
+                       "lines": "multisampled lines are not adapted: mesa_llvmpipe draws them single-sample"}
     fill_rules = None  # type: ignore[assignment]  # (no paths: the base class's rules would contradict scene_kinds)
     SAMPLES = 4
     convention = Convention(samples=_LLVMPIPE_4X, tie="top-left", subpixel_bits=8)

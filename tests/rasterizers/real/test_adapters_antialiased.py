@@ -249,3 +249,12 @@ def test_llvmpipe_multisample_equals_the_exact_oracle_of_its_convention():
     if done.stdout.startswith("UNAVAILABLE"):
         pytest.skip(done.stdout.strip())
     assert done.stdout.strip().endswith("OK"), done.stdout
+
+
+def test_llvmpipe_multisample_answers_a_triangle_that_covers_no_sample():
+    # zero-area and epsilon triangles leave every sample of some layer empty (the run's
+    # degenerate probes raised IndexError here before)
+    need("moderngl")
+    scene = Scene(8, 8, [[[1.0, 1.0], [5.0, 1.0], [3.0, 1.0]], [[2.0, 2.0], [2.0 + 1e-9, 2.0], [2.0, 2.0 + 1e-9]]])
+    cov = adapters.MesaMultisample().rasterize(scene)
+    assert cov.n_pixels == 0 and cov.sample is not None
