@@ -100,17 +100,19 @@ class AggAliased(OneAtATime):
     Paths: nonzero only. aggdraw never sets AGG's filling rule (``fill_non_zero``), so an
     even-odd path would be filled nonzero: ``fill_rules = ("nonzero",)``.
 
-    Lines: ``Draw.line(path, Pen(255, 1))``, one segment per call: AGG strokes the segment
-    (``conv_stroke``, width 1, butt caps: the 1 x length rectangle around it) and fills
-    that rectangle by the same half-covered rule; a zero-length segment draws nothing.
-    Widths other than 1 are refused (Unsupported).
+    Lines: ``Draw.line(path, Pen(255, w))``, one segment per call (the end points float64,
+    the width float32, as ``Pen`` takes it): AGG strokes the segment (``conv_stroke``,
+    butt caps: the w x length rectangle around it) and fills that rectangle by the same
+    half-covered rule, any width (``line_widths = None``); a zero-length segment draws
+    nothing.
 
     Identified (aggdraw 1.4.1; no declared convention: no point-sample rule): best guess
     only, sample (0.504, 0.504), top-right ties, 8 sub-pixel bits, 1,941 of 140,130
     pixels off (an area threshold leaves pixels of a shared edge to neither or both
     triangles: watertight fails with 472 holes and 3,126 double hits on 24 partitions;
     sub-pixel triangles are dropped); paths the same as triangles, under nonzero; lines
-    best guess rectangular, sample (0.5, 0.5), 8 bits, 1,379 of 10,819 pixels off; 8 of
+    best guess rectangular, sample (0.5, 0.5), 8 bits, 1,379 of 10,819 pixels off (width
+    3: 30 of 730); 8 of
     162,022 on-screen pixels change when a triangle crosses the screen's edge (the
     integer clipping above).
 
@@ -120,6 +122,7 @@ class AggAliased(OneAtATime):
     name = "agg"
     library = "AGG (aggdraw)"
     fill_rules = ("nonzero",)
+    line_widths = None  # a stroke is the rectangle of any width
 
     def __init__(self) -> None:
         self._agg = need("aggdraw")
@@ -141,7 +144,7 @@ class AggAliased(OneAtATime):
         path = aggdraw.Path()
         path.moveto(float(a[0]), float(a[1]))
         path.lineto(float(b[0]), float(b[1]))
-        draw.line(path, aggdraw.Pen(255, 1.0))
+        draw.line(path, aggdraw.Pen(255, float(line_width)))
         return np.frombuffer(draw.tobytes(), dtype=np.uint8).reshape(h, w) > 0
 
 

@@ -145,16 +145,19 @@ class MatplotlibAgg(OneAtATime):
     nonzero whatever one wants (matplotlib's even-odd-looking results come from
     contours of opposite orientation): ``fill_rules = ("nonzero",)``.
 
-    Lines: one path of the two end points per segment stroked with ``linewidth`` 1 pt
-    (1 px at 72 dpi), butt caps (``conv_stroke``: the 1 x length rectangle), drawn by the
-    same any-coverage rule; widths other than 1 are refused (Unsupported).
+    Lines: one path of the two end points per segment stroked with ``linewidth`` w pt
+    (w px at 72 dpi), butt caps (``conv_stroke``: the w x length rectangle around it),
+    drawn by the same any-coverage rule, any width (``line_widths = None``; without
+    dashes ``draw_path`` strokes the width as given, aliased too); a zero-length segment
+    draws nothing.
 
     No declared convention (a coverage threshold, not a sample point). Identified
     (matplotlib 3.11.2): best guess only, sample (0, 0.5), top-left ties (y first), 5
     sub-pixel bits, 39,902 of 180,834 pixels off (every pixel a triangle touches is drawn,
     so shared edges are drawn twice: watertight fails with 0 holes and 20,716 double
     hits on 24 partitions); paths the same as triangles, under nonzero; lines best guess
-    rectangular, sample (0.5, 0), 2 bits, 15,637 of 26,685 pixels off; 9 of 190,725
+    rectangular, sample (0.5, 0), 2 bits, 15,637 of 26,685 pixels off (width 3: 508 of
+    1,237); 9 of 190,725
     on-screen pixels change when a triangle crosses the screen's edge (AGG clips in
     float64, then rounds the new vertices to 24.8).
 
@@ -164,6 +167,7 @@ class MatplotlibAgg(OneAtATime):
     name = "matplotlib_agg"
     library = "AGG (matplotlib)"
     fill_rules = ("nonzero",)
+    line_widths = None  # a stroke is the rectangle of any width
 
     def __init__(self) -> None:
         self._mpl = _Renderer()

@@ -110,8 +110,13 @@ def test_lines_are_half_covered_pixels_of_the_stroke_rectangle(aliased):
     t, x, y = cov.pixels()
     assert sorted(zip(t.tolist(), x.tolist(), y.tolist())) == (
         [(0, c, 2) for c in range(2, 6)] + [(1, 9, r) for r in range(2, 6)])
-    with pytest.raises(Unsupported):
-        aliased.rasterize(LineScene.from_segments(W, H, [[1.5, 2.25]], [[6.5, 2.25]], line_width=3.0))
+
+
+def test_wide_lines_are_rectangles(aliased):
+    """Width 3 from (2, 5.5) to (8, 5.5): the rectangle [2, 8] x [4, 7], whole pixels."""
+    cov = aliased.rasterize(LineScene.from_segments(W, H, [[2.0, 5.5]], [[8.0, 5.5]], line_width=3.0))
+    drawn = image(cov)
+    assert drawn[4:7, 2:8].all() and drawn.sum() == 18
 
 
 @pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])

@@ -89,6 +89,12 @@ def test_lines_are_the_touched_pixels_of_the_stroke_rectangle(aliased):
         [(0, c, r) for c in range(1, 7) for r in (1, 2)] + [(1, c, r) for c in (8, 9) for r in range(1, 7)])
 
 
+def test_wide_lines_are_rectangles(aliased):
+    """Width 3 from (2, 5.5) to (8, 5.5): the rectangle [2, 8] x [4, 7], whole pixels."""
+    drawn = image(aliased.rasterize(LineScene.from_segments(W, H, [[2.0, 5.5]], [[8.0, 5.5]], line_width=3.0)))
+    assert drawn[4:7, 2:8].all() and drawn.sum() == 18
+
+
 @pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
 def test_a_non_finite_triangle_draws_nothing_at_once(aliased, antialiased, bad):
     """matplotlib removes non-finite vertices (PathNanRemover): the two finite ones left
