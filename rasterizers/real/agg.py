@@ -112,9 +112,8 @@ class AggAliased(OneAtATime):
     triangles: watertight fails with 472 holes and 3,126 double hits on 24 partitions;
     sub-pixel triangles are dropped); paths the same as triangles, under nonzero; lines
     best guess rectangular, sample (0.5, 0.5), 8 bits, 1,379 of 10,819 pixels off (width
-    3: 30 of 730); 8 of
-    162,022 on-screen pixels change when a triangle crosses the screen's edge (the
-    integer clipping above).
+    3: 30 of 730); 8 of 162,022 on-screen pixels change when a triangle crosses the
+    screen's edge (the integer clipping above).
 
     Bad input: a triangle with a NaN or infinite coordinate draws nothing (``int(NaN *
     256)`` is INT_MIN on x86; the clipper discards it) and returns at once."""

@@ -157,12 +157,12 @@ class MatplotlibAgg(OneAtATime):
     so shared edges are drawn twice: watertight fails with 0 holes and 20,716 double
     hits on 24 partitions); paths the same as triangles, under nonzero; lines best guess
     rectangular, sample (0.5, 0), 2 bits, 15,637 of 26,685 pixels off (width 3: 508 of
-    1,237); 9 of 190,725
-    on-screen pixels change when a triangle crosses the screen's edge (AGG clips in
-    float64, then rounds the new vertices to 24.8).
+    1,237); 9 of 190,725 on-screen pixels change when a triangle crosses the screen's
+    edge (AGG clips in float64, then rounds the new vertices to 24.8).
 
     Bad input: matplotlib removes non-finite vertices before AGG sees them
-    (``PathNanRemover``), so a NaN or infinite triangle keeps its finite vertices."""
+    (``PathNanRemover``), so a NaN or infinite triangle keeps its two finite vertices,
+    which enclose nothing: nothing drawn, at once (tested)."""
 
     name = "matplotlib_agg"
     library = "AGG (matplotlib)"
