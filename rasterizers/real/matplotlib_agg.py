@@ -1,0 +1,213 @@
+"""matplotlib's Agg backend (``RendererAgg.draw_path``, AGG 2.4 as vendored by
+matplotlib), aliased (``matplotlib_agg``) and anti-aliased (``matplotlib_agg_aa``).
+
+What ``RendererAgg::draw_path`` does (``src/_backend_agg.h``, matplotlib 3.x): the
+given transform is multiplied by AGG's y flip, ``trans *= scaling(1, -1); trans *=
+translation(0, height)`` (matplotlib's display space has y up, AGG's buffer row 0 at the
+top); non-finite vertices are removed (``PathNanRemover``); clipping to the figure and
+simplification only apply to unfilled hatched paths; snapping follows the graphics
+context (``set_snap(False)``: off); the path is added to a
+``rasterizer_scanline_aa<rasterizer_sl_clip_dbl>``, clipped to the image in float64
+and converted to 24.8 fixed point by ``iround(v * 256)`` (to nearest, half away from
+zero); ``draw_path`` never calls ``filling_rule``, so every fill is nonzero (AGG's
+default). Anti-aliased, each cell's cover (``floor(256 * area)``, 8 bits, capped at 255)
+is blended as alpha; aliased (``gc.isaa`` false), the same scanlines are drawn by
+``renderer_scanline_bin_solid``, which draws every cell the sweep keeps: every pixel
+whose cover is nonzero. The cover is the signed area shifted right, then made positive
+(``calculate_alpha``), so it is ``floor(256 * area)`` for a triangle counter-clockwise
+on screen (y down) and ``ceil(256 * area)`` for a clockwise one: aliased, a clockwise
+triangle draws every pixel it touches at all, a counter-clockwise one those at least
+1/256 covered (the vertex order changes the pixels: a bug, repro
+``rasterizers/real/upstream/matplotlib_agg_orientation.py``).
+
+The mapping: vertices are passed unchanged with the transform ``scale(1, -1)`` then
+``translate(0, h)``; composed with draw_path's own flip the matrix is the identity
+exactly (``ty = -h + h = 0``, ``sy = (-1)(-1)``), so AGG receives our float64
+coordinates unchanged, y down, AGG's pixel (i, j) being our [i, i+1) x [j, j+1) and
+buffer row 0 the top row.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from harness.contract.scenes import AnyScene
+from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need
+
+__all__ = ["MatplotlibAgg", "MatplotlibAggAntialiased"]
+
+
+class _Renderer:
+    """matplotlib's Agg renderer, imported once: a fill of closed contours or a stroke of
+    a segment into a cleared w x h RGBA buffer, read back as the (h, w) alpha channel.
+    Renderers (one per size), graphics contexts and transforms are made once and reused
+    (the gc's settings are read afresh by every ``draw_path``)."""
+
+    def __init__(self) -> None:
+        self.matplotlib = need("matplotlib")
+        from matplotlib.backends.backend_agg import RendererAgg
+        from matplotlib.path import Path
+        from matplotlib.transforms import Affine2D
+
+        self._renderer: Any = RendererAgg
+        self._path: Any = Path
+        self._affine: Any = Affine2D
+        self.version = f"matplotlib {self.matplotlib.__version__}"
+        self._renderers: dict[tuple[int, int], Any] = {}
+        self._contexts: dict[tuple[bool, float], Any] = {}
+        self._flips: dict[int, Any] = {}
+
+    def _begin(self, w: int, h: int, antialias: bool, linewidth: float) -> tuple[Any, Any, Any]:
+        """A cleared w x h renderer (one per size, reused: ``clear`` costs 1/100 of making
+        one), its graphics context and the transform that cancels draw_path's y flip."""
+        renderer = self._renderers.get((w, h))
+        if renderer is None:
+            if len(self._renderers) >= 256:
+                self._renderers.clear()
+            renderer = self._renderers[w, h] = self._renderer(w, h, 72)  # 72 dpi: 1 pt = 1 px
+        else:
+            renderer.clear()  # to (1, 1, 1, 0): alpha 0
+        gc = self._contexts.get((antialias, linewidth))
+        if gc is None:
+            gc = self._contexts[antialias, linewidth] = renderer.new_gc()
+            gc.set_antialiased(antialias)
+            gc.set_snap(False)
+            gc.set_linewidth(linewidth)
+            gc.set_capstyle("butt")
+            gc.set_foreground((0.0, 0.0, 0.0, 1.0))
+        transform = self._flips.get(h)
+        if transform is None:
+            # with draw_path's own flip (scale(1, -1), translate(0, h)) the identity, exactly
+            transform = self._flips[h] = self._affine().scale(1.0, -1.0).translate(0.0, float(h))
+        return renderer, gc, transform
+
+    @staticmethod
+    def _alpha(renderer: Any) -> NDArray:
+        return np.asarray(renderer.buffer_rgba())[..., 3].copy()
+
+    def fill(self, contours: list[NDArray], w: int, h: int, antialias: bool) -> NDArray:
+        """The contours filled (one path, matplotlib's fill rule: nonzero) in black, no
+        stroke: the (h, w) uint8 alpha."""
+        renderer, gc, transform = self._begin(w, h, antialias, 0.0)
+        Path = self._path
+        vertices, codes = [], []
+        for contour in contours:
+            if contour.shape[0] == 0:
+                continue
+            vertices.append(contour)
+            vertices.append(contour[:1])  # CLOSEPOLY's vertex (ignored)
+            codes.append(np.concatenate([[Path.MOVETO], np.full(contour.shape[0] - 1, Path.LINETO), [Path.CLOSEPOLY]]))
+        if vertices:
+            path = Path(np.concatenate(vertices), np.concatenate(codes).astype(Path.code_type))
+            path.should_simplify = False
+            renderer.draw_path(gc, path, transform, (0.0, 0.0, 0.0, 1.0))
+        return self._alpha(renderer)
+
+    def stroke(self, a: NDArray, b: NDArray, w: int, h: int, antialias: bool, width: float) -> NDArray:
+        """The segment a -> b stroked ``width`` pt (= px at 72 dpi) wide, butt caps: the
+        (h, w) uint8 alpha."""
+        renderer, gc, transform = self._begin(w, h, antialias, width)
+        path = self._path(np.array([a, b], dtype=np.float64))
+        path.should_simplify = False
+        renderer.draw_path(gc, path, transform, None)
+        return self._alpha(renderer)
+
+
+def _received(scene: AnyScene) -> AnyScene:
+    """The scene as AGG 2.4's rasterizer receives it: each coordinate to 24.8 fixed point,
+    ``iround(v * 256)``: to nearest, half away from zero. The adapters hand the library
+    coordinates relative to a whole-pixel box origin, which moves no rounding boundary."""
+    with np.errstate(invalid="ignore", over="ignore"):
+        v = scene.coordinates * 256.0
+        snapped = np.where(v < 0, np.ceil(v - 0.5), np.floor(v + 0.5)) / 256.0
+    return scene.with_coordinates(snapped)
+
+
+class MatplotlibAgg(OneAtATime):
+    """matplotlib's ``RendererAgg.draw_path`` with ``antialiased=False`` and snapping
+    off, at 72 dpi: a pixel is drawn iff any of it is covered (any area for a triangle
+    clockwise on screen, at least 1/256 of the pixel for a counter-clockwise one; module
+    docstring). Coordinates pass unchanged (the module docstring shows the transform
+    that cancels matplotlib's y flip exactly); the probe
+    ``test_matplotlib_agg_pixels_of_a_quarter_offset_triangle`` compares an asymmetric
+    triangle with vertices at whole + 0.25 px with the pixels it touches (no half-pixel
+    shift, no flip, no transposition).
+
+    Each triangle and each path is one ``matplotlib.path.Path`` (MOVETO, LINETO...,
+    CLOSEPOLY per contour; ``should_simplify`` off), float64, which AGG rounds to 24.8
+    fixed point, nearest, half away from zero (:meth:`received`); filled black with no
+    stroke (line width 0) into a fresh RGBA buffer around its box, read back as alpha.
+
+    Paths: nonzero only. ``draw_path`` never sets AGG's filling rule, so a path is filled
+    nonzero whatever one wants (matplotlib's even-odd-looking results come from
+    contours of opposite orientation): ``fill_rules = ("nonzero",)``.
+
+    Lines: one path of the two end points per segment stroked with ``linewidth`` w pt
+    (w px at 72 dpi), butt caps (``conv_stroke``: the w x length rectangle around it),
+    drawn by the same any-coverage rule, any width (``line_widths = None``; without
+    dashes ``draw_path`` strokes the width as given, aliased too); a zero-length segment
+    draws nothing.
+
+    No declared convention (a coverage threshold, not a sample point). Identified
+    (matplotlib 3.11.2): best guess only, sample (0, 0.5), top-left ties (y first), 5
+    sub-pixel bits, 39,902 of 180,834 pixels off (every pixel a triangle touches is drawn,
+    so shared edges are drawn twice: watertight fails with 0 holes and 20,716 double
+    hits on 24 partitions); paths the same as triangles, under nonzero; lines best guess
+    rectangular, sample (0.5, 0), 2 bits, 15,637 of 26,685 pixels off (width 3: 508 of
+    1,237); 9 of 190,725 on-screen pixels change when a triangle crosses the screen's
+    edge (AGG clips in float64, then rounds the new vertices to 24.8).
+
+    Bad input: matplotlib removes non-finite vertices before AGG sees them
+    (``PathNanRemover``), so a NaN or infinite triangle keeps its two finite vertices,
+    which enclose nothing: nothing drawn, at once (tested)."""
+
+    name = "matplotlib_agg"
+    library = "AGG (matplotlib)"
+    fill_rules = ("nonzero",)
+    line_widths = None  # a stroke is the rectangle of any width
+
+    def __init__(self) -> None:
+        self._mpl = _Renderer()
+        self.library_version = self._mpl.version
+
+    def received(self, scene: AnyScene) -> AnyScene:
+        return _received(scene)
+
+    def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return self._mpl.fill([p], w, h, False) > 0
+
+    def _draw_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int) -> NDArray:
+        return self._mpl.fill(contours, w, h, False) > 0
+
+    def _draw_segment(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return self._mpl.stroke(a, b, w, h, False, line_width) > 0
+
+
+class MatplotlibAggAntialiased(AlphaOneTriangleAtATime):
+    """matplotlib's ``RendererAgg.draw_path`` with ``antialiased=True``, snapping off, one
+    triangle at a time, drawn as for :class:`MatplotlibAgg` (coordinates unchanged,
+    float64, rounded by AGG to 24.8 fixed point, nearest, half away); probe
+    ``test_matplotlib_agg_aa_alphas_of_a_quarter_offset_triangle``. Alpha is the RGBA
+    buffer's alpha / 255: AGG's cover ``floor(256 * area)``, capped at 255, blended over
+    a transparent buffer (``pixfmt_rgba32_plain``). Triangles only: AA paths and lines
+    are judged by exact area coverage (issue 34). No declared convention. Identified
+    (matplotlib 3.11.2): area coverage, analytic, 256 levels, max |alpha - area| 0.0111
+    (mean 0.00173) on identify's scenes, 0.0118 on the quick suite's; NaN and infinite
+    vertices are removed (nothing drawn)."""
+
+    name = "matplotlib_agg_aa"
+    library = "AGG (matplotlib)"
+    convention = None
+
+    def __init__(self) -> None:
+        self._mpl = _Renderer()
+        self.library_version = self._mpl.version
+
+    def received(self, scene: AnyScene) -> AnyScene:
+        return _received(scene)
+
+    def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return self._mpl.fill([p], w, h, True) / 255.0
