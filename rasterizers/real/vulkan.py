@@ -100,12 +100,23 @@ def lavapipe_manifest() -> str | None:
     return found[0] if found else None
 
 
+# The process that made this module's wgpu device, if any. wgpu-native (wgpu 0.32) hangs
+# in a child forked from a process that made a device: such a child is refused up front.
+_MADE_IN: int | None = None
+
+
 class _Device:
     """A wgpu device on lavapipe's Vulkan adapter (made lazily, once per process: a device
     made before a fork hangs in the child), its pipelines and reusable buffers."""
 
     def __init__(self, wgpu: Any) -> None:
+        global _MADE_IN
+        if _MADE_IN is not None and _MADE_IN != os.getpid():
+            raise RuntimeError(f"wgpu: this process was forked from process {_MADE_IN}, which had made a wgpu device; "
+                               "wgpu-native 0.32 hangs making or using a device in such a child (make the device only "
+                               "in the workers, or start them by spawn)")
         self.wgpu = wgpu
+        _MADE_IN = os.getpid()
         adapters = [a for a in wgpu.gpu.enumerate_adapters_sync()
                     if a.info["backend_type"] == "Vulkan" and "llvmpipe" in a.info["device"]]
         if not adapters:
@@ -259,11 +270,13 @@ class _Lavapipe:
                              f"wgpu allows {2 * gpu.largest} (screens up to {gpu.largest} px a side)")
         return side
 
-    def _guard_band(self, scene: PathScene | LineScene, side: int, gpu: _Device) -> int:
+    def _guard_band(self, scene: AnyScene, side: int, gpu: _Device) -> int:
         """P widened (powers of two, up to the device's largest) until [-P, P]^2 holds every
         finite vertex: lavapipe clips in float, before snapping, so a primitive reaching
-        past the clip volume would be moved."""
-        reach = float(np.max(np.abs(scene.vertices), where=np.isfinite(scene.vertices), initial=0.0))
+        past the clip volume would be moved. The mapping stays exact (x / P, P a power of
+        two)."""
+        coordinates = scene.coordinates
+        reach = float(np.max(np.abs(coordinates), where=np.isfinite(coordinates), initial=0.0))
         while side < reach and side < gpu.largest:
             side *= 2
         return side
@@ -313,7 +326,7 @@ class _Lavapipe:
         """Every triangle's fragments, (K, 4) items (triangle, x, y, mask), in batches of
         consecutive triangles whose boxes fit :attr:`BUDGET` fragments together."""
         gpu = self._gpu()
-        side = self._side(scene, gpu)
+        side = self._guard_band(scene, self._side(scene, gpu), gpu)
         n = len(scene)
         finite = finite_within_limit(scene, self.name)
         if n == 0:
@@ -539,10 +552,13 @@ class VulkanLavapipeMSAA4(_Lavapipe):
     coverage_kind = "multisample"
     scene_kinds: tuple[str, ...] = ("triangles",)
     SAMPLES = 4
-    convention: Convention | None = Convention(samples=VULKAN_4X, tie="top-left", subpixel_bits=8)
+    convention: Convention | None = None
 
     def rasterize(self, scene: AnyScene) -> Coverage:
         if not isinstance(scene, Scene):
             refuse_kind(self.name, scene, self.scene_kinds)
         items = self._triangles(scene, "masked")
+        if not items.shape[0]:
+            zero = np.zeros(0, dtype=np.int64)
+            return Coverage(zero, zero, zero, zero, sample=zero)
         return coverage_from_sample_masks(items[:, 0], items[:, 1], items[:, 2], items[:, 3], scene.width, self.SAMPLES)
