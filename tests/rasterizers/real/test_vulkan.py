@@ -185,7 +185,7 @@ def test_non_finite_triangles_do_not_hang(single, msaa, bad):
     segments = LineScene.from_segments(16, 16, [[1.5, 1.2], [bad, 2.0]], [[9.5, 4.1], [5.0, 6.0]])
     assert set(single.rasterize(segments).primitive.tolist()) == {0}
     with pytest.raises(ValueError, match="beyond"):
-        single.rasterize(Scene(16, 16, [[[0, 0], [1e30, 0], [0, 5]]]))
+        single.rasterize(Scene(16, 16, np.array([[[0.0, 0.0], [1e30, 0.0], [0.0, 5.0]]])))
 
 
 def test_the_fragment_list_regrows_never_truncates(single):
