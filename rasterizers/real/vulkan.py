@@ -7,6 +7,7 @@ identity through overlaps."""
 from __future__ import annotations
 
 import glob
+import json
 import os
 from typing import Any
 
@@ -263,9 +264,16 @@ class _Lavapipe:
 
     def __init__(self) -> None:
         self._wgpu = need("wgpu")
-        if lavapipe_manifest() is None:
+        manifest = lavapipe_manifest()
+        if manifest is None:
             raise Unavailable(f"{self.name}: Mesa's Vulkan driver lavapipe is not installed: {_INSTALL}")
-        self.library_version = f"wgpu {self._wgpu.__version__}"
+        # until a device says Mesa's version (made lazily): the driver's Vulkan version
+        try:
+            with open(manifest) as file:
+                api = str(json.load(file)["ICD"]["api_version"])
+        except (OSError, ValueError, KeyError, TypeError):
+            api = "?"
+        self.library_version = f"lavapipe Vulkan {api}, wgpu {self._wgpu.__version__}"
         self._device: _Device | None = None
         self._pid = -1
 
@@ -374,7 +382,7 @@ class _Lavapipe:
 
 
 class VulkanLavapipe(_Lavapipe):
-    """Mesa's lavapipe (Vulkan 1.3 on the CPU, llvmpipe's rasterizer) through wgpu's
+    """Mesa's lavapipe (Vulkan on the CPU, llvmpipe's rasterizer) through wgpu's
     Vulkan back end (never wgpu's GL back end: the adapter is picked by
     ``backend_type == "Vulkan"`` and an ``llvmpipe`` device), single-sample.
 
