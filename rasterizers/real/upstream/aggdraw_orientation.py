@@ -1,4 +1,6 @@
-"""aggdraw (AGG 2.0) fills a triangle differently when its vertices are listed in the
+"""aggdraw: a filled triangle's pixels change when its vertices are listed in the other order (AGG's cover rounding).
+
+aggdraw (AGG 2.0) fills a triangle differently when its vertices are listed in the
 other order (a bug report's repro; uses aggdraw and numpy only).
 
 Library: aggdraw (seen with 1.4.1, which vendors AGG 2.0 in ``agg2/``).
@@ -21,7 +23,7 @@ so one orientation is rounded down and the other up. Pixel (1, 1), 0.498 covered
 cover 128 in one order and 127 in the other: aliased, where aggdraw draws a pixel iff
 its cover is at least 128 (``gamma_threshold(0.5)``), it is drawn in one order only.
 
-Exits 1 while the bug reproduces, 0 once fixed.
+Exit status: 1 while the bug reproduces, 0 once fixed.
 """
 
 from __future__ import annotations

@@ -1,4 +1,6 @@
-"""matplotlib's Agg backend fills a triangle differently when its vertices are listed in the
+"""matplotlib (Agg): a filled triangle's pixels change when its vertices are listed in the other order (AGG's cover rounding).
+
+matplotlib's Agg backend fills a triangle differently when its vertices are listed in the
 other order (a bug report's repro; uses matplotlib and numpy only).
 
 Library: matplotlib (seen with 3.11.2; AGG 2.4 as vendored in ``extern/agg24-svn``).
@@ -22,7 +24,7 @@ in one order and 127 in the other; aliased (``antialiased=False``: every cell wi
 nonzero cover is drawn), the sliver, 1/512 of a pixel, is drawn in one order and not in
 the other, so whether a thin shape shows depends on the order of its vertices.
 
-Exits 1 while the bug reproduces, 0 once fixed.
+Exit status: 1 while the bug reproduces, 0 once fixed.
 """
 
 from __future__ import annotations

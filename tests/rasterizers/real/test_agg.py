@@ -2,10 +2,8 @@
 least half of it is covered) and ``agg_aa`` (area coverage), compared with the exact area
 of each pixel; aggdraw's 0.5 px widening of fills turned off."""
 
-import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -135,13 +133,3 @@ def test_received_truncates_to_24_8_toward_zero(aliased):
     scene = Scene(W, H, [[[1 / 512, -1 / 512], [3 - 1e-9, -(3 - 1e-9)], [5.5, 0.75]]])
     got = aliased.received(scene).positions[0]
     assert got.tolist() == [[0.0, 0.0], [3 - 1 / 256, -(3 - 1 / 256)], [5.5, 0.75]]
-
-
-def test_the_upstream_repro_reproduces():
-    """rasterizers/real/upstream/aggdraw_orientation.py (aggdraw alone) exits 1 while AGG
-    rounds the cover of one orientation up and the other down."""
-    need("aggdraw")
-    script = Path(__file__).parents[3] / "rasterizers" / "real" / "upstream" / "aggdraw_orientation.py"
-    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=60)
-    assert done.returncode == 1, done.stdout + done.stderr
-    assert "BUG: the fill depends on the vertex order" in done.stdout

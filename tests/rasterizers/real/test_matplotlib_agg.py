@@ -2,10 +2,8 @@
 (aliased: every pixel any of which is covered) and ``matplotlib_agg_aa`` (area
 coverage), compared with the exact area of each pixel."""
 
-import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -111,13 +109,3 @@ def test_received_rounds_to_24_8_half_away_from_zero(aliased):
     scene = Scene(W, H, [[[1 / 512, -1 / 512], [3 / 512, -3 / 512], [5.5, 0.75 + 1 / 1024]]])
     got = aliased.received(scene).positions[0]
     assert got.tolist() == [[1 / 256, -1 / 256], [2 / 256, -2 / 256], [5.5, 0.75]]
-
-
-def test_the_upstream_repro_reproduces():
-    """rasterizers/real/upstream/matplotlib_agg_orientation.py (matplotlib alone) exits 1
-    while AGG rounds the cover of one orientation up and the other down."""
-    need("matplotlib")
-    script = Path(__file__).parents[3] / "rasterizers" / "real" / "upstream" / "matplotlib_agg_orientation.py"
-    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=60)
-    assert done.returncode == 1, done.stdout + done.stderr
-    assert "BUG: the fill depends on the vertex order" in done.stdout
