@@ -111,8 +111,8 @@ class _Outline:
                              f"reaches {np.abs(fixed).max() / 64:g} px")
         vectors = (self.Vector * n).from_buffer(fixed)
         tags = (ctypes.c_ubyte * n).from_buffer(np.ones(n, dtype=np.uint8))  # FT_CURVE_TAG_ON: straight segments
-        ends = (np.cumsum([c.shape[0] for c in kept]) - 1).astype(np.int16)
-        contour_ends = (ctypes.c_short * len(kept)).from_buffer(ends)
+        ends = np.cumsum([c.shape[0] for c in kept]) - 1
+        contour_ends = (ctypes.c_short * len(kept))(*ends.tolist())
         outline = self.Outline(len(kept), n, vectors, tags, contour_ends, self.flags)
         if self.pixel_mode == _PIXEL_MODE_MONO:
             pitch = ((w + 15) // 16) * 2  # one bit per pixel, most significant first; an even pitch as FreeType's own
