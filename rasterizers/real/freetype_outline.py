@@ -44,6 +44,8 @@ MAX_POINTS = 32767
 # +/-0x1000000 in 26.6 (+/-262,144 px) with Invalid_Outline
 MAX_26_6 = 0x1000000
 _ERRORS = {0x14: "Invalid_Outline", 0x62: "Raster_Overflow", 0x06: "Invalid_Argument", 0x13: "Cannot_Render_Glyph"}
+# the standalone repro of the monochrome rasterizer's overflow on deeply wound outlines
+OVERFLOW_REPRO = "rasterizers/real/upstream/freetype_mono_raster_overflow.py"
 
 
 def to_26_6(x: NDArray[np.float64]) -> NDArray[np.int64]:
@@ -122,6 +124,10 @@ class _Outline:
         bitmap = self.Bitmap(h, w, pitch, buffer.ctypes.data_as(ctypes.POINTER(ctypes.c_ubyte)), 256,
                              self.pixel_mode, b"\0", None)
         error = self.raw.FT_Outline_Get_Bitmap(self.library, ctypes.byref(outline), ctypes.byref(bitmap))
+        if error == 0x62 and self.pixel_mode == _PIXEL_MODE_MONO:
+            raise RuntimeError(f"FreeType {self.version}: the monochrome rasterizer failed with Raster_Overflow (0x62) "
+                               f"on a valid outline ({n} points, {len(kept)} contours, {w} x {h} bitmap): its fixed "
+                               f"render pool cannot hold one scanline's profiles. Repro: {OVERFLOW_REPRO}")
         if error:
             raise RuntimeError(f"FreeType {self.version}: FT_Outline_Get_Bitmap failed with error {error:#x} "
                                f"({_ERRORS.get(error, 'see fterrdef.h')}: "

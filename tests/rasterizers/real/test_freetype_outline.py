@@ -2,7 +2,9 @@
 mapping of each mode, the fill rule the monochrome one honours, dropout control, and bad
 input."""
 
+import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,6 +17,7 @@ from harness.oracle.coverage import exact_coverage
 from rasterizers.real import freetype_outline
 from tests.optional import need
 
+ROOT = Path(__file__).parents[3]
 MONO = {"freetype_mono": "FreeTypeMono", "freetype_mono_dropout": "FreeTypeMonoDropout"}
 CENTRE = Convention(sample=(0.5, 0.5), tie="top-left")
 
@@ -170,3 +173,24 @@ def test_a_missing_library_makes_the_adapters_unavailable(monkeypatch):
     for cls in ("FreeTypeMono", "FreeTypeMonoDropout", "FreeTypeSmooth"):
         with pytest.raises(Unavailable, match="freetype"):
             getattr(freetype_outline, cls)()
+
+
+def test_a_deeply_wound_outline_overflows_the_monochrome_rasterizer_naming_the_repro(mono, smooth):
+    """A contour tracing a triangle 128 times: Raster_Overflow in both monochrome modes
+    (a RuntimeError naming the repro); the smooth rasterizer draws it."""
+    triangle = np.array([[2.0, 2.0], [14.0, 2.0], [8.0, 14.0]])
+    contour = np.tile(triangle, (128, 1))
+    with pytest.raises(RuntimeError, match="freetype_mono_raster_overflow.py"):
+        mono.rasterize(PathScene.from_paths(16, 16, [[contour]]))
+    assert smooth._outline.render([contour], 16, 16).any()
+
+
+def test_the_upstream_repro_reproduces():
+    """The standalone repro (freetype-py and numpy alone, no rastercheck) exits 1 while
+    the bug reproduces."""
+    need("freetype")
+    path = ROOT / "rasterizers" / "real" / "upstream" / "freetype_mono_raster_overflow.py"
+    assert "import rasterizers" not in path.read_text() and "from harness" not in path.read_text()
+    done = subprocess.run([sys.executable, str(path)], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "BUG" in done.stdout
