@@ -206,9 +206,19 @@ class FreeTypeMono(_FreeTypeMonoBase):
     such a coordinate). A path of more than 32,767 points cannot be one ``FT_Outline``
     (its counts are C shorts): ValueError naming the limit.
 
-    Identify (FreeType 2.13.2, freetype-py 2.5.1): see the report of issue 32; no
-    declared convention (``convention = None``): edge samples drawn by both sides are
-    not a tie rule the convention space expresses."""
+    Found (FreeType 2.13.2, freetype-py 2.5.1): no declared convention (``convention =
+    None``): identify's best guess is centre-ish samples (0.508, 0.508) with top-right
+    ties, 2,899 pixels off of 143,710 (best guess only); it draws both windings, the
+    nonzero rule exactly on its probes, samples on shared edges twice (3,715 double hits
+    on its partitions), 17 pixels for zero-area triangles, nothing for non-finite ones.
+    Its edge crossings are computed at 1/64 px by stepping along each edge from its
+    start, so the rounding depends on the edge's direction: 361 of 2,000 random
+    triangles on the 1/64 grid change a pixel when their winding is reversed, every such
+    pixel centre within 1.5/64 px of an edge (the quick suite's invariance check sees
+    it). Known bug: ``Raster_Overflow`` on a valid contour winding about 120 times or
+    more (the smooth rasterizer draws it): raised as RuntimeError naming
+    :data:`OVERFLOW_REPRO`. Limit: ``FT_Outline_Render`` refuses outlines beyond
+    +/-262,144 px (Invalid_Outline: ValueError naming the limit)."""
 
     name = "freetype_mono"
     FLAGS = 0x8  # FT_OUTLINE_IGNORE_DROPOUTS (include/freetype/ftimage.h)
@@ -228,7 +238,13 @@ class FreeTypeMonoDropout(_FreeTypeMonoBase):
     the span's midpoint (``SMART``), unless its neighbour is already set; the same in
     the horizontal sweep per column. That is the documented TrueType scan-conversion
     rule 3 (a convention, not a bug): triangles whose area misses every pixel centre
-    (slivers, even zero-area ones whose edges coincide) still draw pixels."""
+    (slivers, even zero-area ones whose edges coincide) still draw pixels.
+
+    Found (FreeType 2.13.2): identify's best guess as for :class:`FreeTypeMono`, 4,103
+    pixels off of 144,920 (best guess only; the dropout pixels are what no sample rule
+    draws), 27 pixels for zero-area triangles; 289 of 2,000 random triangles change a
+    pixel when reversed, dropout pixels up to 0.48 px from an edge among them (which of
+    the two candidate pixels a dropout sets depends on the profiles' direction)."""
 
     name = "freetype_mono_dropout"
     FLAGS = 0x10  # FT_OUTLINE_SMART_DROPOUTS (no FT_OUTLINE_INCLUDE_STUBS: stubs excluded)
@@ -255,7 +271,14 @@ class FreeTypeSmooth(AlphaOneTriangleAtATime):
     full without), so even-odd paths will be judgeable here once paths are.
 
     Bad input: a triangle with a NaN or infinite coordinate is not sent (no 26.6 value)
-    and covers nothing."""
+    and covers nothing; one beyond +/-262,144 px is refused as for :class:`FreeTypeMono`.
+
+    Found (FreeType 2.13.2): identify says area coverage, analytic, 256 levels (alpha a
+    multiple of 1/255), max |alpha - exact area| 0.0162 (mean 0.0016) over 274,241
+    (triangle, pixel)s, zero-area triangles draw nothing; an edge swept across a pixel
+    in 1/256 px steps takes 65 levels (the 26.6 input grid). Alphas change by a level
+    on some pixels when a triangle's winding is reversed (the quick suite's invariance
+    check)."""
 
     name = "freetype_smooth"
     library = "FreeType"

@@ -54,17 +54,25 @@ class PygameDraw(OneAtATime):
     (Wu-style, blending two pixels across the line) but the harness has no exact area
     oracle for lines yet (issue 34), so it has no adapter.
 
-    Known bug, refused: a triangle or path with a NaN or infinite **y** coordinate
-    stalls ``draw.polygon`` for minutes (the C cast gives INT_MIN on x86-64, and the row
-    loop runs from there to the polygon's last row, unclipped: 2**31 rows; 88 s measured
-    on this machine for one triangle). Such a primitive is detected before the call and
-    raises a RuntimeError naming the bug and its repro, :data:`STALL_REPRO`. A NaN or
-    infinite **x** is handed over unchanged (pygame returns at once; what it draws is a
-    finding for the checks). Finite coordinates beyond +/-2**20 px are refused by the
-    harness already; up to that, a polygon's rows are looped over unclipped (about 40 ms
-    for one 2**21 rows tall).
+    Known bugs. A triangle or path with a NaN or infinite **y** coordinate stalls
+    ``draw.polygon`` for a minute or more (the C cast gives INT_MIN on x86-64, and the
+    row loop runs from there to the polygon's last row, unclipped: about 2**31 rows; 88 s
+    for one triangle in issue 32's measurement, still running after 3 s in the repro).
+    Such a primitive is detected before the call and raises a RuntimeError naming the
+    bug and its repro, :data:`STALL_REPRO` (refused, not drawn). A NaN or infinite
+    **x** is handed over unchanged: pygame returns at once but draws the polygon with
+    that vertex at x = INT_MIN, pixels along the surface's left edge (repro
+    ``rasterizers/real/upstream/pygame_polygon_nan_draws.py``). Finite coordinates
+    beyond +/-2**20 px are refused by the harness already; up to that, a polygon's rows
+    are looped over unclipped (about 40 ms for one 2**21 rows tall).
 
-    Identify (pygame 2.6.1, SDL 2.28.4): see the report of issue 32."""
+    Found (pygame 2.6.1, SDL 2.28.4): no declared convention. identify's best guess for
+    triangles is samples at the pixel's top-left corner (0, 0), top-right ties, vertices
+    snapped down to 1/4 px: 35,928 pixels off of 164,146 (best guess only: whole-pixel
+    vertices and truncated crossings are no sample rule); both windings drawn; 24
+    pixels for zero-area triangles; 17,435 double hits on its partitions (inclusive
+    edges); NaN/inf x: 80 pixels drawn. Lines: Bresenham from the end points truncated
+    toward zero, ties stay, last pixel drawn, 173 pixels off of 9,283 (best guess)."""
 
     name = "pygame"
     library = "pygame"
