@@ -6,9 +6,9 @@ monochrome one (``src/raster/ftraster.c``, "raster") with dropout control off
 Each primitive becomes an ``FT_Outline`` of straight segments only (every point tagged
 ``FT_CURVE_TAG_ON``, one contour per closed polygon contour), rendered with
 ``FT_Outline_Get_Bitmap`` into an ``FT_Bitmap`` the adapter owns (a numpy buffer):
-``FT_PIXEL_MODE_MONO`` goes to the monochrome rasterizer, ``FT_PIXEL_MODE_GRAY`` (256
-levels) to the smooth one (``FT_Outline_Render`` tries each outline renderer; the smooth
-one refuses requests without ``FT_RASTER_FLAG_AA``, the monochrome one those with it).
+for an ``FT_PIXEL_MODE_MONO`` bitmap it asks ``FT_Outline_Render`` for a plain render,
+which the monochrome rasterizer takes, for ``FT_PIXEL_MODE_GRAY`` (256 levels) one with
+``FT_RASTER_FLAG_AA``, which the smooth one takes (the monochrome one refuses it).
 
 The coordinate mapping, exact for every finite coordinate within the harness's limit:
 FreeType's outline coordinates are 26.6 fixed point (``FT_Pos``, 1/64 px) with y up, and
