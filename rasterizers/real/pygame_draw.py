@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.contract.coverage import Coverage
-from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene, Unsupported
+from harness.contract.scenes import AnyScene, PathScene, Scene, Unsupported
 from rasterizers.real._bases import OneAtATime, need
 
 __all__ = ["PygameDraw", "STALL_REPRO"]
@@ -150,8 +150,8 @@ class PygameDraw(OneAtATime):
                                f"Repro: {STALL_REPRO}")
 
     def rasterize(self, scene: AnyScene) -> Coverage:
-        if isinstance(scene, (Scene, PathScene)) and not isinstance(scene, LineScene):
-            if isinstance(scene, PathScene):
-                self._refuse(scene)
+        if isinstance(scene, PathScene):
+            self._refuse(scene)  # a refused fill rule or contour count first: Unsupported, not an error
+        if isinstance(scene, (Scene, PathScene)):
             self._refuse_stalls(scene)
         return super().rasterize(scene)
