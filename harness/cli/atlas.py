@@ -42,8 +42,9 @@ print(getattr(r, "library_version", ""))
 
 
 def upstream_scripts(folder: Path = UPSTREAM) -> list[dict[str, str]]:
-    """The upstream bug scripts: per script its library (what its docstring's first line
-    names before its colon, "cairo: ..."), its file name and that first line."""
+    """The upstream bug scripts: per script its library (what its docstring's first paragraph
+    names before its colon, "cairo: ..."), its file name and that first paragraph (the
+    bug in a sentence)."""
     out = []
     for path in sorted(folder.glob("*.py")) if folder.is_dir() else []:
         if path.name.startswith("_"):
@@ -52,7 +53,7 @@ def upstream_scripts(folder: Path = UPSTREAM) -> list[dict[str, str]]:
             doc = ast.get_docstring(ast.parse(path.read_text())) or ""
         except (OSError, SyntaxError, ValueError):
             doc = ""
-        title = doc.strip().splitlines()[0] if doc.strip() else path.stem
+        title = " ".join(doc.strip().split("\n\n")[0].split()) if doc.strip() else path.stem
         library, said, _ = title.partition(":")
         out.append({"library": library.strip() if said else path.stem.split("_")[0], "script": f"upstream/{path.name}",
                     "title": title})

@@ -1,4 +1,4 @@
-"""FreeType's monochrome rasterizer fails with Raster_Overflow on a valid outline whose
+"""FreeType: the monochrome rasterizer fails with Raster_Overflow on a valid outline whose
 contour winds about 120 times or more over a 16 x 16 bitmap; the smooth rasterizer
 renders the same outline.
 
@@ -22,7 +22,7 @@ scanline adds an upward and a downward profile, and once the profiles of a singl
 scanline exceed the pool, bisecting the band cannot help (``Render_Single_Pass``
 returns Raster_Overflow when ``y_min == y_max``). 110 windings render; 120 fail.
 
-Prints the evidence; exits 1 while the bug reproduces, 0 once the monochrome rasterizer
+Exit status: prints the evidence; exits 1 while the bug reproduces, 0 once the monochrome rasterizer
 renders the outline.
 """
 

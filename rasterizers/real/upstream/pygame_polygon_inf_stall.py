@@ -1,4 +1,4 @@
-"""pygame.draw.polygon stalls (tens of seconds to minutes) on a NaN or infinite y coordinate.
+"""pygame: draw.polygon stalls (tens of seconds to minutes) on a NaN or infinite y coordinate.
 
 Library: pygame 2.6.1 (SDL 2.28.4), Python 3.11, x86-64 Linux; found by rastercheck.
 
@@ -19,8 +19,8 @@ surface: about 2**31 rows, each testing every edge. An infinite or NaN x does no
 (the row range stays small). Finite but huge y coordinates are slow for the same reason
 (the loop is not clipped to the surface).
 
-This script runs the call in a child process with a timeout. It prints the evidence and
-exits 1 while the bug reproduces (the call is still running after the timeout), 0 once
+Exit status: the script runs the call in a child process with a timeout; it prints the
+evidence and exits 1 while the bug reproduces (the call is still running after the timeout), 0 once
 the call returns promptly.
 """
 

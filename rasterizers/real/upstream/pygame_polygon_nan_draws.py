@@ -1,4 +1,4 @@
-"""pygame.draw.polygon draws pixels for a polygon with a NaN (or infinite) x coordinate.
+"""pygame: draw.polygon draws pixels for a polygon with a NaN (or infinite) x coordinate.
 
 Library: pygame 2.6.1 (SDL 2.28.4), Python 3.11, x86-64 Linux; found by rastercheck.
 
@@ -17,7 +17,7 @@ cast of a NaN double is undefined behaviour in C and gives INT_MIN on x86-64, so
 becomes (-2147483648, 3), and ``draw_fillpoly`` fills that polygon, clipped to the surface.
 (A NaN or infinite *y* instead stalls the call: see ``pygame_polygon_inf_stall.py``.)
 
-Prints the evidence; exits 1 while the bug reproduces (pixels drawn), 0 once fixed.
+Exit status: prints the evidence; exits 1 while the bug reproduces (pixels drawn), 0 once fixed.
 """
 
 import os
