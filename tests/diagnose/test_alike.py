@@ -71,6 +71,7 @@ def test_an_area_picture_is_the_alphas_in_8_bit_steps():
     exact = area_coverage(scene, Convention(coverage="area"))
     _, x, y = exact.pixels()
     expected = np.zeros((8, 8), dtype=np.int64)
+    assert exact.alpha is not None
     expected[y, x] = np.rint(255 * exact.alpha)
     image = picture(AreaScanline().rasterize(scene), scene, "area")
     assert image.dtype == np.int64 and np.array_equal(image, expected)

@@ -21,7 +21,7 @@ class FakelibAliased:
     library = "Fakelib"
     library_version = "1.0"
     coverage_kind = "single"
-    convention = None
+    convention: Convention | None = None
     kinds_not_taken = _NO_PATHS_OR_LINES
 
     def rasterize(self, scene: Scene) -> Coverage:

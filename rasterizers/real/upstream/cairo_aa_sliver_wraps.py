@@ -20,17 +20,19 @@ Exit status: 1 while the bug reproduces, 0 once fixed.
 """
 
 import sys
+from collections.abc import Callable
 
 import cairo
 import numpy as np
 
+Point = tuple[float, float]
 TRIANGLE = [(35.02531253054519, 43.75), (35.047223827580794, 43.75), (48.46737173529964, 20.25)]
 PIXEL = (47, 21)
 
 
-def covered_area(polygon, x, y):
+def covered_area(polygon: list[tuple[float, float]], x: int, y: int) -> float:
     """The area of the polygon within pixel [x, x+1) x [y, y+1) (Sutherland-Hodgman, float64)."""
-    def clip(points, inside, cut):
+    def clip(points: list[Point], inside: Callable[[Point], bool], cut: Callable[[Point, Point], Point]) -> list[Point]:
         out = []
         for k, p in enumerate(points):
             q = points[(k + 1) % len(points)]
@@ -40,22 +42,24 @@ def covered_area(polygon, x, y):
                 out.append(cut(p, q))
         return out
 
-    def at_x(c):
+    def at_x(c: float) -> Callable[[Point, Point], Point]:
         return lambda p, q: (c, p[1] + (q[1] - p[1]) * (c - p[0]) / (q[0] - p[0]))
 
-    def at_y(c):
+    def at_y(c: float) -> Callable[[Point, Point], Point]:
         return lambda p, q: (p[0] + (q[0] - p[0]) * (c - p[1]) / (q[1] - p[1]), c)
 
     pts = list(polygon)
-    for inside, cut in ((lambda p: p[0] >= x, at_x(x)), (lambda p: p[0] <= x + 1, at_x(x + 1)),
-                        (lambda p: p[1] >= y, at_y(y)), (lambda p: p[1] <= y + 1, at_y(y + 1))):
+    sides: list[tuple[Callable[[Point], bool], Callable[[Point, Point], Point]]] = [
+        (lambda p: p[0] >= x, at_x(x)), (lambda p: p[0] <= x + 1, at_x(x + 1)),
+        (lambda p: p[1] >= y, at_y(y)), (lambda p: p[1] <= y + 1, at_y(y + 1))]
+    for inside, cut in sides:
         pts = clip(pts, inside, cut)
         if not pts:
             return 0.0
-    return abs(sum(p[0] * q[1] - q[0] * p[1] for p, q in zip(pts, pts[1:] + pts[:1]))) / 2
+    return float(abs(sum(p[0] * q[1] - q[0] * p[1] for p, q in zip(pts, pts[1:] + pts[:1]))) / 2)
 
 
-def main():
+def main() -> int:
     surface = cairo.ImageSurface(cairo.FORMAT_A8, 64, 64)
     ctx = cairo.Context(surface)
     ctx.set_antialias(cairo.ANTIALIAS_DEFAULT)

@@ -23,7 +23,7 @@ import cairo
 import numpy as np
 
 
-def filled(x, antialias):
+def filled(x: float, antialias: "cairo.Antialias") -> int:
     surface = cairo.ImageSurface(cairo.FORMAT_A8, 16, 16)
     ctx = cairo.Context(surface)
     ctx.set_antialias(antialias)
@@ -37,7 +37,7 @@ def filled(x, antialias):
     return int(np.count_nonzero(alpha))
 
 
-def main():
+def main() -> int:
     drawn = 0
     for x in (float("nan"), float("inf")):
         for name, mode in (("ANTIALIAS_NONE", cairo.ANTIALIAS_NONE), ("ANTIALIAS_DEFAULT", cairo.ANTIALIAS_DEFAULT)):
