@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from harness.contract.conventions import FILL_RULES
 from harness.report.pages import _environment, page_meta
 from harness.results.atlas import ATLAS_KINDS
 from harness.results.files import atomic_write_text
@@ -24,7 +25,8 @@ def write_atlas_page(out_dir: Path | str, document: dict[str, Any]) -> Path:
     adapters = sum(len(lib["adapters"]) for lib in document["libraries"])
     meta = page_meta(document["suite"], document["seed"], document["seconds"])
     html = _environment().get_template("atlas.html").render(doc=document, kinds=ATLAS_KINDS, modes=MODES, adapters=adapters,
-                                                            nearest=pairs[:NEAREST], meta=meta)
+                                                            nearest=pairs[:NEAREST], meta=meta,
+                                                            all_rules=FILL_RULES)
     path = Path(out_dir) / ATLAS_PAGE
     atomic_write_text(path, html)
     return path
