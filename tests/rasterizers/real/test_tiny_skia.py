@@ -174,3 +174,23 @@ def test_non_finite_triangles_draw_nothing_at_once(crisp, smooth):
         cov = adapter.rasterize(scene)
         assert time.perf_counter() - start < 5
         assert set(np.unique(cov.primitive).tolist()) == {2}
+
+
+def test_one_document_draws_as_one_primitive_a_document(crisp, smooth):
+    """Box-disjoint primitives share a document (:func:`tiny_skia.pack`); each comes back
+    exactly as drawn alone (its own document), triangles crisp and smooth, paths, lines."""
+    rng = np.random.default_rng(11)
+    triangles = rng.uniform(-4, 68, size=(60, 3, 2))
+    triangles[::3] = triangles[::3] * 0.2 + rng.uniform(0, 60, size=(20, 1, 2))  # small ones, side by side
+    scene = Scene(64, 64, triangles)
+    paths = PathScene.from_paths(64, 64, [[pentagram(x, y, 5.3)] for x, y in rng.uniform(0, 64, size=(30, 2))], "evenodd")
+    lines = LineScene.from_segments(64, 64, rng.uniform(0, 64, size=(40, 2)), rng.uniform(0, 64, size=(40, 2)))
+    for adapter, s in ((crisp, scene), (smooth, scene), (crisp, paths), (crisp, lines)):
+        together = adapter.rasterize(s)
+        assert len(tiny_skia.pack([(0, 0, 4, 4)] * 3)) == 3
+        for t in range(len(s)):
+            alone = adapter.rasterize(s.subset([t]))
+            mine = together.take(np.flatnonzero(together.primitive == t))
+            assert np.array_equal(mine.counts(64, 64), alone.counts(64, 64)), (adapter.name, t)
+            if mine.alpha is not None and mine.alpha.size:
+                assert np.array_equal(mine.alpha, alone.alpha), t
