@@ -24,15 +24,14 @@ import sys
 
 import numpy as np
 
-os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-from PyQt6.QtCore import QT_VERSION_STR, QPointF, Qt  # noqa: E402
-from PyQt6.QtGui import QColor, QGuiApplication, QImage, QPainter, QPolygonF  # noqa: E402
-
 TRIANGLE = [(math.nan, 2.0), (12.0, 3.0), (5.0, 13.0)]
 
 
 def drawn(antialias: bool) -> int:
     """How many pixels the triangle covers (nonzero alpha)."""
+    from PyQt6.QtCore import QPointF, Qt
+    from PyQt6.QtGui import QColor, QImage, QPainter, QPolygonF
+
     image = QImage(16, 16, QImage.Format.Format_Alpha8)
     image.fill(0)
     painter = QPainter(image)
@@ -47,6 +46,10 @@ def drawn(antialias: bool) -> int:
 
 
 def main() -> int:
+    os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")  # no display needed
+    from PyQt6.QtCore import QT_VERSION_STR
+    from PyQt6.QtGui import QGuiApplication
+
     app = QGuiApplication(sys.argv[:1])  # noqa: F841 - kept alive while drawing
     print(f"Qt {QT_VERSION_STR}: triangle {TRIANGLE}")
     bad = 0
