@@ -67,7 +67,7 @@ OPEN = 8  # documents still open to a primitive (the last ones)
 def _number(v: float) -> str:
     """A coordinate as SVG text: ``repr`` (the shortest decimal reading back as the same
     float64; ``nan``/``inf`` for non-finite ones, which SVG's number syntax rejects)."""
-    return repr(v)
+    return repr(float(v))
 
 
 def _contour_data(contour: NDArray) -> str:
@@ -89,36 +89,68 @@ def pack(boxes: list[tuple[int, int, int, int]]) -> list[list[int]]:
     [[0, 2, 3], [1]]
     """
     layers: list[list[int]] = []
-    arrays: list[NDArray[np.int64]] = []
-    unions: list[list[int]] = []
+    members: list[list[tuple[int, int, int, int]]] = []
+    unions: list[tuple[int, int, int, int]] = []
     areas: list[int] = []
-    for i, (x0, y0, x1, y1) in enumerate(boxes):
+    for i, box in enumerate(boxes):
+        x0, y0, x1, y1 = box
         area = (x1 - x0) * (y1 - y0)
         for j in range(max(0, len(layers) - OPEN), len(layers)):
-            n = len(layers[j])
-            if n >= LAYER:
+            if len(layers[j]) >= LAYER:
                 continue
-            u = unions[j]
-            ux0, uy0, ux1, uy1 = min(u[0], x0), min(u[1], y0), max(u[2], x1), max(u[3], y1)
-            canvas = (ux1 - ux0) * (uy1 - uy0)
-            if canvas > max(CANVAS, 2 * (areas[j] + area)):
+            u0, v0, u1, v1 = unions[j]
+            ux0, uy0, ux1, uy1 = min(u0, x0), min(v0, y0), max(u1, x1), max(v1, y1)
+            if (ux1 - ux0) * (uy1 - uy0) > max(CANVAS, 2 * (areas[j] + area)):
                 continue
-            b = arrays[j][:n]
-            if np.any((b[:, 0] < x1) & (x0 < b[:, 2]) & (b[:, 1] < y1) & (y0 < b[:, 3])):
+            if u0 < x1 and x0 < u1 and v0 < y1 and y0 < v1 and any(
+                    b0 < x1 and x0 < b1 and c0 < y1 and y0 < c1 for b0, c0, b1, c1 in members[j]):
                 continue
-            arrays[j][n] = (x0, y0, x1, y1)
             layers[j].append(i)
-            unions[j] = [ux0, uy0, ux1, uy1]
+            members[j].append(box)
+            unions[j] = (ux0, uy0, ux1, uy1)
             areas[j] += area
             break
         else:
-            array = np.empty((LAYER, 4), dtype=np.int64)
-            array[0] = (x0, y0, x1, y1)
             layers.append([i])
-            arrays.append(array)
-            unions.append([x0, y0, x1, y1])
+            members.append([box])
+            unions.append(box)
             areas.append(area)
     return layers
+
+
+def stack(layers: list[list[int]], boxes: list[tuple[int, int, int, int]],
+          pinned: list[bool] | None = None) -> list[list[list[int]]]:
+    """Documents of up to three consecutive :func:`pack` layers (one per colour channel),
+    as long as the document's canvas (the union of their boxes) stays within
+    :data:`CANVAS` pixels or twice their area. A layer holding a ``pinned`` element (one
+    that must be drawn at the canvas's own coordinates) only starts a document: the second
+    and third are blended groups, which resvg draws into a layer of their own bounding box,
+    moved to its corner.
+
+    >>> stack([[0], [1], [2], [3]], [(0, 0, 4, 4), (2, 2, 6, 6), (1, 1, 5, 5), (0, 0, 3, 3)])
+    [[[0], [1], [2]], [[3]]]
+    >>> stack([[0], [1], [2]], [(0, 0, 4, 4), (2, 2, 6, 6), (1, 1, 5, 5)], [False, True, False])
+    [[[0]], [[1], [2]]]
+    """
+    documents: list[list[list[int]]] = []
+    unions: list[tuple[int, int, int, int]] = []
+    areas: list[int] = []
+    for layer in layers:
+        x0, y0 = min(boxes[i][0] for i in layer), min(boxes[i][1] for i in layer)
+        x1, y1 = max(boxes[i][2] for i in layer), max(boxes[i][3] for i in layer)
+        area = sum((boxes[i][2] - boxes[i][0]) * (boxes[i][3] - boxes[i][1]) for i in layer)
+        if documents and len(documents[-1]) < 3 and not (pinned is not None and any(pinned[i] for i in layer)):
+            u0, v0, u1, v1 = unions[-1]
+            ux0, uy0, ux1, uy1 = min(u0, x0), min(v0, y0), max(u1, x1), max(v1, y1)
+            if (ux1 - ux0) * (uy1 - uy0) <= max(CANVAS, 2 * (areas[-1] + area)):
+                documents[-1].append(layer)
+                unions[-1] = (ux0, uy0, ux1, uy1)
+                areas[-1] += area
+                continue
+        documents.append([layer])
+        unions.append((x0, y0, x1, y1))
+        areas.append(area)
+    return documents
 
 
 Take = Callable[[int, int, tuple[int, int]], NDArray[np.uint8]]  # (w, h, origin) -> a box's alpha bytes
@@ -135,42 +167,67 @@ class _Resvg:
         self._image: Any = Image
         self.version = f"resvg {self.resvg.__resvg_version__} (resvg-py {self.resvg.__version__})"
 
-    def alpha(self, elements: str, x0: int, y0: int, w: int, h: int) -> NDArray[np.uint8]:
-        """The (h, w) alpha bytes of the screen's pixels [x0, x0 + w) x [y0, y0 + h) with
-        ``elements`` (in screen coordinates) drawn: ``viewBox="x0 y0 w h"`` on a w x h
-        canvas, a translation by whole pixels, exact in tiny-skia's float32 (x - x0 of a
-        float32 x >= x0 is a float32)."""
+    def rgba(self, elements: str, x0: int, y0: int, w: int, h: int) -> NDArray[np.uint8]:
+        """The (h, w, 4) RGBA bytes (not premultiplied) of the screen's pixels [x0, x0 + w) x
+        [y0, y0 + h) with ``elements`` (in screen coordinates) drawn: ``viewBox="x0 y0 w h"``
+        on a w x h canvas, a translation by whole pixels, exact in tiny-skia's float32
+        (x - x0 of a float32 x >= x0 is a float32)."""
         svg = (f'<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="{x0} {y0} {w} {h}">'
                f"{elements}</svg>")
         png = self.resvg.svg_to_bytes(svg_string=svg, skip_system_fonts=True)
         with self._image.open(io.BytesIO(png)) as image:
-            rgba = np.asarray(image if image.mode == "RGBA" else image.convert("RGBA"))
+            rgba: NDArray[np.uint8] = np.asarray(image if image.mode == "RGBA" else image.convert("RGBA"))
         if rgba.shape[:2] != (h, w):
             raise RuntimeError(f"resvg rendered {rgba.shape[1]} x {rgba.shape[0]} px, not {w} x {h}")
-        alpha: NDArray[np.uint8] = rgba[:, :, 3]
-        return alpha
+        return rgba
 
-    def replay(self, group: str, elements: list[str], boxes: list[tuple[int, int, int, int]]) -> Take:
-        """Render the elements (each inside its box, in screen coordinates) a document of
-        box-disjoint ones at a time (:func:`pack`), each wrapped in ``group`` (an opening
-        ``<g ...>`` giving their paint); returns a function answering, call after call in
-        the boxes' order, ``(w, h, origin)`` with that box's alpha bytes. The boxes being
-        disjoint and each element drawing inside its own, each pixel of a box holds only
-        its element's coverage. A document resvg fails on is not used: its elements are
-        then rendered one by one when asked (so a failure names its primitive)."""
+    def replay(self, group: str, elements: list[str], boxes: list[tuple[int, int, int, int]], screen: tuple[int, int],
+               channels: bool = False) -> Take:
+        """Render the elements (each inside its box, in screen coordinates) a document at a
+        time; returns a function answering, call after call in the boxes' order,
+        ``(w, h, origin)`` with that box's coverage bytes.
+
+        ``group`` is an opening ``<g ...>`` giving the elements' paint, ``{paint}`` where its
+        colour goes. A document holds box-disjoint elements (:func:`pack`), black, read from
+        the alpha channel; each pixel of a box then holds its own element's coverage alone.
+        With ``channels`` (crisp drawing only: every coverage is 0 or 255), a document holds
+        up to three such sets of box-disjoint elements (:func:`stack`), red, green and blue,
+        the second and third composited with ``mix-blend-mode: screen`` (per channel
+        1 - (1 - a)(1 - b), which leaves each channel its own set's coverage): each box is
+        read from its set's channel. A document resvg fails on is not used: its elements
+        are then rendered one by one when asked (so a failure names its primitive).
+
+        A box reaching an edge of the ``screen`` (width, height) holds an element that may
+        be clipped there, which tiny-skia does in float32 on the coordinates it draws with
+        (after the viewBox's translation): such an element is drawn in a document whose
+        canvas starts at the screen's origin (it counts as the box from (0, 0) to its far
+        corner), as on the screen itself. Anywhere else the translation changes nothing."""
+        width, height = screen
+        pinned = [x0 == 0 or y0 == 0 or x1 == width or y1 == height for x0, y0, x1, y1 in boxes]
+        placed = [(0, 0, b[2], b[3]) if edge else b for b, edge in zip(boxes, pinned)]
         crops: list[NDArray[np.uint8] | None] = [None] * len(boxes)
-        for layer in pack(boxes):
-            ux0 = min(boxes[i][0] for i in layer)
-            uy0 = min(boxes[i][1] for i in layer)
-            ux1 = max(boxes[i][2] for i in layer)
-            uy1 = max(boxes[i][3] for i in layer)
+        layers = pack(placed)
+        for document in (stack(layers, placed, pinned) if channels else [[layer] for layer in layers]):
+            members = [i for layer in document for i in layer]
+            ux0 = min(placed[i][0] for i in members)
+            uy0 = min(placed[i][1] for i in members)
+            ux1 = max(placed[i][2] for i in members)
+            uy1 = max(placed[i][3] for i in members)
+            parts = []
+            for c, layer in enumerate(document):
+                opening = group.format(paint=("#f00", "#0f0", "#00f")[c] if channels else "#000")
+                if c:
+                    opening = opening[:-1] + ' style="mix-blend-mode:screen">'
+                parts.append(opening + "".join(elements[i] for i in layer) + "</g>")
             try:
-                alpha = self.alpha(group + "".join(elements[i] for i in layer) + "</g>", ux0, uy0, ux1 - ux0, uy1 - uy0)
+                rgba = self.rgba("".join(parts), ux0, uy0, ux1 - ux0, uy1 - uy0)
             except Exception:  # noqa: BLE001 - rendered alone below, where the failure names the primitive
                 continue
-            for i in layer:
-                x0, y0, x1, y1 = boxes[i]
-                crops[i] = alpha[y0 - uy0:y1 - uy0, x0 - ux0:x1 - ux0]
+            for c, layer in enumerate(document):
+                plane = rgba[:, :, c if channels else 3]
+                for i in layer:
+                    x0, y0, x1, y1 = boxes[i]
+                    crops[i] = plane[y0 - uy0:y1 - uy0, x0 - ux0:x1 - ux0]
         order: Iterator[int] = iter(range(len(boxes)))
 
         def take(w: int, h: int, origin: tuple[int, int]) -> NDArray[np.uint8]:
@@ -180,7 +237,9 @@ class _Resvg:
                 raise RuntimeError(f"box {(x0, y0, x1, y1)} asked as {origin} + {w} x {h}: the boxes are out of order")
             crop = crops[i]
             if crop is None:
-                crop = self.alpha(group + elements[i] + "</g>", x0, y0, w, h)
+                u0, v0, u1, v1 = placed[i]
+                plane = self.rgba(group.format(paint="#000") + elements[i] + "</g>", u0, v0, u1 - u0, v1 - v0)[:, :, 3]
+                crop = plane[y0 - v0:y1 - v0, x0 - u0:x1 - u0]
             return crop
 
         return take
@@ -239,6 +298,7 @@ class TinySkia(OneAtATime):
 
     def rasterize(self, scene: AnyScene) -> Coverage:
         resvg = self._resvg
+        screen = (scene.width, scene.height)
         if isinstance(scene, LineScene):
             self._refuse_lines(scene)
             boxes, drawn = segment_boxes(scene, self.name, MARGIN)
@@ -247,23 +307,24 @@ class TinySkia(OneAtATime):
             elements = [f'<path d="M {_number(float(a[k, 0]))} {_number(float(a[k, 1]))} '
                         f'L {_number(float(b[k, 0]))} {_number(float(b[k, 1]))}"/>' for k in chosen]
             box_list = [(x0, y0, x1, y1) for x0, y0, x1, y1 in boxes[chosen].tolist()]
-            group = f'<g fill="none" stroke="#000" stroke-width="{_number(scene.line_width)}" shape-rendering="crispEdges">'
-            take = resvg.replay(group, elements, box_list)
+            group = ('<g fill="none" stroke="{paint}" stroke-width="' + _number(scene.line_width)
+                     + '" shape-rendering="crispEdges">')
+            take = resvg.replay(group, elements, box_list, screen, channels=True)
             return draw_each_segment(scene, self.name, lambda a, b, w, h, origin: take(w, h, origin) > 0, margin=MARGIN)
         if isinstance(scene, PathScene):
             self._refuse(scene)
             items = list(path_boxes(scene, self.name, MARGIN))
             elements = [f'<path d="{" ".join(_contour_data(c) for c in contours if c.shape[0])}"/>'
                         for _, contours, *_box in items]
-            group = f'<g fill="#000" fill-rule="{scene.fill_rule}" shape-rendering="crispEdges">'
-            take = resvg.replay(group, elements, [(x0, y0, x1, y1) for _, _, x0, y0, x1, y1 in items])
+            group = '<g fill="{paint}" fill-rule="' + scene.fill_rule + '" shape-rendering="crispEdges">'
+            take = resvg.replay(group, elements, [(x0, y0, x1, y1) for _, _, x0, y0, x1, y1 in items], screen, channels=True)
             return draw_each_path(scene, self.name, lambda contours, w, h, origin: take(w, h, origin) > 0, margin=MARGIN)
         if not isinstance(scene, Scene):
             refuse_kind(self.name, scene, self.scene_kinds)
         triangles = list(_boxes(scene, self.name, MARGIN))
-        take = resvg.replay('<g fill="#000" shape-rendering="crispEdges">',
+        take = resvg.replay('<g fill="{paint}" shape-rendering="crispEdges">',
                             [f'<path d="{_contour_data(p)}"/>' for _, p, *_box in triangles],
-                            [(x0, y0, x1, y1) for _, _, x0, y0, x1, y1 in triangles])
+                            [(x0, y0, x1, y1) for _, _, x0, y0, x1, y1 in triangles], screen, channels=True)
         return draw_each(scene, self.name, lambda p, w, h, origin: take(w, h, origin) > 0, margin=MARGIN)
 
 
@@ -299,6 +360,6 @@ class TinySkiaAntialiased(AlphaOneTriangleAtATime):
         if not isinstance(scene, Scene):
             refuse_kind(self.name, scene, ("triangles",))
         triangles = list(_boxes(scene, self.name, MARGIN))
-        take = self._resvg.replay('<g fill="#000">', [f'<path d="{_contour_data(p)}"/>' for _, p, *_box in triangles],
-                                  [(x0, y0, x1, y1) for _, _, x0, y0, x1, y1 in triangles])
+        take = self._resvg.replay('<g fill="{paint}">', [f'<path d="{_contour_data(p)}"/>' for _, p, *_box in triangles],
+                                  [(x0, y0, x1, y1) for _, _, x0, y0, x1, y1 in triangles], (scene.width, scene.height))
         return draw_each_alpha(scene, self.name, lambda p, w, h, origin: take(w, h, origin) / 255.0, margin=MARGIN)
