@@ -10,11 +10,14 @@ off; triangles, paths under both fill rules, lines) and :class:`TinySkiaAntialia
 One primitive per ``<path>``, each drawn alone as far as its pixels go: every primitive
 has the box :func:`~rasterizers.real._masks.draw_each` gives it (its bounding box and 2 px,
 clipped to the screen), and primitives whose boxes do not overlap share one document
-(:func:`pack`), its canvas the union of their boxes; each box's pixels are read back as
-that primitive's. A fill or stroke draws nothing outside its box, so each pixel of a box
-holds its own primitive's coverage alone, and the canvas edges that clip a primitive are
-the screen's, as on a canvas of its box alone (``test_one_document_draws_as_one_primitive_a_document``
-checks it). This makes one resvg call per 10 or so primitives instead of one each.
+(:func:`pack`), its canvas the union of their boxes, each box's pixels read back as its
+primitive's; crisp documents stack three such sets, one per colour channel
+(:func:`stack`). A fill or stroke draws nothing outside its box, so each pixel of a box
+holds its own primitive's coverage alone. A primitive whose box reaches the screen's
+edge (which may clip it: tiny-skia clips in float32, after the viewBox's translation) is
+drawn alone on its box's canvas, as ``draw_each`` draws for every library
+(``test_shared_documents_draw_as_the_whole_screen_does`` checks both). This makes one
+resvg call per 2 to 10 primitives instead of one each.
 
 The mapping: a document showing the screen's pixels [x0, x0 + w) x [y0, y0 + h) is
 ``<svg width="w" height="h" viewBox="x0 y0 w h">``: one user unit is one pixel, resvg's
@@ -118,19 +121,13 @@ def pack(boxes: list[tuple[int, int, int, int]]) -> list[list[int]]:
     return layers
 
 
-def stack(layers: list[list[int]], boxes: list[tuple[int, int, int, int]],
-          pinned: list[bool] | None = None) -> list[list[list[int]]]:
+def stack(layers: list[list[int]], boxes: list[tuple[int, int, int, int]]) -> list[list[list[int]]]:
     """Documents of up to three consecutive :func:`pack` layers (one per colour channel),
     as long as the document's canvas (the union of their boxes) stays within
-    :data:`CANVAS` pixels or twice their area. A layer holding a ``pinned`` element (one
-    that must be drawn at the canvas's own coordinates) only starts a document: the second
-    and third are blended groups, which resvg draws into a layer of their own bounding box,
-    moved to its corner.
+    :data:`CANVAS` pixels or twice their area.
 
     >>> stack([[0], [1], [2], [3]], [(0, 0, 4, 4), (2, 2, 6, 6), (1, 1, 5, 5), (0, 0, 3, 3)])
     [[[0], [1], [2]], [[3]]]
-    >>> stack([[0], [1], [2]], [(0, 0, 4, 4), (2, 2, 6, 6), (1, 1, 5, 5)], [False, True, False])
-    [[[0]], [[1], [2]]]
     """
     documents: list[list[list[int]]] = []
     unions: list[tuple[int, int, int, int]] = []
@@ -139,7 +136,7 @@ def stack(layers: list[list[int]], boxes: list[tuple[int, int, int, int]],
         x0, y0 = min(boxes[i][0] for i in layer), min(boxes[i][1] for i in layer)
         x1, y1 = max(boxes[i][2] for i in layer), max(boxes[i][3] for i in layer)
         area = sum((boxes[i][2] - boxes[i][0]) * (boxes[i][3] - boxes[i][1]) for i in layer)
-        if documents and len(documents[-1]) < 3 and not (pinned is not None and any(pinned[i] for i in layer)):
+        if documents and len(documents[-1]) < 3:
             u0, v0, u1, v1 = unions[-1]
             ux0, uy0, ux1, uy1 = min(u0, x0), min(v0, y0), max(u1, x1), max(v1, y1)
             if (ux1 - ux0) * (uy1 - uy0) <= max(CANVAS, 2 * (areas[-1] + area)):
@@ -199,20 +196,22 @@ class _Resvg:
 
         A box reaching an edge of the ``screen`` (width, height) holds an element that may
         be clipped there, which tiny-skia does in float32 on the coordinates it draws with
-        (after the viewBox's translation): such an element is drawn in a document whose
-        canvas starts at the screen's origin (it counts as the box from (0, 0) to its far
-        corner), as on the screen itself. Anywhere else the translation changes nothing."""
+        (after the viewBox's translation, and a blended group's move to its own corner), so
+        the canvas's origin matters to it: such an element is drawn alone on the canvas of
+        its box, as :func:`~rasterizers.real._masks.draw_each` draws for every library.
+        Anywhere else the translation changes nothing (x - x0 is exact)."""
         width, height = screen
-        pinned = [x0 == 0 or y0 == 0 or x1 == width or y1 == height for x0, y0, x1, y1 in boxes]
-        placed = [(0, 0, b[2], b[3]) if edge else b for b, edge in zip(boxes, pinned)]
+        clipped = [x0 == 0 or y0 == 0 or x1 == width or y1 == height for x0, y0, x1, y1 in boxes]
         crops: list[NDArray[np.uint8] | None] = [None] * len(boxes)
-        layers = pack(placed)
-        for document in (stack(layers, placed, pinned) if channels else [[layer] for layer in layers]):
+        free = [i for i in range(len(boxes)) if not clipped[i]]
+        placed = [boxes[i] for i in free]
+        layers = [[free[k] for k in layer] for layer in pack(placed)]
+        for document in (stack(layers, boxes) if channels else [[layer] for layer in layers]):
             members = [i for layer in document for i in layer]
-            ux0 = min(placed[i][0] for i in members)
-            uy0 = min(placed[i][1] for i in members)
-            ux1 = max(placed[i][2] for i in members)
-            uy1 = max(placed[i][3] for i in members)
+            ux0 = min(boxes[i][0] for i in members)
+            uy0 = min(boxes[i][1] for i in members)
+            ux1 = max(boxes[i][2] for i in members)
+            uy1 = max(boxes[i][3] for i in members)
             parts = []
             for c, layer in enumerate(document):
                 opening = group.format(paint=("#f00", "#0f0", "#00f")[c] if channels else "#000")
@@ -237,9 +236,7 @@ class _Resvg:
                 raise RuntimeError(f"box {(x0, y0, x1, y1)} asked as {origin} + {w} x {h}: the boxes are out of order")
             crop = crops[i]
             if crop is None:
-                u0, v0, u1, v1 = placed[i]
-                plane = self.rgba(group.format(paint="#000") + elements[i] + "</g>", u0, v0, u1 - u0, v1 - v0)[:, :, 3]
-                crop = plane[y0 - v0:y1 - v0, x0 - u0:x1 - u0]
+                crop = self.rgba(group.format(paint="#000") + elements[i] + "</g>", x0, y0, w, h)[:, :, 3]
             return crop
 
         return take

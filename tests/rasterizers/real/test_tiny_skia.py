@@ -196,9 +196,10 @@ def screen_alone(adapter, scene, t):
 
 def test_shared_documents_draw_as_the_whole_screen_does(crisp, smooth):
     """Box-disjoint primitives share a document (:func:`tiny_skia.pack`), crisp ones up to
-    three sets of them (:func:`tiny_skia.stack`, a colour channel each); each primitive
-    comes back exactly as drawn alone on a canvas of the whole screen: triangles crisp and
-    smooth (many crossing the screen's edges), paths, lines."""
+    three sets of them (:func:`tiny_skia.stack`, a colour channel each). Each primitive
+    whose box stays off the screen's edges comes back exactly as drawn alone on a canvas of
+    the whole screen; one the edges may clip, exactly as drawn alone on its box's canvas
+    (draw_each's way). Triangles crisp and smooth, paths, lines."""
     rng = np.random.default_rng(11)
     triangles = rng.uniform(-4, 68, size=(60, 3, 2))
     triangles[::3] = triangles[::3] * 0.2 + rng.uniform(0, 60, size=(20, 1, 2))  # small ones, side by side
@@ -206,13 +207,23 @@ def test_shared_documents_draw_as_the_whole_screen_does(crisp, smooth):
     paths = PathScene.from_paths(64, 64, [[pentagram(x, y, 5.3)] for x, y in rng.uniform(0, 64, size=(30, 2))], "evenodd")
     lines = LineScene.from_segments(64, 64, rng.uniform(-2, 66, size=(40, 2)), rng.uniform(-2, 66, size=(40, 2)))
     assert len(tiny_skia.pack([(0, 0, 4, 4)] * 3)) == 3
+    inner = 0
     for adapter, s in ((crisp, scene), (smooth, scene), (crisp, paths), (crisp, lines)):
         together = adapter.rasterize(s)
+        lo, hi, _ = s.primitive_boxes()
         for t in range(len(s)):
             mine = np.zeros((64, 64))
             cov = together.take(np.flatnonzero(together.primitive == t))
             _, x, y = cov.pixels()
             mine[y, x] = cov.alpha if cov.alpha is not None else 1.0
-            alone = screen_alone(adapter, s, t) / 255.0
-            expected = alone if adapter.name == "tiny_skia_aa" else (alone > 0).astype(float)
+            if np.all(lo[t] >= 3) and np.all(hi[t] <= 61):  # its box (2 px around) stays inside
+                inner += 1
+                alone = screen_alone(adapter, s, t) / 255.0
+                expected = alone if adapter.name == "tiny_skia_aa" else (alone > 0).astype(float)
+            else:
+                own = adapter.rasterize(s.subset([t]))
+                expected = np.zeros((64, 64))
+                _, x, y = own.pixels()
+                expected[y, x] = own.alpha if own.alpha is not None else 1.0
             assert np.array_equal(mine, expected), (adapter.name, t)
+    assert inner > 60
