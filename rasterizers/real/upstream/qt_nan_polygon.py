@@ -1,5 +1,6 @@
-"""Qt (raster paint engine; seen with Qt 6.11 through PyQt6 6.11): ``QPainter::drawPolygon``
-fills pixels for a polygon with a NaN vertex.
+"""Qt: ``QPainter::drawPolygon`` fills pixels for a polygon with a NaN vertex (raster paint engine).
+
+Library: Qt 6.11 through PyQt6 6.11, the raster paint engine (a ``QImage``), offscreen.
 
 Input: the triangle (NaN, 2), (12, 3), (5, 13) filled with ``drawPolygon`` (no pen, a
 solid brush, anti-aliasing off, then on) on a 16 x 16 ``QImage.Format_Alpha8``.
@@ -14,8 +15,10 @@ What happens: ``QRasterPaintEngine::drawPolygon`` passes the points unchecked to
 ``QOutlineMapper``, whose ``qRound(x * 64)`` of NaN is undefined behaviour (``INT_MIN``
 on x86-64): the NaN vertex lands far to the left, and every pixel left of the edge
 between the two finite vertices, in the rows between them, is filled (85 px aliased, 105
-anti-aliased, with Qt 6.11). The script prints the counts and exits 1 while the polygon
-draws pixels, 0 once it draws none.
+anti-aliased, with Qt 6.11).
+
+Exit status: the script prints the counts and exits 1 while the polygon draws pixels, 0
+once it draws none.
 """
 
 import math
