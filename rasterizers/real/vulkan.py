@@ -118,6 +118,15 @@ class _Device:
                                "in the workers, or start them by spawn)")
         self.wgpu = wgpu
         _MADE_IN = os.getpid()
+        if not os.environ.get("XDG_RUNTIME_DIR"):
+            # Mesa's Vulkan loader looks for a display runtime folder and, without one, prints
+            # "error: XDG_RUNTIME_DIR is invalid" on every device made (harmless: no display is
+            # used); a private folder of the user's keeps the run's output clean
+            import tempfile
+
+            folder = os.path.join(tempfile.gettempdir(), f"rastercheck-xdg-{os.getuid()}")
+            os.makedirs(folder, mode=0o700, exist_ok=True)
+            os.environ["XDG_RUNTIME_DIR"] = folder
         adapters = [a for a in wgpu.gpu.enumerate_adapters_sync()
                     if a.info["backend_type"] == "Vulkan" and "llvmpipe" in a.info["device"]]
         if not adapters:
