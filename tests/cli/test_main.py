@@ -8,7 +8,7 @@ from harness.cli.main import build_parser
 
 # command -> the module holding its handler
 HOMES = {"run": "run", "gate": "gate", "compare": "compare", "identify": "identify", "replay": "replay",
-         "bench": "bench_command", "fuzz": "fuzz", "diff": "diff", "list": "listing"}
+         "bench": "bench_command", "fuzz": "fuzz", "diff": "diff", "list": "listing", "atlas": "atlas"}
 
 
 def test_each_command_is_handled_by_its_own_module() -> None:
