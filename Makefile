@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 # the real-rasterizer adapters' extras that `make` tries, each on its own (CI's bare-machine
 # stage sets none: `make test ADAPTERS=`)
-ADAPTERS ?= skia gl cairo vulkan freetype agg matplotlib qt blend2d tiny_skia pygame
+ADAPTERS ?= skia gl cairo vulkan freetype agg qt blend2d tiny_skia pygame
 # Python's compiled modules are written and reused: with PYTHONDONTWRITEBYTECODE set (some
 # shells and CI images set it) every process of a run -- each test worker, each isolated
 # rasterizer, each command a test starts -- compiles every module it imports again

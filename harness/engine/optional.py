@@ -48,7 +48,7 @@ INSTALLS: dict[str, Install] = {
                               "apt-get install mesa-vulkan-drivers"),
     "freetype": Install("freetype", "pip install -e '.[freetype]'   (freetype-py)"),
     "aggdraw": Install("agg", "pip install -e '.[agg]'   (aggdraw)"),
-    "matplotlib": Install("matplotlib", "pip install -e '.[matplotlib]'"),
+    "matplotlib": Install(None, "pip install matplotlib   (a dependency of rastercheck's own)"),
     "PyQt6": Install("qt", "pip install -e '.[qt]'   (PyQt6)"),
     "blend2d": Install("blend2d", "pip install -e '.[blend2d]'   (blend2d-python)"),
     "resvg_py": Install("tiny_skia", "pip install -e '.[tiny_skia]'   (resvg-py: tiny-skia through resvg)"),
