@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from typing import Any, NoReturn
 
+import numpy as np
 from numpy.typing import NDArray
 
 from harness.contract.conventions import Convention
@@ -21,7 +22,7 @@ from harness.engine.optional import missing
 from harness.engine.registry import Unavailable
 from rasterizers.real._masks import draw_each, draw_each_alpha, draw_each_path, draw_each_segment
 
-__all__ = ["need", "refuse_kind", "OneAtATime", "AlphaOneTriangleAtATime"]
+__all__ = ["need", "refuse_kind", "refuse_several_contours", "OneAtATime", "AlphaOneTriangleAtATime"]
 
 
 def need(module: str) -> Any:
@@ -35,6 +36,17 @@ def need(module: str) -> Any:
 def refuse_kind(name: str, scene: object, kinds: tuple[str, ...]) -> NoReturn:
     """Raise ValueError for a scene of a kind the rasterizer does not take."""
     raise ValueError(f"{name}: takes {', '.join(kinds)} scenes, not {type(scene).__name__}")
+
+
+def refuse_several_contours(name: str, scene: PathScene, call: str) -> None:
+    """Raise Unsupported naming the first path of several contours, for a library whose
+    ``call`` fills one contour per call: two calls would OR the contours, which is no
+    fill rule."""
+    several = np.flatnonzero(np.bincount(scene.contour_path, minlength=len(scene)) > 1)
+    if several.size:
+        k = int(several[0])
+        raise Unsupported(f"{name}: path {k} has {int(np.sum(scene.contour_path == k))} contours; "
+                          f"{call} fills one contour per call")
 
 
 class OneAtATime:

@@ -19,7 +19,7 @@ from numpy.typing import NDArray
 
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene
-from rasterizers.real._masks import coverage_from_fragments, segment_boxes
+from rasterizers.real._masks import budget_batches, coverage_from_fragments, segment_boxes
 
 __all__ = ["MesaLines", "LINE_FRAGMENT_LIST", "draw_lists", "RESTART"]
 
@@ -217,14 +217,8 @@ class MesaLines:
         extent = boxes[drawn, 2:] - boxes[drawn, :2]
         # a one-pixel-wide line has at most one fragment per step of its major axis (+1)
         bound = extent.max(axis=1) + 1
-        total = np.cumsum(bound)
-        parts = []
-        start = 0
-        while start < drawn.size:
-            before = int(total[start - 1]) if start else 0
-            end = max(start + 1, int(np.searchsorted(total, before + self.BUDGET, side="right")))
-            parts.append(self._batch(scene, drawn[start:end], vertices, fbo, program, int(bound[start:end].sum()) + 1024))
-            start = end
+        parts = [self._batch(scene, drawn[start:end], vertices, fbo, program, int(bound[start:end].sum()) + 1024)
+                 for start, end in budget_batches(bound, self.BUDGET)]
         return Coverage.concat(parts)
 
     def _batch(self, scene: LineScene, segments: NDArray[np.int64], vertices: Any, fbo: Any, program: Any,

@@ -293,6 +293,27 @@ def draw_each_alpha(scene: Scene, name: str,
     return Coverage.concat(parts) if parts else Coverage.empty()
 
 
+def budget_batches(sizes: NDArray[np.int64], budget: int) -> list[tuple[int, int]]:
+    """Consecutive runs ``[start, end)`` of primitives whose ``sizes`` (fragments at most,
+    (N,)) add up to no more than ``budget`` together, in order; a primitive that alone
+    exceeds it is a run of its own.
+
+    >>> budget_batches(np.array([3, 4, 9, 2, 2, 2]), 8)
+    [(0, 2), (2, 3), (3, 6)]
+    >>> budget_batches(np.zeros(0, dtype=np.int64), 8)
+    []
+    """
+    total = np.cumsum(sizes)
+    runs = []
+    start = 0
+    while start < total.size:
+        before = int(total[start - 1]) if start else 0
+        end = max(start + 1, int(np.searchsorted(total, before + budget, side="right")))
+        runs.append((start, end))
+        start = end
+    return runs
+
+
 def coverage_from_fragments(primitive: NDArray[np.int64], x: NDArray[np.int64], y: NDArray[np.int64],
                             width: int, height: int) -> Coverage:
     """Single-sample coverage from fragments in any order: ``Coverage.from_pixels`` (spans

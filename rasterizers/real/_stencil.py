@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import PathScene
-from rasterizers.real._masks import coverage_from_fragments, finite_within_limit, path_extents
+from rasterizers.real._masks import budget_batches, coverage_from_fragments, finite_within_limit, path_extents
 
 __all__ = ["StencilPaths", "fans", "fan_indices", "cover_boxes", "layers", "CHUNK", "TILE"]
 
@@ -378,11 +378,7 @@ class StencilPaths:
         together, each read back once; within a batch, one fan draw and one cover draw
         per layer."""
         parts = []
-        total = np.cumsum(area[small])
-        start = 0
-        while start < small.size:
-            before = int(total[start - 1]) if start else 0
-            end = max(start + 1, int(np.searchsorted(total, before + self.BUDGET, side="right")))
+        for start, end in budget_batches(area[small], self.BUDGET):
             batch = small[start:end]
             capacity = int(area[batch].sum()) + 1024  # a path's cover fragments lie in its box
             storage = self.ctx.buffer(reserve=16 * (capacity + 1))

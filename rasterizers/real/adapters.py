@@ -14,9 +14,10 @@ from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene, Unsupported
 from harness.engine.registry import Unavailable
-from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need, refuse_kind
+from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need, refuse_kind, refuse_several_contours
 from rasterizers.real._lines import MesaLines
 from rasterizers.real._masks import (
+    budget_batches,
     coverage_from_sample_masks,
     draw_each,
     finite_within_limit,
@@ -147,11 +148,7 @@ class PillowPolygon(OneAtATime):
 
     def _refuse(self, scene: PathScene) -> None:
         super()._refuse(scene)
-        several = np.flatnonzero(np.bincount(scene.contour_path, minlength=len(scene)) > 1)
-        if several.size:
-            k = int(several[0])
-            raise Unsupported(f"{self.name}: path {k} has {int(np.sum(scene.contour_path == k))} contours; "
-                             "ImageDraw.polygon fills one contour per call")
+        refuse_several_contours(self.name, scene, "ImageDraw.polygon")
 
     def _draw_segment(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         image = self._Image.new("L", (w, h), 0)
@@ -943,18 +940,14 @@ class MesaMultisample(_Mesa):
                     items[:, 0] = t
                     parts.append(items)
             small = np.where(area > self.BUDGET, 0, area)
-            total = np.cumsum(small)
-            start = 0
-            while start < n:  # batches of consecutive triangles whose boxes fit the budget together
-                before = int(total[start - 1]) if start else 0
-                end = max(start + 1, int(np.searchsorted(total, before + self.BUDGET, side="right")))
+            # batches of consecutive triangles whose boxes fit the budget together
+            for start, end in budget_batches(small, self.BUDGET):
                 batch = positions[start:end].copy()
                 batch[area[start:end] > self.BUDGET] = 0.0  # drawn above; a point draws nothing and keeps the ids in step
                 items = _fragment_list(ctx, self._moderngl, self._mask_program, fbo, batch, side,
                                        (0, 0, scene.width, scene.height), int(small[start:end].sum()) + 1024)
                 items[:, 0] += start
                 parts.append(items)
-                start = end
         finally:
             fbo.release()
             colour.release()

@@ -10,8 +10,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.contract.coverage import Coverage
-from harness.contract.scenes import AnyScene, PathScene, Scene, Unsupported
-from rasterizers.real._bases import OneAtATime, need
+from harness.contract.scenes import AnyScene, PathScene, Scene
+from rasterizers.real._bases import OneAtATime, need, refuse_several_contours
 
 __all__ = ["PygameDraw", "STALL_REPRO"]
 
@@ -123,11 +123,7 @@ class PygameDraw(OneAtATime):
 
     def _refuse(self, scene: PathScene) -> None:
         super()._refuse(scene)
-        several = np.flatnonzero(np.bincount(scene.contour_path, minlength=len(scene)) > 1)
-        if several.size:
-            k = int(several[0])
-            raise Unsupported(f"{self.name}: path {k} has {int(np.sum(scene.contour_path == k))} contours; "
-                              "pygame.draw.polygon fills one contour per call")
+        refuse_several_contours(self.name, scene, "pygame.draw.polygon")
 
     def _refuse_stalls(self, scene: Scene | PathScene) -> None:
         """RuntimeError naming the first primitive with a non-finite y coordinate: it would

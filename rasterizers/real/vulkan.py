@@ -20,6 +20,7 @@ from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene, Unsup
 from harness.engine.registry import Unavailable
 from rasterizers.real._bases import need, refuse_kind
 from rasterizers.real._masks import (
+    budget_batches,
     coverage_from_fragments,
     coverage_from_sample_masks,
     finite_within_limit,
@@ -370,12 +371,8 @@ class _Lavapipe:
                       [scene.width, scene.height]).astype(np.int64)
         boxes = np.maximum(hi - lo, 0)
         area = boxes[:, 0] * boxes[:, 1]
-        total = np.cumsum(area)
         parts = []
-        start = 0
-        while start < n:
-            before = int(total[start - 1]) if start else 0
-            end = max(start + 1, int(np.searchsorted(total, before + self.BUDGET, side="right")))
+        for start, end in budget_batches(area, self.BUDGET):
             ndc = _ndc(positions[start:end], side)
             if area[start] > self.BUDGET:  # alone (end == start + 1): in bands of rows that fit the budget
                 for band in bands((int(lo[start, 0]), int(lo[start, 1]), int(hi[start, 0]), int(hi[start, 1])), self.BUDGET):
@@ -386,7 +383,6 @@ class _Lavapipe:
                 parts.append(self._draw_list(gpu, scene, ndc, "triangles", fragment, "triangle-list", side,
                                              int(area[start:end].sum()) + 1024))
                 parts[-1][:, 0] += start
-            start = end
         return np.concatenate(parts)
 
 
@@ -500,18 +496,13 @@ class VulkanLavapipe(_Lavapipe):
         a, b = scene.segments()
         extent = boxes[drawn, 2:] - boxes[drawn, :2]
         bound = extent.max(axis=1) + 1  # at most one fragment per step of the major axis, and one
-        total = np.cumsum(bound)
         parts = []
-        start = 0
-        while start < drawn.size:
-            before = int(total[start - 1]) if start else 0
-            end = max(start + 1, int(np.searchsorted(total, before + self.BUDGET, side="right")))
+        for start, end in budget_batches(bound, self.BUDGET):
             batch = drawn[start:end]
             pairs = np.stack([a[batch], b[batch]], axis=1)
             items = self._draw_list(gpu, scene, _ndc(pairs, side), "lines", "listed", "line-list", side,
                                     int(bound[start:end].sum()) + 1024)
             parts.append(coverage_from_fragments(batch[items[:, 0]], items[:, 1], items[:, 2], scene.width, scene.height))
-            start = end
         return Coverage.concat(parts)
 
     # -- paths ----------------------------------------------------------------------------
@@ -555,17 +546,12 @@ class VulkanLavapipe(_Lavapipe):
         # jobs: (first slot, end slot, scissor), each one pass and one read-back: batches of
         # slots whose boxes fit the budget together; a path that alone exceeds it, in bands
         jobs: list[tuple[int, int, tuple[int, int, int, int]]] = []
-        total = np.cumsum(area[drawn])
-        start = 0
-        while start < drawn.size:
-            before = int(total[start - 1]) if start else 0
-            end = max(start + 1, int(np.searchsorted(total, before + self.BUDGET, side="right")))
+        for start, end in budget_batches(area[drawn], self.BUDGET):
             if area[drawn[start]] > self.BUDGET:  # alone (end == start + 1)
                 box = tuple(int(v) for v in boxes[drawn[start]])
                 jobs += [(start, end, band) for band in bands((box[0], box[1], box[2], box[3]), self.BUDGET)]
             else:
                 jobs.append((start, end, screen))
-            start = end
         parts = []
         try:
             for start, end, (x, y, w, h) in jobs:
