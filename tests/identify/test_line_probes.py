@@ -192,4 +192,5 @@ def test_lines_rounding_otherwise_than_the_triangles_say_so_in_their_rule():
     assert fp.line_fit.differences == ("snap rounding half-away (triangles: nearest-even)",)
     scene = LineScene.from_strips(16, 16, [[[0.5 + 1 / 512, 1.5 - 1 / 512], [13.5 + 3 / 512, 7.5 + 1 / 512]]])
     assert (exact_coverage(scene, fp.convention).counts(16, 16) == exact_coverage(scene, lines).counts(16, 16)).all()
-    assert convention_for(Identified(box, fp), scene).snap_rounding == "half-away"
+    judged = convention_for(Identified(box, fp), scene)
+    assert judged is not None and judged.snap_rounding == "half-away"
