@@ -637,7 +637,7 @@ class Convention:
         >>> Convention(samples=4, line="rectangle").describe_lines()
         'rectangular lines, at D3D11 4x, top-left ties, no snapping'
         """
-        parts = [self.line.describe()]
+        parts = [self.for_lines().line.describe()]  # the rule's own rounding is said by the snapping
         if self.line.rule in AREA_LINE_RULES and self.samples is not None:
             parts.append(f"at {self._pattern_words()}, {self._tie_words()}")
         elif self.line.rule in AREA_LINE_RULES:
@@ -654,8 +654,8 @@ class Convention:
         >>> c.for_lines().snap_rounding, c.for_lines().line.snap_rounding, c.snap_rounding
         ('half-away', None, 'nearest-even')
         >>> c.describe_lines()  # doctest: +NORMALIZE_WHITESPACE
-        'parallelogram lines (Vulkan non-strict), line ends snapped half away from zero, sample (0.5, 0.5),
-         top-left ties, snapped to 1/256 px (8 bits, half away from zero)'
+        'parallelogram lines (Vulkan non-strict), sample (0.5, 0.5), top-left ties, snapped to 1/256 px
+         (8 bits, half away from zero)'
         """
         own = self.line.snap_rounding
         if own is None:
