@@ -47,7 +47,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from harness.contract.conventions import TieRule
-from harness.geometry.exact import _two_product
+from harness.geometry.exact import _two_product, frozen
+from harness.oracle.diamond_lines import is_x_major
 from harness.oracle.line_spans import Spans, _as_spans, _check_range, _empty, _spans_from_mask
 from harness.oracle.rectangle_lines import (
     RECT_SAFE_MAX,
@@ -283,16 +284,15 @@ def parallelogram_spans(a: ArrayLike, b: ArrayLike, line_width: ArrayLike = 1.0,
     _check_range(values, keep, PARA_SAFE_MIN, PARA_SAFE_MAX, "parallelogram_spans_rational")
     if not keep.any() or width == 0 or height == 0:
         return _empty()
-    from harness.oracle.diamond_lines import is_x_major
-
     majors = np.array([bool(is_x_major(*a_arr[k], *b_arr[k])) if keep[k] else True for k in range(a_arr.shape[0])],
                       dtype=np.bool_)
     sx, sy = convention.sample
     tx, ty, y_first = convention.tie_perturbation
-    a_c, b_c = np.ascontiguousarray(a_arr), np.ascontiguousarray(b_arr)
-    capacity = int(_rect_capacity(a_c, b_c, widths, keep, sy, height))
+    a_f, b_f, w_f = frozen(a_arr), frozen(b_arr), frozen(widths)
+    keep_f, majors_f = frozen(keep, np.bool_), frozen(majors, np.bool_)
+    capacity = int(_rect_capacity(a_f, b_f, w_f, keep_f, sy, height))
     out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
-    m = int(_para_kernel(a_c, b_c, widths, keep, majors, sx, sy, tx, ty, y_first, width, height, *out))
+    m = int(_para_kernel(a_f, b_f, w_f, keep_f, majors_f, sx, sy, tx, ty, y_first, width, height, *out))
     return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
 
 

@@ -167,3 +167,15 @@ def test_line_snap_rounding_overrides_the_triangles(rule) -> None:
             same = Convention(subpixel_bits=2, snap_rounding=line_rounding, line=LineRule(rule))
             assert line_coverage(scene, mixed).counts(SIZE, SIZE).tolist() == \
                 line_coverage(scene, same).counts(SIZE, SIZE).tolist()
+
+
+def test_identify_sees_the_full_width_known_bad_is_no_parallelogram() -> None:
+    """The known-bad drawer that puts the sides a whole width (not half) off the segment:
+    no candidate explains it, the parallelogram's residual is its second pixel per column."""
+    from harness.identify.fingerprint import identify
+    from tests.known_bad.lines import FullWidthOffset
+
+    fp = identify(FullWidthOffset())
+    assert not fp.exact and fp.residual > 0 and fp.line_fit is not None, fp.card()
+    assert "best guess only" in fp.facts["lines"]
+    assert dict(fp.line_fit.rule_scores)["parallelogram"] > 0
