@@ -111,9 +111,11 @@ Lines (line scenes) are drawn by the convention's :class:`LineRule`
     perturbed end points), ``bresenham`` (seed 003's
     integer algorithm, end points to pixels by a declared rounding, walked from the first
     end point or, as textbooks' ``plotLine``, from the one with smaller x or smaller major
-    coordinate) or ``rectangle``
+    coordinate), ``rectangle``
     (Vulkan: the samples inside a w-wide rectangle around the segment, under the sample
-    point and tie rule above), each after snapping; defined in :mod:`harness.oracle.lines`. Under
+    point and tie rule above) or ``parallelogram`` (Vulkan's non-strict lines: the
+    segment widened by w/2 either way along its minor axis, likewise), each after snapping
+    (with the rule's own snap rounding when it has one); defined in :mod:`harness.oracle.lines`. Under
     a multisample convention lines are rectangles sampled at every sample of the pattern
     (GL 14.5.4 "Line Multisample Rasterization", dEQP): ``line=LineRule("rectangle")``.
 
