@@ -28,8 +28,11 @@ Parallelogram lines (:func:`parallelogram_spans`)
     llvmpipe first moves each end along the segment to a pixel edge when its own diamond
     test (``draw_start``/``draw_end``, computed in float) disagrees with what the
     parallelogram would draw there (``will_draw_start``/``will_draw_end``): its lines are
-    this rule only where no end is moved. With ``rectangular_lines`` set (lavapipe's
-    rectangular mode) it draws the rectangle instead.
+    this rule only where no end is moved. A float32 port of that branch
+    (``tests/llvmpipe_lines.py``) reproduces llvmpipe's lines on every identify probe (0 of
+    9,584 px, Mesa 22.3.6), where this rule is off at most ends: they are a procedure, not
+    a rule. With ``rectangular_lines`` set (lavapipe's rectangular mode) it draws the
+    rectangle instead.
 
 :func:`parallelogram_spans_rational` is the slow reference in :class:`fractions.Fraction`
 arithmetic for any finite float (small viewports only): the four vertices as fractions, and
