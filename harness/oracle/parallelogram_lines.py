@@ -30,7 +30,7 @@ Parallelogram lines (:func:`parallelogram_spans`)
     parallelogram would draw there (``will_draw_start``/``will_draw_end``): its lines are
     this rule only where no end is moved. A float32 port of that branch
     (``tests/llvmpipe_lines.py``) reproduces llvmpipe's lines on every identify probe (0 of
-    9,584 px, Mesa 22.3.6), where this rule is off at most ends: they are a procedure, not
+    9,584 px, Mesa 22.3.6), where this rule misses the ends it moves: they are a procedure, not
     a rule. With ``rectangular_lines`` set (lavapipe's rectangular mode) it draws the
     rectangle instead.
 
