@@ -38,7 +38,7 @@ from harness.checks.conformance import near_ties_of, undefined_width
 from harness.checks.motion import filled_direction
 from harness.checks.records import EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result, skip
 from harness.contract.case import Case
-from harness.contract.conventions import LINE_DIRECTIONS, Convention
+from harness.contract.conventions import AREA_LINE_RULES, LINE_DIRECTIONS, Convention
 from harness.contract.coverage import Coverage
 from harness.contract.coverage_models import COVERAGE_MODELS
 from harness.contract.scenes import LineScene, Unsupported
@@ -232,7 +232,7 @@ def _run_connectivity(s: Subject) -> Result:
     if s.convention.line.rule == "rectangle":
         return skip(s.case, "connectivity", "rectangular lines are filled rectangles: no rule of one pixel per major step")
     if s.case.scene.line_width != 1.0:
-        return skip(s.case, "connectivity", "replicated wide lines draw w pixels per major step: no rule of one")
+        return skip(s.case, "connectivity", "wide lines draw w pixels per major step: no rule of one")
     return connectivity(s.case, s.coverage, s.convention)
 
 
@@ -254,10 +254,10 @@ def vertex_pixels(scene: LineScene, convention: Convention, pairs: NDArray[np.in
 
     diamond-exit (D3D's or GL's): the pixel whose test area holds v, for the major axis of m (the segment
     starting there, which draws it; the one ending there omits it); Bresenham: the pixel v
-    rounds to (both segments start or end there); rectangles: none.
+    rounds to (both segments start or end there); rectangles and parallelograms: none.
     """
     out = np.full((pairs.shape[0], 2), -1, dtype=np.int64)
-    if not pairs.shape[0] or convention.line.rule == "rectangle":
+    if not pairs.shape[0] or convention.line.rule in AREA_LINE_RULES:
         return out
     _, b = scene.segments()
     v = convention.snap(b[pairs[:, 0]])
@@ -601,7 +601,7 @@ def line_motion(case: Case, sequences: list[tuple[str, list[LineScene], list[Cov
     a monotone function of the line's position (diamond-exit: the row holding the line at
     the cell's centre; Bresenham: the rounded end points move monotonically, and with them
     round(k*M/K)), and the extent along the motion only grows at its front and shrinks at
-    its back. Rectangular lines are thin rectangles whose caps may legitimately move a
+    its back. Rectangular (and parallelogram) lines are thin regions whose ends may legitimately move a
     cell's pixels either way: they are judged against the exact answer's own direction at
     each step (its most recent move where it does not move, as
     :func:`harness.checks.motion.filled_direction`).
@@ -614,7 +614,7 @@ def line_motion(case: Case, sequences: list[tuple[str, list[LineScene], list[Cov
     scene = LINES.narrow(scene)
     n = len(scene)
     noun = scene.noun
-    geometric = convention.line.rule != "rectangle"
+    geometric = convention.line.rule not in AREA_LINE_RULES
     jumps: list[dict[str, Any]] = []
     totals = {"cells": 0, "ends": 0}
     for axis, frames, coverages, oracles in sequences:

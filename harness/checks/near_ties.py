@@ -342,6 +342,47 @@ def _rectangle_margins(a: NDArray, b: NDArray, px: NDArray, py: NDArray, line_wi
     return margin
 
 
+def _parallelogram_margins(a: NDArray, b: NDArray, px: NDArray, py: NDArray, line_width: float) -> NDArray:
+    """How far each sample p is from the boundary lines of its segment's parallelogram
+    (Vulkan's non-strict lines: the two ends through a and b parallel to the minor axis,
+    the two sides half the width away along it), measured along the axes in pixels: an
+    upper bound on the move of the segment that changes the sample's decision, exactly 0
+    when the exact predicate puts p on an end or a side line; inf for a zero-length segment.
+
+    Parameters
+    ----------
+    a, b : (M, 2) float64
+        Each fragment's segment (snapped).
+    px, py : (M,) float64
+        Each fragment's sample point.
+    """
+    ax, ay, bx, by = a[:, 0], a[:, 1], b[:, 0], b[:, 1]
+    dx, e_dx = _minus(bx, ax)
+    dy, e_dy = _minus(by, ay)
+    x_major = np.abs(dx) >= np.abs(dy)
+    major = np.where(x_major, np.abs(dx), np.abs(dy))
+    e_major = np.where(x_major, e_dx, e_dy)
+    ends = [np.abs(np.where(x_major, px - ex, py - ey)) * _HIGH for ex, ey in ((ax, ay), (bx, by))]
+    det, e_det = _orient(ax, ay, bx, by, px, py)
+    half = 0.5 * line_width
+    low = np.maximum(major - e_major, 0.0) * _LOW
+    high = (major + e_major) * _HIGH
+    with np.errstate(divide="ignore", invalid="ignore"):
+        q_high = (np.abs(det) + e_det) / low * _HIGH  # |det| / |major|: the sample's distance along the minor axis
+        q_low = np.maximum(np.abs(det) - e_det, 0.0) / high * _LOW
+    side = np.maximum(q_high - half, half - q_low) * _HIGH + _UNDERFLOW
+    margin: NDArray = np.minimum(np.minimum(ends[0], ends[1]), side)
+    margin[~(major > 0)] = np.inf
+    doubtful = (q_low <= half) & (half <= q_high)
+    for k in np.flatnonzero(doubtful & np.isfinite(margin)):
+        qa, qb, p = (_q(ax[k]), _q(ay[k])), (_q(bx[k]), _q(by[k])), (_q(px[k]), _q(py[k]))
+        d = (qb[0] - qa[0], qb[1] - qa[1])
+        cross = d[0] * (p[1] - qa[1]) - d[1] * (p[0] - qa[0])
+        if 2 * abs(cross) == _q(line_width) * (abs(d[0]) if x_major[k] else abs(d[1])):
+            margin[k] = 0.0
+    return margin
+
+
 def _bresenham_margins(a: NDArray, b: NDArray, x: NDArray, y: NDArray, rule: Any, width: int, height: int) -> NDArray:
     """How far each Bresenham decision is from flipping, in pixels: the rule rounds each end
     point coordinate c to a pixel, and the pixel changes where c crosses an integer m. So
@@ -456,6 +497,7 @@ def line_edge_distance(scene: LineScene, convention: Convention | None, fragment
                                               for rule in ("diamond-exit", "bresenham", "rectangle")])
         return nearest
     a, b = scene.segments()
+    convention = convention.for_lines()
     a, b = convention.snap(a)[segment[ok]], convention.snap(b)[segment[ok]]
     x = fragments[1, ok].astype(np.float64)
     y = fragments[2, ok].astype(np.float64)
@@ -468,6 +510,8 @@ def line_edge_distance(scene: LineScene, convention: Convention | None, fragment
                                                   scene.width, scene.height)
         elif rule.rule == "rectangle":
             absolute = _rectangle_margins(a, b, x + convention.sample[0], y + convention.sample[1], scene.line_width)
+        elif rule.rule == "parallelogram":
+            absolute = _parallelogram_margins(a, b, x + convention.sample[0], y + convention.sample[1], scene.line_width)
         elif scene.line_width != 1.0:
             # replicated wide lines: a pixel inside a run stays as its base moves; no bound
             # here, so no near tie is excused

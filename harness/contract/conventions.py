@@ -111,9 +111,11 @@ Lines (line scenes) are drawn by the convention's :class:`LineRule`
     perturbed end points), ``bresenham`` (seed 003's
     integer algorithm, end points to pixels by a declared rounding, walked from the first
     end point or, as textbooks' ``plotLine``, from the one with smaller x or smaller major
-    coordinate) or ``rectangle``
+    coordinate), ``rectangle``
     (Vulkan: the samples inside a w-wide rectangle around the segment, under the sample
-    point and tie rule above), each after snapping; defined in :mod:`harness.oracle.lines`. Under
+    point and tie rule above) or ``parallelogram`` (Vulkan's non-strict lines: the
+    segment widened by w/2 either way along its minor axis, likewise), each after snapping
+    (with the rule's own snap rounding when it has one); defined in :mod:`harness.oracle.lines`. Under
     a multisample convention lines are rectangles sampled at every sample of the pattern
     (GL 14.5.4 "Line Multisample Rasterization", dEQP): ``line=LineRule("rectangle")``.
 
@@ -166,6 +168,7 @@ __all__ = [
     "LineRuleName",
     "LINE_RULES",
     "DIAMOND_RULES",
+    "AREA_LINE_RULES",
     "BRESENHAM_ROUNDINGS",
     "BRESENHAM_TIES",
     "BresenhamRounding",
@@ -181,10 +184,13 @@ TieRule = Literal[
     "top-left-y-first", "top-right-y-first", "bottom-left-y-first", "bottom-right-y-first",
 ]
 CullMode = Literal["none", "cw", "ccw"]
-LineRuleName = Literal["diamond-exit", "diamond-exit-gl", "bresenham", "rectangle"]
-LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl", "bresenham", "rectangle")
+LineRuleName = Literal["diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram"]
+LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram")
 # The diamond rules: D3D11's test areas, and GL's open diamonds with perturbed end points.
 DIAMOND_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl")
+# The rules that cover the samples inside a region around the segment (any width, the
+# convention's sample point and tie rule)
+AREA_LINE_RULES: tuple[LineRuleName, ...] = ("rectangle", "parallelogram")
 BresenhamRounding = Literal["nearest-even", "half-away", "floor", "toward-zero"]
 BresenhamTies = Literal["step", "stay"]
 BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor", "toward-zero")
@@ -236,14 +242,14 @@ SAMPLE_FRACTION_BITS = 32
 _SNAP_IDENTITY_ABOVE = 2.0**52
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, repr=False)
 class LineRule:
     """How a convention draws aliased lines (line scenes, :class:`harness.contract.scenes.LineScene`);
     the definitions and their sources are in :mod:`harness.oracle.lines`.
 
     Parameters
     ----------
-    rule : {"diamond-exit", "diamond-exit-gl", "bresenham", "rectangle"}
+    rule : {"diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram"}
         ``diamond-exit``: a pixel is drawn when the segment leaves its diamond test area
         (D3D11 3.4.3: lower edges and bottom corner in, y-major lines also the right
         corner); width 1. ``diamond-exit-gl``: GL's (OpenGL 4.6 14.5.1): the segment with
@@ -254,7 +260,12 @@ class LineRule:
         inside the ``line_width``-wide rectangle around the segment, under the
         convention's sample point and tie rule (Vulkan's rectangular lines); under a
         multisample convention, at each sample of its pattern (GL's multisample lines,
-        the only rule defined there).
+        the only rule defined there). ``parallelogram``: Vulkan's non-strict lines (Vulkan
+        1.4, "Basic Line Segment Rasterization", ``strictLines`` false): the samples inside
+        the parallelogram whose two sides are the segment moved by +-``line_width``/2 along
+        its minor axis (y for an x-major segment, |dy| <= |dx|) and whose two ends are
+        parallel to that axis through the end points, under the convention's sample point
+        and tie rule (:mod:`harness.oracle.parallelogram_lines`).
     last_pixel : bool or None
         diamond-exit and bresenham: also draw the pixel the segment ends in (a polyline's
         shared vertices are then drawn twice). None: the rule's own (diamond-exit omits
@@ -284,9 +295,15 @@ class LineRule:
         its minor axis is drawn by the width-1 rule, and each fragment becomes w along the
         minor axis, the width-1 one first (rows y .. y + w - 1 of an x-major segment,
         columns x .. x + w - 1 of a y-major one, window y taken as rows).
+    snap_rounding : {"nearest-even", "half-away", "floor"} or None
+        How line end points snap, when it differs from the convention's ``snap_rounding``
+        for triangles (lavapipe snaps line ends half away from zero and triangle vertices
+        to nearest-even); None: the convention's. The grid is the convention's
+        ``subpixel_bits`` either way.
 
-    The convention's snapping (``subpixel_bits``, ``snap_rounding``) applies to line end
-    points first, as to triangle vertices.
+    The convention's snapping (``subpixel_bits``, ``snap_rounding``, or this rule's
+    ``snap_rounding``) applies to line end points first, as to triangle vertices
+    (:meth:`Convention.for_lines`).
 
     Examples
     --------
@@ -296,6 +313,10 @@ class LineRule:
     'Bresenham lines, end points to pixels by floor, ties step, last pixel drawn'
     >>> LineRule("bresenham", ties="stay", direction="smaller-x").describe()
     'Bresenham lines walked from the end point with smaller x, end points to pixels by nearest-even, ties stay, last pixel drawn'
+    >>> LineRule("parallelogram", snap_rounding="half-away").describe()
+    'parallelogram lines (Vulkan non-strict), line ends snapped half away from zero'
+    >>> LineRule("parallelogram", snap_rounding="half-away")  # doctest: +ELLIPSIS
+    LineRule(rule='parallelogram', last_pixel=False, ..., wide='none', snap_rounding='half-away')
     """
 
     rule: LineRuleName = "diamond-exit"
@@ -304,6 +325,15 @@ class LineRule:
     ties: BresenhamTies = "step"
     direction: LineDirection = "as-given"
     wide: WideLines = "none"
+    snap_rounding: SnapRounding | None = None
+
+    def __repr__(self) -> str:
+        # snap_rounding only when set: a rule without it reads as it always has
+        fields = (f"rule={self.rule!r}, last_pixel={self.last_pixel!r}, rounding={self.rounding!r}, ties={self.ties!r}, "
+                  f"direction={self.direction!r}, wide={self.wide!r}")
+        if self.snap_rounding is not None:
+            fields += f", snap_rounding={self.snap_rounding!r}"
+        return f"LineRule({fields})"
 
     def __post_init__(self) -> None:
         if self.rule not in LINE_RULES:
@@ -326,12 +356,15 @@ class LineRule:
             raise ValueError(f"LineRule.wide must be one of {', '.join(WIDE_LINES)}, not {self.wide!r}")
         if self.wide != "none" and not self.diamond:
             raise ValueError(f"LineRule.wide {self.wide!r} is a diamond-exit option; {self.rule} lines "
-                             + ("have their own width" if self.rule == "rectangle" else "are 1 px wide"))
+                             + ("have their own width" if self.rule in AREA_LINE_RULES else "are 1 px wide"))
+        if self.snap_rounding is not None and self.snap_rounding not in SNAP_ROUNDINGS:
+            raise ValueError(f"LineRule.snap_rounding must be None or one of {', '.join(SNAP_ROUNDINGS)}, "
+                             f"not {self.snap_rounding!r}")
 
     def undefined_width(self, line_width: float) -> str:
         """Why the rule draws no lines ``line_width`` wide ("" when it does): rectangles take
         any width, replicated diamond lines an integer one, the others width 1 only."""
-        if self.rule == "rectangle" or line_width == 1.0:
+        if self.rule in AREA_LINE_RULES or line_width == 1.0:
             return ""
         if self.wide == "replicate":
             if line_width == math.floor(line_width) and 1.0 <= line_width <= 2.0**20:
@@ -358,8 +391,15 @@ class LineRule:
 
     def describe(self) -> str:
         """One line for people."""
+        own = {None: "", "nearest-even": ", line ends snapped to nearest-even", "half-away":
+               ", line ends snapped half away from zero", "floor": ", line ends snapped down"}[self.snap_rounding]
+        return self._rule_words() + own
+
+    def _rule_words(self) -> str:
         if self.rule == "rectangle":
             return "rectangular lines"
+        if self.rule == "parallelogram":
+            return "parallelogram lines (Vulkan non-strict)"
         last = "last pixel drawn" if self.last_pixel else "last pixel omitted"
         wide = ", wide lines by replication along the minor axis" if self.wide == "replicate" else ""
         if self.rule == "diamond-exit":
@@ -599,14 +639,30 @@ class Convention:
         >>> Convention(samples=4, line="rectangle").describe_lines()
         'rectangular lines, at D3D11 4x, top-left ties, no snapping'
         """
-        parts = [self.line.describe()]
-        if self.line.rule == "rectangle" and self.samples is not None:
+        parts = [self.for_lines().line.describe()]  # the rule's own rounding is said by the snapping
+        if self.line.rule in AREA_LINE_RULES and self.samples is not None:
             parts.append(f"at {self._pattern_words()}, {self._tie_words()}")
-        elif self.line.rule == "rectangle":
+        elif self.line.rule in AREA_LINE_RULES:
             sx, sy = (f"{v:g}" for v in self.sample)
             parts.append(f"sample ({sx}, {sy}), {self._tie_words()}")
-        parts.append(self._snapping_words())
+        parts.append(self.for_lines()._snapping_words())
         return ", ".join(parts)
+
+    def for_lines(self) -> Convention:
+        """This convention as line end points see it: the line rule's own ``snap_rounding``
+        in place of the convention's, when it has one (the same convention otherwise).
+
+        >>> c = Convention(subpixel_bits=8, line=LineRule("parallelogram", snap_rounding="half-away"))
+        >>> c.for_lines().snap_rounding, c.for_lines().line.snap_rounding, c.snap_rounding
+        ('half-away', None, 'nearest-even')
+        >>> c.describe_lines()  # doctest: +NORMALIZE_WHITESPACE
+        'parallelogram lines (Vulkan non-strict), sample (0.5, 0.5), top-left ties, snapped to 1/256 px
+         (8 bits, half away from zero)'
+        """
+        own = self.line.snap_rounding
+        if own is None:
+            return self
+        return replace(self, snap_rounding=own, line=replace(self.line, snap_rounding=None))
 
     def _pattern_words(self) -> str:
         """The sample pattern for people, in a few words (``D3D11 4x``, ``4x4 grid at (1/8 +

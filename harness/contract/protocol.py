@@ -13,7 +13,7 @@ from typing import Any, Protocol, runtime_checkable
 from harness.contract.conventions import FILL_RULES, Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, Scene
-from harness.kinds import PATHS, kind_of
+from harness.kinds import LINES, PATHS, kind_of
 
 
 @runtime_checkable
@@ -97,13 +97,15 @@ def convention_for(rasterizer: Rasterizer, scene: AnyScene) -> Convention | None
     ``path_convention`` for a path scene when it has one (a black box whose path fills
     identify found to follow another convention than its triangles), its
     ``line_convention`` for a line scene when it has one (likewise for lines), else its
-    ``convention``."""
+    ``convention``; for a line scene, as line end points see it (its line rule's own snap
+    rounding, :meth:`Convention.for_lines`)."""
     attribute = kind_of(scene).convention_attribute
+    found = rasterizer.convention
     if attribute is not None:
         own = getattr(rasterizer, attribute, None)
         if isinstance(own, Convention):
-            return own
-    return rasterizer.convention
+            found = own
+    return found.for_lines() if found is not None and LINES.owns(scene) else found
 
 
 def fill_rules_of(rasterizer: Rasterizer) -> tuple[str, ...]:

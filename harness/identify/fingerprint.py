@@ -57,7 +57,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
-from harness.contract.conventions import Convention, CoverageKind, LineRule
+from harness.contract.conventions import AREA_LINE_RULES, Convention, CoverageKind, LineRule
 from harness.contract.coverage import Coverage
 from harness.contract.coverage_models import COVERAGE_KINDS, SINGLE, CoverageModel, model_named
 from harness.contract.protocol import Rasterizer, fill_rules_of, interpolates_of, received_of, scene_kinds_of
@@ -551,13 +551,13 @@ def _line_convention_dict(fit: LineFit) -> dict[str, Any] | None:
         return None
     rule = line.line
     return {"convention": line.describe_lines(), "rule": rule.rule,
-            "last_pixel": None if rule.rule == "rectangle" else rule.last_pixel,
+            "last_pixel": None if rule.rule in AREA_LINE_RULES else rule.last_pixel,
             "rounding": rule.rounding if rule.rule == "bresenham" else None,
             "ties": rule.ties if rule.rule == "bresenham" else None,
             "direction": rule.direction if rule.rule == "bresenham" else None,
             "wide": rule.wide if rule.diamond else None,
-            "sample": list(line.sample) if rule.rule == "rectangle" else None,
-            "tie": line.tie if rule.rule == "rectangle" else None,
+            "sample": list(line.sample) if rule.rule in AREA_LINE_RULES else None,
+            "tie": line.tie if rule.rule in AREA_LINE_RULES else None,
             "subpixel_bits": line.subpixel_bits, "snap_rounding": line.snap_rounding,
             "exact": fit.exact, "residual": fit.residual, "pixels": fit.pixels,
             "runner_up": list(fit.runner_up) if fit.runner_up else None, "ambiguous": list(fit.ambiguous),

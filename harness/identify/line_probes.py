@@ -8,7 +8,8 @@ the snapping in front of it, each by the exact oracle of every candidate convent
 pixels, as for triangles -- the best explaining it, "identified" only when its residual is
 zero and no other candidate's is:
 
-1. *The rule* (D3D's or GL's diamond-exit, Bresenham or rectangle), with diamond-exit's and
+1. *The rule* (D3D's or GL's diamond-exit, Bresenham, rectangle or Vulkan's non-strict
+   parallelogram), with diamond-exit's and
    Bresenham's last-pixel rule, Bresenham's end point rounding (nearest-even, half-away,
    floor, toward-zero), tie direction (step, stay) and direction of travel (as given, or
    from the end point with smaller x or smaller major coordinate, as textbooks'
@@ -45,7 +46,10 @@ zero and no other candidate's is:
    coordinate a half step of the fitted grid off the lattice (:func:`half_step_lines`),
    the rounding again. Ties go to the triangles' snapping, then to none. A snapping that
    changes no pixel of any input (floor snapping in front of Bresenham's floor rounding)
-   is not seen, and need not be: the two conventions draw alike.
+   is not seen, and need not be: the two conventions draw alike. Lines that snap on the
+   triangles' grid but round otherwise (lavapipe: half away, its triangles to even) get
+   the rounding in their rule (``LineRule(snap_rounding=...)``), so that the triangle
+   convention with that rule draws them.
 
    For rectangles, the measured sample point was swept with a snapped end, so it lies up to
    a grid step off: the grid points either side of it, on the grid found and its
@@ -82,6 +86,7 @@ from numpy.typing import NDArray
 
 from harness.checks import FragmentCounter
 from harness.contract.conventions import (
+    AREA_LINE_RULES,
     BRESENHAM_ROUNDINGS,
     BRESENHAM_TIES,
     DIAMOND_RULES,
@@ -145,22 +150,30 @@ def line_candidates(base: Convention | None = None, measured: tuple[float, float
     :data:`LINE_RULES_TRIED`, then with rectangles at the 9 usual sample points, and the
     ``measured`` one (:func:`line_sample_sweep`) at a few dyadic precisions
     (:func:`harness.identify.triangle_probes._sample_candidates`, as for triangles), x the 8 tie
-    rules, ``base``'s own first (a tie in the score goes to the earlier candidate). The
+    rules, ``base``'s own first (a tie in the score goes to the earlier candidate); then
+    parallelograms (Vulkan's non-strict lines) at ``base``'s sample point, the centre and
+    the measured one, x the 8 tie rules. The
     rest of ``base`` (culling) plays no part in lines; keeping it makes a line convention
     that agrees with the triangles equal to the triangle convention with its line rule.
 
     >>> candidates = line_candidates()
     >>> len(candidates), candidates[0].line.rule, candidates[52].line.rule, candidates[52].sample
-    (124, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    (132, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    >>> candidates[124].line.rule, candidates[124].sample, candidates[124].tie
+    ('parallelogram', (0.5, 0.5), 'top-left')
     >>> len(line_candidates(measured=(0.25, 0.75))), line_candidates(measured=(0.25, 0.75))[-1].sample
-    (132, (0.25, 0.75))
+    (148, (0.25, 0.75))
     """
     single = base if base is not None and base.model.single_sample else Convention()
     unsnapped = replace(single, subpixel_bits=None, snap_rounding="nearest-even")
     out = [replace(unsnapped, line=rule) for rule in LINE_RULES_TRIED]
     first = (single.sample, single.tie)
     pairs = [first] + [(s, t) for s in _sample_candidates(measured) for t in TIE_RULES if (s, t) != first]
-    return out + [replace(unsnapped, sample=s, tie=t, line=LineRule("rectangle")) for s, t in pairs]
+    out += [replace(unsnapped, sample=s, tie=t, line=LineRule("rectangle")) for s, t in pairs]
+    # Vulkan's non-strict lines: at the triangles' sample point, the centre and the measured
+    # one, x the 8 tie rules (their sides decide like triangle edges)
+    spots = {single.sample, (0.5, 0.5)} | ({measured} if measured is not None else set())
+    return out + [replace(unsnapped, sample=s, tie=t, line=LineRule("parallelogram")) for s, t in pairs if s in spots]
 
 
 # --- calling a rasterizer with lines, and scoring its answers -------------------------------------
@@ -221,6 +234,7 @@ class LineDrawn:
     def _seen_as(self, convention: Convention) -> Convention:
         """``convention`` without its snapping when that moves no end point of the scene
         (the oracle is then the same: candidates differing only there share one)."""
+        convention = convention.for_lines()
         bits, rounding = convention.subpixel_bits, convention.snap_rounding
         if bits is None:
             return convention
@@ -358,7 +372,7 @@ class LineFit:
         the sample point and tie rule; each as ``part value (triangles: value)``."""
         if self.convention is None or self.triangles is None or not self.triangles.model.single_sample:
             return ()
-        parts = _PARTS + ((("sample", "sample"), ("tie", "ties")) if self.convention.line.rule == "rectangle" else ())
+        parts = _PARTS + ((("sample", "sample"), ("tie", "ties")) if self.convention.line.rule in AREA_LINE_RULES else ())
         return tuple(f"{label} {getattr(self.convention, part)} (triangles: {getattr(self.triangles, part)})"
                      for part, label in parts if getattr(self.convention, part) != getattr(self.triangles, part))
 
@@ -474,7 +488,7 @@ def wide_lines(call: Call, seed: int, fitted: Convention, rectangle: Convention,
     if drawn.coverage is None:
         return WideLines(WIDE, describe(drawn.error))
     thin = replicated = None
-    if fitted.line.rule != "rectangle":
+    if fitted.line.rule not in AREA_LINE_RULES:
         thin = drawn._counter.mismatches(exact_coverage(scene.with_line_width(1.0), fitted)) + drawn.dropped
     if fitted.line.diamond:
         replicated = drawn.mismatches(replace(fitted, line=replace(fitted.line, wide="replicate")))
@@ -583,11 +597,16 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
             break  # in lattice order: every later candidate's bound is as large
         totals = sorted([*totals, (_fit_score(drawn, candidate), rank)])[:2]
     best = _snapped(candidates[order[totals[0][1]]], bits, rounding)
-    rectangle = best if best.line.rule == "rectangle" else _snapped(
+    rectangle = best if best.line.rule in AREA_LINE_RULES else _snapped(
         next(candidates[i] for i in order if candidates[i].line.rule == "rectangle"), bits, rounding)
     runner = _snapped(candidates[order[totals[1][1]]], bits, rounding)
     ambiguous = (tuple(f"{bits} bits {r}" for r in rounding_fit.tied)
                  if rounding_fit is not None and len(rounding_fit.tied) > 1 else ())
+    if (triangles is not None and triangles.model.single_sample and bits is not None and bits == triangles.subpixel_bits
+            and rounding != triangles.snap_rounding):
+        # lines snap on the triangles' grid but round otherwise (lavapipe): the rule says so,
+        # and the triangle convention with this rule draws these lines
+        best = replace(best, line=replace(best.line, snap_rounding=rounding))
     wide = wide_lines(call, seed, best, rectangle, received)
     if wide.replicated == 0 and wide.pixels:  # it draws wide lines as GL does: part of its rule
         best = replace(best, line=replace(best.line, wide="replicate"))

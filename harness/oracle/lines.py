@@ -2,7 +2,8 @@
 convention's line rule, one module per rule family -- :mod:`harness.oracle.diamond_lines`
 (Direct3D's and GL's diamond exit, GL's wide lines), :mod:`harness.oracle.bresenham_lines`
 (integer Bresenham, seed 003), :mod:`harness.oracle.rectangle_lines` (Vulkan's rectangular
-lines) -- and multisample lines here. Their public names are re-exported here.
+lines), :mod:`harness.oracle.parallelogram_lines` (Vulkan's non-strict lines) -- and
+multisample lines here. Their public names are re-exported here.
 
 A segment k runs from ``a[k]`` to ``b[k]`` (float64, pixels, x right, y down: the screen
 space of :mod:`harness.contract.conventions`). Pixel (i, j) is the square [i, i+1) x [j, j+1) with
@@ -57,6 +58,12 @@ from harness.oracle.diamond_lines import (
     is_x_major,
 )
 from harness.oracle.line_spans import _beyond
+from harness.oracle.parallelogram_lines import (
+    PARA_SAFE_MAX,
+    PARA_SAFE_MIN,
+    parallelogram_spans,
+    parallelogram_spans_rational,
+)
 from harness.oracle.rectangle_lines import RECT_SAFE_MAX, RECT_SAFE_MIN, rectangle_spans, rectangle_spans_rational
 
 __all__ = [
@@ -67,6 +74,8 @@ __all__ = [
     "bresenham_pixels",
     "rectangle_spans",
     "rectangle_spans_rational",
+    "parallelogram_spans",
+    "parallelogram_spans_rational",
     "line_coverage",
     "is_x_major",
     "diamond_holding",
@@ -103,9 +112,11 @@ def _multisample_lines(scene: Any, convention: Convention) -> Any:
 def line_coverage(scene: Any, convention: Convention) -> Any:
     """The exact coverage of a line scene (:func:`harness.oracle.coverage.exact_coverage` for lines).
 
-    The end points are snapped by the convention first; then each segment is drawn by the
-    convention's :class:`~harness.contract.conventions.LineRule`: :func:`diamond_exit_spans`,
-    :func:`bresenham_spans` (walked in the rule's ``direction``) or :func:`rectangle_spans` (the scene's ``line_width``, the
+    The end points are snapped by the convention first (with the line rule's own
+    ``snap_rounding`` when it has one: :meth:`Convention.for_lines`); then each segment is
+    drawn by the convention's :class:`~harness.contract.conventions.LineRule`:
+    :func:`diamond_exit_spans`, :func:`bresenham_spans` (walked in the rule's ``direction``),
+    :func:`rectangle_spans` or :func:`parallelogram_spans` (the scene's ``line_width``, the
     convention's sample point and tie rule). Segments beyond the compiled kernels' range
     are decided by the rational references (Bresenham's by its closed form in Python
     integers, clipped to the viewport): exact for every finite float64.
@@ -141,6 +152,7 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
                          f"not {convention.coverage_kind} coverage")
     if convention.model.layered:
         return _multisample_lines(scene, convention)
+    convention = convention.for_lines()  # the line rule's own snap rounding, when it has one
     rule = convention.line
     a, b = scene.segments()
     a, b = convention.snap(a), convention.snap(b)
@@ -176,6 +188,17 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
             start, end = _walk_ends(start, end, rule.direction)
             _bresenham_far(int(k), (start[0, 0], start[0, 1]), (end[0, 0], end[0, 1]), width, height, rule.ties,
                            rule.last_pixel, extra)
+    elif rule.rule == "parallelogram":
+        values = np.concatenate([ends, np.full((n, 1), scene.line_width)], axis=1)
+        far = _beyond(values, PARA_SAFE_MIN, PARA_SAFE_MAX) & finite
+        near = finite & ~far
+        kw = dict(width=width, height=height)
+        spans = parallelogram_spans(np.where(near[:, None], a, np.nan), np.where(near[:, None], b, np.nan),
+                                    scene.line_width, convention.sample, convention.tie, **kw)
+        for k in np.flatnonzero(far):
+            s, y, x0, x1 = parallelogram_spans_rational(a[k:k + 1], b[k:k + 1], scene.line_width, convention.sample,
+                                                        convention.tie, **kw)
+            extra.extend((int(k), int(r), int(u), int(v)) for r, u, v in zip(y, x0, x1))
     else:
         values = np.concatenate([ends, np.full((n, 1), scene.line_width)], axis=1)
         far = _beyond(values, RECT_SAFE_MIN, RECT_SAFE_MAX) & finite
@@ -193,7 +216,7 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
         p, y, x0, x1 = (np.concatenate([u, v]) for u, v in zip((p, y, x0, x1), more))
         order = np.lexsort((x0, y, p))
         p, y, x0, x1 = p[order], y[order], x0[order], x1[order]
-        if rule.rule != "rectangle":  # far pixels come one by one: merge them into runs
+        if rule.rule not in ("rectangle", "parallelogram"):  # far pixels come one by one: merge them into runs
             lengths = x1 - x0
             return Coverage.from_pixels(np.repeat(p, lengths), expand(x0, lengths), np.repeat(y, lengths))
     return Coverage(p, y, x0, x1)

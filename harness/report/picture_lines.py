@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 from harness.checks import Result
 from harness.checks.records import Drawing
-from harness.contract.conventions import Convention
+from harness.contract.conventions import AREA_LINE_RULES, Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene
 from harness.kinds import LINES
@@ -154,7 +154,7 @@ def _line_sample(convention: Convention | None) -> tuple[float, float]:
     """The point in each pixel a line picture dots: the convention's sample for
     rectangular lines; the centre otherwise (the diamond's centre; the pixel Bresenham
     steps through)."""
-    if convention is not None and convention.line.rule == "rectangle":
+    if convention is not None and convention.line.rule in AREA_LINE_RULES:
         return convention.sample
     return 0.5, 0.5
 
@@ -218,7 +218,7 @@ def _svg_lines(scene: LineScene, window: tuple[int, int, int, int], scale: float
     seen = finite & (lo[:, 0] <= box[2]) & (hi[:, 0] >= box[0]) & (lo[:, 1] <= box[3]) & (hi[:, 1] >= box[1])
     rule = convention.line.rule if convention is not None else None
     gl = convention is not None and convention.line.gl
-    wide = rule == "rectangle"
+    wide = rule in AREA_LINE_RULES
     in_view = np.flatnonzero(seen & ((t0 <= t1) | wide))
     if named is not None and named in in_view:  # the named segment is drawn, whatever the budget
         in_view = np.concatenate([[named], in_view[in_view != named]])
@@ -229,7 +229,7 @@ def _svg_lines(scene: LineScene, window: tuple[int, int, int, int], scale: float
         for mx, my in [m for m in marks if x0 <= m[0] < x1 and y0 <= m[1] < y1][:8]:
             parts.extend(_svg_diamond(mx, my, y_major, thin, gl))
     colour_of = {k: _NAMED_SEGMENT if k == named else _OTHER_SEGMENT for k in shown.tolist()}
-    if wide:  # the rectangle of each segment: its sides at half the width, no end caps beyond the end points
+    if wide:  # the rectangle (parallelogram) of each segment: its sides at half the width, no caps beyond the end points
         half = 0.5 * scene.line_width
         for k in shown.tolist():
             d = b[k] - a[k]
@@ -237,6 +237,8 @@ def _svg_lines(scene: LineScene, window: tuple[int, int, int, int], scale: float
             if not (length > 0 and np.isfinite(length)):
                 continue
             n = np.array([-d[1], d[0]]) / length * half
+            if rule == "parallelogram":  # Vulkan's non-strict lines: sides moved along the minor axis, ends parallel to it
+                n = np.array([0.0, half]) if abs(d[0]) >= abs(d[1]) else np.array([half, 0.0])
             corners = np.array([a[k] + n, b[k] + n, b[k] - n, a[k] - n])
             clipped = _clip_contour(corners, box)
             if clipped.shape[0] >= 3:

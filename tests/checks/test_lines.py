@@ -28,6 +28,7 @@ from tests.known_bad.lines import (
     BackwardPrestep,
     BothEndPixels,
     Float32DDA,
+    FullWidthOffset,
     LeftmostFirst,
     OffByOneLast,
     RoundingDDA,
@@ -96,6 +97,10 @@ RULES = {
     "bresenham-smaller-major": Convention(line=LineRule("bresenham", rounding="floor", direction="smaller-major")),
     "rectangle": Convention(line="rectangle"),
     "rectangle-bottom-right": Convention(line="rectangle", tie="bottom-right", sample=(0.25, 0.75), subpixel_bits=4),
+    # Vulkan's non-strict lines; line ends snapped half away where the triangles snap to even (lavapipe)
+    "parallelogram": Convention(line="parallelogram"),
+    "parallelogram-half-away": Convention(line=LineRule("parallelogram", snap_rounding="half-away"), tie="bottom-right",
+                                          subpixel_bits=4),
 }
 
 
@@ -151,6 +156,7 @@ KNOWN_BAD: list[tuple[Any, str, Case]] = [
     (Float32DDA(), "conformance", LONG),
     (LeftmostFirst(), "reversal", CASES[0]),
     (BackwardPrestep(), "line-motion", CASES[1]),
+    (FullWidthOffset(), "conformance", CASES[1]),
 ]
 
 

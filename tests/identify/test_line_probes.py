@@ -36,7 +36,7 @@ class LineBox:
         self.kinds_seen.add(scene.kind)
         if scene.kind != "lines":
             return exact_coverage(scene, self.triangles)
-        if self.lines.line.rule != "rectangle" and scene.line_width != 1.0:
+        if self.lines.line.rule not in ("rectangle", "parallelogram") and scene.line_width != 1.0:
             raise Unsupported(f"width 1 only, not {scene.line_width:g}")
         return exact_coverage(scene, self.lines)
 
@@ -88,6 +88,9 @@ DECLARED = [
     Convention(sample=(0.375, 0.125), tie="top-right", line="rectangle", subpixel_bits=8, snap_rounding="half-away"),
     # odd multiples of the snapping step: the swept end flips half a step off them (76.5/256)
     Convention(sample=(77 / 256, 179 / 256), line="rectangle", subpixel_bits=8, snap_rounding="half-away"),
+    # Vulkan's non-strict lines (issue 33)
+    Convention(line="parallelogram"),
+    Convention(tie="bottom-right", line="parallelogram", subpixel_bits=8, snap_rounding="half-away"),
 ]
 
 
@@ -109,7 +112,7 @@ def test_identify_recovers_the_declared_line_convention_exactly(declared):
     assert "(identified exactly)" in fp.card() and fp.card().splitlines()[1].endswith(declared.describe_lines())
     wide = fp.line_fit.wide  # width 3: drawn as rectangles, refused by a width-1 rule
     assert wide is not None
-    if declared.line.rule == "rectangle":
+    if declared.line.rule in ("rectangle", "parallelogram"):
         assert wide.error == "" and wide.mismatches == 0 and wide.pixels > 0, wide.text
     else:
         assert wide.text.startswith("width 3: refused (Unsupported: width 1 only"), wide.text
@@ -173,3 +176,21 @@ def test_a_snapping_no_line_shows_is_taken_to_be_the_triangles():
     assert fp.line_fit is not None
     assert fp.line_convention == lines and fp.convention == lines and fp.line_fit.same_as_triangles, fp.card()
     assert not hasattr(Identified(LineBox(lines, triangles), fp), "line_convention")
+
+
+def test_lines_rounding_otherwise_than_the_triangles_say_so_in_their_rule():
+    """lavapipe: triangles snap to 1/256 px to nearest-even, line ends half away. The line
+    fit puts the rounding in its rule, so the triangle convention with that rule draws the
+    lines exactly (one convention for both)."""
+    triangles = Convention(subpixel_bits=8)
+    lines = Convention(line="parallelogram", subpixel_bits=8, snap_rounding="half-away")
+    box = LineBox(lines, triangles)
+    fp = identify(box)
+    assert fp.exact and fp.line_fit is not None and fp.line_fit.exact, fp.card()
+    assert fp.line_rule == LineRule("parallelogram", snap_rounding="half-away"), fp.card()
+    assert fp.convention == Convention(subpixel_bits=8, line=LineRule("parallelogram", snap_rounding="half-away"))
+    assert fp.line_fit.differences == ("snap rounding half-away (triangles: nearest-even)",)
+    scene = LineScene.from_strips(16, 16, [[[0.5 + 1 / 512, 1.5 - 1 / 512], [13.5 + 3 / 512, 7.5 + 1 / 512]]])
+    assert (exact_coverage(scene, fp.convention).counts(16, 16) == exact_coverage(scene, lines).counts(16, 16)).all()
+    judged = convention_for(Identified(box, fp), scene)
+    assert judged is not None and judged.snap_rounding == "half-away"

@@ -21,7 +21,7 @@ from tests.textbook_lines import plot_lines
 
 __all__ = [
     "RoundingDDA", "BothEndPixels", "YMajorAlongX", "OffByOneLast", "Float32DDA", "LeftmostFirst", "BackwardPrestep",
-    "SwapsShallowOnly", "LINE_BADS",
+    "SwapsShallowOnly", "FullWidthOffset", "LINE_BADS",
 ]
 
 DIAMOND = Convention()  # diamond-exit, last pixel omitted (D3D11, GL)
@@ -244,5 +244,20 @@ class SwapsShallowOnly:
         return plot_lines(scene, swap_steep=False, name=self.name)
 
 
+class FullWidthOffset:
+    """Vulkan's non-strict lines with the classic half-width slip: the parallelogram's sides
+    are put ``line_width`` (not half of it) either side of the segment along the minor axis,
+    so a width-1 line is drawn 2 px thick -- two pixels per column of an x-major segment.
+    Ends and ties are the rule's. Claims ``LineRule("parallelogram")``."""
+
+    name = "bad_parallelogram_full_width"
+    convention = Convention(line="parallelogram")
+    scene_kinds = ("lines",)
+    interpolates = False
+
+    def rasterize(self, scene: LineScene) -> Coverage:
+        return exact_coverage(scene.with_line_width(2.0 * scene.line_width), self.convention)
+
+
 LINE_BADS = (RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep(),
-             SwapsShallowOnly())
+             SwapsShallowOnly(), FullWidthOffset())

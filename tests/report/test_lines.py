@@ -211,13 +211,14 @@ def test_a_line_crop_colours_each_pixel_segment_by_segment_against_the_oracle(re
     assert hits[(12, 5)] == "2"
 
 
-@pytest.mark.parametrize("rule", ["rectangle", "bresenham"])
+@pytest.mark.parametrize("rule", ["rectangle", "bresenham", "parallelogram"])
 def test_the_crop_draws_what_the_line_rule_needs(rule: str, results: list[Result]) -> None:
     failure = _failure(results, CASES[0].id)
-    convention = Convention(line=rule, sample=(0.25, 0.75)) if rule == "rectangle" else Convention(line=rule)
+    area = rule in ("rectangle", "parallelogram")
+    convention = Convention(line=rule, sample=(0.25, 0.75)) if area else Convention(line=rule)
     original = drawn_case(failure).scene
     assert isinstance(original, LineScene) and failure.drawing is not None
-    scene = original.with_line_width(3.0) if rule == "rectangle" else original
+    scene = original.with_line_width(3.0) if area else original
     case = Case(failure.case, scene, lattice=True)
     drawn = replace(failure, drawing=Drawing(case, failure.drawing.coverages, convention))
     svg = _svg(pictures.draw(drawn)["crop"])
@@ -232,6 +233,13 @@ def test_the_crop_draws_what_the_line_rule_needs(rule: str, results: list[Result
         # segment 1's rectangle (wholly in view): its corners 1.5 px either side of its end points
         assert len(corners) == 4 and all(min(np.hypot(cx - ex, cy - ey) for ex, ey in STRIP[1:3]) == pytest.approx(1.5)
                                          for cx, cy in corners)
+    elif rule == "parallelogram":
+        assert len(dotted) == 4 and dots == {(0.25, 0.75)}  # each segment's parallelogram; the sample points
+        corners = [tuple(float(v) for v in pt.split(",")) for pt in attr(dotted[1], "points").split()]
+        # segment 1's parallelogram: its corners 1.5 px from its end points along one axis (the minor one)
+        assert len(corners) == 4 and all(min(abs(cx - ex) + abs(cy - ey) for ex, ey in STRIP[1:3]) == pytest.approx(1.5)
+                                         for cx, cy in corners)
+        assert len({cx for cx, _ in corners}) == 2 or len({cy for _, cy in corners}) == 2  # ends parallel to an axis
     else:
         assert not dotted and dots == {(0.5, 0.5)}  # Bresenham steps through the pixel centres
 
