@@ -66,6 +66,7 @@ from harness.contract.scenes import AnyScene, PathScene, Scene
 from harness.engine.isolation import Call, CallTally, InProcess, Outcome, TimeLimit
 from harness.identify.area_probes import alpha_sweeps
 from harness.identify.coverage_probes import CoverageKindFact, Remembered, coverage_kind, layered
+from harness.identify.input_probes import fit_input
 from harness.identify.sample_probes import sample_positions, sample_sides
 from harness.identify.triangle_defects import (
     EPSILON_CASE,
@@ -202,7 +203,7 @@ class Fingerprint:
             "convention": self.convention.describe_lines() if self.lines_only else self.convention.describe(),
             "sample": list(self.convention.sample), "tie": self.convention.tie,
             "subpixel_bits": self.convention.subpixel_bits, "snap_rounding": self.convention.snap_rounding,
-            "cull": self.convention.cull,
+            "cull": self.convention.cull, "input": self.convention.input,
             "exact": self.exact, "residual": self.residual, "pixels": self.pixels,
             "runner_up": list(self.runner_up) if self.runner_up else None, "facts": dict(self.facts),
             "ambiguous": list(self.ambiguous), "unanswered": self.unanswered}
@@ -399,14 +400,16 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
         return _identify_coverage(name, call, seed, kind)
     ties = fit_ties(call, seed)
     snapping = fit_snapping(call, seed, ties)
-    convention = snapping.convention
-    drawn = [*ties.drawn, *snapping.drawn]
+    inputs = fit_input(call, seed, ties, snapping)
+    convention = inputs.convention
+    drawn = list(inputs.drawn)
     residual = sum(d.mismatches(convention) for d in drawn)
     # in the card's order; a probe that has nothing to say is None
     probes: dict[str, Fact | None] = {
         "culling": ties.culling,
         "sample sweep": ties.sweep,
         "rounding": snapping.rounding_fit,
+        "input": inputs,
         "residual lies": residual_lies(ties.drawn, convention) if residual else None,
         "viewport edge": viewport_edge(call, seed),
         "epsilon": epsilon(call, convention, received),
@@ -436,7 +439,8 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
     found = {label: fact for label, fact in probes.items() if fact is not None}
     return Fingerprint(name, convention, residual, sum(d.pixels for d in drawn),
                        (ties.runner_up.describe(), ties.runner_up_mismatches), {k: f.text for k, f in found.items()},
-                       snapping.ambiguous, found, unanswered=len({id(d) for d in drawn if d.coverage is None}))
+                       (() if inputs.moot_snapping else snapping.ambiguous) + tuple(f"{i} input" for i in inputs.ambiguous),
+                       found, unanswered=len({id(d) for d in drawn if d.coverage is None}))
 
 
 def _swap(view: tuple[list[Case], Call]) -> tuple[Call, list[Case]]:

@@ -143,6 +143,7 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
         return _multisample_lines(scene, convention)
     rule = convention.line
     a, b = scene.segments()
+    # input precision, then snapping: Convention.snap applies both, first, exactly
     a, b = convention.snap(a), convention.snap(b)
     n = a.shape[0]
     width, height = scene.width, scene.height
