@@ -404,6 +404,9 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
     convention = inputs.convention
     drawn = list(inputs.drawn)
     residual = sum(d.mismatches(convention) for d in drawn)
+    # refitted beside an input that moves the lattice's vertices, the runner-up is the input fit's
+    runner_up = ((ties.runner_up.describe(), ties.runner_up_mismatches) if inputs.runner_up is None
+                 else (inputs.runner_up[0].describe(), inputs.runner_up[1]))
     # in the card's order; a probe that has nothing to say is None
     probes: dict[str, Fact | None] = {
         "culling": ties.culling,
@@ -438,7 +441,7 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
             *_swap(view([degenerate[c] for c in NON_FINITE_CASES.values()])), {"conformance"}, convention, name))
     found = {label: fact for label, fact in probes.items() if fact is not None}
     return Fingerprint(name, convention, residual, sum(d.pixels for d in drawn),
-                       (ties.runner_up.describe(), ties.runner_up_mismatches), {k: f.text for k, f in found.items()},
+                       runner_up, {k: f.text for k, f in found.items()},
                        (() if inputs.moot_snapping else snapping.ambiguous) + tuple(f"{i} input" for i in inputs.ambiguous),
                        found, unanswered=len({id(d) for d in drawn if d.coverage is None}))
 

@@ -3,7 +3,7 @@ snapping -- float64, float32, a fixed-point grid (26.6) or whole pixels (:class:
 
 After the fit of sample point, tie rule and snapping (:mod:`harness.identify.triangle_probes`),
 two scenes are drawn where the input candidates disagree: right triangles whose corner sits a
-hair off the fitted sample point (and off a half step of the fitted snapping grid), moved by
+hair off the fitted sample point (and off a half step either side of it on the fitted snapping grid), moved by
 amounts that float32 (2**-21 px), a 1/256 px grid, 26.6 (1/256 px kept by 8 bits, dropped by 6)
 and whole pixels (1/4, 3/4) each keep or drop; and triangles with vertices on both sides of
 zero, where flooring and truncating part. Each candidate -- an input precision with the
@@ -25,7 +25,7 @@ from harness.contract.scenes import Scene
 from harness.engine.isolation import Call
 from harness.identify.triangle_probes import SAMPLES, Drawn, SnapFit, TieFit, draw
 
-__all__ = ["INPUTS", "InputFit", "fit_input", "input_scenes"]
+__all__ = ["INPUTS", "InputFit", "fit_input", "input_scenes", "same_ties"]
 
 # the candidates, in order of preference on a tie
 INPUTS: tuple[str, ...] = (
@@ -49,6 +49,9 @@ class InputFit:
     ambiguous: tuple[str, ...] = ()
     # the fitted snapping was dropped: on the input grid it moves nothing
     moot_snapping: bool = False
+    # when the sample point and tie rule were fitted again (an input that moves the lattice's
+    # vertices): the best candidate with another sample point or tie rule, and its mismatches
+    runner_up: tuple[Convention, int] | None = None
 
     @property
     def input(self) -> str:
@@ -75,10 +78,13 @@ def input_scenes(convention: Convention, seed: int = 0) -> list[Scene]:
     """The two scenes where input candidates disagree, for the fitted ``convention``.
 
     >>> [s.positions.shape for s in input_scenes(Convention(subpixel_bits=8))]
-    [(160, 3, 2), (80, 3, 2)]
+    [(120, 3, 2), (80, 3, 2)]
     """
     sx, sy = convention.sample
-    steps = [0.0] if convention.subpixel_bits is None else [0.0, 2.0 ** -(convention.subpixel_bits + 1)]
+    # a half step of the snapping grid either side: nearest-even sends the two to different
+    # neighbours, so float32's dropped nudge shows whichever the grid point's parity
+    half = None if convention.subpixel_bits is None else 2.0 ** -(convention.subpixel_bits + 1)
+    steps = [0.0] if half is None else [0.0, half, -half]
     corners = []
     for half in steps:
         for nudge in _NUDGES:
@@ -114,6 +120,42 @@ def _candidates(best: Convention, lattice: list[NDArray[np.float64]]) -> list[Co
     return out
 
 
+def _grid_bits(c: Convention) -> int | None:
+    """The binary digits of the coordinates ``c`` decides on (an input grid's or the
+    snapping's, the coarser), or None (floats: any)."""
+    grid = c.input_precision
+    bits = [b for b in (grid.bits if grid.kind in ("fixed", "integer") else None, c.subpixel_bits) if b is not None]
+    return min(bits) if bits else None
+
+
+def same_ties(a: Convention, b: Convention) -> bool:
+    """Whether ``a`` and ``b`` (the same sample point and grid) decide every scene alike: their
+    tie rules differ only in a part no sample can reach. On a grid of 2**-g px a horizontal
+    edge holds a sample only if the sample's y is a multiple of 2**-g (a vertical one: its
+    x); an x-first rule asks its y part only of horizontal edges, a y-first rule its x part
+    only of vertical ones.
+
+    >>> c = Convention(input="integer")
+    >>> same_ties(c, replace(c, tie="bottom-left")), same_ties(c, replace(c, tie="top-right"))
+    (True, False)
+    >>> same_ties(Convention(), Convention(tie="bottom-left"))
+    False
+    """
+    if a.sample != b.sample or _grid_bits(a) != _grid_bits(b):
+        return False
+    if a.tie == b.tie:
+        return True
+    (ax, ay, af), (bx, by, bf) = a.tie_perturbation, b.tie_perturbation
+    bits = _grid_bits(a)
+    if af != bf or bits is None:
+        return False
+    sx, sy = a.sample
+    on_grid = [(v * 2.0**bits) % 1.0 == 0.0 for v in (sx, sy)]
+    if not af:  # x-first: x part always asked (slanted edges), y part only of horizontal edges
+        return ax == bx and not on_grid[1]
+    return ay == by and not on_grid[0]
+
+
 def fit_input(call: Call, seed: int, ties: TieFit, snapping: SnapFit) -> InputFit:
     """The input precision that best explains the rasterizer, with the fitted convention
     (``snapping.convention``) around it; the scenes drawn are in ``drawn``."""
@@ -136,8 +178,12 @@ def fit_input(call: Call, seed: int, ties: TieFit, snapping: SnapFit) -> InputFi
 
     ambiguous = tuple(sorted({c.input for score, _, c in scored
                               if score == scored[0][0] and c.input != chosen.input and not same(c)}))
+    runner = None
+    if any(not np.array_equal(chosen.receive(p), p) for p in lattice):
+        runner = next(((c, score) for score, _, c in scored
+                       if (c.sample, c.tie) != (chosen.sample, chosen.tie) and not same_ties(c, chosen)), None)
     grid = chosen.input_precision
     moot = (grid.kind in ("fixed", "integer") and chosen.subpixel_bits is not None and grid.bits <= chosen.subpixel_bits)
     if moot:  # a grid inside the snapping grid: snapping the received coordinates moves nothing
         chosen = replace(chosen, subpixel_bits=None, snap_rounding="nearest-even")
-    return InputFit(chosen, scored[0][0], ranked, tuple(drawn), ambiguous, moot)
+    return InputFit(chosen, scored[0][0], ranked, tuple(drawn), ambiguous, moot, runner)

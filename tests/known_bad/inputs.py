@@ -13,7 +13,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene
 from rasterizers.fixed_point import FixedPoint
 
-__all__ = ["Float32Input", "TruncatingInput", "TruncatesClaimsFloat64", "Float32ClaimsFloat64"]
+__all__ = ["Float32Fed", "TruncatingInput", "TruncatesClaimsFloat64", "Float32ClaimsFloat64"]
 
 
 def _as_float32(scene: Scene) -> Scene:
@@ -26,7 +26,7 @@ def _truncated(scene: Scene) -> Scene:
         return Scene(scene.width, scene.height, np.trunc(scene.positions))
 
 
-class Float32Input:
+class Float32Fed:
     """``inner`` fed every coordinate rounded to float32 (ties to even), as a GPU API or
     the piglit and dEQP reference rasterizers (which compute in float32) receive them."""
 
