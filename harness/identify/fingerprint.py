@@ -66,7 +66,7 @@ from harness.contract.scenes import AnyScene, PathScene, Scene
 from harness.engine.isolation import Call, CallTally, InProcess, Outcome, TimeLimit
 from harness.identify.area_probes import alpha_sweeps
 from harness.identify.coverage_probes import CoverageKindFact, Remembered, coverage_kind, layered
-from harness.identify.input_probes import fit_input
+from harness.identify.input_probes import fit_input, fit_input_beside
 from harness.identify.sample_probes import sample_positions, sample_sides
 from harness.identify.triangle_defects import (
     EPSILON_CASE,
@@ -645,6 +645,16 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
         else:
             convention = pattern.convention
             residual, pixels, runner_up = pattern.residual, pattern.fragments, pattern.runner_up
+            # the input precision, at sample 0 (every sample receives the same coordinates)
+            inputs = fit_input_beside(layered(call, 0), seed, convention.at_sample(0), [], [])
+            probes["input"] = inputs
+            lines["input"] = inputs.text + " (sample 0)"
+            if inputs.input != "float64":  # the pattern's scenes judged again, as the input is received
+                convention = replace(convention, input=inputs.input, subpixel_bits=inputs.convention.subpixel_bits,
+                                     snap_rounding=inputs.convention.snap_rounding)
+                residual = sum(d.mismatches(convention.at_sample(s)) for layers in pattern.drawn for s, d in enumerate(layers))
+            residual += inputs.mismatches
+            pixels += sum(d.pixels for d in inputs.drawn)
     probes |= {"zero area": zero_area(call), "non-finite": non_finite(call)}
     lines |= {"zero area": probes["zero area"].text, "non-finite": probes["non-finite"].text,
               "calls": f"{call.calls + 1} rasterizer calls"}  # and the one that read the kind

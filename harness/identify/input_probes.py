@@ -25,7 +25,7 @@ from harness.contract.scenes import Scene
 from harness.engine.isolation import Call
 from harness.identify.triangle_probes import SAMPLES, Drawn, SnapFit, TieFit, draw
 
-__all__ = ["INPUTS", "InputFit", "fit_input", "input_scenes", "same_ties"]
+__all__ = ["INPUTS", "InputFit", "fit_input", "fit_input_beside", "input_scenes", "same_ties"]
 
 # the candidates, in order of preference on a tie
 INPUTS: tuple[str, ...] = (
@@ -159,10 +159,18 @@ def same_ties(a: Convention, b: Convention) -> bool:
 def fit_input(call: Call, seed: int, ties: TieFit, snapping: SnapFit) -> InputFit:
     """The input precision that best explains the rasterizer, with the fitted convention
     (``snapping.convention``) around it; the scenes drawn are in ``drawn``."""
-    best = snapping.convention
-    drawn = [*ties.drawn, *snapping.drawn, *(draw(call, s) for s in input_scenes(best, seed))]
+    return fit_input_beside(call, seed, snapping.convention, [*ties.drawn, *snapping.drawn],
+                            [d.scene.positions for d in ties.drawn])
+
+
+def fit_input_beside(call: Call, seed: int, best: Convention, before: list[Drawn],
+                     lattice: list[NDArray[np.float64]]) -> InputFit:
+    """:func:`fit_input` beside the single-sample convention ``best`` fitted on the scenes
+    ``before`` (``lattice``: the positions the sample point and tie rule were fitted on,
+    refitted for an input that moves them; none: never refitted). A multisample
+    rasterizer's sample 0 is fitted so (``call`` answering for it alone)."""
+    drawn = [*before, *(draw(call, s) for s in input_scenes(best, seed))]
     answered = [d for d in drawn if d.coverage is not None]
-    lattice = [d.scene.positions for d in ties.drawn]
     scored = [(sum(d.mismatches(c) for d in answered), k, c) for k, c in enumerate(_candidates(best, lattice))]
     scored.sort(key=lambda s: (s[0], s[1]))
     per_input: dict[str, int] = {}

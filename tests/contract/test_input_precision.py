@@ -14,7 +14,7 @@ import pytest
 from harness.contract.conventions import INPUT_ROUNDINGS, Convention, InputPrecision, input_precision
 from harness.contract.scenes import Scene
 from harness.oracle.coverage import exact_coverage
-from harness.oracle.reference import exact_coverage_python
+from harness.oracle.reference import brute_force_coverage
 
 # --- the field -----------------------------------------------------------------------------
 
@@ -154,9 +154,14 @@ def test_the_oracle_applies_the_input_first_and_agrees_with_the_rational_referen
         scene = _scene(seed)
         c = Convention(input=spec, subpixel_bits=bits, snap_rounding="half-away", tie="bottom-right")
         got = exact_coverage(scene, c)
-        received = Scene(scene.width, scene.height, input_precision(spec).apply(scene.positions))
+        # the input applied by rationals (brute force), then the float64 oracle and the rational one
+        grid = input_precision(spec)
+        by_hand = [_float32_rational(float(v)) if grid.kind == "float32" else _grid_rational(float(v), grid.bits, grid.rounding)
+                   for v in scene.positions.ravel()]
+        received = Scene(scene.width, scene.height, np.array(by_hand).reshape(scene.positions.shape))
         assert got.counts(12, 12).tolist() == exact_coverage(received, replace(c, input="float64")).counts(12, 12).tolist()
-        assert got.counts(12, 12).tolist() == exact_coverage_python(scene, c).counts(12, 12).tolist()
+        assert got.counts(12, 12).tolist() == brute_force_coverage(received, replace(c, input="float64")).counts(12, 12).tolist()
+        assert got.counts(12, 12).tolist() == brute_force_coverage(scene, c).counts(12, 12).tolist()
 
 
 def test_inputs_part_on_the_probe_scenes():
@@ -191,7 +196,7 @@ def test_identify_recovers_float32_input_on_the_ported_references(port):
     inner = DeqpReference(int(rest[0])) if kind == "deqp" else PiglitReference(rest[0], int(rest[1]))
     fingerprint = _identified(Float32Fed(inner))
     bits = int(rest[-1])
-    tie = "top-left" if kind == "deqp" else (PIGLIT_PORT_DRAWS.get(rest[0]) if bits == 8 else fingerprint.convention.tie)
+    tie = "top-left" if kind == "deqp" else (PIGLIT_PORT_DRAWS[rest[0]] if bits == 8 else fingerprint.convention.tie)
     want = Convention(tie=tie, subpixel_bits=bits, snap_rounding="half-away", input="float32")
     assert fingerprint.exact and fingerprint.residual == 0 and fingerprint.convention == want, fingerprint.card()
     assert fingerprint.to_dict()["input"] == "float32" and "float32 input" in fingerprint.facts["input"]
@@ -224,7 +229,18 @@ def test_conformance_catches_an_undeclared_input_precision():
     assert any(r.check == "conformance" and r.status == "fail" for r in results)
     # declared, the same rasterizer passes
     declared = TruncatesClaimsFloat64()
-    declared.convention = Convention(input="integer-toward-zero")  # type: ignore[misc]
+    declared.convention = Convention(input="integer-toward-zero")
     results = run_suite([declared], suite="quick", repros=False, only={"conformance"}, isolate=False)
     bad = [f"{r.case}: {r.message}" for r in results if r.status in ("fail", "error")]
     assert not bad, bad[:3]
+
+
+def test_identify_recovers_float32_input_of_a_multisample_rasterizer():
+    from harness.identify.fingerprint import identify
+    from tests.identify.test_coverage_probes import Hidden
+
+    hidden = Convention(samples=4, subpixel_bits=8, input="float32")
+    fingerprint = identify(Hidden(hidden))
+    assert fingerprint.exact and fingerprint.residual == 0 and fingerprint.convention == hidden, fingerprint.card()
+    plain = identify(Hidden(replace(hidden, input="float64")))
+    assert plain.exact and plain.convention.input == "float64", plain.card()
