@@ -169,6 +169,8 @@ def fit_input_beside(call: Call, seed: int, best: Convention, before: list[Drawn
     ``before`` (``lattice``: the positions the sample point and tie rule were fitted on,
     refitted for an input that moves them; none: never refitted). A multisample
     rasterizer's sample 0 is fitted so (``call`` answering for it alone)."""
+    if before and all(d.coverage is None for d in before):  # no answer at all: nothing to tell inputs apart by
+        return InputFit(best, 0, ((best.input, 0),), tuple(before))
     drawn = [*before, *(draw(call, s) for s in input_scenes(best, seed))]
     answered = [d for d in drawn if d.coverage is not None]
     scored = [(sum(d.mismatches(c) for d in answered), k, c) for k, c in enumerate(_candidates(best, lattice))]
