@@ -244,3 +244,18 @@ def test_identify_recovers_float32_input_of_a_multisample_rasterizer():
     assert fingerprint.exact and fingerprint.residual == 0 and fingerprint.convention == hidden, fingerprint.card()
     plain = identify(Hidden(replace(hidden, input="float64")))
     assert plain.exact and plain.convention.input == "float64", plain.card()
+
+
+def test_conformance_catches_undeclared_float32_input_and_passes_it_declared():
+    """Float32 input declared as float64 parts from the truth where float32 overflows (the
+    max-float cases); declared, the same rasterizer passes every conformance case."""
+    from harness import run_suite
+    from tests.known_bad.inputs import Float32ClaimsFloat64
+
+    bad = Float32ClaimsFloat64()
+    failed = {r.case for r in run_suite([bad], suite="quick", repros=False, only={"conformance"}, isolate=False)
+              if r.status == "fail"}
+    assert "degenerate/huge/cover-max-float" in failed
+    bad.convention = Convention(subpixel_bits=8, input="float32")
+    results = run_suite([bad], suite="quick", repros=False, only={"conformance"}, isolate=False)
+    assert not [r.case for r in results if r.status in ("fail", "error")]
