@@ -428,6 +428,14 @@ class Convention:
     tolerance : float or None
         Area coverage only: the largest |alpha - exact area| the rasterizer promises at any
         pixel; None means half a level (the exact area rounded to the nearest level).
+    line : LineRule or str
+        Line scenes only: how lines are drawn (:class:`LineRule`).
+    input : str
+        The input precision (:class:`InputPrecision`): the coordinates the rasterizer
+        receives, applied first, before snapping. ``float64`` (default), ``float32``,
+        ``fixedN`` (a 2**-N px grid; ``fixed6`` = 26.6) or ``integer``, a grid with an
+        optional ``-half-away``, ``-floor`` or ``-toward-zero`` rounding; kept in its
+        canonical spelling.
 
     Examples
     --------
@@ -443,6 +451,8 @@ class Convention:
     snapping, no culling'
     >>> Convention(coverage="area", subpixel_bits=8).describe()
     'area coverage, 256 levels, within 0.00196 of the exact area, snapped to 1/256 px (8 bits), no culling'
+    >>> Convention(input="float32", subpixel_bits=8).describe()
+    'sample (0.5, 0.5), top-left ties, float32 input, snapped to 1/256 px (8 bits), no culling'
     >>> Convention(tie="top-middle")  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
