@@ -72,7 +72,7 @@ def _snapping_own(counts: NDArray, oracle: Callable[[], Coverage] | None, conven
     """(H, W) bool: pixels hit exactly as the convention's exact answer hits them, where
     that answer is not watertight itself -- only under snapping (a folded or vanished
     sliver); all False otherwise. ``oracle`` is called only then."""
-    if oracle is None or convention is None or convention.subpixel_bits is None:
+    if oracle is None or convention is None or not convention.quantizes:
         return np.zeros((height, width), dtype=bool)
     want = oracle().counts(width, height)
     own: NDArray = (counts == want) & (want != 1)

@@ -84,6 +84,15 @@ A convention is sample point + tie rule + snapping (+ culling)
     4. Culling ``none | cw | ccw``: ``cw`` removes triangles with snapped A > 0 (clockwise
        on screen), ``ccw`` those with A < 0.
 
+Input precision ``input`` comes first, before snapping: the coordinates a rasterizer receives
+    ``float64`` (the default: what the scene holds), ``float32`` (each coordinate rounded to the
+    nearest float32, ties to even -- every GPU API, and the piglit and dEQP reference
+    rasterizers, which compute in float32), ``fixedN`` (a fixed-point input grid of 2**-N px,
+    e.g. ``fixed6`` = 26.6 as FreeType and Qt receive) or ``integer`` (whole pixels, as pygame),
+    the grids with a rounding suffix ``-half-away``, ``-floor`` or ``-toward-zero`` (C's
+    ``(int)`` cast; none: nearest-even). The convention's own snapping then applies to the
+    received coordinates (:class:`InputPrecision`, :meth:`Convention.snap`).
+
 A convention's coverage is one of three kinds (:attr:`Convention.coverage_kind`), each a coverage
 model (:attr:`Convention.model`, :mod:`harness.contract.coverage_models`: area coverage with a
 sample pattern is the supersampled area model)
@@ -125,7 +134,9 @@ number (floats are dyadic rationals). No epsilon appears in any coverage decisio
 
 from __future__ import annotations
 
+import functools
 import math
+import re
 from dataclasses import dataclass, replace
 from typing import Any, Literal, cast
 
@@ -163,6 +174,10 @@ __all__ = [
     "CoverageKind",
     "Convention",
     "snap",
+    "InputPrecision",
+    "INPUT_ROUNDINGS",
+    "InputRounding",
+    "input_precision",
     "owns_edge",
     "LineRule",
     "LineRuleName",
@@ -204,6 +219,10 @@ LINE_DIRECTIONS: tuple[LineDirection, ...] = ("as-given", "smaller-x", "smaller-
 WideLines = Literal["none", "replicate"]
 WIDE_LINES: tuple[WideLines, ...] = ("none", "replicate")
 SnapRounding = Literal["nearest-even", "half-away", "floor"]
+# How a fixed-point or integer input grid rounds what it receives: the snap roundings and C's
+# ``(int)`` cast (toward zero).
+InputRounding = Literal["nearest-even", "half-away", "floor", "toward-zero"]
+INPUT_ROUNDINGS: tuple[InputRounding, ...] = ("nearest-even", "half-away", "floor", "toward-zero")
 
 # rule -> (sx, sy, y_first): the sample is decided as if moved by (sx*eps, sy*eps**2), or
 # by (sx*eps**2, sy*eps) when y_first (y down, eps -> 0+).
@@ -449,6 +468,14 @@ class Convention:
     tolerance : float or None
         Area coverage only: the largest |alpha - exact area| the rasterizer promises at any
         pixel; None means half a level (the exact area rounded to the nearest level).
+    line : LineRule or str
+        Line scenes only: how lines are drawn (:class:`LineRule`).
+    input : str
+        The input precision (:class:`InputPrecision`): the coordinates the rasterizer
+        receives, applied first, before snapping. ``float64`` (default), ``float32``,
+        ``fixedN`` (a 2**-N px grid; ``fixed6`` = 26.6) or ``integer``, a grid with an
+        optional ``-half-away``, ``-floor`` or ``-toward-zero`` rounding; kept in its
+        canonical spelling.
 
     Examples
     --------
@@ -464,6 +491,8 @@ class Convention:
     snapping, no culling'
     >>> Convention(coverage="area", subpixel_bits=8).describe()
     'area coverage, 256 levels, within 0.00196 of the exact area, snapped to 1/256 px (8 bits), no culling'
+    >>> Convention(input="float32", subpixel_bits=8).describe()
+    'sample (0.5, 0.5), top-left ties, float32 input, snapped to 1/256 px (8 bits), no culling'
     >>> Convention(tie="top-middle")  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
@@ -483,6 +512,8 @@ class Convention:
     tolerance: float | None = None
     # line scenes only (a LineRule, or its rule's name)
     line: Any = LineRule()
+    # the coordinates the rasterizer receives, before snapping (InputPrecision grammar, canonical)
+    input: str = "float64"
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -492,6 +523,8 @@ class Convention:
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
         if self.line != LineRule():
             extra += f", line={self.line!r}"
+        if self.input != "float64":
+            extra += f", input={self.input!r}"
         return (f"Convention(sample={self.sample!r}, tie={self.tie!r}, subpixel_bits={self.subpixel_bits!r}, "
                 f"cull={self.cull!r}{extra})")
 
@@ -549,9 +582,27 @@ class Convention:
         none is declared)."""
         return 0.5 * self.level_step if self.tolerance is None else float(self.tolerance)
 
+    @property
+    def input_precision(self) -> InputPrecision:
+        """Its :attr:`input`, parsed (:func:`input_precision`)."""
+        return input_precision(self.input)
+
+    def receive(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The positions as the rasterizer receives them: its input precision applied
+        (:meth:`InputPrecision.apply`), before any snapping; the same array when ``float64``."""
+        return input_precision(self.input).apply(positions)
+
+    @property
+    def quantizes(self) -> bool:
+        """Whether vertices move before coverage is decided: snapping or an input grid."""
+        return self.subpixel_bits is not None or self.input != "float64"
+
     def snap(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
-        """The positions as this convention sees them: snapped (see :func:`snap`)."""
-        return snap(positions, self.subpixel_bits, self.snap_rounding)
+        """The positions as this convention sees them: received at its input precision
+        (:meth:`receive`), then snapped (see :func:`snap`). Every oracle, check and probe
+        takes a scene's coordinates through here, so the input precision is applied in this
+        one place, first, for every kind of scene."""
+        return snap(self.receive(positions), self.subpixel_bits, self.snap_rounding)
 
     def __post_init__(self) -> None:
         try:
@@ -607,6 +658,9 @@ class Convention:
         if not isinstance(line, LineRule):
             raise ValueError(f"Convention.line must be a LineRule or one of {', '.join(LINE_RULES)}, not {self.line!r}")
         object.__setattr__(self, "line", line)
+        if not isinstance(self.input, (str, InputPrecision)):
+            raise ValueError(f"Convention.input must be a string such as 'float32' or 'fixed6-floor', not {self.input!r}")
+        object.__setattr__(self, "input", input_precision(self.input).name)
         if self.coverage not in DECLARED_COVERAGES:
             raise ValueError(f"Convention.coverage must be 'sample' or 'area', not {self.coverage!r}")
         levels = self.levels
@@ -676,9 +730,10 @@ class Convention:
         return self.tie.removesuffix("-y-first") + " ties" + (" (y first)" if self.tie.endswith("-y-first") else "")
 
     def _snapping_words(self) -> str:
+        received = "" if self.input == "float64" else input_precision(self.input).describe() + ", "
         if self.subpixel_bits is None:
-            return "no snapping"
-        return (f"snapped to 1/{2**self.subpixel_bits} px ({self.subpixel_bits} bits"
+            return received + "no snapping"
+        return received + (f"snapped to 1/{2**self.subpixel_bits} px ({self.subpixel_bits} bits"
                 + {"nearest-even": ")", "half-away": ", half away from zero)", "floor": ", rounding down)"}[self.snap_rounding])
 
     def describe(self) -> str:
@@ -763,3 +818,114 @@ def owns_edge(ax, ay, bx, by, tie_x, tie_y, y_first):  # type: ignore[no-untyped
     if not y_first and ay == by:
         return (bx > ax) == (tie_y > 0)  # horizontal: dE/dx = 0, sign(dE/dy * sy)
     return (by < ay) == (tie_x > 0)  # sign(dE/dx * sx)
+
+
+@dataclass(frozen=True, slots=True)
+class InputPrecision:
+    """The coordinates a rasterizer receives, before its own snapping: a convention's
+    ``input`` (:attr:`Convention.input`), applied first and exactly.
+
+    ``float64``: as given. ``float32``: each coordinate rounded to the nearest float32, ties
+    to even (IEEE 754's conversion, as every GPU API receives vertices; beyond float32's
+    range it becomes infinite, as a float32 would). ``fixed`` with ``bits`` = N: to
+    multiples of 2**-N px by ``rounding`` (26.6 is N = 6). ``integer``: to whole pixels by
+    ``rounding`` (N = 0). Written as the strings ``float64``, ``float32``, ``fixedN`` and
+    ``integer``, the grids with ``-half-away``, ``-floor`` or ``-toward-zero`` appended for
+    those roundings (none: ``nearest-even``), which is its :attr:`name`.
+
+    Examples
+    --------
+    >>> input_precision("fixed6-floor")
+    InputPrecision(kind='fixed', bits=6, rounding='floor')
+    >>> input_precision("integer-toward-zero").apply(np.array([-1.75, -0.5, 0.5, 2.99]))
+    array([-1., -0.,  0.,  2.])
+    >>> float(input_precision("float32").apply(np.array([0.1]))[0]) == float(np.float32(0.1))
+    True
+    >>> input_precision("fixed6").describe(), input_precision("integer-floor").describe()
+    ('26.6 fixed-point input (1/64 px, nearest-even)', 'integer input (whole pixels, floor)')
+    """
+
+    kind: Literal["float64", "float32", "fixed", "integer"] = "float64"
+    bits: int = 0
+    rounding: InputRounding = "nearest-even"
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("float64", "float32", "fixed", "integer"):
+            raise ValueError(f"InputPrecision.kind must be float64, float32, fixed or integer, not {self.kind!r}")
+        if self.rounding not in INPUT_ROUNDINGS:
+            raise ValueError(f"InputPrecision.rounding must be one of {', '.join(INPUT_ROUNDINGS)}, not {self.rounding!r}")
+        bits = self.bits
+        if isinstance(bits, bool) or not isinstance(bits, (int, np.integer)) or not 0 <= bits <= MAX_SUBPIXEL_BITS:
+            raise ValueError(f"InputPrecision.bits must be an integer in 0..{MAX_SUBPIXEL_BITS}, not {bits!r}")
+        object.__setattr__(self, "bits", int(bits))
+        if self.kind == "fixed" and self.bits == 0:
+            object.__setattr__(self, "kind", "integer")
+        if self.kind != "fixed":
+            object.__setattr__(self, "bits", 0)
+        if self.kind in ("float64", "float32") and self.rounding != "nearest-even":
+            raise ValueError(f"{self.kind} input rounds to nearest, ties to even, not {self.rounding!r}")
+
+    @property
+    def name(self) -> str:
+        """Its string (:func:`input_precision` parses it back)."""
+        base = f"fixed{self.bits}" if self.kind == "fixed" else self.kind
+        return base if self.rounding == "nearest-even" else f"{base}-{self.rounding}"
+
+    def describe(self) -> str:
+        """A few words for people: ``float32 input``, ``26.6 fixed-point input (1/64 px, floor)``."""
+        if self.kind in ("float64", "float32"):
+            return f"{self.kind} input"
+        if self.kind == "integer":
+            return f"integer input (whole pixels, {self.rounding})"
+        return f"{32 - self.bits}.{self.bits} fixed-point input (1/{2**self.bits} px, {self.rounding})"
+
+    def apply(self, positions: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The coordinates as received, exactly: float32's round-to-nearest-even is the
+        hardware conversion (correctly rounded, subnormals included); a grid is a power-of-two
+        scale (exact), an exact rounding to an integer and the scale back. Non-finite values
+        pass through (float32: a finite value past its range becomes infinite)."""
+        positions = np.asarray(positions, dtype=np.float64)
+        if self.kind == "float64":
+            return positions
+        if self.kind == "float32":
+            with np.errstate(over="ignore"):
+                received: NDArray[np.float64] = positions.astype(np.float32).astype(np.float64)
+            return received
+        if self.rounding != "toward-zero":
+            return snap(positions, self.bits, self.rounding)
+        scale = 2.0**self.bits
+        with np.errstate(invalid="ignore"):
+            small = np.abs(positions) < _SNAP_IDENTITY_ABOVE
+        out = positions.copy()
+        out[small] = np.trunc(positions[small] * scale) / scale
+        return out
+
+
+_INPUT_GRAMMAR = re.compile(r"^(float64|float32|integer|fixed(\d{1,2}))(?:-(nearest-even|half-away|floor|toward-zero))?$")
+
+
+@functools.lru_cache(maxsize=256)
+def _parse_input(spec: str) -> InputPrecision:
+    match = _INPUT_GRAMMAR.match(spec)
+    if match is None:
+        raise ValueError(f"Convention.input must be float64, float32, fixedN (N in 1..{MAX_SUBPIXEL_BITS}) or integer, "
+                         f"a grid optionally followed by -nearest-even, -half-away, -floor or -toward-zero; not {spec!r}")
+    head, bits, rounding = match.groups()
+    kind = "fixed" if bits is not None else head
+    if kind == "fixed" and not 1 <= int(bits) <= MAX_SUBPIXEL_BITS:
+        raise ValueError(f"Convention.input fixedN needs N in 1..{MAX_SUBPIXEL_BITS} (integer for N = 0), not {spec!r}")
+    return InputPrecision(cast(Any, kind), int(bits or 0), cast(Any, rounding or "nearest-even"))
+
+
+def input_precision(spec: str | InputPrecision) -> InputPrecision:
+    """An input precision from its string (``float32``, ``fixed6-floor``, ``integer-toward-zero``:
+    :class:`InputPrecision`), or itself.
+
+    >>> input_precision("fixed6-nearest-even").name, input_precision("integer-half-away").name
+    ('fixed6', 'integer-half-away')
+    """
+    if isinstance(spec, InputPrecision):
+        return spec
+    if not isinstance(spec, str):
+        raise ValueError(f"an input precision is a string such as 'float32' or 'fixed6', not {spec!r}")
+    return _parse_input(spec)

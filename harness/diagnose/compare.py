@@ -126,6 +126,8 @@ def _separation(a: Explanation, b: Explanation) -> str:
         parts.append(f"snapping ({_snapping(ca)} vs {_snapping(cb)})")
     if ca.cull != cb.cull:
         parts.append(f"culling ({ca.cull} vs {cb.cull})")
+    if ca.input != cb.input:
+        parts.append(f"input precision ({ca.input} vs {cb.input})")
     return "separated by " + " and ".join(parts)
 
 

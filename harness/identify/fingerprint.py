@@ -66,6 +66,7 @@ from harness.contract.scenes import AnyScene, PathScene, Scene
 from harness.engine.isolation import Call, CallTally, InProcess, Outcome, TimeLimit
 from harness.identify.area_probes import alpha_sweeps
 from harness.identify.coverage_probes import CoverageKindFact, Remembered, coverage_kind, layered
+from harness.identify.input_probes import fit_input, fit_input_beside
 from harness.identify.sample_probes import sample_positions, sample_sides
 from harness.identify.triangle_defects import (
     EPSILON_CASE,
@@ -202,7 +203,7 @@ class Fingerprint:
             "convention": self.convention.describe_lines() if self.lines_only else self.convention.describe(),
             "sample": list(self.convention.sample), "tie": self.convention.tie,
             "subpixel_bits": self.convention.subpixel_bits, "snap_rounding": self.convention.snap_rounding,
-            "cull": self.convention.cull,
+            "cull": self.convention.cull, "input": self.convention.input,
             "exact": self.exact, "residual": self.residual, "pixels": self.pixels,
             "runner_up": list(self.runner_up) if self.runner_up else None, "facts": dict(self.facts),
             "ambiguous": list(self.ambiguous), "unanswered": self.unanswered}
@@ -399,14 +400,19 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
         return _identify_coverage(name, call, seed, kind)
     ties = fit_ties(call, seed)
     snapping = fit_snapping(call, seed, ties)
-    convention = snapping.convention
-    drawn = [*ties.drawn, *snapping.drawn]
+    inputs = fit_input(call, seed, ties, snapping)
+    convention = inputs.convention
+    drawn = list(inputs.drawn)
     residual = sum(d.mismatches(convention) for d in drawn)
+    # refitted beside an input that moves the lattice's vertices, the runner-up is the input fit's
+    runner_up = ((ties.runner_up.describe(), ties.runner_up_mismatches) if inputs.runner_up is None
+                 else (inputs.runner_up[0].describe(), inputs.runner_up[1]))
     # in the card's order; a probe that has nothing to say is None
     probes: dict[str, Fact | None] = {
         "culling": ties.culling,
         "sample sweep": ties.sweep,
         "rounding": snapping.rounding_fit,
+        "input": inputs,
         "residual lies": residual_lies(ties.drawn, convention) if residual else None,
         "viewport edge": viewport_edge(call, seed),
         "epsilon": epsilon(call, convention, received),
@@ -435,8 +441,9 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
             *_swap(view([degenerate[c] for c in NON_FINITE_CASES.values()])), {"conformance"}, convention, name))
     found = {label: fact for label, fact in probes.items() if fact is not None}
     return Fingerprint(name, convention, residual, sum(d.pixels for d in drawn),
-                       (ties.runner_up.describe(), ties.runner_up_mismatches), {k: f.text for k, f in found.items()},
-                       snapping.ambiguous, found, unanswered=len({id(d) for d in drawn if d.coverage is None}))
+                       runner_up, {k: f.text for k, f in found.items()},
+                       (() if inputs.moot_snapping else snapping.ambiguous) + tuple(f"{i} input" for i in inputs.ambiguous),
+                       found, unanswered=len({id(d) for d in drawn if d.coverage is None}))
 
 
 def _swap(view: tuple[list[Case], Call]) -> tuple[Call, list[Case]]:
@@ -638,6 +645,16 @@ def _identify_coverage(name: str, call: Call, seed: int, kind: CoverageKindFact)
         else:
             convention = pattern.convention
             residual, pixels, runner_up = pattern.residual, pattern.fragments, pattern.runner_up
+            # the input precision, at sample 0 (every sample receives the same coordinates)
+            inputs = fit_input_beside(layered(call, 0), seed, convention.at_sample(0), [], [])
+            probes["input"] = inputs
+            lines["input"] = inputs.text + " (sample 0)"
+            if inputs.input != "float64":  # the pattern's scenes judged again, as the input is received
+                convention = replace(convention, input=inputs.input, subpixel_bits=inputs.convention.subpixel_bits,
+                                     snap_rounding=inputs.convention.snap_rounding)
+                residual = sum(d.mismatches(convention.at_sample(s)) for layers in pattern.drawn for s, d in enumerate(layers))
+            residual += inputs.mismatches
+            pixels += sum(d.pixels for d in inputs.drawn)
     probes |= {"zero area": zero_area(call), "non-finite": non_finite(call)}
     lines |= {"zero area": probes["zero area"].text, "non-finite": probes["non-finite"].text,
               "calls": f"{call.calls + 1} rasterizer calls"}  # and the one that read the kind

@@ -448,7 +448,8 @@ def lattice_paths(call: Call, convention: Convention, rules: Sequence[str], seed
 # --- the convention for paths ---------------------------------------------------------------------
 
 
-_PARTS = (("sample", "sample"), ("tie", "ties"), ("subpixel_bits", "snapping bits"), ("snap_rounding", "snap rounding"))
+_PARTS = (("sample", "sample"), ("tie", "ties"), ("subpixel_bits", "snapping bits"), ("snap_rounding", "snap rounding"),
+          ("input", "input"))
 
 
 @dataclass(frozen=True)
@@ -530,16 +531,21 @@ def fit_path_convention(call: Call, seed: int, rule: str, triangles: Convention 
     """The convention for paths: :func:`harness.identify.triangle_probes.fit_ties` and
     :func:`~harness.identify.triangle_probes.fit_snapping` through :func:`as_paths` under ``rule``, compared
     with ``triangles`` (the convention found for triangles)."""
+    from harness.identify.input_probes import fit_input
     from harness.identify.triangle_probes import fit_snapping, fit_ties
 
     paths = as_paths(call, rule)
     ties = fit_ties(paths, seed)
     snapping = fit_snapping(paths, seed, ties)
-    convention = snapping.convention
-    drawn = [*ties.drawn, *snapping.drawn]
+    inputs = fit_input(paths, seed, ties, snapping)  # the input precision, as for triangles
+    convention = inputs.convention
+    drawn = list(inputs.drawn)
     residual = sum(d.mismatches(convention) for d in drawn)
-    return PathFit(convention, residual, sum(d.pixels for d in drawn), (ties.runner_up.describe(), ties.runner_up_mismatches),
-                   snapping.ambiguous, triangles, rule, probes={"ties": ties, "snapping": snapping},
+    runner_up = ((ties.runner_up.describe(), ties.runner_up_mismatches) if inputs.runner_up is None
+                 else (inputs.runner_up[0].describe(), inputs.runner_up[1]))
+    ambiguous = (() if inputs.moot_snapping else snapping.ambiguous) + tuple(f"{i} input" for i in inputs.ambiguous)
+    return PathFit(convention, residual, sum(d.pixels for d in drawn), runner_up,
+                   ambiguous, triangles, rule, probes={"ties": ties, "snapping": snapping, "input": inputs},
                    unanswered=len({id(d) for d in drawn if d.coverage is None}))
 
 

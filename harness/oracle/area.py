@@ -658,6 +658,7 @@ def area_coverage(scene: Scene, convention: Convention) -> Coverage:
     if convention.samples is not None:
         raise ValueError("area_coverage is the analytic area; a supersampled convention's oracle is "
                          "harness.oracle.coverage.exact_coverage (the share of its samples covered)")
+    # input precision, then snapping: Convention.snap applies both, first, exactly
     positions = convention.snap(scene.positions)
     if convention.cull != "none":
         sign = orientation(positions)

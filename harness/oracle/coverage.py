@@ -109,6 +109,7 @@ class PreparedTriangles:
     __slots__ = ("snapped", "sign", "owned", "active", "safe", "rows", "_oriented")
 
     def __init__(self, scene: Scene, convention: Convention) -> None:
+        # input precision, then snapping: Convention.snap applies both, first, exactly
         self.snapped = frozen(convention.snap(scene.positions))
         n = self.snapped.shape[0]
         self.safe = np.empty(n, dtype=np.bool_)

@@ -155,6 +155,7 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
     convention = convention.for_lines()  # the line rule's own snap rounding, when it has one
     rule = convention.line
     a, b = scene.segments()
+    # input precision, then snapping: Convention.snap applies both, first, exactly
     a, b = convention.snap(a), convention.snap(b)
     n = a.shape[0]
     width, height = scene.width, scene.height

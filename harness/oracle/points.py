@@ -108,6 +108,7 @@ def _kept(centres: NDArray[np.float64], size: float, width: int, height: int) ->
 
 
 def _single(scene: PointScene, convention: Convention) -> Coverage:
+    # input precision, then snapping: Convention.snap applies both, first, exactly
     centres = np.ascontiguousarray(convention.snap(scene.vertices), dtype=np.float64).reshape(-1, 2)
     keep = _kept(centres, scene.point_size, scene.width, scene.height)
     tx, ty, _ = convention.tie_perturbation
@@ -172,6 +173,7 @@ def point_coverage_rational(scene: PointScene, convention: Convention) -> Covera
     if convention.model.layered:
         samples = range(convention.n_samples)
         return Coverage.from_layers([point_coverage_rational(scene, convention.at_sample(k)) for k in samples])
+    # input precision, then snapping: Convention.snap applies both, first, exactly
     centres = convention.snap(scene.vertices)
     tx, ty, _ = convention.tie_perturbation
     ox, oy = (Fraction(v) for v in convention.sample)

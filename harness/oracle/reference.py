@@ -41,6 +41,7 @@ def brute_force_coverage(scene: Scene, convention: Convention) -> Coverage:
     Coverage
         Without attributes.
     """
+    # input precision, then snapping: Convention.snap applies both, first, exactly
     positions = convention.snap(scene.positions)
     sx, sy = (Fraction(s) for s in convention.sample)
     tie_x, tie_y, y_first = convention.tie_perturbation

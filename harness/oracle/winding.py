@@ -273,6 +273,7 @@ def _snapped(
     check_range: bool,
 ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], NDArray[np.bool_]]:
     """Flat contours snapped, with the contours to keep (see :func:`_flat`)."""
+    # input precision, then snapping: Convention.snap applies both, first, exactly
     vertices = convention.snap(vertices)
     finite_xy = np.isfinite(vertices)
     finite_vertex = finite_xy[:, 0] & finite_xy[:, 1]  # two columns, not an axis-1 reduction (10x slower)
@@ -643,6 +644,7 @@ def _path_layer(scene: PathScene, convention: Convention) -> Coverage:
     if not unsafe_paths.size:
         return Coverage(p, y, x0, x1)
     a, b, owner = scene.edges()
+    # input precision, then snapping: Convention.snap applies both, first, exactly
     a, b = convention.snap(a), convention.snap(b)
     extra = [(int(path), j, s, e) for path in unsafe_paths
              for j, s, e in _rows_rational([(float(a[k, 0]), float(a[k, 1]), float(b[k, 0]), float(b[k, 1]))

@@ -11,6 +11,7 @@ JSON schema 1::
       "rasterizers": {"<name>": "<convention, in words, or 'none declared'>"},
       "fingerprints": {"<name>": {"convention": str, "sample": [x, y], "tie": str,
                        "subpixel_bits": int | null, "snap_rounding": str, "cull": str,
+                       "input": str,   # the input precision (Convention.input: "float64", "float32", "fixed6", ...)
                        "exact": bool, "residual": int, "pixels": int,
                        "runner_up": [str, int] | null, "facts": {str: str},
                        "ambiguous": [str],   # alternatives it could not separate

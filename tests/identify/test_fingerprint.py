@@ -229,7 +229,8 @@ def identified():
         return f"UNAVAILABLE {exc}"
     f = identify(r)
     # the triangles exactly; its lines are GL's diamond rule (a best guess, README "Lines")
-    assert f.exact and replace(f.convention, line=Convention().line) == Convention(subpixel_bits=8), f.card()
+    # it receives float32 (GL), which identify tells apart from float64 (issue 33)
+    assert f.exact and replace(f.convention, line=Convention().line) == Convention(subpixel_bits=8, input="float32"), f.card()
     assert f.convention.line.rule == "diamond-exit-gl", f.card()
     assert f.facts["watertight"].startswith("yes") and "agrees" in f.facts["vertex sweep"], f.card()
     return "OK"

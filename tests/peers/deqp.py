@@ -40,7 +40,7 @@ saturates) raises ValueError naming the triangle; a triangle with a non-finite c
 (converted to an undefined int64 by the original) covers nothing.
 
 What identify and the quick suite find (:mod:`tests.peers.test_deqp`): the triangles'
-2x, 4x, 8x and 16x conventions are recovered exactly and pass (the float32 snapping
+2x, 4x, 8x and 16x conventions are recovered exactly (float32 input included) and pass (the float32 snapping
 beyond 32,768 px, which no quick-suite case reaches, fails conformance where a sample
 lies on an edge through such a vertex); the aliased lines part from
 GL's rule at exact ties, dEQP's bugs: a segment through a diamond corner counts as leaving

@@ -50,7 +50,9 @@ DEQP_PATTERNS = {
 
 
 def expected_convention(samples: int) -> Convention:
-    return Convention(samples=DEQP_PATTERNS[samples], tie="top-left", subpixel_bits=8, snap_rounding="half-away")
+    # vertices are tcu::Vec4 floats: the port receives float32, which identify recovers (issue 33)
+    return Convention(samples=DEQP_PATTERNS[samples], tie="top-left", subpixel_bits=8, snap_rounding="half-away",
+                      input="float32")
 
 
 # -- the compiled original ---------------------------------------------------------------------

@@ -168,6 +168,8 @@ def test_msaa_equals_the_oracle_of_its_declared_convention(msaa):
                              [32.57226615244449, 19.91739240807309]], *random_triangles(100, 30.0, 48, 4)])
     cov = msaa.rasterize(floats)
     assert cov == exact_coverage(msaa.received(floats), conv) and cov != exact_coverage(floats, conv)
+    # the same, said as the convention's input precision (issue 33): identify now recovers it exactly
+    assert cov == exact_coverage(floats, Convention(samples=conv.samples, tie=conv.tie, subpixel_bits=8, input="float32"))
     flat = msaa.rasterize(Scene(8, 8, [[[1, 1], [5, 5], [3, 3]]]))  # zero area: no fragment
     assert len(flat) == 0 and flat.sample is not None
     with pytest.raises(ValueError, match="takes triangles"):

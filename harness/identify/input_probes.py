@@ -1,0 +1,199 @@
+"""identify's input-precision probe: which coordinates the rasterizer receives before its own
+snapping -- float64, float32, a fixed-point grid (26.6) or whole pixels (:class:`InputPrecision`).
+
+After the fit of sample point, tie rule and snapping (:mod:`harness.identify.triangle_probes`),
+two scenes are drawn where the input candidates disagree: right triangles whose corner sits a
+hair off the fitted sample point (and off a half step either side of it on the fitted snapping grid), moved by
+amounts that float32 (2**-21 px), a 1/256 px grid, 26.6 (1/256 px kept by 8 bits, dropped by 6)
+and whole pixels (1/4, 3/4) each keep or drop; and triangles with vertices on both sides of
+zero, where flooring and truncating part. Each candidate -- an input precision with the
+fitted snapping or none, and for inputs that move the lattice scenes' vertices (coarser than
+1/16 px) every usual sample point and tie rule again -- is scored on the tie fit's scenes,
+the float scenes and these; ties go to float64 with the fitted snapping, the answer before
+this probe, then to the order of :data:`INPUTS`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from numpy.typing import NDArray
+
+from harness.contract.conventions import TIE_RULES, Convention
+from harness.contract.scenes import Scene
+from harness.engine.isolation import Call
+from harness.identify.triangle_probes import SAMPLES, Drawn, SnapFit, TieFit, draw
+
+__all__ = ["INPUTS", "InputFit", "fit_input", "fit_input_beside", "input_scenes", "same_ties"]
+
+# the candidates, in order of preference on a tie
+INPUTS: tuple[str, ...] = (
+    "float64", "float32", "fixed8", "fixed6", "fixed6-half-away", "fixed6-floor", "fixed6-toward-zero", "fixed4",
+    "integer", "integer-half-away", "integer-floor", "integer-toward-zero")
+# how far the probe's corners sit off a sample point (each sign): float32 drops 2**-21 at
+# magnitudes below 64, 26.6 drops 1/256 where 8 bits keep it; whole pixels part at 1/4 and 3/4
+_NUDGES = (2.0**-21, 2.0**-10, 1.0 / 256, 0.25, 0.75)
+
+
+@dataclass(frozen=True)
+class InputFit:
+    """The input precision (and the snapping, sample point and tie rule beside it) that best
+    explains the rasterizer; ``scores``: each input's best mismatches on all the fit scenes."""
+
+    convention: Convention
+    mismatches: int
+    scores: tuple[tuple[str, int], ...]
+    drawn: tuple[Drawn, ...] = field(repr=False)
+    # inputs that explain it as well but see some fit scene's vertices elsewhere: not told apart
+    ambiguous: tuple[str, ...] = ()
+    # the fitted snapping was dropped: on the input grid it moves nothing
+    moot_snapping: bool = False
+    # when the sample point and tie rule were fitted again (an input that moves the lattice's
+    # vertices): the best candidate with another sample point or tie rule, and its mismatches
+    runner_up: tuple[Convention, int] | None = None
+
+    @property
+    def input(self) -> str:
+        return self.convention.input
+
+    @property
+    def tied(self) -> tuple[str, ...]:
+        """The inputs that explain it as well as the one chosen."""
+        best = min(score for _, score in self.scores)
+        return tuple(name for name, score in self.scores if score == best)
+
+    @property
+    def text(self) -> str:
+        said = self.convention.input_precision.describe()
+        others = "; ".join(f"{name} {score}" for name, score in self.scores[:6])
+        same = [t for t in self.tied if t != self.input]
+        return (f"{said} ({others} mismatches on the fit scenes"
+                + (f"; not told apart from {', '.join(self.ambiguous)}" if self.ambiguous else "")
+                + (f"; the same vertices as {', '.join(t for t in same if t not in self.ambiguous)}"
+                   if set(same) - set(self.ambiguous) else "") + ")")
+
+
+def input_scenes(convention: Convention, seed: int = 0) -> list[Scene]:
+    """The two scenes where input candidates disagree, for the fitted ``convention``.
+
+    >>> [s.positions.shape for s in input_scenes(Convention(subpixel_bits=8))]
+    [(120, 3, 2), (80, 3, 2)]
+    """
+    sx, sy = convention.sample
+    # a half step of the snapping grid either side: nearest-even sends the two to different
+    # neighbours, so float32's dropped nudge shows whichever the grid point's parity
+    half = None if convention.subpixel_bits is None else 2.0 ** -(convention.subpixel_bits + 1)
+    steps = [0.0] if half is None else [0.0, half, -half]
+    corners = []
+    for half in steps:
+        for nudge in _NUDGES:
+            for sign in (1.0, -1.0):
+                for lx, ly in ((1.0, 1.0), (-1.0, 1.0), (1.0, -1.0), (-1.0, -1.0)):
+                    corners.append((half + sign * nudge, lx, ly))
+    tris = np.empty((len(corners), 3, 2), dtype=np.float64)
+    for k, (off, lx, ly) in enumerate(corners):
+        # 4 px cells from (4, 4); the legs reach 2.5 px towards (lx, ly)
+        i, j = 4 + 4 * (k % 12), 4 + 4 * (k // 12)
+        cx, cy = i + sx + off, j + sy + off
+        tris[k] = ((cx, cy), (cx + 2.5 * lx, cy), (cx, cy + 2.5 * ly))
+    height = 8 + 4 * ((len(corners) + 11) // 12)
+    rng = np.random.default_rng(seed + 7919)
+    # vertices on both sides of zero, where floor and truncation part: a sliver of screen in
+    # the top-left corner reached from far-off vertices
+    far = rng.uniform(-3.0, 12.0, size=(80, 3, 2))
+    return [Scene(56, max(56, height), tris), Scene(16, 16, far)]
+
+
+def _candidates(best: Convention, lattice: list[NDArray[np.float64]]) -> list[Convention]:
+    snaps = [(best.subpixel_bits, best.snap_rounding)] + ([(None, "nearest-even")] if best.subpixel_bits is not None else [])
+    out = []
+    for name in INPUTS:
+        for bits, rounding in snaps:
+            base = replace(best, input=name, subpixel_bits=bits, snap_rounding=rounding)
+            out.append(base)
+            moved = any(not np.array_equal(base.receive(p), p) for p in lattice)
+            if moved:
+                # the lattice's vertices move: the sample point and tie rule fitted on them may too
+                out += [replace(base, sample=s, tie=t) for s in SAMPLES for t in TIE_RULES
+                        if (s, t) != (best.sample, best.tie)]
+    return out
+
+
+def _grid_bits(c: Convention) -> int | None:
+    """The binary digits of the coordinates ``c`` decides on (an input grid's or the
+    snapping's, the coarser), or None (floats: any)."""
+    grid = c.input_precision
+    bits = [b for b in (grid.bits if grid.kind in ("fixed", "integer") else None, c.subpixel_bits) if b is not None]
+    return min(bits) if bits else None
+
+
+def same_ties(a: Convention, b: Convention) -> bool:
+    """Whether ``a`` and ``b`` (the same sample point and grid) decide every scene alike: their
+    tie rules differ only in a part no sample can reach. On a grid of 2**-g px a horizontal
+    edge holds a sample only if the sample's y is a multiple of 2**-g (a vertical one: its
+    x); an x-first rule asks its y part only of horizontal edges, a y-first rule its x part
+    only of vertical ones.
+
+    >>> c = Convention(input="integer")
+    >>> same_ties(c, replace(c, tie="bottom-left")), same_ties(c, replace(c, tie="top-right"))
+    (True, False)
+    >>> same_ties(Convention(), Convention(tie="bottom-left"))
+    False
+    """
+    if a.sample != b.sample or _grid_bits(a) != _grid_bits(b):
+        return False
+    if a.tie == b.tie:
+        return True
+    (ax, ay, af), (bx, by, bf) = a.tie_perturbation, b.tie_perturbation
+    bits = _grid_bits(a)
+    if af != bf or bits is None:
+        return False
+    sx, sy = a.sample
+    on_grid = [(v * 2.0**bits) % 1.0 == 0.0 for v in (sx, sy)]
+    if not af:  # x-first: x part always asked (slanted edges), y part only of horizontal edges
+        return ax == bx and not on_grid[1]
+    return ay == by and not on_grid[0]
+
+
+def fit_input(call: Call, seed: int, ties: TieFit, snapping: SnapFit) -> InputFit:
+    """The input precision that best explains the rasterizer, with the fitted convention
+    (``snapping.convention``) around it; the scenes drawn are in ``drawn``."""
+    return fit_input_beside(call, seed, snapping.convention, [*ties.drawn, *snapping.drawn],
+                            [d.scene.positions for d in ties.drawn])
+
+
+def fit_input_beside(call: Call, seed: int, best: Convention, before: list[Drawn],
+                     lattice: list[NDArray[np.float64]]) -> InputFit:
+    """:func:`fit_input` beside the single-sample convention ``best`` fitted on the scenes
+    ``before`` (``lattice``: the positions the sample point and tie rule were fitted on,
+    refitted for an input that moves them; none: never refitted). A multisample
+    rasterizer's sample 0 is fitted so (``call`` answering for it alone)."""
+    if before and all(d.coverage is None for d in before):  # no answer at all: nothing to tell inputs apart by
+        return InputFit(best, 0, ((best.input, 0),), tuple(before))
+    drawn = [*before, *(draw(call, s) for s in input_scenes(best, seed))]
+    answered = [d for d in drawn if d.coverage is not None]
+    scored = [(sum(d.mismatches(c) for d in answered), k, c) for k, c in enumerate(_candidates(best, lattice))]
+    scored.sort(key=lambda s: (s[0], s[1]))
+    per_input: dict[str, int] = {}
+    for score, _, c in scored:
+        per_input.setdefault(c.input, score)
+    chosen = scored[0][2]
+    ranked = tuple(sorted(per_input.items(), key=lambda kv: (kv[1], INPUTS.index(kv[0]))))
+    seen = [chosen.snap(d.scene.positions) for d in answered]
+
+    def same(c: Convention) -> bool:
+        return (c.sample, c.tie) == (chosen.sample, chosen.tie) and all(
+            np.array_equal(c.snap(d.scene.positions), p, equal_nan=True) for d, p in zip(answered, seen))
+
+    ambiguous = tuple(sorted({c.input for score, _, c in scored
+                              if score == scored[0][0] and c.input != chosen.input and not same(c)}))
+    runner = None
+    if any(not np.array_equal(chosen.receive(p), p) for p in lattice):
+        runner = next(((c, score) for score, _, c in scored
+                       if (c.sample, c.tie) != (chosen.sample, chosen.tie) and not same_ties(c, chosen)), None)
+    grid = chosen.input_precision
+    moot = (grid.kind in ("fixed", "integer") and chosen.subpixel_bits is not None and grid.bits <= chosen.subpixel_bits)
+    if moot:  # a grid inside the snapping grid: snapping the received coordinates moves nothing
+        chosen = replace(chosen, subpixel_bits=None, snap_rounding="nearest-even")
+    return InputFit(chosen, scored[0][0], ranked, tuple(drawn), ambiguous, moot, runner)
