@@ -2,7 +2,10 @@
 nothing outside, and no pixel twice; convention-free -- but for snapping: snapped to a
 grid, a sliver of the partition can fold over its neighbour or vanish, and the
 convention's exact answer itself then has a double hit or a hole there. Such a pixel,
-hit as the oracle hits it, is the convention's own and is excused (counted apart)."""
+hit as the oracle hits it, is the convention's own and is excused (counted apart). Likewise
+under a coverage rule that does not hit a partition exactly once (conservative rasterization,
+an area threshold: ``CoverageModel.exactly_once`` False), whose exact answer has double hits
+and holes by definition: those are the rule's own (``rule_own``)."""
 
 from __future__ import annotations
 
@@ -71,8 +74,9 @@ def _snapping_own(counts: NDArray, oracle: Callable[[], Coverage] | None, conven
                   width: int, height: int) -> NDArray:
     """(H, W) bool: pixels hit exactly as the convention's exact answer hits them, where
     that answer is not watertight itself -- only under snapping (a folded or vanished
-    sliver); all False otherwise. ``oracle`` is called only then."""
-    if oracle is None or convention is None or convention.subpixel_bits is None:
+    sliver) or under a coverage rule that is not exactly once; all False otherwise.
+    ``oracle`` is called only then."""
+    if oracle is None or convention is None or (convention.subpixel_bits is None and convention.model.exactly_once):
         return np.zeros((height, width), dtype=bool)
     want = oracle().counts(width, height)
     own: NDArray = (counts == want) & (want != 1)
@@ -101,8 +105,9 @@ def watertight(case: Case, coverage: Coverage, convention: Convention | None = N
     strays = np.argwhere(outside & (counts > 0))
     metrics = {"holes": float(len(holes)), "double_hits": float(len(doubles)), "strays": float(len(strays)),
                "inside_pixels": float(inside.sum())}
+    own_key = "snapped_own" if convention is None or convention.model.exactly_once else "rule_own"
     if own is not None and excused.any():
-        metrics["snapped_own"] = float(excused.sum())
+        metrics[own_key] = float(excused.sum())
     evidence: dict[str, Any] = {}
     if len(holes) or len(doubles):
         evidence["blame"] = blame(scene, coverage, holes[:EVIDENCE_LIMIT], doubles[:EVIDENCE_LIMIT])
@@ -114,6 +119,10 @@ def watertight(case: Case, coverage: Coverage, convention: Convention | None = N
     if "snapped_own" in metrics:
         message += (f"; {int(metrics['snapped_own'])} holes or double hits excused: the convention's own, where snapping "
                     "folds the mesh")
+    if "rule_own" in metrics:
+        assert convention is not None
+        message += (f"; {int(metrics['rule_own'])} holes or double hits excused: the rule's own "
+                    f"({convention.model.declared_as(convention)})")
     if len(holes) or len(doubles):
         at_vertex = _holds_vertex(scene.coordinates, scene.width, scene.height)
         on_vertex = int(at_vertex[holes[:, 0], holes[:, 1]].sum() + at_vertex[doubles[:, 0], doubles[:, 1]].sum())

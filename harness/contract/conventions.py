@@ -106,6 +106,23 @@ sample pattern is the supersampled area model)
         judged against exactly; its distance from the true area is an artifact the checks
         measure (popping), not a broken promise.
 
+    The coverage rules (``single`` kind, one (triangle, pixel) covered or not, but decided on
+    the pixel's square [i, i+1] x [j, j+1] instead of at a sample point; after snapping and
+    culling; a triangle of zero snapped area covers nothing; :mod:`harness.oracle.coverage_rules`)
+        ``area-threshold``
+            Covered iff area(T ∩ square) >= ``threshold`` (default 1/2), the area exact
+            (rational); a pixel covered exactly ``threshold`` is drawn (ties are inside).
+            aggdraw's aliased mode.
+        ``conservative-over``
+            Covered iff the closed square meets the closed triangle (touching counts): D3D12
+            and Vulkan conservative rasterization, overestimate, with no uncertainty region.
+        ``conservative-under``
+            Covered iff the closed square lies inside the closed triangle (a side on an edge
+            counts): D3D12's underestimate (Vulkan's inner coverage).
+        The tie rule and ``sample`` mean nothing to them. A planar partition is not hit
+        exactly once: double hits (over, threshold) and holes (under, threshold) are the
+        rule's own, and the checks excuse those the exact answer has.
+
 Lines (line scenes) are drawn by the convention's :class:`LineRule`
     ``diamond-exit`` (D3D11; the last pixel omitted or drawn), ``diamond-exit-gl`` (GL's
     perturbed end points), ``bresenham`` (seed 003's
@@ -399,16 +416,20 @@ class Convention:
         :data:`MAX_AREA_SAMPLES` for supersampled area coverage); stored as the offsets. Each
         sample then follows ``tie``, snapping and culling at its own offset, and ``sample`` is
         not used. None: one sample, at ``sample``.
-    coverage : {"sample", "area"}
+    coverage : {"sample", "area", "area-threshold", "conservative-over", "conservative-under"}
         ``area``: anti-aliased coverage, an alpha per pixel equal to the area of the
         triangle inside the pixel (or, with ``samples``, the share of the samples it
         covers), quantised and within ``tolerance`` (``sample`` is not used, nor ``tie``
-        without ``samples``).
+        without ``samples``). The last three are coverage rules (module docstring):
+        aliased, decided on the pixel's square; no ``samples``.
     levels : int
         Area coverage only: alphas are multiples of 1/(levels - 1) (256: 8-bit alpha).
     tolerance : float or None
         Area coverage only: the largest |alpha - exact area| the rasterizer promises at any
         pixel; None means half a level (the exact area rounded to the nearest level).
+    threshold : float
+        ``area-threshold`` only: the least share of a pixel's area that draws it, in
+        [2**-16, 1] (default 1/2; exactly this share draws).
 
     Examples
     --------
@@ -424,6 +445,12 @@ class Convention:
     snapping, no culling'
     >>> Convention(coverage="area", subpixel_bits=8).describe()
     'area coverage, 256 levels, within 0.00196 of the exact area, snapped to 1/256 px (8 bits), no culling'
+    >>> Convention(coverage="area-threshold")
+    Convention(sample=(0.5, 0.5), tie='top-left', subpixel_bits=None, cull='none', coverage='area-threshold', threshold=0.5)
+    >>> Convention(coverage="area-threshold", threshold=0.25).describe()
+    'an area threshold (a pixel iff at least 0.25 of it is covered), no snapping, no culling'
+    >>> Convention(coverage="conservative-over", subpixel_bits=8).describe()
+    'conservative overestimate (a pixel iff its square meets the triangle), snapped to 1/256 px (8 bits), no culling'
     >>> Convention(tie="top-middle")  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
@@ -443,12 +470,16 @@ class Convention:
     tolerance: float | None = None
     # line scenes only (a LineRule, or its rule's name)
     line: Any = LineRule()
+    # coverage="area-threshold" only: the least covered share that draws a pixel
+    threshold: float = 0.5
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
         if self.samples is not None:
             extra += f", samples={self.samples!r}"
-        if self.coverage != "sample":
+        if self.model.rule:
+            extra += f", coverage={self.coverage!r}" + (f", threshold={self.threshold!r}" if self.coverage_uses_threshold else "")
+        elif self.coverage != "sample":
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
         if self.line != LineRule():
             extra += f", line={self.line!r}"
@@ -466,6 +497,12 @@ class Convention:
         (CoverageModel('single'), CoverageModel('area'))
         """
         return model_for(self.coverage, self.samples is not None)
+
+    @property
+    def coverage_uses_threshold(self) -> bool:
+        """Whether ``threshold`` means something here: an ``area-threshold`` convention
+        (its model's declaration names the threshold)."""
+        return "{t}" in self.model.declared
 
     @property
     def coverage_kind(self) -> CoverageKind:
@@ -558,6 +595,9 @@ class Convention:
 
             offsets = pattern(self.samples)
             patterned = model_for(self.coverage, True)
+            if patterned.rule:
+                raise ValueError(f"Convention.coverage {self.coverage!r} is a coverage rule of one answer per pixel: it "
+                                 "takes no samples (leave samples=None)")
             limit = patterned.max_samples
             if len(offsets) > limit:
                 raise ValueError(f"Convention.samples has {len(offsets)} samples; at most {limit} are supported"
@@ -568,7 +608,12 @@ class Convention:
             raise ValueError(f"Convention.line must be a LineRule or one of {', '.join(LINE_RULES)}, not {self.line!r}")
         object.__setattr__(self, "line", line)
         if self.coverage not in DECLARED_COVERAGES:
-            raise ValueError(f"Convention.coverage must be 'sample' or 'area', not {self.coverage!r}")
+            raise ValueError(f"Convention.coverage must be one of {', '.join(DECLARED_COVERAGES)}, not {self.coverage!r}")
+        threshold = self.threshold
+        if isinstance(threshold, bool) or not isinstance(threshold, (int, float, np.integer, np.floating)) \
+                or not 2.0**-16 <= float(threshold) <= 1.0:
+            raise ValueError(f"Convention.threshold must be a number in [2**-16, 1], not {threshold!r}")
+        object.__setattr__(self, "threshold", float(threshold))
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
             raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
@@ -633,6 +678,8 @@ class Convention:
         culling = "no culling" if self.cull == "none" else f"culls {self.cull}"
         tie = self._tie_words()
         where = self._pattern_words() if self.samples is not None else ""
+        if self.model.rule:
+            return f"{self.model.declared_as(self)}, {snapping}, {culling}"
         if self.model.alphas:
             what = "the exact area" if self.samples is None else f"the share of the samples covered ({where}), {tie}"
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
