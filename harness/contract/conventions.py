@@ -465,7 +465,7 @@ class Convention:
     snap_rounding: SnapRounding = "nearest-even"
     # given as a count or offsets (harness.contract.samples.pattern), kept as a tuple of (x, y) offsets
     samples: Any = None
-    coverage: Literal["sample", "area"] = "sample"
+    coverage: Literal["sample", "area", "area-threshold", "conservative-over", "conservative-under"] = "sample"
     levels: int = 256
     tolerance: float | None = None
     # line scenes only (a LineRule, or its rule's name)

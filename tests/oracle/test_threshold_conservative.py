@@ -88,6 +88,6 @@ def test_extreme_magnitudes_take_the_rational_path():
 
 
 def test_zero_area_and_non_finite_triangles_cover_nothing():
-    scene = Scene(4, 4, [[[0, 0], [2, 2], [4, 4]], [[0, 0], [np.nan, 1], [1, 2]], [[1, 1], [1, 1], [1, 1]]])
+    scene = Scene(4, 4, np.array([[[0, 0], [2, 2], [4, 4]], [[0, 0], [np.nan, 1], [1, 2]], [[1, 1], [1, 1], [1, 1]]]))
     for convention in RULES:
         assert len(exact_coverage(scene, convention)) == 0

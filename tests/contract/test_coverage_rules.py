@@ -1,0 +1,130 @@
+"""The coverage rules as conventions (issue 33, point 2): declared through Convention,
+validated, described, round-tripped; the checks expect their own holes and double hits;
+known-bad rasterizers of each rule are caught; paths and lines refuse cleanly."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import pickle
+
+import numpy as np
+import pytest
+
+from harness.checks import closed_balance, conformance, overdraw, watertight
+from harness.contract.case import Case
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.coverage_models import AREA_THRESHOLD, CONSERVATIVE_OVER, CONSERVATIVE_UNDER, COVERAGE_RULES
+from harness.contract.scenes import LineScene, PathScene, Scene
+from harness.oracle.coverage import exact_coverage
+from tests.known_bad.coverage_rules import BoxOverestimate, OpenUnderestimate, StrictThreshold
+
+RULES = {"area-threshold": Convention(coverage="area-threshold"),
+         "conservative-over": Convention(coverage="conservative-over", subpixel_bits=8),
+         "conservative-under": Convention(coverage="conservative-under", cull="cw")}
+
+
+def test_each_rule_is_declared_by_its_name_and_gets_its_model():
+    assert COVERAGE_RULES == {"area-threshold": AREA_THRESHOLD, "conservative-over": CONSERVATIVE_OVER,
+                              "conservative-under": CONSERVATIVE_UNDER}
+    for name, convention in RULES.items():
+        assert convention.model is COVERAGE_RULES[name] and convention.coverage_kind == "single"
+        model = convention.model
+        assert model.rule and not model.sample_point and not model.exactly_once
+        assert not (model.single_sample or model.sample_ids or model.alphas or model.interpolates or model.paths
+                    or model.lines)
+    # nothing changes for the existing conventions
+    assert Convention().threshold == 0.5 and repr(Convention()) == \
+        "Convention(sample=(0.5, 0.5), tie='top-left', subpixel_bits=None, cull='none')"
+    assert not Convention().model.rule and Convention().model.exactly_once and Convention().model.sample_point
+
+
+def test_declarations_are_validated_in_one_line():
+    with pytest.raises(ValueError, match=r"^Convention.threshold must be a number in \[2\*\*-16, 1\], not 0$"):
+        Convention(coverage="area-threshold", threshold=0)
+    with pytest.raises(ValueError, match=r"^Convention.threshold must be a number in \[2\*\*-16, 1\], not 1.5$"):
+        Convention(coverage="area-threshold", threshold=1.5)
+    with pytest.raises(ValueError, match=r"coverage rule of one answer per pixel: it takes no samples"):
+        Convention(coverage="conservative-over", samples=4)
+    with pytest.raises(ValueError, match=r"^Convention.coverage must be one of sample, area, area-threshold"):
+        Convention(coverage="conservative")  # type: ignore[arg-type]
+
+
+def test_described_and_round_tripped():
+    assert Convention(coverage="area-threshold", threshold=0.25, subpixel_bits=4).describe() == \
+        "an area threshold (a pixel iff at least 0.25 of it is covered), snapped to 1/16 px (4 bits), no culling"
+    assert RULES["conservative-under"].describe() == \
+        "conservative underestimate (a pixel iff its square lies in the triangle), no snapping, culls cw"
+    assert repr(RULES["conservative-over"]).endswith("subpixel_bits=8, cull='none', coverage='conservative-over')")
+    for convention in [*RULES.values(), Convention(coverage="area-threshold", threshold=0.375)]:
+        fields = {f.name: getattr(convention, f.name) for f in dataclasses.fields(convention) if f.name != "line"}
+        again = Convention(**json.loads(json.dumps(fields)))
+        assert again == convention and again.model is convention.model
+        assert pickle.loads(pickle.dumps(convention)) == convention
+        assert eval(repr(convention)) == convention  # noqa: S307 - the repr is the declaration
+
+
+# a planar partition: a 4 x 4 square cut along its diagonal and then its halves again
+_SCENE = Scene(6, 6, [[[1, 1], [5, 1], [3, 3]], [[5, 1], [5, 5], [3, 3]],
+[[5, 5], [1, 5], [3, 3]], [[1, 5], [1, 1], [3, 3]]])
+_PARTITION = Case("partitions/rules/fan", _SCENE, lattice=True, region=np.array([[1.0, 1.0], [5.0, 1.0], [5.0, 5.0], [1.0, 5.0]]))
+
+
+@pytest.mark.parametrize("name", list(RULES))
+def test_watertight_and_overdraw_expect_the_rules_own_holes_and_double_hits(name):
+    convention = RULES[name] if name != "conservative-under" else Convention(coverage="conservative-under")
+    own = exact_coverage(_PARTITION.scene, convention)
+    counts = own.counts(6, 6)
+    if name == "conservative-over":
+        assert counts.max() == 4  # the centre pixels touch all four triangles
+    if name == "conservative-under":
+        assert (counts[1:5, 1:5] == 0).any()  # the squares the diagonals cross are in no triangle
+    result = watertight(_PARTITION, own, convention, lambda: own)
+    assert result.status == "pass" and result.metrics.get("rule_own", 0) > 0, result.message
+    assert "the rule's own" in result.message
+    assert overdraw(_PARTITION, own, convention, lambda: own).status == "pass"
+    # a hole or a double hit the rule does not have is still one
+    twice = Coverage.concat([own, own])
+    assert watertight(_PARTITION, twice, convention, lambda: own).status == "fail"
+    assert overdraw(_PARTITION, twice, convention, lambda: own).status == "fail"
+    # and single-sample conventions are judged as before: no excuse without snapping
+    assert watertight(_PARTITION, own, Convention(), lambda: own).status == ("pass" if counts[1:5, 1:5].min() == 1
+                                                                             and counts.max() == 1 else "fail")
+
+
+def test_closed_expects_the_rules_own_imbalance():
+    # a closed "mesh": the partition and its mirror image (each triangle again, reversed)
+    p = _SCENE.positions
+    scene = Scene(6, 6, np.concatenate([p, p[:, ::-1]]))
+    case = Case("meshes/rules/sandwich", scene, lattice=True, closed=True)
+    for convention in RULES.values():
+        convention = dataclasses.replace(convention, cull="none")
+        own = exact_coverage(scene, convention)
+        assert closed_balance(case, own, convention, lambda own=own: own).status == "pass"
+
+
+@pytest.mark.parametrize("bad", [StrictThreshold, BoxOverestimate, OpenUnderestimate])
+def test_each_known_bad_rasterizer_is_caught_by_conformance(bad):
+    rasterizer = bad()
+    scene = Scene(8, 8, [[[0, 0], [6, 0], [0, 6]], [[2, 2], [8, 3], [3, 8]], [[1, 7], [7, 7], [4, 4]]])
+    case = Case("rules/known-bad", scene, lattice=True)
+    oracle = exact_coverage(scene, rasterizer.convention)
+    result = conformance(case, rasterizer.rasterize(scene), oracle, rasterizer.convention)
+    assert result.status == "fail" and result.metrics["wrong"] > 0, result.message
+    # the default tolerance excuses nothing as a near tie under a coverage rule, off the lattice too
+    off = Case("rules/known-bad-off-lattice", scene, lattice=False)
+    assert conformance(off, rasterizer.rasterize(scene), oracle, rasterizer.convention).metrics["near_tie"] == 0
+
+
+def test_paths_and_lines_refuse_cleanly():
+    from harness.oracle.lines import line_coverage
+    from harness.oracle.winding import path_coverage
+
+    square = PathScene.from_paths(4, 4, [[[[0, 0], [4, 0], [4, 4], [0, 4]]]])
+    line = LineScene.from_strips(6, 4, [[[0.5, 0.5], [4.5, 2.5]]])
+    for convention in RULES.values():
+        with pytest.raises(ValueError, match=r"coverage of paths is not defined yet \(triangles only\)$"):
+            path_coverage(square, convention)
+        with pytest.raises(ValueError, match="lines are defined for single-sample and multisample conventions"):
+            line_coverage(line, convention)
