@@ -5,6 +5,7 @@ known-bad rasterizers of each rule are caught; paths and lines refuse cleanly.""
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import pickle
 
@@ -101,7 +102,7 @@ def test_closed_expects_the_rules_own_imbalance():
     for convention in RULES.values():
         convention = dataclasses.replace(convention, cull="none")
         own = exact_coverage(scene, convention)
-        assert closed_balance(case, own, convention, lambda own=own: own).status == "pass"
+        assert closed_balance(case, own, convention, functools.partial(exact_coverage, scene, convention)).status == "pass"
 
 
 @pytest.mark.parametrize("bad", [StrictThreshold, BoxOverestimate, OpenUnderestimate])
