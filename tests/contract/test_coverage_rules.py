@@ -95,14 +95,17 @@ def test_watertight_and_overdraw_expect_the_rules_own_holes_and_double_hits(name
 
 
 def test_closed_expects_the_rules_own_imbalance():
-    # a closed "mesh": the partition and its mirror image (each triangle again, reversed)
-    p = _SCENE.positions
-    scene = Scene(6, 6, np.concatenate([p, p[:, ::-1]]))
+    """A closed "mesh": the four-triangle fan in front, the square as two triangles behind.
+    Under a rule, front and back hits differ where the triangulations do: the rule's own."""
+    back = np.array([[[1.0, 1.0], [5.0, 5.0], [5.0, 1.0]], [[1.0, 1.0], [1.0, 5.0], [5.0, 5.0]]])
+    scene = Scene(6, 6, np.concatenate([_SCENE.positions, back]))
     case = Case("meshes/rules/sandwich", scene, lattice=True, closed=True)
     for convention in RULES.values():
         convention = dataclasses.replace(convention, cull="none")
         own = exact_coverage(scene, convention)
+        assert closed_balance(case, own, convention).status == "fail"  # unexcused, the rule's own imbalance fails
         assert closed_balance(case, own, convention, functools.partial(exact_coverage, scene, convention)).status == "pass"
+    assert closed_balance(case, exact_coverage(scene, Convention()), Convention()).status == "pass"
 
 
 @pytest.mark.parametrize("bad", [StrictThreshold, BoxOverestimate, OpenUnderestimate])
