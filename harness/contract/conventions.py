@@ -429,7 +429,7 @@ class Convention:
         pixel; None means half a level (the exact area rounded to the nearest level).
     threshold : float
         ``area-threshold`` only: the least share of a pixel's area that draws it, in
-        [2**-16, 1] (default 1/2; exactly this share draws).
+        [2**-20, 1] (default 1/2; exactly this share draws).
 
     Examples
     --------
@@ -611,8 +611,8 @@ class Convention:
             raise ValueError(f"Convention.coverage must be one of {', '.join(DECLARED_COVERAGES)}, not {self.coverage!r}")
         threshold = self.threshold
         if isinstance(threshold, bool) or not isinstance(threshold, (int, float, np.integer, np.floating)) \
-                or not 2.0**-16 <= float(threshold) <= 1.0:
-            raise ValueError(f"Convention.threshold must be a number in [2**-16, 1], not {threshold!r}")
+                or not 2.0**-20 <= float(threshold) <= 1.0:
+            raise ValueError(f"Convention.threshold must be a number in [2**-20, 1], not {threshold!r}")
         object.__setattr__(self, "threshold", float(threshold))
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:

@@ -11,7 +11,7 @@ nothing. The tie rule and the sample point mean nothing here.
     (:func:`harness.oracle.area.area_error_bound`, below 2**-24 for every viewport) of the
     exact area; a pixel whose float area lies within ``2 b + 2**-50`` of t is decided by
     :func:`harness.oracle.area.exact_area` in rational arithmetic. A pixel the float oracle
-    leaves out has an exact area at most b < 2**-16 <= t: not covered. So every decision is
+    leaves out has an exact area at most b < 2**-24 < 2**-20 <= t: not covered. So every decision is
     the exact one; a pixel covered exactly t is drawn.
 
 ``conservative-over`` (:func:`conservative_over`)

@@ -42,9 +42,9 @@ def test_each_rule_is_declared_by_its_name_and_gets_its_model():
 
 
 def test_declarations_are_validated_in_one_line():
-    with pytest.raises(ValueError, match=r"^Convention.threshold must be a number in \[2\*\*-16, 1\], not 0$"):
+    with pytest.raises(ValueError, match=r"^Convention.threshold must be a number in \[2\*\*-20, 1\], not 0$"):
         Convention(coverage="area-threshold", threshold=0)
-    with pytest.raises(ValueError, match=r"^Convention.threshold must be a number in \[2\*\*-16, 1\], not 1.5$"):
+    with pytest.raises(ValueError, match=r"^Convention.threshold must be a number in \[2\*\*-20, 1\], not 1.5$"):
         Convention(coverage="area-threshold", threshold=1.5)
     with pytest.raises(ValueError, match=r"coverage rule of one answer per pixel: it takes no samples"):
         Convention(coverage="conservative-over", samples=4)
