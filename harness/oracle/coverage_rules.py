@@ -24,7 +24,10 @@ nothing. The tie rule and the sample point mean nothing here.
 
 ``conservative-under`` (:func:`conservative_under`)
     Covered iff S ⊆ T: every corner of S on the inner side of every edge of T or on it
-    (T is convex). Exact likewise.
+    (T is convex). Exact likewise. (The same pixels as ``area-threshold`` with t = 1: a
+    closed triangle covers the whole square iff it contains it; the two oracles' agreement
+    is tested. ``conservative-over`` is not t -> 0, though: a square the triangle only
+    touches has area 0 and is drawn.)
 
 The per-pixel work is compiled (numba, cached); triangles with coordinates outside the
 expansions' safe range take the same steps in rational arithmetic. :func:`rules_reference`

@@ -18,6 +18,7 @@ from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.coverage_models import AREA_THRESHOLD, CONSERVATIVE_OVER, CONSERVATIVE_UNDER, COVERAGE_RULES
 from harness.contract.scenes import LineScene, PathScene, Scene
+from harness.geometry.exact import orientation
 from harness.oracle.coverage import exact_coverage
 from tests.known_bad.coverage_rules import BoxOverestimate, OpenUnderestimate, StrictThreshold
 
@@ -132,3 +133,58 @@ def test_paths_and_lines_refuse_cleanly():
             path_coverage(square, convention)
         with pytest.raises(ValueError, match="lines are defined for single-sample and multisample conventions"):
             line_coverage(line, convention)
+
+
+# --- identify's rule probes ---------------------------------------------------------------
+
+
+class _Oracular:
+    """A rasterizer that is its convention's exact oracle."""
+
+    def __init__(self, convention: Convention) -> None:
+        self.convention = convention
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return exact_coverage(scene, self.convention)
+
+
+@pytest.mark.parametrize("convention", [
+    Convention(coverage="area-threshold"), Convention(coverage="area-threshold", threshold=0.25, subpixel_bits=8),
+    Convention(coverage="conservative-over"), Convention(coverage="conservative-under", subpixel_bits=4,
+                                                           snap_rounding="floor")])
+def test_identify_tells_the_rules_apart(convention):
+    from harness.identify.rule_probes import fit_rule
+
+    fit = fit_rule(_Oracular(convention).rasterize)
+    assert fit.exact and fit.convention.model is convention.model, fit.describe()
+    if convention.coverage_uses_threshold:
+        assert fit.convention.threshold == convention.threshold
+    # the other rules are off (but a threshold just below 1: on snapped input no area lies between it and 1, and
+    # a threshold of 1 is the underestimate)
+    assert fit.runner_up is not None
+    assert fit.runner_up[1] > 0 or (convention.model is CONSERVATIVE_UNDER and fit.runner_up[0].threshold > 0.99)
+
+
+def test_identify_separates_the_orientations_of_a_winding_dependent_rule():
+    """A rasterizer drawing clockwise triangles by one threshold and counter-clockwise ones
+    by another (as matplotlib's aliased Agg does: any area against 1/256)."""
+    from harness.identify.rule_probes import fit_rule
+
+    cw, ccw = Convention(coverage="area-threshold", threshold=2.0**-10), Convention(coverage="area-threshold")
+
+    def rasterize(scene: Scene) -> Coverage:
+        clockwise = orientation(scene.positions)[0] > 0
+        return exact_coverage(scene, cw if clockwise else ccw)
+
+    fit = fit_rule(rasterize)
+    assert not fit.exact
+    assert {side: (c.threshold, off) for side, (c, off) in fit.by_orientation.items()} == {"cw": (2.0**-10, 0),
+                                                                                          "ccw": (0.5, 0)}
+
+
+def test_identify_does_not_call_a_known_bad_rasterizer_exact():
+    from harness.identify.rule_probes import fit_rule
+
+    for bad in (BoxOverestimate(), OpenUnderestimate()):
+        fit = fit_rule(bad.rasterize)
+        assert not (fit.exact and fit.convention == bad.convention), fit.describe()

@@ -91,3 +91,13 @@ def test_zero_area_and_non_finite_triangles_cover_nothing():
     scene = Scene(4, 4, np.array([[[0, 0], [2, 2], [4, 4]], [[0, 0], [np.nan, 1], [1, 2]], [[1, 1], [1, 1], [1, 1]]]))
     for convention in RULES:
         assert len(exact_coverage(scene, convention)) == 0
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_underestimate_is_a_threshold_of_one(seed):
+    """A closed triangle covers all of a square iff it contains it: conservative-under and
+    area-threshold 1 draw the same pixels (two independent oracles)."""
+    for lattice in (False, True):
+        scene = _random_scene(seed, lattice)
+        assert conservative_under(scene, Convention(coverage="conservative-under")) == \
+            threshold_coverage(scene, Convention(coverage="area-threshold", threshold=1.0))
