@@ -188,3 +188,24 @@ def test_identify_does_not_call_a_known_bad_rasterizer_exact():
     for bad in (BoxOverestimate(), OpenUnderestimate()):
         fit = fit_rule(bad.rasterize)
         assert not (fit.exact and fit.convention == bad.convention), fit.describe()
+
+
+def test_a_plugin_declaring_a_rule_for_paths_or_lines_is_refused_in_its_words():
+    from harness.contract.declarations import declaration_problem
+
+    class Drawer:
+        name = "rule_drawer"
+        convention = Convention(coverage="conservative-over")
+        scene_kinds: tuple[str, ...] = ("triangles", "paths")
+        fill_rules: tuple[str, ...] | None = ("nonzero",)
+
+        def rasterize(self, scene: Scene) -> Coverage:
+            return Coverage.empty()
+
+    said = declaration_problem(Drawer())
+    assert said is not None and "conservative overestimate" in said and "triangles only" in said, said
+    Drawer.scene_kinds, Drawer.fill_rules = ("triangles", "lines"), None
+    said = declaration_problem(Drawer())
+    assert said is not None and "declares an area threshold" not in said and "conservative overestimate" in said, said
+    Drawer.scene_kinds = ("triangles",)
+    assert declaration_problem(Drawer()) is None
