@@ -209,3 +209,21 @@ def test_a_plugin_declaring_a_rule_for_paths_or_lines_is_refused_in_its_words():
     assert said is not None and "declares an area threshold" not in said and "conservative overestimate" in said, said
     Drawer.scene_kinds = ("triangles",)
     assert declaration_problem(Drawer()) is None
+
+
+def test_a_stray_the_snapped_overestimate_has_is_its_own():
+    """A partition's outline 1/1024 px right of x = 1, snapped to 1/256: the snapped mesh
+    touches column 0, which lies wholly outside the (unsnapped) region."""
+    x0 = 1.0 + 2.0**-10
+    scene = Scene(6, 4, [[[x0, 1.0], [5.0, 1.0], [x0, 3.0]], [[5.0, 1.0], [5.0, 3.0], [x0, 3.0]]])
+    case = Case("partitions/rules/snapped-out", scene, lattice=False,
+                region=np.array([[x0, 1.0], [5.0, 1.0], [5.0, 3.0], [x0, 3.0]]))
+    convention = Convention(coverage="conservative-over", subpixel_bits=8)
+    own = exact_coverage(scene, convention)
+    assert own.counts(6, 4)[:, 0].any()  # column 0 touched
+    result = watertight(case, own, convention, lambda: own)
+    assert result.status == "pass" and result.metrics["strays"] == 0 and result.metrics["rule_own"] > 0, result.message
+    # unsnapped, column 0 is not touched, and drawing it is a stray
+    exact = Convention(coverage="conservative-over")
+    drawn = Coverage.concat([exact_coverage(scene, exact), Coverage(np.array([0]), np.array([1]), np.array([0]), np.array([1]))])
+    assert watertight(case, drawn, exact, lambda: exact_coverage(scene, exact)).metrics["strays"] == 1
