@@ -50,7 +50,8 @@ from harness.contract.scenes import Scene
 from harness.geometry.exact import frozen, orient2d_fraction, orient2d_sign, orientation
 from harness.oracle.area import area_error_bound, exact_area, pixel_areas
 
-__all__ = ["threshold_coverage", "conservative_over", "conservative_under", "rules_reference", "prepared_positions"]
+__all__ = ["threshold_coverage", "conservative_over", "conservative_under", "rules_reference", "prepared_positions",
+           "on_rule_boundary"]
 
 # decided by the float areas when farther than this (plus twice the oracle's bound) from t
 _FLOAT_SLACK = 2.0**-50
@@ -274,3 +275,34 @@ def rules_reference(scene: Scene, convention: Convention) -> Coverage:
     e = np.array(pixels, dtype=np.int64)
     return _runs(e[:, 0], e[:, 2], e[:, 1])
 
+
+
+def on_rule_boundary(triangle: NDArray[np.float64], i: int, j: int, convention: Convention) -> bool:
+    """Whether pixel (i, j) lies exactly on the boundary of the rule's decision for the
+    (snapped) ``triangle``, in rationals: covered exactly ``threshold`` (area-threshold), met
+    by the triangle only on its boundary (overestimate: no area, yet touching), or inside
+    it with a corner on an edge (underestimate). The rule's ties: where a rasterizer that
+    reads the rule with ``>`` for ``>=``, or open sets for closed ones, goes wrong.
+
+    >>> t = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]])
+    >>> [on_rule_boundary(t, 1, 0, Convention(coverage=c)) for c in ("area-threshold", "conservative-over")]
+    [True, False]
+    >>> on_rule_boundary(t, 1, 1, Convention(coverage="conservative-over"))  # touched at its corner (1, 1)
+    True
+    """
+    snapped = convention.snap(np.asarray(triangle, dtype=np.float64).reshape(3, 2))
+    if not np.all(np.isfinite(snapped)):
+        return False
+    s = orient2d_fraction(*(float(v) for v in snapped.ravel()))
+    if s == 0:
+        return False
+    area = exact_area(snapped, i, j)
+    if convention.coverage_uses_threshold:
+        return area == Fraction(convention.threshold)
+    p = [(Fraction(float(x)), Fraction(float(y))) for x, y in snapped]
+    if convention.model is CONSERVATIVE_OVER:
+        return area == 0 and _square_decision(p, s, i, j, True)
+    corners = [(Fraction(i + dx), Fraction(j + dy)) for dx in (0, 1) for dy in (0, 1)]
+    on_edge = any(s * ((bx - ax) * (cy - ay) - (by - ay) * (cx - ax)) == 0
+                  for k, (ax, ay) in enumerate(p) for bx, by in [p[(k + 1) % 3]] for cx, cy in corners)
+    return area == 1 and on_edge

@@ -227,3 +227,18 @@ def test_a_stray_the_snapped_overestimate_has_is_its_own():
     exact = Convention(coverage="conservative-over")
     drawn = Coverage.concat([exact_coverage(scene, exact), Coverage(np.array([0]), np.array([1]), np.array([0]), np.array([1]))])
     assert watertight(case, drawn, exact, lambda: exact_coverage(scene, exact)).metrics["strays"] == 1
+
+
+@pytest.mark.parametrize("bad, cause", [(StrictThreshold, "rule-boundary"), (OpenUnderestimate, "rule-boundary"),
+                                        (BoxOverestimate, "coverage-rule")])
+def test_the_diagnosis_names_the_rules_boundary(bad, cause):
+    """A known-bad rasterizer's conformance failure is classified against its rule: exactly
+    on the rule's boundary (a threshold met exactly, corners on an edge) or away from it."""
+    from harness.diagnose.signatures import signature
+
+    rasterizer = bad()
+    scene = Scene(8, 8, [[[0, 0], [6, 0], [0, 6]], [[2, 2], [8, 3], [3, 8]], [[1, 7], [7, 7], [4, 4]]])
+    case = Case("rules/known-bad", scene, lattice=True)
+    result = conformance(case, rasterizer.rasterize(scene), exact_coverage(scene, rasterizer.convention),
+                         rasterizer.convention)
+    assert signature(result, case, rasterizer.convention).failure_class == cause
