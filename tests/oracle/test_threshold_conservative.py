@@ -82,7 +82,8 @@ def test_a_threshold_a_float_could_not_decide():
 def test_extreme_magnitudes_take_the_rational_path():
     """Coordinates beyond the expansions' safe range (subnormal, 1e300): the same answers
     as the reference."""
-    scene = Scene(4, 4, [[[1e-310, 0.0], [3.0, 1e-320], [0.0, 3.0]], [[-1e300, -1e300], [1e300, 0.5], [0.5, 1e300]]])
+    scene = Scene(4, 4, [[[1e-310, 0.0], [3.0, 1e-320], [0.0, 3.0]], [[-1e300, -1e300], [1e300, 0.5], [0.5, 1e300]],
+                         [[-1e100, 0.25], [1e100, 0.5], [2.5, 1e100]], [[0.5, -1e20], [3.5, 1.0], [0.25, 1e20]]])
     for convention in RULES[3:]:
         assert exact_coverage(scene, convention) == rules_reference(scene, convention)
 
