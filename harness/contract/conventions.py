@@ -501,8 +501,8 @@ class Convention:
     @property
     def coverage_uses_threshold(self) -> bool:
         """Whether ``threshold`` means something here: an ``area-threshold`` convention
-        (its model's declaration names the threshold)."""
-        return "{t}" in self.model.declared
+        (its model is ``thresholded``)."""
+        return self.model.thresholded
 
     @property
     def coverage_kind(self) -> CoverageKind:

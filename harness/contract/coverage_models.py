@@ -136,6 +136,8 @@ class CoverageModel:
         Its exact answer hits every pixel inside a planar partition exactly once (but where
         snapping folds the mesh); False: the rule's own holes and double hits are expected
         (watertight, overdraw and closed excuse those its exact answer has).
+    thresholded : bool
+        Its convention's ``threshold`` means something (``declared`` may name it: ``{t}``).
     """
 
     name: str
@@ -155,6 +157,7 @@ class CoverageModel:
     rule: bool = False
     sample_point: bool = True
     exactly_once: bool = True
+    thresholded: bool = False
 
     def __repr__(self) -> str:
         return f"CoverageModel({self.name!r})"
@@ -206,7 +209,7 @@ SUPERSAMPLED_AREA = CoverageModel(
 AREA_THRESHOLD = CoverageModel(
     "area-threshold", "single", "harness.oracle.coverage_rules:threshold_coverage",
     declared="an area threshold (a pixel iff at least {t} of it is covered)", seen="one sample per pixel",
-    paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False)
+    paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False, thresholded=True)
 CONSERVATIVE_OVER = CoverageModel(
     "conservative-over", "single", "harness.oracle.coverage_rules:conservative_over",
     declared="conservative overestimate (a pixel iff its square meets the triangle)", seen="one sample per pixel",
