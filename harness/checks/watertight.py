@@ -71,16 +71,31 @@ def _classes(region: NDArray, width: int, height: int) -> tuple[NDArray, NDArray
 
 
 def _snapping_own(counts: NDArray, oracle: Callable[[], Coverage] | None, convention: Convention | None,
-                  width: int, height: int) -> NDArray:
+                  scene: AnyScene, width: int, height: int) -> NDArray:
     """(H, W) bool: pixels hit exactly as the convention's exact answer hits them, where
     that answer is not watertight itself -- only under snapping (a folded or vanished
     sliver) or under a coverage rule that is not exactly once; all False otherwise.
     ``oracle`` is called only then."""
     if oracle is None or convention is None or (convention.subpixel_bits is None and convention.model.exactly_once):
         return np.zeros((height, width), dtype=bool)
-    want = oracle().counts(width, height)
-    own: NDArray = (counts == want) & (want != 1)
+    low, high = _allowed_counts(oracle, convention, scene, width, height)
+    own: NDArray = (counts >= low) & (counts <= high) & ((low != 1) | (high != 1))
     return own
+
+
+def _allowed_counts(oracle: Callable[[], Coverage], convention: Convention, scene: AnyScene, width: int,
+                    height: int) -> tuple[NDArray, NDArray]:
+    """(H, W) each: the fewest and the most hits the convention allows per pixel -- its
+    exact answer's, or, under a conservative rule's uncertainty region, what it must and
+    what it may draw (:func:`harness.oracle.coverage_rules.uncertainty_bounds`)."""
+    want = oracle()
+    if not (convention.model.uncertain and convention.uncertainty):
+        counts = want.counts(width, height)
+        return counts, counts
+    from harness.oracle.coverage_rules import uncertainty_bounds
+
+    must, may = uncertainty_bounds(kind_of(scene).narrow(scene), convention)
+    return must.counts(width, height), may.counts(width, height)
 
 
 def watertight(case: Case, coverage: Coverage, convention: Convention | None = None,
@@ -97,17 +112,19 @@ def watertight(case: Case, coverage: Coverage, convention: Convention | None = N
     counts = coverage.counts(scene.width, scene.height)
     inside, outside = _pixel_classes(case.region, scene.width, scene.height)
     empty, twice = inside & (counts == 0), counts > 1
-    own = _snapping_own(counts, oracle, convention, scene.width, scene.height) if (empty | twice).any() else None
+    own = _snapping_own(counts, oracle, convention, scene, scene.width, scene.height) if (empty | twice).any() else None
     if own is not None:
         excused = (empty | twice) & own
         empty, twice = empty & ~own, twice & ~own
     holes, doubles = np.argwhere(empty), np.argwhere(twice)
     stray = outside & (counts > 0)
     if stray.any() and oracle is not None and convention is not None and not convention.model.exactly_once \
-            and convention.subpixel_bits is not None:
+            and (convention.subpixel_bits is not None or convention.uncertainty):
         # a rule that draws every square the (snapped) mesh touches: snapping moves the outline by up to half a
-        # grid step, and a square the snapped mesh touches just outside the region is the rule's own
-        own_stray = stray & (counts == oracle().counts(scene.width, scene.height))
+        # grid step, and a square the snapped mesh touches just outside the region is the rule's own (as is one its
+        # uncertainty region reaches)
+        low, high = _allowed_counts(oracle, convention, scene, scene.width, scene.height)
+        own_stray = stray & (counts >= low) & (counts <= high)
         excused = own_stray if own is None else excused | own_stray
         own = own_stray if own is None else own | own_stray
         stray &= ~own_stray
@@ -167,7 +184,7 @@ def overdraw(case: Case, coverage: Coverage, convention: Convention | None = Non
     counts = coverage.counts(width, height)
     twice = counts > 1
     if twice.any():
-        twice &= ~_snapping_own(counts, oracle, convention, width, height)
+        twice &= ~_snapping_own(counts, oracle, convention, case.scene, width, height)
     doubles = np.argwhere(twice)
     evidence = {"pixels": [[int(x), int(y)] for y, x in doubles[:EVIDENCE_LIMIT]]} if len(doubles) else {}
     return result(case.id, "overdraw", not len(doubles), f"{len(doubles)} double hits" if len(doubles) else "no double hits",

@@ -430,6 +430,13 @@ class Convention:
     threshold : float
         ``area-threshold`` only: the least share of a pixel's area that draws it, in
         [2**-20, 1] (default 1/2; exactly this share draws).
+    uncertainty : float
+        The conservative rules only: the uncertainty region D3D12 and Vulkan allow, a
+        multiple of 2**-16 in [0, 1/2] (1/256 is theirs; default 0: exact). Overestimate:
+        a pixel whose square grown by it meets the triangle may be drawn too;
+        underestimate: one whose square so grown is not inside may be left out
+        (:func:`harness.oracle.coverage_rules.uncertainty_bounds`; conformance, watertight
+        and overdraw judge between the two).
 
     Examples
     --------
@@ -472,6 +479,8 @@ class Convention:
     line: Any = LineRule()
     # coverage="area-threshold" only: the least covered share that draws a pixel
     threshold: float = 0.5
+    # the conservative rules only: the uncertainty region, in pixels (D3D12/Vulkan)
+    uncertainty: float = 0.0
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -479,6 +488,7 @@ class Convention:
             extra += f", samples={self.samples!r}"
         if self.model.rule:
             extra += f", coverage={self.coverage!r}" + (f", threshold={self.threshold!r}" if self.coverage_uses_threshold else "")
+            extra += f", uncertainty={self.uncertainty!r}" if self.uncertainty else ""
         elif self.coverage != "sample":
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
         if self.line != LineRule():
@@ -609,11 +619,7 @@ class Convention:
         object.__setattr__(self, "line", line)
         if self.coverage not in DECLARED_COVERAGES:
             raise ValueError(f"Convention.coverage must be one of {', '.join(DECLARED_COVERAGES)}, not {self.coverage!r}")
-        threshold = self.threshold
-        if isinstance(threshold, bool) or not isinstance(threshold, (int, float, np.integer, np.floating)) \
-                or not 2.0**-20 <= float(threshold) <= 1.0:
-            raise ValueError(f"Convention.threshold must be a number in [2**-20, 1], not {threshold!r}")
-        object.__setattr__(self, "threshold", float(threshold))
+        self._check_rule_fields()
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
             raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
@@ -626,6 +632,22 @@ class Convention:
             if not 0.0 <= tol <= 1.0:
                 raise ValueError(f"Convention.tolerance must lie in [0, 1], not {self.tolerance!r}")
             object.__setattr__(self, "tolerance", tol)
+
+    def _check_rule_fields(self) -> None:
+        """Validate and normalise ``threshold`` and ``uncertainty`` (the coverage rules')."""
+        threshold = self.threshold
+        if isinstance(threshold, bool) or not isinstance(threshold, (int, float, np.integer, np.floating)) \
+                or not 2.0**-20 <= float(threshold) <= 1.0:
+            raise ValueError(f"Convention.threshold must be a number in [2**-20, 1], not {threshold!r}")
+        object.__setattr__(self, "threshold", float(threshold))
+        uncertainty = self.uncertainty
+        if isinstance(uncertainty, bool) or not isinstance(uncertainty, (int, float, np.integer, np.floating)) \
+                or not 0.0 <= float(uncertainty) <= 0.5 or (float(uncertainty) * 2.0**16) % 1.0 != 0.0:
+            raise ValueError(f"Convention.uncertainty must be a multiple of 2**-16 in [0, 1/2], not {uncertainty!r}")
+        if uncertainty and not self.model.uncertain:
+            raise ValueError(f"Convention.uncertainty is a conservative rule's (coverage='conservative-over' or "
+                             f"'conservative-under'), not {self.coverage!r}'s")
+        object.__setattr__(self, "uncertainty", float(uncertainty))
 
     @property
     def tie_perturbation(self) -> tuple[int, int, bool]:
@@ -679,7 +701,8 @@ class Convention:
         tie = self._tie_words()
         where = self._pattern_words() if self.samples is not None else ""
         if self.model.rule:
-            return f"{self.model.declared_as(self)}, {snapping}, {culling}"
+            region = f", uncertainty {self.uncertainty:g} px" if self.uncertainty else ""
+            return f"{self.model.declared_as(self)}{region}, {snapping}, {culling}"
         if self.model.alphas:
             what = "the exact area" if self.samples is None else f"the share of the samples covered ({where}), {tie}"
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"

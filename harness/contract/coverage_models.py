@@ -138,6 +138,8 @@ class CoverageModel:
         (watertight, overdraw and closed excuse those its exact answer has).
     thresholded : bool
         Its convention's ``threshold`` means something (``declared`` may name it: ``{t}``).
+    uncertain : bool
+        Its convention may declare an ``uncertainty`` region (the conservative rules).
     """
 
     name: str
@@ -158,6 +160,7 @@ class CoverageModel:
     sample_point: bool = True
     exactly_once: bool = True
     thresholded: bool = False
+    uncertain: bool = False
 
     def __repr__(self) -> str:
         return f"CoverageModel({self.name!r})"
@@ -213,11 +216,11 @@ AREA_THRESHOLD = CoverageModel(
 CONSERVATIVE_OVER = CoverageModel(
     "conservative-over", "single", "harness.oracle.coverage_rules:conservative_over",
     declared="conservative overestimate (a pixel iff its square meets the triangle)", seen="one sample per pixel",
-    paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False)
+    paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False, uncertain=True)
 CONSERVATIVE_UNDER = CoverageModel(
     "conservative-under", "single", "harness.oracle.coverage_rules:conservative_under",
     declared="conservative underestimate (a pixel iff its square lies in the triangle)", seen="one sample per pixel",
-    paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False)
+    paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False, uncertain=True)
 
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
                                                                   CONSERVATIVE_OVER, CONSERVATIVE_UNDER)}

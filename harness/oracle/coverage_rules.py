@@ -51,7 +51,7 @@ from harness.geometry.exact import frozen, orient2d_fraction, orient2d_sign, ori
 from harness.oracle.area import area_error_bound, exact_area, pixel_areas
 
 __all__ = ["threshold_coverage", "conservative_over", "conservative_under", "rules_reference", "prepared_positions",
-           "on_rule_boundary"]
+           "on_rule_boundary", "uncertainty_bounds"]
 
 # decided by the float areas when farther than this (plus twice the oracle's bound) from t
 _FLOAT_SLACK = 2.0**-50
@@ -102,22 +102,27 @@ def threshold_coverage(scene: Scene, convention: Convention) -> Coverage:
 
 
 @numba.njit(cache=True)
-def _outside_all(ax, ay, bx, by, s, i, j):  # type: ignore[no-untyped-def]
-    """Whether all four corners of pixel (i, j)'s square lie strictly outside edge a -> b
-    of a triangle of orientation ``s``."""
+def _outside_all(ax, ay, bx, by, s, i, j, grow):  # type: ignore[no-untyped-def]
+    """Whether all four corners of pixel (i, j)'s square, grown by ``grow`` on every side,
+    lie strictly outside edge a -> b of a triangle of orientation ``s``."""
     for dx in range(2):
         for dy in range(2):
-            if orient2d_sign(ax, ay, bx, by, float(i + dx), float(j + dy)) * s >= 0:
+            cx = float(i + dx) + (grow if dx else -grow)  # exact: grow is a multiple of 2**-16, |i| < 2**21
+            cy = float(j + dy) + (grow if dy else -grow)
+            if orient2d_sign(ax, ay, bx, by, cx, cy) * s >= 0:
                 return False
     return True
 
 
 @numba.njit(cache=True)
-def _inside_all(ax, ay, bx, by, s, i, j):  # type: ignore[no-untyped-def]
-    """Whether all four corners of pixel (i, j)'s square lie inside edge a -> b or on it."""
+def _inside_all(ax, ay, bx, by, s, i, j, grow):  # type: ignore[no-untyped-def]
+    """Whether all four corners of pixel (i, j)'s square, grown by ``grow``, lie inside
+    edge a -> b or on it."""
     for dx in range(2):
         for dy in range(2):
-            if orient2d_sign(ax, ay, bx, by, float(i + dx), float(j + dy)) * s < 0:
+            cx = float(i + dx) + (grow if dx else -grow)
+            cy = float(j + dy) + (grow if dy else -grow)
+            if orient2d_sign(ax, ay, bx, by, cx, cy) * s < 0:
                 return False
     return True
 
@@ -132,32 +137,40 @@ def _pixel_range(lo, hi, size):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _conservative_kernel(positions, sign, use, over, width, height, out_t, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
-    """Spans of every triangle marked ``use`` (orientation ``sign``), over: squares that
-    meet it, else squares inside it; one span per row (both sets are convex in a row)."""
+def _conservative_kernel(positions, sign, use, over, grow, width, height, out_t, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """Spans of every triangle marked ``use`` (orientation ``sign``), over: squares (grown
+    by ``grow``) that meet it, else squares (grown by ``grow``) inside it; one span per row
+    (both sets are convex in a row)."""
     n = 0
     for t in range(positions.shape[0]):
         if not use[t]:
             continue
         p = positions[t]
         s = sign[t]
-        i0, i1 = _pixel_range(min(p[0, 0], p[1, 0], p[2, 0]), max(p[0, 0], p[1, 0], p[2, 0]), width)
-        j0, j1 = _pixel_range(min(p[0, 1], p[1, 1], p[2, 1]), max(p[0, 1], p[1, 1], p[2, 1]), height)
+        xmin, xmax = min(p[0, 0], p[1, 0], p[2, 0]), max(p[0, 0], p[1, 0], p[2, 0])
+        ymin, ymax = min(p[0, 1], p[1, 1], p[2, 1]), max(p[0, 1], p[1, 1], p[2, 1])
+        i0, i1 = _pixel_range(xmin, xmax, width)
+        j0, j1 = _pixel_range(ymin, ymax, height)
+        if grow > 0.0:  # a grown square reaches one more pixel each way; the exact tests below decide
+            i0, i1, j0, j1 = max(i0 - 1, 0), min(i1 + 1, width - 1), max(j0 - 1, 0), min(j1 + 1, height - 1)
         for j in range(j0, j1 + 1):
             first = -1
             last = -1
             for i in range(i0, i1 + 1):
                 hit = True
+                if over and (float(i) - grow > xmax or float(i + 1) + grow < xmin
+                             or float(j) - grow > ymax or float(j + 1) + grow < ymin):
+                    hit = False
                 for k in range(3):
+                    if not hit:
+                        break
                     ax, ay = p[k, 0], p[k, 1]
                     bx, by = p[(k + 1) % 3, 0], p[(k + 1) % 3, 1]
                     if over:
-                        if _outside_all(ax, ay, bx, by, s, i, j):
+                        if _outside_all(ax, ay, bx, by, s, i, j, grow):
                             hit = False
-                            break
-                    elif not _inside_all(ax, ay, bx, by, s, i, j):
+                    elif not _inside_all(ax, ay, bx, by, s, i, j, grow):
                         hit = False
-                        break
                 if hit:
                     if first < 0:
                         first = i
@@ -171,13 +184,14 @@ def _conservative_kernel(positions, sign, use, over, width, height, out_t, out_y
     return n
 
 
-def _square_decision(p: list[tuple[Fraction, Fraction]], s: int, i: int, j: int, over: bool) -> bool:
+def _square_decision(p: list[tuple[Fraction, Fraction]], s: int, i: int, j: int, over: bool,
+                     grow: Fraction = Fraction(0)) -> bool:
     """One pixel's decision in exact rational arithmetic (the reference, and triangles
-    beyond the compiled kernel's safe range)."""
-    corners = [(Fraction(i + dx), Fraction(j + dy)) for dx in (0, 1) for dy in (0, 1)]
+    beyond the compiled kernel's safe range), its square grown by ``grow``."""
+    corners = [(i + dx + (grow if dx else -grow), j + dy + (grow if dy else -grow)) for dx in (0, 1) for dy in (0, 1)]
     if over:
         xs, ys = [v[0] for v in p], [v[1] for v in p]
-        if max(xs) < i or min(xs) > i + 1 or max(ys) < j or min(ys) > j + 1:
+        if max(xs) < i - grow or min(xs) > i + 1 + grow or max(ys) < j - grow or min(ys) > j + 1 + grow:
             return False
     for k in range(3):
         (ax, ay), (bx, by) = p[k], p[(k + 1) % 3]
@@ -189,7 +203,7 @@ def _square_decision(p: list[tuple[Fraction, Fraction]], s: int, i: int, j: int,
     return True
 
 
-def _conservative(scene: Scene, convention: Convention, over: bool) -> Coverage:
+def _conservative(scene: Scene, convention: Convention, over: bool, grow: float = 0.0) -> Coverage:
     positions, sign = prepared_positions(scene, convention)
     safe = np.empty(positions.shape[0], dtype=np.bool_)
     orientation(positions, safe)
@@ -200,14 +214,16 @@ def _conservative(scene: Scene, convention: Convention, over: bool) -> Coverage:
         lo = np.clip(np.floor(np.where(use, ys.min(axis=1), 0.0)) - 1, 0, scene.height)
         hi = np.clip(np.ceil(np.where(use, ys.max(axis=1), 0.0)) + 1, 0, scene.height)
     rows[use] = (hi - lo)[use].astype(np.int64)
+    if grow > 0.0:
+        rows[use] += 2
     capacity = int(rows.sum())
     out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
     n = int(_conservative_kernel(frozen(positions), frozen(sign.astype(np.int64), np.int64), frozen(use, np.bool_), over,
-                                 scene.width, scene.height, *out))
+                                 float(grow), scene.width, scene.height, *out))
     spans = [a[:n] for a in out]
     slow = np.flatnonzero((sign != 0) & ~safe)
     if slow.size:
-        extra = [(int(t), j, i) for t in slow for j, i in _rational_pixels(positions[t], int(sign[t]), scene, over)]
+        extra = [(int(t), j, i) for t in slow for j, i in _rational_pixels(positions[t], int(sign[t]), scene, over, grow)]
         if extra:
             e = np.array(extra, dtype=np.int64)
             more = _runs(e[:, 0], e[:, 2], e[:, 1])
@@ -217,13 +233,15 @@ def _conservative(scene: Scene, convention: Convention, over: bool) -> Coverage:
     return Coverage(*spans)
 
 
-def _rational_pixels(triangle: NDArray[np.float64], s: int, scene: Scene, over: bool) -> list[tuple[int, int]]:
+def _rational_pixels(triangle: NDArray[np.float64], s: int, scene: Scene, over: bool,
+                     grow: float = 0.0) -> list[tuple[int, int]]:
     """(row, column) of the pixels one triangle covers, sorted, decided in rationals."""
     p = [(Fraction(float(x)), Fraction(float(y))) for x, y in triangle]
     xs, ys = [v[0] for v in p], [v[1] for v in p]
-    i0, i1 = max(math.ceil(min(xs)) - 1, 0), min(math.floor(max(xs)), scene.width - 1)
-    j0, j1 = max(math.ceil(min(ys)) - 1, 0), min(math.floor(max(ys)), scene.height - 1)
-    return [(j, i) for j in range(j0, j1 + 1) for i in range(i0, i1 + 1) if _square_decision(p, s, i, j, over)]
+    i0, i1 = max(math.ceil(min(xs)) - 2, 0), min(math.floor(max(xs)) + 1, scene.width - 1)
+    j0, j1 = max(math.ceil(min(ys)) - 2, 0), min(math.floor(max(ys)) + 1, scene.height - 1)
+    g = Fraction(grow)
+    return [(j, i) for j in range(j0, j1 + 1) for i in range(i0, i1 + 1) if _square_decision(p, s, i, j, over, g)]
 
 
 def conservative_over(scene: Scene, convention: Convention) -> Coverage:
@@ -248,13 +266,38 @@ def conservative_under(scene: Scene, convention: Convention) -> Coverage:
     return _conservative(scene, convention, False)
 
 
-def rules_reference(scene: Scene, convention: Convention) -> Coverage:
+def uncertainty_bounds(scene: Scene, convention: Convention) -> tuple[Coverage, Coverage]:
+    """(must, may): what a rasterizer of a conservative rule with an ``uncertainty`` region
+    u must draw and may draw (D3D12's and Vulkan's uncertainty region, in pixels).
+    Overestimate: it must draw every square that meets the triangle (the exact answer) and
+    may draw every square that, grown by u on every side, meets it. Underestimate: it must
+    draw every square that, grown by u, lies in the triangle, and may draw the exact
+    answer. Both exact (u is a multiple of 2**-16: the grown corners are floats).
+
+    A vertex 1/512 px left of pixel 2's side: pixel (2, 0) may be drawn, not must.
+
+    >>> scene = Scene(4, 3, [[[0.5, 0.5], [2 - 2**-9, 0.5], [0.5, 1.5]]])
+    >>> must, may = uncertainty_bounds(scene, Convention(coverage="conservative-over", uncertainty=2.0**-8))
+    >>> must.counts(4, 3).tolist(), may.counts(4, 3).tolist()
+    ([[1, 1, 0, 0], [1, 1, 0, 0], [0, 0, 0, 0]], [[1, 1, 1, 0], [1, 1, 0, 0], [0, 0, 0, 0]])
+    """
+    exact = convention.model.exact_triangles(scene, convention)
+    grow = float(convention.uncertainty)
+    if grow == 0.0:
+        return exact, exact
+    if convention.model is CONSERVATIVE_OVER:
+        return exact, _conservative(scene, convention, True, grow)
+    return _conservative(scene, convention, False, grow), exact
+
+
+def rules_reference(scene: Scene, convention: Convention, grown: float = 0.0) -> Coverage:
     """The coverage rules' reference: every pixel of the viewport and every triangle decided
     in :class:`fractions.Fraction` from the definitions alone (the area by clipping the
-    triangle to the square, the square tests by the corners' signs and the extents).
-    Slow; for tests."""
+    triangle to the square, the square tests by the corners' signs and the extents), the
+    squares of the conservative rules grown by ``grown``. Slow; for tests."""
     positions = convention.snap(scene.positions)
     pixels: list[tuple[int, int, int]] = []
+    grow = Fraction(grown)
     for t, triangle in enumerate(positions):
         if not np.all(np.isfinite(triangle)):
             continue
@@ -267,7 +310,7 @@ def rules_reference(scene: Scene, convention: Convention) -> Coverage:
                 if convention.coverage_uses_threshold:
                     hit = exact_area(triangle, i, j) >= Fraction(convention.threshold)
                 else:
-                    hit = _square_decision(p, s, i, j, convention.model is CONSERVATIVE_OVER)
+                    hit = _square_decision(p, s, i, j, convention.model is CONSERVATIVE_OVER, grow)
                 if hit:
                     pixels.append((t, j, i))
     if not pixels:

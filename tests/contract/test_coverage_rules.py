@@ -242,3 +242,70 @@ def test_the_diagnosis_names_the_rules_boundary(bad, cause):
     result = conformance(case, rasterizer.rasterize(scene), exact_coverage(scene, rasterizer.convention),
                          rasterizer.convention)
     assert signature(result, case, rasterizer.convention).failure_class == cause
+
+
+# --- the conservative rules' uncertainty region -------------------------------------------
+
+
+def test_the_uncertainty_region_is_declared_validated_and_described():
+    c = Convention(coverage="conservative-over", uncertainty=2.0**-8, subpixel_bits=8)
+    assert c.describe() == ("conservative overestimate (a pixel iff its square meets the triangle), uncertainty 0.00390625 "
+                            "px, snapped to 1/256 px (8 bits), no culling")
+    assert eval(repr(c)) == c and "uncertainty=0.00390625" in repr(c)  # noqa: S307
+    assert Convention(coverage="conservative-over").uncertainty == 0.0
+    with pytest.raises(ValueError, match=r"^Convention.uncertainty is a conservative rule's"):
+        Convention(coverage="area-threshold", uncertainty=2.0**-8)
+    with pytest.raises(ValueError, match=r"^Convention.uncertainty must be a multiple of 2\*\*-16 in \[0, 1/2\], not 0.001$"):
+        Convention(coverage="conservative-under", uncertainty=0.001)
+
+
+class _Drawing:
+    """A rasterizer drawing a fixed answer per scene: what the rule must or may draw."""
+
+    def __init__(self, convention: Convention, which: int, grow: float | None = None) -> None:
+        self.convention, self.which, self.grow = convention, which, grow
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        from harness.oracle.coverage_rules import uncertainty_bounds
+
+        drawn = self.convention if self.grow is None else dataclasses.replace(self.convention, uncertainty=self.grow)
+        return uncertainty_bounds(scene, drawn)[self.which]
+
+
+# vertices 1/512 px and 3/512 px short of whole pixels (squares in the 1/256 band and beyond it, outside), and an
+# edge 3/512 px past one (a square inside by that margin)
+_NEAR = Scene(8, 6, [[[0.5, 0.5], [3.0 - 2.0**-9, 0.5], [0.5, 2.5]], [[4.0, 1.0], [7.0 - 3 * 2.0**-9, 1.0], [4.0, 5.0]],
+                     [[-4.0, 1.0], [3.0 + 3 * 2.0**-9, 1.0], [3.0 + 3 * 2.0**-9, 9.0]]])
+
+
+@pytest.mark.parametrize("rule", ["conservative-over", "conservative-under"])
+def test_conformance_judges_between_what_the_rule_must_and_may_draw(rule):
+    declared = Convention(coverage=rule, uncertainty=2.0**-8)
+    exact = Convention(coverage=rule)
+    case = Case("rules/uncertain", _NEAR, lattice=True)
+    # drawing the other bound of the region: allowed under the region, wrong without it
+    other = 1 if rule == "conservative-over" else 0
+    answer = _Drawing(declared, other).rasterize(_NEAR)
+    assert answer != exact_coverage(_NEAR, exact)
+    ok = conformance(case, answer, exact_coverage(_NEAR, declared), declared)
+    assert ok.status == "pass" and ok.metrics["uncertain"] > 0 and "uncertainty region" in ok.message, ok.message
+    assert conformance(case, answer, exact_coverage(_NEAR, exact), exact).status == "fail"
+    # a region twice as wide as declared: the squares beyond 1/256 are wrong
+    beyond = _Drawing(declared, other, grow=2.0**-7).rasterize(_NEAR)
+    bad = conformance(case, beyond, exact_coverage(_NEAR, declared), declared)
+    assert bad.status == "fail" and bad.metrics["wrong"] > 0, bad.message
+
+
+def test_watertight_allows_the_regions_double_hits_and_strays():
+    declared = Convention(coverage="conservative-over", uncertainty=2.0**-8)
+    x0 = 1.0 + 2.0**-10  # the outline 1/1024 px right of column 0: reached by the region
+    scene = Scene(6, 4, [[[x0, 1.0], [5.0, 1.0], [x0, 3.0]], [[5.0, 1.0], [5.0, 3.0], [x0, 3.0]]])
+    case = Case("partitions/rules/uncertain", scene, lattice=False,
+                region=np.array([[x0, 1.0], [5.0, 1.0], [5.0, 3.0], [x0, 3.0]]))
+    may = _Drawing(declared, 1).rasterize(scene)
+    assert may.counts(6, 4)[:, 0].any()
+    oracle = exact_coverage(scene, declared)
+    result = watertight(case, may, declared, lambda: oracle)
+    assert result.status == "pass" and result.metrics["strays"] == 0, result.message
+    assert watertight(case, may, Convention(coverage="conservative-over"), lambda: oracle).status == "fail"
+    assert overdraw(case, may, declared, lambda: oracle).status == "pass"

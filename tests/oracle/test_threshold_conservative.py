@@ -102,3 +102,31 @@ def test_underestimate_is_a_threshold_of_one(seed):
         scene = _random_scene(seed, lattice)
         assert conservative_under(scene, Convention(coverage="conservative-under")) == \
             threshold_coverage(scene, Convention(coverage="area-threshold", threshold=1.0))
+
+
+@pytest.mark.parametrize("seed", range(4))
+@pytest.mark.parametrize("lattice", [False, True])
+def test_the_uncertainty_regions_bounds_agree_with_the_reference(seed, lattice):
+    """What an overestimate may draw and an underestimate must draw under an uncertainty
+    region u: the squares grown by u, decided exactly, against the rational reference."""
+    from harness.oracle.coverage_rules import uncertainty_bounds
+
+    scene = _random_scene(seed, lattice)
+    for u in (2.0**-8, 2.0**-16, 0.5):
+        over = Convention(coverage="conservative-over", uncertainty=u)
+        must, may = uncertainty_bounds(scene, over)
+        assert must == exact_coverage(scene, over) and may == rules_reference(scene, over, grown=u)
+        under = Convention(coverage="conservative-under", uncertainty=u, subpixel_bits=4)
+        must, may = uncertainty_bounds(scene, under)
+        assert may == exact_coverage(scene, under) and must == rules_reference(scene, under, grown=u)
+
+
+def test_the_uncertainty_region_on_the_rational_path():
+    from harness.oracle.coverage_rules import uncertainty_bounds
+
+    scene = Scene(5, 4, [[[1e-310, 0.0], [3.0 - 2.0**-10, 1e-320], [0.0, 3.0]], [[-1e300, -1e300], [1e300, 0.5], [0.5, 1e300]]])
+    for rule in ("conservative-over", "conservative-under"):
+        convention = Convention(coverage=rule, uncertainty=2.0**-8)
+        must, may = uncertainty_bounds(scene, convention)
+        grown = rules_reference(scene, convention, grown=2.0**-8)
+        assert (may if rule == "conservative-over" else must) == grown
