@@ -115,10 +115,12 @@ sample pattern is the supersampled area model)
             aggdraw's aliased mode.
         ``conservative-over``
             Covered iff the closed square meets the closed triangle (touching counts): D3D12
-            and Vulkan conservative rasterization, overestimate, with no uncertainty region.
+            and Vulkan conservative rasterization, overestimate; ``uncertainty`` u (default 0)
+            also allows the squares that, grown by u, meet it.
         ``conservative-under``
             Covered iff the closed square lies inside the closed triangle (a side on an edge
-            counts): D3D12's underestimate (Vulkan's inner coverage).
+            counts): D3D12's underestimate (Vulkan's inner coverage); ``uncertainty`` u
+            requires only the squares that, grown by u, lie inside.
         The tie rule and ``sample`` mean nothing to them. A planar partition is not hit
         exactly once: double hits (over, threshold) and holes (under, threshold) are the
         rule's own, and the checks excuse those the exact answer has.
