@@ -33,13 +33,29 @@ def closed_balance(case: Case, coverage: Coverage, convention: Convention | None
     valid = (coverage.triangle >= 0) & (coverage.triangle < len(scene))
     signed = Coverage(coverage.triangle[valid], coverage.y[valid], coverage.x0[valid], coverage.x1[valid])
     balance = _balance(Coverage(signed.triangle, signed.y, signed.x0, signed.x1), sign, scene.width, scene.height)
-    if convention is not None and oracle is not None and not convention.model.exactly_once:
+    if convention is not None and convention.model.uncertain and convention.uncertainty:
+        # between what the rule must and may draw, per facing: outside that interval only
+        from harness.oracle.coverage_rules import uncertainty_bounds
+
+        must, may = uncertainty_bounds(scene, convention)
+        low = _facing(must, sign, 1, scene.width, scene.height) - _facing(may, sign, -1, scene.width, scene.height)
+        high = _facing(may, sign, 1, scene.width, scene.height) - _facing(must, sign, -1, scene.width, scene.height)
+        balance = np.where(balance < low, balance - low, np.where(balance > high, balance - high, 0))
+    elif convention is not None and oracle is not None and not convention.model.exactly_once:
         balance = balance - _balance(oracle(), sign, scene.width, scene.height)
     bad = np.argwhere(balance != 0)
     metrics = {"unbalanced_pixels": float(len(bad))}
     evidence = {"pixels": [[int(x), int(y), int(balance[y, x])] for y, x in bad[:EVIDENCE_LIMIT]]} if len(bad) else {}
     message = "front minus back is zero everywhere" if not len(bad) else f"{len(bad)} pixels where front minus back is not zero"
     return result(case.id, "closed", not len(bad), message, metrics, evidence)
+
+
+def _facing(coverage: Coverage, sign: np.ndarray, facing: int, width: int, height: int) -> np.ndarray:
+    """(H, W): hits by the triangles of orientation ``facing``."""
+    keep = sign[coverage.triangle] == facing
+    counts: np.ndarray = Coverage(coverage.triangle[keep], coverage.y[keep], coverage.x0[keep],
+                                  coverage.x1[keep]).counts(width, height)
+    return counts
 
 
 def _balance(coverage: Coverage, sign: np.ndarray, width: int, height: int) -> np.ndarray:

@@ -309,3 +309,16 @@ def test_watertight_allows_the_regions_double_hits_and_strays():
     assert result.status == "pass" and result.metrics["strays"] == 0, result.message
     assert watertight(case, may, Convention(coverage="conservative-over"), lambda: oracle).status == "fail"
     assert overdraw(case, may, declared, lambda: oracle).status == "pass"
+
+
+def test_closed_allows_the_regions_imbalance():
+    back = np.array([[[1.0, 1.0], [5.0, 5.0], [5.0, 1.0]], [[1.0, 1.0], [1.0, 5.0], [5.0, 5.0]]])
+    fan = _SCENE.positions + np.array([2.0**-9, 0.0])  # 1/512 px right: the region reaches column 0's neighbours
+    scene = Scene(7, 6, np.concatenate([fan, back]))
+    case = Case("meshes/rules/uncertain", scene, lattice=True, closed=True)
+    declared = Convention(coverage="conservative-over", uncertainty=2.0**-8)
+    may = _Drawing(declared, 1).rasterize(scene)
+    oracle = functools.partial(exact_coverage, scene, declared)
+    assert closed_balance(case, may, declared, oracle).status == "pass"
+    exact = Convention(coverage="conservative-over")
+    assert closed_balance(case, may, exact, functools.partial(exact_coverage, scene, exact)).status == "fail"
