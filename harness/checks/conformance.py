@@ -38,8 +38,11 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
     near, distance = near_ties_of(scene, convention, both, tolerance)
     if case.lattice:
         near[:] = False
-    wrong = ~near
-    allowed = distance.size == 0 if tolerance.mode == "strict" else not wrong.any()
+    # a conservative rule's uncertainty region: deviations the convention itself allows, in every mode
+    uncertain = _uncertain(scene, convention, missing, extra)
+    near &= ~uncertain
+    wrong = ~near & ~uncertain
+    allowed = not (~uncertain).any() if tolerance.mode == "strict" else not wrong.any()
     metrics = {
         "oracle_pixels": float(oracle.n_pixels),
         "missing": float(missing.shape[1]),
@@ -48,6 +51,8 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
         "wrong": float(wrong.sum()),
         "exact_ties": float((distance == 0.0).sum()),
     }
+    if uncertain.any():
+        metrics["uncertain"] = float(uncertain.sum())
     evidence: dict[str, Any] = {}
     if both.shape[1]:
         kind = np.array(["missing"] * missing.shape[1] + ["extra"] * extra.shape[1])
@@ -62,6 +67,8 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
     else:
         message = (f"{missing.shape[1]} missing, {extra.shape[1]} extra; {int(near.sum())} near ties (float rounding), "
                    f"{int(wrong.sum())} wrong")
+        if uncertain.any():
+            message += f"; {int(uncertain.sum())} within the rule's uncertainty region ({convention.uncertainty:g} px)"
         ties = int((distance[wrong] == 0.0).sum())
         if ties and ties == int(wrong.sum()):
             # every wrong one a tie: where the rule decides, said in the primitive's words
@@ -70,6 +77,28 @@ def conformance(case: Case, coverage: Coverage, oracle: Coverage, convention: Co
             where = where.format(noun=scene.noun)
             message += f"; all {ties} wrong {what} lie exactly on {where}"
     return result(case.id, "conformance", allowed, message, metrics, evidence)
+
+
+def _uncertain(scene: AnyScene, convention: Convention, missing: np.ndarray, extra: np.ndarray) -> np.ndarray:
+    """(M,) bool over the missing then the extra fragments: those a conservative rule's
+    declared uncertainty region allows (an extra one the rule may draw, a missing one it
+    need not; :func:`harness.oracle.coverage_rules.uncertainty_bounds`). All False for every
+    other convention."""
+    out = np.zeros(missing.shape[1] + extra.shape[1], dtype=bool)
+    if not convention.model.uncertain or not convention.uncertainty or not out.size:
+        return out
+    from harness.oracle.coverage_rules import uncertainty_bounds
+
+    must, may = uncertainty_bounds(kind_of(scene).narrow(scene), convention)
+
+    def keys(coverage: Coverage) -> set[tuple[int, int, int]]:
+        prim, x, y = coverage.pixels()
+        return set(zip(prim.tolist(), x.tolist(), y.tolist()))
+
+    required, allowed = keys(must), keys(may)
+    out[:missing.shape[1]] = [(k, x, y) not in required for k, x, y in missing.T.tolist()]
+    out[missing.shape[1]:] = [(k, x, y) in allowed for k, x, y in extra.T.tolist()]
+    return out
 
 
 def undefined_width(scene: AnyScene, convention: Convention) -> str:

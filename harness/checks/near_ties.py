@@ -577,6 +577,8 @@ def triangle_near_ties(scene: Scene, convention: Convention | None, fragments: N
     positions (pixel centres without a convention)."""
     if convention is None:
         convention = Convention()
+    if not convention.model.sample_point:  # a coverage rule decides on the square: no near tie excused
+        return np.zeros(fragments.shape[1], dtype=bool), np.full(fragments.shape[1], np.inf)
     return near_ties(convention.snap(scene.positions), fragments, convention.sample, tolerance)
 
 

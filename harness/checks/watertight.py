@@ -2,7 +2,10 @@
 nothing outside, and no pixel twice; convention-free -- but for snapping: snapped to a
 grid, a sliver of the partition can fold over its neighbour or vanish, and the
 convention's exact answer itself then has a double hit or a hole there. Such a pixel,
-hit as the oracle hits it, is the convention's own and is excused (counted apart)."""
+hit as the oracle hits it, is the convention's own and is excused (counted apart). Likewise
+under a coverage rule that does not hit a partition exactly once (conservative rasterization,
+an area threshold: ``CoverageModel.exactly_once`` False), whose exact answer has double hits
+and holes by definition: those are the rule's own (``rule_own``)."""
 
 from __future__ import annotations
 
@@ -68,15 +71,31 @@ def _classes(region: NDArray, width: int, height: int) -> tuple[NDArray, NDArray
 
 
 def _snapping_own(counts: NDArray, oracle: Callable[[], Coverage] | None, convention: Convention | None,
-                  width: int, height: int) -> NDArray:
+                  scene: AnyScene, width: int, height: int) -> NDArray:
     """(H, W) bool: pixels hit exactly as the convention's exact answer hits them, where
     that answer is not watertight itself -- only under snapping (a folded or vanished
-    sliver); all False otherwise. ``oracle`` is called only then."""
-    if oracle is None or convention is None or not convention.quantizes:
+    sliver, or a quantizing input), or under a coverage rule that is not exactly once;
+    all False otherwise. ``oracle`` is called only then."""
+    if oracle is None or convention is None or (not convention.quantizes and convention.model.exactly_once):
         return np.zeros((height, width), dtype=bool)
-    want = oracle().counts(width, height)
-    own: NDArray = (counts == want) & (want != 1)
+    low, high = _allowed_counts(oracle, convention, scene, width, height)
+    own: NDArray = (counts >= low) & (counts <= high) & ((low != 1) | (high != 1))
     return own
+
+
+def _allowed_counts(oracle: Callable[[], Coverage], convention: Convention, scene: AnyScene, width: int,
+                    height: int) -> tuple[NDArray, NDArray]:
+    """(H, W) each: the fewest and the most hits the convention allows per pixel -- its
+    exact answer's, or, under a conservative rule's uncertainty region, what it must and
+    what it may draw (:func:`harness.oracle.coverage_rules.uncertainty_bounds`)."""
+    want = oracle()
+    if not (convention.model.uncertain and convention.uncertainty):
+        counts = want.counts(width, height)
+        return counts, counts
+    from harness.oracle.coverage_rules import uncertainty_bounds
+
+    must, may = uncertainty_bounds(kind_of(scene).narrow(scene), convention)
+    return must.counts(width, height), may.counts(width, height)
 
 
 def watertight(case: Case, coverage: Coverage, convention: Convention | None = None,
@@ -93,16 +112,28 @@ def watertight(case: Case, coverage: Coverage, convention: Convention | None = N
     counts = coverage.counts(scene.width, scene.height)
     inside, outside = _pixel_classes(case.region, scene.width, scene.height)
     empty, twice = inside & (counts == 0), counts > 1
-    own = _snapping_own(counts, oracle, convention, scene.width, scene.height) if (empty | twice).any() else None
+    own = _snapping_own(counts, oracle, convention, scene, scene.width, scene.height) if (empty | twice).any() else None
     if own is not None:
         excused = (empty | twice) & own
         empty, twice = empty & ~own, twice & ~own
     holes, doubles = np.argwhere(empty), np.argwhere(twice)
-    strays = np.argwhere(outside & (counts > 0))
+    stray = outside & (counts > 0)
+    if stray.any() and oracle is not None and convention is not None and not convention.model.exactly_once \
+            and (convention.subpixel_bits is not None or convention.uncertainty):
+        # a rule that draws every square the (snapped) mesh touches: snapping moves the outline by up to half a
+        # grid step, and a square the snapped mesh touches just outside the region is the rule's own (as is one its
+        # uncertainty region reaches)
+        low, high = _allowed_counts(oracle, convention, scene, scene.width, scene.height)
+        own_stray = stray & (counts >= low) & (counts <= high)
+        excused = own_stray if own is None else excused | own_stray
+        own = own_stray if own is None else own | own_stray
+        stray &= ~own_stray
+    strays = np.argwhere(stray)
     metrics = {"holes": float(len(holes)), "double_hits": float(len(doubles)), "strays": float(len(strays)),
                "inside_pixels": float(inside.sum())}
+    own_key = "snapped_own" if convention is None or convention.model.exactly_once else "rule_own"
     if own is not None and excused.any():
-        metrics["snapped_own"] = float(excused.sum())
+        metrics[own_key] = float(excused.sum())
     evidence: dict[str, Any] = {}
     if len(holes) or len(doubles):
         evidence["blame"] = blame(scene, coverage, holes[:EVIDENCE_LIMIT], doubles[:EVIDENCE_LIMIT])
@@ -114,6 +145,10 @@ def watertight(case: Case, coverage: Coverage, convention: Convention | None = N
     if "snapped_own" in metrics:
         message += (f"; {int(metrics['snapped_own'])} holes or double hits excused: the convention's own, where snapping "
                     "folds the mesh")
+    if "rule_own" in metrics:
+        assert convention is not None
+        message += (f"; {int(metrics['rule_own'])} holes, double hits or strays excused: the rule's own "
+                    f"({convention.model.declared_as(convention)})")
     if len(holes) or len(doubles):
         at_vertex = _holds_vertex(scene.coordinates, scene.width, scene.height)
         on_vertex = int(at_vertex[holes[:, 0], holes[:, 1]].sum() + at_vertex[doubles[:, 0], doubles[:, 1]].sum())
@@ -149,7 +184,7 @@ def overdraw(case: Case, coverage: Coverage, convention: Convention | None = Non
     counts = coverage.counts(width, height)
     twice = counts > 1
     if twice.any():
-        twice &= ~_snapping_own(counts, oracle, convention, width, height)
+        twice &= ~_snapping_own(counts, oracle, convention, case.scene, width, height)
     doubles = np.argwhere(twice)
     evidence = {"pixels": [[int(x), int(y)] for y, x in doubles[:EVIDENCE_LIMIT]]} if len(doubles) else {}
     return result(case.id, "overdraw", not len(doubles), f"{len(doubles)} double hits" if len(doubles) else "no double hits",

@@ -115,6 +115,25 @@ sample pattern is the supersampled area model)
         judged against exactly; its distance from the true area is an artifact the checks
         measure (popping), not a broken promise.
 
+    The coverage rules (``single`` kind, one (triangle, pixel) covered or not, but decided on
+    the pixel's square [i, i+1] x [j, j+1] instead of at a sample point; after snapping and
+    culling; a triangle of zero snapped area covers nothing; :mod:`harness.oracle.coverage_rules`)
+        ``area-threshold``
+            Covered iff area(T ∩ square) >= ``threshold`` (default 1/2), the area exact
+            (rational); a pixel covered exactly ``threshold`` is drawn (ties are inside).
+            aggdraw's aliased mode.
+        ``conservative-over``
+            Covered iff the closed square meets the closed triangle (touching counts): D3D12
+            and Vulkan conservative rasterization, overestimate; ``uncertainty`` u (default 0)
+            also allows the squares that, grown by u, meet it.
+        ``conservative-under``
+            Covered iff the closed square lies inside the closed triangle (a side on an edge
+            counts): D3D12's underestimate (Vulkan's inner coverage); ``uncertainty`` u
+            requires only the squares that, grown by u, lie inside.
+        The tie rule and ``sample`` mean nothing to them. A planar partition is not hit
+        exactly once: double hits (over, threshold) and holes (under, threshold) are the
+        rule's own, and the checks excuse those the exact answer has.
+
 Lines (line scenes) are drawn by the convention's :class:`LineRule`
     ``diamond-exit`` (D3D11; the last pixel omitted or drawn), ``diamond-exit-gl`` (GL's
     perturbed end points), ``bresenham`` (seed 003's
@@ -458,11 +477,12 @@ class Convention:
         :data:`MAX_AREA_SAMPLES` for supersampled area coverage); stored as the offsets. Each
         sample then follows ``tie``, snapping and culling at its own offset, and ``sample`` is
         not used. None: one sample, at ``sample``.
-    coverage : {"sample", "area"}
+    coverage : {"sample", "area", "area-threshold", "conservative-over", "conservative-under"}
         ``area``: anti-aliased coverage, an alpha per pixel equal to the area of the
         triangle inside the pixel (or, with ``samples``, the share of the samples it
         covers), quantised and within ``tolerance`` (``sample`` is not used, nor ``tie``
-        without ``samples``).
+        without ``samples``). The last three are coverage rules (module docstring):
+        aliased, decided on the pixel's square; no ``samples``.
     levels : int
         Area coverage only: alphas are multiples of 1/(levels - 1) (256: 8-bit alpha).
     tolerance : float or None
@@ -476,6 +496,16 @@ class Convention:
         ``fixedN`` (a 2**-N px grid; ``fixed6`` = 26.6) or ``integer``, a grid with an
         optional ``-half-away``, ``-floor`` or ``-toward-zero`` rounding; kept in its
         canonical spelling.
+    threshold : float
+        ``area-threshold`` only: the least share of a pixel's area that draws it, in
+        [2**-20, 1] (default 1/2; exactly this share draws).
+    uncertainty : float
+        The conservative rules only: the uncertainty region D3D12 and Vulkan allow, a
+        multiple of 2**-16 in [0, 1/2] (1/256 is theirs; default 0: exact). Overestimate:
+        a pixel whose square grown by it meets the triangle may be drawn too;
+        underestimate: one whose square so grown is not inside may be left out
+        (:func:`harness.oracle.coverage_rules.uncertainty_bounds`; conformance, watertight
+        and overdraw judge between the two).
 
     Examples
     --------
@@ -493,6 +523,12 @@ class Convention:
     'area coverage, 256 levels, within 0.00196 of the exact area, snapped to 1/256 px (8 bits), no culling'
     >>> Convention(input="float32", subpixel_bits=8).describe()
     'sample (0.5, 0.5), top-left ties, float32 input, snapped to 1/256 px (8 bits), no culling'
+    >>> Convention(coverage="area-threshold")
+    Convention(sample=(0.5, 0.5), tie='top-left', subpixel_bits=None, cull='none', coverage='area-threshold', threshold=0.5)
+    >>> Convention(coverage="area-threshold", threshold=0.25).describe()
+    'an area threshold (a pixel iff at least 0.25 of it is covered), no snapping, no culling'
+    >>> Convention(coverage="conservative-over", subpixel_bits=8).describe()
+    'conservative overestimate (a pixel iff its square meets the triangle), snapped to 1/256 px (8 bits), no culling'
     >>> Convention(tie="top-middle")  # doctest: +NORMALIZE_WHITESPACE
     Traceback (most recent call last):
     ...
@@ -507,19 +543,26 @@ class Convention:
     snap_rounding: SnapRounding = "nearest-even"
     # given as a count or offsets (harness.contract.samples.pattern), kept as a tuple of (x, y) offsets
     samples: Any = None
-    coverage: Literal["sample", "area"] = "sample"
+    coverage: Literal["sample", "area", "area-threshold", "conservative-over", "conservative-under"] = "sample"
     levels: int = 256
     tolerance: float | None = None
     # line scenes only (a LineRule, or its rule's name)
     line: Any = LineRule()
     # the coordinates the rasterizer receives, before snapping (InputPrecision grammar, canonical)
     input: str = "float64"
+    # coverage="area-threshold" only: the least covered share that draws a pixel
+    threshold: float = 0.5
+    # the conservative rules only: the uncertainty region, in pixels (D3D12/Vulkan)
+    uncertainty: float = 0.0
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
         if self.samples is not None:
             extra += f", samples={self.samples!r}"
-        if self.coverage != "sample":
+        if self.model.rule:
+            extra += f", coverage={self.coverage!r}" + (f", threshold={self.threshold!r}" if self.coverage_uses_threshold else "")
+            extra += f", uncertainty={self.uncertainty!r}" if self.uncertainty else ""
+        elif self.coverage != "sample":
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
         if self.line != LineRule():
             extra += f", line={self.line!r}"
@@ -539,6 +582,12 @@ class Convention:
         (CoverageModel('single'), CoverageModel('area'))
         """
         return model_for(self.coverage, self.samples is not None)
+
+    @property
+    def coverage_uses_threshold(self) -> bool:
+        """Whether ``threshold`` means something here: an ``area-threshold`` convention
+        (its model is ``thresholded``)."""
+        return self.model.thresholded
 
     @property
     def coverage_kind(self) -> CoverageKind:
@@ -649,6 +698,9 @@ class Convention:
 
             offsets = pattern(self.samples)
             patterned = model_for(self.coverage, True)
+            if patterned.rule:
+                raise ValueError(f"Convention.coverage {self.coverage!r} is a coverage rule of one answer per pixel: it "
+                                 "takes no samples (leave samples=None)")
             limit = patterned.max_samples
             if len(offsets) > limit:
                 raise ValueError(f"Convention.samples has {len(offsets)} samples; at most {limit} are supported"
@@ -662,7 +714,8 @@ class Convention:
             raise ValueError(f"Convention.input must be a string such as 'float32' or 'fixed6-floor', not {self.input!r}")
         object.__setattr__(self, "input", input_precision(self.input).name)
         if self.coverage not in DECLARED_COVERAGES:
-            raise ValueError(f"Convention.coverage must be 'sample' or 'area', not {self.coverage!r}")
+            raise ValueError(f"Convention.coverage must be one of {', '.join(DECLARED_COVERAGES)}, not {self.coverage!r}")
+        self._check_rule_fields()
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
             raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
@@ -675,6 +728,22 @@ class Convention:
             if not 0.0 <= tol <= 1.0:
                 raise ValueError(f"Convention.tolerance must lie in [0, 1], not {self.tolerance!r}")
             object.__setattr__(self, "tolerance", tol)
+
+    def _check_rule_fields(self) -> None:
+        """Validate and normalise ``threshold`` and ``uncertainty`` (the coverage rules')."""
+        threshold = self.threshold
+        if isinstance(threshold, bool) or not isinstance(threshold, (int, float, np.integer, np.floating)) \
+                or not 2.0**-20 <= float(threshold) <= 1.0:
+            raise ValueError(f"Convention.threshold must be a number in [2**-20, 1], not {threshold!r}")
+        object.__setattr__(self, "threshold", float(threshold))
+        uncertainty = self.uncertainty
+        if isinstance(uncertainty, bool) or not isinstance(uncertainty, (int, float, np.integer, np.floating)) \
+                or not 0.0 <= float(uncertainty) <= 0.5 or (float(uncertainty) * 2.0**16) % 1.0 != 0.0:
+            raise ValueError(f"Convention.uncertainty must be a multiple of 2**-16 in [0, 1/2], not {uncertainty!r}")
+        if uncertainty and not self.model.uncertain:
+            raise ValueError(f"Convention.uncertainty is a conservative rule's (coverage='conservative-over' or "
+                             f"'conservative-under'), not {self.coverage!r}'s")
+        object.__setattr__(self, "uncertainty", float(uncertainty))
 
     @property
     def tie_perturbation(self) -> tuple[int, int, bool]:
@@ -744,6 +813,9 @@ class Convention:
         culling = "no culling" if self.cull == "none" else f"culls {self.cull}"
         tie = self._tie_words()
         where = self._pattern_words() if self.samples is not None else ""
+        if self.model.rule:
+            region = f", uncertainty {self.uncertainty:g} px" if self.uncertainty else ""
+            return f"{self.model.declared_as(self)}{region}, {snapping}, {culling}"
         if self.model.alphas:
             what = "the exact area" if self.samples is None else f"the share of the samples covered ({where}), {tie}"
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"

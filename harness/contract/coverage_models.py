@@ -14,7 +14,22 @@ model           ``kind``     what a (triangle, pixel) gets
 ``area``        area         an alpha, the exact area inside the pixel
 ``supersampled  area         an alpha, the share of the pattern's samples covered (a
 area``                       box-filter resolve)
+``area-         single       covered or not: iff the triangle covers at least
+threshold``                  ``threshold`` of the pixel's area (aggdraw's aliased mode)
+``conservative- single       covered or not: iff the pixel's closed square meets the
+over``                       closed triangle (D3D12/Vulkan overestimate)
+``conservative- single       covered or not: iff the pixel's closed square lies in the
+under``                      closed triangle (D3D12/Vulkan underestimate)
 ==============  ===========  ===========================================================
+
+The last three are *coverage rules* (``rule``): declared by their name as
+``Convention.coverage``, answered as one sample per pixel is (a (triangle, pixel) covered or
+not, so the single-sample checks judge them), but decided on the pixel's square, not at a
+sample point: the tie rule and ``sample`` mean nothing to them (``sample_point`` False: no
+near tie is measured at a sample), and a planar partition's pixels are not hit exactly once
+under them (``exactly_once`` False: watertight, overdraw and closed excuse the holes and
+double hits the rule's own exact answer has). Paths, lines and points are not defined under
+them (triangles only; the oracles refuse in one line).
 
 ``coverage_kind`` is the coverage kind of :attr:`Convention.coverage_kind
 <harness.contract.conventions.Convention.coverage_kind>`, the word JSON, reports, the command line and
@@ -35,13 +50,14 @@ apply, so a model names its oracle (``"harness.oracle.coverage:exact_multisample
 the name when first asked, as :mod:`harness` resolves its lazily imported names.
 
 >>> [m.name for m in COVERAGE_MODELS.values()]
-['single', 'multisample', 'area', 'supersampled area']
+['single', 'multisample', 'area', 'supersampled area', 'area-threshold', 'conservative-over', 'conservative-under']
 >>> model_named("multisample").sample_ids, model_named("area").alphas
 (True, True)
->>> model_named("conservative")
+>>> model_named("conservative")  # doctest: +NORMALIZE_WHITESPACE
 Traceback (most recent call last):
 ...
-ValueError: no coverage model is named 'conservative': single, multisample, area, supersampled area
+ValueError: no coverage model is named 'conservative': single, multisample, area, supersampled area, area-threshold,
+conservative-over, conservative-under
 """
 
 from __future__ import annotations
@@ -53,11 +69,13 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 __all__ = ["CoverageModel", "CoverageKind", "COVERAGE_KINDS", "COVERAGE_MODELS", "DECLARED_COVERAGES", "SINGLE",
-           "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named", "model_for"]
+           "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "AREA_THRESHOLD", "CONSERVATIVE_OVER", "CONSERVATIVE_UNDER",
+           "COVERAGE_RULES", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named", "model_for"]
 
 CoverageKind = Literal["single", "multisample", "area"]
-# what Convention.coverage may say: point samples (one, or a pattern's) or area
-DECLARED_COVERAGES: tuple[str, ...] = ("sample", "area")
+# what Convention.coverage may say: point samples (one, or a pattern's), area, or a coverage
+# rule by its model's name (COVERAGE_RULES)
+DECLARED_COVERAGES: tuple[str, ...] = ("sample", "area", "area-threshold", "conservative-over", "conservative-under")
 # The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
 # 64 with no standard locations; 32 keeps a garbage answer's span budget bounded).
 MAX_SAMPLES = 32
@@ -109,6 +127,19 @@ class CoverageModel:
     verdict_checks : tuple of str
         The checks that judge a declared convention of it before identify calls the
         declaration confirmed or consistent (:data:`harness.identify.fingerprint.VERDICT_CHECKS`).
+    rule : bool
+        A coverage rule: declared by its name as ``Convention.coverage`` (no sample pattern).
+    sample_point : bool
+        Its decisions are made at sample points (the near ties of the checks are measured
+        there); False: on the pixel's square, and no deviation is a near tie.
+    exactly_once : bool
+        Its exact answer hits every pixel inside a planar partition exactly once (but where
+        snapping folds the mesh); False: the rule's own holes and double hits are expected
+        (watertight, overdraw and closed excuse those its exact answer has).
+    thresholded : bool
+        Its convention's ``threshold`` means something (``declared`` may name it: ``{t}``).
+    uncertain : bool
+        Its convention may declare an ``uncertainty`` region (the conservative rules).
     """
 
     name: str
@@ -125,6 +156,11 @@ class CoverageModel:
     lines: bool = False
     max_samples: int = 0
     verdict_checks: tuple[str, ...] = ()
+    rule: bool = False
+    sample_point: bool = True
+    exactly_once: bool = True
+    thresholded: bool = False
+    uncertain: bool = False
 
     def __repr__(self) -> str:
         return f"CoverageModel({self.name!r})"
@@ -140,7 +176,7 @@ class CoverageModel:
     def declared_as(self, convention: Any) -> str:
         """How a message says ``convention`` (of this model) declares it: ``one sample per
         pixel``, ``a multisample pattern of 4 samples``, ``area coverage``."""
-        return self.declared.format(n=convention.n_samples)
+        return self.declared.format(n=convention.n_samples, t=f"{getattr(convention, 'threshold', 0.5):g}")
 
     def exact_triangles(self, scene: Any, convention: Any) -> Any:
         """The exact coverage (a :class:`harness.contract.coverage.Coverage`) of the triangle scene
@@ -172,8 +208,24 @@ SUPERSAMPLED_AREA = CoverageModel(
     "supersampled area", "area", "harness.oracle.coverage:sample_shares", declared="area coverage",
     seen="an alpha per pixel and triangle (anti-aliased)", alphas=True, max_samples=MAX_AREA_SAMPLES,
     verdict_checks=("accuracy", "seams", "popping"))
+# the coverage rules (issue 33): one (triangle, pixel) covered or not, decided on the pixel's square
+AREA_THRESHOLD = CoverageModel(
+    "area-threshold", "single", "harness.oracle.coverage_rules:threshold_coverage",
+    declared="an area threshold (a pixel iff at least {t} of it is covered)", seen="one sample per pixel",
+    paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False, thresholded=True)
+CONSERVATIVE_OVER = CoverageModel(
+    "conservative-over", "single", "harness.oracle.coverage_rules:conservative_over",
+    declared="conservative overestimate (a pixel iff its square meets the triangle)", seen="one sample per pixel",
+    paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False, uncertain=True)
+CONSERVATIVE_UNDER = CoverageModel(
+    "conservative-under", "single", "harness.oracle.coverage_rules:conservative_under",
+    declared="conservative underestimate (a pixel iff its square lies in the triangle)", seen="one sample per pixel",
+    paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False, uncertain=True)
 
-COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA)}
+COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
+                                                                  CONSERVATIVE_OVER, CONSERVATIVE_UNDER)}
+# the coverage rules, by the Convention.coverage that declares each (its name)
+COVERAGE_RULES: dict[str, CoverageModel] = {m.name: m for m in COVERAGE_MODELS.values() if m.rule}
 # the coverage kinds, in the models' order
 COVERAGE_KINDS: tuple[CoverageKind, ...] = tuple(dict.fromkeys(m.coverage_kind for m in COVERAGE_MODELS.values()))
 
@@ -195,7 +247,12 @@ def model_for(coverage: str, pattern: bool) -> CoverageModel:
 
     >>> model_for("sample", False), model_for("sample", True), model_for("area", False), model_for("area", True)
     (CoverageModel('single'), CoverageModel('multisample'), CoverageModel('area'), CoverageModel('supersampled area'))
+    >>> model_for("conservative-over", False)
+    CoverageModel('conservative-over')
     """
+    rule = COVERAGE_RULES.get(coverage)
+    if rule is not None:
+        return rule  # no pattern: Convention refuses samples with a coverage rule
     if coverage == "area":
         return SUPERSAMPLED_AREA if pattern else AREA
     return MULTISAMPLE if pattern else SINGLE

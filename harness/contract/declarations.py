@@ -112,12 +112,17 @@ def declaration_problem(rasterizer: Rasterizer) -> str | None:
     if ("lines" in kinds and not isinstance(line, Convention) and not model.single_sample
             and not (model.lines and convention.line.rule == "rectangle")):
         return (f"{REFUSED}: it takes lines, which are drawn with one sample per pixel (or, multisample, as rectangles "
-                f"per sample), but its convention declares {convention.coverage_kind} coverage"
+                f"per sample), but its convention declares "
+                + (model.declared_as(convention) if model.rule else f"{convention.coverage_kind} coverage")
                 + (" with " + convention.line.describe() if model.lines else "")
                 + ": give it line_convention = Convention(line=...) for its lines"
                 + (", or line=LineRule(\"rectangle\") for multisample lines" if model.lines else "")
                 + ", or leave \"lines\" out of scene_kinds")
     path = getattr(rasterizer, "path_convention", None)
+    if "paths" in kinds and not isinstance(path, Convention) and not model.paths and model.rule:
+        return (f"{REFUSED}: it takes paths, but its convention declares {model.declared_as(convention)}, a coverage rule "
+                f"defined for triangles only: give it path_convention = Convention(...) for its paths, or leave \"paths\" "
+                f"out of scene_kinds")
     if "paths" in kinds and not isinstance(path, Convention) and not model.paths:
         return (f"{REFUSED}: it takes paths, but its convention declares analytic area coverage, which is not defined for "
                 f"paths: give the area convention a sample pattern (Convention(coverage=\"area\", samples=...)), or "

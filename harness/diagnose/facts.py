@@ -55,7 +55,7 @@ def judged_convention(result: Any, convention: Convention | None) -> Convention:
         index = result.evidence.get("sample") if isinstance(result.evidence, dict) else None
         if convention.model.sample_ids and isinstance(index, int) and 0 <= index < convention.n_samples:
             return convention.at_sample(index)
-        if convention.model.single_sample:
+        if convention.model.single_sample or convention.model.rule:  # a coverage rule: one answer per pixel, kept
             return convention
         return replace(convention, samples=None, coverage="sample", levels=256, tolerance=None)
     return Convention()

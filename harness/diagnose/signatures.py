@@ -203,6 +203,9 @@ _WORDS = {
     "open-contour": "drawn as if each contour's closing edge were missing",
     "overflow-below-2^12": "wrong on large triangles, right made smaller (a range that gives out below 2^12)",
     "far-from-edge": "samples away from every edge decided wrongly",
+    "rule-boundary": "pixels exactly on the coverage rule's boundary decided wrongly (an area of exactly the threshold, "
+                     "a square the triangle only touches, or one inside it with a corner on an edge)",
+    "coverage-rule": "pixels decided wrongly against the declared coverage rule, away from its boundary",
     "dropped-near-edges": "samples just inside an edge missing in pixels whose centre lies outside (none extra): "
                           "dropped near edges, not a wrong pattern",
     "far-from-tie": "pixels away from the rule's ties drawn wrongly",
@@ -450,6 +453,11 @@ def classify_conformance(result: Any, case: Any, convention: Convention | None) 
         wrong = [w for w in wrong if w[0] not in flat]
         prims = np.array(sorted({w[0] for w in wrong}), dtype=np.int64)
         coordinates = primitive_coordinates(scene, prims)
+    if judged.model.rule:  # decided on the pixel's square: no sample point, no tie rule to blame
+        from harness.oracle.coverage_rules import on_rule_boundary
+
+        boundary = all(on_rule_boundary(snapped[k], x, y, judged) for k, x, y, *_ in wrong)
+        return ("rule-boundary" if boundary else "coverage-rule"), "none"
     magnitude = magnitude_of(coordinates)
     named: tuple[str, str] = kind_of(scene).hook("conformance_class")(result, convention, scene, wrong, prims, snapped, judged,
                                                                       magnitude, complete)

@@ -216,6 +216,9 @@ class Fingerprint:
             out.update(kind=self.coverage_kind, samples=None if samples is None else [list(o) for o in samples],
                        levels=self.convention.levels if self.model.alphas else None,
                        tolerance=self.convention.tolerance if self.model.alphas else None)
+        if self.model.rule:  # a coverage rule's declaration (added fields)
+            out.update(coverage=self.convention.coverage,
+                       threshold=self.convention.threshold if self.convention.coverage_uses_threshold else None)
         if self.fill_rules is not None:  # a path-taking rasterizer's (added fields)
             fit = self.path_fit
             path = self.path_convention

@@ -617,6 +617,8 @@ def path_coverage(scene: PathScene, convention: Convention) -> Coverage:
     [0, 0, 1, 1, 2, 2, 3, 3]
     """
     if not convention.model.paths:
+        if not convention.model.alphas:
+            raise ValueError(f"{convention.model.declared_as(convention)} coverage of paths is not defined yet (triangles only)")
         raise ValueError("analytic area coverage of paths is not defined yet: give the area convention a sample pattern")
     offsets = convention.samples if convention.samples is not None else (convention.sample,)
     layers = [_path_layer(scene, replace(convention.at_sample(s) if convention.samples is not None else convention,

@@ -34,6 +34,10 @@ CONVENTIONS = {
     "multisample": Convention(samples=4, subpixel_bits=4),
     "area": Convention(coverage="area", subpixel_bits=4),
     "supersampled area": Convention(coverage="area", samples=16, levels=17),
+    # the coverage rules (issue 33)
+    "area-threshold": Convention(coverage="area-threshold", subpixel_bits=4),
+    "conservative-over": Convention(coverage="conservative-over", subpixel_bits=4),
+    "conservative-under": Convention(coverage="conservative-under", subpixel_bits=4),
 }
 # two overlapping triangles with an attribute each vertex, edges through pixel centres
 SCENE = Scene(6, 5, np.array([[[0.0, 0.0], [6.0, 0.0], [0.0, 5.0]], [[5.5, 4.75], [1.25, 0.5], [6.0, 4.0]]]),
@@ -45,7 +49,8 @@ def test_a_convention_of_each_kind_gets_its_model():
     models = COVERAGE_MODELS.values()
     assert [CONVENTIONS[m.name].coverage_kind for m in models] == [m.coverage_kind for m in models]
     # the kinds keep their strings (JSON, reports, the command line); supersampled area is area to them
-    assert [c.coverage_kind for c in CONVENTIONS.values()] == ["single", "multisample", "area", "area"]
+    assert [c.coverage_kind for c in CONVENTIONS.values()] == ["single", "multisample", "area", "area", "single", "single",
+                                                                "single"]
     assert COVERAGE_KINDS == ("single", "multisample", "area")
     # chosen again when the declaration changes, kept across processes (one object per model)
     assert replace(CONVENTIONS["multisample"], samples=None).model is SINGLE
@@ -72,9 +77,10 @@ def test_a_convention_of_each_model_reads_back_where_only_records_may():
 
 def test_an_unknown_model_is_refused_in_one_line():
     with pytest.raises(ValueError, match=r"^no coverage model is named 'conservative': single, multisample, area, "
-                                         r"supersampled area$"):
+                                         r"supersampled area, area-threshold, conservative-over, conservative-under$"):
         model_named("conservative")
-    with pytest.raises(ValueError, match=r"^Convention.coverage must be 'sample' or 'area', not 'box'$"):
+    with pytest.raises(ValueError, match=r"^Convention.coverage must be one of sample, area, area-threshold, "
+                                         r"conservative-over, conservative-under, not 'box'$"):
         Convention(coverage="box")  # type: ignore[arg-type]
     with pytest.raises(TypeError):
         Convention(model=AREA)  # type: ignore[call-arg]  # chosen from the declaration, never given
@@ -89,6 +95,10 @@ def test_each_model_names_the_oracle_exact_coverage_used():
     from harness.oracle.area import area_coverage
 
     wanted["area"] = area_coverage
+    from harness.oracle.coverage_rules import conservative_over, conservative_under, threshold_coverage
+
+    wanted.update({"area-threshold": threshold_coverage, "conservative-over": conservative_over,
+                   "conservative-under": conservative_under})
     for name, model in COVERAGE_MODELS.items():
         module, _, function = model.triangle_oracle.partition(":")
         assert getattr(__import__(module, fromlist=[function]), function) is wanted[name], name
@@ -110,6 +120,10 @@ def test_each_models_oracle_gives_what_exact_coverage_gives(name):
     elif name == "multisample":
         for s in range(convention.n_samples):
             assert _spans(mine.layer(s)) == exact_coverage_python(SCENE, convention.at_sample(s)), s
+    elif convention.model.rule:
+        from harness.oracle.coverage_rules import rules_reference
+
+        assert mine == rules_reference(SCENE, convention)
     else:
         assert mine.alpha is not None and np.all((mine.alpha > 0) & (mine.alpha <= 1))
         # every pixel a triangle covers whole has alpha 1 under both area models
@@ -125,7 +139,7 @@ def test_a_models_answers_have_the_form_it_says(name):
     assert (answer.sample is not None) == model.sample_ids == model.layered
     assert (answer.alpha is not None) == model.alphas
     assert (answer.attributes is not None) == model.interpolates
-    assert model.single_sample == (convention.n_samples == 1 and not model.alphas)
+    assert model.single_sample == (convention.n_samples == 1 and not model.alphas and model.sample_point)
     assert not (model.sample_ids and model.alphas)
 
 
@@ -140,7 +154,7 @@ def test_paths_and_lines_are_defined_where_the_model_says():
         if model.paths:
             assert len(path_coverage(square, convention)), name
         else:
-            with pytest.raises(ValueError, match="analytic area coverage of paths is not defined"):
+            with pytest.raises(ValueError, match="coverage of paths is not defined"):
                 path_coverage(square, convention)
         if model.lines:
             assert len(line_coverage(line, convention)), name
@@ -161,7 +175,10 @@ def test_the_checks_that_apply_are_those_of_the_models_kind():
 
 def test_the_words_a_model_gives_messages():
     assert [m.declared_as(CONVENTIONS[m.name]) for m in COVERAGE_MODELS.values()] == [
-        "one sample per pixel", "a multisample pattern of 4 samples", "area coverage", "area coverage"]
+        "one sample per pixel", "a multisample pattern of 4 samples", "area coverage", "area coverage",
+        "an area threshold (a pixel iff at least 0.5 of it is covered)",
+        "conservative overestimate (a pixel iff its square meets the triangle)",
+        "conservative underestimate (a pixel iff its square lies in the triangle)"]
     from harness.identify.fingerprint import VERDICT_CHECKS
 
     assert VERDICT_CHECKS == {"single": ("conformance",), "multisample": ("conformance",),
