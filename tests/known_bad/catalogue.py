@@ -27,12 +27,15 @@ from tests.known_bad.antialiasing import (
     TruncatedArea,
 )
 from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
+from tests.known_bad.coverage_rules import BoxOverestimate, OpenUnderestimate, StrictThreshold
 from tests.known_bad.edge_functions import BUGS as EDGE_BUGS
 from tests.known_bad.edge_functions import EdgeFunctionBug
+from tests.known_bad.inputs import Float32ClaimsFloat64, TruncatesClaimsFloat64
 from tests.known_bad.lines import (
     BackwardPrestep,
     BothEndPixels,
     Float32DDA,
+    FullWidthOffset,
     LeftmostFirst,
     OffByOneLast,
     RoundingDDA,
@@ -70,6 +73,8 @@ def _all() -> list[Any]:
         FourBitArea(), DriftingStepArea(), RejectsNearEdges(), CentreSamples(),
         RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep(),
         RareSlopeTie(),
+        TruncatesClaimsFloat64(), Float32ClaimsFloat64(), StrictThreshold(), BoxOverestimate(), OpenUnderestimate(),
+        FullWidthOffset(),
     ]
 
 
