@@ -824,6 +824,44 @@ class Convention:
         return f"sample ({sx}, {sy}), {tie}, {snapping}, {culling}"
 
 
+    def facets(self) -> dict[str, str]:
+        """The convention in the columns of the report's conventions table, each in words:
+        what decides a pixel (``coverage``: one sample, a pattern, area, or a coverage
+        rule by its name), ``sample`` (the sample point and tie rule, where samples decide),
+        ``input`` (the precision received, :class:`InputPrecision`), ``snapping``,
+        ``culling`` and ``lines`` (the line rule, :meth:`LineRule.describe`).
+
+        >>> Convention(coverage="area-threshold", input="fixed6").facets()["coverage"]
+        'an area threshold (a pixel iff at least 0.5 of it is covered)'
+        >>> Convention(input="float32", subpixel_bits=8).facets()["input"], Convention().facets()["sample"]
+        ('float32 input', '(0.5, 0.5), top-left ties')
+        """
+        sx, sy = (f"{v:g}" for v in self.sample)
+        if self.model.rule:
+            coverage = self.model.declared_as(self) + (f", uncertainty {self.uncertainty:g} px" if self.uncertainty else "")
+        elif self.model.alphas:
+            coverage = f"area, {self.levels} levels, within {self.alpha_tolerance:.3g}" + (
+                "" if self.samples is None else f" of the share of {self._pattern_words()}")
+        elif self.samples is not None:
+            coverage = self._pattern_words()
+        else:
+            coverage = "one sample per pixel"
+        if not self.model.sample_point:
+            sample = "(decided on the pixel's square)"
+        elif self.samples is not None:
+            sample = self._tie_words()
+        elif self.model.alphas:
+            sample = "(area: no sample)"
+        else:
+            sample = f"({sx}, {sy}), {self._tie_words()}"
+        snapping = ("none" if self.subpixel_bits is None else
+                    f"1/{2**self.subpixel_bits} px" + {"nearest-even": "", "half-away": ", half away from zero",
+                                                      "floor": ", rounding down"}[self.snap_rounding])
+        return {"coverage": coverage, "sample": sample, "input": input_precision(self.input).describe(),
+                "snapping": snapping, "culling": "none" if self.cull == "none" else self.cull,
+                "lines": self.line.describe()}
+
+
 def snap(positions: NDArray[np.float64], subpixel_bits: int | None, rounding: str = "nearest-even") -> NDArray[np.float64]:
     """Snap coordinates to multiples of ``2**-subpixel_bits``, rounding to nearest with
     ties to even (``"nearest-even"``), to nearest with ties away from zero

@@ -67,6 +67,7 @@ from harness.engine.isolation import Call, CallTally, InProcess, Outcome, TimeLi
 from harness.identify.area_probes import alpha_sweeps
 from harness.identify.coverage_probes import CoverageKindFact, Remembered, coverage_kind, layered
 from harness.identify.input_probes import fit_input, fit_input_beside
+from harness.identify.rule_probes import fit_rule_beside
 from harness.identify.sample_probes import sample_positions, sample_sides
 from harness.identify.triangle_defects import (
     EPSILON_CASE,
@@ -407,16 +408,24 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
     convention = inputs.convention
     drawn = list(inputs.drawn)
     residual = sum(d.mismatches(convention) for d in drawn)
+    rule = None
+    if residual:  # no sample point explains it: a coverage rule decided on the pixel's square may
+        rule = fit_rule_beside(call, seed, convention, drawn)
+        if rule.chosen:
+            convention, drawn, residual = rule.convention, list(rule.drawn), rule.mismatches
     # refitted beside an input that moves the lattice's vertices, the runner-up is the input fit's
     runner_up = ((ties.runner_up.describe(), ties.runner_up_mismatches) if inputs.runner_up is None
                  else (inputs.runner_up[0].describe(), inputs.runner_up[1]))
+    if rule is not None and rule.chosen:  # the sample point is the runner-up of the rule that replaced it
+        runner_up = (rule.before.describe(), rule.before_mismatches)
     # in the card's order; a probe that has nothing to say is None
     probes: dict[str, Fact | None] = {
         "culling": ties.culling,
         "sample sweep": ties.sweep,
         "rounding": snapping.rounding_fit,
         "input": inputs,
-        "residual lies": residual_lies(ties.drawn, convention) if residual else None,
+        "coverage rule": rule,
+        "residual lies": residual_lies(ties.drawn, convention) if residual and convention.model.sample_point else None,
         "viewport edge": viewport_edge(call, seed),
         "epsilon": epsilon(call, convention, received),
         "zero area": zero_area(call),

@@ -19,6 +19,12 @@ its residual. Snapping candidates: none, and 4, 6 or 8 bits under each rounding.
 runner-up, and the fit on each orientation alone when they differ
 (:class:`RuleFit`). Run on a rasterizer: ``python -m harness.identify.rule_probes
 module:Class``.
+
+identify asks these probes when the sample-point fit leaves a residual
+(:func:`fit_rule_beside`): the best rule is then scored on every scene drawn so far (the tie,
+snapping and input fits' and these), beside the sample-point convention on the same
+scenes, and it replaces that convention only when it explains the rasterizer strictly
+better there (:class:`RuleFact`, the card's "coverage rule" line).
 """
 
 from __future__ import annotations
@@ -37,11 +43,13 @@ from harness.contract.conventions import SNAP_ROUNDINGS, Convention
 from harness.contract.coverage import Coverage
 from harness.contract.coverage_models import COVERAGE_RULES
 from harness.contract.scenes import Scene
+from harness.engine.isolation import Call
 from harness.geometry.exact import orientation
+from harness.identify.triangle_probes import Drawn, draw
 from harness.oracle.area import pixel_areas
 from harness.oracle.coverage import exact_coverage
 
-__all__ = ["RuleFit", "probe_scenes", "rule_candidates", "fit_rule", "simplest_dyadic"]
+__all__ = ["RuleFit", "RuleFact", "fit_rule_beside", "probe_scenes", "rule_candidates", "fit_rule", "simplest_dyadic"]
 
 SIZE = 16
 # above the float areas' error (harness.oracle.area.area_error_bound < 2**-24), below any probe's gap between areas
@@ -202,6 +210,68 @@ def fit_rule(rasterize: Callable[[Scene], Any], seed: int = 0) -> RuleFit:
             off, _, convention = _rank(scenes[part], answers[part])[0]
             sides[side] = (convention, off)
     return RuleFit(best, best_off, pixels, runner, ambiguous, sides)
+
+
+@dataclass(frozen=True)
+class RuleFact:
+    """identify's coverage-rule probe: the best coverage rule on the rule probes
+    (``fit``), and the convention chosen between it and the sample-point convention
+    ``before`` by their mismatches on every scene drawn (``drawn``: the sample fits' and
+    the rule probes'): the rule only when strictly fewer."""
+
+    fit: RuleFit
+    before: Convention
+    before_mismatches: int
+    rule_mismatches: int
+    drawn: tuple[Drawn, ...] = field(repr=False)
+
+    @property
+    def chosen(self) -> bool:
+        """Whether the rule replaced the sample-point convention."""
+        return self.rule_mismatches < self.before_mismatches
+
+    @property
+    def convention(self) -> Convention:
+        return self.fit.convention if self.chosen else self.before
+
+    @property
+    def mismatches(self) -> int:
+        return min(self.rule_mismatches, self.before_mismatches)
+
+    @property
+    def text(self) -> str:
+        verdict = ("explains it better than any sample point" if self.chosen
+                   else "explains it no better than the sample point")
+        return (f"{self.fit.convention.describe()}: {self.rule_mismatches} pixels off on every fit scene against "
+                f"{self.before_mismatches} for the sample point; {verdict}")
+
+
+def _answered_coverage(drawn: Drawn) -> Coverage:
+    return Coverage.empty() if drawn.coverage is None else drawn.coverage
+
+
+def fit_rule_beside(call: Call, seed: int, before: Convention, drawn_before: Sequence[Drawn]) -> RuleFact:
+    """:func:`fit_rule` through a :data:`~harness.engine.isolation.Call`, scored beside the
+    sample-point convention ``before`` on the scenes ``drawn_before`` and the rule probes
+    (an unanswered probe scene says nothing of any rule: left out)."""
+    probes = [draw(call, scene) for scene in probe_scenes(seed)]
+    answered = [d for d in probes if d.coverage is not None]
+    if not answered:
+        fit = RuleFit(before, 0, 0, None)
+        return RuleFact(fit, before, 0, 0, tuple(probes))
+    ranked = _rank([d.scene for d in answered], [_answered_coverage(d) for d in answered])
+    best_off, pixels, best = ranked[0]
+    runner = next(((c, off) for off, _, c in ranked[1:] if c.coverage != best.coverage), None)
+    fit = RuleFit(best, best_off, pixels, runner)
+    everything = [*drawn_before, *probes]
+    # the probes are small: the snapping (and threshold) of the best rule is chosen again on every scene
+    # drawn, among the candidates of its rule (in the probes' order on a tie)
+    scored = [(sum(d.mismatches(c) for d in everything), k, c)
+              for k, (_, _, c) in enumerate(ranked) if c.model is best.model]
+    rule_off, _, chosen = min(scored, key=lambda s: (s[0], s[1]))
+    if chosen is not best:
+        fit = RuleFit(chosen, sum(d.mismatches(chosen) for d in answered), pixels, runner)
+    return RuleFact(fit, before, sum(d.mismatches(before) for d in everything), rule_off, tuple(everything))
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -184,6 +184,7 @@ class Capabilities(TypedDict):
     scene_kinds: dict[str, tuple[str, ...]]
     fill_rules: dict[str, tuple[str, ...]]
     line_rules: dict[str, str]
+    facets: dict[str, dict[str, str]]
 
 
 def capabilities(rasterizers: list[Any]) -> Capabilities:
@@ -192,7 +193,9 @@ def capabilities(rasterizers: list[Any]) -> Capabilities:
     name -> rule}`` (the fill rules of the path-taking ones only; the line rule, in words
     (:meth:`Convention.describe_lines`), of the line-taking ones with a convention), read
     with :func:`harness.contract.protocol.scene_kinds_of`, :func:`harness.contract.protocol.fill_rules_of` and
-    :func:`harness.contract.protocol.convention_for`; pass it on as ``write_report(..., **capabilities(rs))``."""
+    :func:`harness.contract.protocol.convention_for`; pass it on as ``write_report(..., **capabilities(rs))``.
+    ``facets``: name -> the columns of the conventions table (:meth:`Convention.facets`) of the
+    convention each one is judged by (declared, or identified), for those that have one."""
     kinds = {r.name: scene_kinds_of(r) for r in rasterizers}
     lines: dict[str, str] = {}
     for r in rasterizers:
@@ -200,7 +203,8 @@ def capabilities(rasterizers: list[Any]) -> Capabilities:
         if convention is not None:
             lines[r.name] = convention.describe_lines()
     return {"scene_kinds": kinds, "fill_rules": {r.name: fill_rules_of(r) for r in rasterizers if "paths" in kinds[r.name]},
-            "line_rules": lines}
+            "line_rules": lines,
+            "facets": {r.name: r.convention.facets() for r in rasterizers if getattr(r, "convention", None) is not None}}
 
 
 def page_meta(suite: str, seed: Any, seconds: float | None = None) -> dict[str, Any]:
@@ -379,7 +383,8 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
                  patterns: dict[str, tuple[tuple[float, float], ...]] | None = None,
                  scene_kinds: dict[str, tuple[str, ...]] | None = None,
                  fill_rules: dict[str, tuple[str, ...]] | None = None,
-                 line_rules: dict[str, str] | None = None) -> Path:
+                 line_rules: dict[str, str] | None = None,
+                 facets: dict[str, dict[str, str]] | None = None) -> Path:
     """Write ``index.html``, one page per rasterizer and, given ``fingerprints`` (name ->
     :meth:`Fingerprint.to_dict` or ``{"error": text}``), ``fingerprints.html`` with every
     rasterizer side by side, into ``out_dir`` atomically.
@@ -393,7 +398,10 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
     the table of polygon fillers say a rasterizer takes; without them the scene kinds are
     read from its results (and a fingerprint that saw it fill paths or draw lines).
     ``line_rules`` (name -> the line rule in words, :func:`capabilities`) is what the cards
-    and the table of line drawers say a line-taking rasterizer's lines are checked against."""
+    and the table of line drawers say a line-taking rasterizer's lines are checked against.
+    ``facets`` (name -> :meth:`Convention.facets`, :func:`capabilities`) fills the conventions
+    table: each rasterizer's coverage, sample point and ties, input precision, snapping,
+    culling and line rule in columns, beside what identify found."""
     fingerprints = fingerprints or {}
     out_dir = Path(out_dir)
     checks = [c for c in ("run", *check_names()) if any(r.check == c for r in results)]
@@ -418,6 +426,7 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
             "pattern": svg_pattern((patterns or {})[name]) if (patterns or {}).get(name) else None,
             "calls": call_failures_text(calls[name]) if name in calls else "",
         }
+        row["facets"] = (facets or {}).get(name)
         row.update(_scene_card(name, mine, problems, fingerprints.get(name), scene_kinds, fill_rules))
         row.update(_line_card(name, mine, problems, fingerprints.get(name), judging_lines, line_rules, row["declared"]))
         rows.append(row)
@@ -440,11 +449,15 @@ def write_report(out_dir: Path, conventions: dict[str, str], results: list[Resul
                                                  pages=_pages(out_dir, bool(fingerprints)), skipped=skipped or {},
                                                  fillers=[row for row in rows if "paths" in row["scene_kinds"]],
                                                  drawers=[row for row in rows if "lines" in row["scene_kinds"]],
-                                                 line_checks=judging_lines)
+                                                 line_checks=judging_lines, facet_names=FACET_NAMES)
     path = out_dir / "index.html"
     atomic_write_text(path, html)
     return path
 
+
+# the conventions table's columns (:meth:`Convention.facets`), in order, with their headings
+FACET_NAMES = {"coverage": "coverage", "sample": "sample point and ties", "input": "input precision",
+               "snapping": "snapping", "culling": "culling", "lines": "line rule"}
 
 PATH_LINKS = 10  # failures linked per check in the table of polygon fillers; the rest are counted
 

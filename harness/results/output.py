@@ -24,10 +24,11 @@ JSON schema 1::
                        # and, for a rasterizer that takes lines, what identify found of them:
                        "line_...": ...}   # fields named line_* (harness.identify.line_probes)
                        | {"error": str}},   # what identify found, when it ran
-      # these three only when the caller knows the rasterizers (harness.report.pages.capabilities):
+      # these four only when the caller knows the rasterizers (harness.report.pages.capabilities):
       "scene_kinds": {"<name>": ["triangles" | "paths" | "lines", ...]},   # the scene kinds each takes
       "fill_rules": {"<name>": ["nonzero" | "evenodd", ...]},   # of those that take paths
       "line_rules": {"<name>": "<line rule, in words>"},   # of those that take lines: Convention.describe_lines()
+      "facets": {"<name>": {"coverage": "...", "input": "...", ...}},  # the conventions table: Convention.facets()
       "results": [
         {"rasterizer": str, "case": str, "check": str,   # a path case's evidence names "path", a line case's "segment"
          "status": "pass" | "fail" | "error" | "skip",
@@ -115,8 +116,9 @@ def call_failures_text(found: dict[str, list[str]], most: int = 5) -> str:
 def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizers: dict[str, str],
                     fingerprints: dict[str, dict[str, Any]] | None = None, *,
                     scene_kinds: dict[str, tuple[str, ...]] | None = None, fill_rules: dict[str, tuple[str, ...]] | None = None,
-                    line_rules: dict[str, str] | None = None) -> dict[str, Any]:
-    """The schema-1 document of a run; ``scene_kinds``, ``fill_rules`` and ``line_rules``
+                    line_rules: dict[str, str] | None = None,
+                    facets: dict[str, dict[str, str]] | None = None) -> dict[str, Any]:
+    """The schema-1 document of a run; ``scene_kinds``, ``fill_rules``, ``line_rules`` and ``facets``
     (:func:`harness.report.pages.capabilities`: pass it on as ``**capabilities(rs)``) are written
     when given.
 
@@ -127,7 +129,7 @@ def results_to_json(results: Iterable[Result], suite: str, seed: int, rasterizer
     results = list(results)
     rows = [result_row(r) for r in results]
     failures = call_failures(results)
-    known = {"scene_kinds": scene_kinds, "fill_rules": fill_rules, "line_rules": line_rules}
+    known = {"scene_kinds": scene_kinds, "fill_rules": fill_rules, "line_rules": line_rules, "facets": facets}
     return {
         "schema": SCHEMA,
         "rastercheck": harness.__version__,

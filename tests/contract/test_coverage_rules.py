@@ -322,3 +322,40 @@ def test_closed_allows_the_regions_imbalance():
     assert closed_balance(case, may, declared, oracle).status == "pass"
     exact = Convention(coverage="conservative-over")
     assert closed_balance(case, may, exact, functools.partial(exact_coverage, scene, exact)).status == "fail"
+
+
+class _Named(_Oracular):
+    name = "oracular_rule"
+
+
+@pytest.mark.parametrize("convention", [Convention(coverage="area-threshold", threshold=0.25),
+                                        Convention(coverage="conservative-over", subpixel_bits=8)])
+def test_identify_calls_a_rule_following_rasterizer_exact_by_its_rule(convention):
+    """identify itself (not only the probes): the sample-point fit leaves a residual, the
+    rule probes replace it, the card says so and the sample point is the runner-up."""
+    from harness.identify.fingerprint import identify
+
+    fingerprint = identify(_Named(convention))
+    assert fingerprint.exact, fingerprint.card()
+    assert fingerprint.convention.model is convention.model
+    assert fingerprint.runner_up is not None and fingerprint.runner_up[1] > 0
+    assert "explains it better than any sample point" in fingerprint.facts["coverage rule"]
+
+
+def test_identify_keeps_the_sample_point_when_no_rule_explains_it_better():
+    """A sample-point rasterizer with one fault: the rule probes are asked, and lose."""
+    from harness.identify.fingerprint import identify
+
+    class OnePixelOff(_Oracular):
+        name = "one_pixel_off"
+
+        def rasterize(self, scene: Scene) -> Coverage:
+            good = exact_coverage(scene, self.convention)
+            if not len(good):  # one more pixel at the end of the first span
+                return good
+            return Coverage(good.primitive, good.y, good.x0, good.x1 + (np.arange(len(good)) == 0))
+
+    fingerprint = identify(OnePixelOff(Convention()))
+    assert not fingerprint.exact
+    assert fingerprint.convention.model.sample_point
+    assert "no better than the sample point" in fingerprint.facts["coverage rule"]

@@ -264,3 +264,29 @@ def test_the_presentation_imports_matplotlib_only_to_plot():
     code = "import sys, harness.report.pages, harness.report.pictures; assert 'matplotlib' not in sys.modules; print('ok')"
     done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0 and done.stdout.strip() == "ok", done.stderr[-2000:]
+
+
+def test_the_conventions_table_shows_each_rule_input_and_line_rule_in_its_columns(results, tmp_path):
+    """The new rules (issue 33): a coverage rule, an input precision and a line rule each
+    land in their own column, beside what identify found; a rasterizer with no convention
+    says so."""
+    from harness.contract.conventions import Convention, LineRule
+
+    facets = {"bad_wrong_tie_claim": Convention(coverage="area-threshold", input="fixed6").facets(),
+              "bad_no-prestep": Convention(input="float32", subpixel_bits=8, line=LineRule("parallelogram")).facets()}
+    write_report(tmp_path, CONVENTIONS, results, seed=0, facets=facets,
+                 scene_kinds={"bad_wrong_tie_claim": ("triangles",), "bad_no-prestep": ("triangles", "lines"),
+                              "bad_raises": ("triangles",)})
+    index = (tmp_path / "index.html").read_text()
+    table = index[index.index('<table class="conventions">'):]
+    table = table[:table.index("</table>")]
+    rows = {re.search(r'<a href="[^"]+">([^<]+)</a>', row).group(1): re.findall(r"<td[^>]*>(.*?)</td>", row, re.S)
+            for row in table.split("<tr>")[2:]}
+    assert rows["bad_wrong_tie_claim"][1:5] == ["an area threshold (a pixel iff at least 0.5 of it is covered)",
+                                                "(decided on the pixel&#39;s square)",
+                                                "26.6 fixed-point input (1/64 px, nearest-even)", "none"]
+    assert "takes no lines" in rows["bad_wrong_tie_claim"][6]
+    assert rows["bad_no-prestep"][3:5] == ["float32 input", "1/256 px"]
+    assert rows["bad_no-prestep"][6] == "parallelogram lines (Vulkan non-strict)"
+    assert "no convention declared or identified" in rows["bad_raises"][1]
+    assert all("not identified" in cells[-1] for cells in rows.values())
