@@ -280,8 +280,11 @@ def test_the_conventions_table_shows_each_rule_input_and_line_rule_in_its_column
     index = (tmp_path / "index.html").read_text()
     table = index[index.index('<table class="conventions">'):]
     table = table[:table.index("</table>")]
-    rows = {re.search(r'<a href="[^"]+">([^<]+)</a>', row).group(1): re.findall(r"<td[^>]*>(.*?)</td>", row, re.S)
-            for row in table.split("<tr>")[2:]}
+    rows = {}
+    for row in table.split("<tr>")[2:]:
+        named = re.search(r'<a href="[^"]+">([^<]+)</a>', row)
+        assert named is not None, row
+        rows[named.group(1)] = re.findall(r"<td[^>]*>(.*?)</td>", row, re.S)
     assert rows["bad_wrong_tie_claim"][1:5] == ["an area threshold (a pixel iff at least 0.5 of it is covered)",
                                                 "(decided on the pixel&#39;s square)",
                                                 "26.6 fixed-point input (1/64 px, nearest-even)", "none"]
