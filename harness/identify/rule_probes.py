@@ -15,6 +15,13 @@ undrawn, smallest area drawn]`` (the areas of the snapped triangles); the simple
 number in that interval (fewest bits) is the candidate, and the exact oracle then counts
 its residual. Snapping candidates: none, and 4, 6 or 8 bits under each rounding.
 
+The rules read from libraries' sources (``agg-cover``, ``inclusive-scanline``: a model with
+``input_bits``) are tried on their own grid under each input rounding; ``agg-cover``'s
+threshold is read the same way from AGG's 8-bit covers of the probe pixels (the split of the
+covers drawn and left undrawn, as a share of 256). When only the input rounding is left
+undecided, :func:`input_scenes` (vertices halfway between grid points, some off screen
+to the left and above) decides it.
+
 :func:`fit_rule` gives the best convention, its residual (pixels off over the probes), the
 runner-up, and the fit on each orientation alone when they differ
 (:class:`RuleFit`). Run on a rasterizer: ``python -m harness.identify.rule_probes
@@ -33,15 +40,16 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.contract.conventions import SNAP_ROUNDINGS, Convention
+from harness.contract.conventions import INPUT_ROUNDINGS, SNAP_ROUNDINGS, Convention
 from harness.contract.coverage import Coverage
-from harness.contract.coverage_models import COVERAGE_RULES
+from harness.contract.coverage_models import AGG_COVER, COVERAGE_RULES
 from harness.contract.scenes import Scene
 from harness.geometry.exact import orientation
 from harness.oracle.area import pixel_areas
 from harness.oracle.coverage import exact_coverage
 
-__all__ = ["RuleFit", "probe_scenes", "rule_candidates", "fit_rule", "simplest_dyadic"]
+__all__ = ["RuleFit", "probe_scenes", "input_scenes", "rule_candidates", "library_candidates", "fit_rule",
+           "simplest_dyadic"]
 
 SIZE = 16
 # above the float areas' error (harness.oracle.area.area_error_bound < 2**-24), below any probe's gap between areas
@@ -128,13 +136,44 @@ def rule_candidates(scenes: Sequence[Scene], answers: Sequence[Coverage]) -> lis
             areas.append(area)
             drawn.append(_drawn(answer)[y, x])
         t = best_threshold(np.concatenate(areas), np.concatenate(drawn)) if areas else None
-        for name in COVERAGE_RULES:
+        for name, model in COVERAGE_RULES.items():
+            if model.input_bits is not None:
+                continue  # on their own grid, below
             if name == "area-threshold":
                 if t is not None and 2.0**-20 <= t < 1.0:  # a threshold of 1 is conservative-under
                     out.append(Convention(coverage="area-threshold", threshold=t, subpixel_bits=bits,
                                          snap_rounding=rounding))  # type: ignore[arg-type]
             else:
                 out.append(Convention(coverage=name, subpixel_bits=bits, snap_rounding=rounding))  # type: ignore[arg-type]
+    return out + library_candidates(scenes, answers)
+
+
+def library_candidates(scenes: Sequence[Scene], answers: Sequence[Coverage]) -> list[Convention]:
+    """The rules defined on a library's integer grid (``input_bits``), under each input
+    rounding; ``agg-cover``'s threshold the best split of AGG's covers of the probe pixels
+    (as a share of 256; none when the covers draw no pixel)."""
+    from harness.oracle.library_rules import agg_covers
+
+    out = []
+    for name, model in COVERAGE_RULES.items():
+        if model.input_bits is None:
+            continue
+        for rounding in INPUT_ROUNDINGS:
+            received = f"integer-{rounding}" if model.input_bits == 0 else f"fixed{model.input_bits}-{rounding}"
+            if model is not AGG_COVER:
+                out.append(Convention(coverage=name, input=received))  # type: ignore[arg-type]
+                continue
+            base = Convention(coverage=name, input=received)  # type: ignore[arg-type]
+            covers, drawn = [], []
+            for scene, answer in zip(scenes, answers):
+                positions = base.snap(scene.positions)
+                if not np.all(np.isfinite(positions)):
+                    continue
+                covers.append(agg_covers(positions[0], SIZE, SIZE).ravel() / 256.0)
+                drawn.append(_drawn(answer).ravel())
+            t = best_threshold(np.concatenate(covers), np.concatenate(drawn)) if covers else None
+            if t is not None:
+                out.append(Convention(coverage=name, input=received, threshold=max(t, 2.0**-8)))  # type: ignore[arg-type]
     return out
 
 
@@ -193,6 +232,8 @@ def fit_rule(rasterize: Callable[[Scene], Any], seed: int = 0) -> RuleFit:
     answers = [rasterize(scene) for scene in scenes]
     ranked = _rank(scenes, answers)
     best_off, pixels, best = ranked[0]
+    if best.model.input_bits is not None:
+        best = _input_rounding(rasterize, best, [c for off, _, c in ranked if off == best_off])
     ambiguous = tuple(c for off, _, c in ranked[1:] if off == best_off and c.coverage != best.coverage)
     runner = next(((c, off) for off, _, c in ranked[1:] if c.coverage != best.coverage), None)
     sides: dict[str, tuple[Convention, int]] = {}
@@ -202,6 +243,41 @@ def fit_rule(rasterize: Callable[[Scene], Any], seed: int = 0) -> RuleFit:
             off, _, convention = _rank(scenes[part], answers[part])[0]
             sides[side] = (convention, off)
     return RuleFit(best, best_off, pixels, runner, ambiguous, sides)
+
+
+def input_scenes(candidates: Sequence[Convention], seed: int = 0, count: int = 24, tries: int = 2000) -> list[Scene]:
+    """Up to ``count`` one-triangle scenes on which ``candidates`` (conventions differing
+    in their input rounding) do not all agree: vertices exactly halfway between points of
+    the candidates' input grid, some left of or above the screen (where nearest-even and
+    half-away disagree, and floor and toward-zero below 0), drawn at random, kept when two
+    candidates' exact answers differ (``tries`` drawn at most)."""
+    rng = np.random.default_rng(seed)
+    scale = 2.0**max(c.input_precision.bits for c in candidates)
+    scenes: list[Scene] = []
+    for _ in range(tries):
+        if len(scenes) >= count:
+            break
+        p = (rng.integers(int(-3 * scale), int(13 * scale), size=(3, 2)) + 0.5) / scale
+        if orientation(p[None])[0] == 0:
+            continue
+        scene = Scene(SIZE, SIZE, p[None])
+        drawn = [_drawn(exact_coverage(scene, c)) for c in candidates]
+        if any(not np.array_equal(drawn[0], d) for d in drawn[1:]):
+            scenes.append(scene)
+    return scenes
+
+
+def _input_rounding(rasterize: Callable[[Scene], Any], best: Convention, tied: Sequence[Convention]) -> Convention:
+    """Of the conventions as good as ``best`` on the probes that differ from it only in the
+    input rounding, the one fewest pixels off on :func:`input_scenes` (``best`` on a tie)."""
+    same = [best] + [c for c in tied if c is not best and c.model is best.model and c.threshold == best.threshold
+                     and c.input_precision.bits == best.input_precision.bits]
+    if len(same) < 2:
+        return best
+    scenes = input_scenes(same)
+    answers = [rasterize(scene) for scene in scenes]
+    scored = [(_residual(c, scenes, answers)[0], k) for k, c in enumerate(same)]
+    return same[min(scored)[1]]
 
 
 def main(argv: Sequence[str] | None = None) -> int:
