@@ -18,9 +18,13 @@ its residual. Snapping candidates: none, and 4, 6 or 8 bits under each rounding.
 The rules read from libraries' sources (``agg-cover``, ``inclusive-scanline``: a model with
 ``input_bits``) are tried on their own grid under each input rounding; ``agg-cover``'s
 threshold is read the same way from AGG's 8-bit covers of the probe pixels (the split of the
-covers drawn and left undrawn, as a share of 256). When only the input rounding is left
-undecided, :func:`input_scenes` (vertices halfway between grid points, some off screen
-to the left and above) decides it.
+covers drawn and left undrawn, as a share of 256). When such a rule ties for best with
+another candidate on the probes (an input rounding, or a threshold on the exact area),
+:func:`separating_scenes` (vertices halfway between grid points, some off screen to the
+left and above, kept where the tied candidates disagree) tell them apart: their pixels off
+there are added to the tied candidates' residuals (the best's ``pixels`` count its own);
+on screen first, then, for those still tied, with vertices off screen too (only there do
+floor and toward-zero differ; there the libraries also clip, which the rules do not model).
 
 :func:`fit_rule` gives the best convention, its residual (pixels off over the probes), the
 runner-up, and the fit on each orientation alone when they differ
@@ -48,7 +52,7 @@ from harness.geometry.exact import orientation
 from harness.oracle.area import pixel_areas
 from harness.oracle.coverage import exact_coverage
 
-__all__ = ["RuleFit", "probe_scenes", "input_scenes", "rule_candidates", "library_candidates", "fit_rule",
+__all__ = ["RuleFit", "probe_scenes", "separating_scenes", "rule_candidates", "library_candidates", "fit_rule",
            "simplest_dyadic"]
 
 SIZE = 16
@@ -231,9 +235,9 @@ def fit_rule(rasterize: Callable[[Scene], Any], seed: int = 0) -> RuleFit:
     scenes = probe_scenes(seed)
     answers = [rasterize(scene) for scene in scenes]
     ranked = _rank(scenes, answers)
+    # told apart on screen first; off screen (where libraries clip) only what is still tied
+    ranked = _separate(rasterize, _separate(rasterize, ranked), offscreen=True)
     best_off, pixels, best = ranked[0]
-    if best.model.input_bits is not None:
-        best = _input_rounding(rasterize, best, [c for off, _, c in ranked if off == best_off])
     ambiguous = tuple(c for off, _, c in ranked[1:] if off == best_off and c.coverage != best.coverage)
     runner = next(((c, off) for off, _, c in ranked[1:] if c.coverage != best.coverage), None)
     sides: dict[str, tuple[Convention, int]] = {}
@@ -245,19 +249,23 @@ def fit_rule(rasterize: Callable[[Scene], Any], seed: int = 0) -> RuleFit:
     return RuleFit(best, best_off, pixels, runner, ambiguous, sides)
 
 
-def input_scenes(candidates: Sequence[Convention], seed: int = 0, count: int = 24, tries: int = 2000) -> list[Scene]:
-    """Up to ``count`` one-triangle scenes on which ``candidates`` (conventions differing
-    in their input rounding) do not all agree: vertices exactly halfway between points of
-    the candidates' input grid, some left of or above the screen (where nearest-even and
-    half-away disagree, and floor and toward-zero below 0), drawn at random, kept when two
-    candidates' exact answers differ (``tries`` drawn at most)."""
+def separating_scenes(candidates: Sequence[Convention], seed: int = 0, count: int = 12, tries: int = 600,
+                      offscreen: bool = False) -> list[Scene]:
+    """Up to ``count`` one-triangle scenes on which ``candidates`` (conventions the probes
+    could not tell apart) do not all agree: vertices exactly halfway between points of the
+    finest input grid among them (1/512 px when none has one: where nearest-even and
+    half-away disagree, where an area just over a threshold is rounded under it), on
+    screen, or also left of and above it when ``offscreen`` (where floor and toward-zero
+    disagree; where a library clips), drawn at random and kept when two candidates' exact
+    answers differ (``tries`` drawn at most)."""
     rng = np.random.default_rng(seed)
-    scale = 2.0**max(c.input_precision.bits for c in candidates)
+    bits = max((c.input_precision.bits for c in candidates if c.input_precision.kind in ("fixed", "integer")), default=8)
+    scale = 2.0**bits
     scenes: list[Scene] = []
     for _ in range(tries):
         if len(scenes) >= count:
             break
-        p = (rng.integers(int(-3 * scale), int(13 * scale), size=(3, 2)) + 0.5) / scale
+        p = (rng.integers(int((-3 if offscreen else 1) * scale), int(13 * scale), size=(3, 2)) + 0.5) / scale
         if orientation(p[None])[0] == 0:
             continue
         scene = Scene(SIZE, SIZE, p[None])
@@ -267,17 +275,25 @@ def input_scenes(candidates: Sequence[Convention], seed: int = 0, count: int = 2
     return scenes
 
 
-def _input_rounding(rasterize: Callable[[Scene], Any], best: Convention, tied: Sequence[Convention]) -> Convention:
-    """Of the conventions as good as ``best`` on the probes that differ from it only in the
-    input rounding, the one fewest pixels off on :func:`input_scenes` (``best`` on a tie)."""
-    same = [best] + [c for c in tied if c is not best and c.model is best.model and c.threshold == best.threshold
-                     and c.input_precision.bits == best.input_precision.bits]
-    if len(same) < 2:
-        return best
-    scenes = input_scenes(same)
+def _separate(rasterize: Callable[[Scene], Any], ranked: list[tuple[int, int, Convention]],
+              offscreen: bool = False) -> list[tuple[int, int, Convention]]:
+    """The ranking with the candidates tied for best (the probes cannot tell them apart: a
+    rule read from a library's source and a threshold, or input roundings) told apart on
+    :func:`separating_scenes` (``offscreen`` or not): their pixels off there added to their residual, re-sorted
+    (stable: the probes' order on a tie), their pixels drawn there added to their pixels."""
+    best_off = ranked[0][0]
+    tied = [c for off, _, c in ranked if off == best_off]
+    if len(tied) < 2 or not any(c.model.input_bits is not None for c in tied):
+        return ranked
+    scenes = separating_scenes(tied, offscreen=offscreen)
+    if not scenes:
+        return ranked
     answers = [rasterize(scene) for scene in scenes]
-    scored = [(_residual(c, scenes, answers)[0], k) for k, c in enumerate(same)]
-    return same[min(scored)[1]]
+    extra = {id(c): _residual(c, scenes, answers) for c in tied}
+    rescored = [(off + extra[id(c)][0], pixels + extra[id(c)][1], c) if id(c) in extra else (off, pixels, c)
+                for off, pixels, c in ranked]
+    rescored.sort(key=lambda s: s[0])
+    return rescored
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -57,7 +57,7 @@ from harness.contract.scenes import Scene
 from harness.geometry.exact import orient2d_fraction
 
 __all__ = ["agg_cover_coverage", "agg_covers", "agg_cover_reference", "cell_polygon", "inclusive_scanline_coverage",
-           "inclusive_scanline_reference", "cover_min"]
+           "inclusive_scanline_reference", "cover_min", "on_library_boundary"]
 
 SUBPIXEL_SHIFT = 8  # AGG's poly_base_shift: 24.8 fixed point
 SUBPIXEL_ONE = 1 << SUBPIXEL_SHIFT
@@ -468,3 +468,32 @@ def inclusive_scanline_reference(scene: Scene, convention: Convention) -> Covera
                 ys.append(y)
                 xs.append(i)
     return _runs(ts, ys, xs)
+
+
+def on_library_boundary(triangle: NDArray[np.float64], i: int, j: int, convention: Convention) -> bool:
+    """Whether pixel (i, j) (i, j >= 0) lies exactly on the rule's decision boundary for the
+    ``triangle`` as the convention receives it: its AGG cover exactly ``256 t`` rounded up
+    (``agg-cover``: where a ``>`` for ``>=`` goes wrong), or the right end of row j's span
+    an exact integer crossing at i, or j the bottom row (``inclusive-scanline``: drawn only
+    because both ends are).
+
+    >>> t = np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 2.0]])
+    >>> on_library_boundary(t, 1, 0, Convention(coverage="agg-cover", input="fixed8-toward-zero"))  # half covered
+    True
+    >>> on_library_boundary(t, 2, 0, Convention(coverage="inclusive-scanline", input="integer-toward-zero"))
+    True
+    """
+    p = convention.snap(np.asarray(triangle, dtype=np.float64).reshape(3, 2))
+    if not np.all(np.isfinite(p)) or i < 0 or j < 0:
+        return False
+    if convention.model.thresholded:
+        return bool(agg_covers(p, i + 1, j + 1)[j, i] == cover_min(convention.threshold))
+    ys = p[:, 1]
+    if not ys.min() <= j <= ys.max():
+        return False
+    section = [Fraction(float(x)) for x, y in p if y == j]
+    for a, b in ((p[0], p[1]), (p[1], p[2]), (p[2], p[0])):
+        if min(a[1], b[1]) < j < max(a[1], b[1]):
+            section.append(Fraction(float(a[0])) + (j - Fraction(float(a[1]))) * Fraction(float(b[0] - a[0]))
+                           / Fraction(float(b[1] - a[1])))
+    return j == ys.max() or max(section) == i
