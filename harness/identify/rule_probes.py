@@ -265,7 +265,8 @@ def separating_scenes(candidates: Sequence[Convention], seed: int = 0, count: in
     for _ in range(tries):
         if len(scenes) >= count:
             break
-        p = (rng.integers(int((-3 if offscreen else 1) * scale), int(13 * scale), size=(3, 2)) + 0.5) / scale
+        p = np.asarray((rng.integers(int((-3 if offscreen else 1) * scale), int(13 * scale), size=(3, 2)) + 0.5) / scale,
+                       dtype=np.float64)
         if orientation(p[None])[0] == 0:
             continue
         scene = Scene(SIZE, SIZE, p[None])

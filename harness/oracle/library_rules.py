@@ -260,7 +260,8 @@ def agg_covers(triangle: NDArray[np.float64], width: int, height: int) -> NDArra
     A counter-clockwise half pixel is cover 128; its mirror image, clockwise, too (exact
     halves have no rounding); 171/512 of a pixel (85.5 / 256) is 85 counter-clockwise, 86 clockwise.
 
-    >>> agg_covers(np.array([[0, 0], [0, 1], [1, 1.0]]), 1, 1).tolist(), agg_covers(np.array([[0, 0], [1, 1], [0, 1.0]]), 1, 1).tolist()
+    >>> ccw, cw = np.array([[0, 0], [0, 1], [1, 1.0]]), np.array([[0, 0], [1, 1], [0, 1.0]])
+    >>> agg_covers(ccw, 1, 1).tolist(), agg_covers(cw, 1, 1).tolist()
     ([[128]], [[128]])
     >>> w = 171 / 256
     >>> [int(agg_covers(t, 1, 1)[0, 0]) for t in (np.array([[0, 0], [0, 1], [w, 1]]), np.array([[0, 0], [w, 1], [0, 1]]))]

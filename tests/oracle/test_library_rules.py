@@ -93,7 +93,7 @@ def test_the_cell_polygon_rounds_crossings_down():
 @example([(0.0, 0.0), (171 / 256, 1.0), (0.0, 1.0)], MATPLOTLIB)
 @example([(-1.5, 0.25), (7.75, 3.0), (0.5, 7.5)], AGGDRAW)  # off screen to the left
 def test_agg_cover_matches_its_rational_reference(vertices, convention):
-    scene = Scene(8, 8, [vertices])
+    scene = Scene(8, 8, np.array([vertices], dtype=np.float64))
     assert agg_cover_coverage(scene, convention) == agg_cover_reference(scene, convention)
 
 
@@ -111,7 +111,7 @@ def test_inclusive_scanline_matches_its_rational_reference(whole, fraction):
 
 
 def test_exact_coverage_dispatches_to_the_rules():
-    scene = Scene(6, 6, [[[0, 0], [6, 0], [0, 6]], [[1.5, 1.5], [5.25, 2], [2, 5.5]]])
+    scene = Scene(6, 6, np.array([[[0, 0], [6, 0], [0, 6]], [[1.5, 1.5], [5.25, 2], [2, 5.5]]]))
     for convention in (AGGDRAW, MATPLOTLIB):
         assert exact_coverage(scene, convention) == agg_cover_coverage(scene, convention)
     assert exact_coverage(scene, PYGAME) == inclusive_scanline_coverage(scene, PYGAME)
