@@ -153,6 +153,9 @@ class CoverageModel:
         A rule defined on an integer grid of 2**-input_bits px (the one its library
         receives): its convention's ``input`` must be ``fixedN`` with N <= input_bits or
         ``integer``; None: any input.
+    zero_area_draws : bool
+        Its exact answer draws triangles of zero area (after the input grid and snapping):
+        the degenerate check then asks only that non-finite ones draw nothing.
     """
 
     name: str
@@ -175,6 +178,7 @@ class CoverageModel:
     thresholded: bool = False
     uncertain: bool = False
     input_bits: int | None = None
+    zero_area_draws: bool = False
 
     def __repr__(self) -> str:
         return f"CoverageModel({self.name!r})"
@@ -246,7 +250,7 @@ INCLUSIVE_SCANLINE = CoverageModel(
     "inclusive-scanline", "single", "harness.oracle.library_rules:inclusive_scanline_coverage",
     declared="an inclusive scanline fill (each row from the truncated left crossing to the right one, both drawn)",
     seen="one sample per pixel", paths=False, verdict_checks=("conformance",), rule=True, sample_point=False,
-    exactly_once=False, input_bits=0)
+    exactly_once=False, input_bits=0, zero_area_draws=True)
 
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
                                                                   CONSERVATIVE_OVER, CONSERVATIVE_UNDER, AGG_COVER,

@@ -166,3 +166,25 @@ def test_identify_recovers_each_rule_input_rounding_included(convention):
 
     fit = fit_rule(_Oracular(convention).rasterize)
     assert fit.exact and fit.convention == convention, fit.describe()
+
+
+def test_checks_expect_what_the_inclusive_rule_draws():
+    """Zero-area triangles draw under inclusive-scanline (degenerate asks only that
+    non-finite ones draw nothing), and the pixels its truncated mesh draws just outside a
+    partition are the rule's own (watertight)."""
+    from harness.checks import degenerate, watertight
+
+    flat = Scene(6, 6, np.array([[[1, 1], [5, 3], [3, 2]], [[1, 4], [4, 4], [2, 4]]], dtype=np.float64))
+    case = Case("degenerate/rules/inclusive", flat, lattice=True)
+    drawn = exact_coverage(flat, PYGAME)
+    assert len(drawn) > 0 and degenerate(case, drawn, PYGAME).status == "pass"
+    assert degenerate(case, drawn, Convention()).status == "fail"  # under a sample rule they draw nothing
+    # a partition whose outline the integer input moves: pixel (2, 2) lies wholly outside, yet the truncated mesh draws it
+    quad = np.array([[3.5, 1.75], [8.5, 1.0], [7.5, 2.75], [1.25, 8.0]])
+    scene = Scene(10, 10, np.array([[quad[0], quad[1], quad[2]], [quad[0], quad[2], quad[3]]]))
+    part = Case("partitions/rules/inclusive", scene, lattice=False, region=quad)
+    own = exact_coverage(scene, PYGAME)
+    assert own.counts(10, 10)[2, 2] == 1
+    result = watertight(part, own, PYGAME, lambda: own)
+    assert result.status == "pass" and result.metrics["strays"] == 0 and result.metrics["rule_own"] > 0, result.message
+    assert watertight(part, own).metrics["strays"] > 0  # convention-free, a stray
