@@ -119,10 +119,10 @@ def watertight(case: Case, coverage: Coverage, convention: Convention | None = N
     holes, doubles = np.argwhere(empty), np.argwhere(twice)
     stray = outside & (counts > 0)
     if stray.any() and oracle is not None and convention is not None and not convention.model.exactly_once \
-            and (convention.subpixel_bits is not None or convention.uncertainty):
+            and (convention.quantizes or convention.uncertainty):
         # a rule that draws every square the (snapped) mesh touches: snapping moves the outline by up to half a
-        # grid step, and a square the snapped mesh touches just outside the region is the rule's own (as is one its
-        # uncertainty region reaches)
+        # grid step (an input grid by up to one step), and a square the moved mesh touches just outside the region
+        # is the rule's own (as is one its uncertainty region reaches)
         low, high = _allowed_counts(oracle, convention, scene, scene.width, scene.height)
         own_stray = stray & (counts >= low) & (counts <= high)
         excused = own_stray if own is None else excused | own_stray

@@ -130,6 +130,15 @@ sample pattern is the supersampled area model)
             Covered iff the closed square lies inside the closed triangle (a side on an edge
             counts): D3D12's underestimate (Vulkan's inner coverage); ``uncertainty`` u
             requires only the squares that, grown by u, lie inside.
+        ``agg-cover``
+            AGG's scanline rasterizer on 24.8 fixed point (``input="fixed8-..."``): covered
+            iff the pixel's 8-bit cover, ``|V >> 9|`` capped at 255 with V the doubled signed
+            area of AGG's cell polygon in the pixel, is at least ``256 * threshold``
+            (aggdraw aliased: 1/2; matplotlib aliased: 1/256). :mod:`harness.oracle.library_rules`.
+        ``inclusive-scanline``
+            pygame's ``draw_fillpoly`` on whole pixels (``input="integer-..."``): each row
+            from the lowest vertex to the highest, from the truncated left crossing of the
+            closed triangle to the truncated right one, both drawn (zero area too).
         The tie rule and ``sample`` mean nothing to them. A planar partition is not hit
         exactly once: double hits (over, threshold) and holes (under, threshold) are the
         rule's own, and the checks excuse those the exact answer has.
@@ -543,7 +552,8 @@ class Convention:
     snap_rounding: SnapRounding = "nearest-even"
     # given as a count or offsets (harness.contract.samples.pattern), kept as a tuple of (x, y) offsets
     samples: Any = None
-    coverage: Literal["sample", "area", "area-threshold", "conservative-over", "conservative-under"] = "sample"
+    coverage: Literal["sample", "area", "area-threshold", "conservative-over", "conservative-under", "agg-cover",
+                      "inclusive-scanline"] = "sample"
     levels: int = 256
     tolerance: float | None = None
     # line scenes only (a LineRule, or its rule's name)
@@ -744,6 +754,14 @@ class Convention:
             raise ValueError(f"Convention.uncertainty is a conservative rule's (coverage='conservative-over' or "
                              f"'conservative-under'), not {self.coverage!r}'s")
         object.__setattr__(self, "uncertainty", float(uncertainty))
+        grid = self.model.input_bits
+        if grid is not None:  # a rule defined on its library's integer grid (agg-cover, inclusive-scanline)
+            received = input_precision(self.input)
+            if not (received.kind == "integer" or (received.kind == "fixed" and received.bits <= grid)) \
+                    or self.subpixel_bits is not None:
+                raise ValueError(f"Convention.coverage {self.coverage!r} is defined on a grid of 2**-{grid} px: declare "
+                                 f"input='{'integer' if grid == 0 else f'fixed{grid}'}-<rounding>' (and no subpixel_bits), "
+                                 f"not input={self.input!r}")
 
     @property
     def tie_perturbation(self) -> tuple[int, int, bool]:

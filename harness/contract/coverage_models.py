@@ -20,16 +20,23 @@ threshold``                  ``threshold`` of the pixel's area (aggdraw's aliase
 over``                       closed triangle (D3D12/Vulkan overestimate)
 ``conservative- single       covered or not: iff the pixel's closed square lies in the
 under``                      closed triangle (D3D12/Vulkan underestimate)
+``agg-cover``   single       covered or not: iff AGG's 8-bit cell cover of the pixel is at
+                             least 256 ``threshold`` (aggdraw's and matplotlib's aliased fills)
+``inclusive-    single       covered or not: every row between the integer vertices, from
+scanline``                   the truncated left crossing to the right one, both included (pygame)
 ==============  ===========  ===========================================================
 
-The last three are *coverage rules* (``rule``): declared by their name as
+The last five are *coverage rules* (``rule``): declared by their name as
 ``Convention.coverage``, answered as one sample per pixel is (a (triangle, pixel) covered or
 not, so the single-sample checks judge them), but decided on the pixel's square, not at a
 sample point: the tie rule and ``sample`` mean nothing to them (``sample_point`` False: no
 near tie is measured at a sample), and a planar partition's pixels are not hit exactly once
 under them (``exactly_once`` False: watertight, overdraw and closed excuse the holes and
 double hits the rule's own exact answer has). Paths, lines and points are not defined under
-them (triangles only; the oracles refuse in one line).
+them (triangles only; the oracles refuse in one line). The last two are procedures read from
+libraries' sources (:mod:`harness.oracle.library_rules`), defined on the integer grid their
+library receives (``input_bits``: a convention must declare an input precision that fine or
+coarser).
 
 ``coverage_kind`` is the coverage kind of :attr:`Convention.coverage_kind
 <harness.contract.conventions.Convention.coverage_kind>`, the word JSON, reports, the command line and
@@ -49,15 +56,16 @@ imports no other module of the harness. The oracles sit above the conventions th
 apply, so a model names its oracle (``"harness.oracle.coverage:exact_multisample"``) and resolves
 the name when first asked, as :mod:`harness` resolves its lazily imported names.
 
->>> [m.name for m in COVERAGE_MODELS.values()]
-['single', 'multisample', 'area', 'supersampled area', 'area-threshold', 'conservative-over', 'conservative-under']
+>>> [m.name for m in COVERAGE_MODELS.values()]  # doctest: +NORMALIZE_WHITESPACE
+['single', 'multisample', 'area', 'supersampled area', 'area-threshold', 'conservative-over', 'conservative-under',
+ 'agg-cover', 'inclusive-scanline']
 >>> model_named("multisample").sample_ids, model_named("area").alphas
 (True, True)
 >>> model_named("conservative")  # doctest: +NORMALIZE_WHITESPACE
 Traceback (most recent call last):
 ...
 ValueError: no coverage model is named 'conservative': single, multisample, area, supersampled area, area-threshold,
-conservative-over, conservative-under
+conservative-over, conservative-under, agg-cover, inclusive-scanline
 """
 
 from __future__ import annotations
@@ -70,12 +78,13 @@ from typing import Any, Literal
 
 __all__ = ["CoverageModel", "CoverageKind", "COVERAGE_KINDS", "COVERAGE_MODELS", "DECLARED_COVERAGES", "SINGLE",
            "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "AREA_THRESHOLD", "CONSERVATIVE_OVER", "CONSERVATIVE_UNDER",
-           "COVERAGE_RULES", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named", "model_for"]
+           "AGG_COVER", "INCLUSIVE_SCANLINE", "COVERAGE_RULES", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named", "model_for"]
 
 CoverageKind = Literal["single", "multisample", "area"]
 # what Convention.coverage may say: point samples (one, or a pattern's), area, or a coverage
 # rule by its model's name (COVERAGE_RULES)
-DECLARED_COVERAGES: tuple[str, ...] = ("sample", "area", "area-threshold", "conservative-over", "conservative-under")
+DECLARED_COVERAGES: tuple[str, ...] = ("sample", "area", "area-threshold", "conservative-over", "conservative-under",
+                                       "agg-cover", "inclusive-scanline")
 # The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
 # 64 with no standard locations; 32 keeps a garbage answer's span budget bounded).
 MAX_SAMPLES = 32
@@ -140,6 +149,13 @@ class CoverageModel:
         Its convention's ``threshold`` means something (``declared`` may name it: ``{t}``).
     uncertain : bool
         Its convention may declare an ``uncertainty`` region (the conservative rules).
+    input_bits : int or None
+        A rule defined on an integer grid of 2**-input_bits px (the one its library
+        receives): its convention's ``input`` must be ``fixedN`` with N <= input_bits or
+        ``integer``; None: any input.
+    zero_area_draws : bool
+        Its exact answer draws triangles of zero area (after the input grid and snapping):
+        the degenerate check then asks only that non-finite ones draw nothing.
     """
 
     name: str
@@ -161,6 +177,8 @@ class CoverageModel:
     exactly_once: bool = True
     thresholded: bool = False
     uncertain: bool = False
+    input_bits: int | None = None
+    zero_area_draws: bool = False
 
     def __repr__(self) -> str:
         return f"CoverageModel({self.name!r})"
@@ -222,8 +240,21 @@ CONSERVATIVE_UNDER = CoverageModel(
     declared="conservative underestimate (a pixel iff its square lies in the triangle)", seen="one sample per pixel",
     paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False, uncertain=True)
 
+# the rules read from libraries' sources (issue 33): procedures on the integer grid the library receives
+AGG_COVER = CoverageModel(
+    "agg-cover", "single", "harness.oracle.library_rules:agg_cover_coverage",
+    declared="AGG's cell cover (a pixel iff its 8-bit cover is at least 256 x {t})", seen="one sample per pixel",
+    paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False, thresholded=True,
+    input_bits=8)
+INCLUSIVE_SCANLINE = CoverageModel(
+    "inclusive-scanline", "single", "harness.oracle.library_rules:inclusive_scanline_coverage",
+    declared="an inclusive scanline fill (each row from the truncated left crossing to the right one, both drawn)",
+    seen="one sample per pixel", paths=False, verdict_checks=("conformance",), rule=True, sample_point=False,
+    exactly_once=False, input_bits=0, zero_area_draws=True)
+
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
-                                                                  CONSERVATIVE_OVER, CONSERVATIVE_UNDER)}
+                                                                  CONSERVATIVE_OVER, CONSERVATIVE_UNDER, AGG_COVER,
+                                                                  INCLUSIVE_SCANLINE)}
 # the coverage rules, by the Convention.coverage that declares each (its name)
 COVERAGE_RULES: dict[str, CoverageModel] = {m.name: m for m in COVERAGE_MODELS.values() if m.rule}
 # the coverage kinds, in the models' order

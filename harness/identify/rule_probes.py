@@ -15,6 +15,17 @@ undrawn, smallest area drawn]`` (the areas of the snapped triangles); the simple
 number in that interval (fewest bits) is the candidate, and the exact oracle then counts
 its residual. Snapping candidates: none, and 4, 6 or 8 bits under each rounding.
 
+The rules read from libraries' sources (``agg-cover``, ``inclusive-scanline``: a model with
+``input_bits``) are tried on their own grid under each input rounding; ``agg-cover``'s
+threshold is read the same way from AGG's 8-bit covers of the probe pixels (the split of the
+covers drawn and left undrawn, as a share of 256). When such a rule ties for best with
+another candidate on the probes (an input rounding, or a threshold on the exact area),
+:func:`separating_scenes` (vertices halfway between grid points, some off screen to the
+left and above, kept where the tied candidates disagree) tell them apart: their pixels off
+there are added to the tied candidates' residuals (the best's ``pixels`` count its own);
+on screen first, then, for those still tied, with vertices off screen too (only there do
+floor and toward-zero differ; there the libraries also clip, which the rules do not model).
+
 :func:`fit_rule` gives the best convention, its residual (pixels off over the probes), the
 runner-up, and the fit on each orientation alone when they differ
 (:class:`RuleFit`). Run on a rasterizer: ``python -m harness.identify.rule_probes
@@ -39,9 +50,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.contract.conventions import SNAP_ROUNDINGS, Convention
+from harness.contract.conventions import INPUT_ROUNDINGS, SNAP_ROUNDINGS, Convention
 from harness.contract.coverage import Coverage
-from harness.contract.coverage_models import COVERAGE_RULES
+from harness.contract.coverage_models import AGG_COVER, COVERAGE_RULES
 from harness.contract.scenes import Scene
 from harness.engine.isolation import Call
 from harness.geometry.exact import orientation
@@ -49,7 +60,8 @@ from harness.identify.triangle_probes import Drawn, draw
 from harness.oracle.area import pixel_areas
 from harness.oracle.coverage import exact_coverage
 
-__all__ = ["RuleFit", "RuleFact", "fit_rule_beside", "probe_scenes", "rule_candidates", "fit_rule", "simplest_dyadic"]
+__all__ = ["RuleFit", "RuleFact", "fit_rule_beside", "probe_scenes", "separating_scenes", "rule_candidates",
+           "library_candidates", "fit_rule", "simplest_dyadic"]
 
 SIZE = 16
 # above the float areas' error (harness.oracle.area.area_error_bound < 2**-24), below any probe's gap between areas
@@ -136,13 +148,44 @@ def rule_candidates(scenes: Sequence[Scene], answers: Sequence[Coverage]) -> lis
             areas.append(area)
             drawn.append(_drawn(answer)[y, x])
         t = best_threshold(np.concatenate(areas), np.concatenate(drawn)) if areas else None
-        for name in COVERAGE_RULES:
+        for name, model in COVERAGE_RULES.items():
+            if model.input_bits is not None:
+                continue  # on their own grid, below
             if name == "area-threshold":
                 if t is not None and 2.0**-20 <= t < 1.0:  # a threshold of 1 is conservative-under
                     out.append(Convention(coverage="area-threshold", threshold=t, subpixel_bits=bits,
                                          snap_rounding=rounding))  # type: ignore[arg-type]
             else:
                 out.append(Convention(coverage=name, subpixel_bits=bits, snap_rounding=rounding))  # type: ignore[arg-type]
+    return out + library_candidates(scenes, answers)
+
+
+def library_candidates(scenes: Sequence[Scene], answers: Sequence[Coverage]) -> list[Convention]:
+    """The rules defined on a library's integer grid (``input_bits``), under each input
+    rounding; ``agg-cover``'s threshold the best split of AGG's covers of the probe pixels
+    (as a share of 256; none when the covers draw no pixel)."""
+    from harness.oracle.library_rules import agg_covers
+
+    out = []
+    for name, model in COVERAGE_RULES.items():
+        if model.input_bits is None:
+            continue
+        for rounding in INPUT_ROUNDINGS:
+            received = f"integer-{rounding}" if model.input_bits == 0 else f"fixed{model.input_bits}-{rounding}"
+            if model is not AGG_COVER:
+                out.append(Convention(coverage=name, input=received))  # type: ignore[arg-type]
+                continue
+            base = Convention(coverage=name, input=received)  # type: ignore[arg-type]
+            covers, drawn = [], []
+            for scene, answer in zip(scenes, answers):
+                positions = base.snap(scene.positions)
+                if not np.all(np.isfinite(positions)):
+                    continue
+                covers.append(agg_covers(positions[0], SIZE, SIZE).ravel() / 256.0)
+                drawn.append(_drawn(answer).ravel())
+            t = best_threshold(np.concatenate(covers), np.concatenate(drawn)) if covers else None
+            if t is not None:
+                out.append(Convention(coverage=name, input=received, threshold=max(t, 2.0**-8)))  # type: ignore[arg-type]
     return out
 
 
@@ -200,6 +243,8 @@ def fit_rule(rasterize: Callable[[Scene], Any], seed: int = 0) -> RuleFit:
     scenes = probe_scenes(seed)
     answers = [rasterize(scene) for scene in scenes]
     ranked = _rank(scenes, answers)
+    # told apart on screen first; off screen (where libraries clip) only what is still tied
+    ranked = _separate(rasterize, _separate(rasterize, ranked), offscreen=True)
     best_off, pixels, best = ranked[0]
     ambiguous = tuple(c for off, _, c in ranked[1:] if off == best_off and c.coverage != best.coverage)
     runner = next(((c, off) for off, _, c in ranked[1:] if c.coverage != best.coverage), None)
@@ -210,6 +255,54 @@ def fit_rule(rasterize: Callable[[Scene], Any], seed: int = 0) -> RuleFit:
             off, _, convention = _rank(scenes[part], answers[part])[0]
             sides[side] = (convention, off)
     return RuleFit(best, best_off, pixels, runner, ambiguous, sides)
+
+
+def separating_scenes(candidates: Sequence[Convention], seed: int = 0, count: int = 12, tries: int = 600,
+                      offscreen: bool = False) -> list[Scene]:
+    """Up to ``count`` one-triangle scenes on which ``candidates`` (conventions the probes
+    could not tell apart) do not all agree: vertices exactly halfway between points of the
+    finest input grid among them (1/512 px when none has one: where nearest-even and
+    half-away disagree, where an area just over a threshold is rounded under it), on
+    screen, or also left of and above it when ``offscreen`` (where floor and toward-zero
+    disagree; where a library clips), drawn at random and kept when two candidates' exact
+    answers differ (``tries`` drawn at most)."""
+    rng = np.random.default_rng(seed)
+    bits = max((c.input_precision.bits for c in candidates if c.input_precision.kind in ("fixed", "integer")), default=8)
+    scale = 2.0**bits
+    scenes: list[Scene] = []
+    for _ in range(tries):
+        if len(scenes) >= count:
+            break
+        p = np.asarray((rng.integers(int((-3 if offscreen else 1) * scale), int(13 * scale), size=(3, 2)) + 0.5) / scale,
+                       dtype=np.float64)
+        if orientation(p[None])[0] == 0:
+            continue
+        scene = Scene(SIZE, SIZE, p[None])
+        drawn = [_drawn(exact_coverage(scene, c)) for c in candidates]
+        if any(not np.array_equal(drawn[0], d) for d in drawn[1:]):
+            scenes.append(scene)
+    return scenes
+
+
+def _separate(rasterize: Callable[[Scene], Any], ranked: list[tuple[int, int, Convention]],
+              offscreen: bool = False) -> list[tuple[int, int, Convention]]:
+    """The ranking with the candidates tied for best (the probes cannot tell them apart: a
+    rule read from a library's source and a threshold, or input roundings) told apart on
+    :func:`separating_scenes` (``offscreen`` or not): their pixels off there added to their residual, re-sorted
+    (stable: the probes' order on a tie), their pixels drawn there added to their pixels."""
+    best_off = ranked[0][0]
+    tied = [c for off, _, c in ranked if off == best_off]
+    if len(tied) < 2 or not any(c.model.input_bits is not None for c in tied):
+        return ranked
+    scenes = separating_scenes(tied, offscreen=offscreen)
+    if not scenes:
+        return ranked
+    answers = [rasterize(scene) for scene in scenes]
+    extra = {id(c): _residual(c, scenes, answers) for c in tied}
+    rescored = [(off + extra[id(c)][0], pixels + extra[id(c)][1], c) if id(c) in extra else (off, pixels, c)
+                for off, pixels, c in ranked]
+    rescored.sort(key=lambda s: s[0])
+    return rescored
 
 
 @dataclass(frozen=True)
@@ -259,11 +352,19 @@ def fit_rule_beside(call: Call, seed: int, before: Convention, drawn_before: Seq
     if not answered:
         fit = RuleFit(before, 0, 0, None)
         return RuleFact(fit, before, 0, 0, tuple(probes))
+    separating: list[Drawn] = []
+
+    def rasterize(scene: Scene) -> Coverage:
+        separating.append(draw(call, scene))
+        return _answered_coverage(separating[-1])
+
     ranked = _rank([d.scene for d in answered], [_answered_coverage(d) for d in answered])
+    # told apart on screen first; off screen (where libraries clip) only what is still tied (as fit_rule does)
+    ranked = _separate(rasterize, _separate(rasterize, ranked), offscreen=True)
     best_off, pixels, best = ranked[0]
     runner = next(((c, off) for off, _, c in ranked[1:] if c.coverage != best.coverage), None)
     fit = RuleFit(best, best_off, pixels, runner)
-    everything = [*drawn_before, *probes]
+    everything = [*drawn_before, *probes, *separating]
     # the probes are small: the snapping (and threshold) of the best rule is chosen again on every scene
     # drawn, among the candidates of its rule (in the probes' order on a tie)
     scored = [(sum(d.mismatches(c) for d in everything), k, c)

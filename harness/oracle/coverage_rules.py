@@ -294,7 +294,14 @@ def rules_reference(scene: Scene, convention: Convention, grown: float = 0.0) ->
     """The coverage rules' reference: every pixel of the viewport and every triangle decided
     in :class:`fractions.Fraction` from the definitions alone (the area by clipping the
     triangle to the square, the square tests by the corners' signs and the extents), the
-    squares of the conservative rules grown by ``grown``. Slow; for tests."""
+    squares of the conservative rules grown by ``grown``; the rules read from libraries'
+    sources by their own references (:mod:`harness.oracle.library_rules`). Slow; for tests."""
+    if convention.model.input_bits is not None:
+        from harness.oracle import library_rules
+
+        reference = library_rules.agg_cover_reference if convention.model.thresholded else \
+            library_rules.inclusive_scanline_reference
+        return reference(scene, convention)
     positions = convention.snap(scene.positions)
     pixels: list[tuple[int, int, int]] = []
     grow = Fraction(grown)
@@ -333,6 +340,10 @@ def on_rule_boundary(triangle: NDArray[np.float64], i: int, j: int, convention: 
     >>> on_rule_boundary(t, 1, 1, Convention(coverage="conservative-over"))  # touched at its corner (1, 1)
     True
     """
+    if convention.model.input_bits is not None:  # a rule read from a library's source: its own boundary
+        from harness.oracle.library_rules import on_library_boundary
+
+        return on_library_boundary(triangle, i, j, convention)
     snapped = convention.snap(np.asarray(triangle, dtype=np.float64).reshape(3, 2))
     if not np.all(np.isfinite(snapped)):
         return False

@@ -28,8 +28,8 @@ RULES = {"area-threshold": Convention(coverage="area-threshold"),
 
 
 def test_each_rule_is_declared_by_its_name_and_gets_its_model():
-    assert COVERAGE_RULES == {"area-threshold": AREA_THRESHOLD, "conservative-over": CONSERVATIVE_OVER,
-                              "conservative-under": CONSERVATIVE_UNDER}
+    assert {n: m for n, m in COVERAGE_RULES.items() if m.input_bits is None} == {
+        "area-threshold": AREA_THRESHOLD, "conservative-over": CONSERVATIVE_OVER, "conservative-under": CONSERVATIVE_UNDER}
     for name, convention in RULES.items():
         assert convention.model is COVERAGE_RULES[name] and convention.coverage_kind == "single"
         model = convention.model
