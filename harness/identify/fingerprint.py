@@ -413,6 +413,8 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
         rule = fit_rule_beside(call, seed, convention, drawn)
         if rule.chosen:
             convention, drawn, residual = rule.convention, list(rule.drawn), rule.mismatches
+            # the sample point's snapping and input, and what they left undecided, no longer stand
+            ambiguous: tuple[str, ...] = tuple(c.describe() for c in rule.fit.ambiguous)
     # refitted beside an input that moves the lattice's vertices, the runner-up is the input fit's
     runner_up = ((ties.runner_up.describe(), ties.runner_up_mismatches) if inputs.runner_up is None
                  else (inputs.runner_up[0].describe(), inputs.runner_up[1]))
@@ -454,6 +456,7 @@ def _identify_triangles(name: str, call: Call, seed: int, received: Callable[[Sc
     found = {label: fact for label, fact in probes.items() if fact is not None}
     return Fingerprint(name, convention, residual, sum(d.pixels for d in drawn),
                        runner_up, {k: f.text for k, f in found.items()},
+                       ambiguous if rule is not None and rule.chosen else
                        (() if inputs.moot_snapping else snapping.ambiguous) + tuple(f"{i} input" for i in inputs.ambiguous),
                        found, unanswered=len({id(d) for d in drawn if d.coverage is None}))
 

@@ -370,8 +370,13 @@ def fit_rule_beside(call: Call, seed: int, before: Convention, drawn_before: Seq
     scored = [(sum(d.mismatches(c) for d in everything), k, c)
               for k, (_, _, c) in enumerate(ranked) if c.model is best.model]
     rule_off, _, chosen = min(scored, key=lambda s: (s[0], s[1]))
-    if chosen is not best:
-        fit = RuleFit(chosen, sum(d.mismatches(chosen) for d in answered), pixels, runner)
+    # others of its rule as good on every scene drawn, that see some scene otherwise: not told apart
+    ambiguous = tuple(c for off, _, c in scored if off == rule_off and c is not chosen and (
+        c.threshold != chosen.threshold or c.model is not chosen.model
+        or any(not np.array_equal(c.snap(d.scene.positions), chosen.snap(d.scene.positions), equal_nan=True)
+               for d in everything)))
+    if chosen is not best or ambiguous:
+        fit = RuleFit(chosen, sum(d.mismatches(chosen) for d in answered), pixels, runner, ambiguous)
     return RuleFact(fit, before, sum(d.mismatches(before) for d in everything), rule_off, tuple(everything))
 
 
