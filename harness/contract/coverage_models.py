@@ -20,9 +20,16 @@ threshold``                  ``threshold`` of the pixel's area (aggdraw's aliase
 over``                       closed triangle (D3D12/Vulkan overestimate)
 ``conservative- single       covered or not: iff the pixel's closed square lies in the
 under``                      closed triangle (D3D12/Vulkan underestimate)
+``closed``      single       covered or not: iff the sample point lies in the closed
+                             triangle, on an edge included (FreeType's monochrome)
 ==============  ===========  ===========================================================
 
-The last three are *coverage rules* (``rule``): declared by their name as
+``closed`` is a coverage rule decided at the sample point (``sample_point`` True: its near
+ties are measured there) whose edges belong to every triangle sharing them: a planar
+partition's samples on shared edges are hit twice (``exactly_once`` False), and its
+convention may declare dropout control (:class:`harness.contract.conventions.Dropout`).
+
+The other three are *coverage rules* (``rule``): declared by their name as
 ``Convention.coverage``, answered as one sample per pixel is (a (triangle, pixel) covered or
 not, so the single-sample checks judge them), but decided on the pixel's square, not at a
 sample point: the tie rule and ``sample`` mean nothing to them (``sample_point`` False: no
@@ -50,14 +57,14 @@ apply, so a model names its oracle (``"harness.oracle.coverage:exact_multisample
 the name when first asked, as :mod:`harness` resolves its lazily imported names.
 
 >>> [m.name for m in COVERAGE_MODELS.values()]
-['single', 'multisample', 'area', 'supersampled area', 'area-threshold', 'conservative-over', 'conservative-under']
+['single', 'multisample', 'area', 'supersampled area', 'area-threshold', 'conservative-over', 'conservative-under', 'closed']
 >>> model_named("multisample").sample_ids, model_named("area").alphas
 (True, True)
 >>> model_named("conservative")  # doctest: +NORMALIZE_WHITESPACE
 Traceback (most recent call last):
 ...
 ValueError: no coverage model is named 'conservative': single, multisample, area, supersampled area, area-threshold,
-conservative-over, conservative-under
+conservative-over, conservative-under, closed
 """
 
 from __future__ import annotations
@@ -70,12 +77,13 @@ from typing import Any, Literal
 
 __all__ = ["CoverageModel", "CoverageKind", "COVERAGE_KINDS", "COVERAGE_MODELS", "DECLARED_COVERAGES", "SINGLE",
            "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "AREA_THRESHOLD", "CONSERVATIVE_OVER", "CONSERVATIVE_UNDER",
-           "COVERAGE_RULES", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named", "model_for"]
+           "CLOSED", "COVERAGE_RULES", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named", "model_for"]
 
 CoverageKind = Literal["single", "multisample", "area"]
 # what Convention.coverage may say: point samples (one, or a pattern's), area, or a coverage
 # rule by its model's name (COVERAGE_RULES)
-DECLARED_COVERAGES: tuple[str, ...] = ("sample", "area", "area-threshold", "conservative-over", "conservative-under")
+DECLARED_COVERAGES: tuple[str, ...] = ("sample", "area", "area-threshold", "conservative-over", "conservative-under",
+                                       "closed")
 # The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
 # 64 with no standard locations; 32 keeps a garbage answer's span budget bounded).
 MAX_SAMPLES = 32
@@ -176,7 +184,11 @@ class CoverageModel:
     def declared_as(self, convention: Any) -> str:
         """How a message says ``convention`` (of this model) declares it: ``one sample per
         pixel``, ``a multisample pattern of 4 samples``, ``area coverage``."""
-        return self.declared.format(n=convention.n_samples, t=f"{getattr(convention, 'threshold', 0.5):g}")
+        dropout = getattr(convention, "dropout", None)
+        sx, sy = getattr(convention, "sample", (0.5, 0.5))
+        return self.declared.format(n=convention.n_samples, t=f"{getattr(convention, 'threshold', 0.5):g}",
+                                    s=f"({sx:g}, {sy:g})",
+                                    d="" if dropout is None or not dropout.active else f", {dropout.describe()}")
 
     def exact_triangles(self, scene: Any, convention: Any) -> Any:
         """The exact coverage (a :class:`harness.contract.coverage.Coverage`) of the triangle scene
@@ -222,8 +234,14 @@ CONSERVATIVE_UNDER = CoverageModel(
     declared="conservative underestimate (a pixel iff its square lies in the triangle)", seen="one sample per pixel",
     paths=False, verdict_checks=("conformance",), rule=True, sample_point=False, exactly_once=False, uncertain=True)
 
+# decided at the sample point, an edge's samples inside for every triangle sharing it (FreeType's monochrome)
+CLOSED = CoverageModel(
+    "closed", "single", "harness.oracle.dropout:closed_triangles",
+    declared="the closed rule (a sample on an edge is inside) at sample {s}{d}", seen="one sample per pixel",
+    paths=False, verdict_checks=("conformance",), rule=True, sample_point=True, exactly_once=False)
+
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
-                                                                  CONSERVATIVE_OVER, CONSERVATIVE_UNDER)}
+                                                                  CONSERVATIVE_OVER, CONSERVATIVE_UNDER, CLOSED)}
 # the coverage rules, by the Convention.coverage that declares each (its name)
 COVERAGE_RULES: dict[str, CoverageModel] = {m.name: m for m in COVERAGE_MODELS.values() if m.rule}
 # the coverage kinds, in the models' order
