@@ -483,9 +483,9 @@ class Dropout:
         and 4, ``FT_OUTLINE_INCLUDE_STUBS``); False (SCANTYPE 1, 5) draws a stub only where
         the outline overshoots the scanline by at least half a pixel on a span at least half
         a pixel wide.
-    step_bits : int or None
-        None: crossings exact (rational). N: crossings computed as ftraster.c's
-        ``Line_Up`` does on a 2**-N px grid (6 in FreeType's default precision): from the
+    step_bits : None or 6
+        None: crossings exact (rational). 6: crossings computed as ftraster.c's
+        ``Line_Up`` does on its 1/64 px grid (FreeType's default precision): from the
         edge's start, the first rounded to nearest, then whole steps truncated toward the
         start (:func:`harness.oracle.dropout.stepped_crossing`), so the pixels depend on an
         edge's direction; needs the input on that grid (``input="fixed6"``).
@@ -507,9 +507,8 @@ class Dropout:
             raise ValueError(f"Dropout.stubs must be True or False, not {self.stubs!r}")
         object.__setattr__(self, "stubs", bool(self.stubs))
         bits = self.step_bits
-        if bits is not None and (isinstance(bits, bool) or not isinstance(bits, (int, np.integer))
-                                 or not 1 <= bits <= MAX_SUBPIXEL_BITS):
-            raise ValueError(f"Dropout.step_bits must be None or an integer in 1..{MAX_SUBPIXEL_BITS}, not {bits!r}")
+        if bits is not None and (isinstance(bits, bool) or not isinstance(bits, (int, np.integer)) or bits != 6):
+            raise ValueError(f"Dropout.step_bits must be None (exact crossings) or 6 (ftraster.c's 1/64 px), not {bits!r}")
         if bits is not None:
             object.__setattr__(self, "step_bits", int(bits))
 

@@ -7,7 +7,8 @@ closed (snapped) triangle: on the inner side of every edge or on it, by exact or
 signs (:func:`harness.geometry.exact.orient2d_sign`; rational beyond its safe range).
 
 Zero-area triangles: the closed triangle is then the segment (or point) its vertices span,
-and it covers the samples lying exactly on that segment. That is the closed rule read
+and it covers the samples lying exactly on that segment (a triangle collapsed to one point
+has no edge and covers nothing, as in ftraster.c, where it makes no profile). That is the closed rule read
 literally, and it is what ``ftraster.c`` does with dropout control off
 (``FT_OUTLINE_IGNORE_DROPOUTS``, mode 2): a zero-area outline's up and down profiles cross
 each scanline at the same x, and ``Vertical_Sweep_Span`` draws ``CEILING(x) .. FLOOR(x)``,
@@ -24,8 +25,8 @@ range take the same steps in rationals. :func:`closed_reference` is the slow ref
 >>> from harness.contract.conventions import Convention
 >>> from harness.contract.scenes import Scene
 >>> scene = Scene(4, 4, [[[0, 0], [4, 0], [0, 4]], [[4, 0], [4, 4], [0, 4]]])
->>> closed_coverage(scene, Convention(coverage="closed")).counts(4, 4).tolist()  # the shared diagonal's 3 centres twice
-[[1, 1, 1, 1], [1, 1, 2, 1], [1, 2, 1, 1], [2, 1, 1, 1]]
+>>> closed_coverage(scene, Convention(coverage="closed")).counts(4, 4).tolist()  # the shared diagonal's 4 centres twice
+[[1, 1, 1, 2], [1, 1, 2, 1], [1, 2, 1, 1], [2, 1, 1, 1]]
 """
 
 from __future__ import annotations
@@ -77,7 +78,7 @@ def _inside_closed(p, s, x, y):  # type: ignore[no-untyped-def]
         a, b = k, (k + 1) % 3
         if p[a, 0] != p[b, 0] or p[a, 1] != p[b, 1]:
             return orient2d_sign(p[a, 0], p[a, 1], p[b, 0], p[b, 1], x, y) == 0
-    return True  # all three vertices the same point: the box test said it is the sample
+    return False  # all three vertices one point: no edge, nothing drawn (as ftraster.c: no profile)
 
 
 @numba.njit(cache=True)
@@ -126,7 +127,7 @@ def _fraction_inside(p: list[tuple[Fraction, Fraction]], x: Fraction, y: Fractio
     if not (min(xs) <= x <= max(xs) and min(ys) <= y <= max(ys)):
         return False
     distinct = [(a, b) for a, b in ((p[0], p[1]), (p[1], p[2]), (p[2], p[0])) if a != b]
-    return not distinct or e(*distinct[0]) == 0
+    return bool(distinct) and e(*distinct[0]) == 0
 
 
 def _rows(triangles: NDArray[np.int64], pixels: list[tuple[int, int, int]]) -> Coverage:
