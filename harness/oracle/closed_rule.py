@@ -54,7 +54,7 @@ def closed_positions(scene: Scene, convention: Convention) -> tuple[NDArray[np.f
     safe = np.empty(positions.shape[0], dtype=np.bool_)
     sign = orientation(positions, safe).copy()
     with np.errstate(invalid="ignore"):
-        drawn = np.isfinite(positions).all(axis=(1, 2))
+        drawn = np.asarray(np.isfinite(positions).all(axis=(1, 2)), dtype=np.bool_)
     if convention.cull != "none":
         drawn &= sign != (1 if convention.cull == "cw" else -1)
     return positions, sign, drawn, safe
@@ -65,7 +65,7 @@ def _inside_closed(p, s, x, y):  # type: ignore[no-untyped-def]
     """Whether (x, y) lies in the closed triangle p of orientation s (0: the segment or
     point the collinear vertices span)."""
     if s != 0:
-        for k in range(3):
+        for k in range(3):  # noqa: SIM110 (numba: no all() over a generator)
             if orient2d_sign(p[k, 0], p[k, 1], p[(k + 1) % 3, 0], p[(k + 1) % 3, 1], x, y) * s < 0:
                 return False
         return True

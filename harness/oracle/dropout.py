@@ -99,7 +99,7 @@ def stepped_crossing(x1: int, y1: int, x2: int, y2: int, scanline: int) -> int:
     first = x1 + _mul_div(dx, e1 - y1, dy, True)
     k = (scanline - e1) // P
     step = (k * P * abs(dx)) // dy
-    return first + (step if dx >= 0 else -step)
+    return int(first + (step if dx >= 0 else -step))
 
 
 def _mul_div(a: Any, b: Any, c: Any, rounded: bool) -> Any:
@@ -544,10 +544,7 @@ def _k_sweep(rec, ent, n, n_span, bitmap, vertical, mode):  # type: ignore[no-un
     rights = np.empty(n, dtype=np.int64)
     lx = np.empty(n, dtype=np.int64)
     rx = np.empty(n, dtype=np.int64)
-    drop_l = np.empty(n, dtype=np.int64)
-    drop_r = np.empty(n, dtype=np.int64)
-    drop_x1 = np.empty(n, dtype=np.int64)
-    drop_x2 = np.empty(n, dtype=np.int64)
+    drops = np.empty((n, 4), dtype=np.int64)
     for y in range(lo, hi + 1):
         nl = 0
         nr = 0
@@ -577,50 +574,58 @@ def _k_sweep(rec, ent, n, n_span, bitmap, vertical, mode):  # type: ignore[no-un
             x1 = min(lx[k], rx[k])
             x2 = max(lx[k], rx[k])
             if x2 - x1 <= P and _k_floor(x1) != x1 and _k_ceiling(x2) != x2 and _k_ceiling(x2) == _k_floor(x1) + P:
-                if mode != 2:
-                    drop_l[nd] = lefts[k]
-                    drop_r[nd] = rights[k]
-                    drop_x1[nd] = x1
-                    drop_x2[nd] = x2
+                if mode != 2:  # a dropout: drawn after the scanline's spans
+                    drops[nd, 0] = lefts[k]
+                    drops[nd, 1] = rights[k]
+                    drops[nd, 2] = x1
+                    drops[nd, 3] = x2
                     nd += 1
                 continue
-            e1 = _k_ceiling(x1)
-            e2 = _k_floor(x2)
-            if vertical:
-                if mode != 2 and x2 - x1 - P <= JITTER and e1 != x1 and e2 != x2:
-                    e2 = e1
-                for e in range(max(e1 // P, 0), min(e2 // P, n_span - 1) + 1):
-                    _k_set(bitmap, vertical, y, e)
-            else:
-                if x1 == e1 and 0 <= e1 // P < n_span:
-                    _k_set(bitmap, vertical, y, e1 // P)
-                if x2 == e2 and 0 <= e2 // P < n_span:
-                    _k_set(bitmap, vertical, y, e2 // P)
+            _k_span(bitmap, vertical, mode, y, x1, x2, n_span)
         for d in range(nd):
-            left = drop_l[d]
-            right = drop_r[d]
-            x1 = drop_x1[d]
-            x2 = drop_x2[d]
-            e1 = _k_ceiling(x1)
-            e2 = _k_floor(x2)
-            if mode == 1 or mode == 5:
-                if rec[left, 3] == right and y == rec[left, 5] and not (rec[left, 4] & OVERSHOOT_TOP and x2 - x1 >= HALF):
-                    continue
-                if rec[right, 3] == left and rec[left, 0] == y and not (rec[left, 4] & OVERSHOOT_BOTTOM and x2 - x1 >= HALF):
-                    continue
-            if mode == 0 or mode == 1:
-                pixel = e2
-            else:
-                pixel = _k_floor((x1 + x2 + P * 63 // 64) // 2)
-            if pixel < 0:
-                pixel = e1
-            elif pixel // P >= n_span:
-                pixel = e2
-            other = (e2 if pixel == e1 else e1) // P
-            if 0 <= other < n_span and _k_get(bitmap, vertical, y, other):
-                continue
-            if 0 <= pixel // P < n_span:
-                _k_set(bitmap, vertical, y, pixel // P)
+            _k_drop(rec, bitmap, vertical, mode, y, drops[d, 0], drops[d, 1], drops[d, 2], drops[d, 3], n_span)
+
+
+@numba.njit(cache=True)
+def _k_span(bitmap, vertical, mode, y, x1, x2, n_span):  # type: ignore[no-untyped-def]
+    """Vertical_Sweep_Span (CEILING(x1) .. FLOOR(x2)) or Horizontal_Sweep_Span (the ends on centres)."""
+    e1 = _k_ceiling(x1)
+    e2 = _k_floor(x2)
+    if vertical:
+        if mode != 2 and x2 - x1 - P <= JITTER and e1 != x1 and e2 != x2:
+            e2 = e1
+        for e in range(max(e1 // P, 0), min(e2 // P, n_span - 1) + 1):
+            _k_set(bitmap, vertical, y, e)
+    else:
+        if x1 == e1 and 0 <= e1 // P < n_span:
+            _k_set(bitmap, vertical, y, e1 // P)
+        if x2 == e2 and 0 <= e2 // P < n_span:
+            _k_set(bitmap, vertical, y, e2 // P)
+
+
+@numba.njit(cache=True)
+def _k_drop(rec, bitmap, vertical, mode, y, left, right, x1, x2, n_span):  # type: ignore[no-untyped-def]
+    """Vertical_Sweep_Drop / Horizontal_Sweep_Drop for one dropout pair."""
+    e1 = _k_ceiling(x1)
+    e2 = _k_floor(x2)
+    if mode == 1 or mode == 5:
+        if rec[left, 3] == right and y == rec[left, 5] and not (rec[left, 4] & OVERSHOOT_TOP and x2 - x1 >= HALF):
+            return  # an upper stub
+        if rec[right, 3] == left and rec[left, 0] == y and not (rec[left, 4] & OVERSHOOT_BOTTOM and x2 - x1 >= HALF):
+            return  # a lower stub
+    if mode == 0 or mode == 1:
+        pixel = e2
+    else:
+        pixel = _k_floor((x1 + x2 + P * 63 // 64) // 2)  # SMART
+    if pixel < 0:
+        pixel = e1
+    elif pixel // P >= n_span:
+        pixel = e2
+    other = (e2 if pixel == e1 else e1) // P
+    if 0 <= other < n_span and _k_get(bitmap, vertical, y, other):
+        return
+    if 0 <= pixel // P < n_span:
+        _k_set(bitmap, vertical, y, pixel // P)
 
 
 @numba.njit(cache=True)
@@ -691,6 +696,7 @@ def dropout_coverage(scene: Scene, convention: Convention) -> Coverage:
         if x0 >= x1 or y0 >= y1:
             continue
         bw, bh = x1 - x0, y1 - y0
+        fixed: list[tuple[Any, Any]]
         if stepped:  # 26.6 integers (the convention's input is on the grid): y up about the box's top
             fixed = [(int(Fraction(float(x)) * P) - P * x0, P * (bh + y0) - int(Fraction(float(y)) * P)) for x, y in p]
         else:
