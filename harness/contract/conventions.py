@@ -490,8 +490,13 @@ class Dropout:
         start (:func:`harness.oracle.dropout.stepped_crossing`), so the pixels depend on an
         edge's direction; needs the input on that grid (``input="fixed6"``).
 
+    A convention keeps it as its canonical name (:attr:`name`, as ``input`` keeps its
+    precision's), so that a convention's fields stay JSON values:
+
     >>> Dropout("smart", stubs=False).describe()
     'smart dropout control (SCANTYPE 5, stubs excluded)'
+    >>> Dropout("smart", stubs=False, step_bits=6).name, dropout_control("simple-stepped6")
+    ('smart-no-stubs-stepped6', Dropout(mode='simple', stubs=True, step_bits=6))
     >>> Dropout.from_json(Dropout("simple", step_bits=6).to_json()) == Dropout("simple", step_bits=6)
     True
     """
@@ -511,6 +516,13 @@ class Dropout:
             raise ValueError(f"Dropout.step_bits must be None (exact crossings) or 6 (ftraster.c's 1/64 px), not {bits!r}")
         if bits is not None:
             object.__setattr__(self, "step_bits", int(bits))
+
+    @property
+    def name(self) -> str:
+        """Its canonical name: the mode, ``-no-stubs`` when stubs are excluded, ``-stepped6``
+        when crossings are stepped (``none``, ``smart-no-stubs-stepped6``)."""
+        stubs = "-no-stubs" if self.mode != "none" and not self.stubs else ""
+        return self.mode + stubs + ("" if self.step_bits is None else f"-stepped{self.step_bits}")
 
     @property
     def active(self) -> bool:
@@ -553,8 +565,8 @@ class Dropout:
 
 
 def dropout_control(spec: Dropout | str | dict[str, Any] | None) -> Dropout:
-    """A :class:`Dropout` from itself, a mode's name (``"smart"``; ``"smart-no-stubs"``),
-    its JSON, or None (none).
+    """A :class:`Dropout` from itself, its name (``"smart"``, ``"smart-no-stubs"``,
+    ``"none-stepped6"``: :attr:`Dropout.name`), its JSON, or None (none).
 
     >>> dropout_control("smart-no-stubs"), dropout_control(None).active
     (Dropout(mode='smart', stubs=False, step_bits=None), False)
@@ -566,12 +578,12 @@ def dropout_control(spec: Dropout | str | dict[str, Any] | None) -> Dropout:
     if isinstance(spec, dict):
         return Dropout.from_json(spec)
     if isinstance(spec, str):
-        mode, _, rest = spec.partition("-")
-        if rest not in ("", "no-stubs"):
-            raise ValueError(f"Convention.dropout must be 'none', 'simple', 'smart' (optionally '-no-stubs') or a "
-                             f"Dropout, not {spec!r}")
-        return Dropout(cast(Any, mode), stubs=rest == "")
-    raise ValueError(f"Convention.dropout must be a Dropout, a mode's name or None, not {spec!r}")
+        match = re.fullmatch(r"(none|simple|smart)(-no-stubs)?(?:-stepped(\d+))?", spec)
+        if match is None or (match[1] == "none" and match[2]):
+            raise ValueError(f"Convention.dropout must be 'none', 'simple' or 'smart' (then optionally '-no-stubs'), "
+                             f"optionally '-stepped6', or a Dropout, not {spec!r}")
+        return Dropout(cast(Any, match[1]), stubs=not match[2], step_bits=None if match[3] is None else int(match[3]))
+    raise ValueError(f"Convention.dropout must be a Dropout, its name or None, not {spec!r}")
 
 
 @dataclass(frozen=True, slots=True, repr=False)
@@ -630,10 +642,11 @@ class Convention:
         underestimate: one whose square so grown is not inside may be left out
         (:func:`harness.oracle.coverage_rules.uncertainty_bounds`; conformance, watertight
         and overdraw judge between the two).
-    dropout : Dropout, str or None
-        ``closed`` only: dropout control and how crossings are computed (:class:`Dropout`;
-        a mode's name such as ``"smart"`` is taken as ``Dropout("smart")``); default none,
-        which changes nothing.
+    dropout : str, Dropout or None
+        ``closed`` only: dropout control and how crossings are computed (:class:`Dropout`),
+        kept as its canonical name (``"smart-no-stubs-stepped6"``; a Dropout or None is
+        taken too; :attr:`dropout_control` gives the record); default ``"none"``, which
+        changes nothing.
 
     Examples
     --------
@@ -682,8 +695,8 @@ class Convention:
     threshold: float = 0.5
     # the conservative rules only: the uncertainty region, in pixels (D3D12/Vulkan)
     uncertainty: float = 0.0
-    # coverage="closed" only: dropout control and the crossings' arithmetic (Dropout)
-    dropout: Any = Dropout()
+    # coverage="closed" only: dropout control and the crossings' arithmetic (Dropout.name, canonical)
+    dropout: str = "none"
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -692,7 +705,7 @@ class Convention:
         if self.model.rule:
             extra += f", coverage={self.coverage!r}" + (f", threshold={self.threshold!r}" if self.coverage_uses_threshold else "")
             extra += f", uncertainty={self.uncertainty!r}" if self.uncertainty else ""
-            extra += f", dropout={self.dropout!r}" if self.dropout.active else ""
+            extra += f", dropout={self.dropout!r}" if self.dropout != "none" else ""
         elif self.coverage != "sample":
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
         if self.line != LineRule():
@@ -761,6 +774,11 @@ class Convention:
         """Area coverage: the promised bound on |alpha - exact area| (half a level when
         none is declared)."""
         return 0.5 * self.level_step if self.tolerance is None else float(self.tolerance)
+
+    @property
+    def dropout_control(self) -> Dropout:
+        """Its :attr:`dropout`, parsed (:func:`dropout_control`)."""
+        return dropout_control(self.dropout)
 
     @property
     def input_precision(self) -> InputPrecision:
@@ -884,7 +902,7 @@ class Convention:
                 raise ValueError(f"Dropout.step_bits={dropout.step_bits} steps crossings on a 2**-{dropout.step_bits} px "
                                  f"grid: the input must lie on it (input='fixed{dropout.step_bits}' or coarser), "
                                  "without snapping")
-        object.__setattr__(self, "dropout", dropout)
+        object.__setattr__(self, "dropout", dropout.name)
 
     @property
     def tie_perturbation(self) -> tuple[int, int, bool]:

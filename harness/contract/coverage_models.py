@@ -148,6 +148,9 @@ class CoverageModel:
         Its convention's ``threshold`` means something (``declared`` may name it: ``{t}``).
     uncertain : bool
         Its convention may declare an ``uncertainty`` region (the conservative rules).
+    path_oracle : str
+        ``"module:function"``, its own exact oracle of path scenes (:meth:`exact_paths`),
+        when it has one; "" (default): the winding oracle's sample-point paths.
     """
 
     name: str
@@ -169,6 +172,7 @@ class CoverageModel:
     exactly_once: bool = True
     thresholded: bool = False
     uncertain: bool = False
+    path_oracle: str = ""
 
     def __repr__(self) -> str:
         return f"CoverageModel({self.name!r})"
@@ -184,7 +188,7 @@ class CoverageModel:
     def declared_as(self, convention: Any) -> str:
         """How a message says ``convention`` (of this model) declares it: ``one sample per
         pixel``, ``a multisample pattern of 4 samples``, ``area coverage``."""
-        dropout = getattr(convention, "dropout", None)
+        dropout = getattr(convention, "dropout_control", None)
         sx, sy = getattr(convention, "sample", (0.5, 0.5))
         return self.declared.format(n=convention.n_samples, t=f"{getattr(convention, 'threshold', 0.5):g}",
                                     s=f"({sx:g}, {sy:g})",
@@ -195,6 +199,11 @@ class CoverageModel:
         ``scene`` under ``convention``, a convention of this model: what
         :func:`harness.oracle.coverage.exact_coverage` gives for triangles (uncached)."""
         return _resolved(self.triangle_oracle)(scene, convention)
+
+    def exact_paths(self, scene: Any, convention: Any) -> Any:
+        """The exact coverage of the path scene ``scene`` under ``convention`` by its own
+        :attr:`path_oracle` (what :func:`harness.oracle.winding.path_coverage` gives)."""
+        return _resolved(self.path_oracle)(scene, convention)
 
 
 @functools.cache
@@ -238,7 +247,8 @@ CONSERVATIVE_UNDER = CoverageModel(
 CLOSED = CoverageModel(
     "closed", "single", "harness.oracle.dropout:closed_triangles",
     declared="the closed rule (a sample on an edge is inside) at sample {s}{d}", seen="one sample per pixel",
-    paths=False, verdict_checks=("conformance",), rule=True, sample_point=True, exactly_once=False)
+    single_sample=True, verdict_checks=("conformance",), rule=True, sample_point=True, exactly_once=False,
+    path_oracle="harness.oracle.dropout:closed_paths")
 
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
                                                                   CONSERVATIVE_OVER, CONSERVATIVE_UNDER, CLOSED)}

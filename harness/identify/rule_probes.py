@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.contract.conventions import SNAP_ROUNDINGS, Convention, Dropout
+from harness.contract.conventions import SNAP_ROUNDINGS, Convention, Dropout, dropout_control
 from harness.contract.coverage import Coverage
 from harness.contract.coverage_models import COVERAGE_RULES
 from harness.contract.scenes import Scene
@@ -124,13 +124,13 @@ def best_threshold(areas: NDArray[np.float64], drawn: NDArray[np.bool_]) -> floa
 # the closed rule's scan conversions tried on 26.6 input (FreeType's monochrome rasterizer): no dropout
 # control, simple and smart, stubs included or excluded, crossings exact or stepped as ftraster.c steps them
 CLOSED_SCANS: tuple[Dropout, ...] = tuple(
-    Dropout(mode, stubs, step) for step in (6, None) for mode, stubs in
-    (("none", True), ("simple", True), ("simple", False), ("smart", True), ("smart", False)))
+    dropout_control(f"{mode}{stubs}{step}") for step in ("-stepped6", "") for mode, stubs in
+    (("none", ""), ("simple", ""), ("simple", "-no-stubs"), ("smart", ""), ("smart", "-no-stubs")))
 
 
 def closed_candidates() -> list[Convention]:
     """The closed rule on 26.6 input with each scan conversion of :data:`CLOSED_SCANS`."""
-    return [Convention(coverage="closed", input="fixed6", dropout=d) for d in CLOSED_SCANS]
+    return [Convention(coverage="closed", input="fixed6", dropout=d.name) for d in CLOSED_SCANS]
 
 
 def rule_candidates(scenes: Sequence[Scene], answers: Sequence[Coverage]) -> list[Convention]:

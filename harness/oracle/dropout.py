@@ -69,11 +69,12 @@ from numpy.typing import NDArray
 
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
-from harness.contract.scenes import Scene
+from harness.contract.scenes import PathScene, Scene
 from harness.geometry.exact import orientation
 from harness.oracle.closed_rule import closed_coverage
 
-__all__ = ["closed_triangles", "dropout_coverage", "scan_convert_reference", "scan_convert", "stepped_crossing"]
+__all__ = ["closed_triangles", "closed_paths", "dropout_coverage", "scan_convert_reference", "scan_convert",
+           "stepped_crossing"]
 
 P = 64  # ftraster.c's precision in its default (low) precision: 1/64 px, the 26.6 grid
 HALF = 32
@@ -679,7 +680,7 @@ def dropout_coverage(scene: Scene, convention: Convention) -> Coverage:
     >>> dropout_coverage(scene, replace(closed, dropout=Dropout("smart", step_bits=6))).counts(4, 3).tolist()
     [[0, 0, 0, 0], [1, 1, 1, 1], [0, 0, 0, 0]]
     """
-    dropout = convention.dropout
+    dropout = convention.dropout_control
     mode = dropout.scantype
     stepped = dropout.step_bits is not None
     positions = convention.receive(scene.positions)
@@ -689,18 +690,11 @@ def dropout_coverage(scene: Scene, convention: Convention) -> Coverage:
     for t, p in enumerate(positions):
         if not np.isfinite(p).all() or (convention.cull == "cw" and sign[t] > 0) or (convention.cull == "ccw" and sign[t] < 0):
             continue
-        x0 = int(np.clip(np.floor(p[:, 0].min()) - MARGIN, 0, w))
-        y0 = int(np.clip(np.floor(p[:, 1].min()) - MARGIN, 0, h))
-        x1 = int(np.clip(np.ceil(p[:, 0].max()) + MARGIN, 0, w))
-        y1 = int(np.clip(np.ceil(p[:, 1].max()) + MARGIN, 0, h))
+        x0, y0, x1, y1 = _box(p, w, h)
         if x0 >= x1 or y0 >= y1:
             continue
         bw, bh = x1 - x0, y1 - y0
-        fixed: list[tuple[Any, Any]]
-        if stepped:  # 26.6 integers (the convention's input is on the grid): y up about the box's top
-            fixed = [(int(Fraction(float(x)) * P) - P * x0, P * (bh + y0) - int(Fraction(float(y)) * P)) for x, y in p]
-        else:
-            fixed = [(Fraction(float(x)) * P - P * x0, P * (bh + y0) - Fraction(float(y)) * P) for x, y in p]
+        fixed = [_fixed(x, y, x0, y0, bh, stepped) for x, y in p]
         if stepped and max(abs(v) for pt in fixed for v in pt) <= KERNEL_LIMIT:
             mask = np.zeros((bh, bw), dtype=np.bool_)
             scan_convert(np.array(fixed, dtype=np.int64), bw, bh, mode, mask)
@@ -717,6 +711,59 @@ def closed_triangles(scene: Scene, convention: Convention) -> Coverage:
     """The ``closed`` model's triangle oracle: the closed rule
     (:func:`harness.oracle.closed_rule.closed_coverage`), or with an active
     :class:`~harness.contract.conventions.Dropout`, :func:`dropout_coverage`."""
-    if convention.dropout.active:
+    if convention.dropout_control.active:
         return dropout_coverage(scene, convention)
     return closed_coverage(scene, convention)
+
+
+def _box(points: NDArray[np.float64], width: int, height: int) -> tuple[int, int, int, int]:
+    """The adapter's box: the points' bounding box grown by 2 px, clipped to the viewport."""
+    x0 = int(np.clip(np.floor(points[:, 0].min()) - MARGIN, 0, width))
+    y0 = int(np.clip(np.floor(points[:, 1].min()) - MARGIN, 0, height))
+    x1 = int(np.clip(np.ceil(points[:, 0].max()) + MARGIN, 0, width))
+    y1 = int(np.clip(np.ceil(points[:, 1].max()) + MARGIN, 0, height))
+    return x0, y0, x1, y1
+
+
+def closed_paths(scene: PathScene, convention: Convention) -> Coverage:
+    """The exact coverage of a path scene under ``coverage="closed"`` (with or without
+    dropout control): each path's contours scan-converted together as one outline
+    (:func:`scan_convert_reference`), in its bounding box grown by 2 px and clipped to the
+    viewport. ftraster.c pairs the k-th up crossing with the k-th down crossing of a
+    scanline, which fills the nonzero rule; it has no even-odd fill (ValueError).
+
+    >>> square = PathScene.from_paths(4, 4, [[[[0.5, 0.5], [3.5, 0.5], [3.5, 3.5], [0.5, 3.5]]]])
+    >>> closed_paths(square, Convention(coverage="closed")).counts(4, 4).tolist()  # edges through centres: inside
+    [[1, 1, 1, 1], [1, 1, 1, 1], [1, 1, 1, 1], [1, 1, 1, 1]]
+    """
+    if scene.fill_rule != "nonzero":
+        raise ValueError(f"{convention.model.declared_as(convention)} fills paths by the nonzero rule only "
+                         f"(ftraster.c pairs up and down crossings), not {scene.fill_rule!r}")
+    dropout = convention.dropout_control
+    stepped = dropout.step_bits is not None
+    runs: list[tuple[int, int, int, int]] = []
+    for k in range(len(scene)):
+        contours = [convention.snap(np.asarray(c, dtype=np.float64)) for c in scene.contours_of(k)]
+        contours = [c for c in contours if c.shape[0] > 0]
+        if not contours:
+            continue
+        points = np.concatenate(contours)
+        if not np.isfinite(points).all():
+            continue
+        x0, y0, x1, y1 = _box(points, scene.width, scene.height)
+        if x0 >= x1 or y0 >= y1:
+            continue
+        bw, bh = x1 - x0, y1 - y0
+        outline = [[_fixed(x, y, x0, y0, bh, stepped) for x, y in c] for c in contours]
+        runs += _mask_runs(k, scan_convert_reference(outline, bw, bh, dropout.scantype, stepped), x0, y0)
+    if not runs:
+        return Coverage.empty()
+    t_, y_, a_, b_ = (np.array(v, dtype=np.int64) for v in zip(*runs))
+    return Coverage(t_, y_, a_, b_)
+
+
+def _fixed(x: float, y: float, x0: int, y0: int, bh: int, stepped: bool) -> tuple[Any, Any]:
+    """A point in the box's 26.6 frame (y up about its top edge): integers when stepped
+    (the input is on the grid), rationals otherwise."""
+    fx, fy = Fraction(float(x)) * P - P * x0, P * (bh + y0) - Fraction(float(y)) * P
+    return (int(fx), int(fy)) if stepped else (fx, fy)

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene
 from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need, refuse_kind
@@ -226,6 +227,9 @@ class FreeTypeMono(_FreeTypeMonoBase):
 
     name = "freetype_mono"
     FLAGS = 0x8  # FT_OUTLINE_IGNORE_DROPOUTS (include/freetype/ftimage.h)
+    # issue 33: the closed rule on 26.6 input, crossings stepped as ftraster.c's Line_Up steps them
+    # (harness.oracle.dropout); identify's rule probes: exact, 0 pixels off
+    convention: Convention | None = Convention(coverage="closed", input="fixed6", dropout="none-stepped6")
 
 
 class FreeTypeMonoDropout(_FreeTypeMonoBase):
@@ -256,6 +260,8 @@ class FreeTypeMonoDropout(_FreeTypeMonoBase):
 
     name = "freetype_mono_dropout"
     FLAGS = 0x10  # FT_OUTLINE_SMART_DROPOUTS (no FT_OUTLINE_INCLUDE_STUBS: stubs excluded)
+    # issue 33: TrueType's smart dropout control, stubs excluded (SCANTYPE 5), as ftraster.c runs it
+    convention: Convention | None = Convention(coverage="closed", input="fixed6", dropout="smart-no-stubs-stepped6")
 
 
 class FreeTypeSmooth(AlphaOneTriangleAtATime):

@@ -38,6 +38,7 @@ CONVENTIONS = {
     "area-threshold": Convention(coverage="area-threshold", subpixel_bits=4),
     "conservative-over": Convention(coverage="conservative-over", subpixel_bits=4),
     "conservative-under": Convention(coverage="conservative-under", subpixel_bits=4),
+    "closed": Convention(coverage="closed", subpixel_bits=4),
 }
 # two overlapping triangles with an attribute each vertex, edges through pixel centres
 SCENE = Scene(6, 5, np.array([[[0.0, 0.0], [6.0, 0.0], [0.0, 5.0]], [[5.5, 4.75], [1.25, 0.5], [6.0, 4.0]]]),
@@ -50,7 +51,7 @@ def test_a_convention_of_each_kind_gets_its_model():
     assert [CONVENTIONS[m.name].coverage_kind for m in models] == [m.coverage_kind for m in models]
     # the kinds keep their strings (JSON, reports, the command line); supersampled area is area to them
     assert [c.coverage_kind for c in CONVENTIONS.values()] == ["single", "multisample", "area", "area", "single", "single",
-                                                                "single"]
+                                                                "single", "single"]
     assert COVERAGE_KINDS == ("single", "multisample", "area")
     # chosen again when the declaration changes, kept across processes (one object per model)
     assert replace(CONVENTIONS["multisample"], samples=None).model is SINGLE
@@ -77,10 +78,10 @@ def test_a_convention_of_each_model_reads_back_where_only_records_may():
 
 def test_an_unknown_model_is_refused_in_one_line():
     with pytest.raises(ValueError, match=r"^no coverage model is named 'conservative': single, multisample, area, "
-                                         r"supersampled area, area-threshold, conservative-over, conservative-under$"):
+                                         r"supersampled area, area-threshold, conservative-over, conservative-under, closed$"):
         model_named("conservative")
     with pytest.raises(ValueError, match=r"^Convention.coverage must be one of sample, area, area-threshold, "
-                                         r"conservative-over, conservative-under, not 'box'$"):
+                                         r"conservative-over, conservative-under, closed, not 'box'$"):
         Convention(coverage="box")  # type: ignore[arg-type]
     with pytest.raises(TypeError):
         Convention(model=AREA)  # type: ignore[call-arg]  # chosen from the declaration, never given
@@ -99,6 +100,9 @@ def test_each_model_names_the_oracle_exact_coverage_used():
 
     wanted.update({"area-threshold": threshold_coverage, "conservative-over": conservative_over,
                    "conservative-under": conservative_under})
+    from harness.oracle.dropout import closed_triangles
+
+    wanted["closed"] = closed_triangles
     for name, model in COVERAGE_MODELS.items():
         module, _, function = model.triangle_oracle.partition(":")
         assert getattr(__import__(module, fromlist=[function]), function) is wanted[name], name
@@ -120,6 +124,10 @@ def test_each_models_oracle_gives_what_exact_coverage_gives(name):
     elif name == "multisample":
         for s in range(convention.n_samples):
             assert _spans(mine.layer(s)) == exact_coverage_python(SCENE, convention.at_sample(s)), s
+    elif name == "closed":
+        from harness.oracle.closed_rule import closed_reference
+
+        assert mine == closed_reference(SCENE, convention)
     elif convention.model.rule:
         from harness.oracle.coverage_rules import rules_reference
 
@@ -178,7 +186,8 @@ def test_the_words_a_model_gives_messages():
         "one sample per pixel", "a multisample pattern of 4 samples", "area coverage", "area coverage",
         "an area threshold (a pixel iff at least 0.5 of it is covered)",
         "conservative overestimate (a pixel iff its square meets the triangle)",
-        "conservative underestimate (a pixel iff its square lies in the triangle)"]
+        "conservative underestimate (a pixel iff its square lies in the triangle)",
+        "the closed rule (a sample on an edge is inside) at sample (0.5, 0.5)"]
     from harness.identify.fingerprint import VERDICT_CHECKS
 
     assert VERDICT_CHECKS == {"single": ("conformance",), "multisample": ("conformance",),
