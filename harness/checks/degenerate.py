@@ -41,6 +41,8 @@ def degenerate(case: Case, coverage: Coverage, convention: Convention | None,
     scene = TRIANGLES.narrow(scene)  # degenerate cases are triangle scenes
     sign = orientation(convention.snap(scene.positions) if convention is not None else scene.positions)
     nothing = sign == 0  # zero area or non-finite
+    if convention is not None and convention.model.zero_area:  # the rule draws them (closed): conformance judges those
+        nothing &= ~np.isfinite(scene.positions).all(axis=(1, 2))
     tri = coverage.triangle
     valid = (tri >= 0) & (tri < len(scene))
     drew = np.zeros(len(scene), dtype=bool)

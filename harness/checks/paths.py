@@ -117,7 +117,8 @@ def _pixel_set(coverage: Coverage, index: NDArray | None = None) -> tuple[NDArra
     return unique, unique[counts > 1]
 
 
-def triangulation(case: Any, coverage: Coverage, triangles_coverage: Coverage, owner: NDArray, paths: NDArray) -> Result:
+def triangulation(case: Any, coverage: Coverage, triangles_coverage: Coverage, owner: NDArray, paths: NDArray,
+                  doubles_own: bool = False) -> Result:
     """The rasterizer's coverage of each simple path in ``paths`` equals the union of its
     coverage of the path's triangulation, with no sample drawn by two of those triangles.
 
@@ -130,6 +131,10 @@ def triangulation(case: Any, coverage: Coverage, triangles_coverage: Coverage, o
         ``owner[t]``.
     paths : (P',) int64
         The paths judged (the strictly simple single-contour ones).
+    doubles_own : bool
+        The convention's rule draws a sample on a shared edge for both triangles (the
+        closed rule: ``CoverageModel.exactly_once`` False): double hits are expected and
+        counted (``rule_own``), not failed.
     """
     judged = np.zeros(len(case.scene), dtype=bool)
     judged[paths] = True
@@ -151,12 +156,17 @@ def triangulation(case: Any, coverage: Coverage, triangles_coverage: Coverage, o
             evidence[name] = [[int(r["p"]), int(r["x"]), int(r["y"])] for r in found[:EVIDENCE_LIMIT]]
     if len(doubles):
         evidence["triangulation_double_hits"] = doubles[:EVIDENCE_LIMIT].tolist()
-    ok = not (only_path.size or only_triangles.size or len(doubles))
+    if doubles_own:
+        metrics["rule_own"] = metrics.pop("triangulation_double_hits")
+        evidence.pop("triangulation_double_hits", None)
+    ok = not (only_path.size or only_triangles.size or (len(doubles) and not doubles_own))
     if ok:
         message = f"each of {paths.size} simple paths covers exactly its triangulation's samples"
     else:
         message = (f"{only_path.size} samples drawn for the path but not its triangles, {only_triangles.size} for the "
                    f"triangles but not the path, {len(doubles)} drawn by two triangles of one triangulation")
+    if doubles_own and len(doubles):
+        message += f" ({len(doubles)} samples on shared edges drawn twice: the rule's own)"
     if evidence:
         evidence["columns"] = ["path", "x", "y"]
     return result(case.id, "triangulation", ok, message, metrics, evidence)
@@ -199,7 +209,8 @@ def _run(s: Subject) -> Result:
         kind = "timeout" if outcome.timed_out else type(outcome.error).__name__
         return Result("", s.case.id, "triangulation", "error", f"{kind} on the triangulation: {outcome.error}",
                       {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
-    return triangulation(s.case, s.coverage, outcome.coverage, owner, paths)
+    return triangulation(s.case, s.coverage, outcome.coverage, owner, paths,
+                         doubles_own=s.convention is not None and not s.convention.model.exactly_once)
 
 
 def _applies(case: Any) -> bool:

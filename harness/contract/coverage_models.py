@@ -148,6 +148,9 @@ class CoverageModel:
         Its convention's ``threshold`` means something (``declared`` may name it: ``{t}``).
     uncertain : bool
         Its convention may declare an ``uncertainty`` region (the conservative rules).
+    zero_area : bool
+        Its zero-area triangles may draw (the closed rule: the samples on their segment);
+        False: a zero-area triangle draws nothing (the degenerate check's expectation).
     path_oracle : str
         ``"module:function"``, its own exact oracle of path scenes (:meth:`exact_paths`),
         when it has one; "" (default): the winding oracle's sample-point paths.
@@ -172,6 +175,7 @@ class CoverageModel:
     exactly_once: bool = True
     thresholded: bool = False
     uncertain: bool = False
+    zero_area: bool = False
     path_oracle: str = ""
 
     def __repr__(self) -> str:
@@ -248,7 +252,7 @@ CLOSED = CoverageModel(
     "closed", "single", "harness.oracle.dropout:closed_triangles",
     declared="the closed rule (a sample on an edge is inside) at sample {s}{d}", seen="one sample per pixel",
     single_sample=True, verdict_checks=("conformance",), rule=True, sample_point=True, exactly_once=False,
-    path_oracle="harness.oracle.dropout:closed_paths")
+    zero_area=True, path_oracle="harness.oracle.dropout:closed_paths")
 
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
                                                                   CONSERVATIVE_OVER, CONSERVATIVE_UNDER, CLOSED)}

@@ -165,7 +165,7 @@ def test_a_dropout_outside_the_bitmap_takes_the_pixel_inside():
 
 # --- FreeType itself ----------------------------------------------------------------------------------
 
-def _freetype(flags: int):  # type: ignore[no-untyped-def]
+def _freetype(flags: int):
     pytest.importorskip("freetype")
     from rasterizers.real.freetype_outline import _PIXEL_MODE_MONO, _Outline
 
