@@ -38,6 +38,14 @@ Dropouts (``mode``; ``Draw_Sweep``, ``Vertical_Sweep_Drop``, ``Horizontal_Sweep_
     its first vertex) and the pair is at least half a pixel wide. With dropout control
     on, a vertical span of at most 1 px + 2/64 whose ends both miss pixel centres draws
     its first pixel only (``Vertical_Sweep_Span``).
+The render pool
+    ftraster.c converts the outline into profiles in a fixed pool (16384 bytes: 2,040
+    Longs for headers of 8 and crossings of 1, less one per distinct turning scanline);
+    when they do not fit (a triangle over about 1,000 px tall), it bisects the bitmap into
+    bands, upper half first, and converts each band on its own: an edge then starts again
+    at the band's lower (upper) edge, its first crossing there rounded as at a clip. The
+    oracle does the same accounting and bisection (``Render_Single_Pass``), so the
+    pixels of tall triangles are FreeType's too.
 The bitmap
     FreeType draws into the caller's bitmap and clips at its edges; the harness's adapter
     (:mod:`rasterizers.real.freetype_outline`, :func:`rasterizers.real._masks.draw_each`)
@@ -81,6 +89,15 @@ HALF = 32
 JITTER = 2  # precision_jitter at 1/64 px (ftraster.c Set_High_Precision)
 FLOW_UP, OVERSHOOT_TOP, OVERSHOOT_BOTTOM = 8, 16, 32  # the profile flags above the 3 dropout-mode bits
 MARGIN = 2  # the adapter's box margin (rasterizers.real._masks.draw_each)
+# ftraster.c's render pool: FT_RENDER_POOL_SIZE (16384 bytes, ftoption.h) of 8-byte Longs, a profile's header
+# taking AlignProfileSize = sizeof(TProfile) / sizeof(Long) = 64 / 8 of them (64-bit builds)
+POOL = 16384 // 8
+PROFILE_LONGS = 8
+
+
+class _Overflow(Exception):
+    """Raster_Overflow: the band's profiles do not fit the render pool (ftraster.c then
+    bisects the band: Render_Single_Pass)."""
 # 26.6 coordinates up to this magnitude take the compiled kernel: every product below 2**53
 KERNEL_LIMIT = 2**25
 
@@ -150,8 +167,16 @@ class _Builder:
         self.fresh = self.joint = False
         self.last_x: Any = 0
         self.last_y: Any = 0
+        self.top = 0  # the render pool's use, in Longs (headers and crossings)
+        self.max_buff = POOL - PROFILE_LONGS
+        self.allocated = False
 
     def new_profile(self, state: int, overshoot: bool) -> None:
+        if not self.allocated:  # the first profile's header
+            self.top += PROFILE_LONGS
+            self.allocated = True
+        if self.top >= self.max_buff:
+            raise _Overflow
         c = self.cur
         c.start, c.height, c.entries, c.next, c.flags = 0, 0, [], None, self.mode
         if state > 0:
@@ -170,6 +195,9 @@ class _Builder:
                 c.flags |= OVERSHOOT_TOP if c.flags & FLOW_UP else OVERSHOOT_BOTTOM
             self.profiles.append(c)
             c.next = self.cur = _Profile()
+            self.top += PROFILE_LONGS
+        if self.top >= self.max_buff:
+            raise _Overflow
         self.joint = False
 
     def line_up(self, x1: Any, y1: Any, x2: Any, y2: Any, miny: int, maxy: int, sign: int) -> None:
@@ -190,11 +218,15 @@ class _Builder:
             e1 += 1
         elif self.joint:
             c.entries.pop()  # ras.top--: this edge's exact start replaces the last crossing
+            self.top -= 1
             self.joint = False
         self.joint = f2 == 0
         if self.fresh:
             c.start, self.fresh = e1 * sign, False
         size = e2 - e1 + 1
+        if self.top + size >= self.max_buff:
+            raise _Overflow
+        self.top += size
         if self.stepped:
             ix = _mul_div(P, abs(dx), dy, False)
             rx, step = (P * abs(dx)) % dy, (1 if dx > 0 else -1)
@@ -239,6 +271,7 @@ class _Builder:
         if ly - _floor(ly) == 0 and self.miny <= ly <= self.maxy and self.first is not None \
                 and (self.first.flags & FLOW_UP) == (self.cur.flags & FLOW_UP):
             self.cur.entries.pop()  # the first and last profiles meet on a scanline: once
+            self.top -= 1
         last = self.cur
         up_with_entries = bool(self.cur.entries) and bool(self.cur.flags & FLOW_UP)
         self.end_profile(ly - _floor(ly) >= HALF if up_with_entries else _ceiling(ly) - ly >= HALF)
@@ -248,12 +281,19 @@ class _Builder:
     def finalize(self) -> list[_Profile]:
         if len(self.profiles) <= 1:
             return []
+        turns: set[int] = set()
         for p in self.profiles:
             if p.flags & FLOW_UP:
                 p.bottom, p.top = p.start, p.start + p.height - 1
             else:
                 p.bottom, p.top = p.start - p.height + 1, p.start
                 p.start = p.bottom
+            for turn in (p.bottom, p.top + 1):  # Insert_Y_Turn: each new one takes a Long off the pool's end
+                if turn not in turns:
+                    turns.add(turn)
+                    self.max_buff -= 1
+                    if self.max_buff <= self.top:
+                        raise _Overflow
         return self.profiles
 
 
@@ -324,17 +364,36 @@ def scan_convert_reference(contours: list[list[tuple[Any, Any]]], width: int, he
     bitmap = np.zeros((height, width), dtype=np.bool_)
     for vertical in (True, False):
         n_scan, n_span = (height, width) if vertical else (width, height)
-        builder = _Builder(mode, 0, (n_scan - 1) * P, stepped)
-        for points in contours:
-            scaled = [(x - HALF, y - HALF) for x, y in points]  # SCALED: pixel centres on the grid
-            builder.contour(scaled if vertical else [(y, x) for x, y in scaled])
-        _sweep(builder.finalize(), n_span, bitmap, vertical, mode)
+        scaled = [[(x - HALF, y - HALF) for x, y in points] for points in contours]  # SCALED: pixel centres on the grid
+        if not vertical:
+            scaled = [[(y, x) for x, y in points] for points in scaled]
+        # Render_Single_Pass: the whole bitmap, or (the pool overflowing) its upper half first, bisected again
+        stack: list[int] = []
+        y_min, y_max = 0, n_scan - 1
+        while True:
+            builder = _Builder(mode, y_min * P, y_max * P, stepped)
+            try:
+                for points in scaled:
+                    builder.contour(points)
+                profiles = builder.finalize()
+            except _Overflow:
+                if y_min == y_max:  # FreeType fails with Raster_Overflow: this band draws nothing
+                    profiles = []
+                else:
+                    stack.append(y_min)
+                    y_min = (y_min + y_max) // 2 + 1
+                    continue
+            _sweep(profiles, n_span, bitmap, vertical, mode)
+            if not stack:
+                break
+            y_max, y_min = y_min - 1, stack.pop()
     return bitmap
 
 
 # -- the compiled kernel: the same steps on arrays (one triangle, one sweep at a time) --------------
 # state st: 0 top (entries used), 1 cur (record), 2 n_records, 3 state, 4 fresh, 5 joint, 6 first record (-1),
-# 7 last_x, 8 last_y, 9 mode
+# 7 last_x, 8 last_y, 9 mode, 10 the pool's use in Longs, 11 maxBuff, 12 a header allocated, 13 overflowed (sticky:
+# the band is bisected whatever else happens after it)
 _MAX_RECORDS = 8  # a triangle's contour has at most 4 monotone chains, plus the empty record after the last
 
 
@@ -358,6 +417,11 @@ def _k_mul_div(a, b, c, rounded):  # type: ignore[no-untyped-def]
 
 @numba.njit(cache=True)
 def _k_new_profile(st, rec, state, overshoot):  # type: ignore[no-untyped-def]
+    if st[12] == 0:
+        st[10] += PROFILE_LONGS
+        st[12] = 1
+    if st[10] >= st[11]:
+        st[13] = 1
     c = st[1]
     rec[c, 0] = 0  # start
     rec[c, 1] = 0  # height
@@ -394,6 +458,9 @@ def _k_end_profile(st, rec, overshoot):  # type: ignore[no-untyped-def]
         rec[c, 3] = new
         st[1] = new
         st[2] = new
+        st[10] += PROFILE_LONGS
+    if st[10] >= st[11]:
+        st[13] = 1
     st[5] = 0
 
 
@@ -423,12 +490,17 @@ def _k_line_up(st, rec, ent, x1, y1, x2, y2, miny, maxy, sign):  # type: ignore[
         e1 += 1
     elif st[5]:
         st[0] -= 1
+        st[10] -= 1
         st[5] = 0
     st[5] = 1 if f2 == 0 else 0
     if st[4]:
         rec[st[1], 0] = e1 * sign
         st[4] = 0
     size = e2 - e1 + 1
+    if st[10] + size >= st[11]:
+        st[13] = 1
+        return
+    st[10] += size
     ix = _k_mul_div(P, abs(dx), dy, False)
     rx = (P * abs(dx)) % dy
     step = 1
@@ -473,16 +545,18 @@ def _k_line_to(st, rec, ent, x, y, miny, maxy):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _k_profiles(xs, ys, n_scan, mode, rec, ent):  # type: ignore[no-untyped-def]
-    """Convert_Glyph for one triangle (scaled, maybe flipped, points xs, ys): the records
-    (start = bottom, height, offset, next, flags, top) and how many hold entries (0: none
-    drawn, Finalize_Profile_Table's single-profile case)."""
-    st = np.zeros(10, dtype=np.int64)
+def _k_profiles(xs, ys, band_min, band_max, mode, rec, ent):  # type: ignore[no-untyped-def]
+    """Convert_Glyph for one triangle (scaled, maybe flipped, points xs, ys) in the band of
+    scanlines band_min .. band_max: the records (start = bottom, height, offset, next,
+    flags, top) and how many hold entries (0: none drawn, Finalize_Profile_Table's
+    single-profile case; -1: the render pool overflowed)."""
+    st = np.zeros(14, dtype=np.int64)
     st[6] = -1
     st[9] = mode
+    st[11] = POOL - PROFILE_LONGS
     rec[0, 2] = 0
-    miny = 0
-    maxy = (n_scan - 1) * P
+    miny = band_min * P
+    maxy = band_max * P
     st[7] = xs[0]
     st[8] = ys[0]
     for k in (1, 2, 0):
@@ -491,6 +565,7 @@ def _k_profiles(xs, ys, n_scan, mode, rec, ent):  # type: ignore[no-untyped-def]
     c = st[1]
     if ly - _k_floor(ly) == 0 and miny <= ly <= maxy and st[6] >= 0 and (rec[st[6], 4] & FLOW_UP) == (rec[c, 4] & FLOW_UP):
         st[0] -= 1
+        st[10] -= 1
     if st[0] != rec[c, 2] and rec[c, 4] & FLOW_UP:
         overshoot = ly - _k_floor(ly) >= HALF
     else:
@@ -499,14 +574,29 @@ def _k_profiles(xs, ys, n_scan, mode, rec, ent):  # type: ignore[no-untyped-def]
     if st[6] >= 0:
         rec[c, 3] = st[6]
     n = st[1]  # records 0 .. n - 1 hold entries (the current one is empty)
+    if st[13]:
+        return -1
     if n <= 1:
         return 0
+    turns = np.empty(2 * n, dtype=np.int64)
+    n_turns = 0
     for p in range(n):
         if rec[p, 4] & FLOW_UP:
             rec[p, 5] = rec[p, 0] + rec[p, 1] - 1
         else:
             rec[p, 5] = rec[p, 0]
             rec[p, 0] = rec[p, 0] - rec[p, 1] + 1
+        for turn in (rec[p, 0], rec[p, 5] + 1):  # Insert_Y_Turn: each new one takes a Long off the pool's end
+            seen = False
+            for k in range(n_turns):
+                if turns[k] == turn:
+                    seen = True
+            if not seen:
+                turns[n_turns] = turn
+                n_turns += 1
+                st[11] -= 1
+                if st[11] <= st[10]:
+                    return -1
     return n
 
 
@@ -646,12 +736,27 @@ def scan_convert(points, width, height, mode, bitmap):  # type: ignore[no-untype
             else:
                 xs[k] = points[k, 1] - HALF
                 ys[k] = points[k, 0] - HALF
-        capacity = 3 * (n_scan + 2) + 8
-        ent = np.empty(capacity, dtype=np.int64)
-        rec[:, :] = 0
-        n = _k_profiles(xs, ys, n_scan, mode, rec, ent)
-        if n > 0:
-            _k_sweep(rec, ent, n, n_span, bitmap, vertical, mode)
+        ent = np.empty(3 * (n_scan + 2) + 8, dtype=np.int64)
+        # Render_Single_Pass: the whole bitmap, or (the pool overflowing) its upper half first, bisected again
+        stack = np.empty(64, dtype=np.int64)
+        depth = 0
+        y_min = 0
+        y_max = n_scan - 1
+        while True:
+            rec[:, :] = 0
+            n = _k_profiles(xs, ys, y_min, y_max, mode, rec, ent)
+            if n < 0 and y_min != y_max:
+                stack[depth] = y_min
+                depth += 1
+                y_min = (y_min + y_max) // 2 + 1
+                continue
+            if n > 0:
+                _k_sweep(rec, ent, n, n_span, bitmap, vertical, mode)
+            if depth == 0:
+                break
+            y_max = y_min - 1
+            depth -= 1
+            y_min = stack[depth]
 
 
 def _mask_runs(t: int, mask: NDArray[np.bool_], x0: int, y0: int) -> list[tuple[int, int, int, int]]:

@@ -280,3 +280,19 @@ def test_identify_does_not_call_the_known_bad_exact_under_their_claims():
     for bad in (ClosedWithTies(), LeftDropout()):
         fit = fit_rule(bad.rasterize)
         assert not (fit.exact and fit.convention == bad.convention), fit.describe()
+
+
+@pytest.mark.parametrize("mode", [2, 5])
+def test_tall_triangles_are_drawn_in_bands_as_the_render_pool_forces(mode):
+    """Over about 1,000 px tall, ftraster.c's profiles overflow its render pool and it
+    bisects the bitmap into bands: the kernel, the transcription and FreeType agree."""
+    outline = _freetype(_FLAGS[mode])
+    rng = np.random.default_rng(mode)
+    w, h = 24, 1500
+    for _ in range(3):
+        p = np.stack([rng.uniform(0, w, size=3), [rng.uniform(0, 2), rng.uniform(h - 2, h), rng.uniform(0, h)]], 1)
+        fixed = [(int(np.rint(64 * x)), 64 * h - int(np.rint(64 * y))) for x, y in p]
+        got = np.zeros((h, w), dtype=np.bool_)
+        scan_convert(np.array(fixed, dtype=np.int64), w, h, mode, got)
+        assert (got == scan_convert_reference([fixed], w, h, mode)).all()
+        assert (got == (outline.render([p], w, h) > 0)).all()
