@@ -296,3 +296,35 @@ def test_tall_triangles_are_drawn_in_bands_as_the_render_pool_forces(mode):
         scan_convert(np.array(fixed, dtype=np.int64), w, h, mode, got)
         assert (got == scan_convert_reference([fixed], w, h, mode)).all()
         assert (got == (outline.render([p], w, h) > 0)).all()
+
+
+# --- the checks' expectations under the closed rule ---------------------------------------------------
+
+def test_degenerate_expects_the_closed_rules_zero_area_pixels_but_not_non_finite_ones():
+    from harness.checks import degenerate
+
+    scene = Scene(6, 6, [[[0.5, 0.5], [2.5, 2.5], [4.5, 4.5]], [[np.nan, 1.0], [2.0, 2.0], [3.0, 1.0]]])
+    case = Case("degenerate/closed/segment", scene, lattice=True)
+    own = exact_coverage(scene, Convention(coverage="closed"))
+    assert len(own) and degenerate(case, own, Convention(coverage="closed")).status == "pass"
+    assert degenerate(case, own, Convention()).status == "fail"  # under a tie rule they draw nothing
+    garbage = Coverage.concat([own, Coverage(np.array([1]), np.array([1]), np.array([1]), np.array([3]))])
+    assert degenerate(case, garbage, Convention(coverage="closed")).status == "fail"  # a non-finite triangle drew
+
+
+def test_invariance_excuses_the_stepped_crossings_own_changes_only():
+    from harness.checks import invariance, invariance_variants
+
+    scene = Scene(16, 12, _triangles(7, 30, 16, 12, 64))
+    case = Case("float/closed/invariance", scene, lattice=False)
+    convention = FREETYPE_MONO_DROPOUT
+    own = exact_coverage(scene, convention)
+    variants = [(label, index, exact_coverage(s, convention)) for label, s, index in invariance_variants(case)]
+    plain = invariance(case, own, variants)
+    assert plain.status == "fail"  # reversing the winding moves stepped crossings: the rule itself changes
+    judged = invariance(case, own, variants, own=(own, variants))
+    assert judged.status == "pass" and judged.metrics["rule_own"] > 0, judged.message
+    # a rasterizer whose change the rule does not have still fails
+    shifted = [(label, index, Coverage.concat([cov, Coverage(np.array([0]), np.array([0]), np.array([15]),
+                                                             np.array([16]))])) for label, index, cov in variants]
+    assert invariance(case, own, shifted, own=(own, variants)).status == "fail"
