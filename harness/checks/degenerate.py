@@ -34,7 +34,7 @@ def control_scene(case: Case) -> Scene:
 def degenerate(case: Case, coverage: Coverage, convention: Convention | None,
                work: tuple[float, float] | None = None, tolerance: Tolerance = Tolerance()) -> Result:
     """Zero-area triangles (after the declared snapping) draw nothing (unless the declared
-    coverage rule draws them: ``zero_area_draws``), non-finite ones draw nothing, no
+    coverage rule draws them: ``zero_area``), non-finite ones draw nothing, no
     attribute is NaN, and the work stays bounded: ``work`` is (seconds for the case,
     seconds for :func:`control_scene`), whose ratio may not exceed
     ``tolerance.work_ratio``."""
@@ -42,11 +42,9 @@ def degenerate(case: Case, coverage: Coverage, convention: Convention | None,
     scene = TRIANGLES.narrow(scene)  # degenerate cases are triangle scenes
     sign = orientation(convention.snap(scene.positions) if convention is not None else scene.positions)
     nothing = sign == 0  # zero area or non-finite
-    if convention is not None and convention.model.zero_area_draws:
-        # a rule that draws zero-area triangles (inclusive-scanline: a segment's pixels): only non-finite ones must
-        # draw nothing; what the others draw, conformance judges
-        with np.errstate(invalid="ignore"):
-            nothing = ~np.all(np.isfinite(convention.snap(scene.positions)), axis=(1, 2))
+    if convention is not None and convention.model.zero_area:
+        # the rule draws them (closed, inclusive-scanline): only non-finite ones must draw nothing; conformance judges the rest
+        nothing &= ~np.isfinite(scene.positions).all(axis=(1, 2))
     tri = coverage.triangle
     valid = (tri >= 0) & (tri < len(scene))
     drew = np.zeros(len(scene), dtype=bool)

@@ -117,7 +117,8 @@ def _pixel_set(coverage: Coverage, index: NDArray | None = None) -> tuple[NDArra
     return unique, unique[counts > 1]
 
 
-def triangulation(case: Any, coverage: Coverage, triangles_coverage: Coverage, owner: NDArray, paths: NDArray) -> Result:
+def triangulation(case: Any, coverage: Coverage, triangles_coverage: Coverage, owner: NDArray, paths: NDArray,
+                  doubles_own: bool = False, own: tuple[Coverage, Coverage] | None = None) -> Result:
     """The rasterizer's coverage of each simple path in ``paths`` equals the union of its
     coverage of the path's triangulation, with no sample drawn by two of those triangles.
 
@@ -130,6 +131,16 @@ def triangulation(case: Any, coverage: Coverage, triangles_coverage: Coverage, o
         ``owner[t]``.
     paths : (P',) int64
         The paths judged (the strictly simple single-contour ones).
+    doubles_own : bool
+        The convention's rule draws a sample on a shared edge for both triangles (the
+        closed rule: ``CoverageModel.exactly_once`` False): double hits are expected and
+        counted (``rule_own``), not failed.
+    own : (Coverage, Coverage) or None
+        The declared rule's exact answers for the path scene and the triangle scene, when
+        the rule does not promise a path its triangulation's samples (dropout control: a
+        thin triangle of the triangulation draws a dropout pixel the path does not):
+        samples drawn for the one but not the other where the rule's answers differ so
+        too are excused (``rule_own``).
     """
     judged = np.zeros(len(case.scene), dtype=bool)
     judged[paths] = True
@@ -143,6 +154,15 @@ def triangulation(case: Any, coverage: Coverage, triangles_coverage: Coverage, o
 
     only_path = np.setdiff1d(rows(path_keys), rows(union))
     only_triangles = np.setdiff1d(rows(union), rows(path_keys))
+    excused = 0
+    if own is not None:
+        own_path, _ = _pixel_set(own[0])
+        own_path = own_path[judged[own_path[:, 0]]] if own_path.size else own_path
+        own_union, _ = _pixel_set(own[1], owner)
+        before = only_path.size + only_triangles.size
+        only_path = np.setdiff1d(only_path, np.setdiff1d(rows(own_path), rows(own_union)))
+        only_triangles = np.setdiff1d(only_triangles, np.setdiff1d(rows(own_union), rows(own_path)))
+        excused = before - only_path.size - only_triangles.size
     metrics = {"paths_judged": float(paths.size), "path_only": float(only_path.size),
                "triangles_only": float(only_triangles.size), "triangulation_double_hits": float(len(doubles))}
     evidence: dict[str, Any] = {}
@@ -151,12 +171,21 @@ def triangulation(case: Any, coverage: Coverage, triangles_coverage: Coverage, o
             evidence[name] = [[int(r["p"]), int(r["x"]), int(r["y"])] for r in found[:EVIDENCE_LIMIT]]
     if len(doubles):
         evidence["triangulation_double_hits"] = doubles[:EVIDENCE_LIMIT].tolist()
-    ok = not (only_path.size or only_triangles.size or len(doubles))
+    if doubles_own:
+        metrics["rule_own"] = metrics.pop("triangulation_double_hits")
+    if excused:
+        metrics["rule_own"] = metrics.get("rule_own", 0.0) + float(excused)
+        evidence.pop("triangulation_double_hits", None)
+    ok = not (only_path.size or only_triangles.size or (len(doubles) and not doubles_own))
     if ok:
         message = f"each of {paths.size} simple paths covers exactly its triangulation's samples"
     else:
         message = (f"{only_path.size} samples drawn for the path but not its triangles, {only_triangles.size} for the "
                    f"triangles but not the path, {len(doubles)} drawn by two triangles of one triangulation")
+    if doubles_own and len(doubles):
+        message += f" ({len(doubles)} samples on shared edges drawn twice: the rule's own)"
+    if excused:
+        message += f"; {excused} samples drawn for one but not the other excused: the rule's own (dropouts)"
     if evidence:
         evidence["columns"] = ["path", "x", "y"]
     return result(case.id, "triangulation", ok, message, metrics, evidence)
@@ -199,7 +228,13 @@ def _run(s: Subject) -> Result:
         kind = "timeout" if outcome.timed_out else type(outcome.error).__name__
         return Result("", s.case.id, "triangulation", "error", f"{kind} on the triangulation: {outcome.error}",
                       {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
-    return triangulation(s.case, s.coverage, outcome.coverage, owner, paths)
+    rule = None
+    if s.convention is not None and s.convention.model.path_oracle and s.convention.dropout != "none":
+        from harness.oracle.coverage import exact_coverage  # dropouts: the rule's own differences
+
+        rule = (s.oracle, exact_coverage(triangles, s.convention))
+    return triangulation(s.case, s.coverage, outcome.coverage, owner, paths,
+                         doubles_own=s.convention is not None and not s.convention.model.exactly_once, own=rule)
 
 
 def _applies(case: Any) -> bool:

@@ -139,7 +139,13 @@ sample pattern is the supersampled area model)
             pygame's ``draw_fillpoly`` on whole pixels (``input="integer-..."``): each row
             from the lowest vertex to the highest, from the truncated left crossing of the
             closed triangle to the truncated right one, both drawn (zero area too).
-        The tie rule and ``sample`` mean nothing to them. A planar partition is not hit
+        ``closed``
+            Decided at ``sample`` like one sample per pixel, but a sample exactly on an
+            edge is inside for every triangle sharing the edge (no tie rule): covered iff
+            the sample lies in the closed triangle; a zero-area triangle covers the samples
+            on its segment. FreeType's monochrome rasterizer. ``dropout`` adds TrueType's
+            dropout control (:class:`Dropout`, :mod:`harness.oracle.dropout`).
+        The tie rule means nothing to them, nor ``sample`` but to ``closed``. A planar partition is not hit
         exactly once: double hits (over, threshold) and holes (under, threshold) are the
         rule's own, and the checks excuse those the exact answer has.
 
@@ -220,6 +226,10 @@ __all__ = [
     "LineDirection",
     "WIDE_LINES",
     "WideLines",
+    "Dropout",
+    "DropoutMode",
+    "DROPOUT_MODES",
+    "dropout_control",
 ]
 
 TieRule = Literal[
@@ -246,6 +256,9 @@ LINE_DIRECTIONS: tuple[LineDirection, ...] = ("as-given", "smaller-x", "smaller-
 # replicating each fragment along the minor axis, integer widths.
 WideLines = Literal["none", "replicate"]
 WIDE_LINES: tuple[WideLines, ...] = ("none", "replicate")
+# TrueType's dropout control (scan-conversion rules 3-6) as FreeType's ftraster.c runs it
+DropoutMode = Literal["none", "simple", "smart"]
+DROPOUT_MODES: tuple[DropoutMode, ...] = ("none", "simple", "smart")
 SnapRounding = Literal["nearest-even", "half-away", "floor"]
 # How a fixed-point or integer input grid rounds what it receives: the snap roundings and C's
 # ``(int)`` cast (toward zero).
@@ -459,6 +472,129 @@ class LineRule:
         return f"Bresenham lines{walk}, end points to pixels by {self.rounding}, ties {self.ties}, {last}"
 
 
+@dataclass(frozen=True, slots=True)
+class Dropout:
+    """Dropout control and scanline crossings of the ``closed`` rule: TrueType's scan
+    conversion as FreeType's monochrome rasterizer (``src/raster/ftraster.c``) runs it;
+    the definitions, with ftraster.c's functions, are in :mod:`harness.oracle.dropout`.
+
+    Parameters
+    ----------
+    mode : {"none", "simple", "smart"}
+        ``none``: no dropout control (``FT_OUTLINE_IGNORE_DROPOUTS``; SCANTYPE 2).
+        Otherwise, where a scanline's span between two crossings holds no pixel centre and
+        its ends lie in neighbouring pixels, one pixel is drawn anyway unless the other is
+        already drawn: ``simple`` the left (lower) one (SCANTYPE 0, 1), ``smart`` the one
+        whose centre is nearer the span's midpoint, ties to the left (SCANTYPE 4, 5;
+        ``FT_OUTLINE_SMART_DROPOUTS``); in rows, and in columns (the second sweep).
+    stubs : bool
+        Whether dropouts at a contour's turning scanline (stubs) are drawn too (SCANTYPE 0
+        and 4, ``FT_OUTLINE_INCLUDE_STUBS``); False (SCANTYPE 1, 5) draws a stub only where
+        the outline overshoots the scanline by at least half a pixel on a span at least half
+        a pixel wide.
+    step_bits : None or 6
+        None: crossings exact (rational). 6: crossings computed as ftraster.c's
+        ``Line_Up`` does on its 1/64 px grid (FreeType's default precision): from the
+        edge's start, the first rounded to nearest, then whole steps truncated toward the
+        start (:func:`harness.oracle.dropout.stepped_crossing`), so the pixels depend on an
+        edge's direction; needs the input on that grid (``input="fixed6"``).
+
+    A convention keeps it as its canonical name (:attr:`name`, as ``input`` keeps its
+    precision's), so that a convention's fields stay JSON values:
+
+    >>> Dropout("smart", stubs=False).describe()
+    'smart dropout control (SCANTYPE 5, stubs excluded)'
+    >>> Dropout("smart", stubs=False, step_bits=6).name, dropout_control("simple-stepped6")
+    ('smart-no-stubs-stepped6', Dropout(mode='simple', stubs=True, step_bits=6))
+    >>> Dropout.from_json(Dropout("simple", step_bits=6).to_json()) == Dropout("simple", step_bits=6)
+    True
+    """
+
+    mode: DropoutMode = "none"
+    stubs: bool = True
+    step_bits: int | None = None
+
+    def __post_init__(self) -> None:
+        if self.mode not in DROPOUT_MODES:
+            raise ValueError(f"Dropout.mode must be one of {', '.join(DROPOUT_MODES)}, not {self.mode!r}")
+        if not isinstance(self.stubs, (bool, np.bool_)):
+            raise ValueError(f"Dropout.stubs must be True or False, not {self.stubs!r}")
+        object.__setattr__(self, "stubs", bool(self.stubs))
+        bits = self.step_bits
+        if bits is not None and (isinstance(bits, bool) or not isinstance(bits, (int, np.integer)) or bits != 6):
+            raise ValueError(f"Dropout.step_bits must be None (exact crossings) or 6 (ftraster.c's 1/64 px), not {bits!r}")
+        if bits is not None:
+            object.__setattr__(self, "step_bits", int(bits))
+
+    @property
+    def name(self) -> str:
+        """Its canonical name: the mode, ``-no-stubs`` when stubs are excluded, ``-stepped6``
+        when crossings are stepped (``none``, ``smart-no-stubs-stepped6``)."""
+        stubs = "-no-stubs" if self.mode != "none" and not self.stubs else ""
+        return self.mode + stubs + ("" if self.step_bits is None else f"-stepped{self.step_bits}")
+
+    @property
+    def active(self) -> bool:
+        """Whether it changes anything (dropouts drawn, or crossings stepped)."""
+        return self.mode != "none" or self.step_bits is not None
+
+    @property
+    def scantype(self) -> int:
+        """TrueType's SCANTYPE (FreeType's dropout mode) for it: 0, 1, 2, 4 or 5."""
+        return {"none": 2, "simple": 0, "smart": 4}[self.mode] + (0 if self.stubs or self.mode == "none" else 1)
+
+    @classmethod
+    def from_scantype(cls, mode: int, step_bits: int | None = None) -> Dropout:
+        """The record of TrueType's SCANTYPE ``mode`` (3, 6 and 7 are 2's: no control)."""
+        if mode not in range(8):
+            raise ValueError(f"a SCANTYPE mode is 0..7, not {mode!r}")
+        if mode in (0, 1, 4, 5):
+            return cls("simple" if mode < 4 else "smart", stubs=mode in (0, 4), step_bits=step_bits)
+        return cls("none", step_bits=step_bits)
+
+    def describe(self) -> str:
+        """A few words for people."""
+        if self.mode == "none":
+            said = "no dropout control"
+        else:
+            stubs = "stubs included" if self.stubs else "stubs excluded"
+            said = f"{self.mode} dropout control (SCANTYPE {self.scantype}, {stubs})"
+        if self.step_bits is not None:
+            said += f", crossings stepped at 1/{2**self.step_bits} px from each edge's start"
+        return said
+
+    def to_json(self) -> dict[str, Any]:
+        """Its fields as JSON values."""
+        return {"mode": self.mode, "stubs": self.stubs, "step_bits": self.step_bits}
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> Dropout:
+        """The record :meth:`to_json` gave."""
+        return cls(data.get("mode", "none"), bool(data.get("stubs", True)), data.get("step_bits"))
+
+
+def dropout_control(spec: Dropout | str | dict[str, Any] | None) -> Dropout:
+    """A :class:`Dropout` from itself, its name (``"smart"``, ``"smart-no-stubs"``,
+    ``"none-stepped6"``: :attr:`Dropout.name`), its JSON, or None (none).
+
+    >>> dropout_control("smart-no-stubs"), dropout_control(None).active
+    (Dropout(mode='smart', stubs=False, step_bits=None), False)
+    """
+    if spec is None:
+        return Dropout()
+    if isinstance(spec, Dropout):
+        return spec
+    if isinstance(spec, dict):
+        return Dropout.from_json(spec)
+    if isinstance(spec, str):
+        match = re.fullmatch(r"(none|simple|smart)(-no-stubs)?(?:-stepped(\d+))?", spec)
+        if match is None or (match[1] == "none" and match[2]):
+            raise ValueError(f"Convention.dropout must be 'none', 'simple' or 'smart' (then optionally '-no-stubs'), "
+                             f"optionally '-stepped6', or a Dropout, not {spec!r}")
+        return Dropout(cast(Any, match[1]), stubs=not match[2], step_bits=None if match[3] is None else int(match[3]))
+    raise ValueError(f"Convention.dropout must be a Dropout, its name or None, not {spec!r}")
+
+
 @dataclass(frozen=True, slots=True, repr=False)
 class Convention:
     """A fill convention: sample point, tie rule, vertex snapping and culling.
@@ -486,7 +622,7 @@ class Convention:
         :data:`MAX_AREA_SAMPLES` for supersampled area coverage); stored as the offsets. Each
         sample then follows ``tie``, snapping and culling at its own offset, and ``sample`` is
         not used. None: one sample, at ``sample``.
-    coverage : {"sample", "area", "area-threshold", "conservative-over", "conservative-under"}
+    coverage : {"sample", "area", "area-threshold", "conservative-over", "conservative-under", "closed"}
         ``area``: anti-aliased coverage, an alpha per pixel equal to the area of the
         triangle inside the pixel (or, with ``samples``, the share of the samples it
         covers), quantised and within ``tolerance`` (``sample`` is not used, nor ``tie``
@@ -515,6 +651,11 @@ class Convention:
         underestimate: one whose square so grown is not inside may be left out
         (:func:`harness.oracle.coverage_rules.uncertainty_bounds`; conformance, watertight
         and overdraw judge between the two).
+    dropout : str, Dropout or None
+        ``closed`` only: dropout control and how crossings are computed (:class:`Dropout`),
+        kept as its canonical name (``"smart-no-stubs-stepped6"``; a Dropout or None is
+        taken too; :attr:`dropout_control` gives the record); default ``"none"``, which
+        changes nothing.
 
     Examples
     --------
@@ -553,7 +694,7 @@ class Convention:
     # given as a count or offsets (harness.contract.samples.pattern), kept as a tuple of (x, y) offsets
     samples: Any = None
     coverage: Literal["sample", "area", "area-threshold", "conservative-over", "conservative-under", "agg-cover",
-                      "inclusive-scanline"] = "sample"
+                      "inclusive-scanline", "closed"] = "sample"
     levels: int = 256
     tolerance: float | None = None
     # line scenes only (a LineRule, or its rule's name)
@@ -564,6 +705,8 @@ class Convention:
     threshold: float = 0.5
     # the conservative rules only: the uncertainty region, in pixels (D3D12/Vulkan)
     uncertainty: float = 0.0
+    # coverage="closed" only: dropout control and the crossings' arithmetic (Dropout.name, canonical)
+    dropout: str = "none"
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -572,6 +715,7 @@ class Convention:
         if self.model.rule:
             extra += f", coverage={self.coverage!r}" + (f", threshold={self.threshold!r}" if self.coverage_uses_threshold else "")
             extra += f", uncertainty={self.uncertainty!r}" if self.uncertainty else ""
+            extra += f", dropout={self.dropout!r}" if self.dropout != "none" else ""
         elif self.coverage != "sample":
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
         if self.line != LineRule():
@@ -640,6 +784,11 @@ class Convention:
         """Area coverage: the promised bound on |alpha - exact area| (half a level when
         none is declared)."""
         return 0.5 * self.level_step if self.tolerance is None else float(self.tolerance)
+
+    @property
+    def dropout_control(self) -> Dropout:
+        """Its :attr:`dropout`, parsed (:func:`dropout_control`)."""
+        return dropout_control(self.dropout)
 
     @property
     def input_precision(self) -> InputPrecision:
@@ -762,6 +911,16 @@ class Convention:
                 raise ValueError(f"Convention.coverage {self.coverage!r} is defined on a grid of 2**-{grid} px: declare "
                                  f"input='{'integer' if grid == 0 else f'fixed{grid}'}-<rounding>' (and no subpixel_bits), "
                                  f"not input={self.input!r}")
+        dropout = dropout_control(self.dropout)
+        if dropout.active and self.coverage != "closed":
+            raise ValueError(f"Convention.dropout is the closed rule's (coverage='closed'), not {self.coverage!r}'s")
+        if dropout.step_bits is not None:
+            grid = input_precision(self.input)
+            if grid.kind != "fixed" or grid.bits > dropout.step_bits or self.subpixel_bits is not None:
+                raise ValueError(f"Dropout.step_bits={dropout.step_bits} steps crossings on a 2**-{dropout.step_bits} px "
+                                 f"grid: the input must lie on it (input='fixed{dropout.step_bits}' or coarser), "
+                                 "without snapping")
+        object.__setattr__(self, "dropout", dropout.name)
 
     @property
     def tie_perturbation(self) -> tuple[int, int, bool]:

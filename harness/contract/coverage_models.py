@@ -24,9 +24,16 @@ under``                      closed triangle (D3D12/Vulkan underestimate)
                              least 256 ``threshold`` (aggdraw's and matplotlib's aliased fills)
 ``inclusive-    single       covered or not: every row between the integer vertices, from
 scanline``                   the truncated left crossing to the right one, both included (pygame)
+``closed``      single       covered or not: iff the sample point lies in the closed
+                             triangle, on an edge included (FreeType's monochrome)
 ==============  ===========  ===========================================================
 
-The last five are *coverage rules* (``rule``): declared by their name as
+``closed`` is a coverage rule decided at the sample point (``sample_point`` True: its near
+ties are measured there) whose edges belong to every triangle sharing them: a planar
+partition's samples on shared edges are hit twice (``exactly_once`` False), and its
+convention may declare dropout control (:class:`harness.contract.conventions.Dropout`).
+
+The other five are *coverage rules* (``rule``): declared by their name as
 ``Convention.coverage``, answered as one sample per pixel is (a (triangle, pixel) covered or
 not, so the single-sample checks judge them), but decided on the pixel's square, not at a
 sample point: the tie rule and ``sample`` mean nothing to them (``sample_point`` False: no
@@ -58,14 +65,14 @@ the name when first asked, as :mod:`harness` resolves its lazily imported names.
 
 >>> [m.name for m in COVERAGE_MODELS.values()]  # doctest: +NORMALIZE_WHITESPACE
 ['single', 'multisample', 'area', 'supersampled area', 'area-threshold', 'conservative-over', 'conservative-under',
- 'agg-cover', 'inclusive-scanline']
+ 'agg-cover', 'inclusive-scanline', 'closed']
 >>> model_named("multisample").sample_ids, model_named("area").alphas
 (True, True)
 >>> model_named("conservative")  # doctest: +NORMALIZE_WHITESPACE
 Traceback (most recent call last):
 ...
 ValueError: no coverage model is named 'conservative': single, multisample, area, supersampled area, area-threshold,
-conservative-over, conservative-under, agg-cover, inclusive-scanline
+conservative-over, conservative-under, agg-cover, inclusive-scanline, closed
 """
 
 from __future__ import annotations
@@ -78,13 +85,14 @@ from typing import Any, Literal
 
 __all__ = ["CoverageModel", "CoverageKind", "COVERAGE_KINDS", "COVERAGE_MODELS", "DECLARED_COVERAGES", "SINGLE",
            "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "AREA_THRESHOLD", "CONSERVATIVE_OVER", "CONSERVATIVE_UNDER",
-           "AGG_COVER", "INCLUSIVE_SCANLINE", "COVERAGE_RULES", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named", "model_for"]
+           "AGG_COVER", "INCLUSIVE_SCANLINE", "CLOSED", "COVERAGE_RULES", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named",
+           "model_for"]
 
 CoverageKind = Literal["single", "multisample", "area"]
 # what Convention.coverage may say: point samples (one, or a pattern's), area, or a coverage
 # rule by its model's name (COVERAGE_RULES)
 DECLARED_COVERAGES: tuple[str, ...] = ("sample", "area", "area-threshold", "conservative-over", "conservative-under",
-                                       "agg-cover", "inclusive-scanline")
+                                       "agg-cover", "inclusive-scanline", "closed")
 # The most samples per pixel a pattern may have (GL/Vulkan implementations top out at 32 or
 # 64 with no standard locations; 32 keeps a garbage answer's span budget bounded).
 MAX_SAMPLES = 32
@@ -153,9 +161,12 @@ class CoverageModel:
         A rule defined on an integer grid of 2**-input_bits px (the one its library
         receives): its convention's ``input`` must be ``fixedN`` with N <= input_bits or
         ``integer``; None: any input.
-    zero_area_draws : bool
-        Its exact answer draws triangles of zero area (after the input grid and snapping):
-        the degenerate check then asks only that non-finite ones draw nothing.
+    zero_area : bool
+        Its zero-area triangles may draw (the closed rule: the samples on their segment);
+        False: a zero-area triangle draws nothing (the degenerate check's expectation).
+    path_oracle : str
+        ``"module:function"``, its own exact oracle of path scenes (:meth:`exact_paths`),
+        when it has one; "" (default): the winding oracle's sample-point paths.
     """
 
     name: str
@@ -178,7 +189,8 @@ class CoverageModel:
     thresholded: bool = False
     uncertain: bool = False
     input_bits: int | None = None
-    zero_area_draws: bool = False
+    zero_area: bool = False
+    path_oracle: str = ""
 
     def __repr__(self) -> str:
         return f"CoverageModel({self.name!r})"
@@ -194,13 +206,22 @@ class CoverageModel:
     def declared_as(self, convention: Any) -> str:
         """How a message says ``convention`` (of this model) declares it: ``one sample per
         pixel``, ``a multisample pattern of 4 samples``, ``area coverage``."""
-        return self.declared.format(n=convention.n_samples, t=f"{getattr(convention, 'threshold', 0.5):g}")
+        dropout = getattr(convention, "dropout_control", None)
+        sx, sy = getattr(convention, "sample", (0.5, 0.5))
+        return self.declared.format(n=convention.n_samples, t=f"{getattr(convention, 'threshold', 0.5):g}",
+                                    s=f"({sx:g}, {sy:g})",
+                                    d="" if dropout is None or not dropout.active else f", {dropout.describe()}")
 
     def exact_triangles(self, scene: Any, convention: Any) -> Any:
         """The exact coverage (a :class:`harness.contract.coverage.Coverage`) of the triangle scene
         ``scene`` under ``convention``, a convention of this model: what
         :func:`harness.oracle.coverage.exact_coverage` gives for triangles (uncached)."""
         return _resolved(self.triangle_oracle)(scene, convention)
+
+    def exact_paths(self, scene: Any, convention: Any) -> Any:
+        """The exact coverage of the path scene ``scene`` under ``convention`` by its own
+        :attr:`path_oracle` (what :func:`harness.oracle.winding.path_coverage` gives)."""
+        return _resolved(self.path_oracle)(scene, convention)
 
 
 @functools.cache
@@ -250,11 +271,18 @@ INCLUSIVE_SCANLINE = CoverageModel(
     "inclusive-scanline", "single", "harness.oracle.library_rules:inclusive_scanline_coverage",
     declared="an inclusive scanline fill (each row from the truncated left crossing to the right one, both drawn)",
     seen="one sample per pixel", paths=False, verdict_checks=("conformance",), rule=True, sample_point=False,
-    exactly_once=False, input_bits=0, zero_area_draws=True)
+    exactly_once=False, input_bits=0, zero_area=True)
+
+# decided at the sample point, an edge's samples inside for every triangle sharing it (FreeType's monochrome)
+CLOSED = CoverageModel(
+    "closed", "single", "harness.oracle.dropout:closed_triangles",
+    declared="the closed rule (a sample on an edge is inside) at sample {s}{d}", seen="one sample per pixel",
+    single_sample=True, verdict_checks=("conformance",), rule=True, sample_point=True, exactly_once=False,
+    zero_area=True, path_oracle="harness.oracle.dropout:closed_paths")
 
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
                                                                   CONSERVATIVE_OVER, CONSERVATIVE_UNDER, AGG_COVER,
-                                                                  INCLUSIVE_SCANLINE)}
+                                                                  INCLUSIVE_SCANLINE, CLOSED)}
 # the coverage rules, by the Convention.coverage that declares each (its name)
 COVERAGE_RULES: dict[str, CoverageModel] = {m.name: m for m in COVERAGE_MODELS.values() if m.rule}
 # the coverage kinds, in the models' order

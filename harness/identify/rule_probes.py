@@ -7,7 +7,12 @@ halves and edges through pixel corners: where the rules and thresholds disagree)
 pixels (squares touching edges and corners only) and at random float positions, each in
 both orientations (a rasterizer whose rule depends on the winding shows it).
 
-The three rules tell themselves apart on these at once: conservative-over draws every
+The closed rule (``closed``: samples on an edge inside) is tried at each snapping too, and
+on 26.6 input with TrueType's dropout control as ftraster.c runs it (:data:`CLOSED_SCANS`):
+the probes' slivers between pixel centres and their edges near centres tell the modes and
+the crossings' arithmetic apart.
+
+The three square rules tell themselves apart on these at once: conservative-over draws every
 square an edge touches, under none that an edge crosses, a threshold half of those. The
 threshold is read from the answers, not guessed: under snapping s, a threshold rasterizer
 draws every pixel covered at least t and no other, so t lies in ``(largest area left
@@ -50,7 +55,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.contract.conventions import INPUT_ROUNDINGS, SNAP_ROUNDINGS, Convention
+from harness.contract.conventions import INPUT_ROUNDINGS, SNAP_ROUNDINGS, Convention, Dropout, dropout_control
 from harness.contract.coverage import Coverage
 from harness.contract.coverage_models import AGG_COVER, COVERAGE_RULES
 from harness.contract.scenes import Scene
@@ -136,9 +141,22 @@ def best_threshold(areas: NDArray[np.float64], drawn: NDArray[np.bool_]) -> floa
     return simplest_dyadic(low, min(high + _AREA_SLACK, 1.0))
 
 
+# the closed rule's scan conversions tried on 26.6 input (FreeType's monochrome rasterizer): no dropout
+# control, simple and smart, stubs included or excluded, crossings exact or stepped as ftraster.c steps them
+CLOSED_SCANS: tuple[Dropout, ...] = tuple(
+    dropout_control(f"{mode}{stubs}{step}") for step in ("-stepped6", "") for mode, stubs in
+    (("none", ""), ("simple", ""), ("simple", "-no-stubs"), ("smart", ""), ("smart", "-no-stubs")))
+
+
+def closed_candidates() -> list[Convention]:
+    """The closed rule on 26.6 input with each scan conversion of :data:`CLOSED_SCANS`."""
+    return [Convention(coverage="closed", input="fixed6", dropout=d.name) for d in CLOSED_SCANS]
+
+
 def rule_candidates(scenes: Sequence[Scene], answers: Sequence[Coverage]) -> list[Convention]:
     """Every rule at every snapping of :data:`SNAPPINGS`, the threshold read from the
-    answers (module docstring: the best split of the areas drawn and left undrawn)."""
+    answers (module docstring: the best split of the areas drawn and left undrawn); then
+    the closed rule's scan conversions (:func:`closed_candidates`)."""
     out = []
     for bits, rounding in SNAPPINGS:
         base = Convention(subpixel_bits=bits, snap_rounding=rounding)  # type: ignore[arg-type]
@@ -157,7 +175,7 @@ def rule_candidates(scenes: Sequence[Scene], answers: Sequence[Coverage]) -> lis
                                          snap_rounding=rounding))  # type: ignore[arg-type]
             else:
                 out.append(Convention(coverage=name, subpixel_bits=bits, snap_rounding=rounding))  # type: ignore[arg-type]
-    return out + library_candidates(scenes, answers)
+    return out + library_candidates(scenes, answers) + closed_candidates()
 
 
 def library_candidates(scenes: Sequence[Scene], answers: Sequence[Coverage]) -> list[Convention]:

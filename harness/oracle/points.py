@@ -153,9 +153,9 @@ def point_coverage(scene: PointScene, convention: Convention) -> Coverage:
            [0, 0, 0],
            [0, 0, 0]], dtype=int32)
     """
-    if not convention.model.single_sample and not convention.model.layered:
-        raise ValueError(f"points are defined for single-sample and multisample conventions, "
-                         f"not {convention.coverage_kind} coverage")
+    if (not convention.model.single_sample and not convention.model.layered) or convention.model.rule:
+        declared = convention.model.declared_as(convention) if convention.model.rule else f"{convention.coverage_kind} coverage"
+        raise ValueError(f"points are defined for single-sample and multisample conventions, not {declared}")
     if not convention.model.layered:
         return _single(scene, convention)
     return Coverage.from_layers([_single(scene, convention.at_sample(k)) for k in range(convention.n_samples)])

@@ -616,6 +616,9 @@ def path_coverage(scene: PathScene, convention: Convention) -> Coverage:
     >>> path_coverage(square, Convention(samples=4)).sample.tolist()  # one span per row and sample
     [0, 0, 1, 1, 2, 2, 3, 3]
     """
+    if convention.model.path_oracle:  # a model deciding paths its own way (the closed rule: ftraster.c's scan)
+        own: Coverage = convention.model.exact_paths(scene, convention)
+        return own
     if not convention.model.paths:
         if not convention.model.alphas:
             raise ValueError(f"{convention.model.declared_as(convention)} coverage of paths is not defined yet (triangles only)")

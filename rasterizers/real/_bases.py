@@ -66,7 +66,7 @@ class OneAtATime:
     library = ""  # the library driven, the same for each of its modes (the atlas's row)
     library_version = ""  # set when the adapter is made
     coverage_kind = "single"
-    convention = None
+    convention: Convention | None = None
     interpolates = False  # coverage only: the library draws no varyings
     scene_kinds: tuple[str, ...] = ("triangles", "paths", "lines")
     fill_rules: tuple[str, ...] = ("nonzero", "evenodd")

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene
 from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need, refuse_kind
@@ -206,9 +207,14 @@ class FreeTypeMono(_FreeTypeMonoBase):
     such a coordinate). A path of more than 32,767 points cannot be one ``FT_Outline``
     (its counts are C shorts): ValueError naming the limit.
 
-    Found (FreeType 2.13.2, freetype-py 2.5.1): no declared convention (``convention =
-    None``): identify's best guess is centre-ish samples (0.508, 0.508) with top-right
-    ties, 2,899 pixels off of 143,710 (best guess only); it draws both windings, the
+    Declared (issue 33): ``Convention(coverage="closed", input="fixed6",
+    dropout="none-stepped6")``: the closed rule on 26.6 input, each edge's crossings
+    stepped from its start as ``Line_Up`` steps them, the render pool's bands included
+    (:mod:`harness.oracle.dropout`); identify's rule probes: exact, 0 of 918 pixels off
+    (the closed rule with exact crossings: 8 off); the quick suite: conformance exact on
+    every case, 504/510, the 6 failures FreeType's limits and its known overflow bug
+    (below). Before it, identify's best guess was centre-ish samples (0.508, 0.508) with
+    top-right ties, 2,899 pixels off of 143,710 (best guess only); it draws both windings, the
     nonzero rule exactly on its probes, samples on shared edges twice (3,715 double hits
     on its partitions), 17 pixels for zero-area triangles, nothing for non-finite ones.
     Its edge crossings are computed at 1/64 px by stepping along each edge from its
@@ -226,6 +232,9 @@ class FreeTypeMono(_FreeTypeMonoBase):
 
     name = "freetype_mono"
     FLAGS = 0x8  # FT_OUTLINE_IGNORE_DROPOUTS (include/freetype/ftimage.h)
+    # issue 33: the closed rule on 26.6 input, crossings stepped as ftraster.c's Line_Up steps them
+    # (harness.oracle.dropout); identify's rule probes: exact, 0 pixels off
+    convention: Convention | None = Convention(coverage="closed", input="fixed6", dropout="none-stepped6")
 
 
 class FreeTypeMonoDropout(_FreeTypeMonoBase):
@@ -244,7 +253,13 @@ class FreeTypeMonoDropout(_FreeTypeMonoBase):
     rule 3 (a convention, not a bug): triangles whose area misses every pixel centre
     (slivers, even zero-area ones whose edges coincide) still draw pixels.
 
-    Found (FreeType 2.13.2): identify's best guess as for :class:`FreeTypeMono`, 4,103
+    Declared (issue 33): ``Convention(coverage="closed", input="fixed6",
+    dropout="smart-no-stubs-stepped6")``, ftraster.c's scan conversion with SCANTYPE 5
+    (:mod:`harness.oracle.dropout`): identify's rule probes exact, 0 of 1,005 pixels off
+    (stubs included: 88 off; simple: 101; exact crossings: 5); the quick suite's
+    conformance exact on every case, its failures FreeType's limits and overflow bug.
+
+    Found before (FreeType 2.13.2): identify's best guess as for :class:`FreeTypeMono`, 4,103
     pixels off of 144,920 (best guess only; the dropout pixels are what no sample rule
     draws), 27 pixels for zero-area triangles; 289 of 2,000 random triangles change a
     pixel when reversed, dropout pixels up to 0.48 px from an edge among them (which of
@@ -256,6 +271,8 @@ class FreeTypeMonoDropout(_FreeTypeMonoBase):
 
     name = "freetype_mono_dropout"
     FLAGS = 0x10  # FT_OUTLINE_SMART_DROPOUTS (no FT_OUTLINE_INCLUDE_STUBS: stubs excluded)
+    # issue 33: TrueType's smart dropout control, stubs excluded (SCANTYPE 5), as ftraster.c runs it
+    convention: Convention | None = Convention(coverage="closed", input="fixed6", dropout="smart-no-stubs-stepped6")
 
 
 class FreeTypeSmooth(AlphaOneTriangleAtATime):

@@ -16,7 +16,7 @@ from harness.checks import closed_balance, conformance, overdraw, watertight
 from harness.contract.case import Case
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
-from harness.contract.coverage_models import AREA_THRESHOLD, CONSERVATIVE_OVER, CONSERVATIVE_UNDER, COVERAGE_RULES
+from harness.contract.coverage_models import AREA_THRESHOLD, CLOSED, CONSERVATIVE_OVER, CONSERVATIVE_UNDER, COVERAGE_RULES
 from harness.contract.scenes import LineScene, PathScene, Scene
 from harness.geometry.exact import orientation
 from harness.oracle.coverage import exact_coverage
@@ -29,7 +29,8 @@ RULES = {"area-threshold": Convention(coverage="area-threshold"),
 
 def test_each_rule_is_declared_by_its_name_and_gets_its_model():
     assert {n: m for n, m in COVERAGE_RULES.items() if m.input_bits is None} == {
-        "area-threshold": AREA_THRESHOLD, "conservative-over": CONSERVATIVE_OVER, "conservative-under": CONSERVATIVE_UNDER}
+        "area-threshold": AREA_THRESHOLD, "conservative-over": CONSERVATIVE_OVER, "conservative-under": CONSERVATIVE_UNDER,
+        "closed": CLOSED}
     for name, convention in RULES.items():
         assert convention.model is COVERAGE_RULES[name] and convention.coverage_kind == "single"
         model = convention.model

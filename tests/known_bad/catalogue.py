@@ -28,6 +28,7 @@ from tests.known_bad.antialiasing import (
 )
 from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YFirstClaimsXFirst
 from tests.known_bad.coverage_rules import BoxOverestimate, OpenUnderestimate, StrictThreshold
+from tests.known_bad.dropout import ClosedWithTies, LeftDropout
 from tests.known_bad.edge_functions import BUGS as EDGE_BUGS
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.known_bad.inputs import Float32ClaimsFloat64, TruncatesClaimsFloat64
@@ -75,7 +76,7 @@ def _all() -> list[Any]:
         RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep(),
         RareSlopeTie(),
         TruncatesClaimsFloat64(), Float32ClaimsFloat64(), StrictThreshold(), BoxOverestimate(), OpenUnderestimate(),
-        FullWidthOffset(), Float32AggCover(), ExclusiveRightScanline(),
+        FullWidthOffset(), Float32AggCover(), ExclusiveRightScanline(), ClosedWithTies(), LeftDropout(),
     ]
 
 

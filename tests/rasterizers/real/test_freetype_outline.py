@@ -162,7 +162,9 @@ def test_kinds_versions_and_refusals(mono, smooth):
     assert mono.library == smooth.library == "FreeType"
     assert mono.library_version.count(".") == 2 and mono.library_version == smooth.library_version
     assert mono.scene_kinds == ("triangles", "paths") and smooth.scene_kinds == ("triangles",)
-    assert mono.coverage_kind == "single" and smooth.coverage_kind == "area" and mono.convention is None
+    assert mono.coverage_kind == "single" and smooth.coverage_kind == "area" and smooth.convention is None
+    # issue 33: the monochrome modes declare the closed rule with ftraster.c's scan conversion
+    assert mono.convention is not None and mono.convention.coverage == "closed" and mono.convention.input == "fixed6"
     with pytest.raises(ValueError, match="takes triangles, paths"):
         mono.rasterize(LineScene.from_segments(8, 8, [[1.0, 1.0]], [[5.0, 5.0]]))
 
