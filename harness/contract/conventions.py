@@ -915,8 +915,8 @@ class Convention:
         if dropout.active and self.coverage != "closed":
             raise ValueError(f"Convention.dropout is the closed rule's (coverage='closed'), not {self.coverage!r}'s")
         if dropout.step_bits is not None:
-            grid = input_precision(self.input)
-            if grid.kind != "fixed" or grid.bits > dropout.step_bits or self.subpixel_bits is not None:
+            steps_on = input_precision(self.input)
+            if steps_on.kind != "fixed" or steps_on.bits > dropout.step_bits or self.subpixel_bits is not None:
                 raise ValueError(f"Dropout.step_bits={dropout.step_bits} steps crossings on a 2**-{dropout.step_bits} px "
                                  f"grid: the input must lie on it (input='fixed{dropout.step_bits}' or coarser), "
                                  "without snapping")
