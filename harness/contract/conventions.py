@@ -203,6 +203,7 @@ __all__ = [
     "LINE_RULES",
     "DIAMOND_RULES",
     "AREA_LINE_RULES",
+    "FIXED_POINT_LINE_RULES",
     "BRESENHAM_ROUNDINGS",
     "BRESENHAM_TIES",
     "BresenhamRounding",
@@ -218,13 +219,18 @@ TieRule = Literal[
     "top-left-y-first", "top-right-y-first", "bottom-left-y-first", "bottom-right-y-first",
 ]
 CullMode = Literal["none", "cw", "ccw"]
-LineRuleName = Literal["diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram"]
-LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram")
+LineRuleName = Literal["diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram", "skia-hairline",
+                       "qt-cosmetic"]
+LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram",
+                                        "skia-hairline", "qt-cosmetic")
 # The diamond rules: D3D11's test areas, and GL's open diamonds with perturbed end points.
 DIAMOND_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl")
 # The rules that cover the samples inside a region around the segment (any width, the
 # convention's sample point and tie rule)
 AREA_LINE_RULES: tuple[LineRuleName, ...] = ("rectangle", "parallelogram")
+# Libraries' one-pixel lines read from their sources: fixed-point DDAs on 26.6 end points
+# (harness.oracle.hairlines: skia's SkScan::HairLineRgn, Qt's QCosmeticStroker::drawLine)
+FIXED_POINT_LINE_RULES: tuple[LineRuleName, ...] = ("skia-hairline", "qt-cosmetic")
 BresenhamRounding = Literal["nearest-even", "half-away", "floor", "toward-zero"]
 BresenhamTies = Literal["step", "stay"]
 BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor", "toward-zero")
@@ -287,7 +293,7 @@ class LineRule:
 
     Parameters
     ----------
-    rule : {"diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram"}
+    rule : {"diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram", "skia-hairline", "qt-cosmetic"}
         ``diamond-exit``: a pixel is drawn when the segment leaves its diamond test area
         (D3D11 3.4.3: lower edges and bottom corner in, y-major lines also the right
         corner); width 1. ``diamond-exit-gl``: GL's (OpenGL 4.6 14.5.1): the segment with
@@ -303,7 +309,10 @@ class LineRule:
         the parallelogram whose two sides are the segment moved by +-``line_width``/2 along
         its minor axis (y for an x-major segment, |dy| <= |dx|) and whose two ends are
         parallel to that axis through the end points, under the convention's sample point
-        and tie rule (:mod:`harness.oracle.parallelogram_lines`).
+        and tie rule (:mod:`harness.oracle.parallelogram_lines`). ``skia-hairline`` and
+        ``qt-cosmetic``: skia's hairlines (``SkScan::HairLineRgn``) and Qt's cosmetic lines
+        (``QCosmeticStroker::drawLine``, square caps), fixed-point DDAs on end points
+        truncated to 26.6, read from their sources (:mod:`harness.oracle.hairlines`); width 1.
     last_pixel : bool or None
         diamond-exit and bresenham: also draw the pixel the segment ends in (a polyline's
         shared vertices are then drawn twice). None: the rule's own (diamond-exit omits
@@ -438,6 +447,10 @@ class LineRule:
             return "rectangular lines"
         if self.rule == "parallelogram":
             return "parallelogram lines (Vulkan non-strict)"
+        if self.rule == "skia-hairline":
+            return "skia hairlines (26.6 ends toward zero, 16.16 DDA)"
+        if self.rule == "qt-cosmetic":
+            return "Qt cosmetic lines (26.6 ends toward zero, square caps, 16.16 DDA)"
         last = "last pixel drawn" if self.last_pixel else "last pixel omitted"
         wide = ", wide lines by replication along the minor axis" if self.wide == "replicate" else ""
         if self.rule == "diamond-exit":

@@ -8,8 +8,8 @@ the snapping in front of it, each by the exact oracle of every candidate convent
 pixels, as for triangles -- the best explaining it, "identified" only when its residual is
 zero and no other candidate's is:
 
-1. *The rule* (D3D's or GL's diamond-exit, Bresenham, rectangle or Vulkan's non-strict
-   parallelogram), with diamond-exit's and
+1. *The rule* (D3D's or GL's diamond-exit, Bresenham, rectangle, Vulkan's non-strict
+   parallelogram, or skia's hairlines or Qt's cosmetic lines read from their sources), with diamond-exit's and
    Bresenham's last-pixel rule, Bresenham's end point rounding (nearest-even, half-away,
    floor, toward-zero), tie direction (step, stay) and direction of travel (as given, or
    from the end point with smaller x or smaller major coordinate, as textbooks'
@@ -90,6 +90,7 @@ from harness.contract.conventions import (
     BRESENHAM_ROUNDINGS,
     BRESENHAM_TIES,
     DIAMOND_RULES,
+    FIXED_POINT_LINE_RULES,
     LINE_DIRECTIONS,
     LINE_RULES,
     MAX_SUBPIXEL_BITS,
@@ -152,17 +153,20 @@ def line_candidates(base: Convention | None = None, measured: tuple[float, float
     (:func:`harness.identify.triangle_probes._sample_candidates`, as for triangles), x the 8 tie
     rules, ``base``'s own first (a tie in the score goes to the earlier candidate); then
     parallelograms (Vulkan's non-strict lines) at ``base``'s sample point, the centre and
-    the measured one, x the 8 tie rules. The
+    the measured one, x the 8 tie rules; last, skia's hairlines and Qt's cosmetic lines
+    (:data:`~harness.contract.conventions.FIXED_POINT_LINE_RULES`). The
     rest of ``base`` (culling) plays no part in lines; keeping it makes a line convention
     that agrees with the triangles equal to the triangle convention with its line rule.
 
     >>> candidates = line_candidates()
     >>> len(candidates), candidates[0].line.rule, candidates[52].line.rule, candidates[52].sample
-    (132, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    (134, 'diamond-exit', 'rectangle', (0.5, 0.5))
     >>> candidates[124].line.rule, candidates[124].sample, candidates[124].tie
     ('parallelogram', (0.5, 0.5), 'top-left')
-    >>> len(line_candidates(measured=(0.25, 0.75))), line_candidates(measured=(0.25, 0.75))[-1].sample
-    (148, (0.25, 0.75))
+    >>> len(line_candidates(measured=(0.25, 0.75))), line_candidates(measured=(0.25, 0.75))[-3].sample
+    (150, (0.25, 0.75))
+    >>> [c.line.rule for c in candidates[-2:]]
+    ['skia-hairline', 'qt-cosmetic']
     """
     single = base if base is not None and base.model.single_sample else Convention()
     unsnapped = replace(single, subpixel_bits=None, snap_rounding="nearest-even")
@@ -173,7 +177,10 @@ def line_candidates(base: Convention | None = None, measured: tuple[float, float
     # Vulkan's non-strict lines: at the triangles' sample point, the centre and the measured
     # one, x the 8 tie rules (their sides decide like triangle edges)
     spots = {single.sample, (0.5, 0.5)} | ({measured} if measured is not None else set())
-    return out + [replace(unsnapped, sample=s, tie=t, line=LineRule("parallelogram")) for s, t in pairs if s in spots]
+    out += [replace(unsnapped, sample=s, tie=t, line=LineRule("parallelogram")) for s, t in pairs if s in spots]
+    # libraries' fixed-point one-pixel lines read from their sources (skia's hairlines,
+    # Qt's cosmetic lines): no sample point or tie rule of theirs
+    return out + [replace(unsnapped, line=LineRule(rule)) for rule in FIXED_POINT_LINE_RULES]
 
 
 # --- calling a rasterizer with lines, and scoring its answers -------------------------------------

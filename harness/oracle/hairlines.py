@@ -87,21 +87,18 @@ _SKIA, _QT = 0, 1
 @dataclass(frozen=True, slots=True)
 class HairlineRule:
     """One fixed-point line rule read from a library's source: its name (the
-    :class:`~harness.contract.conventions.LineRule` ``rule``), its words for people, its
-    source, and its kernel's code."""
+    :class:`~harness.contract.conventions.LineRule` ``rule``), its source, and its
+    kernel's code."""
 
     name: HairlineName
-    words: str
     source: str
     code: int
 
 
 HAIRLINE_RULES: dict[str, HairlineRule] = {
     rule.name: rule for rule in (
-        HairlineRule("skia-hairline", "skia hairlines (26.6 ends toward zero, 16.16 DDA, pixel centres in (min, max])",
-                     "skia src/core/SkScan_Hairline.cpp, SkScan::HairLineRgn", _SKIA),
-        HairlineRule("qt-cosmetic", "Qt cosmetic lines (26.6 ends toward zero, square caps, 16.16 DDA)",
-                     "qtbase src/gui/painting/qcosmeticstroker.cpp, QCosmeticStroker::drawLine", _QT),
+        HairlineRule("skia-hairline", "skia src/core/SkScan_Hairline.cpp, SkScan::HairLineRgn", _SKIA),
+        HairlineRule("qt-cosmetic", "qtbase src/gui/painting/qcosmeticstroker.cpp, QCosmeticStroker::drawLine", _QT),
     )
 }
 

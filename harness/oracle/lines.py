@@ -2,7 +2,8 @@
 convention's line rule, one module per rule family -- :mod:`harness.oracle.diamond_lines`
 (Direct3D's and GL's diamond exit, GL's wide lines), :mod:`harness.oracle.bresenham_lines`
 (integer Bresenham, seed 003), :mod:`harness.oracle.rectangle_lines` (Vulkan's rectangular
-lines), :mod:`harness.oracle.parallelogram_lines` (Vulkan's non-strict lines) -- and
+lines), :mod:`harness.oracle.parallelogram_lines` (Vulkan's non-strict lines),
+:mod:`harness.oracle.hairlines` (skia's hairlines and Qt's cosmetic lines) -- and
 multisample lines here. Their public names are re-exported here.
 
 A segment k runs from ``a[k]`` to ``b[k]`` (float64, pixels, x right, y down: the screen
@@ -57,6 +58,7 @@ from harness.oracle.diamond_lines import (
     diamond_wide_spans_rational,
     is_x_major,
 )
+from harness.oracle.hairlines import HAIRLINE_RULES, hairline_spans, hairline_spans_rational
 from harness.oracle.line_spans import _beyond
 from harness.oracle.parallelogram_lines import (
     PARA_SAFE_MAX,
@@ -76,6 +78,8 @@ __all__ = [
     "rectangle_spans_rational",
     "parallelogram_spans",
     "parallelogram_spans_rational",
+    "hairline_spans",
+    "hairline_spans_rational",
     "line_coverage",
     "is_x_major",
     "diamond_holding",
@@ -189,6 +193,9 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
             start, end = _walk_ends(start, end, rule.direction)
             _bresenham_far(int(k), (start[0, 0], start[0, 1]), (end[0, 0], end[0, 1]), width, height, rule.ties,
                            rule.last_pixel, extra)
+    elif rule.rule in HAIRLINE_RULES:
+        # fixed-point DDAs: exact in integers for every finite end point (far ones in Python's)
+        spans = hairline_spans(a, b, width, height, rule.rule)
     elif rule.rule == "parallelogram":
         values = np.concatenate([ends, np.full((n, 1), scene.line_width)], axis=1)
         far = _beyond(values, PARA_SAFE_MIN, PARA_SAFE_MAX) & finite
