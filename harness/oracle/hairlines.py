@@ -72,7 +72,7 @@ from numpy.typing import ArrayLike, NDArray
 from harness.oracle.line_spans import Spans, _as_spans, _empty, _endpoints, _viewport
 
 __all__ = ["HairlineRule", "HAIRLINE_RULES", "HAIRLINE_MAX", "hairline_spans", "hairline_spans_rational",
-           "hairline_pixels_int", "to_fdot6"]
+           "hairline_pixels_int", "hairline_x_major", "to_fdot6"]
 
 HairlineName = Literal["skia-hairline", "qt-cosmetic"]
 
@@ -87,18 +87,22 @@ _SKIA, _QT = 0, 1
 @dataclass(frozen=True, slots=True)
 class HairlineRule:
     """One fixed-point line rule read from a library's source: its name (the
-    :class:`~harness.contract.conventions.LineRule` ``rule``), its source, and its
-    kernel's code."""
+    :class:`~harness.contract.conventions.LineRule` ``rule``), its source, its kernel's
+    code, and whether a cell's minor pixel moves monotonically with the line (skia's
+    does not: as an end point crosses a pixel centre the DDA's start jumps by a slope
+    step, so the line-motion check judges it against the exact answer's own moves)."""
 
     name: HairlineName
     source: str
     code: int
+    monotone: bool
 
 
 HAIRLINE_RULES: dict[str, HairlineRule] = {
     rule.name: rule for rule in (
-        HairlineRule("skia-hairline", "skia src/core/SkScan_Hairline.cpp, SkScan::HairLineRgn", _SKIA),
-        HairlineRule("qt-cosmetic", "qtbase src/gui/painting/qcosmeticstroker.cpp, QCosmeticStroker::drawLine", _QT),
+        HairlineRule("skia-hairline", "skia src/core/SkScan_Hairline.cpp, SkScan::HairLineRgn", _SKIA, False),
+        HairlineRule("qt-cosmetic", "qtbase src/gui/painting/qcosmeticstroker.cpp, QCosmeticStroker::drawLine", _QT,
+                     True),
     )
 }
 
@@ -106,6 +110,28 @@ HAIRLINE_RULES: dict[str, HairlineRule] = {
 def to_fdot6(c: NDArray[np.float64]) -> NDArray[np.int64]:
     """``(int)(c * 64)``: 26.6 fixed point, toward zero, exact (|c| <= :data:`HAIRLINE_MAX`)."""
     return np.trunc(c * 64.0).astype(np.int64)
+
+
+def hairline_x_major(a: NDArray[np.float64], b: NDArray[np.float64], rule: str) -> NDArray[np.bool_]:
+    """(N,) bool: whether the rule walks each (finite) segment along x -- by its 26.6 end
+    points, ``|dx| > |dy|`` for skia (a 45-degree segment is y-major), ``|dx| >= |dy|`` for
+    Qt -- exactly (Python integers beyond :data:`HAIRLINE_MAX`).
+
+    >>> a, b = np.array([[0.5, 0.5]]), np.array([[4.5, 4.5]])
+    >>> hairline_x_major(a, b, "skia-hairline").tolist(), hairline_x_major(a, b, "qt-cosmetic").tolist()
+    ([False], [True])
+    """
+    qt = HAIRLINE_RULES[rule].code == _QT
+    ends = np.concatenate([a, b], axis=1)
+    with np.errstate(invalid="ignore"):
+        near = (np.abs(ends) <= HAIRLINE_MAX).all(axis=1)
+    f = to_fdot6(np.where(near[:, None], ends, 0.0))
+    dx, dy = np.abs(f[:, 2] - f[:, 0]), np.abs(f[:, 3] - f[:, 1])
+    out = np.asarray(dx >= dy if qt else dx > dy, dtype=np.bool_)
+    for k in np.flatnonzero(~near):
+        x0, y0, x1, y1 = (math.trunc(Fraction(float(c)) * 64) if math.isfinite(c) else 0 for c in ends[k])
+        out[k] = abs(x1 - x0) >= abs(y1 - y0) if qt else abs(x1 - x0) > abs(y1 - y0)
+    return out
 
 
 # -- the compiled kernel -------------------------------------------------------------------------
@@ -288,10 +314,10 @@ def hairline_spans(a: ArrayLike, b: ArrayLike, width: int, height: int, rule: st
     if far.size:
         extra = []
         for k in far:
-            ends_k = [math.trunc(Fraction(float(c)) * 64) for c in ends[k]]
+            x0, y0, x1, y1 = (math.trunc(Fraction(float(c)) * 64) for c in ends[k])
             floor_k = (math.floor(a_arr[k, 0]), math.floor(a_arr[k, 1]))
             same_k = bool((a_arr[k] == b_arr[k]).all())
-            extra += [(int(k), i, j) for i, j in hairline_pixels_int(rule, *ends_k, same_k, floor_k, width, height)]
+            extra += [(int(k), i, j) for i, j in hairline_pixels_int(rule, x0, y0, x1, y1, same_k, floor_k, width, height)]
         more = np.array(extra, dtype=np.int64).reshape(-1, 3).T
         s, x, y = np.concatenate([s, more[0]]), np.concatenate([x, more[1]]), np.concatenate([y, more[2]])
     return _spans_of_pixels(s, x, y)

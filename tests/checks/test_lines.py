@@ -101,6 +101,9 @@ RULES = {
     "parallelogram": Convention(line="parallelogram"),
     "parallelogram-half-away": Convention(line=LineRule("parallelogram", snap_rounding="half-away"), tie="bottom-right",
                                           subpixel_bits=4),
+    # libraries' fixed-point one-pixel lines read from their sources (issue 33)
+    "skia-hairline": Convention(line="skia-hairline", input="fixed6-toward-zero"),
+    "qt-cosmetic": Convention(line="qt-cosmetic"),
 }
 
 
