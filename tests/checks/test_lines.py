@@ -24,6 +24,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene
 from harness.engine.runner import run_suite
 from harness.oracle.coverage import exact_coverage
+from tests.known_bad.hairlines import QtFlatCaps, SkiaCentredStart
 from tests.known_bad.lines import (
     BackwardPrestep,
     BothEndPixels,
@@ -160,6 +161,8 @@ KNOWN_BAD: list[tuple[Any, str, Case]] = [
     (LeftmostFirst(), "reversal", CASES[0]),
     (BackwardPrestep(), "line-motion", CASES[1]),
     (FullWidthOffset(), "conformance", CASES[1]),
+    (SkiaCentredStart(), "conformance", CASES[2]),
+    (QtFlatCaps(), "conformance", CASES[0]),
 ]
 
 

@@ -154,3 +154,23 @@ def test_the_library_draws_the_rule(rule: str) -> None:
     drawn = library.rasterize(scene)
     exact = line_coverage(scene, Convention(line=rule))
     assert set(zip(*(v.tolist() for v in drawn.pixels()))) == set(zip(*(v.tolist() for v in exact.pixels())))
+
+
+# -- the known-bad doubles: their walk without the bug is the rule --------------------------------
+
+
+def test_the_known_bad_doubles_differ_from_the_rule_by_their_bug_only() -> None:
+    from tests.known_bad.hairlines import QtFlatCaps, SkiaCentredStart, _walk
+
+    rng = np.random.default_rng(7)
+    ends = np.concatenate([rng.integers(-8, 56, (80, 4)) / 2.0, rng.uniform(-2.0, 26.0, (80, 4))])
+    ends[::13, 2:] = ends[::13, :2]
+    scene = LineScene.from_segments(24, 24, ends[:, :2], ends[:, 2:])
+
+    def pixels(coverage):
+        return set(zip(*(v.tolist() for v in coverage.pixels())))
+
+    for rule, qt, bad in (("skia-hairline", False, SkiaCentredStart()), ("qt-cosmetic", True, QtFlatCaps())):
+        exact = pixels(line_coverage(scene, Convention(line=rule)))
+        assert pixels(_walk(scene, qt)) == exact
+        assert pixels(bad.rasterize(scene)) != exact
