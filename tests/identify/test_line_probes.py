@@ -91,6 +91,9 @@ DECLARED = [
     # Vulkan's non-strict lines (issue 33)
     Convention(line="parallelogram"),
     Convention(tie="bottom-right", line="parallelogram", subpixel_bits=8, snap_rounding="half-away"),
+    # skia's hairlines and Qt's cosmetic lines, read from their sources (issue 33)
+    Convention(line="skia-hairline"),
+    Convention(line="qt-cosmetic"),
 ]
 
 
