@@ -15,6 +15,7 @@ from harness.contract.conventions import FIXED_POINT_LINE_RULES, LINE_RULES, Con
 from harness.contract.scenes import LineScene
 from harness.oracle.hairlines import HAIRLINE_MAX, HAIRLINE_RULES, hairline_spans, hairline_spans_rational
 from harness.oracle.lines import line_coverage
+from tests.optional import need
 from tests.oracle.test_lines import QUICK, SIZE, _pixels, _same, _sorted, segments
 
 RULES = st.sampled_from(FIXED_POINT_LINE_RULES)
@@ -126,11 +127,11 @@ def test_non_finite_segments_cover_nothing() -> None:
 
 def _library(rule: str):
     if rule == "skia-hairline":
-        pytest.importorskip("skia")
+        need("skia")
         from rasterizers.real.adapters import SkiaPath
 
         return SkiaPath()
-    pytest.importorskip("PyQt6")
+    need("PyQt6")
     from rasterizers.real.qt_raster import QtRaster
 
     return QtRaster()
