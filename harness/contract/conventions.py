@@ -220,14 +220,14 @@ TieRule = Literal[
 ]
 CullMode = Literal["none", "cw", "ccw"]
 LineRuleName = Literal["diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram", "skia-hairline",
-                       "qt-cosmetic"]
+                       "qt-cosmetic", "llvmpipe-rectangle"]
 LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram",
-                                        "skia-hairline", "qt-cosmetic")
+                                        "skia-hairline", "qt-cosmetic", "llvmpipe-rectangle")
 # The diamond rules: D3D11's test areas, and GL's open diamonds with perturbed end points.
 DIAMOND_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl")
 # The rules that cover the samples inside a region around the segment (any width, the
 # convention's sample point and tie rule)
-AREA_LINE_RULES: tuple[LineRuleName, ...] = ("rectangle", "parallelogram")
+AREA_LINE_RULES: tuple[LineRuleName, ...] = ("rectangle", "parallelogram", "llvmpipe-rectangle")
 # Libraries' one-pixel lines read from their sources: fixed-point DDAs on 26.6 end points
 # (harness.oracle.hairlines: skia's SkScan::HairLineRgn, Qt's QCosmeticStroker::drawLine)
 FIXED_POINT_LINE_RULES: tuple[LineRuleName, ...] = ("skia-hairline", "qt-cosmetic")
@@ -293,7 +293,8 @@ class LineRule:
 
     Parameters
     ----------
-    rule : {"diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram", "skia-hairline", "qt-cosmetic"}
+    rule : {"diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram", "skia-hairline", "qt-cosmetic", \
+            "llvmpipe-rectangle"}
         ``diamond-exit``: a pixel is drawn when the segment leaves its diamond test area
         (D3D11 3.4.3: lower edges and bottom corner in, y-major lines also the right
         corner); width 1. ``diamond-exit-gl``: GL's (OpenGL 4.6 14.5.1): the segment with
@@ -313,6 +314,10 @@ class LineRule:
         ``qt-cosmetic``: skia's hairlines (``SkScan::HairLineRgn``) and Qt's cosmetic lines
         (``QCosmeticStroker::drawLine``, square caps), fixed-point DDAs on end points
         truncated to 26.6, read from their sources (:mod:`harness.oracle.hairlines`); width 1.
+        ``llvmpipe-rectangle``: llvmpipe's (lavapipe's) rectangular lines
+        (``lp_setup_line.c``): the quad of the snapped end points +- the half-width normal,
+        computed in float32 from the unsnapped ends and snapped on its own, under the
+        convention's sample point and tie rule (:mod:`harness.oracle.llvmpipe_lines`).
     last_pixel : bool or None
         diamond-exit and bresenham: also draw the pixel the segment ends in (a polyline's
         shared vertices are then drawn twice). None: the rule's own (diamond-exit omits
@@ -447,6 +452,8 @@ class LineRule:
             return "rectangular lines"
         if self.rule == "parallelogram":
             return "parallelogram lines (Vulkan non-strict)"
+        if self.rule == "llvmpipe-rectangle":
+            return "llvmpipe rectangular lines (normal snapped on its own)"
         if self.rule == "skia-hairline":
             return "skia hairlines (26.6 ends toward zero, 16.16 DDA)"
         if self.rule == "qt-cosmetic":

@@ -154,19 +154,20 @@ def line_candidates(base: Convention | None = None, measured: tuple[float, float
     rules, ``base``'s own first (a tie in the score goes to the earlier candidate); then
     parallelograms (Vulkan's non-strict lines) at ``base``'s sample point, the centre and
     the measured one, x the 8 tie rules; last, skia's hairlines and Qt's cosmetic lines
-    (:data:`~harness.contract.conventions.FIXED_POINT_LINE_RULES`). The
+    (:data:`~harness.contract.conventions.FIXED_POINT_LINE_RULES`) and llvmpipe's
+    rectangular lines at ``base``'s sample point and tie rule. The
     rest of ``base`` (culling) plays no part in lines; keeping it makes a line convention
     that agrees with the triangles equal to the triangle convention with its line rule.
 
     >>> candidates = line_candidates()
     >>> len(candidates), candidates[0].line.rule, candidates[52].line.rule, candidates[52].sample
-    (134, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    (135, 'diamond-exit', 'rectangle', (0.5, 0.5))
     >>> candidates[124].line.rule, candidates[124].sample, candidates[124].tie
     ('parallelogram', (0.5, 0.5), 'top-left')
-    >>> len(line_candidates(measured=(0.25, 0.75))), line_candidates(measured=(0.25, 0.75))[-3].sample
-    (150, (0.25, 0.75))
-    >>> [c.line.rule for c in candidates[-2:]]
-    ['skia-hairline', 'qt-cosmetic']
+    >>> len(line_candidates(measured=(0.25, 0.75))), line_candidates(measured=(0.25, 0.75))[-4].sample
+    (151, (0.25, 0.75))
+    >>> [c.line.rule for c in candidates[-3:]]
+    ['skia-hairline', 'qt-cosmetic', 'llvmpipe-rectangle']
     """
     single = base if base is not None and base.model.single_sample else Convention()
     unsnapped = replace(single, subpixel_bits=None, snap_rounding="nearest-even")
@@ -180,7 +181,9 @@ def line_candidates(base: Convention | None = None, measured: tuple[float, float
     out += [replace(unsnapped, sample=s, tie=t, line=LineRule("parallelogram")) for s, t in pairs if s in spots]
     # libraries' fixed-point one-pixel lines read from their sources (skia's hairlines,
     # Qt's cosmetic lines): no sample point or tie rule of theirs
-    return out + [replace(unsnapped, line=LineRule(rule)) for rule in FIXED_POINT_LINE_RULES]
+    out += [replace(unsnapped, line=LineRule(rule)) for rule in FIXED_POINT_LINE_RULES]
+    # llvmpipe's rectangular lines (lavapipe): at the triangles' sample point and tie rule
+    return out + [replace(unsnapped, sample=first[0], tie=first[1], line=LineRule("llvmpipe-rectangle"))]
 
 
 # --- calling a rasterizer with lines, and scoring its answers -------------------------------------

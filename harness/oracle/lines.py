@@ -3,7 +3,8 @@ convention's line rule, one module per rule family -- :mod:`harness.oracle.diamo
 (Direct3D's and GL's diamond exit, GL's wide lines), :mod:`harness.oracle.bresenham_lines`
 (integer Bresenham, seed 003), :mod:`harness.oracle.rectangle_lines` (Vulkan's rectangular
 lines), :mod:`harness.oracle.parallelogram_lines` (Vulkan's non-strict lines),
-:mod:`harness.oracle.hairlines` (skia's hairlines and Qt's cosmetic lines) -- and
+:mod:`harness.oracle.hairlines` (skia's hairlines and Qt's cosmetic lines),
+:mod:`harness.oracle.llvmpipe_lines` (llvmpipe's rectangular lines) -- and
 multisample lines here. Their public names are re-exported here.
 
 A segment k runs from ``a[k]`` to ``b[k]`` (float64, pixels, x right, y down: the screen
@@ -60,6 +61,7 @@ from harness.oracle.diamond_lines import (
 )
 from harness.oracle.hairlines import HAIRLINE_RULES, hairline_spans, hairline_spans_rational
 from harness.oracle.line_spans import _beyond
+from harness.oracle.llvmpipe_lines import llvmpipe_rectangle_coverage
 from harness.oracle.parallelogram_lines import (
     PARA_SAFE_MAX,
     PARA_SAFE_MIN,
@@ -158,6 +160,8 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
         return _multisample_lines(scene, convention)
     convention = convention.for_lines()  # the line rule's own snap rounding, when it has one
     rule = convention.line
+    if rule.rule == "llvmpipe-rectangle":  # its normal comes from the unsnapped ends: its own module
+        return llvmpipe_rectangle_coverage(scene, convention)
     a, b = scene.segments()
     # input precision, then snapping: Convention.snap applies both, first, exactly
     a, b = convention.snap(a), convention.snap(b)
