@@ -233,7 +233,7 @@ def _guarded(name: str, run: Callable[[Subject], Result]) -> Callable[[Subject],
 
 def _run_connectivity(s: Subject) -> Result:
     assert s.convention is not None
-    if s.convention.line.rule == "rectangle":
+    if s.convention.line.rule in ("rectangle", "llvmpipe-rectangle"):
         return skip(s.case, "connectivity", "rectangular lines are filled rectangles: no rule of one pixel per major step")
     if s.case.scene.line_width != 1.0:
         return skip(s.case, "connectivity", "wide lines draw w pixels per major step: no rule of one")

@@ -431,6 +431,13 @@ class LineRule:
         return self.rule in DIAMOND_RULES
 
     @property
+    def own_snapping(self) -> bool:
+        """The rule snaps its end points itself (llvmpipe's rectangular lines: its own grid and
+        rounding, :mod:`harness.oracle.llvmpipe_lines`): the convention's ``subpixel_bits`` and
+        ``snap_rounding`` play no part in it."""
+        return self.rule == "llvmpipe-rectangle"
+
+    @property
     def gl(self) -> bool:
         """GL's diamond-exit rule (end points perturbed by -(eps, eps**2))."""
         return self.rule == "diamond-exit-gl"
@@ -453,7 +460,8 @@ class LineRule:
         if self.rule == "parallelogram":
             return "parallelogram lines (Vulkan non-strict)"
         if self.rule == "llvmpipe-rectangle":
-            return "llvmpipe rectangular lines (normal snapped on its own)"
+            return ("llvmpipe rectangular lines (ends and half-width normal each snapped to 1/256 px, half away "
+                    "in the frame shifted by half a pixel)")
         if self.rule == "skia-hairline":
             return "skia hairlines (26.6 ends toward zero, 16.16 DDA)"
         if self.rule == "qt-cosmetic":

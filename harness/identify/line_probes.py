@@ -154,20 +154,21 @@ def line_candidates(base: Convention | None = None, measured: tuple[float, float
     rules, ``base``'s own first (a tie in the score goes to the earlier candidate); then
     parallelograms (Vulkan's non-strict lines) at ``base``'s sample point, the centre and
     the measured one, x the 8 tie rules; last, skia's hairlines and Qt's cosmetic lines
-    (:data:`~harness.contract.conventions.FIXED_POINT_LINE_RULES`) and llvmpipe's
-    rectangular lines at ``base``'s sample point and tie rule. The
+    (:data:`~harness.contract.conventions.FIXED_POINT_LINE_RULES`), and llvmpipe's
+    rectangular lines at ``base``'s sample point and the centre, x the 8 tie rules. The
     rest of ``base`` (culling) plays no part in lines; keeping it makes a line convention
     that agrees with the triangles equal to the triangle convention with its line rule.
 
     >>> candidates = line_candidates()
     >>> len(candidates), candidates[0].line.rule, candidates[52].line.rule, candidates[52].sample
-    (135, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    (142, 'diamond-exit', 'rectangle', (0.5, 0.5))
     >>> candidates[124].line.rule, candidates[124].sample, candidates[124].tie
     ('parallelogram', (0.5, 0.5), 'top-left')
-    >>> len(line_candidates(measured=(0.25, 0.75))), line_candidates(measured=(0.25, 0.75))[-4].sample
-    (151, (0.25, 0.75))
-    >>> [c.line.rule for c in candidates[-3:]]
-    ['skia-hairline', 'qt-cosmetic', 'llvmpipe-rectangle']
+    >>> measured = line_candidates(measured=(0.25, 0.75))
+    >>> len(measured), [c for c in measured if c.line.rule == "rectangle"][-1].sample
+    (158, (0.25, 0.75))
+    >>> [c.line.rule for c in candidates[-11:-8]], {c.tie for c in candidates[-8:]} == set(TIE_RULES)
+    (['parallelogram', 'skia-hairline', 'qt-cosmetic'], True)
     """
     single = base if base is not None and base.model.single_sample else Convention()
     unsnapped = replace(single, subpixel_bits=None, snap_rounding="nearest-even")
@@ -182,8 +183,10 @@ def line_candidates(base: Convention | None = None, measured: tuple[float, float
     # libraries' fixed-point one-pixel lines read from their sources (skia's hairlines,
     # Qt's cosmetic lines): no sample point or tie rule of theirs
     out += [replace(unsnapped, line=LineRule(rule)) for rule in FIXED_POINT_LINE_RULES]
-    # llvmpipe's rectangular lines (lavapipe): at the triangles' sample point and tie rule
-    return out + [replace(unsnapped, sample=first[0], tie=first[1], line=LineRule("llvmpipe-rectangle"))]
+    # llvmpipe's rectangular lines (lavapipe): at the triangles' sample point and the centre,
+    # x the 8 tie rules (a measured sample off those is a rectangle's, refined on its grid)
+    return out + [replace(unsnapped, sample=s, tie=t, line=LineRule("llvmpipe-rectangle")) for s, t in pairs
+                  if s in (single.sample, (0.5, 0.5))]
 
 
 # --- calling a rasterizer with lines, and scoring its answers -------------------------------------
@@ -565,7 +568,10 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
         # none, then rounding to nearest even
         return 0 if (bits, rounding) == own else 1 if bits is None else 2 + SNAP_ROUNDINGS.index(rounding)
 
-    scored = sorted((_fit_score(floats, _snapped(best, b, r)), preference(b, r), k) for k, (b, r) in enumerate(snaps))
+    if best.line.own_snapping:  # llvmpipe's rectangles snap by their own rule: the convention's is the triangles'
+        scored = [(0, 0, snaps.index(own) if own in snaps else 0)]
+    else:
+        scored = sorted((_fit_score(floats, _snapped(best, b, r)), preference(b, r), k) for k, (b, r) in enumerate(snaps))
     bits, rounding = snaps[scored[0][2]]
     if sweep.offset is not None and best.line.rule == "rectangle" and bits is not None:
         # a rectangle's flip, swept with a snapped end, lies up to a grid step off its
@@ -584,7 +590,7 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
         _, _, _, best, bits, rounding = min(((_fit_score(floats, _snapped(c, b, r)), preference(b, r), k, c, b, r)
                                             for k, (c, b, r) in enumerate(trials)), key=lambda t: t[:3])
     rounding_fit = None
-    if bits is not None:
+    if bits is not None and not best.line.own_snapping:
         floats.append(_draw(call, half_step_lines(seed, bits), received))
         ranked = sorted((_fit_score(floats, _snapped(best, bits, r)), preference(bits, r), r) for r in SNAP_ROUNDINGS)
         rounding = ranked[0][2]

@@ -105,6 +105,7 @@ RULES = {
     # libraries' fixed-point one-pixel lines read from their sources (issue 33)
     "skia-hairline": Convention(line="skia-hairline", input="fixed6-toward-zero"),
     "qt-cosmetic": Convention(line="qt-cosmetic"),
+    "llvmpipe-rectangle": Convention(line="llvmpipe-rectangle", input="float32", subpixel_bits=8),
 }
 
 
@@ -115,7 +116,7 @@ def _run(rasterizer, cases, only=None):
 @pytest.mark.parametrize("label", list(RULES))
 def test_the_exact_oracle_passes_every_check_on_lines(label: str) -> None:
     convention = RULES[label]
-    cases = CASES + ([WIDE] if convention.line.rule == "rectangle" else [])
+    cases = CASES + ([WIDE] if convention.line.rule in ("rectangle", "llvmpipe-rectangle") else [])
     results = _run(OracleLines(convention), cases)
     bad = [r for r in results if r.status not in ("pass", "skip")]
     assert not bad, [(r.case, r.check, r.message) for r in bad]
@@ -123,7 +124,7 @@ def test_the_exact_oracle_passes_every_check_on_lines(label: str) -> None:
     assert {"hygiene", "conformance", "invariance"} | LINE_CHECKS <= ran
     assert not ran & {"watertight", "closed", "degenerate", "triangulation", "overdraw", "jaggy", "accuracy"}
     by = {(r.case, r.check): r for r in results}
-    if convention.line.rule == "rectangle":
+    if convention.line.rule in ("rectangle", "llvmpipe-rectangle"):
         assert by["lines/star/lattice", "connectivity"].status == "skip"
         assert "rectangular" in by["lines/star/lattice", "connectivity"].message
         assert by["lines/star/lattice", "reversal"].metrics["reversal_pixels"] == 0  # a rectangle has no direction
