@@ -512,9 +512,10 @@ def line_edge_distance(scene: LineScene, convention: Convention | None, fragment
             absolute = _rectangle_margins(a, b, x + convention.sample[0], y + convention.sample[1], scene.line_width)
         elif rule.rule == "parallelogram":
             absolute = _parallelogram_margins(a, b, x + convention.sample[0], y + convention.sample[1], scene.line_width)
-        elif rule.rule in FIXED_POINT_LINE_RULES:
-            # skia's hairlines, Qt's cosmetic lines: integer DDAs on 26.6 end points; no
-            # float margin is theirs to excuse (their oracle is the library's arithmetic)
+        elif rule.rule in FIXED_POINT_LINE_RULES or rule.own_snapping:
+            # skia's hairlines, Qt's cosmetic lines, llvmpipe's rectangles: the library's own
+            # arithmetic (integer DDAs on 26.6 ends; float32 corners snapped by its rule) is
+            # their oracle: no float margin is theirs to excuse
             absolute = np.full(a.shape[0], np.inf)
         elif scene.line_width != 1.0:
             # replicated wide lines: a pixel inside a run stays as its base moves; no bound

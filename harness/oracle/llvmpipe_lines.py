@@ -18,7 +18,8 @@ llvmpipe's rectangular lines (``llvmpipe-rectangle``)
     pixel_offset)``, i.e. ``util_iround(256 * (v - 0.5f))`` in float32 (``pixel_offset`` is
     1/2 for pixel centres), and Mesa's ``util_iround`` on x86-64 is ``(int)(f + 0.5f)`` for
     f >= 0, else ``(int)(f - 0.5f)``: half away from zero *in the frame shifted by half a
-    pixel* (ties go up right of a pixel centre, down left of it), with float32 roundings.
+    pixel* (a tie of the grid goes up when v >= 1/2, down when v < 1/2: plain half-away
+    but for 0 < v < 1/2), with float32 roundings.
     So the ends snap otherwise than the triangles (nearest-even, unshifted), and the
     normal's own snap puts the corners up to 1/512 px off the exact rectangle's.
 
@@ -62,7 +63,7 @@ def _iround(f: NDArray[np.float32]) -> NDArray[np.float64]:
     half = np.float32(0.5)
     with np.errstate(invalid="ignore"):
         moved = np.where(f >= 0, f + half, f - half).astype(np.float32)
-    return np.trunc(moved.astype(np.float64))  # type: ignore[no-any-return]
+    return np.trunc(moved.astype(np.float64))
 
 
 def llvmpipe_rectangle_corners(a: NDArray[np.float64], b: NDArray[np.float64], line_width: float,
@@ -75,7 +76,7 @@ def llvmpipe_rectangle_corners(a: NDArray[np.float64], b: NDArray[np.float64], l
     >>> (c[0] * 256).tolist()  # the normal (0.158, -0.474) snapped on its own: 40/256 and -121/256
     [[216.0, 377.0], [984.0, 633.0], [1064.0, 391.0], [296.0, 135.0]]
 
-    An end on a tie of the grid rounds up, as its shifted coordinate (y - 1/2 >= 0) does:
+    An end on a tie of the grid rounds up, as its shifted coordinate (y - 1/2 > 0) does:
 
     >>> c = llvmpipe_rectangle_corners(np.array([[1.0, 1 + 2**-9]]), np.array([[4.0, 1 + 2**-9]]), 1.0, Convention())
     >>> (c[0, :, 1] * 256).tolist()  # y = 1 + 1/256, +- 1/2
@@ -96,14 +97,14 @@ def llvmpipe_rectangle_corners(a: NDArray[np.float64], b: NDArray[np.float64], l
         sb = _iround(one * (b32 - offset))
         corners = (np.stack([sa - n, sb - n, sb + n, sa + n], axis=1) / 2.0**FIXED_ORDER) + 0.5
     corners[~np.isfinite(corners).all(axis=(1, 2))] = np.nan
-    return corners  # type: ignore[no-any-return]
+    return corners
 
 
 def _triangles(corners: NDArray[np.float64]) -> NDArray[np.float64]:
     """(2N, 3, 2): each quad as its two triangles sharing the diagonal from corner 0 to 2."""
     first = corners[:, [0, 1, 2]]
     second = corners[:, [0, 2, 3]]
-    return np.stack([first, second], axis=1).reshape(-1, 3, 2)  # type: ignore[no-any-return]
+    return np.stack([first, second], axis=1).reshape(-1, 3, 2)
 
 
 def llvmpipe_rectangle_coverage(scene: Any, convention: Convention) -> Any:

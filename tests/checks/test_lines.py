@@ -24,7 +24,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene
 from harness.engine.runner import run_suite
 from harness.oracle.coverage import exact_coverage
-from tests.known_bad.hairlines import QtFlatCaps, SkiaCentredStart
+from tests.known_bad.hairlines import LlvmpipeUnshiftedSnap, QtFlatCaps, SkiaCentredStart
 from tests.known_bad.lines import (
     BackwardPrestep,
     BothEndPixels,
@@ -85,6 +85,9 @@ CASES = [
                                                       [[4.5, 2.5], [3.0, 9.0], [14.0, 6.5], [6.0, 3.5]]), lattice=True),
 ]
 WIDE = Case("lines/wide/lattice", LineScene.from_strips(16, 16, [STAR, [[1.0, 8.0], [15.0, 9.5]]], line_width=2.5), lattice=True)
+# end points on ties of the 1/256 grid (odd multiples of 1/512): where llvmpipe's line snapping parts from its triangles'
+TIES_512 = Case("lines/ties-512/float", LineScene.from_segments(16, 16, [[2 + 1 / 512, 3 + 1 / 512], [13 - 1 / 512, 2 + 3 / 512]],
+                                                             [[13 + 3 / 512, 3 - 1 / 512], [12 + 1 / 512, 14 - 1 / 512]]))
 LONG = Case("lines/long/float", LineScene.from_segments(4096, 64, [[0.3, 3.7], [4090.6, 60.2]], [[4095.1, 57.3], [5.3, 1.1]]))
 
 RULES = {
@@ -164,6 +167,7 @@ KNOWN_BAD: list[tuple[Any, str, Case]] = [
     (FullWidthOffset(), "conformance", CASES[1]),
     (SkiaCentredStart(), "conformance", CASES[2]),
     (QtFlatCaps(), "conformance", CASES[0]),
+    (LlvmpipeUnshiftedSnap(), "conformance", TIES_512),
 ]
 
 

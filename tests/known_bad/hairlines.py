@@ -1,6 +1,7 @@
-"""Known-bad drawers of the libraries' fixed-point lines (issue 33): each claims skia's
-hairlines or Qt's cosmetic lines (:mod:`harness.oracle.hairlines`) and differs from the
-source in one plausible way. Test doubles: Python integers per segment, not fast."""
+"""Known-bad drawers of the line rules read from libraries' sources (issue 33): each claims
+skia's hairlines or Qt's cosmetic lines (:mod:`harness.oracle.hairlines`), or llvmpipe's
+rectangular lines (:mod:`harness.oracle.llvmpipe_lines`), and differs from the source in one
+plausible way. Test doubles: Python integers per segment, not fast."""
 
 from __future__ import annotations
 
@@ -12,7 +13,7 @@ from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene, Unsupported
 
-__all__ = ["SkiaCentredStart", "QtFlatCaps", "HAIRLINE_BADS"]
+__all__ = ["SkiaCentredStart", "QtFlatCaps", "LlvmpipeUnshiftedSnap", "HAIRLINE_BADS"]
 
 
 def _cdiv(a: int, b: int) -> int:
@@ -96,4 +97,37 @@ class QtFlatCaps:
         return _walk(scene, qt=True, caps=False)
 
 
-HAIRLINE_BADS = [SkiaCentredStart(), QtFlatCaps()]
+
+
+class LlvmpipeUnshiftedSnap:
+    """llvmpipe's rectangular lines with the end points snapped as its triangles' vertices
+    are (to 1/256 px, nearest-even, unshifted) while claiming llvmpipe's line rule, whose
+    ends snap half away from zero in the frame shifted by half a pixel: an end on a tie of
+    the grid (a multiple of 1/512 px) lands a grid step off."""
+
+    name = "bad_llvmpipe_unshifted_snap"
+    convention = Convention(line="llvmpipe-rectangle", input="float32", subpixel_bits=8)
+    scene_kinds = ("lines",)
+    interpolates = False
+
+    def rasterize(self, scene: LineScene) -> Coverage:
+        from harness.contract.scenes import Scene
+        from harness.oracle.coverage import exact_coverage
+        from harness.oracle.llvmpipe_lines import llvmpipe_rectangle_corners
+
+        a, b = scene.segments()
+        rule = self.convention
+        corners = llvmpipe_rectangle_corners(a, b, scene.line_width, rule)
+        # move the ends to the triangles' snapping: the quad shifts by the difference
+        ends = (rule.snap(a), rule.snap(b))
+        llvm = (corners[:, 0] + corners[:, 3]) / 2, (corners[:, 1] + corners[:, 2]) / 2
+        for k, (end, got) in enumerate(zip(ends, llvm)):
+            shift = end - got
+            for c in ((0, 3), (1, 2))[k]:
+                corners[:, c] += shift
+        triangles = np.stack([corners[:, [0, 1, 2]], corners[:, [0, 2, 3]]], axis=1).reshape(-1, 3, 2)
+        p, x, y = exact_coverage(Scene(scene.width, scene.height, triangles), Convention()).pixels()
+        return Coverage.from_pixels(p // 2, x, y)
+
+
+HAIRLINE_BADS = [SkiaCentredStart(), QtFlatCaps(), LlvmpipeUnshiftedSnap()]
