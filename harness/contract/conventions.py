@@ -204,6 +204,7 @@ __all__ = [
     "DIAMOND_RULES",
     "AREA_LINE_RULES",
     "FIXED_POINT_LINE_RULES",
+    "LIBRARY_LINE_RULES",
     "BRESENHAM_ROUNDINGS",
     "BRESENHAM_TIES",
     "BresenhamRounding",
@@ -231,6 +232,9 @@ AREA_LINE_RULES: tuple[LineRuleName, ...] = ("rectangle", "parallelogram", "llvm
 # Libraries' one-pixel lines read from their sources: fixed-point DDAs on 26.6 end points
 # (harness.oracle.hairlines: skia's SkScan::HairLineRgn, Qt's QCosmeticStroker::drawLine)
 FIXED_POINT_LINE_RULES: tuple[LineRuleName, ...] = ("skia-hairline", "qt-cosmetic")
+# The rules read from one library's source (those, and llvmpipe's rectangular lines):
+# identify names one only where it explains that library's lines (line_probes.fit_lines)
+LIBRARY_LINE_RULES: tuple[LineRuleName, ...] = FIXED_POINT_LINE_RULES + ("llvmpipe-rectangle",)
 BresenhamRounding = Literal["nearest-even", "half-away", "floor", "toward-zero"]
 BresenhamTies = Literal["step", "stay"]
 BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor", "toward-zero")

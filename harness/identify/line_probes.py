@@ -61,9 +61,18 @@ zero and no other candidate's is:
    whose sides and caps run through samples there, as for triangles' tie scenes): the
    runner-up (the best candidate differing in rule, last pixel, rounding, ties, direction, or for
    rectangles sample point or tie rule) and each rule's best score on the lattice scenes
-   are the evidence.
+   are the evidence. Steps 1 to 3 fit the general rules (diamond-exit, Bresenham,
+   rectangle, parallelogram).
 
-4. *Wide lines* (:func:`wide_lines`): lattice segments of width 3, against the fitted
+4. *A library's own rule*: the rules read from one library's source
+   (:data:`~harness.contract.conventions.LIBRARY_LINE_RULES`: skia's hairlines, Qt's cosmetic
+   lines, llvmpipe's rectangles), each with its snapping fitted as in step 2 (llvmpipe's
+   rectangles snap by their own rule), replace that fit where one leaves at most
+   1/:data:`LIBRARY_MARGIN` of its residual -- the general fit then being the runner-up. A
+   library's rule explains that library; where it only scores a little better on another's
+   lines (cairo's rectangles, say) it is no better a guess, and the general fit stands.
+
+5. *Wide lines* (:func:`wide_lines`): lattice segments of width 3, against the fitted
    rectangular lines (for a width-1 rule, the best rectangle of step 1, and the rule
    itself at width 1: a drawer that ignores the width; for a diamond rule, the rule
    replicated along the minor axis as GL's wide lines: a drawer doing that exactly is
@@ -91,6 +100,7 @@ from harness.contract.conventions import (
     BRESENHAM_TIES,
     DIAMOND_RULES,
     FIXED_POINT_LINE_RULES,
+    LIBRARY_LINE_RULES,
     LINE_DIRECTIONS,
     LINE_RULES,
     MAX_SUBPIXEL_BITS,
@@ -123,6 +133,10 @@ __all__ = ["LINE_RULES_TRIED", "PROBE_SIZE", "WIDE", "LineDrawn", "LineRounding"
 
 # The width of the wide-line probe.
 WIDE = 3.0
+# A rule read from one library's source is the fit only where its residual is at most this
+# fraction of the general rules' best (1/10): it explains its library's lines, and is not
+# a better-scoring stand-in for another library's (fit_lines, step 4)
+LIBRARY_MARGIN = 10
 
 
 def line_rules_tried() -> tuple[LineRule, ...]:
@@ -554,24 +568,28 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
     if odd:
         return LineFit(None, triangles=triangles, scenes=len(ruled), skipped=odd, drawn=tuple(ruled))
     lattice = [_fit_score(ruled, c) for c in candidates]
-    order = sorted(range(len(candidates)), key=lambda i: (lattice[i], i))
+
+    def general() -> list[int]:
+        # the general rules, in lattice order; the rules read from one library's source are
+        # weighed against their fit afterwards (step 4)
+        return sorted((i for i, c in enumerate(candidates) if c.line.rule not in LIBRARY_LINE_RULES),
+                      key=lambda i: (lattice[i], i))
+
+    order = general()
     best = candidates[order[0]]
     # 2. snapping, on end points next to decision boundaries and on floats
     floats = [_draw(call, nudged_lines(seed), received), _draw(call, float_lines(seed), received)]
     snaps: list[tuple[int | None, SnapRounding]] = [(None, "nearest-even")]
     snaps += [(b, r) for b in SNAP_BITS if b is not None for r in SNAP_ROUNDINGS]
-    own = (None, "nearest-even") if triangles is None or triangles.subpixel_bits is None else (
-        triangles.subpixel_bits, triangles.snap_rounding)
+    own: tuple[int | None, SnapRounding] = (None, "nearest-even") if triangles is None or triangles.subpixel_bits is None \
+        else (triangles.subpixel_bits, triangles.snap_rounding)
 
     def preference(bits: int | None, rounding: SnapRounding) -> int:
         # ties prefer the triangles' snapping (a snapping no line shows is theirs), then
         # none, then rounding to nearest even
         return 0 if (bits, rounding) == own else 1 if bits is None else 2 + SNAP_ROUNDINGS.index(rounding)
 
-    if best.line.own_snapping:  # llvmpipe's rectangles snap by their own rule: the convention's is the triangles'
-        scored = [(0, 0, snaps.index(own) if own in snaps else 0)]
-    else:
-        scored = sorted((_fit_score(floats, _snapped(best, b, r)), preference(b, r), k) for k, (b, r) in enumerate(snaps))
+    scored = sorted((_fit_score(floats, _snapped(best, b, r)), preference(b, r), k) for k, (b, r) in enumerate(snaps))
     bits, rounding = snaps[scored[0][2]]
     if sweep.offset is not None and best.line.rule == "rectangle" and bits is not None:
         # a rectangle's flip, swept with a snapped end, lies up to a grid step off its
@@ -584,13 +602,13 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
                  for t in TIE_RULES if (s, t) not in known]
         candidates += extra
         lattice += [_fit_score(ruled, c) for c in extra]
-        order = sorted(range(len(candidates)), key=lambda i: (lattice[i], i))
+        order = general()
         trials = [(best, *snaps[scored[0][2]])] + [(c, b, r) for c in extra if c.tie == best.tie
                                                    for b in near for r in SNAP_ROUNDINGS]
         _, _, _, best, bits, rounding = min(((_fit_score(floats, _snapped(c, b, r)), preference(b, r), k, c, b, r)
                                             for k, (c, b, r) in enumerate(trials)), key=lambda t: t[:3])
     rounding_fit = None
-    if bits is not None and not best.line.own_snapping:
+    if bits is not None:
         floats.append(_draw(call, half_step_lines(seed, bits), received))
         ranked = sorted((_fit_score(floats, _snapped(best, bits, r)), preference(bits, r), r) for r in SNAP_ROUNDINGS)
         rounding = ranked[0][2]
@@ -616,6 +634,26 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
     rectangle = best if best.line.rule in AREA_LINE_RULES else _snapped(
         next(candidates[i] for i in order if candidates[i].line.rule == "rectangle"), bits, rounding)
     runner = _snapped(candidates[order[totals[1][1]]], bits, rounding)
+    # 4. a rule read from one library's source (skia's hairlines, Qt's cosmetic lines,
+    # llvmpipe's rectangles), with its own snapping fit, replaces that fit only where it
+    # leaves at most 1/LIBRARY_MARGIN of its residual: a library's rule explains that
+    # library, and does not stand in as another's best guess
+    chosen: tuple[int, Convention] | None = None
+    for i in sorted((i for i, c in enumerate(candidates) if c.line.rule in LIBRARY_LINE_RULES), key=lambda i: (lattice[i], i)):
+        if lattice[i] * LIBRARY_MARGIN > totals[0][0] or (chosen is not None and lattice[i] >= chosen[0]):
+            break  # in lattice order: no later one can do better
+        snapping = own if candidates[i].line.own_snapping else snaps[min(
+            (_fit_score(floats, _snapped(candidates[i], b, r)), preference(b, r), k) for k, (b, r) in enumerate(snaps))[2]]
+        candidate = _snapped(candidates[i], *snapping)
+        total = _fit_score(drawn, candidate)
+        # (strictly better: an exact general fit stands)
+        if total * LIBRARY_MARGIN <= totals[0][0] and total < totals[0][0] and (chosen is None or total < chosen[0]):
+            chosen = (total, candidate)
+    if chosen is not None:
+        best, runner = chosen[1], best
+        bits, rounding, rounding_fit = best.subpixel_bits, best.snap_rounding, None
+        if best.line.rule in AREA_LINE_RULES:
+            rectangle = best
     ambiguous = (tuple(f"{bits} bits {r}" for r in rounding_fit.tied)
                  if rounding_fit is not None and len(rounding_fit.tied) > 1 else ())
     if (triangles is not None and triangles.model.single_sample and bits is not None and bits == triangles.subpixel_bits
