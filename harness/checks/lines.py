@@ -44,6 +44,7 @@ from harness.contract.coverage_models import COVERAGE_MODELS
 from harness.contract.scenes import LineScene, Unsupported
 from harness.kinds import LINES
 from harness.oracle.coverage import exact_coverage
+from harness.oracle.hairlines import HAIRLINE_MAX, HAIRLINE_RULES, hairline_x_major, to_fdot6
 from harness.oracle.lines import area_holding, end_point_pixels, is_x_major
 
 __all__ = [
@@ -116,6 +117,9 @@ def _x_major_of_ends(a: NDArray, b: NDArray, convention: Convention) -> NDArray[
         p0, p1 = end_point_pixels(a[finite], convention.line.rounding), end_point_pixels(b[finite], convention.line.rounding)
         d = np.abs(p1 - p0)
         out[finite] = d[:, 0] >= d[:, 1]
+        return out
+    if convention.line.rule in HAIRLINE_RULES:  # by the 26.6 end points, each rule's own tie
+        out[finite] = hairline_x_major(a[finite], b[finite], convention.line.rule)
         return out
     chosen = np.zeros(int(finite.sum()), dtype=np.bool_)
     if chosen.size:
@@ -229,7 +233,7 @@ def _guarded(name: str, run: Callable[[Subject], Result]) -> Callable[[Subject],
 
 def _run_connectivity(s: Subject) -> Result:
     assert s.convention is not None
-    if s.convention.line.rule == "rectangle":
+    if s.convention.line.rule in ("rectangle", "llvmpipe-rectangle"):
         return skip(s.case, "connectivity", "rectangular lines are filled rectangles: no rule of one pixel per major step")
     if s.case.scene.line_width != 1.0:
         return skip(s.case, "connectivity", "wide lines draw w pixels per major step: no rule of one")
@@ -254,7 +258,8 @@ def vertex_pixels(scene: LineScene, convention: Convention, pairs: NDArray[np.in
 
     diamond-exit (D3D's or GL's): the pixel whose test area holds v, for the major axis of m (the segment
     starting there, which draws it; the one ending there omits it); Bresenham: the pixel v
-    rounds to (both segments start or end there); rectangles and parallelograms: none.
+    rounds to (both segments start or end there); skia's hairlines and Qt's cosmetic lines:
+    the pixel holding v's 26.6 point; rectangles and parallelograms: none.
     """
     out = np.full((pairs.shape[0], 2), -1, dtype=np.int64)
     if not pairs.shape[0] or convention.line.rule in AREA_LINE_RULES:
@@ -262,6 +267,13 @@ def vertex_pixels(scene: LineScene, convention: Convention, pairs: NDArray[np.in
     _, b = scene.segments()
     v = convention.snap(b[pairs[:, 0]])
     finite = np.asarray(np.isfinite(v).all(axis=1), dtype=np.bool_)
+    if convention.line.rule in HAIRLINE_RULES:
+        # the pixel holding the vertex's 26.6 point (both segments' DDAs end or start there)
+        near = finite & (np.abs(np.where(finite[:, None], v, 0.0)) <= HAIRLINE_MAX).all(axis=1)
+        held = to_fdot6(np.where(near[:, None], v, -1.0)) >> 6
+        inside = near & (held[:, 0] >= 0) & (held[:, 0] < scene.width) & (held[:, 1] >= 0) & (held[:, 1] < scene.height)
+        out[inside] = held[inside]
+        return out
     if convention.line.rule == "bresenham":
         p = end_point_pixels(np.where(finite[:, None], v, -1.0), convention.line.rounding)
         inside = finite & (p[:, 0] >= 0) & (p[:, 0] < scene.width) & (p[:, 1] >= 0) & (p[:, 1] < scene.height)
@@ -601,7 +613,9 @@ def line_motion(case: Case, sequences: list[tuple[str, list[LineScene], list[Cov
     a monotone function of the line's position (diamond-exit: the row holding the line at
     the cell's centre; Bresenham: the rounded end points move monotonically, and with them
     round(k*M/K)), and the extent along the motion only grows at its front and shrinks at
-    its back. Rectangular (and parallelogram) lines are thin regions whose ends may legitimately move a
+    its back. skia's hairlines are not monotone (an end crossing a pixel centre moves the
+    DDA's start by a slope step: :mod:`harness.oracle.hairlines`) and are judged as the
+    area rules are. Rectangular (and parallelogram) lines are thin regions whose ends may legitimately move a
     cell's pixels either way: they are judged against the exact answer's own direction at
     each step (its most recent move where it does not move, as
     :func:`harness.checks.motion.filled_direction`).
@@ -614,7 +628,8 @@ def line_motion(case: Case, sequences: list[tuple[str, list[LineScene], list[Cov
     scene = LINES.narrow(scene)
     n = len(scene)
     noun = scene.noun
-    geometric = convention.line.rule not in AREA_LINE_RULES
+    geometric = convention.line.rule not in AREA_LINE_RULES and (
+        convention.line.rule not in HAIRLINE_RULES or HAIRLINE_RULES[convention.line.rule].monotone)
     jumps: list[dict[str, Any]] = []
     totals = {"cells": 0, "ends": 0}
     for axis, frames, coverages, oracles in sequences:

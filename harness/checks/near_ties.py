@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.checks.records import Tolerance
-from harness.contract.conventions import Convention
+from harness.contract.conventions import FIXED_POINT_LINE_RULES, Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 from harness.geometry.exact import orientation
@@ -512,6 +512,11 @@ def line_edge_distance(scene: LineScene, convention: Convention | None, fragment
             absolute = _rectangle_margins(a, b, x + convention.sample[0], y + convention.sample[1], scene.line_width)
         elif rule.rule == "parallelogram":
             absolute = _parallelogram_margins(a, b, x + convention.sample[0], y + convention.sample[1], scene.line_width)
+        elif rule.rule in FIXED_POINT_LINE_RULES or rule.own_snapping:
+            # skia's hairlines, Qt's cosmetic lines, llvmpipe's rectangles: the library's own
+            # arithmetic (integer DDAs on 26.6 ends; float32 corners snapped by its rule) is
+            # their oracle: no float margin is theirs to excuse
+            absolute = np.full(a.shape[0], np.inf)
         elif scene.line_width != 1.0:
             # replicated wide lines: a pixel inside a run stays as its base moves; no bound
             # here, so no near tie is excused

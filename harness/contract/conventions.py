@@ -218,6 +218,8 @@ __all__ = [
     "LINE_RULES",
     "DIAMOND_RULES",
     "AREA_LINE_RULES",
+    "FIXED_POINT_LINE_RULES",
+    "LIBRARY_LINE_RULES",
     "BRESENHAM_ROUNDINGS",
     "BRESENHAM_TIES",
     "BresenhamRounding",
@@ -237,13 +239,21 @@ TieRule = Literal[
     "top-left-y-first", "top-right-y-first", "bottom-left-y-first", "bottom-right-y-first",
 ]
 CullMode = Literal["none", "cw", "ccw"]
-LineRuleName = Literal["diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram"]
-LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram")
+LineRuleName = Literal["diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram", "skia-hairline",
+                       "qt-cosmetic", "llvmpipe-rectangle"]
+LINE_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram",
+                                        "skia-hairline", "qt-cosmetic", "llvmpipe-rectangle")
 # The diamond rules: D3D11's test areas, and GL's open diamonds with perturbed end points.
 DIAMOND_RULES: tuple[LineRuleName, ...] = ("diamond-exit", "diamond-exit-gl")
 # The rules that cover the samples inside a region around the segment (any width, the
 # convention's sample point and tie rule)
-AREA_LINE_RULES: tuple[LineRuleName, ...] = ("rectangle", "parallelogram")
+AREA_LINE_RULES: tuple[LineRuleName, ...] = ("rectangle", "parallelogram", "llvmpipe-rectangle")
+# Libraries' one-pixel lines read from their sources: fixed-point DDAs on 26.6 end points
+# (harness.oracle.hairlines: skia's SkScan::HairLineRgn, Qt's QCosmeticStroker::drawLine)
+FIXED_POINT_LINE_RULES: tuple[LineRuleName, ...] = ("skia-hairline", "qt-cosmetic")
+# The rules read from one library's source (those, and llvmpipe's rectangular lines):
+# identify names one only where it explains that library's lines (line_probes.fit_lines)
+LIBRARY_LINE_RULES: tuple[LineRuleName, ...] = FIXED_POINT_LINE_RULES + ("llvmpipe-rectangle",)
 BresenhamRounding = Literal["nearest-even", "half-away", "floor", "toward-zero"]
 BresenhamTies = Literal["step", "stay"]
 BRESENHAM_ROUNDINGS: tuple[BresenhamRounding, ...] = ("nearest-even", "half-away", "floor", "toward-zero")
@@ -309,7 +319,8 @@ class LineRule:
 
     Parameters
     ----------
-    rule : {"diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram"}
+    rule : {"diamond-exit", "diamond-exit-gl", "bresenham", "rectangle", "parallelogram", "skia-hairline", "qt-cosmetic", \
+            "llvmpipe-rectangle"}
         ``diamond-exit``: a pixel is drawn when the segment leaves its diamond test area
         (D3D11 3.4.3: lower edges and bottom corner in, y-major lines also the right
         corner); width 1. ``diamond-exit-gl``: GL's (OpenGL 4.6 14.5.1): the segment with
@@ -325,7 +336,14 @@ class LineRule:
         the parallelogram whose two sides are the segment moved by +-``line_width``/2 along
         its minor axis (y for an x-major segment, |dy| <= |dx|) and whose two ends are
         parallel to that axis through the end points, under the convention's sample point
-        and tie rule (:mod:`harness.oracle.parallelogram_lines`).
+        and tie rule (:mod:`harness.oracle.parallelogram_lines`). ``skia-hairline`` and
+        ``qt-cosmetic``: skia's hairlines (``SkScan::HairLineRgn``) and Qt's cosmetic lines
+        (``QCosmeticStroker::drawLine``, square caps), fixed-point DDAs on end points
+        truncated to 26.6, read from their sources (:mod:`harness.oracle.hairlines`); width 1.
+        ``llvmpipe-rectangle``: llvmpipe's (lavapipe's) rectangular lines
+        (``lp_setup_line.c``): the quad of the snapped end points +- the half-width normal,
+        computed in float32 from the unsnapped ends and snapped on its own, under the
+        convention's sample point and tie rule (:mod:`harness.oracle.llvmpipe_lines`).
     last_pixel : bool or None
         diamond-exit and bresenham: also draw the pixel the segment ends in (a polyline's
         shared vertices are then drawn twice). None: the rule's own (diamond-exit omits
@@ -439,6 +457,13 @@ class LineRule:
         return self.rule in DIAMOND_RULES
 
     @property
+    def own_snapping(self) -> bool:
+        """The rule snaps its end points itself (llvmpipe's rectangular lines: its own grid and
+        rounding, :mod:`harness.oracle.llvmpipe_lines`): the convention's ``subpixel_bits`` and
+        ``snap_rounding`` play no part in it."""
+        return self.rule == "llvmpipe-rectangle"
+
+    @property
     def gl(self) -> bool:
         """GL's diamond-exit rule (end points perturbed by -(eps, eps**2))."""
         return self.rule == "diamond-exit-gl"
@@ -460,6 +485,13 @@ class LineRule:
             return "rectangular lines"
         if self.rule == "parallelogram":
             return "parallelogram lines (Vulkan non-strict)"
+        if self.rule == "llvmpipe-rectangle":
+            return ("llvmpipe rectangular lines (ends and half-width normal each snapped to 1/256 px, half away "
+                    "in the frame shifted by half a pixel)")
+        if self.rule == "skia-hairline":
+            return "skia hairlines (26.6 ends toward zero, 16.16 DDA)"
+        if self.rule == "qt-cosmetic":
+            return "Qt cosmetic lines (26.6 ends toward zero, square caps, 16.16 DDA)"
         last = "last pixel drawn" if self.last_pixel else "last pixel omitted"
         wide = ", wide lines by replication along the minor axis" if self.wide == "replicate" else ""
         if self.rule == "diamond-exit":

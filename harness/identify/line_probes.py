@@ -8,8 +8,8 @@ the snapping in front of it, each by the exact oracle of every candidate convent
 pixels, as for triangles -- the best explaining it, "identified" only when its residual is
 zero and no other candidate's is:
 
-1. *The rule* (D3D's or GL's diamond-exit, Bresenham, rectangle or Vulkan's non-strict
-   parallelogram), with diamond-exit's and
+1. *The rule* (D3D's or GL's diamond-exit, Bresenham, rectangle, Vulkan's non-strict
+   parallelogram, or skia's hairlines or Qt's cosmetic lines read from their sources), with diamond-exit's and
    Bresenham's last-pixel rule, Bresenham's end point rounding (nearest-even, half-away,
    floor, toward-zero), tie direction (step, stay) and direction of travel (as given, or
    from the end point with smaller x or smaller major coordinate, as textbooks'
@@ -61,9 +61,18 @@ zero and no other candidate's is:
    whose sides and caps run through samples there, as for triangles' tie scenes): the
    runner-up (the best candidate differing in rule, last pixel, rounding, ties, direction, or for
    rectangles sample point or tie rule) and each rule's best score on the lattice scenes
-   are the evidence.
+   are the evidence. Steps 1 to 3 fit the general rules (diamond-exit, Bresenham,
+   rectangle, parallelogram).
 
-4. *Wide lines* (:func:`wide_lines`): lattice segments of width 3, against the fitted
+4. *A library's own rule*: the rules read from one library's source
+   (:data:`~harness.contract.conventions.LIBRARY_LINE_RULES`: skia's hairlines, Qt's cosmetic
+   lines, llvmpipe's rectangles), each with its snapping fitted as in step 2 (llvmpipe's
+   rectangles snap by their own rule), replace that fit where one leaves at most
+   1/:data:`LIBRARY_MARGIN` of its residual -- the general fit then being the runner-up. A
+   library's rule explains that library; where it only scores a little better on another's
+   lines (cairo's rectangles, say) it is no better a guess, and the general fit stands.
+
+5. *Wide lines* (:func:`wide_lines`): lattice segments of width 3, against the fitted
    rectangular lines (for a width-1 rule, the best rectangle of step 1, and the rule
    itself at width 1: a drawer that ignores the width; for a diamond rule, the rule
    replicated along the minor axis as GL's wide lines: a drawer doing that exactly is
@@ -90,6 +99,8 @@ from harness.contract.conventions import (
     BRESENHAM_ROUNDINGS,
     BRESENHAM_TIES,
     DIAMOND_RULES,
+    FIXED_POINT_LINE_RULES,
+    LIBRARY_LINE_RULES,
     LINE_DIRECTIONS,
     LINE_RULES,
     MAX_SUBPIXEL_BITS,
@@ -122,6 +133,10 @@ __all__ = ["LINE_RULES_TRIED", "PROBE_SIZE", "WIDE", "LineDrawn", "LineRounding"
 
 # The width of the wide-line probe.
 WIDE = 3.0
+# A rule read from one library's source is the fit only where its residual is at most this
+# fraction of the general rules' best (1/10): it explains its library's lines, and is not
+# a better-scoring stand-in for another library's (fit_lines, step 4)
+LIBRARY_MARGIN = 10
 
 
 def line_rules_tried() -> tuple[LineRule, ...]:
@@ -152,17 +167,22 @@ def line_candidates(base: Convention | None = None, measured: tuple[float, float
     (:func:`harness.identify.triangle_probes._sample_candidates`, as for triangles), x the 8 tie
     rules, ``base``'s own first (a tie in the score goes to the earlier candidate); then
     parallelograms (Vulkan's non-strict lines) at ``base``'s sample point, the centre and
-    the measured one, x the 8 tie rules. The
+    the measured one, x the 8 tie rules; last, skia's hairlines and Qt's cosmetic lines
+    (:data:`~harness.contract.conventions.FIXED_POINT_LINE_RULES`), and llvmpipe's
+    rectangular lines at ``base``'s sample point and the centre, x the 8 tie rules. The
     rest of ``base`` (culling) plays no part in lines; keeping it makes a line convention
     that agrees with the triangles equal to the triangle convention with its line rule.
 
     >>> candidates = line_candidates()
     >>> len(candidates), candidates[0].line.rule, candidates[52].line.rule, candidates[52].sample
-    (132, 'diamond-exit', 'rectangle', (0.5, 0.5))
+    (142, 'diamond-exit', 'rectangle', (0.5, 0.5))
     >>> candidates[124].line.rule, candidates[124].sample, candidates[124].tie
     ('parallelogram', (0.5, 0.5), 'top-left')
-    >>> len(line_candidates(measured=(0.25, 0.75))), line_candidates(measured=(0.25, 0.75))[-1].sample
-    (148, (0.25, 0.75))
+    >>> measured = line_candidates(measured=(0.25, 0.75))
+    >>> len(measured), [c for c in measured if c.line.rule == "rectangle"][-1].sample
+    (158, (0.25, 0.75))
+    >>> [c.line.rule for c in candidates[-11:-8]], {c.tie for c in candidates[-8:]} == set(TIE_RULES)
+    (['parallelogram', 'skia-hairline', 'qt-cosmetic'], True)
     """
     single = base if base is not None and base.model.single_sample else Convention()
     unsnapped = replace(single, subpixel_bits=None, snap_rounding="nearest-even")
@@ -173,7 +193,14 @@ def line_candidates(base: Convention | None = None, measured: tuple[float, float
     # Vulkan's non-strict lines: at the triangles' sample point, the centre and the measured
     # one, x the 8 tie rules (their sides decide like triangle edges)
     spots = {single.sample, (0.5, 0.5)} | ({measured} if measured is not None else set())
-    return out + [replace(unsnapped, sample=s, tie=t, line=LineRule("parallelogram")) for s, t in pairs if s in spots]
+    out += [replace(unsnapped, sample=s, tie=t, line=LineRule("parallelogram")) for s, t in pairs if s in spots]
+    # libraries' fixed-point one-pixel lines read from their sources (skia's hairlines,
+    # Qt's cosmetic lines): no sample point or tie rule of theirs
+    out += [replace(unsnapped, line=LineRule(rule)) for rule in FIXED_POINT_LINE_RULES]
+    # llvmpipe's rectangular lines (lavapipe): at the triangles' sample point and the centre,
+    # x the 8 tie rules (a measured sample off those is a rectangle's, refined on its grid)
+    return out + [replace(unsnapped, sample=s, tie=t, line=LineRule("llvmpipe-rectangle")) for s, t in pairs
+                  if s in (single.sample, (0.5, 0.5))]
 
 
 # --- calling a rasterizer with lines, and scoring its answers -------------------------------------
@@ -541,14 +568,21 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
     if odd:
         return LineFit(None, triangles=triangles, scenes=len(ruled), skipped=odd, drawn=tuple(ruled))
     lattice = [_fit_score(ruled, c) for c in candidates]
-    order = sorted(range(len(candidates)), key=lambda i: (lattice[i], i))
+
+    def general() -> list[int]:
+        # the general rules, in lattice order; the rules read from one library's source are
+        # weighed against their fit afterwards (step 4)
+        return sorted((i for i, c in enumerate(candidates) if c.line.rule not in LIBRARY_LINE_RULES),
+                      key=lambda i: (lattice[i], i))
+
+    order = general()
     best = candidates[order[0]]
     # 2. snapping, on end points next to decision boundaries and on floats
     floats = [_draw(call, nudged_lines(seed), received), _draw(call, float_lines(seed), received)]
     snaps: list[tuple[int | None, SnapRounding]] = [(None, "nearest-even")]
     snaps += [(b, r) for b in SNAP_BITS if b is not None for r in SNAP_ROUNDINGS]
-    own = (None, "nearest-even") if triangles is None or triangles.subpixel_bits is None else (
-        triangles.subpixel_bits, triangles.snap_rounding)
+    own: tuple[int | None, SnapRounding] = (None, "nearest-even") if triangles is None or triangles.subpixel_bits is None \
+        else (triangles.subpixel_bits, triangles.snap_rounding)
 
     def preference(bits: int | None, rounding: SnapRounding) -> int:
         # ties prefer the triangles' snapping (a snapping no line shows is theirs), then
@@ -568,7 +602,7 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
                  for t in TIE_RULES if (s, t) not in known]
         candidates += extra
         lattice += [_fit_score(ruled, c) for c in extra]
-        order = sorted(range(len(candidates)), key=lambda i: (lattice[i], i))
+        order = general()
         trials = [(best, *snaps[scored[0][2]])] + [(c, b, r) for c in extra if c.tie == best.tie
                                                    for b in near for r in SNAP_ROUNDINGS]
         _, _, _, best, bits, rounding = min(((_fit_score(floats, _snapped(c, b, r)), preference(b, r), k, c, b, r)
@@ -600,6 +634,26 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
     rectangle = best if best.line.rule in AREA_LINE_RULES else _snapped(
         next(candidates[i] for i in order if candidates[i].line.rule == "rectangle"), bits, rounding)
     runner = _snapped(candidates[order[totals[1][1]]], bits, rounding)
+    # 4. a rule read from one library's source (skia's hairlines, Qt's cosmetic lines,
+    # llvmpipe's rectangles), with its own snapping fit, replaces that fit only where it
+    # leaves at most 1/LIBRARY_MARGIN of its residual: a library's rule explains that
+    # library, and does not stand in as another's best guess
+    chosen: tuple[int, Convention] | None = None
+    for i in sorted((i for i, c in enumerate(candidates) if c.line.rule in LIBRARY_LINE_RULES), key=lambda i: (lattice[i], i)):
+        if lattice[i] * LIBRARY_MARGIN > totals[0][0] or (chosen is not None and lattice[i] >= chosen[0]):
+            break  # in lattice order: no later one can do better
+        snapping = own if candidates[i].line.own_snapping else snaps[min(
+            (_fit_score(floats, _snapped(candidates[i], b, r)), preference(b, r), k) for k, (b, r) in enumerate(snaps))[2]]
+        candidate = _snapped(candidates[i], *snapping)
+        total = _fit_score(drawn, candidate)
+        # (strictly better: an exact general fit stands)
+        if total * LIBRARY_MARGIN <= totals[0][0] and total < totals[0][0] and (chosen is None or total < chosen[0]):
+            chosen = (total, candidate)
+    if chosen is not None:
+        best, runner = chosen[1], best
+        bits, rounding, rounding_fit = best.subpixel_bits, best.snap_rounding, None
+        if best.line.rule in AREA_LINE_RULES:
+            rectangle = best
     ambiguous = (tuple(f"{bits} bits {r}" for r in rounding_fit.tied)
                  if rounding_fit is not None and len(rounding_fit.tied) > 1 else ())
     if (triangles is not None and triangles.model.single_sample and bits is not None and bits == triangles.subpixel_bits

@@ -2,7 +2,9 @@
 convention's line rule, one module per rule family -- :mod:`harness.oracle.diamond_lines`
 (Direct3D's and GL's diamond exit, GL's wide lines), :mod:`harness.oracle.bresenham_lines`
 (integer Bresenham, seed 003), :mod:`harness.oracle.rectangle_lines` (Vulkan's rectangular
-lines), :mod:`harness.oracle.parallelogram_lines` (Vulkan's non-strict lines) -- and
+lines), :mod:`harness.oracle.parallelogram_lines` (Vulkan's non-strict lines),
+:mod:`harness.oracle.hairlines` (skia's hairlines and Qt's cosmetic lines),
+:mod:`harness.oracle.llvmpipe_lines` (llvmpipe's rectangular lines) -- and
 multisample lines here. Their public names are re-exported here.
 
 A segment k runs from ``a[k]`` to ``b[k]`` (float64, pixels, x right, y down: the screen
@@ -57,7 +59,9 @@ from harness.oracle.diamond_lines import (
     diamond_wide_spans_rational,
     is_x_major,
 )
+from harness.oracle.hairlines import HAIRLINE_RULES, hairline_spans, hairline_spans_rational
 from harness.oracle.line_spans import _beyond
+from harness.oracle.llvmpipe_lines import llvmpipe_rectangle_coverage
 from harness.oracle.parallelogram_lines import (
     PARA_SAFE_MAX,
     PARA_SAFE_MIN,
@@ -76,6 +80,8 @@ __all__ = [
     "rectangle_spans_rational",
     "parallelogram_spans",
     "parallelogram_spans_rational",
+    "hairline_spans",
+    "hairline_spans_rational",
     "line_coverage",
     "is_x_major",
     "diamond_holding",
@@ -154,6 +160,8 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
         return _multisample_lines(scene, convention)
     convention = convention.for_lines()  # the line rule's own snap rounding, when it has one
     rule = convention.line
+    if rule.rule == "llvmpipe-rectangle":  # its normal comes from the unsnapped ends: its own module
+        return llvmpipe_rectangle_coverage(scene, convention)
     a, b = scene.segments()
     # input precision, then snapping: Convention.snap applies both, first, exactly
     a, b = convention.snap(a), convention.snap(b)
@@ -189,6 +197,9 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
             start, end = _walk_ends(start, end, rule.direction)
             _bresenham_far(int(k), (start[0, 0], start[0, 1]), (end[0, 0], end[0, 1]), width, height, rule.ties,
                            rule.last_pixel, extra)
+    elif rule.rule in HAIRLINE_RULES:
+        # fixed-point DDAs: exact in integers for every finite end point (far ones in Python's)
+        spans = hairline_spans(a, b, width, height, rule.rule)
     elif rule.rule == "parallelogram":
         values = np.concatenate([ends, np.full((n, 1), scene.line_width)], axis=1)
         far = _beyond(values, PARA_SAFE_MIN, PARA_SAFE_MAX) & finite

@@ -275,18 +275,20 @@ class SkiaPath(OneAtATime):
     Lines: hairlines, ``canvas.drawLine(a, b)`` with a stroke paint of width 0,
     anti-aliasing off, one call per segment, coordinates unchanged (float32 in skia).
     What skia does (``SkScan::HairLineRgn`` in ``src/core/SkScan_Hairline.cpp``): end
-    points to 26.6 fixed point; an x-major line is drawn left to right whatever its
-    direction, one pixel in each column from round(min x) to round(max x) - 1 (round: add
-    1/2, floor), in the row holding the line's y at the column centre (16.16 fixed point);
-    a y-major one likewise by rows. So a column is drawn when its centre lies in (min x,
-    max x] (up to the fixed-point rounding): the left end's pixel is left out when the
-    line starts right of its centre, the right end's drawn, in both directions. The DDA
-    starts at the end point's own y, not at the first column drawn, so a line whose left
-    end lies exactly on a column centre is drawn one slope step off (a 45-degree line from
-    centre to centre comes out one pixel to the side). None of the harness's rules; the
-    diamond-exit rule is the nearest (measured, skia-python 144.1: 5% of the pixels
-    differ on float polylines, the rectangle rule 13%, Bresenham 44%). Widths other than
-    1 are refused (Unsupported: skia's wide strokes are another rule)."""
+    points to 26.6 fixed point toward zero (``SkScalarToFDot6``); an x-major line
+    (``|dx| > |dy|``) is drawn left to right whatever its direction, one pixel in each
+    column from round(min x) to round(max x) - 1 (round: add 1/2, floor), in the row
+    holding the line's y at the column centre (16.16 fixed point); a y-major one likewise
+    by rows. So a column is drawn when its centre lies in (min x, max x]: the left end's
+    pixel is left out when the line starts right of its centre, the right end's drawn, in
+    both directions. The DDA starts at the first column centre at or past the end point,
+    so a line whose left end lies exactly on a column centre is drawn one slope step off.
+    That is ``LineRule("skia-hairline")`` (:mod:`harness.oracle.hairlines`), exact on every
+    segment inside the canvas (measured, skia-python 144.1: identify's line probes, 0
+    mismatches on segments that stay on the canvas). A segment leaving the canvas is first
+    clipped to it in float32 (``SkLineClipper::IntersectLine``), which moves its end and
+    so its DDA: identify's residual (113 of 7,721 px) lies on such segments only. Widths
+    other than 1 are refused (Unsupported: skia's wide strokes are another rule)."""
 
     name = "skia"
     library = "skia"

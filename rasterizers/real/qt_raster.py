@@ -123,17 +123,20 @@ class QtRaster(OneAtATime):
     zero-area and tiny triangles draw nothing.
 
     Lines: ``QPainter.drawLine(QPointF, QPointF)`` with a cosmetic pen (``QPen`` of width
-    0, ``Qt``'s default ``SquareCap``), aliased: ``QCosmeticStroker`` (one pixel per
-    column, or per row for a y-major line). It truncates the end points to 26.6
+    0, ``Qt``'s default ``SquareCap``), aliased: ``QCosmeticStroker::drawLine`` (one pixel
+    per column, or per row for a y-major line). It truncates the end points to 26.6
     (``toF26Dot6``: ``(int)(x * 64)``, toward zero), widens the major extent by half a
     pixel at both ends (the square cap), draws the columns whose centre lies in
-    [x1 - 1/2, x2 + 1/2), i.e. the pixels holding both end points, and in each the row
-    holding the line's y taken at the column's centre for a descending slope and its left
-    side for a rising one (16.16 DDA). A polyline's joint is drawn by both of its segments
-    (each segment is its own call). None of the harness's line rules fits: measured (Qt
-    6.11.0), the nearest is Bresenham from the end with the smaller major coordinate, end
-    points to pixels by floor, both end pixels drawn, with 3,128 of 9,238 pixels
-    mismatching. Hairlines only: other widths are refused (Unsupported).
+    [x1 - 1/2, x2 + 1/2), i.e. the pixels holding both end points, in the row of its
+    16.16 DDA; two equal end points draw the pixel holding them. A polyline's joint is
+    drawn by both of its segments (each segment is its own call). That is
+    ``LineRule("qt-cosmetic")`` (:mod:`harness.oracle.hairlines`), exact on every segment
+    inside the canvas (measured, Qt 6.11.0: identify's line probes); a segment leaving the
+    canvas grown by 1 px left and top, 2 px right and bottom is first clipped to it in
+    float64 (``QCosmeticStroker::clipLine``): identify's residual (2 of 9,238 px) lies on
+    such a segment only. Qt compares the end points fuzzily (``QPointF ==``, relative
+    1e-12): ends that close but unequal draw one point, which the rule does not say.
+    Hairlines only: other widths are refused (Unsupported).
 
     Bad input: a triangle with a NaN vertex is drawn (``drawPolygon`` does not check its
     points; ``qRound`` of NaN gives ``INT_MIN``): it covers pixels

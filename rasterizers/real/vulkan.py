@@ -444,28 +444,27 @@ class VulkanLavapipe(_Lavapipe):
     segment at a time), the primitive ``vertex_index / 2``; a pixel two segments draw
     comes back twice; a segment with a NaN or infinite end point is not drawn and covers
     nothing. lavapipe draws Vulkan's rectangular lines (``lp_setup_line.c``, the
-    ``rectangular_lines`` branch): each end point is snapped to 1/256 px, the half-width
-    normal ``(-dy, dx) * 0.5 / |d|`` is computed in float from the unsnapped end points
-    and snapped on its own, and the four corners (snapped end +/- snapped normal) are
-    rasterized as a quad under the triangles' rule. The corners are thus off the exact
-    rectangle's by up to 1/512 px per coordinate, which no convention expresses. That
-    model is exact: ``test_lines_are_lavapipes_snapped_rectangles`` finds 0 (segment,
-    pixel) pairs off it on float segments and on 1/4 px and whole-pixel lattices (about
-    9,000 pairs; Mesa 22.3.6).
+    ``rectangular_lines`` branch): each end point is snapped to 1/256 px by llvmpipe's
+    ``subpixel_snap(v - 0.5)`` (``util_iround``: half away from zero in the frame shifted
+    by half a pixel, in float32), the half-width normal ``(-dy, dx) * 0.5 / |d|`` is
+    computed in float32 from the unsnapped end points and snapped on its own, and the four
+    corners (snapped end +/- snapped normal) are rasterized as a quad under the triangles'
+    rule. That is ``LineRule("llvmpipe-rectangle")`` (:mod:`harness.oracle.llvmpipe_lines`),
+    exact: ``test_lines_are_llvmpipes_rectangle_rule`` finds 0 (segment, pixel) pairs off
+    it on float segments, 1/4 px lattices and ends on ties of the 1/256 grid (Mesa 22.3.6).
 
     Identified (``rastercheck identify``, Mesa 22.3.6 lavapipe, LLVM 15.0.6, wgpu 0.32.0):
     triangles exactly ``Convention(tie="top-left", subpixel_bits=8)`` (pixel centres,
     top-left ties, vertices snapped to 1/256 px half to even), residual 0 of 140,770
     pixels, the viewport edge exact (the guard band), NaN and infinite triangles cover
     nothing; paths the same convention, 0 mismatches under both rules (the fill rules
-    are honoured: 868 pixels of 10,756 tell them apart); lines best guess only:
-    ``LineRule("rectangle")`` with end points snapped half away from zero, 30 of 10,755
-    pixels differ (the corner rounding above, which the model reproduces exactly; the
-    fit's half-away is its closest stand-in). The quick suite: triangles pass; 14 line
-    results fail by that rounding (length, ends, line motion), 3 near ties and 1 snapping
-    result on float lines likewise, 2 deep-winding paths (the 8-bit stencil) and the
-    non-finite mixed path (above). No convention is declared (identify fingerprints it:
-    the lines are not exact)."""
+    are honoured: 868 pixels of 10,756 tell them apart); lines exactly
+    ``Convention(tie="top-left", subpixel_bits=8, input="float32", line="llvmpipe-rectangle")``,
+    residual 0 of 8,478 pixels (the rectangle rule, its best guess before, 30 px off by the
+    corner rounding). The quick suite (before the rule): triangles pass; 14 line results
+    failed by that rounding (length, ends, line motion), 3 near ties and 1 snapping result
+    on float lines likewise, 2 deep-winding paths (the 8-bit stencil) and the non-finite
+    mixed path (above). No convention is declared (identify fingerprints it)."""
 
     name = "vulkan_lavapipe"
     scene_kinds: tuple[str, ...] = ("triangles", "paths", "lines")

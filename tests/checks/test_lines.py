@@ -24,6 +24,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene
 from harness.engine.runner import run_suite
 from harness.oracle.coverage import exact_coverage
+from tests.known_bad.hairlines import LlvmpipeUnshiftedSnap, QtFlatCaps, SkiaCentredStart
 from tests.known_bad.lines import (
     BackwardPrestep,
     BothEndPixels,
@@ -84,6 +85,9 @@ CASES = [
                                                       [[4.5, 2.5], [3.0, 9.0], [14.0, 6.5], [6.0, 3.5]]), lattice=True),
 ]
 WIDE = Case("lines/wide/lattice", LineScene.from_strips(16, 16, [STAR, [[1.0, 8.0], [15.0, 9.5]]], line_width=2.5), lattice=True)
+# end points on ties of the 1/256 grid (odd multiples of 1/512): where llvmpipe's line snapping parts from its triangles'
+TIES_512 = Case("lines/ties-512/float", LineScene.from_segments(16, 16, [[2 + 1 / 512, 3 + 1 / 512], [13 - 1 / 512, 2 + 3 / 512]],
+                                                             [[13 + 3 / 512, 3 - 1 / 512], [12 + 1 / 512, 14 - 1 / 512]]))
 LONG = Case("lines/long/float", LineScene.from_segments(4096, 64, [[0.3, 3.7], [4090.6, 60.2]], [[4095.1, 57.3], [5.3, 1.1]]))
 
 RULES = {
@@ -101,6 +105,10 @@ RULES = {
     "parallelogram": Convention(line="parallelogram"),
     "parallelogram-half-away": Convention(line=LineRule("parallelogram", snap_rounding="half-away"), tie="bottom-right",
                                           subpixel_bits=4),
+    # libraries' fixed-point one-pixel lines read from their sources (issue 33)
+    "skia-hairline": Convention(line="skia-hairline", input="fixed6-toward-zero"),
+    "qt-cosmetic": Convention(line="qt-cosmetic"),
+    "llvmpipe-rectangle": Convention(line="llvmpipe-rectangle", input="float32", subpixel_bits=8),
 }
 
 
@@ -111,7 +119,7 @@ def _run(rasterizer, cases, only=None):
 @pytest.mark.parametrize("label", list(RULES))
 def test_the_exact_oracle_passes_every_check_on_lines(label: str) -> None:
     convention = RULES[label]
-    cases = CASES + ([WIDE] if convention.line.rule == "rectangle" else [])
+    cases = CASES + ([WIDE] if convention.line.rule in ("rectangle", "llvmpipe-rectangle") else [])
     results = _run(OracleLines(convention), cases)
     bad = [r for r in results if r.status not in ("pass", "skip")]
     assert not bad, [(r.case, r.check, r.message) for r in bad]
@@ -119,7 +127,7 @@ def test_the_exact_oracle_passes_every_check_on_lines(label: str) -> None:
     assert {"hygiene", "conformance", "invariance"} | LINE_CHECKS <= ran
     assert not ran & {"watertight", "closed", "degenerate", "triangulation", "overdraw", "jaggy", "accuracy"}
     by = {(r.case, r.check): r for r in results}
-    if convention.line.rule == "rectangle":
+    if convention.line.rule in ("rectangle", "llvmpipe-rectangle"):
         assert by["lines/star/lattice", "connectivity"].status == "skip"
         assert "rectangular" in by["lines/star/lattice", "connectivity"].message
         assert by["lines/star/lattice", "reversal"].metrics["reversal_pixels"] == 0  # a rectangle has no direction
@@ -157,6 +165,9 @@ KNOWN_BAD: list[tuple[Any, str, Case]] = [
     (LeftmostFirst(), "reversal", CASES[0]),
     (BackwardPrestep(), "line-motion", CASES[1]),
     (FullWidthOffset(), "conformance", CASES[1]),
+    (SkiaCentredStart(), "conformance", CASES[2]),
+    (QtFlatCaps(), "conformance", CASES[0]),
+    (LlvmpipeUnshiftedSnap(), "conformance", TIES_512),
 ]
 
 

@@ -6,6 +6,7 @@ nothing else; a line drawer that follows no rule gets a best guess with a residu
 The black boxes are the exact oracles, declaring no convention."""
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -16,7 +17,7 @@ from harness.contract.protocol import convention_for
 from harness.contract.scenes import LineScene, Unsupported
 from harness.engine.isolation import InProcess
 from harness.identify.fingerprint import Fingerprint, Identified, _with_lines, identify
-from harness.identify.line_probes import crafted_lines, line_candidates
+from harness.identify.line_probes import crafted_lines, line_candidates, nudged_lines
 from harness.oracle.coverage import exact_coverage
 
 
@@ -36,7 +37,7 @@ class LineBox:
         self.kinds_seen.add(scene.kind)
         if scene.kind != "lines":
             return exact_coverage(scene, self.triangles)
-        if self.lines.line.rule not in ("rectangle", "parallelogram") and scene.line_width != 1.0:
+        if self.lines.line.rule not in ("rectangle", "parallelogram", "llvmpipe-rectangle") and scene.line_width != 1.0:
             raise Unsupported(f"width 1 only, not {scene.line_width:g}")
         return exact_coverage(scene, self.lines)
 
@@ -91,6 +92,12 @@ DECLARED = [
     # Vulkan's non-strict lines (issue 33)
     Convention(line="parallelogram"),
     Convention(tie="bottom-right", line="parallelogram", subpixel_bits=8, snap_rounding="half-away"),
+    # skia's hairlines and Qt's cosmetic lines, read from their sources (issue 33)
+    Convention(line="skia-hairline"),
+    Convention(line="qt-cosmetic"),
+    # llvmpipe's (lavapipe's) rectangular lines: its own snapping (issue 33)
+    Convention(line="llvmpipe-rectangle"),
+    Convention(tie="bottom-right", line="llvmpipe-rectangle"),
 ]
 
 
@@ -112,7 +119,7 @@ def test_identify_recovers_the_declared_line_convention_exactly(declared):
     assert "(identified exactly)" in fp.card() and fp.card().splitlines()[1].endswith(declared.describe_lines())
     wide = fp.line_fit.wide  # width 3: drawn as rectangles, refused by a width-1 rule
     assert wide is not None
-    if declared.line.rule in ("rectangle", "parallelogram"):
+    if declared.line.rule in ("rectangle", "parallelogram", "llvmpipe-rectangle"):
         assert wide.error == "" and wide.mismatches == 0 and wide.pixels > 0, wide.text
     else:
         assert wide.text.startswith("width 3: refused (Unsupported: width 1 only"), wide.text
@@ -128,7 +135,16 @@ def test_the_probe_scenes_part_every_pair_of_candidate_rules():
         key = (prim * scene.height + y) * scene.width + x
         seen.setdefault(np.sort(key).tobytes(), []).append(candidate)
     alike = [group for group in seen.values() if len(group) > 1]
+    # llvmpipe's rectangles differ from the exact ones by their snapped normal only, which no
+    # quarter-pixel lattice shows: the nudged and float scenes part them (below)
+    twins = [group for group in alike if len(group) == 2 and {c.line.rule for c in group} == {"rectangle", "llvmpipe-rectangle"}
+             and group[0].sample == group[1].sample and group[0].tie == group[1].tie]
+    alike = [group for group in alike if group not in twins]
     assert not alike, [[c.describe_lines() + f" {c.sample} {c.tie}" for c in group] for group in alike]
+    nudged = nudged_lines(0)
+    for rectangle, llvmpipe in twins:
+        one, other = (exact_coverage(nudged, replace(c, subpixel_bits=8)).pixels() for c in (rectangle, llvmpipe))
+        assert set(zip(*(v.tolist() for v in one))) != set(zip(*(v.tolist() for v in other)))
 
 
 def test_a_dda_that_follows_no_rule_gets_a_best_guess_with_a_residual():

@@ -349,6 +349,20 @@ def test_skia_hairlines_are_their_own_rule():
     backwards, origin = scene.reversed()
     again = r.rasterize(backwards)
     assert pixel_set(Coverage(origin[again.primitive], again.y, again.x0, again.x1)) == pixel_set(cov)
+    # their own rule, read from SkScan::HairLineRgn (issue 33): exact
+    assert residual(cov, scene, Convention(line="skia-hairline")) == 0
+
+
+def test_qt_cosmetic_lines_are_their_own_rule():
+    """Qt's cosmetic lines (QCosmeticStroker::drawLine, square caps) are LineRule("qt-cosmetic")
+    exactly on segments inside the canvas (issue 33)."""
+    from rasterizers.real import qt_raster
+
+    need("PyQt6")
+    r = qt_raster.QtRaster()
+    for seed in (3, 10):
+        scene = random_scene(seed)
+        assert residual(r.rasterize(scene), scene, Convention(line="qt-cosmetic")) == 0
 
 
 # -- Mesa, in a fresh process per driver ----------------------------------------------------

@@ -287,6 +287,28 @@ def snapped_rectangle(a, b):
     return [[c[0], c[1], c[2]], [c[0], c[2], c[3]]]
 
 
+def test_lines_are_llvmpipes_rectangle_rule(single):
+    """lavapipe's lines are ``LineRule("llvmpipe-rectangle")`` exactly (issue 33): float
+    segments, 1/4 px lattices and end points on ties of the 1/256 grid (odd multiples of
+    1/512, where its half-away snapping in the shifted frame parts from nearest-even and
+    from plain half-away below 1/2 px), both directions."""
+    from harness.oracle.lines import line_coverage
+
+    rng = np.random.default_rng(33)
+    rule = Convention(tie="top-left", subpixel_bits=8, input="float32", line="llvmpipe-rectangle")
+    for kind in ("float", "quarter", "ties"):
+        a = rng.uniform(0, 46, (80, 2))
+        b = np.clip(a + rng.uniform(-12, 12, (80, 2)), 0, 48)
+        if kind == "quarter":
+            a, b = np.round(a * 4) / 4, np.round(b * 4) / 4
+        elif kind == "ties":
+            a, b = (np.floor(a * 256) + 0.5) / 256, (np.floor(b * 256) + 0.5) / 256
+        keep = np.any(a != b, axis=1)
+        scene = LineScene.from_segments(48, 48, np.concatenate([a[keep], b[keep]]), np.concatenate([b[keep], a[keep]]))
+        got = set(zip(*(v.tolist() for v in single.rasterize(scene).pixels())))
+        assert got == set(zip(*(v.tolist() for v in line_coverage(scene, rule).pixels()))), kind
+
+
 def test_lines_are_lavapipes_snapped_rectangles(single):
     """Every segment (float, and on 1/4 px and whole-pixel lattices) draws exactly the
     pixels of its snapped rectangle under the triangles' rule: the line rule in the
