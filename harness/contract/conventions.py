@@ -1056,7 +1056,9 @@ class Convention:
         else:
             coverage = "one sample per pixel"
         if not self.model.sample_point:
-            sample = "(decided on the pixel's square)"
+            sample = "(none: the rule decides)"
+        elif self.model.rule:  # closed: at the sample point, but no tie rule
+            sample = f"({sx}, {sy}), no ties: a sample on an edge is inside"
         elif self.samples is not None:
             sample = self._tie_words()
         elif self.model.alphas:

@@ -286,7 +286,7 @@ def test_the_conventions_table_shows_each_rule_input_and_line_rule_in_its_column
         assert named is not None, row
         rows[named.group(1)] = re.findall(r"<td[^>]*>(.*?)</td>", row, re.S)
     assert rows["bad_wrong_tie_claim"][1:5] == ["an area threshold (a pixel iff at least 0.5 of it is covered)",
-                                                "(decided on the pixel&#39;s square)",
+                                                "(none: the rule decides)",
                                                 "26.6 fixed-point input (1/64 px, nearest-even)", "none"]
     assert "takes no lines" in rows["bad_wrong_tie_claim"][6]
     assert rows["bad_no-prestep"][3:5] == ["float32 input", "1/256 px"]
