@@ -65,6 +65,7 @@ Far segments (a coordinate or w beyond ±2**21)
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -76,7 +77,7 @@ from numpy.typing import NDArray
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.geometry.spans import pixel_offsets
-from harness.oracle.area import GUARD_LIMIT, UNIT_ROUNDOFF, _area_kernel, _span_kernel, _viewport
+from harness.oracle.area import GUARD_LIMIT, UNIT_ROUNDOFF, _area_kernel, _shoelace, _span_kernel, _viewport
 
 __all__ = ["QSqrt", "LineArea", "exact_line_area", "exact_line_pixel_areas", "line_pixel_areas", "line_area_bound",
            "line_area_coverage", "exact_line_model", "cap_sides", "ENCLOSURE_POINTS"]
@@ -238,6 +239,7 @@ def _stroke_planes(a: tuple[Fraction, Fraction], b: tuple[Fraction, Fraction], h
             (dx, dy, end - (dx * ax + dy * ay)), (-dx, -dy, end + (dx * bx + dy * by))]
 
 
+@functools.lru_cache(maxsize=64)
 def _rational_circle(c: tuple[Fraction, Fraction], r: Fraction, n: int) -> tuple[list[tuple[Fraction, Fraction]],
                                                                                  list[tuple[Fraction, Fraction]]]:
     """Inscribed and circumscribed polygons of the circle (c, r): n rational points on it
@@ -260,13 +262,30 @@ def _rational_circle(c: tuple[Fraction, Fraction], r: Fraction, n: int) -> tuple
 
 
 def _rational_area(polygon: list[tuple[Fraction, Fraction]], planes: list[_Plane]) -> Fraction:
-    d = Fraction(0)
-    poly: list[_QPoint] = [(QSqrt(x, Fraction(0), d), QSqrt(y, Fraction(0), d)) for x, y in polygon]
-    for plane in planes:
+    """Area of a convex rational polygon clipped by rational half-planes (the box's last:
+    the cap's plane first would keep half the circle; the box's keep a few vertices)."""
+    poly = polygon
+    for a, b, c in reversed(planes):
         if len(poly) < 3:
             return Fraction(0)
-        poly = _clip_q(poly, tuple(QSqrt(Fraction(v), Fraction(0), d) for v in plane))  # type: ignore[arg-type]
-    return _shoelace_q(poly).p if len(poly) >= 3 else Fraction(0)
+        out: list[tuple[Fraction, Fraction]] = []
+        if b == 0 and a in (1, -1):  # the box's sides: a difference, no products
+            values = [x + c if a == 1 else c - x for x, _ in poly]
+        elif a == 0 and b in (1, -1):
+            values = [y + c if b == 1 else c - y for _, y in poly]
+        else:
+            values = [a * x + b * y + c for x, y in poly]
+        for k, p in enumerate(poly):
+            n = k + 1 if k + 1 < len(poly) else 0
+            vp, vn = values[k], values[n]
+            if vp >= 0:
+                out.append(p)
+            if (vp > 0 > vn) or (vp < 0 < vn):
+                t = vp / (vp - vn)
+                q = poly[n]
+                out.append((p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])))
+        poly = out
+    return _shoelace(poly) if len(poly) >= 3 else Fraction(0)
 
 
 @dataclass(slots=True)
