@@ -1,0 +1,49 @@
+"""The area checks on anti-aliased lines (issue 34): accuracy judges line scenes against the
+exact stroke areas (harness.oracle.area_lines); the known-bad AA line drawers fail it."""
+
+import numpy as np
+import pytest
+
+from harness.checks.area import accuracy
+from harness.contract.case import Case
+from harness.contract.scenes import LineScene
+from harness.oracle.coverage import exact_coverage
+from tests.known_bad.aa_lines import ExactAALines, ForgetsCaps, MajorAxisBoxLines
+
+
+def _cases():
+    rng = np.random.default_rng(34)
+    a = rng.uniform(2, 30, (24, 2))
+    b = rng.uniform(2, 30, (24, 2))
+    fan = [[[16, 16], [16 + 12 * np.cos(t), 16 + 12 * np.sin(t)]] for t in np.linspace(0, 2 * np.pi, 13)[:-1]]
+    return [
+        Case("aa-lines/random-w1", LineScene.from_segments(32, 32, a, b, 1.0)),
+        Case("aa-lines/random-w2.5", LineScene.from_segments(32, 32, a, b, 2.5)),
+        Case("aa-lines/fan-w1.5", LineScene.from_strips(32, 32, fan, 1.5)),
+        Case("aa-lines/strip-w0.5", LineScene.from_strips(32, 32, [[[2, 3], [29, 9.5], [4.25, 28], [30, 30]]], 0.5)),
+    ]
+
+
+def _judge(rasterizer, case):
+    return accuracy(case, rasterizer.rasterize(case.scene), exact_coverage(case.scene, rasterizer.convention),
+                    rasterizer.convention)
+
+
+@pytest.mark.parametrize("cap", ["butt", "square", "round"])
+def test_exact_strokes_pass(cap):
+    good = ExactAALines(cap)
+    for case in _cases()[: 4 if cap != "round" else 2]:
+        result = _judge(good, case)
+        assert result.status == "pass", result.message
+        assert result.metrics["max_error"] <= 0.5 / 255 + 1e-9
+
+
+def test_major_axis_box_fails():
+    results = [_judge(MajorAxisBoxLines(), case) for case in _cases()]
+    assert any(r.status == "fail" for r in results)
+    assert max(r.metrics["max_error"] for r in results) > 0.1
+
+
+def test_forgotten_caps_fail():
+    results = [_judge(ForgetsCaps(), case) for case in _cases()]
+    assert all(r.status == "fail" for r in results), [r.message for r in results]
