@@ -73,7 +73,8 @@ from harness.kinds import LINES, TRIANGLES
 from harness.oracle.area import area_error_bound, displaced_area_bound, exact_area
 from harness.oracle.coverage import exact_samples
 
-__all__ = ["accuracy", "motion_accuracy", "model_bound", "exact_model", "scene_model_bound", "scene_exact_model", "off_level", "level_values",
+__all__ = ["accuracy", "motion_accuracy", "model_bound", "exact_model", "scene_model_bound", "scene_exact_model",
+           "off_level", "level_values",
            "exact_alpha", "exact_tolerance", "rounding_reach", "alpha_facts", "alpha_cause", "ALPHA_CAUSES",
            "LEVEL_NOISE", "DISPLAY_LEVELS"]
 

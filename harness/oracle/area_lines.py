@@ -452,7 +452,7 @@ def exact_line_area(segment: Any, line_width: float, cap: str, x: int, y: int) -
         return LineArea(rect)
     caps = [(a, (h, h), [(-dx, -dy, dx * a[0] + dy * a[1]), *box]),
             (b, (h, h), [(dx, dy, -(dx * b[0] + dy * b[1])), *box])]
-    return LineArea(rect, caps)  # type: ignore[arg-type]
+    return LineArea(rect, caps)
 
 
 def exact_line_pixel_areas(segments: Any, line_width: float, cap: str, width: int,
@@ -698,7 +698,8 @@ def line_pixel_areas(segments: Any, line_width: float, cap: str, width: int,
     total = np.minimum(total, 1.0)
     keep = total > 0.0
     unique, total = unique[keep], total[keep]
-    return unique // (width * height), unique % width, unique // width % height, total
+    unique = unique.astype(np.int64)
+    return unique // (width * height), unique % width, unique // width % height, np.asarray(total, dtype=np.float64)
 
 
 def line_area_bound(segments: Any, line_width: float, cap: str, width: int, height: int) -> NDArray[np.float64]:

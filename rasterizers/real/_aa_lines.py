@@ -64,19 +64,21 @@ class AlphaLines:
     (``_draw_stroke(a, b, line_width, w, h, origin)`` -> (h, w) alphas): line scenes are
     drawn one segment at a time (:func:`draw_each_segment_alpha`); every other scene goes
     to the next class (``super().rasterize``). Adds ``"lines"`` to the next class's
-    ``scene_kinds`` and drops it from ``kinds_not_taken``."""
+    ``scene_kinds`` and drops it from ``kinds_not_taken`` (set on each adapter class)."""
 
-    line_cap = "butt"
+    scene_kinds: tuple[str, ...] = ("triangles", "lines")
+    kinds_not_taken: dict[str, str] = {}  # noqa: RUF012  # replaced per adapter class (__init_subclass__)
 
-    @property
-    def scene_kinds(self) -> tuple[str, ...]:
-        base: tuple[str, ...] = getattr(super(), "scene_kinds", ("triangles",))
-        return base if "lines" in base else (*base, "lines")
-
-    @property
-    def kinds_not_taken(self) -> dict[str, str]:
-        base: dict[str, str] = getattr(super(), "kinds_not_taken", {})
-        return {k: v for k, v in base.items() if k != "lines"}
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        # the kinds of the class after this mixin in the adapter's MRO, with lines
+        super().__init_subclass__(**kwargs)
+        after = cls.__mro__[cls.__mro__.index(AlphaLines) + 1:]
+        kinds: tuple[str, ...] = next((c.__dict__["scene_kinds"] for c in after if "scene_kinds" in c.__dict__), ("triangles",))
+        not_taken: dict[str, str] = next((c.__dict__["kinds_not_taken"] for c in after if "kinds_not_taken" in c.__dict__), {})
+        if "scene_kinds" not in cls.__dict__:
+            cls.scene_kinds = kinds if "lines" in kinds else (*kinds, "lines")
+        if "kinds_not_taken" not in cls.__dict__:
+            cls.kinds_not_taken = {k: v for k, v in not_taken.items() if k != "lines"}
 
     def _draw_stroke(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int,
                      origin: tuple[int, int]) -> NDArray:

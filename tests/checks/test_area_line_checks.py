@@ -15,12 +15,13 @@ def _cases():
     rng = np.random.default_rng(34)
     a = rng.uniform(2, 30, (24, 2))
     b = rng.uniform(2, 30, (24, 2))
-    fan = [[[16, 16], [16 + 12 * np.cos(t), 16 + 12 * np.sin(t)]] for t in np.linspace(0, 2 * np.pi, 13)[:-1]]
+    t = np.linspace(0, 2 * np.pi, 13)[:-1]
+    fan = np.stack([np.full((12, 2), 16.0), np.stack([16 + 12 * np.cos(t), 16 + 12 * np.sin(t)], axis=1)], axis=1)
     return [
         Case("aa-lines/random-w1", LineScene.from_segments(32, 32, a, b, 1.0)),
         Case("aa-lines/random-w2.5", LineScene.from_segments(32, 32, a, b, 2.5)),
-        Case("aa-lines/fan-w1.5", LineScene.from_strips(32, 32, fan, 1.5)),
-        Case("aa-lines/strip-w0.5", LineScene.from_strips(32, 32, [[[2, 3], [29, 9.5], [4.25, 28], [30, 30]]], 0.5)),
+        Case("aa-lines/fan-w1.5", LineScene.from_strips(32, 32, list(fan), 1.5)),
+        Case("aa-lines/strip-w0.5", LineScene.from_strips(32, 32, [np.array([[2, 3], [29, 9.5], [4.25, 28], [30, 30]])], 0.5)),
     ]
 
 

@@ -118,7 +118,7 @@ def test_far_segment_within_bound():
     got = _float_areas(seg, 1.0, "butt")
     assert got
     bound = line_area_bound(np.array(seg), 1.0, "butt", SIZE, SIZE)[0]
-    for (s, x, y), value in got.items():
+    for (_s, x, y), value in got.items():
         exact = exact_line_area(seg[0], 1.0, "butt", x, y)
         assert not abs(Fraction(value) - exact) > Fraction(float(bound))
 
