@@ -80,7 +80,7 @@ from harness.geometry.spans import pixel_offsets
 from harness.oracle.area import GUARD_LIMIT, UNIT_ROUNDOFF, _area_kernel, _shoelace, _span_kernel, _viewport
 
 __all__ = ["QSqrt", "LineArea", "exact_line_area", "exact_line_pixel_areas", "line_pixel_areas", "line_area_bound",
-           "line_area_coverage", "exact_line_model", "cap_sides", "ENCLOSURE_POINTS"]
+           "line_area_coverage", "exact_line_model", "line_model_bound", "step_exceeds", "cap_sides", "ENCLOSURE_POINTS"]
 
 # the rational points on a round cap's circle, refined in turn until a comparison is decided
 ENCLOSURE_POINTS = (64, 256, 1024, 4096)
@@ -338,6 +338,17 @@ class LineArea:
         self.undecided += 1
         return 0
 
+    def bounds(self, level: int) -> tuple[Fraction, Fraction]:
+        """Rational lo <= self <= hi, finer with ``level`` (0 .. len(ENCLOSURE_POINTS) - 1):
+        sqrt(d) to 2**-(64 * 2**level) relative, the caps with ENCLOSURE_POINTS[level] points."""
+        lo, hi = self.rect.bounds(64 << level)
+        if self.caps:
+            clo, chi = self._caps(ENCLOSURE_POINTS[level])
+            lo, hi = lo + clo, hi + chi
+        if self.scale < 0:
+            lo, hi = -hi, -lo
+        return lo + self.shift, hi + self.shift
+
     def _moved(self, scale: int, shift: Fraction) -> LineArea:
         return LineArea(self.rect, self.caps, self.scale * scale, self.shift * scale + shift, self._enclosures)
 
@@ -402,6 +413,30 @@ class _Magnitude:
 
     def __lt__(self, bound: Any) -> bool:
         return not self >= bound
+
+
+def step_exceeds(step: Fraction, later: LineArea, earlier: LineArea, limit: Fraction) -> bool:
+    """Whether ``|step - (later - earlier)| > limit`` (popping's decision on two frames'
+    exact stroke areas, which lie in different fields): decided on rational enclosures of
+    both, refined until the answer is certain; one still open at the finest enclosures (the
+    difference within about 2**-500, or a round cap's 1e-7 h, of the limit) is taken as
+    within it (and counted in ``later.undecided``).
+
+    >>> a = exact_line_area([[0, 0], [3, 1]], 1.0, "butt", 1, 0)
+    >>> b = exact_line_area([[0, 0.25], [3, 1.25]], 1.0, "butt", 1, 0)
+    >>> step_exceeds(Fraction(0), b, a, Fraction(1, 100)), step_exceeds(Fraction(0), b, a, Fraction(1, 2))
+    (True, False)
+    """
+    for level in range(len(ENCLOSURE_POINTS)):
+        lo1, hi1 = later.bounds(level)
+        lo0, hi0 = earlier.bounds(level)
+        low, high = lo1 - hi0, hi1 - lo0  # the exact difference lies in [low, high]
+        if step - high > limit or low - step > limit:
+            return True
+        if step - low <= limit and high - step <= limit:
+            return False
+    later.undecided += 1
+    return False
 
 
 def _fraction_point(p: Any) -> tuple[Fraction, Fraction]:

@@ -5,10 +5,11 @@ import numpy as np
 import pytest
 
 from harness.checks.area import accuracy
-from harness.contract.case import Case
+from harness.checks.area_popping import popping
+from harness.contract.case import Case, MotionCase
 from harness.contract.scenes import LineScene
 from harness.oracle.coverage import exact_coverage
-from tests.known_bad.aa_lines import ExactAALines, ForgetsCaps, MajorAxisBoxLines
+from tests.known_bad.aa_lines import ExactAALines, ForgetsCaps, MajorAxisBoxLines, QuarterPixelLines
 
 
 def _cases():
@@ -48,3 +49,28 @@ def test_major_axis_box_fails():
 def test_forgotten_caps_fail():
     results = [_judge(ForgetsCaps(), case) for case in _cases()]
     assert all(r.status == "fail" for r in results), [r.message for r in results]
+
+
+def _motion(cap_width=1.5, steps=12):
+    a = np.array([[3.0, 4.0], [4.0, 20.0], [2.0, 12.0]])
+    b = np.array([[27.0, 9.0], [21.0, 29.0], [28.0, 12.5]])
+    shift = np.array([1 / 16, 1 / 48])
+    return MotionCase("aa-lines/motion", tuple(LineScene.from_segments(32, 32, a + k * shift, b + k * shift, cap_width)
+                                               for k in range(steps)))
+
+
+def _pops(rasterizer, case):
+    conv = rasterizer.convention
+    return popping(case.id, list(case.frames), [rasterizer.rasterize(f) for f in case.frames],
+                   [exact_coverage(f, conv) for f in case.frames], conv)
+
+
+def test_popping_exact_strokes_pass():
+    result = _pops(ExactAALines(), _motion())
+    assert result.status == "pass", result.message
+
+
+def test_popping_quarter_pixel_lines_fail():
+    result = _pops(QuarterPixelLines(), _motion())
+    assert result.status == "fail", result.message
+    assert result.metrics["alpha_jumps"] > 0

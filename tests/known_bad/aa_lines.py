@@ -7,6 +7,8 @@ one classic thing wrong, which accuracy must catch:
   non-strict GPU lines) instead of the true rectangle -- right for axis-aligned lines, too
   thin on diagonals (by 1/sqrt(2) at 45 degrees).
 * :class:`ForgetsCaps`: claims square caps, draws butt ends: the caps' area is missing.
+* :class:`QuarterPixelLines`: truncates the end points to a 1/4 px grid while claiming float
+  input: under sub-pixel motion its alphas stand still, then jump (popping).
 * :class:`ExactAALines`: the oracle itself rounded to 8 bits (not bad: the control).
 """
 
@@ -19,7 +21,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene
 from harness.oracle.area_lines import _Pieces, _polygon_areas, line_pixel_areas
 
-__all__ = ["MajorAxisBoxLines", "ForgetsCaps", "ExactAALines", "AA_LINE_BADS"]
+__all__ = ["MajorAxisBoxLines", "ForgetsCaps", "QuarterPixelLines", "ExactAALines", "AA_LINE_BADS"]
 
 
 def _eight_bit(alpha: np.ndarray) -> np.ndarray:
@@ -27,8 +29,10 @@ def _eight_bit(alpha: np.ndarray) -> np.ndarray:
     return rounded
 
 
-def _strokes(scene: LineScene, cap: str) -> Coverage:
+def _strokes(scene: LineScene, cap: str, grid: float = 0.0) -> Coverage:
     a, b = scene.segments()
+    if grid:
+        a, b = np.floor(a / grid) * grid, np.floor(b / grid) * grid
     s, x, y, area = line_pixel_areas(np.stack([a, b], axis=1), scene.line_width, cap, scene.width, scene.height)
     alpha = _eight_bit(area)
     keep = alpha > 0
@@ -90,4 +94,16 @@ class MajorAxisBoxLines:
         return Coverage.from_pixels(owner[keep], x[keep], y[keep], alpha=alpha[keep])
 
 
-AA_LINE_BADS = (MajorAxisBoxLines(), ForgetsCaps())
+class QuarterPixelLines:
+    """Claims exact butt rectangles on float input; truncates the end points to 1/4 px first."""
+
+    name = "bad_aa_lines_quarter_pixel"
+    convention = Convention(coverage="area", line=LineRule("rectangle"))
+    scene_kinds = ("lines",)
+    interpolates = False
+
+    def rasterize(self, scene: LineScene) -> Coverage:
+        return _strokes(scene, "butt", grid=0.25)
+
+
+AA_LINE_BADS = (MajorAxisBoxLines(), ForgetsCaps(), QuarterPixelLines())

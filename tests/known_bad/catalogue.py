@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from tests.known_bad.aa_lines import ForgetsCaps, MajorAxisBoxLines
+from tests.known_bad.aa_lines import ForgetsCaps, MajorAxisBoxLines, QuarterPixelLines
 from tests.known_bad.antialiasing import (
     BiasedArea,
     CentreSamples,
@@ -75,7 +75,7 @@ def _all() -> list[Any]:
         RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep(),
         RareSlopeTie(),
         TruncatesClaimsFloat64(), Float32ClaimsFloat64(), StrictThreshold(), BoxOverestimate(), OpenUnderestimate(),
-        FullWidthOffset(), MajorAxisBoxLines(), ForgetsCaps(),
+        FullWidthOffset(), MajorAxisBoxLines(), ForgetsCaps(), QuarterPixelLines(),
     ]
 
 
