@@ -1,6 +1,8 @@
 """The area checks on anti-aliased lines (issue 34): accuracy judges line scenes against the
 exact stroke areas (harness.oracle.area_lines); the known-bad AA line drawers fail it."""
 
+from typing import Any
+
 import numpy as np
 import pytest
 
@@ -55,8 +57,9 @@ def _motion(cap_width=1.5, steps=12):
     a = np.array([[3.0, 4.0], [4.0, 20.0], [2.0, 12.0]])
     b = np.array([[27.0, 9.0], [21.0, 29.0], [28.0, 12.5]])
     shift = np.array([1 / 16, 1 / 48])
-    return MotionCase("aa-lines/motion", tuple(LineScene.from_segments(32, 32, a + k * shift, b + k * shift, cap_width)
-                                               for k in range(steps)))
+    frames: tuple[Any, ...] = tuple(LineScene.from_segments(32, 32, a + k * shift, b + k * shift, cap_width)
+                                    for k in range(steps))
+    return MotionCase("aa-lines/motion", frames)
 
 
 def _pops(rasterizer, case):
