@@ -139,3 +139,12 @@ def test_caps_refused_off_area():
         exact_coverage(scene, Convention(line=LineRule("rectangle", cap="round")))
     with pytest.raises(ValueError, match="rectangles"):
         exact_coverage(scene, Convention(coverage="area", line=LineRule("diamond-exit")))
+
+
+def test_line_rule_cap_round_trips_and_describes():
+    for cap in ("butt", "square", "round"):
+        rule = LineRule("rectangle", cap=cap)
+        assert eval(repr(rule), {"LineRule": LineRule}) == rule  # noqa: S307 - our own repr
+        assert (cap in rule.describe()) == (cap != "butt")
+    with pytest.raises(ValueError, match="LineRule.cap must be one of"):
+        LineRule("rectangle", cap="triangle")  # type: ignore[arg-type]
