@@ -44,6 +44,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.contract.scenes import AnyScene
+from rasterizers.real._aa_lines import AlphaLines
 from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need
 
 __all__ = ["AggAliased", "AggAntialiased"]
@@ -69,6 +70,16 @@ def _fill(aggdraw: Any, contours: list[NDArray], w: int, h: int, antialias: bool
     draw = aggdraw.Draw("L", (w, h), 0)
     draw.setantialias(antialias)
     draw.polygon(_path(aggdraw, contours), aggdraw.Pen(0, 0, 0), aggdraw.Brush(255))
+    return np.frombuffer(draw.tobytes(), dtype=np.uint8).reshape(h, w)
+
+
+def _stroke(aggdraw: Any, a: NDArray, b: NDArray, line_width: float, w: int, h: int) -> NDArray:
+    """The segment a-b drawn by aggdraw's ``line`` with a pen ``line_width`` wide (AGG's
+    stroker, butt caps: measured, the stroke ends at the end points) into a w x h gray-8
+    image, anti-aliased: the (h, w) uint8 values."""
+    draw = aggdraw.Draw("L", (w, h), 0)
+    draw.setantialias(True)
+    draw.line((float(a[0]), float(a[1]), float(b[0]), float(b[1])), aggdraw.Pen(255, float(line_width)))
     return np.frombuffer(draw.tobytes(), dtype=np.uint8).reshape(h, w)
 
 
@@ -147,7 +158,7 @@ class AggAliased(OneAtATime):
         return np.frombuffer(draw.tobytes(), dtype=np.uint8).reshape(h, w) > 0
 
 
-class AggAntialiased(AlphaOneTriangleAtATime):
+class AggAntialiased(AlphaLines, AlphaOneTriangleAtATime):
     """AGG 2.0's scanline rasterizer through aggdraw, ``setantialias(True)`` (the
     default), one triangle at a time, drawn as for :class:`AggAliased` (an
     ``aggdraw.Path``, float64 to aggdraw, truncated to 24.8 fixed point by AGG; the 0.5 px
@@ -179,3 +190,6 @@ class AggAntialiased(AlphaOneTriangleAtATime):
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _fill(self._agg, [p], w, h, True) / 255.0
+
+    def _draw_stroke(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return _stroke(self._agg, a, b, line_width, w, h) / 255.0
