@@ -211,8 +211,11 @@ class QtAntialiased(AlphaLines, AlphaOneTriangleAtATime):
     time (``drawPolygon``, no pen) into a ``QImage.Format_Alpha8``; the mapping is the
     identity (module docstring), proved by ``test_the_antialiased_mapping_is_exact``
     (tests/rasterizers/real/test_qt_raster.py: alphas within 0.02 of the exact area of
-    integer-plus-1/4 triangles). Alpha is the byte / 255. Triangles only (exact area
-    coverage of paths and lines is issue 34).
+    integer-plus-1/4 triangles). Alpha is the byte / 255. Triangles, and lines: each
+    segment a ``drawLine`` with an anti-aliased pen of the scene's width and flat caps,
+    against the exact rectangle (:mod:`harness.oracle.area_lines`). Measured (Qt 6.11.0,
+    100 random segments): widths above 1 within 0.027 of the exact area; widths up to 1
+    are drawn another way (a thin-line path: errors up to 0.30, mean 0.056).
 
     What Qt receives and does: vertices to 26.6 fixed point by ``QOutlineMapper``
     (``qRound(x * 64)``, half away from zero), filled by ``qgrayraster.c`` (FreeType's

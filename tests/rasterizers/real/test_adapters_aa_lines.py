@@ -80,3 +80,18 @@ def test_blend2d_strokes_measured(cap):
     # round caps within 0.14 (its flattening of the cap's curves is coarse: cairo's round
     # caps stay within its 0.0725 on the same strokes)
     assert result.metrics["max_error"] < (0.015 if cap != "round" else 0.15)
+
+
+@pytest.mark.parametrize(("module", "install", "cls", "thin", "wide"), [
+    ("rasterizers.real.agg", "aggdraw", "AggAntialiased", 0.02, 0.02),  # analytic: 0.0151 measured
+    ("rasterizers.real.qt_raster", "PyQt6", "QtAntialiased", 0.35, 0.035),  # thin lines another way: 0.30
+])
+def test_more_libraries_strokes_measured(module, install, cls, thin, wide):
+    import importlib
+
+    need(install)
+    rasterizer = getattr(importlib.import_module(module), cls)()
+    assert "lines" in rasterizer.scene_kinds
+    for width in (1.0, 2.5):
+        result = _max_error(rasterizer, _segments(width))
+        assert result.metrics["max_error"] < (thin if width <= 1.0 else wide), (width, result.message)
