@@ -172,7 +172,8 @@ class AggAntialiased(AlphaLines, AlphaOneTriangleAtATime):
     (cover - 1 for 1 <= cover <= 254; 255 stays 255), so the value is below 256 * area by
     up to 2 levels and 1/255 against 1/256 scaling. Triangles, and lines: each segment
     aggdraw's ``line`` with a pen of the scene's width (butt ends), against the exact
-    rectangle (:mod:`harness.oracle.area_lines`): measured within 0.0151 at widths 0.5 to 4. No declared convention. Identified (aggdraw
+    rectangle (:mod:`harness.oracle.area_lines`): measured within 0.0151 at widths 0.5 to 4.
+    No declared convention. Identified (aggdraw
     1.4.1): area coverage, analytic, 256 levels (254 reached: the blend never gives 254),
     max |alpha - area| 0.0159 (mean 0.00167) on identify's scenes, 0.0183 on the quick
     suite's; the vertex order changes alphas by a level (the orientation bug above: the
