@@ -63,6 +63,24 @@ PANELS: tuple[Panel, ...] = (
           Convention(coverage="conservative-over")),
     Panel("conservative-under", _triangles([[(0.3, 0.2), (6.8, 1.7), (1.7, 6.1)]], 8, 7),
           Convention(coverage="conservative-under")),
+    # closed: two triangles sharing a diagonal through pixel centres both draw its samples
+    Panel("closed", _triangles([[(0.5, 0.5), (6.5, 0.5), (6.5, 6.5)], [(0.5, 0.5), (6.5, 6.5), (0.5, 6.5)]], 7, 7),
+          Convention(coverage="closed")),
+    # dropout control: a sliver between pixel centres still draws (FreeType mono, smart mode)
+    Panel("dropout", _triangles([[(0.25, 1.75), (7.75, 3.2), (7.75, 3.4)]], 8, 5),
+          Convention(coverage="closed", input="fixed6", dropout="smart-no-stubs-stepped6"),
+          baseline=Convention(coverage="closed", input="fixed6", dropout="none-stepped6")),
+    # the rules read from libraries' sources
+    Panel("agg-cover", _triangles([[(0.3, 0.2), (6.8, 1.7), (1.7, 6.1)]], 8, 7),
+          Convention(coverage="agg-cover", input="fixed8-toward-zero"), areas=True, baseline=Convention()),
+    Panel("inclusive-scanline", _triangles([[(0.7, 0.6), (6.6, 1.4), (2.3, 5.8)]], 8, 7),
+          Convention(coverage="inclusive-scanline", input="integer-toward-zero"), baseline=Convention()),
+    Panel("skia-hairline", LineScene.from_segments(10, 6, [(1.25, 0.875)], [(8.25, 4.375)]),
+          Convention(line=LineRule("skia-hairline")), baseline=Convention()),
+    Panel("qt-cosmetic", LineScene.from_segments(10, 6, [(1.25, 0.875)], [(8.25, 4.375)]),
+          Convention(line=LineRule("qt-cosmetic")), baseline=Convention()),
+    Panel("llvmpipe-rectangle", LineScene.from_segments(10, 6, [(1.25, 0.875)], [(8.25, 4.375)]),
+          Convention(subpixel_bits=8, line=LineRule("llvmpipe-rectangle")), baseline=Convention(subpixel_bits=8)),
     # Vulkan's non-strict lines
     Panel("parallelogram", LineScene.from_segments(10, 6, [(1.25, 0.875)], [(8.25, 4.375)]),
           Convention(line=LineRule("parallelogram")), baseline=Convention()),

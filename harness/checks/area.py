@@ -69,11 +69,12 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene
 from harness.geometry.exact import orientation
 from harness.geometry.keys import union, unique_inverse
-from harness.kinds import TRIANGLES
+from harness.kinds import LINES, TRIANGLES
 from harness.oracle.area import area_error_bound, displaced_area_bound, exact_area
 from harness.oracle.coverage import exact_samples
 
-__all__ = ["accuracy", "motion_accuracy", "model_bound", "exact_model", "off_level", "level_values",
+__all__ = ["accuracy", "motion_accuracy", "model_bound", "exact_model", "scene_model_bound", "scene_exact_model",
+           "off_level", "level_values",
            "exact_alpha", "exact_tolerance", "rounding_reach", "alpha_facts", "alpha_cause", "ALPHA_CAUSES",
            "LEVEL_NOISE", "DISPLAY_LEVELS"]
 
@@ -173,6 +174,27 @@ def exact_model(positions: NDArray, convention: Convention, triangle: int, x: in
         if sign == (1 if convention.cull == "cw" else -1):
             return Fraction(0)
     return exact_area(tri[0], int(x), int(y))
+
+
+def scene_model_bound(scene: Any, convention: Convention) -> NDArray:
+    """:func:`model_bound` of any scene the area checks judge: a line scene's (anti-aliased
+    strokes, :func:`harness.oracle.area_lines.line_model_bound`) or a triangle scene's."""
+    if LINES.owns(scene):
+        from harness.oracle.area_lines import line_model_bound
+
+        return line_model_bound(scene, convention)
+    scene = TRIANGLES.narrow(scene)
+    return model_bound(scene.positions, convention, scene.width, scene.height)
+
+
+def scene_exact_model(scene: Any, convention: Convention, primitive: int, x: int, y: int, share: float = 0.0) -> Any:
+    """:func:`exact_model` of any scene the area checks judge: for a line scene the exact
+    stroke area (:class:`harness.oracle.area_lines.LineArea`, compared exactly with rationals)."""
+    if LINES.owns(scene):
+        from harness.oracle.area_lines import exact_line_model
+
+        return exact_line_model(scene, convention, primitive, x, y)
+    return exact_model(TRIANGLES.narrow(scene).positions, convention, primitive, x, y, share)
 
 
 def _model_words(convention: Convention) -> str:
@@ -392,7 +414,9 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     one, ``alpha_cause`` (:func:`alpha_cause`), whose words end the message.
     """
     scene = case.scene
-    scene = TRIANGLES.narrow(scene)  # area coverage is judged on triangle scenes
+    lines = LINES.owns(scene)  # anti-aliased strokes (harness.oracle.area_lines); else triangles
+    if not lines:
+        scene = TRIANGLES.narrow(scene)
     width, height, n = scene.width, scene.height, len(scene)
     keys, alpha, model = _aligned(*_keyed(coverage, width, height, n), *_keyed(oracle, width, height, n))
     present = (alpha != 0) | (model != 0)  # NaN counts as present
@@ -408,7 +432,7 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     magnitude = np.maximum(1.0, np.abs(np.where(finite, alpha, 0.0)))
     # the exact error lies within ``margin`` of ``error``: the oracle's bound, the rounding
     # of the level's value and of the difference, and that of the tolerance's float
-    margin = (model_bound(scene.positions, convention, width, height)[triangle] + _DIFFERENCE_ROUNDING * magnitude
+    margin = (scene_model_bound(scene, convention)[triangle] + _DIFFERENCE_ROUNDING * magnitude
               + _DIFFERENCE_ROUNDING * max(1.0, bound))
     # beyond the tolerance for sure, within it for sure, or open -- then the rationals
     # decide (a NaN or infinite alpha is beyond any tolerance)
@@ -420,12 +444,14 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     def exact_at(i: int) -> Fraction:
         """The exact model at pixel ``i`` (computed once)."""
         if i not in exact:
-            exact[i] = exact_model(scene.positions, convention, int(triangle[i]), int(x[i]), int(y[i]), float(model[i]))
+            exact[i] = scene_exact_model(scene, convention, int(triangle[i]), int(x[i]), int(y[i]), float(model[i]))
         return exact[i]
 
     for i in open_:
         over[i] = abs(exact_alpha(float(alpha[i]), levels) - exact_at(int(i))) > limit
-    near = _near_ties(case, convention, tolerance, triangle, x, y, alpha, error, margin, over, exact_at, limit)
+    # near ties are measured on triangles (a stroke's rounding reach is not modelled yet)
+    near = (np.zeros(over.size, dtype=bool) if lines else
+            _near_ties(case, convention, tolerance, triangle, x, y, alpha, error, margin, over, exact_at, limit))
     over &= ~near
     off = off_level(alpha, convention.levels)
     count, n_off, n_near = int(over.sum()), int(off.sum()), int(near.sum())
@@ -478,8 +504,8 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
             parts.append(f"{n_off} alphas on none of the {convention.levels} declared levels")
         if count:
             # the cause, named from facts about the errors (alpha_cause)
-            facts = alpha_facts(case, convention, triangle, x, y, alpha, model, near, over)
-            cause = alpha_cause(facts)
+            facts = {} if lines else alpha_facts(case, convention, triangle, x, y, alpha, model, near, over)
+            cause = alpha_cause(facts) if facts else None
             evidence["alpha_facts"] = facts
             if cause is not None:
                 evidence["alpha_cause"] = cause[0]

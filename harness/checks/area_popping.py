@@ -17,10 +17,10 @@ from harness.checks.area import (
     _fragments,
     _model_words,
     exact_alpha,
-    exact_model,
     exact_tolerance,
     level_values,
-    model_bound,
+    scene_exact_model,
+    scene_model_bound,
 )
 from harness.checks.records import (
     EVIDENCE_LIMIT,
@@ -34,7 +34,9 @@ from harness.checks.records import (
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene
+from harness.kinds import LINES
 from harness.oracle.area import area_coverage
+from harness.oracle.area_lines import step_exceeds
 
 # -- popping ----------------------------------------------------------------------------------
 
@@ -66,6 +68,18 @@ def _pixel_series(parts: dict[str, tuple[list[Any], list[NDArray[np.int64]]]], p
     pixel indices per frame."""
     return {name: [float(frame[3][local == pixel].sum()) for frame, local in zip(frames, where)]
             for name, (frames, where) in parts.items()}
+
+
+def _step_beyond(before: Any, after: Any, convention: Convention, primitive: int, x: int, y: int,
+                 shares: tuple[float, float], step_alpha: Any, limit: Any) -> bool:
+    """Whether the alpha's step ``step_alpha`` is beyond ``limit`` of the exact model's step
+    at one (primitive, pixel), decided exactly (two strokes' exact areas lie in different
+    fields: enclosed, :func:`harness.oracle.area_lines.step_exceeds`)."""
+    earlier = scene_exact_model(before, convention, primitive, x, y, shares[0])
+    later = scene_exact_model(after, convention, primitive, x, y, shares[1])
+    if LINES.owns(after):
+        return step_exceeds(step_alpha, later, earlier, limit)
+    return bool(abs(step_alpha - (later - earlier)) > limit)
 
 
 def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracles: list[Coverage],
@@ -113,8 +127,12 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
     def bound(f: int) -> NDArray:
         """:func:`model_bound` of frame ``f`` (computed when a step comes near the limit)."""
         if f not in bounds:
-            bounds[f] = model_bound(scenes[f].positions, convention, width, height)
+            bounds[f] = scene_model_bound(scenes[f], convention)
         return bounds[f]
+
+    # anti-aliased strokes (harness.oracle.area_lines): their oracle's bound may exceed 2**-24
+    oracle_slack = 2.0**-23 if not LINES.owns(scenes[0]) else max(
+        2.0**-23, 2 * max(float(bound(f).max(initial=0.0)) for f in range(frames)))
 
     chunk = max(1, _CHUNK_ENTRIES // max(win, 1))
     whole = chunk >= n  # one chunk: the per-pixel sums come from the per-triangle arrays
@@ -166,7 +184,7 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
                 # the limit for sure, or open; only the steps near or beyond it are looked at
                 with np.errstate(invalid="ignore"):
                     largest = np.nanmax(np.abs(now[0]), initial=0.0) + np.nanmax(np.abs(before[0]), initial=0.0)
-                candidates = np.flatnonzero(diff > tolerance - 2.0**-23 - _DIFFERENCE_ROUNDING * max(1.0, largest))
+                candidates = np.flatnonzero(diff > tolerance - oracle_slack - _DIFFERENCE_ROUNDING * max(1.0, largest))
                 if candidates.size:
                     t = t0 + candidates // win
                     a0, a1, o0, o1 = before[0][candidates], now[0][candidates], before[1][candidates], now[1][candidates]
@@ -179,10 +197,9 @@ def popping(case_id: str, scenes: list[Scene], coverages: list[Coverage], oracle
                         open_count += 1
                         p = int(candidates[k]) % win
                         x, y = x0 + p % span, y0 + p // span
-                        step_model = (exact_model(scenes[f].positions, convention, int(t[k]), x, y, float(o1[k]))
-                                      - exact_model(scenes[f - 1].positions, convention, int(t[k]), x, y, float(o0[k])))
                         step_alpha = exact_alpha(float(a1[k]), levels) - exact_alpha(float(a0[k]), levels)
-                        sure[k] = abs(step_alpha - step_model) > limit
+                        sure[k] = _step_beyond(scenes[f - 1], scenes[f], convention, int(t[k]), x, y,
+                                               (float(o0[k]), float(o1[k])), step_alpha, limit)
                     hits = np.flatnonzero(sure)
                     jumps += hits.size
                     for k in hits[np.argsort(-d[hits], kind="stable")][:EVIDENCE_LIMIT]:

@@ -704,7 +704,7 @@ def _run_line_motion(s: Subject) -> Result:
 # lines are single-sample, or multisample rectangles (harness.oracle.lines): a multisample answer is
 # judged sample by sample (each layer a single-sample rectangle rule at its offset); an area
 # answer gets none of these
-_SINGLE = frozenset(model.coverage_kind for model in COVERAGE_MODELS.values() if model.lines)
+_SINGLE = frozenset(model.coverage_kind for model in COVERAGE_MODELS.values() if model.lines and not model.alphas)
 
 register(Check(
     "connectivity", _guarded("connectivity", _run_connectivity), _is_line_case, needs_convention=True, shrinks=True,

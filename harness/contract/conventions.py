@@ -232,6 +232,8 @@ __all__ = [
     "DropoutMode",
     "DROPOUT_MODES",
     "dropout_control",
+    "LINE_CAPS",
+    "LineCap",
 ]
 
 TieRule = Literal[
@@ -269,6 +271,10 @@ WIDE_LINES: tuple[WideLines, ...] = ("none", "replicate")
 # TrueType's dropout control (scan-conversion rules 3-6) as FreeType's ftraster.c runs it
 DropoutMode = Literal["none", "simple", "smart"]
 DROPOUT_MODES: tuple[DropoutMode, ...] = ("none", "simple", "smart")
+# The ends of an anti-aliased rectangular line (issue 34): cut square at the end points
+# (butt), the rectangle extended by w/2 at both ends (square), or half discs (round).
+LineCap = Literal["butt", "square", "round"]
+LINE_CAPS: tuple[LineCap, ...] = ("butt", "square", "round")
 SnapRounding = Literal["nearest-even", "half-away", "floor"]
 # How a fixed-point or integer input grid rounds what it receives: the snap roundings and C's
 # ``(int)`` cast (toward zero).
@@ -379,6 +385,14 @@ class LineRule:
         to nearest-even); None: the convention's. The grid is the convention's
         ``subpixel_bits`` either way.
 
+    cap : {"butt", "square", "round"}
+        ``rectangle`` under area coverage only (anti-aliased strokes,
+        :mod:`harness.oracle.area_lines`): the region whose area inside a pixel is the alpha.
+        ``butt``: the ``line_width``-wide rectangle between the end points; ``square``: that
+        rectangle extended by ``line_width``/2 beyond each end point; ``round``: the butt
+        rectangle and a half disc of diameter ``line_width`` on each end (cairo's and skia's
+        ``CAP_BUTT``, ``CAP_SQUARE``, ``CAP_ROUND``). Aliased lines are butt.
+
     The convention's snapping (``subpixel_bits``, ``snap_rounding``, or this rule's
     ``snap_rounding``) applies to line end points first, as to triangle vertices
     (:meth:`Convention.for_lines`).
@@ -395,6 +409,8 @@ class LineRule:
     'parallelogram lines (Vulkan non-strict), line ends snapped half away from zero'
     >>> LineRule("parallelogram", snap_rounding="half-away")  # doctest: +ELLIPSIS
     LineRule(rule='parallelogram', last_pixel=False, ..., wide='none', snap_rounding='half-away')
+    >>> LineRule("rectangle", cap="square").describe()
+    'rectangular lines, square caps'
     """
 
     rule: LineRuleName = "diamond-exit"
@@ -404,6 +420,7 @@ class LineRule:
     direction: LineDirection = "as-given"
     wide: WideLines = "none"
     snap_rounding: SnapRounding | None = None
+    cap: LineCap = "butt"
 
     def __repr__(self) -> str:
         # snap_rounding only when set: a rule without it reads as it always has
@@ -411,6 +428,8 @@ class LineRule:
                   f"direction={self.direction!r}, wide={self.wide!r}")
         if self.snap_rounding is not None:
             fields += f", snap_rounding={self.snap_rounding!r}"
+        if self.cap != "butt":  # likewise the cap, only when not butt
+            fields += f", cap={self.cap!r}"
         return f"LineRule({fields})"
 
     def __post_init__(self) -> None:
@@ -438,6 +457,11 @@ class LineRule:
         if self.snap_rounding is not None and self.snap_rounding not in SNAP_ROUNDINGS:
             raise ValueError(f"LineRule.snap_rounding must be None or one of {', '.join(SNAP_ROUNDINGS)}, "
                              f"not {self.snap_rounding!r}")
+        if self.cap not in LINE_CAPS:
+            raise ValueError(f"LineRule.cap must be one of {', '.join(LINE_CAPS)}, not {self.cap!r}")
+        if self.cap != "butt" and self.rule != "rectangle":
+            raise ValueError(f"LineRule.cap {self.cap!r} is a rectangle option (anti-aliased strokes); "
+                             f"{self.rule} lines have no caps")
 
     def undefined_width(self, line_width: float) -> str:
         """Why the rule draws no lines ``line_width`` wide ("" when it does): rectangles take
@@ -482,7 +506,7 @@ class LineRule:
 
     def _rule_words(self) -> str:
         if self.rule == "rectangle":
-            return "rectangular lines"
+            return "rectangular lines" + ("" if self.cap == "butt" else f", {self.cap} caps")
         if self.rule == "parallelogram":
             return "parallelogram lines (Vulkan non-strict)"
         if self.rule == "llvmpipe-rectangle":

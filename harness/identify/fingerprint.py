@@ -578,6 +578,7 @@ def _line_convention_dict(fit: LineFit) -> dict[str, Any] | None:
             "ties": rule.ties if rule.rule == "bresenham" else None,
             "direction": rule.direction if rule.rule == "bresenham" else None,
             "wide": rule.wide if rule.diamond else None,
+            "cap": rule.cap if rule.rule == "rectangle" else None,
             "sample": list(line.sample) if rule.rule in AREA_LINE_RULES else None,
             "tie": line.tie if rule.rule in AREA_LINE_RULES else None,
             "subpixel_bits": line.subpixel_bits, "snap_rounding": line.snap_rounding,

@@ -153,6 +153,14 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
     """
     from harness.contract.coverage import Coverage
 
+    if convention.model.alphas and convention.model.lines:
+        # anti-aliased lines: the area of each stroke inside the pixel (issue 34)
+        from harness.oracle.area_lines import line_area_coverage
+
+        return line_area_coverage(scene, convention)
+    if convention.line.cap != "butt":
+        raise ValueError(f"line caps are an area-coverage option: {convention.line.describe()} under "
+                         f"{convention.coverage_kind} coverage is not defined")
     if not convention.model.lines:
         raise ValueError(f"lines are defined for single-sample and multisample conventions, "
                          f"not {convention.coverage_kind} coverage")

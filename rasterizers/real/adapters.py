@@ -10,10 +10,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.contract.conventions import Convention
+from harness.contract.conventions import Convention, LineRule
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene, Unsupported
 from harness.engine.registry import Unavailable
+from rasterizers.real._aa_lines import AlphaLines
 from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need, refuse_kind, refuse_several_contours
 from rasterizers.real._lines import MesaLines
 from rasterizers.real._masks import (
@@ -74,6 +75,41 @@ def _skia_fill(skia: Any, contours: list[NDArray], w: int, h: int, antialias: bo
     if not surface.readPixels(skia.ImageInfo.MakeA8(w, h), alpha, w, 0, 0):
         raise RuntimeError(f"skia could not read back its {w} x {h} surface")
     return alpha
+
+
+def _skia_stroke(skia: Any, a: NDArray, b: NDArray, line_width: float, w: int, h: int) -> NDArray:
+    """The segment a-b stroked by skia with anti-aliasing, ``line_width`` wide, butt caps
+    (``kStroke_Style``, ``kButt_Cap``), into a w x h alpha-8 surface: the (h, w) uint8 alpha."""
+    surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(w, h))
+    canvas = surface.getCanvas()
+    canvas.clear(skia.ColorTRANSPARENT)
+    paint = skia.Paint(AntiAlias=True, Color=skia.ColorBLACK)
+    paint.setStyle(skia.Paint.kStroke_Style)
+    paint.setStrokeWidth(float(line_width))
+    paint.setStrokeCap(skia.Paint.kButt_Cap)
+    path = skia.Path()
+    path.moveTo(float(a[0]), float(a[1]))
+    path.lineTo(float(b[0]), float(b[1]))
+    canvas.drawPath(path, paint)
+    alpha = np.empty((h, w), dtype=np.uint8)
+    if not surface.readPixels(skia.ImageInfo.MakeA8(w, h), alpha, w, 0, 0):
+        raise RuntimeError(f"skia could not read back its {w} x {h} surface")
+    return alpha
+
+
+def _cairo_stroke(cairo: Any, a: NDArray, b: NDArray, line_width: float, w: int, h: int) -> NDArray:
+    """The segment a-b stroked by cairo with ``ANTIALIAS_DEFAULT``, ``line_width`` wide, butt
+    caps (``LINE_CAP_BUTT``), into a w x h A8 surface: the (h, w) uint8 alpha."""
+    surface = cairo.ImageSurface(cairo.FORMAT_A8, w, h)
+    ctx = cairo.Context(surface)
+    ctx.set_antialias(cairo.ANTIALIAS_DEFAULT)
+    ctx.set_line_width(float(line_width))
+    ctx.set_line_cap(cairo.LINE_CAP_BUTT)
+    ctx.move_to(float(a[0]), float(a[1]))
+    ctx.line_to(float(b[0]), float(b[1]))
+    ctx.stroke()
+    surface.flush()
+    return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, surface.get_stride())[:, :w].copy()
 
 
 def _cairo_fill(cairo: Any, contours: list[NDArray], w: int, h: int, antialias: Any, fill_rule: str = "nonzero") -> NDArray:
@@ -380,7 +416,7 @@ class CairoFill(OneAtATime):
         return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, surface.get_stride())[:, :w] > 0
 
 
-class CairoAntialiased(AlphaOneTriangleAtATime):
+class CairoAntialiased(AlphaLines, AlphaOneTriangleAtATime):
     """pycairo, ``ANTIALIAS_DEFAULT`` fill into an A8 image surface, one triangle at a
     time; cairo's pixel (i, j) is our [i, i+1) x [j, j+1), so coordinates pass unchanged.
     Alpha is the A8 value / 255. (``GRAY``, ``GOOD``, ``BEST`` and ``SUBPIXEL`` draw the
@@ -408,6 +444,10 @@ class CairoAntialiased(AlphaOneTriangleAtATime):
     # tor scan converter: 15 sub-rows (1/30 per boundary, two per column), x ends to 1/256,
     # 8-bit rounding of the grid area
     convention = Convention(coverage="area", levels=256, subpixel_bits=8, tolerance=1 / 15 + 1 / 256 + 1 / 510)
+    # lines: each segment stroked with butt caps, the exact rectangle's area (harness.oracle.area_lines);
+    # the stroker's outline goes through the same tor scan converter: the same tolerance
+    line_convention = Convention(coverage="area", levels=256, subpixel_bits=8, tolerance=1 / 15 + 1 / 256 + 1 / 510,
+                                 line=LineRule("rectangle"))
 
     def __init__(self) -> None:
         self._cairo = need("cairo")
@@ -416,8 +456,11 @@ class CairoAntialiased(AlphaOneTriangleAtATime):
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _cairo_fill(self._cairo, [p], w, h, self._cairo.ANTIALIAS_DEFAULT) / 255.0
 
+    def _draw_stroke(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return _cairo_stroke(self._cairo, a, b, line_width, w, h) / 255.0
 
-class SkiaAntialiased(AlphaOneTriangleAtATime):
+
+class SkiaAntialiased(AlphaLines, AlphaOneTriangleAtATime):
     """skia-python, a path per triangle filled with anti-aliasing on into an alpha-8
     surface; skia's pixel (i, j) is our [i, i+1) x [j, j+1), so coordinates pass unchanged.
     Alpha is the alpha-8 value / 255.
@@ -447,6 +490,9 @@ class SkiaAntialiased(AlphaOneTriangleAtATime):
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _skia_fill(self._skia, [p], w, h, antialias=True) / 255.0
+
+    def _draw_stroke(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return _skia_stroke(self._skia, a, b, line_width, w, h) / 255.0
 
 
 _VERTEX = """#version 330

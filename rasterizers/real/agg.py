@@ -47,6 +47,7 @@ from numpy.typing import NDArray
 
 from harness.contract.conventions import Convention
 from harness.contract.scenes import AnyScene
+from rasterizers.real._aa_lines import AlphaLines
 from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need
 
 __all__ = ["AggAliased", "AggAntialiased", "FOUND"]
@@ -77,6 +78,16 @@ def _fill(aggdraw: Any, contours: list[NDArray], w: int, h: int, antialias: bool
     draw = aggdraw.Draw("L", (w, h), 0)
     draw.setantialias(antialias)
     draw.polygon(_path(aggdraw, contours), aggdraw.Pen(0, 0, 0), aggdraw.Brush(255))
+    return np.frombuffer(draw.tobytes(), dtype=np.uint8).reshape(h, w)
+
+
+def _stroke(aggdraw: Any, a: NDArray, b: NDArray, line_width: float, w: int, h: int) -> NDArray:
+    """The segment a-b drawn by aggdraw's ``line`` with a pen ``line_width`` wide (AGG's
+    stroker, butt caps: measured, the stroke ends at the end points) into a w x h gray-8
+    image, anti-aliased: the (h, w) uint8 values."""
+    draw = aggdraw.Draw("L", (w, h), 0)
+    draw.setantialias(True)
+    draw.line((float(a[0]), float(a[1]), float(b[0]), float(b[1])), aggdraw.Pen(255, float(line_width)))
     return np.frombuffer(draw.tobytes(), dtype=np.uint8).reshape(h, w)
 
 
@@ -162,7 +173,7 @@ class AggAliased(OneAtATime):
         return np.frombuffer(draw.tobytes(), dtype=np.uint8).reshape(h, w) > 0
 
 
-class AggAntialiased(AlphaOneTriangleAtATime):
+class AggAntialiased(AlphaLines, AlphaOneTriangleAtATime):
     """AGG 2.0's scanline rasterizer through aggdraw, ``setantialias(True)`` (the
     default), one triangle at a time, drawn as for :class:`AggAliased` (an
     ``aggdraw.Path``, float64 to aggdraw, truncated to 24.8 fixed point by AGG; the 0.5 px
@@ -174,8 +185,10 @@ class AggAntialiased(AlphaOneTriangleAtATime):
     ``cover = floor(256 * area)`` capped at 255 (module docstring); the gray-8 pixel format
     then blends the brush (255) over 0 with that cover: value = ``(255 * cover) >> 8``
     (cover - 1 for 1 <= cover <= 254; 255 stays 255), so the value is below 256 * area by
-    up to 2 levels and 1/255 against 1/256 scaling. Triangles only: AA paths and lines are
-    judged by exact area coverage (issue 34). No declared convention. Identified (aggdraw
+    up to 2 levels and 1/255 against 1/256 scaling. Triangles, and lines: each segment
+    aggdraw's ``line`` with a pen of the scene's width (butt ends), against the exact
+    rectangle (:mod:`harness.oracle.area_lines`): measured within 0.0151 at widths 0.5 to 4.
+    No declared convention. Identified (aggdraw
     1.4.1): area coverage, analytic, 256 levels (254 reached: the blend never gives 254),
     max |alpha - area| 0.0159 (mean 0.00167) on identify's scenes, 0.0183 on the quick
     suite's; the vertex order changes alphas by a level (the orientation bug above: the
@@ -194,3 +207,6 @@ class AggAntialiased(AlphaOneTriangleAtATime):
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _fill(self._agg, [p], w, h, True) / 255.0
+
+    def _draw_stroke(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return _stroke(self._agg, a, b, line_width, w, h) / 255.0

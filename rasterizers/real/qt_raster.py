@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from rasterizers.real._aa_lines import AlphaLines
 from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need
 
 __all__ = ["QtRaster", "QtAntialiased"]
@@ -78,6 +79,22 @@ class _Qt:
         bits = image.constBits()
         bits.setsize(image.sizeInBytes())
         return np.frombuffer(bits, dtype=np.uint8).reshape(h, image.bytesPerLine())[:, :w].copy()
+
+    def stroke(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int) -> NDArray[np.uint8]:
+        """The segment a-b drawn with ``drawLine`` and an anti-aliased solid pen ``line_width``
+        wide with flat caps (``Qt.PenCapStyle.FlatCap``: butt): the (h, w) alpha bytes."""
+        gui, core = self.gui, self.core
+        image = self.image(w, h)
+        painter = self.painter(image, True)
+        try:
+            pen = gui.QPen(gui.QColor(0, 0, 0, 255))
+            pen.setWidthF(float(line_width))
+            pen.setCapStyle(core.Qt.PenCapStyle.FlatCap)
+            painter.setPen(pen)
+            painter.drawLine(core.QPointF(float(a[0]), float(a[1])), core.QPointF(float(b[0]), float(b[1])))
+        finally:
+            painter.end()
+        return self.alpha(image, w, h)
 
     def polygon(self, p: NDArray, w: int, h: int, antialias: bool) -> NDArray[np.uint8]:
         """One polygon (a triangle) filled with ``drawPolygon``: the (h, w) alpha bytes."""
@@ -192,13 +209,16 @@ class QtRaster(OneAtATime):
         return qt.alpha(image, w, h) > 0
 
 
-class QtAntialiased(AlphaOneTriangleAtATime):
+class QtAntialiased(AlphaLines, AlphaOneTriangleAtATime):
     """Qt's raster paint engine with ``QPainter.RenderHint.Antialiasing``, one triangle at a
     time (``drawPolygon``, no pen) into a ``QImage.Format_Alpha8``; the mapping is the
     identity (module docstring), proved by ``test_the_antialiased_mapping_is_exact``
     (tests/rasterizers/real/test_qt_raster.py: alphas within 0.02 of the exact area of
-    integer-plus-1/4 triangles). Alpha is the byte / 255. Triangles only (exact area
-    coverage of paths and lines is issue 34).
+    integer-plus-1/4 triangles). Alpha is the byte / 255. Triangles, and lines: each
+    segment a ``drawLine`` with an anti-aliased pen of the scene's width and flat caps,
+    against the exact rectangle (:mod:`harness.oracle.area_lines`). Measured (Qt 6.11.0,
+    100 random segments): widths above 1 within 0.027 of the exact area; widths up to 1
+    are drawn another way (a thin-line path: errors up to 0.30, mean 0.056).
 
     What Qt receives and does: vertices to 26.6 fixed point by ``QOutlineMapper``
     (``qRound(x * 64)``, half away from zero), filled by ``qgrayraster.c`` (FreeType's
@@ -221,3 +241,6 @@ class QtAntialiased(AlphaOneTriangleAtATime):
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return self._qt.polygon(p, w, h, antialias=True) / 255.0
+
+    def _draw_stroke(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return self._qt.stroke(a, b, line_width, w, h) / 255.0

@@ -166,7 +166,8 @@ def test_paths_and_lines_are_defined_where_the_model_says():
     square = PathScene.from_paths(4, 4, [[[[0, 0], [4, 0], [4, 4], [0, 4]]]])
     line = LineScene.from_strips(6, 4, [[[0.5, 0.5], [4.5, 2.5]]])
     for name, model in COVERAGE_MODELS.items():
-        convention = replace(CONVENTIONS[name], line="rectangle") if model.sample_ids else CONVENTIONS[name]
+        # multisample and (analytic) area lines are rectangles
+        convention = replace(CONVENTIONS[name], line="rectangle") if model.sample_ids or model.alphas else CONVENTIONS[name]
         if model.paths:
             assert len(path_coverage(square, convention)), name
         else:

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from tests.known_bad.aa_lines import ForgetsCaps, MajorAxisBoxLines, QuarterPixelLines
 from tests.known_bad.antialiasing import (
     BiasedArea,
     CentreSamples,
@@ -79,6 +80,7 @@ def _all() -> list[Any]:
         TruncatesClaimsFloat64(), Float32ClaimsFloat64(), StrictThreshold(), BoxOverestimate(), OpenUnderestimate(),
         FullWidthOffset(), Float32AggCover(), ExclusiveRightScanline(), ClosedWithTies(), LeftDropout(),
         SkiaCentredStart(), QtFlatCaps(), LlvmpipeUnshiftedSnap(),
+        MajorAxisBoxLines(), ForgetsCaps(), QuarterPixelLines(),
     ]
 
 

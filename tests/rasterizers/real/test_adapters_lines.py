@@ -165,15 +165,16 @@ def test_declared_kinds():
     for cls in ("PillowPolygon", "SkimagePolygon", "CairoFill", "SkiaPath", "MesaLlvmpipe", "MesaSoftpipe"):
         assert getattr(adapters, cls).scene_kinds == ("triangles", "paths", "lines")
         assert getattr(adapters, cls).convention is None  # black boxes: identify fingerprints them
-    for cls in ("CairoAntialiased", "SkiaAntialiased", "MesaMultisample"):
-        assert not takes(getattr(adapters, cls), ELBOW)
+    for cls, taken in (("MesaMultisample", False), ("CairoAntialiased", True), ("SkiaAntialiased", True)):
+        assert takes(getattr(adapters, cls), ELBOW) == taken  # anti-aliased strokes (issue 34)
 
 
-def test_adapters_that_take_no_lines_refuse_them():
+def test_antialiased_adapters_stroke_lines():
+    # issue 34: the AA modes take lines, one anti-aliased butt stroke per segment
     for cls, module in (("CairoAntialiased", "cairo"), ("SkiaAntialiased", "skia")):
         need(module)
-        with pytest.raises(ValueError, match="takes triangles scenes, not LineScene"):
-            getattr(adapters, cls)().rasterize(ELBOW)
+        cov = getattr(adapters, cls)().rasterize(ELBOW)
+        assert cov.alpha is not None and set(cov.primitive.tolist()) == {0, 1}
 
 
 # -- the 2D libraries -----------------------------------------------------------------------
