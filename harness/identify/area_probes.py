@@ -457,7 +457,8 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
 # --- area: the input grid ------------------------------------------------------------------------
 
 _ROUNDING_WORDS = {"nearest-even": "rounding half to even", "half-away": "rounding half away from zero",
-                   "floor": "truncating (rounding down)"}
+                   "floor": "truncating (rounding down)",
+                   "half-away-shifted": "rounding half away from the pixel centre (piglit's shifted frame)"}
 # a snapping is taken over none only when it leaves at most this share of the (triangle,
 # pixel)s beyond the tolerance that none leaves (a rasterizer whose error is not a
 # snapping gains little from any, and by chance)
