@@ -381,7 +381,7 @@ out["straight"] = [segment_pixels(cov, k) for k in range(len(scene))]
 fits = {}
 for label, scene in (("float", random_scene(11)), ("quarter", random_scene(12, grid=0.25)),
                      ("below zero", random_scene(13, low=-6.0, high=30.0)), ("far", far_scene())):
-    received = r.received(scene)
+    received = receive(r, scene)
     cov = r.rasterize(scene)
     fits[label] = {name: residual(cov, received, rule) for name, rule in RULES.items()}
     fits[label]["truncated bresenham/floor/no last"] = residual(cov, truncated(received), RULES["bresenham/floor/no last"])
