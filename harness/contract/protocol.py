@@ -172,7 +172,7 @@ def received_of(rasterizer: Rasterizer) -> Callable[[Scene], Scene] | None:
     """The rasterizer's ``received(scene) -> Scene``: its own member when it has one, else
     the scene with every coordinate as its declared input precision receives it
     (:func:`input_of`, :meth:`InputPrecision.apply`); None for float64 input."""
-    received = getattr(rasterizer, "received", None)
+    received: Callable[[Scene], Scene] | None = getattr(rasterizer, "received", None)
     if callable(received):
         return received
     precision = input_of(rasterizer)

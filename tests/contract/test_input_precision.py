@@ -7,11 +7,12 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 import pytest
 
-from harness.contract.conventions import INPUT_ROUNDINGS, Convention, InputPrecision, input_precision
+from harness.contract.conventions import INPUT_ROUNDINGS, Convention, InputPrecision, SnapRounding, input_precision
 from harness.contract.scenes import Scene
 from harness.oracle.coverage import exact_coverage
 from harness.oracle.reference import brute_force_coverage
@@ -197,7 +198,7 @@ def test_identify_recovers_float32_input_on_the_ported_references(port):
     fingerprint = _identified(Float32Fed(inner))
     bits = int(rest[-1])
     tie = "top-left" if kind == "deqp" else (PIGLIT_PORT_DRAWS[rest[0]] if bits == 8 else fingerprint.convention.tie)
-    rounding = "half-away" if kind == "deqp" else "half-away-shifted"  # piglit: in its shifted frame
+    rounding: SnapRounding = "half-away" if kind == "deqp" else "half-away-shifted"  # piglit: in its shifted frame
     want = Convention(tie=tie, subpixel_bits=bits, snap_rounding=rounding, input="float32")
     assert fingerprint.exact and fingerprint.residual == 0 and fingerprint.convention == want, fingerprint.card()
     assert fingerprint.to_dict()["input"] == "float32" and "float32 input" in fingerprint.facts["input"]
@@ -376,10 +377,11 @@ def test_the_adapters_declare_their_input_and_received_follows_it():
         tiny_skia.TinySkia: ("float32", tiny_skia._float32), tiny_skia.TinySkiaAntialiased: ("float32", tiny_skia._float32),
         vulkan.VulkanLavapipe: ("float32", tiny_skia._float32), MesaLlvmpipe: ("float32", tiny_skia._float32),
     }
+    adapter: Any
     for adapter, (name, by_hand) in expected.items():
         assert input_of(adapter).name == name and not hasattr(adapter, "received"), adapter
         received = received_of(adapter)
-        assert received is not None and np.array_equal(received(scene).positions, by_hand(scene).positions), adapter
+        assert received is not None and np.array_equal(received(scene).coordinates, by_hand(scene).coordinates), adapter
     from rasterizers.fixed_point import FixedPoint
 
     assert received_of(FixedPoint(8)) is None  # float64 input: nothing to say

@@ -32,13 +32,17 @@ def _id(port: tuple) -> str:
 
 
 def _port(kind: str, filling: str | None, bits: int):
-    return DeqpReference(bits, arithmetic="float32") if kind == "deqp" else PiglitReference(filling, bits, arithmetic="float32")
+    if kind == "deqp":
+        return DeqpReference(bits, arithmetic="float32")
+    assert filling is not None
+    return PiglitReference(filling, bits, arithmetic="float32")
 
 
 def _named(kind: str, filling: str | None, bits: int) -> Convention:
     """The convention each port's source states: float32 input, the suite's bits and rounding."""
     if kind == "deqp":
         return Convention(tie="top-left", subpixel_bits=bits, snap_rounding="half-away", input="float32")
+    assert filling is not None
     return Convention(tie=PIGLIT_PORT_DRAWS[filling], subpixel_bits=bits, snap_rounding="half-away-shifted", input="float32")
 
 
@@ -76,7 +80,8 @@ def test_float32_arithmetic_is_what_identify_must_see():
     """The float32 ports differ from the float64 ones (the input), piglit's from dEQP's
     rounding (the shifted frame), on the probe scenes."""
     scenes = _scenes(3)  # [4], [6]: a float32 hair off the half steps of 1/16 and 1/256 px
-    assert PiglitReference("top_left", 8, arithmetic="float32").rasterize(scenes[6]) != PiglitReference("top_left", 8).rasterize(scenes[6])
+    piglit32, piglit64 = PiglitReference("top_left", 8, arithmetic="float32"), PiglitReference("top_left", 8)
+    assert piglit32.rasterize(scenes[6]) != piglit64.rasterize(scenes[6])
     assert DeqpReference(4, arithmetic="float32").rasterize(scenes[4]) != DeqpReference(4).rasterize(scenes[4])
     near = _scenes(3)[2]  # half steps in (0, 1/2)
     piglit = Convention(tie="top-left", subpixel_bits=4, snap_rounding="half-away-shifted", input="float32")

@@ -30,7 +30,7 @@ from tests.known_bad.conventions import DropsHuge, HalfAwayClaimsNearestEven, YF
 from tests.known_bad.coverage_rules import BoxOverestimate, OpenUnderestimate, StrictThreshold
 from tests.known_bad.edge_functions import BUGS as EDGE_BUGS
 from tests.known_bad.edge_functions import EdgeFunctionBug
-from tests.known_bad.inputs import Float32ClaimsFloat64, TruncatesClaimsFloat64
+from tests.known_bad.inputs import Float32ClaimsFloat64, TruncatesClaimsFloat64, UnshiftedClaimsPiglit
 from tests.known_bad.lines import (
     BackwardPrestep,
     BothEndPixels,
@@ -74,7 +74,7 @@ def _all() -> list[Any]:
         RoundingDDA(), BothEndPixels(), YMajorAlongX(), OffByOneLast(), Float32DDA(), LeftmostFirst(), BackwardPrestep(),
         RareSlopeTie(),
         TruncatesClaimsFloat64(), Float32ClaimsFloat64(), StrictThreshold(), BoxOverestimate(), OpenUnderestimate(),
-        FullWidthOffset(),
+        FullWidthOffset(), UnshiftedClaimsPiglit(),
     ]
 
 
