@@ -385,3 +385,28 @@ def test_the_adapters_declare_their_input_and_received_follows_it():
     from rasterizers.fixed_point import FixedPoint
 
     assert received_of(FixedPoint(8)) is None  # float64 input: nothing to say
+
+
+def test_invariance_takes_a_declared_roundings_own_changes_under_translation_as_its_rule():
+    """piglit's rounding is not translation invariant in the first half pixel (its ties go down
+    there, up beyond 1/2; half away from zero is not either, left of 0): the invariance check
+    excuses what the declared convention's own exact coverage changes under the shift, and
+    nothing else."""
+    from cases.suites import suite
+    from harness import run_suite
+    from rasterizers.fixed_point import FixedPoint
+
+    case = [c for c in suite("quick") if getattr(c, "id", "") == "lattice/first-half-pixel"]
+    right = FixedPoint(4, snap_rounding="half-away-shifted")
+    results = run_suite([right], cases=case, repros=False, only={"invariance", "conformance"}, isolate=False)
+    assert [r.status for r in results] == ["pass", "pass"], [r.message for r in results]
+    class Wrong:  # piglit's rounding declared as half away from zero, translation invariant there
+        name, interpolates = "shifted_claims_half_away", False
+        convention = replace(right.convention, snap_rounding="half-away")
+
+        def rasterize(self, scene: Scene) -> Any:
+            return right.rasterize(scene)
+
+    wrong = Wrong()
+    results = run_suite([wrong], cases=case, repros=False, only={"invariance"}, isolate=False)
+    assert [r.status for r in results] == ["fail"] and "translate" in results[0].message
