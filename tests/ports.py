@@ -16,13 +16,14 @@ values would not fit their int64 arithmetic, as the built-in ``fixed_point`` doe
 ``float`` (rounded to nearest-even), and the rounding to fixed point is float32 arithmetic
 (dEQP ``v * (float)(1 << bits) + (v < 0.f ? -0.5f : 0.5f)``; piglit ``FIXED_ONE * (v +
 center_offset)``, then ``iround``'s ``v += 0.5f``), truncated by the ``(int64_t)`` cast. Those
-float32 sums are exact where the suites draw; they round (ties to even) only beyond
-2**(23 - bits) px, where the float32 ports refuse the coordinates (as the int64 limit), and,
-for dEQP, at ``v * 2**bits`` just below 1/2 by less than 2**-25 (``0.49999997f + 0.5f`` is
-``1.0f``: |v| < 2**-(bits + 1) px carrying float32 bits below 2**-(25 + bits); piglit's
-operands never carry such bits). The float32 piglit port's ``v - 0.5f`` also rounds when
-|v| < 1/2 carries bits below 2**-25; the test of these ports
-(``tests/identify/test_ports_float32.py``) shows those coordinates.
+float32 sums are exact where the suites draw, so the float32 ports draw float32 input
+snapped by their named roundings exactly, but for two artifacts of the arithmetic (no
+rule): beyond 2**(22 - bits) px ``v + 0.5f`` rounds to even, where the float32 ports
+refuse the coordinates (as beyond the int64 limit); and near the origin a float32 carrying
+bits below 2**-25 px is rounded once more -- dEQP's ``v * 2**bits + 0.5f`` at ``v * 2**bits``
+within 2**-25 below 1/2 (``0.49999997f + 0.5f`` is ``1.0f``), piglit's ``v - 0.5f`` for v in
+(-1/2, 1/4) (onto a tie, which ``iround`` then takes away from zero).
+``tests/identify/test_ports_float32.py`` shows both.
 """
 
 from __future__ import annotations
