@@ -359,6 +359,7 @@ import numpy as np
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene, Unsupported
 from harness.contract.conventions import Convention
+from harness.contract.protocol import receive
 from harness.oracle.coverage import exact_coverage
 from harness.engine.registry import Unavailable, load
 from tests.rasterizers.real.test_adapters_lines import (ELBOW, JOINT, RULES, W, H, far_scene, hits, pixel_set, random_scene,

@@ -431,6 +431,7 @@ import json, sys
 import numpy as np
 from harness.contract.scenes import PathScene, Scene
 from harness.contract.conventions import Convention, TIE_RULES
+from harness.contract.protocol import receive
 from harness.oracle.coverage import exact_coverage
 from harness.engine.registry import Unavailable, load
 from tests.rasterizers.real.test_adapters_paths import scenes, star, W, H
