@@ -170,12 +170,14 @@ def input_of(rasterizer: Rasterizer) -> InputPrecision:
 
 def received_of(rasterizer: Rasterizer) -> Callable[[Scene], Scene] | None:
     """The rasterizer's ``received(scene) -> Scene``: its own member when it has one, else
-    the scene with every coordinate as its declared input precision receives it
-    (:func:`input_of`, :meth:`InputPrecision.apply`); None for float64 input."""
+    the scene with every coordinate as its ``input`` member says the library receives it
+    (:meth:`InputPrecision.apply`); None for neither, or float64 input. (A convention's
+    ``input`` is no account of a failure: its oracle applies it already.)"""
     received: Callable[[Scene], Scene] | None = getattr(rasterizer, "received", None)
     if callable(received):
         return received
-    precision = input_of(rasterizer)
+    declared = getattr(rasterizer, "input", None)
+    precision = InputPrecision() if declared is None else input_precision(declared)
     if precision.kind == "float64":
         return None
 

@@ -385,6 +385,18 @@ def test_the_adapters_declare_their_input_and_received_follows_it():
     from rasterizers.fixed_point import FixedPoint
 
     assert received_of(FixedPoint(8)) is None  # float64 input: nothing to say
+    assert received_of(FixedPoint(8, snap_rounding="half-away")) is None  # a convention's input is its oracle's, no account
+    from harness.engine.registry import Renamed
+
+    class Box:  # a plugin declaring its input only
+        name, convention, input = "box", None, "fixed6"
+
+        def rasterize(self, scene: Scene) -> Any:
+            return exact_coverage(scene, Convention())
+
+    renamed, own = received_of(Renamed(Box(), "box#2")), received_of(Box())  # the wrappers keep the declaration
+    assert renamed is not None and own is not None
+    assert np.array_equal(renamed(scene).coordinates, own(scene).coordinates)
 
 
 def test_invariance_takes_a_declared_roundings_own_changes_under_translation_as_its_rule():
