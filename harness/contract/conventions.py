@@ -188,6 +188,7 @@ __all__ = [
     "PIGLIT_NAMES",
     "SNAP_ROUNDINGS",
     "SNAP_ROUNDING_WORDS",
+    "PLAIN_SNAP_ROUNDINGS",
     "CULL_MODES",
     "MAX_SUBPIXEL_BITS",
     "SAMPLE_FRACTION_BITS",
@@ -276,6 +277,10 @@ PIGLIT_NAMES: dict[str, TieRule] = {
 CULL_MODES: tuple[CullMode, ...] = ("none", "cw", "ccw")
 # appended last: a later rounding loses every tie of identify's fits to the earlier ones
 SNAP_ROUNDINGS: tuple[SnapRounding, ...] = ("nearest-even", "half-away", "floor", "half-away-shifted")
+# The snap roundings that part outside the first half pixel: the probes of lines, area grids
+# and coverage rules fit these (their scenes hold no half step in (0, 1/2), where alone piglit's
+# shifted frame parts from half-away); the triangle snapping fit has such scenes and fits all.
+PLAIN_SNAP_ROUNDINGS: tuple[SnapRounding, ...] = ("nearest-even", "half-away", "floor")
 # a few words per snap rounding, for people
 SNAP_ROUNDING_WORDS: dict[str, str] = {
     "nearest-even": "half to even", "half-away": "half away from zero", "floor": "rounding down",

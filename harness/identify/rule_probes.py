@@ -33,7 +33,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.contract.conventions import SNAP_ROUNDINGS, Convention
+from harness.contract.conventions import PLAIN_SNAP_ROUNDINGS, Convention
 from harness.contract.coverage import Coverage
 from harness.contract.coverage_models import COVERAGE_RULES
 from harness.contract.scenes import Scene
@@ -48,7 +48,7 @@ SIZE = 16
 _AREA_SLACK = 2.0**-30
 # the snappings tried: none, then 4, 6 and 8 bits under each rounding
 SNAPPINGS: tuple[tuple[int | None, str], ...] = ((None, "nearest-even"),
-                                                 *((b, r) for b in (4, 6, 8) for r in SNAP_ROUNDINGS))
+                                                 *((b, r) for b in (4, 6, 8) for r in PLAIN_SNAP_ROUNDINGS))
 
 
 def probe_scenes(seed: int = 0, count: int = 36) -> list[Scene]:
