@@ -10,9 +10,20 @@ a new user would port them: they declare no convention, so ``identify`` must fin
   ``iround(FIXED_ONE * (v - 0.5))`` (half away from zero in the frame of the pixel
   centre), a +1 bias on the edges its filling convention owns, ``E > 0`` per pixel.
 
-Both round exactly on float64 input (dEQP and piglit round float32 input; that is the
-input format, not the rule) and refuse coordinates whose fixed-point values would not
-fit their int64 arithmetic, as the built-in ``fixed_point`` does.
+Both round exactly on float64 input by default and refuse coordinates whose fixed-point
+values would not fit their int64 arithmetic, as the built-in ``fixed_point`` does. With
+``arithmetic="float32"`` they compute as their sources do: the vertex arrives as a C
+``float`` (rounded to nearest-even), and the rounding to fixed point is float32 arithmetic
+(dEQP ``v * (float)(1 << bits) + (v < 0.f ? -0.5f : 0.5f)``; piglit ``FIXED_ONE * (v +
+center_offset)``, then ``iround``'s ``v += 0.5f``), truncated by the ``(int64_t)`` cast. Those
+float32 sums are exact where the suites draw, so the float32 ports draw float32 input
+snapped by their named roundings exactly, but for two artifacts of the arithmetic (no
+rule): beyond 2**(22 - bits) px ``v + 0.5f`` rounds to even, where the float32 ports
+refuse the coordinates (as beyond the int64 limit); and near the origin a float32 carrying
+bits below 2**-25 px is rounded once more -- dEQP's ``v * 2**bits + 0.5f`` at ``v * 2**bits``
+within 2**-25 below 1/2 (``0.49999997f + 0.5f`` is ``1.0f``), piglit's ``v - 0.5f`` for v in
+(-1/2, 1/4) (onto a tie, which ``iround`` then takes away from zero).
+``tests/identify/test_ports_float32.py`` shows both.
 """
 
 from __future__ import annotations
@@ -25,7 +36,29 @@ from harness.contract.scenes import Scene
 from harness.geometry.exact import frozen
 from rasterizers._common import check_range
 
-__all__ = ["DeqpReference", "PiglitReference", "PIGLIT_CONVENTIONS"]
+__all__ = ["DeqpReference", "PiglitReference", "PIGLIT_CONVENTIONS", "ARITHMETICS"]
+
+# how the ports compute the fixed-point vertices: exactly on float64 input, or as the sources do
+ARITHMETICS = ("float64", "float32")
+
+
+def _float32_limit(bits: int) -> float:
+    """Where a float32 port's sums stop being exact: |v * 2**bits| >= 2**22 (an ulp of 1/2
+    and more: ``v + 0.5f`` rounds to even)."""
+    return 2.0 ** (22 - bits)
+
+
+def _received32(positions: np.ndarray, finite: np.ndarray) -> np.ndarray:
+    """The coordinates as C ``float``s (round to nearest-even), non-finite triangles zeroed."""
+    with np.errstate(over="ignore"):
+        received: np.ndarray = np.where(finite[:, None, None], positions, 0.0).astype(np.float32)
+    return received
+
+
+def _truncated32(v: np.ndarray) -> np.ndarray:
+    """``(int64_t)v`` of float32 values: toward zero (exact: a float32's integer part is one)."""
+    out: np.ndarray = np.trunc(v).astype(np.int64)
+    return out
 
 
 def _half_away(scaled: np.ndarray) -> np.ndarray:
@@ -41,17 +74,26 @@ class DeqpReference:
     convention = None
     interpolates = False  # coverage only, as the suites compare coverage
 
-    def __init__(self, bits: int = 8, horizontal_fill: str = "left", vertical_fill: str = "bottom") -> None:
-        self.bits = bits
+    def __init__(self, bits: int = 8, horizontal_fill: str = "left", vertical_fill: str = "bottom",
+                 arithmetic: str = "float64") -> None:
+        if arithmetic not in ARITHMETICS:
+            raise ValueError(f"arithmetic must be one of {ARITHMETICS}, not {arithmetic!r}")
+        self.bits, self.arithmetic = bits, arithmetic
         self.horizontal_fill, self.vertical_fill = horizontal_fill, vertical_fill
-        self.name = f"deqp_reference_{bits}"
+        self.name = f"deqp_reference_{bits}" + ("_float32" if arithmetic == "float32" else "")
 
     def rasterize(self, scene: Scene) -> Coverage:
         bits = self.bits
         limit = 2.0 ** (29 - bits)  # products of 2**31-sized fixed-point values stay in int64
         check_range(scene, limit, self.name, "its int64 edge functions overflow beyond that")
         finite = np.all(np.isfinite(scene.positions), axis=(1, 2))
-        fixed = _half_away(np.where(finite[:, None, None], scene.positions, 0.0) * float(1 << bits))
+        if self.arithmetic == "float32":
+            check_range(scene, _float32_limit(bits), self.name, "its float32 sum v * 2**bits + 0.5f rounds beyond that")
+            v = _received32(scene.positions, finite)
+            # toSubpixelCoord: (int64_t)(v * (float)(1 << bits) + (v < 0.f ? -0.5f : 0.5f)), all float32
+            fixed = _truncated32(v * np.float32(1 << bits) + np.where(v < 0, np.float32(-0.5), np.float32(0.5)))
+        else:
+            fixed = _half_away(np.where(finite[:, None, None], scene.positions, 0.0) * float(1 << bits))
         left, bottom = self.horizontal_fill == "left", self.vertical_fill == "bottom"
         out = _deqp_kernel(frozen(fixed, np.int64), finite, bits, left, bottom, scene.width, scene.height)
         return _fragments(out)
@@ -160,17 +202,27 @@ class PiglitReference:
     convention = None
     interpolates = False  # coverage only, as the suites compare coverage
 
-    def __init__(self, filling: str = "top_left", bits: int = 8) -> None:
+    def __init__(self, filling: str = "top_left", bits: int = 8, arithmetic: str = "float64") -> None:
+        if arithmetic not in ARITHMETICS:
+            raise ValueError(f"arithmetic must be one of {ARITHMETICS}, not {arithmetic!r}")
         self.code = np.array(PIGLIT_CONVENTIONS[filling], dtype=np.int64)
-        self.shift = bits
-        self.name = f"piglit_reference_{filling}_{bits}"
+        self.shift, self.arithmetic = bits, arithmetic
+        self.name = f"piglit_reference_{filling}_{bits}" + ("_float32" if arithmetic == "float32" else "")
 
     def rasterize(self, scene: Scene) -> Coverage:
         shift = self.shift
         one = 1 << shift
         check_range(scene, 2.0 ** (29 - shift), self.name, "its int64 edge functions overflow beyond that")
         finite = np.all(np.isfinite(scene.positions), axis=(1, 2))
-        # iround(FIXED_ONE * (v + center_offset)): exact, since v * 2**shift - 2**(shift-1) is
-        fixed = _half_away(np.where(finite[:, None, None], scene.positions, 0.0) * float(one) - float(one // 2))
+        if self.arithmetic == "float32":
+            check_range(scene, _float32_limit(shift), self.name, "its float32 sum v + 0.5f rounds beyond that")
+            # iround(FIXED_ONE * (tri[i].x + center_offset)), all float32: the sum, the
+            # product (a power of two: exact), then iround's v += 0.5f (v -= 0.5f below 0)
+            v = np.float32(one) * (_received32(scene.positions, finite) + np.float32(-0.5))
+            fixed = _truncated32(np.where(v > 0, v + np.float32(0.5), np.where(v < 0, v - np.float32(0.5), v)))
+        else:
+            # iround(FIXED_ONE * (v + center_offset)) in float64: v * 2**shift is exact, the
+            # difference rounds only for |v| < 1/2 carrying bits below 2**-53
+            fixed = _half_away(np.where(finite[:, None, None], scene.positions, 0.0) * float(one) - float(one // 2))
         return _fragments(_piglit_kernel(frozen(fixed, np.int64), finite, shift, self.code, scene.width, scene.height))
 

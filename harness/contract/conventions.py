@@ -78,9 +78,12 @@ A convention is sample point + tie rule + snapping (+ culling)
     3. Snapping ``subpixel_bits = n``: every coordinate c becomes ``round(c * 2**n) / 2**n``
        before anything else, rounding half to even (``nearest-even``: D3D, GL drivers),
        half away from zero (``half-away``: ``(int64)(v * 2**n +/- 0.5)``, dEQP's reference
-       renderer and piglit's reference rasterizer) or down (``floor``: truncating
-       fixed-point conversion, skia). ``None``: no snapping, decisions are exact on the
-       float64 input.
+       renderer), down (``floor``: truncating fixed-point conversion, skia), or half away
+       from zero in the frame shifted by half a pixel (``half-away-shifted``: piglit's
+       ``rast_triangle``, ``iround(2**n * (c - 1/2))`` with its ``iround`` half away from
+       zero, the half pixel added back: a tie c*2**n = k + 1/2 rounds up when c > 1/2 and
+       down when c < 1/2 -- unlike ``half-away``, which rounds the ties in (0, 1/2) up).
+       ``None``: no snapping, decisions are exact on the float64 input.
     4. Culling ``none | cw | ccw``: ``cw`` removes triangles with snapped A > 0 (clockwise
        on screen), ``ccw`` those with A < 0.
 
@@ -199,6 +202,8 @@ __all__ = [
     "TIE_PERTURBATION",
     "PIGLIT_NAMES",
     "SNAP_ROUNDINGS",
+    "SNAP_ROUNDING_WORDS",
+    "PLAIN_SNAP_ROUNDINGS",
     "CULL_MODES",
     "MAX_SUBPIXEL_BITS",
     "SAMPLE_FRACTION_BITS",
@@ -275,7 +280,7 @@ DROPOUT_MODES: tuple[DropoutMode, ...] = ("none", "simple", "smart")
 # (butt), the rectangle extended by w/2 at both ends (square), or half discs (round).
 LineCap = Literal["butt", "square", "round"]
 LINE_CAPS: tuple[LineCap, ...] = ("butt", "square", "round")
-SnapRounding = Literal["nearest-even", "half-away", "floor"]
+SnapRounding = Literal["nearest-even", "half-away", "floor", "half-away-shifted"]
 # How a fixed-point or integer input grid rounds what it receives: the snap roundings and C's
 # ``(int)`` cast (toward zero).
 InputRounding = Literal["nearest-even", "half-away", "floor", "toward-zero"]
@@ -308,7 +313,16 @@ PIGLIT_NAMES: dict[str, TieRule] = {
     "left_bottom": "top-left-y-first", "right_bottom": "top-right-y-first",
 }
 CULL_MODES: tuple[CullMode, ...] = ("none", "cw", "ccw")
-SNAP_ROUNDINGS: tuple[SnapRounding, ...] = ("nearest-even", "half-away", "floor")
+# appended last: a later rounding loses every tie of identify's fits to the earlier ones
+SNAP_ROUNDINGS: tuple[SnapRounding, ...] = ("nearest-even", "half-away", "floor", "half-away-shifted")
+# The snap roundings that part outside the first half pixel: the probes of lines, area grids
+# and coverage rules fit these (their scenes hold no half step in (0, 1/2), where alone piglit's
+# shifted frame parts from half-away); the triangle snapping fit has such scenes and fits all.
+PLAIN_SNAP_ROUNDINGS: tuple[SnapRounding, ...] = ("nearest-even", "half-away", "floor")
+# a few words per snap rounding, for people
+SNAP_ROUNDING_WORDS: dict[str, str] = {
+    "nearest-even": "half to even", "half-away": "half away from zero", "floor": "rounding down",
+    "half-away-shifted": "half away from the pixel centre, piglit's shifted frame"}
 MAX_SUBPIXEL_BITS = 16
 # A sample offset must be a multiple of 2**-32 so that i + sx is exact for every pixel
 # column i of any viewport up to 2**20 pixels wide.
@@ -501,7 +515,8 @@ class LineRule:
     def describe(self) -> str:
         """One line for people."""
         own = {None: "", "nearest-even": ", line ends snapped to nearest-even", "half-away":
-               ", line ends snapped half away from zero", "floor": ", line ends snapped down"}[self.snap_rounding]
+               ", line ends snapped half away from zero", "floor": ", line ends snapped down",
+               "half-away-shifted": ", line ends snapped half away in piglit's shifted frame"}[self.snap_rounding]
         return self._rule_words() + own
 
     def _rule_words(self) -> str:
@@ -668,10 +683,12 @@ class Convention:
         Snap vertices to multiples of 2**-n, 0 <= n <= 16, or None.
     cull : {"none", "cw", "ccw"}
         Remove triangles running clockwise (A > 0) or counter-clockwise on screen.
-    snap_rounding : {"nearest-even", "half-away", "floor"}
+    snap_rounding : {"nearest-even", "half-away", "floor", "half-away-shifted"}
         How snapping rounds: to nearest, ties to even (D3D, GL drivers), to nearest, ties
-        away from zero (dEQP's and piglit's reference rasterizers), or down (truncating
-        fixed-point conversion, as skia's ``int(x * 64)``).
+        away from zero (dEQP's reference renderer), down (truncating fixed-point
+        conversion, as skia's ``int(x * 64)``), or to nearest with ties away from zero in the
+        frame shifted by half a pixel (piglit's reference rasterizer, ``iround(FIXED_ONE *
+        (v - 0.5))``: ties above the line c = 1/2 round up, ties at or below it down).
     samples : int, sequence of (x, y) or None
         A multisample pattern (:func:`harness.contract.samples.pattern`): a standard count (1, 2,
         4, 8, 16) or up to :data:`MAX_SAMPLES` dyadic offsets in [0, 1)^2 (up to
@@ -1036,7 +1053,8 @@ class Convention:
         if self.subpixel_bits is None:
             return received + "no snapping"
         return received + (f"snapped to 1/{2**self.subpixel_bits} px ({self.subpixel_bits} bits"
-                + {"nearest-even": ")", "half-away": ", half away from zero)", "floor": ", rounding down)"}[self.snap_rounding])
+                + {"nearest-even": ")", "half-away": ", half away from zero)", "floor": ", rounding down)",
+                   "half-away-shifted": ", half away in the frame shifted by half a pixel)"}[self.snap_rounding])
 
     def describe(self) -> str:
         """One line for people: sample point, ties, snapping, culling; a sample pattern in a
@@ -1100,7 +1118,10 @@ class Convention:
 def snap(positions: NDArray[np.float64], subpixel_bits: int | None, rounding: str = "nearest-even") -> NDArray[np.float64]:
     """Snap coordinates to multiples of ``2**-subpixel_bits``, rounding to nearest with
     ties to even (``"nearest-even"``), to nearest with ties away from zero
-    (``"half-away"``), or down (``"floor"``).
+    (``"half-away"``), or down (``"floor"``); or (``"half-away-shifted"``, piglit) to
+    ``(iround(2**n * (c - 1/2)) + 2**(n-1)) / 2**n`` with ``iround`` half away from zero:
+    the same grid for n >= 1 (the pixel centres for n = 0), ties going away from the line
+    c = 1/2 instead of from 0.
 
     Exact for every float64: scaling by a power of two is exact, ``np.rint`` rounds half
     to even, ``np.floor`` and ``np.trunc`` are exact, so is a float's fractional part
@@ -1111,7 +1132,7 @@ def snap(positions: NDArray[np.float64], subpixel_bits: int | None, rounding: st
     ----------
     positions : (..., 2) float64
     subpixel_bits : int or None
-    rounding : {"nearest-even", "half-away", "floor"}
+    rounding : {"nearest-even", "half-away", "floor", "half-away-shifted"}
 
     Returns
     -------
@@ -1125,6 +1146,8 @@ def snap(positions: NDArray[np.float64], subpixel_bits: int | None, rounding: st
     array([ 0.25,  0.5 , -0.25, -0.5 ])
     >>> snap(np.array([0.125, 0.375, -0.125, -0.375]), 2, "floor")
     array([ 0.  ,  0.25, -0.25, -0.5 ])
+    >>> snap(np.array([0.125, 0.375, 0.625, -0.125]), 2, "half-away-shifted")
+    array([ 0.  ,  0.25,  0.75, -0.25])
     """
     positions = np.asarray(positions, dtype=np.float64)
     if subpixel_bits is None:
@@ -1138,6 +1161,8 @@ def snap(positions: NDArray[np.float64], subpixel_bits: int | None, rounding: st
     scaled = positions[small] * scale
     if rounding == "floor":
         rounded = np.floor(scaled)
+    elif rounding == "half-away-shifted":
+        rounded = _half_away_shifted(scaled, subpixel_bits)
     elif rounding == "half-away":
         # (int64)(v + 0.5) for v >= 0 and (int64)(v - 0.5) below, without the float sum's
         # rounding: truncate, then step away from zero when the dropped part is >= 1/2.
@@ -1147,6 +1172,22 @@ def snap(positions: NDArray[np.float64], subpixel_bits: int | None, rounding: st
         rounded = np.rint(scaled)
     snapped[small] = rounded / scale
     return snapped
+
+
+def _half_away_shifted(scaled: NDArray[np.float64], bits: int) -> NDArray[np.float64]:
+    """``iround(s - h) + h`` for ``s = c * 2**bits`` and ``h = 2**(bits-1)``, exactly (``s - h``
+    itself may round in float64): above h, ``s - h`` is positive and rounds half up, i.e.
+    ``floor(s) + [frac(s) >= 1/2]`` (h is an integer); at or below h it rounds half down,
+    ``ceil(s) - [ceil(s) - s >= 1/2]``. With 0 bits h = 1/2 and the result a pixel centre:
+    ``floor(s) + 1/2`` above h, ``ceil(s) - 1/2`` at or below (``iround(c - 1/2) + 1/2``)."""
+    half = 2.0 ** (bits - 1)
+    floor, ceil = np.floor(scaled), np.ceil(scaled)
+    if bits == 0:
+        return np.where(scaled > half, floor + 0.5, ceil - 0.5)
+    up = floor + (scaled - floor >= 0.5)
+    down = ceil - (ceil - scaled >= 0.5)
+    rounded: NDArray[np.float64] = np.where(scaled > half, up, down)
+    return rounded
 
 
 @numba.njit(cache=True, inline="always")

@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Protocol, runtime_checkable
 
-from harness.contract.conventions import FILL_RULES, Convention
+from harness.contract.conventions import FILL_RULES, Convention, InputPrecision, input_precision
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, Scene
 from harness.kinds import LINES, PATHS, kind_of
@@ -34,9 +34,16 @@ class Rasterizer(Protocol):
         False for a coverage-only rasterizer (True when absent): its hygiene check then
         accepts missing attribute rows, and the texel and perspective checks are skipped
         with that reason instead of failing.
+    input : str or InputPrecision
+        The coordinates the library receives (:class:`harness.contract.conventions.InputPrecision`:
+        ``"float32"`` at the GL and Vulkan APIs, ``"fixed6"`` for FreeType's 26.6,
+        ``"fixed8-toward-zero"`` for AGG 2.0's ``int(c * 256)``), for a rasterizer that declares
+        no convention (one that does says it in ``Convention(input=...)``). Read by
+        :func:`input_of` and :func:`received_of`.
     received : callable, ``received(scene) -> Scene``
-        The scene as the library really receives it (e.g. positions rounded to float32 at
-        the GL API): a failure that passes on it is blamed on the input format.
+        The scene as the library really receives it, for an input format ``input`` cannot
+        say: a failure that passes on it is blamed on the input format. Read by
+        :func:`received_of`, which otherwise derives it from the declared input.
     fingerprint : harness.identify.fingerprint.Fingerprint
         Set by rastercheck on a rasterizer that declares no convention: what identify
         found, so that verdicts against a best guess say so.
@@ -145,10 +152,46 @@ def interpolates_of(rasterizer: Rasterizer) -> bool:
     return bool(getattr(rasterizer, "interpolates", True))
 
 
+def input_of(rasterizer: Rasterizer) -> InputPrecision:
+    """The input precision the rasterizer declares: its ``input`` member, else its
+    convention's ``input``, else float64 (what the scene holds).
+
+    >>> class Box:
+    ...     name, convention, input = "box", None, "fixed6"
+    >>> input_of(Box()).describe()
+    '26.6 fixed-point input (1/64 px, nearest-even)'
+    """
+    declared = getattr(rasterizer, "input", None)
+    if declared is not None:
+        return input_precision(declared)
+    convention = getattr(rasterizer, "convention", None)
+    return convention.input_precision if isinstance(convention, Convention) else InputPrecision()
+
+
 def received_of(rasterizer: Rasterizer) -> Callable[[Scene], Scene] | None:
-    """The rasterizer's ``received(scene) -> Scene``, or None when it has none."""
-    received = getattr(rasterizer, "received", None)
-    return received if callable(received) else None
+    """The rasterizer's ``received(scene) -> Scene``: its own member when it has one, else
+    the scene with every coordinate as its ``input`` member says the library receives it
+    (:meth:`InputPrecision.apply`); None for neither, or float64 input. (A convention's
+    ``input`` is no account of a failure: its oracle applies it already.)"""
+    received: Callable[[Scene], Scene] | None = getattr(rasterizer, "received", None)
+    if callable(received):
+        return received
+    declared = getattr(rasterizer, "input", None)
+    precision = InputPrecision() if declared is None else input_precision(declared)
+    if precision.kind == "float64":
+        return None
+
+    def as_received(scene: Any) -> Any:
+        return scene.with_coordinates(precision.apply(scene.coordinates))
+
+    return as_received
+
+
+def receive(rasterizer: Rasterizer, scene: Any) -> Any:
+    """``scene`` as the rasterizer's library receives it (:func:`received_of`; unchanged for
+    float64 input)."""
+    received = received_of(rasterizer)
+    return scene if received is None else received(scene)
 
 
 def fingerprint_of(rasterizer: Rasterizer) -> Any:

@@ -331,7 +331,7 @@ class Renamed:
 
     def __init__(self, inner: Rasterizer, name: str) -> None:
         self.inner, self.name, self.convention = inner, name, inner.convention
-        for optional in ("interpolates", "received", "fingerprint", "scene_kinds", "fill_rules", "path_convention",
+        for optional in ("interpolates", "received", "input", "fingerprint", "scene_kinds", "fill_rules", "path_convention",
                          "line_convention"):
             if hasattr(inner, optional):
                 setattr(self, optional, getattr(inner, optional))

@@ -27,7 +27,7 @@ from cases.scenes import random_triangles
 from harness.contract.conventions import (
     MAX_AREA_SAMPLES,
     MAX_SUBPIXEL_BITS,
-    SNAP_ROUNDINGS,
+    PLAIN_SNAP_ROUNDINGS,
     TIE_RULES,
     Convention,
     CullMode,
@@ -457,7 +457,8 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
 # --- area: the input grid ------------------------------------------------------------------------
 
 _ROUNDING_WORDS = {"nearest-even": "rounding half to even", "half-away": "rounding half away from zero",
-                   "floor": "truncating (rounding down)"}
+                   "floor": "truncating (rounding down)",
+                   "half-away-shifted": "rounding half away from the pixel centre (piglit's shifted frame)"}
 # a snapping is taken over none only when it leaves at most this share of the (triangle,
 # pixel)s beyond the tolerance that none leaves (a rasterizer whose error is not a
 # snapping gains little from any, and by chance)
@@ -579,13 +580,13 @@ def input_grid(call: Call, base: Convention, scenes: Sequence[_AlphaDrawn], draw
     rounding is fitted there too."""
     exact = replace(base, tolerance=None, subpixel_bits=None, snap_rounding="nearest-even")
     none = _grid_key(scenes, exact)
-    grids = [(b, r) for b in range(MAX_SUBPIXEL_BITS + 1) for r in SNAP_ROUNDINGS]
+    grids = [(b, r) for b in range(MAX_SUBPIXEL_BITS + 1) for r in PLAIN_SNAP_ROUNDINGS]
     # every grid on part of the first float scene, the few best of them on every scene
     first = [_alpha_part(x, _SHORT_PART) for x in scenes[1:2] if x.coverage is not None]
     if first:
         grids = sorted(grids, key=lambda g: _grid_key(first, replace(exact, subpixel_bits=g[0],
                                                                      snap_rounding=g[1])))[:_GRID_SHORTLIST]
-    ranked = sorted((_grid_key(scenes, replace(exact, subpixel_bits=b, snap_rounding=r)), b, SNAP_ROUNDINGS.index(r), r)
+    ranked = sorted((_grid_key(scenes, replace(exact, subpixel_bits=b, snap_rounding=r)), b, PLAIN_SNAP_ROUNDINGS.index(r), r)
                     for b, r in grids)
     (beyond, error), bits, _, rounding = ranked[0]
     if not (beyond < none[0] and beyond <= _GRID_GAIN * none[0] and error < none[1]):
@@ -594,8 +595,8 @@ def input_grid(call: Call, base: Convention, scenes: Sequence[_AlphaDrawn], draw
     halves = [_AlphaDrawn(half, call(half)) for half in (_half_steps(x.scene, bits) for x in floats)]
     drawn += halves
     parted = sorted((_grid_key([*scenes, *halves], replace(exact, subpixel_bits=bits, snap_rounding=r)),
-                     SNAP_ROUNDINGS.index(r), r)
-                    for r in SNAP_ROUNDINGS)
+                     PLAIN_SNAP_ROUNDINGS.index(r), r)
+                    for r in PLAIN_SNAP_ROUNDINGS)
     rounding = parted[0][2]
     tied = tuple(r for key, _, r in parted if key[0] == parted[0][0][0])
     final = _grid_key(scenes, replace(exact, subpixel_bits=bits, snap_rounding=rounding))

@@ -783,6 +783,8 @@ class Identified:
         self.interpolates = interpolates_of(inner)
         if hasattr(inner, "received"):
             self.received = inner.received
+        if hasattr(inner, "input"):  # the input precision it declares (read by received_of)
+            self.input = inner.input
         self.fingerprint = fingerprint
         self.scene_kinds = scene_kinds_of(inner)
         path = fingerprint.path_convention

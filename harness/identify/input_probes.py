@@ -102,7 +102,41 @@ def input_scenes(convention: Convention, seed: int = 0) -> list[Scene]:
     # vertices on both sides of zero, where floor and truncation part: a sliver of screen in
     # the top-left corner reached from far-off vertices
     far = rng.uniform(-3.0, 12.0, size=(80, 3, 2))
-    return [Scene(56, max(56, height), tris), Scene(16, 16, far)]
+    scenes = [Scene(56, max(56, height), tris), Scene(16, 16, far)]
+    if convention.snap_rounding == "half-away-shifted" and convention.subpixel_bits is not None:
+        scenes.append(first_half_pixel_scene(convention))
+    return scenes
+
+
+def first_half_pixel_scene(convention: Convention) -> Scene:
+    """For piglit's rounding (half away from the pixel centre, which rounds the half steps in
+    (0, 1/2) down): triangles whose first vertex sits a hair above or below such a half step t
+    in x, where a coarser input grid's rounding toward zero parts from float64 (it lands on t,
+    which rounds down, where the exact value rounds up) and nowhere else. Each triangle's
+    edge from that vertex passes exactly through a sample point when the vertex snaps up (or,
+    the twin, down), with the third vertex on either side: the tie rule owns the sample on the
+    edge, the other snap puts it strictly on one side, and for one of the twins the two differ.
+
+    >>> first_half_pixel_scene(Convention(subpixel_bits=4, snap_rounding="half-away-shifted")).positions.shape
+    (128, 3, 2)
+    """
+    bits = convention.subpixel_bits
+    assert bits is not None
+    step = 2.0**-bits
+    sx, sy = convention.sample
+    sample = np.array([1.0 + sx, 5.0 + sy])
+    halves = [(k + 0.5) * step for k in range(2 ** max(bits - 1, 0))]
+    halves = halves[:: max(1, len(halves) // 8)][:8]  # up to 8 of them, spread over (0, 1/2)
+    tris = []
+    for t in halves:
+        for nudge in (2.0**-21, 2.0**-10):
+            for sign in (1.0, -1.0):
+                for on in (t + step / 2, t - step / 2):  # the snapped x the edge is laid through the sample for
+                    c = np.array([t + sign * nudge, 3.0])
+                    far = 2.0 * sample - np.array([on, 3.0])  # the sample is the midpoint of (on, 3) -> far
+                    for side in (3.0, -3.0):
+                        tris.append((c, far, sample + np.array([side, 0.0])))
+    return Scene(16, 16, np.array(tris, dtype=np.float64))
 
 
 def _candidates(best: Convention, lattice: list[NDArray[np.float64]]) -> list[Convention]:

@@ -104,7 +104,7 @@ from harness.contract.conventions import (
     LINE_DIRECTIONS,
     LINE_RULES,
     MAX_SUBPIXEL_BITS,
-    SNAP_ROUNDINGS,
+    PLAIN_SNAP_ROUNDINGS,
     TIE_RULES,
     Convention,
     LineRule,
@@ -580,14 +580,14 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
     # 2. snapping, on end points next to decision boundaries and on floats
     floats = [_draw(call, nudged_lines(seed), received), _draw(call, float_lines(seed), received)]
     snaps: list[tuple[int | None, SnapRounding]] = [(None, "nearest-even")]
-    snaps += [(b, r) for b in SNAP_BITS if b is not None for r in SNAP_ROUNDINGS]
+    snaps += [(b, r) for b in SNAP_BITS if b is not None for r in PLAIN_SNAP_ROUNDINGS]
     own: tuple[int | None, SnapRounding] = (None, "nearest-even") if triangles is None or triangles.subpixel_bits is None \
         else (triangles.subpixel_bits, triangles.snap_rounding)
 
     def preference(bits: int | None, rounding: SnapRounding) -> int:
         # ties prefer the triangles' snapping (a snapping no line shows is theirs), then
         # none, then rounding to nearest even
-        return 0 if (bits, rounding) == own else 1 if bits is None else 2 + SNAP_ROUNDINGS.index(rounding)
+        return 0 if (bits, rounding) == own else 1 if bits is None else 2 + PLAIN_SNAP_ROUNDINGS.index(rounding)
 
     scored = sorted((_fit_score(floats, _snapped(best, b, r)), preference(b, r), k) for k, (b, r) in enumerate(snaps))
     bits, rounding = snaps[scored[0][2]]
@@ -604,13 +604,13 @@ def fit_lines(call: Call, seed: int = 0, triangles: Convention | None = None,
         lattice += [_fit_score(ruled, c) for c in extra]
         order = general()
         trials = [(best, *snaps[scored[0][2]])] + [(c, b, r) for c in extra if c.tie == best.tie
-                                                   for b in near for r in SNAP_ROUNDINGS]
+                                                   for b in near for r in PLAIN_SNAP_ROUNDINGS]
         _, _, _, best, bits, rounding = min(((_fit_score(floats, _snapped(c, b, r)), preference(b, r), k, c, b, r)
                                             for k, (c, b, r) in enumerate(trials)), key=lambda t: t[:3])
     rounding_fit = None
     if bits is not None:
         floats.append(_draw(call, half_step_lines(seed, bits), received))
-        ranked = sorted((_fit_score(floats, _snapped(best, bits, r)), preference(bits, r), r) for r in SNAP_ROUNDINGS)
+        ranked = sorted((_fit_score(floats, _snapped(best, bits, r)), preference(bits, r), r) for r in PLAIN_SNAP_ROUNDINGS)
         rounding = ranked[0][2]
         rounding_fit = LineRounding(bits, tuple((r, sum(d.mismatches(_snapped(best, bits, r)) for d in floats))
                                                 for _, _, r in ranked),

@@ -55,7 +55,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.contract.conventions import INPUT_ROUNDINGS, SNAP_ROUNDINGS, Convention, Dropout, dropout_control
+from harness.contract.conventions import (
+    INPUT_ROUNDINGS,
+    PLAIN_SNAP_ROUNDINGS,
+    Convention,
+    Dropout,
+    dropout_control,
+)
 from harness.contract.coverage import Coverage
 from harness.contract.coverage_models import AGG_COVER, COVERAGE_RULES
 from harness.contract.scenes import Scene
@@ -73,7 +79,7 @@ SIZE = 16
 _AREA_SLACK = 2.0**-30
 # the snappings tried: none, then 4, 6 and 8 bits under each rounding
 SNAPPINGS: tuple[tuple[int | None, str], ...] = ((None, "nearest-even"),
-                                                 *((b, r) for b in (4, 6, 8) for r in SNAP_ROUNDINGS))
+                                                 *((b, r) for b in (4, 6, 8) for r in PLAIN_SNAP_ROUNDINGS))
 
 
 def probe_scenes(seed: int = 0, count: int = 36) -> list[Scene]:

@@ -32,7 +32,15 @@ from numpy.typing import NDArray
 
 from cases.scenes import lattice_triangles, random_triangles
 from harness.checks import FragmentCounter, deviations
-from harness.contract.conventions import MAX_SUBPIXEL_BITS, SNAP_ROUNDINGS, TIE_RULES, Convention, CullMode, SnapRounding
+from harness.contract.conventions import (
+    MAX_SUBPIXEL_BITS,
+    SNAP_ROUNDING_WORDS,
+    SNAP_ROUNDINGS,
+    TIE_RULES,
+    Convention,
+    CullMode,
+    SnapRounding,
+)
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, Scene
 from harness.engine.isolation import Call, Outcome, describe
@@ -298,7 +306,8 @@ class VertexSweep:
         if self.fitted is None:
             return said
         bits, rounding = self.fitted
-        fits = self.fitted in ((nearest, "nearest-even"), (nearest, "half-away"), (self.grid, "floor"))
+        fits = self.fitted in ((nearest, "nearest-even"), (nearest, "half-away"), (self.grid, "floor"),
+                               (nearest, "half-away-shifted"))
         return said + (" (agrees with the fit)" if fits else
                        f" (the fit says {bits if bits is not None else 'none'}, {rounding}: not confirmed)")
 
@@ -449,7 +458,7 @@ def _snap_candidates(grid: int | None) -> list[tuple[int | None, SnapRounding]]:
     :class:`Convention` can hold (0..16 bits: a garbage sweep may suggest others)."""
     snaps: list[tuple[int | None, SnapRounding]] = [(None, "nearest-even")]
     if grid is not None:
-        snaps += [(grid - 1, "nearest-even"), (grid - 1, "half-away"), (grid, "floor")]
+        snaps += [(grid - 1, "nearest-even"), (grid - 1, "half-away"), (grid, "floor"), (grid - 1, "half-away-shifted")]
     return [(b, r) for b, r in snaps if b is None or 0 <= b <= MAX_SUBPIXEL_BITS]
 
 
@@ -573,8 +582,7 @@ class SnapFit:
 
     @property
     def text(self) -> str:
-        said = "none detected" if self.bits is None else f"{self.bits} sub-pixel bits, " + {
-            "nearest-even": "half to even", "half-away": "half away from zero", "floor": "rounding down"}[self.rounding]
+        said = "none detected" if self.bits is None else f"{self.bits} sub-pixel bits, " + SNAP_ROUNDING_WORDS[self.rounding]
         return said + f" ({self.mismatches} float mismatches)"
 
 
@@ -584,6 +592,17 @@ def _half_steps(scene: Scene, bits: int) -> Scene:
     least 1 px from the origin (a frame's rounding sign plays no part there)."""
     scale = 2.0**bits
     moved = (np.floor(np.abs(scene.positions) * scale) + 0.5) / scale + 1.0
+    return Scene(scene.width, scene.height, moved)
+
+
+def _half_steps_near_origin(scene: Scene, bits: int) -> Scene:
+    """:func:`_half_steps`, with each triangle's first vertex moved onto a half step in
+    (0, 1/2) on both axes: there rounding half away from zero (up) and piglit's rounding half
+    away from the pixel centre line c = 1/2 (down) part, and nowhere else."""
+    moved = _half_steps(scene, bits).positions.copy()
+    steps = 2.0 ** (bits - 1)  # half steps in (0, 1/2): (k + 1/2) / 2**bits, k < 2**(bits-1)
+    k = np.floor((np.abs(scene.positions[:, 0]) % 1.0) * steps)
+    moved[:, 0] = (k + 0.5) / 2.0**bits
     return Scene(scene.width, scene.height, moved)
 
 
@@ -626,6 +645,8 @@ def fit_snapping(call: Call, seed: int, ties: TieFit) -> SnapFit:
         # floats almost never sit on a half step, where nearest-even and half-away part:
         # put every vertex on one, and fit the rounding there
         floats += [draw(call, _half_steps(d.scene, bits)) for d in floats]
+        if bits >= 1:  # and half steps in the first half pixel, where piglit's shifted frame parts from half-away
+            floats.append(draw(call, _half_steps_near_origin(floats[0].scene, bits)))
         ranked = sorted((_fit_score(floats, fitted(bits, r)), SNAP_ROUNDINGS.index(r), r) for r in SNAP_ROUNDINGS)
         rounding = ranked[0][2]
         rounding_fit = RoundingFit(bits, tuple((r, sum(d.mismatches(fitted(bits, r)) for d in floats)) for _, _, r in ranked),

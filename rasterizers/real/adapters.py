@@ -713,12 +713,9 @@ class _Mesa:
             side *= 2
         return side
 
-    def received(self, scene: AnyScene) -> AnyScene:
-        """The scene as Mesa receives it: each coordinate rounded to float32 (GL's vertex
-        format), which the exact mapping then carries unchanged."""
-        with np.errstate(invalid="ignore", over="ignore"):
-            window = scene.coordinates.astype(np.float32).astype(np.float64)
-        return scene.with_coordinates(window)
+    # as Mesa receives the scene: each coordinate rounded to float32 (GL's vertex format),
+    # which the exact mapping then carries unchanged (read by received_of)
+    input = "float32"
 
     def _stencil_paths(self, ctx: Any) -> StencilPaths:
         """The stencil-then-cover drawer of this context (made once per context)."""

@@ -153,8 +153,7 @@ class AggAliased(OneAtATime):
         self._agg = need("aggdraw")
         self.library_version = f"aggdraw {self._agg.VERSION}"
 
-    def received(self, scene: AnyScene) -> AnyScene:
-        return _received(scene)
+    input = "fixed8-toward-zero"  # 24.8 by int(c * 256), as :func:`_received` says (read by received_of)
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _fill(self._agg, [p], w, h, False) > 0
@@ -202,8 +201,7 @@ class AggAntialiased(AlphaLines, AlphaOneTriangleAtATime):
         self._agg = need("aggdraw")
         self.library_version = f"aggdraw {self._agg.VERSION}"
 
-    def received(self, scene: AnyScene) -> AnyScene:
-        return _received(scene)
+    input = "fixed8-toward-zero"  # 24.8 by int(c * 256), as :func:`_received` says (read by received_of)
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _fill(self._agg, [p], w, h, True) / 255.0

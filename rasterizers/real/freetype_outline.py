@@ -152,10 +152,9 @@ class _FreeTypeMonoBase(OneAtATime):
         self._outline = _Outline(_PIXEL_MODE_MONO, self.FLAGS)
         self.library_version = self._outline.version
 
-    def received(self, scene: AnyScene) -> AnyScene:
-        """The scene as FreeType receives it: every coordinate rounded to 1/64 px, halves
-        to even (:func:`received_26_6`)."""
-        return received_26_6(scene)
+    # as FreeType receives the scene: every coordinate rounded to 1/64 px, halves to even
+    # (26.6, :func:`to_26_6`; read by received_of)
+    input = "fixed6"
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return self._outline.render([p], w, h) > 0
@@ -313,10 +312,9 @@ class FreeTypeSmooth(AlphaOneTriangleAtATime):
         self._outline = _Outline(_PIXEL_MODE_GRAY, 0)
         self.library_version = self._outline.version
 
-    def received(self, scene: AnyScene) -> AnyScene:
-        """The scene as FreeType receives it: every coordinate rounded to 1/64 px, halves
-        to even (:func:`received_26_6`)."""
-        return received_26_6(scene)
+    # as FreeType receives the scene: every coordinate rounded to 1/64 px, halves to even
+    # (26.6, :func:`to_26_6`; read by received_of)
+    input = "fixed6"
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return self._outline.render([p], w, h) / 255.0

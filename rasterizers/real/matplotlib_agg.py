@@ -189,8 +189,7 @@ class MatplotlibAgg(OneAtATime):
         self._mpl = _Renderer()
         self.library_version = self._mpl.version
 
-    def received(self, scene: AnyScene) -> AnyScene:
-        return _received(scene)
+    input = "fixed8-half-away"  # 24.8 by iround(c * 256), as :func:`_received` says (read by received_of)
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return self._mpl.fill([p], w, h, False) > 0
@@ -222,8 +221,7 @@ class MatplotlibAggAntialiased(AlphaOneTriangleAtATime):
         self._mpl = _Renderer()
         self.library_version = self._mpl.version
 
-    def received(self, scene: AnyScene) -> AnyScene:
-        return _received(scene)
+    input = "fixed8-half-away"  # 24.8 by iround(c * 256), as :func:`_received` says (read by received_of)
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return self._mpl.fill([p], w, h, True) / 255.0

@@ -288,10 +288,9 @@ class TinySkia(OneAtATime):
         self._resvg = _Resvg()
         self.library_version = self._resvg.version
 
-    def received(self, scene: AnyScene) -> AnyScene:
-        """The scene as tiny-skia receives it: each coordinate rounded to float32 (usvg's and
-        tiny-skia's path points are f32)."""
-        return _float32(scene)
+    # as tiny-skia receives the scene: each coordinate rounded to float32 (usvg's and
+    # tiny-skia's path points are f32; read by received_of)
+    input = "float32"
 
     def rasterize(self, scene: AnyScene) -> Coverage:
         resvg = self._resvg
@@ -349,9 +348,7 @@ class TinySkiaAntialiased(AlphaOneTriangleAtATime):
         self._resvg = _Resvg()
         self.library_version = self._resvg.version
 
-    def received(self, scene: AnyScene) -> AnyScene:
-        """The scene as tiny-skia receives it: each coordinate rounded to float32."""
-        return _float32(scene)
+    input = "float32"  # as tiny-skia receives the scene (read by received_of)
 
     def rasterize(self, scene: Scene) -> Coverage:
         if not isinstance(scene, Scene):

@@ -312,12 +312,9 @@ class _Lavapipe:
             side *= 2
         return side
 
-    def received(self, scene: AnyScene) -> AnyScene:
-        """The scene as lavapipe receives it: each coordinate rounded to float32 (the
-        vertex format), which the exact mapping then carries unchanged."""
-        with np.errstate(invalid="ignore", over="ignore"):
-            window = scene.coordinates.astype(np.float32).astype(np.float64)
-        return scene.with_coordinates(window)
+    # as lavapipe receives the scene: each coordinate rounded to float32 (the vertex format),
+    # which the exact mapping then carries unchanged (read by received_of)
+    input = "float32"
 
     def _draw_list(self, gpu: _Device, scene: AnyScene, ndc: NDArray[np.float32], vertex: str, fragment: str, topology: str,
                    side: int, capacity: int, scissor: tuple[int, int, int, int] | None = None) -> NDArray[np.int64]:

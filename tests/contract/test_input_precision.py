@@ -7,11 +7,12 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 import pytest
 
-from harness.contract.conventions import INPUT_ROUNDINGS, Convention, InputPrecision, input_precision
+from harness.contract.conventions import INPUT_ROUNDINGS, Convention, InputPrecision, SnapRounding, input_precision
 from harness.contract.scenes import Scene
 from harness.oracle.coverage import exact_coverage
 from harness.oracle.reference import brute_force_coverage
@@ -197,7 +198,8 @@ def test_identify_recovers_float32_input_on_the_ported_references(port):
     fingerprint = _identified(Float32Fed(inner))
     bits = int(rest[-1])
     tie = "top-left" if kind == "deqp" else (PIGLIT_PORT_DRAWS[rest[0]] if bits == 8 else fingerprint.convention.tie)
-    want = Convention(tie=tie, subpixel_bits=bits, snap_rounding="half-away", input="float32")
+    rounding: SnapRounding = "half-away" if kind == "deqp" else "half-away-shifted"  # piglit: in its shifted frame
+    want = Convention(tie=tie, subpixel_bits=bits, snap_rounding=rounding, input="float32")
     assert fingerprint.exact and fingerprint.residual == 0 and fingerprint.convention == want, fingerprint.card()
     assert fingerprint.to_dict()["input"] == "float32" and "float32 input" in fingerprint.facts["input"]
 
@@ -259,3 +261,164 @@ def test_conformance_catches_undeclared_float32_input_and_passes_it_declared():
     bad.convention = Convention(subpixel_bits=8, input="float32")
     results = run_suite([bad], suite="quick", repros=False, only={"conformance"}, isolate=False)
     assert not [r.case for r in results if r.status in ("fail", "error")]
+
+
+# --- piglit's rounding: half away from zero in the frame shifted by half a pixel ---------------
+
+
+def _shifted_rational(v: float, bits: int) -> float:
+    """piglit's ``(iround(2**n * (v - 1/2)) + 2**(n-1)) / 2**n``, ``iround`` half away from zero,
+    by rationals."""
+    if not math.isfinite(v):
+        return v
+    half = Fraction(2**bits, 2)
+    x = Fraction(v) * 2**bits - half
+    whole = math.trunc(x)
+    n = whole + (int(math.copysign(1, x)) if abs(x - whole) >= Fraction(1, 2) else 0)
+    return float((n + half) / 2**bits)
+
+
+@pytest.mark.parametrize("bits", [0, 1, 4, 8, 16])
+def test_half_away_shifted_snaps_exactly(bits):
+    from harness.contract.conventions import snap
+
+    v = _values(3)
+    v = v[np.abs(v) < 2.0**40]
+    got = snap(v, bits, "half-away-shifted")
+    want = np.array([_shifted_rational(float(x), bits) for x in v])
+    assert np.array_equal(got, want), v[got != want][:5]
+
+
+def test_half_away_shifted_parts_from_half_away_only_in_the_first_half_pixel():
+    from harness.contract.conventions import snap
+
+    ties = (np.arange(-64, 64) + 0.5) / 16  # every half step of 1/16 px in [-4, 4)
+    shifted, away = snap(ties, 4, "half-away-shifted"), snap(ties, 4, "half-away")
+    assert sorted(ties[shifted != away].tolist()) == [(k + 0.5) / 16 for k in range(8)]  # (0, 1/2) only
+    assert (shifted[(ties > 0) & (ties < 0.5)] < ties[(ties > 0) & (ties < 0.5)]).all()  # rounded down there
+
+
+def test_piglit_rounding_is_named_described_and_round_tripped():
+    c = Convention(tie="bottom-left", subpixel_bits=8, snap_rounding="half-away-shifted", input="float32")
+    assert c.describe() == ("sample (0.5, 0.5), bottom-left ties, float32 input, snapped to 1/256 px "
+                            "(8 bits, half away in the frame shifted by half a pixel), no culling")
+    assert eval(repr(c), {"Convention": Convention}) == c  # noqa: S307 -- our own repr
+    from harness.contract.conventions import LineRule
+
+    assert "shifted frame" in LineRule("parallelogram", snap_rounding="half-away-shifted").describe()
+    with pytest.raises(ValueError, match="snap_rounding"):
+        Convention(subpixel_bits=8, snap_rounding="half-away-centre")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("spec, bits", [("float32", 4), ("float32", 8), ("fixed6", 4), ("float64", 0)])
+def test_the_oracle_snaps_piglits_way_and_agrees_with_the_rational_reference(spec, bits):
+    from cases.conformance import first_half_pixel
+
+    c = Convention(input=spec, subpixel_bits=bits, snap_rounding="half-away-shifted", tie="bottom-left")
+    for seed in range(2):
+        scene = Scene(12, 12, np.concatenate([_scene(seed).positions, first_half_pixel(30, 12, seed)]))
+        grid = input_precision(spec)
+        received = [_float32_rational(float(v)) if grid.kind == "float32" else
+                    float(v) if grid.kind == "float64" else _grid_rational(float(v), grid.bits, grid.rounding)
+                    for v in scene.positions.ravel()]
+        by_hand = np.array([_shifted_rational(v, bits) for v in received]).reshape(scene.positions.shape)
+        snapped = Scene(scene.width, scene.height, by_hand)
+        plain = Convention(tie="bottom-left")  # the rational reference on the vertices snapped by hand
+        got = exact_coverage(scene, c).counts(12, 12).tolist()
+        assert got == brute_force_coverage(snapped, plain).counts(12, 12).tolist()
+        assert got == brute_force_coverage(scene, c).counts(12, 12).tolist()
+
+
+def test_identify_tells_piglits_rounding_from_half_away():
+    from tests.identify.test_coverage_probes import Hidden
+
+    for rounding in ("half-away-shifted", "half-away"):
+        hidden = Convention(subpixel_bits=4, snap_rounding=rounding)
+        fingerprint = _identified(Hidden(hidden))
+        assert fingerprint.exact and fingerprint.convention == hidden, fingerprint.card()
+        assert fingerprint.to_dict()["snap_rounding"] == rounding
+
+
+def test_conformance_catches_unshifted_rounding_claimed_as_piglits():
+    """Rounding half away from zero while declaring piglit's shifted frame fails the quick
+    suite's lattice/first-half-pixel case, and only it; declared as it is, it passes."""
+    from harness import run_suite
+    from tests.known_bad.inputs import UnshiftedClaimsPiglit
+
+    bad = UnshiftedClaimsPiglit()
+    failed = {(r.case, r.check) for r in run_suite([bad], suite="quick", repros=False, isolate=False) if r.status == "fail"}
+    assert failed == {("lattice/first-half-pixel", "conformance")}, failed
+    bad.convention = replace(bad.convention, snap_rounding="half-away")
+    results = run_suite([bad], suite="quick", repros=False, only={"conformance", "invariance"}, isolate=False)
+    assert not [r.case for r in results if r.status in ("fail", "error")]
+
+
+# --- the adapters' received() is their declared input ---------------------------------------------
+
+
+def test_the_adapters_declare_their_input_and_received_follows_it():
+    """What each adapter's hand-written received() did is its declared ``input`` (read by
+    received_of, without loading the library): float32 at the GL and Vulkan APIs and in
+    tiny-skia, 26.6 for FreeType, 24.8 by truncation for AGG 2.0 and half away for AGG 2.4."""
+    from harness.contract.protocol import input_of, received_of
+    from rasterizers.real import agg, freetype_outline, matplotlib_agg, tiny_skia, vulkan
+    from rasterizers.real.adapters import MesaLlvmpipe
+
+    rng = np.random.default_rng(5)
+    v = np.concatenate([rng.uniform(-40, 40, 300), (np.arange(-40, 40) + 0.5) / 256, (np.arange(-40, 40) + 0.5) / 64,
+                        [0.1, -0.1, 1e9, -1e9]])
+    scene = Scene(8, 8, v[: len(v) // 6 * 6].reshape(-1, 3, 2))
+    expected = {
+        freetype_outline.FreeTypeMono: ("fixed6", freetype_outline.received_26_6),
+        freetype_outline.FreeTypeSmooth: ("fixed6", freetype_outline.received_26_6),
+        agg.AggAliased: ("fixed8-toward-zero", agg._received), agg.AggAntialiased: ("fixed8-toward-zero", agg._received),
+        matplotlib_agg.MatplotlibAgg: ("fixed8-half-away", matplotlib_agg._received),
+        matplotlib_agg.MatplotlibAggAntialiased: ("fixed8-half-away", matplotlib_agg._received),
+        tiny_skia.TinySkia: ("float32", tiny_skia._float32), tiny_skia.TinySkiaAntialiased: ("float32", tiny_skia._float32),
+        vulkan.VulkanLavapipe: ("float32", tiny_skia._float32), MesaLlvmpipe: ("float32", tiny_skia._float32),
+    }
+    adapter: Any
+    for adapter, (name, by_hand) in expected.items():
+        assert input_of(adapter).name == name and not hasattr(adapter, "received"), adapter
+        received = received_of(adapter)
+        assert received is not None and np.array_equal(received(scene).coordinates, by_hand(scene).coordinates), adapter
+    from rasterizers.fixed_point import FixedPoint
+
+    assert received_of(FixedPoint(8)) is None  # float64 input: nothing to say
+    assert received_of(FixedPoint(8, snap_rounding="half-away")) is None  # a convention's input is its oracle's, no account
+    from harness.engine.registry import Renamed
+
+    class Box:  # a plugin declaring its input only
+        name, convention, input = "box", None, "fixed6"
+
+        def rasterize(self, scene: Scene) -> Any:
+            return exact_coverage(scene, Convention())
+
+    renamed, own = received_of(Renamed(Box(), "box#2")), received_of(Box())  # the wrappers keep the declaration
+    assert renamed is not None and own is not None
+    assert np.array_equal(renamed(scene).coordinates, own(scene).coordinates)
+
+
+def test_invariance_takes_a_declared_roundings_own_changes_under_translation_as_its_rule():
+    """piglit's rounding is not translation invariant in the first half pixel (its ties go down
+    there, up beyond 1/2; half away from zero is not either, left of 0): the invariance check
+    excuses what the declared convention's own exact coverage changes under the shift, and
+    nothing else."""
+    from cases.suites import suite
+    from harness import run_suite
+    from rasterizers.fixed_point import FixedPoint
+
+    case = [c for c in suite("quick") if getattr(c, "id", "") == "lattice/first-half-pixel"]
+    right = FixedPoint(4, snap_rounding="half-away-shifted")
+    results = run_suite([right], cases=case, repros=False, only={"invariance", "conformance"}, isolate=False)
+    assert [r.status for r in results] == ["pass", "pass"], [r.message for r in results]
+    class Wrong:  # piglit's rounding declared as half away from zero, translation invariant there
+        name, interpolates = "shifted_claims_half_away", False
+        convention = replace(right.convention, snap_rounding="half-away")
+
+        def rasterize(self, scene: Scene) -> Any:
+            return right.rasterize(scene)
+
+    wrong = Wrong()
+    results = run_suite([wrong], cases=case, repros=False, only={"invariance"}, isolate=False)
+    assert [r.status for r in results] == ["fail"] and "translate" in results[0].message

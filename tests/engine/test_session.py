@@ -152,9 +152,10 @@ def test_the_pytest_plugin_keeps_one_worker_per_rasterizer_and_replaces_a_hung_o
     proc = plugin_run_here(tmp_path, capsys, monkeypatch, "-q", "--rasterizer", f"{plugin}:PidLogging",
                            "--rastercheck-timeout", "1", "-k", "(lattice/ or float/random-50px) and conformance")
     assert proc.returncode == 1, proc.stdout[-3000:]
-    assert "1 failed, 5 passed" in proc.stdout and "no answer within 1 s" in proc.stdout, proc.stdout[-3000:]
+    assert "1 failed, 6 passed" in proc.stdout and "no answer within 1 s" in proc.stdout, proc.stdout[-3000:]
     pids = [int(line) for line in (tmp_path / "pids.log").read_text().split()]
-    # bits-0, -2, -4, -8 and the hang's first ask in one worker; the ask again in a fresh one; the next case in another
-    assert len(pids) == 7 and len(set(pids[:5])) == 1 and len(set(pids)) == 3 and pids[5] != pids[6], pids
+    # bits-0, -2, -4, -8 and the hang's first ask in one worker; the ask again in a fresh one; the next
+    # cases (lattice/first-half-pixel, float/random-50px) in another
+    assert len(pids) == 8 and len(set(pids[:5])) == 1 and len(set(pids)) == 3 and pids[5] != pids[6] == pids[7], pids
     with pytest.raises(ProcessLookupError):
         os.kill(pids[-1], 0)  # closed (and reaped) when the pytest session ended

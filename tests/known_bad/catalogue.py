@@ -33,7 +33,7 @@ from tests.known_bad.dropout import ClosedWithTies, LeftDropout
 from tests.known_bad.edge_functions import BUGS as EDGE_BUGS
 from tests.known_bad.edge_functions import EdgeFunctionBug
 from tests.known_bad.hairlines import LlvmpipeUnshiftedSnap, QtFlatCaps, SkiaCentredStart
-from tests.known_bad.inputs import Float32ClaimsFloat64, TruncatesClaimsFloat64
+from tests.known_bad.inputs import Float32ClaimsFloat64, TruncatesClaimsFloat64, UnshiftedClaimsPiglit
 from tests.known_bad.library_rules import ExclusiveRightScanline, Float32AggCover
 from tests.known_bad.lines import (
     BackwardPrestep,
@@ -81,6 +81,7 @@ def _all() -> list[Any]:
         FullWidthOffset(), Float32AggCover(), ExclusiveRightScanline(), ClosedWithTies(), LeftDropout(),
         SkiaCentredStart(), QtFlatCaps(), LlvmpipeUnshiftedSnap(),
         MajorAxisBoxLines(), ForgetsCaps(), QuarterPixelLines(),
+        UnshiftedClaimsPiglit(),
     ]
 
 

@@ -13,7 +13,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene
 from rasterizers.fixed_point import FixedPoint
 
-__all__ = ["Float32Fed", "TruncatingInput", "TruncatesClaimsFloat64", "Float32ClaimsFloat64"]
+__all__ = ["Float32Fed", "TruncatingInput", "TruncatesClaimsFloat64", "Float32ClaimsFloat64", "UnshiftedClaimsPiglit"]
 
 
 def _as_float32(scene: Scene) -> Scene:
@@ -75,3 +75,18 @@ class Float32ClaimsFloat64:
 
     def rasterize(self, scene: Scene) -> Coverage:
         return FixedPoint(8).rasterize(_as_float32(scene))
+
+
+class UnshiftedClaimsPiglit:
+    """Float32 input snapped to 1/16 px half away from zero in the unshifted frame
+    (``iround(v * 2**n)``, dEQP's rounding), declared as piglit's rounding in the frame shifted
+    by half a pixel (``iround(2**n * (v - 0.5))``): the two part only on vertices exactly on
+    a half step of the grid in the first half pixel, 0 < c < 1/2 (half-away rounds those up,
+    piglit down)."""
+
+    name = "bad_unshifted_claims_piglit"
+    convention = Convention(subpixel_bits=4, snap_rounding="half-away-shifted", input="float32")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        return FixedPoint(4, snap_rounding="half-away").rasterize(_as_float32(scene))

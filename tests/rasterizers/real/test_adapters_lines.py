@@ -374,6 +374,7 @@ import numpy as np
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene, Unsupported
 from harness.contract.conventions import Convention
+from harness.contract.protocol import receive
 from harness.oracle.coverage import exact_coverage
 from harness.engine.registry import Unavailable, load
 from tests.rasterizers.real.test_adapters_lines import (ELBOW, JOINT, RULES, W, H, far_scene, hits, pixel_set, random_scene,
@@ -396,7 +397,7 @@ out["straight"] = [segment_pixels(cov, k) for k in range(len(scene))]
 fits = {}
 for label, scene in (("float", random_scene(11)), ("quarter", random_scene(12, grid=0.25)),
                      ("below zero", random_scene(13, low=-6.0, high=30.0)), ("far", far_scene())):
-    received = r.received(scene)
+    received = receive(r, scene)
     cov = r.rasterize(scene)
     fits[label] = {name: residual(cov, received, rule) for name, rule in RULES.items()}
     fits[label]["truncated bresenham/floor/no last"] = residual(cov, truncated(received), RULES["bresenham/floor/no last"])

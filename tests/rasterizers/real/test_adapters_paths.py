@@ -431,6 +431,7 @@ import json, sys
 import numpy as np
 from harness.contract.scenes import PathScene, Scene
 from harness.contract.conventions import Convention, TIE_RULES
+from harness.contract.protocol import receive
 from harness.oracle.coverage import exact_coverage
 from harness.engine.registry import Unavailable, load
 from tests.rasterizers.real.test_adapters_paths import scenes, star, W, H
@@ -444,7 +445,7 @@ out = {"renderer": r._ctx.info["GL_RENDERER"], "listed": r._list_program is not 
 conventions = [Convention(tie=t, subpixel_bits=b) for t in TIE_RULES for b in (None, 8)]
 
 def differing(scene, cov, convention):
-    exact = exact_coverage(r.received(scene), convention)
+    exact = exact_coverage(receive(r, scene), convention)
     return sum(int((cov.take(np.flatnonzero(cov.primitive == k)).counts(W, H)
                     != exact.take(np.flatnonzero(exact.primitive == k)).counts(W, H)).sum()) for k in range(len(scene)))
 
@@ -458,7 +459,7 @@ for rule in ("nonzero", "evenodd"):
     long = PathScene.from_paths(W, H, [[np.round(np.random.default_rng(4).uniform(-2, 34, (300, 2)) * 4) / 4]], rule)
     for name, scene in {**scenes(rule), "snap": snap, "long": long}.items():
         cov = r.rasterize(scene)
-        hand[f"{rule}/{name}"] = {"same": cov == exact_coverage(r.received(scene), Convention(subpixel_bits=8)),
+        hand[f"{rule}/{name}"] = {"same": cov == exact_coverage(receive(r, scene), Convention(subpixel_bits=8)),
                                   "centre": int(cov.counts(W, H)[16, 16])}
         for c in conventions:
             out.setdefault("fit", {}).setdefault(repr(c), 0)
@@ -481,7 +482,7 @@ for trial in range(n):
         paths.append(contours)
     scene = PathScene.from_paths(40, 40, paths, rule)
     random += 1
-    agree += r.rasterize(scene) == exact_coverage(r.received(scene), Convention(subpixel_bits=8))
+    agree += r.rasterize(scene) == exact_coverage(receive(r, scene), Convention(subpixel_bits=8))
 out["random"], out["agree"] = random, agree
 
 # one draw per layer with the fragment list == one colour read-back per path

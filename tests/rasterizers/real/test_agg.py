@@ -8,6 +8,7 @@ import time
 import numpy as np
 import pytest
 
+from harness.contract.protocol import receive
 from harness.contract.scenes import LineScene, PathScene, Scene, Unsupported
 from harness.engine.registry import Unavailable
 from rasterizers.real import agg
@@ -131,5 +132,5 @@ def test_a_non_finite_triangle_draws_nothing_at_once(aliased, antialiased, bad):
 
 def test_received_truncates_to_24_8_toward_zero(aliased):
     scene = Scene(W, H, [[[1 / 512, -1 / 512], [3 - 1e-9, -(3 - 1e-9)], [5.5, 0.75]]])
-    got = aliased.received(scene).positions[0]
+    got = receive(aliased, scene).positions[0]
     assert got.tolist() == [[0.0, 0.0], [3 - 1 / 256, -(3 - 1 / 256)], [5.5, 0.75]]

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from harness.contract.conventions import Convention
+from harness.contract.protocol import receive
 from harness.contract.scenes import LineScene, PathScene, Scene, Unsupported
 from harness.engine.registry import Unavailable
 from harness.oracle.area import area_coverage
@@ -84,13 +85,13 @@ def test_freetype_smooth_alphas_match_the_area(smooth):
 
 def test_coordinates_are_received_as_26_6_rounded_half_to_even(mono):
     scene = Scene(8, 8, [[[1 / 128, 3 / 128], [5.0 + 1 / 256, 1.0], [np.nan, 2.0]]])
-    got = mono.received(scene).positions[0]
+    got = receive(mono, scene).positions[0]
     assert got[0].tolist() == [0.0, 2 / 64] and got[1].tolist() == [5.0, 1.0] and np.isnan(got[2, 0])
     paths = PathScene.from_paths(8, 8, [[[[0.5 + 1 / 128, 1.0], [3.0, 3 / 128], [1.0, 4.0]]]])
-    assert mono.received(paths).vertices[:2].tolist() == [[0.5, 1.0], [3.0, 2 / 64]]
+    assert receive(mono, paths).vertices[:2].tolist() == [[0.5, 1.0], [3.0, 2 / 64]]
     # what the library draws depends on the rounded coordinates only
     near = Scene(12, 12, [[[1.0 + 1 / 200, 1.5], [10.0, 1.5 + 1 / 300], [3.0, 9.7]]])
-    assert pixel_set(mono.rasterize(near)) == pixel_set(mono.rasterize(mono.received(near)))
+    assert pixel_set(mono.rasterize(near)) == pixel_set(mono.rasterize(receive(mono, near)))
 
 
 def test_mono_fills_nonzero_and_refuses_evenodd(mono):

@@ -8,6 +8,7 @@ import time
 import numpy as np
 import pytest
 
+from harness.contract.protocol import receive
 from harness.contract.scenes import LineScene, PathScene, Scene, Unsupported
 from harness.engine.registry import Unavailable
 from rasterizers.real import matplotlib_agg
@@ -107,5 +108,5 @@ def test_a_non_finite_triangle_draws_nothing_at_once(aliased, antialiased, bad):
 
 def test_received_rounds_to_24_8_half_away_from_zero(aliased):
     scene = Scene(W, H, [[[1 / 512, -1 / 512], [3 / 512, -3 / 512], [5.5, 0.75 + 1 / 1024]]])
-    got = aliased.received(scene).positions[0]
+    got = receive(aliased, scene).positions[0]
     assert got.tolist() == [[1 / 256, -1 / 256], [2 / 256, -2 / 256], [5.5, 0.75]]

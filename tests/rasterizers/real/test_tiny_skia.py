@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from harness.contract.conventions import Convention, LineRule
-from harness.contract.protocol import takes
+from harness.contract.protocol import receive, takes
 from harness.contract.scenes import LineScene, PathScene, Scene
 from harness.engine.registry import Unavailable
 from harness.oracle.area import area_coverage
@@ -101,7 +101,7 @@ def test_it_receives_float32(crisp, smooth):
     """received() rounds each coordinate to float32, as usvg and tiny-skia keep points."""
     scene = Scene(8, 8, [[[1.0 + 1e-9, 2.0], [6.1, 2.0], [3.0, 7.3]]])
     for adapter in (crisp, smooth):
-        got = adapter.received(scene).positions
+        got = receive(adapter, scene).positions
         assert got.tolist() == scene.positions.astype(np.float32).astype(np.float64).tolist()
         assert got[0, 0, 0] == 1.0
 
@@ -117,7 +117,7 @@ def test_the_fill_rule_is_honoured(crisp, rule):
     star, ring = per_primitive(cov, 0), per_primitive(cov, 1)
     assert star[16, 16] == (rule == "nonzero") and star[5, 16] == 1 and star[12, 5] == 1
     assert ring[16, 16] == (rule == "nonzero") and ring[5, 16] == 1 and ring[16, 5] == 1
-    received = crisp.received(scene)
+    received = receive(crisp, scene)
     assert np.array_equal(star, exact_coverage(received.subset([0]), TINY).counts(W, H))
     assert np.array_equal(ring, exact_coverage(received.subset([1]), TINY).counts(W, H))
 

@@ -12,6 +12,7 @@ import pytest
 
 from cases.scenes import lattice_triangles, random_triangles
 from harness.contract.conventions import TIE_RULES, Convention, LineRule
+from harness.contract.protocol import receive
 from harness.contract.scenes import LineScene, PathScene, Scene, Unsupported
 from harness.engine.registry import Unavailable
 from harness.oracle.coverage import exact_coverage
@@ -83,7 +84,7 @@ def test_triangles_equal_the_oracle_of_the_identified_convention(single):
             others[tie] += exact_coverage(scene, Convention(tie=tie, subpixel_bits=8)) != cov
     assert all(others.values()), others
     scene = Scene(64, 64, random_triangles(300, 30.0, 64, 5))
-    assert single.rasterize(scene) == exact_coverage(single.received(scene), SINGLE)
+    assert single.rasterize(scene) == exact_coverage(receive(single, scene), SINGLE)
 
 
 def star(cx, cy, r, points=5, step=2, grid=0.5):
@@ -104,7 +105,7 @@ def test_paths_follow_the_fill_rule(single, rule):
              [star(44, 44, 11)], [star(3.5, 60, 24, 7, 3)]]
     scene = PathScene.from_paths(72, 66, paths, rule)
     cov = single.rasterize(scene)
-    assert cov == exact_coverage(single.received(scene), SINGLE)
+    assert cov == exact_coverage(receive(single, scene), SINGLE)
     drawn = per_primitive(cov, scene)
     assert ((16, 16) in drawn[0]) == (rule == "nonzero")  # the pentagram's centre
     assert ((56, 16) in drawn[1]) == (rule == "nonzero")  # the same-wound hole
@@ -116,7 +117,7 @@ def test_float_paths_equal_the_oracle(single):
     for rule in ("nonzero", "evenodd"):
         paths = [[rng.uniform(-4, 52, size=(rng.integers(3, 12), 2)) for _ in range(rng.integers(1, 4))] for _ in range(12)]
         scene = PathScene.from_paths(48, 48, paths, rule)
-        assert single.rasterize(scene) == exact_coverage(single.received(scene), SINGLE)
+        assert single.rasterize(scene) == exact_coverage(receive(single, scene), SINGLE)
 
 
 def test_lines(single):
@@ -126,8 +127,8 @@ def test_lines(single):
     strips = [[[1.3, 3.4], [9.7, 5.6], [4.2, 13.1]], [[20.1, 2.2], [21.4, 14.8]], [[12.6, 7.3], [30.2, 7.9]]]
     scene = LineScene.from_strips(32, 16, strips)
     cov = single.rasterize(scene)
-    assert cov == exact_coverage(single.received(scene), Convention(subpixel_bits=8, line=LineRule("rectangle")))
-    assert cov != exact_coverage(single.received(scene), Convention(subpixel_bits=8))
+    assert cov == exact_coverage(receive(single, scene), Convention(subpixel_bits=8, line=LineRule("rectangle")))
+    assert cov != exact_coverage(receive(single, scene), Convention(subpixel_bits=8))
     assert sorted(per_primitive(cov, scene)) == [0, 1, 2, 3]
     with pytest.raises(Unsupported, match="1 px wide only"):
         single.rasterize(scene.with_line_width(2.0))
@@ -167,7 +168,7 @@ def test_msaa_equals_the_oracle_of_its_declared_convention(msaa):
     floats = Scene(48, 48, [[[28.877894166596157, 9.588744836051433], [40.71980086283648, 14.14363567171393],
                              [32.57226615244449, 19.91739240807309]], *random_triangles(100, 30.0, 48, 4)])
     cov = msaa.rasterize(floats)
-    assert cov == exact_coverage(msaa.received(floats), conv) and cov != exact_coverage(floats, conv)
+    assert cov == exact_coverage(receive(msaa, floats), conv) and cov != exact_coverage(floats, conv)
     # the same, said as the convention's input precision (issue 33): identify now recovers it exactly
     assert cov == exact_coverage(floats, Convention(samples=conv.samples, tie=conv.tie, subpixel_bits=8, input="float32"))
     flat = msaa.rasterize(Scene(8, 8, [[[1, 1], [5, 5], [3, 3]]]))  # zero area: no fragment
