@@ -603,7 +603,10 @@ def _half_steps_near_origin(scene: Scene, bits: int) -> Scene:
     steps = 2.0 ** (bits - 1)  # half steps in (0, 1/2): (k + 1/2) / 2**bits, k < 2**(bits-1)
     k = np.floor((np.abs(scene.positions[:, 0]) % 1.0) * steps)
     moved[:, 0] = (k + 0.5) / 2.0**bits
-    return Scene(scene.width, scene.height, moved)
+    # only triangles inside the viewport: one crossing its edge near the origin would show how the
+    # rasterizer treats the edge (the viewport-edge probe's business), not how it rounds
+    inside = ((moved >= 0.0) & (moved <= np.array([scene.width, scene.height], dtype=np.float64))).all(axis=(1, 2))
+    return Scene(scene.width, scene.height, moved[inside])
 
 
 def fit_snapping(call: Call, seed: int, ties: TieFit) -> SnapFit:

@@ -207,7 +207,25 @@ def test_identify_and_run_go_on_past_a_call_that_hangs(tmp_path, capsys):
 
 
 class Undeclared:
-    """Inclusive edges (a known-bad), declaring no convention."""
+    """Ties owned by the edges leaving vertex 0 (a known-bad), declaring no convention.
+    (Inclusive edges once stood here: identify now names them, nearly exactly, as the
+    closed rule, against which the lattice passes.)"""
+
+    name = "undeclared_vertex_order_ties"
+    convention = None
+
+    def rasterize(self, scene):
+        return EdgeFunctionBug("vertex-order-ties").rasterize(scene)
+
+
+def _guessed():
+    """identify of the undeclared known-bad."""
+    return identify(Undeclared())
+
+
+class UndeclaredInclusive:
+    """Inclusive edges (a known-bad), declaring no convention: identify names it the closed
+    rule, nearly exactly (its float edge functions miss a few samples on edges)."""
 
     name = "undeclared_inclusive"
     convention = None
@@ -218,14 +236,14 @@ class Undeclared:
 
 @functools.cache
 def _inclusive():
-    """identify of inclusive edges, once per module (two tests read it)."""
-    return identify(Undeclared())
+    """identify of inclusive edges, once per process (tests in two modules read it)."""
+    return identify(UndeclaredInclusive())
 
 
 def test_failures_against_a_guessed_convention_say_so():
     from harness.identify.fingerprint import Identified
 
-    fingerprint = _inclusive()
+    fingerprint = _guessed()
     assert not fingerprint.exact
     case = [c for c in conformance_cases(0) if c.id == "lattice/bits-0"]
     results = run_suite([Identified(Undeclared(), fingerprint)], cases=case, isolate=False, repros=False)

@@ -31,8 +31,10 @@ def test_multisample_lines_are_rectangles() -> None:
     # row 1's samples 0 and 1 and row 0's samples 2 and 3
     assert cov.sample is not None
     assert sorted({(int(s), int(y)) for s, y in zip(cov.sample, cov.y)}) == [(0, 1), (1, 1), (2, 0), (3, 0)]
-    with pytest.raises(ValueError, match="area coverage"):
-        exact_coverage(scene, Convention(coverage="area", line=LineRule("rectangle")))
+    # under area coverage a rectangle's alpha is the exact area of the stroke (issue 34: harness.oracle.area_lines):
+    # the 1-wide band over x in [0.5, 4.5] covers half of each of rows 0 and 1 there
+    area = exact_coverage(scene, Convention(coverage="area", line=LineRule("rectangle")))
+    assert area.alpha is not None and area.n_pixels and float(area.alpha.max()) == 0.5
 
 
 @QUICK

@@ -202,7 +202,8 @@ FLIP_WINDING = "invariance|changes-under-flip-winding|none"
 LARGE = "accuracy|overflow-2^12..2^24|none"
 EXPECTED = {
     **{(cid, "invariance"): FLIP_WINDING for cid in (
-        "lattice/bits-0", "lattice/bits-2", "lattice/bits-4", "lattice/bits-8", "float/near-ties-1e-6",
+        "lattice/bits-0", "lattice/bits-2", "lattice/bits-4", "lattice/bits-8", "lattice/first-half-pixel",
+        "float/near-ties-1e-6",
         "watertight/grid-6x6-main/lattice", "watertight/grid-6x6-main/float", "watertight/grid-6x6-mixed/lattice",
         "watertight/grid-6x6-mixed/float", "watertight/fan-32/corner")},
     ("degenerate/huge/sliver-1e6", "accuracy"): LARGE,

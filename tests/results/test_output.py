@@ -57,18 +57,18 @@ def test_list_shows_suites_and_checks(capsys):
 
 
 def test_compare_names_the_convention_that_separates(tmp_path, capsys):
-    assert main(["compare", "centre_scanline", "floor_scanline", "fixed_point", "--out", str(tmp_path), "--json",
+    assert main(["compare", "centre_scanline", "floor_scanline", "pineda_topleft", "--out", str(tmp_path), "--json",
                  str(tmp_path / "c.json")]) == 0
     out = capsys.readouterr().out
     assert "centre_scanline vs floor_scanline" in out and "half-pixel shift of the sample point by (+0.5, +0.5)" in out
     assert "mirrored tie rule (top-left vs bottom-right)" in out
-    assert "centre_scanline vs fixed_point: 0 pixels differ" in out
+    assert "centre_scanline vs pineda_topleft: 0 pixels differ" in out
     data = json.loads((tmp_path / "c.json").read_text())
     assert all(e["exact"] for e in data["explanations"])
     page = (tmp_path / "compare.html").read_text()
     assert "separated by" in page
     # each pair that differs is drawn where it first does, both sides; identical pairs are not
-    assert "<h3>centre_scanline · floor_scanline</h3>" in page and "centre_scanline · fixed_point</h3>" not in page
+    assert "<h3>centre_scanline · floor_scanline</h3>" in page and "centre_scanline · pineda_topleft</h3>" not in page
     assert page.count("<figcaption>") == 4 and "data:image/svg+xml;base64," in page
     assert main(["compare", "centre_scanline"]) == 2
 
