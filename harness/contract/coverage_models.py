@@ -202,7 +202,7 @@ MULTISAMPLE = CoverageModel(
     verdict_checks=("conformance",))  # judged sample by sample
 AREA = CoverageModel(
     "area", "area", "harness.oracle.area:area_coverage", declared="area coverage",
-    seen="an alpha per pixel and triangle (anti-aliased)", alphas=True, paths=False,
+    seen="an alpha per pixel and triangle (anti-aliased)", alphas=True,  # paths: harness.oracle.path_area
     verdict_checks=("accuracy", "seams", "popping"))
 SUPERSAMPLED_AREA = CoverageModel(
     "supersampled area", "area", "harness.oracle.coverage:sample_shares", declared="area coverage",

@@ -82,6 +82,7 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Sequence
 from fractions import Fraction
 
 import numba
@@ -200,7 +201,7 @@ def _check_pixel(x: int, y: int) -> None:
             raise ValueError(f"pixel coordinates are integers, not {value!r}")
 
 
-def exact_path_area(contours: list[ArrayLike], fill_rule: str, x: int, y: int) -> Fraction:
+def exact_path_area(contours: Sequence[ArrayLike], fill_rule: str, x: int, y: int) -> Fraction:
     """Exact area of {p in [x, x+1] x [y, y+1] : rule(winding(p))} for one path.
 
     Parameters

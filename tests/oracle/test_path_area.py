@@ -37,7 +37,7 @@ def _float_vs_exact(scene: PathScene) -> None:
 
 
 def test_overlapping_squares_nonzero_once_evenodd_not_at_all() -> None:
-    squares = [[[0, 0], [1.5, 0], [1.5, 1], [0, 1]], [[0.5, 0], [2, 0], [2, 1], [0.5, 1]]]
+    squares: list[list[list[float]]] = [[[0, 0], [1.5, 0], [1.5, 1], [0, 1]], [[0.5, 0], [2, 0], [2, 1], [0.5, 1]]]
     assert exact_path_area(squares, "nonzero", 0, 0) == 1
     assert exact_path_area(squares, "evenodd", 0, 0) == Fraction(1, 2)
     assert exact_path_area(squares, "evenodd", 1, 0) == Fraction(1, 2)
@@ -119,18 +119,20 @@ def test_float_method_within_its_bound_of_the_exact_one(points: list[list[tuple[
 
 
 def test_many_paths_and_far_coordinates() -> None:
-    paths = [[_star(3 + k, 3.5, 2.5)] for k in range(3)] + [[[[-1e30, -1e30], [1e30, 0.5], [-1e30, 3]]]]
+    paths: list[list[list[list[float]]]] = [[_star(3 + k, 3.5, 2.5)] for k in range(3)]
+    paths.append([[[-1e30, -1e30], [1e30, 0.5], [-1e30, 3]]])
     for rule in ("nonzero", "evenodd"):
         _float_vs_exact(PathScene.from_paths(7, 7, paths, rule))
 
 
 def test_non_finite_paths_cover_nothing_and_snapping_applies() -> None:
-    scene = PathScene.from_paths(2, 2, [[[[0, 0], [math.nan, 0], [0, 2]]], [SQUARE]])
+    bad: list[list[float]] = [[0, 0], [math.nan, 0], [0, 2]]
+    scene = PathScene.from_paths(2, 2, [[bad], [SQUARE]])
     p, x, y, area, _ = path_pixel_areas(scene)
     assert p.tolist() == [1] and area.tolist() == [1.0]
     shifted = PathScene.from_paths(2, 2, [[[[0.01, 0], [1.01, 0], [1.01, 1], [0.01, 1]]]])
     snapped = path_area_coverage(shifted, Convention(coverage="area", subpixel_bits=2))
-    assert snapped.alpha.tolist() == [1.0]
+    assert snapped.alpha is not None and snapped.alpha.tolist() == [1.0]
 
 
 def test_glyph_like_outline_float_agrees() -> None:
