@@ -49,6 +49,7 @@ class SignedAreaPathFiller:
         total = np.zeros((len(scene), height, width))
         if fans:
             tris = np.array(fans, dtype=np.float64)
+            tris[~np.all(np.isfinite(tris), axis=(1, 2))] = 0.0  # a non-finite path draws nothing here
             sign = np.sign((tris[:, 1, 0] - tris[:, 0, 0]) * (tris[:, 2, 1] - tris[:, 0, 1])
                            - (tris[:, 1, 1] - tris[:, 0, 1]) * (tris[:, 2, 0] - tris[:, 0, 0]))
             t, x, y, area = pixel_areas(tris, width, height)
