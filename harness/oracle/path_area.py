@@ -432,10 +432,16 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
             winding = 0
             left = -1
             trapezoids = 0
-            for r in range(n):
+            r = 0
+            while r < n:
                 t = order[r]
                 before = (winding % 2 != 0) if evenodd else winding != 0
+                # a run of coincident crossings is one, their windings summed
                 winding += down[ids[t]]
+                r += 1
+                while r < n and xs0[order[r]] == xs0[t] and xs1[order[r]] == xs1[t]:
+                    winding += down[ids[order[r]]]
+                    r += 1
                 after = (winding % 2 != 0) if evenodd else winding != 0
                 if after and not before:
                     left = t
