@@ -10,15 +10,17 @@ with one classic mistake, and the accuracy check must catch it on path scenes.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
-from harness.contract.scenes import PathScene
+from harness.contract.scenes import PathScene, Scene
 from harness.oracle.area import pixel_areas
 from harness.oracle.path_area import path_area_coverage
 
-__all__ = ["SignedAreaPathFiller", "EvenOddForNonzeroArea"]
+__all__ = ["SignedAreaPathFiller", "EvenOddForNonzeroArea", "ExactAreaPathFiller"]
 
 
 def _eight_bit(alpha: np.ndarray) -> np.ndarray:
@@ -70,5 +72,24 @@ class EvenOddForNonzeroArea:
 
     def rasterize(self, scene: PathScene) -> Coverage:
         cov = path_area_coverage(scene.with_fill_rule("evenodd"), self.convention)
+        assert cov.alpha is not None
+        return Coverage(cov.primitive, cov.y, cov.x0, cov.x1, alpha=_eight_bit(cov.alpha))
+
+
+class ExactAreaPathFiller:
+    """The control (not bad): the exact area of paths and triangles, rounded to 256 levels;
+    every area check must pass it."""
+
+    name = "exact_area_path_filler"
+    convention = Convention(coverage="area")
+    scene_kinds = ("triangles", "paths")
+    fill_rules = ("nonzero", "evenodd")
+    interpolates = False
+
+    def rasterize(self, scene: Any) -> Coverage:
+        from harness.oracle.coverage import exact_coverage
+
+        geometry = scene if isinstance(scene, PathScene) else Scene(scene.width, scene.height, scene.positions)
+        cov = exact_coverage(geometry, self.convention)
         assert cov.alpha is not None
         return Coverage(cov.primitive, cov.y, cov.x0, cov.x1, alpha=_eight_bit(cov.alpha))

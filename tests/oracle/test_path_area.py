@@ -163,3 +163,13 @@ def test_crossings_and_repeated_contours_stay_in_float(monkeypatch: pytest.Monke
         assert bound.max() < 2**-30
         for k in range(p.size):
             assert abs(Fraction(float(area[k])) - want.get((int(p[k]), int(x[k]), int(y[k])), Fraction(0))) <= bound[k]
+
+
+def test_the_glyph_and_hairline_cases_within_the_bound() -> None:
+    from cases.paths import shape_cases
+
+    cases = [c for c in shape_cases(0, True) if "/glyph/" in c.id or "/hairline/" in c.id]
+    assert len(cases) == 8
+    for case in cases:
+        assert isinstance(case.scene, PathScene)
+        _float_vs_exact(case.scene)
