@@ -394,7 +394,7 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     scene = case.scene
     if getattr(scene, "kind", "triangles") == "paths":  # the area where the fill rule holds (issue 34)
         from harness.checks.area_paths import path_accuracy
-        return path_accuracy(case, coverage, oracle, convention)
+        return path_accuracy(case, coverage, oracle, convention, tolerance)
     scene = TRIANGLES.narrow(scene)  # area coverage is judged on triangle scenes
     width, height, n = scene.width, scene.height, len(scene)
     keys, alpha, model = _aligned(*_keyed(coverage, width, height, n), *_keyed(oracle, width, height, n))

@@ -69,3 +69,19 @@ def test_evenodd_for_nonzero_fails_on_nonzero_overlaps_only() -> None:
     scene = _scenes("evenodd")[0]
     verdict = accuracy(Case("aa-paths/squares", scene), bad.rasterize(scene), exact_coverage(scene, AREA), AREA)
     assert verdict.status == "pass", verdict.message
+
+
+def test_a_float_rounding_at_a_level_boundary_is_a_near_tie() -> None:
+    from harness.checks.records import Tolerance
+
+    # 1 - 0.3 is 178.5 levels in float: rounding the float area may take either level
+    squares = [[[0.3, 0.2], [4.6, 0.2], [4.6, 3.7], [0.3, 3.7]], [[2.1, 1.3], [7.4, 1.3], [7.4, 6.6], [2.1, 6.6]]]
+    scene = PathScene.from_paths(8, 8, [squares])
+    oracle = exact_coverage(scene, AREA)
+    verdict = accuracy(Case("aa-paths/near", scene), _quantised(scene), oracle, AREA)
+    assert verdict.status == "pass" and verdict.metrics["near_tie"] > 0, verdict.message
+    strict = accuracy(Case("aa-paths/near", scene), _quantised(scene), oracle, AREA, Tolerance(mode="strict"))
+    assert strict.status == "fail" and "near ties" in strict.message
+    # on a lattice case no rounding excuses it
+    lattice = accuracy(Case("aa-paths/near", scene, lattice=True), _quantised(scene), oracle, AREA)
+    assert lattice.status == "fail"
