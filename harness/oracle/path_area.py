@@ -48,12 +48,12 @@ The float method (:func:`path_pixel_areas`)
     reference instead (rounded to nearest: within u).
 
 The error bound (u = 2**-53, round to nearest)
-    With n_S the edges spanning piece S, tau_S its trapezoids, Z = X + max(W, H) + 1 and N
-    the additions into the band's row (direct terms plus difference-array entries), at
-    every pixel of the band::
+    With n_S the edges spanning piece S, tau_S its trapezoids, Z = X + max(W, H) + 1,
+    T = sum_S h_S tau_S and N the most terms added into one pixel (its direct terms plus
+    the band's difference-array entries, plus 2), at every pixel of the band::
 
         |alpha_float - alpha_exact| <= sum_S h_S (3 n_S eps + tau_S u (2 Z + 13))
-                                       + (the heights of the pieces left out) + 1.02 N**2 u
+                                       + (the heights of the pieces left out) + 1.02 N (2 T + 1) u
 
     1. *An edge's x.* t = (y - ay) / (by - ay) is in [0, 1]; its three roundings and
        those of ``fl(bx - ax)`` and the product give ``t d (1 + theta_5)`` with
@@ -74,10 +74,11 @@ The error bound (u = 2**-53, round to nearest)
        roundings add 3.51 u (:mod:`harness.oracle.area`, step 3); h = fl(y1 - y0) errs by
        at most u h, the product rounds once: ``|g - g_exact| <= h u (Z + 5.53)``; two g and
        the difference's rounding: ``h u (2 Z + 12.1)``.
-    4. *Sums.* A pixel's value is a recursive float sum of at most N terms (its direct
-       terms and the difference array's prefix), each of magnitude below 1.01, so every
-       partial sum is below 1.01 N and the summation errs by at most ``1.01 N**2 u``;
-       clamping to [0, 1] only brings it closer, the exact area lying in [0, 1].
+    4. *Sums.* A pixel's value is a recursive float sum of at most N terms: its direct
+       terms, each within h (1 + 2^-40) of 0 for its piece, and the difference array's
+       prefix, entries of +-h; every partial sum is at most the sum of the magnitudes,
+       below 2 T + 1, so the summation errs by at most ``1.01 N (2 T + 1) u``; clamping to
+       [0, 1] only brings it closer, the exact area lying in [0, 1].
 
     For a glyph at 1,000 pixels the bound is about 1e-13, far under the 1/510 of half an
     8-bit level: :func:`path_pixel_areas` returns it per pixel so that a check can settle
@@ -379,7 +380,9 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
         ids = np.empty(k, dtype=np.int64)
         keys = np.empty(k)
         bound = 0.0
-        additions = 0
+        weight = 0.0  # sum over the pieces of h * (their trapezoids): bounds every partial sum
+        entries = 0  # difference-array entries
+        counts = np.zeros(ncol, dtype=np.int64)  # direct terms per column
         pieces = 0
         while top > 0:
             top -= 1
@@ -456,7 +459,7 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
                     if full1 > full0:
                         diff[full0 - c0] += h
                         diff[full1 - c0] -= h
-                        additions += 2
+                        entries += 2
                     else:
                         full0 = full1 = hi
                     for i in range(lo, hi):
@@ -464,15 +467,19 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
                             continue
                         fi = float(i)
                         out[base + i - c0] += _g(r0, r1, fi, h) - _g(l0, l1, fi, h)
-                        additions += 1
+                        counts[i - c0] += 1
             bound += h * (3.0 * n * eps + trapezoids * zterm)
+            weight += h * trapezoids
         running = 0.0
         for c in range(ncol):
             running += diff[c]
             value = out[base + c] + running
             out[base + c] = min(max(value, 0.0), 1.0)
-        nn = float(additions + ncol)
-        out_bound[g] = bound * (1.0 + 2.0**-40) + 1.02 * u * nn * nn
+        most = 0
+        for c in range(ncol):
+            most = max(most, counts[c])
+        terms = float(most + entries + 2)
+        out_bound[g] = bound * (1.0 + 2.0**-40) + 1.02 * u * terms * (2.0 * weight + 1.0)
 
 
 # (path, x, y, area, bound) of path_pixel_areas
