@@ -100,7 +100,8 @@ from numpy.typing import ArrayLike, NDArray
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import MAX_VIEWPORT, PathScene
-from harness.oracle.area import GUARD_LIMIT, UNIT_ROUNDOFF, clamped_mean
+from harness.geometry.spans import expand
+from harness.oracle.area import GUARD_LIMIT, UNIT_ROUNDOFF, _trim_zeros, clamped_mean
 
 __all__ = ["exact_path_area", "exact_path_pixel_areas", "path_pixel_areas", "path_area_coverage", "PathAreas"]
 
@@ -615,21 +616,12 @@ def _coverage_parts(scene: PathScene, convention: Convention | None) -> tuple[
         NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
     vertices = scene.vertices if convention is None else np.asarray(convention.snap(scene.vertices), dtype=np.float64)
     path, y, x0, x1, alpha, bound = _area_groups(scene, np.ascontiguousarray(vertices))
-    # trim each span to its first and last nonzero alpha
-    lengths = x1 - x0
-    starts = np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
-    nz = alpha > 0.0
-    keep_span = np.zeros(path.size, dtype=bool)
-    new_x0, new_x1 = x0.copy(), x0.copy()
-    pieces = []
-    for s in range(path.size):
-        where = np.flatnonzero(nz[starts[s]:starts[s + 1]])
-        if where.size:
-            keep_span[s] = True
-            new_x0[s], new_x1[s] = x0[s] + where[0], x0[s] + where[-1] + 1
-            pieces.append(alpha[starts[s] + where[0]:starts[s] + where[-1] + 1])
-    alphas = np.concatenate(pieces) if pieces else np.zeros(0)
-    return path[keep_span], y[keep_span], new_x0[keep_span], new_x1[keep_span], alphas, bound[keep_span]
+    # each span cut to its first and last nonzero alpha (area.py's kernel)
+    new_x0, new_x1, first = np.empty_like(x0), np.empty_like(x1), np.empty_like(x0)
+    _trim_zeros(np.ascontiguousarray(x0), np.ascontiguousarray(x1), alpha, new_x0, new_x1, first)
+    keep = new_x1 > new_x0
+    lengths = (new_x1 - new_x0)[keep]
+    return path[keep], y[keep], new_x0[keep], new_x1[keep], alpha[expand(first[keep], lengths)], bound[keep]
 
 
 def path_area_coverage(scene: PathScene, convention: Convention) -> Coverage:
