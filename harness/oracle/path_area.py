@@ -344,6 +344,20 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
     (columns group_c0[g] ..) and its error bound (module docstring). Edge e runs from
     (ax, ay) to (bx, by) with ay < by, ``down[e]`` its winding (+1 down the screen, -1 up)."""
     u = 2.0**-53
+    # work space for the largest band, allocated once
+    kmax, nmax = 1, 1
+    for g in range(group_j.size):
+        kmax = max(kmax, group_start[g + 1] - group_start[g])
+        nmax = max(nmax, group_n[g])
+    split_buf = np.empty(2 * kmax + 2)
+    stack0 = np.empty(6 * kmax + 66)
+    stack1 = np.empty(6 * kmax + 66)
+    diff = np.empty(nmax + 1)
+    counts = np.empty(nmax, dtype=np.int64)  # direct terms per column
+    xs0 = np.empty(kmax)
+    xs1 = np.empty(kmax)
+    ids = np.empty(kmax, dtype=np.int64)
+    keys = np.empty(kmax)
     for g in range(group_j.size):
         s0, s1 = group_start[g], group_start[g + 1]
         k = s1 - s0
@@ -353,7 +367,7 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
         base = group_off[g]
         eps = 12.0 * u * x_of_path[group_path[g]]  # an edge's float x at a height: within 11.01 u X
         zterm = u * (2.0 * z_of_path[group_path[g]] + 13.0)
-        splits = np.empty(2 * k + 2)
+        splits = split_buf
         splits[0] = j
         splits[1] = j + 1.0
         m = 2
@@ -366,24 +380,18 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
         splits = np.sort(splits[:m])
         # pieces to do, as a stack of (y0, y1): the sub-intervals between vertex heights,
         # split further where two float edges cross
-        limit = 4 * k + 64
-        stack0 = np.empty(limit + m)
-        stack1 = np.empty(limit + m)
+        limit = 4 * k + 64  # (the stack holds at most limit + m - 1 pieces: m <= 2 k + 2)
         top = 0
         for q in range(m - 2, -1, -1):
             if splits[q + 1] > splits[q]:
                 stack0[top] = splits[q]
                 stack1[top] = splits[q + 1]
                 top += 1
-        diff = np.zeros(ncol + 1)
-        xs0 = np.empty(k)
-        xs1 = np.empty(k)
-        ids = np.empty(k, dtype=np.int64)
-        keys = np.empty(k)
+        diff[:ncol + 1] = 0.0
+        counts[:ncol] = 0
         bound = 0.0
         weight = 0.0  # sum over the pieces of h * (their trapezoids): bounds every partial sum
         entries = 0  # difference-array entries
-        counts = np.zeros(ncol, dtype=np.int64)  # direct terms per column
         pieces = 0
         while top > 0:
             top -= 1
