@@ -323,21 +323,6 @@ def _g(x0, x1, i, h):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _piece_ends(ax, ay, bx, by, group_edges, s0, s1, y0, y1, ids, xs0, xs1):  # type: ignore[no-untyped-def]
-    """The edges spanning [y0, y1] (every edge top end first) and their float x at both
-    ends: how many."""
-    n = 0
-    for s in range(s0, s1):
-        e = group_edges[s]
-        if ay[e] <= y0 and by[e] >= y1:
-            ids[n] = e
-            xs0[n] = _x_at(ax[e], ay[e], bx[e], by[e], y0)
-            xs1[n] = _x_at(ax[e], ay[e], bx[e], by[e], y1)
-            n += 1
-    return n
-
-
-@numba.njit(cache=True)
 def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group_c0, group_n, group_off,  # type: ignore[no-untyped-def]  # noqa: C901 - a numba kernel: one sweep per band
                   group_path, evenodd, x_of_path, z_of_path, out, out_bound):
     """Per (path, band) group: the band's alphas into ``out[group_off[g]:][:group_n[g]]``
@@ -358,6 +343,8 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
     xs1 = np.empty(kmax)
     ids = np.empty(kmax, dtype=np.int64)
     keys = np.empty(kmax)
+    active = np.empty(kmax, dtype=np.int64)
+    order_buf = np.empty(32, dtype=np.int64)
     for g in range(group_j.size):
         s0, s1 = group_start[g], group_start[g + 1]
         k = s1 - s0
@@ -393,18 +380,51 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
         weight = 0.0  # sum over the pieces of h * (their trapezoids): bounds every partial sum
         entries = 0  # difference-array entries
         pieces = 0
+        # the pieces come in order of y0 (the stack pops the lower half of a split first):
+        # an active edge list, edges joining by their top end, leaving below their bottom
+        band = group_edges[s0:s1]
+        by_top = band[np.argsort(ay[band])]
+        joined = 0
+        n_active = 0
         while top > 0:
             top -= 1
             y0, y1 = stack0[top], stack1[top]
             h = y1 - y0
-            n = _piece_ends(ax, ay, bx, by, group_edges, s0, s1, y0, y1, ids, xs0, xs1)
+            while joined < k and ay[by_top[joined]] <= y0:
+                active[n_active] = by_top[joined]
+                n_active += 1
+                joined += 1
+            n = 0
+            kept = 0
+            for q in range(n_active):
+                e = active[q]
+                if by[e] <= y0:
+                    continue  # ended above this piece: and above every later one
+                active[kept] = e
+                kept += 1
+                if by[e] >= y1:  # spans it (no edge ends inside a piece)
+                    ids[n] = e
+                    xs0[n] = _x_at(ax[e], ay[e], bx[e], by[e], y0)
+                    xs1[n] = _x_at(ax[e], ay[e], bx[e], by[e], y1)
+                    n += 1
+            n_active = kept
             if n == 0:
                 continue
             # sorted by x at the middle, ties by x at y0 (two stable passes)
             for r in range(n):
                 keys[r] = 0.5 * xs0[r] + 0.5 * xs1[r]
-            first_pass = np.argsort(xs0[:n], kind="mergesort")
-            order = first_pass[np.argsort(keys[:n][first_pass], kind="mergesort")]
+            if n <= 32:  # a few edges (most pieces): an insertion sort, no allocation
+                order = order_buf[:n]
+                for r in range(n):
+                    t = r
+                    while t > 0 and (keys[order[t - 1]] > keys[r]
+                                     or (keys[order[t - 1]] == keys[r] and xs0[order[t - 1]] > xs0[r])):
+                        order[t] = order[t - 1]
+                        t -= 1
+                    order[t] = r
+            else:
+                first_pass = np.argsort(xs0[:n], kind="mergesort")
+                order = first_pass[np.argsort(keys[:n][first_pass], kind="mergesort")]
             # at each end, a neighbour left of its predecessor by at most 2 eps is moved
             # onto it (float noise: it stays within 3 eps of the true crossing); by more,
             # the two cross inside the piece: split it there
