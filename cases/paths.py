@@ -558,6 +558,24 @@ def shape_cases(seed: int, full: bool = False) -> list[Case]:
     add("overlap/three-polygons/float", lambda r: [[regular(int(r.integers(3, 8)), r.uniform(10, 22, 2), r.uniform(6, 11),
                                                             r.uniform(0, 7))[:: 1 if r.random() < 0.5 else -1]
                                                     for _ in range(3)]])
+
+    # glyph-like outlines (issue 34: what anti-aliased font renderers fill): an "o" whose
+    # curves are flattened to many short edges, its counter wound against it, crossed by a
+    # bar overlapping both as variable fonts' contours overlap; the same at 6 px and below
+    # a pixel; and a ring a tenth of a pixel thick (a hairline sliver)
+    def glyph_o(height: float) -> Callable[[np.random.Generator], list[list[Contour]]]:
+        def build(r: np.random.Generator) -> list[list[Contour]]:
+            c, turn = float_centre(r), r.uniform(0, 1)
+            outer = regular(64, c, 0.45 * height, turn) * [0.9, 1.0] + c * [0.1, 0.0]
+            inner = (regular(48, c, 0.27 * height, turn) * [0.9, 1.0] + c * [0.1, 0.0])[::-1]
+            bar = rectangle(c[0] - 0.5 * height, c[1] - 0.06 * height, c[0] + 0.5 * height, c[1] + 0.06 * height)
+            return [[outer, inner, bar]]
+        return build
+
+    add("glyph/o-with-bar/float", glyph_o(26.0))
+    add("glyph/o-with-bar-6px/float", glyph_o(6.0))
+    add("glyph/o-with-bar-sub-pixel/float", glyph_o(0.8))
+    add("ring/hairline/float", lambda r: [[regular(96, c := float_centre(r), 12.0), regular(96, c, 11.9)[::-1]]])
     # collinear vertices along the sides (some on samples); a diagonal side through samples
     add("collinear/square-extra-vertices/lattice",
         [[np.array([[4, 4], [10.5, 4], [16, 4], [28, 4], [28, 15.5], [28, 28], [16, 28], [4, 28], [4, 10]])]],

@@ -414,6 +414,9 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
     one, ``alpha_cause`` (:func:`alpha_cause`), whose words end the message.
     """
     scene = case.scene
+    if getattr(scene, "kind", "triangles") == "paths":  # the area where the fill rule holds (issue 34)
+        from harness.checks.area_paths import path_accuracy
+        return path_accuracy(case, coverage, oracle, convention, tolerance)
     lines = LINES.owns(scene)  # anti-aliased strokes (harness.oracle.area_lines); else triangles
     if not lines:
         scene = TRIANGLES.narrow(scene)

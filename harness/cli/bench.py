@@ -22,6 +22,13 @@ Path workloads (fixed seeds, 512 x 512; :func:`path_workloads`), each under both
 - P2-nonzero, P2-evenodd: one closed wiggly curve of 100,000 vertices that winds twice
   around the centre (self-intersecting: where the two turns overlap nonzero and even-odd
   part).
+- P3-nonzero, P3-evenodd: 1,000 glyph-like outlines (an "o": a ring of 24 short edges,
+  its counter wound against it, and a bar overlapping both, as variable fonts overlap
+  contours; heights 6 to 30 px).
+
+The exact area oracle of paths (``oracle_area``, :func:`harness.oracle.path_area.path_area_coverage`)
+against the libraries' anti-aliased path fills (``cairo_aa_path``: cairo's default
+anti-aliasing; ``skia_aa_path``: ``drawPath`` with ``AntiAlias=True``), likewise.
 
 The exact winding oracle (``oracle``, :func:`harness.oracle.coverage.exact_coverage` on the path
 scene) against the aliased path fills of the libraries, each path filled in one call into
@@ -250,7 +257,8 @@ def _line_contenders(scene: LineScene) -> list[tuple[str, Callable[[], object]]]
 
 def _path_contenders(scene: PathScene) -> list[tuple[str, Callable[[], object]]]:
     contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow_paths, scene)),
-                                                          ("oracle", partial(exact_coverage, scene, ORACLES["oracle"]))]
+                                                          ("oracle", partial(exact_coverage, scene, ORACLES["oracle"])),
+                                                          ("oracle_area", partial(exact_coverage, scene, ORACLES["oracle_area"]))]
     contenders += [(label, partial(fill, scene)) for label, fill in _path_peers() if not _unmeasured(label, scene)]
     return contenders
 

@@ -7,6 +7,7 @@ and what a peer cannot draw in reasonable time (:func:`_unmeasured`).
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -109,13 +110,14 @@ def _pillow_paths(scene: PathScene) -> Image.Image:
     return image
 
 
-def _cairo_paths(scene: PathScene) -> _Surface:
-    """cairo's aliased fill (``ANTIALIAS_NONE``) of each path under the scene's fill rule."""
+def _cairo_paths(scene: PathScene, antialias: bool = False) -> _Surface:
+    """cairo's aliased fill (``ANTIALIAS_NONE``; anti-aliased: its default) of each path
+    under the scene's fill rule."""
     import cairo
 
     surface = cairo.ImageSurface(cairo.FORMAT_A8, scene.width, scene.height)
     context = cairo.Context(surface)
-    context.set_antialias(cairo.ANTIALIAS_NONE)
+    context.set_antialias(cairo.ANTIALIAS_DEFAULT if antialias else cairo.ANTIALIAS_NONE)
     context.set_fill_rule(cairo.FILL_RULE_WINDING if scene.fill_rule == "nonzero" else cairo.FILL_RULE_EVEN_ODD)
     for path in _contours_by_path(scene):
         for contour in path:
@@ -133,13 +135,14 @@ def _cairo_paths(scene: PathScene) -> _Surface:
     return _Surface(read)
 
 
-def _skia_paths(scene: PathScene) -> _Surface:
-    """skia's ``drawPath`` without anti-aliasing of each path under the scene's fill type."""
+def _skia_paths(scene: PathScene, antialias: bool = False) -> _Surface:
+    """skia's ``drawPath`` without anti-aliasing (or with) of each path under the scene's
+    fill type."""
     import skia
 
     surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(scene.width, scene.height))
     canvas = surface.getCanvas()
-    paint = skia.Paint(AntiAlias=False)
+    paint = skia.Paint(AntiAlias=antialias)
     fill_type = skia.PathFillType.kWinding if scene.fill_rule == "nonzero" else skia.PathFillType.kEvenOdd
     for contours in _contours_by_path(scene):
         path = skia.Path()
@@ -249,7 +252,10 @@ _AA_PEERS = (("cairo_aa_fill", "cairo", _cairo_aa), ("skia_aa_fill", "skia", _sk
 _LINE_PEERS = (("skimage_line", "skimage", _skimage_lines), ("cairo_line", "cairo", _cairo_lines),
                ("skia_hairline", "skia", _skia_lines))
 _PATH_PEERS = (("cairo_fill", "cairo", _cairo_paths), ("skia_fill", "skia", _skia_paths),
-               ("skimage_polygon", "skimage", _skimage_paths))
+               ("skimage_polygon", "skimage", _skimage_paths),
+               # anti-aliased: the peers of the exact area oracle (oracle_area)
+               ("cairo_aa_path", "cairo", partial(_cairo_paths, antialias=True)),
+               ("skia_aa_path", "skia", partial(_skia_paths, antialias=True)))
 
 
 def missing_peers() -> dict[str, str]:

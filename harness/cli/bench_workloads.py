@@ -1,5 +1,6 @@
 """The bench's workloads (:mod:`harness.cli.bench`), fixed seeds: triangles (W1, W2;
-:func:`workloads`), paths ({10/3} stars and a wiggly outline, P1 and P2; :func:`path_workloads`)
+:func:`workloads`), paths ({10/3} stars, a wiggly outline and glyph-like outlines, P1, P2
+and P3; :func:`path_workloads`)
 and lines (short and long segments, L1 and L2; :func:`line_workloads`), each a
 :class:`Workload` with its mean primitive size.
 """
@@ -16,7 +17,7 @@ from cases.scenes import random_triangles
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 
 __all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "short_segments", "long_segments", "stars",
-           "wiggly_outline", "SIZE", "PATH_SIZE", "LINE_SIZE"]
+           "wiggly_outline", "glyphs", "SIZE", "PATH_SIZE", "LINE_SIZE"]
 
 if TYPE_CHECKING:
     pass
@@ -83,6 +84,33 @@ def wiggly_outline(vertices: int, size: int) -> PathScene:
     return PathScene(size, size, points, np.array([vertices], dtype=np.int64), np.array([0], dtype=np.int64))
 
 
+def glyphs(count: int, size: int, seed: int) -> PathScene:
+    """``count`` glyph-like outlines, as a font renderer fills them: an "o" (an outer
+    ellipse and its counter, wound against it, each flattened to 24 short edges) crossed by
+    a bar (4 edges) overlapping both, as variable fonts' overlapping contours do, with
+    random centres on the ``size`` x ``size`` screen and heights 6 to 30 px; fill rule
+    nonzero (under even-odd the bar's overlap with the ring is a hole).
+
+    >>> scene = glyphs(2, 64, 0)
+    >>> len(scene), scene.contour_sizes.tolist()
+    (2, [24, 24, 4, 24, 24, 4])
+    """
+    rng = np.random.default_rng(seed)
+    t = np.arange(24) * (2.0 * np.pi / 24)
+    ring = np.stack([np.cos(t), np.sin(t)], axis=-1)
+    contours, sizes = [], []
+    for cx, cy, s in zip(rng.uniform(16.0, size - 16.0, count), rng.uniform(16.0, size - 16.0, count),
+                         rng.uniform(3.0, 15.0, count)):
+        outer = np.array([cx, cy]) + ring * [0.9 * s, s]
+        inner = (np.array([cx, cy]) + ring * [0.55 * s, 0.6 * s])[::-1]
+        bar = np.array([[cx - 1.05 * s, cy - 0.12 * s], [cx + 1.05 * s, cy - 0.12 * s],
+                        [cx + 1.05 * s, cy + 0.12 * s], [cx - 1.05 * s, cy + 0.12 * s]])
+        contours += [outer, inner, bar]
+        sizes += [24, 24, 4]
+    return PathScene(size, size, np.concatenate(contours) if contours else np.zeros((0, 2)), np.array(sizes, dtype=np.int64),
+                     np.repeat(np.arange(count, dtype=np.int64), 3))
+
+
 def _signed_areas(scene: PathScene) -> NDArray[np.float64]:
     """(P,) each path's signed area (shoelace over its contours)."""
     a, b, path = scene.edges()
@@ -91,13 +119,16 @@ def _signed_areas(scene: PathScene) -> NDArray[np.float64]:
 
 
 def path_workloads(scale: float = 1.0) -> list[Workload]:
-    """P1 (stars) and P2 (the 100,000-vertex outline), each under nonzero then even-odd;
-    ``scale`` < 1 shrinks the star count and the outline's vertices (for smoke tests)."""
+    """P1 (stars), P2 (the 100,000-vertex outline) and P3 (1,000 glyph-like outlines), each
+    under nonzero then even-odd; ``scale`` < 1 shrinks the star and glyph counts and the
+    outline's vertices (for smoke tests)."""
     n = max(1, int(1000 * scale))
     v = max(64, int(100_000 * scale))
     out = []
     for name, scene, what in (("P1", stars(n, PATH_SIZE, 3), f"{n} {{10/3}} stars of 10 vertices"),
-                              ("P2", wiggly_outline(v, PATH_SIZE), f"one self-intersecting outline of {v:,} vertices")):
+                              ("P2", wiggly_outline(v, PATH_SIZE), f"one self-intersecting outline of {v:,} vertices"),
+                              ("P3", glyphs(n, PATH_SIZE, 4), f"{n} glyph-like outlines (a ring, its counter and an overlapping "
+                                                              f"bar: 52 edges each)")):
         area = float(np.abs(_signed_areas(scene)).mean())
         for rule in ("nonzero", "evenodd"):
             out.append(Workload(f"{name}-{rule}", f"{what}, {rule}, {PATH_SIZE} x {PATH_SIZE}", scene.with_fill_rule(rule), area))

@@ -241,8 +241,8 @@ MULTISAMPLE = CoverageModel(
     verdict_checks=("conformance",))  # judged sample by sample
 AREA = CoverageModel(
     "area", "area", "harness.oracle.area:area_coverage", declared="area coverage",
-    seen="an alpha per pixel and triangle (anti-aliased)", alphas=True, paths=False, lines=True,
-    verdict_checks=("accuracy", "seams", "popping"))  # lines: harness.oracle.area_lines
+    seen="an alpha per pixel and triangle (anti-aliased)", alphas=True, lines=True,
+    verdict_checks=("accuracy", "seams", "popping"))  # paths: harness.oracle.path_area; lines: harness.oracle.area_lines
 SUPERSAMPLED_AREA = CoverageModel(
     "supersampled area", "area", "harness.oracle.coverage:sample_shares", declared="area coverage",
     seen="an alpha per pixel and triangle (anti-aliased)", alphas=True, max_samples=MAX_AREA_SAMPLES,

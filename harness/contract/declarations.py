@@ -50,8 +50,8 @@ def declaration_problem(rasterizer: Rasterizer) -> str | None:
 
     The convention read is the plugin's own (one identify found for it is not checked):
     its ``line`` rule needs ``"lines"`` in ``scene_kinds``; ``fill_rules`` need
-    ``"paths"``; lines are drawn with one sample per pixel (multisample: rectangles per sample), and paths have no analytic
-    area coverage, unless ``line_convention`` (``path_convention``) says how.
+    ``"paths"``; lines are drawn with one sample per pixel (multisample: rectangles per sample), and the coverage rules
+    are defined for triangles only, unless ``line_convention`` (``path_convention``) says how.
 
     Examples
     --------

@@ -607,9 +607,10 @@ def path_coverage(scene: PathScene, convention: Convention) -> Coverage:
 
     Single-sample: :func:`path_spans`; multisample: the same at each sample offset, spans
     carrying their sample index, sorted by path, sample and row; supersampled area: the
-    share of the pattern's samples per pixel as alpha. Paths whose coordinates lie beyond
-    the float filter's range are decided row by row in rational arithmetic (exact for any
-    finite float). Analytic area coverage of paths is not defined here (ValueError).
+    share of the pattern's samples per pixel as alpha; analytic area: the area where the
+    fill rule holds (:func:`harness.oracle.path_area.path_area_coverage`). Paths whose
+    coordinates lie beyond the float filter's range are decided row by row in rational
+    arithmetic (exact for any finite float).
 
     >>> from harness.contract.scenes import PathScene
     >>> square = PathScene.from_paths(2, 2, [[[[0, 0], [2, 0], [2, 2], [0, 2]]]])
@@ -623,6 +624,9 @@ def path_coverage(scene: PathScene, convention: Convention) -> Coverage:
         if not convention.model.alphas:
             raise ValueError(f"{convention.model.declared_as(convention)} coverage of paths is not defined yet (triangles only)")
         raise ValueError("analytic area coverage of paths is not defined yet: give the area convention a sample pattern")
+    if convention.model.alphas and convention.samples is None:
+        from harness.oracle.path_area import path_area_coverage  # the analytic area of a path (issue 34)
+        return path_area_coverage(scene, convention)
     offsets = convention.samples if convention.samples is not None else (convention.sample,)
     layers = [_path_layer(scene, replace(convention.at_sample(s) if convention.samples is not None else convention,
                                          sample=offset))

@@ -116,7 +116,7 @@ def test_a_rasterizer_that_exits_in_a_path_workload_does_not_pass_silently(capsy
     code, out, err = _bench(capsys, "--kinds", "paths", "--timeout", "30", "--rasterizer", f"{HOSTILE}:BenchExitsOnPaths")
     assert code == 1 and "Traceback" not in out + err
     rows = _rows(out)
-    assert list(rows) == ["P1-nonzero", "P1-evenodd", "P2-nonzero", "P2-evenodd"]
+    assert list(rows) == ["P1-nonzero", "P1-evenodd", "P2-nonzero", "P2-evenodd", "P3-nonzero", "P3-evenodd"]
     for row in rows.values():
         assert row["BenchExitsOnPaths"] == "its process exited with code 0 without answering"
         assert set(row) >= PATH_ROWS

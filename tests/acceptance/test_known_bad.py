@@ -13,6 +13,7 @@ from cases.suites import suite
 from harness import run_suite
 from harness.checks import CHECKS, Result
 from harness.contract.case import Case
+from tests.known_bad.aa_paths import EvenOddForNonzeroArea, SignedAreaPathFiller
 from tests.known_bad.antialiasing import (
     BiasedArea,
     CoarseSupersampleClaimsAnalytic,
@@ -58,6 +59,8 @@ def static():
 TABLE: dict[Any, set[str]] = {  # (keys: known-bad rasterizers of many classes)
     **{PathFillBug(bug): {"conformance"} for bug in PATH_BUGS},
     TwoFillers(): {"triangulation"},
+    SignedAreaPathFiller(): {"accuracy", "invariance"},  # issue 34: AA paths
+    EvenOddForNonzeroArea(): {"accuracy"},
     EdgeFunctionBug("inclusive"): {"conformance", "watertight", "degenerate"},
     EdgeFunctionBug("exclusive"): {"conformance", "watertight"},
     EdgeFunctionBug("float32"): {"conformance", "watertight"},

@@ -226,11 +226,13 @@ def test_the_tiling_checks_fail_on_broken_partitions():
 # the pixels the two rules cover differ (some winding is even and nonzero) ...
 DIFFER = ["paths/star-*", "paths/ring/*hole-same/*", "paths/overlap/squares-same/*", "paths/zero-length-edges/doubled-vertices/*",
           "paths/huge/ring-*", "paths/huge/star-*", "paths/epsilon/star-*", "paths/epsilon/hole-*", "paths/several/*",
-          "path-degenerate/duplicate-contours/same/*", "paths/deep-winding/*"]
+          "path-degenerate/duplicate-contours/same/*", "paths/deep-winding/*", "paths/glyph/o-with-bar/*",
+          "paths/glyph/o-with-bar-6px/*"]
 # ... or they agree (windings 0 and +-1 only)
 AGREE = ["paths/simple/*", "paths/bow-tie/*", "paths/ring/*hole-opposite/*", "paths/overlap/squares-opposite/*",
          "paths/collinear/*", "paths/zero-length-edges/closed-*", "paths/spike/*", "paths/tiny-contours/*", "paths/huge/wedge-*",
-         "paths/epsilon/triangles-*", "path-partitions/*", "path-degenerate/*", "paths/triangles/*"]
+         "paths/epsilon/triangles-*", "path-partitions/*", "path-degenerate/*", "paths/triangles/*",
+         "paths/glyph/o-with-bar-sub-pixel/*", "paths/ring/hairline/*"]
 
 
 def test_evenodd_covers_a_subset_of_nonzero_and_they_differ_exactly_where_they_should():

@@ -23,7 +23,7 @@ STAR_PIXELS = {"nonzero": 13_981, "evenodd": 12_315}
 
 def test_the_path_workloads_are_stars_and_an_outline_under_both_rules():
     works = path_workloads(SCALE)
-    assert [w.name for w in works] == ["P1-nonzero", "P1-evenodd", "P2-nonzero", "P2-evenodd"]
+    assert [w.name for w in works] == ["P1-nonzero", "P1-evenodd", "P2-nonzero", "P2-evenodd", "P3-nonzero", "P3-evenodd"]
     for w in works:
         assert isinstance(w.scene, PathScene) and (w.scene.width, w.scene.height) == (512, 512)
         assert w.scene.fill_rule == w.name.split("-")[1] and w.name.split("-")[1] in w.description
@@ -54,13 +54,13 @@ def test_run_bench_measures_the_path_workloads_against_pillow():
     by_work: dict[str, list] = {}
     for m in results:
         by_work.setdefault(m.workload, []).append(m)
-    assert list(by_work) == ["P1-nonzero", "P1-evenodd", "P2-nonzero", "P2-evenodd"]
+    assert list(by_work) == ["P1-nonzero", "P1-evenodd", "P2-nonzero", "P2-evenodd", "P3-nonzero", "P3-evenodd"]
     peers = [label for label, _ in _path_peers()]
     for work, ms in by_work.items():
         labels = [m.contender for m in ms]
-        assert labels[:2] == ["pillow", "oracle"] and ms[0].ratio_to_pillow == 1.0
+        assert labels[:3] == ["pillow", "oracle", "oracle_area"] and ms[0].ratio_to_pillow == 1.0
         # scikit-image's polygon is too slow for the 1,000-vertex outline (each box pixel x each edge)
-        assert labels[2:] == [p for p in peers if work.startswith("P1") or p != "skimage_polygon"]
+        assert labels[3:] == [p for p in peers if not work.startswith("P2") or p != "skimage_polygon"]
         assert "centre_scanline" not in labels  # it takes no paths
         assert all(m.unit == "paths" and m.description and m.seconds > 0 and m.pixels > 0 for m in ms)
         assert all(m.ratio_to_pillow == pytest.approx(ms[0].seconds / m.seconds) for m in ms)

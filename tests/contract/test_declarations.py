@@ -169,8 +169,8 @@ def test_a_kind_listed_but_drawn_as_another_is_named() -> None:
      'fill_rules = \'evenodd\' is one string, not a tuple of rules: write fill_rules = ("evenodd",)'),
     ({"scene_kinds": ("paths",), "fill_rules": ("even-odd",)}, "fill_rules names 'even-odd', which is no fill rule"),
     ({"scene_kinds": ("paths",), "fill_rules": ()}, "fill_rules is empty, so no path scene would reach it"),
-    ({"scene_kinds": ("paths",), "convention": Convention(coverage="area")},
-     "analytic area coverage, which is not defined for paths"),
+    ({"scene_kinds": ("paths",), "convention": Convention(coverage="area-threshold")},
+     "a coverage rule defined for triangles only"),
 ])
 def test_each_self_contradiction_is_named(members, said) -> None:
     plugin = type("Plugin", (), {"name": "plugin", "convention": Convention(), "rasterize": lambda self, scene: None,

@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Any
 
 from tests.known_bad.aa_lines import ForgetsCaps, MajorAxisBoxLines, QuarterPixelLines
+from tests.known_bad.aa_paths import EvenOddForNonzeroArea, SignedAreaPathFiller
 from tests.known_bad.antialiasing import (
     BiasedArea,
     CentreSamples,
@@ -70,6 +71,7 @@ def _all() -> list[Any]:
         *(EdgeFunctionBug(bug) for bug in EDGE_BUGS),
         *(ScanlineBug(bug) for bug in SCANLINE_BUGS if bug != "none"),
         *(PathFillBug(bug) for bug in PATH_BUGS), TwoFillers(),
+        SignedAreaPathFiller(), EvenOddForNonzeroArea(),
         WrongTieClaim(), YFirstClaimsXFirst(), HalfAwayClaimsNearestEven(), DropsHuge(), Int32FixedPoint(), NaNAttributes(),
         SlowOnEpsilon(), Raises(), ReturnsGarbage(), HangsOnEpsilon(), ClipsBeforeSnapping(), Float32Input(tell=True),
         MirroredPattern(), SwappedSampleBits(), InclusiveSampleTies(), BiasedArea(), PerEdgeMethodSwitch(),

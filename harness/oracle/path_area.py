@@ -1,0 +1,678 @@
+"""Area coverage of paths: the area of {p in pixel square : rule(winding(p))}, exactly and in
+fast float64, under the nonzero and even-odd fill rules.
+
+A path is one or more closed contours (:class:`harness.contract.scenes.PathScene`); w(p) is
+the winding number of the path around p. The alpha of path P at pixel (i, j) is the area of
+the points of ``[i, i+1] x [j, j+1]`` where ``w != 0`` (nonzero) or w is odd (even-odd):
+self-intersections, overlapping contours, holes, collinear, repeated and zero-length edges
+are all allowed (the boundary has zero area, so no tie rule enters). For float input it
+is a rational number.
+
+The exact reference (:func:`exact_path_area`, :func:`exact_path_pixel_areas`)
+    Per pixel row band ``j <= y <= j + 1``, in :class:`fractions.Fraction`: the band is
+    split at every vertex height inside it and at every height inside it where two edges
+    cross. Between consecutive splits no edge begins, ends or crosses another, so the
+    non-horizontal edges spanning the piece are ordered in x (by their x at its middle)
+    and the winding number is constant between neighbours: summed left to right, each
+    gap where the rule holds is a trapezoid with two straight sides. Its area inside
+    column i is ``integral over y of clamp(R(y), i, i+1) - clamp(L(y), i, i+1)`` of its
+    right and left sides, a piecewise linear integrand (broken where a side crosses
+    x = i or x = i + 1) integrated exactly. Obviously correct, slow.
+
+The float method (:func:`path_pixel_areas`)
+    The same decomposition in compiled float64 code. Per (path, band) the band is cut at
+    its lines and the vertex heights inside it (floats, exact), and each piece
+    S = [y0, y1] (height h) is handled alone: every edge spanning it gets its float x at
+    y0 and y1 (``ax + fl(fl(y - ay) / fl(by - ay)) * fl(bx - ax)`` with the edge's top end
+    first, so coincident edges compute alike; the end point itself at its height), the
+    edges are sorted by their float x at the middle, and walking that order at each end:
+
+    * a neighbour left of its predecessor by at most 2 eps (eps = 12 u X, X >= 1 the
+      path's largest |x|) is moved onto it -- float noise where two edges meet or cross
+      at the piece's end;
+    * by more, the two cross inside the piece: it is split at their float crossing
+      height (or a float next to its end) and both halves are done alike. A piece that
+      cannot be split (or the 4 k + 64th split of a band of k edges) is left out: its area,
+      at most h, is added to the bound.
+
+    After the walk the float crossings, linear between the piece's ends, are sorted at
+    both ends, hence throughout S, so the winding number is constant between neighbours
+    and summed left to right gives the trapezoids (L, R) where the rule holds. Trapezoid
+    T adds ``g_i(R) - g_i(L)`` to column i, with ``g_i(e) = fl(h * clamped_mean(fl(x_e(y0) - i),
+    fl(x_e(y1) - i)))`` (:func:`harness.oracle.area.clamped_mean`: the mean of
+    clamp(x, 0, 1) along the side); columns wholly right of L and left of R (where
+    clamped_mean gives exactly 0 and 1) get h through a difference array, every other
+    column of the trapezoid its term directly. The row's values are clamped to [0, 1]. A
+    band whose bound exceeds :data:`LOOSE_BOUND`, and every band of a path with a
+    coordinate beyond ±:data:`harness.oracle.area.GUARD_LIMIT`, is computed by the exact
+    reference instead (rounded to nearest: within u).
+
+The error bound (u = 2**-53, round to nearest)
+    With n_S the edges spanning piece S, tau_S its trapezoids, Z = X + max(W, H) + 1,
+    T = sum_S h_S tau_S and N the most terms added into one pixel (its direct terms plus
+    the band's difference-array entries, plus 2), at every pixel of the band::
+
+        |alpha_float - alpha_exact| <= sum_S h_S (3 n_S eps + tau_S u (2 Z + 13))
+                                       + (the heights of the pieces left out) + 1.02 N (2 T + 1) u
+
+    1. *An edge's x.* t = (y - ay) / (by - ay) is in [0, 1]; its three roundings and
+       those of ``fl(bx - ax)`` and the product give ``t d (1 + theta_5)`` with
+       |t d| <= |d| <= 2X; the sum rounds once more: the float x is within
+       ``2 gamma_5 X + u X <= 11.01 u X < eps`` of the true one. A value moved onto its
+       predecessor takes a float x of an earlier edge within 2 eps of its own: it stays
+       within 3 eps of the true crossing.
+    2. *The configuration.* In the piece, let the float crossings run linearly between the
+       (moved) float values at its ends: each lies within 3 eps of the true crossing at
+       every height of S (both differences are linear). At a height y the rule holds on a
+       set of x whose winding number changes only at the crossings, so moving each
+       crossing by at most 3 eps changes that set's length inside the column by at most
+       3 eps per crossing: the float configuration's area in S differs from the exact one
+       by at most ``3 n_S eps h``. The float configuration is sorted throughout S, so its
+       area inside column i is exactly ``sum_T integral_S clamp(R) - clamp(L)``.
+    3. *One trapezoid's term.* ``fl(x - i)`` errs by at most ``u |x - i| <= u Z``;
+       clamped_mean is 1/2-Lipschitz in each argument, so it moves by at most u Z; its own
+       roundings add 3.51 u (:mod:`harness.oracle.area`, step 3); h = fl(y1 - y0) errs by
+       at most u h, the product rounds once: ``|g - g_exact| <= h u (Z + 5.53)``; two g and
+       the difference's rounding: ``h u (2 Z + 12.1)``.
+    4. *Sums.* A pixel's value is a recursive float sum of at most N terms: its direct
+       terms, each within h (1 + 2^-40) of 0 for its piece, and the difference array's
+       prefix, entries of +-h; every partial sum is at most the sum of the magnitudes,
+       below 2 T + 1, so the summation errs by at most ``1.01 N (2 T + 1) u``; clamping to
+       [0, 1] only brings it closer, the exact area lying in [0, 1].
+
+    For a glyph at 1,000 pixels the bound is about 1e-13, far under the 1/510 of half an
+    8-bit level: :func:`path_pixel_areas` returns it per pixel so that a check can settle
+    with :func:`exact_path_area` the rare verdict it leaves open
+    (:func:`harness.checks.area_paths.path_accuracy`).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from collections.abc import Sequence
+from fractions import Fraction
+
+import numba
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import MAX_VIEWPORT, PathScene
+from harness.geometry.spans import expand
+from harness.oracle.area import GUARD_LIMIT, UNIT_ROUNDOFF, _trim_zeros, clamped_mean
+
+__all__ = ["exact_path_area", "exact_path_pixel_areas", "path_pixel_areas", "path_area_coverage", "PathAreas"]
+
+_Edge = tuple[Fraction, Fraction, Fraction, Fraction]  # a -> b: ax, ay, bx, by
+# A band whose float bound exceeds this is computed exactly (far below 1/510, half an 8-bit
+# level: a check's verdict is then rarely left open).
+LOOSE_BOUND = 2.0**-24
+
+
+# -- the exact rational reference -----------------------------------------------------------
+
+
+def _fill(winding: int, evenodd: bool) -> bool:
+    return winding % 2 == 1 if evenodd else winding != 0
+
+
+def _contour_edges(contours: list[NDArray[np.float64]]) -> list[_Edge]:
+    """The non-horizontal edges of closed contours, exactly (horizontal and zero-length
+    edges cross no horizontal line: they change no winding number)."""
+    edges: list[_Edge] = []
+    for contour in contours:
+        points = [(Fraction(float(x)), Fraction(float(y))) for x, y in np.asarray(contour, dtype=np.float64).reshape(-1, 2)]
+        for k, (ax, ay) in enumerate(points):
+            bx, by = points[(k + 1) % len(points)]
+            if ay != by:
+                edges.append((ax, ay, bx, by))
+    return edges
+
+
+def _x_exact(edge: _Edge, y: Fraction) -> Fraction:
+    ax, ay, bx, by = edge
+    return ax + (y - ay) * (bx - ax) / (by - ay)
+
+
+def _clamped_integral(f0: Fraction, f1: Fraction, lo: Fraction, hi: Fraction) -> Fraction:
+    """The mean over t in [0, 1] of clamp(f0 + t (f1 - f0), lo, hi), exactly: the
+    integrand is linear between the points where it crosses lo and hi."""
+    cuts = [Fraction(0), Fraction(1)]
+    if f0 != f1:
+        for level in (lo, hi):
+            t = (level - f0) / (f1 - f0)
+            if 0 < t < 1:
+                cuts.append(t)
+    cuts.sort()
+    total = Fraction(0)
+    for t0, t1 in zip(cuts, cuts[1:]):
+        v0 = min(max(f0 + t0 * (f1 - f0), lo), hi)
+        v1 = min(max(f0 + t1 * (f1 - f0), lo), hi)
+        total += (t1 - t0) * (v0 + v1) / 2
+    return total
+
+
+def _band_trapezoids(edges: list[_Edge], evenodd: bool, j: int) -> list[tuple[Fraction, Fraction, Fraction, Fraction,
+                                                                             Fraction, Fraction]]:
+    """The trapezoids of row band j where the rule holds: (y0, y1, L(y0), L(y1), R(y0),
+    R(y1)), exactly (the module docstring's reference). Coincident edges are merged first,
+    their windings summed (an edge running down the screen adds +1, up -1): a contour
+    repeated n times is one edge of winding n, and edges whose windings cancel vanish."""
+    top, bottom = Fraction(j), Fraction(j + 1)
+    merged: dict[_Edge, int] = {}
+    for ax, ay, bx, by in edges:
+        if min(ay, by) < bottom and max(ay, by) > top:
+            key = (ax, ay, bx, by) if ay < by else (bx, by, ax, ay)  # top end first
+            merged[key] = merged.get(key, 0) + (1 if by > ay else -1)
+    band = [(e, w) for e, w in merged.items() if w]
+    splits = {top, bottom}
+    for e, _ in band:
+        for y in (e[1], e[3]):
+            if top < y < bottom:
+                splits.add(y)
+    # every height inside the band where two edges cross (lines x = p + q y)
+    lines = [(e, e[0] - e[1] * (e[2] - e[0]) / (e[3] - e[1]), (e[2] - e[0]) / (e[3] - e[1])) for e, _ in band]
+    for k, (e, p, q) in enumerate(lines):
+        for f, pf, qf in lines[k + 1:]:
+            if q != qf:
+                y = (pf - p) / (q - qf)
+                if top < y < bottom and e[1] <= y <= e[3] and f[1] <= y <= f[3]:
+                    splits.add(y)
+    heights = sorted(splits)
+    out = []
+    for y0, y1 in zip(heights, heights[1:]):
+        middle = (y0 + y1) / 2
+        spanning = sorted(((e, w) for e, w in band if e[1] <= y0 and e[3] >= y1), key=lambda ew: _x_exact(ew[0], middle))
+        winding = 0
+        left: _Edge | None = None
+        for e, w in spanning:
+            before = _fill(winding, evenodd)
+            winding += w
+            after = _fill(winding, evenodd)
+            if after and not before:
+                left = e
+            elif before and not after:
+                assert left is not None
+                out.append((y0, y1, _x_exact(left, y0), _x_exact(left, y1), _x_exact(e, y0), _x_exact(e, y1)))
+    return out
+
+
+def _band_areas(edges: list[_Edge], evenodd: bool, j: int, columns: range) -> dict[int, Fraction]:
+    """Column -> exact area in row band j, for the columns asked (only nonzero ones)."""
+    areas: dict[int, Fraction] = {}
+    for y0, y1, l0, l1, r0, r1 in _band_trapezoids(edges, evenodd, j):
+        first = max(math.floor(min(l0, l1)), columns.start)
+        last = min(math.ceil(max(r0, r1)), columns.stop)
+        for i in range(first, last):
+            lo, hi = Fraction(i), Fraction(i + 1)
+            area = (y1 - y0) * (_clamped_integral(r0, r1, lo, hi) - _clamped_integral(l0, l1, lo, hi))
+            if area:
+                areas[i] = areas.get(i, Fraction(0)) + area
+    return {i: a for i, a in areas.items() if a}
+
+
+def _check_pixel(x: int, y: int) -> None:
+    for value in (x, y):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+            raise ValueError(f"pixel coordinates are integers, not {value!r}")
+
+
+def exact_path_area(contours: Sequence[ArrayLike], fill_rule: str, x: int, y: int) -> Fraction:
+    """Exact area of {p in [x, x+1] x [y, y+1] : rule(winding(p))} for one path.
+
+    Parameters
+    ----------
+    contours : list of (K, 2) float64
+        The path's closed contours (the last vertex joins the first).
+    fill_rule : {"nonzero", "evenodd"}
+    x, y : int
+        The pixel's column and row.
+
+    Returns
+    -------
+    Fraction
+        The area, in [0, 1].
+
+    Examples
+    --------
+    Two overlapping squares: nonzero counts the overlap once, even-odd not at all.
+
+    >>> squares = [[[0, 0], [1.5, 0], [1.5, 1], [0, 1]], [[0.5, 0], [2, 0], [2, 1], [0.5, 1]]]
+    >>> exact_path_area(squares, "nonzero", 0, 0), exact_path_area(squares, "evenodd", 0, 0)
+    (Fraction(1, 1), Fraction(1, 2))
+    """
+    _check_pixel(x, y)
+    arrays = [np.asarray(c, dtype=np.float64).reshape(-1, 2) for c in contours]
+    if not all(np.all(np.isfinite(c)) for c in arrays):
+        raise ValueError("a contour has a coordinate that is not finite")
+    return _band_areas(_contour_edges(arrays), fill_rule == "evenodd", int(y), range(int(x), int(x) + 1)).get(
+        int(x), Fraction(0))
+
+
+def _finite_paths(scene: PathScene, vertices: NDArray[np.float64]) -> NDArray[np.bool_]:
+    finite = np.ones(len(scene), dtype=bool)
+    bad = ~np.all(np.isfinite(vertices), axis=1)
+    finite[np.unique(np.repeat(scene.contour_path, scene.contour_sizes)[bad])] = False
+    return finite
+
+
+def _path_contours(scene: PathScene, vertices: NDArray[np.float64], path: int) -> list[NDArray[np.float64]]:
+    ends = np.cumsum(scene.contour_sizes)
+    return [vertices[ends[c] - scene.contour_sizes[c]:ends[c]] for c in np.flatnonzero(scene.contour_path == path)]
+
+
+def exact_path_pixel_areas(scene: PathScene, convention: Convention | None = None) -> dict[tuple[int, int, int], Fraction]:
+    """The slow reference for :func:`path_pixel_areas`: every nonzero area, exactly.
+
+    Parameters
+    ----------
+    scene : PathScene
+    convention : Convention, optional
+        Its snapping is applied to every vertex first.
+
+    Returns
+    -------
+    dict of (path, x, y) -> Fraction
+        Every viewport pixel where a finite path covers a nonzero area.
+
+    Examples
+    --------
+    >>> ring = PathScene.from_paths(3, 3, [[[[0, 0], [3, 0], [3, 3], [0, 3]], [[1, 1], [1, 2], [2, 2], [2, 1]]]])
+    >>> areas = exact_path_pixel_areas(ring)
+    >>> len(areas), (0, 1, 1) in areas
+    (8, False)
+    """
+    vertices = scene.vertices if convention is None else convention.snap(scene.vertices)
+    evenodd = scene.fill_rule == "evenodd"
+    out: dict[tuple[int, int, int], Fraction] = {}
+    for p in np.flatnonzero(_finite_paths(scene, vertices)):
+        edges = _contour_edges(_path_contours(scene, vertices, int(p)))
+        if not edges:
+            continue
+        ys = [v for e in edges for v in (e[1], e[3])]
+        for j in range(max(math.floor(min(ys)), 0), min(math.ceil(max(ys)), scene.height)):
+            for i, area in sorted(_band_areas(edges, evenodd, j, range(0, scene.width)).items()):
+                out[int(p), i, j] = area
+    return out
+
+
+# -- the compiled float path -----------------------------------------------------------------
+
+
+@numba.njit(cache=True, inline="always")
+def _x_at(ax, ay, bx, by, y):  # type: ignore[no-untyped-def]
+    """x of the edge a-b at height y between ay and by (the end point itself at its height)."""
+    if y == ay:
+        return ax
+    if y == by:
+        return bx
+    return ax + ((y - ay) / (by - ay)) * (bx - ax)
+
+
+@numba.njit(cache=True, inline="always")
+def _g(x0, x1, i, h):  # type: ignore[no-untyped-def]
+    """h * mean of clamp(x - i, 0, 1) along a side running from x0 to x1 (0 and h exactly
+    where the column lies wholly right or left of it)."""
+    if max(x0, x1) <= i:
+        return 0.0
+    if min(x0, x1) >= i + 1.0:
+        return h
+    return h * clamped_mean(x0 - i, x1 - i)
+
+
+@numba.njit(cache=True)
+def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group_c0, group_n, group_off,  # type: ignore[no-untyped-def]  # noqa: C901 - a numba kernel: one sweep per band
+                  group_path, evenodd, x_of_path, z_of_path, out, out_bound):
+    """Per (path, band) group: the band's alphas into ``out[group_off[g]:][:group_n[g]]``
+    (columns group_c0[g] ..) and its error bound (module docstring). Edge e runs from
+    (ax, ay) to (bx, by) with ay < by, ``down[e]`` its winding (+1 down the screen, -1 up)."""
+    u = 2.0**-53
+    # work space for the largest band, allocated once
+    kmax, nmax = 1, 1
+    for g in range(group_j.size):
+        kmax = max(kmax, group_start[g + 1] - group_start[g])
+        nmax = max(nmax, group_n[g])
+    split_buf = np.empty(2 * kmax + 2)
+    stack0 = np.empty(6 * kmax + 66)
+    stack1 = np.empty(6 * kmax + 66)
+    diff = np.empty(nmax + 1)
+    counts = np.empty(nmax, dtype=np.int64)  # direct terms per column
+    xs0 = np.empty(kmax)
+    xs1 = np.empty(kmax)
+    ids = np.empty(kmax, dtype=np.int64)
+    keys = np.empty(kmax)
+    active = np.empty(kmax, dtype=np.int64)
+    order_buf = np.empty(32, dtype=np.int64)
+    for g in range(group_j.size):
+        s0, s1 = group_start[g], group_start[g + 1]
+        k = s1 - s0
+        j = float(group_j[g])
+        c0 = group_c0[g]
+        ncol = group_n[g]
+        base = group_off[g]
+        eps = 12.0 * u * x_of_path[group_path[g]]  # an edge's float x at a height: within 11.01 u X
+        zterm = u * (2.0 * z_of_path[group_path[g]] + 13.0)
+        splits = split_buf
+        splits[0] = j
+        splits[1] = j + 1.0
+        m = 2
+        for s in range(s0, s1):
+            e = group_edges[s]
+            for y in (ay[e], by[e]):
+                if j < y < j + 1.0:
+                    splits[m] = y
+                    m += 1
+        splits = np.sort(splits[:m])
+        # pieces to do, as a stack of (y0, y1): the sub-intervals between vertex heights,
+        # split further where two float edges cross
+        limit = 4 * k + 64  # (the stack holds at most limit + m - 1 pieces: m <= 2 k + 2)
+        top = 0
+        for q in range(m - 2, -1, -1):
+            if splits[q + 1] > splits[q]:
+                stack0[top] = splits[q]
+                stack1[top] = splits[q + 1]
+                top += 1
+        diff[:ncol + 1] = 0.0
+        counts[:ncol] = 0
+        bound = 0.0
+        weight = 0.0  # sum over the pieces of h * (their trapezoids): bounds every partial sum
+        entries = 0  # difference-array entries
+        pieces = 0
+        # the pieces come in order of y0 (the stack pops the lower half of a split first):
+        # an active edge list, edges joining by their top end, leaving below their bottom
+        band = group_edges[s0:s1]
+        by_top = band[np.argsort(ay[band])]
+        joined = 0
+        n_active = 0
+        while top > 0:
+            top -= 1
+            y0, y1 = stack0[top], stack1[top]
+            h = y1 - y0
+            while joined < k and ay[by_top[joined]] <= y0:
+                active[n_active] = by_top[joined]
+                n_active += 1
+                joined += 1
+            n = 0
+            kept = 0
+            for q in range(n_active):
+                e = active[q]
+                if by[e] <= y0:
+                    continue  # ended above this piece: and above every later one
+                active[kept] = e
+                kept += 1
+                if by[e] >= y1:  # spans it (no edge ends inside a piece)
+                    ids[n] = e
+                    xs0[n] = _x_at(ax[e], ay[e], bx[e], by[e], y0)
+                    xs1[n] = _x_at(ax[e], ay[e], bx[e], by[e], y1)
+                    n += 1
+            n_active = kept
+            if n == 0:
+                continue
+            # sorted by x at the middle, ties by x at y0 (two stable passes)
+            for r in range(n):
+                keys[r] = 0.5 * xs0[r] + 0.5 * xs1[r]
+            if n <= 32:  # a few edges (most pieces): an insertion sort, no allocation
+                order = order_buf[:n]
+                for r in range(n):
+                    t = r
+                    while t > 0 and (keys[order[t - 1]] > keys[r]
+                                     or (keys[order[t - 1]] == keys[r] and xs0[order[t - 1]] > xs0[r])):
+                        order[t] = order[t - 1]
+                        t -= 1
+                    order[t] = r
+            else:
+                first_pass = np.argsort(xs0[:n], kind="mergesort")
+                order = first_pass[np.argsort(keys[:n][first_pass], kind="mergesort")]
+            # at each end, a neighbour left of its predecessor by at most 2 eps is moved
+            # onto it (float noise: it stays within 3 eps of the true crossing); by more,
+            # the two cross inside the piece: split it there
+            inverted = -1
+            for r in range(n - 1):
+                a_, b_ = order[r], order[r + 1]
+                if xs0[b_] < xs0[a_]:
+                    if xs0[a_] - xs0[b_] <= 2.0 * eps:
+                        xs0[b_] = xs0[a_]
+                    elif inverted < 0:
+                        inverted = r
+                if xs1[b_] < xs1[a_]:
+                    if xs1[a_] - xs1[b_] <= 2.0 * eps:
+                        xs1[b_] = xs1[a_]
+                    elif inverted < 0:
+                        inverted = r
+            if inverted >= 0:
+                pieces += 1
+                a_, b_ = order[inverted], order[inverted + 1]
+                # the gaps at the ends have opposite signs: they cross at t = g0 / (g0 - g1)
+                g0 = xs0[b_] - xs0[a_]
+                g1 = xs1[b_] - xs1[a_]
+                yc = y0 + (g0 / (g0 - g1)) * h
+                if yc <= y0:
+                    yc = np.nextafter(y0, y1)
+                elif yc >= y1:
+                    yc = np.nextafter(y1, y0)
+                if y0 < yc < y1 and pieces < limit and h > 2.0**-60:
+                    stack0[top], stack1[top] = yc, y1
+                    stack0[top + 1], stack1[top + 1] = y0, yc
+                    top += 2
+                else:
+                    bound += h  # left out: its area, at most h, is the error
+                continue
+            # the float crossings, linear between the piece's ends, are sorted throughout
+            # it: each gap's winding is constant (module docstring, steps 1 and 2)
+            winding = 0
+            left = -1
+            trapezoids = 0
+            r = 0
+            while r < n:
+                t = order[r]
+                before = (winding % 2 != 0) if evenodd else winding != 0
+                # a run of coincident crossings is one, their windings summed
+                winding += down[ids[t]]
+                r += 1
+                while r < n and xs0[order[r]] == xs0[t] and xs1[order[r]] == xs1[t]:
+                    winding += down[ids[order[r]]]
+                    r += 1
+                after = (winding % 2 != 0) if evenodd else winding != 0
+                if after and not before:
+                    left = t
+                elif before and not after:
+                    trapezoids += 1
+                    l0, l1, r0, r1 = xs0[left], xs1[left], xs0[t], xs1[t]
+                    lo = max(int(math.floor(min(l0, l1))), c0)
+                    hi = min(int(math.ceil(max(r0, r1))), c0 + ncol)
+                    # columns wholly right of L and left of R: h each
+                    full0 = max(int(math.ceil(max(l0, l1))), lo)
+                    full1 = min(int(math.floor(min(r0, r1))), hi)
+                    if full1 > full0:
+                        diff[full0 - c0] += h
+                        diff[full1 - c0] -= h
+                        entries += 2
+                    else:
+                        full0 = full1 = hi
+                    for i in range(lo, hi):
+                        if full0 <= i < full1:
+                            continue
+                        fi = float(i)
+                        out[base + i - c0] += _g(r0, r1, fi, h) - _g(l0, l1, fi, h)
+                        counts[i - c0] += 1
+            bound += h * (3.0 * n * eps + trapezoids * zterm)
+            weight += h * trapezoids
+        running = 0.0
+        for c in range(ncol):
+            running += diff[c]
+            value = out[base + c] + running
+            out[base + c] = min(max(value, 0.0), 1.0)
+        most = 0
+        for c in range(ncol):
+            most = max(most, counts[c])
+        terms = float(most + entries + 2)
+        out_bound[g] = bound * (1.0 + 2.0**-40) + 1.02 * u * terms * (2.0 * weight + 1.0)
+
+
+# (path, x, y, area, bound) of path_pixel_areas
+PathAreas = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]
+
+
+def _viewport(width: int, height: int) -> None:
+    for name, value in (("width", width), ("height", height)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not 1 <= value <= MAX_VIEWPORT:
+            raise ValueError(f"{name} must be an integer in 1..{MAX_VIEWPORT}, not {value!r}")
+
+
+def _area_groups(scene: PathScene, vertices: NDArray[np.float64], exact_everywhere: bool = False) -> tuple[
+        NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
+    """(path, y, x0, x1, alpha, bound): one span per (path, row band), alphas per column."""
+    width, height = scene.width, scene.height
+    _viewport(width, height)
+    n_paths = len(scene)
+    finite = _finite_paths(scene, vertices)
+    following = np.arange(1, vertices.shape[0] + 1)
+    ends = np.cumsum(scene.contour_sizes)
+    following[ends - 1] = ends - scene.contour_sizes
+    a, b = vertices, vertices[following]
+    # every edge top end first (coincident edges then compute alike), its direction apart
+    down = np.where(b[:, 1] > a[:, 1], 1, -1).astype(np.int64)
+    a, b = np.where((down > 0)[:, None], a, b), np.where((down > 0)[:, None], b, a)
+    owner = np.repeat(scene.contour_path, scene.contour_sizes)
+    safe_vertex = np.all(np.abs(np.where(np.isfinite(vertices), vertices, 0.0)) <= GUARD_LIMIT, axis=1)
+    near = np.ones(n_paths, dtype=bool)
+    near[np.unique(owner[~safe_vertex])] = False
+    use = finite[owner] & (a[:, 1] != b[:, 1])
+    edges = np.flatnonzero(use)
+    lo_y, hi_y = np.minimum(a[edges, 1], b[edges, 1]), np.maximum(a[edges, 1], b[edges, 1])
+    first = np.maximum(np.floor(lo_y), 0).astype(np.int64)
+    last = np.minimum(np.ceil(hi_y), height).astype(np.int64) - 1
+    counts = np.maximum(last - first + 1, 0)
+    rep_edge = np.repeat(edges, counts)
+    starts = np.repeat(first - np.cumsum(counts) + counts, counts)
+    rep_j = starts + np.arange(rep_edge.size)
+    rep_path = owner[rep_edge]
+    order = np.lexsort((rep_edge, rep_j, rep_path))
+    rep_edge, rep_j, rep_path = rep_edge[order], rep_j[order], rep_path[order]
+    new = np.ones(rep_edge.size, dtype=bool)
+    new[1:] = (rep_j[1:] != rep_j[:-1]) | (rep_path[1:] != rep_path[:-1])
+    group_start = np.append(np.flatnonzero(new), rep_edge.size).astype(np.int64)
+    heads = group_start[:-1]
+    group_j, group_path = rep_j[heads], rep_path[heads]
+    xmin_e = np.minimum(a[rep_edge, 0], b[rep_edge, 0])
+    xmax_e = np.maximum(a[rep_edge, 0], b[rep_edge, 0])
+    if heads.size:
+        c0 = np.clip(np.floor(np.minimum.reduceat(xmin_e, heads)), 0, width).astype(np.int64)
+        c1 = np.clip(np.ceil(np.maximum.reduceat(xmax_e, heads)), 0, width).astype(np.int64)
+    else:
+        c0 = c1 = np.zeros(0, dtype=np.int64)
+    group_n = np.maximum(c1 - c0, 0)
+    offsets = np.concatenate([[0], np.cumsum(group_n)]).astype(np.int64)
+    out = np.zeros(int(offsets[-1]))
+    ok = np.zeros(heads.size, dtype=bool)
+    bound = np.zeros(heads.size)
+    path_x = np.ones(n_paths)
+    finite_x = np.isfinite(vertices[:, 0])
+    np.maximum.at(path_x, owner, np.where(safe_vertex & finite_x, np.abs(np.where(finite_x, vertices[:, 0], 0.0)), 0.0))
+    z = path_x + max(width, height) + 1.0
+    fast = near[group_path] & (not exact_everywhere)
+    idx = np.flatnonzero(fast)
+    if idx.size:
+        # the kernel sees the fast groups only (their edges all near)
+        sub_start = np.concatenate([[0], np.cumsum(np.diff(group_start)[idx])]).astype(np.int64)
+        sizes = np.diff(group_start)[idx]
+        sub_edges = rep_edge[np.repeat(group_start[idx] - sub_start[:-1], sizes) + np.arange(int(sizes.sum()))]
+        sub_off = offsets[idx]
+        sub_bound = np.zeros(idx.size)
+        _bands_kernel(np.ascontiguousarray(a[:, 0]), np.ascontiguousarray(a[:, 1]), np.ascontiguousarray(b[:, 0]),
+                      np.ascontiguousarray(b[:, 1]), down, sub_start, sub_edges.astype(np.int64),
+                      group_j[idx].astype(np.int64), c0[idx], group_n[idx], sub_off, group_path[idx].astype(np.int64),
+                      scene.fill_rule == "evenodd", path_x, z, out, sub_bound)
+        # a band whose bound is loose (a piece left out where float edges could not be
+        # told apart) is computed by the exact reference instead
+        ok[idx], bound[idx] = sub_bound <= LOOSE_BOUND, sub_bound
+    # the exact reference where the float bound is loose (or the path is far)
+    evenodd = scene.fill_rule == "evenodd"
+    exact_edges: dict[int, list[_Edge]] = {}
+    for g in np.flatnonzero(~ok):
+        p = int(group_path[g])
+        if p not in exact_edges:
+            exact_edges[p] = _contour_edges(_path_contours(scene, vertices, p))
+        lo, n = int(c0[g]), int(group_n[g])
+        values = np.zeros(n)
+        for i, area in _band_areas(exact_edges[p], evenodd, int(group_j[g]), range(lo, lo + n)).items():
+            values[i - lo] = float(area)
+        out[offsets[g]:offsets[g] + n] = values
+        bound[g] = UNIT_ROUNDOFF
+    return group_path, group_j, c0, c0 + group_n, out, bound
+
+
+def path_pixel_areas(scene: PathScene, convention: Convention | None = None) -> PathAreas:
+    """Area of {p in pixel : rule(winding(p))} for every path and viewport pixel it touches.
+
+    Float64 in compiled code where its bound is tight (below LOOSE_BOUND), the exact
+    reference elsewhere (module docstring), each pixel with its proven error bound.
+
+    Parameters
+    ----------
+    scene : PathScene
+    convention : Convention, optional
+        Its snapping is applied to every vertex first.
+
+    Returns
+    -------
+    path, x, y : (P,) int64
+        Pixels with a nonzero float area, sorted by path, row and column.
+    area : (P,) float64
+        In (0, 1].
+    bound : (P,) float64
+        A proven bound on ``|area - exact_path_area|`` at each.
+
+    Examples
+    --------
+    >>> star = PathScene.from_paths(2, 2, [[[[0, 0], [2, 0], [0, 2]]]])
+    >>> p, x, y, area, bound = path_pixel_areas(star)
+    >>> x.tolist(), y.tolist(), area.tolist(), bool(bound.max() < 2**-40)
+    ([0, 1, 0], [0, 0, 1], [1.0, 0.5, 0.5], True)
+    """
+    path, y, x0, x1, alpha, bound = _coverage_parts(scene, convention)
+    lengths = x1 - x0
+    keep = alpha > 0.0
+    columns = np.repeat(x0 - np.concatenate([[0], np.cumsum(lengths)[:-1]]).astype(np.int64), lengths) + np.arange(alpha.size)
+    return (np.repeat(path, lengths)[keep], columns[keep], np.repeat(y, lengths)[keep], alpha[keep],
+            np.repeat(bound, lengths)[keep])
+
+
+def _coverage_parts(scene: PathScene, convention: Convention | None) -> tuple[
+        NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]:
+    vertices = scene.vertices if convention is None else np.asarray(convention.snap(scene.vertices), dtype=np.float64)
+    path, y, x0, x1, alpha, bound = _area_groups(scene, np.ascontiguousarray(vertices))
+    # each span cut to its first and last nonzero alpha (area.py's kernel)
+    new_x0, new_x1, first = np.empty_like(x0), np.empty_like(x1), np.empty_like(x0)
+    _trim_zeros(np.ascontiguousarray(x0), np.ascontiguousarray(x1), alpha, new_x0, new_x1, first)
+    keep = new_x1 > new_x0
+    lengths = (new_x1 - new_x0)[keep]
+    return path[keep], y[keep], new_x0[keep], new_x1[keep], alpha[expand(first[keep], lengths)], bound[keep]
+
+
+def path_area_coverage(scene: PathScene, convention: Convention) -> Coverage:
+    """The oracle of an analytic area convention for a path scene: every (path, pixel) with
+    a nonzero area, its alpha the area where the fill rule holds inside the pixel square
+    (unquantised), within the bound of :func:`path_pixel_areas` of the exact area.
+
+    Snapping is the convention's; the tie rule, the sample point and culling mean nothing
+    here. Spans sorted by path, row and column, with ``alpha``.
+
+    >>> from harness.contract.conventions import Convention
+    >>> square = PathScene.from_paths(2, 2, [[[[0.5, 0], [2, 0], [2, 2], [0.5, 2]]]])
+    >>> path_area_coverage(square, Convention(coverage="area")).alpha.tolist()
+    [0.5, 1.0, 0.5, 1.0]
+    """
+    if convention.samples is not None:
+        raise ValueError("path_area_coverage is the analytic area; a supersampled convention's oracle is "
+                         "harness.oracle.winding.path_coverage (the share of its samples covered)")
+    path, y, x0, x1, alpha, _ = _coverage_parts(scene, convention)
+    order = np.lexsort((x0, y, path))
+    if order.size and np.any(order != np.arange(order.size)):
+        lengths = x1 - x0
+        starts = np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
+        alpha = np.concatenate([alpha[starts[s]:starts[s + 1]] for s in order])
+        path, y, x0, x1 = path[order], y[order], x0[order], x1[order]
+    return Coverage(path, y, x0, x1, alpha=alpha)
