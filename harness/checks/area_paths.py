@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.checks.area import _aligned, _keyed, _model_words, exact_alpha, exact_tolerance, level_values, off_level
+from harness.checks.area_levels import _aligned, _keyed, _model_words, exact_alpha, exact_tolerance, level_values, off_level
 from harness.checks.records import EVIDENCE_LIMIT, Result, Tolerance, result
 from harness.contract.case import Case
 from harness.contract.conventions import Convention

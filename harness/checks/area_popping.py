@@ -12,15 +12,17 @@ from numpy.typing import NDArray
 
 from harness.checks.area import (
     _DIFFERENCE_ROUNDING,
-    AREA_COVERAGE_KINDS,
     DISPLAY_LEVELS,
+    scene_exact_model,
+    scene_model_bound,
+)
+from harness.checks.area_levels import (
+    AREA_COVERAGE_KINDS,
     _fragments,
     _model_words,
     exact_alpha,
     exact_tolerance,
     level_values,
-    scene_exact_model,
-    scene_model_bound,
 )
 from harness.checks.records import (
     EVIDENCE_LIMIT,

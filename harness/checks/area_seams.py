@@ -12,7 +12,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.checks.area import AREA_COVERAGE_KINDS, _aligned, _fragments, _keyed, exact_tolerance
+from harness.checks.area_levels import (
+    AREA_COVERAGE_KINDS,
+    _aligned,
+    _fragments,
+    _keyed,
+    exact_tolerance,
+)
 from harness.checks.records import (
     EVIDENCE_LIMIT,
     Check,
