@@ -712,6 +712,14 @@ class Convention:
         kept as its canonical name (``"smart-no-stubs-stepped6"``; a Dropout or None is
         taken too; :attr:`dropout_control` gives the record); default ``"none"``, which
         changes nothing.
+    rows : int
+        ``area`` only, without ``samples``: row-sampled area coverage (cairo's
+        ``cairo-tor-scan-converter.c``, ``GRID_Y 15``): the alpha is the mean of the
+        triangle's cross-sections with the pixel on ``rows`` lines ``y = j + (k + 1/2)/rows``,
+        exact along x (:mod:`harness.oracle.aa_models`); 0 (default): the analytic area.
+    exact_rows : bool
+        With ``rows``: a pixel row holding no vertex strictly inside gets the exact area
+        (cairo's ``full_row``), the others their ``rows`` sample lines.
 
     Examples
     --------
@@ -763,6 +771,10 @@ class Convention:
     uncertainty: float = 0.0
     # coverage="closed" only: dropout control and the crossings' arithmetic (Dropout.name, canonical)
     dropout: str = "none"
+    # coverage="area" only: sample each pixel row on this many lines, exact along x (0: analytic area)
+    rows: int = 0
+    # with rows: a pixel row holding no vertex gets the exact area (cairo's full_row)
+    exact_rows: bool = False
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -774,6 +786,8 @@ class Convention:
             extra += f", dropout={self.dropout!r}" if self.dropout != "none" else ""
         elif self.coverage != "sample":
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
+        if self.rows:
+            extra += f", rows={self.rows!r}" + (", exact_rows=True" if self.exact_rows else "")
         if self.line != LineRule():
             extra += f", line={self.line!r}"
         if self.input != "float64":
@@ -791,7 +805,7 @@ class Convention:
         >>> Convention().model, Convention(coverage="area").model
         (CoverageModel('single'), CoverageModel('area'))
         """
-        return model_for(self.coverage, self.samples is not None)
+        return model_for(self.coverage, self.samples is not None, self.rows)
 
     @property
     def coverage_uses_threshold(self) -> bool:
@@ -931,6 +945,15 @@ class Convention:
         if self.coverage not in DECLARED_COVERAGES:
             raise ValueError(f"Convention.coverage must be one of {', '.join(DECLARED_COVERAGES)}, not {self.coverage!r}")
         self._check_rule_fields()
+        rows = self.rows
+        if isinstance(rows, bool) or not isinstance(rows, (int, np.integer)) or not 0 <= rows <= 256:
+            raise ValueError(f"Convention.rows must be an integer in 0..256, not {rows!r}")
+        object.__setattr__(self, "rows", int(rows))
+        if rows and (self.coverage != "area" or self.samples is not None):
+            raise ValueError("Convention.rows is for area coverage without samples (coverage='area')")
+        if self.exact_rows and not rows:
+            raise ValueError("Convention.exact_rows needs rows > 0")
+        object.__setattr__(self, "exact_rows", bool(self.exact_rows))
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
             raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
@@ -1051,6 +1074,9 @@ class Convention:
             return f"{self.model.declared_as(self)}{region}, {snapping}, {culling}"
         if self.model.alphas:
             what = "the exact area" if self.samples is None else f"the share of the samples covered ({where}), {tie}"
+            if self.rows:
+                what = f"the mean of {self.rows} cross-sections per pixel row" + (
+                    " (the exact area on rows holding no vertex)" if self.exact_rows else "")
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
         if self.samples is not None:
             return f"{where}, {tie}, {snapping}, {culling}"
