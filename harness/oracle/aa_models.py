@@ -187,6 +187,7 @@ def _row_kernel(positions, active, width, height, rows, exact_rows, write,  # ty
                 out_t, out_y, out_x0, out_x1, out_alpha):
     """Spans and alphas (write) or only their counts (not write): (spans, pixels)."""
     acc = np.zeros(width + 1)
+    full_x = np.empty((3, 2))
     spans = 0
     pixels = 0
     for t in range(positions.shape[0]):
@@ -201,19 +202,46 @@ def _row_kernel(positions, active, width, height, rows, exact_rows, write,  # ty
             analytic = exact_rows
             if exact_rows:
                 # cairo's can_do_full_row: no edge starts or ends inside the row, on its grid
-                # of rows sub-rows (INPUT_TO_GRID_Y rounds half up)
+                # of `rows` sub-rows (INPUT_TO_GRID_Y rounds half up)
                 for v in range(3):
                     g = math.floor(rows * tri[v, 1] + 0.5)
                     if rows * j < g < rows * (j + 1):
                         analytic = False
             lo = np.inf
             hi = -np.inf
+            n_full = 0
             if analytic:
-                # no vertex strictly inside: the extent is that of the band's two sections
-                for yy in (max(float(j), ymin), min(float(j + 1), ymax)):
-                    a, b = _section(tri, yy)
-                    lo = min(lo, a)
-                    hi = max(hi, b)
+                # the edges active over the whole row on the grid, each taken along its line
+                # from the row's top to its bottom (x1, x2 of cell_list_render_edge)
+                for e in range(3):
+                    f = (e + 1) % 3
+                    ay, by = tri[e, 1], tri[f, 1]
+                    gt = math.floor(rows * min(ay, by) + 0.5)
+                    gb = math.floor(rows * max(ay, by) + 0.5)
+                    if gt >= gb or not (gt <= rows * j and gb >= rows * (j + 1)):
+                        continue
+                    for side in range(2):
+                        # on cairo's x grid (GRID_X = 256): x.quo, the quotient rounded down
+                        x = math.floor(_section_edge(tri[e, 0], ay, tri[f, 0], by, float(j + side)) * 256.0 + 0.5) / 256.0
+                        full_x[n_full, side] = x
+                        lo = min(lo, x)
+                        hi = max(hi, x)
+                    n_full += 1
+                if n_full != 2:
+                    continue
+                # can_do_full_row's order test: the edges, stepped to the next row's first
+                # sub-row centre, must not have crossed (else the row is sampled)
+                left = 0 if full_x[0, 0] + full_x[0, 1] <= full_x[1, 0] + full_x[1, 1] else 1
+                step = 0.5 / rows
+                if (full_x[left, 1] + (full_x[left, 1] - full_x[left, 0]) * step
+                        > full_x[1 - left, 1] + (full_x[1 - left, 1] - full_x[1 - left, 0]) * step):
+                    analytic = False
+                    lo = np.inf
+                    hi = -np.inf
+                    for k in range(rows):
+                        a, b = _section(tri, j + (k + 0.5) / rows)
+                        lo = min(lo, a)
+                        hi = max(hi, b)
             else:
                 for k in range(rows):
                     a, b = _section(tri, j + (k + 0.5) / rows)
@@ -229,27 +257,17 @@ def _row_kernel(positions, active, width, height, rows, exact_rows, write,  # ty
                 for i in range(i0, i1):
                     acc[i] = 0.0
                 if analytic:
-                    # the two edges spanning the row: the left one adds what lies right of
-                    # it, the right one takes it away (full_row, cell_list_render_edge)
-                    ya = max(float(j), ymin)
-                    yb = min(float(j + 1), ymax)
-                    ym = 0.5 * (ya + yb)
-                    for e in range(3):
-                        f = (e + 1) % 3
-                        ay, by = tri[e, 1], tri[f, 1]
-                        if ay == by or not (min(ay, by) <= ya and yb <= max(ay, by)):
-                            continue
-                        xt = _section_edge(tri[e, 0], ay, tri[f, 0], by, ya)
-                        xb = _section_edge(tri[e, 0], ay, tri[f, 0], by, yb)
-                        xm = _section_edge(tri[e, 0], ay, tri[f, 0], by, ym)
-                        a, b = _section(tri, ym)
-                        sign = 1.0 if xm - a <= b - xm else -1.0  # the left edge or the right one
-                        xa = min(xt, xb)
-                        xr = max(xt, xb)
+                    # the left edge adds what lies right of it, the right one takes it away
+                    # (full_row, cell_list_render_edge)
+                    left = 0 if full_x[0, 0] + full_x[0, 1] <= full_x[1, 0] + full_x[1, 1] else 1
+                    for e in range(2):
+                        sign = 1.0 if e == left else -1.0
+                        xa = min(full_x[e, 0], full_x[e, 1])
+                        xr = max(full_x[e, 0], full_x[e, 1])
                         for i in range(i0, i1):
                             acc[i] += sign * _right_of(xa, xr, i, rows)
                     for i in range(i0, i1):
-                        acc[i] = min(max(acc[i], 0.0), 1.0) * (yb - ya)
+                        acc[i] = min(max(acc[i], 0.0), 1.0)
                 else:
                     for k in range(rows):
                         a, b = _section(tri, j + (k + 0.5) / rows)
