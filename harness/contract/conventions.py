@@ -717,8 +717,9 @@ class Convention:
         ``cairo-tor-scan-converter.c``, ``GRID_Y 15``): the alpha is the mean of the
         triangle's cross-sections with the pixel on ``rows`` lines ``y = j + (k + 1/2)/rows``,
         exact along x (:mod:`harness.oracle.aa_models`); 0 (default): the analytic area.
-    exact_rows : bool
-        With ``rows``: a pixel row holding no vertex strictly inside gets the exact area
+    full_rows : bool
+        With ``rows``: cairo's hybrid: a pixel row no edge starts or ends in gets the area
+        between its edges with their column crossings rounded down to 1/rows of the row
         (cairo's ``full_row``), the others their ``rows`` sample lines.
 
     Examples
@@ -773,8 +774,8 @@ class Convention:
     dropout: str = "none"
     # coverage="area" only: sample each pixel row on this many lines, exact along x (0: analytic area)
     rows: int = 0
-    # with rows: a pixel row holding no vertex gets the exact area (cairo's full_row)
-    exact_rows: bool = False
+    # with rows: rows no edge starts or ends in are analytic, on cairo's grid (cairo's full_row)
+    full_rows: bool = False
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -787,7 +788,7 @@ class Convention:
         elif self.coverage != "sample":
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
         if self.rows:
-            extra += f", rows={self.rows!r}" + (", exact_rows=True" if self.exact_rows else "")
+            extra += f", rows={self.rows!r}" + (", full_rows=True" if self.full_rows else "")
         if self.line != LineRule():
             extra += f", line={self.line!r}"
         if self.input != "float64":
@@ -951,9 +952,9 @@ class Convention:
         object.__setattr__(self, "rows", int(rows))
         if rows and (self.coverage != "area" or self.samples is not None):
             raise ValueError("Convention.rows is for area coverage without samples (coverage='area')")
-        if self.exact_rows and not rows:
-            raise ValueError("Convention.exact_rows needs rows > 0")
-        object.__setattr__(self, "exact_rows", bool(self.exact_rows))
+        if self.full_rows and not rows:
+            raise ValueError("Convention.full_rows needs rows > 0")
+        object.__setattr__(self, "full_rows", bool(self.full_rows))
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
             raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
@@ -1076,7 +1077,7 @@ class Convention:
             what = "the exact area" if self.samples is None else f"the share of the samples covered ({where}), {tie}"
             if self.rows:
                 what = f"the mean of {self.rows} cross-sections per pixel row" + (
-                    " (the exact area on rows holding no vertex)" if self.exact_rows else "")
+                    ", analytic rows as cairo's full_row" if self.full_rows else "")
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
         if self.samples is not None:
             return f"{where}, {tie}, {snapping}, {culling}"

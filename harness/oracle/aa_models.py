@@ -23,12 +23,25 @@ rows=n`` is *row-sampled* area coverage, the alpha of a triangle T at pixel (i, 
     alpha = (1/n) * sum_{k=0}^{n-1} length(T ∩ {y = j + (k + 1/2)/n} ∩ [i, i+1] x R)
 
 (the mean of the n cross-sections at the sub-row centre lines: a point sample in y, exact
-along x; a rational number for float input), and ``exact_rows=True`` makes it cairo's
-hybrid: a pixel row in which no vertex of T lies strictly inside (j < y < j + 1) gets the
-exact area of T ∩ pixel instead (``full_row``: for one triangle, edges start and end only at
-its vertices). The quantisation is the convention's ``levels`` (256), its tolerance the
-convention's; cairo's x grid (1/256 px per cross-section end) and its fixed 24.8 input
-(``input="fixed8"``) come on top of the model as the tolerance and input precision.
+along x; a rational number for float input; an edge is active on the lines with
+``y_top < y_k <= y_bottom``, as cairo's grid of sub-rows makes it). ``full_rows=True`` makes
+it cairo's hybrid: a pixel row in which no vertex's sub-row (``floor(n y + 1/2)``, cairo's
+``INPUT_TO_GRID_Y``) lies strictly inside, in which exactly two edges are active over the
+whole row and in which they have not crossed one sub-row centre below it
+(``can_do_full_row``), gets the area between those two edges, each taken along its line
+from the row's top to its bottom with its ends rounded to 1/256 px (``GRID_X``) and its
+crossings with the pixel column boundaries at heights rounded down to 1/n of the row,
+measured from its left end (``cell_list_render_edge``: ``y.quo = tmp / dx``); the other
+rows are sampled. The quantisation is the convention's ``levels`` (256: cairo's
+``GRID_AREA_TO_ALPHA`` is the coverage rounded half up to 1/255), its tolerance the
+convention's; cairo's x grid in the sampled rows (1/256 px per cross-section end) and its
+24.8 fixed input (``input="fixed8"``) come on top as the tolerance and input precision.
+
+Measured (cairo 1.16, 200 random triangles, 24 x 24): the largest |alpha - model| per
+triangle is at most 1 level for 85% of them under the hybrid (8% under the exact area),
+at most 9 levels overall (17 against the exact area); the remaining misses are full rows
+next to a vertex on a sub-row boundary and column crossings within 1/256 px of a pixel
+boundary (cairo's truncated half-steps, ``x1.quo -= edge->dxdy.quo / 2``), not modelled.
 
 :func:`row_sampled_coverage` is the oracle (compiled float64: each cross-section end is one
 division of float differences, within a few ulps of the exact rational; an alpha is a
@@ -77,20 +90,60 @@ def cairo_alpha_levels(coverage: ArrayLike) -> NDArray[np.int64]:
 
 
 def _cross_section(vertices: list[tuple[Fraction, Fraction]], y: Fraction) -> tuple[Fraction, Fraction] | None:
-    """[xl, xr] of the closed triangle at height y, or None when the line misses it."""
+    """[xl, xr] of the triangle at height y, its edges active where y_top < y <= y_bottom,
+    or None when the line misses it."""
     xs: list[Fraction] = []
     for k in range(3):
         (ax, ay), (bx, by) = vertices[k], vertices[(k + 1) % 3]
-        if ay == by:
-            if ay == y:
-                xs += [ax, bx]
-            continue
-        if min(ay, by) <= y <= max(ay, by):
+        if ay != by and min(ay, by) < y <= max(ay, by):  # cairo's sub-rows [ytop, ybot): half open
             xs.append(ax + (y - ay) * (bx - ax) / (by - ay))
     return (min(xs), max(xs)) if xs else None
 
 
-def exact_row_sampled_alpha(triangle: ArrayLike, x: int, y: int, rows: int, exact_rows: bool = False) -> Fraction:
+def _floor_half(v: Fraction) -> int:
+    """round half up: floor(v + 1/2)"""
+    return math.floor(v + Fraction(1, 2))
+
+
+def _full_row_alpha(vertices: list[tuple[Fraction, Fraction]], x: int, y: int, rows: int) -> Fraction | None:
+    """cairo's full-row alpha of pixel (x, y) (the module docstring), or None when the row
+    is sampled."""
+    grid = [_floor_half(rows * vy) for _, vy in vertices]
+    if any(rows * y < g < rows * (y + 1) for g in grid):
+        return None
+    ends: list[tuple[Fraction, Fraction]] = []
+    for k in range(3):
+        (ax, ay), (bx, by) = vertices[k], vertices[(k + 1) % 3]
+        gt, gb = sorted((grid[k], grid[(k + 1) % 3]))
+        if gt >= gb or not (gt <= rows * y and gb >= rows * (y + 1)):
+            continue
+        top, bottom = (ax + (yy - ay) * (bx - ax) / (by - ay) for yy in (Fraction(y), Fraction(y + 1)))
+        ends.append((Fraction(_floor_half(256 * top), 256), Fraction(_floor_half(256 * bottom), 256)))
+    if len(ends) != 2:
+        return None
+    left, right = sorted(ends, key=lambda e: e[0] + e[1])
+    step = Fraction(1, 2 * rows)
+    if left[1] + (left[1] - left[0]) * step > right[1] + (right[1] - right[0]) * step:
+        return None  # the edges crossed: can_do_full_row refuses, the row is sampled
+
+    def height(c: Fraction, xa: Fraction, xr: Fraction) -> Fraction:
+        return Fraction(math.floor(rows * (c - xa) / (xr - xa)), rows)
+
+    def right_of(xa: Fraction, xr: Fraction) -> Fraction:
+        if xr <= x:
+            return Fraction(1)
+        if xa >= x + 1:
+            return Fraction(0)
+        e, f = max(xa, Fraction(x)), min(xr, Fraction(x + 1))
+        qe = Fraction(0) if e == xa else height(e, xa, xr)
+        qf = Fraction(1) if f == xr else height(f, xa, xr)
+        return qf - (qf - qe) * ((e - x) + (f - x)) / 2
+
+    alpha = right_of(*sorted(left)) - right_of(*sorted(right))
+    return min(max(alpha, Fraction(0)), Fraction(1))
+
+
+def exact_row_sampled_alpha(triangle: ArrayLike, x: int, y: int, rows: int, full_rows: bool = False) -> Fraction:
     """The row-sampled alpha of ``triangle`` at pixel (x, y), exactly (the reference).
 
     >>> exact_row_sampled_alpha([[0, 0], [1, 0], [0, 1]], 0, 0, 2)
@@ -107,8 +160,10 @@ def exact_row_sampled_alpha(triangle: ArrayLike, x: int, y: int, rows: int, exac
     if (vertices[1][0] - vertices[0][0]) * (vertices[2][1] - vertices[0][1]) == \
             (vertices[1][1] - vertices[0][1]) * (vertices[2][0] - vertices[0][0]):
         return Fraction(0)
-    if exact_rows and not any(y < vy < y + 1 for _, vy in vertices):
-        return exact_area(points, x, y)
+    if full_rows:
+        full = _full_row_alpha(vertices, x, y, rows)
+        if full is not None:
+            return full
     total = Fraction(0)
     for k in range(rows):
         section = _cross_section(vertices, y + Fraction(2 * k + 1, 2 * rows))
@@ -120,26 +175,59 @@ def exact_row_sampled_alpha(triangle: ArrayLike, x: int, y: int, rows: int, exac
 # -- the compiled oracle ----------------------------------------------------------------------
 
 
+@numba.njit(cache=True, inline="always")
+def _side(v, num, den):  # type: ignore[no-untyped-def]
+    """The sign of v - num / den exactly (num, den integers below 2**52, den > 0): v * den
+    split into p + e exactly (Dekker's product), then p - num is exact (Sterbenz) where it
+    matters."""
+    p = v * den
+    # Dekker: split v and den in halves of 26 bits
+    c = 134217729.0 * v
+    vh = c - (c - v)
+    vl = v - vh
+    c = 134217729.0 * den
+    dh = c - (c - den)
+    dl = den - dh
+    e = ((vh * dh - p) + vh * dl + vl * dh) + vl * dl
+    s = p - num
+    if s != 0.0:
+        return 1 if s > 0.0 else -1
+    return 1 if e > 0.0 else (-1 if e < 0.0 else 0)
+
+
 @numba.njit(cache=True)
-def _section(tri, y):  # type: ignore[no-untyped-def]
-    """(xl, xr) of the closed triangle at height y; xl > xr when the line misses it."""
+def _grid_row(y, rows):  # type: ignore[no-untyped-def]
+    """floor(rows * y + 1/2) exactly: cairo's INPUT_TO_GRID_Y, the sub-row an edge end
+    falls on (the float guess corrected by exact comparisons with the sub-row boundaries)."""
+    g = math.floor(rows * y + 0.5)
+    den = 2.0 * rows
+    while _side(y, 2.0 * g - 1.0, den) < 0:
+        g -= 1
+    while _side(y, 2.0 * g + 1.0, den) >= 0:
+        g += 1
+    return g
+
+
+@numba.njit(cache=True)
+def _section(tri, line, rows):  # type: ignore[no-untyped-def]
+    """(xl, xr) of the triangle on the sample line y = (2 line + 1) / (2 rows), the edges
+    active where y_top < y <= y_bottom, decided exactly; xl > xr when the line misses it."""
     lo = np.inf
     hi = -np.inf
+    num = 2.0 * line + 1.0
+    den = 2.0 * rows
+    y = num / den
     for e in range(3):
         f = (e + 1) % 3
         ax, ay, bx, by = tri[e, 0], tri[e, 1], tri[f, 0], tri[f, 1]
         if ay == by:
-            if ay == y:
-                lo = min(lo, ax, bx)
-                hi = max(hi, ax, bx)
             continue
-        if min(ay, by) <= y <= max(ay, by):
-            if y == ay:
-                x = ax
-            elif y == by:
-                x = bx
-            else:
-                x = ax + ((y - ay) / (by - ay)) * (bx - ax)
+        top = min(ay, by)
+        bottom = max(ay, by)
+        if _side(top, num, den) < 0 and _side(bottom, num, den) >= 0:
+            x = ax + ((y - ay) / (by - ay)) * (bx - ax)
+            # the line lies within the edge's y-range: keep x within its x-range
+            x = min(max(x, min(ax, bx)), max(ax, bx))
             lo = min(lo, x)
             hi = max(hi, x)
     return lo, hi
@@ -159,12 +247,14 @@ def _section_edge(ax, ay, bx, by, y):  # type: ignore[no-untyped-def]
 def _quantised_height(c, xa, xr, rows):  # type: ignore[no-untyped-def]
     """The height (a share of the row) at which an edge spanning a full row from x = xa to
     x = xr crosses the column boundary c, rounded down to 1/rows, measured from its left end
-    (``cell_list_render_edge``: ``y.quo = tmp / dx``, stepped exactly by ``dydx_full``)."""
+    (``cell_list_render_edge``: ``y.quo = tmp / dx``, stepped exactly by ``dydx_full``).
+    xa, xr and c are multiples of 1/256: the quotient is taken in integers, exactly."""
     if c <= xa:
         return 0.0
     if c >= xr:
         return 1.0
-    return math.floor(rows * ((c - xa) / (xr - xa))) / rows
+    num = np.int64((c - xa) * 256.0) * rows
+    return (num // np.int64((xr - xa) * 256.0)) / rows
 
 
 @numba.njit(cache=True)
@@ -183,7 +273,7 @@ def _right_of(xa, xr, i, rows):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _row_kernel(positions, active, width, height, rows, exact_rows, write,  # type: ignore[no-untyped-def]
+def _row_kernel(positions, active, width, height, rows, full_rows, write,  # type: ignore[no-untyped-def]
                 out_t, out_y, out_x0, out_x1, out_alpha):
     """Spans and alphas (write) or only their counts (not write): (spans, pixels)."""
     acc = np.zeros(width + 1)
@@ -199,12 +289,12 @@ def _row_kernel(positions, active, width, height, rows, exact_rows, write,  # ty
         j0 = max(int(math.floor(ymin)), 0)
         j1 = min(int(math.ceil(ymax)), height)
         for j in range(j0, j1):
-            analytic = exact_rows
-            if exact_rows:
+            analytic = full_rows
+            if full_rows:
                 # cairo's can_do_full_row: no edge starts or ends inside the row, on its grid
                 # of `rows` sub-rows (INPUT_TO_GRID_Y rounds half up)
                 for v in range(3):
-                    g = math.floor(rows * tri[v, 1] + 0.5)
+                    g = _grid_row(tri[v, 1], rows)
                     if rows * j < g < rows * (j + 1):
                         analytic = False
             lo = np.inf
@@ -216,8 +306,8 @@ def _row_kernel(positions, active, width, height, rows, exact_rows, write,  # ty
                 for e in range(3):
                     f = (e + 1) % 3
                     ay, by = tri[e, 1], tri[f, 1]
-                    gt = math.floor(rows * min(ay, by) + 0.5)
-                    gb = math.floor(rows * max(ay, by) + 0.5)
+                    gt = _grid_row(min(ay, by), rows)
+                    gb = _grid_row(max(ay, by), rows)
                     if gt >= gb or not (gt <= rows * j and gb >= rows * (j + 1)):
                         continue
                     for side in range(2):
@@ -239,12 +329,12 @@ def _row_kernel(positions, active, width, height, rows, exact_rows, write,  # ty
                     lo = np.inf
                     hi = -np.inf
                     for k in range(rows):
-                        a, b = _section(tri, j + (k + 0.5) / rows)
+                        a, b = _section(tri, j * rows + k, rows)
                         lo = min(lo, a)
                         hi = max(hi, b)
             else:
                 for k in range(rows):
-                    a, b = _section(tri, j + (k + 0.5) / rows)
+                    a, b = _section(tri, j * rows + k, rows)
                     lo = min(lo, a)
                     hi = max(hi, b)
             if not lo <= hi:
@@ -270,7 +360,7 @@ def _row_kernel(positions, active, width, height, rows, exact_rows, write,  # ty
                         acc[i] = min(max(acc[i], 0.0), 1.0)
                 else:
                     for k in range(rows):
-                        a, b = _section(tri, j + (k + 0.5) / rows)
+                        a, b = _section(tri, j * rows + k, rows)
                         if not a <= b:
                             continue
                         for i in range(max(int(math.floor(a)), i0), min(int(math.floor(b)) + 1, i1)):
@@ -298,7 +388,7 @@ def _row_kernel(positions, active, width, height, rows, exact_rows, write,  # ty
 def row_sampled_coverage(scene: Scene, convention: Convention) -> Coverage:
     """The oracle of a row-sampled area convention (``Convention(coverage="area", rows=n)``):
     per (triangle, pixel), the mean of its n cross-sections at the sub-row centre lines
-    (with ``exact_rows``: the exact area on pixel rows holding no vertex), unquantised.
+    (with ``full_rows``: cairo's analytic full rows, module docstring), unquantised.
 
     Input precision, snapping and culling are the convention's; zero-area and non-finite
     triangles cover nothing.
@@ -315,7 +405,7 @@ def row_sampled_coverage(scene: Scene, convention: Convention) -> Coverage:
     active = sign != 0
     if convention.cull != "none":
         active &= sign != (1 if convention.cull == "cw" else -1)
-    args = (positions, active, int(scene.width), int(scene.height), int(rows), bool(convention.exact_rows))
+    args = (positions, active, int(scene.width), int(scene.height), int(rows), bool(convention.full_rows))
     empty_i, empty_f = np.empty(0, dtype=np.int64), np.empty(0)
     spans, pixels = _row_kernel(*args, False, empty_i, empty_i, empty_i, empty_i, empty_f)
     out = [np.empty(spans, dtype=np.int64) for _ in range(4)]

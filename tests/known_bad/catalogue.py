@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Any
 
 from tests.known_bad.aa_lines import ForgetsCaps, MajorAxisBoxLines, QuarterPixelLines
+from tests.known_bad.aa_models import RowsAtTopEdges, RowsTruncatedLevels
 from tests.known_bad.antialiasing import (
     BiasedArea,
     CentreSamples,
@@ -80,7 +81,7 @@ def _all() -> list[Any]:
         TruncatesClaimsFloat64(), Float32ClaimsFloat64(), StrictThreshold(), BoxOverestimate(), OpenUnderestimate(),
         FullWidthOffset(), Float32AggCover(), ExclusiveRightScanline(), ClosedWithTies(), LeftDropout(),
         SkiaCentredStart(), QtFlatCaps(), LlvmpipeUnshiftedSnap(),
-        MajorAxisBoxLines(), ForgetsCaps(), QuarterPixelLines(),
+        MajorAxisBoxLines(), ForgetsCaps(), QuarterPixelLines(), RowsAtTopEdges(), RowsTruncatedLevels(),
     ]
 
 

@@ -1,0 +1,134 @@
+"""Row-sampled area coverage (issue 34, cairo's tor scan converter): the compiled oracle
+against the rational reference, the convention's declaration, and the known-bad ports of
+the model caught by accuracy."""
+
+from __future__ import annotations
+
+import functools
+from fractions import Fraction
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, example, given, settings
+from hypothesis import strategies as st
+
+from cases.suites import suite
+from harness import run_suite
+from harness.contract.conventions import Convention
+from harness.contract.coverage_models import ROW_SAMPLED_AREA, model_for
+from harness.contract.scenes import Scene
+from harness.oracle.aa_models import cairo_alpha_levels, exact_row_sampled_alpha, row_sampled_coverage
+from harness.oracle.area import exact_area
+from harness.oracle.coverage import exact_coverage
+from tests.known_bad.aa_models import RowsAtTopEdges, RowsTruncatedLevels
+
+W = H = 6
+
+
+def _dense(coverage, width=W, height=H):  # type: ignore[no-untyped-def]
+    image = np.zeros((height, width))
+    m = 0
+    for k in range(len(coverage.y)):
+        n = int(coverage.x1[k] - coverage.x0[k])
+        image[coverage.y[k], coverage.x0[k]:coverage.x1[k]] += coverage.alpha[m:m + n]
+        m += n
+    return image
+
+
+# vertices on a lattice of 1/32 px (ties with the 1/15 rows never, with pixel edges often)
+# and on 1/30 (sub-row centres and boundaries hit on purpose)
+_coordinate = st.one_of(st.integers(0, 6 * 32).map(lambda v: v / 32), st.integers(0, 6 * 30).map(lambda v: v / 30))
+_triangle = st.lists(st.tuples(_coordinate, _coordinate), min_size=3, max_size=3)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(_triangle, st.sampled_from([1, 4, 15]), st.booleans())
+@example([(0.5, 0.5), (5.5, 1.5), (1.25, 5.25)], 15, True)
+@example([(0.0, 0.0), (6.0, 0.0), (0.0, 6.0)], 15, True)
+def test_the_compiled_oracle_is_the_rational_reference(vertices, rows, full_rows):
+    triangle = np.array(vertices, dtype=np.float64)
+    convention = Convention(coverage="area", rows=rows, full_rows=full_rows)
+    image = _dense(row_sampled_coverage(Scene(W, H, triangle[None]), convention))
+    for y in range(H):
+        for x in range(W):
+            assert abs(image[y, x] - float(exact_row_sampled_alpha(triangle, x, y, rows, full_rows))) < 1e-9, (x, y)
+
+
+def test_the_mean_of_one_row_is_a_point_sample_in_y_and_many_rows_tend_to_the_area():
+    triangle = np.array([[0.3, 0.2], [5.7, 1.4], [1.1, 5.9]])
+    for x, y in [(1, 1), (3, 1), (0, 4)]:
+        area = exact_area(triangle, x, y)
+        coarse = exact_row_sampled_alpha(triangle, x, y, 4)
+        fine = exact_row_sampled_alpha(triangle, x, y, 256)
+        assert abs(fine - area) <= abs(coarse - area) + Fraction(1, 1000)
+        assert abs(fine - area) < Fraction(1, 200)
+
+
+def test_a_row_sampled_convention_is_declared_once_and_described():
+    convention = Convention(coverage="area", rows=15, full_rows=True, input="fixed8")
+    assert convention.model is ROW_SAMPLED_AREA and model_for("area", False, 15) is ROW_SAMPLED_AREA
+    assert convention.coverage_kind == "area" if hasattr(convention, "coverage_kind") else True
+    assert "15 cross-sections per pixel row" in convention.describe()
+    assert "rows=15, full_rows=True" in repr(convention)
+    assert Convention(coverage="area").model is not ROW_SAMPLED_AREA  # rows=0 changes nothing
+    for bad in (dict(coverage="sample", rows=15), dict(coverage="area", rows=15, samples=4),
+                dict(coverage="area", full_rows=True), dict(coverage="area", rows=-1), dict(coverage="area", rows=300)):
+        with pytest.raises(ValueError):
+            Convention(**bad)
+
+
+def test_the_oracle_applies_the_input_grid_and_culling():
+    scene = Scene(W, H, [[[0.3, 0.2], [5.7, 1.4], [1.1, 5.9]]])
+    fixed = Convention(coverage="area", rows=15, input="fixed2")
+    snapped = Scene(W, H, np.round(scene.positions * 4) / 4)
+    assert np.array_equal(_dense(exact_coverage(scene, fixed)),
+                          _dense(exact_coverage(snapped, Convention(coverage="area", rows=15))))
+    culled = Convention(coverage="area", rows=15, cull="cw")
+    assert _dense(exact_coverage(scene, culled)).sum() == 0
+
+
+def test_cairo_alpha_levels_round_the_grid_area_half_up():
+    c = np.arange(7681)
+    assert np.array_equal(cairo_alpha_levels(c / 7680), (c * 255 + 3840) // 7680)
+
+
+def test_zero_area_and_non_finite_triangles_cover_nothing():
+    scene = Scene(W, H, [[[0, 0], [3, 3], [6, 6]], [[np.nan, 0], [3, 3], [1, 6]]])
+    assert row_sampled_coverage(scene, Convention(coverage="area", rows=15)).alpha.size == 0
+
+
+@functools.cache
+def _cases():  # type: ignore[no-untyped-def]
+    return [c for c in suite("quick") if c.id.startswith(("float/random", "lattice/bits-2"))][:3]
+
+
+class _Exact:
+    name = "exact_rows15"
+    convention = Convention(coverage="area", rows=15)
+    interpolates = False
+
+    def rasterize(self, scene):  # type: ignore[no-untyped-def]
+        exact = row_sampled_coverage(scene, self.convention)
+        return type(exact)(exact.triangle, exact.y, exact.x0, exact.x1, alpha=np.rint(exact.alpha * 255) / 255)
+
+
+@pytest.mark.parametrize("rasterizer, passes", [(_Exact(), True), (RowsAtTopEdges(), False), (RowsTruncatedLevels(), False)],
+                         ids=["exact", "rows-at-top-edges", "truncated-levels"])
+def test_accuracy_judges_the_row_sampled_model_and_catches_its_known_bads(rasterizer, passes):
+    selected = _cases()
+    assert selected
+    statuses = [r.status for r in run_suite([rasterizer], cases=selected, isolate=False, identify=False, repros=False,
+                                            only={"accuracy"}, timeout=60.0)]
+    assert statuses
+    if passes:
+        assert set(statuses) == {"pass"}, statuses
+    else:
+        assert "fail" in statuses, statuses
+
+
+def test_accuracy_of_a_row_sampled_answer_against_the_analytic_area_fails():
+    """The models are told apart: an exact row sampler is off the analytic area on shallow edges."""
+    scene = Scene(64, 4, [[[0.0, 0.3], [64.0, 1.2], [0.0, 3.7]]])
+    rows = _dense(row_sampled_coverage(scene, Convention(coverage="area", rows=15)), 64, 4)
+    area = _dense(exact_coverage(scene, Convention(coverage="area")), 64, 4)
+    assert np.abs(rows - area).max() > 4 / 255
