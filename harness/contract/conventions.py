@@ -946,15 +946,7 @@ class Convention:
         if self.coverage not in DECLARED_COVERAGES:
             raise ValueError(f"Convention.coverage must be one of {', '.join(DECLARED_COVERAGES)}, not {self.coverage!r}")
         self._check_rule_fields()
-        rows = self.rows
-        if isinstance(rows, bool) or not isinstance(rows, (int, np.integer)) or not 0 <= rows <= 256:
-            raise ValueError(f"Convention.rows must be an integer in 0..256, not {rows!r}")
-        object.__setattr__(self, "rows", int(rows))
-        if rows and (self.coverage != "area" or self.samples is not None):
-            raise ValueError("Convention.rows is for area coverage without samples (coverage='area')")
-        if self.full_rows and not rows:
-            raise ValueError("Convention.full_rows needs rows > 0")
-        object.__setattr__(self, "full_rows", bool(self.full_rows))
+        self._check_rows()
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
             raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
@@ -967,6 +959,18 @@ class Convention:
             if not 0.0 <= tol <= 1.0:
                 raise ValueError(f"Convention.tolerance must lie in [0, 1], not {self.tolerance!r}")
             object.__setattr__(self, "tolerance", tol)
+
+    def _check_rows(self) -> None:
+        """Validate and normalise ``rows`` and ``full_rows`` (row-sampled area coverage)."""
+        rows = self.rows
+        if isinstance(rows, bool) or not isinstance(rows, (int, np.integer)) or not 0 <= rows <= 256:
+            raise ValueError(f"Convention.rows must be an integer in 0..256, not {rows!r}")
+        object.__setattr__(self, "rows", int(rows))
+        if rows and (self.coverage != "area" or self.samples is not None):
+            raise ValueError("Convention.rows is for area coverage without samples (coverage='area')")
+        if self.full_rows and not rows:
+            raise ValueError("Convention.full_rows needs rows > 0")
+        object.__setattr__(self, "full_rows", bool(self.full_rows))
 
     def _check_rule_fields(self) -> None:
         """Validate and normalise ``threshold`` and ``uncertainty`` (the coverage rules')."""

@@ -86,7 +86,8 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 __all__ = ["CoverageModel", "CoverageKind", "COVERAGE_KINDS", "COVERAGE_MODELS", "DECLARED_COVERAGES", "SINGLE",
-           "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "ROW_SAMPLED_AREA", "AREA_THRESHOLD", "CONSERVATIVE_OVER", "CONSERVATIVE_UNDER",
+           "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "ROW_SAMPLED_AREA",
+           "AREA_THRESHOLD", "CONSERVATIVE_OVER", "CONSERVATIVE_UNDER",
            "AGG_COVER", "INCLUSIVE_SCANLINE", "CLOSED", "COVERAGE_RULES", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named",
            "model_for"]
 

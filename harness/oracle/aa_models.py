@@ -67,7 +67,7 @@ from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene
 from harness.geometry.exact import orientation
-from harness.oracle.area import exact_area
+from harness.oracle.area import exact_area  # noqa: F401 (doctests)
 
 __all__ = ["CAIRO_ROWS", "row_sampled_coverage", "exact_row_sampled_alpha", "cairo_alpha_levels"]
 
@@ -273,114 +273,109 @@ def _right_of(xa, xr, i, rows):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
+def _full_row(tri, j, rows, full_x):  # type: ignore[no-untyped-def]
+    """Whether cairo renders pixel row j of the triangle as a full row (``can_do_full_row``),
+    with the two edges' x at the row's top and bottom in ``full_x[left]``, ``full_x[right]``
+    (rows 0 and 1 of it, in that order)."""
+    # no edge starts or ends inside the row, on the grid of `rows` sub-rows
+    for v in range(3):
+        g = _grid_row(tri[v, 1], rows)
+        if rows * j < g < rows * (j + 1):
+            return False
+    # the edges active over the whole row, each taken along its line from the row's top to
+    # its bottom (x1, x2 of cell_list_render_edge), on cairo's x grid of 1/256 px
+    n_full = 0
+    for e in range(3):
+        f = (e + 1) % 3
+        ay, by = tri[e, 1], tri[f, 1]
+        gt = _grid_row(min(ay, by), rows)
+        gb = _grid_row(max(ay, by), rows)
+        if gt >= gb or not (gt <= rows * j and gb >= rows * (j + 1)):
+            continue
+        if n_full == 2:
+            return False
+        for side in range(2):
+            x = _section_edge(tri[e, 0], ay, tri[f, 0], by, float(j + side))
+            full_x[n_full, side] = math.floor(x * 256.0 + 0.5) / 256.0
+        n_full += 1
+    if n_full != 2:
+        return False
+    if full_x[0, 0] + full_x[0, 1] > full_x[1, 0] + full_x[1, 1]:  # left edge first
+        for side in range(2):
+            full_x[0, side], full_x[1, side] = full_x[1, side], full_x[0, side]
+    # the order test: stepped to the next row's first sub-row centre, the edges must not
+    # have crossed (else the row is sampled)
+    step = 0.5 / rows
+    return (full_x[0, 1] + (full_x[0, 1] - full_x[0, 0]) * step
+            <= full_x[1, 1] + (full_x[1, 1] - full_x[1, 0]) * step)
+
+
+@numba.njit(cache=True)
+def _row_alphas(tri, j, rows, analytic, full_x, width, acc):  # type: ignore[no-untyped-def]
+    """The row's alphas into acc[i0:i1]; returns (i0, i1), empty when it covers nothing."""
+    lo = np.inf
+    hi = -np.inf
+    if analytic:
+        lo = min(full_x[0, 0], full_x[0, 1])
+        hi = max(full_x[1, 0], full_x[1, 1])
+    else:
+        for k in range(rows):
+            a, b = _section(tri, j * rows + k, rows)
+            lo = min(lo, a)
+            hi = max(hi, b)
+    if not lo <= hi:
+        return 0, 0
+    i0 = max(int(math.floor(lo)), 0)
+    i1 = min(int(math.floor(hi)) + 1, width)
+    for i in range(i0, i1):
+        acc[i] = 0.0
+    if analytic:
+        # the left edge adds what lies right of it, the right one takes it away
+        for i in range(i0, i1):
+            right = _right_of(min(full_x[0, 0], full_x[0, 1]), max(full_x[0, 0], full_x[0, 1]), i, rows)
+            right -= _right_of(min(full_x[1, 0], full_x[1, 1]), max(full_x[1, 0], full_x[1, 1]), i, rows)
+            acc[i] = min(max(right, 0.0), 1.0)
+        return i0, i1
+    for k in range(rows):
+        a, b = _section(tri, j * rows + k, rows)
+        if not a <= b:
+            continue
+        for i in range(max(int(math.floor(a)), i0), min(int(math.floor(b)) + 1, i1)):
+            acc[i] += max(0.0, min(b, i + 1.0) - max(a, float(i))) / rows
+    return i0, i1
+
+
+@numba.njit(cache=True)
 def _row_kernel(positions, active, width, height, rows, full_rows, write,  # type: ignore[no-untyped-def]
                 out_t, out_y, out_x0, out_x1, out_alpha):
     """Spans and alphas (write) or only their counts (not write): (spans, pixels)."""
     acc = np.zeros(width + 1)
-    full_x = np.empty((3, 2))
+    full_x = np.empty((2, 2))
     spans = 0
     pixels = 0
     for t in range(positions.shape[0]):
         if not active[t]:
             continue
         tri = positions[t]
-        ymin = min(tri[0, 1], tri[1, 1], tri[2, 1])
-        ymax = max(tri[0, 1], tri[1, 1], tri[2, 1])
-        j0 = max(int(math.floor(ymin)), 0)
-        j1 = min(int(math.ceil(ymax)), height)
+        j0 = max(int(math.floor(min(tri[0, 1], tri[1, 1], tri[2, 1]))), 0)
+        j1 = min(int(math.ceil(max(tri[0, 1], tri[1, 1], tri[2, 1]))), height)
         for j in range(j0, j1):
-            analytic = full_rows
-            if full_rows:
-                # cairo's can_do_full_row: no edge starts or ends inside the row, on its grid
-                # of `rows` sub-rows (INPUT_TO_GRID_Y rounds half up)
-                for v in range(3):
-                    g = _grid_row(tri[v, 1], rows)
-                    if rows * j < g < rows * (j + 1):
-                        analytic = False
-            lo = np.inf
-            hi = -np.inf
-            n_full = 0
-            if analytic:
-                # the edges active over the whole row on the grid, each taken along its line
-                # from the row's top to its bottom (x1, x2 of cell_list_render_edge)
-                for e in range(3):
-                    f = (e + 1) % 3
-                    ay, by = tri[e, 1], tri[f, 1]
-                    gt = _grid_row(min(ay, by), rows)
-                    gb = _grid_row(max(ay, by), rows)
-                    if gt >= gb or not (gt <= rows * j and gb >= rows * (j + 1)):
-                        continue
-                    for side in range(2):
-                        # on cairo's x grid (GRID_X = 256): x.quo, the quotient rounded down
-                        x = math.floor(_section_edge(tri[e, 0], ay, tri[f, 0], by, float(j + side)) * 256.0 + 0.5) / 256.0
-                        full_x[n_full, side] = x
-                        lo = min(lo, x)
-                        hi = max(hi, x)
-                    n_full += 1
-                if n_full != 2:
-                    continue
-                # can_do_full_row's order test: the edges, stepped to the next row's first
-                # sub-row centre, must not have crossed (else the row is sampled)
-                left = 0 if full_x[0, 0] + full_x[0, 1] <= full_x[1, 0] + full_x[1, 1] else 1
-                step = 0.5 / rows
-                if (full_x[left, 1] + (full_x[left, 1] - full_x[left, 0]) * step
-                        > full_x[1 - left, 1] + (full_x[1 - left, 1] - full_x[1 - left, 0]) * step):
-                    analytic = False
-                    lo = np.inf
-                    hi = -np.inf
-                    for k in range(rows):
-                        a, b = _section(tri, j * rows + k, rows)
-                        lo = min(lo, a)
-                        hi = max(hi, b)
-            else:
-                for k in range(rows):
-                    a, b = _section(tri, j * rows + k, rows)
-                    lo = min(lo, a)
-                    hi = max(hi, b)
-            if not lo <= hi:
-                continue
-            i0 = max(int(math.floor(lo)), 0)
-            i1 = min(int(math.floor(hi)) + 1, width)
+            analytic = full_rows and _full_row(tri, j, rows, full_x)
+            i0, i1 = _row_alphas(tri, j, rows, analytic, full_x, width, acc)
+            while i0 < i1 and acc[i0] <= 0.0:  # trim the zeros at both ends
+                i0 += 1
+            while i1 > i0 and acc[i1 - 1] <= 0.0:
+                i1 -= 1
             if i0 >= i1:
                 continue
             if write:
-                for i in range(i0, i1):
-                    acc[i] = 0.0
-                if analytic:
-                    # the left edge adds what lies right of it, the right one takes it away
-                    # (full_row, cell_list_render_edge)
-                    left = 0 if full_x[0, 0] + full_x[0, 1] <= full_x[1, 0] + full_x[1, 1] else 1
-                    for e in range(2):
-                        sign = 1.0 if e == left else -1.0
-                        xa = min(full_x[e, 0], full_x[e, 1])
-                        xr = max(full_x[e, 0], full_x[e, 1])
-                        for i in range(i0, i1):
-                            acc[i] += sign * _right_of(xa, xr, i, rows)
-                    for i in range(i0, i1):
-                        acc[i] = min(max(acc[i], 0.0), 1.0)
-                else:
-                    for k in range(rows):
-                        a, b = _section(tri, j * rows + k, rows)
-                        if not a <= b:
-                            continue
-                        for i in range(max(int(math.floor(a)), i0), min(int(math.floor(b)) + 1, i1)):
-                            acc[i] += max(0.0, min(b, i + 1.0) - max(a, float(i))) / rows
-                # trim the zeros at both ends
-                while i0 < i1 and acc[i0] <= 0.0:
-                    i0 += 1
-                while i1 > i0 and acc[i1 - 1] <= 0.0:
-                    i1 -= 1
-                if i0 >= i1:
-                    continue
                 out_t[spans] = t
                 out_y[spans] = j
                 out_x0[spans] = i0
                 out_x1[spans] = i1
                 for i in range(i0, i1):
-                    out_alpha[pixels] = min(acc[i], 1.0)
-                    pixels += 1
-            else:
-                pixels += i1 - i0
+                    out_alpha[pixels + i - i0] = min(acc[i], 1.0)
+            pixels += i1 - i0
             spans += 1
     return spans, pixels
 
@@ -410,6 +405,6 @@ def row_sampled_coverage(scene: Scene, convention: Convention) -> Coverage:
     spans, pixels = _row_kernel(*args, False, empty_i, empty_i, empty_i, empty_i, empty_f)
     out = [np.empty(spans, dtype=np.int64) for _ in range(4)]
     alpha = np.empty(pixels)
-    spans, pixels = _row_kernel(*args, True, *out, alpha)
+    spans, pixels = _row_kernel(*args, True, *out, alpha)  # type: ignore[call-arg]
     triangle, y, x0, x1 = (o[:spans] for o in out)
     return Coverage(triangle, y, x0, x1, alpha=alpha[:pixels])

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import functools
 from fractions import Fraction
+from typing import Any
 
 import numpy as np
 import pytest
@@ -25,7 +26,7 @@ from tests.known_bad.aa_models import RowsAtTopEdges, RowsTruncatedLevels
 W = H = 6
 
 
-def _dense(coverage, width=W, height=H):  # type: ignore[no-untyped-def]
+def _dense(coverage, width=W, height=H):
     image = np.zeros((height, width))
     m = 0
     for k in range(len(coverage.y)):
@@ -41,7 +42,7 @@ _coordinate = st.one_of(st.integers(0, 6 * 32).map(lambda v: v / 32), st.integer
 _triangle = st.lists(st.tuples(_coordinate, _coordinate), min_size=3, max_size=3)
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(_triangle, st.sampled_from([1, 4, 15]), st.booleans())
 @example([(0.5, 0.5), (5.5, 1.5), (1.25, 5.25)], 15, True)
 @example([(0.0, 0.0), (6.0, 0.0), (0.0, 6.0)], 15, True)
@@ -71,8 +72,10 @@ def test_a_row_sampled_convention_is_declared_once_and_described():
     assert "15 cross-sections per pixel row" in convention.describe()
     assert "rows=15, full_rows=True" in repr(convention)
     assert Convention(coverage="area").model is not ROW_SAMPLED_AREA  # rows=0 changes nothing
-    for bad in (dict(coverage="sample", rows=15), dict(coverage="area", rows=15, samples=4),
-                dict(coverage="area", full_rows=True), dict(coverage="area", rows=-1), dict(coverage="area", rows=300)):
+    bads: list[dict[str, Any]] = [dict(coverage="sample", rows=15), dict(coverage="area", rows=15, samples=4),
+                                  dict(coverage="area", full_rows=True), dict(coverage="area", rows=-1),
+                                  dict(coverage="area", rows=300)]
+    for bad in bads:
         with pytest.raises(ValueError):
             Convention(**bad)
 
@@ -93,12 +96,13 @@ def test_cairo_alpha_levels_round_the_grid_area_half_up():
 
 
 def test_zero_area_and_non_finite_triangles_cover_nothing():
-    scene = Scene(W, H, [[[0, 0], [3, 3], [6, 6]], [[np.nan, 0], [3, 3], [1, 6]]])
-    assert row_sampled_coverage(scene, Convention(coverage="area", rows=15)).alpha.size == 0
+    scene = Scene(W, H, np.array([[[0, 0], [3, 3], [6, 6]], [[np.nan, 0], [3, 3], [1, 6]]]))
+    alpha = row_sampled_coverage(scene, Convention(coverage="area", rows=15)).alpha
+    assert alpha is not None and alpha.size == 0
 
 
 @functools.cache
-def _cases():  # type: ignore[no-untyped-def]
+def _cases() -> list[Any]:
     return [c for c in suite("quick") if c.id.startswith(("float/random", "lattice/bits-2"))][:3]
 
 
@@ -107,8 +111,9 @@ class _Exact:
     convention = Convention(coverage="area", rows=15)
     interpolates = False
 
-    def rasterize(self, scene):  # type: ignore[no-untyped-def]
+    def rasterize(self, scene: Scene) -> Any:
         exact = row_sampled_coverage(scene, self.convention)
+        assert exact.alpha is not None
         return type(exact)(exact.triangle, exact.y, exact.x0, exact.x1, alpha=np.rint(exact.alpha * 255) / 255)
 
 
