@@ -137,3 +137,28 @@ def test_accuracy_of_a_row_sampled_answer_against_the_analytic_area_fails():
     rows = _dense(row_sampled_coverage(scene, Convention(coverage="area", rows=15)), 64, 4)
     area = _dense(exact_coverage(scene, Convention(coverage="area")), 64, 4)
     assert np.abs(rows - area).max() > 4 / 255
+
+
+# -- identify tells the models apart from outside ------------------------------------------------
+
+
+@pytest.mark.parametrize("hidden", [Convention(coverage="area", rows=15), Convention(coverage="area", rows=15, full_rows=True),
+                                    Convention(coverage="area", rows=5)], ids=["rows15", "cairo-hybrid15", "rows5"])
+def test_identify_recovers_a_row_sampled_model_and_its_rows(hidden):
+    from harness.engine.isolation import InProcess
+    from harness.identify.area_probes import alpha_sweeps
+    from tests.identify.test_coverage_probes import Hidden
+
+    fact = alpha_sweeps(InProcess(Hidden(hidden, 256)))
+    assert fact.model == "hybrid" and fact.convention is not None
+    assert fact.convention.rows == hidden.rows and fact.convention.full_rows == hidden.full_rows, fact.convention
+    assert fact.residual == 0, fact.residual
+
+
+def test_identify_keeps_the_analytic_area_for_an_analytic_anti_aliaser():
+    from harness.engine.isolation import InProcess
+    from harness.identify.area_probes import alpha_sweeps
+    from tests.identify.test_coverage_probes import Hidden
+
+    fact = alpha_sweeps(InProcess(Hidden(Convention(coverage="area"), 256)))
+    assert fact.convention is not None and fact.convention.rows == 0
