@@ -100,47 +100,16 @@ def _cross_section(vertices: list[tuple[Fraction, Fraction]], y: Fraction) -> tu
     return (min(xs), max(xs)) if xs else None
 
 
-def _floor_half(v: Fraction) -> int:
-    """round half up: floor(v + 1/2)"""
-    return math.floor(v + Fraction(1, 2))
-
-
-def _full_row_alpha(vertices: list[tuple[Fraction, Fraction]], x: int, y: int, rows: int) -> Fraction | None:
-    """cairo's full-row alpha of pixel (x, y) (the module docstring), or None when the row
-    is sampled."""
-    grid = [_floor_half(rows * vy) for _, vy in vertices]
-    if any(rows * y < g < rows * (y + 1) for g in grid):
-        return None
-    ends: list[tuple[Fraction, Fraction]] = []
-    for k in range(3):
-        (ax, ay), (bx, by) = vertices[k], vertices[(k + 1) % 3]
-        gt, gb = sorted((grid[k], grid[(k + 1) % 3]))
-        if gt >= gb or not (gt <= rows * y and gb >= rows * (y + 1)):
-            continue
-        top, bottom = (ax + (yy - ay) * (bx - ax) / (by - ay) for yy in (Fraction(y), Fraction(y + 1)))
-        ends.append((Fraction(_floor_half(256 * top), 256), Fraction(_floor_half(256 * bottom), 256)))
-    if len(ends) != 2:
-        return None
-    left, right = sorted(ends, key=lambda e: e[0] + e[1])
-    step = Fraction(1, 2 * rows)
-    if left[1] + (left[1] - left[0]) * step > right[1] + (right[1] - right[0]) * step:
-        return None  # the edges crossed: can_do_full_row refuses, the row is sampled
-
-    def height(c: Fraction, xa: Fraction, xr: Fraction) -> Fraction:
-        return Fraction(math.floor(rows * (c - xa) / (xr - xa)), rows)
-
-    def right_of(xa: Fraction, xr: Fraction) -> Fraction:
-        if xr <= x:
-            return Fraction(1)
-        if xa >= x + 1:
-            return Fraction(0)
-        e, f = max(xa, Fraction(x)), min(xr, Fraction(x + 1))
-        qe = Fraction(0) if e == xa else height(e, xa, xr)
-        qf = Fraction(1) if f == xr else height(f, xa, xr)
-        return qf - (qf - qe) * ((e - x) + (f - x)) / 2
-
-    alpha = right_of(*sorted(left)) - right_of(*sorted(right))
-    return min(max(alpha, Fraction(0)), Fraction(1))
+def _cairo_alpha(points: NDArray[np.float64], x: int, y: int, rows: int) -> Fraction:
+    """cairo's hybrid alpha of pixel (x, y), as the rational its cells hold: the same
+    integer procedure as the compiled oracle, run uncompiled."""
+    fixed = np.rint(points * 256.0).astype(np.int64)
+    width = x + 2
+    cover = np.zeros(width + 2, dtype=np.int64)
+    uncovered = np.zeros(width + 2, dtype=np.int64)
+    _cairo_row.py_func(fixed, y, rows, width, np.zeros(width + 1), cover, uncovered)
+    area = int(cover[: x + 2].sum()) * 512 - int(uncovered[x + 1])
+    return Fraction(area, 512 * rows)
 
 
 def exact_row_sampled_alpha(triangle: ArrayLike, x: int, y: int, rows: int, full_rows: bool = False) -> Fraction:
@@ -161,9 +130,7 @@ def exact_row_sampled_alpha(triangle: ArrayLike, x: int, y: int, rows: int, full
             (vertices[1][1] - vertices[0][1]) * (vertices[2][0] - vertices[0][0]):
         return Fraction(0)
     if full_rows:
-        full = _full_row_alpha(vertices, x, y, rows)
-        if full is not None:
-            return full
+        return _cairo_alpha(points, x, y, rows)
     total = Fraction(0)
     for k in range(rows):
         section = _cross_section(vertices, y + Fraction(2 * k + 1, 2 * rows))
@@ -196,19 +163,6 @@ def _side(v, num, den):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _grid_row(y, rows):  # type: ignore[no-untyped-def]
-    """floor(rows * y + 1/2) exactly: cairo's INPUT_TO_GRID_Y, the sub-row an edge end
-    falls on (the float guess corrected by exact comparisons with the sub-row boundaries)."""
-    g = math.floor(rows * y + 0.5)
-    den = 2.0 * rows
-    while _side(y, 2.0 * g - 1.0, den) < 0:
-        g -= 1
-    while _side(y, 2.0 * g + 1.0, den) >= 0:
-        g += 1
-    return g
-
-
-@numba.njit(cache=True)
 def _section(tri, line, rows):  # type: ignore[no-untyped-def]
     """(xl, xr) of the triangle on the sample line y = (2 line + 1) / (2 rows), the edges
     active where y_top < y <= y_bottom, decided exactly; xl > xr when the line misses it."""
@@ -234,108 +188,20 @@ def _section(tri, line, rows):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _section_edge(ax, ay, bx, by, y):  # type: ignore[no-untyped-def]
-    """x of the edge a-b (ay != by) at height y."""
-    if y == ay:
-        return ax
-    if y == by:
-        return bx
-    return ax + ((y - ay) / (by - ay)) * (bx - ax)
-
-
-@numba.njit(cache=True)
-def _quantised_height(c, xa, xr, rows):  # type: ignore[no-untyped-def]
-    """The height (a share of the row) at which an edge spanning a full row from x = xa to
-    x = xr crosses the column boundary c, rounded down to 1/rows, measured from its left end
-    (``cell_list_render_edge``: ``y.quo = tmp / dx``, stepped exactly by ``dydx_full``).
-    xa, xr and c are multiples of 1/256: the quotient is taken in integers, exactly."""
-    if c <= xa:
-        return 0.0
-    if c >= xr:
-        return 1.0
-    num = np.int64((c - xa) * 256.0) * rows
-    return (num // np.int64((xr - xa) * 256.0)) / rows
-
-
-@numba.njit(cache=True)
-def _right_of(xa, xr, i, rows):  # type: ignore[no-untyped-def]
-    """The share of pixel i (in a full row) right of the edge running from its left end xa
-    to its right end xr, its column crossings at quantised heights: cairo's cells."""
-    if xr <= i:
-        return 1.0
-    if xa >= i + 1:
-        return 0.0
-    e = max(xa, float(i))
-    f = min(xr, float(i + 1))
-    qe = 0.0 if e == xa else _quantised_height(e, xa, xr, rows)
-    qf = 1.0 if f == xr else _quantised_height(f, xa, xr, rows)
-    return qf - (qf - qe) * ((e - i) + (f - i)) * 0.5
-
-
-@numba.njit(cache=True)
-def _full_row(tri, j, rows, full_x):  # type: ignore[no-untyped-def]
-    """Whether cairo renders pixel row j of the triangle as a full row (``can_do_full_row``),
-    with the two edges' x at the row's top and bottom in ``full_x[left]``, ``full_x[right]``
-    (rows 0 and 1 of it, in that order)."""
-    # no edge starts or ends inside the row, on the grid of `rows` sub-rows
-    for v in range(3):
-        g = _grid_row(tri[v, 1], rows)
-        if rows * j < g < rows * (j + 1):
-            return False
-    # the edges active over the whole row, each taken along its line from the row's top to
-    # its bottom (x1, x2 of cell_list_render_edge), on cairo's x grid of 1/256 px
-    n_full = 0
-    for e in range(3):
-        f = (e + 1) % 3
-        ay, by = tri[e, 1], tri[f, 1]
-        gt = _grid_row(min(ay, by), rows)
-        gb = _grid_row(max(ay, by), rows)
-        if gt >= gb or not (gt <= rows * j and gb >= rows * (j + 1)):
-            continue
-        if n_full == 2:
-            return False
-        for side in range(2):
-            x = _section_edge(tri[e, 0], ay, tri[f, 0], by, float(j + side))
-            full_x[n_full, side] = math.floor(x * 256.0 + 0.5) / 256.0
-        n_full += 1
-    if n_full != 2:
-        return False
-    if full_x[0, 0] + full_x[0, 1] > full_x[1, 0] + full_x[1, 1]:  # left edge first
-        for side in range(2):
-            full_x[0, side], full_x[1, side] = full_x[1, side], full_x[0, side]
-    # the order test: stepped to the next row's first sub-row centre, the edges must not
-    # have crossed (else the row is sampled)
-    step = 0.5 / rows
-    return (full_x[0, 1] + (full_x[0, 1] - full_x[0, 0]) * step
-            <= full_x[1, 1] + (full_x[1, 1] - full_x[1, 0]) * step)
-
-
-@numba.njit(cache=True)
-def _row_alphas(tri, j, rows, analytic, full_x, width, acc):  # type: ignore[no-untyped-def]
-    """The row's alphas into acc[i0:i1]; returns (i0, i1), empty when it covers nothing."""
+def _row_alphas(tri, j, rows, width, acc):  # type: ignore[no-untyped-def]
+    """The row's alphas (its rows sample lines) into acc[i0:i1]; returns (i0, i1)."""
     lo = np.inf
     hi = -np.inf
-    if analytic:
-        lo = min(full_x[0, 0], full_x[0, 1])
-        hi = max(full_x[1, 0], full_x[1, 1])
-    else:
-        for k in range(rows):
-            a, b = _section(tri, j * rows + k, rows)
-            lo = min(lo, a)
-            hi = max(hi, b)
+    for k in range(rows):
+        a, b = _section(tri, j * rows + k, rows)
+        lo = min(lo, a)
+        hi = max(hi, b)
     if not lo <= hi:
         return 0, 0
     i0 = max(int(math.floor(lo)), 0)
     i1 = min(int(math.floor(hi)) + 1, width)
     for i in range(i0, i1):
         acc[i] = 0.0
-    if analytic:
-        # the left edge adds what lies right of it, the right one takes it away
-        for i in range(i0, i1):
-            right = _right_of(min(full_x[0, 0], full_x[0, 1]), max(full_x[0, 0], full_x[0, 1]), i, rows)
-            right -= _right_of(min(full_x[1, 0], full_x[1, 1]), max(full_x[1, 0], full_x[1, 1]), i, rows)
-            acc[i] = min(max(right, 0.0), 1.0)
-        return i0, i1
     for k in range(rows):
         a, b = _section(tri, j * rows + k, rows)
         if not a <= b:
@@ -446,7 +312,7 @@ def _cairo_row(pf, j, rows, width, acc, cover, uncovered):  # type: ignore[no-un
             if n == 2:
                 _add_subspan(min(xs[0], xs[1]), max(xs[0], xs[1]), width, cover, uncovered)
     # blit_a8: cover accumulates the covered heights, area = cover * 2 GRID_X - uncovered
-    total = 0
+    total = cover[0]  # what lies left of the viewport
     for i in range(width):
         total += cover[i + 1]
         area = total * 512 - uncovered[i + 1]
@@ -531,7 +397,6 @@ def _row_kernel(positions, fixed, active, width, height, rows, full_rows, write,
     acc = np.zeros(width + 1)
     cover = np.zeros(width + 2, dtype=np.int64)
     uncovered = np.zeros(width + 2, dtype=np.int64)
-    full_x = np.empty((2, 2))
     spans = 0
     pixels = 0
     for t in range(positions.shape[0]):
@@ -545,7 +410,7 @@ def _row_kernel(positions, fixed, active, width, height, rows, full_rows, write,
                 _cairo_row(fixed[t], j, rows, width, acc, cover, uncovered)
                 i0, i1 = 0, width
             else:
-                i0, i1 = _row_alphas(tri, j, rows, False, full_x, width, acc)
+                i0, i1 = _row_alphas(tri, j, rows, width, acc)
             while i0 < i1 and acc[i0] <= 0.0:  # trim the zeros at both ends
                 i0 += 1
             while i1 > i0 and acc[i1 - 1] <= 0.0:

@@ -162,3 +162,25 @@ def test_identify_keeps_the_analytic_area_for_an_analytic_anti_aliaser():
 
     fact = alpha_sweeps(InProcess(Hidden(Convention(coverage="area"), 256)))
     assert fact.convention is not None and fact.convention.rows == 0
+
+
+def test_cairo_draws_its_hybrid_model_within_one_level():
+    """The model against the library itself (pycairo, A8 surface, ANTIALIAS_DEFAULT): every
+    alpha within one level of cairo's hybrid on random float triangles, shallow ones included
+    (the analytic area is up to 17 levels off, all rows sampled 17 too)."""
+    pytest.importorskip("cairo")
+    from rasterizers.real.adapters import CairoAntialiased
+
+    cairo = CairoAntialiased()
+    convention = Convention(coverage="area", rows=15, full_rows=True, input="fixed8")
+    rng = np.random.default_rng(7)
+    worst = 0.0
+    for t in range(40):
+        triangle = rng.uniform(2, 22, (1, 3, 2))
+        if t % 2:
+            triangle[0, :, 1] = rng.uniform(5, 9, 3)  # shallow edges: full rows differ most
+        scene = Scene(24, 24, triangle)
+        got = _dense(cairo.rasterize(scene), 24, 24)
+        want = _dense(exact_coverage(scene, convention), 24, 24)
+        worst = max(worst, float(np.abs(got - np.floor(want * 255 + 0.5) / 255).max()))
+    assert worst <= 1 / 255 + 1e-12, worst * 255
