@@ -11,7 +11,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene
 from harness.oracle.aa_models import row_sampled_coverage
 
-__all__ = ["RowsAtTopEdges", "RowsTruncatedLevels"]
+__all__ = ["RowsAtTopEdges", "RowsTruncatedLevels", "HybridSamplesEveryRow"]
 
 
 def _eight_bit(alpha: np.ndarray, rounding: str = "nearest") -> np.ndarray:
@@ -52,3 +52,19 @@ class RowsTruncatedLevels:
         exact = row_sampled_coverage(scene, self.convention)
         assert exact.alpha is not None
         return _answer(exact, _eight_bit(exact.alpha, "floor"))
+
+
+class HybridSamplesEveryRow:
+    """Declares cairo's hybrid (15 rows, analytic full rows on the 24.8 grid); samples every
+    pixel row on its 15 lines, the full rows too (``can_do_full_row`` always false): shallow
+    edges in full rows are off by up to a sub-row's share."""
+
+    name = "bad_hybrid_samples_every_row"
+    convention = Convention(coverage="area", rows=15, full_rows=True, input="fixed8")
+    interpolates = False
+
+    def rasterize(self, scene: Scene) -> Coverage:
+        sampled = Convention(coverage="area", rows=15, input="fixed8")
+        exact = row_sampled_coverage(scene, sampled)
+        assert exact.alpha is not None
+        return _answer(exact, _eight_bit(exact.alpha))

@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import Any
 
 from tests.known_bad.aa_lines import ForgetsCaps, MajorAxisBoxLines, QuarterPixelLines
-from tests.known_bad.aa_models import RowsAtTopEdges, RowsTruncatedLevels
+from tests.known_bad.aa_models import HybridSamplesEveryRow, RowsAtTopEdges, RowsTruncatedLevels
 from tests.known_bad.antialiasing import (
     BiasedArea,
     CentreSamples,
@@ -82,6 +82,7 @@ def _all() -> list[Any]:
         FullWidthOffset(), Float32AggCover(), ExclusiveRightScanline(), ClosedWithTies(), LeftDropout(),
         SkiaCentredStart(), QtFlatCaps(), LlvmpipeUnshiftedSnap(),
         MajorAxisBoxLines(), ForgetsCaps(), QuarterPixelLines(), RowsAtTopEdges(), RowsTruncatedLevels(),
+        HybridSamplesEveryRow(),
     ]
 
 

@@ -21,7 +21,7 @@ from harness.contract.scenes import Scene
 from harness.oracle.aa_models import cairo_alpha_levels, exact_row_sampled_alpha, row_sampled_coverage
 from harness.oracle.area import exact_area
 from harness.oracle.coverage import exact_coverage
-from tests.known_bad.aa_models import RowsAtTopEdges, RowsTruncatedLevels
+from tests.known_bad.aa_models import HybridSamplesEveryRow, RowsAtTopEdges, RowsTruncatedLevels
 
 W = H = 6
 
@@ -117,8 +117,9 @@ class _Exact:
         return type(exact)(exact.triangle, exact.y, exact.x0, exact.x1, alpha=np.rint(exact.alpha * 255) / 255)
 
 
-@pytest.mark.parametrize("rasterizer, passes", [(_Exact(), True), (RowsAtTopEdges(), False), (RowsTruncatedLevels(), False)],
-                         ids=["exact", "rows-at-top-edges", "truncated-levels"])
+@pytest.mark.parametrize("rasterizer, passes", [(_Exact(), True), (RowsAtTopEdges(), False), (RowsTruncatedLevels(), False),
+                                                (HybridSamplesEveryRow(), False)],
+                         ids=["exact", "rows-at-top-edges", "truncated-levels", "hybrid-samples-every-row"])
 def test_accuracy_judges_the_row_sampled_model_and_catches_its_known_bads(rasterizer, passes):
     selected = _cases()
     assert selected
@@ -184,3 +185,24 @@ def test_cairo_draws_its_hybrid_model_within_one_level():
         want = _dense(exact_coverage(scene, convention), 24, 24)
         worst = max(worst, float(np.abs(got - np.floor(want * 255 + 0.5) / 255).max()))
     assert worst <= 1 / 255 + 1e-12, worst * 255
+
+
+def test_identify_tells_a_hybrid_that_samples_every_row_from_the_one_it_claims():
+    from harness.engine.isolation import InProcess
+    from harness.identify.area_probes import alpha_sweeps
+
+    fact = alpha_sweeps(InProcess(HybridSamplesEveryRow()))
+    assert fact.convention is not None and fact.convention.rows == 15 and not fact.convention.full_rows
+
+
+def test_identify_recovers_cairos_hybrid_exactly():
+    """Issue 34: cairo's alphas are its hybrid's, every probe pixel (analytic area: 20,610
+    of 61,287 beyond half a level, at best within 0.0664)."""
+    pytest.importorskip("cairo")
+    from harness.engine.isolation import InProcess
+    from harness.identify.area_probes import alpha_sweeps
+    from rasterizers.real.adapters import CairoAntialiased
+
+    fact = alpha_sweeps(InProcess(CairoAntialiased()))
+    assert fact.convention is not None and (fact.convention.rows, fact.convention.full_rows) == (15, True)
+    assert fact.residual == 0 and fact.max_residual <= 0.5 / 255 + 1e-9
