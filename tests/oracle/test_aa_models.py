@@ -206,3 +206,18 @@ def test_identify_recovers_cairos_hybrid_exactly():
     fact = alpha_sweeps(InProcess(CairoAntialiased()))
     assert fact.convention is not None and (fact.convention.rows, fact.convention.full_rows) == (15, True)
     assert fact.residual == 0 and fact.max_residual <= 0.5 / 255 + 1e-9
+
+
+@pytest.mark.parametrize("bits", [6, 8])
+def test_identify_recovers_an_input_grid_before_the_analytic_area(bits):
+    """FreeType's and Qt's 26.6 input: Convention(coverage="area", input="fixed6") -- the area
+    oracle applies the input (Convention.snap) and identify reads the grid back, as the
+    equivalent snapping to 2**-bits px, ties to even."""
+    from harness.engine.isolation import InProcess
+    from harness.identify.area_probes import alpha_sweeps
+    from tests.identify.test_coverage_probes import Hidden
+
+    hidden = Convention(coverage="area", input=f"fixed{bits}")
+    fact = alpha_sweeps(InProcess(Hidden(hidden, 256)))
+    assert fact.convention is not None and fact.residual == 0
+    assert (fact.convention.subpixel_bits, fact.convention.snap_rounding) == (bits, "nearest-even")
