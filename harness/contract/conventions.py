@@ -718,9 +718,11 @@ class Convention:
         triangle's cross-sections with the pixel on ``rows`` lines ``y = j + (k + 1/2)/rows``,
         exact along x (:mod:`harness.oracle.aa_models`); 0 (default): the analytic area.
     full_rows : bool
-        With ``rows``: cairo's hybrid: a pixel row no edge starts or ends in gets the area
-        between its edges with their column crossings rounded down to 1/rows of the row
-        (cairo's ``full_row``), the others their ``rows`` sample lines.
+        With ``rows``: cairo's hybrid, its integer procedure on its 24.8 input: a pixel
+        row no edge starts or ends in gets the area between its edges with their column
+        crossings rounded down to 1/rows of the row (cairo's ``full_row``), the others their
+        ``rows`` sample lines with x rounded to 1/256 px (:mod:`harness.oracle.aa_models`;
+        declare ``input="fixed8"``).
 
     Examples
     --------
