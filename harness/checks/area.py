@@ -125,6 +125,10 @@ def model_bound(positions: NDArray, convention: Convention, width: int, height: 
     """
     if convention.samples is not None:
         return np.full(positions.shape[0], 2.0**-53)
+    if convention.rows:
+        # row-sampled (harness.oracle.aa_models): each cross-section end is within a few
+        # ulps of its coordinates; the exact fallback decides what this leaves open
+        return np.full(positions.shape[0], 2.0**-30)
     return area_error_bound(convention.snap(positions), width, height)
 
 
@@ -147,6 +151,10 @@ def exact_model(positions: NDArray, convention: Convention, triangle: int, x: in
         sign = int(orientation(tri)[0])
         if sign == (1 if convention.cull == "cw" else -1):
             return Fraction(0)
+    if convention.rows:
+        from harness.oracle.aa_models import exact_row_sampled_alpha
+
+        return exact_row_sampled_alpha(tri[0], int(x), int(y), convention.rows, convention.full_rows)
     return exact_area(tri[0], int(x), int(y))
 
 

@@ -55,6 +55,8 @@ def _aligned(keys_a: NDArray, a: NDArray, keys_b: NDArray, b: NDArray) -> tuple[
 
 
 def _model_words(convention: Convention) -> str:
+    if convention.rows:
+        return f"the row-sampled area ({convention.rows} rows)"
     return "the share of samples covered" if convention.samples is not None else "the exact area"
 
 

@@ -729,6 +729,17 @@ class Convention:
         kept as its canonical name (``"smart-no-stubs-stepped6"``; a Dropout or None is
         taken too; :attr:`dropout_control` gives the record); default ``"none"``, which
         changes nothing.
+    rows : int
+        ``area`` only, without ``samples``: row-sampled area coverage (cairo's
+        ``cairo-tor-scan-converter.c``, ``GRID_Y 15``): the alpha is the mean of the
+        triangle's cross-sections with the pixel on ``rows`` lines ``y = j + (k + 1/2)/rows``,
+        exact along x (:mod:`harness.oracle.aa_models`); 0 (default): the analytic area.
+    full_rows : bool
+        With ``rows``: cairo's hybrid, its integer procedure on its 24.8 input: a pixel
+        row no edge starts or ends in gets the area between its edges with their column
+        crossings rounded down to 1/rows of the row (cairo's ``full_row``), the others their
+        ``rows`` sample lines with x rounded to 1/256 px (:mod:`harness.oracle.aa_models`;
+        declare ``input="fixed8"``).
 
     Examples
     --------
@@ -780,6 +791,10 @@ class Convention:
     uncertainty: float = 0.0
     # coverage="closed" only: dropout control and the crossings' arithmetic (Dropout.name, canonical)
     dropout: str = "none"
+    # coverage="area" only: sample each pixel row on this many lines, exact along x (0: analytic area)
+    rows: int = 0
+    # with rows: rows no edge starts or ends in are analytic, on cairo's grid (cairo's full_row)
+    full_rows: bool = False
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -791,6 +806,8 @@ class Convention:
             extra += f", dropout={self.dropout!r}" if self.dropout != "none" else ""
         elif self.coverage != "sample":
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
+        if self.rows:
+            extra += f", rows={self.rows!r}" + (", full_rows=True" if self.full_rows else "")
         if self.line != LineRule():
             extra += f", line={self.line!r}"
         if self.input != "float64":
@@ -808,7 +825,7 @@ class Convention:
         >>> Convention().model, Convention(coverage="area").model
         (CoverageModel('single'), CoverageModel('area'))
         """
-        return model_for(self.coverage, self.samples is not None)
+        return model_for(self.coverage, self.samples is not None, self.rows)
 
     @property
     def coverage_uses_threshold(self) -> bool:
@@ -948,6 +965,7 @@ class Convention:
         if self.coverage not in DECLARED_COVERAGES:
             raise ValueError(f"Convention.coverage must be one of {', '.join(DECLARED_COVERAGES)}, not {self.coverage!r}")
         self._check_rule_fields()
+        self._check_rows()
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
             raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
@@ -960,6 +978,18 @@ class Convention:
             if not 0.0 <= tol <= 1.0:
                 raise ValueError(f"Convention.tolerance must lie in [0, 1], not {self.tolerance!r}")
             object.__setattr__(self, "tolerance", tol)
+
+    def _check_rows(self) -> None:
+        """Validate and normalise ``rows`` and ``full_rows`` (row-sampled area coverage)."""
+        rows = self.rows
+        if isinstance(rows, bool) or not isinstance(rows, (int, np.integer)) or not 0 <= rows <= 256:
+            raise ValueError(f"Convention.rows must be an integer in 0..256, not {rows!r}")
+        object.__setattr__(self, "rows", int(rows))
+        if rows and (self.coverage != "area" or self.samples is not None):
+            raise ValueError("Convention.rows is for area coverage without samples (coverage='area')")
+        if self.full_rows and not rows:
+            raise ValueError("Convention.full_rows needs rows > 0")
+        object.__setattr__(self, "full_rows", bool(self.full_rows))
 
     def _check_rule_fields(self) -> None:
         """Validate and normalise ``threshold`` and ``uncertainty`` (the coverage rules')."""
@@ -1069,6 +1099,9 @@ class Convention:
             return f"{self.model.declared_as(self)}{region}, {snapping}, {culling}"
         if self.model.alphas:
             what = "the exact area" if self.samples is None else f"the share of the samples covered ({where}), {tie}"
+            if self.rows:
+                what = f"the mean of {self.rows} cross-sections per pixel row" + (
+                    ", analytic rows as cairo's full_row" if self.full_rows else "")
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
         if self.samples is not None:
             return f"{where}, {tie}, {snapping}, {culling}"

@@ -26,6 +26,8 @@ under``                      closed triangle (D3D12/Vulkan underestimate)
 scanline``                   the truncated left crossing to the right one, both included (pygame)
 ``closed``      single       covered or not: iff the sample point lies in the closed
                              triangle, on an edge included (FreeType's monochrome)
+``row-sampled   area         an alpha, the mean of the triangle's cross-sections on n lines
+area``                       per pixel row, exact along x (cairo; ``Convention.rows``)
 ==============  ===========  ===========================================================
 
 ``closed`` is a coverage rule decided at the sample point (``sample_point`` True: its near
@@ -65,14 +67,14 @@ the name when first asked, as :mod:`harness` resolves its lazily imported names.
 
 >>> [m.name for m in COVERAGE_MODELS.values()]  # doctest: +NORMALIZE_WHITESPACE
 ['single', 'multisample', 'area', 'supersampled area', 'area-threshold', 'conservative-over', 'conservative-under',
- 'agg-cover', 'inclusive-scanline', 'closed']
+ 'agg-cover', 'inclusive-scanline', 'closed', 'row-sampled area']
 >>> model_named("multisample").sample_ids, model_named("area").alphas
 (True, True)
 >>> model_named("conservative")  # doctest: +NORMALIZE_WHITESPACE
 Traceback (most recent call last):
 ...
 ValueError: no coverage model is named 'conservative': single, multisample, area, supersampled area, area-threshold,
-conservative-over, conservative-under, agg-cover, inclusive-scanline, closed
+conservative-over, conservative-under, agg-cover, inclusive-scanline, closed, row-sampled area
 """
 
 from __future__ import annotations
@@ -84,7 +86,8 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 __all__ = ["CoverageModel", "CoverageKind", "COVERAGE_KINDS", "COVERAGE_MODELS", "DECLARED_COVERAGES", "SINGLE",
-           "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "AREA_THRESHOLD", "CONSERVATIVE_OVER", "CONSERVATIVE_UNDER",
+           "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "ROW_SAMPLED_AREA",
+           "AREA_THRESHOLD", "CONSERVATIVE_OVER", "CONSERVATIVE_UNDER",
            "AGG_COVER", "INCLUSIVE_SCANLINE", "CLOSED", "COVERAGE_RULES", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named",
            "model_for"]
 
@@ -243,6 +246,11 @@ AREA = CoverageModel(
     "area", "area", "harness.oracle.area:area_coverage", declared="area coverage",
     seen="an alpha per pixel and triangle (anti-aliased)", alphas=True, lines=True,
     verdict_checks=("accuracy", "seams", "popping"))  # paths: harness.oracle.path_area; lines: harness.oracle.area_lines
+# cairo's model (issue 34): each pixel row sampled on n lines, exact along x (harness.oracle.aa_models)
+ROW_SAMPLED_AREA = CoverageModel(
+    "row-sampled area", "area", "harness.oracle.aa_models:row_sampled_coverage", declared="row-sampled area coverage",
+    seen="an alpha per pixel and triangle (anti-aliased)", alphas=True, paths=False,
+    verdict_checks=("accuracy", "seams", "popping"))
 SUPERSAMPLED_AREA = CoverageModel(
     "supersampled area", "area", "harness.oracle.coverage:sample_shares", declared="area coverage",
     seen="an alpha per pixel and triangle (anti-aliased)", alphas=True, max_samples=MAX_AREA_SAMPLES,
@@ -282,7 +290,7 @@ CLOSED = CoverageModel(
 
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
                                                                   CONSERVATIVE_OVER, CONSERVATIVE_UNDER, AGG_COVER,
-                                                                  INCLUSIVE_SCANLINE, CLOSED)}
+                                                                  INCLUSIVE_SCANLINE, CLOSED, ROW_SAMPLED_AREA)}
 # the coverage rules, by the Convention.coverage that declares each (its name)
 COVERAGE_RULES: dict[str, CoverageModel] = {m.name: m for m in COVERAGE_MODELS.values() if m.rule}
 # the coverage kinds, in the models' order
@@ -298,7 +306,7 @@ def model_named(name: str) -> CoverageModel:
     return model
 
 
-def model_for(coverage: str, pattern: bool) -> CoverageModel:
+def model_for(coverage: str, pattern: bool, rows: int = 0) -> CoverageModel:
     """The model a convention declaring ``coverage`` (``sample`` or ``area``:
     :data:`DECLARED_COVERAGES`) chooses, with a sample pattern or without: the one place
     a declaration becomes a model (any coverage but ``area`` is taken as ``sample``;
@@ -306,6 +314,8 @@ def model_for(coverage: str, pattern: bool) -> CoverageModel:
 
     >>> model_for("sample", False), model_for("sample", True), model_for("area", False), model_for("area", True)
     (CoverageModel('single'), CoverageModel('multisample'), CoverageModel('area'), CoverageModel('supersampled area'))
+    >>> model_for("area", False, rows=15)
+    CoverageModel('row-sampled area')
     >>> model_for("conservative-over", False)
     CoverageModel('conservative-over')
     """
@@ -313,5 +323,7 @@ def model_for(coverage: str, pattern: bool) -> CoverageModel:
     if rule is not None:
         return rule  # no pattern: Convention refuses samples with a coverage rule
     if coverage == "area":
+        if rows and not pattern:
+            return ROW_SAMPLED_AREA  # Convention(coverage="area", rows=n): n sample lines per pixel row
         return SUPERSAMPLED_AREA if pattern else AREA
     return MULTISAMPLE if pattern else SINGLE

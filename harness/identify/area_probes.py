@@ -436,6 +436,8 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
         runner_up = (f"the same samples, {candidates[scores[1][1]].tie} ties", scores[1][0])  # another tie rule
     else:
         convention = Convention(coverage="area", levels=levels or CONTINUOUS_LEVELS, cull=cull)
+        if model == "hybrid" and 1 in refined:
+            convention = _row_sampled(convention, len(refined[1]), [x for x in drawn if x.coverage is not None])
     # the input grid: the snapping applied to the vertices before the area (or the share
     # of the samples) is taken, fitted on the sweeps and the float scenes
     grid = input_grid(calls, convention, [sweep, *drawn[1:3]], drawn)
@@ -452,6 +454,19 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
     max_residual = max((float(np.abs(x.differences(convention)).max(initial=0.0)) for x in answered), default=0.0)
     return SweepFact(model, sweeps[0], sweeps[1], sweeps[2], levels, max_error, mean_error, pattern, layout, convention,
                      residual, max_residual, pixels, runner_up, calls.calls, grid=grid, drawn=tuple(drawn))
+
+
+def _row_sampled(analytic: Convention, rows: int, answered: Sequence[_AlphaDrawn]) -> Convention:
+    """A hybrid whose horizontal sweep steps ``rows`` times and whose vertical one does not
+    samples each pixel row on ``rows`` lines, exact along x (cairo's tor scan converter:
+    :mod:`harness.oracle.aa_models`): the row-sampled candidates, all rows sampled or
+    cairo's analytic full rows, against the analytic area, the one leaving the fewest
+    (triangle, pixel)s beyond half a level (the analytic area on a tie)."""
+    if not 1 <= rows <= 256:
+        return analytic
+    candidates = [analytic, replace(analytic, rows=rows), replace(analytic, rows=rows, full_rows=True)]
+    scores = [sum(x.beyond(c) for x in answered) for c in candidates]
+    return candidates[scores.index(min(scores))]
 
 
 # --- area: the input grid ------------------------------------------------------------------------

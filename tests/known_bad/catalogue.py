@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Any
 
 from tests.known_bad.aa_lines import ForgetsCaps, MajorAxisBoxLines, QuarterPixelLines
+from tests.known_bad.aa_models import HybridSamplesEveryRow, RowsAtTopEdges, RowsTruncatedLevels
 from tests.known_bad.aa_paths import EvenOddForNonzeroArea, SignedAreaPathFiller
 from tests.known_bad.antialiasing import (
     BiasedArea,
@@ -84,6 +85,7 @@ def _all() -> list[Any]:
         SkiaCentredStart(), QtFlatCaps(), LlvmpipeUnshiftedSnap(),
         MajorAxisBoxLines(), ForgetsCaps(), QuarterPixelLines(),
         UnshiftedClaimsPiglit(),
+        RowsAtTopEdges(), RowsTruncatedLevels(), HybridSamplesEveryRow(),
     ]
 
 
