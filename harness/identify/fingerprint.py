@@ -541,10 +541,20 @@ def _with_lines(fingerprint: Fingerprint, call: Call, seed: int, received: Calla
     line convention its ``line_convention``."""
     from harness.identify.line_probes import fit_lines
 
-    fit = fit_lines(call, seed, fingerprint.convention, received)
+    fit = fit_lines(call, seed, _line_base(fingerprint.convention), received)
     if fit.convention is not None and fingerprint.convention.model.single_sample:
         fingerprint.convention = replace(fingerprint.convention, line=fit.convention.line)
     _record_lines(fingerprint, fit)
+
+
+def _line_base(convention: Convention) -> Convention:
+    """The triangles' convention as the line fit starts from it: itself when lines are
+    defined under its coverage model; under a coverage rule (which defines no lines), the
+    sample point, tie rule, input and snapping beside it, one sample per pixel."""
+    if convention.model.lines:
+        return convention
+    return Convention(sample=convention.sample, tie=convention.tie, subpixel_bits=convention.subpixel_bits,
+                      cull=convention.cull, snap_rounding=convention.snap_rounding, input=convention.input)
 
 
 def _record_lines(fingerprint: Fingerprint, fit: LineFit) -> None:

@@ -360,3 +360,24 @@ def test_identify_keeps_the_sample_point_when_no_rule_explains_it_better():
     assert not fingerprint.exact
     assert fingerprint.convention.model.sample_point
     assert "no better than the sample point" in fingerprint.facts["coverage rule"]
+
+
+def test_identify_fits_the_lines_of_a_rasterizer_whose_triangles_follow_a_rule():
+    """A coverage rule defines no lines: the line fit starts from the sample point, input and
+    snapping beside the rule (it once raised), and finds the lines' own rule."""
+    from harness.identify.fingerprint import identify
+
+    class ClosedTrianglesDiamondLines:
+        name = "closed_with_lines"
+        convention = None
+        scene_kinds = ("triangles", "lines")
+
+        def rasterize(self, scene):
+            if isinstance(scene, LineScene):
+                return exact_coverage(scene, Convention())
+            return exact_coverage(scene, Convention(coverage="closed"))
+
+    fingerprint = identify(ClosedTrianglesDiamondLines())
+    assert fingerprint.convention.coverage == "closed" and fingerprint.exact, fingerprint.card()
+    assert fingerprint.line_convention is not None and fingerprint.line_convention.line.rule == "diamond-exit"
+    assert fingerprint.line_fit is not None and fingerprint.line_fit.residual == 0
