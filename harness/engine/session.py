@@ -177,10 +177,22 @@ def check_case(case: Case, rasterizer: Rasterizer, call: AnyCall,
     subject = checks.Subject(case, name, convention, [coverage], call, tolerance, interpolates_of(rasterizer), outcome.seconds,
                              received=[outcome.received if outcome.received is not None else coverage],
                              scene_kinds=scene_kinds_of(rasterizer))
-    results = [check.verdict(subject) for check in applicable]
+    results = [_judged(check, subject) for check in applicable]
     drawing = Drawing.of(subject)  # references only (and the oracle if a check computed it): the report draws
     return [_retried(replace(r, rasterizer=name, metrics={**r.metrics, "seconds": outcome.seconds},
                              drawing=(r.drawing or drawing) if r.status == "fail" else None), [outcome]) for r in results]
+
+
+def _judged(check: checks.Check, subject: checks.Subject) -> Result:
+    """``check``'s verdict on ``subject``; an exception the check or its oracle raises (a
+    convention it cannot judge the scene under) is an error result naming the check and the
+    exception, and the run goes on."""
+    try:
+        verdict: Result = check.verdict(subject)
+        return verdict
+    except Exception as exc:  # noqa: BLE001 -- any failure of the harness's own judging, said, never lost
+        return Result("", subject.case.id, check.name, "error",
+                      f"the harness could not judge this case: {type(exc).__name__}: {exc}"[:500])
 
 
 def _retried(result: Result, outcomes: Sequence[Outcome]) -> Result:
@@ -224,7 +236,7 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
         coverages.append(outcome.coverage)
         seconds += outcome.seconds
     subject = checks.Subject(case, name, convention, coverages, call, tolerance, interpolates_of(rasterizer), seconds)
-    results = [check.verdict(subject) for check in applicable]
+    results = [_judged(check, subject) for check in applicable]
     drawing = Drawing.of(subject)
     return [_retried(replace(r, rasterizer=name, metrics={**r.metrics, "seconds": seconds},
                              drawing=(r.drawing or drawing) if r.status == "fail" else None), outcomes) for r in results]

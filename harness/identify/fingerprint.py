@@ -544,6 +544,11 @@ def _with_lines(fingerprint: Fingerprint, call: Call, seed: int, received: Calla
     fit = fit_lines(call, seed, _line_base(fingerprint.convention), received)
     if fit.convention is not None and fingerprint.convention.model.single_sample:
         fingerprint.convention = replace(fingerprint.convention, line=fit.convention.line)
+    elif fingerprint.convention.model.alphas and fingerprint.convention.line.rule != "rectangle":
+        # anti-aliased lines have one model, the exact area of the butt-capped rectangle
+        # (harness.oracle.area_lines): the rasterizer's lines are judged against it
+        fingerprint.convention = replace(fingerprint.convention, line=LineRule("rectangle"))
+        fingerprint.facts["line model"] = "anti-aliased: judged against the exact area of the w-wide butt-capped rectangle"
     _record_lines(fingerprint, fit)
 
 

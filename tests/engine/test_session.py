@@ -159,3 +159,23 @@ def test_the_pytest_plugin_keeps_one_worker_per_rasterizer_and_replaces_a_hung_o
     assert len(pids) == 8 and len(set(pids[:5])) == 1 and len(set(pids)) == 3 and pids[5] != pids[6] == pids[7], pids
     with pytest.raises(ProcessLookupError):
         os.kill(pids[-1], 0)  # closed (and reaped) when the pytest session ended
+
+
+def test_a_check_that_cannot_judge_a_case_is_an_error_and_the_run_goes_on():
+    """The harness's own failure (a check or its oracle raising: a convention it cannot judge
+    the scene under) is an error result naming the check and the exception, not a crash of
+    the run (the atlas once stopped on one)."""
+    from types import SimpleNamespace
+
+    from harness.engine.session import _judged
+
+    class Raising:
+        name = "accuracy"
+
+        def verdict(self, subject):
+            raise ValueError("anti-aliased lines are rectangles")
+
+    case = Case("one/triangle", Scene(8, 8, [[[1.0, 1.0], [6.0, 1.0], [1.0, 6.0]]]))
+    judged = _judged(Raising(), SimpleNamespace(case=case))  # type: ignore[arg-type]
+    assert (judged.check, judged.status, judged.case) == ("accuracy", "error", "one/triangle")
+    assert "ValueError: anti-aliased lines are rectangles" in judged.message

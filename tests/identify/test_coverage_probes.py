@@ -270,3 +270,28 @@ def test_an_anti_aliaser_that_raises_on_the_sweeps_is_never_claimed():
     fingerprint = identify(RaisesOnBigScenes(Convention(coverage="area")))
     assert fingerprint.coverage_kind == "area" and not fingerprint.exact
     assert "MemoryError" in fingerprint.facts["model"]
+
+
+def test_an_anti_aliaser_taking_lines_is_judged_against_the_area_of_its_strokes():
+    """identify cannot fit aliased line rules to alphas; the identified area convention then
+    judges lines by the one anti-aliased line model, the butt-capped rectangle's exact area
+    (a diamond-exit line rule under area coverage has no oracle: the atlas once stopped on it)."""
+    from harness.contract.conventions import Convention, LineRule
+    from harness.contract.scenes import LineScene
+    from harness.identify.fingerprint import identify
+    from harness.oracle.coverage import exact_coverage
+
+    class AreaWithLines:
+        name = "area_with_lines"
+        convention = None
+        scene_kinds = ("triangles", "lines")
+
+        def rasterize(self, scene):
+            line = LineRule("rectangle") if isinstance(scene, LineScene) else LineRule()
+            return exact_coverage(scene, Convention(coverage="area", line=line))
+
+    fingerprint = identify(AreaWithLines())
+    assert fingerprint.convention.model.alphas and fingerprint.convention.line.rule == "rectangle", fingerprint.card()
+    assert "butt-capped rectangle" in fingerprint.facts["line model"]
+    segment = LineScene.from_segments(8, 8, [[1.0, 1.5]], [[6.0, 4.0]])
+    assert exact_coverage(segment, fingerprint.convention).alpha is not None  # judged, not refused
