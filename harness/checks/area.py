@@ -57,6 +57,7 @@ from harness.checks.area_levels import (
     _aligned,
     _keyed,
     _model_words,
+    accuracy_message,
     exact_alpha,
     exact_tolerance,
     level_values,
@@ -411,30 +412,17 @@ def accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: Conve
         why = ("samples within rounding of an edge" if convention.samples is not None
                else "the area within rounding of a level's boundary")
         ties = f"{n_near} near ties (float rounding: {why}; up to {worst_near / step:.1f} levels)"
-    if not count and not n_off:
-        within = f"all {keys.size}" if not n_near else f"{keys.size - n_near} of {keys.size}"
-        message = (f"within {bound:.3g} of {what} at {within} pixels (largest error {worst:.3g}, "
-                   f"{worst / step:.2f} levels)")
-        if ties:
-            message += f"; {ties}" + (", not allowed in strict mode" if tolerance.mode == "strict" else "")
-    else:
-        parts = []
-        if count:
-            parts.append(f"{count} of {keys.size} pixels beyond {bound:.3g} of {what} "
-                         f"(largest error {worst:.3g}, {worst / step:.1f} levels)")
-        if n_off:
-            parts.append(f"{n_off} alphas on none of the {convention.levels} declared levels")
-        if count:
-            # the cause, named from facts about the errors (alpha_cause)
-            facts = {} if lines else alpha_facts(case, convention, triangle, x, y, alpha, model, near, over)
-            cause = alpha_cause(facts) if facts else None
-            evidence["alpha_facts"] = facts
-            if cause is not None:
-                evidence["alpha_cause"] = cause[0]
-                parts.append(cause[1])
-        if ties:
-            parts.append(ties)
-        message = "; ".join(parts)
+    cause = None
+    if count:
+        # the cause, named from facts about the errors (alpha_cause)
+        facts = {} if lines else alpha_facts(case, convention, triangle, x, y, alpha, model, near, over)
+        cause = alpha_cause(facts) if facts else None
+        evidence["alpha_facts"] = facts
+        if cause is not None:
+            evidence["alpha_cause"] = cause[0]
+    message = accuracy_message(total=keys.size, count=count, n_off=n_off, n_near=n_near, ties=ties, bound=bound, what=what,
+                               worst=worst, step=step, levels=convention.levels, strict=tolerance.mode == "strict",
+                               cause=None if cause is None else cause[1])
     return result(case.id, "accuracy", ok, message, metrics, evidence)
 
 

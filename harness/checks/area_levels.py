@@ -14,7 +14,8 @@ from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.geometry.keys import union, unique_inverse
 
-__all__ = ["AREA_COVERAGE_KINDS", "LEVEL_NOISE", "off_level", "level_values", "exact_alpha", "exact_tolerance"]
+__all__ = ["AREA_COVERAGE_KINDS", "LEVEL_NOISE", "accuracy_message", "off_level", "level_values", "exact_alpha",
+           "exact_tolerance"]
 
 AREA_COVERAGE_KINDS: frozenset[str] = frozenset({"area"})
 # An alpha meant as level k of L is k/(L-1) rounded to float64 (or computed as k * (1/(L-1)),
@@ -117,3 +118,28 @@ def exact_tolerance(convention: Convention) -> Fraction:
     if m >= 1 and abs(q - m) <= LEVEL_NOISE * max(1.0, q):
         return m * half
     return Fraction(declared)
+
+
+def accuracy_message(*, total: int, count: int, n_off: int, n_near: int, ties: str, bound: float, what: str,
+                     worst: float, step: float, levels: int, strict: bool, where: str = "",
+                     cause: str | None = None) -> str:
+    """Accuracy's one line: every pixel within the tolerance (and the near ties excused, or
+    not in strict mode), else how many are beyond it, off the levels, the cause named and the
+    near ties; ``where`` qualifies "pixels" (" of the paths")."""
+    if not count and not n_off:
+        within = f"all {total}" if not n_near else f"{total - n_near} of {total}"
+        message = f"within {bound:.3g} of {what} at {within} pixels{where} (largest error {worst:.3g}, {worst / step:.2f} levels)"
+        if ties:
+            message += f"; {ties}" + (", not allowed in strict mode" if strict else "")
+        return message
+    parts = []
+    if count:
+        parts.append(f"{count} of {total} pixels{where} beyond {bound:.3g} of {what} "
+                     f"(largest error {worst:.3g}, {worst / step:.1f} levels)")
+    if n_off:
+        parts.append(f"{n_off} alphas on none of the {levels} declared levels")
+    if cause:
+        parts.append(cause)
+    if ties:
+        parts.append(ties)
+    return "; ".join(parts)

@@ -16,7 +16,16 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.checks.area_levels import _aligned, _keyed, _model_words, exact_alpha, exact_tolerance, level_values, off_level
+from harness.checks.area_levels import (
+    _aligned,
+    _keyed,
+    _model_words,
+    accuracy_message,
+    exact_alpha,
+    exact_tolerance,
+    level_values,
+    off_level,
+)
 from harness.checks.records import EVIDENCE_LIMIT, Result, Tolerance, result
 from harness.contract.case import Case
 from harness.contract.conventions import Convention
@@ -145,20 +154,7 @@ def path_accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: 
             evidence["off_level"] = [{"path": int(path[i]), "x": int(x[i]), "y": int(y[i]), "alpha": float(alpha[i]),
                                       "level": float(alpha[i] * (levels - 1))} for i in np.flatnonzero(off)[:EVIDENCE_LIMIT]]
     ties = (f"{n_near} near ties (float rounding: the area within rounding of a level's boundary)" if n_near else "")
-    if not count and not n_off:
-        within = f"all {keys.size}" if not n_near else f"{keys.size - n_near} of {keys.size}"
-        message = (f"within {bound:.3g} of {what} at {within} pixels of the paths (largest error {worst:.3g}, "
-                   f"{worst / step:.2f} levels)")
-        if ties:
-            message += f"; {ties}" + (", not allowed in strict mode" if tolerance.mode == "strict" else "")
-    else:
-        parts = []
-        if count:
-            parts.append(f"{count} of {keys.size} pixels of the paths beyond {bound:.3g} of {what} "
-                         f"(largest error {worst:.3g}, {worst / step:.1f} levels)")
-        if n_off:
-            parts.append(f"{n_off} alphas on none of the {levels} declared levels")
-        if ties:
-            parts.append(ties)
-        message = "; ".join(parts)
+    message = accuracy_message(total=keys.size, count=count, n_off=n_off, n_near=n_near, ties=ties, bound=bound, what=what,
+                               worst=worst, step=step, levels=levels, strict=tolerance.mode == "strict",
+                               where=" of the paths")
     return result(case.id, "accuracy", ok, message, metrics, evidence)
