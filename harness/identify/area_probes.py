@@ -323,7 +323,7 @@ def _measure_error(drawn: Sequence[_AlphaDrawn]) -> tuple[float, float, int]:
     return (float(every.max(initial=0.0)), float(every.mean()) if every.size else 0.0, int(every.size))
 
 
-def _rounded_up(error: float) -> float:
+def rounded_up_tolerance(error: float) -> float:
     """A tolerance covering ``error`` (plus the comparison slack), rounded up to 2**-12."""
     return min(1.0, math.ceil((error + SLACK) * 4096.0) / 4096.0)
 
@@ -445,7 +445,7 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
     if not candidates:
         # the tolerance measured against the oracle of the snapped scene
         error = max((float(np.abs(x.differences(convention)).max(initial=0.0)) for x in answered), default=0.0)
-        tolerance = None if error <= convention.alpha_tolerance + SLACK else _rounded_up(error)
+        tolerance = None if error <= convention.alpha_tolerance + SLACK else rounded_up_tolerance(error)
         convention = replace(convention, tolerance=tolerance)
     # a tolerance measured on these very probes explains them by construction: the
     # residual counts what lies beyond half a level of the oracle, which rounding to the

@@ -64,7 +64,7 @@ from harness.contract.protocol import Rasterizer, fill_rules_of, interpolates_of
 from harness.contract.samples import STANDARD_PATTERNS
 from harness.contract.scenes import AnyScene, PathScene, Scene
 from harness.engine.isolation import Call, CallTally, InProcess, Outcome, TimeLimit
-from harness.identify.area_probes import alpha_sweeps
+from harness.identify.area_probes import alpha_sweeps, rounded_up_tolerance
 from harness.identify.coverage_probes import CoverageKindFact, Remembered, coverage_kind, layered
 from harness.identify.input_probes import fit_input, fit_input_beside
 from harness.identify.rule_probes import fit_rule_beside
@@ -542,14 +542,40 @@ def _with_lines(fingerprint: Fingerprint, call: Call, seed: int, received: Calla
     from harness.identify.line_probes import fit_lines
 
     fit = fit_lines(call, seed, _line_base(fingerprint.convention), received)
+    anti_aliased: Convention | None = None
     if fit.convention is not None and fingerprint.convention.model.single_sample:
         fingerprint.convention = replace(fingerprint.convention, line=fit.convention.line)
-    elif fingerprint.convention.model.alphas and fingerprint.convention.line.rule != "rectangle":
-        # anti-aliased lines have one model, the exact area of the butt-capped rectangle
-        # (harness.oracle.area_lines): the rasterizer's lines are judged against it
-        fingerprint.convention = replace(fingerprint.convention, line=LineRule("rectangle"))
-        fingerprint.facts["line model"] = "anti-aliased: judged against the exact area of the w-wide butt-capped rectangle"
+    elif fingerprint.convention.model.alphas:
+        anti_aliased = _anti_aliased_lines(fingerprint)
     _record_lines(fingerprint, fit)
+    if anti_aliased is not None and anti_aliased != fingerprint.convention:
+        fingerprint.line_convention = anti_aliased
+        fingerprint.line_rule = anti_aliased.line
+
+
+def _anti_aliased_lines(fingerprint: Fingerprint) -> Convention:
+    """The convention an anti-aliaser's lines are judged by. Anti-aliased lines have one
+    model, the exact area of the w-wide butt-capped rectangle (:mod:`harness.oracle.area_lines`):
+    under analytic area the triangles' convention with that line rule; under a sampled
+    model that defines no lines (a supersampler's grid, cairo's rows), analytic area with
+    the same levels and input, within the largest |alpha - exact area| the sweeps measured
+    (the triangles' own error against the exact area: the tolerance such a rasterizer's
+    triangles would be judged by without its model). Sets the fact "line model"."""
+    convention = fingerprint.convention
+    if convention.line.rule != "rectangle":
+        fingerprint.convention = convention = replace(convention, line=LineRule("rectangle"))
+    said = "anti-aliased: judged against the exact area of the w-wide butt-capped rectangle"
+    if convention.model.lines:
+        fingerprint.facts["line model"] = said
+        return convention
+    sweeps = fingerprint.probes.get("sweeps")
+    error = float(getattr(sweeps, "max_error", 0.0))
+    lines = Convention(coverage="area", levels=convention.levels, input=convention.input,
+                       subpixel_bits=convention.subpixel_bits, snap_rounding=convention.snap_rounding,
+                       tolerance=rounded_up_tolerance(error), line=LineRule("rectangle"))
+    fingerprint.facts["line model"] = (f"{said}, within {lines.alpha_tolerance:.3g} (the largest |alpha - exact area| "
+                                       f"of its triangles: its own model, {convention.model.name}, defines no lines)")
+    return lines
 
 
 def _line_base(convention: Convention) -> Convention:
@@ -812,6 +838,10 @@ class Identified:
             attribute = KINDS[kind_name].convention_attribute
             if attribute is not None and fit.convention is not None and fit.convention != fingerprint.convention:
                 setattr(self, attribute, fit.convention)  # its points are judged by what they follow (convention_for)
+        for attribute in ("path_convention", "line_convention"):
+            declared = getattr(inner, attribute, None)
+            if isinstance(declared, Convention):  # what the plugin declares for a kind beats what identify found
+                setattr(self, attribute, declared)
         honoured = fingerprint.honoured_fill_rules
         if honoured is not None:
             # handed only the path scenes of the rules it was seen to draw as asked

@@ -295,3 +295,46 @@ def test_an_anti_aliaser_taking_lines_is_judged_against_the_area_of_its_strokes(
     assert "butt-capped rectangle" in fingerprint.facts["line model"]
     segment = LineScene.from_segments(8, 8, [[1.0, 1.5]], [[6.0, 4.0]])
     assert exact_coverage(segment, fingerprint.convention).alpha is not None  # judged, not refused
+
+
+def test_a_supersampler_taking_lines_has_its_lines_judged_against_the_exact_stroke_area():
+    """A supersampler's grid defines no lines (skia's AA mode once errored on every line
+    case: "lines are defined for single-sample and multisample conventions, not area
+    coverage"); identify gives its lines the analytic line model within the triangles'
+    measured error, and the Identified wrapper judges line scenes by it. A line convention
+    the plugin declares beats the identified one."""
+    from dataclasses import replace
+
+    from harness.contract.conventions import Convention, LineRule
+    from harness.contract.protocol import convention_for
+    from harness.contract.scenes import LineScene
+    from harness.identify.fingerprint import Identified, identify
+    from harness.oracle.coverage import exact_coverage
+
+    grid = [((i + 0.5) / 4, (j + 0.5) / 4) for j in range(4) for i in range(4)]
+    supersampled = Convention(coverage="area", samples=grid)
+
+    class SupersamplerWithLines:
+        name = "supersampler_with_lines"
+        convention = None
+        scene_kinds = ("triangles", "lines")
+
+        def rasterize(self, scene):
+            if isinstance(scene, LineScene):
+                return exact_coverage(scene, Convention(coverage="area", line=LineRule("rectangle")))
+            return exact_coverage(scene, supersampled)
+
+    inner = SupersamplerWithLines()
+    fingerprint = identify(inner)
+    assert fingerprint.convention.model.name == "supersampled area", fingerprint.card()
+    lines = fingerprint.line_convention
+    assert lines is not None and lines.model.name == "area" and lines.line.rule == "rectangle", fingerprint.card()
+    assert "defines no lines" in fingerprint.facts["line model"]
+    assert lines.alpha_tolerance >= getattr(fingerprint.probes["sweeps"], "max_error")  # noqa: B009
+    segment = LineScene.from_segments(8, 8, [[1.0, 1.5]], [[6.0, 4.0]])
+    judged = convention_for(Identified(inner, fingerprint), segment)
+    assert judged is not None and exact_coverage(segment, judged).alpha is not None  # judged, not refused
+
+    declared = replace(lines, tolerance=1 / 255)
+    inner.line_convention = declared  # type: ignore[attr-defined]
+    assert convention_for(Identified(inner, fingerprint), segment) == declared.for_lines()
