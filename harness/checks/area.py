@@ -133,11 +133,13 @@ def model_bound(positions: NDArray, convention: Convention, width: int, height: 
     return area_error_bound(convention.snap(positions), width, height)
 
 
-def exact_model(positions: NDArray, convention: Convention, triangle: int, x: int, y: int, share: float = 0.0) -> Fraction:
+def exact_model(positions: NDArray, convention: Convention, triangle: int, x: int, y: int, share: float = 0.0,
+                surface: tuple[int, int] | None = None) -> Fraction:
     """The declared model's value at one (triangle, pixel), exactly: the area of the
     snapped triangle inside the pixel square (0 when culled or not finite), or, for a
     supersampled convention, the share of samples ``share`` (the oracle's float, count/n)
-    as the rational count/n.
+    as the rational count/n. ``surface`` (width, height): the viewport cairo's hybrid clips
+    to (``full_rows``; None: unclipped).
 
     >>> exact_model(np.array([[[0, 0], [1, 0], [0, 3]]], float), Convention(coverage="area"), 0, 0, 0)
     Fraction(5, 6)
@@ -155,7 +157,7 @@ def exact_model(positions: NDArray, convention: Convention, triangle: int, x: in
     if convention.rows:
         from harness.oracle.aa_models import exact_row_sampled_alpha
 
-        return exact_row_sampled_alpha(tri[0], int(x), int(y), convention.rows, convention.full_rows)
+        return exact_row_sampled_alpha(tri[0], int(x), int(y), convention.rows, convention.full_rows, surface=surface)
     return exact_area(tri[0], int(x), int(y))
 
 
@@ -177,7 +179,8 @@ def scene_exact_model(scene: Any, convention: Convention, primitive: int, x: int
         from harness.oracle.area_lines import exact_line_model
 
         return exact_line_model(scene, convention, primitive, x, y)
-    return exact_model(TRIANGLES.narrow(scene).positions, convention, primitive, x, y, share)
+    scene = TRIANGLES.narrow(scene)
+    return exact_model(scene.positions, convention, primitive, x, y, share, surface=(scene.width, scene.height))
 
 
 # -- near ties: float rounding ----------------------------------------------------------------

@@ -32,6 +32,7 @@ from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.kinds import PATHS
 from harness.oracle.path_area import exact_path_area, path_pixel_areas
+from harness.oracle.row_sampled_paths import exact_row_sampled_path_alpha, row_sampled_path_bound
 
 __all__ = ["path_accuracy", "displaced_path_bound"]
 
@@ -91,7 +92,31 @@ def path_accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: 
     finite = np.isfinite(alpha)
     magnitude = np.maximum(1.0, np.abs(np.where(finite, alpha, 0.0)))
     oracle_bound = np.zeros(keys.size)
-    analytic = convention.samples is None
+    rows = convention.rows  # a row-sampled model (harness.oracle.row_sampled_paths): its own bound and reference
+    analytic = convention.samples is None and not rows
+    snapped = convention.snap(scene.vertices)
+    contours: dict[int, list[Any]] = {}
+
+    def contours_of(k: int) -> list[Any]:
+        """Path k's contours as the convention snaps them; none for a path with a
+        non-finite vertex (which covers nothing)."""
+        if k not in contours:
+            ends = np.cumsum(scene.contour_sizes)
+            rings = [snapped[ends[c] - scene.contour_sizes[c]:ends[c]] for c in np.flatnonzero(scene.contour_path == k)]
+            contours[k] = rings if all(np.all(np.isfinite(r)) for r in rings) else []
+        return contours[k]
+
+    if rows:
+        # the hybrid's alphas are integers over 2 * 256 * rows (one rounding); the plain
+        # model's crossings are within row_sampled_path_bound of the exact ones
+        per_path = np.full(n, 2.0**-52)
+        if not convention.full_rows:
+            for k in np.unique(path):
+                rings = [c for c in contours_of(int(k)) if c.shape[0] >= 2]
+                if rings:
+                    edges = np.concatenate([np.concatenate([c, np.roll(c, -1, axis=0)], axis=1) for c in rings])
+                    per_path[k] = row_sampled_path_bound(edges, width, height, rows)
+        oracle_bound = per_path[path]
     if analytic:  # the float area's proven bound per pixel (a supersampled share is exact)
         p, px, py, _, b = path_pixel_areas(scene, convention)
         where = np.searchsorted(keys, (p * height + py) * width + px)
@@ -102,15 +127,12 @@ def path_accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: 
     margin = oracle_bound + _DIFFERENCE_ROUNDING * magnitude + _DIFFERENCE_ROUNDING * max(1.0, bound)
     over = (error - margin > bound) | ~finite
     open_ = np.flatnonzero(~over & (error + margin > bound))
-    snapped = convention.snap(scene.vertices)
-    contours: dict[int, list[Any]] = {}
     for i in open_:
         if analytic:
-            k = int(path[i])
-            if k not in contours:
-                ends = np.cumsum(scene.contour_sizes)
-                contours[k] = [snapped[ends[c] - scene.contour_sizes[c]:ends[c]] for c in np.flatnonzero(scene.contour_path == k)]
-            exact = exact_path_area(contours[k], scene.fill_rule, int(x[i]), int(y[i]))
+            exact = exact_path_area(contours_of(int(path[i])), scene.fill_rule, int(x[i]), int(y[i]))
+        elif rows:
+            exact = exact_row_sampled_path_alpha(contours_of(int(path[i])), scene.fill_rule, int(x[i]), int(y[i]), rows,
+                                                 convention.full_rows, surface=(width, height))
         else:
             exact = Fraction(float(model[i]))  # k / n: exact as a float
         over[i] = abs(exact_alpha(float(alpha[i]), levels) - exact) > limit
@@ -124,12 +146,9 @@ def path_accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: 
         shift = displaced_path_bound(np.bincount(owner, minlength=n), reach)
         for i in np.flatnonzero(over & finite):
             k = int(path[i])
-            if k not in contours:
-                ends = np.cumsum(scene.contour_sizes)
-                contours[k] = [snapped[ends[c] - scene.contour_sizes[c]:ends[c]] for c in np.flatnonzero(scene.contour_path == k)]
             if error[i] - margin[i] > bound + float(shift[k]):
                 continue
-            exact = exact_path_area(contours[k], scene.fill_rule, int(x[i]), int(y[i]))
+            exact = exact_path_area(contours_of(k), scene.fill_rule, int(x[i]), int(y[i]))
             near[i] = abs(exact_alpha(float(alpha[i]), levels) - exact) <= limit + Fraction(float(shift[k]))
     over &= ~near
     off = off_level(alpha, levels)

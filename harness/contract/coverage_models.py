@@ -249,7 +249,8 @@ AREA = CoverageModel(
 # cairo's model (issue 34): each pixel row sampled on n lines, exact along x (harness.oracle.aa_models)
 ROW_SAMPLED_AREA = CoverageModel(
     "row-sampled area", "area", "harness.oracle.aa_models:row_sampled_coverage", declared="row-sampled area coverage",
-    seen="an alpha per pixel and triangle (anti-aliased)", alphas=True, paths=False,
+    seen="an alpha per pixel and triangle (anti-aliased)", alphas=True,
+    path_oracle="harness.oracle.row_sampled_paths:row_sampled_path_coverage",  # paths: each sample line's cross-section
     verdict_checks=("accuracy", "seams", "popping"))
 SUPERSAMPLED_AREA = CoverageModel(
     "supersampled area", "area", "harness.oracle.coverage:sample_shares", declared="area coverage",

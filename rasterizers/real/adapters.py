@@ -422,28 +422,28 @@ class CairoAntialiased(AlphaLines, AlphaOneTriangleAtATime):
     Alpha is the A8 value / 255. (``GRAY``, ``GOOD``, ``BEST`` and ``SUBPIXEL`` draw the
     same bytes here; ``FAST`` is a 4 x 4 supersampler, tor22, not adapted.)
 
-    Declared convention: area coverage, 256 levels, vertices snapped to 24.8 fixed point
-    (``_cairo_fixed_from_double``: round to nearest, ties to even), within
-    ``1/15 + 1/256 + 1/510`` (0.0725) of the snapped triangle's area. Why: the image
-    backend fills with the tor scan converter (``cairo-tor-scan-converter.c``,
-    ``GRID_X`` = 256, ``GRID_Y`` = 15). Edge ends are rounded to a grid of 15 sub-rows per
-    pixel and each edge's x is taken at the middle of each sub-row (in rows where no edge
-    starts, ends or crosses another, the same x positions bound an exact trapezoid per
-    row), so each boundary of a pixel column's covered part is displaced vertically by at
-    most half a sub-row, 1/30: two boundaries per column, 1/15 of the pixel's area. Each
-    sub-row's x ends are rounded to 1/256 px (at most 1/512 each side: 1/256), and the grid
-    area (2 x 256 x 15 units) is rounded to 8 bits (1/510). Measured (Debian 12, cairo
-    1.16): an edge swept across a pixel in 1/256 px steps takes 256 distinct alphas when
-    vertical, 16 when horizontal (the 15 sub-rows), 33 at 30 degrees; the quick suite's
-    static cases stay within 0.0686 of the exact area (1/15 + 1/510) but for a NaN
-    triangle (drawn) and a sliver of strip-24, which gets alpha 251/255 where its area
-    is ~0.001: a coverage of -5/255 wrapped to 8 bits."""
+    Declared convention: cairo's own anti-aliasing model, ``Convention(coverage="area",
+    rows=15, full_rows=True, input="fixed8", tolerance=1/255)``. The image backend fills
+    with the tor scan converter (``cairo-tor-scan-converter.c``, ``GRID_X`` = 256,
+    ``GRID_Y`` = 15) after clipping the polygon to the surface (``cairo-polygon.c``):
+    transcribed whole in :mod:`harness.oracle.row_sampled_paths` (15 sampled sub-rows per
+    pixel row, analytic full rows where no edge starts, ends or changes order, its edge
+    list's tie order, its 24.8 input and its clipping). Its ``GRID_AREA_TO_ALPHA`` rounds
+    the cell area half up, within half a level of the model; a rectilinear path goes to
+    box compositing instead, within one level of its exact area. Measured (Debian 12,
+    cairo 1.16): every byte equal to the model's level on 300 random triangles and 200
+    random polygons crossing the surface's sides under both rules
+    (tests/oracle/test_row_sampled_paths.py); against the exact area it is up to 17
+    levels off (an edge swept across a pixel in 1/256 px steps takes 256 alphas when
+    vertical, 16 when horizontal). Real failures it keeps: a NaN triangle draws, and a
+    sliver's coverage of -5/255 wraps to 251/255 (its 16-bit cells)."""
 
     name = "cairo_aa"
     library = "cairo"
-    # tor scan converter: 15 sub-rows (1/30 per boundary, two per column), x ends to 1/256,
-    # 8-bit rounding of the grid area
-    convention = Convention(coverage="area", levels=256, subpixel_bits=8, tolerance=1 / 15 + 1 / 256 + 1 / 510)
+    # the tor scan converter's own model (harness.oracle.aa_models, row_sampled_paths): 15
+    # sub-rows, full rows analytic, on 24.8 input, within one level (its GRID_AREA_TO_ALPHA
+    # rounds half up; rectilinear paths go to box compositing, within a level of their area)
+    convention = Convention(coverage="area", rows=15, full_rows=True, input="fixed8", levels=256, tolerance=1 / 255)
     # lines: each segment stroked with butt caps, the exact rectangle's area (harness.oracle.area_lines);
     # the stroker's outline goes through the same tor scan converter: the same tolerance
     line_convention = Convention(coverage="area", levels=256, subpixel_bits=8, tolerance=1 / 15 + 1 / 256 + 1 / 510,

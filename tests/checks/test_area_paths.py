@@ -85,3 +85,17 @@ def test_a_float_rounding_at_a_level_boundary_is_a_near_tie() -> None:
     # on a lattice case no rounding excuses it
     lattice = accuracy(Case("aa-paths/near", scene, lattice=True), _quantised(scene), oracle, AREA)
     assert lattice.status == "fail"
+
+
+def test_a_non_finite_path_left_open_by_the_float_verdict_is_decided_as_covering_nothing() -> None:
+    """A NaN path covers nothing: a rasterizer's alpha exactly at the tolerance from 0 is
+    left open by the float verdict, and the exact decision must not raise on the NaN."""
+    nan_square = np.array([[1.0, 1.0], [3.0, 1.0], [3.0, math.nan], [1.0, 3.0]])
+    scene = PathScene.from_paths(4, 4, [[nan_square]])
+    drawn = Coverage(np.array([0]), np.array([1]), np.array([1]), np.array([3]), alpha=np.array([0.0, 0.0]) + 128 / 255)
+    result = accuracy(Case("paths/nan", scene), drawn, exact_coverage(scene, Convention(coverage="area")),
+                      Convention(coverage="area", tolerance=128 / 255))
+    assert result.status == "pass", result.message
+    beyond = Coverage(np.array([0]), np.array([1]), np.array([1]), np.array([3]), alpha=np.array([192.0, 128.0]) / 255)
+    assert accuracy(Case("paths/nan", scene), beyond, exact_coverage(scene, Convention(coverage="area")),
+                    Convention(coverage="area", tolerance=128 / 255)).status == "fail"

@@ -14,6 +14,7 @@ from cases.scenes import lattice_triangles, random_triangles
 from harness.contract.scenes import Scene
 from harness.engine.registry import GROUP, Unavailable
 from harness.oracle.area import area_coverage
+from harness.oracle.coverage import exact_coverage
 from rasterizers.real import adapters
 from tests.optional import need
 
@@ -64,8 +65,10 @@ def test_a_missing_library_makes_the_adapter_unavailable(monkeypatch, cls, modul
 
 def test_declared_conventions():
     cairo = adapters.CairoAntialiased.convention
-    assert cairo is not None and cairo.coverage_kind == "area" and cairo.levels == 256 and cairo.subpixel_bits == 8
-    assert cairo.alpha_tolerance == pytest.approx(1 / 15 + 1 / 256 + 1 / 510)
+    assert cairo is not None and cairo.coverage_kind == "area" and cairo.levels == 256
+    # its own model: the tor scan converter (harness.oracle.row_sampled_paths), within one level
+    assert (cairo.rows, cairo.full_rows, cairo.input) == (15, True, "fixed8")
+    assert cairo.alpha_tolerance == pytest.approx(1 / 255)
     assert adapters.SkiaAntialiased.convention is None  # no bound follows from skia's methods: identified instead
     msaa = adapters.MesaMultisample.convention
     assert msaa is not None and msaa.coverage_kind == "multisample" and msaa.n_samples == 4 and msaa.tie == "top-left"
@@ -92,14 +95,18 @@ def test_a_half_pixel_strip_gets_half_alpha(alpha_adapter):
     triangle covers a whole pixel."""
     strip = Scene(8, 8, [[[1.0, 2.0], [7.0, 2.0], [7.0, 2.5]], [[1.0, 2.0], [7.0, 2.5], [1.0, 2.5]]])
     image = pixel_alphas(alpha_adapter.rasterize(strip), 8, 8)
-    tolerance = 1 / 8 if alpha_adapter.convention is None else alpha_adapter.convention.alpha_tolerance
-    assert image[2, 1:7] == pytest.approx(0.5, abs=tolerance)
+    declared = alpha_adapter.convention
+    tolerance = 1 / 8 if declared is None else declared.alpha_tolerance
+    model = 0.5 if declared is None else pixel_alphas(exact_coverage(strip, declared), 8, 8)[2, 1:7]  # cairo: 8/15
+    assert image[2, 1:7] == pytest.approx(model, abs=2 * tolerance)
     image[2, 1:7] = 0
     assert not image.any()
     block = Scene(8, 8, [[[1, 2], [7, 2], [7, 5]], [[1, 2], [7, 5], [1, 5]]])
     cov = alpha_adapter.rasterize(block)
     assert triangle_alphas(cov, 0, 8, 8)[2, 6] == 1.0 and triangle_alphas(cov, 1, 8, 8)[4, 1] == 1.0
-    assert pixel_alphas(cov, 8, 8)[2:5, 1:7] == pytest.approx(1.0, abs=2 * tolerance)
+    # two triangles' alphas summed: 1, or the declared model's sum (cairo's rows split the diagonal unevenly)
+    whole = 1.0 if declared is None else pixel_alphas(exact_coverage(block, declared), 8, 8)[2:5, 1:7]
+    assert pixel_alphas(cov, 8, 8)[2:5, 1:7] == pytest.approx(whole, abs=2 * tolerance)
 
 
 def library_draws(name, triangle, width, height):
@@ -159,15 +166,19 @@ def test_edge_sweeps_show_each_grid(alpha_adapter):
         assert vertical == 17 and horizontal == 5
 
 
-def test_cairo_keeps_its_declared_tolerance():
+def test_cairo_keeps_its_declared_model_within_a_level_where_the_area_is_17_off():
+    """cairo against its declared model (the tor scan converter) and against the exact area:
+    within one level of the first, up to ~17 levels from the second."""
     need("cairo")
     cairo = adapters.CairoAntialiased()
     convention = cairo.convention
     for scene in (Scene(64, 64, lattice_triangles(60, 64, 2, 1)), Scene(64, 64, random_triangles(60, 40.0, 64, 2))):
-        got, exact = (pixel_keyed(cov, scene) for cov in (cairo.rasterize(scene), area_coverage(scene, convention)))
-        keys = set(got) | set(exact)
-        worst = max(abs(got.get(k, 0.0) - exact.get(k, 0.0)) for k in keys)
-        assert 0.01 < worst <= convention.alpha_tolerance
+        got = pixel_keyed(cairo.rasterize(scene), scene)
+        for want, low, high in ((exact_coverage(scene, convention), 0.0, convention.alpha_tolerance),
+                                (area_coverage(scene, convention), 0.01, 18 / 255)):
+            model = pixel_keyed(want, scene)
+            worst = max(abs(got.get(k, 0.0) - model.get(k, 0.0)) for k in set(got) | set(model))
+            assert low <= worst <= high + 1e-12
 
 
 def pixel_keyed(cov, scene):
