@@ -15,6 +15,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene, Unsupported
 from harness.engine.registry import Unavailable
 from rasterizers.real._aa_lines import AlphaLines
+from rasterizers.real._aa_paths import AlphaPaths
 from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need, refuse_kind, refuse_several_contours
 from rasterizers.real._lines import MesaLines
 from rasterizers.real._masks import (
@@ -416,7 +417,7 @@ class CairoFill(OneAtATime):
         return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(h, surface.get_stride())[:, :w] > 0
 
 
-class CairoAntialiased(AlphaLines, AlphaOneTriangleAtATime):
+class CairoAntialiased(AlphaPaths, AlphaLines, AlphaOneTriangleAtATime):
     """pycairo, ``ANTIALIAS_DEFAULT`` fill into an A8 image surface, one triangle at a
     time; cairo's pixel (i, j) is our [i, i+1) x [j, j+1), so coordinates pass unchanged.
     Alpha is the A8 value / 255. (``GRAY``, ``GOOD``, ``BEST`` and ``SUBPIXEL`` draw the
@@ -459,8 +460,11 @@ class CairoAntialiased(AlphaLines, AlphaOneTriangleAtATime):
     def _draw_stroke(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _cairo_stroke(self._cairo, a, b, line_width, w, h) / 255.0
 
+    def _fill_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return _cairo_fill(self._cairo, contours, w, h, self._cairo.ANTIALIAS_DEFAULT, fill_rule) / 255.0
 
-class SkiaAntialiased(AlphaLines, AlphaOneTriangleAtATime):
+
+class SkiaAntialiased(AlphaPaths, AlphaLines, AlphaOneTriangleAtATime):
     """skia-python, a path per triangle filled with anti-aliasing on into an alpha-8
     surface; skia's pixel (i, j) is our [i, i+1) x [j, j+1), so coordinates pass unchanged.
     Alpha is the alpha-8 value / 255.
@@ -493,6 +497,9 @@ class SkiaAntialiased(AlphaLines, AlphaOneTriangleAtATime):
 
     def _draw_stroke(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return _skia_stroke(self._skia, a, b, line_width, w, h) / 255.0
+
+    def _fill_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return _skia_fill(self._skia, contours, w, h, True, fill_rule) / 255.0
 
 
 _VERTEX = """#version 330
