@@ -494,7 +494,14 @@ class SkiaAntialiased(AlphaPaths, AlphaLines, AlphaOneTriangleAtATime):
     vertical edge), and there shallow edges err by up to 0.08 and edges clipped at the
     left side by up to 0.31. On the quick suite's static cases the alphas are within 0.32
     of the exact area (thin tips and shallow edges of small mesh triangles), 0.0071 on
-    average."""
+    average.
+
+    Paths (issue 34): each path one ``skia.Path`` of all its contours (``_skia_path``) with
+    fill type ``kWinding`` or ``kEvenOdd``, drawn once with anti-aliasing on: both rules are
+    skia's own, applied to each sample's winding (tested: a doubly wound square's edge
+    pixels get 1/2 and 0). Measured on the quick suite's path cases (max |alpha - exact
+    area|): 0.31 on paths whose pixels see one winding (the triangles' shallow-edge and
+    clipped-edge pattern), 0.32 with overlapping contours, 0.0066 on average."""
 
     name = "skia_aa"
     library = "skia"

@@ -82,7 +82,16 @@ class Blend2DContext(AlphaPaths, AlphaLines, AlphaOneTriangleAtATime):
     vertex: Blend2D draws the triangle's limit as the vertex goes to infinity (the same
     alphas, within 0.01, as the vertex at 2**20: tested), which identify counts as
     drawing a non-finite triangle (257 pixels); a geometric limit, not garbage, so not
-    reported upstream."""
+    reported upstream.
+
+    Found on the quick suite's path cases (issue 34): where each pixel sees one winding,
+    within 0.0142 of the exact area (as triangles). Both rules are applied to each pixel's
+    summed signed area (``calc_masks_from_cells`` in
+    ``blend2d/pipeline/jit/fillpart.cpp``), not to the area where the winding satisfies
+    them, so with overlapping contours a pixel half covered by a doubly wound region gets
+    alpha 1 under both rules (up to 0.966 off: tested). And the sum wraps: the inside of
+    a contour wound 128 times (or 65,536) is filled with alpha 0 under nonzero, where 127
+    and 129 fill it (``rasterizers/real/upstream/blend2d_deep_winding.py``)."""
 
     name = "blend2d"
     library = "Blend2D"

@@ -322,7 +322,14 @@ class FreeTypeSmooth(AlphaPaths, AlphaOneTriangleAtATime):
     (triangle, pixel)s, zero-area triangles draw nothing; an edge swept across a pixel
     in 1/256 px steps takes 65 levels (the 26.6 input grid). Alphas change by a level
     on some pixels when a triangle's winding is reversed (the quick suite's invariance
-    check: ``~coverage`` above)."""
+    check: ``~coverage`` above).
+
+    Found on the quick suite's path cases (issue 34): where each pixel sees one winding,
+    within 0.0153 of the exact area (as triangles); with overlapping contours up to 0.966
+    off (a contour wound 128 times: its edge pixels full, the summed area above);
+    reversing every contour changes alphas by up to 2 levels (14 of 90 cases), reversing
+    one contour of an even-odd path by up to 189 levels (the summed area again). A path of
+    more than 32,767 points is refused (ValueError naming the limit)."""
 
     name = "freetype_smooth"
     library = "FreeType"

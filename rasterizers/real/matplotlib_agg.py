@@ -224,7 +224,11 @@ class MatplotlibAggAntialiased(AlphaPaths, AlphaLines, AlphaOneTriangleAtATime):
 
     Identified (matplotlib 3.11.2): area coverage, analytic, 256 levels, max |alpha - area|
     0.0111 (mean 0.00173) on identify's scenes, 0.0118 on the quick suite's; NaN and
-    infinite vertices are removed (nothing drawn)."""
+    infinite vertices are removed (nothing drawn). Found on the quick suite's path cases
+    (issue 34): where each pixel sees one winding, within 0.0117 of the exact area; with
+    overlapping contours up to 0.966 off (the summed area); reversed contours change no
+    alpha by more than a level; the inside of a contour wound 65,536 times is filled
+    with alpha 0 (the summed cover overflows; winding 256 still fills it)."""
 
     name = "matplotlib_agg_aa"
     library = "AGG (matplotlib)"

@@ -234,7 +234,10 @@ class QtAntialiased(AlphaPaths, AlphaLines, AlphaOneTriangleAtATime):
     (``|area >> 9|``; nonzero capped at 255, even-odd folded: ``& 511``, above 256
     ``512 - c``), not to the area where the winding satisfies it, so a pixel half covered
     by a doubly wound region gets alpha 1 under both rules (exact: 1/2 nonzero, 0
-    even-odd; tested).
+    even-odd; tested). Found on the quick suite's path cases: where each pixel sees one
+    winding, within 0.0175 of the exact area (as triangles); with overlapping contours up
+    to 0.966 off; reversing one contour of an even-odd path changes alphas by up to 190
+    levels (the summed area), reversing every contour by no more than a level.
 
     What Qt receives and does: vertices to 26.6 fixed point by ``QOutlineMapper``
     (``qRound(x * 64)``, half away from zero), filled by ``qgrayraster.c`` (FreeType's

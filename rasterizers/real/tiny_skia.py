@@ -352,7 +352,10 @@ class TinySkiaAntialiased(AlphaPaths, AlphaLines, AlphaOneTriangleAtATime):
     fingerprints it. Measured (resvg 0.48.1): a 4 x 4 grid of samples at 1/8 + k/4, 256
     levels, |alpha - exact area| at most 0.241 (thin slivers), mean 0.019; the sweep finds
     the last two columns at 0.624998 and 0.874998, not 5/8 and 7/8, because the sweep's
-    coordinates reach tiny-skia rounded to float32 (:meth:`received`)."""
+    coordinates reach tiny-skia rounded to float32 (:meth:`received`). On the quick
+    suite's path cases (issue 34): within 0.217 of the exact area (slivers; 0.013 on
+    average), 0.14 with overlapping contours (judged per sample: tested); reversed
+    contours change no alpha by more than a level."""
 
     name = "tiny_skia_aa"
     library = "tiny-skia (resvg)"
