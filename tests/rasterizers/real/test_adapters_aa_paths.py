@@ -167,12 +167,12 @@ def test_a_library_failure_names_the_path(adapter, monkeypatch):
     if adapter.name == "tiny_skia_aa":
         rgba = adapter._resvg.rgba
 
-        def failing(elements, x0, y0, w, h):
+        def failing_resvg(elements, x0, y0, w, h):
             if "M 32.0 19.0" in elements:  # path 2's first vertex (it fails alone and in a shared document)
                 raise OSError("resvg failed")
             return rgba(elements, x0, y0, w, h)
 
-        monkeypatch.setattr(adapter._resvg, "rgba", failing)
+        monkeypatch.setattr(adapter._resvg, "rgba", failing_resvg)
     else:
         fill = adapter._fill_path
         calls = []
@@ -253,9 +253,10 @@ def test_draw_each_path_alpha_boxes_and_non_finite_paths():
         alpha[0, 0] = 0.25
         return alpha
 
-    scene = PathScene.from_paths(16, 8, [[[[3, 2], [5, 2], [5, 4]], [[6, 2], [6, 3], [7, 3]]],
-                                         [[[1, 1], [np.nan, 1], [2, 2]]], [[[-9, -9], [-8, -9], [-8, -8]]]])
+    paths: list[list[list[list[float]]]] = [[[[3, 2], [5, 2], [5, 4]], [[6, 2], [6, 3], [7, 3]]],
+                                            [[[1, 1], [np.nan, 1], [2, 2]]], [[[-9, -9], [-8, -9], [-8, -8]]]]
+    scene = PathScene.from_paths(16, 8, paths)
     cov = draw_each_path_alpha(scene, "lib", library, margin=1)
     assert seen == [(2, 6, 4, (2, 1), True), (1, 16, 8, (0, 0), False)]
     assert cov.primitive.tolist() == [0, 1] and cov.x0.tolist() == [2, 0] and cov.y.tolist() == [1, 0]
-    assert cov.alpha.tolist() == [0.25, 0.25]
+    assert cov.alpha is not None and cov.alpha.tolist() == [0.25, 0.25]
