@@ -116,8 +116,10 @@ class AlphaOneTriangleAtATime:
     library_version = ""
     coverage_kind = "area"
     # what the atlas says of the kinds it is not handed
-    kinds_not_taken = {"paths": "anti-aliased paths are not judged yet (exact area coverage of paths: issue 34)",
-                       "lines": "anti-aliased lines are not judged yet (exact area coverage of lines: issue 34)"}
+    # (an adapter whose library fills paths or strokes lines mixes in AlphaPaths / AlphaLines,
+    # which drop these)
+    kinds_not_taken = {"paths": "not adapted: this adapter draws one triangle at a time, no paths",
+                       "lines": "not adapted: this adapter draws one triangle at a time, no lines"}
     convention: Convention | None = None
     interpolates = False  # coverage only: the library draws no varyings
 

@@ -39,6 +39,8 @@ from numpy.typing import NDArray
 
 from harness.contract.conventions import Convention
 from harness.contract.scenes import AnyScene
+from rasterizers.real._aa_lines import AlphaLines
+from rasterizers.real._aa_paths import AlphaPaths
 from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need
 
 __all__ = ["MatplotlibAgg", "MatplotlibAggAntialiased", "FOUND"]
@@ -201,21 +203,37 @@ class MatplotlibAgg(OneAtATime):
         return self._mpl.stroke(a, b, w, h, False, line_width) > 0
 
 
-class MatplotlibAggAntialiased(AlphaOneTriangleAtATime):
+class MatplotlibAggAntialiased(AlphaPaths, AlphaLines, AlphaOneTriangleAtATime):
     """matplotlib's ``RendererAgg.draw_path`` with ``antialiased=True``, snapping off, one
-    triangle at a time, drawn as for :class:`MatplotlibAgg` (coordinates unchanged,
-    float64, rounded by AGG to 24.8 fixed point, nearest, half away); probe
+    triangle, path or segment at a time, drawn as for :class:`MatplotlibAgg` (coordinates
+    unchanged, float64, rounded by AGG to 24.8 fixed point, nearest, half away); probe
     ``test_matplotlib_agg_aa_alphas_of_a_quarter_offset_triangle``. Alpha is the RGBA
     buffer's alpha / 255: AGG's cover ``floor(256 * area)``, capped at 255, blended over
-    a transparent buffer (``pixfmt_rgba32_plain``). Triangles only: AA paths and lines
-    are judged by exact area coverage (issue 34). No declared convention. Identified
-    (matplotlib 3.11.2): area coverage, analytic, 256 levels, max |alpha - area| 0.0111
-    (mean 0.00173) on identify's scenes, 0.0118 on the quick suite's; NaN and infinite
-    vertices are removed (nothing drawn)."""
+    a transparent buffer (``pixfmt_rgba32_plain``). No declared convention.
+
+    Paths: each path one ``matplotlib.path.Path`` of all its contours filled once;
+    nonzero only, as :class:`MatplotlibAgg` (``RendererAgg::_draw_path`` in
+    ``src/_backend_agg.h`` never calls ``filling_rule``: AGG's default ``fill_non_zero``),
+    so ``fill_rules = ("nonzero",)``. AGG applies the rule to each cell's summed signed
+    area (capped at 255), not to the area where the winding is nonzero: a pixel half
+    covered by a doubly wound region gets alpha 1 where the exact area is 1/2.
+
+    Lines: each segment a two-point path stroked ``linewidth`` px wide (72 dpi) with butt
+    caps (``conv_stroke`` in ``_draw_path``: anti-aliased, the width as given), judged
+    against the exact rectangle (:mod:`harness.oracle.area_lines`).
+
+    Identified (matplotlib 3.11.2): area coverage, analytic, 256 levels, max |alpha - area|
+    0.0111 (mean 0.00173) on identify's scenes, 0.0118 on the quick suite's; NaN and
+    infinite vertices are removed (nothing drawn). Found on the quick suite's path cases
+    (issue 34): where each pixel sees one winding, within 0.0117 of the exact area; with
+    overlapping contours up to 0.966 off (the summed area); reversed contours change no
+    alpha by more than a level; the inside of a contour wound 65,536 times is filled
+    with alpha 0 (the summed cover overflows; winding 256 still fills it)."""
 
     name = "matplotlib_agg_aa"
     library = "AGG (matplotlib)"
     convention = None
+    fill_rules = ("nonzero",)  # draw_path never sets AGG's filling rule: fill_non_zero (class docstring)
 
     def __init__(self) -> None:
         self._mpl = _Renderer()
@@ -225,3 +243,9 @@ class MatplotlibAggAntialiased(AlphaOneTriangleAtATime):
 
     def _draw(self, p: NDArray, w: int, h: int, origin: tuple[int, int]) -> NDArray:
         return self._mpl.fill([p], w, h, True) / 255.0
+
+    def _fill_path(self, contours: list[NDArray], fill_rule: str, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return self._mpl.fill(contours, w, h, True) / 255.0
+
+    def _draw_stroke(self, a: NDArray, b: NDArray, line_width: float, w: int, h: int, origin: tuple[int, int]) -> NDArray:
+        return self._mpl.stroke(a, b, w, h, True, line_width) / 255.0

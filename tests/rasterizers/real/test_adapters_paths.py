@@ -139,8 +139,8 @@ def test_declared_kinds_and_rules():
     assert adapters.MesaMultisample.scene_kinds == ("triangles",)
     # the class itself (its declarations are class attributes; the library may be missing)
     assert not takes(adapters.MesaMultisample, scenes("nonzero")["pentagram"])  # type: ignore[arg-type]
-    for cls in ("CairoAntialiased", "SkiaAntialiased"):  # area coverage: triangles only, for now
-        assert not takes(getattr(adapters, cls), scenes("nonzero")["pentagram"])
+    for cls in ("CairoAntialiased", "SkiaAntialiased"):  # area coverage of paths (issue 34): both rules
+        assert all(takes(getattr(adapters, cls), scenes(rule)["pentagram"]) for rule in ("nonzero", "evenodd"))
 
 
 # -- the fill rules, on what decides them ----------------------------------------------------

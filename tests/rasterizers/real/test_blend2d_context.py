@@ -43,8 +43,7 @@ def test_blend2d_alphas_of_a_quarter_offset_triangle(adapter):
 
 def test_the_path_api_honours_both_fill_rules(adapter):
     """Two overlapping squares of one orientation on whole pixels: nonzero fills their
-    union, even-odd leaves the overlap empty (the adapter takes triangles only; the rules
-    are there for AA paths, issue 34)."""
+    union, even-odd leaves the overlap empty (the adapter's AA paths, issue 34)."""
     blend2d = need("blend2d")
     a = np.array([[2, 2], [8, 2], [8, 8], [2, 8]], dtype=float)
     b = a + 3

@@ -162,7 +162,9 @@ def test_outlines_beyond_freetypes_limit_are_refused_by_name(mono, smooth):
 def test_kinds_versions_and_refusals(mono, smooth):
     assert mono.library == smooth.library == "FreeType"
     assert mono.library_version.count(".") == 2 and mono.library_version == smooth.library_version
-    assert mono.scene_kinds == ("triangles", "paths") and smooth.scene_kinds == ("triangles",)
+    assert mono.scene_kinds == smooth.scene_kinds == ("triangles", "paths")  # AA paths: issue 34
+    assert mono.fill_rules == ("nonzero",) and smooth.fill_rules == ("nonzero", "evenodd")
+    assert "lines" in smooth.kinds_not_taken and "paths" not in smooth.kinds_not_taken
     assert mono.coverage_kind == "single" and smooth.coverage_kind == "area" and smooth.convention is None
     # issue 33: the monochrome modes declare the closed rule with ftraster.c's scan conversion
     assert mono.convention is not None and mono.convention.coverage == "closed" and mono.convention.input == "fixed6"

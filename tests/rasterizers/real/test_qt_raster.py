@@ -74,7 +74,8 @@ def test_declarations():
     assert qt_raster.QtRaster.scene_kinds == ("triangles", "paths", "lines")
     assert qt_raster.QtRaster.fill_rules == ("nonzero", "evenodd") and qt_raster.QtRaster.line_widths == (1.0,)
     star = PathScene.from_paths(W, H, [[pentagram(16, 16, 12)]], "nonzero")
-    assert not takes(qt_raster.QtAntialiased, star)  # type: ignore[arg-type]  # AA: triangles only
+    assert takes(qt_raster.QtAntialiased, star)  # type: ignore[arg-type]  # AA paths too (issue 34)
+    assert qt_raster.QtAntialiased.scene_kinds == ("triangles", "lines", "paths")
 
 
 def test_a_missing_library_makes_the_adapters_unavailable(monkeypatch):

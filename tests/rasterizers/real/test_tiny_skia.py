@@ -76,7 +76,9 @@ def test_declarations():
     assert crisp.convention is None and smooth.convention is None  # identified
     assert crisp.scene_kinds == ("triangles", "paths", "lines") and crisp.fill_rules == ("nonzero", "evenodd")
     assert crisp.line_widths is None  # a stroke of any width is outlined and filled
-    assert not takes(smooth, PathScene.from_paths(W, H, [[pentagram(16, 16, 12)]], "nonzero"))  # type: ignore[arg-type]
+    # issue 34: the anti-aliased mode fills paths under both rules and strokes lines
+    assert smooth.scene_kinds == ("triangles", "lines", "paths") and smooth.fill_rules == ("nonzero", "evenodd")
+    assert takes(smooth, PathScene.from_paths(W, H, [[pentagram(16, 16, 12)]], "evenodd"))  # type: ignore[arg-type]
 
 
 def test_a_missing_library_makes_the_adapters_unavailable(monkeypatch):
