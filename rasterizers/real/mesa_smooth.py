@@ -194,8 +194,8 @@ class MesaSmoothLines(_Mesa):
     library = "Mesa llvmpipe (OpenGL)"
     coverage_kind = "area"
     scene_kinds = ("lines",)
-    kinds_not_taken = {"triangles": "GL has no smooth-polygon mode in the core profile: mesa_llvmpipe fills triangles",
-                       "paths": "GL has no smooth-polygon mode in the core profile: mesa_llvmpipe fills paths"}
+    kinds_not_taken = {"triangles": "smooth polygons (GL_POLYGON_SMOOTH) are not adapted: mesa_llvmpipe fills triangles",
+                       "paths": "smooth polygons (GL_POLYGON_SMOOTH) are not adapted: mesa_llvmpipe fills paths"}
     fill_rules = None  # type: ignore[assignment]  # (no paths)
     convention = Convention(coverage="area", input="float32", line=LineRule("rectangle"), tolerance=SMOOTH_TOLERANCE)
     line_convention = convention
