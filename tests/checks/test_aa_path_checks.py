@@ -262,3 +262,46 @@ def test_a_star_outline_is_filled_under_both_rules_by_the_exact_filler() -> None
         scene = PathScene.from_paths(32, 32, [glyph_d((4.3, 4.1), 23.0, 10), [star(5, 2, (16.2, 15.7), 12.5, 0.3)]], rule)
         verdict = accuracy(Case("aa-paths/rules", scene), good.rasterize(scene), exact_coverage(scene, AREA), AREA)
         assert verdict.status == "pass", verdict.message
+
+
+# -- through the runner: each known-bad caught by its check on the suite's own cases ----------
+
+# known-bad -> (the checks that must flag it, the quick suite's case ids where it shows)
+AA_TABLE: dict[str, tuple[set[str], tuple[str, ...]]] = {
+    "bad_quarter_pixel_path_filler": ({"popping", "accuracy"}, ("motion/path-glyph-d/translate-diagonal-1/64/nonzero",)),
+    "bad_orientation_rounded_filler": ({"invariance"}, ("paths/glyph/d-curves/float/nonzero",
+                                                         "paths/glyph/d-curves/float/evenodd")),
+    "bad_biased_partial_filler": ({"seams", "accuracy"}, ("path-partitions/pie-8/float/nonzero",)),
+    "bad_aa_lines_directional": ({"invariance"}, ("lines/octants/centres",)),
+    "bad_evenodd_for_nonzero_area": ({"accuracy"}, ("paths/glyph/d-curves/float/nonzero",)),
+}
+
+
+@pytest.mark.parametrize("name", list(AA_TABLE))
+def test_each_known_bad_is_caught_by_its_check_through_the_runner(name: str) -> None:
+    from cases.suites import suite
+    from harness import run_suite
+    from tests.known_bad.catalogue import KNOWN_BAD
+
+    wanted, ids = AA_TABLE[name]
+    cases = [c for c in suite("quick") if c.id in ids]
+    assert len(cases) == len(ids)
+    results = run_suite([KNOWN_BAD[name]], cases=cases, identify=False, repros=False, isolate=False, only=wanted)
+    failed = {r.check for r in results if r.status == "fail"}
+    assert wanted <= failed, [(r.case, r.check, r.status, r.message) for r in results]
+
+
+def test_the_exact_references_pass_every_check_on_the_aa_cases_through_the_runner() -> None:
+    """The exact area rounded to 8 bits (paths) and the exact strokes (lines) pass every
+    check that judges them on the quick suite's glyph, stroke, pie and motion cases."""
+    from cases.suites import suite
+    from harness import run_suite
+
+    picked = [c for c in suite("quick") if c.id.startswith(("paths/glyph/", "paths/stroke/", "paths/sliver/",
+                                                            "path-partitions/pie-", "motion/path-", "motion/aa-lines/",
+                                                            "lines/octants/"))]
+    assert len(picked) >= 10
+    results = run_suite([ExactAreaPathFiller(), ExactAALines()], cases=picked, identify=False, repros=False, isolate=False)
+    bad = [(r.rasterizer, r.case, r.check, r.message) for r in results if r.status in ("fail", "error")]
+    assert not bad, bad[:5]
+    assert {"accuracy", "invariance", "popping", "seams"} <= {r.check for r in results}
