@@ -95,6 +95,8 @@ def _exact_model(scene: Any, convention: Convention, primitive: int, x: int, y: 
     if convention.samples is not None:
         n = convention.n_samples
         return Fraction(int(round(share * n)), n)
+    if convention.rows:
+        raise ValueError("a row-sampled area of paths has no exact model to decide a step by (triangles only)")
     paths = PATHS.narrow(scene)
     contours = _path_contours(paths, convention, primitive)
     if not all(np.all(np.isfinite(c)) for c in contours):
