@@ -396,7 +396,15 @@ def _run(s: Subject) -> Result:
                     return Result("", s.case.id, "invariance", "error", f"{kind}: {outcome.error}",
                                   {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
                 variants.append((label, index, outcome.coverage))
-        near = near_level_boundary(s.case, s.oracle, s.convention, s.tolerance)
+        built: list[Callable[[NDArray], NDArray]] = []
+
+        def near(keys: NDArray) -> NDArray:
+            """:func:`near_level_boundary`, built (the oracle drawn) only when a difference needs it."""
+            assert s.convention is not None
+            if not built:
+                built.append(near_level_boundary(s.case, s.oracle, s.convention, s.tolerance))
+            return built[0](keys)
+
         return area_invariance(s.case, s.coverage, variants, s.convention.level_step, shift_of(s.case.scene),
                                exact=ORIENTATION_VARIANTS, near=near)
     sample = s.convention.sample if s.convention is not None else (0.5, 0.5)
