@@ -5,19 +5,28 @@ rotations (0.01 to 0.1 degrees a frame) about an arbitrary point, and slow zooms
 to single triangles, fans, grids and projected trimesh meshes. Textured variants carry
 per-vertex (u, v) on a T x T texel grid, including perspective quads seen at grazing angles
 (``w`` differs per vertex). Translations by dyadic steps of lattice geometry stay exact.
+
+Anti-aliased paths and lines (issue 34, :func:`aa_motion_cases`): frames that are path
+scenes -- a glyph-like outline (a "D" of flattened curves, its counter and an overlapping
+stem contour) and a pentagram, translated by 1/64 px and rotated slowly -- and line scenes
+-- segments sliding by 1/64 px -- for the popping check under area coverage (and jaggy
+under a sample rule). Kept apart from :func:`motion_cases`, whose frames are triangles.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from cases.meshes import _rotation, _shapes, project
 from cases.partitions import fan, grid
+from cases.paths import glyph_d, star
 from harness.contract.case import MotionCase
-from harness.contract.scenes import Scene
+from harness.contract.scenes import LineScene, PathScene, Scene
 
-__all__ = ["MotionCase", "motion_cases", "translate", "rotate", "zoom"]
+__all__ = ["MotionCase", "motion_cases", "aa_motion_cases", "translate", "rotate", "zoom"]
 
 
 def translate(positions: NDArray, step: tuple[float, float], count: int) -> list[NDArray]:
@@ -101,4 +110,49 @@ def motion_cases(seed: int, full: bool = False) -> list[MotionCase]:
     floor, uv, w = _textured_quad(32, grazing=True)
     add("textured-64/perspective-floor/translate-x-1/64", translate(floor, (1 / 64, 0.0), 129), uv, w, texels=64, viewport=32)
     add("textured-256/perspective-floor/still", [floor], uv, w, texels=256, viewport=32)
+    return cases
+
+
+def aa_motion_cases(seed: int, full: bool = False) -> list[MotionCase]:
+    """Motion of anti-aliased paths and lines: ``motion/path-<shape>/<movement>/<rule>``
+    (frames: path scenes) and ``motion/aa-lines/<movement>/w<width>`` (frames: line
+    scenes). The quick suite: the glyph sliding diagonally by 1/64 px over half a pixel,
+    the pentagram turning by 0.05 degrees a frame, and three segments sliding by 1/64 px;
+    the full suite adds the other axes, two pixels of travel, finer and coarser turns, the
+    even-odd rule and other widths."""
+    rng = np.random.default_rng(seed + 34)
+    size = 32
+    cases: list[MotionCase] = []
+    shapes = {"glyph-d": glyph_d(rng.uniform(4, 5, 2), 23.0, 10), "star-5-2": [star(5, 2, rng.uniform(15, 17, 2), 12.5, 0.3)]}
+    count = 129 if full else 33  # two pixels of travel at 1/64, or half a pixel
+
+    def add_path(name: str, movement: str, frames: list[NDArray], sizes: NDArray, rule: str) -> None:
+        scenes: tuple[Any, ...] = tuple(PathScene(size, size, f, sizes, np.zeros(sizes.size, dtype=np.int64), rule)
+                                        for f in frames)
+        cases.append(MotionCase(f"motion/path-{name}/{movement}/{rule}", scenes))
+
+    for name, contours in shapes.items():
+        vertices = np.concatenate(contours)
+        sizes = np.array([c.shape[0] for c in contours], dtype=np.int64)
+        centre = vertices.mean(axis=0) + rng.uniform(-1, 1, 2)
+        for rule in (("nonzero", "evenodd") if full else ("nonzero",)):
+            moves = [("translate-diagonal-1/64", translate(vertices, (1 / 64, 1 / 64), count))]
+            if full:
+                moves += [("translate-x-1/64", translate(vertices, (1 / 64, 0.0), count)),
+                          ("translate-y-1/64", translate(vertices, (0.0, 1 / 64), count))]
+            for degrees in ((0.01, 0.05, 0.1) if full else (0.05,)):
+                moves.append((f"rotate-{degrees:g}deg", rotate(vertices, centre, degrees, 120 if full else 40)))
+            for movement, frames in moves:
+                if not full and (name, movement) not in (("glyph-d", "translate-diagonal-1/64"), ("star-5-2", "rotate-0.05deg")):
+                    continue
+                add_path(name, movement, frames, sizes, rule)
+    # segments: shallow, steep and diagonal, ends off the lattice
+    a = np.array([[3.3, 5.2], [6.1, 3.4], [4.2, 27.1]])
+    b = np.array([[28.7, 11.9], [11.4, 28.6], [27.3, 6.2]])
+    for width in ((0.5, 1.0, 2.5) if full else (1.0,)):
+        for movement, step in ((("slide-x-1/64", (1 / 64, 0.0)), ("slide-y-1/64", (0.0, 1 / 64)),
+                                ("slide-diagonal-1/64", (1 / 64, 1 / 64))) if full else (("slide-x-1/64", (1 / 64, 0.0)),)):
+            lines: tuple[Any, ...] = tuple(LineScene.from_segments(size, size, a + k * np.asarray(step), b + k * np.asarray(step),
+                                                                   width) for k in range(count))
+            cases.append(MotionCase(f"motion/aa-lines/{movement}/w{width:g}", lines))
     return cases

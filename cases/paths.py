@@ -51,7 +51,8 @@ from harness.contract.scenes import PathScene, Scene
 from harness.geometry.exact import orientation
 from harness.oracle.winding import FILL_RULES
 
-__all__ = ["star", "rectangle", "regular", "is_simple", "polygon_sign", "partition_flaws", "voronoi_cells", "quad_grid",
+__all__ = ["star", "rectangle", "regular", "quadratic", "glyph_o", "glyph_d", "thin_stroke", "pie",
+           "is_simple", "polygon_sign", "partition_flaws", "voronoi_cells", "quad_grid",
            "merged_polygons", "shape_cases", "path_partition_cases", "triangles_as_paths", "triangle_partition_cases",
            "AS_PATHS", "path_case_id", "triangle_cases_as_paths", "viewport_cases", "VIEWPORT_CASES", "path_degenerate_cases",
            "path_cases", "PATH_FAMILIES", "wound", "deep_winding", "deep_winding_cases", "DEEP_WINDINGS"]
@@ -93,6 +94,98 @@ def rectangle(x0: float, y0: float, x1: float, y1: float) -> Contour:
 def regular(n: int, centre: ArrayLike, radius: float, turn: float = 0.0) -> Contour:
     """(n, 2): a regular n-gon, clockwise on screen."""
     return star(n, 1, centre, radius, turn)
+
+
+def quadratic(p0: ArrayLike, p1: ArrayLike, p2: ArrayLike, segments: int) -> Contour:
+    """(segments, 2): the quadratic Bezier from p0 (control p1) towards p2 flattened into
+    ``segments`` chords, as a TrueType outline's curves are: its points at t = k/segments,
+    k = 0 .. segments - 1 (p2 starts the next piece).
+
+    >>> quadratic([0, 0], [1, 2], [2, 0], 2).tolist()
+    [[0.0, 0.0], [1.0, 1.0]]
+    """
+    t = (np.arange(segments, dtype=np.float64) / segments)[:, None]
+    a, b, c = (np.asarray(q, dtype=np.float64) for q in (p0, p1, p2))
+    points: Contour = (1 - t) ** 2 * a + 2 * (1 - t) * t * b + t**2 * c
+    return points
+
+
+def glyph_o(centre: ArrayLike, height: float, turn: float = 0.0) -> list[Contour]:
+    """A glyph "o" crossed by a bar: a slanted oval of 64 short edges, its counter (48
+    edges) wound against it, and a bar overlapping both as a variable font's contours
+    overlap (nonzero: winding 2 where the bar crosses the ring, 0 in the counter's middle
+    covered again by the bar at winding 1)."""
+    c = np.asarray(centre, dtype=np.float64)
+    outer = regular(64, c, 0.45 * height, turn) * [0.9, 1.0] + c * [0.1, 0.0]
+    inner = (regular(48, c, 0.27 * height, turn) * [0.9, 1.0] + c * [0.1, 0.0])[::-1]
+    bar = rectangle(c[0] - 0.5 * height, c[1] - 0.06 * height, c[0] + 0.5 * height, c[1] + 0.06 * height)
+    return [outer, inner, bar]
+
+
+def glyph_d(origin: ArrayLike, height: float, segments: int = 12) -> list[Contour]:
+    """A glyph "D" as a TrueType outline flattens it (y down, ``origin`` its top-left, about
+    0.75 ``height`` wide): a stem and a bowl of two quadratic curves, each flattened into
+    ``segments`` short edges, clockwise; its counter, also of two flattened curves, wound
+    the other way; and a separate stem contour overlapping the outline's stem and counter,
+    wound like the outline, as variable fonts keep overlapping contours (nonzero: winding 2
+    where they overlap; even-odd: a hole there).
+
+    >>> [c.shape for c in glyph_d((0, 0), 10.0, 4)]
+    [(11, 2), (11, 2), (4, 2)]
+    """
+    o = np.asarray(origin, dtype=np.float64)
+    h, w, t = height, 0.75 * height, 0.14 * height
+    outer = np.concatenate([np.array([[0.0, 0.0], [0.35 * w, 0.0]]),
+                            quadratic([0.35 * w, 0.0], [w, 0.0], [w, 0.5 * h], segments),
+                            quadratic([w, 0.5 * h], [w, h], [0.35 * w, h], segments),
+                            np.array([[0.35 * w, h], [0.0, h]])])
+    inner = np.concatenate([np.array([[t, t], [0.35 * w, t]]),
+                            quadratic([0.35 * w, t], [w - t, t], [w - t, 0.5 * h], segments),
+                            quadratic([w - t, 0.5 * h], [w - t, h - t], [0.35 * w, h - t], segments),
+                            np.array([[0.35 * w, h - t], [t, h - t]])])[::-1]
+    stem = rectangle(0.05 * h, 0.1 * h, 0.05 * h + 1.6 * t, 0.9 * h)
+    return [_dedup(outer) + o, _dedup(inner) + o, stem + o]
+
+
+def _dedup(contour: Contour) -> Contour:
+    """The contour without a vertex equal to the one before it (a flattened curve's
+    first point repeats the straight piece's last)."""
+    keep = np.ones(contour.shape[0], dtype=bool)
+    keep[1:] = np.any(contour[1:] != contour[:-1], axis=1)
+    return contour[keep]
+
+
+def thin_stroke(points: ArrayLike, width: float) -> Contour:
+    """The outline of a polyline stroked ``width`` wide, as a 2D library turns a stroke
+    into a path before filling it: one contour, each vertex moved by
+    ``width / 2`` along its mitred normal on one side, then back along the other (a
+    gentle polyline: the miters stay short).
+
+    >>> thin_stroke([[0, 0], [4, 0]], 1.0).tolist()
+    [[0.0, 0.5], [4.0, 0.5], [4.0, -0.5], [0.0, -0.5]]
+    """
+    p = np.asarray(points, dtype=np.float64)
+    d = np.diff(p, axis=0)
+    d /= np.hypot(d[:, 0], d[:, 1])[:, None]
+    normal = np.stack([d[:, 1], -d[:, 0]], axis=1)
+    per_vertex = np.concatenate([normal[:1], normal[:-1] + normal[1:], normal[-1:]])
+    per_vertex[1:-1] /= (per_vertex[1:-1] * normal[1:]).sum(axis=1)[:, None]  # the mitre: normal . n = 1
+    left, right = p - per_vertex * width / 2, p + per_vertex * width / 2
+    return np.concatenate([left, right[::-1]])
+
+
+def pie(slices: int, sides: int, centre: ArrayLike, radius: float, turn: float = 0.0) -> tuple[list[Contour], Contour]:
+    """A regular ``sides``-gon cut from its centre into ``slices`` wedges (``sides`` a
+    multiple of ``slices``): each wedge the centre and its run of the outline's vertices,
+    the same floats as its neighbours'; the region, the polygon. Curved-looking pieces
+    (many short outer edges) meeting at one point: a seam test for glyph-like pieces."""
+    if sides % slices:
+        raise ValueError("the sides must divide into the slices")
+    outline = regular(sides, centre, radius, turn)
+    run = sides // slices
+    c = np.asarray(centre, dtype=np.float64)
+    cells = [np.concatenate([c[None], outline[np.arange(k * run, k * run + run + 1) % sides]]) for k in range(slices)]
+    return cells, outline
 
 
 def _on_lattice(points: ArrayLike, scale: int = 4) -> Contour:
@@ -421,6 +514,10 @@ def path_partition_cases(seed: int, full: bool = False) -> list[Case]:
     # lines at non-dyadic spacing, unconstrained jitter
     add("quads-6x6/float", lambda r: quad_grid(6, 4.0, 44.0, "float", r), False, False)
     add("polygons-30/float", lambda r: merged_polygons(30, r, False), False, True)
+    # a 64-gon cut into 8 wedges meeting at a float centre: pieces with many short outer
+    # edges (curves, as glyph pieces are), eight of them in the centre's pixel
+    add("pie-8/float", lambda r: pie(8, 64, r.uniform(22, 26, 2), 19.0, r.uniform(0, 1)), False, True)
+    add("pie-32/float", lambda r: pie(32, 96, r.uniform(22, 26, 2), 20.0, r.uniform(0, 1)), False, False)
     add("polygons-30/lattice", lambda r: merged_polygons(30, r, True), True, False)
     add("polygons-80/float", lambda r: merged_polygons(80, r, False), False, False)
     return cases + triangle_partition_cases(seed, full)
@@ -563,18 +660,31 @@ def shape_cases(seed: int, full: bool = False) -> list[Case]:
     # curves are flattened to many short edges, its counter wound against it, crossed by a
     # bar overlapping both as variable fonts' contours overlap; the same at 6 px and below
     # a pixel; and a ring a tenth of a pixel thick (a hairline sliver)
-    def glyph_o(height: float) -> Callable[[np.random.Generator], list[list[Contour]]]:
-        def build(r: np.random.Generator) -> list[list[Contour]]:
-            c, turn = float_centre(r), r.uniform(0, 1)
-            outer = regular(64, c, 0.45 * height, turn) * [0.9, 1.0] + c * [0.1, 0.0]
-            inner = (regular(48, c, 0.27 * height, turn) * [0.9, 1.0] + c * [0.1, 0.0])[::-1]
-            bar = rectangle(c[0] - 0.5 * height, c[1] - 0.06 * height, c[0] + 0.5 * height, c[1] + 0.06 * height)
-            return [[outer, inner, bar]]
-        return build
+    def glyph(height: float) -> Callable[[np.random.Generator], list[list[Contour]]]:
+        return lambda r: [glyph_o(float_centre(r), height, r.uniform(0, 1))]
 
-    add("glyph/o-with-bar/float", glyph_o(26.0))
-    add("glyph/o-with-bar-6px/float", glyph_o(6.0))
-    add("glyph/o-with-bar-sub-pixel/float", glyph_o(0.8))
+    add("glyph/o-with-bar/float", glyph(26.0))
+    add("glyph/o-with-bar-6px/float", glyph(6.0))
+    add("glyph/o-with-bar-sub-pixel/float", glyph(0.8))
+    # a "D" of flattened quadratic curves with a counter and an overlapping stem contour
+    # (the quick suite's glyph), at text sizes, below a pixel, and a line of them
+    add("glyph/d-curves/float", lambda r: [glyph_d(r.uniform(3, 5, 2), 24.0)], quick=both)
+    add("glyph/d-curves-9px/float", lambda r: [glyph_d(r.uniform(10, 12, 2), 9.0, 6)])
+    add("glyph/d-curves-sub-pixel/float", lambda r: [glyph_d(r.uniform(15, 16, 2), 0.7, 4)])
+    add("glyph/text-line/float", lambda r: [glyph_d((1.3 + 6.1 * k + r.uniform(0, 0.5), 12.4 + r.uniform(0, 0.5)), 7.0, 5)
+                                            for k in range(5)])
+    # strokes as 2D libraries fill them: a wavy polyline outlined 0.25 px, 1/16 px and
+    # 1/1000 px wide (the last a hairline sliver that covers next to nothing anywhere)
+    wave = np.stack([np.linspace(2.0, 30.0, 40), 16.0 + 9.0 * np.sin(np.linspace(0.0, 2.5 * np.pi, 40))], axis=1)
+    add("stroke/wave-0.25px/float", [[thin_stroke(wave, 0.25)]], quick=("nonzero",))
+    add("stroke/wave-1/16px/float", [[thin_stroke(wave + 0.3, 1 / 16)]])
+    add("stroke/wave-1e-3px/float", [[thin_stroke(wave - 0.2, 1e-3)]], quick=("evenodd",))
+    # a sliver: a long needle a thousandth of a pixel wide at its base, across many pixels
+    add("sliver/needle/float", [[np.array([[1.3, 2.2], [30.6, 29.1], [1.3 + 1e-3, 2.2]])]], quick=("nonzero",))
+    # sub-pixel paths: a pentagram and a ring inside one pixel
+    add("sub-pixel/star-0.4px/float", lambda r: [[star(5, 2, r.uniform(10, 11, 2), 0.4, r.uniform(0, 1))]])
+    add("sub-pixel/ring-0.45px/float", lambda r: [[regular(24, c := r.uniform(20, 21, 2), 0.45),
+                                                   regular(16, c, 0.2)[::-1]]])
     add("ring/hairline/float", lambda r: [[regular(96, c := float_centre(r), 12.0), regular(96, c, 11.9)[::-1]]])
     # collinear vertices along the sides (some on samples); a diagonal side through samples
     add("collinear/square-extra-vertices/lattice",
@@ -612,6 +722,12 @@ def shape_cases(seed: int, full: bool = False) -> list[Case]:
         centre = (16.3 - inner * math.sin(math.pi / 5), 15.7 + inner * math.cos(math.pi / 5))
         add(f"huge/star-inner-corner-{label}", [[star(5, 2, centre, big)]], refusable=(0,))
         add(f"huge/wedge-{label}", [[np.array([[-big, 6.25], [big, 9.75], [16.5, 27.0]])]], refusable=(0,))
+    # beyond 2**20 px (where float32 and 24.8 fixed point give out): a band crossing the
+    # screen from 2**21 px away on both sides, a glyph 2**22 px tall whose overlapping
+    # stem's edge runs down the screen (both clipped to it)
+    add("huge/band-2pow21", [[np.array([[-2.0**21, 9.25], [2.0**21, 19.75], [2.0**21, 23.5], [-2.0**21, 13.0]])]],
+        refusable=(0,))
+    add("huge/glyph-2pow22", [glyph_d((16.3 - 0.274 * 2.0**22, -2.0**21 + 16.3), 2.0**22, 8)], refusable=(0,))
     # epsilon: 1e-9 px contours on and beside pixel centres; a pentagram around a sample
     # (winding 2 there), a square with a 1e-9 px hole around one (wound the same way)
     add("epsilon/star-1e-9-on-sample", [[star(5, 2, (10.5, 12.5), 1e-9, 0.2)]], quick=both)

@@ -4,7 +4,7 @@ Triangle families first, then the path families (``paths``, ``path-partitions``,
 ``path-degenerate``: :mod:`cases.paths`; handed only to rasterizers that take paths), the
 line families (``lines``, ``line-strips``, ``line-degenerate``: :mod:`cases.lines`; handed
 only to rasterizers that take lines), the point families (``points``: :mod:`cases.points`),
-then motion.
+then motion (triangles, then anti-aliased paths and lines: :func:`cases.motion.aa_motion_cases`).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from cases.conformance import conformance_cases
 from cases.degenerate import degenerate_cases
 from cases.lines import line_cases
 from cases.meshes import mesh_cases
-from cases.motion import motion_cases
+from cases.motion import aa_motion_cases, motion_cases
 from cases.partitions import partition_cases
 from cases.paths import path_cases
 from cases.points import point_cases
@@ -54,4 +54,5 @@ def build(name: str, seed: int) -> tuple[Case | MotionCase, ...]:
         *line_cases(seed, full),
         *point_cases(seed, full),
         *motion_cases(seed, full),
+        *aa_motion_cases(seed, full),  # frames of paths and lines (issue 34)
     )

@@ -101,8 +101,8 @@ class Session:
 
     def convention(self, case: Case | MotionCase) -> Convention | None:
         """The convention the rasterizer is judged by on ``case``."""
-        if isinstance(case, MotionCase):
-            return self.rasterizer.convention
+        if isinstance(case, MotionCase):  # its frames' kind's (a line drawer's line convention)
+            return convention_for(self.rasterizer, case.frames[0]) if case.frames else self.rasterizer.convention
         return convention_for(self.rasterizer, case.scene)
 
     def close(self) -> None:
@@ -215,7 +215,7 @@ def check_motion(case: MotionCase, rasterizer: Rasterizer, call: Callable[[Scene
         return []  # triangles it does not take (a line drawer): not handed to it
     if refused is not None and case.frames[0].kind in refused:
         return []
-    convention = rasterizer.convention
+    convention = convention_for(rasterizer, case.frames[0])  # the frames' kind's (lines: the line convention)
     applicable = checks.checks(case, only, convention.coverage_kind if convention is not None else "single")
     if not applicable:
         return []

@@ -9,6 +9,11 @@ one classic thing wrong, which accuracy must catch:
 * :class:`ForgetsCaps`: claims square caps, draws butt ends: the caps' area is missing.
 * :class:`QuarterPixelLines`: truncates the end points to a 1/4 px grid while claiming float
   input: under sub-pixel motion its alphas stand still, then jump (popping).
+* :class:`DirectionalAALines`: floors the exact area to a level for a segment drawn
+  rightwards (or straight down) and ceils it for one drawn the other way (a span
+  accumulator whose rounding follows the stepping direction); it declares a tolerance of
+  one level, which both keep (accuracy passes): reversing a segment changes every partial
+  alpha by one level, which invariance must catch exactly.
 * :class:`ExactAALines`: the oracle itself rounded to 8 bits (not bad: the control).
 """
 
@@ -21,7 +26,7 @@ from harness.contract.coverage import Coverage
 from harness.contract.scenes import LineScene
 from harness.oracle.area_lines import _Pieces, _polygon_areas, line_pixel_areas
 
-__all__ = ["MajorAxisBoxLines", "ForgetsCaps", "QuarterPixelLines", "ExactAALines", "AA_LINE_BADS"]
+__all__ = ["MajorAxisBoxLines", "ForgetsCaps", "QuarterPixelLines", "DirectionalAALines", "ExactAALines", "AA_LINE_BADS"]
 
 
 def _eight_bit(alpha: np.ndarray) -> np.ndarray:
@@ -115,4 +120,24 @@ class QuarterPixelLines:
         return _strokes(scene, "butt", grid=0.25)
 
 
-AA_LINE_BADS = (MajorAxisBoxLines(), ForgetsCaps(), QuarterPixelLines())
+class DirectionalAALines:
+    """Claims exact butt rectangles within one level; floors a rightward (or straight
+    down) segment's areas to levels and ceils the others'."""
+
+    name = "bad_aa_lines_directional"
+    convention = Convention(coverage="area", line=LineRule("rectangle"), tolerance=1 / 255)
+    scene_kinds = ("lines",)
+    interpolates = False
+
+    def rasterize(self, scene: LineScene) -> Coverage:
+        a, b = scene.segments()
+        s, x, y, area = line_pixel_areas(np.stack([a, b], axis=1), scene.line_width, "butt", scene.width, scene.height)
+        d = b - a
+        forward = (d[:, 0] > 0) | ((d[:, 0] == 0) & (d[:, 1] > 0))
+        scaled = np.clip(area, 0.0, 1.0) * 255.0
+        level = np.where(forward[s], np.floor(scaled), np.ceil(scaled)) if s.size else scaled
+        keep = level > 0
+        return Coverage.from_pixels(s[keep], x[keep], y[keep], alpha=level[keep] / 255.0)
+
+
+AA_LINE_BADS = (MajorAxisBoxLines(), ForgetsCaps(), QuarterPixelLines(), DirectionalAALines())

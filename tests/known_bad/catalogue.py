@@ -10,9 +10,15 @@ from __future__ import annotations
 
 from typing import Any
 
-from tests.known_bad.aa_lines import ForgetsCaps, MajorAxisBoxLines, QuarterPixelLines
+from tests.known_bad.aa_lines import DirectionalAALines, ForgetsCaps, MajorAxisBoxLines, QuarterPixelLines
 from tests.known_bad.aa_models import HybridSamplesEveryRow, RowsAtTopEdges, RowsTruncatedLevels
-from tests.known_bad.aa_paths import EvenOddForNonzeroArea, SignedAreaPathFiller
+from tests.known_bad.aa_paths import (
+    BiasedPartialFiller,
+    EvenOddForNonzeroArea,
+    OrientationRoundedFiller,
+    QuarterPixelPathFiller,
+    SignedAreaPathFiller,
+)
 from tests.known_bad.antialiasing import (
     BiasedArea,
     CentreSamples,
@@ -73,6 +79,9 @@ def _all() -> list[Any]:
         *(ScanlineBug(bug) for bug in SCANLINE_BUGS if bug != "none"),
         *(PathFillBug(bug) for bug in PATH_BUGS), TwoFillers(),
         SignedAreaPathFiller(), EvenOddForNonzeroArea(),
+        # issue 34, AA paths and lines beyond accuracy (tests/checks/test_aa_path_checks.py: AA_TABLE):
+        # popping, invariance (reversal, exactly), seams, invariance (segments reversed)
+        QuarterPixelPathFiller(), OrientationRoundedFiller(), BiasedPartialFiller(), DirectionalAALines(),
         WrongTieClaim(), YFirstClaimsXFirst(), HalfAwayClaimsNearestEven(), DropsHuge(), Int32FixedPoint(), NaNAttributes(),
         SlowOnEpsilon(), Raises(), ReturnsGarbage(), HangsOnEpsilon(), ClipsBeforeSnapping(), Float32Input(tell=True),
         MirroredPattern(), SwappedSampleBits(), InclusiveSampleTies(), BiasedArea(), PerEdgeMethodSwitch(),
