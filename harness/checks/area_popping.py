@@ -53,6 +53,7 @@ from harness.kinds import LINES, PATHS
 from harness.oracle.area import area_coverage
 from harness.oracle.area_lines import step_exceeds
 from harness.oracle.path_area import exact_path_area, path_area_coverage, path_pixel_areas
+from harness.oracle.row_sampled_paths import exact_row_sampled_path_alpha, row_sampled_path_bound
 
 __all__ = ["popping", "path_motion_bound"]
 
@@ -62,7 +63,7 @@ __all__ = ["popping", "path_motion_bound"]
 def _exact_areas(scenes: list[Scene], convention: Convention) -> list[Coverage]:
     """The exact area (the float oracle) of each frame under ``convention``'s snapping
     and culling, ignoring any sample pattern: what a viewer's eye integrates."""
-    analytic = replace(convention, samples=None, coverage="area")
+    analytic = replace(convention, samples=None, coverage="area", rows=0, full_rows=False)
     return [path_area_coverage(PATHS.narrow(scene), analytic) if PATHS.owns(scene) else area_coverage(scene, analytic)
             for scene in scenes]
 
@@ -77,6 +78,18 @@ def _model_bound(scene: Any, convention: Convention) -> NDArray:
     paths = PATHS.narrow(scene)
     if convention.samples is not None:
         return np.full(len(paths), 2.0**-53)
+    if convention.rows:  # the hybrid's integers over 2 * 256 * rows; the plain model's crossings
+        bounds = np.full(len(paths), 2.0**-52)
+        if not convention.full_rows:
+            vertices = convention.snap(paths.vertices)
+            ends = np.cumsum(paths.contour_sizes)
+            for k in range(len(paths)):
+                rings = [vertices[ends[c] - paths.contour_sizes[c]:ends[c]] for c in np.flatnonzero(paths.contour_path == k)]
+                rings = [r for r in rings if r.shape[0] >= 2]
+                if rings:
+                    edges = np.concatenate([np.concatenate([r, np.roll(r, -1, axis=0)], axis=1) for r in rings])
+                    bounds[k] = row_sampled_path_bound(edges, paths.width, paths.height, convention.rows)
+        return bounds
     bound = path_pixel_areas(paths, convention)[4]
     return np.full(len(paths), float(bound.max(initial=2.0**-53)))
 
@@ -95,12 +108,13 @@ def _exact_model(scene: Any, convention: Convention, primitive: int, x: int, y: 
     if convention.samples is not None:
         n = convention.n_samples
         return Fraction(int(round(share * n)), n)
-    if convention.rows:
-        raise ValueError("a row-sampled area of paths has no exact model to decide a step by (triangles only)")
     paths = PATHS.narrow(scene)
     contours = _path_contours(paths, convention, primitive)
     if not all(np.all(np.isfinite(c)) for c in contours):
         return Fraction(0)
+    if convention.rows:  # the row-sampled model's reference (cairo's hybrid clips to the viewport)
+        return exact_row_sampled_path_alpha(contours, paths.fill_rule, x, y, convention.rows, convention.full_rows,
+                                            surface=(paths.width, paths.height))
     return exact_path_area(contours, paths.fill_rule, x, y)
 
 

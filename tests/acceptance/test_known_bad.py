@@ -13,7 +13,8 @@ from cases.suites import suite
 from harness import run_suite
 from harness.checks import CHECKS, Result
 from harness.contract.case import Case
-from tests.known_bad.aa_paths import EvenOddForNonzeroArea, SignedAreaPathFiller
+from tests.known_bad.aa_lines import DirectionalAALines
+from tests.known_bad.aa_paths import BiasedPartialFiller, EvenOddForNonzeroArea, OrientationRoundedFiller, SignedAreaPathFiller
 from tests.known_bad.antialiasing import (
     BiasedArea,
     CoarseSupersampleClaimsAnalytic,
@@ -61,6 +62,9 @@ TABLE: dict[Any, set[str]] = {  # (keys: known-bad rasterizers of many classes)
     TwoFillers(): {"triangulation"},
     SignedAreaPathFiller(): {"accuracy", "invariance"},  # issue 34: AA paths
     EvenOddForNonzeroArea(): {"accuracy"},
+    OrientationRoundedFiller(): {"invariance"},  # a reversed winding must not change a nonzero fill
+    BiasedPartialFiller(): {"seams", "accuracy"},
+    DirectionalAALines(): {"invariance"},  # AA lines: a reversed segment draws the same
     EdgeFunctionBug("inclusive"): {"conformance", "watertight", "degenerate"},
     EdgeFunctionBug("exclusive"): {"conformance", "watertight"},
     EdgeFunctionBug("float32"): {"conformance", "watertight"},
