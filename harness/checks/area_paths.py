@@ -91,7 +91,7 @@ def path_accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: 
     finite = np.isfinite(alpha)
     magnitude = np.maximum(1.0, np.abs(np.where(finite, alpha, 0.0)))
     oracle_bound = np.zeros(keys.size)
-    analytic = convention.samples is None
+    analytic = convention.samples is None and not convention.model.quantum  # a model's own levels are exact too
     if analytic:  # the float area's proven bound per pixel (a supersampled share is exact)
         p, px, py, _, b = path_pixel_areas(scene, convention)
         where = np.searchsorted(keys, (p * height + py) * width + px)
@@ -111,6 +111,8 @@ def path_accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: 
                 ends = np.cumsum(scene.contour_sizes)
                 contours[k] = [snapped[ends[c] - scene.contour_sizes[c]:ends[c]] for c in np.flatnonzero(scene.contour_path == k)]
             exact = exact_path_area(contours[k], scene.fill_rule, int(x[i]), int(y[i]))
+        elif convention.model.quantum:  # the model's level k / quantum
+            exact = Fraction(int(round(float(model[i]) * convention.model.quantum)), convention.model.quantum)
         else:
             exact = Fraction(float(model[i]))  # k / n: exact as a float
         over[i] = abs(exact_alpha(float(alpha[i]), levels) - exact) > limit

@@ -295,11 +295,14 @@ CLOSED = CoverageModel(
     single_sample=True, verdict_checks=("conformance",), rule=True, sample_point=True, exactly_once=False,
     zero_area=True, path_oracle="harness.oracle.dropout:closed_paths")
 
-# skia's supersampler as tiny-skia runs it (issue 34): its integer procedure, 8-bit levels (harness.oracle.supersample_models)
+# skia's supersampler as tiny-skia runs it (issue 34): its integer procedure, 8-bit levels (harness.oracle.supersample_models).
+# Judged by accuracy alone: its own exact answer leaves seams (a vertex on a sub-row's centre line counts
+# sub-samples twice: 288 levels summed on watertight/grid-6x6-main/lattice) and pops, which the seams and
+# popping checks report as the library's artifacts, not as a departure from the declaration.
 SKIA_SUPERSAMPLED_AREA = CoverageModel(
     "skia-supersampled area", "area", "harness.oracle.supersample_models:skia_supersampled_coverage",
     declared="skia's supersampled area coverage", seen="an alpha per pixel and triangle (anti-aliased)", alphas=True,
-    verdict_checks=("accuracy", "seams", "popping"), path_oracle="harness.oracle.supersample_models:skia_supersampled_paths",
+    verdict_checks=("accuracy",), path_oracle="harness.oracle.supersample_models:skia_supersampled_paths",
     quantum=255)
 
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
@@ -341,8 +344,8 @@ def model_for(coverage: str, pattern: bool, rows: int = 0, supersample: int = 0)
         return rule  # no pattern: Convention refuses samples with a coverage rule
     if coverage == "area":
         if rows and not pattern:
-            return ROW_SAMPLED_AREA
+            return ROW_SAMPLED_AREA  # Convention(coverage="area", rows=n): n sample lines per pixel row
         if supersample and not pattern:
-            return SKIA_SUPERSAMPLED_AREA  # Convention(coverage="area", supersample=shift): skia's supersampler  # Convention(coverage="area", rows=n): n sample lines per pixel row
+            return SKIA_SUPERSAMPLED_AREA  # Convention(coverage="area", supersample=shift): skia's supersampler
         return SUPERSAMPLED_AREA if pattern else AREA
     return MULTISAMPLE if pattern else SINGLE

@@ -200,12 +200,12 @@ def _blit_h(acc, x, y, width, shift, super_left, top, left, right):  # type: ign
     """``SuperBlitter::blit_h`` + ``AlphaRuns::add``: the span [x, x + width) of sub-row y
     (sub-pixel units) into acc[row - top, column - left] (columns in [left, right) kept)."""
     mask = (1 << shift) - 1
-    x -= super_left
-    if x < 0:
-        width += x
-        x = 0
-    start = x
-    stop = x + width
+    # the span cut to the screen's columns: tiny-skia clips the edges to the screen first
+    # (edge_clipper.rs), so no span reaches past it
+    stop = min(x + width, right << shift) - super_left
+    start = max(x - super_left, 0)
+    if stop <= start:
+        return
     fb = start & mask
     fe = stop & mask
     n = (stop >> shift) - (start >> shift) - 1
@@ -234,41 +234,105 @@ def _blit_h(acc, x, y, width, shift, super_left, top, left, right):  # type: ign
         acc[row, px - left] = (acc[row, px - left] + (fe << (8 - 2 * shift))) & 255  # a u8 add
 
 
+@numba.njit(cache=True, inline="always")
+def _unlink(i, prev, nxt):  # type: ignore[no-untyped-def]
+    """remove_edge: take edge i out of the linked list."""
+    a, b = prev[i], nxt[i]
+    nxt[a] = b
+    prev[b] = a
+
+
+@numba.njit(cache=True, inline="always")
+def _link_after(i, after, prev, nxt):  # type: ignore[no-untyped-def]
+    """insert_edge_after: put edge i right after edge ``after``."""
+    prev[i] = after
+    nxt[i] = nxt[after]
+    prev[nxt[after]] = i
+    nxt[after] = i
+
+
 @numba.njit(cache=True)
-def _walk(ex, edx, efirst, elast, ewind, n, evenodd, start_y, stop_y, shift, super_left,  # type: ignore[no-untyped-def]
-          top, left, right, acc):
-    """``walk_edges`` over sub-rows [start_y, stop_y): the edge list sorted by (first_y, x)
-    (stable), a linked list with a head (index 0) and a tail (n + 1) as tiny-skia keeps it."""
+def _backward_insert(curr, x, prev, nxt):  # type: ignore[no-untyped-def]
+    """backward_insert_edge_based_on_x: ripple edge ``curr`` back until the list is x-sorted."""
+    p = prev[curr]
+    while p != 0 and x[p] > x[curr]:
+        p = prev[p]
+    if nxt[p] != curr:
+        _unlink(curr, prev, nxt)
+        _link_after(curr, p, prev, nxt)
+
+
+@numba.njit(cache=True)
+def _insert_new_edges(new, curr_y, x, first, prev, nxt):  # type: ignore[no-untyped-def]
+    """insert_new_edges: the edges starting on sub-row ``curr_y`` (``new`` the first of
+    them) moved into x order among the active ones, each before the equal ones it meets."""
+    if first[new] != curr_y:
+        return
+    p = prev[new]
+    if x[p] <= x[new]:
+        return
+    start = p  # backward_insert_start
+    while prev[start] >= 0:
+        start = prev[start]
+        if x[start] <= x[new]:
+            break
+    while True:
+        following = nxt[new]
+        keep = False
+        while True:
+            after = nxt[start]
+            if after == new:
+                keep = True
+                break
+            if x[after] >= x[new]:
+                break
+            start = after
+        if not keep:
+            _unlink(new, prev, nxt)
+            _link_after(new, start, prev, nxt)
+        start = new
+        new = following
+        if first[new] != curr_y:
+            return
+
+
+@numba.njit(cache=True)
+def _sorted_list(ex, edx, efirst, elast, ewind, n, start_y):  # type: ignore[no-untyped-def]
+    """The edges sorted by (first_y, x), stable (Rust's sort_by), with a head (index 0, x =
+    i32::MIN) and a tail (n + 1) around them, linked in that order: (x, dx, first, last,
+    winding, prev, next). An edge starting above the walk (the screen's top) enters at its
+    first row, its x stepped there."""
     key = np.empty(n, dtype=np.int64)
     for i in range(n):
         key[i] = efirst[i] * (np.int64(1) << 34) + (ex[i] + (np.int64(1) << 33))
     order = np.argsort(key, kind="mergesort")
     size = n + 2
-    x = np.empty(size, dtype=np.int64)
+    x = np.zeros(size, dtype=np.int64)
     dx = np.zeros(size, dtype=np.int64)
-    first = np.empty(size, dtype=np.int64)
+    first = np.zeros(size, dtype=np.int64)
     last = np.zeros(size, dtype=np.int64)
     wind = np.zeros(size, dtype=np.int64)
-    prev = np.empty(size, dtype=np.int64)
-    nxt = np.empty(size, dtype=np.int64)
     x[0] = -2147483648
     first[0] = -(np.int64(1) << 62)
-    x[n + 1] = 0
     first[n + 1] = np.int64(1) << 62
     for i in range(n):
         e = order[i]
-        x[i + 1] = ex[e]
-        dx[i + 1] = edx[e]
-        first[i + 1] = efirst[e]
-        last[i + 1] = elast[e]
-        wind[i + 1] = ewind[e]
-        # an edge starting above the walk (the screen's top) enters at its first row
+        x[i + 1], dx[i + 1], first[i + 1], last[i + 1], wind[i + 1] = ex[e], edx[e], efirst[e], elast[e], ewind[e]
         if first[i + 1] < start_y:
             x[i + 1] += (start_y - first[i + 1]) * dx[i + 1]
             first[i + 1] = start_y
-    for i in range(size):
-        prev[i] = i - 1
-        nxt[i] = i + 1
+    prev = np.arange(-1, size - 1)
+    nxt = np.arange(1, size + 1)
+    return x, dx, first, last, wind, prev, nxt
+
+
+@numba.njit(cache=True)
+def _walk(ex, edx, efirst, elast, ewind, n, evenodd, start_y, stop_y, shift, super_left,  # type: ignore[no-untyped-def]
+          top, left, right, acc):
+    """``walk_edges`` over sub-rows [start_y, stop_y), on the linked list tiny-skia keeps
+    (:func:`_sorted_list`): each sub-row's spans blitted (:func:`_blit_h`), the edges
+    stepped and kept x-sorted, the next sub-row's new edges inserted."""
+    x, dx, first, last, wind, prev, nxt = _sorted_list(ex, edx, efirst, elast, ewind, n, start_y)
     mask = 1 if evenodd else -1
     curr_y = start_y
     while curr_y < stop_y:
@@ -277,80 +341,26 @@ def _walk(ex, edx, efirst, elast, ewind, n, evenodd, start_y, stop_y, shift, sup
         prev_x = x[0]
         curr = nxt[0]
         while first[curr] <= curr_y:
-            if last[curr] >= curr_y:
+            if last[curr] >= curr_y:  # (an edge ending above the screen is never drawn)
                 xr = (x[curr] + 0x8000) >> 16  # fdot16::round_to_i32
                 if (w & mask) == 0:
                     lft = xr  # an interval starts
                 w += wind[curr]
                 if (w & mask) == 0 and xr - lft > 0:
                     _blit_h(acc, lft, curr_y, xr - lft, shift, super_left, top, left, right)
-            nx = nxt[curr]
+            following = nxt[curr]
             if last[curr] <= curr_y:
-                # done with this edge: remove_edge
-                p, q = prev[curr], nxt[curr]
-                nxt[p] = q
-                prev[q] = p
+                _unlink(curr, prev, nxt)  # done with this edge
             else:
-                new_x = x[curr] + dx[curr]
-                x[curr] = new_x
-                if new_x < prev_x:
-                    # backward_insert_edge_based_on_x
-                    p = prev[curr]
-                    while p != 0:
-                        if x[p] > new_x:
-                            p = prev[p]
-                        else:
-                            break
-                    if nxt[p] != curr:
-                        a, b = prev[curr], nxt[curr]
-                        nxt[a] = b
-                        prev[b] = a
-                        prev[curr] = p
-                        nxt[curr] = nxt[p]
-                        prev[nxt[p]] = curr
-                        nxt[p] = curr
+                x[curr] += dx[curr]
+                if x[curr] < prev_x:
+                    _backward_insert(curr, x, prev, nxt)
                 else:
-                    prev_x = new_x
-            curr = nx
+                    prev_x = x[curr]
+            curr = following
         curr_y += 1
-        if curr_y >= stop_y:
-            break
-        # insert_new_edges(curr, curr_y)
-        new = curr
-        if first[new] != curr_y:
-            continue
-        p = prev[new]
-        if x[p] <= x[new]:
-            continue
-        # backward_insert_start
-        start = p
-        while prev[start] >= 0:
-            start = prev[start]
-            if x[start] <= x[new]:
-                break
-        while True:
-            following = nxt[new]
-            keep = False
-            while True:
-                after = nxt[start]
-                if after == new:
-                    keep = True
-                    break
-                if x[after] >= x[new]:
-                    break
-                start = after
-            if not keep:
-                a, b = prev[new], nxt[new]
-                nxt[a] = b
-                prev[b] = a
-                prev[new] = start
-                nxt[new] = nxt[start]
-                prev[nxt[start]] = new
-                nxt[start] = new
-            start = new
-            new = following
-            if first[new] != curr_y:
-                break
+        if curr_y < stop_y:
+            _insert_new_edges(curr, curr_y, x, first, prev, nxt)
 
 
 @numba.njit(cache=True)
@@ -535,11 +545,135 @@ def path_levels(contours: list[ArrayLike], width: int, height: int, fill_rule: s
 # -- the reference: the same procedure written again, in Python integers ------------------------
 
 
+def _reference_edges(pts: list[NDArray[np.float32]], scale: float) -> list[list[int]]:
+    """``LineEdge::new`` and ``combine_vertical`` in Python integers: [x, dx, first, last, winding]."""
+
+    def as_i32(v: float) -> int:
+        return max(_I32_MIN, min(_I32_MAX, math.trunc(v)))
+
+    edges: list[list[int]] = []
+    for c in pts:
+        for k in range(len(c)):
+            (ax, ay), (bx, by) = c[k], c[(k + 1) % len(c)]
+            x0, y0, x1, y1 = (as_i32(float(v) * scale) for v in (ax, ay, bx, by))
+            winding = 1
+            if y0 > y1:
+                x0, y0, x1, y1, winding = x1, y1, x0, y0, -1
+            top, bottom = (y0 + 32) // 64, (y1 + 32) // 64
+            if top == bottom:
+                continue
+            num, den = (x1 - x0) * 65536, y1 - y0
+            slope = max(_I32_MIN, min(_I32_MAX, abs(num) // den * (1 if num >= 0 else -1)))
+            edge = [(x0 + (slope * ((top * 64) + 32 - y0)) // 65536) * 1024, slope, top, bottom - 1, winding]
+            if not (slope == 0 and edges and edges[-1][1] == 0 and edges[-1][0] == edge[0] and _combined(edge, edges)):
+                edges.append(edge)
+    return edges
+
+
+def _combined(edge: list[int], edges: list[list[int]]) -> bool:
+    """combine_vertical of ``edge`` into the last of ``edges`` (both vertical, same x):
+    whether it was absorbed (the last edge changed or dropped)."""
+    last = edges[-1]
+    if edge[4] == last[4]:
+        if edge[3] + 1 == last[2]:
+            last[2] = edge[2]
+            return True
+        if edge[2] == last[3] + 1:
+            last[3] = edge[3]
+            return True
+        return False
+    if edge[2] == last[2]:
+        if edge[3] == last[3]:
+            edges.pop()
+        elif edge[3] < last[3]:
+            last[2] = edge[3] + 1
+        else:
+            last[2], last[3], last[4] = last[3] + 1, edge[3], edge[4]
+        return True
+    if edge[3] == last[3]:
+        if edge[2] > last[2]:
+            last[3] = edge[2] - 1
+        else:
+            last[3], last[2], last[4] = last[2] - 1, edge[2], edge[4]
+        return True
+    return False
+
+
+def _reference_row(lst: list[list[int]], y: int, rule: int) -> list[tuple[int, int]]:
+    """One sub-row of ``walk_edges`` on the list (active edges first): its spans; the list
+    stepped, x-sorted again and the next sub-row's new edges inserted."""
+    w, left, prev_x, i = 0, 0, _I32_MIN, 0
+    spans = []
+    while i < len(lst) and lst[i][2] <= y:
+        e = lst[i]
+        xr = (e[0] + 0x8000) >> 16
+        if w & rule == 0:
+            left = xr
+        w += e[4]
+        if w & rule == 0 and xr > left:
+            spans.append((left, xr))
+        if e[3] == y:
+            lst.pop(i)  # done with this edge
+            continue
+        e[0] += e[1]
+        if e[0] < prev_x:  # ripple it back until x-sorted
+            p = i - 1
+            while p >= 0 and lst[p][0] > e[0]:
+                p -= 1
+            lst.insert(p + 1, lst.pop(i))
+        else:
+            prev_x = e[0]
+        i += 1
+
+    def x_of(k: int) -> int:  # the list's head (index -1) holds i32::MIN
+        return lst[k][0] if k >= 0 else _I32_MIN
+
+    # insert_new_edges: the edges starting on the next sub-row, now at i
+    if i < len(lst) and lst[i][2] == y + 1 and x_of(i - 1) > lst[i][0]:
+        s = i - 1
+        while s >= 0:  # backward_insert_start
+            s -= 1
+            if x_of(s) <= lst[i][0]:
+                break
+        j = i
+        while j < len(lst) and lst[j][2] == y + 1:
+            while s + 1 != j and lst[s + 1][0] < lst[j][0]:
+                s += 1
+            if s + 1 != j:
+                lst.insert(s + 1, lst.pop(j))
+            s += 1
+            j += 1
+    return spans
+
+
+def _reference_blit(out: NDArray[np.int64], spans: list[tuple[int, int]], y: int, shift: int, left_px: int) -> None:
+    """The sub-row's spans summed into ``out`` pixel by pixel, as blit_h and AlphaRuns::add do."""
+    width = out.shape[1]
+    full = (1 << (8 - shift)) - (((y & ((1 << shift) - 1)) + 1) >> shift)
+    row = y >> shift
+    for start, stop in spans:
+        start, stop = max(start, left_px << shift), min(stop, width << shift)
+        first_px = start >> shift
+        for px in range(first_px, ((stop - 1) >> shift) + 1):
+            count = min(stop, (px + 1) << shift) - max(start, px << shift)
+            if count <= 0:
+                continue
+            if count == 1 << shift:
+                total = out[row, px] + full
+                out[row, px] = total - (total >> 8)  # a full pixel: catch_overflow
+            elif px == first_px:
+                total = out[row, px] + (count << (8 - 2 * shift))
+                out[row, px] = total - (total >> 8)  # the first pixel: clamped 256 -> 255
+            else:
+                out[row, px] = (out[row, px] + (count << (8 - 2 * shift))) & 255  # the last: a u8 add
+
+
 def reference_levels(contours: list[ArrayLike], width: int, height: int, fill_rule: str = "nonzero",
                      shift: int = TINY_SKIA_SHIFT) -> NDArray[np.int64]:
     """The (height, width) 8-bit levels of one path as tiny-skia computes them, uncompiled:
-    Python integers, the active edges a Python list re-sorted as ``walk_edges`` does, every
-    sub-row's spans accumulated pixel by pixel (slow; the reference of the compiled oracle).
+    Python integers, the edges a Python list kept as ``walk_edges`` keeps its linked list,
+    every sub-row's spans accumulated pixel by pixel (slow; the reference of the compiled
+    oracle).
 
     >>> reference_levels([[[0, 0], [2, 0], [0, 1]]], 2, 1).tolist()
     [[192, 64]]
@@ -552,121 +686,19 @@ def reference_levels(contours: list[ArrayLike], width: int, height: int, fill_ru
     lo, hi = flat.min(axis=0), flat.max(axis=0)
     if abs(np.float32(hi[0] - lo[0])) <= _NEARLY_ZERO or abs(np.float32(hi[1] - lo[1])) <= _NEARLY_ZERO:
         return out
-    scale = float(1 << (shift + 6))
-
-    def as_i32(v: float) -> int:
-        return max(_I32_MIN, min(_I32_MAX, math.trunc(v)))
-
-    edges: list[list[int]] = []  # [x, dx, first, last, winding]
-    for c in pts:
-        for k in range(len(c)):
-            (ax, ay), (bx, by) = c[k], c[(k + 1) % len(c)]
-            x0, y0, x1, y1 = as_i32(float(ax) * scale), as_i32(float(ay) * scale), as_i32(float(bx) * scale), \
-                as_i32(float(by) * scale)
-            winding = 1
-            if y0 > y1:
-                x0, y0, x1, y1, winding = x1, y1, x0, y0, -1
-            top, bottom = (y0 + 32) // 64, (y1 + 32) // 64
-            if top == bottom:
-                continue
-            num, den = (x1 - x0) * 65536, y1 - y0
-            slope = max(_I32_MIN, min(_I32_MAX, abs(num) // den * (1 if num >= 0 else -1)))
-            x = (x0 + (slope * ((top * 64) + 32 - y0)) // 65536) * 1024
-            edge = [x, slope, top, bottom - 1, winding]
-            if slope == 0 and edges and edges[-1][1] == 0 and edges[-1][0] == x:
-                last = edges[-1]
-                if winding == last[4]:
-                    if edge[3] + 1 == last[2]:
-                        last[2] = edge[2]
-                        continue
-                    if edge[2] == last[3] + 1:
-                        last[3] = edge[3]
-                        continue
-                elif edge[2] == last[2]:
-                    if edge[3] == last[3]:
-                        edges.pop()
-                    elif edge[3] < last[3]:
-                        last[2] = edge[3] + 1
-                    else:
-                        last[2], last[3], last[4] = last[3] + 1, edge[3], winding
-                    continue
-                elif edge[3] == last[3]:
-                    if edge[2] > last[2]:
-                        last[3] = edge[2] - 1
-                    else:
-                        last[3], last[2], last[4] = last[2] - 1, edge[2], winding
-                    continue
-            edges.append(edge)
+    edges = _reference_edges(pts, float(1 << (shift + 6)))
     if len(edges) < 2:
         return out
-    lst = sorted(edges, key=lambda e: (e[2], e[0]))  # stable, as Rust's sort_by
-    top_px, bottom_px = math.floor(float(lo[1])), math.ceil(float(hi[1]))
-    left_px = max(math.floor(float(lo[0])), 0)
-    start_y, stop_y = max(top_px, 0) << shift, min(bottom_px, height) << shift
-    lst = [e for e in lst if e[3] >= start_y]  # the edges ending above the screen are never walked
-    for e in lst:  # an edge starting above the screen enters at its top row
+    start_y = max(math.floor(float(lo[1])), 0) << shift
+    stop_y = min(math.ceil(float(hi[1])), height) << shift
+    # stable, as Rust's sort_by; the edges ending above the screen are never walked, those
+    # starting above it enter at its top row
+    lst = [e for e in sorted(edges, key=lambda e: (e[2], e[0])) if e[3] >= start_y]
+    for e in lst:
         if e[2] < start_y:
             e[0] += (start_y - e[2]) * e[1]
             e[2] = start_y
     rule = 1 if fill_rule == "evenodd" else -1
-    mask = (1 << shift) - 1
-
-    def x_of(i: int) -> int:  # the list's head (index -1) holds i32::MIN
-        return lst[i][0] if i >= 0 else _I32_MIN
-
     for y in range(start_y, stop_y):
-        w, left, prev_x, i = 0, 0, _I32_MIN, 0
-        spans = []
-        while i < len(lst) and lst[i][2] <= y:
-            e = lst[i]
-            xr = (e[0] + 0x8000) >> 16
-            if w & rule == 0:
-                left = xr
-            w += e[4]
-            if w & rule == 0 and xr > left:
-                spans.append((left, xr))
-            if e[3] == y:
-                lst.pop(i)  # done with this edge
-                continue
-            e[0] += e[1]
-            if e[0] < prev_x:  # ripple it back until x-sorted
-                p = i - 1
-                while p >= 0 and lst[p][0] > e[0]:
-                    p -= 1
-                lst.insert(p + 1, lst.pop(i))
-            else:
-                prev_x = e[0]
-            i += 1
-        # insert_new_edges: the edges starting on the next sub-row, now at i
-        if i < len(lst) and lst[i][2] == y + 1 and x_of(i - 1) > lst[i][0]:
-            s = i - 1
-            while s >= 0:  # backward_insert_start
-                s -= 1
-                if x_of(s) <= lst[i][0]:
-                    break
-            j = i
-            while j < len(lst) and lst[j][2] == y + 1:
-                while s + 1 != j and lst[s + 1][0] < lst[j][0]:
-                    s += 1
-                if s + 1 != j:
-                    lst.insert(s + 1, lst.pop(j))
-                s += 1
-                j += 1
-        row = (y >> shift)
-        full = (1 << (8 - shift)) - (((y & mask) + 1) >> shift)
-        for start, stop in spans:
-            start = max(start, left_px << shift)
-            first_px = start >> shift
-            for px in range(first_px, ((stop - 1) >> shift) + 1):
-                count = min(stop, (px + 1) << shift) - max(start, px << shift)
-                if count <= 0 or not 0 <= px < width:
-                    continue
-                if count == 1 << shift:
-                    total = out[row, px] + full
-                    out[row, px] = total - (total >> 8)  # a full pixel: catch_overflow
-                elif px == first_px:
-                    total = out[row, px] + (count << (8 - 2 * shift))
-                    out[row, px] = total - (total >> 8)  # the first pixel: clamped 256 -> 255
-                else:
-                    out[row, px] = (out[row, px] + (count << (8 - 2 * shift))) & 255  # the last: a u8 add
+        _reference_blit(out, _reference_row(lst, y, rule), y, shift, max(math.floor(float(lo[0])), 0))
     return out

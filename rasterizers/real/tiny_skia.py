@@ -43,6 +43,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need, refuse_kind
@@ -343,6 +344,9 @@ class TinySkiaAntialiased(AlphaOneTriangleAtATime):
 
     name = "tiny_skia_aa"
     library = "tiny-skia (resvg)"
+    # skia's supersampler as tiny-skia runs it, SUPERSAMPLE_SHIFT 2, on its f32 points
+    # (harness.oracle.supersample_models): the library's 8-bit levels exactly
+    convention = Convention(coverage="area", supersample=2, input="float32")
 
     def __init__(self) -> None:
         self._resvg = _Resvg()

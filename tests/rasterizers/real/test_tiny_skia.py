@@ -73,7 +73,8 @@ def test_declarations():
     assert crisp.name == "tiny_skia" and smooth.name == "tiny_skia_aa"
     assert crisp.library == smooth.library == "tiny-skia (resvg)"
     assert crisp.coverage_kind == "single" and smooth.coverage_kind == "area"
-    assert crisp.convention is None and smooth.convention is None  # identified
+    assert crisp.convention is None  # identified
+    assert smooth.convention == Convention(coverage="area", supersample=2, input="float32")  # skia's supersampler
     assert crisp.scene_kinds == ("triangles", "paths", "lines") and crisp.fill_rules == ("nonzero", "evenodd")
     assert crisp.line_widths is None  # a stroke of any width is outlined and filled
     assert not takes(smooth, PathScene.from_paths(W, H, [[pentagram(16, 16, 12)]], "nonzero"))  # type: ignore[arg-type]
