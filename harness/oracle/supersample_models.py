@@ -46,9 +46,11 @@ by the model: the convention's tolerance judges the library against them).
 
 Scope (what the model leaves out, each named where the code stands):
 
-* a path whose bounds reach outside the screen is clipped by tiny-skia in f32
-  (``edge_clipper.rs``) before the edges are built, which moves their DDA: the oracle walks the
-  unclipped edges (the same pixels but for that movement);
+* a path whose pixel box reaches outside the screen has its lines clipped to the screen in
+  f32 first (``edge_clipper.rs``, ``line_clipper.rs``: the intersections in f64, rounded to f32;
+  parts left or right of it moved onto its side as vertical lines), as the oracle does; an
+  adapter drawing on a canvas translated by whole pixels clips in translated coordinates,
+  whose f64 intersections may round to another f32 (not seen);
 * paths whose clipped bounds overflow a short when shifted (coordinates beyond 8191 px) are
   filled aliased by tiny-skia (``rect_overflows_short_shift``): not modelled (the oracle keeps
   supersampling);
@@ -94,7 +96,7 @@ TINY_SKIA_SHIFT = 2
 _I32_MIN = -(2**31)
 _I32_MAX = 2**31 - 1
 # tiny-skia-path scalar.rs: SCALAR_NEARLY_ZERO = 1 / (1 << 12)
-_NEARLY_ZERO = 1.0 / 4096.0
+_NEARLY_ZERO = 1.0 / 4096.0  # tiny-skia-path scalar.rs: SCALAR_NEARLY_ZERO
 
 SKIA_AAA_NOTE = (
     "skia-python 144 fills every anti-aliased path with analytic AA: SkScan::AntiFillPath "
@@ -130,68 +132,160 @@ def _tdiv(a, b):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def _build_edges(vx, vy, starts, sizes, scale, ex, edx, efirst, elast, ewind):  # type: ignore[no-untyped-def]
+def _push_line(ax, ay, bx, by, scale, ex, edx, efirst, elast, ewind, n):  # type: ignore[no-untyped-def]
+    """``BasicEdgeBuilder::push_line``: ``LineEdge::new`` of the f32 points a -> b on the
+    ``scale``-d grid, merged into the previous edge when both are vertical at one x and they
+    abut or overlap (``combine_vertical``); returns the new number of edges."""
+    x0 = _to_i32(ax * scale)
+    y0 = _to_i32(ay * scale)
+    x1 = _to_i32(bx * scale)
+    y1 = _to_i32(by * scale)
+    winding = 1
+    if y0 > y1:
+        x0, y0, x1, y1 = x1, y1, x0, y0
+        winding = -1
+    top = (y0 + 32) >> 6  # fdot6::round
+    bottom = (y1 + 32) >> 6
+    if top == bottom:
+        return n  # a zero-height line
+    slope = _tdiv((x1 - x0) * 65536, y1 - y0)  # fdot6::div (fdot16::div clamps)
+    slope = min(max(slope, -2147483648), 2147483647)
+    dy = (top << 6) + 32 - y0  # compute_dy
+    x = (x0 + ((slope * dy) >> 16)) << 10  # fdot16::mul floors; fdot6::to_fdot16
+    first, last = top, bottom - 1
+    if slope == 0 and n > 0 and edx[n - 1] == 0 and ex[n - 1] == x:
+        j = n - 1
+        if winding == ewind[j]:
+            if last + 1 == efirst[j]:
+                efirst[j] = first
+                return n
+            if first == elast[j] + 1:
+                elast[j] = last
+                return n
+        elif first == efirst[j]:
+            if last == elast[j]:
+                return n - 1  # Combine::Total
+            if last < elast[j]:
+                efirst[j] = last + 1
+                return n
+            efirst[j] = elast[j] + 1
+            elast[j] = last
+            ewind[j] = winding
+            return n
+        elif last == elast[j]:
+            if first > efirst[j]:
+                elast[j] = first - 1
+            else:
+                elast[j] = efirst[j] - 1
+                efirst[j] = first
+                ewind[j] = winding
+            return n
+    ex[n] = x
+    edx[n] = slope
+    efirst[n] = first
+    elast[n] = last
+    ewind[n] = winding
+    return n + 1
+
+
+@numba.njit(cache=True, inline="always")
+def _f32(v):  # type: ignore[no-untyped-def]
+    """A float64 rounded to f32 (Rust's ``as f32``), as a float64."""
+    return float(np.float32(v))
+
+
+@numba.njit(cache=True)
+def _sect_horizontal(x0, y0, x1, y1, y):  # type: ignore[no-untyped-def]
+    """line_clipper.rs ``sect_with_horizontal``: the x where the line meets height y, in
+    f64, pinned to its x range, as f32 (the f32 average of its ends when it is nearly flat)."""
+    if abs(_f32(y1 - y0)) <= _NEARLY_ZERO:
+        return _f32(_f32(x0 + x1) * 0.5)
+    r = x0 + (y - y0) * (x1 - x0) / (y1 - y0)
+    return _f32(min(max(r, min(x0, x1)), max(x0, x1)))
+
+
+@numba.njit(cache=True)
+def _sect_vertical(x0, y0, x1, y1, x):  # type: ignore[no-untyped-def]
+    """line_clipper.rs ``sect_clamp_with_vertical``: the y where the line meets x = x, in
+    f64, as f32, pinned to its y range (the f32 average of its ends when it is nearly upright)."""
+    if abs(_f32(x1 - x0)) <= _NEARLY_ZERO:
+        r = _f32(_f32(y0 + y1) * 0.5)
+    else:
+        r = _f32(y0 + (x - x0) * (y1 - y0) / (x1 - x0))
+    return min(max(r, min(y0, y1)), max(y0, y1))
+
+
+@numba.njit(cache=True)
+def _clip_line(ax, ay, bx, by, left, top, right, bottom, out):  # type: ignore[no-untyped-def]
+    """line_clipper.rs ``clip`` (``can_cull_to_the_right`` false): the line a -> b cut to
+    the clip rectangle in f32, its parts left (right) of it moved onto its left (right)
+    side as vertical lines; the points, in a -> b order, into ``out`` (4, 2); returns how
+    many (0: the line lies wholly above or below)."""
+    sx = (ax, bx)
+    sy = (ay, by)
+    i0, i1 = (0, 1) if ay < by else (1, 0)
+    if sy[i1] <= top or sy[i0] >= bottom:
+        return 0
+    tx = [ax, bx]
+    ty = [ay, by]
+    if sy[i0] < top:
+        tx[i0], ty[i0] = _sect_horizontal(ax, ay, bx, by, top), top
+    if ty[i1] > bottom:
+        tx[i1], ty[i1] = _sect_horizontal(ax, ay, bx, by, bottom), bottom
+    if sx[0] < sx[1]:
+        i0, i1, reverse = 0, 1, False
+    else:
+        i0, i1, reverse = 1, 0, True
+    rx = np.empty(4)
+    ry = np.empty(4)
+    count = 1
+    if tx[i1] <= left or tx[i0] >= right:
+        side = left if tx[i1] <= left else right
+        rx[0], ry[0], rx[1], ry[1] = side, ty[0], side, ty[1]
+        reverse = False
+    else:
+        k = 0
+        if tx[i0] < left:
+            rx[0], ry[0] = left, ty[i0]
+            k = 1
+            rx[1], ry[1] = left, _sect_vertical(tx[0], ty[0], tx[1], ty[1], left)
+        else:
+            rx[0], ry[0] = tx[i0], ty[i0]
+        k += 1
+        if tx[i1] > right:
+            rx[k], ry[k] = right, _sect_vertical(tx[0], ty[0], tx[1], ty[1], right)
+            k += 1
+            rx[k], ry[k] = right, ty[i1]
+        else:
+            rx[k], ry[k] = tx[i1], ty[i1]
+        count = k
+    for i in range(count + 1):
+        j = count - i if reverse else i
+        out[i, 0] = rx[j]
+        out[i, 1] = ry[j]
+    return count + 1
+
+
+@numba.njit(cache=True)
+def _build_edges(vx, vy, starts, sizes, scale, clip, rect, ex, edx, efirst, elast, ewind):  # type: ignore[no-untyped-def]
     """``BasicEdgeBuilder::build`` of the contours (``starts``/``sizes`` into ``vx``/``vy``,
-    each closed) with ``LineEdge::new`` on the ``scale``-d grid and ``combine_vertical``;
+    each closed), every line through the edge clipper (:func:`_clip_line`, to ``rect`` =
+    (left, top, right, bottom)) when ``clip`` (the path's box is not inside the screen);
     returns the number of edges written."""
     n = 0
+    points = np.empty((4, 2))
     for c in range(starts.size):
         s, m = starts[c], sizes[c]
         for k in range(m):
             p = s + k
             q = s + (k + 1) % m
-            x0 = _to_i32(vx[p] * scale)
-            y0 = _to_i32(vy[p] * scale)
-            x1 = _to_i32(vx[q] * scale)
-            y1 = _to_i32(vy[q] * scale)
-            winding = 1
-            if y0 > y1:
-                x0, y0, x1, y1 = x1, y1, x0, y0
-                winding = -1
-            top = (y0 + 32) >> 6  # fdot6::round
-            bottom = (y1 + 32) >> 6
-            if top == bottom:
-                continue  # a zero-height line
-            slope = _tdiv((x1 - x0) * 65536, y1 - y0)  # fdot6::div (fdot16::div clamps)
-            slope = min(max(slope, -2147483648), 2147483647)
-            dy = (top << 6) + 32 - y0  # compute_dy
-            x = (x0 + ((slope * dy) >> 16)) << 10  # fdot16::mul floors; fdot6::to_fdot16
-            first, last = top, bottom - 1
-            # push_line: a vertical edge may merge into the previous one (combine_vertical)
-            if slope == 0 and n > 0 and edx[n - 1] == 0 and ex[n - 1] == x:
-                j = n - 1
-                if winding == ewind[j]:
-                    if last + 1 == efirst[j]:
-                        efirst[j] = first
-                        continue
-                    if first == elast[j] + 1:
-                        elast[j] = last
-                        continue
-                elif first == efirst[j]:
-                    if last == elast[j]:
-                        n -= 1  # Combine::Total
-                        continue
-                    if last < elast[j]:
-                        efirst[j] = last + 1
-                        continue
-                    efirst[j] = elast[j] + 1
-                    elast[j] = last
-                    ewind[j] = winding
-                    continue
-                elif last == elast[j]:
-                    if first > efirst[j]:
-                        elast[j] = first - 1
-                    else:
-                        elast[j] = efirst[j] - 1
-                        efirst[j] = first
-                        ewind[j] = winding
-                    continue
-            ex[n] = x
-            edx[n] = slope
-            efirst[n] = first
-            elast[n] = last
-            ewind[n] = winding
-            n += 1
+            if not clip:
+                n = _push_line(vx[p], vy[p], vx[q], vy[q], scale, ex, edx, efirst, elast, ewind, n)
+                continue
+            count = _clip_line(vx[p], vy[p], vx[q], vy[q], rect[0], rect[1], rect[2], rect[3], points)
+            for i in range(count - 1):
+                n = _push_line(points[i, 0], points[i, 1], points[i + 1, 0], points[i + 1, 1], scale,
+                               ex, edx, efirst, elast, ewind, n)
     return n
 
 
@@ -366,60 +460,60 @@ def _walk(ex, edx, efirst, elast, ewind, n, evenodd, start_y, stop_y, shift, sup
 @numba.njit(cache=True)
 def _path_box(vx, vy, width, height):  # type: ignore[no-untyped-def]
     """The path's pixel box (floor/ceil of its f32 bounds) clipped to the screen, and
-    whether it draws at all: (draws, left, top, right, bottom) of the clipped box, and the
-    unclipped (top, bottom)."""
+    whether it draws at all, and whether its edges are clipped: (draws, left, top, right,
+    bottom, clip)."""
     lo_x = np.inf
     lo_y = np.inf
     hi_x = -np.inf
     hi_y = -np.inf
     for k in range(vx.size):
         if not (math.isfinite(vx[k]) and math.isfinite(vy[k])):
-            return False, 0, 0, 0, 0, 0, 0
+            return False, 0, 0, 0, 0, False
         lo_x = min(lo_x, vx[k])
         hi_x = max(hi_x, vx[k])
         lo_y = min(lo_y, vy[k])
         hi_y = max(hi_y, vy[k])
     if vx.size == 0:
-        return False, 0, 0, 0, 0, 0, 0
+        return False, 0, 0, 0, 0, False
     # PixmapMut::fill_path: empty paths and horizontal or vertical lines are skipped (f32 widths)
     if abs(np.float32(np.float32(hi_x) - np.float32(lo_x))) <= 1.0 / 4096.0 or \
             abs(np.float32(np.float32(hi_y) - np.float32(lo_y))) <= 1.0 / 4096.0:
-        return False, 0, 0, 0, 0, 0, 0
+        return False, 0, 0, 0, 0, False
     if max(abs(lo_x), abs(hi_x), abs(lo_y), abs(hi_y)) > 2.0**30:
-        return False, 0, 0, 0, 0, 0, 0  # beyond the i32 grid (the adapters refuse beyond 2**20)
+        return False, 0, 0, 0, 0, False  # beyond the i32 grid (the adapters refuse beyond 2**20)
     left = int(math.floor(lo_x))
     top = int(math.floor(lo_y))
     right = int(math.ceil(hi_x))
     bottom = int(math.ceil(hi_y))
     cl, ct, cr, cb = max(left, 0), max(top, 0), min(right, width), min(bottom, height)
     if cl >= cr or ct >= cb:
-        return False, 0, 0, 0, 0, 0, 0
-    return True, cl, ct, cr, cb, top, bottom
+        return False, 0, 0, 0, 0, False
+    # fill_path_impl's path_contained_in_clip: the box inside the screen, else the edges are clipped
+    return True, cl, ct, cr, cb, not (left >= 0 and top >= 0 and right <= width and bottom <= height)
 
 
 @numba.njit(cache=True)
 def _levels(vx, vy, starts, sizes, evenodd, shift, width, height):  # type: ignore[no-untyped-def]
-    """One path's 8-bit levels on its clipped pixel box: (left, top, acc) with acc (rows,
-    columns) int64; an empty acc when it draws nothing."""
-    draws, left, top, right, bottom, full_top, full_bottom = _path_box(vx, vy, width, height)
+    """One path's 8-bit levels on its pixel box cut to the screen: (left, top, acc), acc
+    (rows, columns) int64; an empty acc when it draws nothing."""
+    draws, left, top, right, bottom, clip = _path_box(vx, vy, width, height)
     if not draws:
         return 0, 0, np.zeros((0, 0), dtype=np.int64)
-    m = vx.size
+    m = 3 * vx.size  # a clipped line gives up to three edges
     ex = np.empty(m, dtype=np.int64)
     edx = np.empty(m, dtype=np.int64)
     efirst = np.empty(m, dtype=np.int64)
     elast = np.empty(m, dtype=np.int64)
     ewind = np.empty(m, dtype=np.int64)
-    n = _build_edges(vx, vy, starts, sizes, float(1 << (shift + 6)), ex, edx, efirst, elast, ewind)
+    rect = np.array([0.0, 0.0, float(width), float(height)])
+    n = _build_edges(vx, vy, starts, sizes, float(1 << (shift + 6)), clip, rect, ex, edx, efirst, elast, ewind)
     acc = np.zeros((bottom - top, right - left), dtype=np.int64)
     if n < 2:
         return left, top, acc  # build_edges: fewer than two edges draw nothing
-    # the walk's sub-rows: the path's box, cut to the screen's (fill_path_impl's start_y/stop_y)
-    start_y = max(full_top, top) << shift
-    stop_y = min(full_bottom, bottom) << shift
-    # the super blitter's left: the box's left (it is inside the screen: x - super_left >= 0 but
-    # for clipped paths, whose sub-pixels left of it the blitter drops)
-    _walk(ex, edx, efirst, elast, ewind, n, evenodd, start_y, stop_y, shift, left << shift, top, left, right, acc)
+    # the walk's sub-rows: the path's box cut to the screen's (fill_path_impl's start_y, stop_y);
+    # the super blitter's left: that box's left
+    _walk(ex, edx, efirst, elast, ewind, n, evenodd, top << shift, bottom << shift, shift, left << shift,
+          top, left, right, acc)
     return left, top, acc
 
 
@@ -545,28 +639,39 @@ def path_levels(contours: list[ArrayLike], width: int, height: int, fill_rule: s
 # -- the reference: the same procedure written again, in Python integers ------------------------
 
 
-def _reference_edges(pts: list[NDArray[np.float32]], scale: float) -> list[list[int]]:
-    """``LineEdge::new`` and ``combine_vertical`` in Python integers: [x, dx, first, last, winding]."""
+def _reference_edges(pts: list[NDArray[np.float32]], scale: float, rect: tuple[float, float, float, float] | None
+                     ) -> list[list[int]]:
+    """``LineEdge::new`` and ``combine_vertical`` in Python integers: [x, dx, first, last,
+    winding]; each line clipped to ``rect`` first when given (the compiled clipper, run
+    uncompiled: :func:`_clip_line`)."""
 
     def as_i32(v: float) -> int:
         return max(_I32_MIN, min(_I32_MAX, math.trunc(v)))
 
     edges: list[list[int]] = []
+    lines = []
+    points = np.empty((4, 2))
     for c in pts:
         for k in range(len(c)):
-            (ax, ay), (bx, by) = c[k], c[(k + 1) % len(c)]
-            x0, y0, x1, y1 = (as_i32(float(v) * scale) for v in (ax, ay, bx, by))
-            winding = 1
-            if y0 > y1:
-                x0, y0, x1, y1, winding = x1, y1, x0, y0, -1
-            top, bottom = (y0 + 32) // 64, (y1 + 32) // 64
-            if top == bottom:
+            (ax, ay), (bx, by) = (float(v) for v in c[k]), (float(v) for v in c[(k + 1) % len(c)])
+            if rect is None:
+                lines.append((ax, ay, bx, by))
                 continue
-            num, den = (x1 - x0) * 65536, y1 - y0
-            slope = max(_I32_MIN, min(_I32_MAX, abs(num) // den * (1 if num >= 0 else -1)))
-            edge = [(x0 + (slope * ((top * 64) + 32 - y0)) // 65536) * 1024, slope, top, bottom - 1, winding]
-            if not (slope == 0 and edges and edges[-1][1] == 0 and edges[-1][0] == edge[0] and _combined(edge, edges)):
-                edges.append(edge)
+            count = _clip_line.py_func(ax, ay, bx, by, *rect, points)  # type: ignore[attr-defined]
+            lines += [(points[i, 0], points[i, 1], points[i + 1, 0], points[i + 1, 1]) for i in range(count - 1)]
+    for ax, ay, bx, by in lines:
+        x0, y0, x1, y1 = (as_i32(float(v) * scale) for v in (ax, ay, bx, by))
+        winding = 1
+        if y0 > y1:
+            x0, y0, x1, y1, winding = x1, y1, x0, y0, -1
+        top, bottom = (y0 + 32) // 64, (y1 + 32) // 64
+        if top == bottom:
+            continue
+        num, den = (x1 - x0) * 65536, y1 - y0
+        slope = max(_I32_MIN, min(_I32_MAX, abs(num) // den * (1 if num >= 0 else -1)))
+        edge = [(x0 + (slope * ((top * 64) + 32 - y0)) // 65536) * 1024, slope, top, bottom - 1, winding]
+        if not (slope == 0 and edges and edges[-1][1] == 0 and edges[-1][0] == edge[0] and _combined(edge, edges)):
+            edges.append(edge)
     return edges
 
 
@@ -686,7 +791,9 @@ def reference_levels(contours: list[ArrayLike], width: int, height: int, fill_ru
     lo, hi = flat.min(axis=0), flat.max(axis=0)
     if abs(np.float32(hi[0] - lo[0])) <= _NEARLY_ZERO or abs(np.float32(hi[1] - lo[1])) <= _NEARLY_ZERO:
         return out
-    edges = _reference_edges(pts, float(1 << (shift + 6)))
+    box = (math.floor(float(lo[0])), math.floor(float(lo[1])), math.ceil(float(hi[0])), math.ceil(float(hi[1])))
+    inside = box[0] >= 0 and box[1] >= 0 and box[2] <= width and box[3] <= height
+    edges = _reference_edges(pts, float(1 << (shift + 6)), None if inside else (0.0, 0.0, float(width), float(height)))
     if len(edges) < 2:
         return out
     start_y = max(math.floor(float(lo[1])), 0) << shift
