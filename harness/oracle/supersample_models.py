@@ -77,6 +77,7 @@ tests/oracle/test_supersample_models.py.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numba
 import numpy as np
@@ -572,7 +573,7 @@ def _run(vertices: NDArray[np.float64], starts: NDArray[np.int64], sizes: NDArra
     spans, pixels = _scene_kernel(*args, False, empty_i, empty_i, empty_i, empty_i, empty_f)
     out = [np.empty(spans, dtype=np.int64) for _ in range(4)]
     alpha = np.empty(pixels)
-    _scene_kernel(*args, True, *out, alpha)
+    _scene_kernel(*args, True, *out, alpha)  # type: ignore[call-arg]
     return Coverage(out[0], out[1], out[2], out[3], alpha=alpha)
 
 
@@ -620,7 +621,7 @@ def skia_supersampled_paths(scene: PathScene, convention: Convention) -> Coverag
                 scene.fill_rule == "evenodd", convention, scene.width, scene.height)
 
 
-def path_levels(contours: list[ArrayLike], width: int, height: int, fill_rule: str = "nonzero",
+def path_levels(contours: Sequence[ArrayLike], width: int, height: int, fill_rule: str = "nonzero",
                 shift: int = TINY_SKIA_SHIFT) -> NDArray[np.int64]:
     """The (height, width) 8-bit levels of one path (contours of (K, 2) float coordinates,
     taken as f32) on a width x height screen, by the compiled procedure.
@@ -657,7 +658,7 @@ def _reference_edges(pts: list[NDArray[np.float32]], scale: float, rect: tuple[f
             if rect is None:
                 lines.append((ax, ay, bx, by))
                 continue
-            count = _clip_line.py_func(ax, ay, bx, by, *rect, points)  # type: ignore[attr-defined]
+            count = _clip_line.py_func(ax, ay, bx, by, *rect, points)  # type: ignore[no-untyped-call]
             lines += [(points[i, 0], points[i, 1], points[i + 1, 0], points[i + 1, 1]) for i in range(count - 1)]
     for ax, ay, bx, by in lines:
         x0, y0, x1, y1 = (as_i32(float(v) * scale) for v in (ax, ay, bx, by))
@@ -773,7 +774,7 @@ def _reference_blit(out: NDArray[np.int64], spans: list[tuple[int, int]], y: int
                 out[row, px] = (out[row, px] + (count << (8 - 2 * shift))) & 255  # the last: a u8 add
 
 
-def reference_levels(contours: list[ArrayLike], width: int, height: int, fill_rule: str = "nonzero",
+def reference_levels(contours: Sequence[ArrayLike], width: int, height: int, fill_rule: str = "nonzero",
                      shift: int = TINY_SKIA_SHIFT) -> NDArray[np.int64]:
     """The (height, width) 8-bit levels of one path as tiny-skia computes them, uncompiled:
     Python integers, the edges a Python list kept as ``walk_edges`` keeps its linked list,

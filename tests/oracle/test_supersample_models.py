@@ -30,6 +30,13 @@ from tests.known_bad.supersample_models import EightSubScanlines, FlooredSubPixe
 from tests.optional import need
 
 W = H = 8
+
+
+def _alpha(coverage: Any) -> Any:
+    assert coverage.alpha is not None
+    return coverage.alpha
+
+
 TINY = Convention(coverage="area", supersample=2, input="float32")
 
 # vertices on 1/4 px (sub-pixel boundaries: ties with the sub-sample spans on purpose), on
@@ -74,7 +81,7 @@ def test_rectilinear_paths_count_their_sub_samples(rects, fill_rule, reverse):
     is exact: a pixel's level is within one level of 255 N / 16, N its sub-sample centres
     (i + (q + 1/2)/4, j + (k + 1/2)/4) where the fill rule holds (Fractions), as the
     supersampler's blit_h sums them (16 each, 63 for a full pixel's last sub-row)."""
-    contours = []
+    contours: list[list[tuple[Fraction, Fraction]]] = []
     for x, y, w, h in rects:
         x1, y1 = min(x + w, 4 * W), min(y + h, 4 * H)
         if x1 <= x or y1 <= y:
@@ -100,8 +107,10 @@ def test_the_convention_and_its_model():
     assert TINY.coverage_kind == "area" and SKIA_SUPERSAMPLED_AREA.quantum == 255 and SKIA_SUPERSAMPLED_AREA.paths
     assert "supersample=2" in repr(TINY) and "skia's supersampler (4 sub-scanlines" in TINY.describe()
     assert Convention(coverage="area").model is not SKIA_SUPERSAMPLED_AREA  # the default changes nothing
-    for bad in (dict(supersample=5), dict(supersample=-1), dict(supersample=True), dict(supersample=2, rows=15),
-                dict(supersample=2, samples=4), dict(supersample=2, coverage="sample")):
+    bads: list[dict[str, Any]] = [dict(supersample=5), dict(supersample=-1), dict(supersample=True),
+                                  dict(supersample=2, rows=15), dict(supersample=2, samples=4),
+                                  dict(supersample=2, coverage="sample")]
+    for bad in bads:
         with pytest.raises(ValueError):
             Convention(**{"coverage": "area", **bad})
 
@@ -112,19 +121,19 @@ def test_a_triangle_is_its_one_contour_path_and_the_oracle_is_exact_coverage():
     paths = exact_coverage(PathScene.from_paths(W, H, [[tri]]), TINY)
     for a, b in ((triangles, skia_supersampled_coverage(Scene(W, H, tri[None]), TINY)),
                  (paths, skia_supersampled_paths(PathScene.from_paths(W, H, [[tri]]), TINY)), (triangles, paths)):
-        assert np.array_equal(a.y, b.y) and np.array_equal(a.x0, b.x0) and np.array_equal(a.alpha, b.alpha)
+        assert np.array_equal(a.y, b.y) and np.array_equal(a.x0, b.x0) and np.array_equal(_alpha(a), _alpha(b))
 
 
 def test_culling_non_finite_and_nearly_flat_paths():
     tri = np.array([[[0.5, 0.5], [6.5, 1.5], [2.5, 6.5]]])
-    assert exact_coverage(Scene(W, H, tri), TINY).alpha.size
-    assert not exact_coverage(Scene(W, H, tri), Convention(coverage="area", supersample=2, cull="cw")).alpha.size
-    assert not exact_coverage(Scene(W, H, tri[:, ::-1]), Convention(coverage="area", supersample=2, cull="ccw")).alpha.size
+    assert _alpha(exact_coverage(Scene(W, H, tri), TINY)).size
+    assert not _alpha(exact_coverage(Scene(W, H, tri), Convention(coverage="area", supersample=2, cull="cw"))).size
+    assert not _alpha(exact_coverage(Scene(W, H, tri[:, ::-1]), Convention(coverage="area", supersample=2, cull="ccw"))).size
     nan = tri.copy()
     nan[0, 0, 0] = np.nan
-    assert not exact_coverage(Scene(W, H, nan), TINY).alpha.size
+    assert not _alpha(exact_coverage(Scene(W, H, nan), TINY)).size
     flat = np.array([[[0.5, 2.0], [6.5, 2.0 + 2**-13], [2.5, 2.0]]])  # 2**-13 tall: is_nearly_zero
-    assert not exact_coverage(Scene(W, H, flat), TINY).alpha.size
+    assert not _alpha(exact_coverage(Scene(W, H, flat), TINY)).size
 
 
 def test_paths_leaving_the_screen_keep_only_its_pixels():
