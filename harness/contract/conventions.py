@@ -187,6 +187,7 @@ from harness.contract.coverage_models import (
     DECLARED_COVERAGES,
     MAX_AREA_SAMPLES,
     MAX_SAMPLES,
+    SKIA_SUPERSAMPLED_AREA,
     CoverageKind,
     CoverageModel,
     model_for,
@@ -1010,7 +1011,7 @@ class Convention:
         if isinstance(shift, bool) or not isinstance(shift, (int, np.integer)) or not 0 <= shift <= 4:
             raise ValueError(f"Convention.supersample must be an integer in 0..4, not {shift!r}")
         object.__setattr__(self, "supersample", int(shift))
-        if shift and (self.coverage != "area" or self.samples is not None or self.rows):
+        if shift and model_for(self.coverage, self.samples is not None, self.rows, shift) is not SKIA_SUPERSAMPLED_AREA:
             raise ValueError("Convention.supersample is for area coverage without samples or rows (coverage='area')")
 
     def _check_rule_fields(self) -> None:
