@@ -239,3 +239,25 @@ def test_accuracy_on_paths_judges_the_model():
     assert path_accuracy(case, oracle, oracle, TINY).status == "pass"
     moved = exact_coverage(PathScene(W, H, scene.vertices + 0.25, scene.contour_sizes, scene.contour_path, "evenodd"), TINY)
     assert path_accuracy(case, moved, oracle, TINY).status == "fail"
+
+
+# -- skia-python: analytic AA, no supersampler model (SKIA_AAA_NOTE) ----------------------------
+
+
+def test_skia_python_is_not_the_supersampler_nor_within_a_level_of_an_area():
+    """The closing note's numbers, on one triangle: skia's alphas are not the supersampler's,
+    not sample counts (levels off multiples of 16), and stray from the exact area of the
+    triangle with y snapped to 1/4 px by far more than a level."""
+    skia = need("skia")
+    from harness.oracle.area import exact_area
+    from rasterizers.real.adapters import _skia_fill
+
+    tri = np.array([[2.3, 1.7], [13.6, 4.2], [5.1, 12.9]])
+    alpha = _skia_fill(skia, [tri], 16, 16, True).astype(np.int64)
+    model = path_levels([tri], 16, 16)
+    assert (alpha != model).sum() >= 28  # of the triangle's 36 edge pixels
+    assert (alpha[12, 5], model[12, 5]) == (155, 96) and exact_area(tri, 5, 12) * 255 == Fraction(475, 4)
+    assert any(v % 16 and v != 255 for v in alpha.ravel().tolist())
+    snapped = tri.copy()
+    snapped[:, 1] = np.round(snapped[:, 1] * 4) / 4
+    assert abs(alpha[12, 5] - float(exact_area(snapped, 5, 12)) * 255) > 8
