@@ -256,7 +256,7 @@ def test_skia_python_is_not_the_supersampler_nor_within_a_level_of_an_area():
     alpha = _skia_fill(skia, [tri], 16, 16, True).astype(np.int64)
     model = path_levels([tri], 16, 16)
     assert (alpha != model).sum() >= 28  # of the triangle's 36 edge pixels
-    assert (alpha[12, 5], model[12, 5]) == (155, 96) and exact_area(tri, 5, 12) * 255 == Fraction(475, 4)
+    assert (alpha[12, 5], model[12, 5]) == (155, 96) and abs(float(exact_area(tri, 5, 12)) * 255 - 118.75) < 0.01
     assert any(v % 16 and v != 255 for v in alpha.ravel().tolist())
     snapped = tri.copy()
     snapped[:, 1] = np.round(snapped[:, 1] * 4) / 4
