@@ -336,11 +336,14 @@ class TinySkiaAntialiased(AlphaOneTriangleAtATime):
     What tiny-skia does (``scan/path_aa.rs``, skia's ``SkScan_AntiPath.cpp`` supersampler;
     tiny-skia has no analytic AA): ``SUPERSAMPLE_SHIFT`` 2, each pixel sampled on 4
     sub-scanlines with x in 1/4 px, the coverage accumulated to 8 bits -- a 4 x 4
-    supersampler where skia-python's is 16 x 4. No declared convention: ``identify``
-    fingerprints it. Measured (resvg 0.48.1): a 4 x 4 grid of samples at 1/8 + k/4, 256
-    levels, |alpha - exact area| at most 0.241 (thin slivers), mean 0.019; the sweep finds
-    the last two columns at 0.624998 and 0.874998, not 5/8 and 7/8, because the sweep's
-    coordinates reach tiny-skia rounded to float32 (:meth:`received`)."""
+    supersampler where skia-python's is 16 x 4. Declared: that supersampler exactly
+    (``Convention(coverage="area", supersample=2, input="float32")``,
+    :mod:`harness.oracle.supersample_models`: its f32 points truncated to 1/256 px, 16.16 edge
+    walk, ``blit_h``'s levels, the edge clipper at the screen's sides); identify recovers it
+    (residual 0 of 60,824 px) and accuracy passes on every quick case. As a sample grid
+    (resvg 0.48.1): 4 x 4 at 1/8 + k/4, |alpha - exact area| at most 0.241 (thin slivers),
+    mean 0.019; the sweep finds the last two columns at 0.624998 and 0.874998, not 5/8 and
+    7/8, because the sweep's coordinates reach tiny-skia rounded to float32 (:meth:`received`)."""
 
     name = "tiny_skia_aa"
     library = "tiny-skia (resvg)"
