@@ -184,10 +184,16 @@ def test_tiny_skia_paths_are_their_model_exactly():
     from PIL import Image
 
     rng = np.random.default_rng(7)
-    for k in range(30):
+    for k in range(60):
         rule = ("nonzero", "evenodd")[k % 2]
-        contours = [rng.integers(4, 60, (int(rng.integers(3, 8)), 2)) / 4.0 if k % 3 else rng.uniform(1.0, 15.0, (6, 2))
-                    for _ in range(int(rng.integers(1, 4)))]
+        if k >= 30:  # past the screen's sides (the edge clipper), huge, slivers and sub-pixel paths
+            sliver = rng.uniform(0.0, 16.0, (3, 2))
+            sliver[2] = (sliver[0] + sliver[1]) / 2 + rng.normal(0.0, 1e-3, 2)
+            contours = [(rng.uniform(-4.0, 20.0, (7, 2)), rng.uniform(-3000.0, 3000.0, (3, 2)), sliver,
+                         5.0 + rng.uniform(0.0, 0.8, (3, 2)))[k % 4]]
+        else:
+            contours = [rng.integers(4, 60, (int(rng.integers(3, 8)), 2)) / 4.0 if k % 3 else rng.uniform(1.0, 15.0, (6, 2))
+                        for _ in range(int(rng.integers(1, 4)))]
         d = " ".join("M " + " L ".join(f"{float(x)!r} {float(y)!r}" for x, y in c) + " Z" for c in contours)
         svg = (f'<svg xmlns="http://www.w3.org/2000/svg" width="16" height="16" viewBox="0 0 16 16">'
                f'<path d="{d}" fill="#000" fill-rule="{rule}"/></svg>')
