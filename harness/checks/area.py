@@ -124,8 +124,8 @@ def model_bound(positions: NDArray, convention: Convention, width: int, height: 
     >>> model_bound(np.array([[[0, 0], [4, 0], [0, 4]]], float), Convention(coverage="area"), 8, 8) * 2**53
     array([360.])
     """
-    if convention.samples is not None:
-        return np.full(positions.shape[0], 2.0**-53)
+    if convention.samples is not None or convention.model.quantum:
+        return np.full(positions.shape[0], 2.0**-53)  # a share k/n, or a level k/quantum: the division's rounding
     if convention.rows:
         # row-sampled (harness.oracle.aa_models): each cross-section end is within a few
         # ulps of its coordinates; the exact fallback decides what this leaves open
@@ -147,6 +147,8 @@ def exact_model(positions: NDArray, convention: Convention, triangle: int, x: in
     if convention.samples is not None:
         n = convention.n_samples
         return Fraction(int(round(share * n)), n)
+    if convention.model.quantum:  # the model's own levels (skia's supersampler): the oracle's k/quantum
+        return Fraction(int(round(share * convention.model.quantum)), convention.model.quantum)
     tri = convention.snap(positions[triangle : triangle + 1])
     if not np.all(np.isfinite(tri)):
         return Fraction(0)
@@ -261,7 +263,7 @@ def _near_ties(case: Case, convention: Convention, tolerance: Tolerance, triangl
     No near ties on a lattice case (float arithmetic is exact there, as in conformance).
     """
     near = np.zeros(over.size, dtype=bool)
-    if case.lattice:
+    if case.lattice or convention.model.quantum:  # a model of the library's integers has no float rounding to excuse
         return near
     scene = case.scene
     scene = TRIANGLES.narrow(scene)  # area coverage is judged on triangle scenes

@@ -93,7 +93,7 @@ def path_accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: 
     magnitude = np.maximum(1.0, np.abs(np.where(finite, alpha, 0.0)))
     oracle_bound = np.zeros(keys.size)
     rows = convention.rows  # a row-sampled model (harness.oracle.row_sampled_paths): its own bound and reference
-    analytic = convention.samples is None and not rows
+    analytic = convention.samples is None and not rows and not convention.model.quantum  # a model's own levels are exact too
     snapped = convention.snap(scene.vertices)
     contours: dict[int, list[Any]] = {}
 
@@ -133,6 +133,8 @@ def path_accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: 
         elif rows:
             exact = exact_row_sampled_path_alpha(contours_of(int(path[i])), scene.fill_rule, int(x[i]), int(y[i]), rows,
                                                  convention.full_rows, surface=(width, height))
+        elif convention.model.quantum:  # the model's level k / quantum
+            exact = Fraction(int(round(float(model[i]) * convention.model.quantum)), convention.model.quantum)
         else:
             exact = Fraction(float(model[i]))  # k / n: exact as a float
         over[i] = abs(exact_alpha(float(alpha[i]), levels) - exact) > limit

@@ -187,6 +187,7 @@ from harness.contract.coverage_models import (
     DECLARED_COVERAGES,
     MAX_AREA_SAMPLES,
     MAX_SAMPLES,
+    SKIA_SUPERSAMPLED_AREA,
     CoverageKind,
     CoverageModel,
     model_for,
@@ -740,6 +741,14 @@ class Convention:
         crossings rounded down to 1/rows of the row (cairo's ``full_row``), the others their
         ``rows`` sample lines with x rounded to 1/256 px (:mod:`harness.oracle.aa_models`;
         declare ``input="fixed8"``).
+    supersample : int
+        ``area`` only, without ``samples`` or ``rows``: skia's supersampler as tiny-skia runs it
+        (``src/scan/path_aa.rs``, skia's ``SkScan_AntiPath.cpp``) with ``SUPERSAMPLE_SHIFT =
+        supersample`` (1..4; tiny-skia's is 2): the path scaled by 2**shift, its points (f32)
+        truncated to a 2**-(shift+6) px grid, 16.16 edges stepped per sub-scanline, spans
+        rounded to 1/2**shift px and summed into 8-bit levels as ``SuperBlitter::blit_h`` does
+        (:mod:`harness.oracle.supersample_models`; declare ``input="float32"``). The oracle's
+        alphas are the library's levels exactly. 0 (default): not this model.
 
     Examples
     --------
@@ -795,6 +804,8 @@ class Convention:
     rows: int = 0
     # with rows: rows no edge starts or ends in are analytic, on cairo's grid (cairo's full_row)
     full_rows: bool = False
+    # coverage="area" only: skia's supersampler with this SUPERSAMPLE_SHIFT (0: not it)
+    supersample: int = 0
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -808,6 +819,8 @@ class Convention:
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
         if self.rows:
             extra += f", rows={self.rows!r}" + (", full_rows=True" if self.full_rows else "")
+        if self.supersample:
+            extra += f", supersample={self.supersample!r}"
         if self.line != LineRule():
             extra += f", line={self.line!r}"
         if self.input != "float64":
@@ -825,7 +838,7 @@ class Convention:
         >>> Convention().model, Convention(coverage="area").model
         (CoverageModel('single'), CoverageModel('area'))
         """
-        return model_for(self.coverage, self.samples is not None, self.rows)
+        return model_for(self.coverage, self.samples is not None, self.rows, self.supersample)
 
     @property
     def coverage_uses_threshold(self) -> bool:
@@ -966,6 +979,7 @@ class Convention:
             raise ValueError(f"Convention.coverage must be one of {', '.join(DECLARED_COVERAGES)}, not {self.coverage!r}")
         self._check_rule_fields()
         self._check_rows()
+        self._check_supersample()
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
             raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
@@ -990,6 +1004,15 @@ class Convention:
         if self.full_rows and not rows:
             raise ValueError("Convention.full_rows needs rows > 0")
         object.__setattr__(self, "full_rows", bool(self.full_rows))
+
+    def _check_supersample(self) -> None:
+        """Validate and normalise ``supersample`` (skia's supersampler: its shift)."""
+        shift = self.supersample
+        if isinstance(shift, bool) or not isinstance(shift, (int, np.integer)) or not 0 <= shift <= 4:
+            raise ValueError(f"Convention.supersample must be an integer in 0..4, not {shift!r}")
+        object.__setattr__(self, "supersample", int(shift))
+        if shift and model_for(self.coverage, self.samples is not None, self.rows, shift) is not SKIA_SUPERSAMPLED_AREA:
+            raise ValueError("Convention.supersample is for area coverage without samples or rows (coverage='area')")
 
     def _check_rule_fields(self) -> None:
         """Validate and normalise ``threshold`` and ``uncertainty`` (the coverage rules')."""
@@ -1102,6 +1125,8 @@ class Convention:
             if self.rows:
                 what = f"the mean of {self.rows} cross-sections per pixel row" + (
                     ", analytic rows as cairo's full_row" if self.full_rows else "")
+            if self.supersample:
+                what = f"skia's supersampler ({1 << self.supersample} sub-scanlines, x in 1/{1 << self.supersample} px)"
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
         if self.samples is not None:
             return f"{where}, {tie}, {snapping}, {culling}"
@@ -1125,7 +1150,8 @@ class Convention:
             coverage = self.model.declared_as(self) + (f", uncertainty {self.uncertainty:g} px" if self.uncertainty else "")
         elif self.model.alphas:
             coverage = f"area, {self.levels} levels, within {self.alpha_tolerance:.3g}" + (
-                "" if self.samples is None else f" of the share of {self._pattern_words()}")
+                "" if self.samples is None else f" of the share of {self._pattern_words()}") + (
+                f" of skia's supersampler ({1 << self.supersample} sub-scanlines)" if self.supersample else "")
         elif self.samples is not None:
             coverage = self._pattern_words()
         else:

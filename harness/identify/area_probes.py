@@ -442,6 +442,9 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
     # of the samples) is taken, fitted on the sweeps and the float scenes
     grid = input_grid(calls, convention, [sweep, *drawn[1:3]], drawn)
     convention = replace(convention, subpixel_bits=grid.bits, snap_rounding=grid.rounding)
+    if candidates and pattern is not None:
+        # a square grid of 2**s x 2**s samples may be skia's supersampler (tiny-skia)
+        convention = _skia_supersampled(convention, pattern, answered)
     if not candidates:
         # the tolerance measured against the oracle of the snapped scene
         error = max((float(np.abs(x.differences(convention)).max(initial=0.0)) for x in answered), default=0.0)
@@ -467,6 +470,27 @@ def _row_sampled(analytic: Convention, rows: int, answered: Sequence[_AlphaDrawn
     candidates = [analytic, replace(analytic, rows=rows), replace(analytic, rows=rows, full_rows=True)]
     scores = [sum(x.beyond(c) for x in answered) for c in candidates]
     return candidates[scores.index(min(scores))]
+
+
+def _skia_supersampled(found: Convention, pattern: Sequence[tuple[float, float]],
+                       answered: Sequence[_AlphaDrawn]) -> Convention:
+    """A supersampler whose samples form a square grid of 2**s columns and 2**s rows (s in
+    1..4) may be skia's supersampler (tiny-skia's ``scan/path_aa.rs``:
+    :mod:`harness.oracle.supersample_models`), whose sub-scanlines and rounded sub-pixel
+    spans look like such a grid from outside but whose 16.16 edge walk, 1/2**(s+6) px input
+    grid and ``blit_h`` levels (63 on a full pixel's last sub-row) do not follow any sample
+    pattern: its candidate ``Convention(coverage="area", supersample=s, input="float32")``
+    against the pattern's, the one leaving fewer (triangle, pixel)s beyond half a level
+    (the pattern on a tie). Never tried for an analytic, hybrid (cairo's row-sampled) or
+    non-square stepped answer: none of them has such a grid."""
+    xs = {x for x, _ in pattern}
+    ys = {y for _, y in pattern}
+    n = len(ys)
+    if len(xs) != n or len(pattern) != n * n or n not in (2, 4, 8, 16):
+        return found
+    candidate = Convention(coverage="area", supersample=n.bit_length() - 1, input="float32", cull=found.cull)
+    scores = [sum(x.beyond(replace(c, tolerance=None)) for x in answered) for c in (found, candidate)]
+    return candidate if scores[1] < scores[0] else found
 
 
 # --- area: the input grid ------------------------------------------------------------------------

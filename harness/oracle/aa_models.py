@@ -52,13 +52,10 @@ The model is defined by coverage of a primitive along sample lines, so it extend
 as the winding oracle extends point samples: the cross-section of a path on a line is the
 set of x where the fill rule holds (:mod:`harness.oracle.row_sampled_paths`).
 
-The other libraries, measured the same way (max |alpha - model| in levels over 90 random
-triangles): FreeType smooth 2 against the analytic area on ``input="fixed6"`` (4 on the
-float input), Qt 3 on ``fixed6`` (4); tiny-skia 17 against a 4 x 4 point grid at (k + 1/2)/4
-on float32 input (``scan/path_aa.rs``: ``SUPERSAMPLE_SHIFT`` 2; ``coverage_to_partial_alpha``
-``aa << (8 - 2 * SHIFT)`` and the full-row ``max_value`` 64 or 63 make the level ``16 N -
-[last sub-row full]``, within one level of 255 N / 16; the 17 are whole samples decided by
-skia's fixed-point edge walking of the 4x-scaled path, not modelled).
+The other libraries' models live beside this one: tiny-skia's supersampler exactly in
+:mod:`harness.oracle.supersample_models` (skia's ``SkScan_AntiPath.cpp`` as tiny-skia runs
+it), the analytic libraries' input grids and quantisations in their own modules; skia's
+analytic AA has none (:data:`harness.oracle.supersample_models.SKIA_AAA_NOTE`).
 """
 
 from __future__ import annotations

@@ -44,9 +44,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene, Unsupported
-from rasterizers.real._aa_lines import AlphaLines, draw_each_segment_alpha
 from rasterizers.real._aa_paths import AlphaPaths, draw_each_path_alpha
 from rasterizers.real._bases import AlphaOneTriangleAtATime, OneAtATime, need, refuse_kind
 from rasterizers.real._masks import (
@@ -327,7 +327,7 @@ class TinySkia(OneAtATime):
         return draw_each(scene, self.name, lambda p, w, h, origin: take(w, h, origin) > 0, margin=MARGIN)
 
 
-class TinySkiaAntialiased(AlphaPaths, AlphaLines, AlphaOneTriangleAtATime):
+class TinySkiaAntialiased(AlphaPaths, AlphaOneTriangleAtATime):
     """tiny-skia (through resvg) anti-aliased (resvg's default ``shape-rendering``,
     ``geometricPrecision``); the mapping is the identity (module docstring), proved by
     ``test_the_antialiased_mapping_is_exact`` (tests/rasterizers/real/test_tiny_skia.py).
@@ -337,28 +337,36 @@ class TinySkiaAntialiased(AlphaPaths, AlphaLines, AlphaOneTriangleAtATime):
 
     Triangles: one ``<path>`` each. Paths: one ``<path>`` per path, every contour in it
     (``M``, ``L``..., ``Z`` each), ``fill-rule="nonzero"`` or ``"evenodd"``: both rules are
-    tiny-skia's own (as for :class:`TinySkia`). Lines: a ``<path d="M a L b">`` stroked
-    black ``line_width`` px wide, SVG's default butt caps, one per segment: tiny-skia
-    outlines the stroke and fills it, but draws a stroke at most 1 px wide as an
-    anti-aliased hairline with its alpha scaled by the width (``treat_as_hairline`` in
-    ``painter.rs``), as skia does.
+    tiny-skia's own (as for :class:`TinySkia`). Lines are not taken (``kinds_not_taken``):
+    tiny-skia draws a stroke at most 1 px wide as an anti-aliased hairline with its alpha
+    scaled by the width (``treat_as_hairline`` in ``painter.rs``), as skia does, and neither
+    that nor its wider strokes have a model here.
 
     What tiny-skia does (``scan/path_aa.rs``, skia's ``SkScan_AntiPath.cpp`` supersampler;
     tiny-skia has no analytic AA): ``SUPERSAMPLE_SHIFT`` 2, each pixel sampled on 4
     sub-scanlines with x in 1/4 px, the coverage accumulated to 8 bits -- a 4 x 4
-    supersampler where skia-python's is 16 x 4. The fill rule is applied per sub-scanline
-    span (the winding of each span between crossings), so overlapping contours are judged
-    by their winding, not by a sum of areas. No declared convention: ``identify``
-    fingerprints it. Measured (resvg 0.48.1): a 4 x 4 grid of samples at 1/8 + k/4, 256
-    levels, |alpha - exact area| at most 0.241 (thin slivers), mean 0.019; the sweep finds
-    the last two columns at 0.624998 and 0.874998, not 5/8 and 7/8, because the sweep's
-    coordinates reach tiny-skia rounded to float32 (:meth:`received`). On the quick
-    suite's path cases (issue 34): within 0.217 of the exact area (slivers; 0.013 on
-    average), 0.14 with overlapping contours (judged per sample: tested); reversed
-    contours change no alpha by more than a level."""
+    supersampler where skia-python's is 16 x 4. Declared: that supersampler exactly
+    (``Convention(coverage="area", supersample=2, input="float32")``,
+    :mod:`harness.oracle.supersample_models`: its f32 points truncated to 1/256 px, 16.16 edge
+    walk, ``blit_h``'s levels, the edge clipper at the screen's sides); identify recovers it
+    (residual 0 of 60,824 px) and accuracy passes on every quick case. As a sample grid
+    (resvg 0.48.1): 4 x 4 at 1/8 + k/4, |alpha - exact area| at most 0.241 (thin slivers),
+    mean 0.019; the sweep finds the last two columns at 0.624998 and 0.874998, not 5/8 and
+    7/8, because the sweep's coordinates reach tiny-skia rounded to float32 (:meth:`received`).
+    The fill rule is applied per sub-scanline span (the winding of each span between
+    crossings), so overlapping contours are judged by their winding, not by a sum of areas;
+    paths are judged by the same model (:func:`harness.oracle.supersample_models.skia_supersampled_paths`)."""
 
     name = "tiny_skia_aa"
     library = "tiny-skia (resvg)"
+    # skia's supersampler as tiny-skia runs it, SUPERSAMPLE_SHIFT 2, on its f32 points
+    # (harness.oracle.supersample_models): the library's 8-bit levels exactly
+    convention = Convention(coverage="area", supersample=2, input="float32")
+    # what the atlas says of the kind it is not handed
+    kinds_not_taken = {"lines": "tiny-skia strokes a line at most 1 px wide as an anti-aliased hairline scaled by "
+                                "its width (painter.rs treat_as_hairline; up to 1.0 from the stroke's area on the "
+                                "quick suite's 1 px lines), wider ones through the supersampler: neither has a model "
+                                "here yet"}
 
     def __init__(self) -> None:
         self._resvg = _Resvg()
@@ -369,17 +377,6 @@ class TinySkiaAntialiased(AlphaPaths, AlphaLines, AlphaOneTriangleAtATime):
     def rasterize(self, scene: AnyScene) -> Coverage:
         resvg = self._resvg
         screen = (scene.width, scene.height)
-        if isinstance(scene, LineScene):
-            boxes, drawn = segment_boxes(scene, self.name, MARGIN)
-            a, b = scene.segments()
-            chosen = drawn.tolist()
-            elements = [f'<path d="M {_number(float(a[k, 0]))} {_number(float(a[k, 1]))} '
-                        f'L {_number(float(b[k, 0]))} {_number(float(b[k, 1]))}"/>' for k in chosen]
-            box_list = [(x0, y0, x1, y1) for x0, y0, x1, y1 in boxes[chosen].tolist()]
-            group = '<g fill="none" stroke="{paint}" stroke-width="' + _number(scene.line_width) + '">'
-            take = resvg.replay(group, elements, box_list, screen)
-            return draw_each_segment_alpha(scene, self.name, lambda a, b, w, h, origin: take(w, h, origin) / 255.0,
-                                           margin=MARGIN)
         if isinstance(scene, PathScene):
             if scene.fill_rule not in self.fill_rules:
                 raise Unsupported(f"{self.name}: fills {' and '.join(self.fill_rules)} only, not {scene.fill_rule!r}")

@@ -69,6 +69,7 @@ from tests.known_bad.paths import PathFillBug, TwoFillers
 from tests.known_bad.rare import RareSlopeTie
 from tests.known_bad.scanlines import BUGS as SCANLINE_BUGS
 from tests.known_bad.scanlines import ScanlineBug
+from tests.known_bad.supersample_models import EightSubScanlines, FlooredSubPixels, SampleCountLevels
 
 __all__ = ["KNOWN_BAD", "NAMES"]
 
@@ -95,6 +96,7 @@ def _all() -> list[Any]:
         MajorAxisBoxLines(), ForgetsCaps(), QuarterPixelLines(),
         UnshiftedClaimsPiglit(),
         RowsAtTopEdges(), RowsTruncatedLevels(), HybridSamplesEveryRow(),
+        EightSubScanlines(), FlooredSubPixels(), SampleCountLevels(),
     ]
 
 

@@ -169,7 +169,7 @@ def test_the_glyph_and_hairline_cases_within_the_bound() -> None:
     from cases.paths import shape_cases
 
     cases = [c for c in shape_cases(0, True) if "/glyph/" in c.id or "/hairline/" in c.id]
-    assert len(cases) == 8
+    assert len(cases) == 16  # the "o" with its bar, the hairline ring, the "D" glyphs (sizes, a line of text), both rules
     for case in cases:
         assert isinstance(case.scene, PathScene)
         _float_vs_exact(case.scene)

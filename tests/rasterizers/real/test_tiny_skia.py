@@ -73,11 +73,13 @@ def test_declarations():
     assert crisp.name == "tiny_skia" and smooth.name == "tiny_skia_aa"
     assert crisp.library == smooth.library == "tiny-skia (resvg)"
     assert crisp.coverage_kind == "single" and smooth.coverage_kind == "area"
-    assert crisp.convention is None and smooth.convention is None  # identified
+    assert crisp.convention is None  # identified
+    assert smooth.convention == Convention(coverage="area", supersample=2, input="float32")  # skia's supersampler
     assert crisp.scene_kinds == ("triangles", "paths", "lines") and crisp.fill_rules == ("nonzero", "evenodd")
     assert crisp.line_widths is None  # a stroke of any width is outlined and filled
-    # issue 34: the anti-aliased mode fills paths under both rules and strokes lines
-    assert smooth.scene_kinds == ("triangles", "lines", "paths") and smooth.fill_rules == ("nonzero", "evenodd")
+    # issue 34: the anti-aliased mode fills paths under both rules; its strokes have no model (hairlines at 1 px)
+    assert smooth.scene_kinds == ("triangles", "paths") and smooth.fill_rules == ("nonzero", "evenodd")
+    assert "hairline" in smooth.kinds_not_taken["lines"]
     assert takes(smooth, PathScene.from_paths(W, H, [[pentagram(16, 16, 12)]], "evenodd"))  # type: ignore[arg-type]
 
 
