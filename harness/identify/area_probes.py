@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field, replace
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -104,7 +104,7 @@ def _keyed(coverage: Coverage, scene: Scene) -> tuple[NDArray[np.int64], NDArray
     return (t * scene.height + y) * scene.width + x, alpha
 
 
-def _alpha_differences(got: Coverage, want: Coverage, scene: Scene) -> NDArray[np.float64]:
+def alpha_differences(got: Coverage, want: Coverage, scene: Any) -> NDArray[np.float64]:
     """alpha - wanted alpha at every (triangle, pixel) either holds (a missing one has 0)."""
     kg, ag = _keyed(got, scene)
     kw, aw = _keyed(want, scene)
@@ -140,7 +140,7 @@ class _AlphaDrawn:
             if self._still[snapping]:
                 convention = replace(convention, subpixel_bits=None, snap_rounding="nearest-even")
         if convention not in self._cache:
-            self._cache[convention] = _alpha_differences(self.coverage or Coverage.empty(),
+            self._cache[convention] = alpha_differences(self.coverage or Coverage.empty(),
                                                          exact_coverage(self.scene, convention), self.scene)
         return self._cache[convention]
 

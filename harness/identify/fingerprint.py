@@ -57,6 +57,9 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from harness.contract.conventions import AREA_LINE_RULES, Convention, CoverageKind, LineRule
 from harness.contract.coverage import Coverage
 from harness.contract.coverage_models import COVERAGE_KINDS, SINGLE, CoverageModel, model_named
@@ -524,6 +527,15 @@ def _identify_lines_only(name: str, call: Call, seed: int, received: Callable[[A
     from harness.identify.line_probes import fit_lines
 
     fit = fit_lines(call, seed, None, received)
+    anti_aliased = _anti_aliased_line_fit(fit)
+    if anti_aliased is not None:
+        convention, residual, pixels, model = anti_aliased
+        fingerprint = Fingerprint(name, convention, residual, pixels, None, {}, (), unanswered=len(fit.unanswered),
+                                  coverage_kind="area")
+        _record_lines(fingerprint, fit)
+        fingerprint.line_convention, fingerprint.line_rule = None, convention.line
+        fingerprint.facts["line model"] = model
+        return fingerprint
     convention = fit.convention or Convention()
     runner_up: tuple[str, int] | None = fit.runner_up
     residual = fit.residual
@@ -533,6 +545,31 @@ def _identify_lines_only(name: str, call: Call, seed: int, received: Callable[[A
                               unanswered=len(fit.unanswered))
     _record_lines(fingerprint, fit)
     return fingerprint
+
+
+def _anti_aliased_line_fit(fit: Any) -> tuple[Convention, int, int, str] | None:
+    """For a rasterizer taking only lines whose answers carry alphas: the one anti-aliased
+    line model, the exact area of the w-wide butt-capped rectangle, within the largest
+    |alpha - exact area| its probes showed (a tolerance measured on them), with the
+    residual the (segment, pixel)s beyond half a level of that area; None otherwise."""
+    from harness.identify.area_probes import SLACK, alpha_differences
+    from harness.oracle.coverage import exact_coverage
+
+    drawn = [d for d in fit.drawn if d.coverage is not None]
+    if not drawn or all(d.coverage.alpha is None for d in drawn):
+        return None
+    exact = Convention(coverage="area", line=LineRule("rectangle"))
+    errors: list[NDArray[np.float64]] = []
+    for d in drawn:
+        scene = d.judged if d.judged is not None else d.scene
+        errors.append(np.abs(alpha_differences(d.coverage, exact_coverage(scene, exact), scene)))
+    every = np.concatenate(errors) if errors else np.zeros(0)
+    worst = float(every.max(initial=0.0))
+    convention = replace(exact, tolerance=rounded_up_tolerance(worst)) if worst > exact.alpha_tolerance + SLACK else exact
+    residual = int(np.sum(every > exact.alpha_tolerance + SLACK))
+    model = (f"anti-aliased: the exact area of the w-wide butt-capped rectangle, |alpha - area| max {worst:.3g} over "
+             f"{every.size} (segment, pixel)s")
+    return convention, residual, int(every.size), model
 
 
 def _with_lines(fingerprint: Fingerprint, call: Call, seed: int, received: Callable[[Any], Any] | None = None) -> None:

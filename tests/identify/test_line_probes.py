@@ -210,3 +210,27 @@ def test_lines_rounding_otherwise_than_the_triangles_say_so_in_their_rule():
     assert (exact_coverage(scene, fp.convention).counts(16, 16) == exact_coverage(scene, lines).counts(16, 16)).all()
     judged = convention_for(Identified(box, fp), scene)
     assert judged is not None and judged.snap_rounding == "half-away"
+
+
+def test_a_lines_only_anti_aliaser_is_fingerprinted_by_the_exact_stroke_area():
+    """A rasterizer taking only lines whose answers carry alphas (GL smooth lines,
+    mesa_llvmpipe_smooth) was once fingerprinted as an aliased diamond-exit best guess,
+    "residual 1 of 0"; it is judged by the one anti-aliased line model: the exact strokes
+    are exact, a minor-axis box is a best guess within its measured error."""
+    from dataclasses import replace
+
+    from harness.identify.fingerprint import identify
+    from tests.known_bad.aa_lines import ExactAALines, MajorAxisBoxLines
+
+    exact = ExactAALines()
+    exact.convention = None  # type: ignore[assignment]  # a black box: identify must find it
+    fingerprint = identify(exact)
+    assert fingerprint.coverage_kind == "area" and fingerprint.convention.line.rule == "rectangle", fingerprint.card()
+    assert fingerprint.exact and fingerprint.pixels > 0 and fingerprint.convention.tolerance is None
+    assert "butt-capped rectangle" in fingerprint.facts["line model"]
+
+    boxed = MajorAxisBoxLines()
+    boxed.convention = None  # type: ignore[assignment]
+    guess = identify(boxed)
+    assert not guess.exact and guess.residual > 0, guess.card()
+    assert guess.convention.alpha_tolerance > replace(guess.convention, tolerance=None).alpha_tolerance
