@@ -379,7 +379,7 @@ def _cairo_edges(polygon: NDArray[np.int64], height: int, rows: int) -> NDArray[
 
     >>> polygon = cairo_polygon(np.array([[0.0, 0.0, 1.0, 1.0], [1.0, 1.0, 1.0, 0.0]]), 2, 1)
     >>> _cairo_edges(polygon, 1, 15)[:, :4].tolist()
-    [[0, 15, 1, 8], [0, 15, -1, 256]]
+    [[0, 15, 1, 9], [0, 15, -1, 256]]
     """
     p1x, p1y, p2x, p2y, top, bottom, direction, index = (polygon[:, c] for c in range(8))
     ytop = np.maximum((rows * top + 128) >> 8, 0)  # INPUT_TO_GRID_Y, clamped to the surface's rows
