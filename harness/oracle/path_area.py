@@ -341,10 +341,9 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
     counts = np.empty(nmax, dtype=np.int64)  # direct terms per column
     xs0 = np.empty(kmax)
     xs1 = np.empty(kmax)
-    ids = np.empty(kmax, dtype=np.int64)
     keys = np.empty(kmax)
     active = np.empty(kmax, dtype=np.int64)
-    order_buf = np.empty(32, dtype=np.int64)
+    ident = np.arange(kmax)
     for g in range(group_j.size):
         s0, s1 = group_start[g], group_start[g + 1]
         k = s1 - s0
@@ -394,7 +393,11 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
                 active[n_active] = by_top[joined]
                 n_active += 1
                 joined += 1
-            n = 0
+            # the active list stays sorted from piece to piece (the pieces come in order of
+            # y0): ended edges leave it in place, joined ones are appended, and an insertion
+            # sort by x at the middle, ties by x at y0, restores the order in a pass when
+            # few edges have crossed (every active edge spans the piece: no edge ends inside
+            # one, every vertex height being a split)
             kept = 0
             for q in range(n_active):
                 e = active[q]
@@ -402,29 +405,28 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
                     continue  # ended above this piece: and above every later one
                 active[kept] = e
                 kept += 1
-                if by[e] >= y1:  # spans it (no edge ends inside a piece)
-                    ids[n] = e
-                    xs0[n] = _x_at(ax[e], ay[e], bx[e], by[e], y0)
-                    xs1[n] = _x_at(ax[e], ay[e], bx[e], by[e], y1)
-                    n += 1
             n_active = kept
+            n = kept
             if n == 0:
                 continue
-            # sorted by x at the middle, ties by x at y0 (two stable passes)
             for r in range(n):
-                keys[r] = 0.5 * xs0[r] + 0.5 * xs1[r]
-            if n <= 32:  # a few edges (most pieces): an insertion sort, no allocation
-                order = order_buf[:n]
-                for r in range(n):
-                    t = r
-                    while t > 0 and (keys[order[t - 1]] > keys[r]
-                                     or (keys[order[t - 1]] == keys[r] and xs0[order[t - 1]] > xs0[r])):
-                        order[t] = order[t - 1]
-                        t -= 1
-                    order[t] = r
-            else:
-                first_pass = np.argsort(xs0[:n], kind="mergesort")
-                order = first_pass[np.argsort(keys[:n][first_pass], kind="mergesort")]
+                e = active[r]
+                x0_ = _x_at(ax[e], ay[e], bx[e], by[e], y0)
+                x1_ = _x_at(ax[e], ay[e], bx[e], by[e], y1)
+                key = 0.5 * x0_ + 0.5 * x1_
+                t = r
+                while t > 0 and (keys[t - 1] > key or (keys[t - 1] == key and xs0[t - 1] > x0_)):
+                    active[t] = active[t - 1]
+                    keys[t] = keys[t - 1]
+                    xs0[t] = xs0[t - 1]
+                    xs1[t] = xs1[t - 1]
+                    t -= 1
+                active[t] = e
+                keys[t] = key
+                xs0[t] = x0_
+                xs1[t] = x1_
+            ids = active
+            order = ident[:n]
             # at each end, a neighbour left of its predecessor by at most 2 eps is moved
             # onto it (float noise: it stays within 3 eps of the true crossing); by more,
             # the two cross inside the piece: split it there
@@ -491,9 +493,11 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
                         entries += 2
                     else:
                         full0 = full1 = hi
-                    for i in range(lo, hi):
-                        if full0 <= i < full1:
-                            continue
+                    for i in range(lo, full0):  # the columns the sides cross: their terms directly
+                        fi = float(i)
+                        out[base + i - c0] += _g(r0, r1, fi, h) - _g(l0, l1, fi, h)
+                        counts[i - c0] += 1
+                    for i in range(max(full1, lo), hi):
                         fi = float(i)
                         out[base + i - c0] += _g(r0, r1, fi, h) - _g(l0, l1, fi, h)
                         counts[i - c0] += 1
