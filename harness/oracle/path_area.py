@@ -32,7 +32,7 @@ The float method (:func:`path_pixel_areas`)
       at the piece's end;
     * by more, the two cross inside the piece: it is split at their float crossing
       height (or a float next to its end) and both halves are done alike. A piece that
-      cannot be split (or the 4 k + 64th split of a band of k edges) is left out: its area,
+      cannot be split (or the 4 k + 64th split of a sweep over k edges) is left out: its area,
       at most h, is added to the bound.
 
     After the walk the float crossings, linear between the piece's ends, are sorted at
@@ -46,6 +46,30 @@ The float method (:func:`path_pixel_areas`)
     band whose bound exceeds :data:`LOOSE_BOUND`, and every band of a path with a
     coordinate beyond ±:data:`harness.oracle.area.GUARD_LIMIT`, is computed by the exact
     reference instead (rounded to nearest: within u).
+
+Tiles (a band of more than :data:`TILE_EDGES` edges)
+    The sweep above costs its pieces times the edges spanning them: a band crossed by
+    many edges (a long outline of short edges crosses a row at hundreds of places, each
+    vertex height a piece) is cut into tiles of about ``2 W / k`` columns (W its columns, k
+    its edges), each swept alone over its columns ``[B, B')``. For a point (x, y) of the
+    tile, ``w(x, y) = w_left(y) + (the windings of the tile's edges crossing height y left
+    of x)``, where the tile's edges are those whose part in the band may reach into it
+    (their float x at the band's ends, widened by 2 eps, overlap it) and w_left(y) is the
+    winding added by the band's other edges lying wholly left of it (right of B' they add
+    nothing): exact, an integer sum of their directions (+1 where such an edge starts
+    inside the band, -1 where it ends, the ones spanning the band's top counted at once),
+    merged per height -- where a contour runs on wholly left of the tile its two edges'
+    changes cancel, so w_left changes only where a contour passes into the tile. The tile's
+    pieces are split at its edges' vertex heights and at w_left's changes; the walk starts
+    at w_left, a trapezoid open there has the tile's left side x = B, one still open at the
+    end its right side x = B' (integers: exact sides), and only the tile's columns are
+    written. Since the area formula sum_T clamp(R) - clamp(L) is linear in the sides, the
+    left sides of a tile's trapezoids need not be in order with its edges: the formula holds
+    for the rule set of the sorted float crossings with the winding w_left left of them.
+    Steps 1 to 3 below hold per tile as they stand (its n_S the tile's edges spanning S);
+    the band's bound is the largest of its tiles' piece sums plus step 4's term over the
+    whole band (its difference array and weight shared). A tile with no edge and a constant
+    w_left is filled or empty as a whole.
 
 The error bound (u = 2**-53, round to nearest)
     With n_S the edges spanning piece S, tau_S its trapezoids, Z = X + max(W, H) + 1,
@@ -109,6 +133,8 @@ _Edge = tuple[Fraction, Fraction, Fraction, Fraction]  # a -> b: ax, ay, bx, by
 # A band whose float bound exceeds this is computed exactly (far below 1/510, half an 8-bit
 # level: a check's verdict is then rarely left open).
 LOOSE_BOUND = 2.0**-24
+# A band of more edges than this is swept in tiles of columns (the module docstring, "Tiles").
+TILE_EDGES = 24
 
 
 # -- the exact rational reference -----------------------------------------------------------
@@ -515,8 +541,6 @@ def _tile_sweep(ax, ay, bx, by, down, by_top, j, lo_col, hi_col, c0, base, wl_y,
     return bound, weight, entries
 
 
-# A band of more edges than this is swept in tiles of columns (:func:`_bands_kernel`).
-TILE_EDGES = 24
 
 
 @numba.njit(cache=True)
