@@ -742,7 +742,8 @@ def _area_groups(scene: PathScene, vertices: NDArray[np.float64], exact_everywhe
     starts = np.repeat(first - np.cumsum(counts) + counts, counts)
     rep_j = starts + np.arange(rep_edge.size)
     rep_path = owner[rep_edge]
-    order = np.lexsort((rep_edge, rep_j, rep_path))
+    # by path, then row, then edge (a stable sort keeps rep_edge's ascending order)
+    order = np.argsort(rep_path.astype(np.int64) * (height + 1) + rep_j, kind="stable")
     rep_edge, rep_j, rep_path = rep_edge[order], rep_j[order], rep_path[order]
     new = np.ones(rep_edge.size, dtype=bool)
     new[1:] = (rep_j[1:] != rep_j[:-1]) | (rep_path[1:] != rep_path[:-1])
