@@ -353,7 +353,7 @@ def _rule(winding, evenodd):  # type: ignore[no-untyped-def]
     return (winding % 2 != 0) if evenodd else winding != 0
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _emit(l0, l1, r0, r1, h, lo_col, hi_col, c0, base, out, diff, counts):  # type: ignore[no-untyped-def]
     """Trapezoid (L, R) of height h into the tile's columns lo_col .. hi_col - 1: columns
     wholly right of L and left of R get h through the difference array, every other column
@@ -380,7 +380,7 @@ def _emit(l0, l1, r0, r1, h, lo_col, hi_col, c0, base, out, diff, counts):  # ty
     return added
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, inline="always")
 def _tile_sweep(ax, ay, bx, by, down, by_top, j, lo_col, hi_col, c0, base, wl_y, wl_d, w0, evenodd,  # type: ignore[no-untyped-def]  # noqa: C901 - a numba kernel: one sweep per tile
                 eps, zterm, out, diff, counts, split_buf, stack0, stack1, xs0, xs1, keys, active, ident):
     """One tile of a band: columns lo_col .. hi_col - 1 of row band j, from the edges
@@ -570,6 +570,7 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
     keys = np.empty(kmax)
     active = np.empty(kmax, dtype=np.int64)
     ident = np.arange(kmax)
+    top_buf = np.empty(kmax, dtype=np.int64)
     first_tile = np.empty(kmax, dtype=np.int64)
     last_tile = np.empty(kmax, dtype=np.int64)
     left_from = np.empty(kmax, dtype=np.int64)
@@ -591,7 +592,17 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
         eps = 12.0 * u * x_of_path[group_path[g]]  # an edge's float x at a height: within 11.01 u X
         zterm = u * (2.0 * z_of_path[group_path[g]] + 13.0)
         band = group_edges[s0:s1]
-        by_top = band[np.argsort(ay[band])]
+        if k <= 32:  # a few edges (most bands): an insertion sort by their tops, no allocation
+            by_top = top_buf[:k]
+            for q in range(k):
+                e = band[q]
+                t = q
+                while t > 0 and ay[by_top[t - 1]] > ay[e]:
+                    by_top[t] = by_top[t - 1]
+                    t -= 1
+                by_top[t] = e
+        else:
+            by_top = band[np.argsort(ay[band])]
         diff[:ncol + 1] = 0.0
         counts[:ncol] = 0
         bound = 0.0
@@ -704,6 +715,80 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
         out_bound[g] = bound * (1.0 + 2.0**-40) + 1.02 * u * terms * (2.0 * weight + 1.0)
 
 
+@numba.njit(cache=True)
+def _band_groups(ax, ay, bx, by, use, owner, n_paths, width, height):  # type: ignore[no-untyped-def]
+    """The (path, row band) groups: every used edge (a -> b, ay < by) once per row band it
+    crosses, sorted by path, then row, then edge (two stable counting sorts), and per group
+    its first entry, row, path and columns [c0, c1) (the edges' x range, clipped to the
+    viewport). Returns (edges, group_start (G + 1), group_j, group_path, c0, c1)."""
+    n = ax.size
+    first = np.zeros(n, dtype=np.int64)
+    count = np.zeros(n, dtype=np.int64)
+    total = 0
+    for e in range(n):
+        if use[e]:
+            f = int(min(max(math.floor(ay[e]), 0.0), float(height)))
+            last = int(min(max(math.ceil(by[e]), 0.0), float(height))) - 1
+            first[e] = f
+            count[e] = max(last - f + 1, 0)
+            total += count[e]
+    # by row (stable: edges in order), then by path (stable): by path, row, edge
+    per_row = np.zeros(height + 1, dtype=np.int64)
+    for e in range(n):
+        for j in range(first[e], first[e] + count[e]):
+            per_row[j + 1] += 1
+    for j in range(height):
+        per_row[j + 1] += per_row[j]
+    row_edge = np.empty(total, dtype=np.int64)
+    row_j = np.empty(total, dtype=np.int64)
+    for e in range(n):
+        for j in range(first[e], first[e] + count[e]):
+            row_edge[per_row[j]] = e
+            row_j[per_row[j]] = j
+            per_row[j] += 1
+    per_path = np.zeros(n_paths + 1, dtype=np.int64)
+    for q in range(total):
+        per_path[owner[row_edge[q]] + 1] += 1
+    for p in range(n_paths):
+        per_path[p + 1] += per_path[p]
+    edges = np.empty(total, dtype=np.int64)
+    rows = np.empty(total, dtype=np.int64)
+    for q in range(total):
+        p = owner[row_edge[q]]
+        edges[per_path[p]] = row_edge[q]
+        rows[per_path[p]] = row_j[q]
+        per_path[p] += 1
+    groups = 0
+    for q in range(total):
+        if q == 0 or rows[q] != rows[q - 1] or owner[edges[q]] != owner[edges[q - 1]]:
+            groups += 1
+    group_start = np.empty(groups + 1, dtype=np.int64)
+    group_j = np.empty(groups, dtype=np.int64)
+    group_path = np.empty(groups, dtype=np.int64)
+    c0 = np.empty(groups, dtype=np.int64)
+    c1 = np.empty(groups, dtype=np.int64)
+    g = -1
+    lo = hi = 0.0
+    for q in range(total):
+        e = edges[q]
+        if q == 0 or rows[q] != rows[q - 1] or owner[e] != owner[edges[q - 1]]:
+            if g >= 0:
+                c0[g] = int(min(max(math.floor(lo), 0.0), float(width)))
+                c1[g] = int(min(max(math.ceil(hi), 0.0), float(width)))
+            g += 1
+            group_start[g] = q
+            group_j[g] = rows[q]
+            group_path[g] = owner[e]
+            lo, hi = min(ax[e], bx[e]), max(ax[e], bx[e])
+        else:
+            lo, hi = min(lo, ax[e], bx[e]), max(hi, ax[e], bx[e])
+    if g >= 0:
+        c0[g] = int(min(max(math.floor(lo), 0.0), float(width)))
+        c1[g] = int(min(max(math.ceil(hi), 0.0), float(width)))
+    group_start[groups] = total
+    return edges, group_start, group_j, group_path, c0, c1
+
+
 # (path, x, y, area, bound) of path_pixel_areas
 PathAreas = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]]
 
@@ -733,30 +818,10 @@ def _area_groups(scene: PathScene, vertices: NDArray[np.float64], exact_everywhe
     near = np.ones(n_paths, dtype=bool)
     near[np.unique(owner[~safe_vertex])] = False
     use = finite[owner] & (a[:, 1] != b[:, 1])
-    edges = np.flatnonzero(use)
-    lo_y, hi_y = np.minimum(a[edges, 1], b[edges, 1]), np.maximum(a[edges, 1], b[edges, 1])
-    first = np.maximum(np.floor(lo_y), 0).astype(np.int64)
-    last = np.minimum(np.ceil(hi_y), height).astype(np.int64) - 1
-    counts = np.maximum(last - first + 1, 0)
-    rep_edge = np.repeat(edges, counts)
-    starts = np.repeat(first - np.cumsum(counts) + counts, counts)
-    rep_j = starts + np.arange(rep_edge.size)
-    rep_path = owner[rep_edge]
-    # by path, then row, then edge (a stable sort keeps rep_edge's ascending order)
-    order = np.argsort(rep_path.astype(np.int64) * (height + 1) + rep_j, kind="stable")
-    rep_edge, rep_j, rep_path = rep_edge[order], rep_j[order], rep_path[order]
-    new = np.ones(rep_edge.size, dtype=bool)
-    new[1:] = (rep_j[1:] != rep_j[:-1]) | (rep_path[1:] != rep_path[:-1])
-    group_start = np.append(np.flatnonzero(new), rep_edge.size).astype(np.int64)
+    rep_edge, group_start, group_j, group_path, c0, c1 = _band_groups(
+        np.ascontiguousarray(a[:, 0]), np.ascontiguousarray(a[:, 1]), np.ascontiguousarray(b[:, 0]),
+        np.ascontiguousarray(b[:, 1]), use, owner.astype(np.int64), n_paths, width, height)
     heads = group_start[:-1]
-    group_j, group_path = rep_j[heads], rep_path[heads]
-    xmin_e = np.minimum(a[rep_edge, 0], b[rep_edge, 0])
-    xmax_e = np.maximum(a[rep_edge, 0], b[rep_edge, 0])
-    if heads.size:
-        c0 = np.clip(np.floor(np.minimum.reduceat(xmin_e, heads)), 0, width).astype(np.int64)
-        c1 = np.clip(np.ceil(np.maximum.reduceat(xmax_e, heads)), 0, width).astype(np.int64)
-    else:
-        c0 = c1 = np.zeros(0, dtype=np.int64)
     group_n = np.maximum(c1 - c0, 0)
     offsets = np.concatenate([[0], np.cumsum(group_n)]).astype(np.int64)
     out = np.zeros(int(offsets[-1]))
