@@ -720,15 +720,16 @@ def _band_groups(ax, ay, bx, by, use, owner, n_paths, width, height):  # type: i
     """The (path, row band) groups: every used edge (a -> b, ay < by) once per row band it
     crosses, sorted by path, then row, then edge (two stable counting sorts), and per group
     its first entry, row, path and columns [c0, c1) (the edges' x range, clipped to the
-    viewport). Returns (edges, group_start (G + 1), group_j, group_path, c0, c1)."""
+    viewport; np.floor, not math.floor, whose integer overflows on a far coordinate).
+    Returns (edges, group_start (G + 1), group_j, group_path, c0, c1)."""
     n = ax.size
     first = np.zeros(n, dtype=np.int64)
     count = np.zeros(n, dtype=np.int64)
     total = 0
     for e in range(n):
         if use[e]:
-            f = int(min(max(math.floor(ay[e]), 0.0), float(height)))
-            last = int(min(max(math.ceil(by[e]), 0.0), float(height))) - 1
+            f = int(min(max(np.floor(ay[e]), 0.0), float(height)))
+            last = int(min(max(np.ceil(by[e]), 0.0), float(height))) - 1
             first[e] = f
             count[e] = max(last - f + 1, 0)
             total += count[e]
@@ -773,8 +774,8 @@ def _band_groups(ax, ay, bx, by, use, owner, n_paths, width, height):  # type: i
         e = edges[q]
         if q == 0 or rows[q] != rows[q - 1] or owner[e] != owner[edges[q - 1]]:
             if g >= 0:
-                c0[g] = int(min(max(math.floor(lo), 0.0), float(width)))
-                c1[g] = int(min(max(math.ceil(hi), 0.0), float(width)))
+                c0[g] = int(min(max(np.floor(lo), 0.0), float(width)))
+                c1[g] = int(min(max(np.ceil(hi), 0.0), float(width)))
             g += 1
             group_start[g] = q
             group_j[g] = rows[q]
@@ -783,8 +784,8 @@ def _band_groups(ax, ay, bx, by, use, owner, n_paths, width, height):  # type: i
         else:
             lo, hi = min(lo, ax[e], bx[e]), max(hi, ax[e], bx[e])
     if g >= 0:
-        c0[g] = int(min(max(math.floor(lo), 0.0), float(width)))
-        c1[g] = int(min(max(math.ceil(hi), 0.0), float(width)))
+        c0[g] = int(min(max(np.floor(lo), 0.0), float(width)))
+        c1[g] = int(min(max(np.ceil(hi), 0.0), float(width)))
     group_start[groups] = total
     return edges, group_start, group_j, group_path, c0, c1
 
