@@ -716,6 +716,13 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
 
 
 @numba.njit(cache=True)
+def _path_max(owner, values, out):  # type: ignore[no-untyped-def]
+    """out[p] = max(out[p], values of path p's vertices) (np.maximum.at, unbuffered and slow)."""
+    for v in range(owner.size):
+        out[owner[v]] = max(out[owner[v]], values[v])
+
+
+@numba.njit(cache=True)
 def _band_groups(ax, ay, bx, by, use, owner, n_paths, width, height):  # type: ignore[no-untyped-def]
     """The (path, row band) groups: every used edge (a -> b, ay < by) once per row band it
     crosses, sorted by path, then row, then edge (two stable counting sorts), and per group
@@ -830,7 +837,8 @@ def _area_groups(scene: PathScene, vertices: NDArray[np.float64], exact_everywhe
     bound = np.zeros(heads.size)
     path_x = np.ones(n_paths)
     finite_x = np.isfinite(vertices[:, 0])
-    np.maximum.at(path_x, owner, np.where(safe_vertex & finite_x, np.abs(np.where(finite_x, vertices[:, 0], 0.0)), 0.0))
+    _path_max(owner.astype(np.int64), np.where(safe_vertex & finite_x, np.abs(np.where(finite_x, vertices[:, 0], 0.0)), 0.0),
+              path_x)
     z = path_x + max(width, height) + 1.0
     fast = near[group_path] & (not exact_everywhere)
     idx = np.flatnonzero(fast)
@@ -929,8 +937,10 @@ def path_area_coverage(scene: PathScene, convention: Convention) -> Coverage:
         raise ValueError("path_area_coverage is the analytic area; a supersampled convention's oracle is "
                          "harness.oracle.winding.path_coverage (the share of its samples covered)")
     path, y, x0, x1, alpha, _ = _coverage_parts(scene, convention)
-    order = np.lexsort((x0, y, path))
-    if order.size and np.any(order != np.arange(order.size)):
+    ordered = bool(np.all((path[1:] > path[:-1]) | ((path[1:] == path[:-1]) & (
+        (y[1:] > y[:-1]) | ((y[1:] == y[:-1]) & (x0[1:] >= x0[:-1]))))))
+    if not ordered:  # (the groups come by path and row: sorted already)
+        order = np.lexsort((x0, y, path))
         lengths = x1 - x0
         starts = np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
         alpha = np.concatenate([alpha[starts[s]:starts[s + 1]] for s in order])
