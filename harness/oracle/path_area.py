@@ -844,9 +844,12 @@ def _area_groups(scene: PathScene, vertices: NDArray[np.float64], exact_everywhe
     idx = np.flatnonzero(fast)
     if idx.size:
         # the kernel sees the fast groups only (their edges all near)
-        sub_start = np.concatenate([[0], np.cumsum(np.diff(group_start)[idx])]).astype(np.int64)
-        sizes = np.diff(group_start)[idx]
-        sub_edges = rep_edge[np.repeat(group_start[idx] - sub_start[:-1], sizes) + np.arange(int(sizes.sum()))]
+        if idx.size == heads.size:  # every group (the usual case): as they are
+            sub_start, sub_edges = group_start, rep_edge
+        else:
+            sub_start = np.concatenate([[0], np.cumsum(np.diff(group_start)[idx])]).astype(np.int64)
+            sizes = np.diff(group_start)[idx]
+            sub_edges = rep_edge[np.repeat(group_start[idx] - sub_start[:-1], sizes) + np.arange(int(sizes.sum()))]
         sub_off = offsets[idx]
         sub_bound = np.zeros(idx.size)
         _bands_kernel(np.ascontiguousarray(a[:, 0]), np.ascontiguousarray(a[:, 1]), np.ascontiguousarray(b[:, 0]),
