@@ -353,7 +353,7 @@ def _rule(winding, evenodd):  # type: ignore[no-untyped-def]
     return (winding % 2 != 0) if evenodd else winding != 0
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True)
 def _emit(l0, l1, r0, r1, h, lo_col, hi_col, c0, base, out, diff, counts):  # type: ignore[no-untyped-def]
     """Trapezoid (L, R) of height h into the tile's columns lo_col .. hi_col - 1: columns
     wholly right of L and left of R get h through the difference array, every other column
