@@ -574,9 +574,9 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
     first_tile = np.empty(kmax, dtype=np.int64)
     last_tile = np.empty(kmax, dtype=np.int64)
     left_from = np.empty(kmax, dtype=np.int64)
-    tile_start = np.empty(kmax + 2, dtype=np.int64)
+    tile_start = np.empty(2 * kmax + 4, dtype=np.int64)  # tiles <= k + 1
     tile_edges = np.empty(0, dtype=np.int64)
-    left_start = np.empty(kmax + 2, dtype=np.int64)
+    left_start = np.empty(2 * kmax + 4, dtype=np.int64)
     left_edges = np.empty(kmax, dtype=np.int64)
     ev_y = np.empty(2 * kmax)
     ev_d = np.empty(2 * kmax, dtype=np.int64)
@@ -617,8 +617,8 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
             tiles = (ncol + width - 1) // width
             # each edge's tiles: its part in the band spans x in [lo, hi] (its float x at
             # the band's ends, within 11.01 u X of the true; widened by 2 eps), and the
-            # quotients are widened by a tile: tiles first..last may hold it, tiles after
-            # last have it wholly left of them (B_k >= hi)
+            # quotients by 1e-12 (|q| + 1): tiles first..last may hold it, tiles after last
+            # have it wholly left of them (B_k >= hi)
             tile_start[:tiles + 2] = 0
             left_start[:tiles + 2] = 0
             for q in range(k):
