@@ -134,7 +134,7 @@ from harness.cli.bench_workloads import (
 )
 from harness.contract.conventions import Convention, LineRule
 from harness.contract.coverage import Coverage
-from harness.contract.protocol import takes
+from harness.contract.protocol import coverage_kind_of, takes
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 from harness.engine.isolation import _exit_with_parent, describe, span_limit
 from harness.engine.registry import builtins, load
@@ -313,7 +313,14 @@ def _contenders(work: Workload, rasterizers: list[Any]) -> list[tuple[str, Calla
     """Pillow first (the yardstick), the oracles, the library peers, then each rasterizer
     that takes the workload's scene."""
     scene = work.scene
-    return _fixed_contenders(work) + [(r.name, partial(r.rasterize, scene)) for r in rasterizers if takes(r, scene)]
+    return _fixed_contenders(work) + [(r.name, partial(r.rasterize, scene)) for r in rasterizers if _measured_on(r, work)]
+
+
+def _measured_on(rasterizer: Any, work: Workload) -> bool:
+    """Whether a rasterizer is measured on a workload: it takes the scene, and for an
+    anti-aliased stroke workload it anti-aliases (area coverage: an aliased line drawer
+    is no peer of a wide anti-aliased stroke, and most draw width 1 only)."""
+    return takes(rasterizer, work.scene) and (not work.anti_aliased or coverage_kind_of(rasterizer) == "area")
 
 
 # -- isolation: every contender measured in a process of its own -------------------------------
@@ -499,8 +506,9 @@ def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float 
     line oracles, the library line drawers and each line-taking rasterizer on the line
     workloads, then (with ``strokes``; the command measures them unless ``--kinds`` leaves
     them out) Pillow, the exact stroke-area oracle, the libraries' anti-aliased strokes and
-    each line-taking rasterizer on the stroke workloads, each contender in a process of its own, each call within ``timeout``
-    seconds; ``progress`` hears a line before and after each contender.
+    each anti-aliasing (area coverage) line-taking rasterizer on the stroke workloads,
+    each contender in a process of its own, each call within ``timeout`` seconds;
+    ``progress`` hears a line before and after each contender.
 
     A contender that crashes, hangs, raises or answers garbage on a workload is that
     workload's row (:attr:`Measurement.fault`) and the others go on; a workload whose
@@ -518,7 +526,7 @@ def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float 
     for work in chosen:
         entries = [(label, label, False, fn) for label, fn in _fixed_contenders(work)]
         entries += [(f"rasterizer {k}", r.name, True, partial(r.rasterize, work.scene)) for k, r in enumerate(rasterizers)
-                    if takes(r, work.scene)]
+                    if _measured_on(r, work)]
         lineup.append([(key, label, plugin) for key, label, plugin, _ in entries])
         for key, _, _, fn in entries:
             calls.setdefault(key, {})[work.name] = (fn, work.scene)

@@ -168,3 +168,22 @@ def test_the_stroke_peers_draw_about_the_oracles_area(peer):
         assert oracle.alpha is not None
         total = float(oracle.alpha.sum())
         assert abs(drawn - total) < 0.05 * total, (work.name, drawn, total)
+
+
+class AliasedLines:
+    name = "aliased-lines"
+    convention = Convention(line="bresenham")
+    scene_kinds = ("lines",)
+
+    def rasterize(self, scene):
+        return exact_coverage(scene, self.convention)
+
+
+class AntiAliasedLines(AliasedLines):
+    name = "aa-lines"
+    convention = STROKE_ORACLE
+
+
+def test_only_anti_aliasing_line_rasterizers_are_measured_on_the_strokes():
+    labels = [label for label, _ in _contenders(stroke_workloads(SCALE)[0], [AliasedLines(), AntiAliasedLines()])]
+    assert "aa-lines" in labels and "aliased-lines" not in labels
