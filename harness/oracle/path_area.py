@@ -716,10 +716,53 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
 
 
 @numba.njit(cache=True)
-def _path_max(owner, values, out):  # type: ignore[no-untyped-def]
-    """out[p] = max(out[p], values of path p's vertices) (np.maximum.at, unbuffered and slow)."""
-    for v in range(owner.size):
-        out[owner[v]] = max(out[owner[v]], values[v])
+def _edge_setup(vx, vy, sizes, contour_path, n_paths, guard):  # type: ignore[no-untyped-def]
+    """Every edge (vertex v to the next of its contour) top end first: (ax, ay, bx, by),
+    its direction ``down`` (+1 where it runs down the screen, else -1, the ends swapped),
+    its path ``owner`` and ``use`` (its path finite and the edge not horizontal); per path
+    ``near`` (no coordinate beyond ``guard``) and its largest |x| (at least 1) over the
+    vertices within it."""
+    n = vx.size
+    owner = np.empty(n, dtype=np.int64)
+    v = 0
+    for c in range(sizes.size):
+        for _ in range(sizes[c]):
+            owner[v] = contour_path[c]
+            v += 1
+    finite = np.ones(n_paths, dtype=np.bool_)
+    near = np.ones(n_paths, dtype=np.bool_)
+    path_x = np.ones(n_paths)
+    for v in range(n):
+        p = owner[v]
+        fx, fy = np.isfinite(vx[v]), np.isfinite(vy[v])
+        if not (fx and fy):
+            finite[p] = False
+        sx = abs(vx[v]) if fx else 0.0  # a coordinate that is not finite counts as 0 here
+        sy = abs(vy[v]) if fy else 0.0
+        if sx <= guard and sy <= guard:
+            if fx:
+                path_x[p] = max(path_x[p], sx)
+        else:
+            near[p] = False
+    ax = np.empty(n)
+    ay = np.empty(n)
+    bx = np.empty(n)
+    by = np.empty(n)
+    down = np.empty(n, dtype=np.int64)
+    use = np.empty(n, dtype=np.bool_)
+    start = 0
+    for c in range(sizes.size):
+        for v in range(start, start + sizes[c]):
+            w = v + 1 if v + 1 < start + sizes[c] else start
+            if vy[w] > vy[v]:
+                down[v] = 1
+                ax[v], ay[v], bx[v], by[v] = vx[v], vy[v], vx[w], vy[w]
+            else:
+                down[v] = -1
+                ax[v], ay[v], bx[v], by[v] = vx[w], vy[w], vx[v], vy[v]
+            use[v] = finite[owner[v]] and ay[v] != by[v]
+        start += sizes[c]
+    return ax, ay, bx, by, down, owner, use, near, path_x
 
 
 @numba.njit(cache=True)
@@ -813,32 +856,17 @@ def _area_groups(scene: PathScene, vertices: NDArray[np.float64], exact_everywhe
     width, height = scene.width, scene.height
     _viewport(width, height)
     n_paths = len(scene)
-    finite = _finite_paths(scene, vertices)
-    following = np.arange(1, vertices.shape[0] + 1)
-    ends = np.cumsum(scene.contour_sizes)
-    following[ends - 1] = ends - scene.contour_sizes
-    a, b = vertices, vertices[following]
-    # every edge top end first (coincident edges then compute alike), its direction apart
-    down = np.where(b[:, 1] > a[:, 1], 1, -1).astype(np.int64)
-    a, b = np.where((down > 0)[:, None], a, b), np.where((down > 0)[:, None], b, a)
-    owner = np.repeat(scene.contour_path, scene.contour_sizes)
-    safe_vertex = np.all(np.abs(np.where(np.isfinite(vertices), vertices, 0.0)) <= GUARD_LIMIT, axis=1)
-    near = np.ones(n_paths, dtype=bool)
-    near[np.unique(owner[~safe_vertex])] = False
-    use = finite[owner] & (a[:, 1] != b[:, 1])
-    rep_edge, group_start, group_j, group_path, c0, c1 = _band_groups(
-        np.ascontiguousarray(a[:, 0]), np.ascontiguousarray(a[:, 1]), np.ascontiguousarray(b[:, 0]),
-        np.ascontiguousarray(b[:, 1]), use, owner.astype(np.int64), n_paths, width, height)
+    ax, ay, bx, by, down, owner, use, near, path_x = _edge_setup(
+        np.ascontiguousarray(vertices[:, 0]), np.ascontiguousarray(vertices[:, 1]),
+        np.ascontiguousarray(scene.contour_sizes, dtype=np.int64), np.ascontiguousarray(scene.contour_path, dtype=np.int64),
+        n_paths, GUARD_LIMIT)
+    rep_edge, group_start, group_j, group_path, c0, c1 = _band_groups(ax, ay, bx, by, use, owner, n_paths, width, height)
     heads = group_start[:-1]
     group_n = np.maximum(c1 - c0, 0)
     offsets = np.concatenate([[0], np.cumsum(group_n)]).astype(np.int64)
     out = np.zeros(int(offsets[-1]))
     ok = np.zeros(heads.size, dtype=bool)
     bound = np.zeros(heads.size)
-    path_x = np.ones(n_paths)
-    finite_x = np.isfinite(vertices[:, 0])
-    _path_max(owner.astype(np.int64), np.where(safe_vertex & finite_x, np.abs(np.where(finite_x, vertices[:, 0], 0.0)), 0.0),
-              path_x)
     z = path_x + max(width, height) + 1.0
     fast = near[group_path] & (not exact_everywhere)
     idx = np.flatnonzero(fast)
@@ -852,8 +880,7 @@ def _area_groups(scene: PathScene, vertices: NDArray[np.float64], exact_everywhe
             sub_edges = rep_edge[np.repeat(group_start[idx] - sub_start[:-1], sizes) + np.arange(int(sizes.sum()))]
         sub_off = offsets[idx]
         sub_bound = np.zeros(idx.size)
-        _bands_kernel(np.ascontiguousarray(a[:, 0]), np.ascontiguousarray(a[:, 1]), np.ascontiguousarray(b[:, 0]),
-                      np.ascontiguousarray(b[:, 1]), down, sub_start, sub_edges.astype(np.int64),
+        _bands_kernel(ax, ay, bx, by, down, sub_start, sub_edges.astype(np.int64),
                       group_j[idx].astype(np.int64), c0[idx], group_n[idx], sub_off, group_path[idx].astype(np.int64),
                       scene.fill_rule == "evenodd", path_x, z, out, sub_bound)
         # a band whose bound is loose (a piece left out where float edges could not be
