@@ -57,6 +57,17 @@ oracle's) and skia's (``skia_hairline``: ``drawLine`` with stroke width 0, no
 anti-aliasing: nearest the diamond-exit oracle's), when installed; and each rasterizer
 that takes lines. Rates are in segments per second.
 
+Anti-aliased stroke workloads (fixed seeds, 512 x 512; :func:`stroke_workloads`), butt caps:
+
+- S1: 1,000 segments of lengths 4 to 64 px in random directions, width 1.5;
+- S2: the same at width 4.
+
+The exact stroke-area oracle (``oracle_area``, :func:`harness.oracle.area_lines.line_area_coverage`
+under :data:`STROKE_ORACLE`) against the libraries' anti-aliased strokes, each segment one
+call into one 8-bit surface, no read-back: cairo (``cairo_aa_stroke``: its default
+anti-aliasing) and skia (``skia_aa_stroke``: ``drawLine`` with ``AntiAlias=True``), when
+installed; Pillow's aliased ``ImageDraw.line`` at the width rounded is the yardstick.
+
 Every contender is measured in a forked process of its own, each call within a time limit
 (``--timeout``; see the section on isolation below): a crash, a hang, a raise or an answer
 that is no coverage is that contender's row (:attr:`Measurement.fault`), and the others go
@@ -104,6 +115,8 @@ from harness.cli.bench_peers import (
     _pillow,
     _pillow_lines,
     _pillow_paths,
+    _pillow_strokes,
+    _stroke_peers,
     _Surface,
     _unmeasured,
     missing_peers,
@@ -115,21 +128,22 @@ from harness.cli.bench_workloads import (
     path_workloads,
     short_segments,
     stars,
+    stroke_workloads,
     wiggly_outline,
     workloads,
 )
-from harness.contract.conventions import Convention
+from harness.contract.conventions import Convention, LineRule
 from harness.contract.coverage import Coverage
-from harness.contract.protocol import takes
+from harness.contract.protocol import coverage_kind_of, takes
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 from harness.engine.isolation import _exit_with_parent, describe, span_limit
 from harness.engine.registry import builtins, load
 from harness.kinds import PATHS
 from harness.oracle.coverage import RECENT_ANSWERS, exact_coverage
 
-__all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "short_segments", "long_segments", "stars",
-           "wiggly_outline", "run_bench", "format_table", "LINE_ORACLES", "DEFAULT_TIMEOUT", "failures_by_contender",
-           "Measurement", "write_json", "missing_peers", "CampaignMeasurement"]
+__all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "stroke_workloads", "short_segments",
+           "long_segments", "stars", "wiggly_outline", "run_bench", "STROKE_ORACLE", "format_table", "LINE_ORACLES",
+           "DEFAULT_TIMEOUT", "failures_by_contender", "Measurement", "write_json", "missing_peers", "CampaignMeasurement"]
 
 
 DEFAULT_TIMEOUT = 60.0  # seconds one call of a contender may take (``--timeout``; as ``run``'s)
@@ -204,6 +218,10 @@ LINE_ORACLES: dict[str, Convention] = {
 }
 
 
+# The exact stroke-area oracle the anti-aliased stroke workloads measure (butt caps).
+STROKE_ORACLE = Convention(coverage="area", line=LineRule("rectangle", cap="butt"))
+
+
 def _pixels(result: object) -> int:
     """Pixels drawn (Pillow and the library fills: pixels set; rasterizers: fragments,
     one per sample for multisample coverage)."""
@@ -255,6 +273,13 @@ def _line_contenders(scene: LineScene) -> list[tuple[str, Callable[[], object]]]
     return contenders
 
 
+def _stroke_contenders(scene: LineScene) -> list[tuple[str, Callable[[], object]]]:
+    contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow_strokes, scene)),
+                                                          ("oracle_area", partial(exact_coverage, scene, STROKE_ORACLE))]
+    contenders += [(label, partial(draw, scene)) for label, draw in _stroke_peers()]
+    return contenders
+
+
 def _path_contenders(scene: PathScene) -> list[tuple[str, Callable[[], object]]]:
     contenders: list[tuple[str, Callable[[], object]]] = [("pillow", partial(_pillow_paths, scene)),
                                                           ("oracle", partial(exact_coverage, scene, ORACLES["oracle"])),
@@ -277,7 +302,10 @@ _CONTENDERS: dict[str, Callable[[Any], list[tuple[str, Callable[[], object]]]]] 
 
 def _fixed_contenders(work: Workload) -> list[tuple[str, Callable[[], object]]]:
     """Pillow first (the yardstick), the oracles, then the library peers of the workload's
-    scene kind."""
+    scene kind (an anti-aliased stroke workload's: the stroke-area oracle and the
+    libraries' anti-aliased strokes)."""
+    if work.anti_aliased:
+        return _stroke_contenders(work.scene)  # type: ignore[arg-type]
     return _CONTENDERS[work.scene.kind](work.scene)
 
 
@@ -285,7 +313,14 @@ def _contenders(work: Workload, rasterizers: list[Any]) -> list[tuple[str, Calla
     """Pillow first (the yardstick), the oracles, the library peers, then each rasterizer
     that takes the workload's scene."""
     scene = work.scene
-    return _fixed_contenders(work) + [(r.name, partial(r.rasterize, scene)) for r in rasterizers if takes(r, scene)]
+    return _fixed_contenders(work) + [(r.name, partial(r.rasterize, scene)) for r in rasterizers if _measured_on(r, work)]
+
+
+def _measured_on(rasterizer: Any, work: Workload) -> bool:
+    """Whether a rasterizer is measured on a workload: it takes the scene, and for an
+    anti-aliased stroke workload it anti-aliases (area coverage: an aliased line drawer
+    is no peer of a wide anti-aliased stroke, and most draw width 1 only)."""
+    return takes(rasterizer, work.scene) and (not work.anti_aliased or coverage_kind_of(rasterizer) == "area")
 
 
 # -- isolation: every contender measured in a process of its own -------------------------------
@@ -464,13 +499,16 @@ class _Isolated:
 
 def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float = 1.0,
               progress: Callable[[str], None] | None = None, paths: bool = True, lines: bool = True,
-              triangles: bool = True, timeout: float = DEFAULT_TIMEOUT) -> list[Measurement]:
+              triangles: bool = True, timeout: float = DEFAULT_TIMEOUT, strokes: bool = False) -> list[Measurement]:
     """Measure Pillow, the oracle and each rasterizer on W1 and W2 (with ``triangles``),
     then (with ``paths``) Pillow, the winding oracle, the library path fills and each
     path-taking rasterizer on the path workloads, then (with ``lines``) Pillow, the three
     line oracles, the library line drawers and each line-taking rasterizer on the line
-    workloads, each contender in a process of its own, each call within ``timeout``
-    seconds; ``progress`` hears a line before and after each contender.
+    workloads, then (with ``strokes``; the command measures them unless ``--kinds`` leaves
+    them out) Pillow, the exact stroke-area oracle, the libraries' anti-aliased strokes and
+    each anti-aliasing (area coverage) line-taking rasterizer on the stroke workloads,
+    each contender in a process of its own, each call within ``timeout`` seconds;
+    ``progress`` hears a line before and after each contender.
 
     A contender that crashes, hangs, raises or answers garbage on a workload is that
     workload's row (:attr:`Measurement.fault`) and the others go on; a workload whose
@@ -480,7 +518,7 @@ def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float 
     names = names if names is not None else builtins()
     rasterizers: list[Any] = distinct_names([load(n) for n in names])  # a path or line scene only to those that take it
     chosen = ((workloads(scale) if triangles else []) + (path_workloads(scale) if paths else [])
-              + (line_workloads(scale) if lines else []))
+              + (line_workloads(scale) if lines else []) + (stroke_workloads(scale) if strokes else []))
     # each contender's calls, by workload: the key of a rasterizer is its place (a name of its
     # own may be any, "pillow" or "oracle" too)
     lineup: list[list[tuple[str, str, bool]]] = []  # per workload: (key, label, plugin)
@@ -488,7 +526,7 @@ def run_bench(names: list[str] | None = None, scale: float = 1.0, budget: float 
     for work in chosen:
         entries = [(label, label, False, fn) for label, fn in _fixed_contenders(work)]
         entries += [(f"rasterizer {k}", r.name, True, partial(r.rasterize, work.scene)) for k, r in enumerate(rasterizers)
-                    if takes(r, work.scene)]
+                    if _measured_on(r, work)]
         lineup.append([(key, label, plugin) for key, label, plugin, _ in entries])
         for key, _, _, fn in entries:
             calls.setdefault(key, {})[work.name] = (fn, work.scene)

@@ -11,11 +11,11 @@ from pathlib import Path
 
 from harness.cli.common import UsageError, _load_all
 
-_BENCH_KINDS = ("triangles", "paths", "lines")
+_BENCH_KINDS = ("triangles", "paths", "lines", "strokes")
 
 
 def _bench_kinds(text: str) -> tuple[str, ...]:
-    """``bench --kinds``: comma-separated workload kinds, each of triangles, paths, lines."""
+    """``bench --kinds``: comma-separated workload kinds, each of triangles, paths, lines, strokes."""
     kinds = tuple(dict.fromkeys(k.strip() for k in text.split(",") if k.strip()))
     unknown = [k for k in kinds if k not in _BENCH_KINDS]
     if unknown or not kinds:
@@ -61,7 +61,7 @@ def _bench(args: argparse.Namespace) -> int:
     started = time.perf_counter()
     kinds = args.kinds or _BENCH_KINDS
     results = run_bench(names, scale=args.scale, budget=args.budget, timeout=args.timeout, triangles="triangles" in kinds,
-                        paths="paths" in kinds, lines="lines" in kinds,
+                        paths="paths" in kinds, lines="lines" in kinds, strokes="strokes" in kinds,
                         progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}", file=sys.stderr,
                                                     flush=True))
     print(format_table(results, {w.name: w.description for w in workloads(args.scale)}))

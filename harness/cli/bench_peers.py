@@ -237,6 +237,61 @@ def _skia_lines(scene: LineScene) -> _Surface:
     return _Surface(lambda: np.asarray(surface.makeImageSnapshot().toarray()))
 
 
+def _pillow_strokes(scene: LineScene) -> Image.Image:
+    """Pillow's ``ImageDraw.line`` of each segment at the scene's width rounded to an
+    integer (aliased: Pillow has no anti-aliasing; the yardstick of the stroke workloads)."""
+    image = Image.new("L", (scene.width, scene.height), 0)
+    draw = ImageDraw.Draw(image)
+    a, b = scene.segments()
+    width = max(1, round(scene.line_width))
+    for segment in np.concatenate([a, b], axis=1).tolist():
+        draw.line(segment, fill=255, width=width)
+    return image
+
+
+def _cairo_strokes(scene: LineScene) -> _Surface:
+    """cairo's anti-aliased stroke (its default anti-aliasing, the scene's width, butt
+    caps) of each segment."""
+    import cairo
+
+    surface = cairo.ImageSurface(cairo.FORMAT_A8, scene.width, scene.height)
+    context = cairo.Context(surface)
+    context.set_line_width(scene.line_width)
+    context.set_line_cap(cairo.LINE_CAP_BUTT)
+    a, b = scene.segments()
+    for ax, ay, bx, by in np.concatenate([a, b], axis=1).tolist():
+        context.move_to(ax, ay)
+        context.line_to(bx, by)
+        context.stroke()
+
+    def read() -> NDArray[np.uint8]:
+        surface.flush()
+        stride = surface.get_stride()
+        return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(scene.height, stride)[:, :scene.width]
+
+    return _Surface(read)
+
+
+def _skia_strokes(scene: LineScene) -> _Surface:
+    """skia's anti-aliased stroke (``drawLine``, ``AntiAlias=True``, the scene's width,
+    butt caps) of each segment."""
+    import skia
+
+    surface = skia.Surface.MakeRaster(skia.ImageInfo.MakeA8(scene.width, scene.height))
+    canvas = surface.getCanvas()
+    paint = skia.Paint(AntiAlias=True, StrokeWidth=scene.line_width, Style=skia.Paint.kStroke_Style,
+                       StrokeCap=skia.Paint.kButt_Cap)
+    a, b = scene.segments()
+    for ax, ay, bx, by in np.concatenate([a, b], axis=1).tolist():
+        canvas.drawLine(ax, ay, bx, by, paint)
+    return _Surface(lambda: np.asarray(surface.makeImageSnapshot().toarray()))
+
+
+def _stroke_peers() -> list[tuple[str, Callable[[LineScene], object]]]:
+    """The anti-aliased library strokes that are installed here."""
+    return _installed(_STROKE_PEERS)
+
+
 def _line_peers() -> list[tuple[str, Callable[[LineScene], object]]]:
     """The aliased library line drawers that are installed here."""
     return _installed(_LINE_PEERS)
@@ -256,6 +311,7 @@ _PATH_PEERS = (("cairo_fill", "cairo", _cairo_paths), ("skia_fill", "skia", _ski
                # anti-aliased: the peers of the exact area oracle (oracle_area)
                ("cairo_aa_path", "cairo", partial(_cairo_paths, antialias=True)),
                ("skia_aa_path", "skia", partial(_skia_paths, antialias=True)))
+_STROKE_PEERS = (("cairo_aa_stroke", "cairo", _cairo_strokes), ("skia_aa_stroke", "skia", _skia_strokes))
 
 
 def missing_peers() -> dict[str, str]:
@@ -267,7 +323,7 @@ def missing_peers() -> dict[str, str]:
     dict of str to str
         ``{label: why}``, empty when every peer is installed.
     """
-    peers = (*_AA_PEERS, *_LINE_PEERS, *_PATH_PEERS)
+    peers = (*_AA_PEERS, *_LINE_PEERS, *_PATH_PEERS, *_STROKE_PEERS)
     return {label: why for label, module, _ in peers if (why := missing(module)) is not None}
 
 

@@ -1,8 +1,9 @@
 """The bench's workloads (:mod:`harness.cli.bench`), fixed seeds: triangles (W1, W2;
 :func:`workloads`), paths ({10/3} stars, a wiggly outline and glyph-like outlines, P1, P2
 and P3; :func:`path_workloads`)
-and lines (short and long segments, L1 and L2; :func:`line_workloads`), each a
-:class:`Workload` with its mean primitive size.
+lines (short and long segments, L1 and L2; :func:`line_workloads`) and anti-aliased
+strokes (S1 and S2; :func:`stroke_workloads`), each a :class:`Workload` with its mean
+primitive size.
 """
 
 from __future__ import annotations
@@ -17,7 +18,8 @@ from cases.scenes import random_triangles
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 
 __all__ = ["Workload", "workloads", "path_workloads", "line_workloads", "short_segments", "long_segments", "stars",
-           "wiggly_outline", "glyphs", "SIZE", "PATH_SIZE", "LINE_SIZE"]
+           "wiggly_outline", "glyphs", "stroke_workloads", "wide_segments", "SIZE", "PATH_SIZE", "LINE_SIZE",
+           "STROKE_SIZE"]
 
 if TYPE_CHECKING:
     pass
@@ -26,6 +28,7 @@ if TYPE_CHECKING:
 SIZE = 1024
 PATH_SIZE = 512
 LINE_SIZE = 1024
+STROKE_SIZE = 512
 
 
 @dataclass(frozen=True, slots=True)
@@ -37,6 +40,7 @@ class Workload:
     description: str
     scene: AnyScene
     mean_area: float
+    anti_aliased: bool = False  # a line workload of anti-aliased strokes (its own contenders)
 
 
 def workloads(scale: float = 1.0) -> list[Workload]:
@@ -188,4 +192,37 @@ def line_workloads(scale: float = 1.0) -> list[Workload]:
         length = float(np.hypot(*(b - a).T).mean())
         out.append(Workload(name, f"{n:,} {what}, mean length {length:,.1f} px, width 1, {LINE_SIZE} x {LINE_SIZE}", scene,
                             length))
+    return out
+
+
+def wide_segments(count: int, size: int, seed: int, line_width: float) -> LineScene:
+    """``count`` segments of lengths 4 to 64 px in random directions, each a strip of its
+    own, stroked ``line_width`` wide: every end point at least ``line_width`` from the
+    ``size`` x ``size`` screen's border (no peer clips).
+
+    >>> scene = wide_segments(3, 128, 0, 2.5)
+    >>> len(scene), scene.line_width
+    (3, 2.5)
+    """
+    rng = np.random.default_rng(seed)
+    angle = rng.uniform(0.0, 2.0 * np.pi, size=count)
+    length = rng.uniform(4.0, 64.0, size=count)
+    step = length[:, None] * np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    low, high = line_width - np.minimum(step, 0.0), size - line_width - np.maximum(step, 0.0)
+    start = low + rng.uniform(0.0, 1.0, size=(count, 2)) * (high - low)
+    return LineScene.from_segments(size, size, start, start + step, line_width=line_width)
+
+
+def stroke_workloads(scale: float = 1.0) -> list[Workload]:
+    """S1 and S2: 1,000 anti-aliased segments of widths 1.5 and 4 (butt caps), for the
+    exact stroke-area oracle against the libraries' anti-aliased strokes; ``scale`` < 1
+    shrinks the counts (for smoke tests)."""
+    out = []
+    n = max(1, int(1000 * scale))
+    for name, w, seed in (("S1", 1.5, 6), ("S2", 4.0, 7)):
+        scene = wide_segments(n, STROKE_SIZE, seed, w)
+        a, b = scene.segments()
+        length = float(np.hypot(*(b - a).T).mean())
+        out.append(Workload(name, f"{n:,} anti-aliased segments, mean length {length:,.1f} px, width {w:g}, butt caps, "
+                                  f"{STROKE_SIZE} x {STROKE_SIZE}", scene, length, anti_aliased=True))
     return out

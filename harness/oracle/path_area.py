@@ -32,7 +32,7 @@ The float method (:func:`path_pixel_areas`)
       at the piece's end;
     * by more, the two cross inside the piece: it is split at their float crossing
       height (or a float next to its end) and both halves are done alike. A piece that
-      cannot be split (or the 4 k + 64th split of a band of k edges) is left out: its area,
+      cannot be split (or the 4 k + 64th split of a sweep over k edges) is left out: its area,
       at most h, is added to the bound.
 
     After the walk the float crossings, linear between the piece's ends, are sorted at
@@ -46,6 +46,30 @@ The float method (:func:`path_pixel_areas`)
     band whose bound exceeds :data:`LOOSE_BOUND`, and every band of a path with a
     coordinate beyond ±:data:`harness.oracle.area.GUARD_LIMIT`, is computed by the exact
     reference instead (rounded to nearest: within u).
+
+Tiles (a band of more than :data:`TILE_EDGES` edges)
+    The sweep above costs its pieces times the edges spanning them: a band crossed by
+    many edges (a long outline of short edges crosses a row at hundreds of places, each
+    vertex height a piece) is cut into tiles of about ``2 W / k`` columns (W its columns, k
+    its edges), each swept alone over its columns ``[B, B')``. For a point (x, y) of the
+    tile, ``w(x, y) = w_left(y) + (the windings of the tile's edges crossing height y left
+    of x)``, where the tile's edges are those whose part in the band may reach into it
+    (their float x at the band's ends, widened by 2 eps, overlap it) and w_left(y) is the
+    winding added by the band's other edges lying wholly left of it (right of B' they add
+    nothing): exact, an integer sum of their directions (+1 where such an edge starts
+    inside the band, -1 where it ends, the ones spanning the band's top counted at once),
+    merged per height -- where a contour runs on wholly left of the tile its two edges'
+    changes cancel, so w_left changes only where a contour passes into the tile. The tile's
+    pieces are split at its edges' vertex heights and at w_left's changes; the walk starts
+    at w_left, a trapezoid open there has the tile's left side x = B, one still open at the
+    end its right side x = B' (integers: exact sides), and only the tile's columns are
+    written. Since the area formula sum_T clamp(R) - clamp(L) is linear in the sides, the
+    left sides of a tile's trapezoids need not be in order with its edges: the formula holds
+    for the rule set of the sorted float crossings with the winding w_left left of them.
+    Steps 1 to 3 below hold per tile as they stand (its n_S the tile's edges spanning S);
+    the band's bound is the largest of its tiles' piece sums plus step 4's term over the
+    whole band (its difference array and weight shared). A tile with no edge and a constant
+    w_left is filled or empty as a whole.
 
 The error bound (u = 2**-53, round to nearest)
     With n_S the edges spanning piece S, tau_S its trapezoids, Z = X + max(W, H) + 1,
@@ -109,6 +133,8 @@ _Edge = tuple[Fraction, Fraction, Fraction, Fraction]  # a -> b: ax, ay, bx, by
 # A band whose float bound exceeds this is computed exactly (far below 1/510, half an 8-bit
 # level: a check's verdict is then rarely left open).
 LOOSE_BOUND = 2.0**-24
+# A band of more edges than this is swept in tiles of columns (the module docstring, "Tiles").
+TILE_EDGES = 24
 
 
 # -- the exact rational reference -----------------------------------------------------------
@@ -322,29 +348,240 @@ def _g(x0, x1, i, h):  # type: ignore[no-untyped-def]
     return h * clamped_mean(x0 - i, x1 - i)
 
 
+@numba.njit(cache=True, inline="always")
+def _rule(winding, evenodd):  # type: ignore[no-untyped-def]
+    return (winding % 2 != 0) if evenodd else winding != 0
+
+
+@numba.njit(cache=True)
+def _emit(l0, l1, r0, r1, h, lo_col, hi_col, c0, base, out, diff, counts):  # type: ignore[no-untyped-def]
+    """Trapezoid (L, R) of height h into the tile's columns lo_col .. hi_col - 1: columns
+    wholly right of L and left of R get h through the difference array, every other column
+    its term directly. Returns the difference-array entries added (0 or 2)."""
+    lo = max(int(math.floor(min(l0, l1))), lo_col)
+    hi = min(int(math.ceil(max(r0, r1))), hi_col)
+    full0 = max(int(math.ceil(max(l0, l1))), lo)
+    full1 = min(int(math.floor(min(r0, r1))), hi)
+    added = 0
+    if full1 > full0:
+        diff[full0 - c0] += h
+        diff[full1 - c0] -= h
+        added = 2
+    else:
+        full0 = full1 = hi
+    for i in range(lo, full0):  # the columns the sides cross: their terms directly
+        fi = float(i)
+        out[base + i - c0] += _g(r0, r1, fi, h) - _g(l0, l1, fi, h)
+        counts[i - c0] += 1
+    for i in range(max(full1, lo), hi):
+        fi = float(i)
+        out[base + i - c0] += _g(r0, r1, fi, h) - _g(l0, l1, fi, h)
+        counts[i - c0] += 1
+    return added
+
+
+@numba.njit(cache=True, inline="always")
+def _tile_sweep(ax, ay, bx, by, down, by_top, j, lo_col, hi_col, c0, base, wl_y, wl_d, w0, evenodd,  # type: ignore[no-untyped-def]  # noqa: C901 - a numba kernel: one sweep per tile
+                eps, zterm, out, diff, counts, split_buf, stack0, stack1, xs0, xs1, keys, active, ident):
+    """One tile of a band: columns lo_col .. hi_col - 1 of row band j, from the edges
+    ``by_top`` (those whose part in the band may reach into the tile, sorted by their top)
+    and the winding number left of the tile, ``w0`` plus the changes ``wl_d`` at heights
+    ``wl_y`` (sorted, inside the band). Returns (bound, weight, entries): the pieces' part
+    of the error bound, the sum of h * trapezoids and the difference-array entries."""
+    k = by_top.size
+    splits = split_buf
+    splits[0] = j
+    splits[1] = j + 1.0
+    m = 2
+    for s in range(k):
+        e = by_top[s]
+        for y in (ay[e], by[e]):
+            if j < y < j + 1.0:
+                splits[m] = y
+                m += 1
+    for q in range(wl_y.size):
+        splits[m] = wl_y[q]
+        m += 1
+    if m > 32:
+        splits = np.sort(splits[:m])
+    else:  # a few heights (most tiles): an insertion sort, no allocation
+        for q in range(1, m):
+            y = splits[q]
+            t = q
+            while t > 0 and splits[t - 1] > y:
+                splits[t] = splits[t - 1]
+                t -= 1
+            splits[t] = y
+    # pieces to do, as a stack of (y0, y1): the sub-intervals between vertex heights and
+    # the heights where the winding left of the tile changes, split further where two
+    # float edges cross
+    limit = 4 * k + 64  # (the stack holds at most limit + m - 1 pieces)
+    top = 0
+    for q in range(m - 2, -1, -1):
+        if splits[q + 1] > splits[q]:
+            stack0[top] = splits[q]
+            stack1[top] = splits[q + 1]
+            top += 1
+    bound = 0.0
+    weight = 0.0  # sum over the pieces of h * (their trapezoids): bounds every partial sum
+    entries = 0  # difference-array entries
+    pieces = 0
+    joined = 0
+    n_active = 0
+    w_left = w0
+    next_change = 0
+    flo, fhi = float(lo_col), float(hi_col)
+    # the pieces come in order of y0 (the stack pops the lower half of a split first):
+    # an active edge list, edges joining by their top end, leaving below their bottom
+    while top > 0:
+        top -= 1
+        y0, y1 = stack0[top], stack1[top]
+        h = y1 - y0
+        while next_change < wl_y.size and wl_y[next_change] <= y0:
+            w_left += wl_d[next_change]
+            next_change += 1
+        while joined < k and ay[by_top[joined]] <= y0:
+            active[n_active] = by_top[joined]
+            n_active += 1
+            joined += 1
+        # the active list stays sorted from piece to piece: ended edges leave it in place,
+        # joined ones are appended, and an insertion sort by x at the middle, ties by x at
+        # y0, restores the order in a pass when few edges have crossed (every active edge
+        # spans the piece: no edge ends inside one, every vertex height being a split)
+        kept = 0
+        for q in range(n_active):
+            e = active[q]
+            if by[e] <= y0:
+                continue  # ended above this piece: and above every later one
+            active[kept] = e
+            kept += 1
+        n_active = kept
+        n = kept
+        for r in range(n):
+            e = active[r]
+            x0_ = _x_at(ax[e], ay[e], bx[e], by[e], y0)
+            x1_ = _x_at(ax[e], ay[e], bx[e], by[e], y1)
+            key = 0.5 * x0_ + 0.5 * x1_
+            t = r
+            while t > 0 and (keys[t - 1] > key or (keys[t - 1] == key and xs0[t - 1] > x0_)):
+                active[t] = active[t - 1]
+                keys[t] = keys[t - 1]
+                xs0[t] = xs0[t - 1]
+                xs1[t] = xs1[t - 1]
+                t -= 1
+            active[t] = e
+            keys[t] = key
+            xs0[t] = x0_
+            xs1[t] = x1_
+        ids = active
+        order = ident[:n]
+        # at each end, a neighbour left of its predecessor by at most 2 eps is moved
+        # onto it (float noise: it stays within 3 eps of the true crossing); by more,
+        # the two cross inside the piece: split it there
+        inverted = -1
+        for r in range(n - 1):
+            a_, b_ = order[r], order[r + 1]
+            if xs0[b_] < xs0[a_]:
+                if xs0[a_] - xs0[b_] <= 2.0 * eps:
+                    xs0[b_] = xs0[a_]
+                elif inverted < 0:
+                    inverted = r
+            if xs1[b_] < xs1[a_]:
+                if xs1[a_] - xs1[b_] <= 2.0 * eps:
+                    xs1[b_] = xs1[a_]
+                elif inverted < 0:
+                    inverted = r
+        if inverted >= 0:
+            pieces += 1
+            a_, b_ = order[inverted], order[inverted + 1]
+            # the gaps at the ends have opposite signs: they cross at t = g0 / (g0 - g1)
+            g0 = xs0[b_] - xs0[a_]
+            g1 = xs1[b_] - xs1[a_]
+            yc = y0 + (g0 / (g0 - g1)) * h
+            if yc <= y0:
+                yc = np.nextafter(y0, y1)
+            elif yc >= y1:
+                yc = np.nextafter(y1, y0)
+            if y0 < yc < y1 and pieces < limit and h > 2.0**-60:
+                stack0[top], stack1[top] = yc, y1
+                stack0[top + 1], stack1[top + 1] = y0, yc
+                top += 2
+            else:
+                bound += h  # left out: its area, at most h, is the error
+            continue
+        # the float crossings, linear between the piece's ends, are sorted throughout
+        # it: each gap's winding is constant (module docstring, steps 1 and 2); the
+        # winding starts at the tile's left side at w_left, a side of the tile closing a
+        # trapezoid open there (exact: an integer x)
+        winding = w_left
+        filled = _rule(winding, evenodd)
+        l0 = l1 = flo
+        trapezoids = 0
+        r = 0
+        while r < n:
+            t = order[r]
+            # a run of coincident crossings is one, their windings summed
+            winding += down[ids[t]]
+            r += 1
+            while r < n and xs0[order[r]] == xs0[t] and xs1[order[r]] == xs1[t]:
+                winding += down[ids[order[r]]]
+                r += 1
+            now = _rule(winding, evenodd)
+            if now and not filled:
+                l0, l1 = xs0[t], xs1[t]
+            elif filled and not now:
+                trapezoids += 1
+                entries += _emit(l0, l1, xs0[t], xs1[t], h, lo_col, hi_col, c0, base, out, diff, counts)
+            filled = now
+        if filled:
+            trapezoids += 1
+            entries += _emit(l0, l1, fhi, fhi, h, lo_col, hi_col, c0, base, out, diff, counts)
+        bound += h * (3.0 * n * eps + trapezoids * zterm)
+        weight += h * trapezoids
+    return bound, weight, entries
+
+
+
+
 @numba.njit(cache=True)
 def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group_c0, group_n, group_off,  # type: ignore[no-untyped-def]  # noqa: C901 - a numba kernel: one sweep per band
                   group_path, evenodd, x_of_path, z_of_path, out, out_bound):
     """Per (path, band) group: the band's alphas into ``out[group_off[g]:][:group_n[g]]``
     (columns group_c0[g] ..) and its error bound (module docstring). Edge e runs from
-    (ax, ay) to (bx, by) with ay < by, ``down[e]`` its winding (+1 down the screen, -1 up)."""
+    (ax, ay) to (bx, by) with ay < by, ``down[e]`` its winding (+1 down the screen, -1 up).
+
+    A band of more than TILE_EDGES edges is cut into tiles of a few columns, each swept
+    alone (module docstring, "Tiles"): its edges are those whose part in the band may reach
+    into it, and the edges wholly left of it enter as the winding number they add left of
+    it, which changes only at their vertex heights inside the band."""
     u = 2.0**-53
     # work space for the largest band, allocated once
     kmax, nmax = 1, 1
     for g in range(group_j.size):
         kmax = max(kmax, group_start[g + 1] - group_start[g])
         nmax = max(nmax, group_n[g])
-    split_buf = np.empty(2 * kmax + 2)
-    stack0 = np.empty(6 * kmax + 66)
-    stack1 = np.empty(6 * kmax + 66)
+    split_buf = np.empty(4 * kmax + 2)
+    stack0 = np.empty(8 * kmax + 66)
+    stack1 = np.empty(8 * kmax + 66)
     diff = np.empty(nmax + 1)
     counts = np.empty(nmax, dtype=np.int64)  # direct terms per column
     xs0 = np.empty(kmax)
     xs1 = np.empty(kmax)
-    ids = np.empty(kmax, dtype=np.int64)
     keys = np.empty(kmax)
     active = np.empty(kmax, dtype=np.int64)
-    order_buf = np.empty(32, dtype=np.int64)
+    ident = np.arange(kmax)
+    top_buf = np.empty(kmax, dtype=np.int64)
+    first_tile = np.empty(kmax, dtype=np.int64)
+    last_tile = np.empty(kmax, dtype=np.int64)
+    left_from = np.empty(kmax, dtype=np.int64)
+    tile_start = np.empty(2 * kmax + 4, dtype=np.int64)  # tiles <= k + 1
+    tile_edges = np.empty(0, dtype=np.int64)
+    left_start = np.empty(2 * kmax + 4, dtype=np.int64)
+    left_edges = np.empty(kmax, dtype=np.int64)
+    ev_y = np.empty(2 * kmax)
+    ev_d = np.empty(2 * kmax, dtype=np.int64)
+    no_y = np.empty(0)
+    no_d = np.empty(0, dtype=np.int64)
     for g in range(group_j.size):
         s0, s1 = group_start[g], group_start[g + 1]
         k = s1 - s0
@@ -354,151 +591,118 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
         base = group_off[g]
         eps = 12.0 * u * x_of_path[group_path[g]]  # an edge's float x at a height: within 11.01 u X
         zterm = u * (2.0 * z_of_path[group_path[g]] + 13.0)
-        splits = split_buf
-        splits[0] = j
-        splits[1] = j + 1.0
-        m = 2
-        for s in range(s0, s1):
-            e = group_edges[s]
-            for y in (ay[e], by[e]):
-                if j < y < j + 1.0:
-                    splits[m] = y
-                    m += 1
-        splits = np.sort(splits[:m])
-        # pieces to do, as a stack of (y0, y1): the sub-intervals between vertex heights,
-        # split further where two float edges cross
-        limit = 4 * k + 64  # (the stack holds at most limit + m - 1 pieces: m <= 2 k + 2)
-        top = 0
-        for q in range(m - 2, -1, -1):
-            if splits[q + 1] > splits[q]:
-                stack0[top] = splits[q]
-                stack1[top] = splits[q + 1]
-                top += 1
+        band = group_edges[s0:s1]
+        if k <= 32:  # a few edges (most bands): an insertion sort by their tops, no allocation
+            by_top = top_buf[:k]
+            for q in range(k):
+                e = band[q]
+                t = q
+                while t > 0 and ay[by_top[t - 1]] > ay[e]:
+                    by_top[t] = by_top[t - 1]
+                    t -= 1
+                by_top[t] = e
+        else:
+            by_top = band[np.argsort(ay[band])]
         diff[:ncol + 1] = 0.0
         counts[:ncol] = 0
         bound = 0.0
-        weight = 0.0  # sum over the pieces of h * (their trapezoids): bounds every partial sum
-        entries = 0  # difference-array entries
-        pieces = 0
-        # the pieces come in order of y0 (the stack pops the lower half of a split first):
-        # an active edge list, edges joining by their top end, leaving below their bottom
-        band = group_edges[s0:s1]
-        by_top = band[np.argsort(ay[band])]
-        joined = 0
-        n_active = 0
-        while top > 0:
-            top -= 1
-            y0, y1 = stack0[top], stack1[top]
-            h = y1 - y0
-            while joined < k and ay[by_top[joined]] <= y0:
-                active[n_active] = by_top[joined]
-                n_active += 1
-                joined += 1
-            n = 0
-            kept = 0
-            for q in range(n_active):
-                e = active[q]
-                if by[e] <= y0:
-                    continue  # ended above this piece: and above every later one
-                active[kept] = e
-                kept += 1
-                if by[e] >= y1:  # spans it (no edge ends inside a piece)
-                    ids[n] = e
-                    xs0[n] = _x_at(ax[e], ay[e], bx[e], by[e], y0)
-                    xs1[n] = _x_at(ax[e], ay[e], bx[e], by[e], y1)
-                    n += 1
-            n_active = kept
-            if n == 0:
-                continue
-            # sorted by x at the middle, ties by x at y0 (two stable passes)
-            for r in range(n):
-                keys[r] = 0.5 * xs0[r] + 0.5 * xs1[r]
-            if n <= 32:  # a few edges (most pieces): an insertion sort, no allocation
-                order = order_buf[:n]
-                for r in range(n):
-                    t = r
-                    while t > 0 and (keys[order[t - 1]] > keys[r]
-                                     or (keys[order[t - 1]] == keys[r] and xs0[order[t - 1]] > xs0[r])):
-                        order[t] = order[t - 1]
-                        t -= 1
-                    order[t] = r
-            else:
-                first_pass = np.argsort(xs0[:n], kind="mergesort")
-                order = first_pass[np.argsort(keys[:n][first_pass], kind="mergesort")]
-            # at each end, a neighbour left of its predecessor by at most 2 eps is moved
-            # onto it (float noise: it stays within 3 eps of the true crossing); by more,
-            # the two cross inside the piece: split it there
-            inverted = -1
-            for r in range(n - 1):
-                a_, b_ = order[r], order[r + 1]
-                if xs0[b_] < xs0[a_]:
-                    if xs0[a_] - xs0[b_] <= 2.0 * eps:
-                        xs0[b_] = xs0[a_]
-                    elif inverted < 0:
-                        inverted = r
-                if xs1[b_] < xs1[a_]:
-                    if xs1[a_] - xs1[b_] <= 2.0 * eps:
-                        xs1[b_] = xs1[a_]
-                    elif inverted < 0:
-                        inverted = r
-            if inverted >= 0:
-                pieces += 1
-                a_, b_ = order[inverted], order[inverted + 1]
-                # the gaps at the ends have opposite signs: they cross at t = g0 / (g0 - g1)
-                g0 = xs0[b_] - xs0[a_]
-                g1 = xs1[b_] - xs1[a_]
-                yc = y0 + (g0 / (g0 - g1)) * h
-                if yc <= y0:
-                    yc = np.nextafter(y0, y1)
-                elif yc >= y1:
-                    yc = np.nextafter(y1, y0)
-                if y0 < yc < y1 and pieces < limit and h > 2.0**-60:
-                    stack0[top], stack1[top] = yc, y1
-                    stack0[top + 1], stack1[top + 1] = y0, yc
-                    top += 2
-                else:
-                    bound += h  # left out: its area, at most h, is the error
-                continue
-            # the float crossings, linear between the piece's ends, are sorted throughout
-            # it: each gap's winding is constant (module docstring, steps 1 and 2)
-            winding = 0
-            left = -1
-            trapezoids = 0
-            r = 0
-            while r < n:
-                t = order[r]
-                before = (winding % 2 != 0) if evenodd else winding != 0
-                # a run of coincident crossings is one, their windings summed
-                winding += down[ids[t]]
-                r += 1
-                while r < n and xs0[order[r]] == xs0[t] and xs1[order[r]] == xs1[t]:
-                    winding += down[ids[order[r]]]
-                    r += 1
-                after = (winding % 2 != 0) if evenodd else winding != 0
-                if after and not before:
-                    left = t
-                elif before and not after:
-                    trapezoids += 1
-                    l0, l1, r0, r1 = xs0[left], xs1[left], xs0[t], xs1[t]
-                    lo = max(int(math.floor(min(l0, l1))), c0)
-                    hi = min(int(math.ceil(max(r0, r1))), c0 + ncol)
-                    # columns wholly right of L and left of R: h each
-                    full0 = max(int(math.ceil(max(l0, l1))), lo)
-                    full1 = min(int(math.floor(min(r0, r1))), hi)
-                    if full1 > full0:
-                        diff[full0 - c0] += h
-                        diff[full1 - c0] -= h
-                        entries += 2
-                    else:
-                        full0 = full1 = hi
-                    for i in range(lo, hi):
-                        if full0 <= i < full1:
+        weight = 0.0
+        entries = 0
+        if k <= TILE_EDGES or ncol <= 2:
+            bound, weight, entries = _tile_sweep(ax, ay, bx, by, down, by_top, j, c0, c0 + ncol, c0, base, no_y, no_d, 0,
+                                                 evenodd, eps, zterm, out, diff, counts, split_buf, stack0, stack1, xs0,
+                                                 xs1, keys, active, ident)
+        else:
+            width = max(1, (2 * ncol) // k)  # about one edge per tile for edges spread evenly
+            tiles = (ncol + width - 1) // width
+            # each edge's tiles: its part in the band spans x in [lo, hi] (its float x at
+            # the band's ends, within 11.01 u X of the true; widened by 2 eps), and the
+            # quotients by 1e-12 (|q| + 1): tiles first..last may hold it, tiles after last
+            # have it wholly left of them (B_k >= hi)
+            tile_start[:tiles + 2] = 0
+            left_start[:tiles + 2] = 0
+            for q in range(k):
+                e = by_top[q]
+                yt = max(ay[e], j)
+                yb = min(by[e], j + 1.0)
+                xt = _x_at(ax[e], ay[e], bx[e], by[e], yt)
+                xb = _x_at(ax[e], ay[e], bx[e], by[e], yb)
+                lo = (min(xt, xb) - 2.0 * eps - c0) / width
+                hi = (max(xt, xb) + 2.0 * eps - c0) / width
+                # (the quotients' two roundings err by far less than 1e-12 (|q| + 1))
+                first_tile[q] = max(int(math.floor(max(min(lo - 1e-12 * (abs(lo) + 1.0), tiles + 1.0), -1.0))), 0)
+                # in tile t only if B_t < the edge's right end: t < hi; wholly left of tile t
+                # if B_t >= it: t >= ceil(hi)
+                la = int(math.ceil(max(min(hi + 1e-12 * (abs(hi) + 1.0), tiles + 1.0), -1.0)))
+                last_tile[q] = min(la - 1, tiles - 1)
+                left_from[q] = max(la, 0)
+                for t in range(first_tile[q], last_tile[q] + 1):
+                    tile_start[t + 1] += 1
+                if left_from[q] < tiles:
+                    left_start[left_from[q] + 1] += 1
+            for t in range(tiles):
+                tile_start[t + 1] += tile_start[t]
+                left_start[t + 1] += left_start[t]
+            if tile_edges.size < tile_start[tiles]:
+                tile_edges = np.empty(2 * tile_start[tiles], dtype=np.int64)
+            fill = tile_start[:tiles].copy()
+            lfill = left_start[:tiles].copy()
+            for q in range(k):  # in order of their tops: each tile's list is sorted too
+                e = by_top[q]
+                for t in range(first_tile[q], last_tile[q] + 1):
+                    tile_edges[fill[t]] = e
+                    fill[t] += 1
+                if left_from[q] < tiles:
+                    left_edges[lfill[left_from[q]]] = e
+                    lfill[left_from[q]] += 1
+            # the winding left of tile t: w0 at the band's top plus the changes at the
+            # heights inside the band (+down where a left edge starts, -down where one
+            # ends), kept sorted and merged: a contour running on wholly left of the tile
+            # changes nothing (its two edges' changes cancel at their common vertex)
+            w0 = 0
+            n_ev = 0
+            for t in range(tiles):
+                for s in range(left_start[t], left_start[t + 1]):
+                    e = left_edges[s]
+                    if ay[e] <= j:
+                        w0 += down[e]
+                    for y, d in ((ay[e], down[e]), (by[e], -down[e])):
+                        if not j < y < j + 1.0:
                             continue
-                        fi = float(i)
-                        out[base + i - c0] += _g(r0, r1, fi, h) - _g(l0, l1, fi, h)
-                        counts[i - c0] += 1
-            bound += h * (3.0 * n * eps + trapezoids * zterm)
-            weight += h * trapezoids
+                        p = n_ev
+                        while p > 0 and ev_y[p - 1] > y:
+                            p -= 1
+                        if p > 0 and ev_y[p - 1] == y:
+                            ev_d[p - 1] += d
+                            if ev_d[p - 1] == 0:  # cancelled: removed
+                                for r in range(p - 1, n_ev - 1):
+                                    ev_y[r] = ev_y[r + 1]
+                                    ev_d[r] = ev_d[r + 1]
+                                n_ev -= 1
+                        else:
+                            for r in range(n_ev, p, -1):
+                                ev_y[r] = ev_y[r - 1]
+                                ev_d[r] = ev_d[r - 1]
+                            ev_y[p] = y
+                            ev_d[p] = d
+                            n_ev += 1
+                lo_col = c0 + t * width
+                hi_col = min(lo_col + width, c0 + ncol)
+                if tile_start[t + 1] == tile_start[t] and n_ev == 0:
+                    # no edge and a constant winding: the tile's columns are all filled or all empty
+                    if _rule(w0, evenodd):
+                        diff[lo_col - c0] += 1.0
+                        diff[hi_col - c0] -= 1.0
+                        entries += 2
+                        weight += 1.0
+                        bound = max(bound, zterm)
+                    continue
+                tb, tw, te = _tile_sweep(ax, ay, bx, by, down, tile_edges[tile_start[t]:tile_start[t + 1]], j, lo_col,
+                                         hi_col, c0, base, ev_y[:n_ev], ev_d[:n_ev], w0, evenodd, eps, zterm, out, diff,
+                                         counts, split_buf, stack0, stack1, xs0, xs1, keys, active, ident)
+                bound = max(bound, tb)
+                weight += tw
+                entries += te
         running = 0.0
         for c in range(ncol):
             running += diff[c]
@@ -509,6 +713,131 @@ def _bands_kernel(ax, ay, bx, by, down, group_start, group_edges, group_j, group
             most = max(most, counts[c])
         terms = float(most + entries + 2)
         out_bound[g] = bound * (1.0 + 2.0**-40) + 1.02 * u * terms * (2.0 * weight + 1.0)
+
+
+@numba.njit(cache=True)
+def _edge_setup(vx, vy, sizes, contour_path, n_paths, guard):  # type: ignore[no-untyped-def]
+    """Every edge (vertex v to the next of its contour) top end first: (ax, ay, bx, by),
+    its direction ``down`` (+1 where it runs down the screen, else -1, the ends swapped),
+    its path ``owner`` and ``use`` (its path finite and the edge not horizontal); per path
+    ``near`` (no coordinate beyond ``guard``) and its largest |x| (at least 1) over the
+    vertices within it."""
+    n = vx.size
+    owner = np.empty(n, dtype=np.int64)
+    v = 0
+    for c in range(sizes.size):
+        for _ in range(sizes[c]):
+            owner[v] = contour_path[c]
+            v += 1
+    finite = np.ones(n_paths, dtype=np.bool_)
+    near = np.ones(n_paths, dtype=np.bool_)
+    path_x = np.ones(n_paths)
+    for v in range(n):
+        p = owner[v]
+        fx, fy = np.isfinite(vx[v]), np.isfinite(vy[v])
+        if not (fx and fy):
+            finite[p] = False
+        sx = abs(vx[v]) if fx else 0.0  # a coordinate that is not finite counts as 0 here
+        sy = abs(vy[v]) if fy else 0.0
+        if sx <= guard and sy <= guard:
+            if fx:
+                path_x[p] = max(path_x[p], sx)
+        else:
+            near[p] = False
+    ax = np.empty(n)
+    ay = np.empty(n)
+    bx = np.empty(n)
+    by = np.empty(n)
+    down = np.empty(n, dtype=np.int64)
+    use = np.empty(n, dtype=np.bool_)
+    start = 0
+    for c in range(sizes.size):
+        for v in range(start, start + sizes[c]):
+            w = v + 1 if v + 1 < start + sizes[c] else start
+            if vy[w] > vy[v]:
+                down[v] = 1
+                ax[v], ay[v], bx[v], by[v] = vx[v], vy[v], vx[w], vy[w]
+            else:
+                down[v] = -1
+                ax[v], ay[v], bx[v], by[v] = vx[w], vy[w], vx[v], vy[v]
+            use[v] = finite[owner[v]] and ay[v] != by[v]
+        start += sizes[c]
+    return ax, ay, bx, by, down, owner, use, near, path_x
+
+
+@numba.njit(cache=True)
+def _band_groups(ax, ay, bx, by, use, owner, n_paths, width, height):  # type: ignore[no-untyped-def]
+    """The (path, row band) groups: every used edge (a -> b, ay < by) once per row band it
+    crosses, sorted by path, then row, then edge (two stable counting sorts), and per group
+    its first entry, row, path and columns [c0, c1) (the edges' x range, clipped to the
+    viewport; np.floor, not math.floor, whose integer overflows on a far coordinate).
+    Returns (edges, group_start (G + 1), group_j, group_path, c0, c1)."""
+    n = ax.size
+    first = np.zeros(n, dtype=np.int64)
+    count = np.zeros(n, dtype=np.int64)
+    total = 0
+    for e in range(n):
+        if use[e]:
+            f = int(min(max(np.floor(ay[e]), 0.0), float(height)))
+            last = int(min(max(np.ceil(by[e]), 0.0), float(height))) - 1
+            first[e] = f
+            count[e] = max(last - f + 1, 0)
+            total += count[e]
+    # by row (stable: edges in order), then by path (stable): by path, row, edge
+    per_row = np.zeros(height + 1, dtype=np.int64)
+    for e in range(n):
+        for j in range(first[e], first[e] + count[e]):
+            per_row[j + 1] += 1
+    for j in range(height):
+        per_row[j + 1] += per_row[j]
+    row_edge = np.empty(total, dtype=np.int64)
+    row_j = np.empty(total, dtype=np.int64)
+    for e in range(n):
+        for j in range(first[e], first[e] + count[e]):
+            row_edge[per_row[j]] = e
+            row_j[per_row[j]] = j
+            per_row[j] += 1
+    per_path = np.zeros(n_paths + 1, dtype=np.int64)
+    for q in range(total):
+        per_path[owner[row_edge[q]] + 1] += 1
+    for p in range(n_paths):
+        per_path[p + 1] += per_path[p]
+    edges = np.empty(total, dtype=np.int64)
+    rows = np.empty(total, dtype=np.int64)
+    for q in range(total):
+        p = owner[row_edge[q]]
+        edges[per_path[p]] = row_edge[q]
+        rows[per_path[p]] = row_j[q]
+        per_path[p] += 1
+    groups = 0
+    for q in range(total):
+        if q == 0 or rows[q] != rows[q - 1] or owner[edges[q]] != owner[edges[q - 1]]:
+            groups += 1
+    group_start = np.empty(groups + 1, dtype=np.int64)
+    group_j = np.empty(groups, dtype=np.int64)
+    group_path = np.empty(groups, dtype=np.int64)
+    c0 = np.empty(groups, dtype=np.int64)
+    c1 = np.empty(groups, dtype=np.int64)
+    g = -1
+    lo = hi = 0.0
+    for q in range(total):
+        e = edges[q]
+        if q == 0 or rows[q] != rows[q - 1] or owner[e] != owner[edges[q - 1]]:
+            if g >= 0:
+                c0[g] = int(min(max(np.floor(lo), 0.0), float(width)))
+                c1[g] = int(min(max(np.ceil(hi), 0.0), float(width)))
+            g += 1
+            group_start[g] = q
+            group_j[g] = rows[q]
+            group_path[g] = owner[e]
+            lo, hi = min(ax[e], bx[e]), max(ax[e], bx[e])
+        else:
+            lo, hi = min(lo, ax[e], bx[e]), max(hi, ax[e], bx[e])
+    if g >= 0:
+        c0[g] = int(min(max(np.floor(lo), 0.0), float(width)))
+        c1[g] = int(min(max(np.ceil(hi), 0.0), float(width)))
+    group_start[groups] = total
+    return edges, group_start, group_j, group_path, c0, c1
 
 
 # (path, x, y, area, bound) of path_pixel_areas
@@ -527,62 +856,31 @@ def _area_groups(scene: PathScene, vertices: NDArray[np.float64], exact_everywhe
     width, height = scene.width, scene.height
     _viewport(width, height)
     n_paths = len(scene)
-    finite = _finite_paths(scene, vertices)
-    following = np.arange(1, vertices.shape[0] + 1)
-    ends = np.cumsum(scene.contour_sizes)
-    following[ends - 1] = ends - scene.contour_sizes
-    a, b = vertices, vertices[following]
-    # every edge top end first (coincident edges then compute alike), its direction apart
-    down = np.where(b[:, 1] > a[:, 1], 1, -1).astype(np.int64)
-    a, b = np.where((down > 0)[:, None], a, b), np.where((down > 0)[:, None], b, a)
-    owner = np.repeat(scene.contour_path, scene.contour_sizes)
-    safe_vertex = np.all(np.abs(np.where(np.isfinite(vertices), vertices, 0.0)) <= GUARD_LIMIT, axis=1)
-    near = np.ones(n_paths, dtype=bool)
-    near[np.unique(owner[~safe_vertex])] = False
-    use = finite[owner] & (a[:, 1] != b[:, 1])
-    edges = np.flatnonzero(use)
-    lo_y, hi_y = np.minimum(a[edges, 1], b[edges, 1]), np.maximum(a[edges, 1], b[edges, 1])
-    first = np.maximum(np.floor(lo_y), 0).astype(np.int64)
-    last = np.minimum(np.ceil(hi_y), height).astype(np.int64) - 1
-    counts = np.maximum(last - first + 1, 0)
-    rep_edge = np.repeat(edges, counts)
-    starts = np.repeat(first - np.cumsum(counts) + counts, counts)
-    rep_j = starts + np.arange(rep_edge.size)
-    rep_path = owner[rep_edge]
-    order = np.lexsort((rep_edge, rep_j, rep_path))
-    rep_edge, rep_j, rep_path = rep_edge[order], rep_j[order], rep_path[order]
-    new = np.ones(rep_edge.size, dtype=bool)
-    new[1:] = (rep_j[1:] != rep_j[:-1]) | (rep_path[1:] != rep_path[:-1])
-    group_start = np.append(np.flatnonzero(new), rep_edge.size).astype(np.int64)
+    ax, ay, bx, by, down, owner, use, near, path_x = _edge_setup(
+        np.ascontiguousarray(vertices[:, 0]), np.ascontiguousarray(vertices[:, 1]),
+        np.ascontiguousarray(scene.contour_sizes, dtype=np.int64), np.ascontiguousarray(scene.contour_path, dtype=np.int64),
+        n_paths, GUARD_LIMIT)
+    rep_edge, group_start, group_j, group_path, c0, c1 = _band_groups(ax, ay, bx, by, use, owner, n_paths, width, height)
     heads = group_start[:-1]
-    group_j, group_path = rep_j[heads], rep_path[heads]
-    xmin_e = np.minimum(a[rep_edge, 0], b[rep_edge, 0])
-    xmax_e = np.maximum(a[rep_edge, 0], b[rep_edge, 0])
-    if heads.size:
-        c0 = np.clip(np.floor(np.minimum.reduceat(xmin_e, heads)), 0, width).astype(np.int64)
-        c1 = np.clip(np.ceil(np.maximum.reduceat(xmax_e, heads)), 0, width).astype(np.int64)
-    else:
-        c0 = c1 = np.zeros(0, dtype=np.int64)
     group_n = np.maximum(c1 - c0, 0)
     offsets = np.concatenate([[0], np.cumsum(group_n)]).astype(np.int64)
     out = np.zeros(int(offsets[-1]))
     ok = np.zeros(heads.size, dtype=bool)
     bound = np.zeros(heads.size)
-    path_x = np.ones(n_paths)
-    finite_x = np.isfinite(vertices[:, 0])
-    np.maximum.at(path_x, owner, np.where(safe_vertex & finite_x, np.abs(np.where(finite_x, vertices[:, 0], 0.0)), 0.0))
     z = path_x + max(width, height) + 1.0
     fast = near[group_path] & (not exact_everywhere)
     idx = np.flatnonzero(fast)
     if idx.size:
         # the kernel sees the fast groups only (their edges all near)
-        sub_start = np.concatenate([[0], np.cumsum(np.diff(group_start)[idx])]).astype(np.int64)
-        sizes = np.diff(group_start)[idx]
-        sub_edges = rep_edge[np.repeat(group_start[idx] - sub_start[:-1], sizes) + np.arange(int(sizes.sum()))]
+        if idx.size == heads.size:  # every group (the usual case): as they are
+            sub_start, sub_edges = group_start, rep_edge
+        else:
+            sub_start = np.concatenate([[0], np.cumsum(np.diff(group_start)[idx])]).astype(np.int64)
+            sizes = np.diff(group_start)[idx]
+            sub_edges = rep_edge[np.repeat(group_start[idx] - sub_start[:-1], sizes) + np.arange(int(sizes.sum()))]
         sub_off = offsets[idx]
         sub_bound = np.zeros(idx.size)
-        _bands_kernel(np.ascontiguousarray(a[:, 0]), np.ascontiguousarray(a[:, 1]), np.ascontiguousarray(b[:, 0]),
-                      np.ascontiguousarray(b[:, 1]), down, sub_start, sub_edges.astype(np.int64),
+        _bands_kernel(ax, ay, bx, by, down, sub_start, sub_edges.astype(np.int64),
                       group_j[idx].astype(np.int64), c0[idx], group_n[idx], sub_off, group_path[idx].astype(np.int64),
                       scene.fill_rule == "evenodd", path_x, z, out, sub_bound)
         # a band whose bound is loose (a piece left out where float edges could not be
@@ -669,8 +967,10 @@ def path_area_coverage(scene: PathScene, convention: Convention) -> Coverage:
         raise ValueError("path_area_coverage is the analytic area; a supersampled convention's oracle is "
                          "harness.oracle.winding.path_coverage (the share of its samples covered)")
     path, y, x0, x1, alpha, _ = _coverage_parts(scene, convention)
-    order = np.lexsort((x0, y, path))
-    if order.size and np.any(order != np.arange(order.size)):
+    ordered = bool(np.all((path[1:] > path[:-1]) | ((path[1:] == path[:-1]) & (
+        (y[1:] > y[:-1]) | ((y[1:] == y[:-1]) & (x0[1:] >= x0[:-1]))))))
+    if not ordered:  # (the groups come by path and row: sorted already)
+        order = np.lexsort((x0, y, path))
         lengths = x1 - x0
         starts = np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
         alpha = np.concatenate([alpha[starts[s]:starts[s + 1]] for s in order])

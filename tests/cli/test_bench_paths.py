@@ -1,16 +1,27 @@
 """The bench's path workloads at a tiny size: their structure, the oracle's answer on the
 stars (pinned: checked once against the rational brute force, path_spans_rational, star
-by star), and the library peers drawing the same fill rule. No timing assertion."""
+by star), and the library peers drawing the same fill rule; and its anti-aliased stroke
+workloads. No timing assertion."""
 
 import json
 
 import numpy as np
 import pytest
 
-from harness.cli.bench import _contenders, format_table, missing_peers, path_workloads, run_bench, stars, write_json
-from harness.cli.bench_peers import _path_peers, _Surface
+from harness.cli.bench import (
+    STROKE_ORACLE,
+    _contenders,
+    format_table,
+    missing_peers,
+    path_workloads,
+    run_bench,
+    stars,
+    stroke_workloads,
+    write_json,
+)
+from harness.cli.bench_peers import _path_peers, _stroke_peers, _Surface
 from harness.contract.conventions import Convention
-from harness.contract.scenes import PathScene
+from harness.contract.scenes import LineScene, PathScene
 from harness.oracle.coverage import exact_coverage
 from tests.narrow import paths
 
@@ -110,3 +121,69 @@ def test_the_library_peers_fill_under_the_rule_asked(peer, rule):
     union = exact_coverage(scene, Convention()).counts(512, 512) > 0
     other = exact_coverage(scene.with_fill_rule("evenodd" if rule == "nonzero" else "nonzero"), Convention()).counts(512, 512) > 0
     assert (drawn != union).sum() < 0.15 * (other != union).sum()
+
+
+# -- the anti-aliased stroke workloads (S1, S2) --------------------------------------------
+
+
+def test_the_stroke_workloads_are_wide_segments_inside_the_screen():
+    works = stroke_workloads(SCALE)
+    assert [w.name for w in works] == ["S1", "S2"] and all(w.anti_aliased for w in works)
+    for w, width in zip(works, (1.5, 4.0)):
+        scene = w.scene
+        assert isinstance(scene, LineScene) and scene.line_width == width and len(scene) == 10
+        a, b = scene.segments()
+        ends = np.concatenate([a, b])
+        assert ends.min() >= width and ends.max() <= 512 - width
+        assert (np.hypot(*(b - a).T) >= 4).all() and f"width {width:g}, butt caps" in w.description
+    assert len(stroke_workloads(1.0)[0].scene) == 1000
+
+
+def test_run_bench_measures_the_strokes_against_the_stroke_area_oracle():
+    results = run_bench([], scale=SCALE, budget=0.0, paths=False, lines=False, triangles=False, strokes=True)
+    peers = [label for label, _ in _stroke_peers()]
+    by_work: dict[str, list] = {}
+    for m in results:
+        by_work.setdefault(m.workload, []).append(m)
+    assert list(by_work) == ["S1", "S2"]
+    for ms in by_work.values():
+        assert [m.contender for m in ms] == ["pillow", "oracle_area", *peers]
+        assert all(m.unit == "segments" and m.seconds > 0 and m.pixels > 0 and not m.fault for m in ms)
+    assert run_bench([], scale=SCALE, budget=0.0, paths=False, lines=False, triangles=False) == []  # off by default
+
+
+@pytest.mark.parametrize("peer", ["cairo_aa_stroke", "skia_aa_stroke"])
+def test_the_stroke_peers_draw_about_the_oracles_area(peer):
+    """cairo's and skia's anti-aliased strokes of the 10 segments: their alphas sum to the
+    strokes' exact area within a few percent (their own AA models; overlaps saturate)."""
+    draws = dict(_stroke_peers())
+    if peer not in draws:
+        pytest.skip(f"{peer}: {missing_peers().get(peer, 'its library is not installed')}")
+    for work in stroke_workloads(SCALE):
+        assert isinstance(work.scene, LineScene)
+        surface = draws[peer](work.scene)
+        assert isinstance(surface, _Surface)
+        drawn = float(surface.read().astype(np.float64).sum() / 255)
+        oracle = exact_coverage(work.scene, STROKE_ORACLE)
+        assert oracle.alpha is not None
+        total = float(oracle.alpha.sum())
+        assert abs(drawn - total) < 0.05 * total, (work.name, drawn, total)
+
+
+class AliasedLines:
+    name = "aliased-lines"
+    convention = Convention(line="bresenham")
+    scene_kinds = ("lines",)
+
+    def rasterize(self, scene):
+        return exact_coverage(scene, self.convention)
+
+
+class AntiAliasedLines(AliasedLines):
+    name = "aa-lines"
+    convention = STROKE_ORACLE
+
+
+def test_only_anti_aliasing_line_rasterizers_are_measured_on_the_strokes():
+    labels = [label for label, _ in _contenders(stroke_workloads(SCALE)[0], [AliasedLines(), AntiAliasedLines()])]
+    assert "aa-lines" in labels and "aliased-lines" not in labels

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
+from numpy.typing import NDArray
 
 from harness.contract.conventions import Convention
 from harness.contract.scenes import PathScene
@@ -173,3 +174,52 @@ def test_the_glyph_and_hairline_cases_within_the_bound() -> None:
     for case in cases:
         assert isinstance(case.scene, PathScene)
         _float_vs_exact(case.scene)
+
+
+# -- bands of many edges: swept in tiles of columns (path_area._bands_kernel) -----------------
+
+busy_contours = st.lists(st.lists(st.tuples(st.integers(-8, 104), st.integers(-8, 104)), min_size=20, max_size=44),
+                         min_size=1, max_size=2)
+
+
+def _with_extras(contour: list[tuple[int, int]], extras: int) -> NDArray[np.float64]:
+    """The contour with a repeated vertex (a zero-length edge) and a midpoint (two collinear
+    edges) put in every ``extras``-th edge."""
+    out: list[tuple[float, float]] = []
+    for k, (x, y) in enumerate(contour):
+        out.append((x, y))
+        if extras and k % extras == 0:
+            nx, ny = contour[(k + 1) % len(contour)]
+            out += [(x, y), ((x + nx) / 2, (y + ny) / 2)]
+    return np.array(out, dtype=np.float64) / 16
+
+
+@settings(max_examples=25, deadline=None)
+@given(busy_contours, st.sampled_from(["nonzero", "evenodd"]), st.integers(0, 5))
+@example([[(8 * k % 97, 5 * k * k % 101) for k in range(44)]], "evenodd", 3)
+@example([[(k % 2 * 96, 4 * k) for k in range(24)] + [(0, 100)]], "nonzero", 0)
+def test_tiled_bands_within_the_bound_of_the_exact_one(points: list[list[tuple[int, int]]], rule: str,
+                                                        extras: int) -> None:
+    """Random self-intersecting contours of 20 to 44 vertices (and collinear and zero-length
+    edges) in 6 x 6 pixels: most bands hold more than TILE_EDGES edges and are swept in
+    tiles, their left edges entering as a winding number."""
+    paths = [[_with_extras(c, extras) for c in points]]
+    _float_vs_exact(PathScene.from_paths(6, 6, paths, rule))
+
+
+@pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
+def test_tiles_with_edges_on_their_sides_and_huge_edges(rule: str) -> None:
+    # a comb: 30 vertical edges on integer columns (a tile's side) and half-columns, a
+    # zigzag crossing it, and a huge triangle whose edges cross every tile of the band
+    comb = [[float(k) / 4, 0.0 if k % 2 else 5.5] for k in range(30)] + [[7.5, 6.0], [0.0, 6.0]]
+    zigzag = [[0.1 + 0.23 * k, 1.0 + (k % 3) * 1.7] for k in range(28)] + [[6.5, 5.9]]
+    huge = [[-4e4, -3e4], [5e4, 2.5], [-3e4, 3.1e4]]
+    _float_vs_exact(PathScene.from_paths(8, 7, [[np.array(comb), np.array(zigzag), np.array(huge)]], rule))
+
+
+@pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
+def test_the_bench_outline_small_within_the_bound(rule: str) -> None:
+    from harness.cli.bench_workloads import wiggly_outline
+
+    scene = wiggly_outline(600, 12).with_fill_rule(rule)  # about 60 edges a band, crossing itself
+    _float_vs_exact(scene)
