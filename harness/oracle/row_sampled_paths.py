@@ -222,7 +222,11 @@ def _plain_rows(edges, j0, j1, width, rows, evenodd, acc, spans_y, spans_x0, spa
                 hi = max(hi, i1)
                 for i in range(i0, i1):
                     acc[i] += (min(b, i + 1.0) - max(a, float(i))) / rows
-        if lo >= hi:
+        while lo < hi and acc[lo] <= 0.0:  # trim the pixels a crossing only touched
+            lo += 1
+        while hi > lo and acc[hi - 1] <= 0.0:
+            hi -= 1
+        if lo >= hi:  # (the trimmed pixels hold exactly 0: acc is clean for the next row)
             continue
         if write:
             spans_y[n_spans] = j
