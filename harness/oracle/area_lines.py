@@ -591,17 +591,39 @@ class _Pieces:
         self.paired.append(paired)
         return len(self.polys) - 1
 
+    def add_all(self, polys: NDArray, segments: NDArray[np.int64]) -> None:
+        """Whole-weight polygons (N, k, 2) of ``segments`` (N,), in one go."""
+        self.polys.extend(np.ascontiguousarray(polys, dtype=np.float64))
+        self.owner.extend(segments.tolist())
+        self.weight.extend([1.0] * segments.size)
+        self.paired.extend([-1] * segments.size)
+
 
 def _pieces(a: NDArray, b: NDArray, line_width: float, cap: str, width: int, height: int) -> _Pieces:
     pieces = _Pieces()
     h = line_width / 2
     square = cap == "square"
     far_w = line_width > GUARD_LIMIT
-    for s in range(a.shape[0]):
+    finite = np.all(np.isfinite(a), axis=1) & np.all(np.isfinite(b), axis=1)
+    with np.errstate(invalid="ignore"):
+        near = ~(far_w | np.any(np.abs(a) > GUARD_LIMIT, axis=1) | np.any(np.abs(b) > GUARD_LIMIT, axis=1))
+    moving = np.any(a != b, axis=1)
+    # the usual stroke, a near segment of nonzero length without round caps: its rectangle's
+    # corners computed for all segments at once, each exactly as the loop below would
+    plain = np.flatnonzero(finite & near & moving) if cap != "round" else np.zeros(0, dtype=np.int64)
+    if plain.size:
+        d = b[plain] - a[plain]
+        length = np.hypot(d[:, 0], d[:, 1])[:, None]
+        u = d / length
+        n = np.stack([-u[:, 1] * h, u[:, 0] * h], axis=1)
+        e = u * h if square else np.zeros_like(u)
+        pa, pb = a[plain], b[plain]
+        pieces.add_all(np.stack([pa - e + n, pb + e + n, pb + e - n, pa - e - n], axis=1), plain)
+    done = np.zeros(a.shape[0], dtype=bool)
+    done[plain] = True
+    for s in np.flatnonzero(~done & finite).tolist():
         pa, pb = a[s], b[s]
-        if not (np.all(np.isfinite(pa)) and np.all(np.isfinite(pb))):
-            continue
-        far = far_w or bool(np.any(np.abs(pa) > GUARD_LIMIT) or np.any(np.abs(pb) > GUARD_LIMIT))
+        far = not near[s]
         dx, dy = float(pb[0] - pa[0]), float(pb[1] - pa[1])
         zero = bool(pa[0] == pb[0] and pa[1] == pb[1])
         if zero and cap == "butt":
