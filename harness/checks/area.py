@@ -78,6 +78,7 @@ from harness.checks.records import (
 from harness.contract.case import Case, MotionCase
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
+from harness.contract.coverage_models import QUANTISED_AREA
 from harness.contract.scenes import Scene
 from harness.geometry.exact import orientation
 from harness.kinds import LINES, TRIANGLES
@@ -130,6 +131,10 @@ def model_bound(positions: NDArray, convention: Convention, width: int, height: 
         # row-sampled (harness.oracle.aa_models): each cross-section end is within a few
         # ulps of its coordinates; the exact fallback decides what this leaves open
         return np.full(positions.shape[0], 2.0**-30)
+    if convention.model is QUANTISED_AREA:
+        # a library's level (harness.oracle.analytic_models), decided exactly: level / 255 as
+        # the alphas' level values are
+        return np.zeros(positions.shape[0])
     return area_error_bound(convention.snap(positions), width, height)
 
 
@@ -145,6 +150,10 @@ def exact_model(positions: NDArray, convention: Convention, triangle: int, x: in
     if convention.samples is not None:
         n = convention.n_samples
         return Fraction(int(round(share * n)), n)
+    if convention.model is QUANTISED_AREA:
+        from harness.oracle.analytic_models import exact_quantised_alpha
+
+        return exact_quantised_alpha(positions, convention, triangle, int(x), int(y))
     tri = convention.snap(positions[triangle : triangle + 1])
     if not np.all(np.isfinite(tri)):
         return Fraction(0)

@@ -191,6 +191,7 @@ from harness.contract.coverage_models import (
     CoverageModel,
     model_for,
 )
+from harness.contract.quantisations import NEAREST, QUANTISATION_NAMES
 
 __all__ = [
     "TIE_RULES",
@@ -740,6 +741,12 @@ class Convention:
         crossings rounded down to 1/rows of the row (cairo's ``full_row``), the others their
         ``rows`` sample lines with x rounded to 1/256 px (:mod:`harness.oracle.aa_models`;
         declare ``input="fixed8"``).
+    quantisation : str
+        ``area`` only, without ``samples`` or ``rows``: how an analytic library turns the
+        exact area into an 8-bit level (:mod:`harness.contract.quantisations`: ``ftgrays``,
+        ``cells-abs``, ``cells-abs-gray8``, ``blend2d``), the oracle then giving that level
+        (:mod:`harness.oracle.analytic_models`) and ``tolerance`` bounding |alpha - level|;
+        ``nearest`` (default): the exact area, within ``tolerance``, as before.
 
     Examples
     --------
@@ -795,6 +802,9 @@ class Convention:
     rows: int = 0
     # with rows: rows no edge starts or ends in are analytic, on cairo's grid (cairo's full_row)
     full_rows: bool = False
+    # coverage="area" only: how the library maps a pixel's accumulated area to a level
+    # (harness.contract.quantisations; "nearest": the area within tolerance, as before)
+    quantisation: str = NEAREST
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -808,6 +818,8 @@ class Convention:
             extra += f", coverage={self.coverage!r}, levels={self.levels!r}, tolerance={self.tolerance!r}"
         if self.rows:
             extra += f", rows={self.rows!r}" + (", full_rows=True" if self.full_rows else "")
+        if self.quantisation != NEAREST:
+            extra += f", quantisation={self.quantisation!r}"
         if self.line != LineRule():
             extra += f", line={self.line!r}"
         if self.input != "float64":
@@ -825,7 +837,7 @@ class Convention:
         >>> Convention().model, Convention(coverage="area").model
         (CoverageModel('single'), CoverageModel('area'))
         """
-        return model_for(self.coverage, self.samples is not None, self.rows)
+        return model_for(self.coverage, self.samples is not None, self.rows, self.quantisation)
 
     @property
     def coverage_uses_threshold(self) -> bool:
@@ -966,6 +978,7 @@ class Convention:
             raise ValueError(f"Convention.coverage must be one of {', '.join(DECLARED_COVERAGES)}, not {self.coverage!r}")
         self._check_rule_fields()
         self._check_rows()
+        self._check_quantisation()
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
             raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
@@ -990,6 +1003,15 @@ class Convention:
         if self.full_rows and not rows:
             raise ValueError("Convention.full_rows needs rows > 0")
         object.__setattr__(self, "full_rows", bool(self.full_rows))
+
+    def _check_quantisation(self) -> None:
+        """Validate ``quantisation`` (an analytic library's levels: area coverage, no samples, no rows)."""
+        if self.quantisation not in QUANTISATION_NAMES:
+            raise ValueError(f"Convention.quantisation must be one of {', '.join(QUANTISATION_NAMES)}, not {self.quantisation!r}")
+        if self.quantisation != NEAREST and (self.coverage != "area" or self.samples is not None or self.rows):
+            raise ValueError("Convention.quantisation is for analytic area coverage (coverage='area', no samples, no rows)")
+        if self.quantisation != NEAREST and self.levels != 256:
+            raise ValueError(f"Convention.quantisation {self.quantisation!r} makes 8-bit levels: levels=256, not {self.levels!r}")
 
     def _check_rule_fields(self) -> None:
         """Validate and normalise ``threshold`` and ``uncertainty`` (the coverage rules')."""
@@ -1102,6 +1124,8 @@ class Convention:
             if self.rows:
                 what = f"the mean of {self.rows} cross-sections per pixel row" + (
                     ", analytic rows as cairo's full_row" if self.full_rows else "")
+            if self.quantisation != NEAREST:
+                what = f"the exact area's {self.quantisation} level"
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
         if self.samples is not None:
             return f"{where}, {tie}, {snapping}, {culling}"

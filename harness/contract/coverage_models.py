@@ -28,6 +28,8 @@ scanline``                   the truncated left crossing to the right one, both 
                              triangle, on an edge included (FreeType's monochrome)
 ``row-sampled   area         an alpha, the mean of the triangle's cross-sections on n lines
 area``                       per pixel row, exact along x (cairo; ``Convention.rows``)
+``quantised     area         an alpha, the level a library's arithmetic makes of the exact
+area``                       area (FreeType, Qt, AGG, Blend2D; ``Convention.quantisation``)
 ==============  ===========  ===========================================================
 
 ``closed`` is a coverage rule decided at the sample point (``sample_point`` True: its near
@@ -67,14 +69,14 @@ the name when first asked, as :mod:`harness` resolves its lazily imported names.
 
 >>> [m.name for m in COVERAGE_MODELS.values()]  # doctest: +NORMALIZE_WHITESPACE
 ['single', 'multisample', 'area', 'supersampled area', 'area-threshold', 'conservative-over', 'conservative-under',
- 'agg-cover', 'inclusive-scanline', 'closed', 'row-sampled area']
+ 'agg-cover', 'inclusive-scanline', 'closed', 'row-sampled area', 'quantised area']
 >>> model_named("multisample").sample_ids, model_named("area").alphas
 (True, True)
 >>> model_named("conservative")  # doctest: +NORMALIZE_WHITESPACE
 Traceback (most recent call last):
 ...
 ValueError: no coverage model is named 'conservative': single, multisample, area, supersampled area, area-threshold,
-conservative-over, conservative-under, agg-cover, inclusive-scanline, closed, row-sampled area
+conservative-over, conservative-under, agg-cover, inclusive-scanline, closed, row-sampled area, quantised area
 """
 
 from __future__ import annotations
@@ -86,7 +88,7 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 __all__ = ["CoverageModel", "CoverageKind", "COVERAGE_KINDS", "COVERAGE_MODELS", "DECLARED_COVERAGES", "SINGLE",
-           "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "ROW_SAMPLED_AREA",
+           "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "ROW_SAMPLED_AREA", "QUANTISED_AREA",
            "AREA_THRESHOLD", "CONSERVATIVE_OVER", "CONSERVATIVE_UNDER",
            "AGG_COVER", "INCLUSIVE_SCANLINE", "CLOSED", "COVERAGE_RULES", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named",
            "model_for"]
@@ -288,9 +290,17 @@ CLOSED = CoverageModel(
     single_sample=True, verdict_checks=("conformance",), rule=True, sample_point=True, exactly_once=False,
     zero_area=True, path_oracle="harness.oracle.dropout:closed_paths")
 
+# an analytic library's model (issue 34): the exact area of the polygon as received, then
+# the library's own levels (Convention.quantisation: harness.contract.quantisations)
+QUANTISED_AREA = CoverageModel(
+    "quantised area", "area", "harness.oracle.analytic_models:quantised_area_coverage",
+    declared="area coverage at a library's levels", seen="an alpha per pixel and triangle (anti-aliased)", alphas=True,
+    paths=False, verdict_checks=("accuracy", "seams", "popping"))
+
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
                                                                   CONSERVATIVE_OVER, CONSERVATIVE_UNDER, AGG_COVER,
-                                                                  INCLUSIVE_SCANLINE, CLOSED, ROW_SAMPLED_AREA)}
+                                                                  INCLUSIVE_SCANLINE, CLOSED, ROW_SAMPLED_AREA,
+                                                                  QUANTISED_AREA)}
 # the coverage rules, by the Convention.coverage that declares each (its name)
 COVERAGE_RULES: dict[str, CoverageModel] = {m.name: m for m in COVERAGE_MODELS.values() if m.rule}
 # the coverage kinds, in the models' order
@@ -306,7 +316,7 @@ def model_named(name: str) -> CoverageModel:
     return model
 
 
-def model_for(coverage: str, pattern: bool, rows: int = 0) -> CoverageModel:
+def model_for(coverage: str, pattern: bool, rows: int = 0, quantisation: str = "nearest") -> CoverageModel:
     """The model a convention declaring ``coverage`` (``sample`` or ``area``:
     :data:`DECLARED_COVERAGES`) chooses, with a sample pattern or without: the one place
     a declaration becomes a model (any coverage but ``area`` is taken as ``sample``;
@@ -316,6 +326,8 @@ def model_for(coverage: str, pattern: bool, rows: int = 0) -> CoverageModel:
     (CoverageModel('single'), CoverageModel('multisample'), CoverageModel('area'), CoverageModel('supersampled area'))
     >>> model_for("area", False, rows=15)
     CoverageModel('row-sampled area')
+    >>> model_for("area", False, quantisation="ftgrays")
+    CoverageModel('quantised area')
     >>> model_for("conservative-over", False)
     CoverageModel('conservative-over')
     """
@@ -325,5 +337,7 @@ def model_for(coverage: str, pattern: bool, rows: int = 0) -> CoverageModel:
     if coverage == "area":
         if rows and not pattern:
             return ROW_SAMPLED_AREA  # Convention(coverage="area", rows=n): n sample lines per pixel row
+        if quantisation != "nearest" and not pattern:
+            return QUANTISED_AREA  # Convention(coverage="area", quantisation=q): a library's levels of the exact area
         return SUPERSAMPLED_AREA if pattern else AREA
     return MULTISAMPLE if pattern else SINGLE
