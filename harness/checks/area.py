@@ -151,9 +151,9 @@ def exact_model(positions: NDArray, convention: Convention, triangle: int, x: in
         n = convention.n_samples
         return Fraction(int(round(share * n)), n)
     if convention.model is QUANTISED_AREA:
-        from harness.oracle.analytic_models import exact_quantised_alpha
-
-        return exact_quantised_alpha(positions, convention, triangle, int(x), int(y))
+        # the oracle's level (``share``: level / 255) is decided exactly
+        # (harness.oracle.analytic_models.quantised_area_coverage): the number it stands for
+        return Fraction(int(round(share * 255)), 255)
     tri = convention.snap(positions[triangle : triangle + 1])
     if not np.all(np.isfinite(tri)):
         return Fraction(0)
