@@ -462,6 +462,11 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
             grid = input_grid(calls, convention, [sweep, *drawn[1:3]], drawn)
             convention = replace(convention, subpixel_bits=grid.bits, snap_rounding=grid.rounding)
             answered = [x for x in drawn if x.coverage is not None]
+            # the chosen levels' counts again, on its own input grid
+            differences = [np.abs(x.differences(convention)) for x in answered]
+            fit = replace(fit, chosen=convention, pixels=sum(int(d.size) for d in differences),
+                          off=sum(int(np.sum(d > 0.5 * ONE_LEVEL + SLACK)) for d in differences),
+                          beyond=sum(int(np.sum(d > ONE_LEVEL + SLACK)) for d in differences))
     residual = sum(x.beyond(replace(convention, tolerance=None)) for x in answered)
     max_residual = max((float(np.abs(x.differences(convention)).max(initial=0.0)) for x in answered), default=0.0)
     return SweepFact(model, sweeps[0], sweeps[1], sweeps[2], levels, max_error, mean_error, pattern, layout, convention,
@@ -555,10 +560,11 @@ def quantisation_fit(call: Call, base: Convention, answered: Sequence[_AlphaDraw
     nearest = sum(x.beyond(replace(base, tolerance=None)) for x in judged)
     scores: list[tuple[int, int, str, Convention]] = []
     for name in QUANTISATIONS:
-        candidate = replace(base, quantisation=name, levels=QUANTISED_LEVELS, tolerance=None, cull=cull)
-        off = sum(x.beyond(candidate) for x in judged)
-        beyond = sum(x.beyond(replace(candidate, tolerance=ONE_LEVEL)) for x in judged)
-        scores.append((off, beyond, name, replace(candidate, tolerance=ONE_LEVEL)))
+        candidate = replace(base, quantisation=name, levels=QUANTISED_LEVELS, tolerance=ONE_LEVEL, cull=cull)
+        differences = [np.abs(x.differences(candidate)) for x in judged]  # the tolerance aside: one oracle each
+        off = sum(int(np.sum(d > 0.5 * ONE_LEVEL + SLACK)) for d in differences)
+        beyond = sum(int(np.sum(d > ONE_LEVEL + SLACK)) for d in differences)
+        scores.append((off, beyond, name, candidate))
     off, beyond, name, best = min(scores, key=lambda s: (s[0], s[1]))
     listed = tuple((n, o, b) for o, b, n, _ in scores)
     chosen = best if off < nearest else None

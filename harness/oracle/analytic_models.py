@@ -116,6 +116,66 @@ def exact_quantised_alpha(positions: ArrayLike, convention: Convention, triangle
 
 # -- the oracle -------------------------------------------------------------------------------
 
+# the exact decisions made, by (triangle as received, x, y): identify scores every quantisation
+# and input grid on the same probes, whose areas are whole 256ths by design (each decided once)
+_DECIDED: dict[tuple[bytes, int, int], tuple[int, bool]] = {}
+_DECIDED_LIMIT = 1 << 20
+
+
+def _clipped(points: list[tuple[int, int, int]], axis: int, bound: int, keep: int) -> list[tuple[int, int, int]]:
+    """Sutherland-Hodgman on homogeneous integer points (X, Y, D), D > 0, standing for
+    (X/D, Y/D): the part where ``keep * (coordinate - bound) >= 0``. The side of a point is
+    the sign of the linear form ``keep * (P[axis] - bound * D)``, so the crossing of P and
+    Q is ``f(Q) P - f(P) Q`` (exact, no division; its D made positive)."""
+    out: list[tuple[int, int, int]] = []
+    n = len(points)
+    for i in range(n):
+        p, q = points[i], points[(i + 1) % n]
+        fp = keep * (p[axis] - bound * p[2])
+        fq = keep * (q[axis] - bound * q[2])
+        if fp >= 0:
+            out.append(p)
+        if (fp > 0 > fq) or (fp < 0 < fq):
+            c = (fq * p[0] - fp * q[0], fq * p[1] - fp * q[1], fq * p[2] - fp * q[2])
+            out.append(c if c[2] > 0 else (-c[0], -c[1], -c[2]))
+    return out
+
+
+def _integer_area(triangle: NDArray[np.float64], x: int, y: int) -> Fraction:
+    """The exact area of ``triangle`` inside pixel (x, y), as :func:`harness.oracle.area.exact_area`
+    computes it, on Python integers: the dyadic coordinates over one power of two, clipped as
+    homogeneous points (:func:`_clipped`), then the shoelace over one common denominator."""
+    ratios = [float(v).as_integer_ratio() for v in triangle.reshape(-1)]
+    shift = max(d.bit_length() - 1 for _, d in ratios)  # every denominator is a power of two
+    scaled = [n << (shift - (d.bit_length() - 1)) for n, d in ratios]
+    one = 1 << shift
+    points = [(scaled[0], scaled[1], one), (scaled[2], scaled[3], one), (scaled[4], scaled[5], one)]
+    for axis, bound, keep in ((0, x, 1), (0, x + 1, -1), (1, y, 1), (1, y + 1, -1)):
+        points = _clipped(points, axis, bound, keep)
+        if len(points) < 3:
+            return Fraction(0)
+    twice = Fraction(0)
+    n = len(points)
+    for i in range(n):
+        (ax, ay, ad), (bx, by, bd) = points[i], points[(i + 1) % n]
+        twice += Fraction(ax * by - bx * ay, ad * bd)
+    return abs(twice) / 2
+
+
+def _exact_256ths(triangle: NDArray[np.float64], x: int, y: int) -> tuple[int, bool]:
+    """(floor(256 a), whether 256 a is a whole number) of the exact area a of ``triangle``
+    in pixel (x, y), remembered."""
+    key = (np.ascontiguousarray(triangle, dtype=np.float64).tobytes(), x, y)
+    found = _DECIDED.get(key)
+    if found is None:
+        scaled = 256 * _integer_area(triangle, x, y)
+        found = (math.floor(scaled), scaled.denominator == 1)
+        if len(_DECIDED) >= _DECIDED_LIMIT:
+            _DECIDED.clear()
+        _DECIDED[key] = found
+    return found
+
+
 
 def quantised_area_coverage(scene: Scene, convention: Convention) -> Coverage:
     """The oracle of ``Convention(coverage="area", quantisation=q)``: every (triangle,
@@ -153,7 +213,7 @@ def quantised_area_coverage(scene: Scene, convention: Convention) -> Coverage:
     if open_.size:  # the rational area decides
         _, x, y = plain.pixels()
         for i in open_.tolist():
-            exact = exact_area(snapped[t[i]], int(x[i]), int(y[i])) * int(signs[i])
-            k[i] = math.floor(256 * exact)
+            below, whole = _exact_256ths(snapped[t[i]], int(x[i]), int(y[i]))
+            k[i] = below if signs[i] > 0 else -below - (0 if whole else 1)  # floor(-v) = -ceil(v)
     level = levels_of(q, k)
     return Coverage(plain.primitive, plain.y, plain.x0, plain.x1, alpha=level / float(LEVELS - 1))
