@@ -12,8 +12,8 @@ from typing import Any
 
 from tests.known_bad.aa_lines import ForgetsCaps, MajorAxisBoxLines, QuarterPixelLines
 from tests.known_bad.aa_models import HybridSamplesEveryRow, RowsAtTopEdges, RowsTruncatedLevels
-from tests.known_bad.analytic_models import ComplementsWhereQtNegates, FloorsWhereBlend2DScales, RoundsWhereFreeTypeFloors
 from tests.known_bad.aa_paths import EvenOddForNonzeroArea, SignedAreaPathFiller
+from tests.known_bad.analytic_models import ComplementsWhereQtNegates, FloorsWhereBlend2DScales, RoundsWhereFreeTypeFloors
 from tests.known_bad.antialiasing import (
     BiasedArea,
     CentreSamples,
