@@ -457,16 +457,7 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
         # an analytic anti-aliaser on 8-bit levels: the library's own levels of the exact area
         fit = quantisation_fit(calls, convention, answered, drawn, cull)
         if fit.chosen is not None:
-            convention = fit.chosen
-            answered = [x for x in drawn if x.coverage is not None]
-            grid = input_grid(calls, convention, [sweep, *drawn[1:3]], drawn)
-            convention = replace(convention, subpixel_bits=grid.bits, snap_rounding=grid.rounding)
-            answered = [x for x in drawn if x.coverage is not None]
-            # the chosen levels' counts again, on its own input grid
-            differences = [np.abs(x.differences(convention)) for x in answered]
-            fit = replace(fit, chosen=convention, pixels=sum(int(d.size) for d in differences),
-                          off=sum(int(np.sum(d > 0.5 * ONE_LEVEL + SLACK)) for d in differences),
-                          beyond=sum(int(np.sum(d > ONE_LEVEL + SLACK)) for d in differences))
+            convention = fit.chosen  # with the input grid fitted beside the levels
     residual = sum(x.beyond(replace(convention, tolerance=None)) for x in answered)
     max_residual = max((float(np.abs(x.differences(convention)).max(initial=0.0)) for x in answered), default=0.0)
     return SweepFact(model, sweeps[0], sweeps[1], sweeps[2], levels, max_error, mean_error, pattern, layout, convention,
@@ -490,6 +481,9 @@ def _row_sampled(analytic: Convention, rows: int, answered: Sequence[_AlphaDrawn
 
 # the quantisations make 8-bit levels
 QUANTISED_LEVELS = 256
+# the input grids the analytic libraries receive, tried with every quantisation (bits):
+# 26.6 (FreeType, Qt) and 24.8 (AGG, Blend2D)
+_LIBRARY_GRIDS = (6, 8)
 # a quantisation is judged within one level: the libraries' crossings, rounded to 1/256 px,
 # leave a level off at some pixels (harness.oracle.analytic_models)
 ONE_LEVEL = 1.0 / 255.0
@@ -520,8 +514,10 @@ class QuantisationFit:
         if self.chosen is None:
             return (f"the area rounded to the nearest level ({self.nearest_off} of {self.pixels} (triangle, pixel)s off it; "
                     f"off a library's levels: {others})")
-        return (f"{self.name}: {self.off} of {self.pixels} (triangle, pixel)s off its level, {self.beyond} beyond one "
-                f"level (the area rounded to the nearest level: {self.nearest_off} off; {others})")
+        grid = self.chosen.subpixel_bits
+        on = "the vertices as given" if grid is None else f"1/{2**grid} px ({self.chosen.snap_rounding})"
+        return (f"{self.name} on {on}: {self.off} of {self.pixels} (triangle, pixel)s off its level, {self.beyond} beyond "
+                f"one level (the area rounded to the nearest level: {self.nearest_off} off; at best on any grid: {others})")
 
 
 def _quantisation_shapes() -> NDArray[np.float64]:
@@ -558,15 +554,22 @@ def quantisation_fit(call: Call, base: Convention, answered: Sequence[_AlphaDraw
     judged = [x for x in [*answered, *scenes] if x.coverage is not None]
     pixels = sum(int(x.differences(replace(base, tolerance=None)).size) for x in judged)
     nearest = sum(x.beyond(replace(base, tolerance=None)) for x in judged)
-    scores: list[tuple[int, int, str, Convention]] = []
+    scores: list[tuple[int, int, int, str, Convention]] = []
+    # each quantisation on base's grid and on the libraries' grids (26.6 and 24.8, each rounding):
+    # a level's boundary moves with the grid, so the two are fitted together
+    grids = list(dict.fromkeys([(base.subpixel_bits, base.snap_rounding), (None, "nearest-even"),
+                                *((bits, r) for bits in _LIBRARY_GRIDS for r in PLAIN_SNAP_ROUNDINGS)]))
     for name in QUANTISATIONS:
-        candidate = replace(base, quantisation=name, levels=QUANTISED_LEVELS, tolerance=ONE_LEVEL, cull=cull)
-        differences = [np.abs(x.differences(candidate)) for x in judged]  # the tolerance aside: one oracle each
-        off = sum(int(np.sum(d > 0.5 * ONE_LEVEL + SLACK)) for d in differences)
-        beyond = sum(int(np.sum(d > ONE_LEVEL + SLACK)) for d in differences)
-        scores.append((off, beyond, name, candidate))
-    off, beyond, name, best = min(scores, key=lambda s: (s[0], s[1]))
-    listed = tuple((n, o, b) for o, b, n, _ in scores)
+        for order, (bits, rounding) in enumerate(grids):
+            candidate = replace(base, quantisation=name, levels=QUANTISED_LEVELS, tolerance=ONE_LEVEL, cull=cull,
+                                subpixel_bits=bits, snap_rounding=rounding)
+            differences = [np.abs(x.differences(candidate)) for x in judged]  # the tolerance aside: one oracle each
+            off = sum(int(np.sum(d > 0.5 * ONE_LEVEL + SLACK)) for d in differences)
+            beyond = sum(int(np.sum(d > ONE_LEVEL + SLACK)) for d in differences)
+            scores.append((off, beyond, order, name, candidate))
+    off, beyond, _, name, best = min(scores, key=lambda s: (s[0], s[1], s[2]))
+    # each quantisation's best grid, for the card
+    listed = tuple((n, *min((o, b) for o, b, _, m, _ in scores if m == n)) for n in QUANTISATIONS)
     chosen = best if off < nearest else None
     return QuantisationFit(chosen, name, off, beyond, nearest, pixels, listed)
 
