@@ -534,22 +534,27 @@ def _quantisation_shapes() -> NDArray[np.float64]:
 
 def quantisation_fit(call: Call, base: Convention, answered: Sequence[_AlphaDrawn], drawn: list[_AlphaDrawn],
                      cull: CullMode, seed: int = 0) -> QuantisationFit:
-    """The library's levels of an analytic anti-aliaser on 8-bit levels: two scenes drawn
+    """The library's levels of an analytic anti-aliaser on 8-bit levels: four scenes drawn
     (appended to ``drawn``) -- right triangles whose pixel areas are whole multiples of 1/256
     in both windings (:func:`_quantisation_shapes`: FreeType's complement of a negative
     ``k`` and the winding a library counts positive show there), and random float triangles
     in both windings (the others: ``|k|``, the gray-8 blend and Blend2D's ``* 255 >> 8``
-    part by a level over most of the range) -- then every quantisation, on ``base``'s input
-    grid, scored by the (triangle, pixel)s off its level, then beyond one level, over those
-    and ``answered``, against ``nearest`` (``base`` itself, half a level). The best is
-    chosen, within one level, when it leaves fewer pixels off its level than ``nearest``."""
+    part by a level over most of the range), and those with every vertex on a half step of
+    1/64 and 1/256 px (the grids' roundings part) -- then every quantisation, on ``base``'s
+    input grid and on 26.6 and 24.8 with each rounding, scored by the (triangle, pixel)s off
+    its level, then beyond one level, over those and ``answered``, against ``nearest``
+    (``base`` itself, half a level). The best is chosen, within one level, when it leaves
+    fewer pixels off its level than ``nearest``."""
     from harness.contract.quantisations import QUANTISATIONS
 
     shapes = _quantisation_shapes()
     probes = _probe_scene(shapes, "none")
     floats = random_triangles(120, 20.0, 40, seed + 7)
     both = Scene(40, 40, np.concatenate([floats, floats[:, ::-1]]))
-    scenes = [_AlphaDrawn(probes.scene, call(probes.scene)), _AlphaDrawn(both, call(both))]
+    # and the float scene with every vertex on a half step of each library grid: where rounding
+    # to nearest (either tie rule) and truncation part
+    halves = [_half_steps(both, bits) for bits in _LIBRARY_GRIDS]
+    scenes = [_AlphaDrawn(scene, call(scene)) for scene in (probes.scene, both, *halves)]
     drawn += scenes
     judged = [x for x in [*answered, *scenes] if x.coverage is not None]
     pixels = sum(int(x.differences(replace(base, tolerance=None)).size) for x in judged)

@@ -223,3 +223,16 @@ def test_the_analytic_area_rounded_is_not_a_librarys_levels():
     for name in NAMES:
         levels = np.rint(_dense(exact_coverage(scene, Convention(coverage="area", quantisation=name))) * 255)
         assert (levels != nearest).any(), name
+
+
+_wide = st.one_of(_coordinate, st.floats(-1e6, 1e6, allow_nan=False), st.floats(-1e-300, 1e-300, allow_nan=False))
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(_wide, _wide), min_size=3, max_size=3), st.integers(-2, 6), st.integers(-2, 6))
+@example([(0.0, 0.0), (1e-300, 0.0), (0.0, 1e6)], 0, 0)
+def test_the_integer_area_is_the_rational_area(vertices, x, y):
+    from harness.oracle.analytic_models import _integer_area
+
+    triangle = np.array(vertices, dtype=np.float64)
+    assert _integer_area(triangle, x, y) == exact_area(triangle, x, y)
