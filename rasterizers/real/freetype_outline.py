@@ -307,12 +307,6 @@ class FreeTypeSmooth(AlphaOneTriangleAtATime):
     name = "freetype_smooth"
     library = "FreeType"
     scene_kinds = ("triangles",)
-    # its model (issue 34, harness.oracle.analytic_models): the exact area of the triangle as
-    # received (26.6, halves to even), then ftgrays' levels (FT_FILL_RULE in gray_sweep:
-    # floor(256 S), ~k below zero, y up), within one level (its crossings, truncated to
-    # 1/256 px by gray_render_line's FT_UDIV, leave a level off at some pixels; none two:
-    # identify's 282,177 probe pixels, 13,888 one level off)
-    convention: Convention | None = Convention(coverage="area", quantisation="ftgrays", input="fixed6", tolerance=1 / 255)
 
     def __init__(self) -> None:
         self._outline = _Outline(_PIXEL_MODE_GRAY, 0)
