@@ -236,3 +236,41 @@ def test_the_integer_area_is_the_rational_area(vertices, x, y):
 
     triangle = np.array(vertices, dtype=np.float64)
     assert _integer_area(triangle, x, y) == exact_area(triangle, x, y)
+
+
+# -- where FreeType leaves its model: the crossings' truncation ---------------------------------------
+
+
+def test_freetypes_two_level_pixels_are_its_truncated_crossings():
+    """The quick suite's lattice/bits-0 pixels FreeType 2.13.2 draws two levels off its model
+    (the exact area's ftgrays level on the 26.6 input: integer vertices, received exactly):
+    FreeType's cell arithmetic, ported (tests/oracle/ftgrays_cells.py), gives FreeType's
+    levels (measured: 130, 80, 129), each crossing truncated to 1/256 px by FT_UDIV."""
+    from tests.oracle import ftgrays_cells
+
+    for triangle, x, y, model, measured in (([[48.0, 64.0], [33.0, 38.0], [63.0, 19.0]], 62, 19, 132, 130),
+                                            ([[25.5, 55.5], [-2.0, 53.0], [51.0, 24.0]], 50, 24, 82, 80),
+                                            ([[52.0, 10.0], [22.0, 43.0], [37.0, 11.0]], 51, 10, 131, 129)):
+        t = np.array(triangle)
+        assert exact_level(t, x, y, "ftgrays") == model
+        assert ftgrays_cells.level(t, x, y)[0] == measured
+
+
+def test_the_ftgrays_port_draws_what_freetype_draws():
+    """The port against the library: every pixel of random 26.6 triangles in both windings
+    (FreeType smooth; skipped without it)."""
+    from tests.optional import need
+
+    need("freetype")
+    from rasterizers.real.freetype_outline import FreeTypeSmooth
+    from tests.oracle import ftgrays_cells
+
+    rng = np.random.default_rng(3)
+    triangles = np.rint(rng.uniform(1, 15, (12, 3, 2)) * 64) / 64
+    triangles[6:] = triangles[6:, ::-1]
+    scene = Scene(16, 16, triangles)
+    got = FreeTypeSmooth().rasterize(scene)
+    t, x, y = got.pixels()
+    assert got.alpha is not None
+    for k in range(t.size):
+        assert round(float(got.alpha[k]) * 255) == ftgrays_cells.level(triangles[t[k]], int(x[k]), int(y[k]))[0]
