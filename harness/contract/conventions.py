@@ -187,6 +187,7 @@ from harness.contract.coverage_models import (
     DECLARED_COVERAGES,
     MAX_AREA_SAMPLES,
     MAX_SAMPLES,
+    QUANTISED_AREA,
     CoverageKind,
     CoverageModel,
     model_for,
@@ -1008,7 +1009,7 @@ class Convention:
         """Validate ``quantisation`` (an analytic library's levels: area coverage, no samples, no rows)."""
         if self.quantisation not in QUANTISATION_NAMES:
             raise ValueError(f"Convention.quantisation must be one of {', '.join(QUANTISATION_NAMES)}, not {self.quantisation!r}")
-        if self.quantisation != NEAREST and (self.coverage != "area" or self.samples is not None or self.rows):
+        if self.quantisation != NEAREST and self.model is not QUANTISED_AREA:  # area, no samples, no rows
             raise ValueError("Convention.quantisation is for analytic area coverage (coverage='area', no samples, no rows)")
         if self.quantisation != NEAREST and self.levels != 256:
             raise ValueError(f"Convention.quantisation {self.quantisation!r} makes 8-bit levels: levels=256, not {self.levels!r}")

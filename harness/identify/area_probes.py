@@ -534,8 +534,8 @@ def _quantisation_shapes() -> NDArray[np.float64]:
 
 def quantisation_fit(call: Call, base: Convention, answered: Sequence[_AlphaDrawn], drawn: list[_AlphaDrawn],
                      cull: CullMode, seed: int = 0) -> QuantisationFit:
-    """The library's levels of an analytic anti-aliaser on 8-bit levels: four scenes drawn
-    (appended to ``drawn``) -- right triangles whose pixel areas are whole multiples of 1/256
+    """The library's levels of an analytic anti-aliaser on 8-bit levels: one scene drawn
+    (appended to ``drawn``) of right triangles whose pixel areas are whole multiples of 1/256
     in both windings (:func:`_quantisation_shapes`: FreeType's complement of a negative
     ``k`` and the winding a library counts positive show there), and random float triangles
     in both windings (the others: ``|k|``, the gray-8 blend and Blend2D's ``* 255 >> 8``
@@ -553,8 +553,10 @@ def quantisation_fit(call: Call, base: Convention, answered: Sequence[_AlphaDraw
     both = Scene(40, 40, np.concatenate([floats, floats[:, ::-1]]))
     # and the float scene with every vertex on a half step of each library grid: where rounding
     # to nearest (either tie rule) and truncation part
-    halves = [_half_steps(both, bits) for bits in _LIBRARY_GRIDS]
-    scenes = [_AlphaDrawn(scene, call(scene)) for scene in (probes.scene, both, *halves)]
+    halves = [_half_steps(both, bits).positions for bits in _LIBRARY_GRIDS]
+    side = max(probes.scene.width, probes.scene.height, 42)
+    together = Scene(side, side, np.concatenate([probes.scene.positions, both.positions, *halves]))  # one call
+    scenes = [_AlphaDrawn(together, call(together))]
     drawn += scenes
     judged = [x for x in [*answered, *scenes] if x.coverage is not None]
     pixels = sum(int(x.differences(replace(base, tolerance=None)).size) for x in judged)
