@@ -1150,7 +1150,8 @@ class Convention:
             coverage = self.model.declared_as(self) + (f", uncertainty {self.uncertainty:g} px" if self.uncertainty else "")
         elif self.model.alphas:
             coverage = f"area, {self.levels} levels, within {self.alpha_tolerance:.3g}" + (
-                "" if self.samples is None else f" of the share of {self._pattern_words()}")
+                "" if self.samples is None else f" of the share of {self._pattern_words()}") + (
+                "" if self.quantisation == NEAREST else f" of the {self.quantisation} level")
         elif self.samples is not None:
             coverage = self._pattern_words()
         else:
