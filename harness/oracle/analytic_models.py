@@ -34,7 +34,7 @@ model's level, before against the nearest level of the area with a fitted tolera
 library             model             residual before    after            beyond one level
 ==================  ================  =================  ===============  ================
 FreeType 2.13.2     ftgrays, 26.6     81,358             12,225 / 274,241 0 / 297,947
-Qt 6 (PyQt6)        cells-abs, 26.6   117,110            5,442 / 274,247  38 / 297,959
+Qt 6.11 (PyQt6)     cells-abs, 26.6   117,110            5,442 / 274,247  38 / 297,959
 aggdraw 1.4.1       cells-abs-gray8,  19,568             5,466 / 54,987   75 / 78,693
                     24.8 truncated
 matplotlib 3.11.2   cells-abs         20,561             5,841 / 54,988   147 / 78,694
