@@ -498,7 +498,7 @@ class QuantisationFit:
     ``nearest`` (the area rounded to the nearest level: ``nearest_off``). ``chosen``: the
     convention (the quantisation, within one level) when one leaves fewer pixels off its
     level than ``nearest``, else None; ``pixels`` compared; ``scores`` every candidate's
-    (off, beyond)."""
+    (off, beyond); ``nearest`` the candidate before (``base``)."""
 
     chosen: Convention | None
     name: str
@@ -507,6 +507,9 @@ class QuantisationFit:
     nearest_off: int
     pixels: int
     scores: tuple[tuple[str, int, int], ...] = ()
+    # the candidate before the levels: the exact area within its measured tolerance (what the
+    # rasterizer's lines and paths, for which the levels are not defined, are judged by)
+    nearest: Convention | None = None
 
     @property
     def text(self) -> str:
@@ -578,7 +581,7 @@ def quantisation_fit(call: Call, base: Convention, answered: Sequence[_AlphaDraw
     # each quantisation's best grid, for the card
     listed = tuple((n, *min((o, b) for o, b, _, m, _ in scores if m == n)) for n in QUANTISATIONS)
     chosen = best if off < nearest else None
-    return QuantisationFit(chosen, name, off, beyond, nearest, pixels, listed)
+    return QuantisationFit(chosen, name, off, beyond, nearest, pixels, listed, base)
 
 
 # --- area: the input grid ------------------------------------------------------------------------

@@ -508,6 +508,9 @@ def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprin
         path = with_lattice(path, call, rules.honoured, seed)
     fingerprint.fill_rules = rules.drawn
     fingerprint.path_convention = path.convention
+    if path.convention is None and not fingerprint.convention.model.paths:
+        # identified at a library's levels (triangles only): its paths judged by the exact area, as before
+        fingerprint.path_convention = _unquantised(fingerprint)
     fingerprint.path_fit = path
     fingerprint.facts["fill rules"] = rules.text
     fingerprint.facts["paths"] = path.text
@@ -541,15 +544,30 @@ def _with_lines(fingerprint: Fingerprint, call: Call, seed: int, received: Calla
     line convention its ``line_convention``."""
     from harness.identify.line_probes import fit_lines
 
-    fit = fit_lines(call, seed, _line_base(fingerprint.convention), received)
+    levels = _unquantised(fingerprint)  # lines have no library levels: the exact area, as before
+    judged = fingerprint.convention if levels is None else levels
+    fit = fit_lines(call, seed, _line_base(judged), received)
     if fit.convention is not None and fingerprint.convention.model.single_sample:
         fingerprint.convention = replace(fingerprint.convention, line=fit.convention.line)
-    elif fingerprint.convention.model.alphas and fingerprint.convention.line.rule != "rectangle":
+    elif judged.model.alphas and fingerprint.convention.line.rule != "rectangle":
         # anti-aliased lines have one model, the exact area of the butt-capped rectangle
         # (harness.oracle.area_lines): the rasterizer's lines are judged against it
         fingerprint.convention = replace(fingerprint.convention, line=LineRule("rectangle"))
         fingerprint.facts["line model"] = "anti-aliased: judged against the exact area of the w-wide butt-capped rectangle"
     _record_lines(fingerprint, fit)
+    if levels is not None and fingerprint.line_convention is None:
+        fingerprint.line_convention = replace(levels, line=LineRule("rectangle"))
+
+
+def _unquantised(fingerprint: Fingerprint) -> Convention | None:
+    """For an anti-aliaser identified at a library's levels (``Convention.quantisation``,
+    defined for triangles): the candidate before them, the exact area within its measured
+    tolerance, by which its lines and paths are judged; None otherwise."""
+    fit = getattr(fingerprint.probes.get("sweeps"), "quantisation", None)
+    if fit is None or fit.chosen is None or fingerprint.convention.quantisation == "nearest":
+        return None
+    nearest: Convention | None = fit.nearest
+    return nearest
 
 
 def _line_base(convention: Convention) -> Convention:
