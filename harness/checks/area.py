@@ -78,6 +78,7 @@ from harness.checks.records import (
 from harness.contract.case import Case, MotionCase
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
+from harness.contract.coverage_models import QUANTISED_AREA
 from harness.contract.scenes import Scene
 from harness.geometry.exact import orientation
 from harness.kinds import LINES, TRIANGLES
@@ -130,6 +131,10 @@ def model_bound(positions: NDArray, convention: Convention, width: int, height: 
         # row-sampled (harness.oracle.aa_models): each cross-section end is within a few
         # ulps of its coordinates; the exact fallback decides what this leaves open
         return np.full(positions.shape[0], 2.0**-30)
+    if convention.model is QUANTISED_AREA:
+        # a library's level (harness.oracle.analytic_models), decided exactly: level / 255 as
+        # the alphas' level values are
+        return np.zeros(positions.shape[0])
     return area_error_bound(convention.snap(positions), width, height)
 
 
@@ -149,6 +154,10 @@ def exact_model(positions: NDArray, convention: Convention, triangle: int, x: in
         return Fraction(int(round(share * n)), n)
     if convention.model.quantum:  # the model's own levels (skia's supersampler): the oracle's k/quantum
         return Fraction(int(round(share * convention.model.quantum)), convention.model.quantum)
+    if convention.model is QUANTISED_AREA:
+        # the oracle's level (``share``: level / 255) is decided exactly
+        # (harness.oracle.analytic_models.quantised_area_coverage): the number it stands for
+        return Fraction(int(round(share * 255)), 255)
     tri = convention.snap(positions[triangle : triangle + 1])
     if not np.all(np.isfinite(tri)):
         return Fraction(0)

@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
+from harness.contract.coverage_models import QUANTISED_AREA
 from harness.geometry.keys import union, unique_inverse
 
 __all__ = ["AREA_COVERAGE_KINDS", "LEVEL_NOISE", "accuracy_message", "off_level", "level_values", "exact_alpha",
@@ -58,6 +59,8 @@ def _aligned(keys_a: NDArray, a: NDArray, keys_b: NDArray, b: NDArray) -> tuple[
 def _model_words(convention: Convention) -> str:
     if convention.rows:
         return f"the row-sampled area ({convention.rows} rows)"
+    if convention.model is QUANTISED_AREA:
+        return f"the exact area's {convention.quantisation} level"
     return "the share of samples covered" if convention.samples is not None else "the exact area"
 
 

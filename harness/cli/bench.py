@@ -134,6 +134,7 @@ from harness.cli.bench_workloads import (
 )
 from harness.contract.conventions import Convention, LineRule
 from harness.contract.coverage import Coverage
+from harness.contract.coverage_models import model_named
 from harness.contract.protocol import coverage_kind_of, takes
 from harness.contract.scenes import AnyScene, LineScene, PathScene, Scene
 from harness.engine.isolation import _exit_with_parent, describe, span_limit
@@ -320,7 +321,7 @@ def _measured_on(rasterizer: Any, work: Workload) -> bool:
     """Whether a rasterizer is measured on a workload: it takes the scene, and for an
     anti-aliased stroke workload it anti-aliases (area coverage: an aliased line drawer
     is no peer of a wide anti-aliased stroke, and most draw width 1 only)."""
-    return takes(rasterizer, work.scene) and (not work.anti_aliased or coverage_kind_of(rasterizer) == "area")
+    return takes(rasterizer, work.scene) and (not work.anti_aliased or model_named(coverage_kind_of(rasterizer)).alphas)
 
 
 # -- isolation: every contender measured in a process of its own -------------------------------

@@ -187,11 +187,13 @@ from harness.contract.coverage_models import (
     DECLARED_COVERAGES,
     MAX_AREA_SAMPLES,
     MAX_SAMPLES,
+    QUANTISED_AREA,
     SKIA_SUPERSAMPLED_AREA,
     CoverageKind,
     CoverageModel,
     model_for,
 )
+from harness.contract.quantisations import NEAREST, QUANTISATION_NAMES
 
 __all__ = [
     "TIE_RULES",
@@ -749,6 +751,12 @@ class Convention:
         rounded to 1/2**shift px and summed into 8-bit levels as ``SuperBlitter::blit_h`` does
         (:mod:`harness.oracle.supersample_models`; declare ``input="float32"``). The oracle's
         alphas are the library's levels exactly. 0 (default): not this model.
+    quantisation : str
+        ``area`` only, without ``samples`` or ``rows``: how an analytic library turns the
+        exact area into an 8-bit level (:mod:`harness.contract.quantisations`: ``ftgrays``,
+        ``cells-abs``, ``cells-abs-gray8``, ``blend2d``), the oracle then giving that level
+        (:mod:`harness.oracle.analytic_models`) and ``tolerance`` bounding |alpha - level|;
+        ``nearest`` (default): the exact area, within ``tolerance``, as before.
 
     Examples
     --------
@@ -806,6 +814,9 @@ class Convention:
     full_rows: bool = False
     # coverage="area" only: skia's supersampler with this SUPERSAMPLE_SHIFT (0: not it)
     supersample: int = 0
+    # coverage="area" only: how the library maps a pixel's accumulated area to a level
+    # (harness.contract.quantisations; "nearest": the area within tolerance, as before)
+    quantisation: str = NEAREST
 
     def __repr__(self) -> str:
         extra = "" if self.snap_rounding == "nearest-even" else f", snap_rounding={self.snap_rounding!r}"
@@ -821,6 +832,8 @@ class Convention:
             extra += f", rows={self.rows!r}" + (", full_rows=True" if self.full_rows else "")
         if self.supersample:
             extra += f", supersample={self.supersample!r}"
+        if self.quantisation != NEAREST:
+            extra += f", quantisation={self.quantisation!r}"
         if self.line != LineRule():
             extra += f", line={self.line!r}"
         if self.input != "float64":
@@ -838,7 +851,7 @@ class Convention:
         >>> Convention().model, Convention(coverage="area").model
         (CoverageModel('single'), CoverageModel('area'))
         """
-        return model_for(self.coverage, self.samples is not None, self.rows, self.supersample)
+        return model_for(self.coverage, self.samples is not None, self.rows, self.supersample, self.quantisation)
 
     @property
     def coverage_uses_threshold(self) -> bool:
@@ -980,6 +993,7 @@ class Convention:
         self._check_rule_fields()
         self._check_rows()
         self._check_supersample()
+        self._check_quantisation()
         levels = self.levels
         if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or not 2 <= levels <= 2**24:
             raise ValueError(f"Convention.levels must be an integer in 2..2**24, not {levels!r}")
@@ -1011,8 +1025,17 @@ class Convention:
         if isinstance(shift, bool) or not isinstance(shift, (int, np.integer)) or not 0 <= shift <= 4:
             raise ValueError(f"Convention.supersample must be an integer in 0..4, not {shift!r}")
         object.__setattr__(self, "supersample", int(shift))
-        if shift and model_for(self.coverage, self.samples is not None, self.rows, shift) is not SKIA_SUPERSAMPLED_AREA:
+        if shift and model_for(self.coverage, self.samples is not None, self.rows, shift, self.quantisation) \
+                is not SKIA_SUPERSAMPLED_AREA:
             raise ValueError("Convention.supersample is for area coverage without samples or rows (coverage='area')")
+    def _check_quantisation(self) -> None:
+        """Validate ``quantisation`` (an analytic library's levels: area coverage, no samples, no rows)."""
+        if self.quantisation not in QUANTISATION_NAMES:
+            raise ValueError(f"Convention.quantisation must be one of {', '.join(QUANTISATION_NAMES)}, not {self.quantisation!r}")
+        if self.quantisation != NEAREST and self.model is not QUANTISED_AREA:  # area, no samples, no rows
+            raise ValueError("Convention.quantisation is for analytic area coverage (coverage='area', no samples, no rows)")
+        if self.quantisation != NEAREST and self.levels != 256:
+            raise ValueError(f"Convention.quantisation {self.quantisation!r} makes 8-bit levels: levels=256, not {self.levels!r}")
 
     def _check_rule_fields(self) -> None:
         """Validate and normalise ``threshold`` and ``uncertainty`` (the coverage rules')."""
@@ -1127,6 +1150,8 @@ class Convention:
                     ", analytic rows as cairo's full_row" if self.full_rows else "")
             if self.supersample:
                 what = f"skia's supersampler ({1 << self.supersample} sub-scanlines, x in 1/{1 << self.supersample} px)"
+            if self.quantisation != NEAREST:
+                what = f"the exact area's {self.quantisation} level"
             return f"area coverage, {self.levels} levels, within {self.alpha_tolerance:.3g} of {what}, {snapping}, {culling}"
         if self.samples is not None:
             return f"{where}, {tie}, {snapping}, {culling}"
@@ -1151,7 +1176,8 @@ class Convention:
         elif self.model.alphas:
             coverage = f"area, {self.levels} levels, within {self.alpha_tolerance:.3g}" + (
                 "" if self.samples is None else f" of the share of {self._pattern_words()}") + (
-                f" of skia's supersampler ({1 << self.supersample} sub-scanlines)" if self.supersample else "")
+                f" of skia's supersampler ({1 << self.supersample} sub-scanlines)" if self.supersample else "") + (
+                "" if self.quantisation == NEAREST else f" of the {self.quantisation} level")
         elif self.samples is not None:
             coverage = self._pattern_words()
         else:

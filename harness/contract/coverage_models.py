@@ -30,6 +30,8 @@ scanline``                   the truncated left crossing to the right one, both 
 area``                       per pixel row, exact along x (cairo; ``Convention.rows``)
 ``skia-super-   area         an alpha, skia's supersampler's 8-bit level: 2**shift sub-scanlines,
 sampled area``               x rounded to 1/2**shift px (tiny-skia; ``Convention.supersample``)
+``quantised     area         an alpha, the level a library's arithmetic makes of the exact
+area``                       area (FreeType, Qt, AGG, Blend2D; ``Convention.quantisation``)
 ==============  ===========  ===========================================================
 
 ``closed`` is a coverage rule decided at the sample point (``sample_point`` True: its near
@@ -69,14 +71,15 @@ the name when first asked, as :mod:`harness` resolves its lazily imported names.
 
 >>> [m.name for m in COVERAGE_MODELS.values()]  # doctest: +NORMALIZE_WHITESPACE
 ['single', 'multisample', 'area', 'supersampled area', 'area-threshold', 'conservative-over', 'conservative-under',
- 'agg-cover', 'inclusive-scanline', 'closed', 'row-sampled area', 'skia-supersampled area']
+ 'agg-cover', 'inclusive-scanline', 'closed', 'row-sampled area', 'skia-supersampled area', 'quantised area']
 >>> model_named("multisample").sample_ids, model_named("area").alphas
 (True, True)
 >>> model_named("conservative")  # doctest: +NORMALIZE_WHITESPACE
 Traceback (most recent call last):
 ...
 ValueError: no coverage model is named 'conservative': single, multisample, area, supersampled area, area-threshold,
-conservative-over, conservative-under, agg-cover, inclusive-scanline, closed, row-sampled area, skia-supersampled area
+conservative-over, conservative-under, agg-cover, inclusive-scanline, closed, row-sampled area, skia-supersampled area,
+quantised area
 """
 
 from __future__ import annotations
@@ -88,7 +91,7 @@ from dataclasses import dataclass
 from typing import Any, Literal
 
 __all__ = ["CoverageModel", "CoverageKind", "COVERAGE_KINDS", "COVERAGE_MODELS", "DECLARED_COVERAGES", "SINGLE",
-           "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "ROW_SAMPLED_AREA", "SKIA_SUPERSAMPLED_AREA",
+           "MULTISAMPLE", "AREA", "SUPERSAMPLED_AREA", "ROW_SAMPLED_AREA", "SKIA_SUPERSAMPLED_AREA", "QUANTISED_AREA",
            "AREA_THRESHOLD", "CONSERVATIVE_OVER", "CONSERVATIVE_UNDER",
            "AGG_COVER", "INCLUSIVE_SCANLINE", "CLOSED", "COVERAGE_RULES", "MAX_SAMPLES", "MAX_AREA_SAMPLES", "model_named",
            "model_for"]
@@ -305,11 +308,17 @@ SKIA_SUPERSAMPLED_AREA = CoverageModel(
     declared="skia's supersampled area coverage", seen="an alpha per pixel and triangle (anti-aliased)", alphas=True,
     verdict_checks=("accuracy",), path_oracle="harness.oracle.supersample_models:skia_supersampled_paths",
     quantum=255)
+# an analytic library's model (issue 34): the exact area of the polygon as received, then
+# the library's own levels (Convention.quantisation: harness.contract.quantisations)
+QUANTISED_AREA = CoverageModel(
+    "quantised area", "area", "harness.oracle.analytic_models:quantised_area_coverage",
+    declared="area coverage at a library's levels", seen="an alpha per pixel and triangle (anti-aliased)", alphas=True,
+    paths=False, verdict_checks=("accuracy", "seams", "popping"))
 
 COVERAGE_MODELS: dict[str, CoverageModel] = {m.name: m for m in (SINGLE, MULTISAMPLE, AREA, SUPERSAMPLED_AREA, AREA_THRESHOLD,
                                                                   CONSERVATIVE_OVER, CONSERVATIVE_UNDER, AGG_COVER,
                                                                   INCLUSIVE_SCANLINE, CLOSED, ROW_SAMPLED_AREA,
-                                                                  SKIA_SUPERSAMPLED_AREA)}
+                                                                  SKIA_SUPERSAMPLED_AREA, QUANTISED_AREA)}
 # the coverage rules, by the Convention.coverage that declares each (its name)
 COVERAGE_RULES: dict[str, CoverageModel] = {m.name: m for m in COVERAGE_MODELS.values() if m.rule}
 # the coverage kinds, in the models' order
@@ -325,7 +334,8 @@ def model_named(name: str) -> CoverageModel:
     return model
 
 
-def model_for(coverage: str, pattern: bool, rows: int = 0, supersample: int = 0) -> CoverageModel:
+def model_for(coverage: str, pattern: bool, rows: int = 0, supersample: int = 0,
+              quantisation: str = "nearest") -> CoverageModel:
     """The model a convention declaring ``coverage`` (``sample`` or ``area``:
     :data:`DECLARED_COVERAGES`) chooses, with a sample pattern or without: the one place
     a declaration becomes a model (any coverage but ``area`` is taken as ``sample``;
@@ -337,6 +347,8 @@ def model_for(coverage: str, pattern: bool, rows: int = 0, supersample: int = 0)
     CoverageModel('row-sampled area')
     >>> model_for("area", False, supersample=2)
     CoverageModel('skia-supersampled area')
+    >>> model_for("area", False, quantisation="ftgrays")
+    CoverageModel('quantised area')
     >>> model_for("conservative-over", False)
     CoverageModel('conservative-over')
     """
@@ -348,5 +360,7 @@ def model_for(coverage: str, pattern: bool, rows: int = 0, supersample: int = 0)
             return ROW_SAMPLED_AREA  # Convention(coverage="area", rows=n): n sample lines per pixel row
         if supersample and not pattern:
             return SKIA_SUPERSAMPLED_AREA  # Convention(coverage="area", supersample=shift): skia's supersampler
+        if quantisation != "nearest" and not pattern:
+            return QUANTISED_AREA  # Convention(coverage="area", quantisation=q): a library's levels of the exact area
         return SUPERSAMPLED_AREA if pattern else AREA
     return MULTISAMPLE if pattern else SINGLE

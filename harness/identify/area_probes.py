@@ -220,6 +220,7 @@ class SweepFact:
     error: str = ""
     grid: InputGrid | None = None
     drawn: tuple[_AlphaDrawn, ...] = field(default=(), repr=False, compare=False)
+    quantisation: QuantisationFit | None = None
 
     @property
     def levels_text(self) -> str:
@@ -267,7 +268,8 @@ class SweepFact:
                 "area error": f"|alpha - exact area| max {self.max_error:.3g}, mean {self.mean_error:.3g} over {self.pixels} "
                               "(triangle, pixel)s",
                 "sweeps": "; ".join(s.text for s in (self.vertical, self.horizontal, self.slanted) if s is not None)} | (
-                {} if self.grid is None else {"input grid": self.grid.text})
+                {} if self.grid is None else {"input grid": self.grid.text}) | (
+                {} if self.quantisation is None else {"quantisation": self.quantisation.text})
 
 
 def _sweep_shapes() -> tuple[NDArray[np.float64], slice, slice, slice, NDArray[np.float64], NDArray[np.float64]]:
@@ -453,10 +455,16 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
     # a tolerance measured on these very probes explains them by construction: the
     # residual counts what lies beyond half a level of the oracle, which rounding to the
     # levels keeps within
+    fit = None
+    if not candidates and not convention.rows and levels == QUANTISED_LEVELS:
+        # an analytic anti-aliaser on 8-bit levels: the library's own levels of the exact area
+        fit = quantisation_fit(calls, convention, answered, drawn, cull)
+        if fit.chosen is not None:
+            convention = fit.chosen  # with the input grid fitted beside the levels
     residual = sum(x.beyond(replace(convention, tolerance=None)) for x in answered)
     max_residual = max((float(np.abs(x.differences(convention)).max(initial=0.0)) for x in answered), default=0.0)
     return SweepFact(model, sweeps[0], sweeps[1], sweeps[2], levels, max_error, mean_error, pattern, layout, convention,
-                     residual, max_residual, pixels, runner_up, calls.calls, grid=grid, drawn=tuple(drawn))
+                     residual, max_residual, pixels, runner_up, calls.calls, grid=grid, drawn=tuple(drawn), quantisation=fit)
 
 
 def _row_sampled(analytic: Convention, rows: int, answered: Sequence[_AlphaDrawn]) -> Convention:
@@ -491,6 +499,111 @@ def _skia_supersampled(found: Convention, pattern: Sequence[tuple[float, float]]
     candidate = Convention(coverage="area", supersample=n.bit_length() - 1, input="float32", cull=found.cull)
     scores = [sum(x.beyond(replace(c, tolerance=None)) for x in answered) for c in (found, candidate)]
     return candidate if scores[1] < scores[0] else found
+# --- area: the library's levels ------------------------------------------------------------------
+
+# the quantisations make 8-bit levels
+QUANTISED_LEVELS = 256
+# the input grids the analytic libraries receive, tried with every quantisation (bits):
+# 26.6 (FreeType, Qt) and 24.8 (AGG, Blend2D)
+_LIBRARY_GRIDS = (6, 8)
+# a quantisation is judged within one level: the libraries' crossings, rounded to 1/256 px,
+# leave a level off at some pixels (harness.oracle.analytic_models)
+ONE_LEVEL = 1.0 / 255.0
+
+
+@dataclass(frozen=True, slots=True)
+class QuantisationFit:
+    """Which library's levels (:mod:`harness.contract.quantisations`) an analytic 8-bit
+    anti-aliaser's alphas are, fitted from outside: every quantisation scored on the probes
+    that part them (:func:`quantisation_fit`) and on every scene drawn before, by the
+    (triangle, pixel)s off its level (``off``) and beyond one level (``beyond``), against
+    ``nearest`` (the area rounded to the nearest level: ``nearest_off``). ``chosen``: the
+    convention (the quantisation, within one level) when one leaves fewer pixels off its
+    level than ``nearest``, else None; ``pixels`` compared; ``scores`` every candidate's
+    (off, beyond); ``nearest`` the candidate before (``base``)."""
+
+    chosen: Convention | None
+    name: str
+    off: int
+    beyond: int
+    nearest_off: int
+    pixels: int
+    scores: tuple[tuple[str, int, int], ...] = ()
+    # the candidate before the levels: the exact area within its measured tolerance (what the
+    # rasterizer's lines and paths, for which the levels are not defined, are judged by)
+    nearest: Convention | None = None
+
+    @property
+    def text(self) -> str:
+        others = ", ".join(f"{n} {o}" for n, o, _ in self.scores if n != self.name)
+        if self.chosen is None:
+            return (f"the area rounded to the nearest level ({self.nearest_off} of {self.pixels} (triangle, pixel)s off it; "
+                    f"off a library's levels: {others})")
+        grid = self.chosen.subpixel_bits
+        on = "the vertices as given" if grid is None else f"1/{2**grid} px ({self.chosen.snap_rounding})"
+        return (f"{self.name} on {on}: {self.off} of {self.pixels} (triangle, pixel)s off its level, {self.beyond} beyond "
+                f"one level (the area rounded to the nearest level: {self.nearest_off} off; at best on any grid: {others})")
+
+
+def _quantisation_shapes() -> NDArray[np.float64]:
+    """(K, 3, 2): probes whose pixel areas are whole multiples of 1/256 -- right triangles
+    with legs of 1, 2 and 4 px, at slopes 1, 1/2 and 2 (every crossing on a pixel corner or
+    a 1/2 or 1/4 px point) -- in both windings: where ``floor(256 S)`` and its complement
+    (FreeType's ``~k``) part, and which winding a library counts positive."""
+    shapes = []
+    for a, b in ((1.0, 1.0), (2.0, 2.0), (2.0, 1.0), (1.0, 2.0), (4.0, 2.0), (4.0, 4.0)):
+        clockwise = np.array([[0.0, 0.0], [a, 0.0], [0.0, b]])
+        shapes += [clockwise, clockwise[::-1]]
+    return np.array(shapes)
+
+
+def quantisation_fit(call: Call, base: Convention, answered: Sequence[_AlphaDrawn], drawn: list[_AlphaDrawn],
+                     cull: CullMode, seed: int = 0) -> QuantisationFit:
+    """The library's levels of an analytic anti-aliaser on 8-bit levels: one scene drawn
+    (appended to ``drawn``) of right triangles whose pixel areas are whole multiples of 1/256
+    in both windings (:func:`_quantisation_shapes`: FreeType's complement of a negative
+    ``k`` and the winding a library counts positive show there), and random float triangles
+    in both windings (the others: ``|k|``, the gray-8 blend and Blend2D's ``* 255 >> 8``
+    part by a level over most of the range), and those with every vertex on a half step of
+    1/64 and 1/256 px (the grids' roundings part) -- then every quantisation, on ``base``'s
+    input grid and on 26.6 and 24.8 with each rounding, scored by the (triangle, pixel)s off
+    its level, then beyond one level, over those and ``answered``, against ``nearest``
+    (``base`` itself, half a level). The best is chosen, within one level, when it leaves
+    fewer pixels off its level than ``nearest``."""
+    from harness.contract.quantisations import QUANTISATIONS
+
+    shapes = _quantisation_shapes()
+    probes = _probe_scene(shapes, "none")
+    floats = random_triangles(120, 20.0, 40, seed + 7)
+    both = Scene(40, 40, np.concatenate([floats, floats[:, ::-1]]))
+    # and the float scene with every vertex on a half step of each library grid: where rounding
+    # to nearest (either tie rule) and truncation part
+    halves = [_half_steps(both, bits).positions for bits in _LIBRARY_GRIDS]
+    side = max(probes.scene.width, probes.scene.height, 42)
+    together = Scene(side, side, np.concatenate([probes.scene.positions, both.positions, *halves]))  # one call
+    scenes = [_AlphaDrawn(together, call(together))]
+    drawn += scenes
+    judged = [x for x in [*answered, *scenes] if x.coverage is not None]
+    pixels = sum(int(x.differences(replace(base, tolerance=None)).size) for x in judged)
+    nearest = sum(x.beyond(replace(base, tolerance=None)) for x in judged)
+    scores: list[tuple[int, int, int, str, Convention]] = []
+    # each quantisation on base's grid and on the libraries' grids (26.6 and 24.8, each rounding):
+    # a level's boundary moves with the grid, so the two are fitted together
+    grids = list(dict.fromkeys([(base.subpixel_bits, base.snap_rounding), (None, "nearest-even"),
+                                *((bits, r) for bits in _LIBRARY_GRIDS for r in PLAIN_SNAP_ROUNDINGS)]))
+    for name in QUANTISATIONS:
+        for order, (bits, rounding) in enumerate(grids):
+            candidate = replace(base, quantisation=name, levels=QUANTISED_LEVELS, tolerance=ONE_LEVEL, cull=cull,
+                                subpixel_bits=bits, snap_rounding=rounding)
+            differences = [np.abs(x.differences(candidate)) for x in judged]  # the tolerance aside: one oracle each
+            off = sum(int(np.sum(d > 0.5 * ONE_LEVEL + SLACK)) for d in differences)
+            beyond = sum(int(np.sum(d > ONE_LEVEL + SLACK)) for d in differences)
+            scores.append((off, beyond, order, name, candidate))
+    off, beyond, _, name, best = min(scores, key=lambda s: (s[0], s[1], s[2]))
+    # each quantisation's best grid, for the card
+    listed = tuple((n, *min((o, b) for o, b, _, m, _ in scores if m == n)) for n in QUANTISATIONS)
+    chosen = best if off < nearest else None
+    return QuantisationFit(chosen, name, off, beyond, nearest, pixels, listed, base)
 
 
 # --- area: the input grid ------------------------------------------------------------------------

@@ -511,6 +511,9 @@ def _identify_paths(rasterizer: Rasterizer, call: Call, seed: int) -> Fingerprin
         path = with_lattice(path, call, rules.honoured, seed)
     fingerprint.fill_rules = rules.drawn
     fingerprint.path_convention = path.convention
+    if path.convention is None and not fingerprint.convention.model.paths:
+        # identified at a library's levels (triangles only): its paths judged by the exact area, as before
+        fingerprint.path_convention = _unquantised(fingerprint)
     fingerprint.path_fit = path
     fingerprint.facts["fill rules"] = rules.text
     fingerprint.facts["paths"] = path.text
@@ -584,6 +587,9 @@ def _with_lines(fingerprint: Fingerprint, call: Call, seed: int, received: Calla
         fingerprint.convention = replace(fingerprint.convention, line=fit.convention.line)
     elif fingerprint.convention.model.alphas:
         anti_aliased = _anti_aliased_lines(fingerprint)
+        levels = _unquantised(fingerprint)  # a library's levels define no lines: the exact area it was fitted to
+        if levels is not None:
+            anti_aliased = replace(levels, line=LineRule("rectangle"))
     _record_lines(fingerprint, fit)
     if anti_aliased is not None and anti_aliased != fingerprint.convention:
         fingerprint.line_convention = anti_aliased
@@ -613,6 +619,17 @@ def _anti_aliased_lines(fingerprint: Fingerprint) -> Convention:
     fingerprint.facts["line model"] = (f"{said}, within {lines.alpha_tolerance:.3g} (the largest |alpha - exact area| "
                                        f"of its triangles: its own model, {convention.model.name}, defines no lines)")
     return lines
+
+
+def _unquantised(fingerprint: Fingerprint) -> Convention | None:
+    """For an anti-aliaser identified at a library's levels (``Convention.quantisation``,
+    defined for triangles): the candidate before them, the exact area within its measured
+    tolerance, by which its lines and paths are judged; None otherwise."""
+    fit = getattr(fingerprint.probes.get("sweeps"), "quantisation", None)
+    if fit is None or fit.chosen is None or fingerprint.convention.quantisation == "nearest":
+        return None
+    nearest: Convention | None = fit.nearest
+    return nearest
 
 
 def _line_base(convention: Convention) -> Convention:

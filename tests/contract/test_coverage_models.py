@@ -46,6 +46,7 @@ CONVENTIONS = {
     "row-sampled area": Convention(coverage="area", rows=15, full_rows=True, input="fixed8"),
     # skia's supersampler as tiny-skia runs it (issue 34)
     "skia-supersampled area": Convention(coverage="area", supersample=2, input="float32"),
+    "quantised area": Convention(coverage="area", quantisation="ftgrays", input="fixed6"),
 }
 # two overlapping triangles with an attribute each vertex, edges through pixel centres
 SCENE = Scene(6, 5, np.array([[[0.0, 0.0], [6.0, 0.0], [0.0, 5.0]], [[5.5, 4.75], [1.25, 0.5], [6.0, 4.0]]]),
@@ -58,7 +59,8 @@ def test_a_convention_of_each_kind_gets_its_model():
     assert [CONVENTIONS[m.name].coverage_kind for m in models] == [m.coverage_kind for m in models]
     # the kinds keep their strings (JSON, reports, the command line); supersampled area is area to them
     assert [c.coverage_kind for c in CONVENTIONS.values()] == ["single", "multisample", "area", "area", "single", "single",
-                                                                "single", "single", "single", "single", "area", "area"]
+                                                                "single", "single", "single", "single", "area", "area",
+                                                                "area"]
     assert COVERAGE_KINDS == ("single", "multisample", "area")
     # chosen again when the declaration changes, kept across processes (one object per model)
     assert replace(CONVENTIONS["multisample"], samples=None).model is SINGLE
@@ -86,7 +88,8 @@ def test_a_convention_of_each_model_reads_back_where_only_records_may():
 def test_an_unknown_model_is_refused_in_one_line():
     with pytest.raises(ValueError, match=r"^no coverage model is named 'conservative': single, multisample, area, "
                                          r"supersampled area, area-threshold, conservative-over, conservative-under, agg-cover, "
-                                         r"inclusive-scanline, closed, row-sampled area, skia-supersampled area$"):
+                                         r"inclusive-scanline, closed, row-sampled area, skia-supersampled area, "
+                                         r"quantised area$"):
         model_named("conservative")
     with pytest.raises(ValueError, match=r"^Convention.coverage must be one of sample, area, area-threshold, "
                                          r"conservative-over, conservative-under, agg-cover, inclusive-scanline, closed, "
@@ -121,6 +124,9 @@ def test_each_model_names_the_oracle_exact_coverage_used():
     from harness.oracle.supersample_models import skia_supersampled_coverage
 
     wanted["skia-supersampled area"] = skia_supersampled_coverage
+    from harness.oracle.analytic_models import quantised_area_coverage
+
+    wanted["quantised area"] = quantised_area_coverage
     for name, model in COVERAGE_MODELS.items():
         module, _, function = model.triangle_oracle.partition(":")
         assert getattr(__import__(module, fromlist=[function]), function) is wanted[name], name
@@ -209,7 +215,7 @@ def test_the_words_a_model_gives_messages():
         "AGG's cell cover (a pixel iff its 8-bit cover is at least 256 x 0.5)",
         "an inclusive scanline fill (each row from the truncated left crossing to the right one, both drawn)",
         "the closed rule (a sample on an edge is inside) at sample (0.5, 0.5)", "row-sampled area coverage",
-        "skia's supersampled area coverage"]
+        "skia's supersampled area coverage", "area coverage at a library's levels"]
     from harness.identify.fingerprint import VERDICT_CHECKS
 
     assert VERDICT_CHECKS == {"single": ("conformance",), "multisample": ("conformance",),

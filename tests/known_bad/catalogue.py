@@ -19,6 +19,7 @@ from tests.known_bad.aa_paths import (
     QuarterPixelPathFiller,
     SignedAreaPathFiller,
 )
+from tests.known_bad.analytic_models import ComplementsWhereQtNegates, FloorsWhereBlend2DScales, RoundsWhereFreeTypeFloors
 from tests.known_bad.antialiasing import (
     BiasedArea,
     CentreSamples,
@@ -97,6 +98,7 @@ def _all() -> list[Any]:
         UnshiftedClaimsPiglit(),
         RowsAtTopEdges(), RowsTruncatedLevels(), HybridSamplesEveryRow(),
         EightSubScanlines(), FlooredSubPixels(), SampleCountLevels(),
+        RoundsWhereFreeTypeFloors(), ComplementsWhereQtNegates(), FloorsWhereBlend2DScales(),
     ]
 
 
