@@ -630,6 +630,8 @@ def alpha_cause(facts: dict[str, Any]) -> tuple[str, str] | None:
     >>> alpha_cause({"edge_pixels": 9, "tolerance": 0.5, "residue": [0.0, 0.99], "between_levels": 0.9})
     ('truncated-levels', 'alphas truncated to the levels (up to 0.99 levels low), not rounded')
     """
+    if facts.get("other_fill_rule"):  # a path scene's alphas, all within the tolerance under the other rule
+        return "fill-rule", "every alpha within the tolerance of the other fill rule's: the fill rule drawn is not the one asked"
     tolerance = float(facts.get("tolerance", 0.5))
     # where the errors are, before what they are: every one on a non-finite triangle, or
     # in the border row or column of a screen side its triangle crosses

@@ -175,7 +175,28 @@ def path_accuracy(case: Case, coverage: Coverage, oracle: Coverage, convention: 
             evidence["off_level"] = [{"path": int(path[i]), "x": int(x[i]), "y": int(y[i]), "alpha": float(alpha[i]),
                                       "level": float(alpha[i] * (levels - 1))} for i in np.flatnonzero(off)[:EVIDENCE_LIMIT]]
     ties = (f"{n_near} near ties (float rounding: the area within rounding of a level's boundary)" if n_near else "")
+    cause = None
+    if count and _drawn_under_the_other_rule(scene, coverage, convention, float(bound)):
+        other = "even-odd" if scene.fill_rule == "nonzero" else "nonzero"
+        cause = f"every alpha within the tolerance of the {other} fill's: the fill rule drawn is not the one asked"
+        evidence["alpha_facts"] = {"other_fill_rule": True}
+        evidence["alpha_cause"] = "fill-rule"
     message = accuracy_message(total=keys.size, count=count, n_off=n_off, n_near=n_near, ties=ties, bound=bound, what=what,
                                worst=worst, step=step, levels=levels, strict=tolerance.mode == "strict",
-                               where=" of the paths")
+                               where=" of the paths", cause=cause)
     return result(case.id, "accuracy", ok, message, metrics, evidence)
+
+
+def _drawn_under_the_other_rule(scene: Any, coverage: Coverage, convention: Convention, bound: float) -> bool:
+    """Whether a failing answer's alphas are all within the tolerance of the model under the
+    other fill rule (a diagnosis, not a verdict: the float model within the comparison's
+    rounding slack), for a scene where the two rules differ."""
+    from harness.oracle.coverage import exact_coverage
+
+    other = scene.with_fill_rule("evenodd" if scene.fill_rule == "nonzero" else "nonzero")
+    flipped = exact_coverage(other, convention)
+    width, height, n = scene.width, scene.height, len(scene)
+    keys, alpha, model = _aligned(*_keyed(coverage, width, height, n), *_keyed(flipped, width, height, n))
+    with np.errstate(invalid="ignore"):
+        error = np.abs(level_values(alpha, convention.levels) - model)
+    return bool(keys.size) and bool(np.all(error <= bound + 2.0**-30))

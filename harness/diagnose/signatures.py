@@ -714,6 +714,8 @@ def _alpha_cause(result: Any) -> tuple[str, str] | None:
     evidence = result.evidence if isinstance(result.evidence, dict) else {}
     facts = evidence.get("alpha_facts")
     found = alpha_cause(facts) if isinstance(facts, dict) else None
+    if found is not None and found[0] == "fill-rule":  # a path's alphas under the other fill rule: the convention's part
+        return "fill-rule", "fill-rule"
     return (found[0], "none") if found is not None else None
 
 

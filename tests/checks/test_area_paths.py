@@ -99,3 +99,21 @@ def test_a_non_finite_path_left_open_by_the_float_verdict_is_decided_as_covering
     beyond = Coverage(np.array([0]), np.array([1]), np.array([1]), np.array([3]), alpha=np.array([192.0, 128.0]) / 255)
     assert accuracy(Case("paths/nan", scene), beyond, exact_coverage(scene, Convention(coverage="area")),
                     Convention(coverage="area", tolerance=128 / 255)).status == "fail"
+
+
+def test_a_fill_rule_drawn_other_than_asked_is_named_as_such() -> None:
+    """Issue 34 point 4: an AA path filler drawing even-odd where nonzero is asked fails
+    accuracy with the cause "fill-rule" (the convention's part), not a vague alpha error;
+    one whose alphas are wrong in another way is not called a fill-rule error."""
+    from harness.diagnose.signatures import classify_accuracy
+
+    bad = EvenOddForNonzeroArea()
+    scene = _scenes("nonzero")[0]
+    case = Case("aa-paths/squares", scene)
+    verdict = accuracy(case, bad.rasterize(scene), exact_coverage(scene, AREA), AREA)
+    assert verdict.status == "fail" and verdict.evidence["alpha_cause"] == "fill-rule", verdict.message
+    assert "fill rule drawn is not the one asked" in verdict.message
+    assert classify_accuracy(verdict, case, AREA) == ("fill-rule", "fill-rule")
+    signed = SignedAreaPathFiller()  # wrong where contours overlap, under either rule
+    other = accuracy(case, signed.rasterize(scene), exact_coverage(scene, AREA), AREA)
+    assert other.status == "fail" and other.evidence.get("alpha_cause") != "fill-rule"
