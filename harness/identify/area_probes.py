@@ -407,11 +407,13 @@ def alpha_sweeps(call: Call, seed: int = 0, resolution: int = 20) -> SweepFact:
     first = quantum_seen()
     if model == "supersampled":
         cells = None if first is None else _count_cells(calls, cull, refined[0], refined[1], first, drawn)
-        if cells is None:
-            model = "analytic"  # the steps do not pair up into samples of equal weight
+        xs = [_offset(lo, hi) for lo, hi, _ in sorted(refined[0])]
+        ys = [_offset(lo, hi) for lo, hi, _ in sorted(refined[1])]
+        if cells is None or not all(0.0 <= v < 1.0 for v in (*xs, *ys)):
+            # the steps do not pair up into samples of equal weight, or one lies on the pixel's
+            # edge (an area taken on an input grid steps there): no sample pattern
+            model = "analytic"
         else:
-            xs = [_offset(lo, hi) for lo, hi, _ in sorted(refined[0])]
-            ys = [_offset(lo, hi) for lo, hi, _ in sorted(refined[1])]
             pattern = tuple((xs[i], ys[j]) for i, j in cells)  # row by row
             layout = _layout(pattern)
             if len(pattern) <= MAX_AREA_SAMPLES:

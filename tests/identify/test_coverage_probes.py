@@ -338,3 +338,24 @@ def test_a_supersampler_taking_lines_has_its_lines_judged_against_the_exact_stro
     declared = replace(lines, tolerance=1 / 255)
     inner.line_convention = declared  # type: ignore[attr-defined]
     assert convention_for(Identified(inner, fingerprint), segment) == declared.for_lines()
+
+
+def test_an_area_on_a_quarter_pixel_grid_is_read_as_snapping_not_as_samples_on_the_pixel_edge():
+    """An analytic filler snapping to 1/4 px steps at 0.25, 0.5, 0.75 and 1: identify once
+    built a sample pattern of those steps and raised ("sample offset (1.0, 0.25) lies
+    outside the pixel"); a step on the pixel's edge is no sample, and the area on its input
+    grid is identified exactly."""
+    from harness.identify.fingerprint import identify
+    from tests.known_bad.aa_paths import QuarterPixelPathFiller
+
+    class BlackBox:
+        name = "quarter_pixel_black_box"
+        convention = None
+        scene_kinds = QuarterPixelPathFiller.scene_kinds
+
+        def rasterize(self, scene):
+            return QuarterPixelPathFiller().rasterize(scene)
+
+    fingerprint = identify(BlackBox())
+    assert fingerprint.exact and fingerprint.convention.samples is None, fingerprint.card()
+    assert (fingerprint.convention.subpixel_bits, fingerprint.convention.snap_rounding) == (2, "floor")
