@@ -417,6 +417,16 @@ def _c_divmod(a: NDArray[Any], b: NDArray[Any]) -> tuple[NDArray[Any], NDArray[A
     return q, a - q * b
 
 
+@numba.njit(cache=True, inline="always")
+def _take(src, i, limit, cell, out, n):  # type: ignore[no-untyped-def]
+    """Copy src[i:] to out[n:] while its cells are at most ``limit``: (i, n) after."""
+    while i < src.size and cell[src[i]] <= limit:
+        out[n] = src[i]
+        n += 1
+        i += 1
+    return i, n
+
+
 @numba.njit(cache=True)
 def _merge(a, b, cell):  # type: ignore[no-untyped-def]
     """cairo's merge_sorted_edges of two sorted id lists (b not empty): its tie order."""
@@ -426,32 +436,17 @@ def _merge(a, b, cell):  # type: ignore[no-untyped-def]
     n = 0
     from_a = a.size > 0 and cell[a[0]] <= cell[b[0]]
     while True:
-        if from_a:
-            x = cell[b[ib]]
-            while ia < a.size and cell[a[ia]] <= x:
-                out[n] = a[ia]
-                n += 1
-                ia += 1
+        if from_a:  # a's run up to b's head (ties taken from the list being walked)
+            ia, n = _take(a, ia, cell[b[ib]], cell, out, n)
             if ia == a.size:
-                while ib < b.size:
-                    out[n] = b[ib]
-                    n += 1
-                    ib += 1
+                ib, n = _take(b, ib, _BIG, cell, out, n)
                 return out
-            from_a = False
         else:
-            x = cell[a[ia]] if ia < a.size else _BIG
-            while ib < b.size and cell[b[ib]] <= x:
-                out[n] = b[ib]
-                n += 1
-                ib += 1
+            ib, n = _take(b, ib, cell[a[ia]] if ia < a.size else _BIG, cell, out, n)
             if ib == b.size:
-                while ia < a.size:
-                    out[n] = a[ia]
-                    n += 1
-                    ia += 1
+                ia, n = _take(a, ia, _BIG, cell, out, n)
                 return out
-            from_a = True
+        from_a = not from_a
 
 
 @numba.njit(cache=True)

@@ -14,13 +14,13 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from cases.suites import suite
-from harness import run_suite
 from harness.contract.conventions import Convention
 from harness.contract.coverage_models import ROW_SAMPLED_AREA, model_for
 from harness.contract.scenes import Scene
 from harness.oracle.aa_models import cairo_alpha_levels, exact_row_sampled_alpha, row_sampled_coverage
 from harness.oracle.area import exact_area
 from harness.oracle.coverage import exact_coverage
+from tests.accuracy_runs import assert_judged_by_accuracy
 from tests.known_bad.aa_models import HybridSamplesEveryRow, RowsAtTopEdges, RowsTruncatedLevels
 
 W = H = 6
@@ -122,15 +122,7 @@ class _Exact:
                                                 (HybridSamplesEveryRow(), False)],
                          ids=["exact", "rows-at-top-edges", "truncated-levels", "hybrid-samples-every-row"])
 def test_accuracy_judges_the_row_sampled_model_and_catches_its_known_bads(rasterizer, passes):
-    selected = _cases()
-    assert selected
-    statuses = [r.status for r in run_suite([rasterizer], cases=selected, isolate=False, identify=False, repros=False,
-                                            only={"accuracy"}, timeout=60.0)]
-    assert statuses
-    if passes:
-        assert set(statuses) == {"pass"}, statuses
-    else:
-        assert "fail" in statuses, statuses
+    assert_judged_by_accuracy(rasterizer, _cases(), passes)
 
 
 def test_accuracy_of_a_row_sampled_answer_against_the_analytic_area_fails():

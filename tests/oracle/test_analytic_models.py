@@ -14,7 +14,6 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from cases.suites import suite
-from harness import run_suite
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.coverage_models import AREA, QUANTISED_AREA, model_for
@@ -23,6 +22,7 @@ from harness.contract.scenes import Scene
 from harness.oracle.analytic_models import exact_level, levels_of, quantised_area_coverage
 from harness.oracle.area import exact_area
 from harness.oracle.coverage import exact_coverage
+from tests.accuracy_runs import assert_judged_by_accuracy
 from tests.known_bad.analytic_models import ComplementsWhereQtNegates, FloorsWhereBlend2DScales, RoundsWhereFreeTypeFloors
 
 W = H = 6
@@ -205,15 +205,7 @@ class _ExactPort:
                          ids=["exact", "rounds-where-freetype-floors", "complements-where-qt-negates",
                               "floors-where-blend2d-scales"])
 def test_accuracy_judges_the_declared_levels_and_catches_the_known_bads(rasterizer, passes):
-    selected = _cases()
-    assert selected
-    statuses = [r.status for r in run_suite([rasterizer], cases=selected, isolate=False, identify=False, repros=False,
-                                            only={"accuracy"}, timeout=60.0)]
-    assert statuses
-    if passes:
-        assert set(statuses) == {"pass"}, statuses
-    else:
-        assert "fail" in statuses, statuses
+    assert_judged_by_accuracy(rasterizer, _cases(), passes)
 
 
 def test_the_analytic_area_rounded_is_not_a_librarys_levels():

@@ -15,7 +15,6 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from cases.suites import suite
-from harness import run_suite
 from harness.contract.conventions import Convention
 from harness.contract.coverage_models import SKIA_SUPERSAMPLED_AREA, model_for
 from harness.contract.scenes import PathScene, Scene
@@ -26,6 +25,7 @@ from harness.oracle.supersample_models import (
     skia_supersampled_coverage,
     skia_supersampled_paths,
 )
+from tests.accuracy_runs import assert_judged_by_accuracy
 from tests.known_bad.supersample_models import EightSubScanlines, FlooredSubPixels, SampleCountLevels
 from tests.optional import need
 
@@ -223,15 +223,7 @@ class _Exact:
                                                 (SampleCountLevels(), False)],
                          ids=["exact", "eight-sub-scanlines", "floored-sub-pixels", "sample-count-levels"])
 def test_accuracy_judges_the_supersampler_and_catches_its_known_bads(rasterizer, passes):
-    selected = _cases()
-    assert selected
-    statuses = [r.status for r in run_suite([rasterizer], cases=selected, isolate=False, identify=False, repros=False,
-                                            only={"accuracy"}, timeout=60.0)]
-    assert statuses
-    if passes:
-        assert set(statuses) == {"pass"}, statuses
-    else:
-        assert "fail" in statuses, statuses
+    assert_judged_by_accuracy(rasterizer, _cases(), passes)
 
 
 def test_accuracy_on_paths_judges_the_model():

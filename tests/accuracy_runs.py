@@ -1,0 +1,22 @@
+"""One accuracy run of a model's reference port or known-bad over chosen cases: what the
+model tests (cairo's rows, skia's supersampler, the analytic libraries' levels) share."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from harness import run_suite
+
+
+def assert_judged_by_accuracy(rasterizer: Any, cases: Sequence[Any], passes: bool) -> None:
+    """Run accuracy alone on ``cases``: every result passes for a correct port (``passes``),
+    at least one fails for a known-bad."""
+    assert cases
+    statuses = [r.status for r in run_suite([rasterizer], cases=list(cases), isolate=False, identify=False, repros=False,
+                                            only={"accuracy"}, timeout=60.0)]
+    assert statuses
+    if passes:
+        assert set(statuses) == {"pass"}, statuses
+    else:
+        assert "fail" in statuses, statuses
