@@ -202,14 +202,20 @@ def _skimage_lines(scene: LineScene) -> NDArray[np.uint8]:
     return image
 
 
-def _cairo_lines(scene: LineScene) -> _Surface:
-    """cairo's aliased hairline (width 1, ``ANTIALIAS_NONE``) of each segment, stroked."""
+def _cairo_segments(scene: LineScene, antialiased: bool) -> _Surface:
+    """cairo stroking each segment of ``scene`` into an A8 surface: aliased hairlines
+    (width 1, ``ANTIALIAS_NONE``) or its default anti-aliasing at the scene's width with
+    butt caps."""
     import cairo
 
     surface = cairo.ImageSurface(cairo.FORMAT_A8, scene.width, scene.height)
     context = cairo.Context(surface)
-    context.set_antialias(cairo.ANTIALIAS_NONE)
-    context.set_line_width(1.0)
+    if antialiased:
+        context.set_line_width(scene.line_width)
+        context.set_line_cap(cairo.LINE_CAP_BUTT)
+    else:
+        context.set_antialias(cairo.ANTIALIAS_NONE)
+        context.set_line_width(1.0)
     a, b = scene.segments()
     for ax, ay, bx, by in np.concatenate([a, b], axis=1).tolist():
         context.move_to(ax, ay)
@@ -222,6 +228,11 @@ def _cairo_lines(scene: LineScene) -> _Surface:
         return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(scene.height, stride)[:, :scene.width]
 
     return _Surface(read)
+
+
+def _cairo_lines(scene: LineScene) -> _Surface:
+    """cairo's aliased hairline (width 1, ``ANTIALIAS_NONE``) of each segment, stroked."""
+    return _cairo_segments(scene, antialiased=False)
 
 
 def _skia_lines(scene: LineScene) -> _Surface:
@@ -252,24 +263,7 @@ def _pillow_strokes(scene: LineScene) -> Image.Image:
 def _cairo_strokes(scene: LineScene) -> _Surface:
     """cairo's anti-aliased stroke (its default anti-aliasing, the scene's width, butt
     caps) of each segment."""
-    import cairo
-
-    surface = cairo.ImageSurface(cairo.FORMAT_A8, scene.width, scene.height)
-    context = cairo.Context(surface)
-    context.set_line_width(scene.line_width)
-    context.set_line_cap(cairo.LINE_CAP_BUTT)
-    a, b = scene.segments()
-    for ax, ay, bx, by in np.concatenate([a, b], axis=1).tolist():
-        context.move_to(ax, ay)
-        context.line_to(bx, by)
-        context.stroke()
-
-    def read() -> NDArray[np.uint8]:
-        surface.flush()
-        stride = surface.get_stride()
-        return np.frombuffer(surface.get_data(), dtype=np.uint8).reshape(scene.height, stride)[:, :scene.width]
-
-    return _Surface(read)
+    return _cairo_segments(scene, antialiased=True)
 
 
 def _skia_strokes(scene: LineScene) -> _Surface:
