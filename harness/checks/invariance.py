@@ -378,24 +378,24 @@ def area_invariance(case: Case, coverage: Coverage, variants: list[tuple[str, ND
     return result(case.id, "invariance", not diffs, message, metrics, evidence)
 
 
+def _unanswered(s: Subject, outcome: Any) -> Result:
+    """The error result of a variant the rasterizer did not answer."""
+    kind = "timeout" if outcome.timed_out else type(outcome.error).__name__
+    return Result("", s.case.id, "invariance", "error", f"{kind}: {outcome.error}",
+                  {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
+
+
 def _run(s: Subject) -> Result:
     variants = []
-    for label, scene, index in invariance_variants(s.case):
+    drawn = list(invariance_variants(s.case))
+    if s.convention is not None and s.convention.model.alphas and isinstance(s.case.scene, LineScene):
+        drawn += area_line_variants(s.case.scene)  # a stroke's area does not depend on its direction
+    for label, scene, index in drawn:
         outcome = s.call(scene)
         if outcome.coverage is None:
-            kind = "timeout" if outcome.timed_out else type(outcome.error).__name__
-            return Result("", s.case.id, "invariance", "error", f"{kind}: {outcome.error}",
-                          {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
+            return _unanswered(s, outcome)
         variants.append((label, index, outcome.coverage))
     if s.convention is not None and s.convention.model.alphas:
-        if isinstance(s.case.scene, LineScene):  # a stroke's area does not depend on its direction
-            for label, scene, index in area_line_variants(s.case.scene):
-                outcome = s.call(scene)
-                if outcome.coverage is None:
-                    kind = "timeout" if outcome.timed_out else type(outcome.error).__name__
-                    return Result("", s.case.id, "invariance", "error", f"{kind}: {outcome.error}",
-                                  {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
-                variants.append((label, index, outcome.coverage))
         built: list[Callable[[NDArray], NDArray]] = []
 
         def near(keys: NDArray) -> NDArray:
