@@ -44,7 +44,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import replace
 from fractions import Fraction
 from typing import Any
 
@@ -237,7 +236,7 @@ def _inside_samples(scene: Scene, convention: Convention, fragments: NDArray) ->
     width, height = scene.width, scene.height
     triangles = np.unique(fragments[0])
     alone = Scene(width, height, scene.positions[triangles])
-    single = replace(convention, coverage="sample", samples=None, levels=256, tolerance=None)
+    single = convention.point_sampled()
     wanted = (np.searchsorted(triangles, fragments[0]) * height + fragments[2]) * width + fragments[1]
     inside = np.zeros((convention.n_samples, fragments.shape[1]), dtype=bool)
     for s, layer in enumerate(exact_samples(alone, single, convention.samples)):

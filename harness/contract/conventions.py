@@ -876,6 +876,18 @@ class Convention:
         """Samples per pixel: the pattern's length, else 1."""
         return 1 if self.samples is None else len(self.samples)
 
+    def point_sampled(self, sample: tuple[float, float] | None = None) -> Convention:
+        """This convention's single-sample twin: one sample per pixel at ``sample`` (its own
+        by default), with the same ties, snapping, input and culling, and none of what an
+        area model adds (a pattern, rows, a supersampler's shift, a quantisation, levels):
+        what a winding or a sample share is decided by.
+
+        >>> Convention(coverage="area", rows=15, full_rows=True, input="fixed8").point_sampled((0.5, 0.5)).model
+        CoverageModel('single')
+        """
+        return replace(self, coverage="sample", samples=None, sample=self.sample if sample is None else sample,
+                       levels=256, tolerance=None, rows=0, full_rows=False, supersample=0, quantisation=NEAREST)
+
     def at_sample(self, index: int) -> Convention:
         """The single-sample convention that sample ``index`` of the pattern obeys: this
         one with ``sample`` moved to that offset (the same ties, snapping and culling).
@@ -888,7 +900,7 @@ class Convention:
                 raise IndexError(f"a single-sample convention has sample 0 only, not {index}")
             return self
         offsets: tuple[tuple[float, float], ...] = self.samples
-        return replace(self, sample=offsets[index], samples=None, coverage="sample", levels=256, tolerance=None)
+        return self.point_sampled(offsets[index])
 
     @property
     def level_step(self) -> float:

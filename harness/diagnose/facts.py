@@ -57,7 +57,7 @@ def judged_convention(result: Any, convention: Convention | None) -> Convention:
             return convention.at_sample(index)
         if convention.model.single_sample or convention.model.rule:  # a coverage rule: one answer per pixel, kept
             return convention
-        return replace(convention, samples=None, coverage="sample", levels=256, tolerance=None)
+        return convention.point_sampled()
     return Convention()
 
 

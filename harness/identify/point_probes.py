@@ -51,7 +51,7 @@ def tie_points(seed: int) -> list[PointScene]:
 def point_candidates(triangles: Convention | None, samples: Sequence[tuple[float, float]] = SAMPLE_POINTS) -> list[Convention]:
     """The conventions tried: the triangles' own first (when known), then each sample point
     with each square tie rule, unsnapped and snapped as the triangles are."""
-    base = Convention() if triangles is None else replace(triangles, samples=None, coverage="sample")
+    base = Convention() if triangles is None else triangles.point_sampled()
     out = [base] if triangles is not None else []
     snaps = {(None, "nearest-even"), (base.subpixel_bits, base.snap_rounding)}
     for sample in dict.fromkeys([base.sample, *samples]):

@@ -575,5 +575,5 @@ def sample_shares(scene: Scene, convention: Convention) -> Coverage:
     >>> sample_shares(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(coverage="area", samples=4)).alpha.tolist()
     [1.0, 0.5, 0.5]
     """
-    single = replace(convention, coverage="sample", samples=None, levels=256, tolerance=None)
+    single = convention.point_sampled()
     return shares_of_layers(exact_samples(scene, single, convention.samples), scene.height, convention.n_samples)

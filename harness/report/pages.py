@@ -298,13 +298,23 @@ def _rows(node: dict[str, Any]) -> int:
     return len(node["rows"]) + 1 if node["kind"] == "table" else 1
 
 
+def _drawn(r: Result, drawer: Any, fallback: Any, evidence: dict[str, Any], what: str) -> Any:
+    """``drawer(r)``, or ``fallback`` with the reason in ``evidence`` when the picture cannot
+    be drawn: a picture costs only itself, the report (and the run behind it) is written."""
+    try:
+        return drawer(r)
+    except Exception as exc:  # noqa: BLE001 - any drawing bug: say it on the page, keep the report
+        evidence[f"{what} not drawn"] = f"{type(exc).__name__}: {exc}"
+        return fallback
+
+
 def _problem(r: Result, index: int, spec: str) -> dict[str, Any]:
-    images = [(caption(k, r), uri) for k, uri in draw(r).items()]  # none without a drawing
     evidence = {k: v for k, v in r.evidence.items() if k not in HIDDEN}
+    images = [(caption(k, r), uri) for k, uri in _drawn(r, draw, {}, evidence, "picture").items()]  # none without a drawing
     repro = r.evidence.get("repro")
     repro = repro if isinstance(repro, dict) else {}
     path = r.evidence.get("repro_path")
-    drawn = draw_repro(r)
+    drawn = _drawn(r, draw_repro, None, evidence, "repro picture")
     table = evidence_table(evidence) if evidence else None
     lines = on_lines(r)
     if "lines" in repro:  # its segments: a strip of K vertices holds K - 1

@@ -10,7 +10,6 @@ oracle's (pinned by ``tests/report/test_path_pictures.py``)."""
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -350,7 +349,7 @@ def _svg_windings(scene: PathScene, path: int, convention: Convention, window: t
     x0, y0, _, _ = window
     font = min(max(7.0 / scale, 0.3), 0.45)
     if not convention.model.single_sample:  # area or a pattern: the winding at each pixel's centre (the convention's snapping)
-        convention = replace(convention, coverage="sample", samples=None, sample=(0.5, 0.5), levels=256, tolerance=None)
+        convention = convention.point_sampled((0.5, 0.5))
     winding = winding_numbers(scene, path, convention, window)
     if winding is None:
         return []

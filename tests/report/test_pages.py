@@ -293,3 +293,35 @@ def test_the_conventions_table_shows_each_rule_input_and_line_rule_in_its_column
     assert rows["bad_no-prestep"][6] == "parallelogram lines (Vulkan non-strict)"
     assert "no convention declared or identified" in rows["bad_raises"][1]
     assert all("not identified" in cells[-1] for cells in rows.values())
+
+
+def test_a_picture_that_cannot_be_drawn_costs_only_itself(monkeypatch):
+    """The atlas once lost a 30-minute run: drawing a path failure of cairo's row-sampled
+    model raised in the report (a convention the picture could not derive). A drawing bug
+    now leaves that picture out and says why in the failure's evidence; the page is written."""
+    from harness.checks.records import Result
+    from harness.report import pages
+
+    def broken(result):
+        raise ValueError("no picture for this convention")
+
+    monkeypatch.setattr(pages, "draw", broken)
+    monkeypatch.setattr(pages, "draw_repro", broken)
+    failure = Result("somebody", "paths/star/nonzero", "accuracy", "fail", "alphas off", {}, {"pixels": []})
+    problem = pages._problem(failure, 0, "somebody")
+    assert problem["images"] == []
+    shown = str(problem)
+    assert "picture not drawn" in shown and "no picture for this convention" in shown
+
+
+def test_the_winding_picture_of_an_area_model_is_taken_at_its_point_sampled_twin():
+    """Each area model (rows, a supersampler, a library's levels) has a single-sample twin
+    for its windings and sample shares."""
+    from harness.contract.conventions import Convention
+
+    for convention in (Convention(coverage="area", rows=15, full_rows=True, input="fixed8"),
+                       Convention(coverage="area", supersample=2, input="float32"),
+                       Convention(coverage="area", quantisation="ftgrays", input="fixed6"),
+                       Convention(coverage="area", samples=4)):
+        twin = convention.point_sampled((0.5, 0.5))
+        assert twin.model.single_sample and twin.input == convention.input
