@@ -265,15 +265,19 @@ def near_level_boundary(case: Case, oracle: Coverage, convention: Convention,
     (``tolerance.near_tie`` relative to max(1, largest |coordinate|), at most
     ``tolerance.near_tie_pixels``): :func:`harness.checks.area_paths.displaced_path_bound`
     of the primitive's edges (a stroke's boundary counted as 8 edges: two sides, and two
-    caps of at most three edges' length each). None on a lattice case or in strict mode."""
+    caps of at most three edges' length each). On a lattice case or in strict mode only
+    values on a boundary itself, within the oracle's bound (accuracy lets an area exactly
+    halfway between two levels round to either way)."""
     from harness.checks.area_levels import _keyed
     from harness.checks.area_paths import displaced_path_bound
     from harness.kinds import LINES
 
     scene = case.scene
     width, height, n = scene.width, scene.height, len(scene)
-    if case.lattice or tolerance.mode != "default":
-        return lambda keys: np.zeros(keys.size, dtype=bool)
+    # on a lattice case or in strict mode only a model value on a rounding boundary itself
+    # (within the oracle's bound): an area exactly halfway between two levels may round to
+    # either, as accuracy allows; no geometry moved by rounding
+    displaced = not case.lattice and tolerance.mode == "default"
     model_keys, model = _keyed(oracle, width, height, n)
     coordinates = convention.snap(np.asarray(scene.coordinates, dtype=np.float64))
     finite = np.where(np.isfinite(coordinates), np.abs(coordinates), 0.0)
@@ -296,7 +300,7 @@ def near_level_boundary(case: Case, oracle: Coverage, convention: Convention,
         magnitude = np.maximum(1.0, per.max(axis=1, initial=0.0))
         edges = np.full(n, 3, dtype=np.int64)
         oracle_bound = np.full(n, 2.0**-24)
-    reach = np.minimum(tolerance.near_tie * magnitude, tolerance.near_tie_pixels)
+    reach = np.minimum(tolerance.near_tie * magnitude, tolerance.near_tie_pixels) if displaced else np.zeros(n)
     slack = oracle_bound + displaced_path_bound(edges, reach) + 2.0**-40
     half = 1.0 / (2 * (convention.levels - 1))
 

@@ -190,8 +190,9 @@ def test_reversed_strokes_are_the_same_strokes() -> None:
 
 def test_a_one_level_difference_at_a_rounding_boundary_is_a_near_tie() -> None:
     """An area within float rounding of a level's midpoint may round either way: a
-    rasterizer rounding it up one way and down reversed is excused there (default mode,
-    not on a lattice case), and not elsewhere."""
+    rasterizer rounding it up one way and down reversed is excused there, and not
+    elsewhere; on a lattice case only an area exactly on the midpoint (accuracy lets it
+    round either way), no geometry moved by rounding."""
     # pixel (1, 1) half covered: 127.5 levels, a midpoint; pixel (2, 1) a quarter: 63.75
     square = PathScene.from_paths(4, 4, [[np.array([[1.5, 1.0], [2.25, 1.0], [2.25, 2.0], [1.5, 2.0]])]])
     case = Case("aa-paths/midpoint", square)
@@ -200,7 +201,8 @@ def test_a_one_level_difference_at_a_rounding_boundary_is_a_near_tie() -> None:
     key = (0 * 4 + 1) * 4 + 1  # path 0, pixel (1, 1)
     assert near(np.array([key])).tolist() == [True]
     assert near(np.array([(0 * 4 + 1) * 4 + 2])).tolist() == [False]  # a quarter of a level from the nearest
-    assert near_level_boundary(replace(case, lattice=True), oracle, AREA)(np.array([key])).tolist() == [False]
+    on_lattice = near_level_boundary(replace(case, lattice=True), oracle, AREA)
+    assert on_lattice(np.array([key, (0 * 4 + 1) * 4 + 2])).tolist() == [True, False]
 
 
 # -- seams on path partitions -----------------------------------------------------------------
@@ -305,3 +307,41 @@ def test_the_exact_references_pass_every_check_on_the_aa_cases_through_the_runne
     bad = [(r.rasterizer, r.case, r.check, r.message) for r in results if r.status in ("fail", "error")]
     assert not bad, bad[:5]
     assert {"accuracy", "invariance", "popping", "seams"} <= {r.check for r in results}
+
+
+def test_a_half_level_tie_rounded_either_way_by_direction_is_no_change_even_on_a_lattice():
+    """Mesa's smooth lines round an area of exactly 1/2 to 127 one way and 128 the other:
+    accuracy lets an area exactly halfway between two levels round to either, so the exact
+    reversal does too, on lattice cases and in strict mode; rounding that differs by
+    direction anywhere else is still a change (DirectionalAALines)."""
+    import numpy as np
+
+    from cases.suites import suite
+    from harness import run_suite
+    from harness.contract.conventions import Convention, LineRule
+    from harness.contract.coverage import Coverage
+    from harness.oracle.area_lines import line_pixel_areas
+    from tests.known_bad.aa_lines import DirectionalAALines
+
+    class TiesByDirection:
+        name = "ties_by_direction"
+        convention = Convention(coverage="area", line=LineRule("rectangle"))
+        scene_kinds = ("lines",)
+        interpolates = False
+
+        def rasterize(self, scene: LineScene) -> Coverage:
+            a, b = scene.segments()
+            s, x, y, area = line_pixel_areas(np.stack([a, b], axis=1), scene.line_width, "butt", scene.width,
+                                             scene.height)
+            forward = (b - a)[:, 0] > 0
+            scaled = np.clip(area, 0.0, 1.0) * 255.0
+            level = np.where(forward[s], np.floor(scaled + 0.5), np.ceil(scaled - 0.5)) if s.size else scaled
+            keep = level > 0
+            return Coverage.from_pixels(s[keep], x[keep], y[keep], alpha=level[keep] / 255.0)
+
+    cases = [c for c in suite("quick") if c.id == "lines/octants/centres" and isinstance(c, Case)]
+    assert cases and cases[0].lattice
+    tied = run_suite([TiesByDirection()], cases=cases, isolate=False, identify=False, repros=False, only={"invariance"})
+    assert [r.status for r in tied] == ["pass"], [r.message for r in tied]
+    bad = run_suite([DirectionalAALines()], cases=cases, isolate=False, identify=False, repros=False, only={"invariance"})
+    assert [r.status for r in bad] == ["fail"]
