@@ -20,3 +20,16 @@ def assert_judged_by_accuracy(rasterizer: Any, cases: Sequence[Any], passes: boo
         assert set(statuses) == {"pass"}, statuses
     else:
         assert "fail" in statuses, statuses
+
+
+def dense_alphas(coverage: Any, width: int, height: int) -> Any:
+    """(height, width) float64: each pixel's alphas summed over the primitives covering it
+    (none: zeros)."""
+    import numpy as np
+
+    image = np.zeros((height, width))
+    if coverage.alpha is None:
+        return image
+    _, x, y = coverage.pixels()
+    np.add.at(image, (y, x), coverage.alpha)
+    return image

@@ -20,20 +20,14 @@ from harness.contract.scenes import Scene
 from harness.oracle.aa_models import cairo_alpha_levels, exact_row_sampled_alpha, row_sampled_coverage
 from harness.oracle.area import exact_area
 from harness.oracle.coverage import exact_coverage
-from tests.accuracy_runs import assert_judged_by_accuracy
+from tests.accuracy_runs import assert_judged_by_accuracy, dense_alphas
 from tests.known_bad.aa_models import HybridSamplesEveryRow, RowsAtTopEdges, RowsTruncatedLevels
 
 W = H = 6
 
 
 def _dense(coverage, width=W, height=H):
-    image = np.zeros((height, width))
-    m = 0
-    for k in range(len(coverage.y)):
-        n = int(coverage.x1[k] - coverage.x0[k])
-        image[coverage.y[k], coverage.x0[k]:coverage.x1[k]] += coverage.alpha[m:m + n]
-        m += n
-    return image
+    return dense_alphas(coverage, width, height)
 
 
 # vertices on a lattice of 1/32 px (ties with the 1/15 rows never, with pixel edges often)

@@ -22,7 +22,7 @@ from harness.contract.scenes import Scene
 from harness.oracle.analytic_models import exact_level, levels_of, quantised_area_coverage
 from harness.oracle.area import exact_area
 from harness.oracle.coverage import exact_coverage
-from tests.accuracy_runs import assert_judged_by_accuracy
+from tests.accuracy_runs import assert_judged_by_accuracy, dense_alphas
 from tests.known_bad.analytic_models import ComplementsWhereQtNegates, FloorsWhereBlend2DScales, RoundsWhereFreeTypeFloors
 
 W = H = 6
@@ -30,14 +30,7 @@ NAMES = list(QUANTISATIONS)
 
 
 def _dense(coverage: Coverage, width: int = W, height: int = H) -> np.ndarray:
-    image = np.zeros((height, width))
-    assert coverage.alpha is not None
-    m = 0
-    for k in range(len(coverage.y)):
-        n = int(coverage.x1[k] - coverage.x0[k])
-        image[coverage.y[k], coverage.x0[k]:coverage.x1[k]] += coverage.alpha[m:m + n]
-        m += n
-    return image
+    return dense_alphas(coverage, width, height)  # type: ignore[no-any-return]
 
 
 # -- the quantisations, as their C reads ------------------------------------------------------------

@@ -24,18 +24,14 @@ from harness.oracle.row_sampled_paths import (
     row_sampled_path_bound,
     row_sampled_path_coverage,
 )
+from tests.accuracy_runs import dense_alphas
 
 W = H = 6
 HYBRID = Convention(coverage="area", rows=15, full_rows=True, input="fixed8")
 
 
 def _dense(coverage: Coverage, width: int = W, height: int = H) -> np.ndarray:
-    image = np.zeros((height, width))
-    if coverage.alpha is None:
-        return image
-    _, x, y = coverage.pixels()
-    np.add.at(image, (y, x), coverage.alpha)
-    return image
+    return dense_alphas(coverage, width, height)  # type: ignore[no-any-return]
 
 
 # vertices on 1/32 px (pixel edges often) and 1/30 px (the 15 rows' centres and boundaries)
