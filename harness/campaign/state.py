@@ -139,7 +139,9 @@ class SceneFinding:
 class BatchResult:
     """A batch as run: scenes checked, primitives handed to the rasterizer, the worker's
     seconds on it (``setup_seconds`` of them loading the rasterizer), its findings and the
-    worker that ran it."""
+    worker that ran it; ``sections`` where the worker's seconds went
+    (:class:`harness.engine.ledger.Ledger`: exclusive seconds per section, and under
+    ``note:`` the rasterizer's own seconds in its process)."""
 
     batch: Batch
     scenes: int
@@ -148,6 +150,7 @@ class BatchResult:
     findings: tuple[SceneFinding, ...]
     worker: str
     setup_seconds: float = 0.0
+    sections: dict[str, float] = field(default_factory=dict)
 
 
 @dataclass(frozen=True, slots=True)
@@ -159,7 +162,9 @@ class ProgressEvent:
     were ready); ``total_scenes``, ``findings`` and ``signatures`` (key -> findings) the
     whole campaign's; ``eta`` is the seconds left until the budget is reached (None before
     a rate is known). ``batch``, ``worker`` and ``batch_findings`` are of the batch just
-    merged; ``new_signatures`` the keys it saw first.
+    merged; ``new_signatures`` the keys it saw first; ``sections`` this run's seconds per
+    section, summed over its batches (:attr:`BatchResult.sections`), and the coordinator's
+    own (``state``: merging batches and writing the state).
     """
 
     scenes: int
@@ -177,6 +182,7 @@ class ProgressEvent:
     batch_findings: tuple[SceneFinding, ...] = ()
     new_signatures: tuple[str, ...] = ()
     finished: bool = False
+    sections: dict[str, float] = field(default_factory=dict)
 
 
 # ---------------------------------------------------------------------------------------------

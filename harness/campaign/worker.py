@@ -29,6 +29,7 @@ from harness.campaign.state import BatchResult, CampaignError, CampaignTask, Sce
 from harness.checks import Result
 from harness.contract.case import Case, MotionCase, case_to_json
 from harness.diagnose.causes import attributed
+from harness.engine import ledger
 from harness.engine.session import Session
 
 if TYPE_CHECKING:
@@ -125,9 +126,10 @@ def _classified(result: Result, case: Case | MotionCase, loaded: Session) -> tup
     from harness.diagnose.signatures import signature
     from harness.diagnose.trials import with_trials
 
-    if result.status == "fail":
-        result = with_trials(result, case, loaded.judge, loaded.rasterizer)
-    return result, signature(result, case, loaded.convention(case))
+    with ledger.section("signatures"):
+        if result.status == "fail":
+            result = with_trials(result, case, loaded.judge, loaded.rasterizer)
+        return result, signature(result, case, loaded.convention(case))
 
 
 def _finding(result: Result, case: Case | MotionCase, loaded: Session, family: str, seed: int, index: int) -> SceneFinding:
@@ -211,7 +213,10 @@ def run_batch(task: CampaignTask) -> BatchResult:
     with every rasterize call isolated, and classify each failing or erroring result.
 
     The rasterizer is loaded once per worker process; a crash or hang of it is an error
-    result (a ``crash`` or ``hang`` finding), and the batch goes on.
+    result (a ``crash`` or ``hang`` finding), and the batch goes on. Every scene of the
+    batch the checks will hand the rasterizer is sent to its process at once, before the
+    first is checked (:meth:`harness.engine.session.Session.prefetch`): it draws them while
+    this process checks. Where the worker's time went is kept (``sections``).
     """
     from cases.fuzz import generate, primitives
 
@@ -222,20 +227,33 @@ def run_batch(task: CampaignTask) -> BatchResult:
     family, seed = task.batch.family, task.batch.seed
     findings: list[SceneFinding] = []
     scenes = counted = 0
-    for index in task.batch.indices():
-        scenes += 1
-        try:
-            case = generate(family, seed, index)
-            results = loaded.check(case, only)
-            if any(r.status != "skip" for r in results):  # checked, not only handed over
-                counted += primitives(case)
-            findings += attribute_causes([_finding(r, case, loaded, family, seed, index) for r in results
-                                          if r.status in ("fail", "error")])
-        except Exception as exc:
-            findings.append(_harness_fault(exc, family, seed, index))
+    with ledger.keeping() as kept:
+        cases: list[tuple[int, Case | MotionCase | Exception]] = []
+        with ledger.section("generation"):
+            for index in task.batch.indices():
+                try:
+                    cases.append((index, generate(family, seed, index)))
+                except Exception as exc:
+                    cases.append((index, exc))
+        loaded.prefetch([case for _, case in cases if not isinstance(case, Exception)], only)
+        for index, case in cases:
+            scenes += 1
+            try:
+                if isinstance(case, Exception):
+                    raise case
+                results = loaded.check(case, only)
+                if any(r.status != "skip" for r in results):  # checked, not only handed over
+                    counted += primitives(case)
+                findings += attribute_causes([_finding(r, case, loaded, family, seed, index) for r in results
+                                              if r.status in ("fail", "error")])
+            except Exception as exc:
+                findings.append(_harness_fault(exc, family, seed, index))
+        loaded.forget_prefetched()
+    sections = {**kept.seconds, **{f"note:{k}": v for k, v in kept.notes.items()}}
     # plain data only goes back to the coordinator: nothing of the plugin's is unpickled there
     return BatchResult(task.batch, scenes, int(counted), time.perf_counter() - start,
-                       tuple(_plain_finding(f) for f in findings), str.__str__(_worker_name()), setup)
+                       tuple(_plain_finding(f) for f in findings), str.__str__(_worker_name()), setup,
+                       {str(k): float(v) for k, v in sections.items()})
 
 
 def shrink_finding(spec: str, fingerprint: Any | None, finding: SceneFinding, timeout: float = 60.0,

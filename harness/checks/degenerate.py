@@ -108,6 +108,13 @@ def measure_work(case: Case, call: Callable[[Any], Any], first_seconds: float, r
     return min(times), min(control_times)
 
 
+def _timed_scenes(case: Case, repeats: int = 3) -> list[Any]:
+    """The scenes :func:`measure_work` hands the rasterizer: the case's and its control
+    scene, ``repeats`` times each (none without a control)."""
+    control = control_scene(case)
+    return [case.scene, control] * repeats if len(control) else []
+
+
 def _run(s: Subject) -> Result:
     return degenerate(s.case, s.coverage, s.convention, measure_work(s.case, s.call, s.seconds), s.tolerance)
 
@@ -121,4 +128,5 @@ register(Check(
     shrinks=True, timings=("work_ratio",), coverage_kinds=ALL_COVERAGE_KINDS, per_sample=False,
     caption="zero-area and non-finite triangles draw nothing, no NaN attribute, bounded work",
     classifier="harness.diagnose.signatures:classify_degenerate", cause_role="consequent", motion_role="none", figures=(),
+    plans=lambda case, convention: _timed_scenes(case),
 ))

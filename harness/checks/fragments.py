@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 from harness.contract.coverage import Coverage
 from harness.geometry.keys import union, unique_counts
 
-__all__ = ["deviations", "FragmentCounter"]
+__all__ = ["deviations", "FragmentCounter", "same_canonical_spans"]
 
 
 def deviations(coverage: Coverage, oracle: Coverage, width: int, height: int) -> tuple[NDArray, NDArray]:
@@ -46,10 +46,46 @@ def deviations(coverage: Coverage, oracle: Coverage, width: int, height: int) ->
 def _same_fragments(coverage: Coverage, oracle: Coverage, width: int, height: int) -> bool:
     """True when both hold the same fragments, all inside the viewport, as equal canonical
     spans (a sufficient test, span by span; False says only "compare pixel by pixel")."""
+    known = same_canonical_spans(coverage.triangle, coverage.y, coverage.x0, coverage.x1,
+                                 oracle.triangle, oracle.y, oracle.x0, oracle.x1, width, height)
+    if known >= 0:  # both in canonical form already (the usual answers): decided in one pass
+        return bool(known)
     a, b = (Coverage(c.triangle, c.y, c.x0, c.x1).canonical() for c in (coverage, oracle))  # spans only
     if len(a) != len(b) or not all(np.array_equal(getattr(a, f), getattr(b, f)) for f in ("triangle", "y", "x0", "x1")):
         return False
     return bool(((a.triangle >= 0) & (a.y >= 0) & (a.y < height) & (a.x0 >= 0) & (a.x1 <= width)).all())
+
+
+@numba.njit(cache=True)
+def _canonical_form(t, y, x0, x1):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """Whether the spans are in :meth:`Coverage.canonical` form as they are: non-empty,
+    sorted by (primitive, row, x0), and apart (a span of a row starts beyond the end of
+    the one before it)."""
+    for s in range(t.size):
+        if x0[s] >= x1[s]:
+            return False
+        if s > 0 and (t[s] < t[s - 1] or (t[s] == t[s - 1] and (y[s] < y[s - 1] or (y[s] == y[s - 1]
+                                                                                         and x0[s] <= x1[s - 1])))):
+            return False
+    return True
+
+
+@numba.njit(cache=True)
+def same_canonical_spans(t, y, x0, x1, u, v, a0, a1, width, height):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """1 when the spans (t, y, x0, x1) and (u, v, a0, a1) are both in canonical form, equal,
+    and inside the viewport (the same fragments); 0 when both are canonical and differ or
+    lie outside it (not the same fragments, or fragments outside: compare pixel by pixel);
+    -1 when either is not in canonical form (not decided here)."""
+    if not _canonical_form(t, y, x0, x1) or not _canonical_form(u, v, a0, a1):
+        return -1
+    if t.size != u.size:
+        return 0
+    for s in range(t.size):
+        if t[s] != u[s] or y[s] != v[s] or x0[s] != a0[s] or x1[s] != a1[s]:
+            return 0
+        if t[s] < 0 or y[s] < 0 or y[s] >= height or x0[s] < 0 or x1[s] > width:
+            return 0
+    return 1
 
 
 class FragmentCounter:

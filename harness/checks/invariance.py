@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.checks.conformance import deviations, near_ties_of
+from harness.checks.fragments import same_canonical_spans
 from harness.checks.records import ALL_COVERAGE_KINDS, EVIDENCE_LIMIT, Check, Result, Subject, Tolerance, register, result
 from harness.contract.case import Case
 from harness.contract.conventions import Convention
@@ -210,6 +211,8 @@ def _changed(name: str, index: NDArray, cov: Coverage, coverage: Coverage, scene
              shift: tuple[int, int]) -> NDArray:
     """The variant's coverage mapped back (triangle ids, shift) against ``coverage``: the
     missing then extra (t, x, y) columns."""
+    if _unchanged_spans(name, index, cov, coverage, scene, shift):  # the usual answer: no pixel work
+        return np.zeros((3, 0), dtype=np.int64)
     t, x, y = cov.pixels()
     keep = (t >= 0) & (t < index.size)
     t, x, y = index[t[keep]], x[keep], y[keep]
@@ -221,6 +224,25 @@ def _changed(name: str, index: NDArray, cov: Coverage, coverage: Coverage, scene
     missing, extra = deviations(mapped, coverage, scene.width, scene.height)
     both: NDArray = np.concatenate([missing, extra], axis=1)
     return both
+
+
+def _unchanged_spans(name: str, index: NDArray, cov: Coverage, coverage: Coverage, scene: Any,
+                     shift: tuple[int, int]) -> bool:
+    """True when the variant's spans, mapped back span by span as :func:`_changed` maps its
+    pixels (triangle ids; the shift, cut to the viewport), are ``coverage``'s, both in
+    canonical form (:func:`harness.checks.fragments.same_canonical_spans`): nothing changed.
+    False says only "compare pixel by pixel"."""
+    t = cov.primitive
+    if t.size and (int(t.min()) < 0 or int(t.max()) >= index.size):
+        return False
+    t, y, x0, x1 = index[t], cov.y, cov.x0, cov.x1
+    if name == "translate":
+        y, x0, x1 = y - shift[1], np.maximum(x0 - shift[0], 0), np.minimum(x1 - shift[0], scene.width)
+        inside = (y >= 0) & (y < scene.height) & (x0 < x1)
+        t, y, x0, x1 = t[inside], y[inside], x0[inside], x1[inside]
+    order = np.argsort(t, kind="stable")  # a permutation's spans back in triangle order, each's rows as drawn
+    return bool(same_canonical_spans(t[order], y[order], x0[order], x1[order], coverage.primitive, coverage.y,
+                                     coverage.x0, coverage.x1, scene.width, scene.height) == 1)
 
 
 def _moved_by_rounding(scene: AnyScene, shift: tuple[int, int], rounding: Convention, pixels: NDArray) -> NDArray:
@@ -389,12 +411,18 @@ def _unanswered(s: Subject, outcome: Any) -> Result:
                   {"seconds": outcome.seconds}, {"traceback": outcome.traceback})
 
 
+def _drawn_variants(case: Case, convention: Convention | None) -> list[tuple[str, AnyScene, NDArray]]:
+    """The variants the check hands the rasterizer (:func:`invariance_variants`, and a
+    stroke's reversed segments under area coverage)."""
+    drawn = list(invariance_variants(case))
+    if convention is not None and convention.model.alphas and isinstance(case.scene, LineScene):
+        drawn += area_line_variants(case.scene)  # a stroke's area does not depend on its direction
+    return drawn
+
+
 def _run(s: Subject) -> Result:
     variants = []
-    drawn = list(invariance_variants(s.case))
-    if s.convention is not None and s.convention.model.alphas and isinstance(s.case.scene, LineScene):
-        drawn += area_line_variants(s.case.scene)  # a stroke's area does not depend on its direction
-    for label, scene, index in drawn:
+    for label, scene, index in _drawn_variants(s.case, s.convention):
         outcome = s.call(scene)
         if outcome.coverage is None:
             return _unanswered(s, outcome)
@@ -439,4 +467,5 @@ register(Check(
     caption="vertex rotation, winding flip, triangle permutation and whole-pixel translation change nothing but the shift "
             "(paths: start vertex, contour reversal and order, path order; lines: strip order, strips split)",
     classifier="harness.diagnose.signatures:classify_invariance", cause_role="consequent", motion_role="none", figures=(),
+    plans=lambda case, convention: [scene for _, scene, _ in _drawn_variants(case, convention)],
 ))

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from typing import Any
 
+import numba
 import numpy as np
 from numpy.typing import NDArray
 
@@ -42,15 +43,24 @@ def _spans(coverages: list[Coverage]) -> tuple[NDArray, NDArray, NDArray, NDArra
 def boundary_series(coverages: list[Coverage], n_triangles: int, height: int) -> tuple[NDArray, NDArray]:
     """Left and right span ends per frame, triangle and row: (F, N, H) float, NaN where the
     triangle covers nothing on that row (several runs on a row count from the outermost)."""
-    frames = len(coverages)
     f, t, y, x0, x1 = _spans(coverages)
-    ok = (t >= 0) & (t < n_triangles) & (y >= 0) & (y < height) & (x1 > x0)
-    where = (f[ok], t[ok], y[ok])
-    lo = np.full((frames, n_triangles, height), np.inf)
-    hi = np.full((frames, n_triangles, height), -np.inf)
-    np.minimum.at(lo, where, x0[ok].astype(float))
-    np.maximum.at(hi, where, x1[ok].astype(float))
-    return np.where(np.isfinite(lo), lo, np.nan), np.where(np.isfinite(hi), hi, np.nan)
+    return _series_kernel(f, t, y, x0, x1, len(coverages), n_triangles, height)  # type: ignore[no-any-return]
+
+
+@numba.njit(cache=True)
+def _series_kernel(f, t, y, x0, x1, frames, n_triangles, height):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """:func:`boundary_series` of the spans (frame, primitive, y, x0, x1)."""
+    lo = np.full((frames, n_triangles, height), np.nan)
+    hi = np.full((frames, n_triangles, height), np.nan)
+    for s in range(t.size):
+        if t[s] < 0 or t[s] >= n_triangles or y[s] < 0 or y[s] >= height or x1[s] <= x0[s]:
+            continue
+        a, b = float(x0[s]), float(x1[s])
+        if np.isnan(lo[f[s], t[s], y[s]]) or a < lo[f[s], t[s], y[s]]:
+            lo[f[s], t[s], y[s]] = a
+        if np.isnan(hi[f[s], t[s], y[s]]) or b > hi[f[s], t[s], y[s]]:
+            hi[f[s], t[s], y[s]] = b
+    return lo, hi
 
 
 def filled_direction(steps: NDArray) -> NDArray:
@@ -90,32 +100,26 @@ def _window(coverages: list[Coverage], width: int, height: int) -> tuple[int, in
     return left, int(y[ok].min()), max(right, left + 1), int(y[ok].max()) + 1
 
 
-# pixels of the (frame, row, column) difference arrays built at once by _masks
-_MASK_CHUNK = 1 << 21
-
-
 def _masks(coverages: list[Coverage], window: tuple[int, int, int, int]) -> NDArray:
     """(F, h, w) bool coverage masks of the frames, cropped to ``window``: per pixel
-    whether some span covers it (difference arrays summed along each row, a few frames
-    at a time)."""
+    whether some span covers it."""
     x0, y0, x1, y1 = window
-    w, h = x1 - x0, y1 - y0
-    stride = w + 1
     f, _, y, a, b = _spans(coverages)
-    y = y - y0
-    a = np.clip(a, x0, x1) - x0
-    b = np.clip(b, x0, x1) - x0
-    keep = (y >= 0) & (y < h) & (b > a)
-    f, y, a, b = f[keep], y[keep], a[keep], b[keep]
-    out = np.empty((len(coverages), h, w), dtype=bool)
-    step = max(1, _MASK_CHUNK // (h * stride))
-    for first in range(0, len(coverages), step):
-        last = min(first + step, len(coverages))
-        inside = (f >= first) & (f < last)
-        row = ((f[inside] - first) * h + y[inside]) * stride
-        size = (last - first) * h * stride
-        delta = np.bincount(row + a[inside], minlength=size) - np.bincount(row + b[inside], minlength=size)
-        out[first:last] = np.cumsum(delta.reshape(last - first, h, stride), axis=2)[:, :, :w] > 0
+    return _masks_kernel(f, y, a, b, len(coverages), x0, y0, x1, y1)  # type: ignore[no-any-return]
+
+
+@numba.njit(cache=True)
+def _masks_kernel(f, y, a, b, frames, x0, y0, x1, y1):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """:func:`_masks` of the spans (frame, y, x0, x1) in the window [x0, x1) x [y0, y1)."""
+    out = np.zeros((frames, y1 - y0, x1 - x0), dtype=np.bool_)
+    for s in range(y.size):
+        row = y[s] - y0
+        if row < 0 or row >= y1 - y0:
+            continue
+        left = min(max(a[s], x0), x1) - x0
+        right = min(max(b[s], x0), x1) - x0
+        for x in range(left, right):
+            out[f[s], row, x] = True
     return out
 
 

@@ -31,6 +31,7 @@ from harness.contract.case import Case, MotionCase
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene, Scene
+from harness.engine import ledger
 
 __all__ = [
     "Status", "Result", "Drawing", "Tolerance", "NEAR_TIE", "NEAR_TIE_PIXELS", "EVIDENCE_LIMIT", "result", "skip", "first",
@@ -320,6 +321,12 @@ class Check:
     figures : tuple of Figure or None
         What the report shows of its results on a rasterizer's page (often none: ``()``);
         None: undeclared.
+    plans : callable or None
+        ``plans(case, convention) -> list of scenes``: the scenes beyond the case's own its
+        run hands the rasterizer whatever the answers (invariance's variants), so that a
+        campaign sends them to the rasterizer's process ahead, with the case's
+        (:meth:`harness.engine.session.Session.prefetch`). None: none planned (the run may
+        still ask for any scene; it is then drawn when asked).
     """
 
     name: str
@@ -339,6 +346,7 @@ class Check:
     consequent_classes: frozenset[str] = frozenset()
     motion_role: MotionRole | None = None
     figures: tuple[Figure, ...] | None = None
+    plans: Callable[[Any, Convention | None], list[AnyScene]] | None = None
 
     def __post_init__(self) -> None:
         if self.cause_role not in (None, "root", "consequent", "own"):
@@ -362,6 +370,10 @@ class Check:
     def verdict(self, subject: Subject) -> Result:
         """The check's result, or its skip when the subject lacks what it needs; a
         multisample subject sample by sample when the check is ``per_sample``."""
+        with ledger.section("check:" + self.name):
+            return self._verdict(subject)
+
+    def _verdict(self, subject: Subject) -> Result:
         if self.needs_convention and subject.convention is None:
             return skip(subject.case, self.name, "the rasterizer declares no convention")
         if self.needs_attributes and not subject.interpolates:

@@ -6,11 +6,14 @@ Screen space, conventions and tie rules are defined in :mod:`harness.contract.co
 
 from __future__ import annotations
 
+import dataclasses
+import hashlib
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING, Any, ClassVar, Protocol
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol, cast
 
+import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -140,9 +143,7 @@ class Scene:
     def primitive_boxes(self) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
         """Per triangle its bounding box ``lo, hi`` ((N, 2) each) and whether all its
         coordinates are finite ((N,) bool; the box is meaningless where not)."""
-        p = np.where(np.isfinite(self.positions), self.positions, 0.0)
-        finite: NDArray[np.bool_] = np.asarray(np.isfinite(self.positions).all(axis=(1, 2)))
-        return p.min(axis=1), p.max(axis=1), finite
+        return _triangle_boxes(self.positions)  # type: ignore[no-any-return]
 
     def non_finite(self) -> tuple[int, ...]:
         """Triangles with a NaN or infinite coordinate."""
@@ -634,19 +635,77 @@ def _counts_array(value: ArrayLike, field: str, owner: str = "PathScene") -> NDA
 
 
 
+@numba.njit(cache=True)
+def _triangle_boxes(positions):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """:meth:`Scene.primitive_boxes` of (N, 3, 2) ``positions``: a non-finite coordinate
+    counts as 0 in the box (meaningless there: ``finite`` says so)."""
+    n = positions.shape[0]
+    lo = np.empty((n, 2))
+    hi = np.empty((n, 2))
+    finite = np.ones(n, dtype=np.bool_)
+    for t in range(n):
+        for axis in range(2):
+            low, high = np.inf, -np.inf
+            for k in range(3):
+                value = positions[t, k, axis]
+                if not np.isfinite(value):
+                    finite[t] = False
+                    value = 0.0
+                low = min(low, value)
+                high = max(high, value)
+            lo[t, axis] = low
+            hi[t, axis] = high
+    return lo, hi, finite
+
+
 def _pixel_bounds(scene: AnyScene) -> NDArray[np.int64]:
     """(N, 4) int64: per primitive the pixels ``xmin, ymin, xmax, ymax`` (inclusive) any of
     its fragments may lie in under any convention: its bounding box grown by 2 px, clipped
     to the viewport (the whole viewport for a primitive with a NaN or infinite coordinate)."""
     lo, hi, finite = scene.primitive_boxes()
-    out = np.empty((len(scene), 4), dtype=np.int64)
-    limit = [scene.width + 4.0, scene.height + 4.0]
-    out[:, 0:2] = np.where(finite[:, None], np.floor(np.clip(lo, -4.0, limit)) - 2, 0)
-    out[:, 2:4] = np.where(finite[:, None], np.ceil(np.clip(hi, -4.0, limit)) + 2, [scene.width - 1, scene.height - 1])
-    out[:, 0:2] = np.maximum(out[:, 0:2], 0)
-    out[:, 2] = np.minimum(out[:, 2], scene.width - 1)
-    out[:, 3] = np.minimum(out[:, 3], scene.height - 1)
+    return _bounds_kernel(np.ascontiguousarray(lo, dtype=np.float64), np.ascontiguousarray(hi, dtype=np.float64),
+                          np.ascontiguousarray(finite, dtype=np.bool_), int(scene.width), int(scene.height))
+
+
+@numba.njit(cache=True)
+def _bounds_kernel(lo, hi, finite, width, height):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """:func:`_pixel_bounds` of the boxes ``lo``, ``hi`` ((N, 2)) and ``finite`` ((N,))."""
+    n = lo.shape[0]
+    out = np.empty((n, 4), dtype=np.int64)
+    limit = (width + 4.0, height + 4.0)
+    most = (width - 1, height - 1)
+    for t in range(n):
+        for axis in range(2):
+            if finite[t]:
+                low = math.floor(min(max(lo[t, axis], -4.0), limit[axis])) - 2
+                high = math.ceil(min(max(hi[t, axis], -4.0), limit[axis])) + 2
+                out[t, axis] = max(int(low), 0)
+                out[t, 2 + axis] = min(int(high), most[axis])
+            else:
+                out[t, axis] = 0
+                out[t, 2 + axis] = most[axis]
     return out
+
+
+def scene_digest(scene: AnyScene) -> bytes:
+    """A digest of everything a scene holds (its kind, sizes, arrays and options): two
+    scenes with equal digests are the same scene (to the oracle's answers kept, and to the
+    answers drawn ahead by an isolated worker, :meth:`harness.engine.isolation.Worker.prefetch`).
+
+    >>> a = Scene(8, 8, [[[0, 0], [4, 0], [0, 4]]])
+    >>> same = Scene(8, 8, [[[0, 0], [4, 0], [0, 4]]])
+    >>> scene_digest(a) == scene_digest(same), scene_digest(a) == scene_digest(a.with_viewport(9, 8))
+    (True, False)
+    """
+    digest = hashlib.blake2b(type(scene).__name__.encode(), digest_size=20)
+    for field in dataclasses.fields(cast(Any, scene)):
+        value = getattr(scene, field.name)
+        if isinstance(value, np.ndarray):
+            digest.update(f"|{field.name}:{value.dtype.str}{value.shape}:".encode())
+            digest.update(np.ascontiguousarray(value).data)
+        else:
+            digest.update(f"|{field.name}={value!r}".encode())
+    return digest.digest()
 
 
 # The optional members of a Rasterizer, each read in one place.

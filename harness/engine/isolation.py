@@ -20,13 +20,14 @@ import os
 import time
 import traceback
 import weakref
+from collections import deque
 from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
 from harness.contract.coverage import Coverage
 from harness.contract.protocol import Rasterizer
-from harness.contract.scenes import AnyScene, Scene
+from harness.contract.scenes import AnyScene, Scene, scene_digest
 from harness.engine.outcomes import (
     ERROR_BASES,
     AnyCall,
@@ -208,11 +209,13 @@ def _serve(rasterizer: Rasterizer, conn: Any) -> None:  # pragma: no cover - run
         except (EOFError, OSError):
             return
         # one scene, or a sequence (a motion case's frames): each answer is sent as soon as
-        # it is ready, up to the first error
-        for scene in request if isinstance(request, list) else [request]:
+        # it is ready, up to the first error; or scenes drawn ahead (("each", scenes):
+        # Worker.prefetch), each answered whatever the others gave
+        each = isinstance(request, tuple)
+        for scene in request[1] if each else request if isinstance(request, list) else [request]:
             message, answered = _answer_message(call_in_process(rasterizer, scene))
             conn.send_bytes(message)
-            if not answered:
+            if not answered and not each:
                 break
 
 
@@ -253,6 +256,10 @@ class Worker:
         self.deadline = deadline
         self._samples = samples_of(getattr(rasterizer, "convention", None))
         self._kinds: set[str] = set()  # scene kinds it has answered (their first call may compile)
+        # scenes sent ahead (:meth:`prefetch`) whose answers are not read yet, in the order
+        # the worker answers them, and answers read but not yet asked for (by scene digest)
+        self._pending: deque[tuple[bytes, AnyScene]] = deque()
+        self._ready: dict[bytes, deque[tuple[Outcome, float]]] = {}
         self._context = multiprocessing.get_context("fork")
         self._start()
         _LIVE.add(self)
@@ -263,6 +270,7 @@ class Worker:
         return self.limits.cap
 
     def _start(self) -> None:
+        self._pending = deque()  # a new worker has nothing sent ahead
         self._conn, child = self._context.Pipe()
         self._process = self._context.Process(target=_serve, args=(self.rasterizer, child), daemon=True)
         self._process.start()
@@ -280,9 +288,83 @@ class Worker:
                        + (f" at {self._samples} samples per pixel" if self._samples > 1 else "")
                        + f", at most {self.limits.cap:g} s")
 
+    def prefetch(self, scenes: list[AnyScene]) -> int:
+        """Send ``scenes`` to the worker at once, to be drawn while this process works:
+        a later :meth:`rasterize` of one of them (a scene with the same digest,
+        :func:`harness.contract.scenes.scene_digest`) takes the answer drawn ahead, once per
+        time it was sent. Each answer is read within its own time limit, from when it is
+        waited for; a call cut off is asked again alone (as any call), and the scenes sent
+        ahead with it that were not answered yet are drawn again when asked for. Scenes of
+        a kind the worker has not answered yet (whose first call may compile) are not sent
+        ahead. Returns how many were sent.
+
+        >>> from rasterizers.centre_scanline import CentreScanline
+        >>> from harness.contract.scenes import Scene
+        >>> scene = Scene(8, 8, [[[0, 0], [4, 0], [0, 4]]])
+        >>> with Worker(CentreScanline()) as worker:
+        ...     first = worker.rasterize(scene)  # the kind's first call goes alone
+        ...     sent = worker.prefetch([scene, scene.with_viewport(9, 9)])
+        ...     ahead = worker.rasterize(scene)
+        >>> sent, ahead.coverage.n_pixels == first.coverage.n_pixels
+        (2, True)
+        """
+        ahead = [(scene_digest(scene), scene) for scene in scenes if scene.kind in self._kinds]
+        if not ahead:
+            return 0
+        try:
+            self._conn.send(("each", [scene for _, scene in ahead]))
+        except (EOFError, BrokenPipeError, ConnectionResetError, OSError):
+            self._died(time.perf_counter())
+            return 0
+        self._pending.extend(ahead)
+        return len(ahead)
+
+    def forget_prefetched(self) -> None:
+        """Read every answer still on its way (the pipe back in step) and drop those not
+        asked for."""
+        self._drain()
+        self._ready.clear()
+
+    def _drain(self) -> None:
+        """Read every answer sent ahead, keeping it for when its scene is asked for."""
+        while self._pending:
+            self._read_ahead()
+
+    def _read_ahead(self) -> None:
+        """Read the next answer sent ahead and keep it (with its limit) for when its scene
+        is asked for. An answer the worker was replaced on (cut off: asked again alone
+        when asked for, as any call; died; refused) is kept too, and then nothing else
+        sent ahead is on its way any more: those scenes are drawn anew when asked for."""
+        key, scene = self._pending.popleft()
+        # an answer already there needs no limit (the limit's policy costs more than the wait)
+        limit, said = (self.limits.cap, "") if self._conn.poll(0) else self.limit(scene)
+        self._ready.setdefault(key, deque()).append((self._answer(scene, limit, said), limit))
+
+    def _taken(self, scene: AnyScene) -> Outcome | None:
+        """The answer drawn ahead for ``scene``, read now if it is still on its way; None
+        when none is (the answers ahead of it are kept, and the pipe is in step)."""
+        key = scene_digest(scene)
+        while key not in self._ready and self._pending:
+            if all(k != key for k, _ in self._pending):
+                self._drain()  # a call of its own: its answer comes after every one on its way
+                return None
+            self._read_ahead()
+        kept = self._ready.get(key)
+        if not kept:
+            return None
+        outcome, limit = kept.popleft()
+        if not kept:
+            del self._ready[key]
+        return self._again(scene, limit, outcome)
+
     def rasterize(self, scene: AnyScene) -> Outcome:
         """One call in the worker; one cut off by its limit is asked again once, with a
-        longer limit (:meth:`TimeLimit.retry_limit`), before it is a timeout."""
+        longer limit (:meth:`TimeLimit.retry_limit`), before it is a timeout. A scene
+        drawn ahead (:meth:`prefetch`) takes that answer."""
+        if self._pending or self._ready:
+            ahead = self._taken(scene)
+            if ahead is not None:
+                return ahead
         limit, said = self.limit(scene)
         outcome = self._ask(scene, limit, said)
         return self._again(scene, limit, outcome)
@@ -313,6 +395,14 @@ class Worker:
         call keeps its own time limit (and is asked again alone when cut off, the rest then
         sent anew). The first call of a scene kind goes alone."""
         outcomes: list[Outcome] = []
+        while len(outcomes) < len(scenes) and (self._pending or self._ready):  # those drawn ahead (:meth:`prefetch`)
+            ahead = self._taken(scenes[len(outcomes)])
+            if ahead is None:
+                break
+            outcomes.append(ahead)
+            if ahead.coverage is None:
+                return outcomes
+        self._drain()  # the pipe in step: the answers of those sent now come next
         while len(outcomes) < len(scenes) and scenes[len(outcomes)].kind not in self._kinds:
             outcomes.append(self.rasterize(scenes[len(outcomes)]))
             if outcomes[-1].coverage is None:
@@ -421,6 +511,13 @@ class InProcess:
     def rasterize_all(self, scenes: list[Scene]) -> list[Outcome]:
         """One call per scene, in order, up to and including the first that gives no coverage."""
         return each_until_error(self.rasterize, scenes)
+
+    def prefetch(self, scenes: list[AnyScene]) -> int:
+        """Nothing is drawn ahead in this process: each call draws its scene."""
+        return 0
+
+    def forget_prefetched(self) -> None:
+        pass
 
     def __call__(self, scene: AnyScene) -> Outcome:
         return self.rasterize(scene)

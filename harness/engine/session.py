@@ -27,9 +27,10 @@ from harness.contract.coverage import Coverage
 from harness.contract.declarations import answer_problem, scene_kind_problem
 from harness.contract.protocol import Rasterizer, convention_for, fingerprint_of, interpolates_of, scene_kinds_of, takes
 from harness.contract.scenes import AnyScene, Scene, Unsupported
+from harness.engine import ledger
 from harness.engine.isolation import AnyCall, InProcess, Outcome, TimeLimit, Worker, describe, each_until_error
 
-__all__ = ["Session", "check_case", "check_motion"]
+__all__ = ["Session", "check_case", "check_motion", "planned_scenes"]
 
 
 class Session:
@@ -78,11 +79,35 @@ class Session:
 
     def call(self, scene: AnyScene) -> Outcome:
         """One rasterize call (isolated: within its time limit, asked again once when cut off)."""
-        return self.worker.rasterize(scene)
+        with ledger.section("isolation"):
+            outcome = self.worker.rasterize(scene)
+        ledger.note("rasterizer", outcome.seconds)
+        return outcome
 
     def call_all(self, scenes: list[Scene]) -> list[Outcome]:
         """One call per scene, in order, up to and including the first that gives no coverage."""
-        return self.worker.rasterize_all(scenes)
+        with ledger.section("isolation"):
+            outcomes = self.worker.rasterize_all(scenes)
+        ledger.note("rasterizer", sum(o.seconds for o in outcomes))
+        return outcomes
+
+    def prefetch(self, cases: Sequence[Case | MotionCase], only: set[str] | None = None) -> int:
+        """Send the worker every scene :meth:`check` will hand it for ``cases`` (each case's
+        scene or frames, and the scenes its applicable checks plan to ask for:
+        :attr:`harness.checks.Check.plans`), to be drawn while this process checks the
+        cases one by one (:meth:`harness.engine.isolation.Worker.prefetch`); how many were
+        sent. A scene sent ahead and never asked for costs only the worker's time
+        (:meth:`forget_prefetched`)."""
+        scenes: list[AnyScene] = []
+        for case in cases:
+            scenes += planned_scenes(case, self.rasterizer, only, self.refused)
+        with ledger.section("isolation"):
+            return self.worker.prefetch(scenes)
+
+    def forget_prefetched(self) -> None:
+        """Drop the answers drawn ahead and not asked for (the worker's pipe back in step)."""
+        with ledger.section("isolation"):
+            self.worker.forget_prefetched()
 
     def check(self, case: Case | MotionCase, only: set[str] | None = None) -> list[Result]:
         """Every applicable check of the rasterizer on ``case`` (those named in ``only``);
@@ -114,6 +139,26 @@ class Session:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def planned_scenes(case: Case | MotionCase, rasterizer: Rasterizer, only: set[str] | None = None,
+                   refused: dict[str, str] | None = None) -> list[AnyScene]:
+    """The scenes :func:`check_case` (:func:`check_motion`) will hand ``rasterizer`` for
+    ``case`` when its answers are sound: its scene (frames) and those its applicable checks
+    plan to ask for (:attr:`harness.checks.Check.plans`); none when no check applies or it
+    takes no scene of the case's kind (or that kind was refused)."""
+    first = case.frames[0] if isinstance(case, MotionCase) and case.frames else getattr(case, "scene", None)
+    if first is None or not takes(rasterizer, first) or (refused is not None and first.kind in refused):
+        return []
+    convention = convention_for(rasterizer, first)
+    applicable = checks.checks(case, only, convention.coverage_kind if convention is not None else "single")
+    if isinstance(case, MotionCase):
+        return list(case.frames) if applicable else []
+    planned: list[AnyScene] = [case.scene] if applicable else []
+    for check in applicable:
+        if check.plans is not None:
+            planned += check.plans(case, convention)
+    return planned
 
 
 def _error(case: Case, rasterizer: str, outcome: Outcome, check: str = "run") -> Result:

@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+import numba
 import numpy as np
 
 from harness.contract.coverage import Coverage
@@ -35,18 +36,39 @@ def scene_work(scene: AnyScene, samples: int = 1) -> float:
     >>> scene_work(scene), scene_work(scene, 16)
     (104.0, 344.0)
     """
-    width, height = float(scene.width), float(scene.height)
     lo, hi, finite = scene.primitive_boxes()
-    size = np.array([width, height])
-    with np.errstate(invalid="ignore"):
-        lo = np.clip(np.floor(np.nan_to_num(lo, nan=0.0)), 0.0, size)
-        hi = np.clip(np.ceil(np.nan_to_num(hi, nan=size.max())), 0.0, size)
-    box = np.where(finite, np.maximum(hi - lo, 0.0).prod(axis=1), width * height)
     a, b, _ = scene.edges()
-    with np.errstate(invalid="ignore"):
-        rows = np.abs(np.clip(np.nan_to_num(a[:, 1], nan=0.0), 0.0, height)
-                      - np.clip(np.nan_to_num(b[:, 1], nan=height), 0.0, height))
-    return float(width * height + 16 * len(box) + samples * box.sum() + np.ceil(rows).sum())
+    return float(_work_kernel(np.ascontiguousarray(lo, dtype=np.float64), np.ascontiguousarray(hi, dtype=np.float64),
+                              np.ascontiguousarray(finite, dtype=np.bool_), np.ascontiguousarray(a[:, 1], dtype=np.float64),
+                              np.ascontiguousarray(b[:, 1], dtype=np.float64), float(scene.width), float(scene.height),
+                              float(samples)))
+
+
+@numba.njit(cache=True)
+def _work_kernel(lo, hi, finite, ay, by, width, height, samples):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """:func:`scene_work` of the boxes ``lo``, ``hi`` ((N, 2)), ``finite`` ((N,)) and the
+    edges' end rows ``ay``, ``by`` ((E,)): a NaN box side is the viewport's (low: 0, high:
+    its size), a NaN end row 0 (start) or the height (end)."""
+    size = (width, height)
+    boxes = 0.0
+    for t in range(lo.shape[0]):
+        if not finite[t]:
+            boxes += width * height
+            continue
+        area = 1.0
+        for axis in range(2):
+            low = lo[t, axis]
+            high = hi[t, axis]
+            low = 0.0 if math.isnan(low) else min(max(math.floor(low), 0.0), size[axis])
+            high = size[axis] if math.isnan(high) else min(max(math.ceil(high), 0.0), size[axis])
+            area *= max(high - low, 0.0)
+        boxes += area
+    rows = 0.0
+    for e in range(ay.size):
+        start = 0.0 if math.isnan(ay[e]) else min(max(ay[e], 0.0), height)
+        end = height if math.isnan(by[e]) else min(max(by[e], 0.0), height)
+        rows += math.ceil(abs(start - end))
+    return width * height + 16.0 * lo.shape[0] + samples * boxes + rows
 
 
 def samples_of(convention: Any) -> int:

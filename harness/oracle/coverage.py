@@ -21,7 +21,6 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import functools
-import hashlib
 import math
 import os
 import threading
@@ -38,7 +37,8 @@ from numpy.typing import NDArray
 from harness.contract.conventions import Convention, owns_edge
 from harness.contract.coverage import Coverage
 from harness.contract.samples import pattern
-from harness.contract.scenes import AnyScene, Scene
+from harness.contract.scenes import AnyScene, Scene, scene_digest
+from harness.engine import ledger
 from harness.geometry.exact import frozen, orientation
 from harness.geometry.spans import expand, pixel_offsets, span_buffers
 from harness.kinds import kind_of
@@ -348,20 +348,6 @@ def _footprint(coverage: Coverage) -> int:
                                   coverage.attributes, coverage.sample, coverage.alpha) if a is not None) + 200
 
 
-def scene_digest(scene: AnyScene) -> bytes:
-    """A digest of everything a scene holds (its kind, sizes, arrays and options): two
-    scenes with equal digests are the same scene to the oracle."""
-    digest = hashlib.blake2b(type(scene).__name__.encode(), digest_size=20)
-    for field in dataclasses.fields(cast(Any, scene)):
-        value = getattr(scene, field.name)
-        if isinstance(value, np.ndarray):
-            digest.update(f"|{field.name}:{value.dtype.str}{value.shape}:".encode())
-            digest.update(np.ascontiguousarray(value).data)
-        else:
-            digest.update(f"|{field.name}={value!r}".encode())
-    return digest.digest()
-
-
 # Only scenes this small are kept: the digest reads every byte of a scene (half a
 # millisecond for 10,000 triangles, a third of the oracle's own time on them), and the
 # scenes met again and again -- identify's probes, the suites' cases -- are small.
@@ -424,7 +410,8 @@ def exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
 
 
 def _exact_coverage(scene: AnyScene, convention: Convention) -> Coverage:
-    coverage: Coverage = kind_of(scene).hook("oracle")(scene, convention)
+    with ledger.section("oracle"):
+        coverage: Coverage = kind_of(scene).hook("oracle")(scene, convention)
     return coverage
 
 
