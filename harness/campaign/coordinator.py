@@ -109,6 +109,7 @@ class _Coordinator:
         self.shrinks: dict[Future, str] = {}
         self.merged: set[Batch] = set()
         self.seconds_per_scene: dict[str, float] = {}
+        self.sections: dict[str, float] = {}  # this run's seconds per section (BatchResult.sections, and "state")
         self.cursor = state.next_batches(families, self._size)
         self.scenes = self.primitives = self.submitted = 0
         self.wall_before = state.wall_seconds
@@ -245,9 +246,12 @@ class _Coordinator:
         if batch in self.merged:
             return  # a duplicate completion: merged once already
         self.merged.add(batch)
+        started = time.perf_counter()
         new = self.state.record(result, self.wall_before + self.elapsed())
         if new is None:
             return
+        for name, seconds in result.sections.items():
+            self.sections[name] = self.sections.get(name, 0.0) + seconds
         self.scenes += result.scenes
         self.primitives += result.primitives
         if result.scenes:
@@ -255,6 +259,7 @@ class _Coordinator:
             before = self.seconds_per_scene.get(result.batch.family)
             self.seconds_per_scene[result.batch.family] = per_scene if before is None else (before + per_scene) / 2
         self.save(now=bool(new))
+        self.sections["state"] = self.sections.get("state", 0.0) + time.perf_counter() - started
         for key in new:
             representative = next(f for f in result.findings if f.signature_key == key)
             if not key.startswith("harness|"):
@@ -287,7 +292,7 @@ class _Coordinator:
         self.on_progress(ProgressEvent(
             self.scenes, self.primitives, elapsed, rate, self.primitives / elapsed if elapsed > 0 else 0.0,
             self.state.scenes, self.state.findings, {k: int(s["count"]) for k, s in self.state.signatures.items()},
-            0.0 if finished else eta, self.slots, batch, worker, findings, new, finished))
+            0.0 if finished else eta, self.slots, batch, worker, findings, new, finished, dict(self.sections)))
 
 
 def run_campaign(spec: str, *, budget_seconds: float | None = None, budget_scenes: int | None = None,

@@ -249,9 +249,10 @@ def run_batch(task: CampaignTask) -> BatchResult:
             except Exception as exc:
                 findings.append(_harness_fault(exc, family, seed, index))
         loaded.forget_prefetched()
-    sections = {**kept.seconds, **{f"note:{k}": v for k, v in kept.notes.items()}}
+    seconds = time.perf_counter() - start
+    sections = {**kept.seconds, **{f"note:{k}": v for k, v in kept.notes.items()}, "note:batch": seconds - setup}
     # plain data only goes back to the coordinator: nothing of the plugin's is unpickled there
-    return BatchResult(task.batch, scenes, int(counted), time.perf_counter() - start,
+    return BatchResult(task.batch, scenes, int(counted), seconds,
                        tuple(_plain_finding(f) for f in findings), str.__str__(_worker_name()), setup,
                        {str(k): float(v) for k, v in sections.items()})
 

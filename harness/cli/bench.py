@@ -100,7 +100,7 @@ import platform
 import signal
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -182,7 +182,8 @@ class CampaignMeasurement:
     (triangles, and every frame's of a motion sequence); ``per_worker`` is
     ``primitives_per_second / workers``; ``speedup`` the primitives per second against
     the first measurement's (one worker); ``runs`` the seconds of every run of this
-    count (the measurement is the fastest)."""
+    count (the measurement is the fastest); ``breakdown`` the milliseconds per scene of
+    each part of the work (:func:`harness.cli.bench_campaign.per_scene_breakdown`)."""
 
     workload: str
     contender: str
@@ -200,6 +201,7 @@ class CampaignMeasurement:
     description: str = ""
     runs: tuple[float, ...] = ()
     failed_calls: int = 0
+    breakdown: dict[str, float] = field(default_factory=dict)
 
 
 # The oracles of each coverage kind the bench measures.

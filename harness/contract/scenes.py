@@ -663,8 +663,10 @@ def _pixel_bounds(scene: AnyScene) -> NDArray[np.int64]:
     its fragments may lie in under any convention: its bounding box grown by 2 px, clipped
     to the viewport (the whole viewport for a primitive with a NaN or infinite coordinate)."""
     lo, hi, finite = scene.primitive_boxes()
-    return _bounds_kernel(np.ascontiguousarray(lo, dtype=np.float64), np.ascontiguousarray(hi, dtype=np.float64),
-                          np.ascontiguousarray(finite, dtype=np.bool_), int(scene.width), int(scene.height))
+    bounds: NDArray[np.int64] = _bounds_kernel(np.ascontiguousarray(lo, dtype=np.float64),
+                                               np.ascontiguousarray(hi, dtype=np.float64),
+                                               np.ascontiguousarray(finite, dtype=np.bool_), int(scene.width), int(scene.height))
+    return bounds
 
 
 @numba.njit(cache=True)

@@ -21,7 +21,6 @@ from __future__ import annotations
 import time
 from collections.abc import Iterator
 from contextlib import AbstractContextManager, contextmanager, nullcontext
-from typing import Any
 
 __all__ = ["Ledger", "section", "keeping", "active", "note"]
 
@@ -33,7 +32,7 @@ class Ledger:
     def __init__(self) -> None:
         self.seconds: dict[str, float] = {}
         self.notes: dict[str, float] = {}
-        self._stack: list[list[Any]] = []  # [name, start of its current stretch]
+        self._stack: list[tuple[str, list[float]]] = []  # (name, [start of its current stretch])
 
     @contextmanager
     def section(self, name: str) -> Iterator[None]:
@@ -41,18 +40,18 @@ class Ledger:
         now = _clock()
         stack = self._stack
         if stack:
-            outer = stack[-1]
-            self.seconds[outer[0]] = self.seconds.get(outer[0], 0.0) + now - outer[1]
-        entry = [name, now]
+            outer, since = stack[-1]
+            self.seconds[outer] = self.seconds.get(outer, 0.0) + now - since[0]
+        entry = (name, [now])
         stack.append(entry)
         try:
             yield
         finally:
             now = _clock()
-            self.seconds[name] = self.seconds.get(name, 0.0) + now - entry[1]
+            self.seconds[name] = self.seconds.get(name, 0.0) + now - entry[1][0]
             stack.pop()
             if stack:
-                stack[-1][1] = now
+                stack[-1][1][0] = now
 
     def note(self, name: str, seconds: float) -> None:
         """Add ``seconds`` measured elsewhere to the note ``name``."""

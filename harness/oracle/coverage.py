@@ -45,7 +45,7 @@ from harness.kinds import kind_of
 from harness.oracle.kernels import _apply_edge, _edge_setup, _row_range, shares_of_layers
 
 __all__ = ["exact_coverage", "exact_single", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python",
-           "prepare_triangles", "PreparedTriangles"]
+           "prepare_triangles", "PreparedTriangles", "scene_digest"]
 
 
 _CULL_CODES = {"none": 0, "cw": 1, "ccw": -1}
