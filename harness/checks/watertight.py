@@ -13,6 +13,7 @@ import functools
 from collections.abc import Callable
 from typing import Any
 
+import numba
 import numpy as np
 from numpy.typing import NDArray
 
@@ -21,7 +22,7 @@ from harness.contract.case import Case
 from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import AnyScene
-from harness.geometry.exact import orientation
+from harness.geometry.exact import frozen, in_safe_range, orient2d_sign, orientation
 from harness.kinds import kind_of
 
 __all__ = ["watertight", "overdraw", "holes", "blame", "pixel_classes"]
@@ -46,21 +47,39 @@ def _classes_of(data: bytes, shape: tuple[int, ...], width: int, height: int) ->
     return inside, outside
 
 
+@numba.njit(cache=True)
+def _sides_kernel(region, width, height, area_sign):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """(M, H + 1, W + 1) int8: the exact side of every pixel corner of edge k of the region
+    (its vertices within the expansions' safe range), times ``area_sign``."""
+    m = region.shape[0]
+    out = np.empty((m, height + 1, width + 1), dtype=np.int8)
+    for k in range(m):
+        ax, ay = region[k, 0], region[k, 1]
+        bx, by = region[(k + 1) % m, 0], region[(k + 1) % m, 1]
+        for y in range(height + 1):
+            for x in range(width + 1):
+                out[k, y, x] = orient2d_sign(ax, ay, bx, by, float(x), float(y)) * area_sign
+    return out
+
+
 def _classes(region: NDArray, width: int, height: int) -> tuple[NDArray, NDArray]:
     m = region.shape[0]
     # the outline's winding, exactly (a float shoelace overflows for huge outlines)
     turns = orientation(np.stack([region, np.roll(region, -1, axis=0), np.roll(region, -2, axis=0)], axis=1))
     area_sign = int(turns[np.flatnonzero(turns)[0]])
-    cy, cx = np.mgrid[0 : height + 1, 0 : width + 1]
-    corners = np.stack([cx.ravel(), cy.ravel()], axis=-1).astype(float)
     # positive: the corner lies on the region's side of edge k (every edge and corner at once)
-    n = corners.shape[0]
-    triangles = np.empty((m, n, 3, 2))
-    triangles[:, :, 0] = region[:, None, :]
-    triangles[:, :, 1] = np.roll(region, -1, axis=0)[:, None, :]
-    triangles[:, :, 2] = corners[None, :, :]
-    side = orientation(triangles.reshape(m * n, 3, 2)).reshape(m, n) * area_sign
-    sides = side.reshape(m, height + 1, width + 1)
+    if bool(in_safe_range(region, axis=(0, 1))):
+        sides = _sides_kernel(frozen(region), width, height, area_sign)  # exact expansions, compiled
+    else:  # beyond the expansions' range: the exact rationals of orientation()
+        cy, cx = np.mgrid[0 : height + 1, 0 : width + 1]
+        corners = np.stack([cx.ravel(), cy.ravel()], axis=-1).astype(float)
+        n = corners.shape[0]
+        triangles = np.empty((m, n, 3, 2))
+        triangles[:, :, 0] = region[:, None, :]
+        triangles[:, :, 1] = np.roll(region, -1, axis=0)[:, None, :]
+        triangles[:, :, 2] = corners[None, :, :]
+        side = orientation(triangles.reshape(m * n, 3, 2)).reshape(m, n) * area_sign
+        sides = side.reshape(m, height + 1, width + 1)
     quads = np.stack([sides[:, :-1, :-1], sides[:, :-1, 1:], sides[:, 1:, :-1], sides[:, 1:, 1:]])
     inside = np.all(quads > 0, axis=(0, 1))
     outside = np.any(np.all(quads < 0, axis=0), axis=0)
