@@ -21,7 +21,7 @@ import time
 import traceback
 import weakref
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -288,7 +288,7 @@ class Worker:
                        + (f" at {self._samples} samples per pixel" if self._samples > 1 else "")
                        + f", at most {self.limits.cap:g} s")
 
-    def prefetch(self, scenes: list[AnyScene]) -> int:
+    def prefetch(self, scenes: Sequence[AnyScene]) -> int:
         """Send ``scenes`` to the worker at once, to be drawn while this process works:
         a later :meth:`rasterize` of one of them (a scene with the same digest,
         :func:`harness.contract.scenes.scene_digest`) takes the answer drawn ahead, once per
@@ -512,7 +512,7 @@ class InProcess:
         """One call per scene, in order, up to and including the first that gives no coverage."""
         return each_until_error(self.rasterize, scenes)
 
-    def prefetch(self, scenes: list[AnyScene]) -> int:
+    def prefetch(self, scenes: Sequence[AnyScene]) -> int:
         """Nothing is drawn ahead in this process: each call draws its scene."""
         return 0
 
