@@ -172,7 +172,7 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--campaign", action="store_true",
                        help="instead: a campaign of a fixed scene budget on 1, then 2 local workers (a built-in reference, "
                             "or --rasterizer): checked primitives/s per worker and the speed-up")
-    bench.add_argument("--scenes", type=_positive_int, metavar="N", help="the scene budget of --campaign (default 3000)")
+    bench.add_argument("--scenes", type=_positive_int, metavar="N", help="the scene budget of --campaign (default 6000)")
     bench.add_argument("--repeats", type=_positive_int, metavar="N",
                        help="rounds of --campaign over 1 and 2 workers, the fastest run of each kept (default 3)")
     bench.set_defaults(func=_bench)
