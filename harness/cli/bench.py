@@ -183,7 +183,8 @@ class CampaignMeasurement:
     ``primitives_per_second / workers``; ``speedup`` the primitives per second against
     the first measurement's (one worker); ``runs`` the seconds of every run of this
     count (the measurement is the fastest); ``breakdown`` the milliseconds per scene of
-    each part of the work (:func:`harness.cli.bench_campaign.per_scene_breakdown`)."""
+    each part of the work (:func:`harness.cli.bench_campaign.per_scene_breakdown`);
+    ``cores`` the cores its processes were held to (0: free to use every one)."""
 
     workload: str
     contender: str
@@ -202,6 +203,7 @@ class CampaignMeasurement:
     runs: tuple[float, ...] = ()
     failed_calls: int = 0
     breakdown: dict[str, float] = field(default_factory=dict)
+    cores: int = 0
 
 
 # The oracles of each coverage kind the bench measures.

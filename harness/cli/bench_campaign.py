@@ -10,9 +10,11 @@ family checked) before the clock starts: the figure is a campaign's steady state
 
 from __future__ import annotations
 
+import os
 import tempfile
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
@@ -122,7 +124,8 @@ def per_scene_breakdown(sections: dict[str, float], scenes: int) -> dict[str, fl
 
 def run_campaign_bench(spec: str = CAMPAIGN_REFERENCE, scenes: int = CAMPAIGN_SCENES, worker_counts: Sequence[int] = (1, 2),
                        families: Sequence[str] | None = None, batch_size: int = CAMPAIGN_BATCH, repeats: int = CAMPAIGN_REPEATS,
-                       timeout: float = 60.0, progress: Callable[[str], None] | None = None) -> list[CampaignMeasurement]:
+                       timeout: float = 60.0, progress: Callable[[str], None] | None = None,
+                       one_core: bool = True) -> list[CampaignMeasurement]:
     """The same campaign (``scenes`` scenes of ``families``, default all, under seed 0, in
     batches of ``batch_size``: the same scenes whatever the workers) on a fresh local
     cluster of each worker count in turn, each in a state folder of its own; the whole
@@ -148,11 +151,17 @@ def run_campaign_bench(spec: str = CAMPAIGN_REFERENCE, scenes: int = CAMPAIGN_SC
         Rounds over the worker counts.
     progress : callable, optional
         Hears a line before and after each measurement.
+    one_core : bool
+        Also one worker with everything it runs on (its rasterizer's process, the
+        coordinator) held to one core (``cores`` 1; Linux only): the throughput of a
+        core, where the free one-worker campaign draws in its rasterizer's process on the
+        other core while it checks.
 
     Returns
     -------
     list of CampaignMeasurement
-        One per worker count, in order: its fastest run (``runs``: the seconds of each).
+        One per worker count, in order: its fastest run (``runs``: the seconds of each),
+        then the one-core run.
 
     Raises
     ------
@@ -170,15 +179,19 @@ def run_campaign_bench(spec: str = CAMPAIGN_REFERENCE, scenes: int = CAMPAIGN_SC
     if repeats < 1:
         raise ValueError(f"repeats must be at least 1, not {repeats}")
     chosen = tuple(families or CAMPAIGN_FAMILIES or FAMILIES)
-    best: dict[int, CampaignMeasurement] = {}
-    runs: dict[int, list[float]] = {n: [] for n in worker_counts}
+    # (workers, cores): every worker count free to use the machine, and one worker held to one core
+    configurations = [(n, 0) for n in worker_counts] + ([(1, 1)] if one_core and _can_pin() else [])
+    best: dict[tuple[int, int], CampaignMeasurement] = {}
+    runs: dict[tuple[int, int], list[float]] = {c: [] for c in configurations}
     for round_ in range(repeats):
-        for workers in worker_counts:
-            said = f"campaign on {workers} worker{'s' if workers > 1 else ''} (round {round_ + 1} of {repeats})"
+        for workers, cores in configurations:
+            said = (f"campaign on {workers} worker{'s' if workers > 1 else ''}{' on one core' if cores else ''} "
+                    f"(round {round_ + 1} of {repeats})")
             if progress is not None:
                 progress(f"{said}: starting and warming the workers ...")
             started = time.perf_counter()
-            with local_cluster(workers) as client, tempfile.TemporaryDirectory(prefix="rastercheck-bench-") as state_dir:
+            with _on_one_core(bool(cores)), local_cluster(workers) as client, \
+                    tempfile.TemporaryDirectory(prefix="rastercheck-bench-") as state_dir:
                 _warm(client, spec, chosen, timeout)
                 startup = time.perf_counter() - started
                 events: list[ProgressEvent] = []
@@ -189,23 +202,44 @@ def run_campaign_bench(spec: str = CAMPAIGN_REFERENCE, scenes: int = CAMPAIGN_SC
             checked = last.scenes if last is not None else 0
             primitives = last.primitives if last is not None else 0
             rate = primitives / seconds if seconds > 0 else 0.0
-            runs[workers].append(round(seconds, 3))
+            runs[(workers, cores)].append(round(seconds, 3))
             taken = [f for f in chosen if f not in state.skipped]
             measured = CampaignMeasurement(
                 "campaign", spec, workers, checked, primitives, state.findings, seconds, startup,
                 checked / seconds if seconds > 0 else 0.0, rate, rate / workers, 0.0,
-                failed_calls=_failed_calls(state.signatures),
+                failed_calls=_failed_calls(state.signatures), cores=cores,
                 breakdown=per_scene_breakdown(last.sections if last is not None else {}, checked),
                 description=(f"{scenes:,} fuzz scenes of {', '.join(taken) or 'no family'} (seed {CAMPAIGN_SEED}, batches of "
                              f"{batch_size}), checked end to end; the fastest of {repeats} run{'s' if repeats > 1 else ''}"))
-            if workers not in best or measured.primitives_per_second > best[workers].primitives_per_second:
-                best[workers] = measured
+            if (workers, cores) not in best or measured.primitives_per_second > best[(workers, cores)].primitives_per_second:
+                best[(workers, cores)] = measured
             if progress is not None:
                 progress(f"{said}: {checked:,} scenes, {primitives:,} primitives in {seconds:.1f} s ({rate:,.0f} primitives/s; "
                          f"startup {startup:.1f} s)")
-    base = best[worker_counts[0]].primitives_per_second
-    return [replace(best[n], speedup=best[n].primitives_per_second / base if base > 0 else 0.0, runs=tuple(runs[n]))
-            for n in dict.fromkeys(worker_counts)]
+    base = best[(worker_counts[0], 0)].primitives_per_second
+    return [replace(best[c], speedup=best[c].primitives_per_second / base if base > 0 else 0.0, runs=tuple(runs[c]))
+            for c in dict.fromkeys(configurations)]
+
+
+def _can_pin() -> bool:
+    """Whether this system lets a process be held to one core (Linux's sched_setaffinity)."""
+    return hasattr(os, "sched_setaffinity") and hasattr(os, "sched_getaffinity")
+
+
+@contextmanager
+def _on_one_core(pin: bool) -> Iterator[None]:
+    """With ``pin``: this thread, and so every thread and process started from it while
+    inside (the cluster's scheduler, its workers, their rasterizers' processes), held to
+    one core (the lowest this process may use); as before on leaving."""
+    if not pin or not _can_pin():
+        yield
+        return
+    before = os.sched_getaffinity(0)
+    os.sched_setaffinity(0, {min(before)})
+    try:
+        yield
+    finally:
+        os.sched_setaffinity(0, before)
 
 
 def _unjudged(results: Sequence[CampaignMeasurement]) -> str:
@@ -218,55 +252,75 @@ def _unjudged(results: Sequence[CampaignMeasurement]) -> str:
             f"in the campaigns: the figures time failures")
 
 
+def _label(m: CampaignMeasurement) -> str:
+    return f"{m.workers} worker{'s' if m.workers > 1 else ''}" + (" on one core" if m.cores else "")
+
+
+def _per_core(results: Sequence[CampaignMeasurement]) -> tuple[float, float]:
+    """Scenes and primitives per second per core: the least of each free run's per worker
+    (its workers share the machine's cores) and the one-core run's own."""
+    rates = [(m.scenes_per_second / max(m.workers, m.cores), m.primitives_per_second / max(m.workers, m.cores))
+             for m in results if m.cores or m.workers > 1] or [(m.scenes_per_second, m.primitives_per_second) for m in results]
+    return min(r[0] for r in rates), min(r[1] for r in rates)
+
+
 def campaign_summary(results: Sequence[CampaignMeasurement]) -> dict[str, Any]:
-    """The speed-up from the first worker count to the last, against the goal (not met,
-    and why, when rasterize calls failed in the campaigns)."""
-    if len(results) < 2:
+    """The speed-up from the first worker count to the last (the free runs), against the
+    goal (not met, and why, when rasterize calls failed in the campaigns); the speed-up
+    of the last over one worker on one core; scenes and primitives per second per core
+    (:func:`_per_core`) against a million scenes per core-hour and 10,000 primitives/s;
+    and the scenes a 10-minute campaign on the most workers covers."""
+    free = [m for m in results if not m.cores]
+    if len(free) < 2:
         return {"goal": CAMPAIGN_GOAL}
-    first, last = results[0], results[-1]
+    first, last = free[0], free[-1]
+    one = next((m for m in results if m.cores), None)
     why = _unjudged(results)
-    per_worker = min(m.scenes_per_second / m.workers for m in results)
-    primitives = min(m.per_worker for m in results)
+    scenes, primitives = _per_core(results)
     return {"from_workers": first.workers, "to_workers": last.workers, "speedup": round(last.speedup, 3),
             "goal": CAMPAIGN_GOAL, "met": not why and last.speedup >= CAMPAIGN_GOAL, **({"not_judged": why} if why else {}),
-            "scenes_per_second_per_worker": round(per_worker, 1), "scenes_per_core_hour": round(per_worker * 3600),
-            "primitives_per_second_per_worker": round(primitives), "scenes_goal": round(CAMPAIGN_SCENES_GOAL, 1),
+            **({"speedup_over_one_core": round(last.scenes_per_second / one.scenes_per_second, 3)}
+               if one is not None and one.scenes_per_second > 0 else {}),
+            "scenes_per_second_per_core": round(scenes, 1), "scenes_per_core_hour": round(scenes * 3600),
+            "primitives_per_second_per_core": round(primitives), "scenes_goal": round(CAMPAIGN_SCENES_GOAL, 1),
             "primitives_goal": CAMPAIGN_PRIMITIVES_GOAL,
-            "throughput_met": not why and per_worker >= CAMPAIGN_SCENES_GOAL and primitives >= CAMPAIGN_PRIMITIVES_GOAL,
+            "throughput_met": not why and scenes >= CAMPAIGN_SCENES_GOAL and primitives >= CAMPAIGN_PRIMITIVES_GOAL,
             "ten_minute_campaign_scenes": round(last.scenes_per_second * 600)}
 
 
 def format_campaign_table(results: Sequence[CampaignMeasurement]) -> str:
-    """The campaign measurements, one line per worker count, and the speed-up."""
+    """The campaign measurements, one line per configuration, the speed-up, the figures
+    per core against their goals, and where a scene's time goes."""
     if not results:
         return "campaign: nothing measured"
     lines = [f"campaign: {results[0].contender}, {results[0].description}",
-             f"  {'workers':>7}{'scenes':>9}{'primitives':>12}{'seconds':>9}{'scenes/s':>10}{'primitives/s':>14}"
+             f"  {'run':<22}{'scenes':>9}{'primitives':>12}{'seconds':>9}{'scenes/s':>10}{'primitives/s':>14}"
              f"{'per worker':>12}{'speed-up':>10}{'startup s':>11}"]
     for m in results:
-        lines.append(f"  {m.workers:>7}{m.scenes:>9,}{m.primitives:>12,}{m.seconds:>9.1f}{m.scenes_per_second:>10.1f}"
+        lines.append(f"  {_label(m):<22}{m.scenes:>9,}{m.primitives:>12,}{m.seconds:>9.1f}{m.scenes_per_second:>10.1f}"
                      f"{m.primitives_per_second:>14,.0f}{m.per_worker:>12,.0f}{m.speedup:>9.2f}x{m.startup_seconds:>11.1f}"
                      + (f"   runs: {', '.join(f'{r:.1f}' for r in m.runs)} s" if len(m.runs) > 1 else ""))
     why = _unjudged(results)
+    summary = campaign_summary(results)
     if why:
         lines.append(f"speed-up not judged: {why}")
-    elif len(results) > 1:
-        last = results[-1]
-        verdict = "met" if last.speedup >= CAMPAIGN_GOAL else "NOT met"
-        lines.append(f"speed-up from {results[0].workers} to {last.workers} workers: {last.speedup:.2f}x "
-                     f"(goal >= {CAMPAIGN_GOAL}x: {verdict})")
-    if not why:
-        per_worker = min(m.scenes_per_second / m.workers for m in results)
-        primitives = min(m.per_worker for m in results)
-        verdict = "met" if per_worker >= CAMPAIGN_SCENES_GOAL and primitives >= CAMPAIGN_PRIMITIVES_GOAL else "NOT met"
-        lines.append(f"per worker (the slower count): {per_worker:,.0f} scenes/s = {per_worker * 3600:,.0f} scenes per "
-                     f"core-hour, {primitives:,.0f} primitives/s (goal >= {CAMPAIGN_SCENES_GOAL:,.0f} scenes/s and "
-                     f">= {CAMPAIGN_PRIMITIVES_GOAL:,.0f} primitives/s: {verdict}); a 10-minute campaign on "
-                     f"{results[-1].workers} workers covers {results[-1].scenes_per_second * 600:,.0f} scenes")
+    elif "speedup" in summary:
+        verdict = "met" if summary["met"] else "NOT met"
+        lines.append(f"speed-up from {summary['from_workers']} to {summary['to_workers']} workers: {summary['speedup']:.2f}x "
+                     f"(goal >= {CAMPAIGN_GOAL}x: {verdict})"
+                     + (f"; over one worker on one core: {summary['speedup_over_one_core']:.2f}x"
+                        if "speedup_over_one_core" in summary else ""))
+    if not why and "scenes_per_second_per_core" in summary:
+        verdict = "met" if summary["throughput_met"] else "NOT met"
+        lines.append(f"per core: {summary['scenes_per_second_per_core']:,.0f} scenes/s = {summary['scenes_per_core_hour']:,} "
+                     f"scenes per core-hour, {summary['primitives_per_second_per_core']:,} primitives/s (goal >= "
+                     f"{CAMPAIGN_SCENES_GOAL:,.0f} scenes/s and >= {CAMPAIGN_PRIMITIVES_GOAL:,.0f} primitives/s: {verdict}); "
+                     f"a 10-minute campaign on {summary['to_workers']} workers covers {summary['ten_minute_campaign_scenes']:,} "
+                     "scenes")
     for m in results:
         if m.breakdown:
             total = sum(v for k, v in m.breakdown.items() if k not in ("rasterizer (its process)", "state"))
-            lines.append(f"where a scene's time goes on {m.workers} worker{'s' if m.workers > 1 else ''} (ms per scene, "
-                         f"{total:.3f} in the workers' batches):")
+            lines.append(f"where a scene's time goes, {_label(m)} (ms per scene; {total:.3f} in the workers' batches, "
+                         "the rasterizer's own process and the coordinator's state apart):")
             lines += [f"  {name:<58}{ms:>8.3f}" for name, ms in m.breakdown.items()]
     return "\n".join(lines)
