@@ -103,10 +103,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from harness.contract.conventions import Convention
-from harness.contract.coverage import Coverage
+from harness.contract.coverage import AlphaRuns, Coverage
 from harness.contract.scenes import MAX_VIEWPORT, Scene
 from harness.geometry.exact import orientation
-from harness.geometry.spans import expand, pixel_offsets
+from harness.geometry.spans import expand
 
 __all__ = ["UNIT_ROUNDOFF", "GUARD_LIMIT", "exact_area", "exact_pixel_areas", "pixel_areas", "area_error_bound",
            "displaced_area_bound", "area_coverage"]
@@ -398,10 +398,30 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
     return n
 
 
+@numba.njit(cache=True, inline="always")
+def _pixel_area(polys, p, k, i, local_x, local_y):  # type: ignore[no-untyped-def]
+    """|sum of the edge integrals| of polygon p at column i, clamped to [0, 1] (``local_y``
+    holds its vertices' pixel-local y)."""
+    for v in range(k):
+        local_x[v] = polys[p, v, 0] - i
+    total = 0.0
+    for e in range(k):
+        f = e + 1 if e + 1 < k else 0
+        total += edge_integral(local_x[e], local_y[e], local_x[f], local_y[f])
+    # Green's theorem gives the area up to the orientation's sign; the exact area is in
+    # [0, 1], so clamping only brings the float one closer.
+    return min(abs(total), 1.0)
+
+
 @numba.njit(cache=True)
-def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):  # type: ignore[no-untyped-def]
-    """|sum of the edge integrals| of each span's pixels, clamped to [0, 1], in span order
-    (exactly 1 on the pixels [i0, i1) wholly inside)."""
+def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):  # type: ignore[no-untyped-def]
+    """The area of each span's edge pixels, the inner run [i0, i1) left alone (exactly 1,
+    written as a run, not pixel by pixel: the span fill of a scan converter).
+
+    In place, each span is cut to its first and last pixel of nonzero float area (x1 ==
+    x0 when it has none) and a span without inner run gets ``i0 == i1 == x1``; ``out``
+    receives the areas of the pixels outside the inner runs, span after span, left to
+    right (zero only inside a span). Returns how many it received."""
     local_x = np.empty(polys.shape[1])
     local_y = np.empty(polys.shape[1])
     m = 0
@@ -409,24 +429,46 @@ def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
         p = span_p[s]
         k = counts[p]
         j = span_y[s]
+        x0 = span_x0[s]
+        x1 = span_x1[s]
+        i0 = span_i0[s]
+        i1 = span_i1[s]
+        if i1 <= i0:
+            i0 = i1 = x1  # no inner run: every pixel is an edge pixel
         for v in range(k):
             # pixel-local coordinates: every later quantity is at most 1 (or M)
             local_y[v] = polys[p, v, 1] - j
-        for i in range(span_x0[s], span_x1[s]):
-            if span_i0[s] <= i < span_i1[s]:
-                out[m] = 1.0  # the whole pixel lies inside: exactly 1
-                m += 1
-                continue
-            for v in range(k):
-                local_x[v] = polys[p, v, 0] - i
-            total = 0.0
-            for e in range(k):
-                f = e + 1 if e + 1 < k else 0
-                total += edge_integral(local_x[e], local_y[e], local_x[f], local_y[f])
-            # Green's theorem gives the area up to the orientation's sign; the exact area is
-            # in [0, 1], so clamping only brings the float one closer.
-            out[m] = min(abs(total), 1.0)
+        start = m
+        for i in range(x0, i0):
+            out[m] = _pixel_area(polys, p, k, i, local_x, local_y)
             m += 1
+        # the span begins at its first pixel of nonzero area (the inner run's first, if need be)
+        lead = start
+        while lead < m and out[lead] == 0.0:
+            lead += 1
+        if lead > start:
+            for q in range(lead, m):
+                out[q - (lead - start)] = out[q]
+            m -= lead - start
+            x0 += lead - start
+        right = m
+        for i in range(i1, x1):
+            out[m] = _pixel_area(polys, p, k, i, local_x, local_y)
+            m += 1
+        # and ends at its last (the inner run's last, if need be)
+        floor = right if i1 > i0 else start
+        while m > floor and out[m - 1] == 0.0:
+            m -= 1
+        if i1 > i0:
+            x1 = i1 + (m - right)
+        else:
+            x1 = x0 + (m - start)
+            i0 = i1 = x1
+        span_x0[s] = x0
+        span_x1[s] = x1
+        span_i0[s] = i0
+        span_i1[s] = i1
+    return m
 
 
 def _polygons(positions: NDArray[np.float64], width: int, height: int) -> tuple[NDArray[np.float64], NDArray[np.int64],
@@ -495,35 +537,20 @@ def pixel_areas(
     >>> t.tolist(), x.tolist(), y.tolist(), area.tolist()
     ([0, 0, 0, 1], [0, 1, 0, 0], [0, 0, 1, 0], [1.0, 0.5, 0.5, 0.5])
     """
-    triangle, y, x0, x1, area = _area_spans(_positions(positions), width, height)
+    triangle, y, x0, x1, runs = _area_spans(_positions(positions), width, height)
+    area = Coverage(triangle, y, x0, x1, runs=runs).alpha
+    assert area is not None
     lengths = x1 - x0
     keep = area > 0.0
     return np.repeat(triangle, lengths)[keep], expand(x0, lengths)[keep], np.repeat(y, lengths)[keep], area[keep]
 
 
-@numba.njit(cache=True)
-def _trim_zeros(x0, x1, area, out_x0, out_x1, out_first):  # type: ignore[no-untyped-def]
-    """Each span cut to its first and last pixel of nonzero area (empty when none):
-    the new [x0, x1) and the index of its first area in ``area``."""
-    m = 0
-    for s in range(x0.size):
-        a = m
-        b = m + (x1[s] - x0[s])
-        m = b
-        while a < b and area[a] == 0.0:
-            a += 1
-        while b > a and area[b - 1] == 0.0:
-            b -= 1
-        out_first[s] = a
-        out_x0[s] = x0[s] + (a - (m - (x1[s] - x0[s])))
-        out_x1[s] = out_x0[s] + (b - a)
-
-
 def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[
-        NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
-    """(triangle, y, x0, x1, area): spans sorted by triangle and row, cut to their first
-    and last pixel of nonzero float area, with one area per pixel (zero only inside a
-    span, where a float area vanished)."""
+        NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], AlphaRuns]:
+    """(triangle, y, x0, x1, runs): spans sorted by triangle and row, cut to their first
+    and last pixel of nonzero float area; each span's inner run of pixels wholly inside
+    (area exactly 1) and the areas of its other pixels (zero only inside a span, where a
+    float area vanished) as :class:`AlphaRuns`."""
     _viewport(width, height)
     polys, counts, source = _polygons(array, int(width), int(height))
     # Rows a polygon can touch: floor(ymin) .. ceil(ymax) - 1 within the viewport.
@@ -532,14 +559,14 @@ def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[
     capacity = int(np.maximum(rows, 0).sum())
     block = np.empty((6, capacity), dtype=np.int64)
     spans = _span_kernel(polys, counts, int(width), int(height), *block)
-    span_p, span_y, span_x0, span_x1, span_i0, span_i1 = (np.ascontiguousarray(b[:spans]) for b in block)
-    area = np.empty(int(pixel_offsets(span_x0, span_x1)[-1]))
-    _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, area)
-    x0, x1, first = np.empty_like(span_x0), np.empty_like(span_x1), np.empty_like(span_x0)
-    _trim_zeros(span_x0, span_x1, area, x0, x1, first)
-    keep = x1 > x0
-    lengths = (x1 - x0)[keep]
-    return source[span_p[keep]], span_y[keep], x0[keep], x1[keep], area[expand(first[keep], lengths)]
+    span_p, span_y, span_x0, span_x1, span_i0, span_i1 = block[:, :spans]
+    edges = int((span_x1 - span_x0).sum() - np.maximum(span_i1 - span_i0, 0).sum())
+    alpha = np.empty(edges)
+    m = _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, alpha)
+    keep = span_x1 > span_x0
+    if not keep.all():
+        span_p, span_y, span_x0, span_x1, span_i0, span_i1 = block[:, :spans][:, keep]
+    return source[span_p], span_y, span_x0, span_x1, AlphaRuns(span_i0, span_i1, alpha[:m])
 
 
 def area_error_bound(positions: ArrayLike, width: int = MAX_VIEWPORT, height: int = MAX_VIEWPORT) -> NDArray[np.float64]:
@@ -664,5 +691,5 @@ def area_coverage(scene: Scene, convention: Convention) -> Coverage:
         sign = orientation(positions)
         culled = sign == (1 if convention.cull == "cw" else -1)
         positions = np.where(culled[:, None, None], np.nan, positions)  # non-finite: covers nothing
-    triangle, y, x0, x1, area = _area_spans(np.ascontiguousarray(positions), scene.width, scene.height)
-    return Coverage(triangle, y, x0, x1, alpha=area)
+    triangle, y, x0, x1, runs = _area_spans(np.ascontiguousarray(positions), scene.width, scene.height)
+    return Coverage(triangle, y, x0, x1, runs=runs)
