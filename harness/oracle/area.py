@@ -398,6 +398,38 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
     return n
 
 
+@numba.njit(cache=True)
+def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):  # type: ignore[no-untyped-def]
+    """|sum of the edge integrals| of each span's pixels, one by one (the stroke-area oracle's,
+    :mod:`harness.oracle.area_lines`), clamped to [0, 1], in span order
+    (exactly 1 on the pixels [i0, i1) wholly inside)."""
+    local_x = np.empty(polys.shape[1])
+    local_y = np.empty(polys.shape[1])
+    m = 0
+    for s in range(span_p.size):
+        p = span_p[s]
+        k = counts[p]
+        j = span_y[s]
+        for v in range(k):
+            # pixel-local coordinates: every later quantity is at most 1 (or M)
+            local_y[v] = polys[p, v, 1] - j
+        for i in range(span_x0[s], span_x1[s]):
+            if span_i0[s] <= i < span_i1[s]:
+                out[m] = 1.0  # the whole pixel lies inside: exactly 1
+                m += 1
+                continue
+            for v in range(k):
+                local_x[v] = polys[p, v, 0] - i
+            total = 0.0
+            for e in range(k):
+                f = e + 1 if e + 1 < k else 0
+                total += edge_integral(local_x[e], local_y[e], local_x[f], local_y[f])
+            # Green's theorem gives the area up to the orientation's sign; the exact area is
+            # in [0, 1], so clamping only brings the float one closer.
+            out[m] = min(abs(total), 1.0)
+            m += 1
+
+
 @numba.njit(cache=True, inline="always")
 def _pixel_area(polys, p, k, i, local_x, local_y):  # type: ignore[no-untyped-def]
     """|sum of the edge integrals| of polygon p at column i, clamped to [0, 1] (``local_y``
@@ -543,6 +575,24 @@ def pixel_areas(
     lengths = x1 - x0
     keep = area > 0.0
     return np.repeat(triangle, lengths)[keep], expand(x0, lengths)[keep], np.repeat(y, lengths)[keep], area[keep]
+
+
+@numba.njit(cache=True)
+def _trim_zeros(x0, x1, area, out_x0, out_x1, out_first):  # type: ignore[no-untyped-def]
+    """Each span cut to its first and last pixel of nonzero area (empty when none):
+    the new [x0, x1) and the index of its first area in ``area``."""
+    m = 0
+    for s in range(x0.size):
+        a = m
+        b = m + (x1[s] - x0[s])
+        m = b
+        while a < b and area[a] == 0.0:
+            a += 1
+        while b > a and area[b - 1] == 0.0:
+            b -= 1
+        out_first[s] = a
+        out_x0[s] = x0[s] + (a - (m - (x1[s] - x0[s])))
+        out_x1[s] = out_x0[s] + (b - a)
 
 
 def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[
