@@ -321,6 +321,16 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
     narrowed by the same bound (a convex polygon's left boundary is convex in y, the
     right one concave: their extremes over the band are at its sides)."""
     n = 0
+    # each edge with its end points ordered by y (low, high), and its x at the band's top
+    # and bottom lines when it crosses them (NaN when not): the bottom line of a row is
+    # the top line of the next, so each crossing is computed once, with the same
+    # arguments (and so the same bits) wherever it is used
+    lo_x = np.empty(polys.shape[1])
+    lo_y = np.empty(polys.shape[1])
+    hi_x = np.empty(polys.shape[1])
+    hi_y = np.empty(polys.shape[1])
+    at_top = np.empty(polys.shape[1])
+    at_bottom = np.empty(polys.shape[1])
     for p in range(polys.shape[0]):
         k = counts[p]
         xmin = xmax = polys[p, 0, 0]
@@ -338,23 +348,34 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
         col_hi = min(int(math.ceil(xmax)) - 1, width - 1)
         row_lo = max(int(math.floor(ymin)), 0)
         row_hi = min(int(math.ceil(ymax)) - 1, height - 1)
+        for e in range(k):
+            f = e + 1 if e + 1 < k else 0
+            ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
+            if by < ay:
+                ax, ay, bx, by = bx, by, ax, ay
+            lo_x[e], lo_y[e], hi_x[e], hi_y[e] = ax, ay, bx, by
+            side = float(row_lo)
+            at_bottom[e] = _x_at(ax, ay, bx, by, side) if ay < by and ay <= side <= by else math.nan
         for j in range(row_lo, row_hi + 1):
             top = float(j)
             bottom = top + 1.0
+            for e in range(k):
+                at_top[e] = at_bottom[e]
+                ay, by = lo_y[e], hi_y[e]
+                at_bottom[e] = _x_at(lo_x[e], ay, hi_x[e], by, bottom) if ay < by and ay <= bottom <= by else math.nan
             lo = math.inf
             hi = -math.inf
             for e in range(k):
-                f = e + 1 if e + 1 < k else 0
-                ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
-                if by < ay:
-                    ax, ay, bx, by = bx, by, ax, ay
+                ax, ay, bx, by = lo_x[e], lo_y[e], hi_x[e], hi_y[e]
                 if by < top or ay > bottom:
                     continue
                 if ay == by:
                     xa, xb = ax, bx
                 else:
-                    xa = _x_at(ax, ay, bx, by, max(ay, top))
-                    xb = _x_at(ax, ay, bx, by, min(by, bottom))
+                    # the edge's part inside the band: from its crossing of the top line
+                    # (or its upper end point) to that of the bottom line (or its lower one)
+                    xa = at_top[e] if ay <= top else ax
+                    xb = at_bottom[e] if by >= bottom else bx
                 lo = min(lo, xa, xb)
                 hi = max(hi, xa, xb)
             if lo > hi:
@@ -367,19 +388,14 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
                 # cross-sections at y = top and y = bottom: [left, right] of each
                 left = -math.inf
                 right = math.inf
-                for side in (top, bottom):
+                for at in (at_top, at_bottom):
                     at_lo = math.inf
                     at_hi = -math.inf
                     for e in range(k):
-                        f = e + 1 if e + 1 < k else 0
-                        ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
-                        if by < ay:
-                            ax, ay, bx, by = bx, by, ax, ay
-                        if ay == by or side < ay or side > by:
-                            continue
-                        x = _x_at(ax, ay, bx, by, side)
-                        at_lo = min(at_lo, x)
-                        at_hi = max(at_hi, x)
+                        x = at[e]
+                        if x == x:  # the edge crosses the line (not horizontal)
+                            at_lo = min(at_lo, x)
+                            at_hi = max(at_hi, x)
                     left = max(left, at_lo)
                     right = min(right, at_hi)
                 # columns i with left + margin <= i and i + 1 <= right - margin
@@ -430,16 +446,62 @@ def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
             m += 1
 
 
+# An edge whose two end points lie beyond the row band by this much (pixel-local y >= 1 +
+# _BEYOND or <= -_BEYOND) has every computed height beyond it too: see _edge_term.
+_BEYOND = 2.0**-28
+
+
+@numba.njit(cache=True, inline="always")
+def _edge_term(ax, ay, bx, by):  # type: ignore[no-untyped-def]
+    """:func:`edge_integral`, bit for bit, without its divisions for an edge wholly below
+    or above the row band (the far side of the polygon in the pixel's column).
+
+    Why the same bits: after the swap (ax < bx), the heights are ``ay + fl(t fl(by - ay))``
+    with t in [0, 1] (or the end points themselves), so by monotone rounding each lies
+    between ay and ``fl(ay + fl(by - ay))``, and ``ay + fl(by - ay)`` is within ``u |by -
+    ay| <= u (2 M) < 2**-29`` of by (M <= 2**22 + 1, module docstring). So when both end
+    points are >= 1 + 2**-28 both heights are >= 1 and clamped_mean is exactly 1; when
+    both are <= -2**-28 it is exactly 0: the product is then ``fl(xr - xl) * 1.0`` or ``*
+    0.0``, as edge_integral computes it."""
+    if ax == bx:
+        return 0.0
+    sign = 1.0
+    if bx < ax:
+        ax, ay, bx, by = bx, by, ax, ay
+        sign = -1.0
+    xl = max(ax, 0.0)
+    xr = min(bx, 1.0)
+    if xl >= xr:
+        return 0.0
+    if ay >= 1.0 + _BEYOND and by >= 1.0 + _BEYOND:
+        return sign * ((xr - xl) * 1.0)
+    if ay <= -_BEYOND and by <= -_BEYOND:
+        return sign * ((xr - xl) * 0.0)
+    dx = bx - ax
+    dy = by - ay
+    yl = ay if xl == ax else ay + ((xl - ax) / dx) * dy
+    yr = by if xr == bx else ay + ((xr - ax) / dx) * dy
+    return sign * ((xr - xl) * clamped_mean(yl, yr))
+
+
 @numba.njit(cache=True, inline="always")
 def _pixel_area(polys, p, k, i, local_x, local_y):  # type: ignore[no-untyped-def]
     """|sum of the edge integrals| of polygon p at column i, clamped to [0, 1] (``local_y``
     holds its vertices' pixel-local y)."""
+    if k == 3:  # a triangle (the usual polygon): the same sums, in registers
+        x0 = polys[p, 0, 0] - i
+        x1 = polys[p, 1, 0] - i
+        x2 = polys[p, 2, 0] - i
+        total = 0.0 + _edge_term(x0, local_y[0], x1, local_y[1])
+        total += _edge_term(x1, local_y[1], x2, local_y[2])
+        total += _edge_term(x2, local_y[2], x0, local_y[0])
+        return min(abs(total), 1.0)
     for v in range(k):
         local_x[v] = polys[p, v, 0] - i
     total = 0.0
     for e in range(k):
         f = e + 1 if e + 1 < k else 0
-        total += edge_integral(local_x[e], local_y[e], local_x[f], local_y[f])
+        total += _edge_term(local_x[e], local_y[e], local_x[f], local_y[f])
     # Green's theorem gives the area up to the orientation's sign; the exact area is in
     # [0, 1], so clamping only brings the float one closer.
     return min(abs(total), 1.0)
@@ -538,6 +600,8 @@ def _polygons(positions: NDArray[np.float64], width: int, height: int) -> tuple[
         polys[t, len(rounded):] = rounded[0]
         counts[t] = len(rounded)
     source = np.flatnonzero(counts > 0)
+    if source.size == n:  # every triangle covers something: no copy
+        return polys, counts, source
     return np.ascontiguousarray(polys[source]), counts[source], source
 
 
