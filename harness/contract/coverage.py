@@ -86,6 +86,17 @@ def _spread_runs(x0, x1, inner_x0, inner_x1, edge_alpha, out):  # type: ignore[n
             m += 1
 
 
+@numba.njit(cache=True)
+def _edge_pixels(x0, x1, inner_x0, inner_x1):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """The number of pixels outside the inner runs; -1 if an inner run leaves its span."""
+    edges = 0
+    for s in range(x0.size):
+        if not x0[s] <= inner_x0[s] <= inner_x1[s] <= x1[s]:
+            return -1
+        edges += (x1[s] - x0[s]) - (inner_x1[s] - inner_x0[s])
+    return edges
+
+
 def _alpha_runs(runs: AlphaRuns, x0: NDArray[np.int64], x1: NDArray[np.int64]) -> AlphaRuns:
     """``runs`` checked against the spans (x0, x1) and made read-only int64 / float64 arrays."""
     if not isinstance(runs, AlphaRuns):
@@ -97,9 +108,10 @@ def _alpha_runs(runs: AlphaRuns, x0: NDArray[np.int64], x1: NDArray[np.int64]) -
     edge = edge.view() if edge.dtype == np.float64 else edge.astype(np.float64)
     if not inner_x0.size == inner_x1.size == x0.size:
         raise ValueError("Coverage.runs needs one inner run per span")
-    if not np.all((x0 <= inner_x0) & (inner_x0 <= inner_x1) & (inner_x1 <= x1)):
+    edges = _edge_pixels(x0, x1, inner_x0, inner_x1)
+    if edges < 0:
         raise ValueError("Coverage.runs: each inner run must lie within its span (x0 <= inner_x0 <= inner_x1 <= x1)")
-    if edge.size != int((x1 - x0).sum() - (inner_x1 - inner_x0).sum()):
+    if edge.size != edges:
         raise ValueError("Coverage.runs.edge_alpha must hold one alpha per pixel outside the inner runs")
     for array in (inner_x0, inner_x1, edge):
         array.setflags(write=False)

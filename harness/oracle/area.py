@@ -451,7 +451,7 @@ def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
 _BEYOND = 2.0**-28
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True, inline="always", error_model="numpy")
 def _edge_term(ax, ay, bx, by):  # type: ignore[no-untyped-def]
     """:func:`edge_integral`, bit for bit, without its divisions for an edge wholly below
     or above the row band (the far side of the polygon in the pixel's column).
@@ -463,28 +463,32 @@ def _edge_term(ax, ay, bx, by):  # type: ignore[no-untyped-def]
     points are >= 1 + 2**-28 both heights are >= 1 and clamped_mean is exactly 1; when
     both are <= -2**-28 it is exactly 0: the product is then ``fl(xr - xl) * 1.0`` or ``*
     0.0``, as edge_integral computes it."""
-    if ax == bx:
+    # the same quantities as edge_integral's, chosen by selects rather than branches (an
+    # edge's direction is a coin toss from pixel to pixel); ax == bx gives xl >= xr
+    swap = bx < ax
+    lx = bx if swap else ax
+    ly = by if swap else ay
+    rx = ax if swap else bx
+    ry = ay if swap else by
+    sign = -1.0 if swap else 1.0
+    xl = max(lx, 0.0)
+    xr = min(rx, 1.0)
+    if not xl < xr:
         return 0.0
-    sign = 1.0
-    if bx < ax:
-        ax, ay, bx, by = bx, by, ax, ay
-        sign = -1.0
-    xl = max(ax, 0.0)
-    xr = min(bx, 1.0)
-    if xl >= xr:
-        return 0.0
-    if ay >= 1.0 + _BEYOND and by >= 1.0 + _BEYOND:
+    if ly >= 1.0 + _BEYOND and ry >= 1.0 + _BEYOND:
         return sign * ((xr - xl) * 1.0)
-    if ay <= -_BEYOND and by <= -_BEYOND:
+    if ly <= -_BEYOND and ry <= -_BEYOND:
         return sign * ((xr - xl) * 0.0)
-    dx = bx - ax
-    dy = by - ay
-    yl = ay if xl == ax else ay + ((xl - ax) / dx) * dy
-    yr = by if xr == bx else ay + ((xr - ax) / dx) * dy
+    dx = rx - lx  # > 0: no division by zero below
+    dy = ry - ly
+    tl = ((xl - lx) / dx) * dy
+    tr = ((xr - lx) / dx) * dy
+    yl = ly if xl == lx else ly + tl
+    yr = ry if xr == rx else ly + tr
     return sign * ((xr - xl) * clamped_mean(yl, yr))
 
 
-@numba.njit(cache=True, inline="always")
+@numba.njit(cache=True, inline="always", error_model="numpy")
 def _pixel_area(polys, p, k, i, local_x, local_y):  # type: ignore[no-untyped-def]
     """|sum of the edge integrals| of polygon p at column i, clamped to [0, 1] (``local_y``
     holds its vertices' pixel-local y)."""
@@ -507,7 +511,7 @@ def _pixel_area(polys, p, k, i, local_x, local_y):  # type: ignore[no-untyped-de
     return min(abs(total), 1.0)
 
 
-@numba.njit(cache=True)
+@numba.njit(cache=True, error_model="numpy")  # no division by zero (see _edge_term)
 def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):  # type: ignore[no-untyped-def]
     """The area of each span's edge pixels, the inner run [i0, i1) left alone (exactly 1,
     written as a run, not pixel by pixel: the span fill of a scan converter).
@@ -659,6 +663,40 @@ def _trim_zeros(x0, x1, area, out_x0, out_x1, out_first):  # type: ignore[no-unt
         out_x1[s] = out_x0[s] + (b - a)
 
 
+@numba.njit(cache=True)
+def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped-def]
+    """:func:`_span_kernel`, then :func:`_edge_kernel`, then the empty spans dropped and
+    each span's polygon replaced by its triangle (``source``): one call, no temporaries
+    but the spans' block and the edge areas."""
+    capacity = 0
+    for p in range(polys.shape[0]):
+        ymin = ymax = polys[p, 0, 1]
+        for v in range(counts[p]):
+            ymin = min(ymin, polys[p, v, 1])
+            ymax = max(ymax, polys[p, v, 1])
+        # rows a polygon can touch: floor(ymin) .. ceil(ymax) - 1 within the viewport
+        capacity += max(min(int(math.ceil(ymax)), height) - max(int(math.floor(ymin)), 0), 0)
+    block = np.empty((6, capacity), dtype=np.int64)
+    span_p, span_y, span_x0, span_x1, span_i0, span_i1 = block[0], block[1], block[2], block[3], block[4], block[5]
+    spans = _span_kernel(polys, counts, width, height, span_p, span_y, span_x0, span_x1, span_i0, span_i1)
+    edges = 0
+    for s in range(spans):
+        edges += span_x1[s] - span_x0[s] - max(span_i1[s] - span_i0[s], 0)
+    alpha = np.empty(edges)
+    m = _edge_kernel(polys, counts, span_p[:spans], span_y, span_x0, span_x1, span_i0, span_i1, alpha)
+    w = 0
+    for s in range(spans):
+        if span_x1[s] > span_x0[s]:
+            span_p[w] = source[span_p[s]]
+            span_y[w] = span_y[s]
+            span_x0[w] = span_x0[s]
+            span_x1[w] = span_x1[s]
+            span_i0[w] = span_i0[s]
+            span_i1[w] = span_i1[s]
+            w += 1
+    return span_p[:w], span_y[:w], span_x0[:w], span_x1[:w], span_i0[:w], span_i1[:w], alpha[:m]
+
+
 def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[
         NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], AlphaRuns]:
     """(triangle, y, x0, x1, runs): spans sorted by triangle and row, cut to their first
@@ -667,20 +705,8 @@ def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[
     float area vanished) as :class:`AlphaRuns`."""
     _viewport(width, height)
     polys, counts, source = _polygons(array, int(width), int(height))
-    # Rows a polygon can touch: floor(ymin) .. ceil(ymax) - 1 within the viewport.
-    ys = polys[:, :, 1]
-    rows = np.minimum(np.ceil(ys.max(axis=1)), height) - np.maximum(np.floor(ys.min(axis=1)), 0)
-    capacity = int(np.maximum(rows, 0).sum())
-    block = np.empty((6, capacity), dtype=np.int64)
-    spans = _span_kernel(polys, counts, int(width), int(height), *block)
-    span_p, span_y, span_x0, span_x1, span_i0, span_i1 = block[:, :spans]
-    edges = int((span_x1 - span_x0).sum() - np.maximum(span_i1 - span_i0, 0).sum())
-    alpha = np.empty(edges)
-    m = _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, alpha)
-    keep = span_x1 > span_x0
-    if not keep.all():
-        span_p, span_y, span_x0, span_x1, span_i0, span_i1 = block[:, :spans][:, keep]
-    return source[span_p], span_y, span_x0, span_x1, AlphaRuns(span_i0, span_i1, alpha[:m])
+    triangle, y, x0, x1, i0, i1, alpha = _area_runs(polys, counts, source, int(width), int(height))
+    return triangle, y, x0, x1, AlphaRuns(i0, i1, alpha)
 
 
 def area_error_bound(positions: ArrayLike, width: int = MAX_VIEWPORT, height: int = MAX_VIEWPORT) -> NDArray[np.float64]:
