@@ -16,7 +16,7 @@ from harness.oracle.area import _MARGIN_SCALE, _polygons, _viewport
 
 
 @numba.njit(cache=True, inline="always")
-def clamped_mean(y0, y1):  # type: ignore[no-untyped-def]
+def clamped_mean(y0, y1):
     """Mean of clamp(h, 0, 1) as h runs linearly from y0 to y1. Each case is a quotient of
     differences of like-signed numbers: no cancellation, at most five roundings."""
     lo = min(y0, y1)
@@ -39,7 +39,7 @@ def clamped_mean(y0, y1):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def edge_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
+def edge_integral(ax, ay, bx, by):
     """s_e * C_e for the edge a -> b in pixel-local coordinates (see the module docstring)."""
     if ax == bx:
         return 0.0  # vertical: crosses no vertical line
@@ -61,7 +61,7 @@ def edge_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _x_at(ax, ay, bx, by, y):  # type: ignore[no-untyped-def]
+def _x_at(ax, ay, bx, by, y):
     """x of the edge a-b (ay < by) at height y in [ay, by]."""
     if y == ay:
         return ax
@@ -71,7 +71,7 @@ def _x_at(ax, ay, bx, by, y):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True)
-def old_span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out_i0, out_i1):  # type: ignore[no-untyped-def]
+def old_span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out_i0, out_i1):
     """Per polygon and row, the columns [x0, x1) that may hold area: the row band's
     x-extent (reached on the edges' parts inside the band), widened by the crossings'
     error bound, within the bounding box and the viewport; and the columns [i0, i1)
@@ -158,7 +158,7 @@ def old_span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, 
 
 
 @numba.njit(cache=True)
-def old_area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):  # type: ignore[no-untyped-def]
+def old_area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):
     """|sum of the edge integrals| of each span's pixels, clamped to [0, 1], in span order
     (exactly 1 on the pixels [i0, i1) wholly inside)."""
     local_x = np.empty(polys.shape[1])
@@ -189,7 +189,7 @@ def old_area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, sp
 
 
 @numba.njit(cache=True)
-def old_trim_zeros(x0, x1, area, out_x0, out_x1, out_first):  # type: ignore[no-untyped-def]
+def old_trim_zeros(x0, x1, area, out_x0, out_x1, out_first):
     """Each span cut to its first and last pixel of nonzero area (empty when none):
     the new [x0, x1) and the index of its first area in ``area``."""
     m = 0

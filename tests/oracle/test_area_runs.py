@@ -98,7 +98,7 @@ def test_hypothesis_scenes_match_the_old_kernel(positions):
 
 
 def runs_and_alpha(scene=None):
-    scene = scene or Scene(12, 10, [[[0.5, 0.25], [11.5, 1.0], [2.0, 9.75]], [[3, 3], [9, 4], [6, 9]]])
+    scene = scene or Scene(12, 10, np.array([[[0.5, 0.25], [11.5, 1.0], [2.0, 9.75]], [[3, 3], [9, 4], [6, 9]]]))
     runs = area_coverage(scene, AREA)
     assert runs.runs is not None
     plain = Coverage(runs.primitive, runs.y, runs.x0, runs.x1, alpha=np.array(runs.alpha))
@@ -148,7 +148,8 @@ def test_exact_coverage_answers_with_runs():
 def test_runs_are_checked_against_their_spans():
     spans = ([0, 0], [0, 1], [0, 2], [3, 5])
     good = AlphaRuns(np.array([1, 2]), np.array([2, 5]), np.array([0.5, 0.25]))
-    assert Coverage(*spans, runs=good).alpha.tolist() == [0.5, 1.0, 0.25, 1.0, 1.0, 1.0]
+    alpha = Coverage(*spans, runs=good).alpha
+    assert alpha is not None and alpha.tolist() == [0.5, 1.0, 0.25, 1.0, 1.0, 1.0]
     for bad in (AlphaRuns(np.array([1]), np.array([2]), np.array([0.5, 0.25])),  # not one per span
                 AlphaRuns(np.array([1, 2]), np.array([4, 5]), np.array([0.5])),  # inner run beyond its span
                 AlphaRuns(np.array([2, 2]), np.array([1, 5]), np.array([0.5, 0.25, 0.0])),  # reversed
