@@ -33,7 +33,7 @@ The float method: one edge integral per edge
     whole row band, the columns between its cross-sections at the band's top and bottom
     (a convex polygon's left boundary is convex in y and its right one concave, so their
     extremes over the band lie at its sides), narrowed by the same margin; their area is
-    exactly 1 and is written as such, with no error at all. Triangles of exactly zero
+    exactly 1, with no error at all, and is held as a run (below). Triangles of exactly zero
     area (:func:`harness.geometry.exact.orientation`) and non-finite ones are dropped: they cover
     nothing.
 
@@ -44,6 +44,24 @@ The float method: one edge integral per edge
     ``phi = integral_0^1 clamp((1 - t) yl + t yr, 0, 1) dt`` has a closed form per case
     (both heights below the band, above it, inside it, or crossing one or both of its
     sides), each a quotient of differences of like-signed numbers (no cancellation).
+
+Runs, as a span fill draws
+    The pixels wholly inside are not written one by one: each span carries them as one
+    run of alpha 1 (:class:`harness.contract.coverage.AlphaRuns`, two numbers per span),
+    and only the span's edge pixels, left and right of that run, are computed, in one
+    pass that also cuts the span to its first and last pixel of nonzero area. This is
+    what the libraries the oracle judges do: cairo's scan converter (glitter-paths,
+    ``cairo-tor-scan-converter.c``) accumulates coverage cells only where edges cross a
+    row and hands its span renderer ``cairo_half_open_span_t`` runs (x, coverage), the
+    full-coverage run between two edges as one span; Pillow's polygon fill
+    (``polygon_generic`` in ``libImaging/Draw.c``) fills each scan line between two edge
+    crossings with one ``hline``. The cost grows with the edge pixels, not the area; the
+    alphas one per pixel are derived from the runs when a check first reads them
+    (:attr:`harness.contract.coverage.Coverage.alpha`), the same values bit for bit as
+    computing every pixel with the inner ones set to 1 (``tests/oracle/area_reference.py``
+    keeps that kernel, and the tests compare the two). The arithmetic per pixel is the
+    one below, unchanged: :func:`_edge_term` is :func:`edge_integral` with its
+    divisions skipped where their result is provably the same.
 
 The error bound (u = 2**-53, round to nearest)
     Let n be the polygon's number of edges (3 for a triangle), M the largest
@@ -814,13 +832,21 @@ def area_coverage(scene: Scene, convention: Convention) -> Coverage:
     Returns
     -------
     Coverage
-        Spans sorted by triangle, row and column, with ``alpha`` (P,) in (0, 1].
+        Spans sorted by triangle, row and column, held as ``runs``
+        (:class:`harness.contract.coverage.AlphaRuns`: each span's run of pixels wholly
+        inside, alpha exactly 1, and the alphas of its edge pixels); ``alpha`` (P,) in
+        [0, 1], zero only inside a span, is derived from them when first read.
 
     Examples
     --------
     >>> cov = area_coverage(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(coverage="area"))
     >>> cov.x0.tolist(), cov.x1.tolist(), cov.alpha.tolist()
     ([0, 0], [2, 1], [1.0, 0.5, 0.5])
+    >>> big = area_coverage(Scene(4, 2, [[[0, 0], [8, 0], [0, 8]]]), Convention(coverage="area"))
+    >>> big.x0.tolist(), big.x1.tolist(), big.runs.inner_x0.tolist(), big.runs.inner_x1.tolist()
+    ([0, 0], [4, 4], [1, 1], [4, 4])
+    >>> big.runs.edge_alpha.tolist(), big.alpha.tolist()  # pixel 0 touches the triangle's side: computed
+    ([1.0, 1.0], [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0])
     """
     if convention.samples is not None:
         raise ValueError("area_coverage is the analytic area; a supersampled convention's oracle is "
