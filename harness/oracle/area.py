@@ -347,7 +347,6 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
     lo_y = np.empty(polys.shape[1])
     hi_x = np.empty(polys.shape[1])
     hi_y = np.empty(polys.shape[1])
-    at_top = np.empty(polys.shape[1])
     at_bottom = np.empty(polys.shape[1])
     for p in range(polys.shape[0]):
         k = counts[p]
@@ -377,14 +376,15 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
         for j in range(row_lo, row_hi + 1):
             top = float(j)
             bottom = top + 1.0
-            for e in range(k):
-                at_top[e] = at_bottom[e]
-                ay, by = lo_y[e], hi_y[e]
-                at_bottom[e] = _x_at(lo_x[e], ay, hi_x[e], by, bottom) if ay < by and ay <= bottom <= by else math.nan
-            lo = math.inf
-            hi = -math.inf
+            # one pass over the edges: the band's x-extent (lo, hi) and the cross-sections
+            # at its top and bottom lines ([top_lo, top_hi], [bottom_lo, bottom_hi])
+            lo = top_lo = bottom_lo = math.inf
+            hi = top_hi = bottom_hi = -math.inf
             for e in range(k):
                 ax, ay, bx, by = lo_x[e], lo_y[e], hi_x[e], hi_y[e]
+                x_top = at_bottom[e]
+                x_bottom = _x_at(ax, ay, bx, by, bottom) if ay < by and ay <= bottom <= by else math.nan
+                at_bottom[e] = x_bottom
                 if by < top or ay > bottom:
                     continue
                 if ay == by:
@@ -392,10 +392,16 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
                 else:
                     # the edge's part inside the band: from its crossing of the top line
                     # (or its upper end point) to that of the bottom line (or its lower one)
-                    xa = at_top[e] if ay <= top else ax
-                    xb = at_bottom[e] if by >= bottom else bx
+                    xa = x_top if ay <= top else ax
+                    xb = x_bottom if by >= bottom else bx
                 lo = min(lo, xa, xb)
                 hi = max(hi, xa, xb)
+                if x_top == x_top:  # the edge crosses the top line (not horizontal)
+                    top_lo = min(top_lo, x_top)
+                    top_hi = max(top_hi, x_top)
+                if x_bottom == x_bottom:
+                    bottom_lo = min(bottom_lo, x_bottom)
+                    bottom_hi = max(bottom_hi, x_bottom)
             if lo > hi:
                 continue
             first = max(int(math.floor(lo - margin)), col_lo)
@@ -403,19 +409,9 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
             inner_lo = 0
             inner_hi = 0
             if ymin <= top and ymax >= bottom:
-                # cross-sections at y = top and y = bottom: [left, right] of each
-                left = -math.inf
-                right = math.inf
-                for at in (at_top, at_bottom):
-                    at_lo = math.inf
-                    at_hi = -math.inf
-                    for e in range(k):
-                        x = at[e]
-                        if x == x:  # the edge crosses the line (not horizontal)
-                            at_lo = min(at_lo, x)
-                            at_hi = max(at_hi, x)
-                    left = max(left, at_lo)
-                    right = min(right, at_hi)
+                # the polygon spans the band: [left, right] within both cross-sections
+                left = max(top_lo, bottom_lo)
+                right = min(top_hi, bottom_hi)
                 # columns i with left + margin <= i and i + 1 <= right - margin
                 inner_lo = max(int(math.ceil(left + margin)), first)
                 inner_hi = min(int(math.floor(right - margin)), last + 1)
