@@ -583,6 +583,30 @@ def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
     return m
 
 
+@numba.njit(cache=True)
+def _near_polygons(positions, active, size, limit):  # type: ignore[no-untyped-def]
+    """(polys, counts, far): every triangle as a polygon of ``size`` vertices padded with
+    copies of the first; 3 vertices for an active one within ±limit, else 0; ``far`` marks
+    the active ones beyond (for the exact clip)."""
+    n = positions.shape[0]
+    polys = np.empty((n, size, 2))
+    counts = np.zeros(n, dtype=np.int64)
+    far = np.zeros(n, dtype=np.bool_)
+    for t in range(n):
+        near = True
+        for v in range(size):
+            u = v if v < 3 else 0
+            for c in range(2):
+                polys[t, v, c] = positions[t, u, c]
+                near &= abs(positions[t, u, c]) <= limit
+        if active[t]:
+            if near:
+                counts[t] = 3
+            else:
+                far[t] = True
+    return polys, counts, far
+
+
 def _polygons(positions: NDArray[np.float64], width: int, height: int) -> tuple[NDArray[np.float64], NDArray[np.int64],
                                                                                 NDArray[np.int64]]:
     """The polygons the kernels work on: near triangles as they are, far ones clipped
@@ -600,13 +624,9 @@ def _polygons(positions: NDArray[np.float64], width: int, height: int) -> tuple[
     n = positions.shape[0]
     # The exact orientation: 0 for non-finite or zero-area triangles, which cover nothing.
     active = orientation(positions) != 0
-    near = active & np.all(np.abs(positions) <= GUARD_LIMIT, axis=(1, 2))
-    polys = np.empty((n, _MAX_VERTICES, 2))
-    polys[:, :3] = positions
-    polys[:, 3:] = positions[:, :1]
-    counts = np.where(near, 3, 0).astype(np.int64)
+    polys, counts, far = _near_polygons(positions, active, _MAX_VERTICES, GUARD_LIMIT)
     box = Fraction(0), Fraction(0), Fraction(width), Fraction(height)
-    for t in np.flatnonzero(active & ~near):
+    for t in np.flatnonzero(far):
         clipped = _clip_to_box(_fraction_vertices(positions[t]), *box)
         if not clipped:
             continue
