@@ -503,23 +503,50 @@ def _edge_term(ax, ay, bx, by):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _pixel_area(polys, p, k, i, local_x, local_y):  # type: ignore[no-untyped-def]
-    """|sum of the edge integrals| of polygon p at column i, clamped to [0, 1] (``local_y``
-    holds its vertices' pixel-local y)."""
-    if k == 3:  # a triangle (the usual polygon): the same sums, in registers
-        x0 = polys[p, 0, 0] - i
-        x1 = polys[p, 1, 0] - i
-        x2 = polys[p, 2, 0] - i
-        total = 0.0 + _edge_term(x0, local_y[0], x1, local_y[1])
-        total += _edge_term(x1, local_y[1], x2, local_y[2])
-        total += _edge_term(x2, local_y[2], x0, local_y[0])
-        return min(abs(total), 1.0)
-    for v in range(k):
-        local_x[v] = polys[p, v, 0] - i
-    total = 0.0
+def _edge_kinds(polys, p, k, x0, x1, local_y, kinds):  # type: ignore[no-untyped-def]
+    """What each edge of polygon p adds at the columns x0 <= i < x1 of a row, decided once
+    for the row: 0 nothing (no column of the row within its x-range, or wholly above the
+    band: ``fl(x - i)`` of an x >= x1 is >= 1 and of an x <= x0 is <= 0 for every such i,
+    by monotone rounding, and a term of +-0 leaves |sum| unchanged), 1 its width inside
+    the pixel (wholly below the band, see :func:`_edge_term`), 2 the whole edge term."""
     for e in range(k):
         f = e + 1 if e + 1 < k else 0
-        total += _edge_term(local_x[e], local_y[e], local_x[f], local_y[f])
+        ax, bx = polys[p, e, 0], polys[p, f, 0]
+        ay, by = local_y[e], local_y[f]
+        if ax == bx or min(ax, bx) >= x1 or max(ax, bx) <= x0 or (ay <= -_BEYOND and by <= -_BEYOND):
+            kinds[e] = 0
+        elif ay >= 1.0 + _BEYOND and by >= 1.0 + _BEYOND:
+            kinds[e] = 1
+        else:
+            kinds[e] = 2
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _pixel_area_of(polys, p, k, i, local_y, kinds):  # type: ignore[no-untyped-def]
+    """|sum of the edge integrals| of polygon p at column i, clamped to [0, 1], given the
+    row's pixel-local y (``local_y``) and :func:`_edge_kinds`: the terms of
+    :func:`edge_integral` in the same order (the old kernel's, ``tests/oracle/area_reference.py``),
+    but those that are +-0."""
+    total = 0.0
+    for e in range(k):
+        kind = kinds[e]
+        if kind == 0:
+            continue
+        f = e + 1 if e + 1 < k else 0
+        ax = polys[p, e, 0] - i
+        bx = polys[p, f, 0] - i
+        if kind == 2:
+            total += _edge_term(ax, local_y[e], bx, local_y[f])
+            continue
+        # wholly below the band: sign * fl(xr - xl), as _edge_term gives it
+        swap = bx < ax
+        lx = bx if swap else ax
+        rx = ax if swap else bx
+        sign = -1.0 if swap else 1.0
+        xl = max(lx, 0.0)
+        xr = min(rx, 1.0)
+        if xl < xr:
+            total += sign * ((xr - xl) * 1.0)
     # Green's theorem gives the area up to the orientation's sign; the exact area is in
     # [0, 1], so clamping only brings the float one closer.
     return min(abs(total), 1.0)
@@ -534,8 +561,8 @@ def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
     x0 when it has none) and a span without inner run gets ``i0 == i1 == x1``; ``out``
     receives the areas of the pixels outside the inner runs, span after span, left to
     right (zero only inside a span). Returns how many it received."""
-    local_x = np.empty(polys.shape[1])
     local_y = np.empty(polys.shape[1])
+    kinds = np.empty(polys.shape[1], dtype=np.int64)
     m = 0
     for s in range(span_p.size):
         p = span_p[s]
@@ -550,9 +577,10 @@ def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
         for v in range(k):
             # pixel-local coordinates: every later quantity is at most 1 (or M)
             local_y[v] = polys[p, v, 1] - j
+        _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
         start = m
         for i in range(x0, i0):
-            out[m] = _pixel_area(polys, p, k, i, local_x, local_y)
+            out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
             m += 1
         # the span begins at its first pixel of nonzero area (the inner run's first, if need be)
         lead = start
@@ -565,7 +593,7 @@ def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
             x0 += lead - start
         right = m
         for i in range(i1, x1):
-            out[m] = _pixel_area(polys, p, k, i, local_x, local_y)
+            out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
             m += 1
         # and ends at its last (the inner run's last, if need be)
         floor = right if i1 > i0 else start
