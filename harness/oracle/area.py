@@ -522,6 +522,26 @@ def _edge_kinds(polys, p, k, x0, x1, local_y, kinds):  # type: ignore[no-untyped
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
+def _kind_term(ax, ay, bx, by, kind):  # type: ignore[no-untyped-def]
+    """The edge term of :func:`edge_integral` (pixel-local coordinates) given its row's
+    :func:`_edge_kinds`: 0 for kind 0 (there +-0), its width inside the pixel for kind 1."""
+    if kind == 0:
+        return 0.0
+    if kind == 2:
+        return _edge_term(ax, ay, bx, by)
+    # wholly below the band: sign * fl(xr - xl), as _edge_term gives it
+    swap = bx < ax
+    lx = bx if swap else ax
+    rx = ax if swap else bx
+    sign = -1.0 if swap else 1.0
+    xl = max(lx, 0.0)
+    xr = min(rx, 1.0)
+    if xl < xr:
+        return sign * ((xr - xl) * 1.0)
+    return 0.0
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
 def _pixel_area_of(polys, p, k, i, local_y, kinds):  # type: ignore[no-untyped-def]
     """|sum of the edge integrals| of polygon p at column i, clamped to [0, 1], given the
     row's pixel-local y (``local_y``) and :func:`_edge_kinds`: the terms of
@@ -529,26 +549,28 @@ def _pixel_area_of(polys, p, k, i, local_y, kinds):  # type: ignore[no-untyped-d
     but those that are +-0."""
     total = 0.0
     for e in range(k):
-        kind = kinds[e]
-        if kind == 0:
-            continue
-        f = e + 1 if e + 1 < k else 0
-        ax = polys[p, e, 0] - i
-        bx = polys[p, f, 0] - i
-        if kind == 2:
-            total += _edge_term(ax, local_y[e], bx, local_y[f])
-            continue
-        # wholly below the band: sign * fl(xr - xl), as _edge_term gives it
-        swap = bx < ax
-        lx = bx if swap else ax
-        rx = ax if swap else bx
-        sign = -1.0 if swap else 1.0
-        xl = max(lx, 0.0)
-        xr = min(rx, 1.0)
-        if xl < xr:
-            total += sign * ((xr - xl) * 1.0)
+        if kinds[e] != 0:
+            f = e + 1 if e + 1 < k else 0
+            total += _kind_term(polys[p, e, 0] - i, local_y[e], polys[p, f, 0] - i, local_y[f], kinds[e])
     # Green's theorem gives the area up to the orientation's sign; the exact area is in
     # [0, 1], so clamping only brings the float one closer.
+    return min(abs(total), 1.0)
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _triangle_area_of(x0, x1, x2, y0, y1, y2, k0, k1, k2, i):  # type: ignore[no-untyped-def]
+    """:func:`_pixel_area_of` for a triangle, its vertices' x, pixel-local y and its
+    edges' kinds held in registers."""
+    a = x0 - i
+    b = x1 - i
+    c = x2 - i
+    total = 0.0
+    if k0 != 0:
+        total += _kind_term(a, y0, b, y1, k0)
+    if k1 != 0:
+        total += _kind_term(b, y1, c, y2, k1)
+    if k2 != 0:
+        total += _kind_term(c, y2, a, y0, k2)
     return min(abs(total), 1.0)
 
 
@@ -578,9 +600,16 @@ def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
             # pixel-local coordinates: every later quantity is at most 1 (or M)
             local_y[v] = polys[p, v, 1] - j
         _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
+        triangle = k == 3
+        ax, bx, cx = polys[p, 0, 0], polys[p, 1, 0], polys[p, 2, 0]
+        ay, by, cy = local_y[0], local_y[1], local_y[2]
+        ka, kb, kc = kinds[0], kinds[1], kinds[2]
         start = m
         for i in range(x0, i0):
-            out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
+            if triangle:
+                out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
+            else:
+                out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
             m += 1
         # the span begins at its first pixel of nonzero area (the inner run's first, if need be)
         lead = start
@@ -593,7 +622,10 @@ def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
             x0 += lead - start
         right = m
         for i in range(i1, x1):
-            out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
+            if triangle:
+                out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
+            else:
+                out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
             m += 1
         # and ends at its last (the inner run's last, if need be)
         floor = right if i1 > i0 else start
