@@ -6,8 +6,10 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from dataclasses import field as dataclass_field
+from typing import Any
 
+import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -38,7 +40,85 @@ def _int_array(value: ArrayLike, field: str) -> NDArray[np.int64]:
     raise ValueError(f"Coverage.{field} must hold integers, not dtype {array.dtype}")
 
 
-@dataclass(frozen=True, slots=True, eq=False)
+@dataclass(frozen=True, slots=True)
+class AlphaRuns:
+    """Area coverage held as runs: per span, one run of pixels of alpha exactly 1 and the
+    alphas of the other pixels (the span's edge pixels) one by one.
+
+    Span k of the coverage is cut in three: its left edge pixels ``x0[k] <= x <
+    inner_x0[k]``, its inner run ``inner_x0[k] <= x < inner_x1[k]`` (alpha 1 each, held
+    as two numbers) and its right edge pixels ``inner_x1[k] <= x < x1[k]``; a span with
+    no inner run has ``inner_x0[k] == inner_x1[k]`` (anywhere in [x0, x1]).
+    ``edge_alpha`` holds the alphas of the edge pixels in span order, left to right
+    (left pixels, then right ones, span after span). This is how a span fill draws
+    (cairo's and Pillow's scan converters: an anti-aliased edge cell by cell, the run
+    between two edges as one span of full coverage), and what the exact area oracle
+    (:func:`harness.oracle.area.area_coverage`) returns: its cost grows with the edge
+    pixels, not with the area.
+
+    Parameters
+    ----------
+    inner_x0, inner_x1 : (S,) int64
+    edge_alpha : (E,) float64
+    """
+
+    inner_x0: NDArray[np.int64]
+    inner_x1: NDArray[np.int64]
+    edge_alpha: NDArray[np.float64]
+
+    @property
+    def nbytes(self) -> int:
+        return int(self.inner_x0.nbytes + self.inner_x1.nbytes + self.edge_alpha.nbytes)
+
+
+@numba.njit(cache=True)
+def _spread_runs(x0, x1, inner_x0, inner_x1, edge_alpha, out):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """One alpha per pixel in span order from :class:`AlphaRuns` (1.0 on inner runs)."""
+    m = 0
+    e = 0
+    for s in range(x0.size):
+        for x in range(x0[s], x1[s]):
+            if inner_x0[s] <= x < inner_x1[s]:
+                out[m] = 1.0
+            else:
+                out[m] = edge_alpha[e]
+                e += 1
+            m += 1
+
+
+@numba.njit(cache=True)
+def _edge_pixels(x0, x1, inner_x0, inner_x1):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """The number of pixels outside the inner runs; -1 if an inner run leaves its span."""
+    edges = 0
+    for s in range(x0.size):
+        if not x0[s] <= inner_x0[s] <= inner_x1[s] <= x1[s]:
+            return -1
+        edges += (x1[s] - x0[s]) - (inner_x1[s] - inner_x0[s])
+    return edges
+
+
+def _alpha_runs(runs: AlphaRuns, x0: NDArray[np.int64], x1: NDArray[np.int64]) -> AlphaRuns:
+    """``runs`` checked against the spans (x0, x1) and made read-only int64 / float64 arrays."""
+    if not isinstance(runs, AlphaRuns):
+        raise ValueError(f"Coverage.runs must be an AlphaRuns, not {type(runs).__name__}")
+    inner_x0, inner_x1 = _int_array(runs.inner_x0, "runs.inner_x0"), _int_array(runs.inner_x1, "runs.inner_x1")
+    edge = np.asarray(runs.edge_alpha)
+    if edge.ndim != 1 or edge.dtype.kind not in "biuf":
+        raise ValueError(f"Coverage.runs.edge_alpha must be (E,) real numbers, not {edge.dtype} of shape {edge.shape}")
+    edge = edge.view() if edge.dtype == np.float64 else edge.astype(np.float64)
+    if not inner_x0.size == inner_x1.size == x0.size:
+        raise ValueError("Coverage.runs needs one inner run per span")
+    edges = _edge_pixels(x0, x1, inner_x0, inner_x1)
+    if edges < 0:
+        raise ValueError("Coverage.runs: each inner run must lie within its span (x0 <= inner_x0 <= inner_x1 <= x1)")
+    if edge.size != edges:
+        raise ValueError("Coverage.runs.edge_alpha must hold one alpha per pixel outside the inner runs")
+    for array in (inner_x0, inner_x1, edge):
+        array.setflags(write=False)
+    return AlphaRuns(inner_x0, inner_x1, edge)
+
+
+@dataclass(frozen=True, slots=True, eq=False, init=False)
 class Coverage:
     """What a rasterizer covered: horizontal spans, plus interpolated attributes.
 
@@ -54,7 +134,11 @@ class Coverage:
       its pixels (one run per primitive, sample and row); a fragment is then a (primitive,
       sample, pixel) and ``attributes`` has one row per fragment, in span order.
     * area (anti-aliased): ``alpha`` has one value per pixel in span order, the share of
-      the pixel the primitive covers; a pixel left out has alpha 0.
+      the pixel the primitive covers; a pixel left out has alpha 0. It may be given as
+      ``runs`` instead (:class:`AlphaRuns`: each span's run of alpha 1 as two numbers, its
+      edge pixels one by one): ``alpha`` is then derived from them when first read, and
+      kept. Either way it is the same coverage (equality, canonical form, hygiene and the
+      wire read ``alpha``); ``runs`` is None when alphas were given one per pixel.
 
     The constructor checks structure only (1-D integer arrays of one length, a 2-D
     float attribute array); whether spans are sensible is for the hygiene checks to say.
@@ -69,6 +153,9 @@ class Coverage:
         Multisample coverage: the sample index of each span; None for one sample per pixel.
     alpha : (P,) float64 or None
         Area coverage: the alpha of each pixel, in span order; None otherwise.
+    runs : AlphaRuns or None, keyword only
+        Area coverage as runs, instead of ``alpha`` (not with it); its arrays are kept
+        without a copy, like int64 span arrays.
 
     Examples
     --------
@@ -84,17 +171,40 @@ class Coverage:
     y: NDArray[np.int64]
     x0: NDArray[np.int64]
     x1: NDArray[np.int64]
-    attributes: NDArray[np.float64] | None = None
-    sample: NDArray[np.int64] | None = None
-    alpha: NDArray[np.float64] | None = None
+    attributes: NDArray[np.float64] | None
+    sample: NDArray[np.int64] | None
+    runs: AlphaRuns | None
+    # the alphas one per pixel: as given, or derived from ``runs`` when first read (``alpha``)
+    _alpha: NDArray[np.float64] | None = dataclass_field(repr=False)
 
-    # the constructor takes array-likes (lists too), which __post_init__ makes arrays
-    if TYPE_CHECKING:
-        def __init__(self, primitive: ArrayLike, y: ArrayLike, x0: ArrayLike, x1: ArrayLike,
-                     attributes: ArrayLike | None = None, sample: ArrayLike | None = None,
-                     alpha: ArrayLike | None = None) -> None: ...
+    def __init__(self, primitive: ArrayLike, y: ArrayLike, x0: ArrayLike, x1: ArrayLike,
+                 attributes: ArrayLike | None = None, sample: ArrayLike | None = None,
+                 alpha: ArrayLike | None = None, *, runs: AlphaRuns | None = None) -> None:
+        # the constructor takes array-likes (lists too), which _check makes arrays
+        for name, value in (("primitive", primitive), ("y", y), ("x0", x0), ("x1", x1), ("attributes", attributes),
+                            ("sample", sample), ("runs", runs), ("_alpha", alpha)):
+            object.__setattr__(self, name, value)
+        self._check()
 
-    def __post_init__(self) -> None:
+    @property
+    def alpha(self) -> NDArray[np.float64] | None:
+        """Area coverage: the alpha of each pixel, in span order, (P,) float64; None for
+        other coverage. Derived from :attr:`runs` on first read when given as runs."""
+        if self._alpha is None and self.runs is not None:
+            alpha = np.empty(self.n_pixels)
+            _spread_runs(self.x0, self.x1, self.runs.inner_x0, self.runs.inner_x1, self.runs.edge_alpha, alpha)
+            alpha.setflags(write=False)
+            object.__setattr__(self, "_alpha", alpha)
+        return self._alpha
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of the arrays held (runs, not the alphas derived from them)."""
+        held = (self.primitive, self.y, self.x0, self.x1, self.attributes, self.sample,
+                self._alpha if self.runs is None else self.runs)
+        return sum(int(a.nbytes) for a in held if a is not None)
+
+    def _check(self) -> None:
         fields = ("primitive", "y", "x0", "x1") + (("sample",) if self.sample is not None else ())
         arrays = {f: _int_array(getattr(self, f), f) for f in fields}
         sizes = {f: a.size for f, a in arrays.items()}
@@ -116,15 +226,19 @@ class Coverage:
             attributes = np.array(attributes, dtype=np.float64, copy=True)
             attributes.setflags(write=False)
             object.__setattr__(self, "attributes", attributes)
-        if self.alpha is not None:
-            alpha = np.asarray(self.alpha)
+        if self.runs is not None:
+            if self._alpha is not None:
+                raise ValueError("Coverage takes alpha or runs, not both")
+            object.__setattr__(self, "runs", _alpha_runs(self.runs, self.x0, self.x1))
+        if self._alpha is not None:
+            alpha = np.asarray(self._alpha)
             if alpha.dtype.kind not in "biuf":
                 raise ValueError(f"Coverage.alpha must hold real numbers, not dtype {alpha.dtype}")
             if alpha.ndim != 1:
                 raise ValueError(f"Coverage.alpha must have shape (P,), not {alpha.shape}")
             alpha = np.array(alpha, dtype=np.float64, copy=True)
             alpha.setflags(write=False)
-            object.__setattr__(self, "alpha", alpha)
+            object.__setattr__(self, "_alpha", alpha)
 
     # -- constructors ------------------------------------------------------------------
 

@@ -33,7 +33,7 @@ The float method: one edge integral per edge
     whole row band, the columns between its cross-sections at the band's top and bottom
     (a convex polygon's left boundary is convex in y and its right one concave, so their
     extremes over the band lie at its sides), narrowed by the same margin; their area is
-    exactly 1 and is written as such, with no error at all. Triangles of exactly zero
+    exactly 1, with no error at all, and is held as a run (below). Triangles of exactly zero
     area (:func:`harness.geometry.exact.orientation`) and non-finite ones are dropped: they cover
     nothing.
 
@@ -44,6 +44,24 @@ The float method: one edge integral per edge
     ``phi = integral_0^1 clamp((1 - t) yl + t yr, 0, 1) dt`` has a closed form per case
     (both heights below the band, above it, inside it, or crossing one or both of its
     sides), each a quotient of differences of like-signed numbers (no cancellation).
+
+Runs, as a span fill draws
+    The pixels wholly inside are not written one by one: each span carries them as one
+    run of alpha 1 (:class:`harness.contract.coverage.AlphaRuns`, two numbers per span),
+    and only the span's edge pixels, left and right of that run, are computed, in one
+    pass that also cuts the span to its first and last pixel of nonzero area. This is
+    what the libraries the oracle judges do: cairo's scan converter (glitter-paths,
+    ``cairo-tor-scan-converter.c``) accumulates coverage cells only where edges cross a
+    row and hands its span renderer ``cairo_half_open_span_t`` runs (x, coverage), the
+    full-coverage run between two edges as one span; Pillow's polygon fill
+    (``polygon_generic`` in ``libImaging/Draw.c``) fills each scan line between two edge
+    crossings with one ``hline``. The cost grows with the edge pixels, not the area; the
+    alphas one per pixel are derived from the runs when a check first reads them
+    (:attr:`harness.contract.coverage.Coverage.alpha`), the same values bit for bit as
+    computing every pixel with the inner ones set to 1 (``tests/oracle/area_reference.py``
+    keeps that kernel, and the tests compare the two). The arithmetic per pixel is the
+    one below, unchanged: :func:`_edge_term` is :func:`edge_integral` with its
+    divisions skipped where their result is provably the same.
 
 The error bound (u = 2**-53, round to nearest)
     Let n be the polygon's number of edges (3 for a triangle), M the largest
@@ -103,10 +121,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from harness.contract.conventions import Convention
-from harness.contract.coverage import Coverage
+from harness.contract.coverage import AlphaRuns, Coverage
 from harness.contract.scenes import MAX_VIEWPORT, Scene
 from harness.geometry.exact import orientation
-from harness.geometry.spans import expand, pixel_offsets
+from harness.geometry.spans import expand
 
 __all__ = ["UNIT_ROUNDOFF", "GUARD_LIMIT", "exact_area", "exact_pixel_areas", "pixel_areas", "area_error_bound",
            "displaced_area_bound", "area_coverage"]
@@ -321,6 +339,15 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
     narrowed by the same bound (a convex polygon's left boundary is convex in y, the
     right one concave: their extremes over the band are at its sides)."""
     n = 0
+    # each edge with its end points ordered by y (low, high), and its x at the band's top
+    # and bottom lines when it crosses them (NaN when not): the bottom line of a row is
+    # the top line of the next, so each crossing is computed once, with the same
+    # arguments (and so the same bits) wherever it is used
+    lo_x = np.empty(polys.shape[1])
+    lo_y = np.empty(polys.shape[1])
+    hi_x = np.empty(polys.shape[1])
+    hi_y = np.empty(polys.shape[1])
+    at_bottom = np.empty(polys.shape[1])
     for p in range(polys.shape[0]):
         k = counts[p]
         xmin = xmax = polys[p, 0, 0]
@@ -338,25 +365,43 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
         col_hi = min(int(math.ceil(xmax)) - 1, width - 1)
         row_lo = max(int(math.floor(ymin)), 0)
         row_hi = min(int(math.ceil(ymax)) - 1, height - 1)
+        for e in range(k):
+            f = e + 1 if e + 1 < k else 0
+            ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
+            if by < ay:
+                ax, ay, bx, by = bx, by, ax, ay
+            lo_x[e], lo_y[e], hi_x[e], hi_y[e] = ax, ay, bx, by
+            side = float(row_lo)
+            at_bottom[e] = _x_at(ax, ay, bx, by, side) if ay < by and ay <= side <= by else math.nan
         for j in range(row_lo, row_hi + 1):
             top = float(j)
             bottom = top + 1.0
-            lo = math.inf
-            hi = -math.inf
+            # one pass over the edges: the band's x-extent (lo, hi) and the cross-sections
+            # at its top and bottom lines ([top_lo, top_hi], [bottom_lo, bottom_hi])
+            lo = top_lo = bottom_lo = math.inf
+            hi = top_hi = bottom_hi = -math.inf
             for e in range(k):
-                f = e + 1 if e + 1 < k else 0
-                ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
-                if by < ay:
-                    ax, ay, bx, by = bx, by, ax, ay
+                ax, ay, bx, by = lo_x[e], lo_y[e], hi_x[e], hi_y[e]
+                x_top = at_bottom[e]
+                x_bottom = _x_at(ax, ay, bx, by, bottom) if ay < by and ay <= bottom <= by else math.nan
+                at_bottom[e] = x_bottom
                 if by < top or ay > bottom:
                     continue
                 if ay == by:
                     xa, xb = ax, bx
                 else:
-                    xa = _x_at(ax, ay, bx, by, max(ay, top))
-                    xb = _x_at(ax, ay, bx, by, min(by, bottom))
+                    # the edge's part inside the band: from its crossing of the top line
+                    # (or its upper end point) to that of the bottom line (or its lower one)
+                    xa = x_top if ay <= top else ax
+                    xb = x_bottom if by >= bottom else bx
                 lo = min(lo, xa, xb)
                 hi = max(hi, xa, xb)
+                if x_top == x_top:  # the edge crosses the top line (not horizontal)
+                    top_lo = min(top_lo, x_top)
+                    top_hi = max(top_hi, x_top)
+                if x_bottom == x_bottom:
+                    bottom_lo = min(bottom_lo, x_bottom)
+                    bottom_hi = max(bottom_hi, x_bottom)
             if lo > hi:
                 continue
             first = max(int(math.floor(lo - margin)), col_lo)
@@ -364,24 +409,9 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
             inner_lo = 0
             inner_hi = 0
             if ymin <= top and ymax >= bottom:
-                # cross-sections at y = top and y = bottom: [left, right] of each
-                left = -math.inf
-                right = math.inf
-                for side in (top, bottom):
-                    at_lo = math.inf
-                    at_hi = -math.inf
-                    for e in range(k):
-                        f = e + 1 if e + 1 < k else 0
-                        ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
-                        if by < ay:
-                            ax, ay, bx, by = bx, by, ax, ay
-                        if ay == by or side < ay or side > by:
-                            continue
-                        x = _x_at(ax, ay, bx, by, side)
-                        at_lo = min(at_lo, x)
-                        at_hi = max(at_hi, x)
-                    left = max(left, at_lo)
-                    right = min(right, at_hi)
+                # the polygon spans the band: [left, right] within both cross-sections
+                left = max(top_lo, bottom_lo)
+                right = min(top_hi, bottom_hi)
                 # columns i with left + margin <= i and i + 1 <= right - margin
                 inner_lo = max(int(math.ceil(left + margin)), first)
                 inner_hi = min(int(math.floor(right - margin)), last + 1)
@@ -400,7 +430,8 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
 
 @numba.njit(cache=True)
 def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):  # type: ignore[no-untyped-def]
-    """|sum of the edge integrals| of each span's pixels, clamped to [0, 1], in span order
+    """|sum of the edge integrals| of each span's pixels, one by one (the stroke-area oracle's,
+    :mod:`harness.oracle.area_lines`), clamped to [0, 1], in span order
     (exactly 1 on the pixels [i0, i1) wholly inside)."""
     local_x = np.empty(polys.shape[1])
     local_y = np.empty(polys.shape[1])
@@ -429,6 +460,213 @@ def _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
             m += 1
 
 
+# An edge whose two end points lie beyond the row band by this much (pixel-local y >= 1 +
+# _BEYOND or <= -_BEYOND) has every computed height beyond it too: see _edge_term.
+_BEYOND = 2.0**-28
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _edge_term(ax, ay, bx, by):  # type: ignore[no-untyped-def]
+    """:func:`edge_integral`, bit for bit, without its divisions for an edge wholly below
+    or above the row band (the far side of the polygon in the pixel's column).
+
+    Why the same bits: after the swap (ax < bx), the heights are ``ay + fl(t fl(by - ay))``
+    with t in [0, 1] (or the end points themselves), so by monotone rounding each lies
+    between ay and ``fl(ay + fl(by - ay))``, and ``ay + fl(by - ay)`` is within ``u |by -
+    ay| <= u (2 M) < 2**-29`` of by (M <= 2**22 + 1, module docstring). So when both end
+    points are >= 1 + 2**-28 both heights are >= 1 and clamped_mean is exactly 1; when
+    both are <= -2**-28 it is exactly 0: the product is then ``fl(xr - xl) * 1.0`` or ``*
+    0.0``, as edge_integral computes it."""
+    # the same quantities as edge_integral's, chosen by selects rather than branches (an
+    # edge's direction is a coin toss from pixel to pixel); ax == bx gives xl >= xr
+    swap = bx < ax
+    lx = bx if swap else ax
+    ly = by if swap else ay
+    rx = ax if swap else bx
+    ry = ay if swap else by
+    sign = -1.0 if swap else 1.0
+    xl = max(lx, 0.0)
+    xr = min(rx, 1.0)
+    if not xl < xr:
+        return 0.0
+    if ly >= 1.0 + _BEYOND and ry >= 1.0 + _BEYOND:
+        return sign * ((xr - xl) * 1.0)
+    if ly <= -_BEYOND and ry <= -_BEYOND:
+        return sign * ((xr - xl) * 0.0)
+    dx = rx - lx  # > 0: no division by zero below
+    dy = ry - ly
+    tl = ((xl - lx) / dx) * dy
+    tr = ((xr - lx) / dx) * dy
+    yl = ly if xl == lx else ly + tl
+    yr = ry if xr == rx else ly + tr
+    return sign * ((xr - xl) * clamped_mean(yl, yr))
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _edge_kinds(polys, p, k, x0, x1, local_y, kinds):  # type: ignore[no-untyped-def]
+    """What each edge of polygon p adds at the columns x0 <= i < x1 of a row, decided once
+    for the row: 0 nothing (no column of the row within its x-range, or wholly above the
+    band: ``fl(x - i)`` of an x >= x1 is >= 1 and of an x <= x0 is <= 0 for every such i,
+    by monotone rounding, and a term of +-0 leaves |sum| unchanged), 1 its width inside
+    the pixel (wholly below the band, see :func:`_edge_term`), 2 the whole edge term."""
+    for e in range(k):
+        f = e + 1 if e + 1 < k else 0
+        ax, bx = polys[p, e, 0], polys[p, f, 0]
+        ay, by = local_y[e], local_y[f]
+        if ax == bx or min(ax, bx) >= x1 or max(ax, bx) <= x0 or (ay <= -_BEYOND and by <= -_BEYOND):
+            kinds[e] = 0
+        elif ay >= 1.0 + _BEYOND and by >= 1.0 + _BEYOND:
+            kinds[e] = 1
+        else:
+            kinds[e] = 2
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _kind_term(ax, ay, bx, by, kind):  # type: ignore[no-untyped-def]
+    """The edge term of :func:`edge_integral` (pixel-local coordinates) given its row's
+    :func:`_edge_kinds`: 0 for kind 0 (there +-0), its width inside the pixel for kind 1."""
+    if kind == 0:
+        return 0.0
+    if kind == 2:
+        return _edge_term(ax, ay, bx, by)
+    # wholly below the band: sign * fl(xr - xl), as _edge_term gives it
+    swap = bx < ax
+    lx = bx if swap else ax
+    rx = ax if swap else bx
+    sign = -1.0 if swap else 1.0
+    xl = max(lx, 0.0)
+    xr = min(rx, 1.0)
+    if xl < xr:
+        return sign * ((xr - xl) * 1.0)
+    return 0.0
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _pixel_area_of(polys, p, k, i, local_y, kinds):  # type: ignore[no-untyped-def]
+    """|sum of the edge integrals| of polygon p at column i, clamped to [0, 1], given the
+    row's pixel-local y (``local_y``) and :func:`_edge_kinds`: the terms of
+    :func:`edge_integral` in the same order (the old kernel's, ``tests/oracle/area_reference.py``),
+    but those that are +-0."""
+    total = 0.0
+    for e in range(k):
+        if kinds[e] != 0:
+            f = e + 1 if e + 1 < k else 0
+            total += _kind_term(polys[p, e, 0] - i, local_y[e], polys[p, f, 0] - i, local_y[f], kinds[e])
+    # Green's theorem gives the area up to the orientation's sign; the exact area is in
+    # [0, 1], so clamping only brings the float one closer.
+    return min(abs(total), 1.0)
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _triangle_area_of(x0, x1, x2, y0, y1, y2, k0, k1, k2, i):  # type: ignore[no-untyped-def]
+    """:func:`_pixel_area_of` for a triangle, its vertices' x, pixel-local y and its
+    edges' kinds held in registers."""
+    a = x0 - i
+    b = x1 - i
+    c = x2 - i
+    total = 0.0
+    if k0 != 0:
+        total += _kind_term(a, y0, b, y1, k0)
+    if k1 != 0:
+        total += _kind_term(b, y1, c, y2, k1)
+    if k2 != 0:
+        total += _kind_term(c, y2, a, y0, k2)
+    return min(abs(total), 1.0)
+
+
+@numba.njit(cache=True, error_model="numpy")  # no division by zero (see _edge_term)
+def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):  # type: ignore[no-untyped-def]
+    """The area of each span's edge pixels, the inner run [i0, i1) left alone (exactly 1,
+    written as a run, not pixel by pixel: the span fill of a scan converter).
+
+    In place, each span is cut to its first and last pixel of nonzero float area (x1 ==
+    x0 when it has none) and a span without inner run gets ``i0 == i1 == x1``; ``out``
+    receives the areas of the pixels outside the inner runs, span after span, left to
+    right (zero only inside a span). Returns how many it received."""
+    local_y = np.empty(polys.shape[1])
+    kinds = np.empty(polys.shape[1], dtype=np.int64)
+    m = 0
+    for s in range(span_p.size):
+        p = span_p[s]
+        k = counts[p]
+        j = span_y[s]
+        x0 = span_x0[s]
+        x1 = span_x1[s]
+        i0 = span_i0[s]
+        i1 = span_i1[s]
+        if i1 <= i0:
+            i0 = i1 = x1  # no inner run: every pixel is an edge pixel
+        for v in range(k):
+            # pixel-local coordinates: every later quantity is at most 1 (or M)
+            local_y[v] = polys[p, v, 1] - j
+        _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
+        triangle = k == 3
+        ax, bx, cx = polys[p, 0, 0], polys[p, 1, 0], polys[p, 2, 0]
+        ay, by, cy = local_y[0], local_y[1], local_y[2]
+        ka, kb, kc = kinds[0], kinds[1], kinds[2]
+        start = m
+        for i in range(x0, i0):
+            if triangle:
+                out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
+            else:
+                out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
+            m += 1
+        # the span begins at its first pixel of nonzero area (the inner run's first, if need be)
+        lead = start
+        while lead < m and out[lead] == 0.0:
+            lead += 1
+        if lead > start:
+            for q in range(lead, m):
+                out[q - (lead - start)] = out[q]
+            m -= lead - start
+            x0 += lead - start
+        right = m
+        for i in range(i1, x1):
+            if triangle:
+                out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
+            else:
+                out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
+            m += 1
+        # and ends at its last (the inner run's last, if need be)
+        floor = right if i1 > i0 else start
+        while m > floor and out[m - 1] == 0.0:
+            m -= 1
+        if i1 > i0:
+            x1 = i1 + (m - right)
+        else:
+            x1 = x0 + (m - start)
+            i0 = i1 = x1
+        span_x0[s] = x0
+        span_x1[s] = x1
+        span_i0[s] = i0
+        span_i1[s] = i1
+    return m
+
+
+@numba.njit(cache=True)
+def _near_polygons(positions, active, size, limit):  # type: ignore[no-untyped-def]
+    """(polys, counts, far): every triangle as a polygon of ``size`` vertices padded with
+    copies of the first; 3 vertices for an active one within ±limit, else 0; ``far`` marks
+    the active ones beyond (for the exact clip)."""
+    n = positions.shape[0]
+    polys = np.empty((n, size, 2))
+    counts = np.zeros(n, dtype=np.int64)
+    far = np.zeros(n, dtype=np.bool_)
+    for t in range(n):
+        near = True
+        for v in range(size):
+            u = v if v < 3 else 0
+            for c in range(2):
+                polys[t, v, c] = positions[t, u, c]
+                near &= abs(positions[t, u, c]) <= limit
+        if active[t]:
+            if near:
+                counts[t] = 3
+            else:
+                far[t] = True
+    return polys, counts, far
+
+
 def _polygons(positions: NDArray[np.float64], width: int, height: int) -> tuple[NDArray[np.float64], NDArray[np.int64],
                                                                                 NDArray[np.int64]]:
     """The polygons the kernels work on: near triangles as they are, far ones clipped
@@ -446,13 +684,9 @@ def _polygons(positions: NDArray[np.float64], width: int, height: int) -> tuple[
     n = positions.shape[0]
     # The exact orientation: 0 for non-finite or zero-area triangles, which cover nothing.
     active = orientation(positions) != 0
-    near = active & np.all(np.abs(positions) <= GUARD_LIMIT, axis=(1, 2))
-    polys = np.empty((n, _MAX_VERTICES, 2))
-    polys[:, :3] = positions
-    polys[:, 3:] = positions[:, :1]
-    counts = np.where(near, 3, 0).astype(np.int64)
+    polys, counts, far = _near_polygons(positions, active, _MAX_VERTICES, GUARD_LIMIT)
     box = Fraction(0), Fraction(0), Fraction(width), Fraction(height)
-    for t in np.flatnonzero(active & ~near):
+    for t in np.flatnonzero(far):
         clipped = _clip_to_box(_fraction_vertices(positions[t]), *box)
         if not clipped:
             continue
@@ -464,6 +698,8 @@ def _polygons(positions: NDArray[np.float64], width: int, height: int) -> tuple[
         polys[t, len(rounded):] = rounded[0]
         counts[t] = len(rounded)
     source = np.flatnonzero(counts > 0)
+    if source.size == n:  # every triangle covers something: no copy
+        return polys, counts, source
     return np.ascontiguousarray(polys[source]), counts[source], source
 
 
@@ -495,7 +731,9 @@ def pixel_areas(
     >>> t.tolist(), x.tolist(), y.tolist(), area.tolist()
     ([0, 0, 0, 1], [0, 1, 0, 0], [0, 0, 1, 0], [1.0, 0.5, 0.5, 0.5])
     """
-    triangle, y, x0, x1, area = _area_spans(_positions(positions), width, height)
+    triangle, y, x0, x1, runs = _area_spans(_positions(positions), width, height)
+    area = Coverage(triangle, y, x0, x1, runs=runs).alpha
+    assert area is not None
     lengths = x1 - x0
     keep = area > 0.0
     return np.repeat(triangle, lengths)[keep], expand(x0, lengths)[keep], np.repeat(y, lengths)[keep], area[keep]
@@ -519,27 +757,50 @@ def _trim_zeros(x0, x1, area, out_x0, out_x1, out_first):  # type: ignore[no-unt
         out_x1[s] = out_x0[s] + (b - a)
 
 
+@numba.njit(cache=True)
+def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped-def]
+    """:func:`_span_kernel`, then :func:`_edge_kernel`, then the empty spans dropped and
+    each span's polygon replaced by its triangle (``source``): one call, no temporaries
+    but the spans' block and the edge areas."""
+    capacity = 0
+    for p in range(polys.shape[0]):
+        ymin = ymax = polys[p, 0, 1]
+        for v in range(counts[p]):
+            ymin = min(ymin, polys[p, v, 1])
+            ymax = max(ymax, polys[p, v, 1])
+        # rows a polygon can touch: floor(ymin) .. ceil(ymax) - 1 within the viewport
+        capacity += max(min(int(math.ceil(ymax)), height) - max(int(math.floor(ymin)), 0), 0)
+    block = np.empty((6, capacity), dtype=np.int64)
+    span_p, span_y, span_x0, span_x1, span_i0, span_i1 = block[0], block[1], block[2], block[3], block[4], block[5]
+    spans = _span_kernel(polys, counts, width, height, span_p, span_y, span_x0, span_x1, span_i0, span_i1)
+    edges = 0
+    for s in range(spans):
+        edges += span_x1[s] - span_x0[s] - max(span_i1[s] - span_i0[s], 0)
+    alpha = np.empty(edges)
+    m = _edge_kernel(polys, counts, span_p[:spans], span_y, span_x0, span_x1, span_i0, span_i1, alpha)
+    w = 0
+    for s in range(spans):
+        if span_x1[s] > span_x0[s]:
+            span_p[w] = source[span_p[s]]
+            span_y[w] = span_y[s]
+            span_x0[w] = span_x0[s]
+            span_x1[w] = span_x1[s]
+            span_i0[w] = span_i0[s]
+            span_i1[w] = span_i1[s]
+            w += 1
+    return span_p[:w], span_y[:w], span_x0[:w], span_x1[:w], span_i0[:w], span_i1[:w], alpha[:m]
+
+
 def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[
-        NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.float64]]:
-    """(triangle, y, x0, x1, area): spans sorted by triangle and row, cut to their first
-    and last pixel of nonzero float area, with one area per pixel (zero only inside a
-    span, where a float area vanished)."""
+        NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], AlphaRuns]:
+    """(triangle, y, x0, x1, runs): spans sorted by triangle and row, cut to their first
+    and last pixel of nonzero float area; each span's inner run of pixels wholly inside
+    (area exactly 1) and the areas of its other pixels (zero only inside a span, where a
+    float area vanished) as :class:`AlphaRuns`."""
     _viewport(width, height)
     polys, counts, source = _polygons(array, int(width), int(height))
-    # Rows a polygon can touch: floor(ymin) .. ceil(ymax) - 1 within the viewport.
-    ys = polys[:, :, 1]
-    rows = np.minimum(np.ceil(ys.max(axis=1)), height) - np.maximum(np.floor(ys.min(axis=1)), 0)
-    capacity = int(np.maximum(rows, 0).sum())
-    block = np.empty((6, capacity), dtype=np.int64)
-    spans = _span_kernel(polys, counts, int(width), int(height), *block)
-    span_p, span_y, span_x0, span_x1, span_i0, span_i1 = (np.ascontiguousarray(b[:spans]) for b in block)
-    area = np.empty(int(pixel_offsets(span_x0, span_x1)[-1]))
-    _area_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, area)
-    x0, x1, first = np.empty_like(span_x0), np.empty_like(span_x1), np.empty_like(span_x0)
-    _trim_zeros(span_x0, span_x1, area, x0, x1, first)
-    keep = x1 > x0
-    lengths = (x1 - x0)[keep]
-    return source[span_p[keep]], span_y[keep], x0[keep], x1[keep], area[expand(first[keep], lengths)]
+    triangle, y, x0, x1, i0, i1, alpha = _area_runs(polys, counts, source, int(width), int(height))
+    return triangle, y, x0, x1, AlphaRuns(i0, i1, alpha)
 
 
 def area_error_bound(positions: ArrayLike, width: int = MAX_VIEWPORT, height: int = MAX_VIEWPORT) -> NDArray[np.float64]:
@@ -647,13 +908,21 @@ def area_coverage(scene: Scene, convention: Convention) -> Coverage:
     Returns
     -------
     Coverage
-        Spans sorted by triangle, row and column, with ``alpha`` (P,) in (0, 1].
+        Spans sorted by triangle, row and column, held as ``runs``
+        (:class:`harness.contract.coverage.AlphaRuns`: each span's run of pixels wholly
+        inside, alpha exactly 1, and the alphas of its edge pixels); ``alpha`` (P,) in
+        [0, 1], zero only inside a span, is derived from them when first read.
 
     Examples
     --------
     >>> cov = area_coverage(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(coverage="area"))
     >>> cov.x0.tolist(), cov.x1.tolist(), cov.alpha.tolist()
     ([0, 0], [2, 1], [1.0, 0.5, 0.5])
+    >>> big = area_coverage(Scene(4, 2, [[[0, 0], [8, 0], [0, 8]]]), Convention(coverage="area"))
+    >>> big.x0.tolist(), big.x1.tolist(), big.runs.inner_x0.tolist(), big.runs.inner_x1.tolist()
+    ([0, 0], [4, 4], [1, 1], [4, 4])
+    >>> big.runs.edge_alpha.tolist(), big.alpha.tolist()  # pixel 0 touches the triangle's side: computed
+    ([1.0, 1.0], [1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0])
     """
     if convention.samples is not None:
         raise ValueError("area_coverage is the analytic area; a supersampled convention's oracle is "
@@ -664,5 +933,5 @@ def area_coverage(scene: Scene, convention: Convention) -> Coverage:
         sign = orientation(positions)
         culled = sign == (1 if convention.cull == "cw" else -1)
         positions = np.where(culled[:, None, None], np.nan, positions)  # non-finite: covers nothing
-    triangle, y, x0, x1, area = _area_spans(np.ascontiguousarray(positions), scene.width, scene.height)
-    return Coverage(triangle, y, x0, x1, alpha=area)
+    triangle, y, x0, x1, runs = _area_spans(np.ascontiguousarray(positions), scene.width, scene.height)
+    return Coverage(triangle, y, x0, x1, runs=runs)

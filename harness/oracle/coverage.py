@@ -344,8 +344,9 @@ class _RecentAnswers:
 
 
 def _footprint(coverage: Coverage) -> int:
-    return sum(a.nbytes for a in (coverage.primitive, coverage.y, coverage.x0, coverage.x1,
-                                  coverage.attributes, coverage.sample, coverage.alpha) if a is not None) + 200
+    # Coverage.nbytes: an area answer's runs, not the alphas derived from them (reading
+    # them here would derive them)
+    return coverage.nbytes + 200
 
 
 # Only scenes this small are kept: the digest reads every byte of a scene (half a

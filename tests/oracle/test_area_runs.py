@@ -1,0 +1,162 @@
+"""The area oracle's runs (interior pixels as runs, edge pixels one by one) against the
+kernel they replaced (:mod:`tests.oracle.area_reference`): bit for bit, on random, lattice,
+far, degenerate and hypothesis scenes; and :class:`AlphaRuns` as a form of the one
+:class:`Coverage` contract."""
+
+import pickle
+
+import numpy as np
+import pytest
+from hypothesis import example, given, settings
+from hypothesis import strategies as st
+
+from cases.strategies import float_scenes, lattice_scenes, thin_scenes
+from harness.contract.conventions import Convention
+from harness.contract.coverage import AlphaRuns, Coverage
+from harness.contract.scenes import Scene
+from harness.engine.outcomes import Outcome, decode_outcome, encode_outcome
+from harness.oracle.area import _area_spans, area_coverage
+from harness.oracle.coverage import exact_coverage
+from tests.oracle.area_reference import old_area_spans
+from tests.oracle.test_area import SIZE, corner_triangles, far_triangles, sliver_triangles
+
+BIG = float(np.finfo(np.float64).max)
+AREA = Convention(coverage="area")
+
+
+def same_as_before(positions, width=SIZE, height=SIZE):
+    """The new path's spans and alphas are the old kernel's, bit for bit."""
+    positions = np.ascontiguousarray(positions, dtype=np.float64)
+    triangle, y, x0, x1, alpha = old_area_spans(positions, width, height)
+    t, yy, a0, a1, runs = _area_spans(positions, width, height)
+    for old, new in ((triangle, t), (y, yy), (x0, a0), (x1, a1)):
+        assert np.array_equal(old, new)
+    inner = runs.inner_x1 - runs.inner_x0
+    assert np.all((x0 <= runs.inner_x0) & (inner >= 0) & (runs.inner_x1 <= x1))
+    derived = Coverage(t, yy, a0, a1, runs=runs).alpha
+    assert derived is not None and derived.tobytes() == alpha.tobytes()  # bit for bit, zeros' signs too
+    # the inner runs are exactly what the old kernel wrote as 1 without computing
+    assert np.all(runs.edge_alpha <= 1.0) and np.all(runs.edge_alpha >= 0.0)
+    return derived
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_random_scenes_match_the_old_kernel(seed):
+    rng = np.random.default_rng(seed)
+    size = int(rng.integers(4, 80))
+    n = int(rng.integers(1, 60))
+    scale = rng.choice([0.5, 3.0, 20.0, 100.0])
+    centres = rng.uniform(-2, size + 2, (n, 1, 2))
+    same_as_before(centres + rng.normal(0.0, scale, (n, 3, 2)), size, size)
+
+
+def test_large_triangles_match_the_old_kernel():
+    rng = np.random.default_rng(7)
+    same_as_before(rng.uniform(-50, 350, (30, 3, 2)), 300, 200)
+
+
+@pytest.mark.parametrize("bits", [0, 1, 2, 4])
+def test_lattice_meshes_with_shared_edges_match_the_old_kernel(bits):
+    """Vertices on pixel corners, edges through corners, shared edges and diagonals."""
+    step = 2.0**-bits
+    grid = np.arange(0, 9) * 1.5 + step
+    xs, ys = np.meshgrid(grid, grid)
+    a = np.stack([xs[:-1, :-1], ys[:-1, :-1]], -1).reshape(-1, 2)
+    b = np.stack([xs[:-1, 1:], ys[:-1, 1:]], -1).reshape(-1, 2)
+    c = np.stack([xs[1:, :-1], ys[1:, :-1]], -1).reshape(-1, 2)
+    d = np.stack([xs[1:, 1:], ys[1:, 1:]], -1).reshape(-1, 2)
+    same_as_before(np.concatenate([np.stack([a, b, d], 1), np.stack([a, d, c], 1)]), 14, 14)
+
+
+@pytest.mark.parametrize("positions", [
+    [[[0, 0], [0, 0], [0, 0]]],  # a point
+    [[[1, 1], [5, 5], [3, 3]]],  # a segment
+    [[[np.nan, 0], [4, 0], [0, 4]]],  # not finite
+    [[[-BIG, -BIG], [BIG, -BIG], [-BIG, BIG]]],  # the whole viewport and beyond: one inner run per row
+    [[[-(2.0**21) - 1, 0.5], [2.0**21, 7.5], [3.0, 3.0]]],  # just beyond the guard limit
+    [[[-1e300, 3.25], [1e300, 3.75], [5.5, 3.5]]],  # far and thin
+    [[[0, 0], [8, 0], [0, 8]], [[8, 0], [8, 8], [0, 8]]],  # a square split on its diagonal
+    [[[0.5, -1e6], [0.5 + 2.0**-40, 1e6], [0.5, 3.0]]],  # a near-vertical sliver crossing every row
+    [[[1.0, 1.0], [7.0, 7.0], [4.0, 4.0 + 5e-324]]],  # one subnormal step off a diagonal
+])
+def test_degenerate_and_far_triangles_match_the_old_kernel(positions):
+    same_as_before(positions)
+
+
+@given(st.one_of(lattice_scenes(max_bits=5, size=SIZE, max_triangles=4).map(lambda s: s.positions),
+                 float_scenes(size=SIZE, max_triangles=4).map(lambda s: s.positions),
+                 thin_scenes(size=SIZE).map(lambda s: s.positions),
+                 sliver_triangles(), corner_triangles(), far_triangles()))
+@settings(max_examples=300)
+@example(np.array([[[0, 0], [8, 0], [0, 8]]], dtype=float))
+@example(np.array([[[2, 0.5], [2, 6], [5, 0.5]]], dtype=float))
+def test_hypothesis_scenes_match_the_old_kernel(positions):
+    same_as_before(positions)
+
+
+# -- the contract: runs are one more form of the same coverage -----------------------------
+
+
+def runs_and_alpha(scene=None):
+    scene = scene or Scene(12, 10, np.array([[[0.5, 0.25], [11.5, 1.0], [2.0, 9.75]], [[3, 3], [9, 4], [6, 9]]]))
+    runs = area_coverage(scene, AREA)
+    assert runs.runs is not None
+    plain = Coverage(runs.primitive, runs.y, runs.x0, runs.x1, alpha=np.array(runs.alpha))
+    return scene, runs, plain
+
+
+def test_runs_derive_the_alphas_once_and_keep_them():
+    _, runs, plain = runs_and_alpha()
+    fresh = Coverage(runs.primitive, runs.y, runs.x0, runs.x1, runs=runs.runs)
+    first = fresh.alpha
+    assert first is fresh.alpha and first is not None and not first.flags.writeable
+    assert np.array_equal(first, plain.alpha)
+    assert fresh.nbytes < plain.nbytes or len(fresh) == 0
+
+
+def test_runs_and_alphas_are_the_same_coverage():
+    scene, runs, plain = runs_and_alpha()
+    assert runs == plain and plain == runs
+    assert runs.canonical() is runs  # already canonical: the runs stay
+    assert runs.canonical() == plain.canonical()
+    usable, flaws = runs.tidy(scene)
+    assert usable is runs and not any(v.any() for k, v in flaws.items() if k != "repeated_pixels")
+    cut = runs.take(np.array([1, 0]), runs.x0[[1, 0]] + 1, runs.x1[[1, 0]])
+    assert cut == plain.take(np.array([1, 0]), plain.x0[[1, 0]] + 1, plain.x1[[1, 0]])
+    assert Coverage.concat([runs, plain]) == Coverage.concat([plain, plain])
+    changed = np.array(plain.alpha)
+    changed[-1] = 0.5
+    assert runs != Coverage(plain.primitive, plain.y, plain.x0, plain.x1, alpha=changed)
+
+
+def test_runs_cross_the_wire_and_pickle_as_alphas():
+    _, runs, plain = runs_and_alpha()
+    back = decode_outcome(encode_outcome(Outcome(runs, seconds=0.0))).coverage
+    assert back is not None and back.runs is None and back == plain
+    again = pickle.loads(pickle.dumps(runs))
+    assert again == plain and np.array_equal(again.alpha, plain.alpha)
+
+
+def test_exact_coverage_answers_with_runs():
+    scene = Scene(64, 64, [[[1.5, 2.25], [60.0, 5.0], [10.0, 61.5]]])
+    got = exact_coverage(scene, AREA)
+    assert got.runs is not None
+    assert int((got.runs.inner_x1 - got.runs.inner_x0).sum()) > got.runs.edge_alpha.size  # mostly inner
+    assert got == runs_and_alpha(scene)[2]
+
+
+def test_runs_are_checked_against_their_spans():
+    spans = ([0, 0], [0, 1], [0, 2], [3, 5])
+    good = AlphaRuns(np.array([1, 2]), np.array([2, 5]), np.array([0.5, 0.25]))
+    alpha = Coverage(*spans, runs=good).alpha
+    assert alpha is not None and alpha.tolist() == [0.5, 1.0, 0.25, 1.0, 1.0, 1.0]
+    for bad in (AlphaRuns(np.array([1]), np.array([2]), np.array([0.5, 0.25])),  # not one per span
+                AlphaRuns(np.array([1, 2]), np.array([4, 5]), np.array([0.5])),  # inner run beyond its span
+                AlphaRuns(np.array([2, 2]), np.array([1, 5]), np.array([0.5, 0.25, 0.0])),  # reversed
+                AlphaRuns(np.array([1, 2]), np.array([2, 5]), np.array([0.5]))):  # too few edge alphas
+        with pytest.raises(ValueError):
+            Coverage(*spans, runs=bad)
+    with pytest.raises(ValueError, match="not both"):
+        Coverage(*spans, alpha=np.zeros(6), runs=good)
+    with pytest.raises(ValueError, match="AlphaRuns"):
+        Coverage(*spans, runs=(1, 2, 3))  # type: ignore[arg-type]
