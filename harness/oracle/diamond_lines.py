@@ -115,6 +115,7 @@ from harness.contract.scenes import MAX_VIEWPORT
 from harness.geometry.exact import SAFE_MAX, SAFE_MIN, _two_sum, frozen, orient2d_sign
 from harness.geometry.spans import expand
 from harness.oracle.line_spans import (
+    span_buffers,
     Spans,
     _as_spans,
     _beyond,
@@ -447,7 +448,7 @@ def diamond_exit_spans(a: ArrayLike, b: ArrayLike, width: int, height: int, last
         return _empty()
     a_arr, b_arr, keep_f = frozen(a_arr), frozen(b_arr), frozen(keep, np.bool_)
     capacity = int(_diamond_capacity(a_arr, b_arr, keep_f, width, height))
-    out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
+    out = span_buffers(capacity)
     m = int(_diamond_kernel(a_arr, b_arr, keep_f, width, height, bool(last_pixel), gl, *out))
     return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
 

@@ -40,6 +40,7 @@ from harness.contract.conventions import (
 )
 from harness.geometry.exact import CCW_ERRBOUND_A, _two_product, _two_sum, frozen, orient2d_sign
 from harness.oracle.line_spans import (
+    span_buffers,
     Spans,
     _as_spans,
     _check_range,
@@ -370,7 +371,7 @@ def rectangle_spans(a: ArrayLike, b: ArrayLike, line_width: ArrayLike, sample: t
     tx, ty, y_first = convention.tie_perturbation
     a_f, b_f, w_f, keep_f = frozen(a_arr), frozen(b_arr), frozen(widths), frozen(keep, np.bool_)
     capacity = int(_rect_capacity(a_f, b_f, w_f, keep_f, sy, height))
-    out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
+    out = span_buffers(capacity)
     m = int(_rect_kernel(a_f, b_f, w_f, keep_f, sx, sy, tx, ty, y_first, width, height, *out))
     return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
 
