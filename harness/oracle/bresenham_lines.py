@@ -64,7 +64,7 @@ from harness.contract.conventions import (
     LineDirection,
 )
 from harness.geometry.exact import frozen
-from harness.oracle.line_spans import span_buffers, Spans, _as_spans, _empty, _endpoints, _spans_from_mask, _viewport, emit_pixel
+from harness.oracle.line_spans import Spans, _as_spans, _empty, _endpoints, _spans_from_mask, _viewport, emit_pixel, span_buffers
 
 # Rounded Bresenham end points: |k*M| <= 2**31 * 2**31 = 2**62 fits int64.
 BRESENHAM_MAX = 2**30
@@ -304,7 +304,7 @@ def _end_point_pixels_kernel(p, code, out):  # type: ignore[no-untyped-def]
             out[k] = np.trunc(v) + 0.0  # (int)p; + 0.0 turns -0.0 into 0.0
             continue
         f = np.floor(v)
-        if code == 1 or not (v - f) == 0.0:  # p - 1/2 not a half: no tie
+        if code == 1 or v - f != 0.0:  # p - 1/2 not a half (NaN neither): no tie
             out[k] = f
         elif code == 2:
             out[k] = f if np.fmod(f, 2.0) == 0.0 else f - 1.0

@@ -115,7 +115,6 @@ from harness.contract.scenes import MAX_VIEWPORT
 from harness.geometry.exact import SAFE_MAX, SAFE_MIN, _two_sum, frozen, orient2d_sign
 from harness.geometry.spans import expand
 from harness.oracle.line_spans import (
-    span_buffers,
     Spans,
     _as_spans,
     _beyond,
@@ -126,6 +125,7 @@ from harness.oracle.line_spans import (
     _spans_from_mask,
     _viewport,
     emit_pixel,
+    span_buffers,
 )
 
 # -- diamond exit ------------------------------------------------------------------------------

@@ -40,7 +40,6 @@ from harness.contract.conventions import (
 )
 from harness.geometry.exact import CCW_ERRBOUND_A, _two_product, _two_sum, frozen, orient2d_sign
 from harness.oracle.line_spans import (
-    span_buffers,
     Spans,
     _as_spans,
     _check_range,
@@ -49,6 +48,7 @@ from harness.oracle.line_spans import (
     _endpoints,
     _spans_from_mask,
     _viewport,
+    span_buffers,
 )
 
 # Rectangles decide a degree-4 polynomial: inputs of magnitude in [2**-150, 2**150] (or 0)
