@@ -103,6 +103,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
+from typing import Any
 
 import numba
 import numpy as np
@@ -379,6 +380,284 @@ def _diamond_kernel(a, b, keep, width, height, last_pixel, gl, out_s, out_y, out
     return n
 
 
+# -- diamond exit as runs: a float filter decides, the exact predicate settles near ties ---------
+
+# The float filters' margins. A cell's height v(uc) = rv + (uc - ru) * slope takes five
+# roundings (uc - ru, the two differences and the quotient of the slope, the product) and a
+# sixth for the sum: |error| <= 2**-53 * (|v| + 5.01 |product|) to first order; a boundary's
+# column t* = ru + (n - rv) * (du / dv) - c takes six: <= 6 * 2**-53 * (|ucs| + |t| + |P|).
+# The margin is 2**-49 = 16 * 2**-53 times the same magnitudes, above twice either bound (the
+# margin's own rounding and that of v +- margin stay inside the slack), plus 2**-1000 for a
+# product that underflows (coordinates >= 2**-450 keep every other term normal).
+_DIAMOND_FILTER = 2.0**-49
+_DIAMOND_TINY = 2.0**-1000
+# the filters only convert floats below this magnitude to integers
+_DIAMOND_INT_SAFE = 2.0**40
+
+
+@numba.njit(cache=True)
+def _exact_cell(rx, ry, qx, qy, uc, x_major, limit, v_est, gl_rising):  # type: ignore[no-untyped-def]
+    """The minor cell of the major coordinate uc, exactly, clamped to [-1, limit] (the
+    reference kernel's steps: :func:`_minor_cell` from the float estimate, and GL's
+    lower pixel on a corner when ``gl_rising``)."""
+    estimate = 0 if not v_est > -1.0 else (limit + 1 if v_est > limit + 1.0 else int(math.ceil(v_est)))
+    m = _minor_cell(rx, ry, qx, qy, uc, x_major, limit, estimate)
+    if gl_rising and m + 1 <= limit and orient2d_sign(rx, ry, qx, qy, uc, float(m + 1)) == 0:
+        # GL, x-major, y growing with x, through the corner at height m + 1: the moved
+        # diagonal x = uc + eps is crossed at m + 1 + slope*eps, below the corner
+        # m + 1 + eps**2: the lower pixel's
+        m += 1
+    return m
+
+
+@numba.njit(cache=True, inline="always")
+def _cell(rx, ry, qx, qy, ru, rv, slope, uc, x_major, limit, gl_rising):  # type: ignore[no-untyped-def]
+    """The minor cell at major coordinate uc (as :func:`_exact_cell`, unclamped when the
+    filter decides): v(uc) strictly between two integers f and f + 1 is cell f under
+    every rule (the rules part only on an integer v); otherwise the exact steps."""
+    prod = (uc - ru) * slope
+    v_est = rv + prod
+    margin = _DIAMOND_FILTER * (abs(v_est) + abs(prod)) + _DIAMOND_TINY
+    low = v_est - margin
+    high = v_est + margin
+    if abs(v_est) < _DIAMOND_INT_SAFE and margin < 0.25:
+        f = math.floor(low)
+        if low > f and high < f + 1.0:
+            return int(f)
+    elif low > limit + 1.0:  # far past the last row (or column)
+        return limit
+    elif high < -1.0:  # far before the first
+        return -1
+    return _exact_cell(rx, ry, qx, qy, uc, x_major, limit, v_est, gl_rising)
+
+
+@numba.njit(cache=True, inline="always")
+def _beyond_boundary(rx, ry, qx, qy, uc, n, gl_rising):  # type: ignore[no-untyped-def]
+    """Whether an x-major line's cell at column centre uc is n or more, exactly: v(uc) > n
+    (D3D's cells and GL's on a falling line: ceil(v) - 1), v(uc) >= n (GL's on a rising
+    line: floor(v)). orient2d(r, q, (uc, n)) = (qx - rx) * (n - v(uc)), qx > rx."""
+    o = orient2d_sign(rx, ry, qx, qy, uc, float(n))
+    return o <= 0 if gl_rising else o < 0
+
+
+@numba.njit(cache=True)
+def _first_beyond(rx, ry, qx, qy, ru, rv, inv, n, c, step, t0, count, gl_rising):  # type: ignore[no-untyped-def]
+    """The first walk index t in [t0, count) whose column k = c - 1/2 + step*t has cell >= n
+    (``count`` when none), on an x-major line whose v grows along the walk (every cell
+    before t0 is below n). The float filter places the line's crossing of height n,
+    t* = (ru + (n - rv) * inv - c) * step, strictly between two integers, else the exact
+    predicate (:func:`_beyond_boundary`) decides near the estimate or by bisection."""
+    a = n - rv
+    big_p = a * inv
+    ucs = ru + big_p
+    t_est = (ucs - c) * step
+    margin = _DIAMOND_FILTER * (abs(ucs) + abs(t_est) + abs(big_p)) + _DIAMOND_TINY
+    if t_est - margin > count:  # beyond the walk (also an infinite estimate)
+        return count
+    if abs(t_est) < _DIAMOND_INT_SAFE and margin < 0.25:
+        f = math.floor(t_est - margin)
+        if t_est - margin > f and t_est + margin < f + 1.0:
+            # t* in (f, f + 1): cells from f + 1 on are n or more, strictly or not
+            return min(max(int(f) + 1, t0), count)
+        guess = int(math.floor(t_est))
+        for g in (guess, guess + 1, guess + 2):
+            if t0 <= g <= count:
+                here = g == count or _beyond_boundary(rx, ry, qx, qy, c + step * g, n, gl_rising)
+                if here and (g == t0 or not _beyond_boundary(rx, ry, qx, qy, c + step * (g - 1), n, gl_rising)):
+                    return g
+    lo, hi = t0, count  # the answer lies in [lo, hi]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if _beyond_boundary(rx, ry, qx, qy, c + step * mid, n, gl_rising):
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+@numba.njit(cache=True, inline="always")
+def _emit_run(s, y, x0, x1, out_s, out_y, out_x0, out_x1, n, first):  # type: ignore[no-untyped-def]
+    """Add pixels x0 <= x < x1 of row y (x1 > x0), merged into the last span when adjacent
+    on its row, as :func:`emit_pixel` one pixel at a time. Returns the span count."""
+    if n > first and out_y[n - 1] == y:
+        if out_x1[n - 1] == x0:
+            out_x1[n - 1] = x1
+            return n
+        if out_x0[n - 1] == x1:
+            out_x0[n - 1] = x0
+            return n
+    out_s[n] = s
+    out_y[n] = y
+    out_x0[n] = x0
+    out_x1[n] = x1
+    return n + 1
+
+
+@numba.njit(cache=True)
+def _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end, bi, bj,
+                    out_s, out_y, out_x0, out_x1, n, first):  # type: ignore[no-untyped-def]
+    """One major-axis cell k near an end of the segment, as the reference kernel decides it:
+    the segment meets the test area there when it reaches the diagonal point at the cell
+    centre (GL: the diagonal moved by +eps, so not when the segment ends at it); short of
+    it, only through the end point nearer to it."""
+    uc = k + 0.5
+    m = _cell(rx, ry, qx, qy, ru, rv, slope, uc, x_major, limit, gl_rising)
+    if m < 0 or m >= limit:
+        return n
+    i, j = (k, m) if x_major else (m, k)
+    y_major = not x_major
+    if uc < ru:
+        meets = _in_area(rx, ry, i, j, y_major, gl)
+    elif uc > qu or (gl and uc == qu):
+        meets = _in_area(qx, qy, i, j, y_major, gl)
+    else:
+        meets = True
+    if not meets or (skip_end and i == bi and j == bj):
+        return n
+    return emit_pixel(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
+
+
+@numba.njit(cache=True)
+def _diamond_runs_kernel(a, b, keep, width, height, last_pixel, gl, out_s, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """The spans of :func:`_diamond_kernel`, found a run at a time. The major-axis cells
+    whose diagonal point the segment reaches (every cell but one or two at each end) all
+    meet the segment: there an x-major line's cells form one run per row, from the column
+    where the line crosses the row's top to where it crosses its bottom
+    (:func:`_first_beyond`), and a y-major line's one cell per row comes from the float
+    filter (:func:`_cell`); the cells at the ends go through the reference kernel's test
+    (:func:`_diamond_column`), in the same walk order, merged alike. Returns the span count."""
+    n = 0
+    for s in range(a.shape[0]):
+        if not keep[s]:
+            continue
+        ax, ay, bx, by = a[s, 0], a[s, 1], b[s, 0], b[s, 1]
+        first = n
+        if ax == bx and ay == by:
+            # Zero length: it never exits; with the last pixel drawn, the pixel holding it.
+            if last_pixel:
+                # np.bool_, not the literal False: numba compiles a callee once per literal argument
+                i, j, found = area_holding(ax, ay, np.bool_(False), gl, width, height)
+                if found:
+                    n = emit_pixel(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
+            continue
+        x_major, rx, ry, qx, qy, lo, hi = _diamond_walk(ax, ay, bx, by, width, height)
+        if lo > hi:
+            continue
+        y_major = not x_major
+        # The exit rule: the pixel whose test area holds the end point b is not left.
+        bi, bj, b_inside = area_holding(bx, by, y_major, gl, width, height)
+        skip_end = b_inside and not last_pixel
+        if x_major:
+            ru, rv, qu, qv, limit = rx, ry, qx, qy, height
+        else:
+            ru, rv, qu, qv, limit = ry, rx, qy, qx, width
+        du = qu - ru
+        dv = qv - rv
+        slope = dv / du
+        gl_rising = gl and x_major and qv > rv
+        # Walk so that rows come out ascending: x-major lines going up walk right to left.
+        step = -1 if (x_major and qv < rv) else 1
+        # the cells whose centre the segment reaches: ru <= uc <= qu (GL: uc < qu)
+        ka = lo
+        while ka <= hi and ka + 0.5 < ru:
+            ka += 1
+        kb = hi
+        while kb >= ka and (kb + 0.5 > qu or (gl and kb + 0.5 == qu)):
+            kb -= 1
+        # the cells walked before the run of reached ones
+        if step == 1:
+            for k in range(lo, ka):
+                n = _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end,
+                                    bi, bj, out_s, out_y, out_x0, out_x1, n, first)
+        else:
+            for k in range(hi, kb, -1):
+                n = _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end,
+                                    bi, bj, out_s, out_y, out_x0, out_x1, n, first)
+        count = kb - ka + 1
+        if count > 0 and y_major:
+            # One margin for every row: |prod| <= p_max, |v| <= |rv| + p_max (the filter of
+            # :func:`_cell` with the row's magnitudes bounded by the segment's).
+            p_max = max(abs(ka + 0.5 - ru), abs(kb + 0.5 - ru)) * abs(slope) * (1.0 + 2.0**-40)
+            margin = _DIAMOND_FILTER * (abs(rv) + 2.0 * p_max) + _DIAMOND_TINY
+            fast = abs(rv) + p_max < _DIAMOND_INT_SAFE and margin < 0.25
+            for k in range(ka, kb + 1):
+                uc = k + 0.5
+                if fast:
+                    v_est = rv + (uc - ru) * slope
+                    low = v_est - margin
+                    f = math.floor(low)
+                    if low > f and v_est + margin < f + 1.0:
+                        m = f  # v strictly between f and f + 1: cell f
+                    else:
+                        m = _exact_cell(rx, ry, qx, qy, uc, x_major, limit, v_est, gl_rising)
+                else:
+                    m = _cell(rx, ry, qx, qy, ru, rv, slope, uc, x_major, limit, gl_rising)
+                if 0 <= m < limit and not (skip_end and m == bi and k == bj):
+                    # a row of its own: no span to merge with
+                    out_s[n] = s
+                    out_y[n] = k
+                    out_x0[n] = m
+                    out_x1[n] = m + 1
+                    n += 1
+        elif count > 0:
+            k_first = ka if step == 1 else kb
+            c = k_first + 0.5  # walk index t is column centre c + step*t
+            inv = du / dv if dv != 0.0 else math.inf  # a horizontal line never crosses a row boundary
+            # One margin for the crossings within the walk (|t| <= count + 1): there
+            # |ucs| <= big_u and |P| <= big_u + |ru| (the filter of :func:`_first_beyond`).
+            big_u = abs(c) + count + 2.0
+            margin = _DIAMOND_FILTER * (2.0 * big_u + abs(ru) + count + 2.0) + _DIAMOND_TINY
+            fast = big_u < _DIAMOND_INT_SAFE and margin < 0.25 and dv != 0.0
+            t = 0
+            m = _cell(rx, ry, qx, qy, ru, rv, slope, c, x_major, limit, gl_rising)
+            while t < count and m < limit:
+                if m < 0:  # above the viewport: on to the first cell of row 0
+                    t = count if dv == 0.0 else _first_beyond(rx, ry, qx, qy, ru, rv, inv, 0, c, step, t, count, gl_rising)
+                    m = 0  # |slope| <= 1: the cell grows by at most one per column
+                    continue
+                t_end = -1
+                if fast:
+                    t_est = (ru + (m + 1 - rv) * inv - c) * step
+                    if abs(t_est) <= count + 1.0:
+                        f = math.floor(t_est - margin)
+                        if t_est - margin > f and t_est + margin < f + 1.0:
+                            # the crossing t* in (f, f + 1): cells from f + 1 on are m + 1 or more
+                            t_end = min(max(f + 1, t + 1), count)
+                if t_end < 0:
+                    t_end = count if dv == 0.0 else _first_beyond(rx, ry, qx, qy, ru, rv, inv, m + 1, c, step, t + 1,
+                                                                    count, gl_rising)
+                # columns of walk indices t .. t_end - 1, in walk order
+                if step == 1:
+                    x_lo, x_hi = k_first + t, k_first + t_end  # [x_lo, x_hi)
+                else:
+                    x_lo, x_hi = k_first - t_end + 1, k_first - t + 1
+                if skip_end and m == bj and x_lo <= bi < x_hi:
+                    if step == 1:
+                        if x_lo < bi:
+                            n = _emit_run(s, m, x_lo, bi, out_s, out_y, out_x0, out_x1, n, first)
+                        if bi + 1 < x_hi:
+                            n = _emit_run(s, m, bi + 1, x_hi, out_s, out_y, out_x0, out_x1, n, first)
+                    else:
+                        if bi + 1 < x_hi:
+                            n = _emit_run(s, m, bi + 1, x_hi, out_s, out_y, out_x0, out_x1, n, first)
+                        if x_lo < bi:
+                            n = _emit_run(s, m, x_lo, bi, out_s, out_y, out_x0, out_x1, n, first)
+                else:
+                    n = _emit_run(s, m, x_lo, x_hi, out_s, out_y, out_x0, out_x1, n, first)
+                t = t_end
+                m += 1
+        # the cells walked after it
+        if step == 1:
+            for k in range(max(kb + 1, ka), hi + 1):
+                n = _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end,
+                                    bi, bj, out_s, out_y, out_x0, out_x1, n, first)
+        else:
+            for k in range(ka - 1, lo - 1, -1):
+                n = _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end,
+                                    bi, bj, out_s, out_y, out_x0, out_x1, n, first)
+    return n
+
+
 # -- diamond exit: public ----------------------------------------------------------------------
 
 
@@ -440,6 +719,17 @@ def diamond_exit_spans(a: ArrayLike, b: ArrayLike, width: int, height: int, last
     diamond-exit [(0, 0, 1, 2), (0, 1, 2, 3), (1, 2, 0, 3)]
     diamond-exit-gl [(0, 0, 0, 1), (0, 1, 1, 2), (0, 2, 2, 3), (1, 2, 0, 2)]
     """
+    return _diamond_exit(a, b, width, height, last_pixel, rule, _diamond_runs_kernel)
+
+
+def _diamond_exit_spans_reference(a: ArrayLike, b: ArrayLike, width: int, height: int, last_pixel: bool = False,
+                                  rule: str = "diamond-exit") -> Spans:
+    """:func:`diamond_exit_spans` one major-axis cell at a time, each decided by the exact
+    predicate (the kernel before runs; tests compare the two)."""
+    return _diamond_exit(a, b, width, height, last_pixel, rule, _diamond_kernel)
+
+
+def _diamond_exit(a: ArrayLike, b: ArrayLike, width: int, height: int, last_pixel: bool, rule: str, kernel: Any) -> Spans:
     gl = _gl_flag(rule)
     width, height = _viewport(width, height)
     a_arr, b_arr, keep = _endpoints(a, b)
@@ -449,7 +739,7 @@ def diamond_exit_spans(a: ArrayLike, b: ArrayLike, width: int, height: int, last
     a_arr, b_arr, keep_f = frozen(a_arr), frozen(b_arr), frozen(keep, np.bool_)
     capacity = int(_diamond_capacity(a_arr, b_arr, keep_f, width, height))
     out = span_buffers(capacity)
-    m = int(_diamond_kernel(a_arr, b_arr, keep_f, width, height, bool(last_pixel), gl, *out))
+    m = int(kernel(a_arr, b_arr, keep_f, width, height, bool(last_pixel), gl, *out))
     return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
 
 
