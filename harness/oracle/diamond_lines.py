@@ -518,6 +518,99 @@ def _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl,
 
 
 @numba.njit(cache=True)
+def _y_major_cells(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, limit, gl_rising, skip_end, bi, bj,
+                   out_s, out_y, out_x0, out_x1, n):  # type: ignore[no-untyped-def]
+    """The pixels of a y-major segment in the rows ka..kb whose centre it reaches (all meet
+    it), one per row, rows ascending: the cell from the float filter of :func:`_cell`
+    with one margin for the segment, else exactly. The end pixel (bi, bj) is left out when
+    ``skip_end``. Returns the span count."""
+    x_major = np.bool_(False)
+    # One margin for every row: |prod| <= p_max, |v| <= |rv| + p_max (the filter of
+    # :func:`_cell` with the row's magnitudes bounded by the segment's).
+    p_max = max(abs(ka + 0.5 - ru), abs(kb + 0.5 - ru)) * abs(slope) * (1.0 + 2.0**-40)
+    margin = _DIAMOND_FILTER * (abs(rv) + 2.0 * p_max) + _DIAMOND_TINY
+    fast = abs(rv) + p_max < _DIAMOND_INT_SAFE and margin < 0.25
+    for k in range(ka, kb + 1):
+        uc = k + 0.5
+        if fast:
+            v_est = rv + (uc - ru) * slope
+            low = v_est - margin
+            f = math.floor(low)
+            if low > f and v_est + margin < f + 1.0:
+                m = f  # v strictly between f and f + 1: cell f
+            else:
+                m = _exact_cell(rx, ry, qx, qy, uc, x_major, limit, v_est, gl_rising)
+        else:
+            m = _cell(rx, ry, qx, qy, ru, rv, slope, uc, x_major, limit, gl_rising)
+        if 0 <= m < limit and not (skip_end and m == bi and k == bj):
+            # a row of its own: no span to merge with
+            out_s[n] = s
+            out_y[n] = k
+            out_x0[n] = m
+            out_x1[n] = m + 1
+            n += 1
+    return n
+
+
+@numba.njit(cache=True)
+def _x_major_runs(s, ka, kb, step, rx, ry, qx, qy, ru, rv, du, dv, slope, limit, gl_rising, skip_end, bi, bj,
+                  out_s, out_y, out_x0, out_x1, n, first):  # type: ignore[no-untyped-def]
+    """The runs of an x-major segment over the columns ka..kb whose centre it reaches (all
+    meet it), walked in the direction ``step`` (rows ascending): per row, the column where
+    the line crosses the row's bottom (:func:`_first_beyond`) ends the run. The end pixel
+    (bi, bj) is left out when ``skip_end``. Returns the span count."""
+    count = kb - ka + 1
+    k_first = ka if step == 1 else kb
+    c = k_first + 0.5  # walk index t is column centre c + step*t
+    inv = du / dv if dv != 0.0 else math.inf  # a horizontal line never crosses a row boundary
+    # One margin for the crossings within the walk (|t| <= count + 1): there
+    # |ucs| <= big_u and |P| <= big_u + |ru| (the filter of :func:`_first_beyond`).
+    big_u = abs(c) + count + 2.0
+    margin = _DIAMOND_FILTER * (2.0 * big_u + abs(ru) + count + 2.0) + _DIAMOND_TINY
+    fast = big_u < _DIAMOND_INT_SAFE and margin < 0.25 and dv != 0.0
+    t = 0
+    # np.bool_, not the literal True: numba compiles a callee once per literal argument
+    m = _cell(rx, ry, qx, qy, ru, rv, slope, c, np.bool_(True), limit, gl_rising)
+    while t < count and m < limit:
+        if m < 0:  # above the viewport: on to the first cell of row 0
+            t = count if dv == 0.0 else _first_beyond(rx, ry, qx, qy, ru, rv, inv, 0, c, step, t, count, gl_rising)
+            m = 0  # |slope| <= 1: the cell grows by at most one per column
+            continue
+        t_end = -1
+        if fast:
+            t_est = (ru + (m + 1 - rv) * inv - c) * step
+            if abs(t_est) <= count + 1.0:
+                f = math.floor(t_est - margin)
+                if t_est - margin > f and t_est + margin < f + 1.0:
+                    # the crossing t* in (f, f + 1): cells from f + 1 on are m + 1 or more
+                    t_end = min(max(f + 1, t + 1), count)
+        if t_end < 0:
+            t_end = count if dv == 0.0 else _first_beyond(rx, ry, qx, qy, ru, rv, inv, m + 1, c, step, t + 1,
+                                                            count, gl_rising)
+        # columns of walk indices t .. t_end - 1, in walk order
+        if step == 1:
+            x_lo, x_hi = k_first + t, k_first + t_end  # [x_lo, x_hi)
+        else:
+            x_lo, x_hi = k_first - t_end + 1, k_first - t + 1
+        if skip_end and m == bj and x_lo <= bi < x_hi:
+            if step == 1:
+                if x_lo < bi:
+                    n = _emit_run(s, m, x_lo, bi, out_s, out_y, out_x0, out_x1, n, first)
+                if bi + 1 < x_hi:
+                    n = _emit_run(s, m, bi + 1, x_hi, out_s, out_y, out_x0, out_x1, n, first)
+            else:
+                if bi + 1 < x_hi:
+                    n = _emit_run(s, m, bi + 1, x_hi, out_s, out_y, out_x0, out_x1, n, first)
+                if x_lo < bi:
+                    n = _emit_run(s, m, x_lo, bi, out_s, out_y, out_x0, out_x1, n, first)
+        else:
+            n = _emit_run(s, m, x_lo, x_hi, out_s, out_y, out_x0, out_x1, n, first)
+        t = t_end
+        m += 1
+    return n
+
+
+@numba.njit(cache=True)
 def _diamond_runs_kernel(a, b, keep, width, height, last_pixel, gl, out_s, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
     """The spans of :func:`_diamond_kernel`, found a run at a time. The major-axis cells
     whose diagonal point the segment reaches (every cell but one or two at each end) all
@@ -575,77 +668,11 @@ def _diamond_runs_kernel(a, b, keep, width, height, last_pixel, gl, out_s, out_y
                                     bi, bj, out_s, out_y, out_x0, out_x1, n, first)
         count = kb - ka + 1
         if count > 0 and y_major:
-            # One margin for every row: |prod| <= p_max, |v| <= |rv| + p_max (the filter of
-            # :func:`_cell` with the row's magnitudes bounded by the segment's).
-            p_max = max(abs(ka + 0.5 - ru), abs(kb + 0.5 - ru)) * abs(slope) * (1.0 + 2.0**-40)
-            margin = _DIAMOND_FILTER * (abs(rv) + 2.0 * p_max) + _DIAMOND_TINY
-            fast = abs(rv) + p_max < _DIAMOND_INT_SAFE and margin < 0.25
-            for k in range(ka, kb + 1):
-                uc = k + 0.5
-                if fast:
-                    v_est = rv + (uc - ru) * slope
-                    low = v_est - margin
-                    f = math.floor(low)
-                    if low > f and v_est + margin < f + 1.0:
-                        m = f  # v strictly between f and f + 1: cell f
-                    else:
-                        m = _exact_cell(rx, ry, qx, qy, uc, x_major, limit, v_est, gl_rising)
-                else:
-                    m = _cell(rx, ry, qx, qy, ru, rv, slope, uc, x_major, limit, gl_rising)
-                if 0 <= m < limit and not (skip_end and m == bi and k == bj):
-                    # a row of its own: no span to merge with
-                    out_s[n] = s
-                    out_y[n] = k
-                    out_x0[n] = m
-                    out_x1[n] = m + 1
-                    n += 1
+            n = _y_major_cells(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, limit, gl_rising, skip_end, bi, bj,
+                               out_s, out_y, out_x0, out_x1, n)
         elif count > 0:
-            k_first = ka if step == 1 else kb
-            c = k_first + 0.5  # walk index t is column centre c + step*t
-            inv = du / dv if dv != 0.0 else math.inf  # a horizontal line never crosses a row boundary
-            # One margin for the crossings within the walk (|t| <= count + 1): there
-            # |ucs| <= big_u and |P| <= big_u + |ru| (the filter of :func:`_first_beyond`).
-            big_u = abs(c) + count + 2.0
-            margin = _DIAMOND_FILTER * (2.0 * big_u + abs(ru) + count + 2.0) + _DIAMOND_TINY
-            fast = big_u < _DIAMOND_INT_SAFE and margin < 0.25 and dv != 0.0
-            t = 0
-            m = _cell(rx, ry, qx, qy, ru, rv, slope, c, x_major, limit, gl_rising)
-            while t < count and m < limit:
-                if m < 0:  # above the viewport: on to the first cell of row 0
-                    t = count if dv == 0.0 else _first_beyond(rx, ry, qx, qy, ru, rv, inv, 0, c, step, t, count, gl_rising)
-                    m = 0  # |slope| <= 1: the cell grows by at most one per column
-                    continue
-                t_end = -1
-                if fast:
-                    t_est = (ru + (m + 1 - rv) * inv - c) * step
-                    if abs(t_est) <= count + 1.0:
-                        f = math.floor(t_est - margin)
-                        if t_est - margin > f and t_est + margin < f + 1.0:
-                            # the crossing t* in (f, f + 1): cells from f + 1 on are m + 1 or more
-                            t_end = min(max(f + 1, t + 1), count)
-                if t_end < 0:
-                    t_end = count if dv == 0.0 else _first_beyond(rx, ry, qx, qy, ru, rv, inv, m + 1, c, step, t + 1,
-                                                                    count, gl_rising)
-                # columns of walk indices t .. t_end - 1, in walk order
-                if step == 1:
-                    x_lo, x_hi = k_first + t, k_first + t_end  # [x_lo, x_hi)
-                else:
-                    x_lo, x_hi = k_first - t_end + 1, k_first - t + 1
-                if skip_end and m == bj and x_lo <= bi < x_hi:
-                    if step == 1:
-                        if x_lo < bi:
-                            n = _emit_run(s, m, x_lo, bi, out_s, out_y, out_x0, out_x1, n, first)
-                        if bi + 1 < x_hi:
-                            n = _emit_run(s, m, bi + 1, x_hi, out_s, out_y, out_x0, out_x1, n, first)
-                    else:
-                        if bi + 1 < x_hi:
-                            n = _emit_run(s, m, bi + 1, x_hi, out_s, out_y, out_x0, out_x1, n, first)
-                        if x_lo < bi:
-                            n = _emit_run(s, m, x_lo, bi, out_s, out_y, out_x0, out_x1, n, first)
-                else:
-                    n = _emit_run(s, m, x_lo, x_hi, out_s, out_y, out_x0, out_x1, n, first)
-                t = t_end
-                m += 1
+            n = _x_major_runs(s, ka, kb, step, rx, ry, qx, qy, ru, rv, du, dv, slope, limit, gl_rising, skip_end, bi, bj,
+                              out_s, out_y, out_x0, out_x1, n, first)
         # the cells walked after it
         if step == 1:
             for k in range(max(kb + 1, ka), hi + 1):
