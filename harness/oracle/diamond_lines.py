@@ -396,6 +396,37 @@ _DIAMOND_INT_SAFE = 2.0**40
 
 
 @numba.njit(cache=True)
+def _in_area_fast(px, py, i, j, y_major, gl):  # type: ignore[no-untyped-def]
+    """:func:`_in_area`, a float filter first: d = |px - xc| + |py - yc| is computed with a
+    relative error below 3 * 2**-53, so d < 1/2 - 2**-48 puts p in the open diamond (in
+    every test area) and d > 1/2 + 2**-48 outside the closed one (in none); between, the
+    exact edge tests."""
+    d = abs(px - (i + 0.5)) + abs(py - (j + 0.5))
+    if d < 0.5 - 2.0**-48:
+        return True
+    if d > 0.5 + 2.0**-48:
+        return False
+    return _in_area(px, py, i, j, y_major, gl)
+
+
+@numba.njit(cache=True)
+def _area_holding_fast(px, py, y_major, gl, width, height):  # type: ignore[no-untyped-def]
+    """:func:`area_holding` with the point test of :func:`_in_area_fast`."""
+    if not (-1.0 < px < width + 1.0 and -1.0 < py < height + 1.0):
+        return -1, -1, False
+    if gl or y_major:  # GL's moved diamond and D3D's y-major test area: i < x <= i + 1
+        i = int(math.ceil(px)) - 1
+    else:  # D3D's x-major test area: i < x < i + 1
+        if px == math.floor(px):
+            return -1, -1, False
+        i = int(math.floor(px))
+    j = int(math.ceil(py)) - 1
+    if i < 0 or i >= width or j < 0 or j >= height:
+        return -1, -1, False
+    return i, j, _in_area_fast(px, py, i, j, y_major, gl)
+
+
+@numba.njit(cache=True)
 def _exact_cell(rx, ry, qx, qy, uc, x_major, limit, v_est, gl_rising):  # type: ignore[no-untyped-def]
     """The minor cell of the major coordinate uc, exactly, clamped to [-1, limit] (the
     reference kernel's steps: :func:`_minor_cell` from the float estimate, and GL's
@@ -507,9 +538,9 @@ def _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl,
     i, j = (k, m) if x_major else (m, k)
     y_major = not x_major
     if uc < ru:
-        meets = _in_area(rx, ry, i, j, y_major, gl)
+        meets = _in_area_fast(rx, ry, i, j, y_major, gl)
     elif uc > qu or (gl and uc == qu):
-        meets = _in_area(qx, qy, i, j, y_major, gl)
+        meets = _in_area_fast(qx, qy, i, j, y_major, gl)
     else:
         meets = True
     if not meets or (skip_end and i == bi and j == bj):
@@ -629,7 +660,7 @@ def _diamond_runs_kernel(a, b, keep, width, height, last_pixel, gl, out_s, out_y
             # Zero length: it never exits; with the last pixel drawn, the pixel holding it.
             if last_pixel:
                 # np.bool_, not the literal False: numba compiles a callee once per literal argument
-                i, j, found = area_holding(ax, ay, np.bool_(False), gl, width, height)
+                i, j, found = _area_holding_fast(ax, ay, np.bool_(False), gl, width, height)
                 if found:
                     n = emit_pixel(s, j, i, out_s, out_y, out_x0, out_x1, n, first)
             continue
@@ -638,7 +669,7 @@ def _diamond_runs_kernel(a, b, keep, width, height, last_pixel, gl, out_s, out_y
             continue
         y_major = not x_major
         # The exit rule: the pixel whose test area holds the end point b is not left.
-        bi, bj, b_inside = area_holding(bx, by, y_major, gl, width, height)
+        bi, bj, b_inside = _area_holding_fast(bx, by, y_major, gl, width, height)
         skip_end = b_inside and not last_pixel
         if x_major:
             ru, rv, qu, qv, limit = rx, ry, qx, qy, height
@@ -757,16 +788,24 @@ def _diamond_exit_spans_reference(a: ArrayLike, b: ArrayLike, width: int, height
 
 
 def _diamond_exit(a: ArrayLike, b: ArrayLike, width: int, height: int, last_pixel: bool, rule: str, kernel: Any) -> Spans:
-    gl = _gl_flag(rule)
+    _gl_flag(rule)
     width, height = _viewport(width, height)
     a_arr, b_arr, keep = _endpoints(a, b)
     _check_range(np.concatenate([a_arr, b_arr], axis=1), keep, SAFE_MIN, SAFE_MAX, "diamond_exit_spans_rational")
+    return _diamond_exit_kept(a_arr, b_arr, keep, width, height, last_pixel, rule, kernel)
+
+
+def _diamond_exit_kept(a: NDArray[np.float64], b: NDArray[np.float64], keep: NDArray[np.bool_], width: int, height: int,
+                       last_pixel: bool, rule: str, kernel: Any = None) -> Spans:
+    """:func:`diamond_exit_spans` of the segments ``keep`` names, checked already: (N, 2)
+    float64 end points (finite and in range where kept), a valid viewport and rule."""
+    gl = _gl_flag(rule)
     if not keep.any() or width == 0 or height == 0:
         return _empty()
-    a_arr, b_arr, keep_f = frozen(a_arr), frozen(b_arr), frozen(keep, np.bool_)
+    a_arr, b_arr, keep_f = frozen(a), frozen(b), frozen(keep, np.bool_)
     capacity = int(_diamond_capacity(a_arr, b_arr, keep_f, width, height))
     out = span_buffers(capacity)
-    m = int(kernel(a_arr, b_arr, keep_f, width, height, bool(last_pixel), gl, *out))
+    m = int((kernel or _diamond_runs_kernel)(a_arr, b_arr, keep_f, width, height, bool(last_pixel), gl, *out))
     return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
 
 

@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from harness.contract.scenes import MAX_VIEWPORT
+from harness.geometry.exact import frozen
 
 Spans = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]
 
@@ -90,8 +91,7 @@ def _endpoints(a: ArrayLike, b: ArrayLike) -> tuple[NDArray[np.float64], NDArray
 
 def _check_range(values: NDArray[np.float64], keep: NDArray[np.bool_], low: float, high: float, use: str) -> None:
     """ValueError naming the first kept segment with a nonzero coordinate beyond [low, high]."""
-    magnitude = np.abs(values.reshape(values.shape[0], -1))
-    beyond = ((magnitude != 0.0) & ((magnitude < low) | (magnitude > high))).any(axis=1) & keep
+    beyond = _beyond(values, low, high) & keep
     if beyond.any():
         k = int(np.flatnonzero(beyond)[0])
         raise ValueError(
@@ -122,8 +122,28 @@ def _as_spans(rows: list[tuple[int, int, int, int]]) -> Spans:
     return arr[0], arr[1], arr[2], arr[3]
 
 
+@numba.njit(cache=True)
+def _beyond_kernel(values, low, high, out):  # type: ignore[no-untyped-def]
+    for k in range(values.shape[0]):
+        hit = False
+        for c in range(values.shape[1]):
+            magnitude = abs(values[k, c])
+            if magnitude != 0.0 and (magnitude < low or magnitude > high):
+                hit = True
+        out[k] = hit
+
+
 def _beyond(values: NDArray[np.float64], low: float, high: float) -> NDArray[np.bool_]:
-    """(N,) bool: rows holding a nonzero finite magnitude outside [low, high]."""
+    """(N,) bool: rows holding a nonzero magnitude outside [low, high] (an infinite one
+    too; NaN never)."""
+    flat = np.asarray(values, dtype=np.float64).reshape(values.shape[0], -1)
+    out = np.empty(flat.shape[0], dtype=np.bool_)
+    _beyond_kernel(frozen(flat), float(low), float(high), out)
+    return out
+
+
+def _beyond_numpy(values: NDArray[np.float64], low: float, high: float) -> NDArray[np.bool_]:
+    """:func:`_beyond` in numpy operations (its reference in tests)."""
     magnitude = np.abs(values.reshape(values.shape[0], -1))
     with np.errstate(invalid="ignore"):
         return np.asarray(((magnitude != 0.0) & ((magnitude < low) | (magnitude > high))).any(axis=1), dtype=np.bool_)

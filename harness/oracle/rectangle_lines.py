@@ -365,6 +365,15 @@ def rectangle_spans(a: ArrayLike, b: ArrayLike, line_width: ArrayLike, sample: t
     a_arr, b_arr, widths, keep, convention, width, height = _rect_prepare(a, b, line_width, sample, tie, width, height)
     values = np.concatenate([a_arr, b_arr, widths[:, None]], axis=1)
     _check_range(values, keep, RECT_SAFE_MIN, RECT_SAFE_MAX, "rectangle_spans_rational")
+    return _rectangle_kept(a_arr, b_arr, widths, keep, convention, width, height)
+
+
+def _rectangle_kept(a: NDArray[np.float64], b: NDArray[np.float64], widths: NDArray[np.float64], keep: NDArray[np.bool_],
+                    convention: Convention, width: int, height: int) -> Spans:
+    """:func:`rectangle_spans` of the segments ``keep`` names, checked already: (N, 2)
+    float64 end points and (N,) widths (finite, positive and in range where kept), a valid
+    viewport, the convention's sample point and tie rule."""
+    a_arr, b_arr = a, b
     if not keep.any() or width == 0 or height == 0:
         return _empty()
     sx, sy = convention.sample
