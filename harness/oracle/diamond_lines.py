@@ -525,8 +525,8 @@ def _emit_run(s, y, x0, x1, out_s, out_y, out_x0, out_x1, n, first):  # type: ig
 
 
 @numba.njit(cache=True)
-def _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end, bi, bj,
-                    out_s, out_y, out_x0, out_x1, n, first):  # type: ignore[no-untyped-def]
+def _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end, bi, bj,  # type: ignore[no-untyped-def]
+                    out_s, out_y, out_x0, out_x1, n, first):
     """One major-axis cell k near an end of the segment, as the reference kernel decides it:
     the segment meets the test area there when it reaches the diagonal point at the cell
     centre (GL: the diagonal moved by +eps, so not when the segment ends at it); short of
@@ -549,8 +549,8 @@ def _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl,
 
 
 @numba.njit(cache=True)
-def _y_major_cells(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, limit, gl_rising, skip_end, bi, bj,
-                   out_s, out_y, out_x0, out_x1, n):  # type: ignore[no-untyped-def]
+def _y_major_cells(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, limit, gl_rising, skip_end, bi, bj,  # type: ignore[no-untyped-def]
+                   out_s, out_y, out_x0, out_x1, n):
     """The pixels of a y-major segment in the rows ka..kb whose centre it reaches (all meet
     it), one per row, rows ascending: the cell from the float filter of :func:`_cell`
     with one margin for the segment, else exactly. The end pixel (bi, bj) is left out when
@@ -584,8 +584,8 @@ def _y_major_cells(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, limit, gl_rising, s
 
 
 @numba.njit(cache=True)
-def _x_major_runs(s, ka, kb, step, rx, ry, qx, qy, ru, rv, du, dv, slope, limit, gl_rising, skip_end, bi, bj,
-                  out_s, out_y, out_x0, out_x1, n, first):  # type: ignore[no-untyped-def]
+def _x_major_runs(s, ka, kb, step, rx, ry, qx, qy, ru, rv, du, dv, slope, limit, gl_rising, skip_end, bi, bj,  # type: ignore[no-untyped-def]
+                  out_s, out_y, out_x0, out_x1, n, first):
     """The runs of an x-major segment over the columns ka..kb whose centre it reaches (all
     meet it), walked in the direction ``step`` (rows ascending): per row, the column where
     the line crosses the row's bottom (:func:`_first_beyond`) ends the run. The end pixel

@@ -1,8 +1,9 @@
 """The line oracles' run kernels (issue 35, point 4) against the kernels they replaced, kept as
 references: :func:`harness.oracle.diamond_lines._diamond_exit_spans_reference` (one major-axis
-cell at a time, each decided by the exact predicate) and
+cell at a time, each decided by the exact predicate),
 :func:`harness.oracle.bresenham_lines._bresenham_spans_reference` (pixel by pixel in closed
-form). The spans must be identical, array for array: random floats, lattice and tie scenes
+form) and :func:`harness.oracle.rectangle_lines._rectangle_spans_reference` (every flip of a
+row decided by the exact condition). The spans must be identical, array for array: random floats, lattice and tie scenes
 (end points on pixel centres and diamond corners, slopes exactly 1 and 1/2, axis-aligned and
 zero-length segments), far and tiny coordinates, non-finite end points, clipping, and
 hypothesis scenes."""
@@ -16,7 +17,7 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from harness.contract.conventions import BRESENHAM_ROUNDINGS, BRESENHAM_TIES, LINE_DIRECTIONS
+from harness.contract.conventions import BRESENHAM_ROUNDINGS, BRESENHAM_TIES, LINE_DIRECTIONS, TIE_RULES
 from harness.oracle.bresenham_lines import (
     _bresenham_spans_reference,
     _end_point_pixels_numpy,
@@ -24,6 +25,7 @@ from harness.oracle.bresenham_lines import (
     end_point_pixels,
 )
 from harness.oracle.diamond_lines import _diamond_exit_spans_reference, diamond_exit_spans
+from harness.oracle.rectangle_lines import _rectangle_spans_reference, rectangle_spans
 
 QUICK = settings(deadline=None, suppress_health_check=[HealthCheck.too_slow])  # examples: the profile's
 DIAMOND_RULES = ("diamond-exit", "diamond-exit-gl")
@@ -49,6 +51,18 @@ def _bresenham_same(a: np.ndarray, b: np.ndarray, width: int, height: int) -> No
                           _bresenham_spans_reference(a, b, width, height, rounding, ties, last_pixel, direction))
 
 
+SAMPLES = ((0.5, 0.5), (0.0, 0.0), (0.25, 0.75), (1.0, 0.5))
+WIDTHS = (1.0, 0.5, 2.0, 1.5, 3.0, 0.25, 1.0 / 3, 2.0**0.5)
+
+
+def _rectangle_same(a: np.ndarray, b: np.ndarray, width: int, height: int, widths: Any = 1.0,
+                    ties: tuple[str, ...] = TIE_RULES, samples: tuple[tuple[float, float], ...] = SAMPLES) -> None:
+    for tie in ties:
+        for sample in samples:
+            _same(rectangle_spans(a, b, widths, sample, tie, width=width, height=height),  # type: ignore[arg-type]
+                  _rectangle_spans_reference(a, b, widths, sample, tie, width=width, height=height))  # type: ignore[arg-type]
+
+
 def _scenes(seed: int) -> list[tuple[np.ndarray, np.ndarray, int, int]]:
     """Scenes of 150 segments in viewports of 0 to 40 pixels a side, of six kinds: floats,
     half-pixel lattice, pixel centres with integer steps (slopes 1, 1/2, 0, ...), quarter
@@ -64,7 +78,7 @@ def _scenes(seed: int) -> list[tuple[np.ndarray, np.ndarray, int, int]]:
         elif kind == 1:
             a, b = rng.integers(-10, 90, (n, 2)) / 2.0, rng.integers(-10, 90, (n, 2)) / 2.0
         elif kind == 2:
-            a = rng.integers(-5, 45, (n, 2)) + 0.5
+            a = (rng.integers(-5, 45, (n, 2)) + 0.5).astype(np.float64)
             b = a + rng.integers(-8, 9, (n, 2)) * rng.integers(1, 5, (n, 1))
         elif kind == 3:
             a = rng.integers(-20, 180, (n, 2)) / 4.0
@@ -97,6 +111,18 @@ def test_bresenham_runs_match_reference_on_random_and_lattice_scenes(seed: int) 
         _bresenham_same(a, b, width, height)
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_rectangle_runs_match_reference_on_random_and_lattice_scenes(seed: int) -> None:
+    rng = np.random.default_rng(100 + seed)
+    for k, (a, b, width, height) in enumerate(_scenes(seed)):
+        if k == 4:  # far end points: in the rectangles' range too (2**150)
+            a, b = a / 2.0**20, b / 2.0**20
+        a = np.where(np.abs(a) < 2.0**-140, 0.0, a)
+        b = np.where(np.abs(b) < 2.0**-140, 0.0, b)
+        _rectangle_same(a, b, width, height, float(rng.choice(WIDTHS)))
+        _rectangle_same(a, b, width, height, rng.choice(WIDTHS, a.shape[0]), ties=("top-left", "bottom-right"))
+
+
 def test_runs_match_reference_on_far_and_tiny_coordinates() -> None:
     """Coordinates near the kernels' range (2**+-450 for the diamonds; rounded end points up
     to 2**30 for Bresenham, whose walks longer than 2**30 - 1 go pixel by pixel), lines
@@ -111,6 +137,12 @@ def test_runs_match_reference_on_far_and_tiny_coordinates() -> None:
     c = np.array([[-far, 3.0], [5.0, -far], [-1e9, -1e9], [far, far - 7.0], [0.5, 1.5]])
     d = np.array([[far, 4.0], [6.0, far], [1e9, 1e9 - 3.0], [-far, -far], [far, 2.5]])
     _bresenham_same(c, d, 20, 24)
+    r = 2.0**149
+    e = np.array([[-r, 3.25], [1.5, -r], [0.5, 0.5], [3.0, 2.0**-149], [2.0**-140, 7.0], [-1e6, 4.0], [4.0, -1e6]])
+    f = np.array([[r, 3.75], [2.5, r], [30.5, 0.5 + 2.0**-149], [9.0, 5.0], [2.0**-149, -3.0], [1e6, 5.0], [5.0, 1e6]])
+    _rectangle_same(e, f, 24, 20, 1.0)
+    _rectangle_same(e, f, 24, 20, 2.0**-100, ties=("top-left",))
+    _rectangle_same(e, f, 24, 20, 2.0**140, ties=("top-left",))
 
 
 def test_runs_match_reference_on_bench_sized_scenes() -> None:
@@ -119,6 +151,7 @@ def test_runs_match_reference_on_bench_sized_scenes() -> None:
     a, b = rng.uniform(-40, 300, (200, 2)), rng.uniform(-40, 300, (200, 2))
     _diamond_same(a, b, 256, 200)
     _bresenham_same(a, b, 200, 256)
+    _rectangle_same(a, b, 256, 200, 1.0, ties=("top-left",), samples=((0.5, 0.5),))
 
 
 def test_end_point_pixels_match_numpy() -> None:
@@ -136,7 +169,7 @@ def test_end_point_pixels_match_numpy() -> None:
 
 def _coordinate() -> st.SearchStrategy[float]:
     lattice = st.sampled_from([2, 4, 8]).flatmap(lambda den: st.integers(-2 * den, 20 * den).map(lambda k: k / den))
-    floats = st.floats(-2.0, 20.0, allow_nan=False, allow_infinity=False).map(lambda v: 0.0 if abs(v) < 2.0**-440 else v)
+    floats = st.floats(-2.0, 20.0, allow_nan=False, allow_infinity=False).map(lambda v: 0.0 if abs(v) < 2.0**-140 else v)
     return st.one_of(lattice, floats)  # (nothing so tiny that the kernels' range refuses it)
 
 
@@ -173,3 +206,15 @@ def test_runs_match_reference_on_hypothesis_scenes(segs: tuple[np.ndarray, np.nd
     _diamond_same(a, b, width, height)
     _diamond_same(b, a, width, height)
     _bresenham_same(a, b, width, height)
+    _rectangle_same(a, b, width, height, 1.0, samples=((0.5, 0.5), (0.0, 0.0)))
+
+
+@QUICK
+@given(_segments, st.sampled_from(WIDTHS), st.sampled_from(SAMPLES), st.sampled_from(TIE_RULES))
+@example((np.array([[0.5, 1.0]]), np.array([[3.5, 1.0]])), 1.0, (0.5, 0.5), "top-left")  # sides through samples
+@example((np.array([[0.5, 0.5]]), np.array([[3.5, 4.5]])), 1.0, (0.5, 0.5), "bottom-right")  # 3-4-5: side ties
+@example((np.array([[1.0, 1.0]]), np.array([[5.0, 5.0]])), 2.0**0.5, (0.5, 0.5), "top-right-y-first")  # 45 degrees
+def test_rectangle_runs_match_reference_on_hypothesis_scenes(segs: tuple[np.ndarray, np.ndarray], w: float,
+                                                             sample: tuple[float, float], tie: str) -> None:
+    a, b = segs
+    _rectangle_same(a, b, 20, 20, w, ties=(tie,), samples=(sample,))
