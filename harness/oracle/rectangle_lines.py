@@ -323,9 +323,9 @@ def _first_column(x_edge, margin, sx, width):  # type: ignore[no-untyped-def]
     (known within ``margin``), or -1 when a sample may lie on it: then the crossing is
     within the margin of a sample and the exact condition decides."""
     e = x_edge - sx
-    f = math.floor(e + margin)
+    f = np.floor(e + margin)  # a float: one conversion to int, once decided
     if f < e - margin:  # no integer i with i + sx within the margin of the crossing
-        return min(max(f + 1, 0), width)
+        return min(max(int(f) + 1, 0), width)
     return -1
 
 
@@ -398,40 +398,111 @@ def _rect_runs_segment(s, ax, ay, bx, by, w, sx, sy, tx, ty, y_first, width, hei
         if y_lo < y_hi and abs(y_lo) + abs(y_hi) < _RECT_INT_SAFE:
             mid_lo = int(math.floor(y_lo - sy)) + 1  # first row with j + sy > y_lo
             mid_hi = int(math.ceil(y_hi - sy)) - 1  # last row with j + sy < y_hi
-    for j in range(first, last + 1):
+    if fast and sdy != 0 and mid_lo <= mid_hi:
+        m0, m1 = max(first, mid_lo), min(last, mid_hi)
+    else:
+        m0, m1 = last + 1, last
+    for j in range(first, min(m0, last + 1)):
+        n = _rect_row(s, j, ax, ay, bx, by, w, sx, sy, tx, ty, y_first, width, sdx, sdy, cap_slope, side_slope, side_shift,
+                      margin_cap, margin_side, fast, False, out_s, out_y, out_x0, out_x1, n)
+    # the rows between the caps: two crossings each, decided by the filter (else the general row)
+    rising_left = sdy > 0  # c < h rises along the row when dy > 0: its flip starts the run
+    if m0 <= m1 and _rect_middle(s, m0, m1, ax, ay, sx, sy, side_slope, side_shift, margin_side, width, rising_left,
+                                 out_s, out_y, out_x0, out_x1, n):
+        n += m1 - m0 + 1
+        m0 = m1 + 1  # every row decided, each a span
+    for j in range(m0, m1 + 1):
         ys = j + sy
-        lo = 0
-        end = width
-        # the sides: c < h (x gradient dy) and c > -h (x gradient -dy)
-        if sdy == 0:  # constant along the row
-            if not (_rect_condition(2, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)
-                    and _rect_condition(3, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)):
-                continue
-        else:
-            p = (ys - ay) * side_slope
-            lo, end = _rect_side(2, sdy > 0, ax + (p - side_shift), margin_side, fast, lo, end, ax, ay, bx, by, w, sx,
-                                 ys, sdx, sdy, tx, ty, y_first, width)
-            lo, end = _rect_side(3, sdy < 0, ax + (p + side_shift), margin_side, fast, lo, end, ax, ay, bx, by, w, sx,
-                                 ys, sdx, sdy, tx, ty, y_first, width)
-        if lo >= end:
+        p = (ys - ay) * side_slope
+        c2 = _first_column(ax + (p - side_shift), margin_side, sx, width)
+        c3 = _first_column(ax + (p + side_shift), margin_side, sx, width)
+        if c2 < 0 or c3 < 0:
+            n = _rect_row(s, j, ax, ay, bx, by, w, sx, sy, tx, ty, y_first, width, sdx, sdy, cap_slope, side_slope,
+                          side_shift, margin_cap, margin_side, fast, True, out_s, out_y, out_x0, out_x1, n)
             continue
-        if not mid_lo <= j <= mid_hi:
-            # the caps: dot(d, p - a) > 0 (x gradient dx), dot(-d, p - b) > 0 (x gradient -dx)
-            if sdx == 0:  # constant along the row
-                if not (_rect_condition(0, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)
-                        and _rect_condition(1, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)):
-                    continue
-            else:
-                lo, end = _rect_side(0, sdx > 0, ax - (ys - ay) * cap_slope, margin_cap, fast, lo, end, ax, ay, bx, by,
-                                     w, sx, ys, sdx, sdy, tx, ty, y_first, width)
-                lo, end = _rect_side(1, sdx < 0, bx - (ys - by) * cap_slope, margin_cap, fast, lo, end, ax, ay, bx, by,
-                                     w, sx, ys, sdx, sdy, tx, ty, y_first, width)
+        lo, end = (c2, c3) if rising_left else (c3, c2)
         if lo < end:
-            out_s[n] = s
-            out_y[n] = j
-            out_x0[n] = lo
-            out_x1[n] = end
+            u = np.uint64(n)  # an unsigned index: no wraparound test, stores 3x faster
+            out_s[u] = s
+            out_y[u] = j
+            out_x0[u] = lo
+            out_x1[u] = end
             n += 1
+    for j in range(max(m1 + 1, first), last + 1):
+        n = _rect_row(s, j, ax, ay, bx, by, w, sx, sy, tx, ty, y_first, width, sdx, sdy, cap_slope, side_slope, side_shift,
+                      margin_cap, margin_side, fast, False, out_s, out_y, out_x0, out_x1, n)
+    return n
+
+
+@numba.njit(cache=True)
+def _rect_middle(s, m0, m1, ax, ay, sx, sy, side_slope, side_shift, margin, width, rising_left,  # type: ignore[no-untyped-def]
+                 out_s, out_y, out_x0, out_x1, n):
+    """Rows m0..m1 between the caps written as spans n, n + 1, ... in one branch-free loop
+    (numba stores them a vector at a time): the sides' flips as :func:`_first_column`
+    finds them. True when the filter decided every row and each covers a sample; else
+    False, and the caller decides the rows one by one (overwriting these spans)."""
+    ok = True
+    for i in range(m1 - m0 + 1):
+        j = m0 + i
+        p = (j + sy - ay) * side_slope
+        e2 = ax + (p - side_shift) - sx
+        e3 = ax + (p + side_shift) - sx
+        f2 = np.floor(e2 + margin)
+        f3 = np.floor(e3 + margin)
+        ok &= (f2 < e2 - margin) & (f3 < e3 - margin)
+        c2 = min(max(int(f2) + 1, 0), width)
+        c3 = min(max(int(f3) + 1, 0), width)
+        lo = c2 if rising_left else c3
+        end = c3 if rising_left else c2
+        ok &= lo < end
+        u = np.uint64(n + i)
+        out_s[u] = s
+        out_y[u] = j
+        out_x0[u] = lo
+        out_x1[u] = end
+    return ok
+
+
+@numba.njit(cache=True)
+def _rect_row(s, j, ax, ay, bx, by, w, sx, sy, tx, ty, y_first, width, sdx, sdy, cap_slope, side_slope, side_shift,  # type: ignore[no-untyped-def]
+              margin_cap, margin_side, fast, between_caps, out_s, out_y, out_x0, out_x1, n):
+    """Row j of a segment's rectangle (:func:`_rect_runs_segment`): the sides' flips, then
+    the caps' unless ``between_caps`` (every sample between the sides lies between the
+    caps). Returns the span count."""
+    ys = j + sy
+    lo = 0
+    end = width
+    # the sides: c < h (x gradient dy) and c > -h (x gradient -dy)
+    if sdy == 0:  # constant along the row
+        if not (_rect_condition(2, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)
+                and _rect_condition(3, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)):
+            return n
+    else:
+        p = (ys - ay) * side_slope
+        lo, end = _rect_side(2, sdy > 0, ax + (p - side_shift), margin_side, fast, lo, end, ax, ay, bx, by, w, sx,
+                             ys, sdx, sdy, tx, ty, y_first, width)
+        lo, end = _rect_side(3, sdy < 0, ax + (p + side_shift), margin_side, fast, lo, end, ax, ay, bx, by, w, sx,
+                             ys, sdx, sdy, tx, ty, y_first, width)
+    if lo >= end:
+        return n
+    if not between_caps:
+        # the caps: dot(d, p - a) > 0 (x gradient dx), dot(-d, p - b) > 0 (x gradient -dx)
+        if sdx == 0:  # constant along the row
+            if not (_rect_condition(0, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)
+                    and _rect_condition(1, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)):
+                return n
+        else:
+            lo, end = _rect_side(0, sdx > 0, ax - (ys - ay) * cap_slope, margin_cap, fast, lo, end, ax, ay, bx, by,
+                                 w, sx, ys, sdx, sdy, tx, ty, y_first, width)
+            lo, end = _rect_side(1, sdx < 0, bx - (ys - by) * cap_slope, margin_cap, fast, lo, end, ax, ay, bx, by,
+                                 w, sx, ys, sdx, sdy, tx, ty, y_first, width)
+    if lo < end:
+        u = np.uint64(n)  # an unsigned index: no wraparound test, stores 3x faster
+        out_s[u] = s
+        out_y[u] = j
+        out_x0[u] = lo
+        out_x1[u] = end
+        n += 1
     return n
 
 
