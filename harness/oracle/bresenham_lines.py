@@ -166,6 +166,58 @@ def _k_min(o, big_m, big_k, step_ties):  # type: ignore[no-untyped-def]
     return q + ((r > 0) | (not step_ties))
 
 
+# y-major walks shorter than this take the offsets in float: (2kM + K)/(2K) has a numerator
+# below 2**52 (k, M < K < 2**25), and then floor(fl(N / D)) = floor(N / D) for integers with
+# N + D < 2**53 (the quotient rounds up to the next integer only within half an ulp of it).
+_VECTOR_MAX = 2**25
+
+
+@numba.njit(cache=True)
+def _y_major_vector(s, u0, su, v0, sv, k0, step, count, big_m, big_k, step_ties, out_s, out_y, out_x0, out_x1, n):  # type: ignore[no-untyped-def]
+    """``count`` pixels of a y-major walk from step k0 in direction ``step`` (rows ascending)
+    as spans n, n + 1, ...: offset round(k*M/K) = floor((2kM + c) / 2K) with c = K (halves
+    up, ``step``) or K - 1 (down), divided in float, exactly (``_VECTOR_MAX``), in one
+    branch-free loop numba stores a vector at a time. Returns the span count."""
+    c = big_k if step_ties else big_k - 1
+    den = 2.0 * big_k
+    y_first = u0 + su * k0
+    for i in range(count):
+        k = k0 + step * i
+        x = v0 + sv * int(float(2 * k * big_m + c) / den)
+        u = np.uint64(n + i)
+        out_s[u] = s
+        out_y[u] = y_first + i
+        out_x0[u] = x
+        out_x1[u] = x + 1
+    return n + count
+
+
+@numba.njit(cache=True)
+def _x_major_vector(s, u0, su, v0, sv, o0, count, k_lo, k_hi, big_m, big_k, step_ties, out_s, out_y, out_x0, out_x1, n):  # type: ignore[no-untyped-def]
+    """``count`` rows of an x-major walk from offset o0 (rows ascending: offsets up when
+    ``sv`` > 0) as spans n, n + 1, ...: row o holds the steps k_min(o) .. k_min(o + 1) - 1
+    clipped to [k_lo, k_hi], k_min(o) = floor(((2o - 1)K + c) / 2M) with c = 2M - 1 (the
+    ceiling, ``step``) or 2M (``stay``), divided in float, exactly (``_VECTOR_MAX``; a
+    negative numerator is a step before k_lo >= 0, taken as 0), in one branch-free loop
+    numba stores a vector at a time. Returns the span count."""
+    den = 2 * big_m
+    c = den - 1 if step_ties else den
+    fden = float(den)
+    y_first = v0 + sv * o0
+    for i in range(count):
+        o = o0 + sv * i
+        k_first = max(int(float(max((2 * o - 1) * big_k + c, 0)) / fden), k_lo)
+        k_last = min(int(float(max((2 * o + 1) * big_k + c, 0)) / fden) - 1, k_hi)
+        a_u = u0 + su * k_first
+        b_u = u0 + su * k_last
+        u = np.uint64(n + i)
+        out_s[u] = s
+        out_y[u] = y_first + i
+        out_x0[u] = min(a_u, b_u)
+        out_x1[u] = max(a_u, b_u) + 1
+    return n + count
+
+
 @numba.njit(cache=True)
 def _bresenham_runs(s, x0, y0, x1, y1, width, height, step_ties, last_pixel, out_s, out_y, out_x0, out_x1, n):  # type: ignore[no-untyped-def]
     """One segment's walk as runs: the spans :func:`_bresenham_stepwise` writes, one per
@@ -212,6 +264,9 @@ def _bresenham_runs(s, x0, y0, x1, y1, width, height, step_ties, last_pixel, out
         # one pixel per row; rows ascending = k ascending when the walk goes down the screen
         step = 1 if su > 0 else -1
         k = k_lo if step > 0 else k_hi
+        if big_k < _VECTOR_MAX:
+            return _y_major_vector(s, u0, su, v0, sv, k, step, k_hi - k_lo + 1, big_m, big_k, step_ties,
+                                   out_s, out_y, out_x0, out_x1, n)
         q, r = divmod(k * big_m, big_k)
         # a tie rounds up under "step": 2r > K - 1 instead of 2r > K
         bar = big_k - 1 if step_ties else big_k
@@ -251,6 +306,9 @@ def _bresenham_runs(s, x0, y0, x1, y1, width, height, step_ties, last_pixel, out
     dq, dr = divmod(2 * big_k, den)
     # rows ascending: offsets ascending when the walk goes down the screen
     o = o_lo if sv > 0 else o_hi
+    if big_k < _VECTOR_MAX:
+        return _x_major_vector(s, u0, su, v0, sv, o, o_hi - o_lo + 1, k_lo, k_hi, big_m, big_k, step_ties,
+                               out_s, out_y, out_x0, out_x1, n)
     # (2o - 1)K = q*2M + r: the row's first step is k_min(o), its last k_min(o + 1) - 1
     q, r = divmod((2 * o - 1) * big_k, den)
     late = not step_ties

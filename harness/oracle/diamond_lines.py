@@ -624,6 +624,41 @@ def _y_major_cells(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, limit, gl_rising, s
 
 
 @numba.njit(cache=True)
+def _x_major_vector(s, k_first, step, count, c, ru, rv, inv, margin, m_first, m_last, r0, r1,  # type: ignore[no-untyped-def]
+                    out_s, out_y, out_x0, out_x1, n):
+    """Rows r0..r1 of an x-major segment's reached columns (walk indices 0 .. count - 1,
+    cells m_first at the first and m_last at the last) as spans n, n + 1, ... in one
+    branch-free loop numba stores a vector at a time: row m runs from the crossing of its
+    top to that of its bottom, each placed by the float filter of :func:`_x_major_runs`.
+    True when the filter placed every crossing used; else False, and the caller walks the
+    rows one by one (overwriting these spans)."""
+    ok = True
+    for i in range(r1 - r0 + 1):
+        m = r0 + i
+        # the first walk index with cell >= m (0 for the first row) and >= m + 1 (count for the last)
+        t_top = (ru + (m - rv) * inv - c) * step
+        t_bottom = (ru + (m + 1 - rv) * inv - c) * step
+        f_top = np.floor(t_top - margin)
+        f_bottom = np.floor(t_bottom - margin)
+        top_ok = (t_top - margin > f_top) & (t_top + margin < f_top + 1.0) & (abs(t_top) <= count + 1.0)
+        bottom_ok = (t_bottom - margin > f_bottom) & (t_bottom + margin < f_bottom + 1.0) & (abs(t_bottom) <= count + 1.0)
+        first_row = m == m_first
+        last_row = m == m_last
+        ok &= (first_row | top_ok) & (last_row | bottom_ok)
+        t_start = 0 if first_row else min(max(int(f_top) + 1, 1), count - 1) if top_ok else 0
+        t_end = count if last_row else min(max(int(f_bottom) + 1, 1), count - 1) if bottom_ok else count
+        ok &= t_start < t_end
+        a = k_first + step * t_start
+        b = k_first + step * (t_end - 1)
+        u = np.uint64(n + i)
+        out_s[u] = s
+        out_y[u] = m
+        out_x0[u] = min(a, b)
+        out_x1[u] = max(a, b) + 1
+    return ok
+
+
+@numba.njit(cache=True)
 def _x_major_runs(s, ka, kb, step, rx, ry, qx, qy, ru, rv, du, dv, slope, limit, gl_rising, skip_end, bi, bj,  # type: ignore[no-untyped-def]
                   out_s, out_y, out_x0, out_x1, n, first):
     """The runs of an x-major segment over the columns ka..kb whose centre it reaches (all
@@ -642,6 +677,17 @@ def _x_major_runs(s, ka, kb, step, rx, ry, qx, qy, ru, rv, du, dv, slope, limit,
     t = 0
     # np.bool_, not the literal True: numba compiles a callee once per literal argument
     m = _cell(rx, ry, qx, qy, ru, rv, slope, c, np.bool_(True), limit, gl_rising)
+    if fast:
+        m_last = _cell(rx, ry, qx, qy, ru, rv, slope, c + step * (count - 1), np.bool_(True), limit, gl_rising)
+        r0, r1 = max(m, 0), min(m_last, limit - 1)
+        if r0 > r1:
+            return n  # every reached cell above or below the viewport
+        k_last = k_first + step * (count - 1)
+        simple = not (skip_end and r0 <= bj <= r1 and min(k_first, k_last) <= bi <= max(k_first, k_last))
+        simple &= not (n > first and out_y[np.uint64(n - 1)] == r0)  # a span the first run may extend
+        if simple and _x_major_vector(s, k_first, step, count, c, ru, rv, inv, margin, m, m_last, r0, r1,
+                                      out_s, out_y, out_x0, out_x1, n):
+            return n + r1 - r0 + 1
     while t < count and m < limit:
         if m < 0:  # above the viewport: on to the first cell of row 0
             t = count if dv == 0.0 else _first_beyond(rx, ry, qx, qy, ru, rv, inv, 0, c, step, t, count, gl_rising)
