@@ -39,6 +39,12 @@ Bresenham (:func:`bresenham_spans`)
       its given order), and only differs from ``as-given`` on segments it reverses, at a tie
       or at the omitted end. :func:`walks_backwards` says which it reverses.
     * Rounded end points must lie within +-2**30 (every product k*M then fits int64).
+    * Runs (issue 35): the kernel clips the steps to the viewport first (the steps of offset
+      o are k_min(o) .. k_min(o + 1) - 1, k_min in closed form), then writes one span per
+      row: a y-major walk's offsets and an x-major walk's row boundaries as float
+      quotients of integers below 2**53 (exact), in loops numba vectorizes; longer walks
+      step the quotient and remainder, and walks beyond 2**30 - 1 steps go pixel by pixel.
+      ``_bresenham_spans_reference`` keeps the pixel-by-pixel kernel for the tests.
 
 :func:`bresenham_spans_rational` is the slow reference: it rounds the end points exactly (in
 :class:`fractions.Fraction` arithmetic) and walks the incremental decision variable

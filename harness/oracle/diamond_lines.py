@@ -86,6 +86,18 @@ Diamond exit (:func:`diamond_exit_spans`)
     (:data:`harness.geometry.exact.SAFE_MIN`/:data:`~harness.geometry.exact.SAFE_MAX`); beyond, ValueError
     names the segment (:func:`diamond_exit_spans_rational` takes any finite float).
 
+    Runs (issue 35). The kernel decides whole runs, not cells: every major-axis cell whose
+    centre the segment reaches meets it, so there an x-major line's pixels of one row are
+    the columns between the line's crossings of the row's top and bottom, and a y-major
+    line's one pixel per row is the cell of its height at the row centre. Both come from
+    a float filter with a proven margin (:data:`_DIAMOND_FILTER`): a crossing or height
+    strictly between two integers decides; within the margin of one (a tie: a line
+    through a corner or a cell centre), the exact predicate above decides. The one or two
+    cells at each end, and the end pixel, are tested exactly as before. Rows are written
+    by branch-free loops (numba vectorizes them), the cell-by-cell walk where the filter
+    hesitates. ``_diamond_exit_spans_reference`` keeps the cell-by-cell kernel; the tests
+    compare the two span for span.
+
 Wide diamond lines (:func:`diamond_wide_spans`)
     ``LineRule(wide="replicate")``: GL's wide lines (OpenGL 4.6, 14.5.2 "Other Line Segment
     Features"; Direct3D 10+ has no wide aliased lines): an integer width w, the segment

@@ -20,6 +20,13 @@ Rectangular lines (:func:`rectangle_spans`)
     then a multiple of 2**-808 and below 2**610: no underflow, no overflow); beyond,
     ValueError. A zero-length segment covers nothing.
 
+    Runs (issue 35): each condition flips once along a row, at a crossing the kernel computes
+    in float with a proven margin (``_rect_runs_segment``); the flip column is decided there
+    unless a sample lies within the margin, where the exact predicates above decide. On the
+    rows strictly between the caps (by a wide margin) only the two sides are computed, in a
+    loop numba vectorizes. ``_rectangle_spans_reference`` keeps the exact-flip kernel for
+    the tests.
+
 :func:`rectangle_spans_rational` is the slow reference, in :class:`fractions.Fraction`
 arithmetic for any finite float (small viewports and coordinates only): it decides every
 sample of the viewport from the definition above.
