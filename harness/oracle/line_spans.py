@@ -142,6 +142,19 @@ def _beyond(values: NDArray[np.float64], low: float, high: float) -> NDArray[np.
     return out
 
 
+@numba.njit(cache=True)
+def _finite_kernel(a, b, out):  # type: ignore[no-untyped-def]
+    for k in range(a.shape[0]):
+        out[k] = math.isfinite(a[k, 0]) and math.isfinite(a[k, 1]) and math.isfinite(b[k, 0]) and math.isfinite(b[k, 1])
+
+
+def finite_rows(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """(N,) bool: segments whose four coordinates are finite ((N, 2) float64 end points)."""
+    out = np.empty(a.shape[0], dtype=np.bool_)
+    _finite_kernel(frozen(a), frozen(b), out)
+    return out
+
+
 def _beyond_numpy(values: NDArray[np.float64], low: float, high: float) -> NDArray[np.bool_]:
     """:func:`_beyond` in numpy operations (its reference in tests)."""
     magnitude = np.abs(values.reshape(values.shape[0], -1))

@@ -62,7 +62,7 @@ from harness.oracle.diamond_lines import (
     is_x_major,
 )
 from harness.oracle.hairlines import HAIRLINE_RULES, hairline_spans, hairline_spans_rational
-from harness.oracle.line_spans import _beyond
+from harness.oracle.line_spans import _beyond, finite_rows
 from harness.oracle.llvmpipe_lines import llvmpipe_rectangle_coverage
 from harness.oracle.parallelogram_lines import (
     PARA_SAFE_MAX,
@@ -183,7 +183,7 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
     a, b = convention.snap(a), convention.snap(b)
     n = a.shape[0]
     width, height = scene.width, scene.height
-    finite = np.asarray(np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1), dtype=np.bool_)
+    finite = finite_rows(a, b)
     ends = np.concatenate([a, b], axis=1)
     why = rule.undefined_width(scene.line_width)
     if why:
