@@ -25,6 +25,7 @@ from harness.oracle.bresenham_lines import (
     end_point_pixels,
 )
 from harness.oracle.diamond_lines import _diamond_exit_spans_reference, diamond_exit_spans
+from harness.oracle.line_spans import _beyond, _beyond_numpy, finite_rows
 from harness.oracle.rectangle_lines import _rectangle_spans_reference, rectangle_spans
 
 QUICK = settings(deadline=None, suppress_health_check=[HealthCheck.too_slow])  # examples: the profile's
@@ -163,6 +164,16 @@ def test_end_point_pixels_match_numpy() -> None:
         assert np.array_equal(new, old, equal_nan=True)
         assert np.array_equal(np.signbit(new), np.signbit(old))
         assert end_point_pixels(values[:, 0], rounding).shape == (10,)
+
+
+def test_compiled_range_and_finiteness_checks_match_numpy() -> None:
+    values = np.array([[0.0, 1e-200, 3.0, 1.0], [np.nan, 1.0, 2.0, 0.0], [np.inf, 0.0, 0.0, 1.0], [2.0**500, 1.0, 1.0, 1.0],
+                       [1.0, 2.0, 3.0, -0.0], [-2.0**-451, 1.0, 1.0, 1.0], [-np.inf, np.nan, 0.0, 0.0]])
+    low, high = 2.0**-450, 2.0**450
+    assert _beyond(values, low, high).tolist() == _beyond_numpy(values, low, high).tolist()
+    assert _beyond(values[:, :2], low, high).tolist() == _beyond_numpy(values[:, :2], low, high).tolist()
+    a, b = values[:, :2], values[:, 2:]
+    assert finite_rows(a, b).tolist() == (np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1)).tolist()
 
 
 # -- hypothesis: end points on a 1/2, 1/4 or 1/8 lattice (ties on purpose) or floats -----------
