@@ -635,36 +635,50 @@ def _y_major_cells(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, limit, gl_rising, s
     return n
 
 
+@numba.njit(cache=True, inline="always")
+def _crossing(ru, rv, inv, margin, c, step, count, n):  # type: ignore[no-untyped-def]
+    """The first walk index whose cell is n or more, from the float filter of
+    :func:`_x_major_runs` (clamped to [1, count - 1], where such an index lies when the
+    cells run from below n to n or more), and whether the filter placed it."""
+    t_est = (ru + (n - rv) * inv - c) * step
+    f = np.floor(t_est - margin)
+    placed = (t_est - margin > f) & (t_est + margin < f + 1.0) & (abs(t_est) <= count + 1.0)
+    return min(max(int(f) + 1, 1), count - 1), placed
+
+
 @numba.njit(cache=True)
 def _x_major_vector(s, k_first, step, count, c, ru, rv, inv, margin, m_first, m_last, r0, r1,  # type: ignore[no-untyped-def]
                     out_s, out_y, out_x0, out_x1, n):
     """Rows r0..r1 of an x-major segment's reached columns (walk indices 0 .. count - 1,
-    cells m_first at the first and m_last at the last) as spans n, n + 1, ... in one
-    branch-free loop numba stores a vector at a time: row m runs from the crossing of its
-    top to that of its bottom, each placed by the float filter of :func:`_x_major_runs`.
-    True when the filter placed every crossing used; else False, and the caller walks the
-    rows one by one (overwriting these spans)."""
+    cells m_first at the first and m_last at the last) as spans n, n + 1, ... in
+    branch-free loops numba stores a vector at a time: row m runs from the crossing of
+    its top (walk index 0 for the first row) to that of its bottom (count for the last),
+    each placed by the float filter of :func:`_x_major_runs` (:func:`_crossing`); the
+    crossings go to ``out_x0`` first, the spans next. True when the filter placed every
+    crossing used; else False, and the caller walks the rows one by one (overwriting
+    these spans)."""
+    rows = r1 - r0 + 1
     ok = True
-    for i in range(r1 - r0 + 1):
-        m = r0 + i
-        # the first walk index with cell >= m (0 for the first row) and >= m + 1 (count for the last)
-        t_top = (ru + (m - rv) * inv - c) * step
-        t_bottom = (ru + (m + 1 - rv) * inv - c) * step
-        f_top = np.floor(t_top - margin)
-        f_bottom = np.floor(t_bottom - margin)
-        top_ok = (t_top - margin > f_top) & (t_top + margin < f_top + 1.0) & (abs(t_top) <= count + 1.0)
-        bottom_ok = (t_bottom - margin > f_bottom) & (t_bottom + margin < f_bottom + 1.0) & (abs(t_bottom) <= count + 1.0)
-        first_row = m == m_first
-        last_row = m == m_last
-        ok &= (first_row | top_ok) & (last_row | bottom_ok)
-        t_start = 0 if first_row else min(max(int(f_top) + 1, 1), count - 1) if top_ok else 0
-        t_end = count if last_row else min(max(int(f_bottom) + 1, 1), count - 1) if bottom_ok else count
+    # the tops of rows r0..r1: walk indices of the first column of each
+    for i in range(rows):
+        t, placed = _crossing(ru, rv, inv, margin, c, step, count, r0 + i)
+        top = (i == 0) & (r0 == m_first)  # the first row starts at the first column
+        ok &= placed | top
+        out_x0[np.uint64(n + i)] = t * (not top)
+    bottom, placed = _crossing(ru, rv, inv, margin, c, step, count, r1 + 1)
+    if r1 == m_last:
+        bottom = count
+    elif not placed:
+        return False
+    for i in range(rows):
+        u = np.uint64(n + i)
+        t_start = out_x0[u]
+        t_end = out_x0[u + np.uint64(1)] if i + 1 < rows else bottom
         ok &= t_start < t_end
         a = k_first + step * t_start
         b = k_first + step * (t_end - 1)
-        u = np.uint64(n + i)
         out_s[u] = s
-        out_y[u] = m
+        out_y[u] = r0 + i
         out_x0[u] = min(a, b)
         out_x1[u] = max(a, b) + 1
     return ok
