@@ -86,6 +86,18 @@ Diamond exit (:func:`diamond_exit_spans`)
     (:data:`harness.geometry.exact.SAFE_MIN`/:data:`~harness.geometry.exact.SAFE_MAX`); beyond, ValueError
     names the segment (:func:`diamond_exit_spans_rational` takes any finite float).
 
+    Runs (issue 35). The kernel decides whole runs, not cells: every major-axis cell whose
+    centre the segment reaches meets it, so there an x-major line's pixels of one row are
+    the columns between the line's crossings of the row's top and bottom, and a y-major
+    line's one pixel per row is the cell of its height at the row centre. Both come from
+    a float filter with a proven margin (:data:`_DIAMOND_FILTER`): a crossing or height
+    strictly between two integers decides; within the margin of one (a tie: a line
+    through a corner or a cell centre), the exact predicate above decides. The one or two
+    cells at each end, and the end pixel, are tested exactly as before. Rows are written
+    by branch-free loops (numba vectorizes them), the cell-by-cell walk where the filter
+    hesitates. ``_diamond_exit_spans_reference`` keeps the cell-by-cell kernel; the tests
+    compare the two span for span.
+
 Wide diamond lines (:func:`diamond_wide_spans`)
     ``LineRule(wide="replicate")``: GL's wide lines (OpenGL 4.6, 14.5.2 "Other Line Segment
     Features"; Direct3D 10+ has no wide aliased lines): an integer width w, the segment
@@ -103,6 +115,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
+from typing import Any
 
 import numba
 import numpy as np
@@ -125,6 +138,7 @@ from harness.oracle.line_spans import (
     _spans_from_mask,
     _viewport,
     emit_pixel,
+    span_buffers,
 )
 
 # -- diamond exit ------------------------------------------------------------------------------
@@ -378,6 +392,442 @@ def _diamond_kernel(a, b, keep, width, height, last_pixel, gl, out_s, out_y, out
     return n
 
 
+# -- diamond exit as runs: a float filter decides, the exact predicate settles near ties ---------
+
+# The float filters' margins. A cell's height v(uc) = rv + (uc - ru) * slope takes five
+# roundings (uc - ru, the two differences and the quotient of the slope, the product) and a
+# sixth for the sum: |error| <= 2**-53 * (|v| + 5.01 |product|) to first order; a boundary's
+# column t* = ru + (n - rv) * (du / dv) - c takes six: <= 6 * 2**-53 * (|ucs| + |t| + |P|).
+# The margin is 2**-49 = 16 * 2**-53 times the same magnitudes, above twice either bound (the
+# margin's own rounding and that of v +- margin stay inside the slack), plus 2**-1000 for a
+# product that underflows (coordinates >= 2**-450 keep every other term normal).
+_DIAMOND_FILTER = 2.0**-49
+_DIAMOND_TINY = 2.0**-1000
+# the filters only convert floats below this magnitude to integers
+_DIAMOND_INT_SAFE = 2.0**40
+
+
+@numba.njit(cache=True)
+def _in_area_fast(px, py, i, j, y_major, gl):  # type: ignore[no-untyped-def]
+    """:func:`_in_area`, a float filter first: d = |px - xc| + |py - yc| is computed with a
+    relative error below 3 * 2**-53, so d < 1/2 - 2**-48 puts p in the open diamond (in
+    every test area) and d > 1/2 + 2**-48 outside the closed one (in none); between, the
+    exact edge tests."""
+    d = abs(px - (i + 0.5)) + abs(py - (j + 0.5))
+    if d < 0.5 - 2.0**-48:
+        return True
+    if d > 0.5 + 2.0**-48:
+        return False
+    return _in_area(px, py, i, j, y_major, gl)
+
+
+@numba.njit(cache=True)
+def _area_holding_fast(px, py, y_major, gl, width, height):  # type: ignore[no-untyped-def]
+    """:func:`area_holding` with the point test of :func:`_in_area_fast`."""
+    if not (-1.0 < px < width + 1.0 and -1.0 < py < height + 1.0):
+        return -1, -1, False
+    if gl or y_major:  # GL's moved diamond and D3D's y-major test area: i < x <= i + 1
+        i = int(math.ceil(px)) - 1
+    else:  # D3D's x-major test area: i < x < i + 1
+        if px == math.floor(px):
+            return -1, -1, False
+        i = int(math.floor(px))
+    j = int(math.ceil(py)) - 1
+    if i < 0 or i >= width or j < 0 or j >= height:
+        return -1, -1, False
+    return i, j, _in_area_fast(px, py, i, j, y_major, gl)
+
+
+@numba.njit(cache=True)
+def _exact_cell(rx, ry, qx, qy, uc, x_major, limit, v_est, gl_rising):  # type: ignore[no-untyped-def]
+    """The minor cell of the major coordinate uc, exactly, clamped to [-1, limit] (the
+    reference kernel's steps: :func:`_minor_cell` from the float estimate, and GL's
+    lower pixel on a corner when ``gl_rising``)."""
+    estimate = 0 if not v_est > -1.0 else (limit + 1 if v_est > limit + 1.0 else int(math.ceil(v_est)))
+    m = _minor_cell(rx, ry, qx, qy, uc, x_major, limit, estimate)
+    if gl_rising and m + 1 <= limit and orient2d_sign(rx, ry, qx, qy, uc, float(m + 1)) == 0:
+        # GL, x-major, y growing with x, through the corner at height m + 1: the moved
+        # diagonal x = uc + eps is crossed at m + 1 + slope*eps, below the corner
+        # m + 1 + eps**2: the lower pixel's
+        m += 1
+    return m
+
+
+@numba.njit(cache=True, inline="always")
+def _cell(rx, ry, qx, qy, ru, rv, slope, uc, x_major, limit, gl_rising):  # type: ignore[no-untyped-def]
+    """The minor cell at major coordinate uc (as :func:`_exact_cell`, unclamped when the
+    filter decides): v(uc) strictly between two integers f and f + 1 is cell f under
+    every rule (the rules part only on an integer v); otherwise the exact steps."""
+    prod = (uc - ru) * slope
+    v_est = rv + prod
+    margin = _DIAMOND_FILTER * (abs(v_est) + abs(prod)) + _DIAMOND_TINY
+    low = v_est - margin
+    high = v_est + margin
+    if abs(v_est) < _DIAMOND_INT_SAFE and margin < 0.25:
+        f = math.floor(low)
+        if low > f and high < f + 1.0:
+            return int(f)
+    elif low > limit + 1.0:  # far past the last row (or column)
+        return limit
+    elif high < -1.0:  # far before the first
+        return -1
+    return _exact_cell(rx, ry, qx, qy, uc, x_major, limit, v_est, gl_rising)
+
+
+@numba.njit(cache=True, inline="always")
+def _beyond_boundary(rx, ry, qx, qy, uc, n, gl_rising):  # type: ignore[no-untyped-def]
+    """Whether an x-major line's cell at column centre uc is n or more, exactly: v(uc) > n
+    (D3D's cells and GL's on a falling line: ceil(v) - 1), v(uc) >= n (GL's on a rising
+    line: floor(v)). orient2d(r, q, (uc, n)) = (qx - rx) * (n - v(uc)), qx > rx."""
+    o = orient2d_sign(rx, ry, qx, qy, uc, float(n))
+    return o <= 0 if gl_rising else o < 0
+
+
+@numba.njit(cache=True)
+def _first_beyond(rx, ry, qx, qy, ru, rv, inv, n, c, step, t0, count, gl_rising):  # type: ignore[no-untyped-def]
+    """The first walk index t in [t0, count) whose column k = c - 1/2 + step*t has cell >= n
+    (``count`` when none), on an x-major line whose v grows along the walk (every cell
+    before t0 is below n). The float filter places the line's crossing of height n,
+    t* = (ru + (n - rv) * inv - c) * step, strictly between two integers, else the exact
+    predicate (:func:`_beyond_boundary`) decides near the estimate or by bisection."""
+    a = n - rv
+    big_p = a * inv
+    ucs = ru + big_p
+    t_est = (ucs - c) * step
+    margin = _DIAMOND_FILTER * (abs(ucs) + abs(t_est) + abs(big_p)) + _DIAMOND_TINY
+    if t_est - margin > count:  # beyond the walk (also an infinite estimate)
+        return count
+    if abs(t_est) < _DIAMOND_INT_SAFE and margin < 0.25:
+        f = math.floor(t_est - margin)
+        if t_est - margin > f and t_est + margin < f + 1.0:
+            # t* in (f, f + 1): cells from f + 1 on are n or more, strictly or not
+            return min(max(int(f) + 1, t0), count)
+        guess = int(math.floor(t_est))
+        for g in (guess, guess + 1, guess + 2):
+            if t0 <= g <= count:
+                here = g == count or _beyond_boundary(rx, ry, qx, qy, c + step * g, n, gl_rising)
+                if here and (g == t0 or not _beyond_boundary(rx, ry, qx, qy, c + step * (g - 1), n, gl_rising)):
+                    return g
+    lo, hi = t0, count  # the answer lies in [lo, hi]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if _beyond_boundary(rx, ry, qx, qy, c + step * mid, n, gl_rising):
+            hi = mid
+        else:
+            lo = mid + 1
+    return lo
+
+
+@numba.njit(cache=True, inline="always")
+def _put(s, y, x0, x1, out_s, out_y, out_x0, out_x1, n):  # type: ignore[no-untyped-def]
+    """Write span n (an unsigned index: no wraparound test, stores 3x faster). Returns n + 1."""
+    u = np.uint64(n)
+    out_s[u] = s
+    out_y[u] = y
+    out_x0[u] = x0
+    out_x1[u] = x1
+    return n + 1
+
+
+@numba.njit(cache=True, inline="always")
+def _emit_run(s, y, x0, x1, out_s, out_y, out_x0, out_x1, n, first):  # type: ignore[no-untyped-def]
+    """Add pixels x0 <= x < x1 of row y (x1 > x0), merged into the last span when adjacent
+    on its row, as :func:`emit_pixel` one pixel at a time. Returns the span count."""
+    if n > first:
+        last = np.uint64(n - 1)
+        if out_y[last] == y:
+            if out_x1[last] == x0:
+                out_x1[last] = x1
+                return n
+            if out_x0[last] == x1:
+                out_x0[last] = x0
+                return n
+    u = np.uint64(n)  # an unsigned index: no wraparound test, stores 3x faster
+    out_s[u] = s
+    out_y[u] = y
+    out_x0[u] = x0
+    out_x1[u] = x1
+    return n + 1
+
+
+@numba.njit(cache=True)
+def _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end, bi, bj,  # type: ignore[no-untyped-def]
+                    out_s, out_y, out_x0, out_x1, n, first):
+    """One major-axis cell k near an end of the segment, as the reference kernel decides it:
+    the segment meets the test area there when it reaches the diagonal point at the cell
+    centre (GL: the diagonal moved by +eps, so not when the segment ends at it); short of
+    it, only through the end point nearer to it."""
+    uc = k + 0.5
+    m = _cell(rx, ry, qx, qy, ru, rv, slope, uc, x_major, limit, gl_rising)
+    if m < 0 or m >= limit:
+        return n
+    i, j = (k, m) if x_major else (m, k)
+    y_major = not x_major
+    if uc < ru:
+        meets = _in_area_fast(rx, ry, i, j, y_major, gl)
+    elif uc > qu or (gl and uc == qu):
+        meets = _in_area_fast(qx, qy, i, j, y_major, gl)
+    else:
+        meets = True
+    if not meets or (skip_end and i == bi and j == bj):
+        return n
+    return _emit_run(s, j, i, i + 1, out_s, out_y, out_x0, out_x1, n, first)
+
+
+@numba.njit(cache=True)
+def _y_major_vector(s, ka, kb, ru, rv, slope, margin, limit, skip_end, bi, bj, out_s, out_y, out_x0, out_x1, n):  # type: ignore[no-untyped-def]
+    """Rows ka..kb of a y-major segment written as spans n, n + 1, ... in one branch-free
+    loop (numba stores them a vector at a time), each cell from the float filter of
+    :func:`_y_major_cells`. True when the filter decided every row, each cell lies in the
+    viewport and none is the end pixel left out; else False, and the caller decides the
+    rows one by one (overwriting these spans)."""
+    ok = True
+    for i in range(kb - ka + 1):
+        k = ka + i
+        v_est = rv + (k + 0.5 - ru) * slope
+        low = v_est - margin
+        f = np.floor(low)
+        ok &= (low > f) & (v_est + margin < f + 1.0)
+        m = int(f)
+        ok &= (m >= 0) & (m < limit) & ((m != bi) | (k != bj) | (not skip_end))
+        u = np.uint64(n + i)
+        out_s[u] = s
+        out_y[u] = k
+        out_x0[u] = m
+        out_x1[u] = m + 1
+    return ok
+
+
+@numba.njit(cache=True)
+def _y_major_cells(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, limit, gl_rising, skip_end, bi, bj,  # type: ignore[no-untyped-def]
+                   out_s, out_y, out_x0, out_x1, n):
+    """The pixels of a y-major segment in the rows ka..kb whose centre it reaches (all meet
+    it), one per row, rows ascending: the cell from the float filter of :func:`_cell`
+    with one margin for the segment, else exactly. The end pixel (bi, bj) is left out when
+    ``skip_end``. Returns the span count."""
+    x_major = np.bool_(False)
+    # One margin for every row: |prod| <= p_max, |v| <= |rv| + p_max (the filter of
+    # :func:`_cell` with the row's magnitudes bounded by the segment's).
+    p_max = max(abs(ka + 0.5 - ru), abs(kb + 0.5 - ru)) * abs(slope) * (1.0 + 2.0**-40)
+    margin = _DIAMOND_FILTER * (abs(rv) + 2.0 * p_max) + _DIAMOND_TINY
+    fast = abs(rv) + p_max < _DIAMOND_INT_SAFE and margin < 0.25
+    if not fast:
+        for k in range(ka, kb + 1):
+            m = _cell(rx, ry, qx, qy, ru, rv, slope, k + 0.5, x_major, limit, gl_rising)
+            if 0 <= m < limit and not (skip_end and m == bi and k == bj):
+                n = _put(s, k, m, m + 1, out_s, out_y, out_x0, out_x1, n)
+        return n
+    if _y_major_vector(s, ka, kb, ru, rv, slope, margin, limit, skip_end, bi, bj, out_s, out_y, out_x0, out_x1, n):
+        return n + kb - ka + 1
+    uc = ka + 0.5
+    for k in range(ka, kb + 1):
+        v_est = rv + (uc - ru) * slope
+        low = v_est - margin
+        f = np.floor(low)  # a float: one conversion to int, once decided
+        if low > f and v_est + margin < f + 1.0:
+            m = int(f)  # v strictly between f and f + 1: cell f
+        else:
+            m = _exact_cell(rx, ry, qx, qy, uc, x_major, limit, v_est, gl_rising)
+        if 0 <= m < limit and not (skip_end and m == bi and k == bj):
+            # a row of its own: no span to merge with
+            n = _put(s, k, m, m + 1, out_s, out_y, out_x0, out_x1, n)
+        uc += 1.0  # exact: k + 1/2 below 2**52
+    return n
+
+
+@numba.njit(cache=True, inline="always")
+def _crossing(ru, rv, inv, margin, c, step, count, n):  # type: ignore[no-untyped-def]
+    """The first walk index whose cell is n or more, from the float filter of
+    :func:`_x_major_runs` (clamped to [1, count - 1], where such an index lies when the
+    cells run from below n to n or more), and whether the filter placed it."""
+    t_est = (ru + (n - rv) * inv - c) * step
+    f = np.floor(t_est - margin)
+    placed = (t_est - margin > f) & (t_est + margin < f + 1.0) & (abs(t_est) <= count + 1.0)
+    return min(max(int(f) + 1, 1), count - 1), placed
+
+
+@numba.njit(cache=True)
+def _x_major_vector(s, k_first, step, count, c, ru, rv, inv, margin, m_first, m_last, r0, r1,  # type: ignore[no-untyped-def]
+                    out_s, out_y, out_x0, out_x1, n):
+    """Rows r0..r1 of an x-major segment's reached columns (walk indices 0 .. count - 1,
+    cells m_first at the first and m_last at the last) as spans n, n + 1, ... in
+    branch-free loops numba stores a vector at a time: row m runs from the crossing of
+    its top (walk index 0 for the first row) to that of its bottom (count for the last),
+    each placed by the float filter of :func:`_x_major_runs` (:func:`_crossing`); the
+    crossings go to ``out_x0`` first, the spans next. True when the filter placed every
+    crossing used; else False, and the caller walks the rows one by one (overwriting
+    these spans)."""
+    rows = r1 - r0 + 1
+    ok = True
+    # the tops of rows r0..r1: walk indices of the first column of each
+    for i in range(rows):
+        t, placed = _crossing(ru, rv, inv, margin, c, step, count, r0 + i)
+        top = (i == 0) & (r0 == m_first)  # the first row starts at the first column
+        ok &= placed | top
+        out_x0[np.uint64(n + i)] = t * (not top)
+    bottom, placed = _crossing(ru, rv, inv, margin, c, step, count, r1 + 1)
+    if r1 == m_last:
+        bottom = count
+    elif not placed:
+        return False
+    for i in range(rows):
+        u = np.uint64(n + i)
+        t_start = out_x0[u]
+        t_end = out_x0[u + np.uint64(1)] if i + 1 < rows else bottom
+        ok &= t_start < t_end
+        a = k_first + step * t_start
+        b = k_first + step * (t_end - 1)
+        out_s[u] = s
+        out_y[u] = r0 + i
+        out_x0[u] = min(a, b)
+        out_x1[u] = max(a, b) + 1
+    return ok
+
+
+@numba.njit(cache=True)
+def _x_major_runs(s, ka, kb, step, rx, ry, qx, qy, ru, rv, du, dv, slope, limit, gl_rising, skip_end, bi, bj,  # type: ignore[no-untyped-def]
+                  out_s, out_y, out_x0, out_x1, n, first):
+    """The runs of an x-major segment over the columns ka..kb whose centre it reaches (all
+    meet it), walked in the direction ``step`` (rows ascending): per row, the column where
+    the line crosses the row's bottom (:func:`_first_beyond`) ends the run. The end pixel
+    (bi, bj) is left out when ``skip_end``. Returns the span count."""
+    count = kb - ka + 1
+    k_first = ka if step == 1 else kb
+    c = k_first + 0.5  # walk index t is column centre c + step*t
+    inv = du / dv if dv != 0.0 else math.inf  # a horizontal line never crosses a row boundary
+    # One margin for the crossings within the walk (|t| <= count + 1): there
+    # |ucs| <= big_u and |P| <= big_u + |ru| (the filter of :func:`_first_beyond`).
+    big_u = abs(c) + count + 2.0
+    margin = _DIAMOND_FILTER * (2.0 * big_u + abs(ru) + count + 2.0) + _DIAMOND_TINY
+    fast = big_u < _DIAMOND_INT_SAFE and margin < 0.25 and dv != 0.0
+    t = 0
+    # np.bool_, not the literal True: numba compiles a callee once per literal argument
+    m = _cell(rx, ry, qx, qy, ru, rv, slope, c, np.bool_(True), limit, gl_rising)
+    if fast:
+        m_last = _cell(rx, ry, qx, qy, ru, rv, slope, c + step * (count - 1), np.bool_(True), limit, gl_rising)
+        r0, r1 = max(m, 0), min(m_last, limit - 1)
+        if r0 > r1:
+            return n  # every reached cell above or below the viewport
+        k_last = k_first + step * (count - 1)
+        simple = not (skip_end and r0 <= bj <= r1 and min(k_first, k_last) <= bi <= max(k_first, k_last))
+        simple &= not (n > first and out_y[np.uint64(n - 1)] == r0)  # a span the first run may extend
+        if simple and _x_major_vector(s, k_first, step, count, c, ru, rv, inv, margin, m, m_last, r0, r1,
+                                      out_s, out_y, out_x0, out_x1, n):
+            return n + r1 - r0 + 1
+    while t < count and m < limit:
+        if m < 0:  # above the viewport: on to the first cell of row 0
+            t = count if dv == 0.0 else _first_beyond(rx, ry, qx, qy, ru, rv, inv, 0, c, step, t, count, gl_rising)
+            m = 0  # |slope| <= 1: the cell grows by at most one per column
+            continue
+        t_end = -1
+        if fast:
+            t_est = (ru + (m + 1 - rv) * inv - c) * step
+            if abs(t_est) <= count + 1.0:
+                f = math.floor(t_est - margin)
+                if t_est - margin > f and t_est + margin < f + 1.0:
+                    # the crossing t* in (f, f + 1): cells from f + 1 on are m + 1 or more
+                    t_end = min(max(f + 1, t + 1), count)
+        if t_end < 0:
+            t_end = count if dv == 0.0 else _first_beyond(rx, ry, qx, qy, ru, rv, inv, m + 1, c, step, t + 1,
+                                                            count, gl_rising)
+        # columns of walk indices t .. t_end - 1, in walk order
+        if step == 1:
+            x_lo, x_hi = k_first + t, k_first + t_end  # [x_lo, x_hi)
+        else:
+            x_lo, x_hi = k_first - t_end + 1, k_first - t + 1
+        if skip_end and m == bj and x_lo <= bi < x_hi:
+            if step == 1:
+                if x_lo < bi:
+                    n = _emit_run(s, m, x_lo, bi, out_s, out_y, out_x0, out_x1, n, first)
+                if bi + 1 < x_hi:
+                    n = _emit_run(s, m, bi + 1, x_hi, out_s, out_y, out_x0, out_x1, n, first)
+            else:
+                if bi + 1 < x_hi:
+                    n = _emit_run(s, m, bi + 1, x_hi, out_s, out_y, out_x0, out_x1, n, first)
+                if x_lo < bi:
+                    n = _emit_run(s, m, x_lo, bi, out_s, out_y, out_x0, out_x1, n, first)
+        else:
+            n = _emit_run(s, m, x_lo, x_hi, out_s, out_y, out_x0, out_x1, n, first)
+        t = t_end
+        m += 1
+    return n
+
+
+@numba.njit(cache=True)
+def _diamond_runs_kernel(a, b, keep, width, height, last_pixel, gl, out_s, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """The spans of :func:`_diamond_kernel`, found a run at a time. The major-axis cells
+    whose diagonal point the segment reaches (every cell but one or two at each end) all
+    meet the segment: there an x-major line's cells form one run per row, from the column
+    where the line crosses the row's top to where it crosses its bottom
+    (:func:`_first_beyond`), and a y-major line's one cell per row comes from the float
+    filter (:func:`_cell`); the cells at the ends go through the reference kernel's test
+    (:func:`_diamond_column`), in the same walk order, merged alike. Returns the span count."""
+    n = 0
+    for s in range(a.shape[0]):
+        if not keep[s]:
+            continue
+        ax, ay, bx, by = a[s, 0], a[s, 1], b[s, 0], b[s, 1]
+        first = n
+        if ax == bx and ay == by:
+            # Zero length: it never exits; with the last pixel drawn, the pixel holding it.
+            if last_pixel:
+                # np.bool_, not the literal False: numba compiles a callee once per literal argument
+                i, j, found = _area_holding_fast(ax, ay, np.bool_(False), gl, width, height)
+                if found:
+                    n = _emit_run(s, j, i, i + 1, out_s, out_y, out_x0, out_x1, n, first)
+            continue
+        x_major, rx, ry, qx, qy, lo, hi = _diamond_walk(ax, ay, bx, by, width, height)
+        if lo > hi:
+            continue
+        y_major = not x_major
+        # The exit rule: the pixel whose test area holds the end point b is not left.
+        bi, bj, b_inside = _area_holding_fast(bx, by, y_major, gl, width, height)
+        skip_end = b_inside and not last_pixel
+        if x_major:
+            ru, rv, qu, qv, limit = rx, ry, qx, qy, height
+        else:
+            ru, rv, qu, qv, limit = ry, rx, qy, qx, width
+        du = qu - ru
+        dv = qv - rv
+        slope = dv / du
+        gl_rising = gl and x_major and qv > rv
+        # Walk so that rows come out ascending: x-major lines going up walk right to left.
+        step = -1 if (x_major and qv < rv) else 1
+        # the cells whose centre the segment reaches: ru <= uc <= qu (GL: uc < qu)
+        ka = lo
+        while ka <= hi and ka + 0.5 < ru:
+            ka += 1
+        kb = hi
+        while kb >= ka and (kb + 0.5 > qu or (gl and kb + 0.5 == qu)):
+            kb -= 1
+        # the cells walked before the run of reached ones
+        if step == 1:
+            for k in range(lo, ka):
+                n = _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end,
+                                    bi, bj, out_s, out_y, out_x0, out_x1, n, first)
+        else:
+            for k in range(hi, kb, -1):
+                n = _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end,
+                                    bi, bj, out_s, out_y, out_x0, out_x1, n, first)
+        count = kb - ka + 1
+        if count > 0 and y_major:
+            n = _y_major_cells(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, limit, gl_rising, skip_end, bi, bj,
+                               out_s, out_y, out_x0, out_x1, n)
+        elif count > 0:
+            n = _x_major_runs(s, ka, kb, step, rx, ry, qx, qy, ru, rv, du, dv, slope, limit, gl_rising, skip_end, bi, bj,
+                              out_s, out_y, out_x0, out_x1, n, first)
+        # the cells walked after it
+        if step == 1:
+            for k in range(max(kb + 1, ka), hi + 1):
+                n = _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end,
+                                    bi, bj, out_s, out_y, out_x0, out_x1, n, first)
+        else:
+            for k in range(ka - 1, lo - 1, -1):
+                n = _diamond_column(s, k, rx, ry, qx, qy, ru, rv, qu, slope, x_major, limit, gl, gl_rising, skip_end,
+                                    bi, bj, out_s, out_y, out_x0, out_x1, n, first)
+    return n
+
+
 # -- diamond exit: public ----------------------------------------------------------------------
 
 
@@ -439,16 +889,35 @@ def diamond_exit_spans(a: ArrayLike, b: ArrayLike, width: int, height: int, last
     diamond-exit [(0, 0, 1, 2), (0, 1, 2, 3), (1, 2, 0, 3)]
     diamond-exit-gl [(0, 0, 0, 1), (0, 1, 1, 2), (0, 2, 2, 3), (1, 2, 0, 2)]
     """
-    gl = _gl_flag(rule)
+    return _diamond_exit(a, b, width, height, last_pixel, rule, _diamond_runs_kernel)
+
+
+def _diamond_exit_spans_reference(a: ArrayLike, b: ArrayLike, width: int, height: int, last_pixel: bool = False,
+                                  rule: str = "diamond-exit") -> Spans:
+    """:func:`diamond_exit_spans` one major-axis cell at a time, each decided by the exact
+    predicate (the kernel before runs; tests compare the two)."""
+    return _diamond_exit(a, b, width, height, last_pixel, rule, _diamond_kernel)
+
+
+def _diamond_exit(a: ArrayLike, b: ArrayLike, width: int, height: int, last_pixel: bool, rule: str, kernel: Any) -> Spans:
+    _gl_flag(rule)
     width, height = _viewport(width, height)
     a_arr, b_arr, keep = _endpoints(a, b)
     _check_range(np.concatenate([a_arr, b_arr], axis=1), keep, SAFE_MIN, SAFE_MAX, "diamond_exit_spans_rational")
+    return _diamond_exit_kept(a_arr, b_arr, keep, width, height, last_pixel, rule, kernel)
+
+
+def _diamond_exit_kept(a: NDArray[np.float64], b: NDArray[np.float64], keep: NDArray[np.bool_], width: int, height: int,
+                       last_pixel: bool, rule: str, kernel: Any = None) -> Spans:
+    """:func:`diamond_exit_spans` of the segments ``keep`` names, checked already: (N, 2)
+    float64 end points (finite and in range where kept), a valid viewport and rule."""
+    gl = _gl_flag(rule)
     if not keep.any() or width == 0 or height == 0:
         return _empty()
-    a_arr, b_arr, keep_f = frozen(a_arr), frozen(b_arr), frozen(keep, np.bool_)
+    a_arr, b_arr, keep_f = frozen(a), frozen(b), frozen(keep, np.bool_)
     capacity = int(_diamond_capacity(a_arr, b_arr, keep_f, width, height))
-    out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
-    m = int(_diamond_kernel(a_arr, b_arr, keep_f, width, height, bool(last_pixel), gl, *out))
+    out = span_buffers(capacity)
+    m = int((kernel or _diamond_runs_kernel)(a_arr, b_arr, keep_f, width, height, bool(last_pixel), gl, *out))
     return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
 
 

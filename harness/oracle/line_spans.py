@@ -20,6 +20,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from harness.contract.scenes import MAX_VIEWPORT
+from harness.geometry.exact import frozen
 
 Spans = tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]
 
@@ -55,6 +56,15 @@ def _clamp_index(value, low, high):  # type: ignore[no-untyped-def]
     return int(math.floor(value))
 
 
+def span_buffers(capacity: int) -> list[NDArray[np.int64]]:
+    """Four (capacity,) int64 arrays for a kernel's segment, y, x0 and x1: rows of one
+    block. One allocation, not four: glibc serves four multi-megabyte arrays by fresh
+    ``mmap`` calls whose pages the kernel zeroes on first touch on every call (about
+    1 ms for L2's 12 MB of spans), while one block of the same size is reused."""
+    block = np.empty((4, capacity), dtype=np.int64)
+    return [block[0], block[1], block[2], block[3]]
+
+
 # -- input handling ------------------------------------------------------------------------------
 
 
@@ -81,8 +91,7 @@ def _endpoints(a: ArrayLike, b: ArrayLike) -> tuple[NDArray[np.float64], NDArray
 
 def _check_range(values: NDArray[np.float64], keep: NDArray[np.bool_], low: float, high: float, use: str) -> None:
     """ValueError naming the first kept segment with a nonzero coordinate beyond [low, high]."""
-    magnitude = np.abs(values.reshape(values.shape[0], -1))
-    beyond = ((magnitude != 0.0) & ((magnitude < low) | (magnitude > high))).any(axis=1) & keep
+    beyond = _beyond(values, low, high) & keep
     if beyond.any():
         k = int(np.flatnonzero(beyond)[0])
         raise ValueError(
@@ -113,8 +122,41 @@ def _as_spans(rows: list[tuple[int, int, int, int]]) -> Spans:
     return arr[0], arr[1], arr[2], arr[3]
 
 
+@numba.njit(cache=True)
+def _beyond_kernel(values, low, high, out):  # type: ignore[no-untyped-def]
+    for k in range(values.shape[0]):
+        hit = False
+        for c in range(values.shape[1]):
+            magnitude = abs(values[k, c])
+            if magnitude != 0.0 and (magnitude < low or magnitude > high):
+                hit = True
+        out[k] = hit
+
+
 def _beyond(values: NDArray[np.float64], low: float, high: float) -> NDArray[np.bool_]:
-    """(N,) bool: rows holding a nonzero finite magnitude outside [low, high]."""
+    """(N,) bool: rows holding a nonzero magnitude outside [low, high] (an infinite one
+    too; NaN never)."""
+    flat = np.asarray(values, dtype=np.float64).reshape(values.shape[0], -1)
+    out = np.empty(flat.shape[0], dtype=np.bool_)
+    _beyond_kernel(frozen(flat), float(low), float(high), out)
+    return out
+
+
+@numba.njit(cache=True)
+def _finite_kernel(a, b, out):  # type: ignore[no-untyped-def]
+    for k in range(a.shape[0]):
+        out[k] = math.isfinite(a[k, 0]) and math.isfinite(a[k, 1]) and math.isfinite(b[k, 0]) and math.isfinite(b[k, 1])
+
+
+def finite_rows(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """(N,) bool: segments whose four coordinates are finite ((N, 2) float64 end points)."""
+    out = np.empty(a.shape[0], dtype=np.bool_)
+    _finite_kernel(frozen(a), frozen(b), out)
+    return out
+
+
+def _beyond_numpy(values: NDArray[np.float64], low: float, high: float) -> NDArray[np.bool_]:
+    """:func:`_beyond` in numpy operations (its reference in tests)."""
     magnitude = np.abs(values.reshape(values.shape[0], -1))
     with np.errstate(invalid="ignore"):
         return np.asarray(((magnitude != 0.0) & ((magnitude < low) | (magnitude > high))).any(axis=1), dtype=np.bool_)

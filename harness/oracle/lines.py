@@ -41,6 +41,7 @@ from harness.geometry.spans import expand
 from harness.oracle.bresenham_lines import (
     BRESENHAM_MAX,
     _bresenham_far,
+    _bresenham_walks,
     _walk_ends,
     bresenham_pixels,
     bresenham_spans,
@@ -49,6 +50,7 @@ from harness.oracle.bresenham_lines import (
     walks_backwards,
 )
 from harness.oracle.diamond_lines import (
+    _diamond_exit_kept,
     _diamond_far,
     _gl_flag,
     area_holding,
@@ -60,7 +62,7 @@ from harness.oracle.diamond_lines import (
     is_x_major,
 )
 from harness.oracle.hairlines import HAIRLINE_RULES, hairline_spans, hairline_spans_rational
-from harness.oracle.line_spans import _beyond
+from harness.oracle.line_spans import _beyond, finite_rows
 from harness.oracle.llvmpipe_lines import llvmpipe_rectangle_coverage
 from harness.oracle.parallelogram_lines import (
     PARA_SAFE_MAX,
@@ -68,7 +70,13 @@ from harness.oracle.parallelogram_lines import (
     parallelogram_spans,
     parallelogram_spans_rational,
 )
-from harness.oracle.rectangle_lines import RECT_SAFE_MAX, RECT_SAFE_MIN, rectangle_spans, rectangle_spans_rational
+from harness.oracle.rectangle_lines import (
+    RECT_SAFE_MAX,
+    RECT_SAFE_MIN,
+    _rectangle_kept,
+    rectangle_spans,
+    rectangle_spans_rational,
+)
 
 __all__ = [
     "diamond_exit_spans",
@@ -175,7 +183,7 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
     a, b = convention.snap(a), convention.snap(b)
     n = a.shape[0]
     width, height = scene.width, scene.height
-    finite = np.asarray(np.isfinite(a).all(axis=1) & np.isfinite(b).all(axis=1), dtype=np.bool_)
+    finite = finite_rows(a, b)
     ends = np.concatenate([a, b], axis=1)
     why = rule.undefined_width(scene.line_width)
     if why:
@@ -187,8 +195,7 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
     if rule.diamond:
         far = _beyond(ends, SAFE_MIN, SAFE_MAX) & finite
         near = finite & ~far
-        spans = diamond_exit_spans(np.where(near[:, None], a, np.nan), np.where(near[:, None], b, np.nan), width, height,
-                                   rule.last_pixel, rule.rule)
+        spans = _diamond_exit_kept(a, b, near, width, height, rule.last_pixel, rule.rule)
         for k in np.flatnonzero(far):
             _diamond_far(int(k), a[k], b[k], width, height, rule.last_pixel, extra, _gl_flag(rule.rule))
     elif rule.rule == "bresenham":
@@ -197,8 +204,9 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
             p1 = np.where(finite[:, None], end_point_pixels(np.where(finite[:, None], b, 0.0), rule.rounding), 0.0)
         far = (np.abs(np.concatenate([p0, p1], axis=1)) > BRESENHAM_MAX).any(axis=1) & finite
         near = finite & ~far
-        spans = bresenham_spans(np.where(near[:, None], a, np.nan), np.where(near[:, None], b, np.nan), width, height,
-                                rule.rounding, rule.ties, rule.last_pixel, rule.direction)
+        walk_0, walk_1 = _walk_ends(np.where(near[:, None], p0, 0.0), np.where(near[:, None], p1, 0.0), rule.direction)
+        spans = _bresenham_walks(walk_0.astype(np.int64), walk_1.astype(np.int64), near, width, height, rule.ties,
+                                 rule.last_pixel)
         for k in np.flatnonzero(far):
             # the end pixels as Python integers: the walk's direction decided exactly
             start, end = (np.array([[int(p[k, 0]), int(p[k, 1])]], dtype=object) for p in (p0, p1))
@@ -224,8 +232,7 @@ def line_coverage(scene: Any, convention: Convention) -> Any:
         far = _beyond(values, RECT_SAFE_MIN, RECT_SAFE_MAX) & finite
         near = finite & ~far
         kw = dict(width=width, height=height)
-        spans = rectangle_spans(np.where(near[:, None], a, np.nan), np.where(near[:, None], b, np.nan), scene.line_width,
-                                convention.sample, convention.tie, **kw)
+        spans = _rectangle_kept(a, b, np.full(n, float(scene.line_width)), near, convention, width, height)
         for k in np.flatnonzero(far):
             s, y, x0, x1 = rectangle_spans_rational(a[k:k + 1], b[k:k + 1], scene.line_width, convention.sample, convention.tie,
                                                     **kw)

@@ -20,6 +20,13 @@ Rectangular lines (:func:`rectangle_spans`)
     then a multiple of 2**-808 and below 2**610: no underflow, no overflow); beyond,
     ValueError. A zero-length segment covers nothing.
 
+    Runs (issue 35): each condition flips once along a row, at a crossing the kernel computes
+    in float with a proven margin (``_rect_runs_segment``); the flip column is decided there
+    unless a sample lies within the margin, where the exact predicates above decide. On the
+    rows strictly between the caps (by a wide margin) only the two sides are computed, in a
+    loop numba vectorizes. ``_rectangle_spans_reference`` keeps the exact-flip kernel for
+    the tests.
+
 :func:`rectangle_spans_rational` is the slow reference, in :class:`fractions.Fraction`
 arithmetic for any finite float (small viewports and coordinates only): it decides every
 sample of the viewport from the definition above.
@@ -48,6 +55,7 @@ from harness.oracle.line_spans import (
     _endpoints,
     _spans_from_mask,
     _viewport,
+    span_buffers,
 )
 
 # Rectangles decide a degree-4 polynomial: inputs of magnitude in [2**-150, 2**150] (or 0)
@@ -306,6 +314,217 @@ def _rect_kernel(a, b, widths, keep, sx, sy, tx, ty, y_first, width, height, out
     return n
 
 
+# -- rectangles as runs: the float filter decides each side of a row, exact near a sample --------
+
+# Margin of the crossings' float filter (below): 2**-48 = 32 * 2**-53, twice the bound on the
+# rounding of a crossing (see _rect_runs_segment), plus 2**-1000 (no term underflows in range).
+_RECT_RUN_FILTER = 2.0**-48
+_RECT_RUN_TINY = 2.0**-1000
+# the filter only converts crossings below this magnitude to integers
+_RECT_INT_SAFE = 2.0**40
+
+
+@numba.njit(cache=True, inline="always")
+def _first_column(x_edge, margin, sx, width):  # type: ignore[no-untyped-def]
+    """The first column i in [0, width] whose sample i + sx lies past the crossing x_edge
+    (known within ``margin``), or -1 when a sample may lie on it: then the crossing is
+    within the margin of a sample and the exact condition decides."""
+    e = x_edge - sx
+    f = np.floor(e + margin)  # a float: one conversion to int, once decided
+    if f < e - margin:  # no integer i with i + sx within the margin of the crossing
+        return min(max(int(f) + 1, 0), width)
+    return -1
+
+
+@numba.njit(cache=True, inline="always")
+def _rect_side(kind, rising, x_edge, margin, fast, lo, end, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first, width):  # type: ignore[no-untyped-def]
+    """(lo, end) narrowed by condition ``kind`` of a row, which flips at x_edge (true after
+    it when ``rising``, before it otherwise): the flip column from the float filter
+    (:func:`_first_column`) or, near a sample, exactly (:func:`_rect_flip`)."""
+    if lo >= end:
+        return lo, end
+    c = _first_column(x_edge, margin, sx, width) if fast else -1
+    if c < 0:
+        e = x_edge - sx
+        estimate = 0 if not e > -1.0 else (width if e > width else int(math.ceil(e)))
+        c = _rect_flip(kind, rising, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first, width, estimate)
+    if rising:
+        return max(lo, c), end
+    return lo, min(end, c)
+
+
+@numba.njit(cache=True)
+def _rect_runs_segment(s, ax, ay, bx, by, w, sx, sy, tx, ty, y_first, width, height, out_s, out_y, out_x0, out_x1, n):  # type: ignore[no-untyped-def]
+    """One segment's rectangle as one span per row, as :func:`_rect_kernel` finds it: each
+    condition of the rectangle flips at one crossing along a row (x_edge), and the covered
+    samples lie between the last rising and the first falling flip. Here each crossing is
+    computed in float with a rigorous margin, and decides the flip column when no sample
+    lies within the margin (:func:`_first_column`); otherwise :func:`_rect_flip` decides
+    exactly, as before.
+
+    Crossings (d = b - a rounded, s = |d|, h = w s / 2, all rounded): caps x = ax - (y -
+    ay) * dy/dx and bx - (y - by) * dy/dx; sides x = ax + ((y - ay) * dx/dy -+ h/dy). With
+    P the product and Z = h/dy, the error of a cap's crossing is below 2**-53 * (|x| +
+    5|P|) and a side's below 2**-53 * (|x| + 8(|P| + |Z|)) (P: three roundings in the
+    quotient, one each in y - ay and the product; Z: four in h, two in the quotient; one
+    per sum), and of x - sx one more 2**-53 * (|x| + 1); the margin is 2**-48 times
+    bounds on |x| + 2|P| + 2|Z| + 1 over the segment's rows: twice the error and more."""
+    if ax == bx and ay == by:
+        return n  # no length, no rectangle
+    sdx = 1 if bx > ax else (-1 if bx < ax else 0)
+    sdy = 1 if by > ay else (-1 if by < ay else 0)
+    dx = bx - ax
+    dy = by - ay
+    first, last = _rect_rows(ay, by, w, sy, height)
+    if first > last:
+        return n
+    half = 0.5 * w * math.sqrt(dx * dx + dy * dy)
+    grow = 1.0 + 2.0**-40  # bounds of |y - ay| and of the products over the rows, rounded up
+    y0 = max(abs(first + sy - ay), abs(last + sy - ay)) * grow
+    y1 = max(abs(first + sy - by), abs(last + sy - by)) * grow
+    cap_slope = dy / dx if sdx != 0 else 0.0
+    side_slope = dx / dy if sdy != 0 else 0.0
+    side_shift = half / dy if sdy != 0 else 0.0
+    p_cap = max(y0, y1) * abs(cap_slope) * grow
+    p_side = y0 * abs(side_slope) * grow
+    z_side = abs(side_shift)
+    margin_cap = _RECT_RUN_FILTER * (max(abs(ax), abs(bx)) + 3.0 * p_cap + 1.0) + _RECT_RUN_TINY
+    margin_side = _RECT_RUN_FILTER * (abs(ax) + 3.0 * (p_side + z_side) + 1.0) + _RECT_RUN_TINY
+    fast = (max(abs(ax), abs(bx)) + p_cap + p_side + z_side < _RECT_INT_SAFE and margin_cap < 0.25
+            and margin_side < 0.25)
+    # Rows whose samples between the sides all lie strictly between the caps: the sides
+    # cross row y at t = (y - ay -+ q) / dy along d, q = (w/2) dx/|d|, both in (0, 1) when
+    # y lies in (ay + |q|, by - |q|) (dy > 0; (by + |q|, ay - |q|) when dy < 0). The margin
+    # 2**-30 of the magnitudes dwarfs every rounding here: the rows found are inside.
+    mid_lo, mid_hi = 1, 0
+    if sdy != 0:
+        q = 0.5 * w * abs(dx) / math.sqrt(dx * dx + dy * dy)
+        safety = 2.0**-30 * (abs(ay) + abs(by) + q + 1.0)
+        y_lo = min(ay, by) + q + safety
+        y_hi = max(ay, by) - q - safety
+        if y_lo < y_hi and abs(y_lo) + abs(y_hi) < _RECT_INT_SAFE:
+            mid_lo = int(math.floor(y_lo - sy)) + 1  # first row with j + sy > y_lo
+            mid_hi = int(math.ceil(y_hi - sy)) - 1  # last row with j + sy < y_hi
+    if fast and sdy != 0 and mid_lo <= mid_hi:
+        m0, m1 = max(first, mid_lo), min(last, mid_hi)
+    else:
+        m0, m1 = last + 1, last
+    for j in range(first, min(m0, last + 1)):
+        n = _rect_row(s, j, ax, ay, bx, by, w, sx, sy, tx, ty, y_first, width, sdx, sdy, cap_slope, side_slope, side_shift,
+                      margin_cap, margin_side, fast, False, out_s, out_y, out_x0, out_x1, n)
+    # the rows between the caps: two crossings each, decided by the filter (else the general row)
+    rising_left = sdy > 0  # c < h rises along the row when dy > 0: its flip starts the run
+    if m0 <= m1 and _rect_middle(s, m0, m1, ax, ay, sx, sy, side_slope, side_shift, margin_side, width, rising_left,
+                                 out_s, out_y, out_x0, out_x1, n):
+        n += m1 - m0 + 1
+        m0 = m1 + 1  # every row decided, each a span
+    for j in range(m0, m1 + 1):
+        ys = j + sy
+        p = (ys - ay) * side_slope
+        c2 = _first_column(ax + (p - side_shift), margin_side, sx, width)
+        c3 = _first_column(ax + (p + side_shift), margin_side, sx, width)
+        if c2 < 0 or c3 < 0:
+            n = _rect_row(s, j, ax, ay, bx, by, w, sx, sy, tx, ty, y_first, width, sdx, sdy, cap_slope, side_slope,
+                          side_shift, margin_cap, margin_side, fast, True, out_s, out_y, out_x0, out_x1, n)
+            continue
+        lo, end = (c2, c3) if rising_left else (c3, c2)
+        if lo < end:
+            u = np.uint64(n)  # an unsigned index: no wraparound test, stores 3x faster
+            out_s[u] = s
+            out_y[u] = j
+            out_x0[u] = lo
+            out_x1[u] = end
+            n += 1
+    for j in range(max(m1 + 1, first), last + 1):
+        n = _rect_row(s, j, ax, ay, bx, by, w, sx, sy, tx, ty, y_first, width, sdx, sdy, cap_slope, side_slope, side_shift,
+                      margin_cap, margin_side, fast, False, out_s, out_y, out_x0, out_x1, n)
+    return n
+
+
+@numba.njit(cache=True)
+def _rect_middle(s, m0, m1, ax, ay, sx, sy, side_slope, side_shift, margin, width, rising_left,  # type: ignore[no-untyped-def]
+                 out_s, out_y, out_x0, out_x1, n):
+    """Rows m0..m1 between the caps written as spans n, n + 1, ... in one branch-free loop
+    (numba stores them a vector at a time): the sides' flips as :func:`_first_column`
+    finds them. True when the filter decided every row and each covers a sample; else
+    False, and the caller decides the rows one by one (overwriting these spans)."""
+    ok = True
+    for i in range(m1 - m0 + 1):
+        j = m0 + i
+        p = (j + sy - ay) * side_slope
+        e2 = ax + (p - side_shift) - sx
+        e3 = ax + (p + side_shift) - sx
+        f2 = np.floor(e2 + margin)
+        f3 = np.floor(e3 + margin)
+        ok &= (f2 < e2 - margin) & (f3 < e3 - margin)
+        c2 = min(max(int(f2) + 1, 0), width)
+        c3 = min(max(int(f3) + 1, 0), width)
+        lo = c2 if rising_left else c3
+        end = c3 if rising_left else c2
+        ok &= lo < end
+        u = np.uint64(n + i)
+        out_s[u] = s
+        out_y[u] = j
+        out_x0[u] = lo
+        out_x1[u] = end
+    return ok
+
+
+@numba.njit(cache=True)
+def _rect_row(s, j, ax, ay, bx, by, w, sx, sy, tx, ty, y_first, width, sdx, sdy, cap_slope, side_slope, side_shift,  # type: ignore[no-untyped-def]
+              margin_cap, margin_side, fast, between_caps, out_s, out_y, out_x0, out_x1, n):
+    """Row j of a segment's rectangle (:func:`_rect_runs_segment`): the sides' flips, then
+    the caps' unless ``between_caps`` (every sample between the sides lies between the
+    caps). Returns the span count."""
+    ys = j + sy
+    lo = 0
+    end = width
+    # the sides: c < h (x gradient dy) and c > -h (x gradient -dy)
+    if sdy == 0:  # constant along the row
+        if not (_rect_condition(2, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)
+                and _rect_condition(3, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)):
+            return n
+    else:
+        p = (ys - ay) * side_slope
+        lo, end = _rect_side(2, sdy > 0, ax + (p - side_shift), margin_side, fast, lo, end, ax, ay, bx, by, w, sx,
+                             ys, sdx, sdy, tx, ty, y_first, width)
+        lo, end = _rect_side(3, sdy < 0, ax + (p + side_shift), margin_side, fast, lo, end, ax, ay, bx, by, w, sx,
+                             ys, sdx, sdy, tx, ty, y_first, width)
+    if lo >= end:
+        return n
+    if not between_caps:
+        # the caps: dot(d, p - a) > 0 (x gradient dx), dot(-d, p - b) > 0 (x gradient -dx)
+        if sdx == 0:  # constant along the row
+            if not (_rect_condition(0, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)
+                    and _rect_condition(1, ax, ay, bx, by, w, sx, ys, sdx, sdy, tx, ty, y_first)):
+                return n
+        else:
+            lo, end = _rect_side(0, sdx > 0, ax - (ys - ay) * cap_slope, margin_cap, fast, lo, end, ax, ay, bx, by,
+                                 w, sx, ys, sdx, sdy, tx, ty, y_first, width)
+            lo, end = _rect_side(1, sdx < 0, bx - (ys - by) * cap_slope, margin_cap, fast, lo, end, ax, ay, bx, by,
+                                 w, sx, ys, sdx, sdy, tx, ty, y_first, width)
+    if lo < end:
+        u = np.uint64(n)  # an unsigned index: no wraparound test, stores 3x faster
+        out_s[u] = s
+        out_y[u] = j
+        out_x0[u] = lo
+        out_x1[u] = end
+        n += 1
+    return n
+
+
+@numba.njit(cache=True)
+def _rect_runs_kernel(a, b, widths, keep, sx, sy, tx, ty, y_first, width, height, out_s, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """The spans of :func:`_rect_kernel`, each row's flips decided by the float filter of
+    :func:`_rect_runs_segment` and exactly only near a sample."""
+    n = 0
+    for s in range(a.shape[0]):
+        if keep[s]:
+            n = _rect_runs_segment(s, a[s, 0], a[s, 1], b[s, 0], b[s, 1], widths[s], sx, sy, tx, ty, y_first, width, height,
+                                   out_s, out_y, out_x0, out_x1, n)
+    return n
+
+
 # -- rectangles: public ---------------------------------------------------------------------------
 
 
@@ -364,14 +583,34 @@ def rectangle_spans(a: ArrayLike, b: ArrayLike, line_width: ArrayLike, sample: t
     a_arr, b_arr, widths, keep, convention, width, height = _rect_prepare(a, b, line_width, sample, tie, width, height)
     values = np.concatenate([a_arr, b_arr, widths[:, None]], axis=1)
     _check_range(values, keep, RECT_SAFE_MIN, RECT_SAFE_MAX, "rectangle_spans_rational")
+    return _rectangle_kept(a_arr, b_arr, widths, keep, convention, width, height)
+
+
+def _rectangle_spans_reference(a: ArrayLike, b: ArrayLike, line_width: ArrayLike, sample: tuple[float, float] = (0.5, 0.5),
+                               tie: TieRule = "top-left", *, width: int, height: int) -> Spans:
+    """:func:`rectangle_spans` with every flip decided by the exact condition (the kernel
+    before the float filter; tests compare the two)."""
+    a_arr, b_arr, widths, keep, convention, width, height = _rect_prepare(a, b, line_width, sample, tie, width, height)
+    values = np.concatenate([a_arr, b_arr, widths[:, None]], axis=1)
+    _check_range(values, keep, RECT_SAFE_MIN, RECT_SAFE_MAX, "rectangle_spans_rational")
+    return _rectangle_kept(a_arr, b_arr, widths, keep, convention, width, height, reference=True)
+
+
+def _rectangle_kept(a: NDArray[np.float64], b: NDArray[np.float64], widths: NDArray[np.float64], keep: NDArray[np.bool_],
+                    convention: Convention, width: int, height: int, reference: bool = False) -> Spans:
+    """:func:`rectangle_spans` of the segments ``keep`` names, checked already: (N, 2)
+    float64 end points and (N,) widths (finite, positive and in range where kept), a valid
+    viewport, the convention's sample point and tie rule."""
+    a_arr, b_arr = a, b
     if not keep.any() or width == 0 or height == 0:
         return _empty()
     sx, sy = convention.sample
     tx, ty, y_first = convention.tie_perturbation
     a_f, b_f, w_f, keep_f = frozen(a_arr), frozen(b_arr), frozen(widths), frozen(keep, np.bool_)
     capacity = int(_rect_capacity(a_f, b_f, w_f, keep_f, sy, height))
-    out = [np.empty(capacity, dtype=np.int64) for _ in range(4)]
-    m = int(_rect_kernel(a_f, b_f, w_f, keep_f, sx, sy, tx, ty, y_first, width, height, *out))
+    out = span_buffers(capacity)
+    kernel = _rect_kernel if reference else _rect_runs_kernel
+    m = int(kernel(a_f, b_f, w_f, keep_f, sx, sy, tx, ty, y_first, width, height, *out))
     return out[0][:m], out[1][:m], out[2][:m], out[3][:m]
 
 
