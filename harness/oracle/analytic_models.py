@@ -61,6 +61,7 @@ from __future__ import annotations
 import math
 from fractions import Fraction
 
+import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -68,7 +69,7 @@ from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.quantisations import NEAREST, Quantisation, quantisation_named
 from harness.contract.scenes import Scene
-from harness.geometry.exact import orientation
+from harness.geometry.exact import orient2d_sign, orientation
 from harness.oracle.area import area_coverage, area_error_bound, exact_area
 
 __all__ = ["levels_of", "exact_level", "quantised_area_coverage", "exact_quantised_alpha", "LEVELS"]
@@ -201,6 +202,35 @@ def _exact_256ths(triangle: NDArray[np.float64], x: int, y: int) -> tuple[int, b
     return found
 
 
+@numba.njit(cache=True)
+def _whole_pixels(snapped, sign, safe, t, x, y, open_, inside):  # type: ignore[no-untyped-def]
+    """``inside[j]``: whether pixel (x[i], y[i]) of triangle t[i], i = open_[j], lies wholly in
+    the closed triangle (then its area is exactly 1: 256 whole 256ths). A convex triangle
+    holds the unit square iff it holds its four corners, and it holds a corner iff no edge
+    function has the sign opposite to the triangle's orientation: exact signs
+    (:func:`harness.geometry.exact.orient2d_sign`), asked only of triangles within its safe
+    range (``safe``; corners are whole pixels, always in range); the rest say False."""
+    for j in range(open_.size):
+        i = open_[j]
+        m = t[i]
+        s = sign[m]
+        inside[j] = False
+        if not safe[m] or s == 0:
+            continue
+        p = snapped[m]
+        whole = True
+        for corner in range(4):
+            cx = float(x[i] + (corner & 1))
+            cy = float(y[i] + (corner >> 1))
+            for e in range(3):
+                a, b = e, (e + 1) % 3
+                if orient2d_sign(p[a, 0], p[a, 1], p[b, 0], p[b, 1], cx, cy) == -s:
+                    whole = False
+                    break
+            if not whole:
+                break
+        inside[j] = whole
+
 
 def quantised_area_coverage(scene: Scene, convention: Convention) -> Coverage:
     """The oracle of ``Convention(coverage="area", quantisation=q)``: every (triangle,
@@ -225,7 +255,9 @@ def quantised_area_coverage(scene: Scene, convention: Convention) -> Coverage:
     area = plain.alpha if plain.alpha is not None else np.zeros(t.size)
     snapped = convention.snap(scene.positions)
     finite = np.all(np.isfinite(snapped), axis=(1, 2))
-    sign = orientation(np.where(finite[:, None, None], snapped, 0.0)).astype(np.int64)
+    safe = np.empty(snapped.shape[0], dtype=np.bool_)
+    exact_sign = orientation(np.where(finite[:, None, None], snapped, 0.0), safe)
+    sign = exact_sign.astype(np.int64)
     signs = np.where(sign > 0, q.signed(True), q.signed(False))[t]
     # 256 S within 256 * bound of 256 * float area (exact: a power of two); widened by an
     # ulp each side for the additions' own rounding
@@ -237,6 +269,14 @@ def quantised_area_coverage(scene: Scene, convention: Convention) -> Coverage:
     open_ = np.flatnonzero(lo != hi)
     if open_.size:  # the rational area decides
         _, x, y = plain.pixels()
+        # a pixel wholly inside its triangle has area exactly 1 (256 whole 256ths): told by
+        # exact corner signs, no rationals (most of the pixels left open are these)
+        whole_pixel = np.empty(open_.size, dtype=np.bool_)
+        _whole_pixels(np.where(finite[:, None, None], snapped, 0.0), exact_sign, safe & finite,
+                      t.astype(np.int64), x.astype(np.int64), y.astype(np.int64), open_.astype(np.int64), whole_pixel)
+        inner = open_[whole_pixel]
+        k[inner] = np.where(signs[inner] > 0, 256, -256)  # floor(+-256): 256 S is whole
+        open_ = open_[~whole_pixel]
         for i in open_.tolist():
             below, whole = _exact_256ths(snapped[t[i]], int(x[i]), int(y[i]))
             k[i] = below if signs[i] > 0 else -below - (0 if whole else 1)  # floor(-v) = -ceil(v)
