@@ -21,8 +21,9 @@ and ``compare`` both explain a rasterizer with it, so they cannot disagree.
 from __future__ import annotations
 
 import hashlib
+import heapq
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, fields, replace
 from fractions import Fraction
 from functools import cached_property
@@ -585,18 +586,57 @@ def fit_ties(call: Call, seed: int = 0) -> TieFit:
     # lattice triangles reach 2 px past a 48 px square; moved 4 px into a 56 px screen
     # (exactly) nothing crosses the viewport edge, so clipping cannot blur the convention
     drawn = [draw(call, Scene(56, 56, lattice_triangles(120, 48, bits, seed + bits) + 4.0)) for bits in (0, 1, 2, 4)]
-    scores = sorted((_fit_score(drawn, cand), i) for i, cand in enumerate(candidates))
+    least = LeastMismatches(drawn, candidates)
     # then ties at the best sample point: vertices on samples, axis-aligned edges through
     # rows of them, and pinwheels, so that every tie rule shows there
-    sample = candidates[scores[0][1]].sample
+    sample = least.first()[0].sample
     for ties in (_tie_triangles(sample, seed), _pinwheels(sample)):
-        drawn.append(draw(call, Scene(56, 56, ties)))
-        scores = sorted((score + _fit_score(drawn[-1:], candidates[i]), i) for score, i in scores)
-    best = candidates[scores[0][1]]
+        drawn.append(draw(call, Scene(56, 56, ties)))  # scored on them too (least holds drawn)
+    best = least.first()[0]
     # the runner-up differs in sample point or tie rule (snapping cannot show on lattices)
-    runner = next(candidates[i] for _, i in scores if (candidates[i].sample, candidates[i].tie) != (best.sample, best.tie))
+    runner = least.first(lambda c: (c.sample, c.tie) != (best.sample, best.tie))[0]
     return TieFit(best, sum(d.mismatches(best) for d in drawn), runner, sum(d.mismatches(runner) for d in drawn),
                   len(candidates), tuple(drawn), found, sweep, vertex)
+
+
+class LeastMismatches:
+    """The candidate with least mismatches on the answered scenes of ``drawn`` (a list the
+    caller may extend: later scenes count from then on), ties to the first listed, found
+    without summing every candidate on every scene: best first by partial sums, a
+    candidate summed on one scene more only while its partial sum (a lower bound of its
+    total) is the least. The answer is that of summing them all and sorting by (total,
+    index).
+
+    >>> from harness.contract.coverage import Coverage
+    >>> scene = Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]])
+    >>> drawn = [Drawn(scene, Outcome(Coverage([0, 0, 0], [0, 1, 2], [0, 0, 0], [3, 2, 1])))]  # the top-left rule's
+    >>> least = LeastMismatches(drawn, [Convention(tie=t) for t in ("bottom-right", "top-left", "top-right")])
+    >>> [(c.tie, total) for c, total in (least.first(), least.first(lambda c: c.tie != "top-left"))]
+    [('top-left', 0), ('bottom-right', 4)]
+    """
+
+    def __init__(self, drawn: list[Drawn], candidates: Sequence[Convention]) -> None:
+        self.drawn = drawn
+        self.candidates = list(candidates)
+        # index -> (partial sum, scenes summed)
+        self.partial = [(0, 0)] * len(self.candidates)
+
+    def first(self, eligible: Callable[[Convention], bool] | None = None) -> tuple[Convention, int]:
+        """The eligible candidate (every one when None) with least mismatches over every scene
+        of ``drawn``, first listed among equals, and its total; IndexError when none is eligible."""
+        heap = [(self.partial[i][0], i) for i, c in enumerate(self.candidates) if eligible is None or eligible(c)]
+        heapq.heapify(heap)
+        while heap:
+            total, i = heap[0]
+            done = self.partial[i][1]
+            if done == len(self.drawn):
+                # every other's partial sum, a lower bound of its total, is at least this (ties: a later index)
+                return self.candidates[i], total
+            d = self.drawn[done]
+            total += d.mismatches(self.candidates[i]) if d.coverage is not None else 0
+            self.partial[i] = (total, done + 1)
+            heapq.heapreplace(heap, (total, i))
+        raise IndexError("no candidate is eligible")
 
 
 # --- snapping, fitted on floats ---------------------------------------------------------------
