@@ -68,8 +68,11 @@ def _textured_quad(size: int, grazing: bool) -> tuple[NDArray, NDArray, NDArray 
     return corners[faces], uv[faces], (None if w is None else w[faces])
 
 
-def motion_cases(seed: int, full: bool = False) -> list[MotionCase]:
-    """The motion family for a suite (``full`` adds longer and finer sweeps)."""
+def motion_cases(seed: int, full: bool = False, meshes: bool = True) -> list[MotionCase]:
+    """The motion family for a suite (``full`` adds longer and finer sweeps). Without
+    ``meshes``, only the plain geometries' (the single triangle, the fan and the grid: the
+    same cases as with them, and no trimesh import), not the tall sliver, the projected
+    mesh or the textured sequences."""
     rng = np.random.default_rng(seed)
     cases: list[MotionCase] = []
     size = 24
@@ -93,6 +96,8 @@ def motion_cases(seed: int, full: bool = False) -> list[MotionCase]:
         for degrees in ((0.01, 0.05, 0.1) if full else (0.05,)):
             add(f"{name}/rotate-{degrees:g}deg", rotate(geometry, rng.uniform(6, 14, 2), degrees, 120))
         add(f"{name}/zoom-0.1pct", zoom(geometry, rng.uniform(8, 12, 2), 0.001, 100))
+    if not meshes:  # the plain geometries' cases drew from rng first: they are the same either way
+        return cases
     # a tall sliver far right on a large screen: two thousand rows down each long edge,
     # where single-precision stepping drifts by a visible fraction of a pixel
     tall = np.array([[[1500.25, 0.75], [1530.5, 2040.25], [1509.75, 2046.5]]])

@@ -108,6 +108,7 @@ from typing import Any
 import numpy as np
 from PIL import Image
 
+from harness.cli.bench_identify import IdentifyMeasurement
 from harness.cli.bench_peers import (
     _library_peers,
     _line_peers,
@@ -628,8 +629,8 @@ def _finite(row: dict[str, Any]) -> dict[str, Any]:
     return {k: None if isinstance(v, float) and not math.isfinite(v) else v for k, v in row.items()}
 
 
-def write_json(results: Sequence[Measurement | CampaignMeasurement], path: Path, summary: dict[str, Any] | None = None,
-               not_measured: dict[str, str] | None = None) -> None:
+def write_json(results: Sequence[Measurement | CampaignMeasurement | IdentifyMeasurement], path: Path,
+               summary: dict[str, Any] | None = None, not_measured: dict[str, str] | None = None) -> None:
     """The measurements as JSON (schema 1), with the machine and the date; ``summary``
     (e.g. the campaign's speed-up, :func:`campaign_summary`) goes in as ``"summary"``,
     the peers not measured, with why (:func:`missing_peers`), as ``"not_measured"``, and
@@ -644,7 +645,7 @@ def write_json(results: Sequence[Measurement | CampaignMeasurement], path: Path,
         "results": [_finite(asdict(m)) for m in results if not getattr(m, "fault", "")],
     }
     failed = [{"workload": m.workload, "contender": m.contender, "fault": m.fault} for m in results
-              if isinstance(m, Measurement) and m.fault]
+              if isinstance(m, (Measurement, IdentifyMeasurement)) and m.fault]
     if failed:
         payload["failed"] = failed
     if summary is not None:

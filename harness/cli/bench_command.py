@@ -8,14 +8,18 @@ import argparse
 import sys
 import time
 from pathlib import Path
+from typing import Any
 
 from harness.cli.common import UsageError, _load_all
 
-_BENCH_KINDS = ("triangles", "paths", "lines", "strokes")
+_BENCH_KINDS = ("triangles", "paths", "lines", "strokes", "identify")
+# the workload kinds measured when --kinds is not given (identify only when asked: it
+# identifies every built-in mode in fresh processes, a minute or two)
+_DEFAULT_KINDS = ("triangles", "paths", "lines", "strokes")
 
 
 def _bench_kinds(text: str) -> tuple[str, ...]:
-    """``bench --kinds``: comma-separated workload kinds, each of triangles, paths, lines, strokes."""
+    """``bench --kinds``: comma-separated workload kinds, each of triangles, paths, lines, strokes, identify."""
     kinds = tuple(dict.fromkeys(k.strip() for k in text.split(",") if k.strip()))
     unknown = [k for k in kinds if k not in _BENCH_KINDS]
     if unknown or not kinds:
@@ -59,7 +63,9 @@ def _bench(args: argparse.Namespace) -> int:
     if names:
         _load_all(names)  # fail early, with a usage error, on a bad spec
     started = time.perf_counter()
-    kinds = args.kinds or _BENCH_KINDS
+    kinds = args.kinds or _DEFAULT_KINDS
+    if kinds == ("identify",):
+        return _bench_identify(args, started)
     results = run_bench(names, scale=args.scale, budget=args.budget, timeout=args.timeout, triangles="triangles" in kinds,
                         paths="paths" in kinds, lines="lines" in kinds, strokes="strokes" in kinds,
                         progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}", file=sys.stderr,
@@ -71,10 +77,43 @@ def _bench(args: argparse.Namespace) -> int:
     failed = failures_by_contender(results)
     for label, why in failed.items():  # a contender that failed costs only its own rows, and says so
         print(f"failed: {label}: {why}")
+    summary = None
+    if "identify" in kinds:  # identify's seconds per built-in mode, in the same JSON
+        identified, summary = _identify_rows(args, started)
+        results += identified
+        failed |= {f"identify {m.contender}": m.fault for m in identified if m.fault}
     if args.json:
-        write_json(results, Path(args.json), not_measured=not_measured)
+        write_json(results, Path(args.json), summary=summary, not_measured=not_measured)
         print(f"json: {args.json}")
     return 1 if failed else 0
+
+
+def _identify_rows(args: argparse.Namespace, started: float) -> tuple[list[Any], dict[str, Any]]:
+    """``bench --kinds identify``'s measurements, its table printed: (rows, summary)."""
+    from harness.cli.bench_identify import format_identify_table, identify_summary, run_identify_bench
+
+    results = run_identify_bench(args.rasterizer or None, repeats=1 if args.budget == 0 else 2, cold=args.budget > 0,
+                                 timeout=args.timeout,
+                                 progress=lambda line: print(f"[{time.perf_counter() - started:5.0f} s] {line}",
+                                                             file=sys.stderr, flush=True))
+    print(format_identify_table(results))
+    return results, {"identify": identify_summary(results)}
+
+
+def _bench_identify(args: argparse.Namespace, started: float) -> int:
+    """``bench --kinds identify`` alone: the table and JSON of identify's seconds per
+    built-in mode (``--rasterizer``: those modes); ``--budget 0`` identifies each once and
+    skips the cold figure (smoke tests). Exit 1 when a mode could not be measured."""
+    from harness.cli.bench import write_json
+
+    results, summary = _identify_rows(args, started)
+    for m in results:
+        if m.fault:
+            print(f"failed: identify {m.contender}: {m.fault}")
+    if args.json:
+        write_json(results, Path(args.json), summary=summary)
+        print(f"json: {args.json}")
+    return 1 if any(m.fault for m in results) else 0
 
 
 def _bench_campaign(args: argparse.Namespace) -> int:

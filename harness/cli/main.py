@@ -166,7 +166,8 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--budget", type=_non_negative_seconds, default=1.0, help="seconds of repeats per contender")
     bench.add_argument("--kinds", type=_bench_kinds, metavar="A,B",
                        help="only these workload kinds: triangles (W1, W2), paths (P1, P2, P3), lines (L1, L2), "
-                            "anti-aliased strokes (S1, S2); default all")
+                            "anti-aliased strokes (S1, S2), identify (seconds of rastercheck identify per built-in mode); "
+                            "default all but identify")
     bench.add_argument("--timeout", type=_positive_seconds, default=60.0,
                        help="the most seconds one call of a contender may take (each contender runs in a process of its own)")
     bench.add_argument("--campaign", action="store_true",

@@ -815,7 +815,7 @@ def triangle_verdict_cases(seed: int, model: CoverageModel) -> list[Case | Motio
         cases += partition_cases(seed)
     if model.alphas:
         # the plain geometries' sixteenth-pixel translations (no texture, no projected mesh)
-        cases += [m for m in motion_cases(seed) if m.id.endswith("-1/16")
+        cases += [m for m in motion_cases(seed, meshes=False) if m.id.endswith("-1/16")
                   and m.id.split("/")[1] in ("triangle", "fan-8", "grid-3x3")]
     return cases
 

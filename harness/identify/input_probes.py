@@ -15,6 +15,8 @@ this probe, then to the order of :data:`INPUTS`.
 
 from __future__ import annotations
 
+import heapq
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -190,6 +192,73 @@ def same_ties(a: Convention, b: Convention) -> bool:
     return ay == by and not on_grid[0]
 
 
+class _Scorer:
+    """Each candidate's mismatches summed over the ``answered`` scenes, as far as the fit
+    needs them. The fit reads the best candidate (least mismatches, then first listed),
+    each input's least mismatches, every candidate as good as the best, and perhaps the
+    best of some other candidates (:meth:`first`): a candidate is scored scene by scene and
+    left off, with its partial sum, once that sum exceeds the least mismatches already
+    found for its input -- it can then be none of those, as a sum only grows -- and
+    finished only if :meth:`first` needs it. ``scored``: (mismatches, index, candidate) of
+    the finished candidates, sorted; every candidate it leaves out has more mismatches
+    than the best of its input (the answers are the same as scoring them all).
+
+    >>> from harness.contract.coverage import Coverage
+    >>> from harness.engine.isolation import Outcome
+    >>> scene = Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]])
+    >>> drawn = Drawn(scene, Outcome(Coverage([0, 0, 0], [0, 1, 2], [0, 0, 0], [3, 2, 1])))  # the top-left rule's pixels
+    >>> scorer = _Scorer([drawn, drawn], [Convention(tie=t) for t in ("bottom-right", "top-left", "top-right")])
+    >>> [(score, k) for score, k, _ in scorer.scored], scorer.partial[2]  # top-right left off after one scene
+    ([(0, 1), (8, 0)], (4, 1))
+    >>> best = scorer.first(lambda c: c.tie != "top-left")  # finished as needed; ties to the first listed
+    >>> best is not None and (best[0].tie, best[1])
+    ('bottom-right', 8)
+    """
+
+    def __init__(self, answered: Sequence[Drawn], candidates: Sequence[Convention]) -> None:
+        self.answered = list(answered)
+        self.candidates = list(candidates)
+        # index -> (partial sum, scenes summed)
+        self.partial: dict[int, tuple[int, int]] = {}
+        least: dict[str, int] = {}
+        # the candidates as the fit first found them (each input's own snapping, sample point
+        # and tie rule lead; they bound the rest): in their order
+        for k, c in enumerate(self.candidates):
+            bound = least.get(c.input)
+            score = self._advance(k, bound)
+            if score is not None and (bound is None or score < bound):
+                least[c.input] = score
+        self.scored = sorted(((self.partial[k][0], k, c) for k, c in enumerate(self.candidates)
+                              if self.partial[k][1] == len(self.answered)), key=lambda s: (s[0], s[1]))
+
+    def _advance(self, k: int, bound: int | None) -> int | None:
+        """Sum candidate ``k``'s mismatches on, scene by scene, until done (its total) or the
+        sum exceeds ``bound`` (None: left off there)."""
+        total, done = self.partial.get(k, (0, 0))
+        c = self.candidates[k]
+        while done < len(self.answered):
+            total += self.answered[done].mismatches(c)
+            done += 1
+            if bound is not None and total > bound and done < len(self.answered):
+                self.partial[k] = (total, done)
+                return None
+        self.partial[k] = (total, done)
+        return total
+
+    def first(self, eligible: Callable[[Convention], bool]) -> tuple[Convention, int] | None:
+        """The eligible candidate with least mismatches (first listed among equals) and its
+        mismatches, or None: the unfinished ones finished only while their partial sum could
+        still make them the one (least partial sum first)."""
+        heap = [(self.partial[k][0], k) for k, c in enumerate(self.candidates) if eligible(c)]
+        heapq.heapify(heap)
+        while heap:
+            total, k = heapq.heappop(heap)
+            if self.partial[k][1] == len(self.answered):
+                return self.candidates[k], total  # a lower bound of every other one's sum, ties to the first listed
+            heapq.heappush(heap, (self._advance(k, None) or 0, k))
+        return None
+
+
 def fit_input(call: Call, seed: int, ties: TieFit, snapping: SnapFit) -> InputFit:
     """The input precision that best explains the rasterizer, with the fitted convention
     (``snapping.convention``) around it; the scenes drawn are in ``drawn``."""
@@ -207,8 +276,8 @@ def fit_input_beside(call: Call, seed: int, best: Convention, before: list[Drawn
         return InputFit(best, 0, ((best.input, 0),), tuple(before))
     drawn = [*before, *(draw(call, s) for s in input_scenes(best, seed))]
     answered = [d for d in drawn if d.coverage is not None]
-    scored = [(sum(d.mismatches(c) for d in answered), k, c) for k, c in enumerate(_candidates(best, lattice))]
-    scored.sort(key=lambda s: (s[0], s[1]))
+    scorer = _Scorer(answered, _candidates(best, lattice))
+    scored = scorer.scored
     per_input: dict[str, int] = {}
     for score, _, c in scored:
         per_input.setdefault(c.input, score)
@@ -224,8 +293,7 @@ def fit_input_beside(call: Call, seed: int, best: Convention, before: list[Drawn
                               if score == scored[0][0] and c.input != chosen.input and not same(c)}))
     runner = None
     if any(not np.array_equal(chosen.receive(p), p) for p in lattice):
-        runner = next(((c, score) for score, _, c in scored
-                       if (c.sample, c.tie) != (chosen.sample, chosen.tie) and not same_ties(c, chosen)), None)
+        runner = scorer.first(lambda c: (c.sample, c.tie) != (chosen.sample, chosen.tie) and not same_ties(c, chosen))
     grid = chosen.input_precision
     moot = (grid.kind in ("fixed", "integer") and chosen.subpixel_bits is not None and grid.bits <= chosen.subpixel_bits)
     if moot:  # a grid inside the snapping grid: snapping the received coordinates moves nothing

@@ -20,12 +20,14 @@ and ``compare`` both explain a rasterizer with it, so they cannot disagree.
 
 from __future__ import annotations
 
+import hashlib
+import heapq
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, fields, replace
 from fractions import Fraction
 from functools import cached_property
-from typing import Literal, Protocol
+from typing import Any, Literal, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -42,10 +44,11 @@ from harness.contract.conventions import (
     SnapRounding,
 )
 from harness.contract.coverage import Coverage
+from harness.contract.coverage_models import SINGLE
 from harness.contract.scenes import AnyScene, Scene
 from harness.engine.isolation import Call, Outcome, describe
 from harness.geometry.exact import orientation
-from harness.oracle.coverage import exact_coverage
+from harness.oracle.coverage import exact_coverage, scene_digest
 
 __all__ = [
     "SAMPLES", "CANDIDATES", "SNAP_BITS", "RAW_PIXELS", "Fact", "Drawn", "draw",
@@ -127,8 +130,32 @@ class Drawn:
         return FragmentCounter(self.coverage or Coverage.empty(), self.scene.width, self.scene.height)
 
     @cached_property
+    def _shared(self) -> tuple[dict[Convention, int], dict[tuple[Any, ...], int]]:
+        """The scores of this answer to this scene: shared by every Drawn of the same scene
+        answered alike (the path fit draws the triangle probes' scenes again, a multisample
+        rasterizer's samples often answer alike), as the mismatches depend on nothing else."""
+        coverage = self.coverage
+        if coverage is None:
+            return {}, {}
+        answer = hashlib.blake2b(digest_size=20)
+        for a in (coverage.primitive, coverage.y, coverage.x0, coverage.x1):
+            answer.update(np.ascontiguousarray(a, dtype=np.int64).data)
+            answer.update(b"|")
+        key = (scene_digest(self.scene), answer.digest(), self.dropped)
+        found = _SHARED_SCORES.get(key)
+        if found is None:
+            if len(_SHARED_SCORES) >= _SHARED_LIMIT:
+                _SHARED_SCORES.clear()
+            found = _SHARED_SCORES[key] = ({}, {})
+        return found
+
+    @property
     def _scores(self) -> dict[Convention, int]:
-        return {}
+        return self._shared[0]
+
+    @property
+    def _by_vertices(self) -> dict[tuple[Any, ...], int]:
+        return self._shared[1]
 
     @cached_property
     def _still(self) -> dict[tuple[int, str], bool]:
@@ -147,6 +174,27 @@ class Drawn:
             return convention
         return replace(convention, subpixel_bits=None, snap_rounding="nearest-even")
 
+    @cached_property
+    def _vertices(self) -> dict[tuple[str, int | None, str], bytes]:
+        return {}
+
+    def _vertices_key(self, convention: Convention) -> tuple[Any, ...] | None:
+        """For a single-sample convention: the vertices it sees (input precision and snapping
+        applied) and the convention without either. The single-sample oracle reads the input
+        and the snapping only through :meth:`Convention.snap` (the vertices it decides on),
+        so two conventions with the same key have the same oracle on this scene: identify's
+        candidates differing only in an input grid or a rounding that lands the vertices on
+        the same points share one. None where that does not hold (other coverage models,
+        attributes)."""
+        if convention.model is not SINGLE or self.scene.attributes is not None:
+            return None
+        grid = (convention.input, convention.subpixel_bits, convention.snap_rounding)
+        if grid not in self._vertices:
+            seen = np.ascontiguousarray(convention.snap(self.scene.positions))
+            self._vertices[grid] = hashlib.blake2b(seen.data, digest_size=20).digest()
+        # every field but the three the vertices hold
+        return (self._vertices[grid], *(getattr(convention, name) for name in _BARE_FIELDS))
+
     def mismatches(self, convention: Convention) -> int:
         """Missing plus extra pixels against the exact oracle of ``convention`` (0 when
         unanswered: no answer is not an answer of nothing)."""
@@ -154,8 +202,23 @@ class Drawn:
             return 0
         seen = self._seen_as(convention)
         if seen not in self._scores:
-            self._scores[seen] = self._counter.mismatches(exact_coverage(self.scene, seen)) + self.dropped
+            key = self._vertices_key(seen)
+            score = None if key is None else self._by_vertices.get(key)
+            if score is None:
+                score = self._counter.mismatches(exact_coverage(self.scene, seen)) + self.dropped
+                if key is not None:
+                    self._by_vertices[key] = score
+            self._scores[seen] = score
         return self._scores[seen]
+
+
+# (scene digest, answer digest, dropped) -> the scores of that answer (:attr:`Drawn._shared`), a
+# bounded memory of this process's identifications
+_SHARED_SCORES: dict[tuple[bytes, bytes, int], tuple[dict[Convention, int], dict[tuple[Any, ...], int]]] = {}
+_SHARED_LIMIT = 4096
+
+# the fields of a Convention besides its input precision and snapping (:meth:`Drawn._vertices_key`)
+_BARE_FIELDS = tuple(f.name for f in fields(Convention) if f.name not in ("input", "subpixel_bits", "snap_rounding"))
 
 
 def draw(call: Call, scene: Scene) -> Drawn:
@@ -523,18 +586,57 @@ def fit_ties(call: Call, seed: int = 0) -> TieFit:
     # lattice triangles reach 2 px past a 48 px square; moved 4 px into a 56 px screen
     # (exactly) nothing crosses the viewport edge, so clipping cannot blur the convention
     drawn = [draw(call, Scene(56, 56, lattice_triangles(120, 48, bits, seed + bits) + 4.0)) for bits in (0, 1, 2, 4)]
-    scores = sorted((_fit_score(drawn, cand), i) for i, cand in enumerate(candidates))
+    least = LeastMismatches(drawn, candidates)
     # then ties at the best sample point: vertices on samples, axis-aligned edges through
     # rows of them, and pinwheels, so that every tie rule shows there
-    sample = candidates[scores[0][1]].sample
+    sample = least.first()[0].sample
     for ties in (_tie_triangles(sample, seed), _pinwheels(sample)):
-        drawn.append(draw(call, Scene(56, 56, ties)))
-        scores = sorted((score + _fit_score(drawn[-1:], candidates[i]), i) for score, i in scores)
-    best = candidates[scores[0][1]]
+        drawn.append(draw(call, Scene(56, 56, ties)))  # scored on them too (least holds drawn)
+    best = least.first()[0]
     # the runner-up differs in sample point or tie rule (snapping cannot show on lattices)
-    runner = next(candidates[i] for _, i in scores if (candidates[i].sample, candidates[i].tie) != (best.sample, best.tie))
+    runner = least.first(lambda c: (c.sample, c.tie) != (best.sample, best.tie))[0]
     return TieFit(best, sum(d.mismatches(best) for d in drawn), runner, sum(d.mismatches(runner) for d in drawn),
                   len(candidates), tuple(drawn), found, sweep, vertex)
+
+
+class LeastMismatches:
+    """The candidate with least mismatches on the answered scenes of ``drawn`` (a list the
+    caller may extend: later scenes count from then on), ties to the first listed, found
+    without summing every candidate on every scene: best first by partial sums, a
+    candidate summed on one scene more only while its partial sum (a lower bound of its
+    total) is the least. The answer is that of summing them all and sorting by (total,
+    index).
+
+    >>> from harness.contract.coverage import Coverage
+    >>> scene = Scene(4, 4, [[[0, 0], [4, 0], [0, 4]]])
+    >>> drawn = [Drawn(scene, Outcome(Coverage([0, 0, 0], [0, 1, 2], [0, 0, 0], [3, 2, 1])))]  # the top-left rule's
+    >>> least = LeastMismatches(drawn, [Convention(tie=t) for t in ("bottom-right", "top-left", "top-right")])
+    >>> [(c.tie, total) for c, total in (least.first(), least.first(lambda c: c.tie != "top-left"))]
+    [('top-left', 0), ('bottom-right', 4)]
+    """
+
+    def __init__(self, drawn: list[Drawn], candidates: Sequence[Convention]) -> None:
+        self.drawn = drawn
+        self.candidates = list(candidates)
+        # index -> (partial sum, scenes summed)
+        self.partial = [(0, 0)] * len(self.candidates)
+
+    def first(self, eligible: Callable[[Convention], bool] | None = None) -> tuple[Convention, int]:
+        """The eligible candidate (every one when None) with least mismatches over every scene
+        of ``drawn``, first listed among equals, and its total; IndexError when none is eligible."""
+        heap = [(self.partial[i][0], i) for i, c in enumerate(self.candidates) if eligible is None or eligible(c)]
+        heapq.heapify(heap)
+        while heap:
+            total, i = heap[0]
+            done = self.partial[i][1]
+            if done == len(self.drawn):
+                # every other's partial sum, a lower bound of its total, is at least this (ties: a later index)
+                return self.candidates[i], total
+            d = self.drawn[done]
+            total += d.mismatches(self.candidates[i]) if d.coverage is not None else 0
+            self.partial[i] = (total, done + 1)
+            heapq.heapreplace(heap, (total, i))
+        raise IndexError("no candidate is eligible")
 
 
 # --- snapping, fitted on floats ---------------------------------------------------------------

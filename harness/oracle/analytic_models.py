@@ -59,8 +59,11 @@ tests/oracle/test_analytic_models.py.
 from __future__ import annotations
 
 import math
+from dataclasses import fields
 from fractions import Fraction
+from typing import Any
 
+import numba
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -68,8 +71,9 @@ from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.quantisations import NEAREST, Quantisation, quantisation_named
 from harness.contract.scenes import Scene
-from harness.geometry.exact import orientation
+from harness.geometry.exact import orient2d_sign, orientation
 from harness.oracle.area import area_coverage, area_error_bound, exact_area
+from harness.oracle.coverage import scene_digest
 
 __all__ = ["levels_of", "exact_level", "quantised_area_coverage", "exact_quantised_alpha", "LEVELS"]
 
@@ -201,6 +205,91 @@ def _exact_256ths(triangle: NDArray[np.float64], x: int, y: int) -> tuple[int, b
     return found
 
 
+@numba.njit(cache=True)
+def _whole_pixels(snapped, sign, safe, t, x, y, open_, inside):  # type: ignore[no-untyped-def]
+    """``inside[j]``: whether pixel (x[i], y[i]) of triangle t[i], i = open_[j], lies wholly in
+    the closed triangle (then its area is exactly 1: 256 whole 256ths). A convex triangle
+    holds the unit square iff it holds its four corners, and it holds a corner iff no edge
+    function has the sign opposite to the triangle's orientation: exact signs
+    (:func:`harness.geometry.exact.orient2d_sign`), asked only of triangles within its safe
+    range (``safe``; corners are whole pixels, always in range); the rest say False."""
+    for j in range(open_.size):
+        i = open_[j]
+        m = t[i]
+        s = sign[m]
+        inside[j] = False
+        if not safe[m] or s == 0:
+            continue
+        p = snapped[m]
+        whole = True
+        for corner in range(4):
+            cx = float(x[i] + (corner & 1))
+            cy = float(y[i] + (corner >> 1))
+            for e in range(3):
+                a, b = e, (e + 1) % 3
+                if orient2d_sign(p[a, 0], p[a, 1], p[b, 0], p[b, 1], cx, cy) == -s:
+                    whole = False
+                    break
+            if not whole:
+                break
+        inside[j] = whole
+
+
+class _AreaOf:
+    """A scene's area under a convention (the quantisation aside: :func:`area_coverage`), the
+    received triangles' exact signs, the float area's error bound at each pixel, and the
+    exact ``(floor(256 a), 256 a whole)`` of each pixel asked so far (:meth:`decided`)."""
+
+    # (scene digest, every field of the convention but its quantisation) -> the area: identify's
+    # candidates, four quantisations on each grid, share it; a few scenes at a time
+    _KEPT: dict[tuple[Any, ...], _AreaOf] = {}
+    _LIMIT = 64
+
+    @classmethod
+    def of(cls, scene: Scene, convention: Convention) -> _AreaOf:
+        key = (scene_digest(scene), *(getattr(convention, f.name) for f in fields(Convention) if f.name != "quantisation"))
+        found = cls._KEPT.get(key)
+        if found is None:
+            if len(cls._KEPT) >= cls._LIMIT:
+                cls._KEPT.clear()
+            found = cls._KEPT[key] = cls(scene, convention)
+        return found
+
+    def __init__(self, scene: Scene, convention: Convention) -> None:
+        self.plain = area_coverage(scene, convention)
+        self.t, self.x, self.y = self.plain.pixels()
+        self.area = self.plain.alpha if self.plain.alpha is not None else np.zeros(self.t.size)
+        self.snapped = convention.snap(scene.positions)
+        finite = np.all(np.isfinite(self.snapped), axis=(1, 2))
+        self.finite_snapped = np.where(finite[:, None, None], self.snapped, 0.0)
+        safe = np.empty(self.snapped.shape[0], dtype=np.bool_)
+        self.exact_sign = orientation(self.finite_snapped, safe)
+        self.safe = safe & finite
+        self.sign = self.exact_sign.astype(np.int64)
+        self.bound = 256.0 * area_error_bound(self.finite_snapped, scene.width, scene.height)[self.t]
+        n = self.t.size
+        self.below = np.zeros(n, dtype=np.int64)
+        self.whole = np.zeros(n, dtype=np.bool_)
+        self.known = np.zeros(n, dtype=np.bool_)
+
+    def decided(self, pixels: NDArray[np.int64]) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
+        """``(floor(256 a), 256 a whole)`` of the exact area a at each of ``pixels`` (indices
+        into the area's pixels), decided once each: a pixel wholly inside its triangle by
+        exact corner signs (area 1: 256 whole 256ths; most of them), the rest by rationals."""
+        unknown = pixels[~self.known[pixels]]
+        if unknown.size:
+            # a pixel wholly inside its triangle has area exactly 1 (256 whole 256ths): told by
+            # exact corner signs, no rationals (most of the pixels left open are these)
+            inside = np.empty(unknown.size, dtype=np.bool_)
+            _whole_pixels(self.finite_snapped, self.exact_sign, self.safe, self.t.astype(np.int64),
+                          self.x.astype(np.int64), self.y.astype(np.int64), unknown.astype(np.int64), inside)
+            self.below[unknown[inside]] = 256
+            self.whole[unknown[inside]] = True
+            for i in unknown[~inside].tolist():
+                self.below[i], self.whole[i] = _exact_256ths(self.snapped[self.t[i]], int(self.x[i]), int(self.y[i]))
+            self.known[unknown] = True
+        return self.below[pixels], self.whole[pixels]
+
 
 def quantised_area_coverage(scene: Scene, convention: Convention) -> Coverage:
     """The oracle of ``Convention(coverage="area", quantisation=q)``: every (triangle,
@@ -220,25 +309,21 @@ def quantised_area_coverage(scene: Scene, convention: Convention) -> Coverage:
     if convention.quantisation == NEAREST:
         raise ValueError("quantised_area_coverage needs a convention with a quantisation (not 'nearest')")
     q = quantisation_named(convention.quantisation)
-    plain = area_coverage(scene, convention)
-    t, _, _ = plain.pixels()
-    area = plain.alpha if plain.alpha is not None else np.zeros(t.size)
-    snapped = convention.snap(scene.positions)
-    finite = np.all(np.isfinite(snapped), axis=(1, 2))
-    sign = orientation(np.where(finite[:, None, None], snapped, 0.0)).astype(np.int64)
-    signs = np.where(sign > 0, q.signed(True), q.signed(False))[t]
+    # the area and its exact decisions do not depend on the quantisation: identify scores
+    # every quantisation on each grid, and they share them
+    seen = _AreaOf.of(scene, convention)
+    plain, t = seen.plain, seen.t
+    signs = np.where(seen.sign > 0, q.signed(True), q.signed(False))[t]
     # 256 S within 256 * bound of 256 * float area (exact: a power of two); widened by an
     # ulp each side for the additions' own rounding
-    bound = 256.0 * area_error_bound(np.where(finite[:, None, None], snapped, 0.0), scene.width, scene.height)[t]
-    scaled = 256.0 * area * signs
+    bound = seen.bound
+    scaled = 256.0 * seen.area * signs
     lo = np.floor(np.nextafter(scaled - bound, -np.inf))
     hi = np.floor(np.nextafter(scaled + bound, np.inf))
     k = lo.astype(np.int64)
     open_ = np.flatnonzero(lo != hi)
     if open_.size:  # the rational area decides
-        _, x, y = plain.pixels()
-        for i in open_.tolist():
-            below, whole = _exact_256ths(snapped[t[i]], int(x[i]), int(y[i]))
-            k[i] = below if signs[i] > 0 else -below - (0 if whole else 1)  # floor(-v) = -ceil(v)
+        below, whole = seen.decided(open_)
+        k[open_] = np.where(signs[open_] > 0, below, -below - (~whole).astype(np.int64))  # floor(-v) = -ceil(v)
     level = levels_of(q, k)
     return Coverage(plain.primitive, plain.y, plain.x0, plain.x1, alpha=level / float(LEVELS - 1))

@@ -175,3 +175,11 @@ def test_motion_checks_on_odd_answers_fail_or_pass_without_crashing():
     texel = [r for r in run_suite([NaNAttributes()], cases=[textured], isolate=False, identify=False, repros=False)
              if r.check == "texel"]
     assert texel and texel[0].status in ("fail",) and "attribute" in texel[0].message
+
+
+def test_the_plain_motion_cases_are_the_same_without_the_meshes() -> None:
+    every, plain = motion_cases(0), motion_cases(0, meshes=False)
+    assert plain and [m.id for m in plain] == [m.id for m in every][:len(plain)]
+    assert not any(m.id.startswith(("motion/icosphere", "motion/textured", "motion/tall")) for m in plain)
+    for a, b in zip(plain, every):
+        assert all(np.array_equal(x.positions, y.positions) for x, y in zip(a.frames, b.frames))

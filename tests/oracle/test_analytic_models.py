@@ -259,3 +259,39 @@ def test_the_ftgrays_port_draws_what_freetype_draws():
     assert got.alpha is not None
     for k in range(t.size):
         assert round(float(got.alpha[k]) * 255) == ftgrays_cells.level(triangles[t[k]], int(x[k]), int(y[k]))[0]
+
+
+# -- pixels wholly inside: decided by exact corner signs, the rationals' answer ------------------
+
+# vertices on 1/4 px and whole pixels (corners on edges on purpose) and on 1/10 px, both windings
+_wide_coordinate = st.one_of(st.integers(-8, 10 * 4).map(lambda v: v / 4), st.integers(-2, 10).map(float),
+                             st.integers(-10, 100).map(lambda v: v / 10))
+
+
+@settings(max_examples=120, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(_wide_coordinate, _wide_coordinate), min_size=3, max_size=3))
+@example([(0.0, 0.0), (8.0, 0.0), (0.0, 8.0)])  # pixels with a corner on the hypotenuse
+@example([(0.0, 0.0), (0.0, 8.0), (8.0, 0.0)])
+@example([(-2.0, -2.0), (10.0, -2.0), (-2.0, 10.0)])  # beyond the viewport: every pixel in view whole
+@example([(0.0, 0.0), (1e300, 0.0), (0.0, 8.0)])  # beyond the exact signs' safe range: the rationals decide
+def test_a_pixel_wholly_inside_is_told_by_corner_signs_as_the_rationals_tell_it(vertices):
+    from harness.geometry.exact import orientation
+    from harness.oracle.analytic_models import _integer_area, _whole_pixels
+
+    triangle = np.array(vertices, dtype=np.float64)
+    safe = np.empty(1, dtype=np.bool_)
+    sign = orientation(triangle[None], safe)
+    ys, xs = np.mgrid[0:8, 0:8]
+    x, y = xs.ravel().astype(np.int64), ys.ravel().astype(np.int64)
+    inside = np.empty(x.size, dtype=np.bool_)
+    _whole_pixels(triangle[None], sign, safe, np.zeros(x.size, dtype=np.int64), x, y, np.arange(x.size), inside)
+    for i in range(x.size):
+        whole = _integer_area(triangle, int(x[i]), int(y[i])) == 1
+        # said whole only when it is; every whole pixel of a triangle within the safe range is said so
+        assert inside[i] == (whole and bool(safe[0]) and sign[0] != 0), (x[i], y[i], inside[i], whole)
+    # and the oracle's levels are the rational reference's there
+    for name in NAMES:
+        image = _dense(quantised_area_coverage(Scene(8, 8, triangle[None]), Convention(coverage="area", quantisation=name)),
+                       8, 8)
+        for j in np.flatnonzero(inside).tolist():
+            assert image[y[j], x[j]] == exact_level(triangle, int(x[j]), int(y[j]), name) / 255
