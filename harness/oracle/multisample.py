@@ -1,0 +1,403 @@
+"""The exact multisample oracle in one pass: every sample of a pattern decided per triangle
+from one setup (issue 35).
+
+The standard multisample rule (D3D11, Vulkan, GL) decides each sample of a pattern as the
+single-sample oracle decides its one sample, at the sample's own offset, under the same tie
+rule, snapping and culling. Everything but the sample rows is the same for every sample:
+the snapped vertices, the exact orientation, culling and which edges own their ties
+(:class:`harness.oracle.coverage.PreparedTriangles`), and each edge's slope and error
+bound. So the triangle is prepared once, and each sample row's crossings are decided from
+the same prepared edges with the single-sample oracle's own pieces
+(:func:`harness.oracle.kernels._apply_edge`: the float filter with its proven error bound,
+the exact predicate where a column boundary lies within it). The spans are written in the
+order :func:`harness.oracle.coverage.exact_multisample` returns them (triangle, sample,
+row): no sort, no concatenation. The supersampled area oracle counts, per pixel row, the
+samples of all the pattern's sample rows on that row together.
+
+The former path -- the single-sample oracle once per offset, then concatenated and sorted
+-- stays as the reference (:func:`harness.oracle.coverage.exact_multisample_layers`,
+:func:`harness.oracle.coverage.sample_shares_layers`); the tests compare the two bit for
+bit. Triangles beyond the expansions' safe range take that path (exact rationals).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numba
+import numpy as np
+from numpy.typing import NDArray
+
+from harness.contract.conventions import Convention
+from harness.contract.coverage import Coverage
+from harness.contract.scenes import Scene
+from harness.oracle.kernels import _apply_edge, _bound, _edge_setup, _row_range
+
+__all__ = ["multisample_spans", "fused_samples", "fused_shares"]
+
+
+@numba.njit(cache=True, inline="always")
+def _oriented(positions, sign, t):  # type: ignore[no-untyped-def]
+    # Vertices in oriented order (A > 0): swap the last two when A < 0.
+    v1, v2 = (1, 2) if sign[t] > 0 else (2, 1)
+    return (positions[t, 0, 0], positions[t, 0, 1], positions[t, v1, 0], positions[t, v1, 1],
+            positions[t, v2, 0], positions[t, v2, 1])
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _setup(x0, y0, x1, y1, x2, y2, offsets, height):  # type: ignore[no-untyped-def]
+    """The triangle's y extent and its edges' constants, once for every sample: each
+    edge's error bound is taken over the union of the sample rows (a larger reach only
+    widens the bound, which never changes an answer -- it only decides when the float
+    crossing is certain). Returns (ymin, ymax, any row, the three edges' constants)."""
+    ymin = min(y0, y1, y2)
+    ymax = max(y0, y1, y2)
+    y_first = np.inf
+    y_last = -np.inf
+    for s in range(offsets.shape[0]):
+        sy = offsets[s, 1]
+        first, last = _row_range(ymin, ymax, sy, height)
+        if first <= last:
+            y_first = min(y_first, first + sy)
+            y_last = max(y_last, last + sy)
+    some = y_first <= y_last
+    if not some:
+        y_first = y_last = 0.0
+    e0 = _edge_setup(x0, y0, x1, y1, y_first, y_last)
+    e1 = _edge_setup(x1, y1, x2, y2, y_first, y_last)
+    e2 = _edge_setup(x2, y2, x0, y0, y_first, y_last)
+    return ymin, ymax, some, e0, e1, e2
+
+
+@numba.njit(cache=True, inline="always")
+def _run(x0, y0, x1, y1, x2, y2, e0, e1, e2, o0, o1, o2, sx, ys, width):  # type: ignore[no-untyped-def]
+    """The run [left, right) of sample columns the triangle covers on sample row ys
+    (as the single-sample kernel decides it: each edge reaching the row narrows it)."""
+    left, right = _apply_edge(x0, y0, x1, y1, e0[0], e0[1], e0[2], e0[3], o0, sx, ys, width, 0, width)
+    left, right = _apply_edge(x1, y1, x2, y2, e1[0], e1[1], e1[2], e1[3], o1, sx, ys, width, left, right)
+    left, right = _apply_edge(x2, y2, x0, y0, e2[0], e2[1], e2[2], e2[3], o2, sx, ys, width, left, right)
+    return left, right
+
+
+@numba.njit(cache=True, inline="always")
+def _edge_between(p, q):  # type: ignore[no-untyped-def]
+    """Which edge (k: vertex k to vertex k + 1, oriented order) joins vertices p and q."""
+    return p if (p + 1) % 3 == q else q
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _multisample_kernel(positions, sign, owned, use, offsets, width, height,  # type: ignore[no-untyped-def]
+                        out_t, out_s, out_y, out_x0, out_x1):
+    """Spans of every sample of every used triangle, in (triangle, sample, row) order.
+
+    A sample row strictly between the vertices' heights meets exactly two edges: the
+    long one (top to bottom vertex), which bounds one side, and the short one of its half,
+    which bounds the other; only those two are evaluated there (with the same
+    :func:`harness.oracle.kernels._bound` as every row). A row through a vertex takes
+    all three edges, as the single-sample kernel does (a horizontal edge's tie, and the
+    two edges meeting at the middle vertex)."""
+    n = 0
+    for t in range(positions.shape[0]):
+        if not use[t]:
+            continue
+        x0, y0, x1, y1, x2, y2 = _oriented(positions, sign, t)
+        o0, o1, o2 = owned[t, 0], owned[t, 1], owned[t, 2]
+        ymin, ymax, some, e0, e1, e2 = _setup(x0, y0, x1, y1, x2, y2, offsets, height)
+        if not some:
+            continue
+        # vertices by height: top, middle, bottom (ties in any order: their rows go
+        # through a vertex and take all three edges)
+        top, mid, bottom = 0, 1, 2
+        ys_ = (y0, y1, y2)
+        if ys_[mid] < ys_[top]:
+            top, mid = mid, top
+        if ys_[bottom] < ys_[mid]:
+            mid, bottom = bottom, mid
+            if ys_[mid] < ys_[top]:
+                top, mid = mid, top
+        ymid = ys_[mid]
+        xs_ = (x0, x1, x2)
+        es_ = (e0, e1, e2)
+        os_ = (o0, o1, o2)
+        k_long = _edge_between(top, bottom)
+        k_up = _edge_between(top, mid)
+        k_down = _edge_between(mid, bottom)
+        # the long edge's ends, slope, bound and ownership; lower: it bounds the left
+        la, lb = k_long, (k_long + 1) % 3
+        lax, lay, lbx, lby = xs_[la], ys_[la], xs_[lb], ys_[lb]
+        l_slope, l_delta, l_owned = es_[k_long][2], es_[k_long][3], os_[k_long]
+        l_lower = lby < lay
+        ua, ub = k_up, (k_up + 1) % 3
+        uax, uay, ubx, uby = xs_[ua], ys_[ua], xs_[ub], ys_[ub]
+        u_slope, u_delta, u_owned = es_[k_up][2], es_[k_up][3], os_[k_up]
+        da, db = k_down, (k_down + 1) % 3
+        dax, day, dbx, dby = xs_[da], ys_[da], xs_[db], ys_[db]
+        d_slope, d_delta, d_owned = es_[k_down][2], es_[k_down][3], os_[k_down]
+        s_lower = not l_lower  # the short edges bound the other side
+        for s in range(offsets.shape[0]):
+            sx, sy = offsets[s, 0], offsets[s, 1]
+            first, last = _row_range(ymin, ymax, sy, height)
+            for j in range(first, last + 1):
+                ys = j + sy
+                if ys < ymin or ys > ymax:
+                    continue  # the conservative row range may overshoot by a row
+                if ys == y0 or ys == y1 or ys == y2:
+                    left, right = _run(x0, y0, x1, y1, x2, y2, e0, e1, e2, o0, o1, o2, sx, ys, width)
+                else:
+                    c_long = _bound(lax, lay, lbx, lby, l_slope, l_delta, l_owned, sx, ys, width, l_lower)
+                    if ys < ymid:
+                        c_short = _bound(uax, uay, ubx, uby, u_slope, u_delta, u_owned, sx, ys, width, s_lower)
+                    else:
+                        c_short = _bound(dax, day, dbx, dby, d_slope, d_delta, d_owned, sx, ys, width, s_lower)
+                    # _bound clamps to [0, width]: the run is [lower bound, upper bound)
+                    left, right = (c_long, c_short) if l_lower else (c_short, c_long)
+                if left < right:
+                    out_t[n] = t
+                    out_s[n] = s
+                    out_y[n] = j
+                    out_x0[n] = left
+                    out_x1[n] = right
+                    n += 1
+    return n
+
+
+@numba.njit(cache=True)
+def _interpolate_samples(positions, values, inv_w, perspective, span_t, span_s, span_y, span_x0,  # type: ignore[no-untyped-def]
+                         span_x1, offsets, out):
+    """Barycentric interpolation at each covered sample, l_i = E_i / (E_0 + E_1 + E_2):
+    :func:`harness.oracle.coverage.interpolate_kernel` with each span's own sample offset
+    (the same arithmetic, so the same bits)."""
+    k_count = values.shape[2]
+    row = 0
+    for s in range(span_t.size):
+        t = span_t[s]
+        p = positions[t]
+        sx = offsets[span_s[s], 0]
+        ys = span_y[s] + offsets[span_s[s], 1]
+        for i in range(span_x0[s], span_x1[s]):
+            xs = i + sx
+            e0 = (p[2, 0] - p[1, 0]) * (ys - p[1, 1]) - (p[2, 1] - p[1, 1]) * (xs - p[1, 0])
+            e1 = (p[0, 0] - p[2, 0]) * (ys - p[2, 1]) - (p[0, 1] - p[2, 1]) * (xs - p[2, 0])
+            e2 = (p[1, 0] - p[0, 0]) * (ys - p[0, 1]) - (p[1, 1] - p[0, 1]) * (xs - p[0, 0])
+            if perspective:
+                e0 *= inv_w[t, 0]
+                e1 *= inv_w[t, 1]
+                e2 *= inv_w[t, 2]
+            total = e0 + e1 + e2
+            for k in range(k_count):
+                out[row, k] = (e0 * values[t, 0, k] + e1 * values[t, 1, k] + e2 * values[t, 2, k]) / total
+            row += 1
+
+
+def _offsets(samples: Sequence[Sequence[float]]) -> NDArray[np.float64]:
+    offsets = np.ascontiguousarray(np.asarray(samples, dtype=np.float64).reshape(-1, 2))
+    return offsets
+
+
+def multisample_spans(scene: Scene, convention: Convention,
+                      samples: Sequence[Sequence[float]]) -> Coverage | None:
+    """Exactly which samples of the pattern ``samples`` each triangle covers, as one
+    Coverage with sample ids, spans in (triangle, sample, row) order (attributes at each
+    sample); ``None`` when some triangle lies beyond the expansions' safe range (the
+    caller takes the per-sample path, whose rational fallback decides it).
+
+    Parameters
+    ----------
+    scene : Scene
+    convention : Convention
+        A single-sample convention (its model ``single``); its ``sample`` is not used.
+    samples : sequence of (x, y)
+        The pattern's offsets, in pattern order.
+
+    Returns
+    -------
+    Coverage or None
+
+    Examples
+    --------
+    >>> cov = multisample_spans(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(), [(0.25, 0.25), (0.75, 0.75)])
+    >>> cov.sample.tolist(), cov.y.tolist(), cov.x1.tolist()
+    ([0, 0, 1], [0, 1, 0], [2, 1, 1])
+    """
+    from harness.oracle.coverage import PreparedTriangles, _vertex_values
+
+    prepared = PreparedTriangles(scene, convention)
+    if (prepared.active & ~prepared.safe).any():
+        return None
+    offsets = _offsets(samples)
+    n_samples = offsets.shape[0]
+    # each sample's rows differ from the prepared sample row's by at most one per triangle
+    capacity = n_samples * (prepared.rows + int(np.count_nonzero(prepared.active)))
+    block = np.empty((5, capacity), dtype=np.int64)
+    n = int(_multisample_kernel(prepared.snapped, prepared.sign, prepared.owned, prepared.active, offsets,
+                                scene.width, scene.height, *block))
+    triangle, sample, y, x0, x1 = (a[:n] for a in block)
+    attributes = None
+    if scene.attributes is not None:
+        values, inv_w = _vertex_values(scene, prepared)
+        attributes = np.empty((int((x1 - x0).sum()), scene.n_attributes))
+        _interpolate_samples(prepared.positions, values, inv_w, scene.w is not None, triangle, sample, y, x0, x1,
+                             offsets, attributes)
+    return Coverage(triangle, y, x0, x1, attributes, sample)
+
+
+@numba.njit(cache=True)
+def _layer_order(sample, n_samples):  # type: ignore[no-untyped-def]
+    """A stable counting sort of the spans by sample: spans of sample 0 first (in their
+    order), then sample 1's, ...; and where each sample's spans start (S + 1,)."""
+    starts = np.zeros(n_samples + 1, dtype=np.int64)
+    for k in range(sample.size):
+        starts[sample[k] + 1] += 1
+    for s in range(n_samples):
+        starts[s + 1] += starts[s]
+    fill = starts[:-1].copy()
+    order = np.empty(sample.size, dtype=np.int64)
+    for k in range(sample.size):
+        s = sample[k]
+        order[fill[s]] = k
+        fill[s] += 1
+    return order, starts
+
+
+def fused_samples(scene: Scene, convention: Convention, samples: Sequence[Sequence[float]]) -> list[Coverage] | None:
+    """:func:`multisample_spans` as one single-sample Coverage per sample, in pattern
+    order, each sorted by triangle then row (what
+    :func:`harness.oracle.coverage.exact_samples` returns); ``None`` as there."""
+    joined = multisample_spans(scene, convention, samples)
+    if joined is None:
+        return None
+    assert joined.sample is not None
+    order, starts = _layer_order(joined.sample, len(samples))
+    if joined.attributes is None:
+        return [Coverage(*(getattr(joined, f)[order[a:b]] for f in ("triangle", "y", "x0", "x1")))
+                for a, b in zip(starts[:-1], starts[1:], strict=True)]
+    layers = []
+    for a, b in zip(starts[:-1], starts[1:], strict=True):
+        layer = joined.take(order[a:b])
+        layers.append(Coverage(layer.triangle, layer.y, layer.x0, layer.x1, layer.attributes))
+    return layers
+
+
+@numba.njit(cache=True)
+def _shares_capacity(positions, use, offsets, width, height):  # type: ignore[no-untyped-def]
+    """Room for the shares of the used triangles: per triangle, its pixel rows times the
+    columns of its bounding box (a run's pixels lie in it) -- pixels -- and times at most
+    one run per sample -- spans. Returns (spans, pixels)."""
+    spans = 0
+    pixels = 0
+    for t in range(positions.shape[0]):
+        if not use[t]:
+            continue
+        xs = positions[t, :, 0]
+        ys = positions[t, :, 1]
+        first, last = height, -1
+        for s in range(offsets.shape[0]):
+            a, b = _row_range(ys.min(), ys.max(), offsets[s, 1], height)
+            if a <= b:
+                first = min(first, a)
+                last = max(last, b)
+        if first > last:
+            continue
+        # clamped as floats first: a coordinate may be far beyond any int
+        columns = int(min(max(math.floor(xs.max()) + 1.0, 0.0), float(width))
+                      - min(max(math.floor(xs.min()) - 1.0, 0.0), float(width)))
+        columns = max(columns, 0)
+        pixels += (last - first + 1) * columns
+        spans += (last - first + 1) * min(columns, offsets.shape[0])
+    return spans, pixels
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _shares_kernel(positions, sign, owned, use, offsets, width, height):  # type: ignore[no-untyped-def]
+    """Per (triangle, pixel row), the samples of every sample row of that pixel row
+    counted per pixel together: spans over the pixels some sample covers, with a count
+    per pixel, in (triangle, row) order. Returns (spans (4, n), counts (m,))."""
+    n_samples = offsets.shape[0]
+    span_room, pixel_room = _shares_capacity(positions, use, offsets, width, height)
+    spans = np.empty((4, span_room), dtype=np.int64)
+    counts = np.empty(pixel_room, dtype=np.int64)
+    n = 0
+    m = 0
+    lefts = np.empty(n_samples, dtype=np.int64)
+    rights = np.empty(n_samples, dtype=np.int64)
+    delta = np.zeros(width + 1, dtype=np.int64)
+    for t in range(positions.shape[0]):
+        if not use[t]:
+            continue
+        x0, y0, x1, y1, x2, y2 = _oriented(positions, sign, t)
+        o0, o1, o2 = owned[t, 0], owned[t, 1], owned[t, 2]
+        ymin, ymax, some, e0, e1, e2 = _setup(x0, y0, x1, y1, x2, y2, offsets, height)
+        if not some:
+            continue
+        # the pixel rows any sample row of the triangle falls on
+        j_first = height
+        j_last = -1
+        for s in range(n_samples):
+            first, last = _row_range(ymin, ymax, offsets[s, 1], height)
+            if first <= last:
+                j_first = min(j_first, first)
+                j_last = max(j_last, last)
+        for j in range(j_first, j_last + 1):
+            lo = width
+            hi = 0
+            for s in range(n_samples):
+                sx, sy = offsets[s, 0], offsets[s, 1]
+                ys = j + sy
+                left, right = 0, 0
+                if ys >= ymin and ys <= ymax:
+                    left, right = _run(x0, y0, x1, y1, x2, y2, e0, e1, e2, o0, o1, o2, sx, ys, width)
+                lefts[s] = left
+                rights[s] = right
+                if left < right:
+                    lo = min(lo, left)
+                    hi = max(hi, right)
+            if lo >= hi:
+                continue
+            for s in range(n_samples):
+                if lefts[s] < rights[s]:
+                    delta[lefts[s]] += 1
+                    delta[rights[s]] -= 1
+            running = 0
+            open_run = False
+            for x in range(lo, hi):
+                running += delta[x]
+                delta[x] = 0
+                if running > 0:
+                    if not open_run:
+                        spans[0, n] = t
+                        spans[1, n] = j
+                        spans[2, n] = x
+                        open_run = True
+                    counts[m] = running
+                    m += 1
+                elif open_run:
+                    spans[3, n] = x
+                    n += 1
+                    open_run = False
+            delta[hi] = 0
+            if open_run:
+                spans[3, n] = hi
+                n += 1
+    return spans[:, :n], counts[:m]
+
+
+def fused_shares(scene: Scene, convention: Convention, samples: Sequence[Sequence[float]],
+                 n_samples: int) -> Coverage | None:
+    """Per (triangle, pixel) the share of the pattern's ``n_samples`` samples the triangle
+    covers, as alpha, all samples of a pixel row counted together (what
+    :func:`harness.oracle.coverage.sample_shares` returns); ``None`` when some triangle
+    lies beyond the expansions' safe range.
+
+    >>> fused_shares(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(), [(0.25, 0.25), (0.75, 0.75)], 2).alpha.tolist()
+    [1.0, 0.5, 0.5]
+    """
+    from harness.oracle.coverage import PreparedTriangles
+
+    prepared = PreparedTriangles(scene, convention)
+    if (prepared.active & ~prepared.safe).any():
+        return None
+    offsets = _offsets(samples)
+    spans, counts = _shares_kernel(prepared.snapped, prepared.sign, prepared.owned, prepared.active, offsets,
+                                   scene.width, scene.height)
+    return Coverage(spans[0], spans[1], spans[2], spans[3], alpha=counts / n_samples)
