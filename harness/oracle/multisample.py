@@ -80,6 +80,43 @@ def _run(x0, y0, x1, y1, x2, y2, e0, e1, e2, o0, o1, o2, sx, ys, width):  # type
     return left, right
 
 
+@numba.njit(cache=True)
+def _sample_rows(positions, use, offsets, height):  # type: ignore[no-untyped-def]
+    """How many (triangle, sample, row) the used triangles' sample rows make: rows j of
+    the viewport with ymin <= j + sy <= ymax, for each sample -- the spans the kernel may
+    write (it writes at most one per such row)."""
+    total = 0
+    for t in range(positions.shape[0]):
+        if not use[t]:
+            continue
+        ymin = min(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1])
+        ymax = max(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1])
+        for s in range(offsets.shape[0]):
+            sy = offsets[s, 1]
+            first, last = _row_range(ymin, ymax, sy, height)
+            # the conservative range may overshoot by a row at either end
+            if first <= last and first + sy < ymin:
+                first += 1
+            if first <= last and last + sy > ymax:
+                last -= 1
+            total += max(last - first + 1, 0)
+    return total
+
+
+@numba.njit(cache=True, inline="always")
+def _inner_bound(ax, ay, slope, delta, sx, ys):  # type: ignore[no-untyped-def]
+    """:func:`harness.oracle.kernels._bound`'s float filter on an edge whose crossings all lie
+    well inside the viewport (no clamping): the first column past the crossing when the
+    filter is certain of it, else -1 (the caller settles it exactly)."""
+    xc = ax + slope * (ys - ay)
+    lo = xc - delta - sx
+    hi = xc + delta - sx
+    f = math.floor(lo)
+    if hi < f + 1.0:
+        return int(f) + 1
+    return -1
+
+
 @numba.njit(cache=True, inline="always")
 def _edge_between(p, q):  # type: ignore[no-untyped-def]
     """Which edge (k: vertex k to vertex k + 1, oriented order) joins vertices p and q."""
@@ -135,6 +172,10 @@ def _multisample_kernel(positions, sign, owned, use, offsets, width, height,  # 
         dax, day, dbx, dby = xs_[da], ys_[da], xs_[db], ys_[db]
         d_slope, d_delta, d_owned = es_[k_down][2], es_[k_down][3], os_[k_down]
         s_lower = not l_lower  # the short edges bound the other side
+        # every vertex at least 2 + 2 * bound columns inside the viewport: no crossing is
+        # clamped, so _bound's filter reduces to _inner_bound's (the same arithmetic)
+        margin = 2.0 + 2.0 * max(e0[3], e1[3], e2[3])
+        inner = min(x0, x1, x2) >= margin and max(x0, x1, x2) <= width - margin
         for s in range(offsets.shape[0]):
             sx, sy = offsets[s, 0], offsets[s, 1]
             first, last = _row_range(ymin, ymax, sy, height)
@@ -145,11 +186,21 @@ def _multisample_kernel(positions, sign, owned, use, offsets, width, height,  # 
                 if ys == y0 or ys == y1 or ys == y2:
                     left, right = _run(x0, y0, x1, y1, x2, y2, e0, e1, e2, o0, o1, o2, sx, ys, width)
                 else:
-                    c_long = _bound(lax, lay, lbx, lby, l_slope, l_delta, l_owned, sx, ys, width, l_lower)
-                    if ys < ymid:
-                        c_short = _bound(uax, uay, ubx, uby, u_slope, u_delta, u_owned, sx, ys, width, s_lower)
-                    else:
-                        c_short = _bound(dax, day, dbx, dby, d_slope, d_delta, d_owned, sx, ys, width, s_lower)
+                    c_long = -1
+                    c_short = -1
+                    if inner:
+                        c_long = _inner_bound(lax, lay, l_slope, l_delta, sx, ys)
+                        if ys < ymid:
+                            c_short = _inner_bound(uax, uay, u_slope, u_delta, sx, ys)
+                        else:
+                            c_short = _inner_bound(dax, day, d_slope, d_delta, sx, ys)
+                    if c_long < 0:
+                        c_long = _bound(lax, lay, lbx, lby, l_slope, l_delta, l_owned, sx, ys, width, l_lower)
+                    if c_short < 0:
+                        if ys < ymid:
+                            c_short = _bound(uax, uay, ubx, uby, u_slope, u_delta, u_owned, sx, ys, width, s_lower)
+                        else:
+                            c_short = _bound(dax, day, dbx, dby, d_slope, d_delta, d_owned, sx, ys, width, s_lower)
                     # _bound clamps to [0, width]: the run is [lower bound, upper bound)
                     left, right = (c_long, c_short) if l_lower else (c_short, c_long)
                 if left < right:
@@ -226,9 +277,10 @@ def multisample_spans(scene: Scene, convention: Convention,
     if (prepared.active & ~prepared.safe).any():
         return None
     offsets = _offsets(samples)
-    n_samples = offsets.shape[0]
-    # each sample's rows differ from the prepared sample row's by at most one per triangle
-    capacity = n_samples * (prepared.rows + int(np.count_nonzero(prepared.active)))
+    # Room for exactly the sample rows, not more: the spans are 40 bytes each, and a block
+    # under 32 MiB stays with the allocator between calls (glibc's dynamic mmap
+    # threshold), so a repeat does not pay the page faults of fresh memory again.
+    capacity = int(_sample_rows(prepared.snapped, prepared.active, offsets, scene.height))
     block = np.empty((5, capacity), dtype=np.int64)
     n = int(_multisample_kernel(prepared.snapped, prepared.sign, prepared.owned, prepared.active, offsets,
                                 scene.width, scene.height, *block))
