@@ -45,41 +45,6 @@ def _oriented(positions, sign, t):  # type: ignore[no-untyped-def]
             positions[t, v2, 0], positions[t, v2, 1])
 
 
-@numba.njit(cache=True, error_model="numpy")
-def _setup(x0, y0, x1, y1, x2, y2, offsets, height):  # type: ignore[no-untyped-def]
-    """The triangle's y extent and its edges' constants, once for every sample: each
-    edge's error bound is taken over the union of the sample rows (a larger reach only
-    widens the bound, which never changes an answer -- it only decides when the float
-    crossing is certain). Returns (ymin, ymax, any row, the three edges' constants)."""
-    ymin = min(y0, y1, y2)
-    ymax = max(y0, y1, y2)
-    y_first = np.inf
-    y_last = -np.inf
-    for s in range(offsets.shape[0]):
-        sy = offsets[s, 1]
-        first, last = _row_range(ymin, ymax, sy, height)
-        if first <= last:
-            y_first = min(y_first, first + sy)
-            y_last = max(y_last, last + sy)
-    some = y_first <= y_last
-    if not some:
-        y_first = y_last = 0.0
-    e0 = _edge_setup(x0, y0, x1, y1, y_first, y_last)
-    e1 = _edge_setup(x1, y1, x2, y2, y_first, y_last)
-    e2 = _edge_setup(x2, y2, x0, y0, y_first, y_last)
-    return ymin, ymax, some, e0, e1, e2
-
-
-@numba.njit(cache=True, inline="always")
-def _run(x0, y0, x1, y1, x2, y2, e0, e1, e2, o0, o1, o2, sx, ys, width):  # type: ignore[no-untyped-def]
-    """The run [left, right) of sample columns the triangle covers on sample row ys
-    (as the single-sample kernel decides it: each edge reaching the row narrows it)."""
-    left, right = _apply_edge(x0, y0, x1, y1, e0[0], e0[1], e0[2], e0[3], o0, sx, ys, width, 0, width)
-    left, right = _apply_edge(x1, y1, x2, y2, e1[0], e1[1], e1[2], e1[3], o1, sx, ys, width, left, right)
-    left, right = _apply_edge(x2, y2, x0, y0, e2[0], e2[1], e2[2], e2[3], o2, sx, ys, width, left, right)
-    return left, right
-
-
 @numba.njit(cache=True)
 def _sample_rows(positions, use, offsets, height):  # type: ignore[no-untyped-def]
     """How many (triangle, sample, row) the used triangles' sample rows make: rows j of
@@ -104,6 +69,73 @@ def _sample_rows(positions, use, offsets, height):  # type: ignore[no-untyped-de
 
 
 @numba.njit(cache=True, inline="always")
+def _edge_between(p, q):  # type: ignore[no-untyped-def]
+    """Which edge (k: vertex k to vertex k + 1, oriented order) joins vertices p and q."""
+    return p if (p + 1) % 3 == q else q
+
+
+@numba.njit(cache=True, inline="always")
+def _edge_record(xs, ys, es, os, k):  # type: ignore[no-untyped-def]
+    """Edge k (vertex k to k + 1) as (ax, ay, bx, by, slope, bound, owned, lower), lower:
+    E grows with x, so the edge bounds the run from the left."""
+    a, b = k, (k + 1) % 3
+    return (xs[a], ys[a], xs[b], ys[b], es[k][2], es[k][3], os[k], ys[b] < ys[a])
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _triangle(positions, sign, owned, t, offsets, width, height):  # type: ignore[no-untyped-def]
+    """Everything the samples of triangle ``t`` share, set up once: its vertices in
+    oriented order, y extent, edges and their owners (as the single-sample kernel has
+    them) and, for the rows strictly between the vertices' heights, the long edge (top
+    to bottom vertex) and the two short ones.
+
+    Each edge's error bound is taken over the union of the sample rows: a larger reach
+    only widens the bound, which never changes an answer (it only tells when the float
+    crossing is already certain). Returns (any row, ymin, ymax, ymid, inner, vertices,
+    edge constants, owners, long, upper short, lower short edge)."""
+    x0, y0, x1, y1, x2, y2 = _oriented(positions, sign, t)
+    ymin = min(y0, y1, y2)
+    ymax = max(y0, y1, y2)
+    y_first = np.inf
+    y_last = -np.inf
+    for s in range(offsets.shape[0]):
+        sy = offsets[s, 1]
+        first, last = _row_range(ymin, ymax, sy, height)
+        if first <= last:
+            y_first = min(y_first, first + sy)
+            y_last = max(y_last, last + sy)
+    some = y_first <= y_last
+    if not some:
+        y_first = y_last = 0.0
+    e0 = _edge_setup(x0, y0, x1, y1, y_first, y_last)
+    e1 = _edge_setup(x1, y1, x2, y2, y_first, y_last)
+    e2 = _edge_setup(x2, y2, x0, y0, y_first, y_last)
+    o0, o1, o2 = owned[t, 0], owned[t, 1], owned[t, 2]
+    # vertices by height: top, middle, bottom (ties in any order: a row at a tied height
+    # goes through a vertex and takes all three edges)
+    xs = (x0, x1, x2)
+    ys = (y0, y1, y2)
+    es = (e0, e1, e2)
+    os = (o0, o1, o2)
+    top, mid, bottom = 0, 1, 2
+    if ys[mid] < ys[top]:
+        top, mid = mid, top
+    if ys[bottom] < ys[mid]:
+        mid, bottom = bottom, mid
+        if ys[mid] < ys[top]:
+            top, mid = mid, top
+    long = _edge_record(xs, ys, es, os, _edge_between(top, bottom))
+    upper = _edge_record(xs, ys, es, os, _edge_between(top, mid))
+    lower = _edge_record(xs, ys, es, os, _edge_between(mid, bottom))
+    # every vertex at least 2 + 2 * bound columns inside the viewport: no crossing is
+    # clamped, and _bound's filter is _inner_bound's (the same arithmetic)
+    margin = 2.0 + 2.0 * max(e0[3], e1[3], e2[3])
+    inner = min(x0, x1, x2) >= margin and max(x0, x1, x2) <= width - margin
+    return (some, ymin, ymax, ys[mid], inner, (x0, y0, x1, y1, x2, y2), (e0, e1, e2), (o0, o1, o2),
+            long, upper, lower)
+
+
+@numba.njit(cache=True, inline="always")
 def _inner_bound(ax, ay, slope, delta, sx, ys):  # type: ignore[no-untyped-def]
     """:func:`harness.oracle.kernels._bound`'s float filter on an edge whose crossings all lie
     well inside the viewport (no clamping): the first column past the crossing when the
@@ -118,64 +150,52 @@ def _inner_bound(ax, ay, slope, delta, sx, ys):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _edge_between(p, q):  # type: ignore[no-untyped-def]
-    """Which edge (k: vertex k to vertex k + 1, oriented order) joins vertices p and q."""
-    return p if (p + 1) % 3 == q else q
+def _crossing(edge, inner, sx, ys, width):  # type: ignore[no-untyped-def]
+    """The column where ``edge``'s test flips on sample row ys (:func:`_bound`)."""
+    ax, ay, bx, by, slope, delta, owned, lower = edge
+    if inner:
+        column = _inner_bound(ax, ay, slope, delta, sx, ys)
+        if column >= 0:
+            return column
+    return _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, lower)
+
+
+@numba.njit(cache=True, inline="always")
+def _decide(tri, sx, ys, width):  # type: ignore[no-untyped-def]
+    """The run [left, right) of sample columns a triangle (:func:`_triangle`) covers on
+    the sample row ys, which lies within its height.
+
+    A row strictly between the vertices' heights meets exactly two edges: the long one,
+    bounding one side, and the short one of its half, the other; only those two are
+    evaluated. A row through a vertex takes all three edges, as the single-sample kernel
+    does (a horizontal edge's tie; the two edges meeting at the middle vertex)."""
+    _, _, _, ymid, inner, v, e, o, long, upper, lower = tri
+    x0, y0, x1, y1, x2, y2 = v
+    if ys == y0 or ys == y1 or ys == y2:
+        left, right = _apply_edge(x0, y0, x1, y1, e[0][0], e[0][1], e[0][2], e[0][3], o[0], sx, ys, width, 0, width)
+        left, right = _apply_edge(x1, y1, x2, y2, e[1][0], e[1][1], e[1][2], e[1][3], o[1], sx, ys, width, left, right)
+        return _apply_edge(x2, y2, x0, y0, e[2][0], e[2][1], e[2][2], e[2][3], o[2], sx, ys, width, left, right)
+    c_long = _crossing(long, inner, sx, ys, width)
+    if ys < ymid:
+        c_short = _crossing(upper, inner, sx, ys, width)
+    else:
+        c_short = _crossing(lower, inner, sx, ys, width)
+    # the columns are clamped to [0, width]: the run is [lower bound, upper bound)
+    return (c_long, c_short) if long[7] else (c_short, c_long)
 
 
 @numba.njit(cache=True, error_model="numpy")
 def _multisample_kernel(positions, sign, owned, use, offsets, width, height,  # type: ignore[no-untyped-def]
                         out_t, out_s, out_y, out_x0, out_x1):
-    """Spans of every sample of every used triangle, in (triangle, sample, row) order.
-
-    A sample row strictly between the vertices' heights meets exactly two edges: the
-    long one (top to bottom vertex), which bounds one side, and the short one of its half,
-    which bounds the other; only those two are evaluated there (with the same
-    :func:`harness.oracle.kernels._bound` as every row). A row through a vertex takes
-    all three edges, as the single-sample kernel does (a horizontal edge's tie, and the
-    two edges meeting at the middle vertex)."""
+    """Spans of every sample of every used triangle, in (triangle, sample, row) order."""
     n = 0
     for t in range(positions.shape[0]):
         if not use[t]:
             continue
-        x0, y0, x1, y1, x2, y2 = _oriented(positions, sign, t)
-        o0, o1, o2 = owned[t, 0], owned[t, 1], owned[t, 2]
-        ymin, ymax, some, e0, e1, e2 = _setup(x0, y0, x1, y1, x2, y2, offsets, height)
+        tri = _triangle(positions, sign, owned, t, offsets, width, height)
+        some, ymin, ymax = tri[0], tri[1], tri[2]
         if not some:
             continue
-        # vertices by height: top, middle, bottom (ties in any order: their rows go
-        # through a vertex and take all three edges)
-        top, mid, bottom = 0, 1, 2
-        ys_ = (y0, y1, y2)
-        if ys_[mid] < ys_[top]:
-            top, mid = mid, top
-        if ys_[bottom] < ys_[mid]:
-            mid, bottom = bottom, mid
-            if ys_[mid] < ys_[top]:
-                top, mid = mid, top
-        ymid = ys_[mid]
-        xs_ = (x0, x1, x2)
-        es_ = (e0, e1, e2)
-        os_ = (o0, o1, o2)
-        k_long = _edge_between(top, bottom)
-        k_up = _edge_between(top, mid)
-        k_down = _edge_between(mid, bottom)
-        # the long edge's ends, slope, bound and ownership; lower: it bounds the left
-        la, lb = k_long, (k_long + 1) % 3
-        lax, lay, lbx, lby = xs_[la], ys_[la], xs_[lb], ys_[lb]
-        l_slope, l_delta, l_owned = es_[k_long][2], es_[k_long][3], os_[k_long]
-        l_lower = lby < lay
-        ua, ub = k_up, (k_up + 1) % 3
-        uax, uay, ubx, uby = xs_[ua], ys_[ua], xs_[ub], ys_[ub]
-        u_slope, u_delta, u_owned = es_[k_up][2], es_[k_up][3], os_[k_up]
-        da, db = k_down, (k_down + 1) % 3
-        dax, day, dbx, dby = xs_[da], ys_[da], xs_[db], ys_[db]
-        d_slope, d_delta, d_owned = es_[k_down][2], es_[k_down][3], os_[k_down]
-        s_lower = not l_lower  # the short edges bound the other side
-        # every vertex at least 2 + 2 * bound columns inside the viewport: no crossing is
-        # clamped, so _bound's filter reduces to _inner_bound's (the same arithmetic)
-        margin = 2.0 + 2.0 * max(e0[3], e1[3], e2[3])
-        inner = min(x0, x1, x2) >= margin and max(x0, x1, x2) <= width - margin
         for s in range(offsets.shape[0]):
             sx, sy = offsets[s, 0], offsets[s, 1]
             first, last = _row_range(ymin, ymax, sy, height)
@@ -183,26 +203,7 @@ def _multisample_kernel(positions, sign, owned, use, offsets, width, height,  # 
                 ys = j + sy
                 if ys < ymin or ys > ymax:
                     continue  # the conservative row range may overshoot by a row
-                if ys == y0 or ys == y1 or ys == y2:
-                    left, right = _run(x0, y0, x1, y1, x2, y2, e0, e1, e2, o0, o1, o2, sx, ys, width)
-                else:
-                    c_long = -1
-                    c_short = -1
-                    if inner:
-                        c_long = _inner_bound(lax, lay, l_slope, l_delta, sx, ys)
-                        if ys < ymid:
-                            c_short = _inner_bound(uax, uay, u_slope, u_delta, sx, ys)
-                        else:
-                            c_short = _inner_bound(dax, day, d_slope, d_delta, sx, ys)
-                    if c_long < 0:
-                        c_long = _bound(lax, lay, lbx, lby, l_slope, l_delta, l_owned, sx, ys, width, l_lower)
-                    if c_short < 0:
-                        if ys < ymid:
-                            c_short = _bound(uax, uay, ubx, uby, u_slope, u_delta, u_owned, sx, ys, width, s_lower)
-                        else:
-                            c_short = _bound(dax, day, dbx, dby, d_slope, d_delta, d_owned, sx, ys, width, s_lower)
-                    # _bound clamps to [0, width]: the run is [lower bound, upper bound)
-                    left, right = (c_long, c_short) if l_lower else (c_short, c_long)
+                left, right = _decide(tri, sx, ys, width)
                 if left < right:
                     out_t[n] = t
                     out_s[n] = s
@@ -361,14 +362,12 @@ def _shares_capacity(positions, use, offsets, width, height):  # type: ignore[no
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _shares_kernel(positions, sign, owned, use, offsets, width, height):  # type: ignore[no-untyped-def]
+def _shares_kernel(positions, sign, owned, use, offsets, width, height, spans, counts):  # type: ignore[no-untyped-def]
     """Per (triangle, pixel row), the samples of every sample row of that pixel row
     counted per pixel together: spans over the pixels some sample covers, with a count
-    per pixel, in (triangle, row) order. Returns (spans (4, n), counts (m,))."""
+    per pixel, in (triangle, row) order, written to ``spans`` (4, room) and ``counts``
+    (room,) (:func:`_shares_capacity`). Returns (spans, pixels) written."""
     n_samples = offsets.shape[0]
-    span_room, pixel_room = _shares_capacity(positions, use, offsets, width, height)
-    spans = np.empty((4, span_room), dtype=np.int64)
-    counts = np.empty(pixel_room, dtype=np.int64)
     n = 0
     m = 0
     lefts = np.empty(n_samples, dtype=np.int64)
@@ -377,9 +376,8 @@ def _shares_kernel(positions, sign, owned, use, offsets, width, height):  # type
     for t in range(positions.shape[0]):
         if not use[t]:
             continue
-        x0, y0, x1, y1, x2, y2 = _oriented(positions, sign, t)
-        o0, o1, o2 = owned[t, 0], owned[t, 1], owned[t, 2]
-        ymin, ymax, some, e0, e1, e2 = _setup(x0, y0, x1, y1, x2, y2, offsets, height)
+        tri = _triangle(positions, sign, owned, t, offsets, width, height)
+        some, ymin, ymax = tri[0], tri[1], tri[2]
         if not some:
             continue
         # the pixel rows any sample row of the triangle falls on
@@ -398,7 +396,7 @@ def _shares_kernel(positions, sign, owned, use, offsets, width, height):  # type
                 ys = j + sy
                 left, right = 0, 0
                 if ys >= ymin and ys <= ymax:
-                    left, right = _run(x0, y0, x1, y1, x2, y2, e0, e1, e2, o0, o1, o2, sx, ys, width)
+                    left, right = _decide(tri, sx, ys, width)
                 lefts[s] = left
                 rights[s] = right
                 if left < right:
@@ -431,7 +429,7 @@ def _shares_kernel(positions, sign, owned, use, offsets, width, height):  # type
             if open_run:
                 spans[3, n] = hi
                 n += 1
-    return spans[:, :n], counts[:m]
+    return n, m
 
 
 def fused_shares(scene: Scene, convention: Convention, samples: Sequence[Sequence[float]],
@@ -450,6 +448,11 @@ def fused_shares(scene: Scene, convention: Convention, samples: Sequence[Sequenc
     if (prepared.active & ~prepared.safe).any():
         return None
     offsets = _offsets(samples)
-    spans, counts = _shares_kernel(prepared.snapped, prepared.sign, prepared.owned, prepared.active, offsets,
-                                   scene.width, scene.height)
-    return Coverage(spans[0], spans[1], spans[2], spans[3], alpha=counts / n_samples)
+    span_room, pixel_room = _shares_capacity(prepared.snapped, prepared.active, offsets, scene.width, scene.height)
+    # allocated here, not in the kernel: numba's own allocation of a large array costs
+    # several times numpy's (fresh pages are only touched where written)
+    spans = np.empty((4, span_room), dtype=np.int64)
+    counts = np.empty(pixel_room, dtype=np.int64)
+    n, m = _shares_kernel(prepared.snapped, prepared.sign, prepared.owned, prepared.active, offsets,
+                          scene.width, scene.height, spans, counts)
+    return Coverage(spans[0, :n], spans[1, :n], spans[2, :n], spans[3, :n], alpha=counts[:m] / n_samples)
