@@ -171,7 +171,7 @@ def _decide(tri, sx, ys, width):  # type: ignore[no-untyped-def]
     does (a horizontal edge's tie; the two edges meeting at the middle vertex)."""
     _, _, _, ymid, inner, v, e, o, long, upper, lower = tri
     x0, y0, x1, y1, x2, y2 = v
-    if ys == y0 or ys == y1 or ys == y2:
+    if ys == y0 or ys == y1 or ys == y2:  # noqa: SIM109 (three compares, no tuple, in compiled code)
         left, right = _apply_edge(x0, y0, x1, y1, e[0][0], e[0][1], e[0][2], e[0][3], o[0], sx, ys, width, 0, width)
         left, right = _apply_edge(x1, y1, x2, y2, e[1][0], e[1][1], e[1][2], e[1][3], o[1], sx, ys, width, left, right)
         return _apply_edge(x2, y2, x0, y0, e[2][0], e[2][1], e[2][2], e[2][3], o[2], sx, ys, width, left, right)
