@@ -296,21 +296,19 @@ def multisample_spans(scene: Scene, convention: Convention,
 
 
 @numba.njit(cache=True)
-def _layer_order(sample, n_samples):  # type: ignore[no-untyped-def]
-    """A stable counting sort of the spans by sample: spans of sample 0 first (in their
-    order), then sample 1's, ...; and where each sample's spans start (S + 1,)."""
-    starts = np.zeros(n_samples + 1, dtype=np.int64)
+def _layer_order(sample, starts, order):  # type: ignore[no-untyped-def]
+    """A stable counting sort of the spans by sample into ``order`` (P,): spans of sample
+    0 first (in their order), then sample 1's, ...; ``starts`` (S + 1,) zeros on entry,
+    where each sample's spans start on return."""
     for k in range(sample.size):
         starts[sample[k] + 1] += 1
-    for s in range(n_samples):
+    for s in range(starts.size - 1):
         starts[s + 1] += starts[s]
     fill = starts[:-1].copy()
-    order = np.empty(sample.size, dtype=np.int64)
     for k in range(sample.size):
         s = sample[k]
         order[fill[s]] = k
         fill[s] += 1
-    return order, starts
 
 
 def fused_samples(scene: Scene, convention: Convention, samples: Sequence[Sequence[float]]) -> list[Coverage] | None:
@@ -321,7 +319,9 @@ def fused_samples(scene: Scene, convention: Convention, samples: Sequence[Sequen
     if joined is None:
         return None
     assert joined.sample is not None
-    order, starts = _layer_order(joined.sample, len(samples))
+    starts = np.zeros(len(samples) + 1, dtype=np.int64)
+    order = np.empty(joined.sample.size, dtype=np.int64)  # numpy's allocation, not numba's (far cheaper)
+    _layer_order(joined.sample, starts, order)
     if joined.attributes is None:
         return [Coverage(*(getattr(joined, f)[order[a:b]] for f in ("triangle", "y", "x0", "x1")))
                 for a, b in zip(starts[:-1], starts[1:], strict=True)]
@@ -342,44 +342,56 @@ def _shares_capacity(positions, use, offsets, width, height):  # type: ignore[no
     for t in range(positions.shape[0]):
         if not use[t]:
             continue
-        xs = positions[t, :, 0]
-        ys = positions[t, :, 1]
+        ymin = min(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1])
+        ymax = max(positions[t, 0, 1], positions[t, 1, 1], positions[t, 2, 1])
         first, last = height, -1
         for s in range(offsets.shape[0]):
-            a, b = _row_range(ys.min(), ys.max(), offsets[s, 1], height)
+            a, b = _row_range(ymin, ymax, offsets[s, 1], height)
             if a <= b:
                 first = min(first, a)
                 last = max(last, b)
         if first > last:
             continue
-        # clamped as floats first: a coordinate may be far beyond any int
-        columns = int(min(max(math.floor(xs.max()) + 1.0, 0.0), float(width))
-                      - min(max(math.floor(xs.min()) - 1.0, 0.0), float(width)))
+        # columns floor(xmin) - 1 .. floor(xmax) hold every sample column of the triangle,
+        # clamped as floats first (np.floor, not math.floor: a coordinate may lie far
+        # beyond any int)
+        xmin = min(positions[t, 0, 0], positions[t, 1, 0], positions[t, 2, 0])
+        xmax = max(positions[t, 0, 0], positions[t, 1, 0], positions[t, 2, 0])
+        columns = int(min(max(np.floor(xmax) + 1.0, 0.0), float(width)) - min(max(np.floor(xmin) - 1.0, 0.0), float(width)))
         columns = max(columns, 0)
         pixels += (last - first + 1) * columns
         spans += (last - first + 1) * min(columns, offsets.shape[0])
     return spans, pixels
 
 
+# The most pixels the supersampled shares make room for at first (128 MiB of counts,
+# only touched where written); more when the answer needs it.
+FIRST_ROOM = 1 << 24
+
+
 @numba.njit(cache=True, error_model="numpy")
-def _shares_kernel(positions, sign, owned, use, offsets, width, height, spans, counts):  # type: ignore[no-untyped-def]
+def _shares_kernel(positions, sign, owned, use, offsets, width, height, spans, counts, start, n, m):  # type: ignore[no-untyped-def]
     """Per (triangle, pixel row), the samples of every sample row of that pixel row
     counted per pixel together: spans over the pixels some sample covers, with a count
     per pixel, in (triangle, row) order, written to ``spans`` (4, room) and ``counts``
-    (room,) (:func:`_shares_capacity`). Returns (spans, pixels) written."""
+    (room,) from triangle ``start`` on, after ``n`` spans and ``m`` pixels already written.
+
+    Returns (triangle, spans, pixels): the triangle it stopped at (all of them: N), and
+    how many spans and pixels are written before it. It stops before a triangle whose
+    answer would not fit (nothing of that triangle kept): the caller grows the buffers and
+    calls again from there."""
     n_samples = offsets.shape[0]
-    n = 0
-    m = 0
     lefts = np.empty(n_samples, dtype=np.int64)
     rights = np.empty(n_samples, dtype=np.int64)
     delta = np.zeros(width + 1, dtype=np.int64)
-    for t in range(positions.shape[0]):
+    for t in range(start, positions.shape[0]):
         if not use[t]:
             continue
         tri = _triangle(positions, sign, owned, t, offsets, width, height)
         some, ymin, ymax = tri[0], tri[1], tri[2]
         if not some:
             continue
+        n_triangle, m_triangle = n, m
         # the pixel rows any sample row of the triangle falls on
         j_first = height
         j_last = -1
@@ -404,6 +416,9 @@ def _shares_kernel(positions, sign, owned, use, offsets, width, height, spans, c
                     hi = max(hi, right)
             if lo >= hi:
                 continue
+            # at most one run per sample, at most one pixel per column of [lo, hi)
+            if n + min(n_samples, hi - lo) > spans.shape[1] or m + (hi - lo) > counts.size:
+                return t, n_triangle, m_triangle
             for s in range(n_samples):
                 if lefts[s] < rights[s]:
                     delta[lefts[s]] += 1
@@ -429,7 +444,7 @@ def _shares_kernel(positions, sign, owned, use, offsets, width, height, spans, c
             if open_run:
                 spans[3, n] = hi
                 n += 1
-    return n, m
+    return positions.shape[0], n, m
 
 
 def fused_shares(scene: Scene, convention: Convention, samples: Sequence[Sequence[float]],
@@ -449,10 +464,21 @@ def fused_shares(scene: Scene, convention: Convention, samples: Sequence[Sequenc
         return None
     offsets = _offsets(samples)
     span_room, pixel_room = _shares_capacity(prepared.snapped, prepared.active, offsets, scene.width, scene.height)
-    # allocated here, not in the kernel: numba's own allocation of a large array costs
-    # several times numpy's (fresh pages are only touched where written)
-    spans = np.empty((4, span_room), dtype=np.int64)
-    counts = np.empty(pixel_room, dtype=np.int64)
-    n, m = _shares_kernel(prepared.snapped, prepared.sign, prepared.owned, prepared.active, offsets,
-                          scene.width, scene.height, spans, counts)
+    # The bounding boxes' room, up to FIRST_ROOM pixels at first (a long diagonal sliver's box
+    # is far larger than its answer), grown by doubling when a triangle's answer does not
+    # fit. Allocated here, not in the kernel: numba's own allocation of a large array
+    # costs several times numpy's (fresh pages are only touched where written).
+    spans = np.empty((4, max(min(span_room, FIRST_ROOM // 4), 1)), dtype=np.int64)
+    counts = np.empty(max(min(pixel_room, FIRST_ROOM), 1), dtype=np.int64)
+    t, n, m = 0, 0, 0
+    while True:
+        t, n, m = _shares_kernel(prepared.snapped, prepared.sign, prepared.owned, prepared.active, offsets,
+                                 scene.width, scene.height, spans, counts, t, n, m)
+        if t == len(scene):
+            break
+        grown = np.empty((4, 2 * spans.shape[1]), dtype=np.int64)
+        grown[:, :n] = spans[:, :n]
+        more = np.empty(2 * counts.size, dtype=np.int64)
+        more[:m] = counts[:m]
+        spans, counts = grown, more
     return Coverage(spans[0, :n], spans[1, :n], spans[2, :n], spans[3, :n], alpha=counts[:m] / n_samples)

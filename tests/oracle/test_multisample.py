@@ -18,6 +18,7 @@ from harness.contract.conventions import CULL_MODES, SNAP_ROUNDINGS, TIE_RULES, 
 from harness.contract.coverage import Coverage
 from harness.contract.samples import STANDARD_PATTERNS, pattern
 from harness.contract.scenes import Scene
+from harness.oracle import multisample
 from harness.oracle.coverage import (
     RECENT_ANSWERS,
     exact_multisample,
@@ -154,6 +155,19 @@ def test_custom_patterns(offsets):
     for positions in (lattice, floats):
         for tie in ("top-left", "bottom-right", "top-right"):
             agree(Scene(12, 12, positions), Convention(tie=tie), offsets)
+
+
+@pytest.mark.parametrize("room", [1, 7, 1000])
+def test_supersampled_shares_grow_their_buffers(monkeypatch, room):
+    """Room for few pixels at first: the kernel stops before a triangle that does not fit
+    and goes on in larger buffers, with the same answer."""
+    monkeypatch.setattr(multisample, "FIRST_ROOM", room)
+    rng = np.random.default_rng(room)
+    start = rng.uniform(0, 20, size=(30, 2))
+    slivers = np.stack([start, start + 200, start + [200.0, 202.5]], axis=1)  # long diagonal slivers
+    scene = Scene(256, 256, np.concatenate([slivers, random_triangles(100, 256, 300.0, room)]))
+    for samples in (4, 16):
+        agree(scene, Convention(), samples)
 
 
 def test_supersampled_shares_of_a_large_grid_pattern():
