@@ -44,6 +44,7 @@ from harness.geometry.exact import frozen, orientation
 from harness.geometry.spans import expand, pixel_offsets, span_buffers
 from harness.kinds import kind_of
 from harness.oracle.kernels import _apply_edge, _edge_setup, _row_range, shares_of_layers
+from harness.oracle.multisample import fused_samples, fused_shares, multisample_spans
 
 __all__ = ["exact_coverage", "exact_single", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python",
            "prepare_triangles", "PreparedTriangles", "exact_samples_layers", "exact_multisample_layers",
@@ -539,10 +540,10 @@ def exact_samples(scene: Scene, convention: Convention, samples: int | Sequence[
     """
     offsets = pattern(samples)
     if convention.model is SINGLE:
-        from harness.oracle.multisample import fused_samples
-
         # every sample from one setup per triangle (harness.oracle.multisample)
-        layers = fused_samples(scene, convention, offsets)
+        prepared = PreparedTriangles(scene, convention)
+        values = None if scene.attributes is None else _vertex_values(scene, prepared)
+        layers = fused_samples(scene, prepared, offsets, values)
         if layers is not None:
             return layers
     return exact_samples_layers(scene, convention, offsets)
@@ -573,13 +574,20 @@ def exact_multisample(scene: Scene, convention: Convention) -> Coverage:
     >>> cov.sample.tolist(), cov.y.tolist(), cov.x1.tolist()
     ([0, 0, 1, 2, 2, 3], [0, 1, 0, 0, 1, 0], [2, 1, 1, 2, 1, 1])
     """
-    from harness.oracle.multisample import multisample_spans
-
     offsets = convention.samples if convention.samples is not None else (convention.sample,)
     # the samples of each triangle decided together, written in (triangle, sample, row)
     # order (harness.oracle.multisample); beyond the safe range, sample by sample
-    fused = multisample_spans(scene, replace(convention, samples=None), offsets)
+    prepared = PreparedTriangles(scene, _single(convention))
+    values = None if scene.attributes is None else _vertex_values(scene, prepared)
+    fused = multisample_spans(scene, prepared, offsets, values)
     return fused if fused is not None else exact_multisample_layers(scene, convention)
+
+
+@functools.lru_cache(maxsize=512)
+def _single(convention: Convention) -> Convention:
+    """``convention`` without its pattern (built once: identify asks for the same few
+    conventions thousands of times)."""
+    return replace(convention, samples=None)
 
 
 def exact_multisample_layers(scene: Scene, convention: Convention) -> Coverage:
@@ -606,10 +614,9 @@ def sample_shares(scene: Scene, convention: Convention) -> Coverage:
     >>> sample_shares(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(coverage="area", samples=4)).alpha.tolist()
     [1.0, 0.5, 0.5]
     """
-    from harness.oracle.multisample import fused_shares
-
     # the samples of one pixel row counted together (harness.oracle.multisample)
-    fused = fused_shares(scene, convention.point_sampled(), convention.samples, convention.n_samples)
+    prepared = PreparedTriangles(scene, convention.point_sampled())
+    fused = fused_shares(scene, prepared, convention.samples, convention.n_samples)
     return fused if fused is not None else sample_shares_layers(scene, convention)
 
 

@@ -24,17 +24,36 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import Protocol
 
 import numba
 import numpy as np
 from numpy.typing import NDArray
 
-from harness.contract.conventions import Convention
 from harness.contract.coverage import Coverage
 from harness.contract.scenes import Scene
 from harness.oracle.kernels import _apply_edge, _bound, _edge_setup, _row_range
 
-__all__ = ["multisample_spans", "fused_samples", "fused_shares"]
+__all__ = ["multisample_spans", "fused_samples", "fused_shares", "Prepared"]
+
+
+class Prepared(Protocol):
+    """What the kernels read of a scene's prepared triangles
+    (:class:`harness.oracle.coverage.PreparedTriangles`: snapped, oriented, culled, their
+    edges' owners classified under the convention -- the same for every sample)."""
+
+    @property
+    def snapped(self) -> NDArray[np.float64]: ...
+    @property
+    def sign(self) -> NDArray[np.int8]: ...
+    @property
+    def owned(self) -> NDArray[np.bool_]: ...
+    @property
+    def active(self) -> NDArray[np.bool_]: ...
+    @property
+    def safe(self) -> NDArray[np.bool_]: ...
+    @property
+    def positions(self) -> NDArray[np.float64]: ...
 
 
 @numba.njit(cache=True, inline="always")
@@ -247,8 +266,8 @@ def _offsets(samples: Sequence[Sequence[float]]) -> NDArray[np.float64]:
     return offsets
 
 
-def multisample_spans(scene: Scene, convention: Convention,
-                      samples: Sequence[Sequence[float]]) -> Coverage | None:
+def multisample_spans(scene: Scene, prepared: Prepared, samples: Sequence[Sequence[float]],
+                      vertex_values: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None) -> Coverage | None:
     """Exactly which samples of the pattern ``samples`` each triangle covers, as one
     Coverage with sample ids, spans in (triangle, sample, row) order (attributes at each
     sample); ``None`` when some triangle lies beyond the expansions' safe range (the
@@ -257,10 +276,14 @@ def multisample_spans(scene: Scene, convention: Convention,
     Parameters
     ----------
     scene : Scene
-    convention : Convention
-        A single-sample convention (its model ``single``); its ``sample`` is not used.
+    prepared : Prepared
+        The scene's triangles prepared under a single-sample convention (its ``sample``
+        is not used).
     samples : sequence of (x, y)
         The pattern's offsets, in pattern order.
+    vertex_values : ((N, 3, K) float64, (N, 3) float64), optional
+        Attributes and 1/w at each vertex in oriented order, when the scene has
+        attributes (:func:`harness.oracle.coverage.exact_multisample` passes them).
 
     Returns
     -------
@@ -268,13 +291,13 @@ def multisample_spans(scene: Scene, convention: Convention,
 
     Examples
     --------
-    >>> cov = multisample_spans(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(), [(0.25, 0.25), (0.75, 0.75)])
+    >>> from harness.contract.conventions import Convention
+    >>> from harness.oracle.coverage import prepare_triangles
+    >>> scene = Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]])
+    >>> cov = multisample_spans(scene, prepare_triangles(scene, Convention()), [(0.25, 0.25), (0.75, 0.75)])
     >>> cov.sample.tolist(), cov.y.tolist(), cov.x1.tolist()
     ([0, 0, 1], [0, 1, 0], [2, 1, 1])
     """
-    from harness.oracle.coverage import PreparedTriangles, _vertex_values
-
-    prepared = PreparedTriangles(scene, convention)
     if (prepared.active & ~prepared.safe).any():
         return None
     offsets = _offsets(samples)
@@ -287,9 +310,9 @@ def multisample_spans(scene: Scene, convention: Convention,
                                 scene.width, scene.height, *block))
     triangle, sample, y, x0, x1 = (a[:n] for a in block)
     attributes = None
-    if scene.attributes is not None:
-        values, inv_w = _vertex_values(scene, prepared)
-        attributes = np.empty((int((x1 - x0).sum()), scene.n_attributes))
+    if vertex_values is not None:
+        values, inv_w = vertex_values
+        attributes = np.empty((int((x1 - x0).sum()), values.shape[2]))
         _interpolate_samples(prepared.positions, values, inv_w, scene.w is not None, triangle, sample, y, x0, x1,
                              offsets, attributes)
     return Coverage(triangle, y, x0, x1, attributes, sample)
@@ -311,11 +334,12 @@ def _layer_order(sample, starts, order):  # type: ignore[no-untyped-def]
         fill[s] += 1
 
 
-def fused_samples(scene: Scene, convention: Convention, samples: Sequence[Sequence[float]]) -> list[Coverage] | None:
+def fused_samples(scene: Scene, prepared: Prepared, samples: Sequence[Sequence[float]],
+                  vertex_values: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None) -> list[Coverage] | None:
     """:func:`multisample_spans` as one single-sample Coverage per sample, in pattern
     order, each sorted by triangle then row (what
     :func:`harness.oracle.coverage.exact_samples` returns); ``None`` as there."""
-    joined = multisample_spans(scene, convention, samples)
+    joined = multisample_spans(scene, prepared, samples, vertex_values)
     if joined is None:
         return None
     assert joined.sample is not None
@@ -447,19 +471,18 @@ def _shares_kernel(positions, sign, owned, use, offsets, width, height, spans, c
     return positions.shape[0], n, m
 
 
-def fused_shares(scene: Scene, convention: Convention, samples: Sequence[Sequence[float]],
-                 n_samples: int) -> Coverage | None:
+def fused_shares(scene: Scene, prepared: Prepared, samples: Sequence[Sequence[float]], n_samples: int) -> Coverage | None:
     """Per (triangle, pixel) the share of the pattern's ``n_samples`` samples the triangle
     covers, as alpha, all samples of a pixel row counted together (what
     :func:`harness.oracle.coverage.sample_shares` returns); ``None`` when some triangle
     lies beyond the expansions' safe range.
 
-    >>> fused_shares(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(), [(0.25, 0.25), (0.75, 0.75)], 2).alpha.tolist()
+    >>> from harness.contract.conventions import Convention
+    >>> from harness.oracle.coverage import prepare_triangles
+    >>> scene = Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]])
+    >>> fused_shares(scene, prepare_triangles(scene, Convention()), [(0.25, 0.25), (0.75, 0.75)], 2).alpha.tolist()
     [1.0, 0.5, 0.5]
     """
-    from harness.oracle.coverage import PreparedTriangles
-
-    prepared = PreparedTriangles(scene, convention)
     if (prepared.active & ~prepared.safe).any():
         return None
     offsets = _offsets(samples)

@@ -25,6 +25,7 @@ from harness.oracle.coverage import (
     exact_multisample_layers,
     exact_samples,
     exact_samples_layers,
+    prepare_triangles,
     sample_shares,
     sample_shares_layers,
 )
@@ -95,8 +96,11 @@ def test_random_scenes_with_attributes_and_w():
 def test_the_fused_path_answers_safe_scenes():
     """Inside the expansions' safe range the fused kernel answers (no per-sample detour)."""
     scene = Scene(32, 32, random_triangles(50, 32, 30.0, 3))
-    assert multisample_spans(scene, Convention(), pattern(8)) is not None
-    assert fused_shares(scene, Convention(), pattern(8), 8) is not None
+    prepared = prepare_triangles(scene, Convention())
+    assert multisample_spans(scene, prepared, pattern(8)) is not None
+    assert fused_shares(scene, prepared, pattern(8), 8) is not None
+    far = Scene(32, 32, np.concatenate([scene.positions, [[[0, 0], [2.0**460, 0], [0, 4]]]]))
+    assert multisample_spans(far, prepare_triangles(far, Convention()), pattern(8)) is None
 
 
 # -- ties: lattices, edges through samples, vertices on samples ------------------------------
