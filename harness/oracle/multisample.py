@@ -64,6 +64,17 @@ def _oriented(positions, sign, t):  # type: ignore[no-untyped-def]
             positions[t, v2, 0], positions[t, v2, 1])
 
 
+@numba.njit(cache=True, inline="always")
+def _exact_rows(y_lo, y_hi, sy, first, last):  # type: ignore[no-untyped-def]
+    """The rows j of [first, last] with y_lo <= j + sy <= y_hi (j + sy is exact): the
+    conservative range of _row_range may overshoot by a row at either end."""
+    while first <= last and first + sy < y_lo:
+        first += 1
+    while first <= last and last + sy > y_hi:
+        last -= 1
+    return first, last
+
+
 @numba.njit(cache=True)
 def _sample_rows(positions, use, offsets, height):  # type: ignore[no-untyped-def]
     """How many (triangle, sample, row) the used triangles' sample rows make: rows j of
@@ -162,7 +173,7 @@ def _inner_bound(ax, ay, slope, delta, sx, ys):  # type: ignore[no-untyped-def]
     xc = ax + slope * (ys - ay)
     lo = xc - delta - sx
     hi = xc + delta - sx
-    f = math.floor(lo)
+    f = np.floor(lo)
     if hi < f + 1.0:
         return int(f) + 1
     return -1
@@ -218,11 +229,9 @@ def _multisample_kernel(positions, sign, owned, use, offsets, width, height,  # 
         for s in range(offsets.shape[0]):
             sx, sy = offsets[s, 0], offsets[s, 1]
             first, last = _row_range(ymin, ymax, sy, height)
+            first, last = _exact_rows(ymin, ymax, sy, first, last)
             for j in range(first, last + 1):
-                ys = j + sy
-                if ys < ymin or ys > ymax:
-                    continue  # the conservative row range may overshoot by a row
-                left, right = _decide(tri, sx, ys, width)
+                left, right = _decide(tri, sx, j + sy, width)
                 if left < right:
                     out_t[n] = t
                     out_s[n] = s
