@@ -22,7 +22,6 @@ bit. Triangles beyond the expansions' safe range take that path (exact rationals
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import Protocol
 
@@ -31,10 +30,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.contract.coverage import Coverage
+from harness.contract.samples import FRACTION_BITS
 from harness.contract.scenes import Scene
 from harness.oracle.kernels import _apply_edge, _bound, _edge_setup, _row_range
 
 __all__ = ["multisample_spans", "fused_samples", "fused_shares", "Prepared"]
+
+
+# sample offsets are multiples of 2**-FRACTION_BITS, so are the sample rows j + sy
+_LATTICE = 2.0**FRACTION_BITS
 
 
 class Prepared(Protocol):
@@ -214,6 +218,63 @@ def _decide(tri, sx, ys, width):  # type: ignore[no-untyped-def]
     return (c_long, c_short) if long[7] else (c_short, c_long)
 
 
+@numba.njit(cache=True, inline="always")
+def _on_lattice(y):  # type: ignore[no-untyped-def]
+    scaled = y * _LATTICE
+    return scaled == np.floor(scaled)
+
+
+@numba.njit(cache=True, inline="always")
+def _through_vertex(v, sy, first, last):  # type: ignore[no-untyped-def]
+    """Whether a sample row j + sy, first <= j <= last, passes through a vertex: if
+    y - sy is an integer j it is exact, so fl(y - sy) is j; any other candidate fails the
+    exact test j + sy == y."""
+    for y in (v[1], v[3], v[5]):
+        r = np.floor(y - sy)
+        if first <= r <= last and int(r) + sy == y:
+            return True
+    return False
+
+
+@numba.njit(cache=True, inline="always")
+def _first_row_below(ymid, sy, first, last):  # type: ignore[no-untyped-def]
+    """The first row j of [first, last + 1] with j + sy > ymid (no row lies on ymid):
+    the float estimate, then stepped until the exact test agrees."""
+    split = min(max(np.floor(ymid - sy) + 1.0, float(first)), float(last + 1))
+    j = int(split)
+    while j > first and (j - 1) + sy > ymid:
+        j -= 1
+    while j <= last and j + sy < ymid:
+        j += 1
+    return j
+
+
+@numba.njit(cache=True, inline="always")
+def _segment(long, short, t, s, sx, sy, start, stop, width, n, out_t, out_s, out_y, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """Spans of rows start <= j < stop of sample s, each row strictly between two
+    vertices' heights and bounded by the ``long`` and ``short`` edge records; returns the
+    spans written so far."""
+    lax, lay, lbx, lby, l_slope, l_delta, l_owned, l_lower = long
+    sax, say, sbx, sby, s_slope, s_delta, s_owned, s_lower = short
+    for j in range(start, stop):
+        ys = j + sy
+        c_long = _inner_bound(lax, lay, l_slope, l_delta, sx, ys)
+        if c_long < 0:
+            c_long = _bound(lax, lay, lbx, lby, l_slope, l_delta, l_owned, sx, ys, width, l_lower)
+        c_short = _inner_bound(sax, say, s_slope, s_delta, sx, ys)
+        if c_short < 0:
+            c_short = _bound(sax, say, sbx, sby, s_slope, s_delta, s_owned, sx, ys, width, s_lower)
+        left, right = (c_long, c_short) if l_lower else (c_short, c_long)
+        if left < right:
+            out_t[n] = t
+            out_s[n] = s
+            out_y[n] = j
+            out_x0[n] = left
+            out_x1[n] = right
+            n += 1
+    return n
+
+
 @numba.njit(cache=True, error_model="numpy")
 def _multisample_kernel(positions, sign, owned, use, offsets, width, height,  # type: ignore[no-untyped-def]
                         out_t, out_s, out_y, out_x0, out_x1):
@@ -226,10 +287,24 @@ def _multisample_kernel(positions, sign, owned, use, offsets, width, height,  # 
         some, ymin, ymax = tri[0], tri[1], tri[2]
         if not some:
             continue
+        # A sample row j + sy is a multiple of 2**-FRACTION_BITS (harness.contract.samples):
+        # it can pass through a vertex only if the vertex's y is one too (scaling by a
+        # power of two is exact).
+        on_lattice = _on_lattice(tri[5][1]) or _on_lattice(tri[5][3]) or _on_lattice(tri[5][5])
         for s in range(offsets.shape[0]):
             sx, sy = offsets[s, 0], offsets[s, 1]
             first, last = _row_range(ymin, ymax, sy, height)
             first, last = _exact_rows(ymin, ymax, sy, first, last)
+            if first > last:
+                continue
+            ymid, inner, v, long = tri[3], tri[4], tri[5], tri[8]
+            if inner and not (on_lattice and _through_vertex(v, sy, first, last)):
+                # no row through a vertex: the rows above the middle vertex meet the long
+                # edge and the upper short one, the rows below it the long and the lower
+                split = _first_row_below(ymid, sy, first, last)
+                n = _segment(long, tri[9], t, s, sx, sy, first, split, width, n, out_t, out_s, out_y, out_x0, out_x1)
+                n = _segment(long, tri[10], t, s, sx, sy, split, last + 1, width, n, out_t, out_s, out_y, out_x0, out_x1)
+                continue
             for j in range(first, last + 1):
                 left, right = _decide(tri, sx, j + sy, width)
                 if left < right:
