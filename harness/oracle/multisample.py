@@ -123,24 +123,17 @@ def _triangle(positions, sign, owned, t, offsets, width, height):  # type: ignor
     them) and, for the rows strictly between the vertices' heights, the long edge (top
     to bottom vertex) and the two short ones.
 
-    Each edge's error bound is taken over the union of the sample rows: a larger reach
-    only widens the bound, which never changes an answer (it only tells when the float
-    crossing is already certain). Returns (any row, ymin, ymax, ymid, inner, vertices,
+    Each edge's error bound is taken over every row the samples may have, the triangle's
+    height within the viewport: a larger reach only widens the bound, which never changes
+    an answer (it only tells when the float crossing is already certain). Returns (any row, ymin, ymax, ymid, inner, vertices,
     edge constants, owners, long, upper short, lower short edge)."""
     x0, y0, x1, y1, x2, y2 = _oriented(positions, sign, t)
     ymin = min(y0, y1, y2)
     ymax = max(y0, y1, y2)
-    y_first = np.inf
-    y_last = -np.inf
-    for s in range(offsets.shape[0]):
-        sy = offsets[s, 1]
-        first, last = _row_range(ymin, ymax, sy, height)
-        if first <= last:
-            y_first = min(y_first, first + sy)
-            y_last = max(y_last, last + sy)
-    some = y_first <= y_last
-    if not some:
-        y_first = y_last = 0.0
+    # every sample row j + sy decided lies in [ymin, ymax] and in [0, height]
+    some = ymax >= 0.0 and ymin <= height
+    y_first = max(ymin, 0.0) if some else 0.0
+    y_last = min(ymax, float(height)) if some else 0.0
     e0 = _edge_setup(x0, y0, x1, y1, y_first, y_last)
     e1 = _edge_setup(x1, y1, x2, y2, y_first, y_last)
     e2 = _edge_setup(x2, y2, x0, y0, y_first, y_last)
