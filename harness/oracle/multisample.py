@@ -8,8 +8,11 @@ the snapped vertices, the exact orientation, culling and which edges own their t
 (:class:`harness.oracle.coverage.PreparedTriangles`), and each edge's slope and error
 bound. So the triangle is prepared once, and each sample row's crossings are decided from
 the same prepared edges with the single-sample oracle's own pieces
-(:func:`harness.oracle.kernels._apply_edge`: the float filter with its proven error bound,
-the exact predicate where a column boundary lies within it). The spans are written in the
+(:func:`harness.oracle.kernels._bound`: the float filter with its proven error bound, the
+exact predicate where a column boundary lies within it). A sample row strictly between
+the vertices' heights meets two edges, the long one and a short one, and only those two
+are evaluated there; on a triangle well inside the viewport no crossing is clamped and
+the filter is the same arithmetic without the clamping. The spans are written in the
 order :func:`harness.oracle.coverage.exact_multisample` returns them (triangle, sample,
 row): no sort, no concatenation. The supersampled area oracle counts, per pixel row, the
 samples of all the pattern's sample rows on that row together.
@@ -93,11 +96,7 @@ def _sample_rows(positions, use, offsets, height):  # type: ignore[no-untyped-de
         for s in range(offsets.shape[0]):
             sy = offsets[s, 1]
             first, last = _row_range(ymin, ymax, sy, height)
-            # the conservative range may overshoot by a row at either end
-            if first <= last and first + sy < ymin:
-                first += 1
-            if first <= last and last + sy > ymax:
-                last -= 1
+            first, last = _exact_rows(ymin, ymax, sy, first, last)
             total += max(last - first + 1, 0)
     return total
 
@@ -125,8 +124,9 @@ def _triangle(positions, sign, owned, t, offsets, width, height):  # type: ignor
 
     Each edge's error bound is taken over every row the samples may have, the triangle's
     height within the viewport: a larger reach only widens the bound, which never changes
-    an answer (it only tells when the float crossing is already certain). Returns (any row, ymin, ymax, ymid, inner, vertices,
-    edge constants, owners, long, upper short, lower short edge)."""
+    an answer (it only tells when the float crossing is already certain). Returns (any
+    row, ymin, ymax, ymid, inner, vertices, edge constants, owners, long, upper short,
+    lower short edge)."""
     x0, y0, x1, y1, x2, y2 = _oriented(positions, sign, t)
     ymin = min(y0, y1, y2)
     ymax = max(y0, y1, y2)
