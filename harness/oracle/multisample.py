@@ -108,11 +108,18 @@ def _edge_between(p, q):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _edge_record(xs, ys, es, os, k):  # type: ignore[no-untyped-def]
-    """Edge k (vertex k to k + 1) as (ax, ay, bx, by, slope, bound, owned, lower), lower:
-    E grows with x, so the edge bounds the run from the left."""
+def _edge_record(xs, ys, es, os, k, width):  # type: ignore[no-untyped-def]
+    """Edge k (vertex k to k + 1) as (ax, ay, bx, by, slope, bound, owned, lower, inner).
+
+    lower: E grows with x, so the edge bounds the run from the left. inner: both ends at
+    least 2 + 2 * bound columns inside the viewport, so every crossing on the edge's rows
+    (between its ends' x) is too, filter error and sample offset included: none is
+    clamped, and :func:`harness.oracle.kernels._bound`'s filter is :func:`_inner_bound`'s
+    (the same arithmetic)."""
     a, b = k, (k + 1) % 3
-    return (xs[a], ys[a], xs[b], ys[b], es[k][2], es[k][3], os[k], ys[b] < ys[a])
+    margin = 2.0 + 2.0 * es[k][3]
+    inner = min(xs[a], xs[b]) >= margin and max(xs[a], xs[b]) <= width - margin
+    return (xs[a], ys[a], xs[b], ys[b], es[k][2], es[k][3], os[k], ys[b] < ys[a], inner)
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
@@ -125,7 +132,7 @@ def _triangle(positions, sign, owned, t, offsets, width, height):  # type: ignor
     Each edge's error bound is taken over every row the samples may have, the triangle's
     height within the viewport: a larger reach only widens the bound, which never changes
     an answer (it only tells when the float crossing is already certain). Returns (any
-    row, ymin, ymax, ymid, inner, vertices, edge constants, owners, long, upper short,
+    row, ymin, ymax, ymid, vertices, edge constants, owners, long, upper short,
     lower short edge)."""
     x0, y0, x1, y1, x2, y2 = _oriented(positions, sign, t)
     ymin = min(y0, y1, y2)
@@ -151,14 +158,10 @@ def _triangle(positions, sign, owned, t, offsets, width, height):  # type: ignor
         mid, bottom = bottom, mid
         if ys[mid] < ys[top]:
             top, mid = mid, top
-    long = _edge_record(xs, ys, es, os, _edge_between(top, bottom))
-    upper = _edge_record(xs, ys, es, os, _edge_between(top, mid))
-    lower = _edge_record(xs, ys, es, os, _edge_between(mid, bottom))
-    # every vertex at least 2 + 2 * bound columns inside the viewport: no crossing is
-    # clamped, and _bound's filter is _inner_bound's (the same arithmetic)
-    margin = 2.0 + 2.0 * max(e0[3], e1[3], e2[3])
-    inner = min(x0, x1, x2) >= margin and max(x0, x1, x2) <= width - margin
-    return (some, ymin, ymax, ys[mid], inner, (x0, y0, x1, y1, x2, y2), (e0, e1, e2), (o0, o1, o2),
+    long = _edge_record(xs, ys, es, os, _edge_between(top, bottom), width)
+    upper = _edge_record(xs, ys, es, os, _edge_between(top, mid), width)
+    lower = _edge_record(xs, ys, es, os, _edge_between(mid, bottom), width)
+    return (some, ymin, ymax, ys[mid], (x0, y0, x1, y1, x2, y2), (e0, e1, e2), (o0, o1, o2),
             long, upper, lower)
 
 
@@ -177,9 +180,9 @@ def _inner_bound(ax, ay, slope, delta, sx, ys):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _crossing(edge, inner, sx, ys, width):  # type: ignore[no-untyped-def]
+def _crossing(edge, sx, ys, width):  # type: ignore[no-untyped-def]
     """The column where ``edge``'s test flips on sample row ys (:func:`_bound`)."""
-    ax, ay, bx, by, slope, delta, owned, lower = edge
+    ax, ay, bx, by, slope, delta, owned, lower, inner = edge
     if inner:
         column = _inner_bound(ax, ay, slope, delta, sx, ys)
         if column >= 0:
@@ -196,17 +199,17 @@ def _decide(tri, sx, ys, width):  # type: ignore[no-untyped-def]
     bounding one side, and the short one of its half, the other; only those two are
     evaluated. A row through a vertex takes all three edges, as the single-sample kernel
     does (a horizontal edge's tie; the two edges meeting at the middle vertex)."""
-    _, _, _, ymid, inner, v, e, o, long, upper, lower = tri
+    _, _, _, ymid, v, e, o, long, upper, lower = tri
     x0, y0, x1, y1, x2, y2 = v
     if ys == y0 or ys == y1 or ys == y2:  # noqa: SIM109 (three compares, no tuple, in compiled code)
         left, right = _apply_edge(x0, y0, x1, y1, e[0][0], e[0][1], e[0][2], e[0][3], o[0], sx, ys, width, 0, width)
         left, right = _apply_edge(x1, y1, x2, y2, e[1][0], e[1][1], e[1][2], e[1][3], o[1], sx, ys, width, left, right)
         return _apply_edge(x2, y2, x0, y0, e[2][0], e[2][1], e[2][2], e[2][3], o[2], sx, ys, width, left, right)
-    c_long = _crossing(long, inner, sx, ys, width)
+    c_long = _crossing(long, sx, ys, width)
     if ys < ymid:
-        c_short = _crossing(upper, inner, sx, ys, width)
+        c_short = _crossing(upper, sx, ys, width)
     else:
-        c_short = _crossing(lower, inner, sx, ys, width)
+        c_short = _crossing(lower, sx, ys, width)
     # the columns are clamped to [0, width]: the run is [lower bound, upper bound)
     return (c_long, c_short) if long[7] else (c_short, c_long)
 
@@ -247,16 +250,11 @@ def _segment(long, short, t, s, sx, sy, start, stop, width, n, out_t, out_s, out
     """Spans of rows start <= j < stop of sample s, each row strictly between two
     vertices' heights and bounded by the ``long`` and ``short`` edge records; returns the
     spans written so far."""
-    lax, lay, lbx, lby, l_slope, l_delta, l_owned, l_lower = long
-    sax, say, sbx, sby, s_slope, s_delta, s_owned, s_lower = short
+    l_lower = long[7]
     for j in range(start, stop):
         ys = j + sy
-        c_long = _inner_bound(lax, lay, l_slope, l_delta, sx, ys)
-        if c_long < 0:
-            c_long = _bound(lax, lay, lbx, lby, l_slope, l_delta, l_owned, sx, ys, width, l_lower)
-        c_short = _inner_bound(sax, say, s_slope, s_delta, sx, ys)
-        if c_short < 0:
-            c_short = _bound(sax, say, sbx, sby, s_slope, s_delta, s_owned, sx, ys, width, s_lower)
+        c_long = _crossing(long, sx, ys, width)
+        c_short = _crossing(short, sx, ys, width)
         left, right = (c_long, c_short) if l_lower else (c_short, c_long)
         if left < right:
             out_t[n] = t
@@ -283,20 +281,20 @@ def _multisample_kernel(positions, sign, owned, use, offsets, width, height,  # 
         # A sample row j + sy is a multiple of 2**-FRACTION_BITS (harness.contract.samples):
         # it can pass through a vertex only if the vertex's y is one too (scaling by a
         # power of two is exact).
-        on_lattice = _on_lattice(tri[5][1]) or _on_lattice(tri[5][3]) or _on_lattice(tri[5][5])
+        on_lattice = _on_lattice(tri[4][1]) or _on_lattice(tri[4][3]) or _on_lattice(tri[4][5])
         for s in range(offsets.shape[0]):
             sx, sy = offsets[s, 0], offsets[s, 1]
             first, last = _row_range(ymin, ymax, sy, height)
             first, last = _exact_rows(ymin, ymax, sy, first, last)
             if first > last:
                 continue
-            ymid, inner, v, long = tri[3], tri[4], tri[5], tri[8]
-            if inner and not (on_lattice and _through_vertex(v, sy, first, last)):
+            ymid, v, long = tri[3], tri[4], tri[7]
+            if not (on_lattice and _through_vertex(v, sy, first, last)):
                 # no row through a vertex: the rows above the middle vertex meet the long
                 # edge and the upper short one, the rows below it the long and the lower
                 split = _first_row_below(ymid, sy, first, last)
-                n = _segment(long, tri[9], t, s, sx, sy, first, split, width, n, out_t, out_s, out_y, out_x0, out_x1)
-                n = _segment(long, tri[10], t, s, sx, sy, split, last + 1, width, n, out_t, out_s, out_y, out_x0, out_x1)
+                n = _segment(long, tri[8], t, s, sx, sy, first, split, width, n, out_t, out_s, out_y, out_x0, out_x1)
+                n = _segment(long, tri[9], t, s, sx, sy, split, last + 1, width, n, out_t, out_s, out_y, out_x0, out_x1)
                 continue
             for j in range(first, last + 1):
                 left, right = _decide(tri, sx, j + sy, width)
