@@ -36,6 +36,7 @@ from numpy.typing import NDArray
 
 from harness.contract.conventions import Convention, owns_edge
 from harness.contract.coverage import Coverage
+from harness.contract.coverage_models import SINGLE
 from harness.contract.samples import pattern
 from harness.contract.scenes import AnyScene, Scene, scene_digest
 from harness.engine import ledger
@@ -43,9 +44,11 @@ from harness.geometry.exact import frozen, orientation
 from harness.geometry.spans import expand, pixel_offsets, span_buffers
 from harness.kinds import kind_of
 from harness.oracle.kernels import _apply_edge, _edge_setup, _row_range, shares_of_layers
+from harness.oracle.multisample import fused_samples, fused_shares, multisample_spans
 
 __all__ = ["exact_coverage", "exact_single", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python",
-           "prepare_triangles", "PreparedTriangles", "scene_digest"]
+           "prepare_triangles", "PreparedTriangles", "scene_digest", "exact_samples_layers", "exact_multisample_layers",
+           "sample_shares_layers"]
 
 
 _CULL_CODES = {"none": 0, "cw": 1, "ccw": -1}
@@ -523,6 +526,22 @@ def exact_samples(scene: Scene, convention: Convention, samples: int | Sequence[
     >>> [cov.counts(2, 2).tolist() for cov in exact_samples(scene, Convention(), 4)]
     [[[1, 1], [1, 0]], [[1, 0], [0, 0]], [[1, 1], [1, 0]], [[1, 0], [0, 0]]]
     """
+    offsets = pattern(samples)
+    if convention.model is SINGLE:
+        # every sample from one setup per triangle (harness.oracle.multisample)
+        prepared = PreparedTriangles(scene, convention)
+        values = None if scene.attributes is None else _vertex_values(scene, prepared)
+        layers = fused_samples(scene, prepared, offsets, values)
+        if layers is not None:
+            return layers
+    return exact_samples_layers(scene, convention, offsets)
+
+
+def exact_samples_layers(scene: Scene, convention: Convention,
+                         samples: int | Sequence[Sequence[float]]) -> list[Coverage]:
+    """:func:`exact_samples` the former way, the single-sample oracle once per offset: the
+    reference the fused kernel (:mod:`harness.oracle.multisample`) is tested against, and
+    the path of triangles beyond the expansions' safe range."""
     return [exact_coverage(scene, at_offset) for at_offset in _at_each_offset(convention, pattern(samples))]
 
 
@@ -544,7 +563,27 @@ def exact_multisample(scene: Scene, convention: Convention) -> Coverage:
     ([0, 0, 1, 2, 2, 3], [0, 1, 0, 0, 1, 0], [2, 1, 1, 2, 1, 1])
     """
     offsets = convention.samples if convention.samples is not None else (convention.sample,)
-    layers = exact_samples(scene, replace(convention, samples=None), offsets)
+    # the samples of each triangle decided together, written in (triangle, sample, row)
+    # order (harness.oracle.multisample); beyond the safe range, sample by sample
+    prepared = PreparedTriangles(scene, _single(convention))
+    values = None if scene.attributes is None else _vertex_values(scene, prepared)
+    fused = multisample_spans(scene, prepared, offsets, values)
+    return fused if fused is not None else exact_multisample_layers(scene, convention)
+
+
+@functools.lru_cache(maxsize=512)
+def _single(convention: Convention) -> Convention:
+    """``convention`` without its pattern (built once: identify asks for the same few
+    conventions thousands of times)."""
+    return replace(convention, samples=None)
+
+
+def exact_multisample_layers(scene: Scene, convention: Convention) -> Coverage:
+    """:func:`exact_multisample` the former way: the single-sample oracle at each offset
+    (:func:`exact_samples_layers`), concatenated and sorted; the reference of the fused
+    kernel in tests and the path beyond the expansions' safe range."""
+    offsets = convention.samples if convention.samples is not None else (convention.sample,)
+    layers = exact_samples_layers(scene, replace(convention, samples=None), offsets)
     sample = np.repeat(np.arange(len(layers), dtype=np.int64), [len(c) for c in layers])
     spans = [np.concatenate([getattr(c, f) for c in layers]) for f in ("triangle", "y", "x0", "x1")]
     attributes = None if scene.attributes is None else np.concatenate([c.attributes for c in layers])
@@ -563,5 +602,15 @@ def sample_shares(scene: Scene, convention: Convention) -> Coverage:
     >>> sample_shares(Scene(2, 2, [[[0, 0], [2, 0], [0, 2]]]), Convention(coverage="area", samples=4)).alpha.tolist()
     [1.0, 0.5, 0.5]
     """
+    # the samples of one pixel row counted together (harness.oracle.multisample)
+    prepared = PreparedTriangles(scene, convention.point_sampled())
+    fused = fused_shares(scene, prepared, convention.samples, convention.n_samples)
+    return fused if fused is not None else sample_shares_layers(scene, convention)
+
+
+def sample_shares_layers(scene: Scene, convention: Convention) -> Coverage:
+    """:func:`sample_shares` the former way, from the layers of
+    :func:`exact_samples_layers`: the fused kernel's reference in tests and the path
+    beyond the expansions' safe range."""
     single = convention.point_sampled()
-    return shares_of_layers(exact_samples(scene, single, convention.samples), scene.height, convention.n_samples)
+    return shares_of_layers(exact_samples_layers(scene, single, convention.samples), scene.height, convention.n_samples)
