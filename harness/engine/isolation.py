@@ -311,6 +311,9 @@ class Worker:
         ahead = [(scene_digest(scene), scene) for scene in scenes if scene.kind in self._kinds]
         if not ahead:
             return 0
+        # answers still on their way are read first: a worker blocked writing them to a full pipe
+        # reads nothing, and a large request would wait on it for ever
+        self._drain()
         try:
             self._conn.send(("each", [scene for _, scene in ahead]))
         except (EOFError, BrokenPipeError, ConnectionResetError, OSError):

@@ -211,3 +211,18 @@ def test_the_ledger_keeps_exclusive_time_and_costs_nothing_outside(monkeypatch: 
     assert ledger.active() is None
     assert kept.seconds == {"outer": 4.0, "inner": 1.0}  # outer: (1 - 0) + (3 - 2) + (4 - 3) + (5 - 4)
     assert kept.notes == {"rasterizer": 1.5}
+
+
+def test_answers_larger_than_the_pipe_and_a_second_prefetch_do_not_block() -> None:
+    """Hundreds of answers of thousands of spans each (megabytes: far beyond a pipe's
+    buffer), asked for last first, and more scenes sent ahead while answers are on their way."""
+    big = [Scene(512, 512, [[[0.5 + k * 1e-3, 0.0], [512.0, 0.25], [0.0, 512.0]]]) for k in range(150)]
+    with Worker(CentreScanline()) as worker:
+        worker.rasterize(SMALL)
+        worker.prefetch(big[:100])
+        worker.prefetch(big[100:])  # while the first hundred are on their way
+        last = worker.rasterize(big[-1])
+        first = worker.rasterize(big[0])
+        assert last.coverage is not None and first.coverage is not None and len(first.coverage) == 512
+        worker.forget_prefetched()
+        assert worker.rasterize(big[3]).coverage is not None
