@@ -7,6 +7,7 @@ Screen space, conventions and tie rules are defined in :mod:`harness.contract.co
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import math
 from collections.abc import Iterable
@@ -700,14 +701,20 @@ def scene_digest(scene: AnyScene) -> bytes:
     (True, False)
     """
     digest = hashlib.blake2b(type(scene).__name__.encode(), digest_size=20)
-    for field in dataclasses.fields(cast(Any, scene)):
-        value = getattr(scene, field.name)
+    for name in _field_names(type(scene)):
+        value = getattr(scene, name)
         if isinstance(value, np.ndarray):
-            digest.update(f"|{field.name}:{value.dtype.str}{value.shape}:".encode())
-            digest.update(np.ascontiguousarray(value).data)
+            digest.update(f"|{name}:{value.dtype.str}{value.shape}:".encode())
+            digest.update(value.data if value.flags.c_contiguous else np.ascontiguousarray(value).data)
         else:
-            digest.update(f"|{field.name}={value!r}".encode())
+            digest.update(f"|{name}={value!r}".encode())
     return digest.digest()
+
+
+@functools.cache
+def _field_names(kind: type) -> tuple[str, ...]:
+    """The dataclass fields of a scene type, in order (read once per type)."""
+    return tuple(field.name for field in dataclasses.fields(cast(Any, kind)))
 
 
 # The optional members of a Rasterizer, each read in one place.

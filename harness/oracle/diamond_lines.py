@@ -617,8 +617,33 @@ def _y_major_cells(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, limit, gl_rising, s
             if 0 <= m < limit and not (skip_end and m == bi and k == bj):
                 n = _put(s, k, m, m + 1, out_s, out_y, out_x0, out_x1, n)
         return n
-    if _y_major_vector(s, ka, kb, ru, rv, slope, margin, limit, skip_end, bi, bj, out_s, out_y, out_x0, out_x1, n):
-        return n + kb - ka + 1
+    if skip_end and ka <= bj <= kb:  # the end pixel's row on its own, the rows either side by vectors
+        n = _y_major_fast(s, ka, bj - 1, rx, ry, qx, qy, ru, rv, slope, margin, limit, gl_rising, out_s, out_y, out_x0,
+                          out_x1, n)
+        n = _y_major_rows(s, bj, bj, rx, ry, qx, qy, ru, rv, slope, margin, limit, gl_rising, skip_end, bi, bj,
+                          out_s, out_y, out_x0, out_x1, n)
+        return _y_major_fast(s, bj + 1, kb, rx, ry, qx, qy, ru, rv, slope, margin, limit, gl_rising, out_s, out_y, out_x0,
+                             out_x1, n)
+    return _y_major_fast(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, margin, limit, gl_rising, out_s, out_y, out_x0, out_x1, n)
+
+
+@numba.njit(cache=True)
+def _y_major_fast(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, margin, limit, gl_rising, out_s, out_y, out_x0, out_x1, n):  # type: ignore[no-untyped-def]
+    """Rows ka..kb (none holding a pixel left out) by :func:`_y_major_vector`, else one by
+    one (:func:`_y_major_rows`). Returns the span count."""
+    no = np.bool_(False)  # np.bool_, not the literal False: numba compiles a callee once per literal argument
+    if ka > kb or _y_major_vector(s, ka, kb, ru, rv, slope, margin, limit, no, -1, -1, out_s, out_y, out_x0, out_x1, n):
+        return n + max(kb - ka + 1, 0)
+    return _y_major_rows(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, margin, limit, gl_rising, no, -1, -1,
+                         out_s, out_y, out_x0, out_x1, n)
+
+
+@numba.njit(cache=True)
+def _y_major_rows(s, ka, kb, rx, ry, qx, qy, ru, rv, slope, margin, limit, gl_rising, skip_end, bi, bj,  # type: ignore[no-untyped-def]
+                  out_s, out_y, out_x0, out_x1, n):
+    """Rows ka..kb one by one: the float filter of :func:`_y_major_cells`, else exactly.
+    Returns the span count."""
+    x_major = np.bool_(False)
     uc = ka + 0.5
     for k in range(ka, kb + 1):
         v_est = rv + (uc - ru) * slope
@@ -684,6 +709,23 @@ def _x_major_vector(s, k_first, step, count, c, ru, rv, inv, margin, m_first, m_
     return ok
 
 
+@numba.njit(cache=True, inline="always")
+def _left_out(bi, u, out_x0, out_x1):  # type: ignore[no-untyped-def]
+    """Leave column bi out of span u: True when done (bi outside it, or at an end of a
+    span of two pixels or more: trimmed), False when the span would split or vanish."""
+    if not out_x0[u] <= bi < out_x1[u]:
+        return True
+    if out_x1[u] - out_x0[u] < 2:
+        return False
+    if out_x0[u] == bi:
+        out_x0[u] = bi + 1
+        return True
+    if out_x1[u] == bi + 1:
+        out_x1[u] = bi
+        return True
+    return False
+
+
 @numba.njit(cache=True)
 def _x_major_runs(s, ka, kb, step, rx, ry, qx, qy, ru, rv, du, dv, slope, limit, gl_rising, skip_end, bi, bj,  # type: ignore[no-untyped-def]
                   out_s, out_y, out_x0, out_x1, n, first):
@@ -708,11 +750,11 @@ def _x_major_runs(s, ka, kb, step, rx, ry, qx, qy, ru, rv, du, dv, slope, limit,
         r0, r1 = max(m, 0), min(m_last, limit - 1)
         if r0 > r1:
             return n  # every reached cell above or below the viewport
-        k_last = k_first + step * (count - 1)
-        simple = not (skip_end and r0 <= bj <= r1 and min(k_first, k_last) <= bi <= max(k_first, k_last))
-        simple &= not (n > first and out_y[np.uint64(n - 1)] == r0)  # a span the first run may extend
-        if simple and _x_major_vector(s, k_first, step, count, c, ru, rv, inv, margin, m, m_last, r0, r1,
-                                      out_s, out_y, out_x0, out_x1, n):
+        simple = not (n > first and out_y[np.uint64(n - 1)] == r0)  # a span the first run may extend
+        # the rows by vectors; then the end pixel, if left out, trimmed off its run (else the rows one by one)
+        if (simple and _x_major_vector(s, k_first, step, count, c, ru, rv, inv, margin, m, m_last, r0, r1,
+                                       out_s, out_y, out_x0, out_x1, n)
+                and (not (skip_end and r0 <= bj <= r1) or _left_out(bi, np.uint64(n + bj - r0), out_x0, out_x1))):
             return n + r1 - r0 + 1
     while t < count and m < limit:
         if m < 0:  # above the viewport: on to the first cell of row 0
