@@ -463,17 +463,18 @@ def _shares_capacity(positions, use, offsets, width, height):  # type: ignore[no
     return spans, pixels
 
 
-# The most pixels the supersampled shares make room for at first (128 MiB of counts,
+# The most pixels the supersampled shares make room for at first (128 MiB of alphas,
 # only touched where written); more when the answer needs it.
 FIRST_ROOM = 1 << 24
 
 
 @numba.njit(cache=True, error_model="numpy")
-def _shares_kernel(positions, sign, owned, use, offsets, width, height, spans, counts, start, n, m):  # type: ignore[no-untyped-def]
+def _shares_kernel(positions, sign, owned, use, offsets, width, height, share, spans, alpha, start, n, m):  # type: ignore[no-untyped-def]
     """Per (triangle, pixel row), the samples of every sample row of that pixel row
-    counted per pixel together: spans over the pixels some sample covers, with a count
-    per pixel, in (triangle, row) order, written to ``spans`` (4, room) and ``counts``
-    (room,) from triangle ``start`` on, after ``n`` spans and ``m`` pixels already written.
+    counted per pixel together: spans over the pixels some sample covers, with the count
+    over ``share`` per pixel, in (triangle, row) order, written to ``spans`` (4, room) and
+    ``alpha`` (room,) from triangle ``start`` on, after ``n`` spans and ``m`` pixels
+    already written.
 
     Returns (triangle, spans, pixels): the triangle it stopped at (all of them: N), and
     how many spans and pixels are written before it. It stops before a triangle whose
@@ -516,7 +517,7 @@ def _shares_kernel(positions, sign, owned, use, offsets, width, height, spans, c
             if lo >= hi:
                 continue
             # at most one run per sample, at most one pixel per column of [lo, hi)
-            if n + min(n_samples, hi - lo) > spans.shape[1] or m + (hi - lo) > counts.size:
+            if n + min(n_samples, hi - lo) > spans.shape[1] or m + (hi - lo) > alpha.size:
                 return t, n_triangle, m_triangle
             for s in range(n_samples):
                 if lefts[s] < rights[s]:
@@ -533,7 +534,7 @@ def _shares_kernel(positions, sign, owned, use, offsets, width, height, spans, c
                         spans[1, n] = j
                         spans[2, n] = x
                         open_run = True
-                    counts[m] = running
+                    alpha[m] = running / share  # the count over the pattern's size, as numpy divides
                     m += 1
                 elif open_run:
                     spans[3, n] = x
@@ -567,16 +568,16 @@ def fused_shares(scene: Scene, prepared: Prepared, samples: Sequence[Sequence[fl
     # fit. Allocated here, not in the kernel: numba's own allocation of a large array
     # costs several times numpy's (fresh pages are only touched where written).
     spans = np.empty((4, max(min(span_room, FIRST_ROOM // 4), 1)), dtype=np.int64)
-    counts = np.empty(max(min(pixel_room, FIRST_ROOM), 1), dtype=np.int64)
+    alpha = np.empty(max(min(pixel_room, FIRST_ROOM), 1), dtype=np.float64)
     t, n, m = 0, 0, 0
     while True:
         t, n, m = _shares_kernel(prepared.snapped, prepared.sign, prepared.owned, prepared.active, offsets,
-                                 scene.width, scene.height, spans, counts, t, n, m)
+                                 scene.width, scene.height, n_samples, spans, alpha, t, n, m)
         if t == len(scene):
             break
         grown = np.empty((4, 2 * spans.shape[1]), dtype=np.int64)
         grown[:, :n] = spans[:, :n]
-        more = np.empty(2 * counts.size, dtype=np.int64)
-        more[:m] = counts[:m]
-        spans, counts = grown, more
-    return Coverage(spans[0, :n], spans[1, :n], spans[2, :n], spans[3, :n], alpha=counts[:m] / n_samples)
+        more = np.empty(2 * alpha.size, dtype=np.float64)
+        more[:m] = alpha[:m]
+        spans, alpha = grown, more
+    return Coverage(spans[0, :n], spans[1, :n], spans[2, :n], spans[3, :n], alpha=alpha[:m])
