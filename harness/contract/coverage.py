@@ -179,8 +179,12 @@ class Coverage:
 
     def __init__(self, primitive: ArrayLike, y: ArrayLike, x0: ArrayLike, x1: ArrayLike,
                  attributes: ArrayLike | None = None, sample: ArrayLike | None = None,
-                 alpha: ArrayLike | None = None, *, runs: AlphaRuns | None = None) -> None:
-        # the constructor takes array-likes (lists too), which _check makes arrays
+                 alpha: ArrayLike | None = None, *, runs: AlphaRuns | None = None, _alpha: ArrayLike | None = None) -> None:
+        # the constructor takes array-likes (lists too), which _check makes arrays. ``_alpha`` is
+        # what dataclasses.replace hands over: the alphas as given, or (with runs) those derived
+        # from the runs, dropped here (derived again when read)
+        if _alpha is not None and runs is None and alpha is None:
+            alpha = _alpha
         for name, value in (("primitive", primitive), ("y", y), ("x0", x0), ("x1", x1), ("attributes", attributes),
                             ("sample", sample), ("runs", runs), ("_alpha", alpha)):
             object.__setattr__(self, name, value)

@@ -160,3 +160,16 @@ def test_runs_are_checked_against_their_spans():
         Coverage(*spans, alpha=np.zeros(6), runs=good)
     with pytest.raises(ValueError, match="AlphaRuns"):
         Coverage(*spans, runs=(1, 2, 3))  # type: ignore[arg-type]
+
+
+def test_dataclasses_replace_keeps_working_on_both_forms() -> None:
+    """Plugins and tests change one field with dataclasses.replace (attributes scaled, spans
+    cut): per-pixel alphas are carried over, runs are kept and their alphas derived anew."""
+    from dataclasses import replace
+
+    plain = Coverage([0], [1], [2], [5], alpha=[0.25, 1.0, 0.5])
+    assert replace(plain, attributes=np.zeros((3, 2))).alpha.tolist() == [0.25, 1.0, 0.5]
+    runs = Coverage([0], [1], [2], [5], runs=AlphaRuns(np.array([3]), np.array([4]), np.array([0.25, 0.5])))
+    assert runs.alpha is not None and runs.alpha.tolist() == [0.25, 1.0, 0.5]  # derived (and kept) first
+    again = replace(runs, primitive=np.array([1]))
+    assert again.runs is not None and again.alpha.tolist() == [0.25, 1.0, 0.5] and again.primitive.tolist() == [1]
