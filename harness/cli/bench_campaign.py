@@ -100,7 +100,7 @@ def per_scene_breakdown(sections: dict[str, float], scenes: int) -> dict[str, fl
 
     >>> per_scene_breakdown({"generation": 0.5, "check:watertight": 1.0, "note:batch": 2.0, "note:rasterizer": 0.25,
     ...                      "state": 0.1}, 1000)
-    {'generation': 0.5, 'check watertight': 1.0, 'other': 0.5, 'rasterizer (its process)': 0.25, 'state': 0.1}
+    {'check watertight': 1.0, 'generation': 0.5, 'other': 0.5, 'rasterizer (its process)': 0.25, 'state': 0.1}
     """
     if scenes <= 0:
         return {}

@@ -112,7 +112,9 @@ def kind_of(coverage_kind: str, scene_kinds: Sequence[str]) -> str:
     >>> kind_of("multisample", ["triangles"]), kind_of("single", ["lines"]), kind_of("single", ["triangles", "paths"])
     ('multisample', 'lines', 'paths')
     """
-    if coverage_kind in ("multisample", "area"):
+    from harness.contract.coverage_models import SINGLE
+
+    if coverage_kind != SINGLE.kind:  # multisample or area coverage: counted under its own kind
         return coverage_kind
     kinds = set(scene_kinds)
     if kinds == {"lines"}:
