@@ -574,6 +574,27 @@ def _triangle_area_of(x0, x1, x2, y0, y1, y2, k0, k1, k2, i):  # type: ignore[no
     return min(abs(total), 1.0)
 
 
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _band_edge(xa, ya, xb, yb):  # type: ignore[no-untyped-def]
+    """(xa, d0, d1) for an edge crossing the whole row band (pixel-local ``ya <= 0``,
+    ``yb >= 1``, x global): its local x at the band's top and bottom lines are
+    ``fl(fl(xa - i) + d0)`` and ``fl(fl(xa - i) + d1)`` at column i (module docstring)."""
+    if yb < ya:
+        xa, ya, xb, yb = xb, yb, xa, ya
+    dy = yb - ya  # >= 1 (monotone rounding): no division by zero, fractions in [0, 1]
+    dx = xb - xa
+    return xa, ((-ya) / dy) * dx, ((1.0 - ya) / dy) * dx
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _band_area(xa, d0, d1, xc, e0, e1, i):  # type: ignore[no-untyped-def]
+    """The area at column i of a row band crossed by two edges and no vertex:
+    |mean of clamp(x - i, 0, 1) over the band for one edge, minus the other's|."""
+    la = xa - i
+    lc = xc - i
+    return min(abs(clamped_mean(la + d0, la + d1) - clamped_mean(lc + e0, lc + e1)), 1.0)
+
+
 @numba.njit(cache=True, error_model="numpy")  # no division by zero (see _edge_term)
 def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):  # type: ignore[no-untyped-def]
     """The area of each span's edge pixels, the inner run [i0, i1) left alone (exactly 1,
@@ -599,14 +620,34 @@ def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
         for v in range(k):
             # pixel-local coordinates: every later quantity is at most 1 (or M)
             local_y[v] = polys[p, v, 1] - j
-        _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
         triangle = k == 3
         ax, bx, cx = polys[p, 0, 0], polys[p, 1, 0], polys[p, 2, 0]
         ay, by, cy = local_y[0], local_y[1], local_y[2]
+        # a band the triangle crosses with no vertex strictly inside (every row but those
+        # of its vertices): two edges cross it from top to bottom, the third is wholly
+        # above or below (or on a band line), and each pixel's area is the difference of
+        # two clamped means of band crossings (module docstring, "Rows without a vertex")
+        band = (triangle and min(ay, by, cy) <= 0.0 and max(ay, by, cy) >= 1.0
+                and not 0.0 < ay < 1.0 and not 0.0 < by < 1.0 and not 0.0 < cy < 1.0)
+        xa = d0 = d1 = xc = e0 = e1 = 0.0
+        if band:
+            if min(ay, by) <= 0.0 and max(ay, by) >= 1.0:
+                xa, d0, d1 = _band_edge(ax, ay, bx, by)
+                if min(by, cy) <= 0.0 and max(by, cy) >= 1.0:
+                    xc, e0, e1 = _band_edge(bx, by, cx, cy)
+                else:
+                    xc, e0, e1 = _band_edge(cx, cy, ax, ay)
+            else:
+                xa, d0, d1 = _band_edge(bx, by, cx, cy)
+                xc, e0, e1 = _band_edge(cx, cy, ax, ay)
+        else:
+            _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
         ka, kb, kc = kinds[0], kinds[1], kinds[2]
         start = m
         for i in range(x0, i0):
-            if triangle:
+            if band:
+                out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
+            elif triangle:
                 out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
             else:
                 out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
@@ -622,7 +663,9 @@ def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
             x0 += lead - start
         right = m
         for i in range(i1, x1):
-            if triangle:
+            if band:
+                out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
+            elif triangle:
                 out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
             else:
                 out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
