@@ -57,9 +57,10 @@ Runs, as a span fill draws
     (``polygon_generic`` in ``libImaging/Draw.c``) fills each scan line between two edge
     crossings with one ``hline``. The cost grows with the edge pixels, not the area; the
     alphas one per pixel are derived from the runs when a check first reads them
-    (:attr:`harness.contract.coverage.Coverage.alpha`), the same values bit for bit as
-    computing every pixel with the inner ones set to 1 (``tests/oracle/area_reference.py``
-    keeps that kernel, and the tests compare the two). In rows holding a vertex the
+    (:attr:`harness.contract.coverage.Coverage.alpha`), the inner ones exactly 1
+    (``tests/oracle/area_reference.py`` keeps the kernel that computed every pixel by the
+    edge integrals: the tests find the same rows and inner runs, and every alpha within
+    both paths' proven bounds of the other's and of the exact area). In rows holding a vertex the
     arithmetic per pixel is the edge integrals above (:func:`_edge_term` is
     :func:`edge_integral` with its divisions skipped where their result is provably the
     same); in the other rows, nearly all of a large triangle's, it is the band path below.
