@@ -57,11 +57,33 @@ Runs, as a span fill draws
     (``polygon_generic`` in ``libImaging/Draw.c``) fills each scan line between two edge
     crossings with one ``hline``. The cost grows with the edge pixels, not the area; the
     alphas one per pixel are derived from the runs when a check first reads them
-    (:attr:`harness.contract.coverage.Coverage.alpha`), the same values bit for bit as
-    computing every pixel with the inner ones set to 1 (``tests/oracle/area_reference.py``
-    keeps that kernel, and the tests compare the two). The arithmetic per pixel is the
-    one below, unchanged: :func:`_edge_term` is :func:`edge_integral` with its
-    divisions skipped where their result is provably the same.
+    (:attr:`harness.contract.coverage.Coverage.alpha`), the inner ones exactly 1
+    (``tests/oracle/area_reference.py`` keeps the kernel that computed every pixel by the
+    edge integrals: the tests find the same rows and inner runs, and every alpha within
+    both paths' proven bounds of the other's and of the exact area). In rows holding a vertex the
+    arithmetic per pixel is the edge integrals above (:func:`_edge_term` is
+    :func:`edge_integral` with its divisions skipped where their result is provably the
+    same); in the other rows, nearly all of a large triangle's, it is the band path below.
+
+Rows without a vertex: the band path (cairo's cells, one edge at a time)
+    Like cairo's tor scan converter, which walks each edge once per row from its crossings
+    of the row's lines, a triangle's row band [j, j+1] that it spans with no vertex strictly
+    inside (pixel-local ``y' = fl(y - j)``: some y' <= 0, some >= 1, none in (0, 1)) is crossed
+    from its top line to its bottom line by exactly two edges (the two meeting at the vertex
+    alone on one side), and the third touches it at most on a line. Inside the band the
+    triangle lies between them, so (Fubini, slicing by y) the area at column i is::
+
+        | phi(R0 - i, R1 - i) - phi(L0 - i, L1 - i) |,  phi(a, b) = integral_0^1 clamp((1-t) a + t b, 0, 1) dt
+
+    where L0, L1 (R0, R1) are one edge's x at the band's top and bottom lines: phi is
+    :func:`clamped_mean`, the length of the pixel's row of points left of the edge
+    averaged over the band. Per row and edge (:func:`_band_edge`), from its end points
+    (xa, ya') below the band's top line and (xb, yb') beyond its bottom line, afresh in each
+    row (nothing is stepped from row to row): ``dy = fl(yb' - ya') >= 1``, ``t0 =
+    fl(-ya' / dy)``, ``t1 = fl(fl(1 - ya') / dy)`` (both in [0, 1] by monotone rounding),
+    ``d = fl(t fl(xb - xa))``; per pixel (:func:`_band_area`) the local crossings
+    ``fl(fl(xa - i) + d0)``, ``fl(fl(xa - i) + d1)``: two subtractions and four additions,
+    then the two clamped means (a division only where a crossing lies inside the pixel).
 
 The error bound (u = 2**-53, round to nearest)
     Let n be the polygon's number of edges (3 for a triangle), M the largest
@@ -93,7 +115,25 @@ The error bound (u = 2**-53, round to nearest)
        only brings it closer to the exact area, which lies in [0, 1].
 
     Summing 10.002 + 11.01 < 22 per unit of u M and 5.53 + underflow < 7 per edge gives
-    the bound. For a triangle, M <= max(x extent, y extent) + 1 over the pixels its
+    the bound.
+
+    5. *The band path* errs by less: at most ``u (33 M + 9)``, within the bound's
+       ``u (3 (22 M + 7) + 9)`` for n = 3. Let P' be the triangle with vertices
+       ``(x_k - i, y'_k)``: each moved by at most delta = u M from the exact local one, so
+       its area in the pixel differs by at most ``3 (2 sqrt(2) (1 + 2 delta) delta + pi
+       delta**2) <= 8.49 u M`` (:func:`displaced_area_bound`'s proof). The band test is
+       decided on the y' themselves, so the formula above is exact for P'. For one edge,
+       with tau the exact ``-ya' / (yb' - ya')`` (or ``(1 - ya') / (yb' - ya')``): t
+       carries at most three roundings relative to tau, dx one, the product one, so
+       ``|d - tau (xb - xa)| <= gamma_5 |xb - xa| <= 10.02 u M``; ``fl(xa - i)`` errs by at most
+       u M and the final sum by at most u times the crossing, itself at most M (it lies
+       between ``xa - i`` and ``xb - i``): each crossing is within 12.03 u M of P''s. phi is
+       1/2-Lipschitz in each argument: 12.03 u M per edge, plus 3.51 u for its own
+       evaluation (step 3), plus u for the difference (of two numbers in [0, 1]); taking
+       |.| and clamping to 1 only brings it closer. In all ``8.49 + 2 * 12.03 < 33`` per
+       unit of u M and ``2 * 3.51 + 1 < 9`` (underflow in t or d adds at most 2**-1070).
+       Rounded far polygons of three vertices take it too: their vertices' move by u G is
+       step 1's (11 G in the bound). For a triangle, M <= max(x extent, y extent) + 1 over the pixels its
     bounding box spans, so the bound depends on the triangle's size, not its position.
 
 Far triangles (a coordinate beyond ±:data:`GUARD_LIMIT` = 2**21)
@@ -574,6 +614,27 @@ def _triangle_area_of(x0, x1, x2, y0, y1, y2, k0, k1, k2, i):  # type: ignore[no
     return min(abs(total), 1.0)
 
 
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _band_edge(xa, ya, xb, yb):  # type: ignore[no-untyped-def]
+    """(xa, d0, d1) for an edge crossing the whole row band (pixel-local ``ya <= 0``,
+    ``yb >= 1``, x global): its local x at the band's top and bottom lines are
+    ``fl(fl(xa - i) + d0)`` and ``fl(fl(xa - i) + d1)`` at column i (module docstring)."""
+    if yb < ya:
+        xa, ya, xb, yb = xb, yb, xa, ya
+    dy = yb - ya  # >= 1 (monotone rounding): no division by zero, fractions in [0, 1]
+    dx = xb - xa
+    return xa, ((-ya) / dy) * dx, ((1.0 - ya) / dy) * dx
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _band_area(xa, d0, d1, xc, e0, e1, i):  # type: ignore[no-untyped-def]
+    """The area at column i of a row band crossed by two edges and no vertex:
+    |mean of clamp(x - i, 0, 1) over the band for one edge, minus the other's|."""
+    la = xa - i
+    lc = xc - i
+    return min(abs(clamped_mean(la + d0, la + d1) - clamped_mean(lc + e0, lc + e1)), 1.0)
+
+
 @numba.njit(cache=True, error_model="numpy")  # no division by zero (see _edge_term)
 def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):  # type: ignore[no-untyped-def]
     """The area of each span's edge pixels, the inner run [i0, i1) left alone (exactly 1,
@@ -599,14 +660,34 @@ def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
         for v in range(k):
             # pixel-local coordinates: every later quantity is at most 1 (or M)
             local_y[v] = polys[p, v, 1] - j
-        _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
         triangle = k == 3
         ax, bx, cx = polys[p, 0, 0], polys[p, 1, 0], polys[p, 2, 0]
         ay, by, cy = local_y[0], local_y[1], local_y[2]
+        # a band the triangle crosses with no vertex strictly inside (every row but those
+        # of its vertices): two edges cross it from top to bottom, the third is wholly
+        # above or below (or on a band line), and each pixel's area is the difference of
+        # two clamped means of band crossings (module docstring, "Rows without a vertex")
+        band = (triangle and min(ay, by, cy) <= 0.0 and max(ay, by, cy) >= 1.0
+                and not 0.0 < ay < 1.0 and not 0.0 < by < 1.0 and not 0.0 < cy < 1.0)
+        xa = d0 = d1 = xc = e0 = e1 = 0.0
+        if band:
+            if min(ay, by) <= 0.0 and max(ay, by) >= 1.0:
+                xa, d0, d1 = _band_edge(ax, ay, bx, by)
+                if min(by, cy) <= 0.0 and max(by, cy) >= 1.0:
+                    xc, e0, e1 = _band_edge(bx, by, cx, cy)
+                else:
+                    xc, e0, e1 = _band_edge(cx, cy, ax, ay)
+            else:
+                xa, d0, d1 = _band_edge(bx, by, cx, cy)
+                xc, e0, e1 = _band_edge(cx, cy, ax, ay)
+        else:
+            _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
         ka, kb, kc = kinds[0], kinds[1], kinds[2]
         start = m
         for i in range(x0, i0):
-            if triangle:
+            if band:
+                out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
+            elif triangle:
                 out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
             else:
                 out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
@@ -622,7 +703,9 @@ def _edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_
             x0 += lead - start
         right = m
         for i in range(i1, x1):
-            if triangle:
+            if band:
+                out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
+            elif triangle:
                 out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
             else:
                 out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
@@ -806,7 +889,8 @@ def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[
 def area_error_bound(positions: ArrayLike, width: int = MAX_VIEWPORT, height: int = MAX_VIEWPORT) -> NDArray[np.float64]:
     """Per triangle, a proven bound on ``|pixel_areas - exact_area|`` at every pixel.
 
-    ``u * (n * (22 M + 11 G + 7) + n**2)`` with u = 2**-53 (module docstring): for a
+    ``u * (n * (22 M + 11 G + 7) + n**2)`` with u = 2**-53 (module docstring; the edge
+    integrals' bound, which also covers the band path's ``u (33 M + 9)``): for a
     triangle within ±2**21, n = 3, G = 0 and M = max(x extent, y extent) + 1; beyond, the
     clipped polygon's n <= 7, M <= max(W, H) and G = max(W, H). Zero for triangles that
     cover nothing (non-finite or of zero area). The defaults give a bound valid for any

@@ -1,7 +1,9 @@
 """The exact area oracle's float path as it was before runs (rastercheck session 21):
 one alpha per pixel, interior pixels written one by one, zeros trimmed in a second pass.
-Kept as the reference the new path (:func:`harness.oracle.area._area_spans`) must match
-bit for bit."""
+Kept as the reference the new path (:func:`harness.oracle.area._area_spans`) is compared
+with: the same rows and inner runs, every alpha within both their proven bounds (the
+edge integrals in rows holding a vertex give the same bits; the band path elsewhere does
+not)."""
 
 from __future__ import annotations
 

@@ -348,3 +348,31 @@ def test_a_large_viewport_costs_only_the_pixels_touched():
     exact_total = abs((x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0)) / 2
     float_total = sum(map(Fraction, area.tolist()), Fraction(0))
     assert abs(float_total - exact_total) <= t.size * Fraction(area_error_bound(tris, w, h)[0])
+
+
+# -- rows without a vertex: the band path (two crossing edges per row) ----------------------
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_bound_holds_on_large_triangles_rows_without_a_vertex(seed):
+    """Most rows of a large triangle hold no vertex: their edge pixels take the band path
+    (the difference of two clamped means of band crossings); within the bound everywhere."""
+    rng = np.random.default_rng(seed)
+    size = 24
+    positions = rng.uniform(-6.0, size + 6.0, (4, 3, 2))
+    if seed % 2:  # vertices on band lines and pixel corners, shallow and steep edges
+        positions = np.round(positions)
+        positions[0] = [[-3.0, 2.0], [size + 3.0, 3.0], [5.0, size - 1.0]]  # a shallow edge across the screen
+        positions[1] = [[4.0, -2.0], [4.0 + 2.0**-30, size + 2.0], [2.0, 7.0]]  # a steep sliver
+    within_bound(positions, size, size)
+
+
+@given(st.lists(st.floats(-4.0, SIZE + 4.0, allow_nan=False), min_size=6, max_size=6),
+       st.sampled_from([1.0, 2.0**-1, 2.0**-8, 2.0**-30, 1e5]))
+@settings(max_examples=100)
+@example([-3.0, 0.0, 11.0, 1.0, 2.0, 8.0], 1.0)  # a vertex on every band line it meets
+@example([0.5, -1e5, 0.5, 1e5, 3.0, 2.0], 1.0)
+def test_bound_holds_on_stretched_triangles(values, scale):
+    """Triangles stretched in y (many vertex-free rows, steep edges) or squashed (shallow)."""
+    tri = np.array(values).reshape(1, 3, 2) * np.array([1.0, scale])
+    within_bound(tri)
