@@ -114,7 +114,7 @@ def kind_of(coverage_kind: str, scene_kinds: Sequence[str]) -> str:
     """
     from harness.contract.coverage_models import SINGLE
 
-    if coverage_kind != SINGLE.kind:  # multisample or area coverage: counted under its own kind
+    if coverage_kind != SINGLE.coverage_kind:  # multisample or area coverage: counted under its own kind
         return coverage_kind
     kinds = set(scene_kinds)
     if kinds == {"lines"}:
