@@ -187,8 +187,10 @@ def test_dataclasses_replace_keeps_working_on_both_forms() -> None:
     from dataclasses import replace
 
     plain = Coverage([0], [1], [2], [5], alpha=[0.25, 1.0, 0.5])
-    assert replace(plain, attributes=np.zeros((3, 2))).alpha.tolist() == [0.25, 1.0, 0.5]
+    kept = replace(plain, attributes=np.zeros((3, 2))).alpha
+    assert kept is not None and kept.tolist() == [0.25, 1.0, 0.5]
     runs = Coverage([0], [1], [2], [5], runs=AlphaRuns(np.array([3]), np.array([4]), np.array([0.25, 0.5])))
     assert runs.alpha is not None and runs.alpha.tolist() == [0.25, 1.0, 0.5]  # derived (and kept) first
     again = replace(runs, primitive=np.array([1]))
-    assert again.runs is not None and again.alpha.tolist() == [0.25, 1.0, 0.5] and again.primitive.tolist() == [1]
+    assert again.runs is not None and again.alpha is not None and again.alpha.tolist() == [0.25, 1.0, 0.5]
+    assert again.primitive.tolist() == [1]
