@@ -265,9 +265,9 @@ def _per_core(results: Sequence[CampaignMeasurement]) -> tuple[float, float]:
 
 
 def campaign_summary(results: Sequence[CampaignMeasurement]) -> dict[str, Any]:
-    """The speed-up from the first worker count to the last (the free runs), against the
-    goal (not met, and why, when rasterize calls failed in the campaigns); the speed-up
-    of the last over one worker on one core; scenes and primitives per second per core
+    """The speed-up from the first worker count to the last (the free runs) and of the last
+    over one worker on one core, the latter judged against the goal where it was measured
+    (not met, and why, when rasterize calls failed in the campaigns); scenes and primitives per second per core
     (:func:`_per_core`) against a million scenes per core-hour and 10,000 primitives/s;
     and the scenes a 10-minute campaign on the most workers covers."""
     free = [m for m in results if not m.cores]
@@ -277,10 +277,13 @@ def campaign_summary(results: Sequence[CampaignMeasurement]) -> dict[str, Any]:
     one = next((m for m in results if m.cores), None)
     why = _unjudged(results)
     scenes, primitives = _per_core(results)
+    # the speed-up judged: over one worker on one core where there is that run (a free worker's
+    # rasterizer draws on another core while it checks: two workers then gain less than two cores do)
+    over_core = last.scenes_per_second / one.scenes_per_second if one is not None and one.scenes_per_second > 0 else None
+    judged = over_core if over_core is not None else last.speedup
     return {"from_workers": first.workers, "to_workers": last.workers, "speedup": round(last.speedup, 3),
-            "goal": CAMPAIGN_GOAL, "met": not why and last.speedup >= CAMPAIGN_GOAL, **({"not_judged": why} if why else {}),
-            **({"speedup_over_one_core": round(last.scenes_per_second / one.scenes_per_second, 3)}
-               if one is not None and one.scenes_per_second > 0 else {}),
+            "goal": CAMPAIGN_GOAL, "met": not why and judged >= CAMPAIGN_GOAL, **({"not_judged": why} if why else {}),
+            **({"speedup_over_one_core": round(over_core, 3)} if over_core is not None else {}),
             "scenes_per_second_per_core": round(scenes, 1), "scenes_per_core_hour": round(scenes * 3600),
             "primitives_per_second_per_core": round(primitives), "scenes_goal": round(CAMPAIGN_SCENES_GOAL, 1),
             "primitives_goal": CAMPAIGN_PRIMITIVES_GOAL,
@@ -304,12 +307,15 @@ def format_campaign_table(results: Sequence[CampaignMeasurement]) -> str:
     summary = campaign_summary(results)
     if why:
         lines.append(f"speed-up not judged: {why}")
+    elif "speedup_over_one_core" in summary:
+        verdict = "met" if summary["met"] else "NOT met"
+        lines.append(f"speed-up of {summary['to_workers']} workers over one worker on one core: "
+                     f"{summary['speedup_over_one_core']:.2f}x (goal >= {CAMPAIGN_GOAL}x: {verdict}); over one free worker "
+                     f"(its rasterizer drawing on another core while it checks): {summary['speedup']:.2f}x")
     elif "speedup" in summary:
         verdict = "met" if summary["met"] else "NOT met"
         lines.append(f"speed-up from {summary['from_workers']} to {summary['to_workers']} workers: {summary['speedup']:.2f}x "
-                     f"(goal >= {CAMPAIGN_GOAL}x: {verdict})"
-                     + (f"; over one worker on one core: {summary['speedup_over_one_core']:.2f}x"
-                        if "speedup_over_one_core" in summary else ""))
+                     f"(goal >= {CAMPAIGN_GOAL}x: {verdict})")
     if not why and "scenes_per_second_per_core" in summary:
         verdict = "met" if summary["throughput_met"] else "NOT met"
         lines.append(f"per core: {summary['scenes_per_second_per_core']:,.0f} scenes/s = {summary['scenes_per_core_hour']:,} "
