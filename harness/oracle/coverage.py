@@ -43,7 +43,7 @@ from harness.engine import ledger
 from harness.geometry.exact import frozen, orientation
 from harness.geometry.spans import expand, pixel_offsets, span_buffers
 from harness.kinds import kind_of
-from harness.oracle.kernels import _apply_edge, _edge_setup, _row_range, shares_of_layers
+from harness.oracle.kernels import _apply_edge, _edge_setup, _row_range, interpolate_at, shares_of_layers
 from harness.oracle.multisample import fused_samples, fused_shares, multisample_spans
 
 __all__ = ["exact_coverage", "exact_single", "exact_samples", "exact_multisample", "sample_shares", "exact_coverage_python",
@@ -193,24 +193,13 @@ def _span_kernel(positions, sign, owned, use, sx, sy, width, height, out_t, out_
 @numba.njit(cache=True)
 def interpolate_kernel(positions, values, inv_w, perspective, span_t, span_y, span_x0, span_x1, sx, sy, out):  # type: ignore[no-untyped-def]
     """Barycentric interpolation at each sample: l_i = E_i / (E_0 + E_1 + E_2)."""
-    k_count = values.shape[2]
     row = 0
     for s in range(span_t.size):
         t = span_t[s]
         p = positions[t]
         ys = span_y[s] + sy
         for i in range(span_x0[s], span_x1[s]):
-            xs = i + sx
-            e0 = (p[2, 0] - p[1, 0]) * (ys - p[1, 1]) - (p[2, 1] - p[1, 1]) * (xs - p[1, 0])
-            e1 = (p[0, 0] - p[2, 0]) * (ys - p[2, 1]) - (p[0, 1] - p[2, 1]) * (xs - p[2, 0])
-            e2 = (p[1, 0] - p[0, 0]) * (ys - p[0, 1]) - (p[1, 1] - p[0, 1]) * (xs - p[0, 0])
-            if perspective:
-                e0 *= inv_w[t, 0]
-                e1 *= inv_w[t, 1]
-                e2 *= inv_w[t, 2]
-            total = e0 + e1 + e2
-            for k in range(k_count):
-                out[row, k] = (e0 * values[t, 0, k] + e1 * values[t, 1, k] + e2 * values[t, 2, k]) / total
+            interpolate_at(p, values, inv_w, t, perspective, i + sx, ys, out, row)
             row += 1
 
 

@@ -15,7 +15,24 @@ from harness.contract.coverage import Coverage
 from harness.geometry.exact import frozen, orient2d_sign
 from harness.geometry.spans import span_buffers
 
-__all__ = ["shares_of_layers"]
+__all__ = ["shares_of_layers", "interpolate_at"]
+
+
+@numba.njit(cache=True, inline="always")
+def interpolate_at(p, values, inv_w, t, perspective, xs, ys, out, row):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """Barycentric interpolation of triangle ``t`` (vertices ``p``) at the sample (xs, ys)
+    into ``out[row]``: l_i = E_i / (E_0 + E_1 + E_2), each E_i weighted by 1/w_i when
+    ``perspective`` (the single-sample and the multisample oracle's one arithmetic)."""
+    e0 = (p[2, 0] - p[1, 0]) * (ys - p[1, 1]) - (p[2, 1] - p[1, 1]) * (xs - p[1, 0])
+    e1 = (p[0, 0] - p[2, 0]) * (ys - p[2, 1]) - (p[0, 1] - p[2, 1]) * (xs - p[2, 0])
+    e2 = (p[1, 0] - p[0, 0]) * (ys - p[0, 1]) - (p[1, 1] - p[0, 1]) * (xs - p[0, 0])
+    if perspective:
+        e0 *= inv_w[t, 0]
+        e1 *= inv_w[t, 1]
+        e2 *= inv_w[t, 2]
+    total = e0 + e1 + e2
+    for k in range(values.shape[2]):
+        out[row, k] = (e0 * values[t, 0, k] + e1 * values[t, 1, k] + e2 * values[t, 2, k]) / total
 
 
 @numba.njit(cache=True, inline="always")

@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 from harness.contract.coverage import Coverage
 from harness.contract.samples import FRACTION_BITS
 from harness.contract.scenes import Scene
-from harness.oracle.kernels import _apply_edge, _bound, _edge_setup, _row_range
+from harness.oracle.kernels import _apply_edge, _bound, _edge_setup, _row_range, interpolate_at
 
 __all__ = ["multisample_spans", "fused_samples", "fused_shares", "Prepared"]
 
@@ -314,7 +314,6 @@ def _interpolate_samples(positions, values, inv_w, perspective, span_t, span_s, 
     """Barycentric interpolation at each covered sample, l_i = E_i / (E_0 + E_1 + E_2):
     :func:`harness.oracle.coverage.interpolate_kernel` with each span's own sample offset
     (the same arithmetic, so the same bits)."""
-    k_count = values.shape[2]
     row = 0
     for s in range(span_t.size):
         t = span_t[s]
@@ -322,17 +321,7 @@ def _interpolate_samples(positions, values, inv_w, perspective, span_t, span_s, 
         sx = offsets[span_s[s], 0]
         ys = span_y[s] + offsets[span_s[s], 1]
         for i in range(span_x0[s], span_x1[s]):
-            xs = i + sx
-            e0 = (p[2, 0] - p[1, 0]) * (ys - p[1, 1]) - (p[2, 1] - p[1, 1]) * (xs - p[1, 0])
-            e1 = (p[0, 0] - p[2, 0]) * (ys - p[2, 1]) - (p[0, 1] - p[2, 1]) * (xs - p[2, 0])
-            e2 = (p[1, 0] - p[0, 0]) * (ys - p[0, 1]) - (p[1, 1] - p[0, 1]) * (xs - p[0, 0])
-            if perspective:
-                e0 *= inv_w[t, 0]
-                e1 *= inv_w[t, 1]
-                e2 *= inv_w[t, 2]
-            total = e0 + e1 + e2
-            for k in range(k_count):
-                out[row, k] = (e0 * values[t, 0, k] + e1 * values[t, 1, k] + e2 * values[t, 2, k]) / total
+            interpolate_at(p, values, inv_w, t, perspective, i + sx, ys, out, row)
             row += 1
 
 
