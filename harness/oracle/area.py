@@ -749,6 +749,40 @@ def _trim_zeros(x0, x1, area, out_x0, out_x1, out_first):  # type: ignore[no-unt
         out_x1[s] = out_x0[s] + (b - a)
 
 
+@numba.njit(cache=True, inline="always")
+def _row_extent(lo_x, lo_y, hi_x, hi_y, at_bottom, k, top):  # type: ignore[no-untyped-def]
+    """The span kernel's pass over the k edges (ordered by y, ``lo_*`` to ``hi_*``) in the
+    row band [top, top + 1], as there: the band's x-extent (lo, hi) and the cross-sections
+    at its top and bottom lines (top_lo, top_hi, bottom_lo, bottom_hi); each edge's x at
+    the bottom line replaces its x at the top line in ``at_bottom``."""
+    bottom = top + 1.0
+    lo = top_lo = bottom_lo = math.inf
+    hi = top_hi = bottom_hi = -math.inf
+    for e in range(k):
+        ax, ay, bx, by = lo_x[e], lo_y[e], hi_x[e], hi_y[e]
+        x_top = at_bottom[e]
+        x_bottom = _x_at(ax, ay, bx, by, bottom) if ay < by and ay <= bottom <= by else math.nan
+        at_bottom[e] = x_bottom
+        if by < top or ay > bottom:
+            continue
+        if ay == by:
+            xa, xb = ax, bx
+        else:
+            # the edge's part inside the band: from its crossing of the top line (or its
+            # upper end point) to that of the bottom line (or its lower one)
+            xa = x_top if ay <= top else ax
+            xb = x_bottom if by >= bottom else bx
+        lo = min(lo, xa, xb)
+        hi = max(hi, xa, xb)
+        if x_top == x_top:  # the edge crosses the top line (not horizontal)
+            top_lo = min(top_lo, x_top)
+            top_hi = max(top_hi, x_top)
+        if x_bottom == x_bottom:
+            bottom_lo = min(bottom_lo, x_bottom)
+            bottom_hi = max(bottom_hi, x_bottom)
+    return lo, hi, top_lo, top_hi, bottom_lo, bottom_hi
+
+
 @numba.njit(cache=True, error_model="numpy")  # no division by zero (see _edge_term)
 def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped-def]  # noqa: C901 - a numba kernel: one pass over the rows
     """:func:`_span_kernel` and the edge kernel in one pass over each polygon's rows:
@@ -819,28 +853,11 @@ def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped
             # -- the span kernel's row: the span [first, last] and the inner run
             top = float(j)
             bottom = top + 1.0
-            lo = top_lo = bottom_lo = math.inf
-            hi = top_hi = bottom_hi = -math.inf
-            for e in range(k):
-                ax, ay, bx, by = lo_x[e], lo_y[e], hi_x[e], hi_y[e]
-                x_top = at_bottom[e]
-                x_bottom = _x_at(ax, ay, bx, by, bottom) if ay < by and ay <= bottom <= by else math.nan
-                at_bottom[e] = x_bottom
-                if by < top or ay > bottom:
-                    continue
-                if ay == by:
-                    xa, xb = ax, bx
-                else:
-                    xa = x_top if ay <= top else ax
-                    xb = x_bottom if by >= bottom else bx
-                lo = min(lo, xa, xb)
-                hi = max(hi, xa, xb)
-                if x_top == x_top:
-                    top_lo = min(top_lo, x_top)
-                    top_hi = max(top_hi, x_top)
-                if x_bottom == x_bottom:
-                    bottom_lo = min(bottom_lo, x_bottom)
-                    bottom_hi = max(bottom_hi, x_bottom)
+            # (a triangle's three edges in a loop of constant length: unrolled)
+            if triangle:
+                lo, hi, top_lo, top_hi, bottom_lo, bottom_hi = _row_extent(lo_x, lo_y, hi_x, hi_y, at_bottom, 3, top)
+            else:
+                lo, hi, top_lo, top_hi, bottom_lo, bottom_hi = _row_extent(lo_x, lo_y, hi_x, hi_y, at_bottom, k, top)
             if lo > hi:
                 continue
             first = max(int(math.floor(lo - margin)), col_lo)
