@@ -49,7 +49,9 @@ Runs, as a span fill draws
     The pixels wholly inside are not written one by one: each span carries them as one
     run of alpha 1 (:class:`harness.contract.coverage.AlphaRuns`, two numbers per span),
     and only the span's edge pixels, left and right of that run, are computed, in one
-    pass that also cuts the span to its first and last pixel of nonzero area. This is
+    pass that also cuts the span to its first and last pixel of nonzero area: the same
+    pass over each polygon's rows that decides the span and its run (:func:`_area_runs`;
+    outputs written once, no second pass over the spans). This is
     what the libraries the oracle judges do: cairo's scan converter (glitter-paths,
     ``cairo-tor-scan-converter.c``) accumulates coverage cells only where edges cross a
     row and hands its span renderer ``cairo_half_open_span_t`` runs (x, coverage), the
