@@ -14,7 +14,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 from harness.geometry.spans import expand, pixel_offsets
-from harness.oracle.area import _MARGIN_SCALE, _polygons, _viewport
+from harness.oracle.area import (
+    _MARGIN_SCALE,
+    _band_area,
+    _band_edge,
+    _edge_kinds,
+    _pixel_area_of,
+    _polygons,
+    _span_kernel,
+    _triangle_area_of,
+    _viewport,
+)
 
 
 @numba.njit(cache=True, inline="always")
@@ -229,3 +239,133 @@ def old_area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple
     keep = x1 > x0
     lengths = (x1 - x0)[keep]
     return source[span_p[keep]], span_y[keep], x0[keep], x1[keep], area[expand(first[keep], lengths)]
+
+
+# -- the two-pass runs kernel of session 21 (span kernel, then edge kernel), the reference
+# of the one-pass harness.oracle.area._area_runs: the same spans, inner runs and bits
+
+
+@numba.njit(cache=True, error_model="numpy")  # no division by zero (see _edge_term)
+def edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):
+    """The area of each span's edge pixels, the inner run [i0, i1) left alone (exactly 1,
+    written as a run, not pixel by pixel: the span fill of a scan converter).
+
+    In place, each span is cut to its first and last pixel of nonzero float area (x1 ==
+    x0 when it has none) and a span without inner run gets ``i0 == i1 == x1``; ``out``
+    receives the areas of the pixels outside the inner runs, span after span, left to
+    right (zero only inside a span). Returns how many it received."""
+    local_y = np.empty(polys.shape[1])
+    kinds = np.empty(polys.shape[1], dtype=np.int64)
+    m = 0
+    for s in range(span_p.size):
+        p = span_p[s]
+        k = counts[p]
+        j = span_y[s]
+        x0 = span_x0[s]
+        x1 = span_x1[s]
+        i0 = span_i0[s]
+        i1 = span_i1[s]
+        if i1 <= i0:
+            i0 = i1 = x1  # no inner run: every pixel is an edge pixel
+        for v in range(k):
+            # pixel-local coordinates: every later quantity is at most 1 (or M)
+            local_y[v] = polys[p, v, 1] - j
+        triangle = k == 3
+        ax, bx, cx = polys[p, 0, 0], polys[p, 1, 0], polys[p, 2, 0]
+        ay, by, cy = local_y[0], local_y[1], local_y[2]
+        # a band the triangle crosses with no vertex strictly inside (every row but those
+        # of its vertices): two edges cross it from top to bottom, the third is wholly
+        # above or below (or on a band line), and each pixel's area is the difference of
+        # two clamped means of band crossings (module docstring, "Rows without a vertex")
+        band = (triangle and min(ay, by, cy) <= 0.0 and max(ay, by, cy) >= 1.0
+                and not 0.0 < ay < 1.0 and not 0.0 < by < 1.0 and not 0.0 < cy < 1.0)
+        xa = d0 = d1 = xc = e0 = e1 = 0.0
+        if band:
+            if min(ay, by) <= 0.0 and max(ay, by) >= 1.0:
+                xa, d0, d1 = _band_edge(ax, ay, bx, by)
+                if min(by, cy) <= 0.0 and max(by, cy) >= 1.0:
+                    xc, e0, e1 = _band_edge(bx, by, cx, cy)
+                else:
+                    xc, e0, e1 = _band_edge(cx, cy, ax, ay)
+            else:
+                xa, d0, d1 = _band_edge(bx, by, cx, cy)
+                xc, e0, e1 = _band_edge(cx, cy, ax, ay)
+        else:
+            _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
+        ka, kb, kc = kinds[0], kinds[1], kinds[2]
+        start = m
+        for i in range(x0, i0):
+            if band:
+                out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
+            elif triangle:
+                out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
+            else:
+                out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
+            m += 1
+        # the span begins at its first pixel of nonzero area (the inner run's first, if need be)
+        lead = start
+        while lead < m and out[lead] == 0.0:
+            lead += 1
+        if lead > start:
+            for q in range(lead, m):
+                out[q - (lead - start)] = out[q]
+            m -= lead - start
+            x0 += lead - start
+        right = m
+        for i in range(i1, x1):
+            if band:
+                out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
+            elif triangle:
+                out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
+            else:
+                out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
+            m += 1
+        # and ends at its last (the inner run's last, if need be)
+        floor = right if i1 > i0 else start
+        while m > floor and out[m - 1] == 0.0:
+            m -= 1
+        if i1 > i0:
+            x1 = i1 + (m - right)
+        else:
+            x1 = x0 + (m - start)
+            i0 = i1 = x1
+        span_x0[s] = x0
+        span_x1[s] = x1
+        span_i0[s] = i0
+        span_i1[s] = i1
+    return m
+
+
+
+@numba.njit(cache=True)
+def two_pass_area_runs(polys, counts, source, width, height):
+    """:func:`harness.oracle.area._span_kernel`, then :func:`edge_kernel`, then the empty spans dropped and
+    each span's polygon replaced by its triangle (``source``): one call, no temporaries
+    but the spans' block and the edge areas."""
+    capacity = 0
+    for p in range(polys.shape[0]):
+        ymin = ymax = polys[p, 0, 1]
+        for v in range(counts[p]):
+            ymin = min(ymin, polys[p, v, 1])
+            ymax = max(ymax, polys[p, v, 1])
+        # rows a polygon can touch: floor(ymin) .. ceil(ymax) - 1 within the viewport
+        capacity += max(min(int(math.ceil(ymax)), height) - max(int(math.floor(ymin)), 0), 0)
+    block = np.empty((6, capacity), dtype=np.int64)
+    span_p, span_y, span_x0, span_x1, span_i0, span_i1 = block[0], block[1], block[2], block[3], block[4], block[5]
+    spans = _span_kernel(polys, counts, width, height, span_p, span_y, span_x0, span_x1, span_i0, span_i1)
+    edges = 0
+    for s in range(spans):
+        edges += span_x1[s] - span_x0[s] - max(span_i1[s] - span_i0[s], 0)
+    alpha = np.empty(edges)
+    m = edge_kernel(polys, counts, span_p[:spans], span_y, span_x0, span_x1, span_i0, span_i1, alpha)
+    w = 0
+    for s in range(spans):
+        if span_x1[s] > span_x0[s]:
+            span_p[w] = source[span_p[s]]
+            span_y[w] = span_y[s]
+            span_x0[w] = span_x0[s]
+            span_x1[w] = span_x1[s]
+            span_i0[w] = span_i0[s]
+            span_i1[w] = span_i1[s]
+            w += 1
+    return span_p[:w], span_y[:w], span_x0[:w], span_x1[:w], span_i0[:w], span_i1[:w], alpha[:m]

@@ -17,9 +17,9 @@ from harness.contract.coverage import AlphaRuns, Coverage
 from harness.contract.scenes import Scene
 from harness.engine.outcomes import Outcome, decode_outcome, encode_outcome
 from harness.geometry.spans import expand
-from harness.oracle.area import _area_spans, area_coverage, area_error_bound
+from harness.oracle.area import _area_runs, _area_spans, _polygons, area_coverage, area_error_bound
 from harness.oracle.coverage import exact_coverage
-from tests.oracle.area_reference import old_area_spans
+from tests.oracle.area_reference import old_area_spans, two_pass_area_runs
 from tests.oracle.test_area import SIZE, corner_triangles, far_triangles, sliver_triangles, within_bound
 
 BIG = float(np.finfo(np.float64).max)
@@ -56,7 +56,19 @@ def same_as_before(positions, width=SIZE, height=SIZE, exact=False):
             assert old[int(t[s]), i, int(yy[s])] == 1.0
     if exact:
         within_bound(positions, width, height)
+    same_as_two_pass(positions, width, height)
     return derived
+
+
+def same_as_two_pass(positions, width=SIZE, height=SIZE):
+    """The one-pass kernel against the two passes it fused (span kernel, then edge
+    kernel): the same spans, inner runs and alphas, bit for bit."""
+    polys, counts, source = _polygons(np.ascontiguousarray(positions, dtype=np.float64), width, height)
+    one = _area_runs(polys, counts, source, width, height)
+    two = two_pass_area_runs(polys, counts, source, width, height)
+    for a, b in zip(one, two, strict=True):
+        assert a.dtype == b.dtype and a.shape == b.shape
+        assert np.array_equal(a.view(np.int64), b.view(np.int64))  # the same bits (and -0.0 is not 0.0)
 
 
 @pytest.mark.parametrize("seed", range(20))
@@ -72,6 +84,20 @@ def test_random_scenes_agree_with_the_old_kernel(seed):
 def test_large_triangles_agree_with_the_old_kernel():
     rng = np.random.default_rng(7)
     same_as_before(rng.uniform(-50, 350, (30, 3, 2)), 300, 200)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_one_pass_kernel_is_the_two_passes_bit_for_bit(seed):
+    """Large triangles (the band path), tiny and far ones, and near-horizontal slivers whose
+    rows hold hundreds of edge pixels (the edge areas' array grows while it is written)."""
+    rng = np.random.default_rng(100 + seed)
+    big = rng.uniform(-40, 440, (20, 3, 2))
+    tiny = rng.uniform(0, 400, (40, 1, 2)) + rng.normal(0, 0.7, (40, 3, 2))
+    flat = rng.uniform(-20, 420, (10, 3, 2))
+    flat[:, :, 1] = rng.uniform(0, 400, (10, 1)) + rng.uniform(0, 3, (10, 3))
+    far = np.array([[[-1e9, 5.5], [1e9, 9.25], [200.0, 300.0]]])
+    same_as_two_pass(np.concatenate([big, tiny, flat, far]), 400, 400)
+    same_as_two_pass(flat[:1], 400, 400)
 
 
 @pytest.mark.parametrize("bits", [0, 1, 2, 4])
