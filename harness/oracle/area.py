@@ -420,30 +420,7 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
             bottom = top + 1.0
             # one pass over the edges: the band's x-extent (lo, hi) and the cross-sections
             # at its top and bottom lines ([top_lo, top_hi], [bottom_lo, bottom_hi])
-            lo = top_lo = bottom_lo = math.inf
-            hi = top_hi = bottom_hi = -math.inf
-            for e in range(k):
-                ax, ay, bx, by = lo_x[e], lo_y[e], hi_x[e], hi_y[e]
-                x_top = at_bottom[e]
-                x_bottom = _x_at(ax, ay, bx, by, bottom) if ay < by and ay <= bottom <= by else math.nan
-                at_bottom[e] = x_bottom
-                if by < top or ay > bottom:
-                    continue
-                if ay == by:
-                    xa, xb = ax, bx
-                else:
-                    # the edge's part inside the band: from its crossing of the top line
-                    # (or its upper end point) to that of the bottom line (or its lower one)
-                    xa = x_top if ay <= top else ax
-                    xb = x_bottom if by >= bottom else bx
-                lo = min(lo, xa, xb)
-                hi = max(hi, xa, xb)
-                if x_top == x_top:  # the edge crosses the top line (not horizontal)
-                    top_lo = min(top_lo, x_top)
-                    top_hi = max(top_hi, x_top)
-                if x_bottom == x_bottom:
-                    bottom_lo = min(bottom_lo, x_bottom)
-                    bottom_hi = max(bottom_hi, x_bottom)
+            lo, hi, top_lo, top_hi, bottom_lo, bottom_hi = _row_extent(lo_x, lo_y, hi_x, hi_y, at_bottom, k, top)
             if lo > hi:
                 continue
             first = max(int(math.floor(lo - margin)), col_lo)
