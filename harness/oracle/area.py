@@ -391,30 +391,8 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
     hi_y = np.empty(polys.shape[1])
     at_bottom = np.empty(polys.shape[1])
     for p in range(polys.shape[0]):
-        k = counts[p]
-        xmin = xmax = polys[p, 0, 0]
-        ymin = ymax = polys[p, 0, 1]
-        biggest = 0.0
-        for v in range(k):
-            x, y = polys[p, v, 0], polys[p, v, 1]
-            xmin, xmax = min(xmin, x), max(xmax, x)
-            ymin, ymax = min(ymin, y), max(ymax, y)
-            biggest = max(biggest, abs(x), abs(y))
-        margin = _MARGIN_SCALE * (max(xmax - xmin, ymax - ymin) + biggest + 1.0)
-        # A pixel holds area only if i < xmax and i + 1 > xmin: columns floor(xmin) ..
-        # ceil(xmax) - 1 (the same for rows). This also bounds M in the error bound.
-        col_lo = max(int(math.floor(xmin)), 0)
-        col_hi = min(int(math.ceil(xmax)) - 1, width - 1)
-        row_lo = max(int(math.floor(ymin)), 0)
-        row_hi = min(int(math.ceil(ymax)) - 1, height - 1)
-        for e in range(k):
-            f = e + 1 if e + 1 < k else 0
-            ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
-            if by < ay:
-                ax, ay, bx, by = bx, by, ax, ay
-            lo_x[e], lo_y[e], hi_x[e], hi_y[e] = ax, ay, bx, by
-            side = float(row_lo)
-            at_bottom[e] = _x_at(ax, ay, bx, by, side) if ay < by and ay <= side <= by else math.nan
+        k, margin, ymin, ymax, col_lo, col_hi, row_lo, row_hi = _polygon_setup(polys, counts, p, width, height, lo_x, lo_y,
+                                                                               hi_x, hi_y, at_bottom)
         for j in range(row_lo, row_hi + 1):
             top = float(j)
             bottom = top + 1.0
@@ -729,6 +707,38 @@ def _trim_zeros(x0, x1, area, out_x0, out_x1, out_first):  # type: ignore[no-unt
 
 
 @numba.njit(cache=True, inline="always")
+def _polygon_setup(polys, counts, p, width, height, lo_x, lo_y, hi_x, hi_y, at_bottom):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+    """Polygon ``p``'s set-up for its pass over the rows: its k edges ordered by y (``lo_*``
+    to ``hi_*``) with each one's x at its first row's top line (``at_bottom``), the float
+    margin of its decisions, its y-extent, and the columns and rows that can hold area."""
+    k = counts[p]
+    xmin = xmax = polys[p, 0, 0]
+    ymin = ymax = polys[p, 0, 1]
+    biggest = 0.0
+    for v in range(k):
+        x, y = polys[p, v, 0], polys[p, v, 1]
+        xmin, xmax = min(xmin, x), max(xmax, x)
+        ymin, ymax = min(ymin, y), max(ymax, y)
+        biggest = max(biggest, abs(x), abs(y))
+    margin = _MARGIN_SCALE * (max(xmax - xmin, ymax - ymin) + biggest + 1.0)
+    # A pixel holds area only if i < xmax and i + 1 > xmin: columns floor(xmin) ..
+    # ceil(xmax) - 1 (the same for rows). This also bounds M in the error bound.
+    col_lo = max(int(math.floor(xmin)), 0)
+    col_hi = min(int(math.ceil(xmax)) - 1, width - 1)
+    row_lo = max(int(math.floor(ymin)), 0)
+    row_hi = min(int(math.ceil(ymax)) - 1, height - 1)
+    for e in range(k):
+        f = e + 1 if e + 1 < k else 0
+        ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
+        if by < ay:
+            ax, ay, bx, by = bx, by, ax, ay
+        lo_x[e], lo_y[e], hi_x[e], hi_y[e] = ax, ay, bx, by
+        side = float(row_lo)
+        at_bottom[e] = _x_at(ax, ay, bx, by, side) if ay < by and ay <= side <= by else math.nan
+    return k, margin, ymin, ymax, col_lo, col_hi, row_lo, row_hi
+
+
+@numba.njit(cache=True, inline="always")
 def _row_extent(lo_x, lo_y, hi_x, hi_y, at_bottom, k, top):  # type: ignore[no-untyped-def]
     """The span kernel's pass over the k edges (ordered by y, ``lo_*`` to ``hi_*``) in the
     row band [top, top + 1], as there: the band's x-extent (lo, hi) and the cross-sections
@@ -803,28 +813,8 @@ def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped
     kinds = np.zeros(size, dtype=np.int64)
     for p in range(polys.shape[0]):
         # -- the span kernel's set-up, as there
-        k = counts[p]
-        xmin = xmax = polys[p, 0, 0]
-        ymin = ymax = polys[p, 0, 1]
-        biggest = 0.0
-        for v in range(k):
-            x, y = polys[p, v, 0], polys[p, v, 1]
-            xmin, xmax = min(xmin, x), max(xmax, x)
-            ymin, ymax = min(ymin, y), max(ymax, y)
-            biggest = max(biggest, abs(x), abs(y))
-        margin = _MARGIN_SCALE * (max(xmax - xmin, ymax - ymin) + biggest + 1.0)
-        col_lo = max(int(math.floor(xmin)), 0)
-        col_hi = min(int(math.ceil(xmax)) - 1, width - 1)
-        row_lo = max(int(math.floor(ymin)), 0)
-        row_hi = min(int(math.ceil(ymax)) - 1, height - 1)
-        for e in range(k):
-            f = e + 1 if e + 1 < k else 0
-            ax, ay, bx, by = polys[p, e, 0], polys[p, e, 1], polys[p, f, 0], polys[p, f, 1]
-            if by < ay:
-                ax, ay, bx, by = bx, by, ax, ay
-            lo_x[e], lo_y[e], hi_x[e], hi_y[e] = ax, ay, bx, by
-            side = float(row_lo)
-            at_bottom[e] = _x_at(ax, ay, bx, by, side) if ay < by and ay <= side <= by else math.nan
+        k, margin, ymin, ymax, col_lo, col_hi, row_lo, row_hi = _polygon_setup(polys, counts, p, width, height, lo_x, lo_y,
+                                                                               hi_x, hi_y, at_bottom)
         triangle = k == 3
         px0, px1, px2 = polys[p, 0, 0], polys[p, 1, 0], polys[p, 2, 0]
         gy0, gy1, gy2 = polys[p, 0, 1], polys[p, 1, 1], polys[p, 2, 1]
