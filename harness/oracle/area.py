@@ -70,22 +70,33 @@ Runs, as a span fill draws
 Rows without a vertex: the band path (cairo's cells, one edge at a time)
     Like cairo's tor scan converter, which walks each edge once per row from its crossings
     of the row's lines, a triangle's row band [j, j+1] that it spans with no vertex strictly
-    inside (pixel-local ``y' = fl(y - j)``: some y' <= 0, some >= 1, none in (0, 1)) is crossed
-    from its top line to its bottom line by exactly two edges (the two meeting at the vertex
-    alone on one side), and the third touches it at most on a line. Inside the band the
-    triangle lies between them, so (Fubini, slicing by y) the area at column i is::
+    inside (``ty <= j``, ``by >= j + 1`` and ``not j < cy < j + 1`` for its vertices' y in
+    increasing order ty <= cy <= by: comparisons of floats with integers, exact) is crossed
+    from its top line to its bottom line by exactly two edges, the long one t-b and the
+    short one t-c above the middle vertex or c-b below it, and the third touches it at
+    most on a line. Inside the band the triangle lies between them, so (Fubini, slicing
+    by y) the area at column i is::
 
         | phi(R0 - i, R1 - i) - phi(L0 - i, L1 - i) |,  phi(a, b) = integral_0^1 clamp((1-t) a + t b, 0, 1) dt
 
     where L0, L1 (R0, R1) are one edge's x at the band's top and bottom lines: phi is
     :func:`clamped_mean`, the length of the pixel's row of points left of the edge
-    averaged over the band. Per row and edge (:func:`_band_edge`), from its end points
-    (xa, ya') below the band's top line and (xb, yb') beyond its bottom line, afresh in each
-    row (nothing is stepped from row to row): ``dy = fl(yb' - ya') >= 1``, ``t0 =
-    fl(-ya' / dy)``, ``t1 = fl(fl(1 - ya') / dy)`` (both in [0, 1] by monotone rounding),
-    ``d = fl(t fl(xb - xa))``; per pixel (:func:`_band_area`) the local crossings
-    ``fl(fl(xa - i) + d0)``, ``fl(fl(xa - i) + d1)``: two subtractions and four additions,
-    then the two clamped means (a division only where a crossing lies inside the pixel).
+    averaged over the band. The rows from one vertex's row to the next form a segment
+    crossed by the same two edges (:func:`_band_rows`). Each edge's slope ``s =
+    fl(fl(xb - xa) / fl(yb - ya))`` (upper end point a, lower b, ``fl(yb - ya) >= 1``: no
+    overflow) is computed once per triangle (:func:`_slope`); per row and edge, ``d =
+    fl(fl(y - ya) * s)`` for y = j and j + 1 (a multiplication, no division: nothing is
+    stepped from row to row, each row's d is computed afresh), the same d that gives the
+    span decision's crossing ``fl(xa + d)`` (:func:`_x_at`); per pixel the local
+    crossings ``fl(fl(xa - i) + d0)``, ``fl(fl(xa - i) + d1)``: a subtraction and two
+    additions per edge, then the clamped means (a division only where a crossing lies
+    inside the pixel). Where the row has an inner run, its left pixels lie wholly left of
+    the right edge and its right ones wholly right of the left edge (the crossings' errors
+    are far below the margin, itself far below the run's width of at least 1), so there
+    the right edge's clamped mean is exactly 1 and the left one's exactly 0: each edge
+    pixel evaluates its own edge's only, ``1 - phi(L)`` or ``phi(R)``, the same bits as
+    the formula above. A segment's rows are decided in one loop without branches, then
+    their edge pixels computed in a second.
 
 The error bound (u = 2**-53, round to nearest)
     Let n be the polygon's number of edges (3 for a triangle), M the largest
@@ -119,24 +130,25 @@ The error bound (u = 2**-53, round to nearest)
     Summing 10.002 + 11.01 < 22 per unit of u M and 5.53 + underflow < 7 per edge gives
     the bound.
 
-    5. *The band path* errs by less: at most ``u (33 M + 9)``, within the bound's
-       ``u (3 (22 M + 7) + 9)`` for n = 3. Let P' be the triangle with vertices
-       ``(x_k - i, y'_k)``: each moved by at most delta = u M from the exact local one, so
-       its area in the pixel differs by at most ``3 (2 sqrt(2) (1 + 2 delta) delta + pi
-       delta**2) <= 8.49 u M`` (:func:`displaced_area_bound`'s proof). The band test is
-       decided on the y' themselves, so the formula above is exact for P'. For one edge,
-       with tau the exact ``-ya' / (yb' - ya')`` (or ``(1 - ya') / (yb' - ya')``): t
-       carries at most three roundings relative to tau, dx one, the product one, so
-       ``|d - tau (xb - xa)| <= gamma_5 |xb - xa| <= 10.02 u M``; ``fl(xa - i)`` errs by at most
-       u M and the final sum by at most u times the crossing, itself at most M (it lies
-       between ``xa - i`` and ``xb - i``): each crossing is within 12.03 u M of P''s. phi is
-       1/2-Lipschitz in each argument: 12.03 u M per edge, plus 3.51 u for its own
-       evaluation (step 3), plus u for the difference (of two numbers in [0, 1]); taking
-       |.| and clamping to 1 only brings it closer. In all ``8.49 + 2 * 12.03 < 33`` per
-       unit of u M and ``2 * 3.51 + 1 < 9`` (underflow in t or d adds at most 2**-1070).
-       Rounded far polygons of three vertices take it too: their vertices' move by u G is
-       step 1's (11 G in the bound). For a triangle, M <= max(x extent, y extent) + 1 over the pixels its
-    bounding box spans, so the bound depends on the triangle's size, not its position.
+    5. *The band path* errs by less: at most ``u (15 M + 9)``, within the bound's
+       ``u (3 (22 M + 7) + 9)`` for n = 3. It computes the formula above for the exact
+       triangle itself: which rows take it and which two edges cross them is decided
+       exactly (comparisons of the float vertices with integers). For one edge and one of
+       the band's lines y, the exact local crossing is ``(xa - i) + tau (xb - xa)`` with
+       ``tau = (y - ya) / (yb - ya)`` in [0, 1]; d carries five roundings relative to
+       ``tau (xb - xa)`` (the three differences, the quotient and the product), so
+       ``|d - tau (xb - xa)| <= gamma_5 |xb - xa| <= 5.01 u M``; ``fl(xa - i)`` errs by
+       at most u M and the final sum by at most u times the crossing, itself at most about
+       M: each crossing is within 7.02 u M of the exact one. phi is 1/2-Lipschitz in each
+       argument: 7.02 u M per edge, plus 3.51 u for its own evaluation (step 3), plus u
+       for the difference (of two numbers in [0, 1]); taking |.| and clamping to 1 only
+       brings it closer. In all ``2 * 7.02 < 15`` per unit of u M and ``2 * 3.51 + 1 < 9``
+       (underflow in d adds at most 2**-1074). Far triangles clipped to three vertices take
+       it too, on the rounded triangle: its vertices' move by u G is step 1's (11 G in
+       the bound).
+
+    For a triangle, M <= max(x extent, y extent) + 1 over the pixels its bounding box
+    spans, so the bound depends on the triangle's size, not its position.
 
 Far triangles (a coordinate beyond ±:data:`GUARD_LIMIT` = 2**21)
     In float64 the position of an edge inside a pixel is only known to about
@@ -178,8 +190,9 @@ GUARD_LIMIT = 2.0**21
 # A triangle clipped by the four sides of a rectangle has at most 3 + 4 vertices.
 _MAX_VERTICES = 7
 # Margin on a row's x-extent, per unit of (extent + |coordinate| + 1): the float crossing
-# of an edge with a row's band lines errs by at most gamma_4 * (edge extent) + u |x|
-# (about 5u per unit); 64u leaves room for the roundings of the margin arithmetic itself.
+# of an edge with a row's band lines errs by at most gamma_5 * (edge extent) + u |x|
+# (about 6u per unit, _x_at), and the band path's local crossings differ from it by less
+# than 4u per unit; 64u leaves room for the roundings of the margin arithmetic itself.
 _MARGIN_SCALE = 64.0 * UNIT_ROUNDOFF
 
 _Point = tuple[Fraction, Fraction]
@@ -320,8 +333,11 @@ def _viewport(width: int, height: int) -> None:
 def clamped_mean(y0, y1):  # type: ignore[no-untyped-def]
     """Mean of clamp(h, 0, 1) as h runs linearly from y0 to y1. Each case is a quotient of
     differences of like-signed numbers: no cancellation, at most five roundings."""
-    lo = min(y0, y1)
-    hi = max(y0, y1)
+    return _ordered_mean(min(y0, y1), max(y0, y1))
+
+
+@numba.njit(cache=True, inline="always")
+def _ordered_mean(lo, hi):  # type: ignore[no-untyped-def]
     if hi <= 0.0:
         return 0.0
     if lo >= 1.0:
@@ -362,12 +378,26 @@ def edge_integral(ax, ay, bx, by):  # type: ignore[no-untyped-def]
 
 
 @numba.njit(cache=True, inline="always")
-def _x_at(ax, ay, bx, by, y):  # type: ignore[no-untyped-def]
-    """x of the edge a-b (ay < by) at height y in [ay, by]."""
+def _slope(ax, ay, bx, by):  # type: ignore[no-untyped-def]
+    """``fl(fl(bx - ax) / fl(by - ay))`` for an edge (ay <= by) at least one row tall
+    (``fl(by - ay) >= 1``: then ``|slope| <= |bx - ax|``, no overflow), else NaN: a
+    shorter edge crosses at most one row line, where :func:`_x_at` divides instead."""
+    dy = by - ay
+    return (bx - ax) / dy if dy >= 1.0 else math.nan
+
+
+@numba.njit(cache=True, inline="always")
+def _x_at(ax, ay, bx, by, slope, y):  # type: ignore[no-untyped-def]
+    """x of the edge a-b (ay < by) at height y in [ay, by]: its end points exactly, else
+    ``fl(ax + fl(fl(y - ay) * slope))`` (:func:`_slope`; the quotient once per edge, not
+    per row), or for an edge shorter than a row ``fl(ax + fl(fl(fl(y - ay) / fl(by - ay))
+    * fl(bx - ax)))``. Either errs by at most ``gamma_5 |bx - ax| + u |x|``."""
     if y == ay:
         return ax
     if y == by:
         return bx
+    if slope == slope:
+        return ax + (y - ay) * slope
     return ax + ((y - ay) / (by - ay)) * (bx - ax)
 
 
@@ -376,10 +406,8 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
     """Per polygon and row, the columns [x0, x1) that may hold area: the row band's
     x-extent (reached on the edges' parts inside the band), widened by the crossings'
     error bound, within the bounding box and the viewport; and the columns [i0, i1)
-    whose pixel lies wholly inside the polygon (area exactly 1): when the polygon spans
-    the whole band, its cross-sections at the band's top and bottom, intersected and
-    narrowed by the same bound (a convex polygon's left boundary is convex in y, the
-    right one concave: their extremes over the band are at its sides)."""
+    whose pixel lies wholly inside the polygon (area exactly 1; ``i0 == i1 == x1`` when
+    none): :func:`_span_columns`."""
     n = 0
     # each edge with its end points ordered by y (low, high), and its x at the band's top
     # and bottom lines when it crosses them (NaN when not): the bottom line of a row is
@@ -389,38 +417,28 @@ def _span_kernel(polys, counts, width, height, out_p, out_y, out_x0, out_x1, out
     lo_y = np.empty(polys.shape[1])
     hi_x = np.empty(polys.shape[1])
     hi_y = np.empty(polys.shape[1])
+    slopes = np.empty(polys.shape[1])
     at_bottom = np.empty(polys.shape[1])
     for p in range(polys.shape[0]):
         k, margin, ymin, ymax, col_lo, col_hi, row_lo, row_hi = _polygon_setup(polys, counts, p, width, height, lo_x, lo_y,
-                                                                               hi_x, hi_y, at_bottom)
+                                                                               hi_x, hi_y, slopes, at_bottom)
         for j in range(row_lo, row_hi + 1):
             top = float(j)
             bottom = top + 1.0
             # one pass over the edges: the band's x-extent (lo, hi) and the cross-sections
             # at its top and bottom lines ([top_lo, top_hi], [bottom_lo, bottom_hi])
-            lo, hi, top_lo, top_hi, bottom_lo, bottom_hi = _row_extent(lo_x, lo_y, hi_x, hi_y, at_bottom, k, top)
+            lo, hi, top_lo, top_hi, bottom_lo, bottom_hi = _row_extent(lo_x, lo_y, hi_x, hi_y, slopes, at_bottom, k, top)
             if lo > hi:
                 continue
-            first = max(int(math.floor(lo - margin)), col_lo)
-            last = min(int(math.ceil(hi + margin)) - 1, col_hi)
-            inner_lo = 0
-            inner_hi = 0
-            if ymin <= top and ymax >= bottom:
-                # the polygon spans the band: [left, right] within both cross-sections
-                left = max(top_lo, bottom_lo)
-                right = min(top_hi, bottom_hi)
-                # columns i with left + margin <= i and i + 1 <= right - margin
-                inner_lo = max(int(math.ceil(left + margin)), first)
-                inner_hi = min(int(math.floor(right - margin)), last + 1)
-                if inner_hi < inner_lo:
-                    inner_lo = inner_hi = 0
-            if first <= last:
+            x0, x1, i0, i1 = _span_columns(lo, hi, top_lo, top_hi, bottom_lo, bottom_hi, ymin <= top and ymax >= bottom,
+                                           margin, col_lo, col_hi)
+            if x0 < x1:
                 out_p[n] = p
                 out_y[n] = j
-                out_x0[n] = first
-                out_x1[n] = last + 1
-                out_i0[n] = inner_lo
-                out_i1[n] = inner_hi
+                out_x0[n] = x0
+                out_x1[n] = x1
+                out_i0[n] = i0
+                out_i1[n] = i1
                 n += 1
     return n
 
@@ -572,18 +590,6 @@ def _triangle_area_of(x0, x1, x2, y0, y1, y2, k0, k1, k2, i):  # type: ignore[no
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _band_edge(xa, ya, xb, yb):  # type: ignore[no-untyped-def]
-    """(xa, d0, d1) for an edge crossing the whole row band (pixel-local ``ya <= 0``,
-    ``yb >= 1``, x global): its local x at the band's top and bottom lines are
-    ``fl(fl(xa - i) + d0)`` and ``fl(fl(xa - i) + d1)`` at column i (module docstring)."""
-    if yb < ya:
-        xa, ya, xb, yb = xb, yb, xa, ya
-    dy = yb - ya  # >= 1 (monotone rounding): no division by zero, fractions in [0, 1]
-    dx = xb - xa
-    return xa, ((-ya) / dy) * dx, ((1.0 - ya) / dy) * dx
-
-
-@numba.njit(cache=True, inline="always", error_model="numpy")
 def _band_area(xa, d0, d1, xc, e0, e1, i):  # type: ignore[no-untyped-def]
     """The area at column i of a row band crossed by two edges and no vertex:
     |mean of clamp(x - i, 0, 1) over the band for one edge, minus the other's|."""
@@ -707,7 +713,7 @@ def _trim_zeros(x0, x1, area, out_x0, out_x1, out_first):  # type: ignore[no-unt
 
 
 @numba.njit(cache=True, inline="always")
-def _polygon_setup(polys, counts, p, width, height, lo_x, lo_y, hi_x, hi_y, at_bottom):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
+def _polygon_setup(polys, counts, p, width, height, lo_x, lo_y, hi_x, hi_y, slopes, at_bottom):  # type: ignore[no-untyped-def]  # pragma: no cover - compiled
     """Polygon ``p``'s set-up for its pass over the rows: its k edges ordered by y (``lo_*``
     to ``hi_*``) with each one's x at its first row's top line (``at_bottom``), the float
     margin of its decisions, its y-extent, and the columns and rows that can hold area."""
@@ -733,13 +739,14 @@ def _polygon_setup(polys, counts, p, width, height, lo_x, lo_y, hi_x, hi_y, at_b
         if by < ay:
             ax, ay, bx, by = bx, by, ax, ay
         lo_x[e], lo_y[e], hi_x[e], hi_y[e] = ax, ay, bx, by
+        slopes[e] = _slope(ax, ay, bx, by)
         side = float(row_lo)
-        at_bottom[e] = _x_at(ax, ay, bx, by, side) if ay < by and ay <= side <= by else math.nan
+        at_bottom[e] = _x_at(ax, ay, bx, by, slopes[e], side) if ay < by and ay <= side <= by else math.nan
     return k, margin, ymin, ymax, col_lo, col_hi, row_lo, row_hi
 
 
 @numba.njit(cache=True, inline="always")
-def _row_extent(lo_x, lo_y, hi_x, hi_y, at_bottom, k, top):  # type: ignore[no-untyped-def]
+def _row_extent(lo_x, lo_y, hi_x, hi_y, slopes, at_bottom, k, top):  # type: ignore[no-untyped-def]
     """The span kernel's pass over the k edges (ordered by y, ``lo_*`` to ``hi_*``) in the
     row band [top, top + 1], as there: the band's x-extent (lo, hi) and the cross-sections
     at its top and bottom lines (top_lo, top_hi, bottom_lo, bottom_hi); each edge's x at
@@ -750,7 +757,7 @@ def _row_extent(lo_x, lo_y, hi_x, hi_y, at_bottom, k, top):  # type: ignore[no-u
     for e in range(k):
         ax, ay, bx, by = lo_x[e], lo_y[e], hi_x[e], hi_y[e]
         x_top = at_bottom[e]
-        x_bottom = _x_at(ax, ay, bx, by, bottom) if ay < by and ay <= bottom <= by else math.nan
+        x_bottom = _x_at(ax, ay, bx, by, slopes[e], bottom) if ay < by and ay <= bottom <= by else math.nan
         at_bottom[e] = x_bottom
         if by < top or ay > bottom:
             continue
@@ -772,20 +779,275 @@ def _row_extent(lo_x, lo_y, hi_x, hi_y, at_bottom, k, top):  # type: ignore[no-u
     return lo, hi, top_lo, top_hi, bottom_lo, bottom_hi
 
 
-@numba.njit(cache=True, error_model="numpy")  # no division by zero (see _edge_term)
-def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped-def]  # noqa: C901 - a numba kernel: one pass over the rows
-    """:func:`_span_kernel` and the edge kernel in one pass over each polygon's rows:
-    each row's span and inner run are decided as the span kernel decides them (the same
-    crossings, the same bits), its edge pixels computed at once as the edge kernel computes
-    them, and the span written only if it keeps a pixel of nonzero area, its polygon
-    replaced by its triangle (``source``). Outputs are written once: no second pass over
-    the spans, no temporaries but the spans' block and the edge areas (grown by doubling).
+@numba.njit(cache=True)
+def _grown(out, m, more):  # type: ignore[no-untyped-def]
+    """A copy of ``out`` with room for at least ``more`` areas after its first m (doubled)."""
+    grown = np.empty(2 * out.size + more)
+    grown[:m] = out[:m]
+    return grown
+
+
+@numba.njit(cache=True, inline="always")
+def _trim_lead(out, start, m, x0):  # type: ignore[no-untyped-def]
+    """A span's left edge pixels ``out[start:m]`` (from column x0) without their leading
+    zero areas: the span begins at its first pixel of nonzero area. Returns (m, x0)."""
+    lead = start
+    while lead < m and out[lead] == 0.0:
+        lead += 1
+    if lead > start:
+        for q in range(lead, m):
+            out[q - (lead - start)] = out[q]
+        m -= lead - start
+        x0 += lead - start
+    return m, x0
+
+
+@numba.njit(cache=True, inline="always")
+def _trim_tail(out, start, right_start, m, x0, i0, i1):  # type: ignore[no-untyped-def]
+    """A span's edge pixels ``out[start:m]`` (its right ones from ``right_start``) without
+    their trailing zero areas: the span ends at its last pixel of nonzero area (the inner
+    run's last, if need be). Returns (m, x1, i0, i1); a span without inner run gets
+    ``i0 == i1 == x1``."""
+    floor = right_start if i1 > i0 else start
+    while m > floor and out[m - 1] == 0.0:
+        m -= 1
+    if i1 > i0:
+        return m, i1 + (m - right_start), i0, i1
+    x1 = x0 + (m - start)
+    return m, x1, x1, x1
+
+
+@numba.njit(cache=True, inline="always")
+def _columns(lo, hi, left, right, margin, col_lo, col_hi):  # type: ignore[no-untyped-def]
+    """The arithmetic of :func:`_span_columns`, in floats (integers all, far below 2**53)
+    and without a branch: (first, end, inner_lo, inner_hi); a run only if inner_hi > inner_lo."""
+    first = max(np.floor(lo - margin), float(col_lo))
+    end = min(np.ceil(hi + margin), col_hi + 1.0)
+    # columns i with left + margin <= i and i + 1 <= right - margin
+    return first, end, max(np.ceil(left + margin), first), min(np.floor(right - margin), end)
+
+
+@numba.njit(cache=True, inline="always")
+def _span_columns(lo, hi, top_lo, top_hi, bottom_lo, bottom_hi, spans_band, margin, col_lo, col_hi):  # type: ignore[no-untyped-def]
+    """The span kernel's decision for a row from its pass over the edges (the band's
+    x-extent [lo, hi], its cross-sections at the top and bottom lines): the columns
+    [x0, x1) that may hold area (x0 >= x1 when none), the extent widened by the crossings'
+    error bound, within the bounding box and the viewport; and the inner run [i0, i1) of
+    pixels wholly inside (``i0 == i1 == x1`` when none). A run only where the polygon spans
+    the whole band: between both cross-sections, narrowed by the same bound (a convex
+    polygon's left boundary is convex in y, the right one concave: their extremes over the
+    band lie at its sides)."""
+    first, end, inner_lo, inner_hi = _columns(lo, hi, max(top_lo, bottom_lo), min(top_hi, bottom_hi), margin, col_lo,
+                                              col_hi)
+    x0 = int(first)
+    x1 = int(end)
+    if spans_band and inner_hi > inner_lo:
+        return x0, x1, int(inner_lo), int(inner_hi)
+    return x0, x1, x1, x1
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _band_rows(j_from, j_to, long_edge, short_edge, margin, col_lo, col_hi, triangle, spans, n, out, m, scratch):  # type: ignore[no-untyped-def]
+    """The rows ``j_from <= j < j_to`` of a triangle with no vertex strictly inside: each
+    crossed by its long edge and the same short one (``(ax, ay, bx, by, slope)``, ay < by,
+    as :func:`_polygon_setup` orders them), the third edge at most on a line (adding
+    nothing to the span kernel's pass). Each row's span and inner run are the span
+    kernel's (the same crossings, :func:`_x_at`'s bits, from multiplications), its edge
+    pixels the band path's (module docstring). First every row's decision, in a loop
+    without a branch, into ``scratch`` (10, rows); then the edge pixels, row by row.
+
+    Appends to ``spans`` (6, S) and ``out`` (never reallocated here: an array assigned in
+    the loop costs reference counting on every row); returns (j, n, m), j < j_to when row
+    j found no room in ``out`` (grow it by :func:`_grown` and call again from row j).
+    """
+    lx, ly, lbx, lby, long_slope = long_edge
+    sx, sy, sbx, sby, short_slope = short_edge
+    rows = j_to - j_from
+    for r in range(rows):
+        top = float(j_from + r)
+        bottom = top + 1.0
+        d0 = (top - ly) * long_slope
+        d1 = (bottom - ly) * long_slope
+        e0 = (top - sy) * short_slope
+        e1 = (bottom - sy) * short_slope
+        # _x_at: an end point exactly (only a lower one can lie on the band's bottom line;
+        # an upper one on its top line gives ax + 0), else ax + fl(fl(y - ay) * slope)
+        long_top = lx + d0
+        long_bottom = lbx if bottom == lby else lx + d1
+        short_top = sx + e0
+        short_bottom = sbx if bottom == sby else sx + e1
+        top_lo = min(long_top, short_top)
+        top_hi = max(long_top, short_top)
+        bottom_lo = min(long_bottom, short_bottom)
+        bottom_hi = max(long_bottom, short_bottom)
+        first, end, inner_lo, inner_hi = _columns(min(top_lo, bottom_lo), max(top_hi, bottom_hi), max(top_lo, bottom_lo),
+                                                  min(top_hi, bottom_hi), margin, col_lo, col_hi)
+        scratch[0, r] = first
+        scratch[1, r] = end
+        scratch[2, r] = inner_lo
+        scratch[3, r] = inner_hi
+        # the left edge (further left at the top line) and the right one, each with its
+        # two crossings' offsets in increasing order
+        long_left = long_top <= short_top
+        scratch[4, r] = lx if long_left else sx
+        scratch[5, r] = min(d0, d1) if long_left else min(e0, e1)
+        scratch[6, r] = max(d0, d1) if long_left else max(e0, e1)
+        scratch[7, r] = sx if long_left else lx
+        scratch[8, r] = min(e0, e1) if long_left else min(d0, d1)
+        scratch[9, r] = max(e0, e1) if long_left else max(d0, d1)
+    for r in range(rows):
+        j = j_from + r
+        x0 = int(scratch[0, r])
+        x1 = int(scratch[1, r])
+        i0 = int(scratch[2, r])
+        i1 = int(scratch[3, r])
+        if i1 <= i0:
+            i0 = i1 = x1
+        ax, a0, a1, cx, c0, c1 = scratch[4, r], scratch[5, r], scratch[6, r], scratch[7, r], scratch[8, r], scratch[9, r]
+        if x0 >= x1:
+            continue
+        if m + (x1 - x0) + 2 > out.size:
+            return j, n, m
+        start = m
+        if i1 > i0:
+            # an inner run: its left pixels lie wholly left of the right edge, its right
+            # ones wholly right of the left edge (by at least 1 - 2 (the crossings' error
+            # bound) > 0), where the right edge's clamped mean is exactly 1 and the left
+            # one's exactly 0: each pixel needs only its own edge's, the same bits as
+            # _band_area's (|1 - phi| = 1 - phi and |phi - 0| = phi for phi in [0, 1]).
+            # The left edge is the one further left at the top line (the two meet
+            # at most at a vertex, never inside the band).
+            count = i0 - x0
+            if count == 1:
+                left = ax - x0
+                out[m] = 1.0 - _ordered_mean(left + a0, left + a1)
+                m += 1
+            elif count == 2:
+                left = ax - x0
+                v0 = 1.0 - _ordered_mean(left + a0, left + a1)
+                left = ax - (x0 + 1)
+                v1 = 1.0 - _ordered_mean(left + a0, left + a1)
+                out[m] = v0
+                out[m + 1] = v1
+                m += 2
+            else:
+                for i in range(x0, i0):
+                    left = ax - i
+                    out[m] = 1.0 - _ordered_mean(left + a0, left + a1)
+                    m += 1
+            if out[start] == 0.0 and m > start:
+                m, x0 = _trim_lead(out, start, m, x0)
+            right_start = m
+            count = x1 - i1
+            if count == 1:
+                right = cx - i1
+                out[m] = _ordered_mean(right + c0, right + c1)
+                m += 1
+            elif count == 2:
+                right = cx - i1
+                v0 = _ordered_mean(right + c0, right + c1)
+                right = cx - (i1 + 1)
+                v1 = _ordered_mean(right + c0, right + c1)
+                out[m] = v0
+                out[m + 1] = v1
+                m += 2
+            else:
+                for i in range(i1, x1):
+                    right = cx - i
+                    out[m] = _ordered_mean(right + c0, right + c1)
+                    m += 1
+        else:
+            for i in range(x0, x1):
+                out[m] = _band_area(ax, a0, a1, cx, c0, c1, i)
+                m += 1
+            m, x0 = _trim_lead(out, start, m, x0)
+            right_start = m
+        m, x1, i0, i1 = _trim_tail(out, start, right_start, m, x0, i0, i1)
+        if x1 > x0:
+            spans[0, n] = triangle
+            spans[1, n] = j
+            spans[2, n] = x0
+            spans[3, n] = x1
+            spans[4, n] = i0
+            spans[5, n] = i1
+            n += 1
+    return j_to, n, m
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")  # no division by zero (see _edge_term)
+def _vertex_row(polys, p, k, j, edges, at_bottom, local_y, kinds, margin, ymin, ymax, col_lo, col_hi, source, spans, n,  # type: ignore[no-untyped-def]
+                out, m):
+    """One row of polygon p as the span kernel and the edge integrals decide it (any row
+    of a polygon; of a triangle, those holding a vertex): the pass over its k edges
+    (``edges`` (5, k): lo x, lo y, hi x, hi y, slope; ``at_bottom`` their crossings of the
+    row's top line, replaced by those of its bottom line), then every pixel outside the
+    inner run by :func:`edge_integral`'s terms. Appends to ``spans`` and ``out``; returns
+    (n, m, need): need > 0 when the row found no room in ``out`` for its need pixels
+    (``at_bottom`` then holds the bottom line's crossings)."""
+    top = float(j)
+    bottom = top + 1.0
+    lo, hi, top_lo, top_hi, bottom_lo, bottom_hi = _row_extent(edges[0], edges[1], edges[2], edges[3], edges[4],
+                                                               at_bottom, k, top)
+    if lo > hi:
+        return n, m, 0
+    x0, x1, i0, i1 = _span_columns(lo, hi, top_lo, top_hi, bottom_lo, bottom_hi, ymin <= top and ymax >= bottom, margin,
+                                   col_lo, col_hi)
+    if x0 >= x1:
+        return n, m, 0
+    if m + (x1 - x0) > out.size:
+        return n, m, x1 - x0
+    for v in range(k):
+        local_y[v] = polys[p, v, 1] - top
+    _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
+    start = m
+    if k == 3:  # a triangle's vertices and edge kinds held in registers
+        px0, px1, px2 = polys[p, 0, 0], polys[p, 1, 0], polys[p, 2, 0]
+        ay, by, cy = local_y[0], local_y[1], local_y[2]
+        ka, kb, kc = kinds[0], kinds[1], kinds[2]
+        for i in range(x0, i0):
+            out[m] = _triangle_area_of(px0, px1, px2, ay, by, cy, ka, kb, kc, i)
+            m += 1
+        m, x0 = _trim_lead(out, start, m, x0)
+        right_start = m
+        for i in range(i1, x1):
+            out[m] = _triangle_area_of(px0, px1, px2, ay, by, cy, ka, kb, kc, i)
+            m += 1
+    else:
+        for i in range(x0, i0):
+            out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
+            m += 1
+        m, x0 = _trim_lead(out, start, m, x0)
+        right_start = m
+        for i in range(i1, x1):
+            out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
+            m += 1
+    m, x1, i0, i1 = _trim_tail(out, start, right_start, m, x0, i0, i1)
+    if x1 > x0:
+        spans[0, n] = source[p]
+        spans[1, n] = j
+        spans[2, n] = x0
+        spans[3, n] = x1
+        spans[4, n] = i0
+        spans[5, n] = i1
+        n += 1
+    return n, m, 0
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped-def]
+    """The span kernel's spans and inner runs and the areas of their edge pixels, in one
+    pass over each polygon's rows: a triangle's rows without a vertex, nearly all of a
+    large one's, by :func:`_band_rows`, every other row by :func:`_vertex_row`. Each
+    span is written only if it keeps a pixel of nonzero area, its polygon replaced by its
+    triangle (``source``); outputs are written once (no second pass over the spans, no
+    temporaries but the spans' block, the edge areas, grown by doubling, and one band
+    segment's decisions).
 
     Returns
     -------
     triangle, y, x0, x1, i0, i1 : (S,) int64
-        The spans, cut to their first and last pixel of nonzero area (empty ones dropped);
-        a span without inner run has ``i0 == i1 == x1``.
+        The spans, sorted by triangle and row, cut to their first and last pixel of
+        nonzero area (empty ones dropped); a span without inner run has ``i0 == i1 == x1``.
     alpha : (E,) float64
         The areas of their pixels outside the inner runs, span after span.
     """
@@ -797,125 +1059,70 @@ def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped
             ymax = max(ymax, polys[p, v, 1])
         # rows a polygon can touch: floor(ymin) .. ceil(ymax) - 1 within the viewport
         capacity += max(min(int(math.ceil(ymax)), height) - max(int(math.floor(ymin)), 0), 0)
-    block = np.empty((6, capacity), dtype=np.int64)
-    out_p, out_y, out_x0, out_x1, out_i0, out_i1 = block[0], block[1], block[2], block[3], block[4], block[5]
+    spans = np.empty((6, capacity), dtype=np.int64)
     # a large polygon's row has a few edge pixels on each side; grown when a row may not fit
     out = np.empty(4 * capacity + 64)
     n = 0
     m = 0
     size = polys.shape[1]
-    lo_x = np.empty(size)
-    lo_y = np.empty(size)
-    hi_x = np.empty(size)
-    hi_y = np.empty(size)
+    edges = np.empty((5, size))
     at_bottom = np.empty(size)
     local_y = np.empty(size)
     kinds = np.zeros(size, dtype=np.int64)
+    scratch = np.empty((10, height))  # a band segment's decisions (_band_rows)
     for p in range(polys.shape[0]):
-        # -- the span kernel's set-up, as there
-        k, margin, ymin, ymax, col_lo, col_hi, row_lo, row_hi = _polygon_setup(polys, counts, p, width, height, lo_x, lo_y,
-                                                                               hi_x, hi_y, at_bottom)
-        triangle = k == 3
-        px0, px1, px2 = polys[p, 0, 0], polys[p, 1, 0], polys[p, 2, 0]
-        gy0, gy1, gy2 = polys[p, 0, 1], polys[p, 1, 1], polys[p, 2, 1]
-        for j in range(row_lo, row_hi + 1):
-            # -- the span kernel's row: the span [first, last] and the inner run
-            top = float(j)
-            bottom = top + 1.0
-            # (a triangle's three edges in a loop of constant length: unrolled)
-            if triangle:
-                lo, hi, top_lo, top_hi, bottom_lo, bottom_hi = _row_extent(lo_x, lo_y, hi_x, hi_y, at_bottom, 3, top)
-            else:
-                lo, hi, top_lo, top_hi, bottom_lo, bottom_hi = _row_extent(lo_x, lo_y, hi_x, hi_y, at_bottom, k, top)
-            if lo > hi:
+        k, margin, ymin, ymax, col_lo, col_hi, row_lo, row_hi = _polygon_setup(polys, counts, p, width, height, edges[0],
+                                                                               edges[1], edges[2], edges[3], edges[4],
+                                                                               at_bottom)
+        # a triangle's vertices in y order (top t, middle c, bottom b): its rows without a
+        # vertex are those crossed by the long edge t-b and the upper short one t-c
+        # (ceil(ty) <= j <= floor(cy) - 1), then those crossed by it and the lower one c-b
+        # (ceil(cy) <= j <= floor(by) - 1); none for a polygon of more vertices
+        upper_from = upper_to = lower_from = lower_to = 0
+        if k == 3:
+            tx, ty, cx, cy, bx, by = polys[p, 0, 0], polys[p, 0, 1], polys[p, 1, 0], polys[p, 1, 1], polys[p, 2, 0], \
+                polys[p, 2, 1]
+            if cy < ty:
+                tx, ty, cx, cy = cx, cy, tx, ty
+            if by < cy:
+                cx, cy, bx, by = bx, by, cx, cy
+                if cy < ty:
+                    tx, ty, cx, cy = cx, cy, tx, ty
+            upper_from = max(int(math.ceil(ty)), row_lo)
+            upper_to = max(min(int(math.floor(cy)), row_hi + 1), upper_from)
+            lower_from = max(int(math.ceil(cy)), row_lo)
+            lower_to = max(min(int(math.floor(by)), row_hi + 1), lower_from)
+            long_edge = (tx, ty, bx, by, _slope(tx, ty, bx, by))
+            upper_edge = (tx, ty, cx, cy, _slope(tx, ty, cx, cy))
+            lower_edge = (cx, cy, bx, by, _slope(cx, cy, bx, by))
+        else:
+            long_edge = upper_edge = lower_edge = (0.0, 0.0, 0.0, 0.0, 0.0)
+        j = row_lo
+        fresh = True  # at_bottom holds the crossings of row j's top line
+        while j <= row_hi:
+            upper = upper_from <= j < upper_to
+            if upper or lower_from <= j < lower_to:
+                j_to = upper_to if upper else lower_to
+                j, n, m = _band_rows(j, j_to, long_edge, upper_edge if upper else lower_edge, margin, col_lo, col_hi,
+                                     source[p], spans, n, out, m, scratch)
+                if j < j_to:
+                    out = _grown(out, m, out.size)
+                fresh = False
                 continue
-            first = max(int(math.floor(lo - margin)), col_lo)
-            last = min(int(math.ceil(hi + margin)) - 1, col_hi)
-            if first > last:
+            if not fresh:
+                top = float(j)
+                for e in range(k):
+                    ax, ay, bx_, by_ = edges[0, e], edges[1, e], edges[2, e], edges[3, e]
+                    at_bottom[e] = _x_at(ax, ay, bx_, by_, edges[4, e], top) if ay < by_ and ay <= top <= by_ else math.nan
+                fresh = True
+            n, m, need = _vertex_row(polys, p, k, j, edges, at_bottom, local_y, kinds, margin, ymin, ymax, col_lo, col_hi,
+                                     source, spans, n, out, m)
+            if need > 0:
+                out = _grown(out, m, need)
+                fresh = False  # the row is done again from its top line
                 continue
-            x0 = first
-            x1 = last + 1
-            i0 = x1
-            i1 = x1  # no inner run: every pixel is an edge pixel
-            if ymin <= top and ymax >= bottom:
-                left = max(top_lo, bottom_lo)
-                right = min(top_hi, bottom_hi)
-                inner_lo = max(int(math.ceil(left + margin)), first)
-                inner_hi = min(int(math.floor(right - margin)), last + 1)
-                if inner_hi > inner_lo:
-                    i0 = inner_lo
-                    i1 = inner_hi
-            # -- the edge kernel's row: the areas of the pixels outside the inner run
-            if m + (x1 - x0) > out.size:
-                grown = np.empty(2 * out.size + (x1 - x0))
-                grown[:m] = out[:m]
-                out = grown
-            ay = gy0 - top
-            by = gy1 - top
-            cy = gy2 - top
-            band = (triangle and min(ay, by, cy) <= 0.0 and max(ay, by, cy) >= 1.0
-                    and not 0.0 < ay < 1.0 and not 0.0 < by < 1.0 and not 0.0 < cy < 1.0)
-            xa = d0 = d1 = xc = e0 = e1 = 0.0
-            if band:
-                if min(ay, by) <= 0.0 and max(ay, by) >= 1.0:
-                    xa, d0, d1 = _band_edge(px0, ay, px1, by)
-                    if min(by, cy) <= 0.0 and max(by, cy) >= 1.0:
-                        xc, e0, e1 = _band_edge(px1, by, px2, cy)
-                    else:
-                        xc, e0, e1 = _band_edge(px2, cy, px0, ay)
-                else:
-                    xa, d0, d1 = _band_edge(px1, by, px2, cy)
-                    xc, e0, e1 = _band_edge(px2, cy, px0, ay)
-            else:
-                for v in range(k):
-                    local_y[v] = polys[p, v, 1] - top
-                _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
-            ka, kb, kc = kinds[0], kinds[1], kinds[2]
-            start = m
-            for i in range(x0, i0):
-                if band:
-                    out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
-                elif triangle:
-                    out[m] = _triangle_area_of(px0, px1, px2, ay, by, cy, ka, kb, kc, i)
-                else:
-                    out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
-                m += 1
-            # the span begins at its first pixel of nonzero area (the inner run's first, if need be)
-            lead = start
-            while lead < m and out[lead] == 0.0:
-                lead += 1
-            if lead > start:
-                for q in range(lead, m):
-                    out[q - (lead - start)] = out[q]
-                m -= lead - start
-                x0 += lead - start
-            right = m
-            for i in range(i1, x1):
-                if band:
-                    out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
-                elif triangle:
-                    out[m] = _triangle_area_of(px0, px1, px2, ay, by, cy, ka, kb, kc, i)
-                else:
-                    out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
-                m += 1
-            # and ends at its last (the inner run's last, if need be)
-            floor = right if i1 > i0 else start
-            while m > floor and out[m - 1] == 0.0:
-                m -= 1
-            if i1 > i0:
-                x1 = i1 + (m - right)
-            else:
-                x1 = x0 + (m - start)
-                i0 = i1 = x1
-            if x1 > x0:
-                out_p[n] = source[p]
-                out_y[n] = j
-                out_x0[n] = x0
-                out_x1[n] = x1
-                out_i0[n] = i0
-                out_i1[n] = i1
-                n += 1
-    return out_p[:n], out_y[:n], out_x0[:n], out_x1[:n], out_i0[:n], out_i1[:n], out[:m]
+            j += 1
+    return spans[0, :n], spans[1, :n], spans[2, :n], spans[3, :n], spans[4, :n], spans[5, :n], out[:m]
 
 
 def _area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple[
@@ -934,7 +1141,7 @@ def area_error_bound(positions: ArrayLike, width: int = MAX_VIEWPORT, height: in
     """Per triangle, a proven bound on ``|pixel_areas - exact_area|`` at every pixel.
 
     ``u * (n * (22 M + 11 G + 7) + n**2)`` with u = 2**-53 (module docstring; the edge
-    integrals' bound, which also covers the band path's ``u (33 M + 9)``): for a
+    integrals' bound, which also covers the band path's ``u (15 M + 9)``): for a
     triangle within ±2**21, n = 3, G = 0 and M = max(x extent, y extent) + 1; beyond, the
     clipped polygon's n <= 7, M <= max(W, H) and G = max(W, H). Zero for triangles that
     cover nothing (non-finite or of zero area). The defaults give a bound valid for any

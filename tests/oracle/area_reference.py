@@ -17,10 +17,10 @@ from harness.geometry.spans import expand, pixel_offsets
 from harness.oracle.area import (
     _MARGIN_SCALE,
     _band_area,
-    _band_edge,
     _edge_kinds,
     _pixel_area_of,
     _polygons,
+    _slope,
     _span_kernel,
     _triangle_area_of,
     _viewport,
@@ -242,7 +242,21 @@ def old_area_spans(array: NDArray[np.float64], width: int, height: int) -> tuple
 
 
 # -- the two-pass runs kernel of session 21 (span kernel, then edge kernel), the reference
-# of the one-pass harness.oracle.area._area_runs: the same spans, inner runs and bits
+# of the one-pass harness.oracle.area._area_runs: the same spans, inner runs and bits (its
+# band path's crossings as the one-pass kernel computes them since session 22: the slope
+# once per edge, band_edge)
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def band_edge(xa, ya, xb, yb, top):
+    """(x, d0, d1) of an edge crossing the whole row band [top, top + 1] (global
+    coordinates): its local x at the band's top and bottom lines are ``fl(fl(x - i) + d0)``
+    and ``fl(fl(x - i) + d1)`` at column i, x its upper end point's,
+    ``d = fl(fl(y - ya) * slope)`` (harness.oracle.area's band path)."""
+    if yb < ya:
+        xa, ya, xb, yb = xb, yb, xa, ya
+    slope = _slope(xa, ya, xb, yb)
+    return xa, (top - ya) * slope, (top + 1.0 - ya) * slope
 
 
 @numba.njit(cache=True, error_model="numpy")  # no division by zero (see _edge_term)
@@ -281,15 +295,17 @@ def edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i
                 and not 0.0 < ay < 1.0 and not 0.0 < by < 1.0 and not 0.0 < cy < 1.0)
         xa = d0 = d1 = xc = e0 = e1 = 0.0
         if band:
+            # the edges' crossings as the one-pass kernel computes them, in global y
+            ga, gb, gc, top = polys[p, 0, 1], polys[p, 1, 1], polys[p, 2, 1], float(j)
             if min(ay, by) <= 0.0 and max(ay, by) >= 1.0:
-                xa, d0, d1 = _band_edge(ax, ay, bx, by)
+                xa, d0, d1 = band_edge(ax, ga, bx, gb, top)
                 if min(by, cy) <= 0.0 and max(by, cy) >= 1.0:
-                    xc, e0, e1 = _band_edge(bx, by, cx, cy)
+                    xc, e0, e1 = band_edge(bx, gb, cx, gc, top)
                 else:
-                    xc, e0, e1 = _band_edge(cx, cy, ax, ay)
+                    xc, e0, e1 = band_edge(cx, gc, ax, ga, top)
             else:
-                xa, d0, d1 = _band_edge(bx, by, cx, cy)
-                xc, e0, e1 = _band_edge(cx, cy, ax, ay)
+                xa, d0, d1 = band_edge(bx, gb, cx, gc, top)
+                xc, e0, e1 = band_edge(cx, gc, ax, ga, top)
         else:
             _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
         ka, kb, kc = kinds[0], kinds[1], kinds[2]

@@ -100,6 +100,33 @@ def test_the_one_pass_kernel_is_the_two_passes_bit_for_bit(seed):
     same_as_two_pass(flat[:1], 400, 400)
 
 
+@pytest.mark.parametrize("positions", [
+    [[[0.0, 0.0], [40.0, 20.0], [5.0, 40.0]]],  # every vertex on a row line
+    [[[0.0, 3.0], [40.0, 3.0], [20.0, 30.0]], [[0.0, 3.0], [20.0, 30.0], [-10.0, 30.0]]],  # flat top and bottom
+    [[[3.5, 0.25], [30.0, 10.0], [9.0, 35.75]]],  # the middle vertex on a row line
+    [[[0.0, 0.5], [390.0, 0.0], [200.0, 3.0]]],  # shallow edges: hundreds of edge pixels in a band row
+    [[[-30.0, -50.0], [430.0, 120.0], [60.0, 470.0]]],  # beyond the viewport on every side
+    [[[10.0, 1.0], [10.0 + 2.0**-30, 390.0], [10.0 - 2.0**-30, 200.0]]],  # a near-vertical sliver
+])
+def test_band_segments_are_the_two_passes_and_within_the_bound(positions):
+    """The band path's special rows: vertices and horizontal edges on a row's lines (the
+    crossings there are end points), segments cut by the viewport, rows whose edge pixels
+    outgrow the edge areas' array inside a segment (it grows and the segment resumes), and
+    edges so steep their rows hold no inner run."""
+    same_as_two_pass(positions, 400, 400)
+    same_as_before(positions, 400, 400)
+
+
+@given(st.integers(0, 40), st.integers(0, 40), st.lists(st.tuples(st.integers(-8, 48), st.integers(-8, 48)),
+                                                     min_size=3, max_size=3), st.integers(0, 3))
+@settings(max_examples=200)
+def test_band_rows_agree_with_the_exact_area(dx, dy, vertices, bits):
+    """Triangles on a lattice of step 2**-bits (vertices on row lines or between them), each
+    pixel of the band path within the bound of the exact area."""
+    positions = (np.array([vertices], dtype=float) + [dx, dy]) * 2.0**-bits
+    same_as_before(positions, 48, 48, exact=True)
+
+
 @pytest.mark.parametrize("bits", [0, 1, 2, 4])
 def test_lattice_meshes_with_shared_edges_agree_with_the_old_kernel(bits):
     """Vertices on pixel corners, edges through corners, shared edges and diagonals."""
