@@ -115,9 +115,21 @@ def _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, lower):  # type: 
     """The column where edge a-b's test flips on row ys, clamped to [0, width]: the first
     inside column for a lower bound, the first outside one for an upper bound.
 
-    Fast path: the float crossing with its error bound ``delta``. When no column
-    boundary lies within the bound the crossing is not a tie and both rules give
-    floor(lo) + 1. Otherwise the exact predicate settles it."""
+    Fast path: the float crossing with its error bound ``delta`` (:func:`_filtered_bound`).
+    Otherwise the exact predicate settles it."""
+    column = _filtered_bound(ax, ay, slope, delta, sx, ys, width)
+    if column >= 0:
+        return column
+    est = _estimate_column(ax, ay, bx, by, sx, ys, width)
+    return _settle(ax, ay, bx, by, owned, sx, ys, width, est, lower)
+
+
+@numba.njit(cache=True, inline="always")
+def _filtered_bound(ax, ay, slope, delta, sx, ys, width):  # type: ignore[no-untyped-def]
+    """:func:`_bound`'s float filter alone: the column, clamped to [0, width], when no
+    column boundary lies within the crossing's error bound ``delta`` (then the crossing is
+    not a tie and both rules give floor(lo) + 1), else -1 (the exact predicate must settle
+    it). No call: a loop of these keeps its values in registers."""
     xc = ax + slope * (ys - ay)
     lo = xc - delta - sx
     hi = xc + delta - sx
@@ -129,8 +141,7 @@ def _bound(ax, ay, bx, by, slope, delta, owned, sx, ys, width, lower):  # type: 
         f = math.floor(lo)
         if hi < f + 1.0:
             return min(int(f) + 1, width)
-    est = _estimate_column(ax, ay, bx, by, sx, ys, width)
-    return _settle(ax, ay, bx, by, owned, sx, ys, width, est, lower)
+    return -1
 
 
 @numba.njit(cache=True, inline="always")

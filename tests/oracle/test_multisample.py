@@ -117,6 +117,28 @@ def test_lattice_of_sixteenths_every_tie_rule(tie, samples):
 
 
 @pytest.mark.parametrize("tie", TIE_RULES)
+@pytest.mark.parametrize("samples", [4, 8, 16])
+def test_ties_between_vertex_rows_are_settled_after_the_rows_loop(tie, samples):
+    """Vertices off the sample lattice (y on odd 1/32nds: no sample row meets one) whose
+    edges run through the pattern's first sample point in rows between them (slopes 2 and
+    -2): those rows take the rows' loop, which leaves them unsure, and are settled
+    exactly after it (multisample._settle_spans), ties and all, as the former path."""
+    sx, sy = pattern(samples)[0]
+    x, y = 10 + sx, 5 + sy  # a sample point both long edges run through
+    tris = [[[x - 8 - 1 / 16, y - 4 - 1 / 32], [x + 24 + 1 / 16, y + 12 + 1 / 32], [-6.0, 9 + 3 / 32]],
+            [[x + 8 + 1 / 16, y - 4 - 1 / 32], [x - 24 - 1 / 16, y + 12 + 1 / 32], [30.0, 11 + 5 / 32]]]
+    scene = Scene(48, 32, tris)
+    prepared = prepare_triangles(scene, Convention(tie=tie))
+    offsets = multisample._offsets(pattern(samples))
+    capacity = int(multisample._sample_rows(prepared.snapped, prepared.active, offsets, scene.height))
+    block = np.empty((5, capacity), dtype=np.int64)
+    _, unsure = multisample._multisample_kernel(prepared.snapped, prepared.sign, prepared.owned, prepared.active,
+                                                offsets, scene.width, scene.height, *block)
+    assert unsure > 0  # the settling is exercised
+    agree(scene, Convention(tie=tie), samples)
+
+
+@pytest.mark.parametrize("tie", TIE_RULES)
 def test_vertices_on_samples_and_shared_edges(tie):
     # a mesh of squares split both ways whose vertices are the samples of the 4x pattern
     offsets = pattern(4)
