@@ -62,10 +62,12 @@ Runs, as a span fill draws
     (:attr:`harness.contract.coverage.Coverage.alpha`), the inner ones exactly 1
     (``tests/oracle/area_reference.py`` keeps the kernel that computed every pixel by the
     edge integrals: the tests find the same rows and inner runs, and every alpha within
-    both paths' proven bounds of the other's and of the exact area). In rows holding a vertex the
-    arithmetic per pixel is the edge integrals above (:func:`_edge_term` is
-    :func:`edge_integral` with its divisions skipped where their result is provably the
-    same); in the other rows, nearly all of a large triangle's, it is the band path below.
+    both paths' proven bounds of the other's and of the exact area). In a triangle's rows
+    without a vertex, nearly all of a large triangle's, the arithmetic per pixel is the band
+    path below; in its rows holding a vertex, the same cut into sub-bands at the vertices'
+    heights; in the rows of a polygon (a far triangle clipped to the viewport), the edge
+    integrals above (:func:`_edge_term` is :func:`edge_integral` with its divisions skipped
+    where their result is provably the same).
 
 Rows without a vertex: the band path (cairo's cells, one edge at a time)
     Like cairo's tor scan converter, which walks each edge once per row from its crossings
@@ -97,6 +99,19 @@ Rows without a vertex: the band path (cairo's cells, one edge at a time)
     pixel evaluates its own edge's only, ``1 - phi(L)`` or ``phi(R)``, the same bits as
     the formula above. A segment's rows are decided in one loop without branches, then
     their edge pixels computed in a second.
+
+Rows holding a vertex: sub-bands
+    A triangle's row band [j, j+1] with a vertex strictly inside is cut at its vertices'
+    heights into at most two sub-bands, ``[max(j, ty), min(j + 1, cy)]`` crossed by the long
+    edge and the upper short one and ``[max(j, cy), min(j + 1, by)]`` crossed by the long
+    edge and the lower short one (each empty when its ends meet): inside each the triangle
+    lies between its two edges, and the area at column i is the sum over the sub-bands of
+    their height h times the band path's ``|phi(R0 - i, R1 - i) - phi(L0 - i, L1 - i)|``, the
+    crossings at the sub-band's lines (:func:`_sub_bands`, :func:`_sub_band_area`). Each
+    crossing is an edge's upper end point plus its offset ``d = fl(fl(y - ya) * s)``, or for
+    an edge less than a row tall (no slope) ``fl(fl(fl(y - ya) / fl(yb - ya)) * fl(xb -
+    xa))`` (:func:`_offset`): four clamped means per pixel, where the edge integrals take
+    three edge terms of two divisions each.
 
 The error bound (u = 2**-53, round to nearest)
     Let n be the polygon's number of edges (3 for a triangle), M the largest
@@ -146,6 +161,13 @@ The error bound (u = 2**-53, round to nearest)
        (underflow in d adds at most 2**-1074). Far triangles clipped to three vertices take
        it too, on the rounded triangle: its vertices' move by u G is step 1's (11 G in
        the bound).
+    6. *Sub-bands* err by at most ``u (15 M + 14)``: which sub-bands there are and their
+       lines are decided exactly (the vertices' y against j and j + 1); each crossing is
+       within 7.02 u M of the exact one as in step 5 (an offset by division carries the
+       same five roundings on ``tau (xb - xa)``, tau in [0, 1]), so each sub-band's
+       difference of clamped means is within ``14.04 u M + 8.02 u`` of the exact one; the
+       height ``fl(b - a) <= 1`` errs by at most u, each product by u, the sum of the two
+       terms by u. With ``h1 + h2 <= 1``: ``14.04 u M + 8.02 u + 5 u``.
 
     For a triangle, M <= max(x extent, y extent) + 1 over the pixels its bounding box
     spans, so the bound depends on the triangle's size, not its position.
@@ -572,21 +594,70 @@ def _pixel_area_of(polys, p, k, i, local_y, kinds):  # type: ignore[no-untyped-d
     return min(abs(total), 1.0)
 
 
+@numba.njit(cache=True, inline="always")
+def _sorted_triangle(polys, p):  # type: ignore[no-untyped-def]
+    """Triangle p's vertices in y order, top t, middle c, bottom b (ties in any order), and
+    the slopes (:func:`_slope`) of its long edge t-b and its short ones t-c and c-b:
+    (tx, ty, cx, cy, bx, by, long, upper, lower)."""
+    tx, ty, cx, cy, bx, by = polys[p, 0, 0], polys[p, 0, 1], polys[p, 1, 0], polys[p, 1, 1], polys[p, 2, 0], polys[p, 2, 1]
+    if cy < ty:
+        tx, ty, cx, cy = cx, cy, tx, ty
+    if by < cy:
+        cx, cy, bx, by = bx, by, cx, cy
+        if cy < ty:
+            tx, ty, cx, cy = cx, cy, tx, ty
+    return tx, ty, cx, cy, bx, by, _slope(tx, ty, bx, by), _slope(tx, ty, cx, cy), _slope(cx, cy, bx, by)
+
+
 @numba.njit(cache=True, inline="always", error_model="numpy")
-def _triangle_area_of(x0, x1, x2, y0, y1, y2, k0, k1, k2, i):  # type: ignore[no-untyped-def]
-    """:func:`_pixel_area_of` for a triangle, its vertices' x, pixel-local y and its
-    edges' kinds held in registers."""
-    a = x0 - i
-    b = x1 - i
-    c = x2 - i
-    total = 0.0
-    if k0 != 0:
-        total += _kind_term(a, y0, b, y1, k0)
-    if k1 != 0:
-        total += _kind_term(b, y1, c, y2, k1)
-    if k2 != 0:
-        total += _kind_term(c, y2, a, y0, k2)
-    return min(abs(total), 1.0)
+def _offset(ax, ay, bx, by, slope, y):  # type: ignore[no-untyped-def]
+    """How far edge a-b (ay < by) lies right of its upper end point at height y in [ay, by]:
+    ``fl(fl(y - ay) * slope)``, or for an edge shorter than a row (slope NaN)
+    ``fl(fl(fl(y - ay) / fl(by - ay)) * fl(bx - ax))``: five roundings on ``tau (bx - ax)``,
+    tau in [0, 1], either way (the quotient in [0, 1] by monotone rounding)."""
+    if slope == slope:
+        return (y - ay) * slope
+    return ((y - ay) / (by - ay)) * (bx - ax)
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _sub_bands(tri, top):  # type: ignore[no-untyped-def]
+    """A triangle's row band [top, top + 1] holding a vertex, cut at its vertices' heights
+    into the sub-bands above and below the middle vertex, each crossed by the long edge and
+    one short one (module docstring, "Rows holding a vertex"): their heights h1, h2 (0 for
+    an empty one) and each edge's offsets (:func:`_offset`) at the sub-band's lines:
+    (h1, long, long, upper, upper, h2, long, long, lower, lower)."""
+    tx, ty, cx, cy, bx, by, long_slope, upper_slope, lower_slope = tri
+    bottom = top + 1.0
+    a1, b1 = max(top, ty), min(bottom, cy)
+    a2, b2 = max(top, cy), min(bottom, by)
+    h1 = h2 = 0.0
+    l0 = l1 = u0 = u1 = m0 = m1 = w0 = w1 = 0.0
+    if b1 > a1:
+        h1 = b1 - a1
+        l0, l1 = _offset(tx, ty, bx, by, long_slope, a1), _offset(tx, ty, bx, by, long_slope, b1)
+        u0, u1 = _offset(tx, ty, cx, cy, upper_slope, a1), _offset(tx, ty, cx, cy, upper_slope, b1)
+    if b2 > a2:
+        h2 = b2 - a2
+        m0, m1 = _offset(tx, ty, bx, by, long_slope, a2), _offset(tx, ty, bx, by, long_slope, b2)
+        w0, w1 = _offset(cx, cy, bx, by, lower_slope, a2), _offset(cx, cy, bx, by, lower_slope, b2)
+    return h1, l0, l1, u0, u1, h2, m0, m1, w0, w1
+
+
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def _sub_band_area(tx, cx, bands, i):  # type: ignore[no-untyped-def]
+    """The area at column i of a triangle's row holding a vertex, from :func:`_sub_bands`:
+    the sum over its sub-bands of height times the band path's difference of clamped
+    means, clamped to 1."""
+    h1, l0, l1, u0, u1, h2, m0, m1, w0, w1 = bands
+    t = tx - i
+    area = 0.0
+    if h1 > 0.0:
+        area += h1 * abs(clamped_mean(t + u0, t + u1) - clamped_mean(t + l0, t + l1))
+    if h2 > 0.0:
+        c = cx - i
+        area += h2 * abs(clamped_mean(c + w0, c + w1) - clamped_mean(t + m0, t + m1))
+    return min(area, 1.0)
 
 
 @numba.njit(cache=True, inline="always", error_model="numpy")
@@ -976,7 +1047,7 @@ def _band_rows(j_from, j_to, long_edge, short_edge, margin, col_lo, col_hi, tria
 
 @numba.njit(cache=True, inline="always", error_model="numpy")  # no division by zero (see _edge_term)
 def _vertex_row(polys, p, k, j, edges, at_bottom, local_y, kinds, margin, ymin, ymax, col_lo, col_hi, source, spans, n,  # type: ignore[no-untyped-def]
-                out, m):
+                out, m, tri):
     """One row of polygon p as the span kernel and the edge integrals decide it (any row
     of a polygon; of a triangle, those holding a vertex): the pass over its k edges
     (``edges`` (5, k): lo x, lo y, hi x, hi y, slope; ``at_bottom`` their crossings of the
@@ -996,23 +1067,22 @@ def _vertex_row(polys, p, k, j, edges, at_bottom, local_y, kinds, margin, ymin, 
         return n, m, 0
     if m + (x1 - x0) > out.size:
         return n, m, x1 - x0
-    for v in range(k):
-        local_y[v] = polys[p, v, 1] - top
-    _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
     start = m
-    if k == 3:  # a triangle's vertices and edge kinds held in registers
-        px0, px1, px2 = polys[p, 0, 0], polys[p, 1, 0], polys[p, 2, 0]
-        ay, by, cy = local_y[0], local_y[1], local_y[2]
-        ka, kb, kc = kinds[0], kinds[1], kinds[2]
+    if k == 3:  # a triangle: its sub-bands (tri: _sorted_triangle)
+        bands = _sub_bands(tri, top)
+        tx, cx = tri[0], tri[2]
         for i in range(x0, i0):
-            out[m] = _triangle_area_of(px0, px1, px2, ay, by, cy, ka, kb, kc, i)
+            out[m] = _sub_band_area(tx, cx, bands, i)
             m += 1
         m, x0 = _trim_lead(out, start, m, x0)
         right_start = m
         for i in range(i1, x1):
-            out[m] = _triangle_area_of(px0, px1, px2, ay, by, cy, ka, kb, kc, i)
+            out[m] = _sub_band_area(tx, cx, bands, i)
             m += 1
-    else:
+    else:  # a polygon (a far triangle clipped to the viewport): the edge integrals
+        for v in range(k):
+            local_y[v] = polys[p, v, 1] - top
+        _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
         for i in range(x0, i0):
             out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
             m += 1
@@ -1079,24 +1149,16 @@ def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped
         # (ceil(ty) <= j <= floor(cy) - 1), then those crossed by it and the lower one c-b
         # (ceil(cy) <= j <= floor(by) - 1); none for a polygon of more vertices
         upper_from = upper_to = lower_from = lower_to = 0
+        tri = _sorted_triangle(polys, p) if k == 3 else (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        tx, ty, cx, cy, bx, by, long_slope, upper_slope, lower_slope = tri
+        long_edge = (tx, ty, bx, by, long_slope)
+        upper_edge = (tx, ty, cx, cy, upper_slope)
+        lower_edge = (cx, cy, bx, by, lower_slope)
         if k == 3:
-            tx, ty, cx, cy, bx, by = polys[p, 0, 0], polys[p, 0, 1], polys[p, 1, 0], polys[p, 1, 1], polys[p, 2, 0], \
-                polys[p, 2, 1]
-            if cy < ty:
-                tx, ty, cx, cy = cx, cy, tx, ty
-            if by < cy:
-                cx, cy, bx, by = bx, by, cx, cy
-                if cy < ty:
-                    tx, ty, cx, cy = cx, cy, tx, ty
             upper_from = max(int(math.ceil(ty)), row_lo)
             upper_to = max(min(int(math.floor(cy)), row_hi + 1), upper_from)
             lower_from = max(int(math.ceil(cy)), row_lo)
             lower_to = max(min(int(math.floor(by)), row_hi + 1), lower_from)
-            long_edge = (tx, ty, bx, by, _slope(tx, ty, bx, by))
-            upper_edge = (tx, ty, cx, cy, _slope(tx, ty, cx, cy))
-            lower_edge = (cx, cy, bx, by, _slope(cx, cy, bx, by))
-        else:
-            long_edge = upper_edge = lower_edge = (0.0, 0.0, 0.0, 0.0, 0.0)
         j = row_lo
         fresh = True  # at_bottom holds the crossings of row j's top line
         while j <= row_hi:
@@ -1116,7 +1178,7 @@ def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped
                     at_bottom[e] = _x_at(ax, ay, bx_, by_, edges[4, e], top) if ay < by_ and ay <= top <= by_ else math.nan
                 fresh = True
             n, m, need = _vertex_row(polys, p, k, j, edges, at_bottom, local_y, kinds, margin, ymin, ymax, col_lo, col_hi,
-                                     source, spans, n, out, m)
+                                     source, spans, n, out, m, tri)
             if need > 0:
                 out = _grown(out, m, need)
                 fresh = False  # the row is done again from its top line
@@ -1141,7 +1203,8 @@ def area_error_bound(positions: ArrayLike, width: int = MAX_VIEWPORT, height: in
     """Per triangle, a proven bound on ``|pixel_areas - exact_area|`` at every pixel.
 
     ``u * (n * (22 M + 11 G + 7) + n**2)`` with u = 2**-53 (module docstring; the edge
-    integrals' bound, which also covers the band path's ``u (15 M + 9)``): for a
+    integrals' bound, which also covers the band path's ``u (15 M + 9)`` and the
+    sub-bands' ``u (15 M + 14)``): for a
     triangle within ±2**21, n = 3, G = 0 and M = max(x extent, y extent) + 1; beyond, the
     clipped polygon's n <= 7, M <= max(W, H) and G = max(W, H). Zero for triangles that
     cover nothing (non-finite or of zero area). The defaults give a bound valid for any

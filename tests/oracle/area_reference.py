@@ -21,8 +21,10 @@ from harness.oracle.area import (
     _pixel_area_of,
     _polygons,
     _slope,
+    _sorted_triangle,
     _span_kernel,
-    _triangle_area_of,
+    _sub_band_area,
+    _sub_bands,
     _viewport,
 )
 
@@ -306,15 +308,17 @@ def edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i
             else:
                 xa, d0, d1 = band_edge(bx, gb, cx, gc, top)
                 xc, e0, e1 = band_edge(cx, gc, ax, ga, top)
-        else:
+        elif not triangle:
             _edge_kinds(polys, p, k, float(x0), float(x1), local_y, kinds)
-        ka, kb, kc = kinds[0], kinds[1], kinds[2]
+        # a triangle's row holding a vertex: its sub-bands (since session 22)
+        tri = _sorted_triangle(polys, p) if triangle else (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+        bands = _sub_bands(tri, float(j))
         start = m
         for i in range(x0, i0):
             if band:
                 out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
             elif triangle:
-                out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
+                out[m] = _sub_band_area(tri[0], tri[2], bands, i)
             else:
                 out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
             m += 1
@@ -332,7 +336,7 @@ def edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i
             if band:
                 out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
             elif triangle:
-                out[m] = _triangle_area_of(ax, bx, cx, ay, by, cy, ka, kb, kc, i)
+                out[m] = _sub_band_area(tri[0], tri[2], bands, i)
             else:
                 out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
             m += 1
