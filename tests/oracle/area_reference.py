@@ -25,6 +25,7 @@ from harness.oracle.area import (
     _span_kernel,
     _sub_band_area,
     _sub_bands,
+    _trim_lead,
     _viewport,
 )
 
@@ -323,14 +324,7 @@ def edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i
                 out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
             m += 1
         # the span begins at its first pixel of nonzero area (the inner run's first, if need be)
-        lead = start
-        while lead < m and out[lead] == 0.0:
-            lead += 1
-        if lead > start:
-            for q in range(lead, m):
-                out[q - (lead - start)] = out[q]
-            m -= lead - start
-            x0 += lead - start
+        m, x0 = _trim_lead(out, start, m, x0)
         right = m
         for i in range(i1, x1):
             if band:
