@@ -28,7 +28,7 @@ The float method: one edge integral per edge
 
     Which pixels: per row, the columns within the bounding box and the row band's
     x-extent, found from the float crossings of the edges with the band's lines and
-    widened by more than their error (about 5 u (extent + |x|)), so that a pixel left
+    widened by more than their error (about 6 u (extent + |x|)), so that a pixel left
     out holds no area. Likewise the pixels wholly inside: where the polygon spans the
     whole row band, the columns between its cross-sections at the band's top and bottom
     (a convex polygon's left boundary is convex in y and its right one concave, so their
