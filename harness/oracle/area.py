@@ -1118,13 +1118,16 @@ def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped
         The areas of their pixels outside the inner runs, span after span.
     """
     capacity = 0
+    tallest = 0
     for p in range(polys.shape[0]):
         ymin = ymax = polys[p, 0, 1]
         for v in range(counts[p]):
             ymin = min(ymin, polys[p, v, 1])
             ymax = max(ymax, polys[p, v, 1])
         # rows a polygon can touch: floor(ymin) .. ceil(ymax) - 1 within the viewport
-        capacity += max(min(int(math.ceil(ymax)), height) - max(int(math.floor(ymin)), 0), 0)
+        rows = max(min(int(math.ceil(ymax)), height) - max(int(math.floor(ymin)), 0), 0)
+        capacity += rows
+        tallest = max(tallest, rows)
     spans = np.empty((6, capacity), dtype=np.int64)
     # a large polygon's row has a few edge pixels on each side; grown when a row may not fit
     out = np.empty(4 * capacity + 64)
@@ -1135,7 +1138,7 @@ def _area_runs(polys, counts, source, width, height):  # type: ignore[no-untyped
     at_bottom = np.empty(size)
     local_y = np.empty(size)
     kinds = np.zeros(size, dtype=np.int64)
-    scratch = np.empty((10, height))  # a band segment's decisions (_band_rows)
+    scratch = np.empty((10, tallest))  # a band segment's decisions (_band_rows)
     for p in range(polys.shape[0]):
         k, margin, ymin, ymax, col_lo, col_hi, row_lo, row_hi = _polygon_setup(polys, counts, p, width, height, edges[0],
                                                                                edges[1], edges[2], edges[3], edges[4],

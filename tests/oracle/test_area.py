@@ -350,6 +350,17 @@ def test_a_large_viewport_costs_only_the_pixels_touched():
     assert abs(float_total - exact_total) <= t.size * Fraction(area_error_bound(tris, w, h)[0])
 
 
+def test_the_tallest_viewport_costs_only_the_rows_touched():
+    """A small triangle on a screen 2**20 rows tall: the band segments' decisions take room
+    for the triangle's rows, not the viewport's, and the areas are those of a small screen."""
+    tris = np.array([[[3.25, 1000.5], [40.0, 1010.0], [9.5, 1037.75]]])
+    tall = pixel_areas(tris, 64, MAX_VIEWPORT)
+    small = pixel_areas(tris, 64, 1100)
+    for a, b in zip(tall, small, strict=True):
+        assert np.array_equal(a, b)
+    assert tall[0].size > 0
+
+
 # -- rows without a vertex: the band path (two crossing edges per row) ----------------------
 
 
