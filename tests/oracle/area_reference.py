@@ -262,6 +262,18 @@ def band_edge(xa, ya, xb, yb, top):
     return xa, (top - ya) * slope, (top + 1.0 - ya) * slope
 
 
+@numba.njit(cache=True, inline="always", error_model="numpy")
+def pixel_area(band, triangle, crossings, tri, bands, polys, p, k, local_y, kinds, i):
+    """The area at column i of a span's row: the band path's (``crossings``: xa, d0, d1, xc,
+    e0, e1), a triangle's sub-bands' in a row holding a vertex, or a polygon's edge integrals."""
+    if band:
+        xa, d0, d1, xc, e0, e1 = crossings
+        return _band_area(xa, d0, d1, xc, e0, e1, i)
+    if triangle:
+        return _sub_band_area(tri[0], tri[2], bands, i)
+    return _pixel_area_of(polys, p, k, i, local_y, kinds)
+
+
 @numba.njit(cache=True, error_model="numpy")  # no division by zero (see _edge_term)
 def edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i1, out):
     """The area of each span's edge pixels, the inner run [i0, i1) left alone (exactly 1,
@@ -316,23 +328,13 @@ def edge_kernel(polys, counts, span_p, span_y, span_x0, span_x1, span_i0, span_i
         bands = _sub_bands(tri, float(j))
         start = m
         for i in range(x0, i0):
-            if band:
-                out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
-            elif triangle:
-                out[m] = _sub_band_area(tri[0], tri[2], bands, i)
-            else:
-                out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
+            out[m] = pixel_area(band, triangle, (xa, d0, d1, xc, e0, e1), tri, bands, polys, p, k, local_y, kinds, i)
             m += 1
         # the span begins at its first pixel of nonzero area (the inner run's first, if need be)
         m, x0 = _trim_lead(out, start, m, x0)
         right = m
         for i in range(i1, x1):
-            if band:
-                out[m] = _band_area(xa, d0, d1, xc, e0, e1, i)
-            elif triangle:
-                out[m] = _sub_band_area(tri[0], tri[2], bands, i)
-            else:
-                out[m] = _pixel_area_of(polys, p, k, i, local_y, kinds)
+            out[m] = pixel_area(band, triangle, (xa, d0, d1, xc, e0, e1), tri, bands, polys, p, k, local_y, kinds, i)
             m += 1
         # and ends at its last (the inner run's last, if need be)
         floor = right if i1 > i0 else start
